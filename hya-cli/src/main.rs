@@ -1,0 +1,64 @@
+//! The `hya` command.
+
+use std::io::{self, BufRead, Write};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod filter;
+mod rows;
+
+/// hya: model-based control of robot arms under disturbances.
+#[derive(Debug, Parser)]
+#[command(name = "hya", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run the paper's third-order filter over rows of samples read from stdin.
+    ///
+    /// Each row holds one sample per channel (whitespace- or comma-separated); the first row fixes
+    /// the channel count and the initial state (x1 = u0, x2 = x3 = 0). Each output row holds all
+    /// channels' x1, then all x2, then all x3.
+    #[command(allow_negative_numbers = true)]
+    Filter(filter::FilterArgs),
+}
+
+/// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad input or parameters.
+    #[error("{0}")]
+    Input(String),
+    /// Reading stdin or writing stdout failed.
+    #[error("i/o: {0}")]
+    Io(#[from] io::Error),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let stdin = io::stdin().lock();
+    let mut stdout = io::BufWriter::new(io::stdout().lock());
+    let result = match cli.command {
+        Command::Filter(args) => filter::run(&args, stdin, &mut stdout),
+    };
+    match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(CliError::Io(e)) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hya: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Reads every data row of `input`; see [`rows::parse`].
+pub fn read_rows(input: impl BufRead) -> impl Iterator<Item = Result<rows::Row, CliError>> {
+    input.lines().enumerate().filter_map(|(index, line)| match line {
+        Err(e) => Some(Err(CliError::Io(e))),
+        Ok(text) => rows::parse(&text, index + 1).transpose(),
+    })
+}

@@ -1,0 +1,87 @@
+//! The rigid-body dynamics interface every estimator, observer and controller is generic over.
+//!
+//! Model: `M(q) q̈ + C(q, q̇) + G(q) = τ`, with `C` the vector of Coriolis and centripetal torques
+//! and `G` the gravity torques. Where a Coriolis *matrix* is meant (`C = C_mat q̇`), it is the one
+//! with `Ṁ = C_mat + C_matᵀ`, so `C_matᵀ q̇ = Ṁ q̇ − C`.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::Error;
+
+/// A vector with one entry per joint.
+pub type JointVector<const N: usize> = SVector<f64, N>;
+/// An `N x N` matrix over the joints.
+pub type JointMatrix<const N: usize> = SMatrix<f64, N, N>;
+
+/// Rigid-body dynamics of a fixed-base arm with `N` joints.
+///
+/// Implemented by generated code (one type per robot), the runtime kinematic-tree model and the
+/// closed-form robots of [`crate::robots`]. Only [`inverse_dynamics`](Self::inverse_dynamics) and
+/// [`coriolis_transpose_times_velocity`](Self::coriolis_transpose_times_velocity) are required;
+/// the defaults derive the rest from them and are correct but slower than specialised code.
+pub trait Dynamics<const N: usize> {
+    /// Inverse dynamics `ID(q, q̇, q̈) = M(q) q̈ + C(q, q̇) + G(q)`, N·m.
+    fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N>;
+
+    /// `C_mat(q, q̇)ᵀ q̇ = Ṁ q̇ − C(q, q̇)`, as the generalized-momentum observer needs it.
+    fn coriolis_transpose_times_velocity(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N>;
+
+    /// Gravity torques `G(q) = ID(q, 0, 0)`.
+    fn gravity(&self, q: &JointVector<N>) -> JointVector<N> {
+        self.inverse_dynamics(q, &JointVector::zeros(), &JointVector::zeros())
+    }
+
+    /// Coriolis and centripetal torques `C(q, q̇) = ID(q, q̇, 0) − G(q)`.
+    fn velocity_terms(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
+        self.inverse_dynamics(q, qd, &JointVector::zeros()) - self.gravity(q)
+    }
+
+    /// Joint-space mass matrix `M(q)`, symmetric positive definite; column `i` is
+    /// `ID(q, 0, eᵢ) − G(q)` by default.
+    fn mass_matrix(&self, q: &JointVector<N>) -> JointMatrix<N> {
+        let zero = JointVector::zeros();
+        let gravity = self.gravity(q);
+        JointMatrix::from_fn(|row, col| {
+            let unit = JointVector::from_fn(|i, _| if i == col { 1.0 } else { 0.0 });
+            self.inverse_dynamics(q, &zero, &unit)[row] - gravity[row]
+        })
+    }
+
+    /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`, by Cholesky factorisation of `M`.
+    fn forward_dynamics(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        tau: &JointVector<N>,
+    ) -> Result<JointVector<N>, Error> {
+        let bias = self.inverse_dynamics(q, qd, &JointVector::zeros());
+        let cholesky = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?;
+        Ok(cholesky.solve(&(tau - bias)))
+    }
+}
+
+impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for &D {
+    fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N> {
+        (**self).inverse_dynamics(q, qd, qdd)
+    }
+    fn coriolis_transpose_times_velocity(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
+        (**self).coriolis_transpose_times_velocity(q, qd)
+    }
+    fn gravity(&self, q: &JointVector<N>) -> JointVector<N> {
+        (**self).gravity(q)
+    }
+    fn velocity_terms(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
+        (**self).velocity_terms(q, qd)
+    }
+    fn mass_matrix(&self, q: &JointVector<N>) -> JointMatrix<N> {
+        (**self).mass_matrix(q)
+    }
+    fn forward_dynamics(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        tau: &JointVector<N>,
+    ) -> Result<JointVector<N>, Error> {
+        (**self).forward_dynamics(q, qd, tau)
+    }
+}

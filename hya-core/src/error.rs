@@ -1,0 +1,34 @@
+//! The error type of `hya-core`.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in `hya-core`: bad parameters, bad measurements, numerical failure.
+///
+/// Every variant names the offending quantity; none of them leaves an estimator, filter or
+/// controller in a changed state (operations that fail are transactional).
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+pub enum Error {
+    /// A construction parameter is out of its valid range.
+    #[error("invalid parameter `{name}` = {value}: must be {requirement}")]
+    InvalidParameter {
+        /// Name of the parameter, as in the documentation (`zeta`, `omega1_rad_s`, ...).
+        name: &'static str,
+        /// The value that was given.
+        value: f64,
+        /// What the value must satisfy.
+        requirement: &'static str,
+    },
+    /// A measurement, reference or estimate handed to a hot path is NaN or infinite.
+    #[error("non-finite {signal}[{index}] = {value}; the input was rejected and the state kept")]
+    NonFinite {
+        /// Which signal (`q_m`, `tau_m`, `q_des`, ...).
+        signal: &'static str,
+        /// The joint index within that signal.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
+    #[error("the mass matrix is not positive definite at this configuration")]
+    SingularMassMatrix,
+}

@@ -1,0 +1,37 @@
+//! # hya-core
+//!
+//! The disturbance estimator of Lu, Sandy & Buchli, "Nonlinear disturbance attenuation control of
+//! hydraulic robotics", and the computed-torque controller that uses it, for arms with `N` joints.
+//!
+//! The rigid-body model is `M(q) q̈ + C(q, q̇) + G(q) = τ + d`, with `d` the lumped disturbance
+//! (friction, model error, external loads). The estimator filters the measured joint angles and
+//! the measured torques with two identical third-order filters ([`filter::ThirdOrderFilter`]) and
+//! forms `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂` ([`estimator::DisturbanceEstimator`]); the controller
+//! ([`control::ComputedTorque`]) subtracts `d̂` from its command. Sign convention everywhere: a
+//! positive `d` pushes the joints like a positive `τ`, and compensation subtracts `d̂`.
+//!
+//! The crate is `no_std`; its hot paths (filter step, estimator update, controller step) never
+//! allocate. Numbers are SI: rad, rad/s, rad/s², N·m, s.
+
+#![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod control;
+pub mod dynamics;
+pub mod error;
+pub mod estimator;
+pub mod filter;
+mod finite;
+mod linalg;
+pub mod robots;
+
+pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
+pub use dynamics::{Dynamics, JointMatrix, JointVector};
+pub use error::Error;
+pub use estimator::DisturbanceEstimator;
+pub use filter::{FilterParams, FilterState, ThirdOrderFilter};

@@ -26,6 +26,10 @@
 //! hold would not: the held staircase leaks into `x3` (relative degree one), biasing `x3` for a
 //! parabola and delaying the output by half a sample.
 //!
+//! What no hold can avoid: a parabola `u = c t²/2` is seen as its piecewise-linear interpolant,
+//! whose periodic remainder aliases onto `x3` as a relative bias `Σ_{k≠0} H(jkω_s)`,
+//! `ω_s = 2π/T`: about 2e-8 at the paper's `ωT = 0.05`, 5e-6 at `ωT = 0.25`, 5e-5 at `ωT = 0.5`.
+//!
 //! # Properties
 //!
 //! Unity DC gain; low-frequency group delay `1/ω1 + 2ζ/ω2` (52 ms for the paper's `ζ = 0.8`,

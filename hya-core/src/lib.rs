@@ -28,7 +28,10 @@ pub mod estimator;
 pub mod filter;
 mod finite;
 mod linalg;
+#[cfg(feature = "alloc")]
+pub mod model;
 pub mod robots;
+pub mod spatial;
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use dynamics::{Dynamics, JointMatrix, JointVector};

@@ -1,0 +1,157 @@
+//! What the loader refuses ([`LoadError`]) and what it accepts with a remark ([`Warning`]).
+
+use thiserror::Error;
+
+/// A robot description that could not be loaded: the file, and the problem in it.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{file}: {problem}")]
+pub struct LoadError {
+    /// The file (or other source) the description came from.
+    pub file: String,
+    /// What is wrong with it.
+    pub problem: Problem,
+}
+
+impl LoadError {
+    pub(crate) fn new(source: &str, problem: Problem) -> Self {
+        Self { file: source.to_owned(), problem }
+    }
+}
+
+/// One problem in a robot description, naming the joint or link at fault.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Problem {
+    /// The file could not be read.
+    #[error("cannot read: {message}")]
+    Read {
+        /// The operating system's message.
+        message: String,
+    },
+    /// The XML is not a URDF `urdf-rs` can parse.
+    #[error("not a valid URDF: {message}")]
+    Parse {
+        /// The parser's message.
+        message: String,
+    },
+    /// Two links share a name.
+    #[error("link name `{link}` is used twice")]
+    DuplicateLink {
+        /// The name.
+        link: String,
+    },
+    /// Two joints share a name.
+    #[error("joint name `{joint}` is used twice")]
+    DuplicateJoint {
+        /// The name.
+        joint: String,
+    },
+    /// A joint names a link that does not exist.
+    #[error("joint `{joint}`: {role} link `{link}` does not exist")]
+    UnknownLink {
+        /// The joint.
+        joint: String,
+        /// `parent` or `child`.
+        role: &'static str,
+        /// The missing link's name.
+        link: String,
+    },
+    /// A link is the child of two joints.
+    #[error("link `{link}` is the child of two joints, `{}` and `{}`", joints[0], joints[1])]
+    SeveralParents {
+        /// The link.
+        link: String,
+        /// The two joints.
+        joints: [String; 2],
+    },
+    /// More than one link has no parent.
+    #[error("several root links: {}; a model must be one tree", links.join(", "))]
+    SeveralRoots {
+        /// The parentless links.
+        links: Vec<String>,
+    },
+    /// The joints form a cycle.
+    #[error("link `{link}` lies on a cycle of joints (not reachable from a single root)")]
+    Cycle {
+        /// A link on the cycle.
+        link: String,
+    },
+    /// A joint type hya does not handle (yet).
+    #[error("joint `{joint}`: {kind} joints are not supported")]
+    UnsupportedJoint {
+        /// The joint.
+        joint: String,
+        /// Its type.
+        kind: &'static str,
+    },
+    /// A joint's axis is the zero vector.
+    #[error("joint `{joint}`: axis is zero")]
+    ZeroAxis {
+        /// The joint.
+        joint: String,
+    },
+    /// A number is NaN or infinite.
+    #[error("{element}: {field} is {value}, not a finite number")]
+    NonFinite {
+        /// Where (`joint `j1` origin`, `link `l2` inertial`, ...).
+        element: String,
+        /// Which attribute.
+        field: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A link's mass is negative.
+    #[error("link `{link}`: negative mass {mass} kg")]
+    NegativeMass {
+        /// The link.
+        link: String,
+        /// The mass.
+        mass: f64,
+    },
+    /// A link's inertia tensor has a negative principal moment.
+    #[error("link `{link}`: inertia has a negative principal moment {moment} kg·m²")]
+    NegativePrincipalMoment {
+        /// The link.
+        link: String,
+        /// The smallest principal moment.
+        moment: f64,
+    },
+    /// A moving joint whose whole subtree carries no mass: the mass matrix would be singular.
+    #[error("joint `{joint}` moves no mass at all (its whole subtree is massless)")]
+    MasslessJoint {
+        /// The joint.
+        joint: String,
+    },
+    /// The description has no revolute, continuous or prismatic joint.
+    #[error("no moving joint: nothing to control")]
+    NoMovingJoint,
+    /// The model's own consistency check failed (a loader bug if it ever shows).
+    #[error("inconsistent model: {message}")]
+    Model {
+        /// The model's message.
+        message: String,
+    },
+}
+
+/// Something odd the loader accepted.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Warning {
+    /// Principal moments `a ≤ b ≤ c` with `a + b < c`: no real mass distribution has them, but
+    /// real descriptions do (HyA's wrist among them), so the model is kept.
+    TriangleInequality {
+        /// The link.
+        link: String,
+        /// Its principal moments, ascending, kg·m².
+        moments: [f64; 3],
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::TriangleInequality { link, moments: [a, b, c] } => write!(
+                f,
+                "link `{link}`: principal moments ({a:.6}, {b:.6}, {c:.6}) kg·m² violate the triangle inequality"
+            ),
+        }
+    }
+}

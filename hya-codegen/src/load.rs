@@ -1,0 +1,249 @@
+//! URDF to a validated [`TreeModel`].
+//!
+//! `urdf-rs` parses the XML but accepts many descriptions that make no physical sense; every such
+//! problem is refused here with a [`LoadError`] naming the file and the joint or link. Fixed
+//! joints are merged into their parent body (inertia combined by the parallel-axis theorem),
+//! joint axes are normalised, and the joint order is the tree's depth-first order from the root,
+//! children in file order.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use hya_core::model::{Body, Frame, JointKind, JointLimits, TreeModel};
+use hya_core::spatial::{roll_pitch_yaw, RigidBodyInertia, Transform};
+use nalgebra::{Matrix3, Vector3};
+use urdf_rs::{JointType, Robot};
+
+use crate::error::{LoadError, Problem, Warning};
+
+/// A loaded model and what the loader noticed but accepted.
+#[derive(Debug, Clone)]
+pub struct LoadedModel {
+    /// The validated model.
+    pub model: TreeModel,
+    /// Accepted oddities, such as a violated triangle inequality of principal moments.
+    pub warnings: Vec<Warning>,
+}
+
+/// Reads and validates the URDF file at `path`.
+pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
+    let path = path.as_ref();
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| LoadError::new(&source, Problem::Read { message: e.to_string() }))?;
+    load_str(&text, &source)
+}
+
+/// Validates URDF text; `source` names it in errors (a file path, usually).
+pub fn load_str(text: &str, source: &str) -> Result<LoadedModel, LoadError> {
+    let robot = urdf_rs::read_from_string(text)
+        .map_err(|e| LoadError::new(source, Problem::Parse { message: e.to_string() }))?;
+    build(&robot).map_err(|problem| LoadError::new(source, problem))
+}
+
+fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
+    let links = index_unique(robot.links.iter().map(|l| l.name.as_str()), |name| Problem::DuplicateLink { link: name })?;
+    index_unique(robot.joints.iter().map(|j| j.name.as_str()), |name| Problem::DuplicateJoint { joint: name })?;
+    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+    for (j, joint) in robot.joints.iter().enumerate() {
+        check_joint_type(joint)?;
+        let find = |link: &str, role: &'static str| {
+            links.get(link).copied().ok_or_else(|| Problem::UnknownLink {
+                joint: joint.name.clone(),
+                role,
+                link: link.to_owned(),
+            })
+        };
+        let parent = find(&joint.parent.link, "parent")?;
+        let child = find(&joint.child.link, "child")?;
+        if let Some(previous) = parent_joint[child] {
+            return Err(Problem::SeveralParents {
+                link: joint.child.link.clone(),
+                joints: [robot.joints[previous].name.clone(), joint.name.clone()],
+            });
+        }
+        parent_joint[child] = Some(j);
+        children[parent].push(j);
+    }
+    let roots: Vec<usize> = (0..robot.links.len()).filter(|&l| parent_joint[l].is_none()).collect();
+    let root = match roots.as_slice() {
+        [root] => *root,
+        [] => return Err(Problem::Cycle { link: robot.links.first().map(|l| l.name.clone()).unwrap_or_default() }),
+        several => {
+            return Err(Problem::SeveralRoots { links: several.iter().map(|&l| robot.links[l].name.clone()).collect() })
+        }
+    };
+
+    let mut builder = TreeBuilder { robot, bodies: Vec::new(), frames: Vec::new(), warnings: Vec::new() };
+    builder.attach_link(root, None, Transform::identity())?;
+    let mut stack: Vec<(usize, Option<usize>, Transform)> =
+        children[root].iter().rev().map(|&j| (j, None, Transform::identity())).collect();
+    while let Some((j, body, parent_placement)) = stack.pop() {
+        let joint = &robot.joints[j];
+        let child = links[joint.child.link.as_str()];
+        let origin = parent_placement.then(&pose(&joint.origin, || format!("joint `{}` origin", joint.name))?);
+        let (child_body, child_placement) = match joint.joint_type {
+            JointType::Fixed => (body, origin),
+            _ => (Some(builder.add_body(j, body, origin)?), Transform::identity()),
+        };
+        builder.attach_link(child, child_body, child_placement)?;
+        stack.extend(children[child].iter().rev().map(|&c| (c, child_body, child_placement)));
+    }
+    // Stack order visits every link reachable from the root; the rest sit on a cycle.
+    if let Some(orphan) = robot.links.iter().find(|l| !builder.frames.iter().any(|f| f.name == l.name)) {
+        return Err(Problem::Cycle { link: orphan.name.clone() });
+    }
+    builder.finish()
+}
+
+/// Name → index, refusing the first name that appears twice.
+fn index_unique<'a>(
+    names: impl Iterator<Item = &'a str>,
+    duplicate: impl Fn(String) -> Problem,
+) -> Result<HashMap<&'a str, usize>, Problem> {
+    let mut index = HashMap::new();
+    for (i, name) in names.enumerate() {
+        if index.insert(name, i).is_some() {
+            return Err(duplicate(name.to_owned()));
+        }
+    }
+    Ok(index)
+}
+
+fn check_joint_type(joint: &urdf_rs::Joint) -> Result<(), Problem> {
+    let unsupported = match joint.joint_type {
+        JointType::Floating => "floating (fixed-base models only)",
+        JointType::Planar => "planar (fixed-base models only)",
+        JointType::Spherical => "spherical",
+        _ if joint.mimic.is_some() => "mimic",
+        _ => return Ok(()),
+    };
+    Err(Problem::UnsupportedJoint { joint: joint.name.clone(), kind: unsupported })
+}
+
+/// `<origin xyz rpy>` as the transform from the parent frame to the placed frame.
+fn pose(origin: &urdf_rs::Pose, what: impl Fn() -> String) -> Result<Transform, Problem> {
+    let xyz = finite_vector(&origin.xyz, "xyz", &what)?;
+    let rpy = finite_vector(&origin.rpy, "rpy", &what)?;
+    Ok(Transform::from_pose(roll_pitch_yaw(&rpy), xyz))
+}
+
+fn finite_vector(v: &[f64; 3], field: &'static str, what: &impl Fn() -> String) -> Result<Vector3<f64>, Problem> {
+    match v.iter().find(|x| !x.is_finite()) {
+        None => Ok(Vector3::from(*v)),
+        Some(&value) => Err(Problem::NonFinite { element: what(), field, value }),
+    }
+}
+
+struct TreeBuilder<'r> {
+    robot: &'r Robot,
+    bodies: Vec<Body>,
+    frames: Vec<Frame>,
+    warnings: Vec<Warning>,
+}
+
+impl TreeBuilder<'_> {
+    /// A new body moved by joint `j`, whose joint frame sits at `origin` in the parent body.
+    fn add_body(&mut self, j: usize, parent: Option<usize>, origin: Transform) -> Result<usize, Problem> {
+        let joint = &self.robot.joints[j];
+        let what = || format!("joint `{}` axis", joint.name);
+        let axis = finite_vector(&joint.axis.xyz, "xyz", &what)?;
+        let length = axis.norm();
+        if length < 1e-12 {
+            return Err(Problem::ZeroAxis { joint: joint.name.clone() });
+        }
+        let kind = if joint.joint_type == JointType::Prismatic { JointKind::Prismatic } else { JointKind::Revolute };
+        self.bodies.push(Body {
+            link: joint.child.link.clone(),
+            joint: joint.name.clone(),
+            parent,
+            kind,
+            axis: axis / length,
+            tree_transform: origin,
+            inertia: RigidBodyInertia::zero(),
+            limits: limits(joint)?,
+        });
+        Ok(self.bodies.len() - 1)
+    }
+
+    /// Records link `l` as a frame of `body` at `placement`, adding its inertia to the body.
+    fn attach_link(&mut self, l: usize, body: Option<usize>, placement: Transform) -> Result<(), Problem> {
+        let link = &self.robot.links[l];
+        let inertia = self.link_inertia(link)?;
+        if let Some(b) = body {
+            self.bodies[b].inertia += inertia.expressed_in_parent(&placement);
+        }
+        self.frames.push(Frame { name: link.name.clone(), body, placement });
+        Ok(())
+    }
+
+    /// The link's `<inertial>` about its own frame's origin, after checking it.
+    fn link_inertia(&mut self, link: &urdf_rs::Link) -> Result<RigidBodyInertia, Problem> {
+        let inertial = &link.inertial;
+        let what = || format!("link `{}` inertial", link.name);
+        let mass = inertial.mass.value;
+        if !mass.is_finite() {
+            return Err(Problem::NonFinite { element: what(), field: "mass", value: mass });
+        }
+        if mass < 0.0 {
+            return Err(Problem::NegativeMass { link: link.name.clone(), mass });
+        }
+        let i = &inertial.inertia;
+        let entries = [("ixx", i.ixx), ("iyy", i.iyy), ("izz", i.izz), ("ixy", i.ixy), ("ixz", i.ixz), ("iyz", i.iyz)];
+        if let Some(&(field, value)) = entries.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Problem::NonFinite { element: what(), field, value });
+        }
+        let tensor = Matrix3::new(i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz);
+        let mut moments = tensor.symmetric_eigenvalues();
+        moments.as_mut_slice().sort_by(f64::total_cmp);
+        let scale = moments.amax().max(f64::MIN_POSITIVE);
+        if moments[0] < -1e-9 * scale {
+            return Err(Problem::NegativePrincipalMoment { link: link.name.clone(), moment: moments[0] });
+        }
+        if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9) {
+            self.warnings.push(Warning::TriangleInequality { link: link.name.clone(), moments: moments.into() });
+        }
+        let com_frame = pose(&inertial.origin, what)?;
+        let about_com = com_frame.orientation() * tensor * com_frame.rotation;
+        Ok(RigidBodyInertia::from_centre_of_mass(mass, com_frame.translation, about_com))
+    }
+
+    fn finish(self) -> Result<LoadedModel, Problem> {
+        if self.bodies.is_empty() {
+            return Err(Problem::NoMovingJoint);
+        }
+        // A joint whose whole subtree is massless makes the mass matrix singular.
+        let mut subtree_moves_mass: Vec<bool> = self.bodies.iter().map(|b| !b.inertia.is_zero()).collect();
+        for (i, body) in self.bodies.iter().enumerate().rev() {
+            if let (Some(p), true) = (body.parent, subtree_moves_mass[i]) {
+                subtree_moves_mass[p] = true;
+            }
+        }
+        if let Some(i) = subtree_moves_mass.iter().position(|moves| !moves) {
+            return Err(Problem::MasslessJoint { joint: self.bodies[i].joint.clone() });
+        }
+        let model = TreeModel::new(self.robot.name.clone(), self.bodies, self.frames)
+            .map_err(|e| Problem::Model { message: e.to_string() })?;
+        Ok(LoadedModel { model, warnings: self.warnings })
+    }
+}
+
+/// The joint's `<limit>`; `urdf-rs` fills an absent element with zeros, which means "no limits".
+fn limits(joint: &urdf_rs::Joint) -> Result<JointLimits, Problem> {
+    let l = &joint.limit;
+    if [l.lower, l.upper, l.effort, l.velocity].iter().any(|v| v.is_nan()) {
+        return Err(Problem::NonFinite { element: format!("joint `{}` limit", joint.name), field: "limit", value: f64::NAN });
+    }
+    if l.lower == 0.0 && l.upper == 0.0 && l.effort == 0.0 && l.velocity == 0.0 {
+        return Ok(JointLimits::default());
+    }
+    let finite = |v: f64| v.is_finite().then_some(v);
+    let bounded = joint.joint_type != JointType::Continuous;
+    Ok(JointLimits {
+        lower: finite(l.lower).filter(|_| bounded),
+        upper: finite(l.upper).filter(|_| bounded),
+        velocity: finite(l.velocity).filter(|v| *v > 0.0),
+        effort: finite(l.effort).filter(|v| *v > 0.0),
+    })
+}

@@ -1,10 +1,23 @@
 //! # hya-codegen
 //!
 //! Reads a URDF, validates it into a [`hya_core::model::TreeModel`] ([`load`]), and emits
-//! unrolled, const-sized Rust implementing [`hya_core::Dynamics`] for it.
+//! unrolled, const-sized Rust implementing [`hya_core::Dynamics`] for it ([`generate()`]), in
+//! the spirit of RobCoGen: constants folded into literals, one `sin_cos` per revolute joint,
+//! axis-aligned joints and sparse inertias exploited, zeros never multiplied, no allocation.
+//!
+//! ```no_run
+//! let loaded = hya_codegen::load_file("robots/urdf/hya.urdf")?;
+//! let generated = hya_codegen::generate(&loaded.model, "Hya")?;
+//! std::fs::write("hya_dynamics.rs", generated.source)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod error;
+pub mod expr;
+pub mod generate;
 pub mod load;
+pub mod symbolic;
 
 pub use error::{LoadError, Problem, Warning};
+pub use generate::{generate, GenerateError, Generated};
 pub use load::{load_file, load_str, LoadedModel};

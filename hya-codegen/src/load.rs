@@ -29,8 +29,8 @@ pub struct LoadedModel {
 pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
     let path = path.as_ref();
     let source = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| LoadError::new(&source, Problem::Read { message: e.to_string() }))?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| LoadError::new(&source, Problem::Read { message: e.to_string() }))?;
     load_str(&text, &source)
 }
 
@@ -42,7 +42,8 @@ pub fn load_str(text: &str, source: &str) -> Result<LoadedModel, LoadError> {
 }
 
 fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
-    let links = index_unique(robot.links.iter().map(|l| l.name.as_str()), |name| Problem::DuplicateLink { link: name })?;
+    let links =
+        index_unique(robot.links.iter().map(|l| l.name.as_str()), |name| Problem::DuplicateLink { link: name })?;
     index_unique(robot.joints.iter().map(|j| j.name.as_str()), |name| Problem::DuplicateJoint { joint: name })?;
     let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
@@ -233,7 +234,11 @@ impl TreeBuilder<'_> {
 fn limits(joint: &urdf_rs::Joint) -> Result<JointLimits, Problem> {
     let l = &joint.limit;
     if [l.lower, l.upper, l.effort, l.velocity].iter().any(|v| v.is_nan()) {
-        return Err(Problem::NonFinite { element: format!("joint `{}` limit", joint.name), field: "limit", value: f64::NAN });
+        return Err(Problem::NonFinite {
+            element: format!("joint `{}` limit", joint.name),
+            field: "limit",
+            value: f64::NAN,
+        });
     }
     if l.lower == 0.0 && l.upper == 0.0 && l.effort == 0.0 && l.velocity == 0.0 {
         return Ok(JointLimits::default());

@@ -85,3 +85,38 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for &D {
         (**self).forward_dynamics(q, qd, tau)
     }
 }
+
+/// Dynamics whose number of joints is known only at run time, on slices: the view a command
+/// line or a loaded URDF needs. Every slice must have [`dof`](Self::dof) entries (`dof²` for
+/// the row-major mass matrix); implementations may panic otherwise, so check lengths first.
+pub trait SliceDynamics {
+    /// Degrees of freedom.
+    fn dof(&self) -> usize;
+    /// `τ = ID(q, q̇, q̈)`.
+    fn inverse_dynamics_into(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]);
+    /// `τ = G(q)`.
+    fn gravity_into(&self, q: &[f64], tau: &mut [f64]);
+    /// `M(q)`, row-major.
+    fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]);
+}
+
+/// Any [`Dynamics<N>`] seen as [`SliceDynamics`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct OnSlicesN<const N: usize, D>(pub D);
+
+impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
+    fn dof(&self) -> usize {
+        N
+    }
+    fn inverse_dynamics_into(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
+        let [q, qd, qdd] = [q, qd, qdd].map(JointVector::<N>::from_column_slice);
+        tau.copy_from_slice(self.0.inverse_dynamics(&q, &qd, &qdd).as_slice());
+    }
+    fn gravity_into(&self, q: &[f64], tau: &mut [f64]) {
+        tau.copy_from_slice(self.0.gravity(&JointVector::from_column_slice(q)).as_slice());
+    }
+    fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]) {
+        // M is symmetric, so its column-major storage is also its row-major layout.
+        mass.copy_from_slice(self.0.mass_matrix(&JointVector::from_column_slice(q)).as_slice());
+    }
+}

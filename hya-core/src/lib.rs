@@ -33,8 +33,22 @@ pub mod model;
 pub mod robots;
 pub mod spatial;
 
+/// `(sin x, cos x)`: the platform's `sin_cos` with `std`, `libm` without. Generated dynamics call
+/// this once per revolute joint.
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    #[cfg(feature = "std")]
+    {
+        x.sin_cos()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sincos(x)
+    }
+}
+
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
-pub use dynamics::{Dynamics, JointMatrix, JointVector};
+pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
 pub use filter::{FilterParams, FilterState, ThirdOrderFilter};

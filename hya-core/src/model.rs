@@ -406,6 +406,22 @@ impl TreeModel {
     }
 }
 
+impl crate::SliceDynamics for TreeModel {
+    fn dof(&self) -> usize {
+        self.bodies.len()
+    }
+    fn inverse_dynamics_into(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
+        self.rnea(q, Some(qd), Some(qdd), true, &mut vec![BodyState::default(); self.dof()], tau);
+    }
+    fn gravity_into(&self, q: &[f64], tau: &mut [f64]) {
+        self.rnea(q, None, None, true, &mut vec![BodyState::default(); self.dof()], tau);
+    }
+    fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]) {
+        let n = self.dof();
+        self.crba(q, &mut vec![BodyState::default(); n], |i, j, value| mass[i * n + j] = value);
+    }
+}
+
 /// A [`TreeModel`] with exactly `N` degrees of freedom: the generic [`Dynamics<N>`], allocation
 /// free (scratch space lives on the stack).
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,282 @@
+//! A tracing emitter of straight-line scalar code.
+//!
+//! Algorithms run on [`Value`]s instead of numbers: a value is a known constant or a variable of
+//! the generated code. Every operation folds what it can (constants, zeros, ones and signs), so
+//! `0 · x` and `x + 0` emit nothing, and records one SSA statement otherwise. Signs are carried
+//! on the value, so negation never costs a statement. [`Emitter::render`] keeps only the
+//! statements the outputs depend on.
+
+use std::fmt::Write;
+
+/// A scalar in traced code: a constant, or an SSA variable, possibly negated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    /// A number known at generation time.
+    Const(f64),
+    /// Statement `id`'s result, times −1 if `negated`.
+    Var {
+        /// The statement defining it.
+        id: usize,
+        /// Whether the value is the negation of the statement's result.
+        negated: bool,
+    },
+}
+
+/// Zero.
+pub const ZERO: Value = Value::Const(0.0);
+/// One.
+pub const ONE: Value = Value::Const(1.0);
+
+impl std::ops::Neg for Value {
+    type Output = Value;
+    /// `−self`, free: no statement is emitted.
+    fn neg(self) -> Value {
+        match self {
+            Value::Const(c) => Value::Const(-c),
+            Value::Var { id, negated } => Value::Var { id, negated: !negated },
+        }
+    }
+}
+
+impl Value {
+    fn is_const(self, value: f64) -> bool {
+        self == Value::Const(value)
+    }
+
+    /// The same value with a non-negative constant or a non-negated variable, and the sign.
+    fn magnitude(self) -> (Value, bool) {
+        match self {
+            Value::Const(c) if c < 0.0 => (Value::Const(-c), true),
+            Value::Var { id, negated: true } => (Value::Var { id, negated: false }, true),
+            other => (other, false),
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Op {
+    /// An input read, e.g. `q[3]`.
+    Input(String),
+    Add(Value, Value),
+    Sub(Value, Value),
+    Mul(Value, Value),
+    /// `(sin x, cos x)` of a value; defines this statement (sin) and the next one (cos).
+    SinCos(Value),
+    /// The cosine half of the preceding `SinCos`.
+    CosOf,
+}
+
+/// Operation counts of generated code, after dead-code elimination.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct OpCounts {
+    /// Additions and subtractions.
+    pub adds: usize,
+    /// Multiplications.
+    pub muls: usize,
+    /// `sin_cos` calls.
+    pub trig: usize,
+}
+
+/// Records statements as algorithms run on [`Value`]s.
+#[derive(Debug, Default)]
+pub struct Emitter {
+    ops: Vec<Op>,
+}
+
+impl Emitter {
+    /// An empty trace.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn push(&mut self, op: Op) -> Value {
+        self.ops.push(op);
+        Value::Var { id: self.ops.len() - 1, negated: false }
+    }
+
+    /// A variable read from the generated function's arguments (`expr` is Rust, e.g. `qd[2]`).
+    pub fn input(&mut self, expr: impl Into<String>) -> Value {
+        self.push(Op::Input(expr.into()))
+    }
+
+    /// `(sin x, cos x)` with one call.
+    pub fn sin_cos(&mut self, x: Value) -> (Value, Value) {
+        if let Value::Const(c) = x {
+            return (Value::Const(c.sin()), Value::Const(c.cos()));
+        }
+        let sin = self.push(Op::SinCos(x));
+        let cos = self.push(Op::CosOf);
+        (sin, cos)
+    }
+
+    /// `a + b`, folded.
+    pub fn add(&mut self, a: Value, b: Value) -> Value {
+        match (a, b) {
+            (Value::Const(x), Value::Const(y)) => Value::Const(x + y),
+            _ if a.is_const(0.0) => b,
+            _ if b.is_const(0.0) => a,
+            _ if a == -b => ZERO,
+            _ => {
+                let ((ma, na), (mb, nb)) = (a.magnitude(), b.magnitude());
+                match (na, nb) {
+                    (false, false) => self.push(Op::Add(ma, mb)),
+                    (false, true) => self.push(Op::Sub(ma, mb)),
+                    (true, false) => self.push(Op::Sub(mb, ma)),
+                    (true, true) => -self.push(Op::Add(ma, mb)),
+                }
+            }
+        }
+    }
+
+    /// `a − b`, folded.
+    pub fn sub(&mut self, a: Value, b: Value) -> Value {
+        self.add(a, -b)
+    }
+
+    /// `a · b`, folded.
+    pub fn mul(&mut self, a: Value, b: Value) -> Value {
+        match (a, b) {
+            (Value::Const(x), Value::Const(y)) => Value::Const(x * y),
+            _ if a.is_const(0.0) || b.is_const(0.0) => ZERO,
+            _ if a.is_const(1.0) => b,
+            _ if b.is_const(1.0) => a,
+            _ if a.is_const(-1.0) => -b,
+            _ if b.is_const(-1.0) => -a,
+            _ => {
+                let ((ma, na), (mb, nb)) = (a.magnitude(), b.magnitude());
+                let product = self.push(Op::Mul(ma, mb));
+                if na != nb {
+                    -product
+                } else {
+                    product
+                }
+            }
+        }
+    }
+
+    /// Sum of products `Σ aᵢ bᵢ`.
+    pub fn dot(&mut self, a: &[Value], b: &[Value]) -> Value {
+        a.iter().zip(b).fold(ZERO, |sum, (&x, &y)| {
+            let product = self.mul(x, y);
+            self.add(sum, product)
+        })
+    }
+
+    /// The statements `outputs` depend on, as Rust `let` bindings, and their operation counts.
+    pub fn render(&self, outputs: &[Value]) -> (String, OpCounts) {
+        let mut live = vec![false; self.ops.len()];
+        let mark = |v: &Value, live: &mut Vec<bool>| {
+            if let Value::Var { id, .. } = v {
+                live[*id] = true;
+            }
+        };
+        outputs.iter().for_each(|v| mark(v, &mut live));
+        for id in (0..self.ops.len()).rev() {
+            if !live[id] {
+                continue;
+            }
+            match &self.ops[id] {
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
+                    mark(a, &mut live);
+                    mark(b, &mut live);
+                }
+                Op::SinCos(x) => mark(x, &mut live),
+                Op::CosOf => live[id - 1] = true,
+                Op::Input(_) => {}
+            }
+        }
+        let mut code = String::new();
+        let mut counts = OpCounts::default();
+        for (id, op) in self.ops.iter().enumerate() {
+            if !live[id] {
+                continue;
+            }
+            let statement = match op {
+                Op::Input(expr) => format!("let t{id} = {expr};"),
+                Op::Add(a, b) => {
+                    counts.adds += 1;
+                    format!("let t{id} = {} + {};", operand(*a), operand(*b))
+                }
+                Op::Sub(a, b) => {
+                    counts.adds += 1;
+                    format!("let t{id} = {} - {};", operand(*a), operand(*b))
+                }
+                Op::Mul(a, b) => {
+                    counts.muls += 1;
+                    format!("let t{id} = {} * {};", operand(*a), operand(*b))
+                }
+                Op::SinCos(x) => {
+                    counts.trig += 1;
+                    format!("let (t{id}, t{}) = ::hya_core::sin_cos({});", id + 1, operand(*x))
+                }
+                Op::CosOf => continue,
+            };
+            let _ = writeln!(code, "{statement}");
+        }
+        (code, counts)
+    }
+}
+
+/// A float literal that parses back to the same `f64` (`{:?}` prints the shortest such text).
+pub fn literal(value: f64) -> String {
+    assert!(value.is_finite(), "generated code never holds a non-finite constant");
+    format!("{value:?}_f64")
+}
+
+/// An operand of an emitted statement (always non-negative, see [`Value::magnitude`]).
+fn operand(value: Value) -> String {
+    expression(value)
+}
+
+/// Rust for a value anywhere: `t12`, `-t12`, `0.5_f64`, `-2.0_f64`.
+pub fn expression(value: Value) -> String {
+    match value {
+        Value::Const(c) => literal(c),
+        Value::Var { id, negated: false } => format!("t{id}"),
+        Value::Var { id, negated: true } => format!("-t{id}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zeros_ones_and_signs_fold_away() {
+        let mut e = Emitter::new();
+        let x = e.input("q[0]");
+        let y = e.input("q[1]");
+        assert_eq!(e.mul(x, ZERO), ZERO);
+        assert_eq!(e.mul(ONE, x), x);
+        assert_eq!(e.add(x, ZERO), x);
+        assert_eq!(e.add(x, -x), ZERO);
+        assert_eq!(e.mul(Value::Const(-1.0), x), -x);
+        let product = e.mul(-x, -y);
+        let (code, counts) = e.render(&[product]);
+        assert_eq!(counts, OpCounts { adds: 0, muls: 1, trig: 0 });
+        assert_eq!(code, "let t0 = q[0];\nlet t1 = q[1];\nlet t2 = t0 * t1;\n");
+    }
+
+    #[test]
+    fn negated_terms_become_subtractions_and_dead_code_is_dropped() {
+        let mut e = Emitter::new();
+        let x = e.input("a");
+        let y = e.input("b");
+        let _unused = e.mul(x, Value::Const(3.0));
+        let difference = e.add(-x, y);
+        let (sin, _cos) = e.sin_cos(y);
+        let (code, counts) = e.render(&[difference, sin]);
+        assert_eq!(counts, OpCounts { adds: 1, muls: 0, trig: 1 });
+        assert!(code.contains("let t3 = t1 - t0;"), "{code}");
+        assert!(code.contains("let (t4, t5) = ::hya_core::sin_cos(t1);"), "{code}");
+        assert!(!code.contains("3.0"), "{code}");
+    }
+
+    #[test]
+    fn literals_round_trip() {
+        for v in [0.1, -1e-300, 123456.789e10, 1.0 / 3.0] {
+            let text = literal(v);
+            assert_eq!(text.trim_end_matches("_f64").parse::<f64>().unwrap(), v);
+        }
+    }
+}

@@ -1,0 +1,282 @@
+//! Unrolled, const-sized Rust dynamics for one robot.
+//!
+//! Each entry point of [`hya_core::Dynamics`] is traced separately through the same recursions
+//! as the runtime model (RNEA, CRBA, subtree momenta for `Cᵀq̇`), so each keeps only what it
+//! needs: gravity has no velocity terms, velocity terms no gravity, and every constant of the
+//! model is folded into literals.
+
+use std::fmt::Write;
+
+use hya_core::model::{Body, JointKind, TreeModel};
+
+use crate::expr::{expression, literal, Emitter, OpCounts, Value, ZERO};
+use crate::symbolic::{constant_vector, subspace, Inertia, JointXform, Spatial, ZERO3, ZERO6};
+
+/// Generated source for one robot, with the operation count of each function.
+#[derive(Debug, Clone)]
+pub struct Generated {
+    /// The Rust module text, formatted.
+    pub source: String,
+    /// `(function name, counts)` for each generated function.
+    pub stats: Vec<(&'static str, OpCounts)>,
+}
+
+/// Why code could not be generated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GenerateError {
+    /// The type name is not a Rust identifier.
+    #[error("`{0}` is not a valid Rust type name")]
+    TypeName(String),
+    /// The emitted code did not parse (a generator bug).
+    #[error("generated code does not parse: {0}")]
+    Syntax(String),
+}
+
+/// Which rates an RNEA trace includes.
+#[derive(Debug, Clone, Copy)]
+struct RneaInputs {
+    velocity: bool,
+    acceleration: bool,
+    gravity: bool,
+}
+
+/// The traced joint transforms of every body, one `sin_cos` per revolute joint.
+fn joint_transforms(e: &mut Emitter, bodies: &[Body]) -> Vec<JointXform> {
+    bodies
+        .iter()
+        .enumerate()
+        .map(|(i, body)| {
+            let q = e.input(format!("q[{i}]"));
+            let sin_cos = (body.kind == JointKind::Revolute).then(|| e.sin_cos(q));
+            JointXform::new(e, body, q, sin_cos)
+        })
+        .collect()
+}
+
+fn rnea(e: &mut Emitter, model: &TreeModel, inputs: RneaInputs) -> Vec<Value> {
+    let bodies = model.bodies();
+    let xforms = joint_transforms(e, bodies);
+    let gravity = if inputs.gravity { constant_vector(&-model.gravity_vector()) } else { ZERO3 };
+    let base_acceleration = Spatial { angular: ZERO3, linear: gravity };
+    let mut velocity: Vec<Spatial> = Vec::with_capacity(bodies.len());
+    let mut force: Vec<Spatial> = Vec::with_capacity(bodies.len());
+    let mut acceleration: Vec<Spatial> = Vec::with_capacity(bodies.len());
+    for (i, body) in bodies.iter().enumerate() {
+        let s = subspace(body);
+        let qd = if inputs.velocity { e.input(format!("qd[{i}]")) } else { ZERO };
+        let qdd = if inputs.acceleration { e.input(format!("qdd[{i}]")) } else { ZERO };
+        let (parent_velocity, parent_acceleration) =
+            body.parent.map_or((ZERO6, base_acceleration), |p| (velocity[p], acceleration[p]));
+        let joint_velocity = e.scale6(&s, qd);
+        let carried = xforms[i].apply_motion(e, &parent_velocity);
+        let v = e.add6(&carried, &joint_velocity);
+        let carried = xforms[i].apply_motion(e, &parent_acceleration);
+        let driven = e.scale6(&s, qdd);
+        let coriolis = e.cross_motion(&v, &joint_velocity);
+        let partial = e.add6(&carried, &driven);
+        let a = e.add6(&partial, &coriolis);
+        let inertia = Inertia::constant(&body.inertia);
+        let ia = e.apply_inertia(&inertia, &a);
+        let momentum = e.apply_inertia(&inertia, &v);
+        let gyroscopic = e.cross_force(&v, &momentum);
+        force.push(e.add6(&ia, &gyroscopic));
+        velocity.push(v);
+        acceleration.push(a);
+    }
+    backward_projection(e, bodies, &xforms, &mut force, |e, i, f| e.dot6(&subspace(&bodies[i]), f))
+}
+
+/// Leaves first: `out_i = project(i, f_i)`, then `f_λ += X_iᵀ f_i`.
+fn backward_projection(
+    e: &mut Emitter,
+    bodies: &[Body],
+    xforms: &[JointXform],
+    force: &mut [Spatial],
+    project: impl Fn(&mut Emitter, usize, &Spatial) -> Value,
+) -> Vec<Value> {
+    let mut out = vec![ZERO; bodies.len()];
+    for (i, body) in bodies.iter().enumerate().rev() {
+        out[i] = project(e, i, &force[i]);
+        if let Some(p) = body.parent {
+            let carried = xforms[i].apply_transpose_force(e, &force[i]);
+            force[p] = e.add6(&force[p], &carried);
+        }
+    }
+    out
+}
+
+fn coriolis_transpose(e: &mut Emitter, model: &TreeModel) -> Vec<Value> {
+    let bodies = model.bodies();
+    let xforms = joint_transforms(e, bodies);
+    let mut velocity: Vec<Spatial> = Vec::with_capacity(bodies.len());
+    let mut momentum: Vec<Spatial> = Vec::with_capacity(bodies.len());
+    for (i, body) in bodies.iter().enumerate() {
+        let qd = e.input(format!("qd[{i}]"));
+        let parent_velocity = body.parent.map_or(ZERO6, |p| velocity[p]);
+        let carried = xforms[i].apply_motion(e, &parent_velocity);
+        let joint_velocity = e.scale6(&subspace(body), qd);
+        let v = e.add6(&carried, &joint_velocity);
+        momentum.push(e.apply_inertia(&Inertia::constant(&body.inertia), &v));
+        velocity.push(v);
+    }
+    backward_projection(e, bodies, &xforms, &mut momentum, |e, i, h| {
+        let rate = e.cross_motion(&velocity[i], &subspace(&bodies[i]));
+        e.dot6(&rate, h)
+    })
+}
+
+/// The lower triangle of `M(q)`, row-major (`(i, j)` with `j ≤ i`).
+fn crba(e: &mut Emitter, model: &TreeModel) -> Vec<(usize, usize, Value)> {
+    let bodies = model.bodies();
+    let xforms = joint_transforms(e, bodies);
+    let mut composite: Vec<Inertia> = bodies.iter().map(|b| Inertia::constant(&b.inertia)).collect();
+    for (i, body) in bodies.iter().enumerate().rev() {
+        if let Some(p) = body.parent {
+            let carried = xforms[i].inertia_in_parent(e, &composite[i]);
+            composite[p] = e.add_inertia(&composite[p], &carried);
+        }
+    }
+    let mut entries = Vec::new();
+    for (i, body) in bodies.iter().enumerate() {
+        let mut force = e.apply_inertia(&composite[i], &subspace(body));
+        entries.push((i, i, e.dot6(&subspace(body), &force)));
+        let mut j = i;
+        while let Some(p) = bodies[j].parent {
+            force = xforms[j].apply_transpose_force(e, &force);
+            j = p;
+            entries.push((i, j, e.dot6(&subspace(&bodies[j]), &force)));
+        }
+    }
+    entries
+}
+
+/// One generated method: its signature, body statements and returned expression.
+struct Method {
+    name: &'static str,
+    doc: &'static str,
+    arguments: &'static str,
+    returns: &'static str,
+    body: String,
+    counts: OpCounts,
+}
+
+fn vector_method(
+    name: &'static str,
+    doc: &'static str,
+    arguments: &'static str,
+    dof: usize,
+    trace: impl FnOnce(&mut Emitter) -> Vec<Value>,
+) -> Method {
+    let mut e = Emitter::new();
+    let outputs = trace(&mut e);
+    let (mut body, counts) = e.render(&outputs);
+    let items: Vec<String> = outputs.iter().map(|v| expression(*v)).collect();
+    let _ = write!(body, "::hya_core::JointVector::<{dof}>::new({})", items.join(", "));
+    Method { name, doc, arguments, returns: "::hya_core::JointVector", body, counts }
+}
+
+fn mass_matrix_method(model: &TreeModel) -> Method {
+    let mut e = Emitter::new();
+    let entries = crba(&mut e, model);
+    let outputs: Vec<Value> = entries.iter().map(|(_, _, v)| *v).collect();
+    let (mut body, counts) = e.render(&outputs);
+    let dof = model.dof();
+    let _ = writeln!(body, "let mut m = ::hya_core::JointMatrix::<{dof}>::zeros();");
+    for (i, j, value) in entries.into_iter().filter(|(_, _, v)| *v != ZERO) {
+        let value = expression(value);
+        let _ = writeln!(body, "m[({i}, {j})] = {value};");
+        if i != j {
+            let _ = writeln!(body, "m[({j}, {i})] = {value};");
+        }
+    }
+    body.push('m');
+    Method {
+        name: "mass_matrix",
+        doc: "Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.",
+        arguments: "q: &::hya_core::JointVector<N>",
+        returns: "::hya_core::JointMatrix",
+        body,
+        counts,
+    }
+}
+
+fn methods(model: &TreeModel) -> Vec<Method> {
+    let dof = model.dof();
+    let q = "q: &::hya_core::JointVector<N>";
+    let q_qd = "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>";
+    let all = RneaInputs { velocity: true, acceleration: true, gravity: true };
+    vec![
+        vector_method(
+            "inverse_dynamics",
+            "Inverse dynamics `M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.",
+            "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>, qdd: &::hya_core::JointVector<N>",
+            dof,
+            |e| rnea(e, model, all),
+        ),
+        vector_method("gravity", "Gravity torques `G(q)`.", q, dof, |e| {
+            rnea(e, model, RneaInputs { velocity: false, acceleration: false, gravity: true })
+        }),
+        vector_method("velocity_terms", "Coriolis and centripetal torques `C(q, q̇)`.", q_qd, dof, |e| {
+            rnea(e, model, RneaInputs { velocity: true, acceleration: false, gravity: false })
+        }),
+        vector_method(
+            "coriolis_transpose_times_velocity",
+            "`C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.",
+            q_qd,
+            dof,
+            |e| coriolis_transpose(e, model),
+        ),
+        mass_matrix_method(model),
+    ]
+}
+
+/// Generates the module for `model` with the dynamics type named `type_name`.
+pub fn generate(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
+    if syn::parse_str::<syn::Ident>(type_name).is_err() {
+        return Err(GenerateError::TypeName(type_name.to_owned()));
+    }
+    let dof = model.dof();
+    let methods = methods(model);
+    let names: Vec<String> = model.joint_names().map(|n| format!("{n:?}")).collect();
+    let effort: Vec<String> = model
+        .bodies()
+        .iter()
+        .map(|b| b.limits.effort.map_or("None".into(), |v| format!("Some({})", literal(v))))
+        .collect();
+    let mut source = String::new();
+    let _ = write!(
+        source,
+        "/// Rigid-body dynamics of `{robot}` ({dof} joints), generated by hya-codegen: constants\n\
+         /// folded, one `sin_cos` per revolute joint, loops unrolled, no allocation.\n\
+         #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]\n\
+         pub struct {type_name};\n\
+         impl {type_name} {{\n\
+         /// Degrees of freedom.\n\
+         pub const DOF: usize = {dof};\n\
+         /// Joint names in the model's order.\n\
+         pub const JOINT_NAMES: [&'static str; {dof}] = [{names}];\n\
+         /// Effort limits from the description, N·m or N (`None` where it gives none).\n\
+         pub const EFFORT_LIMITS: [Option<f64>; {dof}] = [{effort}];\n\
+         }}\n\
+         #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, \
+         clippy::let_and_return, clippy::neg_multiply, unused_variables)]\n\
+         impl ::hya_core::Dynamics<{dof}> for {type_name} {{\n",
+        robot = model.name(),
+        names = names.join(", "),
+        effort = effort.join(", "),
+    );
+    for m in &methods {
+        let arguments = m.arguments.replace("<N>", &format!("<{dof}>"));
+        let _ = write!(
+            source,
+            "/// {doc}\n#[inline]\nfn {name}(&self, {arguments}) -> {returns}<{dof}> {{\n{body}\n}}\n",
+            doc = m.doc,
+            name = m.name,
+            returns = m.returns,
+            body = m.body,
+        );
+    }
+    source.push_str("}\n");
+    let file = syn::parse_file(&source).map_err(|e| GenerateError::Syntax(e.to_string()))?;
+    Ok(Generated { source: prettyplease::unparse(&file), stats: methods.iter().map(|m| (m.name, m.counts)).collect() })
+}

@@ -1,0 +1,20 @@
+//! Generates the dynamics of every robot in `robots.list` from `urdf/<module>.urdf` into
+//! `OUT_DIR/<module>.rs`, which `src/lib.rs` includes.
+
+use std::path::Path;
+
+fn main() {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::path::PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+    println!("cargo:rerun-if-changed=robots.list");
+    let list = std::fs::read_to_string(manifest.join("robots.list")).expect("robots.list is readable");
+    for line in list.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+        let (module, type_name) = line.split_once(' ').expect("robots.list lines are `module TypeName`");
+        let urdf = manifest.join("urdf").join(format!("{module}.urdf"));
+        println!("cargo:rerun-if-changed={}", urdf.display());
+        let loaded = hya_codegen::load_file(&urdf).unwrap_or_else(|e| panic!("{e}"));
+        let generated =
+            hya_codegen::generate(&loaded.model, type_name.trim()).unwrap_or_else(|e| panic!("{module}: {e}"));
+        std::fs::write(out.join(format!("{module}.rs")), generated.source).expect("OUT_DIR is writable");
+    }
+}

@@ -1,0 +1,70 @@
+//! # hya-robots
+//!
+//! The arms hya ships, each as a zero-sized type implementing [`hya_core::Dynamics`] with code
+//! generated at build time from the URDF in `urdf/` (see `build.rs`), plus the URDF text itself.
+//!
+//! | robot | type | joints | source of the figures |
+//! |---|---|---|---|
+//! | `planar2` | [`Planar2`] | 2 | teaching example |
+//! | `hya` | [`Hya`] | 6 | the paper's hydraulic arm (RobCoGen model of HyA) |
+
+#![no_std]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+use hya_core::{OnSlicesN, SliceDynamics};
+
+macro_rules! shipped_robots {
+    ($($module:ident $type:ident $dof:literal: $doc:literal;)*) => {
+        $(
+            #[doc = $doc]
+            pub mod $module {
+                include!(concat!(env!("OUT_DIR"), "/", stringify!($module), ".rs"));
+                /// The URDF the dynamics were generated from.
+                pub const URDF: &str = include_str!(concat!("../urdf/", stringify!($module), ".urdf"));
+            }
+            pub use $module::$type;
+        )*
+
+        /// Every shipped robot.
+        pub const ROBOTS: &[RobotInfo] = &[$(RobotInfo {
+            name: stringify!($module),
+            dof: $dof,
+            joint_names: &$module::$type::JOINT_NAMES,
+            urdf: $module::URDF,
+            generated: &OnSlicesN::<$dof, $module::$type>($module::$type),
+        },)*];
+    };
+}
+
+shipped_robots! {
+    planar2 Planar2 2: "A two-link arm in the x-z plane: the teaching example.";
+    hya Hya 6: "HyA, the 6-DOF hydraulic arm of Lu, Sandy & Buchli.";
+}
+
+/// A shipped robot, for listing and for run-time dispatch.
+#[derive(Clone, Copy)]
+pub struct RobotInfo {
+    /// Its name (`hya`, `ur5`, ...).
+    pub name: &'static str,
+    /// Degrees of freedom.
+    pub dof: usize,
+    /// Joint names in the model's order.
+    pub joint_names: &'static [&'static str],
+    /// The URDF text.
+    pub urdf: &'static str,
+    /// The generated dynamics, on slices.
+    pub generated: &'static (dyn SliceDynamics + Sync),
+}
+
+impl core::fmt::Debug for RobotInfo {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("RobotInfo").field("name", &self.name).field("dof", &self.dof).finish_non_exhaustive()
+    }
+}
+
+/// The shipped robot called `name`.
+pub fn find(name: &str) -> Option<&'static RobotInfo> {
+    ROBOTS.iter().find(|r| r.name == name)
+}

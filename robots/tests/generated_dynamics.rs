@@ -1,0 +1,111 @@
+//! Generated dynamics of every shipped robot against the generic tree model loaded from the same
+//! URDF at run time, and the laws every rigid-body model obeys.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+use hya_core::model::TreeDynamics;
+use hya_core::{Dynamics, JointMatrix, JointVector};
+use proptest::prelude::*;
+
+/// `|a − b| ≤ tol · max(|b|, floor)` entrywise.
+fn close<const R: usize, const C: usize>(
+    a: &nalgebra::SMatrix<f64, R, C>,
+    b: &nalgebra::SMatrix<f64, R, C>,
+    tol: f64,
+    floor: f64,
+) -> bool {
+    a.iter().zip(b.iter()).all(|(x, y)| (x - y).abs() <= tol * y.abs().max(floor))
+}
+
+fn generic<const N: usize>(urdf: &str) -> TreeDynamics<N> {
+    hya_codegen::load_str(urdf, "test").unwrap().model.into_dynamics().unwrap()
+}
+
+fn state<const N: usize>() -> impl Strategy<Value = (JointVector<N>, JointVector<N>, JointVector<N>)> {
+    let vector = |bound: f64| proptest::array::uniform::<_, N>(-bound..bound).prop_map(JointVector::from);
+    (vector(std::f64::consts::PI), vector(2.0), vector(5.0))
+}
+
+/// `Ṁ` along `q̇` by central differences.
+fn mass_matrix_rate<const N: usize>(d: &impl Dynamics<N>, q: &JointVector<N>, qd: &JointVector<N>) -> JointMatrix<N> {
+    let h = 1e-6;
+    (d.mass_matrix(&(q + qd * h)) - d.mass_matrix(&(q - qd * h))) / (2.0 * h)
+}
+
+fn check_against_generic<const N: usize>(
+    generated: &impl Dynamics<N>,
+    generic: &TreeDynamics<N>,
+    (q, qd, qdd): (JointVector<N>, JointVector<N>, JointVector<N>),
+) -> Result<(), TestCaseError> {
+    let (tol, floor) = (1e-12, 1.0);
+    prop_assert!(close(
+        &generated.inverse_dynamics(&q, &qd, &qdd),
+        &generic.inverse_dynamics(&q, &qd, &qdd),
+        tol,
+        floor
+    ));
+    prop_assert!(close(&generated.gravity(&q), &generic.gravity(&q), tol, floor));
+    prop_assert!(close(&generated.velocity_terms(&q, &qd), &generic.velocity_terms(&q, &qd), tol, floor));
+    prop_assert!(close(&generated.mass_matrix(&q), &generic.mass_matrix(&q), tol, floor));
+    prop_assert!(close(
+        &generated.coriolis_transpose_times_velocity(&q, &qd),
+        &generic.coriolis_transpose_times_velocity(&q, &qd),
+        tol,
+        floor
+    ));
+    Ok(())
+}
+
+fn check_laws<const N: usize>(
+    d: &impl Dynamics<N>,
+    (q, qd, qdd): (JointVector<N>, JointVector<N>, JointVector<N>),
+) -> Result<(), TestCaseError> {
+    let zero = JointVector::zeros();
+    let m = d.mass_matrix(&q);
+    prop_assert!(close(&m, &m.transpose(), 1e-14, 1.0), "M not symmetric");
+    prop_assert!(m.cholesky().is_some(), "M not positive definite");
+    let g = d.gravity(&q);
+    prop_assert!(close(&d.inverse_dynamics(&q, &zero, &zero), &g, 1e-12, 1.0));
+    prop_assert!(close(&(d.inverse_dynamics(&q, &zero, &qdd) - g), &(m * qdd), 1e-10, 1.0));
+    let tau = d.inverse_dynamics(&q, &qd, &qdd);
+    let qdd_back = d.forward_dynamics(&q, &qd, &tau).unwrap();
+    prop_assert!(close(&d.inverse_dynamics(&q, &qd, &qdd_back), &tau, 1e-9, 1.0), "ID(FD(τ)) ≠ τ");
+    let c = d.velocity_terms(&q, &qd);
+    let m_dot = mass_matrix_rate(d, &q, &qd);
+    let ct = d.coriolis_transpose_times_velocity(&q, &qd);
+    prop_assert!(close(&(m_dot * qd), &(c + ct), 1e-6, 1.0), "Ṁq̇ ≠ C + Cᵀq̇");
+    prop_assert!((qd.dot(&(m_dot * qd)) - 2.0 * qd.dot(&c)).abs() <= 1e-6 * c.norm().max(1.0), "q̇ᵀṀq̇ ≠ 2q̇ᵀC");
+    Ok(())
+}
+
+macro_rules! robot_tests {
+    ($($module:ident $type:ident $dof:literal;)*) => {$(
+        mod $module {
+            use super::*;
+            use hya_robots::$module::{$type, URDF};
+
+            proptest! {
+                #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+                #[test]
+                fn generated_equals_generic(s in state::<$dof>()) {
+                    check_against_generic(&$type, &generic::<$dof>(URDF), s)?;
+                }
+
+                #[test]
+                fn generated_obeys_the_laws(s in state::<$dof>()) {
+                    check_laws(&$type, s)?;
+                }
+
+                #[test]
+                fn generic_obeys_the_laws(s in state::<$dof>()) {
+                    check_laws(&generic::<$dof>(URDF), s)?;
+                }
+            }
+        }
+    )*};
+}
+
+robot_tests! {
+    planar2 Planar2 2;
+    hya Hya 6;
+}

@@ -171,7 +171,7 @@ fn vector_method(
     let outputs = trace(&mut e);
     let (mut body, counts) = e.render(&outputs);
     let items: Vec<String> = outputs.iter().map(|v| expression(*v)).collect();
-    let _ = write!(body, "::hya_core::JointVector::<{dof}>::new({})", items.join(", "));
+    let _ = write!(body, "::hya_core::JointVector::<{dof}>::from([{}])", items.join(", "));
     Method { name, doc, arguments, returns: "::hya_core::JointVector", body, counts }
 }
 

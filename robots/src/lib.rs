@@ -7,6 +7,9 @@
 //! |---|---|---|---|
 //! | `planar2` | [`Planar2`] | 2 | teaching example |
 //! | `hya` | [`Hya`] | 6 | the paper's hydraulic arm (RobCoGen model of HyA) |
+//! | `ur5` | [`Ur5`] | 6 | UR's DH table, masses and centres of mass; cylinder inertias |
+//! | `panda` | [`Panda`] | 7 | Franka's kinematics; Gaz et al. (RA-L 2019) identified inertias |
+//! | `iiwa14` | [`Iiwa14`] | 7 | Drake's public iiwa14 description |
 
 #![no_std]
 
@@ -41,6 +44,9 @@ macro_rules! shipped_robots {
 shipped_robots! {
     planar2 Planar2 2: "A two-link arm in the x-z plane: the teaching example.";
     hya Hya 6: "HyA, the 6-DOF hydraulic arm of Lu, Sandy & Buchli.";
+    ur5 Ur5 6: "Universal Robots UR5.";
+    panda Panda 7: "Franka Emika Panda, the seven arm joints.";
+    iiwa14 Iiwa14 7: "KUKA LBR iiwa 14 R820.";
 }
 
 /// A shipped robot, for listing and for run-time dispatch.

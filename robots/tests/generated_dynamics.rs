@@ -108,4 +108,7 @@ macro_rules! robot_tests {
 robot_tests! {
     planar2 Planar2 2;
     hya Hya 6;
+    ur5 Ur5 6;
+    panda Panda 7;
+    iiwa14 Iiwa14 7;
 }

@@ -162,8 +162,9 @@ impl Emitter {
         })
     }
 
-    /// The statements `outputs` depend on, as Rust `let` bindings, and their operation counts.
-    pub fn render(&self, outputs: &[Value]) -> (String, OpCounts) {
+    /// The statements `outputs` depend on, as Rust `let` bindings, with their operation counts
+    /// and the outputs as Rust expressions.
+    pub fn render(&self, outputs: &[Value]) -> Rendered {
         let mut live = vec![false; self.ops.len()];
         let mark = |v: &Value, live: &mut Vec<bool>| {
             if let Value::Var { id, .. } = v {
@@ -185,35 +186,50 @@ impl Emitter {
                 Op::Input(_) => {}
             }
         }
+        // Live statements are numbered in order, so the emitted names have no gaps.
+        let mut names = vec![0usize; self.ops.len()];
+        let mut next = 0;
+        for (id, op) in self.ops.iter().enumerate() {
+            if live[id] && !matches!(op, Op::CosOf) {
+                names[id] = next;
+                next += if matches!(op, Op::SinCos(_)) { 2 } else { 1 };
+            }
+            if matches!(op, Op::CosOf) {
+                names[id] = names[id - 1] + 1;
+            }
+        }
+        let show = |v: Value| expression_named(v, &names);
         let mut code = String::new();
         let mut counts = OpCounts::default();
         for (id, op) in self.ops.iter().enumerate() {
             if !live[id] {
                 continue;
             }
+            let t = names[id];
             let statement = match op {
-                Op::Input(expr) => format!("let t{id} = {expr};"),
+                Op::Input(expr) => format!("let t{t} = {expr};"),
                 Op::Add(a, b) => {
                     counts.adds += 1;
-                    format!("let t{id} = {} + {};", operand(*a), operand(*b))
+                    format!("let t{t} = {} + {};", show(*a), show(*b))
                 }
                 Op::Sub(a, b) => {
                     counts.adds += 1;
-                    format!("let t{id} = {} - {};", operand(*a), operand(*b))
+                    format!("let t{t} = {} - {};", show(*a), show(*b))
                 }
                 Op::Mul(a, b) => {
                     counts.muls += 1;
-                    format!("let t{id} = {} * {};", operand(*a), operand(*b))
+                    format!("let t{t} = {} * {};", show(*a), show(*b))
                 }
                 Op::SinCos(x) => {
                     counts.trig += 1;
-                    format!("let (t{id}, t{}) = ::hya_core::sin_cos({});", id + 1, operand(*x))
+                    format!("let (t{t}, t{}) = ::hya_core::sin_cos({});", t + 1, show(*x))
                 }
                 Op::CosOf => continue,
             };
             let _ = writeln!(code, "{statement}");
         }
-        (code, counts)
+        let outputs = outputs.iter().map(|v| show(*v)).collect();
+        Rendered { code, counts, outputs }
     }
 }
 
@@ -223,18 +239,24 @@ pub fn literal(value: f64) -> String {
     format!("{value:?}_f64")
 }
 
-/// An operand of an emitted statement (always non-negative, see [`Value::magnitude`]).
-fn operand(value: Value) -> String {
-    expression(value)
-}
-
-/// Rust for a value anywhere: `t12`, `-t12`, `0.5_f64`, `-2.0_f64`.
-pub fn expression(value: Value) -> String {
+/// Rust for a value: `t12`, `-t12`, `0.5_f64`, `-2.0_f64`, with statement `id` named `t{names[id]}`.
+fn expression_named(value: Value, names: &[usize]) -> String {
     match value {
         Value::Const(c) => literal(c),
-        Value::Var { id, negated: false } => format!("t{id}"),
-        Value::Var { id, negated: true } => format!("-t{id}"),
+        Value::Var { id, negated: false } => format!("t{}", names[id]),
+        Value::Var { id, negated: true } => format!("-t{}", names[id]),
     }
+}
+
+/// Straight-line code from [`Emitter::render`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rendered {
+    /// `let` statements, one per line.
+    pub code: String,
+    /// Their operation counts.
+    pub counts: OpCounts,
+    /// The outputs as Rust expressions over the statements' names.
+    pub outputs: Vec<String>,
 }
 
 #[cfg(test)]
@@ -252,9 +274,10 @@ mod tests {
         assert_eq!(e.add(x, -x), ZERO);
         assert_eq!(e.mul(Value::Const(-1.0), x), -x);
         let product = e.mul(-x, -y);
-        let (code, counts) = e.render(&[product]);
-        assert_eq!(counts, OpCounts { adds: 0, muls: 1, trig: 0 });
-        assert_eq!(code, "let t0 = q[0];\nlet t1 = q[1];\nlet t2 = t0 * t1;\n");
+        let rendered = e.render(&[product]);
+        assert_eq!(rendered.counts, OpCounts { adds: 0, muls: 1, trig: 0 });
+        assert_eq!(rendered.code, "let t0 = q[0];\nlet t1 = q[1];\nlet t2 = t0 * t1;\n");
+        assert_eq!(rendered.outputs, ["t2"]);
     }
 
     #[test]
@@ -265,11 +288,10 @@ mod tests {
         let _unused = e.mul(x, Value::Const(3.0));
         let difference = e.add(-x, y);
         let (sin, _cos) = e.sin_cos(y);
-        let (code, counts) = e.render(&[difference, sin]);
+        let Rendered { code, counts, outputs } = e.render(&[difference, sin]);
         assert_eq!(counts, OpCounts { adds: 1, muls: 0, trig: 1 });
-        assert!(code.contains("let t3 = t1 - t0;"), "{code}");
-        assert!(code.contains("let (t4, t5) = ::hya_core::sin_cos(t1);"), "{code}");
-        assert!(!code.contains("3.0"), "{code}");
+        assert_eq!(code, "let t0 = a;\nlet t1 = b;\nlet t2 = t1 - t0;\nlet (t3, t4) = ::hya_core::sin_cos(t1);\n");
+        assert_eq!(outputs, ["t2", "t3"]);
     }
 
     #[test]

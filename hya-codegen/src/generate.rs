@@ -9,7 +9,7 @@ use std::fmt::Write;
 
 use hya_core::model::{Body, JointKind, TreeModel};
 
-use crate::expr::{expression, literal, Emitter, OpCounts, Value, ZERO};
+use crate::expr::{literal, Emitter, OpCounts, Rendered, Value, ZERO};
 use crate::symbolic::{constant_vector, subspace, Inertia, JointXform, Spatial, ZERO3, ZERO6};
 
 /// Generated source for one robot, with the operation count of each function.
@@ -169,9 +169,8 @@ fn vector_method(
 ) -> Method {
     let mut e = Emitter::new();
     let outputs = trace(&mut e);
-    let (mut body, counts) = e.render(&outputs);
-    let items: Vec<String> = outputs.iter().map(|v| expression(*v)).collect();
-    let _ = write!(body, "::hya_core::JointVector::<{dof}>::from([{}])", items.join(", "));
+    let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
+    let _ = write!(body, "::hya_core::JointVector::<{dof}>::from([{}])", outputs.join(", "));
     Method { name, doc, arguments, returns: "::hya_core::JointVector", body, counts }
 }
 
@@ -179,11 +178,10 @@ fn mass_matrix_method(model: &TreeModel) -> Method {
     let mut e = Emitter::new();
     let entries = crba(&mut e, model);
     let outputs: Vec<Value> = entries.iter().map(|(_, _, v)| *v).collect();
-    let (mut body, counts) = e.render(&outputs);
+    let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
     let dof = model.dof();
     let _ = writeln!(body, "let mut m = ::hya_core::JointMatrix::<{dof}>::zeros();");
-    for (i, j, value) in entries.into_iter().filter(|(_, _, v)| *v != ZERO) {
-        let value = expression(value);
+    for ((i, j, _), value) in entries.iter().zip(&outputs).filter(|((_, _, v), _)| *v != ZERO) {
         let _ = writeln!(body, "m[({i}, {j})] = {value};");
         if i != j {
             let _ = writeln!(body, "m[({j}, {i})] = {value};");

@@ -1,0 +1,2 @@
+hya_macros::robot!("Bad", "tests/urdf/arm.urdf");
+fn main() {}

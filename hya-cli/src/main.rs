@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod dynamics;
 mod filter;
 mod rows;
 
@@ -25,6 +26,17 @@ enum Command {
     /// channels' x1, then all x2, then all x3.
     #[command(allow_negative_numbers = true)]
     Filter(filter::FilterArgs),
+    /// List the shipped robots (or a URDF's model): name, degrees of freedom, joint names.
+    Robots(dynamics::RobotsArgs),
+    /// Inverse dynamics: rows `q qd qdd` (one value per joint each) to rows `τ`.
+    ///
+    /// A shipped robot's name uses its generated code (`--generic`: the runtime tree model); a
+    /// URDF path is loaded at run time. Joint order is the model's (see `hya robots`).
+    Id(dynamics::RobotArgs),
+    /// Mass matrix: rows `q` to rows `M`, row-major.
+    Mass(dynamics::RobotArgs),
+    /// Gravity torques: rows `q` to rows `G`.
+    Gravity(dynamics::RobotArgs),
 }
 
 /// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
@@ -44,6 +56,10 @@ fn main() -> ExitCode {
     let mut stdout = io::BufWriter::new(io::stdout().lock());
     let result = match cli.command {
         Command::Filter(args) => filter::run(&args, stdin, &mut stdout),
+        Command::Robots(args) => dynamics::list(&args, &mut stdout),
+        Command::Id(args) => dynamics::run(dynamics::Quantity::InverseDynamics, &args, stdin, &mut stdout),
+        Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
+        Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

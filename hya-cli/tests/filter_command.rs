@@ -2,28 +2,10 @@
 //! answers to bad input.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod common;
 
+use common::{assert_rejected, hya};
 use nalgebra::{Complex, ComplexField};
-
-fn hya(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_hya"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the hya binary runs");
-    // Feed stdin from its own thread, so a full stdout pipe cannot deadlock the two processes.
-    let mut pipe = child.stdin.take().expect("stdin is piped");
-    let input = stdin.to_owned();
-    let writer = std::thread::spawn(move || pipe.write_all(input.as_bytes()));
-    let output = child.wait_with_output().expect("hya exits");
-    // hya may stop reading early after a bad row; a broken pipe then is expected.
-    let _ = writer.join().expect("the writer thread does not panic");
-    output
-}
 
 /// `[H, jωH, (jω)²H]` of the paper's filter, ζ = 0.8, ω1 = ω2 = 50 rad/s.
 fn paper_response(omega: f64) -> [Complex<f64>; 3] {
@@ -74,16 +56,6 @@ fn first_row_sets_the_state_at_rest() {
     let output = hya(&["filter"], "1.5 -2\n");
     assert!(output.status.success());
     assert_eq!(String::from_utf8(output.stdout).unwrap(), "1.5 -2.0 0.0 0.0 0.0 0.0\n");
-}
-
-fn assert_rejected(args: &[&str], input: &str, expected_message: &[&str]) {
-    let output = hya(args, input);
-    assert_eq!(output.status.code(), Some(2), "exit code for {input:?}");
-    let message = String::from_utf8_lossy(&output.stderr);
-    for part in expected_message {
-        assert!(message.contains(part), "message {message:?} lacks {part:?}");
-    }
-    assert!(!message.contains("panicked"), "{message}");
 }
 
 #[test]

@@ -1,14 +1,16 @@
-//! The hot paths (filter step, estimator update, controller step) never touch the heap: a
-//! counting global allocator sees no allocation while they run.
+//! The hot paths (filter step, estimator update, controller step, generated dynamics) never
+//! touch the heap: a counting global allocator sees no allocation while they run.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::f64::consts::FRAC_PI_4;
 
 use hya_core::robots::PlanarTwoLink;
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference, ThirdOrderFilter,
 };
+use hya_robots::{Hya, Panda};
 
 /// Counts allocations made by the current thread (the test harness's own threads do not count).
 struct CountingAllocator;
@@ -66,4 +68,30 @@ fn hot_paths_do_not_allocate() {
         }
     });
     assert_eq!(count, 0, "the hot paths allocated {count} times");
+}
+
+/// Every entry point of generated dynamics, and the paper's loop on the generated HyA model.
+#[test]
+fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
+    let params = FilterParams::paper(1e-3).unwrap();
+    let q0 = JointVector::<6>::from([0.0, 0.0, -FRAC_PI_4, FRAC_PI_4, FRAC_PI_4, 0.0]);
+    let mut estimator = DisturbanceEstimator::new(Hya, params, q0, Hya.gravity(&q0)).unwrap();
+    let controller = ComputedTorque::new(Hya, Gains::diagonal([100.0; 6], [10.0; 6]).unwrap());
+    let panda_q = JointVector::<7>::from([0.1, -0.3, 0.2, -1.5, 0.1, 1.2, 0.4]);
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+
+    let count = allocations_during(|| {
+        for k in 0..500 {
+            let q = q0.map(|v| v + 1e-3 * k as f64);
+            let qd = JointVector::from_element(0.1);
+            let tau = controller.command(&q, &qd, &Reference::hold(q0), Some(estimator.disturbance())).unwrap().torque;
+            estimator.update(&q, &tau).unwrap();
+            std::hint::black_box(Hya.mass_matrix(&q));
+            std::hint::black_box(Hya.coriolis_transpose_times_velocity(&q, &qd));
+            std::hint::black_box(Hya.velocity_terms(&q, &qd));
+            std::hint::black_box(Hya.forward_dynamics(&q, &qd, &tau).unwrap());
+            std::hint::black_box(Panda.inverse_dynamics(&panda_q, &panda_q, &panda_q));
+        }
+    });
+    assert_eq!(count, 0, "generated dynamics allocated {count} times");
 }

@@ -1,0 +1,123 @@
+//! `hya robots`, `hya id`, `hya mass`, `hya gravity`: rigid-body dynamics from the shell.
+
+use std::io::{BufRead, Write};
+
+use hya_core::model::TreeModel;
+use hya_core::SliceDynamics;
+use hya_robots::{RobotInfo, ROBOTS};
+
+use crate::{read_rows, rows, CliError};
+
+/// Which robot, and through which path.
+#[derive(Debug, clap::Args)]
+pub struct RobotArgs {
+    /// A shipped robot's name (see `hya robots`) or the path of a URDF file.
+    #[arg(long)]
+    robot: String,
+    /// With a shipped robot: use the generic tree model instead of the generated code.
+    #[arg(long)]
+    generic: bool,
+}
+
+/// Parameters of `hya robots`.
+#[derive(Debug, clap::Args)]
+pub struct RobotsArgs {
+    /// Describe this URDF file instead of the shipped robots.
+    #[arg(long)]
+    urdf: Option<String>,
+}
+
+/// The dynamics a command runs on.
+enum Source {
+    Generated(&'static RobotInfo),
+    Model(TreeModel),
+}
+
+impl Source {
+    fn dynamics(&self) -> &dyn SliceDynamics {
+        match self {
+            Source::Generated(robot) => robot.generated,
+            Source::Model(model) => model,
+        }
+    }
+}
+
+fn load(path: &str) -> Result<TreeModel, CliError> {
+    let loaded = hya_codegen::load_file(path).map_err(|e| CliError::Input(e.to_string()))?;
+    for warning in &loaded.warnings {
+        eprintln!("hya: warning: {path}: {warning}");
+    }
+    Ok(loaded.model)
+}
+
+fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
+    match hya_robots::find(&args.robot) {
+        Some(robot) if args.generic => hya_codegen::load_str(robot.urdf, robot.name)
+            .map(|loaded| Source::Model(loaded.model))
+            .map_err(|e| CliError::Input(e.to_string())),
+        Some(robot) => Ok(Source::Generated(robot)),
+        None if std::path::Path::new(&args.robot).exists() => load(&args.robot).map(Source::Model),
+        None => {
+            let names: Vec<&str> = ROBOTS.iter().map(|r| r.name).collect();
+            Err(CliError::Input(format!(
+                "`{}` is neither a shipped robot ({}) nor a URDF file",
+                args.robot,
+                names.join(", ")
+            )))
+        }
+    }
+}
+
+/// `hya robots`: name, degrees of freedom and joint names in order, one robot per line.
+pub fn list(args: &RobotsArgs, output: &mut impl Write) -> Result<(), CliError> {
+    match &args.urdf {
+        Some(path) => {
+            let model = load(path)?;
+            let joints: Vec<&str> = model.joint_names().collect();
+            writeln!(output, "{} {} {}", model.name(), model.dof(), joints.join(" "))?;
+        }
+        None => {
+            for robot in ROBOTS {
+                writeln!(output, "{} {} {}", robot.name, robot.dof, robot.joint_names.join(" "))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What a dynamics command computes from one input row.
+#[derive(Debug, Clone, Copy)]
+pub enum Quantity {
+    /// Rows `q qd qdd` to `τ`.
+    InverseDynamics,
+    /// Rows `q` to `M`, row-major.
+    MassMatrix,
+    /// Rows `q` to `G`.
+    Gravity,
+}
+
+/// Runs `quantity` over every row of `input`.
+pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
+    let source = resolve(args)?;
+    let dynamics = source.dynamics();
+    let n = dynamics.dof();
+    let (width, what) = match quantity {
+        Quantity::InverseDynamics => (3 * n, "q, qd, qdd: one per joint each"),
+        Quantity::MassMatrix | Quantity::Gravity => (n, "q: one per joint"),
+    };
+    let mut result = vec![0.0; if matches!(quantity, Quantity::MassMatrix) { n * n } else { n }];
+    for row in read_rows(input) {
+        let row = row?;
+        rows::expect_width(&row, width, what)?;
+        let v = &row.values;
+        match quantity {
+            Quantity::InverseDynamics => {
+                dynamics.inverse_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
+            }
+            Quantity::MassMatrix => dynamics.mass_matrix_into(v, &mut result),
+            Quantity::Gravity => dynamics.gravity_into(v, &mut result),
+        }
+        rows::write(output, result.iter().copied())?;
+    }
+    Ok(())
+}

@@ -1,0 +1,35 @@
+//! Running the `hya` binary from tests.
+#![allow(dead_code)]
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+/// Runs `hya ARGS` with `stdin` as its input.
+pub fn hya(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hya"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the hya binary runs");
+    // Feed stdin from its own thread, so a full stdout pipe cannot deadlock the two processes.
+    let mut pipe = child.stdin.take().expect("stdin is piped");
+    let input = stdin.to_owned();
+    let writer = std::thread::spawn(move || pipe.write_all(input.as_bytes()));
+    let output = child.wait_with_output().expect("hya exits");
+    // hya may stop reading early after a bad row; a broken pipe then is expected.
+    let _ = writer.join().expect("the writer thread does not panic");
+    output
+}
+
+/// `hya ARGS` on `input` must exit with code 2 and a message containing every `expected` part.
+pub fn assert_rejected(args: &[&str], input: &str, expected_message: &[&str]) {
+    let output = hya(args, input);
+    assert_eq!(output.status.code(), Some(2), "exit code for {input:?}");
+    let message = String::from_utf8_lossy(&output.stderr);
+    for part in expected_message {
+        assert!(message.contains(part), "message {message:?} lacks {part:?}");
+    }
+    assert!(!message.contains("panicked"), "{message}");
+}

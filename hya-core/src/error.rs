@@ -28,6 +28,12 @@ pub enum Error {
         /// The offending value.
         value: f64,
     },
+    /// An observer needs a measurement the caller did not provide.
+    #[error("this observer needs the measurement `{signal}`, which was not given")]
+    MissingMeasurement {
+        /// Which signal (`qd_m`).
+        signal: &'static str,
+    },
     /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
     #[error("the mass matrix is not positive definite at this configuration")]
     SingularMassMatrix,

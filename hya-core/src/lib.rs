@@ -30,6 +30,7 @@ mod finite;
 mod linalg;
 #[cfg(feature = "alloc")]
 pub mod model;
+pub mod observers;
 pub mod robots;
 pub mod spatial;
 
@@ -52,3 +53,6 @@ pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics}
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
 pub use filter::{FilterParams, FilterState, ThirdOrderFilter};
+pub use observers::{
+    DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
+};

@@ -8,6 +8,23 @@ use libm::{cos, sin};
 
 use crate::dynamics::{Dynamics, JointMatrix, JointVector};
 
+/// A rotor of constant inertia `I` on a vertical axis: `I q̈ = τ`. The linear plant on which
+/// observers show their design transfer functions exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rotor {
+    /// Rotational inertia about the axis, kg·m².
+    pub inertia_kg_m2: f64,
+}
+
+impl Dynamics<1> for Rotor {
+    fn inverse_dynamics(&self, _q: &JointVector<1>, _qd: &JointVector<1>, qdd: &JointVector<1>) -> JointVector<1> {
+        qdd * self.inertia_kg_m2
+    }
+    fn coriolis_transpose_times_velocity(&self, _q: &JointVector<1>, _qd: &JointVector<1>) -> JointVector<1> {
+        JointVector::zeros()
+    }
+}
+
 /// A single link on a revolute joint: mass `m` with its centre at distance `l` from the axis and
 /// rotational inertia `I` about its centre.
 ///

@@ -17,12 +17,14 @@ const BANDWIDTH: f64 = 50.0;
 
 /// The four observers at 50 rad/s on a model `D`, with their design transfer functions `d̂/d`.
 type Observer<const N: usize> = Box<dyn DisturbanceObserver<N>>;
+/// An observer's design `d̂/d (jω)`.
+type Design = Box<dyn Fn(f64) -> Complex<f64>>;
 
 fn observers<const N: usize, D: Dynamics<N> + Copy + 'static>(
     dynamics: D,
     q0: JointVector<N>,
     ndob_gain: f64,
-) -> Vec<(&'static str, Observer<N>, Box<dyn Fn(f64) -> Complex<f64>>)> {
+) -> Vec<(&'static str, Observer<N>, Design)> {
     let params = FilterParams::paper(DT).unwrap();
     let zero = JointVector::zeros();
     let lag = |k: f64| move |w: f64| Complex::new(k, 0.0) / Complex::new(k, w);

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod dynamics;
+mod experiments;
 mod filter;
 mod rows;
 
@@ -37,6 +38,10 @@ enum Command {
     Mass(dynamics::RobotArgs),
     /// Gravity torques: rows `q` to rows `G`.
     Gravity(dynamics::RobotArgs),
+    /// Reproduce the paper's experiments on the simulated HyA and write a report.
+    Reproduce(experiments::ReproduceArgs),
+    /// Run a scenario of your own (TOML) and write a report.
+    Run(experiments::RunArgs),
 }
 
 /// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
@@ -60,6 +65,8 @@ fn main() -> ExitCode {
         Command::Id(args) => dynamics::run(dynamics::Quantity::InverseDynamics, &args, stdin, &mut stdout),
         Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
+        Command::Reproduce(args) => experiments::reproduce(&args),
+        Command::Run(args) => experiments::run(&args),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

@@ -396,6 +396,31 @@ impl TreeModel {
         Ok(jacobian)
     }
 
+    /// The same model with every body's inertia replaced by `f(body index, inertia)`.
+    pub fn map_inertias(&self, mut f: impl FnMut(usize, &RigidBodyInertia) -> RigidBodyInertia) -> TreeModel {
+        let mut model = self.clone();
+        for (i, body) in model.bodies.iter_mut().enumerate() {
+            body.inertia = f(i, &body.inertia);
+        }
+        model
+    }
+
+    /// The same model carrying a point mass (kg) at the origin of the named frame, as a payload
+    /// held by the end effector.
+    pub fn with_point_mass(&self, frame: &str, mass: f64) -> Result<TreeModel, ModelError> {
+        let target = self.frame(frame)?;
+        let Some(body) = target.body else {
+            // A mass on the fixed base changes no joint torque.
+            return Ok(self.clone());
+        };
+        let point = RigidBodyInertia::from_centre_of_mass(
+            mass,
+            target.placement.point_to_parent(&Vector3::zeros()),
+            Matrix3::zeros(),
+        );
+        Ok(self.map_inertias(|i, inertia| if i == body { *inertia + point } else { *inertia }))
+    }
+
     /// This model as a [`Dynamics<N>`], checking that it has `N` degrees of freedom.
     pub fn into_dynamics<const N: usize>(self) -> Result<TreeDynamics<N>, ModelError> {
         if self.dof() == N {

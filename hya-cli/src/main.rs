@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod dynamics;
 mod experiments;
 mod filter;
@@ -42,6 +43,8 @@ enum Command {
     Reproduce(experiments::ReproduceArgs),
     /// Run a scenario of your own (TOML) and write a report.
     Run(experiments::RunArgs),
+    /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
+    Bench(bench::BenchArgs),
 }
 
 /// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),
         Command::Run(args) => experiments::run(&args),
+        Command::Bench(args) => bench::run(&args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

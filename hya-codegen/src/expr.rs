@@ -77,10 +77,30 @@ pub struct OpCounts {
     pub trig: usize,
 }
 
+/// An operand as a hashable key: constants by their bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Key {
+    Const(u64),
+    Var(usize, bool),
+}
+
+impl From<Value> for Key {
+    fn from(value: Value) -> Self {
+        match value {
+            Value::Const(c) => Key::Const(c.to_bits()),
+            Value::Var { id, negated } => Key::Var(id, negated),
+        }
+    }
+}
+
 /// Records statements as algorithms run on [`Value`]s.
+///
+/// Identical statements are emitted once (common-subexpression elimination): an operation on
+/// operands already combined the same way returns the earlier result.
 #[derive(Debug, Default)]
 pub struct Emitter {
     ops: Vec<Op>,
+    seen: std::collections::HashMap<(u8, Key, Key), Value>,
 }
 
 impl Emitter {
@@ -90,8 +110,24 @@ impl Emitter {
     }
 
     fn push(&mut self, op: Op) -> Value {
+        let key = match &op {
+            Op::Add(a, b) => Some((0, Key::from(*a), Key::from(*b))),
+            Op::Sub(a, b) => Some((1, Key::from(*a), Key::from(*b))),
+            Op::Mul(a, b) => Some((2, Key::from(*a), Key::from(*b))),
+            Op::SinCos(x) => Some((3, Key::from(*x), Key::Const(0))),
+            Op::Input(_) | Op::CosOf => None,
+        };
+        // Addition and multiplication commute: one key for both operand orders.
+        let key = key.map(|(kind, a, b)| if kind != 1 && b < a { (kind, b, a) } else { (kind, a, b) });
+        if let Some(found) = key.and_then(|k| self.seen.get(&k)) {
+            return *found;
+        }
         self.ops.push(op);
-        Value::Var { id: self.ops.len() - 1, negated: false }
+        let value = Value::Var { id: self.ops.len() - 1, negated: false };
+        if let Some(k) = key {
+            self.seen.insert(k, value);
+        }
+        value
     }
 
     /// A variable read from the generated function's arguments (`expr` is Rust, e.g. `qd[2]`).

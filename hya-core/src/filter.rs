@@ -28,7 +28,8 @@
 //!
 //! What no hold can avoid: a parabola `u = c t²/2` is seen as its piecewise-linear interpolant,
 //! whose periodic remainder aliases onto `x3` as a relative bias `Σ_{k≠0} H(jkω_s)`,
-//! `ω_s = 2π/T`: about 2e-8 at the paper's `ωT = 0.05`, 5e-6 at `ωT = 0.25`, 5e-5 at `ωT = 0.5`.
+//! `ω_s = 2π/T`, which grows as `ω1 ω2² (ω1 + 2ζω2) T⁴`: about 2e-8 at the paper's `ωT = 0.05`,
+//! up to 1.5e-5 at `ωT = 0.25` and 1e-4 at `ωT = 0.5` for `ζ = 1.5`.
 //!
 //! # Properties
 //!

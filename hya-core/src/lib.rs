@@ -33,20 +33,9 @@ pub mod model;
 pub mod observers;
 pub mod robots;
 pub mod spatial;
+mod trig;
 
-/// `(sin x, cos x)`: the platform's `sin_cos` with `std`, `libm` without. Generated dynamics call
-/// this once per revolute joint.
-#[inline]
-pub fn sin_cos(x: f64) -> (f64, f64) {
-    #[cfg(feature = "std")]
-    {
-        x.sin_cos()
-    }
-    #[cfg(not(feature = "std"))]
-    {
-        libm::sincos(x)
-    }
-}
+pub use trig::sin_cos;
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics};

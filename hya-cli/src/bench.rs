@@ -1,0 +1,208 @@
+//! `hya bench`: in-process medians of the generated and generic dynamics, and of the HyA control
+//! tick, over many calls with varied inputs.
+//!
+//! Each figure is the median over 31 rounds of the mean time of one call within a round of
+//! 2000 calls that cycle through 64 pseudo-random states; inputs and outputs pass through
+//! `black_box`, so nothing is folded at compile time. The machine's speed drifts: compare
+//! figures from one run, side by side.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use hya_core::model::TreeDynamics;
+use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference};
+use hya_robots::{Hya, Iiwa14, Panda, Planar2, Ur5};
+
+use crate::CliError;
+
+/// Parameters of `hya bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// One shipped robot (default: all).
+    #[arg(long)]
+    robot: Option<String>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Medians for one robot, ns per call.
+#[derive(Debug, Clone, serde::Serialize)]
+struct Figures {
+    robot: &'static str,
+    generated_id_ns: f64,
+    generic_id_ns: f64,
+    generated_mass_ns: f64,
+    generic_mass_ns: f64,
+    generated_gravity_ns: f64,
+    generated_fd_ns: f64,
+    generic_fd_ns: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tick_ns: Option<f64>,
+    /// Simulated seconds per wall-clock second of `goto_internal` (method lu).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    goto_internal_realtime_factor: Option<f64>,
+}
+
+const ROUNDS: usize = 31;
+const CALLS: usize = 2000;
+const STATES: usize = 64;
+
+/// Median over rounds of the mean ns per call of `f(state index)`.
+fn median_ns(mut f: impl FnMut(usize)) -> f64 {
+    let mut rounds: Vec<f64> = (0..ROUNDS)
+        .map(|_| {
+            let start = Instant::now();
+            for k in 0..CALLS {
+                f(k % STATES);
+            }
+            start.elapsed().as_secs_f64() * 1e9 / CALLS as f64
+        })
+        .collect();
+    rounds.sort_by(f64::total_cmp);
+    rounds[ROUNDS / 2]
+}
+
+/// Deterministic states spread over ±π, ±2 rad/s, ±5 rad/s².
+fn states<const N: usize>() -> Vec<[JointVector<N>; 3]> {
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move |scale: f64| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        scale * ((seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
+    };
+    (0..STATES).map(|_| [std::f64::consts::PI, 2.0, 5.0].map(|s| JointVector::from_fn(|_, _| next(s)))).collect()
+}
+
+fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D) -> Result<Figures, CliError> {
+    let robot = hya_robots::find(name).ok_or_else(|| CliError::Input(format!("unknown robot {name}")))?;
+    let generic: TreeDynamics<N> = hya_codegen::load_str(robot.urdf, name)
+        .map_err(|e| CliError::Input(e.to_string()))?
+        .model
+        .into_dynamics()
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    let states = states::<N>();
+    let id = |d: &dyn Dynamics<N>| {
+        median_ns(|k| {
+            let [q, qd, qdd] = black_box(&states[k]);
+            black_box(d.inverse_dynamics(q, qd, qdd));
+        })
+    };
+    let mass = |d: &dyn Dynamics<N>| {
+        median_ns(|k| {
+            black_box(d.mass_matrix(black_box(&states[k][0])));
+        })
+    };
+    let fd = |d: &dyn Dynamics<N>| {
+        median_ns(|k| {
+            let [q, qd, tau] = black_box(&states[k]);
+            let _ = black_box(d.forward_dynamics(q, qd, tau));
+        })
+    };
+    // Generated and generic alternate, so slow phases of the machine hit both.
+    Ok(Figures {
+        robot: name,
+        generated_id_ns: id(&generated),
+        generic_id_ns: id(&generic),
+        generated_mass_ns: mass(&generated),
+        generic_mass_ns: mass(&generic),
+        generated_gravity_ns: median_ns(|k| {
+            black_box(generated.gravity(black_box(&states[k][0])));
+        }),
+        generated_fd_ns: fd(&generated),
+        generic_fd_ns: fd(&generic),
+        tick_ns: None,
+        goto_internal_realtime_factor: None,
+    })
+}
+
+/// One HyA control tick: estimator update (two filter steps, one ID) and controller step (one ID).
+fn tick_ns() -> Result<f64, CliError> {
+    let core = |e: hya_core::Error| CliError::Input(e.to_string());
+    let q0 = JointVector::<6>::from([0.0, 0.0, -0.78, 0.78, 0.78, 0.0]);
+    let mut estimator =
+        DisturbanceEstimator::new(Hya, FilterParams::paper(1e-3).map_err(core)?, q0, Hya.gravity(&q0)).map_err(core)?;
+    let controller = ComputedTorque::new(Hya, Gains::diagonal([300.0; 6], [30.0; 6]).map_err(core)?);
+    let states = states::<6>();
+    let reference = Reference::hold(q0);
+    Ok(median_ns(|k| {
+        let [dq, qd, tau] = black_box(&states[k]);
+        let q = q0 + dq * 1e-3;
+        let d_hat = estimator.update(&q, tau).unwrap_or_default();
+        black_box(controller.command(&q, qd, &reference, Some(&d_hat)).map(|c| c.torque).unwrap_or_default());
+    }))
+}
+
+/// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu.
+fn simulation_speed() -> Result<f64, CliError> {
+    let scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
+    let start = Instant::now();
+    hya_sim::run_method(&scenario, hya_sim::Method::Lu).map_err(|e| CliError::Input(e.to_string()))?;
+    Ok(scenario.duration_s / start.elapsed().as_secs_f64())
+}
+
+/// `hya bench`.
+pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), CliError> {
+    let wanted = |name: &str| args.robot.as_deref().is_none_or(|r| r == name);
+    if let Some(name) = &args.robot {
+        if hya_robots::find(name).is_none() {
+            return Err(CliError::Input(format!("unknown robot `{name}` (see `hya robots`)")));
+        }
+    }
+    let mut figures = Vec::new();
+    if wanted("planar2") {
+        figures.push(bench_robot::<2, _>("planar2", Planar2)?);
+    }
+    if wanted("hya") {
+        let mut hya = bench_robot::<6, _>("hya", Hya)?;
+        hya.tick_ns = Some(tick_ns()?);
+        hya.goto_internal_realtime_factor = Some(simulation_speed()?);
+        figures.push(hya);
+    }
+    if wanted("ur5") {
+        figures.push(bench_robot::<6, _>("ur5", Ur5)?);
+    }
+    if wanted("panda") {
+        figures.push(bench_robot::<7, _>("panda", Panda)?);
+    }
+    if wanted("iiwa14") {
+        figures.push(bench_robot::<7, _>("iiwa14", Iiwa14)?);
+    }
+    if args.json {
+        let text = if figures.len() == 1 {
+            serde_json::to_string_pretty(&figures[0])
+        } else {
+            serde_json::to_string_pretty(&figures)
+        };
+        writeln!(output, "{}", text.map_err(|e| CliError::Input(e.to_string()))?)?;
+        return Ok(());
+    }
+    writeln!(
+        output,
+        "{:<8} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8}",
+        "robot", "id gen", "id gener", "ratio", "M gen", "M gener", "G gen", "FD gen", "FD gener", "tick", "sim x"
+    )?;
+    for f in &figures {
+        writeln!(
+            output,
+            "{:<8} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8}",
+            f.robot,
+            f.generated_id_ns,
+            f.generic_id_ns,
+            f.generic_id_ns / f.generated_id_ns,
+            f.generated_mass_ns,
+            f.generic_mass_ns,
+            f.generated_gravity_ns,
+            f.generated_fd_ns,
+            f.generic_fd_ns,
+            f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
+            f.goto_internal_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
+        )?;
+    }
+    writeln!(
+        output,
+        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s)"
+    )?;
+    Ok(())
+}

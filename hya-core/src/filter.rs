@@ -128,14 +128,6 @@ impl<const N: usize> FilterState<N> {
     pub fn at_rest(x0: JointVector<N>) -> Self {
         Self { x1: x0, x2: JointVector::zeros(), x3: JointVector::zeros() }
     }
-
-    fn as_matrix(&self) -> SMatrix<f64, 3, N> {
-        SMatrix::from_rows(&[self.x1.transpose(), self.x2.transpose(), self.x3.transpose()])
-    }
-
-    fn from_matrix(m: &SMatrix<f64, 3, N>) -> Self {
-        Self { x1: m.row(0).transpose(), x2: m.row(1).transpose(), x3: m.row(2).transpose() }
-    }
 }
 
 /// The paper's third-order filter on `N` channels, stepped at a fixed sample time.
@@ -207,10 +199,17 @@ impl<const N: usize> ThirdOrderFilter<N> {
     /// `signal` names the input in the error if `u` is not finite.
     pub fn peek(&self, signal: &'static str, u: &JointVector<N>) -> Result<FilterState<N>, Error> {
         check(signal, u)?;
-        let next = self.transition * self.state.as_matrix()
-            + self.input_now * self.last_input.transpose()
-            + self.input_next * u.transpose();
-        Ok(FilterState::from_matrix(&next))
+        let (phi, now, next) = (&self.transition, &self.input_now, &self.input_next);
+        let s = &self.state;
+        let mut out = FilterState::at_rest(JointVector::zeros());
+        // Channel by channel: x⁺ = Φ x + γ_now u_prev + γ_next u.
+        for j in 0..N {
+            let (x1, x2, x3, previous, sample) = (s.x1[j], s.x2[j], s.x3[j], self.last_input[j], u[j]);
+            out.x1[j] = phi[(0, 0)] * x1 + phi[(0, 1)] * x2 + phi[(0, 2)] * x3 + now[0] * previous + next[0] * sample;
+            out.x2[j] = phi[(1, 0)] * x1 + phi[(1, 1)] * x2 + phi[(1, 2)] * x3 + now[1] * previous + next[1] * sample;
+            out.x3[j] = phi[(2, 0)] * x1 + phi[(2, 1)] * x2 + phi[(2, 2)] * x3 + now[2] * previous + next[2] * sample;
+        }
+        Ok(out)
     }
 
     /// Commits a state obtained from [`peek`](Self::peek) with the same input `u`.

@@ -3,9 +3,9 @@
 //! Generated dynamics call this once per revolute joint, so it dominates their cost for small
 //! arms. Method: reduce `x = k π/2 + r` with `π/2` split into three parts (Cody–Waite; each of
 //! the first two parts has 33 significant bits, so `k · part` is exact for `|k| < 2²⁰`), then sum
-//! the Taylor series of `sin r` and `cos r` on `|r| ≤ π/4` to the `r¹⁷` and `r¹⁸` terms
-//! (truncation below `(π/4)¹⁹/19! ≈ 1e-19`). Accurate to a few units in the last place for
-//! `|x| ≤ 1e5`; larger or non-finite inputs go to `libm`.
+//! the Taylor series of `sin r` and `cos r` on `|r| ≤ π/4` to the `r¹⁵` and `r¹⁶` terms
+//! (truncation below half an ulp) by Horner's rule: within 2 units in the last
+//! place of 1.0 of `libm` (tested) for `|x| ≤ 1e5`; larger or non-finite inputs go to `libm`.
 
 /// Leading bits of π/2.
 const PIO2_1: f64 = 1.570_796_326_734_125_6;
@@ -16,8 +16,9 @@ const PIO2_3: f64 = 2.022_266_248_711_166_4e-21;
 /// Beyond this, the reduction above loses accuracy.
 const REDUCTION_LIMIT: f64 = 1e5;
 
-/// `(−1)ᵏ / (2k + 1)!`, k = 0..8: the Taylor coefficients of `sin r / r` in `r²`.
-const SIN: [f64; 9] = [
+/// `(−1)ᵏ / (2k + 1)!`, k = 0..7: the Taylor coefficients of `sin r / r` in `z = r²`. The next
+/// term, `(π/4)¹⁷/17! ≈ 4e-17` relative, is below half an ulp.
+const SIN: [f64; 8] = [
     1.0,
     -1.0 / 6.0,
     1.0 / 120.0,
@@ -26,11 +27,10 @@ const SIN: [f64; 9] = [
     -1.0 / 39_916_800.0,
     1.0 / 6_227_020_800.0,
     -1.0 / 1_307_674_368_000.0,
-    1.0 / 355_687_428_096_000.0,
 ];
 
-/// `(−1)ᵏ / (2k)!`, k = 0..9: the Taylor coefficients of `cos r` in `r²`.
-const COS: [f64; 10] = [
+/// `(−1)ᵏ / (2k)!`, k = 0..8: the Taylor coefficients of `cos r` in `z = r²`.
+const COS: [f64; 9] = [
     1.0,
     -1.0 / 2.0,
     1.0 / 24.0,
@@ -40,10 +40,9 @@ const COS: [f64; 10] = [
     1.0 / 479_001_600.0,
     -1.0 / 87_178_291_200.0,
     1.0 / 20_922_789_888_000.0,
-    -1.0 / 6_402_373_705_728_000.0,
 ];
 
-/// `Σ cₖ zᵏ` by Horner's rule.
+/// `Σ c_k z^k` by Horner's rule (more accurate here than Estrin's scheme, and as fast).
 #[inline(always)]
 fn horner(coefficients: &[f64], z: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |sum, c| sum * z + c)
@@ -55,7 +54,9 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     if x.is_nan() || x.abs() > REDUCTION_LIMIT {
         return libm::sincos(x);
     }
-    let k = libm::rint(x * core::f64::consts::FRAC_2_PI);
+    // Round to nearest by the magic constant 1.5·2⁵²: exact for |x·2/π| < 2⁵¹, two additions.
+    let magic = 6_755_399_441_055_744.0;
+    let k = (x * core::f64::consts::FRAC_2_PI + magic) - magic;
     let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
     let z = r * r;
     let (s, c) = (r * horner(&SIN, z), horner(&COS, z));
@@ -74,6 +75,7 @@ mod tests {
     fn check(x: f64) {
         let (s, c) = sin_cos(x);
         let (s_ref, c_ref) = libm::sincos(x);
+        // Two units in the last place of 1.0.
         assert!(
             (s - s_ref).abs() <= 4.5e-16 && (c - c_ref).abs() <= 4.5e-16,
             "x = {x}: ({s}, {c}) vs ({s_ref}, {c_ref})"

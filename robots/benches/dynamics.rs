@@ -1,0 +1,99 @@
+//! Generated against generic dynamics for every shipped robot: inverse dynamics, mass matrix,
+//! gravity and forward dynamics. `cargo bench -p hya-robots` (divan); inputs cycle through 64
+//! varied states behind `black_box`.
+
+use divan::black_box;
+use hya_core::model::TreeDynamics;
+use hya_core::{Dynamics, JointVector};
+use hya_robots::{Hya, Iiwa14, Panda, Planar2, Ur5};
+
+fn main() {
+    divan::main();
+}
+
+/// 64 deterministic states `(q, q̇, q̈ or τ)` over ±π, ±2, ±5.
+fn states<const N: usize>() -> Vec<[JointVector<N>; 3]> {
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move |scale: f64| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        scale * ((seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
+    };
+    (0..64).map(|_| [std::f64::consts::PI, 2.0, 5.0].map(|s| JointVector::from_fn(|_, _| next(s)))).collect()
+}
+
+fn generic<const N: usize>(name: &str) -> TreeDynamics<N> {
+    let robot = hya_robots::find(name).expect("a shipped robot");
+    hya_codegen::load_str(robot.urdf, name).expect("the shipped URDF loads").model.into_dynamics().expect("its DOF")
+}
+
+/// One benchmark group per robot: each entry point, generated and generic side by side.
+macro_rules! robot_benches {
+    ($($module:ident $type:ident $dof:literal;)*) => {$(
+        #[divan::bench_group]
+        mod $module {
+            use super::*;
+
+            fn run<D: Dynamics<$dof>>(bencher: divan::Bencher, dynamics: D, f: fn(&D, &[JointVector<$dof>; 3])) {
+                let states = states::<$dof>();
+                let mut k = 0;
+                bencher.bench_local(|| {
+                    k = (k + 1) % states.len();
+                    f(black_box(&dynamics), black_box(&states[k]));
+                });
+            }
+
+            /// Runs `op` on the generated or the generic model.
+            macro_rules! both {
+                ($bencher:ident, $path:ident, $op:ident) => {
+                    if $path == "generated" {
+                        run($bencher, $type, $op::<$type>)
+                    } else {
+                        run($bencher, generic::<$dof>(stringify!($module)), $op::<TreeDynamics<$dof>>)
+                    }
+                };
+            }
+
+            #[divan::bench(args = ["generated", "generic"])]
+            fn inverse_dynamics(bencher: divan::Bencher, path: &str) {
+                fn op<D: Dynamics<$dof>>(d: &D, [q, qd, qdd]: &[JointVector<$dof>; 3]) {
+                    black_box(d.inverse_dynamics(q, qd, qdd));
+                }
+                both!(bencher, path, op)
+            }
+
+            #[divan::bench(args = ["generated", "generic"])]
+            fn mass_matrix(bencher: divan::Bencher, path: &str) {
+                fn op<D: Dynamics<$dof>>(d: &D, [q, _, _]: &[JointVector<$dof>; 3]) {
+                    black_box(d.mass_matrix(q));
+                }
+                both!(bencher, path, op)
+            }
+
+            #[divan::bench(args = ["generated", "generic"])]
+            fn gravity(bencher: divan::Bencher, path: &str) {
+                fn op<D: Dynamics<$dof>>(d: &D, [q, _, _]: &[JointVector<$dof>; 3]) {
+                    black_box(d.gravity(q));
+                }
+                both!(bencher, path, op)
+            }
+
+            #[divan::bench(args = ["generated", "generic"])]
+            fn forward_dynamics(bencher: divan::Bencher, path: &str) {
+                fn op<D: Dynamics<$dof>>(d: &D, [q, qd, tau]: &[JointVector<$dof>; 3]) {
+                    let _ = black_box(d.forward_dynamics(q, qd, tau));
+                }
+                both!(bencher, path, op)
+            }
+        }
+    )*};
+}
+
+robot_benches! {
+    planar2 Planar2 2;
+    hya Hya 6;
+    ur5 Ur5 6;
+    panda Panda 7;
+    iiwa14 Iiwa14 7;
+}

@@ -63,16 +63,9 @@ fn median_ns(mut f: impl FnMut(usize)) -> f64 {
     rounds[ROUNDS / 2]
 }
 
-/// Deterministic states spread over ±π, ±2 rad/s, ±5 rad/s².
-fn states<const N: usize>() -> Vec<[JointVector<N>; 3]> {
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = move |scale: f64| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        scale * ((seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
-    };
-    (0..STATES).map(|_| [std::f64::consts::PI, 2.0, 5.0].map(|s| JointVector::from_fn(|_, _| next(s)))).collect()
+/// The benchmark's varied states (see [`hya_core::sampling::varied_states`]).
+fn states<const N: usize>() -> [[JointVector<N>; 3]; STATES] {
+    hya_core::sampling::varied_states()
 }
 
 fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D) -> Result<Figures, CliError> {

@@ -32,6 +32,7 @@ mod linalg;
 pub mod model;
 pub mod observers;
 pub mod robots;
+pub mod sampling;
 pub mod spatial;
 mod trig;
 

@@ -11,16 +11,9 @@ fn main() {
     divan::main();
 }
 
-/// 64 deterministic states `(q, q̇, q̈ or τ)` over ±π, ±2, ±5.
-fn states<const N: usize>() -> Vec<[JointVector<N>; 3]> {
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move |scale: f64| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        scale * ((seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
-    };
-    (0..64).map(|_| [std::f64::consts::PI, 2.0, 5.0].map(|s| JointVector::from_fn(|_, _| next(s)))).collect()
+/// 64 varied states `(q, q̇, q̈ or τ)`.
+fn states<const N: usize>() -> [[JointVector<N>; 3]; 64] {
+    hya_core::sampling::varied_states()
 }
 
 fn generic<const N: usize>(name: &str) -> TreeDynamics<N> {

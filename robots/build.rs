@@ -1,5 +1,6 @@
 //! Generates the dynamics of every robot in `robots.list` from `urdf/<module>.urdf` into
-//! `OUT_DIR/<module>.rs`, which `src/lib.rs` includes.
+//! `OUT_DIR/<module>.rs`, which `src/lib.rs` includes: the zero-sized `TypeName` with every
+//! constant folded, and `TypeNameParametric`, which reads the inertial parameters from its field.
 
 use std::path::Path;
 
@@ -13,8 +14,11 @@ fn main() {
         let urdf = manifest.join("urdf").join(format!("{module}.urdf"));
         println!("cargo:rerun-if-changed={}", urdf.display());
         let loaded = hya_codegen::load_file(&urdf).unwrap_or_else(|e| panic!("{e}"));
-        let generated =
-            hya_codegen::generate(&loaded.model, type_name.trim()).unwrap_or_else(|e| panic!("{module}: {e}"));
-        std::fs::write(out.join(format!("{module}.rs")), generated.source).expect("OUT_DIR is writable");
+        let type_name = type_name.trim();
+        let fixed = hya_codegen::generate(&loaded.model, type_name).unwrap_or_else(|e| panic!("{module}: {e}"));
+        let parametric = hya_codegen::generate_parametric(&loaded.model, &format!("{type_name}Parametric"))
+            .unwrap_or_else(|e| panic!("{module}: {e}"));
+        let source = fixed.source + "\n" + &parametric.source;
+        std::fs::write(out.join(format!("{module}.rs")), source).expect("OUT_DIR is writable");
     }
 }

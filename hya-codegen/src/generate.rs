@@ -32,6 +32,25 @@ pub enum GenerateError {
     Syntax(String),
 }
 
+/// Where the bodies' inertias come from in generated code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum InertiaSource {
+    /// Folded in as literals (the zero-sized type).
+    Constant,
+    /// Read from the type's field, `self.0[body][parameter]` (the parameter-holding type).
+    Parameters,
+}
+
+/// Body `i`'s inertia, traced.
+fn body_inertia(e: &mut Emitter, body: &Body, i: usize, source: InertiaSource) -> Inertia {
+    match source {
+        InertiaSource::Constant => Inertia::constant(&body.inertia),
+        InertiaSource::Parameters => {
+            Inertia::from_parameters(core::array::from_fn(|k| e.input(format!("self.0[{i}][{k}]"))))
+        }
+    }
+}
+
 /// Which rates an RNEA trace includes.
 #[derive(Debug, Clone, Copy)]
 struct RneaInputs {
@@ -53,7 +72,7 @@ fn joint_transforms(e: &mut Emitter, bodies: &[Body]) -> Vec<JointXform> {
         .collect()
 }
 
-fn rnea(e: &mut Emitter, model: &TreeModel, inputs: RneaInputs) -> Vec<Value> {
+fn rnea(e: &mut Emitter, model: &TreeModel, inputs: RneaInputs, source: InertiaSource) -> Vec<Value> {
     let bodies = model.bodies();
     let xforms = joint_transforms(e, bodies);
     let gravity = if inputs.gravity { constant_vector(&-model.gravity_vector()) } else { ZERO3 };
@@ -75,7 +94,7 @@ fn rnea(e: &mut Emitter, model: &TreeModel, inputs: RneaInputs) -> Vec<Value> {
         let coriolis = e.cross_motion(&v, &joint_velocity);
         let partial = e.add6(&carried, &driven);
         let a = e.add6(&partial, &coriolis);
-        let inertia = Inertia::constant(&body.inertia);
+        let inertia = body_inertia(e, body, i, source);
         let ia = e.apply_inertia(&inertia, &a);
         let momentum = e.apply_inertia(&inertia, &v);
         let gyroscopic = e.cross_force(&v, &momentum);
@@ -105,7 +124,7 @@ fn backward_projection(
     out
 }
 
-fn coriolis_transpose(e: &mut Emitter, model: &TreeModel) -> Vec<Value> {
+fn coriolis_transpose(e: &mut Emitter, model: &TreeModel, source: InertiaSource) -> Vec<Value> {
     let bodies = model.bodies();
     let xforms = joint_transforms(e, bodies);
     let mut velocity: Vec<Spatial> = Vec::with_capacity(bodies.len());
@@ -116,7 +135,8 @@ fn coriolis_transpose(e: &mut Emitter, model: &TreeModel) -> Vec<Value> {
         let carried = xforms[i].apply_motion(e, &parent_velocity);
         let joint_velocity = e.scale6(&subspace(body), qd);
         let v = e.add6(&carried, &joint_velocity);
-        momentum.push(e.apply_inertia(&Inertia::constant(&body.inertia), &v));
+        let inertia = body_inertia(e, body, i, source);
+        momentum.push(e.apply_inertia(&inertia, &v));
         velocity.push(v);
     }
     backward_projection(e, bodies, &xforms, &mut momentum, |e, i, h| {
@@ -126,10 +146,10 @@ fn coriolis_transpose(e: &mut Emitter, model: &TreeModel) -> Vec<Value> {
 }
 
 /// The lower triangle of `M(q)`, row-major (`(i, j)` with `j ≤ i`).
-fn crba(e: &mut Emitter, model: &TreeModel) -> Vec<(usize, usize, Value)> {
+fn crba(e: &mut Emitter, model: &TreeModel, source: InertiaSource) -> Vec<(usize, usize, Value)> {
     let bodies = model.bodies();
     let xforms = joint_transforms(e, bodies);
-    let mut composite: Vec<Inertia> = bodies.iter().map(|b| Inertia::constant(&b.inertia)).collect();
+    let mut composite: Vec<Inertia> = bodies.iter().enumerate().map(|(i, b)| body_inertia(e, b, i, source)).collect();
     for (i, body) in bodies.iter().enumerate().rev() {
         if let Some(p) = body.parent {
             let carried = xforms[i].inertia_in_parent(e, &composite[i]);
@@ -174,9 +194,9 @@ fn vector_method(
     Method { name, doc, arguments, returns: "::hya_core::JointVector", body, counts }
 }
 
-fn mass_matrix_method(model: &TreeModel) -> Method {
+fn mass_matrix_method(model: &TreeModel, source: InertiaSource) -> Method {
     let mut e = Emitter::new();
-    let entries = crba(&mut e, model);
+    let entries = crba(&mut e, model, source);
     let outputs: Vec<Value> = entries.iter().map(|(_, _, v)| *v).collect();
     let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
     let dof = model.dof();
@@ -198,7 +218,7 @@ fn mass_matrix_method(model: &TreeModel) -> Method {
     }
 }
 
-fn methods(model: &TreeModel) -> Vec<Method> {
+fn methods(model: &TreeModel, source: InertiaSource) -> Vec<Method> {
     let dof = model.dof();
     let q = "q: &::hya_core::JointVector<N>";
     let q_qd = "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>";
@@ -209,41 +229,74 @@ fn methods(model: &TreeModel) -> Vec<Method> {
             "Inverse dynamics `M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.",
             "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>, qdd: &::hya_core::JointVector<N>",
             dof,
-            |e| rnea(e, model, all),
+            |e| rnea(e, model, all, source),
         ),
         vector_method("gravity", "Gravity torques `G(q)`.", q, dof, |e| {
-            rnea(e, model, RneaInputs { velocity: false, acceleration: false, gravity: true })
+            rnea(e, model, RneaInputs { velocity: false, acceleration: false, gravity: true }, source)
         }),
         vector_method("velocity_terms", "Coriolis and centripetal torques `C(q, q̇)`.", q_qd, dof, |e| {
-            rnea(e, model, RneaInputs { velocity: true, acceleration: false, gravity: false })
+            rnea(e, model, RneaInputs { velocity: true, acceleration: false, gravity: false }, source)
         }),
         vector_method(
             "coriolis_transpose_times_velocity",
             "`C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.",
             q_qd,
             dof,
-            |e| coriolis_transpose(e, model),
+            |e| coriolis_transpose(e, model, source),
         ),
-        mass_matrix_method(model),
+        mass_matrix_method(model, source),
     ]
 }
 
-/// Generates the module for `model` with the dynamics type named `type_name`.
-pub fn generate(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
-    if syn::parse_str::<syn::Ident>(type_name).is_err() {
-        return Err(GenerateError::TypeName(type_name.to_owned()));
-    }
+/// `impl Dynamics<N> for {type_name}` with every entry point, traced for `source`.
+fn dynamics_impl(model: &TreeModel, type_name: &str, source: InertiaSource) -> (String, Vec<(&'static str, OpCounts)>) {
     let dof = model.dof();
-    let methods = methods(model);
+    let methods = methods(model, source);
+    let mut code = format!(
+        "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, \
+         clippy::let_and_return, clippy::neg_multiply, unused_variables)]\n\
+         impl ::hya_core::Dynamics<{dof}> for {type_name} {{\n"
+    );
+    for m in &methods {
+        let arguments = m.arguments.replace("<N>", &format!("<{dof}>"));
+        let _ = write!(
+            code,
+            "/// {doc}\n#[inline]\nfn {name}(&self, {arguments}) -> {returns}<{dof}> {{\n{body}\n}}\n",
+            doc = m.doc,
+            name = m.name,
+            returns = m.returns,
+            body = m.body,
+        );
+    }
+    code.push_str("}\n");
+    (code, methods.iter().map(|m| (m.name, m.counts)).collect())
+}
+
+fn check_type_name(type_name: &str) -> Result<(), GenerateError> {
+    match syn::parse_str::<syn::Ident>(type_name) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(GenerateError::TypeName(type_name.to_owned())),
+    }
+}
+
+fn format(source: &str, stats: Vec<(&'static str, OpCounts)>) -> Result<Generated, GenerateError> {
+    let file = syn::parse_file(source).map_err(|e| GenerateError::Syntax(e.to_string()))?;
+    Ok(Generated { source: prettyplease::unparse(&file), stats })
+}
+
+/// Generates the zero-sized type `type_name` whose dynamics have every constant of `model`
+/// folded in.
+pub fn generate(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
+    check_type_name(type_name)?;
+    let dof = model.dof();
     let names: Vec<String> = model.joint_names().map(|n| format!("{n:?}")).collect();
     let effort: Vec<String> = model
         .bodies()
         .iter()
         .map(|b| b.limits.effort.map_or("None".into(), |v| format!("Some({})", literal(v))))
         .collect();
-    let mut source = String::new();
-    let _ = write!(
-        source,
+    let (body, stats) = dynamics_impl(model, type_name, InertiaSource::Constant);
+    let source = format!(
         "/// Rigid-body dynamics of `{robot}` ({dof} joints), generated by hya-codegen: constants\n\
          /// folded, one `sin_cos` per revolute joint, loops unrolled, no allocation.\n\
          #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]\n\
@@ -255,26 +308,34 @@ pub fn generate(model: &TreeModel, type_name: &str) -> Result<Generated, Generat
          pub const JOINT_NAMES: [&'static str; {dof}] = [{names}];\n\
          /// Effort limits from the description, N·m or N (`None` where it gives none).\n\
          pub const EFFORT_LIMITS: [Option<f64>; {dof}] = [{effort}];\n\
-         }}\n\
-         #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, \
-         clippy::let_and_return, clippy::neg_multiply, unused_variables)]\n\
-         impl ::hya_core::Dynamics<{dof}> for {type_name} {{\n",
+         }}\n{body}",
         robot = model.name(),
         names = names.join(", "),
         effort = effort.join(", "),
     );
-    for m in &methods {
-        let arguments = m.arguments.replace("<N>", &format!("<{dof}>"));
-        let _ = write!(
-            source,
-            "/// {doc}\n#[inline]\nfn {name}(&self, {arguments}) -> {returns}<{dof}> {{\n{body}\n}}\n",
-            doc = m.doc,
-            name = m.name,
-            returns = m.returns,
-            body = m.body,
-        );
-    }
-    source.push_str("}\n");
-    let file = syn::parse_file(&source).map_err(|e| GenerateError::Syntax(e.to_string()))?;
-    Ok(Generated { source: prettyplease::unparse(&file), stats: methods.iter().map(|m| (m.name, m.counts)).collect() })
+    format(&source, stats)
+}
+
+/// Generates the parameter-holding type `type_name`: the kinematics of `model` folded in as in
+/// [`generate`], each body's ten inertial parameters read from the type's field, so that one
+/// compiled function serves any masses, centres of mass and inertias (a perturbed plant, an
+/// identified model, a payload).
+pub fn generate_parametric(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
+    check_type_name(type_name)?;
+    let dof = model.dof();
+    let (body, stats) = dynamics_impl(model, type_name, InertiaSource::Parameters);
+    let source = format!(
+        "/// Rigid-body dynamics of `{robot}` ({dof} joints) with the inertial parameters as data:\n\
+         /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.\n\
+         #[derive(Debug, Clone, Copy, PartialEq)]\n\
+         pub struct {type_name}(pub [[f64; 10]; {dof}]);\n\
+         impl {type_name} {{\n\
+         /// From each body's spatial inertia about its body frame's origin, in joint order.\n\
+         pub fn new(inertias: &[::hya_core::spatial::RigidBodyInertia; {dof}]) -> Self {{\n\
+         Self(core::array::from_fn(|i| inertias[i].parameters()))\n\
+         }}\n\
+         }}\n{body}",
+        robot = model.name(),
+    );
+    format(&source, stats)
 }

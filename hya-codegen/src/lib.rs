@@ -19,5 +19,5 @@ pub mod load;
 pub mod symbolic;
 
 pub use error::{LoadError, Problem, Warning};
-pub use generate::{generate, GenerateError, Generated};
+pub use generate::{generate, generate_parametric, GenerateError, Generated};
 pub use load::{load_file, load_str, LoadedModel};

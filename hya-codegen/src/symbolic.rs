@@ -204,6 +204,16 @@ impl Emitter {
 }
 
 impl Inertia {
+    /// An inertia whose ten parameters `(m, h, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)` are traced
+    /// values (see `RigidBodyInertia::parameters`).
+    pub fn from_parameters(p: [Value; 10]) -> Self {
+        Inertia {
+            mass: p[0],
+            first_moment: [p[1], p[2], p[3]],
+            rotational: [[p[4], p[7], p[8]], [p[7], p[5], p[9]], [p[8], p[9], p[6]]],
+        }
+    }
+
     /// A body's constant inertia.
     pub fn constant(inertia: &RigidBodyInertia) -> Self {
         Inertia {

@@ -230,6 +230,22 @@ impl RigidBodyInertia {
         RigidBodyInertia { mass: self.mass, first_moment: g + r * self.mass, rotational }
     }
 
+    /// The ten inertial parameters `(m, h_x, h_y, h_z, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)`,
+    /// with `I` about the frame's origin: the order parametric generated dynamics read them in.
+    pub fn parameters(&self) -> [f64; 10] {
+        let (h, r) = (&self.first_moment, &self.rotational);
+        [self.mass, h.x, h.y, h.z, r[(0, 0)], r[(1, 1)], r[(2, 2)], r[(0, 1)], r[(0, 2)], r[(1, 2)]]
+    }
+
+    /// The inverse of [`parameters`](Self::parameters).
+    pub fn from_parameters(p: &[f64; 10]) -> Self {
+        Self {
+            mass: p[0],
+            first_moment: Vector3::new(p[1], p[2], p[3]),
+            rotational: Matrix3::new(p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6]),
+        }
+    }
+
     /// True when the body has neither mass nor rotational inertia.
     pub fn is_zero(&self) -> bool {
         self.mass == 0.0 && self.first_moment == Vector3::zeros() && self.rotational == Matrix3::zeros()

@@ -2,6 +2,8 @@
 //!
 //! The arms hya ships, each as a zero-sized type implementing [`hya_core::Dynamics`] with code
 //! generated at build time from the URDF in `urdf/` (see `build.rs`), plus the URDF text itself.
+//! Each also has a parameter-holding twin (`HyaParametric`, ...) that reads its inertial
+//! parameters from data: the same folded kinematics for perturbed, identified or loaded bodies.
 //!
 //! | robot | type | joints | source of the figures |
 //! |---|---|---|---|
@@ -19,7 +21,7 @@ extern crate std;
 use hya_core::{OnSlicesN, SliceDynamics};
 
 macro_rules! shipped_robots {
-    ($($module:ident $type:ident $dof:literal: $doc:literal;)*) => {
+    ($($module:ident $type:ident $parametric:ident $dof:literal: $doc:literal;)*) => {
         $(
             #[doc = $doc]
             pub mod $module {
@@ -27,7 +29,7 @@ macro_rules! shipped_robots {
                 /// The URDF the dynamics were generated from.
                 pub const URDF: &str = include_str!(concat!("../urdf/", stringify!($module), ".urdf"));
             }
-            pub use $module::$type;
+            pub use $module::{$type, $parametric};
         )*
 
         /// Every shipped robot.
@@ -42,11 +44,11 @@ macro_rules! shipped_robots {
 }
 
 shipped_robots! {
-    planar2 Planar2 2: "A two-link arm in the x-z plane: the teaching example.";
-    hya Hya 6: "HyA, the 6-DOF hydraulic arm of Lu, Sandy & Buchli.";
-    ur5 Ur5 6: "Universal Robots UR5.";
-    panda Panda 7: "Franka Emika Panda, the seven arm joints.";
-    iiwa14 Iiwa14 7: "KUKA LBR iiwa 14 R820.";
+    planar2 Planar2 Planar2Parametric 2: "A two-link arm in the x-z plane: the teaching example.";
+    hya Hya HyaParametric 6: "HyA, the 6-DOF hydraulic arm of Lu, Sandy & Buchli.";
+    ur5 Ur5 Ur5Parametric 6: "Universal Robots UR5.";
+    panda Panda PandaParametric 7: "Franka Emika Panda, the seven arm joints.";
+    iiwa14 Iiwa14 Iiwa14Parametric 7: "KUKA LBR iiwa 14 R820.";
 }
 
 /// A shipped robot, for listing and for run-time dispatch.

@@ -2,7 +2,8 @@
 //! URDF at run time, and the laws every rigid-body model obeys.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_core::model::TreeDynamics;
+use hya_core::model::{TreeDynamics, TreeModel};
+use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointMatrix, JointVector};
 use proptest::prelude::*;
 
@@ -77,11 +78,27 @@ fn check_laws<const N: usize>(
     Ok(())
 }
 
+/// The model with every body's mass, centre of mass and rotational inertia scaled by `factors`
+/// (cycled), physically consistent.
+fn perturbed(model: &TreeModel, factors: &[f64]) -> TreeModel {
+    let mut k = 0;
+    let mut next = || {
+        k += 1;
+        factors[k % factors.len()]
+    };
+    model.map_inertias(|_, inertia| {
+        let com = inertia.first_moment / inertia.mass;
+        let about_com = inertia.rotational
+            - (nalgebra::Matrix3::identity() * com.norm_squared() - com * com.transpose()) * inertia.mass;
+        RigidBodyInertia::from_centre_of_mass(inertia.mass * next(), com.map(|c| c * next()), about_com * next())
+    })
+}
+
 macro_rules! robot_tests {
-    ($($module:ident $type:ident $dof:literal;)*) => {$(
+    ($($module:ident $type:ident $parametric:ident $dof:literal;)*) => {$(
         mod $module {
             use super::*;
-            use hya_robots::$module::{$type, URDF};
+            use hya_robots::$module::{$parametric, $type, URDF};
 
             proptest! {
                 #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
@@ -100,15 +117,26 @@ macro_rules! robot_tests {
                 fn generic_obeys_the_laws(s in state::<$dof>()) {
                     check_laws(&generic::<$dof>(URDF), s)?;
                 }
+
+                #[test]
+                fn parametric_equals_generic_for_perturbed_inertias(
+                    s in state::<$dof>(),
+                    factors in proptest::collection::vec(0.8..1.2f64, 7),
+                ) {
+                    let model = perturbed(&hya_codegen::load_str(URDF, "test").unwrap().model, &factors);
+                    let inertias: [RigidBodyInertia; $dof] = core::array::from_fn(|i| model.bodies()[i].inertia);
+                    let parametric = $parametric::new(&inertias);
+                    check_against_generic(&parametric, &model.into_dynamics().unwrap(), s)?;
+                }
             }
         }
     )*};
 }
 
 robot_tests! {
-    planar2 Planar2 2;
-    hya Hya 6;
-    ur5 Ur5 6;
-    panda Panda 7;
-    iiwa14 Iiwa14 7;
+    planar2 Planar2 Planar2Parametric 2;
+    hya Hya HyaParametric 6;
+    ur5 Ur5 Ur5Parametric 6;
+    panda Panda PandaParametric 7;
+    iiwa14 Iiwa14 Iiwa14Parametric 7;
 }

@@ -20,6 +20,8 @@ pub mod sensors;
 pub mod svg;
 pub mod task;
 
+use hya_core::model::TreeModel;
+use hya_core::spatial::RigidBodyInertia;
 use hya_core::Dynamics;
 
 pub use run::{simulate, Metrics, RunOutcome, Trace};
@@ -77,6 +79,29 @@ fn nominal_dynamics(robot: &str) -> Option<&'static dyn Dynamics<JOINTS>> {
     }
 }
 
+/// Body inertias of a model in joint order, as parametric generated dynamics take them.
+fn inertias(model: &TreeModel) -> Result<[RigidBodyInertia; JOINTS], SimError> {
+    let bodies = model.bodies();
+    if bodies.len() != JOINTS {
+        return Err(SimError::Config(format!("expected {JOINTS} joints, found {}", bodies.len())));
+    }
+    Ok(core::array::from_fn(|i| bodies[i].inertia))
+}
+
+/// The plant's rigid body: the robot's parameter-holding generated dynamics, fed the perturbed
+/// (or loaded) inertias, so the plant runs generated code too.
+fn plant_dynamics(robot: &str) -> Box<plant::DynamicsFactory<JOINTS>> {
+    match robot {
+        "hya" => Box::new(|m: &TreeModel| {
+            Ok(Box::new(hya_robots::HyaParametric::new(&inertias(m)?)) as Box<dyn Dynamics<JOINTS>>)
+        }),
+        "ur5" => Box::new(|m: &TreeModel| {
+            Ok(Box::new(hya_robots::Ur5Parametric::new(&inertias(m)?)) as Box<dyn Dynamics<JOINTS>>)
+        }),
+        _ => Box::new(plant::generic_dynamics::<JOINTS>),
+    }
+}
+
 /// Runs every method of `scenario`, in order.
 pub fn run_scenario(scenario: &Scenario) -> Result<Vec<RunOutcome<JOINTS>>, SimError> {
     scenario.methods.iter().map(|&method| run_method(scenario, method)).collect()
@@ -89,5 +114,5 @@ pub fn run_method(scenario: &Scenario, method: Method) -> Result<RunOutcome<JOIN
     })?;
     let urdf = hya_robots::find(&scenario.robot).map(|r| r.urdf).unwrap_or_default();
     let model = hya_codegen::load_str(urdf, &scenario.robot).map_err(|e| SimError::Config(e.to_string()))?.model;
-    simulate(scenario, method, nominal, &model)
+    simulate(scenario, method, nominal, &model, &plant_dynamics(&scenario.robot))
 }

@@ -7,7 +7,7 @@
 //! τ_friction,i = −[(F_c + (F_s − F_c) e^{−(q̇/v_s)²}) (1 + a sin 2q) tanh(q̇/ε) + F_v q̇]
 //! ```
 
-use hya_core::model::{TreeDynamics, TreeModel};
+use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointVector};
 use nalgebra::{Matrix3, Vector3};
@@ -81,6 +81,14 @@ pub fn perturbed(model: &TreeModel, spread: f64, rng: &mut impl Rng) -> TreeMode
     })
 }
 
+/// Builds the plant's true rigid-body dynamics from a model (perturbed, or carrying a payload).
+pub type DynamicsFactory<const N: usize> = dyn Fn(&TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError>;
+
+/// The generic tree model as the plant's dynamics: works for any robot.
+pub fn generic_dynamics<const N: usize>(model: &TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError> {
+    Ok(Box::new(model.clone().into_dynamics::<N>().map_err(|e| SimError::Config(e.to_string()))?))
+}
+
 /// The arm's state: joint positions and velocities, and the actuators' torques.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlantState<const N: usize> {
@@ -93,10 +101,10 @@ pub struct PlantState<const N: usize> {
 }
 
 /// The simulated arm.
-#[derive(Debug, Clone)]
 pub struct Plant<const N: usize> {
-    unloaded: TreeDynamics<N>,
-    loaded: Option<(TreeDynamics<N>, WeightDrop)>,
+    model: TreeModel,
+    unloaded: Box<dyn Dynamics<N>>,
+    loaded: Option<(Box<dyn Dynamics<N>>, WeightDrop)>,
     friction: Option<Friction<N>>,
     actuator_time_constant: JointVector<N>,
     sinusoid: Option<(JointVector<N>, f64)>,
@@ -107,9 +115,11 @@ pub struct Plant<const N: usize> {
 }
 
 impl<const N: usize> Plant<N> {
-    /// An arm at rest at `q0` whose actuators already hold `tau0`.
+    /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
+    /// body from `true_model` (and from the model with the payload).
     pub fn new(
         true_model: TreeModel,
+        dynamics: &DynamicsFactory<N>,
         config: &PlantConfig,
         loads: &LoadConfig,
         q0: JointVector<N>,
@@ -120,7 +130,7 @@ impl<const N: usize> Plant<N> {
                 let with_payload = true_model
                     .with_point_mass(&drop.frame, drop.mass_kg)
                     .map_err(|e| SimError::Config(format!("loads.weight_drop: {e}")))?;
-                Some((with_payload.into_dynamics().map_err(|e| SimError::Config(e.to_string()))?, drop.clone()))
+                Some((dynamics(&with_payload)?, drop.clone()))
             }
             None => None,
         };
@@ -134,7 +144,8 @@ impl<const N: usize> Plant<N> {
             return Err(SimError::Config("plant.actuator_time_constant_s: every entry must be > 0".into()));
         }
         Ok(Self {
-            unloaded: true_model.into_dynamics().map_err(|e| SimError::Config(e.to_string()))?,
+            unloaded: dynamics(&true_model)?,
+            model: true_model,
             loaded,
             friction: if config.friction { Some(Friction::new(config)?) } else { None },
             actuator_time_constant,
@@ -145,10 +156,10 @@ impl<const N: usize> Plant<N> {
     }
 
     /// The true dynamics at time `t`: with the payload while it rests on the arm.
-    pub fn dynamics(&self, t: f64) -> &TreeDynamics<N> {
+    pub fn dynamics(&self, t: f64) -> &dyn Dynamics<N> {
         match &self.loaded {
-            Some((loaded, drop)) if t >= drop.drop_s && t < drop.remove_s => loaded,
-            _ => &self.unloaded,
+            Some((loaded, drop)) if t >= drop.drop_s && t < drop.remove_s => loaded.as_ref(),
+            _ => self.unloaded.as_ref(),
         }
     }
 
@@ -165,7 +176,7 @@ impl<const N: usize> Plant<N> {
             if t >= drop.drop_s && t < drop.drop_s + drop.impact_s {
                 // Momentum m √(2 g h), delivered downward as a constant force over the pulse.
                 let force = drop.mass_kg * (2.0 * 9.81 * drop.fall_height_m).sqrt() / drop.impact_s;
-                if let Ok(jacobian) = self.unloaded.model().frame_jacobian(&drop.frame, q.as_slice()) {
+                if let Ok(jacobian) = self.model.frame_jacobian(&drop.frame, q.as_slice()) {
                     tau -= JointVector::from_fn(|i, _| jacobian[(2, i)] * force);
                 }
             }

@@ -14,7 +14,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use crate::plant::{per_joint, perturbed, Plant};
+use crate::plant::{per_joint, perturbed, DynamicsFactory, Plant};
 use crate::scenario::{Method, Scenario, VelocitySource};
 use crate::sensors::Sensors;
 use crate::task::Trajectory;
@@ -124,18 +124,20 @@ pub fn gains<const N: usize>(
     Gains::diagonal(kp, kd).map_err(|e| SimError::Config(format!("controller: {e}")))
 }
 
-/// Runs `scenario` with `method` on a plant built from `nominal_model` (perturbed, seeded).
+/// Runs `scenario` with `method` on a plant built from `nominal_model` (perturbed, seeded), whose
+/// rigid body `plant_dynamics` builds.
 pub fn simulate<const N: usize>(
     scenario: &Scenario,
     method: Method,
     nominal: &dyn Dynamics<N>,
     nominal_model: &TreeModel,
+    plant_dynamics: &DynamicsFactory<N>,
 ) -> Result<RunOutcome<N>, SimError> {
     let dt = scenario.controller.dt_s;
     let q0 = per_joint::<N>("initial_position_rad", &crate::initial_position(scenario, N))?;
     let true_model =
         perturbed(nominal_model, scenario.plant.parameter_spread, &mut ChaCha8Rng::seed_from_u64(scenario.seed));
-    let mut plant = Plant::new(true_model, &scenario.plant, &scenario.loads, q0, nominal.gravity(&q0))?;
+    let mut plant = Plant::new(true_model, plant_dynamics, &scenario.plant, &scenario.loads, q0, nominal.gravity(&q0))?;
     let mut sensors = Sensors::new(scenario.noise.clone(), scenario.seed.wrapping_add(1));
     let trajectory = Trajectory::new(&scenario.task, q0)?;
     let controller = ComputedTorque::new(nominal, gains(nominal, scenario, &q0)?)

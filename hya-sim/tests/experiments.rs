@@ -60,7 +60,9 @@ fn the_free_plant_conserves_energy() {
     let config = PlantConfig { friction: false, ..PlantConfig::default() };
     let q0 = JointVector::<6>::from([0.3, -0.4, -0.7, 0.8, 0.5, -0.2]);
     let zero = JointVector::zeros();
-    let mut plant = Plant::new(model.clone(), &config, &LoadConfig::default(), q0, zero).unwrap();
+    let mut plant =
+        Plant::new(model.clone(), &hya_sim::plant::generic_dynamics, &config, &LoadConfig::default(), q0, zero)
+            .unwrap();
     // E = ½ q̇ᵀ M q̇ + V(q), V = −Σ m_i g·c_i with c_i each body's centre of mass in the base.
     let energy = |plant: &Plant<6>| {
         let s = &plant.state;

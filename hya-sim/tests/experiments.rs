@@ -2,7 +2,7 @@
 //! `--quick` durations.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_core::{Dynamics, JointVector};
+use hya_core::JointVector;
 use hya_sim::plant::Plant;
 use hya_sim::scenario::{LoadConfig, PlantConfig};
 use hya_sim::{run_method, Method, Scenario};

@@ -112,6 +112,19 @@ impl FilterParams {
     }
 }
 
+/// `v`, or zero where it is below the smallest normal double.
+///
+/// A constant input (an encoder at rest, a held torque) makes `x2` and `x3` decay towards zero
+/// forever; flushed before they turn subnormal, where arithmetic runs 10 to 100 times slower.
+#[inline(always)]
+fn flush_subnormal(v: f64) -> f64 {
+    if v.abs() < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        v
+    }
+}
+
 /// The three states of every channel: `x1` (the filtered input), `x2 = ẋ1`, `x3 = ẍ1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterState<const N: usize> {
@@ -201,13 +214,16 @@ impl<const N: usize> ThirdOrderFilter<N> {
         check(signal, u)?;
         let (phi, now, next) = (&self.transition, &self.input_now, &self.input_next);
         let s = &self.state;
-        let mut out = FilterState::at_rest(JointVector::zeros());
+        let mut out = FilterState::<N>::at_rest(JointVector::zeros());
         // Channel by channel: x⁺ = Φ x + γ_now u_prev + γ_next u.
         for j in 0..N {
             let (x1, x2, x3, previous, sample) = (s.x1[j], s.x2[j], s.x3[j], self.last_input[j], u[j]);
-            out.x1[j] = phi[(0, 0)] * x1 + phi[(0, 1)] * x2 + phi[(0, 2)] * x3 + now[0] * previous + next[0] * sample;
-            out.x2[j] = phi[(1, 0)] * x1 + phi[(1, 1)] * x2 + phi[(1, 2)] * x3 + now[1] * previous + next[1] * sample;
-            out.x3[j] = phi[(2, 0)] * x1 + phi[(2, 1)] * x2 + phi[(2, 2)] * x3 + now[2] * previous + next[2] * sample;
+            let row = |r: usize| {
+                flush_subnormal(
+                    phi[(r, 0)] * x1 + phi[(r, 1)] * x2 + phi[(r, 2)] * x3 + now[r] * previous + next[r] * sample,
+                )
+            };
+            (out.x1[j], out.x2[j], out.x3[j]) = (row(0), row(1), row(2));
         }
         Ok(out)
     }
@@ -284,6 +300,21 @@ mod tests {
         let err = filter.step(&JointVector::from([f64::NAN])).unwrap_err();
         assert!(matches!(err, Error::NonFinite { index: 0, .. }));
         assert_eq!(filter, before);
+    }
+
+    #[test]
+    fn a_zero_input_decays_to_zero_without_subnormal_states() {
+        // A kick, then exact zeros (a joint at rest with zero torque): the states decay
+        // geometrically, through the subnormal range unless flushed.
+        let mut filter = ThirdOrderFilter::<1>::new(FilterParams::paper(1e-3).unwrap(), JointVector::zeros()).unwrap();
+        filter.step(&JointVector::from([1.0])).unwrap();
+        for _ in 0..60_000 {
+            let state = filter.step(&JointVector::from([0.0])).unwrap();
+            for v in [state.x1[0], state.x2[0], state.x3[0]] {
+                assert!(v == 0.0 || v.is_normal(), "subnormal state {v:e}");
+            }
+        }
+        assert_eq!((filter.state().x1[0], filter.state().x2[0], filter.state().x3[0]), (0.0, 0.0, 0.0));
     }
 
     #[test]

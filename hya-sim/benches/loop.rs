@@ -9,7 +9,7 @@ fn main() {
     divan::main();
 }
 
-#[divan::bench]
+#[divan::bench(sample_count = 100, sample_size = 1000)]
 fn hya_control_tick(bencher: divan::Bencher) {
     let q0 = JointVector::<6>::from(hya_sim::HYA_HOME);
     let params = FilterParams::paper(1e-3).expect("the paper's filter is valid");

@@ -48,7 +48,7 @@ macro_rules! robot_benches {
                 };
             }
 
-            #[divan::bench(args = ["generated", "generic"])]
+            #[divan::bench(args = ["generated", "generic"], sample_count = 100, sample_size = 1000)]
             fn inverse_dynamics(bencher: divan::Bencher, path: &str) {
                 fn op<D: Dynamics<$dof>>(d: &D, [q, qd, qdd]: &[JointVector<$dof>; 3]) {
                     black_box(d.inverse_dynamics(q, qd, qdd));
@@ -56,7 +56,7 @@ macro_rules! robot_benches {
                 both!(bencher, path, op)
             }
 
-            #[divan::bench(args = ["generated", "generic"])]
+            #[divan::bench(args = ["generated", "generic"], sample_count = 100, sample_size = 1000)]
             fn mass_matrix(bencher: divan::Bencher, path: &str) {
                 fn op<D: Dynamics<$dof>>(d: &D, [q, _, _]: &[JointVector<$dof>; 3]) {
                     black_box(d.mass_matrix(q));
@@ -64,7 +64,7 @@ macro_rules! robot_benches {
                 both!(bencher, path, op)
             }
 
-            #[divan::bench(args = ["generated", "generic"])]
+            #[divan::bench(args = ["generated", "generic"], sample_count = 100, sample_size = 1000)]
             fn gravity(bencher: divan::Bencher, path: &str) {
                 fn op<D: Dynamics<$dof>>(d: &D, [q, _, _]: &[JointVector<$dof>; 3]) {
                     black_box(d.gravity(q));
@@ -72,7 +72,7 @@ macro_rules! robot_benches {
                 both!(bencher, path, op)
             }
 
-            #[divan::bench(args = ["generated", "generic"])]
+            #[divan::bench(args = ["generated", "generic"], sample_count = 100, sample_size = 1000)]
             fn forward_dynamics(bencher: divan::Bencher, path: &str) {
                 fn op<D: Dynamics<$dof>>(d: &D, [q, qd, tau]: &[JointVector<$dof>; 3]) {
                     let _ = black_box(d.forward_dynamics(q, qd, tau));

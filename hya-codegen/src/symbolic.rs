@@ -193,6 +193,16 @@ impl Emitter {
         Inertia { mass: inertia.mass, first_moment: self.add3(&g, &mr), rotational }
     }
 
+    /// `first` maps A to B and `second` B to C; the result maps A to C:
+    /// `E = E₂ E₁`, `r = r₁ + E₁ᵀ r₂`.
+    pub fn compose(&mut self, first: &Xform, second: &Xform) -> Xform {
+        let moved = self.mat_tr_vec(&first.rotation, &second.translation);
+        Xform {
+            rotation: self.mat_mat(&second.rotation, &first.rotation),
+            translation: self.add3(&first.translation, &moved),
+        }
+    }
+
     /// `a + b` of inertias.
     pub fn add_inertia(&mut self, a: &Inertia, b: &Inertia) -> Inertia {
         Inertia {
@@ -225,6 +235,16 @@ impl Inertia {
 }
 
 impl Xform {
+    /// Frames A and B coincide.
+    pub fn identity() -> Self {
+        Xform::constant(&Transform::identity())
+    }
+
+    /// `E` (rows) and `r`, for emitting.
+    pub fn parts(&self) -> (&Mat3, &Vec3) {
+        (&self.rotation, &self.translation)
+    }
+
     /// A constant transform.
     pub fn constant(x: &Transform) -> Self {
         Xform { rotation: constant_rotation(&x.rotation), translation: constant_vector(&x.translation) }
@@ -263,6 +283,11 @@ impl JointXform {
             _ => Xform { rotation: constant_rotation(&Matrix3::identity()), translation: e.scale3(&axis, q) },
         };
         JointXform { tree: Xform::constant(&body.tree_transform), joint }
+    }
+
+    /// The whole transform `X_J(q) X_tree` as one, for kinematics.
+    pub fn combined(&self, e: &mut Emitter) -> Xform {
+        e.compose(&self.tree, &self.joint)
     }
 
     /// `X m`.

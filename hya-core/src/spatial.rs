@@ -126,6 +126,15 @@ impl Transform {
         Self { rotation: orientation.transpose(), translation: origin }
     }
 
+    /// `E` from its rows and `r` from its components (the form generated code uses).
+    pub fn from_arrays(rotation_rows: [[f64; 3]; 3], translation: [f64; 3]) -> Self {
+        let [a, b, c] = rotation_rows;
+        Self {
+            rotation: Matrix3::new(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]),
+            translation: Vector3::from(translation),
+        }
+    }
+
     /// B's orientation in A: its axes as columns, `Eᵀ`.
     pub fn orientation(&self) -> Matrix3<f64> {
         self.rotation.transpose()

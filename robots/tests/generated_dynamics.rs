@@ -119,6 +119,18 @@ macro_rules! robot_tests {
                 }
 
                 #[test]
+                fn generated_frame_poses_equal_the_generic_model(s in state::<$dof>()) {
+                    let model = hya_codegen::load_str(URDF, "test").unwrap().model;
+                    let poses = $type.frame_poses(&s.0);
+                    prop_assert_eq!($type::FRAME_NAMES.len(), model.frames().len());
+                    for (name, pose) in $type::FRAME_NAMES.iter().zip(&poses) {
+                        let expected = model.frame_pose(name, s.0.as_slice()).unwrap();
+                        prop_assert!(close(&pose.rotation, &expected.rotation, 1e-12, 1.0), "{} rotation", name);
+                        prop_assert!(close(&pose.translation, &expected.translation, 1e-12, 1.0), "{} origin", name);
+                    }
+                }
+
+                #[test]
                 fn parametric_equals_generic_for_perturbed_inertias(
                     s in state::<$dof>(),
                     factors in proptest::collection::vec(0.8..1.2f64, 7),

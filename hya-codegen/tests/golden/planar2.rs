@@ -9,6 +9,59 @@ impl Planar2 {
     pub const JOINT_NAMES: [&'static str; 2] = ["shoulder", "elbow"];
     /// Effort limits from the description, N·m or N (`None` where it gives none).
     pub const EFFORT_LIMITS: [Option<f64>; 2] = [Some(100.0_f64), Some(60.0_f64)];
+    /// Every link of the description, in the order of [`Self::frame_poses`].
+    pub const FRAME_NAMES: [&'static str; 4] = ["base", "upper_arm", "forearm", "tip"];
+    /// The pose of every frame of [`Self::FRAME_NAMES`] in the base at `q`, as the transform
+    /// from the base to the frame (its `translation` is the frame's origin).
+    #[allow(
+        clippy::approx_constant,
+        clippy::excessive_precision,
+        clippy::unreadable_literal,
+        unused_variables
+    )]
+    pub fn frame_poses(
+        &self,
+        q: &::hya_core::JointVector<2>,
+    ) -> [::hya_core::spatial::Transform; 4] {
+        let t0 = q[0];
+        let (t1, t2) = ::hya_core::sin_cos(t0);
+        let t3 = q[1];
+        let (t4, t5) = ::hya_core::sin_cos(t3);
+        let t6 = t2 * 0.5_f64;
+        let t7 = t1 * 0.5_f64;
+        let t8 = t5 * t2;
+        let t9 = t4 * t1;
+        let t10 = t8 - t9;
+        let t11 = t5 * t1;
+        let t12 = t4 * t2;
+        let t13 = t11 + t12;
+        let t14 = t10 * 0.4_f64;
+        let t15 = t13 * 0.4_f64;
+        let t16 = t6 + t14;
+        let t17 = t7 + t15;
+        [
+            ::hya_core::spatial::Transform::from_arrays(
+                [
+                    [1.0_f64, 0.0_f64, 0.0_f64],
+                    [0.0_f64, 1.0_f64, 0.0_f64],
+                    [0.0_f64, 0.0_f64, 1.0_f64],
+                ],
+                [0.0_f64, 0.0_f64, 0.0_f64],
+            ),
+            ::hya_core::spatial::Transform::from_arrays(
+                [[t2, 0.0_f64, -t1], [0.0_f64, 1.0_f64, 0.0_f64], [t1, 0.0_f64, t2]],
+                [0.0_f64, 0.0_f64, 0.0_f64],
+            ),
+            ::hya_core::spatial::Transform::from_arrays(
+                [[t10, 0.0_f64, -t13], [0.0_f64, 1.0_f64, 0.0_f64], [t13, 0.0_f64, t10]],
+                [t6, 0.0_f64, -t7],
+            ),
+            ::hya_core::spatial::Transform::from_arrays(
+                [[t10, 0.0_f64, -t13], [0.0_f64, 1.0_f64, 0.0_f64], [t13, 0.0_f64, t10]],
+                [t16, 0.0_f64, -t17],
+            ),
+        ]
+    }
 }
 #[allow(
     clippy::approx_constant,

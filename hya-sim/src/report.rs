@@ -8,7 +8,9 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::run::{gains, RunOutcome, WARM_UP_S};
+use hya_core::JointVector;
+
+use crate::run::{gains, RunOutcome, Trace, WARM_UP_S};
 use crate::scenario::{LoadConfig, Method, Noise, Scenario, Task};
 use crate::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
 
@@ -276,55 +278,55 @@ fn series(
     Series { label, points: o.trace.time.iter().zip(values).map(|(t, v)| (*t, v[joint])).collect(), color, dashed }
 }
 
-fn joints_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
-    let shown = featured(runs);
-    let panels: Vec<Panel> = (0..JOINTS)
-        .map(|j| {
-            let mut lines = vec![series(shown[0], j, &shown[0].trace.q_des, "q_des".into(), PALETTE[0], true)];
-            for (k, o) in shown.iter().enumerate() {
-                lines.push(series(
-                    o,
-                    j,
-                    &o.trace.q,
-                    format!("q ({})", o.method.name()),
-                    PALETTE[(k + 1) % PALETTE.len()],
-                    false,
-                ));
-            }
-            Panel { title: format!("joint {}", j + 1), y_label: "rad".into(), series: lines }
-        })
-        .collect();
-    line_grid(&format!("{}: joint angles against the reference", s.name), "t [s]", &panels, 3)
-}
-
-fn disturbance_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
-    let estimating: Vec<&RunOutcome<JOINTS>> = runs.iter().copied().filter(|o| o.method != Method::None).collect();
-    let shown: Vec<&RunOutcome<JOINTS>> =
-        if estimating.iter().any(|o| o.method == Method::Lu) && s.name.starts_with("estimator") {
-            estimating
-        } else {
-            estimating.into_iter().filter(|o| o.method == Method::Lu).collect()
-        };
+/// One panel per joint: `reference` of the first run, dashed, against `estimate` of every run.
+fn per_joint_figure(
+    title: String,
+    y_label: &str,
+    shown: &[&RunOutcome<JOINTS>],
+    reference: (&str, fn(&Trace<JOINTS>) -> &[JointVector<JOINTS>]),
+    estimate: (&str, fn(&Trace<JOINTS>) -> &[JointVector<JOINTS>]),
+) -> String {
     let panels: Vec<Panel> = (0..JOINTS)
         .map(|j| {
             let mut lines = Vec::new();
             if let Some(first) = shown.first() {
-                lines.push(series(first, j, &first.trace.d_true, "d (true)".into(), PALETTE[0], true));
+                lines.push(series(first, j, reference.1(&first.trace), reference.0.into(), PALETTE[0], true));
             }
             for (k, o) in shown.iter().enumerate() {
-                lines.push(series(
-                    o,
-                    j,
-                    &o.trace.d_hat,
-                    format!("d̂ ({})", o.method.name()),
-                    PALETTE[(k + 1) % PALETTE.len()],
-                    false,
-                ));
+                let label = format!("{} ({})", estimate.0, o.method.name());
+                lines.push(series(o, j, estimate.1(&o.trace), label, PALETTE[(k + 1) % PALETTE.len()], false));
             }
-            Panel { title: format!("joint {}", j + 1), y_label: "N·m".into(), series: lines }
+            Panel { title: format!("joint {}", j + 1), y_label: y_label.into(), series: lines }
         })
         .collect();
-    line_grid(&format!("{}: estimated against true disturbance", s.name), "t [s]", &panels, 3)
+    line_grid(&title, "t [s]", &panels, 3)
+}
+
+fn joints_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
+    per_joint_figure(
+        format!("{}: joint angles against the reference", s.name),
+        "rad",
+        &featured(runs),
+        ("q_des", |t| &t.q_des),
+        ("q", |t| &t.q),
+    )
+}
+
+fn disturbance_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
+    let estimating: Vec<&RunOutcome<JOINTS>> = runs.iter().copied().filter(|o| o.method != Method::None).collect();
+    // The noise comparisons show every observer; the experiments show the paper's.
+    let shown: Vec<&RunOutcome<JOINTS>> = if s.name.starts_with("estimator") {
+        estimating
+    } else {
+        estimating.into_iter().filter(|o| o.method == Method::Lu).collect()
+    };
+    per_joint_figure(
+        format!("{}: estimated against true disturbance", s.name),
+        "N·m",
+        &shown,
+        ("d (true)", |t| &t.d_true),
+        ("d̂", |t| &t.d_hat),
+    )
 }
 
 fn rmse_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {

@@ -62,6 +62,8 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
 
     /// Back to rest at `q0`, `τ0`, as at construction.
     pub fn reset(&mut self, q0: JointVector<N>, tau0: JointVector<N>) -> Result<(), Error> {
+        check("q0", &q0)?;
+        check("tau0", &tau0)?;
         let disturbance = self.estimate(&FilterState::at_rest(q0), &tau0)?;
         self.joint_filter.reset(q0)?;
         self.torque_filter.reset(tau0)?;
@@ -89,8 +91,8 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         &self.dynamics
     }
 
+    /// `ID(x1, x2, x3) − τ̂` from finite states; refused if the result is not finite.
     fn estimate(&self, joints: &FilterState<N>, filtered_torque: &JointVector<N>) -> Result<JointVector<N>, Error> {
-        check("tau0", filtered_torque)?;
         let disturbance = self.dynamics.inverse_dynamics(&joints.x1, &joints.x2, &joints.x3) - filtered_torque;
         check("d_hat", &disturbance)?;
         Ok(disturbance)

@@ -15,7 +15,7 @@ use alloc::vec::Vec;
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 
 use crate::spatial::{axis_angle, Force, Motion, RigidBodyInertia, Transform};
-use crate::{Dynamics, Error, JointMatrix, JointVector};
+use crate::{Dynamics, JointMatrix, JointVector};
 
 /// Standard gravity along the base's −z, m/s² (the paper's and Pinocchio's value).
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -130,9 +130,6 @@ pub enum ModelError {
     /// No frame of that name.
     #[error("no frame named `{0}`")]
     UnknownFrame(String),
-    /// A numerical failure of the dynamics.
-    #[error(transparent)]
-    Numerical(#[from] Error),
 }
 
 /// Per-body scratch space of the algorithms; `[BodyState; N]` on the stack for a fixed `N`.

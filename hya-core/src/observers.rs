@@ -77,18 +77,18 @@ pub struct NonlinearDisturbanceObserver<const N: usize, D> {
     disturbance: JointVector<N>,
 }
 
-impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
-    /// Mohammadi's design `y = ½ (ξ + 2 β σ)` for convergence rate `β` (1/s), `σ ≥ λmax(M)`
-    /// (kg·m²) and `ξ ≥ ‖Ṁ‖` (kg·m²/s).
-    pub fn design_gain(convergence_rate: f64, sigma: f64, xi: f64) -> Result<f64, Error> {
-        let beta = positive("convergence_rate", convergence_rate)?;
-        let sigma = positive("sigma", sigma)?;
-        if !(xi.is_finite() && xi >= 0.0) {
-            return Err(Error::InvalidParameter { name: "xi", value: xi, requirement: "finite and >= 0" });
-        }
-        Ok(0.5 * (xi + 2.0 * beta * sigma))
+/// Mohammadi's gain for [`NonlinearDisturbanceObserver`]: `y = ½ (ξ + 2 β σ)` for convergence
+/// rate `β` (1/s), `σ ≥ λmax(M)` (kg·m²) and `ξ ≥ ‖Ṁ‖` (kg·m²/s).
+pub fn mohammadi_gain(convergence_rate: f64, sigma: f64, xi: f64) -> Result<f64, Error> {
+    let beta = positive("convergence_rate", convergence_rate)?;
+    let sigma = positive("sigma", sigma)?;
+    if !(xi.is_finite() && xi >= 0.0) {
+        return Err(Error::InvalidParameter { name: "xi", value: xi, requirement: "finite and >= 0" });
     }
+    Ok(0.5 * (xi + 2.0 * beta * sigma))
+}
 
+impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
     /// An observer with gain `y` (N·m·s/rad) at sample time `dt`, started at `z0 = −y q̇0`
     /// (so `d̂ = 0`).
     pub fn new(dynamics: D, gain: f64, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {

@@ -216,6 +216,17 @@ impl RigidBodyInertia {
         Self { mass, first_moment: com * mass, rotational: inertia_about_com + parallel_axis }
     }
 
+    /// The inverse of [`from_centre_of_mass`](Self::from_centre_of_mass):
+    /// `(m, c = h/m, Ī = I − m (|c|² 1 − c cᵀ))`; `None` for a massless body.
+    pub fn centre_of_mass_form(&self) -> Option<(f64, Vector3<f64>, Matrix3<f64>)> {
+        if self.mass <= 0.0 {
+            return None;
+        }
+        let com = self.first_moment / self.mass;
+        let parallel_axis = (Matrix3::identity() * com.norm_squared() - com * com.transpose()) * self.mass;
+        Some((self.mass, com, self.rotational - parallel_axis))
+    }
+
     /// `I m`: the momentum of a body with this inertia moving with `m`.
     pub fn apply(&self, m: &Motion) -> Force {
         Force {

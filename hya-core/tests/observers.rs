@@ -91,7 +91,7 @@ fn every_observer_recovers_a_constant_disturbance_on_the_two_link_arm() {
     let q0 = JointVector::from([0.4, 0.8]);
     // Chen's gain for convergence rate 50/s: y = β σ with σ ≥ λmax(M) over the motion.
     let sigma = arm.mass_matrix(&q0).symmetric_eigenvalues().max() * 1.2;
-    let gain = NonlinearDisturbanceObserver::<2, PlanarTwoLink>::design_gain(BANDWIDTH, sigma, 0.0).unwrap();
+    let gain = hya_core::observers::mohammadi_gain(BANDWIDTH, sigma, 0.0).unwrap();
     let d = JointVector::from([3.0, -1.2]);
     for (name, mut observer, _) in observers(arm, q0, gain) {
         let trace = run(arm, q0, observer.as_mut(), |_| d, 3.0);

@@ -10,7 +10,7 @@
 use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointVector};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use rand::Rng;
 
 use crate::scenario::{LoadConfig, PlantConfig, WeightDrop};
@@ -69,13 +69,8 @@ pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVect
 pub fn perturbed(model: &TreeModel, spread: f64, rng: &mut impl Rng) -> TreeModel {
     let factor = |rng: &mut dyn rand::RngCore| 1.0 + spread * (2.0 * rng.gen::<f64>() - 1.0);
     model.map_inertias(|_, inertia| {
-        if inertia.mass <= 0.0 {
-            return *inertia;
-        }
-        let com = inertia.first_moment / inertia.mass;
-        let about_com =
-            inertia.rotational - (Matrix3::identity() * com.norm_squared() - com * com.transpose()) * inertia.mass;
-        let mass = inertia.mass * factor(rng);
+        let Some((mass, com, about_com)) = inertia.centre_of_mass_form() else { return *inertia };
+        let mass = mass * factor(rng);
         let com = Vector3::new(com.x * factor(rng), com.y * factor(rng), com.z * factor(rng));
         RigidBodyInertia::from_centre_of_mass(mass, com, about_com * factor(rng))
     })

@@ -520,7 +520,7 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
     md.push_str("| body (joint) | mass [kg] | centre of mass in body frame [m] | rotational inertia about the body origin [kg·m²] (xx, yy, zz, xy, xz, yz) |\n|---|---|---|---|\n");
     for b in model.bodies() {
         let i = &b.inertia;
-        let com = if i.mass > 0.0 { i.first_moment / i.mass } else { i.first_moment };
+        let com = i.centre_of_mass_form().map_or(i.first_moment, |(_, com, _)| com);
         let r = &i.rotational;
         md.push_str(&table_row([
             format!("{} ({})", b.link, b.joint),

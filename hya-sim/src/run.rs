@@ -89,8 +89,7 @@ fn observer<'a, const N: usize>(
         Method::Chen => {
             // σ ≥ λmax(M): the largest eigenvalue at the start pose with a 20 % margin.
             let sigma = 1.2 * largest_eigenvalue(&nominal.mass_matrix(&q0));
-            let gain = NonlinearDisturbanceObserver::<N, &dyn Dynamics<N>>::design_gain(bandwidth, sigma, 0.0)
-                .map_err(core)?;
+            let gain = hya_core::observers::mohammadi_gain(bandwidth, sigma, 0.0).map_err(core)?;
             Some(Box::new(NonlinearDisturbanceObserver::new(nominal, gain, dt, qd0).map_err(core)?))
         }
         Method::Momentum => Some(Box::new(
@@ -143,30 +142,31 @@ pub fn simulate<const N: usize>(
     let controller = ComputedTorque::new(nominal, gains(nominal, scenario, &q0)?)
         .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)
         .map_err(|e| SimError::Config(format!("controller: {e}")))?;
-    let velocity_params = FilterParams::new(
-        0.8,
-        scenario.controller.observer_bandwidth_rad_s,
-        scenario.controller.observer_bandwidth_rad_s,
-        dt,
-    )
-    .map_err(|e| SimError::Config(e.to_string()))?;
 
+    // Every sensor is read each tick; `(measurement, q̇_m)`.
     let measure = |plant: &Plant<N>, sensors: &mut Sensors| {
         let (q, qd, tau) = sensors.measure(&plant.state.q, &plant.state.qd, &plant.state.tau_act);
-        Measurement { position: q, velocity: Some(qd), torque: tau }
+        (Measurement { position: q, velocity: Some(qd), torque: tau }, qd)
     };
-    let first = measure(&plant, &mut sensors);
+    let (first, first_velocity) = measure(&plant, &mut sensors);
     let mut estimator = observer(method, nominal, scenario, &first)?;
-    let mut velocity_filter =
-        ThirdOrderFilter::new(velocity_params, first.position).map_err(|e| SimError::Config(e.to_string()))?;
+    // The paper's filter on q_m, only where the controller closes its loop on q̂̇.
+    let mut velocity_filter = match scenario.controller.velocity {
+        VelocitySource::Measured => None,
+        VelocitySource::Filtered => {
+            let w = scenario.controller.observer_bandwidth_rad_s;
+            let params = FilterParams::new(0.8, w, w, dt).map_err(|e| SimError::Config(e.to_string()))?;
+            Some(ThirdOrderFilter::new(params, first.position).map_err(|e| SimError::Config(e.to_string()))?)
+        }
+    };
     let steps = (scenario.duration_s / dt).round() as usize;
     let substep = dt / scenario.plant.substeps as f64;
     let mut trace = Trace::default();
-    let mut measurement = first;
+    let (mut measurement, mut measured_velocity) = (first, first_velocity);
     for k in 0..steps {
         let t = k as f64 * dt;
         if k > 0 {
-            measurement = measure(&plant, &mut sensors);
+            (measurement, measured_velocity) = measure(&plant, &mut sensors);
         }
         let at = |e: hya_core::Error| SimError::Numerical(format!("t = {t:.3} s: {e}"));
         let d_hat = match estimator.as_mut() {
@@ -174,10 +174,9 @@ pub fn simulate<const N: usize>(
             Some(o) => *o.disturbance(),
             None => JointVector::zeros(),
         };
-        let filtered = velocity_filter.step(&measurement.position).map_err(at)?.x2;
-        let velocity = match scenario.controller.velocity {
-            VelocitySource::Measured => measurement.velocity.unwrap_or(filtered),
-            VelocitySource::Filtered => filtered,
+        let velocity = match velocity_filter.as_mut() {
+            Some(filter) => filter.step(&measurement.position).map_err(at)?.x2,
+            None => measured_velocity,
         };
         let reference = trajectory.at(t);
         let compensation = (method != Method::None).then_some(&d_hat);

@@ -73,7 +73,8 @@ fn the_free_plant_conserves_energy() {
             .iter()
             .map(|b| {
                 let pose = model.frame_pose(&b.link, s.q.as_slice()).unwrap();
-                let com = pose.point_to_parent(&(b.inertia.first_moment / b.inertia.mass));
+                let (_, com, _) = b.inertia.centre_of_mass_form().unwrap();
+                let com = pose.point_to_parent(&com);
                 b.inertia.mass * 9.81 * com.z
             })
             .sum();

@@ -87,10 +87,8 @@ fn perturbed(model: &TreeModel, factors: &[f64]) -> TreeModel {
         factors[k % factors.len()]
     };
     model.map_inertias(|_, inertia| {
-        let com = inertia.first_moment / inertia.mass;
-        let about_com = inertia.rotational
-            - (nalgebra::Matrix3::identity() * com.norm_squared() - com * com.transpose()) * inertia.mass;
-        RigidBodyInertia::from_centre_of_mass(inertia.mass * next(), com.map(|c| c * next()), about_com * next())
+        let (mass, com, about_com) = inertia.centre_of_mass_form().expect("shipped bodies have mass");
+        RigidBodyInertia::from_centre_of_mass(mass * next(), com.map(|c| c * next()), about_com * next())
     })
 }
 

@@ -55,6 +55,16 @@ fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
+/// Text centred at `(x, y)`; `vertical` turns it to read upwards (a y-axis label).
+fn centred_text(out: &mut String, x: f64, y: f64, size: u32, vertical: bool, text: &str) {
+    let place = if vertical {
+        format!(r#"transform="translate({x:.1},{y:.1}) rotate(-90)""#)
+    } else {
+        format!(r#"x="{x:.1}" y="{y:.1}""#)
+    };
+    let _ = writeln!(out, r#"<text {place} font-size="{size}" text-anchor="middle">{}</text>"#, escape(text));
+}
+
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) =
         values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
@@ -76,13 +86,7 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
         out,
         r##"<rect x="{left:.1}" y="{top:.1}" width="{w:.1}" height="{h:.1}" fill="none" stroke="#888"/>"##
     );
-    let _ = writeln!(
-        out,
-        r#"<text x="{:.1}" y="{:.1}" font-size="13" text-anchor="middle">{}</text>"#,
-        left + w / 2.0,
-        y0 + 17.0,
-        escape(&p.title)
-    );
+    centred_text(out, left + w / 2.0, y0 + 17.0, 13, false, &p.title);
     for t in ticks(xl, xh) {
         let x = sx(t);
         let _ = writeln!(
@@ -104,20 +108,8 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
             format_tick(t)
         );
     }
-    let _ = writeln!(
-        out,
-        r#"<text x="{:.1}" y="{:.1}" font-size="11" text-anchor="middle">{}</text>"#,
-        left + w / 2.0,
-        top + h + 27.0,
-        escape(x_label)
-    );
-    let _ = writeln!(
-        out,
-        r#"<text transform="translate({:.1},{:.1}) rotate(-90)" font-size="11" text-anchor="middle">{}</text>"#,
-        x0 + 14.0,
-        top + h / 2.0,
-        escape(&p.y_label)
-    );
+    centred_text(out, left + w / 2.0, top + h + 27.0, 11, false, x_label);
+    centred_text(out, x0 + 14.0, top + h / 2.0, 11, true, &p.y_label);
     for (k, s) in p.series.iter().enumerate() {
         let stride = s.points.len().div_ceil(MAX_POINTS).max(1);
         let path: Vec<String> =
@@ -195,13 +187,7 @@ pub fn bar_chart(title: &str, y_label: &str, categories: &[String], series: &[(S
     let bar = group * 0.8 / series.len().max(1) as f64;
     for (c, name) in categories.iter().enumerate() {
         let gx = left + c as f64 * group;
-        let _ = writeln!(
-            body,
-            r#"<text x="{:.1}" y="{:.1}" font-size="11" text-anchor="middle">{}</text>"#,
-            gx + group / 2.0,
-            top + h + 15.0,
-            escape(name)
-        );
+        centred_text(&mut body, gx + group / 2.0, top + h + 15.0, 11, false, name);
         for (k, (_, values)) in series.iter().enumerate() {
             let v = values.get(c).copied().unwrap_or(0.0);
             let _ = writeln!(
@@ -234,12 +220,7 @@ pub fn bar_chart(title: &str, y_label: &str, categories: &[String], series: &[(S
         left + w,
         top + h
     );
-    let _ = writeln!(
-        body,
-        r#"<text transform="translate(18,{:.1}) rotate(-90)" font-size="11" text-anchor="middle">{}</text>"#,
-        top + h / 2.0,
-        escape(y_label)
-    );
+    centred_text(&mut body, 18.0, top + h / 2.0, 11, true, y_label);
     document(width, height, title, &body)
 }
 

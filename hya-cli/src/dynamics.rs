@@ -50,21 +50,24 @@ fn load(path: &str) -> Result<TreeModel, CliError> {
     Ok(loaded.model)
 }
 
-fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
-    match hya_robots::find(&args.robot) {
-        Some(robot) if args.generic => hya_codegen::load_str(robot.urdf, robot.name)
-            .map(|loaded| Source::Model(loaded.model))
+/// The run-time model of a shipped robot (by name) or of a URDF file (by path).
+pub fn model(robot: &str) -> Result<TreeModel, CliError> {
+    match hya_robots::find(robot) {
+        Some(shipped) => hya_codegen::load_str(shipped.urdf, shipped.name)
+            .map(|loaded| loaded.model)
             .map_err(|e| CliError::Input(e.to_string())),
-        Some(robot) => Ok(Source::Generated(robot)),
-        None if std::path::Path::new(&args.robot).exists() => load(&args.robot).map(Source::Model),
+        None if std::path::Path::new(robot).exists() => load(robot),
         None => {
             let names: Vec<&str> = ROBOTS.iter().map(|r| r.name).collect();
-            Err(CliError::Input(format!(
-                "`{}` is neither a shipped robot ({}) nor a URDF file",
-                args.robot,
-                names.join(", ")
-            )))
+            Err(CliError::Input(format!("`{robot}` is neither a shipped robot ({}) nor a URDF file", names.join(", "))))
         }
+    }
+}
+
+fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
+    match hya_robots::find(&args.robot) {
+        Some(robot) if !args.generic => Ok(Source::Generated(robot)),
+        _ => model(&args.robot).map(Source::Model),
     }
 }
 

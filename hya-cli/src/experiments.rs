@@ -16,6 +16,9 @@ pub struct ReproduceArgs {
     /// Shortened scenarios (event times and durations scaled), well under a minute in release.
     #[arg(long)]
     quick: bool,
+    /// Replace the hya report already in `--out` (its report files are removed first).
+    #[arg(long)]
+    force: bool,
 }
 
 /// Parameters of `hya run`.
@@ -29,6 +32,9 @@ pub struct RunArgs {
     /// Shorten the scenario as `hya reproduce --quick` does.
     #[arg(long)]
     quick: bool,
+    /// Replace the hya report already in `--out` (its report files are removed first).
+    #[arg(long)]
+    force: bool,
 }
 
 fn sim(e: hya_sim::SimError) -> CliError {
@@ -36,7 +42,10 @@ fn sim(e: hya_sim::SimError) -> CliError {
 }
 
 /// Runs every method of every scenario with a progress bar, then writes the report.
-fn run_all(scenarios: Vec<Scenario>, out: &Path, quick: bool) -> Result<(), CliError> {
+fn run_all(scenarios: Vec<Scenario>, out: &Path, quick: bool, force: bool) -> Result<(), CliError> {
+    for kept in hya_sim::output::prepare(out, force).map_err(sim)? {
+        eprintln!("warning: {} is not a report file; left in place", kept.display());
+    }
     let scenarios: Vec<Scenario> = scenarios.into_iter().map(|s| if quick { s.quick() } else { s }).collect();
     let total: f64 = scenarios.iter().map(|s| s.duration_s * s.methods.len() as f64).sum();
     let bar = ProgressBar::new(total.ceil() as u64).with_style(
@@ -69,7 +78,7 @@ fn run_all(scenarios: Vec<Scenario>, out: &Path, quick: bool) -> Result<(), CliE
 /// `hya reproduce`.
 pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
-    run_all(scenarios, &args.out, args.quick)
+    run_all(scenarios, &args.out, args.quick, args.force)
 }
 
 /// `hya run FILE.toml`.
@@ -77,5 +86,5 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| CliError::Input(format!("{}: cannot read: {e}", args.file.display())))?;
     let scenario = Scenario::from_toml(&text, &args.file.display().to_string()).map_err(sim)?;
-    run_all(vec![scenario], &args.out, args.quick)
+    run_all(vec![scenario], &args.out, args.quick, args.force)
 }

@@ -9,6 +9,7 @@ mod bench;
 mod dynamics;
 mod experiments;
 mod filter;
+mod plant;
 mod rows;
 
 /// hya: model-based control of robot arms under disturbances.
@@ -43,6 +44,9 @@ enum Command {
     Reproduce(experiments::ReproduceArgs),
     /// Run a scenario of your own (TOML) and write a report.
     Run(experiments::RunArgs),
+    /// Open-loop rollout of the simulated arm: rows `t τ1 … τn` (held until the next row) on
+    /// stdin, rows `t q1 … qn q̇1 … q̇n` every `--dt` on stdout, from rest at `--q0`.
+    Plant(plant::PlantArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -70,6 +74,7 @@ fn main() -> ExitCode {
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),
         Command::Run(args) => experiments::run(&args),
+        Command::Plant(args) => plant::run(&args, stdin, &mut stdout),
         Command::Bench(args) => bench::run(&args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {

@@ -94,9 +94,9 @@ fn urdf_names_stay_inside_their_literals() {
         let sources = [generate(&model, "Arm").unwrap().source, generate_parametric(&model, "ArmP").unwrap().source];
         for (source, benign) in sources.iter().zip(&benign_sources) {
             // The same items as for a benign name: nothing of the name's own became code.
-            assert_eq!(item_outline(&source), item_outline(&benign), "a name left its literal:\n{source}");
+            assert_eq!(item_outline(source), item_outline(benign), "a name left its literal:\n{source}");
             assert!(!source.contains('\r') && !source.contains('\u{202E}'), "raw control character in the source");
-            let literals = string_literals(&source);
+            let literals = string_literals(source);
             // The header names the robot, escaped.
             assert!(literals.iter().any(|l| l.contains(&robot.escape_debug().to_string())), "header lost the name");
         }

@@ -12,8 +12,10 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
+pub mod output;
 pub mod plant;
 pub mod report;
+pub mod rollout;
 pub mod run;
 pub mod scenario;
 pub mod sensors;

@@ -184,22 +184,14 @@ pub fn claims(outcomes: &[RunOutcome<JOINTS>], scenarios: &[Scenario]) -> Vec<Cl
     claims
 }
 
-/// Writes the whole report into `dir`.
+/// Writes the whole report into `dir`, which [`crate::output::prepare`] has made ready.
 pub fn write(
     dir: &Path,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<JOINTS>],
     quick: bool,
 ) -> Result<Summary, SimError> {
-    let io = |path: &Path| {
-        let path = path.display().to_string();
-        move |source| SimError::Io { path, source }
-    };
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let save = |name: &str, text: &str| {
-        let path = dir.join(name);
-        std::fs::write(&path, text).map_err(io(&path))
-    };
+    let save = |name: &str, text: &str| crate::output::save(dir, name, text);
     let robot = scenarios.first().map_or("hya".into(), |s| s.robot.clone());
     let summary = Summary {
         robot,
@@ -560,7 +552,7 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
         p.stribeck_velocity_rad_s,
         p.coulomb_position_variation,
         p.smoothing_rad_s,
-        if p.friction { "on" } else { "off" }
+        format!("{:?}", p.friction).to_lowercase()
     );
     let c = &first.controller;
     let nominal =
@@ -571,9 +563,10 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
         md,
         "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains from natural frequencies ({}) rad/s and damping {} on the nominal `M(q0)` diagonal: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- lu: the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s. chen: gain y = ½(ξ + 2βσ) with β = {b}/s, σ = 1.2 λmax(M(q0)), ξ = 0. momentum: K_O = {b}/s per joint. eso: ω_o = {b} rad/s, model-assisted. All four at the same bandwidth, {b} rad/s.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
         c.dt_s,
-        match c.velocity {
-            crate::scenario::VelocitySource::Measured => "measured (velocity sensor)",
-            crate::scenario::VelocitySource::Filtered => "filtered (q̂̇ of the paper's filter)",
+        match first.sensors.velocity {
+            crate::scenario::VelocitySource::Difference => "encoder difference (low-passed)",
+            crate::scenario::VelocitySource::Filter => "filtered (q̂̇ of the paper's filter)",
+            crate::scenario::VelocitySource::Sensor => "velocity sensor",
         },
         list(&c.torque_limit_nm),
         list(&c.natural_frequency_rad_s),

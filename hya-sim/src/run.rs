@@ -6,16 +6,18 @@
 //! error, payload and external loads, so estimate errors are measured, not guessed.
 
 use hya_core::model::TreeModel;
+use std::collections::VecDeque;
+
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, DisturbanceObserver, Dynamics, ExtendedStateObserver, FilterParams, Gains,
-    JointVector, Measurement, MomentumObserver, NonlinearDisturbanceObserver, ThirdOrderFilter,
+    JointVector, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use crate::plant::{per_joint, perturbed, DynamicsFactory, Plant};
-use crate::scenario::{Method, Scenario, VelocitySource};
+use crate::scenario::{Method, Scenario};
 use crate::sensors::Sensors;
 use crate::task::Trajectory;
 use crate::SimError;
@@ -134,64 +136,65 @@ pub fn simulate<const N: usize>(
 ) -> Result<RunOutcome<N>, SimError> {
     let dt = scenario.controller.dt_s;
     let q0 = per_joint::<N>("initial_position_rad", &crate::initial_position(scenario, N))?;
-    let true_model =
-        perturbed(nominal_model, scenario.plant.parameter_spread, &mut ChaCha8Rng::seed_from_u64(scenario.seed));
-    let mut plant = Plant::new(true_model, plant_dynamics, &scenario.plant, &scenario.loads, q0, nominal.gravity(&q0))?;
-    let mut sensors = Sensors::new(scenario.noise.clone(), scenario.seed.wrapping_add(1));
+    // One stream draws the model perturbation, then the friction profiles.
+    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
+    let true_model = perturbed(nominal_model, scenario.plant.parameter_spread, &mut rng);
+    let hold = nominal.gravity(&q0);
+    let mut plant = Plant::new(true_model, plant_dynamics, &scenario.plant, &scenario.loads, q0, hold, &mut rng)?;
+    let bandwidth = scenario.controller.observer_bandwidth_rad_s;
+    let mut sensors =
+        Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed.wrapping_add(1), dt, bandwidth);
     let trajectory = Trajectory::new(&scenario.task, q0)?;
     let controller = ComputedTorque::new(nominal, gains(nominal, scenario, &q0)?)
         .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)
         .map_err(|e| SimError::Config(format!("controller: {e}")))?;
 
-    // Every sensor is read each tick; `(measurement, q̇_m)`.
-    let measure = |plant: &Plant<N>, sensors: &mut Sensors| {
-        let (q, qd, tau) = sensors.measure(&plant.state.q, &plant.state.qd, &plant.state.tau_act);
-        (Measurement { position: q, velocity: Some(qd), torque: tau }, qd)
-    };
-    let (first, first_velocity) = measure(&plant, &mut sensors);
-    let mut estimator = observer(method, nominal, scenario, &first)?;
-    // The paper's filter on q_m, only where the controller closes its loop on q̂̇.
-    let mut velocity_filter = match scenario.controller.velocity {
-        VelocitySource::Measured => None,
-        VelocitySource::Filtered => {
-            let w = scenario.controller.observer_bandwidth_rad_s;
-            let params = FilterParams::new(0.8, w, w, dt).map_err(|e| SimError::Config(e.to_string()))?;
-            Some(ThirdOrderFilter::new(params, first.position).map_err(|e| SimError::Config(e.to_string()))?)
-        }
-    };
+    // The delays: readings wait `measurement_delay_ticks` before the controller sees them, and
+    // commands `command_delay_ticks` before the valves do (the actuators hold `G(q0)` until then).
+    let (measurement_delay, command_delay) =
+        (scenario.sensors.measurement_delay_ticks, scenario.sensors.command_delay_ticks);
+    let mut readings: VecDeque<Measurement<N>> = VecDeque::with_capacity(measurement_delay + 1);
+    let mut commands: VecDeque<JointVector<N>> = std::iter::repeat_n(hold, command_delay).collect();
+    let mut applied = hold;
+    readings.push_back(sensors.read(&plant, &applied)?);
+    let mut estimator = observer(method, nominal, scenario, &readings[0])?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substep = dt / scenario.plant.substeps as f64;
     let mut trace = Trace::default();
-    let (mut measurement, mut measured_velocity) = (first, first_velocity);
     for k in 0..steps {
         let t = k as f64 * dt;
         if k > 0 {
-            (measurement, measured_velocity) = measure(&plant, &mut sensors);
+            readings.push_back(sensors.read(&plant, &applied)?);
+            if readings.len() > measurement_delay + 1 {
+                readings.pop_front();
+            }
         }
+        let measurement = readings[0];
         let at = |e: hya_core::Error| SimError::Numerical(format!("t = {t:.3} s: {e}"));
         let d_hat = match estimator.as_mut() {
             Some(o) if k > 0 => o.update(&measurement).map_err(at)?,
             Some(o) => *o.disturbance(),
             None => JointVector::zeros(),
         };
-        let velocity = match velocity_filter.as_mut() {
-            Some(filter) => filter.step(&measurement.position).map_err(at)?.x2,
-            None => measured_velocity,
-        };
+        let velocity = measurement.velocity.unwrap_or_else(JointVector::zeros);
         let reference = trajectory.at(t);
         let compensation = (method != Method::None).then_some(&d_hat);
         let command =
             controller.command(&measurement.position, &velocity, &reference, compensation).map_err(at)?.torque;
+        commands.push_back(command);
+        applied = commands.pop_front().unwrap_or(command);
         let state = plant.state;
-        let acceleration = plant.acceleration(t, &state)?;
+        let acceleration = plant.acceleration(t, &state, &applied)?;
         trace.time.push(t);
         trace.q.push(state.q);
         trace.q_des.push(reference.position);
-        trace.d_true.push(nominal.inverse_dynamics(&state.q, &state.qd, &acceleration) - state.tau_act);
+        trace.d_true.push(
+            nominal.inverse_dynamics(&state.q, &state.qd, &acceleration) - plant.actuator_torque(&state, &applied),
+        );
         trace.d_hat.push(d_hat);
         trace.tau_cmd.push(command);
         for _ in 0..scenario.plant.substeps {
-            plant.step(substep, &command)?;
+            plant.step(substep, &applied)?;
         }
     }
     let metrics = metrics(&trace, method != Method::None);

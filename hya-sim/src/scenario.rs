@@ -9,7 +9,8 @@ use crate::SimError;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Its name, used for file names in the report.
+    /// Its name, used for file names in the report: 1 to 64 of `A–Z a–z 0–9 _ -`, starting with
+    /// a letter or digit (see [`check_file_stem`]).
     pub name: String,
     /// One line on what it shows.
     #[serde(default)]
@@ -35,6 +36,9 @@ pub struct Scenario {
     /// The simulated arm.
     #[serde(default)]
     pub plant: PlantConfig,
+    /// What is measured, and the delays.
+    #[serde(default)]
+    pub sensors: SensorConfig,
     /// Sensor noise.
     #[serde(default)]
     pub noise: NoiseConfig,
@@ -55,6 +59,25 @@ fn default_seed() -> u64 {
 }
 fn default_quick_time_scale() -> f64 {
     0.3
+}
+
+/// Longest scenario name, in characters.
+pub const MAX_NAME_LEN: usize = 64;
+
+/// Checks that `name` is safe as the start of a file name in any folder: 1 to
+/// [`MAX_NAME_LEN`] characters from `A–Z a–z 0–9 _ -`, the first a letter or digit. So no
+/// separator, `..`, drive, absolute path or hidden file can come from a scenario.
+pub fn check_file_stem(name: &str) -> Result<(), String> {
+    let allowed = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    match name.chars().next() {
+        None => Err("must not be empty".into()),
+        Some(first) if !first.is_ascii_alphanumeric() => Err("must start with a letter or digit".into()),
+        _ if name.chars().count() > MAX_NAME_LEN => Err(format!("is longer than {MAX_NAME_LEN} characters")),
+        _ => match name.chars().find(|c| !allowed(*c)) {
+            Some(c) => Err(format!("{c:?} is not allowed (only letters, digits, `_` and `-`)")),
+            None => Ok(()),
+        },
+    }
 }
 
 /// A way of computing the command.
@@ -112,15 +135,70 @@ pub enum Task {
     },
 }
 
-/// Where the controller's velocity comes from.
+/// Where the joint velocity that the controller and the observers read comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum VelocitySource {
-    /// The (noisy) velocity sensor.
+    /// The backward difference of the encoder angles through a first-order low-pass at
+    /// [`SensorConfig::velocity_cutoff_rad_s`].
     #[default]
-    Measured,
-    /// The paper's filter, `q̂̇` (lags by `1/ω1 + 2ζ/ω2`).
-    Filtered,
+    Difference,
+    /// The paper's filter on the encoder angles, `q̂̇` (lags by `1/ω1 + 2ζ/ω2`).
+    Filter,
+    /// A velocity sensor, with [`NoiseConfig::velocity`] noise (HyA has none; the paper's
+    /// section V comparison defines one).
+    Sensor,
+}
+
+/// Where the measured joint torque comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum TorqueSource {
+    /// From the chamber pressures of hydraulic actuators, `D_a p_a,m − D_b p_b,m`, each
+    /// pressure with the sensor's seeded offset and noise; other actuators fall back to
+    /// [`TorqueSource::Direct`].
+    #[default]
+    Pressure,
+    /// The actuator's true torque plus [`NoiseConfig::torque`] noise (a load cell).
+    Direct,
+}
+
+/// What the controller can measure, and when.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SensorConfig {
+    /// Encoder resolution, counts per revolution (the angle is rounded to a count, after the
+    /// position noise is added).
+    pub encoder_counts_per_rev: u64,
+    /// The velocity the controller and observers read.
+    pub velocity: VelocitySource,
+    /// Cut-off of the difference's low-pass, rad/s.
+    pub velocity_cutoff_rad_s: f64,
+    /// The measured torque.
+    pub torque: TorqueSource,
+    /// Standard deviation of each pressure sensor's noise, Pa.
+    pub pressure_noise_pa: f64,
+    /// Bound of each pressure sensor's constant offset (uniform, seeded), Pa.
+    pub pressure_offset_pa: f64,
+    /// Control ticks between a measurement and the controller reading it.
+    pub measurement_delay_ticks: usize,
+    /// Control ticks between the controller's command and the valves receiving it.
+    pub command_delay_ticks: usize,
+}
+
+impl Default for SensorConfig {
+    fn default() -> Self {
+        Self {
+            encoder_counts_per_rev: 1 << 19,
+            velocity: VelocitySource::Difference,
+            velocity_cutoff_rad_s: 150.0,
+            torque: TorqueSource::Pressure,
+            pressure_noise_pa: 1e4,
+            pressure_offset_pa: 2.5e4,
+            measurement_delay_ticks: 0,
+            command_delay_ticks: 1,
+        }
+    }
 }
 
 /// Controller settings: gains from a desired closed-loop natural frequency and damping per joint.
@@ -133,8 +211,6 @@ pub struct ControllerConfig {
     pub damping_ratio: f64,
     /// Torque limit per joint, N·m.
     pub torque_limit_nm: Vec<f64>,
-    /// The controller's velocity source.
-    pub velocity: VelocitySource,
     /// Bandwidth of every observer, rad/s (the paper's filter uses ζ = 0.8, ω1 = ω2 = this).
     pub observer_bandwidth_rad_s: f64,
     /// Control period, s.
@@ -147,11 +223,34 @@ impl Default for ControllerConfig {
             natural_frequency_rad_s: vec![12.0; 6],
             damping_ratio: 0.8,
             torque_limit_nm: vec![150.0; 6],
-            velocity: VelocitySource::Measured,
             observer_bandwidth_rad_s: 50.0,
             dt_s: 1e-3,
         }
     }
+}
+
+/// The friction model of the plant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionKind {
+    /// No friction.
+    Off,
+    /// The first testbed's `tanh`-smoothed model: no stiction.
+    Smooth,
+    /// LuGre, with true stiction and seeded position-dependent levels.
+    Lugre,
+}
+
+/// The actuator model of the plant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ActuatorKind {
+    /// The commanded torque acts at once.
+    Ideal,
+    /// The first testbed's first-order torque lag.
+    Lag,
+    /// Servo valves, chambers with compressible oil, inner torque loops.
+    Hydraulic,
 }
 
 /// The simulated arm: how it differs from the controller's nominal model.
@@ -160,22 +259,31 @@ impl Default for ControllerConfig {
 pub struct PlantConfig {
     /// Relative spread of masses, centres of mass and inertias (uniform, seeded).
     pub parameter_spread: f64,
-    /// Friction on or off.
-    pub friction: bool,
+    /// The friction model.
+    pub friction: FrictionKind,
     /// Coulomb friction per joint, N·m.
     pub coulomb_nm: Vec<f64>,
     /// Static (breakaway) friction per joint, N·m.
     pub static_nm: Vec<f64>,
-    /// Viscous friction per joint, N·m·s/rad.
+    /// Viscous friction per joint (LuGre's `σ2`), N·m·s/rad.
     pub viscous_nm_s: Vec<f64>,
     /// Stribeck velocity, rad/s.
     pub stribeck_velocity_rad_s: f64,
-    /// Velocity scale of the smooth sign `tanh(q̇ / ε)`, rad/s.
+    /// Velocity scale of the smooth model's sign `tanh(q̇ / ε)`, rad/s.
     pub smoothing_rad_s: f64,
-    /// Relative variation of the Coulomb level with position: `Fc (1 + a sin(2 q))`.
+    /// Relative variation of the friction levels with position: `1 + a sin(2 q)` for the smooth
+    /// model, a seeded profile within `1 ± a` for LuGre.
     pub coulomb_position_variation: f64,
-    /// Time constant of each joint's hydraulic torque loop, s.
+    /// LuGre bristle stiffness `σ0` per joint, N·m/rad.
+    pub bristle_stiffness_nm_rad: Vec<f64>,
+    /// LuGre bristle damping `σ1` per joint, N·m·s/rad.
+    pub bristle_damping_nm_s_rad: Vec<f64>,
+    /// The actuator model.
+    pub actuator: ActuatorKind,
+    /// Time constant of each joint's torque lag (`actuator = "lag"`), s.
     pub actuator_time_constant_s: Vec<f64>,
+    /// The hydraulic actuators (`actuator = "hydraulic"`).
+    pub hydraulic: HydraulicConfig,
     /// Physics steps per control period.
     pub substeps: usize,
 }
@@ -184,15 +292,77 @@ impl Default for PlantConfig {
     fn default() -> Self {
         Self {
             parameter_spread: 0.1,
-            friction: true,
+            friction: FrictionKind::Lugre,
             coulomb_nm: vec![5.0, 5.0, 3.0, 3.0, 2.0, 2.0],
             static_nm: vec![6.5, 6.5, 3.9, 3.9, 2.6, 2.6],
             viscous_nm_s: vec![2.7, 2.7, 1.8, 1.8, 0.9, 0.9],
             stribeck_velocity_rad_s: 0.05,
             smoothing_rad_s: 0.05,
             coulomb_position_variation: 0.3,
+            bristle_stiffness_nm_rad: vec![32_500.0, 32_500.0, 19_500.0, 19_500.0, 13_000.0, 13_000.0],
+            bristle_damping_nm_s_rad: vec![270.0, 265.0, 62.0, 80.0, 17.0, 11.0],
+            actuator: ActuatorKind::Hydraulic,
             actuator_time_constant_s: vec![0.004, 0.004, 0.008, 0.008, 0.015, 0.015],
-            substeps: 5,
+            hydraulic: HydraulicConfig::default(),
+            substeps: 10,
+        }
+    }
+}
+
+/// The hydraulic actuators: supply, valves, chambers and the inner torque loop.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HydraulicConfig {
+    /// Supply pressure `p_s`, Pa (gauge).
+    pub supply_pressure_pa: f64,
+    /// Tank (return) pressure `p_t`, Pa (gauge).
+    pub tank_pressure_pa: f64,
+    /// Effective bulk modulus of the oil in chambers and hoses `β`, Pa.
+    pub bulk_modulus_pa: f64,
+    /// Cap-side displacement per radian `D_a` (piston area times lever arm), m³/rad, per joint.
+    pub displacement_m3_rad: Vec<f64>,
+    /// Rod-side over cap-side area `D_b / D_a` (1 for a rotary vane), per joint.
+    pub area_ratio: Vec<f64>,
+    /// Volume of each chamber at the end of its stroke, with its hose and manifold `V_0`, m³.
+    pub dead_volume_m3: Vec<f64>,
+    /// Each valve's rated flow `Q_n` at [`Self::valve_rated_drop_pa`], m³/s.
+    pub valve_rated_flow_m3_s: Vec<f64>,
+    /// The pressure drop across both lands at which the rated flow is given, Pa.
+    pub valve_rated_drop_pa: f64,
+    /// Spool natural frequency per joint, Hz.
+    pub valve_natural_frequency_hz: Vec<f64>,
+    /// Spool damping ratio.
+    pub valve_damping_ratio: f64,
+    /// Spool null bias per joint, fraction of full opening.
+    pub valve_null_bias: Vec<f64>,
+    /// Leakage across the piston `C_l`, m³/(s·Pa), per joint.
+    pub leakage_m3_s_pa: Vec<f64>,
+    /// Torque-loop bandwidth per joint on a locked joint at mid-range, Hz: sets `K_τ`.
+    pub torque_bandwidth_hz: Vec<f64>,
+    /// Zero of the inner loop's integral term as a fraction of its bandwidth (0 turns it off).
+    pub torque_integral_ratio: f64,
+    /// Fraction of the piston flow `D̄ q̇` the inner loop feeds forward to the valve (0 to 2).
+    pub velocity_compensation: f64,
+}
+
+impl Default for HydraulicConfig {
+    fn default() -> Self {
+        Self {
+            supply_pressure_pa: 20e6,
+            tank_pressure_pa: 0.0,
+            bulk_modulus_pa: 5e8,
+            displacement_m3_rad: vec![6.3e-6, 6.0e-6, 6.0e-6, 1.125e-5, 3.0e-6, 5.0e-6],
+            area_ratio: vec![1.0, 1.0, 1.0, 0.61, 1.0, 0.61],
+            dead_volume_m3: vec![3e-6; 6],
+            valve_rated_flow_m3_s: vec![4.17e-5; 6],
+            valve_rated_drop_pa: 7e6,
+            valve_natural_frequency_hz: vec![255.0; 6],
+            valve_damping_ratio: 0.5,
+            valve_null_bias: vec![0.0; 6],
+            leakage_m3_s_pa: vec![1e-13; 6],
+            torque_bandwidth_hz: vec![40.0; 6],
+            torque_integral_ratio: 0.2,
+            velocity_compensation: 1.0,
         }
     }
 }
@@ -228,10 +398,11 @@ pub struct NoiseConfig {
 }
 
 impl Default for NoiseConfig {
-    /// The hydraulic-joint sensor noise measured on the Atlas arm (uniform bounds).
+    /// One count of HyA's 19-bit encoders on the angle; the velocity and torque noise measured
+    /// on the hydraulic Atlas arm (uniform bounds), for a velocity sensor or a load cell.
     fn default() -> Self {
         Self {
-            position: Noise::Uniform { bound: 3.4e-4 },
+            position: Noise::Uniform { bound: 1.2e-5 },
             velocity: Noise::Uniform { bound: 0.055 },
             torque: Noise::Uniform { bound: 0.073 },
         }
@@ -331,12 +502,35 @@ impl Scenario {
                 Err(format!("{name} must be finite and > 0, got {v}"))
             }
         };
+        check_file_stem(&self.name).map_err(|why| format!("name {:?}: {why}", self.name))?;
         positive("duration_s", self.duration_s)?;
         positive("controller.dt_s", self.controller.dt_s)?;
         positive("controller.observer_bandwidth_rad_s", self.controller.observer_bandwidth_rad_s)?;
         positive("quick_time_scale", self.quick_time_scale)?;
         positive("plant.smoothing_rad_s", self.plant.smoothing_rad_s)?;
         positive("plant.stribeck_velocity_rad_s", self.plant.stribeck_velocity_rad_s)?;
+        positive("sensors.velocity_cutoff_rad_s", self.sensors.velocity_cutoff_rad_s)?;
+        if !(self.sensors.pressure_noise_pa.is_finite() && self.sensors.pressure_noise_pa >= 0.0) {
+            return Err(format!(
+                "sensors.pressure_noise_pa must be finite and ≥ 0, got {}",
+                self.sensors.pressure_noise_pa
+            ));
+        }
+        if !(self.sensors.pressure_offset_pa.is_finite() && self.sensors.pressure_offset_pa >= 0.0) {
+            return Err(format!(
+                "sensors.pressure_offset_pa must be finite and ≥ 0, got {}",
+                self.sensors.pressure_offset_pa
+            ));
+        }
+        if !(16..=1 << 40).contains(&self.sensors.encoder_counts_per_rev) {
+            return Err(format!(
+                "sensors.encoder_counts_per_rev = {}: must be between 16 and 2^40",
+                self.sensors.encoder_counts_per_rev
+            ));
+        }
+        if self.sensors.measurement_delay_ticks > 100 || self.sensors.command_delay_ticks > 100 {
+            return Err("sensors: a delay of more than 100 ticks is not a plausible control loop".into());
+        }
         if self.plant.substeps == 0 {
             return Err("plant.substeps must be at least 1".into());
         }

@@ -1,47 +1,126 @@
-//! Sensor noise, seeded: the same seed gives the same draws, bit for bit.
+//! Sensing as on HyA: quantised joint encoders, a velocity derived from them (unless a scenario
+//! defines a velocity sensor), and the joint torque from the chamber pressures. Seeded: the same
+//! seed gives the same draws, bit for bit.
 
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use hya_core::JointVector;
+use hya_core::{FilterParams, JointVector, Measurement, ThirdOrderFilter};
 
-use crate::scenario::{Noise, NoiseConfig};
+use crate::plant::{Actuators, Plant};
+use crate::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, VelocitySource};
+use crate::SimError;
 
-/// Draws sensor noise from one seeded stream.
+/// The joint velocity the controller and observers read.
 #[derive(Debug, Clone)]
-pub struct Sensors {
-    rng: ChaCha8Rng,
-    config: NoiseConfig,
+enum VelocityEstimate<const N: usize> {
+    /// `v_k = a v_{k−1} + (1 − a)(q_k − q_{k−1}) / T`, `a = e^{−ω_c T}`.
+    Difference { previous: JointVector<N>, estimate: JointVector<N>, pole: f64, dt: f64 },
+    /// `q̂̇` of the paper's filter.
+    Filter(Box<ThirdOrderFilter<N>>),
+    /// A velocity sensor.
+    Sensor,
 }
 
-impl Sensors {
-    /// A stream for `config` from `seed`.
-    pub fn new(config: NoiseConfig, seed: u64) -> Self {
-        Self { rng: ChaCha8Rng::seed_from_u64(seed), config }
+/// Draws every sensor's reading from one seeded stream.
+#[derive(Debug, Clone)]
+pub struct Sensors<const N: usize> {
+    rng: ChaCha8Rng,
+    noise: NoiseConfig,
+    config: SensorConfig,
+    /// Constant offsets of the cap- and rod-side pressure sensors, Pa.
+    offsets: (JointVector<N>, JointVector<N>),
+    velocity: Option<VelocityEstimate<N>>,
+    /// `ζ, ω1 = ω2` for the filter velocity source, and the control period.
+    filter: (f64, f64, f64),
+}
+
+fn draw<const N: usize>(rng: &mut ChaCha8Rng, noise: Noise) -> JointVector<N> {
+    match noise {
+        Noise::Off => JointVector::zeros(),
+        Noise::Uniform { bound } => JointVector::from_fn(|_, _| bound * (2.0 * rng.gen::<f64>() - 1.0)),
+        Noise::Gaussian { sigma: 0.0 } => JointVector::zeros(),
+        Noise::Gaussian { sigma } => match Normal::new(0.0, sigma) {
+            Ok(normal) => JointVector::from_fn(|_, _| normal.sample(rng)),
+            Err(_) => JointVector::zeros(),
+        },
+    }
+}
+
+impl<const N: usize> Sensors<N> {
+    /// Sensors for `config` with `noise`, from `seed`, read every `dt` s; a filter velocity
+    /// source uses the paper's filter at `ζ = 0.8`, `ω1 = ω2 = bandwidth`.
+    pub fn new(config: SensorConfig, noise: NoiseConfig, seed: u64, dt: f64, bandwidth: f64) -> Self {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let bound = config.pressure_offset_pa;
+        let offsets = (draw(&mut rng, Noise::Uniform { bound }), draw(&mut rng, Noise::Uniform { bound }));
+        Self { rng, noise, config, offsets, velocity: None, filter: (0.8, bandwidth, dt) }
     }
 
-    fn draw<const N: usize>(&mut self, noise: Noise) -> JointVector<N> {
-        match noise {
-            Noise::Off => JointVector::zeros(),
-            Noise::Uniform { bound } => {
-                JointVector::from_fn(|_, _| bound * (2.0 * rand::Rng::gen::<f64>(&mut self.rng) - 1.0))
+    /// The encoder's reading of `q`: noise added, then rounded to a count.
+    fn encoder(&mut self, q: &JointVector<N>) -> JointVector<N> {
+        let resolution = std::f64::consts::TAU / self.config.encoder_counts_per_rev as f64;
+        let noisy = q + draw(&mut self.rng, self.noise.position);
+        noisy.map(|x| (x / resolution).round() * resolution)
+    }
+
+    /// The measured joint torque of `plant` while `applied` is commanded, N·m: from the chamber
+    /// pressures (each sensor with its offset and noise), or the true actuator torque plus noise.
+    fn torque(&mut self, plant: &Plant<N>, applied: &JointVector<N>) -> JointVector<N> {
+        let state = &plant.state;
+        match (plant.actuators(), self.config.torque) {
+            (Actuators::Hydraulic(h), TorqueSource::Pressure) => {
+                let gaussian = Noise::Gaussian { sigma: self.config.pressure_noise_pa };
+                let pa = state.hydraulic.pressure_a + self.offsets.0 + draw(&mut self.rng, gaussian);
+                let pb = state.hydraulic.pressure_b + self.offsets.1 + draw(&mut self.rng, gaussian);
+                h.torque(&pa, &pb)
             }
-            Noise::Gaussian { sigma } => match Normal::new(0.0, sigma) {
-                Ok(normal) => JointVector::from_fn(|_, _| normal.sample(&mut self.rng)),
-                Err(_) => JointVector::zeros(),
-            },
+            _ => plant.actuator_torque(state, applied) + draw(&mut self.rng, self.noise.torque),
         }
     }
 
-    /// `(q_m, q̇_m, τ_m)` for the true `(q, q̇, τ)`.
-    pub fn measure<const N: usize>(
-        &mut self,
-        q: &JointVector<N>,
-        qd: &JointVector<N>,
-        tau: &JointVector<N>,
-    ) -> (JointVector<N>, JointVector<N>, JointVector<N>) {
-        let (p, v, t) = (self.config.position, self.config.velocity, self.config.torque);
-        (q + self.draw(p), qd + self.draw(v), tau + self.draw(t))
+    /// Reads every sensor of `plant` once (one control tick): encoder angles, the derived (or
+    /// sensed) velocity and the measured torque.
+    pub fn read(&mut self, plant: &Plant<N>, applied: &JointVector<N>) -> Result<Measurement<N>, SimError> {
+        let position = self.encoder(&plant.state.q);
+        let torque = self.torque(plant, applied);
+        let velocity = match self.velocity.as_mut() {
+            None => {
+                self.velocity = Some(self.start_velocity(&position)?);
+                match self.config.velocity {
+                    VelocitySource::Sensor => plant.state.qd + draw(&mut self.rng, self.noise.velocity),
+                    _ => JointVector::zeros(),
+                }
+            }
+            Some(VelocityEstimate::Difference { previous, estimate, pole, dt }) => {
+                *estimate = *estimate * *pole + (position - *previous) * ((1.0 - *pole) / *dt);
+                *previous = position;
+                *estimate
+            }
+            Some(VelocityEstimate::Filter(filter)) => {
+                filter.step(&position).map_err(|e| SimError::Numerical(format!("velocity filter: {e}")))?.x2
+            }
+            Some(VelocityEstimate::Sensor) => plant.state.qd + draw(&mut self.rng, self.noise.velocity),
+        };
+        Ok(Measurement { position, velocity: Some(velocity), torque })
+    }
+
+    fn start_velocity(&self, position: &JointVector<N>) -> Result<VelocityEstimate<N>, SimError> {
+        let (zeta, bandwidth, dt) = self.filter;
+        Ok(match self.config.velocity {
+            VelocitySource::Difference => VelocityEstimate::Difference {
+                previous: *position,
+                estimate: JointVector::zeros(),
+                pole: (-self.config.velocity_cutoff_rad_s * dt).exp(),
+                dt,
+            },
+            VelocitySource::Filter => {
+                let config = |e: hya_core::Error| SimError::Config(format!("sensors.velocity = \"filter\": {e}"));
+                let params = FilterParams::new(zeta, bandwidth, bandwidth, dt).map_err(config)?;
+                VelocityEstimate::Filter(Box::new(ThirdOrderFilter::new(params, *position).map_err(config)?))
+            }
+            VelocitySource::Sensor => VelocityEstimate::Sensor,
+        })
     }
 }

@@ -1,11 +1,20 @@
-//! The simulated arm: true rigid-body dynamics with perturbed parameters, joint friction, a
-//! first-order hydraulic torque loop per joint and external loads, integrated with classic RK4.
+//! The simulated arm: true rigid-body dynamics with perturbed parameters, joint friction (LuGre
+//! by default), hydraulic actuators (by default) and external loads, integrated with classic RK4
+//! at a fixed sub-step.
 //!
 //! ```text
-//! M_true(q) q̈ + C_true + G_true = τ_act + τ_friction(q, q̇) + τ_ext(t, q)
-//! τ̇_act = (τ_cmd − τ_act) / T_i
-//! τ_friction,i = −[(F_c + (F_s − F_c) e^{−(q̇/v_s)²}) (1 + a sin 2q) tanh(q̇/ε) + F_v q̇]
+//! M_true(q) q̈ + C_true + G_true = τ_act + τ_f + τ_ext(t, q)
 //! ```
+//!
+//! `τ_act` comes from the actuator model: hydraulic ([`hydraulic`]: valve, chamber pressures,
+//! inner torque loop), a first-order lag `τ̇_act = (τ_cmd − τ_act) / T` (the first testbed's),
+//! or ideal (`τ_act = τ_cmd`). `τ_f` is LuGre or the smooth model ([`friction`]).
+
+pub mod friction;
+pub mod hydraulic;
+
+pub use friction::Friction;
+pub use hydraulic::{HydraulicActuators, HydraulicState};
 
 use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
@@ -13,45 +22,8 @@ use hya_core::{Dynamics, JointVector};
 use nalgebra::Vector3;
 use rand::Rng;
 
-use crate::scenario::{LoadConfig, PlantConfig, WeightDrop};
+use crate::scenario::{ActuatorKind, LoadConfig, PlantConfig, WeightDrop};
 use crate::SimError;
-
-/// Per-joint friction: Coulomb and static levels with a Stribeck transition, viscous damping and
-/// a smooth sign; the Coulomb and static levels vary with position.
-#[derive(Debug, Clone)]
-pub struct Friction<const N: usize> {
-    coulomb: JointVector<N>,
-    breakaway: JointVector<N>,
-    viscous: JointVector<N>,
-    stribeck_velocity: f64,
-    smoothing: f64,
-    position_variation: f64,
-}
-
-impl<const N: usize> Friction<N> {
-    /// From the plant configuration.
-    pub fn new(config: &PlantConfig) -> Result<Self, SimError> {
-        Ok(Self {
-            coulomb: per_joint("plant.coulomb_nm", &config.coulomb_nm)?,
-            breakaway: per_joint("plant.static_nm", &config.static_nm)?,
-            viscous: per_joint("plant.viscous_nm_s", &config.viscous_nm_s)?,
-            stribeck_velocity: config.stribeck_velocity_rad_s,
-            smoothing: config.smoothing_rad_s,
-            position_variation: config.coulomb_position_variation,
-        })
-    }
-
-    /// The friction torque on each joint, N·m (opposes motion).
-    pub fn torque(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
-        JointVector::from_fn(|i, _| {
-            let v = qd[i];
-            let stribeck = (-(v / self.stribeck_velocity).powi(2)).exp();
-            let level = (self.coulomb[i] + (self.breakaway[i] - self.coulomb[i]) * stribeck)
-                * (1.0 + self.position_variation * (2.0 * q[i]).sin());
-            -(level * (v / self.smoothing).tanh() + self.viscous[i] * v)
-        })
-    }
-}
 
 /// A per-joint list from the configuration, checked for length and finiteness.
 pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
@@ -84,15 +56,55 @@ pub fn generic_dynamics<const N: usize>(model: &TreeModel) -> Result<Box<dyn Dyn
     Ok(Box::new(model.clone().into_dynamics::<N>().map_err(|e| SimError::Config(e.to_string()))?))
 }
 
-/// The arm's state: joint positions and velocities, and the actuators' torques.
+/// The arm's state: joints, friction bristles and actuators.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlantState<const N: usize> {
     /// Joint positions, rad.
     pub q: JointVector<N>,
     /// Joint velocities, rad/s.
     pub qd: JointVector<N>,
-    /// Actuator torques, N·m.
-    pub tau_act: JointVector<N>,
+    /// LuGre bristle deflections `z`, rad (zero for the other friction models).
+    pub bristle: JointVector<N>,
+    /// The lag actuator's torque, N·m (zero for the other actuators).
+    pub lag_torque: JointVector<N>,
+    /// The hydraulic actuators' state (zero for the other actuators).
+    pub hydraulic: HydraulicState<N>,
+}
+
+impl<const N: usize> PlantState<N> {
+    /// `self + a k`, field by field (one RK4 stage).
+    fn along(&self, k: &Self, a: f64) -> Self {
+        Self {
+            q: self.q + k.q * a,
+            qd: self.qd + k.qd * a,
+            bristle: self.bristle + k.bristle * a,
+            lag_torque: self.lag_torque + k.lag_torque * a,
+            hydraulic: self.hydraulic.along(&k.hydraulic, a),
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        [self.q, self.qd, self.bristle, self.lag_torque].iter().all(|v| v.iter().all(|x| x.is_finite()))
+            && self.hydraulic.is_finite()
+    }
+}
+
+/// The largest `h λ` an RK4 step takes on the bristles' relaxation (RK4 is stable to 2.78 on
+/// the negative real axis; 1 keeps it accurate).
+pub const MAX_STIFF_STEP: f64 = 1.0;
+
+/// The most RK4 sub-steps one [`Plant::step`] divides into.
+pub const MAX_SUBCYCLES: usize = 64;
+
+/// How the commanded torque reaches the joints.
+#[derive(Debug, Clone)]
+pub enum Actuators<const N: usize> {
+    /// `τ_act = τ_cmd`.
+    Ideal,
+    /// `τ̇_act = (τ_cmd − τ_act) / T`, per joint `T`, s.
+    Lag(JointVector<N>),
+    /// Servo valves, chambers and inner torque loops.
+    Hydraulic(Box<HydraulicActuators<N>>),
 }
 
 /// The simulated arm.
@@ -100,18 +112,31 @@ pub struct Plant<const N: usize> {
     model: TreeModel,
     unloaded: Box<dyn Dynamics<N>>,
     loaded: Option<(Box<dyn Dynamics<N>>, WeightDrop)>,
-    friction: Option<Friction<N>>,
-    actuator_time_constant: JointVector<N>,
+    friction: Friction<N>,
+    actuators: Actuators<N>,
     sinusoid: Option<(JointVector<N>, f64)>,
+    gravity: f64,
     /// The current state.
     pub state: PlantState<N>,
     /// The current time, s.
     pub time: f64,
 }
 
+/// The joint ranges the actuators span: the description's limits, or `q0 ± π` where it gives
+/// none.
+fn joint_ranges<const N: usize>(model: &TreeModel, q0: &JointVector<N>) -> [(f64, f64); N] {
+    core::array::from_fn(|i| {
+        let limits = model.bodies().get(i).map(|b| b.limits);
+        let lower = limits.and_then(|l| l.lower).unwrap_or(q0[i] - std::f64::consts::PI);
+        let upper = limits.and_then(|l| l.upper).unwrap_or(q0[i] + std::f64::consts::PI);
+        (lower, upper)
+    })
+}
+
 impl<const N: usize> Plant<N> {
     /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
-    /// body from `true_model` (and from the model with the payload).
+    /// body from `true_model` (and from the model with the payload); `rng` draws the friction's
+    /// position profiles.
     pub fn new(
         true_model: TreeModel,
         dynamics: &DynamicsFactory<N>,
@@ -119,6 +144,7 @@ impl<const N: usize> Plant<N> {
         loads: &LoadConfig,
         q0: JointVector<N>,
         tau0: JointVector<N>,
+        rng: &mut impl Rng,
     ) -> Result<Self, SimError> {
         let loaded = match &loads.weight_drop {
             Some(drop) => {
@@ -133,21 +159,48 @@ impl<const N: usize> Plant<N> {
             Some(s) => Some((per_joint("loads.sinusoid.amplitude_nm", &s.amplitude_nm)?, s.frequency_hz)),
             None => None,
         };
-        let actuator_time_constant: JointVector<N> =
-            per_joint("plant.actuator_time_constant_s", &config.actuator_time_constant_s)?;
-        if actuator_time_constant.iter().any(|t| *t <= 0.0) {
-            return Err(SimError::Config("plant.actuator_time_constant_s: every entry must be > 0".into()));
-        }
+        let actuators = match config.actuator {
+            ActuatorKind::Ideal => Actuators::Ideal,
+            ActuatorKind::Lag => {
+                let time_constant: JointVector<N> =
+                    per_joint("plant.actuator_time_constant_s", &config.actuator_time_constant_s)?;
+                if time_constant.iter().any(|t| *t <= 0.0) {
+                    return Err(SimError::Config("plant.actuator_time_constant_s: every entry must be > 0".into()));
+                }
+                Actuators::Lag(time_constant)
+            }
+            ActuatorKind::Hydraulic => Actuators::Hydraulic(Box::new(HydraulicActuators::new(
+                &config.hydraulic,
+                joint_ranges(&true_model, &q0),
+            )?)),
+        };
+        let hydraulic = match &actuators {
+            Actuators::Hydraulic(h) => h.holding(&tau0),
+            _ => HydraulicState::zeros(),
+        };
+        let lag_torque = if matches!(actuators, Actuators::Lag(_)) { tau0 } else { JointVector::zeros() };
+        let zero = JointVector::zeros();
         Ok(Self {
             unloaded: dynamics(&true_model)?,
+            gravity: true_model.gravity_vector().norm(),
             model: true_model,
             loaded,
-            friction: if config.friction { Some(Friction::new(config)?) } else { None },
-            actuator_time_constant,
+            friction: Friction::new(config, rng)?,
+            actuators,
             sinusoid,
-            state: PlantState { q: q0, qd: JointVector::zeros(), tau_act: tau0 },
+            state: PlantState { q: q0, qd: zero, bristle: zero, lag_torque, hydraulic },
             time: 0.0,
         })
+    }
+
+    /// The actuator model.
+    pub fn actuators(&self) -> &Actuators<N> {
+        &self.actuators
+    }
+
+    /// The friction model.
+    pub fn friction(&self) -> &Friction<N> {
+        &self.friction
     }
 
     /// The true dynamics at time `t`: with the payload while it rests on the arm.
@@ -170,7 +223,7 @@ impl<const N: usize> Plant<N> {
         if let Some((_, drop)) = &self.loaded {
             if t >= drop.drop_s && t < drop.drop_s + drop.impact_s {
                 // Momentum m √(2 g h), delivered downward as a constant force over the pulse.
-                let force = drop.mass_kg * (2.0 * 9.81 * drop.fall_height_m).sqrt() / drop.impact_s;
+                let force = drop.mass_kg * (2.0 * self.gravity * drop.fall_height_m).sqrt() / drop.impact_s;
                 if let Ok(jacobian) = self.model.frame_jacobian(&drop.frame, q.as_slice()) {
                     tau -= JointVector::from_fn(|i, _| jacobian[(2, i)] * force);
                 }
@@ -179,43 +232,82 @@ impl<const N: usize> Plant<N> {
         tau
     }
 
-    /// Everything acting on the joints besides the actuators: friction and external loads.
-    pub fn passive_torque(&self, t: f64, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
-        let friction = self.friction.as_ref().map_or(JointVector::zeros(), |f| f.torque(q, qd));
-        friction + self.external_torque(t, q)
+    /// The torque the actuators apply in state `s`, N·m.
+    pub fn actuator_torque(&self, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> JointVector<N> {
+        match &self.actuators {
+            Actuators::Ideal => *tau_cmd,
+            Actuators::Lag(_) => s.lag_torque,
+            Actuators::Hydraulic(h) => h.torque(&s.hydraulic.pressure_a, &s.hydraulic.pressure_b),
+        }
     }
 
-    /// The true joint accelerations in state `s` at time `t`.
-    pub fn acceleration(&self, t: f64, s: &PlantState<N>) -> Result<JointVector<N>, SimError> {
-        let total = s.tau_act + self.passive_torque(t, &s.q, &s.qd);
-        self.dynamics(t).forward_dynamics(&s.q, &s.qd, &total).map_err(|e| SimError::Numerical(e.to_string()))
+    /// The friction torque and the bristle rate `ż` in state `s`.
+    fn friction_torque(&self, s: &PlantState<N>) -> (JointVector<N>, JointVector<N>) {
+        match &self.friction {
+            Friction::Off => (JointVector::zeros(), JointVector::zeros()),
+            Friction::Smooth(f) => (f.torque(&s.q, &s.qd), JointVector::zeros()),
+            Friction::LuGre(f) => {
+                let rate = f.bristle_rate(&s.q, &s.qd, &s.bristle);
+                (f.torque(&s.qd, &s.bristle, &rate), rate)
+            }
+        }
+    }
+
+    /// Everything acting on the joints besides the actuators: friction and external loads.
+    pub fn passive_torque(&self, t: f64, s: &PlantState<N>) -> JointVector<N> {
+        self.friction_torque(s).0 + self.external_torque(t, &s.q)
+    }
+
+    /// The true joint accelerations in state `s` at time `t` under the command `τ_cmd`.
+    pub fn acceleration(
+        &self,
+        t: f64,
+        s: &PlantState<N>,
+        tau_cmd: &JointVector<N>,
+    ) -> Result<JointVector<N>, SimError> {
+        Ok(self.derivative(t, s, tau_cmd)?.qd)
     }
 
     fn derivative(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
-        Ok(PlantState {
-            q: s.qd,
-            qd: self.acceleration(t, s)?,
-            tau_act: (tau_cmd - s.tau_act).component_div(&self.actuator_time_constant),
-        })
+        let (friction, bristle) = self.friction_torque(s);
+        let total = self.actuator_torque(s, tau_cmd) + friction + self.external_torque(t, &s.q);
+        let qdd =
+            self.dynamics(t).forward_dynamics(&s.q, &s.qd, &total).map_err(|e| SimError::Numerical(e.to_string()))?;
+        let (lag_torque, hydraulic) = match &self.actuators {
+            Actuators::Ideal => (JointVector::zeros(), HydraulicState::zeros()),
+            Actuators::Lag(time_constant) => {
+                ((tau_cmd - s.lag_torque).component_div(time_constant), HydraulicState::zeros())
+            }
+            Actuators::Hydraulic(h) => (JointVector::zeros(), h.derivative(tau_cmd, &s.q, &s.qd, &s.hydraulic)),
+        };
+        Ok(PlantState { q: s.qd, qd: qdd, bristle, lag_torque, hydraulic })
+    }
+
+    /// Advances by `h` with the command `τ_cmd` held: classic RK4, in as many equal sub-steps
+    /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the bristles' relaxation rate `λ` at the
+    /// start (at most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly.
+    pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
+        let rate = match &self.friction {
+            Friction::LuGre(f) => f.relaxation_rate(&self.state.q, &self.state.qd),
+            _ => 0.0,
+        };
+        let cycles = ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES);
+        for _ in 0..cycles {
+            self.rk4(h / cycles as f64, tau_cmd)?;
+        }
+        Ok(())
     }
 
     /// One classic RK4 step of length `h` with the command `τ_cmd` held.
-    pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
+    fn rk4(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
         let (t, s) = (self.time, self.state);
-        let along = |k: &PlantState<N>, a: f64| PlantState {
-            q: s.q + k.q * a,
-            qd: s.qd + k.qd * a,
-            tau_act: s.tau_act + k.tau_act * a,
-        };
         let k1 = self.derivative(t, &s, tau_cmd)?;
-        let k2 = self.derivative(t + h / 2.0, &along(&k1, h / 2.0), tau_cmd)?;
-        let k3 = self.derivative(t + h / 2.0, &along(&k2, h / 2.0), tau_cmd)?;
-        let k4 = self.derivative(t + h, &along(&k3, h), tau_cmd)?;
-        let sum = |f: fn(&PlantState<N>) -> JointVector<N>| (f(&k1) + f(&k2) * 2.0 + f(&k3) * 2.0 + f(&k4)) * (h / 6.0);
-        self.state =
-            PlantState { q: s.q + sum(|k| k.q), qd: s.qd + sum(|k| k.qd), tau_act: s.tau_act + sum(|k| k.tau_act) };
+        let k2 = self.derivative(t + h / 2.0, &s.along(&k1, h / 2.0), tau_cmd)?;
+        let k3 = self.derivative(t + h / 2.0, &s.along(&k2, h / 2.0), tau_cmd)?;
+        let k4 = self.derivative(t + h, &s.along(&k3, h), tau_cmd)?;
+        self.state = s.along(&k1, h / 6.0).along(&k2, h / 3.0).along(&k3, h / 3.0).along(&k4, h / 6.0);
         self.time += h;
-        if !(self.state.q.iter().chain(self.state.qd.iter()).all(|v| v.is_finite())) {
+        if !self.state.is_finite() {
             return Err(SimError::Numerical(format!("the plant's state became non-finite at t = {:.4} s", self.time)));
         }
         Ok(())

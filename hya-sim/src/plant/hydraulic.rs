@@ -1,0 +1,330 @@
+//! Hydraulic joint actuators: a servo valve, two chambers with compressible oil, leakage, and the
+//! inner torque loop a hydraulic arm runs, so that the outer controller still commands torque.
+//!
+//! Per joint, with the valve opening `x_v ∈ [−1, 1]` (fraction of full opening), chamber
+//! pressures `p_a, p_b` and the joint angle `q`:
+//!
+//! ```text
+//! ẍ_v = ω_v² (sat(u) + b − x_v) − 2 ζ_v ω_v ẋ_v                 spool, second order
+//! Q(Δp) = K_v Δp / (Δp² + δ²)^{1/4}                            orifice, ≈ K_v sgn(Δp) √|Δp|
+//! x_v ≥ 0: Q_a = x_v Q(p_s − p_a),   Q_b = −x_v Q(p_b − p_t)
+//! x_v < 0: Q_a = x_v Q(p_a − p_t),   Q_b = −x_v Q(p_s − p_b)
+//! Q_l = C_l (p_a − p_b)                                         leakage across the piston
+//! V_a = V_0 + D_a (q − q_lo),   V_b = V_0 + D_b (q_hi − q)        chamber volumes
+//! ṗ_a = β / V_a (Q_a − Q_l − D_a q̇)
+//! ṗ_b = β / V_b (Q_b + Q_l + D_b q̇)
+//! τ_h = D_a p_a − D_b p_b                                         torque on the joint
+//! e = τ_ref − τ_h,   u = K_τ (e + ω_i ∫e dt) + k_vc D̄ q̇ / K_q        inner torque loop (PI)
+//! ```
+//!
+//! `D_a = A_a r` is the cap side's displacement per radian (piston area times lever arm for a
+//! cylinder, vane displacement for a rotary actuator), `D_b = α D_a` the rod side's; `K_q =
+//! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`. The
+//! loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range (where
+//! `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ = ω_τ / K_lock`; the integral
+//! term (zero at `ω_i`, a fraction of `ω_τ`) removes the steady error that leakage leaves, its
+//! contribution clamped to the valve's range (anti-windup). On a moving load the
+//! piston's own motion feeds back on the pressures, so the achieved torque bandwidth depends on
+//! the inertia the joint carries and on its pose: it falls out of the model. The lever arm is
+//! taken constant over the stroke (a real cylinder's varies with angle).
+
+use hya_core::JointVector;
+
+use crate::plant::per_joint;
+use crate::scenario::HydraulicConfig;
+use crate::SimError;
+
+/// Regularisation pressure `δ` of the orifice law, Pa: below it the flow is linear in `Δp`, so
+/// the law has a finite slope at `Δp = 0` (the square root's is infinite).
+pub const ORIFICE_REGULARISATION_PA: f64 = 1e5;
+
+/// The hydraulic state of every joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HydraulicState<const N: usize> {
+    /// Valve opening, fraction of full opening.
+    pub spool: JointVector<N>,
+    /// Its rate, 1/s.
+    pub spool_rate: JointVector<N>,
+    /// Cap-side chamber pressure, Pa.
+    pub pressure_a: JointVector<N>,
+    /// Rod-side chamber pressure, Pa.
+    pub pressure_b: JointVector<N>,
+    /// The inner loop's integral of the torque error, N·m·s.
+    pub torque_integral: JointVector<N>,
+}
+
+impl<const N: usize> HydraulicState<N> {
+    /// All zero (the rates of a resting actuator, or an unused state).
+    pub fn zeros() -> Self {
+        let z = JointVector::zeros();
+        Self { spool: z, spool_rate: z, pressure_a: z, pressure_b: z, torque_integral: z }
+    }
+
+    /// `self + a k`, field by field.
+    pub fn along(&self, k: &Self, a: f64) -> Self {
+        Self {
+            spool: self.spool + k.spool * a,
+            spool_rate: self.spool_rate + k.spool_rate * a,
+            pressure_a: self.pressure_a + k.pressure_a * a,
+            pressure_b: self.pressure_b + k.pressure_b * a,
+            torque_integral: self.torque_integral + k.torque_integral * a,
+        }
+    }
+
+    /// Whether every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.spool, self.spool_rate, self.pressure_a, self.pressure_b, self.torque_integral]
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
+/// One joint's actuator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Joint {
+    /// `D_a`, `D_b`, m³/rad.
+    displacement_a: f64,
+    displacement_b: f64,
+    /// `V_0`, m³.
+    dead_volume: f64,
+    /// The joint range the chambers span, rad.
+    lower: f64,
+    upper: f64,
+    /// `K_v`, m³/(s·√Pa) at full opening.
+    orifice: f64,
+    /// `ω_v`, rad/s, and `ζ_v`.
+    valve_frequency: f64,
+    valve_damping: f64,
+    /// `b`, fraction of full opening.
+    null_bias: f64,
+    /// `C_l`, m³/(s·Pa).
+    leakage: f64,
+    /// `K_τ`, 1/(N·m).
+    torque_gain: f64,
+    /// `ω_i`, rad/s.
+    integral_rate: f64,
+    /// `k_vc D̄ / K_q`, s/rad.
+    velocity_compensation: f64,
+}
+
+/// The actuators of all joints, with the supply they share.
+#[derive(Debug, Clone)]
+pub struct HydraulicActuators<const N: usize> {
+    joints: [Joint; N],
+    supply: f64,
+    tank: f64,
+    bulk_modulus: f64,
+}
+
+/// `Q(Δp) / K_v = Δp / (Δp² + δ²)^{1/4}`, √Pa.
+fn orifice_law(drop: f64) -> f64 {
+    let d = ORIFICE_REGULARISATION_PA;
+    drop / (drop * drop + d * d).sqrt().sqrt()
+}
+
+impl<const N: usize> HydraulicActuators<N> {
+    /// From the configuration, for joints spanning `ranges` (rad; the chambers' volumes run
+    /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other).
+    pub fn new(config: &HydraulicConfig, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
+        let positive = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(SimError::Config(format!("plant.hydraulic.{name} = {v}: must be finite and > 0")))
+            }
+        };
+        let supply = positive("supply_pressure_pa", config.supply_pressure_pa)?;
+        let tank = config.tank_pressure_pa;
+        if !(tank.is_finite() && tank >= 0.0 && tank < supply) {
+            return Err(SimError::Config(format!(
+                "plant.hydraulic.tank_pressure_pa = {tank}: must be ≥ 0 and below the supply pressure {supply}"
+            )));
+        }
+        let bulk_modulus = positive("bulk_modulus_pa", config.bulk_modulus_pa)?;
+        let list = |name: &str, values: &[f64]| -> Result<JointVector<N>, SimError> {
+            let v: JointVector<N> = per_joint(&format!("plant.hydraulic.{name}"), values)?;
+            for x in v.iter() {
+                positive(name, *x)?;
+            }
+            Ok(v)
+        };
+        let displacement = list("displacement_m3_rad", &config.displacement_m3_rad)?;
+        let ratio = list("area_ratio", &config.area_ratio)?;
+        let dead_volume = list("dead_volume_m3", &config.dead_volume_m3)?;
+        let rated_flow = list("valve_rated_flow_m3_s", &config.valve_rated_flow_m3_s)?;
+        let rated_drop = positive("valve_rated_drop_pa", config.valve_rated_drop_pa)?;
+        let valve_hz = list("valve_natural_frequency_hz", &config.valve_natural_frequency_hz)?;
+        let valve_damping = positive("valve_damping_ratio", config.valve_damping_ratio)?;
+        let bandwidth_hz = list("torque_bandwidth_hz", &config.torque_bandwidth_hz)?;
+        let bias: JointVector<N> = per_joint("plant.hydraulic.valve_null_bias", &config.valve_null_bias)?;
+        let leakage: JointVector<N> = per_joint("plant.hydraulic.leakage_m3_s_pa", &config.leakage_m3_s_pa)?;
+        if let Some(b) = bias.iter().find(|b| b.abs() > 0.2) {
+            return Err(SimError::Config(format!(
+                "plant.hydraulic.valve_null_bias: {b} is beyond ±0.2 of full opening"
+            )));
+        }
+        if let Some(l) = leakage.iter().find(|l| **l < 0.0) {
+            return Err(SimError::Config(format!("plant.hydraulic.leakage_m3_s_pa: {l} must be ≥ 0")));
+        }
+        let ratio_i = config.torque_integral_ratio;
+        if !(ratio_i.is_finite() && (0.0..=1.0).contains(&ratio_i)) {
+            return Err(SimError::Config(format!(
+                "plant.hydraulic.torque_integral_ratio = {ratio_i}: must be in [0, 1]"
+            )));
+        }
+        let compensation = config.velocity_compensation;
+        if !(0.0..=2.0).contains(&compensation) {
+            return Err(SimError::Config(format!(
+                "plant.hydraulic.velocity_compensation = {compensation}: must be in [0, 2] (1 cancels the piston flow)"
+            )));
+        }
+        let joints = core::array::from_fn(|i| {
+            // Valve sizing: Q_n at Δp_n across both lands, so K_v = Q_n / √(Δp_n / 2).
+            let orifice = rated_flow[i] / (rated_drop / 2.0).sqrt();
+            let (lower, upper) = ranges[i];
+            let mut joint = Joint {
+                displacement_a: displacement[i],
+                displacement_b: displacement[i] * ratio[i],
+                dead_volume: dead_volume[i],
+                lower,
+                upper,
+                orifice,
+                valve_frequency: std::f64::consts::TAU * valve_hz[i],
+                valve_damping,
+                null_bias: bias[i],
+                leakage: leakage[i],
+                torque_gain: 0.0,
+                integral_rate: config.torque_integral_ratio * std::f64::consts::TAU * bandwidth_hz[i],
+                velocity_compensation: 0.0,
+            };
+            let flow_gain = orifice * ((supply - tank) / 2.0).sqrt();
+            let middle = 0.5 * (lower + upper);
+            joint.torque_gain =
+                std::f64::consts::TAU * bandwidth_hz[i] / joint.locked_gain(bulk_modulus, flow_gain, middle);
+            joint.velocity_compensation =
+                compensation * 0.5 * (joint.displacement_a + joint.displacement_b) / flow_gain;
+            joint
+        });
+        Ok(Self { joints, supply, tank, bulk_modulus })
+    }
+
+    /// Supply and tank pressure, Pa.
+    pub fn pressure_range(&self) -> (f64, f64) {
+        (self.tank, self.supply)
+    }
+
+    /// `τ_h = D_a p_a − D_b p_b` per joint, N·m.
+    pub fn torque(&self, pressure_a: &JointVector<N>, pressure_b: &JointVector<N>) -> JointVector<N> {
+        JointVector::from_fn(|i, _| {
+            let j = &self.joints[i];
+            j.displacement_a * pressure_a[i] - j.displacement_b * pressure_b[i]
+        })
+    }
+
+    /// The actuators at rest holding `tau0`: the spool at its null, chamber pressures with
+    /// `p_a + p_b = p_s + p_t` (equal drops across the two lands) and `τ_h = τ0`.
+    pub fn holding(&self, tau0: &JointVector<N>) -> HydraulicState<N> {
+        let sum = self.supply + self.tank;
+        let pressure_a = JointVector::from_fn(|i, _| {
+            let j = &self.joints[i];
+            (tau0[i] + j.displacement_b * sum) / (j.displacement_a + j.displacement_b)
+        });
+        let pressure_b = JointVector::from_fn(|i, _| sum - pressure_a[i]);
+        let spool = JointVector::from_fn(|i, _| self.joints[i].null_bias);
+        HydraulicState {
+            spool,
+            spool_rate: JointVector::zeros(),
+            pressure_a,
+            pressure_b,
+            torque_integral: JointVector::zeros(),
+        }
+    }
+
+    /// Chamber volumes `(V_a, V_b)` of joint `i` at `q`, m³ (never below the dead volume).
+    pub fn volumes(&self, i: usize, q: f64) -> (f64, f64) {
+        self.joints[i].volumes(q)
+    }
+
+    /// The time derivative of the hydraulic state with the torque reference `τ_ref` held, for
+    /// the joints at `q, q̇`.
+    pub fn derivative(
+        &self,
+        tau_ref: &JointVector<N>,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        s: &HydraulicState<N>,
+    ) -> HydraulicState<N> {
+        let torque = self.torque(&s.pressure_a, &s.pressure_b);
+        let mut rate = HydraulicState::zeros();
+        for (i, j) in self.joints.iter().enumerate() {
+            let error = tau_ref[i] - torque[i];
+            // Anti-windup: the integral stops growing once its share alone opens the valve fully.
+            let integral_share = j.torque_gain * j.integral_rate * s.torque_integral[i];
+            rate.torque_integral[i] =
+                if integral_share.abs() >= 1.0 && integral_share * error > 0.0 { 0.0 } else { error };
+            let command = (j.torque_gain * error + integral_share + j.velocity_compensation * qd[i]).clamp(-1.0, 1.0);
+            rate.spool[i] = s.spool_rate[i];
+            rate.spool_rate[i] = j.valve_frequency * j.valve_frequency * (command + j.null_bias - s.spool[i])
+                - 2.0 * j.valve_damping * j.valve_frequency * s.spool_rate[i];
+            let (flow_a, flow_b) = self.valve_flows(j, s.spool[i], s.pressure_a[i], s.pressure_b[i]);
+            let leak = j.leakage * (s.pressure_a[i] - s.pressure_b[i]);
+            let (va, vb) = j.volumes(q[i]);
+            rate.pressure_a[i] = self.bulk_modulus / va * (flow_a - leak - j.displacement_a * qd[i]);
+            rate.pressure_b[i] = self.bulk_modulus / vb * (flow_b + leak + j.displacement_b * qd[i]);
+        }
+        rate
+    }
+
+    /// `(Q_a, Q_b)` into the chambers through a valve opened by `x` (clamped to ±1), m³/s.
+    fn valve_flows(&self, j: &Joint, x: f64, pa: f64, pb: f64) -> (f64, f64) {
+        let x = x.clamp(-1.0, 1.0);
+        let k = j.orifice * x;
+        if x >= 0.0 {
+            (k * orifice_law(self.supply - pa), -k * orifice_law(pb - self.tank))
+        } else {
+            (k * orifice_law(pa - self.tank), -k * orifice_law(self.supply - pb))
+        }
+    }
+
+    /// The hydraulic natural frequency of each joint at `q` carrying `inertia` (the diagonal of
+    /// the mass matrix), rad/s: `ω_h = √(β (D_a²/V_a + D_b²/V_b) / J)`, the oil columns as
+    /// springs against the load. It falls with the load's inertia and with the chambers' volumes.
+    pub fn natural_frequency(&self, q: &JointVector<N>, inertia: &JointVector<N>) -> JointVector<N> {
+        JointVector::from_fn(|i, _| {
+            let j = &self.joints[i];
+            (self.bulk_modulus * j.oil_stiffness_per_modulus(q[i]) / inertia[i]).sqrt()
+        })
+    }
+
+    /// The energy stored in joint `i`'s compressed oil relative to `p_ref` at the current
+    /// volumes, J, for the closed-valve energy balance: with no flow through the valve, a
+    /// chamber's oil obeys `p = p_0 + β ln(V_0/V)`, and the work it has done on the piston is
+    /// `U(V) = −∫ p dV`.
+    pub fn oil_energy(&self, i: usize, q0: f64, q: f64, start: &HydraulicState<N>) -> f64 {
+        let (va0, vb0) = self.joints[i].volumes(q0);
+        let (va, vb) = self.joints[i].volumes(q);
+        let beta = self.bulk_modulus;
+        let chamber = |p0: f64, v0: f64, v: f64| -(p0 * (v - v0) + beta * (v * (v0 / v).ln() + v - v0));
+        chamber(start.pressure_a[i], va0, va) + chamber(start.pressure_b[i], vb0, vb)
+    }
+}
+
+impl Joint {
+    fn volumes(&self, q: f64) -> (f64, f64) {
+        let a = self.dead_volume + self.displacement_a * (q - self.lower).max(0.0);
+        let b = self.dead_volume + self.displacement_b * (self.upper - q).max(0.0);
+        (a, b)
+    }
+
+    /// `D_a²/V_a + D_b²/V_b` at `q`, m³ (the oil stiffness divided by `β`).
+    fn oil_stiffness_per_modulus(&self, q: f64) -> f64 {
+        let (va, vb) = self.volumes(q);
+        self.displacement_a * self.displacement_a / va + self.displacement_b * self.displacement_b / vb
+    }
+
+    /// `K_lock = β K_q (D_a/V_a + D_b/V_b)`: `τ̇_h` per unit valve opening on a locked joint.
+    fn locked_gain(&self, bulk_modulus: f64, flow_gain: f64, q: f64) -> f64 {
+        let (va, vb) = self.volumes(q);
+        bulk_modulus * flow_gain * (self.displacement_a / va + self.displacement_b / vb)
+    }
+}

@@ -1,0 +1,101 @@
+//! Open-loop rollouts: the plant under a recorded torque sequence, sampled at a fixed interval,
+//! so that anyone can hold it against another simulator.
+
+use hya_core::model::TreeModel;
+use hya_core::JointVector;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::plant::{generic_dynamics, perturbed, Plant, PlantState};
+use crate::scenario::{ActuatorKind, FrictionKind, LoadConfig, PlantConfig, Scenario};
+use crate::SimError;
+
+/// A torque command, N·m, held from `time` (s) until the next one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TorqueCommand<const N: usize> {
+    /// When it starts to act, s.
+    pub time: f64,
+    /// The joint torques, N·m.
+    pub torque: JointVector<N>,
+}
+
+/// The rigid body alone: nominal parameters, no friction, ideal actuators, no loads.
+pub fn ideal_plant_config() -> PlantConfig {
+    PlantConfig {
+        parameter_spread: 0.0,
+        friction: FrictionKind::Off,
+        actuator: ActuatorKind::Ideal,
+        ..PlantConfig::default()
+    }
+}
+
+/// The plant of `scenario` (its seeded parameter perturbation, friction, actuators and loads)
+/// for `model`, at rest at `q0` with its actuators holding `tau0`, and its physics step, s.
+pub fn scenario_plant<const N: usize>(
+    model: &TreeModel,
+    scenario: &Scenario,
+    q0: JointVector<N>,
+    tau0: JointVector<N>,
+) -> Result<(Plant<N>, f64), SimError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
+    let true_model = perturbed(model, scenario.plant.parameter_spread, &mut rng);
+    let plant = Plant::new(true_model, &generic_dynamics::<N>, &scenario.plant, &scenario.loads, q0, tau0, &mut rng)?;
+    Ok((plant, scenario.controller.dt_s / scenario.plant.substeps as f64))
+}
+
+/// The ideal plant ([`ideal_plant_config`]) of `model` at rest at `q0`.
+pub fn ideal_plant<const N: usize>(model: &TreeModel, q0: JointVector<N>) -> Result<Plant<N>, SimError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    Plant::new(
+        model.clone(),
+        &generic_dynamics::<N>,
+        &ideal_plant_config(),
+        &LoadConfig::default(),
+        q0,
+        JointVector::zeros(),
+        &mut rng,
+    )
+}
+
+/// Runs `plant` from its current state under `commands` (increasing times, the first at the
+/// plant's time) until `until`, with physics steps of at most `max_step`, and calls `sample`
+/// with the time and state at every multiple of `interval` (the start included).
+pub fn open_loop<const N: usize, E: From<SimError>>(
+    plant: &mut Plant<N>,
+    commands: &[TorqueCommand<N>],
+    max_step: f64,
+    interval: f64,
+    until: f64,
+    mut sample: impl FnMut(f64, &PlantState<N>) -> Result<(), E>,
+) -> Result<(), E> {
+    let Some(first) = commands.first() else { return Ok(()) };
+    let start = plant.time;
+    let mut command = first.torque;
+    let mut next_command = 1;
+    let mut next_sample = 0usize;
+    loop {
+        let now = plant.time;
+        let sample_time = start + next_sample as f64 * interval;
+        if sample_time <= now + 1e-12 * interval {
+            sample(sample_time, &plant.state)?;
+            next_sample += 1;
+            continue;
+        }
+        while next_command < commands.len() && commands[next_command].time <= now + 1e-12 * interval {
+            command = commands[next_command].torque;
+            next_command += 1;
+        }
+        if now >= until - 1e-12 * interval {
+            return Ok(());
+        }
+        let change = commands.get(next_command).map_or(f64::INFINITY, |c| c.time);
+        let target = sample_time.min(change).min(until);
+        let span = target - now;
+        let steps = (span / max_step).ceil().max(1.0) as usize;
+        for _ in 0..steps {
+            plant.step(span / steps as f64, &command).map_err(E::from)?;
+        }
+        // Land exactly on the event, not on the sum of the sub-steps.
+        plant.time = target;
+    }
+}

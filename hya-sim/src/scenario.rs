@@ -304,7 +304,9 @@ impl Default for PlantConfig {
             actuator: ActuatorKind::Hydraulic,
             actuator_time_constant_s: vec![0.004, 0.004, 0.008, 0.008, 0.015, 0.015],
             hydraulic: HydraulicConfig::default(),
-            substeps: 10,
+            // Measured (tests/integration_step.rs): 2.1e-7 rad from a ten times finer step
+            // over a goto move, a fiftieth of an encoder count; 2 sub-steps give 2.9e-6.
+            substeps: 5,
         }
     }
 }

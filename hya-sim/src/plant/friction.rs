@@ -161,6 +161,9 @@ pub enum Friction<const N: usize> {
 impl<const N: usize> Friction<N> {
     /// From the plant configuration; the LuGre position profiles are drawn from `rng`.
     pub fn new(config: &PlantConfig, rng: &mut impl Rng) -> Result<Self, SimError> {
+        if config.friction == FrictionKind::Off {
+            return Ok(Friction::Off);
+        }
         let coulomb: JointVector<N> = per_joint("plant.coulomb_nm", &config.coulomb_nm)?;
         let breakaway: JointVector<N> = per_joint("plant.static_nm", &config.static_nm)?;
         let viscous: JointVector<N> = per_joint("plant.viscous_nm_s", &config.viscous_nm_s)?;
@@ -187,7 +190,7 @@ impl<const N: usize> Friction<N> {
             )));
         }
         Ok(match config.friction {
-            FrictionKind::Off => Friction::Off,
+            FrictionKind::Off => Friction::Off, // returned above
             FrictionKind::Smooth => Friction::Smooth(Smooth {
                 levels,
                 viscous,

@@ -441,8 +441,9 @@ pub struct WeightDrop {
     pub frame: String,
     /// Landing time, s.
     pub drop_s: f64,
-    /// Removal time, s.
-    pub remove_s: f64,
+    /// Removal time, s; the weight stays on when absent.
+    #[serde(default)]
+    pub remove_s: Option<f64>,
     /// Fall height, m: the impact carries momentum `m √(2 g h)` downward.
     pub fall_height_m: f64,
     /// Duration of the impact pulse, s.
@@ -491,7 +492,7 @@ impl Scenario {
         }
         if let Some(drop) = &mut quick.loads.weight_drop {
             drop.drop_s *= k;
-            drop.remove_s *= k;
+            drop.remove_s = drop.remove_s.map(|r| r * k);
         }
         quick
     }
@@ -542,11 +543,8 @@ impl Scenario {
         if let Some(drop) = &self.loads.weight_drop {
             positive("loads.weight_drop.mass_kg", drop.mass_kg)?;
             positive("loads.weight_drop.impact_s", drop.impact_s)?;
-            if drop.remove_s <= drop.drop_s {
-                return Err(format!(
-                    "loads.weight_drop: remove_s ({}) must come after drop_s ({})",
-                    drop.remove_s, drop.drop_s
-                ));
+            if let Some(remove) = drop.remove_s.filter(|r| !r.is_finite() || *r <= drop.drop_s) {
+                return Err(format!("loads.weight_drop: remove_s ({remove}) must come after drop_s ({})", drop.drop_s));
             }
         }
         Ok(())

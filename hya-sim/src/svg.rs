@@ -17,6 +17,8 @@ pub struct Series {
     pub color: &'static str,
     /// Dashed rather than solid.
     pub dashed: bool,
+    /// Drawn as unconnected dots (a scatter) rather than a line.
+    pub markers: bool,
 }
 
 /// One plot of a grid.
@@ -115,12 +117,23 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
         let path: Vec<String> =
             s.points.iter().step_by(stride).map(|(x, y)| format!("{:.1},{:.1}", sx(*x), sy(*y))).collect();
         let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
-        let _ = writeln!(
-            out,
-            r#"<polyline fill="none" stroke="{}" stroke-width="1.2"{dash} points="{}"/>"#,
-            s.color,
-            path.join(" ")
-        );
+        if s.markers {
+            // One path of zero-length round-capped segments: a dot per point, in one element.
+            let dots: Vec<String> = path.iter().map(|p| format!("M{p}h0")).collect();
+            let _ = writeln!(
+                out,
+                r#"<path fill="none" stroke="{}" stroke-width="3" stroke-linecap="round" stroke-opacity="0.5" d="{}"/>"#,
+                s.color,
+                dots.join("")
+            );
+        } else {
+            let _ = writeln!(
+                out,
+                r#"<polyline fill="none" stroke="{}" stroke-width="1.2"{dash} points="{}"/>"#,
+                s.color,
+                path.join(" ")
+            );
+        }
         let ly = top + 12.0 + 13.0 * k as f64;
         let _ = writeln!(
             out,
@@ -244,6 +257,7 @@ mod tests {
                 points: vec![(0.0, 1.0), (1.0, 2.0)],
                 color: PALETTE[0],
                 dashed: true,
+                markers: false,
             }],
         };
         let svg = line_grid("t", "s", &[panel], 2);

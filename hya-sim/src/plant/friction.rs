@@ -120,6 +120,12 @@ impl<const N: usize> LuGre<N> {
         -(self.stiffness.component_mul(z) + self.damping.component_mul(z_rate) + self.viscous.component_mul(qd))
     }
 
+    /// The steady-sliding friction of joint `i` at constant `q̇` and the nominal levels (`p = 1`),
+    /// N·m.
+    pub fn nominal_steady_sliding_torque(&self, i: usize, qd: f64) -> f64 {
+        -(self.levels[i].stribeck(qd) * qd.signum() + self.viscous[i] * qd)
+    }
+
     /// The steady-sliding friction of joint `i` at constant `q̇` (closed form), N·m.
     pub fn steady_sliding_torque(&self, i: usize, q: f64, qd: f64) -> f64 {
         -(self.sliding_level(i, q, qd) * qd.signum() + self.viscous[i] * qd)

@@ -221,23 +221,30 @@ impl<const N: usize> HydraulicActuators<N> {
         })
     }
 
-    /// The actuators at rest holding `tau0`: the spool at its null, chamber pressures with
-    /// `p_a + p_b = p_s + p_t` (equal drops across the two lands) and `τ_h = τ0`.
+    /// The actuators at rest holding `tau0` in equilibrium: chamber pressures with `p_a + p_b =
+    /// p_s + p_t` (equal drops across the two lands) and `τ_h = τ0`; the spool opened just
+    /// enough to feed the leakage, `x_v Q(p_s − p_a) = C_l (p_a − p_b)`; the loop's integral
+    /// holding that opening with no torque error.
     pub fn holding(&self, tau0: &JointVector<N>) -> HydraulicState<N> {
         let sum = self.supply + self.tank;
-        let pressure_a = JointVector::from_fn(|i, _| {
-            let j = &self.joints[i];
-            (tau0[i] + j.displacement_b * sum) / (j.displacement_a + j.displacement_b)
-        });
-        let pressure_b = JointVector::from_fn(|i, _| sum - pressure_a[i]);
-        let spool = JointVector::from_fn(|i, _| self.joints[i].null_bias);
-        HydraulicState {
-            spool,
-            spool_rate: JointVector::zeros(),
-            pressure_a,
-            pressure_b,
-            torque_integral: JointVector::zeros(),
+        let mut state = HydraulicState::zeros();
+        for (i, j) in self.joints.iter().enumerate() {
+            let pa = ((tau0[i] + j.displacement_b * sum) / (j.displacement_a + j.displacement_b))
+                .clamp(self.tank, self.supply);
+            let pb = sum - pa;
+            // Opening towards a (x_v > 0) when a holds the higher pressure; the metering land
+            // then sees p_s − p_a (= p_b − p_t), otherwise p_a − p_t.
+            let land = orifice_law(if pa >= pb { self.supply - pa } else { pa - self.tank });
+            let opening = if land > 0.0 { j.leakage * (pa - pb) / (j.orifice * land) } else { 0.0 };
+            state.pressure_a[i] = pa;
+            state.pressure_b[i] = pb;
+            state.spool[i] = opening;
+            let integral_gain = j.torque_gain * j.integral_rate;
+            if integral_gain > 0.0 {
+                state.torque_integral[i] = (opening - j.null_bias) / integral_gain;
+            }
         }
+        state
     }
 
     /// Chamber volumes `(V_a, V_b)` of joint `i` at `q`, m³ (never below the dead volume).

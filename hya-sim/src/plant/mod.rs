@@ -206,7 +206,7 @@ impl<const N: usize> Plant<N> {
     /// The true dynamics at time `t`: with the payload while it rests on the arm.
     pub fn dynamics(&self, t: f64) -> &dyn Dynamics<N> {
         match &self.loaded {
-            Some((loaded, drop)) if t >= drop.drop_s && t < drop.remove_s => loaded.as_ref(),
+            Some((loaded, drop)) if t >= drop.drop_s && drop.remove_s.is_none_or(|r| t < r) => loaded.as_ref(),
             _ => self.unloaded.as_ref(),
         }
     }

@@ -59,19 +59,25 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceObserver<N> for DisturbanceEstim
     }
 }
 
-/// The nonlinear disturbance observer of Chen et al. (IEEE TIE 2000) with the general gain of
-/// Mohammadi et al. (Control Eng. Practice 2013), `Y = y I`:
+/// The nonlinear disturbance observer of Chen et al. (IEEE TIE 2000) with the general gain `Y` of
+/// Mohammadi et al. (Control Eng. Practice 2013):
 ///
 /// ```text
-/// p = y q̇,   L = y M⁻¹(q),   ż = −L z + L (C + G − τ − p),   d̂ = z + p
+/// p = Y q̇,   L = Y M⁻¹(q),   ż = −L z + L (C + G − τ − p),   d̂ = z + p
 /// ```
 ///
-/// so that `d̂̇ = L (d − d̂)`. Stepped implicitly, `(M + T y I) z_{k+1} = M z_k + T y (C + G − τ − p)`,
-/// because `L` is stiff for light distal links. Measured velocity noise reaches `d̂` with gain `y`.
+/// so that `d̂̇ = L (d − d̂)`: the observer's rates are the eigenvalues of `L(q)`. Two designs:
+/// Mohammadi's scalar `Y = y I` ([`mohammadi_gain`]; global convergence, but rates spread by the
+/// inertia ratio), and `Y = β M(q0)` ([`Self::with_gain_matrix`]), for which `L = β I` at `q0`
+/// (equal per-joint bandwidth `β` near the operating point). Stepped implicitly, because `L` is
+/// stiff for light distal links: `(I + T L) z_{k+1} = z_k + T L r`, `r = C + G − τ − p`, solved
+/// as `(M + T Y) w = M Y⁻¹ z_k + T r`, `z_{k+1} = Y w` (symmetric positive definite). Measured
+/// velocity noise reaches `d̂` through `Y`.
 #[derive(Debug, Clone)]
 pub struct NonlinearDisturbanceObserver<const N: usize, D> {
     dynamics: D,
-    gain: f64,
+    gain: JointMatrix<N>,
+    gain_inverse: JointMatrix<N>,
     dt_s: f64,
     z: JointVector<N>,
     disturbance: JointVector<N>,
@@ -89,12 +95,47 @@ pub fn mohammadi_gain(convergence_rate: f64, sigma: f64, xi: f64) -> Result<f64,
 }
 
 impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
-    /// An observer with gain `y` (N·m·s/rad) at sample time `dt`, started at `z0 = −y q̇0`
-    /// (so `d̂ = 0`).
+    /// An observer with the scalar gain `Y = y I` (`y` in N·m·s/rad) at sample time `dt`, started
+    /// at `z0 = −Y q̇0` (so `d̂ = 0`).
     pub fn new(dynamics: D, gain: f64, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
-        check("qd0", &qd0)?;
         let gain = positive("gain", gain)?;
-        Ok(Self { dynamics, gain, dt_s: positive("dt_s", dt_s)?, z: -qd0 * gain, disturbance: JointVector::zeros() })
+        Self::with_gain_matrix(dynamics, JointMatrix::<N>::identity() * gain, dt_s, qd0)
+    }
+
+    /// An observer with the gain matrix `Y` (symmetric positive definite, N·m·s/rad), e.g.
+    /// `β M(q0)` for equal rates `β` at `q0`; started at `z0 = −Y q̇0`.
+    pub fn with_gain_matrix(dynamics: D, gain: JointMatrix<N>, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
+        check("qd0", &qd0)?;
+        let symmetric = (gain - gain.transpose()).amax() <= 1e-12 * gain.amax();
+        let gain_inverse = match gain.cholesky() {
+            Some(c) if symmetric && gain.iter().all(|x| x.is_finite()) => c.inverse(),
+            _ => {
+                return Err(Error::InvalidParameter {
+                    name: "gain",
+                    value: gain.amax(),
+                    requirement: "a finite, symmetric positive definite matrix",
+                })
+            }
+        };
+        Ok(Self {
+            dynamics,
+            gain,
+            gain_inverse,
+            dt_s: positive("dt_s", dt_s)?,
+            z: -(gain * qd0),
+            disturbance: JointVector::zeros(),
+        })
+    }
+
+    /// The observer's rates at `q`: the eigenvalues of `L = Y M⁻¹(q)`, ascending, 1/s (real and
+    /// positive: `L` is similar to `M^{-1/2} Y M^{-1/2}`).
+    pub fn rates(&self, q: &JointVector<N>) -> Result<JointVector<N>, Error> {
+        let mass = self.dynamics.mass_matrix(q);
+        let root_inverse = mass.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
+        // M⁻¹ = Aᵀ A with A the inverse Cholesky factor's transpose gives a symmetric similar form.
+        let factor = root_inverse.cholesky().ok_or(Error::SingularMassMatrix)?.l();
+        let symmetric = factor.transpose() * self.gain * factor;
+        Ok(crate::linalg::symmetric_eigenvalues(&symmetric))
     }
 }
 
@@ -102,13 +143,14 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceObserver<N> for NonlinearDisturb
     fn update(&mut self, m: &Measurement<N>) -> Result<JointVector<N>, Error> {
         m.checked()?;
         let qd = m.required_velocity()?;
-        let (y, t) = (self.gain, self.dt_s);
-        let p = qd * y;
+        let t = self.dt_s;
+        let p = self.gain * qd;
         let bias = self.dynamics.inverse_dynamics(&m.position, &qd, &JointVector::zeros());
+        // With z = Y w the system is symmetric positive definite: (M + T Y) w' = M Y⁻¹ z + T r.
         let mass = self.dynamics.mass_matrix(&m.position);
-        let system = mass + JointMatrix::<N>::identity() * (t * y);
-        let rhs = mass * self.z + (bias - m.torque - p) * (t * y);
-        let z = system.cholesky().ok_or(Error::SingularMassMatrix)?.solve(&rhs);
+        let rhs = mass * (self.gain_inverse * self.z) + (bias - m.torque - p) * t;
+        let w = (mass + self.gain * t).cholesky().ok_or(Error::SingularMassMatrix)?.solve(&rhs);
+        let z = self.gain * w;
         let disturbance = z + p;
         check("d_hat", &disturbance)?;
         self.z = z;

@@ -132,3 +132,32 @@ fn velocity_based_observers_ask_for_the_velocity() {
         assert!(matches!(result, Err(hya_core::Error::MissingMeasurement { signal: "qd_m" })));
     }
 }
+
+#[test]
+fn the_inertia_shaped_gain_gives_equal_rates_at_the_design_pose() {
+    let arm = PlanarTwoLink::default();
+    let q0 = JointVector::from([0.4, 0.8]);
+    let zero = JointVector::zeros();
+    let shaped =
+        NonlinearDisturbanceObserver::with_gain_matrix(arm, arm.mass_matrix(&q0) * BANDWIDTH, DT, zero).unwrap();
+    for rate in shaped.rates(&q0).unwrap().iter() {
+        assert!((rate - BANDWIDTH).abs() < 1e-9 * BANDWIDTH, "rates {:?}", shaped.rates(&q0).unwrap());
+    }
+    // Mohammadi's scalar gain spreads the rates by the inertia ratio: y / λ(M).
+    let masses = arm.mass_matrix(&q0).symmetric_eigenvalues();
+    let scalar = NonlinearDisturbanceObserver::new(arm, 10.0, DT, zero).unwrap();
+    let rates = scalar.rates(&q0).unwrap();
+    let expected = [10.0 / masses.max(), 10.0 / masses.min()];
+    for (r, e) in rates.iter().zip(expected) {
+        assert!((r - e).abs() < 1e-9 * e, "rates {rates:?}, expected {expected:?}");
+    }
+    // The shaped observer still recovers a constant disturbance away from q0's velocity.
+    let d = JointVector::from([3.0, -1.2]);
+    let mut observer = shaped;
+    let trace = run(arm, q0, &mut observer, |_| d, 3.0);
+    let (_, _, last) = trace.last().unwrap();
+    assert!((last - d).norm() < 1e-4 * d.norm(), "d̂ = {last}, d = {d}");
+    // A non-symmetric or indefinite gain is refused.
+    let skew = hya_core::JointMatrix::<2>::new(1.0, 0.5, 0.0, 1.0);
+    assert!(NonlinearDisturbanceObserver::with_gain_matrix(arm, skew, DT, zero).is_err());
+}

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hya_sim::{report, run_method, RunOutcome, Scenario, JOINTS};
+use hya_sim::{report, seeds, Scenario};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::CliError;
@@ -19,6 +19,9 @@ pub struct ReproduceArgs {
     /// Replace the hya report already in `--out` (its report files are removed first).
     #[arg(long)]
     force: bool,
+    /// Seeds per scenario and method (default: 20, or 4 with `--quick`).
+    #[arg(long)]
+    seeds: Option<usize>,
 }
 
 /// Parameters of `hya run`.
@@ -35,41 +38,55 @@ pub struct RunArgs {
     /// Replace the hya report already in `--out` (its report files are removed first).
     #[arg(long)]
     force: bool,
+    /// Seeds per scenario and method (default: 20, or 4 with `--quick`).
+    #[arg(long)]
+    seeds: Option<usize>,
 }
 
 fn sim(e: hya_sim::SimError) -> CliError {
     CliError::Input(e.to_string())
 }
 
-/// Runs every method of every scenario with a progress bar, then writes the report.
-fn run_all(scenarios: Vec<Scenario>, out: &Path, quick: bool, force: bool) -> Result<(), CliError> {
+/// Seeds per scenario and method unless `--seeds` says otherwise.
+const DEFAULT_SEEDS: usize = 20;
+/// The same with `--quick`.
+const QUICK_SEEDS: usize = 4;
+/// The most seeds `--seeds` accepts.
+const MAX_SEEDS: usize = 1000;
+
+/// Runs every method of every scenario over the seeds on every core, with a progress bar, then
+/// writes the report.
+fn run_all(
+    scenarios: Vec<Scenario>,
+    out: &Path,
+    quick: bool,
+    force: bool,
+    seeds: Option<usize>,
+    generated_by: &str,
+) -> Result<(), CliError> {
+    let seeds = seeds.unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
+    if !(1..=MAX_SEEDS).contains(&seeds) {
+        return Err(CliError::Input(format!("--seeds {seeds}: must be between 1 and {MAX_SEEDS}")));
+    }
     for kept in hya_sim::output::prepare(out, force).map_err(sim)? {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
     let scenarios: Vec<Scenario> = scenarios.into_iter().map(|s| if quick { s.quick() } else { s }).collect();
-    let total: f64 = scenarios.iter().map(|s| s.duration_s * s.methods.len() as f64).sum();
+    let total: f64 = scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum();
     let bar = ProgressBar::new(total.ceil() as u64).with_style(
-        ProgressStyle::with_template("{msg:32} [{bar:40}] {pos}/{len} simulated s ({eta} left)")
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} simulated s ({eta} left)")
             .map_err(|e| CliError::Input(e.to_string()))?
             .progress_chars("=> "),
     );
-    let mut outcomes: Vec<RunOutcome<JOINTS>> = Vec::new();
-    for scenario in &scenarios {
-        for &method in &scenario.methods {
-            bar.set_message(format!("{} / {}", scenario.name, method.name()));
-            outcomes.push(run_method(scenario, method).map_err(sim)?);
-            bar.inc(scenario.duration_s.round() as u64);
-        }
-    }
+    bar.set_message(format!("{} runs", scenarios.iter().map(|s| s.methods.len() * seeds).sum::<usize>()));
+    let (outcomes, table) =
+        seeds::run_seeds(&scenarios, seeds, &|seconds| bar.inc(seconds.round() as u64)).map_err(sim)?;
     bar.finish_and_clear();
-    let summary = report::write(out, &scenarios, &outcomes, quick).map_err(sim)?;
-    for claim in &summary.claims {
-        let verdict = match claim.reproduced {
-            Some(true) => "reproduced",
-            Some(false) => "NOT reproduced",
-            None => "not run",
-        };
-        eprintln!("{verdict:>15}: {} ({})", claim.claim, claim.evidence);
+    let summary = report::write(out, &scenarios, &outcomes, &table, quick, generated_by).map_err(sim)?;
+    for claim in summary.claims.iter().filter(|c| c.seeds > 0) {
+        let verdict =
+            serde_json::to_value(claim.verdict).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default();
+        eprintln!("{verdict:>15}: {} ({})", claim.statement, claim.section);
     }
     eprintln!("report: {}", out.join("report.md").display());
     Ok(())
@@ -78,7 +95,7 @@ fn run_all(scenarios: Vec<Scenario>, out: &Path, quick: bool, force: bool) -> Re
 /// `hya reproduce`.
 pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
-    run_all(scenarios, &args.out, args.quick, args.force)
+    run_all(scenarios, &args.out, args.quick, args.force, args.seeds, "hya reproduce")
 }
 
 /// `hya run FILE.toml`.
@@ -86,5 +103,5 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| CliError::Input(format!("{}: cannot read: {e}", args.file.display())))?;
     let scenario = Scenario::from_toml(&text, &args.file.display().to_string()).map_err(sim)?;
-    run_all(vec![scenario], &args.out, args.quick, args.force)
+    run_all(vec![scenario], &args.out, args.quick, args.force, args.seeds, "hya run")
 }

@@ -57,12 +57,12 @@ fn force_replaces_an_earlier_report_and_keeps_other_files() {
     let dir = scratch("force");
     let file = scenario(&dir, "tiny");
     let out = dir.join("report");
-    let first = hya(&["run", &file, "--out", out.to_str().unwrap()], "");
+    let first = hya(&["run", &file, "--out", out.to_str().unwrap(), "--seeds", "2"], "");
     assert_eq!(first.status.code(), Some(0), "{}", String::from_utf8_lossy(&first.stderr));
     assert!(out.join("summary.json").is_file() && out.join("tiny_none.csv").is_file());
     std::fs::write(out.join("stale_none.csv"), "old").unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
-    let again = hya(&["run", &file, "--out", out.to_str().unwrap(), "--force"], "");
+    let again = hya(&["run", &file, "--out", out.to_str().unwrap(), "--force", "--seeds", "2"], "");
     assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
     assert!(!out.join("stale_none.csv").exists(), "a stale report file stays mixed in");
     assert!(out.join("notes.txt").is_file(), "a file that is not the report's was removed");

@@ -12,12 +12,15 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
+pub mod claims;
+pub mod metrics;
 pub mod output;
 pub mod plant;
 pub mod report;
 pub mod rollout;
 pub mod run;
 pub mod scenario;
+pub mod seeds;
 pub mod sensors;
 pub mod svg;
 pub mod task;
@@ -26,7 +29,8 @@ use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::Dynamics;
 
-pub use run::{simulate, Metrics, RunOutcome, Trace};
+pub use metrics::Metrics;
+pub use run::{simulate, RunOutcome, Trace};
 pub use scenario::{Method, Scenario};
 
 /// Joints of the arms the simulator runs (HyA, UR5).

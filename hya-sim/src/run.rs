@@ -14,16 +14,13 @@ use hya_core::{
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use serde::Serialize;
 
+use crate::metrics::Metrics;
 use crate::plant::{per_joint, perturbed, DynamicsFactory, Plant};
 use crate::scenario::{Method, Scenario};
 use crate::sensors::Sensors;
 use crate::task::Trajectory;
 use crate::SimError;
-
-/// Metrics skip this start-up interval (observers and filters settling), s.
-pub const WARM_UP_S: f64 = 0.5;
 
 /// Time series of one run, one entry per control tick.
 #[derive(Debug, Clone, Default)]
@@ -42,20 +39,6 @@ pub struct Trace<const N: usize> {
     pub tau_cmd: Vec<JointVector<N>>,
 }
 
-/// Per-joint figures of one run (after [`WARM_UP_S`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Metrics {
-    /// RMSE of tracking, `q − q_des`, rad.
-    pub rmse_q: Vec<f64>,
-    /// RMSE of `d̂ − d`, N·m; `None` without an estimator.
-    pub rmse_d: Option<Vec<f64>>,
-    /// Noise in the commanded torque: RMS of its first difference over √2, N·m (white noise of
-    /// standard deviation σ gives σ; a smooth command gives nearly 0).
-    pub tau_cmd_noise: Vec<f64>,
-    /// Largest `|q − q_des|`, rad.
-    pub max_abs_error_q: Vec<f64>,
-}
-
 /// A finished run.
 #[derive(Debug, Clone)]
 pub struct RunOutcome<const N: usize> {
@@ -63,6 +46,11 @@ pub struct RunOutcome<const N: usize> {
     pub scenario: String,
     /// The method.
     pub method: Method,
+    /// The seed of the plant's perturbation, friction profile and noise.
+    pub seed: u64,
+    /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
+    /// `L` for Chen's observer); `None` without an observer.
+    pub bandwidth_rad_s: Option<Vec<f64>>,
     /// Its time series.
     pub trace: Trace<N>,
     /// Its metrics.
@@ -71,58 +59,102 @@ pub struct RunOutcome<const N: usize> {
 
 type Observer<'a, const N: usize> = Box<dyn DisturbanceObserver<N> + 'a>;
 
-/// The observer of `method`, started on the first measurement; `None` for [`Method::None`].
+/// The observer of `method`, started on the first measurement, with its rates at the start pose
+/// (1/s) computed from its design; `None` for the methods without one.
 fn observer<'a, const N: usize>(
     method: Method,
     nominal: &'a dyn Dynamics<N>,
     scenario: &Scenario,
     first: &Measurement<N>,
-) -> Result<Option<Observer<'a, N>>, SimError> {
+) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
     let (bandwidth, dt) = (scenario.controller.observer_bandwidth_rad_s, scenario.controller.dt_s);
     let q0 = first.position;
     let qd0 = first.velocity.unwrap_or_else(JointVector::zeros);
     let core = |e: hya_core::Error| SimError::Config(format!("{}: {e}", method.name()));
     Ok(match method {
-        Method::None => None,
+        Method::None | Method::Pid => None,
         Method::Lu => {
             let params = FilterParams::new(0.8, bandwidth, bandwidth, dt).map_err(core)?;
-            Some(Box::new(DisturbanceEstimator::new(nominal, params, q0, first.torque).map_err(core)?))
+            // H(s)'s poles: −ω1 and −ζω2 ± jω2√(1 − ζ²), of magnitudes ω1 and ω2.
+            let rate = params.omega1_rad_s().min(params.omega2_rad_s());
+            let estimator = DisturbanceEstimator::new(nominal, params, q0, first.torque).map_err(core)?;
+            Some((Box::new(estimator), vec![rate; N]))
         }
         Method::Chen => {
-            // σ ≥ λmax(M): the largest eigenvalue at the start pose with a 20 % margin.
-            let sigma = 1.2 * largest_eigenvalue(&nominal.mass_matrix(&q0));
-            let gain = hya_core::observers::mohammadi_gain(bandwidth, sigma, 0.0).map_err(core)?;
-            Some(Box::new(NonlinearDisturbanceObserver::new(nominal, gain, dt, qd0).map_err(core)?))
+            // Y = β M(q0): L = Y M⁻¹ = β I at the start pose.
+            let gain = nominal.mass_matrix(&q0) * bandwidth;
+            let chen = NonlinearDisturbanceObserver::with_gain_matrix(nominal, gain, dt, qd0).map_err(core)?;
+            let rates = chen.rates(&q0).map_err(core)?.as_slice().to_vec();
+            Some((Box::new(chen), rates))
         }
-        Method::Momentum => Some(Box::new(
-            MomentumObserver::new(nominal, JointVector::repeat(bandwidth), dt, q0, qd0, first.torque).map_err(core)?,
-        )),
-        Method::Eso => Some(Box::new(ExtendedStateObserver::new(nominal, bandwidth, dt, q0).map_err(core)?)),
+        Method::Momentum => {
+            let gains = JointVector::repeat(bandwidth);
+            let momentum = MomentumObserver::new(nominal, gains, dt, q0, qd0, first.torque).map_err(core)?;
+            Some((Box::new(momentum), gains.as_slice().to_vec()))
+        }
+        Method::Eso => {
+            // Observer poles, all at −ω_o.
+            let eso = ExtendedStateObserver::new(nominal, bandwidth, dt, q0).map_err(core)?;
+            Some((Box::new(eso), vec![bandwidth; N]))
+        }
     })
 }
 
-/// The largest eigenvalue of a symmetric positive definite matrix, by power iteration.
-fn largest_eigenvalue<const N: usize>(m: &hya_core::JointMatrix<N>) -> f64 {
-    let mut v = JointVector::<N>::repeat(1.0).normalize();
-    for _ in 0..200 {
-        v = (m * v).normalize();
-    }
-    v.dot(&(m * v))
-}
-
-/// Computed-torque gains from a natural frequency and damping per joint: `K_P = M_ii ω²`,
-/// `K_D = 2 ζ ω M_ii`, with `M` the nominal mass matrix at `q0`.
+/// Computed-torque gains by one rule for every method. Per joint, the natural frequency `ω_n`
+/// with damping ratio `ζ` on the nominal `M_ii(q0)`, stiffened where needed so that the PD's
+/// torque at the error `e_f` reaches the joint's nominal static friction `F_s`, but to no more
+/// than `ω_max` (the actuators' and the delay's limit):
+///
+/// ```text
+/// K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²),   K_D = 2 ζ √(K_P M_ii)
+/// ```
 pub fn gains<const N: usize>(
     nominal: &dyn Dynamics<N>,
     scenario: &Scenario,
     q0: &JointVector<N>,
 ) -> Result<Gains<N>, SimError> {
-    let omega = per_joint::<N>("controller.natural_frequency_rad_s", &scenario.controller.natural_frequency_rad_s)?;
-    let zeta = scenario.controller.damping_ratio;
+    let c = &scenario.controller;
+    let omega = per_joint::<N>("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?;
+    let friction = per_joint::<N>("plant.static_nm", &scenario.plant.static_nm)?;
     let inertia = nominal.mass_matrix(q0).diagonal();
-    let kp: [f64; N] = core::array::from_fn(|i| inertia[i] * omega[i] * omega[i]);
-    let kd: [f64; N] = core::array::from_fn(|i| 2.0 * zeta * omega[i] * inertia[i]);
+    let kp: [f64; N] = core::array::from_fn(|i| {
+        let floor = inertia[i] * omega[i] * omega[i];
+        let ceiling = (inertia[i] * c.max_natural_frequency_rad_s.powi(2)).max(floor);
+        (friction[i] / c.friction_error_rad).clamp(floor, ceiling)
+    });
+    let kd: [f64; N] = core::array::from_fn(|i| 2.0 * c.damping_ratio * (kp[i] * inertia[i]).sqrt());
     Gains::diagonal(kp, kd).map_err(|e| SimError::Config(format!("controller: {e}")))
+}
+
+/// The integral term of the PID baseline, `K_I ∫ e dt` with `K_I = K_P ω_i`, its torque clamped
+/// to `± limit` (anti-windup: the integral stops growing at the clamp).
+#[derive(Debug, Clone)]
+struct IntegralAction<const N: usize> {
+    gain: JointVector<N>,
+    limit: JointVector<N>,
+    torque: JointVector<N>,
+    dt: f64,
+}
+
+impl<const N: usize> IntegralAction<N> {
+    fn new(gains: &Gains<N>, scenario: &Scenario) -> Result<Self, SimError> {
+        let c = &scenario.controller;
+        let omega = per_joint::<N>("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?;
+        Ok(Self {
+            gain: gains.kp().diagonal().component_mul(&omega) * c.integral_zero_ratio,
+            limit: per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?,
+            torque: JointVector::zeros(),
+            dt: c.dt_s,
+        })
+    }
+
+    /// Adds `K_I e T` and returns the clamped integral torque, N·m.
+    fn step(&mut self, error: &JointVector<N>) -> JointVector<N> {
+        self.torque = JointVector::from_fn(|i, _| {
+            (self.torque[i] + self.gain[i] * error[i] * self.dt).clamp(-self.limit[i], self.limit[i])
+        });
+        self.torque
+    }
 }
 
 /// Runs `scenario` with `method` on a plant built from `nominal_model` (perturbed, seeded), whose
@@ -157,7 +189,12 @@ pub fn simulate<const N: usize>(
     let mut commands: VecDeque<JointVector<N>> = std::iter::repeat_n(hold, command_delay).collect();
     let mut applied = hold;
     readings.push_back(sensors.read(&plant, &applied)?);
-    let mut estimator = observer(method, nominal, scenario, &readings[0])?;
+    let (mut estimator, bandwidth_rad_s) = match observer(method, nominal, scenario, &readings[0])? {
+        Some((o, rates)) => (Some(o), Some(rates)),
+        None => (None, None),
+    };
+    let gains = gains(nominal, scenario, &q0)?;
+    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substep = dt / scenario.plant.substeps as f64;
     let mut trace = Trace::default();
@@ -178,7 +215,13 @@ pub fn simulate<const N: usize>(
         };
         let velocity = measurement.velocity.unwrap_or_else(JointVector::zeros);
         let reference = trajectory.at(t);
-        let compensation = (method != Method::None).then_some(&d_hat);
+        // The PID's integral enters where d̂ does: τ = … − K_P e − K_I ∫e.
+        let integral_torque = integral.as_mut().map(|i| i.step(&(measurement.position - reference.position)));
+        let compensation = match (&integral_torque, method.estimates()) {
+            (Some(torque), _) => Some(torque),
+            (None, true) => Some(&d_hat),
+            (None, false) => None,
+        };
         let command =
             controller.command(&measurement.position, &velocity, &reference, compensation).map_err(at)?.torque;
         commands.push_back(command);
@@ -197,26 +240,6 @@ pub fn simulate<const N: usize>(
             plant.step(substep, &applied)?;
         }
     }
-    let metrics = metrics(&trace, method != Method::None);
-    Ok(RunOutcome { scenario: scenario.name.clone(), method, trace, metrics })
-}
-
-/// Per-joint `sqrt(mean(x²))` over the samples.
-fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
-    let (sum, count) = samples.fold((JointVector::<N>::zeros(), 0usize), |(s, n), x| (s + x.component_mul(&x), n + 1));
-    (sum / count.max(1) as f64).map(f64::sqrt).as_slice().to_vec()
-}
-
-/// The metrics of a trace, after the warm-up.
-pub fn metrics<const N: usize>(trace: &Trace<N>, has_estimate: bool) -> Metrics {
-    let start = trace.time.iter().position(|t| *t >= WARM_UP_S).unwrap_or(0);
-    let errors = || trace.q[start..].iter().zip(&trace.q_des[start..]).map(|(q, r)| q - r);
-    let estimate_errors = trace.d_hat[start..].iter().zip(&trace.d_true[start..]).map(|(e, d)| e - d);
-    let command_steps = trace.tau_cmd[start..].windows(2).map(|w| (w[1] - w[0]) / std::f64::consts::SQRT_2);
-    Metrics {
-        rmse_q: rms(errors()),
-        rmse_d: has_estimate.then(|| rms(estimate_errors)),
-        tau_cmd_noise: rms(command_steps),
-        max_abs_error_q: (0..N).map(|i| errors().map(|e| e[i].abs()).fold(0.0, f64::max)).collect(),
-    }
+    let metrics = Metrics::of(&trace, scenario, method.estimates());
+    Ok(RunOutcome { scenario: scenario.name.clone(), method, seed: scenario.seed, bandwidth_rad_s, trace, metrics })
 }

@@ -81,11 +81,13 @@ pub fn check_file_stem(name: &str) -> Result<(), String> {
 }
 
 /// A way of computing the command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// Computed torque without compensation.
     None,
+    /// Computed torque with PID: the same PD gains plus an integral term with anti-windup.
+    Pid,
     /// The paper's estimator (Lu, Sandy & Buchli).
     Lu,
     /// Chen's nonlinear disturbance observer (Mohammadi's gain).
@@ -97,10 +99,16 @@ pub enum Method {
 }
 
 impl Method {
+    /// Whether the method estimates the disturbance (all but `none` and `pid`).
+    pub fn estimates(self) -> bool {
+        !matches!(self, Method::None | Method::Pid)
+    }
+
     /// The name used in files and tables.
     pub fn name(self) -> &'static str {
         match self {
             Method::None => "none",
+            Method::Pid => "pid",
             Method::Lu => "lu",
             Method::Chen => "chen",
             Method::Momentum => "momentum",
@@ -201,14 +209,23 @@ impl Default for SensorConfig {
     }
 }
 
-/// Controller settings: gains from a desired closed-loop natural frequency and damping per joint.
+/// Controller settings: gains from a desired closed-loop natural frequency and damping per joint,
+/// stiffened against static friction ([`crate::run::gains`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ControllerConfig {
     /// Desired natural frequency per joint, rad/s: `K_P = M_ii(q0) ω²`.
     pub natural_frequency_rad_s: Vec<f64>,
-    /// Desired damping ratio: `K_D = 2 ζ ω M_ii(q0)`.
+    /// Desired damping ratio: `K_D = 2 ζ √(K_P M_ii(q0))`.
     pub damping_ratio: f64,
+    /// The error at which the PD's torque reaches the joint's nominal static friction, rad.
+    pub friction_error_rad: f64,
+    /// The highest natural frequency the stiffening may reach, rad/s.
+    pub max_natural_frequency_rad_s: f64,
+    /// PID: the integral's zero as a fraction of the natural frequency, `K_I = K_P ω_n · this`.
+    pub integral_zero_ratio: f64,
+    /// PID: the integral torque's clamp per joint, N·m (anti-windup).
+    pub integral_limit_nm: Vec<f64>,
     /// Torque limit per joint, N·m.
     pub torque_limit_nm: Vec<f64>,
     /// Bandwidth of every observer, rad/s (the paper's filter uses ζ = 0.8, ω1 = ω2 = this).
@@ -222,6 +239,10 @@ impl Default for ControllerConfig {
         Self {
             natural_frequency_rad_s: vec![12.0; 6],
             damping_ratio: 0.8,
+            friction_error_rad: 0.05,
+            max_natural_frequency_rad_s: 40.0,
+            integral_zero_ratio: 0.25,
+            integral_limit_nm: vec![30.0; 6],
             torque_limit_nm: vec![150.0; 6],
             observer_bandwidth_rad_s: 50.0,
             dt_s: 1e-3,
@@ -304,9 +325,11 @@ impl Default for PlantConfig {
             actuator: ActuatorKind::Hydraulic,
             actuator_time_constant_s: vec![0.004, 0.004, 0.008, 0.008, 0.015, 0.015],
             hydraulic: HydraulicConfig::default(),
-            // Measured (tests/integration_step.rs): 2.1e-7 rad from a ten times finer step
-            // over a goto move, a fiftieth of an encoder count; 2 sub-steps give 2.9e-6.
-            substeps: 5,
+            // Measured (tests/integration_step.rs): 2.2e-8 rad per tick from a ten times finer
+            // step over a goto move, under a five-hundredth of an encoder count (1 sub-step: 2.9e-7,
+            // 2: 3.1e-8); 4 rather than 2 keeps the orifice law's stiff mode near zero pressure
+            // drop (≈ 4e3/s) well inside RK4's stability region.
+            substeps: 4,
         }
     }
 }
@@ -509,6 +532,10 @@ impl Scenario {
         positive("duration_s", self.duration_s)?;
         positive("controller.dt_s", self.controller.dt_s)?;
         positive("controller.observer_bandwidth_rad_s", self.controller.observer_bandwidth_rad_s)?;
+        positive("controller.friction_error_rad", self.controller.friction_error_rad)?;
+        positive("controller.max_natural_frequency_rad_s", self.controller.max_natural_frequency_rad_s)?;
+        positive("controller.integral_zero_ratio", self.controller.integral_zero_ratio)?;
+        positive("controller.damping_ratio", self.controller.damping_ratio)?;
         positive("quick_time_scale", self.quick_time_scale)?;
         positive("plant.smoothing_rad_s", self.plant.smoothing_rad_s)?;
         positive("plant.stribeck_velocity_rad_s", self.plant.stribeck_velocity_rad_s)?;

@@ -69,3 +69,20 @@ fn the_free_plant_conserves_energy() {
     assert!(worst / scale < 1e-6, "energy drifted by {worst} J of {start} J over 10 s");
     assert!(plant.state.qd.norm() > 0.5, "the arm should be swinging, not resting");
 }
+
+#[test]
+fn every_observer_runs_at_the_same_bandwidth() {
+    let mut scenario = Scenario::builtin("goto_internal").unwrap();
+    scenario.duration_s = 0.6;
+    let target = scenario.controller.observer_bandwidth_rad_s;
+    for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
+        let rates = run_method(&scenario, method).unwrap().bandwidth_rad_s.unwrap();
+        assert_eq!(rates.len(), 6);
+        for rate in rates {
+            assert!((rate - target).abs() < 1e-6 * target, "{}: rate {rate} rad/s, target {target}", method.name());
+        }
+    }
+    for method in [Method::None, Method::Pid] {
+        assert!(run_method(&scenario, method).unwrap().bandwidth_rad_s.is_none());
+    }
+}

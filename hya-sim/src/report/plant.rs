@@ -56,7 +56,7 @@ fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
         row("torque_integral_ratio", format!("{}", h.torque_integral_ratio), "–", "our choice (HyQ runs a PI torque loop, Boaventura et al., IROS 2013)"),
         row("velocity_compensation", format!("{}", h.velocity_compensation), "–", "load-motion compensation (Boaventura et al., IROS 2012)"),
         row("actuator_time_constant_s", numbers(&p.actuator_time_constant_s), "s", "our choice (`actuator = \"lag\"` only)"),
-        row("substeps", format!("{}", p.substeps), "per tick", "measured: RK4 at 5 sub-steps per 1 ms tick stays within 2.1e-7 rad of a ten times finer step over a goto move (2 sub-steps: 2.9e-6 rad), `cargo test --release -p hya-sim --test integration_step -- --nocapture`; sliding bristles sub-cycle further, keeping h·σ0|q̇|/g ≤ 1"),
+        row("substeps", format!("{}", p.substeps), "per tick", "measured: RK4 at 4 sub-steps per 1 ms tick stays within 2.2e-8 rad per tick of a ten times finer step along a goto move (1 sub-step: 2.9e-7, 2: 3.1e-8 rad; an encoder count is 1.2e-5 rad), `cargo test --release -p hya-sim --test integration_step -- --nocapture`; 4 rather than 2 keeps the orifice law's stiff mode near zero pressure drop well inside RK4's stability region; sliding bristles sub-cycle further, keeping h·σ0|q̇|/g ≤ 1"),
         row("encoder_counts_per_rev", format!("{}", s.encoder_counts_per_rev), "counts", "HyA's 19-bit absolute encoders (Semini et al., SICFP 2015)"),
         row("velocity", format!("{:?}", s.velocity).to_lowercase(), "–", "HyA has encoders only (the paper, III-B): velocity from their difference"),
         row("velocity_cutoff_rad_s", format!("{}", s.velocity_cutoff_rad_s), "rad/s", "our choice"),

@@ -1,0 +1,368 @@
+//! The paper's claims as data: each a rule on the metrics over seeds, fixed here before any run,
+//! with a threshold and a margin. A claim's verdict is an output of the report; no test asserts
+//! one (tests check that the rules evaluate correctly on tables built to pass or fail them).
+//!
+//! A rule's value is computed per seed and joint (a metric, or the ratio of two metrics of the
+//! same seed). At a joint the rule holds when the whole 95 % interval of the mean over seeds
+//! lies beyond the threshold by the margin: `mean + ci < threshold − margin` (below) or
+//! `mean − ci > threshold + margin` (above). The claim is reproduced when it holds on every joint
+//! it names (or on the number it needs), partly when on some, not reproduced when on none.
+
+use serde::Serialize;
+
+use crate::scenario::Method;
+use crate::seeds::{mean_ci95, MetricTable};
+
+/// One metric of one method's runs of one scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Source {
+    /// The scenario.
+    pub scenario: &'static str,
+    /// The method.
+    pub method: Method,
+    /// The metric's name (see [`crate::Metrics::named`]).
+    pub metric: &'static str,
+}
+
+/// What a rule measures, per seed and joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Quantity {
+    /// The metric itself.
+    Metric(Source),
+    /// The first over the second, seed by seed.
+    Ratio(Source, Source),
+}
+
+/// Which side of the threshold the claim needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// Below the threshold.
+    Below,
+    /// Above it.
+    Above,
+}
+
+/// On how many of the named joints the rule must hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Need {
+    /// Every one.
+    All,
+    /// At least this many.
+    AtLeast(usize),
+}
+
+/// A claim of the paper and the rule that judges it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rule {
+    /// Short identifier.
+    pub id: &'static str,
+    /// The claim, in the paper's sense.
+    pub statement: &'static str,
+    /// The paper's section.
+    pub section: &'static str,
+    /// What the paper shows for it.
+    pub paper: &'static str,
+    /// What is measured.
+    pub quantity: Quantity,
+    /// The joints it is judged on (0-based).
+    pub joints: &'static [usize],
+    /// The side of the threshold the claim needs.
+    pub side: Side,
+    /// The threshold.
+    pub threshold: f64,
+    /// The margin the 95 % interval must clear the threshold by.
+    pub margin: f64,
+    /// On how many joints it must hold.
+    pub need: Need,
+}
+
+/// A rule's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Verdict {
+    /// It holds wherever the claim needs it.
+    #[serde(rename = "reproduced")]
+    Reproduced,
+    /// It holds on some joints only.
+    #[serde(rename = "partly")]
+    Partly,
+    /// It holds on none.
+    #[serde(rename = "not reproduced")]
+    NotReproduced,
+    /// A run it needs is missing.
+    #[serde(rename = "not run")]
+    NotRun,
+}
+
+/// The figures behind a verdict at one joint.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointFigure {
+    /// The joint, from 1.
+    pub joint: usize,
+    /// Mean over seeds.
+    pub mean: f64,
+    /// Half-width of its 95 % interval.
+    pub ci95: f64,
+    /// Whether the rule holds there.
+    pub holds: bool,
+}
+
+/// A judged claim, as `summary.json` holds it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Judgement {
+    /// The rule's identifier.
+    pub id: &'static str,
+    /// The claim.
+    pub statement: &'static str,
+    /// The paper's section.
+    pub section: &'static str,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Per judged joint: mean, interval, whether it holds.
+    pub numbers: Vec<JointFigure>,
+    /// Seeds the figures rest on.
+    pub seeds: usize,
+}
+
+const ALL: &[usize] = &[0, 1, 2, 3, 4, 5];
+
+const fn source(scenario: &'static str, method: Method, metric: &'static str) -> Source {
+    Source { scenario, method, metric }
+}
+
+const fn compensation_lowers_rmse(id: &'static str, scenario: &'static str, section: &'static str) -> Rule {
+    Rule {
+        id,
+        statement: "compensation lowers the tracking RMSE on every joint (RMSE(lu) / RMSE(none) below 0.9)",
+        section,
+        paper: "lower RMSE on all six joints",
+        quantity: Quantity::Ratio(source(scenario, Method::Lu, "rmse_q"), source(scenario, Method::None, "rmse_q")),
+        joints: ALL,
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.1,
+        need: Need::All,
+    }
+}
+
+const fn weight_kept_near(id: &'static str, scenario: &'static str, section: &'static str) -> Rule {
+    Rule {
+        id,
+        statement: "with the weight on, compensation keeps joints 2 and 4 nearer their reference (mean |e| of lu / none below 0.9)",
+        section,
+        paper: "joints 2 and 4 recover and keep tracking; without compensation they drop",
+        quantity: Quantity::Ratio(
+            source(scenario, Method::Lu, "weight_error_q"),
+            source(scenario, Method::None, "weight_error_q"),
+        ),
+        joints: &[1, 3],
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.1,
+        need: Need::All,
+    }
+}
+
+/// Every claim the report judges.
+pub const RULES: &[Rule] = &[
+    compensation_lowers_rmse("goto_internal_rmse", "goto_internal", "VI-A"),
+    compensation_lowers_rmse("sine_internal_rmse", "sine_internal", "VI-B"),
+    compensation_lowers_rmse("goto_weight_rmse", "goto_weight", "VI-C"),
+    compensation_lowers_rmse("sine_weight_rmse", "sine_weight", "VI-D"),
+    weight_kept_near("goto_weight_joints_2_4", "goto_weight", "VI-C"),
+    weight_kept_near("sine_weight_joints_2_4", "sine_weight", "VI-D"),
+    Rule {
+        id: "goto_weight_recovery",
+        statement: "after the drop, the compensated joints 2 and 4 recover within 1 s (|e| back within twice its pre-drop level)",
+        section: "VI-C",
+        paper: "the joints deviate, then quickly recover",
+        quantity: Quantity::Metric(source("goto_weight", Method::Lu, "drop_recovery_s")),
+        joints: &[1, 3],
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "lu_noise_insensitive",
+        statement: "the paper's estimate is hardly affected by velocity-sensor noise (RMSE(d̂ − d) grows by less than 25 % from σ_q̇ = 0.01 to 0.1 rad/s)",
+        section: "V",
+        paper: "robust to noise; the estimate is accurate despite the higher noise",
+        quantity: Quantity::Ratio(
+            source("estimator_noise_high", Method::Lu, "rmse_d"),
+            source("estimator_noise_low", Method::Lu, "rmse_d"),
+        ),
+        joints: ALL,
+        side: Side::Below,
+        threshold: 1.25,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "chen_noise_sensitive",
+        statement: "Chen's observer is sensitive to velocity noise (RMSE(d̂ − d) at least doubles from σ_q̇ = 0.01 to 0.1 rad/s)",
+        section: "V",
+        paper: "sensitive to noise",
+        quantity: Quantity::Ratio(
+            source("estimator_noise_high", Method::Chen, "rmse_d"),
+            source("estimator_noise_low", Method::Chen, "rmse_d"),
+        ),
+        joints: ALL,
+        side: Side::Above,
+        threshold: 2.0,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "lu_beats_chen_high_noise",
+        statement: "under high velocity noise the paper's estimate is more accurate than Chen's (RMSE ratio lu / chen below 0.9)",
+        section: "V",
+        paper: "more accurate under noise",
+        quantity: Quantity::Ratio(
+            source("estimator_noise_high", Method::Lu, "rmse_d"),
+            source("estimator_noise_high", Method::Chen, "rmse_d"),
+        ),
+        joints: ALL,
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.1,
+        need: Need::All,
+    },
+    Rule {
+        id: "chen_cannot_track_low_noise",
+        statement: "at σ_q̇ = 0.01 rad/s Chen's estimate cannot track the disturbance on several joints (RMSE(d̂ − d) above half the disturbance's RMS on at least two joints)",
+        section: "V",
+        paper: "several estimates can not track the real disturbances",
+        quantity: Quantity::Metric(source("estimator_noise_low", Method::Chen, "relative_rmse_d")),
+        joints: ALL,
+        side: Side::Above,
+        threshold: 0.5,
+        margin: 0.0,
+        need: Need::AtLeast(2),
+    },
+    Rule {
+        id: "disturbance_changes_after_setpoint",
+        statement: "the estimated disturbance changes after the setpoint is reached (static friction varies with position): |Δ mean d̂| above 0.5 N·m on at least two joints",
+        section: "VI-A",
+        paper: "the internal disturbances change significantly after the setpoint",
+        quantity: Quantity::Metric(source("goto_internal", Method::Lu, "estimate_shift")),
+        joints: ALL,
+        side: Side::Above,
+        threshold: 0.5,
+        margin: 0.0,
+        need: Need::AtLeast(2),
+    },
+    Rule {
+        id: "none_misses_reference",
+        statement: "without compensation no joint reaches its reference (steady error above 2 mrad on every joint)",
+        section: "VI-A",
+        paper: "none of the joints reached the desired reference",
+        quantity: Quantity::Metric(source("goto_internal", Method::None, "steady_error_q")),
+        joints: ALL,
+        side: Side::Above,
+        threshold: 2e-3,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "weight_helps_uncompensated_joint_2",
+        statement: "with the weight on, the uncompensated joint 2 tracks better than before the drop (internal and external disturbances cancel)",
+        section: "VI-C",
+        paper: "joint 2 tracks better after the weight is dropped",
+        quantity: Quantity::Ratio(
+            source("goto_weight", Method::None, "weight_error_q"),
+            source("goto_weight", Method::None, "pre_drop_error_q"),
+        ),
+        joints: &[1],
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "friction_opposes_motion",
+        statement: "the estimated disturbance opposes the joint velocity (correlation of d̂ with q̇ below −0.3 on every joint)",
+        section: "VI-B",
+        paper: "all the disturbances show opposite direction to the joint motion",
+        quantity: Quantity::Metric(source("sine_internal", Method::Lu, "estimate_velocity_correlation")),
+        joints: ALL,
+        side: Side::Below,
+        threshold: -0.3,
+        margin: 0.0,
+        need: Need::All,
+    },
+    Rule {
+        id: "friction_has_a_bias",
+        statement: "the estimated disturbance has a non-zero mean (|mean d̂| above 0.2 N·m on at least four joints)",
+        section: "VI-B",
+        paper: "the mean of the disturbance is not zero (static friction)",
+        quantity: Quantity::Metric(source("sine_internal", Method::Lu, "estimate_mean_abs")),
+        joints: ALL,
+        side: Side::Above,
+        threshold: 0.2,
+        margin: 0.0,
+        need: Need::AtLeast(4),
+    },
+    Rule {
+        id: "oscillations_joints_3_5_6",
+        statement: "joints 3, 5 and 6 keep slight oscillations with compensation (peak-to-peak error over the last 5 s above 0.5 mrad)",
+        section: "VI-A",
+        paper: "slight oscillations in joints 3, 5 and 6",
+        quantity: Quantity::Metric(source("goto_internal", Method::Lu, "limit_cycle_q")),
+        joints: &[2, 4, 5],
+        side: Side::Above,
+        threshold: 5e-4,
+        margin: 0.0,
+        need: Need::All,
+    },
+];
+
+/// The per-seed, per-joint values of `quantity`, or `None` where a run is missing.
+fn values(quantity: &Quantity, table: &MetricTable) -> Option<Vec<Vec<f64>>> {
+    let get = |s: &Source| table.values(s.scenario, s.method, s.metric);
+    match quantity {
+        Quantity::Metric(s) => get(s),
+        Quantity::Ratio(a, b) => {
+            let (a, b) = (get(a)?, get(b)?);
+            Some(a.iter().zip(&b).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p / q).collect()).collect())
+        }
+    }
+}
+
+/// Judges `rule` on `table`.
+pub fn judge(rule: &Rule, table: &MetricTable) -> Judgement {
+    let mut judgement = Judgement {
+        id: rule.id,
+        statement: rule.statement,
+        section: rule.section,
+        verdict: Verdict::NotRun,
+        numbers: Vec::new(),
+        seeds: 0,
+    };
+    let Some(per_seed) = values(&rule.quantity, table).filter(|v| !v.is_empty()) else { return judgement };
+    judgement.seeds = per_seed.len();
+    for &j in rule.joints {
+        let samples: Vec<f64> = per_seed.iter().filter_map(|v| v.get(j).copied()).collect();
+        let (mean, ci95) = mean_ci95(&samples);
+        let holds = match rule.side {
+            Side::Below => mean + ci95 < rule.threshold - rule.margin,
+            Side::Above => mean - ci95 > rule.threshold + rule.margin,
+        };
+        judgement.numbers.push(JointFigure { joint: j + 1, mean, ci95, holds });
+    }
+    let holding = judgement.numbers.iter().filter(|f| f.holds).count();
+    let needed = match rule.need {
+        Need::All => rule.joints.len(),
+        Need::AtLeast(k) => k,
+    };
+    judgement.verdict = match holding {
+        h if h >= needed => Verdict::Reproduced,
+        0 => Verdict::NotReproduced,
+        _ => Verdict::Partly,
+    };
+    judgement
+}
+
+/// Every rule of [`RULES`] judged on `table`.
+pub fn judge_all(table: &MetricTable) -> Vec<Judgement> {
+    RULES.iter().map(|r| judge(r, table)).collect()
+}

@@ -1,0 +1,139 @@
+//! Every method of every scenario over many seeds, spread over the machine's cores, and the
+//! per-joint means and 95 % intervals of their metrics.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use crate::metrics::Metrics;
+use crate::run::RunOutcome;
+use crate::scenario::{Method, Scenario};
+use crate::{run_method, SimError, JOINTS};
+
+/// The metrics of every run, by scenario and method, one entry per seed in seed order.
+#[derive(Debug, Clone, Default)]
+pub struct MetricTable {
+    runs: BTreeMap<(String, Method), Vec<Metrics>>,
+}
+
+impl MetricTable {
+    /// Adds one seed's metrics of `method` on `scenario` (seeds in order).
+    pub fn push(&mut self, scenario: &str, method: Method, metrics: Metrics) {
+        self.runs.entry((scenario.to_owned(), method)).or_default().push(metrics);
+    }
+
+    /// Per seed, the per-joint values of `metric`; `None` where the run or the metric is missing.
+    pub fn values(&self, scenario: &str, method: Method, metric: &str) -> Option<Vec<Vec<f64>>> {
+        let runs = self.runs.get(&(scenario.to_owned(), method))?;
+        runs.iter().map(|m| m.named().into_iter().find(|(name, _)| *name == metric).map(|(_, v)| v.to_vec())).collect()
+    }
+
+    /// How many seeds `method` ran on `scenario`.
+    pub fn seeds(&self, scenario: &str, method: Method) -> usize {
+        self.runs.get(&(scenario.to_owned(), method)).map_or(0, Vec::len)
+    }
+}
+
+/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom.
+fn student_t_975(df: usize) -> f64 {
+    const TABLE: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
+    ];
+    match df {
+        0 => f64::INFINITY,
+        1..=30 => TABLE[df - 1],
+        _ => 1.96 + 2.4 / df as f64,
+    }
+}
+
+/// The mean of `samples` and the half-width of its 95 % confidence interval (Student's t; an
+/// infinite half-width for a single sample).
+pub fn mean_ci95(samples: &[f64]) -> (f64, f64) {
+    let n = samples.len();
+    if n == 0 {
+        return (f64::NAN, f64::INFINITY);
+    }
+    let mean = samples.iter().sum::<f64>() / n as f64;
+    if n == 1 {
+        return (mean, f64::INFINITY);
+    }
+    let variance = samples.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1) as f64;
+    (mean, student_t_975(n - 1) * (variance / n as f64).sqrt())
+}
+
+/// Per joint, the mean and 95 % half-width over seeds of `values[seed][joint]`.
+pub fn per_joint_mean_ci95(values: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
+    let joints = values.first().map_or(0, Vec::len);
+    (0..joints).map(|j| mean_ci95(&values.iter().map(|v| v[j]).collect::<Vec<_>>())).unzip()
+}
+
+/// The runs of every scenario and method over `seeds` seeds (the scenario's seed and the next
+/// ones): the first seed's runs with their traces (for figures), and every run's metrics.
+/// `progress` is told each finished run's simulated seconds.
+pub fn run_seeds(
+    scenarios: &[Scenario],
+    seeds: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<(Vec<RunOutcome<JOINTS>>, MetricTable), SimError> {
+    let jobs: Vec<(usize, Method, usize)> = scenarios
+        .iter()
+        .enumerate()
+        .flat_map(|(i, s)| s.methods.iter().flat_map(move |&m| (0..seeds).map(move |k| (i, m, k))))
+        .collect();
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<(usize, Result<RunOutcome<JOINTS>, SimError>)>> = Mutex::new(Vec::with_capacity(jobs.len()));
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let index = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&(i, method, k)) = jobs.get(index) else { break };
+                let mut scenario = scenarios[i].clone();
+                scenario.seed = scenario.seed.wrapping_add(k as u64);
+                let mut outcome = run_method(&scenario, method);
+                if let (Ok(o), true) = (outcome.as_mut(), k > 0) {
+                    o.trace = Default::default(); // only the first seed's traces are kept
+                }
+                progress(scenario.duration_s);
+                if let Ok(mut all) = results.lock() {
+                    all.push((index, outcome));
+                }
+            });
+        }
+    });
+    let mut results = results.into_inner().map_err(|_| SimError::Numerical("a simulation thread panicked".into()))?;
+    results.sort_by_key(|(index, _)| *index);
+    let mut table = MetricTable::default();
+    let mut first = Vec::new();
+    for (index, outcome) in results {
+        let (i, method, k) = jobs[index];
+        let outcome = outcome.map_err(|e| {
+            SimError::Numerical(format!(
+                "{} / {} / seed {}: {e}",
+                scenarios[i].name,
+                method.name(),
+                scenarios[i].seed.wrapping_add(k as u64)
+            ))
+        })?;
+        table.push(&outcome.scenario, method, outcome.metrics.clone());
+        if k == 0 {
+            first.push(outcome);
+        }
+    }
+    Ok((first, table))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn intervals_follow_student_t() {
+        // Samples 1..=5: mean 3, s = √2.5, t(4) = 2.776.
+        let (mean, half) = mean_ci95(&[1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert!((mean - 3.0).abs() < 1e-15);
+        assert!((half - 2.776 * (2.5f64 / 5.0).sqrt()).abs() < 1e-12);
+        assert!(mean_ci95(&[1.0]).1.is_infinite(), "one sample has no interval");
+    }
+}

@@ -1,0 +1,134 @@
+//! The claim rules evaluate correctly on metric tables built to pass, fail or split them: the
+//! machinery, never a verdict on the simulation.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+use hya_sim::claims::{judge, Need, Quantity, Rule, Side, Source, Verdict, RULES};
+use hya_sim::seeds::MetricTable;
+use hya_sim::{Method, Metrics};
+
+/// Metrics whose `rmse_q` is `values` (every other metric zero or absent).
+fn with_rmse(values: [f64; 6]) -> Metrics {
+    Metrics {
+        rmse_q: values.to_vec(),
+        rmse_d: None,
+        relative_rmse_d: None,
+        tau_cmd_noise: vec![0.0; 6],
+        max_abs_error_q: vec![0.0; 6],
+        steady_error_q: vec![0.0; 6],
+        limit_cycle_q: vec![0.0; 6],
+        weight_error_q: None,
+        pre_drop_error_q: None,
+        drop_recovery_s: None,
+        removal_recovery_s: None,
+        estimate_shift: None,
+        estimate_velocity_correlation: None,
+        estimate_mean_abs: None,
+    }
+}
+
+/// 20 seeds of `none` at RMSE 1 (± a little) and `lu` at `ratio` × that, per joint.
+fn table(ratio: [f64; 6], spread: f64) -> MetricTable {
+    let mut table = MetricTable::default();
+    for seed in 0..20 {
+        let wobble = spread * if seed % 2 == 0 { 1.0 } else { -1.0 };
+        let none = [1.0 + wobble; 6];
+        table.push("goto_internal", Method::None, with_rmse(none));
+        table.push("goto_internal", Method::Lu, with_rmse(std::array::from_fn(|j| none[j] * ratio[j])));
+    }
+    table
+}
+
+fn rmse_rule() -> &'static Rule {
+    RULES.iter().find(|r| r.id == "goto_internal_rmse").unwrap()
+}
+
+#[test]
+fn a_table_built_to_pass_passes() {
+    let judged = judge(rmse_rule(), &table([0.5; 6], 0.05));
+    assert_eq!(judged.verdict, Verdict::Reproduced);
+    assert_eq!(judged.seeds, 20);
+    assert!(judged.numbers.iter().all(|f| f.holds && (f.mean - 0.5).abs() < 1e-12));
+}
+
+#[test]
+fn a_table_built_to_fail_fails_and_the_margin_counts() {
+    // Lower, but not by the 10 % margin.
+    let judged = judge(rmse_rule(), &table([0.95; 6], 0.05));
+    assert_eq!(judged.verdict, Verdict::NotReproduced);
+    // Worse.
+    assert_eq!(judge(rmse_rule(), &table([1.2; 6], 0.05)).verdict, Verdict::NotReproduced);
+}
+
+#[test]
+fn a_split_table_is_partly_reproduced_and_names_the_joints() {
+    let judged = judge(rmse_rule(), &table([0.5, 0.5, 0.5, 1.1, 1.1, 1.1], 0.05));
+    assert_eq!(judged.verdict, Verdict::Partly);
+    let holding: Vec<usize> = judged.numbers.iter().filter(|f| f.holds).map(|f| f.joint).collect();
+    assert_eq!(holding, [1, 2, 3]);
+}
+
+#[test]
+fn a_wide_interval_does_not_hold() {
+    // Mean ratio 0.85 (below 0.9), but the seeds disagree wildly about it.
+    let mut table = MetricTable::default();
+    for seed in 0..20 {
+        let lu = if seed % 2 == 0 { 0.2 } else { 1.5 };
+        table.push("goto_internal", Method::None, with_rmse([1.0; 6]));
+        table.push("goto_internal", Method::Lu, with_rmse([lu; 6]));
+    }
+    let judged = judge(rmse_rule(), &table);
+    assert!((judged.numbers[0].mean - 0.85).abs() < 1e-12);
+    assert_eq!(judged.verdict, Verdict::NotReproduced, "{judged:?}");
+}
+
+#[test]
+fn missing_runs_are_not_run_and_at_least_counts() {
+    assert_eq!(judge(rmse_rule(), &MetricTable::default()).verdict, Verdict::NotRun);
+    let two_of_six = Rule {
+        id: "test",
+        statement: "at least two joints above 0.5",
+        section: "-",
+        paper: "-",
+        quantity: Quantity::Metric(Source { scenario: "goto_internal", method: Method::Lu, metric: "rmse_q" }),
+        joints: &[0, 1, 2, 3, 4, 5],
+        side: Side::Above,
+        threshold: 0.5,
+        margin: 0.0,
+        need: Need::AtLeast(2),
+    };
+    let table = table([1.0, 1.0, 0.1, 0.1, 0.1, 0.1], 0.01);
+    assert_eq!(judge(&two_of_six, &table).verdict, Verdict::Reproduced);
+    let table_one = self::table([1.0, 0.1, 0.1, 0.1, 0.1, 0.1], 0.01);
+    assert_eq!(judge(&two_of_six, &table_one).verdict, Verdict::Partly);
+}
+
+#[test]
+fn every_rule_names_metrics_the_runs_have() {
+    let names: Vec<&str> = with_rmse([0.0; 6]).named().iter().map(|(n, _)| *n).collect();
+    let optional = [
+        "rmse_d",
+        "relative_rmse_d",
+        "weight_error_q",
+        "pre_drop_error_q",
+        "drop_recovery_s",
+        "removal_recovery_s",
+        "estimate_shift",
+        "estimate_velocity_correlation",
+        "estimate_mean_abs",
+    ];
+    for rule in RULES {
+        let sources = match rule.quantity {
+            Quantity::Metric(s) => vec![s],
+            Quantity::Ratio(a, b) => vec![a, b],
+        };
+        for s in sources {
+            assert!(
+                names.contains(&s.metric) || optional.contains(&s.metric),
+                "{}: unknown metric {}",
+                rule.id,
+                s.metric
+            );
+            assert!(hya_sim::Scenario::builtin(s.scenario).is_ok(), "{}: unknown scenario {}", rule.id, s.scenario);
+        }
+    }
+}

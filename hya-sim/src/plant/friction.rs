@@ -52,10 +52,11 @@ impl PositionProfile {
         }
     }
 
-    /// `p(q)`.
+    /// `p(q)` (with hya-core's polynomial `sin`, within 2 ulp of libm's and several times
+    /// faster: the plant evaluates this for every joint at every integrator stage).
     pub fn at(&self, q: f64) -> f64 {
         let wave: f64 = (0..PROFILE_HARMONICS)
-            .map(|k| self.weights[k] * (self.wavenumbers_per_rad[k] * q + self.phases[k]).sin())
+            .map(|k| self.weights[k] * hya_core::sin_cos(self.wavenumbers_per_rad[k] * q + self.phases[k]).0)
             .sum();
         1.0 + self.amplitude * wave
     }

@@ -28,6 +28,18 @@ pub enum Error {
         /// The offending value.
         value: f64,
     },
+    /// A finite sample beyond the filter's input range ([`MAX_FILTER_INPUT`](crate::MAX_FILTER_INPUT)):
+    /// accepting it could overflow the filter's states, or an estimate computed from them, for
+    /// good.
+    #[error("{signal}[{index}] = {value} is too large: beyond ±1e12, the filter's input range; the input was rejected and the state kept")]
+    Overflow {
+        /// Which signal (`q_m`, `tau_m`, `u`).
+        signal: &'static str,
+        /// The channel index within that signal.
+        index: usize,
+        /// The offending sample.
+        value: f64,
+    },
     /// An observer needs a measurement the caller did not provide.
     #[error("this observer needs the measurement `{signal}`, which was not given")]
     MissingMeasurement {

@@ -38,7 +38,11 @@
 
 use nalgebra::{Complex, Matrix3, SMatrix, Vector3};
 
-use crate::finite::{check, positive};
+use crate::finite::{check, discretisable, positive};
+
+/// The largest magnitude a filter accepts as input: no angle in rad or torque in N·m comes near
+/// it, and with it the states, and estimates computed from them, stay far from overflow.
+pub const MAX_FILTER_INPUT: f64 = 1e12;
 use crate::linalg::matrix_exponential;
 use crate::{Error, JointVector};
 
@@ -52,13 +56,19 @@ pub struct FilterParams {
 }
 
 impl FilterParams {
-    /// Checks that every parameter is finite and strictly positive.
+    /// Checks that every parameter is finite and strictly positive, that `ζ ≤ 100`, and that
+    /// `ω1 · dt` and `ω2 · dt` are at most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT).
     pub fn new(zeta: f64, omega1_rad_s: f64, omega2_rad_s: f64, dt_s: f64) -> Result<Self, Error> {
+        let dt_s = positive("dt_s", dt_s)?;
+        let zeta = positive("zeta", zeta)?;
+        if zeta > 100.0 {
+            return Err(Error::InvalidParameter { name: "zeta", value: zeta, requirement: "at most 100" });
+        }
         Ok(Self {
-            zeta: positive("zeta", zeta)?,
-            omega1_rad_s: positive("omega1_rad_s", omega1_rad_s)?,
-            omega2_rad_s: positive("omega2_rad_s", omega2_rad_s)?,
-            dt_s: positive("dt_s", dt_s)?,
+            zeta,
+            omega1_rad_s: discretisable("omega1_rad_s", omega1_rad_s, dt_s)?,
+            omega2_rad_s: discretisable("omega2_rad_s", omega2_rad_s, dt_s)?,
+            dt_s,
         })
     }
 
@@ -209,9 +219,15 @@ impl<const N: usize> ThirdOrderFilter<N> {
 
     /// The state one sample ahead for the new input `u`, without committing it.
     ///
-    /// `signal` names the input in the error if `u` is not finite.
+    /// `signal` names the input in the error if `u` is not finite ([`Error::NonFinite`]), or
+    /// beyond [`MAX_FILTER_INPUT`] ([`Error::Overflow`]). The filter is stable, so inputs within
+    /// that range keep every state bounded by a fixed multiple of it: every state it returns is
+    /// finite, and so is every later one.
     pub fn peek(&self, signal: &'static str, u: &JointVector<N>) -> Result<FilterState<N>, Error> {
         check(signal, u)?;
+        if let Some(index) = u.iter().position(|x| x.abs() > MAX_FILTER_INPUT) {
+            return Err(Error::Overflow { signal, index, value: u[index] });
+        }
         let (phi, now, next) = (&self.transition, &self.input_now, &self.input_next);
         let s = &self.state;
         let mut out = FilterState::<N>::at_rest(JointVector::zeros());
@@ -224,6 +240,9 @@ impl<const N: usize> ThirdOrderFilter<N> {
                 )
             };
             (out.x1[j], out.x2[j], out.x3[j]) = (row(0), row(1), row(2));
+            if !(out.x1[j].is_finite() && out.x2[j].is_finite() && out.x3[j].is_finite()) {
+                return Err(Error::Overflow { signal, index: j, value: sample });
+            }
         }
         Ok(out)
     }

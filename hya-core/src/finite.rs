@@ -18,3 +18,22 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, Error> {
         Err(Error::InvalidParameter { name, value, requirement: "finite and > 0" })
     }
 }
+
+/// The largest `rate × dt` a discretised filter or observer accepts: 100 is thirty times the
+/// Nyquist limit `π`, far beyond any useful design, and keeps the matrix exponential's scaling
+/// to about twenty squarings (an unbounded product would make it loop for minutes, then overflow).
+pub const MAX_RATE_TIMES_DT: f64 = 100.0;
+
+/// `Ok(rate)` if `rate` is finite, positive and `rate × dt ≤` [`MAX_RATE_TIMES_DT`].
+pub(crate) fn discretisable(name: &'static str, rate: f64, dt: f64) -> Result<f64, Error> {
+    let rate = positive(name, rate)?;
+    if rate * dt <= MAX_RATE_TIMES_DT {
+        Ok(rate)
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value: rate,
+            requirement: "such that it times dt_s is at most 100 (thirty times the Nyquist limit)",
+        })
+    }
+}

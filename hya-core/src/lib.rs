@@ -42,7 +42,8 @@ pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
-pub use filter::{FilterParams, FilterState, ThirdOrderFilter};
+pub use filter::{FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
+pub use finite::MAX_RATE_TIMES_DT;
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };

@@ -8,7 +8,9 @@ use nalgebra::SMatrix;
 /// truncation error below `0.5^21 / 21!` (far under one ulp), then squared `s` times.
 pub(crate) fn matrix_exponential<const D: usize>(a: &SMatrix<f64, D, D>) -> SMatrix<f64, D, D> {
     let norm = a.row_iter().map(|row| row.iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max);
-    let squarings = if norm > 0.5 { libm::ceil(libm::log2(norm / 0.5)) as i32 } else { 0 };
+    // Callers bound `rate × dt` (`MAX_RATE_TIMES_DT`), which needs about twenty squarings; the
+    // clamp keeps even a non-finite matrix from looping 2³¹ times.
+    let squarings = if norm > 0.5 { libm::ceil(libm::log2(norm / 0.5)).min(64.0) as i32 } else { 0 };
     let scaled = a * libm::exp2(-f64::from(squarings));
     let mut term = SMatrix::<f64, D, D>::identity();
     let mut sum = term;

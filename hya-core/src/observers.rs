@@ -14,7 +14,7 @@
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-use crate::finite::{check, positive};
+use crate::finite::{check, discretisable, positive};
 use crate::linalg::matrix_exponential;
 use crate::{DisturbanceEstimator, Dynamics, Error, JointMatrix, JointVector};
 
@@ -201,10 +201,10 @@ impl<const N: usize, D: Dynamics<N>> MomentumObserver<N, D> {
         qd0: JointVector<N>,
         tau0: JointVector<N>,
     ) -> Result<Self, Error> {
-        for &k in gain.iter() {
-            positive("gain", k)?;
-        }
         let dt = positive("dt_s", dt_s)?;
+        for &k in gain.iter() {
+            discretisable("gain", k, dt)?;
+        }
         let initial = Measurement { position: q0, velocity: Some(qd0), torque: tau0 };
         initial.checked()?;
         let decay = gain.map(|k| libm::exp(-k * dt));
@@ -280,8 +280,8 @@ pub struct ExtendedStateObserver<const N: usize, D> {
 impl<const N: usize, D: Dynamics<N>> ExtendedStateObserver<N, D> {
     /// An observer with bandwidth `ω` (rad/s) at sample time `dt`, started at `z = (q0, 0, 0)`.
     pub fn new(dynamics: D, bandwidth_rad_s: f64, dt_s: f64, q0: JointVector<N>) -> Result<Self, Error> {
-        let w = positive("bandwidth_rad_s", bandwidth_rad_s)?;
         let dt = positive("dt_s", dt_s)?;
+        let w = discretisable("bandwidth_rad_s", bandwidth_rad_s, dt)?;
         check("q0", &q0)?;
         let (b1, b2, b3) = (3.0 * w, 3.0 * w * w, w * w * w);
         let mut augmented = SMatrix::<f64, 5, 5>::zeros();

@@ -61,6 +61,9 @@ fn default_quick_time_scale() -> f64 {
     0.3
 }
 
+/// Most control ticks a run may take: an hour at 1 kHz (every tick's trace is kept in memory).
+pub const MAX_TICKS: usize = 3_600_000;
+
 /// Longest scenario name, in characters.
 pub const MAX_NAME_LEN: usize = 64;
 
@@ -122,7 +125,7 @@ impl Method {
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Task {
     /// Hold the initial pose.
-    Hold,
+    Hold {},
     /// Hold, then move to `start + delta` with a minimum-jerk transition starting at `start_s`.
     Goto {
         /// When the move starts, s.
@@ -397,7 +400,7 @@ impl Default for HydraulicConfig {
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Noise {
     /// None.
-    Off,
+    Off {},
     /// Uniform in `[−bound, bound]`.
     Uniform {
         /// The bound.
@@ -482,6 +485,39 @@ const BUILTIN: [(&str, &str); 6] = [
     ("estimator_noise_high", include_str!("../scenarios/estimator_noise_high.toml")),
 ];
 
+/// `Ok` if `v` is finite and `lo ≤ v ≤ hi`; the error names the key.
+fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(format!("{name} = {v}: must be finite, between {lo} and {hi}"))
+    }
+}
+
+impl Task {
+    /// Checks every number of the task against the run's `duration`.
+    fn validate(&self, duration: f64) -> Result<(), String> {
+        match self {
+            Task::Hold {} => Ok(()),
+            Task::Goto { start_s, transition_s, delta_rad } => {
+                within("task.start_s", *start_s, 0.0, duration)?;
+                within("task.transition_s", *transition_s, 1e-3, 1e4)?;
+                for (i, d) in delta_rad.iter().enumerate() {
+                    within(&format!("task.delta_rad[{i}]"), *d, -std::f64::consts::TAU, std::f64::consts::TAU)?;
+                }
+                Ok(())
+            }
+            Task::Sine { amplitude_rad, frequency_hz, ramp_s } => {
+                for (i, a) in amplitude_rad.iter().enumerate() {
+                    within(&format!("task.amplitude_rad[{i}]"), *a, -std::f64::consts::TAU, std::f64::consts::TAU)?;
+                }
+                within("task.frequency_hz", *frequency_hz, 1e-6, 100.0)?;
+                within("task.ramp_s", *ramp_s, 0.0, 1e4)
+            }
+        }
+    }
+}
+
 impl Scenario {
     /// Parses and checks a scenario; `source` names it in errors.
     pub fn from_toml(text: &str, source: &str) -> Result<Self, SimError> {
@@ -529,17 +565,61 @@ impl Scenario {
             }
         };
         check_file_stem(&self.name).map_err(|why| format!("name {:?}: {why}", self.name))?;
-        positive("duration_s", self.duration_s)?;
-        positive("controller.dt_s", self.controller.dt_s)?;
+        let dt = self.controller.dt_s;
+        within("controller.dt_s", dt, 1e-5, 0.1)?;
+        positive("controller.dt_s", dt)?;
+        if !(self.duration_s.is_finite() && self.duration_s > crate::metrics::WARM_UP_S + dt) {
+            return Err(format!(
+                "duration_s = {}: must be longer than the {} s warm-up the metrics skip, plus one tick",
+                self.duration_s,
+                crate::metrics::WARM_UP_S
+            ));
+        }
+        if self.duration_s / dt > MAX_TICKS as f64 {
+            return Err(format!(
+                "duration_s / controller.dt_s = {:.0} ticks: at most {MAX_TICKS} (an hour at 1 kHz; each tick's trace is kept)",
+                self.duration_s / dt
+            ));
+        }
         positive("controller.observer_bandwidth_rad_s", self.controller.observer_bandwidth_rad_s)?;
+        within(
+            "controller.observer_bandwidth_rad_s × controller.dt_s",
+            self.controller.observer_bandwidth_rad_s * dt,
+            0.0,
+            hya_core::MAX_RATE_TIMES_DT,
+        )?;
         positive("controller.friction_error_rad", self.controller.friction_error_rad)?;
         positive("controller.max_natural_frequency_rad_s", self.controller.max_natural_frequency_rad_s)?;
         positive("controller.integral_zero_ratio", self.controller.integral_zero_ratio)?;
-        positive("controller.damping_ratio", self.controller.damping_ratio)?;
-        positive("quick_time_scale", self.quick_time_scale)?;
+        within("controller.damping_ratio", self.controller.damping_ratio, 0.05, 10.0)?;
+        within("quick_time_scale", self.quick_time_scale, 1e-3, 1.0)?;
+        within("plant.parameter_spread", self.plant.parameter_spread, 0.0, 0.9)?;
         positive("plant.smoothing_rad_s", self.plant.smoothing_rad_s)?;
         positive("plant.stribeck_velocity_rad_s", self.plant.stribeck_velocity_rad_s)?;
         positive("sensors.velocity_cutoff_rad_s", self.sensors.velocity_cutoff_rad_s)?;
+        if let Some(q0) = &self.initial_position_rad {
+            for (i, q) in q0.iter().enumerate() {
+                within(&format!("initial_position_rad[{i}]"), *q, -100.0, 100.0)?;
+            }
+        }
+        self.task.validate(self.duration_s)?;
+        for (name, noise) in [
+            ("noise.position", self.noise.position),
+            ("noise.velocity", self.noise.velocity),
+            ("noise.torque", self.noise.torque),
+        ] {
+            match noise {
+                Noise::Off {} => {}
+                Noise::Uniform { bound } => within(&format!("{name}.bound"), bound, 0.0, 1e3)?,
+                Noise::Gaussian { sigma } => within(&format!("{name}.sigma"), sigma, 0.0, 1e3)?,
+            }
+        }
+        if let Some(s) = &self.loads.sinusoid {
+            for (i, a) in s.amplitude_nm.iter().enumerate() {
+                within(&format!("loads.sinusoid.amplitude_nm[{i}]"), *a, -1e4, 1e4)?;
+            }
+            within("loads.sinusoid.frequency_hz", s.frequency_hz, 1e-6, 1e3)?;
+        }
         if !(self.sensors.pressure_noise_pa.is_finite() && self.sensors.pressure_noise_pa >= 0.0) {
             return Err(format!(
                 "sensors.pressure_noise_pa must be finite and ≥ 0, got {}",
@@ -561,15 +641,17 @@ impl Scenario {
         if self.sensors.measurement_delay_ticks > 100 || self.sensors.command_delay_ticks > 100 {
             return Err("sensors: a delay of more than 100 ticks is not a plausible control loop".into());
         }
-        if self.plant.substeps == 0 {
-            return Err("plant.substeps must be at least 1".into());
+        if !(1..=1000).contains(&self.plant.substeps) {
+            return Err(format!("plant.substeps = {}: must be between 1 and 1000", self.plant.substeps));
         }
         if self.methods.is_empty() {
             return Err("methods: name at least one of none, lu, chen, momentum, eso".into());
         }
         if let Some(drop) = &self.loads.weight_drop {
-            positive("loads.weight_drop.mass_kg", drop.mass_kg)?;
-            positive("loads.weight_drop.impact_s", drop.impact_s)?;
+            within("loads.weight_drop.mass_kg", drop.mass_kg, 1e-6, 1e3)?;
+            within("loads.weight_drop.impact_s", drop.impact_s, 1e-6, 1.0)?;
+            within("loads.weight_drop.drop_s", drop.drop_s, 0.0, 1e7)?;
+            within("loads.weight_drop.fall_height_m", drop.fall_height_m, 0.0, 10.0)?;
             if let Some(remove) = drop.remove_s.filter(|r| !r.is_finite() || *r <= drop.drop_s) {
                 return Err(format!("loads.weight_drop: remove_s ({remove}) must come after drop_s ({})", drop.drop_s));
             }

@@ -38,7 +38,7 @@ pub struct Sensors<const N: usize> {
 
 fn draw<const N: usize>(rng: &mut ChaCha8Rng, noise: Noise) -> JointVector<N> {
     match noise {
-        Noise::Off => JointVector::zeros(),
+        Noise::Off {} => JointVector::zeros(),
         Noise::Uniform { bound } => JointVector::from_fn(|_, _| bound * (2.0 * rng.gen::<f64>() - 1.0)),
         Noise::Gaussian { sigma: 0.0 } => JointVector::zeros(),
         Noise::Gaussian { sigma } => match Normal::new(0.0, sigma) {

@@ -26,7 +26,7 @@ impl<const N: usize> Trajectory<N> {
     /// The task's trajectory from `start`.
     pub fn new(task: &Task, start: JointVector<N>) -> Result<Self, SimError> {
         let shape = match task {
-            Task::Hold => Shape::Hold,
+            Task::Hold {} => Shape::Hold,
             Task::Goto { start_s, transition_s, delta_rad } => {
                 if transition_s.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     return Err(SimError::Config("task.transition_s must be > 0".into()));

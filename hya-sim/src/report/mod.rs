@@ -266,7 +266,7 @@ fn rmse_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
 
 fn noise_text(noise: &Noise) -> String {
     match noise {
-        Noise::Off => "off".into(),
+        Noise::Off {} => "off".into(),
         Noise::Uniform { bound } => format!("uniform ±{bound}"),
         Noise::Gaussian { sigma } => format!("Gaussian σ = {sigma}"),
     }
@@ -274,7 +274,7 @@ fn noise_text(noise: &Noise) -> String {
 
 fn task_text(task: &Task) -> String {
     match task {
-        Task::Hold => "hold the start pose".into(),
+        Task::Hold {} => "hold the start pose".into(),
         Task::Goto { start_s, transition_s, delta_rad } => {
             format!("goto start + ({}) rad at {start_s} s, minimum-jerk over {transition_s} s", list(delta_rad))
         }

@@ -120,6 +120,14 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
             Quantity::MassMatrix => dynamics.mass_matrix_into(v, &mut result),
             Quantity::Gravity => dynamics.gravity_into(v, &mut result),
         }
+        if let Some(j) = result.iter().position(|v| !v.is_finite()) {
+            return Err(CliError::Input(format!(
+                "line {}: the result overflows (entry {} is {}): the inputs are beyond what the model can evaluate",
+                row.line,
+                j + 1,
+                result[j]
+            )));
+        }
         rows::write(output, result.iter().copied())?;
     }
     Ok(())

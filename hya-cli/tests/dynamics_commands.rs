@@ -85,3 +85,18 @@ fn bad_rows_and_unknown_robots_are_named() {
     assert_rejected(&["mass", "--robot", "hya"], "0 0 0 0 0 nan\n", &["line 1", "non-finite"]);
     assert_rejected(&["gravity", "--robot", "nope"], "0\n", &["nope", "hya", "panda"]);
 }
+
+#[test]
+fn overflowing_results_and_non_utf8_input_are_refused_with_the_line() {
+    // q̇ = 1e154 squares to infinity in the velocity terms.
+    let row = "0 0 0 0 0 0  1e154 0 0 0 0 0  0 0 0 0 0 0\n";
+    common::assert_rejected(
+        &["id", "--robot", "hya"],
+        &format!("0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n{row}"),
+        &["line 2", "overflows"],
+    );
+    let output = common::hya_bytes(&["gravity", "--robot", "hya"], b"0 0 0 0 0 0\n\xff\xfe 0 0 0 0 0\n");
+    assert_eq!(output.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(message.contains("line 2") && message.contains("UTF-8"), "{message}");
+}

@@ -115,6 +115,34 @@ pub enum Problem {
         /// The smallest principal moment.
         moment: f64,
     },
+    /// A magnitude no robot has (a unit mistake or a corrupted file).
+    #[error("{element}: {field} = {value:e} is beyond ±{limit:e}: no robot has that (check the units)")]
+    Absurd {
+        /// The element (`link `x` inertial`, `joint `y` origin`).
+        element: String,
+        /// The attribute.
+        field: &'static str,
+        /// The value.
+        value: f64,
+        /// The largest magnitude accepted.
+        limit: f64,
+    },
+    /// A positive mass too small to be a body.
+    #[error("link `{link}`: mass {mass} kg is positive but below 1e-9 kg; write 0 for a massless link")]
+    TinyMass {
+        /// The link.
+        link: String,
+        /// The mass, kg.
+        mass: f64,
+    },
+    /// A joint that moves mass only along its own axis.
+    #[error("joint `{joint}`: its subtree has no inertia about the joint's axis (M = {inertia:e} at q = 0), so the mass matrix is singular")]
+    SingularJoint {
+        /// The joint.
+        joint: String,
+        /// Its diagonal entry of the mass matrix at `q = 0`, kg·m² or kg.
+        inertia: f64,
+    },
     /// A moving joint whose whole subtree carries no mass: the mass matrix would be singular.
     #[error("joint `{joint}` moves no mass at all (its whole subtree is massless)")]
     MasslessJoint {

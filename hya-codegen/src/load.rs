@@ -126,14 +126,36 @@ fn check_joint_type(joint: &urdf_rs::Joint) -> Result<(), Problem> {
 /// `<origin xyz rpy>` as the transform from the parent frame to the placed frame.
 fn pose(origin: &urdf_rs::Pose, what: impl Fn() -> String) -> Result<Transform, Problem> {
     let xyz = finite_vector(&origin.xyz, "xyz", &what)?;
+    plausible(xyz.as_slice(), "xyz", MAX_LENGTH_M, &what)?;
     let rpy = finite_vector(&origin.rpy, "rpy", &what)?;
+    plausible(rpy.as_slice(), "rpy", 1e3, &what)?;
     Ok(Transform::from_pose(roll_pitch_yaw(&rpy), xyz))
 }
+
+/// Largest accepted length in a description, m (origins, centres of mass).
+const MAX_LENGTH_M: f64 = 1e3;
+/// Largest accepted link mass, kg.
+const MAX_MASS_KG: f64 = 1e5;
+/// Largest accepted inertia entry, kg·m².
+const MAX_INERTIA_KG_M2: f64 = 1e5;
+/// Smallest positive link mass, kg (below it, a rounding remnant rather than a body).
+const MIN_MASS_KG: f64 = 1e-9;
+/// A joint whose subtree's inertia about its axis is below this (kg·m² or kg) at `q = 0`
+/// makes the mass matrix singular.
+const MIN_JOINT_INERTIA: f64 = 1e-12;
 
 fn finite_vector(v: &[f64; 3], field: &'static str, what: &impl Fn() -> String) -> Result<Vector3<f64>, Problem> {
     match v.iter().find(|x| !x.is_finite()) {
         None => Ok(Vector3::from(*v)),
         Some(&value) => Err(Problem::NonFinite { element: what(), field, value }),
+    }
+}
+
+/// `Ok` if every entry is at most `limit` in magnitude.
+fn plausible(values: &[f64], field: &'static str, limit: f64, what: &impl Fn() -> String) -> Result<(), Problem> {
+    match values.iter().find(|x| x.abs() > limit) {
+        None => Ok(()),
+        Some(&value) => Err(Problem::Absurd { element: what(), field, value, limit }),
     }
 }
 
@@ -190,10 +212,17 @@ impl TreeBuilder<'_> {
         if mass < 0.0 {
             return Err(Problem::NegativeMass { link: link.name.clone(), mass });
         }
+        if mass > 0.0 && mass < MIN_MASS_KG {
+            return Err(Problem::TinyMass { link: link.name.clone(), mass });
+        }
+        plausible(&[mass], "mass", MAX_MASS_KG, &what)?;
         let i = &inertial.inertia;
         let entries = [("ixx", i.ixx), ("iyy", i.iyy), ("izz", i.izz), ("ixy", i.ixy), ("ixz", i.ixz), ("iyz", i.iyz)];
         if let Some(&(field, value)) = entries.iter().find(|(_, v)| !v.is_finite()) {
             return Err(Problem::NonFinite { element: what(), field, value });
+        }
+        if let Some(&(field, value)) = entries.iter().find(|(_, v)| v.abs() > MAX_INERTIA_KG_M2) {
+            return Err(Problem::Absurd { element: what(), field, value, limit: MAX_INERTIA_KG_M2 });
         }
         let tensor = Matrix3::new(i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz);
         let mut moments = tensor.symmetric_eigenvalues();
@@ -226,6 +255,11 @@ impl TreeBuilder<'_> {
         }
         let model = TreeModel::new(self.robot.name.clone(), self.bodies, self.frames)
             .map_err(|e| Problem::Model { message: e.to_string() })?;
+        // Mass on a joint's axis only (a point mass on a revolute axis) still leaves M singular.
+        let mass = model.mass_matrix(&vec![0.0; model.dof()]).map_err(|e| Problem::Model { message: e.to_string() })?;
+        if let Some(i) = (0..model.dof()).find(|&i| mass[(i, i)].is_nan() || mass[(i, i)] < MIN_JOINT_INERTIA) {
+            return Err(Problem::SingularJoint { joint: model.bodies()[i].joint.clone(), inertia: mass[(i, i)] });
+        }
         Ok(LoadedModel { model, warnings: self.warnings })
     }
 }

@@ -62,6 +62,11 @@ fn every_malformed_description_gets_its_own_error() {
         ("massless_joint", |p| matches!(p, Problem::MasslessJoint { .. }), &["j2", "no mass"]),
         ("no_moving_joint", |p| matches!(p, Problem::NoMovingJoint), &["no moving joint"]),
         ("not_xml", |p| matches!(p, Problem::Parse { .. }), &["not a valid URDF"]),
+        ("absurd_mass", |p| matches!(p, Problem::Absurd { field: "mass", .. }), &["`a`", "mass", "1e308"]),
+        ("absurd_com", |p| matches!(p, Problem::Absurd { field: "xyz", .. }), &["`a`", "xyz"]),
+        ("absurd_inertia", |p| matches!(p, Problem::Absurd { field: "ixx", .. }), &["`a`", "ixx"]),
+        ("tiny_mass", |p| matches!(p, Problem::TinyMass { .. }), &["`a`", "massless"]),
+        ("point_mass_on_axis", |p| matches!(p, Problem::SingularJoint { .. }), &["j1", "singular"]),
     ];
     let folder = urdf("malformed");
     let files = std::fs::read_dir(&folder).unwrap().count();

@@ -11,6 +11,11 @@ use hya_core::robots::PlanarTwoLink;
 use hya_core::{DisturbanceEstimator, Dynamics, FilterParams, JointVector};
 use proptest::prelude::*;
 
+/// 512 cases per law, or `PROPTEST_CASES` for a long run.
+fn cases() -> u32 {
+    std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)
+}
+
 /// Accepted parameters: `ζ ∈ [0.2, 3]`, `ω ∈ [1, 2000]` rad/s, `dt ∈ [1e-4, 1e-2]` s, with
 /// `ω dt` within the accepted bound.
 fn parameters() -> impl Strategy<Value = FilterParams> {
@@ -67,7 +72,7 @@ fn finite(values: &[f64]) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
 
     #[test]
     fn no_sample_poisons_the_estimator(params in parameters(), samples in proptest::collection::vec(measurement(), 1..40)) {

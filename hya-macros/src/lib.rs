@@ -13,6 +13,10 @@
 //! ```
 //!
 //! The calling crate needs `hya-core` as a dependency (the generated code names `::hya_core`).
+//!
+//! `robot!(Name, urdf = "<robot …>…</robot>")` takes the description inline instead (for tests
+//! and small examples). Errors name the path as written, so they read the same wherever the
+//! crate is built.
 
 use std::path::PathBuf;
 
@@ -21,18 +25,35 @@ use quote::quote;
 use syn::parse::{Parse, ParseStream};
 use syn::{Ident, LitStr, Token};
 
+/// Where the description comes from.
+enum Source {
+    /// A file, relative to the calling crate's `Cargo.toml`.
+    Path(LitStr),
+    /// The URDF text itself (`urdf = "…"`).
+    Inline(LitStr),
+}
+
 struct RobotArgs {
     name: Ident,
-    path: LitStr,
+    source: Source,
 }
 
 impl Parse for RobotArgs {
     fn parse(input: ParseStream<'_>) -> syn::Result<Self> {
         let name = input.parse()?;
         input.parse::<Token![,]>()?;
-        let path = input.parse()?;
+        let source = if input.peek(Ident) {
+            let key: Ident = input.parse()?;
+            if key != "urdf" {
+                return Err(syn::Error::new(key.span(), "expected a path string or `urdf = \"…\"`"));
+            }
+            input.parse::<Token![=]>()?;
+            Source::Inline(input.parse()?)
+        } else {
+            Source::Path(input.parse()?)
+        };
         input.parse::<Option<Token![,]>>()?;
-        Ok(Self { name, path })
+        Ok(Self { name, source })
     }
 }
 
@@ -44,18 +65,31 @@ pub fn robot(input: TokenStream) -> TokenStream {
 }
 
 fn expand(args: &RobotArgs) -> syn::Result<proc_macro2::TokenStream> {
-    let error = |message: String| syn::Error::new(args.path.span(), message);
-    let manifest = std::env::var_os("CARGO_MANIFEST_DIR")
-        .ok_or_else(|| error("CARGO_MANIFEST_DIR is not set: build with cargo".into()))?;
-    let path = PathBuf::from(manifest).join(args.path.value());
-    let path = path.canonicalize().unwrap_or(path);
-    let loaded = hya_codegen::load_file(&path).map_err(|e| error(e.to_string()))?;
+    let (literal, tracked, loaded) = match &args.source {
+        Source::Path(path) => {
+            let error = |message: String| syn::Error::new(path.span(), message);
+            let manifest = std::env::var_os("CARGO_MANIFEST_DIR")
+                .ok_or_else(|| error("CARGO_MANIFEST_DIR is not set: build with cargo".into()))?;
+            let full = PathBuf::from(manifest).join(path.value());
+            let full = full.canonicalize().unwrap_or(full);
+            // The error names the path as written, not where this build happens to run.
+            let loaded =
+                hya_codegen::load_file(&full).map_err(|e| error(format!("{}: {}", path.value(), e.problem)))?;
+            (path, Some(full.to_string_lossy().into_owned()), loaded)
+        }
+        Source::Inline(text) => {
+            let loaded = hya_codegen::load_str(&text.value(), "inline URDF")
+                .map_err(|e| syn::Error::new(text.span(), format!("inline URDF: {}", e.problem)))?;
+            (text, None, loaded)
+        }
+    };
+    let error = |message: String| syn::Error::new(literal.span(), message);
     let generated = hya_codegen::generate(&loaded.model, &args.name.to_string()).map_err(|e| error(e.to_string()))?;
     let code: proc_macro2::TokenStream = generated.source.parse().map_err(|e| error(format!("{e}")))?;
-    let tracked = path.to_string_lossy().into_owned();
+    // Makes cargo rebuild the caller when the URDF file changes.
+    let tracking = tracked.map(|file| quote! { const _: &str = include_str!(#file); });
     Ok(quote! {
-        // Makes cargo rebuild the caller when the URDF changes.
-        const _: &str = include_str!(#tracked);
+        #tracking
         #code
     })
 }

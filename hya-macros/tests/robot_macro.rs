@@ -16,8 +16,8 @@ fn macro_generated_dynamics_work() {
     assert!((g[1] + 9.81 * 2.0 * 0.2).abs() < 1e-12, "{g}");
 }
 
-/// trybuild compiles each case as a crate under `target/tests/trybuild/hya-macros`, so the
-/// cases name their URDFs relative to that directory.
+/// trybuild compiles each case as a crate under the target folder, wherever that is, so the
+/// cases that need a description carry it inline, and the messages name paths as written.
 #[test]
 fn bad_invocations_are_compile_errors() {
     let cases = trybuild::TestCases::new();

@@ -6,6 +6,11 @@ use std::process::{Command, Output, Stdio};
 
 /// Runs `hya ARGS` with `stdin` as its input.
 pub fn hya(args: &[&str], stdin: &str) -> Output {
+    hya_bytes(args, stdin.as_bytes())
+}
+
+/// Runs `hya ARGS` with the raw bytes `stdin` as its input.
+pub fn hya_bytes(args: &[&str], stdin: &[u8]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_hya"))
         .args(args)
         .stdin(Stdio::piped())
@@ -16,7 +21,7 @@ pub fn hya(args: &[&str], stdin: &str) -> Output {
     // Feed stdin from its own thread, so a full stdout pipe cannot deadlock the two processes.
     let mut pipe = child.stdin.take().expect("stdin is piped");
     let input = stdin.to_owned();
-    let writer = std::thread::spawn(move || pipe.write_all(input.as_bytes()));
+    let writer = std::thread::spawn(move || pipe.write_all(&input));
     let output = child.wait_with_output().expect("hya exits");
     // hya may stop reading early after a bad row; a broken pipe then is expected.
     let _ = writer.join().expect("the writer thread does not panic");

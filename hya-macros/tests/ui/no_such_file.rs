@@ -1,2 +1,2 @@
-hya_macros::robot!(Bad, "../../../../hya-macros/tests/urdf/does_not_exist.urdf");
+hya_macros::robot!(Bad, "tests/urdf/does_not_exist.urdf");
 fn main() {}

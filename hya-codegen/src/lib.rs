@@ -19,5 +19,7 @@ pub mod load;
 pub mod symbolic;
 
 pub use error::{LoadError, Problem, Warning};
-pub use generate::{generate, generate_parametric, GenerateError, Generated};
+pub use generate::{
+    generate, generate_parametric, size_warning, GenerateError, Generated, MAX_JOINTS, WARN_ABOVE_JOINTS,
+};
 pub use load::{load_file, load_str, LoadedModel};

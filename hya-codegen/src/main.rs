@@ -39,6 +39,9 @@ fn run(args: Vec<String>) -> Result<String, String> {
     for warning in &loaded.warnings {
         eprintln!("hya-codegen: warning: {path}: {warning}");
     }
+    if let Some(warning) = hya_codegen::size_warning(&loaded.model) {
+        eprintln!("hya-codegen: warning: {path}: {warning}");
+    }
     let generated = hya_codegen::generate(&loaded.model, &name).map_err(|e| e.to_string())?;
     if !stats {
         return Ok(generated.source);

@@ -11,6 +11,7 @@ mod experiments;
 mod filter;
 mod plant;
 mod rows;
+mod sweep;
 
 /// hya: model-based control of robot arms under disturbances.
 #[derive(Debug, Parser)]
@@ -47,6 +48,10 @@ enum Command {
     /// Open-loop rollout of the simulated arm: rows `t τ1 … τn` (held until the next row) on
     /// stdin, rows `t q1 … qn q̇1 … q̇n` every `--dt` on stdout, from rest at `--q0`.
     Plant(plant::PlantArgs),
+    /// Sweep every observer's bandwidth (10 to 200 rad/s): `sweep.json` and a Pareto figure of
+    /// estimate and tracking error against command noise; `--shard I/N` runs a part, `--merge`
+    /// joins the parts.
+    Sweep(sweep::SweepArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -74,6 +79,7 @@ fn main() -> ExitCode {
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),
         Command::Run(args) => experiments::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
         Command::Plant(args) => plant::run(&args, stdin, &mut stdout),
         Command::Bench(args) => bench::run(&args, &mut stdout),
     };

@@ -23,6 +23,7 @@ pub mod scenario;
 pub mod seeds;
 pub mod sensors;
 pub mod svg;
+pub mod sweep;
 pub mod task;
 
 use hya_core::model::TreeModel;

@@ -11,10 +11,10 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SimError {
     move |source| SimError::Io { path, source }
 }
 
-/// Whether `name` is a file the report writes: `report.md`, `summary.json`, or a CSV or SVG
+/// Whether `name` is a file the report writes: `report.md`, `summary.json`, `sweep.json`, or a CSV or SVG
 /// whose stem passes [`check_file_stem`].
 fn is_report_file(name: &str) -> bool {
-    if name == "report.md" || name == "summary.json" {
+    if ["report.md", "summary.json", "sweep.json"].contains(&name) {
         return true;
     }
     [".csv", ".svg"].iter().any(|ext| name.strip_suffix(ext).is_some_and(|stem| check_file_stem(stem).is_ok()))
@@ -51,10 +51,10 @@ pub fn prepare(dir: &Path, force: bool) -> Result<Vec<PathBuf>, SimError> {
             entries[0].display()
         )));
     }
-    if !dir.join("summary.json").is_file() {
+    if !dir.join("summary.json").is_file() && !dir.join("sweep.json").is_file() {
         return Err(SimError::Config(format!(
-            "--out {}: --force replaces an earlier hya report, but this folder holds none (no summary.json); \
-             nothing was removed",
+            "--out {}: --force replaces an earlier hya report, but this folder holds none (no summary.json or \
+             sweep.json); nothing was removed",
             dir.display()
         )));
     }

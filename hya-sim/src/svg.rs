@@ -93,10 +93,11 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
         let x = sx(t);
         let _ = writeln!(
             out,
-            r##"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="#eee"/><text x="{x:.1}" y="{:.1}" font-size="10" text-anchor="middle">{t}</text>"##,
+            r##"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="#eee"/><text x="{x:.1}" y="{:.1}" font-size="10" text-anchor="middle">{}</text>"##,
             top,
             top + h,
-            top + h + 12.0
+            top + h + 12.0,
+            format_tick(t)
         );
     }
     for t in ticks(yl, yh) {

@@ -13,6 +13,7 @@
 //! ```
 
 pub mod claims;
+pub mod frequency;
 pub mod metrics;
 pub mod output;
 pub mod plant;

@@ -149,9 +149,14 @@ pub fn write(
         save(&format!("{}_disturbance.svg", s.name), &disturbance_figure(s, &runs))?;
         save(&format!("{}_rmse.svg", s.name), &rmse_figure(s, &runs))?;
     }
-    let (plant_section, figures) = plant::section(scenarios, outcomes)?;
+    let (mut plant_section, figures) = plant::section(scenarios, outcomes)?;
     for (name, svg) in &figures {
         save(name, svg)?;
+    }
+    if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise")) {
+        let points = crate::frequency::measure(base, &crate::frequency::FREQUENCIES_HZ)?;
+        save("frequency.svg", &crate::frequency::figure(&points))?;
+        plant_section.push_str(&frequency_section(&points));
     }
     save("report.md", &markdown(scenarios, outcomes, table, &summary, (quick, generated_by), &plant_section)?)?;
     Ok(summary)
@@ -421,6 +426,32 @@ fn claims_table(claims: &[Judgement]) -> String {
         ]));
     }
     md.push_str("\n✗ marks a joint where the rule does not hold.\n");
+    md
+}
+
+/// The observers' measured responses against their designs.
+fn frequency_section(points: &[crate::frequency::Point]) -> String {
+    let mut md = format!(
+        "\n## Frequency response of the estimates\n\n![frequency](frequency.svg)\n\nA sinusoidal torque from {} to {} Hz on a clean plant (the rigid body alone, no friction, ideal actuators, exact sensors, a velocity sensor for the observers that read one), each observer in closed loop; `d̂/d` on joint {} is measured from whole periods after 2 s and set against each design's transfer function.\n\n| method | largest gain error | largest phase error [deg] | at |\n|---|---|---|---|\n",
+        crate::frequency::FREQUENCIES_HZ[0],
+        crate::frequency::FREQUENCIES_HZ[crate::frequency::FREQUENCIES_HZ.len() - 1],
+        crate::frequency::JOINT + 1
+    );
+    for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
+        let mine: Vec<_> = points.iter().filter(|p| p.method == method).collect();
+        let gain = |p: &&crate::frequency::Point| (p.measured.norm() / p.design.norm() - 1.0).abs();
+        let phase = |p: &&crate::frequency::Point| (p.measured / p.design).arg().to_degrees().abs();
+        let worst_gain = mine.iter().max_by(|a, b| gain(a).total_cmp(&gain(b)));
+        let worst_phase = mine.iter().map(phase).fold(0.0, f64::max);
+        if let Some(w) = worst_gain {
+            md.push_str(&table_row([
+                method.name().to_owned(),
+                format!("{:.1} %", 100.0 * gain(w)),
+                format!("{worst_phase:.1}"),
+                format!("gain error at {} Hz", w.frequency_hz),
+            ]));
+        }
+    }
     md
 }
 

@@ -32,10 +32,11 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
-const PANEL_W: f64 = 420.0;
+const PANEL_W: f64 = 540.0;
 const PANEL_H: f64 = 230.0;
 const MARGIN_L: f64 = 62.0;
-const MARGIN_R: f64 = 12.0;
+/// Room right of the plot for the legend, which stays off the data.
+const MARGIN_R: f64 = 160.0;
 const MARGIN_T: f64 = 26.0;
 const MARGIN_B: f64 = 34.0;
 /// At most this many points per series are drawn (evenly strided).
@@ -135,14 +136,14 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
                 path.join(" ")
             );
         }
-        let ly = top + 12.0 + 13.0 * k as f64;
+        let ly = top + 8.0 + 13.0 * k as f64;
         let _ = writeln!(
             out,
             r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}" font-size="10">{}</text>"#,
-            left + 6.0,
-            left + 24.0,
+            left + w + 8.0,
+            left + w + 26.0,
             s.color,
-            left + 28.0,
+            left + w + 30.0,
             ly + 3.0,
             escape(&s.label)
         );
@@ -177,15 +178,20 @@ pub fn line_grid(title: &str, x_label: &str, panels: &[Panel], columns: usize) -
     document(columns as f64 * PANEL_W, 30.0 + rows as f64 * PANEL_H, title, &body)
 }
 
-/// Grouped bars: one group per category, one bar per series.
+/// Grouped bars on a log scale (values spanning decades, like RMSEs): one group per category,
+/// one bar per series; a value that is not positive draws no bar.
 pub fn bar_chart(title: &str, y_label: &str, categories: &[String], series: &[(String, Vec<f64>)]) -> String {
     let (width, height) = (160.0 + 110.0 * categories.len() as f64, 360.0);
     let (left, top, h) = (70.0, 40.0, 260.0);
     let w = width - left - 20.0;
-    let top_value = series.iter().flat_map(|(_, v)| v.iter().copied()).fold(0.0, f64::max).max(1e-12) * 1.1;
-    let sy = |v: f64| top + h - v / top_value * h;
+    let positive = || series.iter().flat_map(|(_, v)| v.iter().copied()).filter(|v| *v > 0.0 && v.is_finite());
+    let low = positive().fold(f64::INFINITY, f64::min);
+    let high = positive().fold(0.0, f64::max);
+    let (lo, hi) =
+        if high > 0.0 { (low.log10().floor(), high.log10().ceil().max(low.log10().floor() + 1.0)) } else { (0.0, 1.0) };
+    let sy = |v: f64| if v > 0.0 { top + h - (v.log10() - lo) / (hi - lo) * h } else { top + h };
     let mut body = String::new();
-    for t in ticks(0.0, top_value) {
+    for t in (lo as i32..=hi as i32).map(|e| 10f64.powi(e)) {
         let _ = writeln!(
             body,
             r##"<line x1="{left}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="#eee"/><text x="{:.1}" y="{:.1}" font-size="10" text-anchor="end">{}</text>"##,

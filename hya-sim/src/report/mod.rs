@@ -3,6 +3,7 @@
 //! Each of the paper's claims is judged by a rule fixed here, before any run: the verdict is the
 //! rule applied to the numbers, and the deciding numbers are printed next to it.
 
+mod figures;
 mod plant;
 
 use std::fmt::Write as _;
@@ -10,14 +11,11 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use hya_core::JointVector;
-
 use crate::claims::{judge_all, Judgement, Verdict, RULES};
 use crate::metrics::WARM_UP_S;
-use crate::run::{gains, RunOutcome, Trace};
+use crate::run::{gains, RunOutcome};
 use crate::scenario::{LoadConfig, Method, Noise, Scenario, Task};
 use crate::seeds::{per_joint_mean_ci95, MetricTable};
-use crate::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
 
 use crate::{SimError, JOINTS};
 
@@ -140,14 +138,18 @@ pub fn write(
     for o in outcomes {
         save(&format!("{}_{}.csv", o.scenario, o.method.name()), &csv(o))?;
     }
+    let mut figure_names = std::collections::BTreeMap::new();
     for s in scenarios {
         let runs: Vec<&RunOutcome<JOINTS>> = outcomes.iter().filter(|o| o.scenario == s.name).collect();
         if runs.is_empty() {
             continue;
         }
-        save(&format!("{}_joints.svg", s.name), &joints_figure(s, &runs))?;
-        save(&format!("{}_disturbance.svg", s.name), &disturbance_figure(s, &runs))?;
-        save(&format!("{}_rmse.svg", s.name), &rmse_figure(s, &runs))?;
+        let mut names = Vec::new();
+        for (name, svg) in figures::scenario_figures(s, &runs, table) {
+            save(&name, &svg)?;
+            names.push(name);
+        }
+        figure_names.insert(s.name.clone(), names);
     }
     let (mut plant_section, figures) = plant::section(scenarios, outcomes)?;
     for (name, svg) in &figures {
@@ -158,7 +160,10 @@ pub fn write(
         save("frequency.svg", &crate::frequency::figure(&points))?;
         plant_section.push_str(&frequency_section(&points));
     }
-    save("report.md", &markdown(scenarios, outcomes, table, &summary, (quick, generated_by), &plant_section)?)?;
+    save(
+        "report.md",
+        &markdown(scenarios, outcomes, table, &summary, (quick, generated_by), (&plant_section, &figure_names))?,
+    )?;
     Ok(summary)
 }
 
@@ -181,92 +186,6 @@ fn csv(o: &RunOutcome<JOINTS>) -> String {
         text.push('\n');
     }
     text
-}
-
-/// Which runs a figure shows: `none` and `lu` where both ran, else every method.
-fn featured<'a>(runs: &[&'a RunOutcome<JOINTS>]) -> Vec<&'a RunOutcome<JOINTS>> {
-    let paper: Vec<&RunOutcome<JOINTS>> =
-        runs.iter().copied().filter(|o| matches!(o.method, Method::None | Method::Lu)).collect();
-    if paper.len() == 2 {
-        paper
-    } else {
-        runs.to_vec()
-    }
-}
-
-fn series(
-    o: &RunOutcome<JOINTS>,
-    joint: usize,
-    values: &[hya_core::JointVector<JOINTS>],
-    label: String,
-    color: &'static str,
-    dashed: bool,
-) -> Series {
-    Series {
-        label,
-        points: o.trace.time.iter().zip(values).map(|(t, v)| (*t, v[joint])).collect(),
-        color,
-        dashed,
-        markers: false,
-    }
-}
-
-/// One panel per joint: `reference` of the first run, dashed, against `estimate` of every run.
-fn per_joint_figure(
-    title: String,
-    y_label: &str,
-    shown: &[&RunOutcome<JOINTS>],
-    reference: (&str, fn(&Trace<JOINTS>) -> &[JointVector<JOINTS>]),
-    estimate: (&str, fn(&Trace<JOINTS>) -> &[JointVector<JOINTS>]),
-) -> String {
-    let panels: Vec<Panel> = (0..JOINTS)
-        .map(|j| {
-            let mut lines = Vec::new();
-            if let Some(first) = shown.first() {
-                lines.push(series(first, j, reference.1(&first.trace), reference.0.into(), PALETTE[0], true));
-            }
-            for (k, o) in shown.iter().enumerate() {
-                let label = format!("{} ({})", estimate.0, o.method.name());
-                lines.push(series(o, j, estimate.1(&o.trace), label, PALETTE[(k + 1) % PALETTE.len()], false));
-            }
-            Panel { title: format!("joint {}", j + 1), y_label: y_label.into(), series: lines }
-        })
-        .collect();
-    line_grid(&title, "t [s]", &panels, 3)
-}
-
-fn joints_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
-    per_joint_figure(
-        format!("{}: joint angles against the reference", s.name),
-        "rad",
-        &featured(runs),
-        ("q_des", |t| &t.q_des),
-        ("q", |t| &t.q),
-    )
-}
-
-fn disturbance_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
-    let estimating: Vec<&RunOutcome<JOINTS>> = runs.iter().copied().filter(|o| o.method != Method::None).collect();
-    // The noise comparisons show every observer; the experiments show the paper's.
-    let shown: Vec<&RunOutcome<JOINTS>> = if s.name.starts_with("estimator") {
-        estimating
-    } else {
-        estimating.into_iter().filter(|o| o.method == Method::Lu).collect()
-    };
-    per_joint_figure(
-        format!("{}: estimated against true disturbance", s.name),
-        "N·m",
-        &shown,
-        ("d (true)", |t| &t.d_true),
-        ("d̂", |t| &t.d_hat),
-    )
-}
-
-fn rmse_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>]) -> String {
-    let joints: Vec<String> = (1..=JOINTS).map(|j| format!("joint {j}")).collect();
-    let bars: Vec<(String, Vec<f64>)> =
-        runs.iter().map(|o| (o.method.name().to_owned(), o.metrics.rmse_q.clone())).collect();
-    bar_chart(&format!("{}: tracking RMSE", s.name), "RMSE [rad]", &joints, &bars)
 }
 
 fn noise_text(noise: &Noise) -> String {
@@ -324,7 +243,7 @@ fn markdown(
     table: &MetricTable,
     summary: &Summary,
     (quick, generated_by): (bool, &str),
-    plant_section: &str,
+    (plant_section, figure_names): (&str, &std::collections::BTreeMap<String, Vec<String>>),
 ) -> Result<String, SimError> {
     let mut md = String::new();
     let robot = if summary.robot == "hya" { "HyA" } else { summary.robot.as_str() };
@@ -378,7 +297,14 @@ fn markdown(
         }
         let _ = writeln!(
             md,
-            "\n![joints]({0}_joints.svg) ![disturbance]({0}_disturbance.svg) ![rmse]({0}_rmse.svg)\n\nTime series: `{0}_<method>.csv`.\n",
+            "\n{}\n\nTime series: `{}_<method>.csv` (first seed).\n",
+            figure_names
+                .get(&s.name)
+                .map_or(&[][..], |n| n.as_slice())
+                .iter()
+                .map(|n| format!("![{n}]({n})"))
+                .collect::<Vec<_>>()
+                .join(" "),
             s.name
         );
     }

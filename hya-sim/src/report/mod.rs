@@ -5,6 +5,7 @@
 
 mod figures;
 mod plant;
+mod viscous;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -155,6 +156,10 @@ pub fn write(
     for (name, svg) in &figures {
         save(name, svg)?;
     }
+    let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal") {
+        Some(base) => viscous::section(base)?,
+        None => String::new(),
+    };
     if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise")) {
         let points = crate::frequency::measure(base, &crate::frequency::FREQUENCIES_HZ)?;
         save("frequency.svg", &crate::frequency::figure(&points))?;
@@ -162,7 +167,14 @@ pub fn write(
     }
     save(
         "report.md",
-        &markdown(scenarios, outcomes, table, &summary, (quick, generated_by), (&plant_section, &figure_names))?,
+        &markdown(
+            scenarios,
+            outcomes,
+            table,
+            &summary,
+            (quick, generated_by),
+            (&plant_section, &figure_names, &viscous_section),
+        )?,
     )?;
     Ok(summary)
 }
@@ -243,7 +255,7 @@ fn markdown(
     table: &MetricTable,
     summary: &Summary,
     (quick, generated_by): (bool, &str),
-    (plant_section, figure_names): (&str, &std::collections::BTreeMap<String, Vec<String>>),
+    (plant_section, figure_names, viscous_section): (&str, &std::collections::BTreeMap<String, Vec<String>>, &str),
 ) -> Result<String, SimError> {
     let mut md = String::new();
     let robot = if summary.robot == "hya" { "HyA" } else { summary.robot.as_str() };
@@ -258,6 +270,7 @@ fn markdown(
     md.push_str(&baselines_doing_better(scenarios, table));
     md.push_str(&observations(outcomes));
     md.push_str(&lagged_cancellation(scenarios)?);
+    md.push_str(viscous_section);
     md.push_str(plant_section);
     md.push_str(&parameters(scenarios)?);
     md.push_str("\n## Results\n\nMetrics per joint after the first ");
@@ -455,7 +468,7 @@ fn lagged_cancellation(scenarios: &[Scenario]) -> Result<String, SimError> {
     let w = first.controller.observer_bandwidth_rad_s;
     let delay = 1.0 / w + 2.0 * 0.8 / w;
     let mut md = format!(
-        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `−F_v q̇` with it leaves roughly `F_v τ_d q̈` uncancelled, as if the joint's inertia were reduced by `F_v τ_d`. Where that exceeds the joint's inertia, the compensated joint oscillates slowly, bounded only by friction's nonlinearity (the paper, too, reports residual oscillations on joints 3, 5 and 6):\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | F_v τ_d > M_ii |\n|---|---|---|---|---|\n"
+        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `−F_v q̇` with it leaves roughly `F_v τ_d q̈` uncancelled, as if the joint's inertia were reduced by `F_v τ_d`. Where that exceeds the joint's inertia, this simple rule predicts that the compensated joint oscillates slowly, bounded only by friction's nonlinearity (the paper reports residual oscillations on joints 3, 5 and 6); the sweep below measures it:\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | F_v τ_d > M_ii |\n|---|---|---|---|---|\n"
     );
     for j in 0..JOINTS {
         let fv = first.plant.viscous_nm_s.get(j).copied().unwrap_or(0.0);

@@ -72,6 +72,9 @@ fn run_all(
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
     let scenarios: Vec<Scenario> = scenarios.into_iter().map(|s| if quick { s.quick() } else { s }).collect();
+    for s in &scenarios {
+        s.check().map_err(sim)?; // a shortened scenario may fall under the warm-up
+    }
     let total: f64 = scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum();
     let bar = ProgressBar::new(total.ceil() as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} simulated s ({eta} left)")

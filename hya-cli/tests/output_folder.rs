@@ -45,7 +45,7 @@ fn a_non_empty_out_folder_is_refused_before_simulating() {
     let file = scenario(&dir, "tiny");
     // `dir` holds the scenario file: not empty, and no earlier report.
     assert_rejected(&["run", &file, "--out", dir.to_str().unwrap()], "", &["not empty", "--force"]);
-    assert_rejected(&["run", &file, "--out", dir.to_str().unwrap(), "--force"], "", &["no summary.json"]);
+    assert_rejected(&["run", &file, "--out", dir.to_str().unwrap(), "--force"], "", &["no .hya-files"]);
     assert!(dir.join("scenario.toml").is_file(), "the refused folder keeps its files");
     // `--out` naming a file is refused too.
     assert_rejected(&["run", &file, "--out", &file], "", &["not a folder"]);
@@ -60,12 +60,18 @@ fn force_replaces_an_earlier_report_and_keeps_other_files() {
     let first = hya(&["run", &file, "--out", out.to_str().unwrap(), "--seeds", "2"], "");
     assert_eq!(first.status.code(), Some(0), "{}", String::from_utf8_lossy(&first.stderr));
     assert!(out.join("summary.json").is_file() && out.join("tiny_none.csv").is_file());
-    std::fs::write(out.join("stale_none.csv"), "old").unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
-    let again = hya(&["run", &file, "--out", out.to_str().unwrap(), "--force", "--seeds", "2"], "");
+    std::fs::write(out.join("measurements.csv"), "mine").unwrap();
+    // A second scenario over the first one's report: every file of the first goes.
+    let other = scenario(&dir, "other");
+    let again = hya(&["run", &other, "--out", out.to_str().unwrap(), "--force", "--seeds", "2"], "");
     assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
-    assert!(!out.join("stale_none.csv").exists(), "a stale report file stays mixed in");
-    assert!(out.join("notes.txt").is_file(), "a file that is not the report's was removed");
+    assert!(!out.join("tiny_none.csv").exists(), "a stale report file stays mixed in");
+    assert!(out.join("other_none.csv").is_file());
+    assert!(
+        out.join("notes.txt").is_file() && out.join("measurements.csv").is_file(),
+        "a file hya did not write was removed"
+    );
     assert!(String::from_utf8_lossy(&again.stderr).contains("notes.txt"), "the kept file is not named");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -184,7 +184,7 @@ pub const RULES: &[Rule] = &[
     },
     Rule {
         id: "lu_noise_insensitive",
-        statement: "the paper's estimate is hardly affected by velocity-sensor noise (RMSE(d̂ − d) grows by less than 25 % from σ_q̇ = 0.01 to 0.1 rad/s)",
+        statement: "the paper's estimate is hardly affected by velocity-sensor noise (RMSE(d̂ − d) grows by less than 25 % from σ_q̇ = 0.01 to 0.1 rad/s); lu reads no velocity, so the noise reaches it only through the closed loop, whose controller reads the sensor",
         section: "V",
         paper: "robust to noise; the estimate is accurate despite the higher noise",
         quantity: Quantity::Ratio(
@@ -241,7 +241,7 @@ pub const RULES: &[Rule] = &[
     },
     Rule {
         id: "disturbance_changes_after_setpoint",
-        statement: "the estimated disturbance changes after the setpoint is reached (static friction varies with position): |Δ mean d̂| above 0.5 N·m on at least two joints",
+        statement: "the estimated disturbance changes after the setpoint is reached: |Δ mean d̂| above 0.5 N·m on at least two joints (the paper reads this as static friction varying with position; here the model error's change with pose and where a joint sticks contribute too)",
         section: "VI-A",
         paper: "the internal disturbances change significantly after the setpoint",
         quantity: Quantity::Metric(source("goto_internal", Method::Lu, "estimate_shift")),
@@ -292,7 +292,7 @@ pub const RULES: &[Rule] = &[
     },
     Rule {
         id: "friction_has_a_bias",
-        statement: "the estimated disturbance has a non-zero mean (|mean d̂| above 0.2 N·m on at least four joints)",
+        statement: "the estimated disturbance has a non-zero mean: |mean d̂| above 0.2 N·m on at least four joints (the paper reads it as static friction; here the model error and the pressure sensors' offsets contribute too)",
         section: "VI-B",
         paper: "the mean of the disturbance is not zero (static friction)",
         quantity: Quantity::Metric(source("sine_internal", Method::Lu, "estimate_mean_abs")),

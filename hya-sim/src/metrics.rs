@@ -23,6 +23,28 @@ pub const RECOVERY_FLOOR_RAD: f64 = 1e-3;
 /// See [`RECOVERY_FACTOR`], s.
 pub const RECOVERY_HOLD_S: f64 = 0.5;
 
+/// Observers and filters need this long after the warm-up before a "before" window opens, s.
+const SETTLE_AFTER_START_S: f64 = 1.0;
+
+/// The earliest time a window that must precede `event_s` may open: after the warm-up and the
+/// observers' settling, after a sine task's ramp, and after a goto move that ends before the
+/// event (plus [`SETTLE_AFTER_START_S`]).
+fn quiet_from(scenario: &Scenario, event_s: f64) -> f64 {
+    let start = WARM_UP_S + SETTLE_AFTER_START_S;
+    match &scenario.task {
+        Task::Hold {} => start,
+        Task::Sine { ramp_s, .. } => start.max(ramp_s + SETTLE_AFTER_START_S),
+        Task::Goto { start_s, transition_s, .. } => {
+            let moved = start_s + transition_s + SETTLE_AFTER_START_S;
+            if moved < event_s {
+                start.max(moved)
+            } else {
+                start
+            }
+        }
+    }
+}
+
 /// Per-joint figures of one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Metrics {
@@ -43,7 +65,8 @@ pub struct Metrics {
     pub limit_cycle_q: Vec<f64>,
     /// Mean `|q − q_des|` while a dropped weight rests on the arm (from 0.5 s after the drop), rad.
     pub weight_error_q: Option<Vec<f64>>,
-    /// Mean `|q − q_des|` over the 5 s before the drop, rad.
+    /// Mean `|q − q_des|` over the 5 s before the drop (from the end of any earlier move or ramp,
+    /// and never within the first 1.5 s), rad; NaN where no such window exists.
     pub pre_drop_error_q: Option<Vec<f64>>,
     /// Time from the drop until `|e|` is back within its band ([`RECOVERY_FACTOR`]), s; the
     /// whole remaining run where it never is.
@@ -62,12 +85,13 @@ pub struct Metrics {
 /// Per-joint `sqrt(mean(x²))` over the samples.
 fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
     let (sum, count) = samples.fold((JointVector::<N>::zeros(), 0usize), |(s, n), x| (s + x.component_mul(&x), n + 1));
-    (sum / count.max(1) as f64).map(f64::sqrt).as_slice().to_vec()
+    // An empty window has no RMS: NaN, which fails every rule, rather than a flattering 0.
+    (sum / count as f64).map(f64::sqrt).as_slice().to_vec()
 }
 
 /// Per-joint mean of `f(k)[j]` over the ticks `k` in `range`.
 fn mean_over<const N: usize>(range: std::ops::Range<usize>, f: impl Fn(usize) -> JointVector<N>) -> Vec<f64> {
-    let count = range.len().max(1) as f64;
+    let count = range.len() as f64; // an empty window gives NaN
     let sum = range.fold(JointVector::<N>::zeros(), |s, k| s + f(k));
     (sum / count).as_slice().to_vec()
 }
@@ -79,14 +103,17 @@ fn ticks<const N: usize>(trace: &Trace<N>, from: f64, to: f64) -> std::ops::Rang
     start..end.max(start)
 }
 
-/// Per joint, the time from `from_s` until `|e|` stays within `band[j]` for
-/// [`RECOVERY_HOLD_S`]; the rest of the run where it never does.
+/// Per joint, the time from `from_s` until `|e|`, having left `band[j]`, stays back within it
+/// for [`RECOVERY_HOLD_S`]; 0 where it never leaves the band, the rest of the run where it
+/// never returns.
 fn recovery<const N: usize>(trace: &Trace<N>, from_s: f64, to_s: f64, band: &[f64]) -> Vec<f64> {
     let range = ticks(trace, from_s, to_s);
     (0..N)
         .map(|j| {
+            let outside = |k: &usize| (trace.q[*k][j] - trace.q_des[*k][j]).abs() > band[j];
+            let Some(left) = range.clone().find(outside) else { return 0.0 };
             let mut inside_since: Option<f64> = None;
-            for k in range.clone() {
+            for k in left..range.end {
                 let t = trace.time[k];
                 if (trace.q[k][j] - trace.q_des[k][j]).abs() <= band[j] {
                     let since = *inside_since.get_or_insert(t);
@@ -136,7 +163,10 @@ impl Metrics {
         let d_spread =
             rms((start..trace.time.len()).map(|k| trace.d_true[k] - JointVector::from_column_slice(&d_mean)));
         let drop = scenario.loads.weight_drop.as_ref();
-        let pre_drop = drop.map(|d| mean_over(ticks(trace, d.drop_s - SETTLED_WINDOW_S, d.drop_s), |k| error(k).abs()));
+        let pre_drop = drop.map(|d| {
+            let from = (d.drop_s - SETTLED_WINDOW_S).max(quiet_from(scenario, d.drop_s));
+            mean_over(ticks(trace, from, d.drop_s), |k| error(k).abs())
+        });
         let band = |pre: &[f64]| pre.iter().map(|e| (RECOVERY_FACTOR * e).max(RECOVERY_FLOOR_RAD)).collect::<Vec<_>>();
         let removal = drop.and_then(|d| d.remove_s).filter(|r| *r < end);
         let velocity = |k: usize, j: usize| {
@@ -171,7 +201,8 @@ impl Metrics {
             pre_drop_error_q: pre_drop,
             estimate_shift: match (&scenario.task, has_estimate) {
                 (Task::Goto { start_s, transition_s, .. }, true) => {
-                    let before = mean_over(ticks(trace, start_s - SETTLED_WINDOW_S, *start_s), |k| trace.d_hat[k]);
+                    let from = (start_s - SETTLED_WINDOW_S).max(quiet_from(scenario, *start_s));
+                    let before = mean_over(ticks(trace, from, *start_s), |k| trace.d_hat[k]);
                     let after =
                         mean_over(ticks(trace, (start_s + transition_s).max(end - window), end), |k| trace.d_hat[k]);
                     Some(before.iter().zip(&after).map(|(b, a)| (a - b).abs()).collect())

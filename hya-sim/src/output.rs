@@ -3,7 +3,6 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use crate::scenario::check_file_stem;
 use crate::SimError;
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SimError {
@@ -11,20 +10,14 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SimError {
     move |source| SimError::Io { path, source }
 }
 
-/// Whether `name` is a file the report writes: `report.md`, `summary.json`, `sweep.json`, or a CSV or SVG
-/// whose stem passes [`check_file_stem`].
-fn is_report_file(name: &str) -> bool {
-    if ["report.md", "summary.json", "sweep.json"].contains(&name) {
-        return true;
-    }
-    [".csv", ".svg"].iter().any(|ext| name.strip_suffix(ext).is_some_and(|stem| check_file_stem(stem).is_ok()))
-}
+/// The file in a report folder that lists, one per line, every file hya wrote there.
+pub const MANIFEST: &str = ".hya-files";
 
 /// Makes `dir` ready for a report, before anything is simulated: a folder that does not exist
 /// is created; an empty one is used as it is; a non-empty one only with `force`, and only if it
-/// holds an earlier report (a `summary.json`), whose report files are then removed so that no
-/// stale figure stays mixed in. Anything else in it is kept and returned, for the caller to
-/// name.
+/// holds an earlier report (a [`MANIFEST`]), whose listed files are then removed so that no
+/// stale figure stays mixed in. Anything else in it (and any symbolic link) is kept and
+/// returned, for the caller to name.
 pub fn prepare(dir: &Path, force: bool) -> Result<Vec<PathBuf>, SimError> {
     if !dir.exists() {
         std::fs::create_dir_all(dir).map_err(io_error(dir))?;
@@ -51,17 +44,22 @@ pub fn prepare(dir: &Path, force: bool) -> Result<Vec<PathBuf>, SimError> {
             entries[0].display()
         )));
     }
-    if !dir.join("summary.json").is_file() && !dir.join("sweep.json").is_file() {
-        return Err(SimError::Config(format!(
-            "--out {}: --force replaces an earlier hya report, but this folder holds none (no summary.json or \
-             sweep.json); nothing was removed",
-            dir.display()
-        )));
-    }
+    let manifest = dir.join(MANIFEST);
+    let listed = match std::fs::read_to_string(&manifest) {
+        Ok(text) => text.lines().map(str::to_owned).collect::<Vec<_>>(),
+        Err(_) => {
+            return Err(SimError::Config(format!(
+                "--out {}: --force replaces an earlier hya report, but this folder holds none (no {MANIFEST}); \
+                 nothing was removed",
+                dir.display()
+            )))
+        }
+    };
     let mut kept = Vec::new();
     for path in entries {
-        let ours = path.is_file() && path.file_name().and_then(|n| n.to_str()).is_some_and(is_report_file);
-        if ours {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+        let plain_file = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_file());
+        if plain_file && (name == MANIFEST || listed.iter().any(|l| l == name)) {
             std::fs::remove_file(&path).map_err(io_error(&path))?;
         } else {
             kept.push(path);
@@ -70,16 +68,28 @@ pub fn prepare(dir: &Path, force: bool) -> Result<Vec<PathBuf>, SimError> {
     Ok(kept)
 }
 
-/// Writes `text` to the file `name` inside `dir`; `name` must be one plain file name (no
-/// separator, `..`, root or drive).
+/// Writes `text` to the file `name` inside `dir` and lists it in the [`MANIFEST`]; `name` must
+/// be one plain file name (no separator, `..`, root or drive), and nothing may stand at that
+/// path as a symbolic link (which would write outside `dir`).
 pub fn save(dir: &Path, name: &str, text: &str) -> Result<(), SimError> {
     let mut components = Path::new(name).components();
     let plain = matches!((components.next(), components.next()), (Some(Component::Normal(_)), None));
-    if !plain || name.contains(['/', '\\']) {
+    if !plain || name.contains(['/', '\\']) || name == MANIFEST {
         return Err(SimError::Config(format!("report file name {name:?} is not a plain file name")));
     }
     let path = dir.join(name);
-    std::fs::write(&path, text).map_err(io_error(&path))
+    if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(SimError::Config(format!("{}: is a symbolic link; hya writes only plain files", path.display())));
+    }
+    std::fs::write(&path, text).map_err(io_error(&path))?;
+    let manifest = dir.join(MANIFEST);
+    let mut listed = std::fs::read_to_string(&manifest).unwrap_or_default();
+    if !listed.lines().any(|l| l == name) {
+        listed.push_str(name);
+        listed.push('\n');
+        std::fs::write(&manifest, listed).map_err(io_error(&manifest))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -103,6 +113,12 @@ mod tests {
         }
         save(&dir, "goto_lu.csv", "x").unwrap();
         assert!(dir.join("goto_lu.csv").is_file());
+        assert_eq!(std::fs::read_to_string(dir.join(MANIFEST)).unwrap(), "goto_lu.csv\n");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("/tmp/hya-elsewhere.md", dir.join("report.md")).unwrap();
+            assert!(save(&dir, "report.md", "x").unwrap_err().to_string().contains("symbolic link"));
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -115,14 +131,16 @@ mod tests {
         let refused = prepare(&dir, false).unwrap_err().to_string();
         assert!(refused.contains("not empty") && refused.contains("--force"), "{refused}");
         let refused = prepare(&dir, true).unwrap_err().to_string();
-        assert!(refused.contains("no summary.json"), "{refused}");
+        assert!(refused.contains(MANIFEST), "{refused}");
         assert!(dir.join("notes.txt").is_file(), "nothing removed on refusal");
         for name in ["summary.json", "report.md", "old_lu.csv", "old_joints.svg"] {
-            std::fs::write(dir.join(name), "old").unwrap();
+            save(&dir, name, "old").unwrap();
         }
+        std::fs::write(dir.join("measurements.csv"), "mine").unwrap();
         let kept = prepare(&dir, true).unwrap();
-        assert_eq!(kept, vec![dir.join("notes.txt")]);
+        assert_eq!(kept, vec![dir.join("measurements.csv"), dir.join("notes.txt")]);
         assert!(!dir.join("old_lu.csv").exists() && !dir.join("summary.json").exists());
+        assert!(!dir.join(MANIFEST).exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

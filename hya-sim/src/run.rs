@@ -174,8 +174,7 @@ pub fn simulate<const N: usize>(
     let hold = nominal.gravity(&q0);
     let mut plant = Plant::new(true_model, plant_dynamics, &scenario.plant, &scenario.loads, q0, hold, &mut rng)?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
-    let mut sensors =
-        Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed.wrapping_add(1), dt, bandwidth);
+    let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
     let trajectory = Trajectory::new(&scenario.task, q0)?;
     let controller = ComputedTorque::new(nominal, gains(nominal, scenario, &q0)?)
         .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)

@@ -556,6 +556,12 @@ impl Scenario {
         quick
     }
 
+    /// Checks every setting, as [`Self::from_toml`] does (for a scenario changed after parsing,
+    /// e.g. by [`Self::quick`]).
+    pub fn check(&self) -> Result<(), SimError> {
+        self.validate().map_err(|message| SimError::Scenario { origin: self.name.clone(), message })
+    }
+
     fn validate(&self) -> Result<(), String> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
@@ -593,6 +599,15 @@ impl Scenario {
         positive("controller.integral_zero_ratio", self.controller.integral_zero_ratio)?;
         within("controller.damping_ratio", self.controller.damping_ratio, 0.05, 10.0)?;
         within("quick_time_scale", self.quick_time_scale, 1e-3, 1.0)?;
+        for (name, values, lo, hi) in [
+            ("controller.natural_frequency_rad_s", &self.controller.natural_frequency_rad_s, 1e-3, 1e3),
+            ("controller.torque_limit_nm", &self.controller.torque_limit_nm, 1e-6, 1e6),
+            ("controller.integral_limit_nm", &self.controller.integral_limit_nm, 0.0, 1e6),
+        ] {
+            for (i, v) in values.iter().enumerate() {
+                within(&format!("{name}[{i}]"), *v, lo, hi)?;
+            }
+        }
         within("plant.parameter_spread", self.plant.parameter_spread, 0.0, 0.9)?;
         positive("plant.smoothing_rad_s", self.plant.smoothing_rad_s)?;
         positive("plant.stribeck_velocity_rad_s", self.plant.stribeck_velocity_rad_s)?;

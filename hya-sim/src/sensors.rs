@@ -49,10 +49,12 @@ fn draw<const N: usize>(rng: &mut ChaCha8Rng, noise: Noise) -> JointVector<N> {
 }
 
 impl<const N: usize> Sensors<N> {
-    /// Sensors for `config` with `noise`, from `seed`, read every `dt` s; a filter velocity
+    /// Sensors for `config` with `noise`, from stream 1 of `seed`, read every `dt` s; a filter velocity
     /// source uses the paper's filter at `ζ = 0.8`, `ω1 = ω2 = bandwidth`.
     pub fn new(config: SensorConfig, noise: NoiseConfig, seed: u64, dt: f64, bandwidth: f64) -> Self {
+        // Stream 1 of the seed (the plant draws from stream 0), so no two seeds share numbers.
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        rng.set_stream(1);
         let bound = config.pressure_offset_pa;
         let offsets = (draw(&mut rng, Noise::Uniform { bound }), draw(&mut rng, Noise::Uniform { bound }));
         Self { rng, noise, config, offsets, velocity: None, filter: (0.8, bandwidth, dt) }

@@ -101,6 +101,13 @@ pub struct Entry {
 /// `sweep.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct Sweep {
+    /// What was swept (scenarios and durations, methods, bandwidths, seeds): shards of different
+    /// sweeps do not merge.
+    pub plan: String,
+    /// Into how many shards the sweep was split.
+    pub shards: usize,
+    /// Which of them this file holds.
+    pub shard_indices: Vec<usize>,
     /// Every point, sorted by scenario, method, bandwidth and seed.
     pub entries: Vec<Entry>,
 }
@@ -109,14 +116,30 @@ fn key(e: &Entry) -> (String, String, u64, u64) {
     (e.scenario.clone(), e.method.clone(), e.bandwidth_rad_s.to_bits(), e.seed)
 }
 
+impl Plan {
+    /// A description of the grid that identifies it.
+    fn fingerprint(&self) -> String {
+        let scenarios: Vec<String> =
+            self.scenarios.iter().map(|s| format!("{} ({} s, seed {})", s.name, s.duration_s, s.seed)).collect();
+        let methods: Vec<&str> = self.methods.iter().map(|m| m.name()).collect();
+        format!(
+            "{}; {}; {:?} rad/s; {} seeds",
+            scenarios.join(", "),
+            methods.join(", "),
+            self.bandwidths_rad_s,
+            self.seeds
+        )
+    }
+}
+
 impl Sweep {
-    fn sorted(mut entries: Vec<Entry>) -> Self {
+    fn sorted(mut entries: Vec<Entry>) -> Vec<Entry> {
         entries.sort_by(|a, b| {
             (a.scenario.as_str(), a.method.as_str(), a.seed)
                 .cmp(&(b.scenario.as_str(), b.method.as_str(), b.seed))
                 .then(a.bandwidth_rad_s.total_cmp(&b.bandwidth_rad_s))
         });
-        Self { entries }
+        entries
     }
 }
 
@@ -160,11 +183,31 @@ pub fn run(plan: &Plan, shard: Shard, progress: &(dyn Fn(f64) + Sync)) -> Result
         .map_err(|_| SimError::Numerical("a sweep thread panicked".into()))?
         .into_iter()
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(Sweep::sorted(entries))
+    Ok(Sweep {
+        plan: plan.fingerprint(),
+        shards: shard.count,
+        shard_indices: vec![shard.index],
+        entries: Sweep::sorted(entries),
+    })
 }
 
-/// Joins shards: every entry once (an entry present in several shards must agree).
+/// Joins shards of one sweep: every entry once (an entry present in several shards must agree).
+/// Shards of different sweeps, or a set missing a shard, are refused.
 pub fn merge(shards: &[Sweep]) -> Result<Sweep, SimError> {
+    let Some(first) = shards.first() else { return Err(SimError::Config("no shards to merge".into())) };
+    if let Some(other) = shards.iter().find(|s| s.plan != first.plan || s.shards != first.shards) {
+        return Err(SimError::Config(format!(
+            "shards come from different sweeps: {:?} in {} shards against {:?} in {}",
+            first.plan, first.shards, other.plan, other.shards
+        )));
+    }
+    let missing: Vec<String> = (0..first.shards)
+        .filter(|i| !shards.iter().any(|s| s.shard_indices.contains(i)))
+        .map(|i| format!("{i}/{}", first.shards))
+        .collect();
+    if !missing.is_empty() {
+        return Err(SimError::Config(format!("missing shards: {}", missing.join(", "))));
+    }
     let mut all: Vec<Entry> = shards.iter().flat_map(|s| s.entries.iter().cloned()).collect();
     all.sort_by_key(key);
     let mut merged: Vec<Entry> = Vec::with_capacity(all.len());
@@ -181,7 +224,12 @@ pub fn merge(shards: &[Sweep]) -> Result<Sweep, SimError> {
             _ => merged.push(entry),
         }
     }
-    Ok(Sweep::sorted(merged))
+    Ok(Sweep {
+        plan: first.plan.clone(),
+        shards: first.shards,
+        shard_indices: (0..first.shards).collect(),
+        entries: Sweep::sorted(merged),
+    })
 }
 
 /// The Pareto figure: per scenario, estimate error and tracking RMSE against command noise, one

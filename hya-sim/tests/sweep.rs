@@ -23,14 +23,22 @@ fn merged_shards_equal_the_unsharded_sweep() {
     let shards: Vec<_> = (0..3).map(|i| run(&plan, Shard { index: i, count: 3 }, &|_| {}).unwrap()).collect();
     assert!(shards.iter().all(|s| s.entries.len() < 8), "each shard runs a part");
     let merged = merge(&shards).unwrap();
-    assert_eq!(merged, whole);
-    // Merging a shard twice changes nothing; a shard that disagrees is refused.
+    assert_eq!(merged.entries, whole.entries);
+    assert_eq!(merged.plan, whole.plan);
+    // Merging a shard twice changes nothing; a shard that disagrees, a missing shard or a
+    // shard of another sweep is refused.
     let mut twice = shards.clone();
     twice.push(shards[0].clone());
-    assert_eq!(merge(&twice).unwrap(), whole);
+    assert_eq!(merge(&twice).unwrap().entries, whole.entries);
     let mut tampered = shards[0].clone();
     tampered.entries[0].rmse_q *= 2.0;
-    assert!(merge(&[tampered, shards[0].clone()]).unwrap_err().to_string().contains("disagree"));
+    let mut with_tampered = shards.clone();
+    with_tampered.push(tampered);
+    assert!(merge(&with_tampered).unwrap_err().to_string().contains("disagree"));
+    assert!(merge(&shards[..2]).unwrap_err().to_string().contains("missing shards: 2/3"));
+    let mut foreign = shards.clone();
+    foreign[1].plan.push_str(" (another)");
+    assert!(merge(&foreign).unwrap_err().to_string().contains("different sweeps"));
 }
 
 #[test]

@@ -22,8 +22,10 @@
 //! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`. The
 //! loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range (where
 //! `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ = ω_τ / K_lock`; the integral
-//! term (zero at `ω_i`, a fraction of `ω_τ`) removes the steady error that leakage leaves, its
-//! contribution clamped to the valve's range (anti-windup). On a moving load the
+//! term (zero at `ω_i`, a fraction of `ω_τ`) removes the steady error that leakage leaves; it
+//! stops integrating once its share alone opens the valve fully (conditional integration, an
+//! anti-windup). The loop reads the true chamber pressures (its analogue electronics are taken
+//! as exact); the controller's measured torque carries the sensors' offsets and noise. On a moving load the
 //! piston's own motion feeds back on the pressures, so the achieved torque bandwidth depends on
 //! the inertia the joint carries and on its pose: it falls out of the model. The lever arm is
 //! taken constant over the stroke (a real cylinder's varies with angle).
@@ -305,8 +307,8 @@ impl<const N: usize> HydraulicActuators<N> {
 
     /// The energy stored in joint `i`'s compressed oil relative to `p_ref` at the current
     /// volumes, J, for the closed-valve energy balance: with no flow through the valve, a
-    /// chamber's oil obeys `p = p_0 + β ln(V_0/V)`, and the work it has done on the piston is
-    /// `U(V) = −∫ p dV`.
+    /// chamber's oil obeys `p = p_0 + β ln(V_0/V)`, and the energy stored in it since `V_0` is
+    /// `U(V) = −∫ p dV` (the work the piston has done on the oil).
     pub fn oil_energy(&self, i: usize, q0: f64, q: f64, start: &HydraulicState<N>) -> f64 {
         let (va0, vb0) = self.joints[i].volumes(q0);
         let (va, vb) = self.joints[i].volumes(q);

@@ -295,18 +295,17 @@ fn markdown(
         md.push_str(&header);
         md.push_str(&table_row(std::iter::repeat_n("---".to_string(), JOINTS + 2)));
         for o in &runs {
-            let row = |name: &str, values: &[f64], digits: usize| {
-                table_row(
+            // Mean ± 95 % half-width over the seeds.
+            for (name, metric) in
+                [("RMSE q [rad]", "rmse_q"), ("RMSE d̂ [N·m]", "rmse_d"), ("τ_cmd noise [N·m]", "tau_cmd_noise")]
+            {
+                let Some((mean, ci)) = aggregate(table, &s.name, o.method, metric) else { continue };
+                md.push_str(&table_row(
                     [o.method.name().to_string(), name.into()]
                         .into_iter()
-                        .chain(values.iter().map(|v| format!("{v:.digits$}"))),
-                )
-            };
-            md.push_str(&row("RMSE q [rad]", &o.metrics.rmse_q, 5));
-            if let Some(d) = &o.metrics.rmse_d {
-                md.push_str(&row("RMSE d̂ [N·m]", d, 3));
+                        .chain(mean.iter().zip(&ci).map(|(m, c)| format!("{} ± {}", figure(*m), figure(*c)))),
+                ));
             }
-            md.push_str(&row("τ_cmd noise [N·m]", &o.metrics.tau_cmd_noise, 3));
         }
         let _ = writeln!(
             md,
@@ -521,7 +520,7 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
     let gains = gains(nominal, first, &q0)?;
     let _ = writeln!(
         md,
-        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, `K_I = K_P ω_n · {}`, its torque clamped to ± ({}) N·m (anti-windup). At low frequency the paper's estimator acts like this integral: pid is the honest baseline for it.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates from about 60 to over 18,000 rad/s on HyA); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
+        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, `K_I = K_P ω_n · {}`, its torque clamped to ± ({}) N·m (anti-windup). At low frequency the paper's estimator acts like this integral: pid is the honest baseline for it.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
         c.dt_s,
         match first.sensors.velocity {
             crate::scenario::VelocitySource::Difference => "encoder difference (low-passed)",
@@ -550,13 +549,25 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
             format!(
                 "{} / {} / {}",
                 noise_text(&s.noise.position),
-                noise_text(&s.noise.velocity),
-                noise_text(&s.noise.torque)
+                match s.sensors.velocity {
+                    crate::scenario::VelocitySource::Sensor => noise_text(&s.noise.velocity),
+                    _ => "no sensor (from the encoders)".into(),
+                },
+                if s.plant.actuator == crate::scenario::ActuatorKind::Hydraulic
+                    && s.sensors.torque == crate::scenario::TorqueSource::Pressure
+                {
+                    format!(
+                        "from the chamber pressures (Gaussian σ = {} Pa, offsets within ±{} Pa)",
+                        s.sensors.pressure_noise_pa, s.sensors.pressure_offset_pa
+                    )
+                } else {
+                    noise_text(&s.noise.torque)
+                }
             ),
             s.methods.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
             format!("{}", s.seed),
         ]));
     }
-    md.push_str("\nDefault sensor noise: one count of HyA's 19-bit encoders on the angle; where a scenario defines a velocity sensor or a load cell, the uniform bounds measured on hydraulic joints (velocity 0.055 rad/s, torque 0.073 N·m; Vorndamme et al.). The weight: 2 kg, sized so that it shifts joint 2's disturbance by about 10 N·m, as the paper's weight-drop figure shows (≈ +5 N·m before, ≈ −5 N·m with the weight on). Each scenario's description names the paper times it follows. Sine amplitudes and frequency, the goto transition and the controller's natural frequencies are not given in the paper; they are our choices, fixed before any comparison was run.\n");
+    md.push_str("\nDefault sensor noise: one count of HyA's 19-bit encoders on the angle; where a scenario defines a velocity sensor or a load cell, the uniform bounds measured on hydraulic joints (velocity 0.055 rad/s, torque 0.073 N·m; Vorndamme et al.). The weight: 2 kg, our choice (the paper does not give its mass; its weight-drop figure shows joint 2's disturbance going from about +5 to about −5 N·m). Each scenario's description names the paper times it follows. Sine amplitudes and frequency, the goto transition and the controller's natural frequencies are not given in the paper; they are our choices, fixed before any comparison was run.\n");
     Ok(md)
 }

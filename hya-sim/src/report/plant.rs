@@ -176,10 +176,25 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
     let mut figures = Vec::new();
     let Some(first) = scenarios.first() else { return Ok((md, figures)) };
     let p = &first.plant;
+    let friction = match p.friction {
+        crate::scenario::FrictionKind::Lugre => "LuGre friction",
+        crate::scenario::FrictionKind::Smooth => "smooth (tanh) friction without stiction",
+        crate::scenario::FrictionKind::Off => "no friction",
+    };
+    let actuator = match p.actuator {
+        ActuatorKind::Hydraulic => "hydraulic actuators with an inner PI torque loop",
+        ActuatorKind::Lag => "first-order torque lags as actuators",
+        ActuatorKind::Ideal => "ideal actuators",
+    };
+    let velocity = match first.sensors.velocity {
+        crate::scenario::VelocitySource::Difference => "velocity from the encoders' difference",
+        crate::scenario::VelocitySource::Filter => "velocity from the paper's filter",
+        crate::scenario::VelocitySource::Sensor => "a velocity sensor",
+    };
     let _ = writeln!(
         md,
-        "The simulated arm (\"true\" plant) of `{}`, shared by every scenario unless one says otherwise: the nominal rigid body with seeded parameter errors, LuGre friction, hydraulic actuators with an inner PI torque loop, sensing as on HyA (encoders, velocity from their difference, torque from the chamber pressures) and one tick of command delay. Gravity 9.81 m/s² along −z. The first testbed's plant stays one setting away: `friction = \"smooth\"`, `actuator = \"lag\"`, `[sensors] velocity = \"sensor\"`.\n",
-        first.name
+        "The simulated arm (\"true\" plant) of `{}`, as the other scenarios use it unless they say otherwise: the nominal rigid body with seeded parameter errors, {friction}, {actuator}, encoders with {velocity}, and {} tick(s) of command delay. Gravity 9.81 m/s² along −z. The first testbed's plant is one setting away: `friction = \"smooth\"`, `actuator = \"lag\"`, `[sensors] velocity = \"sensor\"`.\n",
+        first.name, first.sensors.command_delay_ticks
     );
     md.push_str("| parameter | value (per joint where a list) | unit | source |\n|---|---|---|---|\n");
     for r in parameter_rows(p, &first.sensors) {

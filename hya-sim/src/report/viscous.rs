@@ -40,7 +40,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     }
     let delay = |w: f64| 1.0 / w + 2.0 * 0.8 / w;
     let mut md = format!(
-        "\nMeasured: `lu` on `{}` at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), the peak-to-peak tracking error over the last 5 s, mean over seeds (mrad); a joint counts as free of a limit cycle below {} mrad. The largest delay `τ_d = 1/ω + 2ζ/ω` that keeps each joint free of one, and the bandwidth it implies:\n\n",
+        "\nMeasured: `lu` on `{}` at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), the peak-to-peak tracking error over the final window (5 s, or the last fifth of a shorter run), mean over seeds (mrad); a joint counts as free of a limit cycle below {} mrad. Per joint, the slowest bandwidth from which on every faster one in the sweep is free of a limit cycle, and the delay `τ_d = 1/ω + 2ζ/ω` it allows:\n\n",
         base.name,
         BANDWIDTHS_RAD_S[0],
         BANDWIDTHS_RAD_S[BANDWIDTHS_RAD_S.len() - 1],
@@ -54,13 +54,11 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     ));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 3)));
     for j in 0..JOINTS {
-        let free: Vec<f64> = BANDWIDTHS_RAD_S
-            .iter()
-            .zip(&amplitude)
-            .filter(|(_, a)| a.get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD))
-            .map(|(w, _)| *w)
-            .collect();
-        let slowest_free = free.iter().copied().fold(f64::INFINITY, f64::min);
+        // The slowest bandwidth from which on every faster one is free too.
+        let free = |k: usize| amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD);
+        let slowest_free = (0..BANDWIDTHS_RAD_S.len())
+            .find(|&k| (k..BANDWIDTHS_RAD_S.len()).all(free))
+            .map_or(f64::INFINITY, |k| BANDWIDTHS_RAD_S[k]);
         let (largest_delay, recommended) = if slowest_free.is_finite() {
             (format!("{:.0}", delay(slowest_free) * 1e3), format!("{slowest_free}"))
         } else {
@@ -82,13 +80,13 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     if !contradicting.is_empty() {
         let _ = writeln!(
             md,
-            "\nOn joints {} a slower filter (a longer delay) is free of a limit cycle while a faster one is not: the measurement does not follow the `F_v τ_d > M_ii` rule above, which ignores friction's nonlinearity and the actuators; the rule explains the trend at the paper's 50 rad/s, not the whole sweep.",
+            "\nOn joints {} a slower filter (a longer delay) is free of a limit cycle while a faster one is not: there the measurement does not follow the `F_v τ_d > M_ii` rule above, which ignores friction's nonlinearity and the actuators.",
             contradicting.join(", ")
         );
     }
     let _ = writeln!(
         md,
-        "\nThe filters share one `Φ` for all joints, so one bandwidth serves the arm: the largest recommended value is the one that keeps every joint free of a limit cycle; a faster filter passes more sensor noise into `d̂` (see `hya sweep`)."
+        "\nThe filters share one `Φ` for all joints, so one bandwidth serves the arm: by this table's definition the largest per-joint value keeps every joint free of a limit cycle in the sweep; a faster filter passes more sensor noise into `d̂` (see `hya sweep`)."
     );
     Ok(md)
 }

@@ -87,8 +87,7 @@ fn run_all(
     bar.finish_and_clear();
     let summary = report::write(out, &scenarios, &outcomes, &table, quick, generated_by).map_err(sim)?;
     for claim in summary.claims.iter().filter(|c| c.seeds > 0) {
-        let verdict =
-            serde_json::to_value(claim.verdict).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default();
+        let verdict = claim.verdict.name();
         eprintln!("{verdict:>15}: {} ({})", claim.statement, claim.section);
     }
     eprintln!("report: {}", out.join("report.md").display());

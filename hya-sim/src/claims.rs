@@ -93,6 +93,18 @@ pub enum Verdict {
     NotRun,
 }
 
+impl Verdict {
+    /// The verdict as `summary.json` and the report write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Reproduced => "reproduced",
+            Verdict::Partly => "partly",
+            Verdict::NotReproduced => "not reproduced",
+            Verdict::NotRun => "not run",
+        }
+    }
+}
+
 /// The figures behind a verdict at one joint.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointFigure {

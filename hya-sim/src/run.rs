@@ -176,7 +176,8 @@ pub fn simulate<const N: usize>(
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
     let trajectory = Trajectory::new(&scenario.task, q0)?;
-    let controller = ComputedTorque::new(nominal, gains(nominal, scenario, &q0)?)
+    let gains = gains(nominal, scenario, &q0)?;
+    let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)
         .map_err(|e| SimError::Config(format!("controller: {e}")))?;
 
@@ -192,7 +193,6 @@ pub fn simulate<const N: usize>(
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };
-    let gains = gains(nominal, scenario, &q0)?;
     let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substep = dt / scenario.plant.substeps as f64;

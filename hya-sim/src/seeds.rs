@@ -3,7 +3,6 @@
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
 
 use crate::metrics::Metrics;
 use crate::run::RunOutcome;
@@ -68,6 +67,31 @@ pub fn per_joint_mean_ci95(values: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
     (0..joints).map(|j| mean_ci95(&values.iter().map(|v| v[j]).collect::<Vec<_>>())).unzip()
 }
 
+/// `f` applied to every job on every core, the results in the jobs' order (so the outcome does
+/// not depend on which thread ran what).
+pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) -> Vec<R> {
+    let next = AtomicUsize::new(0);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
+    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let index = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(job) = jobs.get(index) else { break };
+                        done.push((index, f(job)));
+                    }
+                    done
+                })
+            })
+            .collect();
+        handles.into_iter().flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
+    });
+    results.sort_by_key(|(index, _)| *index);
+    results.into_iter().map(|(_, r)| r).collect()
+}
+
 /// The runs of every scenario and method over `seeds` seeds (the scenario's seed and the next
 /// ones): the first seed's runs with their traces (for figures), and every run's metrics.
 /// `progress` is told each finished run's simulated seconds.
@@ -81,33 +105,19 @@ pub fn run_seeds(
         .enumerate()
         .flat_map(|(i, s)| s.methods.iter().flat_map(move |&m| (0..seeds).map(move |k| (i, m, k))))
         .collect();
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<(usize, Result<RunOutcome<JOINTS>, SimError>)>> = Mutex::new(Vec::with_capacity(jobs.len()));
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| loop {
-                let index = next.fetch_add(1, Ordering::Relaxed);
-                let Some(&(i, method, k)) = jobs.get(index) else { break };
-                let mut scenario = scenarios[i].clone();
-                scenario.seed = scenario.seed.wrapping_add(k as u64);
-                let mut outcome = run_method(&scenario, method);
-                if let (Ok(o), true) = (outcome.as_mut(), k > 0) {
-                    o.trace = Default::default(); // only the first seed's traces are kept
-                }
-                progress(scenario.duration_s);
-                if let Ok(mut all) = results.lock() {
-                    all.push((index, outcome));
-                }
-            });
+    let results = parallel_map(&jobs, |&(i, method, k)| {
+        let mut scenario = scenarios[i].clone();
+        scenario.seed = scenario.seed.wrapping_add(k as u64);
+        let mut outcome = run_method(&scenario, method);
+        if let (Ok(o), true) = (outcome.as_mut(), k > 0) {
+            o.trace = Default::default(); // only the first seed's traces are kept
         }
+        progress(scenario.duration_s);
+        outcome
     });
-    let mut results = results.into_inner().map_err(|_| SimError::Numerical("a simulation thread panicked".into()))?;
-    results.sort_by_key(|(index, _)| *index);
     let mut table = MetricTable::default();
     let mut first = Vec::new();
-    for (index, outcome) in results {
-        let (i, method, k) = jobs[index];
+    for (&(i, method, k), outcome) in jobs.iter().zip(results) {
         let outcome = outcome.map_err(|e| {
             SimError::Numerical(format!(
                 "{} / {} / seed {}: {e}",

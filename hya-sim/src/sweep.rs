@@ -151,38 +151,24 @@ fn mean(values: &[f64]) -> f64 {
 pub fn run(plan: &Plan, shard: Shard, progress: &(dyn Fn(f64) + Sync)) -> Result<Sweep, SimError> {
     let jobs: Vec<_> =
         plan.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let results = std::sync::Mutex::new(Vec::with_capacity(jobs.len()));
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| loop {
-                let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(&(i, method, bandwidth, k)) = jobs.get(index) else { break };
-                let mut scenario = plan.scenarios[i].clone();
-                scenario.seed = scenario.seed.wrapping_add(k as u64);
-                scenario.controller.observer_bandwidth_rad_s = bandwidth;
-                let entry = run_method(&scenario, method).map(|o| Entry {
-                    scenario: scenario.name.clone(),
-                    method: method.name().to_owned(),
-                    bandwidth_rad_s: bandwidth,
-                    seed: scenario.seed,
-                    rmse_d: o.metrics.rmse_d.as_deref().map_or(f64::NAN, mean),
-                    tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
-                    rmse_q: mean(&o.metrics.rmse_q),
-                });
-                progress(scenario.duration_s);
-                if let Ok(mut all) = results.lock() {
-                    all.push(entry);
-                }
-            });
-        }
-    });
-    let entries = results
-        .into_inner()
-        .map_err(|_| SimError::Numerical("a sweep thread panicked".into()))?
-        .into_iter()
-        .collect::<Result<Vec<_>, _>>()?;
+    let entries = crate::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
+        let mut scenario = plan.scenarios[i].clone();
+        scenario.seed = scenario.seed.wrapping_add(k as u64);
+        scenario.controller.observer_bandwidth_rad_s = bandwidth;
+        let entry = run_method(&scenario, method).map(|o| Entry {
+            scenario: scenario.name.clone(),
+            method: method.name().to_owned(),
+            bandwidth_rad_s: bandwidth,
+            seed: scenario.seed,
+            rmse_d: o.metrics.rmse_d.as_deref().map_or(f64::NAN, mean),
+            tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
+            rmse_q: mean(&o.metrics.rmse_q),
+        });
+        progress(scenario.duration_s);
+        entry
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>, _>>()?;
     Ok(Sweep {
         plan: plan.fingerprint(),
         shards: shard.count,

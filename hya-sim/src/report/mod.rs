@@ -350,10 +350,8 @@ fn claims_table(claims: &[Judgement]) -> String {
                 .join("; ")
         };
         let verdict = match c.verdict {
-            Verdict::Reproduced => "reproduced",
-            Verdict::Partly => "**partly**",
-            Verdict::NotReproduced => "**not reproduced**",
-            Verdict::NotRun => "not run",
+            Verdict::Partly | Verdict::NotReproduced => format!("**{}**", c.verdict.name()),
+            other => other.name().to_owned(),
         };
         md.push_str(&table_row([
             c.statement.to_owned(),

@@ -20,6 +20,11 @@ pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 /// Seeds per bandwidth.
 const SEEDS: usize = 3;
 
+/// Whether joint `j` is free of a limit cycle at the `k`-th bandwidth.
+fn is_free(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
+    amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD)
+}
+
 /// The section, from runs of `base` (the goto task) at every bandwidth.
 pub fn section(base: &Scenario) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
@@ -55,7 +60,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 3)));
     for j in 0..JOINTS {
         // The slowest bandwidth from which on every faster one is free too.
-        let free = |k: usize| amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD);
+        let free = |k: usize| is_free(&amplitude, k, j);
         let slowest_free = (0..BANDWIDTHS_RAD_S.len())
             .find(|&k| (k..BANDWIDTHS_RAD_S.len()).all(free))
             .map_or(f64::INFINITY, |k| BANDWIDTHS_RAD_S[k]);
@@ -71,7 +76,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     // measurement contradicts the simple `F_v τ_d > M_ii` rule.
     let contradicting: Vec<String> = (0..JOINTS)
         .filter(|&j| {
-            let free = |k: usize| amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD);
+            let free = |k: usize| is_free(&amplitude, k, j);
             (0..BANDWIDTHS_RAD_S.len())
                 .any(|slow| free(slow) && (slow + 1..BANDWIDTHS_RAD_S.len()).any(|fast| !free(fast)))
         })

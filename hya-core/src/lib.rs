@@ -33,9 +33,11 @@ pub mod model;
 pub mod observers;
 pub mod robots;
 pub mod sampling;
+pub mod scalar;
 pub mod spatial;
 mod trig;
 
+pub use scalar::Real;
 pub use trig::sin_cos;
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};

@@ -1,5 +1,6 @@
 //! Spatial (6D) vector algebra in Featherstone's conventions, kept as rotation + translation
-//! rather than dense 6x6 matrices.
+//! rather than dense 6x6 matrices, generic over the number type ([`Real`]): written once for the
+//! run-time model, the code generator and derivatives.
 //!
 //! A motion vector is `(ω, v)`: angular velocity and the linear velocity of the body point at the
 //! frame's origin. A force vector is `(n, f)`: moment about the origin and force. A
@@ -10,89 +11,177 @@
 //! X m = (E ω, E (v − r × ω))          motion, A → B
 //! Xᵀ f = (Eᵀ n + r × Eᵀ f, Eᵀ f)      force, B → A
 //! ```
+//!
+//! The arithmetic is written out component by component (no library matrix products), so that
+//! a tracing number type sees exactly these operations and can fold the zeros and ones of a
+//! constant axis or an axis-aligned frame.
 
 use core::ops::{Add, AddAssign, Mul, Sub};
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::scalar::{Label, Quantity, Real};
+
+mod articulated;
+mod vector;
+
+pub use articulated::ArticulatedInertia;
+use vector::{add3, add_mat, cross, dot, mat_mat, mat_tr_vec, mat_vec, outer, scale3, sub3, sub_mat, transpose};
+
 /// A spatial motion vector `(ω, v)`: rad/s and m/s (or their rates).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Motion {
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Motion<S = f64> {
     /// Angular part `ω`.
-    pub angular: Vector3<f64>,
+    pub angular: Vector3<S>,
     /// Linear part `v`, of the body point at the frame's origin.
-    pub linear: Vector3<f64>,
+    pub linear: Vector3<S>,
 }
 
 /// A spatial force vector `(n, f)`: N·m about the frame's origin, and N.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Force {
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Force<S = f64> {
     /// Moment `n` about the frame's origin.
-    pub angular: Vector3<f64>,
+    pub angular: Vector3<S>,
     /// Force `f`.
-    pub linear: Vector3<f64>,
+    pub linear: Vector3<S>,
 }
 
-impl Motion {
+impl Default for Motion {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+impl Default for Force {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+/// `(x, y, z)` of constants.
+fn constant_vector<S: Real>(v: &Vector3<f64>) -> Vector3<S> {
+    Vector3::new(S::constant(v[0]), S::constant(v[1]), S::constant(v[2]))
+}
+
+fn zero_vector<S: Real>() -> Vector3<S> {
+    Vector3::new(S::zero(), S::zero(), S::zero())
+}
+
+fn label_vector<S: Real>(v: &Vector3<S>, body: usize, quantity: Quantity, first: u8) -> Vector3<S> {
+    Vector3::from_fn(|i, _| v[i].labelled(Label { body, quantity, component: first + i as u8 }))
+}
+
+impl<S: Real> Motion<S> {
     /// `(ω, v)`.
-    pub fn new(angular: Vector3<f64>, linear: Vector3<f64>) -> Self {
+    pub fn new(angular: Vector3<S>, linear: Vector3<S>) -> Self {
         Self { angular, linear }
     }
 
+    /// No motion.
+    pub fn zero() -> Self {
+        Self { angular: zero_vector(), linear: zero_vector() }
+    }
+
+    /// A constant motion vector.
+    pub fn constant(m: &Motion<f64>) -> Self {
+        Self { angular: constant_vector(&m.angular), linear: constant_vector(&m.linear) }
+    }
+
     /// The motion cross product `m1 ×ₘ m2 = (ω1 × ω2, ω1 × v2 + v1 × ω2)`.
-    pub fn cross_motion(&self, other: &Motion) -> Motion {
+    pub fn cross_motion(&self, other: &Motion<S>) -> Motion<S> {
         Motion {
-            angular: self.angular.cross(&other.angular),
-            linear: self.angular.cross(&other.linear) + self.linear.cross(&other.angular),
+            angular: cross(&self.angular, &other.angular),
+            linear: add3(&cross(&self.angular, &other.linear), &cross(&self.linear, &other.angular)),
         }
     }
 
     /// The force cross product `m ×* f = (ω × n + v × f, ω × f)`.
-    pub fn cross_force(&self, force: &Force) -> Force {
+    pub fn cross_force(&self, force: &Force<S>) -> Force<S> {
         Force {
-            angular: self.angular.cross(&force.angular) + self.linear.cross(&force.linear),
-            linear: self.angular.cross(&force.linear),
+            angular: add3(&cross(&self.angular, &force.angular), &cross(&self.linear, &force.linear)),
+            linear: cross(&self.angular, &force.linear),
         }
     }
 
     /// The power pairing `m · f = ω · n + v · f`.
-    pub fn dot(&self, force: &Force) -> f64 {
-        self.angular.dot(&force.angular) + self.linear.dot(&force.linear)
+    pub fn dot(&self, force: &Force<S>) -> S {
+        dot(&self.angular, &force.angular) + dot(&self.linear, &force.linear)
+    }
+
+    /// The same vector with its components named `quantity` of `body` (see [`Real::labelled`]).
+    pub fn labelled(&self, body: usize, quantity: Quantity) -> Self {
+        Self {
+            angular: label_vector(&self.angular, body, quantity, 0),
+            linear: label_vector(&self.linear, body, quantity, 3),
+        }
     }
 }
 
-impl Add for Motion {
-    type Output = Motion;
-    fn add(self, rhs: Motion) -> Motion {
-        Motion { angular: self.angular + rhs.angular, linear: self.linear + rhs.linear }
+impl<S: Real> Force<S> {
+    /// `(n, f)`.
+    pub fn new(angular: Vector3<S>, linear: Vector3<S>) -> Self {
+        Self { angular, linear }
+    }
+
+    /// No force.
+    pub fn zero() -> Self {
+        Self { angular: zero_vector(), linear: zero_vector() }
+    }
+
+    /// The same vector with its components named `quantity` of `body` (see [`Real::labelled`]).
+    pub fn labelled(&self, body: usize, quantity: Quantity) -> Self {
+        Self {
+            angular: label_vector(&self.angular, body, quantity, 0),
+            linear: label_vector(&self.linear, body, quantity, 3),
+        }
     }
 }
 
-impl Sub for Motion {
-    type Output = Motion;
-    fn sub(self, rhs: Motion) -> Motion {
-        Motion { angular: self.angular - rhs.angular, linear: self.linear - rhs.linear }
+impl<S: Real> Add for Motion<S> {
+    type Output = Motion<S>;
+    fn add(self, rhs: Motion<S>) -> Motion<S> {
+        Motion { angular: add3(&self.angular, &rhs.angular), linear: add3(&self.linear, &rhs.linear) }
     }
 }
 
-impl Mul<f64> for Motion {
-    type Output = Motion;
-    fn mul(self, rhs: f64) -> Motion {
-        Motion { angular: self.angular * rhs, linear: self.linear * rhs }
+impl<S: Real> Sub for Motion<S> {
+    type Output = Motion<S>;
+    fn sub(self, rhs: Motion<S>) -> Motion<S> {
+        Motion { angular: sub3(&self.angular, &rhs.angular), linear: sub3(&self.linear, &rhs.linear) }
     }
 }
 
-impl Add for Force {
-    type Output = Force;
-    fn add(self, rhs: Force) -> Force {
-        Force { angular: self.angular + rhs.angular, linear: self.linear + rhs.linear }
+impl<S: Real> Mul<S> for Motion<S> {
+    type Output = Motion<S>;
+    fn mul(self, rhs: S) -> Motion<S> {
+        Motion { angular: scale3(&self.angular, rhs), linear: scale3(&self.linear, rhs) }
     }
 }
 
-impl AddAssign for Force {
-    fn add_assign(&mut self, rhs: Force) {
-        self.angular += rhs.angular;
-        self.linear += rhs.linear;
+impl<S: Real> Add for Force<S> {
+    type Output = Force<S>;
+    fn add(self, rhs: Force<S>) -> Force<S> {
+        Force { angular: add3(&self.angular, &rhs.angular), linear: add3(&self.linear, &rhs.linear) }
+    }
+}
+
+impl<S: Real> Sub for Force<S> {
+    type Output = Force<S>;
+    fn sub(self, rhs: Force<S>) -> Force<S> {
+        Force { angular: sub3(&self.angular, &rhs.angular), linear: sub3(&self.linear, &rhs.linear) }
+    }
+}
+
+impl<S: Real> Mul<S> for Force<S> {
+    type Output = Force<S>;
+    fn mul(self, rhs: S) -> Force<S> {
+        Force { angular: scale3(&self.angular, rhs), linear: scale3(&self.linear, rhs) }
+    }
+}
+
+impl<S: Real> AddAssign for Force<S> {
+    fn add_assign(&mut self, rhs: Force<S>) {
+        *self = *self + rhs;
     }
 }
 
@@ -101,11 +190,11 @@ impl AddAssign for Force {
 /// As a pose, it says where B is in A: B's axes are the rows of `E` in A coordinates, and its
 /// origin is `r`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Transform {
+pub struct Transform<S = f64> {
     /// `E`: rotates A coordinates into B coordinates.
-    pub rotation: Matrix3<f64>,
+    pub rotation: Matrix3<S>,
     /// `r`: B's origin in A coordinates, m.
-    pub translation: Vector3<f64>,
+    pub translation: Vector3<S>,
 }
 
 impl Default for Transform {
@@ -115,11 +204,6 @@ impl Default for Transform {
 }
 
 impl Transform {
-    /// Frames A and B coincide.
-    pub fn identity() -> Self {
-        Self { rotation: Matrix3::identity(), translation: Vector3::zeros() }
-    }
-
     /// The transform to a frame B placed in A at `origin` with orientation `orientation`
     /// (B's axes as the columns, in A coordinates, as URDF's `<origin>` gives them).
     pub fn from_pose(orientation: Matrix3<f64>, origin: Vector3<f64>) -> Self {
@@ -134,37 +218,53 @@ impl Transform {
             translation: Vector3::from(translation),
         }
     }
+}
+
+impl<S: Real> Transform<S> {
+    /// Frames A and B coincide.
+    pub fn identity() -> Self {
+        Self::constant(&Transform { rotation: Matrix3::identity(), translation: Vector3::zeros() })
+    }
+
+    /// A constant transform. Rotation entries within 1e-14 of 0 or ±1 are snapped, so that
+    /// rotations by multiples of π/2 (whose cosines are 6e-17, not 0) are the exact rotations
+    /// they mean and fold as such.
+    pub fn constant(x: &Transform<f64>) -> Self {
+        let snap = |v: f64| [0.0, 1.0, -1.0].into_iter().find(|target| (v - target).abs() < 1e-14).unwrap_or(v);
+        Self {
+            rotation: Matrix3::from_fn(|r, c| S::constant(snap(x.rotation[(r, c)]))),
+            translation: constant_vector(&x.translation),
+        }
+    }
 
     /// B's orientation in A: its axes as columns, `Eᵀ`.
-    pub fn orientation(&self) -> Matrix3<f64> {
-        self.rotation.transpose()
+    pub fn orientation(&self) -> Matrix3<S> {
+        transpose(&self.rotation)
     }
 
     /// Maps a motion vector from A to B coordinates.
-    pub fn apply_motion(&self, m: &Motion) -> Motion {
-        Motion {
-            angular: self.rotation * m.angular,
-            linear: self.rotation * (m.linear - self.translation.cross(&m.angular)),
-        }
+    pub fn apply_motion(&self, m: &Motion<S>) -> Motion<S> {
+        let shifted = sub3(&m.linear, &cross(&self.translation, &m.angular));
+        Motion { angular: mat_vec(&self.rotation, &m.angular), linear: mat_vec(&self.rotation, &shifted) }
     }
 
     /// Maps a force vector from B back to A coordinates (`Xᵀ f`).
-    pub fn apply_transpose_force(&self, f: &Force) -> Force {
-        let linear = self.rotation.tr_mul(&f.linear);
-        Force { angular: self.rotation.tr_mul(&f.angular) + self.translation.cross(&linear), linear }
+    pub fn apply_transpose_force(&self, f: &Force<S>) -> Force<S> {
+        let linear = mat_tr_vec(&self.rotation, &f.linear);
+        let rotated = mat_tr_vec(&self.rotation, &f.angular);
+        Force { angular: add3(&rotated, &cross(&self.translation, &linear)), linear }
     }
 
-    /// `self` maps A to B and `next` maps B to C; the result maps A to C.
-    pub fn then(&self, next: &Transform) -> Transform {
-        Transform {
-            rotation: next.rotation * self.rotation,
-            translation: self.translation + self.rotation.tr_mul(&next.translation),
-        }
+    /// `self` maps A to B and `next` maps B to C; the result maps A to C:
+    /// `E = E₂ E₁`, `r = r₁ + E₁ᵀ r₂`.
+    pub fn then(&self, next: &Transform<S>) -> Transform<S> {
+        let moved = mat_tr_vec(&self.rotation, &next.translation);
+        Transform { rotation: mat_mat(&next.rotation, &self.rotation), translation: add3(&self.translation, &moved) }
     }
 
     /// A point given in B coordinates, in A coordinates: `Eᵀ p + r`.
-    pub fn point_to_parent(&self, p: &Vector3<f64>) -> Vector3<f64> {
-        self.rotation.tr_mul(p) + self.translation
+    pub fn point_to_parent(&self, p: &Vector3<S>) -> Vector3<S> {
+        add3(&mat_tr_vec(&self.rotation, p), &self.translation)
     }
 }
 
@@ -181,6 +281,19 @@ pub fn roll_pitch_yaw(rpy: &Vector3<f64>) -> Matrix3<f64> {
     axis_angle(&Vector3::z(), rpy[2]) * axis_angle(&Vector3::y(), rpy[1]) * axis_angle(&Vector3::x(), rpy[0])
 }
 
+/// The rotation part `E_J = R(a, q)ᵀ` of a revolute joint's transform from `sin q` and `cos q`,
+/// entry by entry: `E_J = a aᵀ + c (1 − a aᵀ) − s [a]×`, so a constant axis folds.
+pub fn revolute_rotation<S: Real>(axis: &Vector3<f64>, sin: S, cos: S) -> Matrix3<S> {
+    let k = axis.cross_matrix();
+    Matrix3::from_fn(|r, col| {
+        let projection = axis[r] * axis[col];
+        let identity = if r == col { 1.0 } else { 0.0 };
+        let cosine = cos * S::constant(identity - projection);
+        let sine = sin * S::constant(-k[(r, col)]);
+        (S::constant(projection) + cosine) + sine
+    })
+}
+
 /// Spatial inertia of a rigid body about a frame's origin: mass `m` (kg), first moment
 /// `h = m c` (kg·m, `c` the centre of mass) and rotational inertia `I` about the origin (kg·m²).
 ///
@@ -188,13 +301,13 @@ pub fn roll_pitch_yaw(rpy: &Vector3<f64>) -> Matrix3<f64> {
 /// I m = (I ω + h × v,  m v − h × ω)
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RigidBodyInertia {
+pub struct RigidBodyInertia<S = f64> {
     /// Mass `m`, kg.
-    pub mass: f64,
+    pub mass: S,
     /// First moment of mass `h = m c`, kg·m.
-    pub first_moment: Vector3<f64>,
+    pub first_moment: Vector3<S>,
     /// Rotational inertia about the frame's origin, kg·m².
-    pub rotational: Matrix3<f64>,
+    pub rotational: Matrix3<S>,
 }
 
 impl Default for RigidBodyInertia {
@@ -204,11 +317,6 @@ impl Default for RigidBodyInertia {
 }
 
 impl RigidBodyInertia {
-    /// No mass at all.
-    pub fn zero() -> Self {
-        Self { mass: 0.0, first_moment: Vector3::zeros(), rotational: Matrix3::zeros() }
-    }
-
     /// From mass, centre of mass `c` and inertia about the centre of mass `Ī` (all in this frame):
     /// `I = Ī + m (|c|² 1 − c cᵀ)` (parallel-axis theorem).
     pub fn from_centre_of_mass(mass: f64, com: Vector3<f64>, inertia_about_com: Matrix3<f64>) -> Self {
@@ -227,64 +335,82 @@ impl RigidBodyInertia {
         Some((self.mass, com, self.rotational - parallel_axis))
     }
 
-    /// `I m`: the momentum of a body with this inertia moving with `m`.
-    pub fn apply(&self, m: &Motion) -> Force {
-        Force {
-            angular: self.rotational * m.angular + self.first_moment.cross(&m.linear),
-            linear: m.linear * self.mass - self.first_moment.cross(&m.angular),
-        }
-    }
-
-    /// This inertia, given in frame B, expressed in frame A, where `x` maps A to B (`Xᵀ I X`).
-    ///
-    /// With `R = Eᵀ`, `g = R h`: `h_A = g + m r` and
-    /// `I_A = R I Rᵀ + (2 r·g + m |r|²) 1 − g rᵀ − r gᵀ − m r rᵀ`.
-    pub fn expressed_in_parent(&self, x: &Transform) -> RigidBodyInertia {
-        let r = x.translation;
-        let g = x.rotation.tr_mul(&self.first_moment);
-        let rotated = x.rotation.tr_mul(&(self.rotational * x.rotation));
-        let rotational = rotated + Matrix3::identity() * (2.0 * r.dot(&g) + self.mass * r.norm_squared())
-            - g * r.transpose()
-            - r * g.transpose()
-            - r * r.transpose() * self.mass;
-        RigidBodyInertia { mass: self.mass, first_moment: g + r * self.mass, rotational }
-    }
-
-    /// The ten inertial parameters `(m, h_x, h_y, h_z, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)`,
-    /// with `I` about the frame's origin: the order parametric generated dynamics read them in.
-    pub fn parameters(&self) -> [f64; 10] {
-        let (h, r) = (&self.first_moment, &self.rotational);
-        [self.mass, h.x, h.y, h.z, r[(0, 0)], r[(1, 1)], r[(2, 2)], r[(0, 1)], r[(0, 2)], r[(1, 2)]]
-    }
-
-    /// The inverse of [`parameters`](Self::parameters).
-    pub fn from_parameters(p: &[f64; 10]) -> Self {
-        Self {
-            mass: p[0],
-            first_moment: Vector3::new(p[1], p[2], p[3]),
-            rotational: Matrix3::new(p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6]),
-        }
-    }
-
     /// True when the body has neither mass nor rotational inertia.
     pub fn is_zero(&self) -> bool {
         self.mass == 0.0 && self.first_moment == Vector3::zeros() && self.rotational == Matrix3::zeros()
     }
 }
 
-impl Add for RigidBodyInertia {
-    type Output = RigidBodyInertia;
-    fn add(self, rhs: RigidBodyInertia) -> RigidBodyInertia {
-        RigidBodyInertia {
-            mass: self.mass + rhs.mass,
-            first_moment: self.first_moment + rhs.first_moment,
-            rotational: self.rotational + rhs.rotational,
+impl<S: Real> RigidBodyInertia<S> {
+    /// No mass at all.
+    pub fn zero() -> Self {
+        Self { mass: S::zero(), first_moment: zero_vector(), rotational: Matrix3::from_fn(|_, _| S::zero()) }
+    }
+
+    /// A constant inertia.
+    pub fn constant(inertia: &RigidBodyInertia<f64>) -> Self {
+        Self::from_parameters(&inertia.parameters().map(S::constant))
+    }
+
+    /// `I m`: the momentum of a body with this inertia moving with `m`.
+    pub fn apply(&self, m: &Motion<S>) -> Force<S> {
+        let iw = mat_vec(&self.rotational, &m.angular);
+        let hv = cross(&self.first_moment, &m.linear);
+        let mv = scale3(&m.linear, self.mass);
+        let hw = cross(&self.first_moment, &m.angular);
+        Force { angular: add3(&iw, &hv), linear: sub3(&mv, &hw) }
+    }
+
+    /// This inertia, given in frame B, expressed in frame A, where `x` maps A to B (`Xᵀ I X`).
+    ///
+    /// With `R = Eᵀ`, `g = R h`: `h_A = g + m r` and
+    /// `I_A = R I Rᵀ + (2 r·g + m |r|²) 1 − g rᵀ − r gᵀ − m r rᵀ`.
+    pub fn expressed_in_parent(&self, x: &Transform<S>) -> RigidBodyInertia<S> {
+        let r = &x.translation;
+        let g = mat_tr_vec(&x.rotation, &self.first_moment);
+        let rotated = mat_mat(&transpose(&x.rotation), &mat_mat(&self.rotational, &x.rotation));
+        let rg = dot(r, &g);
+        let rr = dot(r, r);
+        let diagonal = (rg + rg) + self.mass * rr;
+        let mr = scale3(r, self.mass);
+        let mut rotational = rotated;
+        for i in 0..3 {
+            rotational[(i, i)] = rotational[(i, i)] + diagonal;
+        }
+        let rotational = sub_mat(&sub_mat(&sub_mat(&rotational, &outer(&g, r)), &outer(r, &g)), &outer(r, &mr));
+        RigidBodyInertia { mass: self.mass, first_moment: add3(&g, &mr), rotational }
+    }
+
+    /// The ten inertial parameters `(m, h_x, h_y, h_z, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)`,
+    /// with `I` about the frame's origin: the order parametric generated dynamics read them in.
+    pub fn parameters(&self) -> [S; 10] {
+        let (h, r) = (&self.first_moment, &self.rotational);
+        [self.mass, h.x, h.y, h.z, r[(0, 0)], r[(1, 1)], r[(2, 2)], r[(0, 1)], r[(0, 2)], r[(1, 2)]]
+    }
+
+    /// The inverse of [`parameters`](Self::parameters).
+    pub fn from_parameters(p: &[S; 10]) -> Self {
+        Self {
+            mass: p[0],
+            first_moment: Vector3::new(p[1], p[2], p[3]),
+            rotational: Matrix3::new(p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6]),
         }
     }
 }
 
-impl AddAssign for RigidBodyInertia {
-    fn add_assign(&mut self, rhs: RigidBodyInertia) {
+impl<S: Real> Add for RigidBodyInertia<S> {
+    type Output = RigidBodyInertia<S>;
+    fn add(self, rhs: RigidBodyInertia<S>) -> RigidBodyInertia<S> {
+        RigidBodyInertia {
+            mass: self.mass + rhs.mass,
+            first_moment: add3(&self.first_moment, &rhs.first_moment),
+            rotational: add_mat(&self.rotational, &rhs.rotational),
+        }
+    }
+}
+
+impl<S: Real> AddAssign for RigidBodyInertia<S> {
+    fn add_assign(&mut self, rhs: RigidBodyInertia<S>) {
         *self = *self + rhs;
     }
 }
@@ -342,5 +468,12 @@ mod tests {
         // rpy = (π/2, 0, 0) turns y into z.
         let r = roll_pitch_yaw(&Vector3::new(core::f64::consts::FRAC_PI_2, 0.0, 0.0));
         assert!((r * Vector3::y() - Vector3::z()).norm() < 1e-15);
+    }
+
+    #[test]
+    fn revolute_rotation_is_the_transposed_rodrigues_rotation() {
+        let axis = Vector3::new(0.0, 0.6, 0.8);
+        let (s, c) = crate::sin_cos(0.9);
+        assert!((revolute_rotation(&axis, s, c) - axis_angle(&axis, 0.9).transpose()).norm() < 1e-15);
     }
 }

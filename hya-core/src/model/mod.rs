@@ -14,8 +14,14 @@ use alloc::vec::Vec;
 
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 
-use crate::spatial::{axis_angle, Force, Motion, RigidBodyInertia, Transform};
-use crate::{Dynamics, JointMatrix, JointVector};
+pub mod algorithms;
+mod workspace;
+
+use algorithms::ModelInertias;
+pub use workspace::{BodyState, JointTransform};
+
+use crate::spatial::{Motion, RigidBodyInertia, Transform};
+use crate::{Dynamics, Error, JointMatrix, JointVector};
 
 /// Standard gravity along the base's −z, m/s² (the paper's and Pinocchio's value).
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -64,19 +70,6 @@ pub struct Body {
 }
 
 impl Body {
-    /// Joint transform `X_J(q)`: from the frame at `q = 0` to the moved body frame.
-    fn joint_transform(&self, q: f64) -> Transform {
-        match self.kind {
-            JointKind::Revolute => Transform::from_pose(axis_angle(&self.axis, q), Vector3::zeros()),
-            JointKind::Prismatic => Transform { rotation: Matrix3::identity(), translation: self.axis * q },
-        }
-    }
-
-    /// Parent body frame to this body's frame at joint position `q`.
-    fn transform(&self, q: f64) -> Transform {
-        self.tree_transform.then(&self.joint_transform(q))
-    }
-
     /// Motion subspace `S`: the body's spatial velocity per unit joint velocity.
     pub fn subspace(&self) -> Motion {
         match self.kind {
@@ -130,16 +123,12 @@ pub enum ModelError {
     /// No frame of that name.
     #[error("no frame named `{0}`")]
     UnknownFrame(String),
-}
-
-/// Per-body scratch space of the algorithms; `[BodyState; N]` on the stack for a fixed `N`.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct BodyState {
-    transform: Transform,
-    velocity: Motion,
-    acceleration: Motion,
-    force: Force,
-    composite: RigidBodyInertia,
+    /// A joint meets no positive inertia: the mass matrix is singular or indefinite there.
+    #[error("joint `{joint}`: the articulated inertia about its axis is not positive")]
+    SingularJoint {
+        /// The joint's name.
+        joint: String,
+    },
 }
 
 /// A fixed-base kinematic tree with rigid bodies, ready for the dynamics algorithms.
@@ -201,161 +190,63 @@ impl TreeModel {
         self.bodies.iter().map(|b| b.joint.as_str())
     }
 
-    fn check(&self, what: &'static str, values: &[f64]) -> Result<(), ModelError> {
-        if values.len() == self.dof() {
-            Ok(())
-        } else {
-            Err(ModelError::Dimension { what, expected: self.dof(), got: values.len() })
-        }
+    fn workspace(&self) -> Vec<BodyState> {
+        vec![BodyState::new(); self.dof()]
     }
 
-    /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)`.
+    /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` ([`algorithms::inverse_dynamics`]).
     pub fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<Vec<f64>, ModelError> {
-        self.check("q", q)?;
-        self.check("qd", qd)?;
-        self.check("qdd", qdd)?;
         let mut tau = vec![0.0; self.dof()];
-        self.rnea(q, Some(qd), Some(qdd), true, &mut vec![BodyState::default(); self.dof()], &mut tau);
+        algorithms::inverse_dynamics(self, &ModelInertias(self), (q, qd, qdd), &mut self.workspace(), &mut tau)?;
         Ok(tau)
     }
 
     /// Gravity torques `G(q)`.
     pub fn gravity(&self, q: &[f64]) -> Result<Vec<f64>, ModelError> {
-        self.check("q", q)?;
         let mut tau = vec![0.0; self.dof()];
-        self.rnea(q, None, None, true, &mut vec![BodyState::default(); self.dof()], &mut tau);
+        algorithms::gravity(self, &ModelInertias(self), q, &mut self.workspace(), &mut tau)?;
         Ok(tau)
     }
 
-    /// Mass matrix `M(q)`.
+    /// Mass matrix `M(q)` ([`algorithms::mass_matrix`]).
     pub fn mass_matrix(&self, q: &[f64]) -> Result<DMatrix<f64>, ModelError> {
-        self.check("q", q)?;
         let n = self.dof();
         let mut m = DMatrix::zeros(n, n);
-        self.crba(q, &mut vec![BodyState::default(); n], |i, j, value| m[(i, j)] = value);
+        algorithms::mass_matrix(self, &ModelInertias(self), q, &mut self.workspace(), |i, j, value| {
+            m[(i, j)] = value;
+            m[(j, i)] = value;
+        })?;
         Ok(m)
     }
 
-    /// The recursive Newton-Euler algorithm. `None` rates are zero; `with_gravity` folds gravity
-    /// into the base acceleration (`a_0 = −g`).
-    ///
-    /// ```text
-    /// v_i = X_i v_λ + S_i q̇_i,   a_i = X_i a_λ + S_i q̈_i + v_i ×ₘ S_i q̇_i
-    /// f_i = I_i a_i + v_i ×* I_i v_i,   τ_i = S_i · f_i,   f_λ += X_iᵀ f_i
-    /// ```
-    pub fn rnea(
-        &self,
-        q: &[f64],
-        qd: Option<&[f64]>,
-        qdd: Option<&[f64]>,
-        with_gravity: bool,
-        states: &mut [BodyState],
-        tau: &mut [f64],
-    ) {
-        let base_acceleration =
-            Motion::new(Vector3::zeros(), if with_gravity { -self.gravity } else { Vector3::zeros() });
-        for (i, body) in self.bodies.iter().enumerate() {
-            let x = body.transform(q[i]);
-            let s = body.subspace();
-            let (parent_velocity, parent_acceleration) = match body.parent {
-                Some(p) => (states[p].velocity, states[p].acceleration),
-                None => (Motion::default(), base_acceleration),
-            };
-            let joint_velocity = s * qd.map_or(0.0, |v| v[i]);
-            let velocity = x.apply_motion(&parent_velocity) + joint_velocity;
-            let acceleration = x.apply_motion(&parent_acceleration)
-                + s * qdd.map_or(0.0, |a| a[i])
-                + velocity.cross_motion(&joint_velocity);
-            let force = body.inertia.apply(&acceleration) + velocity.cross_force(&body.inertia.apply(&velocity));
-            states[i] = BodyState { transform: x, velocity, acceleration, force, ..states[i] };
-        }
-        for (i, body) in self.bodies.iter().enumerate().rev() {
-            tau[i] = body.subspace().dot(&states[i].force);
-            if let Some(p) = body.parent {
-                let to_parent = states[i].transform.apply_transpose_force(&states[i].force);
-                states[p].force += to_parent;
-            }
-        }
-    }
-
-    /// The composite-rigid-body algorithm; `store(i, j, M_ij)` receives every entry of `M(q)`.
-    ///
-    /// ```text
-    /// I^c_λ += X_iᵀ I^c_i X_i (leaves first);   F = I^c_i S_i,   M_ii = S_i · F
-    /// up the tree: F = X_jᵀ F, j = λ(j),   M_ij = M_ji = S_j · F
-    /// ```
-    pub fn crba(&self, q: &[f64], states: &mut [BodyState], mut store: impl FnMut(usize, usize, f64)) {
-        for (i, body) in self.bodies.iter().enumerate() {
-            states[i].transform = body.transform(q[i]);
-            states[i].composite = body.inertia;
-        }
-        for (i, body) in self.bodies.iter().enumerate().rev() {
-            if let Some(p) = body.parent {
-                let in_parent = states[i].composite.expressed_in_parent(&states[i].transform);
-                states[p].composite += in_parent;
-            }
-        }
-        for (i, body) in self.bodies.iter().enumerate() {
-            let mut force = states[i].composite.apply(&body.subspace());
-            store(i, i, body.subspace().dot(&force));
-            let mut j = i;
-            while let Some(p) = self.bodies[j].parent {
-                force = states[j].transform.apply_transpose_force(&force);
-                j = p;
-                let value = self.bodies[j].subspace().dot(&force);
-                store(i, j, value);
-                store(j, i, value);
-            }
-        }
-    }
-
-    /// `C_matᵀ q̇` (with `Ṁ = C_mat + C_matᵀ`), from the subtree momenta `h^C_i`:
-    ///
-    /// ```text
-    /// h_i = I_i v_i,   h^C_λ += X_iᵀ h^C_i (leaves first),   (Cᵀq̇)_i = (v_i ×ₘ S_i) · h^C_i
-    /// ```
-    ///
-    /// (From `ṗ = M q̈ + Ṁ q̇` for the generalized momentum `p_i = S_i · h^C_i`, whose rate is
-    /// `S_i · ḣ^C_i + (v_i ×ₘ S_i) · h^C_i` with `S_i · ḣ^C_i = (M q̈ + C)_i`.)
-    pub fn coriolis_transpose_times_velocity_into(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        states: &mut [BodyState],
-        out: &mut [f64],
-    ) {
-        for (i, body) in self.bodies.iter().enumerate() {
-            let x = body.transform(q[i]);
-            let parent_velocity = body.parent.map_or(Motion::default(), |p| states[p].velocity);
-            let velocity = x.apply_motion(&parent_velocity) + body.subspace() * qd[i];
-            states[i] = BodyState { transform: x, velocity, force: body.inertia.apply(&velocity), ..states[i] };
-        }
-        for (i, body) in self.bodies.iter().enumerate().rev() {
-            out[i] = states[i].velocity.cross_motion(&body.subspace()).dot(&states[i].force);
-            if let Some(p) = body.parent {
-                let to_parent = states[i].transform.apply_transpose_force(&states[i].force);
-                states[p].force += to_parent;
-            }
-        }
-    }
-
-    /// `C_matᵀ q̇`; see [`coriolis_transpose_times_velocity_into`](Self::coriolis_transpose_times_velocity_into).
+    /// `C_matᵀ q̇` ([`algorithms::coriolis_transpose_times_velocity`]).
     pub fn coriolis_transpose_times_velocity(&self, q: &[f64], qd: &[f64]) -> Result<Vec<f64>, ModelError> {
-        self.check("q", q)?;
-        self.check("qd", qd)?;
         let mut out = vec![0.0; self.dof()];
-        self.coriolis_transpose_times_velocity_into(q, qd, &mut vec![BodyState::default(); self.dof()], &mut out);
+        algorithms::coriolis_transpose_times_velocity(
+            self,
+            &ModelInertias(self),
+            (q, qd),
+            &mut self.workspace(),
+            &mut out,
+        )?;
         Ok(out)
     }
 
+    /// Forward dynamics `q̈` by the articulated-body algorithm ([`algorithms::forward_dynamics`]);
+    /// an error if a joint meets no positive inertia.
+    pub fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64]) -> Result<Vec<f64>, ModelError> {
+        let mut qdd = vec![0.0; self.dof()];
+        let mut states = self.workspace();
+        algorithms::forward_dynamics(self, &ModelInertias(self), (q, qd, tau), &mut states, &mut qdd)?;
+        check_joint_inertias(self, &states)?;
+        Ok(qdd)
+    }
+
     /// Base frame to body `i`'s frame at `q`, for every body.
-    fn body_placements(&self, q: &[f64]) -> Vec<Transform> {
-        let mut placements: Vec<Transform> = Vec::with_capacity(self.dof());
-        for (i, body) in self.bodies.iter().enumerate() {
-            let parent = body.parent.map_or(Transform::identity(), |p| placements[p]);
-            placements.push(parent.then(&body.transform(q[i])));
-        }
-        placements
+    fn body_placements(&self, q: &[f64]) -> Result<Vec<Transform>, ModelError> {
+        let mut placements = vec![Transform::identity(); self.dof()];
+        algorithms::body_placements(self, q, &mut self.workspace(), &mut placements)?;
+        Ok(placements)
     }
 
     fn frame(&self, name: &str) -> Result<&Frame, ModelError> {
@@ -365,18 +256,17 @@ impl TreeModel {
     /// Pose of the named frame in the base at `q`: as a transform from base to frame, so its
     /// [`orientation`](Transform::orientation) and `translation` are the frame's axes and origin.
     pub fn frame_pose(&self, frame: &str, q: &[f64]) -> Result<Transform, ModelError> {
-        self.check("q", q)?;
+        let placements = self.body_placements(q)?;
         let frame = self.frame(frame)?;
-        let body = frame.body.map_or(Transform::identity(), |b| self.body_placements(q)[b]);
+        let body = frame.body.map_or(Transform::identity(), |b| placements[b]);
         Ok(body.then(&frame.placement))
     }
 
     /// Geometric Jacobian of the named frame at `q`, in base coordinates: rows 0..3 map `q̇` to
     /// the linear velocity of the frame's origin, rows 3..6 to its angular velocity.
     pub fn frame_jacobian(&self, frame: &str, q: &[f64]) -> Result<DMatrix<f64>, ModelError> {
-        self.check("q", q)?;
+        let placements = self.body_placements(q)?;
         let target = self.frame(frame)?;
-        let placements = self.body_placements(q);
         let origin = target.body.map_or(Transform::identity(), |b| placements[b]).then(&target.placement).translation;
         let mut jacobian = DMatrix::zeros(6, self.dof());
         let mut next = target.body;
@@ -428,19 +318,37 @@ impl TreeModel {
     }
 }
 
+/// Lengths are the caller's to check (see [`SliceDynamics`](crate::SliceDynamics)).
+const SLICE_CONTRACT: &str = "SliceDynamics: every slice has dof() entries (dof² for the mass matrix)";
+
 impl crate::SliceDynamics for TreeModel {
     fn dof(&self) -> usize {
         self.bodies.len()
     }
     fn inverse_dynamics_into(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
-        self.rnea(q, Some(qd), Some(qdd), true, &mut vec![BodyState::default(); self.dof()], tau);
+        algorithms::inverse_dynamics(self, &ModelInertias(self), (q, qd, qdd), &mut self.workspace(), tau)
+            .expect(SLICE_CONTRACT);
     }
     fn gravity_into(&self, q: &[f64], tau: &mut [f64]) {
-        self.rnea(q, None, None, true, &mut vec![BodyState::default(); self.dof()], tau);
+        algorithms::gravity(self, &ModelInertias(self), q, &mut self.workspace(), tau).expect(SLICE_CONTRACT);
     }
     fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]) {
         let n = self.dof();
-        self.crba(q, &mut vec![BodyState::default(); n], |i, j, value| mass[i * n + j] = value);
+        assert_eq!(mass.len(), n * n, "{SLICE_CONTRACT}");
+        algorithms::mass_matrix(self, &ModelInertias(self), q, &mut self.workspace(), |i, j, value| {
+            mass[i * n + j] = value;
+            mass[j * n + i] = value;
+        })
+        .expect(SLICE_CONTRACT);
+    }
+}
+
+/// `Err` unless every joint meets a positive, finite inertia `D_i` in the articulated-body
+/// algorithm: then `M(q)` is positive definite and ABA's `q̈` can be trusted.
+fn check_joint_inertias(model: &TreeModel, states: &[BodyState]) -> Result<(), ModelError> {
+    match states.iter().position(|s| !(s.joint_inertia() > 0.0 && s.joint_inertia().is_finite())) {
+        Some(i) => Err(ModelError::SingularJoint { joint: model.bodies[i].joint.clone() }),
+        None => Ok(()),
     }
 }
 
@@ -456,40 +364,74 @@ impl<const N: usize> TreeDynamics<N> {
     pub fn model(&self) -> &TreeModel {
         &self.model
     }
+
+    /// Runs `algorithm` on the model with a stack workspace; the lengths are `N` by
+    /// construction ([`TreeModel::into_dynamics`]), so it cannot fail on them.
+    fn run<T>(
+        &self,
+        algorithm: impl FnOnce(&TreeModel, &ModelInertias, &mut [BodyState; N]) -> Result<T, ModelError>,
+    ) -> T {
+        algorithm(&self.model, &ModelInertias(&self.model), &mut [BodyState::new(); N])
+            .expect("TreeDynamics<N> holds a model with N joints")
+    }
 }
 
 impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
     fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N> {
         let mut tau = JointVector::<N>::zeros();
-        let mut states = [BodyState::default(); N];
-        self.model.rnea(q.as_slice(), Some(qd.as_slice()), Some(qdd.as_slice()), true, &mut states, tau.as_mut_slice());
+        let inputs = (q.as_slice(), qd.as_slice(), qdd.as_slice());
+        self.run(|m, i, ws| algorithms::inverse_dynamics(m, i, inputs, ws, tau.as_mut_slice()));
         tau
     }
 
     fn coriolis_transpose_times_velocity(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
         let mut out = JointVector::<N>::zeros();
-        let mut states = [BodyState::default(); N];
-        self.model.coriolis_transpose_times_velocity_into(q.as_slice(), qd.as_slice(), &mut states, out.as_mut_slice());
+        let inputs = (q.as_slice(), qd.as_slice());
+        self.run(|m, i, ws| algorithms::coriolis_transpose_times_velocity(m, i, inputs, ws, out.as_mut_slice()));
         out
     }
 
     fn gravity(&self, q: &JointVector<N>) -> JointVector<N> {
         let mut tau = JointVector::<N>::zeros();
-        self.model.rnea(q.as_slice(), None, None, true, &mut [BodyState::default(); N], tau.as_mut_slice());
+        self.run(|m, i, ws| algorithms::gravity(m, i, q.as_slice(), ws, tau.as_mut_slice()));
         tau
     }
 
     fn velocity_terms(&self, q: &JointVector<N>, qd: &JointVector<N>) -> JointVector<N> {
         let mut tau = JointVector::<N>::zeros();
-        let states = &mut [BodyState::default(); N];
-        self.model.rnea(q.as_slice(), Some(qd.as_slice()), None, false, states, tau.as_mut_slice());
+        let inputs = (q.as_slice(), qd.as_slice());
+        self.run(|m, i, ws| algorithms::velocity_terms(m, i, inputs, ws, tau.as_mut_slice()));
         tau
     }
 
     fn mass_matrix(&self, q: &JointVector<N>) -> JointMatrix<N> {
         let mut m = SMatrix::zeros();
-        self.model.crba(q.as_slice(), &mut [BodyState::default(); N], |i, j, value| m[(i, j)] = value);
+        self.run(|model, i, ws| {
+            algorithms::mass_matrix(model, i, q.as_slice(), ws, |r, c, value| {
+                m[(r, c)] = value;
+                m[(c, r)] = value;
+            })
+        });
         m
+    }
+
+    fn forward_dynamics(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        tau: &JointVector<N>,
+    ) -> Result<JointVector<N>, Error> {
+        let mut qdd = JointVector::<N>::zeros();
+        let inputs = (q.as_slice(), qd.as_slice(), tau.as_slice());
+        let singular = self.run(|m, i, ws| {
+            algorithms::forward_dynamics(m, i, inputs, ws, qdd.as_mut_slice())?;
+            Ok(check_joint_inertias(m, ws).is_err())
+        });
+        if singular {
+            Err(Error::SingularMassMatrix)
+        } else {
+            Ok(qdd)
+        }
     }
 }
 
@@ -541,6 +483,9 @@ mod tests {
         assert!((tree.mass_matrix(&q) - arm.mass_matrix(&q)).norm() < 1e-12);
         let ct = tree.coriolis_transpose_times_velocity(&q, &qd);
         assert!(close(ct, arm.coriolis_transpose_times_velocity(&q, &qd)), "{ct}");
+        let tau = JointVector::from([4.0, -1.5]);
+        let by_aba = tree.forward_dynamics(&q, &qd, &tau).unwrap();
+        assert!(close(by_aba, arm.forward_dynamics(&q, &qd, &tau).unwrap()), "{by_aba}");
     }
 
     #[test]

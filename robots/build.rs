@@ -15,8 +15,8 @@ fn main() {
         println!("cargo:rerun-if-changed={}", urdf.display());
         let loaded = hya_codegen::load_file(&urdf).unwrap_or_else(|e| panic!("{e}"));
         let type_name = type_name.trim();
-        let fixed = hya_codegen::generate(&loaded.model, type_name).unwrap_or_else(|e| panic!("{module}: {e}"));
-        let parametric = hya_codegen::generate_parametric(&loaded.model, &format!("{type_name}Parametric"))
+        let fixed = hya_codegen::generate(&loaded, type_name).unwrap_or_else(|e| panic!("{module}: {e}"));
+        let parametric = hya_codegen::generate_parametric(&loaded, &format!("{type_name}Parametric"))
             .unwrap_or_else(|e| panic!("{module}: {e}"));
         let source = fixed.source + "\n" + &parametric.source;
         std::fs::write(out.join(format!("{module}.rs")), source).expect("OUT_DIR is writable");

@@ -12,6 +12,6 @@ pub fn check_loaded(loaded: &LoadedModel) {
     let mass = model.mass_matrix(&q).expect("a loaded model evaluates");
     assert!(mass.iter().all(|m| m.is_finite()), "non-finite mass matrix");
     if n <= 7 {
-        let _ = hya_codegen::generate(model, "Fuzz");
+        let _ = hya_codegen::generate(loaded, "Fuzz");
     }
 }

@@ -1,12 +1,20 @@
-//! A tracing emitter of straight-line scalar code.
+//! The tracing number type: runs `hya-core`'s algorithms and records straight-line code.
 //!
-//! Algorithms run on [`Value`]s instead of numbers: a value is a known constant or a variable of
-//! the generated code. Every operation folds what it can (constants, zeros, ones and signs), so
-//! `0 · x` and `x + 0` emit nothing, and records one SSA statement otherwise. Signs are carried
-//! on the value, so negation never costs a statement. [`Emitter::render`] keeps only the
-//! statements the outputs depend on.
+//! A [`Value`] is a known constant or a variable of the generated code. It implements
+//! [`hya_core::Real`], so the run-time algorithms of `hya_core::model::algorithms` run on it
+//! unchanged; every operation folds what it can (constants, zeros, ones and signs), so `0 · x`
+//! and `x + 0` emit nothing, and records one SSA statement on the thread's [`Emitter`]
+//! otherwise. Signs are carried on the value, so negation never costs a statement; identical
+//! statements are emitted once. [`Emitter::render`] keeps only the statements the outputs
+//! depend on and names them after the labels the algorithms gave.
 
-use std::fmt::Write;
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use hya_core::scalar::{Label, Pass};
+use hya_core::Real;
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::quote;
 
 /// A scalar in traced code: a constant, or an SSA variable, possibly negated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,19 +32,6 @@ pub enum Value {
 
 /// Zero.
 pub const ZERO: Value = Value::Const(0.0);
-/// One.
-pub const ONE: Value = Value::Const(1.0);
-
-impl std::ops::Neg for Value {
-    type Output = Value;
-    /// `−self`, free: no statement is emitted.
-    fn neg(self) -> Value {
-        match self {
-            Value::Const(c) => Value::Const(-c),
-            Value::Var { id, negated } => Value::Var { id, negated: !negated },
-        }
-    }
-}
 
 impl Value {
     fn is_const(self, value: f64) -> bool {
@@ -51,15 +46,24 @@ impl Value {
             other => (other, false),
         }
     }
+
+    fn signed(self, negative: bool) -> Value {
+        if negative {
+            -self
+        } else {
+            self
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
 enum Op {
-    /// An input read, e.g. `q[3]`.
-    Input(String),
+    /// An input read: its name in the generated code and the expression it reads.
+    Input(String, TokenStream),
     Add(Value, Value),
     Sub(Value, Value),
     Mul(Value, Value),
+    Div(Value, Value),
     /// `(sin x, cos x)` of a value; defines this statement (sin) and the next one (cos).
     SinCos(Value),
     /// The cosine half of the preceding `SinCos`.
@@ -73,6 +77,8 @@ pub struct OpCounts {
     pub adds: usize,
     /// Multiplications.
     pub muls: usize,
+    /// Divisions.
+    pub divs: usize,
     /// `sin_cos` calls.
     pub trig: usize,
 }
@@ -93,32 +99,56 @@ impl From<Value> for Key {
     }
 }
 
-/// Records statements as algorithms run on [`Value`]s.
-///
-/// Identical statements are emitted once (common-subexpression elimination): an operation on
-/// operands already combined the same way returns the earlier result.
+/// Records statements as algorithms run on [`Value`]s: identical statements are emitted once
+/// (common-subexpression elimination), and labels and pass marks are kept for naming.
 #[derive(Debug, Default)]
 pub struct Emitter {
     ops: Vec<Op>,
-    seen: std::collections::HashMap<(u8, Key, Key), Value>,
+    seen: HashMap<(u8, Key, Key), Value>,
+    labels: HashMap<usize, Label>,
+    /// `(first statement, body, pass)`: where each body's pass of an algorithm begins.
+    passes: Vec<(usize, usize, Pass)>,
+}
+
+thread_local! {
+    static CURRENT: RefCell<Option<Emitter>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with a fresh emitter recording every operation on [`Value`]s, and returns its
+/// result with the emitter. Traces nest by suspending the outer one.
+pub fn trace<R>(f: impl FnOnce() -> R) -> (R, Emitter) {
+    let outer = CURRENT.with(|c| c.replace(Some(Emitter::default())));
+    let result = f();
+    let emitter = CURRENT.with(|c| c.replace(outer)).unwrap_or_default();
+    (result, emitter)
+}
+
+fn with_emitter<R>(f: impl FnOnce(&mut Emitter) -> R) -> R {
+    CURRENT.with(|c| {
+        let mut current = c.borrow_mut();
+        // Operations on variables only exist inside `trace`, which installs the emitter.
+        let emitter = current.as_mut().expect("a traced variable is used outside hya_codegen::expr::trace");
+        f(emitter)
+    })
+}
+
+/// A variable named `name` in the generated code, read from `expr` (e.g. `q_sfe` from `q[1]`).
+pub fn input(name: impl Into<String>, expr: TokenStream) -> Value {
+    with_emitter(|e| e.push(Op::Input(name.into(), expr)))
 }
 
 impl Emitter {
-    /// An empty trace.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
     fn push(&mut self, op: Op) -> Value {
         let key = match &op {
             Op::Add(a, b) => Some((0, Key::from(*a), Key::from(*b))),
             Op::Sub(a, b) => Some((1, Key::from(*a), Key::from(*b))),
             Op::Mul(a, b) => Some((2, Key::from(*a), Key::from(*b))),
             Op::SinCos(x) => Some((3, Key::from(*x), Key::Const(0))),
-            Op::Input(_) | Op::CosOf => None,
+            Op::Div(a, b) => Some((4, Key::from(*a), Key::from(*b))),
+            Op::Input(..) | Op::CosOf => None,
         };
         // Addition and multiplication commute: one key for both operand orders.
-        let key = key.map(|(kind, a, b)| if kind != 1 && b < a { (kind, b, a) } else { (kind, a, b) });
+        let key = key.map(|(kind, a, b)| if matches!(kind, 0 | 2) && b < a { (kind, b, a) } else { (kind, a, b) });
         if let Some(found) = key.and_then(|k| self.seen.get(&k)) {
             return *found;
         }
@@ -130,23 +160,16 @@ impl Emitter {
         value
     }
 
-    /// A variable read from the generated function's arguments (`expr` is Rust, e.g. `qd[2]`).
-    pub fn input(&mut self, expr: impl Into<String>) -> Value {
-        self.push(Op::Input(expr.into()))
-    }
-
-    /// `(sin x, cos x)` with one call.
-    pub fn sin_cos(&mut self, x: Value) -> (Value, Value) {
-        if let Value::Const(c) = x {
-            return (Value::Const(c.sin()), Value::Const(c.cos()));
-        }
+    fn sin_cos(&mut self, x: Value) -> (Value, Value) {
         let sin = self.push(Op::SinCos(x));
+        if let Some(Op::CosOf) = self.ops.get(var_id(sin) + 1) {
+            return (sin, Value::Var { id: var_id(sin) + 1, negated: false });
+        }
         let cos = self.push(Op::CosOf);
         (sin, cos)
     }
 
-    /// `a + b`, folded.
-    pub fn add(&mut self, a: Value, b: Value) -> Value {
+    fn add(&mut self, a: Value, b: Value) -> Value {
         match (a, b) {
             (Value::Const(x), Value::Const(y)) => Value::Const(x + y),
             _ if a.is_const(0.0) => b,
@@ -164,13 +187,7 @@ impl Emitter {
         }
     }
 
-    /// `a − b`, folded.
-    pub fn sub(&mut self, a: Value, b: Value) -> Value {
-        self.add(a, -b)
-    }
-
-    /// `a · b`, folded.
-    pub fn mul(&mut self, a: Value, b: Value) -> Value {
+    fn mul(&mut self, a: Value, b: Value) -> Value {
         match (a, b) {
             (Value::Const(x), Value::Const(y)) => Value::Const(x * y),
             _ if a.is_const(0.0) || b.is_const(0.0) => ZERO,
@@ -180,27 +197,32 @@ impl Emitter {
             _ if b.is_const(-1.0) => -a,
             _ => {
                 let ((ma, na), (mb, nb)) = (a.magnitude(), b.magnitude());
-                let product = self.push(Op::Mul(ma, mb));
-                if na != nb {
-                    -product
-                } else {
-                    product
-                }
+                self.push(Op::Mul(ma, mb)).signed(na != nb)
             }
         }
     }
 
-    /// Sum of products `Σ aᵢ bᵢ`.
-    pub fn dot(&mut self, a: &[Value], b: &[Value]) -> Value {
-        a.iter().zip(b).fold(ZERO, |sum, (&x, &y)| {
-            let product = self.mul(x, y);
-            self.add(sum, product)
-        })
+    fn div(&mut self, a: Value, b: Value) -> Value {
+        match (a, b) {
+            (Value::Const(x), Value::Const(y)) => Value::Const(x / y),
+            _ if a.is_const(0.0) => ZERO,
+            _ if b.is_const(1.0) => a,
+            _ if b.is_const(-1.0) => -a,
+            _ => {
+                let ((ma, na), (mb, nb)) = (a.magnitude(), b.magnitude());
+                self.push(Op::Div(ma, mb)).signed(na != nb)
+            }
+        }
     }
 
-    /// The statements `outputs` depend on, as Rust `let` bindings, with their operation counts
-    /// and the outputs as Rust expressions.
-    pub fn render(&self, outputs: &[Value]) -> Rendered {
+    fn label(&mut self, value: Value, label: Label) {
+        if let Value::Var { id, .. } = value {
+            self.labels.entry(id).or_insert(label);
+        }
+    }
+
+    /// Which statements `outputs` depend on.
+    fn live(&self, outputs: &[Value]) -> Vec<bool> {
         let mut live = vec![false; self.ops.len()];
         let mark = |v: &Value, live: &mut Vec<bool>| {
             if let Value::Var { id, .. } = v {
@@ -213,128 +235,293 @@ impl Emitter {
                 continue;
             }
             match &self.ops[id] {
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
                     mark(a, &mut live);
                     mark(b, &mut live);
                 }
                 Op::SinCos(x) => mark(x, &mut live),
                 Op::CosOf => live[id - 1] = true,
-                Op::Input(_) => {}
+                Op::Input(..) => {}
             }
         }
-        // Live statements are numbered in order, so the emitted names have no gaps.
-        let mut names = vec![0usize; self.ops.len()];
-        let mut next = 0;
-        for (id, op) in self.ops.iter().enumerate() {
-            if live[id] && !matches!(op, Op::CosOf) {
-                names[id] = next;
-                next += if matches!(op, Op::SinCos(_)) { 2 } else { 1 };
+        live
+    }
+
+    /// The statements `outputs` depend on as Rust `let` bindings, with their operation counts
+    /// and the outputs as Rust expressions. Statements with a label are named by `name`
+    /// (made unique), the rest `t0, t1, …`; `pass` gives the comment that opens a body's pass.
+    pub fn render(&self, outputs: &[Value], names: &dyn Naming) -> Rendered {
+        let live = self.live(outputs);
+        let mut used: HashMap<String, usize> = HashMap::new();
+        let mut unique = |wanted: String| {
+            let count = used.entry(wanted.clone()).or_insert(0);
+            *count += 1;
+            if *count == 1 {
+                wanted
+            } else {
+                format!("{wanted}_{}", *count - 1)
             }
-            if matches!(op, Op::CosOf) {
-                names[id] = names[id - 1] + 1;
-            }
-        }
-        let show = |v: Value| expression_named(v, &names);
-        let mut code = String::new();
-        let mut counts = OpCounts::default();
+        };
+        let mut temporaries = 0;
+        let mut idents: Vec<Option<Ident>> = vec![None; self.ops.len()];
         for (id, op) in self.ops.iter().enumerate() {
             if !live[id] {
                 continue;
             }
-            let t = names[id];
+            let wanted = match (op, self.labels.get(&id)) {
+                (Op::Input(name, _), _) => name.clone(),
+                (_, Some(label)) => names.label(*label),
+                _ => {
+                    temporaries += 1;
+                    format!("t{}", temporaries - 1)
+                }
+            };
+            idents[id] = Some(Ident::new(&unique(wanted), Span::call_site()));
+        }
+        let show = |v: Value| expression(v, &idents);
+        let mut statements = Vec::new();
+        let mut counts = OpCounts::default();
+        let mut pass_marks = Vec::new();
+        let mut passes = self.passes.iter().peekable();
+        // The latest pass begun and not yet marked: it opens at the next live statement.
+        let mut pending = None;
+        for (id, op) in self.ops.iter().enumerate() {
+            while let Some(&&(start, body, pass)) = passes.peek().filter(|p| p.0 <= id) {
+                debug_assert!(start <= id);
+                pending = Some((body, pass));
+                passes.next();
+            }
+            let Some(name) = idents[id].clone() else { continue };
+            if let Some((body, pass)) = pending.take() {
+                pass_marks.push((name.to_string(), names.pass(body, pass)));
+            }
             let statement = match op {
-                Op::Input(expr) => format!("let t{t} = {expr};"),
-                Op::Add(a, b) => {
-                    counts.adds += 1;
-                    format!("let t{t} = {} + {};", show(*a), show(*b))
-                }
-                Op::Sub(a, b) => {
-                    counts.adds += 1;
-                    format!("let t{t} = {} - {};", show(*a), show(*b))
-                }
-                Op::Mul(a, b) => {
-                    counts.muls += 1;
-                    format!("let t{t} = {} * {};", show(*a), show(*b))
+                Op::Input(_, expr) => quote! { let #name = #expr; },
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
+                    let (a, b) = (show(*a), show(*b));
+                    match op {
+                        Op::Add(..) => {
+                            counts.adds += 1;
+                            quote! { let #name = #a + #b; }
+                        }
+                        Op::Sub(..) => {
+                            counts.adds += 1;
+                            quote! { let #name = #a - #b; }
+                        }
+                        Op::Mul(..) => {
+                            counts.muls += 1;
+                            quote! { let #name = #a * #b; }
+                        }
+                        _ => {
+                            counts.divs += 1;
+                            quote! { let #name = #a / #b; }
+                        }
+                    }
                 }
                 Op::SinCos(x) => {
                     counts.trig += 1;
-                    format!("let (t{t}, t{}) = ::hya_core::sin_cos({});", t + 1, show(*x))
+                    let x = show(*x);
+                    let cos = idents[id + 1].clone().unwrap_or_else(|| Ident::new("_", Span::call_site()));
+                    quote! { let (#name, #cos) = ::hya_core::sin_cos(#x); }
                 }
                 Op::CosOf => continue,
             };
-            let _ = writeln!(code, "{statement}");
+            statements.push(statement);
         }
         let outputs = outputs.iter().map(|v| show(*v)).collect();
-        Rendered { code, counts, outputs }
+        Rendered { statements: quote! { #(#statements)* }, counts, outputs, pass_marks }
     }
 }
 
-/// A float literal that parses back to the same `f64` (`{:?}` prints the shortest such text).
-pub fn literal(value: f64) -> String {
-    assert!(value.is_finite(), "generated code never holds a non-finite constant");
-    format!("{value:?}_f64")
+fn var_id(value: Value) -> usize {
+    match value {
+        Value::Var { id, .. } => id,
+        Value::Const(_) => usize::MAX,
+    }
 }
 
-/// Rust for a value: `t12`, `-t12`, `0.5_f64`, `-2.0_f64`, with statement `id` named `t{names[id]}`.
-fn expression_named(value: Value, names: &[usize]) -> String {
+/// How the generated code names labelled values and marks passes.
+pub trait Naming {
+    /// The identifier for a labelled value (made unique by the emitter).
+    fn label(&self, label: Label) -> String;
+    /// The comment text opening `body`'s `pass`.
+    fn pass(&self, body: usize, pass: Pass) -> String;
+}
+
+/// A float literal that parses back to the same `f64`; negative values as `-literal`.
+pub fn literal(value: f64) -> TokenStream {
+    assert!(value.is_finite(), "generated code never holds a non-finite constant");
+    let magnitude = proc_macro2::Literal::f64_suffixed(value.abs());
+    if value.is_sign_negative() && value != 0.0 {
+        quote! { -#magnitude }
+    } else {
+        quote! { #magnitude }
+    }
+}
+
+/// Rust for a value: `name`, `-name`, `0.5f64`, `-2f64`.
+fn expression(value: Value, idents: &[Option<Ident>]) -> TokenStream {
     match value {
         Value::Const(c) => literal(c),
-        Value::Var { id, negated: false } => format!("t{}", names[id]),
-        Value::Var { id, negated: true } => format!("-t{}", names[id]),
+        Value::Var { id, negated } => {
+            let name = idents[id].clone().unwrap_or_else(|| Ident::new("dead", Span::call_site()));
+            if negated {
+                quote! { -#name }
+            } else {
+                quote! { #name }
+            }
+        }
     }
 }
 
 /// Straight-line code from [`Emitter::render`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Rendered {
-    /// `let` statements, one per line.
-    pub code: String,
+    /// `let` statements.
+    pub statements: TokenStream,
     /// Their operation counts.
     pub counts: OpCounts,
     /// The outputs as Rust expressions over the statements' names.
-    pub outputs: Vec<String>,
+    pub outputs: Vec<TokenStream>,
+    /// `(first statement's name, comment)` for each body's pass that emitted code.
+    pub pass_marks: Vec<(String, String)>,
+}
+
+impl std::ops::Neg for Value {
+    type Output = Value;
+    /// `−self`, free: no statement is emitted.
+    fn neg(self) -> Value {
+        match self {
+            Value::Const(c) => Value::Const(-c),
+            Value::Var { id, negated } => Value::Var { id, negated: !negated },
+        }
+    }
+}
+
+/// Binary operations fold on constants without an emitter and record through it otherwise.
+macro_rules! traced_operator {
+    ($trait:ident, $method:ident, $fold:expr) => {
+        impl std::ops::$trait for Value {
+            type Output = Value;
+            fn $method(self, rhs: Value) -> Value {
+                match (self, rhs) {
+                    (Value::Const(a), Value::Const(b)) => Value::Const($fold(a, b)),
+                    _ => with_emitter(|e| Emitter::$method(e, self, rhs)),
+                }
+            }
+        }
+    };
+}
+
+traced_operator!(Add, add, |a: f64, b: f64| a + b);
+traced_operator!(Mul, mul, |a: f64, b: f64| a * b);
+traced_operator!(Div, div, |a: f64, b: f64| a / b);
+
+impl std::ops::Sub for Value {
+    type Output = Value;
+    fn sub(self, rhs: Value) -> Value {
+        self + -rhs
+    }
+}
+
+impl Real for Value {
+    const TRACES: bool = true;
+
+    fn constant(value: f64) -> Self {
+        Value::Const(value)
+    }
+
+    fn sin_cos(self) -> (Self, Self) {
+        match self {
+            Value::Const(c) => (Value::Const(c.sin()), Value::Const(c.cos())),
+            _ => with_emitter(|e| e.sin_cos(self)),
+        }
+    }
+
+    fn labelled(self, label: Label) -> Self {
+        if let Value::Var { .. } = self {
+            with_emitter(|e| e.label(self, label));
+        }
+        self
+    }
+
+    fn begin_pass(body: usize, pass: Pass) {
+        CURRENT.with(|c| {
+            if let Some(e) = c.borrow_mut().as_mut() {
+                let start = e.ops.len();
+                e.passes.push((start, body, pass));
+            }
+        });
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    struct Plain;
+    impl Naming for Plain {
+        fn label(&self, label: Label) -> String {
+            format!("b{}_{}", label.body, label.component)
+        }
+        fn pass(&self, body: usize, _pass: Pass) -> String {
+            format!("body {body}")
+        }
+    }
+
+    fn text(tokens: &TokenStream) -> String {
+        tokens.to_string()
+    }
+
     #[test]
     fn zeros_ones_and_signs_fold_away() {
-        let mut e = Emitter::new();
-        let x = e.input("q[0]");
-        let y = e.input("q[1]");
-        assert_eq!(e.mul(x, ZERO), ZERO);
-        assert_eq!(e.mul(ONE, x), x);
-        assert_eq!(e.add(x, ZERO), x);
-        assert_eq!(e.add(x, -x), ZERO);
-        assert_eq!(e.mul(Value::Const(-1.0), x), -x);
-        let product = e.mul(-x, -y);
-        let rendered = e.render(&[product]);
-        assert_eq!(rendered.counts, OpCounts { adds: 0, muls: 1, trig: 0 });
-        assert_eq!(rendered.code, "let t0 = q[0];\nlet t1 = q[1];\nlet t2 = t0 * t1;\n");
-        assert_eq!(rendered.outputs, ["t2"]);
+        let ((product, checks), e) = trace(|| {
+            let x = input("x", quote!(q[0]));
+            let y = input("y", quote!(q[1]));
+            let checks = [x * ZERO == ZERO, Value::Const(1.0) * x == x, x + ZERO == x, x + -x == ZERO];
+            (-x * -y, checks)
+        });
+        assert_eq!(checks, [true; 4]);
+        let rendered = e.render(&[product], &Plain);
+        assert_eq!(rendered.counts, OpCounts { adds: 0, muls: 1, divs: 0, trig: 0 });
+        assert_eq!(text(&rendered.statements), "let x = q [0] ; let y = q [1] ; let t0 = x * y ;");
+        assert_eq!(text(&rendered.outputs[0]), "t0");
     }
 
     #[test]
     fn negated_terms_become_subtractions_and_dead_code_is_dropped() {
-        let mut e = Emitter::new();
-        let x = e.input("a");
-        let y = e.input("b");
-        let _unused = e.mul(x, Value::Const(3.0));
-        let difference = e.add(-x, y);
-        let (sin, _cos) = e.sin_cos(y);
-        let Rendered { code, counts, outputs } = e.render(&[difference, sin]);
-        assert_eq!(counts, OpCounts { adds: 1, muls: 0, trig: 1 });
-        assert_eq!(code, "let t0 = a;\nlet t1 = b;\nlet t2 = t1 - t0;\nlet (t3, t4) = ::hya_core::sin_cos(t1);\n");
-        assert_eq!(outputs, ["t2", "t3"]);
+        let (outputs, e) = trace(|| {
+            let x = input("a", quote!(a));
+            let y = input("b", quote!(b));
+            let _unused = x * Value::Const(3.0);
+            let (sin, _cos) = y.sin_cos();
+            [-x + y, sin, y / x]
+        });
+        let rendered = e.render(&outputs, &Plain);
+        assert_eq!(rendered.counts, OpCounts { adds: 1, muls: 0, divs: 1, trig: 1 });
+        assert_eq!(
+            text(&rendered.statements),
+            "let a = a ; let b = b ; let (t0 , _) = :: hya_core :: sin_cos (b) ; let t1 = b - a ; let t2 = b / a ;"
+        );
+    }
+
+    #[test]
+    fn labelled_values_take_their_names_and_collisions_are_numbered() {
+        let (outputs, e) = trace(|| {
+            let x = input("x", quote!(x));
+            let label = Label { body: 2, quantity: hya_core::scalar::Quantity::Velocity, component: 1 };
+            [(x * x).labelled(label), (x + x).labelled(label)]
+        });
+        let rendered = e.render(&outputs, &Plain);
+        assert_eq!(text(&rendered.statements), "let x = x ; let b2_1 = x * x ; let b2_1_1 = x + x ;");
     }
 
     #[test]
     fn literals_round_trip() {
-        for v in [0.1, -1e-300, 123456.789e10, 1.0 / 3.0] {
-            let text = literal(v);
-            assert_eq!(text.trim_end_matches("_f64").parse::<f64>().unwrap(), v);
+        for v in [0.1, 1e-300, 123456.789e10, 1.0 / 3.0, 2.0] {
+            let text = literal(v).to_string();
+            assert_eq!(text.trim_end_matches("f64").parse::<f64>().unwrap(), v);
         }
+        assert_eq!(literal(-0.5).to_string(), "- 0.5f64");
     }
 }

@@ -1,16 +1,23 @@
 //! Unrolled, const-sized Rust dynamics for one robot.
 //!
-//! Each entry point of [`hya_core::Dynamics`] is traced separately through the same recursions
-//! as the runtime model (RNEA, CRBA, subtree momenta for `Cᵀq̇`), so each keeps only what it
-//! needs: gravity has no velocity terms, velocity terms no gravity, and every constant of the
-//! model is folded into literals.
+//! Each entry point of [`hya_core::Dynamics`] is `hya-core`'s own algorithm
+//! ([`hya_core::model::algorithms`]) run on the tracing number type [`Value`]: every constant
+//! of the model folds into the code, every operation on a joint input becomes one named
+//! statement, and each function keeps only what its outputs need (gravity has no velocity
+//! terms, velocity terms no gravity). Emitted through `quote`, formatted by prettyplease, with
+//! a comment where each body's pass begins.
 
-use std::fmt::Write;
+use hya_core::model::algorithms::{self, Inertias, ModelInertias};
+use hya_core::model::{BodyState, ModelError, TreeModel};
+use hya_core::scalar::{Label, Quantity};
+use hya_core::spatial::{RigidBodyInertia, Transform};
+use hya_core::Real;
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
 
-use hya_core::model::{Body, JointKind, TreeModel};
-
-use crate::expr::{literal, Emitter, OpCounts, Rendered, Value, ZERO};
-use crate::symbolic::{constant_vector, subspace, Inertia, JointXform, Spatial, Xform, ZERO3, ZERO6};
+use crate::expr::{self, input, literal, OpCounts, Rendered, Value};
+use crate::load::LoadedModel;
+use crate::names::{comment_safe, Names, Output};
 
 /// Generated source for one robot, with the operation count of each function.
 #[derive(Debug, Clone)]
@@ -42,6 +49,9 @@ pub enum GenerateError {
     /// The emitted code did not parse (a generator bug).
     #[error("generated code does not parse: {0}")]
     Syntax(String),
+    /// An algorithm refused the model (a generator bug: the inputs are sized from the model).
+    #[error("tracing the model failed: {0}")]
+    Model(#[from] hya_core::model::ModelError),
 }
 
 /// Where the bodies' inertias come from in generated code.
@@ -53,290 +63,312 @@ enum InertiaSource {
     Parameters,
 }
 
-/// Body `i`'s inertia, traced.
-fn body_inertia(e: &mut Emitter, body: &Body, i: usize, source: InertiaSource) -> Inertia {
-    match source {
-        InertiaSource::Constant => Inertia::constant(&body.inertia),
-        InertiaSource::Parameters => {
-            Inertia::from_parameters(core::array::from_fn(|k| e.input(format!("self.0[{i}][{k}]"))))
+/// Names of the ten inertial parameters, in `RigidBodyInertia::parameters` order.
+const PARAMETERS: [&str; 10] = ["m", "hx", "hy", "hz", "ixx", "iyy", "izz", "ixy", "ixz", "iyz"];
+
+/// Body inertias as a traced function sees them.
+enum TracedInertias<'a> {
+    /// The model's, as constants.
+    Model(ModelInertias<'a>),
+    /// Read from the parameter-holding type's field.
+    Parameters(Vec<RigidBodyInertia<Value>>),
+}
+
+impl Inertias<Value> for TracedInertias<'_> {
+    fn inertia(&self, body: usize) -> RigidBodyInertia<Value> {
+        match self {
+            TracedInertias::Model(model) => model.inertia(body),
+            TracedInertias::Parameters(parameters) => parameters[body],
         }
     }
 }
 
-/// Which rates an RNEA trace includes.
-#[derive(Debug, Clone, Copy)]
-struct RneaInputs {
-    velocity: bool,
-    acceleration: bool,
-    gravity: bool,
-}
+/// The joint-vector arguments a function takes, by name: `q`, `qd`, `qdd`, `tau`.
+type Arguments = &'static [&'static str];
 
-/// The traced joint transforms of every body, one `sin_cos` per revolute joint.
-fn joint_transforms(e: &mut Emitter, bodies: &[Body]) -> Vec<JointXform> {
-    bodies
-        .iter()
-        .enumerate()
-        .map(|(i, body)| {
-            let q = e.input(format!("q[{i}]"));
-            let sin_cos = (body.kind == JointKind::Revolute).then(|| e.sin_cos(q));
-            JointXform::new(e, body, q, sin_cos)
-        })
-        .collect()
-}
-
-fn rnea(e: &mut Emitter, model: &TreeModel, inputs: RneaInputs, source: InertiaSource) -> Vec<Value> {
-    let bodies = model.bodies();
-    let xforms = joint_transforms(e, bodies);
-    let gravity = if inputs.gravity { constant_vector(&-model.gravity_vector()) } else { ZERO3 };
-    let base_acceleration = Spatial { angular: ZERO3, linear: gravity };
-    let mut velocity: Vec<Spatial> = Vec::with_capacity(bodies.len());
-    let mut force: Vec<Spatial> = Vec::with_capacity(bodies.len());
-    let mut acceleration: Vec<Spatial> = Vec::with_capacity(bodies.len());
-    for (i, body) in bodies.iter().enumerate() {
-        let s = subspace(body);
-        let qd = if inputs.velocity { e.input(format!("qd[{i}]")) } else { ZERO };
-        let qdd = if inputs.acceleration { e.input(format!("qdd[{i}]")) } else { ZERO };
-        let (parent_velocity, parent_acceleration) =
-            body.parent.map_or((ZERO6, base_acceleration), |p| (velocity[p], acceleration[p]));
-        let joint_velocity = e.scale6(&s, qd);
-        let carried = xforms[i].apply_motion(e, &parent_velocity);
-        let v = e.add6(&carried, &joint_velocity);
-        let carried = xforms[i].apply_motion(e, &parent_acceleration);
-        let driven = e.scale6(&s, qdd);
-        let coriolis = e.cross_motion(&v, &joint_velocity);
-        let partial = e.add6(&carried, &driven);
-        let a = e.add6(&partial, &coriolis);
-        let inertia = body_inertia(e, body, i, source);
-        let ia = e.apply_inertia(&inertia, &a);
-        let momentum = e.apply_inertia(&inertia, &v);
-        let gyroscopic = e.cross_force(&v, &momentum);
-        force.push(e.add6(&ia, &gyroscopic));
-        velocity.push(v);
-        acceleration.push(a);
-    }
-    backward_projection(e, bodies, &xforms, &mut force, |e, i, f| e.dot6(&subspace(&bodies[i]), f))
-}
-
-/// Leaves first: `out_i = project(i, f_i)`, then `f_λ += X_iᵀ f_i`.
-fn backward_projection(
-    e: &mut Emitter,
-    bodies: &[Body],
-    xforms: &[JointXform],
-    force: &mut [Spatial],
-    project: impl Fn(&mut Emitter, usize, &Spatial) -> Value,
-) -> Vec<Value> {
-    let mut out = vec![ZERO; bodies.len()];
-    for (i, body) in bodies.iter().enumerate().rev() {
-        out[i] = project(e, i, &force[i]);
-        if let Some(p) = body.parent {
-            let carried = xforms[i].apply_transpose_force(e, &force[i]);
-            force[p] = e.add6(&force[p], &carried);
-        }
-    }
-    out
-}
-
-fn coriolis_transpose(e: &mut Emitter, model: &TreeModel, source: InertiaSource) -> Vec<Value> {
-    let bodies = model.bodies();
-    let xforms = joint_transforms(e, bodies);
-    let mut velocity: Vec<Spatial> = Vec::with_capacity(bodies.len());
-    let mut momentum: Vec<Spatial> = Vec::with_capacity(bodies.len());
-    for (i, body) in bodies.iter().enumerate() {
-        let qd = e.input(format!("qd[{i}]"));
-        let parent_velocity = body.parent.map_or(ZERO6, |p| velocity[p]);
-        let carried = xforms[i].apply_motion(e, &parent_velocity);
-        let joint_velocity = e.scale6(&subspace(body), qd);
-        let v = e.add6(&carried, &joint_velocity);
-        let inertia = body_inertia(e, body, i, source);
-        momentum.push(e.apply_inertia(&inertia, &v));
-        velocity.push(v);
-    }
-    backward_projection(e, bodies, &xforms, &mut momentum, |e, i, h| {
-        let rate = e.cross_motion(&velocity[i], &subspace(&bodies[i]));
-        e.dot6(&rate, h)
-    })
-}
-
-/// The lower triangle of `M(q)`, row-major (`(i, j)` with `j ≤ i`).
-fn crba(e: &mut Emitter, model: &TreeModel, source: InertiaSource) -> Vec<(usize, usize, Value)> {
-    let bodies = model.bodies();
-    let xforms = joint_transforms(e, bodies);
-    let mut composite: Vec<Inertia> = bodies.iter().enumerate().map(|(i, b)| body_inertia(e, b, i, source)).collect();
-    for (i, body) in bodies.iter().enumerate().rev() {
-        if let Some(p) = body.parent {
-            let carried = xforms[i].inertia_in_parent(e, &composite[i]);
-            composite[p] = e.add_inertia(&composite[p], &carried);
-        }
-    }
-    let mut entries = Vec::new();
-    for (i, body) in bodies.iter().enumerate() {
-        let mut force = e.apply_inertia(&composite[i], &subspace(body));
-        entries.push((i, i, e.dot6(&subspace(body), &force)));
-        let mut j = i;
-        while let Some(p) = bodies[j].parent {
-            force = xforms[j].apply_transpose_force(e, &force);
-            j = p;
-            entries.push((i, j, e.dot6(&subspace(&bodies[j]), &force)));
-        }
-    }
-    entries
-}
-
-/// One generated method: its signature, body statements and returned expression.
-struct Method {
+/// One generated function: its tokens, the comments opening each body's pass, its counts.
+struct Function {
     name: &'static str,
-    doc: &'static str,
-    arguments: &'static str,
-    returns: &'static str,
-    body: String,
+    tokens: TokenStream,
+    pass_marks: Vec<(String, String)>,
     counts: OpCounts,
 }
 
-fn vector_method(
-    name: &'static str,
-    doc: &'static str,
-    arguments: &'static str,
-    dof: usize,
-    trace: impl FnOnce(&mut Emitter) -> Vec<Value>,
-) -> Method {
-    let mut e = Emitter::new();
-    let outputs = trace(&mut e);
-    let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
-    let _ = write!(body, "::hya_core::JointVector::<{dof}>::from([{}])", outputs.join(", "));
-    Method { name, doc, arguments, returns: "::hya_core::JointVector", body, counts }
+/// Traces `hya-core`'s algorithms for one robot.
+struct Tracer<'a> {
+    model: &'a TreeModel,
+    names: Names,
+    source: InertiaSource,
 }
 
-fn mass_matrix_method(model: &TreeModel, source: InertiaSource) -> Method {
-    let mut e = Emitter::new();
-    let entries = crba(&mut e, model, source);
-    let outputs: Vec<Value> = entries.iter().map(|(_, _, v)| *v).collect();
-    let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
-    let dof = model.dof();
-    let _ = writeln!(body, "let mut m = ::hya_core::JointMatrix::<{dof}>::zeros();");
-    for ((i, j, _), value) in entries.iter().zip(&outputs).filter(|((_, _, v), _)| *v != ZERO) {
-        let _ = writeln!(body, "m[({i}, {j})] = {value};");
-        if i != j {
-            let _ = writeln!(body, "m[({j}, {i})] = {value};");
+impl<'a> Tracer<'a> {
+    fn dof(&self) -> Literal {
+        Literal::usize_unsuffixed(self.model.dof())
+    }
+
+    /// The inertias of the source; parameters become inputs `{link}_{parameter}`.
+    fn inertias(&self) -> TracedInertias<'a> {
+        match self.source {
+            InertiaSource::Constant => TracedInertias::Model(ModelInertias(self.model)),
+            InertiaSource::Parameters => TracedInertias::Parameters(
+                (0..self.model.dof())
+                    .map(|i| {
+                        RigidBodyInertia::from_parameters(&core::array::from_fn(|k| {
+                            let (body, parameter) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(k));
+                            input(self.names.body_input(i, PARAMETERS[k]), quote! { self.0[#body][#parameter] })
+                        }))
+                    })
+                    .collect(),
+            ),
         }
     }
-    body.push('m');
-    Method {
-        name: "mass_matrix",
-        doc: "Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.",
-        arguments: "q: &::hya_core::JointVector<N>",
-        returns: "::hya_core::JointMatrix",
-        body,
-        counts,
+
+    /// The joint inputs of `arguments`, one vector per argument: `q_sfe` from `q[1]`.
+    fn joint_inputs(&self, arguments: Arguments) -> Vec<Vec<Value>> {
+        arguments
+            .iter()
+            .map(|argument| {
+                let ident = format_ident!("{argument}");
+                (0..self.model.dof())
+                    .map(|i| {
+                        let index = Literal::usize_unsuffixed(i);
+                        input(self.names.joint_input(argument, i), quote! { #ident[#index] })
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// `name(&self, arguments…)` for joint vectors of the robot's size.
+    fn signature(&self, name: &str, arguments: Arguments) -> TokenStream {
+        let (name, dof) = (format_ident!("{name}"), self.dof());
+        let arguments = arguments.iter().map(|a| format_ident!("{a}"));
+        quote! { fn #name(&self, #(#arguments: &::hya_core::JointVector<#dof>),*) }
+    }
+
+    /// Traces `algorithm` (which labels its outputs) and renders its statements.
+    fn trace(
+        &self,
+        arguments: Arguments,
+        output: Output,
+        algorithm: impl FnOnce(&[Vec<Value>], &TracedInertias, &mut [BodyState<Value>]) -> Result<Vec<Value>, ModelError>,
+    ) -> Result<(Rendered, Vec<Value>), GenerateError> {
+        let (outputs, emitter) = expr::trace(|| {
+            let inertias = self.inertias();
+            let inputs = self.joint_inputs(arguments);
+            algorithm(&inputs, &inertias, &mut vec![BodyState::new(); self.model.dof()])
+        });
+        let outputs = outputs?;
+        Ok((emitter.render(&outputs, &self.names.with_output(output)), outputs))
+    }
+
+    /// A function returning a joint vector, `prefix_{joint}` for each joint.
+    fn vector_function(
+        &self,
+        (name, doc): (&'static str, &str),
+        arguments: Arguments,
+        prefix: &'static str,
+        algorithm: impl FnOnce(
+            &[Vec<Value>],
+            &TracedInertias,
+            &mut [BodyState<Value>],
+            &mut [Value],
+        ) -> Result<(), ModelError>,
+    ) -> Result<Function, GenerateError> {
+        let (rendered, _) = self.trace(arguments, Output::Vector(prefix), |inputs, inertias, states| {
+            let mut out = vec![Value::zero(); self.model.dof()];
+            algorithm(inputs, inertias, states, &mut out)?;
+            Ok(out)
+        })?;
+        let (signature, dof) = (self.signature(name, arguments), self.dof());
+        let Rendered { statements, outputs, pass_marks, counts } = rendered;
+        let tokens = quote! {
+            #[doc = #doc]
+            #[inline]
+            #signature -> ::hya_core::JointVector<#dof> {
+                #statements
+                ::hya_core::JointVector::<#dof>::from([#(#outputs),*])
+            }
+        };
+        Ok(Function { name, tokens, pass_marks, counts })
+    }
+
+    fn inverse_dynamics(&self) -> Result<Function, GenerateError> {
+        let doc = " Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.";
+        self.vector_function(("inverse_dynamics", doc), &["q", "qd", "qdd"], "tau", |x, inertias, states, tau| {
+            algorithms::inverse_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, tau)
+        })
+    }
+
+    fn gravity(&self) -> Result<Function, GenerateError> {
+        self.vector_function(("gravity", " Gravity torques `G(q)`."), &["q"], "g", |x, inertias, states, tau| {
+            algorithms::gravity(self.model, inertias, &x[0], states, tau)
+        })
+    }
+
+    fn velocity_terms(&self) -> Result<Function, GenerateError> {
+        let doc = " Coriolis and centripetal torques `C(q, q̇)`.";
+        self.vector_function(("velocity_terms", doc), &["q", "qd"], "c", |x, inertias, states, tau| {
+            algorithms::velocity_terms(self.model, inertias, (&x[0], &x[1]), states, tau)
+        })
+    }
+
+    fn coriolis_transpose(&self) -> Result<Function, GenerateError> {
+        let doc = " `C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.";
+        let name = ("coriolis_transpose_times_velocity", doc);
+        self.vector_function(name, &["q", "qd"], "ct", |x, inertias, states, out| {
+            algorithms::coriolis_transpose_times_velocity(self.model, inertias, (&x[0], &x[1]), states, out)
+        })
+    }
+
+    fn mass_matrix(&self) -> Result<Function, GenerateError> {
+        let mut entries = Vec::new();
+        let (rendered, _) = self.trace(&["q"], Output::Matrix, |x, inertias, states| {
+            algorithms::mass_matrix(self.model, inertias, &x[0], states, |i, j, value| {
+                let label = Label { body: i, quantity: Quantity::Joint, component: j as u8 };
+                entries.push((i, j, value.labelled(label)));
+            })?;
+            Ok(entries.iter().map(|e| e.2).collect())
+        })?;
+        let Rendered { statements, outputs, pass_marks, counts } = rendered;
+        let stores =
+            entries.iter().zip(&outputs).filter(|((_, _, v), _)| *v != Value::zero()).map(|((i, j, _), value)| {
+                let (i, j) = (Literal::usize_unsuffixed(*i), Literal::usize_unsuffixed(*j));
+                if i.to_string() == j.to_string() {
+                    quote! { m[(#i, #j)] = #value; }
+                } else {
+                    quote! { m[(#i, #j)] = #value; m[(#j, #i)] = #value; }
+                }
+            });
+        let (signature, dof) = (self.signature("mass_matrix", &["q"]), self.dof());
+        let tokens = quote! {
+            /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
+            #[inline]
+            #signature -> ::hya_core::JointMatrix<#dof> {
+                #statements
+                let mut m = ::hya_core::JointMatrix::<#dof>::zeros();
+                #(#stores)*
+                m
+            }
+        };
+        Ok(Function { name: "mass_matrix", tokens, pass_marks, counts })
+    }
+
+    /// ABA, returning `Err(SingularMassMatrix)` unless every `D_i` that is not a positive
+    /// constant is positive at run time.
+    fn forward_dynamics(&self) -> Result<Function, GenerateError> {
+        let dof = self.model.dof();
+        let mut joint_inertias = Vec::new();
+        let (rendered, _) = self.trace(&["q", "qd", "tau"], Output::Vector("qdd"), |x, inertias, states| {
+            let mut qdd = vec![Value::zero(); dof];
+            algorithms::forward_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, &mut qdd)?;
+            joint_inertias = states.iter().map(BodyState::joint_inertia).collect();
+            Ok(qdd.into_iter().chain(joint_inertias.iter().copied()).collect())
+        })?;
+        let Rendered { statements, outputs, pass_marks, counts } = rendered;
+        let (qdd, d) = outputs.split_at(dof);
+        let checks: Vec<TokenStream> = joint_inertias
+            .iter()
+            .zip(d)
+            .filter_map(|(value, tokens)| match value {
+                Value::Const(c) if *c > 0.0 => None,
+                Value::Const(_) => Some(quote! { false }),
+                Value::Var { .. } => Some(quote! { #tokens > 0.0 }),
+            })
+            .collect();
+        let guard = (!checks.is_empty()).then(|| {
+            quote! {
+                if !(#(#checks)&&*) {
+                    return Err(::hya_core::Error::SingularMassMatrix);
+                }
+            }
+        });
+        let (signature, dof) = (self.signature("forward_dynamics", &["q", "qd", "tau"]), self.dof());
+        let tokens = quote! {
+            /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm,
+            /// unrolled; an error if a joint meets no positive inertia `D_i`.
+            #[inline]
+            #signature -> Result<::hya_core::JointVector<#dof>, ::hya_core::Error> {
+                #statements
+                #guard
+                Ok(::hya_core::JointVector::<#dof>::from([#(#qdd),*]))
+            }
+        };
+        Ok(Function { name: "forward_dynamics", tokens, pass_marks, counts })
+    }
+
+    /// `frame_poses(q)`: every named frame's pose in the base, as `Transform`s from the base
+    /// (`E` rotates base coordinates into the frame's, `r` is its origin).
+    fn frame_poses(&self) -> Result<Function, GenerateError> {
+        let frames = self.model.frames();
+        let (rendered, _) = self.trace(&["q"], Output::Vector("pose"), |x, _, states| {
+            let mut placements = vec![Transform::<Value>::identity(); self.model.dof()];
+            algorithms::body_placements(self.model, &x[0], states, &mut placements)?;
+            Ok(frames
+                .iter()
+                .flat_map(|f| {
+                    let body = f.body.map_or_else(Transform::identity, |b| placements[b]);
+                    let pose = body.then(&Transform::constant(&f.placement));
+                    (0..12).map(move |k| if k < 9 { pose.rotation[(k / 3, k % 3)] } else { pose.translation[k - 9] })
+                })
+                .collect())
+        })?;
+        let Rendered { statements, outputs, pass_marks, counts } = rendered;
+        let poses = outputs.chunks(12).map(|p| {
+            let (r0, r1, r2, t) = (&p[0..3], &p[3..6], &p[6..9], &p[9..12]);
+            quote! { ::hya_core::spatial::Transform::from_arrays([[#(#r0),*], [#(#r1),*], [#(#r2),*]], [#(#t),*]) }
+        });
+        let (count, dof) = (Literal::usize_unsuffixed(frames.len()), self.dof());
+        let tokens = quote! {
+            /// The pose of every frame of [`Self::FRAME_NAMES`] in the base at `q`, as the transform
+            /// from the base to the frame (its `translation` is the frame's origin).
+            pub fn frame_poses(&self, q: &::hya_core::JointVector<#dof>) -> [::hya_core::spatial::Transform; #count] {
+                #statements
+                [#(#poses),*]
+            }
+        };
+        Ok(Function { name: "frame_poses", tokens, pass_marks, counts })
+    }
+
+    /// The `Dynamics` entry points.
+    fn dynamics_functions(&self) -> Result<Vec<Function>, GenerateError> {
+        Ok(vec![
+            self.inverse_dynamics()?,
+            self.gravity()?,
+            self.velocity_terms()?,
+            self.coriolis_transpose()?,
+            self.mass_matrix()?,
+            self.forward_dynamics()?,
+        ])
     }
 }
 
-fn methods(model: &TreeModel, source: InertiaSource) -> Vec<Method> {
-    let dof = model.dof();
-    let q = "q: &::hya_core::JointVector<N>";
-    let q_qd = "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>";
-    let all = RneaInputs { velocity: true, acceleration: true, gravity: true };
-    vec![
-        vector_method(
-            "inverse_dynamics",
-            "Inverse dynamics `M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.",
-            "q: &::hya_core::JointVector<N>, qd: &::hya_core::JointVector<N>, qdd: &::hya_core::JointVector<N>",
-            dof,
-            |e| rnea(e, model, all, source),
-        ),
-        vector_method("gravity", "Gravity torques `G(q)`.", q, dof, |e| {
-            rnea(e, model, RneaInputs { velocity: false, acceleration: false, gravity: true }, source)
-        }),
-        vector_method("velocity_terms", "Coriolis and centripetal torques `C(q, q̇)`.", q_qd, dof, |e| {
-            rnea(e, model, RneaInputs { velocity: true, acceleration: false, gravity: false }, source)
-        }),
-        vector_method(
-            "coriolis_transpose_times_velocity",
-            "`C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.",
-            q_qd,
-            dof,
-            |e| coriolis_transpose(e, model, source),
-        ),
-        mass_matrix_method(model, source),
-    ]
-}
-
-/// `frame_poses(q)`: every named frame's pose in the base, as `Transform`s from the base
-/// (`E` rotates base coordinates into the frame's, `r` is its origin), traced through the same
-/// folded joint transforms as the dynamics.
-fn frame_poses_method(model: &TreeModel) -> (String, OpCounts) {
-    let mut e = Emitter::new();
-    let xforms = joint_transforms(&mut e, model.bodies());
-    let mut body_poses: Vec<Xform> = Vec::with_capacity(model.dof());
-    for (i, body) in model.bodies().iter().enumerate() {
-        let parent = body.parent.map_or_else(Xform::identity, |p| body_poses[p]);
-        let step = xforms[i].combined(&mut e);
-        body_poses.push(e.compose(&parent, &step));
+/// Lints generated code may trip: long literals, `let x = …; x`, `a * -b`.
+fn allowed_lints() -> TokenStream {
+    quote! {
+        #[allow(
+            clippy::approx_constant,
+            clippy::excessive_precision,
+            clippy::unreadable_literal,
+            clippy::let_and_return,
+            clippy::neg_multiply,
+            clippy::too_many_lines,
+            clippy::neg_cmp_op_on_partial_ord,
+            unused_variables
+        )]
     }
-    let frame_poses: Vec<Xform> = model
-        .frames()
-        .iter()
-        .map(|f| {
-            let body = f.body.map_or_else(Xform::identity, |b| body_poses[b]);
-            e.compose(&body, &Xform::constant(&f.placement))
-        })
-        .collect();
-    let outputs: Vec<Value> = frame_poses
-        .iter()
-        .flat_map(|x| {
-            let (rotation, translation) = x.parts();
-            rotation.iter().flatten().chain(translation.iter()).copied().collect::<Vec<_>>()
-        })
-        .collect();
-    let Rendered { code: mut body, counts, outputs } = e.render(&outputs);
-    let poses: Vec<String> = outputs
-        .chunks(12)
-        .map(|p| {
-            format!(
-                "::hya_core::spatial::Transform::from_arrays([[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]], [{}, {}, {}])",
-                p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11]
-            )
-        })
-        .collect();
-    let _ = write!(body, "[{}]", poses.join(", "));
-    (body, counts)
 }
 
-/// `impl Dynamics<N> for {type_name}` with every entry point, traced for `source`.
-fn dynamics_impl(model: &TreeModel, type_name: &str, source: InertiaSource) -> (String, Vec<(&'static str, OpCounts)>) {
-    let dof = model.dof();
-    let methods = methods(model, source);
-    let mut code = format!(
-        "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, \
-         clippy::let_and_return, clippy::neg_multiply, unused_variables)]\n\
-         impl ::hya_core::Dynamics<{dof}> for {type_name} {{\n"
-    );
-    for m in &methods {
-        let arguments = m.arguments.replace("<N>", &format!("<{dof}>"));
-        let _ = write!(
-            code,
-            "/// {doc}\n#[inline]\nfn {name}(&self, {arguments}) -> {returns}<{dof}> {{\n{body}\n}}\n",
-            doc = m.doc,
-            name = m.name,
-            returns = m.returns,
-            body = m.body,
-        );
+/// `impl Dynamics<N> for Type` from the traced functions.
+fn dynamics_impl(type_name: &proc_macro2::Ident, dof: &Literal, functions: &[Function]) -> TokenStream {
+    let lints = allowed_lints();
+    let bodies = functions.iter().map(|f| &f.tokens);
+    quote! {
+        #lints
+        impl ::hya_core::Dynamics<#dof> for #type_name {
+            #(#bodies)*
+        }
     }
-    code.push_str("}\n");
-    (code, methods.iter().map(|m| (m.name, m.counts)).collect())
-}
-
-/// A Rust string literal holding exactly `text`: every quote, backslash, control and
-/// non-printable character escaped, so that no string from a URDF can leave the literal.
-fn string_literal(text: &str) -> String {
-    proc_macro2::Literal::string(text).to_string()
-}
-
-/// A doc attribute whose text mentions `name` (a string from the URDF): the name is shown
-/// escaped (`escape_debug`), so the text holds no line break, carriage return or other control
-/// character, and it is emitted as a string literal, never spliced into a comment.
-fn doc_naming(before: &str, name: &str, after: &str) -> String {
-    let text = format!("{before}{}{after}", name.escape_debug());
-    format!("#[doc = {}]", string_literal(&text))
 }
 
 fn check_size(model: &TreeModel) -> Result<(), GenerateError> {
@@ -356,90 +388,150 @@ pub fn size_warning(model: &TreeModel) -> Option<String> {
     })
 }
 
-fn check_type_name(type_name: &str) -> Result<(), GenerateError> {
-    match syn::parse_str::<syn::Ident>(type_name) {
-        Ok(_) => Ok(()),
-        Err(_) => Err(GenerateError::TypeName(type_name.to_owned())),
+fn type_ident(type_name: &str) -> Result<proc_macro2::Ident, GenerateError> {
+    syn::parse_str::<proc_macro2::Ident>(type_name).map_err(|_| GenerateError::TypeName(type_name.to_owned()))
+}
+
+/// The header comment: what the file is, from which URDF (name and SHA-256), by which
+/// generator. Every URDF-derived text is `escape_default`ed.
+fn header(loaded: &LoadedModel, what: &str) -> String {
+    format!(
+        "// Generated by hya-codegen {version}: do not edit.\n\
+         // {what} of robot `{robot}` ({dof} joints)\n\
+         // from {file}, SHA-256 {sha}.\n\
+         // Each function is hya-core's algorithm traced with every constant of the model folded;\n\
+         // values are named after joints (q_, s_, c_ for sin and cos) and links (_v velocity,\n\
+         // _a acceleration, _f force, _p bias force, _u = I^A S; w/v and n/f angular/linear parts).\n",
+        version = env!("CARGO_PKG_VERSION"),
+        robot = comment_safe(loaded.model.name()),
+        dof = loaded.model.dof(),
+        file = comment_safe(&loaded.source.file),
+        sha = loaded.source.sha256,
+    )
+}
+
+/// Formats `tokens` and inserts a `//` comment before the statement each pass mark names,
+/// within the function it belongs to.
+fn format(tokens: TokenStream, functions: &[Function]) -> Result<String, GenerateError> {
+    let file = syn::parse2::<syn::File>(tokens).map_err(|e| GenerateError::Syntax(e.to_string()))?;
+    let formatted = prettyplease::unparse(&file);
+    let mut out = String::with_capacity(formatted.len() * 11 / 10);
+    let mut marks: &[(String, String)] = &[];
+    for line in formatted.lines() {
+        let trimmed = line.trim_start();
+        if let Some(function) = functions.iter().find(|f| {
+            trimmed
+                .strip_prefix("fn ")
+                .or_else(|| trimmed.strip_prefix("pub fn "))
+                .is_some_and(|rest| rest.strip_prefix(f.name).is_some_and(|after| after.starts_with('(')))
+        }) {
+            marks = &function.pass_marks;
+        }
+        let bound = trimmed
+            .strip_prefix("let ")
+            .map(|rest| rest.trim_start_matches('('))
+            .and_then(|rest| rest.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).next());
+        if let Some((_, comment)) = bound.and_then(|name| marks.iter().find(|(first, _)| first == name)) {
+            let indent = &line[..line.len() - trimmed.len()];
+            out.push_str(&format!("{indent}// {comment}\n"));
+        }
+        out.push_str(line);
+        out.push('\n');
     }
+    Ok(out)
 }
 
-fn format(source: &str, stats: Vec<(&'static str, OpCounts)>) -> Result<Generated, GenerateError> {
-    let file = syn::parse_file(source).map_err(|e| GenerateError::Syntax(e.to_string()))?;
-    Ok(Generated { source: prettyplease::unparse(&file), stats })
+/// A Rust string literal holding exactly `text`: every quote, backslash, control and
+/// non-printable character escaped, so that no string from a URDF can leave the literal.
+fn string_literal(text: &str) -> Literal {
+    Literal::string(text)
 }
 
-/// Generates the zero-sized type `type_name` whose dynamics have every constant of `model`
-/// folded in.
-pub fn generate(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
-    check_type_name(type_name)?;
+/// A doc attribute whose text mentions `name` (a string from the URDF), escaped.
+fn doc_naming(before: &str, name: &str, after: &str) -> TokenStream {
+    let text = string_literal(&format!("{before}{}{after}", name.escape_debug()));
+    quote! { #[doc = #text] }
+}
+
+/// Generates the zero-sized type `type_name` whose dynamics have every constant of the loaded
+/// model folded in.
+pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, GenerateError> {
+    let model = &loaded.model;
+    let ident = type_ident(type_name)?;
     check_size(model)?;
-    let dof = model.dof();
-    let names: Vec<String> = model.joint_names().map(string_literal).collect();
-    let effort: Vec<String> = model
-        .bodies()
-        .iter()
-        .map(|b| b.limits.effort.map_or("None".into(), |v| format!("Some({})", literal(v))))
-        .collect();
-    let (body, mut stats) = dynamics_impl(model, type_name, InertiaSource::Constant);
-    let (poses, pose_counts) = frame_poses_method(model);
-    stats.push(("frame_poses", pose_counts));
-    let frames = model.frames().len();
-    let frame_names: Vec<String> = model.frames().iter().map(|f| string_literal(&f.name)).collect();
-    let source = format!(
-        "{header}\n\
-         /// Generated by hya-codegen: constants folded, one `sin_cos` per revolute joint, loops\n\
-         /// unrolled, no allocation.\n\
-         #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]\n\
-         pub struct {type_name};\n\
-         impl {type_name} {{\n\
-         /// Degrees of freedom.\n\
-         pub const DOF: usize = {dof};\n\
-         /// Joint names in the model's order.\n\
-         pub const JOINT_NAMES: [&'static str; {dof}] = [{names}];\n\
-         /// Effort limits from the description, N·m or N (`None` where it gives none).\n\
-         pub const EFFORT_LIMITS: [Option<f64>; {dof}] = [{effort}];\n\
-         /// Every link of the description, in the order of [`Self::frame_poses`].\n\
-         pub const FRAME_NAMES: [&'static str; {frames}] = [{frame_names}];\n\
-         /// The pose of every frame of [`Self::FRAME_NAMES`] in the base at `q`, as the transform\n\
-         /// from the base to the frame (its `translation` is the frame's origin).\n\
-         #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, unused_variables)]\n\
-         pub fn frame_poses(&self, q: &::hya_core::JointVector<{dof}>) -> [::hya_core::spatial::Transform; {frames}] {{\n\
-         {poses}\n\
-         }}\n\
-         }}\n{body}",
-        header = doc_naming(" Rigid-body dynamics of `", model.name(), &format!("` ({dof} joints).")),
-        names = names.join(", "),
-        effort = effort.join(", "),
-        frame_names = frame_names.join(", "),
-    );
-    format(&source, stats)
+    let tracer = Tracer { model, names: Names::new(model), source: InertiaSource::Constant };
+    let mut functions = tracer.dynamics_functions()?;
+    let poses = tracer.frame_poses()?;
+    let dof = tracer.dof();
+    let names = model.joint_names().map(string_literal);
+    let effort = model.bodies().iter().map(|b| match b.limits.effort {
+        Some(v) => {
+            let v = literal(v);
+            quote! { Some(#v) }
+        }
+        None => quote! { None },
+    });
+    let frame_count = Literal::usize_unsuffixed(model.frames().len());
+    let frame_names = model.frames().iter().map(|f| string_literal(&f.name));
+    let doc = doc_naming(" Rigid-body dynamics of `", model.name(), &format!("` ({} joints).", model.dof()));
+    let lints = allowed_lints();
+    let poses_tokens = &poses.tokens;
+    let dynamics = dynamics_impl(&ident, &dof, &functions);
+    let tokens = quote! {
+        #doc
+        /// Generated by hya-codegen: constants folded, one `sin_cos` per revolute joint, loops
+        /// unrolled, no allocation.
+        #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+        pub struct #ident;
+        impl #ident {
+            /// Degrees of freedom.
+            pub const DOF: usize = #dof;
+            /// Joint names in the model's order.
+            pub const JOINT_NAMES: [&'static str; #dof] = [#(#names),*];
+            /// Effort limits from the description, N·m or N (`None` where it gives none).
+            pub const EFFORT_LIMITS: [Option<f64>; #dof] = [#(#effort),*];
+            /// Every link of the description, in the order of [`Self::frame_poses`].
+            pub const FRAME_NAMES: [&'static str; #frame_count] = [#(#frame_names),*];
+            #lints
+            #poses_tokens
+        }
+        #dynamics
+    };
+    functions.push(poses);
+    let source = header(loaded, "Rigid-body dynamics") + &format(tokens, &functions)?;
+    Ok(Generated { source, stats: functions.iter().map(|f| (f.name, f.counts)).collect() })
 }
 
-/// Generates the parameter-holding type `type_name`: the kinematics of `model` folded in as in
-/// [`generate`], each body's ten inertial parameters read from the type's field, so that one
-/// compiled function serves any masses, centres of mass and inertias (a perturbed plant, an
-/// identified model, a payload).
-pub fn generate_parametric(model: &TreeModel, type_name: &str) -> Result<Generated, GenerateError> {
-    check_type_name(type_name)?;
+/// Generates the parameter-holding type `type_name`: the kinematics of the loaded model folded
+/// in as in [`generate`], each body's ten inertial parameters read from the type's field, so
+/// that one compiled function serves any masses, centres of mass and inertias (a perturbed
+/// plant, an identified model, a payload).
+pub fn generate_parametric(loaded: &LoadedModel, type_name: &str) -> Result<Generated, GenerateError> {
+    let model = &loaded.model;
+    let ident = type_ident(type_name)?;
     check_size(model)?;
-    let dof = model.dof();
-    let (body, stats) = dynamics_impl(model, type_name, InertiaSource::Parameters);
-    let source = format!(
-        "{header}\n\
-         /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.\n\
-         #[derive(Debug, Clone, Copy, PartialEq)]\n\
-         pub struct {type_name}(pub [[f64; 10]; {dof}]);\n\
-         impl {type_name} {{\n\
-         /// From each body's spatial inertia about its body frame's origin, in joint order.\n\
-         pub fn new(inertias: &[::hya_core::spatial::RigidBodyInertia; {dof}]) -> Self {{\n\
-         Self(core::array::from_fn(|i| inertias[i].parameters()))\n\
-         }}\n\
-         }}\n{body}",
-        header = doc_naming(
-            " Rigid-body dynamics of `",
-            model.name(),
-            &format!("` ({dof} joints) with the inertial parameters as data:")
-        ),
+    let tracer = Tracer { model, names: Names::new(model), source: InertiaSource::Parameters };
+    let functions = tracer.dynamics_functions()?;
+    let dof = tracer.dof();
+    let doc = doc_naming(
+        " Rigid-body dynamics of `",
+        model.name(),
+        &format!("` ({} joints) with the inertial parameters as data:", model.dof()),
     );
-    format(&source, stats)
+    let dynamics = dynamics_impl(&ident, &dof, &functions);
+    let tokens = quote! {
+        #doc
+        /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct #ident(pub [[f64; 10]; #dof]);
+        impl #ident {
+            /// From each body's spatial inertia about its body frame's origin, in joint order.
+            pub fn new(inertias: &[::hya_core::spatial::RigidBodyInertia; #dof]) -> Self {
+                Self(core::array::from_fn(|i| inertias[i].parameters()))
+            }
+        }
+        #dynamics
+    };
+    let source = header(loaded, "Parametric rigid-body dynamics") + &format(tokens, &functions)?;
+    Ok(Generated { source, stats: functions.iter().map(|f| (f.name, f.counts)).collect() })
 }

@@ -7,7 +7,7 @@
 //!
 //! ```no_run
 //! let loaded = hya_codegen::load_file("robots/urdf/hya.urdf")?;
-//! let generated = hya_codegen::generate(&loaded.model, "Hya")?;
+//! let generated = hya_codegen::generate(&loaded, "Hya")?;
 //! std::fs::write("hya_dynamics.rs", generated.source)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -16,10 +16,10 @@ pub mod error;
 pub mod expr;
 pub mod generate;
 pub mod load;
-pub mod symbolic;
+pub mod names;
 
 pub use error::{LoadError, Problem, Warning};
 pub use generate::{
     generate, generate_parametric, size_warning, GenerateError, Generated, MAX_JOINTS, WARN_ABOVE_JOINTS,
 };
-pub use load::{load_file, load_str, LoadedModel};
+pub use load::{load_file, load_str, LoadedModel, Source};

@@ -23,6 +23,27 @@ pub struct LoadedModel {
     pub model: TreeModel,
     /// Accepted oddities, such as a violated triangle inequality of principal moments.
     pub warnings: Vec<Warning>,
+    /// Where the description came from.
+    pub source: Source,
+}
+
+/// The description a model was loaded from, as generated code's header names it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Source {
+    /// The file's name (without its directory), or what the caller called the text.
+    pub file: String,
+    /// SHA-256 of the text, lower-case hex.
+    pub sha256: String,
+}
+
+impl Source {
+    fn of(text: &str, source: &str) -> Self {
+        use sha2::Digest;
+        let file =
+            Path::new(source).file_name().map_or_else(|| source.to_owned(), |f| f.to_string_lossy().into_owned());
+        let sha256 = sha2::Sha256::digest(text.as_bytes()).iter().map(|b| format!("{b:02x}")).collect();
+        Self { file, sha256 }
+    }
 }
 
 /// Reads and validates the URDF file at `path`.
@@ -38,7 +59,9 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
 pub fn load_str(text: &str, source: &str) -> Result<LoadedModel, LoadError> {
     let robot = urdf_rs::read_from_string(text)
         .map_err(|e| LoadError::new(source, Problem::Parse { message: e.to_string() }))?;
-    build(&robot).map_err(|problem| LoadError::new(source, problem))
+    let mut loaded = build(&robot).map_err(|problem| LoadError::new(source, problem))?;
+    loaded.source = Source::of(text, source);
+    Ok(loaded)
 }
 
 fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
@@ -260,7 +283,11 @@ impl TreeBuilder<'_> {
         if let Some(i) = (0..model.dof()).find(|&i| mass[(i, i)].is_nan() || mass[(i, i)] < MIN_JOINT_INERTIA) {
             return Err(Problem::SingularJoint { joint: model.bodies()[i].joint.clone(), inertia: mass[(i, i)] });
         }
-        Ok(LoadedModel { model, warnings: self.warnings })
+        Ok(LoadedModel {
+            model,
+            warnings: self.warnings,
+            source: Source { file: String::new(), sha256: String::new() },
+        })
     }
 }
 

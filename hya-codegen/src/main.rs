@@ -1,9 +1,10 @@
-//! `hya-codegen ROBOT.urdf --name Name [--stats]`: writes a robot's generated dynamics to stdout,
+//! `hya-codegen ROBOT.urdf --name Name [--parametric] [--stats]`: writes a robot's generated dynamics to stdout
+//! (with `--parametric`, the type that holds its inertial parameters),
 //! or with `--stats` each generated function's count of adds, multiplies and `sin_cos` calls.
 
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: hya-codegen ROBOT.urdf --name TypeName [--stats]";
+const USAGE: &str = "usage: hya-codegen ROBOT.urdf --name TypeName [--parametric] [--stats]";
 
 fn main() -> ExitCode {
     match run(std::env::args().skip(1).collect()) {
@@ -22,11 +23,13 @@ fn run(args: Vec<String>) -> Result<String, String> {
     let mut path = None;
     let mut name = None;
     let mut stats = false;
+    let mut parametric = false;
     let mut args = args.into_iter();
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--name" => name = Some(args.next().ok_or("--name needs a type name")?),
             "--stats" => stats = true,
+            "--parametric" => parametric = true,
             "-h" | "--help" => return Ok(format!("{USAGE}\n")),
             flag if flag.starts_with("--") => return Err(format!("unknown option {flag}\n{USAGE}")),
             _ if path.is_none() => path = Some(arg),
@@ -42,13 +45,15 @@ fn run(args: Vec<String>) -> Result<String, String> {
     if let Some(warning) = hya_codegen::size_warning(&loaded.model) {
         eprintln!("hya-codegen: warning: {path}: {warning}");
     }
-    let generated = hya_codegen::generate(&loaded.model, &name).map_err(|e| e.to_string())?;
+    let generate = if parametric { hya_codegen::generate_parametric } else { hya_codegen::generate };
+    let generated = generate(&loaded, &name).map_err(|e| e.to_string())?;
     if !stats {
         return Ok(generated.source);
     }
-    let mut table = format!("{:<36} {:>7} {:>7} {:>5}\n", "function", "adds", "muls", "trig");
+    let mut table = format!("{:<36} {:>7} {:>7} {:>5} {:>5}\n", "function", "adds", "muls", "divs", "trig");
     for (function, counts) in &generated.stats {
-        table += &format!("{function:<36} {:>7} {:>7} {:>5}\n", counts.adds, counts.muls, counts.trig);
+        table +=
+            &format!("{function:<36} {:>7} {:>7} {:>5} {:>5}\n", counts.adds, counts.muls, counts.divs, counts.trig);
     }
     Ok(table)
 }

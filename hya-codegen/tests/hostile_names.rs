@@ -83,14 +83,14 @@ fn item_outline(source: &str) -> Vec<String> {
 
 #[test]
 fn urdf_names_stay_inside_their_literals() {
-    let benign_model = load_str(&urdf("arm", "link", "joint"), "benign.urdf").unwrap().model;
+    let benign_model = load_str(&urdf("arm", "link", "joint"), "benign.urdf").unwrap();
     let benign_sources =
         [generate(&benign_model, "Arm").unwrap().source, generate_parametric(&benign_model, "ArmP").unwrap().source];
     for hostile in HOSTILE {
         let text = urdf(hostile, &format!("{hostile}_link"), &format!("{hostile}_joint"));
-        let model = load_str(&text, "hostile.urdf").unwrap().model;
+        let model = load_str(&text, "hostile.urdf").unwrap();
         let robot = unescaped(hostile);
-        assert_eq!(model.name(), robot, "the loader keeps the name as written");
+        assert_eq!(model.model.name(), robot, "the loader keeps the name as written");
         let sources = [generate(&model, "Arm").unwrap().source, generate_parametric(&model, "ArmP").unwrap().source];
         for (source, benign) in sources.iter().zip(&benign_sources) {
             // The same items as for a benign name: nothing of the name's own became code.

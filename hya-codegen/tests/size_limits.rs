@@ -25,8 +25,9 @@ fn long_chains_are_warned_about_then_refused() {
     let long = load_str(&chain(WARN_ABOVE_JOINTS + 1), "long.urdf").unwrap().model;
     let warning = size_warning(&long).unwrap();
     assert!(warning.contains("TreeModel") && warning.contains(&format!("{}", WARN_ABOVE_JOINTS + 1)), "{warning}");
-    let huge = load_str(&chain(MAX_JOINTS + 1), "huge.urdf").unwrap().model;
-    let refused = generate(&huge, "Huge").unwrap_err();
+    let huge_loaded = load_str(&chain(MAX_JOINTS + 1), "huge.urdf").unwrap();
+    let huge = &huge_loaded.model;
+    let refused = generate(&huge_loaded, "Huge").unwrap_err();
     assert_eq!(refused, GenerateError::TooLarge(MAX_JOINTS + 1));
     assert!(refused.to_string().contains("run-time model"));
     // The run-time model still serves it.

@@ -22,6 +22,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod control;
+pub mod dual;
 pub mod dynamics;
 pub mod error;
 pub mod estimator;

@@ -69,6 +69,17 @@ impl Quantity {
     }
 }
 
+/// The passes of the tree algorithms, for a number type that marks them in its output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Pass {
+    /// Base to tips: transforms, velocities, accelerations, body forces.
+    Forward,
+    /// Tips to base: forces, inertias and joint outputs.
+    Backward,
+    /// Base to tips again (ABA's accelerations, CRBA's rows of `M`).
+    Final,
+}
+
 /// A real number type: what the dynamics algorithms need of their numbers.
 pub trait Real:
     Copy
@@ -97,6 +108,11 @@ pub trait Real:
     fn labelled(self, _label: Label) -> Self {
         self
     }
+
+    /// Marks that the algorithm begins `pass` for `body`; a no-op but for number types that
+    /// annotate what they record.
+    #[inline]
+    fn begin_pass(_body: usize, _pass: Pass) {}
 
     /// Zero.
     #[inline]

@@ -84,7 +84,7 @@ fn expand(args: &RobotArgs) -> syn::Result<proc_macro2::TokenStream> {
         }
     };
     let error = |message: String| syn::Error::new(literal.span(), message);
-    let generated = hya_codegen::generate(&loaded.model, &args.name.to_string()).map_err(|e| error(e.to_string()))?;
+    let generated = hya_codegen::generate(&loaded, &args.name.to_string()).map_err(|e| error(e.to_string()))?;
     let code: proc_macro2::TokenStream = generated.source.parse().map_err(|e| error(format!("{e}")))?;
     // Makes cargo rebuild the caller when the URDF file changes.
     let tracking = tracked.map(|file| quote! { const _: &str = include_str!(#file); });

@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 
 use super::workspace::{BodyState, JointTransform};
 use super::{ModelError, TreeModel};
-use crate::scalar::{Label, Quantity, Real};
+use crate::scalar::{Label, Pass, Quantity, Real};
 use crate::spatial::{ArticulatedInertia, Motion, RigidBodyInertia, Transform};
 
 /// Where body `i`'s spatial inertia (about its frame's origin) comes from.
@@ -72,6 +72,7 @@ fn project_forces<S: Real>(
     project: impl Fn(usize, &BodyState<S>) -> S,
 ) {
     for (i, body) in model.bodies().iter().enumerate().rev() {
+        S::begin_pass(i, Pass::Backward);
         states[i].force = states[i].force.labelled(i, Quantity::Force);
         out[i] = project(i, &states[i]).labelled(joint_label(i));
         if let Some(p) = body.parent {
@@ -106,6 +107,7 @@ fn rnea<S: Real>(
     place_bodies(model, q, states);
     let base = base_acceleration(model, with_gravity);
     for (i, body) in model.bodies().iter().enumerate() {
+        S::begin_pass(i, Pass::Forward);
         let s = subspace::<S>(model, i);
         let (parent_velocity, parent_acceleration) =
             body.parent.map_or((Motion::zero(), base), |p| (states[p].velocity, states[p].acceleration));
@@ -178,6 +180,7 @@ pub fn coriolis_transpose_times_velocity<S: Real>(
     check_len(model, "output", out)?;
     place_bodies(model, q, states);
     for (i, body) in model.bodies().iter().enumerate() {
+        S::begin_pass(i, Pass::Forward);
         let parent_velocity = body.parent.map_or(Motion::zero(), |p| states[p].velocity);
         let velocity = states[i].transform.apply_motion(&parent_velocity) + subspace::<S>(model, i) * qd[i];
         let velocity = velocity.labelled(i, Quantity::Velocity);
@@ -209,6 +212,7 @@ pub fn mass_matrix<S: Real>(
         state.composite = inertias.inertia(i);
     }
     for (i, body) in model.bodies().iter().enumerate().rev() {
+        S::begin_pass(i, Pass::Backward);
         if let Some(p) = body.parent {
             let carried = states[i].transform.inertia_in_parent(&states[i].composite);
             states[p].composite += carried;
@@ -216,6 +220,7 @@ pub fn mass_matrix<S: Real>(
     }
     let bodies = model.bodies();
     for i in 0..bodies.len() {
+        S::begin_pass(i, Pass::Final);
         let s = subspace::<S>(model, i);
         let mut force = states[i].composite.apply(&s);
         store(i, i, s.dot(&force));
@@ -256,6 +261,7 @@ pub fn forward_dynamics<S: Real>(
     place_bodies(model, q, states);
     let bodies = model.bodies();
     for (i, body) in bodies.iter().enumerate() {
+        S::begin_pass(i, Pass::Forward);
         let parent_velocity = body.parent.map_or(Motion::zero(), |p| states[p].velocity);
         let joint_velocity = subspace::<S>(model, i) * qd[i];
         let velocity =
@@ -270,6 +276,7 @@ pub fn forward_dynamics<S: Real>(
     }
     let one = S::constant(1.0);
     for (i, body) in bodies.iter().enumerate().rev() {
+        S::begin_pass(i, Pass::Backward);
         let s = subspace::<S>(model, i);
         let state = &mut states[i];
         let label = |quantity| Label { body: i, quantity, component: 0 };
@@ -292,6 +299,7 @@ pub fn forward_dynamics<S: Real>(
     }
     let base = base_acceleration(model, true);
     for (i, body) in bodies.iter().enumerate() {
+        S::begin_pass(i, Pass::Final);
         let parent_acceleration = body.parent.map_or(base, |p| states[p].acceleration);
         let state = &mut states[i];
         let acceleration = state.transform.apply_motion(&parent_acceleration) + state.acceleration;
@@ -314,6 +322,7 @@ pub fn body_placements<S: Real>(
     check_len(model, "placements", placements)?;
     place_bodies(model, q, states);
     for (i, body) in model.bodies().iter().enumerate() {
+        S::begin_pass(i, Pass::Forward);
         let step = states[i].transform.combined();
         placements[i] = body.parent.map_or(step, |p| placements[p].then(&step));
     }

@@ -1,0 +1,148 @@
+//! What generated code calls its values: joint inputs by joint (`q_sfe`, `s_sfe`, `c_sfe`),
+//! body quantities by link and component (`elbow_fe_v_wz`, `wrist_r_f_nx`), outputs by joint.
+//!
+//! URDF names become identifiers by keeping ASCII letters and digits (lower-cased) and turning
+//! every other run of characters into `_`; a name left empty, starting with a digit, or taken
+//! by an earlier joint or link gets its index. Names reach comments only `escape_default`ed, so
+//! no URDF string can end a comment.
+
+use hya_core::model::TreeModel;
+use hya_core::scalar::{Label, Pass, Quantity};
+
+use crate::expr::Naming;
+
+/// `name` as a lower-case identifier fragment; `None` if nothing usable is left.
+fn identifier_fragment(name: &str) -> Option<String> {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            out.push(c.to_ascii_lowercase());
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    let trimmed = out.trim_matches('_');
+    (!trimmed.is_empty() && !trimmed.starts_with(|c: char| c.is_ascii_digit())).then(|| trimmed.to_owned())
+}
+
+/// One fragment per name, unique: `fallback{i}` where a name gives none, `_{i}` on a clash.
+fn unique_fragments<'a>(names: impl Iterator<Item = &'a str>, fallback: &str) -> Vec<String> {
+    let mut taken = std::collections::HashSet::new();
+    names
+        .enumerate()
+        .map(|(i, name)| {
+            let wanted = identifier_fragment(name).unwrap_or_else(|| format!("{fallback}{i}"));
+            let fragment = if taken.contains(&wanted) { format!("{wanted}_{i}") } else { wanted };
+            taken.insert(fragment.clone());
+            fragment
+        })
+        .collect()
+}
+
+/// A URDF name safe inside a `//` comment: printable ASCII, everything else escaped.
+pub fn comment_safe(name: &str) -> String {
+    name.escape_default().to_string()
+}
+
+/// What a generated function's joint-space output is called.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Output {
+    /// A vector, `{prefix}_{joint}`.
+    Vector(&'static str),
+    /// The mass matrix, `m_{row joint}_{column joint}` (the column in the label's component).
+    Matrix,
+}
+
+/// Names for one robot's generated functions.
+#[derive(Debug, Clone)]
+pub struct Names {
+    joints: Vec<String>,
+    links: Vec<String>,
+    joint_names: Vec<String>,
+    link_names: Vec<String>,
+    output: Output,
+}
+
+const MOTION: [&str; 6] = ["wx", "wy", "wz", "vx", "vy", "vz"];
+const FORCE: [&str; 6] = ["nx", "ny", "nz", "fx", "fy", "fz"];
+
+impl Names {
+    /// Names for `model`'s joints and bodies.
+    pub fn new(model: &TreeModel) -> Self {
+        let bodies = model.bodies();
+        Self {
+            joints: unique_fragments(bodies.iter().map(|b| b.joint.as_str()), "joint"),
+            links: unique_fragments(bodies.iter().map(|b| b.link.as_str()), "link"),
+            joint_names: bodies.iter().map(|b| comment_safe(&b.joint)).collect(),
+            link_names: bodies.iter().map(|b| comment_safe(&b.link)).collect(),
+            output: Output::Vector("out"),
+        }
+    }
+
+    /// The same names with the outputs called as `output` says.
+    pub fn with_output(&self, output: Output) -> Self {
+        Self { output, ..self.clone() }
+    }
+
+    /// `{prefix}_{joint}` for joint `i`: the name of an input such as `q_sfe`.
+    pub fn joint_input(&self, prefix: &str, i: usize) -> String {
+        format!("{prefix}_{}", self.joints[i])
+    }
+
+    /// `{link}_{suffix}` for body `i`: the name of a parameter such as `elbow_m`.
+    pub fn body_input(&self, i: usize, suffix: &str) -> String {
+        format!("{}_{suffix}", self.links[i])
+    }
+}
+
+impl Naming for Names {
+    fn label(&self, label: Label) -> String {
+        let (joint, link) = (&self.joints[label.body], &self.links[label.body]);
+        let component = usize::from(label.component);
+        match label.quantity {
+            Quantity::Sine => format!("s_{joint}"),
+            Quantity::Cosine => format!("c_{joint}"),
+            Quantity::JointInertia => format!("d_{joint}"),
+            Quantity::JointForce => format!("u_{joint}"),
+            Quantity::Joint => match self.output {
+                Output::Vector(prefix) => format!("{prefix}_{joint}"),
+                Output::Matrix => format!("m_{joint}_{}", self.joints.get(component).map_or("", String::as_str)),
+            },
+            Quantity::Velocity | Quantity::Acceleration => {
+                format!("{link}_{}_{}", label.quantity.short_name(), MOTION[component % 6])
+            }
+            Quantity::Force | Quantity::Bias | Quantity::InertiaTimesAxis => {
+                format!("{link}_{}_{}", label.quantity.short_name(), FORCE[component % 6])
+            }
+        }
+    }
+
+    fn pass(&self, body: usize, pass: Pass) -> String {
+        let what = match pass {
+            Pass::Forward => "base to tip",
+            Pass::Backward => "tip to base",
+            Pass::Final => "base to tip, last pass",
+        };
+        format!("── link `{}`, joint `{}` ({what})", self.link_names[body], self.joint_names[body])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn urdf_names_become_distinct_identifier_fragments() {
+        let names = ["Elbow_FE", "wrist-roll 2", "2nd", "", "Elbow FE", "\u{202E}x"];
+        assert_eq!(
+            unique_fragments(names.into_iter(), "j"),
+            ["elbow_fe", "wrist_roll_2", "j2", "j3", "elbow_fe_4", "x"]
+        );
+    }
+
+    #[test]
+    fn comment_text_cannot_hold_a_line_break() {
+        let safe = comment_safe("a\nb\r\u{2028}*/");
+        assert!(safe.chars().all(|c| c.is_ascii_graphic() || c == ' '), "{safe}");
+    }
+}

@@ -6,8 +6,12 @@ For each URDF given (default: every shipped robot), draws seeded random states a
 
     kind, q..., qd..., qdd..., value...
 
-(q holds joint positions, one per degree of freedom, in Pinocchio's joint order) with kind `id` (value = rnea(q, qd, qdd)), `mass` (value = crba(q), full, row-major) or
-`gravity` (value = computeGeneralizedGravity(q)); qd and qdd are zeros where unused. Gravity is
+(q holds joint positions, one per degree of freedom, in Pinocchio's joint order) with kind `id` (value = rnea(q, qd, qdd)), `mass` (value = crba(q), full, row-major),
+`gravity` (value = computeGeneralizedGravity(q)), `aba` (the third block holds a torque tau,
+value = aba(q, qd, tau)), `id_dq` and `id_dqd` (value = dtau/dq and dtau/dqd from
+computeRNEADerivatives(q, qd, qdd), row-major: row i is dtau_i); qd and qdd are zeros where
+unused. The torques of `aba` rows come from a second generator (seed + 1000), so the other rows
+do not depend on them. Gravity is
 Pinocchio's default, 9.81 m/s^2 along -z. Numbers are printed with repr() so they round-trip.
 
 Usage: tools/pinocchio_reference.sh [URDF...]  (installs `pin` into a virtualenv first)
@@ -39,6 +43,7 @@ def reference_rows(urdf: Path, seed: int):
     model = pin.buildModelFromUrdf(str(urdf))
     data = model.createData()
     rng = np.random.default_rng(seed)
+    torques = np.random.default_rng(seed + 1000)
     n = model.nv
     zeros = np.zeros(n)
     for _ in range(STATES):
@@ -51,6 +56,11 @@ def reference_rows(urdf: Path, seed: int):
         mass = np.triu(mass) + np.triu(mass, 1).T  # crba fills the upper triangle
         yield ["mass", *q, *zeros, *zeros, *mass.reshape(-1)]
         yield ["gravity", *q, *zeros, *zeros, *pin.computeGeneralizedGravity(model, data, config)]
+        tau = torques.uniform(-20.0, 20.0, n)
+        yield ["aba", *q, *qd, *tau, *pin.aba(model, data, config, qd, tau)]
+        d_dq, d_dqd, _ = pin.computeRNEADerivatives(model, data, config, qd, qdd)
+        yield ["id_dq", *q, *qd, *qdd, *np.asarray(d_dq).reshape(-1)]
+        yield ["id_dqd", *q, *qd, *qdd, *np.asarray(d_dqd).reshape(-1)]
 
 
 def main():

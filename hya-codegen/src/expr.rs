@@ -247,27 +247,24 @@ impl Emitter {
         live
     }
 
-    /// The statements `outputs` depend on as Rust `let` bindings, with their operation counts
-    /// and the outputs as Rust expressions. Statements with a label are named by `name`
-    /// (made unique), the rest `t0, t1, …`; `pass` gives the comment that opens a body's pass.
-    pub fn render(&self, outputs: &[Value], names: &dyn Naming) -> Rendered {
-        let live = self.live(outputs);
+    /// The operands a statement reads.
+    fn operands(&self, id: usize) -> Vec<usize> {
+        match &self.ops[id] {
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
+                [*a, *b].into_iter().filter(|v| matches!(v, Value::Var { .. })).map(var_id).collect()
+            }
+            Op::SinCos(x) => [*x].into_iter().filter(|v| matches!(v, Value::Var { .. })).map(var_id).collect(),
+            Op::CosOf | Op::Input(..) => Vec::new(),
+        }
+    }
+
+    /// Identifiers for the live statements: inputs by their names, labelled statements by
+    /// `names` (made unique), the rest `t0, t1, …`.
+    fn identifiers(&self, live: &[bool], names: &dyn Naming) -> Vec<Option<Ident>> {
         let mut used: HashMap<String, usize> = HashMap::new();
-        let mut unique = |wanted: String| {
-            let count = used.entry(wanted.clone()).or_insert(0);
-            *count += 1;
-            if *count == 1 {
-                wanted
-            } else {
-                format!("{wanted}_{}", *count - 1)
-            }
-        };
         let mut temporaries = 0;
-        let mut idents: Vec<Option<Ident>> = vec![None; self.ops.len()];
-        for (id, op) in self.ops.iter().enumerate() {
-            if !live[id] {
-                continue;
-            }
+        let mut idents = vec![None; self.ops.len()];
+        for (id, op) in self.ops.iter().enumerate().filter(|(id, _)| live[*id]) {
             let wanted = match (op, self.labels.get(&id)) {
                 (Op::Input(name, _), _) => name.clone(),
                 (_, Some(label)) => names.label(*label),
@@ -276,62 +273,136 @@ impl Emitter {
                     format!("t{}", temporaries - 1)
                 }
             };
-            idents[id] = Some(Ident::new(&unique(wanted), Span::call_site()));
+            let count = used.entry(wanted.clone()).or_insert(0);
+            *count += 1;
+            let unique = if *count == 1 { wanted } else { format!("{wanted}_{}", *count - 1) };
+            idents[id] = Some(Ident::new(&unique, Span::call_site()));
         }
+        idents
+    }
+
+    /// The statements `outputs` depend on as Rust `let` bindings, with their operation counts
+    /// and the outputs as Rust expressions; `names` names labelled statements and the comment
+    /// that opens each body's pass.
+    ///
+    /// Statements are grouped in blocks, one per body's pass (and at most [`GROUP`] statements
+    /// each), that hand on only the values later code reads:
+    /// `let (elbow_fe_v_wx, …) = { …; (elbow_fe_v_wx, …) };`. Each `let` opens a scope
+    /// nested in the previous one, and rustc's debug information overflows its stack beyond
+    /// about 2000 nested scopes; blocks keep the nesting to the blocks' count plus one block.
+    pub fn render(&self, outputs: &[Value], names: &dyn Naming) -> Rendered {
+        let live = self.live(outputs);
+        let idents = self.identifiers(&live, names);
         let show = |v: Value| expression(v, &idents);
-        let mut statements = Vec::new();
-        let mut counts = OpCounts::default();
+        // Group the live statements; a cosine stays with its sine.
+        let mut group_of = vec![usize::MAX; self.ops.len()];
+        let mut groups: Vec<Vec<usize>> = Vec::new();
         let mut pass_marks = Vec::new();
         let mut passes = self.passes.iter().peekable();
-        // The latest pass begun and not yet marked: it opens at the next live statement.
         let mut pending = None;
-        for (id, op) in self.ops.iter().enumerate() {
-            while let Some(&&(start, body, pass)) = passes.peek().filter(|p| p.0 <= id) {
-                debug_assert!(start <= id);
+        for id in 0..self.ops.len() {
+            while let Some(&&(_, body, pass)) = passes.peek().filter(|p| p.0 <= id) {
                 pending = Some((body, pass));
                 passes.next();
             }
-            let Some(name) = idents[id].clone() else { continue };
-            if let Some((body, pass)) = pending.take() {
+            if !live[id] {
+                continue;
+            }
+            if matches!(self.ops[id], Op::CosOf) {
+                group_of[id] = group_of[id - 1];
+                continue;
+            }
+            let opens = pending.take();
+            if groups.is_empty() || opens.is_some() || groups.last().is_some_and(|g| g.len() >= GROUP) {
+                groups.push(Vec::new());
+            }
+            if let (Some((body, pass)), Some(name)) = (opens, &idents[id]) {
                 pass_marks.push((name.to_string(), names.pass(body, pass)));
             }
-            let statement = match op {
-                Op::Input(_, expr) => quote! { let #name = #expr; },
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
-                    let (a, b) = (show(*a), show(*b));
-                    match op {
-                        Op::Add(..) => {
-                            counts.adds += 1;
-                            quote! { let #name = #a + #b; }
-                        }
-                        Op::Sub(..) => {
-                            counts.adds += 1;
-                            quote! { let #name = #a - #b; }
-                        }
-                        Op::Mul(..) => {
-                            counts.muls += 1;
-                            quote! { let #name = #a * #b; }
-                        }
-                        _ => {
-                            counts.divs += 1;
-                            quote! { let #name = #a / #b; }
-                        }
+            group_of[id] = groups.len() - 1;
+            if let Some(group) = groups.last_mut() {
+                group.push(id);
+            }
+        }
+        // A value leaves its block if an output or a statement of a later block reads it.
+        let mut escapes = vec![false; self.ops.len()];
+        outputs.iter().filter(|v| matches!(v, Value::Var { .. })).for_each(|v| escapes[var_id(*v)] = true);
+        for id in (0..self.ops.len()).filter(|&id| live[id]) {
+            for operand in self.operands(id) {
+                if group_of[operand] != group_of[id] {
+                    escapes[operand] = true;
+                }
+            }
+        }
+        let mut counts = OpCounts::default();
+        let mut blocks = Vec::new();
+        for group in &groups {
+            let mut statements = Vec::new();
+            let mut handed_on = Vec::new();
+            for &id in group {
+                statements.push(self.statement(id, &idents, &show, &mut counts));
+                let cos = matches!(self.ops.get(id + 1), Some(Op::CosOf)).then_some(id + 1);
+                for defined in std::iter::once(id).chain(cos) {
+                    if escapes[defined] {
+                        handed_on.extend(idents[defined].clone());
                     }
                 }
-                Op::SinCos(x) => {
-                    counts.trig += 1;
-                    let x = show(*x);
-                    let cos = idents[id + 1].clone().unwrap_or_else(|| Ident::new("_", Span::call_site()));
-                    quote! { let (#name, #cos) = ::hya_core::sin_cos(#x); }
-                }
-                Op::CosOf => continue,
-            };
-            statements.push(statement);
+            }
+            blocks.push(match handed_on.as_slice() {
+                [] => quote! {},
+                [one] => quote! { let #one = { #(#statements)* #one }; },
+                _ => quote! { let (#(#handed_on),*) = { #(#statements)* (#(#handed_on),*) }; },
+            });
         }
         let outputs = outputs.iter().map(|v| show(*v)).collect();
-        Rendered { statements: quote! { #(#statements)* }, counts, outputs, pass_marks }
+        Rendered { statements: quote! { #(#blocks)* }, counts, outputs, pass_marks }
+    }
+
+    /// Statement `id` as a `let`, counted.
+    fn statement(
+        &self,
+        id: usize,
+        idents: &[Option<Ident>],
+        show: &dyn Fn(Value) -> TokenStream,
+        counts: &mut OpCounts,
+    ) -> TokenStream {
+        let placeholder = || Ident::new("_", Span::call_site());
+        let name = idents[id].clone().unwrap_or_else(placeholder);
+        match &self.ops[id] {
+            Op::Input(_, expr) => quote! { let #name = #expr; },
+            Op::Add(a, b) => {
+                counts.adds += 1;
+                let (a, b) = (show(*a), show(*b));
+                quote! { let #name = #a + #b; }
+            }
+            Op::Sub(a, b) => {
+                counts.adds += 1;
+                let (a, b) = (show(*a), show(*b));
+                quote! { let #name = #a - #b; }
+            }
+            Op::Mul(a, b) => {
+                counts.muls += 1;
+                let (a, b) = (show(*a), show(*b));
+                quote! { let #name = #a * #b; }
+            }
+            Op::Div(a, b) => {
+                counts.divs += 1;
+                let (a, b) = (show(*a), show(*b));
+                quote! { let #name = #a / #b; }
+            }
+            Op::SinCos(x) => {
+                counts.trig += 1;
+                let x = show(*x);
+                let cos = idents.get(id + 1).cloned().flatten().unwrap_or_else(placeholder);
+                quote! { let (#name, #cos) = ::hya_core::sin_cos(#x); }
+            }
+            Op::CosOf => quote! {},
+        }
     }
 }
+
+/// Most statements in one block of rendered code (see [`Emitter::render`]).
+pub const GROUP: usize = 256;
 
 fn var_id(value: Value) -> usize {
     match value {
@@ -484,7 +555,7 @@ mod tests {
         assert_eq!(checks, [true; 4]);
         let rendered = e.render(&[product], &Plain);
         assert_eq!(rendered.counts, OpCounts { adds: 0, muls: 1, divs: 0, trig: 0 });
-        assert_eq!(text(&rendered.statements), "let x = q [0] ; let y = q [1] ; let t0 = x * y ;");
+        assert_eq!(text(&rendered.statements), "let t0 = { let x = q [0] ; let y = q [1] ; let t0 = x * y ; t0 } ;");
         assert_eq!(text(&rendered.outputs[0]), "t0");
     }
 
@@ -501,7 +572,8 @@ mod tests {
         assert_eq!(rendered.counts, OpCounts { adds: 1, muls: 0, divs: 1, trig: 1 });
         assert_eq!(
             text(&rendered.statements),
-            "let a = a ; let b = b ; let (t0 , _) = :: hya_core :: sin_cos (b) ; let t1 = b - a ; let t2 = b / a ;"
+            "let (t0 , t1 , t2) = { let a = a ; let b = b ; let (t0 , _) = :: hya_core :: sin_cos (b) ; \
+             let t1 = b - a ; let t2 = b / a ; (t0 , t1 , t2) } ;"
         );
     }
 
@@ -513,7 +585,27 @@ mod tests {
             [(x * x).labelled(label), (x + x).labelled(label)]
         });
         let rendered = e.render(&outputs, &Plain);
-        assert_eq!(text(&rendered.statements), "let x = x ; let b2_1 = x * x ; let b2_1_1 = x + x ;");
+        assert_eq!(
+            text(&rendered.statements),
+            "let (b2_1 , b2_1_1) = { let x = x ; let b2_1 = x * x ; let b2_1_1 = x + x ; (b2_1 , b2_1_1) } ;"
+        );
+    }
+
+    #[test]
+    fn blocks_open_at_passes_and_hand_on_only_what_later_code_reads() {
+        let (outputs, e) = trace(|| {
+            let x = input("x", quote!(x));
+            let inner = x * x;
+            let kept = inner + x;
+            Value::begin_pass(0, Pass::Forward);
+            [kept * kept]
+        });
+        let rendered = e.render(&outputs, &Plain);
+        assert_eq!(
+            text(&rendered.statements),
+            "let t1 = { let x = x ; let t0 = x * x ; let t1 = t0 + x ; t1 } ; let t2 = { let t2 = t1 * t1 ; t2 } ;"
+        );
+        assert_eq!(rendered.pass_marks, [("t2".to_owned(), "body 0".to_owned())]);
     }
 
     #[test]

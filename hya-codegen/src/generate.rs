@@ -8,6 +8,7 @@
 //! a comment where each body's pass begins.
 
 use hya_core::model::algorithms::{self, Inertias, ModelInertias};
+use hya_core::model::derivatives::{self, Direction};
 use hya_core::model::{BodyState, ModelError, TreeModel};
 use hya_core::scalar::{Label, Quantity};
 use hya_core::spatial::{RigidBodyInertia, Transform};
@@ -330,6 +331,66 @@ impl<'a> Tracer<'a> {
         Ok(Function { name: "frame_poses", tokens, pass_marks, counts })
     }
 
+    /// `(∂τ/∂q, ∂τ/∂q̇)`: `hya-core`'s dual-number derivative traced once per direction in one
+    /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
+    fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {
+        let n = self.model.dof();
+        let (rendered, _) = self.trace(&["q", "qd", "qdd"], Output::Vector("tau"), |x, inertias, _| {
+            let mut states = vec![BodyState::new(); n];
+            let mut scratch = vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n];
+            let (mut tau, mut column) = (vec![Value::zero(); n], vec![Value::zero(); n]);
+            let mut outputs = vec![Value::zero(); 2 * n * n];
+            for j in 0..n {
+                for (k, direction) in [Direction::Position(j), Direction::Velocity(j)].into_iter().enumerate() {
+                    let inputs = (x[0].as_slice(), x[1].as_slice(), x[2].as_slice());
+                    derivatives::inverse_dynamics_directional(
+                        self.model,
+                        inertias,
+                        inputs,
+                        direction,
+                        &mut states,
+                        &mut scratch,
+                        &mut tau,
+                        &mut column,
+                    )?;
+                    for (i, value) in column.iter().enumerate() {
+                        outputs[k * n * n + i * n + j] = *value;
+                    }
+                }
+            }
+            Ok(outputs)
+        })?;
+        let Rendered { statements, outputs, pass_marks, counts } = rendered;
+        let stores = |matrix: &proc_macro2::Ident, values: &[TokenStream]| -> Vec<TokenStream> {
+            values
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.to_string() != literal(0.0).to_string())
+                .map(|(k, v)| {
+                    let (i, j) = (Literal::usize_unsuffixed(k / n), Literal::usize_unsuffixed(k % n));
+                    quote! { #matrix[(#i, #j)] = #v; }
+                })
+                .collect()
+        };
+        let (by_q, by_qd) = (format_ident!("d_dq"), format_ident!("d_dqd"));
+        let (q_stores, qd_stores) = (stores(&by_q, &outputs[..n * n]), stores(&by_qd, &outputs[n * n..]));
+        let (signature, dof) = (self.signature("inverse_dynamics_derivatives", &["q", "qd", "qdd"]), self.dof());
+        let tokens = quote! {
+            /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i`
+            /// of each is `∂τ_i`.
+            #[inline]
+            #signature -> (::hya_core::JointMatrix<#dof>, ::hya_core::JointMatrix<#dof>) {
+                #statements
+                let mut #by_q = ::hya_core::JointMatrix::<#dof>::zeros();
+                let mut #by_qd = ::hya_core::JointMatrix::<#dof>::zeros();
+                #(#q_stores)*
+                #(#qd_stores)*
+                (#by_q, #by_qd)
+            }
+        };
+        Ok(Function { name: "inverse_dynamics_derivatives", tokens, pass_marks, counts })
+    }
+
     /// The `Dynamics` entry points.
     fn dynamics_functions(&self) -> Result<Vec<Function>, GenerateError> {
         Ok(vec![
@@ -339,6 +400,7 @@ impl<'a> Tracer<'a> {
             self.coriolis_transpose()?,
             self.mass_matrix()?,
             self.forward_dynamics()?,
+            self.inverse_dynamics_derivatives()?,
         ])
     }
 }

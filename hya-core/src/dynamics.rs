@@ -47,6 +47,30 @@ pub trait Dynamics<const N: usize> {
         })
     }
 
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`; row `i` of each is `∂τ_i`.
+    ///
+    /// The default takes central differences with step `10⁻⁶` (an error near `10⁻¹⁰` relative,
+    /// from rounding and curvature): generated dynamics and the run-time model override it with
+    /// exact dual-number derivatives.
+    fn inverse_dynamics_derivatives(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        qdd: &JointVector<N>,
+    ) -> (JointMatrix<N>, JointMatrix<N>) {
+        const STEP: f64 = 1e-6;
+        let mut d_dq = JointMatrix::<N>::zeros();
+        let mut d_dqd = JointMatrix::<N>::zeros();
+        for j in 0..N {
+            let unit = JointVector::from_fn(|i, _| if i == j { STEP } else { 0.0 });
+            let by_q = self.inverse_dynamics(&(q + unit), qd, qdd) - self.inverse_dynamics(&(q - unit), qd, qdd);
+            let by_qd = self.inverse_dynamics(q, &(qd + unit), qdd) - self.inverse_dynamics(q, &(qd - unit), qdd);
+            d_dq.set_column(j, &(by_q / (2.0 * STEP)));
+            d_dqd.set_column(j, &(by_qd / (2.0 * STEP)));
+        }
+        (d_dq, d_dqd)
+    }
+
     /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`, by Cholesky factorisation of `M`.
     fn forward_dynamics(
         &self,
@@ -76,6 +100,14 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for &D {
     fn mass_matrix(&self, q: &JointVector<N>) -> JointMatrix<N> {
         (**self).mass_matrix(q)
     }
+    fn inverse_dynamics_derivatives(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        qdd: &JointVector<N>,
+    ) -> (JointMatrix<N>, JointMatrix<N>) {
+        (**self).inverse_dynamics_derivatives(q, qd, qdd)
+    }
     fn forward_dynamics(
         &self,
         q: &JointVector<N>,
@@ -98,6 +130,17 @@ pub trait SliceDynamics {
     fn gravity_into(&self, q: &[f64], tau: &mut [f64]);
     /// `M(q)`, row-major.
     fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]);
+    /// `q̈ = FD(q, q̇, τ)`; an error where the mass matrix is singular.
+    fn forward_dynamics_into(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
+    /// `∂τ/∂q` and `∂τ/∂q̇` at `(q, q̇, q̈)`, each `dof²`, row-major (row `i` is `∂τ_i`).
+    fn inverse_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        d_dq: &mut [f64],
+        d_dqd: &mut [f64],
+    );
 }
 
 /// Any [`Dynamics<N>`] seen as [`SliceDynamics`].
@@ -118,5 +161,24 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
     fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]) {
         // M is symmetric, so its column-major storage is also its row-major layout.
         mass.copy_from_slice(self.0.mass_matrix(&JointVector::from_column_slice(q)).as_slice());
+    }
+    fn forward_dynamics_into(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        let [q, qd, tau] = [q, qd, tau].map(JointVector::<N>::from_column_slice);
+        qdd.copy_from_slice(self.0.forward_dynamics(&q, &qd, &tau)?.as_slice());
+        Ok(())
+    }
+    fn inverse_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        d_dq: &mut [f64],
+        d_dqd: &mut [f64],
+    ) {
+        let [q, qd, qdd] = [q, qd, qdd].map(JointVector::<N>::from_column_slice);
+        let (by_q, by_qd) = self.0.inverse_dynamics_derivatives(&q, &qd, &qdd);
+        // Row-major: the transposes' column-major storage.
+        d_dq.copy_from_slice(by_q.transpose().as_slice());
+        d_dqd.copy_from_slice(by_qd.transpose().as_slice());
     }
 }

@@ -53,6 +53,16 @@ fn check_against_generic<const N: usize>(
         tol,
         floor
     ));
+    let tau = generic.inverse_dynamics(&q, &qd, &qdd);
+    prop_assert!(close(
+        &generated.forward_dynamics(&q, &qd, &tau).unwrap(),
+        &generic.forward_dynamics(&q, &qd, &tau).unwrap(),
+        1e-9,
+        floor
+    ));
+    let (by_q, by_qd) = generated.inverse_dynamics_derivatives(&q, &qd, &qdd);
+    let (generic_by_q, generic_by_qd) = generic.inverse_dynamics_derivatives(&q, &qd, &qdd);
+    prop_assert!(close(&by_q, &generic_by_q, tol, floor) && close(&by_qd, &generic_by_qd, tol, floor));
     Ok(())
 }
 

@@ -1,5 +1,7 @@
 //! Generated and generic dynamics against reference vectors from Pinocchio, an independent
-//! implementation (`tools/pinocchio_reference.sh` wrote `tests/reference/*.csv`), to 1e-9.
+//! implementation (`tools/pinocchio_reference.sh` wrote `tests/reference/*.csv`), to 1e-9:
+//! inverse dynamics, gravity, the mass matrix, forward dynamics (Pinocchio's `aba`) and the
+//! derivatives of inverse dynamics (`computeRNEADerivatives`).
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_core::{OnSlicesN, SliceDynamics};
@@ -20,10 +22,15 @@ fn check(name: &str, dynamics: &dyn SliceDynamics, csv: &str) -> usize {
         let (qd, rest) = rest.split_at(n);
         let (qdd, expected) = rest.split_at(n);
         let mut got = vec![0.0; expected.len()];
+        let mut other = vec![0.0; expected.len()];
         match fields[0] {
             "id" => dynamics.inverse_dynamics_into(q, qd, qdd, &mut got),
             "mass" => dynamics.mass_matrix_into(q, &mut got),
             "gravity" => dynamics.gravity_into(q, &mut got),
+            // The third block of an `aba` row is the torque.
+            "aba" => dynamics.forward_dynamics_into(q, qd, qdd, &mut got).unwrap(),
+            "id_dq" => dynamics.inverse_dynamics_derivatives_into(q, qd, qdd, &mut got, &mut other),
+            "id_dqd" => dynamics.inverse_dynamics_derivatives_into(q, qd, qdd, &mut other, &mut got),
             other => panic!("{name}: unknown kind {other}"),
         }
         for (i, (g, e)) in got.iter().zip(expected).enumerate() {

@@ -50,129 +50,175 @@ impl Hya {
         &self,
         q: &::hya_core::JointVector<6>,
     ) -> [::hya_core::spatial::Transform; 8] {
-        let q_saa = q[0];
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let (s_saa, c_saa) = ::hya_core::sin_cos(q_saa);
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+        let (
+            s_saa,
+            c_saa,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_saa = q[0];
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let (s_saa, c_saa) = ::hya_core::sin_cos(q_saa);
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                s_saa,
+                c_saa,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
         // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let t0 = c_sfe * c_saa;
-        let t1 = s_sfe * c_saa;
-        let t2 = c_sfe * s_saa;
-        let t3 = s_sfe * s_saa;
+        let (t0, t1, t2, t3) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let t0 = c_sfe * c_saa;
+            let t1 = s_sfe * c_saa;
+            let t2 = c_sfe * s_saa;
+            let t3 = s_sfe * s_saa;
+            (t0, t1, t2, t3)
+        };
         // ── link `Humerus_R`, joint `HR` (base to tip)
-        let t4 = t0 * 0.112f64;
-        let t5 = t2 * 0.112f64;
-        let t6 = s_sfe * 0.112f64;
-        let t7 = s_hr * t1;
-        let t8 = c_hr * s_saa;
-        let t9 = t7 + t8;
-        let t10 = c_hr * t1;
-        let t11 = s_hr * s_saa;
-        let t12 = t11 - t10;
-        let t13 = s_hr * t3;
-        let t14 = c_hr * c_saa;
-        let t15 = t14 - t13;
-        let t16 = c_hr * t3;
-        let t17 = s_hr * c_saa;
-        let t18 = t16 + t17;
-        let t19 = s_hr * c_sfe;
-        let t20 = c_hr * c_sfe;
-        let t21 = 0.178f64 + t6;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t22 = t0 * 0.304f64;
-        let t23 = t2 * 0.304f64;
-        let t24 = s_sfe * 0.304f64;
-        let t25 = s_efe * t12;
-        let t26 = c_efe * t0;
-        let t27 = t25 + t26;
-        let t28 = c_efe * t12;
-        let t29 = s_efe * t0;
-        let t30 = t28 - t29;
-        let t31 = s_efe * t18;
-        let t32 = c_efe * t2;
-        let t33 = t32 - t31;
-        let t34 = c_efe * t18;
-        let t35 = s_efe * t2;
-        let t36 = t34 + t35;
-        let t37 = s_efe * t20;
-        let t38 = c_efe * s_sfe;
-        let t39 = t37 + t38;
-        let t40 = c_efe * t20;
-        let t41 = s_efe * s_sfe;
-        let t42 = t40 - t41;
-        let t43 = t4 + t22;
-        let t44 = t5 + t23;
-        let t45 = t21 + t24;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t46 = t27 * 0.112f64;
-        let t47 = t33 * 0.112f64;
-        let t48 = t39 * 0.112f64;
-        let t49 = s_wr * t30;
-        let t50 = c_wr * t9;
-        let t51 = t49 - t50;
-        let t52 = c_wr * t30;
-        let t53 = s_wr * t9;
-        let t54 = t52 + t53;
-        let t55 = s_wr * t36;
-        let t56 = c_wr * t15;
-        let t57 = t56 - t55;
-        let t58 = c_wr * t36;
-        let t59 = s_wr * t15;
-        let t60 = t58 + t59;
-        let t61 = s_wr * t42;
-        let t62 = c_wr * t19;
-        let t63 = t61 + t62;
-        let t64 = c_wr * t42;
-        let t65 = s_wr * t19;
-        let t66 = t64 - t65;
-        let t67 = t43 + t46;
-        let t68 = t44 + t47;
-        let t69 = t45 + t48;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t70 = t51 * 0.02075f64;
-        let t71 = t27 * 0.184f64;
-        let t72 = t70 + t71;
-        let t73 = t57 * 0.02075f64;
-        let t74 = t33 * 0.184f64;
-        let t75 = t73 + t74;
-        let t76 = t63 * 0.02075f64;
-        let t77 = t39 * 0.184f64;
-        let t78 = t76 + t77;
-        let t79 = s_wfe * t51;
-        let t80 = c_wfe * t27;
-        let t81 = t79 + t80;
-        let t82 = c_wfe * t51;
-        let t83 = s_wfe * t27;
-        let t84 = t82 - t83;
-        let t85 = s_wfe * t57;
-        let t86 = c_wfe * t33;
-        let t87 = t85 + t86;
-        let t88 = c_wfe * t57;
-        let t89 = s_wfe * t33;
-        let t90 = t88 - t89;
-        let t91 = s_wfe * t63;
-        let t92 = c_wfe * t39;
-        let t93 = t91 + t92;
-        let t94 = c_wfe * t63;
-        let t95 = s_wfe * t39;
-        let t96 = t94 - t95;
-        let t97 = t67 + t72;
-        let t98 = t68 + t75;
-        let t99 = t69 + t78;
-        let t100 = t81 * 0.03f64;
-        let t101 = t87 * 0.03f64;
-        let t102 = t93 * 0.03f64;
-        let t103 = t97 + t100;
-        let t104 = t98 + t101;
-        let t105 = t99 + t102;
+        let (t4, t5, t9, t12, t15, t18, t19, t20, t21) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t4 = t0 * 0.112f64;
+            let t5 = t2 * 0.112f64;
+            let t6 = s_sfe * 0.112f64;
+            let t7 = s_hr * t1;
+            let t8 = c_hr * s_saa;
+            let t9 = t7 + t8;
+            let t10 = c_hr * t1;
+            let t11 = s_hr * s_saa;
+            let t12 = t11 - t10;
+            let t13 = s_hr * t3;
+            let t14 = c_hr * c_saa;
+            let t15 = t14 - t13;
+            let t16 = c_hr * t3;
+            let t17 = s_hr * c_saa;
+            let t18 = t16 + t17;
+            let t19 = s_hr * c_sfe;
+            let t20 = c_hr * c_sfe;
+            let t21 = 0.178f64 + t6;
+            (t4, t5, t9, t12, t15, t18, t19, t20, t21)
+        };
+        let (t27, t30, t33, t36, t39, t42, t43, t44, t45) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t22 = t0 * 0.304f64;
+            let t23 = t2 * 0.304f64;
+            let t24 = s_sfe * 0.304f64;
+            let t25 = s_efe * t12;
+            let t26 = c_efe * t0;
+            let t27 = t25 + t26;
+            let t28 = c_efe * t12;
+            let t29 = s_efe * t0;
+            let t30 = t28 - t29;
+            let t31 = s_efe * t18;
+            let t32 = c_efe * t2;
+            let t33 = t32 - t31;
+            let t34 = c_efe * t18;
+            let t35 = s_efe * t2;
+            let t36 = t34 + t35;
+            let t37 = s_efe * t20;
+            let t38 = c_efe * s_sfe;
+            let t39 = t37 + t38;
+            let t40 = c_efe * t20;
+            let t41 = s_efe * s_sfe;
+            let t42 = t40 - t41;
+            let t43 = t4 + t22;
+            let t44 = t5 + t23;
+            let t45 = t21 + t24;
+            (t27, t30, t33, t36, t39, t42, t43, t44, t45)
+        };
+        let (t51, t54, t57, t60, t63, t66, t67, t68, t69) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t46 = t27 * 0.112f64;
+            let t47 = t33 * 0.112f64;
+            let t48 = t39 * 0.112f64;
+            let t49 = s_wr * t30;
+            let t50 = c_wr * t9;
+            let t51 = t49 - t50;
+            let t52 = c_wr * t30;
+            let t53 = s_wr * t9;
+            let t54 = t52 + t53;
+            let t55 = s_wr * t36;
+            let t56 = c_wr * t15;
+            let t57 = t56 - t55;
+            let t58 = c_wr * t36;
+            let t59 = s_wr * t15;
+            let t60 = t58 + t59;
+            let t61 = s_wr * t42;
+            let t62 = c_wr * t19;
+            let t63 = t61 + t62;
+            let t64 = c_wr * t42;
+            let t65 = s_wr * t19;
+            let t66 = t64 - t65;
+            let t67 = t43 + t46;
+            let t68 = t44 + t47;
+            let t69 = t45 + t48;
+            (t51, t54, t57, t60, t63, t66, t67, t68, t69)
+        };
+        let (t81, t84, t87, t90, t93, t96, t97, t98, t99, t103, t104, t105) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t70 = t51 * 0.02075f64;
+            let t71 = t27 * 0.184f64;
+            let t72 = t70 + t71;
+            let t73 = t57 * 0.02075f64;
+            let t74 = t33 * 0.184f64;
+            let t75 = t73 + t74;
+            let t76 = t63 * 0.02075f64;
+            let t77 = t39 * 0.184f64;
+            let t78 = t76 + t77;
+            let t79 = s_wfe * t51;
+            let t80 = c_wfe * t27;
+            let t81 = t79 + t80;
+            let t82 = c_wfe * t51;
+            let t83 = s_wfe * t27;
+            let t84 = t82 - t83;
+            let t85 = s_wfe * t57;
+            let t86 = c_wfe * t33;
+            let t87 = t85 + t86;
+            let t88 = c_wfe * t57;
+            let t89 = s_wfe * t33;
+            let t90 = t88 - t89;
+            let t91 = s_wfe * t63;
+            let t92 = c_wfe * t39;
+            let t93 = t91 + t92;
+            let t94 = c_wfe * t63;
+            let t95 = s_wfe * t39;
+            let t96 = t94 - t95;
+            let t97 = t67 + t72;
+            let t98 = t68 + t75;
+            let t99 = t69 + t78;
+            let t100 = t81 * 0.03f64;
+            let t101 = t87 * 0.03f64;
+            let t102 = t93 * 0.03f64;
+            let t103 = t97 + t100;
+            let t104 = t98 + t101;
+            let t105 = t99 + t102;
+            (t81, t84, t87, t90, t93, t96, t97, t98, t99, t103, t104, t105)
+        };
         [
             ::hya_core::spatial::Transform::from_arrays(
                 [[1f64, 0f64, 0f64], [0f64, 1f64, 0f64], [0f64, 0f64, 1f64]],
@@ -228,739 +274,1000 @@ impl ::hya_core::Dynamics<6> for Hya {
         qd: &::hya_core::JointVector<6>,
         qdd: &::hya_core::JointVector<6>,
     ) -> ::hya_core::JointVector<6> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let qd_saa = qd[0];
-        let qd_sfe = qd[1];
-        let qd_hr = qd[2];
-        let qd_efe = qd[3];
-        let qd_wr = qd[4];
-        let qd_wfe = qd[5];
-        let qdd_saa = qdd[0];
-        let qdd_sfe = qdd[1];
-        let qdd_hr = qdd[2];
-        let qdd_efe = qdd[3];
-        let qdd_wr = qdd[4];
-        let qdd_wfe = qdd[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+        let (
+            qd_saa,
+            qd_sfe,
+            qd_hr,
+            qd_efe,
+            qd_wr,
+            qd_wfe,
+            qdd_saa,
+            qdd_sfe,
+            qdd_hr,
+            qdd_efe,
+            qdd_wr,
+            qdd_wfe,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let qd_saa = qd[0];
+            let qd_sfe = qd[1];
+            let qd_hr = qd[2];
+            let qd_efe = qd[3];
+            let qd_wr = qd[4];
+            let qd_wfe = qd[5];
+            let qdd_saa = qdd[0];
+            let qdd_sfe = qdd[1];
+            let qdd_hr = qdd[2];
+            let qdd_efe = qdd[3];
+            let qdd_wr = qdd[4];
+            let qdd_wfe = qdd[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                qd_saa,
+                qd_sfe,
+                qd_hr,
+                qd_efe,
+                qd_wr,
+                qd_wfe,
+                qdd_saa,
+                qdd_sfe,
+                qdd_hr,
+                qdd_efe,
+                qdd_wr,
+                qdd_wfe,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
         // ── link `Shoulder_AA`, joint `SAA` (base to tip)
-        let t0 = 0.007628999999536005f64 * qdd_saa;
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let shoulder_fe_v_wx = s_sfe * qd_saa;
-        let shoulder_fe_v_wy = c_sfe * qd_saa;
-        let t1 = s_sfe * qdd_saa;
-        let t2 = c_sfe * qdd_saa;
-        let shoulder_fe_a_vx = s_sfe * 9.81f64;
-        let shoulder_fe_a_vy = c_sfe * 9.81f64;
-        let t3 = shoulder_fe_v_wy * qd_sfe;
-        let t4 = shoulder_fe_v_wx * qd_sfe;
-        let shoulder_fe_a_wx = t1 + t3;
-        let shoulder_fe_a_wy = t2 - t4;
-        let t5 = 0.03900299600125622f64 * shoulder_fe_a_wx;
-        let t6 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
-        let t7 = t5 + t6;
-        let t8 = 0.02285162700433904f64 * qdd_sfe;
-        let t9 = t7 - t8;
-        let t10 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
-        let t11 = 0.08585553000239696f64 * shoulder_fe_a_wy;
-        let t12 = t10 + t11;
-        let t13 = 0.0027519999999057617f64 * qdd_sfe;
-        let t14 = t12 - t13;
-        let t15 = 0.02285162700433904f64 * shoulder_fe_a_wx;
-        let t16 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
-        let t17 = t15 + t16;
-        let t18 = 0.05139352799812063f64 * qdd_sfe;
-        let t19 = t18 - t17;
-        let t20 = 0.009934149991199999f64 * shoulder_fe_a_vy;
-        let t21 = 0.009934149991199999f64 * shoulder_fe_a_vx;
-        let t22 = 0.2933742339089346f64 * shoulder_fe_a_vy;
-        let t23 = 0.060615943396199995f64 * shoulder_fe_a_vx;
-        let t24 = t22 + t23;
-        let t25 = t9 - t20;
-        let t26 = t14 + t21;
-        let t27 = t19 + t24;
-        let t28 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-        let t29 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
-        let t30 = t28 + t29;
-        let t31 = 0.02285162700433904f64 * qd_sfe;
-        let t32 = t30 - t31;
-        let t33 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-        let t34 = 0.08585553000239696f64 * shoulder_fe_v_wy;
-        let t35 = t33 + t34;
-        let t36 = 0.0027519999999057617f64 * qd_sfe;
-        let t37 = t35 - t36;
-        let t38 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-        let t39 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
-        let t40 = t38 + t39;
-        let t41 = 0.05139352799812063f64 * qd_sfe;
-        let t42 = t41 - t40;
-        let t43 = shoulder_fe_v_wy * t42;
-        let t44 = qd_sfe * t37;
-        let t45 = t43 - t44;
-        let t46 = qd_sfe * t32;
-        let t47 = shoulder_fe_v_wx * t42;
-        let t48 = t46 - t47;
-        let t49 = shoulder_fe_v_wx * t37;
-        let t50 = shoulder_fe_v_wy * t32;
-        let t51 = t49 - t50;
-        let t52 = t25 + t45;
-        let t53 = t26 + t48;
-        let t54 = t27 + t51;
-        // ── link `Humerus_R`, joint `HR` (base to tip)
-        let t55 = 0.112f64 * qd_sfe;
-        let t56 = 0.112f64 * shoulder_fe_v_wy;
-        let t57 = c_hr * qd_sfe;
-        let t58 = s_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wx = t58 - t57;
-        let t59 = s_hr * qd_sfe;
-        let t60 = c_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wy = t59 + t60;
-        let t61 = c_hr * t56;
-        let t62 = s_hr * t55;
-        let humerus_r_v_vx = t61 + t62;
-        let t63 = s_hr * t56;
-        let t64 = c_hr * t55;
-        let humerus_r_v_vy = t64 - t63;
-        let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-        let t65 = 0.112f64 * qdd_sfe;
-        let t66 = 0.112f64 * shoulder_fe_a_wy;
-        let t67 = shoulder_fe_a_vy + t65;
-        let t68 = c_hr * qdd_sfe;
-        let t69 = s_hr * shoulder_fe_a_wy;
-        let t70 = t69 - t68;
-        let t71 = s_hr * qdd_sfe;
-        let t72 = c_hr * shoulder_fe_a_wy;
-        let t73 = t71 + t72;
-        let t74 = c_hr * t66;
-        let t75 = s_hr * t67;
-        let t76 = t74 + t75;
-        let t77 = s_hr * t66;
-        let t78 = c_hr * t67;
-        let t79 = t78 - t77;
-        let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
-        let t80 = humerus_r_v_wy * qd_hr;
-        let t81 = humerus_r_v_wx * qd_hr;
-        let t82 = humerus_r_v_vy * qd_hr;
-        let t83 = humerus_r_v_vx * qd_hr;
-        let humerus_r_a_wx = t70 + t80;
-        let humerus_r_a_wy = t73 - t81;
-        let humerus_r_a_vx = t76 + t82;
-        let humerus_r_a_vy = t79 - t83;
-        let t84 = 0.20236395000387197f64 * humerus_r_a_wx;
-        let t85 = 0.000053999980001054f64 * humerus_r_a_wy;
-        let t86 = t84 + t85;
-        let t87 = 0.011715294995083824f64 * humerus_r_a_wz;
-        let t88 = t86 - t87;
-        let t89 = 0.000053999980001054f64 * humerus_r_a_wx;
-        let t90 = 0.20986895000353661f64 * humerus_r_a_wy;
-        let t91 = t89 + t90;
-        let t92 = 0.0037997813999599995f64 * humerus_r_a_wz;
-        let t93 = t91 - t92;
-        let t94 = 0.011715294995083824f64 * humerus_r_a_wx;
-        let t95 = 0.0037997813999599995f64 * humerus_r_a_wy;
-        let t96 = t94 + t95;
-        let t97 = 0.01032999899926462f64 * humerus_r_a_wz;
-        let t98 = t97 - t96;
-        let t99 = 0.014380859999999999f64 * shoulder_fe_a_vx;
-        let t100 = 0.6479671119999999f64 * humerus_r_a_vy;
-        let t101 = t99 - t100;
-        let t102 = 0.6479671119999999f64 * humerus_r_a_vx;
-        let t103 = 0.0055615274403f64 * shoulder_fe_a_vx;
-        let t104 = t102 + t103;
-        let t105 = 0.0055615274403f64 * humerus_r_a_vy;
-        let t106 = 0.014380859999999999f64 * humerus_r_a_vx;
-        let t107 = t105 + t106;
-        let t108 = humerus_r_a_vx * 2.327f64;
-        let t109 = humerus_r_a_vy * 2.327f64;
-        let t110 = 0.014380859999999999f64 * humerus_r_a_wz;
-        let t111 = 0.6479671119999999f64 * humerus_r_a_wy;
-        let t112 = t110 - t111;
-        let t113 = 0.6479671119999999f64 * humerus_r_a_wx;
-        let t114 = 0.0055615274403f64 * humerus_r_a_wz;
-        let t115 = t113 + t114;
-        let t116 = t88 + t101;
-        let t117 = t93 + t104;
-        let t118 = t98 - t107;
-        let t119 = t108 - t112;
-        let t120 = t109 - t115;
-        let t121 = 0.20236395000387197f64 * humerus_r_v_wx;
-        let t122 = 0.000053999980001054f64 * humerus_r_v_wy;
-        let t123 = t121 + t122;
-        let t124 = 0.011715294995083824f64 * humerus_r_v_wz;
-        let t125 = t123 - t124;
-        let t126 = 0.000053999980001054f64 * humerus_r_v_wx;
-        let t127 = 0.20986895000353661f64 * humerus_r_v_wy;
-        let t128 = t126 + t127;
-        let t129 = 0.0037997813999599995f64 * humerus_r_v_wz;
-        let t130 = t128 - t129;
-        let t131 = 0.011715294995083824f64 * humerus_r_v_wx;
-        let t132 = 0.0037997813999599995f64 * humerus_r_v_wy;
-        let t133 = t131 + t132;
-        let t134 = 0.01032999899926462f64 * humerus_r_v_wz;
-        let t135 = t134 - t133;
-        let t136 = 0.6479671119999999f64 * humerus_r_v_vy;
-        let t137 = 0.6479671119999999f64 * humerus_r_v_vx;
-        let t138 = 0.0055615274403f64 * humerus_r_v_vy;
-        let t139 = 0.014380859999999999f64 * humerus_r_v_vx;
-        let t140 = t138 + t139;
-        let t141 = humerus_r_v_vx * 2.327f64;
-        let t142 = humerus_r_v_vy * 2.327f64;
-        let t143 = 0.014380859999999999f64 * humerus_r_v_wz;
-        let t144 = 0.6479671119999999f64 * humerus_r_v_wy;
-        let t145 = t143 - t144;
-        let t146 = 0.6479671119999999f64 * humerus_r_v_wx;
-        let t147 = 0.0055615274403f64 * humerus_r_v_wz;
-        let t148 = t146 + t147;
-        let t149 = 0.0055615274403f64 * humerus_r_v_wy;
-        let t150 = 0.014380859999999999f64 * humerus_r_v_wx;
-        let t151 = t149 + t150;
-        let t152 = t125 - t136;
-        let t153 = t130 + t137;
-        let t154 = t135 - t140;
-        let t155 = t141 - t145;
-        let t156 = t142 - t148;
-        let t157 = humerus_r_v_wy * t154;
-        let t158 = humerus_r_v_wz * t153;
-        let t159 = t157 - t158;
-        let t160 = humerus_r_v_wz * t152;
-        let t161 = humerus_r_v_wx * t154;
-        let t162 = t160 - t161;
-        let t163 = humerus_r_v_wx * t153;
-        let t164 = humerus_r_v_wy * t152;
-        let t165 = t163 - t164;
-        let t166 = humerus_r_v_vy * t151;
-        let t167 = humerus_r_v_vx * t151;
-        let t168 = humerus_r_v_vx * t156;
-        let t169 = humerus_r_v_vy * t155;
-        let t170 = t168 - t169;
-        let t171 = t159 + t166;
-        let t172 = t162 - t167;
-        let t173 = t165 + t170;
-        let t174 = humerus_r_v_wy * t151;
-        let t175 = humerus_r_v_wz * t156;
-        let t176 = t174 - t175;
-        let t177 = humerus_r_v_wz * t155;
-        let t178 = humerus_r_v_wx * t151;
-        let t179 = t177 - t178;
-        let t180 = t116 + t171;
-        let t181 = t117 + t172;
-        let t182 = t118 + t173;
-        let t183 = t119 + t176;
-        let t184 = t120 + t179;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t185 = 0.304f64 * humerus_r_v_wy;
-        let t186 = 0.304f64 * humerus_r_v_wx;
-        let elbow_fe_v_vz = humerus_r_v_vx + t185;
-        let t187 = humerus_r_v_vy - t186;
-        let t188 = c_efe * humerus_r_v_wz;
-        let t189 = s_efe * humerus_r_v_wy;
-        let elbow_fe_v_wx = t188 + t189;
-        let t190 = s_efe * humerus_r_v_wz;
-        let t191 = c_efe * humerus_r_v_wy;
-        let elbow_fe_v_wy = t191 - t190;
-        let elbow_fe_v_vx = s_efe * t187;
-        let elbow_fe_v_vy = c_efe * t187;
-        let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-        let t192 = 0.304f64 * humerus_r_a_wy;
-        let t193 = 0.304f64 * humerus_r_a_wx;
-        let elbow_fe_a_vz = humerus_r_a_vx + t192;
-        let t194 = humerus_r_a_vy - t193;
-        let t195 = c_efe * humerus_r_a_wz;
-        let t196 = s_efe * humerus_r_a_wy;
-        let t197 = t195 + t196;
-        let t198 = s_efe * humerus_r_a_wz;
-        let t199 = c_efe * humerus_r_a_wy;
-        let t200 = t199 - t198;
-        let t201 = c_efe * shoulder_fe_a_vx;
-        let t202 = s_efe * t194;
-        let t203 = t201 + t202;
-        let t204 = s_efe * shoulder_fe_a_vx;
-        let t205 = c_efe * t194;
-        let t206 = t205 - t204;
-        let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
-        let t207 = elbow_fe_v_wy * qd_efe;
-        let t208 = elbow_fe_v_wx * qd_efe;
-        let t209 = elbow_fe_v_vy * qd_efe;
-        let t210 = elbow_fe_v_vx * qd_efe;
-        let elbow_fe_a_wx = t197 + t207;
-        let elbow_fe_a_wy = t200 - t208;
-        let elbow_fe_a_vx = t203 + t209;
-        let elbow_fe_a_vy = t206 - t210;
-        let t211 = 0.081661000005f64 * elbow_fe_a_wx;
-        let t212 = 0.00368572840011861f64 * elbow_fe_a_wy;
-        let t213 = t211 + t212;
-        let t214 = 0.0002120000299f64 * elbow_fe_a_wz;
-        let t215 = t213 - t214;
-        let t216 = 0.00368572840011861f64 * elbow_fe_a_wx;
-        let t217 = 0.018284489999765022f64 * elbow_fe_a_wy;
-        let t218 = t216 + t217;
-        let t219 = 0.002292000208f64 * elbow_fe_a_wz;
-        let t220 = t218 - t219;
-        let t221 = 0.0002120000299f64 * elbow_fe_a_wx;
-        let t222 = 0.002292000208f64 * elbow_fe_a_wy;
-        let t223 = t221 + t222;
-        let t224 = 0.09570849000176501f64 * elbow_fe_a_wz;
-        let t225 = t224 - t223;
-        let t226 = 0.008711861f64 * elbow_fe_a_vz;
-        let t227 = 0.16029825982372198f64 * elbow_fe_a_vz;
-        let t228 = 0.16029825982372198f64 * elbow_fe_a_vy;
-        let t229 = 0.008711861f64 * elbow_fe_a_vx;
-        let t230 = t228 + t229;
-        let t231 = elbow_fe_a_vx * 1.7423722f64;
-        let t232 = elbow_fe_a_vy * 1.7423722f64;
-        let t233 = elbow_fe_a_vz * 1.7423722f64;
-        let t234 = 0.008711861f64 * elbow_fe_a_wz;
-        let t235 = 0.16029825982372198f64 * elbow_fe_a_wz;
-        let t236 = 0.16029825982372198f64 * elbow_fe_a_wy;
-        let t237 = 0.008711861f64 * elbow_fe_a_wx;
-        let t238 = t236 + t237;
-        let t239 = t215 + t226;
-        let t240 = t220 + t227;
-        let t241 = t225 + t230;
-        let t242 = t231 + t234;
-        let t243 = t232 + t235;
-        let t244 = t233 + t238;
-        let t245 = 0.081661000005f64 * elbow_fe_v_wx;
-        let t246 = 0.00368572840011861f64 * elbow_fe_v_wy;
-        let t247 = t245 + t246;
-        let t248 = 0.0002120000299f64 * elbow_fe_v_wz;
-        let t249 = t247 - t248;
-        let t250 = 0.00368572840011861f64 * elbow_fe_v_wx;
-        let t251 = 0.018284489999765022f64 * elbow_fe_v_wy;
-        let t252 = t250 + t251;
-        let t253 = 0.002292000208f64 * elbow_fe_v_wz;
-        let t254 = t252 - t253;
-        let t255 = 0.0002120000299f64 * elbow_fe_v_wx;
-        let t256 = 0.002292000208f64 * elbow_fe_v_wy;
-        let t257 = t255 + t256;
-        let t258 = 0.09570849000176501f64 * elbow_fe_v_wz;
-        let t259 = t258 - t257;
-        let t260 = 0.008711861f64 * elbow_fe_v_vz;
-        let t261 = 0.16029825982372198f64 * elbow_fe_v_vz;
-        let t262 = 0.16029825982372198f64 * elbow_fe_v_vy;
-        let t263 = 0.008711861f64 * elbow_fe_v_vx;
-        let t264 = t262 + t263;
-        let t265 = elbow_fe_v_vx * 1.7423722f64;
-        let t266 = elbow_fe_v_vy * 1.7423722f64;
-        let t267 = elbow_fe_v_vz * 1.7423722f64;
-        let t268 = 0.008711861f64 * elbow_fe_v_wz;
-        let t269 = 0.16029825982372198f64 * elbow_fe_v_wz;
-        let t270 = 0.16029825982372198f64 * elbow_fe_v_wy;
-        let t271 = 0.008711861f64 * elbow_fe_v_wx;
-        let t272 = t270 + t271;
-        let t273 = t249 + t260;
-        let t274 = t254 + t261;
-        let t275 = t259 + t264;
-        let t276 = t265 + t268;
-        let t277 = t266 + t269;
-        let t278 = t267 + t272;
-        let t279 = elbow_fe_v_wy * t275;
-        let t280 = elbow_fe_v_wz * t274;
-        let t281 = t279 - t280;
-        let t282 = elbow_fe_v_wz * t273;
-        let t283 = elbow_fe_v_wx * t275;
-        let t284 = t282 - t283;
-        let t285 = elbow_fe_v_wx * t274;
-        let t286 = elbow_fe_v_wy * t273;
-        let t287 = t285 - t286;
-        let t288 = elbow_fe_v_vy * t278;
-        let t289 = elbow_fe_v_vz * t277;
-        let t290 = t289 - t288;
-        let t291 = elbow_fe_v_vz * t276;
-        let t292 = elbow_fe_v_vx * t278;
-        let t293 = t292 - t291;
-        let t294 = elbow_fe_v_vx * t277;
-        let t295 = elbow_fe_v_vy * t276;
-        let t296 = t294 - t295;
-        let t297 = t281 + t290;
-        let t298 = t284 + t293;
-        let t299 = t287 + t296;
-        let t300 = elbow_fe_v_wy * t278;
-        let t301 = elbow_fe_v_wz * t277;
-        let t302 = t300 + t301;
-        let t303 = elbow_fe_v_wz * t276;
-        let t304 = elbow_fe_v_wx * t278;
-        let t305 = t303 + t304;
-        let t306 = elbow_fe_v_wx * t277;
-        let t307 = elbow_fe_v_wy * t276;
-        let t308 = t306 - t307;
-        let t309 = t239 + t297;
-        let t310 = t240 + t298;
-        let t311 = t241 + t299;
-        let t312 = t242 - t302;
-        let t313 = t243 + t305;
-        let t314 = t308 - t244;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t315 = 0.112f64 * elbow_fe_v_wz;
-        let t316 = 0.112f64 * elbow_fe_v_wy;
-        let t317 = elbow_fe_v_vy + t315;
-        let t318 = elbow_fe_v_vz + t316;
-        let t319 = c_wr * elbow_fe_v_wz;
-        let t320 = s_wr * elbow_fe_v_wy;
-        let wrist_r_v_wx = t320 - t319;
-        let t321 = s_wr * elbow_fe_v_wz;
-        let t322 = c_wr * elbow_fe_v_wy;
-        let wrist_r_v_wy = t321 + t322;
-        let t323 = c_wr * t318;
-        let t324 = s_wr * t317;
-        let wrist_r_v_vx = t323 + t324;
-        let t325 = s_wr * t318;
-        let t326 = c_wr * t317;
-        let wrist_r_v_vy = t326 - t325;
-        let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-        let t327 = 0.112f64 * elbow_fe_a_wz;
-        let t328 = 0.112f64 * elbow_fe_a_wy;
-        let t329 = elbow_fe_a_vy + t327;
-        let t330 = elbow_fe_a_vz + t328;
-        let t331 = c_wr * elbow_fe_a_wz;
-        let t332 = s_wr * elbow_fe_a_wy;
-        let t333 = t332 - t331;
-        let t334 = s_wr * elbow_fe_a_wz;
-        let t335 = c_wr * elbow_fe_a_wy;
-        let t336 = t334 + t335;
-        let t337 = c_wr * t330;
-        let t338 = s_wr * t329;
-        let t339 = t337 + t338;
-        let t340 = s_wr * t330;
-        let t341 = c_wr * t329;
-        let t342 = t341 - t340;
-        let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
-        let t343 = wrist_r_v_wy * qd_wr;
-        let t344 = wrist_r_v_wx * qd_wr;
-        let t345 = wrist_r_v_vy * qd_wr;
-        let t346 = wrist_r_v_vx * qd_wr;
-        let wrist_r_a_wx = t333 + t343;
-        let wrist_r_a_wy = t336 - t344;
-        let wrist_r_a_vx = t339 + t345;
-        let wrist_r_a_vy = t342 - t346;
-        let t347 = 0.019431999999999998f64 * wrist_r_a_wx;
-        let t348 = 0.001387f64 * wrist_r_a_wy;
-        let t349 = t347 - t348;
-        let t350 = 0.012652f64 * wrist_r_a_wz;
-        let t351 = t349 - t350;
-        let t352 = 0.001387f64 * wrist_r_a_wx;
-        let t353 = 0.029115f64 * wrist_r_a_wy;
-        let t354 = t353 - t352;
-        let t355 = 0.001243f64 * wrist_r_a_wz;
-        let t356 = t354 - t355;
-        let t357 = 0.012652f64 * wrist_r_a_wx;
-        let t358 = 0.001243f64 * wrist_r_a_wy;
-        let t359 = t357 + t358;
-        let t360 = 0.011046f64 * wrist_r_a_wz;
-        let t361 = t360 - t359;
-        let t362 = 0.05783800000000001f64 * wrist_r_a_vy;
-        let t363 = 0.05783800000000001f64 * wrist_r_a_vx;
-        let t364 = wrist_r_a_vx * 2.1032f64;
-        let t365 = wrist_r_a_vy * 2.1032f64;
-        let t366 = elbow_fe_a_vx * 2.1032f64;
-        let t367 = 0.05783800000000001f64 * wrist_r_a_wy;
-        let t368 = 0.05783800000000001f64 * wrist_r_a_wx;
-        let t369 = t351 - t362;
-        let t370 = t356 + t363;
-        let t371 = t364 + t367;
-        let t372 = t365 - t368;
-        let t373 = 0.019431999999999998f64 * wrist_r_v_wx;
-        let t374 = 0.001387f64 * wrist_r_v_wy;
-        let t375 = t373 - t374;
-        let t376 = 0.012652f64 * wrist_r_v_wz;
-        let t377 = t375 - t376;
-        let t378 = 0.001387f64 * wrist_r_v_wx;
-        let t379 = 0.029115f64 * wrist_r_v_wy;
-        let t380 = t379 - t378;
-        let t381 = 0.001243f64 * wrist_r_v_wz;
-        let t382 = t380 - t381;
-        let t383 = 0.012652f64 * wrist_r_v_wx;
-        let t384 = 0.001243f64 * wrist_r_v_wy;
-        let t385 = t383 + t384;
-        let t386 = 0.011046f64 * wrist_r_v_wz;
-        let t387 = t386 - t385;
-        let t388 = 0.05783800000000001f64 * wrist_r_v_vy;
-        let t389 = 0.05783800000000001f64 * wrist_r_v_vx;
-        let t390 = wrist_r_v_vx * 2.1032f64;
-        let t391 = wrist_r_v_vy * 2.1032f64;
-        let t392 = elbow_fe_v_vx * 2.1032f64;
-        let t393 = 0.05783800000000001f64 * wrist_r_v_wy;
-        let t394 = 0.05783800000000001f64 * wrist_r_v_wx;
-        let t395 = t377 - t388;
-        let t396 = t382 + t389;
-        let t397 = t390 + t393;
-        let t398 = t391 - t394;
-        let t399 = wrist_r_v_wy * t387;
-        let t400 = wrist_r_v_wz * t396;
-        let t401 = t399 - t400;
-        let t402 = wrist_r_v_wz * t395;
-        let t403 = wrist_r_v_wx * t387;
-        let t404 = t402 - t403;
-        let t405 = wrist_r_v_wx * t396;
-        let t406 = wrist_r_v_wy * t395;
-        let t407 = t405 - t406;
-        let t408 = wrist_r_v_vy * t392;
-        let t409 = elbow_fe_v_vx * t398;
-        let t410 = t408 - t409;
-        let t411 = elbow_fe_v_vx * t397;
-        let t412 = wrist_r_v_vx * t392;
-        let t413 = t411 - t412;
-        let t414 = wrist_r_v_vx * t398;
-        let t415 = wrist_r_v_vy * t397;
-        let t416 = t414 - t415;
-        let t417 = t401 + t410;
-        let t418 = t404 + t413;
-        let t419 = t407 + t416;
-        let t420 = wrist_r_v_wy * t392;
-        let t421 = wrist_r_v_wz * t398;
-        let t422 = t420 - t421;
-        let t423 = wrist_r_v_wz * t397;
-        let t424 = wrist_r_v_wx * t392;
-        let t425 = t423 - t424;
-        let t426 = wrist_r_v_wx * t398;
-        let t427 = wrist_r_v_wy * t397;
-        let t428 = t426 - t427;
-        let t429 = t369 + t417;
-        let t430 = t370 + t418;
-        let t431 = t361 + t419;
-        let t432 = t371 + t422;
-        let t433 = t372 + t425;
-        let t434 = t366 + t428;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t435 = 0.184f64 * wrist_r_v_wy;
-        let t436 = 0.184f64 * wrist_r_v_wx;
-        let t437 = 0.02075f64 * wrist_r_v_wz;
-        let t438 = t436 - t437;
-        let t439 = 0.02075f64 * wrist_r_v_wy;
-        let t440 = wrist_r_v_vx + t435;
-        let wrist_fe_v_vz = wrist_r_v_vy - t438;
-        let t441 = elbow_fe_v_vx - t439;
-        let t442 = c_wfe * wrist_r_v_wz;
-        let t443 = s_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wx = t442 + t443;
-        let t444 = s_wfe * wrist_r_v_wz;
-        let t445 = c_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wy = t445 - t444;
-        let t446 = c_wfe * t441;
-        let t447 = s_wfe * t440;
-        let wrist_fe_v_vx = t446 + t447;
-        let t448 = s_wfe * t441;
-        let t449 = c_wfe * t440;
-        let wrist_fe_v_vy = t449 - t448;
-        let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-        let t450 = 0.184f64 * wrist_r_a_wy;
-        let t451 = 0.184f64 * wrist_r_a_wx;
-        let t452 = 0.02075f64 * wrist_r_a_wz;
-        let t453 = t451 - t452;
-        let t454 = 0.02075f64 * wrist_r_a_wy;
-        let t455 = wrist_r_a_vx + t450;
-        let wrist_fe_a_vz = wrist_r_a_vy - t453;
-        let t456 = elbow_fe_a_vx - t454;
-        let t457 = c_wfe * wrist_r_a_wz;
-        let t458 = s_wfe * wrist_r_a_wx;
-        let t459 = t457 + t458;
-        let t460 = s_wfe * wrist_r_a_wz;
-        let t461 = c_wfe * wrist_r_a_wx;
-        let t462 = t461 - t460;
-        let t463 = c_wfe * t456;
-        let t464 = s_wfe * t455;
-        let t465 = t463 + t464;
-        let t466 = s_wfe * t456;
-        let t467 = c_wfe * t455;
-        let t468 = t467 - t466;
-        let wrist_fe_a_wz = wrist_r_a_wy + qdd_wfe;
-        let t469 = wrist_fe_v_wy * qd_wfe;
-        let t470 = wrist_fe_v_wx * qd_wfe;
-        let t471 = wrist_fe_v_vy * qd_wfe;
-        let t472 = wrist_fe_v_vx * qd_wfe;
-        let wrist_fe_a_wx = t459 + t469;
-        let wrist_fe_a_wy = t462 - t470;
-        let wrist_fe_a_vx = t465 + t471;
-        let wrist_fe_a_vy = t468 - t472;
-        let t473 = 0.010737f64 * wrist_fe_a_wx;
-        let t474 = 0.000198f64 * wrist_fe_a_wy;
-        let t475 = t473 + t474;
-        let t476 = 0.000015f64 * wrist_fe_a_wz;
-        let t477 = t475 + t476;
-        let t478 = 0.000198f64 * wrist_fe_a_wx;
-        let t479 = 0.0032270000000000003f64 * wrist_fe_a_wy;
-        let t480 = t478 + t479;
-        let t481 = 0.000829f64 * wrist_fe_a_wz;
-        let t482 = t480 - t481;
-        let t483 = 0.000015f64 * wrist_fe_a_wx;
-        let t484 = 0.000829f64 * wrist_fe_a_wy;
-        let t485 = t483 - t484;
-        let t486 = 0.009277f64 * wrist_fe_a_wz;
-        let t487 = t485 + t486;
-        let t488 = 0.038686875f64 * wrist_fe_a_vz;
-        let t489 = 0.038686875f64 * wrist_fe_a_vy;
-        let t490 = wrist_fe_a_vx * 1.547475f64;
-        let t491 = wrist_fe_a_vy * 1.547475f64;
-        let t492 = wrist_fe_a_vz * 1.547475f64;
-        let t493 = 0.038686875f64 * wrist_fe_a_wz;
-        let t494 = 0.038686875f64 * wrist_fe_a_wy;
-        let t495 = t482 - t488;
-        let t496 = t487 + t489;
-        let t497 = t491 + t493;
-        let t498 = t492 - t494;
-        let t499 = 0.010737f64 * wrist_fe_v_wx;
-        let t500 = 0.000198f64 * wrist_fe_v_wy;
-        let t501 = t499 + t500;
-        let t502 = 0.000015f64 * wrist_fe_v_wz;
-        let t503 = t501 + t502;
-        let t504 = 0.000198f64 * wrist_fe_v_wx;
-        let t505 = 0.0032270000000000003f64 * wrist_fe_v_wy;
-        let t506 = t504 + t505;
-        let t507 = 0.000829f64 * wrist_fe_v_wz;
-        let t508 = t506 - t507;
-        let t509 = 0.000015f64 * wrist_fe_v_wx;
-        let t510 = 0.000829f64 * wrist_fe_v_wy;
-        let t511 = t509 - t510;
-        let t512 = 0.009277f64 * wrist_fe_v_wz;
-        let t513 = t511 + t512;
-        let t514 = 0.038686875f64 * wrist_fe_v_vz;
-        let t515 = 0.038686875f64 * wrist_fe_v_vy;
-        let t516 = wrist_fe_v_vx * 1.547475f64;
-        let t517 = wrist_fe_v_vy * 1.547475f64;
-        let t518 = wrist_fe_v_vz * 1.547475f64;
-        let t519 = 0.038686875f64 * wrist_fe_v_wz;
-        let t520 = 0.038686875f64 * wrist_fe_v_wy;
-        let t521 = t508 - t514;
-        let t522 = t513 + t515;
-        let t523 = t517 + t519;
-        let t524 = t518 - t520;
-        let t525 = wrist_fe_v_wy * t522;
-        let t526 = wrist_fe_v_wz * t521;
-        let t527 = t525 - t526;
-        let t528 = wrist_fe_v_wz * t503;
-        let t529 = wrist_fe_v_wx * t522;
-        let t530 = t528 - t529;
-        let t531 = wrist_fe_v_wx * t521;
-        let t532 = wrist_fe_v_wy * t503;
-        let t533 = t531 - t532;
-        let t534 = wrist_fe_v_vy * t524;
-        let t535 = wrist_fe_v_vz * t523;
-        let t536 = t534 - t535;
-        let t537 = wrist_fe_v_vz * t516;
-        let t538 = wrist_fe_v_vx * t524;
-        let t539 = t537 - t538;
-        let t540 = wrist_fe_v_vx * t523;
-        let t541 = wrist_fe_v_vy * t516;
-        let t542 = t540 - t541;
-        let t543 = t527 + t536;
-        let t544 = t530 + t539;
-        let t545 = t533 + t542;
-        let t546 = wrist_fe_v_wy * t524;
-        let t547 = wrist_fe_v_wz * t523;
-        let t548 = t546 - t547;
-        let t549 = wrist_fe_v_wz * t516;
-        let t550 = wrist_fe_v_wx * t524;
-        let t551 = t549 - t550;
-        let t552 = wrist_fe_v_wx * t523;
-        let t553 = wrist_fe_v_wy * t516;
-        let t554 = t552 - t553;
-        let wrist_fe_f_nx = t477 + t543;
-        let wrist_fe_f_ny = t495 + t544;
-        let wrist_fe_f_nz = t496 + t545;
-        let wrist_fe_f_fx = t490 + t548;
-        let wrist_fe_f_fy = t497 + t551;
-        let wrist_fe_f_fz = t498 + t554;
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let t555 = c_wfe * wrist_fe_f_fx;
-        let t556 = s_wfe * wrist_fe_f_fy;
-        let t557 = t555 - t556;
-        let t558 = s_wfe * wrist_fe_f_fx;
-        let t559 = c_wfe * wrist_fe_f_fy;
-        let t560 = t558 + t559;
-        let t561 = c_wfe * wrist_fe_f_nx;
-        let t562 = s_wfe * wrist_fe_f_ny;
-        let t563 = t561 - t562;
-        let t564 = s_wfe * wrist_fe_f_nx;
-        let t565 = c_wfe * wrist_fe_f_ny;
-        let t566 = t564 + t565;
-        let t567 = 0.184f64 * wrist_fe_f_fz;
-        let t568 = 0.184f64 * t560;
-        let t569 = 0.02075f64 * t557;
-        let t570 = t568 - t569;
-        let t571 = 0.02075f64 * wrist_fe_f_fz;
-        let t572 = t566 - t567;
-        let t573 = wrist_fe_f_nz + t570;
-        let t574 = t563 + t571;
-        let wrist_r_f_nx = t429 + t572;
-        let wrist_r_f_ny = t430 + t573;
-        let wrist_r_f_nz = t431 + t574;
-        let wrist_r_f_fx = t432 + t560;
-        let wrist_r_f_fy = t433 + wrist_fe_f_fz;
-        let wrist_r_f_fz = t434 + t557;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let t575 = c_wr * wrist_r_f_fx;
-        let t576 = s_wr * wrist_r_f_fy;
-        let t577 = t575 - t576;
-        let t578 = s_wr * wrist_r_f_fx;
-        let t579 = c_wr * wrist_r_f_fy;
-        let t580 = t578 + t579;
-        let t581 = c_wr * wrist_r_f_nx;
-        let t582 = s_wr * wrist_r_f_ny;
-        let t583 = t581 - t582;
-        let t584 = s_wr * wrist_r_f_nx;
-        let t585 = c_wr * wrist_r_f_ny;
-        let t586 = t584 + t585;
-        let t587 = 0.112f64 * t577;
-        let t588 = 0.112f64 * t580;
-        let t589 = t586 + t587;
-        let t590 = t588 - t583;
-        let elbow_fe_f_nx = t309 + wrist_r_f_nz;
-        let elbow_fe_f_ny = t310 + t589;
-        let elbow_fe_f_nz = t311 + t590;
-        let elbow_fe_f_fx = t312 + wrist_r_f_fz;
-        let elbow_fe_f_fy = t313 + t580;
-        let elbow_fe_f_fz = t314 - t577;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let t591 = s_efe * elbow_fe_f_fx;
-        let t592 = c_efe * elbow_fe_f_fy;
-        let t593 = t591 + t592;
-        let t594 = c_efe * elbow_fe_f_nx;
-        let t595 = s_efe * elbow_fe_f_ny;
-        let t596 = t594 - t595;
-        let t597 = s_efe * elbow_fe_f_nx;
-        let t598 = c_efe * elbow_fe_f_ny;
-        let t599 = t597 + t598;
-        let t600 = 0.304f64 * t593;
-        let t601 = 0.304f64 * elbow_fe_f_fz;
-        let t602 = elbow_fe_f_nz + t600;
-        let t603 = t599 - t601;
-        let humerus_r_f_nx = t180 - t602;
-        let humerus_r_f_ny = t181 + t603;
-        let humerus_r_f_nz = t182 + t596;
-        let humerus_r_f_fx = t183 - elbow_fe_f_fz;
-        let humerus_r_f_fy = t184 + t593;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let t604 = c_hr * humerus_r_f_fx;
-        let t605 = s_hr * humerus_r_f_fy;
-        let t606 = t604 - t605;
-        let t607 = s_hr * humerus_r_f_fx;
-        let t608 = c_hr * humerus_r_f_fy;
-        let t609 = t607 + t608;
-        let t610 = c_hr * humerus_r_f_nx;
-        let t611 = s_hr * humerus_r_f_ny;
-        let t612 = t610 - t611;
-        let t613 = s_hr * humerus_r_f_nx;
-        let t614 = c_hr * humerus_r_f_ny;
-        let t615 = t613 + t614;
-        let t616 = 0.112f64 * t606;
-        let t617 = 0.112f64 * t609;
-        let t618 = t615 + t616;
-        let t619 = t617 - t612;
-        let shoulder_fe_f_nx = t52 + humerus_r_f_nz;
-        let shoulder_fe_f_ny = t53 + t618;
-        let shoulder_fe_f_nz = t54 + t619;
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let t620 = s_sfe * shoulder_fe_f_nx;
-        let t621 = c_sfe * shoulder_fe_f_ny;
-        let t622 = t620 + t621;
-        let shoulder_aa_f_nz = t0 + t622;
+        let t0 = {
+            // ── link `Shoulder_AA`, joint `SAA` (base to tip)
+            let t0 = 0.007628999999536005f64 * qdd_saa;
+            t0
+        };
+        let (
+            shoulder_fe_v_wx,
+            shoulder_fe_v_wy,
+            shoulder_fe_a_vx,
+            shoulder_fe_a_vy,
+            shoulder_fe_a_wx,
+            shoulder_fe_a_wy,
+            t52,
+            t53,
+            t54,
+        ) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_v_wx = s_sfe * qd_saa;
+            let shoulder_fe_v_wy = c_sfe * qd_saa;
+            let t1 = s_sfe * qdd_saa;
+            let t2 = c_sfe * qdd_saa;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64;
+            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let t3 = shoulder_fe_v_wy * qd_sfe;
+            let t4 = shoulder_fe_v_wx * qd_sfe;
+            let shoulder_fe_a_wx = t1 + t3;
+            let shoulder_fe_a_wy = t2 - t4;
+            let t5 = 0.03900299600125622f64 * shoulder_fe_a_wx;
+            let t6 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t7 = t5 + t6;
+            let t8 = 0.02285162700433904f64 * qdd_sfe;
+            let t9 = t7 - t8;
+            let t10 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
+            let t11 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t12 = t10 + t11;
+            let t13 = 0.0027519999999057617f64 * qdd_sfe;
+            let t14 = t12 - t13;
+            let t15 = 0.02285162700433904f64 * shoulder_fe_a_wx;
+            let t16 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
+            let t17 = t15 + t16;
+            let t18 = 0.05139352799812063f64 * qdd_sfe;
+            let t19 = t18 - t17;
+            let t20 = 0.009934149991199999f64 * shoulder_fe_a_vy;
+            let t21 = 0.009934149991199999f64 * shoulder_fe_a_vx;
+            let t22 = 0.2933742339089346f64 * shoulder_fe_a_vy;
+            let t23 = 0.060615943396199995f64 * shoulder_fe_a_vx;
+            let t24 = t22 + t23;
+            let t25 = t9 - t20;
+            let t26 = t14 + t21;
+            let t27 = t19 + t24;
+            let t28 = 0.03900299600125622f64 * shoulder_fe_v_wx;
+            let t29 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t30 = t28 + t29;
+            let t31 = 0.02285162700433904f64 * qd_sfe;
+            let t32 = t30 - t31;
+            let t33 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
+            let t34 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t35 = t33 + t34;
+            let t36 = 0.0027519999999057617f64 * qd_sfe;
+            let t37 = t35 - t36;
+            let t38 = 0.02285162700433904f64 * shoulder_fe_v_wx;
+            let t39 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t40 = t38 + t39;
+            let t41 = 0.05139352799812063f64 * qd_sfe;
+            let t42 = t41 - t40;
+            let t43 = shoulder_fe_v_wy * t42;
+            let t44 = qd_sfe * t37;
+            let t45 = t43 - t44;
+            let t46 = qd_sfe * t32;
+            let t47 = shoulder_fe_v_wx * t42;
+            let t48 = t46 - t47;
+            let t49 = shoulder_fe_v_wx * t37;
+            let t50 = shoulder_fe_v_wy * t32;
+            let t51 = t49 - t50;
+            let t52 = t25 + t45;
+            let t53 = t26 + t48;
+            let t54 = t27 + t51;
+            (
+                shoulder_fe_v_wx,
+                shoulder_fe_v_wy,
+                shoulder_fe_a_vx,
+                shoulder_fe_a_vy,
+                shoulder_fe_a_wx,
+                shoulder_fe_a_wy,
+                t52,
+                t53,
+                t54,
+            )
+        };
+        let (
+            humerus_r_v_wx,
+            humerus_r_v_wy,
+            humerus_r_v_vx,
+            humerus_r_v_vy,
+            humerus_r_v_wz,
+            humerus_r_a_wz,
+            humerus_r_a_wx,
+            humerus_r_a_wy,
+            humerus_r_a_vx,
+            humerus_r_a_vy,
+            t180,
+            t181,
+            t182,
+            t183,
+            t184,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t55 = 0.112f64 * qd_sfe;
+            let t56 = 0.112f64 * shoulder_fe_v_wy;
+            let t57 = c_hr * qd_sfe;
+            let t58 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t58 - t57;
+            let t59 = s_hr * qd_sfe;
+            let t60 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t59 + t60;
+            let t61 = c_hr * t56;
+            let t62 = s_hr * t55;
+            let humerus_r_v_vx = t61 + t62;
+            let t63 = s_hr * t56;
+            let t64 = c_hr * t55;
+            let humerus_r_v_vy = t64 - t63;
+            let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
+            let t65 = 0.112f64 * qdd_sfe;
+            let t66 = 0.112f64 * shoulder_fe_a_wy;
+            let t67 = shoulder_fe_a_vy + t65;
+            let t68 = c_hr * qdd_sfe;
+            let t69 = s_hr * shoulder_fe_a_wy;
+            let t70 = t69 - t68;
+            let t71 = s_hr * qdd_sfe;
+            let t72 = c_hr * shoulder_fe_a_wy;
+            let t73 = t71 + t72;
+            let t74 = c_hr * t66;
+            let t75 = s_hr * t67;
+            let t76 = t74 + t75;
+            let t77 = s_hr * t66;
+            let t78 = c_hr * t67;
+            let t79 = t78 - t77;
+            let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
+            let t80 = humerus_r_v_wy * qd_hr;
+            let t81 = humerus_r_v_wx * qd_hr;
+            let t82 = humerus_r_v_vy * qd_hr;
+            let t83 = humerus_r_v_vx * qd_hr;
+            let humerus_r_a_wx = t70 + t80;
+            let humerus_r_a_wy = t73 - t81;
+            let humerus_r_a_vx = t76 + t82;
+            let humerus_r_a_vy = t79 - t83;
+            let t84 = 0.20236395000387197f64 * humerus_r_a_wx;
+            let t85 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t86 = t84 + t85;
+            let t87 = 0.011715294995083824f64 * humerus_r_a_wz;
+            let t88 = t86 - t87;
+            let t89 = 0.000053999980001054f64 * humerus_r_a_wx;
+            let t90 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t91 = t89 + t90;
+            let t92 = 0.0037997813999599995f64 * humerus_r_a_wz;
+            let t93 = t91 - t92;
+            let t94 = 0.011715294995083824f64 * humerus_r_a_wx;
+            let t95 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t96 = t94 + t95;
+            let t97 = 0.01032999899926462f64 * humerus_r_a_wz;
+            let t98 = t97 - t96;
+            let t99 = 0.014380859999999999f64 * shoulder_fe_a_vx;
+            let t100 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t101 = t99 - t100;
+            let t102 = 0.6479671119999999f64 * humerus_r_a_vx;
+            let t103 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t104 = t102 + t103;
+            let t105 = 0.0055615274403f64 * humerus_r_a_vy;
+            let t106 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t107 = t105 + t106;
+            let t108 = humerus_r_a_vx * 2.327f64;
+            let t109 = humerus_r_a_vy * 2.327f64;
+            let t110 = 0.014380859999999999f64 * humerus_r_a_wz;
+            let t111 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t112 = t110 - t111;
+            let t113 = 0.6479671119999999f64 * humerus_r_a_wx;
+            let t114 = 0.0055615274403f64 * humerus_r_a_wz;
+            let t115 = t113 + t114;
+            let t116 = t88 + t101;
+            let t117 = t93 + t104;
+            let t118 = t98 - t107;
+            let t119 = t108 - t112;
+            let t120 = t109 - t115;
+            let t121 = 0.20236395000387197f64 * humerus_r_v_wx;
+            let t122 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t123 = t121 + t122;
+            let t124 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t125 = t123 - t124;
+            let t126 = 0.000053999980001054f64 * humerus_r_v_wx;
+            let t127 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t128 = t126 + t127;
+            let t129 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t130 = t128 - t129;
+            let t131 = 0.011715294995083824f64 * humerus_r_v_wx;
+            let t132 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t133 = t131 + t132;
+            let t134 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t135 = t134 - t133;
+            let t136 = 0.6479671119999999f64 * humerus_r_v_vy;
+            let t137 = 0.6479671119999999f64 * humerus_r_v_vx;
+            let t138 = 0.0055615274403f64 * humerus_r_v_vy;
+            let t139 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t140 = t138 + t139;
+            let t141 = humerus_r_v_vx * 2.327f64;
+            let t142 = humerus_r_v_vy * 2.327f64;
+            let t143 = 0.014380859999999999f64 * humerus_r_v_wz;
+            let t144 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t145 = t143 - t144;
+            let t146 = 0.6479671119999999f64 * humerus_r_v_wx;
+            let t147 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t148 = t146 + t147;
+            let t149 = 0.0055615274403f64 * humerus_r_v_wy;
+            let t150 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t151 = t149 + t150;
+            let t152 = t125 - t136;
+            let t153 = t130 + t137;
+            let t154 = t135 - t140;
+            let t155 = t141 - t145;
+            let t156 = t142 - t148;
+            let t157 = humerus_r_v_wy * t154;
+            let t158 = humerus_r_v_wz * t153;
+            let t159 = t157 - t158;
+            let t160 = humerus_r_v_wz * t152;
+            let t161 = humerus_r_v_wx * t154;
+            let t162 = t160 - t161;
+            let t163 = humerus_r_v_wx * t153;
+            let t164 = humerus_r_v_wy * t152;
+            let t165 = t163 - t164;
+            let t166 = humerus_r_v_vy * t151;
+            let t167 = humerus_r_v_vx * t151;
+            let t168 = humerus_r_v_vx * t156;
+            let t169 = humerus_r_v_vy * t155;
+            let t170 = t168 - t169;
+            let t171 = t159 + t166;
+            let t172 = t162 - t167;
+            let t173 = t165 + t170;
+            let t174 = humerus_r_v_wy * t151;
+            let t175 = humerus_r_v_wz * t156;
+            let t176 = t174 - t175;
+            let t177 = humerus_r_v_wz * t155;
+            let t178 = humerus_r_v_wx * t151;
+            let t179 = t177 - t178;
+            let t180 = t116 + t171;
+            let t181 = t117 + t172;
+            let t182 = t118 + t173;
+            let t183 = t119 + t176;
+            let t184 = t120 + t179;
+            (
+                humerus_r_v_wx,
+                humerus_r_v_wy,
+                humerus_r_v_vx,
+                humerus_r_v_vy,
+                humerus_r_v_wz,
+                humerus_r_a_wz,
+                humerus_r_a_wx,
+                humerus_r_a_wy,
+                humerus_r_a_vx,
+                humerus_r_a_vy,
+                t180,
+                t181,
+                t182,
+                t183,
+                t184,
+            )
+        };
+        let (
+            elbow_fe_v_vz,
+            elbow_fe_v_wx,
+            elbow_fe_v_wy,
+            elbow_fe_v_vx,
+            elbow_fe_v_vy,
+            elbow_fe_v_wz,
+            elbow_fe_a_vz,
+            elbow_fe_a_wz,
+            elbow_fe_a_wx,
+            elbow_fe_a_wy,
+            elbow_fe_a_vx,
+            elbow_fe_a_vy,
+            t309,
+            t310,
+            t311,
+            t312,
+            t313,
+            t314,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t185 = 0.304f64 * humerus_r_v_wy;
+            let t186 = 0.304f64 * humerus_r_v_wx;
+            let elbow_fe_v_vz = humerus_r_v_vx + t185;
+            let t187 = humerus_r_v_vy - t186;
+            let t188 = c_efe * humerus_r_v_wz;
+            let t189 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t188 + t189;
+            let t190 = s_efe * humerus_r_v_wz;
+            let t191 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t191 - t190;
+            let elbow_fe_v_vx = s_efe * t187;
+            let elbow_fe_v_vy = c_efe * t187;
+            let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
+            let t192 = 0.304f64 * humerus_r_a_wy;
+            let t193 = 0.304f64 * humerus_r_a_wx;
+            let elbow_fe_a_vz = humerus_r_a_vx + t192;
+            let t194 = humerus_r_a_vy - t193;
+            let t195 = c_efe * humerus_r_a_wz;
+            let t196 = s_efe * humerus_r_a_wy;
+            let t197 = t195 + t196;
+            let t198 = s_efe * humerus_r_a_wz;
+            let t199 = c_efe * humerus_r_a_wy;
+            let t200 = t199 - t198;
+            let t201 = c_efe * shoulder_fe_a_vx;
+            let t202 = s_efe * t194;
+            let t203 = t201 + t202;
+            let t204 = s_efe * shoulder_fe_a_vx;
+            let t205 = c_efe * t194;
+            let t206 = t205 - t204;
+            let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
+            let t207 = elbow_fe_v_wy * qd_efe;
+            let t208 = elbow_fe_v_wx * qd_efe;
+            let t209 = elbow_fe_v_vy * qd_efe;
+            let t210 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t197 + t207;
+            let elbow_fe_a_wy = t200 - t208;
+            let elbow_fe_a_vx = t203 + t209;
+            let elbow_fe_a_vy = t206 - t210;
+            let t211 = 0.081661000005f64 * elbow_fe_a_wx;
+            let t212 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t213 = t211 + t212;
+            let t214 = 0.0002120000299f64 * elbow_fe_a_wz;
+            let t215 = t213 - t214;
+            let t216 = 0.00368572840011861f64 * elbow_fe_a_wx;
+            let t217 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t218 = t216 + t217;
+            let t219 = 0.002292000208f64 * elbow_fe_a_wz;
+            let t220 = t218 - t219;
+            let t221 = 0.0002120000299f64 * elbow_fe_a_wx;
+            let t222 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t223 = t221 + t222;
+            let t224 = 0.09570849000176501f64 * elbow_fe_a_wz;
+            let t225 = t224 - t223;
+            let t226 = 0.008711861f64 * elbow_fe_a_vz;
+            let t227 = 0.16029825982372198f64 * elbow_fe_a_vz;
+            let t228 = 0.16029825982372198f64 * elbow_fe_a_vy;
+            let t229 = 0.008711861f64 * elbow_fe_a_vx;
+            let t230 = t228 + t229;
+            let t231 = elbow_fe_a_vx * 1.7423722f64;
+            let t232 = elbow_fe_a_vy * 1.7423722f64;
+            let t233 = elbow_fe_a_vz * 1.7423722f64;
+            let t234 = 0.008711861f64 * elbow_fe_a_wz;
+            let t235 = 0.16029825982372198f64 * elbow_fe_a_wz;
+            let t236 = 0.16029825982372198f64 * elbow_fe_a_wy;
+            let t237 = 0.008711861f64 * elbow_fe_a_wx;
+            let t238 = t236 + t237;
+            let t239 = t215 + t226;
+            let t240 = t220 + t227;
+            let t241 = t225 + t230;
+            let t242 = t231 + t234;
+            let t243 = t232 + t235;
+            let t244 = t233 + t238;
+            let t245 = 0.081661000005f64 * elbow_fe_v_wx;
+            let t246 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t247 = t245 + t246;
+            let t248 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t249 = t247 - t248;
+            let t250 = 0.00368572840011861f64 * elbow_fe_v_wx;
+            let t251 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t252 = t250 + t251;
+            let t253 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t254 = t252 - t253;
+            let t255 = 0.0002120000299f64 * elbow_fe_v_wx;
+            let t256 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t257 = t255 + t256;
+            let t258 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t259 = t258 - t257;
+            let t260 = 0.008711861f64 * elbow_fe_v_vz;
+            let t261 = 0.16029825982372198f64 * elbow_fe_v_vz;
+            let t262 = 0.16029825982372198f64 * elbow_fe_v_vy;
+            let t263 = 0.008711861f64 * elbow_fe_v_vx;
+            let t264 = t262 + t263;
+            let t265 = elbow_fe_v_vx * 1.7423722f64;
+            let t266 = elbow_fe_v_vy * 1.7423722f64;
+            let t267 = elbow_fe_v_vz * 1.7423722f64;
+            let t268 = 0.008711861f64 * elbow_fe_v_wz;
+            let t269 = 0.16029825982372198f64 * elbow_fe_v_wz;
+            let t270 = 0.16029825982372198f64 * elbow_fe_v_wy;
+            let t271 = 0.008711861f64 * elbow_fe_v_wx;
+            let t272 = t270 + t271;
+            let t273 = t249 + t260;
+            let t274 = t254 + t261;
+            let t275 = t259 + t264;
+            let t276 = t265 + t268;
+            let t277 = t266 + t269;
+            let t278 = t267 + t272;
+            let t279 = elbow_fe_v_wy * t275;
+            let t280 = elbow_fe_v_wz * t274;
+            let t281 = t279 - t280;
+            let t282 = elbow_fe_v_wz * t273;
+            let t283 = elbow_fe_v_wx * t275;
+            let t284 = t282 - t283;
+            let t285 = elbow_fe_v_wx * t274;
+            let t286 = elbow_fe_v_wy * t273;
+            let t287 = t285 - t286;
+            let t288 = elbow_fe_v_vy * t278;
+            let t289 = elbow_fe_v_vz * t277;
+            let t290 = t289 - t288;
+            let t291 = elbow_fe_v_vz * t276;
+            let t292 = elbow_fe_v_vx * t278;
+            let t293 = t292 - t291;
+            let t294 = elbow_fe_v_vx * t277;
+            let t295 = elbow_fe_v_vy * t276;
+            let t296 = t294 - t295;
+            let t297 = t281 + t290;
+            let t298 = t284 + t293;
+            let t299 = t287 + t296;
+            let t300 = elbow_fe_v_wy * t278;
+            let t301 = elbow_fe_v_wz * t277;
+            let t302 = t300 + t301;
+            let t303 = elbow_fe_v_wz * t276;
+            let t304 = elbow_fe_v_wx * t278;
+            let t305 = t303 + t304;
+            let t306 = elbow_fe_v_wx * t277;
+            let t307 = elbow_fe_v_wy * t276;
+            let t308 = t306 - t307;
+            let t309 = t239 + t297;
+            let t310 = t240 + t298;
+            let t311 = t241 + t299;
+            let t312 = t242 - t302;
+            let t313 = t243 + t305;
+            let t314 = t308 - t244;
+            (
+                elbow_fe_v_vz,
+                elbow_fe_v_wx,
+                elbow_fe_v_wy,
+                elbow_fe_v_vx,
+                elbow_fe_v_vy,
+                elbow_fe_v_wz,
+                elbow_fe_a_vz,
+                elbow_fe_a_wz,
+                elbow_fe_a_wx,
+                elbow_fe_a_wy,
+                elbow_fe_a_vx,
+                elbow_fe_a_vy,
+                t309,
+                t310,
+                t311,
+                t312,
+                t313,
+                t314,
+            )
+        };
+        let (
+            wrist_r_v_wx,
+            wrist_r_v_wy,
+            wrist_r_v_vx,
+            wrist_r_v_vy,
+            wrist_r_v_wz,
+            wrist_r_a_wz,
+            wrist_r_a_wx,
+            wrist_r_a_wy,
+            wrist_r_a_vx,
+            wrist_r_a_vy,
+            t429,
+            t430,
+            t431,
+            t432,
+            t433,
+            t434,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t315 = 0.112f64 * elbow_fe_v_wz;
+            let t316 = 0.112f64 * elbow_fe_v_wy;
+            let t317 = elbow_fe_v_vy + t315;
+            let t318 = elbow_fe_v_vz + t316;
+            let t319 = c_wr * elbow_fe_v_wz;
+            let t320 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t320 - t319;
+            let t321 = s_wr * elbow_fe_v_wz;
+            let t322 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t321 + t322;
+            let t323 = c_wr * t318;
+            let t324 = s_wr * t317;
+            let wrist_r_v_vx = t323 + t324;
+            let t325 = s_wr * t318;
+            let t326 = c_wr * t317;
+            let wrist_r_v_vy = t326 - t325;
+            let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
+            let t327 = 0.112f64 * elbow_fe_a_wz;
+            let t328 = 0.112f64 * elbow_fe_a_wy;
+            let t329 = elbow_fe_a_vy + t327;
+            let t330 = elbow_fe_a_vz + t328;
+            let t331 = c_wr * elbow_fe_a_wz;
+            let t332 = s_wr * elbow_fe_a_wy;
+            let t333 = t332 - t331;
+            let t334 = s_wr * elbow_fe_a_wz;
+            let t335 = c_wr * elbow_fe_a_wy;
+            let t336 = t334 + t335;
+            let t337 = c_wr * t330;
+            let t338 = s_wr * t329;
+            let t339 = t337 + t338;
+            let t340 = s_wr * t330;
+            let t341 = c_wr * t329;
+            let t342 = t341 - t340;
+            let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
+            let t343 = wrist_r_v_wy * qd_wr;
+            let t344 = wrist_r_v_wx * qd_wr;
+            let t345 = wrist_r_v_vy * qd_wr;
+            let t346 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t333 + t343;
+            let wrist_r_a_wy = t336 - t344;
+            let wrist_r_a_vx = t339 + t345;
+            let wrist_r_a_vy = t342 - t346;
+            let t347 = 0.019431999999999998f64 * wrist_r_a_wx;
+            let t348 = 0.001387f64 * wrist_r_a_wy;
+            let t349 = t347 - t348;
+            let t350 = 0.012652f64 * wrist_r_a_wz;
+            let t351 = t349 - t350;
+            let t352 = 0.001387f64 * wrist_r_a_wx;
+            let t353 = 0.029115f64 * wrist_r_a_wy;
+            let t354 = t353 - t352;
+            let t355 = 0.001243f64 * wrist_r_a_wz;
+            let t356 = t354 - t355;
+            let t357 = 0.012652f64 * wrist_r_a_wx;
+            let t358 = 0.001243f64 * wrist_r_a_wy;
+            let t359 = t357 + t358;
+            let t360 = 0.011046f64 * wrist_r_a_wz;
+            let t361 = t360 - t359;
+            let t362 = 0.05783800000000001f64 * wrist_r_a_vy;
+            let t363 = 0.05783800000000001f64 * wrist_r_a_vx;
+            let t364 = wrist_r_a_vx * 2.1032f64;
+            let t365 = wrist_r_a_vy * 2.1032f64;
+            let t366 = elbow_fe_a_vx * 2.1032f64;
+            let t367 = 0.05783800000000001f64 * wrist_r_a_wy;
+            let t368 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t369 = t351 - t362;
+            let t370 = t356 + t363;
+            let t371 = t364 + t367;
+            let t372 = t365 - t368;
+            let t373 = 0.019431999999999998f64 * wrist_r_v_wx;
+            let t374 = 0.001387f64 * wrist_r_v_wy;
+            let t375 = t373 - t374;
+            let t376 = 0.012652f64 * wrist_r_v_wz;
+            let t377 = t375 - t376;
+            let t378 = 0.001387f64 * wrist_r_v_wx;
+            let t379 = 0.029115f64 * wrist_r_v_wy;
+            let t380 = t379 - t378;
+            let t381 = 0.001243f64 * wrist_r_v_wz;
+            let t382 = t380 - t381;
+            let t383 = 0.012652f64 * wrist_r_v_wx;
+            let t384 = 0.001243f64 * wrist_r_v_wy;
+            let t385 = t383 + t384;
+            let t386 = 0.011046f64 * wrist_r_v_wz;
+            let t387 = t386 - t385;
+            let t388 = 0.05783800000000001f64 * wrist_r_v_vy;
+            let t389 = 0.05783800000000001f64 * wrist_r_v_vx;
+            let t390 = wrist_r_v_vx * 2.1032f64;
+            let t391 = wrist_r_v_vy * 2.1032f64;
+            let t392 = elbow_fe_v_vx * 2.1032f64;
+            let t393 = 0.05783800000000001f64 * wrist_r_v_wy;
+            let t394 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t395 = t377 - t388;
+            let t396 = t382 + t389;
+            let t397 = t390 + t393;
+            let t398 = t391 - t394;
+            let t399 = wrist_r_v_wy * t387;
+            let t400 = wrist_r_v_wz * t396;
+            let t401 = t399 - t400;
+            let t402 = wrist_r_v_wz * t395;
+            let t403 = wrist_r_v_wx * t387;
+            let t404 = t402 - t403;
+            let t405 = wrist_r_v_wx * t396;
+            let t406 = wrist_r_v_wy * t395;
+            let t407 = t405 - t406;
+            let t408 = wrist_r_v_vy * t392;
+            let t409 = elbow_fe_v_vx * t398;
+            let t410 = t408 - t409;
+            let t411 = elbow_fe_v_vx * t397;
+            let t412 = wrist_r_v_vx * t392;
+            let t413 = t411 - t412;
+            let t414 = wrist_r_v_vx * t398;
+            let t415 = wrist_r_v_vy * t397;
+            let t416 = t414 - t415;
+            let t417 = t401 + t410;
+            let t418 = t404 + t413;
+            let t419 = t407 + t416;
+            let t420 = wrist_r_v_wy * t392;
+            let t421 = wrist_r_v_wz * t398;
+            let t422 = t420 - t421;
+            let t423 = wrist_r_v_wz * t397;
+            let t424 = wrist_r_v_wx * t392;
+            let t425 = t423 - t424;
+            let t426 = wrist_r_v_wx * t398;
+            let t427 = wrist_r_v_wy * t397;
+            let t428 = t426 - t427;
+            let t429 = t369 + t417;
+            let t430 = t370 + t418;
+            let t431 = t361 + t419;
+            let t432 = t371 + t422;
+            let t433 = t372 + t425;
+            let t434 = t366 + t428;
+            (
+                wrist_r_v_wx,
+                wrist_r_v_wy,
+                wrist_r_v_vx,
+                wrist_r_v_vy,
+                wrist_r_v_wz,
+                wrist_r_a_wz,
+                wrist_r_a_wx,
+                wrist_r_a_wy,
+                wrist_r_a_vx,
+                wrist_r_a_vy,
+                t429,
+                t430,
+                t431,
+                t432,
+                t433,
+                t434,
+            )
+        };
+        let (
+            wrist_fe_f_nx,
+            wrist_fe_f_ny,
+            wrist_fe_f_nz,
+            wrist_fe_f_fx,
+            wrist_fe_f_fy,
+            wrist_fe_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t435 = 0.184f64 * wrist_r_v_wy;
+            let t436 = 0.184f64 * wrist_r_v_wx;
+            let t437 = 0.02075f64 * wrist_r_v_wz;
+            let t438 = t436 - t437;
+            let t439 = 0.02075f64 * wrist_r_v_wy;
+            let t440 = wrist_r_v_vx + t435;
+            let wrist_fe_v_vz = wrist_r_v_vy - t438;
+            let t441 = elbow_fe_v_vx - t439;
+            let t442 = c_wfe * wrist_r_v_wz;
+            let t443 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t442 + t443;
+            let t444 = s_wfe * wrist_r_v_wz;
+            let t445 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t445 - t444;
+            let t446 = c_wfe * t441;
+            let t447 = s_wfe * t440;
+            let wrist_fe_v_vx = t446 + t447;
+            let t448 = s_wfe * t441;
+            let t449 = c_wfe * t440;
+            let wrist_fe_v_vy = t449 - t448;
+            let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
+            let t450 = 0.184f64 * wrist_r_a_wy;
+            let t451 = 0.184f64 * wrist_r_a_wx;
+            let t452 = 0.02075f64 * wrist_r_a_wz;
+            let t453 = t451 - t452;
+            let t454 = 0.02075f64 * wrist_r_a_wy;
+            let t455 = wrist_r_a_vx + t450;
+            let wrist_fe_a_vz = wrist_r_a_vy - t453;
+            let t456 = elbow_fe_a_vx - t454;
+            let t457 = c_wfe * wrist_r_a_wz;
+            let t458 = s_wfe * wrist_r_a_wx;
+            let t459 = t457 + t458;
+            let t460 = s_wfe * wrist_r_a_wz;
+            let t461 = c_wfe * wrist_r_a_wx;
+            let t462 = t461 - t460;
+            let t463 = c_wfe * t456;
+            let t464 = s_wfe * t455;
+            let t465 = t463 + t464;
+            let t466 = s_wfe * t456;
+            let t467 = c_wfe * t455;
+            let t468 = t467 - t466;
+            let wrist_fe_a_wz = wrist_r_a_wy + qdd_wfe;
+            let t469 = wrist_fe_v_wy * qd_wfe;
+            let t470 = wrist_fe_v_wx * qd_wfe;
+            let t471 = wrist_fe_v_vy * qd_wfe;
+            let t472 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t459 + t469;
+            let wrist_fe_a_wy = t462 - t470;
+            let wrist_fe_a_vx = t465 + t471;
+            let wrist_fe_a_vy = t468 - t472;
+            let t473 = 0.010737f64 * wrist_fe_a_wx;
+            let t474 = 0.000198f64 * wrist_fe_a_wy;
+            let t475 = t473 + t474;
+            let t476 = 0.000015f64 * wrist_fe_a_wz;
+            let t477 = t475 + t476;
+            let t478 = 0.000198f64 * wrist_fe_a_wx;
+            let t479 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t480 = t478 + t479;
+            let t481 = 0.000829f64 * wrist_fe_a_wz;
+            let t482 = t480 - t481;
+            let t483 = 0.000015f64 * wrist_fe_a_wx;
+            let t484 = 0.000829f64 * wrist_fe_a_wy;
+            let t485 = t483 - t484;
+            let t486 = 0.009277f64 * wrist_fe_a_wz;
+            let t487 = t485 + t486;
+            let t488 = 0.038686875f64 * wrist_fe_a_vz;
+            let t489 = 0.038686875f64 * wrist_fe_a_vy;
+            let t490 = wrist_fe_a_vx * 1.547475f64;
+            let t491 = wrist_fe_a_vy * 1.547475f64;
+            let t492 = wrist_fe_a_vz * 1.547475f64;
+            let t493 = 0.038686875f64 * wrist_fe_a_wz;
+            let t494 = 0.038686875f64 * wrist_fe_a_wy;
+            let t495 = t482 - t488;
+            let t496 = t487 + t489;
+            let t497 = t491 + t493;
+            let t498 = t492 - t494;
+            let t499 = 0.010737f64 * wrist_fe_v_wx;
+            let t500 = 0.000198f64 * wrist_fe_v_wy;
+            let t501 = t499 + t500;
+            let t502 = 0.000015f64 * wrist_fe_v_wz;
+            let t503 = t501 + t502;
+            let t504 = 0.000198f64 * wrist_fe_v_wx;
+            let t505 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t506 = t504 + t505;
+            let t507 = 0.000829f64 * wrist_fe_v_wz;
+            let t508 = t506 - t507;
+            let t509 = 0.000015f64 * wrist_fe_v_wx;
+            let t510 = 0.000829f64 * wrist_fe_v_wy;
+            let t511 = t509 - t510;
+            let t512 = 0.009277f64 * wrist_fe_v_wz;
+            let t513 = t511 + t512;
+            let t514 = 0.038686875f64 * wrist_fe_v_vz;
+            let t515 = 0.038686875f64 * wrist_fe_v_vy;
+            let t516 = wrist_fe_v_vx * 1.547475f64;
+            let t517 = wrist_fe_v_vy * 1.547475f64;
+            let t518 = wrist_fe_v_vz * 1.547475f64;
+            let t519 = 0.038686875f64 * wrist_fe_v_wz;
+            let t520 = 0.038686875f64 * wrist_fe_v_wy;
+            let t521 = t508 - t514;
+            let t522 = t513 + t515;
+            let t523 = t517 + t519;
+            let t524 = t518 - t520;
+            let t525 = wrist_fe_v_wy * t522;
+            let t526 = wrist_fe_v_wz * t521;
+            let t527 = t525 - t526;
+            let t528 = wrist_fe_v_wz * t503;
+            let t529 = wrist_fe_v_wx * t522;
+            let t530 = t528 - t529;
+            let t531 = wrist_fe_v_wx * t521;
+            let t532 = wrist_fe_v_wy * t503;
+            let t533 = t531 - t532;
+            let t534 = wrist_fe_v_vy * t524;
+            let t535 = wrist_fe_v_vz * t523;
+            let t536 = t534 - t535;
+            let t537 = wrist_fe_v_vz * t516;
+            let t538 = wrist_fe_v_vx * t524;
+            let t539 = t537 - t538;
+            let t540 = wrist_fe_v_vx * t523;
+            let t541 = wrist_fe_v_vy * t516;
+            let t542 = t540 - t541;
+            let t543 = t527 + t536;
+            let t544 = t530 + t539;
+            let t545 = t533 + t542;
+            let t546 = wrist_fe_v_wy * t524;
+            let t547 = wrist_fe_v_wz * t523;
+            let t548 = t546 - t547;
+            let t549 = wrist_fe_v_wz * t516;
+            let t550 = wrist_fe_v_wx * t524;
+            let t551 = t549 - t550;
+            let t552 = wrist_fe_v_wx * t523;
+            let t553 = wrist_fe_v_wy * t516;
+            let t554 = t552 - t553;
+            let wrist_fe_f_nx = t477 + t543;
+            let wrist_fe_f_ny = t495 + t544;
+            let wrist_fe_f_nz = t496 + t545;
+            let wrist_fe_f_fx = t490 + t548;
+            let wrist_fe_f_fy = t497 + t551;
+            let wrist_fe_f_fz = t498 + t554;
+            (
+                wrist_fe_f_nx,
+                wrist_fe_f_ny,
+                wrist_fe_f_nz,
+                wrist_fe_f_fx,
+                wrist_fe_f_fy,
+                wrist_fe_f_fz,
+            )
+        };
+        let (
+            wrist_r_f_nx,
+            wrist_r_f_ny,
+            wrist_r_f_nz,
+            wrist_r_f_fx,
+            wrist_r_f_fy,
+            wrist_r_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t555 = c_wfe * wrist_fe_f_fx;
+            let t556 = s_wfe * wrist_fe_f_fy;
+            let t557 = t555 - t556;
+            let t558 = s_wfe * wrist_fe_f_fx;
+            let t559 = c_wfe * wrist_fe_f_fy;
+            let t560 = t558 + t559;
+            let t561 = c_wfe * wrist_fe_f_nx;
+            let t562 = s_wfe * wrist_fe_f_ny;
+            let t563 = t561 - t562;
+            let t564 = s_wfe * wrist_fe_f_nx;
+            let t565 = c_wfe * wrist_fe_f_ny;
+            let t566 = t564 + t565;
+            let t567 = 0.184f64 * wrist_fe_f_fz;
+            let t568 = 0.184f64 * t560;
+            let t569 = 0.02075f64 * t557;
+            let t570 = t568 - t569;
+            let t571 = 0.02075f64 * wrist_fe_f_fz;
+            let t572 = t566 - t567;
+            let t573 = wrist_fe_f_nz + t570;
+            let t574 = t563 + t571;
+            let wrist_r_f_nx = t429 + t572;
+            let wrist_r_f_ny = t430 + t573;
+            let wrist_r_f_nz = t431 + t574;
+            let wrist_r_f_fx = t432 + t560;
+            let wrist_r_f_fy = t433 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t434 + t557;
+            (
+                wrist_r_f_nx,
+                wrist_r_f_ny,
+                wrist_r_f_nz,
+                wrist_r_f_fx,
+                wrist_r_f_fy,
+                wrist_r_f_fz,
+            )
+        };
+        let (
+            elbow_fe_f_nx,
+            elbow_fe_f_ny,
+            elbow_fe_f_nz,
+            elbow_fe_f_fx,
+            elbow_fe_f_fy,
+            elbow_fe_f_fz,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t575 = c_wr * wrist_r_f_fx;
+            let t576 = s_wr * wrist_r_f_fy;
+            let t577 = t575 - t576;
+            let t578 = s_wr * wrist_r_f_fx;
+            let t579 = c_wr * wrist_r_f_fy;
+            let t580 = t578 + t579;
+            let t581 = c_wr * wrist_r_f_nx;
+            let t582 = s_wr * wrist_r_f_ny;
+            let t583 = t581 - t582;
+            let t584 = s_wr * wrist_r_f_nx;
+            let t585 = c_wr * wrist_r_f_ny;
+            let t586 = t584 + t585;
+            let t587 = 0.112f64 * t577;
+            let t588 = 0.112f64 * t580;
+            let t589 = t586 + t587;
+            let t590 = t588 - t583;
+            let elbow_fe_f_nx = t309 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t310 + t589;
+            let elbow_fe_f_nz = t311 + t590;
+            let elbow_fe_f_fx = t312 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t313 + t580;
+            let elbow_fe_f_fz = t314 - t577;
+            (
+                elbow_fe_f_nx,
+                elbow_fe_f_ny,
+                elbow_fe_f_nz,
+                elbow_fe_f_fx,
+                elbow_fe_f_fy,
+                elbow_fe_f_fz,
+            )
+        };
+        let (
+            humerus_r_f_nx,
+            humerus_r_f_ny,
+            humerus_r_f_nz,
+            humerus_r_f_fx,
+            humerus_r_f_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t591 = s_efe * elbow_fe_f_fx;
+            let t592 = c_efe * elbow_fe_f_fy;
+            let t593 = t591 + t592;
+            let t594 = c_efe * elbow_fe_f_nx;
+            let t595 = s_efe * elbow_fe_f_ny;
+            let t596 = t594 - t595;
+            let t597 = s_efe * elbow_fe_f_nx;
+            let t598 = c_efe * elbow_fe_f_ny;
+            let t599 = t597 + t598;
+            let t600 = 0.304f64 * t593;
+            let t601 = 0.304f64 * elbow_fe_f_fz;
+            let t602 = elbow_fe_f_nz + t600;
+            let t603 = t599 - t601;
+            let humerus_r_f_nx = t180 - t602;
+            let humerus_r_f_ny = t181 + t603;
+            let humerus_r_f_nz = t182 + t596;
+            let humerus_r_f_fx = t183 - elbow_fe_f_fz;
+            let humerus_r_f_fy = t184 + t593;
+            (
+                humerus_r_f_nx,
+                humerus_r_f_ny,
+                humerus_r_f_nz,
+                humerus_r_f_fx,
+                humerus_r_f_fy,
+            )
+        };
+        let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t604 = c_hr * humerus_r_f_fx;
+            let t605 = s_hr * humerus_r_f_fy;
+            let t606 = t604 - t605;
+            let t607 = s_hr * humerus_r_f_fx;
+            let t608 = c_hr * humerus_r_f_fy;
+            let t609 = t607 + t608;
+            let t610 = c_hr * humerus_r_f_nx;
+            let t611 = s_hr * humerus_r_f_ny;
+            let t612 = t610 - t611;
+            let t613 = s_hr * humerus_r_f_nx;
+            let t614 = c_hr * humerus_r_f_ny;
+            let t615 = t613 + t614;
+            let t616 = 0.112f64 * t606;
+            let t617 = 0.112f64 * t609;
+            let t618 = t615 + t616;
+            let t619 = t617 - t612;
+            let shoulder_fe_f_nx = t52 + humerus_r_f_nz;
+            let shoulder_fe_f_ny = t53 + t618;
+            let shoulder_fe_f_nz = t54 + t619;
+            (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
+        };
+        let shoulder_aa_f_nz = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t620 = s_sfe * shoulder_fe_f_nx;
+            let t621 = c_sfe * shoulder_fe_f_ny;
+            let t622 = t620 + t621;
+            let shoulder_aa_f_nz = t0 + t622;
+            shoulder_aa_f_nz
+        };
         ::hya_core::JointVector::<
             6,
         >::from([
@@ -975,165 +1282,246 @@ impl ::hya_core::Dynamics<6> for Hya {
     /// Gravity torques `G(q)`.
     #[inline]
     fn gravity(&self, q: &::hya_core::JointVector<6>) -> ::hya_core::JointVector<6> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+        let (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe)
+        };
         // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let shoulder_fe_a_vx = s_sfe * 9.81f64;
-        let shoulder_fe_a_vy = c_sfe * 9.81f64;
-        let t0 = 0.009934149991199999f64 * shoulder_fe_a_vy;
-        let t1 = 0.009934149991199999f64 * shoulder_fe_a_vx;
-        let t2 = 0.2933742339089346f64 * shoulder_fe_a_vy;
-        let t3 = 0.060615943396199995f64 * shoulder_fe_a_vx;
-        let t4 = t2 + t3;
+        let (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_a_vx = s_sfe * 9.81f64;
+            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let t0 = 0.009934149991199999f64 * shoulder_fe_a_vy;
+            let t1 = 0.009934149991199999f64 * shoulder_fe_a_vx;
+            let t2 = 0.2933742339089346f64 * shoulder_fe_a_vy;
+            let t3 = 0.060615943396199995f64 * shoulder_fe_a_vx;
+            let t4 = t2 + t3;
+            (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4)
+        };
         // ── link `Humerus_R`, joint `HR` (base to tip)
-        let humerus_r_a_vx = s_hr * shoulder_fe_a_vy;
-        let humerus_r_a_vy = c_hr * shoulder_fe_a_vy;
-        let t5 = 0.014380859999999999f64 * shoulder_fe_a_vx;
-        let t6 = 0.6479671119999999f64 * humerus_r_a_vy;
-        let t7 = t5 - t6;
-        let t8 = 0.6479671119999999f64 * humerus_r_a_vx;
-        let t9 = 0.0055615274403f64 * shoulder_fe_a_vx;
-        let t10 = t8 + t9;
-        let t11 = 0.0055615274403f64 * humerus_r_a_vy;
-        let t12 = 0.014380859999999999f64 * humerus_r_a_vx;
-        let t13 = t11 + t12;
-        let t14 = humerus_r_a_vx * 2.327f64;
-        let t15 = humerus_r_a_vy * 2.327f64;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t16 = c_efe * shoulder_fe_a_vx;
-        let t17 = s_efe * humerus_r_a_vy;
-        let elbow_fe_a_vx = t16 + t17;
-        let t18 = s_efe * shoulder_fe_a_vx;
-        let t19 = c_efe * humerus_r_a_vy;
-        let elbow_fe_a_vy = t19 - t18;
-        let t20 = 0.008711861f64 * humerus_r_a_vx;
-        let t21 = 0.16029825982372198f64 * humerus_r_a_vx;
-        let t22 = 0.16029825982372198f64 * elbow_fe_a_vy;
-        let t23 = 0.008711861f64 * elbow_fe_a_vx;
-        let t24 = t22 + t23;
-        let t25 = elbow_fe_a_vx * 1.7423722f64;
-        let t26 = elbow_fe_a_vy * 1.7423722f64;
-        let t27 = humerus_r_a_vx * 1.7423722f64;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t28 = c_wr * humerus_r_a_vx;
-        let t29 = s_wr * elbow_fe_a_vy;
-        let wrist_r_a_vx = t28 + t29;
-        let t30 = s_wr * humerus_r_a_vx;
-        let t31 = c_wr * elbow_fe_a_vy;
-        let wrist_r_a_vy = t31 - t30;
-        let t32 = 0.05783800000000001f64 * wrist_r_a_vy;
-        let t33 = 0.05783800000000001f64 * wrist_r_a_vx;
-        let t34 = wrist_r_a_vx * 2.1032f64;
-        let t35 = wrist_r_a_vy * 2.1032f64;
-        let t36 = elbow_fe_a_vx * 2.1032f64;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t37 = c_wfe * elbow_fe_a_vx;
-        let t38 = s_wfe * wrist_r_a_vx;
-        let wrist_fe_a_vx = t37 + t38;
-        let t39 = s_wfe * elbow_fe_a_vx;
-        let t40 = c_wfe * wrist_r_a_vx;
-        let wrist_fe_a_vy = t40 - t39;
-        let wrist_fe_f_ny = 0.038686875f64 * wrist_r_a_vy;
-        let wrist_fe_f_nz = 0.038686875f64 * wrist_fe_a_vy;
-        let wrist_fe_f_fx = wrist_fe_a_vx * 1.547475f64;
-        let wrist_fe_f_fy = wrist_fe_a_vy * 1.547475f64;
-        let wrist_fe_f_fz = wrist_r_a_vy * 1.547475f64;
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let t41 = c_wfe * wrist_fe_f_fx;
-        let t42 = s_wfe * wrist_fe_f_fy;
-        let t43 = t41 - t42;
-        let t44 = s_wfe * wrist_fe_f_fx;
-        let t45 = c_wfe * wrist_fe_f_fy;
-        let t46 = t44 + t45;
-        let t47 = s_wfe * wrist_fe_f_ny;
-        let t48 = c_wfe * wrist_fe_f_ny;
-        let t49 = 0.184f64 * wrist_fe_f_fz;
-        let t50 = 0.184f64 * t46;
-        let t51 = 0.02075f64 * t43;
-        let t52 = t50 - t51;
-        let t53 = 0.02075f64 * wrist_fe_f_fz;
-        let t54 = t48 + t49;
-        let t55 = wrist_fe_f_nz + t52;
-        let wrist_r_f_nz = t47 + t53;
-        let wrist_r_f_nx = t32 + t54;
-        let wrist_r_f_ny = t33 + t55;
-        let wrist_r_f_fx = t34 + t46;
-        let wrist_r_f_fy = t35 + wrist_fe_f_fz;
-        let wrist_r_f_fz = t36 + t43;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let t56 = c_wr * wrist_r_f_fx;
-        let t57 = s_wr * wrist_r_f_fy;
-        let t58 = t56 - t57;
-        let t59 = s_wr * wrist_r_f_fx;
-        let t60 = c_wr * wrist_r_f_fy;
-        let t61 = t59 + t60;
-        let t62 = c_wr * wrist_r_f_nx;
-        let t63 = s_wr * wrist_r_f_ny;
-        let t64 = t62 + t63;
-        let t65 = s_wr * wrist_r_f_nx;
-        let t66 = c_wr * wrist_r_f_ny;
-        let t67 = t66 - t65;
-        let t68 = 0.112f64 * t58;
-        let t69 = 0.112f64 * t61;
-        let t70 = t67 + t68;
-        let t71 = t64 + t69;
-        let elbow_fe_f_nx = t20 + wrist_r_f_nz;
-        let elbow_fe_f_ny = t21 + t70;
-        let elbow_fe_f_nz = t24 + t71;
-        let elbow_fe_f_fx = t25 + wrist_r_f_fz;
-        let elbow_fe_f_fy = t26 + t61;
-        let elbow_fe_f_fz = t27 + t58;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let t72 = s_efe * elbow_fe_f_fx;
-        let t73 = c_efe * elbow_fe_f_fy;
-        let t74 = t72 + t73;
-        let t75 = c_efe * elbow_fe_f_nx;
-        let t76 = s_efe * elbow_fe_f_ny;
-        let t77 = t75 - t76;
-        let t78 = s_efe * elbow_fe_f_nx;
-        let t79 = c_efe * elbow_fe_f_ny;
-        let t80 = t78 + t79;
-        let t81 = 0.304f64 * t74;
-        let t82 = 0.304f64 * elbow_fe_f_fz;
-        let t83 = elbow_fe_f_nz + t81;
-        let t84 = t80 + t82;
-        let humerus_r_f_nx = t7 - t83;
-        let humerus_r_f_ny = t10 + t84;
-        let humerus_r_f_nz = t77 - t13;
-        let humerus_r_f_fx = t14 + elbow_fe_f_fz;
-        let humerus_r_f_fy = t15 + t74;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let t85 = c_hr * humerus_r_f_fx;
-        let t86 = s_hr * humerus_r_f_fy;
-        let shoulder_fe_f_fz = t85 - t86;
-        let t87 = s_hr * humerus_r_f_fx;
-        let t88 = c_hr * humerus_r_f_fy;
-        let t89 = t87 + t88;
-        let t90 = c_hr * humerus_r_f_nx;
-        let t91 = s_hr * humerus_r_f_ny;
-        let t92 = t90 - t91;
-        let t93 = s_hr * humerus_r_f_nx;
-        let t94 = c_hr * humerus_r_f_ny;
-        let t95 = t93 + t94;
-        let t96 = 0.112f64 * shoulder_fe_f_fz;
-        let t97 = 0.112f64 * t89;
-        let t98 = t95 + t96;
-        let t99 = t97 - t92;
-        let shoulder_fe_f_nx = humerus_r_f_nz - t0;
-        let shoulder_fe_f_ny = t1 + t98;
-        let shoulder_fe_f_nz = t4 + t99;
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let t100 = s_sfe * shoulder_fe_f_nx;
-        let t101 = c_sfe * shoulder_fe_f_ny;
-        let shoulder_aa_f_nz = t100 + t101;
+        let (humerus_r_a_vx, humerus_r_a_vy, t7, t10, t13, t14, t15) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let humerus_r_a_vx = s_hr * shoulder_fe_a_vy;
+            let humerus_r_a_vy = c_hr * shoulder_fe_a_vy;
+            let t5 = 0.014380859999999999f64 * shoulder_fe_a_vx;
+            let t6 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t7 = t5 - t6;
+            let t8 = 0.6479671119999999f64 * humerus_r_a_vx;
+            let t9 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t10 = t8 + t9;
+            let t11 = 0.0055615274403f64 * humerus_r_a_vy;
+            let t12 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t13 = t11 + t12;
+            let t14 = humerus_r_a_vx * 2.327f64;
+            let t15 = humerus_r_a_vy * 2.327f64;
+            (humerus_r_a_vx, humerus_r_a_vy, t7, t10, t13, t14, t15)
+        };
+        let (elbow_fe_a_vx, elbow_fe_a_vy, t20, t21, t24, t25, t26, t27) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t16 = c_efe * shoulder_fe_a_vx;
+            let t17 = s_efe * humerus_r_a_vy;
+            let elbow_fe_a_vx = t16 + t17;
+            let t18 = s_efe * shoulder_fe_a_vx;
+            let t19 = c_efe * humerus_r_a_vy;
+            let elbow_fe_a_vy = t19 - t18;
+            let t20 = 0.008711861f64 * humerus_r_a_vx;
+            let t21 = 0.16029825982372198f64 * humerus_r_a_vx;
+            let t22 = 0.16029825982372198f64 * elbow_fe_a_vy;
+            let t23 = 0.008711861f64 * elbow_fe_a_vx;
+            let t24 = t22 + t23;
+            let t25 = elbow_fe_a_vx * 1.7423722f64;
+            let t26 = elbow_fe_a_vy * 1.7423722f64;
+            let t27 = humerus_r_a_vx * 1.7423722f64;
+            (elbow_fe_a_vx, elbow_fe_a_vy, t20, t21, t24, t25, t26, t27)
+        };
+        let (wrist_r_a_vx, wrist_r_a_vy, t32, t33, t34, t35, t36) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t28 = c_wr * humerus_r_a_vx;
+            let t29 = s_wr * elbow_fe_a_vy;
+            let wrist_r_a_vx = t28 + t29;
+            let t30 = s_wr * humerus_r_a_vx;
+            let t31 = c_wr * elbow_fe_a_vy;
+            let wrist_r_a_vy = t31 - t30;
+            let t32 = 0.05783800000000001f64 * wrist_r_a_vy;
+            let t33 = 0.05783800000000001f64 * wrist_r_a_vx;
+            let t34 = wrist_r_a_vx * 2.1032f64;
+            let t35 = wrist_r_a_vy * 2.1032f64;
+            let t36 = elbow_fe_a_vx * 2.1032f64;
+            (wrist_r_a_vx, wrist_r_a_vy, t32, t33, t34, t35, t36)
+        };
+        let (
+            wrist_fe_f_ny,
+            wrist_fe_f_nz,
+            wrist_fe_f_fx,
+            wrist_fe_f_fy,
+            wrist_fe_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t37 = c_wfe * elbow_fe_a_vx;
+            let t38 = s_wfe * wrist_r_a_vx;
+            let wrist_fe_a_vx = t37 + t38;
+            let t39 = s_wfe * elbow_fe_a_vx;
+            let t40 = c_wfe * wrist_r_a_vx;
+            let wrist_fe_a_vy = t40 - t39;
+            let wrist_fe_f_ny = 0.038686875f64 * wrist_r_a_vy;
+            let wrist_fe_f_nz = 0.038686875f64 * wrist_fe_a_vy;
+            let wrist_fe_f_fx = wrist_fe_a_vx * 1.547475f64;
+            let wrist_fe_f_fy = wrist_fe_a_vy * 1.547475f64;
+            let wrist_fe_f_fz = wrist_r_a_vy * 1.547475f64;
+            (wrist_fe_f_ny, wrist_fe_f_nz, wrist_fe_f_fx, wrist_fe_f_fy, wrist_fe_f_fz)
+        };
+        let (
+            wrist_r_f_nz,
+            wrist_r_f_nx,
+            wrist_r_f_ny,
+            wrist_r_f_fx,
+            wrist_r_f_fy,
+            wrist_r_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t41 = c_wfe * wrist_fe_f_fx;
+            let t42 = s_wfe * wrist_fe_f_fy;
+            let t43 = t41 - t42;
+            let t44 = s_wfe * wrist_fe_f_fx;
+            let t45 = c_wfe * wrist_fe_f_fy;
+            let t46 = t44 + t45;
+            let t47 = s_wfe * wrist_fe_f_ny;
+            let t48 = c_wfe * wrist_fe_f_ny;
+            let t49 = 0.184f64 * wrist_fe_f_fz;
+            let t50 = 0.184f64 * t46;
+            let t51 = 0.02075f64 * t43;
+            let t52 = t50 - t51;
+            let t53 = 0.02075f64 * wrist_fe_f_fz;
+            let t54 = t48 + t49;
+            let t55 = wrist_fe_f_nz + t52;
+            let wrist_r_f_nz = t47 + t53;
+            let wrist_r_f_nx = t32 + t54;
+            let wrist_r_f_ny = t33 + t55;
+            let wrist_r_f_fx = t34 + t46;
+            let wrist_r_f_fy = t35 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t36 + t43;
+            (
+                wrist_r_f_nz,
+                wrist_r_f_nx,
+                wrist_r_f_ny,
+                wrist_r_f_fx,
+                wrist_r_f_fy,
+                wrist_r_f_fz,
+            )
+        };
+        let (
+            elbow_fe_f_nx,
+            elbow_fe_f_ny,
+            elbow_fe_f_nz,
+            elbow_fe_f_fx,
+            elbow_fe_f_fy,
+            elbow_fe_f_fz,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t56 = c_wr * wrist_r_f_fx;
+            let t57 = s_wr * wrist_r_f_fy;
+            let t58 = t56 - t57;
+            let t59 = s_wr * wrist_r_f_fx;
+            let t60 = c_wr * wrist_r_f_fy;
+            let t61 = t59 + t60;
+            let t62 = c_wr * wrist_r_f_nx;
+            let t63 = s_wr * wrist_r_f_ny;
+            let t64 = t62 + t63;
+            let t65 = s_wr * wrist_r_f_nx;
+            let t66 = c_wr * wrist_r_f_ny;
+            let t67 = t66 - t65;
+            let t68 = 0.112f64 * t58;
+            let t69 = 0.112f64 * t61;
+            let t70 = t67 + t68;
+            let t71 = t64 + t69;
+            let elbow_fe_f_nx = t20 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t21 + t70;
+            let elbow_fe_f_nz = t24 + t71;
+            let elbow_fe_f_fx = t25 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t26 + t61;
+            let elbow_fe_f_fz = t27 + t58;
+            (
+                elbow_fe_f_nx,
+                elbow_fe_f_ny,
+                elbow_fe_f_nz,
+                elbow_fe_f_fx,
+                elbow_fe_f_fy,
+                elbow_fe_f_fz,
+            )
+        };
+        let (
+            humerus_r_f_nx,
+            humerus_r_f_ny,
+            humerus_r_f_nz,
+            humerus_r_f_fx,
+            humerus_r_f_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t72 = s_efe * elbow_fe_f_fx;
+            let t73 = c_efe * elbow_fe_f_fy;
+            let t74 = t72 + t73;
+            let t75 = c_efe * elbow_fe_f_nx;
+            let t76 = s_efe * elbow_fe_f_ny;
+            let t77 = t75 - t76;
+            let t78 = s_efe * elbow_fe_f_nx;
+            let t79 = c_efe * elbow_fe_f_ny;
+            let t80 = t78 + t79;
+            let t81 = 0.304f64 * t74;
+            let t82 = 0.304f64 * elbow_fe_f_fz;
+            let t83 = elbow_fe_f_nz + t81;
+            let t84 = t80 + t82;
+            let humerus_r_f_nx = t7 - t83;
+            let humerus_r_f_ny = t10 + t84;
+            let humerus_r_f_nz = t77 - t13;
+            let humerus_r_f_fx = t14 + elbow_fe_f_fz;
+            let humerus_r_f_fy = t15 + t74;
+            (
+                humerus_r_f_nx,
+                humerus_r_f_ny,
+                humerus_r_f_nz,
+                humerus_r_f_fx,
+                humerus_r_f_fy,
+            )
+        };
+        let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t85 = c_hr * humerus_r_f_fx;
+            let t86 = s_hr * humerus_r_f_fy;
+            let shoulder_fe_f_fz = t85 - t86;
+            let t87 = s_hr * humerus_r_f_fx;
+            let t88 = c_hr * humerus_r_f_fy;
+            let t89 = t87 + t88;
+            let t90 = c_hr * humerus_r_f_nx;
+            let t91 = s_hr * humerus_r_f_ny;
+            let t92 = t90 - t91;
+            let t93 = s_hr * humerus_r_f_nx;
+            let t94 = c_hr * humerus_r_f_ny;
+            let t95 = t93 + t94;
+            let t96 = 0.112f64 * shoulder_fe_f_fz;
+            let t97 = 0.112f64 * t89;
+            let t98 = t95 + t96;
+            let t99 = t97 - t92;
+            let shoulder_fe_f_nx = humerus_r_f_nz - t0;
+            let shoulder_fe_f_ny = t1 + t98;
+            let shoulder_fe_f_nz = t4 + t99;
+            (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
+        };
+        let shoulder_aa_f_nz = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t100 = s_sfe * shoulder_fe_f_nx;
+            let t101 = c_sfe * shoulder_fe_f_ny;
+            let shoulder_aa_f_nz = t100 + t101;
+            shoulder_aa_f_nz
+        };
         ::hya_core::JointVector::<
             6,
         >::from([
@@ -1152,688 +1540,923 @@ impl ::hya_core::Dynamics<6> for Hya {
         q: &::hya_core::JointVector<6>,
         qd: &::hya_core::JointVector<6>,
     ) -> ::hya_core::JointVector<6> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let qd_saa = qd[0];
-        let qd_sfe = qd[1];
-        let qd_hr = qd[2];
-        let qd_efe = qd[3];
-        let qd_wr = qd[4];
-        let qd_wfe = qd[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let shoulder_fe_v_wx = s_sfe * qd_saa;
-        let shoulder_fe_v_wy = c_sfe * qd_saa;
-        let shoulder_fe_a_wx = shoulder_fe_v_wy * qd_sfe;
-        let shoulder_fe_a_wy = shoulder_fe_v_wx * qd_sfe;
-        let t0 = 0.03900299600125622f64 * shoulder_fe_a_wx;
-        let t1 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
-        let t2 = t0 - t1;
-        let t3 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
-        let t4 = 0.08585553000239696f64 * shoulder_fe_a_wy;
-        let t5 = t3 - t4;
-        let t6 = 0.02285162700433904f64 * shoulder_fe_a_wx;
-        let t7 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
-        let t8 = t7 - t6;
-        let t9 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-        let t10 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
-        let t11 = t9 + t10;
-        let t12 = 0.02285162700433904f64 * qd_sfe;
-        let t13 = t11 - t12;
-        let t14 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-        let t15 = 0.08585553000239696f64 * shoulder_fe_v_wy;
-        let t16 = t14 + t15;
-        let t17 = 0.0027519999999057617f64 * qd_sfe;
-        let t18 = t16 - t17;
-        let t19 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-        let t20 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
-        let t21 = t19 + t20;
-        let t22 = 0.05139352799812063f64 * qd_sfe;
-        let t23 = t22 - t21;
-        let t24 = shoulder_fe_v_wy * t23;
-        let t25 = qd_sfe * t18;
-        let t26 = t24 - t25;
-        let t27 = qd_sfe * t13;
-        let t28 = shoulder_fe_v_wx * t23;
-        let t29 = t27 - t28;
-        let t30 = shoulder_fe_v_wx * t18;
-        let t31 = shoulder_fe_v_wy * t13;
-        let t32 = t30 - t31;
-        let t33 = t2 + t26;
-        let t34 = t5 + t29;
-        let t35 = t8 + t32;
-        // ── link `Humerus_R`, joint `HR` (base to tip)
-        let t36 = 0.112f64 * qd_sfe;
-        let t37 = 0.112f64 * shoulder_fe_v_wy;
-        let t38 = c_hr * qd_sfe;
-        let t39 = s_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wx = t39 - t38;
-        let t40 = s_hr * qd_sfe;
-        let t41 = c_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wy = t40 + t41;
-        let t42 = c_hr * t37;
-        let t43 = s_hr * t36;
-        let humerus_r_v_vx = t42 + t43;
-        let t44 = s_hr * t37;
-        let t45 = c_hr * t36;
-        let humerus_r_v_vy = t45 - t44;
-        let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-        let t46 = 0.112f64 * shoulder_fe_a_wy;
-        let t47 = s_hr * shoulder_fe_a_wy;
-        let t48 = c_hr * shoulder_fe_a_wy;
-        let t49 = c_hr * t46;
-        let t50 = s_hr * t46;
-        let t51 = humerus_r_v_wy * qd_hr;
-        let t52 = humerus_r_v_wx * qd_hr;
-        let t53 = humerus_r_v_vy * qd_hr;
-        let t54 = humerus_r_v_vx * qd_hr;
-        let humerus_r_a_wx = t51 - t47;
-        let humerus_r_a_wy = t48 + t52;
-        let humerus_r_a_vx = t53 - t49;
-        let humerus_r_a_vy = t50 - t54;
-        let t55 = 0.20236395000387197f64 * humerus_r_a_wx;
-        let t56 = 0.000053999980001054f64 * humerus_r_a_wy;
-        let t57 = t55 - t56;
-        let t58 = 0.011715294995083824f64 * shoulder_fe_a_wx;
-        let t59 = t57 - t58;
-        let t60 = 0.000053999980001054f64 * humerus_r_a_wx;
-        let t61 = 0.20986895000353661f64 * humerus_r_a_wy;
-        let t62 = t60 - t61;
-        let t63 = 0.0037997813999599995f64 * shoulder_fe_a_wx;
-        let t64 = t62 - t63;
-        let t65 = 0.011715294995083824f64 * humerus_r_a_wx;
-        let t66 = 0.0037997813999599995f64 * humerus_r_a_wy;
-        let t67 = t66 - t65;
-        let t68 = 0.01032999899926462f64 * shoulder_fe_a_wx;
-        let t69 = t67 + t68;
-        let t70 = 0.6479671119999999f64 * humerus_r_a_vy;
-        let t71 = 0.6479671119999999f64 * humerus_r_a_vx;
-        let t72 = 0.0055615274403f64 * humerus_r_a_vy;
-        let t73 = 0.014380859999999999f64 * humerus_r_a_vx;
-        let t74 = t72 + t73;
-        let t75 = humerus_r_a_vx * 2.327f64;
-        let t76 = humerus_r_a_vy * 2.327f64;
-        let t77 = 0.014380859999999999f64 * shoulder_fe_a_wx;
-        let t78 = 0.6479671119999999f64 * humerus_r_a_wy;
-        let t79 = t77 + t78;
-        let t80 = 0.6479671119999999f64 * humerus_r_a_wx;
-        let t81 = 0.0055615274403f64 * shoulder_fe_a_wx;
-        let t82 = t80 + t81;
-        let t83 = t59 - t70;
-        let t84 = t64 + t71;
-        let t85 = t69 - t74;
-        let t86 = t75 - t79;
-        let t87 = t76 - t82;
-        let t88 = 0.20236395000387197f64 * humerus_r_v_wx;
-        let t89 = 0.000053999980001054f64 * humerus_r_v_wy;
-        let t90 = t88 + t89;
-        let t91 = 0.011715294995083824f64 * humerus_r_v_wz;
-        let t92 = t90 - t91;
-        let t93 = 0.000053999980001054f64 * humerus_r_v_wx;
-        let t94 = 0.20986895000353661f64 * humerus_r_v_wy;
-        let t95 = t93 + t94;
-        let t96 = 0.0037997813999599995f64 * humerus_r_v_wz;
-        let t97 = t95 - t96;
-        let t98 = 0.011715294995083824f64 * humerus_r_v_wx;
-        let t99 = 0.0037997813999599995f64 * humerus_r_v_wy;
-        let t100 = t98 + t99;
-        let t101 = 0.01032999899926462f64 * humerus_r_v_wz;
-        let t102 = t101 - t100;
-        let t103 = 0.6479671119999999f64 * humerus_r_v_vy;
-        let t104 = 0.6479671119999999f64 * humerus_r_v_vx;
-        let t105 = 0.0055615274403f64 * humerus_r_v_vy;
-        let t106 = 0.014380859999999999f64 * humerus_r_v_vx;
-        let t107 = t105 + t106;
-        let t108 = humerus_r_v_vx * 2.327f64;
-        let t109 = humerus_r_v_vy * 2.327f64;
-        let t110 = 0.014380859999999999f64 * humerus_r_v_wz;
-        let t111 = 0.6479671119999999f64 * humerus_r_v_wy;
-        let t112 = t110 - t111;
-        let t113 = 0.6479671119999999f64 * humerus_r_v_wx;
-        let t114 = 0.0055615274403f64 * humerus_r_v_wz;
-        let t115 = t113 + t114;
-        let t116 = 0.0055615274403f64 * humerus_r_v_wy;
-        let t117 = 0.014380859999999999f64 * humerus_r_v_wx;
-        let t118 = t116 + t117;
-        let t119 = t92 - t103;
-        let t120 = t97 + t104;
-        let t121 = t102 - t107;
-        let t122 = t108 - t112;
-        let t123 = t109 - t115;
-        let t124 = humerus_r_v_wy * t121;
-        let t125 = humerus_r_v_wz * t120;
-        let t126 = t124 - t125;
-        let t127 = humerus_r_v_wz * t119;
-        let t128 = humerus_r_v_wx * t121;
-        let t129 = t127 - t128;
-        let t130 = humerus_r_v_wx * t120;
-        let t131 = humerus_r_v_wy * t119;
-        let t132 = t130 - t131;
-        let t133 = humerus_r_v_vy * t118;
-        let t134 = humerus_r_v_vx * t118;
-        let t135 = humerus_r_v_vx * t123;
-        let t136 = humerus_r_v_vy * t122;
-        let t137 = t135 - t136;
-        let t138 = t126 + t133;
-        let t139 = t129 - t134;
-        let t140 = t132 + t137;
-        let t141 = humerus_r_v_wy * t118;
-        let t142 = humerus_r_v_wz * t123;
-        let t143 = t141 - t142;
-        let t144 = humerus_r_v_wz * t122;
-        let t145 = humerus_r_v_wx * t118;
-        let t146 = t144 - t145;
-        let t147 = t83 + t138;
-        let t148 = t84 + t139;
-        let t149 = t85 + t140;
-        let t150 = t86 + t143;
-        let t151 = t87 + t146;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t152 = 0.304f64 * humerus_r_v_wy;
-        let t153 = 0.304f64 * humerus_r_v_wx;
-        let elbow_fe_v_vz = humerus_r_v_vx + t152;
-        let t154 = humerus_r_v_vy - t153;
-        let t155 = c_efe * humerus_r_v_wz;
-        let t156 = s_efe * humerus_r_v_wy;
-        let elbow_fe_v_wx = t155 + t156;
-        let t157 = s_efe * humerus_r_v_wz;
-        let t158 = c_efe * humerus_r_v_wy;
-        let elbow_fe_v_wy = t158 - t157;
-        let elbow_fe_v_vx = s_efe * t154;
-        let elbow_fe_v_vy = c_efe * t154;
-        let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-        let t159 = 0.304f64 * humerus_r_a_wy;
-        let t160 = 0.304f64 * humerus_r_a_wx;
-        let elbow_fe_a_vz = humerus_r_a_vx - t159;
-        let t161 = humerus_r_a_vy - t160;
-        let t162 = c_efe * shoulder_fe_a_wx;
-        let t163 = s_efe * humerus_r_a_wy;
-        let t164 = t162 - t163;
-        let t165 = s_efe * shoulder_fe_a_wx;
-        let t166 = c_efe * humerus_r_a_wy;
-        let t167 = t165 + t166;
-        let t168 = s_efe * t161;
-        let t169 = c_efe * t161;
-        let t170 = elbow_fe_v_wy * qd_efe;
-        let t171 = elbow_fe_v_wx * qd_efe;
-        let t172 = elbow_fe_v_vy * qd_efe;
-        let t173 = elbow_fe_v_vx * qd_efe;
-        let elbow_fe_a_wx = t164 + t170;
-        let elbow_fe_a_wy = t167 + t171;
-        let elbow_fe_a_vx = t168 + t172;
-        let elbow_fe_a_vy = t169 - t173;
-        let t174 = 0.081661000005f64 * elbow_fe_a_wx;
-        let t175 = 0.00368572840011861f64 * elbow_fe_a_wy;
-        let t176 = t174 - t175;
-        let t177 = 0.0002120000299f64 * humerus_r_a_wx;
-        let t178 = t176 + t177;
-        let t179 = 0.00368572840011861f64 * elbow_fe_a_wx;
-        let t180 = 0.018284489999765022f64 * elbow_fe_a_wy;
-        let t181 = t179 - t180;
-        let t182 = 0.002292000208f64 * humerus_r_a_wx;
-        let t183 = t181 + t182;
-        let t184 = 0.0002120000299f64 * elbow_fe_a_wx;
-        let t185 = 0.002292000208f64 * elbow_fe_a_wy;
-        let t186 = t185 - t184;
-        let t187 = 0.09570849000176501f64 * humerus_r_a_wx;
-        let t188 = t186 - t187;
-        let t189 = 0.008711861f64 * elbow_fe_a_vz;
-        let t190 = 0.16029825982372198f64 * elbow_fe_a_vz;
-        let t191 = 0.16029825982372198f64 * elbow_fe_a_vy;
-        let t192 = 0.008711861f64 * elbow_fe_a_vx;
-        let t193 = t191 + t192;
-        let t194 = elbow_fe_a_vx * 1.7423722f64;
-        let t195 = elbow_fe_a_vy * 1.7423722f64;
-        let t196 = elbow_fe_a_vz * 1.7423722f64;
-        let t197 = 0.008711861f64 * humerus_r_a_wx;
-        let t198 = 0.16029825982372198f64 * humerus_r_a_wx;
-        let t199 = 0.16029825982372198f64 * elbow_fe_a_wy;
-        let t200 = 0.008711861f64 * elbow_fe_a_wx;
-        let t201 = t200 - t199;
-        let t202 = t178 + t189;
-        let t203 = t183 + t190;
-        let t204 = t188 + t193;
-        let t205 = t194 - t197;
-        let t206 = t195 - t198;
-        let t207 = t196 + t201;
-        let t208 = 0.081661000005f64 * elbow_fe_v_wx;
-        let t209 = 0.00368572840011861f64 * elbow_fe_v_wy;
-        let t210 = t208 + t209;
-        let t211 = 0.0002120000299f64 * elbow_fe_v_wz;
-        let t212 = t210 - t211;
-        let t213 = 0.00368572840011861f64 * elbow_fe_v_wx;
-        let t214 = 0.018284489999765022f64 * elbow_fe_v_wy;
-        let t215 = t213 + t214;
-        let t216 = 0.002292000208f64 * elbow_fe_v_wz;
-        let t217 = t215 - t216;
-        let t218 = 0.0002120000299f64 * elbow_fe_v_wx;
-        let t219 = 0.002292000208f64 * elbow_fe_v_wy;
-        let t220 = t218 + t219;
-        let t221 = 0.09570849000176501f64 * elbow_fe_v_wz;
-        let t222 = t221 - t220;
-        let t223 = 0.008711861f64 * elbow_fe_v_vz;
-        let t224 = 0.16029825982372198f64 * elbow_fe_v_vz;
-        let t225 = 0.16029825982372198f64 * elbow_fe_v_vy;
-        let t226 = 0.008711861f64 * elbow_fe_v_vx;
-        let t227 = t225 + t226;
-        let t228 = elbow_fe_v_vx * 1.7423722f64;
-        let t229 = elbow_fe_v_vy * 1.7423722f64;
-        let t230 = elbow_fe_v_vz * 1.7423722f64;
-        let t231 = 0.008711861f64 * elbow_fe_v_wz;
-        let t232 = 0.16029825982372198f64 * elbow_fe_v_wz;
-        let t233 = 0.16029825982372198f64 * elbow_fe_v_wy;
-        let t234 = 0.008711861f64 * elbow_fe_v_wx;
-        let t235 = t233 + t234;
-        let t236 = t212 + t223;
-        let t237 = t217 + t224;
-        let t238 = t222 + t227;
-        let t239 = t228 + t231;
-        let t240 = t229 + t232;
-        let t241 = t230 + t235;
-        let t242 = elbow_fe_v_wy * t238;
-        let t243 = elbow_fe_v_wz * t237;
-        let t244 = t242 - t243;
-        let t245 = elbow_fe_v_wz * t236;
-        let t246 = elbow_fe_v_wx * t238;
-        let t247 = t245 - t246;
-        let t248 = elbow_fe_v_wx * t237;
-        let t249 = elbow_fe_v_wy * t236;
-        let t250 = t248 - t249;
-        let t251 = elbow_fe_v_vy * t241;
-        let t252 = elbow_fe_v_vz * t240;
-        let t253 = t252 - t251;
-        let t254 = elbow_fe_v_vz * t239;
-        let t255 = elbow_fe_v_vx * t241;
-        let t256 = t255 - t254;
-        let t257 = elbow_fe_v_vx * t240;
-        let t258 = elbow_fe_v_vy * t239;
-        let t259 = t257 - t258;
-        let t260 = t244 + t253;
-        let t261 = t247 + t256;
-        let t262 = t250 + t259;
-        let t263 = elbow_fe_v_wy * t241;
-        let t264 = elbow_fe_v_wz * t240;
-        let t265 = t263 + t264;
-        let t266 = elbow_fe_v_wz * t239;
-        let t267 = elbow_fe_v_wx * t241;
-        let t268 = t266 + t267;
-        let t269 = elbow_fe_v_wx * t240;
-        let t270 = elbow_fe_v_wy * t239;
-        let t271 = t269 - t270;
-        let t272 = t202 + t260;
-        let t273 = t203 + t261;
-        let t274 = t204 + t262;
-        let t275 = t205 - t265;
-        let t276 = t206 + t268;
-        let t277 = t271 - t207;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t278 = 0.112f64 * elbow_fe_v_wz;
-        let t279 = 0.112f64 * elbow_fe_v_wy;
-        let t280 = elbow_fe_v_vy + t278;
-        let t281 = elbow_fe_v_vz + t279;
-        let t282 = c_wr * elbow_fe_v_wz;
-        let t283 = s_wr * elbow_fe_v_wy;
-        let wrist_r_v_wx = t283 - t282;
-        let t284 = s_wr * elbow_fe_v_wz;
-        let t285 = c_wr * elbow_fe_v_wy;
-        let wrist_r_v_wy = t284 + t285;
-        let t286 = c_wr * t281;
-        let t287 = s_wr * t280;
-        let wrist_r_v_vx = t286 + t287;
-        let t288 = s_wr * t281;
-        let t289 = c_wr * t280;
-        let wrist_r_v_vy = t289 - t288;
-        let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-        let t290 = 0.112f64 * humerus_r_a_wx;
-        let t291 = 0.112f64 * elbow_fe_a_wy;
-        let t292 = elbow_fe_a_vy - t290;
-        let t293 = t291 - elbow_fe_a_vz;
-        let t294 = c_wr * humerus_r_a_wx;
-        let t295 = s_wr * elbow_fe_a_wy;
-        let t296 = t294 - t295;
-        let t297 = s_wr * humerus_r_a_wx;
-        let t298 = c_wr * elbow_fe_a_wy;
-        let t299 = t297 + t298;
-        let t300 = c_wr * t293;
-        let t301 = s_wr * t292;
-        let t302 = t301 - t300;
-        let t303 = s_wr * t293;
-        let t304 = c_wr * t292;
-        let t305 = t303 + t304;
-        let t306 = wrist_r_v_wy * qd_wr;
-        let t307 = wrist_r_v_wx * qd_wr;
-        let t308 = wrist_r_v_vy * qd_wr;
-        let t309 = wrist_r_v_vx * qd_wr;
-        let wrist_r_a_wx = t296 + t306;
-        let wrist_r_a_wy = t299 + t307;
-        let wrist_r_a_vx = t302 + t308;
-        let wrist_r_a_vy = t305 - t309;
-        let t310 = 0.019431999999999998f64 * wrist_r_a_wx;
-        let t311 = 0.001387f64 * wrist_r_a_wy;
-        let t312 = t310 + t311;
-        let t313 = 0.012652f64 * elbow_fe_a_wx;
-        let t314 = t312 - t313;
-        let t315 = 0.001387f64 * wrist_r_a_wx;
-        let t316 = 0.029115f64 * wrist_r_a_wy;
-        let t317 = t315 + t316;
-        let t318 = 0.001243f64 * elbow_fe_a_wx;
-        let t319 = t317 + t318;
-        let t320 = 0.012652f64 * wrist_r_a_wx;
-        let t321 = 0.001243f64 * wrist_r_a_wy;
-        let t322 = t321 - t320;
-        let t323 = 0.011046f64 * elbow_fe_a_wx;
-        let t324 = t322 + t323;
-        let t325 = 0.05783800000000001f64 * wrist_r_a_vy;
-        let t326 = 0.05783800000000001f64 * wrist_r_a_vx;
-        let t327 = wrist_r_a_vx * 2.1032f64;
-        let t328 = wrist_r_a_vy * 2.1032f64;
-        let t329 = elbow_fe_a_vx * 2.1032f64;
-        let t330 = 0.05783800000000001f64 * wrist_r_a_wy;
-        let t331 = 0.05783800000000001f64 * wrist_r_a_wx;
-        let t332 = t314 - t325;
-        let t333 = t326 - t319;
-        let t334 = t327 - t330;
-        let t335 = t328 - t331;
-        let t336 = 0.019431999999999998f64 * wrist_r_v_wx;
-        let t337 = 0.001387f64 * wrist_r_v_wy;
-        let t338 = t336 - t337;
-        let t339 = 0.012652f64 * wrist_r_v_wz;
-        let t340 = t338 - t339;
-        let t341 = 0.001387f64 * wrist_r_v_wx;
-        let t342 = 0.029115f64 * wrist_r_v_wy;
-        let t343 = t342 - t341;
-        let t344 = 0.001243f64 * wrist_r_v_wz;
-        let t345 = t343 - t344;
-        let t346 = 0.012652f64 * wrist_r_v_wx;
-        let t347 = 0.001243f64 * wrist_r_v_wy;
-        let t348 = t346 + t347;
-        let t349 = 0.011046f64 * wrist_r_v_wz;
-        let t350 = t349 - t348;
-        let t351 = 0.05783800000000001f64 * wrist_r_v_vy;
-        let t352 = 0.05783800000000001f64 * wrist_r_v_vx;
-        let t353 = wrist_r_v_vx * 2.1032f64;
-        let t354 = wrist_r_v_vy * 2.1032f64;
-        let t355 = elbow_fe_v_vx * 2.1032f64;
-        let t356 = 0.05783800000000001f64 * wrist_r_v_wy;
-        let t357 = 0.05783800000000001f64 * wrist_r_v_wx;
-        let t358 = t340 - t351;
-        let t359 = t345 + t352;
-        let t360 = t353 + t356;
-        let t361 = t354 - t357;
-        let t362 = wrist_r_v_wy * t350;
-        let t363 = wrist_r_v_wz * t359;
-        let t364 = t362 - t363;
-        let t365 = wrist_r_v_wz * t358;
-        let t366 = wrist_r_v_wx * t350;
-        let t367 = t365 - t366;
-        let t368 = wrist_r_v_wx * t359;
-        let t369 = wrist_r_v_wy * t358;
-        let t370 = t368 - t369;
-        let t371 = wrist_r_v_vy * t355;
-        let t372 = elbow_fe_v_vx * t361;
-        let t373 = t371 - t372;
-        let t374 = elbow_fe_v_vx * t360;
-        let t375 = wrist_r_v_vx * t355;
-        let t376 = t374 - t375;
-        let t377 = wrist_r_v_vx * t361;
-        let t378 = wrist_r_v_vy * t360;
-        let t379 = t377 - t378;
-        let t380 = t364 + t373;
-        let t381 = t367 + t376;
-        let t382 = t370 + t379;
-        let t383 = wrist_r_v_wy * t355;
-        let t384 = wrist_r_v_wz * t361;
-        let t385 = t383 - t384;
-        let t386 = wrist_r_v_wz * t360;
-        let t387 = wrist_r_v_wx * t355;
-        let t388 = t386 - t387;
-        let t389 = wrist_r_v_wx * t361;
-        let t390 = wrist_r_v_wy * t360;
-        let t391 = t389 - t390;
-        let t392 = t332 + t380;
-        let t393 = t333 + t381;
-        let t394 = t324 + t382;
-        let t395 = t334 + t385;
-        let t396 = t335 + t388;
-        let t397 = t329 + t391;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t398 = 0.184f64 * wrist_r_v_wy;
-        let t399 = 0.184f64 * wrist_r_v_wx;
-        let t400 = 0.02075f64 * wrist_r_v_wz;
-        let t401 = t399 - t400;
-        let t402 = 0.02075f64 * wrist_r_v_wy;
-        let t403 = wrist_r_v_vx + t398;
-        let wrist_fe_v_vz = wrist_r_v_vy - t401;
-        let t404 = elbow_fe_v_vx - t402;
-        let t405 = c_wfe * wrist_r_v_wz;
-        let t406 = s_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wx = t405 + t406;
-        let t407 = s_wfe * wrist_r_v_wz;
-        let t408 = c_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wy = t408 - t407;
-        let t409 = c_wfe * t404;
-        let t410 = s_wfe * t403;
-        let wrist_fe_v_vx = t409 + t410;
-        let t411 = s_wfe * t404;
-        let t412 = c_wfe * t403;
-        let wrist_fe_v_vy = t412 - t411;
-        let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-        let t413 = 0.184f64 * wrist_r_a_wy;
-        let t414 = 0.184f64 * wrist_r_a_wx;
-        let t415 = 0.02075f64 * elbow_fe_a_wx;
-        let t416 = t414 - t415;
-        let t417 = 0.02075f64 * wrist_r_a_wy;
-        let t418 = wrist_r_a_vx - t413;
-        let wrist_fe_a_vz = wrist_r_a_vy - t416;
-        let t419 = elbow_fe_a_vx + t417;
-        let t420 = c_wfe * elbow_fe_a_wx;
-        let t421 = s_wfe * wrist_r_a_wx;
-        let t422 = t420 + t421;
-        let t423 = s_wfe * elbow_fe_a_wx;
-        let t424 = c_wfe * wrist_r_a_wx;
-        let t425 = t424 - t423;
-        let t426 = c_wfe * t419;
-        let t427 = s_wfe * t418;
-        let t428 = t426 + t427;
-        let t429 = s_wfe * t419;
-        let t430 = c_wfe * t418;
-        let t431 = t430 - t429;
-        let t432 = wrist_fe_v_wy * qd_wfe;
-        let t433 = wrist_fe_v_wx * qd_wfe;
-        let t434 = wrist_fe_v_vy * qd_wfe;
-        let t435 = wrist_fe_v_vx * qd_wfe;
-        let wrist_fe_a_wx = t422 + t432;
-        let wrist_fe_a_wy = t425 - t433;
-        let wrist_fe_a_vx = t428 + t434;
-        let wrist_fe_a_vy = t431 - t435;
-        let t436 = 0.010737f64 * wrist_fe_a_wx;
-        let t437 = 0.000198f64 * wrist_fe_a_wy;
-        let t438 = t436 + t437;
-        let t439 = 0.000015f64 * wrist_r_a_wy;
-        let t440 = t438 - t439;
-        let t441 = 0.000198f64 * wrist_fe_a_wx;
-        let t442 = 0.0032270000000000003f64 * wrist_fe_a_wy;
-        let t443 = t441 + t442;
-        let t444 = 0.000829f64 * wrist_r_a_wy;
-        let t445 = t443 + t444;
-        let t446 = 0.000015f64 * wrist_fe_a_wx;
-        let t447 = 0.000829f64 * wrist_fe_a_wy;
-        let t448 = t446 - t447;
-        let t449 = 0.009277f64 * wrist_r_a_wy;
-        let t450 = t448 - t449;
-        let t451 = 0.038686875f64 * wrist_fe_a_vz;
-        let t452 = 0.038686875f64 * wrist_fe_a_vy;
-        let t453 = wrist_fe_a_vx * 1.547475f64;
-        let t454 = wrist_fe_a_vy * 1.547475f64;
-        let t455 = wrist_fe_a_vz * 1.547475f64;
-        let t456 = 0.038686875f64 * wrist_r_a_wy;
-        let t457 = 0.038686875f64 * wrist_fe_a_wy;
-        let t458 = t445 - t451;
-        let t459 = t450 + t452;
-        let t460 = t454 - t456;
-        let t461 = t455 - t457;
-        let t462 = 0.010737f64 * wrist_fe_v_wx;
-        let t463 = 0.000198f64 * wrist_fe_v_wy;
-        let t464 = t462 + t463;
-        let t465 = 0.000015f64 * wrist_fe_v_wz;
-        let t466 = t464 + t465;
-        let t467 = 0.000198f64 * wrist_fe_v_wx;
-        let t468 = 0.0032270000000000003f64 * wrist_fe_v_wy;
-        let t469 = t467 + t468;
-        let t470 = 0.000829f64 * wrist_fe_v_wz;
-        let t471 = t469 - t470;
-        let t472 = 0.000015f64 * wrist_fe_v_wx;
-        let t473 = 0.000829f64 * wrist_fe_v_wy;
-        let t474 = t472 - t473;
-        let t475 = 0.009277f64 * wrist_fe_v_wz;
-        let t476 = t474 + t475;
-        let t477 = 0.038686875f64 * wrist_fe_v_vz;
-        let t478 = 0.038686875f64 * wrist_fe_v_vy;
-        let t479 = wrist_fe_v_vx * 1.547475f64;
-        let t480 = wrist_fe_v_vy * 1.547475f64;
-        let t481 = wrist_fe_v_vz * 1.547475f64;
-        let t482 = 0.038686875f64 * wrist_fe_v_wz;
-        let t483 = 0.038686875f64 * wrist_fe_v_wy;
-        let t484 = t471 - t477;
-        let t485 = t476 + t478;
-        let t486 = t480 + t482;
-        let t487 = t481 - t483;
-        let t488 = wrist_fe_v_wy * t485;
-        let t489 = wrist_fe_v_wz * t484;
-        let t490 = t488 - t489;
-        let t491 = wrist_fe_v_wz * t466;
-        let t492 = wrist_fe_v_wx * t485;
-        let t493 = t491 - t492;
-        let t494 = wrist_fe_v_wx * t484;
-        let t495 = wrist_fe_v_wy * t466;
-        let t496 = t494 - t495;
-        let t497 = wrist_fe_v_vy * t487;
-        let t498 = wrist_fe_v_vz * t486;
-        let t499 = t497 - t498;
-        let t500 = wrist_fe_v_vz * t479;
-        let t501 = wrist_fe_v_vx * t487;
-        let t502 = t500 - t501;
-        let t503 = wrist_fe_v_vx * t486;
-        let t504 = wrist_fe_v_vy * t479;
-        let t505 = t503 - t504;
-        let t506 = t490 + t499;
-        let t507 = t493 + t502;
-        let t508 = t496 + t505;
-        let t509 = wrist_fe_v_wy * t487;
-        let t510 = wrist_fe_v_wz * t486;
-        let t511 = t509 - t510;
-        let t512 = wrist_fe_v_wz * t479;
-        let t513 = wrist_fe_v_wx * t487;
-        let t514 = t512 - t513;
-        let t515 = wrist_fe_v_wx * t486;
-        let t516 = wrist_fe_v_wy * t479;
-        let t517 = t515 - t516;
-        let wrist_fe_f_nx = t440 + t506;
-        let wrist_fe_f_ny = t458 + t507;
-        let wrist_fe_f_nz = t459 + t508;
-        let wrist_fe_f_fx = t453 + t511;
-        let wrist_fe_f_fy = t460 + t514;
-        let wrist_fe_f_fz = t461 + t517;
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let t518 = c_wfe * wrist_fe_f_fx;
-        let t519 = s_wfe * wrist_fe_f_fy;
-        let t520 = t518 - t519;
-        let t521 = s_wfe * wrist_fe_f_fx;
-        let t522 = c_wfe * wrist_fe_f_fy;
-        let t523 = t521 + t522;
-        let t524 = c_wfe * wrist_fe_f_nx;
-        let t525 = s_wfe * wrist_fe_f_ny;
-        let t526 = t524 - t525;
-        let t527 = s_wfe * wrist_fe_f_nx;
-        let t528 = c_wfe * wrist_fe_f_ny;
-        let t529 = t527 + t528;
-        let t530 = 0.184f64 * wrist_fe_f_fz;
-        let t531 = 0.184f64 * t523;
-        let t532 = 0.02075f64 * t520;
-        let t533 = t531 - t532;
-        let t534 = 0.02075f64 * wrist_fe_f_fz;
-        let t535 = t529 - t530;
-        let t536 = wrist_fe_f_nz + t533;
-        let t537 = t526 + t534;
-        let wrist_r_f_nx = t392 + t535;
-        let wrist_r_f_ny = t393 + t536;
-        let wrist_r_f_nz = t394 + t537;
-        let wrist_r_f_fx = t395 + t523;
-        let wrist_r_f_fy = t396 + wrist_fe_f_fz;
-        let wrist_r_f_fz = t397 + t520;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let t538 = c_wr * wrist_r_f_fx;
-        let t539 = s_wr * wrist_r_f_fy;
-        let t540 = t538 - t539;
-        let t541 = s_wr * wrist_r_f_fx;
-        let t542 = c_wr * wrist_r_f_fy;
-        let t543 = t541 + t542;
-        let t544 = c_wr * wrist_r_f_nx;
-        let t545 = s_wr * wrist_r_f_ny;
-        let t546 = t544 - t545;
-        let t547 = s_wr * wrist_r_f_nx;
-        let t548 = c_wr * wrist_r_f_ny;
-        let t549 = t547 + t548;
-        let t550 = 0.112f64 * t540;
-        let t551 = 0.112f64 * t543;
-        let t552 = t549 + t550;
-        let t553 = t551 - t546;
-        let elbow_fe_f_nx = t272 + wrist_r_f_nz;
-        let elbow_fe_f_ny = t273 + t552;
-        let elbow_fe_f_nz = t274 + t553;
-        let elbow_fe_f_fx = t275 + wrist_r_f_fz;
-        let elbow_fe_f_fy = t276 + t543;
-        let elbow_fe_f_fz = t277 - t540;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let t554 = s_efe * elbow_fe_f_fx;
-        let t555 = c_efe * elbow_fe_f_fy;
-        let t556 = t554 + t555;
-        let t557 = c_efe * elbow_fe_f_nx;
-        let t558 = s_efe * elbow_fe_f_ny;
-        let t559 = t557 - t558;
-        let t560 = s_efe * elbow_fe_f_nx;
-        let t561 = c_efe * elbow_fe_f_ny;
-        let t562 = t560 + t561;
-        let t563 = 0.304f64 * t556;
-        let t564 = 0.304f64 * elbow_fe_f_fz;
-        let t565 = elbow_fe_f_nz + t563;
-        let t566 = t562 - t564;
-        let humerus_r_f_nx = t147 - t565;
-        let humerus_r_f_ny = t148 + t566;
-        let humerus_r_f_nz = t149 + t559;
-        let humerus_r_f_fx = t150 - elbow_fe_f_fz;
-        let humerus_r_f_fy = t151 + t556;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let t567 = c_hr * humerus_r_f_fx;
-        let t568 = s_hr * humerus_r_f_fy;
-        let t569 = t567 - t568;
-        let t570 = s_hr * humerus_r_f_fx;
-        let t571 = c_hr * humerus_r_f_fy;
-        let t572 = t570 + t571;
-        let t573 = c_hr * humerus_r_f_nx;
-        let t574 = s_hr * humerus_r_f_ny;
-        let t575 = t573 - t574;
-        let t576 = s_hr * humerus_r_f_nx;
-        let t577 = c_hr * humerus_r_f_ny;
-        let t578 = t576 + t577;
-        let t579 = 0.112f64 * t569;
-        let t580 = 0.112f64 * t572;
-        let t581 = t578 + t579;
-        let t582 = t580 - t575;
-        let shoulder_fe_f_nx = t33 + humerus_r_f_nz;
-        let shoulder_fe_f_ny = t34 + t581;
-        let shoulder_fe_f_nz = t35 + t582;
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let t583 = s_sfe * shoulder_fe_f_nx;
-        let t584 = c_sfe * shoulder_fe_f_ny;
-        let shoulder_aa_f_nz = t583 + t584;
+        let (
+            qd_saa,
+            qd_sfe,
+            qd_hr,
+            qd_efe,
+            qd_wr,
+            qd_wfe,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let qd_saa = qd[0];
+            let qd_sfe = qd[1];
+            let qd_hr = qd[2];
+            let qd_efe = qd[3];
+            let qd_wr = qd[4];
+            let qd_wfe = qd[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                qd_saa,
+                qd_sfe,
+                qd_hr,
+                qd_efe,
+                qd_wr,
+                qd_wfe,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
+        let (
+            shoulder_fe_v_wx,
+            shoulder_fe_v_wy,
+            shoulder_fe_a_wx,
+            shoulder_fe_a_wy,
+            t33,
+            t34,
+            t35,
+        ) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_v_wx = s_sfe * qd_saa;
+            let shoulder_fe_v_wy = c_sfe * qd_saa;
+            let shoulder_fe_a_wx = shoulder_fe_v_wy * qd_sfe;
+            let shoulder_fe_a_wy = shoulder_fe_v_wx * qd_sfe;
+            let t0 = 0.03900299600125622f64 * shoulder_fe_a_wx;
+            let t1 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t2 = t0 - t1;
+            let t3 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
+            let t4 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t5 = t3 - t4;
+            let t6 = 0.02285162700433904f64 * shoulder_fe_a_wx;
+            let t7 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
+            let t8 = t7 - t6;
+            let t9 = 0.03900299600125622f64 * shoulder_fe_v_wx;
+            let t10 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t11 = t9 + t10;
+            let t12 = 0.02285162700433904f64 * qd_sfe;
+            let t13 = t11 - t12;
+            let t14 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
+            let t15 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t16 = t14 + t15;
+            let t17 = 0.0027519999999057617f64 * qd_sfe;
+            let t18 = t16 - t17;
+            let t19 = 0.02285162700433904f64 * shoulder_fe_v_wx;
+            let t20 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t21 = t19 + t20;
+            let t22 = 0.05139352799812063f64 * qd_sfe;
+            let t23 = t22 - t21;
+            let t24 = shoulder_fe_v_wy * t23;
+            let t25 = qd_sfe * t18;
+            let t26 = t24 - t25;
+            let t27 = qd_sfe * t13;
+            let t28 = shoulder_fe_v_wx * t23;
+            let t29 = t27 - t28;
+            let t30 = shoulder_fe_v_wx * t18;
+            let t31 = shoulder_fe_v_wy * t13;
+            let t32 = t30 - t31;
+            let t33 = t2 + t26;
+            let t34 = t5 + t29;
+            let t35 = t8 + t32;
+            (
+                shoulder_fe_v_wx,
+                shoulder_fe_v_wy,
+                shoulder_fe_a_wx,
+                shoulder_fe_a_wy,
+                t33,
+                t34,
+                t35,
+            )
+        };
+        let (
+            humerus_r_v_wx,
+            humerus_r_v_wy,
+            humerus_r_v_vx,
+            humerus_r_v_vy,
+            humerus_r_v_wz,
+            humerus_r_a_wx,
+            humerus_r_a_wy,
+            humerus_r_a_vx,
+            humerus_r_a_vy,
+            t147,
+            t148,
+            t149,
+            t150,
+            t151,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t36 = 0.112f64 * qd_sfe;
+            let t37 = 0.112f64 * shoulder_fe_v_wy;
+            let t38 = c_hr * qd_sfe;
+            let t39 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t39 - t38;
+            let t40 = s_hr * qd_sfe;
+            let t41 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t40 + t41;
+            let t42 = c_hr * t37;
+            let t43 = s_hr * t36;
+            let humerus_r_v_vx = t42 + t43;
+            let t44 = s_hr * t37;
+            let t45 = c_hr * t36;
+            let humerus_r_v_vy = t45 - t44;
+            let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
+            let t46 = 0.112f64 * shoulder_fe_a_wy;
+            let t47 = s_hr * shoulder_fe_a_wy;
+            let t48 = c_hr * shoulder_fe_a_wy;
+            let t49 = c_hr * t46;
+            let t50 = s_hr * t46;
+            let t51 = humerus_r_v_wy * qd_hr;
+            let t52 = humerus_r_v_wx * qd_hr;
+            let t53 = humerus_r_v_vy * qd_hr;
+            let t54 = humerus_r_v_vx * qd_hr;
+            let humerus_r_a_wx = t51 - t47;
+            let humerus_r_a_wy = t48 + t52;
+            let humerus_r_a_vx = t53 - t49;
+            let humerus_r_a_vy = t50 - t54;
+            let t55 = 0.20236395000387197f64 * humerus_r_a_wx;
+            let t56 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t57 = t55 - t56;
+            let t58 = 0.011715294995083824f64 * shoulder_fe_a_wx;
+            let t59 = t57 - t58;
+            let t60 = 0.000053999980001054f64 * humerus_r_a_wx;
+            let t61 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t62 = t60 - t61;
+            let t63 = 0.0037997813999599995f64 * shoulder_fe_a_wx;
+            let t64 = t62 - t63;
+            let t65 = 0.011715294995083824f64 * humerus_r_a_wx;
+            let t66 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t67 = t66 - t65;
+            let t68 = 0.01032999899926462f64 * shoulder_fe_a_wx;
+            let t69 = t67 + t68;
+            let t70 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t71 = 0.6479671119999999f64 * humerus_r_a_vx;
+            let t72 = 0.0055615274403f64 * humerus_r_a_vy;
+            let t73 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t74 = t72 + t73;
+            let t75 = humerus_r_a_vx * 2.327f64;
+            let t76 = humerus_r_a_vy * 2.327f64;
+            let t77 = 0.014380859999999999f64 * shoulder_fe_a_wx;
+            let t78 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t79 = t77 + t78;
+            let t80 = 0.6479671119999999f64 * humerus_r_a_wx;
+            let t81 = 0.0055615274403f64 * shoulder_fe_a_wx;
+            let t82 = t80 + t81;
+            let t83 = t59 - t70;
+            let t84 = t64 + t71;
+            let t85 = t69 - t74;
+            let t86 = t75 - t79;
+            let t87 = t76 - t82;
+            let t88 = 0.20236395000387197f64 * humerus_r_v_wx;
+            let t89 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t90 = t88 + t89;
+            let t91 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t92 = t90 - t91;
+            let t93 = 0.000053999980001054f64 * humerus_r_v_wx;
+            let t94 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t95 = t93 + t94;
+            let t96 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t97 = t95 - t96;
+            let t98 = 0.011715294995083824f64 * humerus_r_v_wx;
+            let t99 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t100 = t98 + t99;
+            let t101 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t102 = t101 - t100;
+            let t103 = 0.6479671119999999f64 * humerus_r_v_vy;
+            let t104 = 0.6479671119999999f64 * humerus_r_v_vx;
+            let t105 = 0.0055615274403f64 * humerus_r_v_vy;
+            let t106 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t107 = t105 + t106;
+            let t108 = humerus_r_v_vx * 2.327f64;
+            let t109 = humerus_r_v_vy * 2.327f64;
+            let t110 = 0.014380859999999999f64 * humerus_r_v_wz;
+            let t111 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t112 = t110 - t111;
+            let t113 = 0.6479671119999999f64 * humerus_r_v_wx;
+            let t114 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t115 = t113 + t114;
+            let t116 = 0.0055615274403f64 * humerus_r_v_wy;
+            let t117 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t118 = t116 + t117;
+            let t119 = t92 - t103;
+            let t120 = t97 + t104;
+            let t121 = t102 - t107;
+            let t122 = t108 - t112;
+            let t123 = t109 - t115;
+            let t124 = humerus_r_v_wy * t121;
+            let t125 = humerus_r_v_wz * t120;
+            let t126 = t124 - t125;
+            let t127 = humerus_r_v_wz * t119;
+            let t128 = humerus_r_v_wx * t121;
+            let t129 = t127 - t128;
+            let t130 = humerus_r_v_wx * t120;
+            let t131 = humerus_r_v_wy * t119;
+            let t132 = t130 - t131;
+            let t133 = humerus_r_v_vy * t118;
+            let t134 = humerus_r_v_vx * t118;
+            let t135 = humerus_r_v_vx * t123;
+            let t136 = humerus_r_v_vy * t122;
+            let t137 = t135 - t136;
+            let t138 = t126 + t133;
+            let t139 = t129 - t134;
+            let t140 = t132 + t137;
+            let t141 = humerus_r_v_wy * t118;
+            let t142 = humerus_r_v_wz * t123;
+            let t143 = t141 - t142;
+            let t144 = humerus_r_v_wz * t122;
+            let t145 = humerus_r_v_wx * t118;
+            let t146 = t144 - t145;
+            let t147 = t83 + t138;
+            let t148 = t84 + t139;
+            let t149 = t85 + t140;
+            let t150 = t86 + t143;
+            let t151 = t87 + t146;
+            (
+                humerus_r_v_wx,
+                humerus_r_v_wy,
+                humerus_r_v_vx,
+                humerus_r_v_vy,
+                humerus_r_v_wz,
+                humerus_r_a_wx,
+                humerus_r_a_wy,
+                humerus_r_a_vx,
+                humerus_r_a_vy,
+                t147,
+                t148,
+                t149,
+                t150,
+                t151,
+            )
+        };
+        let (
+            elbow_fe_v_vz,
+            elbow_fe_v_wx,
+            elbow_fe_v_wy,
+            elbow_fe_v_vx,
+            elbow_fe_v_vy,
+            elbow_fe_v_wz,
+            elbow_fe_a_vz,
+            elbow_fe_a_wx,
+            elbow_fe_a_wy,
+            elbow_fe_a_vx,
+            elbow_fe_a_vy,
+            t272,
+            t273,
+            t274,
+            t275,
+            t276,
+            t277,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t152 = 0.304f64 * humerus_r_v_wy;
+            let t153 = 0.304f64 * humerus_r_v_wx;
+            let elbow_fe_v_vz = humerus_r_v_vx + t152;
+            let t154 = humerus_r_v_vy - t153;
+            let t155 = c_efe * humerus_r_v_wz;
+            let t156 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t155 + t156;
+            let t157 = s_efe * humerus_r_v_wz;
+            let t158 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t158 - t157;
+            let elbow_fe_v_vx = s_efe * t154;
+            let elbow_fe_v_vy = c_efe * t154;
+            let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
+            let t159 = 0.304f64 * humerus_r_a_wy;
+            let t160 = 0.304f64 * humerus_r_a_wx;
+            let elbow_fe_a_vz = humerus_r_a_vx - t159;
+            let t161 = humerus_r_a_vy - t160;
+            let t162 = c_efe * shoulder_fe_a_wx;
+            let t163 = s_efe * humerus_r_a_wy;
+            let t164 = t162 - t163;
+            let t165 = s_efe * shoulder_fe_a_wx;
+            let t166 = c_efe * humerus_r_a_wy;
+            let t167 = t165 + t166;
+            let t168 = s_efe * t161;
+            let t169 = c_efe * t161;
+            let t170 = elbow_fe_v_wy * qd_efe;
+            let t171 = elbow_fe_v_wx * qd_efe;
+            let t172 = elbow_fe_v_vy * qd_efe;
+            let t173 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t164 + t170;
+            let elbow_fe_a_wy = t167 + t171;
+            let elbow_fe_a_vx = t168 + t172;
+            let elbow_fe_a_vy = t169 - t173;
+            let t174 = 0.081661000005f64 * elbow_fe_a_wx;
+            let t175 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t176 = t174 - t175;
+            let t177 = 0.0002120000299f64 * humerus_r_a_wx;
+            let t178 = t176 + t177;
+            let t179 = 0.00368572840011861f64 * elbow_fe_a_wx;
+            let t180 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t181 = t179 - t180;
+            let t182 = 0.002292000208f64 * humerus_r_a_wx;
+            let t183 = t181 + t182;
+            let t184 = 0.0002120000299f64 * elbow_fe_a_wx;
+            let t185 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t186 = t185 - t184;
+            let t187 = 0.09570849000176501f64 * humerus_r_a_wx;
+            let t188 = t186 - t187;
+            let t189 = 0.008711861f64 * elbow_fe_a_vz;
+            let t190 = 0.16029825982372198f64 * elbow_fe_a_vz;
+            let t191 = 0.16029825982372198f64 * elbow_fe_a_vy;
+            let t192 = 0.008711861f64 * elbow_fe_a_vx;
+            let t193 = t191 + t192;
+            let t194 = elbow_fe_a_vx * 1.7423722f64;
+            let t195 = elbow_fe_a_vy * 1.7423722f64;
+            let t196 = elbow_fe_a_vz * 1.7423722f64;
+            let t197 = 0.008711861f64 * humerus_r_a_wx;
+            let t198 = 0.16029825982372198f64 * humerus_r_a_wx;
+            let t199 = 0.16029825982372198f64 * elbow_fe_a_wy;
+            let t200 = 0.008711861f64 * elbow_fe_a_wx;
+            let t201 = t200 - t199;
+            let t202 = t178 + t189;
+            let t203 = t183 + t190;
+            let t204 = t188 + t193;
+            let t205 = t194 - t197;
+            let t206 = t195 - t198;
+            let t207 = t196 + t201;
+            let t208 = 0.081661000005f64 * elbow_fe_v_wx;
+            let t209 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t210 = t208 + t209;
+            let t211 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t212 = t210 - t211;
+            let t213 = 0.00368572840011861f64 * elbow_fe_v_wx;
+            let t214 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t215 = t213 + t214;
+            let t216 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t217 = t215 - t216;
+            let t218 = 0.0002120000299f64 * elbow_fe_v_wx;
+            let t219 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t220 = t218 + t219;
+            let t221 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t222 = t221 - t220;
+            let t223 = 0.008711861f64 * elbow_fe_v_vz;
+            let t224 = 0.16029825982372198f64 * elbow_fe_v_vz;
+            let t225 = 0.16029825982372198f64 * elbow_fe_v_vy;
+            let t226 = 0.008711861f64 * elbow_fe_v_vx;
+            let t227 = t225 + t226;
+            let t228 = elbow_fe_v_vx * 1.7423722f64;
+            let t229 = elbow_fe_v_vy * 1.7423722f64;
+            let t230 = elbow_fe_v_vz * 1.7423722f64;
+            let t231 = 0.008711861f64 * elbow_fe_v_wz;
+            let t232 = 0.16029825982372198f64 * elbow_fe_v_wz;
+            let t233 = 0.16029825982372198f64 * elbow_fe_v_wy;
+            let t234 = 0.008711861f64 * elbow_fe_v_wx;
+            let t235 = t233 + t234;
+            let t236 = t212 + t223;
+            let t237 = t217 + t224;
+            let t238 = t222 + t227;
+            let t239 = t228 + t231;
+            let t240 = t229 + t232;
+            let t241 = t230 + t235;
+            let t242 = elbow_fe_v_wy * t238;
+            let t243 = elbow_fe_v_wz * t237;
+            let t244 = t242 - t243;
+            let t245 = elbow_fe_v_wz * t236;
+            let t246 = elbow_fe_v_wx * t238;
+            let t247 = t245 - t246;
+            let t248 = elbow_fe_v_wx * t237;
+            let t249 = elbow_fe_v_wy * t236;
+            let t250 = t248 - t249;
+            let t251 = elbow_fe_v_vy * t241;
+            let t252 = elbow_fe_v_vz * t240;
+            let t253 = t252 - t251;
+            let t254 = elbow_fe_v_vz * t239;
+            let t255 = elbow_fe_v_vx * t241;
+            let t256 = t255 - t254;
+            let t257 = elbow_fe_v_vx * t240;
+            let t258 = elbow_fe_v_vy * t239;
+            let t259 = t257 - t258;
+            let t260 = t244 + t253;
+            let t261 = t247 + t256;
+            let t262 = t250 + t259;
+            let t263 = elbow_fe_v_wy * t241;
+            let t264 = elbow_fe_v_wz * t240;
+            let t265 = t263 + t264;
+            let t266 = elbow_fe_v_wz * t239;
+            let t267 = elbow_fe_v_wx * t241;
+            let t268 = t266 + t267;
+            let t269 = elbow_fe_v_wx * t240;
+            let t270 = elbow_fe_v_wy * t239;
+            let t271 = t269 - t270;
+            let t272 = t202 + t260;
+            let t273 = t203 + t261;
+            let t274 = t204 + t262;
+            let t275 = t205 - t265;
+            let t276 = t206 + t268;
+            let t277 = t271 - t207;
+            (
+                elbow_fe_v_vz,
+                elbow_fe_v_wx,
+                elbow_fe_v_wy,
+                elbow_fe_v_vx,
+                elbow_fe_v_vy,
+                elbow_fe_v_wz,
+                elbow_fe_a_vz,
+                elbow_fe_a_wx,
+                elbow_fe_a_wy,
+                elbow_fe_a_vx,
+                elbow_fe_a_vy,
+                t272,
+                t273,
+                t274,
+                t275,
+                t276,
+                t277,
+            )
+        };
+        let (
+            wrist_r_v_wx,
+            wrist_r_v_wy,
+            wrist_r_v_vx,
+            wrist_r_v_vy,
+            wrist_r_v_wz,
+            wrist_r_a_wx,
+            wrist_r_a_wy,
+            wrist_r_a_vx,
+            wrist_r_a_vy,
+            t392,
+            t393,
+            t394,
+            t395,
+            t396,
+            t397,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t278 = 0.112f64 * elbow_fe_v_wz;
+            let t279 = 0.112f64 * elbow_fe_v_wy;
+            let t280 = elbow_fe_v_vy + t278;
+            let t281 = elbow_fe_v_vz + t279;
+            let t282 = c_wr * elbow_fe_v_wz;
+            let t283 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t283 - t282;
+            let t284 = s_wr * elbow_fe_v_wz;
+            let t285 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t284 + t285;
+            let t286 = c_wr * t281;
+            let t287 = s_wr * t280;
+            let wrist_r_v_vx = t286 + t287;
+            let t288 = s_wr * t281;
+            let t289 = c_wr * t280;
+            let wrist_r_v_vy = t289 - t288;
+            let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
+            let t290 = 0.112f64 * humerus_r_a_wx;
+            let t291 = 0.112f64 * elbow_fe_a_wy;
+            let t292 = elbow_fe_a_vy - t290;
+            let t293 = t291 - elbow_fe_a_vz;
+            let t294 = c_wr * humerus_r_a_wx;
+            let t295 = s_wr * elbow_fe_a_wy;
+            let t296 = t294 - t295;
+            let t297 = s_wr * humerus_r_a_wx;
+            let t298 = c_wr * elbow_fe_a_wy;
+            let t299 = t297 + t298;
+            let t300 = c_wr * t293;
+            let t301 = s_wr * t292;
+            let t302 = t301 - t300;
+            let t303 = s_wr * t293;
+            let t304 = c_wr * t292;
+            let t305 = t303 + t304;
+            let t306 = wrist_r_v_wy * qd_wr;
+            let t307 = wrist_r_v_wx * qd_wr;
+            let t308 = wrist_r_v_vy * qd_wr;
+            let t309 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t296 + t306;
+            let wrist_r_a_wy = t299 + t307;
+            let wrist_r_a_vx = t302 + t308;
+            let wrist_r_a_vy = t305 - t309;
+            let t310 = 0.019431999999999998f64 * wrist_r_a_wx;
+            let t311 = 0.001387f64 * wrist_r_a_wy;
+            let t312 = t310 + t311;
+            let t313 = 0.012652f64 * elbow_fe_a_wx;
+            let t314 = t312 - t313;
+            let t315 = 0.001387f64 * wrist_r_a_wx;
+            let t316 = 0.029115f64 * wrist_r_a_wy;
+            let t317 = t315 + t316;
+            let t318 = 0.001243f64 * elbow_fe_a_wx;
+            let t319 = t317 + t318;
+            let t320 = 0.012652f64 * wrist_r_a_wx;
+            let t321 = 0.001243f64 * wrist_r_a_wy;
+            let t322 = t321 - t320;
+            let t323 = 0.011046f64 * elbow_fe_a_wx;
+            let t324 = t322 + t323;
+            let t325 = 0.05783800000000001f64 * wrist_r_a_vy;
+            let t326 = 0.05783800000000001f64 * wrist_r_a_vx;
+            let t327 = wrist_r_a_vx * 2.1032f64;
+            let t328 = wrist_r_a_vy * 2.1032f64;
+            let t329 = elbow_fe_a_vx * 2.1032f64;
+            let t330 = 0.05783800000000001f64 * wrist_r_a_wy;
+            let t331 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t332 = t314 - t325;
+            let t333 = t326 - t319;
+            let t334 = t327 - t330;
+            let t335 = t328 - t331;
+            let t336 = 0.019431999999999998f64 * wrist_r_v_wx;
+            let t337 = 0.001387f64 * wrist_r_v_wy;
+            let t338 = t336 - t337;
+            let t339 = 0.012652f64 * wrist_r_v_wz;
+            let t340 = t338 - t339;
+            let t341 = 0.001387f64 * wrist_r_v_wx;
+            let t342 = 0.029115f64 * wrist_r_v_wy;
+            let t343 = t342 - t341;
+            let t344 = 0.001243f64 * wrist_r_v_wz;
+            let t345 = t343 - t344;
+            let t346 = 0.012652f64 * wrist_r_v_wx;
+            let t347 = 0.001243f64 * wrist_r_v_wy;
+            let t348 = t346 + t347;
+            let t349 = 0.011046f64 * wrist_r_v_wz;
+            let t350 = t349 - t348;
+            let t351 = 0.05783800000000001f64 * wrist_r_v_vy;
+            let t352 = 0.05783800000000001f64 * wrist_r_v_vx;
+            let t353 = wrist_r_v_vx * 2.1032f64;
+            let t354 = wrist_r_v_vy * 2.1032f64;
+            let t355 = elbow_fe_v_vx * 2.1032f64;
+            let t356 = 0.05783800000000001f64 * wrist_r_v_wy;
+            let t357 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t358 = t340 - t351;
+            let t359 = t345 + t352;
+            let t360 = t353 + t356;
+            let t361 = t354 - t357;
+            let t362 = wrist_r_v_wy * t350;
+            let t363 = wrist_r_v_wz * t359;
+            let t364 = t362 - t363;
+            let t365 = wrist_r_v_wz * t358;
+            let t366 = wrist_r_v_wx * t350;
+            let t367 = t365 - t366;
+            let t368 = wrist_r_v_wx * t359;
+            let t369 = wrist_r_v_wy * t358;
+            let t370 = t368 - t369;
+            let t371 = wrist_r_v_vy * t355;
+            let t372 = elbow_fe_v_vx * t361;
+            let t373 = t371 - t372;
+            let t374 = elbow_fe_v_vx * t360;
+            let t375 = wrist_r_v_vx * t355;
+            let t376 = t374 - t375;
+            let t377 = wrist_r_v_vx * t361;
+            let t378 = wrist_r_v_vy * t360;
+            let t379 = t377 - t378;
+            let t380 = t364 + t373;
+            let t381 = t367 + t376;
+            let t382 = t370 + t379;
+            let t383 = wrist_r_v_wy * t355;
+            let t384 = wrist_r_v_wz * t361;
+            let t385 = t383 - t384;
+            let t386 = wrist_r_v_wz * t360;
+            let t387 = wrist_r_v_wx * t355;
+            let t388 = t386 - t387;
+            let t389 = wrist_r_v_wx * t361;
+            let t390 = wrist_r_v_wy * t360;
+            let t391 = t389 - t390;
+            let t392 = t332 + t380;
+            let t393 = t333 + t381;
+            let t394 = t324 + t382;
+            let t395 = t334 + t385;
+            let t396 = t335 + t388;
+            let t397 = t329 + t391;
+            (
+                wrist_r_v_wx,
+                wrist_r_v_wy,
+                wrist_r_v_vx,
+                wrist_r_v_vy,
+                wrist_r_v_wz,
+                wrist_r_a_wx,
+                wrist_r_a_wy,
+                wrist_r_a_vx,
+                wrist_r_a_vy,
+                t392,
+                t393,
+                t394,
+                t395,
+                t396,
+                t397,
+            )
+        };
+        let (
+            wrist_fe_f_nx,
+            wrist_fe_f_ny,
+            wrist_fe_f_nz,
+            wrist_fe_f_fx,
+            wrist_fe_f_fy,
+            wrist_fe_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t398 = 0.184f64 * wrist_r_v_wy;
+            let t399 = 0.184f64 * wrist_r_v_wx;
+            let t400 = 0.02075f64 * wrist_r_v_wz;
+            let t401 = t399 - t400;
+            let t402 = 0.02075f64 * wrist_r_v_wy;
+            let t403 = wrist_r_v_vx + t398;
+            let wrist_fe_v_vz = wrist_r_v_vy - t401;
+            let t404 = elbow_fe_v_vx - t402;
+            let t405 = c_wfe * wrist_r_v_wz;
+            let t406 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t405 + t406;
+            let t407 = s_wfe * wrist_r_v_wz;
+            let t408 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t408 - t407;
+            let t409 = c_wfe * t404;
+            let t410 = s_wfe * t403;
+            let wrist_fe_v_vx = t409 + t410;
+            let t411 = s_wfe * t404;
+            let t412 = c_wfe * t403;
+            let wrist_fe_v_vy = t412 - t411;
+            let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
+            let t413 = 0.184f64 * wrist_r_a_wy;
+            let t414 = 0.184f64 * wrist_r_a_wx;
+            let t415 = 0.02075f64 * elbow_fe_a_wx;
+            let t416 = t414 - t415;
+            let t417 = 0.02075f64 * wrist_r_a_wy;
+            let t418 = wrist_r_a_vx - t413;
+            let wrist_fe_a_vz = wrist_r_a_vy - t416;
+            let t419 = elbow_fe_a_vx + t417;
+            let t420 = c_wfe * elbow_fe_a_wx;
+            let t421 = s_wfe * wrist_r_a_wx;
+            let t422 = t420 + t421;
+            let t423 = s_wfe * elbow_fe_a_wx;
+            let t424 = c_wfe * wrist_r_a_wx;
+            let t425 = t424 - t423;
+            let t426 = c_wfe * t419;
+            let t427 = s_wfe * t418;
+            let t428 = t426 + t427;
+            let t429 = s_wfe * t419;
+            let t430 = c_wfe * t418;
+            let t431 = t430 - t429;
+            let t432 = wrist_fe_v_wy * qd_wfe;
+            let t433 = wrist_fe_v_wx * qd_wfe;
+            let t434 = wrist_fe_v_vy * qd_wfe;
+            let t435 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t422 + t432;
+            let wrist_fe_a_wy = t425 - t433;
+            let wrist_fe_a_vx = t428 + t434;
+            let wrist_fe_a_vy = t431 - t435;
+            let t436 = 0.010737f64 * wrist_fe_a_wx;
+            let t437 = 0.000198f64 * wrist_fe_a_wy;
+            let t438 = t436 + t437;
+            let t439 = 0.000015f64 * wrist_r_a_wy;
+            let t440 = t438 - t439;
+            let t441 = 0.000198f64 * wrist_fe_a_wx;
+            let t442 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t443 = t441 + t442;
+            let t444 = 0.000829f64 * wrist_r_a_wy;
+            let t445 = t443 + t444;
+            let t446 = 0.000015f64 * wrist_fe_a_wx;
+            let t447 = 0.000829f64 * wrist_fe_a_wy;
+            let t448 = t446 - t447;
+            let t449 = 0.009277f64 * wrist_r_a_wy;
+            let t450 = t448 - t449;
+            let t451 = 0.038686875f64 * wrist_fe_a_vz;
+            let t452 = 0.038686875f64 * wrist_fe_a_vy;
+            let t453 = wrist_fe_a_vx * 1.547475f64;
+            let t454 = wrist_fe_a_vy * 1.547475f64;
+            let t455 = wrist_fe_a_vz * 1.547475f64;
+            let t456 = 0.038686875f64 * wrist_r_a_wy;
+            let t457 = 0.038686875f64 * wrist_fe_a_wy;
+            let t458 = t445 - t451;
+            let t459 = t450 + t452;
+            let t460 = t454 - t456;
+            let t461 = t455 - t457;
+            let t462 = 0.010737f64 * wrist_fe_v_wx;
+            let t463 = 0.000198f64 * wrist_fe_v_wy;
+            let t464 = t462 + t463;
+            let t465 = 0.000015f64 * wrist_fe_v_wz;
+            let t466 = t464 + t465;
+            let t467 = 0.000198f64 * wrist_fe_v_wx;
+            let t468 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t469 = t467 + t468;
+            let t470 = 0.000829f64 * wrist_fe_v_wz;
+            let t471 = t469 - t470;
+            let t472 = 0.000015f64 * wrist_fe_v_wx;
+            let t473 = 0.000829f64 * wrist_fe_v_wy;
+            let t474 = t472 - t473;
+            let t475 = 0.009277f64 * wrist_fe_v_wz;
+            let t476 = t474 + t475;
+            let t477 = 0.038686875f64 * wrist_fe_v_vz;
+            let t478 = 0.038686875f64 * wrist_fe_v_vy;
+            let t479 = wrist_fe_v_vx * 1.547475f64;
+            let t480 = wrist_fe_v_vy * 1.547475f64;
+            let t481 = wrist_fe_v_vz * 1.547475f64;
+            let t482 = 0.038686875f64 * wrist_fe_v_wz;
+            let t483 = 0.038686875f64 * wrist_fe_v_wy;
+            let t484 = t471 - t477;
+            let t485 = t476 + t478;
+            let t486 = t480 + t482;
+            let t487 = t481 - t483;
+            let t488 = wrist_fe_v_wy * t485;
+            let t489 = wrist_fe_v_wz * t484;
+            let t490 = t488 - t489;
+            let t491 = wrist_fe_v_wz * t466;
+            let t492 = wrist_fe_v_wx * t485;
+            let t493 = t491 - t492;
+            let t494 = wrist_fe_v_wx * t484;
+            let t495 = wrist_fe_v_wy * t466;
+            let t496 = t494 - t495;
+            let t497 = wrist_fe_v_vy * t487;
+            let t498 = wrist_fe_v_vz * t486;
+            let t499 = t497 - t498;
+            let t500 = wrist_fe_v_vz * t479;
+            let t501 = wrist_fe_v_vx * t487;
+            let t502 = t500 - t501;
+            let t503 = wrist_fe_v_vx * t486;
+            let t504 = wrist_fe_v_vy * t479;
+            let t505 = t503 - t504;
+            let t506 = t490 + t499;
+            let t507 = t493 + t502;
+            let t508 = t496 + t505;
+            let t509 = wrist_fe_v_wy * t487;
+            let t510 = wrist_fe_v_wz * t486;
+            let t511 = t509 - t510;
+            let t512 = wrist_fe_v_wz * t479;
+            let t513 = wrist_fe_v_wx * t487;
+            let t514 = t512 - t513;
+            let t515 = wrist_fe_v_wx * t486;
+            let t516 = wrist_fe_v_wy * t479;
+            let t517 = t515 - t516;
+            let wrist_fe_f_nx = t440 + t506;
+            let wrist_fe_f_ny = t458 + t507;
+            let wrist_fe_f_nz = t459 + t508;
+            let wrist_fe_f_fx = t453 + t511;
+            let wrist_fe_f_fy = t460 + t514;
+            let wrist_fe_f_fz = t461 + t517;
+            (
+                wrist_fe_f_nx,
+                wrist_fe_f_ny,
+                wrist_fe_f_nz,
+                wrist_fe_f_fx,
+                wrist_fe_f_fy,
+                wrist_fe_f_fz,
+            )
+        };
+        let (
+            wrist_r_f_nx,
+            wrist_r_f_ny,
+            wrist_r_f_nz,
+            wrist_r_f_fx,
+            wrist_r_f_fy,
+            wrist_r_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t518 = c_wfe * wrist_fe_f_fx;
+            let t519 = s_wfe * wrist_fe_f_fy;
+            let t520 = t518 - t519;
+            let t521 = s_wfe * wrist_fe_f_fx;
+            let t522 = c_wfe * wrist_fe_f_fy;
+            let t523 = t521 + t522;
+            let t524 = c_wfe * wrist_fe_f_nx;
+            let t525 = s_wfe * wrist_fe_f_ny;
+            let t526 = t524 - t525;
+            let t527 = s_wfe * wrist_fe_f_nx;
+            let t528 = c_wfe * wrist_fe_f_ny;
+            let t529 = t527 + t528;
+            let t530 = 0.184f64 * wrist_fe_f_fz;
+            let t531 = 0.184f64 * t523;
+            let t532 = 0.02075f64 * t520;
+            let t533 = t531 - t532;
+            let t534 = 0.02075f64 * wrist_fe_f_fz;
+            let t535 = t529 - t530;
+            let t536 = wrist_fe_f_nz + t533;
+            let t537 = t526 + t534;
+            let wrist_r_f_nx = t392 + t535;
+            let wrist_r_f_ny = t393 + t536;
+            let wrist_r_f_nz = t394 + t537;
+            let wrist_r_f_fx = t395 + t523;
+            let wrist_r_f_fy = t396 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t397 + t520;
+            (
+                wrist_r_f_nx,
+                wrist_r_f_ny,
+                wrist_r_f_nz,
+                wrist_r_f_fx,
+                wrist_r_f_fy,
+                wrist_r_f_fz,
+            )
+        };
+        let (
+            elbow_fe_f_nx,
+            elbow_fe_f_ny,
+            elbow_fe_f_nz,
+            elbow_fe_f_fx,
+            elbow_fe_f_fy,
+            elbow_fe_f_fz,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t538 = c_wr * wrist_r_f_fx;
+            let t539 = s_wr * wrist_r_f_fy;
+            let t540 = t538 - t539;
+            let t541 = s_wr * wrist_r_f_fx;
+            let t542 = c_wr * wrist_r_f_fy;
+            let t543 = t541 + t542;
+            let t544 = c_wr * wrist_r_f_nx;
+            let t545 = s_wr * wrist_r_f_ny;
+            let t546 = t544 - t545;
+            let t547 = s_wr * wrist_r_f_nx;
+            let t548 = c_wr * wrist_r_f_ny;
+            let t549 = t547 + t548;
+            let t550 = 0.112f64 * t540;
+            let t551 = 0.112f64 * t543;
+            let t552 = t549 + t550;
+            let t553 = t551 - t546;
+            let elbow_fe_f_nx = t272 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t273 + t552;
+            let elbow_fe_f_nz = t274 + t553;
+            let elbow_fe_f_fx = t275 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t276 + t543;
+            let elbow_fe_f_fz = t277 - t540;
+            (
+                elbow_fe_f_nx,
+                elbow_fe_f_ny,
+                elbow_fe_f_nz,
+                elbow_fe_f_fx,
+                elbow_fe_f_fy,
+                elbow_fe_f_fz,
+            )
+        };
+        let (
+            humerus_r_f_nx,
+            humerus_r_f_ny,
+            humerus_r_f_nz,
+            humerus_r_f_fx,
+            humerus_r_f_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t554 = s_efe * elbow_fe_f_fx;
+            let t555 = c_efe * elbow_fe_f_fy;
+            let t556 = t554 + t555;
+            let t557 = c_efe * elbow_fe_f_nx;
+            let t558 = s_efe * elbow_fe_f_ny;
+            let t559 = t557 - t558;
+            let t560 = s_efe * elbow_fe_f_nx;
+            let t561 = c_efe * elbow_fe_f_ny;
+            let t562 = t560 + t561;
+            let t563 = 0.304f64 * t556;
+            let t564 = 0.304f64 * elbow_fe_f_fz;
+            let t565 = elbow_fe_f_nz + t563;
+            let t566 = t562 - t564;
+            let humerus_r_f_nx = t147 - t565;
+            let humerus_r_f_ny = t148 + t566;
+            let humerus_r_f_nz = t149 + t559;
+            let humerus_r_f_fx = t150 - elbow_fe_f_fz;
+            let humerus_r_f_fy = t151 + t556;
+            (
+                humerus_r_f_nx,
+                humerus_r_f_ny,
+                humerus_r_f_nz,
+                humerus_r_f_fx,
+                humerus_r_f_fy,
+            )
+        };
+        let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t567 = c_hr * humerus_r_f_fx;
+            let t568 = s_hr * humerus_r_f_fy;
+            let t569 = t567 - t568;
+            let t570 = s_hr * humerus_r_f_fx;
+            let t571 = c_hr * humerus_r_f_fy;
+            let t572 = t570 + t571;
+            let t573 = c_hr * humerus_r_f_nx;
+            let t574 = s_hr * humerus_r_f_ny;
+            let t575 = t573 - t574;
+            let t576 = s_hr * humerus_r_f_nx;
+            let t577 = c_hr * humerus_r_f_ny;
+            let t578 = t576 + t577;
+            let t579 = 0.112f64 * t569;
+            let t580 = 0.112f64 * t572;
+            let t581 = t578 + t579;
+            let t582 = t580 - t575;
+            let shoulder_fe_f_nx = t33 + humerus_r_f_nz;
+            let shoulder_fe_f_ny = t34 + t581;
+            let shoulder_fe_f_nz = t35 + t582;
+            (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
+        };
+        let shoulder_aa_f_nz = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t583 = s_sfe * shoulder_fe_f_nx;
+            let t584 = c_sfe * shoulder_fe_f_ny;
+            let shoulder_aa_f_nz = t583 + t584;
+            shoulder_aa_f_nz
+        };
         ::hya_core::JointVector::<
             6,
         >::from([
@@ -1852,734 +2475,1065 @@ impl ::hya_core::Dynamics<6> for Hya {
         q: &::hya_core::JointVector<6>,
         qd: &::hya_core::JointVector<6>,
     ) -> ::hya_core::JointVector<6> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let qd_saa = qd[0];
-        let qd_sfe = qd[1];
-        let qd_hr = qd[2];
-        let qd_efe = qd[3];
-        let qd_wr = qd[4];
-        let qd_wfe = qd[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+        let (
+            qd_saa,
+            qd_sfe,
+            qd_hr,
+            qd_efe,
+            qd_wr,
+            qd_wfe,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let qd_saa = qd[0];
+            let qd_sfe = qd[1];
+            let qd_hr = qd[2];
+            let qd_efe = qd[3];
+            let qd_wr = qd[4];
+            let qd_wfe = qd[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                qd_saa,
+                qd_sfe,
+                qd_hr,
+                qd_efe,
+                qd_wr,
+                qd_wfe,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
         // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let shoulder_fe_v_wx = s_sfe * qd_saa;
-        let shoulder_fe_v_wy = c_sfe * qd_saa;
-        let t0 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-        let t1 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
-        let t2 = t0 + t1;
-        let t3 = 0.02285162700433904f64 * qd_sfe;
-        let t4 = t2 - t3;
-        let t5 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-        let t6 = 0.08585553000239696f64 * shoulder_fe_v_wy;
-        let t7 = t5 + t6;
-        let t8 = 0.0027519999999057617f64 * qd_sfe;
-        let t9 = t7 - t8;
-        // ── link `Humerus_R`, joint `HR` (base to tip)
-        let t10 = 0.112f64 * qd_sfe;
-        let t11 = 0.112f64 * shoulder_fe_v_wy;
-        let t12 = c_hr * qd_sfe;
-        let t13 = s_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wx = t13 - t12;
-        let t14 = s_hr * qd_sfe;
-        let t15 = c_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wy = t14 + t15;
-        let t16 = c_hr * t11;
-        let t17 = s_hr * t10;
-        let humerus_r_v_vx = t16 + t17;
-        let t18 = s_hr * t11;
-        let t19 = c_hr * t10;
-        let humerus_r_v_vy = t19 - t18;
-        let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-        let t20 = 0.20236395000387197f64 * humerus_r_v_wx;
-        let t21 = 0.000053999980001054f64 * humerus_r_v_wy;
-        let t22 = t20 + t21;
-        let t23 = 0.011715294995083824f64 * humerus_r_v_wz;
-        let t24 = t22 - t23;
-        let t25 = 0.000053999980001054f64 * humerus_r_v_wx;
-        let t26 = 0.20986895000353661f64 * humerus_r_v_wy;
-        let t27 = t25 + t26;
-        let t28 = 0.0037997813999599995f64 * humerus_r_v_wz;
-        let t29 = t27 - t28;
-        let t30 = 0.011715294995083824f64 * humerus_r_v_wx;
-        let t31 = 0.0037997813999599995f64 * humerus_r_v_wy;
-        let t32 = t30 + t31;
-        let t33 = 0.01032999899926462f64 * humerus_r_v_wz;
-        let t34 = t33 - t32;
-        let t35 = 0.6479671119999999f64 * humerus_r_v_vy;
-        let t36 = 0.6479671119999999f64 * humerus_r_v_vx;
-        let t37 = 0.0055615274403f64 * humerus_r_v_vy;
-        let t38 = 0.014380859999999999f64 * humerus_r_v_vx;
-        let t39 = t37 + t38;
-        let t40 = humerus_r_v_vx * 2.327f64;
-        let t41 = humerus_r_v_vy * 2.327f64;
-        let t42 = 0.014380859999999999f64 * humerus_r_v_wz;
-        let t43 = 0.6479671119999999f64 * humerus_r_v_wy;
-        let t44 = t42 - t43;
-        let t45 = 0.6479671119999999f64 * humerus_r_v_wx;
-        let t46 = 0.0055615274403f64 * humerus_r_v_wz;
-        let t47 = t45 + t46;
-        let t48 = t24 - t35;
-        let t49 = t29 + t36;
-        let t50 = t34 - t39;
-        let t51 = t40 - t44;
-        let t52 = t41 - t47;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t53 = 0.304f64 * humerus_r_v_wy;
-        let t54 = 0.304f64 * humerus_r_v_wx;
-        let elbow_fe_v_vz = humerus_r_v_vx + t53;
-        let t55 = humerus_r_v_vy - t54;
-        let t56 = c_efe * humerus_r_v_wz;
-        let t57 = s_efe * humerus_r_v_wy;
-        let elbow_fe_v_wx = t56 + t57;
-        let t58 = s_efe * humerus_r_v_wz;
-        let t59 = c_efe * humerus_r_v_wy;
-        let elbow_fe_v_wy = t59 - t58;
-        let elbow_fe_v_vx = s_efe * t55;
-        let elbow_fe_v_vy = c_efe * t55;
-        let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-        let t60 = 0.081661000005f64 * elbow_fe_v_wx;
-        let t61 = 0.00368572840011861f64 * elbow_fe_v_wy;
-        let t62 = t60 + t61;
-        let t63 = 0.0002120000299f64 * elbow_fe_v_wz;
-        let t64 = t62 - t63;
-        let t65 = 0.00368572840011861f64 * elbow_fe_v_wx;
-        let t66 = 0.018284489999765022f64 * elbow_fe_v_wy;
-        let t67 = t65 + t66;
-        let t68 = 0.002292000208f64 * elbow_fe_v_wz;
-        let t69 = t67 - t68;
-        let t70 = 0.0002120000299f64 * elbow_fe_v_wx;
-        let t71 = 0.002292000208f64 * elbow_fe_v_wy;
-        let t72 = t70 + t71;
-        let t73 = 0.09570849000176501f64 * elbow_fe_v_wz;
-        let t74 = t73 - t72;
-        let t75 = 0.008711861f64 * elbow_fe_v_vz;
-        let t76 = 0.16029825982372198f64 * elbow_fe_v_vz;
-        let t77 = 0.16029825982372198f64 * elbow_fe_v_vy;
-        let t78 = 0.008711861f64 * elbow_fe_v_vx;
-        let t79 = t77 + t78;
-        let t80 = elbow_fe_v_vx * 1.7423722f64;
-        let t81 = elbow_fe_v_vy * 1.7423722f64;
-        let t82 = elbow_fe_v_vz * 1.7423722f64;
-        let t83 = 0.008711861f64 * elbow_fe_v_wz;
-        let t84 = 0.16029825982372198f64 * elbow_fe_v_wz;
-        let t85 = 0.16029825982372198f64 * elbow_fe_v_wy;
-        let t86 = 0.008711861f64 * elbow_fe_v_wx;
-        let t87 = t85 + t86;
-        let t88 = t64 + t75;
-        let t89 = t69 + t76;
-        let t90 = t74 + t79;
-        let t91 = t80 + t83;
-        let t92 = t81 + t84;
-        let t93 = t82 + t87;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t94 = 0.112f64 * elbow_fe_v_wz;
-        let t95 = 0.112f64 * elbow_fe_v_wy;
-        let t96 = elbow_fe_v_vy + t94;
-        let t97 = elbow_fe_v_vz + t95;
-        let t98 = c_wr * elbow_fe_v_wz;
-        let t99 = s_wr * elbow_fe_v_wy;
-        let wrist_r_v_wx = t99 - t98;
-        let t100 = s_wr * elbow_fe_v_wz;
-        let t101 = c_wr * elbow_fe_v_wy;
-        let wrist_r_v_wy = t100 + t101;
-        let t102 = c_wr * t97;
-        let t103 = s_wr * t96;
-        let wrist_r_v_vx = t102 + t103;
-        let t104 = s_wr * t97;
-        let t105 = c_wr * t96;
-        let wrist_r_v_vy = t105 - t104;
-        let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-        let t106 = 0.019431999999999998f64 * wrist_r_v_wx;
-        let t107 = 0.001387f64 * wrist_r_v_wy;
-        let t108 = t106 - t107;
-        let t109 = 0.012652f64 * wrist_r_v_wz;
-        let t110 = t108 - t109;
-        let t111 = 0.001387f64 * wrist_r_v_wx;
-        let t112 = 0.029115f64 * wrist_r_v_wy;
-        let t113 = t112 - t111;
-        let t114 = 0.001243f64 * wrist_r_v_wz;
-        let t115 = t113 - t114;
-        let t116 = 0.012652f64 * wrist_r_v_wx;
-        let t117 = 0.001243f64 * wrist_r_v_wy;
-        let t118 = t116 + t117;
-        let t119 = 0.011046f64 * wrist_r_v_wz;
-        let t120 = t119 - t118;
-        let t121 = 0.05783800000000001f64 * wrist_r_v_vy;
-        let t122 = 0.05783800000000001f64 * wrist_r_v_vx;
-        let t123 = wrist_r_v_vx * 2.1032f64;
-        let t124 = wrist_r_v_vy * 2.1032f64;
-        let t125 = elbow_fe_v_vx * 2.1032f64;
-        let t126 = 0.05783800000000001f64 * wrist_r_v_wy;
-        let t127 = 0.05783800000000001f64 * wrist_r_v_wx;
-        let t128 = t110 - t121;
-        let t129 = t115 + t122;
-        let t130 = t123 + t126;
-        let t131 = t124 - t127;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t132 = 0.184f64 * wrist_r_v_wy;
-        let t133 = 0.184f64 * wrist_r_v_wx;
-        let t134 = 0.02075f64 * wrist_r_v_wz;
-        let t135 = t133 - t134;
-        let t136 = 0.02075f64 * wrist_r_v_wy;
-        let t137 = wrist_r_v_vx + t132;
-        let wrist_fe_v_vz = wrist_r_v_vy - t135;
-        let t138 = elbow_fe_v_vx - t136;
-        let t139 = c_wfe * wrist_r_v_wz;
-        let t140 = s_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wx = t139 + t140;
-        let t141 = s_wfe * wrist_r_v_wz;
-        let t142 = c_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wy = t142 - t141;
-        let t143 = c_wfe * t138;
-        let t144 = s_wfe * t137;
-        let wrist_fe_v_vx = t143 + t144;
-        let t145 = s_wfe * t138;
-        let t146 = c_wfe * t137;
-        let wrist_fe_v_vy = t146 - t145;
-        let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-        let t147 = 0.010737f64 * wrist_fe_v_wx;
-        let t148 = 0.000198f64 * wrist_fe_v_wy;
-        let t149 = t147 + t148;
-        let t150 = 0.000015f64 * wrist_fe_v_wz;
-        let wrist_fe_f_nx = t149 + t150;
-        let t151 = 0.000198f64 * wrist_fe_v_wx;
-        let t152 = 0.0032270000000000003f64 * wrist_fe_v_wy;
-        let t153 = t151 + t152;
-        let t154 = 0.000829f64 * wrist_fe_v_wz;
-        let t155 = t153 - t154;
-        let t156 = 0.000015f64 * wrist_fe_v_wx;
-        let t157 = 0.000829f64 * wrist_fe_v_wy;
-        let t158 = t156 - t157;
-        let t159 = 0.009277f64 * wrist_fe_v_wz;
-        let t160 = t158 + t159;
-        let t161 = 0.038686875f64 * wrist_fe_v_vz;
-        let t162 = 0.038686875f64 * wrist_fe_v_vy;
-        let wrist_fe_f_fx = wrist_fe_v_vx * 1.547475f64;
-        let t163 = wrist_fe_v_vy * 1.547475f64;
-        let t164 = wrist_fe_v_vz * 1.547475f64;
-        let t165 = 0.038686875f64 * wrist_fe_v_wz;
-        let t166 = 0.038686875f64 * wrist_fe_v_wy;
-        let wrist_fe_f_ny = t155 - t161;
-        let wrist_fe_f_nz = t160 + t162;
-        let wrist_fe_f_fy = t163 + t165;
-        let wrist_fe_f_fz = t164 - t166;
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let t167 = wrist_fe_v_wy * wrist_fe_f_nx;
-        let t168 = wrist_fe_v_wx * wrist_fe_f_ny;
-        let t169 = t167 - t168;
-        let t170 = wrist_fe_v_vy * wrist_fe_f_fx;
-        let t171 = wrist_fe_v_vx * wrist_fe_f_fy;
-        let t172 = t170 - t171;
-        let ct_wfe = t169 + t172;
-        let t173 = c_wfe * wrist_fe_f_fx;
-        let t174 = s_wfe * wrist_fe_f_fy;
-        let t175 = t173 - t174;
-        let t176 = s_wfe * wrist_fe_f_fx;
-        let t177 = c_wfe * wrist_fe_f_fy;
-        let t178 = t176 + t177;
-        let t179 = c_wfe * wrist_fe_f_nx;
-        let t180 = s_wfe * wrist_fe_f_ny;
-        let t181 = t179 - t180;
-        let t182 = s_wfe * wrist_fe_f_nx;
-        let t183 = c_wfe * wrist_fe_f_ny;
-        let t184 = t182 + t183;
-        let t185 = 0.184f64 * wrist_fe_f_fz;
-        let t186 = 0.184f64 * t178;
-        let t187 = 0.02075f64 * t175;
-        let t188 = t186 - t187;
-        let t189 = 0.02075f64 * wrist_fe_f_fz;
-        let t190 = t184 - t185;
-        let t191 = wrist_fe_f_nz + t188;
-        let t192 = t181 + t189;
-        let wrist_r_f_nx = t128 + t190;
-        let wrist_r_f_ny = t129 + t191;
-        let wrist_r_f_nz = t120 + t192;
-        let wrist_r_f_fx = t130 + t178;
-        let wrist_r_f_fy = t131 + wrist_fe_f_fz;
-        let wrist_r_f_fz = t125 + t175;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let t193 = wrist_r_v_wy * wrist_r_f_nx;
-        let t194 = wrist_r_v_wx * wrist_r_f_ny;
-        let t195 = t193 - t194;
-        let t196 = wrist_r_v_vy * wrist_r_f_fx;
-        let t197 = wrist_r_v_vx * wrist_r_f_fy;
-        let t198 = t196 - t197;
-        let ct_wr = t195 + t198;
-        let t199 = c_wr * wrist_r_f_fx;
-        let t200 = s_wr * wrist_r_f_fy;
-        let t201 = t199 - t200;
-        let t202 = s_wr * wrist_r_f_fx;
-        let t203 = c_wr * wrist_r_f_fy;
-        let t204 = t202 + t203;
-        let t205 = c_wr * wrist_r_f_nx;
-        let t206 = s_wr * wrist_r_f_ny;
-        let t207 = t205 - t206;
-        let t208 = s_wr * wrist_r_f_nx;
-        let t209 = c_wr * wrist_r_f_ny;
-        let t210 = t208 + t209;
-        let t211 = 0.112f64 * t201;
-        let t212 = 0.112f64 * t204;
-        let t213 = t210 + t211;
-        let t214 = t212 - t207;
-        let elbow_fe_f_nx = t88 + wrist_r_f_nz;
-        let elbow_fe_f_ny = t89 + t213;
-        let elbow_fe_f_nz = t90 + t214;
-        let elbow_fe_f_fx = t91 + wrist_r_f_fz;
-        let elbow_fe_f_fy = t92 + t204;
-        let elbow_fe_f_fz = t93 + t201;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let t215 = elbow_fe_v_wy * elbow_fe_f_nx;
-        let t216 = elbow_fe_v_wx * elbow_fe_f_ny;
-        let t217 = t215 - t216;
-        let t218 = elbow_fe_v_vy * elbow_fe_f_fx;
-        let t219 = elbow_fe_v_vx * elbow_fe_f_fy;
-        let t220 = t218 - t219;
-        let ct_efe = t217 + t220;
-        let t221 = s_efe * elbow_fe_f_fx;
-        let t222 = c_efe * elbow_fe_f_fy;
-        let t223 = t221 + t222;
-        let t224 = c_efe * elbow_fe_f_nx;
-        let t225 = s_efe * elbow_fe_f_ny;
-        let t226 = t224 - t225;
-        let t227 = s_efe * elbow_fe_f_nx;
-        let t228 = c_efe * elbow_fe_f_ny;
-        let t229 = t227 + t228;
-        let t230 = 0.304f64 * t223;
-        let t231 = 0.304f64 * elbow_fe_f_fz;
-        let t232 = elbow_fe_f_nz + t230;
-        let t233 = t229 + t231;
-        let humerus_r_f_nx = t48 - t232;
-        let humerus_r_f_ny = t49 + t233;
-        let humerus_r_f_nz = t50 + t226;
-        let humerus_r_f_fx = t51 + elbow_fe_f_fz;
-        let humerus_r_f_fy = t52 + t223;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let t234 = humerus_r_v_wy * humerus_r_f_nx;
-        let t235 = humerus_r_v_wx * humerus_r_f_ny;
-        let t236 = t234 - t235;
-        let t237 = humerus_r_v_vy * humerus_r_f_fx;
-        let t238 = humerus_r_v_vx * humerus_r_f_fy;
-        let t239 = t237 - t238;
-        let ct_hr = t236 + t239;
-        let t240 = c_hr * humerus_r_f_fx;
-        let t241 = s_hr * humerus_r_f_fy;
-        let t242 = t240 - t241;
-        let t243 = s_hr * humerus_r_f_nx;
-        let t244 = c_hr * humerus_r_f_ny;
-        let t245 = t243 + t244;
-        let t246 = 0.112f64 * t242;
-        let t247 = t245 + t246;
-        let shoulder_fe_f_nx = t4 + humerus_r_f_nz;
-        let shoulder_fe_f_ny = t9 + t247;
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let t248 = shoulder_fe_v_wy * shoulder_fe_f_nx;
-        let t249 = shoulder_fe_v_wx * shoulder_fe_f_ny;
-        let ct_sfe = t248 - t249;
+        let (shoulder_fe_v_wx, shoulder_fe_v_wy, t4, t9) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_v_wx = s_sfe * qd_saa;
+            let shoulder_fe_v_wy = c_sfe * qd_saa;
+            let t0 = 0.03900299600125622f64 * shoulder_fe_v_wx;
+            let t1 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t2 = t0 + t1;
+            let t3 = 0.02285162700433904f64 * qd_sfe;
+            let t4 = t2 - t3;
+            let t5 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
+            let t6 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t7 = t5 + t6;
+            let t8 = 0.0027519999999057617f64 * qd_sfe;
+            let t9 = t7 - t8;
+            (shoulder_fe_v_wx, shoulder_fe_v_wy, t4, t9)
+        };
+        let (
+            humerus_r_v_wx,
+            humerus_r_v_wy,
+            humerus_r_v_vx,
+            humerus_r_v_vy,
+            humerus_r_v_wz,
+            t48,
+            t49,
+            t50,
+            t51,
+            t52,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t10 = 0.112f64 * qd_sfe;
+            let t11 = 0.112f64 * shoulder_fe_v_wy;
+            let t12 = c_hr * qd_sfe;
+            let t13 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t13 - t12;
+            let t14 = s_hr * qd_sfe;
+            let t15 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t14 + t15;
+            let t16 = c_hr * t11;
+            let t17 = s_hr * t10;
+            let humerus_r_v_vx = t16 + t17;
+            let t18 = s_hr * t11;
+            let t19 = c_hr * t10;
+            let humerus_r_v_vy = t19 - t18;
+            let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
+            let t20 = 0.20236395000387197f64 * humerus_r_v_wx;
+            let t21 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t22 = t20 + t21;
+            let t23 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t24 = t22 - t23;
+            let t25 = 0.000053999980001054f64 * humerus_r_v_wx;
+            let t26 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t27 = t25 + t26;
+            let t28 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t29 = t27 - t28;
+            let t30 = 0.011715294995083824f64 * humerus_r_v_wx;
+            let t31 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t32 = t30 + t31;
+            let t33 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t34 = t33 - t32;
+            let t35 = 0.6479671119999999f64 * humerus_r_v_vy;
+            let t36 = 0.6479671119999999f64 * humerus_r_v_vx;
+            let t37 = 0.0055615274403f64 * humerus_r_v_vy;
+            let t38 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t39 = t37 + t38;
+            let t40 = humerus_r_v_vx * 2.327f64;
+            let t41 = humerus_r_v_vy * 2.327f64;
+            let t42 = 0.014380859999999999f64 * humerus_r_v_wz;
+            let t43 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t44 = t42 - t43;
+            let t45 = 0.6479671119999999f64 * humerus_r_v_wx;
+            let t46 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t47 = t45 + t46;
+            let t48 = t24 - t35;
+            let t49 = t29 + t36;
+            let t50 = t34 - t39;
+            let t51 = t40 - t44;
+            let t52 = t41 - t47;
+            (
+                humerus_r_v_wx,
+                humerus_r_v_wy,
+                humerus_r_v_vx,
+                humerus_r_v_vy,
+                humerus_r_v_wz,
+                t48,
+                t49,
+                t50,
+                t51,
+                t52,
+            )
+        };
+        let (
+            elbow_fe_v_vz,
+            elbow_fe_v_wx,
+            elbow_fe_v_wy,
+            elbow_fe_v_vx,
+            elbow_fe_v_vy,
+            elbow_fe_v_wz,
+            t88,
+            t89,
+            t90,
+            t91,
+            t92,
+            t93,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t53 = 0.304f64 * humerus_r_v_wy;
+            let t54 = 0.304f64 * humerus_r_v_wx;
+            let elbow_fe_v_vz = humerus_r_v_vx + t53;
+            let t55 = humerus_r_v_vy - t54;
+            let t56 = c_efe * humerus_r_v_wz;
+            let t57 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t56 + t57;
+            let t58 = s_efe * humerus_r_v_wz;
+            let t59 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t59 - t58;
+            let elbow_fe_v_vx = s_efe * t55;
+            let elbow_fe_v_vy = c_efe * t55;
+            let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
+            let t60 = 0.081661000005f64 * elbow_fe_v_wx;
+            let t61 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t62 = t60 + t61;
+            let t63 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t64 = t62 - t63;
+            let t65 = 0.00368572840011861f64 * elbow_fe_v_wx;
+            let t66 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t67 = t65 + t66;
+            let t68 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t69 = t67 - t68;
+            let t70 = 0.0002120000299f64 * elbow_fe_v_wx;
+            let t71 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t72 = t70 + t71;
+            let t73 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t74 = t73 - t72;
+            let t75 = 0.008711861f64 * elbow_fe_v_vz;
+            let t76 = 0.16029825982372198f64 * elbow_fe_v_vz;
+            let t77 = 0.16029825982372198f64 * elbow_fe_v_vy;
+            let t78 = 0.008711861f64 * elbow_fe_v_vx;
+            let t79 = t77 + t78;
+            let t80 = elbow_fe_v_vx * 1.7423722f64;
+            let t81 = elbow_fe_v_vy * 1.7423722f64;
+            let t82 = elbow_fe_v_vz * 1.7423722f64;
+            let t83 = 0.008711861f64 * elbow_fe_v_wz;
+            let t84 = 0.16029825982372198f64 * elbow_fe_v_wz;
+            let t85 = 0.16029825982372198f64 * elbow_fe_v_wy;
+            let t86 = 0.008711861f64 * elbow_fe_v_wx;
+            let t87 = t85 + t86;
+            let t88 = t64 + t75;
+            let t89 = t69 + t76;
+            let t90 = t74 + t79;
+            let t91 = t80 + t83;
+            let t92 = t81 + t84;
+            let t93 = t82 + t87;
+            (
+                elbow_fe_v_vz,
+                elbow_fe_v_wx,
+                elbow_fe_v_wy,
+                elbow_fe_v_vx,
+                elbow_fe_v_vy,
+                elbow_fe_v_wz,
+                t88,
+                t89,
+                t90,
+                t91,
+                t92,
+                t93,
+            )
+        };
+        let (
+            wrist_r_v_wx,
+            wrist_r_v_wy,
+            wrist_r_v_vx,
+            wrist_r_v_vy,
+            wrist_r_v_wz,
+            t120,
+            t125,
+            t128,
+            t129,
+            t130,
+            t131,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t94 = 0.112f64 * elbow_fe_v_wz;
+            let t95 = 0.112f64 * elbow_fe_v_wy;
+            let t96 = elbow_fe_v_vy + t94;
+            let t97 = elbow_fe_v_vz + t95;
+            let t98 = c_wr * elbow_fe_v_wz;
+            let t99 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t99 - t98;
+            let t100 = s_wr * elbow_fe_v_wz;
+            let t101 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t100 + t101;
+            let t102 = c_wr * t97;
+            let t103 = s_wr * t96;
+            let wrist_r_v_vx = t102 + t103;
+            let t104 = s_wr * t97;
+            let t105 = c_wr * t96;
+            let wrist_r_v_vy = t105 - t104;
+            let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
+            let t106 = 0.019431999999999998f64 * wrist_r_v_wx;
+            let t107 = 0.001387f64 * wrist_r_v_wy;
+            let t108 = t106 - t107;
+            let t109 = 0.012652f64 * wrist_r_v_wz;
+            let t110 = t108 - t109;
+            let t111 = 0.001387f64 * wrist_r_v_wx;
+            let t112 = 0.029115f64 * wrist_r_v_wy;
+            let t113 = t112 - t111;
+            let t114 = 0.001243f64 * wrist_r_v_wz;
+            let t115 = t113 - t114;
+            let t116 = 0.012652f64 * wrist_r_v_wx;
+            let t117 = 0.001243f64 * wrist_r_v_wy;
+            let t118 = t116 + t117;
+            let t119 = 0.011046f64 * wrist_r_v_wz;
+            let t120 = t119 - t118;
+            let t121 = 0.05783800000000001f64 * wrist_r_v_vy;
+            let t122 = 0.05783800000000001f64 * wrist_r_v_vx;
+            let t123 = wrist_r_v_vx * 2.1032f64;
+            let t124 = wrist_r_v_vy * 2.1032f64;
+            let t125 = elbow_fe_v_vx * 2.1032f64;
+            let t126 = 0.05783800000000001f64 * wrist_r_v_wy;
+            let t127 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t128 = t110 - t121;
+            let t129 = t115 + t122;
+            let t130 = t123 + t126;
+            let t131 = t124 - t127;
+            (
+                wrist_r_v_wx,
+                wrist_r_v_wy,
+                wrist_r_v_vx,
+                wrist_r_v_vy,
+                wrist_r_v_wz,
+                t120,
+                t125,
+                t128,
+                t129,
+                t130,
+                t131,
+            )
+        };
+        let (
+            wrist_fe_v_wx,
+            wrist_fe_v_wy,
+            wrist_fe_v_vx,
+            wrist_fe_v_vy,
+            wrist_fe_f_nx,
+            wrist_fe_f_fx,
+            wrist_fe_f_ny,
+            wrist_fe_f_nz,
+            wrist_fe_f_fy,
+            wrist_fe_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t132 = 0.184f64 * wrist_r_v_wy;
+            let t133 = 0.184f64 * wrist_r_v_wx;
+            let t134 = 0.02075f64 * wrist_r_v_wz;
+            let t135 = t133 - t134;
+            let t136 = 0.02075f64 * wrist_r_v_wy;
+            let t137 = wrist_r_v_vx + t132;
+            let wrist_fe_v_vz = wrist_r_v_vy - t135;
+            let t138 = elbow_fe_v_vx - t136;
+            let t139 = c_wfe * wrist_r_v_wz;
+            let t140 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t139 + t140;
+            let t141 = s_wfe * wrist_r_v_wz;
+            let t142 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t142 - t141;
+            let t143 = c_wfe * t138;
+            let t144 = s_wfe * t137;
+            let wrist_fe_v_vx = t143 + t144;
+            let t145 = s_wfe * t138;
+            let t146 = c_wfe * t137;
+            let wrist_fe_v_vy = t146 - t145;
+            let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
+            let t147 = 0.010737f64 * wrist_fe_v_wx;
+            let t148 = 0.000198f64 * wrist_fe_v_wy;
+            let t149 = t147 + t148;
+            let t150 = 0.000015f64 * wrist_fe_v_wz;
+            let wrist_fe_f_nx = t149 + t150;
+            let t151 = 0.000198f64 * wrist_fe_v_wx;
+            let t152 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t153 = t151 + t152;
+            let t154 = 0.000829f64 * wrist_fe_v_wz;
+            let t155 = t153 - t154;
+            let t156 = 0.000015f64 * wrist_fe_v_wx;
+            let t157 = 0.000829f64 * wrist_fe_v_wy;
+            let t158 = t156 - t157;
+            let t159 = 0.009277f64 * wrist_fe_v_wz;
+            let t160 = t158 + t159;
+            let t161 = 0.038686875f64 * wrist_fe_v_vz;
+            let t162 = 0.038686875f64 * wrist_fe_v_vy;
+            let wrist_fe_f_fx = wrist_fe_v_vx * 1.547475f64;
+            let t163 = wrist_fe_v_vy * 1.547475f64;
+            let t164 = wrist_fe_v_vz * 1.547475f64;
+            let t165 = 0.038686875f64 * wrist_fe_v_wz;
+            let t166 = 0.038686875f64 * wrist_fe_v_wy;
+            let wrist_fe_f_ny = t155 - t161;
+            let wrist_fe_f_nz = t160 + t162;
+            let wrist_fe_f_fy = t163 + t165;
+            let wrist_fe_f_fz = t164 - t166;
+            (
+                wrist_fe_v_wx,
+                wrist_fe_v_wy,
+                wrist_fe_v_vx,
+                wrist_fe_v_vy,
+                wrist_fe_f_nx,
+                wrist_fe_f_fx,
+                wrist_fe_f_ny,
+                wrist_fe_f_nz,
+                wrist_fe_f_fy,
+                wrist_fe_f_fz,
+            )
+        };
+        let (
+            ct_wfe,
+            wrist_r_f_nx,
+            wrist_r_f_ny,
+            wrist_r_f_nz,
+            wrist_r_f_fx,
+            wrist_r_f_fy,
+            wrist_r_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t167 = wrist_fe_v_wy * wrist_fe_f_nx;
+            let t168 = wrist_fe_v_wx * wrist_fe_f_ny;
+            let t169 = t167 - t168;
+            let t170 = wrist_fe_v_vy * wrist_fe_f_fx;
+            let t171 = wrist_fe_v_vx * wrist_fe_f_fy;
+            let t172 = t170 - t171;
+            let ct_wfe = t169 + t172;
+            let t173 = c_wfe * wrist_fe_f_fx;
+            let t174 = s_wfe * wrist_fe_f_fy;
+            let t175 = t173 - t174;
+            let t176 = s_wfe * wrist_fe_f_fx;
+            let t177 = c_wfe * wrist_fe_f_fy;
+            let t178 = t176 + t177;
+            let t179 = c_wfe * wrist_fe_f_nx;
+            let t180 = s_wfe * wrist_fe_f_ny;
+            let t181 = t179 - t180;
+            let t182 = s_wfe * wrist_fe_f_nx;
+            let t183 = c_wfe * wrist_fe_f_ny;
+            let t184 = t182 + t183;
+            let t185 = 0.184f64 * wrist_fe_f_fz;
+            let t186 = 0.184f64 * t178;
+            let t187 = 0.02075f64 * t175;
+            let t188 = t186 - t187;
+            let t189 = 0.02075f64 * wrist_fe_f_fz;
+            let t190 = t184 - t185;
+            let t191 = wrist_fe_f_nz + t188;
+            let t192 = t181 + t189;
+            let wrist_r_f_nx = t128 + t190;
+            let wrist_r_f_ny = t129 + t191;
+            let wrist_r_f_nz = t120 + t192;
+            let wrist_r_f_fx = t130 + t178;
+            let wrist_r_f_fy = t131 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t125 + t175;
+            (
+                ct_wfe,
+                wrist_r_f_nx,
+                wrist_r_f_ny,
+                wrist_r_f_nz,
+                wrist_r_f_fx,
+                wrist_r_f_fy,
+                wrist_r_f_fz,
+            )
+        };
+        let (
+            ct_wr,
+            elbow_fe_f_nx,
+            elbow_fe_f_ny,
+            elbow_fe_f_nz,
+            elbow_fe_f_fx,
+            elbow_fe_f_fy,
+            elbow_fe_f_fz,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t193 = wrist_r_v_wy * wrist_r_f_nx;
+            let t194 = wrist_r_v_wx * wrist_r_f_ny;
+            let t195 = t193 - t194;
+            let t196 = wrist_r_v_vy * wrist_r_f_fx;
+            let t197 = wrist_r_v_vx * wrist_r_f_fy;
+            let t198 = t196 - t197;
+            let ct_wr = t195 + t198;
+            let t199 = c_wr * wrist_r_f_fx;
+            let t200 = s_wr * wrist_r_f_fy;
+            let t201 = t199 - t200;
+            let t202 = s_wr * wrist_r_f_fx;
+            let t203 = c_wr * wrist_r_f_fy;
+            let t204 = t202 + t203;
+            let t205 = c_wr * wrist_r_f_nx;
+            let t206 = s_wr * wrist_r_f_ny;
+            let t207 = t205 - t206;
+            let t208 = s_wr * wrist_r_f_nx;
+            let t209 = c_wr * wrist_r_f_ny;
+            let t210 = t208 + t209;
+            let t211 = 0.112f64 * t201;
+            let t212 = 0.112f64 * t204;
+            let t213 = t210 + t211;
+            let t214 = t212 - t207;
+            let elbow_fe_f_nx = t88 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t89 + t213;
+            let elbow_fe_f_nz = t90 + t214;
+            let elbow_fe_f_fx = t91 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t92 + t204;
+            let elbow_fe_f_fz = t93 + t201;
+            (
+                ct_wr,
+                elbow_fe_f_nx,
+                elbow_fe_f_ny,
+                elbow_fe_f_nz,
+                elbow_fe_f_fx,
+                elbow_fe_f_fy,
+                elbow_fe_f_fz,
+            )
+        };
+        let (
+            ct_efe,
+            humerus_r_f_nx,
+            humerus_r_f_ny,
+            humerus_r_f_nz,
+            humerus_r_f_fx,
+            humerus_r_f_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t215 = elbow_fe_v_wy * elbow_fe_f_nx;
+            let t216 = elbow_fe_v_wx * elbow_fe_f_ny;
+            let t217 = t215 - t216;
+            let t218 = elbow_fe_v_vy * elbow_fe_f_fx;
+            let t219 = elbow_fe_v_vx * elbow_fe_f_fy;
+            let t220 = t218 - t219;
+            let ct_efe = t217 + t220;
+            let t221 = s_efe * elbow_fe_f_fx;
+            let t222 = c_efe * elbow_fe_f_fy;
+            let t223 = t221 + t222;
+            let t224 = c_efe * elbow_fe_f_nx;
+            let t225 = s_efe * elbow_fe_f_ny;
+            let t226 = t224 - t225;
+            let t227 = s_efe * elbow_fe_f_nx;
+            let t228 = c_efe * elbow_fe_f_ny;
+            let t229 = t227 + t228;
+            let t230 = 0.304f64 * t223;
+            let t231 = 0.304f64 * elbow_fe_f_fz;
+            let t232 = elbow_fe_f_nz + t230;
+            let t233 = t229 + t231;
+            let humerus_r_f_nx = t48 - t232;
+            let humerus_r_f_ny = t49 + t233;
+            let humerus_r_f_nz = t50 + t226;
+            let humerus_r_f_fx = t51 + elbow_fe_f_fz;
+            let humerus_r_f_fy = t52 + t223;
+            (
+                ct_efe,
+                humerus_r_f_nx,
+                humerus_r_f_ny,
+                humerus_r_f_nz,
+                humerus_r_f_fx,
+                humerus_r_f_fy,
+            )
+        };
+        let (ct_hr, shoulder_fe_f_nx, shoulder_fe_f_ny) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t234 = humerus_r_v_wy * humerus_r_f_nx;
+            let t235 = humerus_r_v_wx * humerus_r_f_ny;
+            let t236 = t234 - t235;
+            let t237 = humerus_r_v_vy * humerus_r_f_fx;
+            let t238 = humerus_r_v_vx * humerus_r_f_fy;
+            let t239 = t237 - t238;
+            let ct_hr = t236 + t239;
+            let t240 = c_hr * humerus_r_f_fx;
+            let t241 = s_hr * humerus_r_f_fy;
+            let t242 = t240 - t241;
+            let t243 = s_hr * humerus_r_f_nx;
+            let t244 = c_hr * humerus_r_f_ny;
+            let t245 = t243 + t244;
+            let t246 = 0.112f64 * t242;
+            let t247 = t245 + t246;
+            let shoulder_fe_f_nx = t4 + humerus_r_f_nz;
+            let shoulder_fe_f_ny = t9 + t247;
+            (ct_hr, shoulder_fe_f_nx, shoulder_fe_f_ny)
+        };
+        let ct_sfe = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t248 = shoulder_fe_v_wy * shoulder_fe_f_nx;
+            let t249 = shoulder_fe_v_wx * shoulder_fe_f_ny;
+            let ct_sfe = t248 - t249;
+            ct_sfe
+        };
         ::hya_core::JointVector::<6>::from([0f64, ct_sfe, ct_hr, ct_efe, ct_wr, ct_wfe])
     }
     /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
     #[inline]
     fn mass_matrix(&self, q: &::hya_core::JointVector<6>) -> ::hya_core::JointMatrix<6> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let t0 = c_wfe * 0.038686875f64;
-        let t1 = s_wfe * 0.038686875f64;
-        let t2 = 0.010737f64 * c_wfe;
-        let t3 = 0.000198f64 * s_wfe;
-        let t4 = t2 - t3;
-        let t5 = 0.000198f64 * c_wfe;
-        let t6 = 0.0032270000000000003f64 * s_wfe;
-        let t7 = t5 - t6;
-        let t8 = 0.000015f64 * c_wfe;
-        let t9 = 0.000829f64 * s_wfe;
-        let m_wfe_wr = t8 + t9;
-        let t10 = 0.010737f64 * s_wfe;
-        let t11 = t10 + t5;
-        let t12 = 0.0032270000000000003f64 * c_wfe;
-        let t13 = t3 + t12;
-        let t14 = 0.000015f64 * s_wfe;
-        let t15 = 0.000829f64 * c_wfe;
-        let t16 = t14 - t15;
-        let t17 = c_wfe * t4;
-        let t18 = s_wfe * t7;
-        let t19 = t17 - t18;
-        let t20 = s_wfe * t4;
-        let t21 = c_wfe * t7;
-        let t22 = t20 + t21;
-        let t23 = c_wfe * t11;
-        let t24 = s_wfe * t13;
-        let t25 = t23 - t24;
-        let t26 = s_wfe * t11;
-        let t27 = c_wfe * t13;
-        let t28 = t26 + t27;
-        let t29 = 0.02075f64 * t1;
-        let t30 = 0.184f64 * t0;
-        let t31 = t29 + t30;
-        let t32 = t31 + t31;
-        let t33 = t32 + 0.053057598304687495f64;
-        let t34 = t28 + t33;
-        let t35 = 0.009277f64 + t33;
-        let t36 = t19 + t33;
-        let t37 = t0 * 0.02075f64;
-        let t38 = t1 * 0.184f64;
-        let t39 = t34 - t29;
-        let t40 = t25 - t37;
-        let t41 = t22 - t38;
-        let t42 = t36 - t30;
-        let t43 = t39 - t29;
-        let t44 = t40 - t38;
-        let t45 = t41 - t37;
-        let t46 = t42 - t30;
-        let t47 = t43 - 0.0006662847046875f64;
-        let t48 = t44 - 0.0059082595499999994f64;
-        let t49 = t45 - 0.0059082595499999994f64;
-        let t50 = t46 - 0.052391313599999996f64;
-        let t51 = t1 + 0.03211010625f64;
-        let t52 = t0 + 0.28473539999999997f64;
-        let t53 = 0.05783800000000001f64 + t52;
-        let t54 = 0.019431999999999998f64 + t47;
-        let t55 = t16 - 0.001387f64;
-        let t56 = t48 - 0.012652f64;
-        let t57 = 0.029115f64 + t35;
-        let t58 = m_wfe_wr - 0.001243f64;
-        let t59 = t49 - 0.012652f64;
-        let m_wr_wr = 0.011046f64 + t50;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let t60 = c_wr * t51;
-        let t61 = s_wr * t51;
-        let t62 = t54 * c_wr;
-        let t63 = t55 * s_wr;
-        let t64 = t62 - t63;
-        let t65 = t55 * c_wr;
-        let t66 = t57 * s_wr;
-        let t67 = t65 - t66;
-        let t68 = t56 * c_wr;
-        let t69 = t58 * s_wr;
-        let t70 = t68 - t69;
-        let t71 = t54 * s_wr;
-        let t72 = t71 + t65;
-        let t73 = t57 * c_wr;
-        let t74 = t63 + t73;
-        let t75 = t56 * s_wr;
-        let t76 = t58 * c_wr;
-        let t77 = t75 + t76;
-        let t78 = c_wr * t64;
-        let t79 = s_wr * t67;
-        let t80 = t78 - t79;
-        let t81 = s_wr * t64;
-        let t82 = c_wr * t67;
-        let t83 = t81 + t82;
-        let t84 = c_wr * t72;
-        let t85 = s_wr * t74;
-        let t86 = t84 - t85;
-        let t87 = s_wr * t72;
-        let t88 = c_wr * t74;
-        let t89 = t87 + t88;
-        let t90 = c_wr * t59;
-        let t91 = t90 - t69;
-        let t92 = s_wr * t59;
-        let t93 = t92 + t76;
-        let t94 = 0.112f64 * t53;
-        let t95 = t94 + t94;
-        let t96 = t95 + 0.045794067200000003f64;
-        let t97 = m_wr_wr + t96;
-        let t98 = t89 + t96;
-        let t99 = t80 + t96;
-        let t100 = t61 * 0.112f64;
-        let t101 = t60 * 0.112f64;
-        let t102 = t97 - t94;
-        let t103 = t93 - t100;
-        let m_wr_efe = t101 - t91;
-        let t104 = t102 - t94;
-        let t105 = t77 - t100;
-        let t106 = t101 - t70;
-        let t107 = t104 - 0.045794067200000003f64;
-        let t108 = t53 + 0.4088756f64;
-        let t109 = 0.16029825982372198f64 + t108;
-        let t110 = t61 - 0.008711861f64;
-        let t111 = 0.081661000005f64 + t107;
-        let t112 = 0.00368572840011861f64 + t103;
-        let t113 = m_wr_efe - 0.0002120000299f64;
-        let t114 = 0.00368572840011861f64 + t105;
-        let t115 = 0.018284489999765022f64 + t98;
-        let t116 = 0.002292000208f64 + t86;
-        let t117 = t106 - 0.0002120000299f64;
-        let t118 = 0.002292000208f64 + t83;
-        let m_efe_efe = 0.09570849000176501f64 + t99;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let t119 = c_efe * t109;
-        let t120 = s_efe * t110;
-        let t121 = t119 - t120;
-        let t122 = s_efe * t109;
-        let t123 = c_efe * t110;
-        let t124 = t122 + t123;
-        let t125 = t111 * c_efe;
-        let t126 = t114 * s_efe;
-        let t127 = t125 - t126;
-        let t128 = t112 * c_efe;
-        let t129 = t115 * s_efe;
-        let t130 = t128 - t129;
-        let t131 = t113 * c_efe;
-        let t132 = t116 * s_efe;
-        let t133 = t131 + t132;
-        let t134 = t111 * s_efe;
-        let t135 = t114 * c_efe;
-        let t136 = t134 + t135;
-        let t137 = t112 * s_efe;
-        let t138 = t115 * c_efe;
-        let t139 = t137 + t138;
-        let t140 = t113 * s_efe;
-        let t141 = t116 * c_efe;
-        let t142 = t140 - t141;
-        let t143 = c_efe * t127;
-        let t144 = s_efe * t130;
-        let t145 = t143 - t144;
-        let t146 = s_efe * t127;
-        let t147 = c_efe * t130;
-        let t148 = t146 + t147;
-        let t149 = c_efe * t136;
-        let t150 = s_efe * t139;
-        let t151 = t149 - t150;
-        let t152 = s_efe * t136;
-        let t153 = c_efe * t139;
-        let t154 = t152 + t153;
-        let t155 = c_efe * t117;
-        let t156 = s_efe * t118;
-        let m_efe_hr = t155 + t156;
-        let t157 = s_efe * t117;
-        let t158 = c_efe * t118;
-        let t159 = t157 - t158;
-        let t160 = 0.304f64 * t121;
-        let t161 = t160 + t160;
-        let t162 = t161 + 0.4984038500352f64;
-        let t163 = m_efe_efe + t162;
-        let t164 = t154 + t162;
-        let t165 = t145 + t162;
-        let t166 = t60 * 0.304f64;
-        let t167 = t124 * 0.304f64;
-        let t168 = t133 + t166;
-        let t169 = t148 - t167;
-        let t170 = t165 - t160;
-        let t171 = m_efe_hr + t166;
-        let t172 = t151 - t167;
-        let t173 = t170 - t160;
-        let t174 = t173 - 0.4984038500352f64;
-        let t175 = t121 + 1.6394863488f64;
-        let t176 = t60 - 0.0055615274403f64;
-        let t177 = 0.014380859999999999f64 + t124;
-        let t178 = 0.6479671119999999f64 + t175;
-        let t179 = 0.20236395000387197f64 + t163;
-        let t180 = 0.000053999980001054f64 - t159;
-        let t181 = 0.011715294995083824f64 + t171;
-        let t182 = 0.000053999980001054f64 - t142;
-        let t183 = 0.20986895000353661f64 + t164;
-        let t184 = t172 - 0.0037997813999599995f64;
-        let t185 = 0.011715294995083824f64 + t168;
-        let t186 = t169 - 0.0037997813999599995f64;
-        let m_hr_hr = 0.01032999899926462f64 + t174;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let t187 = c_hr * t176;
-        let t188 = s_hr * t177;
-        let t189 = t187 - t188;
-        let t190 = s_hr * t176;
-        let t191 = c_hr * t177;
-        let t192 = t190 + t191;
-        let t193 = t179 * c_hr;
-        let t194 = t182 * s_hr;
-        let t195 = t193 - t194;
-        let t196 = t180 * c_hr;
-        let t197 = t183 * s_hr;
-        let t198 = t196 - t197;
-        let t199 = t181 * c_hr;
-        let t200 = t184 * s_hr;
-        let t201 = t199 + t200;
-        let t202 = t179 * s_hr;
-        let t203 = t182 * c_hr;
-        let t204 = t202 + t203;
-        let t205 = t180 * s_hr;
-        let t206 = t183 * c_hr;
-        let t207 = t205 + t206;
-        let t208 = t181 * s_hr;
-        let t209 = t184 * c_hr;
-        let t210 = t209 - t208;
-        let t211 = c_hr * t195;
-        let t212 = s_hr * t198;
-        let t213 = t211 - t212;
-        let t214 = s_hr * t195;
-        let t215 = c_hr * t198;
-        let t216 = t214 + t215;
-        let t217 = s_hr * t204;
-        let t218 = c_hr * t207;
-        let t219 = t217 + t218;
-        let t220 = c_hr * t185;
-        let t221 = s_hr * t186;
-        let t222 = t220 + t221;
-        let t223 = s_hr * t185;
-        let t224 = c_hr * t186;
-        let t225 = t224 - t223;
-        let t226 = 0.112f64 * t178;
-        let t227 = t226 + t226;
-        let t228 = t227 + 0.0968402720768f64;
-        let t229 = m_hr_hr + t228;
-        let t230 = t219 + t228;
-        let t231 = t213 + t228;
-        let t232 = t192 * 0.112f64;
-        let t233 = t189 * 0.112f64;
-        let t234 = t229 - t226;
-        let t235 = t225 - t232;
-        let m_hr_sfe = t222 + t233;
-        let t236 = t234 - t226;
-        let t237 = t210 - t232;
-        let t238 = t201 + t233;
-        let t239 = t236 - 0.0968402720768f64;
-        let t240 = t178 + 0.8646452864f64;
-        let t241 = 0.2933742339089346f64 + t240;
-        let t242 = t192 - 0.060615943396199995f64;
-        let t243 = 0.03900299600125622f64 + t239;
-        let t244 = 0.0055279857002587095f64 + t235;
-        let t245 = 0.0055279857002587095f64 + t237;
-        let t246 = 0.08585553000239696f64 + t230;
-        let t247 = t238 - 0.02285162700433904f64;
-        let t248 = 0.0027519999999057617f64 + t216;
-        let m_sfe_sfe = 0.05139352799812063f64 + t231;
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let t249 = s_sfe * t241;
-        let t250 = c_sfe * t242;
-        let t251 = t249 + t250;
-        let t252 = t243 * s_sfe;
-        let t253 = t245 * c_sfe;
-        let t254 = t252 + t253;
-        let t255 = t244 * s_sfe;
-        let t256 = t246 * c_sfe;
-        let t257 = t255 + t256;
-        let t258 = s_sfe * t254;
-        let t259 = c_sfe * t257;
-        let t260 = t258 + t259;
-        let t261 = s_sfe * t247;
-        let t262 = c_sfe * t248;
-        let m_sfe_saa = t261 - t262;
-        let t263 = 0.178f64 * t251;
-        let t264 = t263 + t263;
-        let t265 = t264 + 0.3267401822492f64;
-        let t266 = t260 + t265;
-        let t267 = t266 - t263;
-        let t268 = t267 - t263;
-        let t269 = t268 - 0.3267401822492f64;
-        let m_saa_saa = 0.007628999999536005f64 + t269;
-        // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-        let t270 = s_sfe * m_hr_hr;
-        let t271 = c_sfe * t235;
-        let m_hr_saa = t270 + t271;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-        let t272 = m_efe_efe + t160;
-        let t273 = s_hr * t121;
-        let t274 = c_hr * t121;
-        let t275 = c_hr * t272;
-        let t276 = s_hr * t159;
-        let t277 = t275 + t276;
-        let t278 = s_hr * t272;
-        let t279 = c_hr * t159;
-        let t280 = t279 - t278;
-        let t281 = 0.112f64 * t273;
-        let t282 = 0.112f64 * t274;
-        let t283 = t280 - t281;
-        let m_efe_sfe = t277 + t282;
-        let t284 = s_sfe * m_efe_hr;
-        let t285 = c_sfe * t283;
-        let m_efe_saa = t284 + t285;
-        // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-        let t286 = c_efe * t60;
-        let t287 = c_efe * m_wr_wr;
-        let t288 = s_efe * t103;
-        let m_wr_hr = t287 - t288;
-        let t289 = s_efe * m_wr_wr;
-        let t290 = c_efe * t103;
-        let t291 = t289 + t290;
-        let t292 = 0.304f64 * t286;
-        let t293 = 0.304f64 * t61;
-        let t294 = m_wr_efe + t292;
-        let t295 = t291 - t293;
-        let t296 = c_hr * t61;
-        let t297 = s_hr * t286;
-        let t298 = t296 + t297;
-        let t299 = s_hr * t61;
-        let t300 = c_hr * t286;
-        let t301 = t300 - t299;
-        let t302 = c_hr * t294;
-        let t303 = s_hr * t295;
-        let t304 = t302 + t303;
-        let t305 = s_hr * t294;
-        let t306 = c_hr * t295;
-        let t307 = t306 - t305;
-        let t308 = 0.112f64 * t298;
-        let t309 = 0.112f64 * t301;
-        let t310 = t307 - t308;
-        let m_wr_sfe = t304 + t309;
-        let t311 = s_sfe * m_wr_hr;
-        let t312 = c_sfe * t310;
-        let m_wr_saa = t311 + t312;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-        let t313 = 0.009277f64 + t31;
-        let t314 = c_wr * t0;
-        let t315 = s_wr * t0;
-        let t316 = c_wr * t16;
-        let t317 = s_wr * t313;
-        let t318 = t316 - t317;
-        let t319 = s_wr * t16;
-        let t320 = c_wr * t313;
-        let t321 = t319 + t320;
-        let t322 = 0.112f64 * t314;
-        let t323 = 0.112f64 * t315;
-        let t324 = t321 + t322;
-        let m_wfe_efe = t323 - t318;
-        let t325 = s_efe * t1;
-        let t326 = c_efe * t315;
-        let t327 = t326 - t325;
-        let t328 = c_efe * m_wfe_wr;
-        let t329 = s_efe * t324;
-        let m_wfe_hr = t328 - t329;
-        let t330 = s_efe * m_wfe_wr;
-        let t331 = c_efe * t324;
-        let t332 = t330 + t331;
-        let t333 = 0.304f64 * t327;
-        let t334 = 0.304f64 * t314;
-        let t335 = m_wfe_efe + t333;
-        let t336 = t332 + t334;
-        let t337 = c_hr * t314;
-        let t338 = s_hr * t327;
-        let t339 = t337 - t338;
-        let t340 = s_hr * t314;
-        let t341 = c_hr * t327;
-        let t342 = t340 + t341;
-        let t343 = c_hr * t335;
-        let t344 = s_hr * t336;
-        let t345 = t343 + t344;
-        let t346 = s_hr * t335;
-        let t347 = c_hr * t336;
-        let t348 = t347 - t346;
-        let t349 = 0.112f64 * t339;
-        let t350 = 0.112f64 * t342;
-        let t351 = t348 + t349;
-        let m_wfe_sfe = t345 + t350;
-        let t352 = s_sfe * m_wfe_hr;
-        let t353 = c_sfe * t351;
-        let m_wfe_saa = t352 + t353;
+        let (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe)
+        };
+        let (
+            t0,
+            t1,
+            m_wfe_wr,
+            t16,
+            t31,
+            t51,
+            t53,
+            t54,
+            t55,
+            t56,
+            t57,
+            t58,
+            t59,
+            m_wr_wr,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t0 = c_wfe * 0.038686875f64;
+            let t1 = s_wfe * 0.038686875f64;
+            let t2 = 0.010737f64 * c_wfe;
+            let t3 = 0.000198f64 * s_wfe;
+            let t4 = t2 - t3;
+            let t5 = 0.000198f64 * c_wfe;
+            let t6 = 0.0032270000000000003f64 * s_wfe;
+            let t7 = t5 - t6;
+            let t8 = 0.000015f64 * c_wfe;
+            let t9 = 0.000829f64 * s_wfe;
+            let m_wfe_wr = t8 + t9;
+            let t10 = 0.010737f64 * s_wfe;
+            let t11 = t10 + t5;
+            let t12 = 0.0032270000000000003f64 * c_wfe;
+            let t13 = t3 + t12;
+            let t14 = 0.000015f64 * s_wfe;
+            let t15 = 0.000829f64 * c_wfe;
+            let t16 = t14 - t15;
+            let t17 = c_wfe * t4;
+            let t18 = s_wfe * t7;
+            let t19 = t17 - t18;
+            let t20 = s_wfe * t4;
+            let t21 = c_wfe * t7;
+            let t22 = t20 + t21;
+            let t23 = c_wfe * t11;
+            let t24 = s_wfe * t13;
+            let t25 = t23 - t24;
+            let t26 = s_wfe * t11;
+            let t27 = c_wfe * t13;
+            let t28 = t26 + t27;
+            let t29 = 0.02075f64 * t1;
+            let t30 = 0.184f64 * t0;
+            let t31 = t29 + t30;
+            let t32 = t31 + t31;
+            let t33 = t32 + 0.053057598304687495f64;
+            let t34 = t28 + t33;
+            let t35 = 0.009277f64 + t33;
+            let t36 = t19 + t33;
+            let t37 = t0 * 0.02075f64;
+            let t38 = t1 * 0.184f64;
+            let t39 = t34 - t29;
+            let t40 = t25 - t37;
+            let t41 = t22 - t38;
+            let t42 = t36 - t30;
+            let t43 = t39 - t29;
+            let t44 = t40 - t38;
+            let t45 = t41 - t37;
+            let t46 = t42 - t30;
+            let t47 = t43 - 0.0006662847046875f64;
+            let t48 = t44 - 0.0059082595499999994f64;
+            let t49 = t45 - 0.0059082595499999994f64;
+            let t50 = t46 - 0.052391313599999996f64;
+            let t51 = t1 + 0.03211010625f64;
+            let t52 = t0 + 0.28473539999999997f64;
+            let t53 = 0.05783800000000001f64 + t52;
+            let t54 = 0.019431999999999998f64 + t47;
+            let t55 = t16 - 0.001387f64;
+            let t56 = t48 - 0.012652f64;
+            let t57 = 0.029115f64 + t35;
+            let t58 = m_wfe_wr - 0.001243f64;
+            let t59 = t49 - 0.012652f64;
+            let m_wr_wr = 0.011046f64 + t50;
+            (t0, t1, m_wfe_wr, t16, t31, t51, t53, t54, t55, t56, t57, t58, t59, m_wr_wr)
+        };
+        let (
+            t60,
+            t61,
+            t103,
+            m_wr_efe,
+            t109,
+            t110,
+            t111,
+            t112,
+            t113,
+            t114,
+            t115,
+            t116,
+            t117,
+            t118,
+            m_efe_efe,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t60 = c_wr * t51;
+            let t61 = s_wr * t51;
+            let t62 = t54 * c_wr;
+            let t63 = t55 * s_wr;
+            let t64 = t62 - t63;
+            let t65 = t55 * c_wr;
+            let t66 = t57 * s_wr;
+            let t67 = t65 - t66;
+            let t68 = t56 * c_wr;
+            let t69 = t58 * s_wr;
+            let t70 = t68 - t69;
+            let t71 = t54 * s_wr;
+            let t72 = t71 + t65;
+            let t73 = t57 * c_wr;
+            let t74 = t63 + t73;
+            let t75 = t56 * s_wr;
+            let t76 = t58 * c_wr;
+            let t77 = t75 + t76;
+            let t78 = c_wr * t64;
+            let t79 = s_wr * t67;
+            let t80 = t78 - t79;
+            let t81 = s_wr * t64;
+            let t82 = c_wr * t67;
+            let t83 = t81 + t82;
+            let t84 = c_wr * t72;
+            let t85 = s_wr * t74;
+            let t86 = t84 - t85;
+            let t87 = s_wr * t72;
+            let t88 = c_wr * t74;
+            let t89 = t87 + t88;
+            let t90 = c_wr * t59;
+            let t91 = t90 - t69;
+            let t92 = s_wr * t59;
+            let t93 = t92 + t76;
+            let t94 = 0.112f64 * t53;
+            let t95 = t94 + t94;
+            let t96 = t95 + 0.045794067200000003f64;
+            let t97 = m_wr_wr + t96;
+            let t98 = t89 + t96;
+            let t99 = t80 + t96;
+            let t100 = t61 * 0.112f64;
+            let t101 = t60 * 0.112f64;
+            let t102 = t97 - t94;
+            let t103 = t93 - t100;
+            let m_wr_efe = t101 - t91;
+            let t104 = t102 - t94;
+            let t105 = t77 - t100;
+            let t106 = t101 - t70;
+            let t107 = t104 - 0.045794067200000003f64;
+            let t108 = t53 + 0.4088756f64;
+            let t109 = 0.16029825982372198f64 + t108;
+            let t110 = t61 - 0.008711861f64;
+            let t111 = 0.081661000005f64 + t107;
+            let t112 = 0.00368572840011861f64 + t103;
+            let t113 = m_wr_efe - 0.0002120000299f64;
+            let t114 = 0.00368572840011861f64 + t105;
+            let t115 = 0.018284489999765022f64 + t98;
+            let t116 = 0.002292000208f64 + t86;
+            let t117 = t106 - 0.0002120000299f64;
+            let t118 = 0.002292000208f64 + t83;
+            let m_efe_efe = 0.09570849000176501f64 + t99;
+            (
+                t60,
+                t61,
+                t103,
+                m_wr_efe,
+                t109,
+                t110,
+                t111,
+                t112,
+                t113,
+                t114,
+                t115,
+                t116,
+                t117,
+                t118,
+                m_efe_efe,
+            )
+        };
+        let (
+            t121,
+            m_efe_hr,
+            t159,
+            t160,
+            t176,
+            t177,
+            t178,
+            t179,
+            t180,
+            t181,
+            t182,
+            t183,
+            t184,
+            t185,
+            t186,
+            m_hr_hr,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t119 = c_efe * t109;
+            let t120 = s_efe * t110;
+            let t121 = t119 - t120;
+            let t122 = s_efe * t109;
+            let t123 = c_efe * t110;
+            let t124 = t122 + t123;
+            let t125 = t111 * c_efe;
+            let t126 = t114 * s_efe;
+            let t127 = t125 - t126;
+            let t128 = t112 * c_efe;
+            let t129 = t115 * s_efe;
+            let t130 = t128 - t129;
+            let t131 = t113 * c_efe;
+            let t132 = t116 * s_efe;
+            let t133 = t131 + t132;
+            let t134 = t111 * s_efe;
+            let t135 = t114 * c_efe;
+            let t136 = t134 + t135;
+            let t137 = t112 * s_efe;
+            let t138 = t115 * c_efe;
+            let t139 = t137 + t138;
+            let t140 = t113 * s_efe;
+            let t141 = t116 * c_efe;
+            let t142 = t140 - t141;
+            let t143 = c_efe * t127;
+            let t144 = s_efe * t130;
+            let t145 = t143 - t144;
+            let t146 = s_efe * t127;
+            let t147 = c_efe * t130;
+            let t148 = t146 + t147;
+            let t149 = c_efe * t136;
+            let t150 = s_efe * t139;
+            let t151 = t149 - t150;
+            let t152 = s_efe * t136;
+            let t153 = c_efe * t139;
+            let t154 = t152 + t153;
+            let t155 = c_efe * t117;
+            let t156 = s_efe * t118;
+            let m_efe_hr = t155 + t156;
+            let t157 = s_efe * t117;
+            let t158 = c_efe * t118;
+            let t159 = t157 - t158;
+            let t160 = 0.304f64 * t121;
+            let t161 = t160 + t160;
+            let t162 = t161 + 0.4984038500352f64;
+            let t163 = m_efe_efe + t162;
+            let t164 = t154 + t162;
+            let t165 = t145 + t162;
+            let t166 = t60 * 0.304f64;
+            let t167 = t124 * 0.304f64;
+            let t168 = t133 + t166;
+            let t169 = t148 - t167;
+            let t170 = t165 - t160;
+            let t171 = m_efe_hr + t166;
+            let t172 = t151 - t167;
+            let t173 = t170 - t160;
+            let t174 = t173 - 0.4984038500352f64;
+            let t175 = t121 + 1.6394863488f64;
+            let t176 = t60 - 0.0055615274403f64;
+            let t177 = 0.014380859999999999f64 + t124;
+            let t178 = 0.6479671119999999f64 + t175;
+            let t179 = 0.20236395000387197f64 + t163;
+            let t180 = 0.000053999980001054f64 - t159;
+            let t181 = 0.011715294995083824f64 + t171;
+            let t182 = 0.000053999980001054f64 - t142;
+            let t183 = 0.20986895000353661f64 + t164;
+            let t184 = t172 - 0.0037997813999599995f64;
+            let t185 = 0.011715294995083824f64 + t168;
+            let t186 = t169 - 0.0037997813999599995f64;
+            let m_hr_hr = 0.01032999899926462f64 + t174;
+            (
+                t121,
+                m_efe_hr,
+                t159,
+                t160,
+                t176,
+                t177,
+                t178,
+                t179,
+                t180,
+                t181,
+                t182,
+                t183,
+                t184,
+                t185,
+                t186,
+                m_hr_hr,
+            )
+        };
+        let (
+            t235,
+            m_hr_sfe,
+            t241,
+            t242,
+            t243,
+            t244,
+            t245,
+            t246,
+            t247,
+            t248,
+            m_sfe_sfe,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t187 = c_hr * t176;
+            let t188 = s_hr * t177;
+            let t189 = t187 - t188;
+            let t190 = s_hr * t176;
+            let t191 = c_hr * t177;
+            let t192 = t190 + t191;
+            let t193 = t179 * c_hr;
+            let t194 = t182 * s_hr;
+            let t195 = t193 - t194;
+            let t196 = t180 * c_hr;
+            let t197 = t183 * s_hr;
+            let t198 = t196 - t197;
+            let t199 = t181 * c_hr;
+            let t200 = t184 * s_hr;
+            let t201 = t199 + t200;
+            let t202 = t179 * s_hr;
+            let t203 = t182 * c_hr;
+            let t204 = t202 + t203;
+            let t205 = t180 * s_hr;
+            let t206 = t183 * c_hr;
+            let t207 = t205 + t206;
+            let t208 = t181 * s_hr;
+            let t209 = t184 * c_hr;
+            let t210 = t209 - t208;
+            let t211 = c_hr * t195;
+            let t212 = s_hr * t198;
+            let t213 = t211 - t212;
+            let t214 = s_hr * t195;
+            let t215 = c_hr * t198;
+            let t216 = t214 + t215;
+            let t217 = s_hr * t204;
+            let t218 = c_hr * t207;
+            let t219 = t217 + t218;
+            let t220 = c_hr * t185;
+            let t221 = s_hr * t186;
+            let t222 = t220 + t221;
+            let t223 = s_hr * t185;
+            let t224 = c_hr * t186;
+            let t225 = t224 - t223;
+            let t226 = 0.112f64 * t178;
+            let t227 = t226 + t226;
+            let t228 = t227 + 0.0968402720768f64;
+            let t229 = m_hr_hr + t228;
+            let t230 = t219 + t228;
+            let t231 = t213 + t228;
+            let t232 = t192 * 0.112f64;
+            let t233 = t189 * 0.112f64;
+            let t234 = t229 - t226;
+            let t235 = t225 - t232;
+            let m_hr_sfe = t222 + t233;
+            let t236 = t234 - t226;
+            let t237 = t210 - t232;
+            let t238 = t201 + t233;
+            let t239 = t236 - 0.0968402720768f64;
+            let t240 = t178 + 0.8646452864f64;
+            let t241 = 0.2933742339089346f64 + t240;
+            let t242 = t192 - 0.060615943396199995f64;
+            let t243 = 0.03900299600125622f64 + t239;
+            let t244 = 0.0055279857002587095f64 + t235;
+            let t245 = 0.0055279857002587095f64 + t237;
+            let t246 = 0.08585553000239696f64 + t230;
+            let t247 = t238 - 0.02285162700433904f64;
+            let t248 = 0.0027519999999057617f64 + t216;
+            let m_sfe_sfe = 0.05139352799812063f64 + t231;
+            (t235, m_hr_sfe, t241, t242, t243, t244, t245, t246, t247, t248, m_sfe_sfe)
+        };
+        let (m_sfe_saa, m_saa_saa) = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t249 = s_sfe * t241;
+            let t250 = c_sfe * t242;
+            let t251 = t249 + t250;
+            let t252 = t243 * s_sfe;
+            let t253 = t245 * c_sfe;
+            let t254 = t252 + t253;
+            let t255 = t244 * s_sfe;
+            let t256 = t246 * c_sfe;
+            let t257 = t255 + t256;
+            let t258 = s_sfe * t254;
+            let t259 = c_sfe * t257;
+            let t260 = t258 + t259;
+            let t261 = s_sfe * t247;
+            let t262 = c_sfe * t248;
+            let m_sfe_saa = t261 - t262;
+            let t263 = 0.178f64 * t251;
+            let t264 = t263 + t263;
+            let t265 = t264 + 0.3267401822492f64;
+            let t266 = t260 + t265;
+            let t267 = t266 - t263;
+            let t268 = t267 - t263;
+            let t269 = t268 - 0.3267401822492f64;
+            let m_saa_saa = 0.007628999999536005f64 + t269;
+            (m_sfe_saa, m_saa_saa)
+        };
+        let m_hr_saa = {
+            // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
+            let t270 = s_sfe * m_hr_hr;
+            let t271 = c_sfe * t235;
+            let m_hr_saa = t270 + t271;
+            m_hr_saa
+        };
+        let (m_efe_sfe, m_efe_saa) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
+            let t272 = m_efe_efe + t160;
+            let t273 = s_hr * t121;
+            let t274 = c_hr * t121;
+            let t275 = c_hr * t272;
+            let t276 = s_hr * t159;
+            let t277 = t275 + t276;
+            let t278 = s_hr * t272;
+            let t279 = c_hr * t159;
+            let t280 = t279 - t278;
+            let t281 = 0.112f64 * t273;
+            let t282 = 0.112f64 * t274;
+            let t283 = t280 - t281;
+            let m_efe_sfe = t277 + t282;
+            let t284 = s_sfe * m_efe_hr;
+            let t285 = c_sfe * t283;
+            let m_efe_saa = t284 + t285;
+            (m_efe_sfe, m_efe_saa)
+        };
+        let (m_wr_hr, m_wr_sfe, m_wr_saa) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
+            let t286 = c_efe * t60;
+            let t287 = c_efe * m_wr_wr;
+            let t288 = s_efe * t103;
+            let m_wr_hr = t287 - t288;
+            let t289 = s_efe * m_wr_wr;
+            let t290 = c_efe * t103;
+            let t291 = t289 + t290;
+            let t292 = 0.304f64 * t286;
+            let t293 = 0.304f64 * t61;
+            let t294 = m_wr_efe + t292;
+            let t295 = t291 - t293;
+            let t296 = c_hr * t61;
+            let t297 = s_hr * t286;
+            let t298 = t296 + t297;
+            let t299 = s_hr * t61;
+            let t300 = c_hr * t286;
+            let t301 = t300 - t299;
+            let t302 = c_hr * t294;
+            let t303 = s_hr * t295;
+            let t304 = t302 + t303;
+            let t305 = s_hr * t294;
+            let t306 = c_hr * t295;
+            let t307 = t306 - t305;
+            let t308 = 0.112f64 * t298;
+            let t309 = 0.112f64 * t301;
+            let t310 = t307 - t308;
+            let m_wr_sfe = t304 + t309;
+            let t311 = s_sfe * m_wr_hr;
+            let t312 = c_sfe * t310;
+            let m_wr_saa = t311 + t312;
+            (m_wr_hr, m_wr_sfe, m_wr_saa)
+        };
+        let (m_wfe_efe, m_wfe_hr, m_wfe_sfe, m_wfe_saa) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
+            let t313 = 0.009277f64 + t31;
+            let t314 = c_wr * t0;
+            let t315 = s_wr * t0;
+            let t316 = c_wr * t16;
+            let t317 = s_wr * t313;
+            let t318 = t316 - t317;
+            let t319 = s_wr * t16;
+            let t320 = c_wr * t313;
+            let t321 = t319 + t320;
+            let t322 = 0.112f64 * t314;
+            let t323 = 0.112f64 * t315;
+            let t324 = t321 + t322;
+            let m_wfe_efe = t323 - t318;
+            let t325 = s_efe * t1;
+            let t326 = c_efe * t315;
+            let t327 = t326 - t325;
+            let t328 = c_efe * m_wfe_wr;
+            let t329 = s_efe * t324;
+            let m_wfe_hr = t328 - t329;
+            let t330 = s_efe * m_wfe_wr;
+            let t331 = c_efe * t324;
+            let t332 = t330 + t331;
+            let t333 = 0.304f64 * t327;
+            let t334 = 0.304f64 * t314;
+            let t335 = m_wfe_efe + t333;
+            let t336 = t332 + t334;
+            let t337 = c_hr * t314;
+            let t338 = s_hr * t327;
+            let t339 = t337 - t338;
+            let t340 = s_hr * t314;
+            let t341 = c_hr * t327;
+            let t342 = t340 + t341;
+            let t343 = c_hr * t335;
+            let t344 = s_hr * t336;
+            let t345 = t343 + t344;
+            let t346 = s_hr * t335;
+            let t347 = c_hr * t336;
+            let t348 = t347 - t346;
+            let t349 = 0.112f64 * t339;
+            let t350 = 0.112f64 * t342;
+            let t351 = t348 + t349;
+            let m_wfe_sfe = t345 + t350;
+            let t352 = s_sfe * m_wfe_hr;
+            let t353 = c_sfe * t351;
+            let m_wfe_saa = t352 + t353;
+            (m_wfe_efe, m_wfe_hr, m_wfe_sfe, m_wfe_saa)
+        };
         let mut m = ::hya_core::JointMatrix::<6>::zeros();
         m[(0, 0)] = m_saa_saa;
         m[(1, 1)] = m_sfe_sfe;
@@ -2628,1494 +3582,1956 @@ impl ::hya_core::Dynamics<6> for Hya {
         qd: &::hya_core::JointVector<6>,
         tau: &::hya_core::JointVector<6>,
     ) -> Result<::hya_core::JointVector<6>, ::hya_core::Error> {
-        let q_sfe = q[1];
-        let q_hr = q[2];
-        let q_efe = q[3];
-        let q_wr = q[4];
-        let q_wfe = q[5];
-        let qd_saa = qd[0];
-        let qd_sfe = qd[1];
-        let qd_hr = qd[2];
-        let qd_efe = qd[3];
-        let qd_wr = qd[4];
-        let qd_wfe = qd[5];
-        let tau_saa = tau[0];
-        let tau_sfe = tau[1];
-        let tau_hr = tau[2];
-        let tau_efe = tau[3];
-        let tau_wr = tau[4];
-        let tau_wfe = tau[5];
-        let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-        let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-        let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-        let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-        let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+        let (
+            qd_saa,
+            qd_sfe,
+            qd_hr,
+            qd_efe,
+            qd_wr,
+            qd_wfe,
+            tau_saa,
+            tau_sfe,
+            tau_hr,
+            tau_efe,
+            tau_wr,
+            tau_wfe,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let qd_saa = qd[0];
+            let qd_sfe = qd[1];
+            let qd_hr = qd[2];
+            let qd_efe = qd[3];
+            let qd_wr = qd[4];
+            let qd_wfe = qd[5];
+            let tau_saa = tau[0];
+            let tau_sfe = tau[1];
+            let tau_hr = tau[2];
+            let tau_efe = tau[3];
+            let tau_wr = tau[4];
+            let tau_wfe = tau[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                qd_saa,
+                qd_sfe,
+                qd_hr,
+                qd_efe,
+                qd_wr,
+                qd_wfe,
+                tau_saa,
+                tau_sfe,
+                tau_hr,
+                tau_efe,
+                tau_wr,
+                tau_wfe,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
         // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-        let shoulder_fe_v_wx = s_sfe * qd_saa;
-        let shoulder_fe_v_wy = c_sfe * qd_saa;
-        let t0 = shoulder_fe_v_wy * qd_sfe;
-        let t1 = shoulder_fe_v_wx * qd_sfe;
-        let t2 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-        let t3 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
-        let t4 = t2 + t3;
-        let t5 = 0.02285162700433904f64 * qd_sfe;
-        let t6 = t4 - t5;
-        let t7 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-        let t8 = 0.08585553000239696f64 * shoulder_fe_v_wy;
-        let t9 = t7 + t8;
-        let t10 = 0.0027519999999057617f64 * qd_sfe;
-        let t11 = t9 - t10;
-        let t12 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-        let t13 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
-        let t14 = t12 + t13;
-        let t15 = 0.05139352799812063f64 * qd_sfe;
-        let t16 = t15 - t14;
-        let t17 = shoulder_fe_v_wy * t16;
-        let t18 = qd_sfe * t11;
-        let t19 = t17 - t18;
-        let t20 = qd_sfe * t6;
-        let t21 = shoulder_fe_v_wx * t16;
-        let t22 = t20 - t21;
-        let t23 = shoulder_fe_v_wx * t11;
-        let t24 = shoulder_fe_v_wy * t6;
-        let t25 = t23 - t24;
-        // ── link `Humerus_R`, joint `HR` (base to tip)
-        let t26 = 0.112f64 * qd_sfe;
-        let t27 = 0.112f64 * shoulder_fe_v_wy;
-        let t28 = c_hr * qd_sfe;
-        let t29 = s_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wx = t29 - t28;
-        let t30 = s_hr * qd_sfe;
-        let t31 = c_hr * shoulder_fe_v_wy;
-        let humerus_r_v_wy = t30 + t31;
-        let t32 = c_hr * t27;
-        let t33 = s_hr * t26;
-        let humerus_r_v_vx = t32 + t33;
-        let t34 = s_hr * t27;
-        let t35 = c_hr * t26;
-        let humerus_r_v_vy = t35 - t34;
-        let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-        let t36 = humerus_r_v_wy * qd_hr;
-        let t37 = humerus_r_v_wx * qd_hr;
-        let t38 = humerus_r_v_vy * qd_hr;
-        let t39 = humerus_r_v_vx * qd_hr;
-        let t40 = 0.20236395000387197f64 * humerus_r_v_wx;
-        let t41 = 0.000053999980001054f64 * humerus_r_v_wy;
-        let t42 = t40 + t41;
-        let t43 = 0.011715294995083824f64 * humerus_r_v_wz;
-        let t44 = t42 - t43;
-        let t45 = 0.000053999980001054f64 * humerus_r_v_wx;
-        let t46 = 0.20986895000353661f64 * humerus_r_v_wy;
-        let t47 = t45 + t46;
-        let t48 = 0.0037997813999599995f64 * humerus_r_v_wz;
-        let t49 = t47 - t48;
-        let t50 = 0.011715294995083824f64 * humerus_r_v_wx;
-        let t51 = 0.0037997813999599995f64 * humerus_r_v_wy;
-        let t52 = t50 + t51;
-        let t53 = 0.01032999899926462f64 * humerus_r_v_wz;
-        let t54 = t53 - t52;
-        let t55 = 0.6479671119999999f64 * humerus_r_v_vy;
-        let t56 = 0.6479671119999999f64 * humerus_r_v_vx;
-        let t57 = 0.0055615274403f64 * humerus_r_v_vy;
-        let t58 = 0.014380859999999999f64 * humerus_r_v_vx;
-        let t59 = t57 + t58;
-        let t60 = humerus_r_v_vx * 2.327f64;
-        let t61 = humerus_r_v_vy * 2.327f64;
-        let t62 = 0.014380859999999999f64 * humerus_r_v_wz;
-        let t63 = 0.6479671119999999f64 * humerus_r_v_wy;
-        let t64 = t62 - t63;
-        let t65 = 0.6479671119999999f64 * humerus_r_v_wx;
-        let t66 = 0.0055615274403f64 * humerus_r_v_wz;
-        let t67 = t65 + t66;
-        let t68 = 0.0055615274403f64 * humerus_r_v_wy;
-        let t69 = 0.014380859999999999f64 * humerus_r_v_wx;
-        let t70 = t68 + t69;
-        let t71 = t44 - t55;
-        let t72 = t49 + t56;
-        let t73 = t54 - t59;
-        let t74 = t60 - t64;
-        let t75 = t61 - t67;
-        let t76 = humerus_r_v_wy * t73;
-        let t77 = humerus_r_v_wz * t72;
-        let t78 = t76 - t77;
-        let t79 = humerus_r_v_wz * t71;
-        let t80 = humerus_r_v_wx * t73;
-        let t81 = t79 - t80;
-        let t82 = humerus_r_v_wx * t72;
-        let t83 = humerus_r_v_wy * t71;
-        let t84 = t82 - t83;
-        let t85 = humerus_r_v_vy * t70;
-        let t86 = humerus_r_v_vx * t70;
-        let t87 = humerus_r_v_vx * t75;
-        let t88 = humerus_r_v_vy * t74;
-        let t89 = t87 - t88;
-        let t90 = t78 + t85;
-        let t91 = t81 - t86;
-        let t92 = t84 + t89;
-        let t93 = humerus_r_v_wy * t70;
-        let t94 = humerus_r_v_wz * t75;
-        let t95 = t93 - t94;
-        let t96 = humerus_r_v_wz * t74;
-        let t97 = humerus_r_v_wx * t70;
-        let t98 = t96 - t97;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip)
-        let t99 = 0.304f64 * humerus_r_v_wy;
-        let t100 = 0.304f64 * humerus_r_v_wx;
-        let elbow_fe_v_vz = humerus_r_v_vx + t99;
-        let t101 = humerus_r_v_vy - t100;
-        let t102 = c_efe * humerus_r_v_wz;
-        let t103 = s_efe * humerus_r_v_wy;
-        let elbow_fe_v_wx = t102 + t103;
-        let t104 = s_efe * humerus_r_v_wz;
-        let t105 = c_efe * humerus_r_v_wy;
-        let elbow_fe_v_wy = t105 - t104;
-        let elbow_fe_v_vx = s_efe * t101;
-        let elbow_fe_v_vy = c_efe * t101;
-        let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-        let t106 = elbow_fe_v_wy * qd_efe;
-        let t107 = elbow_fe_v_wx * qd_efe;
-        let t108 = elbow_fe_v_vy * qd_efe;
-        let t109 = elbow_fe_v_vx * qd_efe;
-        let t110 = 0.081661000005f64 * elbow_fe_v_wx;
-        let t111 = 0.00368572840011861f64 * elbow_fe_v_wy;
-        let t112 = t110 + t111;
-        let t113 = 0.0002120000299f64 * elbow_fe_v_wz;
-        let t114 = t112 - t113;
-        let t115 = 0.00368572840011861f64 * elbow_fe_v_wx;
-        let t116 = 0.018284489999765022f64 * elbow_fe_v_wy;
-        let t117 = t115 + t116;
-        let t118 = 0.002292000208f64 * elbow_fe_v_wz;
-        let t119 = t117 - t118;
-        let t120 = 0.0002120000299f64 * elbow_fe_v_wx;
-        let t121 = 0.002292000208f64 * elbow_fe_v_wy;
-        let t122 = t120 + t121;
-        let t123 = 0.09570849000176501f64 * elbow_fe_v_wz;
-        let t124 = t123 - t122;
-        let t125 = 0.008711861f64 * elbow_fe_v_vz;
-        let t126 = 0.16029825982372198f64 * elbow_fe_v_vz;
-        let t127 = 0.16029825982372198f64 * elbow_fe_v_vy;
-        let t128 = 0.008711861f64 * elbow_fe_v_vx;
-        let t129 = t127 + t128;
-        let t130 = elbow_fe_v_vx * 1.7423722f64;
-        let t131 = elbow_fe_v_vy * 1.7423722f64;
-        let t132 = elbow_fe_v_vz * 1.7423722f64;
-        let t133 = 0.008711861f64 * elbow_fe_v_wz;
-        let t134 = 0.16029825982372198f64 * elbow_fe_v_wz;
-        let t135 = 0.16029825982372198f64 * elbow_fe_v_wy;
-        let t136 = 0.008711861f64 * elbow_fe_v_wx;
-        let t137 = t135 + t136;
-        let t138 = t114 + t125;
-        let t139 = t119 + t126;
-        let t140 = t124 + t129;
-        let t141 = t130 + t133;
-        let t142 = t131 + t134;
-        let t143 = t132 + t137;
-        let t144 = elbow_fe_v_wy * t140;
-        let t145 = elbow_fe_v_wz * t139;
-        let t146 = t144 - t145;
-        let t147 = elbow_fe_v_wz * t138;
-        let t148 = elbow_fe_v_wx * t140;
-        let t149 = t147 - t148;
-        let t150 = elbow_fe_v_wx * t139;
-        let t151 = elbow_fe_v_wy * t138;
-        let t152 = t150 - t151;
-        let t153 = elbow_fe_v_vy * t143;
-        let t154 = elbow_fe_v_vz * t142;
-        let t155 = t154 - t153;
-        let t156 = elbow_fe_v_vz * t141;
-        let t157 = elbow_fe_v_vx * t143;
-        let t158 = t157 - t156;
-        let t159 = elbow_fe_v_vx * t142;
-        let t160 = elbow_fe_v_vy * t141;
-        let t161 = t159 - t160;
-        let t162 = t146 + t155;
-        let t163 = t149 + t158;
-        let t164 = t152 + t161;
-        let t165 = elbow_fe_v_wy * t143;
-        let t166 = elbow_fe_v_wz * t142;
-        let t167 = t165 + t166;
-        let t168 = elbow_fe_v_wz * t141;
-        let t169 = elbow_fe_v_wx * t143;
-        let t170 = t168 + t169;
-        let t171 = elbow_fe_v_wx * t142;
-        let t172 = elbow_fe_v_wy * t141;
-        let t173 = t171 - t172;
-        // ── link `Wrist_R`, joint `WR` (base to tip)
-        let t174 = 0.112f64 * elbow_fe_v_wz;
-        let t175 = 0.112f64 * elbow_fe_v_wy;
-        let t176 = elbow_fe_v_vy + t174;
-        let t177 = elbow_fe_v_vz + t175;
-        let t178 = c_wr * elbow_fe_v_wz;
-        let t179 = s_wr * elbow_fe_v_wy;
-        let wrist_r_v_wx = t179 - t178;
-        let t180 = s_wr * elbow_fe_v_wz;
-        let t181 = c_wr * elbow_fe_v_wy;
-        let wrist_r_v_wy = t180 + t181;
-        let t182 = c_wr * t177;
-        let t183 = s_wr * t176;
-        let wrist_r_v_vx = t182 + t183;
-        let t184 = s_wr * t177;
-        let t185 = c_wr * t176;
-        let wrist_r_v_vy = t185 - t184;
-        let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-        let t186 = wrist_r_v_wy * qd_wr;
-        let t187 = wrist_r_v_wx * qd_wr;
-        let t188 = wrist_r_v_vy * qd_wr;
-        let t189 = wrist_r_v_vx * qd_wr;
-        let t190 = 0.019431999999999998f64 * wrist_r_v_wx;
-        let t191 = 0.001387f64 * wrist_r_v_wy;
-        let t192 = t190 - t191;
-        let t193 = 0.012652f64 * wrist_r_v_wz;
-        let t194 = t192 - t193;
-        let t195 = 0.001387f64 * wrist_r_v_wx;
-        let t196 = 0.029115f64 * wrist_r_v_wy;
-        let t197 = t196 - t195;
-        let t198 = 0.001243f64 * wrist_r_v_wz;
-        let t199 = t197 - t198;
-        let t200 = 0.012652f64 * wrist_r_v_wx;
-        let t201 = 0.001243f64 * wrist_r_v_wy;
-        let t202 = t200 + t201;
-        let t203 = 0.011046f64 * wrist_r_v_wz;
-        let t204 = t203 - t202;
-        let t205 = 0.05783800000000001f64 * wrist_r_v_vy;
-        let t206 = 0.05783800000000001f64 * wrist_r_v_vx;
-        let t207 = wrist_r_v_vx * 2.1032f64;
-        let t208 = wrist_r_v_vy * 2.1032f64;
-        let t209 = elbow_fe_v_vx * 2.1032f64;
-        let t210 = 0.05783800000000001f64 * wrist_r_v_wy;
-        let t211 = 0.05783800000000001f64 * wrist_r_v_wx;
-        let t212 = t194 - t205;
-        let t213 = t199 + t206;
-        let t214 = t207 + t210;
-        let t215 = t208 - t211;
-        let t216 = wrist_r_v_wy * t204;
-        let t217 = wrist_r_v_wz * t213;
-        let t218 = t216 - t217;
-        let t219 = wrist_r_v_wz * t212;
-        let t220 = wrist_r_v_wx * t204;
-        let t221 = t219 - t220;
-        let t222 = wrist_r_v_wx * t213;
-        let t223 = wrist_r_v_wy * t212;
-        let t224 = t222 - t223;
-        let t225 = wrist_r_v_vy * t209;
-        let t226 = elbow_fe_v_vx * t215;
-        let t227 = t225 - t226;
-        let t228 = elbow_fe_v_vx * t214;
-        let t229 = wrist_r_v_vx * t209;
-        let t230 = t228 - t229;
-        let t231 = wrist_r_v_vx * t215;
-        let t232 = wrist_r_v_vy * t214;
-        let t233 = t231 - t232;
-        let t234 = t218 + t227;
-        let t235 = t221 + t230;
-        let t236 = t224 + t233;
-        let t237 = wrist_r_v_wy * t209;
-        let t238 = wrist_r_v_wz * t215;
-        let t239 = t237 - t238;
-        let t240 = wrist_r_v_wz * t214;
-        let t241 = wrist_r_v_wx * t209;
-        let t242 = t240 - t241;
-        let t243 = wrist_r_v_wx * t215;
-        let t244 = wrist_r_v_wy * t214;
-        let t245 = t243 - t244;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip)
-        let t246 = 0.184f64 * wrist_r_v_wy;
-        let t247 = 0.184f64 * wrist_r_v_wx;
-        let t248 = 0.02075f64 * wrist_r_v_wz;
-        let t249 = t247 - t248;
-        let t250 = 0.02075f64 * wrist_r_v_wy;
-        let t251 = wrist_r_v_vx + t246;
-        let wrist_fe_v_vz = wrist_r_v_vy - t249;
-        let t252 = elbow_fe_v_vx - t250;
-        let t253 = c_wfe * wrist_r_v_wz;
-        let t254 = s_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wx = t253 + t254;
-        let t255 = s_wfe * wrist_r_v_wz;
-        let t256 = c_wfe * wrist_r_v_wx;
-        let wrist_fe_v_wy = t256 - t255;
-        let t257 = c_wfe * t252;
-        let t258 = s_wfe * t251;
-        let wrist_fe_v_vx = t257 + t258;
-        let t259 = s_wfe * t252;
-        let t260 = c_wfe * t251;
-        let wrist_fe_v_vy = t260 - t259;
-        let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-        let t261 = wrist_fe_v_wy * qd_wfe;
-        let t262 = wrist_fe_v_wx * qd_wfe;
-        let t263 = wrist_fe_v_vy * qd_wfe;
-        let t264 = wrist_fe_v_vx * qd_wfe;
-        let t265 = 0.010737f64 * wrist_fe_v_wx;
-        let t266 = 0.000198f64 * wrist_fe_v_wy;
-        let t267 = t265 + t266;
-        let t268 = 0.000015f64 * wrist_fe_v_wz;
-        let t269 = t267 + t268;
-        let t270 = 0.000198f64 * wrist_fe_v_wx;
-        let t271 = 0.0032270000000000003f64 * wrist_fe_v_wy;
-        let t272 = t270 + t271;
-        let t273 = 0.000829f64 * wrist_fe_v_wz;
-        let t274 = t272 - t273;
-        let t275 = 0.000015f64 * wrist_fe_v_wx;
-        let t276 = 0.000829f64 * wrist_fe_v_wy;
-        let t277 = t275 - t276;
-        let t278 = 0.009277f64 * wrist_fe_v_wz;
-        let t279 = t277 + t278;
-        let t280 = 0.038686875f64 * wrist_fe_v_vz;
-        let t281 = 0.038686875f64 * wrist_fe_v_vy;
-        let t282 = wrist_fe_v_vx * 1.547475f64;
-        let t283 = wrist_fe_v_vy * 1.547475f64;
-        let t284 = wrist_fe_v_vz * 1.547475f64;
-        let t285 = 0.038686875f64 * wrist_fe_v_wz;
-        let t286 = 0.038686875f64 * wrist_fe_v_wy;
-        let t287 = t274 - t280;
-        let t288 = t279 + t281;
-        let t289 = t283 + t285;
-        let t290 = t284 - t286;
-        let t291 = wrist_fe_v_wy * t288;
-        let t292 = wrist_fe_v_wz * t287;
-        let t293 = t291 - t292;
-        let t294 = wrist_fe_v_wz * t269;
-        let t295 = wrist_fe_v_wx * t288;
-        let t296 = t294 - t295;
-        let t297 = wrist_fe_v_wx * t287;
-        let t298 = wrist_fe_v_wy * t269;
-        let t299 = t297 - t298;
-        let t300 = wrist_fe_v_vy * t290;
-        let t301 = wrist_fe_v_vz * t289;
-        let t302 = t300 - t301;
-        let t303 = wrist_fe_v_vz * t282;
-        let t304 = wrist_fe_v_vx * t290;
-        let t305 = t303 - t304;
-        let t306 = wrist_fe_v_vx * t289;
-        let t307 = wrist_fe_v_vy * t282;
-        let t308 = t306 - t307;
-        let wrist_fe_p_nx = t293 + t302;
-        let wrist_fe_p_ny = t296 + t305;
-        let wrist_fe_p_nz = t299 + t308;
-        let t309 = wrist_fe_v_wy * t290;
-        let t310 = wrist_fe_v_wz * t289;
-        let wrist_fe_p_fx = t309 - t310;
-        let t311 = wrist_fe_v_wz * t282;
-        let t312 = wrist_fe_v_wx * t290;
-        let wrist_fe_p_fy = t311 - t312;
-        let t313 = wrist_fe_v_wx * t289;
-        let t314 = wrist_fe_v_wy * t282;
-        let wrist_fe_p_fz = t313 - t314;
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
-        let u_wfe = tau_wfe - wrist_fe_p_nz;
-        let t315 = 0.010736975746469764f64 * t261;
-        let t316 = 0.00019934041177104668f64 * t262;
-        let t317 = t315 - t316;
-        let t318 = 0.00019934041177104668f64 * t261;
-        let t319 = 0.0031529199094534875f64 * t262;
-        let t320 = t318 - t319;
-        let t321 = 0.00006255288617009808f64 * t264;
-        let t322 = 0.0034570895090007543f64 * t264;
-        let t323 = t317 + t321;
-        let t324 = t320 - t322;
-        let t325 = 0.00006255288617009808f64 * t261;
-        let t326 = 0.0034570895090007543f64 * t262;
-        let t327 = t325 + t326;
-        let t328 = 0.038686875f64 * t262;
-        let t329 = 1.547475f64 * t263;
-        let t330 = 1.3861432874565458f64 * t264;
-        let t331 = t327 + t330;
-        let t332 = wrist_fe_p_nx + t323;
-        let t333 = wrist_fe_p_ny + t324;
-        let t334 = wrist_fe_p_fx + t329;
-        let t335 = wrist_fe_p_fy - t331;
-        let t336 = wrist_fe_p_fz + t328;
-        let t337 = u_wfe * 107.79346771585641f64;
-        let t338 = 0.000015f64 * t337;
-        let t339 = 0.000829f64 * t337;
-        let t340 = 0.009277f64 * t337;
-        let t341 = 0.038686875f64 * t337;
-        let t342 = t332 + t338;
-        let t343 = t333 - t339;
-        let t344 = wrist_fe_p_nz + t340;
-        let t345 = t335 + t341;
-        let t346 = 0.010736975746469764f64 * c_wfe;
-        let t347 = 0.00019934041177104668f64 * s_wfe;
-        let t348 = t346 - t347;
-        let t349 = 0.00019934041177104668f64 * c_wfe;
-        let t350 = 0.0031529199094534875f64 * s_wfe;
-        let t351 = t349 - t350;
-        let t352 = 0.010736975746469764f64 * s_wfe;
-        let t353 = t352 + t349;
-        let t354 = 0.0031529199094534875f64 * c_wfe;
-        let t355 = t347 + t354;
-        let t356 = c_wfe * t348;
-        let t357 = s_wfe * t351;
-        let t358 = t356 - t357;
-        let t359 = c_wfe * t353;
-        let t360 = s_wfe * t355;
-        let t361 = t359 - t360;
-        let t362 = s_wfe * t353;
-        let t363 = c_wfe * t355;
-        let t364 = t362 + t363;
-        let t365 = 0.00006255288617009808f64 * s_wfe;
-        let t366 = 0.0034570895090007543f64 * s_wfe;
-        let t367 = 0.00006255288617009808f64 * c_wfe;
-        let t368 = 0.0034570895090007543f64 * c_wfe;
-        let t369 = c_wfe * t365;
-        let t370 = s_wfe * t366;
-        let wrist_r_u_fz = t369 + t370;
-        let t371 = s_wfe * t365;
-        let t372 = c_wfe * t366;
-        let t373 = t371 - t372;
-        let t374 = c_wfe * t367;
-        let t375 = s_wfe * t368;
-        let wrist_r_u_fx = t374 + t375;
-        let t376 = s_wfe * t367;
-        let t377 = c_wfe * t368;
-        let t378 = t377 - t376;
-        let t379 = s_wfe * 0.038686875f64;
-        let t380 = c_wfe * 0.038686875f64;
-        let t381 = 1.547475f64 * c_wfe;
-        let t382 = 1.3861432874565458f64 * s_wfe;
-        let t383 = 1.547475f64 * s_wfe;
-        let t384 = 1.3861432874565458f64 * c_wfe;
-        let t385 = c_wfe * t381;
-        let t386 = s_wfe * t382;
-        let t387 = t385 + t386;
-        let t388 = c_wfe * t383;
-        let t389 = s_wfe * t384;
-        let t390 = t388 - t389;
-        let t391 = s_wfe * t383;
-        let t392 = c_wfe * t384;
-        let t393 = t391 + t392;
-        let t394 = t380 * 0.184f64;
-        let t395 = t379 * 0.184f64;
-        let t396 = t378 * 0.184f64;
-        let t397 = t373 * 0.02075f64;
-        let t398 = t397 - t396;
-        let t399 = wrist_r_u_fx * 0.184f64;
-        let t400 = wrist_r_u_fz * 0.02075f64;
-        let t401 = t399 + t400;
-        let t402 = t380 * 0.02075f64;
-        let t403 = t379 * 0.02075f64;
-        let t404 = 0.184f64 * t393;
-        let t405 = 0.02075f64 * t390;
-        let t406 = t404 - t405;
-        let t407 = 0.184f64 * t390;
-        let t408 = 0.02075f64 * t387;
-        let t409 = t407 - t408;
-        let t410 = t364 + t394;
-        let t411 = t361 - t402;
-        let t412 = t358 + t403;
-        let t413 = t410 + t394;
-        let t414 = t411 - t395;
-        let t415 = t412 + t403;
-        let t416 = t406 * 0.184f64;
-        let t417 = t409 * 0.02075f64;
-        let t418 = t417 - t416;
-        let t419 = t413 + 0.052391313599999996f64;
-        let t420 = t414 - 0.0059082595499999994f64;
-        let t421 = t415 + 0.0006662847046875f64;
-        let t422 = t380 + 0.28473539999999997f64;
-        let wrist_r_u_fy = t379 + 0.03211010625f64;
-        let t423 = c_wfe * t334;
-        let t424 = s_wfe * t345;
-        let t425 = t423 - t424;
-        let t426 = s_wfe * t334;
-        let t427 = c_wfe * t345;
-        let t428 = t426 + t427;
-        let t429 = c_wfe * t342;
-        let t430 = s_wfe * t343;
-        let t431 = t429 - t430;
-        let t432 = s_wfe * t342;
-        let t433 = c_wfe * t343;
-        let t434 = t432 + t433;
-        let t435 = 0.184f64 * t336;
-        let t436 = 0.184f64 * t428;
-        let t437 = 0.02075f64 * t425;
-        let t438 = t436 - t437;
-        let t439 = 0.02075f64 * t336;
-        let t440 = t434 - t435;
-        let t441 = t344 + t438;
-        let t442 = t431 + t439;
-        let t443 = 0.019431999999999998f64 + t419;
-        let t444 = 0.001387f64 + t398;
-        let wrist_r_u_nx = t420 - 0.012652f64;
-        let t445 = 0.029115f64 - t418;
-        let wrist_r_u_ny = 0.001243f64 + t401;
-        let wrist_r_u_nz = 0.011046f64 + t421;
-        let t446 = 0.05783800000000001f64 + t406;
-        let t447 = 0.05783800000000001f64 + t422;
-        let t448 = 2.1032f64 + t393;
-        let t449 = 2.1032f64 + t387;
-        let wrist_r_p_nx = t234 + t440;
-        let wrist_r_p_ny = t235 + t441;
-        let wrist_r_p_nz = t236 + t442;
-        let wrist_r_p_fx = t239 + t428;
-        let wrist_r_p_fy = t242 + t336;
-        let wrist_r_p_fz = t245 + t425;
-        // ── link `Wrist_R`, joint `WR` (tip to base)
-        let u_wr = tau_wr - wrist_r_p_nz;
-        let t450 = 1f64 / wrist_r_u_nz;
-        let t451 = wrist_r_u_nx * t450;
-        let t452 = wrist_r_u_ny * t450;
-        let t453 = wrist_r_u_nz * t450;
-        let t454 = wrist_r_u_fx * t450;
-        let t455 = wrist_r_u_fy * t450;
-        let t456 = wrist_r_u_fz * t450;
-        let t457 = wrist_r_u_nx * t451;
-        let t458 = wrist_r_u_nx * t452;
-        let t459 = wrist_r_u_ny * t452;
-        let t460 = wrist_r_u_nx * t453;
-        let t461 = wrist_r_u_ny * t453;
-        let t462 = wrist_r_u_nz * t453;
-        let t463 = t443 - t457;
-        let t464 = t458 - t444;
-        let t465 = t445 - t459;
-        let t466 = wrist_r_u_nx - t460;
-        let t467 = t461 - wrist_r_u_ny;
-        let t468 = wrist_r_u_nz - t462;
-        let t469 = wrist_r_u_nx * t454;
-        let t470 = wrist_r_u_ny * t454;
-        let t471 = wrist_r_u_nz * t454;
-        let t472 = wrist_r_u_nx * t455;
-        let t473 = wrist_r_u_ny * t455;
-        let t474 = wrist_r_u_nz * t455;
-        let t475 = wrist_r_u_nx * t456;
-        let t476 = wrist_r_u_ny * t456;
-        let t477 = wrist_r_u_nz * t456;
-        let t478 = t378 + t469;
-        let t479 = t446 - t470;
-        let t480 = t471 - wrist_r_u_fx;
-        let t481 = t447 + t472;
-        let t482 = wrist_r_u_fy - t474;
-        let t483 = t373 - t475;
-        let t484 = t409 + t476;
-        let t485 = wrist_r_u_fz - t477;
-        let t486 = wrist_r_u_fx * t454;
-        let t487 = wrist_r_u_fx * t455;
-        let t488 = wrist_r_u_fy * t455;
-        let t489 = wrist_r_u_fx * t456;
-        let t490 = wrist_r_u_fy * t456;
-        let t491 = wrist_r_u_fz * t456;
-        let t492 = t448 - t486;
-        let t493 = 3.650675f64 - t488;
-        let t494 = t390 + t489;
-        let t495 = t449 - t491;
-        let t496 = t463 * t186;
-        let t497 = t464 * t187;
-        let t498 = t496 - t497;
-        let t499 = t464 * t186;
-        let t500 = t465 * t187;
-        let t501 = t499 - t500;
-        let t502 = t466 * t186;
-        let t503 = t467 * t187;
-        let t504 = t502 - t503;
-        let t505 = t478 * t188;
-        let t506 = t481 * t189;
-        let t507 = t505 + t506;
-        let t508 = t479 * t188;
-        let t509 = t473 * t189;
-        let t510 = t508 - t509;
-        let t511 = t480 * t188;
-        let t512 = t482 * t189;
-        let t513 = t511 - t512;
-        let t514 = t498 + t507;
-        let t515 = t501 + t510;
-        let t516 = t504 + t513;
-        let t517 = t478 * t186;
-        let t518 = t479 * t187;
-        let t519 = t517 - t518;
-        let t520 = t481 * t186;
-        let t521 = t473 * t187;
-        let t522 = t520 + t521;
-        let t523 = t483 * t186;
-        let t524 = t484 * t187;
-        let t525 = t523 - t524;
-        let t526 = t492 * t188;
-        let t527 = t487 * t189;
-        let t528 = t526 - t527;
-        let t529 = t487 * t188;
-        let t530 = t493 * t189;
-        let t531 = t529 - t530;
-        let t532 = t494 * t188;
-        let t533 = t490 * t189;
-        let t534 = t532 + t533;
-        let t535 = t519 + t528;
-        let t536 = t531 - t522;
-        let t537 = t525 + t534;
-        let t538 = wrist_r_p_nx + t514;
-        let t539 = wrist_r_p_ny + t515;
-        let t540 = wrist_r_p_nz + t516;
-        let t541 = wrist_r_p_fx + t535;
-        let t542 = wrist_r_p_fy + t536;
-        let t543 = wrist_r_p_fz + t537;
-        let t544 = u_wr * t450;
-        let t545 = wrist_r_u_nx * t544;
-        let t546 = wrist_r_u_ny * t544;
-        let t547 = wrist_r_u_nz * t544;
-        let t548 = wrist_r_u_fx * t544;
-        let t549 = wrist_r_u_fy * t544;
-        let t550 = wrist_r_u_fz * t544;
-        let t551 = t538 + t545;
-        let t552 = t539 - t546;
-        let t553 = t540 + t547;
-        let t554 = t541 - t548;
-        let t555 = t542 + t549;
-        let t556 = t543 + t550;
-        let t557 = t463 * c_wr;
-        let t558 = t464 * s_wr;
-        let t559 = t557 - t558;
-        let t560 = t464 * c_wr;
-        let t561 = t465 * s_wr;
-        let t562 = t560 - t561;
-        let t563 = t466 * c_wr;
-        let t564 = t467 * s_wr;
-        let t565 = t563 - t564;
-        let t566 = t463 * s_wr;
-        let t567 = t566 + t560;
-        let t568 = t465 * c_wr;
-        let t569 = t558 + t568;
-        let t570 = t466 * s_wr;
-        let t571 = t467 * c_wr;
-        let t572 = t570 + t571;
-        let t573 = c_wr * t559;
-        let t574 = s_wr * t562;
-        let t575 = t573 - t574;
-        let t576 = c_wr * t567;
-        let t577 = s_wr * t569;
-        let t578 = t576 - t577;
-        let t579 = s_wr * t567;
-        let t580 = c_wr * t569;
-        let t581 = t579 + t580;
-        let t582 = t478 * c_wr;
-        let t583 = t481 * s_wr;
-        let t584 = t582 + t583;
-        let t585 = t479 * c_wr;
-        let t586 = t473 * s_wr;
-        let t587 = t585 - t586;
-        let t588 = t480 * c_wr;
-        let t589 = t482 * s_wr;
-        let t590 = t588 - t589;
-        let t591 = t478 * s_wr;
-        let t592 = t481 * c_wr;
-        let t593 = t591 - t592;
-        let t594 = t479 * s_wr;
-        let t595 = t473 * c_wr;
-        let t596 = t594 + t595;
-        let t597 = t480 * s_wr;
-        let t598 = t482 * c_wr;
-        let t599 = t597 + t598;
-        let t600 = c_wr * t584;
-        let t601 = s_wr * t587;
-        let t602 = t600 - t601;
-        let t603 = s_wr * t584;
-        let t604 = c_wr * t587;
-        let t605 = t603 + t604;
-        let t606 = c_wr * t593;
-        let t607 = s_wr * t596;
-        let t608 = t606 - t607;
-        let t609 = s_wr * t593;
-        let t610 = c_wr * t596;
-        let t611 = t609 + t610;
-        let t612 = c_wr * t483;
-        let t613 = s_wr * t484;
-        let t614 = t612 - t613;
-        let t615 = s_wr * t483;
-        let t616 = c_wr * t484;
-        let t617 = t615 + t616;
-        let t618 = t492 * c_wr;
-        let t619 = t487 * s_wr;
-        let t620 = t618 - t619;
-        let t621 = t487 * c_wr;
-        let t622 = t493 * s_wr;
-        let t623 = t621 - t622;
-        let t624 = t494 * c_wr;
-        let t625 = t490 * s_wr;
-        let t626 = t624 + t625;
-        let t627 = t492 * s_wr;
-        let t628 = t627 + t621;
-        let t629 = t493 * c_wr;
-        let t630 = t619 + t629;
-        let t631 = t494 * s_wr;
-        let t632 = t490 * c_wr;
-        let t633 = t631 - t632;
-        let t634 = c_wr * t620;
-        let t635 = s_wr * t623;
-        let t636 = t634 - t635;
-        let t637 = c_wr * t628;
-        let t638 = s_wr * t630;
-        let t639 = t637 - t638;
-        let t640 = s_wr * t628;
-        let t641 = c_wr * t630;
-        let t642 = t640 + t641;
-        let t643 = t590 * 0.112f64;
-        let t644 = t605 * 0.112f64;
-        let t645 = t602 * 0.112f64;
-        let t646 = t599 * 0.112f64;
-        let t647 = t611 * 0.112f64;
-        let t648 = t608 * 0.112f64;
-        let t649 = 0.112f64 * t626;
-        let t650 = 0.112f64 * t633;
-        let t651 = 0.112f64 * t639;
-        let t652 = 0.112f64 * t642;
-        let t653 = 0.112f64 * t636;
-        let t654 = t572 + t643;
-        let t655 = t581 + t644;
-        let t656 = t646 - t565;
-        let t657 = t647 - t578;
-        let t658 = t575 - t648;
-        let t659 = t655 + t644;
-        let t660 = t657 - t645;
-        let t661 = t658 - t648;
-        let t662 = t653 * 0.112f64;
-        let t663 = t651 * 0.112f64;
-        let t664 = t652 * 0.112f64;
-        let t665 = t659 + t662;
-        let t666 = t660 + t663;
-        let t667 = t661 + t664;
-        let t668 = t617 + t649;
-        let t669 = t650 - t614;
-        let t670 = t611 + t651;
-        let t671 = t652 - t608;
-        let t672 = t605 + t653;
-        let elbow_fe_u_fz = t602 - t651;
-        let t673 = c_wr * t554;
-        let t674 = s_wr * t555;
-        let t675 = t673 - t674;
-        let t676 = s_wr * t554;
-        let t677 = c_wr * t555;
-        let t678 = t676 + t677;
-        let t679 = c_wr * t551;
-        let t680 = s_wr * t552;
-        let t681 = t679 - t680;
-        let t682 = s_wr * t551;
-        let t683 = c_wr * t552;
-        let t684 = t682 + t683;
-        let t685 = 0.112f64 * t675;
-        let t686 = 0.112f64 * t678;
-        let t687 = t684 + t685;
-        let t688 = t686 - t681;
-        let t689 = 0.081661000005f64 + t468;
-        let t690 = 0.00368572840011861f64 + t654;
-        let elbow_fe_u_nx = t656 - 0.0002120000299f64;
-        let t691 = 0.018284489999765022f64 + t665;
-        let elbow_fe_u_ny = t666 - 0.002292000208f64;
-        let elbow_fe_u_nz = 0.09570849000176501f64 + t667;
-        let elbow_fe_u_fx = 0.008711861f64 + t669;
-        let elbow_fe_u_fy = 0.16029825982372198f64 + t671;
-        let t692 = 0.008711861f64 + t590;
-        let t693 = 0.16029825982372198f64 + t672;
-        let t694 = 1.7423722f64 + t495;
-        let t695 = 1.7423722f64 + t642;
-        let t696 = 1.7423722f64 + t636;
-        let elbow_fe_p_nx = t162 + t553;
-        let elbow_fe_p_ny = t163 + t687;
-        let elbow_fe_p_nz = t164 + t688;
-        let elbow_fe_p_fx = t556 - t167;
-        let elbow_fe_p_fy = t170 + t678;
-        let elbow_fe_p_fz = t173 - t675;
-        // ── link `Elbow_FE`, joint `EFE` (tip to base)
-        let u_efe = tau_efe - elbow_fe_p_nz;
-        let t697 = 1f64 / elbow_fe_u_nz;
-        let t698 = elbow_fe_u_nx * t697;
-        let t699 = elbow_fe_u_ny * t697;
-        let t700 = elbow_fe_u_nz * t697;
-        let t701 = elbow_fe_u_fx * t697;
-        let t702 = elbow_fe_u_fy * t697;
-        let t703 = elbow_fe_u_fz * t697;
-        let t704 = elbow_fe_u_nx * t698;
-        let t705 = elbow_fe_u_nx * t699;
-        let t706 = elbow_fe_u_ny * t699;
-        let t707 = elbow_fe_u_nx * t700;
-        let t708 = elbow_fe_u_ny * t700;
-        let t709 = elbow_fe_u_nz * t700;
-        let t710 = t689 - t704;
-        let t711 = t690 - t705;
-        let t712 = t691 - t706;
-        let t713 = elbow_fe_u_nx - t707;
-        let t714 = elbow_fe_u_ny - t708;
-        let t715 = elbow_fe_u_nz - t709;
-        let t716 = elbow_fe_u_nx * t701;
-        let t717 = elbow_fe_u_ny * t701;
-        let t718 = elbow_fe_u_nz * t701;
-        let t719 = elbow_fe_u_nx * t702;
-        let t720 = elbow_fe_u_ny * t702;
-        let t721 = elbow_fe_u_nz * t702;
-        let t722 = elbow_fe_u_nx * t703;
-        let t723 = elbow_fe_u_ny * t703;
-        let t724 = elbow_fe_u_nz * t703;
-        let t725 = t485 - t716;
-        let t726 = t668 - t717;
-        let t727 = elbow_fe_u_fx - t718;
-        let t728 = t599 - t719;
-        let t729 = t670 - t720;
-        let t730 = elbow_fe_u_fy - t721;
-        let t731 = t692 + t722;
-        let t732 = t693 + t723;
-        let t733 = elbow_fe_u_fz - t724;
-        let t734 = elbow_fe_u_fx * t701;
-        let t735 = elbow_fe_u_fx * t702;
-        let t736 = elbow_fe_u_fy * t702;
-        let t737 = elbow_fe_u_fx * t703;
-        let t738 = elbow_fe_u_fy * t703;
-        let t739 = elbow_fe_u_fz * t703;
-        let t740 = t694 - t734;
-        let t741 = t633 - t735;
-        let t742 = t695 - t736;
-        let t743 = t626 + t737;
-        let t744 = t639 + t738;
-        let t745 = t696 - t739;
-        let t746 = t710 * t106;
-        let t747 = t711 * t107;
-        let t748 = t746 - t747;
-        let t749 = t711 * t106;
-        let t750 = t712 * t107;
-        let t751 = t749 - t750;
-        let t752 = t713 * t106;
-        let t753 = t714 * t107;
-        let t754 = t752 - t753;
-        let t755 = t725 * t108;
-        let t756 = t728 * t109;
-        let t757 = t755 - t756;
-        let t758 = t726 * t108;
-        let t759 = t729 * t109;
-        let t760 = t758 - t759;
-        let t761 = t727 * t108;
-        let t762 = t730 * t109;
-        let t763 = t761 - t762;
-        let t764 = t748 + t757;
-        let t765 = t751 + t760;
-        let t766 = t754 + t763;
-        let t767 = t725 * t106;
-        let t768 = t726 * t107;
-        let t769 = t767 - t768;
-        let t770 = t728 * t106;
-        let t771 = t729 * t107;
-        let t772 = t770 - t771;
-        let t773 = t731 * t106;
-        let t774 = t732 * t107;
-        let t775 = t774 - t773;
-        let t776 = t740 * t108;
-        let t777 = t741 * t109;
-        let t778 = t776 - t777;
-        let t779 = t741 * t108;
-        let t780 = t742 * t109;
-        let t781 = t779 - t780;
-        let t782 = t743 * t108;
-        let t783 = t744 * t109;
-        let t784 = t783 - t782;
-        let t785 = t769 + t778;
-        let t786 = t772 + t781;
-        let t787 = t775 + t784;
-        let t788 = elbow_fe_p_nx + t764;
-        let t789 = elbow_fe_p_ny + t765;
-        let t790 = elbow_fe_p_nz + t766;
-        let t791 = elbow_fe_p_fx + t785;
-        let t792 = elbow_fe_p_fy + t786;
-        let t793 = elbow_fe_p_fz + t787;
-        let t794 = u_efe * t697;
-        let t795 = elbow_fe_u_nx * t794;
-        let t796 = elbow_fe_u_ny * t794;
-        let t797 = elbow_fe_u_nz * t794;
-        let t798 = elbow_fe_u_fx * t794;
-        let t799 = elbow_fe_u_fy * t794;
-        let t800 = elbow_fe_u_fz * t794;
-        let t801 = t788 + t795;
-        let t802 = t789 + t796;
-        let t803 = t790 + t797;
-        let t804 = t791 + t798;
-        let t805 = t792 + t799;
-        let t806 = t793 + t800;
-        let t807 = t710 * c_efe;
-        let t808 = t711 * s_efe;
-        let t809 = t807 - t808;
-        let t810 = t711 * c_efe;
-        let t811 = t712 * s_efe;
-        let t812 = t810 - t811;
-        let t813 = t713 * c_efe;
-        let t814 = t714 * s_efe;
-        let t815 = t813 - t814;
-        let t816 = t710 * s_efe;
-        let t817 = t816 + t810;
-        let t818 = t712 * c_efe;
-        let t819 = t808 + t818;
-        let t820 = t713 * s_efe;
-        let t821 = t714 * c_efe;
-        let t822 = t820 + t821;
-        let t823 = c_efe * t809;
-        let t824 = s_efe * t812;
-        let t825 = t823 - t824;
-        let t826 = c_efe * t817;
-        let t827 = s_efe * t819;
-        let t828 = t826 - t827;
-        let t829 = s_efe * t817;
-        let t830 = c_efe * t819;
-        let t831 = t829 + t830;
-        let t832 = t725 * c_efe;
-        let t833 = t728 * s_efe;
-        let t834 = t832 - t833;
-        let t835 = t726 * c_efe;
-        let t836 = t729 * s_efe;
-        let t837 = t835 - t836;
-        let t838 = t727 * c_efe;
-        let t839 = t730 * s_efe;
-        let t840 = t838 - t839;
-        let t841 = t725 * s_efe;
-        let t842 = t728 * c_efe;
-        let t843 = t841 + t842;
-        let t844 = t726 * s_efe;
-        let t845 = t729 * c_efe;
-        let t846 = t844 + t845;
-        let t847 = t727 * s_efe;
-        let t848 = t730 * c_efe;
-        let t849 = t847 + t848;
-        let t850 = c_efe * t834;
-        let t851 = s_efe * t837;
-        let humerus_r_u_fz = t850 - t851;
-        let t852 = s_efe * t834;
-        let t853 = c_efe * t837;
-        let t854 = t852 + t853;
-        let t855 = c_efe * t843;
-        let t856 = s_efe * t846;
-        let t857 = t855 - t856;
-        let t858 = s_efe * t843;
-        let t859 = c_efe * t846;
-        let t860 = t858 + t859;
-        let t861 = c_efe * t731;
-        let t862 = s_efe * t732;
-        let t863 = t862 - t861;
-        let t864 = s_efe * t731;
-        let t865 = c_efe * t732;
-        let t866 = t864 + t865;
-        let t867 = t741 * s_efe;
-        let t868 = t741 * c_efe;
-        let t869 = t743 * c_efe;
-        let t870 = t744 * s_efe;
-        let t871 = t870 - t869;
-        let t872 = t740 * s_efe;
-        let t873 = t872 + t868;
-        let t874 = t742 * c_efe;
-        let t875 = t867 + t874;
-        let t876 = t743 * s_efe;
-        let t877 = t744 * c_efe;
-        let t878 = t876 + t877;
-        let t879 = c_efe * t873;
-        let t880 = s_efe * t875;
-        let t881 = t879 - t880;
-        let t882 = s_efe * t873;
-        let t883 = c_efe * t875;
-        let t884 = t882 + t883;
-        let t885 = t849 * 0.304f64;
-        let t886 = t860 * 0.304f64;
-        let t887 = t857 * 0.304f64;
-        let t888 = t733 * 0.304f64;
-        let t889 = t866 * 0.304f64;
-        let t890 = t863 * 0.304f64;
-        let t891 = 0.304f64 * t878;
-        let t892 = 0.304f64 * t745;
-        let t893 = 0.304f64 * t884;
-        let t894 = 0.304f64 * t881;
-        let t895 = 0.304f64 * t871;
-        let t896 = t715 + t885;
-        let t897 = t815 + t887;
-        let t898 = t888 - t822;
-        let t899 = t831 + t889;
-        let t900 = t828 - t890;
-        let t901 = t896 + t885;
-        let t902 = t898 - t886;
-        let t903 = t899 + t889;
-        let t904 = t893 * 0.304f64;
-        let t905 = t891 * 0.304f64;
-        let t906 = t892 * 0.304f64;
-        let t907 = t901 + t904;
-        let t908 = t902 - t905;
-        let t909 = t903 + t906;
-        let t910 = t733 - t891;
-        let t911 = t866 + t892;
-        let t912 = t849 + t893;
-        let t913 = t860 + t891;
-        let t914 = t840 + t894;
-        let t915 = t854 - t895;
-        let t916 = s_efe * t804;
-        let t917 = c_efe * t805;
-        let t918 = t916 + t917;
-        let t919 = c_efe * t801;
-        let t920 = s_efe * t802;
-        let t921 = t919 - t920;
-        let t922 = s_efe * t801;
-        let t923 = c_efe * t802;
-        let t924 = t922 + t923;
-        let t925 = 0.304f64 * t918;
-        let t926 = 0.304f64 * t806;
-        let t927 = t803 + t925;
-        let t928 = t924 - t926;
-        let t929 = 0.20236395000387197f64 + t907;
-        let t930 = 0.000053999980001054f64 + t908;
-        let humerus_r_u_nx = 0.011715294995083824f64 + t897;
-        let t931 = 0.20986895000353661f64 + t909;
-        let humerus_r_u_ny = t900 - 0.0037997813999599995f64;
-        let humerus_r_u_nz = 0.01032999899926462f64 + t825;
-        let t932 = 0.6479671119999999f64 + t911;
-        let humerus_r_u_fx = 0.014380859999999999f64 + t863;
-        let t933 = 0.6479671119999999f64 + t912;
-        let humerus_r_u_fy = t857 - 0.0055615274403f64;
-        let t934 = 0.014380859999999999f64 - t914;
-        let t935 = 0.0055615274403f64 + t915;
-        let t936 = 2.327f64 + t745;
-        let t937 = 2.327f64 + t884;
-        let humerus_r_p_nx = t90 - t927;
-        let humerus_r_p_ny = t91 + t928;
-        let humerus_r_p_nz = t92 + t921;
-        let humerus_r_p_fx = t95 - t806;
-        let humerus_r_p_fy = t98 + t918;
-        // ── link `Humerus_R`, joint `HR` (tip to base)
-        let u_hr = tau_hr - humerus_r_p_nz;
-        let t938 = 1f64 / humerus_r_u_nz;
-        let t939 = humerus_r_u_nx * t938;
-        let t940 = humerus_r_u_ny * t938;
-        let t941 = humerus_r_u_nz * t938;
-        let t942 = humerus_r_u_fx * t938;
-        let t943 = humerus_r_u_fy * t938;
-        let t944 = humerus_r_u_fz * t938;
-        let t945 = humerus_r_u_nx * t939;
-        let t946 = humerus_r_u_nx * t940;
-        let t947 = humerus_r_u_ny * t940;
-        let t948 = humerus_r_u_nx * t941;
-        let t949 = humerus_r_u_ny * t941;
-        let t950 = humerus_r_u_nz * t941;
-        let t951 = t929 - t945;
-        let t952 = t930 + t946;
-        let t953 = t931 - t947;
-        let t954 = t948 - humerus_r_u_nx;
-        let t955 = humerus_r_u_ny - t949;
-        let t956 = humerus_r_u_nz - t950;
-        let t957 = humerus_r_u_nx * t942;
-        let t958 = humerus_r_u_ny * t942;
-        let t959 = humerus_r_u_nz * t942;
-        let t960 = humerus_r_u_nx * t943;
-        let t961 = humerus_r_u_ny * t943;
-        let t962 = humerus_r_u_nz * t943;
-        let t963 = humerus_r_u_nx * t944;
-        let t964 = humerus_r_u_ny * t944;
-        let t965 = humerus_r_u_nz * t944;
-        let t966 = t910 - t957;
-        let t967 = t932 + t958;
-        let t968 = t959 - humerus_r_u_fx;
-        let t969 = t960 - t933;
-        let t970 = t913 - t961;
-        let t971 = humerus_r_u_fy - t962;
-        let t972 = t934 + t963;
-        let t973 = t935 - t964;
-        let t974 = humerus_r_u_fz - t965;
-        let t975 = humerus_r_u_fx * t942;
-        let t976 = humerus_r_u_fx * t943;
-        let t977 = humerus_r_u_fy * t943;
-        let t978 = humerus_r_u_fx * t944;
-        let t979 = humerus_r_u_fy * t944;
-        let t980 = t936 - t975;
-        let t981 = t878 + t976;
-        let t982 = t937 - t977;
-        let t983 = t978 - t871;
-        let t984 = t881 - t979;
-        let t985 = t951 * t36;
-        let t986 = t952 * t37;
-        let t987 = t985 - t986;
-        let t988 = t952 * t36;
-        let t989 = t953 * t37;
-        let t990 = t988 - t989;
-        let t991 = t954 * t36;
-        let t992 = t955 * t37;
-        let t993 = t991 - t992;
-        let t994 = t966 * t38;
-        let t995 = t969 * t39;
-        let t996 = t994 - t995;
-        let t997 = t967 * t38;
-        let t998 = t970 * t39;
-        let t999 = t997 - t998;
-        let t1000 = t968 * t38;
-        let t1001 = t971 * t39;
-        let t1002 = t1000 - t1001;
-        let t1003 = t987 + t996;
-        let t1004 = t990 + t999;
-        let t1005 = t993 + t1002;
-        let t1006 = t966 * t36;
-        let t1007 = t967 * t37;
-        let t1008 = t1006 - t1007;
-        let t1009 = t969 * t36;
-        let t1010 = t970 * t37;
-        let t1011 = t1009 - t1010;
-        let t1012 = t980 * t38;
-        let t1013 = t981 * t39;
-        let t1014 = t1012 - t1013;
-        let t1015 = t981 * t38;
-        let t1016 = t982 * t39;
-        let t1017 = t1015 - t1016;
-        let t1018 = t1008 + t1014;
-        let t1019 = t1011 + t1017;
-        let t1020 = humerus_r_p_nx + t1003;
-        let t1021 = humerus_r_p_ny + t1004;
-        let t1022 = humerus_r_p_nz + t1005;
-        let t1023 = humerus_r_p_fx + t1018;
-        let t1024 = humerus_r_p_fy + t1019;
-        let t1025 = u_hr * t938;
-        let t1026 = humerus_r_u_nx * t1025;
-        let t1027 = humerus_r_u_ny * t1025;
-        let t1028 = humerus_r_u_nz * t1025;
-        let t1029 = humerus_r_u_fx * t1025;
-        let t1030 = humerus_r_u_fy * t1025;
-        let t1031 = t1020 - t1026;
-        let t1032 = t1021 + t1027;
-        let t1033 = t1022 + t1028;
-        let t1034 = t1023 - t1029;
-        let t1035 = t1024 + t1030;
-        let t1036 = t951 * c_hr;
-        let t1037 = t952 * s_hr;
-        let t1038 = t1036 - t1037;
-        let t1039 = t952 * c_hr;
-        let t1040 = t953 * s_hr;
-        let t1041 = t1039 - t1040;
-        let t1042 = t954 * c_hr;
-        let t1043 = t955 * s_hr;
-        let t1044 = t1042 - t1043;
-        let t1045 = t951 * s_hr;
-        let t1046 = t1045 + t1039;
-        let t1047 = t953 * c_hr;
-        let t1048 = t1037 + t1047;
-        let t1049 = t954 * s_hr;
-        let t1050 = t955 * c_hr;
-        let t1051 = t1049 + t1050;
-        let t1052 = c_hr * t1038;
-        let t1053 = s_hr * t1041;
-        let t1054 = t1052 - t1053;
-        let t1055 = c_hr * t1046;
-        let t1056 = s_hr * t1048;
-        let t1057 = t1055 - t1056;
-        let t1058 = s_hr * t1046;
-        let t1059 = c_hr * t1048;
-        let t1060 = t1058 + t1059;
-        let t1061 = t966 * c_hr;
-        let t1062 = t969 * s_hr;
-        let t1063 = t1061 - t1062;
-        let t1064 = t967 * c_hr;
-        let t1065 = t970 * s_hr;
-        let t1066 = t1064 - t1065;
-        let t1067 = t968 * c_hr;
-        let t1068 = t971 * s_hr;
-        let t1069 = t1067 - t1068;
-        let t1070 = t966 * s_hr;
-        let t1071 = t969 * c_hr;
-        let t1072 = t1070 + t1071;
-        let t1073 = t967 * s_hr;
-        let t1074 = t970 * c_hr;
-        let t1075 = t1073 + t1074;
-        let t1076 = t968 * s_hr;
-        let t1077 = t971 * c_hr;
-        let t1078 = t1076 + t1077;
-        let t1079 = c_hr * t1063;
-        let t1080 = s_hr * t1066;
-        let t1081 = t1079 - t1080;
-        let t1082 = s_hr * t1063;
-        let t1083 = c_hr * t1066;
-        let t1084 = t1082 + t1083;
-        let t1085 = c_hr * t1072;
-        let t1086 = s_hr * t1075;
-        let t1087 = t1085 - t1086;
-        let t1088 = s_hr * t1072;
-        let t1089 = c_hr * t1075;
-        let t1090 = t1088 + t1089;
-        let t1091 = c_hr * t972;
-        let t1092 = s_hr * t973;
-        let t1093 = t1091 - t1092;
-        let t1094 = s_hr * t972;
-        let t1095 = c_hr * t973;
-        let t1096 = t1094 + t1095;
-        let t1097 = t980 * c_hr;
-        let t1098 = t981 * s_hr;
-        let t1099 = t1097 - t1098;
-        let t1100 = t981 * c_hr;
-        let t1101 = t982 * s_hr;
-        let t1102 = t1100 - t1101;
-        let t1103 = t983 * c_hr;
-        let t1104 = t984 * s_hr;
-        let t1105 = t1103 - t1104;
-        let t1106 = t980 * s_hr;
-        let t1107 = t1106 + t1100;
-        let t1108 = t982 * c_hr;
-        let t1109 = t1098 + t1108;
-        let t1110 = t983 * s_hr;
-        let t1111 = t984 * c_hr;
-        let t1112 = t1110 + t1111;
-        let t1113 = c_hr * t1099;
-        let t1114 = s_hr * t1102;
-        let t1115 = t1113 - t1114;
-        let t1116 = c_hr * t1107;
-        let t1117 = s_hr * t1109;
-        let t1118 = t1116 - t1117;
-        let t1119 = s_hr * t1107;
-        let t1120 = c_hr * t1109;
-        let t1121 = t1119 + t1120;
-        let t1122 = t1069 * 0.112f64;
-        let t1123 = t1084 * 0.112f64;
-        let t1124 = t1081 * 0.112f64;
-        let t1125 = t1078 * 0.112f64;
-        let t1126 = t1090 * 0.112f64;
-        let t1127 = t1087 * 0.112f64;
-        let t1128 = 0.112f64 * t1105;
-        let t1129 = 0.112f64 * t1112;
-        let t1130 = 0.112f64 * t1118;
-        let t1131 = 0.112f64 * t1121;
-        let t1132 = 0.112f64 * t1115;
-        let t1133 = t1051 + t1122;
-        let t1134 = t1060 + t1123;
-        let t1135 = t1125 - t1044;
-        let t1136 = t1126 - t1057;
-        let t1137 = t1054 - t1127;
-        let t1138 = t1134 + t1123;
-        let t1139 = t1136 - t1124;
-        let t1140 = t1137 - t1127;
-        let t1141 = t1132 * 0.112f64;
-        let t1142 = t1130 * 0.112f64;
-        let t1143 = t1131 * 0.112f64;
-        let t1144 = t1138 + t1141;
-        let t1145 = t1139 + t1142;
-        let t1146 = t1140 + t1143;
-        let t1147 = t1096 + t1128;
-        let t1148 = t1129 - t1093;
-        let t1149 = t1090 + t1130;
-        let t1150 = t1131 - t1087;
-        let t1151 = c_hr * t1034;
-        let t1152 = s_hr * t1035;
-        let t1153 = t1151 - t1152;
-        let t1154 = s_hr * t1034;
-        let t1155 = c_hr * t1035;
-        let t1156 = t1154 + t1155;
-        let t1157 = c_hr * t1031;
-        let t1158 = s_hr * t1032;
-        let t1159 = t1157 - t1158;
-        let t1160 = s_hr * t1031;
-        let t1161 = c_hr * t1032;
-        let t1162 = t1160 + t1161;
-        let t1163 = 0.112f64 * t1153;
-        let t1164 = 0.112f64 * t1156;
-        let t1165 = t1162 + t1163;
-        let t1166 = t1164 - t1159;
-        let t1167 = 0.03900299600125622f64 + t956;
-        let t1168 = 0.0055279857002587095f64 + t1133;
-        let shoulder_fe_u_nx = t1135 - 0.02285162700433904f64;
-        let t1169 = 0.08585553000239696f64 + t1144;
-        let shoulder_fe_u_ny = t1145 - 0.0027519999999057617f64;
-        let shoulder_fe_u_nz = 0.05139352799812063f64 + t1146;
-        let t1170 = 0.009934149991199999f64 + t1147;
-        let shoulder_fe_u_fx = 0.060615943396199995f64 + t1148;
-        let t1171 = t1078 - 0.009934149991199999f64;
-        let shoulder_fe_u_fy = 0.2933742339089346f64 + t1150;
-        let shoulder_fe_p_nx = t19 + t1033;
-        let shoulder_fe_p_ny = t22 + t1165;
-        let shoulder_fe_p_nz = t25 + t1166;
+        let (shoulder_fe_v_wx, shoulder_fe_v_wy, t0, t1, t19, t22, t25) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_v_wx = s_sfe * qd_saa;
+            let shoulder_fe_v_wy = c_sfe * qd_saa;
+            let t0 = shoulder_fe_v_wy * qd_sfe;
+            let t1 = shoulder_fe_v_wx * qd_sfe;
+            let t2 = 0.03900299600125622f64 * shoulder_fe_v_wx;
+            let t3 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t4 = t2 + t3;
+            let t5 = 0.02285162700433904f64 * qd_sfe;
+            let t6 = t4 - t5;
+            let t7 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
+            let t8 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t9 = t7 + t8;
+            let t10 = 0.0027519999999057617f64 * qd_sfe;
+            let t11 = t9 - t10;
+            let t12 = 0.02285162700433904f64 * shoulder_fe_v_wx;
+            let t13 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t14 = t12 + t13;
+            let t15 = 0.05139352799812063f64 * qd_sfe;
+            let t16 = t15 - t14;
+            let t17 = shoulder_fe_v_wy * t16;
+            let t18 = qd_sfe * t11;
+            let t19 = t17 - t18;
+            let t20 = qd_sfe * t6;
+            let t21 = shoulder_fe_v_wx * t16;
+            let t22 = t20 - t21;
+            let t23 = shoulder_fe_v_wx * t11;
+            let t24 = shoulder_fe_v_wy * t6;
+            let t25 = t23 - t24;
+            (shoulder_fe_v_wx, shoulder_fe_v_wy, t0, t1, t19, t22, t25)
+        };
+        let (
+            humerus_r_v_wx,
+            humerus_r_v_wy,
+            humerus_r_v_vx,
+            humerus_r_v_vy,
+            humerus_r_v_wz,
+            t36,
+            t37,
+            t38,
+            t39,
+            t90,
+            t91,
+            t92,
+            t95,
+            t98,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t26 = 0.112f64 * qd_sfe;
+            let t27 = 0.112f64 * shoulder_fe_v_wy;
+            let t28 = c_hr * qd_sfe;
+            let t29 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t29 - t28;
+            let t30 = s_hr * qd_sfe;
+            let t31 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t30 + t31;
+            let t32 = c_hr * t27;
+            let t33 = s_hr * t26;
+            let humerus_r_v_vx = t32 + t33;
+            let t34 = s_hr * t27;
+            let t35 = c_hr * t26;
+            let humerus_r_v_vy = t35 - t34;
+            let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
+            let t36 = humerus_r_v_wy * qd_hr;
+            let t37 = humerus_r_v_wx * qd_hr;
+            let t38 = humerus_r_v_vy * qd_hr;
+            let t39 = humerus_r_v_vx * qd_hr;
+            let t40 = 0.20236395000387197f64 * humerus_r_v_wx;
+            let t41 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t42 = t40 + t41;
+            let t43 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t44 = t42 - t43;
+            let t45 = 0.000053999980001054f64 * humerus_r_v_wx;
+            let t46 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t47 = t45 + t46;
+            let t48 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t49 = t47 - t48;
+            let t50 = 0.011715294995083824f64 * humerus_r_v_wx;
+            let t51 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t52 = t50 + t51;
+            let t53 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t54 = t53 - t52;
+            let t55 = 0.6479671119999999f64 * humerus_r_v_vy;
+            let t56 = 0.6479671119999999f64 * humerus_r_v_vx;
+            let t57 = 0.0055615274403f64 * humerus_r_v_vy;
+            let t58 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t59 = t57 + t58;
+            let t60 = humerus_r_v_vx * 2.327f64;
+            let t61 = humerus_r_v_vy * 2.327f64;
+            let t62 = 0.014380859999999999f64 * humerus_r_v_wz;
+            let t63 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t64 = t62 - t63;
+            let t65 = 0.6479671119999999f64 * humerus_r_v_wx;
+            let t66 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t67 = t65 + t66;
+            let t68 = 0.0055615274403f64 * humerus_r_v_wy;
+            let t69 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t70 = t68 + t69;
+            let t71 = t44 - t55;
+            let t72 = t49 + t56;
+            let t73 = t54 - t59;
+            let t74 = t60 - t64;
+            let t75 = t61 - t67;
+            let t76 = humerus_r_v_wy * t73;
+            let t77 = humerus_r_v_wz * t72;
+            let t78 = t76 - t77;
+            let t79 = humerus_r_v_wz * t71;
+            let t80 = humerus_r_v_wx * t73;
+            let t81 = t79 - t80;
+            let t82 = humerus_r_v_wx * t72;
+            let t83 = humerus_r_v_wy * t71;
+            let t84 = t82 - t83;
+            let t85 = humerus_r_v_vy * t70;
+            let t86 = humerus_r_v_vx * t70;
+            let t87 = humerus_r_v_vx * t75;
+            let t88 = humerus_r_v_vy * t74;
+            let t89 = t87 - t88;
+            let t90 = t78 + t85;
+            let t91 = t81 - t86;
+            let t92 = t84 + t89;
+            let t93 = humerus_r_v_wy * t70;
+            let t94 = humerus_r_v_wz * t75;
+            let t95 = t93 - t94;
+            let t96 = humerus_r_v_wz * t74;
+            let t97 = humerus_r_v_wx * t70;
+            let t98 = t96 - t97;
+            (
+                humerus_r_v_wx,
+                humerus_r_v_wy,
+                humerus_r_v_vx,
+                humerus_r_v_vy,
+                humerus_r_v_wz,
+                t36,
+                t37,
+                t38,
+                t39,
+                t90,
+                t91,
+                t92,
+                t95,
+                t98,
+            )
+        };
+        let (
+            elbow_fe_v_vz,
+            elbow_fe_v_wx,
+            elbow_fe_v_wy,
+            elbow_fe_v_vx,
+            elbow_fe_v_vy,
+            elbow_fe_v_wz,
+            t106,
+            t107,
+            t108,
+            t109,
+            t162,
+            t163,
+            t164,
+            t167,
+            t170,
+            t173,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t99 = 0.304f64 * humerus_r_v_wy;
+            let t100 = 0.304f64 * humerus_r_v_wx;
+            let elbow_fe_v_vz = humerus_r_v_vx + t99;
+            let t101 = humerus_r_v_vy - t100;
+            let t102 = c_efe * humerus_r_v_wz;
+            let t103 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t102 + t103;
+            let t104 = s_efe * humerus_r_v_wz;
+            let t105 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t105 - t104;
+            let elbow_fe_v_vx = s_efe * t101;
+            let elbow_fe_v_vy = c_efe * t101;
+            let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
+            let t106 = elbow_fe_v_wy * qd_efe;
+            let t107 = elbow_fe_v_wx * qd_efe;
+            let t108 = elbow_fe_v_vy * qd_efe;
+            let t109 = elbow_fe_v_vx * qd_efe;
+            let t110 = 0.081661000005f64 * elbow_fe_v_wx;
+            let t111 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t112 = t110 + t111;
+            let t113 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t114 = t112 - t113;
+            let t115 = 0.00368572840011861f64 * elbow_fe_v_wx;
+            let t116 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t117 = t115 + t116;
+            let t118 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t119 = t117 - t118;
+            let t120 = 0.0002120000299f64 * elbow_fe_v_wx;
+            let t121 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t122 = t120 + t121;
+            let t123 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t124 = t123 - t122;
+            let t125 = 0.008711861f64 * elbow_fe_v_vz;
+            let t126 = 0.16029825982372198f64 * elbow_fe_v_vz;
+            let t127 = 0.16029825982372198f64 * elbow_fe_v_vy;
+            let t128 = 0.008711861f64 * elbow_fe_v_vx;
+            let t129 = t127 + t128;
+            let t130 = elbow_fe_v_vx * 1.7423722f64;
+            let t131 = elbow_fe_v_vy * 1.7423722f64;
+            let t132 = elbow_fe_v_vz * 1.7423722f64;
+            let t133 = 0.008711861f64 * elbow_fe_v_wz;
+            let t134 = 0.16029825982372198f64 * elbow_fe_v_wz;
+            let t135 = 0.16029825982372198f64 * elbow_fe_v_wy;
+            let t136 = 0.008711861f64 * elbow_fe_v_wx;
+            let t137 = t135 + t136;
+            let t138 = t114 + t125;
+            let t139 = t119 + t126;
+            let t140 = t124 + t129;
+            let t141 = t130 + t133;
+            let t142 = t131 + t134;
+            let t143 = t132 + t137;
+            let t144 = elbow_fe_v_wy * t140;
+            let t145 = elbow_fe_v_wz * t139;
+            let t146 = t144 - t145;
+            let t147 = elbow_fe_v_wz * t138;
+            let t148 = elbow_fe_v_wx * t140;
+            let t149 = t147 - t148;
+            let t150 = elbow_fe_v_wx * t139;
+            let t151 = elbow_fe_v_wy * t138;
+            let t152 = t150 - t151;
+            let t153 = elbow_fe_v_vy * t143;
+            let t154 = elbow_fe_v_vz * t142;
+            let t155 = t154 - t153;
+            let t156 = elbow_fe_v_vz * t141;
+            let t157 = elbow_fe_v_vx * t143;
+            let t158 = t157 - t156;
+            let t159 = elbow_fe_v_vx * t142;
+            let t160 = elbow_fe_v_vy * t141;
+            let t161 = t159 - t160;
+            let t162 = t146 + t155;
+            let t163 = t149 + t158;
+            let t164 = t152 + t161;
+            let t165 = elbow_fe_v_wy * t143;
+            let t166 = elbow_fe_v_wz * t142;
+            let t167 = t165 + t166;
+            let t168 = elbow_fe_v_wz * t141;
+            let t169 = elbow_fe_v_wx * t143;
+            let t170 = t168 + t169;
+            let t171 = elbow_fe_v_wx * t142;
+            let t172 = elbow_fe_v_wy * t141;
+            let t173 = t171 - t172;
+            (
+                elbow_fe_v_vz,
+                elbow_fe_v_wx,
+                elbow_fe_v_wy,
+                elbow_fe_v_vx,
+                elbow_fe_v_vy,
+                elbow_fe_v_wz,
+                t106,
+                t107,
+                t108,
+                t109,
+                t162,
+                t163,
+                t164,
+                t167,
+                t170,
+                t173,
+            )
+        };
+        let (
+            wrist_r_v_wx,
+            wrist_r_v_wy,
+            wrist_r_v_vx,
+            wrist_r_v_vy,
+            wrist_r_v_wz,
+            t186,
+            t187,
+            t188,
+            t189,
+            t234,
+            t235,
+            t236,
+            t239,
+            t242,
+            t245,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t174 = 0.112f64 * elbow_fe_v_wz;
+            let t175 = 0.112f64 * elbow_fe_v_wy;
+            let t176 = elbow_fe_v_vy + t174;
+            let t177 = elbow_fe_v_vz + t175;
+            let t178 = c_wr * elbow_fe_v_wz;
+            let t179 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t179 - t178;
+            let t180 = s_wr * elbow_fe_v_wz;
+            let t181 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t180 + t181;
+            let t182 = c_wr * t177;
+            let t183 = s_wr * t176;
+            let wrist_r_v_vx = t182 + t183;
+            let t184 = s_wr * t177;
+            let t185 = c_wr * t176;
+            let wrist_r_v_vy = t185 - t184;
+            let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
+            let t186 = wrist_r_v_wy * qd_wr;
+            let t187 = wrist_r_v_wx * qd_wr;
+            let t188 = wrist_r_v_vy * qd_wr;
+            let t189 = wrist_r_v_vx * qd_wr;
+            let t190 = 0.019431999999999998f64 * wrist_r_v_wx;
+            let t191 = 0.001387f64 * wrist_r_v_wy;
+            let t192 = t190 - t191;
+            let t193 = 0.012652f64 * wrist_r_v_wz;
+            let t194 = t192 - t193;
+            let t195 = 0.001387f64 * wrist_r_v_wx;
+            let t196 = 0.029115f64 * wrist_r_v_wy;
+            let t197 = t196 - t195;
+            let t198 = 0.001243f64 * wrist_r_v_wz;
+            let t199 = t197 - t198;
+            let t200 = 0.012652f64 * wrist_r_v_wx;
+            let t201 = 0.001243f64 * wrist_r_v_wy;
+            let t202 = t200 + t201;
+            let t203 = 0.011046f64 * wrist_r_v_wz;
+            let t204 = t203 - t202;
+            let t205 = 0.05783800000000001f64 * wrist_r_v_vy;
+            let t206 = 0.05783800000000001f64 * wrist_r_v_vx;
+            let t207 = wrist_r_v_vx * 2.1032f64;
+            let t208 = wrist_r_v_vy * 2.1032f64;
+            let t209 = elbow_fe_v_vx * 2.1032f64;
+            let t210 = 0.05783800000000001f64 * wrist_r_v_wy;
+            let t211 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t212 = t194 - t205;
+            let t213 = t199 + t206;
+            let t214 = t207 + t210;
+            let t215 = t208 - t211;
+            let t216 = wrist_r_v_wy * t204;
+            let t217 = wrist_r_v_wz * t213;
+            let t218 = t216 - t217;
+            let t219 = wrist_r_v_wz * t212;
+            let t220 = wrist_r_v_wx * t204;
+            let t221 = t219 - t220;
+            let t222 = wrist_r_v_wx * t213;
+            let t223 = wrist_r_v_wy * t212;
+            let t224 = t222 - t223;
+            let t225 = wrist_r_v_vy * t209;
+            let t226 = elbow_fe_v_vx * t215;
+            let t227 = t225 - t226;
+            let t228 = elbow_fe_v_vx * t214;
+            let t229 = wrist_r_v_vx * t209;
+            let t230 = t228 - t229;
+            let t231 = wrist_r_v_vx * t215;
+            let t232 = wrist_r_v_vy * t214;
+            let t233 = t231 - t232;
+            let t234 = t218 + t227;
+            let t235 = t221 + t230;
+            let t236 = t224 + t233;
+            let t237 = wrist_r_v_wy * t209;
+            let t238 = wrist_r_v_wz * t215;
+            let t239 = t237 - t238;
+            let t240 = wrist_r_v_wz * t214;
+            let t241 = wrist_r_v_wx * t209;
+            let t242 = t240 - t241;
+            let t243 = wrist_r_v_wx * t215;
+            let t244 = wrist_r_v_wy * t214;
+            let t245 = t243 - t244;
+            (
+                wrist_r_v_wx,
+                wrist_r_v_wy,
+                wrist_r_v_vx,
+                wrist_r_v_vy,
+                wrist_r_v_wz,
+                t186,
+                t187,
+                t188,
+                t189,
+                t234,
+                t235,
+                t236,
+                t239,
+                t242,
+                t245,
+            )
+        };
+        let (
+            t261,
+            t262,
+            t263,
+            t264,
+            wrist_fe_p_nx,
+            wrist_fe_p_ny,
+            wrist_fe_p_nz,
+            wrist_fe_p_fx,
+            wrist_fe_p_fy,
+            wrist_fe_p_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t246 = 0.184f64 * wrist_r_v_wy;
+            let t247 = 0.184f64 * wrist_r_v_wx;
+            let t248 = 0.02075f64 * wrist_r_v_wz;
+            let t249 = t247 - t248;
+            let t250 = 0.02075f64 * wrist_r_v_wy;
+            let t251 = wrist_r_v_vx + t246;
+            let wrist_fe_v_vz = wrist_r_v_vy - t249;
+            let t252 = elbow_fe_v_vx - t250;
+            let t253 = c_wfe * wrist_r_v_wz;
+            let t254 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t253 + t254;
+            let t255 = s_wfe * wrist_r_v_wz;
+            let t256 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t256 - t255;
+            let t257 = c_wfe * t252;
+            let t258 = s_wfe * t251;
+            let wrist_fe_v_vx = t257 + t258;
+            let t259 = s_wfe * t252;
+            let t260 = c_wfe * t251;
+            let wrist_fe_v_vy = t260 - t259;
+            let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
+            let t261 = wrist_fe_v_wy * qd_wfe;
+            let t262 = wrist_fe_v_wx * qd_wfe;
+            let t263 = wrist_fe_v_vy * qd_wfe;
+            let t264 = wrist_fe_v_vx * qd_wfe;
+            let t265 = 0.010737f64 * wrist_fe_v_wx;
+            let t266 = 0.000198f64 * wrist_fe_v_wy;
+            let t267 = t265 + t266;
+            let t268 = 0.000015f64 * wrist_fe_v_wz;
+            let t269 = t267 + t268;
+            let t270 = 0.000198f64 * wrist_fe_v_wx;
+            let t271 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t272 = t270 + t271;
+            let t273 = 0.000829f64 * wrist_fe_v_wz;
+            let t274 = t272 - t273;
+            let t275 = 0.000015f64 * wrist_fe_v_wx;
+            let t276 = 0.000829f64 * wrist_fe_v_wy;
+            let t277 = t275 - t276;
+            let t278 = 0.009277f64 * wrist_fe_v_wz;
+            let t279 = t277 + t278;
+            let t280 = 0.038686875f64 * wrist_fe_v_vz;
+            let t281 = 0.038686875f64 * wrist_fe_v_vy;
+            let t282 = wrist_fe_v_vx * 1.547475f64;
+            let t283 = wrist_fe_v_vy * 1.547475f64;
+            let t284 = wrist_fe_v_vz * 1.547475f64;
+            let t285 = 0.038686875f64 * wrist_fe_v_wz;
+            let t286 = 0.038686875f64 * wrist_fe_v_wy;
+            let t287 = t274 - t280;
+            let t288 = t279 + t281;
+            let t289 = t283 + t285;
+            let t290 = t284 - t286;
+            let t291 = wrist_fe_v_wy * t288;
+            let t292 = wrist_fe_v_wz * t287;
+            let t293 = t291 - t292;
+            let t294 = wrist_fe_v_wz * t269;
+            let t295 = wrist_fe_v_wx * t288;
+            let t296 = t294 - t295;
+            let t297 = wrist_fe_v_wx * t287;
+            let t298 = wrist_fe_v_wy * t269;
+            let t299 = t297 - t298;
+            let t300 = wrist_fe_v_vy * t290;
+            let t301 = wrist_fe_v_vz * t289;
+            let t302 = t300 - t301;
+            let t303 = wrist_fe_v_vz * t282;
+            let t304 = wrist_fe_v_vx * t290;
+            let t305 = t303 - t304;
+            let t306 = wrist_fe_v_vx * t289;
+            let t307 = wrist_fe_v_vy * t282;
+            let t308 = t306 - t307;
+            let wrist_fe_p_nx = t293 + t302;
+            let wrist_fe_p_ny = t296 + t305;
+            let wrist_fe_p_nz = t299 + t308;
+            let t309 = wrist_fe_v_wy * t290;
+            let t310 = wrist_fe_v_wz * t289;
+            let wrist_fe_p_fx = t309 - t310;
+            let t311 = wrist_fe_v_wz * t282;
+            let t312 = wrist_fe_v_wx * t290;
+            let wrist_fe_p_fy = t311 - t312;
+            let t313 = wrist_fe_v_wx * t289;
+            let t314 = wrist_fe_v_wy * t282;
+            let wrist_fe_p_fz = t313 - t314;
+            (
+                t261,
+                t262,
+                t263,
+                t264,
+                wrist_fe_p_nx,
+                wrist_fe_p_ny,
+                wrist_fe_p_nz,
+                wrist_fe_p_fx,
+                wrist_fe_p_fy,
+                wrist_fe_p_fz,
+            )
+        };
+        let (
+            u_wfe,
+            wrist_r_u_fz,
+            t373,
+            wrist_r_u_fx,
+            t378,
+            t390,
+            t409,
+            wrist_r_u_fy,
+            t443,
+            t444,
+            wrist_r_u_nx,
+            t445,
+            wrist_r_u_ny,
+            wrist_r_u_nz,
+            t446,
+            t447,
+            t448,
+            t449,
+            wrist_r_p_nx,
+            wrist_r_p_ny,
+            wrist_r_p_nz,
+            wrist_r_p_fx,
+            wrist_r_p_fy,
+            wrist_r_p_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let u_wfe = tau_wfe - wrist_fe_p_nz;
+            let t315 = 0.010736975746469764f64 * t261;
+            let t316 = 0.00019934041177104668f64 * t262;
+            let t317 = t315 - t316;
+            let t318 = 0.00019934041177104668f64 * t261;
+            let t319 = 0.0031529199094534875f64 * t262;
+            let t320 = t318 - t319;
+            let t321 = 0.00006255288617009808f64 * t264;
+            let t322 = 0.0034570895090007543f64 * t264;
+            let t323 = t317 + t321;
+            let t324 = t320 - t322;
+            let t325 = 0.00006255288617009808f64 * t261;
+            let t326 = 0.0034570895090007543f64 * t262;
+            let t327 = t325 + t326;
+            let t328 = 0.038686875f64 * t262;
+            let t329 = 1.547475f64 * t263;
+            let t330 = 1.3861432874565458f64 * t264;
+            let t331 = t327 + t330;
+            let t332 = wrist_fe_p_nx + t323;
+            let t333 = wrist_fe_p_ny + t324;
+            let t334 = wrist_fe_p_fx + t329;
+            let t335 = wrist_fe_p_fy - t331;
+            let t336 = wrist_fe_p_fz + t328;
+            let t337 = u_wfe * 107.79346771585641f64;
+            let t338 = 0.000015f64 * t337;
+            let t339 = 0.000829f64 * t337;
+            let t340 = 0.009277f64 * t337;
+            let t341 = 0.038686875f64 * t337;
+            let t342 = t332 + t338;
+            let t343 = t333 - t339;
+            let t344 = wrist_fe_p_nz + t340;
+            let t345 = t335 + t341;
+            let t346 = 0.010736975746469764f64 * c_wfe;
+            let t347 = 0.00019934041177104668f64 * s_wfe;
+            let t348 = t346 - t347;
+            let t349 = 0.00019934041177104668f64 * c_wfe;
+            let t350 = 0.0031529199094534875f64 * s_wfe;
+            let t351 = t349 - t350;
+            let t352 = 0.010736975746469764f64 * s_wfe;
+            let t353 = t352 + t349;
+            let t354 = 0.0031529199094534875f64 * c_wfe;
+            let t355 = t347 + t354;
+            let t356 = c_wfe * t348;
+            let t357 = s_wfe * t351;
+            let t358 = t356 - t357;
+            let t359 = c_wfe * t353;
+            let t360 = s_wfe * t355;
+            let t361 = t359 - t360;
+            let t362 = s_wfe * t353;
+            let t363 = c_wfe * t355;
+            let t364 = t362 + t363;
+            let t365 = 0.00006255288617009808f64 * s_wfe;
+            let t366 = 0.0034570895090007543f64 * s_wfe;
+            let t367 = 0.00006255288617009808f64 * c_wfe;
+            let t368 = 0.0034570895090007543f64 * c_wfe;
+            let t369 = c_wfe * t365;
+            let t370 = s_wfe * t366;
+            let wrist_r_u_fz = t369 + t370;
+            let t371 = s_wfe * t365;
+            let t372 = c_wfe * t366;
+            let t373 = t371 - t372;
+            let t374 = c_wfe * t367;
+            let t375 = s_wfe * t368;
+            let wrist_r_u_fx = t374 + t375;
+            let t376 = s_wfe * t367;
+            let t377 = c_wfe * t368;
+            let t378 = t377 - t376;
+            let t379 = s_wfe * 0.038686875f64;
+            let t380 = c_wfe * 0.038686875f64;
+            let t381 = 1.547475f64 * c_wfe;
+            let t382 = 1.3861432874565458f64 * s_wfe;
+            let t383 = 1.547475f64 * s_wfe;
+            let t384 = 1.3861432874565458f64 * c_wfe;
+            let t385 = c_wfe * t381;
+            let t386 = s_wfe * t382;
+            let t387 = t385 + t386;
+            let t388 = c_wfe * t383;
+            let t389 = s_wfe * t384;
+            let t390 = t388 - t389;
+            let t391 = s_wfe * t383;
+            let t392 = c_wfe * t384;
+            let t393 = t391 + t392;
+            let t394 = t380 * 0.184f64;
+            let t395 = t379 * 0.184f64;
+            let t396 = t378 * 0.184f64;
+            let t397 = t373 * 0.02075f64;
+            let t398 = t397 - t396;
+            let t399 = wrist_r_u_fx * 0.184f64;
+            let t400 = wrist_r_u_fz * 0.02075f64;
+            let t401 = t399 + t400;
+            let t402 = t380 * 0.02075f64;
+            let t403 = t379 * 0.02075f64;
+            let t404 = 0.184f64 * t393;
+            let t405 = 0.02075f64 * t390;
+            let t406 = t404 - t405;
+            let t407 = 0.184f64 * t390;
+            let t408 = 0.02075f64 * t387;
+            let t409 = t407 - t408;
+            let t410 = t364 + t394;
+            let t411 = t361 - t402;
+            let t412 = t358 + t403;
+            let t413 = t410 + t394;
+            let t414 = t411 - t395;
+            let t415 = t412 + t403;
+            let t416 = t406 * 0.184f64;
+            let t417 = t409 * 0.02075f64;
+            let t418 = t417 - t416;
+            let t419 = t413 + 0.052391313599999996f64;
+            let t420 = t414 - 0.0059082595499999994f64;
+            let t421 = t415 + 0.0006662847046875f64;
+            let t422 = t380 + 0.28473539999999997f64;
+            let wrist_r_u_fy = t379 + 0.03211010625f64;
+            let t423 = c_wfe * t334;
+            let t424 = s_wfe * t345;
+            let t425 = t423 - t424;
+            let t426 = s_wfe * t334;
+            let t427 = c_wfe * t345;
+            let t428 = t426 + t427;
+            let t429 = c_wfe * t342;
+            let t430 = s_wfe * t343;
+            let t431 = t429 - t430;
+            let t432 = s_wfe * t342;
+            let t433 = c_wfe * t343;
+            let t434 = t432 + t433;
+            let t435 = 0.184f64 * t336;
+            let t436 = 0.184f64 * t428;
+            let t437 = 0.02075f64 * t425;
+            let t438 = t436 - t437;
+            let t439 = 0.02075f64 * t336;
+            let t440 = t434 - t435;
+            let t441 = t344 + t438;
+            let t442 = t431 + t439;
+            let t443 = 0.019431999999999998f64 + t419;
+            let t444 = 0.001387f64 + t398;
+            let wrist_r_u_nx = t420 - 0.012652f64;
+            let t445 = 0.029115f64 - t418;
+            let wrist_r_u_ny = 0.001243f64 + t401;
+            let wrist_r_u_nz = 0.011046f64 + t421;
+            let t446 = 0.05783800000000001f64 + t406;
+            let t447 = 0.05783800000000001f64 + t422;
+            let t448 = 2.1032f64 + t393;
+            let t449 = 2.1032f64 + t387;
+            let wrist_r_p_nx = t234 + t440;
+            let wrist_r_p_ny = t235 + t441;
+            let wrist_r_p_nz = t236 + t442;
+            let wrist_r_p_fx = t239 + t428;
+            let wrist_r_p_fy = t242 + t336;
+            let wrist_r_p_fz = t245 + t425;
+            (
+                u_wfe,
+                wrist_r_u_fz,
+                t373,
+                wrist_r_u_fx,
+                t378,
+                t390,
+                t409,
+                wrist_r_u_fy,
+                t443,
+                t444,
+                wrist_r_u_nx,
+                t445,
+                wrist_r_u_ny,
+                wrist_r_u_nz,
+                t446,
+                t447,
+                t448,
+                t449,
+                wrist_r_p_nx,
+                wrist_r_p_ny,
+                wrist_r_p_nz,
+                wrist_r_p_fx,
+                wrist_r_p_fy,
+                wrist_r_p_fz,
+            )
+        };
+        let (
+            u_wr,
+            t485,
+            t556,
+            t599,
+            t626,
+            t633,
+            t639,
+            t668,
+            t670,
+            elbow_fe_u_fz,
+            t675,
+            t678,
+            t688,
+            t689,
+            t690,
+            elbow_fe_u_nx,
+            t691,
+            elbow_fe_u_ny,
+            elbow_fe_u_nz,
+            elbow_fe_u_fx,
+            elbow_fe_u_fy,
+            t692,
+            t693,
+            t694,
+            t695,
+            t696,
+            elbow_fe_p_nx,
+            elbow_fe_p_ny,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let u_wr = tau_wr - wrist_r_p_nz;
+            let t450 = 1f64 / wrist_r_u_nz;
+            let t451 = wrist_r_u_nx * t450;
+            let t452 = wrist_r_u_ny * t450;
+            let t453 = wrist_r_u_nz * t450;
+            let t454 = wrist_r_u_fx * t450;
+            let t455 = wrist_r_u_fy * t450;
+            let t456 = wrist_r_u_fz * t450;
+            let t457 = wrist_r_u_nx * t451;
+            let t458 = wrist_r_u_nx * t452;
+            let t459 = wrist_r_u_ny * t452;
+            let t460 = wrist_r_u_nx * t453;
+            let t461 = wrist_r_u_ny * t453;
+            let t462 = wrist_r_u_nz * t453;
+            let t463 = t443 - t457;
+            let t464 = t458 - t444;
+            let t465 = t445 - t459;
+            let t466 = wrist_r_u_nx - t460;
+            let t467 = t461 - wrist_r_u_ny;
+            let t468 = wrist_r_u_nz - t462;
+            let t469 = wrist_r_u_nx * t454;
+            let t470 = wrist_r_u_ny * t454;
+            let t471 = wrist_r_u_nz * t454;
+            let t472 = wrist_r_u_nx * t455;
+            let t473 = wrist_r_u_ny * t455;
+            let t474 = wrist_r_u_nz * t455;
+            let t475 = wrist_r_u_nx * t456;
+            let t476 = wrist_r_u_ny * t456;
+            let t477 = wrist_r_u_nz * t456;
+            let t478 = t378 + t469;
+            let t479 = t446 - t470;
+            let t480 = t471 - wrist_r_u_fx;
+            let t481 = t447 + t472;
+            let t482 = wrist_r_u_fy - t474;
+            let t483 = t373 - t475;
+            let t484 = t409 + t476;
+            let t485 = wrist_r_u_fz - t477;
+            let t486 = wrist_r_u_fx * t454;
+            let t487 = wrist_r_u_fx * t455;
+            let t488 = wrist_r_u_fy * t455;
+            let t489 = wrist_r_u_fx * t456;
+            let t490 = wrist_r_u_fy * t456;
+            let t491 = wrist_r_u_fz * t456;
+            let t492 = t448 - t486;
+            let t493 = 3.650675f64 - t488;
+            let t494 = t390 + t489;
+            let t495 = t449 - t491;
+            let t496 = t463 * t186;
+            let t497 = t464 * t187;
+            let t498 = t496 - t497;
+            let t499 = t464 * t186;
+            let t500 = t465 * t187;
+            let t501 = t499 - t500;
+            let t502 = t466 * t186;
+            let t503 = t467 * t187;
+            let t504 = t502 - t503;
+            let t505 = t478 * t188;
+            let t506 = t481 * t189;
+            let t507 = t505 + t506;
+            let t508 = t479 * t188;
+            let t509 = t473 * t189;
+            let t510 = t508 - t509;
+            let t511 = t480 * t188;
+            let t512 = t482 * t189;
+            let t513 = t511 - t512;
+            let t514 = t498 + t507;
+            let t515 = t501 + t510;
+            let t516 = t504 + t513;
+            let t517 = t478 * t186;
+            let t518 = t479 * t187;
+            let t519 = t517 - t518;
+            let t520 = t481 * t186;
+            let t521 = t473 * t187;
+            let t522 = t520 + t521;
+            let t523 = t483 * t186;
+            let t524 = t484 * t187;
+            let t525 = t523 - t524;
+            let t526 = t492 * t188;
+            let t527 = t487 * t189;
+            let t528 = t526 - t527;
+            let t529 = t487 * t188;
+            let t530 = t493 * t189;
+            let t531 = t529 - t530;
+            let t532 = t494 * t188;
+            let t533 = t490 * t189;
+            let t534 = t532 + t533;
+            let t535 = t519 + t528;
+            let t536 = t531 - t522;
+            let t537 = t525 + t534;
+            let t538 = wrist_r_p_nx + t514;
+            let t539 = wrist_r_p_ny + t515;
+            let t540 = wrist_r_p_nz + t516;
+            let t541 = wrist_r_p_fx + t535;
+            let t542 = wrist_r_p_fy + t536;
+            let t543 = wrist_r_p_fz + t537;
+            let t544 = u_wr * t450;
+            let t545 = wrist_r_u_nx * t544;
+            let t546 = wrist_r_u_ny * t544;
+            let t547 = wrist_r_u_nz * t544;
+            let t548 = wrist_r_u_fx * t544;
+            let t549 = wrist_r_u_fy * t544;
+            let t550 = wrist_r_u_fz * t544;
+            let t551 = t538 + t545;
+            let t552 = t539 - t546;
+            let t553 = t540 + t547;
+            let t554 = t541 - t548;
+            let t555 = t542 + t549;
+            let t556 = t543 + t550;
+            let t557 = t463 * c_wr;
+            let t558 = t464 * s_wr;
+            let t559 = t557 - t558;
+            let t560 = t464 * c_wr;
+            let t561 = t465 * s_wr;
+            let t562 = t560 - t561;
+            let t563 = t466 * c_wr;
+            let t564 = t467 * s_wr;
+            let t565 = t563 - t564;
+            let t566 = t463 * s_wr;
+            let t567 = t566 + t560;
+            let t568 = t465 * c_wr;
+            let t569 = t558 + t568;
+            let t570 = t466 * s_wr;
+            let t571 = t467 * c_wr;
+            let t572 = t570 + t571;
+            let t573 = c_wr * t559;
+            let t574 = s_wr * t562;
+            let t575 = t573 - t574;
+            let t576 = c_wr * t567;
+            let t577 = s_wr * t569;
+            let t578 = t576 - t577;
+            let t579 = s_wr * t567;
+            let t580 = c_wr * t569;
+            let t581 = t579 + t580;
+            let t582 = t478 * c_wr;
+            let t583 = t481 * s_wr;
+            let t584 = t582 + t583;
+            let t585 = t479 * c_wr;
+            let t586 = t473 * s_wr;
+            let t587 = t585 - t586;
+            let t588 = t480 * c_wr;
+            let t589 = t482 * s_wr;
+            let t590 = t588 - t589;
+            let t591 = t478 * s_wr;
+            let t592 = t481 * c_wr;
+            let t593 = t591 - t592;
+            let t594 = t479 * s_wr;
+            let t595 = t473 * c_wr;
+            let t596 = t594 + t595;
+            let t597 = t480 * s_wr;
+            let t598 = t482 * c_wr;
+            let t599 = t597 + t598;
+            let t600 = c_wr * t584;
+            let t601 = s_wr * t587;
+            let t602 = t600 - t601;
+            let t603 = s_wr * t584;
+            let t604 = c_wr * t587;
+            let t605 = t603 + t604;
+            let t606 = c_wr * t593;
+            let t607 = s_wr * t596;
+            let t608 = t606 - t607;
+            let t609 = s_wr * t593;
+            let t610 = c_wr * t596;
+            let t611 = t609 + t610;
+            let t612 = c_wr * t483;
+            let t613 = s_wr * t484;
+            let t614 = t612 - t613;
+            let t615 = s_wr * t483;
+            let t616 = c_wr * t484;
+            let t617 = t615 + t616;
+            let t618 = t492 * c_wr;
+            let t619 = t487 * s_wr;
+            let t620 = t618 - t619;
+            let t621 = t487 * c_wr;
+            let t622 = t493 * s_wr;
+            let t623 = t621 - t622;
+            let t624 = t494 * c_wr;
+            let t625 = t490 * s_wr;
+            let t626 = t624 + t625;
+            let t627 = t492 * s_wr;
+            let t628 = t627 + t621;
+            let t629 = t493 * c_wr;
+            let t630 = t619 + t629;
+            let t631 = t494 * s_wr;
+            let t632 = t490 * c_wr;
+            let t633 = t631 - t632;
+            let t634 = c_wr * t620;
+            let t635 = s_wr * t623;
+            let t636 = t634 - t635;
+            let t637 = c_wr * t628;
+            let t638 = s_wr * t630;
+            let t639 = t637 - t638;
+            let t640 = s_wr * t628;
+            let t641 = c_wr * t630;
+            let t642 = t640 + t641;
+            let t643 = t590 * 0.112f64;
+            let t644 = t605 * 0.112f64;
+            let t645 = t602 * 0.112f64;
+            let t646 = t599 * 0.112f64;
+            let t647 = t611 * 0.112f64;
+            let t648 = t608 * 0.112f64;
+            let t649 = 0.112f64 * t626;
+            let t650 = 0.112f64 * t633;
+            let t651 = 0.112f64 * t639;
+            let t652 = 0.112f64 * t642;
+            let t653 = 0.112f64 * t636;
+            let t654 = t572 + t643;
+            let t655 = t581 + t644;
+            let t656 = t646 - t565;
+            let t657 = t647 - t578;
+            let t658 = t575 - t648;
+            let t659 = t655 + t644;
+            let t660 = t657 - t645;
+            let t661 = t658 - t648;
+            let t662 = t653 * 0.112f64;
+            let t663 = t651 * 0.112f64;
+            let t664 = t652 * 0.112f64;
+            let t665 = t659 + t662;
+            let t666 = t660 + t663;
+            let t667 = t661 + t664;
+            let t668 = t617 + t649;
+            let t669 = t650 - t614;
+            let t670 = t611 + t651;
+            let t671 = t652 - t608;
+            let t672 = t605 + t653;
+            let elbow_fe_u_fz = t602 - t651;
+            let t673 = c_wr * t554;
+            let t674 = s_wr * t555;
+            let t675 = t673 - t674;
+            let t676 = s_wr * t554;
+            let t677 = c_wr * t555;
+            let t678 = t676 + t677;
+            let t679 = c_wr * t551;
+            let t680 = s_wr * t552;
+            let t681 = t679 - t680;
+            let t682 = s_wr * t551;
+            let t683 = c_wr * t552;
+            let t684 = t682 + t683;
+            let t685 = 0.112f64 * t675;
+            let t686 = 0.112f64 * t678;
+            let t687 = t684 + t685;
+            let t688 = t686 - t681;
+            let t689 = 0.081661000005f64 + t468;
+            let t690 = 0.00368572840011861f64 + t654;
+            let elbow_fe_u_nx = t656 - 0.0002120000299f64;
+            let t691 = 0.018284489999765022f64 + t665;
+            let elbow_fe_u_ny = t666 - 0.002292000208f64;
+            let elbow_fe_u_nz = 0.09570849000176501f64 + t667;
+            let elbow_fe_u_fx = 0.008711861f64 + t669;
+            let elbow_fe_u_fy = 0.16029825982372198f64 + t671;
+            let t692 = 0.008711861f64 + t590;
+            let t693 = 0.16029825982372198f64 + t672;
+            let t694 = 1.7423722f64 + t495;
+            let t695 = 1.7423722f64 + t642;
+            let t696 = 1.7423722f64 + t636;
+            let elbow_fe_p_nx = t162 + t553;
+            let elbow_fe_p_ny = t163 + t687;
+            (
+                u_wr,
+                t485,
+                t556,
+                t599,
+                t626,
+                t633,
+                t639,
+                t668,
+                t670,
+                elbow_fe_u_fz,
+                t675,
+                t678,
+                t688,
+                t689,
+                t690,
+                elbow_fe_u_nx,
+                t691,
+                elbow_fe_u_ny,
+                elbow_fe_u_nz,
+                elbow_fe_u_fx,
+                elbow_fe_u_fy,
+                t692,
+                t693,
+                t694,
+                t695,
+                t696,
+                elbow_fe_p_nx,
+                elbow_fe_p_ny,
+            )
+        };
+        let (elbow_fe_p_nz, elbow_fe_p_fx, elbow_fe_p_fy, elbow_fe_p_fz) = {
+            let elbow_fe_p_nz = t164 + t688;
+            let elbow_fe_p_fx = t556 - t167;
+            let elbow_fe_p_fy = t170 + t678;
+            let elbow_fe_p_fz = t173 - t675;
+            (elbow_fe_p_nz, elbow_fe_p_fx, elbow_fe_p_fy, elbow_fe_p_fz)
+        };
+        let (
+            u_efe,
+            humerus_r_u_fz,
+            t871,
+            t878,
+            t881,
+            t910,
+            t913,
+            t929,
+            t930,
+            humerus_r_u_nx,
+            t931,
+            humerus_r_u_ny,
+            humerus_r_u_nz,
+            t932,
+            humerus_r_u_fx,
+            t933,
+            humerus_r_u_fy,
+            t934,
+            t935,
+            t936,
+            t937,
+            humerus_r_p_nx,
+            humerus_r_p_ny,
+            humerus_r_p_nz,
+            humerus_r_p_fx,
+            humerus_r_p_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let u_efe = tau_efe - elbow_fe_p_nz;
+            let t697 = 1f64 / elbow_fe_u_nz;
+            let t698 = elbow_fe_u_nx * t697;
+            let t699 = elbow_fe_u_ny * t697;
+            let t700 = elbow_fe_u_nz * t697;
+            let t701 = elbow_fe_u_fx * t697;
+            let t702 = elbow_fe_u_fy * t697;
+            let t703 = elbow_fe_u_fz * t697;
+            let t704 = elbow_fe_u_nx * t698;
+            let t705 = elbow_fe_u_nx * t699;
+            let t706 = elbow_fe_u_ny * t699;
+            let t707 = elbow_fe_u_nx * t700;
+            let t708 = elbow_fe_u_ny * t700;
+            let t709 = elbow_fe_u_nz * t700;
+            let t710 = t689 - t704;
+            let t711 = t690 - t705;
+            let t712 = t691 - t706;
+            let t713 = elbow_fe_u_nx - t707;
+            let t714 = elbow_fe_u_ny - t708;
+            let t715 = elbow_fe_u_nz - t709;
+            let t716 = elbow_fe_u_nx * t701;
+            let t717 = elbow_fe_u_ny * t701;
+            let t718 = elbow_fe_u_nz * t701;
+            let t719 = elbow_fe_u_nx * t702;
+            let t720 = elbow_fe_u_ny * t702;
+            let t721 = elbow_fe_u_nz * t702;
+            let t722 = elbow_fe_u_nx * t703;
+            let t723 = elbow_fe_u_ny * t703;
+            let t724 = elbow_fe_u_nz * t703;
+            let t725 = t485 - t716;
+            let t726 = t668 - t717;
+            let t727 = elbow_fe_u_fx - t718;
+            let t728 = t599 - t719;
+            let t729 = t670 - t720;
+            let t730 = elbow_fe_u_fy - t721;
+            let t731 = t692 + t722;
+            let t732 = t693 + t723;
+            let t733 = elbow_fe_u_fz - t724;
+            let t734 = elbow_fe_u_fx * t701;
+            let t735 = elbow_fe_u_fx * t702;
+            let t736 = elbow_fe_u_fy * t702;
+            let t737 = elbow_fe_u_fx * t703;
+            let t738 = elbow_fe_u_fy * t703;
+            let t739 = elbow_fe_u_fz * t703;
+            let t740 = t694 - t734;
+            let t741 = t633 - t735;
+            let t742 = t695 - t736;
+            let t743 = t626 + t737;
+            let t744 = t639 + t738;
+            let t745 = t696 - t739;
+            let t746 = t710 * t106;
+            let t747 = t711 * t107;
+            let t748 = t746 - t747;
+            let t749 = t711 * t106;
+            let t750 = t712 * t107;
+            let t751 = t749 - t750;
+            let t752 = t713 * t106;
+            let t753 = t714 * t107;
+            let t754 = t752 - t753;
+            let t755 = t725 * t108;
+            let t756 = t728 * t109;
+            let t757 = t755 - t756;
+            let t758 = t726 * t108;
+            let t759 = t729 * t109;
+            let t760 = t758 - t759;
+            let t761 = t727 * t108;
+            let t762 = t730 * t109;
+            let t763 = t761 - t762;
+            let t764 = t748 + t757;
+            let t765 = t751 + t760;
+            let t766 = t754 + t763;
+            let t767 = t725 * t106;
+            let t768 = t726 * t107;
+            let t769 = t767 - t768;
+            let t770 = t728 * t106;
+            let t771 = t729 * t107;
+            let t772 = t770 - t771;
+            let t773 = t731 * t106;
+            let t774 = t732 * t107;
+            let t775 = t774 - t773;
+            let t776 = t740 * t108;
+            let t777 = t741 * t109;
+            let t778 = t776 - t777;
+            let t779 = t741 * t108;
+            let t780 = t742 * t109;
+            let t781 = t779 - t780;
+            let t782 = t743 * t108;
+            let t783 = t744 * t109;
+            let t784 = t783 - t782;
+            let t785 = t769 + t778;
+            let t786 = t772 + t781;
+            let t787 = t775 + t784;
+            let t788 = elbow_fe_p_nx + t764;
+            let t789 = elbow_fe_p_ny + t765;
+            let t790 = elbow_fe_p_nz + t766;
+            let t791 = elbow_fe_p_fx + t785;
+            let t792 = elbow_fe_p_fy + t786;
+            let t793 = elbow_fe_p_fz + t787;
+            let t794 = u_efe * t697;
+            let t795 = elbow_fe_u_nx * t794;
+            let t796 = elbow_fe_u_ny * t794;
+            let t797 = elbow_fe_u_nz * t794;
+            let t798 = elbow_fe_u_fx * t794;
+            let t799 = elbow_fe_u_fy * t794;
+            let t800 = elbow_fe_u_fz * t794;
+            let t801 = t788 + t795;
+            let t802 = t789 + t796;
+            let t803 = t790 + t797;
+            let t804 = t791 + t798;
+            let t805 = t792 + t799;
+            let t806 = t793 + t800;
+            let t807 = t710 * c_efe;
+            let t808 = t711 * s_efe;
+            let t809 = t807 - t808;
+            let t810 = t711 * c_efe;
+            let t811 = t712 * s_efe;
+            let t812 = t810 - t811;
+            let t813 = t713 * c_efe;
+            let t814 = t714 * s_efe;
+            let t815 = t813 - t814;
+            let t816 = t710 * s_efe;
+            let t817 = t816 + t810;
+            let t818 = t712 * c_efe;
+            let t819 = t808 + t818;
+            let t820 = t713 * s_efe;
+            let t821 = t714 * c_efe;
+            let t822 = t820 + t821;
+            let t823 = c_efe * t809;
+            let t824 = s_efe * t812;
+            let t825 = t823 - t824;
+            let t826 = c_efe * t817;
+            let t827 = s_efe * t819;
+            let t828 = t826 - t827;
+            let t829 = s_efe * t817;
+            let t830 = c_efe * t819;
+            let t831 = t829 + t830;
+            let t832 = t725 * c_efe;
+            let t833 = t728 * s_efe;
+            let t834 = t832 - t833;
+            let t835 = t726 * c_efe;
+            let t836 = t729 * s_efe;
+            let t837 = t835 - t836;
+            let t838 = t727 * c_efe;
+            let t839 = t730 * s_efe;
+            let t840 = t838 - t839;
+            let t841 = t725 * s_efe;
+            let t842 = t728 * c_efe;
+            let t843 = t841 + t842;
+            let t844 = t726 * s_efe;
+            let t845 = t729 * c_efe;
+            let t846 = t844 + t845;
+            let t847 = t727 * s_efe;
+            let t848 = t730 * c_efe;
+            let t849 = t847 + t848;
+            let t850 = c_efe * t834;
+            let t851 = s_efe * t837;
+            let humerus_r_u_fz = t850 - t851;
+            let t852 = s_efe * t834;
+            let t853 = c_efe * t837;
+            let t854 = t852 + t853;
+            let t855 = c_efe * t843;
+            let t856 = s_efe * t846;
+            let t857 = t855 - t856;
+            let t858 = s_efe * t843;
+            let t859 = c_efe * t846;
+            let t860 = t858 + t859;
+            let t861 = c_efe * t731;
+            let t862 = s_efe * t732;
+            let t863 = t862 - t861;
+            let t864 = s_efe * t731;
+            let t865 = c_efe * t732;
+            let t866 = t864 + t865;
+            let t867 = t741 * s_efe;
+            let t868 = t741 * c_efe;
+            let t869 = t743 * c_efe;
+            let t870 = t744 * s_efe;
+            let t871 = t870 - t869;
+            let t872 = t740 * s_efe;
+            let t873 = t872 + t868;
+            let t874 = t742 * c_efe;
+            let t875 = t867 + t874;
+            let t876 = t743 * s_efe;
+            let t877 = t744 * c_efe;
+            let t878 = t876 + t877;
+            let t879 = c_efe * t873;
+            let t880 = s_efe * t875;
+            let t881 = t879 - t880;
+            let t882 = s_efe * t873;
+            let t883 = c_efe * t875;
+            let t884 = t882 + t883;
+            let t885 = t849 * 0.304f64;
+            let t886 = t860 * 0.304f64;
+            let t887 = t857 * 0.304f64;
+            let t888 = t733 * 0.304f64;
+            let t889 = t866 * 0.304f64;
+            let t890 = t863 * 0.304f64;
+            let t891 = 0.304f64 * t878;
+            let t892 = 0.304f64 * t745;
+            let t893 = 0.304f64 * t884;
+            let t894 = 0.304f64 * t881;
+            let t895 = 0.304f64 * t871;
+            let t896 = t715 + t885;
+            let t897 = t815 + t887;
+            let t898 = t888 - t822;
+            let t899 = t831 + t889;
+            let t900 = t828 - t890;
+            let t901 = t896 + t885;
+            let t902 = t898 - t886;
+            let t903 = t899 + t889;
+            let t904 = t893 * 0.304f64;
+            let t905 = t891 * 0.304f64;
+            let t906 = t892 * 0.304f64;
+            let t907 = t901 + t904;
+            let t908 = t902 - t905;
+            let t909 = t903 + t906;
+            let t910 = t733 - t891;
+            let t911 = t866 + t892;
+            let t912 = t849 + t893;
+            let t913 = t860 + t891;
+            let t914 = t840 + t894;
+            let t915 = t854 - t895;
+            let t916 = s_efe * t804;
+            let t917 = c_efe * t805;
+            let t918 = t916 + t917;
+            let t919 = c_efe * t801;
+            let t920 = s_efe * t802;
+            let t921 = t919 - t920;
+            let t922 = s_efe * t801;
+            let t923 = c_efe * t802;
+            let t924 = t922 + t923;
+            let t925 = 0.304f64 * t918;
+            let t926 = 0.304f64 * t806;
+            let t927 = t803 + t925;
+            let t928 = t924 - t926;
+            let t929 = 0.20236395000387197f64 + t907;
+            let t930 = 0.000053999980001054f64 + t908;
+            let humerus_r_u_nx = 0.011715294995083824f64 + t897;
+            let t931 = 0.20986895000353661f64 + t909;
+            let humerus_r_u_ny = t900 - 0.0037997813999599995f64;
+            let humerus_r_u_nz = 0.01032999899926462f64 + t825;
+            let t932 = 0.6479671119999999f64 + t911;
+            let humerus_r_u_fx = 0.014380859999999999f64 + t863;
+            let t933 = 0.6479671119999999f64 + t912;
+            let humerus_r_u_fy = t857 - 0.0055615274403f64;
+            let t934 = 0.014380859999999999f64 - t914;
+            let t935 = 0.0055615274403f64 + t915;
+            let t936 = 2.327f64 + t745;
+            let t937 = 2.327f64 + t884;
+            let humerus_r_p_nx = t90 - t927;
+            let humerus_r_p_ny = t91 + t928;
+            let humerus_r_p_nz = t92 + t921;
+            let humerus_r_p_fx = t95 - t806;
+            let humerus_r_p_fy = t98 + t918;
+            (
+                u_efe,
+                humerus_r_u_fz,
+                t871,
+                t878,
+                t881,
+                t910,
+                t913,
+                t929,
+                t930,
+                humerus_r_u_nx,
+                t931,
+                humerus_r_u_ny,
+                humerus_r_u_nz,
+                t932,
+                humerus_r_u_fx,
+                t933,
+                humerus_r_u_fy,
+                t934,
+                t935,
+                t936,
+                t937,
+                humerus_r_p_nx,
+                humerus_r_p_ny,
+                humerus_r_p_nz,
+                humerus_r_p_fx,
+                humerus_r_p_fy,
+            )
+        };
+        let (
+            u_hr,
+            t974,
+            t1149,
+            t1167,
+            t1168,
+            shoulder_fe_u_nx,
+            t1169,
+            shoulder_fe_u_ny,
+            shoulder_fe_u_nz,
+            t1170,
+            shoulder_fe_u_fx,
+            t1171,
+            shoulder_fe_u_fy,
+            shoulder_fe_p_nx,
+            shoulder_fe_p_ny,
+            shoulder_fe_p_nz,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let u_hr = tau_hr - humerus_r_p_nz;
+            let t938 = 1f64 / humerus_r_u_nz;
+            let t939 = humerus_r_u_nx * t938;
+            let t940 = humerus_r_u_ny * t938;
+            let t941 = humerus_r_u_nz * t938;
+            let t942 = humerus_r_u_fx * t938;
+            let t943 = humerus_r_u_fy * t938;
+            let t944 = humerus_r_u_fz * t938;
+            let t945 = humerus_r_u_nx * t939;
+            let t946 = humerus_r_u_nx * t940;
+            let t947 = humerus_r_u_ny * t940;
+            let t948 = humerus_r_u_nx * t941;
+            let t949 = humerus_r_u_ny * t941;
+            let t950 = humerus_r_u_nz * t941;
+            let t951 = t929 - t945;
+            let t952 = t930 + t946;
+            let t953 = t931 - t947;
+            let t954 = t948 - humerus_r_u_nx;
+            let t955 = humerus_r_u_ny - t949;
+            let t956 = humerus_r_u_nz - t950;
+            let t957 = humerus_r_u_nx * t942;
+            let t958 = humerus_r_u_ny * t942;
+            let t959 = humerus_r_u_nz * t942;
+            let t960 = humerus_r_u_nx * t943;
+            let t961 = humerus_r_u_ny * t943;
+            let t962 = humerus_r_u_nz * t943;
+            let t963 = humerus_r_u_nx * t944;
+            let t964 = humerus_r_u_ny * t944;
+            let t965 = humerus_r_u_nz * t944;
+            let t966 = t910 - t957;
+            let t967 = t932 + t958;
+            let t968 = t959 - humerus_r_u_fx;
+            let t969 = t960 - t933;
+            let t970 = t913 - t961;
+            let t971 = humerus_r_u_fy - t962;
+            let t972 = t934 + t963;
+            let t973 = t935 - t964;
+            let t974 = humerus_r_u_fz - t965;
+            let t975 = humerus_r_u_fx * t942;
+            let t976 = humerus_r_u_fx * t943;
+            let t977 = humerus_r_u_fy * t943;
+            let t978 = humerus_r_u_fx * t944;
+            let t979 = humerus_r_u_fy * t944;
+            let t980 = t936 - t975;
+            let t981 = t878 + t976;
+            let t982 = t937 - t977;
+            let t983 = t978 - t871;
+            let t984 = t881 - t979;
+            let t985 = t951 * t36;
+            let t986 = t952 * t37;
+            let t987 = t985 - t986;
+            let t988 = t952 * t36;
+            let t989 = t953 * t37;
+            let t990 = t988 - t989;
+            let t991 = t954 * t36;
+            let t992 = t955 * t37;
+            let t993 = t991 - t992;
+            let t994 = t966 * t38;
+            let t995 = t969 * t39;
+            let t996 = t994 - t995;
+            let t997 = t967 * t38;
+            let t998 = t970 * t39;
+            let t999 = t997 - t998;
+            let t1000 = t968 * t38;
+            let t1001 = t971 * t39;
+            let t1002 = t1000 - t1001;
+            let t1003 = t987 + t996;
+            let t1004 = t990 + t999;
+            let t1005 = t993 + t1002;
+            let t1006 = t966 * t36;
+            let t1007 = t967 * t37;
+            let t1008 = t1006 - t1007;
+            let t1009 = t969 * t36;
+            let t1010 = t970 * t37;
+            let t1011 = t1009 - t1010;
+            let t1012 = t980 * t38;
+            let t1013 = t981 * t39;
+            let t1014 = t1012 - t1013;
+            let t1015 = t981 * t38;
+            let t1016 = t982 * t39;
+            let t1017 = t1015 - t1016;
+            let t1018 = t1008 + t1014;
+            let t1019 = t1011 + t1017;
+            let t1020 = humerus_r_p_nx + t1003;
+            let t1021 = humerus_r_p_ny + t1004;
+            let t1022 = humerus_r_p_nz + t1005;
+            let t1023 = humerus_r_p_fx + t1018;
+            let t1024 = humerus_r_p_fy + t1019;
+            let t1025 = u_hr * t938;
+            let t1026 = humerus_r_u_nx * t1025;
+            let t1027 = humerus_r_u_ny * t1025;
+            let t1028 = humerus_r_u_nz * t1025;
+            let t1029 = humerus_r_u_fx * t1025;
+            let t1030 = humerus_r_u_fy * t1025;
+            let t1031 = t1020 - t1026;
+            let t1032 = t1021 + t1027;
+            let t1033 = t1022 + t1028;
+            let t1034 = t1023 - t1029;
+            let t1035 = t1024 + t1030;
+            let t1036 = t951 * c_hr;
+            let t1037 = t952 * s_hr;
+            let t1038 = t1036 - t1037;
+            let t1039 = t952 * c_hr;
+            let t1040 = t953 * s_hr;
+            let t1041 = t1039 - t1040;
+            let t1042 = t954 * c_hr;
+            let t1043 = t955 * s_hr;
+            let t1044 = t1042 - t1043;
+            let t1045 = t951 * s_hr;
+            let t1046 = t1045 + t1039;
+            let t1047 = t953 * c_hr;
+            let t1048 = t1037 + t1047;
+            let t1049 = t954 * s_hr;
+            let t1050 = t955 * c_hr;
+            let t1051 = t1049 + t1050;
+            let t1052 = c_hr * t1038;
+            let t1053 = s_hr * t1041;
+            let t1054 = t1052 - t1053;
+            let t1055 = c_hr * t1046;
+            let t1056 = s_hr * t1048;
+            let t1057 = t1055 - t1056;
+            let t1058 = s_hr * t1046;
+            let t1059 = c_hr * t1048;
+            let t1060 = t1058 + t1059;
+            let t1061 = t966 * c_hr;
+            let t1062 = t969 * s_hr;
+            let t1063 = t1061 - t1062;
+            let t1064 = t967 * c_hr;
+            let t1065 = t970 * s_hr;
+            let t1066 = t1064 - t1065;
+            let t1067 = t968 * c_hr;
+            let t1068 = t971 * s_hr;
+            let t1069 = t1067 - t1068;
+            let t1070 = t966 * s_hr;
+            let t1071 = t969 * c_hr;
+            let t1072 = t1070 + t1071;
+            let t1073 = t967 * s_hr;
+            let t1074 = t970 * c_hr;
+            let t1075 = t1073 + t1074;
+            let t1076 = t968 * s_hr;
+            let t1077 = t971 * c_hr;
+            let t1078 = t1076 + t1077;
+            let t1079 = c_hr * t1063;
+            let t1080 = s_hr * t1066;
+            let t1081 = t1079 - t1080;
+            let t1082 = s_hr * t1063;
+            let t1083 = c_hr * t1066;
+            let t1084 = t1082 + t1083;
+            let t1085 = c_hr * t1072;
+            let t1086 = s_hr * t1075;
+            let t1087 = t1085 - t1086;
+            let t1088 = s_hr * t1072;
+            let t1089 = c_hr * t1075;
+            let t1090 = t1088 + t1089;
+            let t1091 = c_hr * t972;
+            let t1092 = s_hr * t973;
+            let t1093 = t1091 - t1092;
+            let t1094 = s_hr * t972;
+            let t1095 = c_hr * t973;
+            let t1096 = t1094 + t1095;
+            let t1097 = t980 * c_hr;
+            let t1098 = t981 * s_hr;
+            let t1099 = t1097 - t1098;
+            let t1100 = t981 * c_hr;
+            let t1101 = t982 * s_hr;
+            let t1102 = t1100 - t1101;
+            let t1103 = t983 * c_hr;
+            let t1104 = t984 * s_hr;
+            let t1105 = t1103 - t1104;
+            let t1106 = t980 * s_hr;
+            let t1107 = t1106 + t1100;
+            let t1108 = t982 * c_hr;
+            let t1109 = t1098 + t1108;
+            let t1110 = t983 * s_hr;
+            let t1111 = t984 * c_hr;
+            let t1112 = t1110 + t1111;
+            let t1113 = c_hr * t1099;
+            let t1114 = s_hr * t1102;
+            let t1115 = t1113 - t1114;
+            let t1116 = c_hr * t1107;
+            let t1117 = s_hr * t1109;
+            let t1118 = t1116 - t1117;
+            let t1119 = s_hr * t1107;
+            let t1120 = c_hr * t1109;
+            let t1121 = t1119 + t1120;
+            let t1122 = t1069 * 0.112f64;
+            let t1123 = t1084 * 0.112f64;
+            let t1124 = t1081 * 0.112f64;
+            let t1125 = t1078 * 0.112f64;
+            let t1126 = t1090 * 0.112f64;
+            let t1127 = t1087 * 0.112f64;
+            let t1128 = 0.112f64 * t1105;
+            let t1129 = 0.112f64 * t1112;
+            let t1130 = 0.112f64 * t1118;
+            let t1131 = 0.112f64 * t1121;
+            let t1132 = 0.112f64 * t1115;
+            let t1133 = t1051 + t1122;
+            let t1134 = t1060 + t1123;
+            let t1135 = t1125 - t1044;
+            let t1136 = t1126 - t1057;
+            let t1137 = t1054 - t1127;
+            let t1138 = t1134 + t1123;
+            let t1139 = t1136 - t1124;
+            let t1140 = t1137 - t1127;
+            let t1141 = t1132 * 0.112f64;
+            let t1142 = t1130 * 0.112f64;
+            let t1143 = t1131 * 0.112f64;
+            let t1144 = t1138 + t1141;
+            let t1145 = t1139 + t1142;
+            let t1146 = t1140 + t1143;
+            let t1147 = t1096 + t1128;
+            let t1148 = t1129 - t1093;
+            let t1149 = t1090 + t1130;
+            let t1150 = t1131 - t1087;
+            let t1151 = c_hr * t1034;
+            let t1152 = s_hr * t1035;
+            let t1153 = t1151 - t1152;
+            let t1154 = s_hr * t1034;
+            let t1155 = c_hr * t1035;
+            let t1156 = t1154 + t1155;
+            let t1157 = c_hr * t1031;
+            let t1158 = s_hr * t1032;
+            let t1159 = t1157 - t1158;
+            let t1160 = s_hr * t1031;
+            let t1161 = c_hr * t1032;
+            let t1162 = t1160 + t1161;
+            let t1163 = 0.112f64 * t1153;
+            let t1164 = 0.112f64 * t1156;
+            let t1165 = t1162 + t1163;
+            let t1166 = t1164 - t1159;
+            let t1167 = 0.03900299600125622f64 + t956;
+            let t1168 = 0.0055279857002587095f64 + t1133;
+            let shoulder_fe_u_nx = t1135 - 0.02285162700433904f64;
+            let t1169 = 0.08585553000239696f64 + t1144;
+            let shoulder_fe_u_ny = t1145 - 0.0027519999999057617f64;
+            let shoulder_fe_u_nz = 0.05139352799812063f64 + t1146;
+            let t1170 = 0.009934149991199999f64 + t1147;
+            let shoulder_fe_u_fx = 0.060615943396199995f64 + t1148;
+            let t1171 = t1078 - 0.009934149991199999f64;
+            let shoulder_fe_u_fy = 0.2933742339089346f64 + t1150;
+            let shoulder_fe_p_nx = t19 + t1033;
+            let shoulder_fe_p_ny = t22 + t1165;
+            let shoulder_fe_p_nz = t25 + t1166;
+            (
+                u_hr,
+                t974,
+                t1149,
+                t1167,
+                t1168,
+                shoulder_fe_u_nx,
+                t1169,
+                shoulder_fe_u_ny,
+                shoulder_fe_u_nz,
+                t1170,
+                shoulder_fe_u_fx,
+                t1171,
+                shoulder_fe_u_fy,
+                shoulder_fe_p_nx,
+                shoulder_fe_p_ny,
+                shoulder_fe_p_nz,
+            )
+        };
         // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-        let u_sfe = tau_sfe - shoulder_fe_p_nz;
-        let t1172 = 1f64 / shoulder_fe_u_nz;
-        let t1173 = shoulder_fe_u_nx * t1172;
-        let t1174 = shoulder_fe_u_ny * t1172;
-        let t1175 = shoulder_fe_u_fx * t1172;
-        let t1176 = shoulder_fe_u_fy * t1172;
-        let t1177 = shoulder_fe_u_nx * t1173;
-        let t1178 = shoulder_fe_u_nx * t1174;
-        let t1179 = shoulder_fe_u_ny * t1174;
-        let t1180 = t1167 - t1177;
-        let t1181 = t1168 - t1178;
-        let t1182 = t1169 - t1179;
-        let t1183 = shoulder_fe_u_nx * t1175;
-        let t1184 = shoulder_fe_u_ny * t1175;
-        let t1185 = shoulder_fe_u_nx * t1176;
-        let t1186 = shoulder_fe_u_ny * t1176;
-        let t1187 = t974 - t1183;
-        let t1188 = t1170 - t1184;
-        let t1189 = t1171 - t1185;
-        let t1190 = t1149 - t1186;
-        let t1191 = t1180 * t0;
-        let t1192 = t1181 * t1;
-        let t1193 = t1191 - t1192;
-        let t1194 = t1181 * t0;
-        let t1195 = t1182 * t1;
-        let t1196 = t1194 - t1195;
-        let t1197 = shoulder_fe_p_nx + t1193;
-        let t1198 = shoulder_fe_p_ny + t1196;
-        let t1199 = u_sfe * t1172;
-        let t1200 = shoulder_fe_u_nx * t1199;
-        let t1201 = shoulder_fe_u_ny * t1199;
-        let t1202 = t1197 + t1200;
-        let t1203 = t1198 + t1201;
-        let t1204 = t1181 * s_sfe;
-        let t1205 = t1181 * c_sfe;
-        let t1206 = t1180 * s_sfe;
-        let t1207 = t1206 + t1205;
-        let t1208 = t1182 * c_sfe;
-        let t1209 = t1204 + t1208;
-        let t1210 = s_sfe * t1207;
-        let t1211 = c_sfe * t1209;
-        let t1212 = t1210 + t1211;
-        let t1213 = t1187 * s_sfe;
-        let t1214 = t1189 * c_sfe;
-        let t1215 = t1213 + t1214;
-        let t1216 = t1188 * s_sfe;
-        let t1217 = t1190 * c_sfe;
-        let t1218 = t1216 + t1217;
-        let t1219 = s_sfe * t1215;
-        let t1220 = c_sfe * t1218;
-        let shoulder_aa_u_fz = t1219 + t1220;
-        let t1221 = s_sfe * t1202;
-        let t1222 = c_sfe * t1203;
-        let shoulder_aa_p_nz = t1221 + t1222;
-        let shoulder_aa_u_nz = 0.007628999999536005f64 + t1212;
+        let (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let u_sfe = tau_sfe - shoulder_fe_p_nz;
+            let t1172 = 1f64 / shoulder_fe_u_nz;
+            let t1173 = shoulder_fe_u_nx * t1172;
+            let t1174 = shoulder_fe_u_ny * t1172;
+            let t1175 = shoulder_fe_u_fx * t1172;
+            let t1176 = shoulder_fe_u_fy * t1172;
+            let t1177 = shoulder_fe_u_nx * t1173;
+            let t1178 = shoulder_fe_u_nx * t1174;
+            let t1179 = shoulder_fe_u_ny * t1174;
+            let t1180 = t1167 - t1177;
+            let t1181 = t1168 - t1178;
+            let t1182 = t1169 - t1179;
+            let t1183 = shoulder_fe_u_nx * t1175;
+            let t1184 = shoulder_fe_u_ny * t1175;
+            let t1185 = shoulder_fe_u_nx * t1176;
+            let t1186 = shoulder_fe_u_ny * t1176;
+            let t1187 = t974 - t1183;
+            let t1188 = t1170 - t1184;
+            let t1189 = t1171 - t1185;
+            let t1190 = t1149 - t1186;
+            let t1191 = t1180 * t0;
+            let t1192 = t1181 * t1;
+            let t1193 = t1191 - t1192;
+            let t1194 = t1181 * t0;
+            let t1195 = t1182 * t1;
+            let t1196 = t1194 - t1195;
+            let t1197 = shoulder_fe_p_nx + t1193;
+            let t1198 = shoulder_fe_p_ny + t1196;
+            let t1199 = u_sfe * t1172;
+            let t1200 = shoulder_fe_u_nx * t1199;
+            let t1201 = shoulder_fe_u_ny * t1199;
+            let t1202 = t1197 + t1200;
+            let t1203 = t1198 + t1201;
+            let t1204 = t1181 * s_sfe;
+            let t1205 = t1181 * c_sfe;
+            let t1206 = t1180 * s_sfe;
+            let t1207 = t1206 + t1205;
+            let t1208 = t1182 * c_sfe;
+            let t1209 = t1204 + t1208;
+            let t1210 = s_sfe * t1207;
+            let t1211 = c_sfe * t1209;
+            let t1212 = t1210 + t1211;
+            let t1213 = t1187 * s_sfe;
+            let t1214 = t1189 * c_sfe;
+            let t1215 = t1213 + t1214;
+            let t1216 = t1188 * s_sfe;
+            let t1217 = t1190 * c_sfe;
+            let t1218 = t1216 + t1217;
+            let t1219 = s_sfe * t1215;
+            let t1220 = c_sfe * t1218;
+            let shoulder_aa_u_fz = t1219 + t1220;
+            let t1221 = s_sfe * t1202;
+            let t1222 = c_sfe * t1203;
+            let shoulder_aa_p_nz = t1221 + t1222;
+            let shoulder_aa_u_nz = 0.007628999999536005f64 + t1212;
+            (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
+        };
         // ── link `Shoulder_AA`, joint `SAA` (tip to base)
-        let u_saa = tau_saa - shoulder_aa_p_nz;
-        // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-        let t1223 = 9.81f64 * shoulder_aa_u_fz;
-        let t1224 = u_saa - t1223;
-        let qdd_saa = t1224 / shoulder_aa_u_nz;
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
-        let t1225 = s_sfe * qdd_saa;
-        let t1226 = c_sfe * qdd_saa;
-        let shoulder_fe_a_vx = s_sfe * 9.81f64;
-        let shoulder_fe_a_vy = c_sfe * 9.81f64;
-        let shoulder_fe_a_wx = t1225 + t0;
-        let shoulder_fe_a_wy = t1226 - t1;
-        let t1227 = shoulder_fe_a_wx * shoulder_fe_u_nx;
-        let t1228 = shoulder_fe_a_wy * shoulder_fe_u_ny;
-        let t1229 = t1227 + t1228;
-        let t1230 = shoulder_fe_a_vx * shoulder_fe_u_fx;
-        let t1231 = shoulder_fe_a_vy * shoulder_fe_u_fy;
-        let t1232 = t1230 + t1231;
-        let t1233 = t1229 + t1232;
-        let t1234 = u_sfe - t1233;
-        let qdd_sfe = t1234 / shoulder_fe_u_nz;
-        // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-        let t1235 = 0.112f64 * qdd_sfe;
-        let t1236 = 0.112f64 * shoulder_fe_a_wy;
-        let t1237 = shoulder_fe_a_vy + t1235;
-        let t1238 = c_hr * qdd_sfe;
-        let t1239 = s_hr * shoulder_fe_a_wy;
-        let t1240 = t1239 - t1238;
-        let t1241 = s_hr * qdd_sfe;
-        let t1242 = c_hr * shoulder_fe_a_wy;
-        let t1243 = t1241 + t1242;
-        let t1244 = c_hr * t1236;
-        let t1245 = s_hr * t1237;
-        let t1246 = t1244 + t1245;
-        let t1247 = s_hr * t1236;
-        let t1248 = c_hr * t1237;
-        let t1249 = t1248 - t1247;
-        let humerus_r_a_wx = t1240 + t36;
-        let humerus_r_a_wy = t1243 - t37;
-        let humerus_r_a_vx = t1246 + t38;
-        let humerus_r_a_vy = t1249 - t39;
-        let t1250 = humerus_r_a_wx * humerus_r_u_nx;
-        let t1251 = humerus_r_a_wy * humerus_r_u_ny;
-        let t1252 = t1251 - t1250;
-        let t1253 = shoulder_fe_a_wx * humerus_r_u_nz;
-        let t1254 = t1252 + t1253;
-        let t1255 = humerus_r_a_vx * humerus_r_u_fx;
-        let t1256 = humerus_r_a_vy * humerus_r_u_fy;
-        let t1257 = t1256 - t1255;
-        let t1258 = shoulder_fe_a_vx * humerus_r_u_fz;
-        let t1259 = t1257 + t1258;
-        let t1260 = t1254 + t1259;
-        let t1261 = u_hr - t1260;
-        let qdd_hr = t1261 / humerus_r_u_nz;
-        let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
-        // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-        let t1262 = 0.304f64 * humerus_r_a_wy;
-        let t1263 = 0.304f64 * humerus_r_a_wx;
-        let elbow_fe_a_vz = humerus_r_a_vx + t1262;
-        let t1264 = humerus_r_a_vy - t1263;
-        let t1265 = c_efe * humerus_r_a_wz;
-        let t1266 = s_efe * humerus_r_a_wy;
-        let t1267 = t1265 + t1266;
-        let t1268 = s_efe * humerus_r_a_wz;
-        let t1269 = c_efe * humerus_r_a_wy;
-        let t1270 = t1269 - t1268;
-        let t1271 = c_efe * shoulder_fe_a_vx;
-        let t1272 = s_efe * t1264;
-        let t1273 = t1271 + t1272;
-        let t1274 = s_efe * shoulder_fe_a_vx;
-        let t1275 = c_efe * t1264;
-        let t1276 = t1275 - t1274;
-        let elbow_fe_a_wx = t1267 + t106;
-        let elbow_fe_a_wy = t1270 - t107;
-        let elbow_fe_a_vx = t1273 + t108;
-        let elbow_fe_a_vy = t1276 - t109;
-        let t1277 = elbow_fe_a_wx * elbow_fe_u_nx;
-        let t1278 = elbow_fe_a_wy * elbow_fe_u_ny;
-        let t1279 = t1277 + t1278;
-        let t1280 = humerus_r_a_wx * elbow_fe_u_nz;
-        let t1281 = t1279 - t1280;
-        let t1282 = elbow_fe_a_vx * elbow_fe_u_fx;
-        let t1283 = elbow_fe_a_vy * elbow_fe_u_fy;
-        let t1284 = t1282 + t1283;
-        let t1285 = elbow_fe_a_vz * elbow_fe_u_fz;
-        let t1286 = t1284 - t1285;
-        let t1287 = t1281 + t1286;
-        let t1288 = u_efe - t1287;
-        let qdd_efe = t1288 / elbow_fe_u_nz;
-        let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
-        // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-        let t1289 = 0.112f64 * elbow_fe_a_wz;
-        let t1290 = 0.112f64 * elbow_fe_a_wy;
-        let t1291 = elbow_fe_a_vy + t1289;
-        let t1292 = elbow_fe_a_vz + t1290;
-        let t1293 = c_wr * elbow_fe_a_wz;
-        let t1294 = s_wr * elbow_fe_a_wy;
-        let t1295 = t1294 - t1293;
-        let t1296 = s_wr * elbow_fe_a_wz;
-        let t1297 = c_wr * elbow_fe_a_wy;
-        let t1298 = t1296 + t1297;
-        let t1299 = c_wr * t1292;
-        let t1300 = s_wr * t1291;
-        let t1301 = t1299 + t1300;
-        let t1302 = s_wr * t1292;
-        let t1303 = c_wr * t1291;
-        let t1304 = t1303 - t1302;
-        let wrist_r_a_wx = t1295 + t186;
-        let wrist_r_a_wy = t1298 - t187;
-        let wrist_r_a_vx = t1301 + t188;
-        let wrist_r_a_vy = t1304 - t189;
-        let t1305 = wrist_r_a_wx * wrist_r_u_nx;
-        let t1306 = wrist_r_a_wy * wrist_r_u_ny;
-        let t1307 = t1305 - t1306;
-        let t1308 = elbow_fe_a_wx * wrist_r_u_nz;
-        let t1309 = t1307 + t1308;
-        let t1310 = wrist_r_a_vx * wrist_r_u_fx;
-        let t1311 = wrist_r_a_vy * wrist_r_u_fy;
-        let t1312 = t1311 - t1310;
-        let t1313 = elbow_fe_a_vx * wrist_r_u_fz;
-        let t1314 = t1312 + t1313;
-        let t1315 = t1309 + t1314;
-        let t1316 = u_wr - t1315;
-        let qdd_wr = t1316 / wrist_r_u_nz;
-        let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
-        // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-        let t1317 = 0.184f64 * wrist_r_a_wy;
-        let t1318 = 0.02075f64 * wrist_r_a_wy;
-        let t1319 = wrist_r_a_vx + t1317;
-        let t1320 = elbow_fe_a_vx - t1318;
-        let t1321 = c_wfe * wrist_r_a_wz;
-        let t1322 = s_wfe * wrist_r_a_wx;
-        let t1323 = t1321 + t1322;
-        let t1324 = s_wfe * wrist_r_a_wz;
-        let t1325 = c_wfe * wrist_r_a_wx;
-        let t1326 = t1325 - t1324;
-        let t1327 = s_wfe * t1320;
-        let t1328 = c_wfe * t1319;
-        let t1329 = t1328 - t1327;
-        let wrist_fe_a_wx = t1323 + t261;
-        let wrist_fe_a_wy = t1326 - t262;
-        let wrist_fe_a_vy = t1329 - t264;
-        let t1330 = wrist_fe_a_wx * 0.000015f64;
-        let t1331 = wrist_fe_a_wy * 0.000829f64;
-        let t1332 = t1330 - t1331;
-        let t1333 = wrist_r_a_wy * 0.009277f64;
-        let t1334 = t1332 + t1333;
-        let t1335 = wrist_fe_a_vy * 0.038686875f64;
-        let t1336 = t1334 + t1335;
-        let t1337 = u_wfe - t1336;
-        let qdd_wfe = t1337 / 0.009277f64;
+        let u_saa = {
+            // ── link `Shoulder_AA`, joint `SAA` (tip to base)
+            let u_saa = tau_saa - shoulder_aa_p_nz;
+            u_saa
+        };
+        let qdd_saa = {
+            // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
+            let t1223 = 9.81f64 * shoulder_aa_u_fz;
+            let t1224 = u_saa - t1223;
+            let qdd_saa = t1224 / shoulder_aa_u_nz;
+            qdd_saa
+        };
+        let (
+            shoulder_fe_a_vx,
+            shoulder_fe_a_vy,
+            shoulder_fe_a_wx,
+            shoulder_fe_a_wy,
+            qdd_sfe,
+        ) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
+            let t1225 = s_sfe * qdd_saa;
+            let t1226 = c_sfe * qdd_saa;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64;
+            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_wx = t1225 + t0;
+            let shoulder_fe_a_wy = t1226 - t1;
+            let t1227 = shoulder_fe_a_wx * shoulder_fe_u_nx;
+            let t1228 = shoulder_fe_a_wy * shoulder_fe_u_ny;
+            let t1229 = t1227 + t1228;
+            let t1230 = shoulder_fe_a_vx * shoulder_fe_u_fx;
+            let t1231 = shoulder_fe_a_vy * shoulder_fe_u_fy;
+            let t1232 = t1230 + t1231;
+            let t1233 = t1229 + t1232;
+            let t1234 = u_sfe - t1233;
+            let qdd_sfe = t1234 / shoulder_fe_u_nz;
+            (
+                shoulder_fe_a_vx,
+                shoulder_fe_a_vy,
+                shoulder_fe_a_wx,
+                shoulder_fe_a_wy,
+                qdd_sfe,
+            )
+        };
+        let (
+            humerus_r_a_wx,
+            humerus_r_a_wy,
+            humerus_r_a_vx,
+            humerus_r_a_vy,
+            qdd_hr,
+            humerus_r_a_wz,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
+            let t1235 = 0.112f64 * qdd_sfe;
+            let t1236 = 0.112f64 * shoulder_fe_a_wy;
+            let t1237 = shoulder_fe_a_vy + t1235;
+            let t1238 = c_hr * qdd_sfe;
+            let t1239 = s_hr * shoulder_fe_a_wy;
+            let t1240 = t1239 - t1238;
+            let t1241 = s_hr * qdd_sfe;
+            let t1242 = c_hr * shoulder_fe_a_wy;
+            let t1243 = t1241 + t1242;
+            let t1244 = c_hr * t1236;
+            let t1245 = s_hr * t1237;
+            let t1246 = t1244 + t1245;
+            let t1247 = s_hr * t1236;
+            let t1248 = c_hr * t1237;
+            let t1249 = t1248 - t1247;
+            let humerus_r_a_wx = t1240 + t36;
+            let humerus_r_a_wy = t1243 - t37;
+            let humerus_r_a_vx = t1246 + t38;
+            let humerus_r_a_vy = t1249 - t39;
+            let t1250 = humerus_r_a_wx * humerus_r_u_nx;
+            let t1251 = humerus_r_a_wy * humerus_r_u_ny;
+            let t1252 = t1251 - t1250;
+            let t1253 = shoulder_fe_a_wx * humerus_r_u_nz;
+            let t1254 = t1252 + t1253;
+            let t1255 = humerus_r_a_vx * humerus_r_u_fx;
+            let t1256 = humerus_r_a_vy * humerus_r_u_fy;
+            let t1257 = t1256 - t1255;
+            let t1258 = shoulder_fe_a_vx * humerus_r_u_fz;
+            let t1259 = t1257 + t1258;
+            let t1260 = t1254 + t1259;
+            let t1261 = u_hr - t1260;
+            let qdd_hr = t1261 / humerus_r_u_nz;
+            let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
+            (
+                humerus_r_a_wx,
+                humerus_r_a_wy,
+                humerus_r_a_vx,
+                humerus_r_a_vy,
+                qdd_hr,
+                humerus_r_a_wz,
+            )
+        };
+        let (
+            elbow_fe_a_vz,
+            elbow_fe_a_wx,
+            elbow_fe_a_wy,
+            elbow_fe_a_vx,
+            elbow_fe_a_vy,
+            qdd_efe,
+            elbow_fe_a_wz,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
+            let t1262 = 0.304f64 * humerus_r_a_wy;
+            let t1263 = 0.304f64 * humerus_r_a_wx;
+            let elbow_fe_a_vz = humerus_r_a_vx + t1262;
+            let t1264 = humerus_r_a_vy - t1263;
+            let t1265 = c_efe * humerus_r_a_wz;
+            let t1266 = s_efe * humerus_r_a_wy;
+            let t1267 = t1265 + t1266;
+            let t1268 = s_efe * humerus_r_a_wz;
+            let t1269 = c_efe * humerus_r_a_wy;
+            let t1270 = t1269 - t1268;
+            let t1271 = c_efe * shoulder_fe_a_vx;
+            let t1272 = s_efe * t1264;
+            let t1273 = t1271 + t1272;
+            let t1274 = s_efe * shoulder_fe_a_vx;
+            let t1275 = c_efe * t1264;
+            let t1276 = t1275 - t1274;
+            let elbow_fe_a_wx = t1267 + t106;
+            let elbow_fe_a_wy = t1270 - t107;
+            let elbow_fe_a_vx = t1273 + t108;
+            let elbow_fe_a_vy = t1276 - t109;
+            let t1277 = elbow_fe_a_wx * elbow_fe_u_nx;
+            let t1278 = elbow_fe_a_wy * elbow_fe_u_ny;
+            let t1279 = t1277 + t1278;
+            let t1280 = humerus_r_a_wx * elbow_fe_u_nz;
+            let t1281 = t1279 - t1280;
+            let t1282 = elbow_fe_a_vx * elbow_fe_u_fx;
+            let t1283 = elbow_fe_a_vy * elbow_fe_u_fy;
+            let t1284 = t1282 + t1283;
+            let t1285 = elbow_fe_a_vz * elbow_fe_u_fz;
+            let t1286 = t1284 - t1285;
+            let t1287 = t1281 + t1286;
+            let t1288 = u_efe - t1287;
+            let qdd_efe = t1288 / elbow_fe_u_nz;
+            let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
+            (
+                elbow_fe_a_vz,
+                elbow_fe_a_wx,
+                elbow_fe_a_wy,
+                elbow_fe_a_vx,
+                elbow_fe_a_vy,
+                qdd_efe,
+                elbow_fe_a_wz,
+            )
+        };
+        let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
+            let t1289 = 0.112f64 * elbow_fe_a_wz;
+            let t1290 = 0.112f64 * elbow_fe_a_wy;
+            let t1291 = elbow_fe_a_vy + t1289;
+            let t1292 = elbow_fe_a_vz + t1290;
+            let t1293 = c_wr * elbow_fe_a_wz;
+            let t1294 = s_wr * elbow_fe_a_wy;
+            let t1295 = t1294 - t1293;
+            let t1296 = s_wr * elbow_fe_a_wz;
+            let t1297 = c_wr * elbow_fe_a_wy;
+            let t1298 = t1296 + t1297;
+            let t1299 = c_wr * t1292;
+            let t1300 = s_wr * t1291;
+            let t1301 = t1299 + t1300;
+            let t1302 = s_wr * t1292;
+            let t1303 = c_wr * t1291;
+            let t1304 = t1303 - t1302;
+            let wrist_r_a_wx = t1295 + t186;
+            let wrist_r_a_wy = t1298 - t187;
+            let wrist_r_a_vx = t1301 + t188;
+            let wrist_r_a_vy = t1304 - t189;
+            let t1305 = wrist_r_a_wx * wrist_r_u_nx;
+            let t1306 = wrist_r_a_wy * wrist_r_u_ny;
+            let t1307 = t1305 - t1306;
+            let t1308 = elbow_fe_a_wx * wrist_r_u_nz;
+            let t1309 = t1307 + t1308;
+            let t1310 = wrist_r_a_vx * wrist_r_u_fx;
+            let t1311 = wrist_r_a_vy * wrist_r_u_fy;
+            let t1312 = t1311 - t1310;
+            let t1313 = elbow_fe_a_vx * wrist_r_u_fz;
+            let t1314 = t1312 + t1313;
+            let t1315 = t1309 + t1314;
+            let t1316 = u_wr - t1315;
+            let qdd_wr = t1316 / wrist_r_u_nz;
+            let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
+            (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz)
+        };
+        let qdd_wfe = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
+            let t1317 = 0.184f64 * wrist_r_a_wy;
+            let t1318 = 0.02075f64 * wrist_r_a_wy;
+            let t1319 = wrist_r_a_vx + t1317;
+            let t1320 = elbow_fe_a_vx - t1318;
+            let t1321 = c_wfe * wrist_r_a_wz;
+            let t1322 = s_wfe * wrist_r_a_wx;
+            let t1323 = t1321 + t1322;
+            let t1324 = s_wfe * wrist_r_a_wz;
+            let t1325 = c_wfe * wrist_r_a_wx;
+            let t1326 = t1325 - t1324;
+            let t1327 = s_wfe * t1320;
+            let t1328 = c_wfe * t1319;
+            let t1329 = t1328 - t1327;
+            let wrist_fe_a_wx = t1323 + t261;
+            let wrist_fe_a_wy = t1326 - t262;
+            let wrist_fe_a_vy = t1329 - t264;
+            let t1330 = wrist_fe_a_wx * 0.000015f64;
+            let t1331 = wrist_fe_a_wy * 0.000829f64;
+            let t1332 = t1330 - t1331;
+            let t1333 = wrist_r_a_wy * 0.009277f64;
+            let t1334 = t1332 + t1333;
+            let t1335 = wrist_fe_a_vy * 0.038686875f64;
+            let t1336 = t1334 + t1335;
+            let t1337 = u_wfe - t1336;
+            let qdd_wfe = t1337 / 0.009277f64;
+            qdd_wfe
+        };
         if !(shoulder_aa_u_nz > 0.0 && shoulder_fe_u_nz > 0.0 && humerus_r_u_nz > 0.0
             && elbow_fe_u_nz > 0.0 && wrist_r_u_nz > 0.0)
         {
@@ -4126,5 +5542,7327 @@ impl ::hya_core::Dynamics<6> for Hya {
                 6,
             >::from([qdd_saa, qdd_sfe, qdd_hr, qdd_efe, qdd_wr, qdd_wfe]),
         )
+    }
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i`
+    /// of each is `∂τ_i`.
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        &self,
+        q: &::hya_core::JointVector<6>,
+        qd: &::hya_core::JointVector<6>,
+        qdd: &::hya_core::JointVector<6>,
+    ) -> (::hya_core::JointMatrix<6>, ::hya_core::JointMatrix<6>) {
+        let (
+            qd_saa,
+            qd_sfe,
+            qd_hr,
+            qd_efe,
+            qd_wr,
+            qd_wfe,
+            qdd_saa,
+            qdd_sfe,
+            qdd_hr,
+            qdd_efe,
+            qdd_wr,
+            qdd_wfe,
+            s_sfe,
+            c_sfe,
+            s_hr,
+            c_hr,
+            s_efe,
+            c_efe,
+            s_wr,
+            c_wr,
+            s_wfe,
+            c_wfe,
+        ) = {
+            let q_sfe = q[1];
+            let q_hr = q[2];
+            let q_efe = q[3];
+            let q_wr = q[4];
+            let q_wfe = q[5];
+            let qd_saa = qd[0];
+            let qd_sfe = qd[1];
+            let qd_hr = qd[2];
+            let qd_efe = qd[3];
+            let qd_wr = qd[4];
+            let qd_wfe = qd[5];
+            let qdd_saa = qdd[0];
+            let qdd_sfe = qdd[1];
+            let qdd_hr = qdd[2];
+            let qdd_efe = qdd[3];
+            let qdd_wr = qdd[4];
+            let qdd_wfe = qdd[5];
+            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
+            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
+            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
+            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
+            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            (
+                qd_saa,
+                qd_sfe,
+                qd_hr,
+                qd_efe,
+                qd_wr,
+                qd_wfe,
+                qdd_saa,
+                qdd_sfe,
+                qdd_hr,
+                qdd_efe,
+                qdd_wr,
+                qdd_wfe,
+                s_sfe,
+                c_sfe,
+                s_hr,
+                c_hr,
+                s_efe,
+                c_efe,
+                s_wr,
+                c_wr,
+                s_wfe,
+                c_wfe,
+            )
+        };
+        let (
+            shoulder_fe_v_wx,
+            shoulder_fe_v_wy,
+            shoulder_fe_a_vx,
+            shoulder_fe_a_vy,
+            shoulder_fe_a_wx,
+            shoulder_fe_a_wy,
+            t5,
+            t9,
+            t14,
+            t15,
+            t19,
+            t21,
+            t22,
+            t23,
+            t26,
+            t27,
+            t32,
+            t33,
+            t37,
+            t39,
+            t40,
+        ) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let shoulder_fe_v_wx = s_sfe * qd_saa;
+            let shoulder_fe_v_wy = c_sfe * qd_saa;
+            let t0 = s_sfe * qdd_saa;
+            let t1 = c_sfe * qdd_saa;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64;
+            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let t2 = shoulder_fe_v_wy * qd_sfe;
+            let t3 = shoulder_fe_v_wx * qd_sfe;
+            let shoulder_fe_a_wx = t0 + t2;
+            let shoulder_fe_a_wy = t1 - t3;
+            let t4 = 0.03900299600125622f64 * shoulder_fe_a_wx;
+            let t5 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t6 = t4 + t5;
+            let t7 = 0.02285162700433904f64 * qdd_sfe;
+            let t8 = t6 - t7;
+            let t9 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
+            let t10 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t11 = t9 + t10;
+            let t12 = 0.0027519999999057617f64 * qdd_sfe;
+            let t13 = t11 - t12;
+            let t14 = 0.009934149991199999f64 * shoulder_fe_a_vy;
+            let t15 = 0.009934149991199999f64 * shoulder_fe_a_vx;
+            let t16 = t8 - t14;
+            let t17 = t13 + t15;
+            let t18 = 0.03900299600125622f64 * shoulder_fe_v_wx;
+            let t19 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t20 = t18 + t19;
+            let t21 = 0.02285162700433904f64 * qd_sfe;
+            let t22 = t20 - t21;
+            let t23 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
+            let t24 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t25 = t23 + t24;
+            let t26 = 0.0027519999999057617f64 * qd_sfe;
+            let t27 = t25 - t26;
+            let t28 = 0.02285162700433904f64 * shoulder_fe_v_wx;
+            let t29 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t30 = t28 + t29;
+            let t31 = 0.05139352799812063f64 * qd_sfe;
+            let t32 = t31 - t30;
+            let t33 = shoulder_fe_v_wy * t32;
+            let t34 = qd_sfe * t27;
+            let t35 = t33 - t34;
+            let t36 = qd_sfe * t22;
+            let t37 = shoulder_fe_v_wx * t32;
+            let t38 = t36 - t37;
+            let t39 = t16 + t35;
+            let t40 = t17 + t38;
+            (
+                shoulder_fe_v_wx,
+                shoulder_fe_v_wy,
+                shoulder_fe_a_vx,
+                shoulder_fe_a_vy,
+                shoulder_fe_a_wx,
+                shoulder_fe_a_wy,
+                t5,
+                t9,
+                t14,
+                t15,
+                t19,
+                t21,
+                t22,
+                t23,
+                t26,
+                t27,
+                t32,
+                t33,
+                t37,
+                t39,
+                t40,
+            )
+        };
+        let (
+            t43,
+            t44,
+            humerus_r_v_wx,
+            humerus_r_v_wy,
+            humerus_r_v_vx,
+            humerus_r_v_vy,
+            humerus_r_v_wz,
+            t54,
+            t55,
+            t59,
+            humerus_r_a_wz,
+            t66,
+            humerus_r_a_wx,
+            humerus_r_a_wy,
+            humerus_r_a_vx,
+            humerus_r_a_vy,
+            t86,
+            t88,
+            t94,
+            t95,
+            t108,
+            t110,
+            t112,
+            t115,
+            t122,
+            t123,
+            t127,
+            t128,
+            t129,
+            t130,
+            t132,
+            t133,
+            t137,
+            t138,
+            t139,
+            t140,
+            t141,
+            t142,
+            t143,
+            t152,
+            t153,
+            t160,
+            t166,
+            t167,
+            t168,
+            t169,
+            t170,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t41 = 0.112f64 * qd_sfe;
+            let t42 = 0.112f64 * shoulder_fe_v_wy;
+            let t43 = c_hr * qd_sfe;
+            let t44 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t44 - t43;
+            let t45 = s_hr * qd_sfe;
+            let t46 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t45 + t46;
+            let t47 = c_hr * t42;
+            let t48 = s_hr * t41;
+            let humerus_r_v_vx = t47 + t48;
+            let t49 = s_hr * t42;
+            let t50 = c_hr * t41;
+            let humerus_r_v_vy = t50 - t49;
+            let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
+            let t51 = 0.112f64 * qdd_sfe;
+            let t52 = 0.112f64 * shoulder_fe_a_wy;
+            let t53 = shoulder_fe_a_vy + t51;
+            let t54 = c_hr * qdd_sfe;
+            let t55 = s_hr * shoulder_fe_a_wy;
+            let t56 = t55 - t54;
+            let t57 = s_hr * qdd_sfe;
+            let t58 = c_hr * shoulder_fe_a_wy;
+            let t59 = t57 + t58;
+            let t60 = c_hr * t52;
+            let t61 = s_hr * t53;
+            let t62 = t60 + t61;
+            let t63 = s_hr * t52;
+            let t64 = c_hr * t53;
+            let t65 = t64 - t63;
+            let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
+            let t66 = humerus_r_v_wy * qd_hr;
+            let t67 = humerus_r_v_wx * qd_hr;
+            let t68 = humerus_r_v_vy * qd_hr;
+            let t69 = humerus_r_v_vx * qd_hr;
+            let humerus_r_a_wx = t56 + t66;
+            let humerus_r_a_wy = t59 - t67;
+            let humerus_r_a_vx = t62 + t68;
+            let humerus_r_a_vy = t65 - t69;
+            let t70 = 0.20236395000387197f64 * humerus_r_a_wx;
+            let t71 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t72 = t70 + t71;
+            let t73 = 0.011715294995083824f64 * humerus_r_a_wz;
+            let t74 = t72 - t73;
+            let t75 = 0.000053999980001054f64 * humerus_r_a_wx;
+            let t76 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t77 = t75 + t76;
+            let t78 = 0.0037997813999599995f64 * humerus_r_a_wz;
+            let t79 = t77 - t78;
+            let t80 = 0.011715294995083824f64 * humerus_r_a_wx;
+            let t81 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t82 = t80 + t81;
+            let t83 = 0.01032999899926462f64 * humerus_r_a_wz;
+            let t84 = t83 - t82;
+            let t85 = 0.014380859999999999f64 * shoulder_fe_a_vx;
+            let t86 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t87 = t85 - t86;
+            let t88 = 0.6479671119999999f64 * humerus_r_a_vx;
+            let t89 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t90 = t88 + t89;
+            let t91 = 0.0055615274403f64 * humerus_r_a_vy;
+            let t92 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t93 = t91 + t92;
+            let t94 = humerus_r_a_vx * 2.327f64;
+            let t95 = humerus_r_a_vy * 2.327f64;
+            let t96 = 0.014380859999999999f64 * humerus_r_a_wz;
+            let t97 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t98 = t96 - t97;
+            let t99 = 0.6479671119999999f64 * humerus_r_a_wx;
+            let t100 = 0.0055615274403f64 * humerus_r_a_wz;
+            let t101 = t99 + t100;
+            let t102 = t74 + t87;
+            let t103 = t79 + t90;
+            let t104 = t84 - t93;
+            let t105 = t94 - t98;
+            let t106 = t95 - t101;
+            let t107 = 0.20236395000387197f64 * humerus_r_v_wx;
+            let t108 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t109 = t107 + t108;
+            let t110 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t111 = t109 - t110;
+            let t112 = 0.000053999980001054f64 * humerus_r_v_wx;
+            let t113 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t114 = t112 + t113;
+            let t115 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t116 = t114 - t115;
+            let t117 = 0.011715294995083824f64 * humerus_r_v_wx;
+            let t118 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t119 = t117 + t118;
+            let t120 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t121 = t120 - t119;
+            let t122 = 0.6479671119999999f64 * humerus_r_v_vy;
+            let t123 = 0.6479671119999999f64 * humerus_r_v_vx;
+            let t124 = 0.0055615274403f64 * humerus_r_v_vy;
+            let t125 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t126 = t124 + t125;
+            let t127 = humerus_r_v_vx * 2.327f64;
+            let t128 = humerus_r_v_vy * 2.327f64;
+            let t129 = 0.014380859999999999f64 * humerus_r_v_wz;
+            let t130 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t131 = t129 - t130;
+            let t132 = 0.6479671119999999f64 * humerus_r_v_wx;
+            let t133 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t134 = t132 + t133;
+            let t135 = 0.0055615274403f64 * humerus_r_v_wy;
+            let t136 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t137 = t135 + t136;
+            let t138 = t111 - t122;
+            let t139 = t116 + t123;
+            let t140 = t121 - t126;
+            let t141 = t127 - t131;
+            let t142 = t128 - t134;
+            let t143 = humerus_r_v_wy * t140;
+            let t144 = humerus_r_v_wz * t139;
+            let t145 = t143 - t144;
+            let t146 = humerus_r_v_wz * t138;
+            let t147 = humerus_r_v_wx * t140;
+            let t148 = t146 - t147;
+            let t149 = humerus_r_v_wx * t139;
+            let t150 = humerus_r_v_wy * t138;
+            let t151 = t149 - t150;
+            let t152 = humerus_r_v_vy * t137;
+            let t153 = humerus_r_v_vx * t137;
+            let t154 = humerus_r_v_vx * t142;
+            let t155 = humerus_r_v_vy * t141;
+            let t156 = t154 - t155;
+            let t157 = t145 + t152;
+            let t158 = t148 - t153;
+            let t159 = t151 + t156;
+            let t160 = humerus_r_v_wy * t137;
+            let t161 = humerus_r_v_wz * t142;
+            let t162 = t160 - t161;
+            let t163 = humerus_r_v_wz * t141;
+            let t164 = humerus_r_v_wx * t137;
+            let t165 = t163 - t164;
+            let t166 = t102 + t157;
+            let t167 = t103 + t158;
+            let t168 = t104 + t159;
+            let t169 = t105 + t162;
+            let t170 = t106 + t165;
+            (
+                t43,
+                t44,
+                humerus_r_v_wx,
+                humerus_r_v_wy,
+                humerus_r_v_vx,
+                humerus_r_v_vy,
+                humerus_r_v_wz,
+                t54,
+                t55,
+                t59,
+                humerus_r_a_wz,
+                t66,
+                humerus_r_a_wx,
+                humerus_r_a_wy,
+                humerus_r_a_vx,
+                humerus_r_a_vy,
+                t86,
+                t88,
+                t94,
+                t95,
+                t108,
+                t110,
+                t112,
+                t115,
+                t122,
+                t123,
+                t127,
+                t128,
+                t129,
+                t130,
+                t132,
+                t133,
+                t137,
+                t138,
+                t139,
+                t140,
+                t141,
+                t142,
+                t143,
+                t152,
+                t153,
+                t160,
+                t166,
+                t167,
+                t168,
+                t169,
+                t170,
+            )
+        };
+        let (
+            elbow_fe_v_vz,
+            t173,
+            elbow_fe_v_wx,
+            elbow_fe_v_wy,
+            elbow_fe_v_vx,
+            elbow_fe_v_vy,
+            elbow_fe_v_wz,
+            elbow_fe_a_vz,
+            elbow_fe_a_wz,
+            elbow_fe_a_wx,
+            elbow_fe_a_wy,
+            elbow_fe_a_vx,
+            elbow_fe_a_vy,
+            t198,
+            t202,
+            t217,
+            t218,
+            t232,
+            t234,
+            t236,
+            t239,
+            t246,
+            t247,
+            t251,
+            t252,
+            t254,
+            t255,
+            t259,
+            t260,
+            t261,
+            t262,
+            t263,
+            t264,
+            t265,
+            t269,
+            t274,
+            t278,
+            t286,
+            t290,
+            t295,
+            t296,
+            t297,
+            t298,
+            t299,
+            t300,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t171 = 0.304f64 * humerus_r_v_wy;
+            let t172 = 0.304f64 * humerus_r_v_wx;
+            let elbow_fe_v_vz = humerus_r_v_vx + t171;
+            let t173 = humerus_r_v_vy - t172;
+            let t174 = c_efe * humerus_r_v_wz;
+            let t175 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t174 + t175;
+            let t176 = s_efe * humerus_r_v_wz;
+            let t177 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t177 - t176;
+            let elbow_fe_v_vx = s_efe * t173;
+            let elbow_fe_v_vy = c_efe * t173;
+            let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
+            let t178 = 0.304f64 * humerus_r_a_wy;
+            let t179 = 0.304f64 * humerus_r_a_wx;
+            let elbow_fe_a_vz = humerus_r_a_vx + t178;
+            let t180 = humerus_r_a_vy - t179;
+            let t181 = c_efe * humerus_r_a_wz;
+            let t182 = s_efe * humerus_r_a_wy;
+            let t183 = t181 + t182;
+            let t184 = s_efe * humerus_r_a_wz;
+            let t185 = c_efe * humerus_r_a_wy;
+            let t186 = t185 - t184;
+            let t187 = c_efe * shoulder_fe_a_vx;
+            let t188 = s_efe * t180;
+            let t189 = t187 + t188;
+            let t190 = s_efe * shoulder_fe_a_vx;
+            let t191 = c_efe * t180;
+            let t192 = t191 - t190;
+            let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
+            let t193 = elbow_fe_v_wy * qd_efe;
+            let t194 = elbow_fe_v_wx * qd_efe;
+            let t195 = elbow_fe_v_vy * qd_efe;
+            let t196 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t183 + t193;
+            let elbow_fe_a_wy = t186 - t194;
+            let elbow_fe_a_vx = t189 + t195;
+            let elbow_fe_a_vy = t192 - t196;
+            let t197 = 0.081661000005f64 * elbow_fe_a_wx;
+            let t198 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t199 = t197 + t198;
+            let t200 = 0.0002120000299f64 * elbow_fe_a_wz;
+            let t201 = t199 - t200;
+            let t202 = 0.00368572840011861f64 * elbow_fe_a_wx;
+            let t203 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t204 = t202 + t203;
+            let t205 = 0.002292000208f64 * elbow_fe_a_wz;
+            let t206 = t204 - t205;
+            let t207 = 0.0002120000299f64 * elbow_fe_a_wx;
+            let t208 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t209 = t207 + t208;
+            let t210 = 0.09570849000176501f64 * elbow_fe_a_wz;
+            let t211 = t210 - t209;
+            let t212 = 0.008711861f64 * elbow_fe_a_vz;
+            let t213 = 0.16029825982372198f64 * elbow_fe_a_vz;
+            let t214 = 0.16029825982372198f64 * elbow_fe_a_vy;
+            let t215 = 0.008711861f64 * elbow_fe_a_vx;
+            let t216 = t214 + t215;
+            let t217 = elbow_fe_a_vx * 1.7423722f64;
+            let t218 = elbow_fe_a_vy * 1.7423722f64;
+            let t219 = elbow_fe_a_vz * 1.7423722f64;
+            let t220 = 0.008711861f64 * elbow_fe_a_wz;
+            let t221 = 0.16029825982372198f64 * elbow_fe_a_wz;
+            let t222 = 0.16029825982372198f64 * elbow_fe_a_wy;
+            let t223 = 0.008711861f64 * elbow_fe_a_wx;
+            let t224 = t222 + t223;
+            let t225 = t201 + t212;
+            let t226 = t206 + t213;
+            let t227 = t211 + t216;
+            let t228 = t217 + t220;
+            let t229 = t218 + t221;
+            let t230 = t219 + t224;
+            let t231 = 0.081661000005f64 * elbow_fe_v_wx;
+            let t232 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t233 = t231 + t232;
+            let t234 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t235 = t233 - t234;
+            let t236 = 0.00368572840011861f64 * elbow_fe_v_wx;
+            let t237 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t238 = t236 + t237;
+            let t239 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t240 = t238 - t239;
+            let t241 = 0.0002120000299f64 * elbow_fe_v_wx;
+            let t242 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t243 = t241 + t242;
+            let t244 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t245 = t244 - t243;
+            let t246 = 0.008711861f64 * elbow_fe_v_vz;
+            let t247 = 0.16029825982372198f64 * elbow_fe_v_vz;
+            let t248 = 0.16029825982372198f64 * elbow_fe_v_vy;
+            let t249 = 0.008711861f64 * elbow_fe_v_vx;
+            let t250 = t248 + t249;
+            let t251 = elbow_fe_v_vx * 1.7423722f64;
+            let t252 = elbow_fe_v_vy * 1.7423722f64;
+            let t253 = elbow_fe_v_vz * 1.7423722f64;
+            let t254 = 0.008711861f64 * elbow_fe_v_wz;
+            let t255 = 0.16029825982372198f64 * elbow_fe_v_wz;
+            let t256 = 0.16029825982372198f64 * elbow_fe_v_wy;
+            let t257 = 0.008711861f64 * elbow_fe_v_wx;
+            let t258 = t256 + t257;
+            let t259 = t235 + t246;
+            let t260 = t240 + t247;
+            let t261 = t245 + t250;
+            let t262 = t251 + t254;
+            let t263 = t252 + t255;
+            let t264 = t253 + t258;
+            let t265 = elbow_fe_v_wy * t261;
+            let t266 = elbow_fe_v_wz * t260;
+            let t267 = t265 - t266;
+            let t268 = elbow_fe_v_wz * t259;
+            let t269 = elbow_fe_v_wx * t261;
+            let t270 = t268 - t269;
+            let t271 = elbow_fe_v_wx * t260;
+            let t272 = elbow_fe_v_wy * t259;
+            let t273 = t271 - t272;
+            let t274 = elbow_fe_v_vy * t264;
+            let t275 = elbow_fe_v_vz * t263;
+            let t276 = t275 - t274;
+            let t277 = elbow_fe_v_vz * t262;
+            let t278 = elbow_fe_v_vx * t264;
+            let t279 = t278 - t277;
+            let t280 = elbow_fe_v_vx * t263;
+            let t281 = elbow_fe_v_vy * t262;
+            let t282 = t280 - t281;
+            let t283 = t267 + t276;
+            let t284 = t270 + t279;
+            let t285 = t273 + t282;
+            let t286 = elbow_fe_v_wy * t264;
+            let t287 = elbow_fe_v_wz * t263;
+            let t288 = t286 + t287;
+            let t289 = elbow_fe_v_wz * t262;
+            let t290 = elbow_fe_v_wx * t264;
+            let t291 = t289 + t290;
+            let t292 = elbow_fe_v_wx * t263;
+            let t293 = elbow_fe_v_wy * t262;
+            let t294 = t292 - t293;
+            let t295 = t225 + t283;
+            let t296 = t226 + t284;
+            let t297 = t227 + t285;
+            let t298 = t228 - t288;
+            let t299 = t229 + t291;
+            let t300 = t294 - t230;
+            (
+                elbow_fe_v_vz,
+                t173,
+                elbow_fe_v_wx,
+                elbow_fe_v_wy,
+                elbow_fe_v_vx,
+                elbow_fe_v_vy,
+                elbow_fe_v_wz,
+                elbow_fe_a_vz,
+                elbow_fe_a_wz,
+                elbow_fe_a_wx,
+                elbow_fe_a_wy,
+                elbow_fe_a_vx,
+                elbow_fe_a_vy,
+                t198,
+                t202,
+                t217,
+                t218,
+                t232,
+                t234,
+                t236,
+                t239,
+                t246,
+                t247,
+                t251,
+                t252,
+                t254,
+                t255,
+                t259,
+                t260,
+                t261,
+                t262,
+                t263,
+                t264,
+                t265,
+                t269,
+                t274,
+                t278,
+                t286,
+                t290,
+                t295,
+                t296,
+                t297,
+                t298,
+                t299,
+                t300,
+            )
+        };
+        let (
+            t305,
+            t306,
+            wrist_r_v_wx,
+            wrist_r_v_wy,
+            wrist_r_v_vx,
+            wrist_r_v_vy,
+            wrist_r_v_wz,
+            t317,
+            t318,
+            t322,
+            wrist_r_a_wz,
+            t329,
+            wrist_r_a_wx,
+            wrist_r_a_wy,
+            wrist_r_a_vx,
+            wrist_r_a_vy,
+            t348,
+            t349,
+            t350,
+            t351,
+            t360,
+            t362,
+            t364,
+            t367,
+            t373,
+            t374,
+            t375,
+            t377,
+            t378,
+            t381,
+            t382,
+            t383,
+            t384,
+            t385,
+            t394,
+            t399,
+            t406,
+            t409,
+            t415,
+            t416,
+            t417,
+            t418,
+            t419,
+            t420,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t301 = 0.112f64 * elbow_fe_v_wz;
+            let t302 = 0.112f64 * elbow_fe_v_wy;
+            let t303 = elbow_fe_v_vy + t301;
+            let t304 = elbow_fe_v_vz + t302;
+            let t305 = c_wr * elbow_fe_v_wz;
+            let t306 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t306 - t305;
+            let t307 = s_wr * elbow_fe_v_wz;
+            let t308 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t307 + t308;
+            let t309 = c_wr * t304;
+            let t310 = s_wr * t303;
+            let wrist_r_v_vx = t309 + t310;
+            let t311 = s_wr * t304;
+            let t312 = c_wr * t303;
+            let wrist_r_v_vy = t312 - t311;
+            let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
+            let t313 = 0.112f64 * elbow_fe_a_wz;
+            let t314 = 0.112f64 * elbow_fe_a_wy;
+            let t315 = elbow_fe_a_vy + t313;
+            let t316 = elbow_fe_a_vz + t314;
+            let t317 = c_wr * elbow_fe_a_wz;
+            let t318 = s_wr * elbow_fe_a_wy;
+            let t319 = t318 - t317;
+            let t320 = s_wr * elbow_fe_a_wz;
+            let t321 = c_wr * elbow_fe_a_wy;
+            let t322 = t320 + t321;
+            let t323 = c_wr * t316;
+            let t324 = s_wr * t315;
+            let t325 = t323 + t324;
+            let t326 = s_wr * t316;
+            let t327 = c_wr * t315;
+            let t328 = t327 - t326;
+            let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
+            let t329 = wrist_r_v_wy * qd_wr;
+            let t330 = wrist_r_v_wx * qd_wr;
+            let t331 = wrist_r_v_vy * qd_wr;
+            let t332 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t319 + t329;
+            let wrist_r_a_wy = t322 - t330;
+            let wrist_r_a_vx = t325 + t331;
+            let wrist_r_a_vy = t328 - t332;
+            let t333 = 0.019431999999999998f64 * wrist_r_a_wx;
+            let t334 = 0.001387f64 * wrist_r_a_wy;
+            let t335 = t333 - t334;
+            let t336 = 0.012652f64 * wrist_r_a_wz;
+            let t337 = t335 - t336;
+            let t338 = 0.001387f64 * wrist_r_a_wx;
+            let t339 = 0.029115f64 * wrist_r_a_wy;
+            let t340 = t339 - t338;
+            let t341 = 0.001243f64 * wrist_r_a_wz;
+            let t342 = t340 - t341;
+            let t343 = 0.012652f64 * wrist_r_a_wx;
+            let t344 = 0.001243f64 * wrist_r_a_wy;
+            let t345 = t343 + t344;
+            let t346 = 0.011046f64 * wrist_r_a_wz;
+            let t347 = t346 - t345;
+            let t348 = 0.05783800000000001f64 * wrist_r_a_vy;
+            let t349 = 0.05783800000000001f64 * wrist_r_a_vx;
+            let t350 = wrist_r_a_vx * 2.1032f64;
+            let t351 = wrist_r_a_vy * 2.1032f64;
+            let t352 = elbow_fe_a_vx * 2.1032f64;
+            let t353 = 0.05783800000000001f64 * wrist_r_a_wy;
+            let t354 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t355 = t337 - t348;
+            let t356 = t342 + t349;
+            let t357 = t350 + t353;
+            let t358 = t351 - t354;
+            let t359 = 0.019431999999999998f64 * wrist_r_v_wx;
+            let t360 = 0.001387f64 * wrist_r_v_wy;
+            let t361 = t359 - t360;
+            let t362 = 0.012652f64 * wrist_r_v_wz;
+            let t363 = t361 - t362;
+            let t364 = 0.001387f64 * wrist_r_v_wx;
+            let t365 = 0.029115f64 * wrist_r_v_wy;
+            let t366 = t365 - t364;
+            let t367 = 0.001243f64 * wrist_r_v_wz;
+            let t368 = t366 - t367;
+            let t369 = 0.012652f64 * wrist_r_v_wx;
+            let t370 = 0.001243f64 * wrist_r_v_wy;
+            let t371 = t369 + t370;
+            let t372 = 0.011046f64 * wrist_r_v_wz;
+            let t373 = t372 - t371;
+            let t374 = 0.05783800000000001f64 * wrist_r_v_vy;
+            let t375 = 0.05783800000000001f64 * wrist_r_v_vx;
+            let t376 = wrist_r_v_vx * 2.1032f64;
+            let t377 = wrist_r_v_vy * 2.1032f64;
+            let t378 = elbow_fe_v_vx * 2.1032f64;
+            let t379 = 0.05783800000000001f64 * wrist_r_v_wy;
+            let t380 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t381 = t363 - t374;
+            let t382 = t368 + t375;
+            let t383 = t376 + t379;
+            let t384 = t377 - t380;
+            let t385 = wrist_r_v_wy * t373;
+            let t386 = wrist_r_v_wz * t382;
+            let t387 = t385 - t386;
+            let t388 = wrist_r_v_wz * t381;
+            let t389 = wrist_r_v_wx * t373;
+            let t390 = t388 - t389;
+            let t391 = wrist_r_v_wx * t382;
+            let t392 = wrist_r_v_wy * t381;
+            let t393 = t391 - t392;
+            let t394 = wrist_r_v_vy * t378;
+            let t395 = elbow_fe_v_vx * t384;
+            let t396 = t394 - t395;
+            let t397 = elbow_fe_v_vx * t383;
+            let t398 = wrist_r_v_vx * t378;
+            let t399 = t397 - t398;
+            let t400 = wrist_r_v_vx * t384;
+            let t401 = wrist_r_v_vy * t383;
+            let t402 = t400 - t401;
+            let t403 = t387 + t396;
+            let t404 = t390 + t399;
+            let t405 = t393 + t402;
+            let t406 = wrist_r_v_wy * t378;
+            let t407 = wrist_r_v_wz * t384;
+            let t408 = t406 - t407;
+            let t409 = wrist_r_v_wz * t383;
+            let t410 = wrist_r_v_wx * t378;
+            let t411 = t409 - t410;
+            let t412 = wrist_r_v_wx * t384;
+            let t413 = wrist_r_v_wy * t383;
+            let t414 = t412 - t413;
+            let t415 = t355 + t403;
+            let t416 = t356 + t404;
+            let t417 = t347 + t405;
+            let t418 = t357 + t408;
+            let t419 = t358 + t411;
+            let t420 = t352 + t414;
+            (
+                t305,
+                t306,
+                wrist_r_v_wx,
+                wrist_r_v_wy,
+                wrist_r_v_vx,
+                wrist_r_v_vy,
+                wrist_r_v_wz,
+                t317,
+                t318,
+                t322,
+                wrist_r_a_wz,
+                t329,
+                wrist_r_a_wx,
+                wrist_r_a_wy,
+                wrist_r_a_vx,
+                wrist_r_a_vy,
+                t348,
+                t349,
+                t350,
+                t351,
+                t360,
+                t362,
+                t364,
+                t367,
+                t373,
+                t374,
+                t375,
+                t377,
+                t378,
+                t381,
+                t382,
+                t383,
+                t384,
+                t385,
+                t394,
+                t399,
+                t406,
+                t409,
+                t415,
+                t416,
+                t417,
+                t418,
+                t419,
+                t420,
+            )
+        };
+        let (
+            t422,
+            t426,
+            wrist_fe_v_vz,
+            wrist_fe_v_wx,
+            wrist_fe_v_wy,
+            wrist_fe_v_vx,
+            wrist_fe_v_vy,
+            wrist_fe_v_wz,
+            wrist_fe_a_wx,
+            wrist_fe_a_wy,
+            wrist_fe_a_vx,
+            t460,
+            t464,
+            t476,
+            t477,
+            t486,
+            t488,
+            t489,
+            t490,
+            t493,
+            t500,
+            t502,
+            t503,
+            t505,
+            t507,
+            t508,
+            t509,
+            t510,
+            t511,
+            t515,
+            t520,
+            t523,
+            t524,
+            t532,
+            t535,
+            t536,
+            wrist_fe_f_nx,
+            wrist_fe_f_ny,
+            wrist_fe_f_nz,
+            wrist_fe_f_fx,
+            wrist_fe_f_fy,
+            wrist_fe_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t421 = 0.184f64 * wrist_r_v_wy;
+            let t422 = 0.184f64 * wrist_r_v_wx;
+            let t423 = 0.02075f64 * wrist_r_v_wz;
+            let t424 = t422 - t423;
+            let t425 = 0.02075f64 * wrist_r_v_wy;
+            let t426 = wrist_r_v_vx + t421;
+            let wrist_fe_v_vz = wrist_r_v_vy - t424;
+            let t427 = elbow_fe_v_vx - t425;
+            let t428 = c_wfe * wrist_r_v_wz;
+            let t429 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t428 + t429;
+            let t430 = s_wfe * wrist_r_v_wz;
+            let t431 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t431 - t430;
+            let t432 = c_wfe * t427;
+            let t433 = s_wfe * t426;
+            let wrist_fe_v_vx = t432 + t433;
+            let t434 = s_wfe * t427;
+            let t435 = c_wfe * t426;
+            let wrist_fe_v_vy = t435 - t434;
+            let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
+            let t436 = 0.184f64 * wrist_r_a_wy;
+            let t437 = 0.184f64 * wrist_r_a_wx;
+            let t438 = 0.02075f64 * wrist_r_a_wz;
+            let t439 = t437 - t438;
+            let t440 = 0.02075f64 * wrist_r_a_wy;
+            let t441 = wrist_r_a_vx + t436;
+            let wrist_fe_a_vz = wrist_r_a_vy - t439;
+            let t442 = elbow_fe_a_vx - t440;
+            let t443 = c_wfe * wrist_r_a_wz;
+            let t444 = s_wfe * wrist_r_a_wx;
+            let t445 = t443 + t444;
+            let t446 = s_wfe * wrist_r_a_wz;
+            let t447 = c_wfe * wrist_r_a_wx;
+            let t448 = t447 - t446;
+            let t449 = c_wfe * t442;
+            let t450 = s_wfe * t441;
+            let t451 = t449 + t450;
+            let t452 = s_wfe * t442;
+            let t453 = c_wfe * t441;
+            let t454 = t453 - t452;
+            let wrist_fe_a_wz = wrist_r_a_wy + qdd_wfe;
+            let t455 = wrist_fe_v_wy * qd_wfe;
+            let t456 = wrist_fe_v_wx * qd_wfe;
+            let t457 = wrist_fe_v_vy * qd_wfe;
+            let t458 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t445 + t455;
+            let wrist_fe_a_wy = t448 - t456;
+            let wrist_fe_a_vx = t451 + t457;
+            let wrist_fe_a_vy = t454 - t458;
+            let t459 = 0.010737f64 * wrist_fe_a_wx;
+            let t460 = 0.000198f64 * wrist_fe_a_wy;
+            let t461 = t459 + t460;
+            let t462 = 0.000015f64 * wrist_fe_a_wz;
+            let t463 = t461 + t462;
+            let t464 = 0.000198f64 * wrist_fe_a_wx;
+            let t465 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t466 = t464 + t465;
+            let t467 = 0.000829f64 * wrist_fe_a_wz;
+            let t468 = t466 - t467;
+            let t469 = 0.000015f64 * wrist_fe_a_wx;
+            let t470 = 0.000829f64 * wrist_fe_a_wy;
+            let t471 = t469 - t470;
+            let t472 = 0.009277f64 * wrist_fe_a_wz;
+            let t473 = t471 + t472;
+            let t474 = 0.038686875f64 * wrist_fe_a_vz;
+            let t475 = 0.038686875f64 * wrist_fe_a_vy;
+            let t476 = wrist_fe_a_vx * 1.547475f64;
+            let t477 = wrist_fe_a_vy * 1.547475f64;
+            let t478 = wrist_fe_a_vz * 1.547475f64;
+            let t479 = 0.038686875f64 * wrist_fe_a_wz;
+            let t480 = 0.038686875f64 * wrist_fe_a_wy;
+            let t481 = t468 - t474;
+            let t482 = t473 + t475;
+            let t483 = t477 + t479;
+            let t484 = t478 - t480;
+            let t485 = 0.010737f64 * wrist_fe_v_wx;
+            let t486 = 0.000198f64 * wrist_fe_v_wy;
+            let t487 = t485 + t486;
+            let t488 = 0.000015f64 * wrist_fe_v_wz;
+            let t489 = t487 + t488;
+            let t490 = 0.000198f64 * wrist_fe_v_wx;
+            let t491 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t492 = t490 + t491;
+            let t493 = 0.000829f64 * wrist_fe_v_wz;
+            let t494 = t492 - t493;
+            let t495 = 0.000015f64 * wrist_fe_v_wx;
+            let t496 = 0.000829f64 * wrist_fe_v_wy;
+            let t497 = t495 - t496;
+            let t498 = 0.009277f64 * wrist_fe_v_wz;
+            let t499 = t497 + t498;
+            let t500 = 0.038686875f64 * wrist_fe_v_vz;
+            let t501 = 0.038686875f64 * wrist_fe_v_vy;
+            let t502 = wrist_fe_v_vx * 1.547475f64;
+            let t503 = wrist_fe_v_vy * 1.547475f64;
+            let t504 = wrist_fe_v_vz * 1.547475f64;
+            let t505 = 0.038686875f64 * wrist_fe_v_wz;
+            let t506 = 0.038686875f64 * wrist_fe_v_wy;
+            let t507 = t494 - t500;
+            let t508 = t499 + t501;
+            let t509 = t503 + t505;
+            let t510 = t504 - t506;
+            let t511 = wrist_fe_v_wy * t508;
+            let t512 = wrist_fe_v_wz * t507;
+            let t513 = t511 - t512;
+            let t514 = wrist_fe_v_wz * t489;
+            let t515 = wrist_fe_v_wx * t508;
+            let t516 = t514 - t515;
+            let t517 = wrist_fe_v_wx * t507;
+            let t518 = wrist_fe_v_wy * t489;
+            let t519 = t517 - t518;
+            let t520 = wrist_fe_v_vy * t510;
+            let t521 = wrist_fe_v_vz * t509;
+            let t522 = t520 - t521;
+            let t523 = wrist_fe_v_vz * t502;
+            let t524 = wrist_fe_v_vx * t510;
+            let t525 = t523 - t524;
+            let t526 = wrist_fe_v_vx * t509;
+            let t527 = wrist_fe_v_vy * t502;
+            let t528 = t526 - t527;
+            let t529 = t513 + t522;
+            let t530 = t516 + t525;
+            let t531 = t519 + t528;
+            let t532 = wrist_fe_v_wy * t510;
+            let t533 = wrist_fe_v_wz * t509;
+            let t534 = t532 - t533;
+            let t535 = wrist_fe_v_wz * t502;
+            let t536 = wrist_fe_v_wx * t510;
+            let t537 = t535 - t536;
+            let t538 = wrist_fe_v_wx * t509;
+            let t539 = wrist_fe_v_wy * t502;
+            let t540 = t538 - t539;
+            let wrist_fe_f_nx = t463 + t529;
+            let wrist_fe_f_ny = t481 + t530;
+            let wrist_fe_f_nz = t482 + t531;
+            let wrist_fe_f_fx = t476 + t534;
+            let wrist_fe_f_fy = t483 + t537;
+            let wrist_fe_f_fz = t484 + t540;
+            (
+                t422,
+                t426,
+                wrist_fe_v_vz,
+                wrist_fe_v_wx,
+                wrist_fe_v_wy,
+                wrist_fe_v_vx,
+                wrist_fe_v_vy,
+                wrist_fe_v_wz,
+                wrist_fe_a_wx,
+                wrist_fe_a_wy,
+                wrist_fe_a_vx,
+                t460,
+                t464,
+                t476,
+                t477,
+                t486,
+                t488,
+                t489,
+                t490,
+                t493,
+                t500,
+                t502,
+                t503,
+                t505,
+                t507,
+                t508,
+                t509,
+                t510,
+                t511,
+                t515,
+                t520,
+                t523,
+                t524,
+                t532,
+                t535,
+                t536,
+                wrist_fe_f_nx,
+                wrist_fe_f_ny,
+                wrist_fe_f_nz,
+                wrist_fe_f_fx,
+                wrist_fe_f_fy,
+                wrist_fe_f_fz,
+            )
+        };
+        let (
+            t541,
+            t542,
+            t544,
+            t545,
+            t547,
+            t548,
+            t550,
+            t551,
+            wrist_r_f_nx,
+            wrist_r_f_ny,
+            wrist_r_f_nz,
+            wrist_r_f_fx,
+            wrist_r_f_fy,
+            wrist_r_f_fz,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t541 = c_wfe * wrist_fe_f_fx;
+            let t542 = s_wfe * wrist_fe_f_fy;
+            let t543 = t541 - t542;
+            let t544 = s_wfe * wrist_fe_f_fx;
+            let t545 = c_wfe * wrist_fe_f_fy;
+            let t546 = t544 + t545;
+            let t547 = c_wfe * wrist_fe_f_nx;
+            let t548 = s_wfe * wrist_fe_f_ny;
+            let t549 = t547 - t548;
+            let t550 = s_wfe * wrist_fe_f_nx;
+            let t551 = c_wfe * wrist_fe_f_ny;
+            let t552 = t550 + t551;
+            let t553 = 0.184f64 * wrist_fe_f_fz;
+            let t554 = 0.184f64 * t546;
+            let t555 = 0.02075f64 * t543;
+            let t556 = t554 - t555;
+            let t557 = 0.02075f64 * wrist_fe_f_fz;
+            let t558 = t552 - t553;
+            let t559 = wrist_fe_f_nz + t556;
+            let t560 = t549 + t557;
+            let wrist_r_f_nx = t415 + t558;
+            let wrist_r_f_ny = t416 + t559;
+            let wrist_r_f_nz = t417 + t560;
+            let wrist_r_f_fx = t418 + t546;
+            let wrist_r_f_fy = t419 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t420 + t543;
+            (
+                t541,
+                t542,
+                t544,
+                t545,
+                t547,
+                t548,
+                t550,
+                t551,
+                wrist_r_f_nx,
+                wrist_r_f_ny,
+                wrist_r_f_nz,
+                wrist_r_f_fx,
+                wrist_r_f_fy,
+                wrist_r_f_fz,
+            )
+        };
+        let (
+            t561,
+            t562,
+            t564,
+            t565,
+            t567,
+            t568,
+            t570,
+            t571,
+            elbow_fe_f_nx,
+            elbow_fe_f_ny,
+            elbow_fe_f_nz,
+            elbow_fe_f_fx,
+            elbow_fe_f_fy,
+            elbow_fe_f_fz,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t561 = c_wr * wrist_r_f_fx;
+            let t562 = s_wr * wrist_r_f_fy;
+            let t563 = t561 - t562;
+            let t564 = s_wr * wrist_r_f_fx;
+            let t565 = c_wr * wrist_r_f_fy;
+            let t566 = t564 + t565;
+            let t567 = c_wr * wrist_r_f_nx;
+            let t568 = s_wr * wrist_r_f_ny;
+            let t569 = t567 - t568;
+            let t570 = s_wr * wrist_r_f_nx;
+            let t571 = c_wr * wrist_r_f_ny;
+            let t572 = t570 + t571;
+            let t573 = 0.112f64 * t563;
+            let t574 = 0.112f64 * t566;
+            let t575 = t572 + t573;
+            let t576 = t574 - t569;
+            let elbow_fe_f_nx = t295 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t296 + t575;
+            let elbow_fe_f_nz = t297 + t576;
+            let elbow_fe_f_fx = t298 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t299 + t566;
+            let elbow_fe_f_fz = t300 - t563;
+            (
+                t561,
+                t562,
+                t564,
+                t565,
+                t567,
+                t568,
+                t570,
+                t571,
+                elbow_fe_f_nx,
+                elbow_fe_f_ny,
+                elbow_fe_f_nz,
+                elbow_fe_f_fx,
+                elbow_fe_f_fy,
+                elbow_fe_f_fz,
+            )
+        };
+        let (
+            t577,
+            t578,
+            t582,
+            t583,
+            t585,
+            t586,
+            humerus_r_f_nx,
+            humerus_r_f_ny,
+            humerus_r_f_nz,
+            humerus_r_f_fx,
+            humerus_r_f_fy,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t577 = c_efe * elbow_fe_f_fx;
+            let t578 = s_efe * elbow_fe_f_fy;
+            let t579 = s_efe * elbow_fe_f_fx;
+            let t580 = c_efe * elbow_fe_f_fy;
+            let t581 = t579 + t580;
+            let t582 = c_efe * elbow_fe_f_nx;
+            let t583 = s_efe * elbow_fe_f_ny;
+            let t584 = t582 - t583;
+            let t585 = s_efe * elbow_fe_f_nx;
+            let t586 = c_efe * elbow_fe_f_ny;
+            let t587 = t585 + t586;
+            let t588 = 0.304f64 * t581;
+            let t589 = 0.304f64 * elbow_fe_f_fz;
+            let t590 = elbow_fe_f_nz + t588;
+            let t591 = t587 - t589;
+            let humerus_r_f_nx = t166 - t590;
+            let humerus_r_f_ny = t167 + t591;
+            let humerus_r_f_nz = t168 + t584;
+            let humerus_r_f_fx = t169 - elbow_fe_f_fz;
+            let humerus_r_f_fy = t170 + t581;
+            (
+                t577,
+                t578,
+                t582,
+                t583,
+                t585,
+                t586,
+                humerus_r_f_nx,
+                humerus_r_f_ny,
+                humerus_r_f_nz,
+                humerus_r_f_fx,
+                humerus_r_f_fy,
+            )
+        };
+        let (
+            t592,
+            t593,
+            t595,
+            t596,
+            t597,
+            t598,
+            t599,
+            t600,
+            shoulder_fe_f_nx,
+            shoulder_fe_f_ny,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t592 = c_hr * humerus_r_f_fx;
+            let t593 = s_hr * humerus_r_f_fy;
+            let t594 = t592 - t593;
+            let t595 = s_hr * humerus_r_f_fx;
+            let t596 = c_hr * humerus_r_f_fy;
+            let t597 = c_hr * humerus_r_f_nx;
+            let t598 = s_hr * humerus_r_f_ny;
+            let t599 = s_hr * humerus_r_f_nx;
+            let t600 = c_hr * humerus_r_f_ny;
+            let t601 = t599 + t600;
+            let t602 = 0.112f64 * t594;
+            let t603 = t601 + t602;
+            let shoulder_fe_f_nx = t39 + humerus_r_f_nz;
+            let shoulder_fe_f_ny = t40 + t603;
+            (
+                t592,
+                t593,
+                t595,
+                t596,
+                t597,
+                t598,
+                t599,
+                t600,
+                shoulder_fe_f_nx,
+                shoulder_fe_f_ny,
+            )
+        };
+        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+        let (t604, t605) = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t604 = c_sfe * shoulder_fe_f_nx;
+            let t605 = s_sfe * shoulder_fe_f_ny;
+            (t604, t605)
+        };
+        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+        let (t606, t607, t643, t644, t645) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let t606 = c_sfe * qd_sfe;
+            let t607 = s_sfe * qd_sfe;
+            let t608 = 0.03900299600125622f64 * t606;
+            let t609 = 0.0055279857002587095f64 * t607;
+            let t610 = t608 - t609;
+            let t611 = 0.0055279857002587095f64 * t606;
+            let t612 = 0.08585553000239696f64 * t607;
+            let t613 = t611 - t612;
+            let t614 = 0.02285162700433904f64 * t606;
+            let t615 = 0.0027519999999057617f64 * t607;
+            let t616 = t615 - t614;
+            let t617 = 0.03900299600125622f64 * s_sfe;
+            let t618 = 0.0055279857002587095f64 * c_sfe;
+            let t619 = t617 + t618;
+            let t620 = 0.0055279857002587095f64 * s_sfe;
+            let t621 = 0.08585553000239696f64 * c_sfe;
+            let t622 = t620 + t621;
+            let t623 = 0.02285162700433904f64 * s_sfe;
+            let t624 = 0.0027519999999057617f64 * c_sfe;
+            let t625 = t623 + t624;
+            let t626 = shoulder_fe_v_wy * t625;
+            let t627 = c_sfe * t32;
+            let t628 = t627 - t626;
+            let t629 = qd_sfe * t622;
+            let t630 = t628 - t629;
+            let t631 = qd_sfe * t619;
+            let t632 = shoulder_fe_v_wx * t625;
+            let t633 = s_sfe * t32;
+            let t634 = t633 - t632;
+            let t635 = t631 - t634;
+            let t636 = shoulder_fe_v_wx * t622;
+            let t637 = s_sfe * t27;
+            let t638 = t636 + t637;
+            let t639 = shoulder_fe_v_wy * t619;
+            let t640 = c_sfe * t22;
+            let t641 = t639 + t640;
+            let t642 = t638 - t641;
+            let t643 = t610 + t630;
+            let t644 = t613 + t635;
+            let t645 = t616 + t642;
+            (t606, t607, t643, t644, t645)
+        };
+        let (
+            t647,
+            t648,
+            t649,
+            t650,
+            t660,
+            t661,
+            t662,
+            t663,
+            t784,
+            t785,
+            t786,
+            t787,
+            t788,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t646 = 0.112f64 * c_sfe;
+            let t647 = s_hr * c_sfe;
+            let t648 = c_hr * c_sfe;
+            let t649 = c_hr * t646;
+            let t650 = s_hr * t646;
+            let t651 = 0.112f64 * t607;
+            let t652 = s_hr * t607;
+            let t653 = c_hr * t607;
+            let t654 = c_hr * t651;
+            let t655 = s_hr * t651;
+            let t656 = t648 * qd_hr;
+            let t657 = t647 * qd_hr;
+            let t658 = t650 * qd_hr;
+            let t659 = t649 * qd_hr;
+            let t660 = t656 - t652;
+            let t661 = t653 + t657;
+            let t662 = t654 + t658;
+            let t663 = t655 - t659;
+            let t664 = 0.20236395000387197f64 * t660;
+            let t665 = 0.000053999980001054f64 * t661;
+            let t666 = t664 - t665;
+            let t667 = 0.011715294995083824f64 * t606;
+            let t668 = t666 - t667;
+            let t669 = 0.000053999980001054f64 * t660;
+            let t670 = 0.20986895000353661f64 * t661;
+            let t671 = t669 - t670;
+            let t672 = 0.0037997813999599995f64 * t606;
+            let t673 = t671 - t672;
+            let t674 = 0.011715294995083824f64 * t660;
+            let t675 = 0.0037997813999599995f64 * t661;
+            let t676 = t675 - t674;
+            let t677 = 0.01032999899926462f64 * t606;
+            let t678 = t676 + t677;
+            let t679 = 0.6479671119999999f64 * t663;
+            let t680 = 0.6479671119999999f64 * t662;
+            let t681 = 0.0055615274403f64 * t663;
+            let t682 = 0.014380859999999999f64 * t662;
+            let t683 = t682 - t681;
+            let t684 = t662 * 2.327f64;
+            let t685 = t663 * 2.327f64;
+            let t686 = 0.014380859999999999f64 * t606;
+            let t687 = 0.6479671119999999f64 * t661;
+            let t688 = t686 + t687;
+            let t689 = 0.6479671119999999f64 * t660;
+            let t690 = 0.0055615274403f64 * t606;
+            let t691 = t689 + t690;
+            let t692 = t668 - t679;
+            let t693 = t673 - t680;
+            let t694 = t678 + t683;
+            let t695 = t684 + t688;
+            let t696 = t685 - t691;
+            let t697 = 0.20236395000387197f64 * t647;
+            let t698 = 0.000053999980001054f64 * t648;
+            let t699 = t697 + t698;
+            let t700 = 0.011715294995083824f64 * s_sfe;
+            let t701 = t699 - t700;
+            let t702 = 0.000053999980001054f64 * t647;
+            let t703 = 0.20986895000353661f64 * t648;
+            let t704 = t702 + t703;
+            let t705 = 0.0037997813999599995f64 * s_sfe;
+            let t706 = t704 - t705;
+            let t707 = 0.011715294995083824f64 * t647;
+            let t708 = 0.0037997813999599995f64 * t648;
+            let t709 = t707 + t708;
+            let t710 = 0.01032999899926462f64 * s_sfe;
+            let t711 = t710 - t709;
+            let t712 = 0.6479671119999999f64 * t650;
+            let t713 = 0.6479671119999999f64 * t649;
+            let t714 = 0.0055615274403f64 * t650;
+            let t715 = 0.014380859999999999f64 * t649;
+            let t716 = t714 - t715;
+            let t717 = t649 * 2.327f64;
+            let t718 = t650 * 2.327f64;
+            let t719 = 0.014380859999999999f64 * s_sfe;
+            let t720 = 0.6479671119999999f64 * t648;
+            let t721 = t719 - t720;
+            let t722 = 0.6479671119999999f64 * t647;
+            let t723 = 0.0055615274403f64 * s_sfe;
+            let t724 = t722 + t723;
+            let t725 = 0.0055615274403f64 * t648;
+            let t726 = 0.014380859999999999f64 * t647;
+            let t727 = t725 + t726;
+            let t728 = t701 + t712;
+            let t729 = t706 + t713;
+            let t730 = t711 + t716;
+            let t731 = t717 - t721;
+            let t732 = t718 + t724;
+            let t733 = humerus_r_v_wy * t730;
+            let t734 = t648 * t140;
+            let t735 = t733 + t734;
+            let t736 = humerus_r_v_wz * t729;
+            let t737 = s_sfe * t139;
+            let t738 = t736 + t737;
+            let t739 = t735 - t738;
+            let t740 = humerus_r_v_wz * t728;
+            let t741 = s_sfe * t138;
+            let t742 = t740 + t741;
+            let t743 = humerus_r_v_wx * t730;
+            let t744 = t647 * t140;
+            let t745 = t743 + t744;
+            let t746 = t742 - t745;
+            let t747 = humerus_r_v_wx * t729;
+            let t748 = t647 * t139;
+            let t749 = t747 + t748;
+            let t750 = humerus_r_v_wy * t728;
+            let t751 = t648 * t138;
+            let t752 = t750 + t751;
+            let t753 = t749 - t752;
+            let t754 = humerus_r_v_vy * t727;
+            let t755 = t650 * t137;
+            let t756 = t754 - t755;
+            let t757 = humerus_r_v_vx * t727;
+            let t758 = t649 * t137;
+            let t759 = t757 + t758;
+            let t760 = humerus_r_v_vx * t732;
+            let t761 = t649 * t142;
+            let t762 = t761 - t760;
+            let t763 = humerus_r_v_vy * t731;
+            let t764 = t650 * t141;
+            let t765 = t763 - t764;
+            let t766 = t762 - t765;
+            let t767 = t739 + t756;
+            let t768 = t746 - t759;
+            let t769 = t753 + t766;
+            let t770 = humerus_r_v_wy * t727;
+            let t771 = t648 * t137;
+            let t772 = t770 + t771;
+            let t773 = humerus_r_v_wz * t732;
+            let t774 = s_sfe * t142;
+            let t775 = t774 - t773;
+            let t776 = t772 - t775;
+            let t777 = humerus_r_v_wz * t731;
+            let t778 = s_sfe * t141;
+            let t779 = t777 + t778;
+            let t780 = humerus_r_v_wx * t727;
+            let t781 = t647 * t137;
+            let t782 = t780 + t781;
+            let t783 = t779 - t782;
+            let t784 = t692 + t767;
+            let t785 = t693 + t768;
+            let t786 = t694 + t769;
+            let t787 = t776 - t695;
+            let t788 = t696 + t783;
+            (
+                t647,
+                t648,
+                t649,
+                t650,
+                t660,
+                t661,
+                t662,
+                t663,
+                t784,
+                t785,
+                t786,
+                t787,
+                t788,
+            )
+        };
+        let (
+            t791,
+            t795,
+            t798,
+            t799,
+            t800,
+            t803,
+            t817,
+            t818,
+            t819,
+            t820,
+            t955,
+            t956,
+            t957,
+            t958,
+            t959,
+            t960,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t789 = 0.304f64 * t648;
+            let t790 = 0.304f64 * t647;
+            let t791 = t649 + t789;
+            let t792 = t650 + t790;
+            let t793 = c_efe * s_sfe;
+            let t794 = s_efe * t648;
+            let t795 = t793 + t794;
+            let t796 = s_efe * s_sfe;
+            let t797 = c_efe * t648;
+            let t798 = t797 - t796;
+            let t799 = s_efe * t792;
+            let t800 = c_efe * t792;
+            let t801 = 0.304f64 * t661;
+            let t802 = 0.304f64 * t660;
+            let t803 = t662 + t801;
+            let t804 = t663 - t802;
+            let t805 = c_efe * t606;
+            let t806 = s_efe * t661;
+            let t807 = t805 - t806;
+            let t808 = s_efe * t606;
+            let t809 = c_efe * t661;
+            let t810 = t808 + t809;
+            let t811 = s_efe * t804;
+            let t812 = c_efe * t804;
+            let t813 = t798 * qd_efe;
+            let t814 = t795 * qd_efe;
+            let t815 = t800 * qd_efe;
+            let t816 = t799 * qd_efe;
+            let t817 = t807 + t813;
+            let t818 = t810 + t814;
+            let t819 = t811 - t815;
+            let t820 = t812 + t816;
+            let t821 = 0.081661000005f64 * t817;
+            let t822 = 0.00368572840011861f64 * t818;
+            let t823 = t821 - t822;
+            let t824 = 0.0002120000299f64 * t660;
+            let t825 = t823 + t824;
+            let t826 = 0.00368572840011861f64 * t817;
+            let t827 = 0.018284489999765022f64 * t818;
+            let t828 = t826 - t827;
+            let t829 = 0.002292000208f64 * t660;
+            let t830 = t828 + t829;
+            let t831 = 0.0002120000299f64 * t817;
+            let t832 = 0.002292000208f64 * t818;
+            let t833 = t832 - t831;
+            let t834 = 0.09570849000176501f64 * t660;
+            let t835 = t833 - t834;
+            let t836 = 0.008711861f64 * t803;
+            let t837 = 0.16029825982372198f64 * t803;
+            let t838 = 0.16029825982372198f64 * t820;
+            let t839 = 0.008711861f64 * t819;
+            let t840 = t838 + t839;
+            let t841 = t819 * 1.7423722f64;
+            let t842 = t820 * 1.7423722f64;
+            let t843 = t803 * 1.7423722f64;
+            let t844 = 0.008711861f64 * t660;
+            let t845 = 0.16029825982372198f64 * t660;
+            let t846 = 0.16029825982372198f64 * t818;
+            let t847 = 0.008711861f64 * t817;
+            let t848 = t847 - t846;
+            let t849 = t825 - t836;
+            let t850 = t830 - t837;
+            let t851 = t835 + t840;
+            let t852 = t841 - t844;
+            let t853 = t842 - t845;
+            let t854 = t843 - t848;
+            let t855 = 0.081661000005f64 * t795;
+            let t856 = 0.00368572840011861f64 * t798;
+            let t857 = t855 + t856;
+            let t858 = 0.0002120000299f64 * t647;
+            let t859 = t857 + t858;
+            let t860 = 0.00368572840011861f64 * t795;
+            let t861 = 0.018284489999765022f64 * t798;
+            let t862 = t860 + t861;
+            let t863 = 0.002292000208f64 * t647;
+            let t864 = t862 + t863;
+            let t865 = 0.0002120000299f64 * t795;
+            let t866 = 0.002292000208f64 * t798;
+            let t867 = t865 + t866;
+            let t868 = 0.09570849000176501f64 * t647;
+            let t869 = t867 + t868;
+            let t870 = 0.008711861f64 * t791;
+            let t871 = 0.16029825982372198f64 * t791;
+            let t872 = 0.16029825982372198f64 * t800;
+            let t873 = 0.008711861f64 * t799;
+            let t874 = t872 + t873;
+            let t875 = t799 * 1.7423722f64;
+            let t876 = t800 * 1.7423722f64;
+            let t877 = t791 * 1.7423722f64;
+            let t878 = 0.008711861f64 * t647;
+            let t879 = 0.16029825982372198f64 * t647;
+            let t880 = 0.16029825982372198f64 * t798;
+            let t881 = 0.008711861f64 * t795;
+            let t882 = t880 + t881;
+            let t883 = t859 + t870;
+            let t884 = t864 + t871;
+            let t885 = t869 + t874;
+            let t886 = t875 + t878;
+            let t887 = t876 + t879;
+            let t888 = t877 + t882;
+            let t889 = elbow_fe_v_wy * t885;
+            let t890 = t798 * t261;
+            let t891 = t890 - t889;
+            let t892 = elbow_fe_v_wz * t884;
+            let t893 = t647 * t260;
+            let t894 = t892 - t893;
+            let t895 = t891 - t894;
+            let t896 = elbow_fe_v_wz * t883;
+            let t897 = t647 * t259;
+            let t898 = t896 - t897;
+            let t899 = elbow_fe_v_wx * t885;
+            let t900 = t795 * t261;
+            let t901 = t900 - t899;
+            let t902 = t898 - t901;
+            let t903 = elbow_fe_v_wx * t884;
+            let t904 = t795 * t260;
+            let t905 = t903 + t904;
+            let t906 = elbow_fe_v_wy * t883;
+            let t907 = t798 * t259;
+            let t908 = t906 + t907;
+            let t909 = t905 - t908;
+            let t910 = elbow_fe_v_vy * t888;
+            let t911 = t800 * t264;
+            let t912 = t911 - t910;
+            let t913 = elbow_fe_v_vz * t887;
+            let t914 = t791 * t263;
+            let t915 = t913 - t914;
+            let t916 = t912 - t915;
+            let t917 = elbow_fe_v_vz * t886;
+            let t918 = t791 * t262;
+            let t919 = t917 - t918;
+            let t920 = elbow_fe_v_vx * t888;
+            let t921 = t799 * t264;
+            let t922 = t921 - t920;
+            let t923 = t919 - t922;
+            let t924 = elbow_fe_v_vx * t887;
+            let t925 = t799 * t263;
+            let t926 = t924 + t925;
+            let t927 = elbow_fe_v_vy * t886;
+            let t928 = t800 * t262;
+            let t929 = t927 + t928;
+            let t930 = t929 - t926;
+            let t931 = t895 + t916;
+            let t932 = t902 + t923;
+            let t933 = t909 + t930;
+            let t934 = elbow_fe_v_wy * t888;
+            let t935 = t798 * t264;
+            let t936 = t934 + t935;
+            let t937 = elbow_fe_v_wz * t887;
+            let t938 = t647 * t263;
+            let t939 = t937 + t938;
+            let t940 = t939 - t936;
+            let t941 = elbow_fe_v_wz * t886;
+            let t942 = t647 * t262;
+            let t943 = t941 + t942;
+            let t944 = elbow_fe_v_wx * t888;
+            let t945 = t795 * t264;
+            let t946 = t944 + t945;
+            let t947 = t946 - t943;
+            let t948 = elbow_fe_v_wx * t887;
+            let t949 = t795 * t263;
+            let t950 = t949 - t948;
+            let t951 = elbow_fe_v_wy * t886;
+            let t952 = t798 * t262;
+            let t953 = t952 - t951;
+            let t954 = t950 - t953;
+            let t955 = t849 + t931;
+            let t956 = t850 + t932;
+            let t957 = t851 + t933;
+            let t958 = t852 + t940;
+            let t959 = t853 + t947;
+            let t960 = t854 + t954;
+            (
+                t791,
+                t795,
+                t798,
+                t799,
+                t800,
+                t803,
+                t817,
+                t818,
+                t819,
+                t820,
+                t955,
+                t956,
+                t957,
+                t958,
+                t959,
+                t960,
+            )
+        };
+        let (
+            t967,
+            t970,
+            t973,
+            t976,
+            t997,
+            t998,
+            t999,
+            t1000,
+            t1119,
+            t1120,
+            t1121,
+            t1122,
+            t1123,
+            t1124,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t961 = 0.112f64 * t647;
+            let t962 = 0.112f64 * t798;
+            let t963 = t800 + t961;
+            let t964 = t791 + t962;
+            let t965 = c_wr * t647;
+            let t966 = s_wr * t798;
+            let t967 = t965 + t966;
+            let t968 = s_wr * t647;
+            let t969 = c_wr * t798;
+            let t970 = t969 - t968;
+            let t971 = c_wr * t964;
+            let t972 = s_wr * t963;
+            let t973 = t971 - t972;
+            let t974 = s_wr * t964;
+            let t975 = c_wr * t963;
+            let t976 = t974 + t975;
+            let t977 = 0.112f64 * t660;
+            let t978 = 0.112f64 * t818;
+            let t979 = t820 - t977;
+            let t980 = t803 + t978;
+            let t981 = c_wr * t660;
+            let t982 = s_wr * t818;
+            let t983 = t981 - t982;
+            let t984 = s_wr * t660;
+            let t985 = c_wr * t818;
+            let t986 = t984 + t985;
+            let t987 = c_wr * t980;
+            let t988 = s_wr * t979;
+            let t989 = t988 - t987;
+            let t990 = s_wr * t980;
+            let t991 = c_wr * t979;
+            let t992 = t990 + t991;
+            let t993 = t970 * qd_wr;
+            let t994 = t967 * qd_wr;
+            let t995 = t976 * qd_wr;
+            let t996 = t973 * qd_wr;
+            let t997 = t983 + t993;
+            let t998 = t986 + t994;
+            let t999 = t989 - t995;
+            let t1000 = t992 - t996;
+            let t1001 = 0.019431999999999998f64 * t997;
+            let t1002 = 0.001387f64 * t998;
+            let t1003 = t1001 + t1002;
+            let t1004 = 0.012652f64 * t817;
+            let t1005 = t1003 - t1004;
+            let t1006 = 0.001387f64 * t997;
+            let t1007 = 0.029115f64 * t998;
+            let t1008 = t1006 + t1007;
+            let t1009 = 0.001243f64 * t817;
+            let t1010 = t1008 + t1009;
+            let t1011 = 0.012652f64 * t997;
+            let t1012 = 0.001243f64 * t998;
+            let t1013 = t1012 - t1011;
+            let t1014 = 0.011046f64 * t817;
+            let t1015 = t1013 + t1014;
+            let t1016 = 0.05783800000000001f64 * t1000;
+            let t1017 = 0.05783800000000001f64 * t999;
+            let t1018 = t999 * 2.1032f64;
+            let t1019 = t1000 * 2.1032f64;
+            let t1020 = t819 * 2.1032f64;
+            let t1021 = 0.05783800000000001f64 * t998;
+            let t1022 = 0.05783800000000001f64 * t997;
+            let t1023 = t1005 - t1016;
+            let t1024 = t1017 - t1010;
+            let t1025 = t1018 - t1021;
+            let t1026 = t1019 - t1022;
+            let t1027 = 0.019431999999999998f64 * t967;
+            let t1028 = 0.001387f64 * t970;
+            let t1029 = t1027 - t1028;
+            let t1030 = 0.012652f64 * t795;
+            let t1031 = t1029 - t1030;
+            let t1032 = 0.001387f64 * t967;
+            let t1033 = 0.029115f64 * t970;
+            let t1034 = t1033 - t1032;
+            let t1035 = 0.001243f64 * t795;
+            let t1036 = t1034 - t1035;
+            let t1037 = 0.012652f64 * t967;
+            let t1038 = 0.001243f64 * t970;
+            let t1039 = t1037 + t1038;
+            let t1040 = 0.011046f64 * t795;
+            let t1041 = t1040 - t1039;
+            let t1042 = 0.05783800000000001f64 * t976;
+            let t1043 = 0.05783800000000001f64 * t973;
+            let t1044 = t973 * 2.1032f64;
+            let t1045 = t976 * 2.1032f64;
+            let t1046 = t799 * 2.1032f64;
+            let t1047 = 0.05783800000000001f64 * t970;
+            let t1048 = 0.05783800000000001f64 * t967;
+            let t1049 = t1031 + t1042;
+            let t1050 = t1036 + t1043;
+            let t1051 = t1044 + t1047;
+            let t1052 = t1045 + t1048;
+            let t1053 = wrist_r_v_wy * t1041;
+            let t1054 = t970 * t373;
+            let t1055 = t1053 + t1054;
+            let t1056 = wrist_r_v_wz * t1050;
+            let t1057 = t795 * t382;
+            let t1058 = t1056 + t1057;
+            let t1059 = t1055 - t1058;
+            let t1060 = wrist_r_v_wz * t1049;
+            let t1061 = t795 * t381;
+            let t1062 = t1060 + t1061;
+            let t1063 = wrist_r_v_wx * t1041;
+            let t1064 = t967 * t373;
+            let t1065 = t1063 + t1064;
+            let t1066 = t1062 - t1065;
+            let t1067 = wrist_r_v_wx * t1050;
+            let t1068 = t967 * t382;
+            let t1069 = t1067 + t1068;
+            let t1070 = wrist_r_v_wy * t1049;
+            let t1071 = t970 * t381;
+            let t1072 = t1070 + t1071;
+            let t1073 = t1069 - t1072;
+            let t1074 = wrist_r_v_vy * t1046;
+            let t1075 = t976 * t378;
+            let t1076 = t1074 + t1075;
+            let t1077 = elbow_fe_v_vx * t1052;
+            let t1078 = t799 * t384;
+            let t1079 = t1077 + t1078;
+            let t1080 = t1079 - t1076;
+            let t1081 = elbow_fe_v_vx * t1051;
+            let t1082 = t799 * t383;
+            let t1083 = t1081 - t1082;
+            let t1084 = wrist_r_v_vx * t1046;
+            let t1085 = t973 * t378;
+            let t1086 = t1085 - t1084;
+            let t1087 = t1083 - t1086;
+            let t1088 = wrist_r_v_vx * t1052;
+            let t1089 = t973 * t384;
+            let t1090 = t1089 - t1088;
+            let t1091 = wrist_r_v_vy * t1051;
+            let t1092 = t976 * t383;
+            let t1093 = t1091 - t1092;
+            let t1094 = t1090 - t1093;
+            let t1095 = t1059 + t1080;
+            let t1096 = t1066 + t1087;
+            let t1097 = t1073 + t1094;
+            let t1098 = wrist_r_v_wy * t1046;
+            let t1099 = t970 * t378;
+            let t1100 = t1099 - t1098;
+            let t1101 = wrist_r_v_wz * t1052;
+            let t1102 = t795 * t384;
+            let t1103 = t1102 - t1101;
+            let t1104 = t1100 - t1103;
+            let t1105 = wrist_r_v_wz * t1051;
+            let t1106 = t795 * t383;
+            let t1107 = t1105 + t1106;
+            let t1108 = wrist_r_v_wx * t1046;
+            let t1109 = t967 * t378;
+            let t1110 = t1109 - t1108;
+            let t1111 = t1107 - t1110;
+            let t1112 = wrist_r_v_wx * t1052;
+            let t1113 = t967 * t384;
+            let t1114 = t1113 - t1112;
+            let t1115 = wrist_r_v_wy * t1051;
+            let t1116 = t970 * t383;
+            let t1117 = t1115 + t1116;
+            let t1118 = t1114 - t1117;
+            let t1119 = t1023 + t1095;
+            let t1120 = t1024 + t1096;
+            let t1121 = t1015 + t1097;
+            let t1122 = t1025 + t1104;
+            let t1123 = t1026 + t1111;
+            let t1124 = t1020 + t1118;
+            (
+                t967,
+                t970,
+                t973,
+                t976,
+                t997,
+                t998,
+                t999,
+                t1000,
+                t1119,
+                t1120,
+                t1121,
+                t1122,
+                t1123,
+                t1124,
+            )
+        };
+        let (t1291, t1292, t1293, t1294, t1295, t1296) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t1125 = 0.184f64 * t970;
+            let t1126 = 0.184f64 * t967;
+            let t1127 = 0.02075f64 * t795;
+            let t1128 = t1126 - t1127;
+            let t1129 = 0.02075f64 * t970;
+            let t1130 = t973 + t1125;
+            let t1131 = t976 + t1128;
+            let t1132 = t799 + t1129;
+            let t1133 = c_wfe * t795;
+            let t1134 = s_wfe * t967;
+            let t1135 = t1133 + t1134;
+            let t1136 = s_wfe * t795;
+            let t1137 = c_wfe * t967;
+            let t1138 = t1137 - t1136;
+            let t1139 = c_wfe * t1132;
+            let t1140 = s_wfe * t1130;
+            let t1141 = t1140 - t1139;
+            let t1142 = s_wfe * t1132;
+            let t1143 = c_wfe * t1130;
+            let t1144 = t1142 + t1143;
+            let t1145 = 0.184f64 * t998;
+            let t1146 = 0.184f64 * t997;
+            let t1147 = 0.02075f64 * t817;
+            let t1148 = t1146 - t1147;
+            let t1149 = 0.02075f64 * t998;
+            let t1150 = t999 - t1145;
+            let t1151 = t1000 - t1148;
+            let t1152 = t819 + t1149;
+            let t1153 = c_wfe * t817;
+            let t1154 = s_wfe * t997;
+            let t1155 = t1153 + t1154;
+            let t1156 = s_wfe * t817;
+            let t1157 = c_wfe * t997;
+            let t1158 = t1157 - t1156;
+            let t1159 = c_wfe * t1152;
+            let t1160 = s_wfe * t1150;
+            let t1161 = t1159 + t1160;
+            let t1162 = s_wfe * t1152;
+            let t1163 = c_wfe * t1150;
+            let t1164 = t1163 - t1162;
+            let t1165 = t1138 * qd_wfe;
+            let t1166 = t1135 * qd_wfe;
+            let t1167 = t1144 * qd_wfe;
+            let t1168 = t1141 * qd_wfe;
+            let t1169 = t1155 + t1165;
+            let t1170 = t1158 - t1166;
+            let t1171 = t1161 + t1167;
+            let t1172 = t1164 - t1168;
+            let t1173 = 0.010737f64 * t1169;
+            let t1174 = 0.000198f64 * t1170;
+            let t1175 = t1173 + t1174;
+            let t1176 = 0.000015f64 * t998;
+            let t1177 = t1175 - t1176;
+            let t1178 = 0.000198f64 * t1169;
+            let t1179 = 0.0032270000000000003f64 * t1170;
+            let t1180 = t1178 + t1179;
+            let t1181 = 0.000829f64 * t998;
+            let t1182 = t1180 + t1181;
+            let t1183 = 0.000015f64 * t1169;
+            let t1184 = 0.000829f64 * t1170;
+            let t1185 = t1183 - t1184;
+            let t1186 = 0.009277f64 * t998;
+            let t1187 = t1185 - t1186;
+            let t1188 = 0.038686875f64 * t1151;
+            let t1189 = 0.038686875f64 * t1172;
+            let t1190 = t1171 * 1.547475f64;
+            let t1191 = t1172 * 1.547475f64;
+            let t1192 = t1151 * 1.547475f64;
+            let t1193 = 0.038686875f64 * t998;
+            let t1194 = 0.038686875f64 * t1170;
+            let t1195 = t1182 - t1188;
+            let t1196 = t1187 + t1189;
+            let t1197 = t1191 - t1193;
+            let t1198 = t1192 - t1194;
+            let t1199 = 0.010737f64 * t1135;
+            let t1200 = 0.000198f64 * t1138;
+            let t1201 = t1199 + t1200;
+            let t1202 = 0.000015f64 * t970;
+            let t1203 = t1201 + t1202;
+            let t1204 = 0.000198f64 * t1135;
+            let t1205 = 0.0032270000000000003f64 * t1138;
+            let t1206 = t1204 + t1205;
+            let t1207 = 0.000829f64 * t970;
+            let t1208 = t1206 - t1207;
+            let t1209 = 0.000015f64 * t1135;
+            let t1210 = 0.000829f64 * t1138;
+            let t1211 = t1209 - t1210;
+            let t1212 = 0.009277f64 * t970;
+            let t1213 = t1211 + t1212;
+            let t1214 = 0.038686875f64 * t1131;
+            let t1215 = 0.038686875f64 * t1144;
+            let t1216 = t1141 * 1.547475f64;
+            let t1217 = t1144 * 1.547475f64;
+            let t1218 = t1131 * 1.547475f64;
+            let t1219 = 0.038686875f64 * t970;
+            let t1220 = 0.038686875f64 * t1138;
+            let t1221 = t1208 + t1214;
+            let t1222 = t1213 + t1215;
+            let t1223 = t1217 + t1219;
+            let t1224 = t1218 + t1220;
+            let t1225 = wrist_fe_v_wy * t1222;
+            let t1226 = t1138 * t508;
+            let t1227 = t1225 + t1226;
+            let t1228 = wrist_fe_v_wz * t1221;
+            let t1229 = t970 * t507;
+            let t1230 = t1228 + t1229;
+            let t1231 = t1227 - t1230;
+            let t1232 = wrist_fe_v_wz * t1203;
+            let t1233 = t970 * t489;
+            let t1234 = t1232 + t1233;
+            let t1235 = wrist_fe_v_wx * t1222;
+            let t1236 = t1135 * t508;
+            let t1237 = t1235 + t1236;
+            let t1238 = t1234 - t1237;
+            let t1239 = wrist_fe_v_wx * t1221;
+            let t1240 = t1135 * t507;
+            let t1241 = t1239 + t1240;
+            let t1242 = wrist_fe_v_wy * t1203;
+            let t1243 = t1138 * t489;
+            let t1244 = t1242 + t1243;
+            let t1245 = t1241 - t1244;
+            let t1246 = wrist_fe_v_vy * t1224;
+            let t1247 = t1144 * t510;
+            let t1248 = t1247 - t1246;
+            let t1249 = wrist_fe_v_vz * t1223;
+            let t1250 = t1131 * t509;
+            let t1251 = t1249 - t1250;
+            let t1252 = t1248 - t1251;
+            let t1253 = wrist_fe_v_vz * t1216;
+            let t1254 = t1131 * t502;
+            let t1255 = t1253 - t1254;
+            let t1256 = wrist_fe_v_vx * t1224;
+            let t1257 = t1141 * t510;
+            let t1258 = t1257 - t1256;
+            let t1259 = t1255 - t1258;
+            let t1260 = wrist_fe_v_vx * t1223;
+            let t1261 = t1141 * t509;
+            let t1262 = t1260 + t1261;
+            let t1263 = wrist_fe_v_vy * t1216;
+            let t1264 = t1144 * t502;
+            let t1265 = t1263 + t1264;
+            let t1266 = t1262 - t1265;
+            let t1267 = t1231 + t1252;
+            let t1268 = t1238 + t1259;
+            let t1269 = t1245 + t1266;
+            let t1270 = wrist_fe_v_wy * t1224;
+            let t1271 = t1138 * t510;
+            let t1272 = t1271 - t1270;
+            let t1273 = wrist_fe_v_wz * t1223;
+            let t1274 = t970 * t509;
+            let t1275 = t1273 + t1274;
+            let t1276 = t1272 - t1275;
+            let t1277 = wrist_fe_v_wz * t1216;
+            let t1278 = t970 * t502;
+            let t1279 = t1277 + t1278;
+            let t1280 = wrist_fe_v_wx * t1224;
+            let t1281 = t1135 * t510;
+            let t1282 = t1281 - t1280;
+            let t1283 = t1279 - t1282;
+            let t1284 = wrist_fe_v_wx * t1223;
+            let t1285 = t1135 * t509;
+            let t1286 = t1284 + t1285;
+            let t1287 = wrist_fe_v_wy * t1216;
+            let t1288 = t1138 * t502;
+            let t1289 = t1287 + t1288;
+            let t1290 = t1286 - t1289;
+            let t1291 = t1177 + t1267;
+            let t1292 = t1195 + t1268;
+            let t1293 = t1196 + t1269;
+            let t1294 = t1190 + t1276;
+            let t1295 = t1197 + t1283;
+            let t1296 = t1198 + t1290;
+            (t1291, t1292, t1293, t1294, t1295, t1296)
+        };
+        let (t1317, t1318, t1319, t1320, t1321, t1322) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t1297 = c_wfe * t1294;
+            let t1298 = s_wfe * t1295;
+            let t1299 = t1297 - t1298;
+            let t1300 = s_wfe * t1294;
+            let t1301 = c_wfe * t1295;
+            let t1302 = t1300 + t1301;
+            let t1303 = c_wfe * t1291;
+            let t1304 = s_wfe * t1292;
+            let t1305 = t1303 - t1304;
+            let t1306 = s_wfe * t1291;
+            let t1307 = c_wfe * t1292;
+            let t1308 = t1306 + t1307;
+            let t1309 = 0.184f64 * t1296;
+            let t1310 = 0.184f64 * t1302;
+            let t1311 = 0.02075f64 * t1299;
+            let t1312 = t1310 - t1311;
+            let t1313 = 0.02075f64 * t1296;
+            let t1314 = t1308 - t1309;
+            let t1315 = t1293 + t1312;
+            let t1316 = t1305 + t1313;
+            let t1317 = t1119 + t1314;
+            let t1318 = t1120 + t1315;
+            let t1319 = t1121 + t1316;
+            let t1320 = t1122 + t1302;
+            let t1321 = t1123 + t1296;
+            let t1322 = t1124 + t1299;
+            (t1317, t1318, t1319, t1320, t1321, t1322)
+        };
+        let (t1339, t1340, t1341, t1342, t1343, t1344) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t1323 = c_wr * t1320;
+            let t1324 = s_wr * t1321;
+            let t1325 = t1323 - t1324;
+            let t1326 = s_wr * t1320;
+            let t1327 = c_wr * t1321;
+            let t1328 = t1326 + t1327;
+            let t1329 = c_wr * t1317;
+            let t1330 = s_wr * t1318;
+            let t1331 = t1329 - t1330;
+            let t1332 = s_wr * t1317;
+            let t1333 = c_wr * t1318;
+            let t1334 = t1332 + t1333;
+            let t1335 = 0.112f64 * t1325;
+            let t1336 = 0.112f64 * t1328;
+            let t1337 = t1334 + t1335;
+            let t1338 = t1336 - t1331;
+            let t1339 = t955 + t1319;
+            let t1340 = t956 + t1337;
+            let t1341 = t957 + t1338;
+            let t1342 = t958 + t1322;
+            let t1343 = t959 + t1328;
+            let t1344 = t960 - t1325;
+            (t1339, t1340, t1341, t1342, t1343, t1344)
+        };
+        let (t1358, t1359, t1360, t1361, t1362) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t1345 = s_efe * t1342;
+            let t1346 = c_efe * t1343;
+            let t1347 = t1345 + t1346;
+            let t1348 = c_efe * t1339;
+            let t1349 = s_efe * t1340;
+            let t1350 = t1348 - t1349;
+            let t1351 = s_efe * t1339;
+            let t1352 = c_efe * t1340;
+            let t1353 = t1351 + t1352;
+            let t1354 = 0.304f64 * t1347;
+            let t1355 = 0.304f64 * t1344;
+            let t1356 = t1341 + t1354;
+            let t1357 = t1353 - t1355;
+            let t1358 = t784 - t1356;
+            let t1359 = t785 + t1357;
+            let t1360 = t786 + t1350;
+            let t1361 = t787 - t1344;
+            let t1362 = t788 + t1347;
+            (t1358, t1359, t1360, t1361, t1362)
+        };
+        let (t1379, t1380, t1381) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t1363 = c_hr * t1361;
+            let t1364 = s_hr * t1362;
+            let t1365 = t1363 - t1364;
+            let t1366 = s_hr * t1361;
+            let t1367 = c_hr * t1362;
+            let t1368 = t1366 + t1367;
+            let t1369 = c_hr * t1358;
+            let t1370 = s_hr * t1359;
+            let t1371 = t1369 - t1370;
+            let t1372 = s_hr * t1358;
+            let t1373 = c_hr * t1359;
+            let t1374 = t1372 + t1373;
+            let t1375 = 0.112f64 * t1365;
+            let t1376 = 0.112f64 * t1368;
+            let t1377 = t1374 + t1375;
+            let t1378 = t1376 - t1371;
+            let t1379 = t643 + t1360;
+            let t1380 = t644 + t1377;
+            let t1381 = t645 + t1378;
+            (t1379, t1380, t1381)
+        };
+        let t1384 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t1382 = s_sfe * t1379;
+            let t1383 = c_sfe * t1380;
+            let t1384 = t1382 + t1383;
+            t1384
+        };
+        let (t1399, t1401, t1402, t1403, t1404, t1420, t1421, t1422) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let t1385 = 0.03900299600125622f64 * shoulder_fe_a_wy;
+            let t1386 = t1385 - t9;
+            let t1387 = 0.08585553000239696f64 * shoulder_fe_a_wx;
+            let t1388 = t5 - t1387;
+            let t1389 = 0.02285162700433904f64 * shoulder_fe_a_wy;
+            let t1390 = 0.0027519999999057617f64 * shoulder_fe_a_wx;
+            let t1391 = t1390 - t1389;
+            let t1392 = 0.2933742339089346f64 * shoulder_fe_a_vx;
+            let t1393 = 0.060615943396199995f64 * shoulder_fe_a_vy;
+            let t1394 = t1393 - t1392;
+            let t1395 = t1386 + t15;
+            let t1396 = t1388 + t14;
+            let t1397 = t1391 + t1394;
+            let t1398 = 0.03900299600125622f64 * shoulder_fe_v_wy;
+            let t1399 = t1398 - t23;
+            let t1400 = 0.08585553000239696f64 * shoulder_fe_v_wx;
+            let t1401 = t19 - t1400;
+            let t1402 = 0.02285162700433904f64 * shoulder_fe_v_wy;
+            let t1403 = 0.0027519999999057617f64 * shoulder_fe_v_wx;
+            let t1404 = t1403 - t1402;
+            let t1405 = shoulder_fe_v_wy * t1404;
+            let t1406 = t1405 - t37;
+            let t1407 = qd_sfe * t1401;
+            let t1408 = t1406 - t1407;
+            let t1409 = qd_sfe * t1399;
+            let t1410 = shoulder_fe_v_wx * t1404;
+            let t1411 = t1410 + t33;
+            let t1412 = t1409 - t1411;
+            let t1413 = shoulder_fe_v_wx * t1401;
+            let t1414 = shoulder_fe_v_wy * t27;
+            let t1415 = t1413 + t1414;
+            let t1416 = shoulder_fe_v_wy * t1399;
+            let t1417 = shoulder_fe_v_wx * t22;
+            let t1418 = t1416 - t1417;
+            let t1419 = t1415 - t1418;
+            let t1420 = t1395 + t1408;
+            let t1421 = t1396 + t1412;
+            let t1422 = t1397 + t1419;
+            (t1399, t1401, t1402, t1403, t1404, t1420, t1421, t1422)
+        };
+        let (
+            t1424,
+            t1425,
+            t1426,
+            t1427,
+            t1441,
+            t1442,
+            t1443,
+            t1444,
+            t1485,
+            t1490,
+            t1495,
+            t1504,
+            t1508,
+            t1569,
+            t1570,
+            t1571,
+            t1572,
+            t1573,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t1423 = 0.112f64 * shoulder_fe_v_wx;
+            let t1424 = s_hr * shoulder_fe_v_wx;
+            let t1425 = c_hr * shoulder_fe_v_wx;
+            let t1426 = c_hr * t1423;
+            let t1427 = s_hr * t1423;
+            let t1428 = 0.112f64 * shoulder_fe_a_wx;
+            let t1429 = s_hr * shoulder_fe_a_wx;
+            let t1430 = c_hr * shoulder_fe_a_wx;
+            let t1431 = c_hr * t1428;
+            let t1432 = s_hr * shoulder_fe_a_vx;
+            let t1433 = t1431 + t1432;
+            let t1434 = s_hr * t1428;
+            let t1435 = c_hr * shoulder_fe_a_vx;
+            let t1436 = t1434 - t1435;
+            let t1437 = t1425 * qd_hr;
+            let t1438 = t1424 * qd_hr;
+            let t1439 = t1427 * qd_hr;
+            let t1440 = t1426 * qd_hr;
+            let t1441 = t1429 + t1437;
+            let t1442 = t1438 - t1430;
+            let t1443 = t1439 - t1433;
+            let t1444 = t1436 + t1440;
+            let t1445 = 0.20236395000387197f64 * t1441;
+            let t1446 = 0.000053999980001054f64 * t1442;
+            let t1447 = t1446 - t1445;
+            let t1448 = 0.011715294995083824f64 * shoulder_fe_a_wy;
+            let t1449 = t1447 - t1448;
+            let t1450 = 0.000053999980001054f64 * t1441;
+            let t1451 = 0.20986895000353661f64 * t1442;
+            let t1452 = t1451 - t1450;
+            let t1453 = 0.0037997813999599995f64 * shoulder_fe_a_wy;
+            let t1454 = t1452 - t1453;
+            let t1455 = 0.011715294995083824f64 * t1441;
+            let t1456 = 0.0037997813999599995f64 * t1442;
+            let t1457 = t1455 - t1456;
+            let t1458 = 0.01032999899926462f64 * shoulder_fe_a_wy;
+            let t1459 = t1457 + t1458;
+            let t1460 = 0.014380859999999999f64 * shoulder_fe_a_vy;
+            let t1461 = 0.6479671119999999f64 * t1444;
+            let t1462 = t1460 - t1461;
+            let t1463 = 0.6479671119999999f64 * t1443;
+            let t1464 = 0.0055615274403f64 * shoulder_fe_a_vy;
+            let t1465 = t1463 + t1464;
+            let t1466 = 0.0055615274403f64 * t1444;
+            let t1467 = 0.014380859999999999f64 * t1443;
+            let t1468 = t1466 + t1467;
+            let t1469 = t1443 * 2.327f64;
+            let t1470 = t1444 * 2.327f64;
+            let t1471 = 0.014380859999999999f64 * shoulder_fe_a_wy;
+            let t1472 = 0.6479671119999999f64 * t1442;
+            let t1473 = t1471 - t1472;
+            let t1474 = 0.6479671119999999f64 * t1441;
+            let t1475 = 0.0055615274403f64 * shoulder_fe_a_wy;
+            let t1476 = t1475 - t1474;
+            let t1477 = t1449 + t1462;
+            let t1478 = t1454 + t1465;
+            let t1479 = t1459 - t1468;
+            let t1480 = t1469 - t1473;
+            let t1481 = t1470 - t1476;
+            let t1482 = 0.20236395000387197f64 * t1424;
+            let t1483 = 0.000053999980001054f64 * t1425;
+            let t1484 = t1482 + t1483;
+            let t1485 = 0.011715294995083824f64 * shoulder_fe_v_wy;
+            let t1486 = t1484 + t1485;
+            let t1487 = 0.000053999980001054f64 * t1424;
+            let t1488 = 0.20986895000353661f64 * t1425;
+            let t1489 = t1487 + t1488;
+            let t1490 = 0.0037997813999599995f64 * shoulder_fe_v_wy;
+            let t1491 = t1489 + t1490;
+            let t1492 = 0.011715294995083824f64 * t1424;
+            let t1493 = 0.0037997813999599995f64 * t1425;
+            let t1494 = t1492 + t1493;
+            let t1495 = 0.01032999899926462f64 * shoulder_fe_v_wy;
+            let t1496 = t1494 + t1495;
+            let t1497 = 0.6479671119999999f64 * t1427;
+            let t1498 = 0.6479671119999999f64 * t1426;
+            let t1499 = 0.0055615274403f64 * t1427;
+            let t1500 = 0.014380859999999999f64 * t1426;
+            let t1501 = t1500 - t1499;
+            let t1502 = t1426 * 2.327f64;
+            let t1503 = t1427 * 2.327f64;
+            let t1504 = 0.014380859999999999f64 * shoulder_fe_v_wy;
+            let t1505 = 0.6479671119999999f64 * t1425;
+            let t1506 = t1504 + t1505;
+            let t1507 = 0.6479671119999999f64 * t1424;
+            let t1508 = 0.0055615274403f64 * shoulder_fe_v_wy;
+            let t1509 = t1508 - t1507;
+            let t1510 = 0.0055615274403f64 * t1425;
+            let t1511 = 0.014380859999999999f64 * t1424;
+            let t1512 = t1510 + t1511;
+            let t1513 = t1486 + t1497;
+            let t1514 = t1491 + t1498;
+            let t1515 = t1496 + t1501;
+            let t1516 = t1502 + t1506;
+            let t1517 = t1503 - t1509;
+            let t1518 = humerus_r_v_wy * t1515;
+            let t1519 = t1425 * t140;
+            let t1520 = t1518 - t1519;
+            let t1521 = humerus_r_v_wz * t1514;
+            let t1522 = shoulder_fe_v_wy * t139;
+            let t1523 = t1522 - t1521;
+            let t1524 = t1520 - t1523;
+            let t1525 = humerus_r_v_wz * t1513;
+            let t1526 = shoulder_fe_v_wy * t138;
+            let t1527 = t1526 - t1525;
+            let t1528 = humerus_r_v_wx * t1515;
+            let t1529 = t1424 * t140;
+            let t1530 = t1528 - t1529;
+            let t1531 = t1527 - t1530;
+            let t1532 = humerus_r_v_wx * t1514;
+            let t1533 = t1424 * t139;
+            let t1534 = t1532 + t1533;
+            let t1535 = humerus_r_v_wy * t1513;
+            let t1536 = t1425 * t138;
+            let t1537 = t1535 + t1536;
+            let t1538 = t1537 - t1534;
+            let t1539 = humerus_r_v_vy * t1512;
+            let t1540 = t1427 * t137;
+            let t1541 = t1540 - t1539;
+            let t1542 = humerus_r_v_vx * t1512;
+            let t1543 = t1426 * t137;
+            let t1544 = t1542 + t1543;
+            let t1545 = humerus_r_v_vx * t1517;
+            let t1546 = t1426 * t142;
+            let t1547 = t1545 - t1546;
+            let t1548 = humerus_r_v_vy * t1516;
+            let t1549 = t1427 * t141;
+            let t1550 = t1549 - t1548;
+            let t1551 = t1547 - t1550;
+            let t1552 = t1524 + t1541;
+            let t1553 = t1531 + t1544;
+            let t1554 = t1538 + t1551;
+            let t1555 = humerus_r_v_wy * t1512;
+            let t1556 = t1425 * t137;
+            let t1557 = t1555 + t1556;
+            let t1558 = humerus_r_v_wz * t1517;
+            let t1559 = shoulder_fe_v_wy * t142;
+            let t1560 = t1558 + t1559;
+            let t1561 = t1557 + t1560;
+            let t1562 = humerus_r_v_wz * t1516;
+            let t1563 = shoulder_fe_v_wy * t141;
+            let t1564 = t1563 - t1562;
+            let t1565 = humerus_r_v_wx * t1512;
+            let t1566 = t1424 * t137;
+            let t1567 = t1565 + t1566;
+            let t1568 = t1564 + t1567;
+            let t1569 = t1477 + t1552;
+            let t1570 = t1478 + t1553;
+            let t1571 = t1479 + t1554;
+            let t1572 = t1480 - t1561;
+            let t1573 = t1481 + t1568;
+            (
+                t1424,
+                t1425,
+                t1426,
+                t1427,
+                t1441,
+                t1442,
+                t1443,
+                t1444,
+                t1485,
+                t1490,
+                t1495,
+                t1504,
+                t1508,
+                t1569,
+                t1570,
+                t1571,
+                t1572,
+                t1573,
+            )
+        };
+        let (
+            t1576,
+            t1578,
+            t1580,
+            t1581,
+            t1583,
+            t1584,
+            t1585,
+            t1588,
+            t1606,
+            t1607,
+            t1608,
+            t1609,
+            t1744,
+            t1745,
+            t1746,
+            t1747,
+            t1748,
+            t1749,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t1574 = 0.304f64 * t1425;
+            let t1575 = 0.304f64 * t1424;
+            let t1576 = t1426 + t1574;
+            let t1577 = t1427 + t1575;
+            let t1578 = c_efe * shoulder_fe_v_wy;
+            let t1579 = s_efe * t1425;
+            let t1580 = t1578 - t1579;
+            let t1581 = s_efe * shoulder_fe_v_wy;
+            let t1582 = c_efe * t1425;
+            let t1583 = t1581 + t1582;
+            let t1584 = s_efe * t1577;
+            let t1585 = c_efe * t1577;
+            let t1586 = 0.304f64 * t1442;
+            let t1587 = 0.304f64 * t1441;
+            let t1588 = t1443 + t1586;
+            let t1589 = t1444 + t1587;
+            let t1590 = c_efe * shoulder_fe_a_wy;
+            let t1591 = s_efe * t1442;
+            let t1592 = t1590 + t1591;
+            let t1593 = s_efe * shoulder_fe_a_wy;
+            let t1594 = c_efe * t1442;
+            let t1595 = t1594 - t1593;
+            let t1596 = c_efe * shoulder_fe_a_vy;
+            let t1597 = s_efe * t1589;
+            let t1598 = t1596 + t1597;
+            let t1599 = s_efe * shoulder_fe_a_vy;
+            let t1600 = c_efe * t1589;
+            let t1601 = t1600 - t1599;
+            let t1602 = t1583 * qd_efe;
+            let t1603 = t1580 * qd_efe;
+            let t1604 = t1585 * qd_efe;
+            let t1605 = t1584 * qd_efe;
+            let t1606 = t1592 - t1602;
+            let t1607 = t1595 - t1603;
+            let t1608 = t1598 + t1604;
+            let t1609 = t1601 - t1605;
+            let t1610 = 0.081661000005f64 * t1606;
+            let t1611 = 0.00368572840011861f64 * t1607;
+            let t1612 = t1610 + t1611;
+            let t1613 = 0.0002120000299f64 * t1441;
+            let t1614 = t1612 - t1613;
+            let t1615 = 0.00368572840011861f64 * t1606;
+            let t1616 = 0.018284489999765022f64 * t1607;
+            let t1617 = t1615 + t1616;
+            let t1618 = 0.002292000208f64 * t1441;
+            let t1619 = t1617 - t1618;
+            let t1620 = 0.0002120000299f64 * t1606;
+            let t1621 = 0.002292000208f64 * t1607;
+            let t1622 = t1620 + t1621;
+            let t1623 = 0.09570849000176501f64 * t1441;
+            let t1624 = t1623 - t1622;
+            let t1625 = 0.008711861f64 * t1588;
+            let t1626 = 0.16029825982372198f64 * t1588;
+            let t1627 = 0.16029825982372198f64 * t1609;
+            let t1628 = 0.008711861f64 * t1608;
+            let t1629 = t1627 + t1628;
+            let t1630 = t1608 * 1.7423722f64;
+            let t1631 = t1609 * 1.7423722f64;
+            let t1632 = t1588 * 1.7423722f64;
+            let t1633 = 0.008711861f64 * t1441;
+            let t1634 = 0.16029825982372198f64 * t1441;
+            let t1635 = 0.16029825982372198f64 * t1607;
+            let t1636 = 0.008711861f64 * t1606;
+            let t1637 = t1635 + t1636;
+            let t1638 = t1614 + t1625;
+            let t1639 = t1619 + t1626;
+            let t1640 = t1624 + t1629;
+            let t1641 = t1630 + t1633;
+            let t1642 = t1631 + t1634;
+            let t1643 = t1632 + t1637;
+            let t1644 = 0.081661000005f64 * t1580;
+            let t1645 = 0.00368572840011861f64 * t1583;
+            let t1646 = t1644 - t1645;
+            let t1647 = 0.0002120000299f64 * t1424;
+            let t1648 = t1646 - t1647;
+            let t1649 = 0.00368572840011861f64 * t1580;
+            let t1650 = 0.018284489999765022f64 * t1583;
+            let t1651 = t1649 - t1650;
+            let t1652 = 0.002292000208f64 * t1424;
+            let t1653 = t1651 - t1652;
+            let t1654 = 0.0002120000299f64 * t1580;
+            let t1655 = 0.002292000208f64 * t1583;
+            let t1656 = t1655 - t1654;
+            let t1657 = 0.09570849000176501f64 * t1424;
+            let t1658 = t1656 + t1657;
+            let t1659 = 0.008711861f64 * t1576;
+            let t1660 = 0.16029825982372198f64 * t1576;
+            let t1661 = 0.16029825982372198f64 * t1585;
+            let t1662 = 0.008711861f64 * t1584;
+            let t1663 = t1661 + t1662;
+            let t1664 = t1584 * 1.7423722f64;
+            let t1665 = t1585 * 1.7423722f64;
+            let t1666 = t1576 * 1.7423722f64;
+            let t1667 = 0.008711861f64 * t1424;
+            let t1668 = 0.16029825982372198f64 * t1424;
+            let t1669 = 0.16029825982372198f64 * t1583;
+            let t1670 = 0.008711861f64 * t1580;
+            let t1671 = t1670 - t1669;
+            let t1672 = t1648 - t1659;
+            let t1673 = t1653 - t1660;
+            let t1674 = t1658 + t1663;
+            let t1675 = t1664 + t1667;
+            let t1676 = t1665 + t1668;
+            let t1677 = t1666 - t1671;
+            let t1678 = elbow_fe_v_wy * t1674;
+            let t1679 = t1583 * t261;
+            let t1680 = t1678 - t1679;
+            let t1681 = elbow_fe_v_wz * t1673;
+            let t1682 = t1424 * t260;
+            let t1683 = t1681 + t1682;
+            let t1684 = t1680 - t1683;
+            let t1685 = elbow_fe_v_wz * t1672;
+            let t1686 = t1424 * t259;
+            let t1687 = t1685 + t1686;
+            let t1688 = elbow_fe_v_wx * t1674;
+            let t1689 = t1580 * t261;
+            let t1690 = t1688 + t1689;
+            let t1691 = t1687 - t1690;
+            let t1692 = elbow_fe_v_wx * t1673;
+            let t1693 = t1580 * t260;
+            let t1694 = t1692 + t1693;
+            let t1695 = elbow_fe_v_wy * t1672;
+            let t1696 = t1583 * t259;
+            let t1697 = t1695 - t1696;
+            let t1698 = t1694 - t1697;
+            let t1699 = elbow_fe_v_vy * t1677;
+            let t1700 = t1585 * t264;
+            let t1701 = t1699 - t1700;
+            let t1702 = elbow_fe_v_vz * t1676;
+            let t1703 = t1576 * t263;
+            let t1704 = t1703 - t1702;
+            let t1705 = t1701 - t1704;
+            let t1706 = elbow_fe_v_vz * t1675;
+            let t1707 = t1576 * t262;
+            let t1708 = t1707 - t1706;
+            let t1709 = elbow_fe_v_vx * t1677;
+            let t1710 = t1584 * t264;
+            let t1711 = t1709 - t1710;
+            let t1712 = t1708 - t1711;
+            let t1713 = elbow_fe_v_vx * t1676;
+            let t1714 = t1584 * t263;
+            let t1715 = t1713 + t1714;
+            let t1716 = elbow_fe_v_vy * t1675;
+            let t1717 = t1585 * t262;
+            let t1718 = t1716 + t1717;
+            let t1719 = t1715 - t1718;
+            let t1720 = t1684 + t1705;
+            let t1721 = t1691 + t1712;
+            let t1722 = t1698 + t1719;
+            let t1723 = elbow_fe_v_wy * t1677;
+            let t1724 = t1583 * t264;
+            let t1725 = t1723 + t1724;
+            let t1726 = elbow_fe_v_wz * t1676;
+            let t1727 = t1424 * t263;
+            let t1728 = t1726 + t1727;
+            let t1729 = t1725 - t1728;
+            let t1730 = elbow_fe_v_wz * t1675;
+            let t1731 = t1424 * t262;
+            let t1732 = t1730 + t1731;
+            let t1733 = elbow_fe_v_wx * t1677;
+            let t1734 = t1580 * t264;
+            let t1735 = t1733 - t1734;
+            let t1736 = t1732 - t1735;
+            let t1737 = elbow_fe_v_wx * t1676;
+            let t1738 = t1580 * t263;
+            let t1739 = t1737 + t1738;
+            let t1740 = elbow_fe_v_wy * t1675;
+            let t1741 = t1583 * t262;
+            let t1742 = t1740 - t1741;
+            let t1743 = t1739 - t1742;
+            let t1744 = t1638 + t1720;
+            let t1745 = t1639 + t1721;
+            let t1746 = t1640 + t1722;
+            let t1747 = t1641 + t1729;
+            let t1748 = t1642 + t1736;
+            let t1749 = t1743 - t1643;
+            (
+                t1576,
+                t1578,
+                t1580,
+                t1581,
+                t1583,
+                t1584,
+                t1585,
+                t1588,
+                t1606,
+                t1607,
+                t1608,
+                t1609,
+                t1744,
+                t1745,
+                t1746,
+                t1747,
+                t1748,
+                t1749,
+            )
+        };
+        let (
+            t1756,
+            t1759,
+            t1762,
+            t1765,
+            t1786,
+            t1787,
+            t1788,
+            t1789,
+            t1908,
+            t1909,
+            t1910,
+            t1911,
+            t1912,
+            t1913,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t1750 = 0.112f64 * t1424;
+            let t1751 = 0.112f64 * t1583;
+            let t1752 = t1585 + t1750;
+            let t1753 = t1576 + t1751;
+            let t1754 = c_wr * t1424;
+            let t1755 = s_wr * t1583;
+            let t1756 = t1754 + t1755;
+            let t1757 = s_wr * t1424;
+            let t1758 = c_wr * t1583;
+            let t1759 = t1757 - t1758;
+            let t1760 = c_wr * t1753;
+            let t1761 = s_wr * t1752;
+            let t1762 = t1761 - t1760;
+            let t1763 = s_wr * t1753;
+            let t1764 = c_wr * t1752;
+            let t1765 = t1763 + t1764;
+            let t1766 = 0.112f64 * t1441;
+            let t1767 = 0.112f64 * t1607;
+            let t1768 = t1609 + t1766;
+            let t1769 = t1588 + t1767;
+            let t1770 = c_wr * t1441;
+            let t1771 = s_wr * t1607;
+            let t1772 = t1771 - t1770;
+            let t1773 = s_wr * t1441;
+            let t1774 = c_wr * t1607;
+            let t1775 = t1773 + t1774;
+            let t1776 = c_wr * t1769;
+            let t1777 = s_wr * t1768;
+            let t1778 = t1776 + t1777;
+            let t1779 = s_wr * t1769;
+            let t1780 = c_wr * t1768;
+            let t1781 = t1780 - t1779;
+            let t1782 = t1759 * qd_wr;
+            let t1783 = t1756 * qd_wr;
+            let t1784 = t1765 * qd_wr;
+            let t1785 = t1762 * qd_wr;
+            let t1786 = t1772 + t1782;
+            let t1787 = t1775 + t1783;
+            let t1788 = t1778 + t1784;
+            let t1789 = t1781 - t1785;
+            let t1790 = 0.019431999999999998f64 * t1786;
+            let t1791 = 0.001387f64 * t1787;
+            let t1792 = t1790 - t1791;
+            let t1793 = 0.012652f64 * t1606;
+            let t1794 = t1792 - t1793;
+            let t1795 = 0.001387f64 * t1786;
+            let t1796 = 0.029115f64 * t1787;
+            let t1797 = t1796 - t1795;
+            let t1798 = 0.001243f64 * t1606;
+            let t1799 = t1797 - t1798;
+            let t1800 = 0.012652f64 * t1786;
+            let t1801 = 0.001243f64 * t1787;
+            let t1802 = t1800 + t1801;
+            let t1803 = 0.011046f64 * t1606;
+            let t1804 = t1803 - t1802;
+            let t1805 = 0.05783800000000001f64 * t1789;
+            let t1806 = 0.05783800000000001f64 * t1788;
+            let t1807 = t1788 * 2.1032f64;
+            let t1808 = t1789 * 2.1032f64;
+            let t1809 = t1608 * 2.1032f64;
+            let t1810 = 0.05783800000000001f64 * t1787;
+            let t1811 = 0.05783800000000001f64 * t1786;
+            let t1812 = t1794 - t1805;
+            let t1813 = t1799 + t1806;
+            let t1814 = t1807 + t1810;
+            let t1815 = t1808 - t1811;
+            let t1816 = 0.019431999999999998f64 * t1756;
+            let t1817 = 0.001387f64 * t1759;
+            let t1818 = t1816 + t1817;
+            let t1819 = 0.012652f64 * t1580;
+            let t1820 = t1818 + t1819;
+            let t1821 = 0.001387f64 * t1756;
+            let t1822 = 0.029115f64 * t1759;
+            let t1823 = t1821 + t1822;
+            let t1824 = 0.001243f64 * t1580;
+            let t1825 = t1823 - t1824;
+            let t1826 = 0.012652f64 * t1756;
+            let t1827 = 0.001243f64 * t1759;
+            let t1828 = t1826 - t1827;
+            let t1829 = 0.011046f64 * t1580;
+            let t1830 = t1828 + t1829;
+            let t1831 = 0.05783800000000001f64 * t1765;
+            let t1832 = 0.05783800000000001f64 * t1762;
+            let t1833 = t1762 * 2.1032f64;
+            let t1834 = t1765 * 2.1032f64;
+            let t1835 = t1584 * 2.1032f64;
+            let t1836 = 0.05783800000000001f64 * t1759;
+            let t1837 = 0.05783800000000001f64 * t1756;
+            let t1838 = t1820 + t1831;
+            let t1839 = t1825 + t1832;
+            let t1840 = t1833 + t1836;
+            let t1841 = t1834 + t1837;
+            let t1842 = wrist_r_v_wy * t1830;
+            let t1843 = t1759 * t373;
+            let t1844 = t1842 + t1843;
+            let t1845 = wrist_r_v_wz * t1839;
+            let t1846 = t1580 * t382;
+            let t1847 = t1845 + t1846;
+            let t1848 = t1844 - t1847;
+            let t1849 = wrist_r_v_wz * t1838;
+            let t1850 = t1580 * t381;
+            let t1851 = t1850 - t1849;
+            let t1852 = wrist_r_v_wx * t1830;
+            let t1853 = t1756 * t373;
+            let t1854 = t1852 - t1853;
+            let t1855 = t1851 - t1854;
+            let t1856 = wrist_r_v_wx * t1839;
+            let t1857 = t1756 * t382;
+            let t1858 = t1856 - t1857;
+            let t1859 = wrist_r_v_wy * t1838;
+            let t1860 = t1759 * t381;
+            let t1861 = t1860 - t1859;
+            let t1862 = t1858 - t1861;
+            let t1863 = wrist_r_v_vy * t1835;
+            let t1864 = t1765 * t378;
+            let t1865 = t1863 + t1864;
+            let t1866 = elbow_fe_v_vx * t1841;
+            let t1867 = t1584 * t384;
+            let t1868 = t1866 + t1867;
+            let t1869 = t1865 - t1868;
+            let t1870 = elbow_fe_v_vx * t1840;
+            let t1871 = t1584 * t383;
+            let t1872 = t1870 + t1871;
+            let t1873 = wrist_r_v_vx * t1835;
+            let t1874 = t1762 * t378;
+            let t1875 = t1873 + t1874;
+            let t1876 = t1872 - t1875;
+            let t1877 = wrist_r_v_vx * t1841;
+            let t1878 = t1762 * t384;
+            let t1879 = t1877 + t1878;
+            let t1880 = wrist_r_v_vy * t1840;
+            let t1881 = t1765 * t383;
+            let t1882 = t1880 + t1881;
+            let t1883 = t1879 - t1882;
+            let t1884 = t1848 + t1869;
+            let t1885 = t1855 + t1876;
+            let t1886 = t1862 + t1883;
+            let t1887 = wrist_r_v_wy * t1835;
+            let t1888 = t1759 * t378;
+            let t1889 = t1887 + t1888;
+            let t1890 = wrist_r_v_wz * t1841;
+            let t1891 = t1580 * t384;
+            let t1892 = t1890 + t1891;
+            let t1893 = t1889 - t1892;
+            let t1894 = wrist_r_v_wz * t1840;
+            let t1895 = t1580 * t383;
+            let t1896 = t1894 + t1895;
+            let t1897 = wrist_r_v_wx * t1835;
+            let t1898 = t1756 * t378;
+            let t1899 = t1897 - t1898;
+            let t1900 = t1896 - t1899;
+            let t1901 = wrist_r_v_wx * t1841;
+            let t1902 = t1756 * t384;
+            let t1903 = t1901 - t1902;
+            let t1904 = wrist_r_v_wy * t1840;
+            let t1905 = t1759 * t383;
+            let t1906 = t1904 + t1905;
+            let t1907 = t1903 - t1906;
+            let t1908 = t1812 + t1884;
+            let t1909 = t1813 + t1885;
+            let t1910 = t1804 + t1886;
+            let t1911 = t1814 + t1893;
+            let t1912 = t1815 + t1900;
+            let t1913 = t1809 + t1907;
+            (
+                t1756,
+                t1759,
+                t1762,
+                t1765,
+                t1786,
+                t1787,
+                t1788,
+                t1789,
+                t1908,
+                t1909,
+                t1910,
+                t1911,
+                t1912,
+                t1913,
+            )
+        };
+        let (t2080, t2081, t2082, t2083, t2084, t2085) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t1914 = 0.184f64 * t1759;
+            let t1915 = 0.184f64 * t1756;
+            let t1916 = 0.02075f64 * t1580;
+            let t1917 = t1915 + t1916;
+            let t1918 = 0.02075f64 * t1759;
+            let t1919 = t1762 + t1914;
+            let t1920 = t1765 + t1917;
+            let t1921 = t1584 - t1918;
+            let t1922 = c_wfe * t1580;
+            let t1923 = s_wfe * t1756;
+            let t1924 = t1922 - t1923;
+            let t1925 = s_wfe * t1580;
+            let t1926 = c_wfe * t1756;
+            let t1927 = t1925 + t1926;
+            let t1928 = c_wfe * t1921;
+            let t1929 = s_wfe * t1919;
+            let t1930 = t1928 + t1929;
+            let t1931 = s_wfe * t1921;
+            let t1932 = c_wfe * t1919;
+            let t1933 = t1932 - t1931;
+            let t1934 = 0.184f64 * t1787;
+            let t1935 = 0.184f64 * t1786;
+            let t1936 = 0.02075f64 * t1606;
+            let t1937 = t1935 - t1936;
+            let t1938 = 0.02075f64 * t1787;
+            let t1939 = t1788 + t1934;
+            let t1940 = t1789 - t1937;
+            let t1941 = t1608 - t1938;
+            let t1942 = c_wfe * t1606;
+            let t1943 = s_wfe * t1786;
+            let t1944 = t1942 + t1943;
+            let t1945 = s_wfe * t1606;
+            let t1946 = c_wfe * t1786;
+            let t1947 = t1946 - t1945;
+            let t1948 = c_wfe * t1941;
+            let t1949 = s_wfe * t1939;
+            let t1950 = t1948 + t1949;
+            let t1951 = s_wfe * t1941;
+            let t1952 = c_wfe * t1939;
+            let t1953 = t1952 - t1951;
+            let t1954 = t1927 * qd_wfe;
+            let t1955 = t1924 * qd_wfe;
+            let t1956 = t1933 * qd_wfe;
+            let t1957 = t1930 * qd_wfe;
+            let t1958 = t1944 - t1954;
+            let t1959 = t1947 - t1955;
+            let t1960 = t1950 + t1956;
+            let t1961 = t1953 - t1957;
+            let t1962 = 0.010737f64 * t1958;
+            let t1963 = 0.000198f64 * t1959;
+            let t1964 = t1962 + t1963;
+            let t1965 = 0.000015f64 * t1787;
+            let t1966 = t1964 + t1965;
+            let t1967 = 0.000198f64 * t1958;
+            let t1968 = 0.0032270000000000003f64 * t1959;
+            let t1969 = t1967 + t1968;
+            let t1970 = 0.000829f64 * t1787;
+            let t1971 = t1969 - t1970;
+            let t1972 = 0.000015f64 * t1958;
+            let t1973 = 0.000829f64 * t1959;
+            let t1974 = t1972 - t1973;
+            let t1975 = 0.009277f64 * t1787;
+            let t1976 = t1974 + t1975;
+            let t1977 = 0.038686875f64 * t1940;
+            let t1978 = 0.038686875f64 * t1961;
+            let t1979 = t1960 * 1.547475f64;
+            let t1980 = t1961 * 1.547475f64;
+            let t1981 = t1940 * 1.547475f64;
+            let t1982 = 0.038686875f64 * t1787;
+            let t1983 = 0.038686875f64 * t1959;
+            let t1984 = t1971 - t1977;
+            let t1985 = t1976 + t1978;
+            let t1986 = t1980 + t1982;
+            let t1987 = t1981 - t1983;
+            let t1988 = 0.010737f64 * t1924;
+            let t1989 = 0.000198f64 * t1927;
+            let t1990 = t1988 - t1989;
+            let t1991 = 0.000015f64 * t1759;
+            let t1992 = t1990 + t1991;
+            let t1993 = 0.000198f64 * t1924;
+            let t1994 = 0.0032270000000000003f64 * t1927;
+            let t1995 = t1993 - t1994;
+            let t1996 = 0.000829f64 * t1759;
+            let t1997 = t1995 - t1996;
+            let t1998 = 0.000015f64 * t1924;
+            let t1999 = 0.000829f64 * t1927;
+            let t2000 = t1998 + t1999;
+            let t2001 = 0.009277f64 * t1759;
+            let t2002 = t2000 + t2001;
+            let t2003 = 0.038686875f64 * t1920;
+            let t2004 = 0.038686875f64 * t1933;
+            let t2005 = t1930 * 1.547475f64;
+            let t2006 = t1933 * 1.547475f64;
+            let t2007 = t1920 * 1.547475f64;
+            let t2008 = 0.038686875f64 * t1759;
+            let t2009 = 0.038686875f64 * t1927;
+            let t2010 = t1997 - t2003;
+            let t2011 = t2002 + t2004;
+            let t2012 = t2006 + t2008;
+            let t2013 = t2007 + t2009;
+            let t2014 = wrist_fe_v_wy * t2011;
+            let t2015 = t1927 * t508;
+            let t2016 = t2014 - t2015;
+            let t2017 = wrist_fe_v_wz * t2010;
+            let t2018 = t1759 * t507;
+            let t2019 = t2017 + t2018;
+            let t2020 = t2016 - t2019;
+            let t2021 = wrist_fe_v_wz * t1992;
+            let t2022 = t1759 * t489;
+            let t2023 = t2021 + t2022;
+            let t2024 = wrist_fe_v_wx * t2011;
+            let t2025 = t1924 * t508;
+            let t2026 = t2024 + t2025;
+            let t2027 = t2023 - t2026;
+            let t2028 = wrist_fe_v_wx * t2010;
+            let t2029 = t1924 * t507;
+            let t2030 = t2028 + t2029;
+            let t2031 = wrist_fe_v_wy * t1992;
+            let t2032 = t1927 * t489;
+            let t2033 = t2031 - t2032;
+            let t2034 = t2030 - t2033;
+            let t2035 = wrist_fe_v_vy * t2013;
+            let t2036 = t1933 * t510;
+            let t2037 = t2035 + t2036;
+            let t2038 = wrist_fe_v_vz * t2012;
+            let t2039 = t1920 * t509;
+            let t2040 = t2038 + t2039;
+            let t2041 = t2037 - t2040;
+            let t2042 = wrist_fe_v_vz * t2005;
+            let t2043 = t1920 * t502;
+            let t2044 = t2042 + t2043;
+            let t2045 = wrist_fe_v_vx * t2013;
+            let t2046 = t1930 * t510;
+            let t2047 = t2045 + t2046;
+            let t2048 = t2044 - t2047;
+            let t2049 = wrist_fe_v_vx * t2012;
+            let t2050 = t1930 * t509;
+            let t2051 = t2049 + t2050;
+            let t2052 = wrist_fe_v_vy * t2005;
+            let t2053 = t1933 * t502;
+            let t2054 = t2052 + t2053;
+            let t2055 = t2051 - t2054;
+            let t2056 = t2020 + t2041;
+            let t2057 = t2027 + t2048;
+            let t2058 = t2034 + t2055;
+            let t2059 = wrist_fe_v_wy * t2013;
+            let t2060 = t1927 * t510;
+            let t2061 = t2059 - t2060;
+            let t2062 = wrist_fe_v_wz * t2012;
+            let t2063 = t1759 * t509;
+            let t2064 = t2062 + t2063;
+            let t2065 = t2061 - t2064;
+            let t2066 = wrist_fe_v_wz * t2005;
+            let t2067 = t1759 * t502;
+            let t2068 = t2066 + t2067;
+            let t2069 = wrist_fe_v_wx * t2013;
+            let t2070 = t1924 * t510;
+            let t2071 = t2069 + t2070;
+            let t2072 = t2068 - t2071;
+            let t2073 = wrist_fe_v_wx * t2012;
+            let t2074 = t1924 * t509;
+            let t2075 = t2073 + t2074;
+            let t2076 = wrist_fe_v_wy * t2005;
+            let t2077 = t1927 * t502;
+            let t2078 = t2076 - t2077;
+            let t2079 = t2075 - t2078;
+            let t2080 = t1966 + t2056;
+            let t2081 = t1984 + t2057;
+            let t2082 = t1985 + t2058;
+            let t2083 = t1979 + t2065;
+            let t2084 = t1986 + t2072;
+            let t2085 = t1987 + t2079;
+            (t2080, t2081, t2082, t2083, t2084, t2085)
+        };
+        let (t2106, t2107, t2108, t2109, t2110, t2111) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t2086 = c_wfe * t2083;
+            let t2087 = s_wfe * t2084;
+            let t2088 = t2086 - t2087;
+            let t2089 = s_wfe * t2083;
+            let t2090 = c_wfe * t2084;
+            let t2091 = t2089 + t2090;
+            let t2092 = c_wfe * t2080;
+            let t2093 = s_wfe * t2081;
+            let t2094 = t2092 - t2093;
+            let t2095 = s_wfe * t2080;
+            let t2096 = c_wfe * t2081;
+            let t2097 = t2095 + t2096;
+            let t2098 = 0.184f64 * t2085;
+            let t2099 = 0.184f64 * t2091;
+            let t2100 = 0.02075f64 * t2088;
+            let t2101 = t2099 - t2100;
+            let t2102 = 0.02075f64 * t2085;
+            let t2103 = t2097 - t2098;
+            let t2104 = t2082 + t2101;
+            let t2105 = t2094 + t2102;
+            let t2106 = t1908 + t2103;
+            let t2107 = t1909 + t2104;
+            let t2108 = t1910 + t2105;
+            let t2109 = t1911 + t2091;
+            let t2110 = t1912 + t2085;
+            let t2111 = t1913 + t2088;
+            (t2106, t2107, t2108, t2109, t2110, t2111)
+        };
+        let (t2128, t2129, t2130, t2131, t2132, t2133) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t2112 = c_wr * t2109;
+            let t2113 = s_wr * t2110;
+            let t2114 = t2112 - t2113;
+            let t2115 = s_wr * t2109;
+            let t2116 = c_wr * t2110;
+            let t2117 = t2115 + t2116;
+            let t2118 = c_wr * t2106;
+            let t2119 = s_wr * t2107;
+            let t2120 = t2118 - t2119;
+            let t2121 = s_wr * t2106;
+            let t2122 = c_wr * t2107;
+            let t2123 = t2121 + t2122;
+            let t2124 = 0.112f64 * t2114;
+            let t2125 = 0.112f64 * t2117;
+            let t2126 = t2123 + t2124;
+            let t2127 = t2125 - t2120;
+            let t2128 = t1744 + t2108;
+            let t2129 = t1745 + t2126;
+            let t2130 = t1746 + t2127;
+            let t2131 = t1747 + t2111;
+            let t2132 = t1748 + t2117;
+            let t2133 = t1749 - t2114;
+            (t2128, t2129, t2130, t2131, t2132, t2133)
+        };
+        let (t2147, t2148, t2149, t2150, t2151) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t2134 = s_efe * t2131;
+            let t2135 = c_efe * t2132;
+            let t2136 = t2134 + t2135;
+            let t2137 = c_efe * t2128;
+            let t2138 = s_efe * t2129;
+            let t2139 = t2137 - t2138;
+            let t2140 = s_efe * t2128;
+            let t2141 = c_efe * t2129;
+            let t2142 = t2140 + t2141;
+            let t2143 = 0.304f64 * t2136;
+            let t2144 = 0.304f64 * t2133;
+            let t2145 = t2130 + t2143;
+            let t2146 = t2142 - t2144;
+            let t2147 = t1569 - t2145;
+            let t2148 = t1570 + t2146;
+            let t2149 = t1571 + t2139;
+            let t2150 = t1572 - t2133;
+            let t2151 = t1573 + t2136;
+            (t2147, t2148, t2149, t2150, t2151)
+        };
+        let (t2168, t2169, t2170) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t2152 = c_hr * t2150;
+            let t2153 = s_hr * t2151;
+            let t2154 = t2152 - t2153;
+            let t2155 = s_hr * t2150;
+            let t2156 = c_hr * t2151;
+            let t2157 = t2155 + t2156;
+            let t2158 = c_hr * t2147;
+            let t2159 = s_hr * t2148;
+            let t2160 = t2158 - t2159;
+            let t2161 = s_hr * t2147;
+            let t2162 = c_hr * t2148;
+            let t2163 = t2161 + t2162;
+            let t2164 = 0.112f64 * t2154;
+            let t2165 = 0.112f64 * t2157;
+            let t2166 = t2163 + t2164;
+            let t2167 = t2165 - t2160;
+            let t2168 = t1420 + t2149;
+            let t2169 = t1421 + t2166;
+            let t2170 = t1422 + t2167;
+            (t2168, t2169, t2170)
+        };
+        let t2175 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t2171 = s_sfe * t2168;
+            let t2172 = t2171 + t604;
+            let t2173 = c_sfe * t2169;
+            let t2174 = t2173 - t605;
+            let t2175 = t2172 + t2174;
+            t2175
+        };
+        let (t2183, t2184, t2185) = {
+            // ── link `Shoulder_FE`, joint `SFE` (base to tip)
+            let t2176 = shoulder_fe_v_wy * 0.05139352799812063f64;
+            let t2177 = t27 - t26;
+            let t2178 = t2176 - t2177;
+            let t2179 = t22 - t21;
+            let t2180 = shoulder_fe_v_wx * 0.05139352799812063f64;
+            let t2181 = t2179 - t2180;
+            let t2182 = t1402 - t1403;
+            let t2183 = t1399 + t2178;
+            let t2184 = t1401 + t2181;
+            let t2185 = t1404 + t2182;
+            (t2183, t2184, t2185)
+        };
+        let (
+            t2186,
+            t2187,
+            t2192,
+            t2193,
+            t2194,
+            t2195,
+            t2293,
+            t2294,
+            t2295,
+            t2296,
+            t2297,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t2186 = s_hr * 0.112f64;
+            let t2187 = c_hr * 0.112f64;
+            let t2188 = s_hr * qd_hr;
+            let t2189 = c_hr * qd_hr;
+            let t2190 = t2187 * qd_hr;
+            let t2191 = t2186 * qd_hr;
+            let t2192 = t2188 - t1424;
+            let t2193 = t2189 - t1425;
+            let t2194 = t2190 - t1426;
+            let t2195 = t1427 - t2191;
+            let t2196 = 0.20236395000387197f64 * t2192;
+            let t2197 = 0.000053999980001054f64 * t2193;
+            let t2198 = t2196 + t2197;
+            let t2199 = t2198 - t1485;
+            let t2200 = 0.000053999980001054f64 * t2192;
+            let t2201 = 0.20986895000353661f64 * t2193;
+            let t2202 = t2200 + t2201;
+            let t2203 = t2202 - t1490;
+            let t2204 = 0.011715294995083824f64 * t2192;
+            let t2205 = 0.0037997813999599995f64 * t2193;
+            let t2206 = t2204 + t2205;
+            let t2207 = t1495 - t2206;
+            let t2208 = 0.6479671119999999f64 * t2195;
+            let t2209 = 0.6479671119999999f64 * t2194;
+            let t2210 = 0.0055615274403f64 * t2195;
+            let t2211 = 0.014380859999999999f64 * t2194;
+            let t2212 = t2210 + t2211;
+            let t2213 = t2194 * 2.327f64;
+            let t2214 = t2195 * 2.327f64;
+            let t2215 = 0.6479671119999999f64 * t2193;
+            let t2216 = t1504 - t2215;
+            let t2217 = 0.6479671119999999f64 * t2192;
+            let t2218 = t2217 + t1508;
+            let t2219 = t2199 - t2208;
+            let t2220 = t2203 + t2209;
+            let t2221 = t2207 - t2212;
+            let t2222 = t2213 - t2216;
+            let t2223 = t2214 - t2218;
+            let t2224 = 0.20236395000387197f64 * c_hr;
+            let t2225 = 0.000053999980001054f64 * s_hr;
+            let t2226 = t2225 - t2224;
+            let t2227 = 0.000053999980001054f64 * c_hr;
+            let t2228 = 0.20986895000353661f64 * s_hr;
+            let t2229 = t2228 - t2227;
+            let t2230 = 0.011715294995083824f64 * c_hr;
+            let t2231 = 0.0037997813999599995f64 * s_hr;
+            let t2232 = t2230 - t2231;
+            let t2233 = 0.6479671119999999f64 * t2187;
+            let t2234 = 0.6479671119999999f64 * t2186;
+            let t2235 = 0.0055615274403f64 * t2187;
+            let t2236 = 0.014380859999999999f64 * t2186;
+            let t2237 = t2235 + t2236;
+            let t2238 = t2186 * 2.327f64;
+            let t2239 = t2187 * 2.327f64;
+            let t2240 = 0.6479671119999999f64 * s_hr;
+            let t2241 = 0.6479671119999999f64 * c_hr;
+            let t2242 = 0.0055615274403f64 * s_hr;
+            let t2243 = 0.014380859999999999f64 * c_hr;
+            let t2244 = t2243 - t2242;
+            let t2245 = t2226 - t2233;
+            let t2246 = t2229 + t2234;
+            let t2247 = t2232 - t2237;
+            let t2248 = t2238 + t2240;
+            let t2249 = t2239 + t2241;
+            let t2250 = humerus_r_v_wy * t2247;
+            let t2251 = s_hr * t140;
+            let t2252 = t2250 + t2251;
+            let t2253 = humerus_r_v_wz * t2246;
+            let t2254 = t2252 - t2253;
+            let t2255 = humerus_r_v_wz * t2245;
+            let t2256 = humerus_r_v_wx * t2247;
+            let t2257 = c_hr * t140;
+            let t2258 = t2256 - t2257;
+            let t2259 = t2255 - t2258;
+            let t2260 = humerus_r_v_wx * t2246;
+            let t2261 = c_hr * t139;
+            let t2262 = t2260 - t2261;
+            let t2263 = humerus_r_v_wy * t2245;
+            let t2264 = s_hr * t138;
+            let t2265 = t2263 + t2264;
+            let t2266 = t2262 - t2265;
+            let t2267 = humerus_r_v_vy * t2244;
+            let t2268 = t2187 * t137;
+            let t2269 = t2268 - t2267;
+            let t2270 = humerus_r_v_vx * t2244;
+            let t2271 = t2186 * t137;
+            let t2272 = t2271 - t2270;
+            let t2273 = humerus_r_v_vx * t2249;
+            let t2274 = t2186 * t142;
+            let t2275 = t2273 + t2274;
+            let t2276 = humerus_r_v_vy * t2248;
+            let t2277 = t2187 * t141;
+            let t2278 = t2276 + t2277;
+            let t2279 = t2275 - t2278;
+            let t2280 = t2254 + t2269;
+            let t2281 = t2259 - t2272;
+            let t2282 = t2266 + t2279;
+            let t2283 = humerus_r_v_wy * t2244;
+            let t2284 = s_hr * t137;
+            let t2285 = t2284 - t2283;
+            let t2286 = humerus_r_v_wz * t2249;
+            let t2287 = t2285 - t2286;
+            let t2288 = humerus_r_v_wz * t2248;
+            let t2289 = humerus_r_v_wx * t2244;
+            let t2290 = c_hr * t137;
+            let t2291 = t2289 + t2290;
+            let t2292 = t2288 + t2291;
+            let t2293 = t2219 + t2280;
+            let t2294 = t2220 + t2281;
+            let t2295 = t2221 + t2282;
+            let t2296 = t2222 + t2287;
+            let t2297 = t2223 + t2292;
+            (t2186, t2187, t2192, t2193, t2194, t2195, t2293, t2294, t2295, t2296, t2297)
+        };
+        let (
+            t2300,
+            t2302,
+            t2303,
+            t2304,
+            t2305,
+            t2308,
+            t2320,
+            t2321,
+            t2322,
+            t2323,
+            t2458,
+            t2459,
+            t2460,
+            t2461,
+            t2462,
+            t2463,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t2298 = 0.304f64 * s_hr;
+            let t2299 = 0.304f64 * c_hr;
+            let t2300 = t2186 + t2298;
+            let t2301 = t2187 + t2299;
+            let t2302 = s_efe * s_hr;
+            let t2303 = c_efe * s_hr;
+            let t2304 = s_efe * t2301;
+            let t2305 = c_efe * t2301;
+            let t2306 = 0.304f64 * t2193;
+            let t2307 = 0.304f64 * t2192;
+            let t2308 = t2194 + t2306;
+            let t2309 = t2195 - t2307;
+            let t2310 = s_efe * t2193;
+            let t2311 = t1578 + t2310;
+            let t2312 = c_efe * t2193;
+            let t2313 = t2312 - t1581;
+            let t2314 = s_efe * t2309;
+            let t2315 = c_efe * t2309;
+            let t2316 = t2303 * qd_efe;
+            let t2317 = t2302 * qd_efe;
+            let t2318 = t2305 * qd_efe;
+            let t2319 = t2304 * qd_efe;
+            let t2320 = t2311 + t2316;
+            let t2321 = t2313 - t2317;
+            let t2322 = t2314 + t2318;
+            let t2323 = t2315 - t2319;
+            let t2324 = 0.081661000005f64 * t2320;
+            let t2325 = 0.00368572840011861f64 * t2321;
+            let t2326 = t2324 + t2325;
+            let t2327 = 0.0002120000299f64 * t2192;
+            let t2328 = t2326 + t2327;
+            let t2329 = 0.00368572840011861f64 * t2320;
+            let t2330 = 0.018284489999765022f64 * t2321;
+            let t2331 = t2329 + t2330;
+            let t2332 = 0.002292000208f64 * t2192;
+            let t2333 = t2331 + t2332;
+            let t2334 = 0.0002120000299f64 * t2320;
+            let t2335 = 0.002292000208f64 * t2321;
+            let t2336 = t2334 + t2335;
+            let t2337 = 0.09570849000176501f64 * t2192;
+            let t2338 = t2336 + t2337;
+            let t2339 = 0.008711861f64 * t2308;
+            let t2340 = 0.16029825982372198f64 * t2308;
+            let t2341 = 0.16029825982372198f64 * t2323;
+            let t2342 = 0.008711861f64 * t2322;
+            let t2343 = t2341 + t2342;
+            let t2344 = t2322 * 1.7423722f64;
+            let t2345 = t2323 * 1.7423722f64;
+            let t2346 = t2308 * 1.7423722f64;
+            let t2347 = 0.008711861f64 * t2192;
+            let t2348 = 0.16029825982372198f64 * t2192;
+            let t2349 = 0.16029825982372198f64 * t2321;
+            let t2350 = 0.008711861f64 * t2320;
+            let t2351 = t2349 + t2350;
+            let t2352 = t2328 + t2339;
+            let t2353 = t2333 + t2340;
+            let t2354 = t2343 - t2338;
+            let t2355 = t2344 - t2347;
+            let t2356 = t2345 - t2348;
+            let t2357 = t2346 + t2351;
+            let t2358 = 0.081661000005f64 * t2302;
+            let t2359 = 0.00368572840011861f64 * t2303;
+            let t2360 = t2358 + t2359;
+            let t2361 = 0.0002120000299f64 * c_hr;
+            let t2362 = t2360 - t2361;
+            let t2363 = 0.00368572840011861f64 * t2302;
+            let t2364 = 0.018284489999765022f64 * t2303;
+            let t2365 = t2363 + t2364;
+            let t2366 = 0.002292000208f64 * c_hr;
+            let t2367 = t2365 - t2366;
+            let t2368 = 0.0002120000299f64 * t2302;
+            let t2369 = 0.002292000208f64 * t2303;
+            let t2370 = t2368 + t2369;
+            let t2371 = 0.09570849000176501f64 * c_hr;
+            let t2372 = t2371 - t2370;
+            let t2373 = 0.008711861f64 * t2300;
+            let t2374 = 0.16029825982372198f64 * t2300;
+            let t2375 = 0.16029825982372198f64 * t2305;
+            let t2376 = 0.008711861f64 * t2304;
+            let t2377 = t2375 + t2376;
+            let t2378 = t2304 * 1.7423722f64;
+            let t2379 = t2305 * 1.7423722f64;
+            let t2380 = t2300 * 1.7423722f64;
+            let t2381 = 0.008711861f64 * c_hr;
+            let t2382 = 0.16029825982372198f64 * c_hr;
+            let t2383 = 0.16029825982372198f64 * t2303;
+            let t2384 = 0.008711861f64 * t2302;
+            let t2385 = t2383 + t2384;
+            let t2386 = t2362 + t2373;
+            let t2387 = t2367 + t2374;
+            let t2388 = t2372 + t2377;
+            let t2389 = t2378 + t2381;
+            let t2390 = t2379 + t2382;
+            let t2391 = t2380 + t2385;
+            let t2392 = elbow_fe_v_wy * t2388;
+            let t2393 = t2303 * t261;
+            let t2394 = t2392 + t2393;
+            let t2395 = elbow_fe_v_wz * t2387;
+            let t2396 = c_hr * t260;
+            let t2397 = t2395 + t2396;
+            let t2398 = t2394 - t2397;
+            let t2399 = elbow_fe_v_wz * t2386;
+            let t2400 = c_hr * t259;
+            let t2401 = t2399 + t2400;
+            let t2402 = elbow_fe_v_wx * t2388;
+            let t2403 = t2302 * t261;
+            let t2404 = t2402 + t2403;
+            let t2405 = t2401 - t2404;
+            let t2406 = elbow_fe_v_wx * t2387;
+            let t2407 = t2302 * t260;
+            let t2408 = t2406 + t2407;
+            let t2409 = elbow_fe_v_wy * t2386;
+            let t2410 = t2303 * t259;
+            let t2411 = t2409 + t2410;
+            let t2412 = t2408 - t2411;
+            let t2413 = elbow_fe_v_vy * t2391;
+            let t2414 = t2305 * t264;
+            let t2415 = t2413 + t2414;
+            let t2416 = elbow_fe_v_vz * t2390;
+            let t2417 = t2300 * t263;
+            let t2418 = t2416 + t2417;
+            let t2419 = t2418 - t2415;
+            let t2420 = elbow_fe_v_vz * t2389;
+            let t2421 = t2300 * t262;
+            let t2422 = t2420 + t2421;
+            let t2423 = elbow_fe_v_vx * t2391;
+            let t2424 = t2304 * t264;
+            let t2425 = t2423 + t2424;
+            let t2426 = t2425 - t2422;
+            let t2427 = elbow_fe_v_vx * t2390;
+            let t2428 = t2304 * t263;
+            let t2429 = t2427 + t2428;
+            let t2430 = elbow_fe_v_vy * t2389;
+            let t2431 = t2305 * t262;
+            let t2432 = t2430 + t2431;
+            let t2433 = t2429 - t2432;
+            let t2434 = t2398 + t2419;
+            let t2435 = t2405 + t2426;
+            let t2436 = t2412 + t2433;
+            let t2437 = elbow_fe_v_wy * t2391;
+            let t2438 = t2303 * t264;
+            let t2439 = t2437 + t2438;
+            let t2440 = elbow_fe_v_wz * t2390;
+            let t2441 = c_hr * t263;
+            let t2442 = t2440 + t2441;
+            let t2443 = t2439 + t2442;
+            let t2444 = elbow_fe_v_wz * t2389;
+            let t2445 = c_hr * t262;
+            let t2446 = t2444 + t2445;
+            let t2447 = elbow_fe_v_wx * t2391;
+            let t2448 = t2302 * t264;
+            let t2449 = t2447 + t2448;
+            let t2450 = t2446 + t2449;
+            let t2451 = elbow_fe_v_wx * t2390;
+            let t2452 = t2302 * t263;
+            let t2453 = t2451 + t2452;
+            let t2454 = elbow_fe_v_wy * t2389;
+            let t2455 = t2303 * t262;
+            let t2456 = t2454 + t2455;
+            let t2457 = t2453 - t2456;
+            let t2458 = t2352 + t2434;
+            let t2459 = t2353 + t2435;
+            let t2460 = t2354 + t2436;
+            let t2461 = t2355 - t2443;
+            let t2462 = t2356 + t2450;
+            let t2463 = t2457 - t2357;
+            (
+                t2300,
+                t2302,
+                t2303,
+                t2304,
+                t2305,
+                t2308,
+                t2320,
+                t2321,
+                t2322,
+                t2323,
+                t2458,
+                t2459,
+                t2460,
+                t2461,
+                t2462,
+                t2463,
+            )
+        };
+        let (
+            t2469,
+            t2472,
+            t2475,
+            t2478,
+            t2499,
+            t2500,
+            t2501,
+            t2502,
+            t2621,
+            t2622,
+            t2623,
+            t2624,
+            t2625,
+            t2626,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t2464 = 0.112f64 * t2303;
+            let t2465 = t2305 + t2187;
+            let t2466 = t2300 + t2464;
+            let t2467 = c_wr * c_hr;
+            let t2468 = s_wr * t2303;
+            let t2469 = t2468 - t2467;
+            let t2470 = s_wr * c_hr;
+            let t2471 = c_wr * t2303;
+            let t2472 = t2470 + t2471;
+            let t2473 = c_wr * t2466;
+            let t2474 = s_wr * t2465;
+            let t2475 = t2473 + t2474;
+            let t2476 = s_wr * t2466;
+            let t2477 = c_wr * t2465;
+            let t2478 = t2477 - t2476;
+            let t2479 = 0.112f64 * t2192;
+            let t2480 = 0.112f64 * t2321;
+            let t2481 = t2323 - t2479;
+            let t2482 = t2308 + t2480;
+            let t2483 = c_wr * t2192;
+            let t2484 = s_wr * t2321;
+            let t2485 = t2483 + t2484;
+            let t2486 = s_wr * t2192;
+            let t2487 = c_wr * t2321;
+            let t2488 = t2487 - t2486;
+            let t2489 = c_wr * t2482;
+            let t2490 = s_wr * t2481;
+            let t2491 = t2489 + t2490;
+            let t2492 = s_wr * t2482;
+            let t2493 = c_wr * t2481;
+            let t2494 = t2493 - t2492;
+            let t2495 = t2472 * qd_wr;
+            let t2496 = t2469 * qd_wr;
+            let t2497 = t2478 * qd_wr;
+            let t2498 = t2475 * qd_wr;
+            let t2499 = t2485 + t2495;
+            let t2500 = t2488 - t2496;
+            let t2501 = t2491 + t2497;
+            let t2502 = t2494 - t2498;
+            let t2503 = 0.019431999999999998f64 * t2499;
+            let t2504 = 0.001387f64 * t2500;
+            let t2505 = t2503 - t2504;
+            let t2506 = 0.012652f64 * t2320;
+            let t2507 = t2505 - t2506;
+            let t2508 = 0.001387f64 * t2499;
+            let t2509 = 0.029115f64 * t2500;
+            let t2510 = t2509 - t2508;
+            let t2511 = 0.001243f64 * t2320;
+            let t2512 = t2510 - t2511;
+            let t2513 = 0.012652f64 * t2499;
+            let t2514 = 0.001243f64 * t2500;
+            let t2515 = t2513 + t2514;
+            let t2516 = 0.011046f64 * t2320;
+            let t2517 = t2516 - t2515;
+            let t2518 = 0.05783800000000001f64 * t2502;
+            let t2519 = 0.05783800000000001f64 * t2501;
+            let t2520 = t2501 * 2.1032f64;
+            let t2521 = t2502 * 2.1032f64;
+            let t2522 = t2322 * 2.1032f64;
+            let t2523 = 0.05783800000000001f64 * t2500;
+            let t2524 = 0.05783800000000001f64 * t2499;
+            let t2525 = t2507 - t2518;
+            let t2526 = t2512 + t2519;
+            let t2527 = t2520 + t2523;
+            let t2528 = t2521 - t2524;
+            let t2529 = 0.019431999999999998f64 * t2469;
+            let t2530 = 0.001387f64 * t2472;
+            let t2531 = t2529 - t2530;
+            let t2532 = 0.012652f64 * t2302;
+            let t2533 = t2531 - t2532;
+            let t2534 = 0.001387f64 * t2469;
+            let t2535 = 0.029115f64 * t2472;
+            let t2536 = t2535 - t2534;
+            let t2537 = 0.001243f64 * t2302;
+            let t2538 = t2536 - t2537;
+            let t2539 = 0.012652f64 * t2469;
+            let t2540 = 0.001243f64 * t2472;
+            let t2541 = t2539 + t2540;
+            let t2542 = 0.011046f64 * t2302;
+            let t2543 = t2542 - t2541;
+            let t2544 = 0.05783800000000001f64 * t2478;
+            let t2545 = 0.05783800000000001f64 * t2475;
+            let t2546 = t2475 * 2.1032f64;
+            let t2547 = t2478 * 2.1032f64;
+            let t2548 = t2304 * 2.1032f64;
+            let t2549 = 0.05783800000000001f64 * t2472;
+            let t2550 = 0.05783800000000001f64 * t2469;
+            let t2551 = t2533 - t2544;
+            let t2552 = t2538 + t2545;
+            let t2553 = t2546 + t2549;
+            let t2554 = t2547 - t2550;
+            let t2555 = wrist_r_v_wy * t2543;
+            let t2556 = t2472 * t373;
+            let t2557 = t2555 + t2556;
+            let t2558 = wrist_r_v_wz * t2552;
+            let t2559 = t2302 * t382;
+            let t2560 = t2558 + t2559;
+            let t2561 = t2557 - t2560;
+            let t2562 = wrist_r_v_wz * t2551;
+            let t2563 = t2302 * t381;
+            let t2564 = t2562 + t2563;
+            let t2565 = wrist_r_v_wx * t2543;
+            let t2566 = t2469 * t373;
+            let t2567 = t2565 + t2566;
+            let t2568 = t2564 - t2567;
+            let t2569 = wrist_r_v_wx * t2552;
+            let t2570 = t2469 * t382;
+            let t2571 = t2569 + t2570;
+            let t2572 = wrist_r_v_wy * t2551;
+            let t2573 = t2472 * t381;
+            let t2574 = t2572 + t2573;
+            let t2575 = t2571 - t2574;
+            let t2576 = wrist_r_v_vy * t2548;
+            let t2577 = t2478 * t378;
+            let t2578 = t2576 + t2577;
+            let t2579 = elbow_fe_v_vx * t2554;
+            let t2580 = t2304 * t384;
+            let t2581 = t2579 + t2580;
+            let t2582 = t2578 - t2581;
+            let t2583 = elbow_fe_v_vx * t2553;
+            let t2584 = t2304 * t383;
+            let t2585 = t2583 + t2584;
+            let t2586 = wrist_r_v_vx * t2548;
+            let t2587 = t2475 * t378;
+            let t2588 = t2586 + t2587;
+            let t2589 = t2585 - t2588;
+            let t2590 = wrist_r_v_vx * t2554;
+            let t2591 = t2475 * t384;
+            let t2592 = t2590 + t2591;
+            let t2593 = wrist_r_v_vy * t2553;
+            let t2594 = t2478 * t383;
+            let t2595 = t2593 + t2594;
+            let t2596 = t2592 - t2595;
+            let t2597 = t2561 + t2582;
+            let t2598 = t2568 + t2589;
+            let t2599 = t2575 + t2596;
+            let t2600 = wrist_r_v_wy * t2548;
+            let t2601 = t2472 * t378;
+            let t2602 = t2600 + t2601;
+            let t2603 = wrist_r_v_wz * t2554;
+            let t2604 = t2302 * t384;
+            let t2605 = t2603 + t2604;
+            let t2606 = t2602 - t2605;
+            let t2607 = wrist_r_v_wz * t2553;
+            let t2608 = t2302 * t383;
+            let t2609 = t2607 + t2608;
+            let t2610 = wrist_r_v_wx * t2548;
+            let t2611 = t2469 * t378;
+            let t2612 = t2610 + t2611;
+            let t2613 = t2609 - t2612;
+            let t2614 = wrist_r_v_wx * t2554;
+            let t2615 = t2469 * t384;
+            let t2616 = t2614 + t2615;
+            let t2617 = wrist_r_v_wy * t2553;
+            let t2618 = t2472 * t383;
+            let t2619 = t2617 + t2618;
+            let t2620 = t2616 - t2619;
+            let t2621 = t2525 + t2597;
+            let t2622 = t2526 + t2598;
+            let t2623 = t2517 + t2599;
+            let t2624 = t2527 + t2606;
+            let t2625 = t2528 + t2613;
+            let t2626 = t2522 + t2620;
+            (
+                t2469,
+                t2472,
+                t2475,
+                t2478,
+                t2499,
+                t2500,
+                t2501,
+                t2502,
+                t2621,
+                t2622,
+                t2623,
+                t2624,
+                t2625,
+                t2626,
+            )
+        };
+        let (t2793, t2794, t2795, t2796, t2797, t2798) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t2627 = 0.184f64 * t2472;
+            let t2628 = 0.184f64 * t2469;
+            let t2629 = 0.02075f64 * t2302;
+            let t2630 = t2628 - t2629;
+            let t2631 = 0.02075f64 * t2472;
+            let t2632 = t2475 + t2627;
+            let t2633 = t2478 - t2630;
+            let t2634 = t2304 - t2631;
+            let t2635 = c_wfe * t2302;
+            let t2636 = s_wfe * t2469;
+            let t2637 = t2635 + t2636;
+            let t2638 = s_wfe * t2302;
+            let t2639 = c_wfe * t2469;
+            let t2640 = t2639 - t2638;
+            let t2641 = c_wfe * t2634;
+            let t2642 = s_wfe * t2632;
+            let t2643 = t2641 + t2642;
+            let t2644 = s_wfe * t2634;
+            let t2645 = c_wfe * t2632;
+            let t2646 = t2645 - t2644;
+            let t2647 = 0.184f64 * t2500;
+            let t2648 = 0.184f64 * t2499;
+            let t2649 = 0.02075f64 * t2320;
+            let t2650 = t2648 - t2649;
+            let t2651 = 0.02075f64 * t2500;
+            let t2652 = t2501 + t2647;
+            let t2653 = t2502 - t2650;
+            let t2654 = t2322 - t2651;
+            let t2655 = c_wfe * t2320;
+            let t2656 = s_wfe * t2499;
+            let t2657 = t2655 + t2656;
+            let t2658 = s_wfe * t2320;
+            let t2659 = c_wfe * t2499;
+            let t2660 = t2659 - t2658;
+            let t2661 = c_wfe * t2654;
+            let t2662 = s_wfe * t2652;
+            let t2663 = t2661 + t2662;
+            let t2664 = s_wfe * t2654;
+            let t2665 = c_wfe * t2652;
+            let t2666 = t2665 - t2664;
+            let t2667 = t2640 * qd_wfe;
+            let t2668 = t2637 * qd_wfe;
+            let t2669 = t2646 * qd_wfe;
+            let t2670 = t2643 * qd_wfe;
+            let t2671 = t2657 + t2667;
+            let t2672 = t2660 - t2668;
+            let t2673 = t2663 + t2669;
+            let t2674 = t2666 - t2670;
+            let t2675 = 0.010737f64 * t2671;
+            let t2676 = 0.000198f64 * t2672;
+            let t2677 = t2675 + t2676;
+            let t2678 = 0.000015f64 * t2500;
+            let t2679 = t2677 + t2678;
+            let t2680 = 0.000198f64 * t2671;
+            let t2681 = 0.0032270000000000003f64 * t2672;
+            let t2682 = t2680 + t2681;
+            let t2683 = 0.000829f64 * t2500;
+            let t2684 = t2682 - t2683;
+            let t2685 = 0.000015f64 * t2671;
+            let t2686 = 0.000829f64 * t2672;
+            let t2687 = t2685 - t2686;
+            let t2688 = 0.009277f64 * t2500;
+            let t2689 = t2687 + t2688;
+            let t2690 = 0.038686875f64 * t2653;
+            let t2691 = 0.038686875f64 * t2674;
+            let t2692 = t2673 * 1.547475f64;
+            let t2693 = t2674 * 1.547475f64;
+            let t2694 = t2653 * 1.547475f64;
+            let t2695 = 0.038686875f64 * t2500;
+            let t2696 = 0.038686875f64 * t2672;
+            let t2697 = t2684 - t2690;
+            let t2698 = t2689 + t2691;
+            let t2699 = t2693 + t2695;
+            let t2700 = t2694 - t2696;
+            let t2701 = 0.010737f64 * t2637;
+            let t2702 = 0.000198f64 * t2640;
+            let t2703 = t2701 + t2702;
+            let t2704 = 0.000015f64 * t2472;
+            let t2705 = t2703 + t2704;
+            let t2706 = 0.000198f64 * t2637;
+            let t2707 = 0.0032270000000000003f64 * t2640;
+            let t2708 = t2706 + t2707;
+            let t2709 = 0.000829f64 * t2472;
+            let t2710 = t2708 - t2709;
+            let t2711 = 0.000015f64 * t2637;
+            let t2712 = 0.000829f64 * t2640;
+            let t2713 = t2711 - t2712;
+            let t2714 = 0.009277f64 * t2472;
+            let t2715 = t2713 + t2714;
+            let t2716 = 0.038686875f64 * t2633;
+            let t2717 = 0.038686875f64 * t2646;
+            let t2718 = t2643 * 1.547475f64;
+            let t2719 = t2646 * 1.547475f64;
+            let t2720 = t2633 * 1.547475f64;
+            let t2721 = 0.038686875f64 * t2472;
+            let t2722 = 0.038686875f64 * t2640;
+            let t2723 = t2710 - t2716;
+            let t2724 = t2715 + t2717;
+            let t2725 = t2719 + t2721;
+            let t2726 = t2720 - t2722;
+            let t2727 = wrist_fe_v_wy * t2724;
+            let t2728 = t2640 * t508;
+            let t2729 = t2727 + t2728;
+            let t2730 = wrist_fe_v_wz * t2723;
+            let t2731 = t2472 * t507;
+            let t2732 = t2730 + t2731;
+            let t2733 = t2729 - t2732;
+            let t2734 = wrist_fe_v_wz * t2705;
+            let t2735 = t2472 * t489;
+            let t2736 = t2734 + t2735;
+            let t2737 = wrist_fe_v_wx * t2724;
+            let t2738 = t2637 * t508;
+            let t2739 = t2737 + t2738;
+            let t2740 = t2736 - t2739;
+            let t2741 = wrist_fe_v_wx * t2723;
+            let t2742 = t2637 * t507;
+            let t2743 = t2741 + t2742;
+            let t2744 = wrist_fe_v_wy * t2705;
+            let t2745 = t2640 * t489;
+            let t2746 = t2744 + t2745;
+            let t2747 = t2743 - t2746;
+            let t2748 = wrist_fe_v_vy * t2726;
+            let t2749 = t2646 * t510;
+            let t2750 = t2748 + t2749;
+            let t2751 = wrist_fe_v_vz * t2725;
+            let t2752 = t2633 * t509;
+            let t2753 = t2751 + t2752;
+            let t2754 = t2750 - t2753;
+            let t2755 = wrist_fe_v_vz * t2718;
+            let t2756 = t2633 * t502;
+            let t2757 = t2755 + t2756;
+            let t2758 = wrist_fe_v_vx * t2726;
+            let t2759 = t2643 * t510;
+            let t2760 = t2758 + t2759;
+            let t2761 = t2757 - t2760;
+            let t2762 = wrist_fe_v_vx * t2725;
+            let t2763 = t2643 * t509;
+            let t2764 = t2762 + t2763;
+            let t2765 = wrist_fe_v_vy * t2718;
+            let t2766 = t2646 * t502;
+            let t2767 = t2765 + t2766;
+            let t2768 = t2764 - t2767;
+            let t2769 = t2733 + t2754;
+            let t2770 = t2740 + t2761;
+            let t2771 = t2747 + t2768;
+            let t2772 = wrist_fe_v_wy * t2726;
+            let t2773 = t2640 * t510;
+            let t2774 = t2772 + t2773;
+            let t2775 = wrist_fe_v_wz * t2725;
+            let t2776 = t2472 * t509;
+            let t2777 = t2775 + t2776;
+            let t2778 = t2774 - t2777;
+            let t2779 = wrist_fe_v_wz * t2718;
+            let t2780 = t2472 * t502;
+            let t2781 = t2779 + t2780;
+            let t2782 = wrist_fe_v_wx * t2726;
+            let t2783 = t2637 * t510;
+            let t2784 = t2782 + t2783;
+            let t2785 = t2781 - t2784;
+            let t2786 = wrist_fe_v_wx * t2725;
+            let t2787 = t2637 * t509;
+            let t2788 = t2786 + t2787;
+            let t2789 = wrist_fe_v_wy * t2718;
+            let t2790 = t2640 * t502;
+            let t2791 = t2789 + t2790;
+            let t2792 = t2788 - t2791;
+            let t2793 = t2679 + t2769;
+            let t2794 = t2697 + t2770;
+            let t2795 = t2698 + t2771;
+            let t2796 = t2692 + t2778;
+            let t2797 = t2699 + t2785;
+            let t2798 = t2700 + t2792;
+            (t2793, t2794, t2795, t2796, t2797, t2798)
+        };
+        let (t2819, t2820, t2821, t2822, t2823, t2824) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t2799 = c_wfe * t2796;
+            let t2800 = s_wfe * t2797;
+            let t2801 = t2799 - t2800;
+            let t2802 = s_wfe * t2796;
+            let t2803 = c_wfe * t2797;
+            let t2804 = t2802 + t2803;
+            let t2805 = c_wfe * t2793;
+            let t2806 = s_wfe * t2794;
+            let t2807 = t2805 - t2806;
+            let t2808 = s_wfe * t2793;
+            let t2809 = c_wfe * t2794;
+            let t2810 = t2808 + t2809;
+            let t2811 = 0.184f64 * t2798;
+            let t2812 = 0.184f64 * t2804;
+            let t2813 = 0.02075f64 * t2801;
+            let t2814 = t2812 - t2813;
+            let t2815 = 0.02075f64 * t2798;
+            let t2816 = t2810 - t2811;
+            let t2817 = t2795 + t2814;
+            let t2818 = t2807 + t2815;
+            let t2819 = t2621 + t2816;
+            let t2820 = t2622 + t2817;
+            let t2821 = t2623 + t2818;
+            let t2822 = t2624 + t2804;
+            let t2823 = t2625 + t2798;
+            let t2824 = t2626 + t2801;
+            (t2819, t2820, t2821, t2822, t2823, t2824)
+        };
+        let (t2841, t2842, t2843, t2844, t2845, t2846) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t2825 = c_wr * t2822;
+            let t2826 = s_wr * t2823;
+            let t2827 = t2825 - t2826;
+            let t2828 = s_wr * t2822;
+            let t2829 = c_wr * t2823;
+            let t2830 = t2828 + t2829;
+            let t2831 = c_wr * t2819;
+            let t2832 = s_wr * t2820;
+            let t2833 = t2831 - t2832;
+            let t2834 = s_wr * t2819;
+            let t2835 = c_wr * t2820;
+            let t2836 = t2834 + t2835;
+            let t2837 = 0.112f64 * t2827;
+            let t2838 = 0.112f64 * t2830;
+            let t2839 = t2836 + t2837;
+            let t2840 = t2838 - t2833;
+            let t2841 = t2458 + t2821;
+            let t2842 = t2459 + t2839;
+            let t2843 = t2460 + t2840;
+            let t2844 = t2461 + t2824;
+            let t2845 = t2462 + t2830;
+            let t2846 = t2463 - t2827;
+            (t2841, t2842, t2843, t2844, t2845, t2846)
+        };
+        let (t2860, t2861, t2862, t2863, t2864) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t2847 = s_efe * t2844;
+            let t2848 = c_efe * t2845;
+            let t2849 = t2847 + t2848;
+            let t2850 = c_efe * t2841;
+            let t2851 = s_efe * t2842;
+            let t2852 = t2850 - t2851;
+            let t2853 = s_efe * t2841;
+            let t2854 = c_efe * t2842;
+            let t2855 = t2853 + t2854;
+            let t2856 = 0.304f64 * t2849;
+            let t2857 = 0.304f64 * t2846;
+            let t2858 = t2843 + t2856;
+            let t2859 = t2855 - t2857;
+            let t2860 = t2293 - t2858;
+            let t2861 = t2294 + t2859;
+            let t2862 = t2295 + t2852;
+            let t2863 = t2296 - t2846;
+            let t2864 = t2297 + t2849;
+            (t2860, t2861, t2862, t2863, t2864)
+        };
+        let (t2881, t2882, t2883) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t2865 = c_hr * t2863;
+            let t2866 = s_hr * t2864;
+            let t2867 = t2865 - t2866;
+            let t2868 = s_hr * t2863;
+            let t2869 = c_hr * t2864;
+            let t2870 = t2868 + t2869;
+            let t2871 = c_hr * t2860;
+            let t2872 = s_hr * t2861;
+            let t2873 = t2871 - t2872;
+            let t2874 = s_hr * t2860;
+            let t2875 = c_hr * t2861;
+            let t2876 = t2874 + t2875;
+            let t2877 = 0.112f64 * t2867;
+            let t2878 = 0.112f64 * t2870;
+            let t2879 = t2876 + t2877;
+            let t2880 = t2878 - t2873;
+            let t2881 = t2183 + t2862;
+            let t2882 = t2184 + t2879;
+            let t2883 = t2185 + t2880;
+            (t2881, t2882, t2883)
+        };
+        let t2886 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t2884 = s_sfe * t2881;
+            let t2885 = c_sfe * t2882;
+            let t2886 = t2884 + t2885;
+            t2886
+        };
+        let (
+            t2887,
+            t2890,
+            t2891,
+            t2911,
+            t2916,
+            t2919,
+            t2920,
+            t2921,
+            t2930,
+            t2970,
+            t2971,
+            t2972,
+            t2973,
+            t2974,
+        ) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t2887 = t43 - t44;
+            let t2888 = t54 - t55;
+            let t2889 = t2887 * qd_hr;
+            let t2890 = t59 + t2889;
+            let t2891 = t2888 - t66;
+            let t2892 = 0.20236395000387197f64 * t2890;
+            let t2893 = 0.000053999980001054f64 * t2891;
+            let t2894 = t2892 + t2893;
+            let t2895 = 0.000053999980001054f64 * t2890;
+            let t2896 = 0.20986895000353661f64 * t2891;
+            let t2897 = t2895 + t2896;
+            let t2898 = 0.011715294995083824f64 * t2890;
+            let t2899 = 0.0037997813999599995f64 * t2891;
+            let t2900 = t2898 + t2899;
+            let t2901 = 0.0055615274403f64 * humerus_r_a_vx;
+            let t2902 = 0.014380859999999999f64 * humerus_r_a_vy;
+            let t2903 = t2901 - t2902;
+            let t2904 = 0.6479671119999999f64 * t2891;
+            let t2905 = 0.6479671119999999f64 * t2890;
+            let t2906 = t2894 + t88;
+            let t2907 = t2897 + t86;
+            let t2908 = t2903 - t2900;
+            let t2909 = t95 + t2904;
+            let t2910 = t94 + t2905;
+            let t2911 = 0.20236395000387197f64 * humerus_r_v_wy;
+            let t2912 = 0.000053999980001054f64 * t2887;
+            let t2913 = t2911 + t2912;
+            let t2914 = 0.20986895000353661f64 * t2887;
+            let t2915 = t108 + t2914;
+            let t2916 = 0.011715294995083824f64 * humerus_r_v_wy;
+            let t2917 = 0.0037997813999599995f64 * t2887;
+            let t2918 = t2916 + t2917;
+            let t2919 = 0.0055615274403f64 * humerus_r_v_vx;
+            let t2920 = 0.014380859999999999f64 * humerus_r_v_vy;
+            let t2921 = t2919 - t2920;
+            let t2922 = 0.6479671119999999f64 * t2887;
+            let t2923 = 0.0055615274403f64 * t2887;
+            let t2924 = 0.014380859999999999f64 * humerus_r_v_wy;
+            let t2925 = t2923 + t2924;
+            let t2926 = t2913 + t123;
+            let t2927 = t2915 + t122;
+            let t2928 = t2921 - t2918;
+            let t2929 = t128 + t2922;
+            let t2930 = t127 + t130;
+            let t2931 = humerus_r_v_wy * t2928;
+            let t2932 = t2887 * t140;
+            let t2933 = t2931 + t2932;
+            let t2934 = humerus_r_v_wz * t2927;
+            let t2935 = t2933 - t2934;
+            let t2936 = humerus_r_v_wz * t2926;
+            let t2937 = humerus_r_v_wx * t2928;
+            let t2938 = t2937 + t143;
+            let t2939 = t2936 - t2938;
+            let t2940 = humerus_r_v_wx * t2927;
+            let t2941 = humerus_r_v_wy * t139;
+            let t2942 = t2940 + t2941;
+            let t2943 = humerus_r_v_wy * t2926;
+            let t2944 = t2887 * t138;
+            let t2945 = t2943 + t2944;
+            let t2946 = t2942 - t2945;
+            let t2947 = humerus_r_v_vy * t2925;
+            let t2948 = t2947 - t153;
+            let t2949 = humerus_r_v_vx * t2925;
+            let t2950 = t2949 + t152;
+            let t2951 = humerus_r_v_vx * t2930;
+            let t2952 = humerus_r_v_vy * t142;
+            let t2953 = t2952 - t2951;
+            let t2954 = humerus_r_v_vy * t2929;
+            let t2955 = humerus_r_v_vx * t141;
+            let t2956 = t2954 - t2955;
+            let t2957 = t2953 - t2956;
+            let t2958 = t2935 + t2948;
+            let t2959 = t2939 - t2950;
+            let t2960 = t2946 + t2957;
+            let t2961 = humerus_r_v_wy * t2925;
+            let t2962 = t2887 * t137;
+            let t2963 = t2961 + t2962;
+            let t2964 = humerus_r_v_wz * t2930;
+            let t2965 = t2963 + t2964;
+            let t2966 = humerus_r_v_wz * t2929;
+            let t2967 = humerus_r_v_wx * t2925;
+            let t2968 = t2967 + t160;
+            let t2969 = t2966 - t2968;
+            let t2970 = t2906 + t2958;
+            let t2971 = t2907 + t2959;
+            let t2972 = t2908 + t2960;
+            let t2973 = t2909 + t2965;
+            let t2974 = t2969 - t2910;
+            (
+                t2887,
+                t2890,
+                t2891,
+                t2911,
+                t2916,
+                t2919,
+                t2920,
+                t2921,
+                t2930,
+                t2970,
+                t2971,
+                t2972,
+                t2973,
+                t2974,
+            )
+        };
+        let (
+            t2976,
+            t2977,
+            t2978,
+            t2979,
+            t2980,
+            t2983,
+            t2993,
+            t2994,
+            t2995,
+            t2996,
+            t3034,
+            t3039,
+            t3044,
+            t3050,
+            t3062,
+            t3063,
+            t3131,
+            t3132,
+            t3133,
+            t3134,
+            t3135,
+            t3136,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t2975 = 0.304f64 * t2887;
+            let t2976 = humerus_r_v_vy + t2975;
+            let t2977 = s_efe * t2887;
+            let t2978 = c_efe * t2887;
+            let t2979 = s_efe * elbow_fe_v_vz;
+            let t2980 = c_efe * elbow_fe_v_vz;
+            let t2981 = 0.304f64 * t2891;
+            let t2982 = 0.304f64 * t2890;
+            let t2983 = humerus_r_a_vy + t2981;
+            let t2984 = humerus_r_a_vx + t2982;
+            let t2985 = s_efe * t2891;
+            let t2986 = c_efe * t2891;
+            let t2987 = s_efe * t2984;
+            let t2988 = c_efe * t2984;
+            let t2989 = t2978 * qd_efe;
+            let t2990 = t2977 * qd_efe;
+            let t2991 = t2980 * qd_efe;
+            let t2992 = t2979 * qd_efe;
+            let t2993 = t2985 + t2989;
+            let t2994 = t2986 - t2990;
+            let t2995 = t2987 + t2991;
+            let t2996 = t2992 - t2988;
+            let t2997 = 0.081661000005f64 * t2993;
+            let t2998 = 0.00368572840011861f64 * t2994;
+            let t2999 = t2997 + t2998;
+            let t3000 = 0.0002120000299f64 * t2890;
+            let t3001 = t2999 + t3000;
+            let t3002 = 0.00368572840011861f64 * t2993;
+            let t3003 = 0.018284489999765022f64 * t2994;
+            let t3004 = t3002 + t3003;
+            let t3005 = 0.002292000208f64 * t2890;
+            let t3006 = t3004 + t3005;
+            let t3007 = 0.0002120000299f64 * t2993;
+            let t3008 = 0.002292000208f64 * t2994;
+            let t3009 = t3007 + t3008;
+            let t3010 = 0.09570849000176501f64 * t2890;
+            let t3011 = t3009 + t3010;
+            let t3012 = 0.008711861f64 * t2983;
+            let t3013 = 0.16029825982372198f64 * t2983;
+            let t3014 = 0.16029825982372198f64 * t2996;
+            let t3015 = 0.008711861f64 * t2995;
+            let t3016 = t3014 - t3015;
+            let t3017 = t2995 * 1.7423722f64;
+            let t3018 = t2996 * 1.7423722f64;
+            let t3019 = t2983 * 1.7423722f64;
+            let t3020 = 0.008711861f64 * t2890;
+            let t3021 = 0.16029825982372198f64 * t2890;
+            let t3022 = 0.16029825982372198f64 * t2994;
+            let t3023 = 0.008711861f64 * t2993;
+            let t3024 = t3022 + t3023;
+            let t3025 = t3001 + t3012;
+            let t3026 = t3006 + t3013;
+            let t3027 = t3016 - t3011;
+            let t3028 = t3017 + t3020;
+            let t3029 = t3018 - t3021;
+            let t3030 = t3019 + t3024;
+            let t3031 = 0.081661000005f64 * t2977;
+            let t3032 = 0.00368572840011861f64 * t2978;
+            let t3033 = t3031 + t3032;
+            let t3034 = 0.0002120000299f64 * humerus_r_v_wy;
+            let t3035 = t3033 + t3034;
+            let t3036 = 0.00368572840011861f64 * t2977;
+            let t3037 = 0.018284489999765022f64 * t2978;
+            let t3038 = t3036 + t3037;
+            let t3039 = 0.002292000208f64 * humerus_r_v_wy;
+            let t3040 = t3038 + t3039;
+            let t3041 = 0.0002120000299f64 * t2977;
+            let t3042 = 0.002292000208f64 * t2978;
+            let t3043 = t3041 + t3042;
+            let t3044 = 0.09570849000176501f64 * humerus_r_v_wy;
+            let t3045 = t3043 + t3044;
+            let t3046 = 0.008711861f64 * t2976;
+            let t3047 = 0.16029825982372198f64 * t2976;
+            let t3048 = 0.16029825982372198f64 * t2980;
+            let t3049 = 0.008711861f64 * t2979;
+            let t3050 = t3048 + t3049;
+            let t3051 = t2979 * 1.7423722f64;
+            let t3052 = t2980 * 1.7423722f64;
+            let t3053 = t2976 * 1.7423722f64;
+            let t3054 = 0.008711861f64 * humerus_r_v_wy;
+            let t3055 = 0.16029825982372198f64 * humerus_r_v_wy;
+            let t3056 = 0.16029825982372198f64 * t2978;
+            let t3057 = 0.008711861f64 * t2977;
+            let t3058 = t3056 + t3057;
+            let t3059 = t3035 + t3046;
+            let t3060 = t3040 + t3047;
+            let t3061 = t3045 + t3050;
+            let t3062 = t3051 + t3054;
+            let t3063 = t3052 + t3055;
+            let t3064 = t3053 + t3058;
+            let t3065 = elbow_fe_v_wy * t3061;
+            let t3066 = t2978 * t261;
+            let t3067 = t3066 - t3065;
+            let t3068 = elbow_fe_v_wz * t3060;
+            let t3069 = humerus_r_v_wy * t260;
+            let t3070 = t3068 - t3069;
+            let t3071 = t3067 - t3070;
+            let t3072 = elbow_fe_v_wz * t3059;
+            let t3073 = humerus_r_v_wy * t259;
+            let t3074 = t3072 - t3073;
+            let t3075 = elbow_fe_v_wx * t3061;
+            let t3076 = t2977 * t261;
+            let t3077 = t3076 - t3075;
+            let t3078 = t3074 - t3077;
+            let t3079 = elbow_fe_v_wx * t3060;
+            let t3080 = t2977 * t260;
+            let t3081 = t3079 + t3080;
+            let t3082 = elbow_fe_v_wy * t3059;
+            let t3083 = t2978 * t259;
+            let t3084 = t3082 + t3083;
+            let t3085 = t3081 - t3084;
+            let t3086 = elbow_fe_v_vy * t3064;
+            let t3087 = t2980 * t264;
+            let t3088 = t3087 - t3086;
+            let t3089 = elbow_fe_v_vz * t3063;
+            let t3090 = t2976 * t263;
+            let t3091 = t3089 - t3090;
+            let t3092 = t3088 - t3091;
+            let t3093 = elbow_fe_v_vz * t3062;
+            let t3094 = t2976 * t262;
+            let t3095 = t3093 - t3094;
+            let t3096 = elbow_fe_v_vx * t3064;
+            let t3097 = t2979 * t264;
+            let t3098 = t3097 - t3096;
+            let t3099 = t3095 - t3098;
+            let t3100 = elbow_fe_v_vx * t3063;
+            let t3101 = t2979 * t263;
+            let t3102 = t3100 + t3101;
+            let t3103 = elbow_fe_v_vy * t3062;
+            let t3104 = t2980 * t262;
+            let t3105 = t3103 + t3104;
+            let t3106 = t3105 - t3102;
+            let t3107 = t3071 + t3092;
+            let t3108 = t3078 + t3099;
+            let t3109 = t3085 + t3106;
+            let t3110 = elbow_fe_v_wy * t3064;
+            let t3111 = t2978 * t264;
+            let t3112 = t3110 + t3111;
+            let t3113 = elbow_fe_v_wz * t3063;
+            let t3114 = humerus_r_v_wy * t263;
+            let t3115 = t3113 + t3114;
+            let t3116 = t3115 - t3112;
+            let t3117 = elbow_fe_v_wz * t3062;
+            let t3118 = humerus_r_v_wy * t262;
+            let t3119 = t3117 + t3118;
+            let t3120 = elbow_fe_v_wx * t3064;
+            let t3121 = t2977 * t264;
+            let t3122 = t3120 + t3121;
+            let t3123 = t3122 - t3119;
+            let t3124 = elbow_fe_v_wx * t3063;
+            let t3125 = t2977 * t263;
+            let t3126 = t3125 - t3124;
+            let t3127 = elbow_fe_v_wy * t3062;
+            let t3128 = t2978 * t262;
+            let t3129 = t3128 - t3127;
+            let t3130 = t3126 - t3129;
+            let t3131 = t3025 + t3107;
+            let t3132 = t3026 + t3108;
+            let t3133 = t3027 + t3109;
+            let t3134 = t3116 - t3028;
+            let t3135 = t3029 + t3123;
+            let t3136 = t3130 - t3030;
+            (
+                t2976,
+                t2977,
+                t2978,
+                t2979,
+                t2980,
+                t2983,
+                t2993,
+                t2994,
+                t2995,
+                t2996,
+                t3034,
+                t3039,
+                t3044,
+                t3050,
+                t3062,
+                t3063,
+                t3131,
+                t3132,
+                t3133,
+                t3134,
+                t3135,
+                t3136,
+            )
+        };
+        let (
+            t3141,
+            t3143,
+            t3144,
+            t3146,
+            t3148,
+            t3149,
+            t3151,
+            t3152,
+            t3173,
+            t3174,
+            t3175,
+            t3176,
+            t3222,
+            t3295,
+            t3296,
+            t3297,
+            t3298,
+            t3299,
+            t3300,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t3137 = 0.112f64 * humerus_r_v_wy;
+            let t3138 = 0.112f64 * t2978;
+            let t3139 = t2980 + t3137;
+            let t3140 = t2976 + t3138;
+            let t3141 = c_wr * humerus_r_v_wy;
+            let t3142 = s_wr * t2978;
+            let t3143 = t3141 + t3142;
+            let t3144 = s_wr * humerus_r_v_wy;
+            let t3145 = c_wr * t2978;
+            let t3146 = t3145 - t3144;
+            let t3147 = c_wr * t3140;
+            let t3148 = s_wr * t3139;
+            let t3149 = t3147 - t3148;
+            let t3150 = s_wr * t3140;
+            let t3151 = c_wr * t3139;
+            let t3152 = t3150 + t3151;
+            let t3153 = 0.112f64 * t2890;
+            let t3154 = 0.112f64 * t2994;
+            let t3155 = t2996 - t3153;
+            let t3156 = t2983 + t3154;
+            let t3157 = c_wr * t2890;
+            let t3158 = s_wr * t2994;
+            let t3159 = t3157 + t3158;
+            let t3160 = s_wr * t2890;
+            let t3161 = c_wr * t2994;
+            let t3162 = t3161 - t3160;
+            let t3163 = c_wr * t3156;
+            let t3164 = s_wr * t3155;
+            let t3165 = t3163 + t3164;
+            let t3166 = s_wr * t3156;
+            let t3167 = c_wr * t3155;
+            let t3168 = t3167 - t3166;
+            let t3169 = t3146 * qd_wr;
+            let t3170 = t3143 * qd_wr;
+            let t3171 = t3152 * qd_wr;
+            let t3172 = t3149 * qd_wr;
+            let t3173 = t3159 + t3169;
+            let t3174 = t3162 - t3170;
+            let t3175 = t3165 - t3171;
+            let t3176 = t3168 - t3172;
+            let t3177 = 0.019431999999999998f64 * t3173;
+            let t3178 = 0.001387f64 * t3174;
+            let t3179 = t3177 - t3178;
+            let t3180 = 0.012652f64 * t2993;
+            let t3181 = t3179 - t3180;
+            let t3182 = 0.001387f64 * t3173;
+            let t3183 = 0.029115f64 * t3174;
+            let t3184 = t3183 - t3182;
+            let t3185 = 0.001243f64 * t2993;
+            let t3186 = t3184 - t3185;
+            let t3187 = 0.012652f64 * t3173;
+            let t3188 = 0.001243f64 * t3174;
+            let t3189 = t3187 + t3188;
+            let t3190 = 0.011046f64 * t2993;
+            let t3191 = t3190 - t3189;
+            let t3192 = 0.05783800000000001f64 * t3176;
+            let t3193 = 0.05783800000000001f64 * t3175;
+            let t3194 = t3175 * 2.1032f64;
+            let t3195 = t3176 * 2.1032f64;
+            let t3196 = t2995 * 2.1032f64;
+            let t3197 = 0.05783800000000001f64 * t3174;
+            let t3198 = 0.05783800000000001f64 * t3173;
+            let t3199 = t3181 - t3192;
+            let t3200 = t3186 + t3193;
+            let t3201 = t3194 + t3197;
+            let t3202 = t3195 - t3198;
+            let t3203 = 0.019431999999999998f64 * t3143;
+            let t3204 = 0.001387f64 * t3146;
+            let t3205 = t3203 - t3204;
+            let t3206 = 0.012652f64 * t2977;
+            let t3207 = t3205 - t3206;
+            let t3208 = 0.001387f64 * t3143;
+            let t3209 = 0.029115f64 * t3146;
+            let t3210 = t3209 - t3208;
+            let t3211 = 0.001243f64 * t2977;
+            let t3212 = t3210 - t3211;
+            let t3213 = 0.012652f64 * t3143;
+            let t3214 = 0.001243f64 * t3146;
+            let t3215 = t3213 + t3214;
+            let t3216 = 0.011046f64 * t2977;
+            let t3217 = t3216 - t3215;
+            let t3218 = 0.05783800000000001f64 * t3152;
+            let t3219 = 0.05783800000000001f64 * t3149;
+            let t3220 = t3149 * 2.1032f64;
+            let t3221 = t3152 * 2.1032f64;
+            let t3222 = t2979 * 2.1032f64;
+            let t3223 = 0.05783800000000001f64 * t3146;
+            let t3224 = 0.05783800000000001f64 * t3143;
+            let t3225 = t3207 + t3218;
+            let t3226 = t3212 + t3219;
+            let t3227 = t3220 + t3223;
+            let t3228 = t3221 + t3224;
+            let t3229 = wrist_r_v_wy * t3217;
+            let t3230 = t3146 * t373;
+            let t3231 = t3229 + t3230;
+            let t3232 = wrist_r_v_wz * t3226;
+            let t3233 = t2977 * t382;
+            let t3234 = t3232 + t3233;
+            let t3235 = t3231 - t3234;
+            let t3236 = wrist_r_v_wz * t3225;
+            let t3237 = t2977 * t381;
+            let t3238 = t3236 + t3237;
+            let t3239 = wrist_r_v_wx * t3217;
+            let t3240 = t3143 * t373;
+            let t3241 = t3239 + t3240;
+            let t3242 = t3238 - t3241;
+            let t3243 = wrist_r_v_wx * t3226;
+            let t3244 = t3143 * t382;
+            let t3245 = t3243 + t3244;
+            let t3246 = wrist_r_v_wy * t3225;
+            let t3247 = t3146 * t381;
+            let t3248 = t3246 + t3247;
+            let t3249 = t3245 - t3248;
+            let t3250 = wrist_r_v_vy * t3222;
+            let t3251 = t3152 * t378;
+            let t3252 = t3250 + t3251;
+            let t3253 = elbow_fe_v_vx * t3228;
+            let t3254 = t2979 * t384;
+            let t3255 = t3253 + t3254;
+            let t3256 = t3255 - t3252;
+            let t3257 = elbow_fe_v_vx * t3227;
+            let t3258 = t2979 * t383;
+            let t3259 = t3257 - t3258;
+            let t3260 = wrist_r_v_vx * t3222;
+            let t3261 = t3149 * t378;
+            let t3262 = t3261 - t3260;
+            let t3263 = t3259 - t3262;
+            let t3264 = wrist_r_v_vx * t3228;
+            let t3265 = t3149 * t384;
+            let t3266 = t3265 - t3264;
+            let t3267 = wrist_r_v_vy * t3227;
+            let t3268 = t3152 * t383;
+            let t3269 = t3267 - t3268;
+            let t3270 = t3266 - t3269;
+            let t3271 = t3235 + t3256;
+            let t3272 = t3242 + t3263;
+            let t3273 = t3249 + t3270;
+            let t3274 = wrist_r_v_wy * t3222;
+            let t3275 = t3146 * t378;
+            let t3276 = t3275 - t3274;
+            let t3277 = wrist_r_v_wz * t3228;
+            let t3278 = t2977 * t384;
+            let t3279 = t3278 - t3277;
+            let t3280 = t3276 - t3279;
+            let t3281 = wrist_r_v_wz * t3227;
+            let t3282 = t2977 * t383;
+            let t3283 = t3281 + t3282;
+            let t3284 = wrist_r_v_wx * t3222;
+            let t3285 = t3143 * t378;
+            let t3286 = t3285 - t3284;
+            let t3287 = t3283 - t3286;
+            let t3288 = wrist_r_v_wx * t3228;
+            let t3289 = t3143 * t384;
+            let t3290 = t3289 - t3288;
+            let t3291 = wrist_r_v_wy * t3227;
+            let t3292 = t3146 * t383;
+            let t3293 = t3291 + t3292;
+            let t3294 = t3290 - t3293;
+            let t3295 = t3199 + t3271;
+            let t3296 = t3200 + t3272;
+            let t3297 = t3191 + t3273;
+            let t3298 = t3201 + t3280;
+            let t3299 = t3202 + t3287;
+            let t3300 = t3294 - t3196;
+            (
+                t3141,
+                t3143,
+                t3144,
+                t3146,
+                t3148,
+                t3149,
+                t3151,
+                t3152,
+                t3173,
+                t3174,
+                t3175,
+                t3176,
+                t3222,
+                t3295,
+                t3296,
+                t3297,
+                t3298,
+                t3299,
+                t3300,
+            )
+        };
+        let (t3467, t3468, t3469, t3470, t3471, t3472) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t3301 = 0.184f64 * t3146;
+            let t3302 = 0.184f64 * t3143;
+            let t3303 = 0.02075f64 * t2977;
+            let t3304 = t3302 - t3303;
+            let t3305 = 0.02075f64 * t3146;
+            let t3306 = t3149 + t3301;
+            let t3307 = t3152 + t3304;
+            let t3308 = t2979 + t3305;
+            let t3309 = c_wfe * t2977;
+            let t3310 = s_wfe * t3143;
+            let t3311 = t3309 + t3310;
+            let t3312 = s_wfe * t2977;
+            let t3313 = c_wfe * t3143;
+            let t3314 = t3313 - t3312;
+            let t3315 = c_wfe * t3308;
+            let t3316 = s_wfe * t3306;
+            let t3317 = t3316 - t3315;
+            let t3318 = s_wfe * t3308;
+            let t3319 = c_wfe * t3306;
+            let t3320 = t3318 + t3319;
+            let t3321 = 0.184f64 * t3174;
+            let t3322 = 0.184f64 * t3173;
+            let t3323 = 0.02075f64 * t2993;
+            let t3324 = t3322 - t3323;
+            let t3325 = 0.02075f64 * t3174;
+            let t3326 = t3175 + t3321;
+            let t3327 = t3176 - t3324;
+            let t3328 = t2995 + t3325;
+            let t3329 = c_wfe * t2993;
+            let t3330 = s_wfe * t3173;
+            let t3331 = t3329 + t3330;
+            let t3332 = s_wfe * t2993;
+            let t3333 = c_wfe * t3173;
+            let t3334 = t3333 - t3332;
+            let t3335 = c_wfe * t3328;
+            let t3336 = s_wfe * t3326;
+            let t3337 = t3336 - t3335;
+            let t3338 = s_wfe * t3328;
+            let t3339 = c_wfe * t3326;
+            let t3340 = t3338 + t3339;
+            let t3341 = t3314 * qd_wfe;
+            let t3342 = t3311 * qd_wfe;
+            let t3343 = t3320 * qd_wfe;
+            let t3344 = t3317 * qd_wfe;
+            let t3345 = t3331 + t3341;
+            let t3346 = t3334 - t3342;
+            let t3347 = t3337 + t3343;
+            let t3348 = t3340 - t3344;
+            let t3349 = 0.010737f64 * t3345;
+            let t3350 = 0.000198f64 * t3346;
+            let t3351 = t3349 + t3350;
+            let t3352 = 0.000015f64 * t3174;
+            let t3353 = t3351 + t3352;
+            let t3354 = 0.000198f64 * t3345;
+            let t3355 = 0.0032270000000000003f64 * t3346;
+            let t3356 = t3354 + t3355;
+            let t3357 = 0.000829f64 * t3174;
+            let t3358 = t3356 - t3357;
+            let t3359 = 0.000015f64 * t3345;
+            let t3360 = 0.000829f64 * t3346;
+            let t3361 = t3359 - t3360;
+            let t3362 = 0.009277f64 * t3174;
+            let t3363 = t3361 + t3362;
+            let t3364 = 0.038686875f64 * t3327;
+            let t3365 = 0.038686875f64 * t3348;
+            let t3366 = t3347 * 1.547475f64;
+            let t3367 = t3348 * 1.547475f64;
+            let t3368 = t3327 * 1.547475f64;
+            let t3369 = 0.038686875f64 * t3174;
+            let t3370 = 0.038686875f64 * t3346;
+            let t3371 = t3358 - t3364;
+            let t3372 = t3363 + t3365;
+            let t3373 = t3367 + t3369;
+            let t3374 = t3368 - t3370;
+            let t3375 = 0.010737f64 * t3311;
+            let t3376 = 0.000198f64 * t3314;
+            let t3377 = t3375 + t3376;
+            let t3378 = 0.000015f64 * t3146;
+            let t3379 = t3377 + t3378;
+            let t3380 = 0.000198f64 * t3311;
+            let t3381 = 0.0032270000000000003f64 * t3314;
+            let t3382 = t3380 + t3381;
+            let t3383 = 0.000829f64 * t3146;
+            let t3384 = t3382 - t3383;
+            let t3385 = 0.000015f64 * t3311;
+            let t3386 = 0.000829f64 * t3314;
+            let t3387 = t3385 - t3386;
+            let t3388 = 0.009277f64 * t3146;
+            let t3389 = t3387 + t3388;
+            let t3390 = 0.038686875f64 * t3307;
+            let t3391 = 0.038686875f64 * t3320;
+            let t3392 = t3317 * 1.547475f64;
+            let t3393 = t3320 * 1.547475f64;
+            let t3394 = t3307 * 1.547475f64;
+            let t3395 = 0.038686875f64 * t3146;
+            let t3396 = 0.038686875f64 * t3314;
+            let t3397 = t3384 + t3390;
+            let t3398 = t3389 + t3391;
+            let t3399 = t3393 + t3395;
+            let t3400 = t3394 + t3396;
+            let t3401 = wrist_fe_v_wy * t3398;
+            let t3402 = t3314 * t508;
+            let t3403 = t3401 + t3402;
+            let t3404 = wrist_fe_v_wz * t3397;
+            let t3405 = t3146 * t507;
+            let t3406 = t3404 + t3405;
+            let t3407 = t3403 - t3406;
+            let t3408 = wrist_fe_v_wz * t3379;
+            let t3409 = t3146 * t489;
+            let t3410 = t3408 + t3409;
+            let t3411 = wrist_fe_v_wx * t3398;
+            let t3412 = t3311 * t508;
+            let t3413 = t3411 + t3412;
+            let t3414 = t3410 - t3413;
+            let t3415 = wrist_fe_v_wx * t3397;
+            let t3416 = t3311 * t507;
+            let t3417 = t3415 + t3416;
+            let t3418 = wrist_fe_v_wy * t3379;
+            let t3419 = t3314 * t489;
+            let t3420 = t3418 + t3419;
+            let t3421 = t3417 - t3420;
+            let t3422 = wrist_fe_v_vy * t3400;
+            let t3423 = t3320 * t510;
+            let t3424 = t3423 - t3422;
+            let t3425 = wrist_fe_v_vz * t3399;
+            let t3426 = t3307 * t509;
+            let t3427 = t3425 - t3426;
+            let t3428 = t3424 - t3427;
+            let t3429 = wrist_fe_v_vz * t3392;
+            let t3430 = t3307 * t502;
+            let t3431 = t3429 - t3430;
+            let t3432 = wrist_fe_v_vx * t3400;
+            let t3433 = t3317 * t510;
+            let t3434 = t3433 - t3432;
+            let t3435 = t3431 - t3434;
+            let t3436 = wrist_fe_v_vx * t3399;
+            let t3437 = t3317 * t509;
+            let t3438 = t3436 + t3437;
+            let t3439 = wrist_fe_v_vy * t3392;
+            let t3440 = t3320 * t502;
+            let t3441 = t3439 + t3440;
+            let t3442 = t3438 - t3441;
+            let t3443 = t3407 + t3428;
+            let t3444 = t3414 + t3435;
+            let t3445 = t3421 + t3442;
+            let t3446 = wrist_fe_v_wy * t3400;
+            let t3447 = t3314 * t510;
+            let t3448 = t3447 - t3446;
+            let t3449 = wrist_fe_v_wz * t3399;
+            let t3450 = t3146 * t509;
+            let t3451 = t3449 + t3450;
+            let t3452 = t3448 - t3451;
+            let t3453 = wrist_fe_v_wz * t3392;
+            let t3454 = t3146 * t502;
+            let t3455 = t3453 + t3454;
+            let t3456 = wrist_fe_v_wx * t3400;
+            let t3457 = t3311 * t510;
+            let t3458 = t3457 - t3456;
+            let t3459 = t3455 - t3458;
+            let t3460 = wrist_fe_v_wx * t3399;
+            let t3461 = t3311 * t509;
+            let t3462 = t3460 + t3461;
+            let t3463 = wrist_fe_v_wy * t3392;
+            let t3464 = t3314 * t502;
+            let t3465 = t3463 + t3464;
+            let t3466 = t3462 - t3465;
+            let t3467 = t3353 + t3443;
+            let t3468 = t3371 + t3444;
+            let t3469 = t3372 + t3445;
+            let t3470 = t3366 + t3452;
+            let t3471 = t3373 + t3459;
+            let t3472 = t3374 + t3466;
+            (t3467, t3468, t3469, t3470, t3471, t3472)
+        };
+        let (t3493, t3494, t3495, t3496, t3497, t3498) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t3473 = c_wfe * t3470;
+            let t3474 = s_wfe * t3471;
+            let t3475 = t3473 - t3474;
+            let t3476 = s_wfe * t3470;
+            let t3477 = c_wfe * t3471;
+            let t3478 = t3476 + t3477;
+            let t3479 = c_wfe * t3467;
+            let t3480 = s_wfe * t3468;
+            let t3481 = t3479 - t3480;
+            let t3482 = s_wfe * t3467;
+            let t3483 = c_wfe * t3468;
+            let t3484 = t3482 + t3483;
+            let t3485 = 0.184f64 * t3472;
+            let t3486 = 0.184f64 * t3478;
+            let t3487 = 0.02075f64 * t3475;
+            let t3488 = t3486 - t3487;
+            let t3489 = 0.02075f64 * t3472;
+            let t3490 = t3484 - t3485;
+            let t3491 = t3469 + t3488;
+            let t3492 = t3481 + t3489;
+            let t3493 = t3295 + t3490;
+            let t3494 = t3296 + t3491;
+            let t3495 = t3297 + t3492;
+            let t3496 = t3298 + t3478;
+            let t3497 = t3299 + t3472;
+            let t3498 = t3300 + t3475;
+            (t3493, t3494, t3495, t3496, t3497, t3498)
+        };
+        let (t3515, t3516, t3517, t3518, t3519, t3520) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t3499 = c_wr * t3496;
+            let t3500 = s_wr * t3497;
+            let t3501 = t3499 - t3500;
+            let t3502 = s_wr * t3496;
+            let t3503 = c_wr * t3497;
+            let t3504 = t3502 + t3503;
+            let t3505 = c_wr * t3493;
+            let t3506 = s_wr * t3494;
+            let t3507 = t3505 - t3506;
+            let t3508 = s_wr * t3493;
+            let t3509 = c_wr * t3494;
+            let t3510 = t3508 + t3509;
+            let t3511 = 0.112f64 * t3501;
+            let t3512 = 0.112f64 * t3504;
+            let t3513 = t3510 + t3511;
+            let t3514 = t3512 - t3507;
+            let t3515 = t3131 + t3495;
+            let t3516 = t3132 + t3513;
+            let t3517 = t3133 + t3514;
+            let t3518 = t3134 + t3498;
+            let t3519 = t3135 + t3504;
+            let t3520 = t3136 - t3501;
+            (t3515, t3516, t3517, t3518, t3519, t3520)
+        };
+        let (t3534, t3535, t3536, t3537, t3538) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t3521 = s_efe * t3518;
+            let t3522 = c_efe * t3519;
+            let t3523 = t3521 + t3522;
+            let t3524 = c_efe * t3515;
+            let t3525 = s_efe * t3516;
+            let t3526 = t3524 - t3525;
+            let t3527 = s_efe * t3515;
+            let t3528 = c_efe * t3516;
+            let t3529 = t3527 + t3528;
+            let t3530 = 0.304f64 * t3523;
+            let t3531 = 0.304f64 * t3520;
+            let t3532 = t3517 + t3530;
+            let t3533 = t3529 - t3531;
+            let t3534 = t2970 - t3532;
+            let t3535 = t2971 + t3533;
+            let t3536 = t2972 + t3526;
+            let t3537 = t2973 - t3520;
+            let t3538 = t2974 + t3523;
+            (t3534, t3535, t3536, t3537, t3538)
+        };
+        let (t3561, t3562) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t3539 = c_hr * t3537;
+            let t3540 = t3539 - t595;
+            let t3541 = s_hr * t3538;
+            let t3542 = t3541 + t596;
+            let t3543 = t3540 - t3542;
+            let t3544 = s_hr * t3537;
+            let t3545 = t3544 + t592;
+            let t3546 = c_hr * t3538;
+            let t3547 = t3546 - t593;
+            let t3548 = t3545 + t3547;
+            let t3549 = c_hr * t3534;
+            let t3550 = t3549 - t599;
+            let t3551 = s_hr * t3535;
+            let t3552 = t3551 + t600;
+            let t3553 = t3550 - t3552;
+            let t3554 = s_hr * t3534;
+            let t3555 = t3554 + t597;
+            let t3556 = c_hr * t3535;
+            let t3557 = t3556 - t598;
+            let t3558 = t3555 + t3557;
+            let t3559 = 0.112f64 * t3543;
+            let t3560 = 0.112f64 * t3548;
+            let t3561 = t3558 + t3559;
+            let t3562 = t3560 - t3553;
+            (t3561, t3562)
+        };
+        let t3565 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t3563 = s_sfe * t3536;
+            let t3564 = c_sfe * t3561;
+            let t3565 = t3563 + t3564;
+            t3565
+        };
+        let (t3586, t3587, t3588, t3589, t3590) = {
+            // ── link `Humerus_R`, joint `HR` (base to tip)
+            let t3566 = t2911 - t112;
+            let t3567 = 0.20986895000353661f64 * humerus_r_v_wx;
+            let t3568 = t108 - t3567;
+            let t3569 = 0.0037997813999599995f64 * humerus_r_v_wx;
+            let t3570 = t3569 - t2916;
+            let t3571 = t3566 + t123;
+            let t3572 = t3568 + t122;
+            let t3573 = t3570 + t2921;
+            let t3574 = t128 - t132;
+            let t3575 = humerus_r_v_wy * 0.01032999899926462f64;
+            let t3576 = t139 - t115;
+            let t3577 = t3575 - t3576;
+            let t3578 = t138 - t110;
+            let t3579 = humerus_r_v_wx * 0.01032999899926462f64;
+            let t3580 = t3578 - t3579;
+            let t3581 = t2916 - t3569;
+            let t3582 = t2920 - t2919;
+            let t3583 = t3581 + t3582;
+            let t3584 = t142 - t133;
+            let t3585 = t141 - t129;
+            let t3586 = t3571 + t3577;
+            let t3587 = t3572 + t3580;
+            let t3588 = t3573 + t3583;
+            let t3589 = t3574 - t3584;
+            let t3590 = t3585 - t2930;
+            (t3586, t3587, t3588, t3589, t3590)
+        };
+        let (t3595, t3596, t3661, t3662, t3663, t3664, t3665, t3666) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t3591 = s_efe * humerus_r_v_wx;
+            let t3592 = c_efe * humerus_r_v_wx;
+            let t3593 = s_efe * qd_efe;
+            let t3594 = c_efe * qd_efe;
+            let t3595 = t3591 + t3593;
+            let t3596 = t3592 + t3594;
+            let t3597 = 0.081661000005f64 * t3595;
+            let t3598 = 0.00368572840011861f64 * t3596;
+            let t3599 = t3597 + t3598;
+            let t3600 = t3034 - t3599;
+            let t3601 = 0.00368572840011861f64 * t3595;
+            let t3602 = 0.018284489999765022f64 * t3596;
+            let t3603 = t3601 + t3602;
+            let t3604 = t3039 - t3603;
+            let t3605 = 0.0002120000299f64 * t3595;
+            let t3606 = 0.002292000208f64 * t3596;
+            let t3607 = t3605 + t3606;
+            let t3608 = t3607 - t3044;
+            let t3609 = 0.008711861f64 * t173;
+            let t3610 = 0.16029825982372198f64 * t173;
+            let t3611 = t173 * 1.7423722f64;
+            let t3612 = 0.16029825982372198f64 * t3596;
+            let t3613 = 0.008711861f64 * t3595;
+            let t3614 = t3612 + t3613;
+            let t3615 = t3600 + t3609;
+            let t3616 = t3604 + t3610;
+            let t3617 = t3608 - t3050;
+            let t3618 = t3614 - t3611;
+            let t3619 = 0.081661000005f64 * c_efe;
+            let t3620 = 0.00368572840011861f64 * s_efe;
+            let t3621 = t3619 - t3620;
+            let t3622 = 0.00368572840011861f64 * c_efe;
+            let t3623 = 0.018284489999765022f64 * s_efe;
+            let t3624 = t3622 - t3623;
+            let t3625 = 0.0002120000299f64 * c_efe;
+            let t3626 = 0.002292000208f64 * s_efe;
+            let t3627 = t3626 - t3625;
+            let t3628 = 0.16029825982372198f64 * s_efe;
+            let t3629 = 0.008711861f64 * c_efe;
+            let t3630 = t3629 - t3628;
+            let t3631 = elbow_fe_v_wy * t3627;
+            let t3632 = s_efe * t261;
+            let t3633 = t3631 - t3632;
+            let t3634 = elbow_fe_v_wz * t3624;
+            let t3635 = t3633 - t3634;
+            let t3636 = elbow_fe_v_wz * t3621;
+            let t3637 = elbow_fe_v_wx * t3627;
+            let t3638 = c_efe * t261;
+            let t3639 = t3637 + t3638;
+            let t3640 = t3636 - t3639;
+            let t3641 = elbow_fe_v_wx * t3624;
+            let t3642 = c_efe * t260;
+            let t3643 = t3641 + t3642;
+            let t3644 = elbow_fe_v_wy * t3621;
+            let t3645 = s_efe * t259;
+            let t3646 = t3644 - t3645;
+            let t3647 = t3643 - t3646;
+            let t3648 = elbow_fe_v_vy * t3630;
+            let t3649 = elbow_fe_v_vx * t3630;
+            let t3650 = t3635 - t3648;
+            let t3651 = t3640 + t3649;
+            let t3652 = elbow_fe_v_wy * t3630;
+            let t3653 = s_efe * t264;
+            let t3654 = t3653 - t3652;
+            let t3655 = elbow_fe_v_wx * t3630;
+            let t3656 = c_efe * t264;
+            let t3657 = t3655 + t3656;
+            let t3658 = c_efe * t263;
+            let t3659 = s_efe * t262;
+            let t3660 = t3658 + t3659;
+            let t3661 = t3615 + t3650;
+            let t3662 = t3616 + t3651;
+            let t3663 = t3617 + t3647;
+            let t3664 = t3654 - t3062;
+            let t3665 = t3657 - t3063;
+            let t3666 = t3618 + t3660;
+            (t3595, t3596, t3661, t3662, t3663, t3664, t3665, t3666)
+        };
+        let (
+            t3668,
+            t3669,
+            t3670,
+            t3671,
+            t3686,
+            t3687,
+            t3688,
+            t3689,
+            t3794,
+            t3795,
+            t3796,
+            t3797,
+            t3798,
+            t3799,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t3667 = 0.112f64 * s_efe;
+            let t3668 = s_wr * s_efe;
+            let t3669 = c_wr * s_efe;
+            let t3670 = c_wr * t3667;
+            let t3671 = s_wr * t3667;
+            let t3672 = 0.112f64 * t3596;
+            let t3673 = t3672 - t173;
+            let t3674 = s_wr * t3596;
+            let t3675 = t3141 - t3674;
+            let t3676 = c_wr * t3596;
+            let t3677 = t3144 + t3676;
+            let t3678 = c_wr * t3673;
+            let t3679 = t3678 + t3148;
+            let t3680 = s_wr * t3673;
+            let t3681 = t3680 - t3151;
+            let t3682 = t3669 * qd_wr;
+            let t3683 = t3668 * qd_wr;
+            let t3684 = t3671 * qd_wr;
+            let t3685 = t3670 * qd_wr;
+            let t3686 = t3675 - t3682;
+            let t3687 = t3683 - t3677;
+            let t3688 = t3684 - t3679;
+            let t3689 = t3681 + t3685;
+            let t3690 = 0.019431999999999998f64 * t3686;
+            let t3691 = 0.001387f64 * t3687;
+            let t3692 = t3690 - t3691;
+            let t3693 = 0.012652f64 * t3595;
+            let t3694 = t3692 + t3693;
+            let t3695 = 0.001387f64 * t3686;
+            let t3696 = 0.029115f64 * t3687;
+            let t3697 = t3696 - t3695;
+            let t3698 = 0.001243f64 * t3595;
+            let t3699 = t3697 + t3698;
+            let t3700 = 0.012652f64 * t3686;
+            let t3701 = 0.001243f64 * t3687;
+            let t3702 = t3700 + t3701;
+            let t3703 = 0.011046f64 * t3595;
+            let t3704 = t3702 + t3703;
+            let t3705 = 0.05783800000000001f64 * t3689;
+            let t3706 = 0.05783800000000001f64 * t3688;
+            let t3707 = t3688 * 2.1032f64;
+            let t3708 = t3689 * 2.1032f64;
+            let t3709 = 0.05783800000000001f64 * t3687;
+            let t3710 = 0.05783800000000001f64 * t3686;
+            let t3711 = t3694 - t3705;
+            let t3712 = t3699 + t3706;
+            let t3713 = t3707 + t3709;
+            let t3714 = t3708 - t3710;
+            let t3715 = 0.019431999999999998f64 * t3668;
+            let t3716 = 0.001387f64 * t3669;
+            let t3717 = t3716 - t3715;
+            let t3718 = 0.012652f64 * c_efe;
+            let t3719 = t3717 - t3718;
+            let t3720 = 0.001387f64 * t3668;
+            let t3721 = 0.029115f64 * t3669;
+            let t3722 = t3720 - t3721;
+            let t3723 = 0.001243f64 * c_efe;
+            let t3724 = t3722 - t3723;
+            let t3725 = 0.012652f64 * t3668;
+            let t3726 = 0.001243f64 * t3669;
+            let t3727 = t3725 + t3726;
+            let t3728 = 0.011046f64 * c_efe;
+            let t3729 = t3727 + t3728;
+            let t3730 = 0.05783800000000001f64 * t3671;
+            let t3731 = 0.05783800000000001f64 * t3670;
+            let t3732 = t3670 * 2.1032f64;
+            let t3733 = t3671 * 2.1032f64;
+            let t3734 = 0.05783800000000001f64 * t3669;
+            let t3735 = 0.05783800000000001f64 * t3668;
+            let t3736 = t3719 - t3730;
+            let t3737 = t3724 - t3731;
+            let t3738 = t3732 + t3734;
+            let t3739 = t3733 + t3735;
+            let t3740 = wrist_r_v_wy * t3729;
+            let t3741 = t3669 * t373;
+            let t3742 = t3740 - t3741;
+            let t3743 = wrist_r_v_wz * t3737;
+            let t3744 = c_efe * t382;
+            let t3745 = t3743 + t3744;
+            let t3746 = t3742 - t3745;
+            let t3747 = wrist_r_v_wz * t3736;
+            let t3748 = c_efe * t381;
+            let t3749 = t3747 + t3748;
+            let t3750 = wrist_r_v_wx * t3729;
+            let t3751 = t3668 * t373;
+            let t3752 = t3750 - t3751;
+            let t3753 = t3749 - t3752;
+            let t3754 = wrist_r_v_wx * t3737;
+            let t3755 = t3668 * t382;
+            let t3756 = t3754 - t3755;
+            let t3757 = wrist_r_v_wy * t3736;
+            let t3758 = t3669 * t381;
+            let t3759 = t3757 - t3758;
+            let t3760 = t3756 - t3759;
+            let t3761 = t3671 * t378;
+            let t3762 = elbow_fe_v_vx * t3739;
+            let t3763 = t3761 - t3762;
+            let t3764 = elbow_fe_v_vx * t3738;
+            let t3765 = t3670 * t378;
+            let t3766 = t3765 - t3764;
+            let t3767 = wrist_r_v_vx * t3739;
+            let t3768 = t3670 * t384;
+            let t3769 = t3767 - t3768;
+            let t3770 = wrist_r_v_vy * t3738;
+            let t3771 = t3671 * t383;
+            let t3772 = t3771 - t3770;
+            let t3773 = t3769 - t3772;
+            let t3774 = t3746 + t3763;
+            let t3775 = t3753 + t3766;
+            let t3776 = t3760 + t3773;
+            let t3777 = t3669 * t378;
+            let t3778 = wrist_r_v_wz * t3739;
+            let t3779 = c_efe * t384;
+            let t3780 = t3778 + t3779;
+            let t3781 = t3777 + t3780;
+            let t3782 = wrist_r_v_wz * t3738;
+            let t3783 = c_efe * t383;
+            let t3784 = t3783 - t3782;
+            let t3785 = t3668 * t378;
+            let t3786 = t3784 + t3785;
+            let t3787 = wrist_r_v_wx * t3739;
+            let t3788 = t3668 * t384;
+            let t3789 = t3787 - t3788;
+            let t3790 = wrist_r_v_wy * t3738;
+            let t3791 = t3669 * t383;
+            let t3792 = t3790 + t3791;
+            let t3793 = t3789 + t3792;
+            let t3794 = t3711 + t3774;
+            let t3795 = t3712 + t3775;
+            let t3796 = t3776 - t3704;
+            let t3797 = t3713 - t3781;
+            let t3798 = t3714 + t3786;
+            let t3799 = t3793 - t3222;
+            (
+                t3668,
+                t3669,
+                t3670,
+                t3671,
+                t3686,
+                t3687,
+                t3688,
+                t3689,
+                t3794,
+                t3795,
+                t3796,
+                t3797,
+                t3798,
+                t3799,
+            )
+        };
+        let (t3965, t3966, t3967, t3968, t3969, t3970) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t3800 = 0.184f64 * t3669;
+            let t3801 = 0.184f64 * t3668;
+            let t3802 = 0.02075f64 * c_efe;
+            let t3803 = t3801 + t3802;
+            let t3804 = 0.02075f64 * t3669;
+            let t3805 = t3670 + t3800;
+            let t3806 = t3671 + t3803;
+            let t3807 = c_wfe * c_efe;
+            let t3808 = s_wfe * t3668;
+            let t3809 = t3807 - t3808;
+            let t3810 = s_wfe * c_efe;
+            let t3811 = c_wfe * t3668;
+            let t3812 = t3810 + t3811;
+            let t3813 = c_wfe * t3804;
+            let t3814 = s_wfe * t3805;
+            let t3815 = t3813 - t3814;
+            let t3816 = s_wfe * t3804;
+            let t3817 = c_wfe * t3805;
+            let t3818 = t3816 + t3817;
+            let t3819 = 0.184f64 * t3687;
+            let t3820 = 0.184f64 * t3686;
+            let t3821 = 0.02075f64 * t3595;
+            let t3822 = t3820 + t3821;
+            let t3823 = 0.02075f64 * t3687;
+            let t3824 = t3688 + t3819;
+            let t3825 = t3689 - t3822;
+            let t3826 = t2979 + t3823;
+            let t3827 = c_wfe * t3595;
+            let t3828 = s_wfe * t3686;
+            let t3829 = t3828 - t3827;
+            let t3830 = s_wfe * t3595;
+            let t3831 = c_wfe * t3686;
+            let t3832 = t3830 + t3831;
+            let t3833 = c_wfe * t3826;
+            let t3834 = s_wfe * t3824;
+            let t3835 = t3834 - t3833;
+            let t3836 = s_wfe * t3826;
+            let t3837 = c_wfe * t3824;
+            let t3838 = t3836 + t3837;
+            let t3839 = t3812 * qd_wfe;
+            let t3840 = t3809 * qd_wfe;
+            let t3841 = t3818 * qd_wfe;
+            let t3842 = t3815 * qd_wfe;
+            let t3843 = t3829 - t3839;
+            let t3844 = t3832 - t3840;
+            let t3845 = t3835 - t3841;
+            let t3846 = t3838 - t3842;
+            let t3847 = 0.010737f64 * t3843;
+            let t3848 = 0.000198f64 * t3844;
+            let t3849 = t3847 + t3848;
+            let t3850 = 0.000015f64 * t3687;
+            let t3851 = t3849 + t3850;
+            let t3852 = 0.000198f64 * t3843;
+            let t3853 = 0.0032270000000000003f64 * t3844;
+            let t3854 = t3852 + t3853;
+            let t3855 = 0.000829f64 * t3687;
+            let t3856 = t3854 - t3855;
+            let t3857 = 0.000015f64 * t3843;
+            let t3858 = 0.000829f64 * t3844;
+            let t3859 = t3857 - t3858;
+            let t3860 = 0.009277f64 * t3687;
+            let t3861 = t3859 + t3860;
+            let t3862 = 0.038686875f64 * t3825;
+            let t3863 = 0.038686875f64 * t3846;
+            let t3864 = t3845 * 1.547475f64;
+            let t3865 = t3846 * 1.547475f64;
+            let t3866 = t3825 * 1.547475f64;
+            let t3867 = 0.038686875f64 * t3687;
+            let t3868 = 0.038686875f64 * t3844;
+            let t3869 = t3856 - t3862;
+            let t3870 = t3861 + t3863;
+            let t3871 = t3865 + t3867;
+            let t3872 = t3866 - t3868;
+            let t3873 = 0.010737f64 * t3809;
+            let t3874 = 0.000198f64 * t3812;
+            let t3875 = t3873 - t3874;
+            let t3876 = 0.000015f64 * t3669;
+            let t3877 = t3875 - t3876;
+            let t3878 = 0.000198f64 * t3809;
+            let t3879 = 0.0032270000000000003f64 * t3812;
+            let t3880 = t3878 - t3879;
+            let t3881 = 0.000829f64 * t3669;
+            let t3882 = t3880 + t3881;
+            let t3883 = 0.000015f64 * t3809;
+            let t3884 = 0.000829f64 * t3812;
+            let t3885 = t3883 + t3884;
+            let t3886 = 0.009277f64 * t3669;
+            let t3887 = t3885 - t3886;
+            let t3888 = 0.038686875f64 * t3806;
+            let t3889 = 0.038686875f64 * t3818;
+            let t3890 = t3815 * 1.547475f64;
+            let t3891 = t3818 * 1.547475f64;
+            let t3892 = t3806 * 1.547475f64;
+            let t3893 = 0.038686875f64 * t3669;
+            let t3894 = 0.038686875f64 * t3812;
+            let t3895 = t3882 - t3888;
+            let t3896 = t3887 - t3889;
+            let t3897 = t3891 + t3893;
+            let t3898 = t3892 + t3894;
+            let t3899 = wrist_fe_v_wy * t3896;
+            let t3900 = t3812 * t508;
+            let t3901 = t3899 - t3900;
+            let t3902 = wrist_fe_v_wz * t3895;
+            let t3903 = t3669 * t507;
+            let t3904 = t3902 - t3903;
+            let t3905 = t3901 - t3904;
+            let t3906 = wrist_fe_v_wz * t3877;
+            let t3907 = t3669 * t489;
+            let t3908 = t3906 - t3907;
+            let t3909 = wrist_fe_v_wx * t3896;
+            let t3910 = t3809 * t508;
+            let t3911 = t3909 + t3910;
+            let t3912 = t3908 - t3911;
+            let t3913 = wrist_fe_v_wx * t3895;
+            let t3914 = t3809 * t507;
+            let t3915 = t3913 + t3914;
+            let t3916 = wrist_fe_v_wy * t3877;
+            let t3917 = t3812 * t489;
+            let t3918 = t3916 - t3917;
+            let t3919 = t3915 - t3918;
+            let t3920 = wrist_fe_v_vy * t3898;
+            let t3921 = t3818 * t510;
+            let t3922 = t3920 - t3921;
+            let t3923 = wrist_fe_v_vz * t3897;
+            let t3924 = t3806 * t509;
+            let t3925 = t3924 - t3923;
+            let t3926 = t3922 - t3925;
+            let t3927 = wrist_fe_v_vz * t3890;
+            let t3928 = t3806 * t502;
+            let t3929 = t3927 + t3928;
+            let t3930 = wrist_fe_v_vx * t3898;
+            let t3931 = t3815 * t510;
+            let t3932 = t3930 + t3931;
+            let t3933 = t3929 - t3932;
+            let t3934 = wrist_fe_v_vx * t3897;
+            let t3935 = t3815 * t509;
+            let t3936 = t3935 - t3934;
+            let t3937 = wrist_fe_v_vy * t3890;
+            let t3938 = t3818 * t502;
+            let t3939 = t3937 - t3938;
+            let t3940 = t3936 - t3939;
+            let t3941 = t3905 + t3926;
+            let t3942 = t3912 + t3933;
+            let t3943 = t3919 + t3940;
+            let t3944 = wrist_fe_v_wy * t3898;
+            let t3945 = t3812 * t510;
+            let t3946 = t3944 - t3945;
+            let t3947 = wrist_fe_v_wz * t3897;
+            let t3948 = t3669 * t509;
+            let t3949 = t3947 + t3948;
+            let t3950 = t3946 + t3949;
+            let t3951 = wrist_fe_v_wz * t3890;
+            let t3952 = t3669 * t502;
+            let t3953 = t3951 - t3952;
+            let t3954 = wrist_fe_v_wx * t3898;
+            let t3955 = t3809 * t510;
+            let t3956 = t3954 + t3955;
+            let t3957 = t3953 - t3956;
+            let t3958 = wrist_fe_v_wx * t3897;
+            let t3959 = t3809 * t509;
+            let t3960 = t3959 - t3958;
+            let t3961 = wrist_fe_v_wy * t3890;
+            let t3962 = t3812 * t502;
+            let t3963 = t3961 - t3962;
+            let t3964 = t3960 - t3963;
+            let t3965 = t3851 + t3941;
+            let t3966 = t3869 + t3942;
+            let t3967 = t3870 + t3943;
+            let t3968 = t3864 + t3950;
+            let t3969 = t3871 + t3957;
+            let t3970 = t3872 + t3964;
+            (t3965, t3966, t3967, t3968, t3969, t3970)
+        };
+        let (t3991, t3992, t3993, t3994, t3995, t3996) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t3971 = c_wfe * t3968;
+            let t3972 = s_wfe * t3969;
+            let t3973 = t3971 - t3972;
+            let t3974 = s_wfe * t3968;
+            let t3975 = c_wfe * t3969;
+            let t3976 = t3974 + t3975;
+            let t3977 = c_wfe * t3965;
+            let t3978 = s_wfe * t3966;
+            let t3979 = t3977 - t3978;
+            let t3980 = s_wfe * t3965;
+            let t3981 = c_wfe * t3966;
+            let t3982 = t3980 + t3981;
+            let t3983 = 0.184f64 * t3970;
+            let t3984 = 0.184f64 * t3976;
+            let t3985 = 0.02075f64 * t3973;
+            let t3986 = t3984 - t3985;
+            let t3987 = 0.02075f64 * t3970;
+            let t3988 = t3982 - t3983;
+            let t3989 = t3967 + t3986;
+            let t3990 = t3979 + t3987;
+            let t3991 = t3794 + t3988;
+            let t3992 = t3795 + t3989;
+            let t3993 = t3796 + t3990;
+            let t3994 = t3797 + t3976;
+            let t3995 = t3798 + t3970;
+            let t3996 = t3799 + t3973;
+            (t3991, t3992, t3993, t3994, t3995, t3996)
+        };
+        let (t4013, t4014, t4015, t4016, t4017, t4018) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t3997 = c_wr * t3994;
+            let t3998 = s_wr * t3995;
+            let t3999 = t3997 - t3998;
+            let t4000 = s_wr * t3994;
+            let t4001 = c_wr * t3995;
+            let t4002 = t4000 + t4001;
+            let t4003 = c_wr * t3991;
+            let t4004 = s_wr * t3992;
+            let t4005 = t4003 - t4004;
+            let t4006 = s_wr * t3991;
+            let t4007 = c_wr * t3992;
+            let t4008 = t4006 + t4007;
+            let t4009 = 0.112f64 * t3999;
+            let t4010 = 0.112f64 * t4002;
+            let t4011 = t4008 + t4009;
+            let t4012 = t4010 - t4005;
+            let t4013 = t3661 + t3993;
+            let t4014 = t3662 + t4011;
+            let t4015 = t3663 + t4012;
+            let t4016 = t3664 + t3996;
+            let t4017 = t3665 + t4002;
+            let t4018 = t3666 - t3999;
+            (t4013, t4014, t4015, t4016, t4017, t4018)
+        };
+        let (t4032, t4033, t4034, t4035, t4036) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t4019 = s_efe * t4016;
+            let t4020 = c_efe * t4017;
+            let t4021 = t4019 + t4020;
+            let t4022 = c_efe * t4013;
+            let t4023 = s_efe * t4014;
+            let t4024 = t4022 - t4023;
+            let t4025 = s_efe * t4013;
+            let t4026 = c_efe * t4014;
+            let t4027 = t4025 + t4026;
+            let t4028 = 0.304f64 * t4021;
+            let t4029 = 0.304f64 * t4018;
+            let t4030 = t4015 + t4028;
+            let t4031 = t4027 - t4029;
+            let t4032 = t3586 - t4030;
+            let t4033 = t3587 + t4031;
+            let t4034 = t3588 + t4024;
+            let t4035 = t3589 - t4018;
+            let t4036 = t3590 + t4021;
+            (t4032, t4033, t4034, t4035, t4036)
+        };
+        let (t4051, t4052) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t4037 = c_hr * t4035;
+            let t4038 = s_hr * t4036;
+            let t4039 = t4037 - t4038;
+            let t4040 = s_hr * t4035;
+            let t4041 = c_hr * t4036;
+            let t4042 = t4040 + t4041;
+            let t4043 = c_hr * t4032;
+            let t4044 = s_hr * t4033;
+            let t4045 = t4043 - t4044;
+            let t4046 = s_hr * t4032;
+            let t4047 = c_hr * t4033;
+            let t4048 = t4046 + t4047;
+            let t4049 = 0.112f64 * t4039;
+            let t4050 = 0.112f64 * t4042;
+            let t4051 = t4048 + t4049;
+            let t4052 = t4050 - t4045;
+            (t4051, t4052)
+        };
+        let t4055 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t4053 = s_sfe * t4034;
+            let t4054 = c_sfe * t4051;
+            let t4055 = t4053 + t4054;
+            t4055
+        };
+        let (
+            t4071,
+            t4073,
+            t4074,
+            t4075,
+            t4077,
+            t4078,
+            t4080,
+            t4081,
+            t4082,
+            t4083,
+            t4132,
+            t4133,
+            t4134,
+            t4135,
+            t4136,
+            t4137,
+        ) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t4056 = 0.081661000005f64 * elbow_fe_a_wy;
+            let t4057 = t4056 - t202;
+            let t4058 = 0.018284489999765022f64 * elbow_fe_a_wx;
+            let t4059 = t198 - t4058;
+            let t4060 = 0.0002120000299f64 * elbow_fe_a_wy;
+            let t4061 = 0.002292000208f64 * elbow_fe_a_wx;
+            let t4062 = t4061 - t4060;
+            let t4063 = 0.16029825982372198f64 * elbow_fe_a_vx;
+            let t4064 = 0.008711861f64 * elbow_fe_a_vy;
+            let t4065 = t4064 - t4063;
+            let t4066 = 0.16029825982372198f64 * elbow_fe_a_wx;
+            let t4067 = 0.008711861f64 * elbow_fe_a_wy;
+            let t4068 = t4067 - t4066;
+            let t4069 = t4062 + t4065;
+            let t4070 = 0.081661000005f64 * elbow_fe_v_wy;
+            let t4071 = t4070 - t236;
+            let t4072 = 0.018284489999765022f64 * elbow_fe_v_wx;
+            let t4073 = t232 - t4072;
+            let t4074 = 0.0002120000299f64 * elbow_fe_v_wy;
+            let t4075 = 0.002292000208f64 * elbow_fe_v_wx;
+            let t4076 = t4075 - t4074;
+            let t4077 = 0.16029825982372198f64 * elbow_fe_v_vx;
+            let t4078 = 0.008711861f64 * elbow_fe_v_vy;
+            let t4079 = t4078 - t4077;
+            let t4080 = 0.16029825982372198f64 * elbow_fe_v_wx;
+            let t4081 = 0.008711861f64 * elbow_fe_v_wy;
+            let t4082 = t4081 - t4080;
+            let t4083 = t4076 + t4079;
+            let t4084 = elbow_fe_v_wy * t4083;
+            let t4085 = t4084 - t269;
+            let t4086 = elbow_fe_v_wz * t4073;
+            let t4087 = t4085 - t4086;
+            let t4088 = elbow_fe_v_wz * t4071;
+            let t4089 = elbow_fe_v_wx * t4083;
+            let t4090 = t4089 + t265;
+            let t4091 = t4088 - t4090;
+            let t4092 = elbow_fe_v_wx * t4073;
+            let t4093 = elbow_fe_v_wy * t260;
+            let t4094 = t4092 + t4093;
+            let t4095 = elbow_fe_v_wy * t4071;
+            let t4096 = elbow_fe_v_wx * t259;
+            let t4097 = t4095 - t4096;
+            let t4098 = t4094 - t4097;
+            let t4099 = elbow_fe_v_vy * t4082;
+            let t4100 = t278 - t4099;
+            let t4101 = elbow_fe_v_vz * t251;
+            let t4102 = t4100 - t4101;
+            let t4103 = elbow_fe_v_vz * t252;
+            let t4104 = elbow_fe_v_vx * t4082;
+            let t4105 = t4104 + t274;
+            let t4106 = t4105 - t4103;
+            let t4107 = elbow_fe_v_vx * t251;
+            let t4108 = elbow_fe_v_vy * t263;
+            let t4109 = t4108 - t4107;
+            let t4110 = elbow_fe_v_vy * t252;
+            let t4111 = elbow_fe_v_vx * t262;
+            let t4112 = t4110 - t4111;
+            let t4113 = t4109 - t4112;
+            let t4114 = t4087 + t4102;
+            let t4115 = t4091 + t4106;
+            let t4116 = t4098 + t4113;
+            let t4117 = elbow_fe_v_wy * t4082;
+            let t4118 = t290 - t4117;
+            let t4119 = elbow_fe_v_wz * t251;
+            let t4120 = t4118 + t4119;
+            let t4121 = elbow_fe_v_wz * t252;
+            let t4122 = elbow_fe_v_wx * t4082;
+            let t4123 = t4122 + t286;
+            let t4124 = t4121 + t4123;
+            let t4125 = elbow_fe_v_wx * t251;
+            let t4126 = elbow_fe_v_wy * t263;
+            let t4127 = t4126 - t4125;
+            let t4128 = elbow_fe_v_wy * t252;
+            let t4129 = elbow_fe_v_wx * t262;
+            let t4130 = t4128 - t4129;
+            let t4131 = t4127 - t4130;
+            let t4132 = t4057 + t4114;
+            let t4133 = t4059 + t4115;
+            let t4134 = t4069 + t4116;
+            let t4135 = t218 + t4120;
+            let t4136 = t4124 - t217;
+            let t4137 = t4131 - t4068;
+            (
+                t4071,
+                t4073,
+                t4074,
+                t4075,
+                t4077,
+                t4078,
+                t4080,
+                t4081,
+                t4082,
+                t4083,
+                t4132,
+                t4133,
+                t4134,
+                t4135,
+                t4136,
+                t4137,
+            )
+        };
+        let (
+            t4139,
+            t4140,
+            t4143,
+            t4146,
+            t4160,
+            t4161,
+            t4162,
+            t4163,
+            t4193,
+            t4198,
+            t4203,
+            t4209,
+            t4282,
+            t4283,
+            t4284,
+            t4285,
+            t4286,
+            t4287,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t4138 = 0.112f64 * elbow_fe_v_wx;
+            let t4139 = s_wr * elbow_fe_v_wx;
+            let t4140 = c_wr * elbow_fe_v_wx;
+            let t4141 = c_wr * t4138;
+            let t4142 = s_wr * elbow_fe_v_vx;
+            let t4143 = t4141 + t4142;
+            let t4144 = s_wr * t4138;
+            let t4145 = c_wr * elbow_fe_v_vx;
+            let t4146 = t4144 - t4145;
+            let t4147 = 0.112f64 * elbow_fe_a_wx;
+            let t4148 = s_wr * elbow_fe_a_wx;
+            let t4149 = c_wr * elbow_fe_a_wx;
+            let t4150 = c_wr * t4147;
+            let t4151 = s_wr * elbow_fe_a_vx;
+            let t4152 = t4150 + t4151;
+            let t4153 = s_wr * t4147;
+            let t4154 = c_wr * elbow_fe_a_vx;
+            let t4155 = t4153 - t4154;
+            let t4156 = t4140 * qd_wr;
+            let t4157 = t4139 * qd_wr;
+            let t4158 = t4146 * qd_wr;
+            let t4159 = t4143 * qd_wr;
+            let t4160 = t4148 + t4156;
+            let t4161 = t4157 - t4149;
+            let t4162 = t4158 - t4152;
+            let t4163 = t4155 + t4159;
+            let t4164 = 0.019431999999999998f64 * t4160;
+            let t4165 = 0.001387f64 * t4161;
+            let t4166 = t4164 + t4165;
+            let t4167 = 0.012652f64 * elbow_fe_a_wy;
+            let t4168 = t4166 + t4167;
+            let t4169 = 0.001387f64 * t4160;
+            let t4170 = 0.029115f64 * t4161;
+            let t4171 = t4169 + t4170;
+            let t4172 = 0.001243f64 * elbow_fe_a_wy;
+            let t4173 = t4171 - t4172;
+            let t4174 = 0.012652f64 * t4160;
+            let t4175 = 0.001243f64 * t4161;
+            let t4176 = t4174 - t4175;
+            let t4177 = 0.011046f64 * elbow_fe_a_wy;
+            let t4178 = t4176 + t4177;
+            let t4179 = 0.05783800000000001f64 * t4163;
+            let t4180 = 0.05783800000000001f64 * t4162;
+            let t4181 = t4162 * 2.1032f64;
+            let t4182 = t4163 * 2.1032f64;
+            let t4183 = elbow_fe_a_vy * 2.1032f64;
+            let t4184 = 0.05783800000000001f64 * t4161;
+            let t4185 = 0.05783800000000001f64 * t4160;
+            let t4186 = t4168 + t4179;
+            let t4187 = t4173 + t4180;
+            let t4188 = t4181 + t4184;
+            let t4189 = t4182 + t4185;
+            let t4190 = 0.019431999999999998f64 * t4139;
+            let t4191 = 0.001387f64 * t4140;
+            let t4192 = t4191 - t4190;
+            let t4193 = 0.012652f64 * elbow_fe_v_wy;
+            let t4194 = t4192 - t4193;
+            let t4195 = 0.001387f64 * t4139;
+            let t4196 = 0.029115f64 * t4140;
+            let t4197 = t4195 - t4196;
+            let t4198 = 0.001243f64 * elbow_fe_v_wy;
+            let t4199 = t4197 - t4198;
+            let t4200 = 0.012652f64 * t4139;
+            let t4201 = 0.001243f64 * t4140;
+            let t4202 = t4200 + t4201;
+            let t4203 = 0.011046f64 * elbow_fe_v_wy;
+            let t4204 = t4202 + t4203;
+            let t4205 = 0.05783800000000001f64 * t4146;
+            let t4206 = 0.05783800000000001f64 * t4143;
+            let t4207 = t4143 * 2.1032f64;
+            let t4208 = t4146 * 2.1032f64;
+            let t4209 = elbow_fe_v_vy * 2.1032f64;
+            let t4210 = 0.05783800000000001f64 * t4140;
+            let t4211 = 0.05783800000000001f64 * t4139;
+            let t4212 = t4194 - t4205;
+            let t4213 = t4199 - t4206;
+            let t4214 = t4207 + t4210;
+            let t4215 = t4208 + t4211;
+            let t4216 = wrist_r_v_wy * t4204;
+            let t4217 = t4140 * t373;
+            let t4218 = t4216 - t4217;
+            let t4219 = wrist_r_v_wz * t4213;
+            let t4220 = elbow_fe_v_wy * t382;
+            let t4221 = t4219 + t4220;
+            let t4222 = t4218 - t4221;
+            let t4223 = wrist_r_v_wz * t4212;
+            let t4224 = elbow_fe_v_wy * t381;
+            let t4225 = t4223 + t4224;
+            let t4226 = wrist_r_v_wx * t4204;
+            let t4227 = t4139 * t373;
+            let t4228 = t4226 - t4227;
+            let t4229 = t4225 - t4228;
+            let t4230 = wrist_r_v_wx * t4213;
+            let t4231 = t4139 * t382;
+            let t4232 = t4230 - t4231;
+            let t4233 = wrist_r_v_wy * t4212;
+            let t4234 = t4140 * t381;
+            let t4235 = t4233 - t4234;
+            let t4236 = t4232 - t4235;
+            let t4237 = wrist_r_v_vy * t4209;
+            let t4238 = t4146 * t378;
+            let t4239 = t4237 + t4238;
+            let t4240 = elbow_fe_v_vx * t4215;
+            let t4241 = elbow_fe_v_vy * t384;
+            let t4242 = t4240 + t4241;
+            let t4243 = t4239 - t4242;
+            let t4244 = elbow_fe_v_vx * t4214;
+            let t4245 = elbow_fe_v_vy * t383;
+            let t4246 = t4245 - t4244;
+            let t4247 = wrist_r_v_vx * t4209;
+            let t4248 = t4143 * t378;
+            let t4249 = t4247 - t4248;
+            let t4250 = t4246 - t4249;
+            let t4251 = wrist_r_v_vx * t4215;
+            let t4252 = t4143 * t384;
+            let t4253 = t4251 - t4252;
+            let t4254 = wrist_r_v_vy * t4214;
+            let t4255 = t4146 * t383;
+            let t4256 = t4255 - t4254;
+            let t4257 = t4253 - t4256;
+            let t4258 = t4222 + t4243;
+            let t4259 = t4229 + t4250;
+            let t4260 = t4236 + t4257;
+            let t4261 = wrist_r_v_wy * t4209;
+            let t4262 = t4140 * t378;
+            let t4263 = t4261 - t4262;
+            let t4264 = wrist_r_v_wz * t4215;
+            let t4265 = elbow_fe_v_wy * t384;
+            let t4266 = t4264 + t4265;
+            let t4267 = t4263 - t4266;
+            let t4268 = wrist_r_v_wz * t4214;
+            let t4269 = elbow_fe_v_wy * t383;
+            let t4270 = t4269 - t4268;
+            let t4271 = wrist_r_v_wx * t4209;
+            let t4272 = t4139 * t378;
+            let t4273 = t4271 - t4272;
+            let t4274 = t4270 - t4273;
+            let t4275 = wrist_r_v_wx * t4215;
+            let t4276 = t4139 * t384;
+            let t4277 = t4275 - t4276;
+            let t4278 = wrist_r_v_wy * t4214;
+            let t4279 = t4140 * t383;
+            let t4280 = t4278 + t4279;
+            let t4281 = t4277 + t4280;
+            let t4282 = t4258 - t4186;
+            let t4283 = t4187 + t4259;
+            let t4284 = t4178 + t4260;
+            let t4285 = t4188 + t4267;
+            let t4286 = t4189 + t4274;
+            let t4287 = t4183 + t4281;
+            (
+                t4139,
+                t4140,
+                t4143,
+                t4146,
+                t4160,
+                t4161,
+                t4162,
+                t4163,
+                t4193,
+                t4198,
+                t4203,
+                t4209,
+                t4282,
+                t4283,
+                t4284,
+                t4285,
+                t4286,
+                t4287,
+            )
+        };
+        let (t4290, t4296, t4299, t4454, t4455, t4456, t4457, t4458, t4459) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t4288 = 0.184f64 * t4140;
+            let t4289 = 0.184f64 * t4139;
+            let t4290 = 0.02075f64 * elbow_fe_v_wy;
+            let t4291 = t4289 + t4290;
+            let t4292 = 0.02075f64 * t4140;
+            let t4293 = t4143 + t4288;
+            let t4294 = t4146 + t4291;
+            let t4295 = elbow_fe_v_vy + t4292;
+            let t4296 = c_wfe * elbow_fe_v_wy;
+            let t4297 = s_wfe * t4139;
+            let t4298 = t4296 - t4297;
+            let t4299 = s_wfe * elbow_fe_v_wy;
+            let t4300 = c_wfe * t4139;
+            let t4301 = t4299 + t4300;
+            let t4302 = c_wfe * t4295;
+            let t4303 = s_wfe * t4293;
+            let t4304 = t4302 - t4303;
+            let t4305 = s_wfe * t4295;
+            let t4306 = c_wfe * t4293;
+            let t4307 = t4305 + t4306;
+            let t4308 = 0.184f64 * t4161;
+            let t4309 = 0.184f64 * t4160;
+            let t4310 = 0.02075f64 * elbow_fe_a_wy;
+            let t4311 = t4309 + t4310;
+            let t4312 = 0.02075f64 * t4161;
+            let t4313 = t4162 + t4308;
+            let t4314 = t4163 + t4311;
+            let t4315 = elbow_fe_a_vy - t4312;
+            let t4316 = c_wfe * elbow_fe_a_wy;
+            let t4317 = s_wfe * t4160;
+            let t4318 = t4316 - t4317;
+            let t4319 = s_wfe * elbow_fe_a_wy;
+            let t4320 = c_wfe * t4160;
+            let t4321 = t4319 + t4320;
+            let t4322 = c_wfe * t4315;
+            let t4323 = s_wfe * t4313;
+            let t4324 = t4322 + t4323;
+            let t4325 = s_wfe * t4315;
+            let t4326 = c_wfe * t4313;
+            let t4327 = t4326 - t4325;
+            let t4328 = t4301 * qd_wfe;
+            let t4329 = t4298 * qd_wfe;
+            let t4330 = t4307 * qd_wfe;
+            let t4331 = t4304 * qd_wfe;
+            let t4332 = t4318 - t4328;
+            let t4333 = t4321 + t4329;
+            let t4334 = t4324 - t4330;
+            let t4335 = t4327 - t4331;
+            let t4336 = 0.010737f64 * t4332;
+            let t4337 = 0.000198f64 * t4333;
+            let t4338 = t4336 - t4337;
+            let t4339 = 0.000015f64 * t4161;
+            let t4340 = t4338 + t4339;
+            let t4341 = 0.000198f64 * t4332;
+            let t4342 = 0.0032270000000000003f64 * t4333;
+            let t4343 = t4341 - t4342;
+            let t4344 = 0.000829f64 * t4161;
+            let t4345 = t4343 - t4344;
+            let t4346 = 0.000015f64 * t4332;
+            let t4347 = 0.000829f64 * t4333;
+            let t4348 = t4346 + t4347;
+            let t4349 = 0.009277f64 * t4161;
+            let t4350 = t4348 + t4349;
+            let t4351 = 0.038686875f64 * t4314;
+            let t4352 = 0.038686875f64 * t4335;
+            let t4353 = t4334 * 1.547475f64;
+            let t4354 = t4335 * 1.547475f64;
+            let t4355 = t4314 * 1.547475f64;
+            let t4356 = 0.038686875f64 * t4161;
+            let t4357 = 0.038686875f64 * t4333;
+            let t4358 = t4345 - t4351;
+            let t4359 = t4350 + t4352;
+            let t4360 = t4354 + t4356;
+            let t4361 = t4355 + t4357;
+            let t4362 = 0.010737f64 * t4298;
+            let t4363 = 0.000198f64 * t4301;
+            let t4364 = t4362 - t4363;
+            let t4365 = 0.000015f64 * t4140;
+            let t4366 = t4364 - t4365;
+            let t4367 = 0.000198f64 * t4298;
+            let t4368 = 0.0032270000000000003f64 * t4301;
+            let t4369 = t4367 - t4368;
+            let t4370 = 0.000829f64 * t4140;
+            let t4371 = t4369 + t4370;
+            let t4372 = 0.000015f64 * t4298;
+            let t4373 = 0.000829f64 * t4301;
+            let t4374 = t4372 + t4373;
+            let t4375 = 0.009277f64 * t4140;
+            let t4376 = t4374 - t4375;
+            let t4377 = 0.038686875f64 * t4294;
+            let t4378 = 0.038686875f64 * t4307;
+            let t4379 = t4304 * 1.547475f64;
+            let t4380 = t4307 * 1.547475f64;
+            let t4381 = t4294 * 1.547475f64;
+            let t4382 = 0.038686875f64 * t4140;
+            let t4383 = 0.038686875f64 * t4301;
+            let t4384 = t4371 - t4377;
+            let t4385 = t4376 - t4378;
+            let t4386 = t4380 + t4382;
+            let t4387 = t4381 + t4383;
+            let t4388 = wrist_fe_v_wy * t4385;
+            let t4389 = t4301 * t508;
+            let t4390 = t4388 - t4389;
+            let t4391 = wrist_fe_v_wz * t4384;
+            let t4392 = t4140 * t507;
+            let t4393 = t4391 - t4392;
+            let t4394 = t4390 - t4393;
+            let t4395 = wrist_fe_v_wz * t4366;
+            let t4396 = t4140 * t489;
+            let t4397 = t4395 - t4396;
+            let t4398 = wrist_fe_v_wx * t4385;
+            let t4399 = t4298 * t508;
+            let t4400 = t4398 + t4399;
+            let t4401 = t4397 - t4400;
+            let t4402 = wrist_fe_v_wx * t4384;
+            let t4403 = t4298 * t507;
+            let t4404 = t4402 + t4403;
+            let t4405 = wrist_fe_v_wy * t4366;
+            let t4406 = t4301 * t489;
+            let t4407 = t4405 - t4406;
+            let t4408 = t4404 - t4407;
+            let t4409 = wrist_fe_v_vy * t4387;
+            let t4410 = t4307 * t510;
+            let t4411 = t4409 - t4410;
+            let t4412 = wrist_fe_v_vz * t4386;
+            let t4413 = t4294 * t509;
+            let t4414 = t4413 - t4412;
+            let t4415 = t4411 - t4414;
+            let t4416 = wrist_fe_v_vz * t4379;
+            let t4417 = t4294 * t502;
+            let t4418 = t4416 + t4417;
+            let t4419 = wrist_fe_v_vx * t4387;
+            let t4420 = t4304 * t510;
+            let t4421 = t4419 + t4420;
+            let t4422 = t4418 - t4421;
+            let t4423 = wrist_fe_v_vx * t4386;
+            let t4424 = t4304 * t509;
+            let t4425 = t4424 - t4423;
+            let t4426 = wrist_fe_v_vy * t4379;
+            let t4427 = t4307 * t502;
+            let t4428 = t4426 - t4427;
+            let t4429 = t4425 - t4428;
+            let t4430 = t4394 + t4415;
+            let t4431 = t4401 + t4422;
+            let t4432 = t4408 + t4429;
+            let t4433 = wrist_fe_v_wy * t4387;
+            let t4434 = t4301 * t510;
+            let t4435 = t4433 - t4434;
+            let t4436 = wrist_fe_v_wz * t4386;
+            let t4437 = t4140 * t509;
+            let t4438 = t4436 + t4437;
+            let t4439 = t4435 + t4438;
+            let t4440 = wrist_fe_v_wz * t4379;
+            let t4441 = t4140 * t502;
+            let t4442 = t4440 - t4441;
+            let t4443 = wrist_fe_v_wx * t4387;
+            let t4444 = t4298 * t510;
+            let t4445 = t4443 + t4444;
+            let t4446 = t4442 - t4445;
+            let t4447 = wrist_fe_v_wx * t4386;
+            let t4448 = t4298 * t509;
+            let t4449 = t4448 - t4447;
+            let t4450 = wrist_fe_v_wy * t4379;
+            let t4451 = t4301 * t502;
+            let t4452 = t4450 - t4451;
+            let t4453 = t4449 - t4452;
+            let t4454 = t4340 + t4430;
+            let t4455 = t4358 + t4431;
+            let t4456 = t4359 + t4432;
+            let t4457 = t4353 + t4439;
+            let t4458 = t4360 + t4446;
+            let t4459 = t4361 + t4453;
+            (t4290, t4296, t4299, t4454, t4455, t4456, t4457, t4458, t4459)
+        };
+        let (t4480, t4481, t4482, t4483, t4484, t4485) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t4460 = c_wfe * t4457;
+            let t4461 = s_wfe * t4458;
+            let t4462 = t4460 - t4461;
+            let t4463 = s_wfe * t4457;
+            let t4464 = c_wfe * t4458;
+            let t4465 = t4463 + t4464;
+            let t4466 = c_wfe * t4454;
+            let t4467 = s_wfe * t4455;
+            let t4468 = t4466 - t4467;
+            let t4469 = s_wfe * t4454;
+            let t4470 = c_wfe * t4455;
+            let t4471 = t4469 + t4470;
+            let t4472 = 0.184f64 * t4459;
+            let t4473 = 0.184f64 * t4465;
+            let t4474 = 0.02075f64 * t4462;
+            let t4475 = t4473 - t4474;
+            let t4476 = 0.02075f64 * t4459;
+            let t4477 = t4471 - t4472;
+            let t4478 = t4456 + t4475;
+            let t4479 = t4468 + t4476;
+            let t4480 = t4282 + t4477;
+            let t4481 = t4283 + t4478;
+            let t4482 = t4284 + t4479;
+            let t4483 = t4285 + t4465;
+            let t4484 = t4286 + t4459;
+            let t4485 = t4287 + t4462;
+            (t4480, t4481, t4482, t4483, t4484, t4485)
+        };
+        let (t4502, t4503, t4504, t4505, t4506, t4507) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t4486 = c_wr * t4483;
+            let t4487 = s_wr * t4484;
+            let t4488 = t4486 - t4487;
+            let t4489 = s_wr * t4483;
+            let t4490 = c_wr * t4484;
+            let t4491 = t4489 + t4490;
+            let t4492 = c_wr * t4480;
+            let t4493 = s_wr * t4481;
+            let t4494 = t4492 - t4493;
+            let t4495 = s_wr * t4480;
+            let t4496 = c_wr * t4481;
+            let t4497 = t4495 + t4496;
+            let t4498 = 0.112f64 * t4488;
+            let t4499 = 0.112f64 * t4491;
+            let t4500 = t4497 + t4498;
+            let t4501 = t4499 - t4494;
+            let t4502 = t4132 + t4482;
+            let t4503 = t4133 + t4500;
+            let t4504 = t4134 + t4501;
+            let t4505 = t4135 + t4485;
+            let t4506 = t4136 + t4491;
+            let t4507 = t4137 - t4488;
+            (t4502, t4503, t4504, t4505, t4506, t4507)
+        };
+        let (t4512, t4517, t4525, t4526) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t4508 = s_efe * t4505;
+            let t4509 = t4508 + t577;
+            let t4510 = c_efe * t4506;
+            let t4511 = t4510 - t578;
+            let t4512 = t4509 + t4511;
+            let t4513 = c_efe * t4502;
+            let t4514 = t4513 - t585;
+            let t4515 = s_efe * t4503;
+            let t4516 = t4515 + t586;
+            let t4517 = t4514 - t4516;
+            let t4518 = s_efe * t4502;
+            let t4519 = t4518 + t582;
+            let t4520 = c_efe * t4503;
+            let t4521 = t4520 - t583;
+            let t4522 = t4519 + t4521;
+            let t4523 = 0.304f64 * t4512;
+            let t4524 = 0.304f64 * t4507;
+            let t4525 = t4504 + t4523;
+            let t4526 = t4522 - t4524;
+            (t4512, t4517, t4525, t4526)
+        };
+        let (t4541, t4542) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t4527 = c_hr * t4507;
+            let t4528 = s_hr * t4512;
+            let t4529 = t4527 + t4528;
+            let t4530 = s_hr * t4507;
+            let t4531 = c_hr * t4512;
+            let t4532 = t4531 - t4530;
+            let t4533 = c_hr * t4525;
+            let t4534 = s_hr * t4526;
+            let t4535 = t4533 + t4534;
+            let t4536 = s_hr * t4525;
+            let t4537 = c_hr * t4526;
+            let t4538 = t4537 - t4536;
+            let t4539 = 0.112f64 * t4529;
+            let t4540 = 0.112f64 * t4532;
+            let t4541 = t4538 - t4539;
+            let t4542 = t4535 + t4540;
+            (t4541, t4542)
+        };
+        let t4545 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t4543 = s_sfe * t4517;
+            let t4544 = c_sfe * t4541;
+            let t4545 = t4543 + t4544;
+            t4545
+        };
+        let (t4560, t4561, t4562, t4563, t4564, t4565) = {
+            // ── link `Elbow_FE`, joint `EFE` (base to tip)
+            let t4546 = elbow_fe_v_wy * 0.09570849000176501f64;
+            let t4547 = t260 - t239;
+            let t4548 = t4546 - t4547;
+            let t4549 = t259 - t234;
+            let t4550 = elbow_fe_v_wx * 0.09570849000176501f64;
+            let t4551 = t4549 - t4550;
+            let t4552 = t4074 - t4075;
+            let t4553 = t4077 - t4078;
+            let t4554 = t4548 + t247;
+            let t4555 = t4551 - t246;
+            let t4556 = t4552 + t4553;
+            let t4557 = t255 + t263;
+            let t4558 = t254 + t262;
+            let t4559 = t4080 - t4081;
+            let t4560 = t4071 + t4554;
+            let t4561 = t4073 + t4555;
+            let t4562 = t4083 + t4556;
+            let t4563 = t252 - t4557;
+            let t4564 = t4558 - t251;
+            let t4565 = t4559 - t4082;
+            (t4560, t4561, t4562, t4563, t4564, t4565)
+        };
+        let (
+            t4566,
+            t4567,
+            t4572,
+            t4573,
+            t4574,
+            t4575,
+            t4663,
+            t4664,
+            t4665,
+            t4666,
+            t4667,
+            t4668,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t4566 = s_wr * 0.112f64;
+            let t4567 = c_wr * 0.112f64;
+            let t4568 = s_wr * qd_wr;
+            let t4569 = c_wr * qd_wr;
+            let t4570 = t4567 * qd_wr;
+            let t4571 = t4566 * qd_wr;
+            let t4572 = t4568 - t4139;
+            let t4573 = t4569 - t4140;
+            let t4574 = t4570 - t4143;
+            let t4575 = t4146 - t4571;
+            let t4576 = 0.019431999999999998f64 * t4572;
+            let t4577 = 0.001387f64 * t4573;
+            let t4578 = t4576 - t4577;
+            let t4579 = t4578 - t4193;
+            let t4580 = 0.001387f64 * t4572;
+            let t4581 = 0.029115f64 * t4573;
+            let t4582 = t4581 - t4580;
+            let t4583 = t4582 - t4198;
+            let t4584 = 0.012652f64 * t4572;
+            let t4585 = 0.001243f64 * t4573;
+            let t4586 = t4584 + t4585;
+            let t4587 = t4203 - t4586;
+            let t4588 = 0.05783800000000001f64 * t4575;
+            let t4589 = 0.05783800000000001f64 * t4574;
+            let t4590 = t4574 * 2.1032f64;
+            let t4591 = t4575 * 2.1032f64;
+            let t4592 = 0.05783800000000001f64 * t4573;
+            let t4593 = 0.05783800000000001f64 * t4572;
+            let t4594 = t4579 - t4588;
+            let t4595 = t4583 + t4589;
+            let t4596 = t4590 + t4592;
+            let t4597 = t4591 - t4593;
+            let t4598 = 0.019431999999999998f64 * c_wr;
+            let t4599 = 0.001387f64 * s_wr;
+            let t4600 = t4598 + t4599;
+            let t4601 = 0.001387f64 * c_wr;
+            let t4602 = 0.029115f64 * s_wr;
+            let t4603 = t4601 + t4602;
+            let t4604 = 0.012652f64 * c_wr;
+            let t4605 = 0.001243f64 * s_wr;
+            let t4606 = t4604 - t4605;
+            let t4607 = 0.05783800000000001f64 * t4567;
+            let t4608 = 0.05783800000000001f64 * t4566;
+            let t4609 = t4566 * 2.1032f64;
+            let t4610 = t4567 * 2.1032f64;
+            let t4611 = 0.05783800000000001f64 * s_wr;
+            let t4612 = 0.05783800000000001f64 * c_wr;
+            let t4613 = t4600 + t4607;
+            let t4614 = t4603 + t4608;
+            let t4615 = t4609 + t4611;
+            let t4616 = t4610 + t4612;
+            let t4617 = wrist_r_v_wy * t4606;
+            let t4618 = s_wr * t373;
+            let t4619 = t4617 + t4618;
+            let t4620 = wrist_r_v_wz * t4614;
+            let t4621 = t4619 - t4620;
+            let t4622 = wrist_r_v_wz * t4613;
+            let t4623 = wrist_r_v_wx * t4606;
+            let t4624 = c_wr * t373;
+            let t4625 = t4623 - t4624;
+            let t4626 = t4622 + t4625;
+            let t4627 = wrist_r_v_wx * t4614;
+            let t4628 = c_wr * t382;
+            let t4629 = t4627 - t4628;
+            let t4630 = wrist_r_v_wy * t4613;
+            let t4631 = s_wr * t381;
+            let t4632 = t4631 - t4630;
+            let t4633 = t4629 - t4632;
+            let t4634 = t4567 * t378;
+            let t4635 = elbow_fe_v_vx * t4616;
+            let t4636 = t4634 - t4635;
+            let t4637 = elbow_fe_v_vx * t4615;
+            let t4638 = t4566 * t378;
+            let t4639 = t4637 - t4638;
+            let t4640 = wrist_r_v_vx * t4616;
+            let t4641 = t4566 * t384;
+            let t4642 = t4640 + t4641;
+            let t4643 = wrist_r_v_vy * t4615;
+            let t4644 = t4567 * t383;
+            let t4645 = t4643 + t4644;
+            let t4646 = t4642 - t4645;
+            let t4647 = t4621 + t4636;
+            let t4648 = t4639 - t4626;
+            let t4649 = t4633 + t4646;
+            let t4650 = s_wr * t378;
+            let t4651 = wrist_r_v_wz * t4616;
+            let t4652 = t4650 - t4651;
+            let t4653 = wrist_r_v_wz * t4615;
+            let t4654 = c_wr * t378;
+            let t4655 = t4653 + t4654;
+            let t4656 = wrist_r_v_wx * t4616;
+            let t4657 = c_wr * t384;
+            let t4658 = t4656 - t4657;
+            let t4659 = wrist_r_v_wy * t4615;
+            let t4660 = s_wr * t383;
+            let t4661 = t4659 + t4660;
+            let t4662 = t4658 - t4661;
+            let t4663 = t4594 + t4647;
+            let t4664 = t4595 + t4648;
+            let t4665 = t4587 + t4649;
+            let t4666 = t4596 + t4652;
+            let t4667 = t4597 + t4655;
+            let t4668 = t4209 + t4662;
+            (
+                t4566,
+                t4567,
+                t4572,
+                t4573,
+                t4574,
+                t4575,
+                t4663,
+                t4664,
+                t4665,
+                t4666,
+                t4667,
+                t4668,
+            )
+        };
+        let (t4825, t4826, t4827, t4828, t4829, t4830) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t4669 = 0.184f64 * s_wr;
+            let t4670 = 0.184f64 * c_wr;
+            let t4671 = 0.02075f64 * s_wr;
+            let t4672 = t4566 + t4669;
+            let t4673 = t4567 + t4670;
+            let t4674 = s_wfe * c_wr;
+            let t4675 = c_wfe * c_wr;
+            let t4676 = c_wfe * t4671;
+            let t4677 = s_wfe * t4672;
+            let t4678 = t4677 - t4676;
+            let t4679 = s_wfe * t4671;
+            let t4680 = c_wfe * t4672;
+            let t4681 = t4679 + t4680;
+            let t4682 = 0.184f64 * t4573;
+            let t4683 = 0.184f64 * t4572;
+            let t4684 = t4683 - t4290;
+            let t4685 = 0.02075f64 * t4573;
+            let t4686 = t4574 + t4682;
+            let t4687 = t4575 - t4684;
+            let t4688 = elbow_fe_v_vy - t4685;
+            let t4689 = s_wfe * t4572;
+            let t4690 = t4296 + t4689;
+            let t4691 = c_wfe * t4572;
+            let t4692 = t4691 - t4299;
+            let t4693 = c_wfe * t4688;
+            let t4694 = s_wfe * t4686;
+            let t4695 = t4693 + t4694;
+            let t4696 = s_wfe * t4688;
+            let t4697 = c_wfe * t4686;
+            let t4698 = t4697 - t4696;
+            let t4699 = t4675 * qd_wfe;
+            let t4700 = t4674 * qd_wfe;
+            let t4701 = t4681 * qd_wfe;
+            let t4702 = t4678 * qd_wfe;
+            let t4703 = t4690 - t4699;
+            let t4704 = t4692 + t4700;
+            let t4705 = t4695 + t4701;
+            let t4706 = t4698 - t4702;
+            let t4707 = 0.010737f64 * t4703;
+            let t4708 = 0.000198f64 * t4704;
+            let t4709 = t4707 + t4708;
+            let t4710 = 0.000015f64 * t4573;
+            let t4711 = t4709 + t4710;
+            let t4712 = 0.000198f64 * t4703;
+            let t4713 = 0.0032270000000000003f64 * t4704;
+            let t4714 = t4712 + t4713;
+            let t4715 = 0.000829f64 * t4573;
+            let t4716 = t4714 - t4715;
+            let t4717 = 0.000015f64 * t4703;
+            let t4718 = 0.000829f64 * t4704;
+            let t4719 = t4717 - t4718;
+            let t4720 = 0.009277f64 * t4573;
+            let t4721 = t4719 + t4720;
+            let t4722 = 0.038686875f64 * t4687;
+            let t4723 = 0.038686875f64 * t4706;
+            let t4724 = t4705 * 1.547475f64;
+            let t4725 = t4706 * 1.547475f64;
+            let t4726 = t4687 * 1.547475f64;
+            let t4727 = 0.038686875f64 * t4573;
+            let t4728 = 0.038686875f64 * t4704;
+            let t4729 = t4716 - t4722;
+            let t4730 = t4721 + t4723;
+            let t4731 = t4725 + t4727;
+            let t4732 = t4726 - t4728;
+            let t4733 = 0.010737f64 * t4674;
+            let t4734 = 0.000198f64 * t4675;
+            let t4735 = t4733 + t4734;
+            let t4736 = 0.000015f64 * s_wr;
+            let t4737 = t4736 - t4735;
+            let t4738 = 0.000198f64 * t4674;
+            let t4739 = 0.0032270000000000003f64 * t4675;
+            let t4740 = t4738 + t4739;
+            let t4741 = 0.000829f64 * s_wr;
+            let t4742 = t4740 + t4741;
+            let t4743 = 0.000015f64 * t4674;
+            let t4744 = 0.000829f64 * t4675;
+            let t4745 = t4744 - t4743;
+            let t4746 = 0.009277f64 * s_wr;
+            let t4747 = t4745 + t4746;
+            let t4748 = 0.038686875f64 * t4673;
+            let t4749 = 0.038686875f64 * t4681;
+            let t4750 = t4678 * 1.547475f64;
+            let t4751 = t4681 * 1.547475f64;
+            let t4752 = t4673 * 1.547475f64;
+            let t4753 = 0.038686875f64 * s_wr;
+            let t4754 = 0.038686875f64 * t4675;
+            let t4755 = t4742 + t4748;
+            let t4756 = t4747 + t4749;
+            let t4757 = t4751 + t4753;
+            let t4758 = t4752 + t4754;
+            let t4759 = wrist_fe_v_wy * t4756;
+            let t4760 = t4675 * t508;
+            let t4761 = t4759 - t4760;
+            let t4762 = wrist_fe_v_wz * t4755;
+            let t4763 = s_wr * t507;
+            let t4764 = t4763 - t4762;
+            let t4765 = t4761 - t4764;
+            let t4766 = wrist_fe_v_wz * t4737;
+            let t4767 = s_wr * t489;
+            let t4768 = t4766 + t4767;
+            let t4769 = wrist_fe_v_wx * t4756;
+            let t4770 = t4674 * t508;
+            let t4771 = t4769 - t4770;
+            let t4772 = t4768 - t4771;
+            let t4773 = wrist_fe_v_wx * t4755;
+            let t4774 = t4674 * t507;
+            let t4775 = t4773 + t4774;
+            let t4776 = wrist_fe_v_wy * t4737;
+            let t4777 = t4675 * t489;
+            let t4778 = t4776 - t4777;
+            let t4779 = t4775 + t4778;
+            let t4780 = wrist_fe_v_vy * t4758;
+            let t4781 = t4681 * t510;
+            let t4782 = t4780 + t4781;
+            let t4783 = wrist_fe_v_vz * t4757;
+            let t4784 = t4673 * t509;
+            let t4785 = t4783 + t4784;
+            let t4786 = t4782 - t4785;
+            let t4787 = wrist_fe_v_vz * t4750;
+            let t4788 = t4673 * t502;
+            let t4789 = t4787 + t4788;
+            let t4790 = wrist_fe_v_vx * t4758;
+            let t4791 = t4678 * t510;
+            let t4792 = t4790 + t4791;
+            let t4793 = t4789 - t4792;
+            let t4794 = wrist_fe_v_vx * t4757;
+            let t4795 = t4678 * t509;
+            let t4796 = t4794 + t4795;
+            let t4797 = wrist_fe_v_vy * t4750;
+            let t4798 = t4681 * t502;
+            let t4799 = t4797 + t4798;
+            let t4800 = t4796 - t4799;
+            let t4801 = t4765 + t4786;
+            let t4802 = t4772 + t4793;
+            let t4803 = t4800 - t4779;
+            let t4804 = wrist_fe_v_wy * t4758;
+            let t4805 = t4675 * t510;
+            let t4806 = t4804 - t4805;
+            let t4807 = wrist_fe_v_wz * t4757;
+            let t4808 = s_wr * t509;
+            let t4809 = t4807 + t4808;
+            let t4810 = t4806 - t4809;
+            let t4811 = wrist_fe_v_wz * t4750;
+            let t4812 = s_wr * t502;
+            let t4813 = t4811 + t4812;
+            let t4814 = wrist_fe_v_wx * t4758;
+            let t4815 = t4674 * t510;
+            let t4816 = t4814 - t4815;
+            let t4817 = t4813 - t4816;
+            let t4818 = wrist_fe_v_wx * t4757;
+            let t4819 = t4674 * t509;
+            let t4820 = t4818 - t4819;
+            let t4821 = wrist_fe_v_wy * t4750;
+            let t4822 = t4675 * t502;
+            let t4823 = t4821 - t4822;
+            let t4824 = t4820 - t4823;
+            let t4825 = t4711 + t4801;
+            let t4826 = t4729 + t4802;
+            let t4827 = t4730 + t4803;
+            let t4828 = t4724 + t4810;
+            let t4829 = t4731 + t4817;
+            let t4830 = t4732 + t4824;
+            (t4825, t4826, t4827, t4828, t4829, t4830)
+        };
+        let (t4851, t4852, t4853, t4854, t4855, t4856) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t4831 = c_wfe * t4828;
+            let t4832 = s_wfe * t4829;
+            let t4833 = t4831 - t4832;
+            let t4834 = s_wfe * t4828;
+            let t4835 = c_wfe * t4829;
+            let t4836 = t4834 + t4835;
+            let t4837 = c_wfe * t4825;
+            let t4838 = s_wfe * t4826;
+            let t4839 = t4837 - t4838;
+            let t4840 = s_wfe * t4825;
+            let t4841 = c_wfe * t4826;
+            let t4842 = t4840 + t4841;
+            let t4843 = 0.184f64 * t4830;
+            let t4844 = 0.184f64 * t4836;
+            let t4845 = 0.02075f64 * t4833;
+            let t4846 = t4844 - t4845;
+            let t4847 = 0.02075f64 * t4830;
+            let t4848 = t4842 - t4843;
+            let t4849 = t4827 + t4846;
+            let t4850 = t4839 + t4847;
+            let t4851 = t4663 + t4848;
+            let t4852 = t4664 + t4849;
+            let t4853 = t4665 + t4850;
+            let t4854 = t4666 + t4836;
+            let t4855 = t4667 + t4830;
+            let t4856 = t4668 + t4833;
+            (t4851, t4852, t4853, t4854, t4855, t4856)
+        };
+        let (t4873, t4874, t4875, t4876, t4877, t4878) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t4857 = c_wr * t4854;
+            let t4858 = s_wr * t4855;
+            let t4859 = t4857 - t4858;
+            let t4860 = s_wr * t4854;
+            let t4861 = c_wr * t4855;
+            let t4862 = t4860 + t4861;
+            let t4863 = c_wr * t4851;
+            let t4864 = s_wr * t4852;
+            let t4865 = t4863 - t4864;
+            let t4866 = s_wr * t4851;
+            let t4867 = c_wr * t4852;
+            let t4868 = t4866 + t4867;
+            let t4869 = 0.112f64 * t4859;
+            let t4870 = 0.112f64 * t4862;
+            let t4871 = t4868 + t4869;
+            let t4872 = t4870 - t4865;
+            let t4873 = t4560 + t4853;
+            let t4874 = t4561 + t4871;
+            let t4875 = t4562 + t4872;
+            let t4876 = t4563 + t4856;
+            let t4877 = t4564 + t4862;
+            let t4878 = t4565 - t4859;
+            (t4873, t4874, t4875, t4876, t4877, t4878)
+        };
+        let (t4881, t4884, t4890, t4891) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t4879 = s_efe * t4876;
+            let t4880 = c_efe * t4877;
+            let t4881 = t4879 + t4880;
+            let t4882 = c_efe * t4873;
+            let t4883 = s_efe * t4874;
+            let t4884 = t4882 - t4883;
+            let t4885 = s_efe * t4873;
+            let t4886 = c_efe * t4874;
+            let t4887 = t4885 + t4886;
+            let t4888 = 0.304f64 * t4881;
+            let t4889 = 0.304f64 * t4878;
+            let t4890 = t4875 + t4888;
+            let t4891 = t4887 - t4889;
+            (t4881, t4884, t4890, t4891)
+        };
+        let (t4906, t4907) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t4892 = c_hr * t4878;
+            let t4893 = s_hr * t4881;
+            let t4894 = t4892 + t4893;
+            let t4895 = s_hr * t4878;
+            let t4896 = c_hr * t4881;
+            let t4897 = t4896 - t4895;
+            let t4898 = c_hr * t4890;
+            let t4899 = s_hr * t4891;
+            let t4900 = t4898 + t4899;
+            let t4901 = s_hr * t4890;
+            let t4902 = c_hr * t4891;
+            let t4903 = t4902 - t4901;
+            let t4904 = 0.112f64 * t4894;
+            let t4905 = 0.112f64 * t4897;
+            let t4906 = t4903 - t4904;
+            let t4907 = t4900 + t4905;
+            (t4906, t4907)
+        };
+        let t4910 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t4908 = s_sfe * t4884;
+            let t4909 = c_sfe * t4906;
+            let t4910 = t4908 + t4909;
+            t4910
+        };
+        let (
+            t4911,
+            t4914,
+            t4915,
+            t4931,
+            t4936,
+            t4980,
+            t4981,
+            t4982,
+            t4983,
+            t4984,
+            t4985,
+        ) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t4911 = t305 - t306;
+            let t4912 = t317 - t318;
+            let t4913 = t4911 * qd_wr;
+            let t4914 = t322 + t4913;
+            let t4915 = t4912 - t329;
+            let t4916 = 0.019431999999999998f64 * t4914;
+            let t4917 = 0.001387f64 * t4915;
+            let t4918 = t4916 - t4917;
+            let t4919 = 0.001387f64 * t4914;
+            let t4920 = 0.029115f64 * t4915;
+            let t4921 = t4920 - t4919;
+            let t4922 = 0.012652f64 * t4914;
+            let t4923 = 0.001243f64 * t4915;
+            let t4924 = t4922 + t4923;
+            let t4925 = 0.05783800000000001f64 * t4915;
+            let t4926 = 0.05783800000000001f64 * t4914;
+            let t4927 = t4918 + t349;
+            let t4928 = t4921 + t348;
+            let t4929 = t351 + t4925;
+            let t4930 = t350 + t4926;
+            let t4931 = 0.019431999999999998f64 * wrist_r_v_wy;
+            let t4932 = 0.001387f64 * t4911;
+            let t4933 = t4931 - t4932;
+            let t4934 = 0.029115f64 * t4911;
+            let t4935 = t4934 - t360;
+            let t4936 = 0.012652f64 * wrist_r_v_wy;
+            let t4937 = 0.001243f64 * t4911;
+            let t4938 = t4936 + t4937;
+            let t4939 = 0.05783800000000001f64 * t4911;
+            let t4940 = t4933 + t375;
+            let t4941 = t4935 + t374;
+            let t4942 = t377 + t4939;
+            let t4943 = wrist_r_v_wy * t4938;
+            let t4944 = t4911 * t373;
+            let t4945 = t4944 - t4943;
+            let t4946 = wrist_r_v_wz * t4941;
+            let t4947 = t4945 - t4946;
+            let t4948 = wrist_r_v_wz * t4940;
+            let t4949 = wrist_r_v_wx * t4938;
+            let t4950 = t385 - t4949;
+            let t4951 = t4948 - t4950;
+            let t4952 = wrist_r_v_wx * t4941;
+            let t4953 = wrist_r_v_wy * t382;
+            let t4954 = t4952 + t4953;
+            let t4955 = wrist_r_v_wy * t4940;
+            let t4956 = t4911 * t381;
+            let t4957 = t4955 + t4956;
+            let t4958 = t4954 - t4957;
+            let t4959 = elbow_fe_v_vx * t4942;
+            let t4960 = t4959 - t394;
+            let t4961 = wrist_r_v_vx * t383;
+            let t4962 = wrist_r_v_vy * t384;
+            let t4963 = t4962 - t4961;
+            let t4964 = wrist_r_v_vy * t4942;
+            let t4965 = t4964 - t4961;
+            let t4966 = t4963 - t4965;
+            let t4967 = t4947 + t399;
+            let t4968 = t4951 + t4960;
+            let t4969 = t4958 + t4966;
+            let t4970 = t4911 * t378;
+            let t4971 = t4970 + t409;
+            let t4972 = wrist_r_v_wz * t4942;
+            let t4973 = t4972 - t406;
+            let t4974 = wrist_r_v_wx * t383;
+            let t4975 = wrist_r_v_wy * t384;
+            let t4976 = t4975 - t4974;
+            let t4977 = wrist_r_v_wy * t4942;
+            let t4978 = t4911 * t383;
+            let t4979 = t4977 + t4978;
+            let t4980 = t4976 - t4979;
+            let t4981 = t4927 + t4967;
+            let t4982 = t4928 + t4968;
+            let t4983 = t4969 - t4924;
+            let t4984 = t4929 + t4971;
+            let t4985 = t4973 - t4930;
+            (t4911, t4914, t4915, t4931, t4936, t4980, t4981, t4982, t4983, t4984, t4985)
+        };
+        let (t4989, t4990, t5059, t5063, t5136, t5137, t5138, t5139, t5140, t5141) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t4986 = 0.184f64 * t4911;
+            let t4987 = 0.02075f64 * t4911;
+            let t4988 = wrist_r_v_vy + t4986;
+            let t4989 = s_wfe * wrist_r_v_wy;
+            let t4990 = c_wfe * wrist_r_v_wy;
+            let t4991 = c_wfe * t4987;
+            let t4992 = s_wfe * t4988;
+            let t4993 = t4992 - t4991;
+            let t4994 = s_wfe * t4987;
+            let t4995 = c_wfe * t4988;
+            let t4996 = t4994 + t4995;
+            let t4997 = 0.184f64 * t4915;
+            let t4998 = 0.184f64 * t4914;
+            let t4999 = 0.02075f64 * t4915;
+            let t5000 = wrist_r_a_vy + t4997;
+            let t5001 = wrist_r_a_vx + t4998;
+            let t5002 = s_wfe * t4914;
+            let t5003 = c_wfe * t4914;
+            let t5004 = c_wfe * t4999;
+            let t5005 = s_wfe * t5000;
+            let t5006 = t5005 - t5004;
+            let t5007 = s_wfe * t4999;
+            let t5008 = c_wfe * t5000;
+            let t5009 = t5007 + t5008;
+            let t5010 = t4990 * qd_wfe;
+            let t5011 = t4989 * qd_wfe;
+            let t5012 = t4996 * qd_wfe;
+            let t5013 = t4993 * qd_wfe;
+            let t5014 = t5002 + t5010;
+            let t5015 = t5003 - t5011;
+            let t5016 = t5006 + t5012;
+            let t5017 = t5009 - t5013;
+            let t5018 = 0.010737f64 * t5014;
+            let t5019 = 0.000198f64 * t5015;
+            let t5020 = t5018 + t5019;
+            let t5021 = 0.000015f64 * t4915;
+            let t5022 = t5020 + t5021;
+            let t5023 = 0.000198f64 * t5014;
+            let t5024 = 0.0032270000000000003f64 * t5015;
+            let t5025 = t5023 + t5024;
+            let t5026 = 0.000829f64 * t4915;
+            let t5027 = t5025 - t5026;
+            let t5028 = 0.000015f64 * t5014;
+            let t5029 = 0.000829f64 * t5015;
+            let t5030 = t5028 - t5029;
+            let t5031 = 0.009277f64 * t4915;
+            let t5032 = t5030 + t5031;
+            let t5033 = 0.038686875f64 * t5001;
+            let t5034 = 0.038686875f64 * t5017;
+            let t5035 = t5016 * 1.547475f64;
+            let t5036 = t5017 * 1.547475f64;
+            let t5037 = t5001 * 1.547475f64;
+            let t5038 = 0.038686875f64 * t4915;
+            let t5039 = 0.038686875f64 * t5015;
+            let t5040 = t5027 + t5033;
+            let t5041 = t5032 + t5034;
+            let t5042 = t5036 + t5038;
+            let t5043 = t5037 + t5039;
+            let t5044 = 0.010737f64 * t4989;
+            let t5045 = 0.000198f64 * t4990;
+            let t5046 = t5044 + t5045;
+            let t5047 = 0.000015f64 * t4911;
+            let t5048 = t5046 + t5047;
+            let t5049 = 0.000198f64 * t4989;
+            let t5050 = 0.0032270000000000003f64 * t4990;
+            let t5051 = t5049 + t5050;
+            let t5052 = 0.000829f64 * t4911;
+            let t5053 = t5051 - t5052;
+            let t5054 = 0.000015f64 * t4989;
+            let t5055 = 0.000829f64 * t4990;
+            let t5056 = t5054 - t5055;
+            let t5057 = 0.009277f64 * t4911;
+            let t5058 = t5056 + t5057;
+            let t5059 = 0.038686875f64 * t426;
+            let t5060 = 0.038686875f64 * t4996;
+            let t5061 = t4993 * 1.547475f64;
+            let t5062 = t4996 * 1.547475f64;
+            let t5063 = t426 * 1.547475f64;
+            let t5064 = 0.038686875f64 * t4911;
+            let t5065 = 0.038686875f64 * t4990;
+            let t5066 = t5053 + t5059;
+            let t5067 = t5058 + t5060;
+            let t5068 = t5062 + t5064;
+            let t5069 = t5063 + t5065;
+            let t5070 = wrist_fe_v_wy * t5067;
+            let t5071 = t4990 * t508;
+            let t5072 = t5070 + t5071;
+            let t5073 = wrist_fe_v_wz * t5066;
+            let t5074 = t4911 * t507;
+            let t5075 = t5073 + t5074;
+            let t5076 = t5072 - t5075;
+            let t5077 = wrist_fe_v_wz * t5048;
+            let t5078 = t4911 * t489;
+            let t5079 = t5077 + t5078;
+            let t5080 = wrist_fe_v_wx * t5067;
+            let t5081 = t4989 * t508;
+            let t5082 = t5080 + t5081;
+            let t5083 = t5079 - t5082;
+            let t5084 = wrist_fe_v_wx * t5066;
+            let t5085 = t4989 * t507;
+            let t5086 = t5084 + t5085;
+            let t5087 = wrist_fe_v_wy * t5048;
+            let t5088 = t4990 * t489;
+            let t5089 = t5087 + t5088;
+            let t5090 = t5086 - t5089;
+            let t5091 = wrist_fe_v_vy * t5069;
+            let t5092 = t4996 * t510;
+            let t5093 = t5092 - t5091;
+            let t5094 = wrist_fe_v_vz * t5068;
+            let t5095 = t426 * t509;
+            let t5096 = t5094 - t5095;
+            let t5097 = t5093 - t5096;
+            let t5098 = wrist_fe_v_vz * t5061;
+            let t5099 = t426 * t502;
+            let t5100 = t5098 - t5099;
+            let t5101 = wrist_fe_v_vx * t5069;
+            let t5102 = t4993 * t510;
+            let t5103 = t5102 - t5101;
+            let t5104 = t5100 - t5103;
+            let t5105 = wrist_fe_v_vx * t5068;
+            let t5106 = t4993 * t509;
+            let t5107 = t5105 + t5106;
+            let t5108 = wrist_fe_v_vy * t5061;
+            let t5109 = t4996 * t502;
+            let t5110 = t5108 + t5109;
+            let t5111 = t5107 - t5110;
+            let t5112 = t5076 + t5097;
+            let t5113 = t5083 + t5104;
+            let t5114 = t5090 + t5111;
+            let t5115 = wrist_fe_v_wy * t5069;
+            let t5116 = t4990 * t510;
+            let t5117 = t5116 - t5115;
+            let t5118 = wrist_fe_v_wz * t5068;
+            let t5119 = t4911 * t509;
+            let t5120 = t5118 + t5119;
+            let t5121 = t5117 - t5120;
+            let t5122 = wrist_fe_v_wz * t5061;
+            let t5123 = t4911 * t502;
+            let t5124 = t5122 + t5123;
+            let t5125 = wrist_fe_v_wx * t5069;
+            let t5126 = t4989 * t510;
+            let t5127 = t5126 - t5125;
+            let t5128 = t5124 - t5127;
+            let t5129 = wrist_fe_v_wx * t5068;
+            let t5130 = t4989 * t509;
+            let t5131 = t5129 + t5130;
+            let t5132 = wrist_fe_v_wy * t5061;
+            let t5133 = t4990 * t502;
+            let t5134 = t5132 + t5133;
+            let t5135 = t5131 - t5134;
+            let t5136 = t5022 + t5112;
+            let t5137 = t5040 + t5113;
+            let t5138 = t5041 + t5114;
+            let t5139 = t5035 + t5121;
+            let t5140 = t5042 + t5128;
+            let t5141 = t5135 - t5043;
+            (t4989, t4990, t5059, t5063, t5136, t5137, t5138, t5139, t5140, t5141)
+        };
+        let (t5162, t5163, t5164, t5165, t5166, t5167) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t5142 = c_wfe * t5139;
+            let t5143 = s_wfe * t5140;
+            let t5144 = t5142 - t5143;
+            let t5145 = s_wfe * t5139;
+            let t5146 = c_wfe * t5140;
+            let t5147 = t5145 + t5146;
+            let t5148 = c_wfe * t5136;
+            let t5149 = s_wfe * t5137;
+            let t5150 = t5148 - t5149;
+            let t5151 = s_wfe * t5136;
+            let t5152 = c_wfe * t5137;
+            let t5153 = t5151 + t5152;
+            let t5154 = 0.184f64 * t5141;
+            let t5155 = 0.184f64 * t5147;
+            let t5156 = 0.02075f64 * t5144;
+            let t5157 = t5155 - t5156;
+            let t5158 = 0.02075f64 * t5141;
+            let t5159 = t5153 - t5154;
+            let t5160 = t5138 + t5157;
+            let t5161 = t5150 + t5158;
+            let t5162 = t4981 + t5159;
+            let t5163 = t4982 + t5160;
+            let t5164 = t4983 + t5161;
+            let t5165 = t4984 + t5147;
+            let t5166 = t4985 + t5141;
+            let t5167 = t4980 + t5144;
+            (t5162, t5163, t5164, t5165, t5166, t5167)
+        };
+        let (t5172, t5177, t5190, t5191) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t5168 = c_wr * t5165;
+            let t5169 = t5168 - t564;
+            let t5170 = s_wr * t5166;
+            let t5171 = t5170 + t565;
+            let t5172 = t5169 - t5171;
+            let t5173 = s_wr * t5165;
+            let t5174 = t5173 + t561;
+            let t5175 = c_wr * t5166;
+            let t5176 = t5175 - t562;
+            let t5177 = t5174 + t5176;
+            let t5178 = c_wr * t5162;
+            let t5179 = t5178 - t570;
+            let t5180 = s_wr * t5163;
+            let t5181 = t5180 + t571;
+            let t5182 = t5179 - t5181;
+            let t5183 = s_wr * t5162;
+            let t5184 = t5183 + t567;
+            let t5185 = c_wr * t5163;
+            let t5186 = t5185 - t568;
+            let t5187 = t5184 + t5186;
+            let t5188 = 0.112f64 * t5172;
+            let t5189 = 0.112f64 * t5177;
+            let t5190 = t5187 + t5188;
+            let t5191 = t5189 - t5182;
+            (t5172, t5177, t5190, t5191)
+        };
+        let (t5194, t5197, t5203, t5204) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t5192 = s_efe * t5167;
+            let t5193 = c_efe * t5177;
+            let t5194 = t5192 + t5193;
+            let t5195 = c_efe * t5164;
+            let t5196 = s_efe * t5190;
+            let t5197 = t5195 - t5196;
+            let t5198 = s_efe * t5164;
+            let t5199 = c_efe * t5190;
+            let t5200 = t5198 + t5199;
+            let t5201 = 0.304f64 * t5194;
+            let t5202 = 0.304f64 * t5172;
+            let t5203 = t5191 + t5201;
+            let t5204 = t5200 + t5202;
+            (t5194, t5197, t5203, t5204)
+        };
+        let (t5219, t5220) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t5205 = c_hr * t5172;
+            let t5206 = s_hr * t5194;
+            let t5207 = t5205 - t5206;
+            let t5208 = s_hr * t5172;
+            let t5209 = c_hr * t5194;
+            let t5210 = t5208 + t5209;
+            let t5211 = c_hr * t5203;
+            let t5212 = s_hr * t5204;
+            let t5213 = t5211 + t5212;
+            let t5214 = s_hr * t5203;
+            let t5215 = c_hr * t5204;
+            let t5216 = t5215 - t5214;
+            let t5217 = 0.112f64 * t5207;
+            let t5218 = 0.112f64 * t5210;
+            let t5219 = t5216 + t5217;
+            let t5220 = t5213 + t5218;
+            (t5219, t5220)
+        };
+        let t5223 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t5221 = s_sfe * t5197;
+            let t5222 = c_sfe * t5219;
+            let t5223 = t5221 + t5222;
+            t5223
+        };
+        let (t5238, t5239, t5240) = {
+            // ── link `Wrist_R`, joint `WR` (base to tip)
+            let t5224 = t4931 + t364;
+            let t5225 = 0.029115f64 * wrist_r_v_wx;
+            let t5226 = t360 + t5225;
+            let t5227 = 0.001243f64 * wrist_r_v_wx;
+            let t5228 = t5227 - t4936;
+            let t5229 = t5224 + t375;
+            let t5230 = t374 - t5226;
+            let t5231 = wrist_r_v_wy * 0.011046f64;
+            let t5232 = t382 - t367;
+            let t5233 = t5231 - t5232;
+            let t5234 = t381 - t362;
+            let t5235 = wrist_r_v_wx * 0.011046f64;
+            let t5236 = t5234 - t5235;
+            let t5237 = t4936 - t5227;
+            let t5238 = t5229 + t5233;
+            let t5239 = t5230 + t5236;
+            let t5240 = t5228 + t5237;
+            (t5238, t5239, t5240)
+        };
+        let (t5323, t5324, t5325, t5326, t5327, t5328) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t5241 = 0.02075f64 * wrist_r_v_wx;
+            let t5242 = wrist_r_v_vy - t422;
+            let t5243 = c_wfe * t5241;
+            let t5244 = s_wfe * t5242;
+            let t5245 = t5243 + t5244;
+            let t5246 = s_wfe * t5241;
+            let t5247 = c_wfe * t5242;
+            let t5248 = t5247 - t5246;
+            let t5249 = s_wfe * qd_wfe;
+            let t5250 = c_wfe * qd_wfe;
+            let t5251 = t4989 - t5249;
+            let t5252 = t4990 - t5250;
+            let t5253 = 0.010737f64 * t5251;
+            let t5254 = 0.000198f64 * t5252;
+            let t5255 = t5253 + t5254;
+            let t5256 = 0.000015f64 * wrist_r_v_wx;
+            let t5257 = t5255 - t5256;
+            let t5258 = 0.000198f64 * t5251;
+            let t5259 = 0.0032270000000000003f64 * t5252;
+            let t5260 = t5258 + t5259;
+            let t5261 = 0.000829f64 * wrist_r_v_wx;
+            let t5262 = t5260 + t5261;
+            let t5263 = 0.000015f64 * t5251;
+            let t5264 = 0.000829f64 * t5252;
+            let t5265 = t5263 - t5264;
+            let t5266 = 0.009277f64 * wrist_r_v_wx;
+            let t5267 = t5265 - t5266;
+            let t5268 = 0.038686875f64 * t5248;
+            let t5269 = t5245 * 1.547475f64;
+            let t5270 = t5248 * 1.547475f64;
+            let t5271 = 0.038686875f64 * wrist_r_v_wx;
+            let t5272 = 0.038686875f64 * t5252;
+            let t5273 = t5262 + t5059;
+            let t5274 = t5267 + t5268;
+            let t5275 = t5270 - t5271;
+            let t5276 = t5063 + t5272;
+            let t5277 = 0.010737f64 * c_wfe;
+            let t5278 = 0.000198f64 * s_wfe;
+            let t5279 = t5277 - t5278;
+            let t5280 = 0.000198f64 * c_wfe;
+            let t5281 = 0.0032270000000000003f64 * s_wfe;
+            let t5282 = t5280 - t5281;
+            let t5283 = 0.000015f64 * c_wfe;
+            let t5284 = 0.000829f64 * s_wfe;
+            let t5285 = t5283 + t5284;
+            let t5286 = 0.038686875f64 * s_wfe;
+            let t5287 = t5282 - 0.0008027526562500001f64;
+            let t5288 = 0.03211010625f64 + t5286;
+            let t5289 = wrist_fe_v_wy * t5285;
+            let t5290 = s_wfe * t508;
+            let t5291 = t5289 - t5290;
+            let t5292 = wrist_fe_v_wz * t5287;
+            let t5293 = t5291 - t5292;
+            let t5294 = wrist_fe_v_wz * t5279;
+            let t5295 = wrist_fe_v_wx * t5285;
+            let t5296 = c_wfe * t508;
+            let t5297 = t5295 + t5296;
+            let t5298 = t5294 - t5297;
+            let t5299 = wrist_fe_v_wx * t5287;
+            let t5300 = c_wfe * t507;
+            let t5301 = t5299 + t5300;
+            let t5302 = wrist_fe_v_wy * t5279;
+            let t5303 = s_wfe * t489;
+            let t5304 = t5302 - t5303;
+            let t5305 = t5301 - t5304;
+            let t5306 = wrist_fe_v_vy * t5288;
+            let t5307 = 0.02075f64 * t509;
+            let t5308 = t5306 - t5307;
+            let t5309 = 0.02075f64 * t502;
+            let t5310 = wrist_fe_v_vx * t5288;
+            let t5311 = t5309 - t5310;
+            let t5312 = t5293 + t5308;
+            let t5313 = t5298 + t5311;
+            let t5314 = wrist_fe_v_wy * t5288;
+            let t5315 = s_wfe * t510;
+            let t5316 = t5314 - t5315;
+            let t5317 = wrist_fe_v_wx * t5288;
+            let t5318 = c_wfe * t510;
+            let t5319 = t5317 + t5318;
+            let t5320 = c_wfe * t509;
+            let t5321 = s_wfe * t502;
+            let t5322 = t5320 + t5321;
+            let t5323 = t5257 + t5312;
+            let t5324 = t5273 + t5313;
+            let t5325 = t5274 + t5305;
+            let t5326 = t5269 + t5316;
+            let t5327 = t5275 - t5319;
+            let t5328 = t5322 - t5276;
+            (t5323, t5324, t5325, t5326, t5327, t5328)
+        };
+        let (t5331, t5334, t5349, t5350, t5351) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t5329 = c_wfe * t5326;
+            let t5330 = s_wfe * t5327;
+            let t5331 = t5329 - t5330;
+            let t5332 = s_wfe * t5326;
+            let t5333 = c_wfe * t5327;
+            let t5334 = t5332 + t5333;
+            let t5335 = c_wfe * t5323;
+            let t5336 = s_wfe * t5324;
+            let t5337 = t5335 - t5336;
+            let t5338 = s_wfe * t5323;
+            let t5339 = c_wfe * t5324;
+            let t5340 = t5338 + t5339;
+            let t5341 = 0.184f64 * t5328;
+            let t5342 = 0.184f64 * t5334;
+            let t5343 = 0.02075f64 * t5331;
+            let t5344 = t5342 - t5343;
+            let t5345 = 0.02075f64 * t5328;
+            let t5346 = t5340 - t5341;
+            let t5347 = t5325 + t5344;
+            let t5348 = t5337 + t5345;
+            let t5349 = t5238 + t5346;
+            let t5350 = t5239 + t5347;
+            let t5351 = t5240 + t5348;
+            (t5331, t5334, t5349, t5350, t5351)
+        };
+        let (t5354, t5357, t5366, t5367) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t5352 = c_wr * t5334;
+            let t5353 = s_wr * t5328;
+            let t5354 = t5352 - t5353;
+            let t5355 = s_wr * t5334;
+            let t5356 = c_wr * t5328;
+            let t5357 = t5355 + t5356;
+            let t5358 = c_wr * t5349;
+            let t5359 = s_wr * t5350;
+            let t5360 = t5358 - t5359;
+            let t5361 = s_wr * t5349;
+            let t5362 = c_wr * t5350;
+            let t5363 = t5361 + t5362;
+            let t5364 = 0.112f64 * t5354;
+            let t5365 = 0.112f64 * t5357;
+            let t5366 = t5363 + t5364;
+            let t5367 = t5365 - t5360;
+            (t5354, t5357, t5366, t5367)
+        };
+        let (t5370, t5373, t5379, t5380) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t5368 = s_efe * t5331;
+            let t5369 = c_efe * t5357;
+            let t5370 = t5368 + t5369;
+            let t5371 = c_efe * t5351;
+            let t5372 = s_efe * t5366;
+            let t5373 = t5371 - t5372;
+            let t5374 = s_efe * t5351;
+            let t5375 = c_efe * t5366;
+            let t5376 = t5374 + t5375;
+            let t5377 = 0.304f64 * t5370;
+            let t5378 = 0.304f64 * t5354;
+            let t5379 = t5367 + t5377;
+            let t5380 = t5376 + t5378;
+            (t5370, t5373, t5379, t5380)
+        };
+        let (t5395, t5396) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t5381 = c_hr * t5354;
+            let t5382 = s_hr * t5370;
+            let t5383 = t5381 - t5382;
+            let t5384 = s_hr * t5354;
+            let t5385 = c_hr * t5370;
+            let t5386 = t5384 + t5385;
+            let t5387 = c_hr * t5379;
+            let t5388 = s_hr * t5380;
+            let t5389 = t5387 + t5388;
+            let t5390 = s_hr * t5379;
+            let t5391 = c_hr * t5380;
+            let t5392 = t5391 - t5390;
+            let t5393 = 0.112f64 * t5383;
+            let t5394 = 0.112f64 * t5386;
+            let t5395 = t5392 + t5393;
+            let t5396 = t5389 + t5394;
+            (t5395, t5396)
+        };
+        let t5399 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t5397 = s_sfe * t5373;
+            let t5398 = c_sfe * t5395;
+            let t5399 = t5397 + t5398;
+            t5399
+        };
+        let (
+            t5411,
+            t5413,
+            t5416,
+            t5417,
+            t5418,
+            t5419,
+            t5464,
+            t5465,
+            t5466,
+            t5467,
+            t5468,
+            t5469,
+        ) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t5400 = 0.010737f64 * wrist_fe_a_wy;
+            let t5401 = t5400 - t464;
+            let t5402 = 0.0032270000000000003f64 * wrist_fe_a_wx;
+            let t5403 = t460 - t5402;
+            let t5404 = 0.000015f64 * wrist_fe_a_wy;
+            let t5405 = 0.000829f64 * wrist_fe_a_wx;
+            let t5406 = t5404 + t5405;
+            let t5407 = 0.038686875f64 * wrist_fe_a_vx;
+            let t5408 = 0.038686875f64 * wrist_fe_a_wx;
+            let t5409 = t5406 - t5407;
+            let t5410 = 0.010737f64 * wrist_fe_v_wy;
+            let t5411 = t5410 - t490;
+            let t5412 = 0.0032270000000000003f64 * wrist_fe_v_wx;
+            let t5413 = t486 - t5412;
+            let t5414 = 0.000015f64 * wrist_fe_v_wy;
+            let t5415 = 0.000829f64 * wrist_fe_v_wx;
+            let t5416 = t5414 + t5415;
+            let t5417 = 0.038686875f64 * wrist_fe_v_vx;
+            let t5418 = 0.038686875f64 * wrist_fe_v_wx;
+            let t5419 = t5416 - t5417;
+            let t5420 = wrist_fe_v_wy * t5419;
+            let t5421 = t5420 - t515;
+            let t5422 = wrist_fe_v_wz * t5413;
+            let t5423 = t5421 - t5422;
+            let t5424 = wrist_fe_v_wz * t5411;
+            let t5425 = wrist_fe_v_wx * t5419;
+            let t5426 = t5425 + t511;
+            let t5427 = t5424 - t5426;
+            let t5428 = wrist_fe_v_wx * t5413;
+            let t5429 = wrist_fe_v_wy * t507;
+            let t5430 = t5428 + t5429;
+            let t5431 = wrist_fe_v_wy * t5411;
+            let t5432 = wrist_fe_v_wx * t489;
+            let t5433 = t5431 - t5432;
+            let t5434 = t5430 - t5433;
+            let t5435 = wrist_fe_v_vy * t5418;
+            let t5436 = t5435 - t524;
+            let t5437 = t5436 + t523;
+            let t5438 = wrist_fe_v_vz * t503;
+            let t5439 = wrist_fe_v_vx * t5418;
+            let t5440 = t5439 + t520;
+            let t5441 = t5438 - t5440;
+            let t5442 = wrist_fe_v_vx * t502;
+            let t5443 = wrist_fe_v_vy * t509;
+            let t5444 = t5443 - t5442;
+            let t5445 = wrist_fe_v_vy * t503;
+            let t5446 = t5445 - t5442;
+            let t5447 = t5444 - t5446;
+            let t5448 = t5423 + t5437;
+            let t5449 = t5427 + t5441;
+            let t5450 = t5434 + t5447;
+            let t5451 = wrist_fe_v_wy * t5418;
+            let t5452 = t5451 - t536;
+            let t5453 = t5452 + t535;
+            let t5454 = wrist_fe_v_wz * t503;
+            let t5455 = wrist_fe_v_wx * t5418;
+            let t5456 = t5455 + t532;
+            let t5457 = t5454 - t5456;
+            let t5458 = wrist_fe_v_wx * t502;
+            let t5459 = wrist_fe_v_wy * t509;
+            let t5460 = t5459 - t5458;
+            let t5461 = wrist_fe_v_wy * t503;
+            let t5462 = t5461 - t5458;
+            let t5463 = t5460 - t5462;
+            let t5464 = t5401 + t5448;
+            let t5465 = t5403 + t5449;
+            let t5466 = t5409 + t5450;
+            let t5467 = t477 + t5453;
+            let t5468 = t5457 - t476;
+            let t5469 = t5408 + t5463;
+            (
+                t5411,
+                t5413,
+                t5416,
+                t5417,
+                t5418,
+                t5419,
+                t5464,
+                t5465,
+                t5466,
+                t5467,
+                t5468,
+                t5469,
+            )
+        };
+        let (t5474, t5479, t5495, t5496, t5497) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t5470 = c_wfe * t5467;
+            let t5471 = t5470 - t544;
+            let t5472 = s_wfe * t5468;
+            let t5473 = t5472 + t545;
+            let t5474 = t5471 - t5473;
+            let t5475 = s_wfe * t5467;
+            let t5476 = t5475 + t541;
+            let t5477 = c_wfe * t5468;
+            let t5478 = t5477 - t542;
+            let t5479 = t5476 + t5478;
+            let t5480 = c_wfe * t5464;
+            let t5481 = t5480 - t550;
+            let t5482 = s_wfe * t5465;
+            let t5483 = t5482 + t551;
+            let t5484 = t5481 - t5483;
+            let t5485 = s_wfe * t5464;
+            let t5486 = t5485 + t547;
+            let t5487 = c_wfe * t5465;
+            let t5488 = t5487 - t548;
+            let t5489 = t5486 + t5488;
+            let t5490 = 0.184f64 * t5469;
+            let t5491 = 0.184f64 * t5479;
+            let t5492 = 0.02075f64 * t5474;
+            let t5493 = t5491 - t5492;
+            let t5494 = 0.02075f64 * t5469;
+            let t5495 = t5489 - t5490;
+            let t5496 = t5466 + t5493;
+            let t5497 = t5484 + t5494;
+            (t5474, t5479, t5495, t5496, t5497)
+        };
+        let (t5500, t5503, t5512, t5513) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t5498 = c_wr * t5479;
+            let t5499 = s_wr * t5469;
+            let t5500 = t5498 - t5499;
+            let t5501 = s_wr * t5479;
+            let t5502 = c_wr * t5469;
+            let t5503 = t5501 + t5502;
+            let t5504 = c_wr * t5495;
+            let t5505 = s_wr * t5496;
+            let t5506 = t5504 - t5505;
+            let t5507 = s_wr * t5495;
+            let t5508 = c_wr * t5496;
+            let t5509 = t5507 + t5508;
+            let t5510 = 0.112f64 * t5500;
+            let t5511 = 0.112f64 * t5503;
+            let t5512 = t5509 + t5510;
+            let t5513 = t5511 - t5506;
+            (t5500, t5503, t5512, t5513)
+        };
+        let (t5516, t5519, t5525, t5526) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t5514 = s_efe * t5474;
+            let t5515 = c_efe * t5503;
+            let t5516 = t5514 + t5515;
+            let t5517 = c_efe * t5497;
+            let t5518 = s_efe * t5512;
+            let t5519 = t5517 - t5518;
+            let t5520 = s_efe * t5497;
+            let t5521 = c_efe * t5512;
+            let t5522 = t5520 + t5521;
+            let t5523 = 0.304f64 * t5516;
+            let t5524 = 0.304f64 * t5500;
+            let t5525 = t5513 + t5523;
+            let t5526 = t5522 + t5524;
+            (t5516, t5519, t5525, t5526)
+        };
+        let (t5541, t5542) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t5527 = c_hr * t5500;
+            let t5528 = s_hr * t5516;
+            let t5529 = t5527 - t5528;
+            let t5530 = s_hr * t5500;
+            let t5531 = c_hr * t5516;
+            let t5532 = t5530 + t5531;
+            let t5533 = c_hr * t5525;
+            let t5534 = s_hr * t5526;
+            let t5535 = t5533 + t5534;
+            let t5536 = s_hr * t5525;
+            let t5537 = c_hr * t5526;
+            let t5538 = t5537 - t5536;
+            let t5539 = 0.112f64 * t5529;
+            let t5540 = 0.112f64 * t5532;
+            let t5541 = t5538 + t5539;
+            let t5542 = t5535 + t5540;
+            (t5541, t5542)
+        };
+        let t5545 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t5543 = s_sfe * t5519;
+            let t5544 = c_sfe * t5541;
+            let t5545 = t5543 + t5544;
+            t5545
+        };
+        let (t5555, t5556, t5557, t5558, t5559) = {
+            // ── link `Wrist_FE`, joint `WFE` (base to tip)
+            let t5546 = wrist_fe_v_wy * 0.009277f64;
+            let t5547 = t507 - t493;
+            let t5548 = t5546 - t5547;
+            let t5549 = t488 + t489;
+            let t5550 = wrist_fe_v_wx * 0.009277f64;
+            let t5551 = t5549 - t5550;
+            let t5552 = t5548 - t500;
+            let t5553 = t5417 - t5416;
+            let t5554 = t505 + t509;
+            let t5555 = t5411 + t5552;
+            let t5556 = t5413 + t5551;
+            let t5557 = t5419 + t5553;
+            let t5558 = t503 - t5554;
+            let t5559 = t5418 + t5418;
+            (t5555, t5556, t5557, t5558, t5559)
+        };
+        // ── link `Wrist_FE`, joint `WFE` (tip to base)
+        let (t5560, t5561, t5573, t5574, t5575) = {
+            // ── link `Wrist_FE`, joint `WFE` (tip to base)
+            let t5560 = c_wfe * t5558;
+            let t5561 = s_wfe * t5558;
+            let t5562 = c_wfe * t5555;
+            let t5563 = s_wfe * t5556;
+            let t5564 = t5562 - t5563;
+            let t5565 = s_wfe * t5555;
+            let t5566 = c_wfe * t5556;
+            let t5567 = t5565 + t5566;
+            let t5568 = 0.184f64 * t5559;
+            let t5569 = 0.184f64 * t5561;
+            let t5570 = 0.02075f64 * t5560;
+            let t5571 = t5569 - t5570;
+            let t5572 = 0.02075f64 * t5559;
+            let t5573 = t5567 - t5568;
+            let t5574 = t5557 + t5571;
+            let t5575 = t5564 + t5572;
+            (t5560, t5561, t5573, t5574, t5575)
+        };
+        let (t5578, t5581, t5590, t5591) = {
+            // ── link `Wrist_R`, joint `WR` (tip to base)
+            let t5576 = c_wr * t5561;
+            let t5577 = s_wr * t5559;
+            let t5578 = t5576 - t5577;
+            let t5579 = s_wr * t5561;
+            let t5580 = c_wr * t5559;
+            let t5581 = t5579 + t5580;
+            let t5582 = c_wr * t5573;
+            let t5583 = s_wr * t5574;
+            let t5584 = t5582 - t5583;
+            let t5585 = s_wr * t5573;
+            let t5586 = c_wr * t5574;
+            let t5587 = t5585 + t5586;
+            let t5588 = 0.112f64 * t5578;
+            let t5589 = 0.112f64 * t5581;
+            let t5590 = t5587 + t5588;
+            let t5591 = t5589 - t5584;
+            (t5578, t5581, t5590, t5591)
+        };
+        let (t5594, t5597, t5603, t5604) = {
+            // ── link `Elbow_FE`, joint `EFE` (tip to base)
+            let t5592 = s_efe * t5560;
+            let t5593 = c_efe * t5581;
+            let t5594 = t5592 + t5593;
+            let t5595 = c_efe * t5575;
+            let t5596 = s_efe * t5590;
+            let t5597 = t5595 - t5596;
+            let t5598 = s_efe * t5575;
+            let t5599 = c_efe * t5590;
+            let t5600 = t5598 + t5599;
+            let t5601 = 0.304f64 * t5594;
+            let t5602 = 0.304f64 * t5578;
+            let t5603 = t5591 + t5601;
+            let t5604 = t5600 + t5602;
+            (t5594, t5597, t5603, t5604)
+        };
+        let (t5619, t5620) = {
+            // ── link `Humerus_R`, joint `HR` (tip to base)
+            let t5605 = c_hr * t5578;
+            let t5606 = s_hr * t5594;
+            let t5607 = t5605 - t5606;
+            let t5608 = s_hr * t5578;
+            let t5609 = c_hr * t5594;
+            let t5610 = t5608 + t5609;
+            let t5611 = c_hr * t5603;
+            let t5612 = s_hr * t5604;
+            let t5613 = t5611 + t5612;
+            let t5614 = s_hr * t5603;
+            let t5615 = c_hr * t5604;
+            let t5616 = t5615 - t5614;
+            let t5617 = 0.112f64 * t5607;
+            let t5618 = 0.112f64 * t5610;
+            let t5619 = t5616 + t5617;
+            let t5620 = t5613 + t5618;
+            (t5619, t5620)
+        };
+        let t5623 = {
+            // ── link `Shoulder_FE`, joint `SFE` (tip to base)
+            let t5621 = s_sfe * t5597;
+            let t5622 = c_sfe * t5619;
+            let t5623 = t5621 + t5622;
+            t5623
+        };
+        let mut d_dq = ::hya_core::JointMatrix::<6>::zeros();
+        let mut d_dqd = ::hya_core::JointMatrix::<6>::zeros();
+        d_dq[(0, 1)] = t2175;
+        d_dq[(0, 2)] = t3565;
+        d_dq[(0, 3)] = t4545;
+        d_dq[(0, 4)] = t5223;
+        d_dq[(0, 5)] = t5545;
+        d_dq[(1, 1)] = t2170;
+        d_dq[(1, 2)] = t3562;
+        d_dq[(1, 3)] = t4542;
+        d_dq[(1, 4)] = t5220;
+        d_dq[(1, 5)] = t5542;
+        d_dq[(2, 1)] = t2149;
+        d_dq[(2, 2)] = t3536;
+        d_dq[(2, 3)] = t4517;
+        d_dq[(2, 4)] = t5197;
+        d_dq[(2, 5)] = t5519;
+        d_dq[(3, 1)] = t2130;
+        d_dq[(3, 2)] = t3517;
+        d_dq[(3, 3)] = t4504;
+        d_dq[(3, 4)] = t5191;
+        d_dq[(3, 5)] = t5513;
+        d_dq[(4, 1)] = t2108;
+        d_dq[(4, 2)] = t3495;
+        d_dq[(4, 3)] = t4482;
+        d_dq[(4, 4)] = t5164;
+        d_dq[(4, 5)] = t5497;
+        d_dq[(5, 1)] = t2082;
+        d_dq[(5, 2)] = t3469;
+        d_dq[(5, 3)] = t4456;
+        d_dq[(5, 4)] = t5138;
+        d_dq[(5, 5)] = t5466;
+        d_dqd[(0, 0)] = t1384;
+        d_dqd[(0, 1)] = t2886;
+        d_dqd[(0, 2)] = t4055;
+        d_dqd[(0, 3)] = t4910;
+        d_dqd[(0, 4)] = t5399;
+        d_dqd[(0, 5)] = t5623;
+        d_dqd[(1, 0)] = t1381;
+        d_dqd[(1, 1)] = t2883;
+        d_dqd[(1, 2)] = t4052;
+        d_dqd[(1, 3)] = t4907;
+        d_dqd[(1, 4)] = t5396;
+        d_dqd[(1, 5)] = t5620;
+        d_dqd[(2, 0)] = t1360;
+        d_dqd[(2, 1)] = t2862;
+        d_dqd[(2, 2)] = t4034;
+        d_dqd[(2, 3)] = t4884;
+        d_dqd[(2, 4)] = t5373;
+        d_dqd[(2, 5)] = t5597;
+        d_dqd[(3, 0)] = t1341;
+        d_dqd[(3, 1)] = t2843;
+        d_dqd[(3, 2)] = t4015;
+        d_dqd[(3, 3)] = t4875;
+        d_dqd[(3, 4)] = t5367;
+        d_dqd[(3, 5)] = t5591;
+        d_dqd[(4, 0)] = t1319;
+        d_dqd[(4, 1)] = t2821;
+        d_dqd[(4, 2)] = t3993;
+        d_dqd[(4, 3)] = t4853;
+        d_dqd[(4, 4)] = t5351;
+        d_dqd[(4, 5)] = t5575;
+        d_dqd[(5, 0)] = t1293;
+        d_dqd[(5, 1)] = t2795;
+        d_dqd[(5, 2)] = t3967;
+        d_dqd[(5, 3)] = t4827;
+        d_dqd[(5, 4)] = t5325;
+        d_dqd[(5, 5)] = t5557;
+        (d_dq, d_dqd)
     }
 }

@@ -34,23 +34,30 @@ impl Planar2 {
         &self,
         q: &::hya_core::JointVector<2>,
     ) -> [::hya_core::spatial::Transform; 4] {
-        let q_shoulder = q[0];
-        let q_elbow = q[1];
-        let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+        let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+            let q_shoulder = q[0];
+            let q_elbow = q[1];
+            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (s_shoulder, c_shoulder, s_elbow, c_elbow)
+        };
         // ── link `forearm`, joint `elbow` (base to tip)
-        let t0 = c_shoulder * 0.5f64;
-        let t1 = s_shoulder * 0.5f64;
-        let t2 = c_elbow * c_shoulder;
-        let t3 = s_elbow * s_shoulder;
-        let t4 = t2 - t3;
-        let t5 = s_elbow * c_shoulder;
-        let t6 = c_elbow * s_shoulder;
-        let t7 = t5 + t6;
-        let t8 = t4 * 0.4f64;
-        let t9 = t7 * 0.4f64;
-        let t10 = t0 + t8;
-        let t11 = t1 + t9;
+        let (t0, t1, t4, t7, t10, t11) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t0 = c_shoulder * 0.5f64;
+            let t1 = s_shoulder * 0.5f64;
+            let t2 = c_elbow * c_shoulder;
+            let t3 = s_elbow * s_shoulder;
+            let t4 = t2 - t3;
+            let t5 = s_elbow * c_shoulder;
+            let t6 = c_elbow * s_shoulder;
+            let t7 = t5 + t6;
+            let t8 = t4 * 0.4f64;
+            let t9 = t7 * 0.4f64;
+            let t10 = t0 + t8;
+            let t11 = t1 + t9;
+            (t0, t1, t4, t7, t10, t11)
+        };
         [
             ::hya_core::spatial::Transform::from_arrays(
                 [[1f64, 0f64, 0f64], [0f64, 1f64, 0f64], [0f64, 0f64, 1f64]],
@@ -94,94 +101,138 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         qd: &::hya_core::JointVector<2>,
         qdd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        let q_shoulder = q[0];
-        let q_elbow = q[1];
-        let qd_shoulder = qd[0];
-        let qd_elbow = qd[1];
-        let qdd_shoulder = qdd[0];
-        let qdd_elbow = qdd[1];
-        let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+        let (
+            qd_shoulder,
+            qd_elbow,
+            qdd_shoulder,
+            qdd_elbow,
+            s_shoulder,
+            c_shoulder,
+            s_elbow,
+            c_elbow,
+        ) = {
+            let q_shoulder = q[0];
+            let q_elbow = q[1];
+            let qd_shoulder = qd[0];
+            let qd_elbow = qd[1];
+            let qdd_shoulder = qdd[0];
+            let qdd_elbow = qdd[1];
+            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (
+                qd_shoulder,
+                qd_elbow,
+                qdd_shoulder,
+                qdd_elbow,
+                s_shoulder,
+                c_shoulder,
+                s_elbow,
+                c_elbow,
+            )
+        };
         // ── link `upper_arm`, joint `shoulder` (base to tip)
-        let upper_arm_a_vx = s_shoulder * 9.81f64;
-        let upper_arm_a_vz = c_shoulder * 9.81f64;
-        let t0 = 0.2475f64 * qdd_shoulder;
-        let t1 = 0.75f64 * upper_arm_a_vz;
-        let t2 = t0 - t1;
-        // ── link `forearm`, joint `elbow` (base to tip)
-        let t3 = 0.5f64 * qd_shoulder;
-        let forearm_v_vx = s_elbow * t3;
-        let forearm_v_vz = c_elbow * t3;
-        let forearm_v_wy = qd_shoulder + qd_elbow;
-        let t4 = 0.5f64 * qdd_shoulder;
-        let t5 = upper_arm_a_vz - t4;
-        let t6 = c_elbow * upper_arm_a_vx;
-        let t7 = s_elbow * t5;
-        let t8 = t6 + t7;
-        let t9 = s_elbow * upper_arm_a_vx;
-        let t10 = c_elbow * t5;
-        let t11 = t10 - t9;
-        let forearm_a_wy = qdd_shoulder + qdd_elbow;
-        let t12 = forearm_v_vz * qd_elbow;
-        let t13 = forearm_v_vx * qd_elbow;
-        let forearm_a_vx = t12 - t8;
-        let forearm_a_vz = t11 + t13;
-        let t14 = 0.11000000000000001f64 * forearm_a_wy;
-        let t15 = 0.4f64 * forearm_a_vz;
-        let t16 = forearm_a_vx * 2f64;
-        let t17 = forearm_a_vz * 2f64;
-        let t18 = 0.4f64 * forearm_a_wy;
-        let t19 = t14 - t15;
-        let t20 = t17 - t18;
-        let t21 = forearm_v_vx * 2f64;
-        let t22 = forearm_v_vz * 2f64;
-        let t23 = 0.4f64 * forearm_v_wy;
-        let t24 = t22 + t23;
-        let t25 = forearm_v_vz * t21;
-        let t26 = forearm_v_vx * t24;
-        let t27 = t26 - t25;
-        let t28 = forearm_v_wy * t24;
-        let t29 = forearm_v_wy * t21;
-        let forearm_f_ny = t19 + t27;
-        let forearm_f_fx = t16 - t28;
-        let forearm_f_fz = t20 - t29;
-        // ── link `forearm`, joint `elbow` (tip to base)
-        let t30 = s_elbow * forearm_f_fx;
-        let t31 = c_elbow * forearm_f_fz;
-        let t32 = t31 - t30;
-        let t33 = 0.5f64 * t32;
-        let t34 = forearm_f_ny - t33;
-        let upper_arm_f_ny = t2 + t34;
+        let (upper_arm_a_vx, upper_arm_a_vz, t2) = {
+            // ── link `upper_arm`, joint `shoulder` (base to tip)
+            let upper_arm_a_vx = s_shoulder * 9.81f64;
+            let upper_arm_a_vz = c_shoulder * 9.81f64;
+            let t0 = 0.2475f64 * qdd_shoulder;
+            let t1 = 0.75f64 * upper_arm_a_vz;
+            let t2 = t0 - t1;
+            (upper_arm_a_vx, upper_arm_a_vz, t2)
+        };
+        let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t3 = 0.5f64 * qd_shoulder;
+            let forearm_v_vx = s_elbow * t3;
+            let forearm_v_vz = c_elbow * t3;
+            let forearm_v_wy = qd_shoulder + qd_elbow;
+            let t4 = 0.5f64 * qdd_shoulder;
+            let t5 = upper_arm_a_vz - t4;
+            let t6 = c_elbow * upper_arm_a_vx;
+            let t7 = s_elbow * t5;
+            let t8 = t6 + t7;
+            let t9 = s_elbow * upper_arm_a_vx;
+            let t10 = c_elbow * t5;
+            let t11 = t10 - t9;
+            let forearm_a_wy = qdd_shoulder + qdd_elbow;
+            let t12 = forearm_v_vz * qd_elbow;
+            let t13 = forearm_v_vx * qd_elbow;
+            let forearm_a_vx = t12 - t8;
+            let forearm_a_vz = t11 + t13;
+            let t14 = 0.11000000000000001f64 * forearm_a_wy;
+            let t15 = 0.4f64 * forearm_a_vz;
+            let t16 = forearm_a_vx * 2f64;
+            let t17 = forearm_a_vz * 2f64;
+            let t18 = 0.4f64 * forearm_a_wy;
+            let t19 = t14 - t15;
+            let t20 = t17 - t18;
+            let t21 = forearm_v_vx * 2f64;
+            let t22 = forearm_v_vz * 2f64;
+            let t23 = 0.4f64 * forearm_v_wy;
+            let t24 = t22 + t23;
+            let t25 = forearm_v_vz * t21;
+            let t26 = forearm_v_vx * t24;
+            let t27 = t26 - t25;
+            let t28 = forearm_v_wy * t24;
+            let t29 = forearm_v_wy * t21;
+            let forearm_f_ny = t19 + t27;
+            let forearm_f_fx = t16 - t28;
+            let forearm_f_fz = t20 - t29;
+            (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+        };
+        let upper_arm_f_ny = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t30 = s_elbow * forearm_f_fx;
+            let t31 = c_elbow * forearm_f_fz;
+            let t32 = t31 - t30;
+            let t33 = 0.5f64 * t32;
+            let t34 = forearm_f_ny - t33;
+            let upper_arm_f_ny = t2 + t34;
+            upper_arm_f_ny
+        };
         ::hya_core::JointVector::<2>::from([upper_arm_f_ny, forearm_f_ny])
     }
     /// Gravity torques `G(q)`.
     #[inline]
     fn gravity(&self, q: &::hya_core::JointVector<2>) -> ::hya_core::JointVector<2> {
-        let q_shoulder = q[0];
-        let q_elbow = q[1];
-        let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+        let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+            let q_shoulder = q[0];
+            let q_elbow = q[1];
+            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (s_shoulder, c_shoulder, s_elbow, c_elbow)
+        };
         // ── link `upper_arm`, joint `shoulder` (base to tip)
-        let upper_arm_a_vx = s_shoulder * 9.81f64;
-        let upper_arm_a_vz = c_shoulder * 9.81f64;
-        let t0 = 0.75f64 * upper_arm_a_vz;
-        // ── link `forearm`, joint `elbow` (base to tip)
-        let t1 = c_elbow * upper_arm_a_vx;
-        let t2 = s_elbow * upper_arm_a_vz;
-        let forearm_a_vx = t1 + t2;
-        let t3 = s_elbow * upper_arm_a_vx;
-        let t4 = c_elbow * upper_arm_a_vz;
-        let forearm_a_vz = t4 - t3;
-        let forearm_f_ny = 0.4f64 * forearm_a_vz;
-        let forearm_f_fx = forearm_a_vx * 2f64;
-        let forearm_f_fz = forearm_a_vz * 2f64;
-        // ── link `forearm`, joint `elbow` (tip to base)
-        let t5 = s_elbow * forearm_f_fx;
-        let t6 = c_elbow * forearm_f_fz;
-        let t7 = t5 + t6;
-        let t8 = 0.5f64 * t7;
-        let t9 = forearm_f_ny + t8;
-        let upper_arm_f_ny = t0 + t9;
+        let (upper_arm_a_vx, upper_arm_a_vz, t0) = {
+            // ── link `upper_arm`, joint `shoulder` (base to tip)
+            let upper_arm_a_vx = s_shoulder * 9.81f64;
+            let upper_arm_a_vz = c_shoulder * 9.81f64;
+            let t0 = 0.75f64 * upper_arm_a_vz;
+            (upper_arm_a_vx, upper_arm_a_vz, t0)
+        };
+        let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t1 = c_elbow * upper_arm_a_vx;
+            let t2 = s_elbow * upper_arm_a_vz;
+            let forearm_a_vx = t1 + t2;
+            let t3 = s_elbow * upper_arm_a_vx;
+            let t4 = c_elbow * upper_arm_a_vz;
+            let forearm_a_vz = t4 - t3;
+            let forearm_f_ny = 0.4f64 * forearm_a_vz;
+            let forearm_f_fx = forearm_a_vx * 2f64;
+            let forearm_f_fz = forearm_a_vz * 2f64;
+            (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+        };
+        let upper_arm_f_ny = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t5 = s_elbow * forearm_f_fx;
+            let t6 = c_elbow * forearm_f_fz;
+            let t7 = t5 + t6;
+            let t8 = 0.5f64 * t7;
+            let t9 = forearm_f_ny + t8;
+            let upper_arm_f_ny = t0 + t9;
+            upper_arm_f_ny
+        };
         ::hya_core::JointVector::<2>::from([-upper_arm_f_ny, -forearm_f_ny])
     }
     /// Coriolis and centripetal torques `C(q, q̇)`.
@@ -191,38 +242,47 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         q: &::hya_core::JointVector<2>,
         qd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        let q_elbow = q[1];
-        let qd_shoulder = qd[0];
-        let qd_elbow = qd[1];
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
-        // ── link `forearm`, joint `elbow` (base to tip)
-        let t0 = 0.5f64 * qd_shoulder;
-        let forearm_v_vx = s_elbow * t0;
-        let forearm_v_vz = c_elbow * t0;
-        let forearm_v_wy = qd_shoulder + qd_elbow;
-        let forearm_a_vx = forearm_v_vz * qd_elbow;
-        let forearm_a_vz = forearm_v_vx * qd_elbow;
-        let t1 = 0.4f64 * forearm_a_vz;
-        let t2 = forearm_a_vx * 2f64;
-        let t3 = forearm_a_vz * 2f64;
-        let t4 = forearm_v_vx * 2f64;
-        let t5 = forearm_v_vz * 2f64;
-        let t6 = 0.4f64 * forearm_v_wy;
-        let t7 = t5 + t6;
-        let t8 = forearm_v_vz * t4;
-        let t9 = forearm_v_vx * t7;
-        let t10 = t9 - t8;
-        let t11 = forearm_v_wy * t7;
-        let t12 = forearm_v_wy * t4;
-        let forearm_f_ny = t10 - t1;
-        let forearm_f_fx = t2 - t11;
-        let forearm_f_fz = t3 - t12;
-        // ── link `forearm`, joint `elbow` (tip to base)
-        let t13 = s_elbow * forearm_f_fx;
-        let t14 = c_elbow * forearm_f_fz;
-        let upper_arm_f_fz = t14 - t13;
-        let t15 = 0.5f64 * upper_arm_f_fz;
-        let upper_arm_f_ny = forearm_f_ny - t15;
+        let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+            let q_elbow = q[1];
+            let qd_shoulder = qd[0];
+            let qd_elbow = qd[1];
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+        };
+        let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t0 = 0.5f64 * qd_shoulder;
+            let forearm_v_vx = s_elbow * t0;
+            let forearm_v_vz = c_elbow * t0;
+            let forearm_v_wy = qd_shoulder + qd_elbow;
+            let forearm_a_vx = forearm_v_vz * qd_elbow;
+            let forearm_a_vz = forearm_v_vx * qd_elbow;
+            let t1 = 0.4f64 * forearm_a_vz;
+            let t2 = forearm_a_vx * 2f64;
+            let t3 = forearm_a_vz * 2f64;
+            let t4 = forearm_v_vx * 2f64;
+            let t5 = forearm_v_vz * 2f64;
+            let t6 = 0.4f64 * forearm_v_wy;
+            let t7 = t5 + t6;
+            let t8 = forearm_v_vz * t4;
+            let t9 = forearm_v_vx * t7;
+            let t10 = t9 - t8;
+            let t11 = forearm_v_wy * t7;
+            let t12 = forearm_v_wy * t4;
+            let forearm_f_ny = t10 - t1;
+            let forearm_f_fx = t2 - t11;
+            let forearm_f_fz = t3 - t12;
+            (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+        };
+        let upper_arm_f_ny = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t13 = s_elbow * forearm_f_fx;
+            let t14 = c_elbow * forearm_f_fz;
+            let upper_arm_f_fz = t14 - t13;
+            let t15 = 0.5f64 * upper_arm_f_fz;
+            let upper_arm_f_ny = forearm_f_ny - t15;
+            upper_arm_f_ny
+        };
         ::hya_core::JointVector::<2>::from([upper_arm_f_ny, forearm_f_ny])
     }
     /// `C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.
@@ -232,39 +292,58 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         q: &::hya_core::JointVector<2>,
         qd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        let q_elbow = q[1];
-        let qd_shoulder = qd[0];
-        let qd_elbow = qd[1];
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
-        // ── link `forearm`, joint `elbow` (base to tip)
-        let t0 = 0.5f64 * qd_shoulder;
-        let forearm_v_vx = s_elbow * t0;
-        let forearm_v_vz = c_elbow * t0;
-        let forearm_v_wy = qd_shoulder + qd_elbow;
-        let forearm_f_fx = forearm_v_vx * 2f64;
-        let t1 = forearm_v_vz * 2f64;
-        let t2 = 0.4f64 * forearm_v_wy;
-        let forearm_f_fz = t1 + t2;
-        // ── link `forearm`, joint `elbow` (tip to base)
-        let t3 = forearm_v_vz * forearm_f_fx;
-        let t4 = forearm_v_vx * forearm_f_fz;
-        let ct_elbow = t3 - t4;
+        let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+            let q_elbow = q[1];
+            let qd_shoulder = qd[0];
+            let qd_elbow = qd[1];
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+        };
+        let (forearm_v_vx, forearm_v_vz, forearm_f_fx, forearm_f_fz) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t0 = 0.5f64 * qd_shoulder;
+            let forearm_v_vx = s_elbow * t0;
+            let forearm_v_vz = c_elbow * t0;
+            let forearm_v_wy = qd_shoulder + qd_elbow;
+            let forearm_f_fx = forearm_v_vx * 2f64;
+            let t1 = forearm_v_vz * 2f64;
+            let t2 = 0.4f64 * forearm_v_wy;
+            let forearm_f_fz = t1 + t2;
+            (forearm_v_vx, forearm_v_vz, forearm_f_fx, forearm_f_fz)
+        };
+        let ct_elbow = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t3 = forearm_v_vz * forearm_f_fx;
+            let t4 = forearm_v_vx * forearm_f_fz;
+            let ct_elbow = t3 - t4;
+            ct_elbow
+        };
         ::hya_core::JointVector::<2>::from([0f64, ct_elbow])
     }
     /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
     #[inline]
     fn mass_matrix(&self, q: &::hya_core::JointVector<2>) -> ::hya_core::JointMatrix<2> {
-        let q_elbow = q[1];
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
-        // ── link `forearm`, joint `elbow` (tip to base)
-        let t0 = c_elbow * 0.4f64;
-        let t1 = 0.5f64 * t0;
-        let t2 = t1 + t1;
-        let t3 = t2 + 0.5f64;
-        let t4 = 0.11000000000000001f64 + t3;
-        let m_shoulder_shoulder = 0.2475f64 + t4;
+        let c_elbow = {
+            let q_elbow = q[1];
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            c_elbow
+        };
+        let (t1, m_shoulder_shoulder) = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t0 = c_elbow * 0.4f64;
+            let t1 = 0.5f64 * t0;
+            let t2 = t1 + t1;
+            let t3 = t2 + 0.5f64;
+            let t4 = 0.11000000000000001f64 + t3;
+            let m_shoulder_shoulder = 0.2475f64 + t4;
+            (t1, m_shoulder_shoulder)
+        };
         // ── link `forearm`, joint `elbow` (base to tip, last pass)
-        let m_elbow_shoulder = 0.11000000000000001f64 + t1;
+        let m_elbow_shoulder = {
+            // ── link `forearm`, joint `elbow` (base to tip, last pass)
+            let m_elbow_shoulder = 0.11000000000000001f64 + t1;
+            m_elbow_shoulder
+        };
         let mut m = ::hya_core::JointMatrix::<2>::zeros();
         m[(0, 0)] = m_shoulder_shoulder;
         m[(1, 1)] = 0.11000000000000001f64;
@@ -281,84 +360,349 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         qd: &::hya_core::JointVector<2>,
         tau: &::hya_core::JointVector<2>,
     ) -> Result<::hya_core::JointVector<2>, ::hya_core::Error> {
-        let q_shoulder = q[0];
-        let q_elbow = q[1];
-        let qd_shoulder = qd[0];
-        let qd_elbow = qd[1];
-        let tau_shoulder = tau[0];
-        let tau_elbow = tau[1];
-        let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-        let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
-        // ── link `forearm`, joint `elbow` (base to tip)
-        let t0 = 0.5f64 * qd_shoulder;
-        let forearm_v_vx = s_elbow * t0;
-        let forearm_v_vz = c_elbow * t0;
-        let forearm_v_wy = qd_shoulder + qd_elbow;
-        let t1 = forearm_v_vz * qd_elbow;
-        let t2 = forearm_v_vx * qd_elbow;
-        let t3 = forearm_v_vx * 2f64;
-        let t4 = forearm_v_vz * 2f64;
-        let t5 = 0.4f64 * forearm_v_wy;
-        let t6 = t4 + t5;
-        let t7 = forearm_v_vz * t3;
-        let t8 = forearm_v_vx * t6;
-        let forearm_p_ny = t8 - t7;
-        let forearm_p_fx = forearm_v_wy * t6;
-        let forearm_p_fz = forearm_v_wy * t3;
+        let (
+            qd_shoulder,
+            qd_elbow,
+            tau_shoulder,
+            tau_elbow,
+            s_shoulder,
+            c_shoulder,
+            s_elbow,
+            c_elbow,
+        ) = {
+            let q_shoulder = q[0];
+            let q_elbow = q[1];
+            let qd_shoulder = qd[0];
+            let qd_elbow = qd[1];
+            let tau_shoulder = tau[0];
+            let tau_elbow = tau[1];
+            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (
+                qd_shoulder,
+                qd_elbow,
+                tau_shoulder,
+                tau_elbow,
+                s_shoulder,
+                c_shoulder,
+                s_elbow,
+                c_elbow,
+            )
+        };
+        let (t1, t2, forearm_p_ny, forearm_p_fx, forearm_p_fz) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t0 = 0.5f64 * qd_shoulder;
+            let forearm_v_vx = s_elbow * t0;
+            let forearm_v_vz = c_elbow * t0;
+            let forearm_v_wy = qd_shoulder + qd_elbow;
+            let t1 = forearm_v_vz * qd_elbow;
+            let t2 = forearm_v_vx * qd_elbow;
+            let t3 = forearm_v_vx * 2f64;
+            let t4 = forearm_v_vz * 2f64;
+            let t5 = 0.4f64 * forearm_v_wy;
+            let t6 = t4 + t5;
+            let t7 = forearm_v_vz * t3;
+            let t8 = forearm_v_vx * t6;
+            let forearm_p_ny = t8 - t7;
+            let forearm_p_fx = forearm_v_wy * t6;
+            let forearm_p_fz = forearm_v_wy * t3;
+            (t1, t2, forearm_p_ny, forearm_p_fx, forearm_p_fz)
+        };
         // ── link `forearm`, joint `elbow` (tip to base)
-        let u_elbow = tau_elbow - forearm_p_ny;
-        let t9 = 2f64 * t1;
-        let t10 = 0.5454545454545454f64 * t2;
-        let t11 = t9 - forearm_p_fx;
-        let t12 = t10 - forearm_p_fz;
-        let t13 = u_elbow * 9.09090909090909f64;
-        let t14 = 0.11000000000000001f64 * t13;
-        let t15 = 0.4f64 * t13;
-        let t16 = forearm_p_ny + t14;
-        let t17 = t12 - t15;
-        let t18 = 2f64 * s_elbow;
-        let t19 = 0.5454545454545454f64 * c_elbow;
-        let t20 = c_elbow * t18;
-        let t21 = s_elbow * t19;
-        let t22 = t21 - t20;
-        let t23 = s_elbow * t18;
-        let t24 = c_elbow * t19;
-        let t25 = t23 + t24;
-        let upper_arm_u_fx = 0.5f64 * t22;
-        let t26 = 0.5f64 * t25;
-        let t27 = t26 * 0.5f64;
-        let t28 = s_elbow * t11;
-        let t29 = c_elbow * t17;
-        let upper_arm_p_fz = t29 - t28;
-        let t30 = 0.5f64 * upper_arm_p_fz;
-        let upper_arm_p_ny = t16 - t30;
-        let upper_arm_u_ny = 0.2475f64 + t27;
-        let upper_arm_u_fz = 0.75f64 + t26;
+        let (u_elbow, upper_arm_u_fx, upper_arm_p_ny, upper_arm_u_ny, upper_arm_u_fz) = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let u_elbow = tau_elbow - forearm_p_ny;
+            let t9 = 2f64 * t1;
+            let t10 = 0.5454545454545454f64 * t2;
+            let t11 = t9 - forearm_p_fx;
+            let t12 = t10 - forearm_p_fz;
+            let t13 = u_elbow * 9.09090909090909f64;
+            let t14 = 0.11000000000000001f64 * t13;
+            let t15 = 0.4f64 * t13;
+            let t16 = forearm_p_ny + t14;
+            let t17 = t12 - t15;
+            let t18 = 2f64 * s_elbow;
+            let t19 = 0.5454545454545454f64 * c_elbow;
+            let t20 = c_elbow * t18;
+            let t21 = s_elbow * t19;
+            let t22 = t21 - t20;
+            let t23 = s_elbow * t18;
+            let t24 = c_elbow * t19;
+            let t25 = t23 + t24;
+            let upper_arm_u_fx = 0.5f64 * t22;
+            let t26 = 0.5f64 * t25;
+            let t27 = t26 * 0.5f64;
+            let t28 = s_elbow * t11;
+            let t29 = c_elbow * t17;
+            let upper_arm_p_fz = t29 - t28;
+            let t30 = 0.5f64 * upper_arm_p_fz;
+            let upper_arm_p_ny = t16 - t30;
+            let upper_arm_u_ny = 0.2475f64 + t27;
+            let upper_arm_u_fz = 0.75f64 + t26;
+            (u_elbow, upper_arm_u_fx, upper_arm_p_ny, upper_arm_u_ny, upper_arm_u_fz)
+        };
         // ── link `upper_arm`, joint `shoulder` (tip to base)
-        let u_shoulder = tau_shoulder - upper_arm_p_ny;
+        let u_shoulder = {
+            // ── link `upper_arm`, joint `shoulder` (tip to base)
+            let u_shoulder = tau_shoulder - upper_arm_p_ny;
+            u_shoulder
+        };
         // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
-        let upper_arm_a_vx = s_shoulder * 9.81f64;
-        let upper_arm_a_vz = c_shoulder * 9.81f64;
-        let t31 = upper_arm_a_vx * upper_arm_u_fx;
-        let t32 = upper_arm_a_vz * upper_arm_u_fz;
-        let t33 = t31 - t32;
-        let t34 = u_shoulder - t33;
-        let qdd_shoulder = t34 / upper_arm_u_ny;
-        // ── link `forearm`, joint `elbow` (base to tip, last pass)
-        let t35 = 0.5f64 * qdd_shoulder;
-        let t36 = upper_arm_a_vz - t35;
-        let t37 = s_elbow * upper_arm_a_vx;
-        let t38 = c_elbow * t36;
-        let t39 = t38 - t37;
-        let forearm_a_vz = t39 + t2;
-        let t40 = qdd_shoulder * 0.11000000000000001f64;
-        let t41 = forearm_a_vz * 0.4f64;
-        let t42 = t40 - t41;
-        let t43 = u_elbow - t42;
-        let qdd_elbow = t43 / 0.11000000000000001f64;
+        let (upper_arm_a_vx, upper_arm_a_vz, qdd_shoulder) = {
+            // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
+            let upper_arm_a_vx = s_shoulder * 9.81f64;
+            let upper_arm_a_vz = c_shoulder * 9.81f64;
+            let t31 = upper_arm_a_vx * upper_arm_u_fx;
+            let t32 = upper_arm_a_vz * upper_arm_u_fz;
+            let t33 = t31 - t32;
+            let t34 = u_shoulder - t33;
+            let qdd_shoulder = t34 / upper_arm_u_ny;
+            (upper_arm_a_vx, upper_arm_a_vz, qdd_shoulder)
+        };
+        let qdd_elbow = {
+            // ── link `forearm`, joint `elbow` (base to tip, last pass)
+            let t35 = 0.5f64 * qdd_shoulder;
+            let t36 = upper_arm_a_vz - t35;
+            let t37 = s_elbow * upper_arm_a_vx;
+            let t38 = c_elbow * t36;
+            let t39 = t38 - t37;
+            let forearm_a_vz = t39 + t2;
+            let t40 = qdd_shoulder * 0.11000000000000001f64;
+            let t41 = forearm_a_vz * 0.4f64;
+            let t42 = t40 - t41;
+            let t43 = u_elbow - t42;
+            let qdd_elbow = t43 / 0.11000000000000001f64;
+            qdd_elbow
+        };
         if !(upper_arm_u_ny > 0.0) {
             return Err(::hya_core::Error::SingularMassMatrix);
         }
         Ok(::hya_core::JointVector::<2>::from([qdd_shoulder, qdd_elbow]))
+    }
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i`
+    /// of each is `∂τ_i`.
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        &self,
+        q: &::hya_core::JointVector<2>,
+        qd: &::hya_core::JointVector<2>,
+        qdd: &::hya_core::JointVector<2>,
+    ) -> (::hya_core::JointMatrix<2>, ::hya_core::JointMatrix<2>) {
+        let (
+            qd_shoulder,
+            qd_elbow,
+            qdd_shoulder,
+            qdd_elbow,
+            s_shoulder,
+            c_shoulder,
+            s_elbow,
+            c_elbow,
+        ) = {
+            let q_shoulder = q[0];
+            let q_elbow = q[1];
+            let qd_shoulder = qd[0];
+            let qd_elbow = qd[1];
+            let qdd_shoulder = qdd[0];
+            let qdd_elbow = qdd[1];
+            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
+            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            (
+                qd_shoulder,
+                qd_elbow,
+                qdd_shoulder,
+                qdd_elbow,
+                s_shoulder,
+                c_shoulder,
+                s_elbow,
+                c_elbow,
+            )
+        };
+        // ── link `upper_arm`, joint `shoulder` (base to tip)
+        let (upper_arm_a_vx, upper_arm_a_vz, t0) = {
+            // ── link `upper_arm`, joint `shoulder` (base to tip)
+            let upper_arm_a_vx = s_shoulder * 9.81f64;
+            let upper_arm_a_vz = c_shoulder * 9.81f64;
+            let t0 = 0.75f64 * upper_arm_a_vx;
+            (upper_arm_a_vx, upper_arm_a_vz, t0)
+        };
+        let (
+            forearm_v_vx,
+            forearm_v_vz,
+            forearm_v_wy,
+            t7,
+            t11,
+            t15,
+            forearm_a_vx,
+            t16,
+            t17,
+            t18,
+            t20,
+            t23,
+            t24,
+            t25,
+            t26,
+            t28,
+            forearm_f_fx,
+            forearm_f_fz,
+        ) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t1 = 0.5f64 * qd_shoulder;
+            let forearm_v_vx = s_elbow * t1;
+            let forearm_v_vz = c_elbow * t1;
+            let forearm_v_wy = qd_shoulder + qd_elbow;
+            let t2 = 0.5f64 * qdd_shoulder;
+            let t3 = upper_arm_a_vz - t2;
+            let t4 = c_elbow * upper_arm_a_vx;
+            let t5 = c_elbow * upper_arm_a_vz;
+            let t6 = s_elbow * t3;
+            let t7 = s_elbow * upper_arm_a_vx;
+            let t8 = t4 + t6;
+            let t9 = t7 - t5;
+            let t10 = s_elbow * upper_arm_a_vz;
+            let t11 = c_elbow * t3;
+            let t12 = t11 - t7;
+            let t13 = t10 + t4;
+            let forearm_a_wy = qdd_shoulder + qdd_elbow;
+            let t14 = forearm_v_vz * qd_elbow;
+            let t15 = forearm_v_vx * qd_elbow;
+            let forearm_a_vx = t14 - t8;
+            let forearm_a_vz = t12 + t15;
+            let t16 = 0.4f64 * t13;
+            let t17 = forearm_a_vx * 2f64;
+            let t18 = t9 * 2f64;
+            let t19 = forearm_a_vz * 2f64;
+            let t20 = t13 * 2f64;
+            let t21 = 0.4f64 * forearm_a_wy;
+            let t22 = t19 - t21;
+            let t23 = forearm_v_vx * 2f64;
+            let t24 = forearm_v_vz * 2f64;
+            let t25 = 0.4f64 * forearm_v_wy;
+            let t26 = t24 + t25;
+            let t27 = forearm_v_wy * t26;
+            let t28 = forearm_v_wy * t23;
+            let forearm_f_fx = t17 - t27;
+            let forearm_f_fz = t22 - t28;
+            (
+                forearm_v_vx,
+                forearm_v_vz,
+                forearm_v_wy,
+                t7,
+                t11,
+                t15,
+                forearm_a_vx,
+                t16,
+                t17,
+                t18,
+                t20,
+                t23,
+                t24,
+                t25,
+                t26,
+                t28,
+                forearm_f_fx,
+                forearm_f_fz,
+            )
+        };
+        // ── link `forearm`, joint `elbow` (tip to base)
+        let (t29, t30, t36) = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t29 = c_elbow * forearm_f_fx;
+            let t30 = s_elbow * forearm_f_fz;
+            let t31 = s_elbow * t18;
+            let t32 = c_elbow * t20;
+            let t33 = t31 + t32;
+            let t34 = 0.5f64 * t33;
+            let t35 = t16 + t34;
+            let t36 = t0 + t35;
+            (t29, t30, t36)
+        };
+        let (t58, t59, t60) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t37 = s_elbow * 0.5f64;
+            let t38 = c_elbow * 0.5f64;
+            let t39 = t38 * qd_elbow;
+            let t40 = t37 * qd_elbow;
+            let t41 = 0.4f64 * t40;
+            let t42 = t39 * 2f64;
+            let t43 = t40 * 2f64;
+            let t44 = t37 * 2f64;
+            let t45 = t38 * 2f64;
+            let t46 = t45 + 0.4f64;
+            let t47 = forearm_v_vz * t44;
+            let t48 = t38 * t23;
+            let t49 = t47 + t48;
+            let t50 = forearm_v_vx * t46;
+            let t51 = t37 * t26;
+            let t52 = t50 + t51;
+            let t53 = t52 - t49;
+            let t54 = forearm_v_wy * t46;
+            let t55 = t54 + t26;
+            let t56 = forearm_v_wy * t44;
+            let t57 = t56 + t23;
+            let t58 = t53 - t41;
+            let t59 = t42 - t55;
+            let t60 = t43 - t57;
+            (t58, t59, t60)
+        };
+        let t65 = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t61 = s_elbow * t59;
+            let t62 = c_elbow * t60;
+            let t63 = t62 - t61;
+            let t64 = 0.5f64 * t63;
+            let t65 = t58 - t64;
+            t65
+        };
+        let (t77, t78, t79) = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t66 = t7 - t11;
+            let t67 = t66 - t15;
+            let t68 = 0.4f64 * forearm_a_vx;
+            let t69 = t67 * 2f64;
+            let t70 = forearm_v_vz * t24;
+            let t71 = forearm_v_vx * t23;
+            let t72 = t71 - t70;
+            let t73 = forearm_v_vz * t26;
+            let t74 = t71 - t73;
+            let t75 = t72 - t74;
+            let t76 = forearm_v_wy * t24;
+            let t77 = t75 - t68;
+            let t78 = t69 + t28;
+            let t79 = t17 - t76;
+            (t77, t78, t79)
+        };
+        let t86 = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t80 = s_elbow * t78;
+            let t81 = t80 + t29;
+            let t82 = c_elbow * t79;
+            let t83 = t82 - t30;
+            let t84 = t83 - t81;
+            let t85 = 0.5f64 * t84;
+            let t86 = t77 - t85;
+            t86
+        };
+        let t88 = {
+            // ── link `forearm`, joint `elbow` (base to tip)
+            let t87 = t25 + t26;
+            let t88 = t24 - t87;
+            t88
+        };
+        let t90 = {
+            // ── link `forearm`, joint `elbow` (tip to base)
+            let t89 = s_elbow * t88;
+            let t90 = 0.5f64 * t89;
+            t90
+        };
+        let mut d_dq = ::hya_core::JointMatrix::<2>::zeros();
+        let mut d_dqd = ::hya_core::JointMatrix::<2>::zeros();
+        d_dq[(0, 0)] = t36;
+        d_dq[(0, 1)] = t86;
+        d_dq[(1, 0)] = t16;
+        d_dq[(1, 1)] = t77;
+        d_dqd[(0, 0)] = t65;
+        d_dqd[(0, 1)] = t90;
+        d_dqd[(1, 0)] = t58;
+        (d_dq, d_dqd)
     }
 }

@@ -15,9 +15,11 @@ use alloc::vec::Vec;
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 
 pub mod algorithms;
+pub mod derivatives;
 mod workspace;
 
 use algorithms::ModelInertias;
+use derivatives::Direction;
 pub use workspace::{BodyState, JointTransform};
 
 use crate::spatial::{Motion, RigidBodyInertia, Transform};
@@ -232,6 +234,29 @@ impl TreeModel {
         Ok(out)
     }
 
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`, exact, by dual numbers
+    /// ([`derivatives::inverse_dynamics_derivatives`]); row `i` of each is `∂τ_i`.
+    pub fn inverse_dynamics_derivatives(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), ModelError> {
+        let n = self.dof();
+        let (mut d_dq, mut d_dqd) = (vec![0.0; n * n], vec![0.0; n * n]);
+        derivatives::inverse_dynamics_derivatives(
+            self,
+            &ModelInertias(self),
+            (q, qd, qdd),
+            &mut vec![BodyState::new(); n],
+            &mut vec![crate::dual::Dual::fixed(0.0); 4 * n],
+            &mut vec![0.0; n],
+            &mut vec![0.0; n],
+            (&mut d_dq, &mut d_dqd),
+        )?;
+        Ok((DMatrix::from_row_slice(n, n, &d_dq), DMatrix::from_row_slice(n, n, &d_dqd)))
+    }
+
     /// Forward dynamics `q̈` by the articulated-body algorithm ([`algorithms::forward_dynamics`]);
     /// an error if a joint meets no positive inertia.
     pub fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64]) -> Result<Vec<f64>, ModelError> {
@@ -341,6 +366,26 @@ impl crate::SliceDynamics for TreeModel {
         })
         .expect(SLICE_CONTRACT);
     }
+    fn forward_dynamics_into(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        let result = self.forward_dynamics(q, qd, tau).map_err(|e| match e {
+            ModelError::SingularJoint { .. } => Error::SingularMassMatrix,
+            other => panic!("{SLICE_CONTRACT}: {other}"),
+        })?;
+        qdd.copy_from_slice(&result);
+        Ok(())
+    }
+    fn inverse_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        d_dq: &mut [f64],
+        d_dqd: &mut [f64],
+    ) {
+        let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, qdd).expect(SLICE_CONTRACT);
+        d_dq.copy_from_slice(by_q.transpose().as_slice());
+        d_dqd.copy_from_slice(by_qd.transpose().as_slice());
+    }
 }
 
 /// `Err` unless every joint meets a positive, finite inertia `D_i` in the articulated-body
@@ -415,6 +460,36 @@ impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
         m
     }
 
+    fn inverse_dynamics_derivatives(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        qdd: &JointVector<N>,
+    ) -> (JointMatrix<N>, JointMatrix<N>) {
+        let (mut d_dq, mut d_dqd) = (JointMatrix::<N>::zeros(), JointMatrix::<N>::zeros());
+        let (mut tau, mut column) = (JointVector::<N>::zeros(), JointVector::<N>::zeros());
+        let inputs = (q.as_slice(), qd.as_slice(), qdd.as_slice());
+        let mut states = [BodyState::new(); N];
+        let mut scratch = [[crate::dual::Dual::fixed(0.0); 4]; N];
+        for j in 0..N {
+            for (direction, matrix) in [(Direction::Position(j), &mut d_dq), (Direction::Velocity(j), &mut d_dqd)] {
+                derivatives::inverse_dynamics_directional(
+                    &self.model,
+                    &ModelInertias(&self.model),
+                    inputs,
+                    direction,
+                    &mut states,
+                    scratch.as_flattened_mut(),
+                    tau.as_mut_slice(),
+                    column.as_mut_slice(),
+                )
+                .expect("TreeDynamics<N> holds a model with N joints");
+                matrix.set_column(j, &column);
+            }
+        }
+        (d_dq, d_dqd)
+    }
+
     fn forward_dynamics(
         &self,
         q: &JointVector<N>,
@@ -486,6 +561,10 @@ mod tests {
         let tau = JointVector::from([4.0, -1.5]);
         let by_aba = tree.forward_dynamics(&q, &qd, &tau).unwrap();
         assert!(close(by_aba, arm.forward_dynamics(&q, &qd, &tau).unwrap()), "{by_aba}");
+        // Dual-number derivatives against the trait's central differences of the closed form.
+        let (by_q, by_qd) = tree.inverse_dynamics_derivatives(&q, &qd, &qdd);
+        let (fd_q, fd_qd) = arm.inverse_dynamics_derivatives(&q, &qd, &qdd);
+        assert!((by_q - fd_q).norm() < 1e-7 && (by_qd - fd_qd).norm() < 1e-7, "{by_q} {fd_q} {by_qd} {fd_qd}");
     }
 
     #[test]

@@ -1,4 +1,5 @@
-//! `hya robots`, `hya id`, `hya mass`, `hya gravity`: rigid-body dynamics from the shell.
+//! `hya robots`, `hya id [--derivatives]`, `hya fd`, `hya mass`, `hya gravity`: rigid-body
+//! dynamics from the shell.
 
 use std::io::{BufRead, Write};
 
@@ -17,6 +18,25 @@ pub struct RobotArgs {
     /// With a shipped robot: use the generic tree model instead of the generated code.
     #[arg(long)]
     generic: bool,
+}
+
+/// Parameters of `hya id`.
+#[derive(Debug, clap::Args)]
+pub struct IdArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+    /// Print after `τ` its derivatives `∂τ/∂q` and `∂τ/∂q̇`, each row-major (row i is ∂τ_i),
+    /// all on one line.
+    #[arg(long)]
+    derivatives: bool,
+}
+
+impl IdArgs {
+    /// What `hya id` computes, and for which robot.
+    pub fn quantity(&self) -> (Quantity, &RobotArgs) {
+        let quantity = if self.derivatives { Quantity::Derivatives } else { Quantity::InverseDynamics };
+        (quantity, &self.robot)
+    }
 }
 
 /// Parameters of `hya robots`.
@@ -97,6 +117,10 @@ pub enum Quantity {
     MassMatrix,
     /// Rows `q` to `G`.
     Gravity,
+    /// Rows `q qd τ` to `q̈`.
+    ForwardDynamics,
+    /// Rows `q qd qdd` to `τ`, `∂τ/∂q`, `∂τ/∂q̇`.
+    Derivatives,
 }
 
 /// Runs `quantity` over every row of `input`.
@@ -105,10 +129,18 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
     let dynamics = source.dynamics();
     let n = dynamics.dof();
     let (width, what) = match quantity {
-        Quantity::InverseDynamics => (3 * n, "q, qd, qdd: one per joint each"),
+        Quantity::InverseDynamics | Quantity::Derivatives => (3 * n, "q, qd, qdd: one per joint each"),
+        Quantity::ForwardDynamics => (3 * n, "q, qd, tau: one per joint each"),
         Quantity::MassMatrix | Quantity::Gravity => (n, "q: one per joint"),
     };
-    let mut result = vec![0.0; if matches!(quantity, Quantity::MassMatrix) { n * n } else { n }];
+    let mut result = vec![
+        0.0;
+        match quantity {
+            Quantity::MassMatrix => n * n,
+            Quantity::Derivatives => n + 2 * n * n,
+            _ => n,
+        }
+    ];
     for row in read_rows(input) {
         let row = row?;
         rows::expect_width(&row, width, what)?;
@@ -119,6 +151,15 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
             }
             Quantity::MassMatrix => dynamics.mass_matrix_into(v, &mut result),
             Quantity::Gravity => dynamics.gravity_into(v, &mut result),
+            Quantity::ForwardDynamics => dynamics
+                .forward_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
+                .map_err(|e| CliError::Input(format!("line {}: {e}", row.line)))?,
+            Quantity::Derivatives => {
+                let (tau, rest) = result.split_at_mut(n);
+                let (by_q, by_qd) = rest.split_at_mut(n * n);
+                dynamics.inverse_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], tau);
+                dynamics.inverse_dynamics_derivatives_into(&v[..n], &v[n..2 * n], &v[2 * n..], by_q, by_qd);
+            }
         }
         if let Some(j) = result.iter().position(|v| !v.is_finite()) {
             return Err(CliError::Input(format!(

@@ -9,6 +9,7 @@ mod bench;
 mod dynamics;
 mod experiments;
 mod filter;
+mod generate;
 mod plant;
 mod rows;
 mod sweep;
@@ -35,8 +36,11 @@ enum Command {
     /// Inverse dynamics: rows `q qd qdd` (one value per joint each) to rows `τ`.
     ///
     /// A shipped robot's name uses its generated code (`--generic`: the runtime tree model); a
-    /// URDF path is loaded at run time. Joint order is the model's (see `hya robots`).
-    Id(dynamics::RobotArgs),
+    /// URDF path is loaded at run time. Joint order is the model's (see `hya robots`). With
+    /// `--derivatives`, each row also holds `∂τ/∂q` and `∂τ/∂q̇`, row-major.
+    Id(dynamics::IdArgs),
+    /// Forward dynamics by the articulated-body algorithm: rows `q qd τ` to rows `q̈`.
+    Fd(dynamics::RobotArgs),
     /// Mass matrix: rows `q` to rows `M`, row-major.
     Mass(dynamics::RobotArgs),
     /// Gravity torques: rows `q` to rows `G`.
@@ -52,6 +56,8 @@ enum Command {
     /// estimate and tracking error against command noise; `--shard I/N` runs a part, `--merge`
     /// joins the parts.
     Sweep(sweep::SweepArgs),
+    /// Generate unrolled Rust dynamics from a URDF (`--stats`: operation counts instead).
+    Generate(generate::GenerateArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -74,7 +80,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Filter(args) => filter::run(&args, stdin, &mut stdout),
         Command::Robots(args) => dynamics::list(&args, &mut stdout),
-        Command::Id(args) => dynamics::run(dynamics::Quantity::InverseDynamics, &args, stdin, &mut stdout),
+        Command::Id(args) => {
+            let (quantity, robot) = args.quantity();
+            dynamics::run(quantity, robot, stdin, &mut stdout)
+        }
+        Command::Fd(args) => dynamics::run(dynamics::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
+        Command::Generate(args) => generate::run(&args, &mut stdout),
         Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),

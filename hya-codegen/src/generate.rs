@@ -29,6 +29,17 @@ pub struct Generated {
     pub stats: Vec<(&'static str, OpCounts)>,
 }
 
+impl Generated {
+    /// A table of each function's additions, multiplications, divisions and `sin_cos` calls.
+    pub fn stats_table(&self) -> String {
+        let mut table = format!("{:<36} {:>7} {:>7} {:>5} {:>5}\n", "function", "adds", "muls", "divs", "trig");
+        for (function, c) in &self.stats {
+            table += &format!("{function:<36} {:>7} {:>7} {:>5} {:>5}\n", c.adds, c.muls, c.divs, c.trig);
+        }
+        table
+    }
+}
+
 /// Beyond this many joints the generator warns: unrolled code grows faster than quadratically
 /// with the joints of a chain (measured: 50 joints give 4.7 MB of source and 84 s of
 /// compilation, 100 joints 15.8 MB and 13 minutes), and the run-time model

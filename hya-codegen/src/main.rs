@@ -47,13 +47,5 @@ fn run(args: Vec<String>) -> Result<String, String> {
     }
     let generate = if parametric { hya_codegen::generate_parametric } else { hya_codegen::generate };
     let generated = generate(&loaded, &name).map_err(|e| e.to_string())?;
-    if !stats {
-        return Ok(generated.source);
-    }
-    let mut table = format!("{:<36} {:>7} {:>7} {:>5} {:>5}\n", "function", "adds", "muls", "divs", "trig");
-    for (function, counts) in &generated.stats {
-        table +=
-            &format!("{function:<36} {:>7} {:>7} {:>5} {:>5}\n", counts.adds, counts.muls, counts.divs, counts.trig);
-    }
-    Ok(table)
+    Ok(if stats { generated.stats_table() } else { generated.source })
 }

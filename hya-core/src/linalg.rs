@@ -86,7 +86,7 @@ pub(crate) fn symmetric_eigenvalues<const D: usize>(m: &SMatrix<f64, D, D>) -> n
         }
     }
     let mut values = a.diagonal();
-    values.as_mut_slice().sort_by(f64::total_cmp);
+    values.as_mut_slice().sort_unstable_by(f64::total_cmp);
     values
 }
 

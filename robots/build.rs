@@ -13,7 +13,7 @@ fn main() {
         let (module, type_name) = line.split_once(' ').expect("robots.list lines are `module TypeName`");
         let urdf = manifest.join("urdf").join(format!("{module}.urdf"));
         println!("cargo:rerun-if-changed={}", urdf.display());
-        let loaded = hya_codegen::load_file(&urdf).unwrap_or_else(|e| panic!("{e}"));
+        let loaded = hya_urdf::load_file(&urdf).unwrap_or_else(|e| panic!("{e}"));
         let type_name = type_name.trim();
         let fixed = hya_codegen::generate(&loaded, type_name).unwrap_or_else(|e| panic!("{module}: {e}"));
         let parametric = hya_codegen::generate_parametric(&loaded, &format!("{type_name}Parametric"))

@@ -1,7 +1,7 @@
 //! What every fuzz target checks once a description loaded: the model evaluates to finite
 //! numbers at rest and in motion, and the generator either emits code or refuses, never panics.
 
-use hya_codegen::LoadedModel;
+use hya_urdf::LoadedModel;
 
 pub fn check_loaded(loaded: &LoadedModel) {
     let model = &loaded.model;

@@ -88,7 +88,7 @@ fuzz_target!(|input: Input| {
             }
         }
     }
-    if let Ok(loaded) = hya_codegen::load_str(&text, "mutated.urdf") {
+    if let Ok(loaded) = hya_urdf::load_str(&text, "mutated.urdf") {
         common::check_loaded(&loaded);
     }
 });

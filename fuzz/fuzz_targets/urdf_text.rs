@@ -9,7 +9,7 @@ mod common;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        if let Ok(loaded) = hya_codegen::load_str(text, "fuzz.urdf") {
+        if let Ok(loaded) = hya_urdf::load_str(text, "fuzz.urdf") {
             common::check_loaded(&loaded);
         }
     }

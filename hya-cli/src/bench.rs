@@ -70,7 +70,7 @@ fn states<const N: usize>() -> [[JointVector<N>; 3]; STATES] {
 
 fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D) -> Result<Figures, CliError> {
     let robot = hya_robots::find(name).ok_or_else(|| CliError::Input(format!("unknown robot {name}")))?;
-    let generic: TreeDynamics<N> = hya_codegen::load_str(robot.urdf, name)
+    let generic: TreeDynamics<N> = hya_urdf::load_str(robot.urdf, name)
         .map_err(|e| CliError::Input(e.to_string()))?
         .model
         .into_dynamics()

@@ -63,7 +63,7 @@ impl Source {
 }
 
 fn load(path: &str) -> Result<TreeModel, CliError> {
-    let loaded = hya_codegen::load_file(path).map_err(|e| CliError::Input(e.to_string()))?;
+    let loaded = hya_urdf::load_file(path).map_err(|e| CliError::Input(e.to_string()))?;
     for warning in &loaded.warnings {
         eprintln!("hya: warning: {path}: {warning}");
     }
@@ -73,7 +73,7 @@ fn load(path: &str) -> Result<TreeModel, CliError> {
 /// The run-time model of a shipped robot (by name) or of a URDF file (by path).
 pub fn model(robot: &str) -> Result<TreeModel, CliError> {
     match hya_robots::find(robot) {
-        Some(shipped) => hya_codegen::load_str(shipped.urdf, shipped.name)
+        Some(shipped) => hya_urdf::load_str(shipped.urdf, shipped.name)
             .map(|loaded| loaded.model)
             .map_err(|e| CliError::Input(e.to_string())),
         None if std::path::Path::new(robot).exists() => load(robot),

@@ -22,7 +22,7 @@ pub struct GenerateArgs {
 
 /// Writes the generated code, or its operation counts, to `output`.
 pub fn run(args: &GenerateArgs, output: &mut impl Write) -> Result<(), CliError> {
-    let loaded = hya_codegen::load_file(&args.urdf).map_err(|e| CliError::Input(e.to_string()))?;
+    let loaded = hya_urdf::load_file(&args.urdf).map_err(|e| CliError::Input(e.to_string()))?;
     for warning in &loaded.warnings {
         eprintln!("hya: warning: {}: {warning}", args.urdf);
     }

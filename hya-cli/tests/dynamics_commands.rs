@@ -68,12 +68,12 @@ fn id_mass_gravity_agree_with_pinocchio_through_every_path() {
         check_against_pinocchio(name, dof, &["--robot", &workspace(&format!("robots/urdf/{name}.urdf"))]);
     }
     // A description the project never shipped: a branched tree with a prismatic joint.
-    check_against_pinocchio("messy_tree", 6, &["--robot", &workspace("hya-codegen/tests/urdf/messy_tree.urdf")]);
+    check_against_pinocchio("messy_tree", 6, &["--robot", &workspace("hya-urdf/tests/urdf/messy_tree.urdf")]);
 }
 
 #[test]
 fn every_malformed_urdf_exits_with_2_naming_the_file() {
-    let folder = workspace("hya-codegen/tests/urdf/malformed");
+    let folder = workspace("hya-urdf/tests/urdf/malformed");
     for entry in std::fs::read_dir(&folder).unwrap() {
         let path = entry.unwrap().path().display().to_string();
         assert_rejected(&["gravity", "--robot", &path], "0\n", &[&path]);

@@ -17,8 +17,8 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::expr::{self, input, literal, OpCounts, Rendered, Value};
-use crate::load::LoadedModel;
 use crate::names::{comment_safe, Names, Output};
+use hya_urdf::LoadedModel;
 
 /// Generated source for one robot, with the operation count of each function.
 #[derive(Debug, Clone)]

@@ -38,7 +38,7 @@ fn run(args: Vec<String>) -> Result<String, String> {
     }
     let path = path.ok_or(USAGE)?;
     let name = name.ok_or(USAGE)?;
-    let loaded = hya_codegen::load_file(&path).map_err(|e| e.to_string())?;
+    let loaded = hya_urdf::load_file(&path).map_err(|e| e.to_string())?;
     for warning in &loaded.warnings {
         eprintln!("hya-codegen: warning: {path}: {warning}");
     }

@@ -18,8 +18,8 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn load(robot: &str) -> hya_codegen::LoadedModel {
-    hya_codegen::load_file(root().join(format!("../robots/urdf/{robot}.urdf"))).unwrap()
+fn load(robot: &str) -> hya_urdf::LoadedModel {
+    hya_urdf::load_file(root().join(format!("../robots/urdf/{robot}.urdf"))).unwrap()
 }
 
 /// Compares `source` with the golden file `name`, rewriting it first under `UPDATE_GOLDEN`.

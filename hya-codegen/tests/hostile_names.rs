@@ -3,7 +3,8 @@
 //! inside its literal, whatever characters it holds.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_codegen::{generate, generate_parametric, load_str};
+use hya_codegen::{generate, generate_parametric};
+use hya_urdf::load_str;
 
 /// XML-escaped: `&#10;` is a newline, `&#13;` a carriage return once the parser has read it.
 const HOSTILE: &[&str] = &[

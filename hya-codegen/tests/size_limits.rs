@@ -2,7 +2,8 @@
 //! `WARN_ABOVE_JOINTS` joints and refuses past `MAX_JOINTS`, naming the run-time model instead.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_codegen::{generate, load_str, size_warning, GenerateError, MAX_JOINTS, WARN_ABOVE_JOINTS};
+use hya_codegen::{generate, size_warning, GenerateError, MAX_JOINTS, WARN_ABOVE_JOINTS};
+use hya_urdf::load_str;
 
 /// A serial chain of `n` revolute joints, alternating axes.
 fn chain(n: usize) -> String {

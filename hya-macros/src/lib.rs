@@ -73,12 +73,11 @@ fn expand(args: &RobotArgs) -> syn::Result<proc_macro2::TokenStream> {
             let full = PathBuf::from(manifest).join(path.value());
             let full = full.canonicalize().unwrap_or(full);
             // The error names the path as written, not where this build happens to run.
-            let loaded =
-                hya_codegen::load_file(&full).map_err(|e| error(format!("{}: {}", path.value(), e.problem)))?;
+            let loaded = hya_urdf::load_file(&full).map_err(|e| error(format!("{}: {}", path.value(), e.problem)))?;
             (path, Some(full.to_string_lossy().into_owned()), loaded)
         }
         Source::Inline(text) => {
-            let loaded = hya_codegen::load_str(&text.value(), "inline URDF")
+            let loaded = hya_urdf::load_str(&text.value(), "inline URDF")
                 .map_err(|e| syn::Error::new(text.span(), format!("inline URDF: {}", e.problem)))?;
             (text, None, loaded)
         }

@@ -121,6 +121,6 @@ pub fn run_method(scenario: &Scenario, method: Method) -> Result<RunOutcome<JOIN
         SimError::Config(format!("robot `{}`: the simulator runs the 6-joint arms `hya` and `ur5`", scenario.robot))
     })?;
     let urdf = hya_robots::find(&scenario.robot).map(|r| r.urdf).unwrap_or_default();
-    let model = hya_codegen::load_str(urdf, &scenario.robot).map_err(|e| SimError::Config(e.to_string()))?.model;
+    let model = hya_urdf::load_str(urdf, &scenario.robot).map_err(|e| SimError::Config(e.to_string()))?.model;
     simulate(scenario, method, nominal, &model, &plant_dynamics(&scenario.robot))
 }

@@ -26,7 +26,7 @@ fn seeded_runs_are_bit_identical() {
 #[test]
 fn the_free_plant_conserves_energy() {
     let robot = hya_robots::find("hya").unwrap();
-    let model = hya_codegen::load_str(robot.urdf, "hya").unwrap().model;
+    let model = hya_urdf::load_str(robot.urdf, "hya").unwrap().model;
     let config = PlantConfig { friction: FrictionKind::Off, actuator: ActuatorKind::Ideal, ..PlantConfig::default() };
     let q0 = JointVector::<6>::from([0.3, -0.4, -0.7, 0.8, 0.5, -0.2]);
     let zero = JointVector::zeros();

@@ -14,7 +14,7 @@ use hya_sim::{run_method, Method, Scenario};
 /// sub-steps per tick along `commands` (one per 1 ms tick).
 fn tick_error(scenario: &Scenario, commands: &[JointVector<6>], substeps: usize) -> f64 {
     let robot = hya_robots::find("hya").unwrap();
-    let model = hya_codegen::load_str(robot.urdf, "hya").unwrap().model;
+    let model = hya_urdf::load_str(robot.urdf, "hya").unwrap().model;
     let q0 = JointVector::from_column_slice(&hya_sim::HYA_HOME);
     let (mut fine, _) = scenario_plant(&model, scenario, q0, commands[0]).unwrap();
     let (mut coarse, _) = scenario_plant(&model, scenario, q0, commands[0]).unwrap();

@@ -14,7 +14,7 @@
 use hya_sim::rollout::{reference_gap, MUJOCO_HYA};
 
 fn model(robot: &str) -> hya_core::model::TreeModel {
-    hya_codegen::load_str(hya_robots::find(robot).unwrap().urdf, robot).unwrap().model
+    hya_urdf::load_str(hya_robots::find(robot).unwrap().urdf, robot).unwrap().model
 }
 
 #[test]

@@ -29,7 +29,7 @@ fn turntable() -> hya_core::model::TreeModel {
   </joint>
 </robot>"#
     );
-    hya_codegen::load_str(&urdf, "turntable.urdf").unwrap().model
+    hya_urdf::load_str(&urdf, "turntable.urdf").unwrap().model
 }
 
 /// One joint's plant configuration: LuGre (levels constant in position unless `variation`),

@@ -18,7 +18,7 @@ fn states<const N: usize>() -> [[JointVector<N>; 3]; 64] {
 
 fn generic<const N: usize>(name: &str) -> TreeDynamics<N> {
     let robot = hya_robots::find(name).expect("a shipped robot");
-    hya_codegen::load_str(robot.urdf, name).expect("the shipped URDF loads").model.into_dynamics().expect("its DOF")
+    hya_urdf::load_str(robot.urdf, name).expect("the shipped URDF loads").model.into_dynamics().expect("its DOF")
 }
 
 /// One benchmark group per robot: each entry point, generated and generic side by side.

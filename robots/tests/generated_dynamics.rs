@@ -18,7 +18,7 @@ fn close<const R: usize, const C: usize>(
 }
 
 fn generic<const N: usize>(urdf: &str) -> TreeDynamics<N> {
-    hya_codegen::load_str(urdf, "test").unwrap().model.into_dynamics().unwrap()
+    hya_urdf::load_str(urdf, "test").unwrap().model.into_dynamics().unwrap()
 }
 
 fn state<const N: usize>() -> impl Strategy<Value = (JointVector<N>, JointVector<N>, JointVector<N>)> {
@@ -128,7 +128,7 @@ macro_rules! robot_tests {
 
                 #[test]
                 fn generated_frame_poses_equal_the_generic_model(s in state::<$dof>()) {
-                    let model = hya_codegen::load_str(URDF, "test").unwrap().model;
+                    let model = hya_urdf::load_str(URDF, "test").unwrap().model;
                     let poses = $type.frame_poses(&s.0);
                     prop_assert_eq!($type::FRAME_NAMES.len(), model.frames().len());
                     for (name, pose) in $type::FRAME_NAMES.iter().zip(&poses) {
@@ -143,7 +143,7 @@ macro_rules! robot_tests {
                     s in state::<$dof>(),
                     factors in proptest::collection::vec(0.8..1.2f64, 7),
                 ) {
-                    let model = perturbed(&hya_codegen::load_str(URDF, "test").unwrap().model, &factors);
+                    let model = perturbed(&hya_urdf::load_str(URDF, "test").unwrap().model, &factors);
                     let inertias: [RigidBodyInertia; $dof] = core::array::from_fn(|i| model.bodies()[i].inertia);
                     let parametric = $parametric::new(&inertias);
                     check_against_generic(&parametric, &model.into_dynamics().unwrap(), s)?;

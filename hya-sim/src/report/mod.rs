@@ -485,7 +485,7 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(md) };
     let robot =
         hya_robots::find(&first.robot).ok_or_else(|| SimError::Config(format!("unknown robot {}", first.robot)))?;
-    let model = hya_codegen::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
+    let model = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
     let _ = writeln!(
         md,
         "### Nominal rigid-body model (`robots/urdf/{}.urdf`), used by the controller and observers\n",

@@ -202,7 +202,7 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
     }
     let robot =
         hya_robots::find(&first.robot).ok_or_else(|| SimError::Config(format!("unknown robot {}", first.robot)))?;
-    let model = hya_codegen::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
+    let model = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
     let nominal =
         crate::nominal_dynamics(&first.robot).ok_or_else(|| SimError::Config("no nominal dynamics".into()))?;
     if let Some(sine) = outcomes.iter().find(|o| o.scenario.starts_with("sine_internal") && o.method == Method::Lu) {

@@ -2,7 +2,7 @@
 //! reference description (RobCoGen's generated code for HyA; gravity 9.81 m/s² along −z).
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_codegen::{load_file, Warning};
+use hya_urdf::{load_file, Warning};
 
 /// The authors' home pose, as published: 0.7854, not π/4.
 #[allow(clippy::approx_constant)]

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use hya_codegen::{load_file, Problem};
+use hya_urdf::{load_file, Problem};
 
 fn urdf(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/urdf").join(name)

@@ -1,0 +1,19 @@
+//! # hya-urdf
+//!
+//! Reads a URDF and validates it into a [`hya_core::model::TreeModel`] ([`load_file`],
+//! [`load_str`]): every description that makes no physical sense is refused with a
+//! [`LoadError`] naming the file and the link or joint; fixed joints are merged into their
+//! parent body. Used by the code generator, the `robot!` macro, the simulator and the `hya`
+//! command alike.
+//!
+//! ```no_run
+//! let loaded = hya_urdf::load_file("robots/urdf/hya.urdf")?;
+//! println!("{} joints, SHA-256 {}", loaded.model.dof(), loaded.source.sha256);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod error;
+pub mod load;
+
+pub use error::{LoadError, Problem, Warning};
+pub use load::{load_file, load_str, LoadedModel, Source};

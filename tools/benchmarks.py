@@ -15,7 +15,12 @@ import subprocess
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-ROBOTS = ["planar2", "hya", "ur5", "panda", "iiwa14"]
+# The shipped robots, from the one list of them.
+ROBOTS = [
+    line.split()[0]
+    for line in (ROOT / "robots" / "robots.list").read_text().splitlines()
+    if line.strip() and not line.lstrip().startswith("#")
+]
 TARGET = ROOT / "target" / "bench-native"
 
 
@@ -35,7 +40,7 @@ def stats(robot):
     text = run(str(TARGET / "release/hya-codegen"), f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
     counts = {}
     for line in text.splitlines()[1:]:
-        name, adds, muls, trig = line.split()
+        name, adds, muls, _divs, trig = line.split()
         counts[name] = (int(adds), int(muls), int(trig))
     return counts
 

@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use hya_core::model::TreeDynamics;
 use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference};
-use hya_robots::{Hya, Iiwa14, Panda, Planar2, Ur5};
+use hya_robots::Hya;
 
 use crate::CliError;
 
@@ -144,23 +144,18 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
         }
     }
     let mut figures = Vec::new();
-    if wanted("planar2") {
-        figures.push(bench_robot::<2, _>("planar2", Planar2)?);
+    macro_rules! bench_each {
+        ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
+            if wanted(stringify!($module)) {
+                figures.push(bench_robot::<$dof, _>(stringify!($module), hya_robots::$type)?);
+            }
+        )*};
     }
-    if wanted("hya") {
-        let mut hya = bench_robot::<6, _>("hya", Hya)?;
+    hya_robots::for_each_robot!(bench_each);
+    // The control tick and the simulator's speed are measured on HyA, the paper's arm.
+    if let Some(hya) = figures.iter_mut().find(|f| f.robot == "hya") {
         hya.tick_ns = Some(tick_ns()?);
         hya.goto_internal_realtime_factor = Some(simulation_speed()?);
-        figures.push(hya);
-    }
-    if wanted("ur5") {
-        figures.push(bench_robot::<6, _>("ur5", Ur5)?);
-    }
-    if wanted("panda") {
-        figures.push(bench_robot::<7, _>("panda", Panda)?);
-    }
-    if wanted("iiwa14") {
-        figures.push(bench_robot::<7, _>("iiwa14", Iiwa14)?);
     }
     if args.json {
         let text = if figures.len() == 1 {

@@ -51,7 +51,7 @@ impl From<hya_sim::SimError> for CliError {
     }
 }
 
-/// The start pose: `--q0`, HyA's home pose for `hya`, or zeros.
+/// The start pose: `--q0`, else the shipped robot's home pose, else zeros.
 fn start_pose(args: &PlantArgs, robot: &str, dof: usize) -> Result<Vec<f64>, CliError> {
     match &args.q0 {
         Some(text) => {
@@ -62,8 +62,7 @@ fn start_pose(args: &PlantArgs, robot: &str, dof: usize) -> Result<Vec<f64>, Cli
             }
             Ok(values)
         }
-        None if robot == "hya" => Ok(hya_sim::HYA_HOME.to_vec()),
-        None => Ok(vec![0.0; dof]),
+        None => Ok(hya_robots::find(robot).map_or_else(|| vec![0.0; dof], |r| r.home.to_vec())),
     }
 }
 

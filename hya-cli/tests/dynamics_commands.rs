@@ -25,7 +25,9 @@ fn robots_lists_the_shipped_arms_with_their_joints() {
             (name, n)
         })
         .collect();
-    assert_eq!(dof, [("planar2", 2), ("hya", 6), ("ur5", 6), ("panda", 7), ("iiwa14", 7)]);
+    let registry: Vec<(&str, usize)> = hya_robots::ROBOTS.iter().map(|r| (r.name, r.dof)).collect();
+    assert_eq!(dof, registry);
+    assert!(dof.contains(&("hya", 6)) && dof.contains(&("panda", 7)), "{dof:?}");
     let text = String::from_utf8(hya(&["robots", "--urdf", &workspace("robots/urdf/hya.urdf")], "").stdout).unwrap();
     assert_eq!(text, "hya 6 SAA SFE HR EFE WR WFE\n");
 }

@@ -52,7 +52,7 @@ fn the_default_plant_holds_the_arm_with_gravity_torques() {
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
     let rows = numbers(&String::from_utf8(output.stdout).unwrap());
     assert_eq!(rows.len(), 3, "rows at 0, 0.5 and 1 s");
-    let home = hya_sim::HYA_HOME;
+    let home = hya_robots::hya::HOME;
     for row in &rows {
         let drift = row[1..=6].iter().zip(home).map(|(q, h)| (q - h).abs()).fold(0.0, f64::max);
         assert!(drift < 5e-3, "the held arm moved {drift} rad by t = {}", row[0]);

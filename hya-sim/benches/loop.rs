@@ -11,7 +11,7 @@ fn main() {
 
 #[divan::bench(sample_count = 100, sample_size = 1000)]
 fn hya_control_tick(bencher: divan::Bencher) {
-    let q0 = JointVector::<6>::from(hya_sim::HYA_HOME);
+    let q0 = JointVector::<6>::from(hya_robots::hya::HOME);
     let params = FilterParams::paper(1e-3).expect("the paper's filter is valid");
     let mut estimator = DisturbanceEstimator::new(Hya, params, q0, Hya.gravity(&q0)).expect("valid start");
     let controller = ComputedTorque::new(Hya, Gains::diagonal([300.0; 6], [30.0; 6]).expect("valid gains"));

@@ -38,10 +38,6 @@ pub use scenario::{Method, Scenario};
 /// Joints of the arms the simulator runs (HyA, UR5).
 pub const JOINTS: usize = 6;
 
-/// HyA's home pose in the authors' simulation plug-in, rad (published as 0.7854, not π/4).
-#[allow(clippy::approx_constant)]
-pub const HYA_HOME: [f64; 6] = [0.0, 0.0, -0.7854, 0.7854, 0.7854, 0.0];
-
 /// Errors of the simulator, naming the setting or the moment at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
@@ -69,12 +65,13 @@ pub enum SimError {
     },
 }
 
-/// The start pose of a scenario: its own, HyA's home pose, or zeros.
+/// The start pose of a scenario: its own, else the shipped robot's home pose (`robots.list`),
+/// else zeros.
 pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
-    match &scenario.initial_position_rad {
-        Some(q) => q.clone(),
-        None if scenario.robot == "hya" => HYA_HOME.to_vec(),
-        None => vec![0.0; dof],
+    match (&scenario.initial_position_rad, hya_robots::find(&scenario.robot)) {
+        (Some(q), _) => q.clone(),
+        (None, Some(robot)) => robot.home.to_vec(),
+        (None, None) => vec![0.0; dof],
     }
 }
 

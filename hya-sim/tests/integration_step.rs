@@ -15,7 +15,7 @@ use hya_sim::{run_method, Method, Scenario};
 fn tick_error(scenario: &Scenario, commands: &[JointVector<6>], substeps: usize) -> f64 {
     let robot = hya_robots::find("hya").unwrap();
     let model = hya_urdf::load_str(robot.urdf, "hya").unwrap().model;
-    let q0 = JointVector::from_column_slice(&hya_sim::HYA_HOME);
+    let q0 = JointVector::from_column_slice(&hya_robots::hya::HOME);
     let (mut fine, _) = scenario_plant(&model, scenario, q0, commands[0]).unwrap();
     let (mut coarse, _) = scenario_plant(&model, scenario, q0, commands[0]).unwrap();
     let dt = scenario.controller.dt_s;

@@ -5,7 +5,6 @@
 use divan::black_box;
 use hya_core::model::TreeDynamics;
 use hya_core::{Dynamics, JointVector};
-use hya_robots::{Hya, Iiwa14, Panda, Planar2, Ur5};
 
 fn main() {
     divan::main();
@@ -23,10 +22,11 @@ fn generic<const N: usize>(name: &str) -> TreeDynamics<N> {
 
 /// One benchmark group per robot: each entry point, generated and generic side by side.
 macro_rules! robot_benches {
-    ($($module:ident $type:ident $dof:literal;)*) => {$(
+    ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
         #[divan::bench_group]
         mod $module {
             use super::*;
+            use hya_robots::$type;
 
             fn run<D: Dynamics<$dof>>(bencher: divan::Bencher, dynamics: D, f: fn(&D, &[JointVector<$dof>; 3])) {
                 let states = states::<$dof>();
@@ -83,10 +83,4 @@ macro_rules! robot_benches {
     )*};
 }
 
-robot_benches! {
-    planar2 Planar2 2;
-    hya Hya 6;
-    ur5 Ur5 6;
-    panda Panda 7;
-    iiwa14 Iiwa14 7;
-}
+hya_robots::for_each_robot!(robot_benches);

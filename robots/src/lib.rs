@@ -5,6 +5,9 @@
 //! Each also has a parameter-holding twin (`HyaParametric`, ...) that reads its inertial
 //! parameters from data: the same folded kinematics for perturbed, identified or loaded bodies.
 //!
+//! The list of robots is `robots.list` (name, type, home pose, description), and nothing else:
+//! [`for_each_robot!`] hands it to any macro that needs it.
+//!
 //! | robot | type | joints | source of the figures |
 //! |---|---|---|---|
 //! | `planar2` | [`Planar2`] | 2 | teaching example |
@@ -20,14 +23,20 @@ extern crate std;
 
 use hya_core::{OnSlicesN, SliceDynamics};
 
+include!(concat!(env!("OUT_DIR"), "/registry.rs"));
+
 macro_rules! shipped_robots {
-    ($($module:ident $type:ident $parametric:ident $dof:literal: $doc:literal;)*) => {
+    ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {
         $(
             #[doc = $doc]
             pub mod $module {
                 include!(concat!(env!("OUT_DIR"), "/", stringify!($module), ".rs"));
                 /// The URDF the dynamics were generated from.
                 pub const URDF: &str = include_str!(concat!("../urdf/", stringify!($module), ".urdf"));
+                /// The home pose, one value per joint (`robots.list`), as published: HyA's
+                /// 0.7854 is not π/4.
+                #[allow(clippy::approx_constant)]
+                pub const HOME: [f64; $dof] = [$($home),*];
             }
             pub use $module::{$type, $parametric};
         )*
@@ -37,19 +46,14 @@ macro_rules! shipped_robots {
             name: stringify!($module),
             dof: $dof,
             joint_names: &$module::$type::JOINT_NAMES,
+            home: &$module::HOME,
             urdf: $module::URDF,
             generated: &OnSlicesN::<$dof, $module::$type>($module::$type),
         },)*];
     };
 }
 
-shipped_robots! {
-    planar2 Planar2 Planar2Parametric 2: "A two-link arm in the x-z plane: the teaching example.";
-    hya Hya HyaParametric 6: "HyA, the 6-DOF hydraulic arm of Lu, Sandy & Buchli.";
-    ur5 Ur5 Ur5Parametric 6: "Universal Robots UR5.";
-    panda Panda PandaParametric 7: "Franka Emika Panda, the seven arm joints.";
-    iiwa14 Iiwa14 Iiwa14Parametric 7: "KUKA LBR iiwa 14 R820.";
-}
+for_each_robot!(shipped_robots);
 
 /// A shipped robot, for listing and for run-time dispatch.
 #[derive(Clone, Copy)]
@@ -60,6 +64,8 @@ pub struct RobotInfo {
     pub dof: usize,
     /// Joint names in the model's order.
     pub joint_names: &'static [&'static str],
+    /// The home pose, one value per joint.
+    pub home: &'static [f64],
     /// The URDF text.
     pub urdf: &'static str,
     /// The generated dynamics, on slices.

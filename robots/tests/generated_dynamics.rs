@@ -103,7 +103,7 @@ fn perturbed(model: &TreeModel, factors: &[f64]) -> TreeModel {
 }
 
 macro_rules! robot_tests {
-    ($($module:ident $type:ident $parametric:ident $dof:literal;)*) => {$(
+    ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
         mod $module {
             use super::*;
             use hya_robots::$module::{$parametric, $type, URDF};
@@ -153,10 +153,4 @@ macro_rules! robot_tests {
     )*};
 }
 
-robot_tests! {
-    planar2 Planar2 Planar2Parametric 2;
-    hya Hya HyaParametric 6;
-    ur5 Ur5 Ur5Parametric 6;
-    panda Panda PandaParametric 7;
-    iiwa14 Iiwa14 Iiwa14Parametric 7;
-}
+hya_robots::for_each_robot!(robot_tests);

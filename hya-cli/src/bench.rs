@@ -131,7 +131,8 @@ fn tick_ns() -> Result<f64, CliError> {
 fn simulation_speed() -> Result<f64, CliError> {
     let scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
     let start = Instant::now();
-    hya_sim::run_method(&scenario, hya_sim::Method::Lu).map_err(|e| CliError::Input(e.to_string()))?;
+    hya_sim::run_method::<{ hya_sim::HYA_JOINTS }>(&scenario, hya_sim::Method::Lu)
+        .map_err(|e| CliError::Input(e.to_string()))?;
     Ok(scenario.duration_s / start.elapsed().as_secs_f64())
 }
 

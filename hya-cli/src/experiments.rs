@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hya_sim::{report, seeds, Scenario};
+use hya_sim::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::CliError;
@@ -27,7 +27,8 @@ pub struct ReproduceArgs {
 /// Parameters of `hya run`.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// The scenario file (TOML; see `hya-sim/scenarios/` for the format).
+    /// The scenario file (TOML; see `hya-sim/scenarios/` for the format), or the name of a
+    /// built-in scenario (`goto_internal`, `panda_goto`, …).
     file: PathBuf,
     /// Where the report goes.
     #[arg(long, default_value = "hya-report")]
@@ -82,10 +83,11 @@ fn run_all(
             .progress_chars("=> "),
     );
     bar.set_message(format!("{} runs", scenarios.iter().map(|s| s.methods.len() * seeds).sum::<usize>()));
-    let (outcomes, table) =
-        seeds::run_seeds(&scenarios, seeds, &|seconds| bar.inc(seconds.round() as u64)).map_err(sim)?;
+    let progress = |seconds: f64| bar.inc(seconds.round() as u64);
+    let summary = hya_sim::Experiment { scenarios: &scenarios, seeds, progress: &progress, out, quick, generated_by }
+        .run()
+        .map_err(sim)?;
     bar.finish_and_clear();
-    let summary = report::write(out, &scenarios, &outcomes, &table, quick, generated_by).map_err(sim)?;
     for claim in summary.claims.iter().filter(|c| c.seeds > 0) {
         let verdict = claim.verdict.name();
         eprintln!("{verdict:>15}: {} ({})", claim.statement, claim.section);
@@ -102,8 +104,11 @@ pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
 
 /// `hya run FILE.toml`.
 pub fn run(args: &RunArgs) -> Result<(), CliError> {
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| CliError::Input(format!("{}: cannot read: {e}", args.file.display())))?;
-    let scenario = Scenario::from_toml(&text, &args.file.display().to_string()).map_err(sim)?;
+    let name = args.file.to_string_lossy();
+    let scenario = match std::fs::read_to_string(&args.file) {
+        Ok(text) => Scenario::from_toml(&text, &name).map_err(sim)?,
+        Err(_) if !args.file.exists() && Scenario::builtin(&name).is_ok() => Scenario::builtin(&name).map_err(sim)?,
+        Err(e) => return Err(CliError::Input(format!("{name}: cannot read: {e}"))),
+    };
     run_all(vec![scenario], &args.out, args.quick, args.force, args.seeds, "hya run")
 }

@@ -31,5 +31,5 @@ fn hya_control_tick(bencher: divan::Bencher) {
 fn goto_internal_ten_seconds() {
     let mut scenario = hya_sim::Scenario::builtin("goto_internal").expect("built in");
     scenario.duration_s = 10.0;
-    black_box(hya_sim::run_method(&scenario, hya_sim::Method::Lu).expect("runs"));
+    black_box(hya_sim::run_method::<{ hya_sim::HYA_JOINTS }>(&scenario, hya_sim::Method::Lu).expect("runs"));
 }

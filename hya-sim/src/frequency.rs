@@ -14,7 +14,7 @@ use crate::scenario::{
     ActuatorKind, FrictionKind, Method, Noise, NoiseConfig, Scenario, SinusoidLoad, TorqueSource, VelocitySource,
 };
 use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{run_method, SimError, JOINTS};
+use crate::{run_method, SimError, HYA_JOINTS};
 
 /// The frequencies swept, Hz.
 pub const FREQUENCIES_HZ: [f64; 8] = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0];
@@ -73,7 +73,7 @@ fn clean_scenario(base: &Scenario, frequency_hz: f64) -> Scenario {
     s.sensors.torque = TorqueSource::Direct;
     s.sensors.encoder_counts_per_rev = 1 << 40;
     s.loads.weight_drop = None;
-    s.loads.sinusoid = Some(SinusoidLoad { amplitude_nm: vec![2.0; JOINTS], frequency_hz });
+    s.loads.sinusoid = Some(SinusoidLoad { amplitude_nm: vec![2.0; HYA_JOINTS], frequency_hz });
     let periods = (3.0 * frequency_hz).ceil().max(2.0);
     s.duration_s = 2.0 + periods / frequency_hz;
     s
@@ -88,7 +88,7 @@ pub fn measure(base: &Scenario, frequencies_hz: &[f64]) -> Result<Vec<Point>, Si
         let scenario = clean_scenario(base, frequency_hz);
         let omega = std::f64::consts::TAU * frequency_hz;
         for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-            let trace = run_method(&scenario, method)?.trace;
+            let trace = run_method::<HYA_JOINTS>(&scenario, method)?.trace;
             // The whole periods after the first 2 s.
             let start = trace.time.partition_point(|t| *t < 2.0);
             let d: Vec<(f64, f64)> =

@@ -485,6 +485,15 @@ const BUILTIN: [(&str, &str); 6] = [
     ("estimator_noise_high", include_str!("../scenarios/estimator_noise_high.toml")),
 ];
 
+/// A goto task per shipped arm other than HyA (whose is `goto_internal`), `<robot>_goto`:
+/// electric arms, with torque-controlled joints and joint-torque sensors.
+const ARM_GOTO: [(&str, &str); 4] = [
+    ("planar2_goto", include_str!("../scenarios/planar2_goto.toml")),
+    ("ur5_goto", include_str!("../scenarios/ur5_goto.toml")),
+    ("panda_goto", include_str!("../scenarios/panda_goto.toml")),
+    ("iiwa14_goto", include_str!("../scenarios/iiwa14_goto.toml")),
+];
+
 /// `Ok` if `v` is finite and `lo ≤ v ≤ hi`; the error names the key.
 fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
     if v.is_finite() && (lo..=hi).contains(&v) {
@@ -532,10 +541,16 @@ impl Scenario {
         BUILTIN.iter().map(|(name, _)| *name)
     }
 
-    /// An embedded scenario by name.
+    /// The names of the embedded goto tasks of the other shipped arms (`ur5_goto`, …).
+    pub fn arm_goto_names() -> impl Iterator<Item = &'static str> {
+        ARM_GOTO.iter().map(|(name, _)| *name)
+    }
+
+    /// An embedded scenario by name: one of the paper's experiments or an arm's goto task.
     pub fn builtin(name: &str) -> Result<Self, SimError> {
         let (_, text) = BUILTIN
             .iter()
+            .chain(&ARM_GOTO)
             .find(|(n, _)| *n == name)
             .ok_or_else(|| SimError::Scenario { origin: name.into(), message: "no such built-in scenario".into() })?;
         Self::from_toml(text, name)

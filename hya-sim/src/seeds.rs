@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use crate::metrics::Metrics;
 use crate::run::RunOutcome;
 use crate::scenario::{Method, Scenario};
-use crate::{run_method, SimError, JOINTS};
+use crate::{run_method, SimError};
 
 /// The metrics of every run, by scenario and method, one entry per seed in seed order.
 #[derive(Debug, Clone, Default)]
@@ -95,11 +95,11 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
 /// The runs of every scenario and method over `seeds` seeds (the scenario's seed and the next
 /// ones): the first seed's runs with their traces (for figures), and every run's metrics.
 /// `progress` is told each finished run's simulated seconds.
-pub fn run_seeds(
+pub fn run_seeds<const N: usize>(
     scenarios: &[Scenario],
     seeds: usize,
     progress: &(dyn Fn(f64) + Sync),
-) -> Result<(Vec<RunOutcome<JOINTS>>, MetricTable), SimError> {
+) -> Result<(Vec<RunOutcome<N>>, MetricTable), SimError> {
     let jobs: Vec<(usize, Method, usize)> = scenarios
         .iter()
         .enumerate()

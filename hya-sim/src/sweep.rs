@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::scenario::{Method, Scenario};
 use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{run_method, SimError};
+use crate::{run_method, SimError, HYA_JOINTS};
 
 /// What a sweep runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -155,7 +155,7 @@ pub fn run(plan: &Plan, shard: Shard, progress: &(dyn Fn(f64) + Sync)) -> Result
         let mut scenario = plan.scenarios[i].clone();
         scenario.seed = scenario.seed.wrapping_add(k as u64);
         scenario.controller.observer_bandwidth_rad_s = bandwidth;
-        let entry = run_method(&scenario, method).map(|o| Entry {
+        let entry = run_method::<HYA_JOINTS>(&scenario, method).map(|o| Entry {
             scenario: scenario.name.clone(),
             method: method.name().to_owned(),
             bandwidth_rad_s: bandwidth,

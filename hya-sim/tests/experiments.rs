@@ -12,15 +12,15 @@ use rand::SeedableRng;
 fn seeded_runs_are_bit_identical() {
     let mut scenario = Scenario::builtin("goto_weight").unwrap().quick();
     scenario.duration_s = 9.0; // through the weight drop at 7.4 s
-    let first = run_method(&scenario, Method::Lu).unwrap();
-    let second = run_method(&scenario, Method::Lu).unwrap();
+    let first = run_method::<6>(&scenario, Method::Lu).unwrap();
+    let second = run_method::<6>(&scenario, Method::Lu).unwrap();
     assert_eq!(first.trace.q, second.trace.q);
     assert_eq!(first.trace.d_hat, second.trace.d_hat);
     assert_eq!(first.trace.tau_cmd, second.trace.tau_cmd);
     assert_eq!(first.metrics, second.metrics);
     // A different seed draws a different plant and different noise.
     scenario.seed += 1;
-    assert_ne!(run_method(&scenario, Method::Lu).unwrap().trace.q, first.trace.q);
+    assert_ne!(run_method::<6>(&scenario, Method::Lu).unwrap().trace.q, first.trace.q);
 }
 
 #[test]
@@ -76,13 +76,13 @@ fn every_observer_runs_at_the_same_bandwidth() {
     scenario.duration_s = 0.6;
     let target = scenario.controller.observer_bandwidth_rad_s;
     for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-        let rates = run_method(&scenario, method).unwrap().bandwidth_rad_s.unwrap();
+        let rates = run_method::<6>(&scenario, method).unwrap().bandwidth_rad_s.unwrap();
         assert_eq!(rates.len(), 6);
         for rate in rates {
             assert!((rate - target).abs() < 1e-6 * target, "{}: rate {rate} rad/s, target {target}", method.name());
         }
     }
     for method in [Method::None, Method::Pid] {
-        assert!(run_method(&scenario, method).unwrap().bandwidth_rad_s.is_none());
+        assert!(run_method::<6>(&scenario, method).unwrap().bandwidth_rad_s.is_none());
     }
 }

@@ -40,7 +40,7 @@ fn the_default_step_is_within_tolerance_of_a_ten_times_finer_one() {
     // (bristles, valves, oil) all active.
     let mut scenario = Scenario::builtin("goto_internal").unwrap().quick();
     scenario.duration_s = 4.5;
-    let commands = run_method(&scenario, Method::Lu).unwrap().trace.tau_cmd;
+    let commands = run_method::<6>(&scenario, Method::Lu).unwrap().trace.tau_cmd;
     let default = scenario.plant.substeps;
     let error = tick_error(&scenario, &commands, default);
     eprintln!("{default} sub-steps per tick: {error:.2e} rad per tick from {} sub-steps", 10 * default);

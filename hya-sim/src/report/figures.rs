@@ -8,16 +8,15 @@ use crate::run::{RunOutcome, Trace};
 use crate::scenario::{Method, Scenario};
 use crate::seeds::MetricTable;
 use crate::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
-use crate::JOINTS;
 
 use super::aggregate;
 
-type Signal = fn(&Trace<JOINTS>) -> Vec<JointVector<JOINTS>>;
+type Signal<const N: usize> = fn(&Trace<N>) -> Vec<JointVector<N>>;
 
 /// The controllers a tracking figure compares: `none`, `pid` and `lu` where they ran, else
 /// every method.
-fn featured<'a>(runs: &[&'a RunOutcome<JOINTS>]) -> Vec<&'a RunOutcome<JOINTS>> {
-    let chosen: Vec<&RunOutcome<JOINTS>> =
+fn featured<'a, const N: usize>(runs: &[&'a RunOutcome<N>]) -> Vec<&'a RunOutcome<N>> {
+    let chosen: Vec<&RunOutcome<N>> =
         runs.iter().copied().filter(|o| matches!(o.method, Method::None | Method::Pid | Method::Lu)).collect();
     if chosen.is_empty() {
         runs.to_vec()
@@ -26,10 +25,10 @@ fn featured<'a>(runs: &[&'a RunOutcome<JOINTS>]) -> Vec<&'a RunOutcome<JOINTS>> 
     }
 }
 
-fn series(
-    o: &RunOutcome<JOINTS>,
+fn series<const N: usize>(
+    o: &RunOutcome<N>,
     joint: usize,
-    values: &[JointVector<JOINTS>],
+    values: &[JointVector<N>],
     label: String,
     color: &'static str,
     dashed: bool,
@@ -53,14 +52,14 @@ fn color(method: Method) -> &'static str {
 
 /// One panel per joint in `joints`, within `window` (s): for every run, `signal` (and, if given,
 /// the first run's `reference`, dashed).
-fn per_joint(
+fn per_joint<const N: usize>(
     title: String,
     y_label: &str,
-    shown: &[&RunOutcome<JOINTS>],
+    shown: &[&RunOutcome<N>],
     joints: &[usize],
     window: (f64, f64),
-    reference: Option<(&str, Signal)>,
-    signal: (&str, Signal),
+    reference: Option<(&str, Signal<N>)>,
+    signal: (&str, Signal<N>),
 ) -> String {
     let clip = |mut s: Series| {
         s.points.retain(|(t, _)| *t >= window.0 && *t <= window.1);
@@ -83,14 +82,16 @@ fn per_joint(
     line_grid(&title, "t [s]", &panels, 3.min(joints.len()).max(1))
 }
 
-fn error(t: &Trace<JOINTS>) -> Vec<JointVector<JOINTS>> {
+fn error<const N: usize>(t: &Trace<N>) -> Vec<JointVector<N>> {
     t.q.iter().zip(&t.q_des).map(|(q, r)| q - r).collect()
 }
 
-const ALL_JOINTS: [usize; JOINTS] = [0, 1, 2, 3, 4, 5];
-
 /// Every figure of scenario `s`: `(file name, SVG)`.
-pub fn scenario_figures(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &MetricTable) -> Vec<(String, String)> {
+pub fn scenario_figures<const N: usize>(
+    s: &Scenario,
+    runs: &[&RunOutcome<N>],
+    table: &MetricTable,
+) -> Vec<(String, String)> {
     let name = &s.name;
     let end = runs.first().and_then(|o| o.trace.time.last().copied()).unwrap_or(s.duration_s);
     let whole = (0.0, end);
@@ -101,7 +102,7 @@ pub fn scenario_figures(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &Metr
                 format!("{name}: tracking error q − q_des"),
                 "rad",
                 &featured(runs),
-                &ALL_JOINTS,
+                &(0..N).collect::<Vec<_>>(),
                 whole,
                 None,
                 ("e", error),
@@ -113,7 +114,7 @@ pub fn scenario_figures(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &Metr
                 format!("{name}: joint angles against the reference"),
                 "rad",
                 &featured(runs),
-                &ALL_JOINTS,
+                &(0..N).collect::<Vec<_>>(),
                 whole,
                 Some(("q_des", |t| t.q_des.clone())),
                 ("q", |t| t.q.clone()),
@@ -127,7 +128,7 @@ pub fn scenario_figures(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &Metr
                 format!("{name}: d̂ of {} against the true disturbance", o.method.name()),
                 "N·m",
                 &[o],
-                &ALL_JOINTS,
+                &(0..N).collect::<Vec<_>>(),
                 whole,
                 Some(("d (true)", |t| t.d_true.clone())),
                 ("d̂", |t| t.d_hat.clone()),
@@ -157,8 +158,8 @@ pub fn scenario_figures(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &Metr
 }
 
 /// Tracking RMSE per joint and method, mean over seeds, on a log scale.
-fn rmse_figure(s: &Scenario, runs: &[&RunOutcome<JOINTS>], table: &MetricTable) -> String {
-    let joints: Vec<String> = (1..=JOINTS).map(|j| format!("joint {j}")).collect();
+fn rmse_figure<const N: usize>(s: &Scenario, runs: &[&RunOutcome<N>], table: &MetricTable) -> String {
+    let joints: Vec<String> = (1..=N).map(|j| format!("joint {j}")).collect();
     let bars: Vec<(String, Vec<f64>)> = runs
         .iter()
         .map(|o| {

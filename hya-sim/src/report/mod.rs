@@ -18,7 +18,7 @@ use crate::run::{gains, RunOutcome};
 use crate::scenario::{LoadConfig, Method, Noise, Scenario, Task};
 use crate::seeds::{per_joint_mean_ci95, MetricTable};
 
-use crate::{SimError, JOINTS};
+use crate::SimError;
 
 /// One scenario and method's line in `summary.json`: per-joint means over the seeds, each with
 /// the half-width of its 95 % interval (`…_ci95`).
@@ -117,10 +117,10 @@ fn run_summary(table: &MetricTable, scenario: &str, method: Method, bandwidth: O
 
 /// Writes the whole report into `dir`, which [`crate::output::prepare`] has made ready:
 /// `outcomes` are the first seed's runs (with traces, for figures), `table` every seed's metrics.
-pub fn write(
+pub fn write<const N: usize>(
     dir: &Path,
     scenarios: &[Scenario],
-    outcomes: &[RunOutcome<JOINTS>],
+    outcomes: &[RunOutcome<N>],
     table: &MetricTable,
     quick: bool,
     generated_by: &str,
@@ -141,7 +141,7 @@ pub fn write(
     }
     let mut figure_names = std::collections::BTreeMap::new();
     for s in scenarios {
-        let runs: Vec<&RunOutcome<JOINTS>> = outcomes.iter().filter(|o| o.scenario == s.name).collect();
+        let runs: Vec<&RunOutcome<N>> = outcomes.iter().filter(|o| o.scenario == s.name).collect();
         if runs.is_empty() {
             continue;
         }
@@ -179,10 +179,10 @@ pub fn write(
     Ok(summary)
 }
 
-fn csv(o: &RunOutcome<JOINTS>) -> String {
+fn csv<const N: usize>(o: &RunOutcome<N>) -> String {
     let mut text = String::from("t");
     for name in ["q", "q_des", "d_true", "d_hat", "tau_cmd"] {
-        for j in 1..=JOINTS {
+        for j in 1..=N {
             let _ = write!(text, ",{name}{j}");
         }
     }
@@ -249,9 +249,9 @@ fn table_row(cells: impl IntoIterator<Item = String>) -> String {
     format!("| {} |\n", cells.join(" | "))
 }
 
-fn markdown(
+fn markdown<const N: usize>(
     scenarios: &[Scenario],
-    outcomes: &[RunOutcome<JOINTS>],
+    outcomes: &[RunOutcome<N>],
     table: &MetricTable,
     summary: &Summary,
     (quick, generated_by): (bool, &str),
@@ -269,14 +269,14 @@ fn markdown(
     md.push_str(&claims_table(&summary.claims));
     md.push_str(&baselines_doing_better(scenarios, table));
     md.push_str(&observations(outcomes));
-    md.push_str(&lagged_cancellation(scenarios)?);
+    md.push_str(&lagged_cancellation::<N>(scenarios)?);
     md.push_str(viscous_section);
     md.push_str(plant_section);
-    md.push_str(&parameters(scenarios)?);
+    md.push_str(&parameters::<N>(scenarios)?);
     md.push_str("\n## Results\n\nMetrics per joint after the first ");
     let _ = writeln!(md, "{WARM_UP_S} s: tracking RMSE of the true `q − q_des` (rad), RMSE of `d̂ − d` against the recorded true disturbance (N·m), and the command-torque noise, the RMS of the command's first difference over √2 (N·m; white noise of deviation σ gives σ).\n");
     for s in scenarios {
-        let runs: Vec<&RunOutcome<JOINTS>> = outcomes.iter().filter(|o| o.scenario == s.name).collect();
+        let runs: Vec<&RunOutcome<N>> = outcomes.iter().filter(|o| o.scenario == s.name).collect();
         if runs.is_empty() {
             continue;
         }
@@ -289,11 +289,10 @@ fn markdown(
             loads_text(&s.loads),
             s.duration_s
         );
-        let header = table_row(
-            ["method".to_string(), "quantity".into()].into_iter().chain((1..=JOINTS).map(|j| format!("j{j}"))),
-        );
+        let header =
+            table_row(["method".to_string(), "quantity".into()].into_iter().chain((1..=N).map(|j| format!("j{j}"))));
         md.push_str(&header);
-        md.push_str(&table_row(std::iter::repeat_n("---".to_string(), JOINTS + 2)));
+        md.push_str(&table_row(std::iter::repeat_n("---".to_string(), N + 2)));
         for o in &runs {
             // Mean ± 95 % half-width over the seeds.
             for (name, metric) in
@@ -437,7 +436,7 @@ fn baselines_doing_better(scenarios: &[Scenario], table: &MetricTable) -> String
 }
 
 /// What the first seed's runs show about command noise, said plainly.
-fn observations(outcomes: &[RunOutcome<JOINTS>]) -> String {
+fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
     let mut md = String::from("\n");
     for o in outcomes.iter().filter(|o| matches!(o.method, Method::Chen | Method::Momentum)) {
         let Some(lu) = outcomes.iter().find(|l| l.scenario == o.scenario && l.method == Method::Lu) else { continue };
@@ -449,25 +448,26 @@ fn observations(outcomes: &[RunOutcome<JOINTS>]) -> String {
             o.method.name()
         );
     }
-    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command; a stiffer loop can then track better in closed loop while estimating worse. Tracking RMSE alone does not settle which method is better on a real hydraulic arm, where command noise excites the valves.\n");
+    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command; a stiffer loop can then track better in closed loop while estimating worse. Tracking RMSE alone does not settle which method is better on a real arm, where command noise excites the actuators (a hydraulic arm's valves most of all).\n");
     md
 }
 
 /// Cancelling viscous friction `−F_v q̇` with an estimate that lags by `τ_d` leaves
 /// `≈ F_v τ_d q̈`: the loop sees its inertia reduced by `F_v τ_d`. Where that exceeds the joint's
 /// inertia, the compensated joint is destabilised and only friction's nonlinearity bounds it.
-fn lagged_cancellation(scenarios: &[Scenario]) -> Result<String, SimError> {
+fn lagged_cancellation<const N: usize>(scenarios: &[Scenario]) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
-    let nominal =
-        crate::nominal_dynamics(&first.robot).ok_or_else(|| SimError::Config("no nominal dynamics".into()))?;
-    let q0 = hya_core::JointVector::<JOINTS>::from_column_slice(&crate::initial_position(first, JOINTS));
+    let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
+    let nominal = nominal.as_ref();
+    let q0 = hya_core::JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let w = first.controller.observer_bandwidth_rad_s;
     let delay = 1.0 / w + 2.0 * 0.8 / w;
     let mut md = format!(
-        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `−F_v q̇` with it leaves roughly `F_v τ_d q̈` uncancelled, as if the joint's inertia were reduced by `F_v τ_d`. Where that exceeds the joint's inertia, this simple rule predicts that the compensated joint oscillates slowly, bounded only by friction's nonlinearity (the paper reports residual oscillations on joints 3, 5 and 6); the sweep below measures it:\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | F_v τ_d > M_ii |\n|---|---|---|---|---|\n"
+        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `−F_v q̇` with it leaves roughly `F_v τ_d q̈` uncancelled, as if the joint's inertia were reduced by `F_v τ_d`. Where that exceeds the joint's inertia, this simple rule predicts that the compensated joint oscillates slowly, bounded only by friction's nonlinearity{}:\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | F_v τ_d > M_ii |\n|---|---|---|---|---|\n",
+        if first.robot == "hya" { " (the paper reports residual oscillations on HyA's joints 3, 5 and 6); the sweep below measures it" } else { "" }
     );
-    for j in 0..JOINTS {
+    for j in 0..N {
         let fv = first.plant.viscous_nm_s.get(j).copied().unwrap_or(0.0);
         md.push_str(&table_row([
             format!("{}", j + 1),
@@ -480,17 +480,15 @@ fn lagged_cancellation(scenarios: &[Scenario]) -> Result<String, SimError> {
     Ok(md)
 }
 
-fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
+fn parameters<const N: usize>(scenarios: &[Scenario]) -> Result<String, SimError> {
     let mut md = String::from("\n## Every parameter\n\n");
     let Some(first) = scenarios.first() else { return Ok(md) };
-    let robot =
-        hya_robots::find(&first.robot).ok_or_else(|| SimError::Config(format!("unknown robot {}", first.robot)))?;
-    let model = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
-    let _ = writeln!(
-        md,
-        "### Nominal rigid-body model (`robots/urdf/{}.urdf`), used by the controller and observers\n",
-        robot.name
-    );
+    let model = crate::robot_model(&first.robot)?;
+    let description = match hya_robots::find(&first.robot) {
+        Some(robot) => format!("`robots/urdf/{}.urdf`, generated code", robot.name),
+        None => format!("`{}`, the run-time model", first.robot),
+    };
+    let _ = writeln!(md, "### Nominal rigid-body model ({description}), used by the controller and observers\n");
     md.push_str("| body (joint) | mass [kg] | centre of mass in body frame [m] | rotational inertia about the body origin [kg·m²] (xx, yy, zz, xy, xz, yz) |\n|---|---|---|---|\n");
     for b in model.bodies() {
         let i = &b.inertia;
@@ -512,9 +510,9 @@ fn parameters(scenarios: &[Scenario]) -> Result<String, SimError> {
         ]));
     }
     let c = &first.controller;
-    let nominal =
-        crate::nominal_dynamics(&first.robot).ok_or_else(|| SimError::Config("no nominal dynamics".into()))?;
-    let q0 = hya_core::JointVector::<JOINTS>::from_column_slice(&crate::initial_position(first, JOINTS));
+    let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
+    let nominal = nominal.as_ref();
+    let q0 = hya_core::JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
     let gains = gains(nominal, first, &q0)?;
     let _ = writeln!(
         md,

@@ -12,9 +12,9 @@ use crate::plant::friction::Friction;
 use crate::plant::{Actuators, PlantState};
 use crate::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
 use crate::run::RunOutcome;
-use crate::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig};
+use crate::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource};
 use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{Method, SimError, JOINTS};
+use crate::{Method, SimError};
 
 use super::table_row;
 
@@ -25,8 +25,53 @@ fn numbers(values: &[f64]) -> String {
     values.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(", ")
 }
 
-/// `(parameter, value, unit, source)` for every setting of the plant and the sensors.
+/// `(parameter, value, unit, source)` for the settings of the plant and the sensors that act in
+/// this configuration (no valve figures for lag actuators); a value other than the default
+/// (HyA's, whose sources the table gives) is marked as the scenario's own.
 fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
+    let hydraulic = p.actuator == ActuatorKind::Hydraulic;
+    let acts = |name: &str| match name {
+        "actuator_time_constant_s" => p.actuator == ActuatorKind::Lag,
+        "pressure_noise_pa" | "pressure_offset_pa" => hydraulic && s.torque == TorqueSource::Pressure,
+        n if n.starts_with("bristle_") => p.friction == crate::scenario::FrictionKind::Lugre,
+        n => hydraulic || !HYDRAULIC_ROWS.contains(&n),
+    };
+    let defaults = every_parameter_row(&PlantConfig::default(), &SensorConfig::default());
+    every_parameter_row(p, s)
+        .into_iter()
+        .zip(defaults)
+        .filter(|(row, _)| acts(&row[0]))
+        .map(|(mut row, default)| {
+            if row[1] != default[1] {
+                row[3] = "this scenario's setting (the default differs)".into();
+            }
+            row
+        })
+        .collect()
+}
+
+/// The rows of the hydraulic actuators' settings.
+const HYDRAULIC_ROWS: [&str; 15] = [
+    "supply_pressure_pa",
+    "tank_pressure_pa",
+    "bulk_modulus_pa",
+    "displacement_m3_rad",
+    "area_ratio",
+    "dead_volume_m3",
+    "valve_rated_flow_m3_s",
+    "valve_rated_drop_pa",
+    "valve_natural_frequency_hz",
+    "valve_damping_ratio",
+    "valve_null_bias",
+    "leakage_m3_s_pa",
+    "torque_bandwidth_hz",
+    "torque_integral_ratio",
+    "velocity_compensation",
+];
+
+/// `(parameter, value, unit, source)` for every setting of the plant and the sensors, the
+/// source being that of the default value.
+fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
     let h = &p.hydraulic;
     let row = |name: &str, value: String, unit: &str, source: &str| [name.into(), value, unit.into(), source.into()];
     vec![
@@ -70,11 +115,15 @@ fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
 
 /// The model's steady-sliding friction and the sine task's estimated disturbance against joint
 /// velocity (the velocity from the true angles by central differences), one panel per joint.
-fn friction_figure(config: &PlantConfig, sine: &RunOutcome<JOINTS>, dt: f64) -> Result<Option<String>, SimError> {
+fn friction_figure<const N: usize>(
+    config: &PlantConfig,
+    sine: &RunOutcome<N>,
+    dt: f64,
+) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
-    let Friction::LuGre(lugre) = Friction::<JOINTS>::new(config, &mut rng)? else { return Ok(None) };
+    let Friction::LuGre(lugre) = Friction::<N>::new(config, &mut rng)? else { return Ok(None) };
     let trace = &sine.trace;
-    let panels = (0..JOINTS)
+    let panels = (0..N)
         .map(|j| {
             let velocities: Vec<f64> =
                 (1..trace.q.len() - 1).map(|k| (trace.q[k + 1][j] - trace.q[k - 1][j]) / (2.0 * dt)).collect();
@@ -119,18 +168,18 @@ fn friction_figure(config: &PlantConfig, sine: &RunOutcome<JOINTS>, dt: f64) -> 
 
 /// Each joint's actuator torque after a 2 N·m step of its command, the arm at the start pose
 /// with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise time.
-fn step_responses(
+fn step_responses<const N: usize>(
     scenario: &Scenario,
     model: &TreeModel,
-    nominal: &dyn Dynamics<JOINTS>,
+    nominal: &dyn Dynamics<N>,
 ) -> Result<(String, Vec<f64>), SimError> {
     const STEP_NM: f64 = 2.0;
     const STEP_AT_S: f64 = 0.05;
-    let q0 = JointVector::<JOINTS>::from_column_slice(&crate::initial_position(scenario, JOINTS));
+    let q0 = JointVector::<N>::from_column_slice(&crate::initial_position(scenario, N));
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
     let mut rise_times = Vec::new();
-    for j in 0..JOINTS {
+    for j in 0..N {
         let (mut plant, max_step) = scenario_plant(model, scenario, q0, hold)?;
         let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
             return Err(SimError::Config("the step response needs hydraulic actuators".into()));
@@ -140,7 +189,7 @@ fn step_responses(
         let commands = [TorqueCommand { time: 0.0, torque: hold }, TorqueCommand { time: STEP_AT_S, torque: stepped }];
         let mut points = Vec::new();
         let mut before = hold[j];
-        open_loop(&mut plant, &commands, max_step, 2e-4, STEP_AT_S + 0.1, |t, s: &PlantState<JOINTS>| {
+        open_loop(&mut plant, &commands, max_step, 2e-4, STEP_AT_S + 0.1, |t, s: &PlantState<N>| {
             let torque = actuators.torque(&s.hydraulic.pressure_a, &s.hydraulic.pressure_b)[j];
             if t < STEP_AT_S {
                 before = torque;
@@ -171,7 +220,10 @@ fn step_responses(
 }
 
 /// The "Plant" section and its figures.
-pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Result<(String, Vec<Figure>), SimError> {
+pub fn section<const N: usize>(
+    scenarios: &[Scenario],
+    outcomes: &[RunOutcome<N>],
+) -> Result<(String, Vec<Figure>), SimError> {
     let mut md = String::from("\n## Plant\n\n");
     let mut figures = Vec::new();
     let Some(first) = scenarios.first() else { return Ok((md, figures)) };
@@ -200,11 +252,9 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
     for r in parameter_rows(p, &first.sensors) {
         md.push_str(&table_row(r));
     }
-    let robot =
-        hya_robots::find(&first.robot).ok_or_else(|| SimError::Config(format!("unknown robot {}", first.robot)))?;
-    let model = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| SimError::Config(e.to_string()))?.model;
-    let nominal =
-        crate::nominal_dynamics(&first.robot).ok_or_else(|| SimError::Config("no nominal dynamics".into()))?;
+    let model = crate::robot_model(&first.robot)?;
+    let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
+    let nominal = nominal.as_ref();
     if let Some(sine) = outcomes.iter().find(|o| o.scenario.starts_with("sine_internal") && o.method == Method::Lu) {
         if let Some(svg) = friction_figure(p, sine, first.controller.dt_s)? {
             let name = "plant_friction.svg".to_owned();
@@ -215,7 +265,7 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
     if p.actuator == ActuatorKind::Hydraulic {
         let (svg, rise_times) = step_responses(first, &model, nominal)?;
         let name = "plant_step.svg".to_owned();
-        let q0 = JointVector::<JOINTS>::from_column_slice(&crate::initial_position(first, JOINTS));
+        let q0 = JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
         let (plant, _) = scenario_plant(&model, first, q0, nominal.gravity(&q0))?;
         let natural = match plant.actuators() {
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
@@ -224,7 +274,7 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
         let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need): the loops were designed for ({}) Hz on a locked joint at mid-range (a first-order loop at 40 Hz rises from 10 to 90 % in 8.8 ms). How far a joint moves while the torque builds (its friction, its load) shapes the response; the oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
         md.push_str("| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time of the torque step [ms] |\n|---|---|---|---|\n");
         let inertia = nominal.mass_matrix(&q0).diagonal();
-        for j in 0..JOINTS {
+        for j in 0..N {
             md.push_str(&table_row([
                 format!("{}", j + 1),
                 format!("{:.4}", inertia[j]),
@@ -235,7 +285,7 @@ pub fn section(scenarios: &[Scenario], outcomes: &[RunOutcome<JOINTS>]) -> Resul
         figures.push((name, svg));
     }
     if first.robot == "hya" {
-        let (q_gap, qd_gap) = reference_gap::<JOINTS>(&model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;
+        let (q_gap, qd_gap) = reference_gap::<N>(&model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;
         let _ = writeln!(md, "\n### The rigid body against MuJoCo\n\nThe plant with friction, actuators, noise and parameter errors off (`hya plant --ideal`), under the torque sequence of `tools/mujoco_rollout.py`, against MuJoCo 4.0's rollout of the same URDF (RK4 at 0.1 ms both; gravity along −z, limits, contacts, damping and armature off in MuJoCo): the worst difference over 1 s is **{q_gap:.1e} rad** in angle and {qd_gap:.1e} rad/s in velocity, while the arm travels up to 1 rad.");
     }
     Ok((md, figures))

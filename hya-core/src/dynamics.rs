@@ -8,6 +8,9 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::Error;
 
+/// Standard gravity along the base's −z, m/s² (the paper's and Pinocchio's value).
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
 /// A vector with one entry per joint.
 pub type JointVector<const N: usize> = SVector<f64, N>;
 /// An `N x N` matrix over the joints.
@@ -16,7 +19,7 @@ pub type JointMatrix<const N: usize> = SMatrix<f64, N, N>;
 /// Rigid-body dynamics of a fixed-base arm with `N` joints.
 ///
 /// Implemented by generated code (one type per robot), the runtime kinematic-tree model and the
-/// closed-form robots of [`crate::robots`]. Only [`inverse_dynamics`](Self::inverse_dynamics) and
+/// closed-form robots of [`crate::test_arms`]. Only [`inverse_dynamics`](Self::inverse_dynamics) and
 /// [`coriolis_transpose_times_velocity`](Self::coriolis_transpose_times_velocity) are required;
 /// the defaults derive the rest from them and are correct but slower than specialised code.
 pub trait Dynamics<const N: usize> {

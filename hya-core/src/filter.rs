@@ -55,6 +55,12 @@ pub struct FilterParams {
     dt_s: f64,
 }
 
+/// The paper's damping ratio of the filter's second-order factor.
+pub const PAPER_ZETA: f64 = 0.8;
+
+/// The paper's `ω1 = ω2`, rad/s.
+pub const PAPER_BANDWIDTH_RAD_S: f64 = 50.0;
+
 impl FilterParams {
     /// Checks that every parameter is finite and strictly positive, that `ζ ≤ 100`, and that
     /// `ω1 · dt` and `ω2 · dt` are at most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT).
@@ -74,7 +80,12 @@ impl FilterParams {
 
     /// The paper's values, `ζ = 0.8`, `ω1 = ω2 = 50 rad/s`, at the given sample time.
     pub fn paper(dt_s: f64) -> Result<Self, Error> {
-        Self::new(0.8, 50.0, 50.0, dt_s)
+        Self::paper_at(PAPER_BANDWIDTH_RAD_S, dt_s)
+    }
+
+    /// The paper's shape, `ζ = 0.8` and `ω1 = ω2`, at another bandwidth.
+    pub fn paper_at(bandwidth_rad_s: f64, dt_s: f64) -> Result<Self, Error> {
+        Self::new(PAPER_ZETA, bandwidth_rad_s, bandwidth_rad_s, dt_s)
     }
 
     /// Damping ratio `ζ` of the second-order factor.

@@ -32,17 +32,18 @@ mod linalg;
 #[cfg(feature = "alloc")]
 pub mod model;
 pub mod observers;
-pub mod robots;
+#[cfg(feature = "sampling")]
 pub mod sampling;
 pub mod scalar;
 pub mod spatial;
+pub mod test_arms;
 mod trig;
 
 pub use scalar::Real;
 pub use trig::sin_cos;
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
-pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics};
+pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
 pub use filter::{FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};

@@ -4,7 +4,7 @@
 mod common;
 
 use common::Plant;
-use hya_core::robots::PlanarTwoLink;
+use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, PdPlacement, Reference,
 };

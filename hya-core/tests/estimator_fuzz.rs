@@ -7,7 +7,7 @@
 //! `PROPTEST_CASES=1000000 cargo test --release -p hya-core --test estimator_fuzz`.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-use hya_core::robots::PlanarTwoLink;
+use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{DisturbanceEstimator, Dynamics, FilterParams, JointVector};
 use proptest::prelude::*;
 

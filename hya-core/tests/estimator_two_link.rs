@@ -5,7 +5,7 @@
 mod common;
 
 use common::{fit_sine, Plant};
-use hya_core::robots::PlanarTwoLink;
+use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference};
 use nalgebra::ComplexField;
 

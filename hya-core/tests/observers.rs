@@ -5,7 +5,7 @@
 mod common;
 
 use common::{fit_sine, Plant};
-use hya_core::robots::{PlanarTwoLink, Rotor};
+use hya_core::test_arms::{PlanarTwoLink, Rotor};
 use hya_core::{
     DisturbanceEstimator, DisturbanceObserver, Dynamics, ExtendedStateObserver, FilterParams, JointVector, Measurement,
     MomentumObserver, NonlinearDisturbanceObserver,

@@ -40,7 +40,7 @@ pub fn design(method: Method, beta: f64, omega: f64) -> Complex<f64> {
     let s = Complex::new(0.0, omega);
     match method {
         Method::Lu => {
-            let zeta = 0.8;
+            let zeta = hya_core::filter::PAPER_ZETA;
             Complex::new(beta * beta * beta, 0.0) / ((s + beta) * (s * s + s * (2.0 * zeta * beta) + beta * beta))
         }
         Method::Chen | Method::Momentum => Complex::new(beta, 0.0) / (s + beta),

@@ -62,6 +62,28 @@ pub enum SimError {
     /// The robot's description did not load.
     #[error(transparent)]
     Robot(#[from] hya_urdf::LoadError),
+    /// The robot's model does not fit what was asked of it.
+    #[error(transparent)]
+    Model(#[from] hya_core::model::ModelError),
+    /// A filter, observer or controller refused its settings.
+    #[error("{setting}: {source}")]
+    Setup {
+        /// What was being set up (`lu`, `sensors.velocity = "filter"`, …).
+        setting: String,
+        /// What it refused.
+        source: hya_core::Error,
+    },
+    /// A filter, observer or controller refused a step of the closed loop.
+    #[error("numerical failure at t = {time_s:.3} s: {source}")]
+    Step {
+        /// Simulated time, s.
+        time_s: f64,
+        /// What failed.
+        source: hya_core::Error,
+    },
+    /// The summary could not be serialised.
+    #[error("summary.json: {0}")]
+    Json(#[from] serde_json::Error),
     /// The simulation broke down numerically.
     #[error("numerical failure: {0}")]
     Numerical(String),

@@ -70,11 +70,11 @@ fn observer<'a, const N: usize>(
     let (bandwidth, dt) = (scenario.controller.observer_bandwidth_rad_s, scenario.controller.dt_s);
     let q0 = first.position;
     let qd0 = first.velocity.unwrap_or_else(JointVector::zeros);
-    let core = |e: hya_core::Error| SimError::Config(format!("{}: {e}", method.name()));
+    let core = |source| SimError::Setup { setting: method.name().into(), source };
     Ok(match method {
         Method::None | Method::Pid => None,
         Method::Lu => {
-            let params = FilterParams::new(0.8, bandwidth, bandwidth, dt).map_err(core)?;
+            let params = FilterParams::paper_at(bandwidth, dt).map_err(core)?;
             // H(s)'s poles: −ω1 and −ζω2 ± jω2√(1 − ζ²), of magnitudes ω1 and ω2.
             let rate = params.omega1_rad_s().min(params.omega2_rad_s());
             let estimator = DisturbanceEstimator::new(nominal, params, q0, first.torque).map_err(core)?;
@@ -123,7 +123,7 @@ pub fn gains<const N: usize>(
         (friction[i] / c.friction_error_rad).clamp(floor, ceiling)
     });
     let kd: [f64; N] = core::array::from_fn(|i| 2.0 * c.damping_ratio * (kp[i] * inertia[i]).sqrt());
-    Gains::diagonal(kp, kd).map_err(|e| SimError::Config(format!("controller: {e}")))
+    Gains::diagonal(kp, kd).map_err(|source| SimError::Setup { setting: "controller".into(), source })
 }
 
 /// The integral term of the PID baseline, `K_I ∫ e dt` with `K_I = K_P ω_i`, its torque clamped
@@ -179,7 +179,7 @@ pub fn simulate<const N: usize>(
     let gains = gains(nominal, scenario, &q0)?;
     let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)
-        .map_err(|e| SimError::Config(format!("controller: {e}")))?;
+        .map_err(|source| SimError::Setup { setting: "controller".into(), source })?;
 
     // The delays: readings wait `measurement_delay_ticks` before the controller sees them, and
     // commands `command_delay_ticks` before the valves do (the actuators hold `G(q0)` until then).
@@ -206,7 +206,7 @@ pub fn simulate<const N: usize>(
             }
         }
         let measurement = readings[0];
-        let at = |e: hya_core::Error| SimError::Numerical(format!("t = {t:.3} s: {e}"));
+        let at = |source| SimError::Step { time_s: t, source };
         let d_hat = match estimator.as_mut() {
             Some(o) if k > 0 => o.update(&measurement).map_err(at)?,
             Some(o) => *o.disturbance(),

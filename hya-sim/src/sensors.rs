@@ -32,8 +32,8 @@ pub struct Sensors<const N: usize> {
     /// Constant offsets of the cap- and rod-side pressure sensors, Pa.
     offsets: (JointVector<N>, JointVector<N>),
     velocity: Option<VelocityEstimate<N>>,
-    /// `ζ, ω1 = ω2` for the filter velocity source, and the control period.
-    filter: (f64, f64, f64),
+    /// `ω1 = ω2` for the filter velocity source, and the control period.
+    filter: (f64, f64),
 }
 
 fn draw<const N: usize>(rng: &mut ChaCha8Rng, noise: Noise) -> JointVector<N> {
@@ -57,7 +57,7 @@ impl<const N: usize> Sensors<N> {
         rng.set_stream(1);
         let bound = config.pressure_offset_pa;
         let offsets = (draw(&mut rng, Noise::Uniform { bound }), draw(&mut rng, Noise::Uniform { bound }));
-        Self { rng, noise, config, offsets, velocity: None, filter: (0.8, bandwidth, dt) }
+        Self { rng, noise, config, offsets, velocity: None, filter: (bandwidth, dt) }
     }
 
     /// The encoder's reading of `q`: noise added, then rounded to a count.
@@ -109,7 +109,7 @@ impl<const N: usize> Sensors<N> {
     }
 
     fn start_velocity(&self, position: &JointVector<N>) -> Result<VelocityEstimate<N>, SimError> {
-        let (zeta, bandwidth, dt) = self.filter;
+        let (bandwidth, dt) = self.filter;
         Ok(match self.config.velocity {
             VelocitySource::Difference => VelocityEstimate::Difference {
                 previous: *position,
@@ -118,8 +118,8 @@ impl<const N: usize> Sensors<N> {
                 dt,
             },
             VelocitySource::Filter => {
-                let config = |e: hya_core::Error| SimError::Config(format!("sensors.velocity = \"filter\": {e}"));
-                let params = FilterParams::new(zeta, bandwidth, bandwidth, dt).map_err(config)?;
+                let config = |source| SimError::Setup { setting: "sensors.velocity = \"filter\"".into(), source };
+                let params = FilterParams::paper_at(bandwidth, dt).map_err(config)?;
                 VelocityEstimate::Filter(Box::new(ThirdOrderFilter::new(params, *position).map_err(config)?))
             }
             VelocitySource::Sensor => VelocityEstimate::Sensor,

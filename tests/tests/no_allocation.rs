@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_4;
 
-use hya_core::robots::PlanarTwoLink;
+use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference, ThirdOrderFilter,
 };

@@ -25,8 +25,7 @@ pub use workspace::{BodyState, JointTransform};
 use crate::spatial::{Motion, RigidBodyInertia, Transform};
 use crate::{Dynamics, Error, JointMatrix, JointVector};
 
-/// Standard gravity along the base's −z, m/s² (the paper's and Pinocchio's value).
-pub const STANDARD_GRAVITY: f64 = 9.81;
+pub use crate::STANDARD_GRAVITY;
 
 /// How a joint moves its child body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -513,7 +512,7 @@ impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::robots::PlanarTwoLink;
+    use crate::test_arms::PlanarTwoLink;
 
     /// The closed-form two-link arm as a tree: z axes, links along x, gravity along −y.
     fn two_link_tree(arm: &PlanarTwoLink) -> TreeDynamics<2> {

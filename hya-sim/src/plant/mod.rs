@@ -53,7 +53,7 @@ pub type DynamicsFactory<const N: usize> = dyn Fn(&TreeModel) -> Result<Box<dyn 
 
 /// The generic tree model as the plant's dynamics: works for any robot.
 pub fn generic_dynamics<const N: usize>(model: &TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError> {
-    Ok(Box::new(model.clone().into_dynamics::<N>().map_err(|e| SimError::Config(e.to_string()))?))
+    Ok(Box::new(model.clone().into_dynamics::<N>()?))
 }
 
 /// The arm's state: joints, friction bristles and actuators.
@@ -271,8 +271,10 @@ impl<const N: usize> Plant<N> {
     fn derivative(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
         let (friction, bristle) = self.friction_torque(s);
         let total = self.actuator_torque(s, tau_cmd) + friction + self.external_torque(t, &s.q);
-        let qdd =
-            self.dynamics(t).forward_dynamics(&s.q, &s.qd, &total).map_err(|e| SimError::Numerical(e.to_string()))?;
+        let qdd = self
+            .dynamics(t)
+            .forward_dynamics(&s.q, &s.qd, &total)
+            .map_err(|source| SimError::Step { time_s: t, source })?;
         let (lag_torque, hydraulic) = match &self.actuators {
             Actuators::Ideal => (JointVector::zeros(), HydraulicState::zeros()),
             Actuators::Lag(time_constant) => {

@@ -134,7 +134,7 @@ pub fn write<const N: usize>(
         runs: outcomes.iter().map(|o| run_summary(table, &o.scenario, o.method, o.bandwidth_rad_s.clone())).collect(),
         claims: judge_all(table),
     };
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| SimError::Config(e.to_string()))?;
+    let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
     for o in outcomes {
         save(&format!("{}_{}.csv", o.scenario, o.method.name()), &csv(o))?;
@@ -462,7 +462,7 @@ fn lagged_cancellation<const N: usize>(scenarios: &[Scenario]) -> Result<String,
     let q0 = hya_core::JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let w = first.controller.observer_bandwidth_rad_s;
-    let delay = 1.0 / w + 2.0 * 0.8 / w;
+    let delay = 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
     let mut md = format!(
         "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `−F_v q̇` with it leaves roughly `F_v τ_d q̈` uncancelled, as if the joint's inertia were reduced by `F_v τ_d`. Where that exceeds the joint's inertia, this simple rule predicts that the compensated joint oscillates slowly, bounded only by friction's nonlinearity{}:\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | F_v τ_d > M_ii |\n|---|---|---|---|---|\n",
         if first.robot == "hya" { " (the paper reports residual oscillations on HyA's joints 3, 5 and 6); the sweep below measures it" } else { "" }

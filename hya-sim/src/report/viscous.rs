@@ -43,7 +43,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
         let values = table.values(&s.name, Method::Lu, "limit_cycle_q").unwrap_or_default();
         amplitude.push(per_joint_mean_ci95(&values).0);
     }
-    let delay = |w: f64| 1.0 / w + 2.0 * 0.8 / w;
+    let delay = |w: f64| 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
     let mut md = format!(
         "\nMeasured: `lu` on `{}` at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), the peak-to-peak tracking error over the final window (5 s, or the last fifth of a shorter run), mean over seeds (mrad); a joint counts as free of a limit cycle below {} mrad. Per joint, the slowest bandwidth from which on every faster one in the sweep is free of a limit cycle, and the delay `τ_d = 1/ω + 2ζ/ω` it allows:\n\n",
         base.name,

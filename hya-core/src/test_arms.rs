@@ -1,4 +1,4 @@
-//! Closed-form robots: small arms whose dynamics are written out by hand, so that estimators,
+//! Closed-form test arms: small arms whose dynamics are written out by hand, so that estimators,
 //! observers and controllers can be tested against exact models before generated code exists.
 //!
 //! Both swing in a vertical plane: joint angles are measured from the horizontal, gravity `g`
@@ -45,7 +45,7 @@ pub struct Pendulum {
 
 impl Default for Pendulum {
     fn default() -> Self {
-        Self { mass_kg: 2.0, length_m: 0.5, inertia_kg_m2: 0.02, gravity_m_s2: 9.81 }
+        Self { mass_kg: 2.0, length_m: 0.5, inertia_kg_m2: 0.02, gravity_m_s2: crate::STANDARD_GRAVITY }
     }
 }
 
@@ -96,7 +96,7 @@ impl Default for PlanarTwoLink {
             length1_m: 0.5,
             com_m: [0.25, 0.2],
             inertia_kg_m2: [0.06, 0.03],
-            gravity_m_s2: 9.81,
+            gravity_m_s2: crate::STANDARD_GRAVITY,
         }
     }
 }

@@ -91,7 +91,27 @@ fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
             std::hint::black_box(Hya.velocity_terms(&q, &qd));
             std::hint::black_box(Hya.forward_dynamics(&q, &qd, &tau).unwrap());
             std::hint::black_box(Panda.inverse_dynamics(&panda_q, &panda_q, &panda_q));
+            std::hint::black_box(Hya.inverse_dynamics_derivatives(&q, &qd, &tau));
+            std::hint::black_box(Panda.forward_dynamics(&panda_q, &panda_q, &panda_q).unwrap());
         }
     });
     assert_eq!(count, 0, "generated dynamics allocated {count} times");
+}
+
+/// The run-time model's fixed-size form keeps its workspace on the stack: every entry point,
+/// the articulated-body algorithm and the dual-number derivatives included.
+#[test]
+fn the_fixed_size_run_time_model_does_not_allocate() {
+    let model = hya_urdf::load_str(hya_robots::hya::URDF, "hya").unwrap().model.into_dynamics::<6>().unwrap();
+    let q = JointVector::<6>::from([0.1, -0.2, -0.5, 1.0, 0.3, 0.4]);
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+    let count = allocations_during(|| {
+        let tau = model.inverse_dynamics(&q, &q, &q);
+        std::hint::black_box(model.mass_matrix(&q));
+        std::hint::black_box(model.gravity(&q));
+        std::hint::black_box(model.coriolis_transpose_times_velocity(&q, &q));
+        std::hint::black_box(model.forward_dynamics(&q, &q, &tau).unwrap());
+        std::hint::black_box(model.inverse_dynamics_derivatives(&q, &q, &q));
+    });
+    assert_eq!(count, 0, "TreeDynamics<6> allocated {count} times");
 }

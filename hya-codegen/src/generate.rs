@@ -18,6 +18,7 @@ use quote::{format_ident, quote};
 
 use crate::expr::{self, input, literal, OpCounts, Rendered, Value};
 use crate::names::{comment_safe, Names, Output};
+use crate::provenance::Provenance;
 use hya_urdf::LoadedModel;
 
 /// Generated source for one robot, with the operation count of each function.
@@ -483,9 +484,10 @@ fn header(loaded: &LoadedModel, what: &str) -> String {
     )
 }
 
-/// Formats `tokens` and inserts a `//` comment before the statement each pass mark names,
-/// within the function it belongs to.
-fn format(tokens: TokenStream, functions: &[Function]) -> Result<String, GenerateError> {
+/// Formats `tokens`, inserts a `//` comment before the statement each pass mark names (within
+/// the function it belongs to), and ends each statement holding a model number (or a product
+/// of two) with a comment saying which.
+fn format(tokens: TokenStream, functions: &[Function], provenance: &Provenance) -> Result<String, GenerateError> {
     let file = syn::parse2::<syn::File>(tokens).map_err(|e| GenerateError::Syntax(e.to_string()))?;
     let formatted = prettyplease::unparse(&file);
     let mut out = String::with_capacity(formatted.len() * 11 / 10);
@@ -500,8 +502,10 @@ fn format(tokens: TokenStream, functions: &[Function]) -> Result<String, Generat
         }) {
             marks = &function.pass_marks;
         }
-        let bound = trimmed
-            .strip_prefix("let ")
+        // A block's `let (…) = {` line names what the block hands on, not its first statement.
+        let bound = Some(trimmed)
+            .filter(|t| !t.ends_with('{'))
+            .and_then(|t| t.strip_prefix("let "))
             .map(|rest| rest.trim_start_matches('('))
             .and_then(|rest| rest.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).next());
         if let Some((_, comment)) = bound.and_then(|name| marks.iter().find(|(first, _)| first == name)) {
@@ -509,6 +513,9 @@ fn format(tokens: TokenStream, functions: &[Function]) -> Result<String, Generat
             out.push_str(&format!("{indent}// {comment}\n"));
         }
         out.push_str(line);
+        if let Some(why) = bound.and(provenance.annotate(line)) {
+            out.push_str(&format!(" // {why}"));
+        }
         out.push('\n');
     }
     Ok(out)
@@ -571,7 +578,7 @@ pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, Gene
         #dynamics
     };
     functions.push(poses);
-    let source = header(loaded, "Rigid-body dynamics") + &format(tokens, &functions)?;
+    let source = header(loaded, "Rigid-body dynamics") + &format(tokens, &functions, &Provenance::of(model))?;
     Ok(Generated { source, stats: functions.iter().map(|f| (f.name, f.counts)).collect() })
 }
 
@@ -605,6 +612,7 @@ pub fn generate_parametric(loaded: &LoadedModel, type_name: &str) -> Result<Gene
         }
         #dynamics
     };
-    let source = header(loaded, "Parametric rigid-body dynamics") + &format(tokens, &functions)?;
+    let source =
+        header(loaded, "Parametric rigid-body dynamics") + &format(tokens, &functions, &Provenance::of(model))?;
     Ok(Generated { source, stats: functions.iter().map(|f| (f.name, f.counts)).collect() })
 }

@@ -15,6 +15,7 @@
 pub mod expr;
 pub mod generate;
 pub mod names;
+pub mod provenance;
 
 pub use generate::{
     generate, generate_parametric, size_warning, GenerateError, Generated, MAX_JOINTS, WARN_ABOVE_JOINTS,

@@ -91,7 +91,6 @@ impl Hya {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (t0, t1, t2, t3) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let t0 = c_sfe * c_saa;
@@ -100,12 +99,11 @@ impl Hya {
             let t3 = s_sfe * s_saa;
             (t0, t1, t2, t3)
         };
-        // ── link `Humerus_R`, joint `HR` (base to tip)
         let (t4, t5, t9, t12, t15, t18, t19, t20, t21) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t4 = t0 * 0.112f64;
-            let t5 = t2 * 0.112f64;
-            let t6 = s_sfe * 0.112f64;
+            let t4 = t0 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5 = t2 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6 = s_sfe * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t7 = s_hr * t1;
             let t8 = c_hr * s_saa;
             let t9 = t7 + t8;
@@ -120,14 +118,14 @@ impl Hya {
             let t18 = t16 + t17;
             let t19 = s_hr * c_sfe;
             let t20 = c_hr * c_sfe;
-            let t21 = 0.178f64 + t6;
+            let t21 = 0.178f64 + t6; // 1.7800e-1 = joint SFE origin z
             (t4, t5, t9, t12, t15, t18, t19, t20, t21)
         };
         let (t27, t30, t33, t36, t39, t42, t43, t44, t45) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t22 = t0 * 0.304f64;
-            let t23 = t2 * 0.304f64;
-            let t24 = s_sfe * 0.304f64;
+            let t22 = t0 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t23 = t2 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t24 = s_sfe * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t25 = s_efe * t12;
             let t26 = c_efe * t0;
             let t27 = t25 + t26;
@@ -153,9 +151,9 @@ impl Hya {
         };
         let (t51, t54, t57, t60, t63, t66, t67, t68, t69) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t46 = t27 * 0.112f64;
-            let t47 = t33 * 0.112f64;
-            let t48 = t39 * 0.112f64;
+            let t46 = t27 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t47 = t33 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t48 = t39 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t49 = s_wr * t30;
             let t50 = c_wr * t9;
             let t51 = t49 - t50;
@@ -181,14 +179,14 @@ impl Hya {
         };
         let (t81, t84, t87, t90, t93, t96, t97, t98, t99, t103, t104, t105) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t70 = t51 * 0.02075f64;
-            let t71 = t27 * 0.184f64;
+            let t70 = t51 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t71 = t27 * 0.184f64; // 1.8400e-1 = joint WFE origin z
             let t72 = t70 + t71;
-            let t73 = t57 * 0.02075f64;
-            let t74 = t33 * 0.184f64;
+            let t73 = t57 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t74 = t33 * 0.184f64; // 1.8400e-1 = joint WFE origin z
             let t75 = t73 + t74;
-            let t76 = t63 * 0.02075f64;
-            let t77 = t39 * 0.184f64;
+            let t76 = t63 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t77 = t39 * 0.184f64; // 1.8400e-1 = joint WFE origin z
             let t78 = t76 + t77;
             let t79 = s_wfe * t51;
             let t80 = c_wfe * t27;
@@ -211,9 +209,9 @@ impl Hya {
             let t97 = t67 + t72;
             let t98 = t68 + t75;
             let t99 = t69 + t78;
-            let t100 = t81 * 0.03f64;
-            let t101 = t87 * 0.03f64;
-            let t102 = t93 * 0.03f64;
+            let t100 = t81 * 0.03f64; // 3.0000e-2 = frame ee origin x
+            let t101 = t87 * 0.03f64; // 3.0000e-2 = frame ee origin x
+            let t102 = t93 * 0.03f64; // 3.0000e-2 = frame ee origin x
             let t103 = t97 + t100;
             let t104 = t98 + t101;
             let t105 = t99 + t102;
@@ -345,10 +343,9 @@ impl ::hya_core::Dynamics<6> for Hya {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_AA`, joint `SAA` (base to tip)
         let t0 = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip)
-            let t0 = 0.007628999999536005f64 * qdd_saa;
+            let t0 = 0.007628999999536005f64 * qdd_saa; // 7.6290e-3 = Shoulder_AA I_zz
             t0
         };
         let (
@@ -367,49 +364,49 @@ impl ::hya_core::Dynamics<6> for Hya {
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let t1 = s_sfe * qdd_saa;
             let t2 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let t3 = shoulder_fe_v_wy * qd_sfe;
             let t4 = shoulder_fe_v_wx * qd_sfe;
             let shoulder_fe_a_wx = t1 + t3;
             let shoulder_fe_a_wy = t2 - t4;
-            let t5 = 0.03900299600125622f64 * shoulder_fe_a_wx;
-            let t6 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t5 = 0.03900299600125622f64 * shoulder_fe_a_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t6 = 0.0055279857002587095f64 * shoulder_fe_a_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t7 = t5 + t6;
-            let t8 = 0.02285162700433904f64 * qdd_sfe;
+            let t8 = 0.02285162700433904f64 * qdd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t9 = t7 - t8;
-            let t10 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
-            let t11 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t10 = 0.0055279857002587095f64 * shoulder_fe_a_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t11 = 0.08585553000239696f64 * shoulder_fe_a_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t12 = t10 + t11;
-            let t13 = 0.0027519999999057617f64 * qdd_sfe;
+            let t13 = 0.0027519999999057617f64 * qdd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t14 = t12 - t13;
-            let t15 = 0.02285162700433904f64 * shoulder_fe_a_wx;
-            let t16 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
+            let t15 = 0.02285162700433904f64 * shoulder_fe_a_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t16 = 0.0027519999999057617f64 * shoulder_fe_a_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t17 = t15 + t16;
-            let t18 = 0.05139352799812063f64 * qdd_sfe;
+            let t18 = 0.05139352799812063f64 * qdd_sfe; // 5.1394e-2 = Shoulder_FE I_zz
             let t19 = t18 - t17;
-            let t20 = 0.009934149991199999f64 * shoulder_fe_a_vy;
-            let t21 = 0.009934149991199999f64 * shoulder_fe_a_vx;
-            let t22 = 0.2933742339089346f64 * shoulder_fe_a_vy;
-            let t23 = 0.060615943396199995f64 * shoulder_fe_a_vx;
+            let t20 = 0.009934149991199999f64 * shoulder_fe_a_vy; // 9.9341e-3 = Shoulder_FE m·c_z
+            let t21 = 0.009934149991199999f64 * shoulder_fe_a_vx; // 9.9341e-3 = Shoulder_FE m·c_z
+            let t22 = 0.2933742339089346f64 * shoulder_fe_a_vy; // 2.9337e-1 = Shoulder_FE m·c_x
+            let t23 = 0.060615943396199995f64 * shoulder_fe_a_vx; // 6.0616e-2 = Shoulder_FE m·c_y
             let t24 = t22 + t23;
             let t25 = t9 - t20;
             let t26 = t14 + t21;
             let t27 = t19 + t24;
-            let t28 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-            let t29 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t28 = 0.03900299600125622f64 * shoulder_fe_v_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t29 = 0.0055279857002587095f64 * shoulder_fe_v_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t30 = t28 + t29;
-            let t31 = 0.02285162700433904f64 * qd_sfe;
+            let t31 = 0.02285162700433904f64 * qd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t32 = t30 - t31;
-            let t33 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-            let t34 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t33 = 0.0055279857002587095f64 * shoulder_fe_v_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t34 = 0.08585553000239696f64 * shoulder_fe_v_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t35 = t33 + t34;
-            let t36 = 0.0027519999999057617f64 * qd_sfe;
+            let t36 = 0.0027519999999057617f64 * qd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t37 = t35 - t36;
-            let t38 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-            let t39 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t38 = 0.02285162700433904f64 * shoulder_fe_v_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t39 = 0.0027519999999057617f64 * shoulder_fe_v_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t40 = t38 + t39;
-            let t41 = 0.05139352799812063f64 * qd_sfe;
+            let t41 = 0.05139352799812063f64 * qd_sfe; // 5.1394e-2 = Shoulder_FE I_zz
             let t42 = t41 - t40;
             let t43 = shoulder_fe_v_wy * t42;
             let t44 = qd_sfe * t37;
@@ -453,8 +450,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t184,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t55 = 0.112f64 * qd_sfe;
-            let t56 = 0.112f64 * shoulder_fe_v_wy;
+            let t55 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t56 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t57 = c_hr * qd_sfe;
             let t58 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t58 - t57;
@@ -468,8 +465,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t64 = c_hr * t55;
             let humerus_r_v_vy = t64 - t63;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t65 = 0.112f64 * qdd_sfe;
-            let t66 = 0.112f64 * shoulder_fe_a_wy;
+            let t65 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t66 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t67 = shoulder_fe_a_vy + t65;
             let t68 = c_hr * qdd_sfe;
             let t69 = s_hr * shoulder_fe_a_wy;
@@ -492,73 +489,73 @@ impl ::hya_core::Dynamics<6> for Hya {
             let humerus_r_a_wy = t73 - t81;
             let humerus_r_a_vx = t76 + t82;
             let humerus_r_a_vy = t79 - t83;
-            let t84 = 0.20236395000387197f64 * humerus_r_a_wx;
-            let t85 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t84 = 0.20236395000387197f64 * humerus_r_a_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t85 = 0.000053999980001054f64 * humerus_r_a_wy; // 5.4000e-5 = Humerus_R I_xy
             let t86 = t84 + t85;
-            let t87 = 0.011715294995083824f64 * humerus_r_a_wz;
+            let t87 = 0.011715294995083824f64 * humerus_r_a_wz; // 1.1715e-2 = Humerus_R I_xz
             let t88 = t86 - t87;
-            let t89 = 0.000053999980001054f64 * humerus_r_a_wx;
-            let t90 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t89 = 0.000053999980001054f64 * humerus_r_a_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t90 = 0.20986895000353661f64 * humerus_r_a_wy; // 2.0987e-1 = Humerus_R I_yy
             let t91 = t89 + t90;
-            let t92 = 0.0037997813999599995f64 * humerus_r_a_wz;
+            let t92 = 0.0037997813999599995f64 * humerus_r_a_wz; // 3.7998e-3 = Humerus_R I_yz
             let t93 = t91 - t92;
-            let t94 = 0.011715294995083824f64 * humerus_r_a_wx;
-            let t95 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t94 = 0.011715294995083824f64 * humerus_r_a_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t95 = 0.0037997813999599995f64 * humerus_r_a_wy; // 3.7998e-3 = Humerus_R I_yz
             let t96 = t94 + t95;
-            let t97 = 0.01032999899926462f64 * humerus_r_a_wz;
+            let t97 = 0.01032999899926462f64 * humerus_r_a_wz; // 1.0330e-2 = Humerus_R I_zz
             let t98 = t97 - t96;
-            let t99 = 0.014380859999999999f64 * shoulder_fe_a_vx;
-            let t100 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t99 = 0.014380859999999999f64 * shoulder_fe_a_vx; // 1.4381e-2 = Humerus_R m·c_y
+            let t100 = 0.6479671119999999f64 * humerus_r_a_vy; // 6.4797e-1 = Humerus_R m·c_z
             let t101 = t99 - t100;
-            let t102 = 0.6479671119999999f64 * humerus_r_a_vx;
-            let t103 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t102 = 0.6479671119999999f64 * humerus_r_a_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t103 = 0.0055615274403f64 * shoulder_fe_a_vx; // 5.5615e-3 = Humerus_R m·c_x
             let t104 = t102 + t103;
-            let t105 = 0.0055615274403f64 * humerus_r_a_vy;
-            let t106 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t105 = 0.0055615274403f64 * humerus_r_a_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t106 = 0.014380859999999999f64 * humerus_r_a_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t107 = t105 + t106;
-            let t108 = humerus_r_a_vx * 2.327f64;
-            let t109 = humerus_r_a_vy * 2.327f64;
-            let t110 = 0.014380859999999999f64 * humerus_r_a_wz;
-            let t111 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t108 = humerus_r_a_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t109 = humerus_r_a_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t110 = 0.014380859999999999f64 * humerus_r_a_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t111 = 0.6479671119999999f64 * humerus_r_a_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t112 = t110 - t111;
-            let t113 = 0.6479671119999999f64 * humerus_r_a_wx;
-            let t114 = 0.0055615274403f64 * humerus_r_a_wz;
+            let t113 = 0.6479671119999999f64 * humerus_r_a_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t114 = 0.0055615274403f64 * humerus_r_a_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t115 = t113 + t114;
             let t116 = t88 + t101;
             let t117 = t93 + t104;
             let t118 = t98 - t107;
             let t119 = t108 - t112;
             let t120 = t109 - t115;
-            let t121 = 0.20236395000387197f64 * humerus_r_v_wx;
-            let t122 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t121 = 0.20236395000387197f64 * humerus_r_v_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t122 = 0.000053999980001054f64 * humerus_r_v_wy; // 5.4000e-5 = Humerus_R I_xy
             let t123 = t121 + t122;
-            let t124 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t124 = 0.011715294995083824f64 * humerus_r_v_wz; // 1.1715e-2 = Humerus_R I_xz
             let t125 = t123 - t124;
-            let t126 = 0.000053999980001054f64 * humerus_r_v_wx;
-            let t127 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t126 = 0.000053999980001054f64 * humerus_r_v_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t127 = 0.20986895000353661f64 * humerus_r_v_wy; // 2.0987e-1 = Humerus_R I_yy
             let t128 = t126 + t127;
-            let t129 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t129 = 0.0037997813999599995f64 * humerus_r_v_wz; // 3.7998e-3 = Humerus_R I_yz
             let t130 = t128 - t129;
-            let t131 = 0.011715294995083824f64 * humerus_r_v_wx;
-            let t132 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t131 = 0.011715294995083824f64 * humerus_r_v_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t132 = 0.0037997813999599995f64 * humerus_r_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t133 = t131 + t132;
-            let t134 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t134 = 0.01032999899926462f64 * humerus_r_v_wz; // 1.0330e-2 = Humerus_R I_zz
             let t135 = t134 - t133;
-            let t136 = 0.6479671119999999f64 * humerus_r_v_vy;
-            let t137 = 0.6479671119999999f64 * humerus_r_v_vx;
-            let t138 = 0.0055615274403f64 * humerus_r_v_vy;
-            let t139 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t136 = 0.6479671119999999f64 * humerus_r_v_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t137 = 0.6479671119999999f64 * humerus_r_v_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t138 = 0.0055615274403f64 * humerus_r_v_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t139 = 0.014380859999999999f64 * humerus_r_v_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t140 = t138 + t139;
-            let t141 = humerus_r_v_vx * 2.327f64;
-            let t142 = humerus_r_v_vy * 2.327f64;
-            let t143 = 0.014380859999999999f64 * humerus_r_v_wz;
-            let t144 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t141 = humerus_r_v_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t142 = humerus_r_v_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t143 = 0.014380859999999999f64 * humerus_r_v_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t144 = 0.6479671119999999f64 * humerus_r_v_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t145 = t143 - t144;
-            let t146 = 0.6479671119999999f64 * humerus_r_v_wx;
-            let t147 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t146 = 0.6479671119999999f64 * humerus_r_v_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t147 = 0.0055615274403f64 * humerus_r_v_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t148 = t146 + t147;
-            let t149 = 0.0055615274403f64 * humerus_r_v_wy;
-            let t150 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t149 = 0.0055615274403f64 * humerus_r_v_wy; // 5.5615e-3 = Humerus_R m·c_x
+            let t150 = 0.014380859999999999f64 * humerus_r_v_wx; // 1.4381e-2 = Humerus_R m·c_y
             let t151 = t149 + t150;
             let t152 = t125 - t136;
             let t153 = t130 + t137;
@@ -632,8 +629,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t314,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t185 = 0.304f64 * humerus_r_v_wy;
-            let t186 = 0.304f64 * humerus_r_v_wx;
+            let t185 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t186 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t185;
             let t187 = humerus_r_v_vy - t186;
             let t188 = c_efe * humerus_r_v_wz;
@@ -645,8 +642,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_v_vx = s_efe * t187;
             let elbow_fe_v_vy = c_efe * t187;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t192 = 0.304f64 * humerus_r_a_wy;
-            let t193 = 0.304f64 * humerus_r_a_wx;
+            let t192 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t193 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t192;
             let t194 = humerus_r_a_vy - t193;
             let t195 = c_efe * humerus_r_a_wz;
@@ -670,33 +667,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_a_wy = t200 - t208;
             let elbow_fe_a_vx = t203 + t209;
             let elbow_fe_a_vy = t206 - t210;
-            let t211 = 0.081661000005f64 * elbow_fe_a_wx;
-            let t212 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t211 = 0.081661000005f64 * elbow_fe_a_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t212 = 0.00368572840011861f64 * elbow_fe_a_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t213 = t211 + t212;
-            let t214 = 0.0002120000299f64 * elbow_fe_a_wz;
+            let t214 = 0.0002120000299f64 * elbow_fe_a_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t215 = t213 - t214;
-            let t216 = 0.00368572840011861f64 * elbow_fe_a_wx;
-            let t217 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t216 = 0.00368572840011861f64 * elbow_fe_a_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t217 = 0.018284489999765022f64 * elbow_fe_a_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t218 = t216 + t217;
-            let t219 = 0.002292000208f64 * elbow_fe_a_wz;
+            let t219 = 0.002292000208f64 * elbow_fe_a_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t220 = t218 - t219;
-            let t221 = 0.0002120000299f64 * elbow_fe_a_wx;
-            let t222 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t221 = 0.0002120000299f64 * elbow_fe_a_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t222 = 0.002292000208f64 * elbow_fe_a_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t223 = t221 + t222;
-            let t224 = 0.09570849000176501f64 * elbow_fe_a_wz;
+            let t224 = 0.09570849000176501f64 * elbow_fe_a_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t225 = t224 - t223;
-            let t226 = 0.008711861f64 * elbow_fe_a_vz;
-            let t227 = 0.16029825982372198f64 * elbow_fe_a_vz;
-            let t228 = 0.16029825982372198f64 * elbow_fe_a_vy;
-            let t229 = 0.008711861f64 * elbow_fe_a_vx;
+            let t226 = 0.008711861f64 * elbow_fe_a_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t227 = 0.16029825982372198f64 * elbow_fe_a_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t228 = 0.16029825982372198f64 * elbow_fe_a_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t229 = 0.008711861f64 * elbow_fe_a_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t230 = t228 + t229;
-            let t231 = elbow_fe_a_vx * 1.7423722f64;
-            let t232 = elbow_fe_a_vy * 1.7423722f64;
-            let t233 = elbow_fe_a_vz * 1.7423722f64;
-            let t234 = 0.008711861f64 * elbow_fe_a_wz;
-            let t235 = 0.16029825982372198f64 * elbow_fe_a_wz;
-            let t236 = 0.16029825982372198f64 * elbow_fe_a_wy;
-            let t237 = 0.008711861f64 * elbow_fe_a_wx;
+            let t231 = elbow_fe_a_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t232 = elbow_fe_a_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t233 = elbow_fe_a_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t234 = 0.008711861f64 * elbow_fe_a_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t235 = 0.16029825982372198f64 * elbow_fe_a_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t236 = 0.16029825982372198f64 * elbow_fe_a_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t237 = 0.008711861f64 * elbow_fe_a_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t238 = t236 + t237;
             let t239 = t215 + t226;
             let t240 = t220 + t227;
@@ -704,33 +701,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t242 = t231 + t234;
             let t243 = t232 + t235;
             let t244 = t233 + t238;
-            let t245 = 0.081661000005f64 * elbow_fe_v_wx;
-            let t246 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t245 = 0.081661000005f64 * elbow_fe_v_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t246 = 0.00368572840011861f64 * elbow_fe_v_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t247 = t245 + t246;
-            let t248 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t248 = 0.0002120000299f64 * elbow_fe_v_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t249 = t247 - t248;
-            let t250 = 0.00368572840011861f64 * elbow_fe_v_wx;
-            let t251 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t250 = 0.00368572840011861f64 * elbow_fe_v_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t251 = 0.018284489999765022f64 * elbow_fe_v_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t252 = t250 + t251;
-            let t253 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t253 = 0.002292000208f64 * elbow_fe_v_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t254 = t252 - t253;
-            let t255 = 0.0002120000299f64 * elbow_fe_v_wx;
-            let t256 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t255 = 0.0002120000299f64 * elbow_fe_v_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t256 = 0.002292000208f64 * elbow_fe_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t257 = t255 + t256;
-            let t258 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t258 = 0.09570849000176501f64 * elbow_fe_v_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t259 = t258 - t257;
-            let t260 = 0.008711861f64 * elbow_fe_v_vz;
-            let t261 = 0.16029825982372198f64 * elbow_fe_v_vz;
-            let t262 = 0.16029825982372198f64 * elbow_fe_v_vy;
-            let t263 = 0.008711861f64 * elbow_fe_v_vx;
+            let t260 = 0.008711861f64 * elbow_fe_v_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t261 = 0.16029825982372198f64 * elbow_fe_v_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t262 = 0.16029825982372198f64 * elbow_fe_v_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t263 = 0.008711861f64 * elbow_fe_v_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t264 = t262 + t263;
-            let t265 = elbow_fe_v_vx * 1.7423722f64;
-            let t266 = elbow_fe_v_vy * 1.7423722f64;
-            let t267 = elbow_fe_v_vz * 1.7423722f64;
-            let t268 = 0.008711861f64 * elbow_fe_v_wz;
-            let t269 = 0.16029825982372198f64 * elbow_fe_v_wz;
-            let t270 = 0.16029825982372198f64 * elbow_fe_v_wy;
-            let t271 = 0.008711861f64 * elbow_fe_v_wx;
+            let t265 = elbow_fe_v_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t266 = elbow_fe_v_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t267 = elbow_fe_v_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t268 = 0.008711861f64 * elbow_fe_v_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t269 = 0.16029825982372198f64 * elbow_fe_v_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t270 = 0.16029825982372198f64 * elbow_fe_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t271 = 0.008711861f64 * elbow_fe_v_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t272 = t270 + t271;
             let t273 = t249 + t260;
             let t274 = t254 + t261;
@@ -814,8 +811,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t434,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t315 = 0.112f64 * elbow_fe_v_wz;
-            let t316 = 0.112f64 * elbow_fe_v_wy;
+            let t315 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t316 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t317 = elbow_fe_v_vy + t315;
             let t318 = elbow_fe_v_vz + t316;
             let t319 = c_wr * elbow_fe_v_wz;
@@ -831,8 +828,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t326 = c_wr * t317;
             let wrist_r_v_vy = t326 - t325;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t327 = 0.112f64 * elbow_fe_a_wz;
-            let t328 = 0.112f64 * elbow_fe_a_wy;
+            let t327 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t328 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t329 = elbow_fe_a_vy + t327;
             let t330 = elbow_fe_a_vz + t328;
             let t331 = c_wr * elbow_fe_a_wz;
@@ -856,54 +853,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_r_a_wy = t336 - t344;
             let wrist_r_a_vx = t339 + t345;
             let wrist_r_a_vy = t342 - t346;
-            let t347 = 0.019431999999999998f64 * wrist_r_a_wx;
-            let t348 = 0.001387f64 * wrist_r_a_wy;
+            let t347 = 0.019431999999999998f64 * wrist_r_a_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t348 = 0.001387f64 * wrist_r_a_wy; // 1.3870e-3 = Wrist_R I_xy
             let t349 = t347 - t348;
-            let t350 = 0.012652f64 * wrist_r_a_wz;
+            let t350 = 0.012652f64 * wrist_r_a_wz; // 1.2652e-2 = Wrist_R I_xz
             let t351 = t349 - t350;
-            let t352 = 0.001387f64 * wrist_r_a_wx;
-            let t353 = 0.029115f64 * wrist_r_a_wy;
+            let t352 = 0.001387f64 * wrist_r_a_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t353 = 0.029115f64 * wrist_r_a_wy; // 2.9115e-2 = Wrist_R I_yy
             let t354 = t353 - t352;
-            let t355 = 0.001243f64 * wrist_r_a_wz;
+            let t355 = 0.001243f64 * wrist_r_a_wz; // 1.2430e-3 = Wrist_R I_yz
             let t356 = t354 - t355;
-            let t357 = 0.012652f64 * wrist_r_a_wx;
-            let t358 = 0.001243f64 * wrist_r_a_wy;
+            let t357 = 0.012652f64 * wrist_r_a_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t358 = 0.001243f64 * wrist_r_a_wy; // 1.2430e-3 = Wrist_R I_yz
             let t359 = t357 + t358;
-            let t360 = 0.011046f64 * wrist_r_a_wz;
+            let t360 = 0.011046f64 * wrist_r_a_wz; // 1.1046e-2 = Wrist_R I_zz
             let t361 = t360 - t359;
-            let t362 = 0.05783800000000001f64 * wrist_r_a_vy;
-            let t363 = 0.05783800000000001f64 * wrist_r_a_vx;
-            let t364 = wrist_r_a_vx * 2.1032f64;
-            let t365 = wrist_r_a_vy * 2.1032f64;
-            let t366 = elbow_fe_a_vx * 2.1032f64;
-            let t367 = 0.05783800000000001f64 * wrist_r_a_wy;
-            let t368 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t362 = 0.05783800000000001f64 * wrist_r_a_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t363 = 0.05783800000000001f64 * wrist_r_a_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t364 = wrist_r_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t365 = wrist_r_a_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t366 = elbow_fe_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t367 = 0.05783800000000001f64 * wrist_r_a_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t368 = 0.05783800000000001f64 * wrist_r_a_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t369 = t351 - t362;
             let t370 = t356 + t363;
             let t371 = t364 + t367;
             let t372 = t365 - t368;
-            let t373 = 0.019431999999999998f64 * wrist_r_v_wx;
-            let t374 = 0.001387f64 * wrist_r_v_wy;
+            let t373 = 0.019431999999999998f64 * wrist_r_v_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t374 = 0.001387f64 * wrist_r_v_wy; // 1.3870e-3 = Wrist_R I_xy
             let t375 = t373 - t374;
-            let t376 = 0.012652f64 * wrist_r_v_wz;
+            let t376 = 0.012652f64 * wrist_r_v_wz; // 1.2652e-2 = Wrist_R I_xz
             let t377 = t375 - t376;
-            let t378 = 0.001387f64 * wrist_r_v_wx;
-            let t379 = 0.029115f64 * wrist_r_v_wy;
+            let t378 = 0.001387f64 * wrist_r_v_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t379 = 0.029115f64 * wrist_r_v_wy; // 2.9115e-2 = Wrist_R I_yy
             let t380 = t379 - t378;
-            let t381 = 0.001243f64 * wrist_r_v_wz;
+            let t381 = 0.001243f64 * wrist_r_v_wz; // 1.2430e-3 = Wrist_R I_yz
             let t382 = t380 - t381;
-            let t383 = 0.012652f64 * wrist_r_v_wx;
-            let t384 = 0.001243f64 * wrist_r_v_wy;
+            let t383 = 0.012652f64 * wrist_r_v_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t384 = 0.001243f64 * wrist_r_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t385 = t383 + t384;
-            let t386 = 0.011046f64 * wrist_r_v_wz;
+            let t386 = 0.011046f64 * wrist_r_v_wz; // 1.1046e-2 = Wrist_R I_zz
             let t387 = t386 - t385;
-            let t388 = 0.05783800000000001f64 * wrist_r_v_vy;
-            let t389 = 0.05783800000000001f64 * wrist_r_v_vx;
-            let t390 = wrist_r_v_vx * 2.1032f64;
-            let t391 = wrist_r_v_vy * 2.1032f64;
-            let t392 = elbow_fe_v_vx * 2.1032f64;
-            let t393 = 0.05783800000000001f64 * wrist_r_v_wy;
-            let t394 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t388 = 0.05783800000000001f64 * wrist_r_v_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t389 = 0.05783800000000001f64 * wrist_r_v_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t390 = wrist_r_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t391 = wrist_r_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t392 = elbow_fe_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t393 = 0.05783800000000001f64 * wrist_r_v_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t394 = 0.05783800000000001f64 * wrist_r_v_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t395 = t377 - t388;
             let t396 = t382 + t389;
             let t397 = t390 + t393;
@@ -972,11 +969,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t435 = 0.184f64 * wrist_r_v_wy;
-            let t436 = 0.184f64 * wrist_r_v_wx;
-            let t437 = 0.02075f64 * wrist_r_v_wz;
+            let t435 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t436 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t437 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t438 = t436 - t437;
-            let t439 = 0.02075f64 * wrist_r_v_wy;
+            let t439 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t440 = wrist_r_v_vx + t435;
             let wrist_fe_v_vz = wrist_r_v_vy - t438;
             let t441 = elbow_fe_v_vx - t439;
@@ -993,11 +990,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t449 = c_wfe * t440;
             let wrist_fe_v_vy = t449 - t448;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t450 = 0.184f64 * wrist_r_a_wy;
-            let t451 = 0.184f64 * wrist_r_a_wx;
-            let t452 = 0.02075f64 * wrist_r_a_wz;
+            let t450 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t451 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t452 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
             let t453 = t451 - t452;
-            let t454 = 0.02075f64 * wrist_r_a_wy;
+            let t454 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t455 = wrist_r_a_vx + t450;
             let wrist_fe_a_vz = wrist_r_a_vy - t453;
             let t456 = elbow_fe_a_vx - t454;
@@ -1022,54 +1019,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_fe_a_wy = t462 - t470;
             let wrist_fe_a_vx = t465 + t471;
             let wrist_fe_a_vy = t468 - t472;
-            let t473 = 0.010737f64 * wrist_fe_a_wx;
-            let t474 = 0.000198f64 * wrist_fe_a_wy;
+            let t473 = 0.010737f64 * wrist_fe_a_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t474 = 0.000198f64 * wrist_fe_a_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t475 = t473 + t474;
-            let t476 = 0.000015f64 * wrist_fe_a_wz;
+            let t476 = 0.000015f64 * wrist_fe_a_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t477 = t475 + t476;
-            let t478 = 0.000198f64 * wrist_fe_a_wx;
-            let t479 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t478 = 0.000198f64 * wrist_fe_a_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t479 = 0.0032270000000000003f64 * wrist_fe_a_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t480 = t478 + t479;
-            let t481 = 0.000829f64 * wrist_fe_a_wz;
+            let t481 = 0.000829f64 * wrist_fe_a_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t482 = t480 - t481;
-            let t483 = 0.000015f64 * wrist_fe_a_wx;
-            let t484 = 0.000829f64 * wrist_fe_a_wy;
+            let t483 = 0.000015f64 * wrist_fe_a_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t484 = 0.000829f64 * wrist_fe_a_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t485 = t483 - t484;
-            let t486 = 0.009277f64 * wrist_fe_a_wz;
+            let t486 = 0.009277f64 * wrist_fe_a_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t487 = t485 + t486;
-            let t488 = 0.038686875f64 * wrist_fe_a_vz;
-            let t489 = 0.038686875f64 * wrist_fe_a_vy;
-            let t490 = wrist_fe_a_vx * 1.547475f64;
-            let t491 = wrist_fe_a_vy * 1.547475f64;
-            let t492 = wrist_fe_a_vz * 1.547475f64;
-            let t493 = 0.038686875f64 * wrist_fe_a_wz;
-            let t494 = 0.038686875f64 * wrist_fe_a_wy;
+            let t488 = 0.038686875f64 * wrist_fe_a_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t489 = 0.038686875f64 * wrist_fe_a_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t490 = wrist_fe_a_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t491 = wrist_fe_a_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t492 = wrist_fe_a_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t493 = 0.038686875f64 * wrist_fe_a_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t494 = 0.038686875f64 * wrist_fe_a_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t495 = t482 - t488;
             let t496 = t487 + t489;
             let t497 = t491 + t493;
             let t498 = t492 - t494;
-            let t499 = 0.010737f64 * wrist_fe_v_wx;
-            let t500 = 0.000198f64 * wrist_fe_v_wy;
+            let t499 = 0.010737f64 * wrist_fe_v_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t500 = 0.000198f64 * wrist_fe_v_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t501 = t499 + t500;
-            let t502 = 0.000015f64 * wrist_fe_v_wz;
+            let t502 = 0.000015f64 * wrist_fe_v_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t503 = t501 + t502;
-            let t504 = 0.000198f64 * wrist_fe_v_wx;
-            let t505 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t504 = 0.000198f64 * wrist_fe_v_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t505 = 0.0032270000000000003f64 * wrist_fe_v_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t506 = t504 + t505;
-            let t507 = 0.000829f64 * wrist_fe_v_wz;
+            let t507 = 0.000829f64 * wrist_fe_v_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t508 = t506 - t507;
-            let t509 = 0.000015f64 * wrist_fe_v_wx;
-            let t510 = 0.000829f64 * wrist_fe_v_wy;
+            let t509 = 0.000015f64 * wrist_fe_v_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t510 = 0.000829f64 * wrist_fe_v_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t511 = t509 - t510;
-            let t512 = 0.009277f64 * wrist_fe_v_wz;
+            let t512 = 0.009277f64 * wrist_fe_v_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t513 = t511 + t512;
-            let t514 = 0.038686875f64 * wrist_fe_v_vz;
-            let t515 = 0.038686875f64 * wrist_fe_v_vy;
-            let t516 = wrist_fe_v_vx * 1.547475f64;
-            let t517 = wrist_fe_v_vy * 1.547475f64;
-            let t518 = wrist_fe_v_vz * 1.547475f64;
-            let t519 = 0.038686875f64 * wrist_fe_v_wz;
-            let t520 = 0.038686875f64 * wrist_fe_v_wy;
+            let t514 = 0.038686875f64 * wrist_fe_v_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t515 = 0.038686875f64 * wrist_fe_v_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t516 = wrist_fe_v_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t517 = wrist_fe_v_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t518 = wrist_fe_v_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t519 = 0.038686875f64 * wrist_fe_v_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t520 = 0.038686875f64 * wrist_fe_v_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t521 = t508 - t514;
             let t522 = t513 + t515;
             let t523 = t517 + t519;
@@ -1140,11 +1137,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t564 = s_wfe * wrist_fe_f_nx;
             let t565 = c_wfe * wrist_fe_f_ny;
             let t566 = t564 + t565;
-            let t567 = 0.184f64 * wrist_fe_f_fz;
-            let t568 = 0.184f64 * t560;
-            let t569 = 0.02075f64 * t557;
+            let t567 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t568 = 0.184f64 * t560; // 1.8400e-1 = joint WFE origin z
+            let t569 = 0.02075f64 * t557; // 2.0750e-2 = joint WFE origin x
             let t570 = t568 - t569;
-            let t571 = 0.02075f64 * wrist_fe_f_fz;
+            let t571 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t572 = t566 - t567;
             let t573 = wrist_fe_f_nz + t570;
             let t574 = t563 + t571;
@@ -1184,8 +1181,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t584 = s_wr * wrist_r_f_nx;
             let t585 = c_wr * wrist_r_f_ny;
             let t586 = t584 + t585;
-            let t587 = 0.112f64 * t577;
-            let t588 = 0.112f64 * t580;
+            let t587 = 0.112f64 * t577; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t588 = 0.112f64 * t580; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t589 = t586 + t587;
             let t590 = t588 - t583;
             let elbow_fe_f_nx = t309 + wrist_r_f_nz;
@@ -1220,8 +1217,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t597 = s_efe * elbow_fe_f_nx;
             let t598 = c_efe * elbow_fe_f_ny;
             let t599 = t597 + t598;
-            let t600 = 0.304f64 * t593;
-            let t601 = 0.304f64 * elbow_fe_f_fz;
+            let t600 = 0.304f64 * t593; // 3.0400e-1 = joint EFE origin z
+            let t601 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t602 = elbow_fe_f_nz + t600;
             let t603 = t599 - t601;
             let humerus_r_f_nx = t180 - t602;
@@ -1251,8 +1248,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t613 = s_hr * humerus_r_f_nx;
             let t614 = c_hr * humerus_r_f_ny;
             let t615 = t613 + t614;
-            let t616 = 0.112f64 * t606;
-            let t617 = 0.112f64 * t609;
+            let t616 = 0.112f64 * t606; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t617 = 0.112f64 * t609; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t618 = t615 + t616;
             let t619 = t617 - t612;
             let shoulder_fe_f_nx = t52 + humerus_r_f_nz;
@@ -1295,34 +1292,32 @@ impl ::hya_core::Dynamics<6> for Hya {
             let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
             (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe)
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
-            let t0 = 0.009934149991199999f64 * shoulder_fe_a_vy;
-            let t1 = 0.009934149991199999f64 * shoulder_fe_a_vx;
-            let t2 = 0.2933742339089346f64 * shoulder_fe_a_vy;
-            let t3 = 0.060615943396199995f64 * shoulder_fe_a_vx;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
+            let t0 = 0.009934149991199999f64 * shoulder_fe_a_vy; // 9.9341e-3 = Shoulder_FE m·c_z
+            let t1 = 0.009934149991199999f64 * shoulder_fe_a_vx; // 9.9341e-3 = Shoulder_FE m·c_z
+            let t2 = 0.2933742339089346f64 * shoulder_fe_a_vy; // 2.9337e-1 = Shoulder_FE m·c_x
+            let t3 = 0.060615943396199995f64 * shoulder_fe_a_vx; // 6.0616e-2 = Shoulder_FE m·c_y
             let t4 = t2 + t3;
             (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4)
         };
-        // ── link `Humerus_R`, joint `HR` (base to tip)
         let (humerus_r_a_vx, humerus_r_a_vy, t7, t10, t13, t14, t15) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
             let humerus_r_a_vx = s_hr * shoulder_fe_a_vy;
             let humerus_r_a_vy = c_hr * shoulder_fe_a_vy;
-            let t5 = 0.014380859999999999f64 * shoulder_fe_a_vx;
-            let t6 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t5 = 0.014380859999999999f64 * shoulder_fe_a_vx; // 1.4381e-2 = Humerus_R m·c_y
+            let t6 = 0.6479671119999999f64 * humerus_r_a_vy; // 6.4797e-1 = Humerus_R m·c_z
             let t7 = t5 - t6;
-            let t8 = 0.6479671119999999f64 * humerus_r_a_vx;
-            let t9 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t8 = 0.6479671119999999f64 * humerus_r_a_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t9 = 0.0055615274403f64 * shoulder_fe_a_vx; // 5.5615e-3 = Humerus_R m·c_x
             let t10 = t8 + t9;
-            let t11 = 0.0055615274403f64 * humerus_r_a_vy;
-            let t12 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t11 = 0.0055615274403f64 * humerus_r_a_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t12 = 0.014380859999999999f64 * humerus_r_a_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t13 = t11 + t12;
-            let t14 = humerus_r_a_vx * 2.327f64;
-            let t15 = humerus_r_a_vy * 2.327f64;
+            let t14 = humerus_r_a_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t15 = humerus_r_a_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
             (humerus_r_a_vx, humerus_r_a_vy, t7, t10, t13, t14, t15)
         };
         let (elbow_fe_a_vx, elbow_fe_a_vy, t20, t21, t24, t25, t26, t27) = {
@@ -1333,14 +1328,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t18 = s_efe * shoulder_fe_a_vx;
             let t19 = c_efe * humerus_r_a_vy;
             let elbow_fe_a_vy = t19 - t18;
-            let t20 = 0.008711861f64 * humerus_r_a_vx;
-            let t21 = 0.16029825982372198f64 * humerus_r_a_vx;
-            let t22 = 0.16029825982372198f64 * elbow_fe_a_vy;
-            let t23 = 0.008711861f64 * elbow_fe_a_vx;
+            let t20 = 0.008711861f64 * humerus_r_a_vx; // 8.7119e-3 = Elbow_FE m·c_y
+            let t21 = 0.16029825982372198f64 * humerus_r_a_vx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t22 = 0.16029825982372198f64 * elbow_fe_a_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t23 = 0.008711861f64 * elbow_fe_a_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t24 = t22 + t23;
-            let t25 = elbow_fe_a_vx * 1.7423722f64;
-            let t26 = elbow_fe_a_vy * 1.7423722f64;
-            let t27 = humerus_r_a_vx * 1.7423722f64;
+            let t25 = elbow_fe_a_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t26 = elbow_fe_a_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t27 = humerus_r_a_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
             (elbow_fe_a_vx, elbow_fe_a_vy, t20, t21, t24, t25, t26, t27)
         };
         let (wrist_r_a_vx, wrist_r_a_vy, t32, t33, t34, t35, t36) = {
@@ -1351,11 +1346,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t30 = s_wr * humerus_r_a_vx;
             let t31 = c_wr * elbow_fe_a_vy;
             let wrist_r_a_vy = t31 - t30;
-            let t32 = 0.05783800000000001f64 * wrist_r_a_vy;
-            let t33 = 0.05783800000000001f64 * wrist_r_a_vx;
-            let t34 = wrist_r_a_vx * 2.1032f64;
-            let t35 = wrist_r_a_vy * 2.1032f64;
-            let t36 = elbow_fe_a_vx * 2.1032f64;
+            let t32 = 0.05783800000000001f64 * wrist_r_a_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t33 = 0.05783800000000001f64 * wrist_r_a_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t34 = wrist_r_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t35 = wrist_r_a_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t36 = elbow_fe_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
             (wrist_r_a_vx, wrist_r_a_vy, t32, t33, t34, t35, t36)
         };
         let (
@@ -1372,11 +1367,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t39 = s_wfe * elbow_fe_a_vx;
             let t40 = c_wfe * wrist_r_a_vx;
             let wrist_fe_a_vy = t40 - t39;
-            let wrist_fe_f_ny = 0.038686875f64 * wrist_r_a_vy;
-            let wrist_fe_f_nz = 0.038686875f64 * wrist_fe_a_vy;
-            let wrist_fe_f_fx = wrist_fe_a_vx * 1.547475f64;
-            let wrist_fe_f_fy = wrist_fe_a_vy * 1.547475f64;
-            let wrist_fe_f_fz = wrist_r_a_vy * 1.547475f64;
+            let wrist_fe_f_ny = 0.038686875f64 * wrist_r_a_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let wrist_fe_f_nz = 0.038686875f64 * wrist_fe_a_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let wrist_fe_f_fx = wrist_fe_a_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let wrist_fe_f_fy = wrist_fe_a_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let wrist_fe_f_fz = wrist_r_a_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
             (wrist_fe_f_ny, wrist_fe_f_nz, wrist_fe_f_fx, wrist_fe_f_fy, wrist_fe_f_fz)
         };
         let (
@@ -1396,11 +1391,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t46 = t44 + t45;
             let t47 = s_wfe * wrist_fe_f_ny;
             let t48 = c_wfe * wrist_fe_f_ny;
-            let t49 = 0.184f64 * wrist_fe_f_fz;
-            let t50 = 0.184f64 * t46;
-            let t51 = 0.02075f64 * t43;
+            let t49 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t50 = 0.184f64 * t46; // 1.8400e-1 = joint WFE origin z
+            let t51 = 0.02075f64 * t43; // 2.0750e-2 = joint WFE origin x
             let t52 = t50 - t51;
-            let t53 = 0.02075f64 * wrist_fe_f_fz;
+            let t53 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t54 = t48 + t49;
             let t55 = wrist_fe_f_nz + t52;
             let wrist_r_f_nz = t47 + t53;
@@ -1439,8 +1434,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t65 = s_wr * wrist_r_f_nx;
             let t66 = c_wr * wrist_r_f_ny;
             let t67 = t66 - t65;
-            let t68 = 0.112f64 * t58;
-            let t69 = 0.112f64 * t61;
+            let t68 = 0.112f64 * t58; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t69 = 0.112f64 * t61; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t70 = t67 + t68;
             let t71 = t64 + t69;
             let elbow_fe_f_nx = t20 + wrist_r_f_nz;
@@ -1475,8 +1470,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t78 = s_efe * elbow_fe_f_nx;
             let t79 = c_efe * elbow_fe_f_ny;
             let t80 = t78 + t79;
-            let t81 = 0.304f64 * t74;
-            let t82 = 0.304f64 * elbow_fe_f_fz;
+            let t81 = 0.304f64 * t74; // 3.0400e-1 = joint EFE origin z
+            let t82 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t83 = elbow_fe_f_nz + t81;
             let t84 = t80 + t82;
             let humerus_r_f_nx = t7 - t83;
@@ -1506,8 +1501,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t93 = s_hr * humerus_r_f_nx;
             let t94 = c_hr * humerus_r_f_ny;
             let t95 = t93 + t94;
-            let t96 = 0.112f64 * shoulder_fe_f_fz;
-            let t97 = 0.112f64 * t89;
+            let t96 = 0.112f64 * shoulder_fe_f_fz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t97 = 0.112f64 * t89; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t98 = t95 + t96;
             let t99 = t97 - t92;
             let shoulder_fe_f_nx = humerus_r_f_nz - t0;
@@ -1607,29 +1602,29 @@ impl ::hya_core::Dynamics<6> for Hya {
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let shoulder_fe_a_wx = shoulder_fe_v_wy * qd_sfe;
             let shoulder_fe_a_wy = shoulder_fe_v_wx * qd_sfe;
-            let t0 = 0.03900299600125622f64 * shoulder_fe_a_wx;
-            let t1 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t0 = 0.03900299600125622f64 * shoulder_fe_a_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t1 = 0.0055279857002587095f64 * shoulder_fe_a_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t2 = t0 - t1;
-            let t3 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
-            let t4 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t3 = 0.0055279857002587095f64 * shoulder_fe_a_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t4 = 0.08585553000239696f64 * shoulder_fe_a_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t5 = t3 - t4;
-            let t6 = 0.02285162700433904f64 * shoulder_fe_a_wx;
-            let t7 = 0.0027519999999057617f64 * shoulder_fe_a_wy;
+            let t6 = 0.02285162700433904f64 * shoulder_fe_a_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t7 = 0.0027519999999057617f64 * shoulder_fe_a_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t8 = t7 - t6;
-            let t9 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-            let t10 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t9 = 0.03900299600125622f64 * shoulder_fe_v_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t10 = 0.0055279857002587095f64 * shoulder_fe_v_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t11 = t9 + t10;
-            let t12 = 0.02285162700433904f64 * qd_sfe;
+            let t12 = 0.02285162700433904f64 * qd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t13 = t11 - t12;
-            let t14 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-            let t15 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t14 = 0.0055279857002587095f64 * shoulder_fe_v_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t15 = 0.08585553000239696f64 * shoulder_fe_v_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t16 = t14 + t15;
-            let t17 = 0.0027519999999057617f64 * qd_sfe;
+            let t17 = 0.0027519999999057617f64 * qd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t18 = t16 - t17;
-            let t19 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-            let t20 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t19 = 0.02285162700433904f64 * shoulder_fe_v_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t20 = 0.0027519999999057617f64 * shoulder_fe_v_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t21 = t19 + t20;
-            let t22 = 0.05139352799812063f64 * qd_sfe;
+            let t22 = 0.05139352799812063f64 * qd_sfe; // 5.1394e-2 = Shoulder_FE I_zz
             let t23 = t22 - t21;
             let t24 = shoulder_fe_v_wy * t23;
             let t25 = qd_sfe * t18;
@@ -1670,8 +1665,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t151,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t36 = 0.112f64 * qd_sfe;
-            let t37 = 0.112f64 * shoulder_fe_v_wy;
+            let t36 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t37 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t38 = c_hr * qd_sfe;
             let t39 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t39 - t38;
@@ -1685,7 +1680,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t45 = c_hr * t36;
             let humerus_r_v_vy = t45 - t44;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t46 = 0.112f64 * shoulder_fe_a_wy;
+            let t46 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t47 = s_hr * shoulder_fe_a_wy;
             let t48 = c_hr * shoulder_fe_a_wy;
             let t49 = c_hr * t46;
@@ -1698,69 +1693,69 @@ impl ::hya_core::Dynamics<6> for Hya {
             let humerus_r_a_wy = t48 + t52;
             let humerus_r_a_vx = t53 - t49;
             let humerus_r_a_vy = t50 - t54;
-            let t55 = 0.20236395000387197f64 * humerus_r_a_wx;
-            let t56 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t55 = 0.20236395000387197f64 * humerus_r_a_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t56 = 0.000053999980001054f64 * humerus_r_a_wy; // 5.4000e-5 = Humerus_R I_xy
             let t57 = t55 - t56;
-            let t58 = 0.011715294995083824f64 * shoulder_fe_a_wx;
+            let t58 = 0.011715294995083824f64 * shoulder_fe_a_wx; // 1.1715e-2 = Humerus_R I_xz
             let t59 = t57 - t58;
-            let t60 = 0.000053999980001054f64 * humerus_r_a_wx;
-            let t61 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t60 = 0.000053999980001054f64 * humerus_r_a_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t61 = 0.20986895000353661f64 * humerus_r_a_wy; // 2.0987e-1 = Humerus_R I_yy
             let t62 = t60 - t61;
-            let t63 = 0.0037997813999599995f64 * shoulder_fe_a_wx;
+            let t63 = 0.0037997813999599995f64 * shoulder_fe_a_wx; // 3.7998e-3 = Humerus_R I_yz
             let t64 = t62 - t63;
-            let t65 = 0.011715294995083824f64 * humerus_r_a_wx;
-            let t66 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t65 = 0.011715294995083824f64 * humerus_r_a_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t66 = 0.0037997813999599995f64 * humerus_r_a_wy; // 3.7998e-3 = Humerus_R I_yz
             let t67 = t66 - t65;
-            let t68 = 0.01032999899926462f64 * shoulder_fe_a_wx;
+            let t68 = 0.01032999899926462f64 * shoulder_fe_a_wx; // 1.0330e-2 = Humerus_R I_zz
             let t69 = t67 + t68;
-            let t70 = 0.6479671119999999f64 * humerus_r_a_vy;
-            let t71 = 0.6479671119999999f64 * humerus_r_a_vx;
-            let t72 = 0.0055615274403f64 * humerus_r_a_vy;
-            let t73 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t70 = 0.6479671119999999f64 * humerus_r_a_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t71 = 0.6479671119999999f64 * humerus_r_a_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t72 = 0.0055615274403f64 * humerus_r_a_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t73 = 0.014380859999999999f64 * humerus_r_a_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t74 = t72 + t73;
-            let t75 = humerus_r_a_vx * 2.327f64;
-            let t76 = humerus_r_a_vy * 2.327f64;
-            let t77 = 0.014380859999999999f64 * shoulder_fe_a_wx;
-            let t78 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t75 = humerus_r_a_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t76 = humerus_r_a_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t77 = 0.014380859999999999f64 * shoulder_fe_a_wx; // 1.4381e-2 = Humerus_R m·c_y
+            let t78 = 0.6479671119999999f64 * humerus_r_a_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t79 = t77 + t78;
-            let t80 = 0.6479671119999999f64 * humerus_r_a_wx;
-            let t81 = 0.0055615274403f64 * shoulder_fe_a_wx;
+            let t80 = 0.6479671119999999f64 * humerus_r_a_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t81 = 0.0055615274403f64 * shoulder_fe_a_wx; // 5.5615e-3 = Humerus_R m·c_x
             let t82 = t80 + t81;
             let t83 = t59 - t70;
             let t84 = t64 + t71;
             let t85 = t69 - t74;
             let t86 = t75 - t79;
             let t87 = t76 - t82;
-            let t88 = 0.20236395000387197f64 * humerus_r_v_wx;
-            let t89 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t88 = 0.20236395000387197f64 * humerus_r_v_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t89 = 0.000053999980001054f64 * humerus_r_v_wy; // 5.4000e-5 = Humerus_R I_xy
             let t90 = t88 + t89;
-            let t91 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t91 = 0.011715294995083824f64 * humerus_r_v_wz; // 1.1715e-2 = Humerus_R I_xz
             let t92 = t90 - t91;
-            let t93 = 0.000053999980001054f64 * humerus_r_v_wx;
-            let t94 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t93 = 0.000053999980001054f64 * humerus_r_v_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t94 = 0.20986895000353661f64 * humerus_r_v_wy; // 2.0987e-1 = Humerus_R I_yy
             let t95 = t93 + t94;
-            let t96 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t96 = 0.0037997813999599995f64 * humerus_r_v_wz; // 3.7998e-3 = Humerus_R I_yz
             let t97 = t95 - t96;
-            let t98 = 0.011715294995083824f64 * humerus_r_v_wx;
-            let t99 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t98 = 0.011715294995083824f64 * humerus_r_v_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t99 = 0.0037997813999599995f64 * humerus_r_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t100 = t98 + t99;
-            let t101 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t101 = 0.01032999899926462f64 * humerus_r_v_wz; // 1.0330e-2 = Humerus_R I_zz
             let t102 = t101 - t100;
-            let t103 = 0.6479671119999999f64 * humerus_r_v_vy;
-            let t104 = 0.6479671119999999f64 * humerus_r_v_vx;
-            let t105 = 0.0055615274403f64 * humerus_r_v_vy;
-            let t106 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t103 = 0.6479671119999999f64 * humerus_r_v_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t104 = 0.6479671119999999f64 * humerus_r_v_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t105 = 0.0055615274403f64 * humerus_r_v_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t106 = 0.014380859999999999f64 * humerus_r_v_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t107 = t105 + t106;
-            let t108 = humerus_r_v_vx * 2.327f64;
-            let t109 = humerus_r_v_vy * 2.327f64;
-            let t110 = 0.014380859999999999f64 * humerus_r_v_wz;
-            let t111 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t108 = humerus_r_v_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t109 = humerus_r_v_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t110 = 0.014380859999999999f64 * humerus_r_v_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t111 = 0.6479671119999999f64 * humerus_r_v_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t112 = t110 - t111;
-            let t113 = 0.6479671119999999f64 * humerus_r_v_wx;
-            let t114 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t113 = 0.6479671119999999f64 * humerus_r_v_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t114 = 0.0055615274403f64 * humerus_r_v_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t115 = t113 + t114;
-            let t116 = 0.0055615274403f64 * humerus_r_v_wy;
-            let t117 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t116 = 0.0055615274403f64 * humerus_r_v_wy; // 5.5615e-3 = Humerus_R m·c_x
+            let t117 = 0.014380859999999999f64 * humerus_r_v_wx; // 1.4381e-2 = Humerus_R m·c_y
             let t118 = t116 + t117;
             let t119 = t92 - t103;
             let t120 = t97 + t104;
@@ -1832,8 +1827,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t277,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t152 = 0.304f64 * humerus_r_v_wy;
-            let t153 = 0.304f64 * humerus_r_v_wx;
+            let t152 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t153 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t152;
             let t154 = humerus_r_v_vy - t153;
             let t155 = c_efe * humerus_r_v_wz;
@@ -1845,8 +1840,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_v_vx = s_efe * t154;
             let elbow_fe_v_vy = c_efe * t154;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t159 = 0.304f64 * humerus_r_a_wy;
-            let t160 = 0.304f64 * humerus_r_a_wx;
+            let t159 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t160 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx - t159;
             let t161 = humerus_r_a_vy - t160;
             let t162 = c_efe * shoulder_fe_a_wx;
@@ -1865,33 +1860,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_a_wy = t167 + t171;
             let elbow_fe_a_vx = t168 + t172;
             let elbow_fe_a_vy = t169 - t173;
-            let t174 = 0.081661000005f64 * elbow_fe_a_wx;
-            let t175 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t174 = 0.081661000005f64 * elbow_fe_a_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t175 = 0.00368572840011861f64 * elbow_fe_a_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t176 = t174 - t175;
-            let t177 = 0.0002120000299f64 * humerus_r_a_wx;
+            let t177 = 0.0002120000299f64 * humerus_r_a_wx; // 2.1200e-4 = Elbow_FE I_xz
             let t178 = t176 + t177;
-            let t179 = 0.00368572840011861f64 * elbow_fe_a_wx;
-            let t180 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t179 = 0.00368572840011861f64 * elbow_fe_a_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t180 = 0.018284489999765022f64 * elbow_fe_a_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t181 = t179 - t180;
-            let t182 = 0.002292000208f64 * humerus_r_a_wx;
+            let t182 = 0.002292000208f64 * humerus_r_a_wx; // 2.2920e-3 = Elbow_FE I_yz
             let t183 = t181 + t182;
-            let t184 = 0.0002120000299f64 * elbow_fe_a_wx;
-            let t185 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t184 = 0.0002120000299f64 * elbow_fe_a_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t185 = 0.002292000208f64 * elbow_fe_a_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t186 = t185 - t184;
-            let t187 = 0.09570849000176501f64 * humerus_r_a_wx;
+            let t187 = 0.09570849000176501f64 * humerus_r_a_wx; // 9.5708e-2 = Elbow_FE I_zz
             let t188 = t186 - t187;
-            let t189 = 0.008711861f64 * elbow_fe_a_vz;
-            let t190 = 0.16029825982372198f64 * elbow_fe_a_vz;
-            let t191 = 0.16029825982372198f64 * elbow_fe_a_vy;
-            let t192 = 0.008711861f64 * elbow_fe_a_vx;
+            let t189 = 0.008711861f64 * elbow_fe_a_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t190 = 0.16029825982372198f64 * elbow_fe_a_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t191 = 0.16029825982372198f64 * elbow_fe_a_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t192 = 0.008711861f64 * elbow_fe_a_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t193 = t191 + t192;
-            let t194 = elbow_fe_a_vx * 1.7423722f64;
-            let t195 = elbow_fe_a_vy * 1.7423722f64;
-            let t196 = elbow_fe_a_vz * 1.7423722f64;
-            let t197 = 0.008711861f64 * humerus_r_a_wx;
-            let t198 = 0.16029825982372198f64 * humerus_r_a_wx;
-            let t199 = 0.16029825982372198f64 * elbow_fe_a_wy;
-            let t200 = 0.008711861f64 * elbow_fe_a_wx;
+            let t194 = elbow_fe_a_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t195 = elbow_fe_a_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t196 = elbow_fe_a_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t197 = 0.008711861f64 * humerus_r_a_wx; // 8.7119e-3 = Elbow_FE m·c_y
+            let t198 = 0.16029825982372198f64 * humerus_r_a_wx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t199 = 0.16029825982372198f64 * elbow_fe_a_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t200 = 0.008711861f64 * elbow_fe_a_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t201 = t200 - t199;
             let t202 = t178 + t189;
             let t203 = t183 + t190;
@@ -1899,33 +1894,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t205 = t194 - t197;
             let t206 = t195 - t198;
             let t207 = t196 + t201;
-            let t208 = 0.081661000005f64 * elbow_fe_v_wx;
-            let t209 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t208 = 0.081661000005f64 * elbow_fe_v_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t209 = 0.00368572840011861f64 * elbow_fe_v_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t210 = t208 + t209;
-            let t211 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t211 = 0.0002120000299f64 * elbow_fe_v_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t212 = t210 - t211;
-            let t213 = 0.00368572840011861f64 * elbow_fe_v_wx;
-            let t214 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t213 = 0.00368572840011861f64 * elbow_fe_v_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t214 = 0.018284489999765022f64 * elbow_fe_v_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t215 = t213 + t214;
-            let t216 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t216 = 0.002292000208f64 * elbow_fe_v_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t217 = t215 - t216;
-            let t218 = 0.0002120000299f64 * elbow_fe_v_wx;
-            let t219 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t218 = 0.0002120000299f64 * elbow_fe_v_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t219 = 0.002292000208f64 * elbow_fe_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t220 = t218 + t219;
-            let t221 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t221 = 0.09570849000176501f64 * elbow_fe_v_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t222 = t221 - t220;
-            let t223 = 0.008711861f64 * elbow_fe_v_vz;
-            let t224 = 0.16029825982372198f64 * elbow_fe_v_vz;
-            let t225 = 0.16029825982372198f64 * elbow_fe_v_vy;
-            let t226 = 0.008711861f64 * elbow_fe_v_vx;
+            let t223 = 0.008711861f64 * elbow_fe_v_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t224 = 0.16029825982372198f64 * elbow_fe_v_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t225 = 0.16029825982372198f64 * elbow_fe_v_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t226 = 0.008711861f64 * elbow_fe_v_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t227 = t225 + t226;
-            let t228 = elbow_fe_v_vx * 1.7423722f64;
-            let t229 = elbow_fe_v_vy * 1.7423722f64;
-            let t230 = elbow_fe_v_vz * 1.7423722f64;
-            let t231 = 0.008711861f64 * elbow_fe_v_wz;
-            let t232 = 0.16029825982372198f64 * elbow_fe_v_wz;
-            let t233 = 0.16029825982372198f64 * elbow_fe_v_wy;
-            let t234 = 0.008711861f64 * elbow_fe_v_wx;
+            let t228 = elbow_fe_v_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t229 = elbow_fe_v_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t230 = elbow_fe_v_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t231 = 0.008711861f64 * elbow_fe_v_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t232 = 0.16029825982372198f64 * elbow_fe_v_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t233 = 0.16029825982372198f64 * elbow_fe_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t234 = 0.008711861f64 * elbow_fe_v_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t235 = t233 + t234;
             let t236 = t212 + t223;
             let t237 = t217 + t224;
@@ -2007,8 +2002,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t397,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t278 = 0.112f64 * elbow_fe_v_wz;
-            let t279 = 0.112f64 * elbow_fe_v_wy;
+            let t278 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t279 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t280 = elbow_fe_v_vy + t278;
             let t281 = elbow_fe_v_vz + t279;
             let t282 = c_wr * elbow_fe_v_wz;
@@ -2024,8 +2019,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t289 = c_wr * t280;
             let wrist_r_v_vy = t289 - t288;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t290 = 0.112f64 * humerus_r_a_wx;
-            let t291 = 0.112f64 * elbow_fe_a_wy;
+            let t290 = 0.112f64 * humerus_r_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t291 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t292 = elbow_fe_a_vy - t290;
             let t293 = t291 - elbow_fe_a_vz;
             let t294 = c_wr * humerus_r_a_wx;
@@ -2048,54 +2043,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_r_a_wy = t299 + t307;
             let wrist_r_a_vx = t302 + t308;
             let wrist_r_a_vy = t305 - t309;
-            let t310 = 0.019431999999999998f64 * wrist_r_a_wx;
-            let t311 = 0.001387f64 * wrist_r_a_wy;
+            let t310 = 0.019431999999999998f64 * wrist_r_a_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t311 = 0.001387f64 * wrist_r_a_wy; // 1.3870e-3 = Wrist_R I_xy
             let t312 = t310 + t311;
-            let t313 = 0.012652f64 * elbow_fe_a_wx;
+            let t313 = 0.012652f64 * elbow_fe_a_wx; // 1.2652e-2 = Wrist_R I_xz
             let t314 = t312 - t313;
-            let t315 = 0.001387f64 * wrist_r_a_wx;
-            let t316 = 0.029115f64 * wrist_r_a_wy;
+            let t315 = 0.001387f64 * wrist_r_a_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t316 = 0.029115f64 * wrist_r_a_wy; // 2.9115e-2 = Wrist_R I_yy
             let t317 = t315 + t316;
-            let t318 = 0.001243f64 * elbow_fe_a_wx;
+            let t318 = 0.001243f64 * elbow_fe_a_wx; // 1.2430e-3 = Wrist_R I_yz
             let t319 = t317 + t318;
-            let t320 = 0.012652f64 * wrist_r_a_wx;
-            let t321 = 0.001243f64 * wrist_r_a_wy;
+            let t320 = 0.012652f64 * wrist_r_a_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t321 = 0.001243f64 * wrist_r_a_wy; // 1.2430e-3 = Wrist_R I_yz
             let t322 = t321 - t320;
-            let t323 = 0.011046f64 * elbow_fe_a_wx;
+            let t323 = 0.011046f64 * elbow_fe_a_wx; // 1.1046e-2 = Wrist_R I_zz
             let t324 = t322 + t323;
-            let t325 = 0.05783800000000001f64 * wrist_r_a_vy;
-            let t326 = 0.05783800000000001f64 * wrist_r_a_vx;
-            let t327 = wrist_r_a_vx * 2.1032f64;
-            let t328 = wrist_r_a_vy * 2.1032f64;
-            let t329 = elbow_fe_a_vx * 2.1032f64;
-            let t330 = 0.05783800000000001f64 * wrist_r_a_wy;
-            let t331 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t325 = 0.05783800000000001f64 * wrist_r_a_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t326 = 0.05783800000000001f64 * wrist_r_a_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t327 = wrist_r_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t328 = wrist_r_a_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t329 = elbow_fe_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t330 = 0.05783800000000001f64 * wrist_r_a_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t331 = 0.05783800000000001f64 * wrist_r_a_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t332 = t314 - t325;
             let t333 = t326 - t319;
             let t334 = t327 - t330;
             let t335 = t328 - t331;
-            let t336 = 0.019431999999999998f64 * wrist_r_v_wx;
-            let t337 = 0.001387f64 * wrist_r_v_wy;
+            let t336 = 0.019431999999999998f64 * wrist_r_v_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t337 = 0.001387f64 * wrist_r_v_wy; // 1.3870e-3 = Wrist_R I_xy
             let t338 = t336 - t337;
-            let t339 = 0.012652f64 * wrist_r_v_wz;
+            let t339 = 0.012652f64 * wrist_r_v_wz; // 1.2652e-2 = Wrist_R I_xz
             let t340 = t338 - t339;
-            let t341 = 0.001387f64 * wrist_r_v_wx;
-            let t342 = 0.029115f64 * wrist_r_v_wy;
+            let t341 = 0.001387f64 * wrist_r_v_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t342 = 0.029115f64 * wrist_r_v_wy; // 2.9115e-2 = Wrist_R I_yy
             let t343 = t342 - t341;
-            let t344 = 0.001243f64 * wrist_r_v_wz;
+            let t344 = 0.001243f64 * wrist_r_v_wz; // 1.2430e-3 = Wrist_R I_yz
             let t345 = t343 - t344;
-            let t346 = 0.012652f64 * wrist_r_v_wx;
-            let t347 = 0.001243f64 * wrist_r_v_wy;
+            let t346 = 0.012652f64 * wrist_r_v_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t347 = 0.001243f64 * wrist_r_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t348 = t346 + t347;
-            let t349 = 0.011046f64 * wrist_r_v_wz;
+            let t349 = 0.011046f64 * wrist_r_v_wz; // 1.1046e-2 = Wrist_R I_zz
             let t350 = t349 - t348;
-            let t351 = 0.05783800000000001f64 * wrist_r_v_vy;
-            let t352 = 0.05783800000000001f64 * wrist_r_v_vx;
-            let t353 = wrist_r_v_vx * 2.1032f64;
-            let t354 = wrist_r_v_vy * 2.1032f64;
-            let t355 = elbow_fe_v_vx * 2.1032f64;
-            let t356 = 0.05783800000000001f64 * wrist_r_v_wy;
-            let t357 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t351 = 0.05783800000000001f64 * wrist_r_v_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t352 = 0.05783800000000001f64 * wrist_r_v_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t353 = wrist_r_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t354 = wrist_r_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t355 = elbow_fe_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t356 = 0.05783800000000001f64 * wrist_r_v_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t357 = 0.05783800000000001f64 * wrist_r_v_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t358 = t340 - t351;
             let t359 = t345 + t352;
             let t360 = t353 + t356;
@@ -2163,11 +2158,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t398 = 0.184f64 * wrist_r_v_wy;
-            let t399 = 0.184f64 * wrist_r_v_wx;
-            let t400 = 0.02075f64 * wrist_r_v_wz;
+            let t398 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t399 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t400 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t401 = t399 - t400;
-            let t402 = 0.02075f64 * wrist_r_v_wy;
+            let t402 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t403 = wrist_r_v_vx + t398;
             let wrist_fe_v_vz = wrist_r_v_vy - t401;
             let t404 = elbow_fe_v_vx - t402;
@@ -2184,11 +2179,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t412 = c_wfe * t403;
             let wrist_fe_v_vy = t412 - t411;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t413 = 0.184f64 * wrist_r_a_wy;
-            let t414 = 0.184f64 * wrist_r_a_wx;
-            let t415 = 0.02075f64 * elbow_fe_a_wx;
+            let t413 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t414 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t415 = 0.02075f64 * elbow_fe_a_wx; // 2.0750e-2 = joint WFE origin x
             let t416 = t414 - t415;
-            let t417 = 0.02075f64 * wrist_r_a_wy;
+            let t417 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t418 = wrist_r_a_vx - t413;
             let wrist_fe_a_vz = wrist_r_a_vy - t416;
             let t419 = elbow_fe_a_vx + t417;
@@ -2212,54 +2207,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_fe_a_wy = t425 - t433;
             let wrist_fe_a_vx = t428 + t434;
             let wrist_fe_a_vy = t431 - t435;
-            let t436 = 0.010737f64 * wrist_fe_a_wx;
-            let t437 = 0.000198f64 * wrist_fe_a_wy;
+            let t436 = 0.010737f64 * wrist_fe_a_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t437 = 0.000198f64 * wrist_fe_a_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t438 = t436 + t437;
-            let t439 = 0.000015f64 * wrist_r_a_wy;
+            let t439 = 0.000015f64 * wrist_r_a_wy; // 1.5000e-5 = Wrist_FE I_xz
             let t440 = t438 - t439;
-            let t441 = 0.000198f64 * wrist_fe_a_wx;
-            let t442 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t441 = 0.000198f64 * wrist_fe_a_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t442 = 0.0032270000000000003f64 * wrist_fe_a_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t443 = t441 + t442;
-            let t444 = 0.000829f64 * wrist_r_a_wy;
+            let t444 = 0.000829f64 * wrist_r_a_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t445 = t443 + t444;
-            let t446 = 0.000015f64 * wrist_fe_a_wx;
-            let t447 = 0.000829f64 * wrist_fe_a_wy;
+            let t446 = 0.000015f64 * wrist_fe_a_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t447 = 0.000829f64 * wrist_fe_a_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t448 = t446 - t447;
-            let t449 = 0.009277f64 * wrist_r_a_wy;
+            let t449 = 0.009277f64 * wrist_r_a_wy; // 9.2770e-3 = Wrist_FE I_zz
             let t450 = t448 - t449;
-            let t451 = 0.038686875f64 * wrist_fe_a_vz;
-            let t452 = 0.038686875f64 * wrist_fe_a_vy;
-            let t453 = wrist_fe_a_vx * 1.547475f64;
-            let t454 = wrist_fe_a_vy * 1.547475f64;
-            let t455 = wrist_fe_a_vz * 1.547475f64;
-            let t456 = 0.038686875f64 * wrist_r_a_wy;
-            let t457 = 0.038686875f64 * wrist_fe_a_wy;
+            let t451 = 0.038686875f64 * wrist_fe_a_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t452 = 0.038686875f64 * wrist_fe_a_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t453 = wrist_fe_a_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t454 = wrist_fe_a_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t455 = wrist_fe_a_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t456 = 0.038686875f64 * wrist_r_a_wy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t457 = 0.038686875f64 * wrist_fe_a_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t458 = t445 - t451;
             let t459 = t450 + t452;
             let t460 = t454 - t456;
             let t461 = t455 - t457;
-            let t462 = 0.010737f64 * wrist_fe_v_wx;
-            let t463 = 0.000198f64 * wrist_fe_v_wy;
+            let t462 = 0.010737f64 * wrist_fe_v_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t463 = 0.000198f64 * wrist_fe_v_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t464 = t462 + t463;
-            let t465 = 0.000015f64 * wrist_fe_v_wz;
+            let t465 = 0.000015f64 * wrist_fe_v_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t466 = t464 + t465;
-            let t467 = 0.000198f64 * wrist_fe_v_wx;
-            let t468 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t467 = 0.000198f64 * wrist_fe_v_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t468 = 0.0032270000000000003f64 * wrist_fe_v_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t469 = t467 + t468;
-            let t470 = 0.000829f64 * wrist_fe_v_wz;
+            let t470 = 0.000829f64 * wrist_fe_v_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t471 = t469 - t470;
-            let t472 = 0.000015f64 * wrist_fe_v_wx;
-            let t473 = 0.000829f64 * wrist_fe_v_wy;
+            let t472 = 0.000015f64 * wrist_fe_v_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t473 = 0.000829f64 * wrist_fe_v_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t474 = t472 - t473;
-            let t475 = 0.009277f64 * wrist_fe_v_wz;
+            let t475 = 0.009277f64 * wrist_fe_v_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t476 = t474 + t475;
-            let t477 = 0.038686875f64 * wrist_fe_v_vz;
-            let t478 = 0.038686875f64 * wrist_fe_v_vy;
-            let t479 = wrist_fe_v_vx * 1.547475f64;
-            let t480 = wrist_fe_v_vy * 1.547475f64;
-            let t481 = wrist_fe_v_vz * 1.547475f64;
-            let t482 = 0.038686875f64 * wrist_fe_v_wz;
-            let t483 = 0.038686875f64 * wrist_fe_v_wy;
+            let t477 = 0.038686875f64 * wrist_fe_v_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t478 = 0.038686875f64 * wrist_fe_v_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t479 = wrist_fe_v_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t480 = wrist_fe_v_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t481 = wrist_fe_v_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t482 = 0.038686875f64 * wrist_fe_v_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t483 = 0.038686875f64 * wrist_fe_v_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t484 = t471 - t477;
             let t485 = t476 + t478;
             let t486 = t480 + t482;
@@ -2330,11 +2325,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t527 = s_wfe * wrist_fe_f_nx;
             let t528 = c_wfe * wrist_fe_f_ny;
             let t529 = t527 + t528;
-            let t530 = 0.184f64 * wrist_fe_f_fz;
-            let t531 = 0.184f64 * t523;
-            let t532 = 0.02075f64 * t520;
+            let t530 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t531 = 0.184f64 * t523; // 1.8400e-1 = joint WFE origin z
+            let t532 = 0.02075f64 * t520; // 2.0750e-2 = joint WFE origin x
             let t533 = t531 - t532;
-            let t534 = 0.02075f64 * wrist_fe_f_fz;
+            let t534 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t535 = t529 - t530;
             let t536 = wrist_fe_f_nz + t533;
             let t537 = t526 + t534;
@@ -2374,8 +2369,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t547 = s_wr * wrist_r_f_nx;
             let t548 = c_wr * wrist_r_f_ny;
             let t549 = t547 + t548;
-            let t550 = 0.112f64 * t540;
-            let t551 = 0.112f64 * t543;
+            let t550 = 0.112f64 * t540; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t551 = 0.112f64 * t543; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t552 = t549 + t550;
             let t553 = t551 - t546;
             let elbow_fe_f_nx = t272 + wrist_r_f_nz;
@@ -2410,8 +2405,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t560 = s_efe * elbow_fe_f_nx;
             let t561 = c_efe * elbow_fe_f_ny;
             let t562 = t560 + t561;
-            let t563 = 0.304f64 * t556;
-            let t564 = 0.304f64 * elbow_fe_f_fz;
+            let t563 = 0.304f64 * t556; // 3.0400e-1 = joint EFE origin z
+            let t564 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t565 = elbow_fe_f_nz + t563;
             let t566 = t562 - t564;
             let humerus_r_f_nx = t147 - t565;
@@ -2441,8 +2436,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t576 = s_hr * humerus_r_f_nx;
             let t577 = c_hr * humerus_r_f_ny;
             let t578 = t576 + t577;
-            let t579 = 0.112f64 * t569;
-            let t580 = 0.112f64 * t572;
+            let t579 = 0.112f64 * t569; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t580 = 0.112f64 * t572; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t581 = t578 + t579;
             let t582 = t580 - t575;
             let shoulder_fe_f_nx = t33 + humerus_r_f_nz;
@@ -2528,20 +2523,19 @@ impl ::hya_core::Dynamics<6> for Hya {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_v_wx, shoulder_fe_v_wy, t4, t9) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let shoulder_fe_v_wx = s_sfe * qd_saa;
             let shoulder_fe_v_wy = c_sfe * qd_saa;
-            let t0 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-            let t1 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t0 = 0.03900299600125622f64 * shoulder_fe_v_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t1 = 0.0055279857002587095f64 * shoulder_fe_v_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t2 = t0 + t1;
-            let t3 = 0.02285162700433904f64 * qd_sfe;
+            let t3 = 0.02285162700433904f64 * qd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t4 = t2 - t3;
-            let t5 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-            let t6 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t5 = 0.0055279857002587095f64 * shoulder_fe_v_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t6 = 0.08585553000239696f64 * shoulder_fe_v_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t7 = t5 + t6;
-            let t8 = 0.0027519999999057617f64 * qd_sfe;
+            let t8 = 0.0027519999999057617f64 * qd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t9 = t7 - t8;
             (shoulder_fe_v_wx, shoulder_fe_v_wy, t4, t9)
         };
@@ -2558,8 +2552,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t52,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t10 = 0.112f64 * qd_sfe;
-            let t11 = 0.112f64 * shoulder_fe_v_wy;
+            let t10 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t11 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t12 = c_hr * qd_sfe;
             let t13 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t13 - t12;
@@ -2573,33 +2567,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t19 = c_hr * t10;
             let humerus_r_v_vy = t19 - t18;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t20 = 0.20236395000387197f64 * humerus_r_v_wx;
-            let t21 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t20 = 0.20236395000387197f64 * humerus_r_v_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t21 = 0.000053999980001054f64 * humerus_r_v_wy; // 5.4000e-5 = Humerus_R I_xy
             let t22 = t20 + t21;
-            let t23 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t23 = 0.011715294995083824f64 * humerus_r_v_wz; // 1.1715e-2 = Humerus_R I_xz
             let t24 = t22 - t23;
-            let t25 = 0.000053999980001054f64 * humerus_r_v_wx;
-            let t26 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t25 = 0.000053999980001054f64 * humerus_r_v_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t26 = 0.20986895000353661f64 * humerus_r_v_wy; // 2.0987e-1 = Humerus_R I_yy
             let t27 = t25 + t26;
-            let t28 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t28 = 0.0037997813999599995f64 * humerus_r_v_wz; // 3.7998e-3 = Humerus_R I_yz
             let t29 = t27 - t28;
-            let t30 = 0.011715294995083824f64 * humerus_r_v_wx;
-            let t31 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t30 = 0.011715294995083824f64 * humerus_r_v_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t31 = 0.0037997813999599995f64 * humerus_r_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t32 = t30 + t31;
-            let t33 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t33 = 0.01032999899926462f64 * humerus_r_v_wz; // 1.0330e-2 = Humerus_R I_zz
             let t34 = t33 - t32;
-            let t35 = 0.6479671119999999f64 * humerus_r_v_vy;
-            let t36 = 0.6479671119999999f64 * humerus_r_v_vx;
-            let t37 = 0.0055615274403f64 * humerus_r_v_vy;
-            let t38 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t35 = 0.6479671119999999f64 * humerus_r_v_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t36 = 0.6479671119999999f64 * humerus_r_v_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t37 = 0.0055615274403f64 * humerus_r_v_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t38 = 0.014380859999999999f64 * humerus_r_v_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t39 = t37 + t38;
-            let t40 = humerus_r_v_vx * 2.327f64;
-            let t41 = humerus_r_v_vy * 2.327f64;
-            let t42 = 0.014380859999999999f64 * humerus_r_v_wz;
-            let t43 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t40 = humerus_r_v_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t41 = humerus_r_v_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t42 = 0.014380859999999999f64 * humerus_r_v_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t43 = 0.6479671119999999f64 * humerus_r_v_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t44 = t42 - t43;
-            let t45 = 0.6479671119999999f64 * humerus_r_v_wx;
-            let t46 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t45 = 0.6479671119999999f64 * humerus_r_v_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t46 = 0.0055615274403f64 * humerus_r_v_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t47 = t45 + t46;
             let t48 = t24 - t35;
             let t49 = t29 + t36;
@@ -2634,8 +2628,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t93,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t53 = 0.304f64 * humerus_r_v_wy;
-            let t54 = 0.304f64 * humerus_r_v_wx;
+            let t53 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t54 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t53;
             let t55 = humerus_r_v_vy - t54;
             let t56 = c_efe * humerus_r_v_wz;
@@ -2647,33 +2641,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_v_vx = s_efe * t55;
             let elbow_fe_v_vy = c_efe * t55;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t60 = 0.081661000005f64 * elbow_fe_v_wx;
-            let t61 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t60 = 0.081661000005f64 * elbow_fe_v_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t61 = 0.00368572840011861f64 * elbow_fe_v_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t62 = t60 + t61;
-            let t63 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t63 = 0.0002120000299f64 * elbow_fe_v_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t64 = t62 - t63;
-            let t65 = 0.00368572840011861f64 * elbow_fe_v_wx;
-            let t66 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t65 = 0.00368572840011861f64 * elbow_fe_v_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t66 = 0.018284489999765022f64 * elbow_fe_v_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t67 = t65 + t66;
-            let t68 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t68 = 0.002292000208f64 * elbow_fe_v_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t69 = t67 - t68;
-            let t70 = 0.0002120000299f64 * elbow_fe_v_wx;
-            let t71 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t70 = 0.0002120000299f64 * elbow_fe_v_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t71 = 0.002292000208f64 * elbow_fe_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t72 = t70 + t71;
-            let t73 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t73 = 0.09570849000176501f64 * elbow_fe_v_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t74 = t73 - t72;
-            let t75 = 0.008711861f64 * elbow_fe_v_vz;
-            let t76 = 0.16029825982372198f64 * elbow_fe_v_vz;
-            let t77 = 0.16029825982372198f64 * elbow_fe_v_vy;
-            let t78 = 0.008711861f64 * elbow_fe_v_vx;
+            let t75 = 0.008711861f64 * elbow_fe_v_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t76 = 0.16029825982372198f64 * elbow_fe_v_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t77 = 0.16029825982372198f64 * elbow_fe_v_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t78 = 0.008711861f64 * elbow_fe_v_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t79 = t77 + t78;
-            let t80 = elbow_fe_v_vx * 1.7423722f64;
-            let t81 = elbow_fe_v_vy * 1.7423722f64;
-            let t82 = elbow_fe_v_vz * 1.7423722f64;
-            let t83 = 0.008711861f64 * elbow_fe_v_wz;
-            let t84 = 0.16029825982372198f64 * elbow_fe_v_wz;
-            let t85 = 0.16029825982372198f64 * elbow_fe_v_wy;
-            let t86 = 0.008711861f64 * elbow_fe_v_wx;
+            let t80 = elbow_fe_v_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t81 = elbow_fe_v_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t82 = elbow_fe_v_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t83 = 0.008711861f64 * elbow_fe_v_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t84 = 0.16029825982372198f64 * elbow_fe_v_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t85 = 0.16029825982372198f64 * elbow_fe_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t86 = 0.008711861f64 * elbow_fe_v_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t87 = t85 + t86;
             let t88 = t64 + t75;
             let t89 = t69 + t76;
@@ -2710,8 +2704,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t131,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t94 = 0.112f64 * elbow_fe_v_wz;
-            let t95 = 0.112f64 * elbow_fe_v_wy;
+            let t94 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t95 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t96 = elbow_fe_v_vy + t94;
             let t97 = elbow_fe_v_vz + t95;
             let t98 = c_wr * elbow_fe_v_wz;
@@ -2727,28 +2721,28 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t105 = c_wr * t96;
             let wrist_r_v_vy = t105 - t104;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t106 = 0.019431999999999998f64 * wrist_r_v_wx;
-            let t107 = 0.001387f64 * wrist_r_v_wy;
+            let t106 = 0.019431999999999998f64 * wrist_r_v_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t107 = 0.001387f64 * wrist_r_v_wy; // 1.3870e-3 = Wrist_R I_xy
             let t108 = t106 - t107;
-            let t109 = 0.012652f64 * wrist_r_v_wz;
+            let t109 = 0.012652f64 * wrist_r_v_wz; // 1.2652e-2 = Wrist_R I_xz
             let t110 = t108 - t109;
-            let t111 = 0.001387f64 * wrist_r_v_wx;
-            let t112 = 0.029115f64 * wrist_r_v_wy;
+            let t111 = 0.001387f64 * wrist_r_v_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t112 = 0.029115f64 * wrist_r_v_wy; // 2.9115e-2 = Wrist_R I_yy
             let t113 = t112 - t111;
-            let t114 = 0.001243f64 * wrist_r_v_wz;
+            let t114 = 0.001243f64 * wrist_r_v_wz; // 1.2430e-3 = Wrist_R I_yz
             let t115 = t113 - t114;
-            let t116 = 0.012652f64 * wrist_r_v_wx;
-            let t117 = 0.001243f64 * wrist_r_v_wy;
+            let t116 = 0.012652f64 * wrist_r_v_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t117 = 0.001243f64 * wrist_r_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t118 = t116 + t117;
-            let t119 = 0.011046f64 * wrist_r_v_wz;
+            let t119 = 0.011046f64 * wrist_r_v_wz; // 1.1046e-2 = Wrist_R I_zz
             let t120 = t119 - t118;
-            let t121 = 0.05783800000000001f64 * wrist_r_v_vy;
-            let t122 = 0.05783800000000001f64 * wrist_r_v_vx;
-            let t123 = wrist_r_v_vx * 2.1032f64;
-            let t124 = wrist_r_v_vy * 2.1032f64;
-            let t125 = elbow_fe_v_vx * 2.1032f64;
-            let t126 = 0.05783800000000001f64 * wrist_r_v_wy;
-            let t127 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t121 = 0.05783800000000001f64 * wrist_r_v_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t122 = 0.05783800000000001f64 * wrist_r_v_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t123 = wrist_r_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t124 = wrist_r_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t125 = elbow_fe_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t126 = 0.05783800000000001f64 * wrist_r_v_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t127 = 0.05783800000000001f64 * wrist_r_v_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t128 = t110 - t121;
             let t129 = t115 + t122;
             let t130 = t123 + t126;
@@ -2780,11 +2774,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t132 = 0.184f64 * wrist_r_v_wy;
-            let t133 = 0.184f64 * wrist_r_v_wx;
-            let t134 = 0.02075f64 * wrist_r_v_wz;
+            let t132 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t133 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t134 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t135 = t133 - t134;
-            let t136 = 0.02075f64 * wrist_r_v_wy;
+            let t136 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t137 = wrist_r_v_vx + t132;
             let wrist_fe_v_vz = wrist_r_v_vy - t135;
             let t138 = elbow_fe_v_vx - t136;
@@ -2801,28 +2795,28 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t146 = c_wfe * t137;
             let wrist_fe_v_vy = t146 - t145;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t147 = 0.010737f64 * wrist_fe_v_wx;
-            let t148 = 0.000198f64 * wrist_fe_v_wy;
+            let t147 = 0.010737f64 * wrist_fe_v_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t148 = 0.000198f64 * wrist_fe_v_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t149 = t147 + t148;
-            let t150 = 0.000015f64 * wrist_fe_v_wz;
+            let t150 = 0.000015f64 * wrist_fe_v_wz; // 1.5000e-5 = Wrist_FE I_xz
             let wrist_fe_f_nx = t149 + t150;
-            let t151 = 0.000198f64 * wrist_fe_v_wx;
-            let t152 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t151 = 0.000198f64 * wrist_fe_v_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t152 = 0.0032270000000000003f64 * wrist_fe_v_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t153 = t151 + t152;
-            let t154 = 0.000829f64 * wrist_fe_v_wz;
+            let t154 = 0.000829f64 * wrist_fe_v_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t155 = t153 - t154;
-            let t156 = 0.000015f64 * wrist_fe_v_wx;
-            let t157 = 0.000829f64 * wrist_fe_v_wy;
+            let t156 = 0.000015f64 * wrist_fe_v_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t157 = 0.000829f64 * wrist_fe_v_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t158 = t156 - t157;
-            let t159 = 0.009277f64 * wrist_fe_v_wz;
+            let t159 = 0.009277f64 * wrist_fe_v_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t160 = t158 + t159;
-            let t161 = 0.038686875f64 * wrist_fe_v_vz;
-            let t162 = 0.038686875f64 * wrist_fe_v_vy;
-            let wrist_fe_f_fx = wrist_fe_v_vx * 1.547475f64;
-            let t163 = wrist_fe_v_vy * 1.547475f64;
-            let t164 = wrist_fe_v_vz * 1.547475f64;
-            let t165 = 0.038686875f64 * wrist_fe_v_wz;
-            let t166 = 0.038686875f64 * wrist_fe_v_wy;
+            let t161 = 0.038686875f64 * wrist_fe_v_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t162 = 0.038686875f64 * wrist_fe_v_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let wrist_fe_f_fx = wrist_fe_v_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t163 = wrist_fe_v_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t164 = wrist_fe_v_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t165 = 0.038686875f64 * wrist_fe_v_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t166 = 0.038686875f64 * wrist_fe_v_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let wrist_fe_f_ny = t155 - t161;
             let wrist_fe_f_nz = t160 + t162;
             let wrist_fe_f_fy = t163 + t165;
@@ -2869,11 +2863,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t182 = s_wfe * wrist_fe_f_nx;
             let t183 = c_wfe * wrist_fe_f_ny;
             let t184 = t182 + t183;
-            let t185 = 0.184f64 * wrist_fe_f_fz;
-            let t186 = 0.184f64 * t178;
-            let t187 = 0.02075f64 * t175;
+            let t185 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t186 = 0.184f64 * t178; // 1.8400e-1 = joint WFE origin z
+            let t187 = 0.02075f64 * t175; // 2.0750e-2 = joint WFE origin x
             let t188 = t186 - t187;
-            let t189 = 0.02075f64 * wrist_fe_f_fz;
+            let t189 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t190 = t184 - t185;
             let t191 = wrist_fe_f_nz + t188;
             let t192 = t181 + t189;
@@ -2922,8 +2916,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t208 = s_wr * wrist_r_f_nx;
             let t209 = c_wr * wrist_r_f_ny;
             let t210 = t208 + t209;
-            let t211 = 0.112f64 * t201;
-            let t212 = 0.112f64 * t204;
+            let t211 = 0.112f64 * t201; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t212 = 0.112f64 * t204; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t213 = t210 + t211;
             let t214 = t212 - t207;
             let elbow_fe_f_nx = t88 + wrist_r_f_nz;
@@ -2967,8 +2961,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t227 = s_efe * elbow_fe_f_nx;
             let t228 = c_efe * elbow_fe_f_ny;
             let t229 = t227 + t228;
-            let t230 = 0.304f64 * t223;
-            let t231 = 0.304f64 * elbow_fe_f_fz;
+            let t230 = 0.304f64 * t223; // 3.0400e-1 = joint EFE origin z
+            let t231 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t232 = elbow_fe_f_nz + t230;
             let t233 = t229 + t231;
             let humerus_r_f_nx = t48 - t232;
@@ -3000,7 +2994,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t243 = s_hr * humerus_r_f_nx;
             let t244 = c_hr * humerus_r_f_ny;
             let t245 = t243 + t244;
-            let t246 = 0.112f64 * t242;
+            let t246 = 0.112f64 * t242; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t247 = t245 + t246;
             let shoulder_fe_f_nx = t4 + humerus_r_f_nz;
             let shoulder_fe_f_ny = t9 + t247;
@@ -3048,23 +3042,23 @@ impl ::hya_core::Dynamics<6> for Hya {
             m_wr_wr,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t0 = c_wfe * 0.038686875f64;
-            let t1 = s_wfe * 0.038686875f64;
-            let t2 = 0.010737f64 * c_wfe;
-            let t3 = 0.000198f64 * s_wfe;
+            let t0 = c_wfe * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1 = s_wfe * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2 = 0.010737f64 * c_wfe; // 1.0737e-2 = Wrist_FE I_xx
+            let t3 = 0.000198f64 * s_wfe; // 1.9800e-4 = Wrist_FE I_xy
             let t4 = t2 - t3;
-            let t5 = 0.000198f64 * c_wfe;
-            let t6 = 0.0032270000000000003f64 * s_wfe;
+            let t5 = 0.000198f64 * c_wfe; // 1.9800e-4 = Wrist_FE I_xy
+            let t6 = 0.0032270000000000003f64 * s_wfe; // 3.2270e-3 = Wrist_FE I_yy
             let t7 = t5 - t6;
-            let t8 = 0.000015f64 * c_wfe;
-            let t9 = 0.000829f64 * s_wfe;
+            let t8 = 0.000015f64 * c_wfe; // 1.5000e-5 = Wrist_FE I_xz
+            let t9 = 0.000829f64 * s_wfe; // 8.2900e-4 = Wrist_FE I_yz
             let m_wfe_wr = t8 + t9;
-            let t10 = 0.010737f64 * s_wfe;
+            let t10 = 0.010737f64 * s_wfe; // 1.0737e-2 = Wrist_FE I_xx
             let t11 = t10 + t5;
-            let t12 = 0.0032270000000000003f64 * c_wfe;
+            let t12 = 0.0032270000000000003f64 * c_wfe; // 3.2270e-3 = Wrist_FE I_yy
             let t13 = t3 + t12;
-            let t14 = 0.000015f64 * s_wfe;
-            let t15 = 0.000829f64 * c_wfe;
+            let t14 = 0.000015f64 * s_wfe; // 1.5000e-5 = Wrist_FE I_xz
+            let t15 = 0.000829f64 * c_wfe; // 8.2900e-4 = Wrist_FE I_yz
             let t16 = t14 - t15;
             let t17 = c_wfe * t4;
             let t18 = s_wfe * t7;
@@ -3078,16 +3072,16 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t26 = s_wfe * t11;
             let t27 = c_wfe * t13;
             let t28 = t26 + t27;
-            let t29 = 0.02075f64 * t1;
-            let t30 = 0.184f64 * t0;
+            let t29 = 0.02075f64 * t1; // 2.0750e-2 = joint WFE origin x
+            let t30 = 0.184f64 * t0; // 1.8400e-1 = joint WFE origin z
             let t31 = t29 + t30;
             let t32 = t31 + t31;
             let t33 = t32 + 0.053057598304687495f64;
             let t34 = t28 + t33;
-            let t35 = 0.009277f64 + t33;
+            let t35 = 0.009277f64 + t33; // 9.2770e-3 = Wrist_FE I_zz
             let t36 = t19 + t33;
-            let t37 = t0 * 0.02075f64;
-            let t38 = t1 * 0.184f64;
+            let t37 = t0 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t38 = t1 * 0.184f64; // 1.8400e-1 = joint WFE origin z
             let t39 = t34 - t29;
             let t40 = t25 - t37;
             let t41 = t22 - t38;
@@ -3100,16 +3094,16 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t48 = t44 - 0.0059082595499999994f64;
             let t49 = t45 - 0.0059082595499999994f64;
             let t50 = t46 - 0.052391313599999996f64;
-            let t51 = t1 + 0.03211010625f64;
-            let t52 = t0 + 0.28473539999999997f64;
-            let t53 = 0.05783800000000001f64 + t52;
-            let t54 = 0.019431999999999998f64 + t47;
-            let t55 = t16 - 0.001387f64;
-            let t56 = t48 - 0.012652f64;
-            let t57 = 0.029115f64 + t35;
-            let t58 = m_wfe_wr - 0.001243f64;
-            let t59 = t49 - 0.012652f64;
-            let m_wr_wr = 0.011046f64 + t50;
+            let t51 = t1 + 0.03211010625f64; // 3.2110e-2 = Wrist_FE mass × joint WFE origin x
+            let t52 = t0 + 0.28473539999999997f64; // 2.8474e-1 = Wrist_FE mass × joint WFE origin z
+            let t53 = 0.05783800000000001f64 + t52; // 5.7838e-2 = Wrist_R m·c_z
+            let t54 = 0.019431999999999998f64 + t47; // 1.9432e-2 = Wrist_R I_xx
+            let t55 = t16 - 0.001387f64; // 1.3870e-3 = Wrist_R I_xy
+            let t56 = t48 - 0.012652f64; // 1.2652e-2 = Wrist_R I_xz
+            let t57 = 0.029115f64 + t35; // 2.9115e-2 = Wrist_R I_yy
+            let t58 = m_wfe_wr - 0.001243f64; // 1.2430e-3 = Wrist_R I_yz
+            let t59 = t49 - 0.012652f64; // 1.2652e-2 = Wrist_R I_xz
+            let m_wr_wr = 0.011046f64 + t50; // 1.1046e-2 = Wrist_R I_zz
             (t0, t1, m_wfe_wr, t16, t31, t51, t53, t54, t55, t56, t57, t58, t59, m_wr_wr)
         };
         let (
@@ -3164,14 +3158,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t91 = t90 - t69;
             let t92 = s_wr * t59;
             let t93 = t92 + t76;
-            let t94 = 0.112f64 * t53;
+            let t94 = 0.112f64 * t53; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t95 = t94 + t94;
             let t96 = t95 + 0.045794067200000003f64;
             let t97 = m_wr_wr + t96;
             let t98 = t89 + t96;
             let t99 = t80 + t96;
-            let t100 = t61 * 0.112f64;
-            let t101 = t60 * 0.112f64;
+            let t100 = t61 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t101 = t60 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t102 = t97 - t94;
             let t103 = t93 - t100;
             let m_wr_efe = t101 - t91;
@@ -3180,17 +3174,17 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t106 = t101 - t70;
             let t107 = t104 - 0.045794067200000003f64;
             let t108 = t53 + 0.4088756f64;
-            let t109 = 0.16029825982372198f64 + t108;
-            let t110 = t61 - 0.008711861f64;
-            let t111 = 0.081661000005f64 + t107;
-            let t112 = 0.00368572840011861f64 + t103;
-            let t113 = m_wr_efe - 0.0002120000299f64;
-            let t114 = 0.00368572840011861f64 + t105;
-            let t115 = 0.018284489999765022f64 + t98;
-            let t116 = 0.002292000208f64 + t86;
-            let t117 = t106 - 0.0002120000299f64;
-            let t118 = 0.002292000208f64 + t83;
-            let m_efe_efe = 0.09570849000176501f64 + t99;
+            let t109 = 0.16029825982372198f64 + t108; // 1.6030e-1 = Elbow_FE m·c_x
+            let t110 = t61 - 0.008711861f64; // 8.7119e-3 = Elbow_FE m·c_y
+            let t111 = 0.081661000005f64 + t107; // 8.1661e-2 = Elbow_FE I_xx
+            let t112 = 0.00368572840011861f64 + t103; // 3.6857e-3 = Elbow_FE I_xy
+            let t113 = m_wr_efe - 0.0002120000299f64; // 2.1200e-4 = Elbow_FE I_xz
+            let t114 = 0.00368572840011861f64 + t105; // 3.6857e-3 = Elbow_FE I_xy
+            let t115 = 0.018284489999765022f64 + t98; // 1.8284e-2 = Elbow_FE I_yy
+            let t116 = 0.002292000208f64 + t86; // 2.2920e-3 = Elbow_FE I_yz
+            let t117 = t106 - 0.0002120000299f64; // 2.1200e-4 = Elbow_FE I_xz
+            let t118 = 0.002292000208f64 + t83; // 2.2920e-3 = Elbow_FE I_yz
+            let m_efe_efe = 0.09570849000176501f64 + t99; // 9.5708e-2 = Elbow_FE I_zz
             (
                 t60,
                 t61,
@@ -3270,14 +3264,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t157 = s_efe * t117;
             let t158 = c_efe * t118;
             let t159 = t157 - t158;
-            let t160 = 0.304f64 * t121;
+            let t160 = 0.304f64 * t121; // 3.0400e-1 = joint EFE origin z
             let t161 = t160 + t160;
             let t162 = t161 + 0.4984038500352f64;
             let t163 = m_efe_efe + t162;
             let t164 = t154 + t162;
             let t165 = t145 + t162;
-            let t166 = t60 * 0.304f64;
-            let t167 = t124 * 0.304f64;
+            let t166 = t60 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t167 = t124 * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t168 = t133 + t166;
             let t169 = t148 - t167;
             let t170 = t165 - t160;
@@ -3286,18 +3280,18 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t173 = t170 - t160;
             let t174 = t173 - 0.4984038500352f64;
             let t175 = t121 + 1.6394863488f64;
-            let t176 = t60 - 0.0055615274403f64;
-            let t177 = 0.014380859999999999f64 + t124;
-            let t178 = 0.6479671119999999f64 + t175;
-            let t179 = 0.20236395000387197f64 + t163;
-            let t180 = 0.000053999980001054f64 - t159;
-            let t181 = 0.011715294995083824f64 + t171;
-            let t182 = 0.000053999980001054f64 - t142;
-            let t183 = 0.20986895000353661f64 + t164;
-            let t184 = t172 - 0.0037997813999599995f64;
-            let t185 = 0.011715294995083824f64 + t168;
-            let t186 = t169 - 0.0037997813999599995f64;
-            let m_hr_hr = 0.01032999899926462f64 + t174;
+            let t176 = t60 - 0.0055615274403f64; // 5.5615e-3 = Humerus_R m·c_x
+            let t177 = 0.014380859999999999f64 + t124; // 1.4381e-2 = Humerus_R m·c_y
+            let t178 = 0.6479671119999999f64 + t175; // 6.4797e-1 = Humerus_R m·c_z
+            let t179 = 0.20236395000387197f64 + t163; // 2.0236e-1 = Humerus_R I_xx
+            let t180 = 0.000053999980001054f64 - t159; // 5.4000e-5 = Humerus_R I_xy
+            let t181 = 0.011715294995083824f64 + t171; // 1.1715e-2 = Humerus_R I_xz
+            let t182 = 0.000053999980001054f64 - t142; // 5.4000e-5 = Humerus_R I_xy
+            let t183 = 0.20986895000353661f64 + t164; // 2.0987e-1 = Humerus_R I_yy
+            let t184 = t172 - 0.0037997813999599995f64; // 3.7998e-3 = Humerus_R I_yz
+            let t185 = 0.011715294995083824f64 + t168; // 1.1715e-2 = Humerus_R I_xz
+            let t186 = t169 - 0.0037997813999599995f64; // 3.7998e-3 = Humerus_R I_yz
+            let m_hr_hr = 0.01032999899926462f64 + t174; // 1.0330e-2 = Humerus_R I_zz
             (
                 t121,
                 m_efe_hr,
@@ -3370,14 +3364,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t223 = s_hr * t185;
             let t224 = c_hr * t186;
             let t225 = t224 - t223;
-            let t226 = 0.112f64 * t178;
+            let t226 = 0.112f64 * t178; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t227 = t226 + t226;
             let t228 = t227 + 0.0968402720768f64;
             let t229 = m_hr_hr + t228;
             let t230 = t219 + t228;
             let t231 = t213 + t228;
-            let t232 = t192 * 0.112f64;
-            let t233 = t189 * 0.112f64;
+            let t232 = t192 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t233 = t189 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t234 = t229 - t226;
             let t235 = t225 - t232;
             let m_hr_sfe = t222 + t233;
@@ -3386,15 +3380,15 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t238 = t201 + t233;
             let t239 = t236 - 0.0968402720768f64;
             let t240 = t178 + 0.8646452864f64;
-            let t241 = 0.2933742339089346f64 + t240;
-            let t242 = t192 - 0.060615943396199995f64;
-            let t243 = 0.03900299600125622f64 + t239;
-            let t244 = 0.0055279857002587095f64 + t235;
-            let t245 = 0.0055279857002587095f64 + t237;
-            let t246 = 0.08585553000239696f64 + t230;
-            let t247 = t238 - 0.02285162700433904f64;
-            let t248 = 0.0027519999999057617f64 + t216;
-            let m_sfe_sfe = 0.05139352799812063f64 + t231;
+            let t241 = 0.2933742339089346f64 + t240; // 2.9337e-1 = Shoulder_FE m·c_x
+            let t242 = t192 - 0.060615943396199995f64; // 6.0616e-2 = Shoulder_FE m·c_y
+            let t243 = 0.03900299600125622f64 + t239; // 3.9003e-2 = Shoulder_FE I_xx
+            let t244 = 0.0055279857002587095f64 + t235; // 5.5280e-3 = Shoulder_FE I_xy
+            let t245 = 0.0055279857002587095f64 + t237; // 5.5280e-3 = Shoulder_FE I_xy
+            let t246 = 0.08585553000239696f64 + t230; // 8.5856e-2 = Shoulder_FE I_yy
+            let t247 = t238 - 0.02285162700433904f64; // 2.2852e-2 = Shoulder_FE I_xz
+            let t248 = 0.0027519999999057617f64 + t216; // 2.7520e-3 = Shoulder_FE I_yz
+            let m_sfe_sfe = 0.05139352799812063f64 + t231; // 5.1394e-2 = Shoulder_FE I_zz
             (t235, m_hr_sfe, t241, t242, t243, t244, t245, t246, t247, t248, m_sfe_sfe)
         };
         let (m_sfe_saa, m_saa_saa) = {
@@ -3414,14 +3408,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t261 = s_sfe * t247;
             let t262 = c_sfe * t248;
             let m_sfe_saa = t261 - t262;
-            let t263 = 0.178f64 * t251;
+            let t263 = 0.178f64 * t251; // 1.7800e-1 = joint SFE origin z
             let t264 = t263 + t263;
             let t265 = t264 + 0.3267401822492f64;
             let t266 = t260 + t265;
             let t267 = t266 - t263;
             let t268 = t267 - t263;
             let t269 = t268 - 0.3267401822492f64;
-            let m_saa_saa = 0.007628999999536005f64 + t269;
+            let m_saa_saa = 0.007628999999536005f64 + t269; // 7.6290e-3 = Shoulder_AA I_zz
             (m_sfe_saa, m_saa_saa)
         };
         let m_hr_saa = {
@@ -3442,8 +3436,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t278 = s_hr * t272;
             let t279 = c_hr * t159;
             let t280 = t279 - t278;
-            let t281 = 0.112f64 * t273;
-            let t282 = 0.112f64 * t274;
+            let t281 = 0.112f64 * t273; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t282 = 0.112f64 * t274; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t283 = t280 - t281;
             let m_efe_sfe = t277 + t282;
             let t284 = s_sfe * m_efe_hr;
@@ -3460,8 +3454,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t289 = s_efe * m_wr_wr;
             let t290 = c_efe * t103;
             let t291 = t289 + t290;
-            let t292 = 0.304f64 * t286;
-            let t293 = 0.304f64 * t61;
+            let t292 = 0.304f64 * t286; // 3.0400e-1 = joint EFE origin z
+            let t293 = 0.304f64 * t61; // 3.0400e-1 = joint EFE origin z
             let t294 = m_wr_efe + t292;
             let t295 = t291 - t293;
             let t296 = c_hr * t61;
@@ -3476,8 +3470,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t305 = s_hr * t294;
             let t306 = c_hr * t295;
             let t307 = t306 - t305;
-            let t308 = 0.112f64 * t298;
-            let t309 = 0.112f64 * t301;
+            let t308 = 0.112f64 * t298; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t309 = 0.112f64 * t301; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t310 = t307 - t308;
             let m_wr_sfe = t304 + t309;
             let t311 = s_sfe * m_wr_hr;
@@ -3487,7 +3481,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (m_wfe_efe, m_wfe_hr, m_wfe_sfe, m_wfe_saa) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t313 = 0.009277f64 + t31;
+            let t313 = 0.009277f64 + t31; // 9.2770e-3 = Wrist_FE I_zz
             let t314 = c_wr * t0;
             let t315 = s_wr * t0;
             let t316 = c_wr * t16;
@@ -3496,8 +3490,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t319 = s_wr * t16;
             let t320 = c_wr * t313;
             let t321 = t319 + t320;
-            let t322 = 0.112f64 * t314;
-            let t323 = 0.112f64 * t315;
+            let t322 = 0.112f64 * t314; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t323 = 0.112f64 * t315; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t324 = t321 + t322;
             let m_wfe_efe = t323 - t318;
             let t325 = s_efe * t1;
@@ -3509,8 +3503,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t330 = s_efe * m_wfe_wr;
             let t331 = c_efe * t324;
             let t332 = t330 + t331;
-            let t333 = 0.304f64 * t327;
-            let t334 = 0.304f64 * t314;
+            let t333 = 0.304f64 * t327; // 3.0400e-1 = joint EFE origin z
+            let t334 = 0.304f64 * t314; // 3.0400e-1 = joint EFE origin z
             let t335 = m_wfe_efe + t333;
             let t336 = t332 + t334;
             let t337 = c_hr * t314;
@@ -3525,8 +3519,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t346 = s_hr * t335;
             let t347 = c_hr * t336;
             let t348 = t347 - t346;
-            let t349 = 0.112f64 * t339;
-            let t350 = 0.112f64 * t342;
+            let t349 = 0.112f64 * t339; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t350 = 0.112f64 * t342; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t351 = t348 + t349;
             let m_wfe_sfe = t345 + t350;
             let t352 = s_sfe * m_wfe_hr;
@@ -3653,27 +3647,26 @@ impl ::hya_core::Dynamics<6> for Hya {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_v_wx, shoulder_fe_v_wy, t0, t1, t19, t22, t25) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let shoulder_fe_v_wx = s_sfe * qd_saa;
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let t0 = shoulder_fe_v_wy * qd_sfe;
             let t1 = shoulder_fe_v_wx * qd_sfe;
-            let t2 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-            let t3 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t2 = 0.03900299600125622f64 * shoulder_fe_v_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t3 = 0.0055279857002587095f64 * shoulder_fe_v_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t4 = t2 + t3;
-            let t5 = 0.02285162700433904f64 * qd_sfe;
+            let t5 = 0.02285162700433904f64 * qd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t6 = t4 - t5;
-            let t7 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-            let t8 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t7 = 0.0055279857002587095f64 * shoulder_fe_v_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t8 = 0.08585553000239696f64 * shoulder_fe_v_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t9 = t7 + t8;
-            let t10 = 0.0027519999999057617f64 * qd_sfe;
+            let t10 = 0.0027519999999057617f64 * qd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t11 = t9 - t10;
-            let t12 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-            let t13 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t12 = 0.02285162700433904f64 * shoulder_fe_v_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t13 = 0.0027519999999057617f64 * shoulder_fe_v_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t14 = t12 + t13;
-            let t15 = 0.05139352799812063f64 * qd_sfe;
+            let t15 = 0.05139352799812063f64 * qd_sfe; // 5.1394e-2 = Shoulder_FE I_zz
             let t16 = t15 - t14;
             let t17 = shoulder_fe_v_wy * t16;
             let t18 = qd_sfe * t11;
@@ -3703,8 +3696,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t98,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t26 = 0.112f64 * qd_sfe;
-            let t27 = 0.112f64 * shoulder_fe_v_wy;
+            let t26 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t27 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t28 = c_hr * qd_sfe;
             let t29 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t29 - t28;
@@ -3722,36 +3715,36 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t37 = humerus_r_v_wx * qd_hr;
             let t38 = humerus_r_v_vy * qd_hr;
             let t39 = humerus_r_v_vx * qd_hr;
-            let t40 = 0.20236395000387197f64 * humerus_r_v_wx;
-            let t41 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t40 = 0.20236395000387197f64 * humerus_r_v_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t41 = 0.000053999980001054f64 * humerus_r_v_wy; // 5.4000e-5 = Humerus_R I_xy
             let t42 = t40 + t41;
-            let t43 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t43 = 0.011715294995083824f64 * humerus_r_v_wz; // 1.1715e-2 = Humerus_R I_xz
             let t44 = t42 - t43;
-            let t45 = 0.000053999980001054f64 * humerus_r_v_wx;
-            let t46 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t45 = 0.000053999980001054f64 * humerus_r_v_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t46 = 0.20986895000353661f64 * humerus_r_v_wy; // 2.0987e-1 = Humerus_R I_yy
             let t47 = t45 + t46;
-            let t48 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t48 = 0.0037997813999599995f64 * humerus_r_v_wz; // 3.7998e-3 = Humerus_R I_yz
             let t49 = t47 - t48;
-            let t50 = 0.011715294995083824f64 * humerus_r_v_wx;
-            let t51 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t50 = 0.011715294995083824f64 * humerus_r_v_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t51 = 0.0037997813999599995f64 * humerus_r_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t52 = t50 + t51;
-            let t53 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t53 = 0.01032999899926462f64 * humerus_r_v_wz; // 1.0330e-2 = Humerus_R I_zz
             let t54 = t53 - t52;
-            let t55 = 0.6479671119999999f64 * humerus_r_v_vy;
-            let t56 = 0.6479671119999999f64 * humerus_r_v_vx;
-            let t57 = 0.0055615274403f64 * humerus_r_v_vy;
-            let t58 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t55 = 0.6479671119999999f64 * humerus_r_v_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t56 = 0.6479671119999999f64 * humerus_r_v_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t57 = 0.0055615274403f64 * humerus_r_v_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t58 = 0.014380859999999999f64 * humerus_r_v_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t59 = t57 + t58;
-            let t60 = humerus_r_v_vx * 2.327f64;
-            let t61 = humerus_r_v_vy * 2.327f64;
-            let t62 = 0.014380859999999999f64 * humerus_r_v_wz;
-            let t63 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t60 = humerus_r_v_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t61 = humerus_r_v_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t62 = 0.014380859999999999f64 * humerus_r_v_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t63 = 0.6479671119999999f64 * humerus_r_v_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t64 = t62 - t63;
-            let t65 = 0.6479671119999999f64 * humerus_r_v_wx;
-            let t66 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t65 = 0.6479671119999999f64 * humerus_r_v_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t66 = 0.0055615274403f64 * humerus_r_v_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t67 = t65 + t66;
-            let t68 = 0.0055615274403f64 * humerus_r_v_wy;
-            let t69 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t68 = 0.0055615274403f64 * humerus_r_v_wy; // 5.5615e-3 = Humerus_R m·c_x
+            let t69 = 0.014380859999999999f64 * humerus_r_v_wx; // 1.4381e-2 = Humerus_R m·c_y
             let t70 = t68 + t69;
             let t71 = t44 - t55;
             let t72 = t49 + t56;
@@ -3817,8 +3810,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t173,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t99 = 0.304f64 * humerus_r_v_wy;
-            let t100 = 0.304f64 * humerus_r_v_wx;
+            let t99 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t100 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t99;
             let t101 = humerus_r_v_vy - t100;
             let t102 = c_efe * humerus_r_v_wz;
@@ -3834,33 +3827,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t107 = elbow_fe_v_wx * qd_efe;
             let t108 = elbow_fe_v_vy * qd_efe;
             let t109 = elbow_fe_v_vx * qd_efe;
-            let t110 = 0.081661000005f64 * elbow_fe_v_wx;
-            let t111 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t110 = 0.081661000005f64 * elbow_fe_v_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t111 = 0.00368572840011861f64 * elbow_fe_v_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t112 = t110 + t111;
-            let t113 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t113 = 0.0002120000299f64 * elbow_fe_v_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t114 = t112 - t113;
-            let t115 = 0.00368572840011861f64 * elbow_fe_v_wx;
-            let t116 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t115 = 0.00368572840011861f64 * elbow_fe_v_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t116 = 0.018284489999765022f64 * elbow_fe_v_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t117 = t115 + t116;
-            let t118 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t118 = 0.002292000208f64 * elbow_fe_v_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t119 = t117 - t118;
-            let t120 = 0.0002120000299f64 * elbow_fe_v_wx;
-            let t121 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t120 = 0.0002120000299f64 * elbow_fe_v_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t121 = 0.002292000208f64 * elbow_fe_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t122 = t120 + t121;
-            let t123 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t123 = 0.09570849000176501f64 * elbow_fe_v_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t124 = t123 - t122;
-            let t125 = 0.008711861f64 * elbow_fe_v_vz;
-            let t126 = 0.16029825982372198f64 * elbow_fe_v_vz;
-            let t127 = 0.16029825982372198f64 * elbow_fe_v_vy;
-            let t128 = 0.008711861f64 * elbow_fe_v_vx;
+            let t125 = 0.008711861f64 * elbow_fe_v_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t126 = 0.16029825982372198f64 * elbow_fe_v_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t127 = 0.16029825982372198f64 * elbow_fe_v_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t128 = 0.008711861f64 * elbow_fe_v_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t129 = t127 + t128;
-            let t130 = elbow_fe_v_vx * 1.7423722f64;
-            let t131 = elbow_fe_v_vy * 1.7423722f64;
-            let t132 = elbow_fe_v_vz * 1.7423722f64;
-            let t133 = 0.008711861f64 * elbow_fe_v_wz;
-            let t134 = 0.16029825982372198f64 * elbow_fe_v_wz;
-            let t135 = 0.16029825982372198f64 * elbow_fe_v_wy;
-            let t136 = 0.008711861f64 * elbow_fe_v_wx;
+            let t130 = elbow_fe_v_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t131 = elbow_fe_v_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t132 = elbow_fe_v_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t133 = 0.008711861f64 * elbow_fe_v_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t134 = 0.16029825982372198f64 * elbow_fe_v_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t135 = 0.16029825982372198f64 * elbow_fe_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t136 = 0.008711861f64 * elbow_fe_v_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t137 = t135 + t136;
             let t138 = t114 + t125;
             let t139 = t119 + t126;
@@ -3935,8 +3928,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t245,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t174 = 0.112f64 * elbow_fe_v_wz;
-            let t175 = 0.112f64 * elbow_fe_v_wy;
+            let t174 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t175 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t176 = elbow_fe_v_vy + t174;
             let t177 = elbow_fe_v_vz + t175;
             let t178 = c_wr * elbow_fe_v_wz;
@@ -3956,28 +3949,28 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t187 = wrist_r_v_wx * qd_wr;
             let t188 = wrist_r_v_vy * qd_wr;
             let t189 = wrist_r_v_vx * qd_wr;
-            let t190 = 0.019431999999999998f64 * wrist_r_v_wx;
-            let t191 = 0.001387f64 * wrist_r_v_wy;
+            let t190 = 0.019431999999999998f64 * wrist_r_v_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t191 = 0.001387f64 * wrist_r_v_wy; // 1.3870e-3 = Wrist_R I_xy
             let t192 = t190 - t191;
-            let t193 = 0.012652f64 * wrist_r_v_wz;
+            let t193 = 0.012652f64 * wrist_r_v_wz; // 1.2652e-2 = Wrist_R I_xz
             let t194 = t192 - t193;
-            let t195 = 0.001387f64 * wrist_r_v_wx;
-            let t196 = 0.029115f64 * wrist_r_v_wy;
+            let t195 = 0.001387f64 * wrist_r_v_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t196 = 0.029115f64 * wrist_r_v_wy; // 2.9115e-2 = Wrist_R I_yy
             let t197 = t196 - t195;
-            let t198 = 0.001243f64 * wrist_r_v_wz;
+            let t198 = 0.001243f64 * wrist_r_v_wz; // 1.2430e-3 = Wrist_R I_yz
             let t199 = t197 - t198;
-            let t200 = 0.012652f64 * wrist_r_v_wx;
-            let t201 = 0.001243f64 * wrist_r_v_wy;
+            let t200 = 0.012652f64 * wrist_r_v_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t201 = 0.001243f64 * wrist_r_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t202 = t200 + t201;
-            let t203 = 0.011046f64 * wrist_r_v_wz;
+            let t203 = 0.011046f64 * wrist_r_v_wz; // 1.1046e-2 = Wrist_R I_zz
             let t204 = t203 - t202;
-            let t205 = 0.05783800000000001f64 * wrist_r_v_vy;
-            let t206 = 0.05783800000000001f64 * wrist_r_v_vx;
-            let t207 = wrist_r_v_vx * 2.1032f64;
-            let t208 = wrist_r_v_vy * 2.1032f64;
-            let t209 = elbow_fe_v_vx * 2.1032f64;
-            let t210 = 0.05783800000000001f64 * wrist_r_v_wy;
-            let t211 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t205 = 0.05783800000000001f64 * wrist_r_v_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t206 = 0.05783800000000001f64 * wrist_r_v_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t207 = wrist_r_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t208 = wrist_r_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t209 = elbow_fe_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t210 = 0.05783800000000001f64 * wrist_r_v_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t211 = 0.05783800000000001f64 * wrist_r_v_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t212 = t194 - t205;
             let t213 = t199 + t206;
             let t214 = t207 + t210;
@@ -4043,11 +4036,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             wrist_fe_p_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t246 = 0.184f64 * wrist_r_v_wy;
-            let t247 = 0.184f64 * wrist_r_v_wx;
-            let t248 = 0.02075f64 * wrist_r_v_wz;
+            let t246 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t247 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t248 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t249 = t247 - t248;
-            let t250 = 0.02075f64 * wrist_r_v_wy;
+            let t250 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t251 = wrist_r_v_vx + t246;
             let wrist_fe_v_vz = wrist_r_v_vy - t249;
             let t252 = elbow_fe_v_vx - t250;
@@ -4068,28 +4061,28 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t262 = wrist_fe_v_wx * qd_wfe;
             let t263 = wrist_fe_v_vy * qd_wfe;
             let t264 = wrist_fe_v_vx * qd_wfe;
-            let t265 = 0.010737f64 * wrist_fe_v_wx;
-            let t266 = 0.000198f64 * wrist_fe_v_wy;
+            let t265 = 0.010737f64 * wrist_fe_v_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t266 = 0.000198f64 * wrist_fe_v_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t267 = t265 + t266;
-            let t268 = 0.000015f64 * wrist_fe_v_wz;
+            let t268 = 0.000015f64 * wrist_fe_v_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t269 = t267 + t268;
-            let t270 = 0.000198f64 * wrist_fe_v_wx;
-            let t271 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t270 = 0.000198f64 * wrist_fe_v_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t271 = 0.0032270000000000003f64 * wrist_fe_v_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t272 = t270 + t271;
-            let t273 = 0.000829f64 * wrist_fe_v_wz;
+            let t273 = 0.000829f64 * wrist_fe_v_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t274 = t272 - t273;
-            let t275 = 0.000015f64 * wrist_fe_v_wx;
-            let t276 = 0.000829f64 * wrist_fe_v_wy;
+            let t275 = 0.000015f64 * wrist_fe_v_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t276 = 0.000829f64 * wrist_fe_v_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t277 = t275 - t276;
-            let t278 = 0.009277f64 * wrist_fe_v_wz;
+            let t278 = 0.009277f64 * wrist_fe_v_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t279 = t277 + t278;
-            let t280 = 0.038686875f64 * wrist_fe_v_vz;
-            let t281 = 0.038686875f64 * wrist_fe_v_vy;
-            let t282 = wrist_fe_v_vx * 1.547475f64;
-            let t283 = wrist_fe_v_vy * 1.547475f64;
-            let t284 = wrist_fe_v_vz * 1.547475f64;
-            let t285 = 0.038686875f64 * wrist_fe_v_wz;
-            let t286 = 0.038686875f64 * wrist_fe_v_wy;
+            let t280 = 0.038686875f64 * wrist_fe_v_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t281 = 0.038686875f64 * wrist_fe_v_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t282 = wrist_fe_v_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t283 = wrist_fe_v_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t284 = wrist_fe_v_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t285 = 0.038686875f64 * wrist_fe_v_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t286 = 0.038686875f64 * wrist_fe_v_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t287 = t274 - t280;
             let t288 = t279 + t281;
             let t289 = t283 + t285;
@@ -4178,8 +4171,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t325 = 0.00006255288617009808f64 * t261;
             let t326 = 0.0034570895090007543f64 * t262;
             let t327 = t325 + t326;
-            let t328 = 0.038686875f64 * t262;
-            let t329 = 1.547475f64 * t263;
+            let t328 = 0.038686875f64 * t262; // 3.8687e-2 = Wrist_FE m·c_x
+            let t329 = 1.547475f64 * t263; // 1.5475e0 = Wrist_FE mass
             let t330 = 1.3861432874565458f64 * t264;
             let t331 = t327 + t330;
             let t332 = wrist_fe_p_nx + t323;
@@ -4188,10 +4181,10 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t335 = wrist_fe_p_fy - t331;
             let t336 = wrist_fe_p_fz + t328;
             let t337 = u_wfe * 107.79346771585641f64;
-            let t338 = 0.000015f64 * t337;
-            let t339 = 0.000829f64 * t337;
-            let t340 = 0.009277f64 * t337;
-            let t341 = 0.038686875f64 * t337;
+            let t338 = 0.000015f64 * t337; // 1.5000e-5 = Wrist_FE I_xz
+            let t339 = 0.000829f64 * t337; // 8.2900e-4 = Wrist_FE I_yz
+            let t340 = 0.009277f64 * t337; // 9.2770e-3 = Wrist_FE I_zz
+            let t341 = 0.038686875f64 * t337; // 3.8687e-2 = Wrist_FE m·c_x
             let t342 = t332 + t338;
             let t343 = t333 - t339;
             let t344 = wrist_fe_p_nz + t340;
@@ -4231,11 +4224,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t376 = s_wfe * t367;
             let t377 = c_wfe * t368;
             let t378 = t377 - t376;
-            let t379 = s_wfe * 0.038686875f64;
-            let t380 = c_wfe * 0.038686875f64;
-            let t381 = 1.547475f64 * c_wfe;
+            let t379 = s_wfe * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
+            let t380 = c_wfe * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
+            let t381 = 1.547475f64 * c_wfe; // 1.5475e0 = Wrist_FE mass
             let t382 = 1.3861432874565458f64 * s_wfe;
-            let t383 = 1.547475f64 * s_wfe;
+            let t383 = 1.547475f64 * s_wfe; // 1.5475e0 = Wrist_FE mass
             let t384 = 1.3861432874565458f64 * c_wfe;
             let t385 = c_wfe * t381;
             let t386 = s_wfe * t382;
@@ -4246,21 +4239,21 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t391 = s_wfe * t383;
             let t392 = c_wfe * t384;
             let t393 = t391 + t392;
-            let t394 = t380 * 0.184f64;
-            let t395 = t379 * 0.184f64;
-            let t396 = t378 * 0.184f64;
-            let t397 = t373 * 0.02075f64;
+            let t394 = t380 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t395 = t379 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t396 = t378 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t397 = t373 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t398 = t397 - t396;
-            let t399 = wrist_r_u_fx * 0.184f64;
-            let t400 = wrist_r_u_fz * 0.02075f64;
+            let t399 = wrist_r_u_fx * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t400 = wrist_r_u_fz * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t401 = t399 + t400;
-            let t402 = t380 * 0.02075f64;
-            let t403 = t379 * 0.02075f64;
-            let t404 = 0.184f64 * t393;
-            let t405 = 0.02075f64 * t390;
+            let t402 = t380 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t403 = t379 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t404 = 0.184f64 * t393; // 1.8400e-1 = joint WFE origin z
+            let t405 = 0.02075f64 * t390; // 2.0750e-2 = joint WFE origin x
             let t406 = t404 - t405;
-            let t407 = 0.184f64 * t390;
-            let t408 = 0.02075f64 * t387;
+            let t407 = 0.184f64 * t390; // 1.8400e-1 = joint WFE origin z
+            let t408 = 0.02075f64 * t387; // 2.0750e-2 = joint WFE origin x
             let t409 = t407 - t408;
             let t410 = t364 + t394;
             let t411 = t361 - t402;
@@ -4268,14 +4261,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t413 = t410 + t394;
             let t414 = t411 - t395;
             let t415 = t412 + t403;
-            let t416 = t406 * 0.184f64;
-            let t417 = t409 * 0.02075f64;
+            let t416 = t406 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t417 = t409 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t418 = t417 - t416;
             let t419 = t413 + 0.052391313599999996f64;
             let t420 = t414 - 0.0059082595499999994f64;
             let t421 = t415 + 0.0006662847046875f64;
-            let t422 = t380 + 0.28473539999999997f64;
-            let wrist_r_u_fy = t379 + 0.03211010625f64;
+            let t422 = t380 + 0.28473539999999997f64; // 2.8474e-1 = Wrist_FE mass × joint WFE origin z
+            let wrist_r_u_fy = t379 + 0.03211010625f64; // 3.2110e-2 = Wrist_FE mass × joint WFE origin x
             let t423 = c_wfe * t334;
             let t424 = s_wfe * t345;
             let t425 = t423 - t424;
@@ -4288,24 +4281,24 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t432 = s_wfe * t342;
             let t433 = c_wfe * t343;
             let t434 = t432 + t433;
-            let t435 = 0.184f64 * t336;
-            let t436 = 0.184f64 * t428;
-            let t437 = 0.02075f64 * t425;
+            let t435 = 0.184f64 * t336; // 1.8400e-1 = joint WFE origin z
+            let t436 = 0.184f64 * t428; // 1.8400e-1 = joint WFE origin z
+            let t437 = 0.02075f64 * t425; // 2.0750e-2 = joint WFE origin x
             let t438 = t436 - t437;
-            let t439 = 0.02075f64 * t336;
+            let t439 = 0.02075f64 * t336; // 2.0750e-2 = joint WFE origin x
             let t440 = t434 - t435;
             let t441 = t344 + t438;
             let t442 = t431 + t439;
-            let t443 = 0.019431999999999998f64 + t419;
-            let t444 = 0.001387f64 + t398;
-            let wrist_r_u_nx = t420 - 0.012652f64;
-            let t445 = 0.029115f64 - t418;
-            let wrist_r_u_ny = 0.001243f64 + t401;
-            let wrist_r_u_nz = 0.011046f64 + t421;
-            let t446 = 0.05783800000000001f64 + t406;
-            let t447 = 0.05783800000000001f64 + t422;
-            let t448 = 2.1032f64 + t393;
-            let t449 = 2.1032f64 + t387;
+            let t443 = 0.019431999999999998f64 + t419; // 1.9432e-2 = Wrist_R I_xx
+            let t444 = 0.001387f64 + t398; // 1.3870e-3 = Wrist_R I_xy
+            let wrist_r_u_nx = t420 - 0.012652f64; // 1.2652e-2 = Wrist_R I_xz
+            let t445 = 0.029115f64 - t418; // 2.9115e-2 = Wrist_R I_yy
+            let wrist_r_u_ny = 0.001243f64 + t401; // 1.2430e-3 = Wrist_R I_yz
+            let wrist_r_u_nz = 0.011046f64 + t421; // 1.1046e-2 = Wrist_R I_zz
+            let t446 = 0.05783800000000001f64 + t406; // 5.7838e-2 = Wrist_R m·c_z
+            let t447 = 0.05783800000000001f64 + t422; // 5.7838e-2 = Wrist_R m·c_z
+            let t448 = 2.1032f64 + t393; // 2.1032e0 = Wrist_R mass
+            let t449 = 2.1032f64 + t387; // 2.1032e0 = Wrist_R mass
             let wrist_r_p_nx = t234 + t440;
             let wrist_r_p_ny = t235 + t441;
             let wrist_r_p_nz = t236 + t442;
@@ -4564,17 +4557,17 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t640 = s_wr * t628;
             let t641 = c_wr * t630;
             let t642 = t640 + t641;
-            let t643 = t590 * 0.112f64;
-            let t644 = t605 * 0.112f64;
-            let t645 = t602 * 0.112f64;
-            let t646 = t599 * 0.112f64;
-            let t647 = t611 * 0.112f64;
-            let t648 = t608 * 0.112f64;
-            let t649 = 0.112f64 * t626;
-            let t650 = 0.112f64 * t633;
-            let t651 = 0.112f64 * t639;
-            let t652 = 0.112f64 * t642;
-            let t653 = 0.112f64 * t636;
+            let t643 = t590 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t644 = t605 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t645 = t602 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t646 = t599 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t647 = t611 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t648 = t608 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t649 = 0.112f64 * t626; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t650 = 0.112f64 * t633; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t651 = 0.112f64 * t639; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t652 = 0.112f64 * t642; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t653 = 0.112f64 * t636; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t654 = t572 + t643;
             let t655 = t581 + t644;
             let t656 = t646 - t565;
@@ -4583,9 +4576,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t659 = t655 + t644;
             let t660 = t657 - t645;
             let t661 = t658 - t648;
-            let t662 = t653 * 0.112f64;
-            let t663 = t651 * 0.112f64;
-            let t664 = t652 * 0.112f64;
+            let t662 = t653 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t663 = t651 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t664 = t652 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t665 = t659 + t662;
             let t666 = t660 + t663;
             let t667 = t661 + t664;
@@ -4607,23 +4600,23 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t682 = s_wr * t551;
             let t683 = c_wr * t552;
             let t684 = t682 + t683;
-            let t685 = 0.112f64 * t675;
-            let t686 = 0.112f64 * t678;
+            let t685 = 0.112f64 * t675; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t686 = 0.112f64 * t678; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t687 = t684 + t685;
             let t688 = t686 - t681;
-            let t689 = 0.081661000005f64 + t468;
-            let t690 = 0.00368572840011861f64 + t654;
-            let elbow_fe_u_nx = t656 - 0.0002120000299f64;
-            let t691 = 0.018284489999765022f64 + t665;
-            let elbow_fe_u_ny = t666 - 0.002292000208f64;
-            let elbow_fe_u_nz = 0.09570849000176501f64 + t667;
-            let elbow_fe_u_fx = 0.008711861f64 + t669;
-            let elbow_fe_u_fy = 0.16029825982372198f64 + t671;
-            let t692 = 0.008711861f64 + t590;
-            let t693 = 0.16029825982372198f64 + t672;
-            let t694 = 1.7423722f64 + t495;
-            let t695 = 1.7423722f64 + t642;
-            let t696 = 1.7423722f64 + t636;
+            let t689 = 0.081661000005f64 + t468; // 8.1661e-2 = Elbow_FE I_xx
+            let t690 = 0.00368572840011861f64 + t654; // 3.6857e-3 = Elbow_FE I_xy
+            let elbow_fe_u_nx = t656 - 0.0002120000299f64; // 2.1200e-4 = Elbow_FE I_xz
+            let t691 = 0.018284489999765022f64 + t665; // 1.8284e-2 = Elbow_FE I_yy
+            let elbow_fe_u_ny = t666 - 0.002292000208f64; // 2.2920e-3 = Elbow_FE I_yz
+            let elbow_fe_u_nz = 0.09570849000176501f64 + t667; // 9.5708e-2 = Elbow_FE I_zz
+            let elbow_fe_u_fx = 0.008711861f64 + t669; // 8.7119e-3 = Elbow_FE m·c_y
+            let elbow_fe_u_fy = 0.16029825982372198f64 + t671; // 1.6030e-1 = Elbow_FE m·c_x
+            let t692 = 0.008711861f64 + t590; // 8.7119e-3 = Elbow_FE m·c_y
+            let t693 = 0.16029825982372198f64 + t672; // 1.6030e-1 = Elbow_FE m·c_x
+            let t694 = 1.7423722f64 + t495; // 1.7424e0 = Elbow_FE mass
+            let t695 = 1.7423722f64 + t642; // 1.7424e0 = Elbow_FE mass
+            let t696 = 1.7423722f64 + t636; // 1.7424e0 = Elbow_FE mass
             let elbow_fe_p_nx = t162 + t553;
             let elbow_fe_p_ny = t163 + t687;
             (
@@ -4883,17 +4876,17 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t882 = s_efe * t873;
             let t883 = c_efe * t875;
             let t884 = t882 + t883;
-            let t885 = t849 * 0.304f64;
-            let t886 = t860 * 0.304f64;
-            let t887 = t857 * 0.304f64;
-            let t888 = t733 * 0.304f64;
-            let t889 = t866 * 0.304f64;
-            let t890 = t863 * 0.304f64;
-            let t891 = 0.304f64 * t878;
-            let t892 = 0.304f64 * t745;
-            let t893 = 0.304f64 * t884;
-            let t894 = 0.304f64 * t881;
-            let t895 = 0.304f64 * t871;
+            let t885 = t849 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t886 = t860 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t887 = t857 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t888 = t733 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t889 = t866 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t890 = t863 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t891 = 0.304f64 * t878; // 3.0400e-1 = joint EFE origin z
+            let t892 = 0.304f64 * t745; // 3.0400e-1 = joint EFE origin z
+            let t893 = 0.304f64 * t884; // 3.0400e-1 = joint EFE origin z
+            let t894 = 0.304f64 * t881; // 3.0400e-1 = joint EFE origin z
+            let t895 = 0.304f64 * t871; // 3.0400e-1 = joint EFE origin z
             let t896 = t715 + t885;
             let t897 = t815 + t887;
             let t898 = t888 - t822;
@@ -4902,9 +4895,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t901 = t896 + t885;
             let t902 = t898 - t886;
             let t903 = t899 + t889;
-            let t904 = t893 * 0.304f64;
-            let t905 = t891 * 0.304f64;
-            let t906 = t892 * 0.304f64;
+            let t904 = t893 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t905 = t891 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t906 = t892 * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t907 = t901 + t904;
             let t908 = t902 - t905;
             let t909 = t903 + t906;
@@ -4923,24 +4916,24 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t922 = s_efe * t801;
             let t923 = c_efe * t802;
             let t924 = t922 + t923;
-            let t925 = 0.304f64 * t918;
-            let t926 = 0.304f64 * t806;
+            let t925 = 0.304f64 * t918; // 3.0400e-1 = joint EFE origin z
+            let t926 = 0.304f64 * t806; // 3.0400e-1 = joint EFE origin z
             let t927 = t803 + t925;
             let t928 = t924 - t926;
-            let t929 = 0.20236395000387197f64 + t907;
-            let t930 = 0.000053999980001054f64 + t908;
-            let humerus_r_u_nx = 0.011715294995083824f64 + t897;
-            let t931 = 0.20986895000353661f64 + t909;
-            let humerus_r_u_ny = t900 - 0.0037997813999599995f64;
-            let humerus_r_u_nz = 0.01032999899926462f64 + t825;
-            let t932 = 0.6479671119999999f64 + t911;
-            let humerus_r_u_fx = 0.014380859999999999f64 + t863;
-            let t933 = 0.6479671119999999f64 + t912;
-            let humerus_r_u_fy = t857 - 0.0055615274403f64;
-            let t934 = 0.014380859999999999f64 - t914;
-            let t935 = 0.0055615274403f64 + t915;
-            let t936 = 2.327f64 + t745;
-            let t937 = 2.327f64 + t884;
+            let t929 = 0.20236395000387197f64 + t907; // 2.0236e-1 = Humerus_R I_xx
+            let t930 = 0.000053999980001054f64 + t908; // 5.4000e-5 = Humerus_R I_xy
+            let humerus_r_u_nx = 0.011715294995083824f64 + t897; // 1.1715e-2 = Humerus_R I_xz
+            let t931 = 0.20986895000353661f64 + t909; // 2.0987e-1 = Humerus_R I_yy
+            let humerus_r_u_ny = t900 - 0.0037997813999599995f64; // 3.7998e-3 = Humerus_R I_yz
+            let humerus_r_u_nz = 0.01032999899926462f64 + t825; // 1.0330e-2 = Humerus_R I_zz
+            let t932 = 0.6479671119999999f64 + t911; // 6.4797e-1 = Humerus_R m·c_z
+            let humerus_r_u_fx = 0.014380859999999999f64 + t863; // 1.4381e-2 = Humerus_R m·c_y
+            let t933 = 0.6479671119999999f64 + t912; // 6.4797e-1 = Humerus_R m·c_z
+            let humerus_r_u_fy = t857 - 0.0055615274403f64; // 5.5615e-3 = Humerus_R m·c_x
+            let t934 = 0.014380859999999999f64 - t914; // 1.4381e-2 = Humerus_R m·c_y
+            let t935 = 0.0055615274403f64 + t915; // 5.5615e-3 = Humerus_R m·c_x
+            let t936 = 2.327f64 + t745; // 2.3270e0 = Humerus_R mass
+            let t937 = 2.327f64 + t884; // 2.3270e0 = Humerus_R mass
             let humerus_r_p_nx = t90 - t927;
             let humerus_r_p_ny = t91 + t928;
             let humerus_r_p_nz = t92 + t921;
@@ -5179,17 +5172,17 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1119 = s_hr * t1107;
             let t1120 = c_hr * t1109;
             let t1121 = t1119 + t1120;
-            let t1122 = t1069 * 0.112f64;
-            let t1123 = t1084 * 0.112f64;
-            let t1124 = t1081 * 0.112f64;
-            let t1125 = t1078 * 0.112f64;
-            let t1126 = t1090 * 0.112f64;
-            let t1127 = t1087 * 0.112f64;
-            let t1128 = 0.112f64 * t1105;
-            let t1129 = 0.112f64 * t1112;
-            let t1130 = 0.112f64 * t1118;
-            let t1131 = 0.112f64 * t1121;
-            let t1132 = 0.112f64 * t1115;
+            let t1122 = t1069 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1123 = t1084 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1124 = t1081 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1125 = t1078 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1126 = t1090 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1127 = t1087 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1128 = 0.112f64 * t1105; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1129 = 0.112f64 * t1112; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1130 = 0.112f64 * t1118; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1131 = 0.112f64 * t1121; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1132 = 0.112f64 * t1115; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1133 = t1051 + t1122;
             let t1134 = t1060 + t1123;
             let t1135 = t1125 - t1044;
@@ -5198,9 +5191,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1138 = t1134 + t1123;
             let t1139 = t1136 - t1124;
             let t1140 = t1137 - t1127;
-            let t1141 = t1132 * 0.112f64;
-            let t1142 = t1130 * 0.112f64;
-            let t1143 = t1131 * 0.112f64;
+            let t1141 = t1132 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1142 = t1130 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1143 = t1131 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1144 = t1138 + t1141;
             let t1145 = t1139 + t1142;
             let t1146 = t1140 + t1143;
@@ -5220,20 +5213,20 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1160 = s_hr * t1031;
             let t1161 = c_hr * t1032;
             let t1162 = t1160 + t1161;
-            let t1163 = 0.112f64 * t1153;
-            let t1164 = 0.112f64 * t1156;
+            let t1163 = 0.112f64 * t1153; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1164 = 0.112f64 * t1156; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1165 = t1162 + t1163;
             let t1166 = t1164 - t1159;
-            let t1167 = 0.03900299600125622f64 + t956;
-            let t1168 = 0.0055279857002587095f64 + t1133;
-            let shoulder_fe_u_nx = t1135 - 0.02285162700433904f64;
-            let t1169 = 0.08585553000239696f64 + t1144;
-            let shoulder_fe_u_ny = t1145 - 0.0027519999999057617f64;
-            let shoulder_fe_u_nz = 0.05139352799812063f64 + t1146;
-            let t1170 = 0.009934149991199999f64 + t1147;
-            let shoulder_fe_u_fx = 0.060615943396199995f64 + t1148;
-            let t1171 = t1078 - 0.009934149991199999f64;
-            let shoulder_fe_u_fy = 0.2933742339089346f64 + t1150;
+            let t1167 = 0.03900299600125622f64 + t956; // 3.9003e-2 = Shoulder_FE I_xx
+            let t1168 = 0.0055279857002587095f64 + t1133; // 5.5280e-3 = Shoulder_FE I_xy
+            let shoulder_fe_u_nx = t1135 - 0.02285162700433904f64; // 2.2852e-2 = Shoulder_FE I_xz
+            let t1169 = 0.08585553000239696f64 + t1144; // 8.5856e-2 = Shoulder_FE I_yy
+            let shoulder_fe_u_ny = t1145 - 0.0027519999999057617f64; // 2.7520e-3 = Shoulder_FE I_yz
+            let shoulder_fe_u_nz = 0.05139352799812063f64 + t1146; // 5.1394e-2 = Shoulder_FE I_zz
+            let t1170 = 0.009934149991199999f64 + t1147; // 9.9341e-3 = Shoulder_FE m·c_z
+            let shoulder_fe_u_fx = 0.060615943396199995f64 + t1148; // 6.0616e-2 = Shoulder_FE m·c_y
+            let t1171 = t1078 - 0.009934149991199999f64; // 9.9341e-3 = Shoulder_FE m·c_z
+            let shoulder_fe_u_fy = 0.2933742339089346f64 + t1150; // 2.9337e-1 = Shoulder_FE m·c_x
             let shoulder_fe_p_nx = t19 + t1033;
             let shoulder_fe_p_ny = t22 + t1165;
             let shoulder_fe_p_nz = t25 + t1166;
@@ -5256,7 +5249,6 @@ impl ::hya_core::Dynamics<6> for Hya {
                 shoulder_fe_p_nz,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
         let (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let u_sfe = tau_sfe - shoulder_fe_p_nz;
@@ -5313,10 +5305,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1221 = s_sfe * t1202;
             let t1222 = c_sfe * t1203;
             let shoulder_aa_p_nz = t1221 + t1222;
-            let shoulder_aa_u_nz = 0.007628999999536005f64 + t1212;
+            let shoulder_aa_u_nz = 0.007628999999536005f64 + t1212; // 7.6290e-3 = Shoulder_AA I_zz
             (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
         };
-        // ── link `Shoulder_AA`, joint `SAA` (tip to base)
         let u_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (tip to base)
             let u_saa = tau_saa - shoulder_aa_p_nz;
@@ -5324,7 +5315,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let qdd_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-            let t1223 = 9.81f64 * shoulder_aa_u_fz;
+            let t1223 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
             let t1224 = u_saa - t1223;
             let qdd_saa = t1224 / shoulder_aa_u_nz;
             qdd_saa
@@ -5339,8 +5330,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
             let t1225 = s_sfe * qdd_saa;
             let t1226 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let shoulder_fe_a_wx = t1225 + t0;
             let shoulder_fe_a_wy = t1226 - t1;
             let t1227 = shoulder_fe_a_wx * shoulder_fe_u_nx;
@@ -5369,8 +5360,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             humerus_r_a_wz,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-            let t1235 = 0.112f64 * qdd_sfe;
-            let t1236 = 0.112f64 * shoulder_fe_a_wy;
+            let t1235 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1236 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1237 = shoulder_fe_a_vy + t1235;
             let t1238 = c_hr * qdd_sfe;
             let t1239 = s_hr * shoulder_fe_a_wy;
@@ -5421,8 +5412,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             elbow_fe_a_wz,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-            let t1262 = 0.304f64 * humerus_r_a_wy;
-            let t1263 = 0.304f64 * humerus_r_a_wx;
+            let t1262 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t1263 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t1262;
             let t1264 = humerus_r_a_vy - t1263;
             let t1265 = c_efe * humerus_r_a_wz;
@@ -5467,8 +5458,8 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
             // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-            let t1289 = 0.112f64 * elbow_fe_a_wz;
-            let t1290 = 0.112f64 * elbow_fe_a_wy;
+            let t1289 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1290 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1291 = elbow_fe_a_vy + t1289;
             let t1292 = elbow_fe_a_vz + t1290;
             let t1293 = c_wr * elbow_fe_a_wz;
@@ -5505,8 +5496,8 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let qdd_wfe = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t1317 = 0.184f64 * wrist_r_a_wy;
-            let t1318 = 0.02075f64 * wrist_r_a_wy;
+            let t1317 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t1318 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t1319 = wrist_r_a_vx + t1317;
             let t1320 = elbow_fe_a_vx - t1318;
             let t1321 = c_wfe * wrist_r_a_wz;
@@ -5521,15 +5512,15 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_fe_a_wx = t1323 + t261;
             let wrist_fe_a_wy = t1326 - t262;
             let wrist_fe_a_vy = t1329 - t264;
-            let t1330 = wrist_fe_a_wx * 0.000015f64;
-            let t1331 = wrist_fe_a_wy * 0.000829f64;
+            let t1330 = wrist_fe_a_wx * 0.000015f64; // 1.5000e-5 = Wrist_FE I_xz
+            let t1331 = wrist_fe_a_wy * 0.000829f64; // 8.2900e-4 = Wrist_FE I_yz
             let t1332 = t1330 - t1331;
-            let t1333 = wrist_r_a_wy * 0.009277f64;
+            let t1333 = wrist_r_a_wy * 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
             let t1334 = t1332 + t1333;
-            let t1335 = wrist_fe_a_vy * 0.038686875f64;
+            let t1335 = wrist_fe_a_vy * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
             let t1336 = t1334 + t1335;
             let t1337 = u_wfe - t1336;
-            let qdd_wfe = t1337 / 0.009277f64;
+            let qdd_wfe = t1337 / 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
             qdd_wfe
         };
         if !(shoulder_aa_u_nz > 0.0 && shoulder_fe_u_nz > 0.0 && humerus_r_u_nz > 0.0
@@ -5651,40 +5642,40 @@ impl ::hya_core::Dynamics<6> for Hya {
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let t0 = s_sfe * qdd_saa;
             let t1 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let t2 = shoulder_fe_v_wy * qd_sfe;
             let t3 = shoulder_fe_v_wx * qd_sfe;
             let shoulder_fe_a_wx = t0 + t2;
             let shoulder_fe_a_wy = t1 - t3;
-            let t4 = 0.03900299600125622f64 * shoulder_fe_a_wx;
-            let t5 = 0.0055279857002587095f64 * shoulder_fe_a_wy;
+            let t4 = 0.03900299600125622f64 * shoulder_fe_a_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t5 = 0.0055279857002587095f64 * shoulder_fe_a_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t6 = t4 + t5;
-            let t7 = 0.02285162700433904f64 * qdd_sfe;
+            let t7 = 0.02285162700433904f64 * qdd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t8 = t6 - t7;
-            let t9 = 0.0055279857002587095f64 * shoulder_fe_a_wx;
-            let t10 = 0.08585553000239696f64 * shoulder_fe_a_wy;
+            let t9 = 0.0055279857002587095f64 * shoulder_fe_a_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t10 = 0.08585553000239696f64 * shoulder_fe_a_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t11 = t9 + t10;
-            let t12 = 0.0027519999999057617f64 * qdd_sfe;
+            let t12 = 0.0027519999999057617f64 * qdd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t13 = t11 - t12;
-            let t14 = 0.009934149991199999f64 * shoulder_fe_a_vy;
-            let t15 = 0.009934149991199999f64 * shoulder_fe_a_vx;
+            let t14 = 0.009934149991199999f64 * shoulder_fe_a_vy; // 9.9341e-3 = Shoulder_FE m·c_z
+            let t15 = 0.009934149991199999f64 * shoulder_fe_a_vx; // 9.9341e-3 = Shoulder_FE m·c_z
             let t16 = t8 - t14;
             let t17 = t13 + t15;
-            let t18 = 0.03900299600125622f64 * shoulder_fe_v_wx;
-            let t19 = 0.0055279857002587095f64 * shoulder_fe_v_wy;
+            let t18 = 0.03900299600125622f64 * shoulder_fe_v_wx; // 3.9003e-2 = Shoulder_FE I_xx
+            let t19 = 0.0055279857002587095f64 * shoulder_fe_v_wy; // 5.5280e-3 = Shoulder_FE I_xy
             let t20 = t18 + t19;
-            let t21 = 0.02285162700433904f64 * qd_sfe;
+            let t21 = 0.02285162700433904f64 * qd_sfe; // 2.2852e-2 = Shoulder_FE I_xz
             let t22 = t20 - t21;
-            let t23 = 0.0055279857002587095f64 * shoulder_fe_v_wx;
-            let t24 = 0.08585553000239696f64 * shoulder_fe_v_wy;
+            let t23 = 0.0055279857002587095f64 * shoulder_fe_v_wx; // 5.5280e-3 = Shoulder_FE I_xy
+            let t24 = 0.08585553000239696f64 * shoulder_fe_v_wy; // 8.5856e-2 = Shoulder_FE I_yy
             let t25 = t23 + t24;
-            let t26 = 0.0027519999999057617f64 * qd_sfe;
+            let t26 = 0.0027519999999057617f64 * qd_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t27 = t25 - t26;
-            let t28 = 0.02285162700433904f64 * shoulder_fe_v_wx;
-            let t29 = 0.0027519999999057617f64 * shoulder_fe_v_wy;
+            let t28 = 0.02285162700433904f64 * shoulder_fe_v_wx; // 2.2852e-2 = Shoulder_FE I_xz
+            let t29 = 0.0027519999999057617f64 * shoulder_fe_v_wy; // 2.7520e-3 = Shoulder_FE I_yz
             let t30 = t28 + t29;
-            let t31 = 0.05139352799812063f64 * qd_sfe;
+            let t31 = 0.05139352799812063f64 * qd_sfe; // 5.1394e-2 = Shoulder_FE I_zz
             let t32 = t31 - t30;
             let t33 = shoulder_fe_v_wy * t32;
             let t34 = qd_sfe * t27;
@@ -5768,8 +5759,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t170,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t41 = 0.112f64 * qd_sfe;
-            let t42 = 0.112f64 * shoulder_fe_v_wy;
+            let t41 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t42 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t43 = c_hr * qd_sfe;
             let t44 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t44 - t43;
@@ -5783,8 +5774,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t50 = c_hr * t41;
             let humerus_r_v_vy = t50 - t49;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t51 = 0.112f64 * qdd_sfe;
-            let t52 = 0.112f64 * shoulder_fe_a_wy;
+            let t51 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t52 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t53 = shoulder_fe_a_vy + t51;
             let t54 = c_hr * qdd_sfe;
             let t55 = s_hr * shoulder_fe_a_wy;
@@ -5807,73 +5798,73 @@ impl ::hya_core::Dynamics<6> for Hya {
             let humerus_r_a_wy = t59 - t67;
             let humerus_r_a_vx = t62 + t68;
             let humerus_r_a_vy = t65 - t69;
-            let t70 = 0.20236395000387197f64 * humerus_r_a_wx;
-            let t71 = 0.000053999980001054f64 * humerus_r_a_wy;
+            let t70 = 0.20236395000387197f64 * humerus_r_a_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t71 = 0.000053999980001054f64 * humerus_r_a_wy; // 5.4000e-5 = Humerus_R I_xy
             let t72 = t70 + t71;
-            let t73 = 0.011715294995083824f64 * humerus_r_a_wz;
+            let t73 = 0.011715294995083824f64 * humerus_r_a_wz; // 1.1715e-2 = Humerus_R I_xz
             let t74 = t72 - t73;
-            let t75 = 0.000053999980001054f64 * humerus_r_a_wx;
-            let t76 = 0.20986895000353661f64 * humerus_r_a_wy;
+            let t75 = 0.000053999980001054f64 * humerus_r_a_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t76 = 0.20986895000353661f64 * humerus_r_a_wy; // 2.0987e-1 = Humerus_R I_yy
             let t77 = t75 + t76;
-            let t78 = 0.0037997813999599995f64 * humerus_r_a_wz;
+            let t78 = 0.0037997813999599995f64 * humerus_r_a_wz; // 3.7998e-3 = Humerus_R I_yz
             let t79 = t77 - t78;
-            let t80 = 0.011715294995083824f64 * humerus_r_a_wx;
-            let t81 = 0.0037997813999599995f64 * humerus_r_a_wy;
+            let t80 = 0.011715294995083824f64 * humerus_r_a_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t81 = 0.0037997813999599995f64 * humerus_r_a_wy; // 3.7998e-3 = Humerus_R I_yz
             let t82 = t80 + t81;
-            let t83 = 0.01032999899926462f64 * humerus_r_a_wz;
+            let t83 = 0.01032999899926462f64 * humerus_r_a_wz; // 1.0330e-2 = Humerus_R I_zz
             let t84 = t83 - t82;
-            let t85 = 0.014380859999999999f64 * shoulder_fe_a_vx;
-            let t86 = 0.6479671119999999f64 * humerus_r_a_vy;
+            let t85 = 0.014380859999999999f64 * shoulder_fe_a_vx; // 1.4381e-2 = Humerus_R m·c_y
+            let t86 = 0.6479671119999999f64 * humerus_r_a_vy; // 6.4797e-1 = Humerus_R m·c_z
             let t87 = t85 - t86;
-            let t88 = 0.6479671119999999f64 * humerus_r_a_vx;
-            let t89 = 0.0055615274403f64 * shoulder_fe_a_vx;
+            let t88 = 0.6479671119999999f64 * humerus_r_a_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t89 = 0.0055615274403f64 * shoulder_fe_a_vx; // 5.5615e-3 = Humerus_R m·c_x
             let t90 = t88 + t89;
-            let t91 = 0.0055615274403f64 * humerus_r_a_vy;
-            let t92 = 0.014380859999999999f64 * humerus_r_a_vx;
+            let t91 = 0.0055615274403f64 * humerus_r_a_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t92 = 0.014380859999999999f64 * humerus_r_a_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t93 = t91 + t92;
-            let t94 = humerus_r_a_vx * 2.327f64;
-            let t95 = humerus_r_a_vy * 2.327f64;
-            let t96 = 0.014380859999999999f64 * humerus_r_a_wz;
-            let t97 = 0.6479671119999999f64 * humerus_r_a_wy;
+            let t94 = humerus_r_a_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t95 = humerus_r_a_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t96 = 0.014380859999999999f64 * humerus_r_a_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t97 = 0.6479671119999999f64 * humerus_r_a_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t98 = t96 - t97;
-            let t99 = 0.6479671119999999f64 * humerus_r_a_wx;
-            let t100 = 0.0055615274403f64 * humerus_r_a_wz;
+            let t99 = 0.6479671119999999f64 * humerus_r_a_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t100 = 0.0055615274403f64 * humerus_r_a_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t101 = t99 + t100;
             let t102 = t74 + t87;
             let t103 = t79 + t90;
             let t104 = t84 - t93;
             let t105 = t94 - t98;
             let t106 = t95 - t101;
-            let t107 = 0.20236395000387197f64 * humerus_r_v_wx;
-            let t108 = 0.000053999980001054f64 * humerus_r_v_wy;
+            let t107 = 0.20236395000387197f64 * humerus_r_v_wx; // 2.0236e-1 = Humerus_R I_xx
+            let t108 = 0.000053999980001054f64 * humerus_r_v_wy; // 5.4000e-5 = Humerus_R I_xy
             let t109 = t107 + t108;
-            let t110 = 0.011715294995083824f64 * humerus_r_v_wz;
+            let t110 = 0.011715294995083824f64 * humerus_r_v_wz; // 1.1715e-2 = Humerus_R I_xz
             let t111 = t109 - t110;
-            let t112 = 0.000053999980001054f64 * humerus_r_v_wx;
-            let t113 = 0.20986895000353661f64 * humerus_r_v_wy;
+            let t112 = 0.000053999980001054f64 * humerus_r_v_wx; // 5.4000e-5 = Humerus_R I_xy
+            let t113 = 0.20986895000353661f64 * humerus_r_v_wy; // 2.0987e-1 = Humerus_R I_yy
             let t114 = t112 + t113;
-            let t115 = 0.0037997813999599995f64 * humerus_r_v_wz;
+            let t115 = 0.0037997813999599995f64 * humerus_r_v_wz; // 3.7998e-3 = Humerus_R I_yz
             let t116 = t114 - t115;
-            let t117 = 0.011715294995083824f64 * humerus_r_v_wx;
-            let t118 = 0.0037997813999599995f64 * humerus_r_v_wy;
+            let t117 = 0.011715294995083824f64 * humerus_r_v_wx; // 1.1715e-2 = Humerus_R I_xz
+            let t118 = 0.0037997813999599995f64 * humerus_r_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t119 = t117 + t118;
-            let t120 = 0.01032999899926462f64 * humerus_r_v_wz;
+            let t120 = 0.01032999899926462f64 * humerus_r_v_wz; // 1.0330e-2 = Humerus_R I_zz
             let t121 = t120 - t119;
-            let t122 = 0.6479671119999999f64 * humerus_r_v_vy;
-            let t123 = 0.6479671119999999f64 * humerus_r_v_vx;
-            let t124 = 0.0055615274403f64 * humerus_r_v_vy;
-            let t125 = 0.014380859999999999f64 * humerus_r_v_vx;
+            let t122 = 0.6479671119999999f64 * humerus_r_v_vy; // 6.4797e-1 = Humerus_R m·c_z
+            let t123 = 0.6479671119999999f64 * humerus_r_v_vx; // 6.4797e-1 = Humerus_R m·c_z
+            let t124 = 0.0055615274403f64 * humerus_r_v_vy; // 5.5615e-3 = Humerus_R m·c_x
+            let t125 = 0.014380859999999999f64 * humerus_r_v_vx; // 1.4381e-2 = Humerus_R m·c_y
             let t126 = t124 + t125;
-            let t127 = humerus_r_v_vx * 2.327f64;
-            let t128 = humerus_r_v_vy * 2.327f64;
-            let t129 = 0.014380859999999999f64 * humerus_r_v_wz;
-            let t130 = 0.6479671119999999f64 * humerus_r_v_wy;
+            let t127 = humerus_r_v_vx * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t128 = humerus_r_v_vy * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t129 = 0.014380859999999999f64 * humerus_r_v_wz; // 1.4381e-2 = Humerus_R m·c_y
+            let t130 = 0.6479671119999999f64 * humerus_r_v_wy; // 6.4797e-1 = Humerus_R m·c_z
             let t131 = t129 - t130;
-            let t132 = 0.6479671119999999f64 * humerus_r_v_wx;
-            let t133 = 0.0055615274403f64 * humerus_r_v_wz;
+            let t132 = 0.6479671119999999f64 * humerus_r_v_wx; // 6.4797e-1 = Humerus_R m·c_z
+            let t133 = 0.0055615274403f64 * humerus_r_v_wz; // 5.5615e-3 = Humerus_R m·c_x
             let t134 = t132 + t133;
-            let t135 = 0.0055615274403f64 * humerus_r_v_wy;
-            let t136 = 0.014380859999999999f64 * humerus_r_v_wx;
+            let t135 = 0.0055615274403f64 * humerus_r_v_wy; // 5.5615e-3 = Humerus_R m·c_x
+            let t136 = 0.014380859999999999f64 * humerus_r_v_wx; // 1.4381e-2 = Humerus_R m·c_y
             let t137 = t135 + t136;
             let t138 = t111 - t122;
             let t139 = t116 + t123;
@@ -6006,8 +5997,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t300,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t171 = 0.304f64 * humerus_r_v_wy;
-            let t172 = 0.304f64 * humerus_r_v_wx;
+            let t171 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t172 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t171;
             let t173 = humerus_r_v_vy - t172;
             let t174 = c_efe * humerus_r_v_wz;
@@ -6019,8 +6010,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_v_vx = s_efe * t173;
             let elbow_fe_v_vy = c_efe * t173;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t178 = 0.304f64 * humerus_r_a_wy;
-            let t179 = 0.304f64 * humerus_r_a_wx;
+            let t178 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t179 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t178;
             let t180 = humerus_r_a_vy - t179;
             let t181 = c_efe * humerus_r_a_wz;
@@ -6044,33 +6035,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_a_wy = t186 - t194;
             let elbow_fe_a_vx = t189 + t195;
             let elbow_fe_a_vy = t192 - t196;
-            let t197 = 0.081661000005f64 * elbow_fe_a_wx;
-            let t198 = 0.00368572840011861f64 * elbow_fe_a_wy;
+            let t197 = 0.081661000005f64 * elbow_fe_a_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t198 = 0.00368572840011861f64 * elbow_fe_a_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t199 = t197 + t198;
-            let t200 = 0.0002120000299f64 * elbow_fe_a_wz;
+            let t200 = 0.0002120000299f64 * elbow_fe_a_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t201 = t199 - t200;
-            let t202 = 0.00368572840011861f64 * elbow_fe_a_wx;
-            let t203 = 0.018284489999765022f64 * elbow_fe_a_wy;
+            let t202 = 0.00368572840011861f64 * elbow_fe_a_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t203 = 0.018284489999765022f64 * elbow_fe_a_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t204 = t202 + t203;
-            let t205 = 0.002292000208f64 * elbow_fe_a_wz;
+            let t205 = 0.002292000208f64 * elbow_fe_a_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t206 = t204 - t205;
-            let t207 = 0.0002120000299f64 * elbow_fe_a_wx;
-            let t208 = 0.002292000208f64 * elbow_fe_a_wy;
+            let t207 = 0.0002120000299f64 * elbow_fe_a_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t208 = 0.002292000208f64 * elbow_fe_a_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t209 = t207 + t208;
-            let t210 = 0.09570849000176501f64 * elbow_fe_a_wz;
+            let t210 = 0.09570849000176501f64 * elbow_fe_a_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t211 = t210 - t209;
-            let t212 = 0.008711861f64 * elbow_fe_a_vz;
-            let t213 = 0.16029825982372198f64 * elbow_fe_a_vz;
-            let t214 = 0.16029825982372198f64 * elbow_fe_a_vy;
-            let t215 = 0.008711861f64 * elbow_fe_a_vx;
+            let t212 = 0.008711861f64 * elbow_fe_a_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t213 = 0.16029825982372198f64 * elbow_fe_a_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t214 = 0.16029825982372198f64 * elbow_fe_a_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t215 = 0.008711861f64 * elbow_fe_a_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t216 = t214 + t215;
-            let t217 = elbow_fe_a_vx * 1.7423722f64;
-            let t218 = elbow_fe_a_vy * 1.7423722f64;
-            let t219 = elbow_fe_a_vz * 1.7423722f64;
-            let t220 = 0.008711861f64 * elbow_fe_a_wz;
-            let t221 = 0.16029825982372198f64 * elbow_fe_a_wz;
-            let t222 = 0.16029825982372198f64 * elbow_fe_a_wy;
-            let t223 = 0.008711861f64 * elbow_fe_a_wx;
+            let t217 = elbow_fe_a_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t218 = elbow_fe_a_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t219 = elbow_fe_a_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t220 = 0.008711861f64 * elbow_fe_a_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t221 = 0.16029825982372198f64 * elbow_fe_a_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t222 = 0.16029825982372198f64 * elbow_fe_a_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t223 = 0.008711861f64 * elbow_fe_a_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t224 = t222 + t223;
             let t225 = t201 + t212;
             let t226 = t206 + t213;
@@ -6078,33 +6069,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t228 = t217 + t220;
             let t229 = t218 + t221;
             let t230 = t219 + t224;
-            let t231 = 0.081661000005f64 * elbow_fe_v_wx;
-            let t232 = 0.00368572840011861f64 * elbow_fe_v_wy;
+            let t231 = 0.081661000005f64 * elbow_fe_v_wx; // 8.1661e-2 = Elbow_FE I_xx
+            let t232 = 0.00368572840011861f64 * elbow_fe_v_wy; // 3.6857e-3 = Elbow_FE I_xy
             let t233 = t231 + t232;
-            let t234 = 0.0002120000299f64 * elbow_fe_v_wz;
+            let t234 = 0.0002120000299f64 * elbow_fe_v_wz; // 2.1200e-4 = Elbow_FE I_xz
             let t235 = t233 - t234;
-            let t236 = 0.00368572840011861f64 * elbow_fe_v_wx;
-            let t237 = 0.018284489999765022f64 * elbow_fe_v_wy;
+            let t236 = 0.00368572840011861f64 * elbow_fe_v_wx; // 3.6857e-3 = Elbow_FE I_xy
+            let t237 = 0.018284489999765022f64 * elbow_fe_v_wy; // 1.8284e-2 = Elbow_FE I_yy
             let t238 = t236 + t237;
-            let t239 = 0.002292000208f64 * elbow_fe_v_wz;
+            let t239 = 0.002292000208f64 * elbow_fe_v_wz; // 2.2920e-3 = Elbow_FE I_yz
             let t240 = t238 - t239;
-            let t241 = 0.0002120000299f64 * elbow_fe_v_wx;
-            let t242 = 0.002292000208f64 * elbow_fe_v_wy;
+            let t241 = 0.0002120000299f64 * elbow_fe_v_wx; // 2.1200e-4 = Elbow_FE I_xz
+            let t242 = 0.002292000208f64 * elbow_fe_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t243 = t241 + t242;
-            let t244 = 0.09570849000176501f64 * elbow_fe_v_wz;
+            let t244 = 0.09570849000176501f64 * elbow_fe_v_wz; // 9.5708e-2 = Elbow_FE I_zz
             let t245 = t244 - t243;
-            let t246 = 0.008711861f64 * elbow_fe_v_vz;
-            let t247 = 0.16029825982372198f64 * elbow_fe_v_vz;
-            let t248 = 0.16029825982372198f64 * elbow_fe_v_vy;
-            let t249 = 0.008711861f64 * elbow_fe_v_vx;
+            let t246 = 0.008711861f64 * elbow_fe_v_vz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t247 = 0.16029825982372198f64 * elbow_fe_v_vz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t248 = 0.16029825982372198f64 * elbow_fe_v_vy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t249 = 0.008711861f64 * elbow_fe_v_vx; // 8.7119e-3 = Elbow_FE m·c_y
             let t250 = t248 + t249;
-            let t251 = elbow_fe_v_vx * 1.7423722f64;
-            let t252 = elbow_fe_v_vy * 1.7423722f64;
-            let t253 = elbow_fe_v_vz * 1.7423722f64;
-            let t254 = 0.008711861f64 * elbow_fe_v_wz;
-            let t255 = 0.16029825982372198f64 * elbow_fe_v_wz;
-            let t256 = 0.16029825982372198f64 * elbow_fe_v_wy;
-            let t257 = 0.008711861f64 * elbow_fe_v_wx;
+            let t251 = elbow_fe_v_vx * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t252 = elbow_fe_v_vy * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t253 = elbow_fe_v_vz * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t254 = 0.008711861f64 * elbow_fe_v_wz; // 8.7119e-3 = Elbow_FE m·c_y
+            let t255 = 0.16029825982372198f64 * elbow_fe_v_wz; // 1.6030e-1 = Elbow_FE m·c_x
+            let t256 = 0.16029825982372198f64 * elbow_fe_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t257 = 0.008711861f64 * elbow_fe_v_wx; // 8.7119e-3 = Elbow_FE m·c_y
             let t258 = t256 + t257;
             let t259 = t235 + t246;
             let t260 = t240 + t247;
@@ -6243,8 +6234,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t420,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t301 = 0.112f64 * elbow_fe_v_wz;
-            let t302 = 0.112f64 * elbow_fe_v_wy;
+            let t301 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t302 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t303 = elbow_fe_v_vy + t301;
             let t304 = elbow_fe_v_vz + t302;
             let t305 = c_wr * elbow_fe_v_wz;
@@ -6260,8 +6251,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t312 = c_wr * t303;
             let wrist_r_v_vy = t312 - t311;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t313 = 0.112f64 * elbow_fe_a_wz;
-            let t314 = 0.112f64 * elbow_fe_a_wy;
+            let t313 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t314 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t315 = elbow_fe_a_vy + t313;
             let t316 = elbow_fe_a_vz + t314;
             let t317 = c_wr * elbow_fe_a_wz;
@@ -6285,54 +6276,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_r_a_wy = t322 - t330;
             let wrist_r_a_vx = t325 + t331;
             let wrist_r_a_vy = t328 - t332;
-            let t333 = 0.019431999999999998f64 * wrist_r_a_wx;
-            let t334 = 0.001387f64 * wrist_r_a_wy;
+            let t333 = 0.019431999999999998f64 * wrist_r_a_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t334 = 0.001387f64 * wrist_r_a_wy; // 1.3870e-3 = Wrist_R I_xy
             let t335 = t333 - t334;
-            let t336 = 0.012652f64 * wrist_r_a_wz;
+            let t336 = 0.012652f64 * wrist_r_a_wz; // 1.2652e-2 = Wrist_R I_xz
             let t337 = t335 - t336;
-            let t338 = 0.001387f64 * wrist_r_a_wx;
-            let t339 = 0.029115f64 * wrist_r_a_wy;
+            let t338 = 0.001387f64 * wrist_r_a_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t339 = 0.029115f64 * wrist_r_a_wy; // 2.9115e-2 = Wrist_R I_yy
             let t340 = t339 - t338;
-            let t341 = 0.001243f64 * wrist_r_a_wz;
+            let t341 = 0.001243f64 * wrist_r_a_wz; // 1.2430e-3 = Wrist_R I_yz
             let t342 = t340 - t341;
-            let t343 = 0.012652f64 * wrist_r_a_wx;
-            let t344 = 0.001243f64 * wrist_r_a_wy;
+            let t343 = 0.012652f64 * wrist_r_a_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t344 = 0.001243f64 * wrist_r_a_wy; // 1.2430e-3 = Wrist_R I_yz
             let t345 = t343 + t344;
-            let t346 = 0.011046f64 * wrist_r_a_wz;
+            let t346 = 0.011046f64 * wrist_r_a_wz; // 1.1046e-2 = Wrist_R I_zz
             let t347 = t346 - t345;
-            let t348 = 0.05783800000000001f64 * wrist_r_a_vy;
-            let t349 = 0.05783800000000001f64 * wrist_r_a_vx;
-            let t350 = wrist_r_a_vx * 2.1032f64;
-            let t351 = wrist_r_a_vy * 2.1032f64;
-            let t352 = elbow_fe_a_vx * 2.1032f64;
-            let t353 = 0.05783800000000001f64 * wrist_r_a_wy;
-            let t354 = 0.05783800000000001f64 * wrist_r_a_wx;
+            let t348 = 0.05783800000000001f64 * wrist_r_a_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t349 = 0.05783800000000001f64 * wrist_r_a_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t350 = wrist_r_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t351 = wrist_r_a_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t352 = elbow_fe_a_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t353 = 0.05783800000000001f64 * wrist_r_a_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t354 = 0.05783800000000001f64 * wrist_r_a_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t355 = t337 - t348;
             let t356 = t342 + t349;
             let t357 = t350 + t353;
             let t358 = t351 - t354;
-            let t359 = 0.019431999999999998f64 * wrist_r_v_wx;
-            let t360 = 0.001387f64 * wrist_r_v_wy;
+            let t359 = 0.019431999999999998f64 * wrist_r_v_wx; // 1.9432e-2 = Wrist_R I_xx
+            let t360 = 0.001387f64 * wrist_r_v_wy; // 1.3870e-3 = Wrist_R I_xy
             let t361 = t359 - t360;
-            let t362 = 0.012652f64 * wrist_r_v_wz;
+            let t362 = 0.012652f64 * wrist_r_v_wz; // 1.2652e-2 = Wrist_R I_xz
             let t363 = t361 - t362;
-            let t364 = 0.001387f64 * wrist_r_v_wx;
-            let t365 = 0.029115f64 * wrist_r_v_wy;
+            let t364 = 0.001387f64 * wrist_r_v_wx; // 1.3870e-3 = Wrist_R I_xy
+            let t365 = 0.029115f64 * wrist_r_v_wy; // 2.9115e-2 = Wrist_R I_yy
             let t366 = t365 - t364;
-            let t367 = 0.001243f64 * wrist_r_v_wz;
+            let t367 = 0.001243f64 * wrist_r_v_wz; // 1.2430e-3 = Wrist_R I_yz
             let t368 = t366 - t367;
-            let t369 = 0.012652f64 * wrist_r_v_wx;
-            let t370 = 0.001243f64 * wrist_r_v_wy;
+            let t369 = 0.012652f64 * wrist_r_v_wx; // 1.2652e-2 = Wrist_R I_xz
+            let t370 = 0.001243f64 * wrist_r_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t371 = t369 + t370;
-            let t372 = 0.011046f64 * wrist_r_v_wz;
+            let t372 = 0.011046f64 * wrist_r_v_wz; // 1.1046e-2 = Wrist_R I_zz
             let t373 = t372 - t371;
-            let t374 = 0.05783800000000001f64 * wrist_r_v_vy;
-            let t375 = 0.05783800000000001f64 * wrist_r_v_vx;
-            let t376 = wrist_r_v_vx * 2.1032f64;
-            let t377 = wrist_r_v_vy * 2.1032f64;
-            let t378 = elbow_fe_v_vx * 2.1032f64;
-            let t379 = 0.05783800000000001f64 * wrist_r_v_wy;
-            let t380 = 0.05783800000000001f64 * wrist_r_v_wx;
+            let t374 = 0.05783800000000001f64 * wrist_r_v_vy; // 5.7838e-2 = Wrist_R m·c_z
+            let t375 = 0.05783800000000001f64 * wrist_r_v_vx; // 5.7838e-2 = Wrist_R m·c_z
+            let t376 = wrist_r_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t377 = wrist_r_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t378 = elbow_fe_v_vx * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t379 = 0.05783800000000001f64 * wrist_r_v_wy; // 5.7838e-2 = Wrist_R m·c_z
+            let t380 = 0.05783800000000001f64 * wrist_r_v_wx; // 5.7838e-2 = Wrist_R m·c_z
             let t381 = t363 - t374;
             let t382 = t368 + t375;
             let t383 = t376 + t379;
@@ -6465,11 +6456,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t421 = 0.184f64 * wrist_r_v_wy;
-            let t422 = 0.184f64 * wrist_r_v_wx;
-            let t423 = 0.02075f64 * wrist_r_v_wz;
+            let t421 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t422 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t423 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t424 = t422 - t423;
-            let t425 = 0.02075f64 * wrist_r_v_wy;
+            let t425 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t426 = wrist_r_v_vx + t421;
             let wrist_fe_v_vz = wrist_r_v_vy - t424;
             let t427 = elbow_fe_v_vx - t425;
@@ -6486,11 +6477,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t435 = c_wfe * t426;
             let wrist_fe_v_vy = t435 - t434;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t436 = 0.184f64 * wrist_r_a_wy;
-            let t437 = 0.184f64 * wrist_r_a_wx;
-            let t438 = 0.02075f64 * wrist_r_a_wz;
+            let t436 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t437 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t438 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
             let t439 = t437 - t438;
-            let t440 = 0.02075f64 * wrist_r_a_wy;
+            let t440 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t441 = wrist_r_a_vx + t436;
             let wrist_fe_a_vz = wrist_r_a_vy - t439;
             let t442 = elbow_fe_a_vx - t440;
@@ -6515,54 +6506,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let wrist_fe_a_wy = t448 - t456;
             let wrist_fe_a_vx = t451 + t457;
             let wrist_fe_a_vy = t454 - t458;
-            let t459 = 0.010737f64 * wrist_fe_a_wx;
-            let t460 = 0.000198f64 * wrist_fe_a_wy;
+            let t459 = 0.010737f64 * wrist_fe_a_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t460 = 0.000198f64 * wrist_fe_a_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t461 = t459 + t460;
-            let t462 = 0.000015f64 * wrist_fe_a_wz;
+            let t462 = 0.000015f64 * wrist_fe_a_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t463 = t461 + t462;
-            let t464 = 0.000198f64 * wrist_fe_a_wx;
-            let t465 = 0.0032270000000000003f64 * wrist_fe_a_wy;
+            let t464 = 0.000198f64 * wrist_fe_a_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t465 = 0.0032270000000000003f64 * wrist_fe_a_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t466 = t464 + t465;
-            let t467 = 0.000829f64 * wrist_fe_a_wz;
+            let t467 = 0.000829f64 * wrist_fe_a_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t468 = t466 - t467;
-            let t469 = 0.000015f64 * wrist_fe_a_wx;
-            let t470 = 0.000829f64 * wrist_fe_a_wy;
+            let t469 = 0.000015f64 * wrist_fe_a_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t470 = 0.000829f64 * wrist_fe_a_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t471 = t469 - t470;
-            let t472 = 0.009277f64 * wrist_fe_a_wz;
+            let t472 = 0.009277f64 * wrist_fe_a_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t473 = t471 + t472;
-            let t474 = 0.038686875f64 * wrist_fe_a_vz;
-            let t475 = 0.038686875f64 * wrist_fe_a_vy;
-            let t476 = wrist_fe_a_vx * 1.547475f64;
-            let t477 = wrist_fe_a_vy * 1.547475f64;
-            let t478 = wrist_fe_a_vz * 1.547475f64;
-            let t479 = 0.038686875f64 * wrist_fe_a_wz;
-            let t480 = 0.038686875f64 * wrist_fe_a_wy;
+            let t474 = 0.038686875f64 * wrist_fe_a_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t475 = 0.038686875f64 * wrist_fe_a_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t476 = wrist_fe_a_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t477 = wrist_fe_a_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t478 = wrist_fe_a_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t479 = 0.038686875f64 * wrist_fe_a_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t480 = 0.038686875f64 * wrist_fe_a_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t481 = t468 - t474;
             let t482 = t473 + t475;
             let t483 = t477 + t479;
             let t484 = t478 - t480;
-            let t485 = 0.010737f64 * wrist_fe_v_wx;
-            let t486 = 0.000198f64 * wrist_fe_v_wy;
+            let t485 = 0.010737f64 * wrist_fe_v_wx; // 1.0737e-2 = Wrist_FE I_xx
+            let t486 = 0.000198f64 * wrist_fe_v_wy; // 1.9800e-4 = Wrist_FE I_xy
             let t487 = t485 + t486;
-            let t488 = 0.000015f64 * wrist_fe_v_wz;
+            let t488 = 0.000015f64 * wrist_fe_v_wz; // 1.5000e-5 = Wrist_FE I_xz
             let t489 = t487 + t488;
-            let t490 = 0.000198f64 * wrist_fe_v_wx;
-            let t491 = 0.0032270000000000003f64 * wrist_fe_v_wy;
+            let t490 = 0.000198f64 * wrist_fe_v_wx; // 1.9800e-4 = Wrist_FE I_xy
+            let t491 = 0.0032270000000000003f64 * wrist_fe_v_wy; // 3.2270e-3 = Wrist_FE I_yy
             let t492 = t490 + t491;
-            let t493 = 0.000829f64 * wrist_fe_v_wz;
+            let t493 = 0.000829f64 * wrist_fe_v_wz; // 8.2900e-4 = Wrist_FE I_yz
             let t494 = t492 - t493;
-            let t495 = 0.000015f64 * wrist_fe_v_wx;
-            let t496 = 0.000829f64 * wrist_fe_v_wy;
+            let t495 = 0.000015f64 * wrist_fe_v_wx; // 1.5000e-5 = Wrist_FE I_xz
+            let t496 = 0.000829f64 * wrist_fe_v_wy; // 8.2900e-4 = Wrist_FE I_yz
             let t497 = t495 - t496;
-            let t498 = 0.009277f64 * wrist_fe_v_wz;
+            let t498 = 0.009277f64 * wrist_fe_v_wz; // 9.2770e-3 = Wrist_FE I_zz
             let t499 = t497 + t498;
-            let t500 = 0.038686875f64 * wrist_fe_v_vz;
-            let t501 = 0.038686875f64 * wrist_fe_v_vy;
-            let t502 = wrist_fe_v_vx * 1.547475f64;
-            let t503 = wrist_fe_v_vy * 1.547475f64;
-            let t504 = wrist_fe_v_vz * 1.547475f64;
-            let t505 = 0.038686875f64 * wrist_fe_v_wz;
-            let t506 = 0.038686875f64 * wrist_fe_v_wy;
+            let t500 = 0.038686875f64 * wrist_fe_v_vz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t501 = 0.038686875f64 * wrist_fe_v_vy; // 3.8687e-2 = Wrist_FE m·c_x
+            let t502 = wrist_fe_v_vx * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t503 = wrist_fe_v_vy * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t504 = wrist_fe_v_vz * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t505 = 0.038686875f64 * wrist_fe_v_wz; // 3.8687e-2 = Wrist_FE m·c_x
+            let t506 = 0.038686875f64 * wrist_fe_v_wy; // 3.8687e-2 = Wrist_FE m·c_x
             let t507 = t494 - t500;
             let t508 = t499 + t501;
             let t509 = t503 + t505;
@@ -6677,11 +6668,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t550 = s_wfe * wrist_fe_f_nx;
             let t551 = c_wfe * wrist_fe_f_ny;
             let t552 = t550 + t551;
-            let t553 = 0.184f64 * wrist_fe_f_fz;
-            let t554 = 0.184f64 * t546;
-            let t555 = 0.02075f64 * t543;
+            let t553 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t554 = 0.184f64 * t546; // 1.8400e-1 = joint WFE origin z
+            let t555 = 0.02075f64 * t543; // 2.0750e-2 = joint WFE origin x
             let t556 = t554 - t555;
-            let t557 = 0.02075f64 * wrist_fe_f_fz;
+            let t557 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t558 = t552 - t553;
             let t559 = wrist_fe_f_nz + t556;
             let t560 = t549 + t557;
@@ -6737,8 +6728,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t570 = s_wr * wrist_r_f_nx;
             let t571 = c_wr * wrist_r_f_ny;
             let t572 = t570 + t571;
-            let t573 = 0.112f64 * t563;
-            let t574 = 0.112f64 * t566;
+            let t573 = 0.112f64 * t563; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t574 = 0.112f64 * t566; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t575 = t572 + t573;
             let t576 = t574 - t569;
             let elbow_fe_f_nx = t295 + wrist_r_f_nz;
@@ -6789,8 +6780,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t585 = s_efe * elbow_fe_f_nx;
             let t586 = c_efe * elbow_fe_f_ny;
             let t587 = t585 + t586;
-            let t588 = 0.304f64 * t581;
-            let t589 = 0.304f64 * elbow_fe_f_fz;
+            let t588 = 0.304f64 * t581; // 3.0400e-1 = joint EFE origin z
+            let t589 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t590 = elbow_fe_f_nz + t588;
             let t591 = t587 - t589;
             let humerus_r_f_nx = t166 - t590;
@@ -6835,7 +6826,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t599 = s_hr * humerus_r_f_nx;
             let t600 = c_hr * humerus_r_f_ny;
             let t601 = t599 + t600;
-            let t602 = 0.112f64 * t594;
+            let t602 = 0.112f64 * t594; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t603 = t601 + t602;
             let shoulder_fe_f_nx = t39 + humerus_r_f_nz;
             let shoulder_fe_f_ny = t40 + t603;
@@ -6852,35 +6843,33 @@ impl ::hya_core::Dynamics<6> for Hya {
                 shoulder_fe_f_ny,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
         let (t604, t605) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let t604 = c_sfe * shoulder_fe_f_nx;
             let t605 = s_sfe * shoulder_fe_f_ny;
             (t604, t605)
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (t606, t607, t643, t644, t645) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let t606 = c_sfe * qd_sfe;
             let t607 = s_sfe * qd_sfe;
-            let t608 = 0.03900299600125622f64 * t606;
-            let t609 = 0.0055279857002587095f64 * t607;
+            let t608 = 0.03900299600125622f64 * t606; // 3.9003e-2 = Shoulder_FE I_xx
+            let t609 = 0.0055279857002587095f64 * t607; // 5.5280e-3 = Shoulder_FE I_xy
             let t610 = t608 - t609;
-            let t611 = 0.0055279857002587095f64 * t606;
-            let t612 = 0.08585553000239696f64 * t607;
+            let t611 = 0.0055279857002587095f64 * t606; // 5.5280e-3 = Shoulder_FE I_xy
+            let t612 = 0.08585553000239696f64 * t607; // 8.5856e-2 = Shoulder_FE I_yy
             let t613 = t611 - t612;
-            let t614 = 0.02285162700433904f64 * t606;
-            let t615 = 0.0027519999999057617f64 * t607;
+            let t614 = 0.02285162700433904f64 * t606; // 2.2852e-2 = Shoulder_FE I_xz
+            let t615 = 0.0027519999999057617f64 * t607; // 2.7520e-3 = Shoulder_FE I_yz
             let t616 = t615 - t614;
-            let t617 = 0.03900299600125622f64 * s_sfe;
-            let t618 = 0.0055279857002587095f64 * c_sfe;
+            let t617 = 0.03900299600125622f64 * s_sfe; // 3.9003e-2 = Shoulder_FE I_xx
+            let t618 = 0.0055279857002587095f64 * c_sfe; // 5.5280e-3 = Shoulder_FE I_xy
             let t619 = t617 + t618;
-            let t620 = 0.0055279857002587095f64 * s_sfe;
-            let t621 = 0.08585553000239696f64 * c_sfe;
+            let t620 = 0.0055279857002587095f64 * s_sfe; // 5.5280e-3 = Shoulder_FE I_xy
+            let t621 = 0.08585553000239696f64 * c_sfe; // 8.5856e-2 = Shoulder_FE I_yy
             let t622 = t620 + t621;
-            let t623 = 0.02285162700433904f64 * s_sfe;
-            let t624 = 0.0027519999999057617f64 * c_sfe;
+            let t623 = 0.02285162700433904f64 * s_sfe; // 2.2852e-2 = Shoulder_FE I_xz
+            let t624 = 0.0027519999999057617f64 * c_sfe; // 2.7520e-3 = Shoulder_FE I_yz
             let t625 = t623 + t624;
             let t626 = shoulder_fe_v_wy * t625;
             let t627 = c_sfe * t32;
@@ -6920,12 +6909,12 @@ impl ::hya_core::Dynamics<6> for Hya {
             t788,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t646 = 0.112f64 * c_sfe;
+            let t646 = 0.112f64 * c_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t647 = s_hr * c_sfe;
             let t648 = c_hr * c_sfe;
             let t649 = c_hr * t646;
             let t650 = s_hr * t646;
-            let t651 = 0.112f64 * t607;
+            let t651 = 0.112f64 * t607; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t652 = s_hr * t607;
             let t653 = c_hr * t607;
             let t654 = c_hr * t651;
@@ -6938,69 +6927,69 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t661 = t653 + t657;
             let t662 = t654 + t658;
             let t663 = t655 - t659;
-            let t664 = 0.20236395000387197f64 * t660;
-            let t665 = 0.000053999980001054f64 * t661;
+            let t664 = 0.20236395000387197f64 * t660; // 2.0236e-1 = Humerus_R I_xx
+            let t665 = 0.000053999980001054f64 * t661; // 5.4000e-5 = Humerus_R I_xy
             let t666 = t664 - t665;
-            let t667 = 0.011715294995083824f64 * t606;
+            let t667 = 0.011715294995083824f64 * t606; // 1.1715e-2 = Humerus_R I_xz
             let t668 = t666 - t667;
-            let t669 = 0.000053999980001054f64 * t660;
-            let t670 = 0.20986895000353661f64 * t661;
+            let t669 = 0.000053999980001054f64 * t660; // 5.4000e-5 = Humerus_R I_xy
+            let t670 = 0.20986895000353661f64 * t661; // 2.0987e-1 = Humerus_R I_yy
             let t671 = t669 - t670;
-            let t672 = 0.0037997813999599995f64 * t606;
+            let t672 = 0.0037997813999599995f64 * t606; // 3.7998e-3 = Humerus_R I_yz
             let t673 = t671 - t672;
-            let t674 = 0.011715294995083824f64 * t660;
-            let t675 = 0.0037997813999599995f64 * t661;
+            let t674 = 0.011715294995083824f64 * t660; // 1.1715e-2 = Humerus_R I_xz
+            let t675 = 0.0037997813999599995f64 * t661; // 3.7998e-3 = Humerus_R I_yz
             let t676 = t675 - t674;
-            let t677 = 0.01032999899926462f64 * t606;
+            let t677 = 0.01032999899926462f64 * t606; // 1.0330e-2 = Humerus_R I_zz
             let t678 = t676 + t677;
-            let t679 = 0.6479671119999999f64 * t663;
-            let t680 = 0.6479671119999999f64 * t662;
-            let t681 = 0.0055615274403f64 * t663;
-            let t682 = 0.014380859999999999f64 * t662;
+            let t679 = 0.6479671119999999f64 * t663; // 6.4797e-1 = Humerus_R m·c_z
+            let t680 = 0.6479671119999999f64 * t662; // 6.4797e-1 = Humerus_R m·c_z
+            let t681 = 0.0055615274403f64 * t663; // 5.5615e-3 = Humerus_R m·c_x
+            let t682 = 0.014380859999999999f64 * t662; // 1.4381e-2 = Humerus_R m·c_y
             let t683 = t682 - t681;
-            let t684 = t662 * 2.327f64;
-            let t685 = t663 * 2.327f64;
-            let t686 = 0.014380859999999999f64 * t606;
-            let t687 = 0.6479671119999999f64 * t661;
+            let t684 = t662 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t685 = t663 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t686 = 0.014380859999999999f64 * t606; // 1.4381e-2 = Humerus_R m·c_y
+            let t687 = 0.6479671119999999f64 * t661; // 6.4797e-1 = Humerus_R m·c_z
             let t688 = t686 + t687;
-            let t689 = 0.6479671119999999f64 * t660;
-            let t690 = 0.0055615274403f64 * t606;
+            let t689 = 0.6479671119999999f64 * t660; // 6.4797e-1 = Humerus_R m·c_z
+            let t690 = 0.0055615274403f64 * t606; // 5.5615e-3 = Humerus_R m·c_x
             let t691 = t689 + t690;
             let t692 = t668 - t679;
             let t693 = t673 - t680;
             let t694 = t678 + t683;
             let t695 = t684 + t688;
             let t696 = t685 - t691;
-            let t697 = 0.20236395000387197f64 * t647;
-            let t698 = 0.000053999980001054f64 * t648;
+            let t697 = 0.20236395000387197f64 * t647; // 2.0236e-1 = Humerus_R I_xx
+            let t698 = 0.000053999980001054f64 * t648; // 5.4000e-5 = Humerus_R I_xy
             let t699 = t697 + t698;
-            let t700 = 0.011715294995083824f64 * s_sfe;
+            let t700 = 0.011715294995083824f64 * s_sfe; // 1.1715e-2 = Humerus_R I_xz
             let t701 = t699 - t700;
-            let t702 = 0.000053999980001054f64 * t647;
-            let t703 = 0.20986895000353661f64 * t648;
+            let t702 = 0.000053999980001054f64 * t647; // 5.4000e-5 = Humerus_R I_xy
+            let t703 = 0.20986895000353661f64 * t648; // 2.0987e-1 = Humerus_R I_yy
             let t704 = t702 + t703;
-            let t705 = 0.0037997813999599995f64 * s_sfe;
+            let t705 = 0.0037997813999599995f64 * s_sfe; // 3.7998e-3 = Humerus_R I_yz
             let t706 = t704 - t705;
-            let t707 = 0.011715294995083824f64 * t647;
-            let t708 = 0.0037997813999599995f64 * t648;
+            let t707 = 0.011715294995083824f64 * t647; // 1.1715e-2 = Humerus_R I_xz
+            let t708 = 0.0037997813999599995f64 * t648; // 3.7998e-3 = Humerus_R I_yz
             let t709 = t707 + t708;
-            let t710 = 0.01032999899926462f64 * s_sfe;
+            let t710 = 0.01032999899926462f64 * s_sfe; // 1.0330e-2 = Humerus_R I_zz
             let t711 = t710 - t709;
-            let t712 = 0.6479671119999999f64 * t650;
-            let t713 = 0.6479671119999999f64 * t649;
-            let t714 = 0.0055615274403f64 * t650;
-            let t715 = 0.014380859999999999f64 * t649;
+            let t712 = 0.6479671119999999f64 * t650; // 6.4797e-1 = Humerus_R m·c_z
+            let t713 = 0.6479671119999999f64 * t649; // 6.4797e-1 = Humerus_R m·c_z
+            let t714 = 0.0055615274403f64 * t650; // 5.5615e-3 = Humerus_R m·c_x
+            let t715 = 0.014380859999999999f64 * t649; // 1.4381e-2 = Humerus_R m·c_y
             let t716 = t714 - t715;
-            let t717 = t649 * 2.327f64;
-            let t718 = t650 * 2.327f64;
-            let t719 = 0.014380859999999999f64 * s_sfe;
-            let t720 = 0.6479671119999999f64 * t648;
+            let t717 = t649 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t718 = t650 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t719 = 0.014380859999999999f64 * s_sfe; // 1.4381e-2 = Humerus_R m·c_y
+            let t720 = 0.6479671119999999f64 * t648; // 6.4797e-1 = Humerus_R m·c_z
             let t721 = t719 - t720;
-            let t722 = 0.6479671119999999f64 * t647;
-            let t723 = 0.0055615274403f64 * s_sfe;
+            let t722 = 0.6479671119999999f64 * t647; // 6.4797e-1 = Humerus_R m·c_z
+            let t723 = 0.0055615274403f64 * s_sfe; // 5.5615e-3 = Humerus_R m·c_x
             let t724 = t722 + t723;
-            let t725 = 0.0055615274403f64 * t648;
-            let t726 = 0.014380859999999999f64 * t647;
+            let t725 = 0.0055615274403f64 * t648; // 5.5615e-3 = Humerus_R m·c_x
+            let t726 = 0.014380859999999999f64 * t647; // 1.4381e-2 = Humerus_R m·c_y
             let t727 = t725 + t726;
             let t728 = t701 + t712;
             let t729 = t706 + t713;
@@ -7098,8 +7087,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t960,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t789 = 0.304f64 * t648;
-            let t790 = 0.304f64 * t647;
+            let t789 = 0.304f64 * t648; // 3.0400e-1 = joint EFE origin z
+            let t790 = 0.304f64 * t647; // 3.0400e-1 = joint EFE origin z
             let t791 = t649 + t789;
             let t792 = t650 + t790;
             let t793 = c_efe * s_sfe;
@@ -7110,8 +7099,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t798 = t797 - t796;
             let t799 = s_efe * t792;
             let t800 = c_efe * t792;
-            let t801 = 0.304f64 * t661;
-            let t802 = 0.304f64 * t660;
+            let t801 = 0.304f64 * t661; // 3.0400e-1 = joint EFE origin z
+            let t802 = 0.304f64 * t660; // 3.0400e-1 = joint EFE origin z
             let t803 = t662 + t801;
             let t804 = t663 - t802;
             let t805 = c_efe * t606;
@@ -7130,33 +7119,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t818 = t810 + t814;
             let t819 = t811 - t815;
             let t820 = t812 + t816;
-            let t821 = 0.081661000005f64 * t817;
-            let t822 = 0.00368572840011861f64 * t818;
+            let t821 = 0.081661000005f64 * t817; // 8.1661e-2 = Elbow_FE I_xx
+            let t822 = 0.00368572840011861f64 * t818; // 3.6857e-3 = Elbow_FE I_xy
             let t823 = t821 - t822;
-            let t824 = 0.0002120000299f64 * t660;
+            let t824 = 0.0002120000299f64 * t660; // 2.1200e-4 = Elbow_FE I_xz
             let t825 = t823 + t824;
-            let t826 = 0.00368572840011861f64 * t817;
-            let t827 = 0.018284489999765022f64 * t818;
+            let t826 = 0.00368572840011861f64 * t817; // 3.6857e-3 = Elbow_FE I_xy
+            let t827 = 0.018284489999765022f64 * t818; // 1.8284e-2 = Elbow_FE I_yy
             let t828 = t826 - t827;
-            let t829 = 0.002292000208f64 * t660;
+            let t829 = 0.002292000208f64 * t660; // 2.2920e-3 = Elbow_FE I_yz
             let t830 = t828 + t829;
-            let t831 = 0.0002120000299f64 * t817;
-            let t832 = 0.002292000208f64 * t818;
+            let t831 = 0.0002120000299f64 * t817; // 2.1200e-4 = Elbow_FE I_xz
+            let t832 = 0.002292000208f64 * t818; // 2.2920e-3 = Elbow_FE I_yz
             let t833 = t832 - t831;
-            let t834 = 0.09570849000176501f64 * t660;
+            let t834 = 0.09570849000176501f64 * t660; // 9.5708e-2 = Elbow_FE I_zz
             let t835 = t833 - t834;
-            let t836 = 0.008711861f64 * t803;
-            let t837 = 0.16029825982372198f64 * t803;
-            let t838 = 0.16029825982372198f64 * t820;
-            let t839 = 0.008711861f64 * t819;
+            let t836 = 0.008711861f64 * t803; // 8.7119e-3 = Elbow_FE m·c_y
+            let t837 = 0.16029825982372198f64 * t803; // 1.6030e-1 = Elbow_FE m·c_x
+            let t838 = 0.16029825982372198f64 * t820; // 1.6030e-1 = Elbow_FE m·c_x
+            let t839 = 0.008711861f64 * t819; // 8.7119e-3 = Elbow_FE m·c_y
             let t840 = t838 + t839;
-            let t841 = t819 * 1.7423722f64;
-            let t842 = t820 * 1.7423722f64;
-            let t843 = t803 * 1.7423722f64;
-            let t844 = 0.008711861f64 * t660;
-            let t845 = 0.16029825982372198f64 * t660;
-            let t846 = 0.16029825982372198f64 * t818;
-            let t847 = 0.008711861f64 * t817;
+            let t841 = t819 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t842 = t820 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t843 = t803 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t844 = 0.008711861f64 * t660; // 8.7119e-3 = Elbow_FE m·c_y
+            let t845 = 0.16029825982372198f64 * t660; // 1.6030e-1 = Elbow_FE m·c_x
+            let t846 = 0.16029825982372198f64 * t818; // 1.6030e-1 = Elbow_FE m·c_x
+            let t847 = 0.008711861f64 * t817; // 8.7119e-3 = Elbow_FE m·c_y
             let t848 = t847 - t846;
             let t849 = t825 - t836;
             let t850 = t830 - t837;
@@ -7164,33 +7153,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t852 = t841 - t844;
             let t853 = t842 - t845;
             let t854 = t843 - t848;
-            let t855 = 0.081661000005f64 * t795;
-            let t856 = 0.00368572840011861f64 * t798;
+            let t855 = 0.081661000005f64 * t795; // 8.1661e-2 = Elbow_FE I_xx
+            let t856 = 0.00368572840011861f64 * t798; // 3.6857e-3 = Elbow_FE I_xy
             let t857 = t855 + t856;
-            let t858 = 0.0002120000299f64 * t647;
+            let t858 = 0.0002120000299f64 * t647; // 2.1200e-4 = Elbow_FE I_xz
             let t859 = t857 + t858;
-            let t860 = 0.00368572840011861f64 * t795;
-            let t861 = 0.018284489999765022f64 * t798;
+            let t860 = 0.00368572840011861f64 * t795; // 3.6857e-3 = Elbow_FE I_xy
+            let t861 = 0.018284489999765022f64 * t798; // 1.8284e-2 = Elbow_FE I_yy
             let t862 = t860 + t861;
-            let t863 = 0.002292000208f64 * t647;
+            let t863 = 0.002292000208f64 * t647; // 2.2920e-3 = Elbow_FE I_yz
             let t864 = t862 + t863;
-            let t865 = 0.0002120000299f64 * t795;
-            let t866 = 0.002292000208f64 * t798;
+            let t865 = 0.0002120000299f64 * t795; // 2.1200e-4 = Elbow_FE I_xz
+            let t866 = 0.002292000208f64 * t798; // 2.2920e-3 = Elbow_FE I_yz
             let t867 = t865 + t866;
-            let t868 = 0.09570849000176501f64 * t647;
+            let t868 = 0.09570849000176501f64 * t647; // 9.5708e-2 = Elbow_FE I_zz
             let t869 = t867 + t868;
-            let t870 = 0.008711861f64 * t791;
-            let t871 = 0.16029825982372198f64 * t791;
-            let t872 = 0.16029825982372198f64 * t800;
-            let t873 = 0.008711861f64 * t799;
+            let t870 = 0.008711861f64 * t791; // 8.7119e-3 = Elbow_FE m·c_y
+            let t871 = 0.16029825982372198f64 * t791; // 1.6030e-1 = Elbow_FE m·c_x
+            let t872 = 0.16029825982372198f64 * t800; // 1.6030e-1 = Elbow_FE m·c_x
+            let t873 = 0.008711861f64 * t799; // 8.7119e-3 = Elbow_FE m·c_y
             let t874 = t872 + t873;
-            let t875 = t799 * 1.7423722f64;
-            let t876 = t800 * 1.7423722f64;
-            let t877 = t791 * 1.7423722f64;
-            let t878 = 0.008711861f64 * t647;
-            let t879 = 0.16029825982372198f64 * t647;
-            let t880 = 0.16029825982372198f64 * t798;
-            let t881 = 0.008711861f64 * t795;
+            let t875 = t799 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t876 = t800 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t877 = t791 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t878 = 0.008711861f64 * t647; // 8.7119e-3 = Elbow_FE m·c_y
+            let t879 = 0.16029825982372198f64 * t647; // 1.6030e-1 = Elbow_FE m·c_x
+            let t880 = 0.16029825982372198f64 * t798; // 1.6030e-1 = Elbow_FE m·c_x
+            let t881 = 0.008711861f64 * t795; // 8.7119e-3 = Elbow_FE m·c_y
             let t882 = t880 + t881;
             let t883 = t859 + t870;
             let t884 = t864 + t871;
@@ -7306,8 +7295,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t1124,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t961 = 0.112f64 * t647;
-            let t962 = 0.112f64 * t798;
+            let t961 = 0.112f64 * t647; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t962 = 0.112f64 * t798; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t963 = t800 + t961;
             let t964 = t791 + t962;
             let t965 = c_wr * t647;
@@ -7322,8 +7311,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t974 = s_wr * t964;
             let t975 = c_wr * t963;
             let t976 = t974 + t975;
-            let t977 = 0.112f64 * t660;
-            let t978 = 0.112f64 * t818;
+            let t977 = 0.112f64 * t660; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t978 = 0.112f64 * t818; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t979 = t820 - t977;
             let t980 = t803 + t978;
             let t981 = c_wr * t660;
@@ -7346,54 +7335,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t998 = t986 + t994;
             let t999 = t989 - t995;
             let t1000 = t992 - t996;
-            let t1001 = 0.019431999999999998f64 * t997;
-            let t1002 = 0.001387f64 * t998;
+            let t1001 = 0.019431999999999998f64 * t997; // 1.9432e-2 = Wrist_R I_xx
+            let t1002 = 0.001387f64 * t998; // 1.3870e-3 = Wrist_R I_xy
             let t1003 = t1001 + t1002;
-            let t1004 = 0.012652f64 * t817;
+            let t1004 = 0.012652f64 * t817; // 1.2652e-2 = Wrist_R I_xz
             let t1005 = t1003 - t1004;
-            let t1006 = 0.001387f64 * t997;
-            let t1007 = 0.029115f64 * t998;
+            let t1006 = 0.001387f64 * t997; // 1.3870e-3 = Wrist_R I_xy
+            let t1007 = 0.029115f64 * t998; // 2.9115e-2 = Wrist_R I_yy
             let t1008 = t1006 + t1007;
-            let t1009 = 0.001243f64 * t817;
+            let t1009 = 0.001243f64 * t817; // 1.2430e-3 = Wrist_R I_yz
             let t1010 = t1008 + t1009;
-            let t1011 = 0.012652f64 * t997;
-            let t1012 = 0.001243f64 * t998;
+            let t1011 = 0.012652f64 * t997; // 1.2652e-2 = Wrist_R I_xz
+            let t1012 = 0.001243f64 * t998; // 1.2430e-3 = Wrist_R I_yz
             let t1013 = t1012 - t1011;
-            let t1014 = 0.011046f64 * t817;
+            let t1014 = 0.011046f64 * t817; // 1.1046e-2 = Wrist_R I_zz
             let t1015 = t1013 + t1014;
-            let t1016 = 0.05783800000000001f64 * t1000;
-            let t1017 = 0.05783800000000001f64 * t999;
-            let t1018 = t999 * 2.1032f64;
-            let t1019 = t1000 * 2.1032f64;
-            let t1020 = t819 * 2.1032f64;
-            let t1021 = 0.05783800000000001f64 * t998;
-            let t1022 = 0.05783800000000001f64 * t997;
+            let t1016 = 0.05783800000000001f64 * t1000; // 5.7838e-2 = Wrist_R m·c_z
+            let t1017 = 0.05783800000000001f64 * t999; // 5.7838e-2 = Wrist_R m·c_z
+            let t1018 = t999 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1019 = t1000 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1020 = t819 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1021 = 0.05783800000000001f64 * t998; // 5.7838e-2 = Wrist_R m·c_z
+            let t1022 = 0.05783800000000001f64 * t997; // 5.7838e-2 = Wrist_R m·c_z
             let t1023 = t1005 - t1016;
             let t1024 = t1017 - t1010;
             let t1025 = t1018 - t1021;
             let t1026 = t1019 - t1022;
-            let t1027 = 0.019431999999999998f64 * t967;
-            let t1028 = 0.001387f64 * t970;
+            let t1027 = 0.019431999999999998f64 * t967; // 1.9432e-2 = Wrist_R I_xx
+            let t1028 = 0.001387f64 * t970; // 1.3870e-3 = Wrist_R I_xy
             let t1029 = t1027 - t1028;
-            let t1030 = 0.012652f64 * t795;
+            let t1030 = 0.012652f64 * t795; // 1.2652e-2 = Wrist_R I_xz
             let t1031 = t1029 - t1030;
-            let t1032 = 0.001387f64 * t967;
-            let t1033 = 0.029115f64 * t970;
+            let t1032 = 0.001387f64 * t967; // 1.3870e-3 = Wrist_R I_xy
+            let t1033 = 0.029115f64 * t970; // 2.9115e-2 = Wrist_R I_yy
             let t1034 = t1033 - t1032;
-            let t1035 = 0.001243f64 * t795;
+            let t1035 = 0.001243f64 * t795; // 1.2430e-3 = Wrist_R I_yz
             let t1036 = t1034 - t1035;
-            let t1037 = 0.012652f64 * t967;
-            let t1038 = 0.001243f64 * t970;
+            let t1037 = 0.012652f64 * t967; // 1.2652e-2 = Wrist_R I_xz
+            let t1038 = 0.001243f64 * t970; // 1.2430e-3 = Wrist_R I_yz
             let t1039 = t1037 + t1038;
-            let t1040 = 0.011046f64 * t795;
+            let t1040 = 0.011046f64 * t795; // 1.1046e-2 = Wrist_R I_zz
             let t1041 = t1040 - t1039;
-            let t1042 = 0.05783800000000001f64 * t976;
-            let t1043 = 0.05783800000000001f64 * t973;
-            let t1044 = t973 * 2.1032f64;
-            let t1045 = t976 * 2.1032f64;
-            let t1046 = t799 * 2.1032f64;
-            let t1047 = 0.05783800000000001f64 * t970;
-            let t1048 = 0.05783800000000001f64 * t967;
+            let t1042 = 0.05783800000000001f64 * t976; // 5.7838e-2 = Wrist_R m·c_z
+            let t1043 = 0.05783800000000001f64 * t973; // 5.7838e-2 = Wrist_R m·c_z
+            let t1044 = t973 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1045 = t976 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1046 = t799 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1047 = 0.05783800000000001f64 * t970; // 5.7838e-2 = Wrist_R m·c_z
+            let t1048 = 0.05783800000000001f64 * t967; // 5.7838e-2 = Wrist_R m·c_z
             let t1049 = t1031 + t1042;
             let t1050 = t1036 + t1043;
             let t1051 = t1044 + t1047;
@@ -7489,11 +7478,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t1291, t1292, t1293, t1294, t1295, t1296) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t1125 = 0.184f64 * t970;
-            let t1126 = 0.184f64 * t967;
-            let t1127 = 0.02075f64 * t795;
+            let t1125 = 0.184f64 * t970; // 1.8400e-1 = joint WFE origin z
+            let t1126 = 0.184f64 * t967; // 1.8400e-1 = joint WFE origin z
+            let t1127 = 0.02075f64 * t795; // 2.0750e-2 = joint WFE origin x
             let t1128 = t1126 - t1127;
-            let t1129 = 0.02075f64 * t970;
+            let t1129 = 0.02075f64 * t970; // 2.0750e-2 = joint WFE origin x
             let t1130 = t973 + t1125;
             let t1131 = t976 + t1128;
             let t1132 = t799 + t1129;
@@ -7509,11 +7498,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1142 = s_wfe * t1132;
             let t1143 = c_wfe * t1130;
             let t1144 = t1142 + t1143;
-            let t1145 = 0.184f64 * t998;
-            let t1146 = 0.184f64 * t997;
-            let t1147 = 0.02075f64 * t817;
+            let t1145 = 0.184f64 * t998; // 1.8400e-1 = joint WFE origin z
+            let t1146 = 0.184f64 * t997; // 1.8400e-1 = joint WFE origin z
+            let t1147 = 0.02075f64 * t817; // 2.0750e-2 = joint WFE origin x
             let t1148 = t1146 - t1147;
-            let t1149 = 0.02075f64 * t998;
+            let t1149 = 0.02075f64 * t998; // 2.0750e-2 = joint WFE origin x
             let t1150 = t999 - t1145;
             let t1151 = t1000 - t1148;
             let t1152 = t819 + t1149;
@@ -7537,54 +7526,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1170 = t1158 - t1166;
             let t1171 = t1161 + t1167;
             let t1172 = t1164 - t1168;
-            let t1173 = 0.010737f64 * t1169;
-            let t1174 = 0.000198f64 * t1170;
+            let t1173 = 0.010737f64 * t1169; // 1.0737e-2 = Wrist_FE I_xx
+            let t1174 = 0.000198f64 * t1170; // 1.9800e-4 = Wrist_FE I_xy
             let t1175 = t1173 + t1174;
-            let t1176 = 0.000015f64 * t998;
+            let t1176 = 0.000015f64 * t998; // 1.5000e-5 = Wrist_FE I_xz
             let t1177 = t1175 - t1176;
-            let t1178 = 0.000198f64 * t1169;
-            let t1179 = 0.0032270000000000003f64 * t1170;
+            let t1178 = 0.000198f64 * t1169; // 1.9800e-4 = Wrist_FE I_xy
+            let t1179 = 0.0032270000000000003f64 * t1170; // 3.2270e-3 = Wrist_FE I_yy
             let t1180 = t1178 + t1179;
-            let t1181 = 0.000829f64 * t998;
+            let t1181 = 0.000829f64 * t998; // 8.2900e-4 = Wrist_FE I_yz
             let t1182 = t1180 + t1181;
-            let t1183 = 0.000015f64 * t1169;
-            let t1184 = 0.000829f64 * t1170;
+            let t1183 = 0.000015f64 * t1169; // 1.5000e-5 = Wrist_FE I_xz
+            let t1184 = 0.000829f64 * t1170; // 8.2900e-4 = Wrist_FE I_yz
             let t1185 = t1183 - t1184;
-            let t1186 = 0.009277f64 * t998;
+            let t1186 = 0.009277f64 * t998; // 9.2770e-3 = Wrist_FE I_zz
             let t1187 = t1185 - t1186;
-            let t1188 = 0.038686875f64 * t1151;
-            let t1189 = 0.038686875f64 * t1172;
-            let t1190 = t1171 * 1.547475f64;
-            let t1191 = t1172 * 1.547475f64;
-            let t1192 = t1151 * 1.547475f64;
-            let t1193 = 0.038686875f64 * t998;
-            let t1194 = 0.038686875f64 * t1170;
+            let t1188 = 0.038686875f64 * t1151; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1189 = 0.038686875f64 * t1172; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1190 = t1171 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1191 = t1172 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1192 = t1151 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1193 = 0.038686875f64 * t998; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1194 = 0.038686875f64 * t1170; // 3.8687e-2 = Wrist_FE m·c_x
             let t1195 = t1182 - t1188;
             let t1196 = t1187 + t1189;
             let t1197 = t1191 - t1193;
             let t1198 = t1192 - t1194;
-            let t1199 = 0.010737f64 * t1135;
-            let t1200 = 0.000198f64 * t1138;
+            let t1199 = 0.010737f64 * t1135; // 1.0737e-2 = Wrist_FE I_xx
+            let t1200 = 0.000198f64 * t1138; // 1.9800e-4 = Wrist_FE I_xy
             let t1201 = t1199 + t1200;
-            let t1202 = 0.000015f64 * t970;
+            let t1202 = 0.000015f64 * t970; // 1.5000e-5 = Wrist_FE I_xz
             let t1203 = t1201 + t1202;
-            let t1204 = 0.000198f64 * t1135;
-            let t1205 = 0.0032270000000000003f64 * t1138;
+            let t1204 = 0.000198f64 * t1135; // 1.9800e-4 = Wrist_FE I_xy
+            let t1205 = 0.0032270000000000003f64 * t1138; // 3.2270e-3 = Wrist_FE I_yy
             let t1206 = t1204 + t1205;
-            let t1207 = 0.000829f64 * t970;
+            let t1207 = 0.000829f64 * t970; // 8.2900e-4 = Wrist_FE I_yz
             let t1208 = t1206 - t1207;
-            let t1209 = 0.000015f64 * t1135;
-            let t1210 = 0.000829f64 * t1138;
+            let t1209 = 0.000015f64 * t1135; // 1.5000e-5 = Wrist_FE I_xz
+            let t1210 = 0.000829f64 * t1138; // 8.2900e-4 = Wrist_FE I_yz
             let t1211 = t1209 - t1210;
-            let t1212 = 0.009277f64 * t970;
+            let t1212 = 0.009277f64 * t970; // 9.2770e-3 = Wrist_FE I_zz
             let t1213 = t1211 + t1212;
-            let t1214 = 0.038686875f64 * t1131;
-            let t1215 = 0.038686875f64 * t1144;
-            let t1216 = t1141 * 1.547475f64;
-            let t1217 = t1144 * 1.547475f64;
-            let t1218 = t1131 * 1.547475f64;
-            let t1219 = 0.038686875f64 * t970;
-            let t1220 = 0.038686875f64 * t1138;
+            let t1214 = 0.038686875f64 * t1131; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1215 = 0.038686875f64 * t1144; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1216 = t1141 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1217 = t1144 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1218 = t1131 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1219 = 0.038686875f64 * t970; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1220 = 0.038686875f64 * t1138; // 3.8687e-2 = Wrist_FE m·c_x
             let t1221 = t1208 + t1214;
             let t1222 = t1213 + t1215;
             let t1223 = t1217 + t1219;
@@ -7677,11 +7666,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1306 = s_wfe * t1291;
             let t1307 = c_wfe * t1292;
             let t1308 = t1306 + t1307;
-            let t1309 = 0.184f64 * t1296;
-            let t1310 = 0.184f64 * t1302;
-            let t1311 = 0.02075f64 * t1299;
+            let t1309 = 0.184f64 * t1296; // 1.8400e-1 = joint WFE origin z
+            let t1310 = 0.184f64 * t1302; // 1.8400e-1 = joint WFE origin z
+            let t1311 = 0.02075f64 * t1299; // 2.0750e-2 = joint WFE origin x
             let t1312 = t1310 - t1311;
-            let t1313 = 0.02075f64 * t1296;
+            let t1313 = 0.02075f64 * t1296; // 2.0750e-2 = joint WFE origin x
             let t1314 = t1308 - t1309;
             let t1315 = t1293 + t1312;
             let t1316 = t1305 + t1313;
@@ -7707,8 +7696,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1332 = s_wr * t1317;
             let t1333 = c_wr * t1318;
             let t1334 = t1332 + t1333;
-            let t1335 = 0.112f64 * t1325;
-            let t1336 = 0.112f64 * t1328;
+            let t1335 = 0.112f64 * t1325; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1336 = 0.112f64 * t1328; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1337 = t1334 + t1335;
             let t1338 = t1336 - t1331;
             let t1339 = t955 + t1319;
@@ -7730,8 +7719,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1351 = s_efe * t1339;
             let t1352 = c_efe * t1340;
             let t1353 = t1351 + t1352;
-            let t1354 = 0.304f64 * t1347;
-            let t1355 = 0.304f64 * t1344;
+            let t1354 = 0.304f64 * t1347; // 3.0400e-1 = joint EFE origin z
+            let t1355 = 0.304f64 * t1344; // 3.0400e-1 = joint EFE origin z
             let t1356 = t1341 + t1354;
             let t1357 = t1353 - t1355;
             let t1358 = t784 - t1356;
@@ -7755,8 +7744,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1372 = s_hr * t1358;
             let t1373 = c_hr * t1359;
             let t1374 = t1372 + t1373;
-            let t1375 = 0.112f64 * t1365;
-            let t1376 = 0.112f64 * t1368;
+            let t1375 = 0.112f64 * t1365; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1376 = 0.112f64 * t1368; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1377 = t1374 + t1375;
             let t1378 = t1376 - t1371;
             let t1379 = t643 + t1360;
@@ -7773,25 +7762,25 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t1399, t1401, t1402, t1403, t1404, t1420, t1421, t1422) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let t1385 = 0.03900299600125622f64 * shoulder_fe_a_wy;
+            let t1385 = 0.03900299600125622f64 * shoulder_fe_a_wy; // 3.9003e-2 = Shoulder_FE I_xx
             let t1386 = t1385 - t9;
-            let t1387 = 0.08585553000239696f64 * shoulder_fe_a_wx;
+            let t1387 = 0.08585553000239696f64 * shoulder_fe_a_wx; // 8.5856e-2 = Shoulder_FE I_yy
             let t1388 = t5 - t1387;
-            let t1389 = 0.02285162700433904f64 * shoulder_fe_a_wy;
-            let t1390 = 0.0027519999999057617f64 * shoulder_fe_a_wx;
+            let t1389 = 0.02285162700433904f64 * shoulder_fe_a_wy; // 2.2852e-2 = Shoulder_FE I_xz
+            let t1390 = 0.0027519999999057617f64 * shoulder_fe_a_wx; // 2.7520e-3 = Shoulder_FE I_yz
             let t1391 = t1390 - t1389;
-            let t1392 = 0.2933742339089346f64 * shoulder_fe_a_vx;
-            let t1393 = 0.060615943396199995f64 * shoulder_fe_a_vy;
+            let t1392 = 0.2933742339089346f64 * shoulder_fe_a_vx; // 2.9337e-1 = Shoulder_FE m·c_x
+            let t1393 = 0.060615943396199995f64 * shoulder_fe_a_vy; // 6.0616e-2 = Shoulder_FE m·c_y
             let t1394 = t1393 - t1392;
             let t1395 = t1386 + t15;
             let t1396 = t1388 + t14;
             let t1397 = t1391 + t1394;
-            let t1398 = 0.03900299600125622f64 * shoulder_fe_v_wy;
+            let t1398 = 0.03900299600125622f64 * shoulder_fe_v_wy; // 3.9003e-2 = Shoulder_FE I_xx
             let t1399 = t1398 - t23;
-            let t1400 = 0.08585553000239696f64 * shoulder_fe_v_wx;
+            let t1400 = 0.08585553000239696f64 * shoulder_fe_v_wx; // 8.5856e-2 = Shoulder_FE I_yy
             let t1401 = t19 - t1400;
-            let t1402 = 0.02285162700433904f64 * shoulder_fe_v_wy;
-            let t1403 = 0.0027519999999057617f64 * shoulder_fe_v_wx;
+            let t1402 = 0.02285162700433904f64 * shoulder_fe_v_wy; // 2.2852e-2 = Shoulder_FE I_xz
+            let t1403 = 0.0027519999999057617f64 * shoulder_fe_v_wx; // 2.7520e-3 = Shoulder_FE I_yz
             let t1404 = t1403 - t1402;
             let t1405 = shoulder_fe_v_wy * t1404;
             let t1406 = t1405 - t37;
@@ -7834,12 +7823,12 @@ impl ::hya_core::Dynamics<6> for Hya {
             t1573,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t1423 = 0.112f64 * shoulder_fe_v_wx;
+            let t1423 = 0.112f64 * shoulder_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1424 = s_hr * shoulder_fe_v_wx;
             let t1425 = c_hr * shoulder_fe_v_wx;
             let t1426 = c_hr * t1423;
             let t1427 = s_hr * t1423;
-            let t1428 = 0.112f64 * shoulder_fe_a_wx;
+            let t1428 = 0.112f64 * shoulder_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1429 = s_hr * shoulder_fe_a_wx;
             let t1430 = c_hr * shoulder_fe_a_wx;
             let t1431 = c_hr * t1428;
@@ -7856,73 +7845,73 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1442 = t1438 - t1430;
             let t1443 = t1439 - t1433;
             let t1444 = t1436 + t1440;
-            let t1445 = 0.20236395000387197f64 * t1441;
-            let t1446 = 0.000053999980001054f64 * t1442;
+            let t1445 = 0.20236395000387197f64 * t1441; // 2.0236e-1 = Humerus_R I_xx
+            let t1446 = 0.000053999980001054f64 * t1442; // 5.4000e-5 = Humerus_R I_xy
             let t1447 = t1446 - t1445;
-            let t1448 = 0.011715294995083824f64 * shoulder_fe_a_wy;
+            let t1448 = 0.011715294995083824f64 * shoulder_fe_a_wy; // 1.1715e-2 = Humerus_R I_xz
             let t1449 = t1447 - t1448;
-            let t1450 = 0.000053999980001054f64 * t1441;
-            let t1451 = 0.20986895000353661f64 * t1442;
+            let t1450 = 0.000053999980001054f64 * t1441; // 5.4000e-5 = Humerus_R I_xy
+            let t1451 = 0.20986895000353661f64 * t1442; // 2.0987e-1 = Humerus_R I_yy
             let t1452 = t1451 - t1450;
-            let t1453 = 0.0037997813999599995f64 * shoulder_fe_a_wy;
+            let t1453 = 0.0037997813999599995f64 * shoulder_fe_a_wy; // 3.7998e-3 = Humerus_R I_yz
             let t1454 = t1452 - t1453;
-            let t1455 = 0.011715294995083824f64 * t1441;
-            let t1456 = 0.0037997813999599995f64 * t1442;
+            let t1455 = 0.011715294995083824f64 * t1441; // 1.1715e-2 = Humerus_R I_xz
+            let t1456 = 0.0037997813999599995f64 * t1442; // 3.7998e-3 = Humerus_R I_yz
             let t1457 = t1455 - t1456;
-            let t1458 = 0.01032999899926462f64 * shoulder_fe_a_wy;
+            let t1458 = 0.01032999899926462f64 * shoulder_fe_a_wy; // 1.0330e-2 = Humerus_R I_zz
             let t1459 = t1457 + t1458;
-            let t1460 = 0.014380859999999999f64 * shoulder_fe_a_vy;
-            let t1461 = 0.6479671119999999f64 * t1444;
+            let t1460 = 0.014380859999999999f64 * shoulder_fe_a_vy; // 1.4381e-2 = Humerus_R m·c_y
+            let t1461 = 0.6479671119999999f64 * t1444; // 6.4797e-1 = Humerus_R m·c_z
             let t1462 = t1460 - t1461;
-            let t1463 = 0.6479671119999999f64 * t1443;
-            let t1464 = 0.0055615274403f64 * shoulder_fe_a_vy;
+            let t1463 = 0.6479671119999999f64 * t1443; // 6.4797e-1 = Humerus_R m·c_z
+            let t1464 = 0.0055615274403f64 * shoulder_fe_a_vy; // 5.5615e-3 = Humerus_R m·c_x
             let t1465 = t1463 + t1464;
-            let t1466 = 0.0055615274403f64 * t1444;
-            let t1467 = 0.014380859999999999f64 * t1443;
+            let t1466 = 0.0055615274403f64 * t1444; // 5.5615e-3 = Humerus_R m·c_x
+            let t1467 = 0.014380859999999999f64 * t1443; // 1.4381e-2 = Humerus_R m·c_y
             let t1468 = t1466 + t1467;
-            let t1469 = t1443 * 2.327f64;
-            let t1470 = t1444 * 2.327f64;
-            let t1471 = 0.014380859999999999f64 * shoulder_fe_a_wy;
-            let t1472 = 0.6479671119999999f64 * t1442;
+            let t1469 = t1443 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t1470 = t1444 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t1471 = 0.014380859999999999f64 * shoulder_fe_a_wy; // 1.4381e-2 = Humerus_R m·c_y
+            let t1472 = 0.6479671119999999f64 * t1442; // 6.4797e-1 = Humerus_R m·c_z
             let t1473 = t1471 - t1472;
-            let t1474 = 0.6479671119999999f64 * t1441;
-            let t1475 = 0.0055615274403f64 * shoulder_fe_a_wy;
+            let t1474 = 0.6479671119999999f64 * t1441; // 6.4797e-1 = Humerus_R m·c_z
+            let t1475 = 0.0055615274403f64 * shoulder_fe_a_wy; // 5.5615e-3 = Humerus_R m·c_x
             let t1476 = t1475 - t1474;
             let t1477 = t1449 + t1462;
             let t1478 = t1454 + t1465;
             let t1479 = t1459 - t1468;
             let t1480 = t1469 - t1473;
             let t1481 = t1470 - t1476;
-            let t1482 = 0.20236395000387197f64 * t1424;
-            let t1483 = 0.000053999980001054f64 * t1425;
+            let t1482 = 0.20236395000387197f64 * t1424; // 2.0236e-1 = Humerus_R I_xx
+            let t1483 = 0.000053999980001054f64 * t1425; // 5.4000e-5 = Humerus_R I_xy
             let t1484 = t1482 + t1483;
-            let t1485 = 0.011715294995083824f64 * shoulder_fe_v_wy;
+            let t1485 = 0.011715294995083824f64 * shoulder_fe_v_wy; // 1.1715e-2 = Humerus_R I_xz
             let t1486 = t1484 + t1485;
-            let t1487 = 0.000053999980001054f64 * t1424;
-            let t1488 = 0.20986895000353661f64 * t1425;
+            let t1487 = 0.000053999980001054f64 * t1424; // 5.4000e-5 = Humerus_R I_xy
+            let t1488 = 0.20986895000353661f64 * t1425; // 2.0987e-1 = Humerus_R I_yy
             let t1489 = t1487 + t1488;
-            let t1490 = 0.0037997813999599995f64 * shoulder_fe_v_wy;
+            let t1490 = 0.0037997813999599995f64 * shoulder_fe_v_wy; // 3.7998e-3 = Humerus_R I_yz
             let t1491 = t1489 + t1490;
-            let t1492 = 0.011715294995083824f64 * t1424;
-            let t1493 = 0.0037997813999599995f64 * t1425;
+            let t1492 = 0.011715294995083824f64 * t1424; // 1.1715e-2 = Humerus_R I_xz
+            let t1493 = 0.0037997813999599995f64 * t1425; // 3.7998e-3 = Humerus_R I_yz
             let t1494 = t1492 + t1493;
-            let t1495 = 0.01032999899926462f64 * shoulder_fe_v_wy;
+            let t1495 = 0.01032999899926462f64 * shoulder_fe_v_wy; // 1.0330e-2 = Humerus_R I_zz
             let t1496 = t1494 + t1495;
-            let t1497 = 0.6479671119999999f64 * t1427;
-            let t1498 = 0.6479671119999999f64 * t1426;
-            let t1499 = 0.0055615274403f64 * t1427;
-            let t1500 = 0.014380859999999999f64 * t1426;
+            let t1497 = 0.6479671119999999f64 * t1427; // 6.4797e-1 = Humerus_R m·c_z
+            let t1498 = 0.6479671119999999f64 * t1426; // 6.4797e-1 = Humerus_R m·c_z
+            let t1499 = 0.0055615274403f64 * t1427; // 5.5615e-3 = Humerus_R m·c_x
+            let t1500 = 0.014380859999999999f64 * t1426; // 1.4381e-2 = Humerus_R m·c_y
             let t1501 = t1500 - t1499;
-            let t1502 = t1426 * 2.327f64;
-            let t1503 = t1427 * 2.327f64;
-            let t1504 = 0.014380859999999999f64 * shoulder_fe_v_wy;
-            let t1505 = 0.6479671119999999f64 * t1425;
+            let t1502 = t1426 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t1503 = t1427 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t1504 = 0.014380859999999999f64 * shoulder_fe_v_wy; // 1.4381e-2 = Humerus_R m·c_y
+            let t1505 = 0.6479671119999999f64 * t1425; // 6.4797e-1 = Humerus_R m·c_z
             let t1506 = t1504 + t1505;
-            let t1507 = 0.6479671119999999f64 * t1424;
-            let t1508 = 0.0055615274403f64 * shoulder_fe_v_wy;
+            let t1507 = 0.6479671119999999f64 * t1424; // 6.4797e-1 = Humerus_R m·c_z
+            let t1508 = 0.0055615274403f64 * shoulder_fe_v_wy; // 5.5615e-3 = Humerus_R m·c_x
             let t1509 = t1508 - t1507;
-            let t1510 = 0.0055615274403f64 * t1425;
-            let t1511 = 0.014380859999999999f64 * t1424;
+            let t1510 = 0.0055615274403f64 * t1425; // 5.5615e-3 = Humerus_R m·c_x
+            let t1511 = 0.014380859999999999f64 * t1424; // 1.4381e-2 = Humerus_R m·c_y
             let t1512 = t1510 + t1511;
             let t1513 = t1486 + t1497;
             let t1514 = t1491 + t1498;
@@ -8027,8 +8016,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t1749,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t1574 = 0.304f64 * t1425;
-            let t1575 = 0.304f64 * t1424;
+            let t1574 = 0.304f64 * t1425; // 3.0400e-1 = joint EFE origin z
+            let t1575 = 0.304f64 * t1424; // 3.0400e-1 = joint EFE origin z
             let t1576 = t1426 + t1574;
             let t1577 = t1427 + t1575;
             let t1578 = c_efe * shoulder_fe_v_wy;
@@ -8039,8 +8028,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1583 = t1581 + t1582;
             let t1584 = s_efe * t1577;
             let t1585 = c_efe * t1577;
-            let t1586 = 0.304f64 * t1442;
-            let t1587 = 0.304f64 * t1441;
+            let t1586 = 0.304f64 * t1442; // 3.0400e-1 = joint EFE origin z
+            let t1587 = 0.304f64 * t1441; // 3.0400e-1 = joint EFE origin z
             let t1588 = t1443 + t1586;
             let t1589 = t1444 + t1587;
             let t1590 = c_efe * shoulder_fe_a_wy;
@@ -8063,33 +8052,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1607 = t1595 - t1603;
             let t1608 = t1598 + t1604;
             let t1609 = t1601 - t1605;
-            let t1610 = 0.081661000005f64 * t1606;
-            let t1611 = 0.00368572840011861f64 * t1607;
+            let t1610 = 0.081661000005f64 * t1606; // 8.1661e-2 = Elbow_FE I_xx
+            let t1611 = 0.00368572840011861f64 * t1607; // 3.6857e-3 = Elbow_FE I_xy
             let t1612 = t1610 + t1611;
-            let t1613 = 0.0002120000299f64 * t1441;
+            let t1613 = 0.0002120000299f64 * t1441; // 2.1200e-4 = Elbow_FE I_xz
             let t1614 = t1612 - t1613;
-            let t1615 = 0.00368572840011861f64 * t1606;
-            let t1616 = 0.018284489999765022f64 * t1607;
+            let t1615 = 0.00368572840011861f64 * t1606; // 3.6857e-3 = Elbow_FE I_xy
+            let t1616 = 0.018284489999765022f64 * t1607; // 1.8284e-2 = Elbow_FE I_yy
             let t1617 = t1615 + t1616;
-            let t1618 = 0.002292000208f64 * t1441;
+            let t1618 = 0.002292000208f64 * t1441; // 2.2920e-3 = Elbow_FE I_yz
             let t1619 = t1617 - t1618;
-            let t1620 = 0.0002120000299f64 * t1606;
-            let t1621 = 0.002292000208f64 * t1607;
+            let t1620 = 0.0002120000299f64 * t1606; // 2.1200e-4 = Elbow_FE I_xz
+            let t1621 = 0.002292000208f64 * t1607; // 2.2920e-3 = Elbow_FE I_yz
             let t1622 = t1620 + t1621;
-            let t1623 = 0.09570849000176501f64 * t1441;
+            let t1623 = 0.09570849000176501f64 * t1441; // 9.5708e-2 = Elbow_FE I_zz
             let t1624 = t1623 - t1622;
-            let t1625 = 0.008711861f64 * t1588;
-            let t1626 = 0.16029825982372198f64 * t1588;
-            let t1627 = 0.16029825982372198f64 * t1609;
-            let t1628 = 0.008711861f64 * t1608;
+            let t1625 = 0.008711861f64 * t1588; // 8.7119e-3 = Elbow_FE m·c_y
+            let t1626 = 0.16029825982372198f64 * t1588; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1627 = 0.16029825982372198f64 * t1609; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1628 = 0.008711861f64 * t1608; // 8.7119e-3 = Elbow_FE m·c_y
             let t1629 = t1627 + t1628;
-            let t1630 = t1608 * 1.7423722f64;
-            let t1631 = t1609 * 1.7423722f64;
-            let t1632 = t1588 * 1.7423722f64;
-            let t1633 = 0.008711861f64 * t1441;
-            let t1634 = 0.16029825982372198f64 * t1441;
-            let t1635 = 0.16029825982372198f64 * t1607;
-            let t1636 = 0.008711861f64 * t1606;
+            let t1630 = t1608 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1631 = t1609 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1632 = t1588 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1633 = 0.008711861f64 * t1441; // 8.7119e-3 = Elbow_FE m·c_y
+            let t1634 = 0.16029825982372198f64 * t1441; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1635 = 0.16029825982372198f64 * t1607; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1636 = 0.008711861f64 * t1606; // 8.7119e-3 = Elbow_FE m·c_y
             let t1637 = t1635 + t1636;
             let t1638 = t1614 + t1625;
             let t1639 = t1619 + t1626;
@@ -8097,33 +8086,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1641 = t1630 + t1633;
             let t1642 = t1631 + t1634;
             let t1643 = t1632 + t1637;
-            let t1644 = 0.081661000005f64 * t1580;
-            let t1645 = 0.00368572840011861f64 * t1583;
+            let t1644 = 0.081661000005f64 * t1580; // 8.1661e-2 = Elbow_FE I_xx
+            let t1645 = 0.00368572840011861f64 * t1583; // 3.6857e-3 = Elbow_FE I_xy
             let t1646 = t1644 - t1645;
-            let t1647 = 0.0002120000299f64 * t1424;
+            let t1647 = 0.0002120000299f64 * t1424; // 2.1200e-4 = Elbow_FE I_xz
             let t1648 = t1646 - t1647;
-            let t1649 = 0.00368572840011861f64 * t1580;
-            let t1650 = 0.018284489999765022f64 * t1583;
+            let t1649 = 0.00368572840011861f64 * t1580; // 3.6857e-3 = Elbow_FE I_xy
+            let t1650 = 0.018284489999765022f64 * t1583; // 1.8284e-2 = Elbow_FE I_yy
             let t1651 = t1649 - t1650;
-            let t1652 = 0.002292000208f64 * t1424;
+            let t1652 = 0.002292000208f64 * t1424; // 2.2920e-3 = Elbow_FE I_yz
             let t1653 = t1651 - t1652;
-            let t1654 = 0.0002120000299f64 * t1580;
-            let t1655 = 0.002292000208f64 * t1583;
+            let t1654 = 0.0002120000299f64 * t1580; // 2.1200e-4 = Elbow_FE I_xz
+            let t1655 = 0.002292000208f64 * t1583; // 2.2920e-3 = Elbow_FE I_yz
             let t1656 = t1655 - t1654;
-            let t1657 = 0.09570849000176501f64 * t1424;
+            let t1657 = 0.09570849000176501f64 * t1424; // 9.5708e-2 = Elbow_FE I_zz
             let t1658 = t1656 + t1657;
-            let t1659 = 0.008711861f64 * t1576;
-            let t1660 = 0.16029825982372198f64 * t1576;
-            let t1661 = 0.16029825982372198f64 * t1585;
-            let t1662 = 0.008711861f64 * t1584;
+            let t1659 = 0.008711861f64 * t1576; // 8.7119e-3 = Elbow_FE m·c_y
+            let t1660 = 0.16029825982372198f64 * t1576; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1661 = 0.16029825982372198f64 * t1585; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1662 = 0.008711861f64 * t1584; // 8.7119e-3 = Elbow_FE m·c_y
             let t1663 = t1661 + t1662;
-            let t1664 = t1584 * 1.7423722f64;
-            let t1665 = t1585 * 1.7423722f64;
-            let t1666 = t1576 * 1.7423722f64;
-            let t1667 = 0.008711861f64 * t1424;
-            let t1668 = 0.16029825982372198f64 * t1424;
-            let t1669 = 0.16029825982372198f64 * t1583;
-            let t1670 = 0.008711861f64 * t1580;
+            let t1664 = t1584 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1665 = t1585 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1666 = t1576 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t1667 = 0.008711861f64 * t1424; // 8.7119e-3 = Elbow_FE m·c_y
+            let t1668 = 0.16029825982372198f64 * t1424; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1669 = 0.16029825982372198f64 * t1583; // 1.6030e-1 = Elbow_FE m·c_x
+            let t1670 = 0.008711861f64 * t1580; // 8.7119e-3 = Elbow_FE m·c_y
             let t1671 = t1670 - t1669;
             let t1672 = t1648 - t1659;
             let t1673 = t1653 - t1660;
@@ -8241,8 +8230,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t1913,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t1750 = 0.112f64 * t1424;
-            let t1751 = 0.112f64 * t1583;
+            let t1750 = 0.112f64 * t1424; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1751 = 0.112f64 * t1583; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1752 = t1585 + t1750;
             let t1753 = t1576 + t1751;
             let t1754 = c_wr * t1424;
@@ -8257,8 +8246,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1763 = s_wr * t1753;
             let t1764 = c_wr * t1752;
             let t1765 = t1763 + t1764;
-            let t1766 = 0.112f64 * t1441;
-            let t1767 = 0.112f64 * t1607;
+            let t1766 = 0.112f64 * t1441; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1767 = 0.112f64 * t1607; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1768 = t1609 + t1766;
             let t1769 = t1588 + t1767;
             let t1770 = c_wr * t1441;
@@ -8281,54 +8270,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1787 = t1775 + t1783;
             let t1788 = t1778 + t1784;
             let t1789 = t1781 - t1785;
-            let t1790 = 0.019431999999999998f64 * t1786;
-            let t1791 = 0.001387f64 * t1787;
+            let t1790 = 0.019431999999999998f64 * t1786; // 1.9432e-2 = Wrist_R I_xx
+            let t1791 = 0.001387f64 * t1787; // 1.3870e-3 = Wrist_R I_xy
             let t1792 = t1790 - t1791;
-            let t1793 = 0.012652f64 * t1606;
+            let t1793 = 0.012652f64 * t1606; // 1.2652e-2 = Wrist_R I_xz
             let t1794 = t1792 - t1793;
-            let t1795 = 0.001387f64 * t1786;
-            let t1796 = 0.029115f64 * t1787;
+            let t1795 = 0.001387f64 * t1786; // 1.3870e-3 = Wrist_R I_xy
+            let t1796 = 0.029115f64 * t1787; // 2.9115e-2 = Wrist_R I_yy
             let t1797 = t1796 - t1795;
-            let t1798 = 0.001243f64 * t1606;
+            let t1798 = 0.001243f64 * t1606; // 1.2430e-3 = Wrist_R I_yz
             let t1799 = t1797 - t1798;
-            let t1800 = 0.012652f64 * t1786;
-            let t1801 = 0.001243f64 * t1787;
+            let t1800 = 0.012652f64 * t1786; // 1.2652e-2 = Wrist_R I_xz
+            let t1801 = 0.001243f64 * t1787; // 1.2430e-3 = Wrist_R I_yz
             let t1802 = t1800 + t1801;
-            let t1803 = 0.011046f64 * t1606;
+            let t1803 = 0.011046f64 * t1606; // 1.1046e-2 = Wrist_R I_zz
             let t1804 = t1803 - t1802;
-            let t1805 = 0.05783800000000001f64 * t1789;
-            let t1806 = 0.05783800000000001f64 * t1788;
-            let t1807 = t1788 * 2.1032f64;
-            let t1808 = t1789 * 2.1032f64;
-            let t1809 = t1608 * 2.1032f64;
-            let t1810 = 0.05783800000000001f64 * t1787;
-            let t1811 = 0.05783800000000001f64 * t1786;
+            let t1805 = 0.05783800000000001f64 * t1789; // 5.7838e-2 = Wrist_R m·c_z
+            let t1806 = 0.05783800000000001f64 * t1788; // 5.7838e-2 = Wrist_R m·c_z
+            let t1807 = t1788 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1808 = t1789 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1809 = t1608 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1810 = 0.05783800000000001f64 * t1787; // 5.7838e-2 = Wrist_R m·c_z
+            let t1811 = 0.05783800000000001f64 * t1786; // 5.7838e-2 = Wrist_R m·c_z
             let t1812 = t1794 - t1805;
             let t1813 = t1799 + t1806;
             let t1814 = t1807 + t1810;
             let t1815 = t1808 - t1811;
-            let t1816 = 0.019431999999999998f64 * t1756;
-            let t1817 = 0.001387f64 * t1759;
+            let t1816 = 0.019431999999999998f64 * t1756; // 1.9432e-2 = Wrist_R I_xx
+            let t1817 = 0.001387f64 * t1759; // 1.3870e-3 = Wrist_R I_xy
             let t1818 = t1816 + t1817;
-            let t1819 = 0.012652f64 * t1580;
+            let t1819 = 0.012652f64 * t1580; // 1.2652e-2 = Wrist_R I_xz
             let t1820 = t1818 + t1819;
-            let t1821 = 0.001387f64 * t1756;
-            let t1822 = 0.029115f64 * t1759;
+            let t1821 = 0.001387f64 * t1756; // 1.3870e-3 = Wrist_R I_xy
+            let t1822 = 0.029115f64 * t1759; // 2.9115e-2 = Wrist_R I_yy
             let t1823 = t1821 + t1822;
-            let t1824 = 0.001243f64 * t1580;
+            let t1824 = 0.001243f64 * t1580; // 1.2430e-3 = Wrist_R I_yz
             let t1825 = t1823 - t1824;
-            let t1826 = 0.012652f64 * t1756;
-            let t1827 = 0.001243f64 * t1759;
+            let t1826 = 0.012652f64 * t1756; // 1.2652e-2 = Wrist_R I_xz
+            let t1827 = 0.001243f64 * t1759; // 1.2430e-3 = Wrist_R I_yz
             let t1828 = t1826 - t1827;
-            let t1829 = 0.011046f64 * t1580;
+            let t1829 = 0.011046f64 * t1580; // 1.1046e-2 = Wrist_R I_zz
             let t1830 = t1828 + t1829;
-            let t1831 = 0.05783800000000001f64 * t1765;
-            let t1832 = 0.05783800000000001f64 * t1762;
-            let t1833 = t1762 * 2.1032f64;
-            let t1834 = t1765 * 2.1032f64;
-            let t1835 = t1584 * 2.1032f64;
-            let t1836 = 0.05783800000000001f64 * t1759;
-            let t1837 = 0.05783800000000001f64 * t1756;
+            let t1831 = 0.05783800000000001f64 * t1765; // 5.7838e-2 = Wrist_R m·c_z
+            let t1832 = 0.05783800000000001f64 * t1762; // 5.7838e-2 = Wrist_R m·c_z
+            let t1833 = t1762 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1834 = t1765 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1835 = t1584 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t1836 = 0.05783800000000001f64 * t1759; // 5.7838e-2 = Wrist_R m·c_z
+            let t1837 = 0.05783800000000001f64 * t1756; // 5.7838e-2 = Wrist_R m·c_z
             let t1838 = t1820 + t1831;
             let t1839 = t1825 + t1832;
             let t1840 = t1833 + t1836;
@@ -8424,11 +8413,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t2080, t2081, t2082, t2083, t2084, t2085) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t1914 = 0.184f64 * t1759;
-            let t1915 = 0.184f64 * t1756;
-            let t1916 = 0.02075f64 * t1580;
+            let t1914 = 0.184f64 * t1759; // 1.8400e-1 = joint WFE origin z
+            let t1915 = 0.184f64 * t1756; // 1.8400e-1 = joint WFE origin z
+            let t1916 = 0.02075f64 * t1580; // 2.0750e-2 = joint WFE origin x
             let t1917 = t1915 + t1916;
-            let t1918 = 0.02075f64 * t1759;
+            let t1918 = 0.02075f64 * t1759; // 2.0750e-2 = joint WFE origin x
             let t1919 = t1762 + t1914;
             let t1920 = t1765 + t1917;
             let t1921 = t1584 - t1918;
@@ -8444,11 +8433,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1931 = s_wfe * t1921;
             let t1932 = c_wfe * t1919;
             let t1933 = t1932 - t1931;
-            let t1934 = 0.184f64 * t1787;
-            let t1935 = 0.184f64 * t1786;
-            let t1936 = 0.02075f64 * t1606;
+            let t1934 = 0.184f64 * t1787; // 1.8400e-1 = joint WFE origin z
+            let t1935 = 0.184f64 * t1786; // 1.8400e-1 = joint WFE origin z
+            let t1936 = 0.02075f64 * t1606; // 2.0750e-2 = joint WFE origin x
             let t1937 = t1935 - t1936;
-            let t1938 = 0.02075f64 * t1787;
+            let t1938 = 0.02075f64 * t1787; // 2.0750e-2 = joint WFE origin x
             let t1939 = t1788 + t1934;
             let t1940 = t1789 - t1937;
             let t1941 = t1608 - t1938;
@@ -8472,54 +8461,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1959 = t1947 - t1955;
             let t1960 = t1950 + t1956;
             let t1961 = t1953 - t1957;
-            let t1962 = 0.010737f64 * t1958;
-            let t1963 = 0.000198f64 * t1959;
+            let t1962 = 0.010737f64 * t1958; // 1.0737e-2 = Wrist_FE I_xx
+            let t1963 = 0.000198f64 * t1959; // 1.9800e-4 = Wrist_FE I_xy
             let t1964 = t1962 + t1963;
-            let t1965 = 0.000015f64 * t1787;
+            let t1965 = 0.000015f64 * t1787; // 1.5000e-5 = Wrist_FE I_xz
             let t1966 = t1964 + t1965;
-            let t1967 = 0.000198f64 * t1958;
-            let t1968 = 0.0032270000000000003f64 * t1959;
+            let t1967 = 0.000198f64 * t1958; // 1.9800e-4 = Wrist_FE I_xy
+            let t1968 = 0.0032270000000000003f64 * t1959; // 3.2270e-3 = Wrist_FE I_yy
             let t1969 = t1967 + t1968;
-            let t1970 = 0.000829f64 * t1787;
+            let t1970 = 0.000829f64 * t1787; // 8.2900e-4 = Wrist_FE I_yz
             let t1971 = t1969 - t1970;
-            let t1972 = 0.000015f64 * t1958;
-            let t1973 = 0.000829f64 * t1959;
+            let t1972 = 0.000015f64 * t1958; // 1.5000e-5 = Wrist_FE I_xz
+            let t1973 = 0.000829f64 * t1959; // 8.2900e-4 = Wrist_FE I_yz
             let t1974 = t1972 - t1973;
-            let t1975 = 0.009277f64 * t1787;
+            let t1975 = 0.009277f64 * t1787; // 9.2770e-3 = Wrist_FE I_zz
             let t1976 = t1974 + t1975;
-            let t1977 = 0.038686875f64 * t1940;
-            let t1978 = 0.038686875f64 * t1961;
-            let t1979 = t1960 * 1.547475f64;
-            let t1980 = t1961 * 1.547475f64;
-            let t1981 = t1940 * 1.547475f64;
-            let t1982 = 0.038686875f64 * t1787;
-            let t1983 = 0.038686875f64 * t1959;
+            let t1977 = 0.038686875f64 * t1940; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1978 = 0.038686875f64 * t1961; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1979 = t1960 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1980 = t1961 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1981 = t1940 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t1982 = 0.038686875f64 * t1787; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1983 = 0.038686875f64 * t1959; // 3.8687e-2 = Wrist_FE m·c_x
             let t1984 = t1971 - t1977;
             let t1985 = t1976 + t1978;
             let t1986 = t1980 + t1982;
             let t1987 = t1981 - t1983;
-            let t1988 = 0.010737f64 * t1924;
-            let t1989 = 0.000198f64 * t1927;
+            let t1988 = 0.010737f64 * t1924; // 1.0737e-2 = Wrist_FE I_xx
+            let t1989 = 0.000198f64 * t1927; // 1.9800e-4 = Wrist_FE I_xy
             let t1990 = t1988 - t1989;
-            let t1991 = 0.000015f64 * t1759;
+            let t1991 = 0.000015f64 * t1759; // 1.5000e-5 = Wrist_FE I_xz
             let t1992 = t1990 + t1991;
-            let t1993 = 0.000198f64 * t1924;
-            let t1994 = 0.0032270000000000003f64 * t1927;
+            let t1993 = 0.000198f64 * t1924; // 1.9800e-4 = Wrist_FE I_xy
+            let t1994 = 0.0032270000000000003f64 * t1927; // 3.2270e-3 = Wrist_FE I_yy
             let t1995 = t1993 - t1994;
-            let t1996 = 0.000829f64 * t1759;
+            let t1996 = 0.000829f64 * t1759; // 8.2900e-4 = Wrist_FE I_yz
             let t1997 = t1995 - t1996;
-            let t1998 = 0.000015f64 * t1924;
-            let t1999 = 0.000829f64 * t1927;
+            let t1998 = 0.000015f64 * t1924; // 1.5000e-5 = Wrist_FE I_xz
+            let t1999 = 0.000829f64 * t1927; // 8.2900e-4 = Wrist_FE I_yz
             let t2000 = t1998 + t1999;
-            let t2001 = 0.009277f64 * t1759;
+            let t2001 = 0.009277f64 * t1759; // 9.2770e-3 = Wrist_FE I_zz
             let t2002 = t2000 + t2001;
-            let t2003 = 0.038686875f64 * t1920;
-            let t2004 = 0.038686875f64 * t1933;
-            let t2005 = t1930 * 1.547475f64;
-            let t2006 = t1933 * 1.547475f64;
-            let t2007 = t1920 * 1.547475f64;
-            let t2008 = 0.038686875f64 * t1759;
-            let t2009 = 0.038686875f64 * t1927;
+            let t2003 = 0.038686875f64 * t1920; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2004 = 0.038686875f64 * t1933; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2005 = t1930 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2006 = t1933 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2007 = t1920 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2008 = 0.038686875f64 * t1759; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2009 = 0.038686875f64 * t1927; // 3.8687e-2 = Wrist_FE m·c_x
             let t2010 = t1997 - t2003;
             let t2011 = t2002 + t2004;
             let t2012 = t2006 + t2008;
@@ -8612,11 +8601,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2095 = s_wfe * t2080;
             let t2096 = c_wfe * t2081;
             let t2097 = t2095 + t2096;
-            let t2098 = 0.184f64 * t2085;
-            let t2099 = 0.184f64 * t2091;
-            let t2100 = 0.02075f64 * t2088;
+            let t2098 = 0.184f64 * t2085; // 1.8400e-1 = joint WFE origin z
+            let t2099 = 0.184f64 * t2091; // 1.8400e-1 = joint WFE origin z
+            let t2100 = 0.02075f64 * t2088; // 2.0750e-2 = joint WFE origin x
             let t2101 = t2099 - t2100;
-            let t2102 = 0.02075f64 * t2085;
+            let t2102 = 0.02075f64 * t2085; // 2.0750e-2 = joint WFE origin x
             let t2103 = t2097 - t2098;
             let t2104 = t2082 + t2101;
             let t2105 = t2094 + t2102;
@@ -8642,8 +8631,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2121 = s_wr * t2106;
             let t2122 = c_wr * t2107;
             let t2123 = t2121 + t2122;
-            let t2124 = 0.112f64 * t2114;
-            let t2125 = 0.112f64 * t2117;
+            let t2124 = 0.112f64 * t2114; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2125 = 0.112f64 * t2117; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2126 = t2123 + t2124;
             let t2127 = t2125 - t2120;
             let t2128 = t1744 + t2108;
@@ -8665,8 +8654,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2140 = s_efe * t2128;
             let t2141 = c_efe * t2129;
             let t2142 = t2140 + t2141;
-            let t2143 = 0.304f64 * t2136;
-            let t2144 = 0.304f64 * t2133;
+            let t2143 = 0.304f64 * t2136; // 3.0400e-1 = joint EFE origin z
+            let t2144 = 0.304f64 * t2133; // 3.0400e-1 = joint EFE origin z
             let t2145 = t2130 + t2143;
             let t2146 = t2142 - t2144;
             let t2147 = t1569 - t2145;
@@ -8690,8 +8679,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2161 = s_hr * t2147;
             let t2162 = c_hr * t2148;
             let t2163 = t2161 + t2162;
-            let t2164 = 0.112f64 * t2154;
-            let t2165 = 0.112f64 * t2157;
+            let t2164 = 0.112f64 * t2154; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2165 = 0.112f64 * t2157; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2166 = t2163 + t2164;
             let t2167 = t2165 - t2160;
             let t2168 = t1420 + t2149;
@@ -8710,11 +8699,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t2183, t2184, t2185) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let t2176 = shoulder_fe_v_wy * 0.05139352799812063f64;
+            let t2176 = shoulder_fe_v_wy * 0.05139352799812063f64; // 5.1394e-2 = Shoulder_FE I_zz
             let t2177 = t27 - t26;
             let t2178 = t2176 - t2177;
             let t2179 = t22 - t21;
-            let t2180 = shoulder_fe_v_wx * 0.05139352799812063f64;
+            let t2180 = shoulder_fe_v_wx * 0.05139352799812063f64; // 5.1394e-2 = Shoulder_FE I_zz
             let t2181 = t2179 - t2180;
             let t2182 = t1402 - t1403;
             let t2183 = t1399 + t2178;
@@ -8736,8 +8725,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t2297,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t2186 = s_hr * 0.112f64;
-            let t2187 = c_hr * 0.112f64;
+            let t2186 = s_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2187 = c_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2188 = s_hr * qd_hr;
             let t2189 = c_hr * qd_hr;
             let t2190 = t2187 * qd_hr;
@@ -8746,54 +8735,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2193 = t2189 - t1425;
             let t2194 = t2190 - t1426;
             let t2195 = t1427 - t2191;
-            let t2196 = 0.20236395000387197f64 * t2192;
-            let t2197 = 0.000053999980001054f64 * t2193;
+            let t2196 = 0.20236395000387197f64 * t2192; // 2.0236e-1 = Humerus_R I_xx
+            let t2197 = 0.000053999980001054f64 * t2193; // 5.4000e-5 = Humerus_R I_xy
             let t2198 = t2196 + t2197;
             let t2199 = t2198 - t1485;
-            let t2200 = 0.000053999980001054f64 * t2192;
-            let t2201 = 0.20986895000353661f64 * t2193;
+            let t2200 = 0.000053999980001054f64 * t2192; // 5.4000e-5 = Humerus_R I_xy
+            let t2201 = 0.20986895000353661f64 * t2193; // 2.0987e-1 = Humerus_R I_yy
             let t2202 = t2200 + t2201;
             let t2203 = t2202 - t1490;
-            let t2204 = 0.011715294995083824f64 * t2192;
-            let t2205 = 0.0037997813999599995f64 * t2193;
+            let t2204 = 0.011715294995083824f64 * t2192; // 1.1715e-2 = Humerus_R I_xz
+            let t2205 = 0.0037997813999599995f64 * t2193; // 3.7998e-3 = Humerus_R I_yz
             let t2206 = t2204 + t2205;
             let t2207 = t1495 - t2206;
-            let t2208 = 0.6479671119999999f64 * t2195;
-            let t2209 = 0.6479671119999999f64 * t2194;
-            let t2210 = 0.0055615274403f64 * t2195;
-            let t2211 = 0.014380859999999999f64 * t2194;
+            let t2208 = 0.6479671119999999f64 * t2195; // 6.4797e-1 = Humerus_R m·c_z
+            let t2209 = 0.6479671119999999f64 * t2194; // 6.4797e-1 = Humerus_R m·c_z
+            let t2210 = 0.0055615274403f64 * t2195; // 5.5615e-3 = Humerus_R m·c_x
+            let t2211 = 0.014380859999999999f64 * t2194; // 1.4381e-2 = Humerus_R m·c_y
             let t2212 = t2210 + t2211;
-            let t2213 = t2194 * 2.327f64;
-            let t2214 = t2195 * 2.327f64;
-            let t2215 = 0.6479671119999999f64 * t2193;
+            let t2213 = t2194 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t2214 = t2195 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t2215 = 0.6479671119999999f64 * t2193; // 6.4797e-1 = Humerus_R m·c_z
             let t2216 = t1504 - t2215;
-            let t2217 = 0.6479671119999999f64 * t2192;
+            let t2217 = 0.6479671119999999f64 * t2192; // 6.4797e-1 = Humerus_R m·c_z
             let t2218 = t2217 + t1508;
             let t2219 = t2199 - t2208;
             let t2220 = t2203 + t2209;
             let t2221 = t2207 - t2212;
             let t2222 = t2213 - t2216;
             let t2223 = t2214 - t2218;
-            let t2224 = 0.20236395000387197f64 * c_hr;
-            let t2225 = 0.000053999980001054f64 * s_hr;
+            let t2224 = 0.20236395000387197f64 * c_hr; // 2.0236e-1 = Humerus_R I_xx
+            let t2225 = 0.000053999980001054f64 * s_hr; // 5.4000e-5 = Humerus_R I_xy
             let t2226 = t2225 - t2224;
-            let t2227 = 0.000053999980001054f64 * c_hr;
-            let t2228 = 0.20986895000353661f64 * s_hr;
+            let t2227 = 0.000053999980001054f64 * c_hr; // 5.4000e-5 = Humerus_R I_xy
+            let t2228 = 0.20986895000353661f64 * s_hr; // 2.0987e-1 = Humerus_R I_yy
             let t2229 = t2228 - t2227;
-            let t2230 = 0.011715294995083824f64 * c_hr;
-            let t2231 = 0.0037997813999599995f64 * s_hr;
+            let t2230 = 0.011715294995083824f64 * c_hr; // 1.1715e-2 = Humerus_R I_xz
+            let t2231 = 0.0037997813999599995f64 * s_hr; // 3.7998e-3 = Humerus_R I_yz
             let t2232 = t2230 - t2231;
-            let t2233 = 0.6479671119999999f64 * t2187;
-            let t2234 = 0.6479671119999999f64 * t2186;
-            let t2235 = 0.0055615274403f64 * t2187;
-            let t2236 = 0.014380859999999999f64 * t2186;
+            let t2233 = 0.6479671119999999f64 * t2187; // 6.4797e-1 = Humerus_R m·c_z
+            let t2234 = 0.6479671119999999f64 * t2186; // 6.4797e-1 = Humerus_R m·c_z
+            let t2235 = 0.0055615274403f64 * t2187; // 5.5615e-3 = Humerus_R m·c_x
+            let t2236 = 0.014380859999999999f64 * t2186; // 1.4381e-2 = Humerus_R m·c_y
             let t2237 = t2235 + t2236;
-            let t2238 = t2186 * 2.327f64;
-            let t2239 = t2187 * 2.327f64;
-            let t2240 = 0.6479671119999999f64 * s_hr;
-            let t2241 = 0.6479671119999999f64 * c_hr;
-            let t2242 = 0.0055615274403f64 * s_hr;
-            let t2243 = 0.014380859999999999f64 * c_hr;
+            let t2238 = t2186 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t2239 = t2187 * 2.327f64; // 2.3270e0 = Humerus_R mass
+            let t2240 = 0.6479671119999999f64 * s_hr; // 6.4797e-1 = Humerus_R m·c_z
+            let t2241 = 0.6479671119999999f64 * c_hr; // 6.4797e-1 = Humerus_R m·c_z
+            let t2242 = 0.0055615274403f64 * s_hr; // 5.5615e-3 = Humerus_R m·c_x
+            let t2243 = 0.014380859999999999f64 * c_hr; // 1.4381e-2 = Humerus_R m·c_y
             let t2244 = t2243 - t2242;
             let t2245 = t2226 - t2233;
             let t2246 = t2229 + t2234;
@@ -8869,16 +8858,16 @@ impl ::hya_core::Dynamics<6> for Hya {
             t2463,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t2298 = 0.304f64 * s_hr;
-            let t2299 = 0.304f64 * c_hr;
+            let t2298 = 0.304f64 * s_hr; // 3.0400e-1 = joint EFE origin z
+            let t2299 = 0.304f64 * c_hr; // 3.0400e-1 = joint EFE origin z
             let t2300 = t2186 + t2298;
             let t2301 = t2187 + t2299;
             let t2302 = s_efe * s_hr;
             let t2303 = c_efe * s_hr;
             let t2304 = s_efe * t2301;
             let t2305 = c_efe * t2301;
-            let t2306 = 0.304f64 * t2193;
-            let t2307 = 0.304f64 * t2192;
+            let t2306 = 0.304f64 * t2193; // 3.0400e-1 = joint EFE origin z
+            let t2307 = 0.304f64 * t2192; // 3.0400e-1 = joint EFE origin z
             let t2308 = t2194 + t2306;
             let t2309 = t2195 - t2307;
             let t2310 = s_efe * t2193;
@@ -8895,33 +8884,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2321 = t2313 - t2317;
             let t2322 = t2314 + t2318;
             let t2323 = t2315 - t2319;
-            let t2324 = 0.081661000005f64 * t2320;
-            let t2325 = 0.00368572840011861f64 * t2321;
+            let t2324 = 0.081661000005f64 * t2320; // 8.1661e-2 = Elbow_FE I_xx
+            let t2325 = 0.00368572840011861f64 * t2321; // 3.6857e-3 = Elbow_FE I_xy
             let t2326 = t2324 + t2325;
-            let t2327 = 0.0002120000299f64 * t2192;
+            let t2327 = 0.0002120000299f64 * t2192; // 2.1200e-4 = Elbow_FE I_xz
             let t2328 = t2326 + t2327;
-            let t2329 = 0.00368572840011861f64 * t2320;
-            let t2330 = 0.018284489999765022f64 * t2321;
+            let t2329 = 0.00368572840011861f64 * t2320; // 3.6857e-3 = Elbow_FE I_xy
+            let t2330 = 0.018284489999765022f64 * t2321; // 1.8284e-2 = Elbow_FE I_yy
             let t2331 = t2329 + t2330;
-            let t2332 = 0.002292000208f64 * t2192;
+            let t2332 = 0.002292000208f64 * t2192; // 2.2920e-3 = Elbow_FE I_yz
             let t2333 = t2331 + t2332;
-            let t2334 = 0.0002120000299f64 * t2320;
-            let t2335 = 0.002292000208f64 * t2321;
+            let t2334 = 0.0002120000299f64 * t2320; // 2.1200e-4 = Elbow_FE I_xz
+            let t2335 = 0.002292000208f64 * t2321; // 2.2920e-3 = Elbow_FE I_yz
             let t2336 = t2334 + t2335;
-            let t2337 = 0.09570849000176501f64 * t2192;
+            let t2337 = 0.09570849000176501f64 * t2192; // 9.5708e-2 = Elbow_FE I_zz
             let t2338 = t2336 + t2337;
-            let t2339 = 0.008711861f64 * t2308;
-            let t2340 = 0.16029825982372198f64 * t2308;
-            let t2341 = 0.16029825982372198f64 * t2323;
-            let t2342 = 0.008711861f64 * t2322;
+            let t2339 = 0.008711861f64 * t2308; // 8.7119e-3 = Elbow_FE m·c_y
+            let t2340 = 0.16029825982372198f64 * t2308; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2341 = 0.16029825982372198f64 * t2323; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2342 = 0.008711861f64 * t2322; // 8.7119e-3 = Elbow_FE m·c_y
             let t2343 = t2341 + t2342;
-            let t2344 = t2322 * 1.7423722f64;
-            let t2345 = t2323 * 1.7423722f64;
-            let t2346 = t2308 * 1.7423722f64;
-            let t2347 = 0.008711861f64 * t2192;
-            let t2348 = 0.16029825982372198f64 * t2192;
-            let t2349 = 0.16029825982372198f64 * t2321;
-            let t2350 = 0.008711861f64 * t2320;
+            let t2344 = t2322 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2345 = t2323 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2346 = t2308 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2347 = 0.008711861f64 * t2192; // 8.7119e-3 = Elbow_FE m·c_y
+            let t2348 = 0.16029825982372198f64 * t2192; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2349 = 0.16029825982372198f64 * t2321; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2350 = 0.008711861f64 * t2320; // 8.7119e-3 = Elbow_FE m·c_y
             let t2351 = t2349 + t2350;
             let t2352 = t2328 + t2339;
             let t2353 = t2333 + t2340;
@@ -8929,33 +8918,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2355 = t2344 - t2347;
             let t2356 = t2345 - t2348;
             let t2357 = t2346 + t2351;
-            let t2358 = 0.081661000005f64 * t2302;
-            let t2359 = 0.00368572840011861f64 * t2303;
+            let t2358 = 0.081661000005f64 * t2302; // 8.1661e-2 = Elbow_FE I_xx
+            let t2359 = 0.00368572840011861f64 * t2303; // 3.6857e-3 = Elbow_FE I_xy
             let t2360 = t2358 + t2359;
-            let t2361 = 0.0002120000299f64 * c_hr;
+            let t2361 = 0.0002120000299f64 * c_hr; // 2.1200e-4 = Elbow_FE I_xz
             let t2362 = t2360 - t2361;
-            let t2363 = 0.00368572840011861f64 * t2302;
-            let t2364 = 0.018284489999765022f64 * t2303;
+            let t2363 = 0.00368572840011861f64 * t2302; // 3.6857e-3 = Elbow_FE I_xy
+            let t2364 = 0.018284489999765022f64 * t2303; // 1.8284e-2 = Elbow_FE I_yy
             let t2365 = t2363 + t2364;
-            let t2366 = 0.002292000208f64 * c_hr;
+            let t2366 = 0.002292000208f64 * c_hr; // 2.2920e-3 = Elbow_FE I_yz
             let t2367 = t2365 - t2366;
-            let t2368 = 0.0002120000299f64 * t2302;
-            let t2369 = 0.002292000208f64 * t2303;
+            let t2368 = 0.0002120000299f64 * t2302; // 2.1200e-4 = Elbow_FE I_xz
+            let t2369 = 0.002292000208f64 * t2303; // 2.2920e-3 = Elbow_FE I_yz
             let t2370 = t2368 + t2369;
-            let t2371 = 0.09570849000176501f64 * c_hr;
+            let t2371 = 0.09570849000176501f64 * c_hr; // 9.5708e-2 = Elbow_FE I_zz
             let t2372 = t2371 - t2370;
-            let t2373 = 0.008711861f64 * t2300;
-            let t2374 = 0.16029825982372198f64 * t2300;
-            let t2375 = 0.16029825982372198f64 * t2305;
-            let t2376 = 0.008711861f64 * t2304;
+            let t2373 = 0.008711861f64 * t2300; // 8.7119e-3 = Elbow_FE m·c_y
+            let t2374 = 0.16029825982372198f64 * t2300; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2375 = 0.16029825982372198f64 * t2305; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2376 = 0.008711861f64 * t2304; // 8.7119e-3 = Elbow_FE m·c_y
             let t2377 = t2375 + t2376;
-            let t2378 = t2304 * 1.7423722f64;
-            let t2379 = t2305 * 1.7423722f64;
-            let t2380 = t2300 * 1.7423722f64;
-            let t2381 = 0.008711861f64 * c_hr;
-            let t2382 = 0.16029825982372198f64 * c_hr;
-            let t2383 = 0.16029825982372198f64 * t2303;
-            let t2384 = 0.008711861f64 * t2302;
+            let t2378 = t2304 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2379 = t2305 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2380 = t2300 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t2381 = 0.008711861f64 * c_hr; // 8.7119e-3 = Elbow_FE m·c_y
+            let t2382 = 0.16029825982372198f64 * c_hr; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2383 = 0.16029825982372198f64 * t2303; // 1.6030e-1 = Elbow_FE m·c_x
+            let t2384 = 0.008711861f64 * t2302; // 8.7119e-3 = Elbow_FE m·c_y
             let t2385 = t2383 + t2384;
             let t2386 = t2362 + t2373;
             let t2387 = t2367 + t2374;
@@ -9071,7 +9060,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             t2626,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t2464 = 0.112f64 * t2303;
+            let t2464 = 0.112f64 * t2303; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2465 = t2305 + t2187;
             let t2466 = t2300 + t2464;
             let t2467 = c_wr * c_hr;
@@ -9086,8 +9075,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2476 = s_wr * t2466;
             let t2477 = c_wr * t2465;
             let t2478 = t2477 - t2476;
-            let t2479 = 0.112f64 * t2192;
-            let t2480 = 0.112f64 * t2321;
+            let t2479 = 0.112f64 * t2192; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2480 = 0.112f64 * t2321; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2481 = t2323 - t2479;
             let t2482 = t2308 + t2480;
             let t2483 = c_wr * t2192;
@@ -9110,54 +9099,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2500 = t2488 - t2496;
             let t2501 = t2491 + t2497;
             let t2502 = t2494 - t2498;
-            let t2503 = 0.019431999999999998f64 * t2499;
-            let t2504 = 0.001387f64 * t2500;
+            let t2503 = 0.019431999999999998f64 * t2499; // 1.9432e-2 = Wrist_R I_xx
+            let t2504 = 0.001387f64 * t2500; // 1.3870e-3 = Wrist_R I_xy
             let t2505 = t2503 - t2504;
-            let t2506 = 0.012652f64 * t2320;
+            let t2506 = 0.012652f64 * t2320; // 1.2652e-2 = Wrist_R I_xz
             let t2507 = t2505 - t2506;
-            let t2508 = 0.001387f64 * t2499;
-            let t2509 = 0.029115f64 * t2500;
+            let t2508 = 0.001387f64 * t2499; // 1.3870e-3 = Wrist_R I_xy
+            let t2509 = 0.029115f64 * t2500; // 2.9115e-2 = Wrist_R I_yy
             let t2510 = t2509 - t2508;
-            let t2511 = 0.001243f64 * t2320;
+            let t2511 = 0.001243f64 * t2320; // 1.2430e-3 = Wrist_R I_yz
             let t2512 = t2510 - t2511;
-            let t2513 = 0.012652f64 * t2499;
-            let t2514 = 0.001243f64 * t2500;
+            let t2513 = 0.012652f64 * t2499; // 1.2652e-2 = Wrist_R I_xz
+            let t2514 = 0.001243f64 * t2500; // 1.2430e-3 = Wrist_R I_yz
             let t2515 = t2513 + t2514;
-            let t2516 = 0.011046f64 * t2320;
+            let t2516 = 0.011046f64 * t2320; // 1.1046e-2 = Wrist_R I_zz
             let t2517 = t2516 - t2515;
-            let t2518 = 0.05783800000000001f64 * t2502;
-            let t2519 = 0.05783800000000001f64 * t2501;
-            let t2520 = t2501 * 2.1032f64;
-            let t2521 = t2502 * 2.1032f64;
-            let t2522 = t2322 * 2.1032f64;
-            let t2523 = 0.05783800000000001f64 * t2500;
-            let t2524 = 0.05783800000000001f64 * t2499;
+            let t2518 = 0.05783800000000001f64 * t2502; // 5.7838e-2 = Wrist_R m·c_z
+            let t2519 = 0.05783800000000001f64 * t2501; // 5.7838e-2 = Wrist_R m·c_z
+            let t2520 = t2501 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2521 = t2502 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2522 = t2322 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2523 = 0.05783800000000001f64 * t2500; // 5.7838e-2 = Wrist_R m·c_z
+            let t2524 = 0.05783800000000001f64 * t2499; // 5.7838e-2 = Wrist_R m·c_z
             let t2525 = t2507 - t2518;
             let t2526 = t2512 + t2519;
             let t2527 = t2520 + t2523;
             let t2528 = t2521 - t2524;
-            let t2529 = 0.019431999999999998f64 * t2469;
-            let t2530 = 0.001387f64 * t2472;
+            let t2529 = 0.019431999999999998f64 * t2469; // 1.9432e-2 = Wrist_R I_xx
+            let t2530 = 0.001387f64 * t2472; // 1.3870e-3 = Wrist_R I_xy
             let t2531 = t2529 - t2530;
-            let t2532 = 0.012652f64 * t2302;
+            let t2532 = 0.012652f64 * t2302; // 1.2652e-2 = Wrist_R I_xz
             let t2533 = t2531 - t2532;
-            let t2534 = 0.001387f64 * t2469;
-            let t2535 = 0.029115f64 * t2472;
+            let t2534 = 0.001387f64 * t2469; // 1.3870e-3 = Wrist_R I_xy
+            let t2535 = 0.029115f64 * t2472; // 2.9115e-2 = Wrist_R I_yy
             let t2536 = t2535 - t2534;
-            let t2537 = 0.001243f64 * t2302;
+            let t2537 = 0.001243f64 * t2302; // 1.2430e-3 = Wrist_R I_yz
             let t2538 = t2536 - t2537;
-            let t2539 = 0.012652f64 * t2469;
-            let t2540 = 0.001243f64 * t2472;
+            let t2539 = 0.012652f64 * t2469; // 1.2652e-2 = Wrist_R I_xz
+            let t2540 = 0.001243f64 * t2472; // 1.2430e-3 = Wrist_R I_yz
             let t2541 = t2539 + t2540;
-            let t2542 = 0.011046f64 * t2302;
+            let t2542 = 0.011046f64 * t2302; // 1.1046e-2 = Wrist_R I_zz
             let t2543 = t2542 - t2541;
-            let t2544 = 0.05783800000000001f64 * t2478;
-            let t2545 = 0.05783800000000001f64 * t2475;
-            let t2546 = t2475 * 2.1032f64;
-            let t2547 = t2478 * 2.1032f64;
-            let t2548 = t2304 * 2.1032f64;
-            let t2549 = 0.05783800000000001f64 * t2472;
-            let t2550 = 0.05783800000000001f64 * t2469;
+            let t2544 = 0.05783800000000001f64 * t2478; // 5.7838e-2 = Wrist_R m·c_z
+            let t2545 = 0.05783800000000001f64 * t2475; // 5.7838e-2 = Wrist_R m·c_z
+            let t2546 = t2475 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2547 = t2478 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2548 = t2304 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t2549 = 0.05783800000000001f64 * t2472; // 5.7838e-2 = Wrist_R m·c_z
+            let t2550 = 0.05783800000000001f64 * t2469; // 5.7838e-2 = Wrist_R m·c_z
             let t2551 = t2533 - t2544;
             let t2552 = t2538 + t2545;
             let t2553 = t2546 + t2549;
@@ -9253,11 +9242,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t2793, t2794, t2795, t2796, t2797, t2798) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t2627 = 0.184f64 * t2472;
-            let t2628 = 0.184f64 * t2469;
-            let t2629 = 0.02075f64 * t2302;
+            let t2627 = 0.184f64 * t2472; // 1.8400e-1 = joint WFE origin z
+            let t2628 = 0.184f64 * t2469; // 1.8400e-1 = joint WFE origin z
+            let t2629 = 0.02075f64 * t2302; // 2.0750e-2 = joint WFE origin x
             let t2630 = t2628 - t2629;
-            let t2631 = 0.02075f64 * t2472;
+            let t2631 = 0.02075f64 * t2472; // 2.0750e-2 = joint WFE origin x
             let t2632 = t2475 + t2627;
             let t2633 = t2478 - t2630;
             let t2634 = t2304 - t2631;
@@ -9273,11 +9262,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2644 = s_wfe * t2634;
             let t2645 = c_wfe * t2632;
             let t2646 = t2645 - t2644;
-            let t2647 = 0.184f64 * t2500;
-            let t2648 = 0.184f64 * t2499;
-            let t2649 = 0.02075f64 * t2320;
+            let t2647 = 0.184f64 * t2500; // 1.8400e-1 = joint WFE origin z
+            let t2648 = 0.184f64 * t2499; // 1.8400e-1 = joint WFE origin z
+            let t2649 = 0.02075f64 * t2320; // 2.0750e-2 = joint WFE origin x
             let t2650 = t2648 - t2649;
-            let t2651 = 0.02075f64 * t2500;
+            let t2651 = 0.02075f64 * t2500; // 2.0750e-2 = joint WFE origin x
             let t2652 = t2501 + t2647;
             let t2653 = t2502 - t2650;
             let t2654 = t2322 - t2651;
@@ -9301,54 +9290,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2672 = t2660 - t2668;
             let t2673 = t2663 + t2669;
             let t2674 = t2666 - t2670;
-            let t2675 = 0.010737f64 * t2671;
-            let t2676 = 0.000198f64 * t2672;
+            let t2675 = 0.010737f64 * t2671; // 1.0737e-2 = Wrist_FE I_xx
+            let t2676 = 0.000198f64 * t2672; // 1.9800e-4 = Wrist_FE I_xy
             let t2677 = t2675 + t2676;
-            let t2678 = 0.000015f64 * t2500;
+            let t2678 = 0.000015f64 * t2500; // 1.5000e-5 = Wrist_FE I_xz
             let t2679 = t2677 + t2678;
-            let t2680 = 0.000198f64 * t2671;
-            let t2681 = 0.0032270000000000003f64 * t2672;
+            let t2680 = 0.000198f64 * t2671; // 1.9800e-4 = Wrist_FE I_xy
+            let t2681 = 0.0032270000000000003f64 * t2672; // 3.2270e-3 = Wrist_FE I_yy
             let t2682 = t2680 + t2681;
-            let t2683 = 0.000829f64 * t2500;
+            let t2683 = 0.000829f64 * t2500; // 8.2900e-4 = Wrist_FE I_yz
             let t2684 = t2682 - t2683;
-            let t2685 = 0.000015f64 * t2671;
-            let t2686 = 0.000829f64 * t2672;
+            let t2685 = 0.000015f64 * t2671; // 1.5000e-5 = Wrist_FE I_xz
+            let t2686 = 0.000829f64 * t2672; // 8.2900e-4 = Wrist_FE I_yz
             let t2687 = t2685 - t2686;
-            let t2688 = 0.009277f64 * t2500;
+            let t2688 = 0.009277f64 * t2500; // 9.2770e-3 = Wrist_FE I_zz
             let t2689 = t2687 + t2688;
-            let t2690 = 0.038686875f64 * t2653;
-            let t2691 = 0.038686875f64 * t2674;
-            let t2692 = t2673 * 1.547475f64;
-            let t2693 = t2674 * 1.547475f64;
-            let t2694 = t2653 * 1.547475f64;
-            let t2695 = 0.038686875f64 * t2500;
-            let t2696 = 0.038686875f64 * t2672;
+            let t2690 = 0.038686875f64 * t2653; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2691 = 0.038686875f64 * t2674; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2692 = t2673 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2693 = t2674 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2694 = t2653 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2695 = 0.038686875f64 * t2500; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2696 = 0.038686875f64 * t2672; // 3.8687e-2 = Wrist_FE m·c_x
             let t2697 = t2684 - t2690;
             let t2698 = t2689 + t2691;
             let t2699 = t2693 + t2695;
             let t2700 = t2694 - t2696;
-            let t2701 = 0.010737f64 * t2637;
-            let t2702 = 0.000198f64 * t2640;
+            let t2701 = 0.010737f64 * t2637; // 1.0737e-2 = Wrist_FE I_xx
+            let t2702 = 0.000198f64 * t2640; // 1.9800e-4 = Wrist_FE I_xy
             let t2703 = t2701 + t2702;
-            let t2704 = 0.000015f64 * t2472;
+            let t2704 = 0.000015f64 * t2472; // 1.5000e-5 = Wrist_FE I_xz
             let t2705 = t2703 + t2704;
-            let t2706 = 0.000198f64 * t2637;
-            let t2707 = 0.0032270000000000003f64 * t2640;
+            let t2706 = 0.000198f64 * t2637; // 1.9800e-4 = Wrist_FE I_xy
+            let t2707 = 0.0032270000000000003f64 * t2640; // 3.2270e-3 = Wrist_FE I_yy
             let t2708 = t2706 + t2707;
-            let t2709 = 0.000829f64 * t2472;
+            let t2709 = 0.000829f64 * t2472; // 8.2900e-4 = Wrist_FE I_yz
             let t2710 = t2708 - t2709;
-            let t2711 = 0.000015f64 * t2637;
-            let t2712 = 0.000829f64 * t2640;
+            let t2711 = 0.000015f64 * t2637; // 1.5000e-5 = Wrist_FE I_xz
+            let t2712 = 0.000829f64 * t2640; // 8.2900e-4 = Wrist_FE I_yz
             let t2713 = t2711 - t2712;
-            let t2714 = 0.009277f64 * t2472;
+            let t2714 = 0.009277f64 * t2472; // 9.2770e-3 = Wrist_FE I_zz
             let t2715 = t2713 + t2714;
-            let t2716 = 0.038686875f64 * t2633;
-            let t2717 = 0.038686875f64 * t2646;
-            let t2718 = t2643 * 1.547475f64;
-            let t2719 = t2646 * 1.547475f64;
-            let t2720 = t2633 * 1.547475f64;
-            let t2721 = 0.038686875f64 * t2472;
-            let t2722 = 0.038686875f64 * t2640;
+            let t2716 = 0.038686875f64 * t2633; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2717 = 0.038686875f64 * t2646; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2718 = t2643 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2719 = t2646 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2720 = t2633 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t2721 = 0.038686875f64 * t2472; // 3.8687e-2 = Wrist_FE m·c_x
+            let t2722 = 0.038686875f64 * t2640; // 3.8687e-2 = Wrist_FE m·c_x
             let t2723 = t2710 - t2716;
             let t2724 = t2715 + t2717;
             let t2725 = t2719 + t2721;
@@ -9441,11 +9430,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2808 = s_wfe * t2793;
             let t2809 = c_wfe * t2794;
             let t2810 = t2808 + t2809;
-            let t2811 = 0.184f64 * t2798;
-            let t2812 = 0.184f64 * t2804;
-            let t2813 = 0.02075f64 * t2801;
+            let t2811 = 0.184f64 * t2798; // 1.8400e-1 = joint WFE origin z
+            let t2812 = 0.184f64 * t2804; // 1.8400e-1 = joint WFE origin z
+            let t2813 = 0.02075f64 * t2801; // 2.0750e-2 = joint WFE origin x
             let t2814 = t2812 - t2813;
-            let t2815 = 0.02075f64 * t2798;
+            let t2815 = 0.02075f64 * t2798; // 2.0750e-2 = joint WFE origin x
             let t2816 = t2810 - t2811;
             let t2817 = t2795 + t2814;
             let t2818 = t2807 + t2815;
@@ -9471,8 +9460,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2834 = s_wr * t2819;
             let t2835 = c_wr * t2820;
             let t2836 = t2834 + t2835;
-            let t2837 = 0.112f64 * t2827;
-            let t2838 = 0.112f64 * t2830;
+            let t2837 = 0.112f64 * t2827; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2838 = 0.112f64 * t2830; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2839 = t2836 + t2837;
             let t2840 = t2838 - t2833;
             let t2841 = t2458 + t2821;
@@ -9494,8 +9483,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2853 = s_efe * t2841;
             let t2854 = c_efe * t2842;
             let t2855 = t2853 + t2854;
-            let t2856 = 0.304f64 * t2849;
-            let t2857 = 0.304f64 * t2846;
+            let t2856 = 0.304f64 * t2849; // 3.0400e-1 = joint EFE origin z
+            let t2857 = 0.304f64 * t2846; // 3.0400e-1 = joint EFE origin z
             let t2858 = t2843 + t2856;
             let t2859 = t2855 - t2857;
             let t2860 = t2293 - t2858;
@@ -9519,8 +9508,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2874 = s_hr * t2860;
             let t2875 = c_hr * t2861;
             let t2876 = t2874 + t2875;
-            let t2877 = 0.112f64 * t2867;
-            let t2878 = 0.112f64 * t2870;
+            let t2877 = 0.112f64 * t2867; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2878 = 0.112f64 * t2870; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2879 = t2876 + t2877;
             let t2880 = t2878 - t2873;
             let t2881 = t2183 + t2862;
@@ -9557,39 +9546,39 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2889 = t2887 * qd_hr;
             let t2890 = t59 + t2889;
             let t2891 = t2888 - t66;
-            let t2892 = 0.20236395000387197f64 * t2890;
-            let t2893 = 0.000053999980001054f64 * t2891;
+            let t2892 = 0.20236395000387197f64 * t2890; // 2.0236e-1 = Humerus_R I_xx
+            let t2893 = 0.000053999980001054f64 * t2891; // 5.4000e-5 = Humerus_R I_xy
             let t2894 = t2892 + t2893;
-            let t2895 = 0.000053999980001054f64 * t2890;
-            let t2896 = 0.20986895000353661f64 * t2891;
+            let t2895 = 0.000053999980001054f64 * t2890; // 5.4000e-5 = Humerus_R I_xy
+            let t2896 = 0.20986895000353661f64 * t2891; // 2.0987e-1 = Humerus_R I_yy
             let t2897 = t2895 + t2896;
-            let t2898 = 0.011715294995083824f64 * t2890;
-            let t2899 = 0.0037997813999599995f64 * t2891;
+            let t2898 = 0.011715294995083824f64 * t2890; // 1.1715e-2 = Humerus_R I_xz
+            let t2899 = 0.0037997813999599995f64 * t2891; // 3.7998e-3 = Humerus_R I_yz
             let t2900 = t2898 + t2899;
-            let t2901 = 0.0055615274403f64 * humerus_r_a_vx;
-            let t2902 = 0.014380859999999999f64 * humerus_r_a_vy;
+            let t2901 = 0.0055615274403f64 * humerus_r_a_vx; // 5.5615e-3 = Humerus_R m·c_x
+            let t2902 = 0.014380859999999999f64 * humerus_r_a_vy; // 1.4381e-2 = Humerus_R m·c_y
             let t2903 = t2901 - t2902;
-            let t2904 = 0.6479671119999999f64 * t2891;
-            let t2905 = 0.6479671119999999f64 * t2890;
+            let t2904 = 0.6479671119999999f64 * t2891; // 6.4797e-1 = Humerus_R m·c_z
+            let t2905 = 0.6479671119999999f64 * t2890; // 6.4797e-1 = Humerus_R m·c_z
             let t2906 = t2894 + t88;
             let t2907 = t2897 + t86;
             let t2908 = t2903 - t2900;
             let t2909 = t95 + t2904;
             let t2910 = t94 + t2905;
-            let t2911 = 0.20236395000387197f64 * humerus_r_v_wy;
-            let t2912 = 0.000053999980001054f64 * t2887;
+            let t2911 = 0.20236395000387197f64 * humerus_r_v_wy; // 2.0236e-1 = Humerus_R I_xx
+            let t2912 = 0.000053999980001054f64 * t2887; // 5.4000e-5 = Humerus_R I_xy
             let t2913 = t2911 + t2912;
-            let t2914 = 0.20986895000353661f64 * t2887;
+            let t2914 = 0.20986895000353661f64 * t2887; // 2.0987e-1 = Humerus_R I_yy
             let t2915 = t108 + t2914;
-            let t2916 = 0.011715294995083824f64 * humerus_r_v_wy;
-            let t2917 = 0.0037997813999599995f64 * t2887;
+            let t2916 = 0.011715294995083824f64 * humerus_r_v_wy; // 1.1715e-2 = Humerus_R I_xz
+            let t2917 = 0.0037997813999599995f64 * t2887; // 3.7998e-3 = Humerus_R I_yz
             let t2918 = t2916 + t2917;
-            let t2919 = 0.0055615274403f64 * humerus_r_v_vx;
-            let t2920 = 0.014380859999999999f64 * humerus_r_v_vy;
+            let t2919 = 0.0055615274403f64 * humerus_r_v_vx; // 5.5615e-3 = Humerus_R m·c_x
+            let t2920 = 0.014380859999999999f64 * humerus_r_v_vy; // 1.4381e-2 = Humerus_R m·c_y
             let t2921 = t2919 - t2920;
-            let t2922 = 0.6479671119999999f64 * t2887;
-            let t2923 = 0.0055615274403f64 * t2887;
-            let t2924 = 0.014380859999999999f64 * humerus_r_v_wy;
+            let t2922 = 0.6479671119999999f64 * t2887; // 6.4797e-1 = Humerus_R m·c_z
+            let t2923 = 0.0055615274403f64 * t2887; // 5.5615e-3 = Humerus_R m·c_x
+            let t2924 = 0.014380859999999999f64 * humerus_r_v_wy; // 1.4381e-2 = Humerus_R m·c_y
             let t2925 = t2923 + t2924;
             let t2926 = t2913 + t123;
             let t2927 = t2915 + t122;
@@ -9682,14 +9671,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             t3136,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t2975 = 0.304f64 * t2887;
+            let t2975 = 0.304f64 * t2887; // 3.0400e-1 = joint EFE origin z
             let t2976 = humerus_r_v_vy + t2975;
             let t2977 = s_efe * t2887;
             let t2978 = c_efe * t2887;
             let t2979 = s_efe * elbow_fe_v_vz;
             let t2980 = c_efe * elbow_fe_v_vz;
-            let t2981 = 0.304f64 * t2891;
-            let t2982 = 0.304f64 * t2890;
+            let t2981 = 0.304f64 * t2891; // 3.0400e-1 = joint EFE origin z
+            let t2982 = 0.304f64 * t2890; // 3.0400e-1 = joint EFE origin z
             let t2983 = humerus_r_a_vy + t2981;
             let t2984 = humerus_r_a_vx + t2982;
             let t2985 = s_efe * t2891;
@@ -9704,33 +9693,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t2994 = t2986 - t2990;
             let t2995 = t2987 + t2991;
             let t2996 = t2992 - t2988;
-            let t2997 = 0.081661000005f64 * t2993;
-            let t2998 = 0.00368572840011861f64 * t2994;
+            let t2997 = 0.081661000005f64 * t2993; // 8.1661e-2 = Elbow_FE I_xx
+            let t2998 = 0.00368572840011861f64 * t2994; // 3.6857e-3 = Elbow_FE I_xy
             let t2999 = t2997 + t2998;
-            let t3000 = 0.0002120000299f64 * t2890;
+            let t3000 = 0.0002120000299f64 * t2890; // 2.1200e-4 = Elbow_FE I_xz
             let t3001 = t2999 + t3000;
-            let t3002 = 0.00368572840011861f64 * t2993;
-            let t3003 = 0.018284489999765022f64 * t2994;
+            let t3002 = 0.00368572840011861f64 * t2993; // 3.6857e-3 = Elbow_FE I_xy
+            let t3003 = 0.018284489999765022f64 * t2994; // 1.8284e-2 = Elbow_FE I_yy
             let t3004 = t3002 + t3003;
-            let t3005 = 0.002292000208f64 * t2890;
+            let t3005 = 0.002292000208f64 * t2890; // 2.2920e-3 = Elbow_FE I_yz
             let t3006 = t3004 + t3005;
-            let t3007 = 0.0002120000299f64 * t2993;
-            let t3008 = 0.002292000208f64 * t2994;
+            let t3007 = 0.0002120000299f64 * t2993; // 2.1200e-4 = Elbow_FE I_xz
+            let t3008 = 0.002292000208f64 * t2994; // 2.2920e-3 = Elbow_FE I_yz
             let t3009 = t3007 + t3008;
-            let t3010 = 0.09570849000176501f64 * t2890;
+            let t3010 = 0.09570849000176501f64 * t2890; // 9.5708e-2 = Elbow_FE I_zz
             let t3011 = t3009 + t3010;
-            let t3012 = 0.008711861f64 * t2983;
-            let t3013 = 0.16029825982372198f64 * t2983;
-            let t3014 = 0.16029825982372198f64 * t2996;
-            let t3015 = 0.008711861f64 * t2995;
+            let t3012 = 0.008711861f64 * t2983; // 8.7119e-3 = Elbow_FE m·c_y
+            let t3013 = 0.16029825982372198f64 * t2983; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3014 = 0.16029825982372198f64 * t2996; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3015 = 0.008711861f64 * t2995; // 8.7119e-3 = Elbow_FE m·c_y
             let t3016 = t3014 - t3015;
-            let t3017 = t2995 * 1.7423722f64;
-            let t3018 = t2996 * 1.7423722f64;
-            let t3019 = t2983 * 1.7423722f64;
-            let t3020 = 0.008711861f64 * t2890;
-            let t3021 = 0.16029825982372198f64 * t2890;
-            let t3022 = 0.16029825982372198f64 * t2994;
-            let t3023 = 0.008711861f64 * t2993;
+            let t3017 = t2995 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3018 = t2996 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3019 = t2983 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3020 = 0.008711861f64 * t2890; // 8.7119e-3 = Elbow_FE m·c_y
+            let t3021 = 0.16029825982372198f64 * t2890; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3022 = 0.16029825982372198f64 * t2994; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3023 = 0.008711861f64 * t2993; // 8.7119e-3 = Elbow_FE m·c_y
             let t3024 = t3022 + t3023;
             let t3025 = t3001 + t3012;
             let t3026 = t3006 + t3013;
@@ -9738,33 +9727,33 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3028 = t3017 + t3020;
             let t3029 = t3018 - t3021;
             let t3030 = t3019 + t3024;
-            let t3031 = 0.081661000005f64 * t2977;
-            let t3032 = 0.00368572840011861f64 * t2978;
+            let t3031 = 0.081661000005f64 * t2977; // 8.1661e-2 = Elbow_FE I_xx
+            let t3032 = 0.00368572840011861f64 * t2978; // 3.6857e-3 = Elbow_FE I_xy
             let t3033 = t3031 + t3032;
-            let t3034 = 0.0002120000299f64 * humerus_r_v_wy;
+            let t3034 = 0.0002120000299f64 * humerus_r_v_wy; // 2.1200e-4 = Elbow_FE I_xz
             let t3035 = t3033 + t3034;
-            let t3036 = 0.00368572840011861f64 * t2977;
-            let t3037 = 0.018284489999765022f64 * t2978;
+            let t3036 = 0.00368572840011861f64 * t2977; // 3.6857e-3 = Elbow_FE I_xy
+            let t3037 = 0.018284489999765022f64 * t2978; // 1.8284e-2 = Elbow_FE I_yy
             let t3038 = t3036 + t3037;
-            let t3039 = 0.002292000208f64 * humerus_r_v_wy;
+            let t3039 = 0.002292000208f64 * humerus_r_v_wy; // 2.2920e-3 = Elbow_FE I_yz
             let t3040 = t3038 + t3039;
-            let t3041 = 0.0002120000299f64 * t2977;
-            let t3042 = 0.002292000208f64 * t2978;
+            let t3041 = 0.0002120000299f64 * t2977; // 2.1200e-4 = Elbow_FE I_xz
+            let t3042 = 0.002292000208f64 * t2978; // 2.2920e-3 = Elbow_FE I_yz
             let t3043 = t3041 + t3042;
-            let t3044 = 0.09570849000176501f64 * humerus_r_v_wy;
+            let t3044 = 0.09570849000176501f64 * humerus_r_v_wy; // 9.5708e-2 = Elbow_FE I_zz
             let t3045 = t3043 + t3044;
-            let t3046 = 0.008711861f64 * t2976;
-            let t3047 = 0.16029825982372198f64 * t2976;
-            let t3048 = 0.16029825982372198f64 * t2980;
-            let t3049 = 0.008711861f64 * t2979;
+            let t3046 = 0.008711861f64 * t2976; // 8.7119e-3 = Elbow_FE m·c_y
+            let t3047 = 0.16029825982372198f64 * t2976; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3048 = 0.16029825982372198f64 * t2980; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3049 = 0.008711861f64 * t2979; // 8.7119e-3 = Elbow_FE m·c_y
             let t3050 = t3048 + t3049;
-            let t3051 = t2979 * 1.7423722f64;
-            let t3052 = t2980 * 1.7423722f64;
-            let t3053 = t2976 * 1.7423722f64;
-            let t3054 = 0.008711861f64 * humerus_r_v_wy;
-            let t3055 = 0.16029825982372198f64 * humerus_r_v_wy;
-            let t3056 = 0.16029825982372198f64 * t2978;
-            let t3057 = 0.008711861f64 * t2977;
+            let t3051 = t2979 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3052 = t2980 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3053 = t2976 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3054 = 0.008711861f64 * humerus_r_v_wy; // 8.7119e-3 = Elbow_FE m·c_y
+            let t3055 = 0.16029825982372198f64 * humerus_r_v_wy; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3056 = 0.16029825982372198f64 * t2978; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3057 = 0.008711861f64 * t2977; // 8.7119e-3 = Elbow_FE m·c_y
             let t3058 = t3056 + t3057;
             let t3059 = t3035 + t3046;
             let t3060 = t3040 + t3047;
@@ -9891,8 +9880,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t3300,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t3137 = 0.112f64 * humerus_r_v_wy;
-            let t3138 = 0.112f64 * t2978;
+            let t3137 = 0.112f64 * humerus_r_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3138 = 0.112f64 * t2978; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3139 = t2980 + t3137;
             let t3140 = t2976 + t3138;
             let t3141 = c_wr * humerus_r_v_wy;
@@ -9907,8 +9896,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3150 = s_wr * t3140;
             let t3151 = c_wr * t3139;
             let t3152 = t3150 + t3151;
-            let t3153 = 0.112f64 * t2890;
-            let t3154 = 0.112f64 * t2994;
+            let t3153 = 0.112f64 * t2890; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3154 = 0.112f64 * t2994; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3155 = t2996 - t3153;
             let t3156 = t2983 + t3154;
             let t3157 = c_wr * t2890;
@@ -9931,54 +9920,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3174 = t3162 - t3170;
             let t3175 = t3165 - t3171;
             let t3176 = t3168 - t3172;
-            let t3177 = 0.019431999999999998f64 * t3173;
-            let t3178 = 0.001387f64 * t3174;
+            let t3177 = 0.019431999999999998f64 * t3173; // 1.9432e-2 = Wrist_R I_xx
+            let t3178 = 0.001387f64 * t3174; // 1.3870e-3 = Wrist_R I_xy
             let t3179 = t3177 - t3178;
-            let t3180 = 0.012652f64 * t2993;
+            let t3180 = 0.012652f64 * t2993; // 1.2652e-2 = Wrist_R I_xz
             let t3181 = t3179 - t3180;
-            let t3182 = 0.001387f64 * t3173;
-            let t3183 = 0.029115f64 * t3174;
+            let t3182 = 0.001387f64 * t3173; // 1.3870e-3 = Wrist_R I_xy
+            let t3183 = 0.029115f64 * t3174; // 2.9115e-2 = Wrist_R I_yy
             let t3184 = t3183 - t3182;
-            let t3185 = 0.001243f64 * t2993;
+            let t3185 = 0.001243f64 * t2993; // 1.2430e-3 = Wrist_R I_yz
             let t3186 = t3184 - t3185;
-            let t3187 = 0.012652f64 * t3173;
-            let t3188 = 0.001243f64 * t3174;
+            let t3187 = 0.012652f64 * t3173; // 1.2652e-2 = Wrist_R I_xz
+            let t3188 = 0.001243f64 * t3174; // 1.2430e-3 = Wrist_R I_yz
             let t3189 = t3187 + t3188;
-            let t3190 = 0.011046f64 * t2993;
+            let t3190 = 0.011046f64 * t2993; // 1.1046e-2 = Wrist_R I_zz
             let t3191 = t3190 - t3189;
-            let t3192 = 0.05783800000000001f64 * t3176;
-            let t3193 = 0.05783800000000001f64 * t3175;
-            let t3194 = t3175 * 2.1032f64;
-            let t3195 = t3176 * 2.1032f64;
-            let t3196 = t2995 * 2.1032f64;
-            let t3197 = 0.05783800000000001f64 * t3174;
-            let t3198 = 0.05783800000000001f64 * t3173;
+            let t3192 = 0.05783800000000001f64 * t3176; // 5.7838e-2 = Wrist_R m·c_z
+            let t3193 = 0.05783800000000001f64 * t3175; // 5.7838e-2 = Wrist_R m·c_z
+            let t3194 = t3175 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3195 = t3176 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3196 = t2995 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3197 = 0.05783800000000001f64 * t3174; // 5.7838e-2 = Wrist_R m·c_z
+            let t3198 = 0.05783800000000001f64 * t3173; // 5.7838e-2 = Wrist_R m·c_z
             let t3199 = t3181 - t3192;
             let t3200 = t3186 + t3193;
             let t3201 = t3194 + t3197;
             let t3202 = t3195 - t3198;
-            let t3203 = 0.019431999999999998f64 * t3143;
-            let t3204 = 0.001387f64 * t3146;
+            let t3203 = 0.019431999999999998f64 * t3143; // 1.9432e-2 = Wrist_R I_xx
+            let t3204 = 0.001387f64 * t3146; // 1.3870e-3 = Wrist_R I_xy
             let t3205 = t3203 - t3204;
-            let t3206 = 0.012652f64 * t2977;
+            let t3206 = 0.012652f64 * t2977; // 1.2652e-2 = Wrist_R I_xz
             let t3207 = t3205 - t3206;
-            let t3208 = 0.001387f64 * t3143;
-            let t3209 = 0.029115f64 * t3146;
+            let t3208 = 0.001387f64 * t3143; // 1.3870e-3 = Wrist_R I_xy
+            let t3209 = 0.029115f64 * t3146; // 2.9115e-2 = Wrist_R I_yy
             let t3210 = t3209 - t3208;
-            let t3211 = 0.001243f64 * t2977;
+            let t3211 = 0.001243f64 * t2977; // 1.2430e-3 = Wrist_R I_yz
             let t3212 = t3210 - t3211;
-            let t3213 = 0.012652f64 * t3143;
-            let t3214 = 0.001243f64 * t3146;
+            let t3213 = 0.012652f64 * t3143; // 1.2652e-2 = Wrist_R I_xz
+            let t3214 = 0.001243f64 * t3146; // 1.2430e-3 = Wrist_R I_yz
             let t3215 = t3213 + t3214;
-            let t3216 = 0.011046f64 * t2977;
+            let t3216 = 0.011046f64 * t2977; // 1.1046e-2 = Wrist_R I_zz
             let t3217 = t3216 - t3215;
-            let t3218 = 0.05783800000000001f64 * t3152;
-            let t3219 = 0.05783800000000001f64 * t3149;
-            let t3220 = t3149 * 2.1032f64;
-            let t3221 = t3152 * 2.1032f64;
-            let t3222 = t2979 * 2.1032f64;
-            let t3223 = 0.05783800000000001f64 * t3146;
-            let t3224 = 0.05783800000000001f64 * t3143;
+            let t3218 = 0.05783800000000001f64 * t3152; // 5.7838e-2 = Wrist_R m·c_z
+            let t3219 = 0.05783800000000001f64 * t3149; // 5.7838e-2 = Wrist_R m·c_z
+            let t3220 = t3149 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3221 = t3152 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3222 = t2979 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3223 = 0.05783800000000001f64 * t3146; // 5.7838e-2 = Wrist_R m·c_z
+            let t3224 = 0.05783800000000001f64 * t3143; // 5.7838e-2 = Wrist_R m·c_z
             let t3225 = t3207 + t3218;
             let t3226 = t3212 + t3219;
             let t3227 = t3220 + t3223;
@@ -10079,11 +10068,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t3467, t3468, t3469, t3470, t3471, t3472) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t3301 = 0.184f64 * t3146;
-            let t3302 = 0.184f64 * t3143;
-            let t3303 = 0.02075f64 * t2977;
+            let t3301 = 0.184f64 * t3146; // 1.8400e-1 = joint WFE origin z
+            let t3302 = 0.184f64 * t3143; // 1.8400e-1 = joint WFE origin z
+            let t3303 = 0.02075f64 * t2977; // 2.0750e-2 = joint WFE origin x
             let t3304 = t3302 - t3303;
-            let t3305 = 0.02075f64 * t3146;
+            let t3305 = 0.02075f64 * t3146; // 2.0750e-2 = joint WFE origin x
             let t3306 = t3149 + t3301;
             let t3307 = t3152 + t3304;
             let t3308 = t2979 + t3305;
@@ -10099,11 +10088,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3318 = s_wfe * t3308;
             let t3319 = c_wfe * t3306;
             let t3320 = t3318 + t3319;
-            let t3321 = 0.184f64 * t3174;
-            let t3322 = 0.184f64 * t3173;
-            let t3323 = 0.02075f64 * t2993;
+            let t3321 = 0.184f64 * t3174; // 1.8400e-1 = joint WFE origin z
+            let t3322 = 0.184f64 * t3173; // 1.8400e-1 = joint WFE origin z
+            let t3323 = 0.02075f64 * t2993; // 2.0750e-2 = joint WFE origin x
             let t3324 = t3322 - t3323;
-            let t3325 = 0.02075f64 * t3174;
+            let t3325 = 0.02075f64 * t3174; // 2.0750e-2 = joint WFE origin x
             let t3326 = t3175 + t3321;
             let t3327 = t3176 - t3324;
             let t3328 = t2995 + t3325;
@@ -10127,54 +10116,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3346 = t3334 - t3342;
             let t3347 = t3337 + t3343;
             let t3348 = t3340 - t3344;
-            let t3349 = 0.010737f64 * t3345;
-            let t3350 = 0.000198f64 * t3346;
+            let t3349 = 0.010737f64 * t3345; // 1.0737e-2 = Wrist_FE I_xx
+            let t3350 = 0.000198f64 * t3346; // 1.9800e-4 = Wrist_FE I_xy
             let t3351 = t3349 + t3350;
-            let t3352 = 0.000015f64 * t3174;
+            let t3352 = 0.000015f64 * t3174; // 1.5000e-5 = Wrist_FE I_xz
             let t3353 = t3351 + t3352;
-            let t3354 = 0.000198f64 * t3345;
-            let t3355 = 0.0032270000000000003f64 * t3346;
+            let t3354 = 0.000198f64 * t3345; // 1.9800e-4 = Wrist_FE I_xy
+            let t3355 = 0.0032270000000000003f64 * t3346; // 3.2270e-3 = Wrist_FE I_yy
             let t3356 = t3354 + t3355;
-            let t3357 = 0.000829f64 * t3174;
+            let t3357 = 0.000829f64 * t3174; // 8.2900e-4 = Wrist_FE I_yz
             let t3358 = t3356 - t3357;
-            let t3359 = 0.000015f64 * t3345;
-            let t3360 = 0.000829f64 * t3346;
+            let t3359 = 0.000015f64 * t3345; // 1.5000e-5 = Wrist_FE I_xz
+            let t3360 = 0.000829f64 * t3346; // 8.2900e-4 = Wrist_FE I_yz
             let t3361 = t3359 - t3360;
-            let t3362 = 0.009277f64 * t3174;
+            let t3362 = 0.009277f64 * t3174; // 9.2770e-3 = Wrist_FE I_zz
             let t3363 = t3361 + t3362;
-            let t3364 = 0.038686875f64 * t3327;
-            let t3365 = 0.038686875f64 * t3348;
-            let t3366 = t3347 * 1.547475f64;
-            let t3367 = t3348 * 1.547475f64;
-            let t3368 = t3327 * 1.547475f64;
-            let t3369 = 0.038686875f64 * t3174;
-            let t3370 = 0.038686875f64 * t3346;
+            let t3364 = 0.038686875f64 * t3327; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3365 = 0.038686875f64 * t3348; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3366 = t3347 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3367 = t3348 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3368 = t3327 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3369 = 0.038686875f64 * t3174; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3370 = 0.038686875f64 * t3346; // 3.8687e-2 = Wrist_FE m·c_x
             let t3371 = t3358 - t3364;
             let t3372 = t3363 + t3365;
             let t3373 = t3367 + t3369;
             let t3374 = t3368 - t3370;
-            let t3375 = 0.010737f64 * t3311;
-            let t3376 = 0.000198f64 * t3314;
+            let t3375 = 0.010737f64 * t3311; // 1.0737e-2 = Wrist_FE I_xx
+            let t3376 = 0.000198f64 * t3314; // 1.9800e-4 = Wrist_FE I_xy
             let t3377 = t3375 + t3376;
-            let t3378 = 0.000015f64 * t3146;
+            let t3378 = 0.000015f64 * t3146; // 1.5000e-5 = Wrist_FE I_xz
             let t3379 = t3377 + t3378;
-            let t3380 = 0.000198f64 * t3311;
-            let t3381 = 0.0032270000000000003f64 * t3314;
+            let t3380 = 0.000198f64 * t3311; // 1.9800e-4 = Wrist_FE I_xy
+            let t3381 = 0.0032270000000000003f64 * t3314; // 3.2270e-3 = Wrist_FE I_yy
             let t3382 = t3380 + t3381;
-            let t3383 = 0.000829f64 * t3146;
+            let t3383 = 0.000829f64 * t3146; // 8.2900e-4 = Wrist_FE I_yz
             let t3384 = t3382 - t3383;
-            let t3385 = 0.000015f64 * t3311;
-            let t3386 = 0.000829f64 * t3314;
+            let t3385 = 0.000015f64 * t3311; // 1.5000e-5 = Wrist_FE I_xz
+            let t3386 = 0.000829f64 * t3314; // 8.2900e-4 = Wrist_FE I_yz
             let t3387 = t3385 - t3386;
-            let t3388 = 0.009277f64 * t3146;
+            let t3388 = 0.009277f64 * t3146; // 9.2770e-3 = Wrist_FE I_zz
             let t3389 = t3387 + t3388;
-            let t3390 = 0.038686875f64 * t3307;
-            let t3391 = 0.038686875f64 * t3320;
-            let t3392 = t3317 * 1.547475f64;
-            let t3393 = t3320 * 1.547475f64;
-            let t3394 = t3307 * 1.547475f64;
-            let t3395 = 0.038686875f64 * t3146;
-            let t3396 = 0.038686875f64 * t3314;
+            let t3390 = 0.038686875f64 * t3307; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3391 = 0.038686875f64 * t3320; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3392 = t3317 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3393 = t3320 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3394 = t3307 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3395 = 0.038686875f64 * t3146; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3396 = 0.038686875f64 * t3314; // 3.8687e-2 = Wrist_FE m·c_x
             let t3397 = t3384 + t3390;
             let t3398 = t3389 + t3391;
             let t3399 = t3393 + t3395;
@@ -10267,11 +10256,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3482 = s_wfe * t3467;
             let t3483 = c_wfe * t3468;
             let t3484 = t3482 + t3483;
-            let t3485 = 0.184f64 * t3472;
-            let t3486 = 0.184f64 * t3478;
-            let t3487 = 0.02075f64 * t3475;
+            let t3485 = 0.184f64 * t3472; // 1.8400e-1 = joint WFE origin z
+            let t3486 = 0.184f64 * t3478; // 1.8400e-1 = joint WFE origin z
+            let t3487 = 0.02075f64 * t3475; // 2.0750e-2 = joint WFE origin x
             let t3488 = t3486 - t3487;
-            let t3489 = 0.02075f64 * t3472;
+            let t3489 = 0.02075f64 * t3472; // 2.0750e-2 = joint WFE origin x
             let t3490 = t3484 - t3485;
             let t3491 = t3469 + t3488;
             let t3492 = t3481 + t3489;
@@ -10297,8 +10286,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3508 = s_wr * t3493;
             let t3509 = c_wr * t3494;
             let t3510 = t3508 + t3509;
-            let t3511 = 0.112f64 * t3501;
-            let t3512 = 0.112f64 * t3504;
+            let t3511 = 0.112f64 * t3501; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3512 = 0.112f64 * t3504; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3513 = t3510 + t3511;
             let t3514 = t3512 - t3507;
             let t3515 = t3131 + t3495;
@@ -10320,8 +10309,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3527 = s_efe * t3515;
             let t3528 = c_efe * t3516;
             let t3529 = t3527 + t3528;
-            let t3530 = 0.304f64 * t3523;
-            let t3531 = 0.304f64 * t3520;
+            let t3530 = 0.304f64 * t3523; // 3.0400e-1 = joint EFE origin z
+            let t3531 = 0.304f64 * t3520; // 3.0400e-1 = joint EFE origin z
             let t3532 = t3517 + t3530;
             let t3533 = t3529 - t3531;
             let t3534 = t2970 - t3532;
@@ -10353,8 +10342,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3556 = c_hr * t3535;
             let t3557 = t3556 - t598;
             let t3558 = t3555 + t3557;
-            let t3559 = 0.112f64 * t3543;
-            let t3560 = 0.112f64 * t3548;
+            let t3559 = 0.112f64 * t3543; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3560 = 0.112f64 * t3548; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3561 = t3558 + t3559;
             let t3562 = t3560 - t3553;
             (t3561, t3562)
@@ -10369,19 +10358,19 @@ impl ::hya_core::Dynamics<6> for Hya {
         let (t3586, t3587, t3588, t3589, t3590) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
             let t3566 = t2911 - t112;
-            let t3567 = 0.20986895000353661f64 * humerus_r_v_wx;
+            let t3567 = 0.20986895000353661f64 * humerus_r_v_wx; // 2.0987e-1 = Humerus_R I_yy
             let t3568 = t108 - t3567;
-            let t3569 = 0.0037997813999599995f64 * humerus_r_v_wx;
+            let t3569 = 0.0037997813999599995f64 * humerus_r_v_wx; // 3.7998e-3 = Humerus_R I_yz
             let t3570 = t3569 - t2916;
             let t3571 = t3566 + t123;
             let t3572 = t3568 + t122;
             let t3573 = t3570 + t2921;
             let t3574 = t128 - t132;
-            let t3575 = humerus_r_v_wy * 0.01032999899926462f64;
+            let t3575 = humerus_r_v_wy * 0.01032999899926462f64; // 1.0330e-2 = Humerus_R I_zz
             let t3576 = t139 - t115;
             let t3577 = t3575 - t3576;
             let t3578 = t138 - t110;
-            let t3579 = humerus_r_v_wx * 0.01032999899926462f64;
+            let t3579 = humerus_r_v_wx * 0.01032999899926462f64; // 1.0330e-2 = Humerus_R I_zz
             let t3580 = t3578 - t3579;
             let t3581 = t2916 - t3569;
             let t3582 = t2920 - t2919;
@@ -10403,39 +10392,39 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3594 = c_efe * qd_efe;
             let t3595 = t3591 + t3593;
             let t3596 = t3592 + t3594;
-            let t3597 = 0.081661000005f64 * t3595;
-            let t3598 = 0.00368572840011861f64 * t3596;
+            let t3597 = 0.081661000005f64 * t3595; // 8.1661e-2 = Elbow_FE I_xx
+            let t3598 = 0.00368572840011861f64 * t3596; // 3.6857e-3 = Elbow_FE I_xy
             let t3599 = t3597 + t3598;
             let t3600 = t3034 - t3599;
-            let t3601 = 0.00368572840011861f64 * t3595;
-            let t3602 = 0.018284489999765022f64 * t3596;
+            let t3601 = 0.00368572840011861f64 * t3595; // 3.6857e-3 = Elbow_FE I_xy
+            let t3602 = 0.018284489999765022f64 * t3596; // 1.8284e-2 = Elbow_FE I_yy
             let t3603 = t3601 + t3602;
             let t3604 = t3039 - t3603;
-            let t3605 = 0.0002120000299f64 * t3595;
-            let t3606 = 0.002292000208f64 * t3596;
+            let t3605 = 0.0002120000299f64 * t3595; // 2.1200e-4 = Elbow_FE I_xz
+            let t3606 = 0.002292000208f64 * t3596; // 2.2920e-3 = Elbow_FE I_yz
             let t3607 = t3605 + t3606;
             let t3608 = t3607 - t3044;
-            let t3609 = 0.008711861f64 * t173;
-            let t3610 = 0.16029825982372198f64 * t173;
-            let t3611 = t173 * 1.7423722f64;
-            let t3612 = 0.16029825982372198f64 * t3596;
-            let t3613 = 0.008711861f64 * t3595;
+            let t3609 = 0.008711861f64 * t173; // 8.7119e-3 = Elbow_FE m·c_y
+            let t3610 = 0.16029825982372198f64 * t173; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3611 = t173 * 1.7423722f64; // 1.7424e0 = Elbow_FE mass
+            let t3612 = 0.16029825982372198f64 * t3596; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3613 = 0.008711861f64 * t3595; // 8.7119e-3 = Elbow_FE m·c_y
             let t3614 = t3612 + t3613;
             let t3615 = t3600 + t3609;
             let t3616 = t3604 + t3610;
             let t3617 = t3608 - t3050;
             let t3618 = t3614 - t3611;
-            let t3619 = 0.081661000005f64 * c_efe;
-            let t3620 = 0.00368572840011861f64 * s_efe;
+            let t3619 = 0.081661000005f64 * c_efe; // 8.1661e-2 = Elbow_FE I_xx
+            let t3620 = 0.00368572840011861f64 * s_efe; // 3.6857e-3 = Elbow_FE I_xy
             let t3621 = t3619 - t3620;
-            let t3622 = 0.00368572840011861f64 * c_efe;
-            let t3623 = 0.018284489999765022f64 * s_efe;
+            let t3622 = 0.00368572840011861f64 * c_efe; // 3.6857e-3 = Elbow_FE I_xy
+            let t3623 = 0.018284489999765022f64 * s_efe; // 1.8284e-2 = Elbow_FE I_yy
             let t3624 = t3622 - t3623;
-            let t3625 = 0.0002120000299f64 * c_efe;
-            let t3626 = 0.002292000208f64 * s_efe;
+            let t3625 = 0.0002120000299f64 * c_efe; // 2.1200e-4 = Elbow_FE I_xz
+            let t3626 = 0.002292000208f64 * s_efe; // 2.2920e-3 = Elbow_FE I_yz
             let t3627 = t3626 - t3625;
-            let t3628 = 0.16029825982372198f64 * s_efe;
-            let t3629 = 0.008711861f64 * c_efe;
+            let t3628 = 0.16029825982372198f64 * s_efe; // 1.6030e-1 = Elbow_FE m·c_x
+            let t3629 = 0.008711861f64 * c_efe; // 8.7119e-3 = Elbow_FE m·c_y
             let t3630 = t3629 - t3628;
             let t3631 = elbow_fe_v_wy * t3627;
             let t3632 = s_efe * t261;
@@ -10492,12 +10481,12 @@ impl ::hya_core::Dynamics<6> for Hya {
             t3799,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t3667 = 0.112f64 * s_efe;
+            let t3667 = 0.112f64 * s_efe; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3668 = s_wr * s_efe;
             let t3669 = c_wr * s_efe;
             let t3670 = c_wr * t3667;
             let t3671 = s_wr * t3667;
-            let t3672 = 0.112f64 * t3596;
+            let t3672 = 0.112f64 * t3596; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3673 = t3672 - t173;
             let t3674 = s_wr * t3596;
             let t3675 = t3141 - t3674;
@@ -10515,52 +10504,52 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3687 = t3683 - t3677;
             let t3688 = t3684 - t3679;
             let t3689 = t3681 + t3685;
-            let t3690 = 0.019431999999999998f64 * t3686;
-            let t3691 = 0.001387f64 * t3687;
+            let t3690 = 0.019431999999999998f64 * t3686; // 1.9432e-2 = Wrist_R I_xx
+            let t3691 = 0.001387f64 * t3687; // 1.3870e-3 = Wrist_R I_xy
             let t3692 = t3690 - t3691;
-            let t3693 = 0.012652f64 * t3595;
+            let t3693 = 0.012652f64 * t3595; // 1.2652e-2 = Wrist_R I_xz
             let t3694 = t3692 + t3693;
-            let t3695 = 0.001387f64 * t3686;
-            let t3696 = 0.029115f64 * t3687;
+            let t3695 = 0.001387f64 * t3686; // 1.3870e-3 = Wrist_R I_xy
+            let t3696 = 0.029115f64 * t3687; // 2.9115e-2 = Wrist_R I_yy
             let t3697 = t3696 - t3695;
-            let t3698 = 0.001243f64 * t3595;
+            let t3698 = 0.001243f64 * t3595; // 1.2430e-3 = Wrist_R I_yz
             let t3699 = t3697 + t3698;
-            let t3700 = 0.012652f64 * t3686;
-            let t3701 = 0.001243f64 * t3687;
+            let t3700 = 0.012652f64 * t3686; // 1.2652e-2 = Wrist_R I_xz
+            let t3701 = 0.001243f64 * t3687; // 1.2430e-3 = Wrist_R I_yz
             let t3702 = t3700 + t3701;
-            let t3703 = 0.011046f64 * t3595;
+            let t3703 = 0.011046f64 * t3595; // 1.1046e-2 = Wrist_R I_zz
             let t3704 = t3702 + t3703;
-            let t3705 = 0.05783800000000001f64 * t3689;
-            let t3706 = 0.05783800000000001f64 * t3688;
-            let t3707 = t3688 * 2.1032f64;
-            let t3708 = t3689 * 2.1032f64;
-            let t3709 = 0.05783800000000001f64 * t3687;
-            let t3710 = 0.05783800000000001f64 * t3686;
+            let t3705 = 0.05783800000000001f64 * t3689; // 5.7838e-2 = Wrist_R m·c_z
+            let t3706 = 0.05783800000000001f64 * t3688; // 5.7838e-2 = Wrist_R m·c_z
+            let t3707 = t3688 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3708 = t3689 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3709 = 0.05783800000000001f64 * t3687; // 5.7838e-2 = Wrist_R m·c_z
+            let t3710 = 0.05783800000000001f64 * t3686; // 5.7838e-2 = Wrist_R m·c_z
             let t3711 = t3694 - t3705;
             let t3712 = t3699 + t3706;
             let t3713 = t3707 + t3709;
             let t3714 = t3708 - t3710;
-            let t3715 = 0.019431999999999998f64 * t3668;
-            let t3716 = 0.001387f64 * t3669;
+            let t3715 = 0.019431999999999998f64 * t3668; // 1.9432e-2 = Wrist_R I_xx
+            let t3716 = 0.001387f64 * t3669; // 1.3870e-3 = Wrist_R I_xy
             let t3717 = t3716 - t3715;
-            let t3718 = 0.012652f64 * c_efe;
+            let t3718 = 0.012652f64 * c_efe; // 1.2652e-2 = Wrist_R I_xz
             let t3719 = t3717 - t3718;
-            let t3720 = 0.001387f64 * t3668;
-            let t3721 = 0.029115f64 * t3669;
+            let t3720 = 0.001387f64 * t3668; // 1.3870e-3 = Wrist_R I_xy
+            let t3721 = 0.029115f64 * t3669; // 2.9115e-2 = Wrist_R I_yy
             let t3722 = t3720 - t3721;
-            let t3723 = 0.001243f64 * c_efe;
+            let t3723 = 0.001243f64 * c_efe; // 1.2430e-3 = Wrist_R I_yz
             let t3724 = t3722 - t3723;
-            let t3725 = 0.012652f64 * t3668;
-            let t3726 = 0.001243f64 * t3669;
+            let t3725 = 0.012652f64 * t3668; // 1.2652e-2 = Wrist_R I_xz
+            let t3726 = 0.001243f64 * t3669; // 1.2430e-3 = Wrist_R I_yz
             let t3727 = t3725 + t3726;
-            let t3728 = 0.011046f64 * c_efe;
+            let t3728 = 0.011046f64 * c_efe; // 1.1046e-2 = Wrist_R I_zz
             let t3729 = t3727 + t3728;
-            let t3730 = 0.05783800000000001f64 * t3671;
-            let t3731 = 0.05783800000000001f64 * t3670;
-            let t3732 = t3670 * 2.1032f64;
-            let t3733 = t3671 * 2.1032f64;
-            let t3734 = 0.05783800000000001f64 * t3669;
-            let t3735 = 0.05783800000000001f64 * t3668;
+            let t3730 = 0.05783800000000001f64 * t3671; // 5.7838e-2 = Wrist_R m·c_z
+            let t3731 = 0.05783800000000001f64 * t3670; // 5.7838e-2 = Wrist_R m·c_z
+            let t3732 = t3670 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3733 = t3671 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t3734 = 0.05783800000000001f64 * t3669; // 5.7838e-2 = Wrist_R m·c_z
+            let t3735 = 0.05783800000000001f64 * t3668; // 5.7838e-2 = Wrist_R m·c_z
             let t3736 = t3719 - t3730;
             let t3737 = t3724 - t3731;
             let t3738 = t3732 + t3734;
@@ -10644,11 +10633,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t3965, t3966, t3967, t3968, t3969, t3970) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t3800 = 0.184f64 * t3669;
-            let t3801 = 0.184f64 * t3668;
-            let t3802 = 0.02075f64 * c_efe;
+            let t3800 = 0.184f64 * t3669; // 1.8400e-1 = joint WFE origin z
+            let t3801 = 0.184f64 * t3668; // 1.8400e-1 = joint WFE origin z
+            let t3802 = 0.02075f64 * c_efe; // 2.0750e-2 = joint WFE origin x
             let t3803 = t3801 + t3802;
-            let t3804 = 0.02075f64 * t3669;
+            let t3804 = 0.02075f64 * t3669; // 2.0750e-2 = joint WFE origin x
             let t3805 = t3670 + t3800;
             let t3806 = t3671 + t3803;
             let t3807 = c_wfe * c_efe;
@@ -10663,11 +10652,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3816 = s_wfe * t3804;
             let t3817 = c_wfe * t3805;
             let t3818 = t3816 + t3817;
-            let t3819 = 0.184f64 * t3687;
-            let t3820 = 0.184f64 * t3686;
-            let t3821 = 0.02075f64 * t3595;
+            let t3819 = 0.184f64 * t3687; // 1.8400e-1 = joint WFE origin z
+            let t3820 = 0.184f64 * t3686; // 1.8400e-1 = joint WFE origin z
+            let t3821 = 0.02075f64 * t3595; // 2.0750e-2 = joint WFE origin x
             let t3822 = t3820 + t3821;
-            let t3823 = 0.02075f64 * t3687;
+            let t3823 = 0.02075f64 * t3687; // 2.0750e-2 = joint WFE origin x
             let t3824 = t3688 + t3819;
             let t3825 = t3689 - t3822;
             let t3826 = t2979 + t3823;
@@ -10691,54 +10680,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3844 = t3832 - t3840;
             let t3845 = t3835 - t3841;
             let t3846 = t3838 - t3842;
-            let t3847 = 0.010737f64 * t3843;
-            let t3848 = 0.000198f64 * t3844;
+            let t3847 = 0.010737f64 * t3843; // 1.0737e-2 = Wrist_FE I_xx
+            let t3848 = 0.000198f64 * t3844; // 1.9800e-4 = Wrist_FE I_xy
             let t3849 = t3847 + t3848;
-            let t3850 = 0.000015f64 * t3687;
+            let t3850 = 0.000015f64 * t3687; // 1.5000e-5 = Wrist_FE I_xz
             let t3851 = t3849 + t3850;
-            let t3852 = 0.000198f64 * t3843;
-            let t3853 = 0.0032270000000000003f64 * t3844;
+            let t3852 = 0.000198f64 * t3843; // 1.9800e-4 = Wrist_FE I_xy
+            let t3853 = 0.0032270000000000003f64 * t3844; // 3.2270e-3 = Wrist_FE I_yy
             let t3854 = t3852 + t3853;
-            let t3855 = 0.000829f64 * t3687;
+            let t3855 = 0.000829f64 * t3687; // 8.2900e-4 = Wrist_FE I_yz
             let t3856 = t3854 - t3855;
-            let t3857 = 0.000015f64 * t3843;
-            let t3858 = 0.000829f64 * t3844;
+            let t3857 = 0.000015f64 * t3843; // 1.5000e-5 = Wrist_FE I_xz
+            let t3858 = 0.000829f64 * t3844; // 8.2900e-4 = Wrist_FE I_yz
             let t3859 = t3857 - t3858;
-            let t3860 = 0.009277f64 * t3687;
+            let t3860 = 0.009277f64 * t3687; // 9.2770e-3 = Wrist_FE I_zz
             let t3861 = t3859 + t3860;
-            let t3862 = 0.038686875f64 * t3825;
-            let t3863 = 0.038686875f64 * t3846;
-            let t3864 = t3845 * 1.547475f64;
-            let t3865 = t3846 * 1.547475f64;
-            let t3866 = t3825 * 1.547475f64;
-            let t3867 = 0.038686875f64 * t3687;
-            let t3868 = 0.038686875f64 * t3844;
+            let t3862 = 0.038686875f64 * t3825; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3863 = 0.038686875f64 * t3846; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3864 = t3845 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3865 = t3846 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3866 = t3825 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3867 = 0.038686875f64 * t3687; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3868 = 0.038686875f64 * t3844; // 3.8687e-2 = Wrist_FE m·c_x
             let t3869 = t3856 - t3862;
             let t3870 = t3861 + t3863;
             let t3871 = t3865 + t3867;
             let t3872 = t3866 - t3868;
-            let t3873 = 0.010737f64 * t3809;
-            let t3874 = 0.000198f64 * t3812;
+            let t3873 = 0.010737f64 * t3809; // 1.0737e-2 = Wrist_FE I_xx
+            let t3874 = 0.000198f64 * t3812; // 1.9800e-4 = Wrist_FE I_xy
             let t3875 = t3873 - t3874;
-            let t3876 = 0.000015f64 * t3669;
+            let t3876 = 0.000015f64 * t3669; // 1.5000e-5 = Wrist_FE I_xz
             let t3877 = t3875 - t3876;
-            let t3878 = 0.000198f64 * t3809;
-            let t3879 = 0.0032270000000000003f64 * t3812;
+            let t3878 = 0.000198f64 * t3809; // 1.9800e-4 = Wrist_FE I_xy
+            let t3879 = 0.0032270000000000003f64 * t3812; // 3.2270e-3 = Wrist_FE I_yy
             let t3880 = t3878 - t3879;
-            let t3881 = 0.000829f64 * t3669;
+            let t3881 = 0.000829f64 * t3669; // 8.2900e-4 = Wrist_FE I_yz
             let t3882 = t3880 + t3881;
-            let t3883 = 0.000015f64 * t3809;
-            let t3884 = 0.000829f64 * t3812;
+            let t3883 = 0.000015f64 * t3809; // 1.5000e-5 = Wrist_FE I_xz
+            let t3884 = 0.000829f64 * t3812; // 8.2900e-4 = Wrist_FE I_yz
             let t3885 = t3883 + t3884;
-            let t3886 = 0.009277f64 * t3669;
+            let t3886 = 0.009277f64 * t3669; // 9.2770e-3 = Wrist_FE I_zz
             let t3887 = t3885 - t3886;
-            let t3888 = 0.038686875f64 * t3806;
-            let t3889 = 0.038686875f64 * t3818;
-            let t3890 = t3815 * 1.547475f64;
-            let t3891 = t3818 * 1.547475f64;
-            let t3892 = t3806 * 1.547475f64;
-            let t3893 = 0.038686875f64 * t3669;
-            let t3894 = 0.038686875f64 * t3812;
+            let t3888 = 0.038686875f64 * t3806; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3889 = 0.038686875f64 * t3818; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3890 = t3815 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3891 = t3818 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3892 = t3806 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t3893 = 0.038686875f64 * t3669; // 3.8687e-2 = Wrist_FE m·c_x
+            let t3894 = 0.038686875f64 * t3812; // 3.8687e-2 = Wrist_FE m·c_x
             let t3895 = t3882 - t3888;
             let t3896 = t3887 - t3889;
             let t3897 = t3891 + t3893;
@@ -10831,11 +10820,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t3980 = s_wfe * t3965;
             let t3981 = c_wfe * t3966;
             let t3982 = t3980 + t3981;
-            let t3983 = 0.184f64 * t3970;
-            let t3984 = 0.184f64 * t3976;
-            let t3985 = 0.02075f64 * t3973;
+            let t3983 = 0.184f64 * t3970; // 1.8400e-1 = joint WFE origin z
+            let t3984 = 0.184f64 * t3976; // 1.8400e-1 = joint WFE origin z
+            let t3985 = 0.02075f64 * t3973; // 2.0750e-2 = joint WFE origin x
             let t3986 = t3984 - t3985;
-            let t3987 = 0.02075f64 * t3970;
+            let t3987 = 0.02075f64 * t3970; // 2.0750e-2 = joint WFE origin x
             let t3988 = t3982 - t3983;
             let t3989 = t3967 + t3986;
             let t3990 = t3979 + t3987;
@@ -10861,8 +10850,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4006 = s_wr * t3991;
             let t4007 = c_wr * t3992;
             let t4008 = t4006 + t4007;
-            let t4009 = 0.112f64 * t3999;
-            let t4010 = 0.112f64 * t4002;
+            let t4009 = 0.112f64 * t3999; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4010 = 0.112f64 * t4002; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4011 = t4008 + t4009;
             let t4012 = t4010 - t4005;
             let t4013 = t3661 + t3993;
@@ -10884,8 +10873,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4025 = s_efe * t4013;
             let t4026 = c_efe * t4014;
             let t4027 = t4025 + t4026;
-            let t4028 = 0.304f64 * t4021;
-            let t4029 = 0.304f64 * t4018;
+            let t4028 = 0.304f64 * t4021; // 3.0400e-1 = joint EFE origin z
+            let t4029 = 0.304f64 * t4018; // 3.0400e-1 = joint EFE origin z
             let t4030 = t4015 + t4028;
             let t4031 = t4027 - t4029;
             let t4032 = t3586 - t4030;
@@ -10909,8 +10898,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4046 = s_hr * t4032;
             let t4047 = c_hr * t4033;
             let t4048 = t4046 + t4047;
-            let t4049 = 0.112f64 * t4039;
-            let t4050 = 0.112f64 * t4042;
+            let t4049 = 0.112f64 * t4039; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4050 = 0.112f64 * t4042; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4051 = t4048 + t4049;
             let t4052 = t4050 - t4045;
             (t4051, t4052)
@@ -10941,32 +10930,32 @@ impl ::hya_core::Dynamics<6> for Hya {
             t4137,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t4056 = 0.081661000005f64 * elbow_fe_a_wy;
+            let t4056 = 0.081661000005f64 * elbow_fe_a_wy; // 8.1661e-2 = Elbow_FE I_xx
             let t4057 = t4056 - t202;
-            let t4058 = 0.018284489999765022f64 * elbow_fe_a_wx;
+            let t4058 = 0.018284489999765022f64 * elbow_fe_a_wx; // 1.8284e-2 = Elbow_FE I_yy
             let t4059 = t198 - t4058;
-            let t4060 = 0.0002120000299f64 * elbow_fe_a_wy;
-            let t4061 = 0.002292000208f64 * elbow_fe_a_wx;
+            let t4060 = 0.0002120000299f64 * elbow_fe_a_wy; // 2.1200e-4 = Elbow_FE I_xz
+            let t4061 = 0.002292000208f64 * elbow_fe_a_wx; // 2.2920e-3 = Elbow_FE I_yz
             let t4062 = t4061 - t4060;
-            let t4063 = 0.16029825982372198f64 * elbow_fe_a_vx;
-            let t4064 = 0.008711861f64 * elbow_fe_a_vy;
+            let t4063 = 0.16029825982372198f64 * elbow_fe_a_vx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t4064 = 0.008711861f64 * elbow_fe_a_vy; // 8.7119e-3 = Elbow_FE m·c_y
             let t4065 = t4064 - t4063;
-            let t4066 = 0.16029825982372198f64 * elbow_fe_a_wx;
-            let t4067 = 0.008711861f64 * elbow_fe_a_wy;
+            let t4066 = 0.16029825982372198f64 * elbow_fe_a_wx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t4067 = 0.008711861f64 * elbow_fe_a_wy; // 8.7119e-3 = Elbow_FE m·c_y
             let t4068 = t4067 - t4066;
             let t4069 = t4062 + t4065;
-            let t4070 = 0.081661000005f64 * elbow_fe_v_wy;
+            let t4070 = 0.081661000005f64 * elbow_fe_v_wy; // 8.1661e-2 = Elbow_FE I_xx
             let t4071 = t4070 - t236;
-            let t4072 = 0.018284489999765022f64 * elbow_fe_v_wx;
+            let t4072 = 0.018284489999765022f64 * elbow_fe_v_wx; // 1.8284e-2 = Elbow_FE I_yy
             let t4073 = t232 - t4072;
-            let t4074 = 0.0002120000299f64 * elbow_fe_v_wy;
-            let t4075 = 0.002292000208f64 * elbow_fe_v_wx;
+            let t4074 = 0.0002120000299f64 * elbow_fe_v_wy; // 2.1200e-4 = Elbow_FE I_xz
+            let t4075 = 0.002292000208f64 * elbow_fe_v_wx; // 2.2920e-3 = Elbow_FE I_yz
             let t4076 = t4075 - t4074;
-            let t4077 = 0.16029825982372198f64 * elbow_fe_v_vx;
-            let t4078 = 0.008711861f64 * elbow_fe_v_vy;
+            let t4077 = 0.16029825982372198f64 * elbow_fe_v_vx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t4078 = 0.008711861f64 * elbow_fe_v_vy; // 8.7119e-3 = Elbow_FE m·c_y
             let t4079 = t4078 - t4077;
-            let t4080 = 0.16029825982372198f64 * elbow_fe_v_wx;
-            let t4081 = 0.008711861f64 * elbow_fe_v_wy;
+            let t4080 = 0.16029825982372198f64 * elbow_fe_v_wx; // 1.6030e-1 = Elbow_FE m·c_x
+            let t4081 = 0.008711861f64 * elbow_fe_v_wy; // 8.7119e-3 = Elbow_FE m·c_y
             let t4082 = t4081 - t4080;
             let t4083 = t4076 + t4079;
             let t4084 = elbow_fe_v_wy * t4083;
@@ -11063,7 +11052,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             t4287,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4138 = 0.112f64 * elbow_fe_v_wx;
+            let t4138 = 0.112f64 * elbow_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4139 = s_wr * elbow_fe_v_wx;
             let t4140 = c_wr * elbow_fe_v_wx;
             let t4141 = c_wr * t4138;
@@ -11072,7 +11061,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4144 = s_wr * t4138;
             let t4145 = c_wr * elbow_fe_v_vx;
             let t4146 = t4144 - t4145;
-            let t4147 = 0.112f64 * elbow_fe_a_wx;
+            let t4147 = 0.112f64 * elbow_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4148 = s_wr * elbow_fe_a_wx;
             let t4149 = c_wr * elbow_fe_a_wx;
             let t4150 = c_wr * t4147;
@@ -11089,54 +11078,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4161 = t4157 - t4149;
             let t4162 = t4158 - t4152;
             let t4163 = t4155 + t4159;
-            let t4164 = 0.019431999999999998f64 * t4160;
-            let t4165 = 0.001387f64 * t4161;
+            let t4164 = 0.019431999999999998f64 * t4160; // 1.9432e-2 = Wrist_R I_xx
+            let t4165 = 0.001387f64 * t4161; // 1.3870e-3 = Wrist_R I_xy
             let t4166 = t4164 + t4165;
-            let t4167 = 0.012652f64 * elbow_fe_a_wy;
+            let t4167 = 0.012652f64 * elbow_fe_a_wy; // 1.2652e-2 = Wrist_R I_xz
             let t4168 = t4166 + t4167;
-            let t4169 = 0.001387f64 * t4160;
-            let t4170 = 0.029115f64 * t4161;
+            let t4169 = 0.001387f64 * t4160; // 1.3870e-3 = Wrist_R I_xy
+            let t4170 = 0.029115f64 * t4161; // 2.9115e-2 = Wrist_R I_yy
             let t4171 = t4169 + t4170;
-            let t4172 = 0.001243f64 * elbow_fe_a_wy;
+            let t4172 = 0.001243f64 * elbow_fe_a_wy; // 1.2430e-3 = Wrist_R I_yz
             let t4173 = t4171 - t4172;
-            let t4174 = 0.012652f64 * t4160;
-            let t4175 = 0.001243f64 * t4161;
+            let t4174 = 0.012652f64 * t4160; // 1.2652e-2 = Wrist_R I_xz
+            let t4175 = 0.001243f64 * t4161; // 1.2430e-3 = Wrist_R I_yz
             let t4176 = t4174 - t4175;
-            let t4177 = 0.011046f64 * elbow_fe_a_wy;
+            let t4177 = 0.011046f64 * elbow_fe_a_wy; // 1.1046e-2 = Wrist_R I_zz
             let t4178 = t4176 + t4177;
-            let t4179 = 0.05783800000000001f64 * t4163;
-            let t4180 = 0.05783800000000001f64 * t4162;
-            let t4181 = t4162 * 2.1032f64;
-            let t4182 = t4163 * 2.1032f64;
-            let t4183 = elbow_fe_a_vy * 2.1032f64;
-            let t4184 = 0.05783800000000001f64 * t4161;
-            let t4185 = 0.05783800000000001f64 * t4160;
+            let t4179 = 0.05783800000000001f64 * t4163; // 5.7838e-2 = Wrist_R m·c_z
+            let t4180 = 0.05783800000000001f64 * t4162; // 5.7838e-2 = Wrist_R m·c_z
+            let t4181 = t4162 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4182 = t4163 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4183 = elbow_fe_a_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4184 = 0.05783800000000001f64 * t4161; // 5.7838e-2 = Wrist_R m·c_z
+            let t4185 = 0.05783800000000001f64 * t4160; // 5.7838e-2 = Wrist_R m·c_z
             let t4186 = t4168 + t4179;
             let t4187 = t4173 + t4180;
             let t4188 = t4181 + t4184;
             let t4189 = t4182 + t4185;
-            let t4190 = 0.019431999999999998f64 * t4139;
-            let t4191 = 0.001387f64 * t4140;
+            let t4190 = 0.019431999999999998f64 * t4139; // 1.9432e-2 = Wrist_R I_xx
+            let t4191 = 0.001387f64 * t4140; // 1.3870e-3 = Wrist_R I_xy
             let t4192 = t4191 - t4190;
-            let t4193 = 0.012652f64 * elbow_fe_v_wy;
+            let t4193 = 0.012652f64 * elbow_fe_v_wy; // 1.2652e-2 = Wrist_R I_xz
             let t4194 = t4192 - t4193;
-            let t4195 = 0.001387f64 * t4139;
-            let t4196 = 0.029115f64 * t4140;
+            let t4195 = 0.001387f64 * t4139; // 1.3870e-3 = Wrist_R I_xy
+            let t4196 = 0.029115f64 * t4140; // 2.9115e-2 = Wrist_R I_yy
             let t4197 = t4195 - t4196;
-            let t4198 = 0.001243f64 * elbow_fe_v_wy;
+            let t4198 = 0.001243f64 * elbow_fe_v_wy; // 1.2430e-3 = Wrist_R I_yz
             let t4199 = t4197 - t4198;
-            let t4200 = 0.012652f64 * t4139;
-            let t4201 = 0.001243f64 * t4140;
+            let t4200 = 0.012652f64 * t4139; // 1.2652e-2 = Wrist_R I_xz
+            let t4201 = 0.001243f64 * t4140; // 1.2430e-3 = Wrist_R I_yz
             let t4202 = t4200 + t4201;
-            let t4203 = 0.011046f64 * elbow_fe_v_wy;
+            let t4203 = 0.011046f64 * elbow_fe_v_wy; // 1.1046e-2 = Wrist_R I_zz
             let t4204 = t4202 + t4203;
-            let t4205 = 0.05783800000000001f64 * t4146;
-            let t4206 = 0.05783800000000001f64 * t4143;
-            let t4207 = t4143 * 2.1032f64;
-            let t4208 = t4146 * 2.1032f64;
-            let t4209 = elbow_fe_v_vy * 2.1032f64;
-            let t4210 = 0.05783800000000001f64 * t4140;
-            let t4211 = 0.05783800000000001f64 * t4139;
+            let t4205 = 0.05783800000000001f64 * t4146; // 5.7838e-2 = Wrist_R m·c_z
+            let t4206 = 0.05783800000000001f64 * t4143; // 5.7838e-2 = Wrist_R m·c_z
+            let t4207 = t4143 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4208 = t4146 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4209 = elbow_fe_v_vy * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4210 = 0.05783800000000001f64 * t4140; // 5.7838e-2 = Wrist_R m·c_z
+            let t4211 = 0.05783800000000001f64 * t4139; // 5.7838e-2 = Wrist_R m·c_z
             let t4212 = t4194 - t4205;
             let t4213 = t4199 - t4206;
             let t4214 = t4207 + t4210;
@@ -11236,11 +11225,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t4290, t4296, t4299, t4454, t4455, t4456, t4457, t4458, t4459) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4288 = 0.184f64 * t4140;
-            let t4289 = 0.184f64 * t4139;
-            let t4290 = 0.02075f64 * elbow_fe_v_wy;
+            let t4288 = 0.184f64 * t4140; // 1.8400e-1 = joint WFE origin z
+            let t4289 = 0.184f64 * t4139; // 1.8400e-1 = joint WFE origin z
+            let t4290 = 0.02075f64 * elbow_fe_v_wy; // 2.0750e-2 = joint WFE origin x
             let t4291 = t4289 + t4290;
-            let t4292 = 0.02075f64 * t4140;
+            let t4292 = 0.02075f64 * t4140; // 2.0750e-2 = joint WFE origin x
             let t4293 = t4143 + t4288;
             let t4294 = t4146 + t4291;
             let t4295 = elbow_fe_v_vy + t4292;
@@ -11256,11 +11245,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4305 = s_wfe * t4295;
             let t4306 = c_wfe * t4293;
             let t4307 = t4305 + t4306;
-            let t4308 = 0.184f64 * t4161;
-            let t4309 = 0.184f64 * t4160;
-            let t4310 = 0.02075f64 * elbow_fe_a_wy;
+            let t4308 = 0.184f64 * t4161; // 1.8400e-1 = joint WFE origin z
+            let t4309 = 0.184f64 * t4160; // 1.8400e-1 = joint WFE origin z
+            let t4310 = 0.02075f64 * elbow_fe_a_wy; // 2.0750e-2 = joint WFE origin x
             let t4311 = t4309 + t4310;
-            let t4312 = 0.02075f64 * t4161;
+            let t4312 = 0.02075f64 * t4161; // 2.0750e-2 = joint WFE origin x
             let t4313 = t4162 + t4308;
             let t4314 = t4163 + t4311;
             let t4315 = elbow_fe_a_vy - t4312;
@@ -11284,54 +11273,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4333 = t4321 + t4329;
             let t4334 = t4324 - t4330;
             let t4335 = t4327 - t4331;
-            let t4336 = 0.010737f64 * t4332;
-            let t4337 = 0.000198f64 * t4333;
+            let t4336 = 0.010737f64 * t4332; // 1.0737e-2 = Wrist_FE I_xx
+            let t4337 = 0.000198f64 * t4333; // 1.9800e-4 = Wrist_FE I_xy
             let t4338 = t4336 - t4337;
-            let t4339 = 0.000015f64 * t4161;
+            let t4339 = 0.000015f64 * t4161; // 1.5000e-5 = Wrist_FE I_xz
             let t4340 = t4338 + t4339;
-            let t4341 = 0.000198f64 * t4332;
-            let t4342 = 0.0032270000000000003f64 * t4333;
+            let t4341 = 0.000198f64 * t4332; // 1.9800e-4 = Wrist_FE I_xy
+            let t4342 = 0.0032270000000000003f64 * t4333; // 3.2270e-3 = Wrist_FE I_yy
             let t4343 = t4341 - t4342;
-            let t4344 = 0.000829f64 * t4161;
+            let t4344 = 0.000829f64 * t4161; // 8.2900e-4 = Wrist_FE I_yz
             let t4345 = t4343 - t4344;
-            let t4346 = 0.000015f64 * t4332;
-            let t4347 = 0.000829f64 * t4333;
+            let t4346 = 0.000015f64 * t4332; // 1.5000e-5 = Wrist_FE I_xz
+            let t4347 = 0.000829f64 * t4333; // 8.2900e-4 = Wrist_FE I_yz
             let t4348 = t4346 + t4347;
-            let t4349 = 0.009277f64 * t4161;
+            let t4349 = 0.009277f64 * t4161; // 9.2770e-3 = Wrist_FE I_zz
             let t4350 = t4348 + t4349;
-            let t4351 = 0.038686875f64 * t4314;
-            let t4352 = 0.038686875f64 * t4335;
-            let t4353 = t4334 * 1.547475f64;
-            let t4354 = t4335 * 1.547475f64;
-            let t4355 = t4314 * 1.547475f64;
-            let t4356 = 0.038686875f64 * t4161;
-            let t4357 = 0.038686875f64 * t4333;
+            let t4351 = 0.038686875f64 * t4314; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4352 = 0.038686875f64 * t4335; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4353 = t4334 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4354 = t4335 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4355 = t4314 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4356 = 0.038686875f64 * t4161; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4357 = 0.038686875f64 * t4333; // 3.8687e-2 = Wrist_FE m·c_x
             let t4358 = t4345 - t4351;
             let t4359 = t4350 + t4352;
             let t4360 = t4354 + t4356;
             let t4361 = t4355 + t4357;
-            let t4362 = 0.010737f64 * t4298;
-            let t4363 = 0.000198f64 * t4301;
+            let t4362 = 0.010737f64 * t4298; // 1.0737e-2 = Wrist_FE I_xx
+            let t4363 = 0.000198f64 * t4301; // 1.9800e-4 = Wrist_FE I_xy
             let t4364 = t4362 - t4363;
-            let t4365 = 0.000015f64 * t4140;
+            let t4365 = 0.000015f64 * t4140; // 1.5000e-5 = Wrist_FE I_xz
             let t4366 = t4364 - t4365;
-            let t4367 = 0.000198f64 * t4298;
-            let t4368 = 0.0032270000000000003f64 * t4301;
+            let t4367 = 0.000198f64 * t4298; // 1.9800e-4 = Wrist_FE I_xy
+            let t4368 = 0.0032270000000000003f64 * t4301; // 3.2270e-3 = Wrist_FE I_yy
             let t4369 = t4367 - t4368;
-            let t4370 = 0.000829f64 * t4140;
+            let t4370 = 0.000829f64 * t4140; // 8.2900e-4 = Wrist_FE I_yz
             let t4371 = t4369 + t4370;
-            let t4372 = 0.000015f64 * t4298;
-            let t4373 = 0.000829f64 * t4301;
+            let t4372 = 0.000015f64 * t4298; // 1.5000e-5 = Wrist_FE I_xz
+            let t4373 = 0.000829f64 * t4301; // 8.2900e-4 = Wrist_FE I_yz
             let t4374 = t4372 + t4373;
-            let t4375 = 0.009277f64 * t4140;
+            let t4375 = 0.009277f64 * t4140; // 9.2770e-3 = Wrist_FE I_zz
             let t4376 = t4374 - t4375;
-            let t4377 = 0.038686875f64 * t4294;
-            let t4378 = 0.038686875f64 * t4307;
-            let t4379 = t4304 * 1.547475f64;
-            let t4380 = t4307 * 1.547475f64;
-            let t4381 = t4294 * 1.547475f64;
-            let t4382 = 0.038686875f64 * t4140;
-            let t4383 = 0.038686875f64 * t4301;
+            let t4377 = 0.038686875f64 * t4294; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4378 = 0.038686875f64 * t4307; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4379 = t4304 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4380 = t4307 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4381 = t4294 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4382 = 0.038686875f64 * t4140; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4383 = 0.038686875f64 * t4301; // 3.8687e-2 = Wrist_FE m·c_x
             let t4384 = t4371 - t4377;
             let t4385 = t4376 - t4378;
             let t4386 = t4380 + t4382;
@@ -11424,11 +11413,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4469 = s_wfe * t4454;
             let t4470 = c_wfe * t4455;
             let t4471 = t4469 + t4470;
-            let t4472 = 0.184f64 * t4459;
-            let t4473 = 0.184f64 * t4465;
-            let t4474 = 0.02075f64 * t4462;
+            let t4472 = 0.184f64 * t4459; // 1.8400e-1 = joint WFE origin z
+            let t4473 = 0.184f64 * t4465; // 1.8400e-1 = joint WFE origin z
+            let t4474 = 0.02075f64 * t4462; // 2.0750e-2 = joint WFE origin x
             let t4475 = t4473 - t4474;
-            let t4476 = 0.02075f64 * t4459;
+            let t4476 = 0.02075f64 * t4459; // 2.0750e-2 = joint WFE origin x
             let t4477 = t4471 - t4472;
             let t4478 = t4456 + t4475;
             let t4479 = t4468 + t4476;
@@ -11454,8 +11443,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4495 = s_wr * t4480;
             let t4496 = c_wr * t4481;
             let t4497 = t4495 + t4496;
-            let t4498 = 0.112f64 * t4488;
-            let t4499 = 0.112f64 * t4491;
+            let t4498 = 0.112f64 * t4488; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4499 = 0.112f64 * t4491; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4500 = t4497 + t4498;
             let t4501 = t4499 - t4494;
             let t4502 = t4132 + t4482;
@@ -11483,8 +11472,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4520 = c_efe * t4503;
             let t4521 = t4520 - t583;
             let t4522 = t4519 + t4521;
-            let t4523 = 0.304f64 * t4512;
-            let t4524 = 0.304f64 * t4507;
+            let t4523 = 0.304f64 * t4512; // 3.0400e-1 = joint EFE origin z
+            let t4524 = 0.304f64 * t4507; // 3.0400e-1 = joint EFE origin z
             let t4525 = t4504 + t4523;
             let t4526 = t4522 - t4524;
             (t4512, t4517, t4525, t4526)
@@ -11503,8 +11492,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4536 = s_hr * t4525;
             let t4537 = c_hr * t4526;
             let t4538 = t4537 - t4536;
-            let t4539 = 0.112f64 * t4529;
-            let t4540 = 0.112f64 * t4532;
+            let t4539 = 0.112f64 * t4529; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4540 = 0.112f64 * t4532; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4541 = t4538 - t4539;
             let t4542 = t4535 + t4540;
             (t4541, t4542)
@@ -11518,11 +11507,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t4560, t4561, t4562, t4563, t4564, t4565) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t4546 = elbow_fe_v_wy * 0.09570849000176501f64;
+            let t4546 = elbow_fe_v_wy * 0.09570849000176501f64; // 9.5708e-2 = Elbow_FE I_zz
             let t4547 = t260 - t239;
             let t4548 = t4546 - t4547;
             let t4549 = t259 - t234;
-            let t4550 = elbow_fe_v_wx * 0.09570849000176501f64;
+            let t4550 = elbow_fe_v_wx * 0.09570849000176501f64; // 9.5708e-2 = Elbow_FE I_zz
             let t4551 = t4549 - t4550;
             let t4552 = t4074 - t4075;
             let t4553 = t4077 - t4078;
@@ -11555,8 +11544,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             t4668,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4566 = s_wr * 0.112f64;
-            let t4567 = c_wr * 0.112f64;
+            let t4566 = s_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4567 = c_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4568 = s_wr * qd_wr;
             let t4569 = c_wr * qd_wr;
             let t4570 = t4567 * qd_wr;
@@ -11565,43 +11554,43 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4573 = t4569 - t4140;
             let t4574 = t4570 - t4143;
             let t4575 = t4146 - t4571;
-            let t4576 = 0.019431999999999998f64 * t4572;
-            let t4577 = 0.001387f64 * t4573;
+            let t4576 = 0.019431999999999998f64 * t4572; // 1.9432e-2 = Wrist_R I_xx
+            let t4577 = 0.001387f64 * t4573; // 1.3870e-3 = Wrist_R I_xy
             let t4578 = t4576 - t4577;
             let t4579 = t4578 - t4193;
-            let t4580 = 0.001387f64 * t4572;
-            let t4581 = 0.029115f64 * t4573;
+            let t4580 = 0.001387f64 * t4572; // 1.3870e-3 = Wrist_R I_xy
+            let t4581 = 0.029115f64 * t4573; // 2.9115e-2 = Wrist_R I_yy
             let t4582 = t4581 - t4580;
             let t4583 = t4582 - t4198;
-            let t4584 = 0.012652f64 * t4572;
-            let t4585 = 0.001243f64 * t4573;
+            let t4584 = 0.012652f64 * t4572; // 1.2652e-2 = Wrist_R I_xz
+            let t4585 = 0.001243f64 * t4573; // 1.2430e-3 = Wrist_R I_yz
             let t4586 = t4584 + t4585;
             let t4587 = t4203 - t4586;
-            let t4588 = 0.05783800000000001f64 * t4575;
-            let t4589 = 0.05783800000000001f64 * t4574;
-            let t4590 = t4574 * 2.1032f64;
-            let t4591 = t4575 * 2.1032f64;
-            let t4592 = 0.05783800000000001f64 * t4573;
-            let t4593 = 0.05783800000000001f64 * t4572;
+            let t4588 = 0.05783800000000001f64 * t4575; // 5.7838e-2 = Wrist_R m·c_z
+            let t4589 = 0.05783800000000001f64 * t4574; // 5.7838e-2 = Wrist_R m·c_z
+            let t4590 = t4574 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4591 = t4575 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4592 = 0.05783800000000001f64 * t4573; // 5.7838e-2 = Wrist_R m·c_z
+            let t4593 = 0.05783800000000001f64 * t4572; // 5.7838e-2 = Wrist_R m·c_z
             let t4594 = t4579 - t4588;
             let t4595 = t4583 + t4589;
             let t4596 = t4590 + t4592;
             let t4597 = t4591 - t4593;
-            let t4598 = 0.019431999999999998f64 * c_wr;
-            let t4599 = 0.001387f64 * s_wr;
+            let t4598 = 0.019431999999999998f64 * c_wr; // 1.9432e-2 = Wrist_R I_xx
+            let t4599 = 0.001387f64 * s_wr; // 1.3870e-3 = Wrist_R I_xy
             let t4600 = t4598 + t4599;
-            let t4601 = 0.001387f64 * c_wr;
-            let t4602 = 0.029115f64 * s_wr;
+            let t4601 = 0.001387f64 * c_wr; // 1.3870e-3 = Wrist_R I_xy
+            let t4602 = 0.029115f64 * s_wr; // 2.9115e-2 = Wrist_R I_yy
             let t4603 = t4601 + t4602;
-            let t4604 = 0.012652f64 * c_wr;
-            let t4605 = 0.001243f64 * s_wr;
+            let t4604 = 0.012652f64 * c_wr; // 1.2652e-2 = Wrist_R I_xz
+            let t4605 = 0.001243f64 * s_wr; // 1.2430e-3 = Wrist_R I_yz
             let t4606 = t4604 - t4605;
-            let t4607 = 0.05783800000000001f64 * t4567;
-            let t4608 = 0.05783800000000001f64 * t4566;
-            let t4609 = t4566 * 2.1032f64;
-            let t4610 = t4567 * 2.1032f64;
-            let t4611 = 0.05783800000000001f64 * s_wr;
-            let t4612 = 0.05783800000000001f64 * c_wr;
+            let t4607 = 0.05783800000000001f64 * t4567; // 5.7838e-2 = Wrist_R m·c_z
+            let t4608 = 0.05783800000000001f64 * t4566; // 5.7838e-2 = Wrist_R m·c_z
+            let t4609 = t4566 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4610 = t4567 * 2.1032f64; // 2.1032e0 = Wrist_R mass
+            let t4611 = 0.05783800000000001f64 * s_wr; // 5.7838e-2 = Wrist_R m·c_z
+            let t4612 = 0.05783800000000001f64 * c_wr; // 5.7838e-2 = Wrist_R m·c_z
             let t4613 = t4600 + t4607;
             let t4614 = t4603 + t4608;
             let t4615 = t4609 + t4611;
@@ -11675,9 +11664,9 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t4825, t4826, t4827, t4828, t4829, t4830) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4669 = 0.184f64 * s_wr;
-            let t4670 = 0.184f64 * c_wr;
-            let t4671 = 0.02075f64 * s_wr;
+            let t4669 = 0.184f64 * s_wr; // 1.8400e-1 = joint WFE origin z
+            let t4670 = 0.184f64 * c_wr; // 1.8400e-1 = joint WFE origin z
+            let t4671 = 0.02075f64 * s_wr; // 2.0750e-2 = joint WFE origin x
             let t4672 = t4566 + t4669;
             let t4673 = t4567 + t4670;
             let t4674 = s_wfe * c_wr;
@@ -11688,10 +11677,10 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4679 = s_wfe * t4671;
             let t4680 = c_wfe * t4672;
             let t4681 = t4679 + t4680;
-            let t4682 = 0.184f64 * t4573;
-            let t4683 = 0.184f64 * t4572;
+            let t4682 = 0.184f64 * t4573; // 1.8400e-1 = joint WFE origin z
+            let t4683 = 0.184f64 * t4572; // 1.8400e-1 = joint WFE origin z
             let t4684 = t4683 - t4290;
-            let t4685 = 0.02075f64 * t4573;
+            let t4685 = 0.02075f64 * t4573; // 2.0750e-2 = joint WFE origin x
             let t4686 = t4574 + t4682;
             let t4687 = t4575 - t4684;
             let t4688 = elbow_fe_v_vy - t4685;
@@ -11713,54 +11702,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4704 = t4692 + t4700;
             let t4705 = t4695 + t4701;
             let t4706 = t4698 - t4702;
-            let t4707 = 0.010737f64 * t4703;
-            let t4708 = 0.000198f64 * t4704;
+            let t4707 = 0.010737f64 * t4703; // 1.0737e-2 = Wrist_FE I_xx
+            let t4708 = 0.000198f64 * t4704; // 1.9800e-4 = Wrist_FE I_xy
             let t4709 = t4707 + t4708;
-            let t4710 = 0.000015f64 * t4573;
+            let t4710 = 0.000015f64 * t4573; // 1.5000e-5 = Wrist_FE I_xz
             let t4711 = t4709 + t4710;
-            let t4712 = 0.000198f64 * t4703;
-            let t4713 = 0.0032270000000000003f64 * t4704;
+            let t4712 = 0.000198f64 * t4703; // 1.9800e-4 = Wrist_FE I_xy
+            let t4713 = 0.0032270000000000003f64 * t4704; // 3.2270e-3 = Wrist_FE I_yy
             let t4714 = t4712 + t4713;
-            let t4715 = 0.000829f64 * t4573;
+            let t4715 = 0.000829f64 * t4573; // 8.2900e-4 = Wrist_FE I_yz
             let t4716 = t4714 - t4715;
-            let t4717 = 0.000015f64 * t4703;
-            let t4718 = 0.000829f64 * t4704;
+            let t4717 = 0.000015f64 * t4703; // 1.5000e-5 = Wrist_FE I_xz
+            let t4718 = 0.000829f64 * t4704; // 8.2900e-4 = Wrist_FE I_yz
             let t4719 = t4717 - t4718;
-            let t4720 = 0.009277f64 * t4573;
+            let t4720 = 0.009277f64 * t4573; // 9.2770e-3 = Wrist_FE I_zz
             let t4721 = t4719 + t4720;
-            let t4722 = 0.038686875f64 * t4687;
-            let t4723 = 0.038686875f64 * t4706;
-            let t4724 = t4705 * 1.547475f64;
-            let t4725 = t4706 * 1.547475f64;
-            let t4726 = t4687 * 1.547475f64;
-            let t4727 = 0.038686875f64 * t4573;
-            let t4728 = 0.038686875f64 * t4704;
+            let t4722 = 0.038686875f64 * t4687; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4723 = 0.038686875f64 * t4706; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4724 = t4705 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4725 = t4706 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4726 = t4687 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4727 = 0.038686875f64 * t4573; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4728 = 0.038686875f64 * t4704; // 3.8687e-2 = Wrist_FE m·c_x
             let t4729 = t4716 - t4722;
             let t4730 = t4721 + t4723;
             let t4731 = t4725 + t4727;
             let t4732 = t4726 - t4728;
-            let t4733 = 0.010737f64 * t4674;
-            let t4734 = 0.000198f64 * t4675;
+            let t4733 = 0.010737f64 * t4674; // 1.0737e-2 = Wrist_FE I_xx
+            let t4734 = 0.000198f64 * t4675; // 1.9800e-4 = Wrist_FE I_xy
             let t4735 = t4733 + t4734;
-            let t4736 = 0.000015f64 * s_wr;
+            let t4736 = 0.000015f64 * s_wr; // 1.5000e-5 = Wrist_FE I_xz
             let t4737 = t4736 - t4735;
-            let t4738 = 0.000198f64 * t4674;
-            let t4739 = 0.0032270000000000003f64 * t4675;
+            let t4738 = 0.000198f64 * t4674; // 1.9800e-4 = Wrist_FE I_xy
+            let t4739 = 0.0032270000000000003f64 * t4675; // 3.2270e-3 = Wrist_FE I_yy
             let t4740 = t4738 + t4739;
-            let t4741 = 0.000829f64 * s_wr;
+            let t4741 = 0.000829f64 * s_wr; // 8.2900e-4 = Wrist_FE I_yz
             let t4742 = t4740 + t4741;
-            let t4743 = 0.000015f64 * t4674;
-            let t4744 = 0.000829f64 * t4675;
+            let t4743 = 0.000015f64 * t4674; // 1.5000e-5 = Wrist_FE I_xz
+            let t4744 = 0.000829f64 * t4675; // 8.2900e-4 = Wrist_FE I_yz
             let t4745 = t4744 - t4743;
-            let t4746 = 0.009277f64 * s_wr;
+            let t4746 = 0.009277f64 * s_wr; // 9.2770e-3 = Wrist_FE I_zz
             let t4747 = t4745 + t4746;
-            let t4748 = 0.038686875f64 * t4673;
-            let t4749 = 0.038686875f64 * t4681;
-            let t4750 = t4678 * 1.547475f64;
-            let t4751 = t4681 * 1.547475f64;
-            let t4752 = t4673 * 1.547475f64;
-            let t4753 = 0.038686875f64 * s_wr;
-            let t4754 = 0.038686875f64 * t4675;
+            let t4748 = 0.038686875f64 * t4673; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4749 = 0.038686875f64 * t4681; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4750 = t4678 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4751 = t4681 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4752 = t4673 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t4753 = 0.038686875f64 * s_wr; // 3.8687e-2 = Wrist_FE m·c_x
+            let t4754 = 0.038686875f64 * t4675; // 3.8687e-2 = Wrist_FE m·c_x
             let t4755 = t4742 + t4748;
             let t4756 = t4747 + t4749;
             let t4757 = t4751 + t4753;
@@ -11853,11 +11842,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4840 = s_wfe * t4825;
             let t4841 = c_wfe * t4826;
             let t4842 = t4840 + t4841;
-            let t4843 = 0.184f64 * t4830;
-            let t4844 = 0.184f64 * t4836;
-            let t4845 = 0.02075f64 * t4833;
+            let t4843 = 0.184f64 * t4830; // 1.8400e-1 = joint WFE origin z
+            let t4844 = 0.184f64 * t4836; // 1.8400e-1 = joint WFE origin z
+            let t4845 = 0.02075f64 * t4833; // 2.0750e-2 = joint WFE origin x
             let t4846 = t4844 - t4845;
-            let t4847 = 0.02075f64 * t4830;
+            let t4847 = 0.02075f64 * t4830; // 2.0750e-2 = joint WFE origin x
             let t4848 = t4842 - t4843;
             let t4849 = t4827 + t4846;
             let t4850 = t4839 + t4847;
@@ -11883,8 +11872,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4866 = s_wr * t4851;
             let t4867 = c_wr * t4852;
             let t4868 = t4866 + t4867;
-            let t4869 = 0.112f64 * t4859;
-            let t4870 = 0.112f64 * t4862;
+            let t4869 = 0.112f64 * t4859; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4870 = 0.112f64 * t4862; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4871 = t4868 + t4869;
             let t4872 = t4870 - t4865;
             let t4873 = t4560 + t4853;
@@ -11906,8 +11895,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4885 = s_efe * t4873;
             let t4886 = c_efe * t4874;
             let t4887 = t4885 + t4886;
-            let t4888 = 0.304f64 * t4881;
-            let t4889 = 0.304f64 * t4878;
+            let t4888 = 0.304f64 * t4881; // 3.0400e-1 = joint EFE origin z
+            let t4889 = 0.304f64 * t4878; // 3.0400e-1 = joint EFE origin z
             let t4890 = t4875 + t4888;
             let t4891 = t4887 - t4889;
             (t4881, t4884, t4890, t4891)
@@ -11926,8 +11915,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4901 = s_hr * t4890;
             let t4902 = c_hr * t4891;
             let t4903 = t4902 - t4901;
-            let t4904 = 0.112f64 * t4894;
-            let t4905 = 0.112f64 * t4897;
+            let t4904 = 0.112f64 * t4894; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4905 = 0.112f64 * t4897; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4906 = t4903 - t4904;
             let t4907 = t4900 + t4905;
             (t4906, t4907)
@@ -11958,30 +11947,30 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4913 = t4911 * qd_wr;
             let t4914 = t322 + t4913;
             let t4915 = t4912 - t329;
-            let t4916 = 0.019431999999999998f64 * t4914;
-            let t4917 = 0.001387f64 * t4915;
+            let t4916 = 0.019431999999999998f64 * t4914; // 1.9432e-2 = Wrist_R I_xx
+            let t4917 = 0.001387f64 * t4915; // 1.3870e-3 = Wrist_R I_xy
             let t4918 = t4916 - t4917;
-            let t4919 = 0.001387f64 * t4914;
-            let t4920 = 0.029115f64 * t4915;
+            let t4919 = 0.001387f64 * t4914; // 1.3870e-3 = Wrist_R I_xy
+            let t4920 = 0.029115f64 * t4915; // 2.9115e-2 = Wrist_R I_yy
             let t4921 = t4920 - t4919;
-            let t4922 = 0.012652f64 * t4914;
-            let t4923 = 0.001243f64 * t4915;
+            let t4922 = 0.012652f64 * t4914; // 1.2652e-2 = Wrist_R I_xz
+            let t4923 = 0.001243f64 * t4915; // 1.2430e-3 = Wrist_R I_yz
             let t4924 = t4922 + t4923;
-            let t4925 = 0.05783800000000001f64 * t4915;
-            let t4926 = 0.05783800000000001f64 * t4914;
+            let t4925 = 0.05783800000000001f64 * t4915; // 5.7838e-2 = Wrist_R m·c_z
+            let t4926 = 0.05783800000000001f64 * t4914; // 5.7838e-2 = Wrist_R m·c_z
             let t4927 = t4918 + t349;
             let t4928 = t4921 + t348;
             let t4929 = t351 + t4925;
             let t4930 = t350 + t4926;
-            let t4931 = 0.019431999999999998f64 * wrist_r_v_wy;
-            let t4932 = 0.001387f64 * t4911;
+            let t4931 = 0.019431999999999998f64 * wrist_r_v_wy; // 1.9432e-2 = Wrist_R I_xx
+            let t4932 = 0.001387f64 * t4911; // 1.3870e-3 = Wrist_R I_xy
             let t4933 = t4931 - t4932;
-            let t4934 = 0.029115f64 * t4911;
+            let t4934 = 0.029115f64 * t4911; // 2.9115e-2 = Wrist_R I_yy
             let t4935 = t4934 - t360;
-            let t4936 = 0.012652f64 * wrist_r_v_wy;
-            let t4937 = 0.001243f64 * t4911;
+            let t4936 = 0.012652f64 * wrist_r_v_wy; // 1.2652e-2 = Wrist_R I_xz
+            let t4937 = 0.001243f64 * t4911; // 1.2430e-3 = Wrist_R I_yz
             let t4938 = t4936 + t4937;
-            let t4939 = 0.05783800000000001f64 * t4911;
+            let t4939 = 0.05783800000000001f64 * t4911; // 5.7838e-2 = Wrist_R m·c_z
             let t4940 = t4933 + t375;
             let t4941 = t4935 + t374;
             let t4942 = t377 + t4939;
@@ -12032,8 +12021,8 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t4989, t4990, t5059, t5063, t5136, t5137, t5138, t5139, t5140, t5141) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4986 = 0.184f64 * t4911;
-            let t4987 = 0.02075f64 * t4911;
+            let t4986 = 0.184f64 * t4911; // 1.8400e-1 = joint WFE origin z
+            let t4987 = 0.02075f64 * t4911; // 2.0750e-2 = joint WFE origin x
             let t4988 = wrist_r_v_vy + t4986;
             let t4989 = s_wfe * wrist_r_v_wy;
             let t4990 = c_wfe * wrist_r_v_wy;
@@ -12043,9 +12032,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t4994 = s_wfe * t4987;
             let t4995 = c_wfe * t4988;
             let t4996 = t4994 + t4995;
-            let t4997 = 0.184f64 * t4915;
-            let t4998 = 0.184f64 * t4914;
-            let t4999 = 0.02075f64 * t4915;
+            let t4997 = 0.184f64 * t4915; // 1.8400e-1 = joint WFE origin z
+            let t4998 = 0.184f64 * t4914; // 1.8400e-1 = joint WFE origin z
+            let t4999 = 0.02075f64 * t4915; // 2.0750e-2 = joint WFE origin x
             let t5000 = wrist_r_a_vy + t4997;
             let t5001 = wrist_r_a_vx + t4998;
             let t5002 = s_wfe * t4914;
@@ -12064,54 +12053,54 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5015 = t5003 - t5011;
             let t5016 = t5006 + t5012;
             let t5017 = t5009 - t5013;
-            let t5018 = 0.010737f64 * t5014;
-            let t5019 = 0.000198f64 * t5015;
+            let t5018 = 0.010737f64 * t5014; // 1.0737e-2 = Wrist_FE I_xx
+            let t5019 = 0.000198f64 * t5015; // 1.9800e-4 = Wrist_FE I_xy
             let t5020 = t5018 + t5019;
-            let t5021 = 0.000015f64 * t4915;
+            let t5021 = 0.000015f64 * t4915; // 1.5000e-5 = Wrist_FE I_xz
             let t5022 = t5020 + t5021;
-            let t5023 = 0.000198f64 * t5014;
-            let t5024 = 0.0032270000000000003f64 * t5015;
+            let t5023 = 0.000198f64 * t5014; // 1.9800e-4 = Wrist_FE I_xy
+            let t5024 = 0.0032270000000000003f64 * t5015; // 3.2270e-3 = Wrist_FE I_yy
             let t5025 = t5023 + t5024;
-            let t5026 = 0.000829f64 * t4915;
+            let t5026 = 0.000829f64 * t4915; // 8.2900e-4 = Wrist_FE I_yz
             let t5027 = t5025 - t5026;
-            let t5028 = 0.000015f64 * t5014;
-            let t5029 = 0.000829f64 * t5015;
+            let t5028 = 0.000015f64 * t5014; // 1.5000e-5 = Wrist_FE I_xz
+            let t5029 = 0.000829f64 * t5015; // 8.2900e-4 = Wrist_FE I_yz
             let t5030 = t5028 - t5029;
-            let t5031 = 0.009277f64 * t4915;
+            let t5031 = 0.009277f64 * t4915; // 9.2770e-3 = Wrist_FE I_zz
             let t5032 = t5030 + t5031;
-            let t5033 = 0.038686875f64 * t5001;
-            let t5034 = 0.038686875f64 * t5017;
-            let t5035 = t5016 * 1.547475f64;
-            let t5036 = t5017 * 1.547475f64;
-            let t5037 = t5001 * 1.547475f64;
-            let t5038 = 0.038686875f64 * t4915;
-            let t5039 = 0.038686875f64 * t5015;
+            let t5033 = 0.038686875f64 * t5001; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5034 = 0.038686875f64 * t5017; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5035 = t5016 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5036 = t5017 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5037 = t5001 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5038 = 0.038686875f64 * t4915; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5039 = 0.038686875f64 * t5015; // 3.8687e-2 = Wrist_FE m·c_x
             let t5040 = t5027 + t5033;
             let t5041 = t5032 + t5034;
             let t5042 = t5036 + t5038;
             let t5043 = t5037 + t5039;
-            let t5044 = 0.010737f64 * t4989;
-            let t5045 = 0.000198f64 * t4990;
+            let t5044 = 0.010737f64 * t4989; // 1.0737e-2 = Wrist_FE I_xx
+            let t5045 = 0.000198f64 * t4990; // 1.9800e-4 = Wrist_FE I_xy
             let t5046 = t5044 + t5045;
-            let t5047 = 0.000015f64 * t4911;
+            let t5047 = 0.000015f64 * t4911; // 1.5000e-5 = Wrist_FE I_xz
             let t5048 = t5046 + t5047;
-            let t5049 = 0.000198f64 * t4989;
-            let t5050 = 0.0032270000000000003f64 * t4990;
+            let t5049 = 0.000198f64 * t4989; // 1.9800e-4 = Wrist_FE I_xy
+            let t5050 = 0.0032270000000000003f64 * t4990; // 3.2270e-3 = Wrist_FE I_yy
             let t5051 = t5049 + t5050;
-            let t5052 = 0.000829f64 * t4911;
+            let t5052 = 0.000829f64 * t4911; // 8.2900e-4 = Wrist_FE I_yz
             let t5053 = t5051 - t5052;
-            let t5054 = 0.000015f64 * t4989;
-            let t5055 = 0.000829f64 * t4990;
+            let t5054 = 0.000015f64 * t4989; // 1.5000e-5 = Wrist_FE I_xz
+            let t5055 = 0.000829f64 * t4990; // 8.2900e-4 = Wrist_FE I_yz
             let t5056 = t5054 - t5055;
-            let t5057 = 0.009277f64 * t4911;
+            let t5057 = 0.009277f64 * t4911; // 9.2770e-3 = Wrist_FE I_zz
             let t5058 = t5056 + t5057;
-            let t5059 = 0.038686875f64 * t426;
-            let t5060 = 0.038686875f64 * t4996;
-            let t5061 = t4993 * 1.547475f64;
-            let t5062 = t4996 * 1.547475f64;
-            let t5063 = t426 * 1.547475f64;
-            let t5064 = 0.038686875f64 * t4911;
-            let t5065 = 0.038686875f64 * t4990;
+            let t5059 = 0.038686875f64 * t426; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5060 = 0.038686875f64 * t4996; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5061 = t4993 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5062 = t4996 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5063 = t426 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5064 = 0.038686875f64 * t4911; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5065 = 0.038686875f64 * t4990; // 3.8687e-2 = Wrist_FE m·c_x
             let t5066 = t5053 + t5059;
             let t5067 = t5058 + t5060;
             let t5068 = t5062 + t5064;
@@ -12204,11 +12193,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5151 = s_wfe * t5136;
             let t5152 = c_wfe * t5137;
             let t5153 = t5151 + t5152;
-            let t5154 = 0.184f64 * t5141;
-            let t5155 = 0.184f64 * t5147;
-            let t5156 = 0.02075f64 * t5144;
+            let t5154 = 0.184f64 * t5141; // 1.8400e-1 = joint WFE origin z
+            let t5155 = 0.184f64 * t5147; // 1.8400e-1 = joint WFE origin z
+            let t5156 = 0.02075f64 * t5144; // 2.0750e-2 = joint WFE origin x
             let t5157 = t5155 - t5156;
-            let t5158 = 0.02075f64 * t5141;
+            let t5158 = 0.02075f64 * t5141; // 2.0750e-2 = joint WFE origin x
             let t5159 = t5153 - t5154;
             let t5160 = t5138 + t5157;
             let t5161 = t5150 + t5158;
@@ -12242,8 +12231,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5185 = c_wr * t5163;
             let t5186 = t5185 - t568;
             let t5187 = t5184 + t5186;
-            let t5188 = 0.112f64 * t5172;
-            let t5189 = 0.112f64 * t5177;
+            let t5188 = 0.112f64 * t5172; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5189 = 0.112f64 * t5177; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5190 = t5187 + t5188;
             let t5191 = t5189 - t5182;
             (t5172, t5177, t5190, t5191)
@@ -12259,8 +12248,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5198 = s_efe * t5164;
             let t5199 = c_efe * t5190;
             let t5200 = t5198 + t5199;
-            let t5201 = 0.304f64 * t5194;
-            let t5202 = 0.304f64 * t5172;
+            let t5201 = 0.304f64 * t5194; // 3.0400e-1 = joint EFE origin z
+            let t5202 = 0.304f64 * t5172; // 3.0400e-1 = joint EFE origin z
             let t5203 = t5191 + t5201;
             let t5204 = t5200 + t5202;
             (t5194, t5197, t5203, t5204)
@@ -12279,8 +12268,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5214 = s_hr * t5203;
             let t5215 = c_hr * t5204;
             let t5216 = t5215 - t5214;
-            let t5217 = 0.112f64 * t5207;
-            let t5218 = 0.112f64 * t5210;
+            let t5217 = 0.112f64 * t5207; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5218 = 0.112f64 * t5210; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5219 = t5216 + t5217;
             let t5220 = t5213 + t5218;
             (t5219, t5220)
@@ -12295,17 +12284,17 @@ impl ::hya_core::Dynamics<6> for Hya {
         let (t5238, t5239, t5240) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
             let t5224 = t4931 + t364;
-            let t5225 = 0.029115f64 * wrist_r_v_wx;
+            let t5225 = 0.029115f64 * wrist_r_v_wx; // 2.9115e-2 = Wrist_R I_yy
             let t5226 = t360 + t5225;
-            let t5227 = 0.001243f64 * wrist_r_v_wx;
+            let t5227 = 0.001243f64 * wrist_r_v_wx; // 1.2430e-3 = Wrist_R I_yz
             let t5228 = t5227 - t4936;
             let t5229 = t5224 + t375;
             let t5230 = t374 - t5226;
-            let t5231 = wrist_r_v_wy * 0.011046f64;
+            let t5231 = wrist_r_v_wy * 0.011046f64; // 1.1046e-2 = Wrist_R I_zz
             let t5232 = t382 - t367;
             let t5233 = t5231 - t5232;
             let t5234 = t381 - t362;
-            let t5235 = wrist_r_v_wx * 0.011046f64;
+            let t5235 = wrist_r_v_wx * 0.011046f64; // 1.1046e-2 = Wrist_R I_zz
             let t5236 = t5234 - t5235;
             let t5237 = t4936 - t5227;
             let t5238 = t5229 + t5233;
@@ -12315,7 +12304,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t5323, t5324, t5325, t5326, t5327, t5328) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5241 = 0.02075f64 * wrist_r_v_wx;
+            let t5241 = 0.02075f64 * wrist_r_v_wx; // 2.0750e-2 = joint WFE origin x
             let t5242 = wrist_r_v_vy - t422;
             let t5243 = c_wfe * t5241;
             let t5244 = s_wfe * t5242;
@@ -12327,42 +12316,42 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5250 = c_wfe * qd_wfe;
             let t5251 = t4989 - t5249;
             let t5252 = t4990 - t5250;
-            let t5253 = 0.010737f64 * t5251;
-            let t5254 = 0.000198f64 * t5252;
+            let t5253 = 0.010737f64 * t5251; // 1.0737e-2 = Wrist_FE I_xx
+            let t5254 = 0.000198f64 * t5252; // 1.9800e-4 = Wrist_FE I_xy
             let t5255 = t5253 + t5254;
-            let t5256 = 0.000015f64 * wrist_r_v_wx;
+            let t5256 = 0.000015f64 * wrist_r_v_wx; // 1.5000e-5 = Wrist_FE I_xz
             let t5257 = t5255 - t5256;
-            let t5258 = 0.000198f64 * t5251;
-            let t5259 = 0.0032270000000000003f64 * t5252;
+            let t5258 = 0.000198f64 * t5251; // 1.9800e-4 = Wrist_FE I_xy
+            let t5259 = 0.0032270000000000003f64 * t5252; // 3.2270e-3 = Wrist_FE I_yy
             let t5260 = t5258 + t5259;
-            let t5261 = 0.000829f64 * wrist_r_v_wx;
+            let t5261 = 0.000829f64 * wrist_r_v_wx; // 8.2900e-4 = Wrist_FE I_yz
             let t5262 = t5260 + t5261;
-            let t5263 = 0.000015f64 * t5251;
-            let t5264 = 0.000829f64 * t5252;
+            let t5263 = 0.000015f64 * t5251; // 1.5000e-5 = Wrist_FE I_xz
+            let t5264 = 0.000829f64 * t5252; // 8.2900e-4 = Wrist_FE I_yz
             let t5265 = t5263 - t5264;
-            let t5266 = 0.009277f64 * wrist_r_v_wx;
+            let t5266 = 0.009277f64 * wrist_r_v_wx; // 9.2770e-3 = Wrist_FE I_zz
             let t5267 = t5265 - t5266;
-            let t5268 = 0.038686875f64 * t5248;
-            let t5269 = t5245 * 1.547475f64;
-            let t5270 = t5248 * 1.547475f64;
-            let t5271 = 0.038686875f64 * wrist_r_v_wx;
-            let t5272 = 0.038686875f64 * t5252;
+            let t5268 = 0.038686875f64 * t5248; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5269 = t5245 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5270 = t5248 * 1.547475f64; // 1.5475e0 = Wrist_FE mass
+            let t5271 = 0.038686875f64 * wrist_r_v_wx; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5272 = 0.038686875f64 * t5252; // 3.8687e-2 = Wrist_FE m·c_x
             let t5273 = t5262 + t5059;
             let t5274 = t5267 + t5268;
             let t5275 = t5270 - t5271;
             let t5276 = t5063 + t5272;
-            let t5277 = 0.010737f64 * c_wfe;
-            let t5278 = 0.000198f64 * s_wfe;
+            let t5277 = 0.010737f64 * c_wfe; // 1.0737e-2 = Wrist_FE I_xx
+            let t5278 = 0.000198f64 * s_wfe; // 1.9800e-4 = Wrist_FE I_xy
             let t5279 = t5277 - t5278;
-            let t5280 = 0.000198f64 * c_wfe;
-            let t5281 = 0.0032270000000000003f64 * s_wfe;
+            let t5280 = 0.000198f64 * c_wfe; // 1.9800e-4 = Wrist_FE I_xy
+            let t5281 = 0.0032270000000000003f64 * s_wfe; // 3.2270e-3 = Wrist_FE I_yy
             let t5282 = t5280 - t5281;
-            let t5283 = 0.000015f64 * c_wfe;
-            let t5284 = 0.000829f64 * s_wfe;
+            let t5283 = 0.000015f64 * c_wfe; // 1.5000e-5 = Wrist_FE I_xz
+            let t5284 = 0.000829f64 * s_wfe; // 8.2900e-4 = Wrist_FE I_yz
             let t5285 = t5283 + t5284;
-            let t5286 = 0.038686875f64 * s_wfe;
-            let t5287 = t5282 - 0.0008027526562500001f64;
-            let t5288 = 0.03211010625f64 + t5286;
+            let t5286 = 0.038686875f64 * s_wfe; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5287 = t5282 - 0.0008027526562500001f64; // 8.0275e-4 = Wrist_FE m·c_x × joint WFE origin x
+            let t5288 = 0.03211010625f64 + t5286; // 3.2110e-2 = Wrist_FE mass × joint WFE origin x
             let t5289 = wrist_fe_v_wy * t5285;
             let t5290 = s_wfe * t508;
             let t5291 = t5289 - t5290;
@@ -12381,9 +12370,9 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5304 = t5302 - t5303;
             let t5305 = t5301 - t5304;
             let t5306 = wrist_fe_v_vy * t5288;
-            let t5307 = 0.02075f64 * t509;
+            let t5307 = 0.02075f64 * t509; // 2.0750e-2 = joint WFE origin x
             let t5308 = t5306 - t5307;
-            let t5309 = 0.02075f64 * t502;
+            let t5309 = 0.02075f64 * t502; // 2.0750e-2 = joint WFE origin x
             let t5310 = wrist_fe_v_vx * t5288;
             let t5311 = t5309 - t5310;
             let t5312 = t5293 + t5308;
@@ -12419,11 +12408,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5338 = s_wfe * t5323;
             let t5339 = c_wfe * t5324;
             let t5340 = t5338 + t5339;
-            let t5341 = 0.184f64 * t5328;
-            let t5342 = 0.184f64 * t5334;
-            let t5343 = 0.02075f64 * t5331;
+            let t5341 = 0.184f64 * t5328; // 1.8400e-1 = joint WFE origin z
+            let t5342 = 0.184f64 * t5334; // 1.8400e-1 = joint WFE origin z
+            let t5343 = 0.02075f64 * t5331; // 2.0750e-2 = joint WFE origin x
             let t5344 = t5342 - t5343;
-            let t5345 = 0.02075f64 * t5328;
+            let t5345 = 0.02075f64 * t5328; // 2.0750e-2 = joint WFE origin x
             let t5346 = t5340 - t5341;
             let t5347 = t5325 + t5344;
             let t5348 = t5337 + t5345;
@@ -12446,8 +12435,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5361 = s_wr * t5349;
             let t5362 = c_wr * t5350;
             let t5363 = t5361 + t5362;
-            let t5364 = 0.112f64 * t5354;
-            let t5365 = 0.112f64 * t5357;
+            let t5364 = 0.112f64 * t5354; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5365 = 0.112f64 * t5357; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5366 = t5363 + t5364;
             let t5367 = t5365 - t5360;
             (t5354, t5357, t5366, t5367)
@@ -12463,8 +12452,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5374 = s_efe * t5351;
             let t5375 = c_efe * t5366;
             let t5376 = t5374 + t5375;
-            let t5377 = 0.304f64 * t5370;
-            let t5378 = 0.304f64 * t5354;
+            let t5377 = 0.304f64 * t5370; // 3.0400e-1 = joint EFE origin z
+            let t5378 = 0.304f64 * t5354; // 3.0400e-1 = joint EFE origin z
             let t5379 = t5367 + t5377;
             let t5380 = t5376 + t5378;
             (t5370, t5373, t5379, t5380)
@@ -12483,8 +12472,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5390 = s_hr * t5379;
             let t5391 = c_hr * t5380;
             let t5392 = t5391 - t5390;
-            let t5393 = 0.112f64 * t5383;
-            let t5394 = 0.112f64 * t5386;
+            let t5393 = 0.112f64 * t5383; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5394 = 0.112f64 * t5386; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5395 = t5392 + t5393;
             let t5396 = t5389 + t5394;
             (t5395, t5396)
@@ -12511,25 +12500,25 @@ impl ::hya_core::Dynamics<6> for Hya {
             t5469,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5400 = 0.010737f64 * wrist_fe_a_wy;
+            let t5400 = 0.010737f64 * wrist_fe_a_wy; // 1.0737e-2 = Wrist_FE I_xx
             let t5401 = t5400 - t464;
-            let t5402 = 0.0032270000000000003f64 * wrist_fe_a_wx;
+            let t5402 = 0.0032270000000000003f64 * wrist_fe_a_wx; // 3.2270e-3 = Wrist_FE I_yy
             let t5403 = t460 - t5402;
-            let t5404 = 0.000015f64 * wrist_fe_a_wy;
-            let t5405 = 0.000829f64 * wrist_fe_a_wx;
+            let t5404 = 0.000015f64 * wrist_fe_a_wy; // 1.5000e-5 = Wrist_FE I_xz
+            let t5405 = 0.000829f64 * wrist_fe_a_wx; // 8.2900e-4 = Wrist_FE I_yz
             let t5406 = t5404 + t5405;
-            let t5407 = 0.038686875f64 * wrist_fe_a_vx;
-            let t5408 = 0.038686875f64 * wrist_fe_a_wx;
+            let t5407 = 0.038686875f64 * wrist_fe_a_vx; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5408 = 0.038686875f64 * wrist_fe_a_wx; // 3.8687e-2 = Wrist_FE m·c_x
             let t5409 = t5406 - t5407;
-            let t5410 = 0.010737f64 * wrist_fe_v_wy;
+            let t5410 = 0.010737f64 * wrist_fe_v_wy; // 1.0737e-2 = Wrist_FE I_xx
             let t5411 = t5410 - t490;
-            let t5412 = 0.0032270000000000003f64 * wrist_fe_v_wx;
+            let t5412 = 0.0032270000000000003f64 * wrist_fe_v_wx; // 3.2270e-3 = Wrist_FE I_yy
             let t5413 = t486 - t5412;
-            let t5414 = 0.000015f64 * wrist_fe_v_wy;
-            let t5415 = 0.000829f64 * wrist_fe_v_wx;
+            let t5414 = 0.000015f64 * wrist_fe_v_wy; // 1.5000e-5 = Wrist_FE I_xz
+            let t5415 = 0.000829f64 * wrist_fe_v_wx; // 8.2900e-4 = Wrist_FE I_yz
             let t5416 = t5414 + t5415;
-            let t5417 = 0.038686875f64 * wrist_fe_v_vx;
-            let t5418 = 0.038686875f64 * wrist_fe_v_wx;
+            let t5417 = 0.038686875f64 * wrist_fe_v_vx; // 3.8687e-2 = Wrist_FE m·c_x
+            let t5418 = 0.038686875f64 * wrist_fe_v_wx; // 3.8687e-2 = Wrist_FE m·c_x
             let t5419 = t5416 - t5417;
             let t5420 = wrist_fe_v_wy * t5419;
             let t5421 = t5420 - t515;
@@ -12618,11 +12607,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5487 = c_wfe * t5465;
             let t5488 = t5487 - t548;
             let t5489 = t5486 + t5488;
-            let t5490 = 0.184f64 * t5469;
-            let t5491 = 0.184f64 * t5479;
-            let t5492 = 0.02075f64 * t5474;
+            let t5490 = 0.184f64 * t5469; // 1.8400e-1 = joint WFE origin z
+            let t5491 = 0.184f64 * t5479; // 1.8400e-1 = joint WFE origin z
+            let t5492 = 0.02075f64 * t5474; // 2.0750e-2 = joint WFE origin x
             let t5493 = t5491 - t5492;
-            let t5494 = 0.02075f64 * t5469;
+            let t5494 = 0.02075f64 * t5469; // 2.0750e-2 = joint WFE origin x
             let t5495 = t5489 - t5490;
             let t5496 = t5466 + t5493;
             let t5497 = t5484 + t5494;
@@ -12642,8 +12631,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5507 = s_wr * t5495;
             let t5508 = c_wr * t5496;
             let t5509 = t5507 + t5508;
-            let t5510 = 0.112f64 * t5500;
-            let t5511 = 0.112f64 * t5503;
+            let t5510 = 0.112f64 * t5500; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5511 = 0.112f64 * t5503; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5512 = t5509 + t5510;
             let t5513 = t5511 - t5506;
             (t5500, t5503, t5512, t5513)
@@ -12659,8 +12648,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5520 = s_efe * t5497;
             let t5521 = c_efe * t5512;
             let t5522 = t5520 + t5521;
-            let t5523 = 0.304f64 * t5516;
-            let t5524 = 0.304f64 * t5500;
+            let t5523 = 0.304f64 * t5516; // 3.0400e-1 = joint EFE origin z
+            let t5524 = 0.304f64 * t5500; // 3.0400e-1 = joint EFE origin z
             let t5525 = t5513 + t5523;
             let t5526 = t5522 + t5524;
             (t5516, t5519, t5525, t5526)
@@ -12679,8 +12668,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5536 = s_hr * t5525;
             let t5537 = c_hr * t5526;
             let t5538 = t5537 - t5536;
-            let t5539 = 0.112f64 * t5529;
-            let t5540 = 0.112f64 * t5532;
+            let t5539 = 0.112f64 * t5529; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5540 = 0.112f64 * t5532; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5541 = t5538 + t5539;
             let t5542 = t5535 + t5540;
             (t5541, t5542)
@@ -12694,11 +12683,11 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (t5555, t5556, t5557, t5558, t5559) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5546 = wrist_fe_v_wy * 0.009277f64;
+            let t5546 = wrist_fe_v_wy * 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
             let t5547 = t507 - t493;
             let t5548 = t5546 - t5547;
             let t5549 = t488 + t489;
-            let t5550 = wrist_fe_v_wx * 0.009277f64;
+            let t5550 = wrist_fe_v_wx * 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
             let t5551 = t5549 - t5550;
             let t5552 = t5548 - t500;
             let t5553 = t5417 - t5416;
@@ -12710,7 +12699,6 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5559 = t5418 + t5418;
             (t5555, t5556, t5557, t5558, t5559)
         };
-        // ── link `Wrist_FE`, joint `WFE` (tip to base)
         let (t5560, t5561, t5573, t5574, t5575) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
             let t5560 = c_wfe * t5558;
@@ -12721,11 +12709,11 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5565 = s_wfe * t5555;
             let t5566 = c_wfe * t5556;
             let t5567 = t5565 + t5566;
-            let t5568 = 0.184f64 * t5559;
-            let t5569 = 0.184f64 * t5561;
-            let t5570 = 0.02075f64 * t5560;
+            let t5568 = 0.184f64 * t5559; // 1.8400e-1 = joint WFE origin z
+            let t5569 = 0.184f64 * t5561; // 1.8400e-1 = joint WFE origin z
+            let t5570 = 0.02075f64 * t5560; // 2.0750e-2 = joint WFE origin x
             let t5571 = t5569 - t5570;
-            let t5572 = 0.02075f64 * t5559;
+            let t5572 = 0.02075f64 * t5559; // 2.0750e-2 = joint WFE origin x
             let t5573 = t5567 - t5568;
             let t5574 = t5557 + t5571;
             let t5575 = t5564 + t5572;
@@ -12745,8 +12733,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5585 = s_wr * t5573;
             let t5586 = c_wr * t5574;
             let t5587 = t5585 + t5586;
-            let t5588 = 0.112f64 * t5578;
-            let t5589 = 0.112f64 * t5581;
+            let t5588 = 0.112f64 * t5578; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5589 = 0.112f64 * t5581; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5590 = t5587 + t5588;
             let t5591 = t5589 - t5584;
             (t5578, t5581, t5590, t5591)
@@ -12762,8 +12750,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5598 = s_efe * t5575;
             let t5599 = c_efe * t5590;
             let t5600 = t5598 + t5599;
-            let t5601 = 0.304f64 * t5594;
-            let t5602 = 0.304f64 * t5578;
+            let t5601 = 0.304f64 * t5594; // 3.0400e-1 = joint EFE origin z
+            let t5602 = 0.304f64 * t5578; // 3.0400e-1 = joint EFE origin z
             let t5603 = t5591 + t5601;
             let t5604 = t5600 + t5602;
             (t5594, t5597, t5603, t5604)
@@ -12782,8 +12770,8 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t5614 = s_hr * t5603;
             let t5615 = c_hr * t5604;
             let t5616 = t5615 - t5614;
-            let t5617 = 0.112f64 * t5607;
-            let t5618 = 0.112f64 * t5610;
+            let t5617 = 0.112f64 * t5607; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5618 = 0.112f64 * t5610; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5619 = t5616 + t5617;
             let t5620 = t5613 + t5618;
             (t5619, t5620)

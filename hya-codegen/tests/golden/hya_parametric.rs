@@ -254,7 +254,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_AA`, joint `SAA` (base to tip)
         let t0 = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip)
             let t0 = shoulder_aa_izz * qdd_saa;
@@ -276,8 +275,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let t1 = s_sfe * qdd_saa;
             let t2 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let t3 = shoulder_fe_v_wy * qd_sfe;
             let t4 = shoulder_fe_v_wx * qd_sfe;
             let shoulder_fe_a_wx = t1 + t3;
@@ -362,8 +361,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t184,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t55 = 0.112f64 * qd_sfe;
-            let t56 = 0.112f64 * shoulder_fe_v_wy;
+            let t55 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t56 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t57 = c_hr * qd_sfe;
             let t58 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t58 - t57;
@@ -377,8 +376,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t64 = c_hr * t55;
             let humerus_r_v_vy = t64 - t63;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t65 = 0.112f64 * qdd_sfe;
-            let t66 = 0.112f64 * shoulder_fe_a_wy;
+            let t65 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t66 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t67 = shoulder_fe_a_vy + t65;
             let t68 = c_hr * qdd_sfe;
             let t69 = s_hr * shoulder_fe_a_wy;
@@ -541,8 +540,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t330,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t185 = 0.304f64 * humerus_r_v_wy;
-            let t186 = 0.304f64 * humerus_r_v_wx;
+            let t185 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t186 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t185;
             let t187 = humerus_r_v_vy - t186;
             let t188 = c_efe * humerus_r_v_wz;
@@ -554,8 +553,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let elbow_fe_v_vx = s_efe * t187;
             let elbow_fe_v_vy = c_efe * t187;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t192 = 0.304f64 * humerus_r_a_wy;
-            let t193 = 0.304f64 * humerus_r_a_wx;
+            let t192 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t193 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t192;
             let t194 = humerus_r_a_vy - t193;
             let t195 = c_efe * humerus_r_a_wz;
@@ -739,8 +738,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t482,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t331 = 0.112f64 * elbow_fe_v_wz;
-            let t332 = 0.112f64 * elbow_fe_v_wy;
+            let t331 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t332 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t333 = elbow_fe_v_vy + t331;
             let t334 = elbow_fe_v_vz + t332;
             let t335 = c_wr * elbow_fe_v_wz;
@@ -756,8 +755,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t342 = c_wr * t333;
             let wrist_r_v_vy = t342 - t341;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t343 = 0.112f64 * elbow_fe_a_wz;
-            let t344 = 0.112f64 * elbow_fe_a_wy;
+            let t343 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t344 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t345 = elbow_fe_a_vy + t343;
             let t346 = elbow_fe_a_vz + t344;
             let t347 = c_wr * elbow_fe_a_wz;
@@ -929,11 +928,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t483 = 0.184f64 * wrist_r_v_wy;
-            let t484 = 0.184f64 * wrist_r_v_wx;
-            let t485 = 0.02075f64 * wrist_r_v_wz;
+            let t483 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t484 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t485 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t486 = t484 - t485;
-            let t487 = 0.02075f64 * wrist_r_v_wy;
+            let t487 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t488 = wrist_r_v_vx + t483;
             let wrist_fe_v_vz = wrist_r_v_vy - t486;
             let t489 = elbow_fe_v_vx - t487;
@@ -950,11 +949,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t497 = c_wfe * t488;
             let wrist_fe_v_vy = t497 - t496;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t498 = 0.184f64 * wrist_r_a_wy;
-            let t499 = 0.184f64 * wrist_r_a_wx;
-            let t500 = 0.02075f64 * wrist_r_a_wz;
+            let t498 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t499 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t500 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
             let t501 = t499 - t500;
-            let t502 = 0.02075f64 * wrist_r_a_wy;
+            let t502 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t503 = wrist_r_a_vx + t498;
             let wrist_fe_a_vz = wrist_r_a_vy - t501;
             let t504 = elbow_fe_a_vx - t502;
@@ -1129,11 +1128,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t644 = s_wfe * wrist_fe_f_nx;
             let t645 = c_wfe * wrist_fe_f_ny;
             let t646 = t644 + t645;
-            let t647 = 0.184f64 * wrist_fe_f_fz;
-            let t648 = 0.184f64 * t640;
-            let t649 = 0.02075f64 * t637;
+            let t647 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t648 = 0.184f64 * t640; // 1.8400e-1 = joint WFE origin z
+            let t649 = 0.02075f64 * t637; // 2.0750e-2 = joint WFE origin x
             let t650 = t648 - t649;
-            let t651 = 0.02075f64 * wrist_fe_f_fz;
+            let t651 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t652 = t646 - t647;
             let t653 = wrist_fe_f_nz + t650;
             let t654 = t643 + t651;
@@ -1173,8 +1172,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t664 = s_wr * wrist_r_f_nx;
             let t665 = c_wr * wrist_r_f_ny;
             let t666 = t664 + t665;
-            let t667 = 0.112f64 * t657;
-            let t668 = 0.112f64 * t660;
+            let t667 = 0.112f64 * t657; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t668 = 0.112f64 * t660; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t669 = t666 + t667;
             let t670 = t668 - t663;
             let elbow_fe_f_nx = t325 + wrist_r_f_nz;
@@ -1209,8 +1208,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t677 = s_efe * elbow_fe_f_nx;
             let t678 = c_efe * elbow_fe_f_ny;
             let t679 = t677 + t678;
-            let t680 = 0.304f64 * t673;
-            let t681 = 0.304f64 * elbow_fe_f_fz;
+            let t680 = 0.304f64 * t673; // 3.0400e-1 = joint EFE origin z
+            let t681 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t682 = elbow_fe_f_nz + t680;
             let t683 = t679 - t681;
             let humerus_r_f_nx = t180 - t682;
@@ -1240,8 +1239,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t693 = s_hr * humerus_r_f_nx;
             let t694 = c_hr * humerus_r_f_ny;
             let t695 = t693 + t694;
-            let t696 = 0.112f64 * t686;
-            let t697 = 0.112f64 * t689;
+            let t696 = 0.112f64 * t686; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t697 = 0.112f64 * t689; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t698 = t695 + t696;
             let t699 = t697 - t692;
             let shoulder_fe_f_nx = t52 + humerus_r_f_nz;
@@ -1363,11 +1362,10 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let t0 = shoulder_fe_hz * shoulder_fe_a_vy;
             let t1 = shoulder_fe_hz * shoulder_fe_a_vx;
             let t2 = shoulder_fe_hx * shoulder_fe_a_vy;
@@ -1375,7 +1373,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4 = t2 - t3;
             (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4)
         };
-        // ── link `Humerus_R`, joint `HR` (base to tip)
         let (humerus_r_a_vx, humerus_r_a_vy, t7, t10, t13, t14, t15) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
             let humerus_r_a_vx = s_hr * shoulder_fe_a_vy;
@@ -1494,11 +1491,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t67 = s_wfe * wrist_fe_f_nx;
             let t68 = c_wfe * wrist_fe_f_ny;
             let t69 = t67 + t68;
-            let t70 = 0.184f64 * wrist_fe_f_fz;
-            let t71 = 0.184f64 * t63;
-            let t72 = 0.02075f64 * t60;
+            let t70 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t71 = 0.184f64 * t63; // 1.8400e-1 = joint WFE origin z
+            let t72 = 0.02075f64 * t60; // 2.0750e-2 = joint WFE origin x
             let t73 = t71 - t72;
-            let t74 = 0.02075f64 * wrist_fe_f_fz;
+            let t74 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t75 = t69 - t70;
             let t76 = wrist_fe_f_nz + t73;
             let t77 = t66 + t74;
@@ -1538,8 +1535,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t87 = s_wr * wrist_r_f_nx;
             let t88 = c_wr * wrist_r_f_ny;
             let t89 = t87 + t88;
-            let t90 = 0.112f64 * t80;
-            let t91 = 0.112f64 * t83;
+            let t90 = 0.112f64 * t80; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t91 = 0.112f64 * t83; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t92 = t89 + t90;
             let t93 = t91 - t86;
             let elbow_fe_f_nx = wrist_r_f_nz - t22;
@@ -1574,8 +1571,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t100 = s_efe * elbow_fe_f_nx;
             let t101 = c_efe * elbow_fe_f_ny;
             let t102 = t100 + t101;
-            let t103 = 0.304f64 * t96;
-            let t104 = 0.304f64 * elbow_fe_f_fz;
+            let t103 = 0.304f64 * t96; // 3.0400e-1 = joint EFE origin z
+            let t104 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t105 = elbow_fe_f_nz + t103;
             let t106 = t102 + t104;
             let humerus_r_f_nx = t7 - t105;
@@ -1605,8 +1602,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t115 = s_hr * humerus_r_f_nx;
             let t116 = c_hr * humerus_r_f_ny;
             let t117 = t115 + t116;
-            let t118 = 0.112f64 * shoulder_fe_f_fz;
-            let t119 = 0.112f64 * t111;
+            let t118 = 0.112f64 * shoulder_fe_f_fz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t119 = 0.112f64 * t111; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t120 = t117 + t118;
             let t121 = t119 - t114;
             let shoulder_fe_f_nx = humerus_r_f_nz - t0;
@@ -1907,8 +1904,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t151,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t36 = 0.112f64 * qd_sfe;
-            let t37 = 0.112f64 * shoulder_fe_v_wy;
+            let t36 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t37 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t38 = c_hr * qd_sfe;
             let t39 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t39 - t38;
@@ -1922,7 +1919,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t45 = c_hr * t36;
             let humerus_r_v_vy = t45 - t44;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t46 = 0.112f64 * shoulder_fe_a_wy;
+            let t46 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t47 = s_hr * shoulder_fe_a_wy;
             let t48 = c_hr * shoulder_fe_a_wy;
             let t49 = c_hr * t46;
@@ -2069,8 +2066,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t293,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t152 = 0.304f64 * humerus_r_v_wy;
-            let t153 = 0.304f64 * humerus_r_v_wx;
+            let t152 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t153 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t152;
             let t154 = humerus_r_v_vy - t153;
             let t155 = c_efe * humerus_r_v_wz;
@@ -2082,8 +2079,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let elbow_fe_v_vx = s_efe * t154;
             let elbow_fe_v_vy = c_efe * t154;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t159 = 0.304f64 * humerus_r_a_wy;
-            let t160 = 0.304f64 * humerus_r_a_wx;
+            let t159 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t160 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx - t159;
             let t161 = humerus_r_a_vy - t160;
             let t162 = c_efe * shoulder_fe_a_wx;
@@ -2260,8 +2257,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t445,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t294 = 0.112f64 * elbow_fe_v_wz;
-            let t295 = 0.112f64 * elbow_fe_v_wy;
+            let t294 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t295 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t296 = elbow_fe_v_vy + t294;
             let t297 = elbow_fe_v_vz + t295;
             let t298 = c_wr * elbow_fe_v_wz;
@@ -2277,8 +2274,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t305 = c_wr * t296;
             let wrist_r_v_vy = t305 - t304;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t306 = 0.112f64 * humerus_r_a_wx;
-            let t307 = 0.112f64 * elbow_fe_a_wy;
+            let t306 = 0.112f64 * humerus_r_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t307 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t308 = elbow_fe_a_vy - t306;
             let t309 = t307 - elbow_fe_a_vz;
             let t310 = c_wr * humerus_r_a_wx;
@@ -2448,11 +2445,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t446 = 0.184f64 * wrist_r_v_wy;
-            let t447 = 0.184f64 * wrist_r_v_wx;
-            let t448 = 0.02075f64 * wrist_r_v_wz;
+            let t446 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t447 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t448 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t449 = t447 - t448;
-            let t450 = 0.02075f64 * wrist_r_v_wy;
+            let t450 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t451 = wrist_r_v_vx + t446;
             let wrist_fe_v_vz = wrist_r_v_vy - t449;
             let t452 = elbow_fe_v_vx - t450;
@@ -2469,11 +2466,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t460 = c_wfe * t451;
             let wrist_fe_v_vy = t460 - t459;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t461 = 0.184f64 * wrist_r_a_wy;
-            let t462 = 0.184f64 * wrist_r_a_wx;
-            let t463 = 0.02075f64 * elbow_fe_a_wx;
+            let t461 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t462 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t463 = 0.02075f64 * elbow_fe_a_wx; // 2.0750e-2 = joint WFE origin x
             let t464 = t462 - t463;
-            let t465 = 0.02075f64 * wrist_r_a_wy;
+            let t465 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t466 = wrist_r_a_vx - t461;
             let wrist_fe_a_vz = wrist_r_a_vy - t464;
             let t467 = elbow_fe_a_vx + t465;
@@ -2647,11 +2644,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t607 = s_wfe * wrist_fe_f_nx;
             let t608 = c_wfe * wrist_fe_f_ny;
             let t609 = t607 + t608;
-            let t610 = 0.184f64 * wrist_fe_f_fz;
-            let t611 = 0.184f64 * t603;
-            let t612 = 0.02075f64 * t600;
+            let t610 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t611 = 0.184f64 * t603; // 1.8400e-1 = joint WFE origin z
+            let t612 = 0.02075f64 * t600; // 2.0750e-2 = joint WFE origin x
             let t613 = t611 - t612;
-            let t614 = 0.02075f64 * wrist_fe_f_fz;
+            let t614 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t615 = t609 - t610;
             let t616 = wrist_fe_f_nz + t613;
             let t617 = t606 + t614;
@@ -2691,8 +2688,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t627 = s_wr * wrist_r_f_nx;
             let t628 = c_wr * wrist_r_f_ny;
             let t629 = t627 + t628;
-            let t630 = 0.112f64 * t620;
-            let t631 = 0.112f64 * t623;
+            let t630 = 0.112f64 * t620; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t631 = 0.112f64 * t623; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t632 = t629 + t630;
             let t633 = t631 - t626;
             let elbow_fe_f_nx = t288 + wrist_r_f_nz;
@@ -2727,8 +2724,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t640 = s_efe * elbow_fe_f_nx;
             let t641 = c_efe * elbow_fe_f_ny;
             let t642 = t640 + t641;
-            let t643 = 0.304f64 * t636;
-            let t644 = 0.304f64 * elbow_fe_f_fz;
+            let t643 = 0.304f64 * t636; // 3.0400e-1 = joint EFE origin z
+            let t644 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t645 = elbow_fe_f_nz + t643;
             let t646 = t642 - t644;
             let humerus_r_f_nx = t147 - t645;
@@ -2758,8 +2755,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t656 = s_hr * humerus_r_f_nx;
             let t657 = c_hr * humerus_r_f_ny;
             let t658 = t656 + t657;
-            let t659 = 0.112f64 * t649;
-            let t660 = 0.112f64 * t652;
+            let t659 = 0.112f64 * t649; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t660 = 0.112f64 * t652; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t661 = t658 + t659;
             let t662 = t660 - t655;
             let shoulder_fe_f_nx = t33 + humerus_r_f_nz;
@@ -2980,7 +2977,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_v_wx, shoulder_fe_v_wy, t4, t9) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let shoulder_fe_v_wx = s_sfe * qd_saa;
@@ -3010,8 +3006,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t52,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t10 = 0.112f64 * qd_sfe;
-            let t11 = 0.112f64 * shoulder_fe_v_wy;
+            let t10 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t11 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t12 = c_hr * qd_sfe;
             let t13 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t13 - t12;
@@ -3086,8 +3082,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t101,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t53 = 0.304f64 * humerus_r_v_wy;
-            let t54 = 0.304f64 * humerus_r_v_wx;
+            let t53 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t54 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t53;
             let t55 = humerus_r_v_vy - t54;
             let t56 = c_efe * humerus_r_v_wz;
@@ -3170,8 +3166,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t155,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t102 = 0.112f64 * elbow_fe_v_wz;
-            let t103 = 0.112f64 * elbow_fe_v_wy;
+            let t102 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t103 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t104 = elbow_fe_v_vy + t102;
             let t105 = elbow_fe_v_vz + t103;
             let t106 = c_wr * elbow_fe_v_wz;
@@ -3256,11 +3252,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t156 = 0.184f64 * wrist_r_v_wy;
-            let t157 = 0.184f64 * wrist_r_v_wx;
-            let t158 = 0.02075f64 * wrist_r_v_wz;
+            let t156 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t157 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t158 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t159 = t157 - t158;
-            let t160 = 0.02075f64 * wrist_r_v_wy;
+            let t160 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t161 = wrist_r_v_vx + t156;
             let wrist_fe_v_vz = wrist_r_v_vy - t159;
             let t162 = elbow_fe_v_vx - t160;
@@ -3361,11 +3357,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t222 = s_wfe * wrist_fe_f_nx;
             let t223 = c_wfe * wrist_fe_f_ny;
             let t224 = t222 + t223;
-            let t225 = 0.184f64 * wrist_fe_f_fz;
-            let t226 = 0.184f64 * t218;
-            let t227 = 0.02075f64 * t215;
+            let t225 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t226 = 0.184f64 * t218; // 1.8400e-1 = joint WFE origin z
+            let t227 = 0.02075f64 * t215; // 2.0750e-2 = joint WFE origin x
             let t228 = t226 - t227;
-            let t229 = 0.02075f64 * wrist_fe_f_fz;
+            let t229 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t230 = t224 - t225;
             let t231 = wrist_fe_f_nz + t228;
             let t232 = t221 + t229;
@@ -3414,8 +3410,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t248 = s_wr * wrist_r_f_nx;
             let t249 = c_wr * wrist_r_f_ny;
             let t250 = t248 + t249;
-            let t251 = 0.112f64 * t241;
-            let t252 = 0.112f64 * t244;
+            let t251 = 0.112f64 * t241; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t252 = 0.112f64 * t244; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t253 = t250 + t251;
             let t254 = t252 - t247;
             let elbow_fe_f_nx = t96 + wrist_r_f_nz;
@@ -3459,8 +3455,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t267 = s_efe * elbow_fe_f_nx;
             let t268 = c_efe * elbow_fe_f_ny;
             let t269 = t267 + t268;
-            let t270 = 0.304f64 * t263;
-            let t271 = 0.304f64 * elbow_fe_f_fz;
+            let t270 = 0.304f64 * t263; // 3.0400e-1 = joint EFE origin z
+            let t271 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t272 = elbow_fe_f_nz + t270;
             let t273 = t269 + t271;
             let humerus_r_f_nx = t48 - t272;
@@ -3492,7 +3488,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t283 = s_hr * humerus_r_f_nx;
             let t284 = c_hr * humerus_r_f_ny;
             let t285 = t283 + t284;
-            let t286 = 0.112f64 * t282;
+            let t286 = 0.112f64 * t282; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t287 = t285 + t286;
             let shoulder_fe_f_nx = t4 + humerus_r_f_nz;
             let shoulder_fe_f_ny = t9 + t287;
@@ -3748,21 +3744,21 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t30 = s_wfe * t15;
             let t31 = c_wfe * t17;
             let t32 = t30 + t31;
-            let t33 = 0.02075f64 * t5;
-            let t34 = 0.184f64 * t2;
+            let t33 = 0.02075f64 * t5; // 2.0750e-2 = joint WFE origin x
+            let t34 = 0.184f64 * t2; // 1.8400e-1 = joint WFE origin z
             let t35 = t33 + t34;
             let t36 = t35 + t35;
             let t37 = wrist_fe_m * 0.0342865625f64;
             let t38 = t36 + t37;
-            let t39 = 0.02075f64 * wrist_fe_m;
-            let t40 = 0.184f64 * wrist_fe_m;
+            let t39 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
+            let t40 = 0.184f64 * wrist_fe_m; // 1.8400e-1 = joint WFE origin z
             let t41 = t32 + t38;
             let t42 = wrist_fe_izz + t38;
             let t43 = t23 + t38;
-            let t44 = wrist_fe_hz * 0.02075f64;
-            let t45 = t2 * 0.02075f64;
-            let t46 = t5 * 0.184f64;
-            let t47 = wrist_fe_hz * 0.184f64;
+            let t44 = wrist_fe_hz * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t45 = t2 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t46 = t5 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t47 = wrist_fe_hz * 0.184f64; // 1.8400e-1 = joint WFE origin z
             let t48 = t41 - t33;
             let t49 = t20 - t44;
             let t50 = t29 - t45;
@@ -3773,10 +3769,10 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t55 = t50 - t46;
             let t56 = t51 - t45;
             let t57 = t53 - t34;
-            let t58 = 0.02075f64 * t39;
-            let t59 = 0.184f64 * t39;
-            let t60 = 0.02075f64 * t40;
-            let t61 = 0.184f64 * t40;
+            let t58 = 0.02075f64 * t39; // 2.0750e-2 = joint WFE origin x
+            let t59 = 0.184f64 * t39; // 1.8400e-1 = joint WFE origin z
+            let t60 = 0.02075f64 * t40; // 2.0750e-2 = joint WFE origin x
+            let t61 = 0.184f64 * t40; // 1.8400e-1 = joint WFE origin z
             let t62 = t54 - t58;
             let t63 = t55 - t59;
             let t64 = t56 - t60;
@@ -3871,23 +3867,23 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t113 = t112 - t91;
             let t114 = s_wr * t77;
             let t115 = t114 + t98;
-            let t116 = 0.112f64 * t71;
+            let t116 = 0.112f64 * t71; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t117 = t116 + t116;
-            let t118 = t68 * 0.012544000000000001f64;
+            let t118 = t68 * 0.012544000000000001f64; // 1.2544e-2 = joint HR origin x or joint WR origin x × joint HR origin x or joint WR origin x
             let t119 = t117 + t118;
-            let t120 = 0.112f64 * t68;
+            let t120 = 0.112f64 * t68; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t121 = m_wr_wr + t119;
             let t122 = t111 + t119;
             let t123 = t102 + t119;
-            let t124 = t83 * 0.112f64;
-            let t125 = t80 * 0.112f64;
+            let t124 = t83 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t125 = t80 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t126 = t121 - t116;
             let t127 = t115 - t124;
             let m_wr_efe = t125 - t113;
             let t128 = t126 - t116;
             let t129 = t99 - t124;
             let t130 = t125 - t92;
-            let t131 = 0.112f64 * t120;
+            let t131 = 0.112f64 * t120; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t132 = t128 - t131;
             let t133 = t71 + t120;
             let t134 = elbow_fe_m + t68;
@@ -3985,23 +3981,23 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t184 = s_efe * t144;
             let t185 = c_efe * t145;
             let t186 = t184 + t185;
-            let t187 = 0.304f64 * t148;
+            let t187 = 0.304f64 * t148; // 3.0400e-1 = joint EFE origin z
             let t188 = t187 + t187;
-            let t189 = t134 * 0.092416f64;
+            let t189 = t134 * 0.092416f64; // 9.2416e-2 = joint EFE origin z × joint EFE origin z
             let t190 = t188 + t189;
-            let t191 = 0.304f64 * t134;
+            let t191 = 0.304f64 * t134; // 3.0400e-1 = joint EFE origin z
             let t192 = m_efe_efe + t190;
             let t193 = t181 + t190;
             let t194 = t172 + t190;
-            let t195 = t137 * 0.304f64;
-            let t196 = t151 * 0.304f64;
+            let t195 = t137 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t196 = t151 * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t197 = t195 - t160;
             let t198 = t175 - t196;
             let t199 = t194 - t187;
             let t200 = t195 - m_efe_hr;
             let t201 = t178 - t196;
             let t202 = t199 - t187;
-            let t203 = 0.304f64 * t191;
+            let t203 = 0.304f64 * t191; // 3.0400e-1 = joint EFE origin z
             let t204 = t202 - t203;
             let t205 = t148 + t191;
             let t206 = humerus_r_m + t134;
@@ -4091,23 +4087,23 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t254 = s_hr * t216;
             let t255 = c_hr * t217;
             let t256 = t254 + t255;
-            let t257 = 0.112f64 * t209;
+            let t257 = 0.112f64 * t209; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t258 = t257 + t257;
-            let t259 = t206 * 0.012544000000000001f64;
+            let t259 = t206 * 0.012544000000000001f64; // 1.2544e-2 = joint HR origin x or joint WR origin x × joint HR origin x or joint WR origin x
             let t260 = t258 + t259;
-            let t261 = 0.112f64 * t206;
+            let t261 = 0.112f64 * t206; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t262 = m_hr_hr + t260;
             let t263 = t250 + t260;
             let t264 = t244 + t260;
-            let t265 = t223 * 0.112f64;
-            let t266 = t220 * 0.112f64;
+            let t265 = t223 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t266 = t220 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t267 = t262 - t257;
             let t268 = t256 - t265;
             let m_hr_sfe = t266 - t253;
             let t269 = t267 - t257;
             let t270 = t241 - t265;
             let t271 = t266 - t232;
-            let t272 = 0.112f64 * t261;
+            let t272 = 0.112f64 * t261; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t273 = t269 - t272;
             let t274 = t209 + t261;
             let t275 = shoulder_fe_m + t206;
@@ -4152,15 +4148,15 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t296 = s_sfe * t282;
             let t297 = c_sfe * t283;
             let m_sfe_saa = t296 + t297;
-            let t298 = 0.178f64 * t286;
+            let t298 = 0.178f64 * t286; // 1.7800e-1 = joint SFE origin z
             let t299 = t298 + t298;
-            let t300 = t275 * 0.031684f64;
+            let t300 = t275 * 0.031684f64; // 3.1684e-2 = joint SFE origin z × joint SFE origin z
             let t301 = t299 + t300;
-            let t302 = 0.178f64 * t275;
+            let t302 = 0.178f64 * t275; // 1.7800e-1 = joint SFE origin z
             let t303 = t295 + t301;
             let t304 = t303 - t298;
             let t305 = t304 - t298;
-            let t306 = 0.178f64 * t302;
+            let t306 = 0.178f64 * t302; // 1.7800e-1 = joint SFE origin z
             let t307 = t305 - t306;
             let m_saa_saa = shoulder_aa_izz + t307;
             (m_sfe_saa, m_saa_saa)
@@ -4183,8 +4179,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t316 = s_hr * t310;
             let t317 = c_hr * t186;
             let t318 = t317 - t316;
-            let t319 = 0.112f64 * t311;
-            let t320 = 0.112f64 * t312;
+            let t319 = 0.112f64 * t311; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t320 = 0.112f64 * t312; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t321 = t318 - t319;
             let m_efe_sfe = t315 + t320;
             let t322 = s_sfe * m_efe_hr;
@@ -4201,8 +4197,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t327 = s_efe * m_wr_wr;
             let t328 = c_efe * t127;
             let t329 = t327 + t328;
-            let t330 = 0.304f64 * t324;
-            let t331 = 0.304f64 * t83;
+            let t330 = 0.304f64 * t324; // 3.0400e-1 = joint EFE origin z
+            let t331 = 0.304f64 * t83; // 3.0400e-1 = joint EFE origin z
             let t332 = m_wr_efe + t330;
             let t333 = t329 - t331;
             let t334 = c_hr * t83;
@@ -4217,8 +4213,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t343 = s_hr * t332;
             let t344 = c_hr * t333;
             let t345 = t344 - t343;
-            let t346 = 0.112f64 * t336;
-            let t347 = 0.112f64 * t339;
+            let t346 = 0.112f64 * t336; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t347 = 0.112f64 * t339; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t348 = t345 - t346;
             let m_wr_sfe = t342 + t347;
             let t349 = s_sfe * m_wr_hr;
@@ -4237,8 +4233,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t357 = s_wr * t20;
             let t358 = c_wr * t351;
             let t359 = t357 + t358;
-            let t360 = 0.112f64 * t352;
-            let t361 = 0.112f64 * t353;
+            let t360 = 0.112f64 * t352; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t361 = 0.112f64 * t353; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t362 = t359 + t360;
             let m_wfe_efe = t361 - t356;
             let t363 = s_efe * t5;
@@ -4250,8 +4246,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t368 = s_efe * m_wfe_wr;
             let t369 = c_efe * t362;
             let t370 = t368 + t369;
-            let t371 = 0.304f64 * t365;
-            let t372 = 0.304f64 * t352;
+            let t371 = 0.304f64 * t365; // 3.0400e-1 = joint EFE origin z
+            let t372 = 0.304f64 * t352; // 3.0400e-1 = joint EFE origin z
             let t373 = m_wfe_efe + t371;
             let t374 = t370 + t372;
             let t375 = c_hr * t352;
@@ -4266,8 +4262,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t384 = s_hr * t373;
             let t385 = c_hr * t374;
             let t386 = t385 - t384;
-            let t387 = 0.112f64 * t377;
-            let t388 = 0.112f64 * t380;
+            let t387 = 0.112f64 * t377; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t388 = 0.112f64 * t380; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t389 = t386 + t387;
             let m_wfe_sfe = t383 + t388;
             let t390 = s_sfe * m_wfe_hr;
@@ -4544,7 +4540,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 c_wfe,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (shoulder_fe_v_wx, shoulder_fe_v_wy, t0, t1, t19, t22, t25) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let shoulder_fe_v_wx = s_sfe * qd_saa;
@@ -4594,8 +4589,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t98,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t26 = 0.112f64 * qd_sfe;
-            let t27 = 0.112f64 * shoulder_fe_v_wy;
+            let t26 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t27 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t28 = c_hr * qd_sfe;
             let t29 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t29 - t28;
@@ -4708,8 +4703,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t181,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t99 = 0.304f64 * humerus_r_v_wy;
-            let t100 = 0.304f64 * humerus_r_v_wx;
+            let t99 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t100 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t99;
             let t101 = humerus_r_v_vy - t100;
             let t102 = c_efe * humerus_r_v_wz;
@@ -4834,8 +4829,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t269,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t182 = 0.112f64 * elbow_fe_v_wz;
-            let t183 = 0.112f64 * elbow_fe_v_wy;
+            let t182 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t183 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t184 = elbow_fe_v_vy + t182;
             let t185 = elbow_fe_v_vz + t183;
             let t186 = c_wr * elbow_fe_v_wz;
@@ -4958,11 +4953,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_p_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t270 = 0.184f64 * wrist_r_v_wy;
-            let t271 = 0.184f64 * wrist_r_v_wx;
-            let t272 = 0.02075f64 * wrist_r_v_wz;
+            let t270 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t271 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t272 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t273 = t271 - t272;
-            let t274 = 0.02075f64 * wrist_r_v_wy;
+            let t274 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t275 = wrist_r_v_vx + t270;
             let wrist_fe_v_vz = wrist_r_v_vy - t273;
             let t276 = elbow_fe_v_vx - t274;
@@ -5265,26 +5260,26 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t519 = s_wfe * t510;
             let t520 = c_wfe * t512;
             let t521 = t519 + t520;
-            let t522 = t502 * 0.184f64;
-            let t523 = t499 * 0.184f64;
-            let t524 = t496 * 0.184f64;
-            let t525 = t490 * 0.02075f64;
+            let t522 = t502 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t523 = t499 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t524 = t496 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t525 = t490 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t526 = t525 - t524;
-            let t527 = t485 * 0.184f64;
-            let t528 = t476 * 0.02075f64;
+            let t527 = t485 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t528 = t476 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t529 = t528 - t527;
-            let t530 = t493 * 0.184f64;
-            let t531 = wrist_r_u_fz * 0.02075f64;
+            let t530 = t493 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t531 = wrist_r_u_fz * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t532 = t531 - t530;
-            let t533 = t502 * 0.02075f64;
-            let t534 = t499 * 0.02075f64;
-            let t535 = 0.184f64 * t521;
-            let t536 = 0.02075f64 * t518;
+            let t533 = t502 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t534 = t499 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t535 = 0.184f64 * t521; // 1.8400e-1 = joint WFE origin z
+            let t536 = 0.02075f64 * t518; // 2.0750e-2 = joint WFE origin x
             let t537 = t535 - t536;
-            let t538 = 0.184f64 * wrist_fe_m;
-            let t539 = 0.02075f64 * wrist_fe_m;
-            let t540 = 0.184f64 * t518;
-            let t541 = 0.02075f64 * t515;
+            let t538 = 0.184f64 * wrist_fe_m; // 1.8400e-1 = joint WFE origin z
+            let t539 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
+            let t540 = 0.184f64 * t518; // 1.8400e-1 = joint WFE origin z
+            let t541 = 0.02075f64 * t515; // 2.0750e-2 = joint WFE origin x
             let t542 = t540 - t541;
             let t543 = t467 - t522;
             let t544 = t458 - t526;
@@ -5296,12 +5291,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t550 = t545 - t529;
             let t551 = t547 - t523;
             let t552 = t548 + t534;
-            let t553 = t538 * 0.184f64;
-            let t554 = t537 * 0.184f64;
-            let t555 = t542 * 0.02075f64;
+            let t553 = t538 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t554 = t537 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t555 = t542 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t556 = t555 - t554;
-            let t557 = t538 * 0.02075f64;
-            let t558 = t539 * 0.02075f64;
+            let t557 = t538 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t558 = t539 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
             let t559 = t549 + t553;
             let t560 = t550 - t556;
             let t561 = t551 - t557;
@@ -5322,11 +5317,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t576 = s_wfe * t438;
             let t577 = c_wfe * t439;
             let t578 = t576 + t577;
-            let t579 = 0.184f64 * t431;
-            let t580 = 0.184f64 * t572;
-            let t581 = 0.02075f64 * t569;
+            let t579 = 0.184f64 * t431; // 1.8400e-1 = joint WFE origin z
+            let t580 = 0.184f64 * t572; // 1.8400e-1 = joint WFE origin z
+            let t581 = 0.02075f64 * t569; // 2.0750e-2 = joint WFE origin x
             let t582 = t580 - t581;
-            let t583 = 0.02075f64 * t431;
+            let t583 = 0.02075f64 * t431; // 2.0750e-2 = joint WFE origin x
             let t584 = t578 - t579;
             let t585 = t440 + t582;
             let t586 = t575 + t583;
@@ -5604,17 +5599,17 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t787 = s_wr * t775;
             let t788 = c_wr * t777;
             let t789 = t787 + t788;
-            let t790 = t737 * 0.112f64;
-            let t791 = t752 * 0.112f64;
-            let t792 = t749 * 0.112f64;
-            let t793 = t746 * 0.112f64;
-            let t794 = t758 * 0.112f64;
-            let t795 = t755 * 0.112f64;
-            let t796 = 0.112f64 * t773;
-            let t797 = 0.112f64 * t780;
-            let t798 = 0.112f64 * t786;
-            let t799 = 0.112f64 * t789;
-            let t800 = 0.112f64 * t783;
+            let t790 = t737 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t791 = t752 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t792 = t749 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t793 = t746 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t794 = t758 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t795 = t755 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t796 = 0.112f64 * t773; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t797 = 0.112f64 * t780; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t798 = 0.112f64 * t786; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t799 = 0.112f64 * t789; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t800 = 0.112f64 * t783; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t801 = t719 + t790;
             let t802 = t728 + t791;
             let t803 = t793 - t712;
@@ -5623,9 +5618,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t806 = t802 + t791;
             let t807 = t804 - t792;
             let t808 = t805 - t795;
-            let t809 = t800 * 0.112f64;
-            let t810 = t798 * 0.112f64;
-            let t811 = t799 * 0.112f64;
+            let t809 = t800 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t810 = t798 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t811 = t799 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t812 = t806 + t809;
             let t813 = t807 + t810;
             let t814 = t808 + t811;
@@ -5647,8 +5642,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t829 = s_wr * t698;
             let t830 = c_wr * t699;
             let t831 = t829 + t830;
-            let t832 = 0.112f64 * t822;
-            let t833 = 0.112f64 * t825;
+            let t832 = 0.112f64 * t822; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t833 = 0.112f64 * t825; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t834 = t831 + t832;
             let t835 = t833 - t828;
             let t836 = elbow_fe_ixx + t615;
@@ -5939,17 +5934,17 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1031 = s_efe * t1022;
             let t1032 = c_efe * t1024;
             let t1033 = t1031 + t1032;
-            let t1034 = t998 * 0.304f64;
-            let t1035 = t1009 * 0.304f64;
-            let t1036 = t1006 * 0.304f64;
-            let t1037 = t882 * 0.304f64;
-            let t1038 = t1015 * 0.304f64;
-            let t1039 = t1012 * 0.304f64;
-            let t1040 = 0.304f64 * t1027;
-            let t1041 = 0.304f64 * t894;
-            let t1042 = 0.304f64 * t1033;
-            let t1043 = 0.304f64 * t1030;
-            let t1044 = 0.304f64 * t1020;
+            let t1034 = t998 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1035 = t1009 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1036 = t1006 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1037 = t882 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1038 = t1015 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1039 = t1012 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1040 = 0.304f64 * t1027; // 3.0400e-1 = joint EFE origin z
+            let t1041 = 0.304f64 * t894; // 3.0400e-1 = joint EFE origin z
+            let t1042 = 0.304f64 * t1033; // 3.0400e-1 = joint EFE origin z
+            let t1043 = 0.304f64 * t1030; // 3.0400e-1 = joint EFE origin z
+            let t1044 = 0.304f64 * t1020; // 3.0400e-1 = joint EFE origin z
             let t1045 = t864 + t1034;
             let t1046 = t964 + t1036;
             let t1047 = t1037 - t971;
@@ -5958,9 +5953,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1050 = t1045 + t1034;
             let t1051 = t1047 - t1035;
             let t1052 = t1048 - t1038;
-            let t1053 = t1042 * 0.304f64;
-            let t1054 = t1040 * 0.304f64;
-            let t1055 = t1041 * 0.304f64;
+            let t1053 = t1042 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1054 = t1040 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1055 = t1041 * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t1056 = t1050 + t1053;
             let t1057 = t1051 - t1054;
             let t1058 = t1052 + t1055;
@@ -5979,8 +5974,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1071 = s_efe * t950;
             let t1072 = c_efe * t951;
             let t1073 = t1071 + t1072;
-            let t1074 = 0.304f64 * t1067;
-            let t1075 = 0.304f64 * t955;
+            let t1074 = 0.304f64 * t1067; // 3.0400e-1 = joint EFE origin z
+            let t1075 = 0.304f64 * t955; // 3.0400e-1 = joint EFE origin z
             let t1076 = t952 + t1074;
             let t1077 = t1073 - t1075;
             let t1078 = humerus_r_ixx + t1056;
@@ -6235,17 +6230,17 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1268 = s_hr * t1256;
             let t1269 = c_hr * t1258;
             let t1270 = t1268 + t1269;
-            let t1271 = t1218 * 0.112f64;
-            let t1272 = t1233 * 0.112f64;
-            let t1273 = t1230 * 0.112f64;
-            let t1274 = t1227 * 0.112f64;
-            let t1275 = t1239 * 0.112f64;
-            let t1276 = t1236 * 0.112f64;
-            let t1277 = 0.112f64 * t1254;
-            let t1278 = 0.112f64 * t1261;
-            let t1279 = 0.112f64 * t1267;
-            let t1280 = 0.112f64 * t1270;
-            let t1281 = 0.112f64 * t1264;
+            let t1271 = t1218 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1272 = t1233 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1273 = t1230 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1274 = t1227 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1275 = t1239 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1276 = t1236 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1277 = 0.112f64 * t1254; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1278 = 0.112f64 * t1261; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1279 = 0.112f64 * t1267; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1280 = 0.112f64 * t1270; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1281 = 0.112f64 * t1264; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1282 = t1200 + t1271;
             let t1283 = t1209 + t1272;
             let t1284 = t1274 - t1193;
@@ -6254,9 +6249,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1287 = t1283 + t1272;
             let t1288 = t1285 - t1273;
             let t1289 = t1286 - t1276;
-            let t1290 = t1281 * 0.112f64;
-            let t1291 = t1279 * 0.112f64;
-            let t1292 = t1280 * 0.112f64;
+            let t1290 = t1281 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1291 = t1279 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1292 = t1280 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1293 = t1287 + t1290;
             let t1294 = t1288 + t1291;
             let t1295 = t1289 + t1292;
@@ -6276,8 +6271,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1309 = s_hr * t1180;
             let t1310 = c_hr * t1181;
             let t1311 = t1309 + t1310;
-            let t1312 = 0.112f64 * t1302;
-            let t1313 = 0.112f64 * t1305;
+            let t1312 = 0.112f64 * t1302; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1313 = 0.112f64 * t1305; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1314 = t1311 + t1312;
             let t1315 = t1313 - t1308;
             let t1316 = shoulder_fe_ixx + t1105;
@@ -6312,7 +6307,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 shoulder_fe_p_nz,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
         let (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let u_sfe = tau_sfe - shoulder_fe_p_nz;
@@ -6372,7 +6366,6 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let shoulder_aa_u_nz = shoulder_aa_izz + t1361;
             (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
         };
-        // ── link `Shoulder_AA`, joint `SAA` (tip to base)
         let u_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (tip to base)
             let u_saa = tau_saa - shoulder_aa_p_nz;
@@ -6380,7 +6373,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let qdd_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-            let t1372 = 9.81f64 * shoulder_aa_u_fz;
+            let t1372 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
             let t1373 = u_saa - t1372;
             let qdd_saa = t1373 / shoulder_aa_u_nz;
             qdd_saa
@@ -6395,8 +6388,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
             let t1374 = s_sfe * qdd_saa;
             let t1375 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let shoulder_fe_a_wx = t1374 + t0;
             let shoulder_fe_a_wy = t1375 - t1;
             let t1376 = shoulder_fe_a_wx * shoulder_fe_u_nx;
@@ -6425,8 +6418,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_a_wz,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-            let t1384 = 0.112f64 * qdd_sfe;
-            let t1385 = 0.112f64 * shoulder_fe_a_wy;
+            let t1384 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1385 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1386 = shoulder_fe_a_vy + t1384;
             let t1387 = c_hr * qdd_sfe;
             let t1388 = s_hr * shoulder_fe_a_wy;
@@ -6477,8 +6470,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_a_wz,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-            let t1411 = 0.304f64 * humerus_r_a_wy;
-            let t1412 = 0.304f64 * humerus_r_a_wx;
+            let t1411 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t1412 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t1411;
             let t1413 = humerus_r_a_vy - t1412;
             let t1414 = c_efe * humerus_r_a_wz;
@@ -6523,8 +6516,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
             // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-            let t1438 = 0.112f64 * elbow_fe_a_wz;
-            let t1439 = 0.112f64 * elbow_fe_a_wy;
+            let t1438 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1439 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1440 = elbow_fe_a_vy + t1438;
             let t1441 = elbow_fe_a_vz + t1439;
             let t1442 = c_wr * elbow_fe_a_wz;
@@ -6561,8 +6554,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let qdd_wfe = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t1466 = 0.184f64 * wrist_r_a_wy;
-            let t1467 = 0.02075f64 * wrist_r_a_wy;
+            let t1466 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t1467 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t1468 = wrist_r_a_vx + t1466;
             let t1469 = elbow_fe_a_vx - t1467;
             let t1470 = c_wfe * wrist_r_a_wz;
@@ -6860,8 +6853,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let t0 = s_sfe * qdd_saa;
             let t1 = c_sfe * qdd_saa;
-            let shoulder_fe_a_vx = s_sfe * 9.81f64;
-            let shoulder_fe_a_vy = c_sfe * 9.81f64;
+            let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
+            let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
             let t2 = shoulder_fe_v_wy * qd_sfe;
             let t3 = shoulder_fe_v_wx * qd_sfe;
             let shoulder_fe_a_wx = t0 + t2;
@@ -6977,8 +6970,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t170,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t41 = 0.112f64 * qd_sfe;
-            let t42 = 0.112f64 * shoulder_fe_v_wy;
+            let t41 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t42 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t43 = c_hr * qd_sfe;
             let t44 = s_hr * shoulder_fe_v_wy;
             let humerus_r_v_wx = t44 - t43;
@@ -6992,8 +6985,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t50 = c_hr * t41;
             let humerus_r_v_vy = t50 - t49;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t51 = 0.112f64 * qdd_sfe;
-            let t52 = 0.112f64 * shoulder_fe_a_wy;
+            let t51 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t52 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t53 = shoulder_fe_a_vy + t51;
             let t54 = c_hr * qdd_sfe;
             let t55 = s_hr * shoulder_fe_a_wy;
@@ -7223,8 +7216,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t316,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t171 = 0.304f64 * humerus_r_v_wy;
-            let t172 = 0.304f64 * humerus_r_v_wx;
+            let t171 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t172 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_v_vz = humerus_r_v_vx + t171;
             let t173 = humerus_r_v_vy - t172;
             let t174 = c_efe * humerus_r_v_wz;
@@ -7236,8 +7229,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let elbow_fe_v_vx = s_efe * t173;
             let elbow_fe_v_vy = c_efe * t173;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t178 = 0.304f64 * humerus_r_a_wy;
-            let t179 = 0.304f64 * humerus_r_a_wx;
+            let t178 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t179 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
             let elbow_fe_a_vz = humerus_r_a_vx + t178;
             let t180 = humerus_r_a_vy - t179;
             let t181 = c_efe * humerus_r_a_wz;
@@ -7490,8 +7483,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t468,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t317 = 0.112f64 * elbow_fe_v_wz;
-            let t318 = 0.112f64 * elbow_fe_v_wy;
+            let t317 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t318 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t319 = elbow_fe_v_vy + t317;
             let t320 = elbow_fe_v_vz + t318;
             let t321 = c_wr * elbow_fe_v_wz;
@@ -7507,8 +7500,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t328 = c_wr * t319;
             let wrist_r_v_vy = t328 - t327;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t329 = 0.112f64 * elbow_fe_a_wz;
-            let t330 = 0.112f64 * elbow_fe_a_wy;
+            let t329 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t330 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t331 = elbow_fe_a_vy + t329;
             let t332 = elbow_fe_a_vz + t330;
             let t333 = c_wr * elbow_fe_a_wz;
@@ -7760,11 +7753,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t469 = 0.184f64 * wrist_r_v_wy;
-            let t470 = 0.184f64 * wrist_r_v_wx;
-            let t471 = 0.02075f64 * wrist_r_v_wz;
+            let t469 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t470 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t471 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
             let t472 = t470 - t471;
-            let t473 = 0.02075f64 * wrist_r_v_wy;
+            let t473 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
             let t474 = wrist_r_v_vx + t469;
             let wrist_fe_v_vz = wrist_r_v_vy - t472;
             let t475 = elbow_fe_v_vx - t473;
@@ -7781,11 +7774,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t483 = c_wfe * t474;
             let wrist_fe_v_vy = t483 - t482;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t484 = 0.184f64 * wrist_r_a_wy;
-            let t485 = 0.184f64 * wrist_r_a_wx;
-            let t486 = 0.02075f64 * wrist_r_a_wz;
+            let t484 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t485 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t486 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
             let t487 = t485 - t486;
-            let t488 = 0.02075f64 * wrist_r_a_wy;
+            let t488 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
             let t489 = wrist_r_a_vx + t484;
             let wrist_fe_a_vz = wrist_r_a_vy - t487;
             let t490 = elbow_fe_a_vx - t488;
@@ -8014,11 +8007,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t630 = s_wfe * wrist_fe_f_nx;
             let t631 = c_wfe * wrist_fe_f_ny;
             let t632 = t630 + t631;
-            let t633 = 0.184f64 * wrist_fe_f_fz;
-            let t634 = 0.184f64 * t626;
-            let t635 = 0.02075f64 * t623;
+            let t633 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t634 = 0.184f64 * t626; // 1.8400e-1 = joint WFE origin z
+            let t635 = 0.02075f64 * t623; // 2.0750e-2 = joint WFE origin x
             let t636 = t634 - t635;
-            let t637 = 0.02075f64 * wrist_fe_f_fz;
+            let t637 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
             let t638 = t632 - t633;
             let t639 = wrist_fe_f_nz + t636;
             let t640 = t629 + t637;
@@ -8074,8 +8067,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t650 = s_wr * wrist_r_f_nx;
             let t651 = c_wr * wrist_r_f_ny;
             let t652 = t650 + t651;
-            let t653 = 0.112f64 * t643;
-            let t654 = 0.112f64 * t646;
+            let t653 = 0.112f64 * t643; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t654 = 0.112f64 * t646; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t655 = t652 + t653;
             let t656 = t654 - t649;
             let elbow_fe_f_nx = t311 + wrist_r_f_nz;
@@ -8126,8 +8119,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t665 = s_efe * elbow_fe_f_nx;
             let t666 = c_efe * elbow_fe_f_ny;
             let t667 = t665 + t666;
-            let t668 = 0.304f64 * t661;
-            let t669 = 0.304f64 * elbow_fe_f_fz;
+            let t668 = 0.304f64 * t661; // 3.0400e-1 = joint EFE origin z
+            let t669 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
             let t670 = elbow_fe_f_nz + t668;
             let t671 = t667 - t669;
             let humerus_r_f_nx = t166 - t670;
@@ -8172,7 +8165,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t679 = s_hr * humerus_r_f_nx;
             let t680 = c_hr * humerus_r_f_ny;
             let t681 = t679 + t680;
-            let t682 = 0.112f64 * t674;
+            let t682 = 0.112f64 * t674; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t683 = t681 + t682;
             let shoulder_fe_f_nx = t39 + humerus_r_f_nz;
             let shoulder_fe_f_ny = t40 + t683;
@@ -8189,14 +8182,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 shoulder_fe_f_ny,
             )
         };
-        // ── link `Shoulder_FE`, joint `SFE` (tip to base)
         let (t684, t685) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let t684 = c_sfe * shoulder_fe_f_nx;
             let t685 = s_sfe * shoulder_fe_f_ny;
             (t684, t685)
         };
-        // ── link `Shoulder_FE`, joint `SFE` (base to tip)
         let (t686, t687, t723, t724, t725) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let t686 = c_sfe * qd_sfe;
@@ -8257,12 +8248,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t868,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t726 = 0.112f64 * c_sfe;
+            let t726 = 0.112f64 * c_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t727 = s_hr * c_sfe;
             let t728 = c_hr * c_sfe;
             let t729 = c_hr * t726;
             let t730 = s_hr * t726;
-            let t731 = 0.112f64 * t687;
+            let t731 = 0.112f64 * t687; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t732 = s_hr * t687;
             let t733 = c_hr * t687;
             let t734 = c_hr * t731;
@@ -8435,8 +8426,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t1056,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t869 = 0.304f64 * t728;
-            let t870 = 0.304f64 * t727;
+            let t869 = 0.304f64 * t728; // 3.0400e-1 = joint EFE origin z
+            let t870 = 0.304f64 * t727; // 3.0400e-1 = joint EFE origin z
             let t871 = t729 + t869;
             let t872 = t730 + t870;
             let t873 = c_efe * s_sfe;
@@ -8447,8 +8438,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t878 = t877 - t876;
             let t879 = s_efe * t872;
             let t880 = c_efe * t872;
-            let t881 = 0.304f64 * t741;
-            let t882 = 0.304f64 * t740;
+            let t881 = 0.304f64 * t741; // 3.0400e-1 = joint EFE origin z
+            let t882 = 0.304f64 * t740; // 3.0400e-1 = joint EFE origin z
             let t883 = t742 + t881;
             let t884 = t743 - t882;
             let t885 = c_efe * t686;
@@ -8659,8 +8650,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t1252,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t1057 = 0.112f64 * t727;
-            let t1058 = 0.112f64 * t878;
+            let t1057 = 0.112f64 * t727; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1058 = 0.112f64 * t878; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1059 = t880 + t1057;
             let t1060 = t871 + t1058;
             let t1061 = c_wr * t727;
@@ -8675,8 +8666,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1070 = s_wr * t1060;
             let t1071 = c_wr * t1059;
             let t1072 = t1070 + t1071;
-            let t1073 = 0.112f64 * t740;
-            let t1074 = 0.112f64 * t898;
+            let t1073 = 0.112f64 * t740; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1074 = 0.112f64 * t898; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1075 = t900 - t1073;
             let t1076 = t883 + t1074;
             let t1077 = c_wr * t740;
@@ -8874,11 +8865,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t1451, t1452, t1453, t1454, t1455, t1456) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t1253 = 0.184f64 * t1066;
-            let t1254 = 0.184f64 * t1063;
-            let t1255 = 0.02075f64 * t875;
+            let t1253 = 0.184f64 * t1066; // 1.8400e-1 = joint WFE origin z
+            let t1254 = 0.184f64 * t1063; // 1.8400e-1 = joint WFE origin z
+            let t1255 = 0.02075f64 * t875; // 2.0750e-2 = joint WFE origin x
             let t1256 = t1254 - t1255;
-            let t1257 = 0.02075f64 * t1066;
+            let t1257 = 0.02075f64 * t1066; // 2.0750e-2 = joint WFE origin x
             let t1258 = t1069 + t1253;
             let t1259 = t1072 + t1256;
             let t1260 = t879 + t1257;
@@ -8894,11 +8885,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1270 = s_wfe * t1260;
             let t1271 = c_wfe * t1258;
             let t1272 = t1270 + t1271;
-            let t1273 = 0.184f64 * t1094;
-            let t1274 = 0.184f64 * t1093;
-            let t1275 = 0.02075f64 * t897;
+            let t1273 = 0.184f64 * t1094; // 1.8400e-1 = joint WFE origin z
+            let t1274 = 0.184f64 * t1093; // 1.8400e-1 = joint WFE origin z
+            let t1275 = 0.02075f64 * t897; // 2.0750e-2 = joint WFE origin x
             let t1276 = t1274 - t1275;
-            let t1277 = 0.02075f64 * t1094;
+            let t1277 = 0.02075f64 * t1094; // 2.0750e-2 = joint WFE origin x
             let t1278 = t1095 - t1273;
             let t1279 = t1096 - t1276;
             let t1280 = t899 + t1277;
@@ -9094,11 +9085,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1466 = s_wfe * t1451;
             let t1467 = c_wfe * t1452;
             let t1468 = t1466 + t1467;
-            let t1469 = 0.184f64 * t1456;
-            let t1470 = 0.184f64 * t1462;
-            let t1471 = 0.02075f64 * t1459;
+            let t1469 = 0.184f64 * t1456; // 1.8400e-1 = joint WFE origin z
+            let t1470 = 0.184f64 * t1462; // 1.8400e-1 = joint WFE origin z
+            let t1471 = 0.02075f64 * t1459; // 2.0750e-2 = joint WFE origin x
             let t1472 = t1470 - t1471;
-            let t1473 = 0.02075f64 * t1456;
+            let t1473 = 0.02075f64 * t1456; // 2.0750e-2 = joint WFE origin x
             let t1474 = t1468 - t1469;
             let t1475 = t1453 + t1472;
             let t1476 = t1465 + t1473;
@@ -9124,8 +9115,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1492 = s_wr * t1477;
             let t1493 = c_wr * t1478;
             let t1494 = t1492 + t1493;
-            let t1495 = 0.112f64 * t1485;
-            let t1496 = 0.112f64 * t1488;
+            let t1495 = 0.112f64 * t1485; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1496 = 0.112f64 * t1488; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1497 = t1494 + t1495;
             let t1498 = t1496 - t1491;
             let t1499 = t1051 + t1479;
@@ -9147,8 +9138,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1511 = s_efe * t1499;
             let t1512 = c_efe * t1500;
             let t1513 = t1511 + t1512;
-            let t1514 = 0.304f64 * t1507;
-            let t1515 = 0.304f64 * t1504;
+            let t1514 = 0.304f64 * t1507; // 3.0400e-1 = joint EFE origin z
+            let t1515 = 0.304f64 * t1504; // 3.0400e-1 = joint EFE origin z
             let t1516 = t1501 + t1514;
             let t1517 = t1513 - t1515;
             let t1518 = t864 - t1516;
@@ -9172,8 +9163,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1532 = s_hr * t1518;
             let t1533 = c_hr * t1519;
             let t1534 = t1532 + t1533;
-            let t1535 = 0.112f64 * t1525;
-            let t1536 = 0.112f64 * t1528;
+            let t1535 = 0.112f64 * t1525; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1536 = 0.112f64 * t1528; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1537 = t1534 - t1535;
             let t1538 = t1536 - t1531;
             let t1539 = t723 + t1520;
@@ -9251,12 +9242,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t1733,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t1583 = 0.112f64 * shoulder_fe_v_wx;
+            let t1583 = 0.112f64 * shoulder_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1584 = s_hr * shoulder_fe_v_wx;
             let t1585 = c_hr * shoulder_fe_v_wx;
             let t1586 = c_hr * t1583;
             let t1587 = s_hr * t1583;
-            let t1588 = 0.112f64 * shoulder_fe_a_wx;
+            let t1588 = 0.112f64 * shoulder_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1589 = s_hr * shoulder_fe_a_wx;
             let t1590 = c_hr * shoulder_fe_a_wx;
             let t1591 = c_hr * t1588;
@@ -9444,8 +9435,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t1925,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t1734 = 0.304f64 * t1585;
-            let t1735 = 0.304f64 * t1584;
+            let t1734 = 0.304f64 * t1585; // 3.0400e-1 = joint EFE origin z
+            let t1735 = 0.304f64 * t1584; // 3.0400e-1 = joint EFE origin z
             let t1736 = t1586 + t1734;
             let t1737 = t1587 + t1735;
             let t1738 = c_efe * shoulder_fe_v_wy;
@@ -9456,8 +9447,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1743 = t1741 + t1742;
             let t1744 = s_efe * t1737;
             let t1745 = c_efe * t1737;
-            let t1746 = 0.304f64 * t1602;
-            let t1747 = 0.304f64 * t1601;
+            let t1746 = 0.304f64 * t1602; // 3.0400e-1 = joint EFE origin z
+            let t1747 = 0.304f64 * t1601; // 3.0400e-1 = joint EFE origin z
             let t1748 = t1603 + t1746;
             let t1749 = t1604 + t1747;
             let t1750 = c_efe * shoulder_fe_a_wy;
@@ -9674,8 +9665,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t2121,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t1926 = 0.112f64 * t1584;
-            let t1927 = 0.112f64 * t1743;
+            let t1926 = 0.112f64 * t1584; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1927 = 0.112f64 * t1743; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1928 = t1745 + t1926;
             let t1929 = t1736 + t1927;
             let t1930 = c_wr * t1584;
@@ -9690,8 +9681,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1939 = s_wr * t1929;
             let t1940 = c_wr * t1928;
             let t1941 = t1939 + t1940;
-            let t1942 = 0.112f64 * t1601;
-            let t1943 = 0.112f64 * t1767;
+            let t1942 = 0.112f64 * t1601; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1943 = 0.112f64 * t1767; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1944 = t1769 + t1942;
             let t1945 = t1748 + t1943;
             let t1946 = c_wr * t1601;
@@ -9889,11 +9880,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t2320, t2321, t2322, t2323, t2324, t2325) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t2122 = 0.184f64 * t1935;
-            let t2123 = 0.184f64 * t1932;
-            let t2124 = 0.02075f64 * t1740;
+            let t2122 = 0.184f64 * t1935; // 1.8400e-1 = joint WFE origin z
+            let t2123 = 0.184f64 * t1932; // 1.8400e-1 = joint WFE origin z
+            let t2124 = 0.02075f64 * t1740; // 2.0750e-2 = joint WFE origin x
             let t2125 = t2123 + t2124;
-            let t2126 = 0.02075f64 * t1935;
+            let t2126 = 0.02075f64 * t1935; // 2.0750e-2 = joint WFE origin x
             let t2127 = t1938 + t2122;
             let t2128 = t1941 + t2125;
             let t2129 = t1744 - t2126;
@@ -9909,11 +9900,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2139 = s_wfe * t2129;
             let t2140 = c_wfe * t2127;
             let t2141 = t2140 - t2139;
-            let t2142 = 0.184f64 * t1963;
-            let t2143 = 0.184f64 * t1962;
-            let t2144 = 0.02075f64 * t1766;
+            let t2142 = 0.184f64 * t1963; // 1.8400e-1 = joint WFE origin z
+            let t2143 = 0.184f64 * t1962; // 1.8400e-1 = joint WFE origin z
+            let t2144 = 0.02075f64 * t1766; // 2.0750e-2 = joint WFE origin x
             let t2145 = t2143 - t2144;
-            let t2146 = 0.02075f64 * t1963;
+            let t2146 = 0.02075f64 * t1963; // 2.0750e-2 = joint WFE origin x
             let t2147 = t1964 + t2142;
             let t2148 = t1965 - t2145;
             let t2149 = t1768 - t2146;
@@ -10109,11 +10100,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2335 = s_wfe * t2320;
             let t2336 = c_wfe * t2321;
             let t2337 = t2335 + t2336;
-            let t2338 = 0.184f64 * t2325;
-            let t2339 = 0.184f64 * t2331;
-            let t2340 = 0.02075f64 * t2328;
+            let t2338 = 0.184f64 * t2325; // 1.8400e-1 = joint WFE origin z
+            let t2339 = 0.184f64 * t2331; // 1.8400e-1 = joint WFE origin z
+            let t2340 = 0.02075f64 * t2328; // 2.0750e-2 = joint WFE origin x
             let t2341 = t2339 - t2340;
-            let t2342 = 0.02075f64 * t2325;
+            let t2342 = 0.02075f64 * t2325; // 2.0750e-2 = joint WFE origin x
             let t2343 = t2337 - t2338;
             let t2344 = t2322 + t2341;
             let t2345 = t2334 + t2342;
@@ -10139,8 +10130,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2361 = s_wr * t2346;
             let t2362 = c_wr * t2347;
             let t2363 = t2361 + t2362;
-            let t2364 = 0.112f64 * t2354;
-            let t2365 = 0.112f64 * t2357;
+            let t2364 = 0.112f64 * t2354; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2365 = 0.112f64 * t2357; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2366 = t2363 + t2364;
             let t2367 = t2365 - t2360;
             let t2368 = t1920 + t2348;
@@ -10162,8 +10153,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2380 = s_efe * t2368;
             let t2381 = c_efe * t2369;
             let t2382 = t2380 + t2381;
-            let t2383 = 0.304f64 * t2376;
-            let t2384 = 0.304f64 * t2373;
+            let t2383 = 0.304f64 * t2376; // 3.0400e-1 = joint EFE origin z
+            let t2384 = 0.304f64 * t2373; // 3.0400e-1 = joint EFE origin z
             let t2385 = t2370 + t2383;
             let t2386 = t2382 - t2384;
             let t2387 = t1729 - t2385;
@@ -10187,8 +10178,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2401 = s_hr * t2387;
             let t2402 = c_hr * t2388;
             let t2403 = t2401 + t2402;
-            let t2404 = 0.112f64 * t2394;
-            let t2405 = 0.112f64 * t2397;
+            let t2404 = 0.112f64 * t2394; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2405 = 0.112f64 * t2397; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2406 = t2403 + t2404;
             let t2407 = t2405 - t2400;
             let t2408 = t1580 + t2389;
@@ -10233,8 +10224,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t2537,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t2426 = s_hr * 0.112f64;
-            let t2427 = c_hr * 0.112f64;
+            let t2426 = s_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2427 = c_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2428 = s_hr * qd_hr;
             let t2429 = c_hr * qd_hr;
             let t2430 = t2427 * qd_hr;
@@ -10366,16 +10357,16 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t2719,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t2538 = 0.304f64 * s_hr;
-            let t2539 = 0.304f64 * c_hr;
+            let t2538 = 0.304f64 * s_hr; // 3.0400e-1 = joint EFE origin z
+            let t2539 = 0.304f64 * c_hr; // 3.0400e-1 = joint EFE origin z
             let t2540 = t2426 + t2538;
             let t2541 = t2427 + t2539;
             let t2542 = s_efe * s_hr;
             let t2543 = c_efe * s_hr;
             let t2544 = s_efe * t2541;
             let t2545 = c_efe * t2541;
-            let t2546 = 0.304f64 * t2433;
-            let t2547 = 0.304f64 * t2432;
+            let t2546 = 0.304f64 * t2433; // 3.0400e-1 = joint EFE origin z
+            let t2547 = 0.304f64 * t2432; // 3.0400e-1 = joint EFE origin z
             let t2548 = t2434 + t2546;
             let t2549 = t2435 - t2547;
             let t2550 = s_efe * t2433;
@@ -10584,7 +10575,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t2914,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t2720 = 0.112f64 * t2543;
+            let t2720 = 0.112f64 * t2543; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2721 = t2545 + t2427;
             let t2722 = t2540 + t2720;
             let t2723 = c_wr * c_hr;
@@ -10599,8 +10590,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2732 = s_wr * t2722;
             let t2733 = c_wr * t2721;
             let t2734 = t2733 - t2732;
-            let t2735 = 0.112f64 * t2432;
-            let t2736 = 0.112f64 * t2561;
+            let t2735 = 0.112f64 * t2432; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2736 = 0.112f64 * t2561; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t2737 = t2563 - t2735;
             let t2738 = t2548 + t2736;
             let t2739 = c_wr * t2432;
@@ -10798,11 +10789,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t3113, t3114, t3115, t3116, t3117, t3118) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t2915 = 0.184f64 * t2728;
-            let t2916 = 0.184f64 * t2725;
-            let t2917 = 0.02075f64 * t2542;
+            let t2915 = 0.184f64 * t2728; // 1.8400e-1 = joint WFE origin z
+            let t2916 = 0.184f64 * t2725; // 1.8400e-1 = joint WFE origin z
+            let t2917 = 0.02075f64 * t2542; // 2.0750e-2 = joint WFE origin x
             let t2918 = t2916 - t2917;
-            let t2919 = 0.02075f64 * t2728;
+            let t2919 = 0.02075f64 * t2728; // 2.0750e-2 = joint WFE origin x
             let t2920 = t2731 + t2915;
             let t2921 = t2734 - t2918;
             let t2922 = t2544 - t2919;
@@ -10818,11 +10809,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t2932 = s_wfe * t2922;
             let t2933 = c_wfe * t2920;
             let t2934 = t2933 - t2932;
-            let t2935 = 0.184f64 * t2756;
-            let t2936 = 0.184f64 * t2755;
-            let t2937 = 0.02075f64 * t2560;
+            let t2935 = 0.184f64 * t2756; // 1.8400e-1 = joint WFE origin z
+            let t2936 = 0.184f64 * t2755; // 1.8400e-1 = joint WFE origin z
+            let t2937 = 0.02075f64 * t2560; // 2.0750e-2 = joint WFE origin x
             let t2938 = t2936 - t2937;
-            let t2939 = 0.02075f64 * t2756;
+            let t2939 = 0.02075f64 * t2756; // 2.0750e-2 = joint WFE origin x
             let t2940 = t2757 + t2935;
             let t2941 = t2758 - t2938;
             let t2942 = t2562 - t2939;
@@ -11018,11 +11009,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3128 = s_wfe * t3113;
             let t3129 = c_wfe * t3114;
             let t3130 = t3128 + t3129;
-            let t3131 = 0.184f64 * t3118;
-            let t3132 = 0.184f64 * t3124;
-            let t3133 = 0.02075f64 * t3121;
+            let t3131 = 0.184f64 * t3118; // 1.8400e-1 = joint WFE origin z
+            let t3132 = 0.184f64 * t3124; // 1.8400e-1 = joint WFE origin z
+            let t3133 = 0.02075f64 * t3121; // 2.0750e-2 = joint WFE origin x
             let t3134 = t3132 - t3133;
-            let t3135 = 0.02075f64 * t3118;
+            let t3135 = 0.02075f64 * t3118; // 2.0750e-2 = joint WFE origin x
             let t3136 = t3130 - t3131;
             let t3137 = t3115 + t3134;
             let t3138 = t3127 + t3135;
@@ -11048,8 +11039,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3154 = s_wr * t3139;
             let t3155 = c_wr * t3140;
             let t3156 = t3154 + t3155;
-            let t3157 = 0.112f64 * t3147;
-            let t3158 = 0.112f64 * t3150;
+            let t3157 = 0.112f64 * t3147; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3158 = 0.112f64 * t3150; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3159 = t3156 + t3157;
             let t3160 = t3158 - t3153;
             let t3161 = t2714 + t3141;
@@ -11071,8 +11062,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3173 = s_efe * t3161;
             let t3174 = c_efe * t3162;
             let t3175 = t3173 + t3174;
-            let t3176 = 0.304f64 * t3169;
-            let t3177 = 0.304f64 * t3166;
+            let t3176 = 0.304f64 * t3169; // 3.0400e-1 = joint EFE origin z
+            let t3177 = 0.304f64 * t3166; // 3.0400e-1 = joint EFE origin z
             let t3178 = t3163 + t3176;
             let t3179 = t3175 - t3177;
             let t3180 = t2533 - t3178;
@@ -11096,8 +11087,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3194 = s_hr * t3180;
             let t3195 = c_hr * t3181;
             let t3196 = t3194 + t3195;
-            let t3197 = 0.112f64 * t3187;
-            let t3198 = 0.112f64 * t3190;
+            let t3197 = 0.112f64 * t3187; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3198 = 0.112f64 * t3190; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3199 = t3196 + t3197;
             let t3200 = t3198 - t3193;
             let t3201 = t2423 + t3182;
@@ -11259,14 +11250,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t3472,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t3295 = 0.304f64 * t3207;
+            let t3295 = 0.304f64 * t3207; // 3.0400e-1 = joint EFE origin z
             let t3296 = humerus_r_v_vy + t3295;
             let t3297 = s_efe * t3207;
             let t3298 = c_efe * t3207;
             let t3299 = s_efe * elbow_fe_v_vz;
             let t3300 = c_efe * elbow_fe_v_vz;
-            let t3301 = 0.304f64 * t3211;
-            let t3302 = 0.304f64 * t3210;
+            let t3301 = 0.304f64 * t3211; // 3.0400e-1 = joint EFE origin z
+            let t3302 = 0.304f64 * t3210; // 3.0400e-1 = joint EFE origin z
             let t3303 = humerus_r_a_vy + t3301;
             let t3304 = humerus_r_a_vx + t3302;
             let t3305 = s_efe * t3211;
@@ -11490,8 +11481,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t3668,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t3473 = 0.112f64 * humerus_r_v_wy;
-            let t3474 = 0.112f64 * t3298;
+            let t3473 = 0.112f64 * humerus_r_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3474 = 0.112f64 * t3298; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3475 = t3300 + t3473;
             let t3476 = t3296 + t3474;
             let t3477 = c_wr * humerus_r_v_wy;
@@ -11506,8 +11497,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3486 = s_wr * t3476;
             let t3487 = c_wr * t3475;
             let t3488 = t3486 + t3487;
-            let t3489 = 0.112f64 * t3210;
-            let t3490 = 0.112f64 * t3314;
+            let t3489 = 0.112f64 * t3210; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3490 = 0.112f64 * t3314; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3491 = t3316 - t3489;
             let t3492 = t3303 + t3490;
             let t3493 = c_wr * t3210;
@@ -11712,11 +11703,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t3867, t3868, t3869, t3870, t3871, t3872) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t3669 = 0.184f64 * t3482;
-            let t3670 = 0.184f64 * t3479;
-            let t3671 = 0.02075f64 * t3297;
+            let t3669 = 0.184f64 * t3482; // 1.8400e-1 = joint WFE origin z
+            let t3670 = 0.184f64 * t3479; // 1.8400e-1 = joint WFE origin z
+            let t3671 = 0.02075f64 * t3297; // 2.0750e-2 = joint WFE origin x
             let t3672 = t3670 - t3671;
-            let t3673 = 0.02075f64 * t3482;
+            let t3673 = 0.02075f64 * t3482; // 2.0750e-2 = joint WFE origin x
             let t3674 = t3485 + t3669;
             let t3675 = t3488 + t3672;
             let t3676 = t3299 + t3673;
@@ -11732,11 +11723,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3686 = s_wfe * t3676;
             let t3687 = c_wfe * t3674;
             let t3688 = t3686 + t3687;
-            let t3689 = 0.184f64 * t3510;
-            let t3690 = 0.184f64 * t3509;
-            let t3691 = 0.02075f64 * t3313;
+            let t3689 = 0.184f64 * t3510; // 1.8400e-1 = joint WFE origin z
+            let t3690 = 0.184f64 * t3509; // 1.8400e-1 = joint WFE origin z
+            let t3691 = 0.02075f64 * t3313; // 2.0750e-2 = joint WFE origin x
             let t3692 = t3690 - t3691;
-            let t3693 = 0.02075f64 * t3510;
+            let t3693 = 0.02075f64 * t3510; // 2.0750e-2 = joint WFE origin x
             let t3694 = t3511 + t3689;
             let t3695 = t3512 - t3692;
             let t3696 = t3315 + t3693;
@@ -11932,11 +11923,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3882 = s_wfe * t3867;
             let t3883 = c_wfe * t3868;
             let t3884 = t3882 + t3883;
-            let t3885 = 0.184f64 * t3872;
-            let t3886 = 0.184f64 * t3878;
-            let t3887 = 0.02075f64 * t3875;
+            let t3885 = 0.184f64 * t3872; // 1.8400e-1 = joint WFE origin z
+            let t3886 = 0.184f64 * t3878; // 1.8400e-1 = joint WFE origin z
+            let t3887 = 0.02075f64 * t3875; // 2.0750e-2 = joint WFE origin x
             let t3888 = t3886 - t3887;
-            let t3889 = 0.02075f64 * t3872;
+            let t3889 = 0.02075f64 * t3872; // 2.0750e-2 = joint WFE origin x
             let t3890 = t3884 - t3885;
             let t3891 = t3869 + t3888;
             let t3892 = t3881 + t3889;
@@ -11962,8 +11953,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3908 = s_wr * t3893;
             let t3909 = c_wr * t3894;
             let t3910 = t3908 + t3909;
-            let t3911 = 0.112f64 * t3901;
-            let t3912 = 0.112f64 * t3904;
+            let t3911 = 0.112f64 * t3901; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3912 = 0.112f64 * t3904; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3913 = t3910 + t3911;
             let t3914 = t3912 - t3907;
             let t3915 = t3467 + t3895;
@@ -11985,8 +11976,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3927 = s_efe * t3915;
             let t3928 = c_efe * t3916;
             let t3929 = t3927 + t3928;
-            let t3930 = 0.304f64 * t3923;
-            let t3931 = 0.304f64 * t3920;
+            let t3930 = 0.304f64 * t3923; // 3.0400e-1 = joint EFE origin z
+            let t3931 = 0.304f64 * t3920; // 3.0400e-1 = joint EFE origin z
             let t3932 = t3917 + t3930;
             let t3933 = t3929 - t3931;
             let t3934 = t3290 - t3932;
@@ -12018,8 +12009,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t3956 = c_hr * t3935;
             let t3957 = t3956 - t678;
             let t3958 = t3955 + t3957;
-            let t3959 = 0.112f64 * t3943;
-            let t3960 = 0.112f64 * t3948;
+            let t3959 = 0.112f64 * t3943; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3960 = 0.112f64 * t3948; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t3961 = t3958 + t3959;
             let t3962 = t3960 - t3953;
             (t3961, t3962)
@@ -12182,12 +12173,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t4257,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4092 = 0.112f64 * s_efe;
+            let t4092 = 0.112f64 * s_efe; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4093 = s_wr * s_efe;
             let t4094 = c_wr * s_efe;
             let t4095 = c_wr * t4092;
             let t4096 = s_wr * t4092;
-            let t4097 = 0.112f64 * t3995;
+            let t4097 = 0.112f64 * t3995; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4098 = t4097 - t173;
             let t4099 = s_wr * t3995;
             let t4100 = t3477 - t4099;
@@ -12367,11 +12358,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t4455, t4456, t4457, t4458, t4459, t4460) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4258 = 0.184f64 * t4094;
-            let t4259 = 0.184f64 * t4093;
-            let t4260 = 0.02075f64 * c_efe;
+            let t4258 = 0.184f64 * t4094; // 1.8400e-1 = joint WFE origin z
+            let t4259 = 0.184f64 * t4093; // 1.8400e-1 = joint WFE origin z
+            let t4260 = 0.02075f64 * c_efe; // 2.0750e-2 = joint WFE origin x
             let t4261 = t4259 + t4260;
-            let t4262 = 0.02075f64 * t4094;
+            let t4262 = 0.02075f64 * t4094; // 2.0750e-2 = joint WFE origin x
             let t4263 = t4095 + t4258;
             let t4264 = t4096 + t4261;
             let t4265 = c_wfe * c_efe;
@@ -12386,11 +12377,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4274 = s_wfe * t4262;
             let t4275 = c_wfe * t4263;
             let t4276 = t4274 + t4275;
-            let t4277 = 0.184f64 * t4112;
-            let t4278 = 0.184f64 * t4111;
-            let t4279 = 0.02075f64 * t3994;
+            let t4277 = 0.184f64 * t4112; // 1.8400e-1 = joint WFE origin z
+            let t4278 = 0.184f64 * t4111; // 1.8400e-1 = joint WFE origin z
+            let t4279 = 0.02075f64 * t3994; // 2.0750e-2 = joint WFE origin x
             let t4280 = t4278 + t4279;
-            let t4281 = 0.02075f64 * t4112;
+            let t4281 = 0.02075f64 * t4112; // 2.0750e-2 = joint WFE origin x
             let t4282 = t4113 + t4277;
             let t4283 = t4114 - t4280;
             let t4284 = t3299 + t4281;
@@ -12586,11 +12577,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4470 = s_wfe * t4455;
             let t4471 = c_wfe * t4456;
             let t4472 = t4470 + t4471;
-            let t4473 = 0.184f64 * t4460;
-            let t4474 = 0.184f64 * t4466;
-            let t4475 = 0.02075f64 * t4463;
+            let t4473 = 0.184f64 * t4460; // 1.8400e-1 = joint WFE origin z
+            let t4474 = 0.184f64 * t4466; // 1.8400e-1 = joint WFE origin z
+            let t4475 = 0.02075f64 * t4463; // 2.0750e-2 = joint WFE origin x
             let t4476 = t4474 - t4475;
-            let t4477 = 0.02075f64 * t4460;
+            let t4477 = 0.02075f64 * t4460; // 2.0750e-2 = joint WFE origin x
             let t4478 = t4472 - t4473;
             let t4479 = t4457 + t4476;
             let t4480 = t4469 + t4477;
@@ -12616,8 +12607,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4496 = s_wr * t4481;
             let t4497 = c_wr * t4482;
             let t4498 = t4496 + t4497;
-            let t4499 = 0.112f64 * t4489;
-            let t4500 = 0.112f64 * t4492;
+            let t4499 = 0.112f64 * t4489; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4500 = 0.112f64 * t4492; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4501 = t4498 + t4499;
             let t4502 = t4500 - t4495;
             let t4503 = t4086 + t4483;
@@ -12639,8 +12630,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4515 = s_efe * t4503;
             let t4516 = c_efe * t4504;
             let t4517 = t4515 + t4516;
-            let t4518 = 0.304f64 * t4511;
-            let t4519 = 0.304f64 * t4508;
+            let t4518 = 0.304f64 * t4511; // 3.0400e-1 = joint EFE origin z
+            let t4519 = 0.304f64 * t4508; // 3.0400e-1 = joint EFE origin z
             let t4520 = t4505 + t4518;
             let t4521 = t4517 - t4519;
             let t4522 = t3985 - t4520;
@@ -12664,8 +12655,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4536 = s_hr * t4522;
             let t4537 = c_hr * t4523;
             let t4538 = t4536 + t4537;
-            let t4539 = 0.112f64 * t4529;
-            let t4540 = 0.112f64 * t4532;
+            let t4539 = 0.112f64 * t4529; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4540 = 0.112f64 * t4532; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4541 = t4538 + t4539;
             let t4542 = t4540 - t4535;
             (t4541, t4542)
@@ -12828,7 +12819,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t4817,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4636 = 0.112f64 * elbow_fe_v_wx;
+            let t4636 = 0.112f64 * elbow_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4637 = s_wr * elbow_fe_v_wx;
             let t4638 = c_wr * elbow_fe_v_wx;
             let t4639 = c_wr * t4636;
@@ -12837,7 +12828,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4642 = s_wr * t4636;
             let t4643 = c_wr * elbow_fe_v_vx;
             let t4644 = t4642 - t4643;
-            let t4645 = 0.112f64 * elbow_fe_a_wx;
+            let t4645 = 0.112f64 * elbow_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t4646 = s_wr * elbow_fe_a_wx;
             let t4647 = c_wr * elbow_fe_a_wx;
             let t4648 = c_wr * t4645;
@@ -13037,11 +13028,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t4820, t4826, t4829, t5016, t5017, t5018, t5019, t5020, t5021) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4818 = 0.184f64 * t4638;
-            let t4819 = 0.184f64 * t4637;
-            let t4820 = 0.02075f64 * elbow_fe_v_wy;
+            let t4818 = 0.184f64 * t4638; // 1.8400e-1 = joint WFE origin z
+            let t4819 = 0.184f64 * t4637; // 1.8400e-1 = joint WFE origin z
+            let t4820 = 0.02075f64 * elbow_fe_v_wy; // 2.0750e-2 = joint WFE origin x
             let t4821 = t4819 + t4820;
-            let t4822 = 0.02075f64 * t4638;
+            let t4822 = 0.02075f64 * t4638; // 2.0750e-2 = joint WFE origin x
             let t4823 = t4641 + t4818;
             let t4824 = t4644 + t4821;
             let t4825 = elbow_fe_v_vy + t4822;
@@ -13057,11 +13048,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t4835 = s_wfe * t4825;
             let t4836 = c_wfe * t4823;
             let t4837 = t4835 + t4836;
-            let t4838 = 0.184f64 * t4659;
-            let t4839 = 0.184f64 * t4658;
-            let t4840 = 0.02075f64 * elbow_fe_a_wy;
+            let t4838 = 0.184f64 * t4659; // 1.8400e-1 = joint WFE origin z
+            let t4839 = 0.184f64 * t4658; // 1.8400e-1 = joint WFE origin z
+            let t4840 = 0.02075f64 * elbow_fe_a_wy; // 2.0750e-2 = joint WFE origin x
             let t4841 = t4839 + t4840;
-            let t4842 = 0.02075f64 * t4659;
+            let t4842 = 0.02075f64 * t4659; // 2.0750e-2 = joint WFE origin x
             let t4843 = t4660 + t4838;
             let t4844 = t4661 + t4841;
             let t4845 = elbow_fe_a_vy - t4842;
@@ -13257,11 +13248,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5031 = s_wfe * t5016;
             let t5032 = c_wfe * t5017;
             let t5033 = t5031 + t5032;
-            let t5034 = 0.184f64 * t5021;
-            let t5035 = 0.184f64 * t5027;
-            let t5036 = 0.02075f64 * t5024;
+            let t5034 = 0.184f64 * t5021; // 1.8400e-1 = joint WFE origin z
+            let t5035 = 0.184f64 * t5027; // 1.8400e-1 = joint WFE origin z
+            let t5036 = 0.02075f64 * t5024; // 2.0750e-2 = joint WFE origin x
             let t5037 = t5035 - t5036;
-            let t5038 = 0.02075f64 * t5021;
+            let t5038 = 0.02075f64 * t5021; // 2.0750e-2 = joint WFE origin x
             let t5039 = t5033 - t5034;
             let t5040 = t5018 + t5037;
             let t5041 = t5030 + t5038;
@@ -13287,8 +13278,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5057 = s_wr * t5042;
             let t5058 = c_wr * t5043;
             let t5059 = t5057 + t5058;
-            let t5060 = 0.112f64 * t5050;
-            let t5061 = 0.112f64 * t5053;
+            let t5060 = 0.112f64 * t5050; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5061 = 0.112f64 * t5053; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5062 = t5059 + t5060;
             let t5063 = t5061 - t5056;
             let t5064 = t4630 + t5044;
@@ -13316,8 +13307,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5082 = c_efe * t5065;
             let t5083 = t5082 - t663;
             let t5084 = t5081 + t5083;
-            let t5085 = 0.304f64 * t5074;
-            let t5086 = 0.304f64 * t5069;
+            let t5085 = 0.304f64 * t5074; // 3.0400e-1 = joint EFE origin z
+            let t5086 = 0.304f64 * t5069; // 3.0400e-1 = joint EFE origin z
             let t5087 = t5066 + t5085;
             let t5088 = t5084 - t5086;
             (t5074, t5079, t5087, t5088)
@@ -13336,8 +13327,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5098 = s_hr * t5087;
             let t5099 = c_hr * t5088;
             let t5100 = t5099 - t5098;
-            let t5101 = 0.112f64 * t5091;
-            let t5102 = 0.112f64 * t5094;
+            let t5101 = 0.112f64 * t5091; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5102 = 0.112f64 * t5094; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5103 = t5100 - t5101;
             let t5104 = t5097 + t5102;
             (t5103, t5104)
@@ -13386,8 +13377,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t5255,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t5126 = s_wr * 0.112f64;
-            let t5127 = c_wr * 0.112f64;
+            let t5126 = s_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5127 = c_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5128 = s_wr * qd_wr;
             let t5129 = c_wr * qd_wr;
             let t5130 = t5127 * qd_wr;
@@ -13533,9 +13524,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t5444, t5445, t5446, t5447, t5448, t5449) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5256 = 0.184f64 * s_wr;
-            let t5257 = 0.184f64 * c_wr;
-            let t5258 = 0.02075f64 * s_wr;
+            let t5256 = 0.184f64 * s_wr; // 1.8400e-1 = joint WFE origin z
+            let t5257 = 0.184f64 * c_wr; // 1.8400e-1 = joint WFE origin z
+            let t5258 = 0.02075f64 * s_wr; // 2.0750e-2 = joint WFE origin x
             let t5259 = t5126 + t5256;
             let t5260 = t5127 + t5257;
             let t5261 = s_wfe * c_wr;
@@ -13546,10 +13537,10 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5266 = s_wfe * t5258;
             let t5267 = c_wfe * t5259;
             let t5268 = t5266 + t5267;
-            let t5269 = 0.184f64 * t5133;
-            let t5270 = 0.184f64 * t5132;
+            let t5269 = 0.184f64 * t5133; // 1.8400e-1 = joint WFE origin z
+            let t5270 = 0.184f64 * t5132; // 1.8400e-1 = joint WFE origin z
             let t5271 = t5270 - t4820;
-            let t5272 = 0.02075f64 * t5133;
+            let t5272 = 0.02075f64 * t5133; // 2.0750e-2 = joint WFE origin x
             let t5273 = t5134 + t5269;
             let t5274 = t5135 - t5271;
             let t5275 = elbow_fe_v_vy - t5272;
@@ -13743,11 +13734,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5459 = s_wfe * t5444;
             let t5460 = c_wfe * t5445;
             let t5461 = t5459 + t5460;
-            let t5462 = 0.184f64 * t5449;
-            let t5463 = 0.184f64 * t5455;
-            let t5464 = 0.02075f64 * t5452;
+            let t5462 = 0.184f64 * t5449; // 1.8400e-1 = joint WFE origin z
+            let t5463 = 0.184f64 * t5455; // 1.8400e-1 = joint WFE origin z
+            let t5464 = 0.02075f64 * t5452; // 2.0750e-2 = joint WFE origin x
             let t5465 = t5463 - t5464;
-            let t5466 = 0.02075f64 * t5449;
+            let t5466 = 0.02075f64 * t5449; // 2.0750e-2 = joint WFE origin x
             let t5467 = t5461 - t5462;
             let t5468 = t5446 + t5465;
             let t5469 = t5458 + t5466;
@@ -13773,8 +13764,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5485 = s_wr * t5470;
             let t5486 = c_wr * t5471;
             let t5487 = t5485 + t5486;
-            let t5488 = 0.112f64 * t5478;
-            let t5489 = 0.112f64 * t5481;
+            let t5488 = 0.112f64 * t5478; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5489 = 0.112f64 * t5481; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5490 = t5487 + t5488;
             let t5491 = t5489 - t5484;
             let t5492 = t5120 + t5472;
@@ -13796,8 +13787,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5504 = s_efe * t5492;
             let t5505 = c_efe * t5493;
             let t5506 = t5504 + t5505;
-            let t5507 = 0.304f64 * t5500;
-            let t5508 = 0.304f64 * t5497;
+            let t5507 = 0.304f64 * t5500; // 3.0400e-1 = joint EFE origin z
+            let t5508 = 0.304f64 * t5497; // 3.0400e-1 = joint EFE origin z
             let t5509 = t5494 + t5507;
             let t5510 = t5506 - t5508;
             (t5500, t5503, t5509, t5510)
@@ -13816,8 +13807,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5520 = s_hr * t5509;
             let t5521 = c_hr * t5510;
             let t5522 = t5521 - t5520;
-            let t5523 = 0.112f64 * t5513;
-            let t5524 = 0.112f64 * t5516;
+            let t5523 = 0.112f64 * t5513; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5524 = 0.112f64 * t5516; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5525 = t5522 - t5523;
             let t5526 = t5519 + t5524;
             (t5525, t5526)
@@ -13980,8 +13971,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             t5820,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5633 = 0.184f64 * t5530;
-            let t5634 = 0.02075f64 * t5530;
+            let t5633 = 0.184f64 * t5530; // 1.8400e-1 = joint WFE origin z
+            let t5634 = 0.02075f64 * t5530; // 2.0750e-2 = joint WFE origin x
             let t5635 = wrist_r_v_vy + t5633;
             let t5636 = s_wfe * wrist_r_v_wy;
             let t5637 = c_wfe * wrist_r_v_wy;
@@ -13991,9 +13982,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5641 = s_wfe * t5634;
             let t5642 = c_wfe * t5635;
             let t5643 = t5641 + t5642;
-            let t5644 = 0.184f64 * t5534;
-            let t5645 = 0.184f64 * t5533;
-            let t5646 = 0.02075f64 * t5534;
+            let t5644 = 0.184f64 * t5534; // 1.8400e-1 = joint WFE origin z
+            let t5645 = 0.184f64 * t5533; // 1.8400e-1 = joint WFE origin z
+            let t5646 = 0.02075f64 * t5534; // 2.0750e-2 = joint WFE origin x
             let t5647 = wrist_r_a_vy + t5644;
             let t5648 = wrist_r_a_vx + t5645;
             let t5649 = s_wfe * t5533;
@@ -14184,11 +14175,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5830 = s_wfe * t5815;
             let t5831 = c_wfe * t5816;
             let t5832 = t5830 + t5831;
-            let t5833 = 0.184f64 * t5820;
-            let t5834 = 0.184f64 * t5826;
-            let t5835 = 0.02075f64 * t5823;
+            let t5833 = 0.184f64 * t5820; // 1.8400e-1 = joint WFE origin z
+            let t5834 = 0.184f64 * t5826; // 1.8400e-1 = joint WFE origin z
+            let t5835 = 0.02075f64 * t5823; // 2.0750e-2 = joint WFE origin x
             let t5836 = t5834 - t5835;
-            let t5837 = 0.02075f64 * t5820;
+            let t5837 = 0.02075f64 * t5820; // 2.0750e-2 = joint WFE origin x
             let t5838 = t5832 - t5833;
             let t5839 = t5817 + t5836;
             let t5840 = t5829 + t5837;
@@ -14222,8 +14213,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5864 = c_wr * t5842;
             let t5865 = t5864 - t648;
             let t5866 = t5863 + t5865;
-            let t5867 = 0.112f64 * t5851;
-            let t5868 = 0.112f64 * t5856;
+            let t5867 = 0.112f64 * t5851; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5868 = 0.112f64 * t5856; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5869 = t5866 + t5867;
             let t5870 = t5868 - t5861;
             (t5851, t5856, t5869, t5870)
@@ -14239,8 +14230,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5877 = s_efe * t5843;
             let t5878 = c_efe * t5869;
             let t5879 = t5877 + t5878;
-            let t5880 = 0.304f64 * t5873;
-            let t5881 = 0.304f64 * t5851;
+            let t5880 = 0.304f64 * t5873; // 3.0400e-1 = joint EFE origin z
+            let t5881 = 0.304f64 * t5851; // 3.0400e-1 = joint EFE origin z
             let t5882 = t5870 + t5880;
             let t5883 = t5879 + t5881;
             (t5873, t5876, t5882, t5883)
@@ -14259,8 +14250,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5893 = s_hr * t5882;
             let t5894 = c_hr * t5883;
             let t5895 = t5894 - t5893;
-            let t5896 = 0.112f64 * t5886;
-            let t5897 = 0.112f64 * t5889;
+            let t5896 = 0.112f64 * t5886; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5897 = 0.112f64 * t5889; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t5898 = t5895 + t5896;
             let t5899 = t5892 + t5897;
             (t5898, t5899)
@@ -14307,7 +14298,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (t6053, t6054, t6055, t6056, t6057, t6058) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5932 = 0.02075f64 * wrist_r_v_wx;
+            let t5932 = 0.02075f64 * wrist_r_v_wx; // 2.0750e-2 = joint WFE origin x
             let t5933 = wrist_r_v_vy - t470;
             let t5934 = c_wfe * t5932;
             let t5935 = s_wfe * t5933;
@@ -14367,9 +14358,9 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t5989 = wrist_fe_ixz * c_wfe;
             let t5990 = wrist_fe_iyz * s_wfe;
             let t5991 = t5989 - t5990;
-            let t5992 = wrist_fe_hy * 0.02075f64;
-            let t5993 = wrist_fe_hx * 0.02075f64;
-            let t5994 = 0.02075f64 * wrist_fe_m;
+            let t5992 = wrist_fe_hy * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t5993 = wrist_fe_hx * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t5994 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
             let t5995 = wrist_fe_hz * s_wfe;
             let t5996 = wrist_fe_hz * c_wfe;
             let t5997 = wrist_fe_hx * s_wfe;
@@ -14397,11 +14388,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6019 = t6015 - t6018;
             let t6020 = wrist_fe_v_vy * t6002;
             let t6021 = wrist_fe_v_vz * t5996;
-            let t6022 = 0.02075f64 * t589;
+            let t6022 = 0.02075f64 * t589; // 2.0750e-2 = joint WFE origin x
             let t6023 = t6022 - t6021;
             let t6024 = t6020 - t6023;
             let t6025 = wrist_fe_v_vz * t5995;
-            let t6026 = 0.02075f64 * t588;
+            let t6026 = 0.02075f64 * t588; // 2.0750e-2 = joint WFE origin x
             let t6027 = t6026 - t6025;
             let t6028 = wrist_fe_v_vx * t6002;
             let t6029 = t6027 - t6028;
@@ -14450,11 +14441,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6068 = s_wfe * t6053;
             let t6069 = c_wfe * t6054;
             let t6070 = t6068 + t6069;
-            let t6071 = 0.184f64 * t6058;
-            let t6072 = 0.184f64 * t6064;
-            let t6073 = 0.02075f64 * t6061;
+            let t6071 = 0.184f64 * t6058; // 1.8400e-1 = joint WFE origin z
+            let t6072 = 0.184f64 * t6064; // 1.8400e-1 = joint WFE origin z
+            let t6073 = 0.02075f64 * t6061; // 2.0750e-2 = joint WFE origin x
             let t6074 = t6072 - t6073;
-            let t6075 = 0.02075f64 * t6058;
+            let t6075 = 0.02075f64 * t6058; // 2.0750e-2 = joint WFE origin x
             let t6076 = t6070 - t6071;
             let t6077 = t6055 + t6074;
             let t6078 = t6067 + t6075;
@@ -14480,8 +14471,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6094 = s_wr * t6079;
             let t6095 = c_wr * t6080;
             let t6096 = t6094 + t6095;
-            let t6097 = 0.112f64 * t6087;
-            let t6098 = 0.112f64 * t6090;
+            let t6097 = 0.112f64 * t6087; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6098 = 0.112f64 * t6090; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6099 = t6096 + t6097;
             let t6100 = t6098 - t6093;
             (t6087, t6090, t6099, t6100)
@@ -14497,8 +14488,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6107 = s_efe * t6081;
             let t6108 = c_efe * t6099;
             let t6109 = t6107 + t6108;
-            let t6110 = 0.304f64 * t6103;
-            let t6111 = 0.304f64 * t6087;
+            let t6110 = 0.304f64 * t6103; // 3.0400e-1 = joint EFE origin z
+            let t6111 = 0.304f64 * t6087; // 3.0400e-1 = joint EFE origin z
             let t6112 = t6100 + t6110;
             let t6113 = t6109 + t6111;
             (t6103, t6106, t6112, t6113)
@@ -14517,8 +14508,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6123 = s_hr * t6112;
             let t6124 = c_hr * t6113;
             let t6125 = t6124 - t6123;
-            let t6126 = 0.112f64 * t6116;
-            let t6127 = 0.112f64 * t6119;
+            let t6126 = 0.112f64 * t6116; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6127 = 0.112f64 * t6119; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6128 = t6125 + t6126;
             let t6129 = t6122 + t6127;
             (t6128, t6129)
@@ -14678,11 +14669,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6240 = c_wfe * t6218;
             let t6241 = t6240 - t628;
             let t6242 = t6239 + t6241;
-            let t6243 = 0.184f64 * t6222;
-            let t6244 = 0.184f64 * t6232;
-            let t6245 = 0.02075f64 * t6227;
+            let t6243 = 0.184f64 * t6222; // 1.8400e-1 = joint WFE origin z
+            let t6244 = 0.184f64 * t6232; // 1.8400e-1 = joint WFE origin z
+            let t6245 = 0.02075f64 * t6227; // 2.0750e-2 = joint WFE origin x
             let t6246 = t6244 - t6245;
-            let t6247 = 0.02075f64 * t6222;
+            let t6247 = 0.02075f64 * t6222; // 2.0750e-2 = joint WFE origin x
             let t6248 = t6242 - t6243;
             let t6249 = t6219 + t6246;
             let t6250 = t6237 + t6247;
@@ -14702,8 +14693,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6260 = s_wr * t6248;
             let t6261 = c_wr * t6249;
             let t6262 = t6260 + t6261;
-            let t6263 = 0.112f64 * t6253;
-            let t6264 = 0.112f64 * t6256;
+            let t6263 = 0.112f64 * t6253; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6264 = 0.112f64 * t6256; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6265 = t6262 + t6263;
             let t6266 = t6264 - t6259;
             (t6253, t6256, t6265, t6266)
@@ -14719,8 +14710,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6273 = s_efe * t6250;
             let t6274 = c_efe * t6265;
             let t6275 = t6273 + t6274;
-            let t6276 = 0.304f64 * t6269;
-            let t6277 = 0.304f64 * t6253;
+            let t6276 = 0.304f64 * t6269; // 3.0400e-1 = joint EFE origin z
+            let t6277 = 0.304f64 * t6253; // 3.0400e-1 = joint EFE origin z
             let t6278 = t6266 + t6276;
             let t6279 = t6275 + t6277;
             (t6269, t6272, t6278, t6279)
@@ -14739,8 +14730,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6289 = s_hr * t6278;
             let t6290 = c_hr * t6279;
             let t6291 = t6290 - t6289;
-            let t6292 = 0.112f64 * t6282;
-            let t6293 = 0.112f64 * t6285;
+            let t6292 = 0.112f64 * t6282; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6293 = 0.112f64 * t6285; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6294 = t6291 + t6292;
             let t6295 = t6288 + t6293;
             (t6294, t6295)
@@ -14788,11 +14779,11 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6326 = s_wfe * t6311;
             let t6327 = c_wfe * t6312;
             let t6328 = t6326 + t6327;
-            let t6329 = 0.184f64 * t6316;
-            let t6330 = 0.184f64 * t6322;
-            let t6331 = 0.02075f64 * t6319;
+            let t6329 = 0.184f64 * t6316; // 1.8400e-1 = joint WFE origin z
+            let t6330 = 0.184f64 * t6322; // 1.8400e-1 = joint WFE origin z
+            let t6331 = 0.02075f64 * t6319; // 2.0750e-2 = joint WFE origin x
             let t6332 = t6330 - t6331;
-            let t6333 = 0.02075f64 * t6316;
+            let t6333 = 0.02075f64 * t6316; // 2.0750e-2 = joint WFE origin x
             let t6334 = t6328 - t6329;
             let t6335 = t6313 + t6332;
             let t6336 = t6325 + t6333;
@@ -14812,8 +14803,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6346 = s_wr * t6334;
             let t6347 = c_wr * t6335;
             let t6348 = t6346 + t6347;
-            let t6349 = 0.112f64 * t6339;
-            let t6350 = 0.112f64 * t6342;
+            let t6349 = 0.112f64 * t6339; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6350 = 0.112f64 * t6342; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6351 = t6348 + t6349;
             let t6352 = t6350 - t6345;
             (t6339, t6342, t6351, t6352)
@@ -14829,8 +14820,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6359 = s_efe * t6336;
             let t6360 = c_efe * t6351;
             let t6361 = t6359 + t6360;
-            let t6362 = 0.304f64 * t6355;
-            let t6363 = 0.304f64 * t6339;
+            let t6362 = 0.304f64 * t6355; // 3.0400e-1 = joint EFE origin z
+            let t6363 = 0.304f64 * t6339; // 3.0400e-1 = joint EFE origin z
             let t6364 = t6352 + t6362;
             let t6365 = t6361 + t6363;
             (t6355, t6358, t6364, t6365)
@@ -14849,8 +14840,8 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t6375 = s_hr * t6364;
             let t6376 = c_hr * t6365;
             let t6377 = t6376 - t6375;
-            let t6378 = 0.112f64 * t6368;
-            let t6379 = 0.112f64 * t6371;
+            let t6378 = 0.112f64 * t6368; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6379 = 0.112f64 * t6371; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t6380 = t6377 + t6378;
             let t6381 = t6374 + t6379;
             (t6380, t6381)

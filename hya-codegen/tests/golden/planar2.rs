@@ -41,19 +41,18 @@ impl Planar2 {
             let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
             (s_shoulder, c_shoulder, s_elbow, c_elbow)
         };
-        // ── link `forearm`, joint `elbow` (base to tip)
         let (t0, t1, t4, t7, t10, t11) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t0 = c_shoulder * 0.5f64;
-            let t1 = s_shoulder * 0.5f64;
+            let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+            let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
             let t2 = c_elbow * c_shoulder;
             let t3 = s_elbow * s_shoulder;
             let t4 = t2 - t3;
             let t5 = s_elbow * c_shoulder;
             let t6 = c_elbow * s_shoulder;
             let t7 = t5 + t6;
-            let t8 = t4 * 0.4f64;
-            let t9 = t7 * 0.4f64;
+            let t8 = t4 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t9 = t7 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t10 = t0 + t8;
             let t11 = t1 + t9;
             (t0, t1, t4, t7, t10, t11)
@@ -130,23 +129,22 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                 c_elbow,
             )
         };
-        // ── link `upper_arm`, joint `shoulder` (base to tip)
         let (upper_arm_a_vx, upper_arm_a_vz, t2) = {
             // ── link `upper_arm`, joint `shoulder` (base to tip)
-            let upper_arm_a_vx = s_shoulder * 9.81f64;
-            let upper_arm_a_vz = c_shoulder * 9.81f64;
-            let t0 = 0.2475f64 * qdd_shoulder;
-            let t1 = 0.75f64 * upper_arm_a_vz;
+            let upper_arm_a_vx = s_shoulder * 9.81f64; // 9.8100e0 = g
+            let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+            let t0 = 0.2475f64 * qdd_shoulder; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+            let t1 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
             let t2 = t0 - t1;
             (upper_arm_a_vx, upper_arm_a_vz, t2)
         };
         let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t3 = 0.5f64 * qd_shoulder;
+            let t3 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
             let forearm_v_vx = s_elbow * t3;
             let forearm_v_vz = c_elbow * t3;
             let forearm_v_wy = qd_shoulder + qd_elbow;
-            let t4 = 0.5f64 * qdd_shoulder;
+            let t4 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
             let t5 = upper_arm_a_vz - t4;
             let t6 = c_elbow * upper_arm_a_vx;
             let t7 = s_elbow * t5;
@@ -159,16 +157,16 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t13 = forearm_v_vx * qd_elbow;
             let forearm_a_vx = t12 - t8;
             let forearm_a_vz = t11 + t13;
-            let t14 = 0.11000000000000001f64 * forearm_a_wy;
-            let t15 = 0.4f64 * forearm_a_vz;
-            let t16 = forearm_a_vx * 2f64;
-            let t17 = forearm_a_vz * 2f64;
-            let t18 = 0.4f64 * forearm_a_wy;
+            let t14 = 0.11000000000000001f64 * forearm_a_wy; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let t15 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t16 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+            let t17 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+            let t18 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t19 = t14 - t15;
             let t20 = t17 - t18;
-            let t21 = forearm_v_vx * 2f64;
-            let t22 = forearm_v_vz * 2f64;
-            let t23 = 0.4f64 * forearm_v_wy;
+            let t21 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+            let t22 = forearm_v_vz * 2f64; // 2.0000e0 = forearm mass
+            let t23 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t24 = t22 + t23;
             let t25 = forearm_v_vz * t21;
             let t26 = forearm_v_vx * t24;
@@ -185,7 +183,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t30 = s_elbow * forearm_f_fx;
             let t31 = c_elbow * forearm_f_fz;
             let t32 = t31 - t30;
-            let t33 = 0.5f64 * t32;
+            let t33 = 0.5f64 * t32; // 5.0000e-1 = joint elbow origin x
             let t34 = forearm_f_ny - t33;
             let upper_arm_f_ny = t2 + t34;
             upper_arm_f_ny
@@ -202,12 +200,11 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
             (s_shoulder, c_shoulder, s_elbow, c_elbow)
         };
-        // ── link `upper_arm`, joint `shoulder` (base to tip)
         let (upper_arm_a_vx, upper_arm_a_vz, t0) = {
             // ── link `upper_arm`, joint `shoulder` (base to tip)
-            let upper_arm_a_vx = s_shoulder * 9.81f64;
-            let upper_arm_a_vz = c_shoulder * 9.81f64;
-            let t0 = 0.75f64 * upper_arm_a_vz;
+            let upper_arm_a_vx = s_shoulder * 9.81f64; // 9.8100e0 = g
+            let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+            let t0 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
             (upper_arm_a_vx, upper_arm_a_vz, t0)
         };
         let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
@@ -218,9 +215,9 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t3 = s_elbow * upper_arm_a_vx;
             let t4 = c_elbow * upper_arm_a_vz;
             let forearm_a_vz = t4 - t3;
-            let forearm_f_ny = 0.4f64 * forearm_a_vz;
-            let forearm_f_fx = forearm_a_vx * 2f64;
-            let forearm_f_fz = forearm_a_vz * 2f64;
+            let forearm_f_ny = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let forearm_f_fx = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+            let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
             (forearm_f_ny, forearm_f_fx, forearm_f_fz)
         };
         let upper_arm_f_ny = {
@@ -228,7 +225,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t5 = s_elbow * forearm_f_fx;
             let t6 = c_elbow * forearm_f_fz;
             let t7 = t5 + t6;
-            let t8 = 0.5f64 * t7;
+            let t8 = 0.5f64 * t7; // 5.0000e-1 = joint elbow origin x
             let t9 = forearm_f_ny + t8;
             let upper_arm_f_ny = t0 + t9;
             upper_arm_f_ny
@@ -251,18 +248,18 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         };
         let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t0 = 0.5f64 * qd_shoulder;
+            let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
             let forearm_v_vx = s_elbow * t0;
             let forearm_v_vz = c_elbow * t0;
             let forearm_v_wy = qd_shoulder + qd_elbow;
             let forearm_a_vx = forearm_v_vz * qd_elbow;
             let forearm_a_vz = forearm_v_vx * qd_elbow;
-            let t1 = 0.4f64 * forearm_a_vz;
-            let t2 = forearm_a_vx * 2f64;
-            let t3 = forearm_a_vz * 2f64;
-            let t4 = forearm_v_vx * 2f64;
-            let t5 = forearm_v_vz * 2f64;
-            let t6 = 0.4f64 * forearm_v_wy;
+            let t1 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t2 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+            let t3 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+            let t4 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+            let t5 = forearm_v_vz * 2f64; // 2.0000e0 = forearm mass
+            let t6 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t7 = t5 + t6;
             let t8 = forearm_v_vz * t4;
             let t9 = forearm_v_vx * t7;
@@ -279,7 +276,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t13 = s_elbow * forearm_f_fx;
             let t14 = c_elbow * forearm_f_fz;
             let upper_arm_f_fz = t14 - t13;
-            let t15 = 0.5f64 * upper_arm_f_fz;
+            let t15 = 0.5f64 * upper_arm_f_fz; // 5.0000e-1 = joint elbow origin x
             let upper_arm_f_ny = forearm_f_ny - t15;
             upper_arm_f_ny
         };
@@ -301,13 +298,13 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         };
         let (forearm_v_vx, forearm_v_vz, forearm_f_fx, forearm_f_fz) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t0 = 0.5f64 * qd_shoulder;
+            let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
             let forearm_v_vx = s_elbow * t0;
             let forearm_v_vz = c_elbow * t0;
             let forearm_v_wy = qd_shoulder + qd_elbow;
-            let forearm_f_fx = forearm_v_vx * 2f64;
-            let t1 = forearm_v_vz * 2f64;
-            let t2 = 0.4f64 * forearm_v_wy;
+            let forearm_f_fx = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+            let t1 = forearm_v_vz * 2f64; // 2.0000e0 = forearm mass
+            let t2 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let forearm_f_fz = t1 + t2;
             (forearm_v_vx, forearm_v_vz, forearm_f_fx, forearm_f_fz)
         };
@@ -330,18 +327,17 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         };
         let (t1, m_shoulder_shoulder) = {
             // ── link `forearm`, joint `elbow` (tip to base)
-            let t0 = c_elbow * 0.4f64;
-            let t1 = 0.5f64 * t0;
+            let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t1 = 0.5f64 * t0; // 5.0000e-1 = joint elbow origin x
             let t2 = t1 + t1;
-            let t3 = t2 + 0.5f64;
-            let t4 = 0.11000000000000001f64 + t3;
-            let m_shoulder_shoulder = 0.2475f64 + t4;
+            let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
+            let t4 = 0.11000000000000001f64 + t3; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let m_shoulder_shoulder = 0.2475f64 + t4; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
             (t1, m_shoulder_shoulder)
         };
-        // ── link `forearm`, joint `elbow` (base to tip, last pass)
         let m_elbow_shoulder = {
             // ── link `forearm`, joint `elbow` (base to tip, last pass)
-            let m_elbow_shoulder = 0.11000000000000001f64 + t1;
+            let m_elbow_shoulder = 0.11000000000000001f64 + t1; // 1.1000e-1 = forearm I_yy or forearm I_zz
             m_elbow_shoulder
         };
         let mut m = ::hya_core::JointMatrix::<2>::zeros();
@@ -391,15 +387,15 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         };
         let (t1, t2, forearm_p_ny, forearm_p_fx, forearm_p_fz) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t0 = 0.5f64 * qd_shoulder;
+            let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
             let forearm_v_vx = s_elbow * t0;
             let forearm_v_vz = c_elbow * t0;
             let forearm_v_wy = qd_shoulder + qd_elbow;
             let t1 = forearm_v_vz * qd_elbow;
             let t2 = forearm_v_vx * qd_elbow;
-            let t3 = forearm_v_vx * 2f64;
-            let t4 = forearm_v_vz * 2f64;
-            let t5 = 0.4f64 * forearm_v_wy;
+            let t3 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+            let t4 = forearm_v_vz * 2f64; // 2.0000e0 = forearm mass
+            let t5 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t6 = t4 + t5;
             let t7 = forearm_v_vz * t3;
             let t8 = forearm_v_vx * t6;
@@ -408,20 +404,19 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let forearm_p_fz = forearm_v_wy * t3;
             (t1, t2, forearm_p_ny, forearm_p_fx, forearm_p_fz)
         };
-        // ── link `forearm`, joint `elbow` (tip to base)
         let (u_elbow, upper_arm_u_fx, upper_arm_p_ny, upper_arm_u_ny, upper_arm_u_fz) = {
             // ── link `forearm`, joint `elbow` (tip to base)
             let u_elbow = tau_elbow - forearm_p_ny;
-            let t9 = 2f64 * t1;
+            let t9 = 2f64 * t1; // 2.0000e0 = forearm mass
             let t10 = 0.5454545454545454f64 * t2;
             let t11 = t9 - forearm_p_fx;
             let t12 = t10 - forearm_p_fz;
             let t13 = u_elbow * 9.09090909090909f64;
-            let t14 = 0.11000000000000001f64 * t13;
-            let t15 = 0.4f64 * t13;
+            let t14 = 0.11000000000000001f64 * t13; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let t15 = 0.4f64 * t13; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t16 = forearm_p_ny + t14;
             let t17 = t12 - t15;
-            let t18 = 2f64 * s_elbow;
+            let t18 = 2f64 * s_elbow; // 2.0000e0 = forearm mass
             let t19 = 0.5454545454545454f64 * c_elbow;
             let t20 = c_elbow * t18;
             let t21 = s_elbow * t19;
@@ -429,29 +424,27 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t23 = s_elbow * t18;
             let t24 = c_elbow * t19;
             let t25 = t23 + t24;
-            let upper_arm_u_fx = 0.5f64 * t22;
-            let t26 = 0.5f64 * t25;
-            let t27 = t26 * 0.5f64;
+            let upper_arm_u_fx = 0.5f64 * t22; // 5.0000e-1 = joint elbow origin x
+            let t26 = 0.5f64 * t25; // 5.0000e-1 = joint elbow origin x
+            let t27 = t26 * 0.5f64; // 5.0000e-1 = joint elbow origin x
             let t28 = s_elbow * t11;
             let t29 = c_elbow * t17;
             let upper_arm_p_fz = t29 - t28;
-            let t30 = 0.5f64 * upper_arm_p_fz;
+            let t30 = 0.5f64 * upper_arm_p_fz; // 5.0000e-1 = joint elbow origin x
             let upper_arm_p_ny = t16 - t30;
-            let upper_arm_u_ny = 0.2475f64 + t27;
-            let upper_arm_u_fz = 0.75f64 + t26;
+            let upper_arm_u_ny = 0.2475f64 + t27; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+            let upper_arm_u_fz = 0.75f64 + t26; // 7.5000e-1 = upper_arm m·c_x
             (u_elbow, upper_arm_u_fx, upper_arm_p_ny, upper_arm_u_ny, upper_arm_u_fz)
         };
-        // ── link `upper_arm`, joint `shoulder` (tip to base)
         let u_shoulder = {
             // ── link `upper_arm`, joint `shoulder` (tip to base)
             let u_shoulder = tau_shoulder - upper_arm_p_ny;
             u_shoulder
         };
-        // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
         let (upper_arm_a_vx, upper_arm_a_vz, qdd_shoulder) = {
             // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
-            let upper_arm_a_vx = s_shoulder * 9.81f64;
-            let upper_arm_a_vz = c_shoulder * 9.81f64;
+            let upper_arm_a_vx = s_shoulder * 9.81f64; // 9.8100e0 = g
+            let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
             let t31 = upper_arm_a_vx * upper_arm_u_fx;
             let t32 = upper_arm_a_vz * upper_arm_u_fz;
             let t33 = t31 - t32;
@@ -461,17 +454,17 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         };
         let qdd_elbow = {
             // ── link `forearm`, joint `elbow` (base to tip, last pass)
-            let t35 = 0.5f64 * qdd_shoulder;
+            let t35 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
             let t36 = upper_arm_a_vz - t35;
             let t37 = s_elbow * upper_arm_a_vx;
             let t38 = c_elbow * t36;
             let t39 = t38 - t37;
             let forearm_a_vz = t39 + t2;
-            let t40 = qdd_shoulder * 0.11000000000000001f64;
-            let t41 = forearm_a_vz * 0.4f64;
+            let t40 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let t41 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t42 = t40 - t41;
             let t43 = u_elbow - t42;
-            let qdd_elbow = t43 / 0.11000000000000001f64;
+            let qdd_elbow = t43 / 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
             qdd_elbow
         };
         if !(upper_arm_u_ny > 0.0) {
@@ -517,12 +510,11 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                 c_elbow,
             )
         };
-        // ── link `upper_arm`, joint `shoulder` (base to tip)
         let (upper_arm_a_vx, upper_arm_a_vz, t0) = {
             // ── link `upper_arm`, joint `shoulder` (base to tip)
-            let upper_arm_a_vx = s_shoulder * 9.81f64;
-            let upper_arm_a_vz = c_shoulder * 9.81f64;
-            let t0 = 0.75f64 * upper_arm_a_vx;
+            let upper_arm_a_vx = s_shoulder * 9.81f64; // 9.8100e0 = g
+            let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+            let t0 = 0.75f64 * upper_arm_a_vx; // 7.5000e-1 = upper_arm m·c_x
             (upper_arm_a_vx, upper_arm_a_vz, t0)
         };
         let (
@@ -546,11 +538,11 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             forearm_f_fz,
         ) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t1 = 0.5f64 * qd_shoulder;
+            let t1 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
             let forearm_v_vx = s_elbow * t1;
             let forearm_v_vz = c_elbow * t1;
             let forearm_v_wy = qd_shoulder + qd_elbow;
-            let t2 = 0.5f64 * qdd_shoulder;
+            let t2 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
             let t3 = upper_arm_a_vz - t2;
             let t4 = c_elbow * upper_arm_a_vx;
             let t5 = c_elbow * upper_arm_a_vz;
@@ -567,16 +559,16 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t15 = forearm_v_vx * qd_elbow;
             let forearm_a_vx = t14 - t8;
             let forearm_a_vz = t12 + t15;
-            let t16 = 0.4f64 * t13;
-            let t17 = forearm_a_vx * 2f64;
-            let t18 = t9 * 2f64;
-            let t19 = forearm_a_vz * 2f64;
-            let t20 = t13 * 2f64;
-            let t21 = 0.4f64 * forearm_a_wy;
+            let t16 = 0.4f64 * t13; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t17 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+            let t18 = t9 * 2f64; // 2.0000e0 = forearm mass
+            let t19 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+            let t20 = t13 * 2f64; // 2.0000e0 = forearm mass
+            let t21 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t22 = t19 - t21;
-            let t23 = forearm_v_vx * 2f64;
-            let t24 = forearm_v_vz * 2f64;
-            let t25 = 0.4f64 * forearm_v_wy;
+            let t23 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+            let t24 = forearm_v_vz * 2f64; // 2.0000e0 = forearm mass
+            let t25 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t26 = t24 + t25;
             let t27 = forearm_v_wy * t26;
             let t28 = forearm_v_wy * t23;
@@ -603,7 +595,6 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                 forearm_f_fz,
             )
         };
-        // ── link `forearm`, joint `elbow` (tip to base)
         let (t29, t30, t36) = {
             // ── link `forearm`, joint `elbow` (tip to base)
             let t29 = c_elbow * forearm_f_fx;
@@ -611,23 +602,23 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t31 = s_elbow * t18;
             let t32 = c_elbow * t20;
             let t33 = t31 + t32;
-            let t34 = 0.5f64 * t33;
+            let t34 = 0.5f64 * t33; // 5.0000e-1 = joint elbow origin x
             let t35 = t16 + t34;
             let t36 = t0 + t35;
             (t29, t30, t36)
         };
         let (t58, t59, t60) = {
             // ── link `forearm`, joint `elbow` (base to tip)
-            let t37 = s_elbow * 0.5f64;
-            let t38 = c_elbow * 0.5f64;
+            let t37 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+            let t38 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
             let t39 = t38 * qd_elbow;
             let t40 = t37 * qd_elbow;
-            let t41 = 0.4f64 * t40;
-            let t42 = t39 * 2f64;
-            let t43 = t40 * 2f64;
-            let t44 = t37 * 2f64;
-            let t45 = t38 * 2f64;
-            let t46 = t45 + 0.4f64;
+            let t41 = 0.4f64 * t40; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t42 = t39 * 2f64; // 2.0000e0 = forearm mass
+            let t43 = t40 * 2f64; // 2.0000e0 = forearm mass
+            let t44 = t37 * 2f64; // 2.0000e0 = forearm mass
+            let t45 = t38 * 2f64; // 2.0000e0 = forearm mass
+            let t46 = t45 + 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
             let t47 = forearm_v_vz * t44;
             let t48 = t38 * t23;
             let t49 = t47 + t48;
@@ -649,7 +640,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t61 = s_elbow * t59;
             let t62 = c_elbow * t60;
             let t63 = t62 - t61;
-            let t64 = 0.5f64 * t63;
+            let t64 = 0.5f64 * t63; // 5.0000e-1 = joint elbow origin x
             let t65 = t58 - t64;
             t65
         };
@@ -657,8 +648,8 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             // ── link `forearm`, joint `elbow` (base to tip)
             let t66 = t7 - t11;
             let t67 = t66 - t15;
-            let t68 = 0.4f64 * forearm_a_vx;
-            let t69 = t67 * 2f64;
+            let t68 = 0.4f64 * forearm_a_vx; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t69 = t67 * 2f64; // 2.0000e0 = forearm mass
             let t70 = forearm_v_vz * t24;
             let t71 = forearm_v_vx * t23;
             let t72 = t71 - t70;
@@ -678,7 +669,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let t82 = c_elbow * t79;
             let t83 = t82 - t30;
             let t84 = t83 - t81;
-            let t85 = 0.5f64 * t84;
+            let t85 = 0.5f64 * t84; // 5.0000e-1 = joint elbow origin x
             let t86 = t77 - t85;
             t86
         };
@@ -691,7 +682,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         let t90 = {
             // ── link `forearm`, joint `elbow` (tip to base)
             let t89 = s_elbow * t88;
-            let t90 = 0.5f64 * t89;
+            let t90 = 0.5f64 * t89; // 5.0000e-1 = joint elbow origin x
             t90
         };
         let mut d_dq = ::hya_core::JointMatrix::<2>::zeros();

@@ -9,7 +9,7 @@ use crate::scenario::{Method, Scenario};
 use crate::seeds::MetricTable;
 use crate::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
 
-use super::aggregate;
+use super::summary::aggregate;
 
 type Signal<const N: usize> = fn(&Trace<N>) -> Vec<JointVector<N>>;
 

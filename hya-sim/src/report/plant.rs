@@ -16,7 +16,7 @@ use crate::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueS
 use crate::svg::{line_grid, Panel, Series, PALETTE};
 use crate::{Method, SimError};
 
-use super::table_row;
+use super::text::table_row;
 
 /// A figure: file name and SVG text.
 pub type Figure = (String, String);

@@ -8,7 +8,7 @@ use crate::scenario::{Method, Scenario};
 use crate::seeds::{per_joint_mean_ci95, run_seeds};
 use crate::{SimError, HYA_JOINTS};
 
-use super::table_row;
+use super::text::table_row;
 
 /// The bandwidths swept, rad/s (`ω1 = ω2`, `ζ = 0.8`).
 pub const BANDWIDTHS_RAD_S: [f64; 7] = [20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 200.0];

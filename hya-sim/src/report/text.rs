@@ -1,0 +1,54 @@
+//! Settings and numbers as report text: task, loads, noise, lists, table rows.
+
+use crate::scenario::{LoadConfig, Noise, Task};
+
+use super::summary::list;
+
+pub(super) fn noise_text(noise: &Noise) -> String {
+    match noise {
+        Noise::Off {} => "off".into(),
+        Noise::Uniform { bound } => format!("uniform ±{bound}"),
+        Noise::Gaussian { sigma } => format!("Gaussian σ = {sigma}"),
+    }
+}
+
+pub(super) fn task_text(task: &Task) -> String {
+    match task {
+        Task::Hold {} => "hold the start pose".into(),
+        Task::Goto { start_s, transition_s, delta_rad } => {
+            format!("goto start + ({}) rad at {start_s} s, minimum-jerk over {transition_s} s", list(delta_rad))
+        }
+        Task::Sine { amplitude_rad, frequency_hz, ramp_s } => {
+            format!("sine, amplitudes ({}) rad, {frequency_hz} Hz, ramped in over {ramp_s} s", list(amplitude_rad))
+        }
+    }
+}
+
+pub(super) fn loads_text(loads: &LoadConfig) -> String {
+    let mut parts = Vec::new();
+    if let Some(s) = &loads.sinusoid {
+        parts.push(format!("sinusoidal torques ({}) N·m at {} Hz, phase i·60°", list(&s.amplitude_nm), s.frequency_hz));
+    }
+    if let Some(d) = &loads.weight_drop {
+        parts.push(format!(
+            "{} kg dropped on `{}` at {} s from {} m (impact pulse {} s), {}",
+            d.mass_kg,
+            d.frame,
+            d.drop_s,
+            d.fall_height_m,
+            d.impact_s,
+            d.remove_s.map_or("never removed".into(), |r| format!("removed at {r} s"))
+        ));
+    }
+    if parts.is_empty() {
+        "none".into()
+    } else {
+        parts.join("; ")
+    }
+}
+
+/// A markdown table row; `|` inside a cell is escaped.
+pub(super) fn table_row(cells: impl IntoIterator<Item = String>) -> String {
+    let cells: Vec<String> = cells.into_iter().map(|c| c.replace('|', "\\|")).collect();
+    format!("| {} |\n", cells.join(" | "))
+}

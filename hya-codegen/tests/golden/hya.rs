@@ -4334,6 +4334,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (
             u_wr,
+            t450,
             t485,
             t556,
             t599,
@@ -4621,6 +4622,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let elbow_fe_p_ny = t163 + t687;
             (
                 u_wr,
+                t450,
                 t485,
                 t556,
                 t599,
@@ -4659,6 +4661,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (
             u_efe,
+            t697,
             humerus_r_u_fz,
             t871,
             t878,
@@ -4941,6 +4944,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let humerus_r_p_fy = t98 + t918;
             (
                 u_efe,
+                t697,
                 humerus_r_u_fz,
                 t871,
                 t878,
@@ -4970,6 +4974,7 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (
             u_hr,
+            t938,
             t974,
             t1149,
             t1167,
@@ -5232,6 +5237,7 @@ impl ::hya_core::Dynamics<6> for Hya {
             let shoulder_fe_p_nz = t25 + t1166;
             (
                 u_hr,
+                t938,
                 t974,
                 t1149,
                 t1167,
@@ -5249,7 +5255,7 @@ impl ::hya_core::Dynamics<6> for Hya {
                 shoulder_fe_p_nz,
             )
         };
-        let (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
+        let (u_sfe, t1172, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let u_sfe = tau_sfe - shoulder_fe_p_nz;
             let t1172 = 1f64 / shoulder_fe_u_nz;
@@ -5306,18 +5312,19 @@ impl ::hya_core::Dynamics<6> for Hya {
             let t1222 = c_sfe * t1203;
             let shoulder_aa_p_nz = t1221 + t1222;
             let shoulder_aa_u_nz = 0.007628999999536005f64 + t1212; // 7.6290e-3 = Shoulder_AA I_zz
-            (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
+            (u_sfe, t1172, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
         };
-        let u_saa = {
+        let (u_saa, t1223) = {
             // ── link `Shoulder_AA`, joint `SAA` (tip to base)
             let u_saa = tau_saa - shoulder_aa_p_nz;
-            u_saa
+            let t1223 = 1f64 / shoulder_aa_u_nz;
+            (u_saa, t1223)
         };
         let qdd_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-            let t1223 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
-            let t1224 = u_saa - t1223;
-            let qdd_saa = t1224 / shoulder_aa_u_nz;
+            let t1224 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
+            let t1225 = u_saa - t1224;
+            let qdd_saa = t1225 * t1223;
             qdd_saa
         };
         let (
@@ -5328,21 +5335,21 @@ impl ::hya_core::Dynamics<6> for Hya {
             qdd_sfe,
         ) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
-            let t1225 = s_sfe * qdd_saa;
-            let t1226 = c_sfe * qdd_saa;
+            let t1226 = s_sfe * qdd_saa;
+            let t1227 = c_sfe * qdd_saa;
             let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
             let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
-            let shoulder_fe_a_wx = t1225 + t0;
-            let shoulder_fe_a_wy = t1226 - t1;
-            let t1227 = shoulder_fe_a_wx * shoulder_fe_u_nx;
-            let t1228 = shoulder_fe_a_wy * shoulder_fe_u_ny;
-            let t1229 = t1227 + t1228;
-            let t1230 = shoulder_fe_a_vx * shoulder_fe_u_fx;
-            let t1231 = shoulder_fe_a_vy * shoulder_fe_u_fy;
-            let t1232 = t1230 + t1231;
-            let t1233 = t1229 + t1232;
-            let t1234 = u_sfe - t1233;
-            let qdd_sfe = t1234 / shoulder_fe_u_nz;
+            let shoulder_fe_a_wx = t1226 + t0;
+            let shoulder_fe_a_wy = t1227 - t1;
+            let t1228 = shoulder_fe_a_wx * shoulder_fe_u_nx;
+            let t1229 = shoulder_fe_a_wy * shoulder_fe_u_ny;
+            let t1230 = t1228 + t1229;
+            let t1231 = shoulder_fe_a_vx * shoulder_fe_u_fx;
+            let t1232 = shoulder_fe_a_vy * shoulder_fe_u_fy;
+            let t1233 = t1231 + t1232;
+            let t1234 = t1230 + t1233;
+            let t1235 = u_sfe - t1234;
+            let qdd_sfe = t1235 * t1172;
             (
                 shoulder_fe_a_vx,
                 shoulder_fe_a_vy,
@@ -5360,38 +5367,38 @@ impl ::hya_core::Dynamics<6> for Hya {
             humerus_r_a_wz,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-            let t1235 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1236 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1237 = shoulder_fe_a_vy + t1235;
-            let t1238 = c_hr * qdd_sfe;
-            let t1239 = s_hr * shoulder_fe_a_wy;
-            let t1240 = t1239 - t1238;
-            let t1241 = s_hr * qdd_sfe;
-            let t1242 = c_hr * shoulder_fe_a_wy;
-            let t1243 = t1241 + t1242;
-            let t1244 = c_hr * t1236;
-            let t1245 = s_hr * t1237;
-            let t1246 = t1244 + t1245;
-            let t1247 = s_hr * t1236;
-            let t1248 = c_hr * t1237;
-            let t1249 = t1248 - t1247;
-            let humerus_r_a_wx = t1240 + t36;
-            let humerus_r_a_wy = t1243 - t37;
-            let humerus_r_a_vx = t1246 + t38;
-            let humerus_r_a_vy = t1249 - t39;
-            let t1250 = humerus_r_a_wx * humerus_r_u_nx;
-            let t1251 = humerus_r_a_wy * humerus_r_u_ny;
-            let t1252 = t1251 - t1250;
-            let t1253 = shoulder_fe_a_wx * humerus_r_u_nz;
-            let t1254 = t1252 + t1253;
-            let t1255 = humerus_r_a_vx * humerus_r_u_fx;
-            let t1256 = humerus_r_a_vy * humerus_r_u_fy;
-            let t1257 = t1256 - t1255;
-            let t1258 = shoulder_fe_a_vx * humerus_r_u_fz;
-            let t1259 = t1257 + t1258;
-            let t1260 = t1254 + t1259;
-            let t1261 = u_hr - t1260;
-            let qdd_hr = t1261 / humerus_r_u_nz;
+            let t1236 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1237 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1238 = shoulder_fe_a_vy + t1236;
+            let t1239 = c_hr * qdd_sfe;
+            let t1240 = s_hr * shoulder_fe_a_wy;
+            let t1241 = t1240 - t1239;
+            let t1242 = s_hr * qdd_sfe;
+            let t1243 = c_hr * shoulder_fe_a_wy;
+            let t1244 = t1242 + t1243;
+            let t1245 = c_hr * t1237;
+            let t1246 = s_hr * t1238;
+            let t1247 = t1245 + t1246;
+            let t1248 = s_hr * t1237;
+            let t1249 = c_hr * t1238;
+            let t1250 = t1249 - t1248;
+            let humerus_r_a_wx = t1241 + t36;
+            let humerus_r_a_wy = t1244 - t37;
+            let humerus_r_a_vx = t1247 + t38;
+            let humerus_r_a_vy = t1250 - t39;
+            let t1251 = humerus_r_a_wx * humerus_r_u_nx;
+            let t1252 = humerus_r_a_wy * humerus_r_u_ny;
+            let t1253 = t1252 - t1251;
+            let t1254 = shoulder_fe_a_wx * humerus_r_u_nz;
+            let t1255 = t1253 + t1254;
+            let t1256 = humerus_r_a_vx * humerus_r_u_fx;
+            let t1257 = humerus_r_a_vy * humerus_r_u_fy;
+            let t1258 = t1257 - t1256;
+            let t1259 = shoulder_fe_a_vx * humerus_r_u_fz;
+            let t1260 = t1258 + t1259;
+            let t1261 = t1255 + t1260;
+            let t1262 = u_hr - t1261;
+            let qdd_hr = t1262 * t938;
             let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
             (
                 humerus_r_a_wx,
@@ -5412,39 +5419,39 @@ impl ::hya_core::Dynamics<6> for Hya {
             elbow_fe_a_wz,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-            let t1262 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t1263 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx + t1262;
-            let t1264 = humerus_r_a_vy - t1263;
-            let t1265 = c_efe * humerus_r_a_wz;
-            let t1266 = s_efe * humerus_r_a_wy;
-            let t1267 = t1265 + t1266;
-            let t1268 = s_efe * humerus_r_a_wz;
-            let t1269 = c_efe * humerus_r_a_wy;
-            let t1270 = t1269 - t1268;
-            let t1271 = c_efe * shoulder_fe_a_vx;
-            let t1272 = s_efe * t1264;
-            let t1273 = t1271 + t1272;
-            let t1274 = s_efe * shoulder_fe_a_vx;
-            let t1275 = c_efe * t1264;
-            let t1276 = t1275 - t1274;
-            let elbow_fe_a_wx = t1267 + t106;
-            let elbow_fe_a_wy = t1270 - t107;
-            let elbow_fe_a_vx = t1273 + t108;
-            let elbow_fe_a_vy = t1276 - t109;
-            let t1277 = elbow_fe_a_wx * elbow_fe_u_nx;
-            let t1278 = elbow_fe_a_wy * elbow_fe_u_ny;
-            let t1279 = t1277 + t1278;
-            let t1280 = humerus_r_a_wx * elbow_fe_u_nz;
-            let t1281 = t1279 - t1280;
-            let t1282 = elbow_fe_a_vx * elbow_fe_u_fx;
-            let t1283 = elbow_fe_a_vy * elbow_fe_u_fy;
-            let t1284 = t1282 + t1283;
-            let t1285 = elbow_fe_a_vz * elbow_fe_u_fz;
-            let t1286 = t1284 - t1285;
-            let t1287 = t1281 + t1286;
-            let t1288 = u_efe - t1287;
-            let qdd_efe = t1288 / elbow_fe_u_nz;
+            let t1263 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t1264 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let elbow_fe_a_vz = humerus_r_a_vx + t1263;
+            let t1265 = humerus_r_a_vy - t1264;
+            let t1266 = c_efe * humerus_r_a_wz;
+            let t1267 = s_efe * humerus_r_a_wy;
+            let t1268 = t1266 + t1267;
+            let t1269 = s_efe * humerus_r_a_wz;
+            let t1270 = c_efe * humerus_r_a_wy;
+            let t1271 = t1270 - t1269;
+            let t1272 = c_efe * shoulder_fe_a_vx;
+            let t1273 = s_efe * t1265;
+            let t1274 = t1272 + t1273;
+            let t1275 = s_efe * shoulder_fe_a_vx;
+            let t1276 = c_efe * t1265;
+            let t1277 = t1276 - t1275;
+            let elbow_fe_a_wx = t1268 + t106;
+            let elbow_fe_a_wy = t1271 - t107;
+            let elbow_fe_a_vx = t1274 + t108;
+            let elbow_fe_a_vy = t1277 - t109;
+            let t1278 = elbow_fe_a_wx * elbow_fe_u_nx;
+            let t1279 = elbow_fe_a_wy * elbow_fe_u_ny;
+            let t1280 = t1278 + t1279;
+            let t1281 = humerus_r_a_wx * elbow_fe_u_nz;
+            let t1282 = t1280 - t1281;
+            let t1283 = elbow_fe_a_vx * elbow_fe_u_fx;
+            let t1284 = elbow_fe_a_vy * elbow_fe_u_fy;
+            let t1285 = t1283 + t1284;
+            let t1286 = elbow_fe_a_vz * elbow_fe_u_fz;
+            let t1287 = t1285 - t1286;
+            let t1288 = t1282 + t1287;
+            let t1289 = u_efe - t1288;
+            let qdd_efe = t1289 * t697;
             let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
             (
                 elbow_fe_a_vz,
@@ -5458,69 +5465,69 @@ impl ::hya_core::Dynamics<6> for Hya {
         };
         let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
             // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-            let t1289 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1290 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1291 = elbow_fe_a_vy + t1289;
-            let t1292 = elbow_fe_a_vz + t1290;
-            let t1293 = c_wr * elbow_fe_a_wz;
-            let t1294 = s_wr * elbow_fe_a_wy;
-            let t1295 = t1294 - t1293;
-            let t1296 = s_wr * elbow_fe_a_wz;
-            let t1297 = c_wr * elbow_fe_a_wy;
-            let t1298 = t1296 + t1297;
-            let t1299 = c_wr * t1292;
-            let t1300 = s_wr * t1291;
-            let t1301 = t1299 + t1300;
-            let t1302 = s_wr * t1292;
-            let t1303 = c_wr * t1291;
-            let t1304 = t1303 - t1302;
-            let wrist_r_a_wx = t1295 + t186;
-            let wrist_r_a_wy = t1298 - t187;
-            let wrist_r_a_vx = t1301 + t188;
-            let wrist_r_a_vy = t1304 - t189;
-            let t1305 = wrist_r_a_wx * wrist_r_u_nx;
-            let t1306 = wrist_r_a_wy * wrist_r_u_ny;
-            let t1307 = t1305 - t1306;
-            let t1308 = elbow_fe_a_wx * wrist_r_u_nz;
-            let t1309 = t1307 + t1308;
-            let t1310 = wrist_r_a_vx * wrist_r_u_fx;
-            let t1311 = wrist_r_a_vy * wrist_r_u_fy;
-            let t1312 = t1311 - t1310;
-            let t1313 = elbow_fe_a_vx * wrist_r_u_fz;
-            let t1314 = t1312 + t1313;
-            let t1315 = t1309 + t1314;
-            let t1316 = u_wr - t1315;
-            let qdd_wr = t1316 / wrist_r_u_nz;
+            let t1290 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1291 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1292 = elbow_fe_a_vy + t1290;
+            let t1293 = elbow_fe_a_vz + t1291;
+            let t1294 = c_wr * elbow_fe_a_wz;
+            let t1295 = s_wr * elbow_fe_a_wy;
+            let t1296 = t1295 - t1294;
+            let t1297 = s_wr * elbow_fe_a_wz;
+            let t1298 = c_wr * elbow_fe_a_wy;
+            let t1299 = t1297 + t1298;
+            let t1300 = c_wr * t1293;
+            let t1301 = s_wr * t1292;
+            let t1302 = t1300 + t1301;
+            let t1303 = s_wr * t1293;
+            let t1304 = c_wr * t1292;
+            let t1305 = t1304 - t1303;
+            let wrist_r_a_wx = t1296 + t186;
+            let wrist_r_a_wy = t1299 - t187;
+            let wrist_r_a_vx = t1302 + t188;
+            let wrist_r_a_vy = t1305 - t189;
+            let t1306 = wrist_r_a_wx * wrist_r_u_nx;
+            let t1307 = wrist_r_a_wy * wrist_r_u_ny;
+            let t1308 = t1306 - t1307;
+            let t1309 = elbow_fe_a_wx * wrist_r_u_nz;
+            let t1310 = t1308 + t1309;
+            let t1311 = wrist_r_a_vx * wrist_r_u_fx;
+            let t1312 = wrist_r_a_vy * wrist_r_u_fy;
+            let t1313 = t1312 - t1311;
+            let t1314 = elbow_fe_a_vx * wrist_r_u_fz;
+            let t1315 = t1313 + t1314;
+            let t1316 = t1310 + t1315;
+            let t1317 = u_wr - t1316;
+            let qdd_wr = t1317 * t450;
             let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
             (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz)
         };
         let qdd_wfe = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t1317 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t1318 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t1319 = wrist_r_a_vx + t1317;
-            let t1320 = elbow_fe_a_vx - t1318;
-            let t1321 = c_wfe * wrist_r_a_wz;
-            let t1322 = s_wfe * wrist_r_a_wx;
-            let t1323 = t1321 + t1322;
-            let t1324 = s_wfe * wrist_r_a_wz;
-            let t1325 = c_wfe * wrist_r_a_wx;
-            let t1326 = t1325 - t1324;
-            let t1327 = s_wfe * t1320;
-            let t1328 = c_wfe * t1319;
-            let t1329 = t1328 - t1327;
-            let wrist_fe_a_wx = t1323 + t261;
-            let wrist_fe_a_wy = t1326 - t262;
-            let wrist_fe_a_vy = t1329 - t264;
-            let t1330 = wrist_fe_a_wx * 0.000015f64; // 1.5000e-5 = Wrist_FE I_xz
-            let t1331 = wrist_fe_a_wy * 0.000829f64; // 8.2900e-4 = Wrist_FE I_yz
-            let t1332 = t1330 - t1331;
-            let t1333 = wrist_r_a_wy * 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
-            let t1334 = t1332 + t1333;
-            let t1335 = wrist_fe_a_vy * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
-            let t1336 = t1334 + t1335;
-            let t1337 = u_wfe - t1336;
-            let qdd_wfe = t1337 / 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
+            let t1318 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t1319 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t1320 = wrist_r_a_vx + t1318;
+            let t1321 = elbow_fe_a_vx - t1319;
+            let t1322 = c_wfe * wrist_r_a_wz;
+            let t1323 = s_wfe * wrist_r_a_wx;
+            let t1324 = t1322 + t1323;
+            let t1325 = s_wfe * wrist_r_a_wz;
+            let t1326 = c_wfe * wrist_r_a_wx;
+            let t1327 = t1326 - t1325;
+            let t1328 = s_wfe * t1321;
+            let t1329 = c_wfe * t1320;
+            let t1330 = t1329 - t1328;
+            let wrist_fe_a_wx = t1324 + t261;
+            let wrist_fe_a_wy = t1327 - t262;
+            let wrist_fe_a_vy = t1330 - t264;
+            let t1331 = wrist_fe_a_wx * 0.000015f64; // 1.5000e-5 = Wrist_FE I_xz
+            let t1332 = wrist_fe_a_wy * 0.000829f64; // 8.2900e-4 = Wrist_FE I_yz
+            let t1333 = t1331 - t1332;
+            let t1334 = wrist_r_a_wy * 0.009277f64; // 9.2770e-3 = Wrist_FE I_zz
+            let t1335 = t1333 + t1334;
+            let t1336 = wrist_fe_a_vy * 0.038686875f64; // 3.8687e-2 = Wrist_FE m·c_x
+            let t1337 = t1335 + t1336;
+            let t1338 = u_wfe - t1337;
+            let qdd_wfe = t1338 * 107.79346771585641f64;
             qdd_wfe
         };
         if !(shoulder_aa_u_nz > 0.0 && shoulder_fe_u_nz > 0.0 && humerus_r_u_nz > 0.0

@@ -5065,6 +5065,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_wfe,
+            t355,
             wrist_r_u_fz,
             t496,
             t518,
@@ -5348,6 +5349,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let wrist_r_p_fz = t269 + t569;
             (
                 u_wfe,
+                t355,
                 wrist_r_u_fz,
                 t496,
                 t518,
@@ -5376,6 +5378,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_wr,
+            t597,
             t632,
             t700,
             t703,
@@ -5663,6 +5666,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t845 = elbow_fe_m + t783;
             (
                 u_wr,
+                t597,
                 t632,
                 t700,
                 t703,
@@ -5717,6 +5721,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_efe,
+            t846,
             humerus_r_u_fz,
             t1020,
             t1027,
@@ -5999,6 +6004,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let humerus_r_p_fy = t98 + t1067;
             (
                 u_efe,
+                t846,
                 humerus_r_u_fz,
                 t1020,
                 t1027,
@@ -6028,6 +6034,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_hr,
+            t1087,
             t1123,
             t1298,
             t1316,
@@ -6290,6 +6297,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let shoulder_fe_p_nz = t25 + t1315;
             (
                 u_hr,
+                t1087,
                 t1123,
                 t1298,
                 t1316,
@@ -6307,7 +6315,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 shoulder_fe_p_nz,
             )
         };
-        let (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
+        let (u_sfe, t1321, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let u_sfe = tau_sfe - shoulder_fe_p_nz;
             let t1321 = 1f64 / shoulder_fe_u_nz;
@@ -6364,18 +6372,19 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let t1371 = c_sfe * t1352;
             let shoulder_aa_p_nz = t1370 + t1371;
             let shoulder_aa_u_nz = shoulder_aa_izz + t1361;
-            (u_sfe, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
+            (u_sfe, t1321, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
         };
-        let u_saa = {
+        let (u_saa, t1372) = {
             // ── link `Shoulder_AA`, joint `SAA` (tip to base)
             let u_saa = tau_saa - shoulder_aa_p_nz;
-            u_saa
+            let t1372 = 1f64 / shoulder_aa_u_nz;
+            (u_saa, t1372)
         };
         let qdd_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-            let t1372 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
-            let t1373 = u_saa - t1372;
-            let qdd_saa = t1373 / shoulder_aa_u_nz;
+            let t1373 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
+            let t1374 = u_saa - t1373;
+            let qdd_saa = t1374 * t1372;
             qdd_saa
         };
         let (
@@ -6386,21 +6395,21 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             qdd_sfe,
         ) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
-            let t1374 = s_sfe * qdd_saa;
-            let t1375 = c_sfe * qdd_saa;
+            let t1375 = s_sfe * qdd_saa;
+            let t1376 = c_sfe * qdd_saa;
             let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
             let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
-            let shoulder_fe_a_wx = t1374 + t0;
-            let shoulder_fe_a_wy = t1375 - t1;
-            let t1376 = shoulder_fe_a_wx * shoulder_fe_u_nx;
-            let t1377 = shoulder_fe_a_wy * shoulder_fe_u_ny;
-            let t1378 = t1376 + t1377;
-            let t1379 = shoulder_fe_a_vx * shoulder_fe_u_fx;
-            let t1380 = shoulder_fe_a_vy * shoulder_fe_u_fy;
-            let t1381 = t1379 + t1380;
-            let t1382 = t1378 + t1381;
-            let t1383 = u_sfe - t1382;
-            let qdd_sfe = t1383 / shoulder_fe_u_nz;
+            let shoulder_fe_a_wx = t1375 + t0;
+            let shoulder_fe_a_wy = t1376 - t1;
+            let t1377 = shoulder_fe_a_wx * shoulder_fe_u_nx;
+            let t1378 = shoulder_fe_a_wy * shoulder_fe_u_ny;
+            let t1379 = t1377 + t1378;
+            let t1380 = shoulder_fe_a_vx * shoulder_fe_u_fx;
+            let t1381 = shoulder_fe_a_vy * shoulder_fe_u_fy;
+            let t1382 = t1380 + t1381;
+            let t1383 = t1379 + t1382;
+            let t1384 = u_sfe - t1383;
+            let qdd_sfe = t1384 * t1321;
             (
                 shoulder_fe_a_vx,
                 shoulder_fe_a_vy,
@@ -6418,38 +6427,38 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_a_wz,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-            let t1384 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1385 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1386 = shoulder_fe_a_vy + t1384;
-            let t1387 = c_hr * qdd_sfe;
-            let t1388 = s_hr * shoulder_fe_a_wy;
-            let t1389 = t1388 - t1387;
-            let t1390 = s_hr * qdd_sfe;
-            let t1391 = c_hr * shoulder_fe_a_wy;
-            let t1392 = t1390 + t1391;
-            let t1393 = c_hr * t1385;
-            let t1394 = s_hr * t1386;
-            let t1395 = t1393 + t1394;
-            let t1396 = s_hr * t1385;
-            let t1397 = c_hr * t1386;
-            let t1398 = t1397 - t1396;
-            let humerus_r_a_wx = t1389 + t36;
-            let humerus_r_a_wy = t1392 - t37;
-            let humerus_r_a_vx = t1395 + t38;
-            let humerus_r_a_vy = t1398 - t39;
-            let t1399 = humerus_r_a_wx * humerus_r_u_nx;
-            let t1400 = humerus_r_a_wy * humerus_r_u_ny;
-            let t1401 = t1399 + t1400;
-            let t1402 = shoulder_fe_a_wx * humerus_r_u_nz;
-            let t1403 = t1401 + t1402;
-            let t1404 = humerus_r_a_vx * humerus_r_u_fx;
-            let t1405 = humerus_r_a_vy * humerus_r_u_fy;
-            let t1406 = t1405 - t1404;
-            let t1407 = shoulder_fe_a_vx * humerus_r_u_fz;
-            let t1408 = t1406 + t1407;
-            let t1409 = t1403 + t1408;
-            let t1410 = u_hr - t1409;
-            let qdd_hr = t1410 / humerus_r_u_nz;
+            let t1385 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1386 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1387 = shoulder_fe_a_vy + t1385;
+            let t1388 = c_hr * qdd_sfe;
+            let t1389 = s_hr * shoulder_fe_a_wy;
+            let t1390 = t1389 - t1388;
+            let t1391 = s_hr * qdd_sfe;
+            let t1392 = c_hr * shoulder_fe_a_wy;
+            let t1393 = t1391 + t1392;
+            let t1394 = c_hr * t1386;
+            let t1395 = s_hr * t1387;
+            let t1396 = t1394 + t1395;
+            let t1397 = s_hr * t1386;
+            let t1398 = c_hr * t1387;
+            let t1399 = t1398 - t1397;
+            let humerus_r_a_wx = t1390 + t36;
+            let humerus_r_a_wy = t1393 - t37;
+            let humerus_r_a_vx = t1396 + t38;
+            let humerus_r_a_vy = t1399 - t39;
+            let t1400 = humerus_r_a_wx * humerus_r_u_nx;
+            let t1401 = humerus_r_a_wy * humerus_r_u_ny;
+            let t1402 = t1400 + t1401;
+            let t1403 = shoulder_fe_a_wx * humerus_r_u_nz;
+            let t1404 = t1402 + t1403;
+            let t1405 = humerus_r_a_vx * humerus_r_u_fx;
+            let t1406 = humerus_r_a_vy * humerus_r_u_fy;
+            let t1407 = t1406 - t1405;
+            let t1408 = shoulder_fe_a_vx * humerus_r_u_fz;
+            let t1409 = t1407 + t1408;
+            let t1410 = t1404 + t1409;
+            let t1411 = u_hr - t1410;
+            let qdd_hr = t1411 * t1087;
             let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
             (
                 humerus_r_a_wx,
@@ -6470,39 +6479,39 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_a_wz,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-            let t1411 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t1412 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx + t1411;
-            let t1413 = humerus_r_a_vy - t1412;
-            let t1414 = c_efe * humerus_r_a_wz;
-            let t1415 = s_efe * humerus_r_a_wy;
-            let t1416 = t1414 + t1415;
-            let t1417 = s_efe * humerus_r_a_wz;
-            let t1418 = c_efe * humerus_r_a_wy;
-            let t1419 = t1418 - t1417;
-            let t1420 = c_efe * shoulder_fe_a_vx;
-            let t1421 = s_efe * t1413;
-            let t1422 = t1420 + t1421;
-            let t1423 = s_efe * shoulder_fe_a_vx;
-            let t1424 = c_efe * t1413;
-            let t1425 = t1424 - t1423;
-            let elbow_fe_a_wx = t1416 + t106;
-            let elbow_fe_a_wy = t1419 - t107;
-            let elbow_fe_a_vx = t1422 + t108;
-            let elbow_fe_a_vy = t1425 - t109;
-            let t1426 = elbow_fe_a_wx * elbow_fe_u_nx;
-            let t1427 = elbow_fe_a_wy * elbow_fe_u_ny;
-            let t1428 = t1426 + t1427;
-            let t1429 = humerus_r_a_wx * elbow_fe_u_nz;
-            let t1430 = t1428 - t1429;
-            let t1431 = elbow_fe_a_vx * elbow_fe_u_fx;
-            let t1432 = elbow_fe_a_vy * elbow_fe_u_fy;
-            let t1433 = t1431 + t1432;
-            let t1434 = elbow_fe_a_vz * elbow_fe_u_fz;
-            let t1435 = t1433 - t1434;
-            let t1436 = t1430 + t1435;
-            let t1437 = u_efe - t1436;
-            let qdd_efe = t1437 / elbow_fe_u_nz;
+            let t1412 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t1413 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let elbow_fe_a_vz = humerus_r_a_vx + t1412;
+            let t1414 = humerus_r_a_vy - t1413;
+            let t1415 = c_efe * humerus_r_a_wz;
+            let t1416 = s_efe * humerus_r_a_wy;
+            let t1417 = t1415 + t1416;
+            let t1418 = s_efe * humerus_r_a_wz;
+            let t1419 = c_efe * humerus_r_a_wy;
+            let t1420 = t1419 - t1418;
+            let t1421 = c_efe * shoulder_fe_a_vx;
+            let t1422 = s_efe * t1414;
+            let t1423 = t1421 + t1422;
+            let t1424 = s_efe * shoulder_fe_a_vx;
+            let t1425 = c_efe * t1414;
+            let t1426 = t1425 - t1424;
+            let elbow_fe_a_wx = t1417 + t106;
+            let elbow_fe_a_wy = t1420 - t107;
+            let elbow_fe_a_vx = t1423 + t108;
+            let elbow_fe_a_vy = t1426 - t109;
+            let t1427 = elbow_fe_a_wx * elbow_fe_u_nx;
+            let t1428 = elbow_fe_a_wy * elbow_fe_u_ny;
+            let t1429 = t1427 + t1428;
+            let t1430 = humerus_r_a_wx * elbow_fe_u_nz;
+            let t1431 = t1429 - t1430;
+            let t1432 = elbow_fe_a_vx * elbow_fe_u_fx;
+            let t1433 = elbow_fe_a_vy * elbow_fe_u_fy;
+            let t1434 = t1432 + t1433;
+            let t1435 = elbow_fe_a_vz * elbow_fe_u_fz;
+            let t1436 = t1434 - t1435;
+            let t1437 = t1431 + t1436;
+            let t1438 = u_efe - t1437;
+            let qdd_efe = t1438 * t846;
             let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
             (
                 elbow_fe_a_vz,
@@ -6516,75 +6525,75 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
             // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-            let t1438 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1439 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1440 = elbow_fe_a_vy + t1438;
-            let t1441 = elbow_fe_a_vz + t1439;
-            let t1442 = c_wr * elbow_fe_a_wz;
-            let t1443 = s_wr * elbow_fe_a_wy;
-            let t1444 = t1443 - t1442;
-            let t1445 = s_wr * elbow_fe_a_wz;
-            let t1446 = c_wr * elbow_fe_a_wy;
-            let t1447 = t1445 + t1446;
-            let t1448 = c_wr * t1441;
-            let t1449 = s_wr * t1440;
-            let t1450 = t1448 + t1449;
-            let t1451 = s_wr * t1441;
-            let t1452 = c_wr * t1440;
-            let t1453 = t1452 - t1451;
-            let wrist_r_a_wx = t1444 + t194;
-            let wrist_r_a_wy = t1447 - t195;
-            let wrist_r_a_vx = t1450 + t196;
-            let wrist_r_a_vy = t1453 - t197;
-            let t1454 = wrist_r_a_wx * wrist_r_u_nx;
-            let t1455 = wrist_r_a_wy * wrist_r_u_ny;
-            let t1456 = t1454 + t1455;
-            let t1457 = elbow_fe_a_wx * wrist_r_u_nz;
-            let t1458 = t1456 + t1457;
-            let t1459 = wrist_r_a_vx * wrist_r_u_fx;
-            let t1460 = wrist_r_a_vy * wrist_r_u_fy;
-            let t1461 = t1459 + t1460;
-            let t1462 = elbow_fe_a_vx * wrist_r_u_fz;
-            let t1463 = t1461 + t1462;
-            let t1464 = t1458 + t1463;
-            let t1465 = u_wr - t1464;
-            let qdd_wr = t1465 / wrist_r_u_nz;
+            let t1439 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1440 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1441 = elbow_fe_a_vy + t1439;
+            let t1442 = elbow_fe_a_vz + t1440;
+            let t1443 = c_wr * elbow_fe_a_wz;
+            let t1444 = s_wr * elbow_fe_a_wy;
+            let t1445 = t1444 - t1443;
+            let t1446 = s_wr * elbow_fe_a_wz;
+            let t1447 = c_wr * elbow_fe_a_wy;
+            let t1448 = t1446 + t1447;
+            let t1449 = c_wr * t1442;
+            let t1450 = s_wr * t1441;
+            let t1451 = t1449 + t1450;
+            let t1452 = s_wr * t1442;
+            let t1453 = c_wr * t1441;
+            let t1454 = t1453 - t1452;
+            let wrist_r_a_wx = t1445 + t194;
+            let wrist_r_a_wy = t1448 - t195;
+            let wrist_r_a_vx = t1451 + t196;
+            let wrist_r_a_vy = t1454 - t197;
+            let t1455 = wrist_r_a_wx * wrist_r_u_nx;
+            let t1456 = wrist_r_a_wy * wrist_r_u_ny;
+            let t1457 = t1455 + t1456;
+            let t1458 = elbow_fe_a_wx * wrist_r_u_nz;
+            let t1459 = t1457 + t1458;
+            let t1460 = wrist_r_a_vx * wrist_r_u_fx;
+            let t1461 = wrist_r_a_vy * wrist_r_u_fy;
+            let t1462 = t1460 + t1461;
+            let t1463 = elbow_fe_a_vx * wrist_r_u_fz;
+            let t1464 = t1462 + t1463;
+            let t1465 = t1459 + t1464;
+            let t1466 = u_wr - t1465;
+            let qdd_wr = t1466 * t597;
             let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
             (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz)
         };
         let qdd_wfe = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t1466 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t1467 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t1468 = wrist_r_a_vx + t1466;
-            let t1469 = elbow_fe_a_vx - t1467;
-            let t1470 = c_wfe * wrist_r_a_wz;
-            let t1471 = s_wfe * wrist_r_a_wx;
-            let t1472 = t1470 + t1471;
-            let t1473 = s_wfe * wrist_r_a_wz;
-            let t1474 = c_wfe * wrist_r_a_wx;
-            let t1475 = t1474 - t1473;
-            let t1476 = c_wfe * t1469;
-            let t1477 = s_wfe * t1468;
-            let t1478 = t1476 + t1477;
-            let t1479 = s_wfe * t1469;
-            let t1480 = c_wfe * t1468;
-            let t1481 = t1480 - t1479;
-            let wrist_fe_a_wx = t1472 + t285;
-            let wrist_fe_a_wy = t1475 - t286;
-            let wrist_fe_a_vx = t1478 + t287;
-            let wrist_fe_a_vy = t1481 - t288;
-            let t1482 = wrist_fe_a_wx * wrist_fe_ixz;
-            let t1483 = wrist_fe_a_wy * wrist_fe_iyz;
-            let t1484 = t1482 + t1483;
-            let t1485 = wrist_r_a_wy * wrist_fe_izz;
-            let t1486 = t1484 + t1485;
-            let t1487 = wrist_fe_a_vx * wrist_fe_hy;
-            let t1488 = wrist_fe_a_vy * wrist_fe_hx;
-            let t1489 = t1488 - t1487;
-            let t1490 = t1486 + t1489;
-            let t1491 = u_wfe - t1490;
-            let qdd_wfe = t1491 / wrist_fe_izz;
+            let t1467 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t1468 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t1469 = wrist_r_a_vx + t1467;
+            let t1470 = elbow_fe_a_vx - t1468;
+            let t1471 = c_wfe * wrist_r_a_wz;
+            let t1472 = s_wfe * wrist_r_a_wx;
+            let t1473 = t1471 + t1472;
+            let t1474 = s_wfe * wrist_r_a_wz;
+            let t1475 = c_wfe * wrist_r_a_wx;
+            let t1476 = t1475 - t1474;
+            let t1477 = c_wfe * t1470;
+            let t1478 = s_wfe * t1469;
+            let t1479 = t1477 + t1478;
+            let t1480 = s_wfe * t1470;
+            let t1481 = c_wfe * t1469;
+            let t1482 = t1481 - t1480;
+            let wrist_fe_a_wx = t1473 + t285;
+            let wrist_fe_a_wy = t1476 - t286;
+            let wrist_fe_a_vx = t1479 + t287;
+            let wrist_fe_a_vy = t1482 - t288;
+            let t1483 = wrist_fe_a_wx * wrist_fe_ixz;
+            let t1484 = wrist_fe_a_wy * wrist_fe_iyz;
+            let t1485 = t1483 + t1484;
+            let t1486 = wrist_r_a_wy * wrist_fe_izz;
+            let t1487 = t1485 + t1486;
+            let t1488 = wrist_fe_a_vx * wrist_fe_hy;
+            let t1489 = wrist_fe_a_vy * wrist_fe_hx;
+            let t1490 = t1489 - t1488;
+            let t1491 = t1487 + t1490;
+            let t1492 = u_wfe - t1491;
+            let qdd_wfe = t1492 * t355;
             qdd_wfe
         };
         if !(shoulder_aa_u_nz > 0.0 && shoulder_fe_u_nz > 0.0 && humerus_r_u_nz > 0.0

@@ -436,35 +436,36 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let upper_arm_u_fz = 0.75f64 + t26; // 7.5000e-1 = upper_arm m·c_x
             (u_elbow, upper_arm_u_fx, upper_arm_p_ny, upper_arm_u_ny, upper_arm_u_fz)
         };
-        let u_shoulder = {
+        let (u_shoulder, t31) = {
             // ── link `upper_arm`, joint `shoulder` (tip to base)
             let u_shoulder = tau_shoulder - upper_arm_p_ny;
-            u_shoulder
+            let t31 = 1f64 / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
+            (u_shoulder, t31)
         };
         let (upper_arm_a_vx, upper_arm_a_vz, qdd_shoulder) = {
             // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
             let upper_arm_a_vx = s_shoulder * 9.81f64; // 9.8100e0 = g
             let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-            let t31 = upper_arm_a_vx * upper_arm_u_fx;
-            let t32 = upper_arm_a_vz * upper_arm_u_fz;
-            let t33 = t31 - t32;
-            let t34 = u_shoulder - t33;
-            let qdd_shoulder = t34 / upper_arm_u_ny;
+            let t32 = upper_arm_a_vx * upper_arm_u_fx;
+            let t33 = upper_arm_a_vz * upper_arm_u_fz;
+            let t34 = t32 - t33;
+            let t35 = u_shoulder - t34;
+            let qdd_shoulder = t35 * t31;
             (upper_arm_a_vx, upper_arm_a_vz, qdd_shoulder)
         };
         let qdd_elbow = {
             // ── link `forearm`, joint `elbow` (base to tip, last pass)
-            let t35 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-            let t36 = upper_arm_a_vz - t35;
-            let t37 = s_elbow * upper_arm_a_vx;
-            let t38 = c_elbow * t36;
-            let t39 = t38 - t37;
-            let forearm_a_vz = t39 + t2;
-            let t40 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
-            let t41 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-            let t42 = t40 - t41;
-            let t43 = u_elbow - t42;
-            let qdd_elbow = t43 / 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let t36 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+            let t37 = upper_arm_a_vz - t36;
+            let t38 = s_elbow * upper_arm_a_vx;
+            let t39 = c_elbow * t37;
+            let t40 = t39 - t38;
+            let forearm_a_vz = t40 + t2;
+            let t41 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
+            let t42 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+            let t43 = t41 - t42;
+            let t44 = u_elbow - t43;
+            let qdd_elbow = t44 * 9.09090909090909f64;
             qdd_elbow
         };
         if !(upper_arm_u_ny > 0.0) {

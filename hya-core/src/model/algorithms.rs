@@ -284,11 +284,11 @@ pub fn forward_dynamics<S: Real>(
         let u = state.articulated.apply(&s).labelled(i, Quantity::InertiaTimesAxis);
         let d = s.dot(&u).labelled(label(Quantity::JointInertia));
         let joint_force = (tau[i] - s.dot(&state.force)).labelled(label(Quantity::JointForce));
-        (state.inertia_times_axis, state.joint_inertia) = (u, d);
-        // u_i / D_i until the last pass turns it into q̈_i.
+        let inverse = one / d;
+        (state.inertia_times_axis, state.joint_inertia, state.inverse_joint_inertia) = (u, d, inverse);
+        // u_i waits in `qdd` until the last pass turns it into q̈_i.
         qdd[i] = joint_force;
         if let Some(p) = body.parent {
-            let inverse = one / d;
             let reduced = state.articulated.minus_projection(&u, inverse);
             let bias = state.force + reduced.apply(&state.acceleration) + u * (joint_force * inverse);
             let (carried_inertia, carried_bias) =
@@ -303,8 +303,8 @@ pub fn forward_dynamics<S: Real>(
         let parent_acceleration = body.parent.map_or(base, |p| states[p].acceleration);
         let state = &mut states[i];
         let acceleration = state.transform.apply_motion(&parent_acceleration) + state.acceleration;
-        qdd[i] =
-            ((qdd[i] - acceleration.dot(&state.inertia_times_axis)) / state.joint_inertia).labelled(joint_label(i));
+        qdd[i] = ((qdd[i] - acceleration.dot(&state.inertia_times_axis)) * state.inverse_joint_inertia)
+            .labelled(joint_label(i));
         state.acceleration = (acceleration + subspace::<S>(model, i) * qdd[i]).labelled(i, Quantity::Acceleration);
     }
     Ok(())

@@ -90,6 +90,8 @@ pub struct BodyState<S = f64> {
     pub(crate) inertia_times_axis: Force<S>,
     /// ABA's `D_i = S_i · U_i`.
     pub(crate) joint_inertia: S,
+    /// `1 / D_i`.
+    pub(crate) inverse_joint_inertia: S,
 }
 
 impl<S: Real> BodyState<S> {
@@ -105,6 +107,7 @@ impl<S: Real> BodyState<S> {
             articulated: RigidBodyInertia::zero().into(),
             inertia_times_axis: Force::zero(),
             joint_inertia: S::zero(),
+            inverse_joint_inertia: S::zero(),
         }
     }
 

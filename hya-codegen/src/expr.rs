@@ -215,8 +215,10 @@ impl Emitter {
         }
     }
 
+    /// Names statement `id` after `label`, unless it already has a name or the labelled value is
+    /// its negation (a name never holds the negative of what it says).
     fn label(&mut self, value: Value, label: Label) {
-        if let Value::Var { id, .. } = value {
+        if let Value::Var { id, negated: false } = value {
             self.labels.entry(id).or_insert(label);
         }
     }
@@ -247,6 +249,21 @@ impl Emitter {
         live
     }
 
+    /// A non-finite constant the outputs depend on (a division by a joint inertia that folded
+    /// to zero, say), which no literal can hold.
+    pub fn non_finite_constant(&self, outputs: &[Value]) -> Option<f64> {
+        let live = self.live(outputs);
+        let constants = self.ops.iter().enumerate().filter(|(id, _)| live[*id]).flat_map(|(_, op)| match op {
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![*a, *b],
+            Op::SinCos(x) => vec![*x],
+            Op::Input(..) | Op::CosOf => Vec::new(),
+        });
+        constants.chain(outputs.iter().copied()).find_map(|v| match v {
+            Value::Const(c) if !c.is_finite() => Some(c),
+            _ => None,
+        })
+    }
+
     /// The operands a statement reads.
     fn operands(&self, id: usize) -> Vec<usize> {
         match &self.ops[id] {
@@ -261,7 +278,7 @@ impl Emitter {
     /// Identifiers for the live statements: inputs by their names, labelled statements by
     /// `names` (made unique), the rest `t0, t1, …`.
     fn identifiers(&self, live: &[bool], names: &dyn Naming) -> Vec<Option<Ident>> {
-        let mut used: HashMap<String, usize> = HashMap::new();
+        let mut used = std::collections::HashSet::new();
         let mut temporaries = 0;
         let mut idents = vec![None; self.ops.len()];
         for (id, op) in self.ops.iter().enumerate().filter(|(id, _)| live[*id]) {
@@ -273,9 +290,7 @@ impl Emitter {
                     format!("t{}", temporaries - 1)
                 }
             };
-            let count = used.entry(wanted.clone()).or_insert(0);
-            *count += 1;
-            let unique = if *count == 1 { wanted } else { format!("{wanted}_{}", *count - 1) };
+            let unique = crate::names::unique_name(&mut used, wanted);
             idents[id] = Some(Ident::new(&unique, Span::call_site()));
         }
         idents

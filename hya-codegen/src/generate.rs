@@ -62,6 +62,15 @@ pub enum GenerateError {
     /// The emitted code did not parse (a generator bug).
     #[error("generated code does not parse: {0}")]
     Syntax(String),
+    /// A constant of the model folded to infinity or NaN: a joint with no inertia along its
+    /// axis (its articulated inertia `D_i` is zero), which no literal can hold.
+    #[error("a constant of `{function}` folds to {value}: a joint meets no inertia along its axis")]
+    NonFinite {
+        /// The generated function.
+        function: &'static str,
+        /// The constant.
+        value: f64,
+    },
     /// An algorithm refused the model (a generator bug: the inputs are sized from the model).
     #[error("tracing the model failed: {0}")]
     Model(#[from] hya_core::model::ModelError),
@@ -162,6 +171,7 @@ impl<'a> Tracer<'a> {
     /// Traces `algorithm` (which labels its outputs) and renders its statements.
     fn trace(
         &self,
+        function: &'static str,
         arguments: Arguments,
         output: Output,
         algorithm: impl FnOnce(&[Vec<Value>], &TracedInertias, &mut [BodyState<Value>]) -> Result<Vec<Value>, ModelError>,
@@ -172,6 +182,9 @@ impl<'a> Tracer<'a> {
             algorithm(&inputs, &inertias, &mut vec![BodyState::new(); self.model.dof()])
         });
         let outputs = outputs?;
+        if let Some(value) = emitter.non_finite_constant(&outputs) {
+            return Err(GenerateError::NonFinite { function, value });
+        }
         Ok((emitter.render(&outputs, &self.names.with_output(output)), outputs))
     }
 
@@ -188,7 +201,7 @@ impl<'a> Tracer<'a> {
             &mut [Value],
         ) -> Result<(), ModelError>,
     ) -> Result<Function, GenerateError> {
-        let (rendered, _) = self.trace(arguments, Output::Vector(prefix), |inputs, inertias, states| {
+        let (rendered, _) = self.trace(name, arguments, Output::Vector(prefix), |inputs, inertias, states| {
             let mut out = vec![Value::zero(); self.model.dof()];
             algorithm(inputs, inertias, states, &mut out)?;
             Ok(out)
@@ -221,7 +234,7 @@ impl<'a> Tracer<'a> {
 
     fn velocity_terms(&self) -> Result<Function, GenerateError> {
         let doc = " Coriolis and centripetal torques `C(q, q̇)`.";
-        self.vector_function(("velocity_terms", doc), &["q", "qd"], "c", |x, inertias, states, tau| {
+        self.vector_function(("velocity_terms", doc), &["q", "qd"], "cv", |x, inertias, states, tau| {
             algorithms::velocity_terms(self.model, inertias, (&x[0], &x[1]), states, tau)
         })
     }
@@ -236,7 +249,7 @@ impl<'a> Tracer<'a> {
 
     fn mass_matrix(&self) -> Result<Function, GenerateError> {
         let mut entries = Vec::new();
-        let (rendered, _) = self.trace(&["q"], Output::Matrix, |x, inertias, states| {
+        let (rendered, _) = self.trace("mass_matrix", &["q"], Output::Matrix, |x, inertias, states| {
             algorithms::mass_matrix(self.model, inertias, &x[0], states, |i, j, value| {
                 let label = Label { body: i, quantity: Quantity::Joint, component: j as u8 };
                 entries.push((i, j, value.labelled(label)));
@@ -272,12 +285,13 @@ impl<'a> Tracer<'a> {
     fn forward_dynamics(&self) -> Result<Function, GenerateError> {
         let dof = self.model.dof();
         let mut joint_inertias = Vec::new();
-        let (rendered, _) = self.trace(&["q", "qd", "tau"], Output::Vector("qdd"), |x, inertias, states| {
-            let mut qdd = vec![Value::zero(); dof];
-            algorithms::forward_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, &mut qdd)?;
-            joint_inertias = states.iter().map(BodyState::joint_inertia).collect();
-            Ok(qdd.into_iter().chain(joint_inertias.iter().copied()).collect())
-        })?;
+        let (rendered, _) =
+            self.trace("forward_dynamics", &["q", "qd", "tau"], Output::Vector("qdd"), |x, inertias, states| {
+                let mut qdd = vec![Value::zero(); dof];
+                algorithms::forward_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, &mut qdd)?;
+                joint_inertias = states.iter().map(BodyState::joint_inertia).collect();
+                Ok(qdd.into_iter().chain(joint_inertias.iter().copied()).collect())
+            })?;
         let Rendered { statements, outputs, pass_marks, counts } = rendered;
         let (qdd, d) = outputs.split_at(dof);
         let checks: Vec<TokenStream> = joint_inertias
@@ -314,7 +328,7 @@ impl<'a> Tracer<'a> {
     /// (`E` rotates base coordinates into the frame's, `r` is its origin).
     fn frame_poses(&self) -> Result<Function, GenerateError> {
         let frames = self.model.frames();
-        let (rendered, _) = self.trace(&["q"], Output::Vector("pose"), |x, _, states| {
+        let (rendered, _) = self.trace("frame_poses", &["q"], Output::Vector("pose"), |x, _, states| {
             let mut placements = vec![Transform::<Value>::identity(); self.model.dof()];
             algorithms::body_placements(self.model, &x[0], states, &mut placements)?;
             Ok(frames
@@ -347,31 +361,36 @@ impl<'a> Tracer<'a> {
     /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
     fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {
         let n = self.model.dof();
-        let (rendered, _) = self.trace(&["q", "qd", "qdd"], Output::Vector("tau"), |x, inertias, _| {
-            let mut states = vec![BodyState::new(); n];
-            let mut scratch = vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n];
-            let (mut tau, mut column) = (vec![Value::zero(); n], vec![Value::zero(); n]);
-            let mut outputs = vec![Value::zero(); 2 * n * n];
-            for j in 0..n {
-                for (k, direction) in [Direction::Position(j), Direction::Velocity(j)].into_iter().enumerate() {
-                    let inputs = (x[0].as_slice(), x[1].as_slice(), x[2].as_slice());
-                    derivatives::inverse_dynamics_directional(
-                        self.model,
-                        inertias,
-                        inputs,
-                        direction,
-                        &mut states,
-                        &mut scratch,
-                        &mut tau,
-                        &mut column,
-                    )?;
-                    for (i, value) in column.iter().enumerate() {
-                        outputs[k * n * n + i * n + j] = *value;
+        let (rendered, _) = self.trace(
+            "inverse_dynamics_derivatives",
+            &["q", "qd", "qdd"],
+            Output::Vector("tau"),
+            |x, inertias, _| {
+                let mut states = vec![BodyState::new(); n];
+                let mut scratch = vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n];
+                let (mut tau, mut column) = (vec![Value::zero(); n], vec![Value::zero(); n]);
+                let mut outputs = vec![Value::zero(); 2 * n * n];
+                for j in 0..n {
+                    for (k, direction) in [Direction::Position(j), Direction::Velocity(j)].into_iter().enumerate() {
+                        let inputs = (x[0].as_slice(), x[1].as_slice(), x[2].as_slice());
+                        derivatives::inverse_dynamics_directional(
+                            self.model,
+                            inertias,
+                            inputs,
+                            direction,
+                            &mut states,
+                            &mut scratch,
+                            &mut tau,
+                            &mut column,
+                        )?;
+                        for (i, value) in column.iter().enumerate() {
+                            outputs[k * n * n + i * n + j] = *value;
+                        }
                     }
                 }
-            }
-            Ok(outputs)
-        })?;
+                Ok(outputs)
+            },
+        )?;
         let Rendered { statements, outputs, pass_marks, counts } = rendered;
         let stores = |matrix: &proc_macro2::Ident, values: &[TokenStream]| -> Vec<TokenStream> {
             values
@@ -474,13 +493,14 @@ fn header(loaded: &LoadedModel, what: &str) -> String {
          // {what} of robot `{robot}` ({dof} joints)\n\
          // from {file}, SHA-256 {sha}.\n\
          // Each function is hya-core's algorithm traced with every constant of the model folded;\n\
-         // values are named after joints (q_, s_, c_ for sin and cos) and links (_v velocity,\n\
+         // values are named after joints (q_, s_, c_ for sin and cos; ABA's d_ = S·I^A S and\n\
+         // u_ = τ − S·p; outputs tau_, g_, cv_, ct_, qdd_, m_) and links (_v velocity,\n\
          // _a acceleration, _f force, _p bias force, _u = I^A S; w/v and n/f angular/linear parts).\n",
         version = env!("CARGO_PKG_VERSION"),
         robot = comment_safe(loaded.model.name()),
         dof = loaded.model.dof(),
         file = comment_safe(&loaded.source.file),
-        sha = loaded.source.sha256,
+        sha = comment_safe(&loaded.source.sha256),
     )
 }
 

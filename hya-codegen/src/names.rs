@@ -2,9 +2,12 @@
 //! body quantities by link and component (`elbow_fe_v_wz`, `wrist_r_f_nx`), outputs by joint.
 //!
 //! URDF names become identifiers by keeping ASCII letters and digits (lower-cased) and turning
-//! every other run of characters into `_`; a name left empty, starting with a digit, or taken
-//! by an earlier joint or link gets its index. Names reach comments only `escape_default`ed, so
+//! every other run of characters into `_`; a name left empty or starting with a digit gets its
+//! index, and a name already taken gets the first free `_1`, `_2`, … ([`unique_name`]), in the
+//! fragments and again in each function's identifiers. Names reach comments only `escape_default`ed, so
 //! no URDF string can end a comment.
+
+use std::collections::HashSet;
 
 use hya_core::model::TreeModel;
 use hya_core::scalar::{Label, Pass, Quantity};
@@ -25,17 +28,25 @@ fn identifier_fragment(name: &str) -> Option<String> {
     (!trimmed.is_empty() && !trimmed.starts_with(|c: char| c.is_ascii_digit())).then(|| trimmed.to_owned())
 }
 
-/// One fragment per name, unique: `fallback{i}` where a name gives none, `_{i}` on a clash.
+/// `wanted`, or the first of `wanted_1`, `wanted_2`, … that `taken` does not hold; recorded in
+/// `taken`. Every name it returns is distinct from every other it returned.
+pub fn unique_name(taken: &mut HashSet<String>, wanted: String) -> String {
+    let mut candidate = wanted.clone();
+    let mut k = 0;
+    while taken.contains(&candidate) {
+        k += 1;
+        candidate = format!("{wanted}_{k}");
+    }
+    taken.insert(candidate.clone());
+    candidate
+}
+
+/// One fragment per name, distinct: `fallback{i}` where a name gives none.
 fn unique_fragments<'a>(names: impl Iterator<Item = &'a str>, fallback: &str) -> Vec<String> {
-    let mut taken = std::collections::HashSet::new();
+    let mut taken = HashSet::new();
     names
         .enumerate()
-        .map(|(i, name)| {
-            let wanted = identifier_fragment(name).unwrap_or_else(|| format!("{fallback}{i}"));
-            let fragment = if taken.contains(&wanted) { format!("{wanted}_{i}") } else { wanted };
-            taken.insert(fragment.clone());
-            fragment
-        })
+        .map(|(i, name)| unique_name(&mut taken, identifier_fragment(name).unwrap_or_else(|| format!("{fallback}{i}"))))
         .collect()
 }
 
@@ -100,10 +111,9 @@ impl Naming for Names {
         let (joint, link) = (&self.joints[label.body], &self.links[label.body]);
         let component = usize::from(label.component);
         match label.quantity {
-            Quantity::Sine => format!("s_{joint}"),
-            Quantity::Cosine => format!("c_{joint}"),
-            Quantity::JointInertia => format!("d_{joint}"),
-            Quantity::JointForce => format!("u_{joint}"),
+            Quantity::Sine | Quantity::Cosine | Quantity::JointInertia | Quantity::JointForce => {
+                format!("{}_{joint}", label.quantity.short_name())
+            }
             Quantity::Joint => match self.output {
                 Output::Vector(prefix) => format!("{prefix}_{joint}"),
                 Output::Matrix => format!("m_{joint}_{}", self.joints.get(component).map_or("", String::as_str)),
@@ -136,8 +146,10 @@ mod tests {
         let names = ["Elbow_FE", "wrist-roll 2", "2nd", "", "Elbow FE", "\u{202E}x"];
         assert_eq!(
             unique_fragments(names.into_iter(), "j"),
-            ["elbow_fe", "wrist_roll_2", "j2", "j3", "elbow_fe_4", "x"]
+            ["elbow_fe", "wrist_roll_2", "j2", "j3", "elbow_fe_1", "x"]
         );
+        // A numbered name never meets a name that was written that way.
+        assert_eq!(unique_fragments(["a", "a", "a_1", "A"].into_iter(), "j"), ["a", "a_1", "a_1_1", "a_2"]);
     }
 
     #[test]

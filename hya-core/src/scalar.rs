@@ -63,7 +63,7 @@ impl Quantity {
             Quantity::Bias => "p",
             Quantity::InertiaTimesAxis => "u",
             Quantity::JointInertia => "d",
-            Quantity::JointForce => "uu",
+            Quantity::JointForce => "u",
             Quantity::Joint => "out",
         }
     }

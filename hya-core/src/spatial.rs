@@ -226,11 +226,14 @@ impl<S: Real> Transform<S> {
         Self::constant(&Transform { rotation: Matrix3::identity(), translation: Vector3::zeros() })
     }
 
-    /// A constant transform. Rotation entries within 1e-14 of 0 or ±1 are snapped, so that
-    /// rotations by multiples of π/2 (whose cosines are 6e-17, not 0) are the exact rotations
-    /// they mean and fold as such.
+    /// A constant transform. For a tracing number type, rotation entries within 1e-14 of 0 or
+    /// ±1 are snapped, so that rotations by multiples of π/2 (whose cosines are 6e-17, not 0)
+    /// are the exact rotations they mean and fold as such; numeric types take them as they are.
     pub fn constant(x: &Transform<f64>) -> Self {
-        let snap = |v: f64| [0.0, 1.0, -1.0].into_iter().find(|target| (v - target).abs() < 1e-14).unwrap_or(v);
+        let snap = |v: f64| {
+            let exact = [0.0, 1.0, -1.0].into_iter().find(|target| (v - target).abs() < 1e-14);
+            exact.filter(|_| S::TRACES).unwrap_or(v)
+        };
         Self {
             rotation: Matrix3::from_fn(|r, c| S::constant(snap(x.rotation[(r, c)]))),
             translation: constant_vector(&x.translation),

@@ -15,7 +15,7 @@ pub struct Scenario {
     /// One line on what it shows.
     #[serde(default)]
     pub description: String,
-    /// A shipped robot (`hya`).
+    /// A shipped robot by name (`hya`, `panda`, …), or the path of a URDF with 1 to 7 joints.
     #[serde(default = "default_robot")]
     pub robot: String,
     /// Simulated time, s.

@@ -6,15 +6,8 @@
 //! parameters from data: the same folded kinematics for perturbed, identified or loaded bodies.
 //!
 //! The list of robots is `robots.list` (name, type, home pose, description), and nothing else:
-//! [`for_each_robot!`] hands it to any macro that needs it.
-//!
-//! | robot | type | joints | source of the figures |
-//! |---|---|---|---|
-//! | `planar2` | [`Planar2`] | 2 | teaching example |
-//! | `hya` | [`Hya`] | 6 | the paper's hydraulic arm (RobCoGen model of HyA) |
-//! | `ur5` | [`Ur5`] | 6 | UR's DH table, masses and centres of mass; cylinder inertias |
-//! | `panda` | [`Panda`] | 7 | Franka's kinematics; Gaz et al. (RA-L 2019) identified inertias |
-//! | `iiwa14` | [`Iiwa14`] | 7 | Drake's public iiwa14 description |
+//! [`for_each_robot!`] hands it to any macro that needs it, and [`ROBOTS`] holds it at run
+//! time. Where each arm's figures come from is in its URDF's header comment.
 
 #![no_std]
 

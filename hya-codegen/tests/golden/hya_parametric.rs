@@ -2,7 +2,8 @@
 // Parametric rigid-body dynamics of robot `hya` (6 joints)
 // from hya.urdf, SHA-256 decf13cecc5d70c02f3e91101acbab736a964ab52a608acce6e31d5e84c3531a.
 // Each function is hya-core's algorithm traced with every constant of the model folded;
-// values are named after joints (q_, s_, c_ for sin and cos) and links (_v velocity,
+// values are named after joints (q_, s_, c_ for sin and cos; ABA's d_ = S·I^A S and
+// u_ = τ − S·p; outputs tau_, g_, cv_, ct_, qdd_, m_) and links (_v velocity,
 // _a acceleration, _f force, _p bias force, _u = I^A S; w/v and n/f angular/linear parts).
 /// Rigid-body dynamics of `hya` (6 joints) with the inertial parameters as data:
 /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.
@@ -520,203 +521,203 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            elbow_fe_v_vz,
+            t187,
             elbow_fe_v_wx,
             elbow_fe_v_wy,
             elbow_fe_v_vx,
             elbow_fe_v_vy,
             elbow_fe_v_wz,
-            elbow_fe_a_vz,
+            t195,
             elbow_fe_a_wz,
             elbow_fe_a_wx,
             elbow_fe_a_wy,
             elbow_fe_a_vx,
             elbow_fe_a_vy,
-            t325,
-            t326,
             t327,
             t328,
             t329,
             t330,
+            t331,
+            t332,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
             let t185 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
             let t186 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_v_vz = humerus_r_v_vx + t185;
-            let t187 = humerus_r_v_vy - t186;
-            let t188 = c_efe * humerus_r_v_wz;
-            let t189 = s_efe * humerus_r_v_wy;
-            let elbow_fe_v_wx = t188 + t189;
-            let t190 = s_efe * humerus_r_v_wz;
-            let t191 = c_efe * humerus_r_v_wy;
-            let elbow_fe_v_wy = t191 - t190;
-            let elbow_fe_v_vx = s_efe * t187;
-            let elbow_fe_v_vy = c_efe * t187;
+            let t187 = humerus_r_v_vx + t185;
+            let t188 = humerus_r_v_vy - t186;
+            let t189 = c_efe * humerus_r_v_wz;
+            let t190 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t189 + t190;
+            let t191 = s_efe * humerus_r_v_wz;
+            let t192 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t192 - t191;
+            let elbow_fe_v_vx = s_efe * t188;
+            let elbow_fe_v_vy = c_efe * t188;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t192 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t193 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx + t192;
-            let t194 = humerus_r_a_vy - t193;
-            let t195 = c_efe * humerus_r_a_wz;
-            let t196 = s_efe * humerus_r_a_wy;
-            let t197 = t195 + t196;
-            let t198 = s_efe * humerus_r_a_wz;
-            let t199 = c_efe * humerus_r_a_wy;
-            let t200 = t199 - t198;
-            let t201 = c_efe * shoulder_fe_a_vx;
-            let t202 = s_efe * t194;
-            let t203 = t201 + t202;
-            let t204 = s_efe * shoulder_fe_a_vx;
-            let t205 = c_efe * t194;
-            let t206 = t205 - t204;
+            let t193 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t194 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let t195 = humerus_r_a_vx + t193;
+            let t196 = humerus_r_a_vy - t194;
+            let t197 = c_efe * humerus_r_a_wz;
+            let t198 = s_efe * humerus_r_a_wy;
+            let t199 = t197 + t198;
+            let t200 = s_efe * humerus_r_a_wz;
+            let t201 = c_efe * humerus_r_a_wy;
+            let t202 = t201 - t200;
+            let t203 = c_efe * shoulder_fe_a_vx;
+            let t204 = s_efe * t196;
+            let t205 = t203 + t204;
+            let t206 = s_efe * shoulder_fe_a_vx;
+            let t207 = c_efe * t196;
+            let t208 = t207 - t206;
             let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
-            let t207 = elbow_fe_v_wy * qd_efe;
-            let t208 = elbow_fe_v_wx * qd_efe;
-            let t209 = elbow_fe_v_vy * qd_efe;
-            let t210 = elbow_fe_v_vx * qd_efe;
-            let elbow_fe_a_wx = t197 + t207;
-            let elbow_fe_a_wy = t200 - t208;
-            let elbow_fe_a_vx = t203 + t209;
-            let elbow_fe_a_vy = t206 - t210;
-            let t211 = elbow_fe_ixx * elbow_fe_a_wx;
-            let t212 = elbow_fe_ixy * elbow_fe_a_wy;
-            let t213 = t211 + t212;
-            let t214 = elbow_fe_ixz * elbow_fe_a_wz;
+            let t209 = elbow_fe_v_wy * qd_efe;
+            let t210 = elbow_fe_v_wx * qd_efe;
+            let t211 = elbow_fe_v_vy * qd_efe;
+            let t212 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t199 + t209;
+            let elbow_fe_a_wy = t202 - t210;
+            let elbow_fe_a_vx = t205 + t211;
+            let elbow_fe_a_vy = t208 - t212;
+            let t213 = elbow_fe_ixx * elbow_fe_a_wx;
+            let t214 = elbow_fe_ixy * elbow_fe_a_wy;
             let t215 = t213 + t214;
-            let t216 = elbow_fe_ixy * elbow_fe_a_wx;
-            let t217 = elbow_fe_iyy * elbow_fe_a_wy;
-            let t218 = t216 + t217;
-            let t219 = elbow_fe_iyz * elbow_fe_a_wz;
+            let t216 = elbow_fe_ixz * elbow_fe_a_wz;
+            let t217 = t215 + t216;
+            let t218 = elbow_fe_ixy * elbow_fe_a_wx;
+            let t219 = elbow_fe_iyy * elbow_fe_a_wy;
             let t220 = t218 + t219;
-            let t221 = elbow_fe_ixz * elbow_fe_a_wx;
-            let t222 = elbow_fe_iyz * elbow_fe_a_wy;
-            let t223 = t221 + t222;
-            let t224 = elbow_fe_izz * elbow_fe_a_wz;
+            let t221 = elbow_fe_iyz * elbow_fe_a_wz;
+            let t222 = t220 + t221;
+            let t223 = elbow_fe_ixz * elbow_fe_a_wx;
+            let t224 = elbow_fe_iyz * elbow_fe_a_wy;
             let t225 = t223 + t224;
-            let t226 = elbow_fe_hy * elbow_fe_a_vz;
-            let t227 = elbow_fe_hz * elbow_fe_a_vy;
-            let t228 = t226 + t227;
-            let t229 = elbow_fe_hz * elbow_fe_a_vx;
-            let t230 = elbow_fe_hx * elbow_fe_a_vz;
-            let t231 = t229 + t230;
-            let t232 = elbow_fe_hx * elbow_fe_a_vy;
-            let t233 = elbow_fe_hy * elbow_fe_a_vx;
-            let t234 = t232 - t233;
-            let t235 = elbow_fe_a_vx * elbow_fe_m;
-            let t236 = elbow_fe_a_vy * elbow_fe_m;
-            let t237 = elbow_fe_a_vz * elbow_fe_m;
-            let t238 = elbow_fe_hy * elbow_fe_a_wz;
-            let t239 = elbow_fe_hz * elbow_fe_a_wy;
-            let t240 = t238 - t239;
-            let t241 = elbow_fe_hz * elbow_fe_a_wx;
-            let t242 = elbow_fe_hx * elbow_fe_a_wz;
-            let t243 = t241 - t242;
-            let t244 = elbow_fe_hx * elbow_fe_a_wy;
-            let t245 = elbow_fe_hy * elbow_fe_a_wx;
-            let t246 = t244 - t245;
-            let t247 = t215 - t228;
-            let t248 = t220 + t231;
-            let t249 = t225 + t234;
-            let t250 = t235 - t240;
-            let t251 = t236 - t243;
-            let t252 = t237 + t246;
-            let t253 = elbow_fe_ixx * elbow_fe_v_wx;
-            let t254 = elbow_fe_ixy * elbow_fe_v_wy;
-            let t255 = t253 + t254;
-            let t256 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t226 = elbow_fe_izz * elbow_fe_a_wz;
+            let t227 = t225 + t226;
+            let t228 = elbow_fe_hy * t195;
+            let t229 = elbow_fe_hz * elbow_fe_a_vy;
+            let t230 = t228 + t229;
+            let t231 = elbow_fe_hz * elbow_fe_a_vx;
+            let t232 = elbow_fe_hx * t195;
+            let t233 = t231 + t232;
+            let t234 = elbow_fe_hx * elbow_fe_a_vy;
+            let t235 = elbow_fe_hy * elbow_fe_a_vx;
+            let t236 = t234 - t235;
+            let t237 = elbow_fe_a_vx * elbow_fe_m;
+            let t238 = elbow_fe_a_vy * elbow_fe_m;
+            let t239 = t195 * elbow_fe_m;
+            let t240 = elbow_fe_hy * elbow_fe_a_wz;
+            let t241 = elbow_fe_hz * elbow_fe_a_wy;
+            let t242 = t240 - t241;
+            let t243 = elbow_fe_hz * elbow_fe_a_wx;
+            let t244 = elbow_fe_hx * elbow_fe_a_wz;
+            let t245 = t243 - t244;
+            let t246 = elbow_fe_hx * elbow_fe_a_wy;
+            let t247 = elbow_fe_hy * elbow_fe_a_wx;
+            let t248 = t246 - t247;
+            let t249 = t217 - t230;
+            let t250 = t222 + t233;
+            let t251 = t227 + t236;
+            let t252 = t237 - t242;
+            let t253 = t238 - t245;
+            let t254 = t239 + t248;
+            let t255 = elbow_fe_ixx * elbow_fe_v_wx;
+            let t256 = elbow_fe_ixy * elbow_fe_v_wy;
             let t257 = t255 + t256;
-            let t258 = elbow_fe_ixy * elbow_fe_v_wx;
-            let t259 = elbow_fe_iyy * elbow_fe_v_wy;
-            let t260 = t258 + t259;
-            let t261 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t258 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t259 = t257 + t258;
+            let t260 = elbow_fe_ixy * elbow_fe_v_wx;
+            let t261 = elbow_fe_iyy * elbow_fe_v_wy;
             let t262 = t260 + t261;
-            let t263 = elbow_fe_ixz * elbow_fe_v_wx;
-            let t264 = elbow_fe_iyz * elbow_fe_v_wy;
-            let t265 = t263 + t264;
-            let t266 = elbow_fe_izz * elbow_fe_v_wz;
+            let t263 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t264 = t262 + t263;
+            let t265 = elbow_fe_ixz * elbow_fe_v_wx;
+            let t266 = elbow_fe_iyz * elbow_fe_v_wy;
             let t267 = t265 + t266;
-            let t268 = elbow_fe_hy * elbow_fe_v_vz;
-            let t269 = elbow_fe_hz * elbow_fe_v_vy;
-            let t270 = t268 + t269;
-            let t271 = elbow_fe_hz * elbow_fe_v_vx;
-            let t272 = elbow_fe_hx * elbow_fe_v_vz;
-            let t273 = t271 + t272;
-            let t274 = elbow_fe_hx * elbow_fe_v_vy;
-            let t275 = elbow_fe_hy * elbow_fe_v_vx;
-            let t276 = t274 - t275;
-            let t277 = elbow_fe_v_vx * elbow_fe_m;
-            let t278 = elbow_fe_v_vy * elbow_fe_m;
-            let t279 = elbow_fe_v_vz * elbow_fe_m;
-            let t280 = elbow_fe_hy * elbow_fe_v_wz;
-            let t281 = elbow_fe_hz * elbow_fe_v_wy;
-            let t282 = t280 - t281;
-            let t283 = elbow_fe_hz * elbow_fe_v_wx;
-            let t284 = elbow_fe_hx * elbow_fe_v_wz;
-            let t285 = t283 - t284;
-            let t286 = elbow_fe_hx * elbow_fe_v_wy;
-            let t287 = elbow_fe_hy * elbow_fe_v_wx;
-            let t288 = t286 - t287;
-            let t289 = t257 - t270;
-            let t290 = t262 + t273;
-            let t291 = t267 + t276;
-            let t292 = t277 - t282;
-            let t293 = t278 - t285;
-            let t294 = t279 + t288;
-            let t295 = elbow_fe_v_wy * t291;
-            let t296 = elbow_fe_v_wz * t290;
-            let t297 = t295 - t296;
-            let t298 = elbow_fe_v_wz * t289;
-            let t299 = elbow_fe_v_wx * t291;
-            let t300 = t298 - t299;
-            let t301 = elbow_fe_v_wx * t290;
-            let t302 = elbow_fe_v_wy * t289;
-            let t303 = t301 - t302;
-            let t304 = elbow_fe_v_vy * t294;
-            let t305 = elbow_fe_v_vz * t293;
-            let t306 = t305 - t304;
-            let t307 = elbow_fe_v_vz * t292;
-            let t308 = elbow_fe_v_vx * t294;
-            let t309 = t308 - t307;
-            let t310 = elbow_fe_v_vx * t293;
-            let t311 = elbow_fe_v_vy * t292;
-            let t312 = t310 - t311;
-            let t313 = t297 + t306;
-            let t314 = t300 + t309;
-            let t315 = t303 + t312;
-            let t316 = elbow_fe_v_wy * t294;
-            let t317 = elbow_fe_v_wz * t293;
-            let t318 = t316 + t317;
-            let t319 = elbow_fe_v_wz * t292;
-            let t320 = elbow_fe_v_wx * t294;
-            let t321 = t319 + t320;
-            let t322 = elbow_fe_v_wx * t293;
-            let t323 = elbow_fe_v_wy * t292;
-            let t324 = t322 - t323;
-            let t325 = t247 + t313;
-            let t326 = t248 + t314;
+            let t268 = elbow_fe_izz * elbow_fe_v_wz;
+            let t269 = t267 + t268;
+            let t270 = elbow_fe_hy * t187;
+            let t271 = elbow_fe_hz * elbow_fe_v_vy;
+            let t272 = t270 + t271;
+            let t273 = elbow_fe_hz * elbow_fe_v_vx;
+            let t274 = elbow_fe_hx * t187;
+            let t275 = t273 + t274;
+            let t276 = elbow_fe_hx * elbow_fe_v_vy;
+            let t277 = elbow_fe_hy * elbow_fe_v_vx;
+            let t278 = t276 - t277;
+            let t279 = elbow_fe_v_vx * elbow_fe_m;
+            let t280 = elbow_fe_v_vy * elbow_fe_m;
+            let t281 = t187 * elbow_fe_m;
+            let t282 = elbow_fe_hy * elbow_fe_v_wz;
+            let t283 = elbow_fe_hz * elbow_fe_v_wy;
+            let t284 = t282 - t283;
+            let t285 = elbow_fe_hz * elbow_fe_v_wx;
+            let t286 = elbow_fe_hx * elbow_fe_v_wz;
+            let t287 = t285 - t286;
+            let t288 = elbow_fe_hx * elbow_fe_v_wy;
+            let t289 = elbow_fe_hy * elbow_fe_v_wx;
+            let t290 = t288 - t289;
+            let t291 = t259 - t272;
+            let t292 = t264 + t275;
+            let t293 = t269 + t278;
+            let t294 = t279 - t284;
+            let t295 = t280 - t287;
+            let t296 = t281 + t290;
+            let t297 = elbow_fe_v_wy * t293;
+            let t298 = elbow_fe_v_wz * t292;
+            let t299 = t297 - t298;
+            let t300 = elbow_fe_v_wz * t291;
+            let t301 = elbow_fe_v_wx * t293;
+            let t302 = t300 - t301;
+            let t303 = elbow_fe_v_wx * t292;
+            let t304 = elbow_fe_v_wy * t291;
+            let t305 = t303 - t304;
+            let t306 = elbow_fe_v_vy * t296;
+            let t307 = t187 * t295;
+            let t308 = t307 - t306;
+            let t309 = t187 * t294;
+            let t310 = elbow_fe_v_vx * t296;
+            let t311 = t310 - t309;
+            let t312 = elbow_fe_v_vx * t295;
+            let t313 = elbow_fe_v_vy * t294;
+            let t314 = t312 - t313;
+            let t315 = t299 + t308;
+            let t316 = t302 + t311;
+            let t317 = t305 + t314;
+            let t318 = elbow_fe_v_wy * t296;
+            let t319 = elbow_fe_v_wz * t295;
+            let t320 = t318 + t319;
+            let t321 = elbow_fe_v_wz * t294;
+            let t322 = elbow_fe_v_wx * t296;
+            let t323 = t321 + t322;
+            let t324 = elbow_fe_v_wx * t295;
+            let t325 = elbow_fe_v_wy * t294;
+            let t326 = t324 - t325;
             let t327 = t249 + t315;
-            let t328 = t250 - t318;
-            let t329 = t251 + t321;
-            let t330 = t324 - t252;
+            let t328 = t250 + t316;
+            let t329 = t251 + t317;
+            let t330 = t252 - t320;
+            let t331 = t253 + t323;
+            let t332 = t326 - t254;
             (
-                elbow_fe_v_vz,
+                t187,
                 elbow_fe_v_wx,
                 elbow_fe_v_wy,
                 elbow_fe_v_vx,
                 elbow_fe_v_vy,
                 elbow_fe_v_wz,
-                elbow_fe_a_vz,
+                t195,
                 elbow_fe_a_wz,
                 elbow_fe_a_wx,
                 elbow_fe_a_wy,
                 elbow_fe_a_vx,
                 elbow_fe_a_vy,
-                t325,
-                t326,
                 t327,
                 t328,
                 t329,
                 t330,
+                t331,
+                t332,
             )
         };
         let (
@@ -730,176 +731,176 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_a_wy,
             wrist_r_a_vx,
             wrist_r_a_vy,
-            t477,
-            t478,
             t479,
             t480,
             t481,
             t482,
+            t483,
+            t484,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t331 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t332 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t333 = elbow_fe_v_vy + t331;
-            let t334 = elbow_fe_v_vz + t332;
-            let t335 = c_wr * elbow_fe_v_wz;
-            let t336 = s_wr * elbow_fe_v_wy;
-            let wrist_r_v_wx = t336 - t335;
-            let t337 = s_wr * elbow_fe_v_wz;
-            let t338 = c_wr * elbow_fe_v_wy;
-            let wrist_r_v_wy = t337 + t338;
-            let t339 = c_wr * t334;
-            let t340 = s_wr * t333;
-            let wrist_r_v_vx = t339 + t340;
-            let t341 = s_wr * t334;
-            let t342 = c_wr * t333;
-            let wrist_r_v_vy = t342 - t341;
+            let t333 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t334 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t335 = elbow_fe_v_vy + t333;
+            let t336 = t187 + t334;
+            let t337 = c_wr * elbow_fe_v_wz;
+            let t338 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t338 - t337;
+            let t339 = s_wr * elbow_fe_v_wz;
+            let t340 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t339 + t340;
+            let t341 = c_wr * t336;
+            let t342 = s_wr * t335;
+            let wrist_r_v_vx = t341 + t342;
+            let t343 = s_wr * t336;
+            let t344 = c_wr * t335;
+            let wrist_r_v_vy = t344 - t343;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t343 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t344 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t345 = elbow_fe_a_vy + t343;
-            let t346 = elbow_fe_a_vz + t344;
-            let t347 = c_wr * elbow_fe_a_wz;
-            let t348 = s_wr * elbow_fe_a_wy;
-            let t349 = t348 - t347;
-            let t350 = s_wr * elbow_fe_a_wz;
-            let t351 = c_wr * elbow_fe_a_wy;
-            let t352 = t350 + t351;
-            let t353 = c_wr * t346;
-            let t354 = s_wr * t345;
-            let t355 = t353 + t354;
-            let t356 = s_wr * t346;
-            let t357 = c_wr * t345;
-            let t358 = t357 - t356;
+            let t345 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t346 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t347 = elbow_fe_a_vy + t345;
+            let t348 = t195 + t346;
+            let t349 = c_wr * elbow_fe_a_wz;
+            let t350 = s_wr * elbow_fe_a_wy;
+            let t351 = t350 - t349;
+            let t352 = s_wr * elbow_fe_a_wz;
+            let t353 = c_wr * elbow_fe_a_wy;
+            let t354 = t352 + t353;
+            let t355 = c_wr * t348;
+            let t356 = s_wr * t347;
+            let t357 = t355 + t356;
+            let t358 = s_wr * t348;
+            let t359 = c_wr * t347;
+            let t360 = t359 - t358;
             let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
-            let t359 = wrist_r_v_wy * qd_wr;
-            let t360 = wrist_r_v_wx * qd_wr;
-            let t361 = wrist_r_v_vy * qd_wr;
-            let t362 = wrist_r_v_vx * qd_wr;
-            let wrist_r_a_wx = t349 + t359;
-            let wrist_r_a_wy = t352 - t360;
-            let wrist_r_a_vx = t355 + t361;
-            let wrist_r_a_vy = t358 - t362;
-            let t363 = wrist_r_ixx * wrist_r_a_wx;
-            let t364 = wrist_r_ixy * wrist_r_a_wy;
-            let t365 = t363 + t364;
-            let t366 = wrist_r_ixz * wrist_r_a_wz;
+            let t361 = wrist_r_v_wy * qd_wr;
+            let t362 = wrist_r_v_wx * qd_wr;
+            let t363 = wrist_r_v_vy * qd_wr;
+            let t364 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t351 + t361;
+            let wrist_r_a_wy = t354 - t362;
+            let wrist_r_a_vx = t357 + t363;
+            let wrist_r_a_vy = t360 - t364;
+            let t365 = wrist_r_ixx * wrist_r_a_wx;
+            let t366 = wrist_r_ixy * wrist_r_a_wy;
             let t367 = t365 + t366;
-            let t368 = wrist_r_ixy * wrist_r_a_wx;
-            let t369 = wrist_r_iyy * wrist_r_a_wy;
-            let t370 = t368 + t369;
-            let t371 = wrist_r_iyz * wrist_r_a_wz;
+            let t368 = wrist_r_ixz * wrist_r_a_wz;
+            let t369 = t367 + t368;
+            let t370 = wrist_r_ixy * wrist_r_a_wx;
+            let t371 = wrist_r_iyy * wrist_r_a_wy;
             let t372 = t370 + t371;
-            let t373 = wrist_r_ixz * wrist_r_a_wx;
-            let t374 = wrist_r_iyz * wrist_r_a_wy;
-            let t375 = t373 + t374;
-            let t376 = wrist_r_izz * wrist_r_a_wz;
+            let t373 = wrist_r_iyz * wrist_r_a_wz;
+            let t374 = t372 + t373;
+            let t375 = wrist_r_ixz * wrist_r_a_wx;
+            let t376 = wrist_r_iyz * wrist_r_a_wy;
             let t377 = t375 + t376;
-            let t378 = wrist_r_hy * elbow_fe_a_vx;
-            let t379 = wrist_r_hz * wrist_r_a_vy;
-            let t380 = t378 - t379;
-            let t381 = wrist_r_hz * wrist_r_a_vx;
-            let t382 = wrist_r_hx * elbow_fe_a_vx;
-            let t383 = t381 - t382;
-            let t384 = wrist_r_hx * wrist_r_a_vy;
-            let t385 = wrist_r_hy * wrist_r_a_vx;
-            let t386 = t384 - t385;
-            let t387 = wrist_r_a_vx * wrist_r_m;
-            let t388 = wrist_r_a_vy * wrist_r_m;
-            let t389 = elbow_fe_a_vx * wrist_r_m;
-            let t390 = wrist_r_hy * wrist_r_a_wz;
-            let t391 = wrist_r_hz * wrist_r_a_wy;
-            let t392 = t390 - t391;
-            let t393 = wrist_r_hz * wrist_r_a_wx;
-            let t394 = wrist_r_hx * wrist_r_a_wz;
-            let t395 = t393 - t394;
-            let t396 = wrist_r_hx * wrist_r_a_wy;
-            let t397 = wrist_r_hy * wrist_r_a_wx;
-            let t398 = t396 - t397;
-            let t399 = t367 + t380;
-            let t400 = t372 + t383;
-            let t401 = t377 + t386;
-            let t402 = t387 - t392;
-            let t403 = t388 - t395;
-            let t404 = t389 - t398;
-            let t405 = wrist_r_ixx * wrist_r_v_wx;
-            let t406 = wrist_r_ixy * wrist_r_v_wy;
-            let t407 = t405 + t406;
-            let t408 = wrist_r_ixz * wrist_r_v_wz;
+            let t378 = wrist_r_izz * wrist_r_a_wz;
+            let t379 = t377 + t378;
+            let t380 = wrist_r_hy * elbow_fe_a_vx;
+            let t381 = wrist_r_hz * wrist_r_a_vy;
+            let t382 = t380 - t381;
+            let t383 = wrist_r_hz * wrist_r_a_vx;
+            let t384 = wrist_r_hx * elbow_fe_a_vx;
+            let t385 = t383 - t384;
+            let t386 = wrist_r_hx * wrist_r_a_vy;
+            let t387 = wrist_r_hy * wrist_r_a_vx;
+            let t388 = t386 - t387;
+            let t389 = wrist_r_a_vx * wrist_r_m;
+            let t390 = wrist_r_a_vy * wrist_r_m;
+            let t391 = elbow_fe_a_vx * wrist_r_m;
+            let t392 = wrist_r_hy * wrist_r_a_wz;
+            let t393 = wrist_r_hz * wrist_r_a_wy;
+            let t394 = t392 - t393;
+            let t395 = wrist_r_hz * wrist_r_a_wx;
+            let t396 = wrist_r_hx * wrist_r_a_wz;
+            let t397 = t395 - t396;
+            let t398 = wrist_r_hx * wrist_r_a_wy;
+            let t399 = wrist_r_hy * wrist_r_a_wx;
+            let t400 = t398 - t399;
+            let t401 = t369 + t382;
+            let t402 = t374 + t385;
+            let t403 = t379 + t388;
+            let t404 = t389 - t394;
+            let t405 = t390 - t397;
+            let t406 = t391 - t400;
+            let t407 = wrist_r_ixx * wrist_r_v_wx;
+            let t408 = wrist_r_ixy * wrist_r_v_wy;
             let t409 = t407 + t408;
-            let t410 = wrist_r_ixy * wrist_r_v_wx;
-            let t411 = wrist_r_iyy * wrist_r_v_wy;
-            let t412 = t410 + t411;
-            let t413 = wrist_r_iyz * wrist_r_v_wz;
+            let t410 = wrist_r_ixz * wrist_r_v_wz;
+            let t411 = t409 + t410;
+            let t412 = wrist_r_ixy * wrist_r_v_wx;
+            let t413 = wrist_r_iyy * wrist_r_v_wy;
             let t414 = t412 + t413;
-            let t415 = wrist_r_ixz * wrist_r_v_wx;
-            let t416 = wrist_r_iyz * wrist_r_v_wy;
-            let t417 = t415 + t416;
-            let t418 = wrist_r_izz * wrist_r_v_wz;
+            let t415 = wrist_r_iyz * wrist_r_v_wz;
+            let t416 = t414 + t415;
+            let t417 = wrist_r_ixz * wrist_r_v_wx;
+            let t418 = wrist_r_iyz * wrist_r_v_wy;
             let t419 = t417 + t418;
-            let t420 = wrist_r_hy * elbow_fe_v_vx;
-            let t421 = wrist_r_hz * wrist_r_v_vy;
-            let t422 = t420 - t421;
-            let t423 = wrist_r_hz * wrist_r_v_vx;
-            let t424 = wrist_r_hx * elbow_fe_v_vx;
-            let t425 = t423 - t424;
-            let t426 = wrist_r_hx * wrist_r_v_vy;
-            let t427 = wrist_r_hy * wrist_r_v_vx;
-            let t428 = t426 - t427;
-            let t429 = wrist_r_v_vx * wrist_r_m;
-            let t430 = wrist_r_v_vy * wrist_r_m;
-            let t431 = elbow_fe_v_vx * wrist_r_m;
-            let t432 = wrist_r_hy * wrist_r_v_wz;
-            let t433 = wrist_r_hz * wrist_r_v_wy;
-            let t434 = t432 - t433;
-            let t435 = wrist_r_hz * wrist_r_v_wx;
-            let t436 = wrist_r_hx * wrist_r_v_wz;
-            let t437 = t435 - t436;
-            let t438 = wrist_r_hx * wrist_r_v_wy;
-            let t439 = wrist_r_hy * wrist_r_v_wx;
-            let t440 = t438 - t439;
-            let t441 = t409 + t422;
-            let t442 = t414 + t425;
-            let t443 = t419 + t428;
-            let t444 = t429 - t434;
-            let t445 = t430 - t437;
-            let t446 = t431 - t440;
-            let t447 = wrist_r_v_wy * t443;
-            let t448 = wrist_r_v_wz * t442;
-            let t449 = t447 - t448;
-            let t450 = wrist_r_v_wz * t441;
-            let t451 = wrist_r_v_wx * t443;
-            let t452 = t450 - t451;
-            let t453 = wrist_r_v_wx * t442;
-            let t454 = wrist_r_v_wy * t441;
-            let t455 = t453 - t454;
-            let t456 = wrist_r_v_vy * t446;
-            let t457 = elbow_fe_v_vx * t445;
-            let t458 = t456 - t457;
-            let t459 = elbow_fe_v_vx * t444;
-            let t460 = wrist_r_v_vx * t446;
-            let t461 = t459 - t460;
-            let t462 = wrist_r_v_vx * t445;
-            let t463 = wrist_r_v_vy * t444;
-            let t464 = t462 - t463;
-            let t465 = t449 + t458;
-            let t466 = t452 + t461;
-            let t467 = t455 + t464;
-            let t468 = wrist_r_v_wy * t446;
-            let t469 = wrist_r_v_wz * t445;
-            let t470 = t468 - t469;
-            let t471 = wrist_r_v_wz * t444;
-            let t472 = wrist_r_v_wx * t446;
-            let t473 = t471 - t472;
-            let t474 = wrist_r_v_wx * t445;
-            let t475 = wrist_r_v_wy * t444;
-            let t476 = t474 - t475;
-            let t477 = t399 + t465;
-            let t478 = t400 + t466;
+            let t420 = wrist_r_izz * wrist_r_v_wz;
+            let t421 = t419 + t420;
+            let t422 = wrist_r_hy * elbow_fe_v_vx;
+            let t423 = wrist_r_hz * wrist_r_v_vy;
+            let t424 = t422 - t423;
+            let t425 = wrist_r_hz * wrist_r_v_vx;
+            let t426 = wrist_r_hx * elbow_fe_v_vx;
+            let t427 = t425 - t426;
+            let t428 = wrist_r_hx * wrist_r_v_vy;
+            let t429 = wrist_r_hy * wrist_r_v_vx;
+            let t430 = t428 - t429;
+            let t431 = wrist_r_v_vx * wrist_r_m;
+            let t432 = wrist_r_v_vy * wrist_r_m;
+            let t433 = elbow_fe_v_vx * wrist_r_m;
+            let t434 = wrist_r_hy * wrist_r_v_wz;
+            let t435 = wrist_r_hz * wrist_r_v_wy;
+            let t436 = t434 - t435;
+            let t437 = wrist_r_hz * wrist_r_v_wx;
+            let t438 = wrist_r_hx * wrist_r_v_wz;
+            let t439 = t437 - t438;
+            let t440 = wrist_r_hx * wrist_r_v_wy;
+            let t441 = wrist_r_hy * wrist_r_v_wx;
+            let t442 = t440 - t441;
+            let t443 = t411 + t424;
+            let t444 = t416 + t427;
+            let t445 = t421 + t430;
+            let t446 = t431 - t436;
+            let t447 = t432 - t439;
+            let t448 = t433 - t442;
+            let t449 = wrist_r_v_wy * t445;
+            let t450 = wrist_r_v_wz * t444;
+            let t451 = t449 - t450;
+            let t452 = wrist_r_v_wz * t443;
+            let t453 = wrist_r_v_wx * t445;
+            let t454 = t452 - t453;
+            let t455 = wrist_r_v_wx * t444;
+            let t456 = wrist_r_v_wy * t443;
+            let t457 = t455 - t456;
+            let t458 = wrist_r_v_vy * t448;
+            let t459 = elbow_fe_v_vx * t447;
+            let t460 = t458 - t459;
+            let t461 = elbow_fe_v_vx * t446;
+            let t462 = wrist_r_v_vx * t448;
+            let t463 = t461 - t462;
+            let t464 = wrist_r_v_vx * t447;
+            let t465 = wrist_r_v_vy * t446;
+            let t466 = t464 - t465;
+            let t467 = t451 + t460;
+            let t468 = t454 + t463;
+            let t469 = t457 + t466;
+            let t470 = wrist_r_v_wy * t448;
+            let t471 = wrist_r_v_wz * t447;
+            let t472 = t470 - t471;
+            let t473 = wrist_r_v_wz * t446;
+            let t474 = wrist_r_v_wx * t448;
+            let t475 = t473 - t474;
+            let t476 = wrist_r_v_wx * t447;
+            let t477 = wrist_r_v_wy * t446;
+            let t478 = t476 - t477;
             let t479 = t401 + t467;
-            let t480 = t402 + t470;
-            let t481 = t403 + t473;
-            let t482 = t404 + t476;
+            let t480 = t402 + t468;
+            let t481 = t403 + t469;
+            let t482 = t404 + t472;
+            let t483 = t405 + t475;
+            let t484 = t406 + t478;
             (
                 wrist_r_v_wx,
                 wrist_r_v_wy,
@@ -911,12 +912,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 wrist_r_a_wy,
                 wrist_r_a_vx,
                 wrist_r_a_vy,
-                t477,
-                t478,
                 t479,
                 t480,
                 t481,
                 t482,
+                t483,
+                t484,
             )
         };
         let (
@@ -928,176 +929,176 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t483 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
-            let t484 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
-            let t485 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
-            let t486 = t484 - t485;
-            let t487 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t488 = wrist_r_v_vx + t483;
-            let wrist_fe_v_vz = wrist_r_v_vy - t486;
-            let t489 = elbow_fe_v_vx - t487;
-            let t490 = c_wfe * wrist_r_v_wz;
-            let t491 = s_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wx = t490 + t491;
-            let t492 = s_wfe * wrist_r_v_wz;
-            let t493 = c_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wy = t493 - t492;
-            let t494 = c_wfe * t489;
-            let t495 = s_wfe * t488;
-            let wrist_fe_v_vx = t494 + t495;
-            let t496 = s_wfe * t489;
-            let t497 = c_wfe * t488;
-            let wrist_fe_v_vy = t497 - t496;
+            let t485 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t486 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t487 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
+            let t488 = t486 - t487;
+            let t489 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t490 = wrist_r_v_vx + t485;
+            let wrist_fe_v_vz = wrist_r_v_vy - t488;
+            let t491 = elbow_fe_v_vx - t489;
+            let t492 = c_wfe * wrist_r_v_wz;
+            let t493 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t492 + t493;
+            let t494 = s_wfe * wrist_r_v_wz;
+            let t495 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t495 - t494;
+            let t496 = c_wfe * t491;
+            let t497 = s_wfe * t490;
+            let wrist_fe_v_vx = t496 + t497;
+            let t498 = s_wfe * t491;
+            let t499 = c_wfe * t490;
+            let wrist_fe_v_vy = t499 - t498;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t498 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t499 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
-            let t500 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
-            let t501 = t499 - t500;
-            let t502 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t503 = wrist_r_a_vx + t498;
-            let wrist_fe_a_vz = wrist_r_a_vy - t501;
-            let t504 = elbow_fe_a_vx - t502;
-            let t505 = c_wfe * wrist_r_a_wz;
-            let t506 = s_wfe * wrist_r_a_wx;
-            let t507 = t505 + t506;
-            let t508 = s_wfe * wrist_r_a_wz;
-            let t509 = c_wfe * wrist_r_a_wx;
-            let t510 = t509 - t508;
-            let t511 = c_wfe * t504;
-            let t512 = s_wfe * t503;
-            let t513 = t511 + t512;
-            let t514 = s_wfe * t504;
-            let t515 = c_wfe * t503;
-            let t516 = t515 - t514;
+            let t500 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t501 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t502 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
+            let t503 = t501 - t502;
+            let t504 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t505 = wrist_r_a_vx + t500;
+            let wrist_fe_a_vz = wrist_r_a_vy - t503;
+            let t506 = elbow_fe_a_vx - t504;
+            let t507 = c_wfe * wrist_r_a_wz;
+            let t508 = s_wfe * wrist_r_a_wx;
+            let t509 = t507 + t508;
+            let t510 = s_wfe * wrist_r_a_wz;
+            let t511 = c_wfe * wrist_r_a_wx;
+            let t512 = t511 - t510;
+            let t513 = c_wfe * t506;
+            let t514 = s_wfe * t505;
+            let t515 = t513 + t514;
+            let t516 = s_wfe * t506;
+            let t517 = c_wfe * t505;
+            let t518 = t517 - t516;
             let wrist_fe_a_wz = wrist_r_a_wy + qdd_wfe;
-            let t517 = wrist_fe_v_wy * qd_wfe;
-            let t518 = wrist_fe_v_wx * qd_wfe;
-            let t519 = wrist_fe_v_vy * qd_wfe;
-            let t520 = wrist_fe_v_vx * qd_wfe;
-            let wrist_fe_a_wx = t507 + t517;
-            let wrist_fe_a_wy = t510 - t518;
-            let wrist_fe_a_vx = t513 + t519;
-            let wrist_fe_a_vy = t516 - t520;
-            let t521 = wrist_fe_ixx * wrist_fe_a_wx;
-            let t522 = wrist_fe_ixy * wrist_fe_a_wy;
-            let t523 = t521 + t522;
-            let t524 = wrist_fe_ixz * wrist_fe_a_wz;
+            let t519 = wrist_fe_v_wy * qd_wfe;
+            let t520 = wrist_fe_v_wx * qd_wfe;
+            let t521 = wrist_fe_v_vy * qd_wfe;
+            let t522 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t509 + t519;
+            let wrist_fe_a_wy = t512 - t520;
+            let wrist_fe_a_vx = t515 + t521;
+            let wrist_fe_a_vy = t518 - t522;
+            let t523 = wrist_fe_ixx * wrist_fe_a_wx;
+            let t524 = wrist_fe_ixy * wrist_fe_a_wy;
             let t525 = t523 + t524;
-            let t526 = wrist_fe_ixy * wrist_fe_a_wx;
-            let t527 = wrist_fe_iyy * wrist_fe_a_wy;
-            let t528 = t526 + t527;
-            let t529 = wrist_fe_iyz * wrist_fe_a_wz;
+            let t526 = wrist_fe_ixz * wrist_fe_a_wz;
+            let t527 = t525 + t526;
+            let t528 = wrist_fe_ixy * wrist_fe_a_wx;
+            let t529 = wrist_fe_iyy * wrist_fe_a_wy;
             let t530 = t528 + t529;
-            let t531 = wrist_fe_ixz * wrist_fe_a_wx;
-            let t532 = wrist_fe_iyz * wrist_fe_a_wy;
-            let t533 = t531 + t532;
-            let t534 = wrist_fe_izz * wrist_fe_a_wz;
+            let t531 = wrist_fe_iyz * wrist_fe_a_wz;
+            let t532 = t530 + t531;
+            let t533 = wrist_fe_ixz * wrist_fe_a_wx;
+            let t534 = wrist_fe_iyz * wrist_fe_a_wy;
             let t535 = t533 + t534;
-            let t536 = wrist_fe_hy * wrist_fe_a_vz;
-            let t537 = wrist_fe_hz * wrist_fe_a_vy;
-            let t538 = t536 - t537;
-            let t539 = wrist_fe_hz * wrist_fe_a_vx;
-            let t540 = wrist_fe_hx * wrist_fe_a_vz;
-            let t541 = t539 - t540;
-            let t542 = wrist_fe_hx * wrist_fe_a_vy;
-            let t543 = wrist_fe_hy * wrist_fe_a_vx;
-            let t544 = t542 - t543;
-            let t545 = wrist_fe_a_vx * wrist_fe_m;
-            let t546 = wrist_fe_a_vy * wrist_fe_m;
-            let t547 = wrist_fe_a_vz * wrist_fe_m;
-            let t548 = wrist_fe_hy * wrist_fe_a_wz;
-            let t549 = wrist_fe_hz * wrist_fe_a_wy;
-            let t550 = t548 - t549;
-            let t551 = wrist_fe_hz * wrist_fe_a_wx;
-            let t552 = wrist_fe_hx * wrist_fe_a_wz;
-            let t553 = t551 - t552;
-            let t554 = wrist_fe_hx * wrist_fe_a_wy;
-            let t555 = wrist_fe_hy * wrist_fe_a_wx;
-            let t556 = t554 - t555;
-            let t557 = t525 + t538;
-            let t558 = t530 + t541;
-            let t559 = t535 + t544;
-            let t560 = t545 - t550;
-            let t561 = t546 - t553;
-            let t562 = t547 - t556;
-            let t563 = wrist_fe_ixx * wrist_fe_v_wx;
-            let t564 = wrist_fe_ixy * wrist_fe_v_wy;
-            let t565 = t563 + t564;
-            let t566 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t536 = wrist_fe_izz * wrist_fe_a_wz;
+            let t537 = t535 + t536;
+            let t538 = wrist_fe_hy * wrist_fe_a_vz;
+            let t539 = wrist_fe_hz * wrist_fe_a_vy;
+            let t540 = t538 - t539;
+            let t541 = wrist_fe_hz * wrist_fe_a_vx;
+            let t542 = wrist_fe_hx * wrist_fe_a_vz;
+            let t543 = t541 - t542;
+            let t544 = wrist_fe_hx * wrist_fe_a_vy;
+            let t545 = wrist_fe_hy * wrist_fe_a_vx;
+            let t546 = t544 - t545;
+            let t547 = wrist_fe_a_vx * wrist_fe_m;
+            let t548 = wrist_fe_a_vy * wrist_fe_m;
+            let t549 = wrist_fe_a_vz * wrist_fe_m;
+            let t550 = wrist_fe_hy * wrist_fe_a_wz;
+            let t551 = wrist_fe_hz * wrist_fe_a_wy;
+            let t552 = t550 - t551;
+            let t553 = wrist_fe_hz * wrist_fe_a_wx;
+            let t554 = wrist_fe_hx * wrist_fe_a_wz;
+            let t555 = t553 - t554;
+            let t556 = wrist_fe_hx * wrist_fe_a_wy;
+            let t557 = wrist_fe_hy * wrist_fe_a_wx;
+            let t558 = t556 - t557;
+            let t559 = t527 + t540;
+            let t560 = t532 + t543;
+            let t561 = t537 + t546;
+            let t562 = t547 - t552;
+            let t563 = t548 - t555;
+            let t564 = t549 - t558;
+            let t565 = wrist_fe_ixx * wrist_fe_v_wx;
+            let t566 = wrist_fe_ixy * wrist_fe_v_wy;
             let t567 = t565 + t566;
-            let t568 = wrist_fe_ixy * wrist_fe_v_wx;
-            let t569 = wrist_fe_iyy * wrist_fe_v_wy;
-            let t570 = t568 + t569;
-            let t571 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t568 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t569 = t567 + t568;
+            let t570 = wrist_fe_ixy * wrist_fe_v_wx;
+            let t571 = wrist_fe_iyy * wrist_fe_v_wy;
             let t572 = t570 + t571;
-            let t573 = wrist_fe_ixz * wrist_fe_v_wx;
-            let t574 = wrist_fe_iyz * wrist_fe_v_wy;
-            let t575 = t573 + t574;
-            let t576 = wrist_fe_izz * wrist_fe_v_wz;
+            let t573 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t574 = t572 + t573;
+            let t575 = wrist_fe_ixz * wrist_fe_v_wx;
+            let t576 = wrist_fe_iyz * wrist_fe_v_wy;
             let t577 = t575 + t576;
-            let t578 = wrist_fe_hy * wrist_fe_v_vz;
-            let t579 = wrist_fe_hz * wrist_fe_v_vy;
-            let t580 = t578 - t579;
-            let t581 = wrist_fe_hz * wrist_fe_v_vx;
-            let t582 = wrist_fe_hx * wrist_fe_v_vz;
-            let t583 = t581 - t582;
-            let t584 = wrist_fe_hx * wrist_fe_v_vy;
-            let t585 = wrist_fe_hy * wrist_fe_v_vx;
-            let t586 = t584 - t585;
-            let t587 = wrist_fe_v_vx * wrist_fe_m;
-            let t588 = wrist_fe_v_vy * wrist_fe_m;
-            let t589 = wrist_fe_v_vz * wrist_fe_m;
-            let t590 = wrist_fe_hy * wrist_fe_v_wz;
-            let t591 = wrist_fe_hz * wrist_fe_v_wy;
-            let t592 = t590 - t591;
-            let t593 = wrist_fe_hz * wrist_fe_v_wx;
-            let t594 = wrist_fe_hx * wrist_fe_v_wz;
-            let t595 = t593 - t594;
-            let t596 = wrist_fe_hx * wrist_fe_v_wy;
-            let t597 = wrist_fe_hy * wrist_fe_v_wx;
-            let t598 = t596 - t597;
-            let t599 = t567 + t580;
-            let t600 = t572 + t583;
-            let t601 = t577 + t586;
-            let t602 = t587 - t592;
-            let t603 = t588 - t595;
-            let t604 = t589 - t598;
-            let t605 = wrist_fe_v_wy * t601;
-            let t606 = wrist_fe_v_wz * t600;
-            let t607 = t605 - t606;
-            let t608 = wrist_fe_v_wz * t599;
-            let t609 = wrist_fe_v_wx * t601;
-            let t610 = t608 - t609;
-            let t611 = wrist_fe_v_wx * t600;
-            let t612 = wrist_fe_v_wy * t599;
-            let t613 = t611 - t612;
-            let t614 = wrist_fe_v_vy * t604;
-            let t615 = wrist_fe_v_vz * t603;
-            let t616 = t614 - t615;
-            let t617 = wrist_fe_v_vz * t602;
-            let t618 = wrist_fe_v_vx * t604;
-            let t619 = t617 - t618;
-            let t620 = wrist_fe_v_vx * t603;
-            let t621 = wrist_fe_v_vy * t602;
-            let t622 = t620 - t621;
-            let t623 = t607 + t616;
-            let t624 = t610 + t619;
-            let t625 = t613 + t622;
-            let t626 = wrist_fe_v_wy * t604;
-            let t627 = wrist_fe_v_wz * t603;
-            let t628 = t626 - t627;
-            let t629 = wrist_fe_v_wz * t602;
-            let t630 = wrist_fe_v_wx * t604;
-            let t631 = t629 - t630;
-            let t632 = wrist_fe_v_wx * t603;
-            let t633 = wrist_fe_v_wy * t602;
-            let t634 = t632 - t633;
-            let wrist_fe_f_nx = t557 + t623;
-            let wrist_fe_f_ny = t558 + t624;
-            let wrist_fe_f_nz = t559 + t625;
-            let wrist_fe_f_fx = t560 + t628;
-            let wrist_fe_f_fy = t561 + t631;
-            let wrist_fe_f_fz = t562 + t634;
+            let t578 = wrist_fe_izz * wrist_fe_v_wz;
+            let t579 = t577 + t578;
+            let t580 = wrist_fe_hy * wrist_fe_v_vz;
+            let t581 = wrist_fe_hz * wrist_fe_v_vy;
+            let t582 = t580 - t581;
+            let t583 = wrist_fe_hz * wrist_fe_v_vx;
+            let t584 = wrist_fe_hx * wrist_fe_v_vz;
+            let t585 = t583 - t584;
+            let t586 = wrist_fe_hx * wrist_fe_v_vy;
+            let t587 = wrist_fe_hy * wrist_fe_v_vx;
+            let t588 = t586 - t587;
+            let t589 = wrist_fe_v_vx * wrist_fe_m;
+            let t590 = wrist_fe_v_vy * wrist_fe_m;
+            let t591 = wrist_fe_v_vz * wrist_fe_m;
+            let t592 = wrist_fe_hy * wrist_fe_v_wz;
+            let t593 = wrist_fe_hz * wrist_fe_v_wy;
+            let t594 = t592 - t593;
+            let t595 = wrist_fe_hz * wrist_fe_v_wx;
+            let t596 = wrist_fe_hx * wrist_fe_v_wz;
+            let t597 = t595 - t596;
+            let t598 = wrist_fe_hx * wrist_fe_v_wy;
+            let t599 = wrist_fe_hy * wrist_fe_v_wx;
+            let t600 = t598 - t599;
+            let t601 = t569 + t582;
+            let t602 = t574 + t585;
+            let t603 = t579 + t588;
+            let t604 = t589 - t594;
+            let t605 = t590 - t597;
+            let t606 = t591 - t600;
+            let t607 = wrist_fe_v_wy * t603;
+            let t608 = wrist_fe_v_wz * t602;
+            let t609 = t607 - t608;
+            let t610 = wrist_fe_v_wz * t601;
+            let t611 = wrist_fe_v_wx * t603;
+            let t612 = t610 - t611;
+            let t613 = wrist_fe_v_wx * t602;
+            let t614 = wrist_fe_v_wy * t601;
+            let t615 = t613 - t614;
+            let t616 = wrist_fe_v_vy * t606;
+            let t617 = wrist_fe_v_vz * t605;
+            let t618 = t616 - t617;
+            let t619 = wrist_fe_v_vz * t604;
+            let t620 = wrist_fe_v_vx * t606;
+            let t621 = t619 - t620;
+            let t622 = wrist_fe_v_vx * t605;
+            let t623 = wrist_fe_v_vy * t604;
+            let t624 = t622 - t623;
+            let t625 = t609 + t618;
+            let t626 = t612 + t621;
+            let t627 = t615 + t624;
+            let t628 = wrist_fe_v_wy * t606;
+            let t629 = wrist_fe_v_wz * t605;
+            let t630 = t628 - t629;
+            let t631 = wrist_fe_v_wz * t604;
+            let t632 = wrist_fe_v_wx * t606;
+            let t633 = t631 - t632;
+            let t634 = wrist_fe_v_wx * t605;
+            let t635 = wrist_fe_v_wy * t604;
+            let t636 = t634 - t635;
+            let wrist_fe_f_nx = t559 + t625;
+            let wrist_fe_f_ny = t560 + t626;
+            let wrist_fe_f_nz = t561 + t627;
+            let wrist_fe_f_fx = t562 + t630;
+            let wrist_fe_f_fy = t563 + t633;
+            let wrist_fe_f_fz = t564 + t636;
             (
                 wrist_fe_f_nx,
                 wrist_fe_f_ny,
@@ -1116,32 +1117,32 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t635 = c_wfe * wrist_fe_f_fx;
-            let t636 = s_wfe * wrist_fe_f_fy;
-            let t637 = t635 - t636;
-            let t638 = s_wfe * wrist_fe_f_fx;
-            let t639 = c_wfe * wrist_fe_f_fy;
-            let t640 = t638 + t639;
-            let t641 = c_wfe * wrist_fe_f_nx;
-            let t642 = s_wfe * wrist_fe_f_ny;
-            let t643 = t641 - t642;
-            let t644 = s_wfe * wrist_fe_f_nx;
-            let t645 = c_wfe * wrist_fe_f_ny;
-            let t646 = t644 + t645;
-            let t647 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
-            let t648 = 0.184f64 * t640; // 1.8400e-1 = joint WFE origin z
-            let t649 = 0.02075f64 * t637; // 2.0750e-2 = joint WFE origin x
-            let t650 = t648 - t649;
-            let t651 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
-            let t652 = t646 - t647;
-            let t653 = wrist_fe_f_nz + t650;
-            let t654 = t643 + t651;
-            let wrist_r_f_nx = t477 + t652;
-            let wrist_r_f_ny = t478 + t653;
-            let wrist_r_f_nz = t479 + t654;
-            let wrist_r_f_fx = t480 + t640;
-            let wrist_r_f_fy = t481 + wrist_fe_f_fz;
-            let wrist_r_f_fz = t482 + t637;
+            let t637 = c_wfe * wrist_fe_f_fx;
+            let t638 = s_wfe * wrist_fe_f_fy;
+            let t639 = t637 - t638;
+            let t640 = s_wfe * wrist_fe_f_fx;
+            let t641 = c_wfe * wrist_fe_f_fy;
+            let t642 = t640 + t641;
+            let t643 = c_wfe * wrist_fe_f_nx;
+            let t644 = s_wfe * wrist_fe_f_ny;
+            let t645 = t643 - t644;
+            let t646 = s_wfe * wrist_fe_f_nx;
+            let t647 = c_wfe * wrist_fe_f_ny;
+            let t648 = t646 + t647;
+            let t649 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t650 = 0.184f64 * t642; // 1.8400e-1 = joint WFE origin z
+            let t651 = 0.02075f64 * t639; // 2.0750e-2 = joint WFE origin x
+            let t652 = t650 - t651;
+            let t653 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
+            let t654 = t648 - t649;
+            let t655 = wrist_fe_f_nz + t652;
+            let t656 = t645 + t653;
+            let wrist_r_f_nx = t479 + t654;
+            let wrist_r_f_ny = t480 + t655;
+            let wrist_r_f_nz = t481 + t656;
+            let wrist_r_f_fx = t482 + t642;
+            let wrist_r_f_fy = t483 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t484 + t639;
             (
                 wrist_r_f_nx,
                 wrist_r_f_ny,
@@ -1160,28 +1161,28 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_f_fz,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t655 = c_wr * wrist_r_f_fx;
-            let t656 = s_wr * wrist_r_f_fy;
-            let t657 = t655 - t656;
-            let t658 = s_wr * wrist_r_f_fx;
-            let t659 = c_wr * wrist_r_f_fy;
-            let t660 = t658 + t659;
-            let t661 = c_wr * wrist_r_f_nx;
-            let t662 = s_wr * wrist_r_f_ny;
-            let t663 = t661 - t662;
-            let t664 = s_wr * wrist_r_f_nx;
-            let t665 = c_wr * wrist_r_f_ny;
-            let t666 = t664 + t665;
-            let t667 = 0.112f64 * t657; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t668 = 0.112f64 * t660; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t669 = t666 + t667;
-            let t670 = t668 - t663;
-            let elbow_fe_f_nx = t325 + wrist_r_f_nz;
-            let elbow_fe_f_ny = t326 + t669;
-            let elbow_fe_f_nz = t327 + t670;
-            let elbow_fe_f_fx = t328 + wrist_r_f_fz;
-            let elbow_fe_f_fy = t329 + t660;
-            let elbow_fe_f_fz = t330 - t657;
+            let t657 = c_wr * wrist_r_f_fx;
+            let t658 = s_wr * wrist_r_f_fy;
+            let t659 = t657 - t658;
+            let t660 = s_wr * wrist_r_f_fx;
+            let t661 = c_wr * wrist_r_f_fy;
+            let t662 = t660 + t661;
+            let t663 = c_wr * wrist_r_f_nx;
+            let t664 = s_wr * wrist_r_f_ny;
+            let t665 = t663 - t664;
+            let t666 = s_wr * wrist_r_f_nx;
+            let t667 = c_wr * wrist_r_f_ny;
+            let t668 = t666 + t667;
+            let t669 = 0.112f64 * t659; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t670 = 0.112f64 * t662; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t671 = t668 + t669;
+            let t672 = t670 - t665;
+            let elbow_fe_f_nx = t327 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t328 + t671;
+            let elbow_fe_f_nz = t329 + t672;
+            let elbow_fe_f_fx = t330 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t331 + t662;
+            let elbow_fe_f_fz = t332 - t659;
             (
                 elbow_fe_f_nx,
                 elbow_fe_f_ny,
@@ -1199,24 +1200,24 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_f_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t671 = s_efe * elbow_fe_f_fx;
-            let t672 = c_efe * elbow_fe_f_fy;
-            let t673 = t671 + t672;
-            let t674 = c_efe * elbow_fe_f_nx;
-            let t675 = s_efe * elbow_fe_f_ny;
-            let t676 = t674 - t675;
-            let t677 = s_efe * elbow_fe_f_nx;
-            let t678 = c_efe * elbow_fe_f_ny;
-            let t679 = t677 + t678;
-            let t680 = 0.304f64 * t673; // 3.0400e-1 = joint EFE origin z
-            let t681 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
-            let t682 = elbow_fe_f_nz + t680;
-            let t683 = t679 - t681;
-            let humerus_r_f_nx = t180 - t682;
-            let humerus_r_f_ny = t181 + t683;
-            let humerus_r_f_nz = t182 + t676;
+            let t673 = s_efe * elbow_fe_f_fx;
+            let t674 = c_efe * elbow_fe_f_fy;
+            let t675 = t673 + t674;
+            let t676 = c_efe * elbow_fe_f_nx;
+            let t677 = s_efe * elbow_fe_f_ny;
+            let t678 = t676 - t677;
+            let t679 = s_efe * elbow_fe_f_nx;
+            let t680 = c_efe * elbow_fe_f_ny;
+            let t681 = t679 + t680;
+            let t682 = 0.304f64 * t675; // 3.0400e-1 = joint EFE origin z
+            let t683 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
+            let t684 = elbow_fe_f_nz + t682;
+            let t685 = t681 - t683;
+            let humerus_r_f_nx = t180 - t684;
+            let humerus_r_f_ny = t181 + t685;
+            let humerus_r_f_nz = t182 + t678;
             let humerus_r_f_fx = t183 - elbow_fe_f_fz;
-            let humerus_r_f_fy = t184 + t673;
+            let humerus_r_f_fy = t184 + t675;
             (
                 humerus_r_f_nx,
                 humerus_r_f_ny,
@@ -1227,33 +1228,33 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t684 = c_hr * humerus_r_f_fx;
-            let t685 = s_hr * humerus_r_f_fy;
-            let t686 = t684 - t685;
-            let t687 = s_hr * humerus_r_f_fx;
-            let t688 = c_hr * humerus_r_f_fy;
-            let t689 = t687 + t688;
-            let t690 = c_hr * humerus_r_f_nx;
-            let t691 = s_hr * humerus_r_f_ny;
-            let t692 = t690 - t691;
-            let t693 = s_hr * humerus_r_f_nx;
-            let t694 = c_hr * humerus_r_f_ny;
-            let t695 = t693 + t694;
-            let t696 = 0.112f64 * t686; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t697 = 0.112f64 * t689; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t698 = t695 + t696;
-            let t699 = t697 - t692;
+            let t686 = c_hr * humerus_r_f_fx;
+            let t687 = s_hr * humerus_r_f_fy;
+            let t688 = t686 - t687;
+            let t689 = s_hr * humerus_r_f_fx;
+            let t690 = c_hr * humerus_r_f_fy;
+            let t691 = t689 + t690;
+            let t692 = c_hr * humerus_r_f_nx;
+            let t693 = s_hr * humerus_r_f_ny;
+            let t694 = t692 - t693;
+            let t695 = s_hr * humerus_r_f_nx;
+            let t696 = c_hr * humerus_r_f_ny;
+            let t697 = t695 + t696;
+            let t698 = 0.112f64 * t688; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t699 = 0.112f64 * t691; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t700 = t697 + t698;
+            let t701 = t699 - t694;
             let shoulder_fe_f_nx = t52 + humerus_r_f_nz;
-            let shoulder_fe_f_ny = t53 + t698;
-            let shoulder_fe_f_nz = t54 + t699;
+            let shoulder_fe_f_ny = t53 + t700;
+            let shoulder_fe_f_nz = t54 + t701;
             (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
         };
         let shoulder_aa_f_nz = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t700 = s_sfe * shoulder_fe_f_nx;
-            let t701 = c_sfe * shoulder_fe_f_ny;
-            let t702 = t700 + t701;
-            let shoulder_aa_f_nz = t0 + t702;
+            let t702 = s_sfe * shoulder_fe_f_nx;
+            let t703 = c_sfe * shoulder_fe_f_ny;
+            let t704 = t702 + t703;
+            let shoulder_aa_f_nz = t0 + t704;
             shoulder_aa_f_nz
         };
         ::hya_core::JointVector::<
@@ -1520,7 +1521,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_f_nz,
             elbow_fe_f_fx,
             elbow_fe_f_fy,
-            elbow_fe_f_fz,
+            t94,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
             let t78 = c_wr * wrist_r_f_fx;
@@ -1544,14 +1545,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let elbow_fe_f_nz = t28 + t93;
             let elbow_fe_f_fx = t29 + wrist_r_f_fz;
             let elbow_fe_f_fy = t30 + t83;
-            let elbow_fe_f_fz = t31 + t80;
+            let t94 = t31 + t80;
             (
                 elbow_fe_f_nx,
                 elbow_fe_f_ny,
                 elbow_fe_f_nz,
                 elbow_fe_f_fx,
                 elbow_fe_f_fy,
-                elbow_fe_f_fz,
+                t94,
             )
         };
         let (
@@ -1562,24 +1563,24 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_f_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t94 = s_efe * elbow_fe_f_fx;
-            let t95 = c_efe * elbow_fe_f_fy;
-            let t96 = t94 + t95;
-            let t97 = c_efe * elbow_fe_f_nx;
-            let t98 = s_efe * elbow_fe_f_ny;
-            let t99 = t97 - t98;
-            let t100 = s_efe * elbow_fe_f_nx;
-            let t101 = c_efe * elbow_fe_f_ny;
-            let t102 = t100 + t101;
-            let t103 = 0.304f64 * t96; // 3.0400e-1 = joint EFE origin z
-            let t104 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
-            let t105 = elbow_fe_f_nz + t103;
-            let t106 = t102 + t104;
-            let humerus_r_f_nx = t7 - t105;
-            let humerus_r_f_ny = t10 + t106;
-            let humerus_r_f_nz = t13 + t99;
-            let humerus_r_f_fx = t14 + elbow_fe_f_fz;
-            let humerus_r_f_fy = t15 + t96;
+            let t95 = s_efe * elbow_fe_f_fx;
+            let t96 = c_efe * elbow_fe_f_fy;
+            let t97 = t95 + t96;
+            let t98 = c_efe * elbow_fe_f_nx;
+            let t99 = s_efe * elbow_fe_f_ny;
+            let t100 = t98 - t99;
+            let t101 = s_efe * elbow_fe_f_nx;
+            let t102 = c_efe * elbow_fe_f_ny;
+            let t103 = t101 + t102;
+            let t104 = 0.304f64 * t97; // 3.0400e-1 = joint EFE origin z
+            let t105 = 0.304f64 * t94; // 3.0400e-1 = joint EFE origin z
+            let t106 = elbow_fe_f_nz + t104;
+            let t107 = t103 + t105;
+            let humerus_r_f_nx = t7 - t106;
+            let humerus_r_f_ny = t10 + t107;
+            let humerus_r_f_nz = t13 + t100;
+            let humerus_r_f_fx = t14 + t94;
+            let humerus_r_f_fy = t15 + t97;
             (
                 humerus_r_f_nx,
                 humerus_r_f_ny,
@@ -1590,32 +1591,32 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t107 = c_hr * humerus_r_f_fx;
-            let t108 = s_hr * humerus_r_f_fy;
-            let shoulder_fe_f_fz = t107 - t108;
-            let t109 = s_hr * humerus_r_f_fx;
-            let t110 = c_hr * humerus_r_f_fy;
-            let t111 = t109 + t110;
-            let t112 = c_hr * humerus_r_f_nx;
-            let t113 = s_hr * humerus_r_f_ny;
-            let t114 = t112 - t113;
-            let t115 = s_hr * humerus_r_f_nx;
-            let t116 = c_hr * humerus_r_f_ny;
-            let t117 = t115 + t116;
-            let t118 = 0.112f64 * shoulder_fe_f_fz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t119 = 0.112f64 * t111; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t120 = t117 + t118;
-            let t121 = t119 - t114;
+            let t108 = c_hr * humerus_r_f_fx;
+            let t109 = s_hr * humerus_r_f_fy;
+            let shoulder_aa_f_fy = t108 - t109;
+            let t110 = s_hr * humerus_r_f_fx;
+            let t111 = c_hr * humerus_r_f_fy;
+            let t112 = t110 + t111;
+            let t113 = c_hr * humerus_r_f_nx;
+            let t114 = s_hr * humerus_r_f_ny;
+            let t115 = t113 - t114;
+            let t116 = s_hr * humerus_r_f_nx;
+            let t117 = c_hr * humerus_r_f_ny;
+            let t118 = t116 + t117;
+            let t119 = 0.112f64 * shoulder_aa_f_fy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t120 = 0.112f64 * t112; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t121 = t118 + t119;
+            let t122 = t120 - t115;
             let shoulder_fe_f_nx = humerus_r_f_nz - t0;
-            let shoulder_fe_f_ny = t1 + t120;
-            let shoulder_fe_f_nz = t4 + t121;
+            let shoulder_fe_f_ny = t1 + t121;
+            let shoulder_fe_f_nz = t4 + t122;
             (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
         };
         let shoulder_aa_f_nz = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t122 = s_sfe * shoulder_fe_f_nx;
-            let t123 = c_sfe * shoulder_fe_f_ny;
-            let shoulder_aa_f_nz = t122 + t123;
+            let t123 = s_sfe * shoulder_fe_f_nx;
+            let t124 = c_sfe * shoulder_fe_f_ny;
+            let shoulder_aa_f_nz = t123 + t124;
             shoulder_aa_f_nz
         };
         ::hya_core::JointVector::<
@@ -1827,65 +1828,49 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 c_wfe,
             )
         };
-        let (
-            shoulder_fe_v_wx,
-            shoulder_fe_v_wy,
-            shoulder_fe_a_wx,
-            shoulder_fe_a_wy,
-            t33,
-            t34,
-            t35,
-        ) = {
+        let (shoulder_fe_v_wx, shoulder_fe_v_wy, shoulder_fe_a_wx, t0, t34, t35, t36) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
             let shoulder_fe_v_wx = s_sfe * qd_saa;
             let shoulder_fe_v_wy = c_sfe * qd_saa;
             let shoulder_fe_a_wx = shoulder_fe_v_wy * qd_sfe;
-            let shoulder_fe_a_wy = shoulder_fe_v_wx * qd_sfe;
-            let t0 = shoulder_fe_ixx * shoulder_fe_a_wx;
-            let t1 = shoulder_fe_ixy * shoulder_fe_a_wy;
-            let t2 = t0 - t1;
-            let t3 = shoulder_fe_ixy * shoulder_fe_a_wx;
-            let t4 = shoulder_fe_iyy * shoulder_fe_a_wy;
-            let t5 = t3 - t4;
-            let t6 = shoulder_fe_ixz * shoulder_fe_a_wx;
-            let t7 = shoulder_fe_iyz * shoulder_fe_a_wy;
-            let t8 = t6 - t7;
-            let t9 = shoulder_fe_ixx * shoulder_fe_v_wx;
-            let t10 = shoulder_fe_ixy * shoulder_fe_v_wy;
-            let t11 = t9 + t10;
-            let t12 = shoulder_fe_ixz * qd_sfe;
-            let t13 = t11 + t12;
-            let t14 = shoulder_fe_ixy * shoulder_fe_v_wx;
-            let t15 = shoulder_fe_iyy * shoulder_fe_v_wy;
-            let t16 = t14 + t15;
-            let t17 = shoulder_fe_iyz * qd_sfe;
-            let t18 = t16 + t17;
-            let t19 = shoulder_fe_ixz * shoulder_fe_v_wx;
-            let t20 = shoulder_fe_iyz * shoulder_fe_v_wy;
-            let t21 = t19 + t20;
-            let t22 = shoulder_fe_izz * qd_sfe;
-            let t23 = t21 + t22;
-            let t24 = shoulder_fe_v_wy * t23;
-            let t25 = qd_sfe * t18;
-            let t26 = t24 - t25;
-            let t27 = qd_sfe * t13;
-            let t28 = shoulder_fe_v_wx * t23;
-            let t29 = t27 - t28;
-            let t30 = shoulder_fe_v_wx * t18;
-            let t31 = shoulder_fe_v_wy * t13;
-            let t32 = t30 - t31;
-            let t33 = t2 + t26;
-            let t34 = t5 + t29;
-            let t35 = t8 + t32;
-            (
-                shoulder_fe_v_wx,
-                shoulder_fe_v_wy,
-                shoulder_fe_a_wx,
-                shoulder_fe_a_wy,
-                t33,
-                t34,
-                t35,
-            )
+            let t0 = shoulder_fe_v_wx * qd_sfe;
+            let t1 = shoulder_fe_ixx * shoulder_fe_a_wx;
+            let t2 = shoulder_fe_ixy * t0;
+            let t3 = t1 - t2;
+            let t4 = shoulder_fe_ixy * shoulder_fe_a_wx;
+            let t5 = shoulder_fe_iyy * t0;
+            let t6 = t4 - t5;
+            let t7 = shoulder_fe_ixz * shoulder_fe_a_wx;
+            let t8 = shoulder_fe_iyz * t0;
+            let t9 = t7 - t8;
+            let t10 = shoulder_fe_ixx * shoulder_fe_v_wx;
+            let t11 = shoulder_fe_ixy * shoulder_fe_v_wy;
+            let t12 = t10 + t11;
+            let t13 = shoulder_fe_ixz * qd_sfe;
+            let t14 = t12 + t13;
+            let t15 = shoulder_fe_ixy * shoulder_fe_v_wx;
+            let t16 = shoulder_fe_iyy * shoulder_fe_v_wy;
+            let t17 = t15 + t16;
+            let t18 = shoulder_fe_iyz * qd_sfe;
+            let t19 = t17 + t18;
+            let t20 = shoulder_fe_ixz * shoulder_fe_v_wx;
+            let t21 = shoulder_fe_iyz * shoulder_fe_v_wy;
+            let t22 = t20 + t21;
+            let t23 = shoulder_fe_izz * qd_sfe;
+            let t24 = t22 + t23;
+            let t25 = shoulder_fe_v_wy * t24;
+            let t26 = qd_sfe * t19;
+            let t27 = t25 - t26;
+            let t28 = qd_sfe * t14;
+            let t29 = shoulder_fe_v_wx * t24;
+            let t30 = t28 - t29;
+            let t31 = shoulder_fe_v_wx * t19;
+            let t32 = shoulder_fe_v_wy * t14;
+            let t33 = t31 - t32;
+            let t34 = t3 + t27;
+            let t35 = t6 + t30;
+            let t36 = t9 + t33;
+            (shoulder_fe_v_wx, shoulder_fe_v_wy, shoulder_fe_a_wx, t0, t34, t35, t36)
         };
         let (
             humerus_r_v_wx,
@@ -1894,141 +1879,141 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_v_vy,
             humerus_r_v_wz,
             humerus_r_a_wx,
-            humerus_r_a_wy,
+            t56,
             humerus_r_a_vx,
             humerus_r_a_vy,
-            t147,
-            t148,
             t149,
             t150,
             t151,
+            t152,
+            t153,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t36 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t37 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t38 = c_hr * qd_sfe;
-            let t39 = s_hr * shoulder_fe_v_wy;
-            let humerus_r_v_wx = t39 - t38;
-            let t40 = s_hr * qd_sfe;
-            let t41 = c_hr * shoulder_fe_v_wy;
-            let humerus_r_v_wy = t40 + t41;
-            let t42 = c_hr * t37;
-            let t43 = s_hr * t36;
-            let humerus_r_v_vx = t42 + t43;
+            let t37 = 0.112f64 * qd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t38 = 0.112f64 * shoulder_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t39 = c_hr * qd_sfe;
+            let t40 = s_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wx = t40 - t39;
+            let t41 = s_hr * qd_sfe;
+            let t42 = c_hr * shoulder_fe_v_wy;
+            let humerus_r_v_wy = t41 + t42;
+            let t43 = c_hr * t38;
             let t44 = s_hr * t37;
-            let t45 = c_hr * t36;
-            let humerus_r_v_vy = t45 - t44;
+            let humerus_r_v_vx = t43 + t44;
+            let t45 = s_hr * t38;
+            let t46 = c_hr * t37;
+            let humerus_r_v_vy = t46 - t45;
             let humerus_r_v_wz = shoulder_fe_v_wx + qd_hr;
-            let t46 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t47 = s_hr * shoulder_fe_a_wy;
-            let t48 = c_hr * shoulder_fe_a_wy;
-            let t49 = c_hr * t46;
-            let t50 = s_hr * t46;
-            let t51 = humerus_r_v_wy * qd_hr;
-            let t52 = humerus_r_v_wx * qd_hr;
-            let t53 = humerus_r_v_vy * qd_hr;
-            let t54 = humerus_r_v_vx * qd_hr;
-            let humerus_r_a_wx = t51 - t47;
-            let humerus_r_a_wy = t48 + t52;
-            let humerus_r_a_vx = t53 - t49;
-            let humerus_r_a_vy = t50 - t54;
-            let t55 = humerus_r_ixx * humerus_r_a_wx;
-            let t56 = humerus_r_ixy * humerus_r_a_wy;
-            let t57 = t55 - t56;
-            let t58 = humerus_r_ixz * shoulder_fe_a_wx;
-            let t59 = t57 + t58;
-            let t60 = humerus_r_ixy * humerus_r_a_wx;
-            let t61 = humerus_r_iyy * humerus_r_a_wy;
-            let t62 = t60 - t61;
-            let t63 = humerus_r_iyz * shoulder_fe_a_wx;
-            let t64 = t62 + t63;
-            let t65 = humerus_r_ixz * humerus_r_a_wx;
-            let t66 = humerus_r_iyz * humerus_r_a_wy;
-            let t67 = t65 - t66;
-            let t68 = humerus_r_izz * shoulder_fe_a_wx;
-            let t69 = t67 + t68;
-            let t70 = humerus_r_hz * humerus_r_a_vy;
-            let t71 = humerus_r_hz * humerus_r_a_vx;
-            let t72 = humerus_r_hx * humerus_r_a_vy;
-            let t73 = humerus_r_hy * humerus_r_a_vx;
-            let t74 = t72 - t73;
-            let t75 = humerus_r_a_vx * humerus_r_m;
-            let t76 = humerus_r_a_vy * humerus_r_m;
-            let t77 = humerus_r_hy * shoulder_fe_a_wx;
-            let t78 = humerus_r_hz * humerus_r_a_wy;
-            let t79 = t77 + t78;
-            let t80 = humerus_r_hz * humerus_r_a_wx;
-            let t81 = humerus_r_hx * shoulder_fe_a_wx;
-            let t82 = t80 - t81;
-            let t83 = t59 - t70;
-            let t84 = t64 + t71;
-            let t85 = t69 + t74;
-            let t86 = t75 - t79;
-            let t87 = t76 - t82;
-            let t88 = humerus_r_ixx * humerus_r_v_wx;
-            let t89 = humerus_r_ixy * humerus_r_v_wy;
-            let t90 = t88 + t89;
-            let t91 = humerus_r_ixz * humerus_r_v_wz;
+            let t47 = 0.112f64 * t0; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t48 = s_hr * t0;
+            let t49 = c_hr * t0;
+            let t50 = c_hr * t47;
+            let t51 = s_hr * t47;
+            let t52 = humerus_r_v_wy * qd_hr;
+            let t53 = humerus_r_v_wx * qd_hr;
+            let t54 = humerus_r_v_vy * qd_hr;
+            let t55 = humerus_r_v_vx * qd_hr;
+            let humerus_r_a_wx = t52 - t48;
+            let t56 = t49 + t53;
+            let humerus_r_a_vx = t54 - t50;
+            let humerus_r_a_vy = t51 - t55;
+            let t57 = humerus_r_ixx * humerus_r_a_wx;
+            let t58 = humerus_r_ixy * t56;
+            let t59 = t57 - t58;
+            let t60 = humerus_r_ixz * shoulder_fe_a_wx;
+            let t61 = t59 + t60;
+            let t62 = humerus_r_ixy * humerus_r_a_wx;
+            let t63 = humerus_r_iyy * t56;
+            let t64 = t62 - t63;
+            let t65 = humerus_r_iyz * shoulder_fe_a_wx;
+            let t66 = t64 + t65;
+            let t67 = humerus_r_ixz * humerus_r_a_wx;
+            let t68 = humerus_r_iyz * t56;
+            let t69 = t67 - t68;
+            let t70 = humerus_r_izz * shoulder_fe_a_wx;
+            let t71 = t69 + t70;
+            let t72 = humerus_r_hz * humerus_r_a_vy;
+            let t73 = humerus_r_hz * humerus_r_a_vx;
+            let t74 = humerus_r_hx * humerus_r_a_vy;
+            let t75 = humerus_r_hy * humerus_r_a_vx;
+            let t76 = t74 - t75;
+            let t77 = humerus_r_a_vx * humerus_r_m;
+            let t78 = humerus_r_a_vy * humerus_r_m;
+            let t79 = humerus_r_hy * shoulder_fe_a_wx;
+            let t80 = humerus_r_hz * t56;
+            let t81 = t79 + t80;
+            let t82 = humerus_r_hz * humerus_r_a_wx;
+            let t83 = humerus_r_hx * shoulder_fe_a_wx;
+            let t84 = t82 - t83;
+            let t85 = t61 - t72;
+            let t86 = t66 + t73;
+            let t87 = t71 + t76;
+            let t88 = t77 - t81;
+            let t89 = t78 - t84;
+            let t90 = humerus_r_ixx * humerus_r_v_wx;
+            let t91 = humerus_r_ixy * humerus_r_v_wy;
             let t92 = t90 + t91;
-            let t93 = humerus_r_ixy * humerus_r_v_wx;
-            let t94 = humerus_r_iyy * humerus_r_v_wy;
-            let t95 = t93 + t94;
-            let t96 = humerus_r_iyz * humerus_r_v_wz;
+            let t93 = humerus_r_ixz * humerus_r_v_wz;
+            let t94 = t92 + t93;
+            let t95 = humerus_r_ixy * humerus_r_v_wx;
+            let t96 = humerus_r_iyy * humerus_r_v_wy;
             let t97 = t95 + t96;
-            let t98 = humerus_r_ixz * humerus_r_v_wx;
-            let t99 = humerus_r_iyz * humerus_r_v_wy;
-            let t100 = t98 + t99;
-            let t101 = humerus_r_izz * humerus_r_v_wz;
+            let t98 = humerus_r_iyz * humerus_r_v_wz;
+            let t99 = t97 + t98;
+            let t100 = humerus_r_ixz * humerus_r_v_wx;
+            let t101 = humerus_r_iyz * humerus_r_v_wy;
             let t102 = t100 + t101;
-            let t103 = humerus_r_hz * humerus_r_v_vy;
-            let t104 = humerus_r_hz * humerus_r_v_vx;
-            let t105 = humerus_r_hx * humerus_r_v_vy;
-            let t106 = humerus_r_hy * humerus_r_v_vx;
-            let t107 = t105 - t106;
-            let t108 = humerus_r_v_vx * humerus_r_m;
-            let t109 = humerus_r_v_vy * humerus_r_m;
-            let t110 = humerus_r_hy * humerus_r_v_wz;
-            let t111 = humerus_r_hz * humerus_r_v_wy;
-            let t112 = t110 - t111;
-            let t113 = humerus_r_hz * humerus_r_v_wx;
-            let t114 = humerus_r_hx * humerus_r_v_wz;
-            let t115 = t113 - t114;
-            let t116 = humerus_r_hx * humerus_r_v_wy;
-            let t117 = humerus_r_hy * humerus_r_v_wx;
-            let t118 = t116 - t117;
-            let t119 = t92 - t103;
-            let t120 = t97 + t104;
-            let t121 = t102 + t107;
-            let t122 = t108 - t112;
-            let t123 = t109 - t115;
-            let t124 = humerus_r_v_wy * t121;
-            let t125 = humerus_r_v_wz * t120;
-            let t126 = t124 - t125;
-            let t127 = humerus_r_v_wz * t119;
-            let t128 = humerus_r_v_wx * t121;
-            let t129 = t127 - t128;
-            let t130 = humerus_r_v_wx * t120;
-            let t131 = humerus_r_v_wy * t119;
-            let t132 = t130 - t131;
-            let t133 = humerus_r_v_vy * t118;
-            let t134 = humerus_r_v_vx * t118;
-            let t135 = humerus_r_v_vx * t123;
-            let t136 = humerus_r_v_vy * t122;
-            let t137 = t135 - t136;
-            let t138 = t126 - t133;
-            let t139 = t129 + t134;
-            let t140 = t132 + t137;
-            let t141 = humerus_r_v_wy * t118;
-            let t142 = humerus_r_v_wz * t123;
-            let t143 = t141 + t142;
-            let t144 = humerus_r_v_wz * t122;
-            let t145 = humerus_r_v_wx * t118;
-            let t146 = t144 + t145;
-            let t147 = t83 + t138;
-            let t148 = t84 + t139;
+            let t103 = humerus_r_izz * humerus_r_v_wz;
+            let t104 = t102 + t103;
+            let t105 = humerus_r_hz * humerus_r_v_vy;
+            let t106 = humerus_r_hz * humerus_r_v_vx;
+            let t107 = humerus_r_hx * humerus_r_v_vy;
+            let t108 = humerus_r_hy * humerus_r_v_vx;
+            let t109 = t107 - t108;
+            let t110 = humerus_r_v_vx * humerus_r_m;
+            let t111 = humerus_r_v_vy * humerus_r_m;
+            let t112 = humerus_r_hy * humerus_r_v_wz;
+            let t113 = humerus_r_hz * humerus_r_v_wy;
+            let t114 = t112 - t113;
+            let t115 = humerus_r_hz * humerus_r_v_wx;
+            let t116 = humerus_r_hx * humerus_r_v_wz;
+            let t117 = t115 - t116;
+            let t118 = humerus_r_hx * humerus_r_v_wy;
+            let t119 = humerus_r_hy * humerus_r_v_wx;
+            let t120 = t118 - t119;
+            let t121 = t94 - t105;
+            let t122 = t99 + t106;
+            let t123 = t104 + t109;
+            let t124 = t110 - t114;
+            let t125 = t111 - t117;
+            let t126 = humerus_r_v_wy * t123;
+            let t127 = humerus_r_v_wz * t122;
+            let t128 = t126 - t127;
+            let t129 = humerus_r_v_wz * t121;
+            let t130 = humerus_r_v_wx * t123;
+            let t131 = t129 - t130;
+            let t132 = humerus_r_v_wx * t122;
+            let t133 = humerus_r_v_wy * t121;
+            let t134 = t132 - t133;
+            let t135 = humerus_r_v_vy * t120;
+            let t136 = humerus_r_v_vx * t120;
+            let t137 = humerus_r_v_vx * t125;
+            let t138 = humerus_r_v_vy * t124;
+            let t139 = t137 - t138;
+            let t140 = t128 - t135;
+            let t141 = t131 + t136;
+            let t142 = t134 + t139;
+            let t143 = humerus_r_v_wy * t120;
+            let t144 = humerus_r_v_wz * t125;
+            let t145 = t143 + t144;
+            let t146 = humerus_r_v_wz * t124;
+            let t147 = humerus_r_v_wx * t120;
+            let t148 = t146 + t147;
             let t149 = t85 + t140;
-            let t150 = t86 - t143;
-            let t151 = t87 + t146;
+            let t150 = t86 + t141;
+            let t151 = t87 + t142;
+            let t152 = t88 - t145;
+            let t153 = t89 + t148;
             (
                 humerus_r_v_wx,
                 humerus_r_v_wy,
@@ -2036,207 +2021,207 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 humerus_r_v_vy,
                 humerus_r_v_wz,
                 humerus_r_a_wx,
-                humerus_r_a_wy,
+                t56,
                 humerus_r_a_vx,
                 humerus_r_a_vy,
-                t147,
-                t148,
                 t149,
                 t150,
                 t151,
+                t152,
+                t153,
             )
         };
         let (
-            elbow_fe_v_vz,
+            t156,
             elbow_fe_v_wx,
             elbow_fe_v_wy,
             elbow_fe_v_vx,
             elbow_fe_v_vy,
             elbow_fe_v_wz,
-            elbow_fe_a_vz,
+            t164,
             elbow_fe_a_wx,
-            elbow_fe_a_wy,
+            t178,
             elbow_fe_a_vx,
             elbow_fe_a_vy,
-            t288,
-            t289,
-            t290,
-            t291,
-            t292,
             t293,
+            t294,
+            t295,
+            t296,
+            t297,
+            t298,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t152 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
-            let t153 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_v_vz = humerus_r_v_vx + t152;
-            let t154 = humerus_r_v_vy - t153;
-            let t155 = c_efe * humerus_r_v_wz;
-            let t156 = s_efe * humerus_r_v_wy;
-            let elbow_fe_v_wx = t155 + t156;
-            let t157 = s_efe * humerus_r_v_wz;
-            let t158 = c_efe * humerus_r_v_wy;
-            let elbow_fe_v_wy = t158 - t157;
-            let elbow_fe_v_vx = s_efe * t154;
-            let elbow_fe_v_vy = c_efe * t154;
+            let t154 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
+            let t155 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
+            let t156 = humerus_r_v_vx + t154;
+            let t157 = humerus_r_v_vy - t155;
+            let t158 = c_efe * humerus_r_v_wz;
+            let t159 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t158 + t159;
+            let t160 = s_efe * humerus_r_v_wz;
+            let t161 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t161 - t160;
+            let elbow_fe_v_vx = s_efe * t157;
+            let elbow_fe_v_vy = c_efe * t157;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t159 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t160 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx - t159;
-            let t161 = humerus_r_a_vy - t160;
-            let t162 = c_efe * shoulder_fe_a_wx;
-            let t163 = s_efe * humerus_r_a_wy;
-            let t164 = t162 - t163;
-            let t165 = s_efe * shoulder_fe_a_wx;
-            let t166 = c_efe * humerus_r_a_wy;
-            let t167 = t165 + t166;
-            let t168 = s_efe * t161;
-            let t169 = c_efe * t161;
-            let t170 = elbow_fe_v_wy * qd_efe;
-            let t171 = elbow_fe_v_wx * qd_efe;
-            let t172 = elbow_fe_v_vy * qd_efe;
-            let t173 = elbow_fe_v_vx * qd_efe;
-            let elbow_fe_a_wx = t164 + t170;
-            let elbow_fe_a_wy = t167 + t171;
-            let elbow_fe_a_vx = t168 + t172;
-            let elbow_fe_a_vy = t169 - t173;
-            let t174 = elbow_fe_ixx * elbow_fe_a_wx;
-            let t175 = elbow_fe_ixy * elbow_fe_a_wy;
-            let t176 = t174 - t175;
-            let t177 = elbow_fe_ixz * humerus_r_a_wx;
-            let t178 = t176 - t177;
-            let t179 = elbow_fe_ixy * elbow_fe_a_wx;
-            let t180 = elbow_fe_iyy * elbow_fe_a_wy;
+            let t162 = 0.304f64 * t56; // 3.0400e-1 = joint EFE origin z
+            let t163 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let t164 = humerus_r_a_vx - t162;
+            let t165 = humerus_r_a_vy - t163;
+            let t166 = c_efe * shoulder_fe_a_wx;
+            let t167 = s_efe * t56;
+            let t168 = t166 - t167;
+            let t169 = s_efe * shoulder_fe_a_wx;
+            let t170 = c_efe * t56;
+            let t171 = t169 + t170;
+            let t172 = s_efe * t165;
+            let t173 = c_efe * t165;
+            let t174 = elbow_fe_v_wy * qd_efe;
+            let t175 = elbow_fe_v_wx * qd_efe;
+            let t176 = elbow_fe_v_vy * qd_efe;
+            let t177 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t168 + t174;
+            let t178 = t171 + t175;
+            let elbow_fe_a_vx = t172 + t176;
+            let elbow_fe_a_vy = t173 - t177;
+            let t179 = elbow_fe_ixx * elbow_fe_a_wx;
+            let t180 = elbow_fe_ixy * t178;
             let t181 = t179 - t180;
-            let t182 = elbow_fe_iyz * humerus_r_a_wx;
+            let t182 = elbow_fe_ixz * humerus_r_a_wx;
             let t183 = t181 - t182;
-            let t184 = elbow_fe_ixz * elbow_fe_a_wx;
-            let t185 = elbow_fe_iyz * elbow_fe_a_wy;
+            let t184 = elbow_fe_ixy * elbow_fe_a_wx;
+            let t185 = elbow_fe_iyy * t178;
             let t186 = t184 - t185;
-            let t187 = elbow_fe_izz * humerus_r_a_wx;
+            let t187 = elbow_fe_iyz * humerus_r_a_wx;
             let t188 = t186 - t187;
-            let t189 = elbow_fe_hy * elbow_fe_a_vz;
-            let t190 = elbow_fe_hz * elbow_fe_a_vy;
-            let t191 = t189 + t190;
-            let t192 = elbow_fe_hz * elbow_fe_a_vx;
-            let t193 = elbow_fe_hx * elbow_fe_a_vz;
-            let t194 = t192 + t193;
-            let t195 = elbow_fe_hx * elbow_fe_a_vy;
-            let t196 = elbow_fe_hy * elbow_fe_a_vx;
-            let t197 = t195 - t196;
-            let t198 = elbow_fe_a_vx * elbow_fe_m;
-            let t199 = elbow_fe_a_vy * elbow_fe_m;
-            let t200 = elbow_fe_a_vz * elbow_fe_m;
-            let t201 = elbow_fe_hy * humerus_r_a_wx;
-            let t202 = elbow_fe_hz * elbow_fe_a_wy;
-            let t203 = t202 - t201;
-            let t204 = elbow_fe_hz * elbow_fe_a_wx;
-            let t205 = elbow_fe_hx * humerus_r_a_wx;
-            let t206 = t204 + t205;
-            let t207 = elbow_fe_hx * elbow_fe_a_wy;
-            let t208 = elbow_fe_hy * elbow_fe_a_wx;
-            let t209 = t207 + t208;
-            let t210 = t178 - t191;
-            let t211 = t183 + t194;
-            let t212 = t188 + t197;
-            let t213 = t198 - t203;
-            let t214 = t199 - t206;
-            let t215 = t209 - t200;
-            let t216 = elbow_fe_ixx * elbow_fe_v_wx;
-            let t217 = elbow_fe_ixy * elbow_fe_v_wy;
-            let t218 = t216 + t217;
-            let t219 = elbow_fe_ixz * elbow_fe_v_wz;
-            let t220 = t218 + t219;
-            let t221 = elbow_fe_ixy * elbow_fe_v_wx;
-            let t222 = elbow_fe_iyy * elbow_fe_v_wy;
+            let t189 = elbow_fe_ixz * elbow_fe_a_wx;
+            let t190 = elbow_fe_iyz * t178;
+            let t191 = t189 - t190;
+            let t192 = elbow_fe_izz * humerus_r_a_wx;
+            let t193 = t191 - t192;
+            let t194 = elbow_fe_hy * t164;
+            let t195 = elbow_fe_hz * elbow_fe_a_vy;
+            let t196 = t194 + t195;
+            let t197 = elbow_fe_hz * elbow_fe_a_vx;
+            let t198 = elbow_fe_hx * t164;
+            let t199 = t197 + t198;
+            let t200 = elbow_fe_hx * elbow_fe_a_vy;
+            let t201 = elbow_fe_hy * elbow_fe_a_vx;
+            let t202 = t200 - t201;
+            let t203 = elbow_fe_a_vx * elbow_fe_m;
+            let t204 = elbow_fe_a_vy * elbow_fe_m;
+            let t205 = t164 * elbow_fe_m;
+            let t206 = elbow_fe_hy * humerus_r_a_wx;
+            let t207 = elbow_fe_hz * t178;
+            let t208 = t207 - t206;
+            let t209 = elbow_fe_hz * elbow_fe_a_wx;
+            let t210 = elbow_fe_hx * humerus_r_a_wx;
+            let t211 = t209 + t210;
+            let t212 = elbow_fe_hx * t178;
+            let t213 = elbow_fe_hy * elbow_fe_a_wx;
+            let t214 = t212 + t213;
+            let t215 = t183 - t196;
+            let t216 = t188 + t199;
+            let t217 = t193 + t202;
+            let t218 = t203 - t208;
+            let t219 = t204 - t211;
+            let t220 = t214 - t205;
+            let t221 = elbow_fe_ixx * elbow_fe_v_wx;
+            let t222 = elbow_fe_ixy * elbow_fe_v_wy;
             let t223 = t221 + t222;
-            let t224 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t224 = elbow_fe_ixz * elbow_fe_v_wz;
             let t225 = t223 + t224;
-            let t226 = elbow_fe_ixz * elbow_fe_v_wx;
-            let t227 = elbow_fe_iyz * elbow_fe_v_wy;
+            let t226 = elbow_fe_ixy * elbow_fe_v_wx;
+            let t227 = elbow_fe_iyy * elbow_fe_v_wy;
             let t228 = t226 + t227;
-            let t229 = elbow_fe_izz * elbow_fe_v_wz;
+            let t229 = elbow_fe_iyz * elbow_fe_v_wz;
             let t230 = t228 + t229;
-            let t231 = elbow_fe_hy * elbow_fe_v_vz;
-            let t232 = elbow_fe_hz * elbow_fe_v_vy;
+            let t231 = elbow_fe_ixz * elbow_fe_v_wx;
+            let t232 = elbow_fe_iyz * elbow_fe_v_wy;
             let t233 = t231 + t232;
-            let t234 = elbow_fe_hz * elbow_fe_v_vx;
-            let t235 = elbow_fe_hx * elbow_fe_v_vz;
-            let t236 = t234 + t235;
-            let t237 = elbow_fe_hx * elbow_fe_v_vy;
-            let t238 = elbow_fe_hy * elbow_fe_v_vx;
-            let t239 = t237 - t238;
-            let t240 = elbow_fe_v_vx * elbow_fe_m;
-            let t241 = elbow_fe_v_vy * elbow_fe_m;
-            let t242 = elbow_fe_v_vz * elbow_fe_m;
-            let t243 = elbow_fe_hy * elbow_fe_v_wz;
-            let t244 = elbow_fe_hz * elbow_fe_v_wy;
-            let t245 = t243 - t244;
-            let t246 = elbow_fe_hz * elbow_fe_v_wx;
-            let t247 = elbow_fe_hx * elbow_fe_v_wz;
-            let t248 = t246 - t247;
-            let t249 = elbow_fe_hx * elbow_fe_v_wy;
-            let t250 = elbow_fe_hy * elbow_fe_v_wx;
-            let t251 = t249 - t250;
-            let t252 = t220 - t233;
-            let t253 = t225 + t236;
-            let t254 = t230 + t239;
-            let t255 = t240 - t245;
-            let t256 = t241 - t248;
-            let t257 = t242 + t251;
-            let t258 = elbow_fe_v_wy * t254;
-            let t259 = elbow_fe_v_wz * t253;
-            let t260 = t258 - t259;
-            let t261 = elbow_fe_v_wz * t252;
-            let t262 = elbow_fe_v_wx * t254;
-            let t263 = t261 - t262;
-            let t264 = elbow_fe_v_wx * t253;
-            let t265 = elbow_fe_v_wy * t252;
-            let t266 = t264 - t265;
-            let t267 = elbow_fe_v_vy * t257;
-            let t268 = elbow_fe_v_vz * t256;
-            let t269 = t268 - t267;
-            let t270 = elbow_fe_v_vz * t255;
-            let t271 = elbow_fe_v_vx * t257;
-            let t272 = t271 - t270;
-            let t273 = elbow_fe_v_vx * t256;
-            let t274 = elbow_fe_v_vy * t255;
-            let t275 = t273 - t274;
-            let t276 = t260 + t269;
-            let t277 = t263 + t272;
-            let t278 = t266 + t275;
-            let t279 = elbow_fe_v_wy * t257;
-            let t280 = elbow_fe_v_wz * t256;
-            let t281 = t279 + t280;
-            let t282 = elbow_fe_v_wz * t255;
-            let t283 = elbow_fe_v_wx * t257;
-            let t284 = t282 + t283;
-            let t285 = elbow_fe_v_wx * t256;
-            let t286 = elbow_fe_v_wy * t255;
-            let t287 = t285 - t286;
-            let t288 = t210 + t276;
-            let t289 = t211 + t277;
-            let t290 = t212 + t278;
-            let t291 = t213 - t281;
-            let t292 = t214 + t284;
-            let t293 = t215 + t287;
+            let t234 = elbow_fe_izz * elbow_fe_v_wz;
+            let t235 = t233 + t234;
+            let t236 = elbow_fe_hy * t156;
+            let t237 = elbow_fe_hz * elbow_fe_v_vy;
+            let t238 = t236 + t237;
+            let t239 = elbow_fe_hz * elbow_fe_v_vx;
+            let t240 = elbow_fe_hx * t156;
+            let t241 = t239 + t240;
+            let t242 = elbow_fe_hx * elbow_fe_v_vy;
+            let t243 = elbow_fe_hy * elbow_fe_v_vx;
+            let t244 = t242 - t243;
+            let t245 = elbow_fe_v_vx * elbow_fe_m;
+            let t246 = elbow_fe_v_vy * elbow_fe_m;
+            let t247 = t156 * elbow_fe_m;
+            let t248 = elbow_fe_hy * elbow_fe_v_wz;
+            let t249 = elbow_fe_hz * elbow_fe_v_wy;
+            let t250 = t248 - t249;
+            let t251 = elbow_fe_hz * elbow_fe_v_wx;
+            let t252 = elbow_fe_hx * elbow_fe_v_wz;
+            let t253 = t251 - t252;
+            let t254 = elbow_fe_hx * elbow_fe_v_wy;
+            let t255 = elbow_fe_hy * elbow_fe_v_wx;
+            let t256 = t254 - t255;
+            let t257 = t225 - t238;
+            let t258 = t230 + t241;
+            let t259 = t235 + t244;
+            let t260 = t245 - t250;
+            let t261 = t246 - t253;
+            let t262 = t247 + t256;
+            let t263 = elbow_fe_v_wy * t259;
+            let t264 = elbow_fe_v_wz * t258;
+            let t265 = t263 - t264;
+            let t266 = elbow_fe_v_wz * t257;
+            let t267 = elbow_fe_v_wx * t259;
+            let t268 = t266 - t267;
+            let t269 = elbow_fe_v_wx * t258;
+            let t270 = elbow_fe_v_wy * t257;
+            let t271 = t269 - t270;
+            let t272 = elbow_fe_v_vy * t262;
+            let t273 = t156 * t261;
+            let t274 = t273 - t272;
+            let t275 = t156 * t260;
+            let t276 = elbow_fe_v_vx * t262;
+            let t277 = t276 - t275;
+            let t278 = elbow_fe_v_vx * t261;
+            let t279 = elbow_fe_v_vy * t260;
+            let t280 = t278 - t279;
+            let t281 = t265 + t274;
+            let t282 = t268 + t277;
+            let t283 = t271 + t280;
+            let t284 = elbow_fe_v_wy * t262;
+            let t285 = elbow_fe_v_wz * t261;
+            let t286 = t284 + t285;
+            let t287 = elbow_fe_v_wz * t260;
+            let t288 = elbow_fe_v_wx * t262;
+            let t289 = t287 + t288;
+            let t290 = elbow_fe_v_wx * t261;
+            let t291 = elbow_fe_v_wy * t260;
+            let t292 = t290 - t291;
+            let t293 = t215 + t281;
+            let t294 = t216 + t282;
+            let t295 = t217 + t283;
+            let t296 = t218 - t286;
+            let t297 = t219 + t289;
+            let t298 = t220 + t292;
             (
-                elbow_fe_v_vz,
+                t156,
                 elbow_fe_v_wx,
                 elbow_fe_v_wy,
                 elbow_fe_v_vx,
                 elbow_fe_v_vy,
                 elbow_fe_v_wz,
-                elbow_fe_a_vz,
+                t164,
                 elbow_fe_a_wx,
-                elbow_fe_a_wy,
+                t178,
                 elbow_fe_a_vx,
                 elbow_fe_a_vy,
-                t288,
-                t289,
-                t290,
-                t291,
-                t292,
                 t293,
+                t294,
+                t295,
+                t296,
+                t297,
+                t298,
             )
         };
         let (
@@ -2246,178 +2231,178 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_v_vy,
             wrist_r_v_wz,
             wrist_r_a_wx,
-            wrist_r_a_wy,
+            t331,
             wrist_r_a_vx,
             wrist_r_a_vy,
-            t440,
-            t441,
-            t442,
-            t443,
-            t444,
-            t445,
+            t446,
+            t447,
+            t448,
+            t449,
+            t450,
+            t451,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t294 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t295 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t296 = elbow_fe_v_vy + t294;
-            let t297 = elbow_fe_v_vz + t295;
-            let t298 = c_wr * elbow_fe_v_wz;
-            let t299 = s_wr * elbow_fe_v_wy;
-            let wrist_r_v_wx = t299 - t298;
-            let t300 = s_wr * elbow_fe_v_wz;
-            let t301 = c_wr * elbow_fe_v_wy;
-            let wrist_r_v_wy = t300 + t301;
-            let t302 = c_wr * t297;
-            let t303 = s_wr * t296;
-            let wrist_r_v_vx = t302 + t303;
-            let t304 = s_wr * t297;
-            let t305 = c_wr * t296;
-            let wrist_r_v_vy = t305 - t304;
+            let t299 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t300 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t301 = elbow_fe_v_vy + t299;
+            let t302 = t156 + t300;
+            let t303 = c_wr * elbow_fe_v_wz;
+            let t304 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t304 - t303;
+            let t305 = s_wr * elbow_fe_v_wz;
+            let t306 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t305 + t306;
+            let t307 = c_wr * t302;
+            let t308 = s_wr * t301;
+            let wrist_r_v_vx = t307 + t308;
+            let t309 = s_wr * t302;
+            let t310 = c_wr * t301;
+            let wrist_r_v_vy = t310 - t309;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t306 = 0.112f64 * humerus_r_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t307 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t308 = elbow_fe_a_vy - t306;
-            let t309 = t307 - elbow_fe_a_vz;
-            let t310 = c_wr * humerus_r_a_wx;
-            let t311 = s_wr * elbow_fe_a_wy;
-            let t312 = t310 - t311;
-            let t313 = s_wr * humerus_r_a_wx;
-            let t314 = c_wr * elbow_fe_a_wy;
-            let t315 = t313 + t314;
-            let t316 = c_wr * t309;
-            let t317 = s_wr * t308;
-            let t318 = t317 - t316;
-            let t319 = s_wr * t309;
-            let t320 = c_wr * t308;
-            let t321 = t319 + t320;
-            let t322 = wrist_r_v_wy * qd_wr;
-            let t323 = wrist_r_v_wx * qd_wr;
-            let t324 = wrist_r_v_vy * qd_wr;
-            let t325 = wrist_r_v_vx * qd_wr;
-            let wrist_r_a_wx = t312 + t322;
-            let wrist_r_a_wy = t315 + t323;
-            let wrist_r_a_vx = t318 + t324;
-            let wrist_r_a_vy = t321 - t325;
-            let t326 = wrist_r_ixx * wrist_r_a_wx;
-            let t327 = wrist_r_ixy * wrist_r_a_wy;
-            let t328 = t326 - t327;
-            let t329 = wrist_r_ixz * elbow_fe_a_wx;
-            let t330 = t328 + t329;
-            let t331 = wrist_r_ixy * wrist_r_a_wx;
-            let t332 = wrist_r_iyy * wrist_r_a_wy;
-            let t333 = t331 - t332;
-            let t334 = wrist_r_iyz * elbow_fe_a_wx;
-            let t335 = t333 + t334;
-            let t336 = wrist_r_ixz * wrist_r_a_wx;
-            let t337 = wrist_r_iyz * wrist_r_a_wy;
-            let t338 = t336 - t337;
-            let t339 = wrist_r_izz * elbow_fe_a_wx;
-            let t340 = t338 + t339;
-            let t341 = wrist_r_hy * elbow_fe_a_vx;
-            let t342 = wrist_r_hz * wrist_r_a_vy;
-            let t343 = t341 - t342;
-            let t344 = wrist_r_hz * wrist_r_a_vx;
-            let t345 = wrist_r_hx * elbow_fe_a_vx;
-            let t346 = t344 - t345;
-            let t347 = wrist_r_hx * wrist_r_a_vy;
-            let t348 = wrist_r_hy * wrist_r_a_vx;
+            let t311 = 0.112f64 * humerus_r_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t312 = 0.112f64 * t178; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t313 = elbow_fe_a_vy - t311;
+            let t314 = t312 - t164;
+            let t315 = c_wr * humerus_r_a_wx;
+            let t316 = s_wr * t178;
+            let t317 = t315 - t316;
+            let t318 = s_wr * humerus_r_a_wx;
+            let t319 = c_wr * t178;
+            let t320 = t318 + t319;
+            let t321 = c_wr * t314;
+            let t322 = s_wr * t313;
+            let t323 = t322 - t321;
+            let t324 = s_wr * t314;
+            let t325 = c_wr * t313;
+            let t326 = t324 + t325;
+            let t327 = wrist_r_v_wy * qd_wr;
+            let t328 = wrist_r_v_wx * qd_wr;
+            let t329 = wrist_r_v_vy * qd_wr;
+            let t330 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t317 + t327;
+            let t331 = t320 + t328;
+            let wrist_r_a_vx = t323 + t329;
+            let wrist_r_a_vy = t326 - t330;
+            let t332 = wrist_r_ixx * wrist_r_a_wx;
+            let t333 = wrist_r_ixy * t331;
+            let t334 = t332 - t333;
+            let t335 = wrist_r_ixz * elbow_fe_a_wx;
+            let t336 = t334 + t335;
+            let t337 = wrist_r_ixy * wrist_r_a_wx;
+            let t338 = wrist_r_iyy * t331;
+            let t339 = t337 - t338;
+            let t340 = wrist_r_iyz * elbow_fe_a_wx;
+            let t341 = t339 + t340;
+            let t342 = wrist_r_ixz * wrist_r_a_wx;
+            let t343 = wrist_r_iyz * t331;
+            let t344 = t342 - t343;
+            let t345 = wrist_r_izz * elbow_fe_a_wx;
+            let t346 = t344 + t345;
+            let t347 = wrist_r_hy * elbow_fe_a_vx;
+            let t348 = wrist_r_hz * wrist_r_a_vy;
             let t349 = t347 - t348;
-            let t350 = wrist_r_a_vx * wrist_r_m;
-            let t351 = wrist_r_a_vy * wrist_r_m;
-            let t352 = elbow_fe_a_vx * wrist_r_m;
-            let t353 = wrist_r_hy * elbow_fe_a_wx;
-            let t354 = wrist_r_hz * wrist_r_a_wy;
-            let t355 = t353 + t354;
-            let t356 = wrist_r_hz * wrist_r_a_wx;
-            let t357 = wrist_r_hx * elbow_fe_a_wx;
-            let t358 = t356 - t357;
-            let t359 = wrist_r_hx * wrist_r_a_wy;
-            let t360 = wrist_r_hy * wrist_r_a_wx;
+            let t350 = wrist_r_hz * wrist_r_a_vx;
+            let t351 = wrist_r_hx * elbow_fe_a_vx;
+            let t352 = t350 - t351;
+            let t353 = wrist_r_hx * wrist_r_a_vy;
+            let t354 = wrist_r_hy * wrist_r_a_vx;
+            let t355 = t353 - t354;
+            let t356 = wrist_r_a_vx * wrist_r_m;
+            let t357 = wrist_r_a_vy * wrist_r_m;
+            let t358 = elbow_fe_a_vx * wrist_r_m;
+            let t359 = wrist_r_hy * elbow_fe_a_wx;
+            let t360 = wrist_r_hz * t331;
             let t361 = t359 + t360;
-            let t362 = t330 + t343;
-            let t363 = t335 + t346;
-            let t364 = t340 + t349;
-            let t365 = t350 - t355;
-            let t366 = t351 - t358;
-            let t367 = t352 + t361;
-            let t368 = wrist_r_ixx * wrist_r_v_wx;
-            let t369 = wrist_r_ixy * wrist_r_v_wy;
-            let t370 = t368 + t369;
-            let t371 = wrist_r_ixz * wrist_r_v_wz;
-            let t372 = t370 + t371;
-            let t373 = wrist_r_ixy * wrist_r_v_wx;
-            let t374 = wrist_r_iyy * wrist_r_v_wy;
-            let t375 = t373 + t374;
-            let t376 = wrist_r_iyz * wrist_r_v_wz;
-            let t377 = t375 + t376;
-            let t378 = wrist_r_ixz * wrist_r_v_wx;
-            let t379 = wrist_r_iyz * wrist_r_v_wy;
-            let t380 = t378 + t379;
-            let t381 = wrist_r_izz * wrist_r_v_wz;
-            let t382 = t380 + t381;
-            let t383 = wrist_r_hy * elbow_fe_v_vx;
-            let t384 = wrist_r_hz * wrist_r_v_vy;
-            let t385 = t383 - t384;
-            let t386 = wrist_r_hz * wrist_r_v_vx;
-            let t387 = wrist_r_hx * elbow_fe_v_vx;
-            let t388 = t386 - t387;
-            let t389 = wrist_r_hx * wrist_r_v_vy;
-            let t390 = wrist_r_hy * wrist_r_v_vx;
+            let t362 = wrist_r_hz * wrist_r_a_wx;
+            let t363 = wrist_r_hx * elbow_fe_a_wx;
+            let t364 = t362 - t363;
+            let t365 = wrist_r_hx * t331;
+            let t366 = wrist_r_hy * wrist_r_a_wx;
+            let t367 = t365 + t366;
+            let t368 = t336 + t349;
+            let t369 = t341 + t352;
+            let t370 = t346 + t355;
+            let t371 = t356 - t361;
+            let t372 = t357 - t364;
+            let t373 = t358 + t367;
+            let t374 = wrist_r_ixx * wrist_r_v_wx;
+            let t375 = wrist_r_ixy * wrist_r_v_wy;
+            let t376 = t374 + t375;
+            let t377 = wrist_r_ixz * wrist_r_v_wz;
+            let t378 = t376 + t377;
+            let t379 = wrist_r_ixy * wrist_r_v_wx;
+            let t380 = wrist_r_iyy * wrist_r_v_wy;
+            let t381 = t379 + t380;
+            let t382 = wrist_r_iyz * wrist_r_v_wz;
+            let t383 = t381 + t382;
+            let t384 = wrist_r_ixz * wrist_r_v_wx;
+            let t385 = wrist_r_iyz * wrist_r_v_wy;
+            let t386 = t384 + t385;
+            let t387 = wrist_r_izz * wrist_r_v_wz;
+            let t388 = t386 + t387;
+            let t389 = wrist_r_hy * elbow_fe_v_vx;
+            let t390 = wrist_r_hz * wrist_r_v_vy;
             let t391 = t389 - t390;
-            let t392 = wrist_r_v_vx * wrist_r_m;
-            let t393 = wrist_r_v_vy * wrist_r_m;
-            let t394 = elbow_fe_v_vx * wrist_r_m;
-            let t395 = wrist_r_hy * wrist_r_v_wz;
-            let t396 = wrist_r_hz * wrist_r_v_wy;
+            let t392 = wrist_r_hz * wrist_r_v_vx;
+            let t393 = wrist_r_hx * elbow_fe_v_vx;
+            let t394 = t392 - t393;
+            let t395 = wrist_r_hx * wrist_r_v_vy;
+            let t396 = wrist_r_hy * wrist_r_v_vx;
             let t397 = t395 - t396;
-            let t398 = wrist_r_hz * wrist_r_v_wx;
-            let t399 = wrist_r_hx * wrist_r_v_wz;
-            let t400 = t398 - t399;
-            let t401 = wrist_r_hx * wrist_r_v_wy;
-            let t402 = wrist_r_hy * wrist_r_v_wx;
+            let t398 = wrist_r_v_vx * wrist_r_m;
+            let t399 = wrist_r_v_vy * wrist_r_m;
+            let t400 = elbow_fe_v_vx * wrist_r_m;
+            let t401 = wrist_r_hy * wrist_r_v_wz;
+            let t402 = wrist_r_hz * wrist_r_v_wy;
             let t403 = t401 - t402;
-            let t404 = t372 + t385;
-            let t405 = t377 + t388;
-            let t406 = t382 + t391;
-            let t407 = t392 - t397;
-            let t408 = t393 - t400;
-            let t409 = t394 - t403;
-            let t410 = wrist_r_v_wy * t406;
-            let t411 = wrist_r_v_wz * t405;
-            let t412 = t410 - t411;
-            let t413 = wrist_r_v_wz * t404;
-            let t414 = wrist_r_v_wx * t406;
-            let t415 = t413 - t414;
-            let t416 = wrist_r_v_wx * t405;
-            let t417 = wrist_r_v_wy * t404;
+            let t404 = wrist_r_hz * wrist_r_v_wx;
+            let t405 = wrist_r_hx * wrist_r_v_wz;
+            let t406 = t404 - t405;
+            let t407 = wrist_r_hx * wrist_r_v_wy;
+            let t408 = wrist_r_hy * wrist_r_v_wx;
+            let t409 = t407 - t408;
+            let t410 = t378 + t391;
+            let t411 = t383 + t394;
+            let t412 = t388 + t397;
+            let t413 = t398 - t403;
+            let t414 = t399 - t406;
+            let t415 = t400 - t409;
+            let t416 = wrist_r_v_wy * t412;
+            let t417 = wrist_r_v_wz * t411;
             let t418 = t416 - t417;
-            let t419 = wrist_r_v_vy * t409;
-            let t420 = elbow_fe_v_vx * t408;
+            let t419 = wrist_r_v_wz * t410;
+            let t420 = wrist_r_v_wx * t412;
             let t421 = t419 - t420;
-            let t422 = elbow_fe_v_vx * t407;
-            let t423 = wrist_r_v_vx * t409;
+            let t422 = wrist_r_v_wx * t411;
+            let t423 = wrist_r_v_wy * t410;
             let t424 = t422 - t423;
-            let t425 = wrist_r_v_vx * t408;
-            let t426 = wrist_r_v_vy * t407;
+            let t425 = wrist_r_v_vy * t415;
+            let t426 = elbow_fe_v_vx * t414;
             let t427 = t425 - t426;
-            let t428 = t412 + t421;
-            let t429 = t415 + t424;
-            let t430 = t418 + t427;
-            let t431 = wrist_r_v_wy * t409;
-            let t432 = wrist_r_v_wz * t408;
+            let t428 = elbow_fe_v_vx * t413;
+            let t429 = wrist_r_v_vx * t415;
+            let t430 = t428 - t429;
+            let t431 = wrist_r_v_vx * t414;
+            let t432 = wrist_r_v_vy * t413;
             let t433 = t431 - t432;
-            let t434 = wrist_r_v_wz * t407;
-            let t435 = wrist_r_v_wx * t409;
-            let t436 = t434 - t435;
-            let t437 = wrist_r_v_wx * t408;
-            let t438 = wrist_r_v_wy * t407;
+            let t434 = t418 + t427;
+            let t435 = t421 + t430;
+            let t436 = t424 + t433;
+            let t437 = wrist_r_v_wy * t415;
+            let t438 = wrist_r_v_wz * t414;
             let t439 = t437 - t438;
-            let t440 = t362 + t428;
-            let t441 = t363 + t429;
-            let t442 = t364 + t430;
-            let t443 = t365 + t433;
-            let t444 = t366 + t436;
-            let t445 = t367 + t439;
+            let t440 = wrist_r_v_wz * t413;
+            let t441 = wrist_r_v_wx * t415;
+            let t442 = t440 - t441;
+            let t443 = wrist_r_v_wx * t414;
+            let t444 = wrist_r_v_wy * t413;
+            let t445 = t443 - t444;
+            let t446 = t368 + t434;
+            let t447 = t369 + t435;
+            let t448 = t370 + t436;
+            let t449 = t371 + t439;
+            let t450 = t372 + t442;
+            let t451 = t373 + t445;
             (
                 wrist_r_v_wx,
                 wrist_r_v_wy,
@@ -2425,15 +2410,15 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 wrist_r_v_vy,
                 wrist_r_v_wz,
                 wrist_r_a_wx,
-                wrist_r_a_wy,
+                t331,
                 wrist_r_a_vx,
                 wrist_r_a_vy,
-                t440,
-                t441,
-                t442,
-                t443,
-                t444,
-                t445,
+                t446,
+                t447,
+                t448,
+                t449,
+                t450,
+                t451,
             )
         };
         let (
@@ -2445,175 +2430,175 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t446 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
-            let t447 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
-            let t448 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
-            let t449 = t447 - t448;
-            let t450 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t451 = wrist_r_v_vx + t446;
-            let wrist_fe_v_vz = wrist_r_v_vy - t449;
-            let t452 = elbow_fe_v_vx - t450;
-            let t453 = c_wfe * wrist_r_v_wz;
-            let t454 = s_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wx = t453 + t454;
-            let t455 = s_wfe * wrist_r_v_wz;
-            let t456 = c_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wy = t456 - t455;
-            let t457 = c_wfe * t452;
-            let t458 = s_wfe * t451;
-            let wrist_fe_v_vx = t457 + t458;
-            let t459 = s_wfe * t452;
-            let t460 = c_wfe * t451;
-            let wrist_fe_v_vy = t460 - t459;
+            let t452 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t453 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t454 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
+            let t455 = t453 - t454;
+            let t456 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t457 = wrist_r_v_vx + t452;
+            let wrist_fe_v_vz = wrist_r_v_vy - t455;
+            let t458 = elbow_fe_v_vx - t456;
+            let t459 = c_wfe * wrist_r_v_wz;
+            let t460 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t459 + t460;
+            let t461 = s_wfe * wrist_r_v_wz;
+            let t462 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t462 - t461;
+            let t463 = c_wfe * t458;
+            let t464 = s_wfe * t457;
+            let wrist_fe_v_vx = t463 + t464;
+            let t465 = s_wfe * t458;
+            let t466 = c_wfe * t457;
+            let wrist_fe_v_vy = t466 - t465;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t461 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t462 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
-            let t463 = 0.02075f64 * elbow_fe_a_wx; // 2.0750e-2 = joint WFE origin x
-            let t464 = t462 - t463;
-            let t465 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t466 = wrist_r_a_vx - t461;
-            let wrist_fe_a_vz = wrist_r_a_vy - t464;
-            let t467 = elbow_fe_a_vx + t465;
-            let t468 = c_wfe * elbow_fe_a_wx;
-            let t469 = s_wfe * wrist_r_a_wx;
-            let t470 = t468 + t469;
-            let t471 = s_wfe * elbow_fe_a_wx;
-            let t472 = c_wfe * wrist_r_a_wx;
-            let t473 = t472 - t471;
-            let t474 = c_wfe * t467;
-            let t475 = s_wfe * t466;
+            let t467 = 0.184f64 * t331; // 1.8400e-1 = joint WFE origin z
+            let t468 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t469 = 0.02075f64 * elbow_fe_a_wx; // 2.0750e-2 = joint WFE origin x
+            let t470 = t468 - t469;
+            let t471 = 0.02075f64 * t331; // 2.0750e-2 = joint WFE origin x
+            let t472 = wrist_r_a_vx - t467;
+            let wrist_fe_a_vz = wrist_r_a_vy - t470;
+            let t473 = elbow_fe_a_vx + t471;
+            let t474 = c_wfe * elbow_fe_a_wx;
+            let t475 = s_wfe * wrist_r_a_wx;
             let t476 = t474 + t475;
-            let t477 = s_wfe * t467;
-            let t478 = c_wfe * t466;
+            let t477 = s_wfe * elbow_fe_a_wx;
+            let t478 = c_wfe * wrist_r_a_wx;
             let t479 = t478 - t477;
-            let t480 = wrist_fe_v_wy * qd_wfe;
-            let t481 = wrist_fe_v_wx * qd_wfe;
-            let t482 = wrist_fe_v_vy * qd_wfe;
-            let t483 = wrist_fe_v_vx * qd_wfe;
-            let wrist_fe_a_wx = t470 + t480;
-            let wrist_fe_a_wy = t473 - t481;
-            let wrist_fe_a_vx = t476 + t482;
-            let wrist_fe_a_vy = t479 - t483;
-            let t484 = wrist_fe_ixx * wrist_fe_a_wx;
-            let t485 = wrist_fe_ixy * wrist_fe_a_wy;
-            let t486 = t484 + t485;
-            let t487 = wrist_fe_ixz * wrist_r_a_wy;
-            let t488 = t486 - t487;
-            let t489 = wrist_fe_ixy * wrist_fe_a_wx;
-            let t490 = wrist_fe_iyy * wrist_fe_a_wy;
-            let t491 = t489 + t490;
-            let t492 = wrist_fe_iyz * wrist_r_a_wy;
-            let t493 = t491 - t492;
-            let t494 = wrist_fe_ixz * wrist_fe_a_wx;
-            let t495 = wrist_fe_iyz * wrist_fe_a_wy;
-            let t496 = t494 + t495;
-            let t497 = wrist_fe_izz * wrist_r_a_wy;
-            let t498 = t496 - t497;
-            let t499 = wrist_fe_hy * wrist_fe_a_vz;
-            let t500 = wrist_fe_hz * wrist_fe_a_vy;
-            let t501 = t499 - t500;
-            let t502 = wrist_fe_hz * wrist_fe_a_vx;
-            let t503 = wrist_fe_hx * wrist_fe_a_vz;
+            let t480 = c_wfe * t473;
+            let t481 = s_wfe * t472;
+            let t482 = t480 + t481;
+            let t483 = s_wfe * t473;
+            let t484 = c_wfe * t472;
+            let t485 = t484 - t483;
+            let t486 = wrist_fe_v_wy * qd_wfe;
+            let t487 = wrist_fe_v_wx * qd_wfe;
+            let t488 = wrist_fe_v_vy * qd_wfe;
+            let t489 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t476 + t486;
+            let wrist_fe_a_wy = t479 - t487;
+            let wrist_fe_a_vx = t482 + t488;
+            let wrist_fe_a_vy = t485 - t489;
+            let t490 = wrist_fe_ixx * wrist_fe_a_wx;
+            let t491 = wrist_fe_ixy * wrist_fe_a_wy;
+            let t492 = t490 + t491;
+            let t493 = wrist_fe_ixz * t331;
+            let t494 = t492 - t493;
+            let t495 = wrist_fe_ixy * wrist_fe_a_wx;
+            let t496 = wrist_fe_iyy * wrist_fe_a_wy;
+            let t497 = t495 + t496;
+            let t498 = wrist_fe_iyz * t331;
+            let t499 = t497 - t498;
+            let t500 = wrist_fe_ixz * wrist_fe_a_wx;
+            let t501 = wrist_fe_iyz * wrist_fe_a_wy;
+            let t502 = t500 + t501;
+            let t503 = wrist_fe_izz * t331;
             let t504 = t502 - t503;
-            let t505 = wrist_fe_hx * wrist_fe_a_vy;
-            let t506 = wrist_fe_hy * wrist_fe_a_vx;
+            let t505 = wrist_fe_hy * wrist_fe_a_vz;
+            let t506 = wrist_fe_hz * wrist_fe_a_vy;
             let t507 = t505 - t506;
-            let t508 = wrist_fe_a_vx * wrist_fe_m;
-            let t509 = wrist_fe_a_vy * wrist_fe_m;
-            let t510 = wrist_fe_a_vz * wrist_fe_m;
-            let t511 = wrist_fe_hy * wrist_r_a_wy;
-            let t512 = wrist_fe_hz * wrist_fe_a_wy;
-            let t513 = t511 + t512;
-            let t514 = wrist_fe_hz * wrist_fe_a_wx;
-            let t515 = wrist_fe_hx * wrist_r_a_wy;
-            let t516 = t514 + t515;
-            let t517 = wrist_fe_hx * wrist_fe_a_wy;
-            let t518 = wrist_fe_hy * wrist_fe_a_wx;
-            let t519 = t517 - t518;
-            let t520 = t488 + t501;
-            let t521 = t493 + t504;
-            let t522 = t498 + t507;
-            let t523 = t508 + t513;
-            let t524 = t509 - t516;
-            let t525 = t510 - t519;
-            let t526 = wrist_fe_ixx * wrist_fe_v_wx;
-            let t527 = wrist_fe_ixy * wrist_fe_v_wy;
-            let t528 = t526 + t527;
-            let t529 = wrist_fe_ixz * wrist_fe_v_wz;
-            let t530 = t528 + t529;
-            let t531 = wrist_fe_ixy * wrist_fe_v_wx;
-            let t532 = wrist_fe_iyy * wrist_fe_v_wy;
-            let t533 = t531 + t532;
-            let t534 = wrist_fe_iyz * wrist_fe_v_wz;
-            let t535 = t533 + t534;
-            let t536 = wrist_fe_ixz * wrist_fe_v_wx;
-            let t537 = wrist_fe_iyz * wrist_fe_v_wy;
-            let t538 = t536 + t537;
-            let t539 = wrist_fe_izz * wrist_fe_v_wz;
-            let t540 = t538 + t539;
-            let t541 = wrist_fe_hy * wrist_fe_v_vz;
-            let t542 = wrist_fe_hz * wrist_fe_v_vy;
-            let t543 = t541 - t542;
-            let t544 = wrist_fe_hz * wrist_fe_v_vx;
-            let t545 = wrist_fe_hx * wrist_fe_v_vz;
-            let t546 = t544 - t545;
-            let t547 = wrist_fe_hx * wrist_fe_v_vy;
-            let t548 = wrist_fe_hy * wrist_fe_v_vx;
+            let t508 = wrist_fe_hz * wrist_fe_a_vx;
+            let t509 = wrist_fe_hx * wrist_fe_a_vz;
+            let t510 = t508 - t509;
+            let t511 = wrist_fe_hx * wrist_fe_a_vy;
+            let t512 = wrist_fe_hy * wrist_fe_a_vx;
+            let t513 = t511 - t512;
+            let t514 = wrist_fe_a_vx * wrist_fe_m;
+            let t515 = wrist_fe_a_vy * wrist_fe_m;
+            let t516 = wrist_fe_a_vz * wrist_fe_m;
+            let t517 = wrist_fe_hy * t331;
+            let t518 = wrist_fe_hz * wrist_fe_a_wy;
+            let t519 = t517 + t518;
+            let t520 = wrist_fe_hz * wrist_fe_a_wx;
+            let t521 = wrist_fe_hx * t331;
+            let t522 = t520 + t521;
+            let t523 = wrist_fe_hx * wrist_fe_a_wy;
+            let t524 = wrist_fe_hy * wrist_fe_a_wx;
+            let t525 = t523 - t524;
+            let t526 = t494 + t507;
+            let t527 = t499 + t510;
+            let t528 = t504 + t513;
+            let t529 = t514 + t519;
+            let t530 = t515 - t522;
+            let t531 = t516 - t525;
+            let t532 = wrist_fe_ixx * wrist_fe_v_wx;
+            let t533 = wrist_fe_ixy * wrist_fe_v_wy;
+            let t534 = t532 + t533;
+            let t535 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t536 = t534 + t535;
+            let t537 = wrist_fe_ixy * wrist_fe_v_wx;
+            let t538 = wrist_fe_iyy * wrist_fe_v_wy;
+            let t539 = t537 + t538;
+            let t540 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t541 = t539 + t540;
+            let t542 = wrist_fe_ixz * wrist_fe_v_wx;
+            let t543 = wrist_fe_iyz * wrist_fe_v_wy;
+            let t544 = t542 + t543;
+            let t545 = wrist_fe_izz * wrist_fe_v_wz;
+            let t546 = t544 + t545;
+            let t547 = wrist_fe_hy * wrist_fe_v_vz;
+            let t548 = wrist_fe_hz * wrist_fe_v_vy;
             let t549 = t547 - t548;
-            let t550 = wrist_fe_v_vx * wrist_fe_m;
-            let t551 = wrist_fe_v_vy * wrist_fe_m;
-            let t552 = wrist_fe_v_vz * wrist_fe_m;
-            let t553 = wrist_fe_hy * wrist_fe_v_wz;
-            let t554 = wrist_fe_hz * wrist_fe_v_wy;
+            let t550 = wrist_fe_hz * wrist_fe_v_vx;
+            let t551 = wrist_fe_hx * wrist_fe_v_vz;
+            let t552 = t550 - t551;
+            let t553 = wrist_fe_hx * wrist_fe_v_vy;
+            let t554 = wrist_fe_hy * wrist_fe_v_vx;
             let t555 = t553 - t554;
-            let t556 = wrist_fe_hz * wrist_fe_v_wx;
-            let t557 = wrist_fe_hx * wrist_fe_v_wz;
-            let t558 = t556 - t557;
-            let t559 = wrist_fe_hx * wrist_fe_v_wy;
-            let t560 = wrist_fe_hy * wrist_fe_v_wx;
+            let t556 = wrist_fe_v_vx * wrist_fe_m;
+            let t557 = wrist_fe_v_vy * wrist_fe_m;
+            let t558 = wrist_fe_v_vz * wrist_fe_m;
+            let t559 = wrist_fe_hy * wrist_fe_v_wz;
+            let t560 = wrist_fe_hz * wrist_fe_v_wy;
             let t561 = t559 - t560;
-            let t562 = t530 + t543;
-            let t563 = t535 + t546;
-            let t564 = t540 + t549;
-            let t565 = t550 - t555;
-            let t566 = t551 - t558;
-            let t567 = t552 - t561;
-            let t568 = wrist_fe_v_wy * t564;
-            let t569 = wrist_fe_v_wz * t563;
-            let t570 = t568 - t569;
-            let t571 = wrist_fe_v_wz * t562;
-            let t572 = wrist_fe_v_wx * t564;
-            let t573 = t571 - t572;
-            let t574 = wrist_fe_v_wx * t563;
-            let t575 = wrist_fe_v_wy * t562;
+            let t562 = wrist_fe_hz * wrist_fe_v_wx;
+            let t563 = wrist_fe_hx * wrist_fe_v_wz;
+            let t564 = t562 - t563;
+            let t565 = wrist_fe_hx * wrist_fe_v_wy;
+            let t566 = wrist_fe_hy * wrist_fe_v_wx;
+            let t567 = t565 - t566;
+            let t568 = t536 + t549;
+            let t569 = t541 + t552;
+            let t570 = t546 + t555;
+            let t571 = t556 - t561;
+            let t572 = t557 - t564;
+            let t573 = t558 - t567;
+            let t574 = wrist_fe_v_wy * t570;
+            let t575 = wrist_fe_v_wz * t569;
             let t576 = t574 - t575;
-            let t577 = wrist_fe_v_vy * t567;
-            let t578 = wrist_fe_v_vz * t566;
+            let t577 = wrist_fe_v_wz * t568;
+            let t578 = wrist_fe_v_wx * t570;
             let t579 = t577 - t578;
-            let t580 = wrist_fe_v_vz * t565;
-            let t581 = wrist_fe_v_vx * t567;
+            let t580 = wrist_fe_v_wx * t569;
+            let t581 = wrist_fe_v_wy * t568;
             let t582 = t580 - t581;
-            let t583 = wrist_fe_v_vx * t566;
-            let t584 = wrist_fe_v_vy * t565;
+            let t583 = wrist_fe_v_vy * t573;
+            let t584 = wrist_fe_v_vz * t572;
             let t585 = t583 - t584;
-            let t586 = t570 + t579;
-            let t587 = t573 + t582;
-            let t588 = t576 + t585;
-            let t589 = wrist_fe_v_wy * t567;
-            let t590 = wrist_fe_v_wz * t566;
+            let t586 = wrist_fe_v_vz * t571;
+            let t587 = wrist_fe_v_vx * t573;
+            let t588 = t586 - t587;
+            let t589 = wrist_fe_v_vx * t572;
+            let t590 = wrist_fe_v_vy * t571;
             let t591 = t589 - t590;
-            let t592 = wrist_fe_v_wz * t565;
-            let t593 = wrist_fe_v_wx * t567;
-            let t594 = t592 - t593;
-            let t595 = wrist_fe_v_wx * t566;
-            let t596 = wrist_fe_v_wy * t565;
+            let t592 = t576 + t585;
+            let t593 = t579 + t588;
+            let t594 = t582 + t591;
+            let t595 = wrist_fe_v_wy * t573;
+            let t596 = wrist_fe_v_wz * t572;
             let t597 = t595 - t596;
-            let wrist_fe_f_nx = t520 + t586;
-            let wrist_fe_f_ny = t521 + t587;
-            let wrist_fe_f_nz = t522 + t588;
-            let wrist_fe_f_fx = t523 + t591;
-            let wrist_fe_f_fy = t524 + t594;
-            let wrist_fe_f_fz = t525 + t597;
+            let t598 = wrist_fe_v_wz * t571;
+            let t599 = wrist_fe_v_wx * t573;
+            let t600 = t598 - t599;
+            let t601 = wrist_fe_v_wx * t572;
+            let t602 = wrist_fe_v_wy * t571;
+            let t603 = t601 - t602;
+            let wrist_fe_f_nx = t526 + t592;
+            let wrist_fe_f_ny = t527 + t593;
+            let wrist_fe_f_nz = t528 + t594;
+            let wrist_fe_f_fx = t529 + t597;
+            let wrist_fe_f_fy = t530 + t600;
+            let wrist_fe_f_fz = t531 + t603;
             (
                 wrist_fe_f_nx,
                 wrist_fe_f_ny,
@@ -2632,32 +2617,32 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t598 = c_wfe * wrist_fe_f_fx;
-            let t599 = s_wfe * wrist_fe_f_fy;
-            let t600 = t598 - t599;
-            let t601 = s_wfe * wrist_fe_f_fx;
-            let t602 = c_wfe * wrist_fe_f_fy;
-            let t603 = t601 + t602;
-            let t604 = c_wfe * wrist_fe_f_nx;
-            let t605 = s_wfe * wrist_fe_f_ny;
+            let t604 = c_wfe * wrist_fe_f_fx;
+            let t605 = s_wfe * wrist_fe_f_fy;
             let t606 = t604 - t605;
-            let t607 = s_wfe * wrist_fe_f_nx;
-            let t608 = c_wfe * wrist_fe_f_ny;
+            let t607 = s_wfe * wrist_fe_f_fx;
+            let t608 = c_wfe * wrist_fe_f_fy;
             let t609 = t607 + t608;
-            let t610 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
-            let t611 = 0.184f64 * t603; // 1.8400e-1 = joint WFE origin z
-            let t612 = 0.02075f64 * t600; // 2.0750e-2 = joint WFE origin x
-            let t613 = t611 - t612;
-            let t614 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
-            let t615 = t609 - t610;
-            let t616 = wrist_fe_f_nz + t613;
-            let t617 = t606 + t614;
-            let wrist_r_f_nx = t440 + t615;
-            let wrist_r_f_ny = t441 + t616;
-            let wrist_r_f_nz = t442 + t617;
-            let wrist_r_f_fx = t443 + t603;
-            let wrist_r_f_fy = t444 + wrist_fe_f_fz;
-            let wrist_r_f_fz = t445 + t600;
+            let t610 = c_wfe * wrist_fe_f_nx;
+            let t611 = s_wfe * wrist_fe_f_ny;
+            let t612 = t610 - t611;
+            let t613 = s_wfe * wrist_fe_f_nx;
+            let t614 = c_wfe * wrist_fe_f_ny;
+            let t615 = t613 + t614;
+            let t616 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t617 = 0.184f64 * t609; // 1.8400e-1 = joint WFE origin z
+            let t618 = 0.02075f64 * t606; // 2.0750e-2 = joint WFE origin x
+            let t619 = t617 - t618;
+            let t620 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
+            let t621 = t615 - t616;
+            let t622 = wrist_fe_f_nz + t619;
+            let t623 = t612 + t620;
+            let wrist_r_f_nx = t446 + t621;
+            let wrist_r_f_ny = t447 + t622;
+            let wrist_r_f_nz = t448 + t623;
+            let wrist_r_f_fx = t449 + t609;
+            let wrist_r_f_fy = t450 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t451 + t606;
             (
                 wrist_r_f_nx,
                 wrist_r_f_ny,
@@ -2676,28 +2661,28 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_f_fz,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t618 = c_wr * wrist_r_f_fx;
-            let t619 = s_wr * wrist_r_f_fy;
-            let t620 = t618 - t619;
-            let t621 = s_wr * wrist_r_f_fx;
-            let t622 = c_wr * wrist_r_f_fy;
-            let t623 = t621 + t622;
-            let t624 = c_wr * wrist_r_f_nx;
-            let t625 = s_wr * wrist_r_f_ny;
+            let t624 = c_wr * wrist_r_f_fx;
+            let t625 = s_wr * wrist_r_f_fy;
             let t626 = t624 - t625;
-            let t627 = s_wr * wrist_r_f_nx;
-            let t628 = c_wr * wrist_r_f_ny;
+            let t627 = s_wr * wrist_r_f_fx;
+            let t628 = c_wr * wrist_r_f_fy;
             let t629 = t627 + t628;
-            let t630 = 0.112f64 * t620; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t631 = 0.112f64 * t623; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t632 = t629 + t630;
-            let t633 = t631 - t626;
-            let elbow_fe_f_nx = t288 + wrist_r_f_nz;
-            let elbow_fe_f_ny = t289 + t632;
-            let elbow_fe_f_nz = t290 + t633;
-            let elbow_fe_f_fx = t291 + wrist_r_f_fz;
-            let elbow_fe_f_fy = t292 + t623;
-            let elbow_fe_f_fz = t293 - t620;
+            let t630 = c_wr * wrist_r_f_nx;
+            let t631 = s_wr * wrist_r_f_ny;
+            let t632 = t630 - t631;
+            let t633 = s_wr * wrist_r_f_nx;
+            let t634 = c_wr * wrist_r_f_ny;
+            let t635 = t633 + t634;
+            let t636 = 0.112f64 * t626; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t637 = 0.112f64 * t629; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t638 = t635 + t636;
+            let t639 = t637 - t632;
+            let elbow_fe_f_nx = t293 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t294 + t638;
+            let elbow_fe_f_nz = t295 + t639;
+            let elbow_fe_f_fx = t296 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t297 + t629;
+            let elbow_fe_f_fz = t298 - t626;
             (
                 elbow_fe_f_nx,
                 elbow_fe_f_ny,
@@ -2715,24 +2700,24 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_f_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t634 = s_efe * elbow_fe_f_fx;
-            let t635 = c_efe * elbow_fe_f_fy;
-            let t636 = t634 + t635;
-            let t637 = c_efe * elbow_fe_f_nx;
-            let t638 = s_efe * elbow_fe_f_ny;
-            let t639 = t637 - t638;
-            let t640 = s_efe * elbow_fe_f_nx;
-            let t641 = c_efe * elbow_fe_f_ny;
+            let t640 = s_efe * elbow_fe_f_fx;
+            let t641 = c_efe * elbow_fe_f_fy;
             let t642 = t640 + t641;
-            let t643 = 0.304f64 * t636; // 3.0400e-1 = joint EFE origin z
-            let t644 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
-            let t645 = elbow_fe_f_nz + t643;
-            let t646 = t642 - t644;
-            let humerus_r_f_nx = t147 - t645;
-            let humerus_r_f_ny = t148 + t646;
-            let humerus_r_f_nz = t149 + t639;
-            let humerus_r_f_fx = t150 - elbow_fe_f_fz;
-            let humerus_r_f_fy = t151 + t636;
+            let t643 = c_efe * elbow_fe_f_nx;
+            let t644 = s_efe * elbow_fe_f_ny;
+            let t645 = t643 - t644;
+            let t646 = s_efe * elbow_fe_f_nx;
+            let t647 = c_efe * elbow_fe_f_ny;
+            let t648 = t646 + t647;
+            let t649 = 0.304f64 * t642; // 3.0400e-1 = joint EFE origin z
+            let t650 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
+            let t651 = elbow_fe_f_nz + t649;
+            let t652 = t648 - t650;
+            let humerus_r_f_nx = t149 - t651;
+            let humerus_r_f_ny = t150 + t652;
+            let humerus_r_f_nz = t151 + t645;
+            let humerus_r_f_fx = t152 - elbow_fe_f_fz;
+            let humerus_r_f_fy = t153 + t642;
             (
                 humerus_r_f_nx,
                 humerus_r_f_ny,
@@ -2743,32 +2728,32 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t647 = c_hr * humerus_r_f_fx;
-            let t648 = s_hr * humerus_r_f_fy;
-            let t649 = t647 - t648;
-            let t650 = s_hr * humerus_r_f_fx;
-            let t651 = c_hr * humerus_r_f_fy;
-            let t652 = t650 + t651;
-            let t653 = c_hr * humerus_r_f_nx;
-            let t654 = s_hr * humerus_r_f_ny;
+            let t653 = c_hr * humerus_r_f_fx;
+            let t654 = s_hr * humerus_r_f_fy;
             let t655 = t653 - t654;
-            let t656 = s_hr * humerus_r_f_nx;
-            let t657 = c_hr * humerus_r_f_ny;
+            let t656 = s_hr * humerus_r_f_fx;
+            let t657 = c_hr * humerus_r_f_fy;
             let t658 = t656 + t657;
-            let t659 = 0.112f64 * t649; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t660 = 0.112f64 * t652; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t661 = t658 + t659;
-            let t662 = t660 - t655;
-            let shoulder_fe_f_nx = t33 + humerus_r_f_nz;
-            let shoulder_fe_f_ny = t34 + t661;
-            let shoulder_fe_f_nz = t35 + t662;
+            let t659 = c_hr * humerus_r_f_nx;
+            let t660 = s_hr * humerus_r_f_ny;
+            let t661 = t659 - t660;
+            let t662 = s_hr * humerus_r_f_nx;
+            let t663 = c_hr * humerus_r_f_ny;
+            let t664 = t662 + t663;
+            let t665 = 0.112f64 * t655; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t666 = 0.112f64 * t658; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t667 = t664 + t665;
+            let t668 = t666 - t661;
+            let shoulder_fe_f_nx = t34 + humerus_r_f_nz;
+            let shoulder_fe_f_ny = t35 + t667;
+            let shoulder_fe_f_nz = t36 + t668;
             (shoulder_fe_f_nx, shoulder_fe_f_ny, shoulder_fe_f_nz)
         };
         let shoulder_aa_f_nz = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t663 = s_sfe * shoulder_fe_f_nx;
-            let t664 = c_sfe * shoulder_fe_f_ny;
-            let shoulder_aa_f_nz = t663 + t664;
+            let t669 = s_sfe * shoulder_fe_f_nx;
+            let t670 = c_sfe * shoulder_fe_f_ny;
+            let shoulder_aa_f_nz = t669 + t670;
             shoulder_aa_f_nz
         };
         ::hya_core::JointVector::<
@@ -3068,88 +3053,88 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            elbow_fe_v_vz,
+            t55,
             elbow_fe_v_wx,
             elbow_fe_v_wy,
             elbow_fe_v_vx,
             elbow_fe_v_vy,
             elbow_fe_v_wz,
-            t96,
             t97,
             t98,
             t99,
             t100,
             t101,
+            t102,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
             let t53 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
             let t54 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_v_vz = humerus_r_v_vx + t53;
-            let t55 = humerus_r_v_vy - t54;
-            let t56 = c_efe * humerus_r_v_wz;
-            let t57 = s_efe * humerus_r_v_wy;
-            let elbow_fe_v_wx = t56 + t57;
-            let t58 = s_efe * humerus_r_v_wz;
-            let t59 = c_efe * humerus_r_v_wy;
-            let elbow_fe_v_wy = t59 - t58;
-            let elbow_fe_v_vx = s_efe * t55;
-            let elbow_fe_v_vy = c_efe * t55;
+            let t55 = humerus_r_v_vx + t53;
+            let t56 = humerus_r_v_vy - t54;
+            let t57 = c_efe * humerus_r_v_wz;
+            let t58 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t57 + t58;
+            let t59 = s_efe * humerus_r_v_wz;
+            let t60 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t60 - t59;
+            let elbow_fe_v_vx = s_efe * t56;
+            let elbow_fe_v_vy = c_efe * t56;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t60 = elbow_fe_ixx * elbow_fe_v_wx;
-            let t61 = elbow_fe_ixy * elbow_fe_v_wy;
-            let t62 = t60 + t61;
-            let t63 = elbow_fe_ixz * elbow_fe_v_wz;
-            let t64 = t62 + t63;
-            let t65 = elbow_fe_ixy * elbow_fe_v_wx;
-            let t66 = elbow_fe_iyy * elbow_fe_v_wy;
-            let t67 = t65 + t66;
-            let t68 = elbow_fe_iyz * elbow_fe_v_wz;
-            let t69 = t67 + t68;
-            let t70 = elbow_fe_ixz * elbow_fe_v_wx;
-            let t71 = elbow_fe_iyz * elbow_fe_v_wy;
-            let t72 = t70 + t71;
-            let t73 = elbow_fe_izz * elbow_fe_v_wz;
-            let t74 = t72 + t73;
-            let t75 = elbow_fe_hy * elbow_fe_v_vz;
-            let t76 = elbow_fe_hz * elbow_fe_v_vy;
-            let t77 = t75 + t76;
-            let t78 = elbow_fe_hz * elbow_fe_v_vx;
-            let t79 = elbow_fe_hx * elbow_fe_v_vz;
-            let t80 = t78 + t79;
-            let t81 = elbow_fe_hx * elbow_fe_v_vy;
-            let t82 = elbow_fe_hy * elbow_fe_v_vx;
-            let t83 = t81 - t82;
-            let t84 = elbow_fe_v_vx * elbow_fe_m;
-            let t85 = elbow_fe_v_vy * elbow_fe_m;
-            let t86 = elbow_fe_v_vz * elbow_fe_m;
-            let t87 = elbow_fe_hy * elbow_fe_v_wz;
-            let t88 = elbow_fe_hz * elbow_fe_v_wy;
-            let t89 = t87 - t88;
-            let t90 = elbow_fe_hz * elbow_fe_v_wx;
-            let t91 = elbow_fe_hx * elbow_fe_v_wz;
-            let t92 = t90 - t91;
-            let t93 = elbow_fe_hx * elbow_fe_v_wy;
-            let t94 = elbow_fe_hy * elbow_fe_v_wx;
-            let t95 = t93 - t94;
-            let t96 = t64 - t77;
-            let t97 = t69 + t80;
-            let t98 = t74 + t83;
-            let t99 = t84 - t89;
-            let t100 = t85 - t92;
-            let t101 = t86 + t95;
+            let t61 = elbow_fe_ixx * elbow_fe_v_wx;
+            let t62 = elbow_fe_ixy * elbow_fe_v_wy;
+            let t63 = t61 + t62;
+            let t64 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t65 = t63 + t64;
+            let t66 = elbow_fe_ixy * elbow_fe_v_wx;
+            let t67 = elbow_fe_iyy * elbow_fe_v_wy;
+            let t68 = t66 + t67;
+            let t69 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t70 = t68 + t69;
+            let t71 = elbow_fe_ixz * elbow_fe_v_wx;
+            let t72 = elbow_fe_iyz * elbow_fe_v_wy;
+            let t73 = t71 + t72;
+            let t74 = elbow_fe_izz * elbow_fe_v_wz;
+            let t75 = t73 + t74;
+            let t76 = elbow_fe_hy * t55;
+            let t77 = elbow_fe_hz * elbow_fe_v_vy;
+            let t78 = t76 + t77;
+            let t79 = elbow_fe_hz * elbow_fe_v_vx;
+            let t80 = elbow_fe_hx * t55;
+            let t81 = t79 + t80;
+            let t82 = elbow_fe_hx * elbow_fe_v_vy;
+            let t83 = elbow_fe_hy * elbow_fe_v_vx;
+            let t84 = t82 - t83;
+            let t85 = elbow_fe_v_vx * elbow_fe_m;
+            let t86 = elbow_fe_v_vy * elbow_fe_m;
+            let t87 = t55 * elbow_fe_m;
+            let t88 = elbow_fe_hy * elbow_fe_v_wz;
+            let t89 = elbow_fe_hz * elbow_fe_v_wy;
+            let t90 = t88 - t89;
+            let t91 = elbow_fe_hz * elbow_fe_v_wx;
+            let t92 = elbow_fe_hx * elbow_fe_v_wz;
+            let t93 = t91 - t92;
+            let t94 = elbow_fe_hx * elbow_fe_v_wy;
+            let t95 = elbow_fe_hy * elbow_fe_v_wx;
+            let t96 = t94 - t95;
+            let t97 = t65 - t78;
+            let t98 = t70 + t81;
+            let t99 = t75 + t84;
+            let t100 = t85 - t90;
+            let t101 = t86 - t93;
+            let t102 = t87 + t96;
             (
-                elbow_fe_v_vz,
+                t55,
                 elbow_fe_v_wx,
                 elbow_fe_v_wy,
                 elbow_fe_v_vx,
                 elbow_fe_v_vy,
                 elbow_fe_v_wz,
-                t96,
                 t97,
                 t98,
                 t99,
                 t100,
                 t101,
+                t102,
             )
         };
         let (
@@ -3158,85 +3143,85 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_v_vx,
             wrist_r_v_vy,
             wrist_r_v_wz,
-            t150,
             t151,
             t152,
             t153,
             t154,
             t155,
+            t156,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t102 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t103 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t104 = elbow_fe_v_vy + t102;
-            let t105 = elbow_fe_v_vz + t103;
-            let t106 = c_wr * elbow_fe_v_wz;
-            let t107 = s_wr * elbow_fe_v_wy;
-            let wrist_r_v_wx = t107 - t106;
-            let t108 = s_wr * elbow_fe_v_wz;
-            let t109 = c_wr * elbow_fe_v_wy;
-            let wrist_r_v_wy = t108 + t109;
-            let t110 = c_wr * t105;
-            let t111 = s_wr * t104;
-            let wrist_r_v_vx = t110 + t111;
+            let t103 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t104 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t105 = elbow_fe_v_vy + t103;
+            let t106 = t55 + t104;
+            let t107 = c_wr * elbow_fe_v_wz;
+            let t108 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t108 - t107;
+            let t109 = s_wr * elbow_fe_v_wz;
+            let t110 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t109 + t110;
+            let t111 = c_wr * t106;
             let t112 = s_wr * t105;
-            let t113 = c_wr * t104;
-            let wrist_r_v_vy = t113 - t112;
+            let wrist_r_v_vx = t111 + t112;
+            let t113 = s_wr * t106;
+            let t114 = c_wr * t105;
+            let wrist_r_v_vy = t114 - t113;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t114 = wrist_r_ixx * wrist_r_v_wx;
-            let t115 = wrist_r_ixy * wrist_r_v_wy;
-            let t116 = t114 + t115;
-            let t117 = wrist_r_ixz * wrist_r_v_wz;
-            let t118 = t116 + t117;
-            let t119 = wrist_r_ixy * wrist_r_v_wx;
-            let t120 = wrist_r_iyy * wrist_r_v_wy;
-            let t121 = t119 + t120;
-            let t122 = wrist_r_iyz * wrist_r_v_wz;
-            let t123 = t121 + t122;
-            let t124 = wrist_r_ixz * wrist_r_v_wx;
-            let t125 = wrist_r_iyz * wrist_r_v_wy;
-            let t126 = t124 + t125;
-            let t127 = wrist_r_izz * wrist_r_v_wz;
-            let t128 = t126 + t127;
-            let t129 = wrist_r_hy * elbow_fe_v_vx;
-            let t130 = wrist_r_hz * wrist_r_v_vy;
-            let t131 = t129 - t130;
-            let t132 = wrist_r_hz * wrist_r_v_vx;
-            let t133 = wrist_r_hx * elbow_fe_v_vx;
-            let t134 = t132 - t133;
-            let t135 = wrist_r_hx * wrist_r_v_vy;
-            let t136 = wrist_r_hy * wrist_r_v_vx;
-            let t137 = t135 - t136;
-            let t138 = wrist_r_v_vx * wrist_r_m;
-            let t139 = wrist_r_v_vy * wrist_r_m;
-            let t140 = elbow_fe_v_vx * wrist_r_m;
-            let t141 = wrist_r_hy * wrist_r_v_wz;
-            let t142 = wrist_r_hz * wrist_r_v_wy;
-            let t143 = t141 - t142;
-            let t144 = wrist_r_hz * wrist_r_v_wx;
-            let t145 = wrist_r_hx * wrist_r_v_wz;
-            let t146 = t144 - t145;
-            let t147 = wrist_r_hx * wrist_r_v_wy;
-            let t148 = wrist_r_hy * wrist_r_v_wx;
-            let t149 = t147 - t148;
-            let t150 = t118 + t131;
-            let t151 = t123 + t134;
-            let t152 = t128 + t137;
-            let t153 = t138 - t143;
-            let t154 = t139 - t146;
-            let t155 = t140 - t149;
+            let t115 = wrist_r_ixx * wrist_r_v_wx;
+            let t116 = wrist_r_ixy * wrist_r_v_wy;
+            let t117 = t115 + t116;
+            let t118 = wrist_r_ixz * wrist_r_v_wz;
+            let t119 = t117 + t118;
+            let t120 = wrist_r_ixy * wrist_r_v_wx;
+            let t121 = wrist_r_iyy * wrist_r_v_wy;
+            let t122 = t120 + t121;
+            let t123 = wrist_r_iyz * wrist_r_v_wz;
+            let t124 = t122 + t123;
+            let t125 = wrist_r_ixz * wrist_r_v_wx;
+            let t126 = wrist_r_iyz * wrist_r_v_wy;
+            let t127 = t125 + t126;
+            let t128 = wrist_r_izz * wrist_r_v_wz;
+            let t129 = t127 + t128;
+            let t130 = wrist_r_hy * elbow_fe_v_vx;
+            let t131 = wrist_r_hz * wrist_r_v_vy;
+            let t132 = t130 - t131;
+            let t133 = wrist_r_hz * wrist_r_v_vx;
+            let t134 = wrist_r_hx * elbow_fe_v_vx;
+            let t135 = t133 - t134;
+            let t136 = wrist_r_hx * wrist_r_v_vy;
+            let t137 = wrist_r_hy * wrist_r_v_vx;
+            let t138 = t136 - t137;
+            let t139 = wrist_r_v_vx * wrist_r_m;
+            let t140 = wrist_r_v_vy * wrist_r_m;
+            let t141 = elbow_fe_v_vx * wrist_r_m;
+            let t142 = wrist_r_hy * wrist_r_v_wz;
+            let t143 = wrist_r_hz * wrist_r_v_wy;
+            let t144 = t142 - t143;
+            let t145 = wrist_r_hz * wrist_r_v_wx;
+            let t146 = wrist_r_hx * wrist_r_v_wz;
+            let t147 = t145 - t146;
+            let t148 = wrist_r_hx * wrist_r_v_wy;
+            let t149 = wrist_r_hy * wrist_r_v_wx;
+            let t150 = t148 - t149;
+            let t151 = t119 + t132;
+            let t152 = t124 + t135;
+            let t153 = t129 + t138;
+            let t154 = t139 - t144;
+            let t155 = t140 - t147;
+            let t156 = t141 - t150;
             (
                 wrist_r_v_wx,
                 wrist_r_v_wy,
                 wrist_r_v_vx,
                 wrist_r_v_vy,
                 wrist_r_v_wz,
-                t150,
                 t151,
                 t152,
                 t153,
                 t154,
                 t155,
+                t156,
             )
         };
         let (
@@ -3252,69 +3237,69 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t156 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
-            let t157 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
-            let t158 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
-            let t159 = t157 - t158;
-            let t160 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t161 = wrist_r_v_vx + t156;
-            let wrist_fe_v_vz = wrist_r_v_vy - t159;
-            let t162 = elbow_fe_v_vx - t160;
-            let t163 = c_wfe * wrist_r_v_wz;
-            let t164 = s_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wx = t163 + t164;
-            let t165 = s_wfe * wrist_r_v_wz;
-            let t166 = c_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wy = t166 - t165;
-            let t167 = c_wfe * t162;
-            let t168 = s_wfe * t161;
-            let wrist_fe_v_vx = t167 + t168;
+            let t157 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t158 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t159 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
+            let t160 = t158 - t159;
+            let t161 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t162 = wrist_r_v_vx + t157;
+            let wrist_fe_v_vz = wrist_r_v_vy - t160;
+            let t163 = elbow_fe_v_vx - t161;
+            let t164 = c_wfe * wrist_r_v_wz;
+            let t165 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t164 + t165;
+            let t166 = s_wfe * wrist_r_v_wz;
+            let t167 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t167 - t166;
+            let t168 = c_wfe * t163;
             let t169 = s_wfe * t162;
-            let t170 = c_wfe * t161;
-            let wrist_fe_v_vy = t170 - t169;
+            let wrist_fe_v_vx = t168 + t169;
+            let t170 = s_wfe * t163;
+            let t171 = c_wfe * t162;
+            let wrist_fe_v_vy = t171 - t170;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t171 = wrist_fe_ixx * wrist_fe_v_wx;
-            let t172 = wrist_fe_ixy * wrist_fe_v_wy;
-            let t173 = t171 + t172;
-            let t174 = wrist_fe_ixz * wrist_fe_v_wz;
-            let t175 = t173 + t174;
-            let t176 = wrist_fe_ixy * wrist_fe_v_wx;
-            let t177 = wrist_fe_iyy * wrist_fe_v_wy;
-            let t178 = t176 + t177;
-            let t179 = wrist_fe_iyz * wrist_fe_v_wz;
-            let t180 = t178 + t179;
-            let t181 = wrist_fe_ixz * wrist_fe_v_wx;
-            let t182 = wrist_fe_iyz * wrist_fe_v_wy;
-            let t183 = t181 + t182;
-            let t184 = wrist_fe_izz * wrist_fe_v_wz;
-            let t185 = t183 + t184;
-            let t186 = wrist_fe_hy * wrist_fe_v_vz;
-            let t187 = wrist_fe_hz * wrist_fe_v_vy;
-            let t188 = t186 - t187;
-            let t189 = wrist_fe_hz * wrist_fe_v_vx;
-            let t190 = wrist_fe_hx * wrist_fe_v_vz;
-            let t191 = t189 - t190;
-            let t192 = wrist_fe_hx * wrist_fe_v_vy;
-            let t193 = wrist_fe_hy * wrist_fe_v_vx;
-            let t194 = t192 - t193;
-            let t195 = wrist_fe_v_vx * wrist_fe_m;
-            let t196 = wrist_fe_v_vy * wrist_fe_m;
-            let t197 = wrist_fe_v_vz * wrist_fe_m;
-            let t198 = wrist_fe_hy * wrist_fe_v_wz;
-            let t199 = wrist_fe_hz * wrist_fe_v_wy;
-            let t200 = t198 - t199;
-            let t201 = wrist_fe_hz * wrist_fe_v_wx;
-            let t202 = wrist_fe_hx * wrist_fe_v_wz;
-            let t203 = t201 - t202;
-            let t204 = wrist_fe_hx * wrist_fe_v_wy;
-            let t205 = wrist_fe_hy * wrist_fe_v_wx;
-            let t206 = t204 - t205;
-            let wrist_fe_f_nx = t175 + t188;
-            let wrist_fe_f_ny = t180 + t191;
-            let wrist_fe_f_nz = t185 + t194;
-            let wrist_fe_f_fx = t195 - t200;
-            let wrist_fe_f_fy = t196 - t203;
-            let wrist_fe_f_fz = t197 - t206;
+            let t172 = wrist_fe_ixx * wrist_fe_v_wx;
+            let t173 = wrist_fe_ixy * wrist_fe_v_wy;
+            let t174 = t172 + t173;
+            let t175 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t176 = t174 + t175;
+            let t177 = wrist_fe_ixy * wrist_fe_v_wx;
+            let t178 = wrist_fe_iyy * wrist_fe_v_wy;
+            let t179 = t177 + t178;
+            let t180 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t181 = t179 + t180;
+            let t182 = wrist_fe_ixz * wrist_fe_v_wx;
+            let t183 = wrist_fe_iyz * wrist_fe_v_wy;
+            let t184 = t182 + t183;
+            let t185 = wrist_fe_izz * wrist_fe_v_wz;
+            let t186 = t184 + t185;
+            let t187 = wrist_fe_hy * wrist_fe_v_vz;
+            let t188 = wrist_fe_hz * wrist_fe_v_vy;
+            let t189 = t187 - t188;
+            let t190 = wrist_fe_hz * wrist_fe_v_vx;
+            let t191 = wrist_fe_hx * wrist_fe_v_vz;
+            let t192 = t190 - t191;
+            let t193 = wrist_fe_hx * wrist_fe_v_vy;
+            let t194 = wrist_fe_hy * wrist_fe_v_vx;
+            let t195 = t193 - t194;
+            let t196 = wrist_fe_v_vx * wrist_fe_m;
+            let t197 = wrist_fe_v_vy * wrist_fe_m;
+            let t198 = wrist_fe_v_vz * wrist_fe_m;
+            let t199 = wrist_fe_hy * wrist_fe_v_wz;
+            let t200 = wrist_fe_hz * wrist_fe_v_wy;
+            let t201 = t199 - t200;
+            let t202 = wrist_fe_hz * wrist_fe_v_wx;
+            let t203 = wrist_fe_hx * wrist_fe_v_wz;
+            let t204 = t202 - t203;
+            let t205 = wrist_fe_hx * wrist_fe_v_wy;
+            let t206 = wrist_fe_hy * wrist_fe_v_wx;
+            let t207 = t205 - t206;
+            let wrist_fe_f_nx = t176 + t189;
+            let wrist_fe_f_ny = t181 + t192;
+            let wrist_fe_f_nz = t186 + t195;
+            let wrist_fe_f_fx = t196 - t201;
+            let wrist_fe_f_fy = t197 - t204;
+            let wrist_fe_f_fz = t198 - t207;
             (
                 wrist_fe_v_wx,
                 wrist_fe_v_wy,
@@ -3338,39 +3323,39 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t207 = wrist_fe_v_wy * wrist_fe_f_nx;
-            let t208 = wrist_fe_v_wx * wrist_fe_f_ny;
-            let t209 = t207 - t208;
-            let t210 = wrist_fe_v_vy * wrist_fe_f_fx;
-            let t211 = wrist_fe_v_vx * wrist_fe_f_fy;
-            let t212 = t210 - t211;
-            let ct_wfe = t209 + t212;
-            let t213 = c_wfe * wrist_fe_f_fx;
-            let t214 = s_wfe * wrist_fe_f_fy;
-            let t215 = t213 - t214;
-            let t216 = s_wfe * wrist_fe_f_fx;
-            let t217 = c_wfe * wrist_fe_f_fy;
-            let t218 = t216 + t217;
-            let t219 = c_wfe * wrist_fe_f_nx;
-            let t220 = s_wfe * wrist_fe_f_ny;
-            let t221 = t219 - t220;
-            let t222 = s_wfe * wrist_fe_f_nx;
-            let t223 = c_wfe * wrist_fe_f_ny;
-            let t224 = t222 + t223;
-            let t225 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
-            let t226 = 0.184f64 * t218; // 1.8400e-1 = joint WFE origin z
-            let t227 = 0.02075f64 * t215; // 2.0750e-2 = joint WFE origin x
-            let t228 = t226 - t227;
-            let t229 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
-            let t230 = t224 - t225;
-            let t231 = wrist_fe_f_nz + t228;
-            let t232 = t221 + t229;
-            let wrist_r_f_nx = t150 + t230;
-            let wrist_r_f_ny = t151 + t231;
-            let wrist_r_f_nz = t152 + t232;
-            let wrist_r_f_fx = t153 + t218;
-            let wrist_r_f_fy = t154 + wrist_fe_f_fz;
-            let wrist_r_f_fz = t155 + t215;
+            let t208 = wrist_fe_v_wy * wrist_fe_f_nx;
+            let t209 = wrist_fe_v_wx * wrist_fe_f_ny;
+            let t210 = t208 - t209;
+            let t211 = wrist_fe_v_vy * wrist_fe_f_fx;
+            let t212 = wrist_fe_v_vx * wrist_fe_f_fy;
+            let t213 = t211 - t212;
+            let ct_wfe = t210 + t213;
+            let t214 = c_wfe * wrist_fe_f_fx;
+            let t215 = s_wfe * wrist_fe_f_fy;
+            let t216 = t214 - t215;
+            let t217 = s_wfe * wrist_fe_f_fx;
+            let t218 = c_wfe * wrist_fe_f_fy;
+            let t219 = t217 + t218;
+            let t220 = c_wfe * wrist_fe_f_nx;
+            let t221 = s_wfe * wrist_fe_f_ny;
+            let t222 = t220 - t221;
+            let t223 = s_wfe * wrist_fe_f_nx;
+            let t224 = c_wfe * wrist_fe_f_ny;
+            let t225 = t223 + t224;
+            let t226 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t227 = 0.184f64 * t219; // 1.8400e-1 = joint WFE origin z
+            let t228 = 0.02075f64 * t216; // 2.0750e-2 = joint WFE origin x
+            let t229 = t227 - t228;
+            let t230 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
+            let t231 = t225 - t226;
+            let t232 = wrist_fe_f_nz + t229;
+            let t233 = t222 + t230;
+            let wrist_r_f_nx = t151 + t231;
+            let wrist_r_f_ny = t152 + t232;
+            let wrist_r_f_nz = t153 + t233;
+            let wrist_r_f_fx = t154 + t219;
+            let wrist_r_f_fy = t155 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t156 + t216;
             (
                 ct_wfe,
                 wrist_r_f_nx,
@@ -3388,38 +3373,38 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_f_nz,
             elbow_fe_f_fx,
             elbow_fe_f_fy,
-            elbow_fe_f_fz,
+            t256,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t233 = wrist_r_v_wy * wrist_r_f_nx;
-            let t234 = wrist_r_v_wx * wrist_r_f_ny;
-            let t235 = t233 - t234;
-            let t236 = wrist_r_v_vy * wrist_r_f_fx;
-            let t237 = wrist_r_v_vx * wrist_r_f_fy;
-            let t238 = t236 - t237;
-            let ct_wr = t235 + t238;
-            let t239 = c_wr * wrist_r_f_fx;
-            let t240 = s_wr * wrist_r_f_fy;
-            let t241 = t239 - t240;
-            let t242 = s_wr * wrist_r_f_fx;
-            let t243 = c_wr * wrist_r_f_fy;
-            let t244 = t242 + t243;
-            let t245 = c_wr * wrist_r_f_nx;
-            let t246 = s_wr * wrist_r_f_ny;
-            let t247 = t245 - t246;
-            let t248 = s_wr * wrist_r_f_nx;
-            let t249 = c_wr * wrist_r_f_ny;
-            let t250 = t248 + t249;
-            let t251 = 0.112f64 * t241; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t252 = 0.112f64 * t244; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t253 = t250 + t251;
-            let t254 = t252 - t247;
-            let elbow_fe_f_nx = t96 + wrist_r_f_nz;
-            let elbow_fe_f_ny = t97 + t253;
-            let elbow_fe_f_nz = t98 + t254;
-            let elbow_fe_f_fx = t99 + wrist_r_f_fz;
-            let elbow_fe_f_fy = t100 + t244;
-            let elbow_fe_f_fz = t101 + t241;
+            let t234 = wrist_r_v_wy * wrist_r_f_nx;
+            let t235 = wrist_r_v_wx * wrist_r_f_ny;
+            let t236 = t234 - t235;
+            let t237 = wrist_r_v_vy * wrist_r_f_fx;
+            let t238 = wrist_r_v_vx * wrist_r_f_fy;
+            let t239 = t237 - t238;
+            let ct_wr = t236 + t239;
+            let t240 = c_wr * wrist_r_f_fx;
+            let t241 = s_wr * wrist_r_f_fy;
+            let t242 = t240 - t241;
+            let t243 = s_wr * wrist_r_f_fx;
+            let t244 = c_wr * wrist_r_f_fy;
+            let t245 = t243 + t244;
+            let t246 = c_wr * wrist_r_f_nx;
+            let t247 = s_wr * wrist_r_f_ny;
+            let t248 = t246 - t247;
+            let t249 = s_wr * wrist_r_f_nx;
+            let t250 = c_wr * wrist_r_f_ny;
+            let t251 = t249 + t250;
+            let t252 = 0.112f64 * t242; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t253 = 0.112f64 * t245; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t254 = t251 + t252;
+            let t255 = t253 - t248;
+            let elbow_fe_f_nx = t97 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t98 + t254;
+            let elbow_fe_f_nz = t99 + t255;
+            let elbow_fe_f_fx = t100 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t101 + t245;
+            let t256 = t102 + t242;
             (
                 ct_wr,
                 elbow_fe_f_nx,
@@ -3427,7 +3412,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 elbow_fe_f_nz,
                 elbow_fe_f_fx,
                 elbow_fe_f_fy,
-                elbow_fe_f_fz,
+                t256,
             )
         };
         let (
@@ -3439,31 +3424,31 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_f_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t255 = elbow_fe_v_wy * elbow_fe_f_nx;
-            let t256 = elbow_fe_v_wx * elbow_fe_f_ny;
-            let t257 = t255 - t256;
-            let t258 = elbow_fe_v_vy * elbow_fe_f_fx;
-            let t259 = elbow_fe_v_vx * elbow_fe_f_fy;
-            let t260 = t258 - t259;
-            let ct_efe = t257 + t260;
-            let t261 = s_efe * elbow_fe_f_fx;
-            let t262 = c_efe * elbow_fe_f_fy;
-            let t263 = t261 + t262;
-            let t264 = c_efe * elbow_fe_f_nx;
-            let t265 = s_efe * elbow_fe_f_ny;
-            let t266 = t264 - t265;
-            let t267 = s_efe * elbow_fe_f_nx;
-            let t268 = c_efe * elbow_fe_f_ny;
-            let t269 = t267 + t268;
-            let t270 = 0.304f64 * t263; // 3.0400e-1 = joint EFE origin z
-            let t271 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
-            let t272 = elbow_fe_f_nz + t270;
-            let t273 = t269 + t271;
-            let humerus_r_f_nx = t48 - t272;
-            let humerus_r_f_ny = t49 + t273;
-            let humerus_r_f_nz = t50 + t266;
-            let humerus_r_f_fx = t51 + elbow_fe_f_fz;
-            let humerus_r_f_fy = t52 + t263;
+            let t257 = elbow_fe_v_wy * elbow_fe_f_nx;
+            let t258 = elbow_fe_v_wx * elbow_fe_f_ny;
+            let t259 = t257 - t258;
+            let t260 = elbow_fe_v_vy * elbow_fe_f_fx;
+            let t261 = elbow_fe_v_vx * elbow_fe_f_fy;
+            let t262 = t260 - t261;
+            let ct_efe = t259 + t262;
+            let t263 = s_efe * elbow_fe_f_fx;
+            let t264 = c_efe * elbow_fe_f_fy;
+            let t265 = t263 + t264;
+            let t266 = c_efe * elbow_fe_f_nx;
+            let t267 = s_efe * elbow_fe_f_ny;
+            let t268 = t266 - t267;
+            let t269 = s_efe * elbow_fe_f_nx;
+            let t270 = c_efe * elbow_fe_f_ny;
+            let t271 = t269 + t270;
+            let t272 = 0.304f64 * t265; // 3.0400e-1 = joint EFE origin z
+            let t273 = 0.304f64 * t256; // 3.0400e-1 = joint EFE origin z
+            let t274 = elbow_fe_f_nz + t272;
+            let t275 = t271 + t273;
+            let humerus_r_f_nx = t48 - t274;
+            let humerus_r_f_ny = t49 + t275;
+            let humerus_r_f_nz = t50 + t268;
+            let humerus_r_f_fx = t51 + t256;
+            let humerus_r_f_fy = t52 + t265;
             (
                 ct_efe,
                 humerus_r_f_nx,
@@ -3475,30 +3460,30 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (ct_hr, shoulder_fe_f_nx, shoulder_fe_f_ny) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t274 = humerus_r_v_wy * humerus_r_f_nx;
-            let t275 = humerus_r_v_wx * humerus_r_f_ny;
-            let t276 = t274 - t275;
-            let t277 = humerus_r_v_vy * humerus_r_f_fx;
-            let t278 = humerus_r_v_vx * humerus_r_f_fy;
-            let t279 = t277 - t278;
-            let ct_hr = t276 + t279;
-            let t280 = c_hr * humerus_r_f_fx;
-            let t281 = s_hr * humerus_r_f_fy;
-            let t282 = t280 - t281;
-            let t283 = s_hr * humerus_r_f_nx;
-            let t284 = c_hr * humerus_r_f_ny;
-            let t285 = t283 + t284;
-            let t286 = 0.112f64 * t282; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t276 = humerus_r_v_wy * humerus_r_f_nx;
+            let t277 = humerus_r_v_wx * humerus_r_f_ny;
+            let t278 = t276 - t277;
+            let t279 = humerus_r_v_vy * humerus_r_f_fx;
+            let t280 = humerus_r_v_vx * humerus_r_f_fy;
+            let t281 = t279 - t280;
+            let ct_hr = t278 + t281;
+            let t282 = c_hr * humerus_r_f_fx;
+            let t283 = s_hr * humerus_r_f_fy;
+            let t284 = t282 - t283;
+            let t285 = s_hr * humerus_r_f_nx;
+            let t286 = c_hr * humerus_r_f_ny;
             let t287 = t285 + t286;
+            let t288 = 0.112f64 * t284; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t289 = t287 + t288;
             let shoulder_fe_f_nx = t4 + humerus_r_f_nz;
-            let shoulder_fe_f_ny = t9 + t287;
+            let shoulder_fe_f_ny = t9 + t289;
             (ct_hr, shoulder_fe_f_nx, shoulder_fe_f_ny)
         };
         let ct_sfe = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t288 = shoulder_fe_v_wy * shoulder_fe_f_nx;
-            let t289 = shoulder_fe_v_wx * shoulder_fe_f_ny;
-            let ct_sfe = t288 - t289;
+            let t290 = shoulder_fe_v_wy * shoulder_fe_f_nx;
+            let t291 = shoulder_fe_v_wx * shoulder_fe_f_ny;
+            let ct_sfe = t290 - t291;
             ct_sfe
         };
         ::hya_core::JointVector::<6>::from([0f64, ct_sfe, ct_hr, ct_efe, ct_wr, ct_wfe])
@@ -4685,130 +4670,130 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            elbow_fe_v_vz,
+            t101,
             elbow_fe_v_wx,
             elbow_fe_v_wy,
             elbow_fe_v_vx,
             elbow_fe_v_vy,
             elbow_fe_v_wz,
-            t106,
             t107,
             t108,
             t109,
-            t170,
+            t110,
             t171,
             t172,
-            t175,
-            t178,
-            t181,
+            t173,
+            t176,
+            t179,
+            t182,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
             let t99 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
             let t100 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_v_vz = humerus_r_v_vx + t99;
-            let t101 = humerus_r_v_vy - t100;
-            let t102 = c_efe * humerus_r_v_wz;
-            let t103 = s_efe * humerus_r_v_wy;
-            let elbow_fe_v_wx = t102 + t103;
-            let t104 = s_efe * humerus_r_v_wz;
-            let t105 = c_efe * humerus_r_v_wy;
-            let elbow_fe_v_wy = t105 - t104;
-            let elbow_fe_v_vx = s_efe * t101;
-            let elbow_fe_v_vy = c_efe * t101;
+            let t101 = humerus_r_v_vx + t99;
+            let t102 = humerus_r_v_vy - t100;
+            let t103 = c_efe * humerus_r_v_wz;
+            let t104 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t103 + t104;
+            let t105 = s_efe * humerus_r_v_wz;
+            let t106 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t106 - t105;
+            let elbow_fe_v_vx = s_efe * t102;
+            let elbow_fe_v_vy = c_efe * t102;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t106 = elbow_fe_v_wy * qd_efe;
-            let t107 = elbow_fe_v_wx * qd_efe;
-            let t108 = elbow_fe_v_vy * qd_efe;
-            let t109 = elbow_fe_v_vx * qd_efe;
-            let t110 = elbow_fe_ixx * elbow_fe_v_wx;
-            let t111 = elbow_fe_ixy * elbow_fe_v_wy;
-            let t112 = t110 + t111;
-            let t113 = elbow_fe_ixz * elbow_fe_v_wz;
-            let t114 = t112 + t113;
-            let t115 = elbow_fe_ixy * elbow_fe_v_wx;
-            let t116 = elbow_fe_iyy * elbow_fe_v_wy;
-            let t117 = t115 + t116;
-            let t118 = elbow_fe_iyz * elbow_fe_v_wz;
-            let t119 = t117 + t118;
-            let t120 = elbow_fe_ixz * elbow_fe_v_wx;
-            let t121 = elbow_fe_iyz * elbow_fe_v_wy;
-            let t122 = t120 + t121;
-            let t123 = elbow_fe_izz * elbow_fe_v_wz;
-            let t124 = t122 + t123;
-            let t125 = elbow_fe_hy * elbow_fe_v_vz;
-            let t126 = elbow_fe_hz * elbow_fe_v_vy;
-            let t127 = t125 + t126;
-            let t128 = elbow_fe_hz * elbow_fe_v_vx;
-            let t129 = elbow_fe_hx * elbow_fe_v_vz;
-            let t130 = t128 + t129;
-            let t131 = elbow_fe_hx * elbow_fe_v_vy;
-            let t132 = elbow_fe_hy * elbow_fe_v_vx;
-            let t133 = t131 - t132;
-            let t134 = elbow_fe_v_vx * elbow_fe_m;
-            let t135 = elbow_fe_v_vy * elbow_fe_m;
-            let t136 = elbow_fe_v_vz * elbow_fe_m;
-            let t137 = elbow_fe_hy * elbow_fe_v_wz;
-            let t138 = elbow_fe_hz * elbow_fe_v_wy;
-            let t139 = t137 - t138;
-            let t140 = elbow_fe_hz * elbow_fe_v_wx;
-            let t141 = elbow_fe_hx * elbow_fe_v_wz;
-            let t142 = t140 - t141;
-            let t143 = elbow_fe_hx * elbow_fe_v_wy;
-            let t144 = elbow_fe_hy * elbow_fe_v_wx;
-            let t145 = t143 - t144;
-            let t146 = t114 - t127;
-            let t147 = t119 + t130;
-            let t148 = t124 + t133;
-            let t149 = t134 - t139;
-            let t150 = t135 - t142;
-            let t151 = t136 + t145;
-            let t152 = elbow_fe_v_wy * t148;
-            let t153 = elbow_fe_v_wz * t147;
-            let t154 = t152 - t153;
-            let t155 = elbow_fe_v_wz * t146;
-            let t156 = elbow_fe_v_wx * t148;
-            let t157 = t155 - t156;
-            let t158 = elbow_fe_v_wx * t147;
-            let t159 = elbow_fe_v_wy * t146;
-            let t160 = t158 - t159;
-            let t161 = elbow_fe_v_vy * t151;
-            let t162 = elbow_fe_v_vz * t150;
-            let t163 = t162 - t161;
-            let t164 = elbow_fe_v_vz * t149;
-            let t165 = elbow_fe_v_vx * t151;
-            let t166 = t165 - t164;
-            let t167 = elbow_fe_v_vx * t150;
-            let t168 = elbow_fe_v_vy * t149;
-            let t169 = t167 - t168;
-            let t170 = t154 + t163;
-            let t171 = t157 + t166;
-            let t172 = t160 + t169;
-            let t173 = elbow_fe_v_wy * t151;
-            let t174 = elbow_fe_v_wz * t150;
-            let t175 = t173 + t174;
-            let t176 = elbow_fe_v_wz * t149;
-            let t177 = elbow_fe_v_wx * t151;
-            let t178 = t176 + t177;
-            let t179 = elbow_fe_v_wx * t150;
-            let t180 = elbow_fe_v_wy * t149;
-            let t181 = t179 - t180;
+            let t107 = elbow_fe_v_wy * qd_efe;
+            let t108 = elbow_fe_v_wx * qd_efe;
+            let t109 = elbow_fe_v_vy * qd_efe;
+            let t110 = elbow_fe_v_vx * qd_efe;
+            let t111 = elbow_fe_ixx * elbow_fe_v_wx;
+            let t112 = elbow_fe_ixy * elbow_fe_v_wy;
+            let t113 = t111 + t112;
+            let t114 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t115 = t113 + t114;
+            let t116 = elbow_fe_ixy * elbow_fe_v_wx;
+            let t117 = elbow_fe_iyy * elbow_fe_v_wy;
+            let t118 = t116 + t117;
+            let t119 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t120 = t118 + t119;
+            let t121 = elbow_fe_ixz * elbow_fe_v_wx;
+            let t122 = elbow_fe_iyz * elbow_fe_v_wy;
+            let t123 = t121 + t122;
+            let t124 = elbow_fe_izz * elbow_fe_v_wz;
+            let t125 = t123 + t124;
+            let t126 = elbow_fe_hy * t101;
+            let t127 = elbow_fe_hz * elbow_fe_v_vy;
+            let t128 = t126 + t127;
+            let t129 = elbow_fe_hz * elbow_fe_v_vx;
+            let t130 = elbow_fe_hx * t101;
+            let t131 = t129 + t130;
+            let t132 = elbow_fe_hx * elbow_fe_v_vy;
+            let t133 = elbow_fe_hy * elbow_fe_v_vx;
+            let t134 = t132 - t133;
+            let t135 = elbow_fe_v_vx * elbow_fe_m;
+            let t136 = elbow_fe_v_vy * elbow_fe_m;
+            let t137 = t101 * elbow_fe_m;
+            let t138 = elbow_fe_hy * elbow_fe_v_wz;
+            let t139 = elbow_fe_hz * elbow_fe_v_wy;
+            let t140 = t138 - t139;
+            let t141 = elbow_fe_hz * elbow_fe_v_wx;
+            let t142 = elbow_fe_hx * elbow_fe_v_wz;
+            let t143 = t141 - t142;
+            let t144 = elbow_fe_hx * elbow_fe_v_wy;
+            let t145 = elbow_fe_hy * elbow_fe_v_wx;
+            let t146 = t144 - t145;
+            let t147 = t115 - t128;
+            let t148 = t120 + t131;
+            let t149 = t125 + t134;
+            let t150 = t135 - t140;
+            let t151 = t136 - t143;
+            let t152 = t137 + t146;
+            let t153 = elbow_fe_v_wy * t149;
+            let t154 = elbow_fe_v_wz * t148;
+            let t155 = t153 - t154;
+            let t156 = elbow_fe_v_wz * t147;
+            let t157 = elbow_fe_v_wx * t149;
+            let t158 = t156 - t157;
+            let t159 = elbow_fe_v_wx * t148;
+            let t160 = elbow_fe_v_wy * t147;
+            let t161 = t159 - t160;
+            let t162 = elbow_fe_v_vy * t152;
+            let t163 = t101 * t151;
+            let t164 = t163 - t162;
+            let t165 = t101 * t150;
+            let t166 = elbow_fe_v_vx * t152;
+            let t167 = t166 - t165;
+            let t168 = elbow_fe_v_vx * t151;
+            let t169 = elbow_fe_v_vy * t150;
+            let t170 = t168 - t169;
+            let t171 = t155 + t164;
+            let t172 = t158 + t167;
+            let t173 = t161 + t170;
+            let t174 = elbow_fe_v_wy * t152;
+            let t175 = elbow_fe_v_wz * t151;
+            let t176 = t174 + t175;
+            let t177 = elbow_fe_v_wz * t150;
+            let t178 = elbow_fe_v_wx * t152;
+            let t179 = t177 + t178;
+            let t180 = elbow_fe_v_wx * t151;
+            let t181 = elbow_fe_v_wy * t150;
+            let t182 = t180 - t181;
             (
-                elbow_fe_v_vz,
+                t101,
                 elbow_fe_v_wx,
                 elbow_fe_v_wy,
                 elbow_fe_v_vx,
                 elbow_fe_v_vy,
                 elbow_fe_v_wz,
-                t106,
                 t107,
                 t108,
                 t109,
-                t170,
+                t110,
                 t171,
                 t172,
-                t175,
-                t178,
-                t181,
+                t173,
+                t176,
+                t179,
+                t182,
             )
         };
         let (
@@ -4817,134 +4802,134 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_v_vx,
             wrist_r_v_vy,
             wrist_r_v_wz,
-            t194,
             t195,
             t196,
             t197,
-            t258,
+            t198,
             t259,
             t260,
-            t263,
-            t266,
-            t269,
+            t261,
+            t264,
+            t267,
+            t270,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t182 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t183 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t184 = elbow_fe_v_vy + t182;
-            let t185 = elbow_fe_v_vz + t183;
-            let t186 = c_wr * elbow_fe_v_wz;
-            let t187 = s_wr * elbow_fe_v_wy;
-            let wrist_r_v_wx = t187 - t186;
-            let t188 = s_wr * elbow_fe_v_wz;
-            let t189 = c_wr * elbow_fe_v_wy;
-            let wrist_r_v_wy = t188 + t189;
-            let t190 = c_wr * t185;
-            let t191 = s_wr * t184;
-            let wrist_r_v_vx = t190 + t191;
+            let t183 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t184 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t185 = elbow_fe_v_vy + t183;
+            let t186 = t101 + t184;
+            let t187 = c_wr * elbow_fe_v_wz;
+            let t188 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t188 - t187;
+            let t189 = s_wr * elbow_fe_v_wz;
+            let t190 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t189 + t190;
+            let t191 = c_wr * t186;
             let t192 = s_wr * t185;
-            let t193 = c_wr * t184;
-            let wrist_r_v_vy = t193 - t192;
+            let wrist_r_v_vx = t191 + t192;
+            let t193 = s_wr * t186;
+            let t194 = c_wr * t185;
+            let wrist_r_v_vy = t194 - t193;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t194 = wrist_r_v_wy * qd_wr;
-            let t195 = wrist_r_v_wx * qd_wr;
-            let t196 = wrist_r_v_vy * qd_wr;
-            let t197 = wrist_r_v_vx * qd_wr;
-            let t198 = wrist_r_ixx * wrist_r_v_wx;
-            let t199 = wrist_r_ixy * wrist_r_v_wy;
-            let t200 = t198 + t199;
-            let t201 = wrist_r_ixz * wrist_r_v_wz;
-            let t202 = t200 + t201;
-            let t203 = wrist_r_ixy * wrist_r_v_wx;
-            let t204 = wrist_r_iyy * wrist_r_v_wy;
-            let t205 = t203 + t204;
-            let t206 = wrist_r_iyz * wrist_r_v_wz;
-            let t207 = t205 + t206;
-            let t208 = wrist_r_ixz * wrist_r_v_wx;
-            let t209 = wrist_r_iyz * wrist_r_v_wy;
-            let t210 = t208 + t209;
-            let t211 = wrist_r_izz * wrist_r_v_wz;
-            let t212 = t210 + t211;
-            let t213 = wrist_r_hy * elbow_fe_v_vx;
-            let t214 = wrist_r_hz * wrist_r_v_vy;
-            let t215 = t213 - t214;
-            let t216 = wrist_r_hz * wrist_r_v_vx;
-            let t217 = wrist_r_hx * elbow_fe_v_vx;
-            let t218 = t216 - t217;
-            let t219 = wrist_r_hx * wrist_r_v_vy;
-            let t220 = wrist_r_hy * wrist_r_v_vx;
-            let t221 = t219 - t220;
-            let t222 = wrist_r_v_vx * wrist_r_m;
-            let t223 = wrist_r_v_vy * wrist_r_m;
-            let t224 = elbow_fe_v_vx * wrist_r_m;
-            let t225 = wrist_r_hy * wrist_r_v_wz;
-            let t226 = wrist_r_hz * wrist_r_v_wy;
-            let t227 = t225 - t226;
-            let t228 = wrist_r_hz * wrist_r_v_wx;
-            let t229 = wrist_r_hx * wrist_r_v_wz;
-            let t230 = t228 - t229;
-            let t231 = wrist_r_hx * wrist_r_v_wy;
-            let t232 = wrist_r_hy * wrist_r_v_wx;
-            let t233 = t231 - t232;
-            let t234 = t202 + t215;
-            let t235 = t207 + t218;
-            let t236 = t212 + t221;
-            let t237 = t222 - t227;
-            let t238 = t223 - t230;
-            let t239 = t224 - t233;
-            let t240 = wrist_r_v_wy * t236;
-            let t241 = wrist_r_v_wz * t235;
-            let t242 = t240 - t241;
-            let t243 = wrist_r_v_wz * t234;
-            let t244 = wrist_r_v_wx * t236;
-            let t245 = t243 - t244;
-            let t246 = wrist_r_v_wx * t235;
-            let t247 = wrist_r_v_wy * t234;
-            let t248 = t246 - t247;
-            let t249 = wrist_r_v_vy * t239;
-            let t250 = elbow_fe_v_vx * t238;
-            let t251 = t249 - t250;
-            let t252 = elbow_fe_v_vx * t237;
-            let t253 = wrist_r_v_vx * t239;
-            let t254 = t252 - t253;
-            let t255 = wrist_r_v_vx * t238;
-            let t256 = wrist_r_v_vy * t237;
-            let t257 = t255 - t256;
-            let t258 = t242 + t251;
-            let t259 = t245 + t254;
-            let t260 = t248 + t257;
-            let t261 = wrist_r_v_wy * t239;
-            let t262 = wrist_r_v_wz * t238;
-            let t263 = t261 - t262;
-            let t264 = wrist_r_v_wz * t237;
-            let t265 = wrist_r_v_wx * t239;
-            let t266 = t264 - t265;
-            let t267 = wrist_r_v_wx * t238;
-            let t268 = wrist_r_v_wy * t237;
-            let t269 = t267 - t268;
+            let t195 = wrist_r_v_wy * qd_wr;
+            let t196 = wrist_r_v_wx * qd_wr;
+            let t197 = wrist_r_v_vy * qd_wr;
+            let t198 = wrist_r_v_vx * qd_wr;
+            let t199 = wrist_r_ixx * wrist_r_v_wx;
+            let t200 = wrist_r_ixy * wrist_r_v_wy;
+            let t201 = t199 + t200;
+            let t202 = wrist_r_ixz * wrist_r_v_wz;
+            let t203 = t201 + t202;
+            let t204 = wrist_r_ixy * wrist_r_v_wx;
+            let t205 = wrist_r_iyy * wrist_r_v_wy;
+            let t206 = t204 + t205;
+            let t207 = wrist_r_iyz * wrist_r_v_wz;
+            let t208 = t206 + t207;
+            let t209 = wrist_r_ixz * wrist_r_v_wx;
+            let t210 = wrist_r_iyz * wrist_r_v_wy;
+            let t211 = t209 + t210;
+            let t212 = wrist_r_izz * wrist_r_v_wz;
+            let t213 = t211 + t212;
+            let t214 = wrist_r_hy * elbow_fe_v_vx;
+            let t215 = wrist_r_hz * wrist_r_v_vy;
+            let t216 = t214 - t215;
+            let t217 = wrist_r_hz * wrist_r_v_vx;
+            let t218 = wrist_r_hx * elbow_fe_v_vx;
+            let t219 = t217 - t218;
+            let t220 = wrist_r_hx * wrist_r_v_vy;
+            let t221 = wrist_r_hy * wrist_r_v_vx;
+            let t222 = t220 - t221;
+            let t223 = wrist_r_v_vx * wrist_r_m;
+            let t224 = wrist_r_v_vy * wrist_r_m;
+            let t225 = elbow_fe_v_vx * wrist_r_m;
+            let t226 = wrist_r_hy * wrist_r_v_wz;
+            let t227 = wrist_r_hz * wrist_r_v_wy;
+            let t228 = t226 - t227;
+            let t229 = wrist_r_hz * wrist_r_v_wx;
+            let t230 = wrist_r_hx * wrist_r_v_wz;
+            let t231 = t229 - t230;
+            let t232 = wrist_r_hx * wrist_r_v_wy;
+            let t233 = wrist_r_hy * wrist_r_v_wx;
+            let t234 = t232 - t233;
+            let t235 = t203 + t216;
+            let t236 = t208 + t219;
+            let t237 = t213 + t222;
+            let t238 = t223 - t228;
+            let t239 = t224 - t231;
+            let t240 = t225 - t234;
+            let t241 = wrist_r_v_wy * t237;
+            let t242 = wrist_r_v_wz * t236;
+            let t243 = t241 - t242;
+            let t244 = wrist_r_v_wz * t235;
+            let t245 = wrist_r_v_wx * t237;
+            let t246 = t244 - t245;
+            let t247 = wrist_r_v_wx * t236;
+            let t248 = wrist_r_v_wy * t235;
+            let t249 = t247 - t248;
+            let t250 = wrist_r_v_vy * t240;
+            let t251 = elbow_fe_v_vx * t239;
+            let t252 = t250 - t251;
+            let t253 = elbow_fe_v_vx * t238;
+            let t254 = wrist_r_v_vx * t240;
+            let t255 = t253 - t254;
+            let t256 = wrist_r_v_vx * t239;
+            let t257 = wrist_r_v_vy * t238;
+            let t258 = t256 - t257;
+            let t259 = t243 + t252;
+            let t260 = t246 + t255;
+            let t261 = t249 + t258;
+            let t262 = wrist_r_v_wy * t240;
+            let t263 = wrist_r_v_wz * t239;
+            let t264 = t262 - t263;
+            let t265 = wrist_r_v_wz * t238;
+            let t266 = wrist_r_v_wx * t240;
+            let t267 = t265 - t266;
+            let t268 = wrist_r_v_wx * t239;
+            let t269 = wrist_r_v_wy * t238;
+            let t270 = t268 - t269;
             (
                 wrist_r_v_wx,
                 wrist_r_v_wy,
                 wrist_r_v_vx,
                 wrist_r_v_vy,
                 wrist_r_v_wz,
-                t194,
                 t195,
                 t196,
                 t197,
-                t258,
+                t198,
                 t259,
                 t260,
-                t263,
-                t266,
-                t269,
+                t261,
+                t264,
+                t267,
+                t270,
             )
         };
         let (
-            t285,
             t286,
             t287,
             t288,
+            t289,
             wrist_fe_p_nx,
             wrist_fe_p_ny,
             wrist_fe_p_nz,
@@ -4953,108 +4938,108 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_p_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t270 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
-            let t271 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
-            let t272 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
-            let t273 = t271 - t272;
-            let t274 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t275 = wrist_r_v_vx + t270;
-            let wrist_fe_v_vz = wrist_r_v_vy - t273;
-            let t276 = elbow_fe_v_vx - t274;
-            let t277 = c_wfe * wrist_r_v_wz;
-            let t278 = s_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wx = t277 + t278;
-            let t279 = s_wfe * wrist_r_v_wz;
-            let t280 = c_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wy = t280 - t279;
-            let t281 = c_wfe * t276;
-            let t282 = s_wfe * t275;
-            let wrist_fe_v_vx = t281 + t282;
+            let t271 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t272 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t273 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
+            let t274 = t272 - t273;
+            let t275 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t276 = wrist_r_v_vx + t271;
+            let wrist_fe_v_vz = wrist_r_v_vy - t274;
+            let t277 = elbow_fe_v_vx - t275;
+            let t278 = c_wfe * wrist_r_v_wz;
+            let t279 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t278 + t279;
+            let t280 = s_wfe * wrist_r_v_wz;
+            let t281 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t281 - t280;
+            let t282 = c_wfe * t277;
             let t283 = s_wfe * t276;
-            let t284 = c_wfe * t275;
-            let wrist_fe_v_vy = t284 - t283;
+            let wrist_fe_v_vx = t282 + t283;
+            let t284 = s_wfe * t277;
+            let t285 = c_wfe * t276;
+            let wrist_fe_v_vy = t285 - t284;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t285 = wrist_fe_v_wy * qd_wfe;
-            let t286 = wrist_fe_v_wx * qd_wfe;
-            let t287 = wrist_fe_v_vy * qd_wfe;
-            let t288 = wrist_fe_v_vx * qd_wfe;
-            let t289 = wrist_fe_ixx * wrist_fe_v_wx;
-            let t290 = wrist_fe_ixy * wrist_fe_v_wy;
-            let t291 = t289 + t290;
-            let t292 = wrist_fe_ixz * wrist_fe_v_wz;
-            let t293 = t291 + t292;
-            let t294 = wrist_fe_ixy * wrist_fe_v_wx;
-            let t295 = wrist_fe_iyy * wrist_fe_v_wy;
-            let t296 = t294 + t295;
-            let t297 = wrist_fe_iyz * wrist_fe_v_wz;
-            let t298 = t296 + t297;
-            let t299 = wrist_fe_ixz * wrist_fe_v_wx;
-            let t300 = wrist_fe_iyz * wrist_fe_v_wy;
-            let t301 = t299 + t300;
-            let t302 = wrist_fe_izz * wrist_fe_v_wz;
-            let t303 = t301 + t302;
-            let t304 = wrist_fe_hy * wrist_fe_v_vz;
-            let t305 = wrist_fe_hz * wrist_fe_v_vy;
-            let t306 = t304 - t305;
-            let t307 = wrist_fe_hz * wrist_fe_v_vx;
-            let t308 = wrist_fe_hx * wrist_fe_v_vz;
-            let t309 = t307 - t308;
-            let t310 = wrist_fe_hx * wrist_fe_v_vy;
-            let t311 = wrist_fe_hy * wrist_fe_v_vx;
-            let t312 = t310 - t311;
-            let t313 = wrist_fe_v_vx * wrist_fe_m;
-            let t314 = wrist_fe_v_vy * wrist_fe_m;
-            let t315 = wrist_fe_v_vz * wrist_fe_m;
-            let t316 = wrist_fe_hy * wrist_fe_v_wz;
-            let t317 = wrist_fe_hz * wrist_fe_v_wy;
-            let t318 = t316 - t317;
-            let t319 = wrist_fe_hz * wrist_fe_v_wx;
-            let t320 = wrist_fe_hx * wrist_fe_v_wz;
-            let t321 = t319 - t320;
-            let t322 = wrist_fe_hx * wrist_fe_v_wy;
-            let t323 = wrist_fe_hy * wrist_fe_v_wx;
-            let t324 = t322 - t323;
-            let t325 = t293 + t306;
-            let t326 = t298 + t309;
-            let t327 = t303 + t312;
-            let t328 = t313 - t318;
-            let t329 = t314 - t321;
-            let t330 = t315 - t324;
-            let t331 = wrist_fe_v_wy * t327;
-            let t332 = wrist_fe_v_wz * t326;
-            let t333 = t331 - t332;
-            let t334 = wrist_fe_v_wz * t325;
-            let t335 = wrist_fe_v_wx * t327;
-            let t336 = t334 - t335;
-            let t337 = wrist_fe_v_wx * t326;
-            let t338 = wrist_fe_v_wy * t325;
-            let t339 = t337 - t338;
-            let t340 = wrist_fe_v_vy * t330;
-            let t341 = wrist_fe_v_vz * t329;
-            let t342 = t340 - t341;
-            let t343 = wrist_fe_v_vz * t328;
-            let t344 = wrist_fe_v_vx * t330;
-            let t345 = t343 - t344;
-            let t346 = wrist_fe_v_vx * t329;
-            let t347 = wrist_fe_v_vy * t328;
-            let t348 = t346 - t347;
-            let wrist_fe_p_nx = t333 + t342;
-            let wrist_fe_p_ny = t336 + t345;
-            let wrist_fe_p_nz = t339 + t348;
-            let t349 = wrist_fe_v_wy * t330;
-            let t350 = wrist_fe_v_wz * t329;
-            let wrist_fe_p_fx = t349 - t350;
-            let t351 = wrist_fe_v_wz * t328;
-            let t352 = wrist_fe_v_wx * t330;
-            let wrist_fe_p_fy = t351 - t352;
-            let t353 = wrist_fe_v_wx * t329;
-            let t354 = wrist_fe_v_wy * t328;
-            let wrist_fe_p_fz = t353 - t354;
+            let t286 = wrist_fe_v_wy * qd_wfe;
+            let t287 = wrist_fe_v_wx * qd_wfe;
+            let t288 = wrist_fe_v_vy * qd_wfe;
+            let t289 = wrist_fe_v_vx * qd_wfe;
+            let t290 = wrist_fe_ixx * wrist_fe_v_wx;
+            let t291 = wrist_fe_ixy * wrist_fe_v_wy;
+            let t292 = t290 + t291;
+            let t293 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t294 = t292 + t293;
+            let t295 = wrist_fe_ixy * wrist_fe_v_wx;
+            let t296 = wrist_fe_iyy * wrist_fe_v_wy;
+            let t297 = t295 + t296;
+            let t298 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t299 = t297 + t298;
+            let t300 = wrist_fe_ixz * wrist_fe_v_wx;
+            let t301 = wrist_fe_iyz * wrist_fe_v_wy;
+            let t302 = t300 + t301;
+            let t303 = wrist_fe_izz * wrist_fe_v_wz;
+            let t304 = t302 + t303;
+            let t305 = wrist_fe_hy * wrist_fe_v_vz;
+            let t306 = wrist_fe_hz * wrist_fe_v_vy;
+            let t307 = t305 - t306;
+            let t308 = wrist_fe_hz * wrist_fe_v_vx;
+            let t309 = wrist_fe_hx * wrist_fe_v_vz;
+            let t310 = t308 - t309;
+            let t311 = wrist_fe_hx * wrist_fe_v_vy;
+            let t312 = wrist_fe_hy * wrist_fe_v_vx;
+            let t313 = t311 - t312;
+            let t314 = wrist_fe_v_vx * wrist_fe_m;
+            let t315 = wrist_fe_v_vy * wrist_fe_m;
+            let t316 = wrist_fe_v_vz * wrist_fe_m;
+            let t317 = wrist_fe_hy * wrist_fe_v_wz;
+            let t318 = wrist_fe_hz * wrist_fe_v_wy;
+            let t319 = t317 - t318;
+            let t320 = wrist_fe_hz * wrist_fe_v_wx;
+            let t321 = wrist_fe_hx * wrist_fe_v_wz;
+            let t322 = t320 - t321;
+            let t323 = wrist_fe_hx * wrist_fe_v_wy;
+            let t324 = wrist_fe_hy * wrist_fe_v_wx;
+            let t325 = t323 - t324;
+            let t326 = t294 + t307;
+            let t327 = t299 + t310;
+            let t328 = t304 + t313;
+            let t329 = t314 - t319;
+            let t330 = t315 - t322;
+            let t331 = t316 - t325;
+            let t332 = wrist_fe_v_wy * t328;
+            let t333 = wrist_fe_v_wz * t327;
+            let t334 = t332 - t333;
+            let t335 = wrist_fe_v_wz * t326;
+            let t336 = wrist_fe_v_wx * t328;
+            let t337 = t335 - t336;
+            let t338 = wrist_fe_v_wx * t327;
+            let t339 = wrist_fe_v_wy * t326;
+            let t340 = t338 - t339;
+            let t341 = wrist_fe_v_vy * t331;
+            let t342 = wrist_fe_v_vz * t330;
+            let t343 = t341 - t342;
+            let t344 = wrist_fe_v_vz * t329;
+            let t345 = wrist_fe_v_vx * t331;
+            let t346 = t344 - t345;
+            let t347 = wrist_fe_v_vx * t330;
+            let t348 = wrist_fe_v_vy * t329;
+            let t349 = t347 - t348;
+            let wrist_fe_p_nx = t334 + t343;
+            let wrist_fe_p_ny = t337 + t346;
+            let wrist_fe_p_nz = t340 + t349;
+            let t350 = wrist_fe_v_wy * t331;
+            let t351 = wrist_fe_v_wz * t330;
+            let wrist_fe_p_fx = t350 - t351;
+            let t352 = wrist_fe_v_wz * t329;
+            let t353 = wrist_fe_v_wx * t331;
+            let wrist_fe_p_fy = t352 - t353;
+            let t354 = wrist_fe_v_wx * t330;
+            let t355 = wrist_fe_v_wy * t329;
+            let wrist_fe_p_fz = t354 - t355;
             (
-                t285,
                 t286,
                 t287,
                 t288,
+                t289,
                 wrist_fe_p_nx,
                 wrist_fe_p_ny,
                 wrist_fe_p_nz,
@@ -5065,25 +5050,25 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_wfe,
-            t355,
+            t356,
             wrist_r_u_fz,
-            t496,
-            t518,
-            t587,
+            t497,
+            t519,
             t588,
-            wrist_r_u_nx,
             t589,
+            wrist_r_u_nx,
+            t590,
             wrist_r_u_ny,
             wrist_r_u_nz,
-            t590,
-            wrist_r_u_fx,
             t591,
-            wrist_r_u_fy,
+            wrist_r_u_fx,
             t592,
+            wrist_r_u_fy,
             t593,
             t594,
             t595,
             t596,
+            t597,
             wrist_r_p_nx,
             wrist_r_p_ny,
             wrist_r_p_nz,
@@ -5093,281 +5078,281 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
             let u_wfe = tau_wfe - wrist_fe_p_nz;
-            let t355 = 1f64 / wrist_fe_izz;
-            let t356 = wrist_fe_ixz * t355;
-            let t357 = wrist_fe_iyz * t355;
-            let t358 = wrist_fe_izz * t355;
-            let t359 = wrist_fe_hy * t355;
-            let t360 = wrist_fe_hx * t355;
-            let t361 = wrist_fe_ixz * t356;
+            let t356 = 1f64 / wrist_fe_izz;
+            let t357 = wrist_fe_ixz * t356;
+            let t358 = wrist_fe_iyz * t356;
+            let t359 = wrist_fe_izz * t356;
+            let t360 = wrist_fe_hy * t356;
+            let t361 = wrist_fe_hx * t356;
             let t362 = wrist_fe_ixz * t357;
-            let t363 = wrist_fe_iyz * t357;
-            let t364 = wrist_fe_ixz * t358;
-            let t365 = wrist_fe_iyz * t358;
-            let t366 = wrist_fe_izz * t358;
-            let t367 = wrist_fe_ixx - t361;
-            let t368 = wrist_fe_ixy - t362;
-            let t369 = wrist_fe_iyy - t363;
-            let t370 = wrist_fe_ixz - t364;
-            let t371 = wrist_fe_iyz - t365;
-            let t372 = wrist_fe_izz - t366;
-            let t373 = wrist_fe_ixz * t359;
-            let t374 = wrist_fe_iyz * t359;
-            let t375 = wrist_fe_izz * t359;
-            let t376 = wrist_fe_ixz * t360;
-            let t377 = wrist_fe_iyz * t360;
-            let t378 = wrist_fe_izz * t360;
-            let t379 = wrist_fe_hz + t374;
-            let t380 = t375 - wrist_fe_hy;
-            let t381 = wrist_fe_hz + t376;
-            let t382 = wrist_fe_hx - t378;
-            let t383 = wrist_fe_hy * t359;
+            let t363 = wrist_fe_ixz * t358;
+            let t364 = wrist_fe_iyz * t358;
+            let t365 = wrist_fe_ixz * t359;
+            let t366 = wrist_fe_iyz * t359;
+            let t367 = wrist_fe_izz * t359;
+            let t368 = wrist_fe_ixx - t362;
+            let t369 = wrist_fe_ixy - t363;
+            let t370 = wrist_fe_iyy - t364;
+            let t371 = wrist_fe_ixz - t365;
+            let t372 = wrist_fe_iyz - t366;
+            let t373 = wrist_fe_izz - t367;
+            let t374 = wrist_fe_ixz * t360;
+            let t375 = wrist_fe_iyz * t360;
+            let t376 = wrist_fe_izz * t360;
+            let t377 = wrist_fe_ixz * t361;
+            let t378 = wrist_fe_iyz * t361;
+            let t379 = wrist_fe_izz * t361;
+            let t380 = wrist_fe_hz + t375;
+            let t381 = t376 - wrist_fe_hy;
+            let t382 = wrist_fe_hz + t377;
+            let t383 = wrist_fe_hx - t379;
             let t384 = wrist_fe_hy * t360;
-            let t385 = wrist_fe_hx * t360;
-            let t386 = wrist_fe_m - t383;
-            let t387 = wrist_fe_m - t385;
-            let t388 = t367 * t285;
+            let t385 = wrist_fe_hy * t361;
+            let t386 = wrist_fe_hx * t361;
+            let t387 = wrist_fe_m - t384;
+            let t388 = wrist_fe_m - t386;
             let t389 = t368 * t286;
-            let t390 = t388 - t389;
-            let t391 = t368 * t285;
+            let t390 = t369 * t287;
+            let t391 = t389 - t390;
             let t392 = t369 * t286;
-            let t393 = t391 - t392;
-            let t394 = t370 * t285;
+            let t393 = t370 * t287;
+            let t394 = t392 - t393;
             let t395 = t371 * t286;
-            let t396 = t394 - t395;
-            let t397 = t373 * t287;
-            let t398 = t381 * t288;
-            let t399 = t397 + t398;
-            let t400 = t379 * t287;
-            let t401 = t377 * t288;
-            let t402 = t400 + t401;
-            let t403 = t380 * t287;
-            let t404 = t382 * t288;
-            let t405 = t403 - t404;
-            let t406 = t390 + t399;
-            let t407 = t393 + t402;
-            let t408 = t396 + t405;
-            let t409 = t373 * t285;
-            let t410 = t379 * t286;
-            let t411 = t409 - t410;
-            let t412 = t381 * t285;
-            let t413 = t377 * t286;
-            let t414 = t413 - t412;
-            let t415 = wrist_fe_hy * t285;
-            let t416 = wrist_fe_hx * t286;
-            let t417 = t415 + t416;
-            let t418 = t386 * t287;
-            let t419 = t384 * t288;
-            let t420 = t418 - t419;
-            let t421 = t384 * t287;
-            let t422 = t387 * t288;
-            let t423 = t421 - t422;
-            let t424 = t411 + t420;
-            let t425 = t414 + t423;
-            let t426 = wrist_fe_p_nx + t406;
-            let t427 = wrist_fe_p_ny + t407;
-            let t428 = wrist_fe_p_nz + t408;
-            let t429 = wrist_fe_p_fx + t424;
-            let t430 = wrist_fe_p_fy + t425;
-            let t431 = wrist_fe_p_fz + t417;
-            let t432 = u_wfe * t355;
-            let t433 = wrist_fe_ixz * t432;
-            let t434 = wrist_fe_iyz * t432;
-            let t435 = wrist_fe_izz * t432;
-            let t436 = wrist_fe_hy * t432;
-            let t437 = wrist_fe_hx * t432;
-            let t438 = t426 + t433;
+            let t396 = t372 * t287;
+            let t397 = t395 - t396;
+            let t398 = t374 * t288;
+            let t399 = t382 * t289;
+            let t400 = t398 + t399;
+            let t401 = t380 * t288;
+            let t402 = t378 * t289;
+            let t403 = t401 + t402;
+            let t404 = t381 * t288;
+            let t405 = t383 * t289;
+            let t406 = t404 - t405;
+            let t407 = t391 + t400;
+            let t408 = t394 + t403;
+            let t409 = t397 + t406;
+            let t410 = t374 * t286;
+            let t411 = t380 * t287;
+            let t412 = t410 - t411;
+            let t413 = t382 * t286;
+            let t414 = t378 * t287;
+            let t415 = t414 - t413;
+            let t416 = wrist_fe_hy * t286;
+            let t417 = wrist_fe_hx * t287;
+            let t418 = t416 + t417;
+            let t419 = t387 * t288;
+            let t420 = t385 * t289;
+            let t421 = t419 - t420;
+            let t422 = t385 * t288;
+            let t423 = t388 * t289;
+            let t424 = t422 - t423;
+            let t425 = t412 + t421;
+            let t426 = t415 + t424;
+            let t427 = wrist_fe_p_nx + t407;
+            let t428 = wrist_fe_p_ny + t408;
+            let t429 = wrist_fe_p_nz + t409;
+            let t430 = wrist_fe_p_fx + t425;
+            let t431 = wrist_fe_p_fy + t426;
+            let t432 = wrist_fe_p_fz + t418;
+            let t433 = u_wfe * t356;
+            let t434 = wrist_fe_ixz * t433;
+            let t435 = wrist_fe_iyz * t433;
+            let t436 = wrist_fe_izz * t433;
+            let t437 = wrist_fe_hy * t433;
+            let t438 = wrist_fe_hx * t433;
             let t439 = t427 + t434;
             let t440 = t428 + t435;
-            let t441 = t429 - t436;
-            let t442 = t430 + t437;
-            let t443 = t367 * c_wfe;
-            let t444 = t368 * s_wfe;
-            let t445 = t443 - t444;
-            let t446 = t368 * c_wfe;
-            let t447 = t369 * s_wfe;
-            let t448 = t446 - t447;
-            let t449 = t370 * c_wfe;
-            let t450 = t371 * s_wfe;
-            let t451 = t449 - t450;
-            let t452 = t367 * s_wfe;
-            let t453 = t452 + t446;
-            let t454 = t369 * c_wfe;
-            let t455 = t444 + t454;
-            let t456 = t370 * s_wfe;
-            let t457 = t371 * c_wfe;
-            let t458 = t456 + t457;
-            let t459 = c_wfe * t445;
-            let t460 = s_wfe * t448;
-            let t461 = t459 - t460;
-            let t462 = c_wfe * t453;
-            let t463 = s_wfe * t455;
-            let t464 = t462 - t463;
-            let t465 = s_wfe * t453;
-            let t466 = c_wfe * t455;
-            let t467 = t465 + t466;
-            let t468 = t373 * c_wfe;
-            let t469 = t381 * s_wfe;
-            let t470 = t468 + t469;
-            let t471 = t379 * c_wfe;
-            let t472 = t377 * s_wfe;
-            let t473 = t471 + t472;
-            let t474 = t380 * c_wfe;
-            let t475 = t382 * s_wfe;
-            let t476 = t474 - t475;
-            let t477 = t373 * s_wfe;
-            let t478 = t381 * c_wfe;
-            let t479 = t477 - t478;
-            let t480 = t379 * s_wfe;
-            let t481 = t377 * c_wfe;
-            let t482 = t480 - t481;
-            let t483 = t380 * s_wfe;
-            let t484 = t382 * c_wfe;
-            let t485 = t483 + t484;
-            let t486 = c_wfe * t470;
-            let t487 = s_wfe * t473;
-            let wrist_r_u_fz = t486 - t487;
-            let t488 = s_wfe * t470;
-            let t489 = c_wfe * t473;
-            let t490 = t488 + t489;
-            let t491 = c_wfe * t479;
-            let t492 = s_wfe * t482;
-            let t493 = t491 - t492;
-            let t494 = s_wfe * t479;
-            let t495 = c_wfe * t482;
-            let t496 = t494 + t495;
-            let t497 = c_wfe * wrist_fe_hy;
-            let t498 = s_wfe * wrist_fe_hx;
-            let t499 = t497 + t498;
-            let t500 = s_wfe * wrist_fe_hy;
-            let t501 = c_wfe * wrist_fe_hx;
-            let t502 = t500 - t501;
-            let t503 = t386 * c_wfe;
-            let t504 = t384 * s_wfe;
-            let t505 = t503 - t504;
-            let t506 = t384 * c_wfe;
-            let t507 = t387 * s_wfe;
-            let t508 = t506 - t507;
-            let t509 = t386 * s_wfe;
-            let t510 = t509 + t506;
-            let t511 = t387 * c_wfe;
-            let t512 = t504 + t511;
-            let t513 = c_wfe * t505;
-            let t514 = s_wfe * t508;
-            let t515 = t513 - t514;
-            let t516 = c_wfe * t510;
-            let t517 = s_wfe * t512;
-            let t518 = t516 - t517;
-            let t519 = s_wfe * t510;
-            let t520 = c_wfe * t512;
-            let t521 = t519 + t520;
-            let t522 = t502 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t523 = t499 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t524 = t496 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t525 = t490 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t526 = t525 - t524;
-            let t527 = t485 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t528 = t476 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t529 = t528 - t527;
-            let t530 = t493 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t531 = wrist_r_u_fz * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t532 = t531 - t530;
-            let t533 = t502 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t534 = t499 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t535 = 0.184f64 * t521; // 1.8400e-1 = joint WFE origin z
-            let t536 = 0.02075f64 * t518; // 2.0750e-2 = joint WFE origin x
-            let t537 = t535 - t536;
-            let t538 = 0.184f64 * wrist_fe_m; // 1.8400e-1 = joint WFE origin z
-            let t539 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
-            let t540 = 0.184f64 * t518; // 1.8400e-1 = joint WFE origin z
-            let t541 = 0.02075f64 * t515; // 2.0750e-2 = joint WFE origin x
-            let t542 = t540 - t541;
-            let t543 = t467 - t522;
-            let t544 = t458 - t526;
-            let t545 = t372 - t529;
-            let t546 = t451 - t532;
-            let t547 = t464 + t533;
-            let t548 = t461 + t534;
-            let t549 = t543 - t522;
-            let t550 = t545 - t529;
-            let t551 = t547 - t523;
-            let t552 = t548 + t534;
-            let t553 = t538 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t554 = t537 * 0.184f64; // 1.8400e-1 = joint WFE origin z
-            let t555 = t542 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t556 = t555 - t554;
-            let t557 = t538 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t441 = t429 + t436;
+            let t442 = t430 - t437;
+            let t443 = t431 + t438;
+            let t444 = t368 * c_wfe;
+            let t445 = t369 * s_wfe;
+            let t446 = t444 - t445;
+            let t447 = t369 * c_wfe;
+            let t448 = t370 * s_wfe;
+            let t449 = t447 - t448;
+            let t450 = t371 * c_wfe;
+            let t451 = t372 * s_wfe;
+            let t452 = t450 - t451;
+            let t453 = t368 * s_wfe;
+            let t454 = t453 + t447;
+            let t455 = t370 * c_wfe;
+            let t456 = t445 + t455;
+            let t457 = t371 * s_wfe;
+            let t458 = t372 * c_wfe;
+            let t459 = t457 + t458;
+            let t460 = c_wfe * t446;
+            let t461 = s_wfe * t449;
+            let t462 = t460 - t461;
+            let t463 = c_wfe * t454;
+            let t464 = s_wfe * t456;
+            let t465 = t463 - t464;
+            let t466 = s_wfe * t454;
+            let t467 = c_wfe * t456;
+            let t468 = t466 + t467;
+            let t469 = t374 * c_wfe;
+            let t470 = t382 * s_wfe;
+            let t471 = t469 + t470;
+            let t472 = t380 * c_wfe;
+            let t473 = t378 * s_wfe;
+            let t474 = t472 + t473;
+            let t475 = t381 * c_wfe;
+            let t476 = t383 * s_wfe;
+            let t477 = t475 - t476;
+            let t478 = t374 * s_wfe;
+            let t479 = t382 * c_wfe;
+            let t480 = t478 - t479;
+            let t481 = t380 * s_wfe;
+            let t482 = t378 * c_wfe;
+            let t483 = t481 - t482;
+            let t484 = t381 * s_wfe;
+            let t485 = t383 * c_wfe;
+            let t486 = t484 + t485;
+            let t487 = c_wfe * t471;
+            let t488 = s_wfe * t474;
+            let wrist_r_u_fz = t487 - t488;
+            let t489 = s_wfe * t471;
+            let t490 = c_wfe * t474;
+            let t491 = t489 + t490;
+            let t492 = c_wfe * t480;
+            let t493 = s_wfe * t483;
+            let t494 = t492 - t493;
+            let t495 = s_wfe * t480;
+            let t496 = c_wfe * t483;
+            let t497 = t495 + t496;
+            let t498 = c_wfe * wrist_fe_hy;
+            let t499 = s_wfe * wrist_fe_hx;
+            let t500 = t498 + t499;
+            let t501 = s_wfe * wrist_fe_hy;
+            let t502 = c_wfe * wrist_fe_hx;
+            let t503 = t501 - t502;
+            let t504 = t387 * c_wfe;
+            let t505 = t385 * s_wfe;
+            let t506 = t504 - t505;
+            let t507 = t385 * c_wfe;
+            let t508 = t388 * s_wfe;
+            let t509 = t507 - t508;
+            let t510 = t387 * s_wfe;
+            let t511 = t510 + t507;
+            let t512 = t388 * c_wfe;
+            let t513 = t505 + t512;
+            let t514 = c_wfe * t506;
+            let t515 = s_wfe * t509;
+            let t516 = t514 - t515;
+            let t517 = c_wfe * t511;
+            let t518 = s_wfe * t513;
+            let t519 = t517 - t518;
+            let t520 = s_wfe * t511;
+            let t521 = c_wfe * t513;
+            let t522 = t520 + t521;
+            let t523 = t503 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t524 = t500 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t525 = t497 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t526 = t491 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t527 = t526 - t525;
+            let t528 = t486 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t529 = t477 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t530 = t529 - t528;
+            let t531 = t494 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t532 = wrist_r_u_fz * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t533 = t532 - t531;
+            let t534 = t503 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t535 = t500 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t536 = 0.184f64 * t522; // 1.8400e-1 = joint WFE origin z
+            let t537 = 0.02075f64 * t519; // 2.0750e-2 = joint WFE origin x
+            let t538 = t536 - t537;
+            let t539 = 0.184f64 * wrist_fe_m; // 1.8400e-1 = joint WFE origin z
+            let t540 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
+            let t541 = 0.184f64 * t519; // 1.8400e-1 = joint WFE origin z
+            let t542 = 0.02075f64 * t516; // 2.0750e-2 = joint WFE origin x
+            let t543 = t541 - t542;
+            let t544 = t468 - t523;
+            let t545 = t459 - t527;
+            let t546 = t373 - t530;
+            let t547 = t452 - t533;
+            let t548 = t465 + t534;
+            let t549 = t462 + t535;
+            let t550 = t544 - t523;
+            let t551 = t546 - t530;
+            let t552 = t548 - t524;
+            let t553 = t549 + t535;
+            let t554 = t539 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t555 = t538 * 0.184f64; // 1.8400e-1 = joint WFE origin z
+            let t556 = t543 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t557 = t556 - t555;
             let t558 = t539 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t559 = t549 + t553;
-            let t560 = t550 - t556;
+            let t559 = t540 * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t560 = t550 + t554;
             let t561 = t551 - t557;
-            let t562 = t552 + t558;
-            let t563 = t485 + t537;
-            let t564 = t502 - t538;
-            let t565 = t499 + t539;
-            let t566 = t476 + t542;
-            let t567 = c_wfe * t441;
-            let t568 = s_wfe * t442;
-            let t569 = t567 - t568;
-            let t570 = s_wfe * t441;
-            let t571 = c_wfe * t442;
-            let t572 = t570 + t571;
-            let t573 = c_wfe * t438;
-            let t574 = s_wfe * t439;
-            let t575 = t573 - t574;
-            let t576 = s_wfe * t438;
-            let t577 = c_wfe * t439;
-            let t578 = t576 + t577;
-            let t579 = 0.184f64 * t431; // 1.8400e-1 = joint WFE origin z
-            let t580 = 0.184f64 * t572; // 1.8400e-1 = joint WFE origin z
-            let t581 = 0.02075f64 * t569; // 2.0750e-2 = joint WFE origin x
-            let t582 = t580 - t581;
-            let t583 = 0.02075f64 * t431; // 2.0750e-2 = joint WFE origin x
-            let t584 = t578 - t579;
-            let t585 = t440 + t582;
-            let t586 = t575 + t583;
-            let t587 = wrist_r_ixx + t559;
-            let t588 = wrist_r_ixy + t544;
-            let wrist_r_u_nx = wrist_r_ixz + t561;
-            let t589 = wrist_r_iyy + t560;
-            let wrist_r_u_ny = wrist_r_iyz + t546;
-            let wrist_r_u_nz = wrist_r_izz + t562;
-            let t590 = wrist_r_hz + t563;
-            let wrist_r_u_fx = t493 - wrist_r_hy;
-            let t591 = t564 - wrist_r_hz;
-            let wrist_r_u_fy = wrist_r_hx + t565;
-            let t592 = wrist_r_hy + t490;
-            let t593 = t566 - wrist_r_hx;
-            let t594 = wrist_r_m + t521;
-            let t595 = wrist_r_m + wrist_fe_m;
-            let t596 = wrist_r_m + t515;
-            let wrist_r_p_nx = t258 + t584;
-            let wrist_r_p_ny = t259 + t585;
-            let wrist_r_p_nz = t260 + t586;
-            let wrist_r_p_fx = t263 + t572;
-            let wrist_r_p_fy = t266 + t431;
-            let wrist_r_p_fz = t269 + t569;
+            let t562 = t552 - t558;
+            let t563 = t553 + t559;
+            let t564 = t486 + t538;
+            let t565 = t503 - t539;
+            let t566 = t500 + t540;
+            let t567 = t477 + t543;
+            let t568 = c_wfe * t442;
+            let t569 = s_wfe * t443;
+            let t570 = t568 - t569;
+            let t571 = s_wfe * t442;
+            let t572 = c_wfe * t443;
+            let t573 = t571 + t572;
+            let t574 = c_wfe * t439;
+            let t575 = s_wfe * t440;
+            let t576 = t574 - t575;
+            let t577 = s_wfe * t439;
+            let t578 = c_wfe * t440;
+            let t579 = t577 + t578;
+            let t580 = 0.184f64 * t432; // 1.8400e-1 = joint WFE origin z
+            let t581 = 0.184f64 * t573; // 1.8400e-1 = joint WFE origin z
+            let t582 = 0.02075f64 * t570; // 2.0750e-2 = joint WFE origin x
+            let t583 = t581 - t582;
+            let t584 = 0.02075f64 * t432; // 2.0750e-2 = joint WFE origin x
+            let t585 = t579 - t580;
+            let t586 = t441 + t583;
+            let t587 = t576 + t584;
+            let t588 = wrist_r_ixx + t560;
+            let t589 = wrist_r_ixy + t545;
+            let wrist_r_u_nx = wrist_r_ixz + t562;
+            let t590 = wrist_r_iyy + t561;
+            let wrist_r_u_ny = wrist_r_iyz + t547;
+            let wrist_r_u_nz = wrist_r_izz + t563;
+            let t591 = wrist_r_hz + t564;
+            let wrist_r_u_fx = t494 - wrist_r_hy;
+            let t592 = t565 - wrist_r_hz;
+            let wrist_r_u_fy = wrist_r_hx + t566;
+            let t593 = wrist_r_hy + t491;
+            let t594 = t567 - wrist_r_hx;
+            let t595 = wrist_r_m + t522;
+            let t596 = wrist_r_m + wrist_fe_m;
+            let t597 = wrist_r_m + t516;
+            let wrist_r_p_nx = t259 + t585;
+            let wrist_r_p_ny = t260 + t586;
+            let wrist_r_p_nz = t261 + t587;
+            let wrist_r_p_fx = t264 + t573;
+            let wrist_r_p_fy = t267 + t432;
+            let wrist_r_p_fz = t270 + t570;
             (
                 u_wfe,
-                t355,
+                t356,
                 wrist_r_u_fz,
-                t496,
-                t518,
-                t587,
+                t497,
+                t519,
                 t588,
-                wrist_r_u_nx,
                 t589,
+                wrist_r_u_nx,
+                t590,
                 wrist_r_u_ny,
                 wrist_r_u_nz,
-                t590,
-                wrist_r_u_fx,
                 t591,
-                wrist_r_u_fy,
+                wrist_r_u_fx,
                 t592,
+                wrist_r_u_fy,
                 t593,
                 t594,
                 t595,
                 t596,
+                t597,
                 wrist_r_p_nx,
                 wrist_r_p_ny,
                 wrist_r_p_nz,
@@ -5378,322 +5363,322 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_wr,
-            t597,
-            t632,
-            t700,
-            t703,
-            t773,
-            t780,
-            t786,
-            t817,
+            t598,
+            t633,
+            t701,
+            t704,
+            t774,
+            t781,
+            t787,
+            t818,
             elbow_fe_u_fz,
-            t822,
-            t825,
-            t834,
+            t823,
+            t826,
             t835,
             t836,
             t837,
-            elbow_fe_u_nx,
             t838,
+            elbow_fe_u_nx,
+            t839,
             elbow_fe_u_ny,
             elbow_fe_u_nz,
-            t839,
-            elbow_fe_u_fx,
             t840,
-            elbow_fe_u_fy,
+            elbow_fe_u_fx,
             t841,
+            elbow_fe_u_fy,
             t842,
             t843,
             t844,
             t845,
+            t846,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
             let u_wr = tau_wr - wrist_r_p_nz;
-            let t597 = 1f64 / wrist_r_u_nz;
-            let t598 = wrist_r_u_nx * t597;
-            let t599 = wrist_r_u_ny * t597;
-            let t600 = wrist_r_u_nz * t597;
-            let t601 = wrist_r_u_fx * t597;
-            let t602 = wrist_r_u_fy * t597;
-            let t603 = wrist_r_u_fz * t597;
-            let t604 = wrist_r_u_nx * t598;
+            let t598 = 1f64 / wrist_r_u_nz;
+            let t599 = wrist_r_u_nx * t598;
+            let t600 = wrist_r_u_ny * t598;
+            let t601 = wrist_r_u_nz * t598;
+            let t602 = wrist_r_u_fx * t598;
+            let t603 = wrist_r_u_fy * t598;
+            let t604 = wrist_r_u_fz * t598;
             let t605 = wrist_r_u_nx * t599;
-            let t606 = wrist_r_u_ny * t599;
-            let t607 = wrist_r_u_nx * t600;
-            let t608 = wrist_r_u_ny * t600;
-            let t609 = wrist_r_u_nz * t600;
-            let t610 = t587 - t604;
+            let t606 = wrist_r_u_nx * t600;
+            let t607 = wrist_r_u_ny * t600;
+            let t608 = wrist_r_u_nx * t601;
+            let t609 = wrist_r_u_ny * t601;
+            let t610 = wrist_r_u_nz * t601;
             let t611 = t588 - t605;
             let t612 = t589 - t606;
-            let t613 = wrist_r_u_nx - t607;
-            let t614 = wrist_r_u_ny - t608;
-            let t615 = wrist_r_u_nz - t609;
-            let t616 = wrist_r_u_nx * t601;
-            let t617 = wrist_r_u_ny * t601;
-            let t618 = wrist_r_u_nz * t601;
-            let t619 = wrist_r_u_nx * t602;
-            let t620 = wrist_r_u_ny * t602;
-            let t621 = wrist_r_u_nz * t602;
-            let t622 = wrist_r_u_nx * t603;
-            let t623 = wrist_r_u_ny * t603;
-            let t624 = wrist_r_u_nz * t603;
-            let t625 = t496 - t616;
-            let t626 = t590 - t617;
-            let t627 = wrist_r_u_fx - t618;
-            let t628 = t591 - t619;
-            let t629 = wrist_r_u_fy - t621;
-            let t630 = t592 - t622;
+            let t613 = t590 - t607;
+            let t614 = wrist_r_u_nx - t608;
+            let t615 = wrist_r_u_ny - t609;
+            let t616 = wrist_r_u_nz - t610;
+            let t617 = wrist_r_u_nx * t602;
+            let t618 = wrist_r_u_ny * t602;
+            let t619 = wrist_r_u_nz * t602;
+            let t620 = wrist_r_u_nx * t603;
+            let t621 = wrist_r_u_ny * t603;
+            let t622 = wrist_r_u_nz * t603;
+            let t623 = wrist_r_u_nx * t604;
+            let t624 = wrist_r_u_ny * t604;
+            let t625 = wrist_r_u_nz * t604;
+            let t626 = t497 - t617;
+            let t627 = t591 - t618;
+            let t628 = wrist_r_u_fx - t619;
+            let t629 = t592 - t620;
+            let t630 = wrist_r_u_fy - t622;
             let t631 = t593 - t623;
-            let t632 = wrist_r_u_fz - t624;
-            let t633 = wrist_r_u_fx * t601;
+            let t632 = t594 - t624;
+            let t633 = wrist_r_u_fz - t625;
             let t634 = wrist_r_u_fx * t602;
-            let t635 = wrist_r_u_fy * t602;
-            let t636 = wrist_r_u_fx * t603;
-            let t637 = wrist_r_u_fy * t603;
-            let t638 = wrist_r_u_fz * t603;
-            let t639 = t594 - t633;
-            let t640 = t595 - t635;
-            let t641 = t518 - t636;
-            let t642 = t596 - t638;
-            let t643 = t610 * t194;
+            let t635 = wrist_r_u_fx * t603;
+            let t636 = wrist_r_u_fy * t603;
+            let t637 = wrist_r_u_fx * t604;
+            let t638 = wrist_r_u_fy * t604;
+            let t639 = wrist_r_u_fz * t604;
+            let t640 = t595 - t634;
+            let t641 = t596 - t636;
+            let t642 = t519 - t637;
+            let t643 = t597 - t639;
             let t644 = t611 * t195;
-            let t645 = t643 - t644;
-            let t646 = t611 * t194;
+            let t645 = t612 * t196;
+            let t646 = t644 - t645;
             let t647 = t612 * t195;
-            let t648 = t646 - t647;
-            let t649 = t613 * t194;
+            let t648 = t613 * t196;
+            let t649 = t647 - t648;
             let t650 = t614 * t195;
-            let t651 = t649 - t650;
-            let t652 = t625 * t196;
-            let t653 = t628 * t197;
-            let t654 = t652 - t653;
-            let t655 = t626 * t196;
-            let t656 = t620 * t197;
-            let t657 = t655 + t656;
-            let t658 = t627 * t196;
-            let t659 = t629 * t197;
-            let t660 = t658 - t659;
-            let t661 = t645 + t654;
-            let t662 = t648 + t657;
-            let t663 = t651 + t660;
-            let t664 = t625 * t194;
+            let t651 = t615 * t196;
+            let t652 = t650 - t651;
+            let t653 = t626 * t197;
+            let t654 = t629 * t198;
+            let t655 = t653 - t654;
+            let t656 = t627 * t197;
+            let t657 = t621 * t198;
+            let t658 = t656 + t657;
+            let t659 = t628 * t197;
+            let t660 = t630 * t198;
+            let t661 = t659 - t660;
+            let t662 = t646 + t655;
+            let t663 = t649 + t658;
+            let t664 = t652 + t661;
             let t665 = t626 * t195;
-            let t666 = t664 - t665;
-            let t667 = t628 * t194;
-            let t668 = t620 * t195;
-            let t669 = t667 + t668;
-            let t670 = t630 * t194;
+            let t666 = t627 * t196;
+            let t667 = t665 - t666;
+            let t668 = t629 * t195;
+            let t669 = t621 * t196;
+            let t670 = t668 + t669;
             let t671 = t631 * t195;
-            let t672 = t670 - t671;
-            let t673 = t639 * t196;
-            let t674 = t634 * t197;
-            let t675 = t673 + t674;
-            let t676 = t634 * t196;
-            let t677 = t640 * t197;
-            let t678 = t676 + t677;
-            let t679 = t641 * t196;
-            let t680 = t637 * t197;
-            let t681 = t679 + t680;
-            let t682 = t666 + t675;
-            let t683 = t669 - t678;
-            let t684 = t672 + t681;
-            let t685 = wrist_r_p_nx + t661;
-            let t686 = wrist_r_p_ny + t662;
-            let t687 = wrist_r_p_nz + t663;
-            let t688 = wrist_r_p_fx + t682;
-            let t689 = wrist_r_p_fy + t683;
-            let t690 = wrist_r_p_fz + t684;
-            let t691 = u_wr * t597;
-            let t692 = wrist_r_u_nx * t691;
-            let t693 = wrist_r_u_ny * t691;
-            let t694 = wrist_r_u_nz * t691;
-            let t695 = wrist_r_u_fx * t691;
-            let t696 = wrist_r_u_fy * t691;
-            let t697 = wrist_r_u_fz * t691;
-            let t698 = t685 + t692;
+            let t672 = t632 * t196;
+            let t673 = t671 - t672;
+            let t674 = t640 * t197;
+            let t675 = t635 * t198;
+            let t676 = t674 + t675;
+            let t677 = t635 * t197;
+            let t678 = t641 * t198;
+            let t679 = t677 + t678;
+            let t680 = t642 * t197;
+            let t681 = t638 * t198;
+            let t682 = t680 + t681;
+            let t683 = t667 + t676;
+            let t684 = t670 - t679;
+            let t685 = t673 + t682;
+            let t686 = wrist_r_p_nx + t662;
+            let t687 = wrist_r_p_ny + t663;
+            let t688 = wrist_r_p_nz + t664;
+            let t689 = wrist_r_p_fx + t683;
+            let t690 = wrist_r_p_fy + t684;
+            let t691 = wrist_r_p_fz + t685;
+            let t692 = u_wr * t598;
+            let t693 = wrist_r_u_nx * t692;
+            let t694 = wrist_r_u_ny * t692;
+            let t695 = wrist_r_u_nz * t692;
+            let t696 = wrist_r_u_fx * t692;
+            let t697 = wrist_r_u_fy * t692;
+            let t698 = wrist_r_u_fz * t692;
             let t699 = t686 + t693;
             let t700 = t687 + t694;
             let t701 = t688 + t695;
             let t702 = t689 + t696;
             let t703 = t690 + t697;
-            let t704 = t610 * c_wr;
-            let t705 = t611 * s_wr;
-            let t706 = t704 - t705;
-            let t707 = t611 * c_wr;
-            let t708 = t612 * s_wr;
-            let t709 = t707 - t708;
-            let t710 = t613 * c_wr;
-            let t711 = t614 * s_wr;
-            let t712 = t710 - t711;
-            let t713 = t610 * s_wr;
-            let t714 = t713 + t707;
-            let t715 = t612 * c_wr;
-            let t716 = t705 + t715;
-            let t717 = t613 * s_wr;
-            let t718 = t614 * c_wr;
-            let t719 = t717 + t718;
-            let t720 = c_wr * t706;
-            let t721 = s_wr * t709;
-            let t722 = t720 - t721;
-            let t723 = c_wr * t714;
-            let t724 = s_wr * t716;
-            let t725 = t723 - t724;
-            let t726 = s_wr * t714;
-            let t727 = c_wr * t716;
-            let t728 = t726 + t727;
-            let t729 = t625 * c_wr;
-            let t730 = t628 * s_wr;
-            let t731 = t729 - t730;
-            let t732 = t626 * c_wr;
-            let t733 = t620 * s_wr;
-            let t734 = t732 + t733;
-            let t735 = t627 * c_wr;
-            let t736 = t629 * s_wr;
-            let t737 = t735 - t736;
-            let t738 = t625 * s_wr;
-            let t739 = t628 * c_wr;
-            let t740 = t738 + t739;
-            let t741 = t626 * s_wr;
-            let t742 = t620 * c_wr;
-            let t743 = t741 - t742;
-            let t744 = t627 * s_wr;
-            let t745 = t629 * c_wr;
-            let t746 = t744 + t745;
-            let t747 = c_wr * t731;
-            let t748 = s_wr * t734;
-            let t749 = t747 - t748;
-            let t750 = s_wr * t731;
-            let t751 = c_wr * t734;
-            let t752 = t750 + t751;
-            let t753 = c_wr * t740;
-            let t754 = s_wr * t743;
-            let t755 = t753 - t754;
-            let t756 = s_wr * t740;
-            let t757 = c_wr * t743;
-            let t758 = t756 + t757;
-            let t759 = c_wr * t630;
-            let t760 = s_wr * t631;
-            let t761 = t759 - t760;
-            let t762 = s_wr * t630;
-            let t763 = c_wr * t631;
-            let t764 = t762 + t763;
-            let t765 = t639 * c_wr;
-            let t766 = t634 * s_wr;
-            let t767 = t765 + t766;
-            let t768 = t634 * c_wr;
-            let t769 = t640 * s_wr;
-            let t770 = t768 + t769;
-            let t771 = t641 * c_wr;
-            let t772 = t637 * s_wr;
-            let t773 = t771 + t772;
-            let t774 = t639 * s_wr;
-            let t775 = t774 - t768;
-            let t776 = t640 * c_wr;
-            let t777 = t776 - t766;
-            let t778 = t641 * s_wr;
-            let t779 = t637 * c_wr;
-            let t780 = t778 - t779;
-            let t781 = c_wr * t767;
-            let t782 = s_wr * t770;
-            let t783 = t781 + t782;
-            let t784 = c_wr * t775;
-            let t785 = s_wr * t777;
-            let t786 = t784 - t785;
-            let t787 = s_wr * t775;
-            let t788 = c_wr * t777;
-            let t789 = t787 + t788;
-            let t790 = t737 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t791 = t752 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t792 = t749 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t793 = t746 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t794 = t758 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t795 = t755 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t796 = 0.112f64 * t773; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t797 = 0.112f64 * t780; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t798 = 0.112f64 * t786; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t799 = 0.112f64 * t789; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t800 = 0.112f64 * t783; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t801 = t719 + t790;
-            let t802 = t728 + t791;
-            let t803 = t793 - t712;
-            let t804 = t794 - t725;
-            let t805 = t722 - t795;
-            let t806 = t802 + t791;
-            let t807 = t804 - t792;
-            let t808 = t805 - t795;
-            let t809 = t800 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t810 = t798 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t704 = t691 + t698;
+            let t705 = t611 * c_wr;
+            let t706 = t612 * s_wr;
+            let t707 = t705 - t706;
+            let t708 = t612 * c_wr;
+            let t709 = t613 * s_wr;
+            let t710 = t708 - t709;
+            let t711 = t614 * c_wr;
+            let t712 = t615 * s_wr;
+            let t713 = t711 - t712;
+            let t714 = t611 * s_wr;
+            let t715 = t714 + t708;
+            let t716 = t613 * c_wr;
+            let t717 = t706 + t716;
+            let t718 = t614 * s_wr;
+            let t719 = t615 * c_wr;
+            let t720 = t718 + t719;
+            let t721 = c_wr * t707;
+            let t722 = s_wr * t710;
+            let t723 = t721 - t722;
+            let t724 = c_wr * t715;
+            let t725 = s_wr * t717;
+            let t726 = t724 - t725;
+            let t727 = s_wr * t715;
+            let t728 = c_wr * t717;
+            let t729 = t727 + t728;
+            let t730 = t626 * c_wr;
+            let t731 = t629 * s_wr;
+            let t732 = t730 - t731;
+            let t733 = t627 * c_wr;
+            let t734 = t621 * s_wr;
+            let t735 = t733 + t734;
+            let t736 = t628 * c_wr;
+            let t737 = t630 * s_wr;
+            let t738 = t736 - t737;
+            let t739 = t626 * s_wr;
+            let t740 = t629 * c_wr;
+            let t741 = t739 + t740;
+            let t742 = t627 * s_wr;
+            let t743 = t621 * c_wr;
+            let t744 = t742 - t743;
+            let t745 = t628 * s_wr;
+            let t746 = t630 * c_wr;
+            let t747 = t745 + t746;
+            let t748 = c_wr * t732;
+            let t749 = s_wr * t735;
+            let t750 = t748 - t749;
+            let t751 = s_wr * t732;
+            let t752 = c_wr * t735;
+            let t753 = t751 + t752;
+            let t754 = c_wr * t741;
+            let t755 = s_wr * t744;
+            let t756 = t754 - t755;
+            let t757 = s_wr * t741;
+            let t758 = c_wr * t744;
+            let t759 = t757 + t758;
+            let t760 = c_wr * t631;
+            let t761 = s_wr * t632;
+            let t762 = t760 - t761;
+            let t763 = s_wr * t631;
+            let t764 = c_wr * t632;
+            let t765 = t763 + t764;
+            let t766 = t640 * c_wr;
+            let t767 = t635 * s_wr;
+            let t768 = t766 + t767;
+            let t769 = t635 * c_wr;
+            let t770 = t641 * s_wr;
+            let t771 = t769 + t770;
+            let t772 = t642 * c_wr;
+            let t773 = t638 * s_wr;
+            let t774 = t772 + t773;
+            let t775 = t640 * s_wr;
+            let t776 = t775 - t769;
+            let t777 = t641 * c_wr;
+            let t778 = t777 - t767;
+            let t779 = t642 * s_wr;
+            let t780 = t638 * c_wr;
+            let t781 = t779 - t780;
+            let t782 = c_wr * t768;
+            let t783 = s_wr * t771;
+            let t784 = t782 + t783;
+            let t785 = c_wr * t776;
+            let t786 = s_wr * t778;
+            let t787 = t785 - t786;
+            let t788 = s_wr * t776;
+            let t789 = c_wr * t778;
+            let t790 = t788 + t789;
+            let t791 = t738 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t792 = t753 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t793 = t750 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t794 = t747 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t795 = t759 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t796 = t756 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t797 = 0.112f64 * t774; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t798 = 0.112f64 * t781; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t799 = 0.112f64 * t787; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t800 = 0.112f64 * t790; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t801 = 0.112f64 * t784; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t802 = t720 + t791;
+            let t803 = t729 + t792;
+            let t804 = t794 - t713;
+            let t805 = t795 - t726;
+            let t806 = t723 - t796;
+            let t807 = t803 + t792;
+            let t808 = t805 - t793;
+            let t809 = t806 - t796;
+            let t810 = t801 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t811 = t799 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t812 = t806 + t809;
+            let t812 = t800 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t813 = t807 + t810;
             let t814 = t808 + t811;
-            let t815 = t764 + t796;
-            let t816 = t797 - t761;
-            let t817 = t758 + t798;
-            let t818 = t799 - t755;
-            let t819 = t752 + t800;
-            let elbow_fe_u_fz = t749 - t798;
-            let t820 = c_wr * t701;
-            let t821 = s_wr * t702;
-            let t822 = t820 - t821;
-            let t823 = s_wr * t701;
-            let t824 = c_wr * t702;
-            let t825 = t823 + t824;
-            let t826 = c_wr * t698;
-            let t827 = s_wr * t699;
-            let t828 = t826 - t827;
-            let t829 = s_wr * t698;
-            let t830 = c_wr * t699;
-            let t831 = t829 + t830;
-            let t832 = 0.112f64 * t822; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t833 = 0.112f64 * t825; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t834 = t831 + t832;
-            let t835 = t833 - t828;
-            let t836 = elbow_fe_ixx + t615;
-            let t837 = elbow_fe_ixy + t801;
-            let elbow_fe_u_nx = elbow_fe_ixz + t803;
-            let t838 = elbow_fe_iyy + t812;
-            let elbow_fe_u_ny = elbow_fe_iyz + t813;
-            let elbow_fe_u_nz = elbow_fe_izz + t814;
-            let t839 = elbow_fe_hz + t815;
-            let elbow_fe_u_fx = t816 - elbow_fe_hy;
-            let t840 = t746 - elbow_fe_hz;
-            let elbow_fe_u_fy = elbow_fe_hx + t818;
-            let t841 = elbow_fe_hy - t737;
-            let t842 = elbow_fe_hx + t819;
-            let t843 = elbow_fe_m + t642;
-            let t844 = elbow_fe_m + t789;
-            let t845 = elbow_fe_m + t783;
+            let t815 = t809 + t812;
+            let t816 = t765 + t797;
+            let t817 = t798 - t762;
+            let t818 = t759 + t799;
+            let t819 = t800 - t756;
+            let t820 = t753 + t801;
+            let elbow_fe_u_fz = t750 - t799;
+            let t821 = c_wr * t702;
+            let t822 = s_wr * t703;
+            let t823 = t821 - t822;
+            let t824 = s_wr * t702;
+            let t825 = c_wr * t703;
+            let t826 = t824 + t825;
+            let t827 = c_wr * t699;
+            let t828 = s_wr * t700;
+            let t829 = t827 - t828;
+            let t830 = s_wr * t699;
+            let t831 = c_wr * t700;
+            let t832 = t830 + t831;
+            let t833 = 0.112f64 * t823; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t834 = 0.112f64 * t826; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t835 = t832 + t833;
+            let t836 = t834 - t829;
+            let t837 = elbow_fe_ixx + t616;
+            let t838 = elbow_fe_ixy + t802;
+            let elbow_fe_u_nx = elbow_fe_ixz + t804;
+            let t839 = elbow_fe_iyy + t813;
+            let elbow_fe_u_ny = elbow_fe_iyz + t814;
+            let elbow_fe_u_nz = elbow_fe_izz + t815;
+            let t840 = elbow_fe_hz + t816;
+            let elbow_fe_u_fx = t817 - elbow_fe_hy;
+            let t841 = t747 - elbow_fe_hz;
+            let elbow_fe_u_fy = elbow_fe_hx + t819;
+            let t842 = elbow_fe_hy - t738;
+            let t843 = elbow_fe_hx + t820;
+            let t844 = elbow_fe_m + t643;
+            let t845 = elbow_fe_m + t790;
+            let t846 = elbow_fe_m + t784;
             (
                 u_wr,
-                t597,
-                t632,
-                t700,
-                t703,
-                t773,
-                t780,
-                t786,
-                t817,
+                t598,
+                t633,
+                t701,
+                t704,
+                t774,
+                t781,
+                t787,
+                t818,
                 elbow_fe_u_fz,
-                t822,
-                t825,
-                t834,
+                t823,
+                t826,
                 t835,
                 t836,
                 t837,
-                elbow_fe_u_nx,
                 t838,
+                elbow_fe_u_nx,
+                t839,
                 elbow_fe_u_ny,
                 elbow_fe_u_nz,
-                t839,
-                elbow_fe_u_fx,
                 t840,
-                elbow_fe_u_fy,
+                elbow_fe_u_fx,
                 t841,
+                elbow_fe_u_fy,
                 t842,
                 t843,
                 t844,
                 t845,
+                t846,
             )
         };
         let (
@@ -5704,12 +5689,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_p_fy,
             elbow_fe_p_fz,
         ) = {
-            let elbow_fe_p_nx = t170 + t700;
-            let elbow_fe_p_ny = t171 + t834;
-            let elbow_fe_p_nz = t172 + t835;
-            let elbow_fe_p_fx = t703 - t175;
-            let elbow_fe_p_fy = t178 + t825;
-            let elbow_fe_p_fz = t181 - t822;
+            let elbow_fe_p_nx = t171 + t701;
+            let elbow_fe_p_ny = t172 + t835;
+            let elbow_fe_p_nz = t173 + t836;
+            let elbow_fe_p_fx = t704 - t176;
+            let elbow_fe_p_fy = t179 + t826;
+            let elbow_fe_p_fz = t182 - t823;
             (
                 elbow_fe_p_nx,
                 elbow_fe_p_ny,
@@ -5721,331 +5706,331 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (
             u_efe,
-            t846,
+            t847,
             humerus_r_u_fz,
-            t1020,
-            t1027,
-            t1030,
-            t1059,
-            t1062,
-            t1078,
+            t1021,
+            t1028,
+            t1031,
+            t1060,
+            t1063,
             t1079,
-            humerus_r_u_nx,
             t1080,
+            humerus_r_u_nx,
+            t1081,
             humerus_r_u_ny,
             humerus_r_u_nz,
-            t1081,
-            humerus_r_u_fx,
             t1082,
-            humerus_r_u_fy,
             t1083,
             t1084,
+            humerus_r_u_fy,
             t1085,
             t1086,
+            t1087,
+            t1088,
             humerus_r_p_nx,
             humerus_r_p_ny,
             humerus_r_p_nz,
-            humerus_r_p_fx,
+            t1089,
             humerus_r_p_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
             let u_efe = tau_efe - elbow_fe_p_nz;
-            let t846 = 1f64 / elbow_fe_u_nz;
-            let t847 = elbow_fe_u_nx * t846;
-            let t848 = elbow_fe_u_ny * t846;
-            let t849 = elbow_fe_u_nz * t846;
-            let t850 = elbow_fe_u_fx * t846;
-            let t851 = elbow_fe_u_fy * t846;
-            let t852 = elbow_fe_u_fz * t846;
-            let t853 = elbow_fe_u_nx * t847;
+            let t847 = 1f64 / elbow_fe_u_nz;
+            let t848 = elbow_fe_u_nx * t847;
+            let t849 = elbow_fe_u_ny * t847;
+            let t850 = elbow_fe_u_nz * t847;
+            let t851 = elbow_fe_u_fx * t847;
+            let t852 = elbow_fe_u_fy * t847;
+            let t853 = elbow_fe_u_fz * t847;
             let t854 = elbow_fe_u_nx * t848;
-            let t855 = elbow_fe_u_ny * t848;
-            let t856 = elbow_fe_u_nx * t849;
-            let t857 = elbow_fe_u_ny * t849;
-            let t858 = elbow_fe_u_nz * t849;
-            let t859 = t836 - t853;
+            let t855 = elbow_fe_u_nx * t849;
+            let t856 = elbow_fe_u_ny * t849;
+            let t857 = elbow_fe_u_nx * t850;
+            let t858 = elbow_fe_u_ny * t850;
+            let t859 = elbow_fe_u_nz * t850;
             let t860 = t837 - t854;
             let t861 = t838 - t855;
-            let t862 = elbow_fe_u_nx - t856;
-            let t863 = elbow_fe_u_ny - t857;
-            let t864 = elbow_fe_u_nz - t858;
-            let t865 = elbow_fe_u_nx * t850;
-            let t866 = elbow_fe_u_ny * t850;
-            let t867 = elbow_fe_u_nz * t850;
-            let t868 = elbow_fe_u_nx * t851;
-            let t869 = elbow_fe_u_ny * t851;
-            let t870 = elbow_fe_u_nz * t851;
-            let t871 = elbow_fe_u_nx * t852;
-            let t872 = elbow_fe_u_ny * t852;
-            let t873 = elbow_fe_u_nz * t852;
-            let t874 = t632 - t865;
-            let t875 = t839 - t866;
-            let t876 = elbow_fe_u_fx - t867;
-            let t877 = t840 - t868;
-            let t878 = t817 - t869;
-            let t879 = elbow_fe_u_fy - t870;
-            let t880 = t841 - t871;
-            let t881 = t842 + t872;
-            let t882 = elbow_fe_u_fz - t873;
-            let t883 = elbow_fe_u_fx * t850;
+            let t862 = t839 - t856;
+            let t863 = elbow_fe_u_nx - t857;
+            let t864 = elbow_fe_u_ny - t858;
+            let t865 = elbow_fe_u_nz - t859;
+            let t866 = elbow_fe_u_nx * t851;
+            let t867 = elbow_fe_u_ny * t851;
+            let t868 = elbow_fe_u_nz * t851;
+            let t869 = elbow_fe_u_nx * t852;
+            let t870 = elbow_fe_u_ny * t852;
+            let t871 = elbow_fe_u_nz * t852;
+            let t872 = elbow_fe_u_nx * t853;
+            let t873 = elbow_fe_u_ny * t853;
+            let t874 = elbow_fe_u_nz * t853;
+            let t875 = t633 - t866;
+            let t876 = t840 - t867;
+            let t877 = elbow_fe_u_fx - t868;
+            let t878 = t841 - t869;
+            let t879 = t818 - t870;
+            let t880 = elbow_fe_u_fy - t871;
+            let t881 = t842 - t872;
+            let t882 = t843 + t873;
+            let t883 = elbow_fe_u_fz - t874;
             let t884 = elbow_fe_u_fx * t851;
-            let t885 = elbow_fe_u_fy * t851;
-            let t886 = elbow_fe_u_fx * t852;
-            let t887 = elbow_fe_u_fy * t852;
-            let t888 = elbow_fe_u_fz * t852;
-            let t889 = t843 - t883;
-            let t890 = t780 - t884;
-            let t891 = t844 - t885;
-            let t892 = t773 + t886;
-            let t893 = t786 + t887;
-            let t894 = t845 - t888;
-            let t895 = t859 * t106;
+            let t885 = elbow_fe_u_fx * t852;
+            let t886 = elbow_fe_u_fy * t852;
+            let t887 = elbow_fe_u_fx * t853;
+            let t888 = elbow_fe_u_fy * t853;
+            let t889 = elbow_fe_u_fz * t853;
+            let t890 = t844 - t884;
+            let t891 = t781 - t885;
+            let t892 = t845 - t886;
+            let t893 = t774 + t887;
+            let t894 = t787 + t888;
+            let t895 = t846 - t889;
             let t896 = t860 * t107;
-            let t897 = t895 - t896;
-            let t898 = t860 * t106;
+            let t897 = t861 * t108;
+            let t898 = t896 - t897;
             let t899 = t861 * t107;
-            let t900 = t898 - t899;
-            let t901 = t862 * t106;
+            let t900 = t862 * t108;
+            let t901 = t899 - t900;
             let t902 = t863 * t107;
-            let t903 = t901 - t902;
-            let t904 = t874 * t108;
-            let t905 = t877 * t109;
-            let t906 = t904 - t905;
-            let t907 = t875 * t108;
-            let t908 = t878 * t109;
-            let t909 = t907 - t908;
-            let t910 = t876 * t108;
-            let t911 = t879 * t109;
-            let t912 = t910 - t911;
-            let t913 = t897 + t906;
-            let t914 = t900 + t909;
-            let t915 = t903 + t912;
-            let t916 = t874 * t106;
+            let t903 = t864 * t108;
+            let t904 = t902 - t903;
+            let t905 = t875 * t109;
+            let t906 = t878 * t110;
+            let t907 = t905 - t906;
+            let t908 = t876 * t109;
+            let t909 = t879 * t110;
+            let t910 = t908 - t909;
+            let t911 = t877 * t109;
+            let t912 = t880 * t110;
+            let t913 = t911 - t912;
+            let t914 = t898 + t907;
+            let t915 = t901 + t910;
+            let t916 = t904 + t913;
             let t917 = t875 * t107;
-            let t918 = t916 - t917;
-            let t919 = t877 * t106;
+            let t918 = t876 * t108;
+            let t919 = t917 - t918;
             let t920 = t878 * t107;
-            let t921 = t919 - t920;
-            let t922 = t880 * t106;
+            let t921 = t879 * t108;
+            let t922 = t920 - t921;
             let t923 = t881 * t107;
-            let t924 = t922 + t923;
-            let t925 = t889 * t108;
+            let t924 = t882 * t108;
+            let t925 = t923 + t924;
             let t926 = t890 * t109;
-            let t927 = t925 - t926;
-            let t928 = t890 * t108;
+            let t927 = t891 * t110;
+            let t928 = t926 - t927;
             let t929 = t891 * t109;
-            let t930 = t928 - t929;
-            let t931 = t892 * t108;
+            let t930 = t892 * t110;
+            let t931 = t929 - t930;
             let t932 = t893 * t109;
-            let t933 = t932 - t931;
-            let t934 = t918 + t927;
-            let t935 = t921 + t930;
-            let t936 = t924 + t933;
-            let t937 = elbow_fe_p_nx + t913;
-            let t938 = elbow_fe_p_ny + t914;
-            let t939 = elbow_fe_p_nz + t915;
-            let t940 = elbow_fe_p_fx + t934;
-            let t941 = elbow_fe_p_fy + t935;
-            let t942 = elbow_fe_p_fz + t936;
-            let t943 = u_efe * t846;
-            let t944 = elbow_fe_u_nx * t943;
-            let t945 = elbow_fe_u_ny * t943;
-            let t946 = elbow_fe_u_nz * t943;
-            let t947 = elbow_fe_u_fx * t943;
-            let t948 = elbow_fe_u_fy * t943;
-            let t949 = elbow_fe_u_fz * t943;
-            let t950 = t937 + t944;
+            let t933 = t894 * t110;
+            let t934 = t933 - t932;
+            let t935 = t919 + t928;
+            let t936 = t922 + t931;
+            let t937 = t925 + t934;
+            let t938 = elbow_fe_p_nx + t914;
+            let t939 = elbow_fe_p_ny + t915;
+            let t940 = elbow_fe_p_nz + t916;
+            let t941 = elbow_fe_p_fx + t935;
+            let t942 = elbow_fe_p_fy + t936;
+            let t943 = elbow_fe_p_fz + t937;
+            let t944 = u_efe * t847;
+            let t945 = elbow_fe_u_nx * t944;
+            let t946 = elbow_fe_u_ny * t944;
+            let t947 = elbow_fe_u_nz * t944;
+            let t948 = elbow_fe_u_fx * t944;
+            let t949 = elbow_fe_u_fy * t944;
+            let t950 = elbow_fe_u_fz * t944;
             let t951 = t938 + t945;
             let t952 = t939 + t946;
             let t953 = t940 + t947;
             let t954 = t941 + t948;
             let t955 = t942 + t949;
-            let t956 = t859 * c_efe;
-            let t957 = t860 * s_efe;
-            let t958 = t956 - t957;
-            let t959 = t860 * c_efe;
-            let t960 = t861 * s_efe;
-            let t961 = t959 - t960;
-            let t962 = t862 * c_efe;
-            let t963 = t863 * s_efe;
-            let t964 = t962 - t963;
-            let t965 = t859 * s_efe;
-            let t966 = t965 + t959;
-            let t967 = t861 * c_efe;
-            let t968 = t957 + t967;
-            let t969 = t862 * s_efe;
-            let t970 = t863 * c_efe;
-            let t971 = t969 + t970;
-            let t972 = c_efe * t958;
-            let t973 = s_efe * t961;
-            let t974 = t972 - t973;
-            let t975 = c_efe * t966;
-            let t976 = s_efe * t968;
-            let t977 = t975 - t976;
-            let t978 = s_efe * t966;
-            let t979 = c_efe * t968;
-            let t980 = t978 + t979;
-            let t981 = t874 * c_efe;
-            let t982 = t877 * s_efe;
-            let t983 = t981 - t982;
-            let t984 = t875 * c_efe;
-            let t985 = t878 * s_efe;
-            let t986 = t984 - t985;
-            let t987 = t876 * c_efe;
-            let t988 = t879 * s_efe;
-            let t989 = t987 - t988;
-            let t990 = t874 * s_efe;
-            let t991 = t877 * c_efe;
-            let t992 = t990 + t991;
-            let t993 = t875 * s_efe;
-            let t994 = t878 * c_efe;
-            let t995 = t993 + t994;
-            let t996 = t876 * s_efe;
-            let t997 = t879 * c_efe;
-            let t998 = t996 + t997;
-            let t999 = c_efe * t983;
-            let t1000 = s_efe * t986;
-            let humerus_r_u_fz = t999 - t1000;
-            let t1001 = s_efe * t983;
-            let t1002 = c_efe * t986;
-            let t1003 = t1001 + t1002;
-            let t1004 = c_efe * t992;
-            let t1005 = s_efe * t995;
-            let t1006 = t1004 - t1005;
-            let t1007 = s_efe * t992;
-            let t1008 = c_efe * t995;
-            let t1009 = t1007 + t1008;
-            let t1010 = c_efe * t880;
-            let t1011 = s_efe * t881;
-            let t1012 = t1010 + t1011;
-            let t1013 = s_efe * t880;
-            let t1014 = c_efe * t881;
-            let t1015 = t1013 - t1014;
-            let t1016 = t890 * s_efe;
-            let t1017 = t890 * c_efe;
-            let t1018 = t892 * c_efe;
-            let t1019 = t893 * s_efe;
-            let t1020 = t1019 - t1018;
-            let t1021 = t889 * s_efe;
-            let t1022 = t1021 + t1017;
-            let t1023 = t891 * c_efe;
-            let t1024 = t1016 + t1023;
-            let t1025 = t892 * s_efe;
-            let t1026 = t893 * c_efe;
-            let t1027 = t1025 + t1026;
-            let t1028 = c_efe * t1022;
-            let t1029 = s_efe * t1024;
-            let t1030 = t1028 - t1029;
-            let t1031 = s_efe * t1022;
-            let t1032 = c_efe * t1024;
-            let t1033 = t1031 + t1032;
-            let t1034 = t998 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1035 = t1009 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1036 = t1006 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1037 = t882 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1038 = t1015 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1039 = t1012 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1040 = 0.304f64 * t1027; // 3.0400e-1 = joint EFE origin z
-            let t1041 = 0.304f64 * t894; // 3.0400e-1 = joint EFE origin z
-            let t1042 = 0.304f64 * t1033; // 3.0400e-1 = joint EFE origin z
-            let t1043 = 0.304f64 * t1030; // 3.0400e-1 = joint EFE origin z
-            let t1044 = 0.304f64 * t1020; // 3.0400e-1 = joint EFE origin z
-            let t1045 = t864 + t1034;
-            let t1046 = t964 + t1036;
-            let t1047 = t1037 - t971;
-            let t1048 = t980 - t1038;
-            let t1049 = t977 - t1039;
-            let t1050 = t1045 + t1034;
-            let t1051 = t1047 - t1035;
-            let t1052 = t1048 - t1038;
-            let t1053 = t1042 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1054 = t1040 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t956 = t943 + t950;
+            let t957 = t860 * c_efe;
+            let t958 = t861 * s_efe;
+            let t959 = t957 - t958;
+            let t960 = t861 * c_efe;
+            let t961 = t862 * s_efe;
+            let t962 = t960 - t961;
+            let t963 = t863 * c_efe;
+            let t964 = t864 * s_efe;
+            let t965 = t963 - t964;
+            let t966 = t860 * s_efe;
+            let t967 = t966 + t960;
+            let t968 = t862 * c_efe;
+            let t969 = t958 + t968;
+            let t970 = t863 * s_efe;
+            let t971 = t864 * c_efe;
+            let t972 = t970 + t971;
+            let t973 = c_efe * t959;
+            let t974 = s_efe * t962;
+            let t975 = t973 - t974;
+            let t976 = c_efe * t967;
+            let t977 = s_efe * t969;
+            let t978 = t976 - t977;
+            let t979 = s_efe * t967;
+            let t980 = c_efe * t969;
+            let t981 = t979 + t980;
+            let t982 = t875 * c_efe;
+            let t983 = t878 * s_efe;
+            let t984 = t982 - t983;
+            let t985 = t876 * c_efe;
+            let t986 = t879 * s_efe;
+            let t987 = t985 - t986;
+            let t988 = t877 * c_efe;
+            let t989 = t880 * s_efe;
+            let t990 = t988 - t989;
+            let t991 = t875 * s_efe;
+            let t992 = t878 * c_efe;
+            let t993 = t991 + t992;
+            let t994 = t876 * s_efe;
+            let t995 = t879 * c_efe;
+            let t996 = t994 + t995;
+            let t997 = t877 * s_efe;
+            let t998 = t880 * c_efe;
+            let t999 = t997 + t998;
+            let t1000 = c_efe * t984;
+            let t1001 = s_efe * t987;
+            let humerus_r_u_fz = t1000 - t1001;
+            let t1002 = s_efe * t984;
+            let t1003 = c_efe * t987;
+            let t1004 = t1002 + t1003;
+            let t1005 = c_efe * t993;
+            let t1006 = s_efe * t996;
+            let t1007 = t1005 - t1006;
+            let t1008 = s_efe * t993;
+            let t1009 = c_efe * t996;
+            let t1010 = t1008 + t1009;
+            let t1011 = c_efe * t881;
+            let t1012 = s_efe * t882;
+            let t1013 = t1011 + t1012;
+            let t1014 = s_efe * t881;
+            let t1015 = c_efe * t882;
+            let t1016 = t1014 - t1015;
+            let t1017 = t891 * s_efe;
+            let t1018 = t891 * c_efe;
+            let t1019 = t893 * c_efe;
+            let t1020 = t894 * s_efe;
+            let t1021 = t1020 - t1019;
+            let t1022 = t890 * s_efe;
+            let t1023 = t1022 + t1018;
+            let t1024 = t892 * c_efe;
+            let t1025 = t1017 + t1024;
+            let t1026 = t893 * s_efe;
+            let t1027 = t894 * c_efe;
+            let t1028 = t1026 + t1027;
+            let t1029 = c_efe * t1023;
+            let t1030 = s_efe * t1025;
+            let t1031 = t1029 - t1030;
+            let t1032 = s_efe * t1023;
+            let t1033 = c_efe * t1025;
+            let t1034 = t1032 + t1033;
+            let t1035 = t999 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1036 = t1010 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1037 = t1007 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1038 = t883 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1039 = t1016 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1040 = t1013 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1041 = 0.304f64 * t1028; // 3.0400e-1 = joint EFE origin z
+            let t1042 = 0.304f64 * t895; // 3.0400e-1 = joint EFE origin z
+            let t1043 = 0.304f64 * t1034; // 3.0400e-1 = joint EFE origin z
+            let t1044 = 0.304f64 * t1031; // 3.0400e-1 = joint EFE origin z
+            let t1045 = 0.304f64 * t1021; // 3.0400e-1 = joint EFE origin z
+            let t1046 = t865 + t1035;
+            let t1047 = t965 + t1037;
+            let t1048 = t1038 - t972;
+            let t1049 = t981 - t1039;
+            let t1050 = t978 - t1040;
+            let t1051 = t1046 + t1035;
+            let t1052 = t1048 - t1036;
+            let t1053 = t1049 - t1039;
+            let t1054 = t1043 * 0.304f64; // 3.0400e-1 = joint EFE origin z
             let t1055 = t1041 * 0.304f64; // 3.0400e-1 = joint EFE origin z
-            let t1056 = t1050 + t1053;
-            let t1057 = t1051 - t1054;
-            let t1058 = t1052 + t1055;
-            let t1059 = t882 - t1040;
-            let t1060 = t1041 - t1015;
-            let t1061 = t998 + t1042;
-            let t1062 = t1009 + t1040;
-            let t1063 = t989 + t1043;
-            let t1064 = t1003 - t1044;
-            let t1065 = s_efe * t953;
-            let t1066 = c_efe * t954;
-            let t1067 = t1065 + t1066;
-            let t1068 = c_efe * t950;
-            let t1069 = s_efe * t951;
-            let t1070 = t1068 - t1069;
-            let t1071 = s_efe * t950;
-            let t1072 = c_efe * t951;
-            let t1073 = t1071 + t1072;
-            let t1074 = 0.304f64 * t1067; // 3.0400e-1 = joint EFE origin z
-            let t1075 = 0.304f64 * t955; // 3.0400e-1 = joint EFE origin z
-            let t1076 = t952 + t1074;
-            let t1077 = t1073 - t1075;
-            let t1078 = humerus_r_ixx + t1056;
-            let t1079 = humerus_r_ixy + t1057;
-            let humerus_r_u_nx = humerus_r_ixz - t1046;
-            let t1080 = humerus_r_iyy + t1058;
-            let humerus_r_u_ny = humerus_r_iyz + t1049;
-            let humerus_r_u_nz = humerus_r_izz + t974;
-            let t1081 = humerus_r_hz + t1060;
-            let humerus_r_u_fx = humerus_r_hy + t1012;
+            let t1056 = t1042 * 0.304f64; // 3.0400e-1 = joint EFE origin z
+            let t1057 = t1051 + t1054;
+            let t1058 = t1052 - t1055;
+            let t1059 = t1053 + t1056;
+            let t1060 = t883 - t1041;
+            let t1061 = t1042 - t1016;
+            let t1062 = t999 + t1043;
+            let t1063 = t1010 + t1041;
+            let t1064 = t990 + t1044;
+            let t1065 = t1004 - t1045;
+            let t1066 = s_efe * t954;
+            let t1067 = c_efe * t955;
+            let t1068 = t1066 + t1067;
+            let t1069 = c_efe * t951;
+            let t1070 = s_efe * t952;
+            let t1071 = t1069 - t1070;
+            let t1072 = s_efe * t951;
+            let t1073 = c_efe * t952;
+            let t1074 = t1072 + t1073;
+            let t1075 = 0.304f64 * t1068; // 3.0400e-1 = joint EFE origin z
+            let t1076 = 0.304f64 * t956; // 3.0400e-1 = joint EFE origin z
+            let t1077 = t953 + t1075;
+            let t1078 = t1074 - t1076;
+            let t1079 = humerus_r_ixx + t1057;
+            let t1080 = humerus_r_ixy + t1058;
+            let humerus_r_u_nx = humerus_r_ixz - t1047;
+            let t1081 = humerus_r_iyy + t1059;
+            let humerus_r_u_ny = humerus_r_iyz + t1050;
+            let humerus_r_u_nz = humerus_r_izz + t975;
             let t1082 = humerus_r_hz + t1061;
-            let humerus_r_u_fy = humerus_r_hx + t1006;
-            let t1083 = humerus_r_hy - t1063;
-            let t1084 = t1064 - humerus_r_hx;
-            let t1085 = humerus_r_m + t894;
-            let t1086 = humerus_r_m + t1033;
-            let humerus_r_p_nx = t90 - t1076;
-            let humerus_r_p_ny = t91 + t1077;
-            let humerus_r_p_nz = t92 + t1070;
-            let humerus_r_p_fx = t95 + t955;
-            let humerus_r_p_fy = t98 + t1067;
+            let t1083 = humerus_r_hy + t1013;
+            let t1084 = humerus_r_hz + t1062;
+            let humerus_r_u_fy = humerus_r_hx + t1007;
+            let t1085 = humerus_r_hy - t1064;
+            let t1086 = t1065 - humerus_r_hx;
+            let t1087 = humerus_r_m + t895;
+            let t1088 = humerus_r_m + t1034;
+            let humerus_r_p_nx = t90 - t1077;
+            let humerus_r_p_ny = t91 + t1078;
+            let humerus_r_p_nz = t92 + t1071;
+            let t1089 = t95 + t956;
+            let humerus_r_p_fy = t98 + t1068;
             (
                 u_efe,
-                t846,
+                t847,
                 humerus_r_u_fz,
-                t1020,
-                t1027,
-                t1030,
-                t1059,
-                t1062,
-                t1078,
+                t1021,
+                t1028,
+                t1031,
+                t1060,
+                t1063,
                 t1079,
-                humerus_r_u_nx,
                 t1080,
+                humerus_r_u_nx,
+                t1081,
                 humerus_r_u_ny,
                 humerus_r_u_nz,
-                t1081,
-                humerus_r_u_fx,
                 t1082,
-                humerus_r_u_fy,
                 t1083,
                 t1084,
+                humerus_r_u_fy,
                 t1085,
                 t1086,
+                t1087,
+                t1088,
                 humerus_r_p_nx,
                 humerus_r_p_ny,
                 humerus_r_p_nz,
-                humerus_r_p_fx,
+                t1089,
                 humerus_r_p_fy,
             )
         };
         let (
             u_hr,
-            t1087,
-            t1123,
-            t1298,
-            t1316,
-            t1317,
+            t1090,
+            t1126,
+            t1301,
+            t1319,
+            t1320,
             shoulder_fe_u_nx,
-            t1318,
+            t1321,
             shoulder_fe_u_ny,
             shoulder_fe_u_nz,
-            t1319,
+            t1322,
             shoulder_fe_u_fx,
-            t1320,
+            t1323,
             shoulder_fe_u_fy,
             shoulder_fe_p_nx,
             shoulder_fe_p_ny,
@@ -6053,338 +6038,338 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         ) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
             let u_hr = tau_hr - humerus_r_p_nz;
-            let t1087 = 1f64 / humerus_r_u_nz;
-            let t1088 = humerus_r_u_nx * t1087;
-            let t1089 = humerus_r_u_ny * t1087;
-            let t1090 = humerus_r_u_nz * t1087;
-            let t1091 = humerus_r_u_fx * t1087;
-            let t1092 = humerus_r_u_fy * t1087;
-            let t1093 = humerus_r_u_fz * t1087;
-            let t1094 = humerus_r_u_nx * t1088;
-            let t1095 = humerus_r_u_nx * t1089;
-            let t1096 = humerus_r_u_ny * t1089;
-            let t1097 = humerus_r_u_nx * t1090;
-            let t1098 = humerus_r_u_ny * t1090;
-            let t1099 = humerus_r_u_nz * t1090;
-            let t1100 = t1078 - t1094;
-            let t1101 = t1079 - t1095;
-            let t1102 = t1080 - t1096;
-            let t1103 = humerus_r_u_nx - t1097;
-            let t1104 = humerus_r_u_ny - t1098;
-            let t1105 = humerus_r_u_nz - t1099;
-            let t1106 = humerus_r_u_nx * t1091;
-            let t1107 = humerus_r_u_ny * t1091;
-            let t1108 = humerus_r_u_nz * t1091;
-            let t1109 = humerus_r_u_nx * t1092;
-            let t1110 = humerus_r_u_ny * t1092;
-            let t1111 = humerus_r_u_nz * t1092;
-            let t1112 = humerus_r_u_nx * t1093;
-            let t1113 = humerus_r_u_ny * t1093;
-            let t1114 = humerus_r_u_nz * t1093;
-            let t1115 = t1059 + t1106;
-            let t1116 = t1081 + t1107;
-            let t1117 = t1108 - humerus_r_u_fx;
-            let t1118 = t1082 + t1109;
-            let t1119 = t1062 - t1110;
-            let t1120 = humerus_r_u_fy - t1111;
-            let t1121 = t1083 - t1112;
-            let t1122 = t1084 - t1113;
-            let t1123 = humerus_r_u_fz - t1114;
-            let t1124 = humerus_r_u_fx * t1091;
-            let t1125 = humerus_r_u_fx * t1092;
-            let t1126 = humerus_r_u_fy * t1092;
-            let t1127 = humerus_r_u_fx * t1093;
-            let t1128 = humerus_r_u_fy * t1093;
-            let t1129 = t1085 - t1124;
-            let t1130 = t1027 + t1125;
-            let t1131 = t1086 - t1126;
-            let t1132 = t1127 - t1020;
-            let t1133 = t1030 - t1128;
-            let t1134 = t1100 * t36;
-            let t1135 = t1101 * t37;
-            let t1136 = t1134 - t1135;
-            let t1137 = t1101 * t36;
-            let t1138 = t1102 * t37;
+            let t1090 = 1f64 / humerus_r_u_nz;
+            let t1091 = humerus_r_u_nx * t1090;
+            let t1092 = humerus_r_u_ny * t1090;
+            let t1093 = humerus_r_u_nz * t1090;
+            let t1094 = t1083 * t1090;
+            let t1095 = humerus_r_u_fy * t1090;
+            let t1096 = humerus_r_u_fz * t1090;
+            let t1097 = humerus_r_u_nx * t1091;
+            let t1098 = humerus_r_u_nx * t1092;
+            let t1099 = humerus_r_u_ny * t1092;
+            let t1100 = humerus_r_u_nx * t1093;
+            let t1101 = humerus_r_u_ny * t1093;
+            let t1102 = humerus_r_u_nz * t1093;
+            let t1103 = t1079 - t1097;
+            let t1104 = t1080 - t1098;
+            let t1105 = t1081 - t1099;
+            let t1106 = humerus_r_u_nx - t1100;
+            let t1107 = humerus_r_u_ny - t1101;
+            let t1108 = humerus_r_u_nz - t1102;
+            let t1109 = humerus_r_u_nx * t1094;
+            let t1110 = humerus_r_u_ny * t1094;
+            let t1111 = humerus_r_u_nz * t1094;
+            let t1112 = humerus_r_u_nx * t1095;
+            let t1113 = humerus_r_u_ny * t1095;
+            let t1114 = humerus_r_u_nz * t1095;
+            let t1115 = humerus_r_u_nx * t1096;
+            let t1116 = humerus_r_u_ny * t1096;
+            let t1117 = humerus_r_u_nz * t1096;
+            let t1118 = t1060 + t1109;
+            let t1119 = t1082 + t1110;
+            let t1120 = t1111 - t1083;
+            let t1121 = t1084 + t1112;
+            let t1122 = t1063 - t1113;
+            let t1123 = humerus_r_u_fy - t1114;
+            let t1124 = t1085 - t1115;
+            let t1125 = t1086 - t1116;
+            let t1126 = humerus_r_u_fz - t1117;
+            let t1127 = t1083 * t1094;
+            let t1128 = t1083 * t1095;
+            let t1129 = humerus_r_u_fy * t1095;
+            let t1130 = t1083 * t1096;
+            let t1131 = humerus_r_u_fy * t1096;
+            let t1132 = t1087 - t1127;
+            let t1133 = t1028 + t1128;
+            let t1134 = t1088 - t1129;
+            let t1135 = t1130 - t1021;
+            let t1136 = t1031 - t1131;
+            let t1137 = t1103 * t36;
+            let t1138 = t1104 * t37;
             let t1139 = t1137 - t1138;
-            let t1140 = t1103 * t36;
-            let t1141 = t1104 * t37;
+            let t1140 = t1104 * t36;
+            let t1141 = t1105 * t37;
             let t1142 = t1140 - t1141;
-            let t1143 = t1115 * t38;
-            let t1144 = t1118 * t39;
-            let t1145 = t1143 + t1144;
-            let t1146 = t1116 * t38;
-            let t1147 = t1119 * t39;
-            let t1148 = t1146 - t1147;
-            let t1149 = t1117 * t38;
-            let t1150 = t1120 * t39;
+            let t1143 = t1106 * t36;
+            let t1144 = t1107 * t37;
+            let t1145 = t1143 - t1144;
+            let t1146 = t1118 * t38;
+            let t1147 = t1121 * t39;
+            let t1148 = t1146 + t1147;
+            let t1149 = t1119 * t38;
+            let t1150 = t1122 * t39;
             let t1151 = t1149 - t1150;
-            let t1152 = t1136 + t1145;
-            let t1153 = t1139 + t1148;
-            let t1154 = t1142 + t1151;
-            let t1155 = t1115 * t36;
-            let t1156 = t1116 * t37;
-            let t1157 = t1155 - t1156;
+            let t1152 = t1120 * t38;
+            let t1153 = t1123 * t39;
+            let t1154 = t1152 - t1153;
+            let t1155 = t1139 + t1148;
+            let t1156 = t1142 + t1151;
+            let t1157 = t1145 + t1154;
             let t1158 = t1118 * t36;
             let t1159 = t1119 * t37;
-            let t1160 = t1158 + t1159;
-            let t1161 = t1129 * t38;
-            let t1162 = t1130 * t39;
-            let t1163 = t1161 - t1162;
-            let t1164 = t1130 * t38;
-            let t1165 = t1131 * t39;
+            let t1160 = t1158 - t1159;
+            let t1161 = t1121 * t36;
+            let t1162 = t1122 * t37;
+            let t1163 = t1161 + t1162;
+            let t1164 = t1132 * t38;
+            let t1165 = t1133 * t39;
             let t1166 = t1164 - t1165;
-            let t1167 = t1157 + t1163;
-            let t1168 = t1166 - t1160;
-            let t1169 = humerus_r_p_nx + t1152;
-            let t1170 = humerus_r_p_ny + t1153;
-            let t1171 = humerus_r_p_nz + t1154;
-            let t1172 = t1167 - humerus_r_p_fx;
-            let t1173 = humerus_r_p_fy + t1168;
-            let t1174 = u_hr * t1087;
-            let t1175 = humerus_r_u_nx * t1174;
-            let t1176 = humerus_r_u_ny * t1174;
-            let t1177 = humerus_r_u_nz * t1174;
-            let t1178 = humerus_r_u_fx * t1174;
-            let t1179 = humerus_r_u_fy * t1174;
-            let t1180 = t1169 + t1175;
-            let t1181 = t1170 + t1176;
-            let t1182 = t1171 + t1177;
-            let t1183 = t1172 - t1178;
+            let t1167 = t1133 * t38;
+            let t1168 = t1134 * t39;
+            let t1169 = t1167 - t1168;
+            let t1170 = t1160 + t1166;
+            let t1171 = t1169 - t1163;
+            let t1172 = humerus_r_p_nx + t1155;
+            let t1173 = humerus_r_p_ny + t1156;
+            let t1174 = humerus_r_p_nz + t1157;
+            let t1175 = t1170 - t1089;
+            let t1176 = humerus_r_p_fy + t1171;
+            let t1177 = u_hr * t1090;
+            let t1178 = humerus_r_u_nx * t1177;
+            let t1179 = humerus_r_u_ny * t1177;
+            let t1180 = humerus_r_u_nz * t1177;
+            let t1181 = t1083 * t1177;
+            let t1182 = humerus_r_u_fy * t1177;
+            let t1183 = t1172 + t1178;
             let t1184 = t1173 + t1179;
-            let t1185 = t1100 * c_hr;
-            let t1186 = t1101 * s_hr;
-            let t1187 = t1185 - t1186;
-            let t1188 = t1101 * c_hr;
-            let t1189 = t1102 * s_hr;
+            let t1185 = t1174 + t1180;
+            let t1186 = t1175 - t1181;
+            let t1187 = t1176 + t1182;
+            let t1188 = t1103 * c_hr;
+            let t1189 = t1104 * s_hr;
             let t1190 = t1188 - t1189;
-            let t1191 = t1103 * c_hr;
-            let t1192 = t1104 * s_hr;
+            let t1191 = t1104 * c_hr;
+            let t1192 = t1105 * s_hr;
             let t1193 = t1191 - t1192;
-            let t1194 = t1100 * s_hr;
-            let t1195 = t1194 + t1188;
-            let t1196 = t1102 * c_hr;
-            let t1197 = t1186 + t1196;
-            let t1198 = t1103 * s_hr;
-            let t1199 = t1104 * c_hr;
-            let t1200 = t1198 + t1199;
-            let t1201 = c_hr * t1187;
-            let t1202 = s_hr * t1190;
-            let t1203 = t1201 - t1202;
-            let t1204 = c_hr * t1195;
-            let t1205 = s_hr * t1197;
+            let t1194 = t1106 * c_hr;
+            let t1195 = t1107 * s_hr;
+            let t1196 = t1194 - t1195;
+            let t1197 = t1103 * s_hr;
+            let t1198 = t1197 + t1191;
+            let t1199 = t1105 * c_hr;
+            let t1200 = t1189 + t1199;
+            let t1201 = t1106 * s_hr;
+            let t1202 = t1107 * c_hr;
+            let t1203 = t1201 + t1202;
+            let t1204 = c_hr * t1190;
+            let t1205 = s_hr * t1193;
             let t1206 = t1204 - t1205;
-            let t1207 = s_hr * t1195;
-            let t1208 = c_hr * t1197;
-            let t1209 = t1207 + t1208;
-            let t1210 = t1115 * c_hr;
-            let t1211 = t1118 * s_hr;
+            let t1207 = c_hr * t1198;
+            let t1208 = s_hr * t1200;
+            let t1209 = t1207 - t1208;
+            let t1210 = s_hr * t1198;
+            let t1211 = c_hr * t1200;
             let t1212 = t1210 + t1211;
-            let t1213 = t1116 * c_hr;
-            let t1214 = t1119 * s_hr;
-            let t1215 = t1213 - t1214;
-            let t1216 = t1117 * c_hr;
-            let t1217 = t1120 * s_hr;
+            let t1213 = t1118 * c_hr;
+            let t1214 = t1121 * s_hr;
+            let t1215 = t1213 + t1214;
+            let t1216 = t1119 * c_hr;
+            let t1217 = t1122 * s_hr;
             let t1218 = t1216 - t1217;
-            let t1219 = t1115 * s_hr;
-            let t1220 = t1118 * c_hr;
+            let t1219 = t1120 * c_hr;
+            let t1220 = t1123 * s_hr;
             let t1221 = t1219 - t1220;
-            let t1222 = t1116 * s_hr;
-            let t1223 = t1119 * c_hr;
-            let t1224 = t1222 + t1223;
-            let t1225 = t1117 * s_hr;
-            let t1226 = t1120 * c_hr;
+            let t1222 = t1118 * s_hr;
+            let t1223 = t1121 * c_hr;
+            let t1224 = t1222 - t1223;
+            let t1225 = t1119 * s_hr;
+            let t1226 = t1122 * c_hr;
             let t1227 = t1225 + t1226;
-            let t1228 = c_hr * t1212;
-            let t1229 = s_hr * t1215;
-            let t1230 = t1228 - t1229;
-            let t1231 = s_hr * t1212;
-            let t1232 = c_hr * t1215;
-            let t1233 = t1231 + t1232;
-            let t1234 = c_hr * t1221;
-            let t1235 = s_hr * t1224;
-            let t1236 = t1234 - t1235;
-            let t1237 = s_hr * t1221;
-            let t1238 = c_hr * t1224;
-            let t1239 = t1237 + t1238;
-            let t1240 = c_hr * t1121;
-            let t1241 = s_hr * t1122;
-            let t1242 = t1240 - t1241;
-            let t1243 = s_hr * t1121;
-            let t1244 = c_hr * t1122;
-            let t1245 = t1243 + t1244;
-            let t1246 = t1129 * c_hr;
-            let t1247 = t1130 * s_hr;
-            let t1248 = t1246 - t1247;
-            let t1249 = t1130 * c_hr;
-            let t1250 = t1131 * s_hr;
+            let t1228 = t1120 * s_hr;
+            let t1229 = t1123 * c_hr;
+            let t1230 = t1228 + t1229;
+            let t1231 = c_hr * t1215;
+            let t1232 = s_hr * t1218;
+            let t1233 = t1231 - t1232;
+            let t1234 = s_hr * t1215;
+            let t1235 = c_hr * t1218;
+            let t1236 = t1234 + t1235;
+            let t1237 = c_hr * t1224;
+            let t1238 = s_hr * t1227;
+            let t1239 = t1237 - t1238;
+            let t1240 = s_hr * t1224;
+            let t1241 = c_hr * t1227;
+            let t1242 = t1240 + t1241;
+            let t1243 = c_hr * t1124;
+            let t1244 = s_hr * t1125;
+            let t1245 = t1243 - t1244;
+            let t1246 = s_hr * t1124;
+            let t1247 = c_hr * t1125;
+            let t1248 = t1246 + t1247;
+            let t1249 = t1132 * c_hr;
+            let t1250 = t1133 * s_hr;
             let t1251 = t1249 - t1250;
-            let t1252 = t1132 * c_hr;
-            let t1253 = t1133 * s_hr;
+            let t1252 = t1133 * c_hr;
+            let t1253 = t1134 * s_hr;
             let t1254 = t1252 - t1253;
-            let t1255 = t1129 * s_hr;
-            let t1256 = t1255 + t1249;
-            let t1257 = t1131 * c_hr;
-            let t1258 = t1247 + t1257;
-            let t1259 = t1132 * s_hr;
-            let t1260 = t1133 * c_hr;
-            let t1261 = t1259 + t1260;
-            let t1262 = c_hr * t1248;
-            let t1263 = s_hr * t1251;
-            let t1264 = t1262 - t1263;
-            let t1265 = c_hr * t1256;
-            let t1266 = s_hr * t1258;
+            let t1255 = t1135 * c_hr;
+            let t1256 = t1136 * s_hr;
+            let t1257 = t1255 - t1256;
+            let t1258 = t1132 * s_hr;
+            let t1259 = t1258 + t1252;
+            let t1260 = t1134 * c_hr;
+            let t1261 = t1250 + t1260;
+            let t1262 = t1135 * s_hr;
+            let t1263 = t1136 * c_hr;
+            let t1264 = t1262 + t1263;
+            let t1265 = c_hr * t1251;
+            let t1266 = s_hr * t1254;
             let t1267 = t1265 - t1266;
-            let t1268 = s_hr * t1256;
-            let t1269 = c_hr * t1258;
-            let t1270 = t1268 + t1269;
-            let t1271 = t1218 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1272 = t1233 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1273 = t1230 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1274 = t1227 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1275 = t1239 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1276 = t1236 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1277 = 0.112f64 * t1254; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1278 = 0.112f64 * t1261; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1279 = 0.112f64 * t1267; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1280 = 0.112f64 * t1270; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1268 = c_hr * t1259;
+            let t1269 = s_hr * t1261;
+            let t1270 = t1268 - t1269;
+            let t1271 = s_hr * t1259;
+            let t1272 = c_hr * t1261;
+            let t1273 = t1271 + t1272;
+            let t1274 = t1221 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1275 = t1236 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1276 = t1233 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1277 = t1230 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1278 = t1242 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1279 = t1239 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1280 = 0.112f64 * t1257; // 1.1200e-1 = joint HR origin x or joint WR origin x
             let t1281 = 0.112f64 * t1264; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1282 = t1200 + t1271;
-            let t1283 = t1209 + t1272;
-            let t1284 = t1274 - t1193;
-            let t1285 = t1275 - t1206;
-            let t1286 = t1203 - t1276;
-            let t1287 = t1283 + t1272;
-            let t1288 = t1285 - t1273;
-            let t1289 = t1286 - t1276;
-            let t1290 = t1281 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1291 = t1279 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1292 = t1280 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1293 = t1287 + t1290;
-            let t1294 = t1288 + t1291;
-            let t1295 = t1289 + t1292;
-            let t1296 = t1245 + t1277;
-            let t1297 = t1278 - t1242;
-            let t1298 = t1239 + t1279;
-            let t1299 = t1280 - t1236;
-            let t1300 = c_hr * t1183;
-            let t1301 = s_hr * t1184;
-            let t1302 = t1300 - t1301;
-            let t1303 = s_hr * t1183;
-            let t1304 = c_hr * t1184;
-            let t1305 = t1303 + t1304;
-            let t1306 = c_hr * t1180;
-            let t1307 = s_hr * t1181;
-            let t1308 = t1306 - t1307;
-            let t1309 = s_hr * t1180;
-            let t1310 = c_hr * t1181;
-            let t1311 = t1309 + t1310;
-            let t1312 = 0.112f64 * t1302; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1313 = 0.112f64 * t1305; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1314 = t1311 + t1312;
-            let t1315 = t1313 - t1308;
-            let t1316 = shoulder_fe_ixx + t1105;
-            let t1317 = shoulder_fe_ixy + t1282;
-            let shoulder_fe_u_nx = shoulder_fe_ixz + t1284;
-            let t1318 = shoulder_fe_iyy + t1293;
-            let shoulder_fe_u_ny = shoulder_fe_iyz + t1294;
-            let shoulder_fe_u_nz = shoulder_fe_izz + t1295;
-            let t1319 = shoulder_fe_hz + t1296;
-            let shoulder_fe_u_fx = t1297 - shoulder_fe_hy;
-            let t1320 = t1227 - shoulder_fe_hz;
-            let shoulder_fe_u_fy = shoulder_fe_hx + t1299;
-            let shoulder_fe_p_nx = t19 + t1182;
-            let shoulder_fe_p_ny = t22 + t1314;
-            let shoulder_fe_p_nz = t25 + t1315;
+            let t1282 = 0.112f64 * t1270; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1283 = 0.112f64 * t1273; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1284 = 0.112f64 * t1267; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1285 = t1203 + t1274;
+            let t1286 = t1212 + t1275;
+            let t1287 = t1277 - t1196;
+            let t1288 = t1278 - t1209;
+            let t1289 = t1206 - t1279;
+            let t1290 = t1286 + t1275;
+            let t1291 = t1288 - t1276;
+            let t1292 = t1289 - t1279;
+            let t1293 = t1284 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1294 = t1282 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1295 = t1283 * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1296 = t1290 + t1293;
+            let t1297 = t1291 + t1294;
+            let t1298 = t1292 + t1295;
+            let t1299 = t1248 + t1280;
+            let t1300 = t1281 - t1245;
+            let t1301 = t1242 + t1282;
+            let t1302 = t1283 - t1239;
+            let t1303 = c_hr * t1186;
+            let t1304 = s_hr * t1187;
+            let t1305 = t1303 - t1304;
+            let t1306 = s_hr * t1186;
+            let t1307 = c_hr * t1187;
+            let t1308 = t1306 + t1307;
+            let t1309 = c_hr * t1183;
+            let t1310 = s_hr * t1184;
+            let t1311 = t1309 - t1310;
+            let t1312 = s_hr * t1183;
+            let t1313 = c_hr * t1184;
+            let t1314 = t1312 + t1313;
+            let t1315 = 0.112f64 * t1305; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1316 = 0.112f64 * t1308; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1317 = t1314 + t1315;
+            let t1318 = t1316 - t1311;
+            let t1319 = shoulder_fe_ixx + t1108;
+            let t1320 = shoulder_fe_ixy + t1285;
+            let shoulder_fe_u_nx = shoulder_fe_ixz + t1287;
+            let t1321 = shoulder_fe_iyy + t1296;
+            let shoulder_fe_u_ny = shoulder_fe_iyz + t1297;
+            let shoulder_fe_u_nz = shoulder_fe_izz + t1298;
+            let t1322 = shoulder_fe_hz + t1299;
+            let shoulder_fe_u_fx = t1300 - shoulder_fe_hy;
+            let t1323 = t1230 - shoulder_fe_hz;
+            let shoulder_fe_u_fy = shoulder_fe_hx + t1302;
+            let shoulder_fe_p_nx = t19 + t1185;
+            let shoulder_fe_p_ny = t22 + t1317;
+            let shoulder_fe_p_nz = t25 + t1318;
             (
                 u_hr,
-                t1087,
-                t1123,
-                t1298,
-                t1316,
-                t1317,
+                t1090,
+                t1126,
+                t1301,
+                t1319,
+                t1320,
                 shoulder_fe_u_nx,
-                t1318,
+                t1321,
                 shoulder_fe_u_ny,
                 shoulder_fe_u_nz,
-                t1319,
+                t1322,
                 shoulder_fe_u_fx,
-                t1320,
+                t1323,
                 shoulder_fe_u_fy,
                 shoulder_fe_p_nx,
                 shoulder_fe_p_ny,
                 shoulder_fe_p_nz,
             )
         };
-        let (u_sfe, t1321, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
+        let (u_sfe, t1324, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
             let u_sfe = tau_sfe - shoulder_fe_p_nz;
-            let t1321 = 1f64 / shoulder_fe_u_nz;
-            let t1322 = shoulder_fe_u_nx * t1321;
-            let t1323 = shoulder_fe_u_ny * t1321;
-            let t1324 = shoulder_fe_u_fx * t1321;
-            let t1325 = shoulder_fe_u_fy * t1321;
-            let t1326 = shoulder_fe_u_nx * t1322;
-            let t1327 = shoulder_fe_u_nx * t1323;
-            let t1328 = shoulder_fe_u_ny * t1323;
-            let t1329 = t1316 - t1326;
-            let t1330 = t1317 - t1327;
-            let t1331 = t1318 - t1328;
-            let t1332 = shoulder_fe_u_nx * t1324;
-            let t1333 = shoulder_fe_u_ny * t1324;
-            let t1334 = shoulder_fe_u_nx * t1325;
-            let t1335 = shoulder_fe_u_ny * t1325;
-            let t1336 = t1123 - t1332;
-            let t1337 = t1319 - t1333;
-            let t1338 = t1320 - t1334;
-            let t1339 = t1298 - t1335;
-            let t1340 = t1329 * t0;
-            let t1341 = t1330 * t1;
-            let t1342 = t1340 - t1341;
-            let t1343 = t1330 * t0;
-            let t1344 = t1331 * t1;
+            let t1324 = 1f64 / shoulder_fe_u_nz;
+            let t1325 = shoulder_fe_u_nx * t1324;
+            let t1326 = shoulder_fe_u_ny * t1324;
+            let t1327 = shoulder_fe_u_fx * t1324;
+            let t1328 = shoulder_fe_u_fy * t1324;
+            let t1329 = shoulder_fe_u_nx * t1325;
+            let t1330 = shoulder_fe_u_nx * t1326;
+            let t1331 = shoulder_fe_u_ny * t1326;
+            let t1332 = t1319 - t1329;
+            let t1333 = t1320 - t1330;
+            let t1334 = t1321 - t1331;
+            let t1335 = shoulder_fe_u_nx * t1327;
+            let t1336 = shoulder_fe_u_ny * t1327;
+            let t1337 = shoulder_fe_u_nx * t1328;
+            let t1338 = shoulder_fe_u_ny * t1328;
+            let t1339 = t1126 - t1335;
+            let t1340 = t1322 - t1336;
+            let t1341 = t1323 - t1337;
+            let t1342 = t1301 - t1338;
+            let t1343 = t1332 * t0;
+            let t1344 = t1333 * t1;
             let t1345 = t1343 - t1344;
-            let t1346 = shoulder_fe_p_nx + t1342;
-            let t1347 = shoulder_fe_p_ny + t1345;
-            let t1348 = u_sfe * t1321;
-            let t1349 = shoulder_fe_u_nx * t1348;
-            let t1350 = shoulder_fe_u_ny * t1348;
-            let t1351 = t1346 + t1349;
-            let t1352 = t1347 + t1350;
-            let t1353 = t1330 * s_sfe;
-            let t1354 = t1330 * c_sfe;
-            let t1355 = t1329 * s_sfe;
-            let t1356 = t1355 + t1354;
-            let t1357 = t1331 * c_sfe;
-            let t1358 = t1353 + t1357;
-            let t1359 = s_sfe * t1356;
-            let t1360 = c_sfe * t1358;
-            let t1361 = t1359 + t1360;
-            let t1362 = t1336 * s_sfe;
-            let t1363 = t1338 * c_sfe;
+            let t1346 = t1333 * t0;
+            let t1347 = t1334 * t1;
+            let t1348 = t1346 - t1347;
+            let t1349 = shoulder_fe_p_nx + t1345;
+            let t1350 = shoulder_fe_p_ny + t1348;
+            let t1351 = u_sfe * t1324;
+            let t1352 = shoulder_fe_u_nx * t1351;
+            let t1353 = shoulder_fe_u_ny * t1351;
+            let t1354 = t1349 + t1352;
+            let t1355 = t1350 + t1353;
+            let t1356 = t1333 * s_sfe;
+            let t1357 = t1333 * c_sfe;
+            let t1358 = t1332 * s_sfe;
+            let t1359 = t1358 + t1357;
+            let t1360 = t1334 * c_sfe;
+            let t1361 = t1356 + t1360;
+            let t1362 = s_sfe * t1359;
+            let t1363 = c_sfe * t1361;
             let t1364 = t1362 + t1363;
-            let t1365 = t1337 * s_sfe;
-            let t1366 = t1339 * c_sfe;
+            let t1365 = t1339 * s_sfe;
+            let t1366 = t1341 * c_sfe;
             let t1367 = t1365 + t1366;
-            let t1368 = s_sfe * t1364;
-            let t1369 = c_sfe * t1367;
-            let shoulder_aa_u_fz = t1368 + t1369;
-            let t1370 = s_sfe * t1351;
-            let t1371 = c_sfe * t1352;
-            let shoulder_aa_p_nz = t1370 + t1371;
-            let shoulder_aa_u_nz = shoulder_aa_izz + t1361;
-            (u_sfe, t1321, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
+            let t1368 = t1340 * s_sfe;
+            let t1369 = t1342 * c_sfe;
+            let t1370 = t1368 + t1369;
+            let t1371 = s_sfe * t1367;
+            let t1372 = c_sfe * t1370;
+            let shoulder_aa_u_fz = t1371 + t1372;
+            let t1373 = s_sfe * t1354;
+            let t1374 = c_sfe * t1355;
+            let shoulder_aa_p_nz = t1373 + t1374;
+            let shoulder_aa_u_nz = shoulder_aa_izz + t1364;
+            (u_sfe, t1324, shoulder_aa_u_fz, shoulder_aa_p_nz, shoulder_aa_u_nz)
         };
-        let (u_saa, t1372) = {
+        let (u_saa, t1375) = {
             // ── link `Shoulder_AA`, joint `SAA` (tip to base)
             let u_saa = tau_saa - shoulder_aa_p_nz;
-            let t1372 = 1f64 / shoulder_aa_u_nz;
-            (u_saa, t1372)
+            let t1375 = 1f64 / shoulder_aa_u_nz;
+            (u_saa, t1375)
         };
         let qdd_saa = {
             // ── link `Shoulder_AA`, joint `SAA` (base to tip, last pass)
-            let t1373 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
-            let t1374 = u_saa - t1373;
-            let qdd_saa = t1374 * t1372;
+            let t1376 = 9.81f64 * shoulder_aa_u_fz; // 9.8100e0 = g
+            let t1377 = u_saa - t1376;
+            let qdd_saa = t1377 * t1375;
             qdd_saa
         };
         let (
@@ -6395,21 +6380,21 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             qdd_sfe,
         ) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip, last pass)
-            let t1375 = s_sfe * qdd_saa;
-            let t1376 = c_sfe * qdd_saa;
+            let t1378 = s_sfe * qdd_saa;
+            let t1379 = c_sfe * qdd_saa;
             let shoulder_fe_a_vx = s_sfe * 9.81f64; // 9.8100e0 = g
             let shoulder_fe_a_vy = c_sfe * 9.81f64; // 9.8100e0 = g
-            let shoulder_fe_a_wx = t1375 + t0;
-            let shoulder_fe_a_wy = t1376 - t1;
-            let t1377 = shoulder_fe_a_wx * shoulder_fe_u_nx;
-            let t1378 = shoulder_fe_a_wy * shoulder_fe_u_ny;
-            let t1379 = t1377 + t1378;
-            let t1380 = shoulder_fe_a_vx * shoulder_fe_u_fx;
-            let t1381 = shoulder_fe_a_vy * shoulder_fe_u_fy;
+            let shoulder_fe_a_wx = t1378 + t0;
+            let shoulder_fe_a_wy = t1379 - t1;
+            let t1380 = shoulder_fe_a_wx * shoulder_fe_u_nx;
+            let t1381 = shoulder_fe_a_wy * shoulder_fe_u_ny;
             let t1382 = t1380 + t1381;
-            let t1383 = t1379 + t1382;
-            let t1384 = u_sfe - t1383;
-            let qdd_sfe = t1384 * t1321;
+            let t1383 = shoulder_fe_a_vx * shoulder_fe_u_fx;
+            let t1384 = shoulder_fe_a_vy * shoulder_fe_u_fy;
+            let t1385 = t1383 + t1384;
+            let t1386 = t1382 + t1385;
+            let t1387 = u_sfe - t1386;
+            let qdd_sfe = t1387 * t1324;
             (
                 shoulder_fe_a_vx,
                 shoulder_fe_a_vy,
@@ -6427,38 +6412,38 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_a_wz,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip, last pass)
-            let t1385 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1386 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1387 = shoulder_fe_a_vy + t1385;
-            let t1388 = c_hr * qdd_sfe;
-            let t1389 = s_hr * shoulder_fe_a_wy;
-            let t1390 = t1389 - t1388;
-            let t1391 = s_hr * qdd_sfe;
-            let t1392 = c_hr * shoulder_fe_a_wy;
-            let t1393 = t1391 + t1392;
-            let t1394 = c_hr * t1386;
-            let t1395 = s_hr * t1387;
+            let t1388 = 0.112f64 * qdd_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1389 = 0.112f64 * shoulder_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1390 = shoulder_fe_a_vy + t1388;
+            let t1391 = c_hr * qdd_sfe;
+            let t1392 = s_hr * shoulder_fe_a_wy;
+            let t1393 = t1392 - t1391;
+            let t1394 = s_hr * qdd_sfe;
+            let t1395 = c_hr * shoulder_fe_a_wy;
             let t1396 = t1394 + t1395;
-            let t1397 = s_hr * t1386;
-            let t1398 = c_hr * t1387;
-            let t1399 = t1398 - t1397;
-            let humerus_r_a_wx = t1390 + t36;
-            let humerus_r_a_wy = t1393 - t37;
-            let humerus_r_a_vx = t1396 + t38;
-            let humerus_r_a_vy = t1399 - t39;
-            let t1400 = humerus_r_a_wx * humerus_r_u_nx;
-            let t1401 = humerus_r_a_wy * humerus_r_u_ny;
-            let t1402 = t1400 + t1401;
-            let t1403 = shoulder_fe_a_wx * humerus_r_u_nz;
-            let t1404 = t1402 + t1403;
-            let t1405 = humerus_r_a_vx * humerus_r_u_fx;
-            let t1406 = humerus_r_a_vy * humerus_r_u_fy;
-            let t1407 = t1406 - t1405;
-            let t1408 = shoulder_fe_a_vx * humerus_r_u_fz;
-            let t1409 = t1407 + t1408;
-            let t1410 = t1404 + t1409;
-            let t1411 = u_hr - t1410;
-            let qdd_hr = t1411 * t1087;
+            let t1397 = c_hr * t1389;
+            let t1398 = s_hr * t1390;
+            let t1399 = t1397 + t1398;
+            let t1400 = s_hr * t1389;
+            let t1401 = c_hr * t1390;
+            let t1402 = t1401 - t1400;
+            let humerus_r_a_wx = t1393 + t36;
+            let humerus_r_a_wy = t1396 - t37;
+            let humerus_r_a_vx = t1399 + t38;
+            let humerus_r_a_vy = t1402 - t39;
+            let t1403 = humerus_r_a_wx * humerus_r_u_nx;
+            let t1404 = humerus_r_a_wy * humerus_r_u_ny;
+            let t1405 = t1403 + t1404;
+            let t1406 = shoulder_fe_a_wx * humerus_r_u_nz;
+            let t1407 = t1405 + t1406;
+            let t1408 = humerus_r_a_vx * t1083;
+            let t1409 = humerus_r_a_vy * humerus_r_u_fy;
+            let t1410 = t1409 - t1408;
+            let t1411 = shoulder_fe_a_vx * humerus_r_u_fz;
+            let t1412 = t1410 + t1411;
+            let t1413 = t1407 + t1412;
+            let t1414 = u_hr - t1413;
+            let qdd_hr = t1414 * t1090;
             let humerus_r_a_wz = shoulder_fe_a_wx + qdd_hr;
             (
                 humerus_r_a_wx,
@@ -6470,7 +6455,7 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            elbow_fe_a_vz,
+            t1417,
             elbow_fe_a_wx,
             elbow_fe_a_wy,
             elbow_fe_a_vx,
@@ -6479,42 +6464,42 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_a_wz,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip, last pass)
-            let t1412 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t1413 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx + t1412;
-            let t1414 = humerus_r_a_vy - t1413;
-            let t1415 = c_efe * humerus_r_a_wz;
-            let t1416 = s_efe * humerus_r_a_wy;
-            let t1417 = t1415 + t1416;
-            let t1418 = s_efe * humerus_r_a_wz;
-            let t1419 = c_efe * humerus_r_a_wy;
-            let t1420 = t1419 - t1418;
-            let t1421 = c_efe * shoulder_fe_a_vx;
-            let t1422 = s_efe * t1414;
-            let t1423 = t1421 + t1422;
-            let t1424 = s_efe * shoulder_fe_a_vx;
-            let t1425 = c_efe * t1414;
-            let t1426 = t1425 - t1424;
-            let elbow_fe_a_wx = t1417 + t106;
-            let elbow_fe_a_wy = t1420 - t107;
-            let elbow_fe_a_vx = t1423 + t108;
-            let elbow_fe_a_vy = t1426 - t109;
-            let t1427 = elbow_fe_a_wx * elbow_fe_u_nx;
-            let t1428 = elbow_fe_a_wy * elbow_fe_u_ny;
-            let t1429 = t1427 + t1428;
-            let t1430 = humerus_r_a_wx * elbow_fe_u_nz;
-            let t1431 = t1429 - t1430;
-            let t1432 = elbow_fe_a_vx * elbow_fe_u_fx;
-            let t1433 = elbow_fe_a_vy * elbow_fe_u_fy;
-            let t1434 = t1432 + t1433;
-            let t1435 = elbow_fe_a_vz * elbow_fe_u_fz;
-            let t1436 = t1434 - t1435;
-            let t1437 = t1431 + t1436;
-            let t1438 = u_efe - t1437;
-            let qdd_efe = t1438 * t846;
+            let t1415 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t1416 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let t1417 = humerus_r_a_vx + t1415;
+            let t1418 = humerus_r_a_vy - t1416;
+            let t1419 = c_efe * humerus_r_a_wz;
+            let t1420 = s_efe * humerus_r_a_wy;
+            let t1421 = t1419 + t1420;
+            let t1422 = s_efe * humerus_r_a_wz;
+            let t1423 = c_efe * humerus_r_a_wy;
+            let t1424 = t1423 - t1422;
+            let t1425 = c_efe * shoulder_fe_a_vx;
+            let t1426 = s_efe * t1418;
+            let t1427 = t1425 + t1426;
+            let t1428 = s_efe * shoulder_fe_a_vx;
+            let t1429 = c_efe * t1418;
+            let t1430 = t1429 - t1428;
+            let elbow_fe_a_wx = t1421 + t107;
+            let elbow_fe_a_wy = t1424 - t108;
+            let elbow_fe_a_vx = t1427 + t109;
+            let elbow_fe_a_vy = t1430 - t110;
+            let t1431 = elbow_fe_a_wx * elbow_fe_u_nx;
+            let t1432 = elbow_fe_a_wy * elbow_fe_u_ny;
+            let t1433 = t1431 + t1432;
+            let t1434 = humerus_r_a_wx * elbow_fe_u_nz;
+            let t1435 = t1433 - t1434;
+            let t1436 = elbow_fe_a_vx * elbow_fe_u_fx;
+            let t1437 = elbow_fe_a_vy * elbow_fe_u_fy;
+            let t1438 = t1436 + t1437;
+            let t1439 = t1417 * elbow_fe_u_fz;
+            let t1440 = t1438 - t1439;
+            let t1441 = t1435 + t1440;
+            let t1442 = u_efe - t1441;
+            let qdd_efe = t1442 * t847;
             let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
             (
-                elbow_fe_a_vz,
+                t1417,
                 elbow_fe_a_wx,
                 elbow_fe_a_wy,
                 elbow_fe_a_vx,
@@ -6525,75 +6510,75 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
         };
         let (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz) = {
             // ── link `Wrist_R`, joint `WR` (base to tip, last pass)
-            let t1439 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1440 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1441 = elbow_fe_a_vy + t1439;
-            let t1442 = elbow_fe_a_vz + t1440;
-            let t1443 = c_wr * elbow_fe_a_wz;
-            let t1444 = s_wr * elbow_fe_a_wy;
-            let t1445 = t1444 - t1443;
-            let t1446 = s_wr * elbow_fe_a_wz;
-            let t1447 = c_wr * elbow_fe_a_wy;
-            let t1448 = t1446 + t1447;
-            let t1449 = c_wr * t1442;
-            let t1450 = s_wr * t1441;
-            let t1451 = t1449 + t1450;
-            let t1452 = s_wr * t1442;
-            let t1453 = c_wr * t1441;
-            let t1454 = t1453 - t1452;
-            let wrist_r_a_wx = t1445 + t194;
-            let wrist_r_a_wy = t1448 - t195;
-            let wrist_r_a_vx = t1451 + t196;
-            let wrist_r_a_vy = t1454 - t197;
-            let t1455 = wrist_r_a_wx * wrist_r_u_nx;
-            let t1456 = wrist_r_a_wy * wrist_r_u_ny;
-            let t1457 = t1455 + t1456;
-            let t1458 = elbow_fe_a_wx * wrist_r_u_nz;
-            let t1459 = t1457 + t1458;
-            let t1460 = wrist_r_a_vx * wrist_r_u_fx;
-            let t1461 = wrist_r_a_vy * wrist_r_u_fy;
-            let t1462 = t1460 + t1461;
-            let t1463 = elbow_fe_a_vx * wrist_r_u_fz;
-            let t1464 = t1462 + t1463;
-            let t1465 = t1459 + t1464;
-            let t1466 = u_wr - t1465;
-            let qdd_wr = t1466 * t597;
+            let t1443 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1444 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1445 = elbow_fe_a_vy + t1443;
+            let t1446 = t1417 + t1444;
+            let t1447 = c_wr * elbow_fe_a_wz;
+            let t1448 = s_wr * elbow_fe_a_wy;
+            let t1449 = t1448 - t1447;
+            let t1450 = s_wr * elbow_fe_a_wz;
+            let t1451 = c_wr * elbow_fe_a_wy;
+            let t1452 = t1450 + t1451;
+            let t1453 = c_wr * t1446;
+            let t1454 = s_wr * t1445;
+            let t1455 = t1453 + t1454;
+            let t1456 = s_wr * t1446;
+            let t1457 = c_wr * t1445;
+            let t1458 = t1457 - t1456;
+            let wrist_r_a_wx = t1449 + t195;
+            let wrist_r_a_wy = t1452 - t196;
+            let wrist_r_a_vx = t1455 + t197;
+            let wrist_r_a_vy = t1458 - t198;
+            let t1459 = wrist_r_a_wx * wrist_r_u_nx;
+            let t1460 = wrist_r_a_wy * wrist_r_u_ny;
+            let t1461 = t1459 + t1460;
+            let t1462 = elbow_fe_a_wx * wrist_r_u_nz;
+            let t1463 = t1461 + t1462;
+            let t1464 = wrist_r_a_vx * wrist_r_u_fx;
+            let t1465 = wrist_r_a_vy * wrist_r_u_fy;
+            let t1466 = t1464 + t1465;
+            let t1467 = elbow_fe_a_vx * wrist_r_u_fz;
+            let t1468 = t1466 + t1467;
+            let t1469 = t1463 + t1468;
+            let t1470 = u_wr - t1469;
+            let qdd_wr = t1470 * t598;
             let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
             (wrist_r_a_wx, wrist_r_a_wy, wrist_r_a_vx, qdd_wr, wrist_r_a_wz)
         };
         let qdd_wfe = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip, last pass)
-            let t1467 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t1468 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t1469 = wrist_r_a_vx + t1467;
-            let t1470 = elbow_fe_a_vx - t1468;
-            let t1471 = c_wfe * wrist_r_a_wz;
-            let t1472 = s_wfe * wrist_r_a_wx;
-            let t1473 = t1471 + t1472;
-            let t1474 = s_wfe * wrist_r_a_wz;
-            let t1475 = c_wfe * wrist_r_a_wx;
-            let t1476 = t1475 - t1474;
-            let t1477 = c_wfe * t1470;
-            let t1478 = s_wfe * t1469;
-            let t1479 = t1477 + t1478;
-            let t1480 = s_wfe * t1470;
-            let t1481 = c_wfe * t1469;
-            let t1482 = t1481 - t1480;
-            let wrist_fe_a_wx = t1473 + t285;
-            let wrist_fe_a_wy = t1476 - t286;
-            let wrist_fe_a_vx = t1479 + t287;
-            let wrist_fe_a_vy = t1482 - t288;
-            let t1483 = wrist_fe_a_wx * wrist_fe_ixz;
-            let t1484 = wrist_fe_a_wy * wrist_fe_iyz;
-            let t1485 = t1483 + t1484;
-            let t1486 = wrist_r_a_wy * wrist_fe_izz;
-            let t1487 = t1485 + t1486;
-            let t1488 = wrist_fe_a_vx * wrist_fe_hy;
-            let t1489 = wrist_fe_a_vy * wrist_fe_hx;
-            let t1490 = t1489 - t1488;
-            let t1491 = t1487 + t1490;
-            let t1492 = u_wfe - t1491;
-            let qdd_wfe = t1492 * t355;
+            let t1471 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t1472 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t1473 = wrist_r_a_vx + t1471;
+            let t1474 = elbow_fe_a_vx - t1472;
+            let t1475 = c_wfe * wrist_r_a_wz;
+            let t1476 = s_wfe * wrist_r_a_wx;
+            let t1477 = t1475 + t1476;
+            let t1478 = s_wfe * wrist_r_a_wz;
+            let t1479 = c_wfe * wrist_r_a_wx;
+            let t1480 = t1479 - t1478;
+            let t1481 = c_wfe * t1474;
+            let t1482 = s_wfe * t1473;
+            let t1483 = t1481 + t1482;
+            let t1484 = s_wfe * t1474;
+            let t1485 = c_wfe * t1473;
+            let t1486 = t1485 - t1484;
+            let wrist_fe_a_wx = t1477 + t286;
+            let wrist_fe_a_wy = t1480 - t287;
+            let wrist_fe_a_vx = t1483 + t288;
+            let wrist_fe_a_vy = t1486 - t289;
+            let t1487 = wrist_fe_a_wx * wrist_fe_ixz;
+            let t1488 = wrist_fe_a_wy * wrist_fe_iyz;
+            let t1489 = t1487 + t1488;
+            let t1490 = wrist_r_a_wy * wrist_fe_izz;
+            let t1491 = t1489 + t1490;
+            let t1492 = wrist_fe_a_vx * wrist_fe_hy;
+            let t1493 = wrist_fe_a_vy * wrist_fe_hx;
+            let t1494 = t1493 - t1492;
+            let t1495 = t1491 + t1494;
+            let t1496 = u_wfe - t1495;
+            let qdd_wfe = t1496 * t356;
             qdd_wfe
         };
         if !(shoulder_aa_u_nz > 0.0 && shoulder_fe_u_nz > 0.0 && humerus_r_u_nz > 0.0
@@ -7170,546 +7155,546 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            elbow_fe_v_vz,
             t173,
+            t174,
             elbow_fe_v_wx,
             elbow_fe_v_wy,
             elbow_fe_v_vx,
             elbow_fe_v_vy,
             elbow_fe_v_wz,
-            elbow_fe_a_vz,
+            t181,
             elbow_fe_a_wz,
             elbow_fe_a_wx,
             elbow_fe_a_wy,
             elbow_fe_a_vx,
             elbow_fe_a_vy,
-            t198,
-            t202,
-            t213,
+            t200,
+            t204,
             t215,
-            t221,
-            t222,
-            t225,
+            t217,
+            t223,
+            t224,
             t227,
-            t240,
+            t229,
             t242,
             t244,
-            t247,
-            t254,
-            t255,
+            t246,
+            t249,
+            t256,
             t257,
-            t258,
-            t263,
-            t264,
+            t259,
+            t260,
+            t265,
             t266,
-            t267,
+            t268,
             t269,
-            t270,
-            t275,
-            t276,
+            t271,
+            t272,
             t277,
             t278,
             t279,
             t280,
             t281,
-            t285,
-            t290,
-            t294,
-            t302,
-            t306,
-            t311,
-            t312,
+            t282,
+            t283,
+            t287,
+            t292,
+            t296,
+            t304,
+            t308,
             t313,
             t314,
             t315,
             t316,
+            t317,
+            t318,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
             let t171 = 0.304f64 * humerus_r_v_wy; // 3.0400e-1 = joint EFE origin z
             let t172 = 0.304f64 * humerus_r_v_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_v_vz = humerus_r_v_vx + t171;
-            let t173 = humerus_r_v_vy - t172;
-            let t174 = c_efe * humerus_r_v_wz;
-            let t175 = s_efe * humerus_r_v_wy;
-            let elbow_fe_v_wx = t174 + t175;
-            let t176 = s_efe * humerus_r_v_wz;
-            let t177 = c_efe * humerus_r_v_wy;
-            let elbow_fe_v_wy = t177 - t176;
-            let elbow_fe_v_vx = s_efe * t173;
-            let elbow_fe_v_vy = c_efe * t173;
+            let t173 = humerus_r_v_vx + t171;
+            let t174 = humerus_r_v_vy - t172;
+            let t175 = c_efe * humerus_r_v_wz;
+            let t176 = s_efe * humerus_r_v_wy;
+            let elbow_fe_v_wx = t175 + t176;
+            let t177 = s_efe * humerus_r_v_wz;
+            let t178 = c_efe * humerus_r_v_wy;
+            let elbow_fe_v_wy = t178 - t177;
+            let elbow_fe_v_vx = s_efe * t174;
+            let elbow_fe_v_vy = c_efe * t174;
             let elbow_fe_v_wz = qd_efe - humerus_r_v_wx;
-            let t178 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
-            let t179 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
-            let elbow_fe_a_vz = humerus_r_a_vx + t178;
-            let t180 = humerus_r_a_vy - t179;
-            let t181 = c_efe * humerus_r_a_wz;
-            let t182 = s_efe * humerus_r_a_wy;
-            let t183 = t181 + t182;
-            let t184 = s_efe * humerus_r_a_wz;
-            let t185 = c_efe * humerus_r_a_wy;
-            let t186 = t185 - t184;
-            let t187 = c_efe * shoulder_fe_a_vx;
-            let t188 = s_efe * t180;
-            let t189 = t187 + t188;
-            let t190 = s_efe * shoulder_fe_a_vx;
-            let t191 = c_efe * t180;
-            let t192 = t191 - t190;
+            let t179 = 0.304f64 * humerus_r_a_wy; // 3.0400e-1 = joint EFE origin z
+            let t180 = 0.304f64 * humerus_r_a_wx; // 3.0400e-1 = joint EFE origin z
+            let t181 = humerus_r_a_vx + t179;
+            let t182 = humerus_r_a_vy - t180;
+            let t183 = c_efe * humerus_r_a_wz;
+            let t184 = s_efe * humerus_r_a_wy;
+            let t185 = t183 + t184;
+            let t186 = s_efe * humerus_r_a_wz;
+            let t187 = c_efe * humerus_r_a_wy;
+            let t188 = t187 - t186;
+            let t189 = c_efe * shoulder_fe_a_vx;
+            let t190 = s_efe * t182;
+            let t191 = t189 + t190;
+            let t192 = s_efe * shoulder_fe_a_vx;
+            let t193 = c_efe * t182;
+            let t194 = t193 - t192;
             let elbow_fe_a_wz = qdd_efe - humerus_r_a_wx;
-            let t193 = elbow_fe_v_wy * qd_efe;
-            let t194 = elbow_fe_v_wx * qd_efe;
-            let t195 = elbow_fe_v_vy * qd_efe;
-            let t196 = elbow_fe_v_vx * qd_efe;
-            let elbow_fe_a_wx = t183 + t193;
-            let elbow_fe_a_wy = t186 - t194;
-            let elbow_fe_a_vx = t189 + t195;
-            let elbow_fe_a_vy = t192 - t196;
-            let t197 = elbow_fe_ixx * elbow_fe_a_wx;
-            let t198 = elbow_fe_ixy * elbow_fe_a_wy;
-            let t199 = t197 + t198;
-            let t200 = elbow_fe_ixz * elbow_fe_a_wz;
+            let t195 = elbow_fe_v_wy * qd_efe;
+            let t196 = elbow_fe_v_wx * qd_efe;
+            let t197 = elbow_fe_v_vy * qd_efe;
+            let t198 = elbow_fe_v_vx * qd_efe;
+            let elbow_fe_a_wx = t185 + t195;
+            let elbow_fe_a_wy = t188 - t196;
+            let elbow_fe_a_vx = t191 + t197;
+            let elbow_fe_a_vy = t194 - t198;
+            let t199 = elbow_fe_ixx * elbow_fe_a_wx;
+            let t200 = elbow_fe_ixy * elbow_fe_a_wy;
             let t201 = t199 + t200;
-            let t202 = elbow_fe_ixy * elbow_fe_a_wx;
-            let t203 = elbow_fe_iyy * elbow_fe_a_wy;
-            let t204 = t202 + t203;
-            let t205 = elbow_fe_iyz * elbow_fe_a_wz;
+            let t202 = elbow_fe_ixz * elbow_fe_a_wz;
+            let t203 = t201 + t202;
+            let t204 = elbow_fe_ixy * elbow_fe_a_wx;
+            let t205 = elbow_fe_iyy * elbow_fe_a_wy;
             let t206 = t204 + t205;
-            let t207 = elbow_fe_ixz * elbow_fe_a_wx;
-            let t208 = elbow_fe_iyz * elbow_fe_a_wy;
-            let t209 = t207 + t208;
-            let t210 = elbow_fe_izz * elbow_fe_a_wz;
+            let t207 = elbow_fe_iyz * elbow_fe_a_wz;
+            let t208 = t206 + t207;
+            let t209 = elbow_fe_ixz * elbow_fe_a_wx;
+            let t210 = elbow_fe_iyz * elbow_fe_a_wy;
             let t211 = t209 + t210;
-            let t212 = elbow_fe_hy * elbow_fe_a_vz;
-            let t213 = elbow_fe_hz * elbow_fe_a_vy;
-            let t214 = t212 + t213;
-            let t215 = elbow_fe_hz * elbow_fe_a_vx;
-            let t216 = elbow_fe_hx * elbow_fe_a_vz;
-            let t217 = t215 + t216;
-            let t218 = elbow_fe_hx * elbow_fe_a_vy;
-            let t219 = elbow_fe_hy * elbow_fe_a_vx;
-            let t220 = t218 - t219;
-            let t221 = elbow_fe_a_vx * elbow_fe_m;
-            let t222 = elbow_fe_a_vy * elbow_fe_m;
-            let t223 = elbow_fe_a_vz * elbow_fe_m;
-            let t224 = elbow_fe_hy * elbow_fe_a_wz;
-            let t225 = elbow_fe_hz * elbow_fe_a_wy;
-            let t226 = t224 - t225;
-            let t227 = elbow_fe_hz * elbow_fe_a_wx;
-            let t228 = elbow_fe_hx * elbow_fe_a_wz;
-            let t229 = t227 - t228;
-            let t230 = elbow_fe_hx * elbow_fe_a_wy;
-            let t231 = elbow_fe_hy * elbow_fe_a_wx;
-            let t232 = t230 - t231;
-            let t233 = t201 - t214;
-            let t234 = t206 + t217;
-            let t235 = t211 + t220;
-            let t236 = t221 - t226;
-            let t237 = t222 - t229;
-            let t238 = t223 + t232;
-            let t239 = elbow_fe_ixx * elbow_fe_v_wx;
-            let t240 = elbow_fe_ixy * elbow_fe_v_wy;
-            let t241 = t239 + t240;
-            let t242 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t212 = elbow_fe_izz * elbow_fe_a_wz;
+            let t213 = t211 + t212;
+            let t214 = elbow_fe_hy * t181;
+            let t215 = elbow_fe_hz * elbow_fe_a_vy;
+            let t216 = t214 + t215;
+            let t217 = elbow_fe_hz * elbow_fe_a_vx;
+            let t218 = elbow_fe_hx * t181;
+            let t219 = t217 + t218;
+            let t220 = elbow_fe_hx * elbow_fe_a_vy;
+            let t221 = elbow_fe_hy * elbow_fe_a_vx;
+            let t222 = t220 - t221;
+            let t223 = elbow_fe_a_vx * elbow_fe_m;
+            let t224 = elbow_fe_a_vy * elbow_fe_m;
+            let t225 = t181 * elbow_fe_m;
+            let t226 = elbow_fe_hy * elbow_fe_a_wz;
+            let t227 = elbow_fe_hz * elbow_fe_a_wy;
+            let t228 = t226 - t227;
+            let t229 = elbow_fe_hz * elbow_fe_a_wx;
+            let t230 = elbow_fe_hx * elbow_fe_a_wz;
+            let t231 = t229 - t230;
+            let t232 = elbow_fe_hx * elbow_fe_a_wy;
+            let t233 = elbow_fe_hy * elbow_fe_a_wx;
+            let t234 = t232 - t233;
+            let t235 = t203 - t216;
+            let t236 = t208 + t219;
+            let t237 = t213 + t222;
+            let t238 = t223 - t228;
+            let t239 = t224 - t231;
+            let t240 = t225 + t234;
+            let t241 = elbow_fe_ixx * elbow_fe_v_wx;
+            let t242 = elbow_fe_ixy * elbow_fe_v_wy;
             let t243 = t241 + t242;
-            let t244 = elbow_fe_ixy * elbow_fe_v_wx;
-            let t245 = elbow_fe_iyy * elbow_fe_v_wy;
-            let t246 = t244 + t245;
-            let t247 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t244 = elbow_fe_ixz * elbow_fe_v_wz;
+            let t245 = t243 + t244;
+            let t246 = elbow_fe_ixy * elbow_fe_v_wx;
+            let t247 = elbow_fe_iyy * elbow_fe_v_wy;
             let t248 = t246 + t247;
-            let t249 = elbow_fe_ixz * elbow_fe_v_wx;
-            let t250 = elbow_fe_iyz * elbow_fe_v_wy;
-            let t251 = t249 + t250;
-            let t252 = elbow_fe_izz * elbow_fe_v_wz;
+            let t249 = elbow_fe_iyz * elbow_fe_v_wz;
+            let t250 = t248 + t249;
+            let t251 = elbow_fe_ixz * elbow_fe_v_wx;
+            let t252 = elbow_fe_iyz * elbow_fe_v_wy;
             let t253 = t251 + t252;
-            let t254 = elbow_fe_hy * elbow_fe_v_vz;
-            let t255 = elbow_fe_hz * elbow_fe_v_vy;
-            let t256 = t254 + t255;
-            let t257 = elbow_fe_hz * elbow_fe_v_vx;
-            let t258 = elbow_fe_hx * elbow_fe_v_vz;
-            let t259 = t257 + t258;
-            let t260 = elbow_fe_hx * elbow_fe_v_vy;
-            let t261 = elbow_fe_hy * elbow_fe_v_vx;
-            let t262 = t260 - t261;
-            let t263 = elbow_fe_v_vx * elbow_fe_m;
-            let t264 = elbow_fe_v_vy * elbow_fe_m;
-            let t265 = elbow_fe_v_vz * elbow_fe_m;
-            let t266 = elbow_fe_hy * elbow_fe_v_wz;
-            let t267 = elbow_fe_hz * elbow_fe_v_wy;
-            let t268 = t266 - t267;
-            let t269 = elbow_fe_hz * elbow_fe_v_wx;
-            let t270 = elbow_fe_hx * elbow_fe_v_wz;
-            let t271 = t269 - t270;
-            let t272 = elbow_fe_hx * elbow_fe_v_wy;
-            let t273 = elbow_fe_hy * elbow_fe_v_wx;
-            let t274 = t272 - t273;
-            let t275 = t243 - t256;
-            let t276 = t248 + t259;
-            let t277 = t253 + t262;
-            let t278 = t263 - t268;
-            let t279 = t264 - t271;
-            let t280 = t265 + t274;
-            let t281 = elbow_fe_v_wy * t277;
-            let t282 = elbow_fe_v_wz * t276;
-            let t283 = t281 - t282;
-            let t284 = elbow_fe_v_wz * t275;
-            let t285 = elbow_fe_v_wx * t277;
-            let t286 = t284 - t285;
-            let t287 = elbow_fe_v_wx * t276;
-            let t288 = elbow_fe_v_wy * t275;
-            let t289 = t287 - t288;
-            let t290 = elbow_fe_v_vy * t280;
-            let t291 = elbow_fe_v_vz * t279;
-            let t292 = t291 - t290;
-            let t293 = elbow_fe_v_vz * t278;
-            let t294 = elbow_fe_v_vx * t280;
-            let t295 = t294 - t293;
-            let t296 = elbow_fe_v_vx * t279;
-            let t297 = elbow_fe_v_vy * t278;
-            let t298 = t296 - t297;
-            let t299 = t283 + t292;
-            let t300 = t286 + t295;
-            let t301 = t289 + t298;
-            let t302 = elbow_fe_v_wy * t280;
-            let t303 = elbow_fe_v_wz * t279;
-            let t304 = t302 + t303;
-            let t305 = elbow_fe_v_wz * t278;
-            let t306 = elbow_fe_v_wx * t280;
-            let t307 = t305 + t306;
-            let t308 = elbow_fe_v_wx * t279;
-            let t309 = elbow_fe_v_wy * t278;
-            let t310 = t308 - t309;
-            let t311 = t233 + t299;
-            let t312 = t234 + t300;
+            let t254 = elbow_fe_izz * elbow_fe_v_wz;
+            let t255 = t253 + t254;
+            let t256 = elbow_fe_hy * t173;
+            let t257 = elbow_fe_hz * elbow_fe_v_vy;
+            let t258 = t256 + t257;
+            let t259 = elbow_fe_hz * elbow_fe_v_vx;
+            let t260 = elbow_fe_hx * t173;
+            let t261 = t259 + t260;
+            let t262 = elbow_fe_hx * elbow_fe_v_vy;
+            let t263 = elbow_fe_hy * elbow_fe_v_vx;
+            let t264 = t262 - t263;
+            let t265 = elbow_fe_v_vx * elbow_fe_m;
+            let t266 = elbow_fe_v_vy * elbow_fe_m;
+            let t267 = t173 * elbow_fe_m;
+            let t268 = elbow_fe_hy * elbow_fe_v_wz;
+            let t269 = elbow_fe_hz * elbow_fe_v_wy;
+            let t270 = t268 - t269;
+            let t271 = elbow_fe_hz * elbow_fe_v_wx;
+            let t272 = elbow_fe_hx * elbow_fe_v_wz;
+            let t273 = t271 - t272;
+            let t274 = elbow_fe_hx * elbow_fe_v_wy;
+            let t275 = elbow_fe_hy * elbow_fe_v_wx;
+            let t276 = t274 - t275;
+            let t277 = t245 - t258;
+            let t278 = t250 + t261;
+            let t279 = t255 + t264;
+            let t280 = t265 - t270;
+            let t281 = t266 - t273;
+            let t282 = t267 + t276;
+            let t283 = elbow_fe_v_wy * t279;
+            let t284 = elbow_fe_v_wz * t278;
+            let t285 = t283 - t284;
+            let t286 = elbow_fe_v_wz * t277;
+            let t287 = elbow_fe_v_wx * t279;
+            let t288 = t286 - t287;
+            let t289 = elbow_fe_v_wx * t278;
+            let t290 = elbow_fe_v_wy * t277;
+            let t291 = t289 - t290;
+            let t292 = elbow_fe_v_vy * t282;
+            let t293 = t173 * t281;
+            let t294 = t293 - t292;
+            let t295 = t173 * t280;
+            let t296 = elbow_fe_v_vx * t282;
+            let t297 = t296 - t295;
+            let t298 = elbow_fe_v_vx * t281;
+            let t299 = elbow_fe_v_vy * t280;
+            let t300 = t298 - t299;
+            let t301 = t285 + t294;
+            let t302 = t288 + t297;
+            let t303 = t291 + t300;
+            let t304 = elbow_fe_v_wy * t282;
+            let t305 = elbow_fe_v_wz * t281;
+            let t306 = t304 + t305;
+            let t307 = elbow_fe_v_wz * t280;
+            let t308 = elbow_fe_v_wx * t282;
+            let t309 = t307 + t308;
+            let t310 = elbow_fe_v_wx * t281;
+            let t311 = elbow_fe_v_wy * t280;
+            let t312 = t310 - t311;
             let t313 = t235 + t301;
-            let t314 = t236 - t304;
-            let t315 = t237 + t307;
-            let t316 = t310 - t238;
+            let t314 = t236 + t302;
+            let t315 = t237 + t303;
+            let t316 = t238 - t306;
+            let t317 = t239 + t309;
+            let t318 = t312 - t240;
             (
-                elbow_fe_v_vz,
                 t173,
+                t174,
                 elbow_fe_v_wx,
                 elbow_fe_v_wy,
                 elbow_fe_v_vx,
                 elbow_fe_v_vy,
                 elbow_fe_v_wz,
-                elbow_fe_a_vz,
+                t181,
                 elbow_fe_a_wz,
                 elbow_fe_a_wx,
                 elbow_fe_a_wy,
                 elbow_fe_a_vx,
                 elbow_fe_a_vy,
-                t198,
-                t202,
-                t213,
+                t200,
+                t204,
                 t215,
-                t221,
-                t222,
-                t225,
+                t217,
+                t223,
+                t224,
                 t227,
-                t240,
+                t229,
                 t242,
                 t244,
-                t247,
-                t254,
-                t255,
+                t246,
+                t249,
+                t256,
                 t257,
-                t258,
-                t263,
-                t264,
+                t259,
+                t260,
+                t265,
                 t266,
-                t267,
+                t268,
                 t269,
-                t270,
-                t275,
-                t276,
+                t271,
+                t272,
                 t277,
                 t278,
                 t279,
                 t280,
                 t281,
-                t285,
-                t290,
-                t294,
-                t302,
-                t306,
-                t311,
-                t312,
+                t282,
+                t283,
+                t287,
+                t292,
+                t296,
+                t304,
+                t308,
                 t313,
                 t314,
                 t315,
                 t316,
+                t317,
+                t318,
             )
         };
         let (
-            t321,
-            t322,
+            t323,
+            t324,
             wrist_r_v_wx,
             wrist_r_v_wy,
             wrist_r_v_vx,
             wrist_r_v_vy,
             wrist_r_v_wz,
-            t333,
-            t334,
-            t338,
+            t335,
+            t336,
+            t340,
             wrist_r_a_wz,
-            t345,
+            t347,
             wrist_r_a_wx,
             wrist_r_a_wy,
             wrist_r_a_vx,
             wrist_r_a_vy,
-            t365,
             t367,
-            t373,
-            t374,
-            t392,
+            t369,
+            t375,
+            t376,
             t394,
             t396,
-            t399,
-            t406,
-            t407,
+            t398,
+            t401,
+            t408,
             t409,
-            t410,
-            t415,
-            t416,
+            t411,
+            t412,
+            t417,
             t418,
-            t419,
+            t420,
             t421,
-            t422,
-            t427,
-            t428,
+            t423,
+            t424,
             t429,
             t430,
             t431,
             t432,
             t433,
-            t442,
-            t446,
-            t454,
-            t463,
-            t464,
+            t434,
+            t435,
+            t444,
+            t448,
+            t456,
             t465,
             t466,
             t467,
             t468,
+            t469,
+            t470,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t317 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t318 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t319 = elbow_fe_v_vy + t317;
-            let t320 = elbow_fe_v_vz + t318;
-            let t321 = c_wr * elbow_fe_v_wz;
-            let t322 = s_wr * elbow_fe_v_wy;
-            let wrist_r_v_wx = t322 - t321;
-            let t323 = s_wr * elbow_fe_v_wz;
-            let t324 = c_wr * elbow_fe_v_wy;
-            let wrist_r_v_wy = t323 + t324;
-            let t325 = c_wr * t320;
-            let t326 = s_wr * t319;
-            let wrist_r_v_vx = t325 + t326;
-            let t327 = s_wr * t320;
-            let t328 = c_wr * t319;
-            let wrist_r_v_vy = t328 - t327;
+            let t319 = 0.112f64 * elbow_fe_v_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t320 = 0.112f64 * elbow_fe_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t321 = elbow_fe_v_vy + t319;
+            let t322 = t173 + t320;
+            let t323 = c_wr * elbow_fe_v_wz;
+            let t324 = s_wr * elbow_fe_v_wy;
+            let wrist_r_v_wx = t324 - t323;
+            let t325 = s_wr * elbow_fe_v_wz;
+            let t326 = c_wr * elbow_fe_v_wy;
+            let wrist_r_v_wy = t325 + t326;
+            let t327 = c_wr * t322;
+            let t328 = s_wr * t321;
+            let wrist_r_v_vx = t327 + t328;
+            let t329 = s_wr * t322;
+            let t330 = c_wr * t321;
+            let wrist_r_v_vy = t330 - t329;
             let wrist_r_v_wz = elbow_fe_v_wx + qd_wr;
-            let t329 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t330 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t331 = elbow_fe_a_vy + t329;
-            let t332 = elbow_fe_a_vz + t330;
-            let t333 = c_wr * elbow_fe_a_wz;
-            let t334 = s_wr * elbow_fe_a_wy;
-            let t335 = t334 - t333;
-            let t336 = s_wr * elbow_fe_a_wz;
-            let t337 = c_wr * elbow_fe_a_wy;
-            let t338 = t336 + t337;
-            let t339 = c_wr * t332;
-            let t340 = s_wr * t331;
-            let t341 = t339 + t340;
-            let t342 = s_wr * t332;
-            let t343 = c_wr * t331;
-            let t344 = t343 - t342;
+            let t331 = 0.112f64 * elbow_fe_a_wz; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t332 = 0.112f64 * elbow_fe_a_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t333 = elbow_fe_a_vy + t331;
+            let t334 = t181 + t332;
+            let t335 = c_wr * elbow_fe_a_wz;
+            let t336 = s_wr * elbow_fe_a_wy;
+            let t337 = t336 - t335;
+            let t338 = s_wr * elbow_fe_a_wz;
+            let t339 = c_wr * elbow_fe_a_wy;
+            let t340 = t338 + t339;
+            let t341 = c_wr * t334;
+            let t342 = s_wr * t333;
+            let t343 = t341 + t342;
+            let t344 = s_wr * t334;
+            let t345 = c_wr * t333;
+            let t346 = t345 - t344;
             let wrist_r_a_wz = elbow_fe_a_wx + qdd_wr;
-            let t345 = wrist_r_v_wy * qd_wr;
-            let t346 = wrist_r_v_wx * qd_wr;
-            let t347 = wrist_r_v_vy * qd_wr;
-            let t348 = wrist_r_v_vx * qd_wr;
-            let wrist_r_a_wx = t335 + t345;
-            let wrist_r_a_wy = t338 - t346;
-            let wrist_r_a_vx = t341 + t347;
-            let wrist_r_a_vy = t344 - t348;
-            let t349 = wrist_r_ixx * wrist_r_a_wx;
-            let t350 = wrist_r_ixy * wrist_r_a_wy;
-            let t351 = t349 + t350;
-            let t352 = wrist_r_ixz * wrist_r_a_wz;
+            let t347 = wrist_r_v_wy * qd_wr;
+            let t348 = wrist_r_v_wx * qd_wr;
+            let t349 = wrist_r_v_vy * qd_wr;
+            let t350 = wrist_r_v_vx * qd_wr;
+            let wrist_r_a_wx = t337 + t347;
+            let wrist_r_a_wy = t340 - t348;
+            let wrist_r_a_vx = t343 + t349;
+            let wrist_r_a_vy = t346 - t350;
+            let t351 = wrist_r_ixx * wrist_r_a_wx;
+            let t352 = wrist_r_ixy * wrist_r_a_wy;
             let t353 = t351 + t352;
-            let t354 = wrist_r_ixy * wrist_r_a_wx;
-            let t355 = wrist_r_iyy * wrist_r_a_wy;
-            let t356 = t354 + t355;
-            let t357 = wrist_r_iyz * wrist_r_a_wz;
+            let t354 = wrist_r_ixz * wrist_r_a_wz;
+            let t355 = t353 + t354;
+            let t356 = wrist_r_ixy * wrist_r_a_wx;
+            let t357 = wrist_r_iyy * wrist_r_a_wy;
             let t358 = t356 + t357;
-            let t359 = wrist_r_ixz * wrist_r_a_wx;
-            let t360 = wrist_r_iyz * wrist_r_a_wy;
-            let t361 = t359 + t360;
-            let t362 = wrist_r_izz * wrist_r_a_wz;
+            let t359 = wrist_r_iyz * wrist_r_a_wz;
+            let t360 = t358 + t359;
+            let t361 = wrist_r_ixz * wrist_r_a_wx;
+            let t362 = wrist_r_iyz * wrist_r_a_wy;
             let t363 = t361 + t362;
-            let t364 = wrist_r_hy * elbow_fe_a_vx;
-            let t365 = wrist_r_hz * wrist_r_a_vy;
-            let t366 = t364 - t365;
-            let t367 = wrist_r_hz * wrist_r_a_vx;
-            let t368 = wrist_r_hx * elbow_fe_a_vx;
-            let t369 = t367 - t368;
-            let t370 = wrist_r_hx * wrist_r_a_vy;
-            let t371 = wrist_r_hy * wrist_r_a_vx;
-            let t372 = t370 - t371;
-            let t373 = wrist_r_a_vx * wrist_r_m;
-            let t374 = wrist_r_a_vy * wrist_r_m;
-            let t375 = elbow_fe_a_vx * wrist_r_m;
-            let t376 = wrist_r_hy * wrist_r_a_wz;
-            let t377 = wrist_r_hz * wrist_r_a_wy;
-            let t378 = t376 - t377;
-            let t379 = wrist_r_hz * wrist_r_a_wx;
-            let t380 = wrist_r_hx * wrist_r_a_wz;
-            let t381 = t379 - t380;
-            let t382 = wrist_r_hx * wrist_r_a_wy;
-            let t383 = wrist_r_hy * wrist_r_a_wx;
-            let t384 = t382 - t383;
-            let t385 = t353 + t366;
-            let t386 = t358 + t369;
-            let t387 = t363 + t372;
-            let t388 = t373 - t378;
-            let t389 = t374 - t381;
-            let t390 = t375 - t384;
-            let t391 = wrist_r_ixx * wrist_r_v_wx;
-            let t392 = wrist_r_ixy * wrist_r_v_wy;
-            let t393 = t391 + t392;
-            let t394 = wrist_r_ixz * wrist_r_v_wz;
+            let t364 = wrist_r_izz * wrist_r_a_wz;
+            let t365 = t363 + t364;
+            let t366 = wrist_r_hy * elbow_fe_a_vx;
+            let t367 = wrist_r_hz * wrist_r_a_vy;
+            let t368 = t366 - t367;
+            let t369 = wrist_r_hz * wrist_r_a_vx;
+            let t370 = wrist_r_hx * elbow_fe_a_vx;
+            let t371 = t369 - t370;
+            let t372 = wrist_r_hx * wrist_r_a_vy;
+            let t373 = wrist_r_hy * wrist_r_a_vx;
+            let t374 = t372 - t373;
+            let t375 = wrist_r_a_vx * wrist_r_m;
+            let t376 = wrist_r_a_vy * wrist_r_m;
+            let t377 = elbow_fe_a_vx * wrist_r_m;
+            let t378 = wrist_r_hy * wrist_r_a_wz;
+            let t379 = wrist_r_hz * wrist_r_a_wy;
+            let t380 = t378 - t379;
+            let t381 = wrist_r_hz * wrist_r_a_wx;
+            let t382 = wrist_r_hx * wrist_r_a_wz;
+            let t383 = t381 - t382;
+            let t384 = wrist_r_hx * wrist_r_a_wy;
+            let t385 = wrist_r_hy * wrist_r_a_wx;
+            let t386 = t384 - t385;
+            let t387 = t355 + t368;
+            let t388 = t360 + t371;
+            let t389 = t365 + t374;
+            let t390 = t375 - t380;
+            let t391 = t376 - t383;
+            let t392 = t377 - t386;
+            let t393 = wrist_r_ixx * wrist_r_v_wx;
+            let t394 = wrist_r_ixy * wrist_r_v_wy;
             let t395 = t393 + t394;
-            let t396 = wrist_r_ixy * wrist_r_v_wx;
-            let t397 = wrist_r_iyy * wrist_r_v_wy;
-            let t398 = t396 + t397;
-            let t399 = wrist_r_iyz * wrist_r_v_wz;
+            let t396 = wrist_r_ixz * wrist_r_v_wz;
+            let t397 = t395 + t396;
+            let t398 = wrist_r_ixy * wrist_r_v_wx;
+            let t399 = wrist_r_iyy * wrist_r_v_wy;
             let t400 = t398 + t399;
-            let t401 = wrist_r_ixz * wrist_r_v_wx;
-            let t402 = wrist_r_iyz * wrist_r_v_wy;
-            let t403 = t401 + t402;
-            let t404 = wrist_r_izz * wrist_r_v_wz;
+            let t401 = wrist_r_iyz * wrist_r_v_wz;
+            let t402 = t400 + t401;
+            let t403 = wrist_r_ixz * wrist_r_v_wx;
+            let t404 = wrist_r_iyz * wrist_r_v_wy;
             let t405 = t403 + t404;
-            let t406 = wrist_r_hy * elbow_fe_v_vx;
-            let t407 = wrist_r_hz * wrist_r_v_vy;
-            let t408 = t406 - t407;
-            let t409 = wrist_r_hz * wrist_r_v_vx;
-            let t410 = wrist_r_hx * elbow_fe_v_vx;
-            let t411 = t409 - t410;
-            let t412 = wrist_r_hx * wrist_r_v_vy;
-            let t413 = wrist_r_hy * wrist_r_v_vx;
-            let t414 = t412 - t413;
-            let t415 = wrist_r_v_vx * wrist_r_m;
-            let t416 = wrist_r_v_vy * wrist_r_m;
-            let t417 = elbow_fe_v_vx * wrist_r_m;
-            let t418 = wrist_r_hy * wrist_r_v_wz;
-            let t419 = wrist_r_hz * wrist_r_v_wy;
-            let t420 = t418 - t419;
-            let t421 = wrist_r_hz * wrist_r_v_wx;
-            let t422 = wrist_r_hx * wrist_r_v_wz;
-            let t423 = t421 - t422;
-            let t424 = wrist_r_hx * wrist_r_v_wy;
-            let t425 = wrist_r_hy * wrist_r_v_wx;
-            let t426 = t424 - t425;
-            let t427 = t395 + t408;
-            let t428 = t400 + t411;
-            let t429 = t405 + t414;
-            let t430 = t415 - t420;
-            let t431 = t416 - t423;
-            let t432 = t417 - t426;
-            let t433 = wrist_r_v_wy * t429;
-            let t434 = wrist_r_v_wz * t428;
-            let t435 = t433 - t434;
-            let t436 = wrist_r_v_wz * t427;
-            let t437 = wrist_r_v_wx * t429;
-            let t438 = t436 - t437;
-            let t439 = wrist_r_v_wx * t428;
-            let t440 = wrist_r_v_wy * t427;
-            let t441 = t439 - t440;
-            let t442 = wrist_r_v_vy * t432;
-            let t443 = elbow_fe_v_vx * t431;
-            let t444 = t442 - t443;
-            let t445 = elbow_fe_v_vx * t430;
-            let t446 = wrist_r_v_vx * t432;
-            let t447 = t445 - t446;
-            let t448 = wrist_r_v_vx * t431;
-            let t449 = wrist_r_v_vy * t430;
-            let t450 = t448 - t449;
-            let t451 = t435 + t444;
-            let t452 = t438 + t447;
-            let t453 = t441 + t450;
-            let t454 = wrist_r_v_wy * t432;
-            let t455 = wrist_r_v_wz * t431;
-            let t456 = t454 - t455;
-            let t457 = wrist_r_v_wz * t430;
-            let t458 = wrist_r_v_wx * t432;
-            let t459 = t457 - t458;
-            let t460 = wrist_r_v_wx * t431;
-            let t461 = wrist_r_v_wy * t430;
-            let t462 = t460 - t461;
-            let t463 = t385 + t451;
-            let t464 = t386 + t452;
+            let t406 = wrist_r_izz * wrist_r_v_wz;
+            let t407 = t405 + t406;
+            let t408 = wrist_r_hy * elbow_fe_v_vx;
+            let t409 = wrist_r_hz * wrist_r_v_vy;
+            let t410 = t408 - t409;
+            let t411 = wrist_r_hz * wrist_r_v_vx;
+            let t412 = wrist_r_hx * elbow_fe_v_vx;
+            let t413 = t411 - t412;
+            let t414 = wrist_r_hx * wrist_r_v_vy;
+            let t415 = wrist_r_hy * wrist_r_v_vx;
+            let t416 = t414 - t415;
+            let t417 = wrist_r_v_vx * wrist_r_m;
+            let t418 = wrist_r_v_vy * wrist_r_m;
+            let t419 = elbow_fe_v_vx * wrist_r_m;
+            let t420 = wrist_r_hy * wrist_r_v_wz;
+            let t421 = wrist_r_hz * wrist_r_v_wy;
+            let t422 = t420 - t421;
+            let t423 = wrist_r_hz * wrist_r_v_wx;
+            let t424 = wrist_r_hx * wrist_r_v_wz;
+            let t425 = t423 - t424;
+            let t426 = wrist_r_hx * wrist_r_v_wy;
+            let t427 = wrist_r_hy * wrist_r_v_wx;
+            let t428 = t426 - t427;
+            let t429 = t397 + t410;
+            let t430 = t402 + t413;
+            let t431 = t407 + t416;
+            let t432 = t417 - t422;
+            let t433 = t418 - t425;
+            let t434 = t419 - t428;
+            let t435 = wrist_r_v_wy * t431;
+            let t436 = wrist_r_v_wz * t430;
+            let t437 = t435 - t436;
+            let t438 = wrist_r_v_wz * t429;
+            let t439 = wrist_r_v_wx * t431;
+            let t440 = t438 - t439;
+            let t441 = wrist_r_v_wx * t430;
+            let t442 = wrist_r_v_wy * t429;
+            let t443 = t441 - t442;
+            let t444 = wrist_r_v_vy * t434;
+            let t445 = elbow_fe_v_vx * t433;
+            let t446 = t444 - t445;
+            let t447 = elbow_fe_v_vx * t432;
+            let t448 = wrist_r_v_vx * t434;
+            let t449 = t447 - t448;
+            let t450 = wrist_r_v_vx * t433;
+            let t451 = wrist_r_v_vy * t432;
+            let t452 = t450 - t451;
+            let t453 = t437 + t446;
+            let t454 = t440 + t449;
+            let t455 = t443 + t452;
+            let t456 = wrist_r_v_wy * t434;
+            let t457 = wrist_r_v_wz * t433;
+            let t458 = t456 - t457;
+            let t459 = wrist_r_v_wz * t432;
+            let t460 = wrist_r_v_wx * t434;
+            let t461 = t459 - t460;
+            let t462 = wrist_r_v_wx * t433;
+            let t463 = wrist_r_v_wy * t432;
+            let t464 = t462 - t463;
             let t465 = t387 + t453;
-            let t466 = t388 + t456;
-            let t467 = t389 + t459;
-            let t468 = t390 + t462;
+            let t466 = t388 + t454;
+            let t467 = t389 + t455;
+            let t468 = t390 + t458;
+            let t469 = t391 + t461;
+            let t470 = t392 + t464;
             (
-                t321,
-                t322,
+                t323,
+                t324,
                 wrist_r_v_wx,
                 wrist_r_v_wy,
                 wrist_r_v_vx,
                 wrist_r_v_vy,
                 wrist_r_v_wz,
-                t333,
-                t334,
-                t338,
+                t335,
+                t336,
+                t340,
                 wrist_r_a_wz,
-                t345,
+                t347,
                 wrist_r_a_wx,
                 wrist_r_a_wy,
                 wrist_r_a_vx,
                 wrist_r_a_vy,
-                t365,
                 t367,
-                t373,
-                t374,
-                t392,
+                t369,
+                t375,
+                t376,
                 t394,
                 t396,
-                t399,
-                t406,
-                t407,
+                t398,
+                t401,
+                t408,
                 t409,
-                t410,
-                t415,
-                t416,
+                t411,
+                t412,
+                t417,
                 t418,
-                t419,
+                t420,
                 t421,
-                t422,
-                t427,
-                t428,
+                t423,
+                t424,
                 t429,
                 t430,
                 t431,
                 t432,
                 t433,
-                t442,
-                t446,
-                t454,
-                t463,
-                t464,
+                t434,
+                t435,
+                t444,
+                t448,
+                t456,
                 t465,
                 t466,
                 t467,
                 t468,
+                t469,
+                t470,
             )
         };
         let (
-            t470,
-            t474,
+            t472,
+            t476,
             wrist_fe_v_vz,
             wrist_fe_v_wx,
             wrist_fe_v_wy,
@@ -7720,40 +7705,40 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_a_wy,
             wrist_fe_a_vx,
             wrist_fe_a_vy,
-            t508,
-            t512,
-            t523,
+            t510,
+            t514,
             t525,
-            t531,
-            t532,
-            t535,
+            t527,
+            t533,
+            t534,
             t537,
-            t550,
+            t539,
             t552,
             t554,
-            t557,
-            t564,
-            t565,
+            t556,
+            t559,
+            t566,
             t567,
-            t568,
-            t573,
-            t574,
+            t569,
+            t570,
+            t575,
             t576,
-            t577,
+            t578,
             t579,
-            t580,
-            t585,
-            t586,
+            t581,
+            t582,
             t587,
             t588,
             t589,
             t590,
             t591,
-            t595,
-            t600,
-            t604,
-            t612,
-            t616,
+            t592,
+            t593,
+            t597,
+            t602,
+            t606,
+            t614,
+            t618,
             wrist_fe_f_nx,
             wrist_fe_f_ny,
             wrist_fe_f_nz,
@@ -7762,179 +7747,179 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_fe_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t469 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
-            let t470 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
-            let t471 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
-            let t472 = t470 - t471;
-            let t473 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t474 = wrist_r_v_vx + t469;
-            let wrist_fe_v_vz = wrist_r_v_vy - t472;
-            let t475 = elbow_fe_v_vx - t473;
-            let t476 = c_wfe * wrist_r_v_wz;
-            let t477 = s_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wx = t476 + t477;
-            let t478 = s_wfe * wrist_r_v_wz;
-            let t479 = c_wfe * wrist_r_v_wx;
-            let wrist_fe_v_wy = t479 - t478;
-            let t480 = c_wfe * t475;
-            let t481 = s_wfe * t474;
-            let wrist_fe_v_vx = t480 + t481;
-            let t482 = s_wfe * t475;
-            let t483 = c_wfe * t474;
-            let wrist_fe_v_vy = t483 - t482;
+            let t471 = 0.184f64 * wrist_r_v_wy; // 1.8400e-1 = joint WFE origin z
+            let t472 = 0.184f64 * wrist_r_v_wx; // 1.8400e-1 = joint WFE origin z
+            let t473 = 0.02075f64 * wrist_r_v_wz; // 2.0750e-2 = joint WFE origin x
+            let t474 = t472 - t473;
+            let t475 = 0.02075f64 * wrist_r_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t476 = wrist_r_v_vx + t471;
+            let wrist_fe_v_vz = wrist_r_v_vy - t474;
+            let t477 = elbow_fe_v_vx - t475;
+            let t478 = c_wfe * wrist_r_v_wz;
+            let t479 = s_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wx = t478 + t479;
+            let t480 = s_wfe * wrist_r_v_wz;
+            let t481 = c_wfe * wrist_r_v_wx;
+            let wrist_fe_v_wy = t481 - t480;
+            let t482 = c_wfe * t477;
+            let t483 = s_wfe * t476;
+            let wrist_fe_v_vx = t482 + t483;
+            let t484 = s_wfe * t477;
+            let t485 = c_wfe * t476;
+            let wrist_fe_v_vy = t485 - t484;
             let wrist_fe_v_wz = wrist_r_v_wy + qd_wfe;
-            let t484 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
-            let t485 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
-            let t486 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
-            let t487 = t485 - t486;
-            let t488 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t489 = wrist_r_a_vx + t484;
-            let wrist_fe_a_vz = wrist_r_a_vy - t487;
-            let t490 = elbow_fe_a_vx - t488;
-            let t491 = c_wfe * wrist_r_a_wz;
-            let t492 = s_wfe * wrist_r_a_wx;
-            let t493 = t491 + t492;
-            let t494 = s_wfe * wrist_r_a_wz;
-            let t495 = c_wfe * wrist_r_a_wx;
-            let t496 = t495 - t494;
-            let t497 = c_wfe * t490;
-            let t498 = s_wfe * t489;
-            let t499 = t497 + t498;
-            let t500 = s_wfe * t490;
-            let t501 = c_wfe * t489;
-            let t502 = t501 - t500;
+            let t486 = 0.184f64 * wrist_r_a_wy; // 1.8400e-1 = joint WFE origin z
+            let t487 = 0.184f64 * wrist_r_a_wx; // 1.8400e-1 = joint WFE origin z
+            let t488 = 0.02075f64 * wrist_r_a_wz; // 2.0750e-2 = joint WFE origin x
+            let t489 = t487 - t488;
+            let t490 = 0.02075f64 * wrist_r_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t491 = wrist_r_a_vx + t486;
+            let wrist_fe_a_vz = wrist_r_a_vy - t489;
+            let t492 = elbow_fe_a_vx - t490;
+            let t493 = c_wfe * wrist_r_a_wz;
+            let t494 = s_wfe * wrist_r_a_wx;
+            let t495 = t493 + t494;
+            let t496 = s_wfe * wrist_r_a_wz;
+            let t497 = c_wfe * wrist_r_a_wx;
+            let t498 = t497 - t496;
+            let t499 = c_wfe * t492;
+            let t500 = s_wfe * t491;
+            let t501 = t499 + t500;
+            let t502 = s_wfe * t492;
+            let t503 = c_wfe * t491;
+            let t504 = t503 - t502;
             let wrist_fe_a_wz = wrist_r_a_wy + qdd_wfe;
-            let t503 = wrist_fe_v_wy * qd_wfe;
-            let t504 = wrist_fe_v_wx * qd_wfe;
-            let t505 = wrist_fe_v_vy * qd_wfe;
-            let t506 = wrist_fe_v_vx * qd_wfe;
-            let wrist_fe_a_wx = t493 + t503;
-            let wrist_fe_a_wy = t496 - t504;
-            let wrist_fe_a_vx = t499 + t505;
-            let wrist_fe_a_vy = t502 - t506;
-            let t507 = wrist_fe_ixx * wrist_fe_a_wx;
-            let t508 = wrist_fe_ixy * wrist_fe_a_wy;
-            let t509 = t507 + t508;
-            let t510 = wrist_fe_ixz * wrist_fe_a_wz;
+            let t505 = wrist_fe_v_wy * qd_wfe;
+            let t506 = wrist_fe_v_wx * qd_wfe;
+            let t507 = wrist_fe_v_vy * qd_wfe;
+            let t508 = wrist_fe_v_vx * qd_wfe;
+            let wrist_fe_a_wx = t495 + t505;
+            let wrist_fe_a_wy = t498 - t506;
+            let wrist_fe_a_vx = t501 + t507;
+            let wrist_fe_a_vy = t504 - t508;
+            let t509 = wrist_fe_ixx * wrist_fe_a_wx;
+            let t510 = wrist_fe_ixy * wrist_fe_a_wy;
             let t511 = t509 + t510;
-            let t512 = wrist_fe_ixy * wrist_fe_a_wx;
-            let t513 = wrist_fe_iyy * wrist_fe_a_wy;
-            let t514 = t512 + t513;
-            let t515 = wrist_fe_iyz * wrist_fe_a_wz;
+            let t512 = wrist_fe_ixz * wrist_fe_a_wz;
+            let t513 = t511 + t512;
+            let t514 = wrist_fe_ixy * wrist_fe_a_wx;
+            let t515 = wrist_fe_iyy * wrist_fe_a_wy;
             let t516 = t514 + t515;
-            let t517 = wrist_fe_ixz * wrist_fe_a_wx;
-            let t518 = wrist_fe_iyz * wrist_fe_a_wy;
-            let t519 = t517 + t518;
-            let t520 = wrist_fe_izz * wrist_fe_a_wz;
+            let t517 = wrist_fe_iyz * wrist_fe_a_wz;
+            let t518 = t516 + t517;
+            let t519 = wrist_fe_ixz * wrist_fe_a_wx;
+            let t520 = wrist_fe_iyz * wrist_fe_a_wy;
             let t521 = t519 + t520;
-            let t522 = wrist_fe_hy * wrist_fe_a_vz;
-            let t523 = wrist_fe_hz * wrist_fe_a_vy;
-            let t524 = t522 - t523;
-            let t525 = wrist_fe_hz * wrist_fe_a_vx;
-            let t526 = wrist_fe_hx * wrist_fe_a_vz;
-            let t527 = t525 - t526;
-            let t528 = wrist_fe_hx * wrist_fe_a_vy;
-            let t529 = wrist_fe_hy * wrist_fe_a_vx;
-            let t530 = t528 - t529;
-            let t531 = wrist_fe_a_vx * wrist_fe_m;
-            let t532 = wrist_fe_a_vy * wrist_fe_m;
-            let t533 = wrist_fe_a_vz * wrist_fe_m;
-            let t534 = wrist_fe_hy * wrist_fe_a_wz;
-            let t535 = wrist_fe_hz * wrist_fe_a_wy;
-            let t536 = t534 - t535;
-            let t537 = wrist_fe_hz * wrist_fe_a_wx;
-            let t538 = wrist_fe_hx * wrist_fe_a_wz;
-            let t539 = t537 - t538;
-            let t540 = wrist_fe_hx * wrist_fe_a_wy;
-            let t541 = wrist_fe_hy * wrist_fe_a_wx;
-            let t542 = t540 - t541;
-            let t543 = t511 + t524;
-            let t544 = t516 + t527;
-            let t545 = t521 + t530;
-            let t546 = t531 - t536;
-            let t547 = t532 - t539;
-            let t548 = t533 - t542;
-            let t549 = wrist_fe_ixx * wrist_fe_v_wx;
-            let t550 = wrist_fe_ixy * wrist_fe_v_wy;
-            let t551 = t549 + t550;
-            let t552 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t522 = wrist_fe_izz * wrist_fe_a_wz;
+            let t523 = t521 + t522;
+            let t524 = wrist_fe_hy * wrist_fe_a_vz;
+            let t525 = wrist_fe_hz * wrist_fe_a_vy;
+            let t526 = t524 - t525;
+            let t527 = wrist_fe_hz * wrist_fe_a_vx;
+            let t528 = wrist_fe_hx * wrist_fe_a_vz;
+            let t529 = t527 - t528;
+            let t530 = wrist_fe_hx * wrist_fe_a_vy;
+            let t531 = wrist_fe_hy * wrist_fe_a_vx;
+            let t532 = t530 - t531;
+            let t533 = wrist_fe_a_vx * wrist_fe_m;
+            let t534 = wrist_fe_a_vy * wrist_fe_m;
+            let t535 = wrist_fe_a_vz * wrist_fe_m;
+            let t536 = wrist_fe_hy * wrist_fe_a_wz;
+            let t537 = wrist_fe_hz * wrist_fe_a_wy;
+            let t538 = t536 - t537;
+            let t539 = wrist_fe_hz * wrist_fe_a_wx;
+            let t540 = wrist_fe_hx * wrist_fe_a_wz;
+            let t541 = t539 - t540;
+            let t542 = wrist_fe_hx * wrist_fe_a_wy;
+            let t543 = wrist_fe_hy * wrist_fe_a_wx;
+            let t544 = t542 - t543;
+            let t545 = t513 + t526;
+            let t546 = t518 + t529;
+            let t547 = t523 + t532;
+            let t548 = t533 - t538;
+            let t549 = t534 - t541;
+            let t550 = t535 - t544;
+            let t551 = wrist_fe_ixx * wrist_fe_v_wx;
+            let t552 = wrist_fe_ixy * wrist_fe_v_wy;
             let t553 = t551 + t552;
-            let t554 = wrist_fe_ixy * wrist_fe_v_wx;
-            let t555 = wrist_fe_iyy * wrist_fe_v_wy;
-            let t556 = t554 + t555;
-            let t557 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t554 = wrist_fe_ixz * wrist_fe_v_wz;
+            let t555 = t553 + t554;
+            let t556 = wrist_fe_ixy * wrist_fe_v_wx;
+            let t557 = wrist_fe_iyy * wrist_fe_v_wy;
             let t558 = t556 + t557;
-            let t559 = wrist_fe_ixz * wrist_fe_v_wx;
-            let t560 = wrist_fe_iyz * wrist_fe_v_wy;
-            let t561 = t559 + t560;
-            let t562 = wrist_fe_izz * wrist_fe_v_wz;
+            let t559 = wrist_fe_iyz * wrist_fe_v_wz;
+            let t560 = t558 + t559;
+            let t561 = wrist_fe_ixz * wrist_fe_v_wx;
+            let t562 = wrist_fe_iyz * wrist_fe_v_wy;
             let t563 = t561 + t562;
-            let t564 = wrist_fe_hy * wrist_fe_v_vz;
-            let t565 = wrist_fe_hz * wrist_fe_v_vy;
-            let t566 = t564 - t565;
-            let t567 = wrist_fe_hz * wrist_fe_v_vx;
-            let t568 = wrist_fe_hx * wrist_fe_v_vz;
-            let t569 = t567 - t568;
-            let t570 = wrist_fe_hx * wrist_fe_v_vy;
-            let t571 = wrist_fe_hy * wrist_fe_v_vx;
-            let t572 = t570 - t571;
-            let t573 = wrist_fe_v_vx * wrist_fe_m;
-            let t574 = wrist_fe_v_vy * wrist_fe_m;
-            let t575 = wrist_fe_v_vz * wrist_fe_m;
-            let t576 = wrist_fe_hy * wrist_fe_v_wz;
-            let t577 = wrist_fe_hz * wrist_fe_v_wy;
-            let t578 = t576 - t577;
-            let t579 = wrist_fe_hz * wrist_fe_v_wx;
-            let t580 = wrist_fe_hx * wrist_fe_v_wz;
-            let t581 = t579 - t580;
-            let t582 = wrist_fe_hx * wrist_fe_v_wy;
-            let t583 = wrist_fe_hy * wrist_fe_v_wx;
-            let t584 = t582 - t583;
-            let t585 = t553 + t566;
-            let t586 = t558 + t569;
-            let t587 = t563 + t572;
-            let t588 = t573 - t578;
-            let t589 = t574 - t581;
-            let t590 = t575 - t584;
-            let t591 = wrist_fe_v_wy * t587;
-            let t592 = wrist_fe_v_wz * t586;
-            let t593 = t591 - t592;
-            let t594 = wrist_fe_v_wz * t585;
-            let t595 = wrist_fe_v_wx * t587;
-            let t596 = t594 - t595;
-            let t597 = wrist_fe_v_wx * t586;
-            let t598 = wrist_fe_v_wy * t585;
-            let t599 = t597 - t598;
-            let t600 = wrist_fe_v_vy * t590;
-            let t601 = wrist_fe_v_vz * t589;
-            let t602 = t600 - t601;
-            let t603 = wrist_fe_v_vz * t588;
-            let t604 = wrist_fe_v_vx * t590;
-            let t605 = t603 - t604;
-            let t606 = wrist_fe_v_vx * t589;
-            let t607 = wrist_fe_v_vy * t588;
-            let t608 = t606 - t607;
-            let t609 = t593 + t602;
-            let t610 = t596 + t605;
-            let t611 = t599 + t608;
-            let t612 = wrist_fe_v_wy * t590;
-            let t613 = wrist_fe_v_wz * t589;
-            let t614 = t612 - t613;
-            let t615 = wrist_fe_v_wz * t588;
-            let t616 = wrist_fe_v_wx * t590;
-            let t617 = t615 - t616;
-            let t618 = wrist_fe_v_wx * t589;
-            let t619 = wrist_fe_v_wy * t588;
-            let t620 = t618 - t619;
-            let wrist_fe_f_nx = t543 + t609;
-            let wrist_fe_f_ny = t544 + t610;
-            let wrist_fe_f_nz = t545 + t611;
-            let wrist_fe_f_fx = t546 + t614;
-            let wrist_fe_f_fy = t547 + t617;
-            let wrist_fe_f_fz = t548 + t620;
+            let t564 = wrist_fe_izz * wrist_fe_v_wz;
+            let t565 = t563 + t564;
+            let t566 = wrist_fe_hy * wrist_fe_v_vz;
+            let t567 = wrist_fe_hz * wrist_fe_v_vy;
+            let t568 = t566 - t567;
+            let t569 = wrist_fe_hz * wrist_fe_v_vx;
+            let t570 = wrist_fe_hx * wrist_fe_v_vz;
+            let t571 = t569 - t570;
+            let t572 = wrist_fe_hx * wrist_fe_v_vy;
+            let t573 = wrist_fe_hy * wrist_fe_v_vx;
+            let t574 = t572 - t573;
+            let t575 = wrist_fe_v_vx * wrist_fe_m;
+            let t576 = wrist_fe_v_vy * wrist_fe_m;
+            let t577 = wrist_fe_v_vz * wrist_fe_m;
+            let t578 = wrist_fe_hy * wrist_fe_v_wz;
+            let t579 = wrist_fe_hz * wrist_fe_v_wy;
+            let t580 = t578 - t579;
+            let t581 = wrist_fe_hz * wrist_fe_v_wx;
+            let t582 = wrist_fe_hx * wrist_fe_v_wz;
+            let t583 = t581 - t582;
+            let t584 = wrist_fe_hx * wrist_fe_v_wy;
+            let t585 = wrist_fe_hy * wrist_fe_v_wx;
+            let t586 = t584 - t585;
+            let t587 = t555 + t568;
+            let t588 = t560 + t571;
+            let t589 = t565 + t574;
+            let t590 = t575 - t580;
+            let t591 = t576 - t583;
+            let t592 = t577 - t586;
+            let t593 = wrist_fe_v_wy * t589;
+            let t594 = wrist_fe_v_wz * t588;
+            let t595 = t593 - t594;
+            let t596 = wrist_fe_v_wz * t587;
+            let t597 = wrist_fe_v_wx * t589;
+            let t598 = t596 - t597;
+            let t599 = wrist_fe_v_wx * t588;
+            let t600 = wrist_fe_v_wy * t587;
+            let t601 = t599 - t600;
+            let t602 = wrist_fe_v_vy * t592;
+            let t603 = wrist_fe_v_vz * t591;
+            let t604 = t602 - t603;
+            let t605 = wrist_fe_v_vz * t590;
+            let t606 = wrist_fe_v_vx * t592;
+            let t607 = t605 - t606;
+            let t608 = wrist_fe_v_vx * t591;
+            let t609 = wrist_fe_v_vy * t590;
+            let t610 = t608 - t609;
+            let t611 = t595 + t604;
+            let t612 = t598 + t607;
+            let t613 = t601 + t610;
+            let t614 = wrist_fe_v_wy * t592;
+            let t615 = wrist_fe_v_wz * t591;
+            let t616 = t614 - t615;
+            let t617 = wrist_fe_v_wz * t590;
+            let t618 = wrist_fe_v_wx * t592;
+            let t619 = t617 - t618;
+            let t620 = wrist_fe_v_wx * t591;
+            let t621 = wrist_fe_v_wy * t590;
+            let t622 = t620 - t621;
+            let wrist_fe_f_nx = t545 + t611;
+            let wrist_fe_f_ny = t546 + t612;
+            let wrist_fe_f_nz = t547 + t613;
+            let wrist_fe_f_fx = t548 + t616;
+            let wrist_fe_f_fy = t549 + t619;
+            let wrist_fe_f_fz = t550 + t622;
             (
-                t470,
-                t474,
+                t472,
+                t476,
                 wrist_fe_v_vz,
                 wrist_fe_v_wx,
                 wrist_fe_v_wy,
@@ -7945,40 +7930,40 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
                 wrist_fe_a_wy,
                 wrist_fe_a_vx,
                 wrist_fe_a_vy,
-                t508,
-                t512,
-                t523,
+                t510,
+                t514,
                 t525,
-                t531,
-                t532,
-                t535,
+                t527,
+                t533,
+                t534,
                 t537,
-                t550,
+                t539,
                 t552,
                 t554,
-                t557,
-                t564,
-                t565,
+                t556,
+                t559,
+                t566,
                 t567,
-                t568,
-                t573,
-                t574,
+                t569,
+                t570,
+                t575,
                 t576,
-                t577,
+                t578,
                 t579,
-                t580,
-                t585,
-                t586,
+                t581,
+                t582,
                 t587,
                 t588,
                 t589,
                 t590,
                 t591,
-                t595,
-                t600,
-                t604,
-                t612,
-                t616,
+                t592,
+                t593,
+                t597,
+                t602,
+                t606,
+                t614,
+                t618,
                 wrist_fe_f_nx,
                 wrist_fe_f_ny,
                 wrist_fe_f_nz,
@@ -7988,14 +7973,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            t621,
-            t622,
+            t623,
             t624,
-            t625,
+            t626,
             t627,
-            t628,
+            t629,
             t630,
-            t631,
+            t632,
+            t633,
             wrist_r_f_nx,
             wrist_r_f_ny,
             wrist_r_f_nz,
@@ -8004,41 +7989,41 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             wrist_r_f_fz,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t621 = c_wfe * wrist_fe_f_fx;
-            let t622 = s_wfe * wrist_fe_f_fy;
-            let t623 = t621 - t622;
-            let t624 = s_wfe * wrist_fe_f_fx;
-            let t625 = c_wfe * wrist_fe_f_fy;
-            let t626 = t624 + t625;
-            let t627 = c_wfe * wrist_fe_f_nx;
-            let t628 = s_wfe * wrist_fe_f_ny;
-            let t629 = t627 - t628;
-            let t630 = s_wfe * wrist_fe_f_nx;
-            let t631 = c_wfe * wrist_fe_f_ny;
-            let t632 = t630 + t631;
-            let t633 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
-            let t634 = 0.184f64 * t626; // 1.8400e-1 = joint WFE origin z
-            let t635 = 0.02075f64 * t623; // 2.0750e-2 = joint WFE origin x
-            let t636 = t634 - t635;
-            let t637 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
-            let t638 = t632 - t633;
-            let t639 = wrist_fe_f_nz + t636;
-            let t640 = t629 + t637;
-            let wrist_r_f_nx = t463 + t638;
-            let wrist_r_f_ny = t464 + t639;
-            let wrist_r_f_nz = t465 + t640;
-            let wrist_r_f_fx = t466 + t626;
-            let wrist_r_f_fy = t467 + wrist_fe_f_fz;
-            let wrist_r_f_fz = t468 + t623;
+            let t623 = c_wfe * wrist_fe_f_fx;
+            let t624 = s_wfe * wrist_fe_f_fy;
+            let t625 = t623 - t624;
+            let t626 = s_wfe * wrist_fe_f_fx;
+            let t627 = c_wfe * wrist_fe_f_fy;
+            let t628 = t626 + t627;
+            let t629 = c_wfe * wrist_fe_f_nx;
+            let t630 = s_wfe * wrist_fe_f_ny;
+            let t631 = t629 - t630;
+            let t632 = s_wfe * wrist_fe_f_nx;
+            let t633 = c_wfe * wrist_fe_f_ny;
+            let t634 = t632 + t633;
+            let t635 = 0.184f64 * wrist_fe_f_fz; // 1.8400e-1 = joint WFE origin z
+            let t636 = 0.184f64 * t628; // 1.8400e-1 = joint WFE origin z
+            let t637 = 0.02075f64 * t625; // 2.0750e-2 = joint WFE origin x
+            let t638 = t636 - t637;
+            let t639 = 0.02075f64 * wrist_fe_f_fz; // 2.0750e-2 = joint WFE origin x
+            let t640 = t634 - t635;
+            let t641 = wrist_fe_f_nz + t638;
+            let t642 = t631 + t639;
+            let wrist_r_f_nx = t465 + t640;
+            let wrist_r_f_ny = t466 + t641;
+            let wrist_r_f_nz = t467 + t642;
+            let wrist_r_f_fx = t468 + t628;
+            let wrist_r_f_fy = t469 + wrist_fe_f_fz;
+            let wrist_r_f_fz = t470 + t625;
             (
-                t621,
-                t622,
+                t623,
                 t624,
-                t625,
+                t626,
                 t627,
-                t628,
+                t629,
                 t630,
-                t631,
+                t632,
+                t633,
                 wrist_r_f_nx,
                 wrist_r_f_ny,
                 wrist_r_f_nz,
@@ -8048,14 +8033,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            t641,
-            t642,
+            t643,
             t644,
-            t645,
+            t646,
             t647,
-            t648,
+            t649,
             t650,
-            t651,
+            t652,
+            t653,
             elbow_fe_f_nx,
             elbow_fe_f_ny,
             elbow_fe_f_nz,
@@ -8064,37 +8049,37 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             elbow_fe_f_fz,
         ) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t641 = c_wr * wrist_r_f_fx;
-            let t642 = s_wr * wrist_r_f_fy;
-            let t643 = t641 - t642;
-            let t644 = s_wr * wrist_r_f_fx;
-            let t645 = c_wr * wrist_r_f_fy;
-            let t646 = t644 + t645;
-            let t647 = c_wr * wrist_r_f_nx;
-            let t648 = s_wr * wrist_r_f_ny;
-            let t649 = t647 - t648;
-            let t650 = s_wr * wrist_r_f_nx;
-            let t651 = c_wr * wrist_r_f_ny;
-            let t652 = t650 + t651;
-            let t653 = 0.112f64 * t643; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t654 = 0.112f64 * t646; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t655 = t652 + t653;
-            let t656 = t654 - t649;
-            let elbow_fe_f_nx = t311 + wrist_r_f_nz;
-            let elbow_fe_f_ny = t312 + t655;
-            let elbow_fe_f_nz = t313 + t656;
-            let elbow_fe_f_fx = t314 + wrist_r_f_fz;
-            let elbow_fe_f_fy = t315 + t646;
-            let elbow_fe_f_fz = t316 - t643;
+            let t643 = c_wr * wrist_r_f_fx;
+            let t644 = s_wr * wrist_r_f_fy;
+            let t645 = t643 - t644;
+            let t646 = s_wr * wrist_r_f_fx;
+            let t647 = c_wr * wrist_r_f_fy;
+            let t648 = t646 + t647;
+            let t649 = c_wr * wrist_r_f_nx;
+            let t650 = s_wr * wrist_r_f_ny;
+            let t651 = t649 - t650;
+            let t652 = s_wr * wrist_r_f_nx;
+            let t653 = c_wr * wrist_r_f_ny;
+            let t654 = t652 + t653;
+            let t655 = 0.112f64 * t645; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t656 = 0.112f64 * t648; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t657 = t654 + t655;
+            let t658 = t656 - t651;
+            let elbow_fe_f_nx = t313 + wrist_r_f_nz;
+            let elbow_fe_f_ny = t314 + t657;
+            let elbow_fe_f_nz = t315 + t658;
+            let elbow_fe_f_fx = t316 + wrist_r_f_fz;
+            let elbow_fe_f_fy = t317 + t648;
+            let elbow_fe_f_fz = t318 - t645;
             (
-                t641,
-                t642,
+                t643,
                 t644,
-                t645,
+                t646,
                 t647,
-                t648,
+                t649,
                 t650,
-                t651,
+                t652,
+                t653,
                 elbow_fe_f_nx,
                 elbow_fe_f_ny,
                 elbow_fe_f_nz,
@@ -8104,12 +8089,12 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            t657,
-            t658,
-            t662,
-            t663,
+            t659,
+            t660,
+            t664,
             t665,
-            t666,
+            t667,
+            t668,
             humerus_r_f_nx,
             humerus_r_f_ny,
             humerus_r_f_nz,
@@ -8117,33 +8102,33 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             humerus_r_f_fy,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t657 = c_efe * elbow_fe_f_fx;
-            let t658 = s_efe * elbow_fe_f_fy;
-            let t659 = s_efe * elbow_fe_f_fx;
-            let t660 = c_efe * elbow_fe_f_fy;
-            let t661 = t659 + t660;
-            let t662 = c_efe * elbow_fe_f_nx;
-            let t663 = s_efe * elbow_fe_f_ny;
-            let t664 = t662 - t663;
-            let t665 = s_efe * elbow_fe_f_nx;
-            let t666 = c_efe * elbow_fe_f_ny;
-            let t667 = t665 + t666;
-            let t668 = 0.304f64 * t661; // 3.0400e-1 = joint EFE origin z
-            let t669 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
-            let t670 = elbow_fe_f_nz + t668;
-            let t671 = t667 - t669;
-            let humerus_r_f_nx = t166 - t670;
-            let humerus_r_f_ny = t167 + t671;
-            let humerus_r_f_nz = t168 + t664;
+            let t659 = c_efe * elbow_fe_f_fx;
+            let t660 = s_efe * elbow_fe_f_fy;
+            let t661 = s_efe * elbow_fe_f_fx;
+            let t662 = c_efe * elbow_fe_f_fy;
+            let t663 = t661 + t662;
+            let t664 = c_efe * elbow_fe_f_nx;
+            let t665 = s_efe * elbow_fe_f_ny;
+            let t666 = t664 - t665;
+            let t667 = s_efe * elbow_fe_f_nx;
+            let t668 = c_efe * elbow_fe_f_ny;
+            let t669 = t667 + t668;
+            let t670 = 0.304f64 * t663; // 3.0400e-1 = joint EFE origin z
+            let t671 = 0.304f64 * elbow_fe_f_fz; // 3.0400e-1 = joint EFE origin z
+            let t672 = elbow_fe_f_nz + t670;
+            let t673 = t669 - t671;
+            let humerus_r_f_nx = t166 - t672;
+            let humerus_r_f_ny = t167 + t673;
+            let humerus_r_f_nz = t168 + t666;
             let humerus_r_f_fx = t169 - elbow_fe_f_fz;
-            let humerus_r_f_fy = t170 + t661;
+            let humerus_r_f_fy = t170 + t663;
             (
-                t657,
-                t658,
-                t662,
-                t663,
+                t659,
+                t660,
+                t664,
                 t665,
-                t666,
+                t667,
+                t668,
                 humerus_r_f_nx,
                 humerus_r_f_ny,
                 humerus_r_f_nz,
@@ -8152,6784 +8137,6784 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             )
         };
         let (
-            t672,
-            t673,
+            t674,
             t675,
-            t676,
             t677,
             t678,
             t679,
             t680,
+            t681,
+            t682,
             shoulder_fe_f_nx,
             shoulder_fe_f_ny,
         ) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t672 = c_hr * humerus_r_f_fx;
-            let t673 = s_hr * humerus_r_f_fy;
-            let t674 = t672 - t673;
-            let t675 = s_hr * humerus_r_f_fx;
-            let t676 = c_hr * humerus_r_f_fy;
-            let t677 = c_hr * humerus_r_f_nx;
-            let t678 = s_hr * humerus_r_f_ny;
-            let t679 = s_hr * humerus_r_f_nx;
-            let t680 = c_hr * humerus_r_f_ny;
-            let t681 = t679 + t680;
-            let t682 = 0.112f64 * t674; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t674 = c_hr * humerus_r_f_fx;
+            let t675 = s_hr * humerus_r_f_fy;
+            let t676 = t674 - t675;
+            let t677 = s_hr * humerus_r_f_fx;
+            let t678 = c_hr * humerus_r_f_fy;
+            let t679 = c_hr * humerus_r_f_nx;
+            let t680 = s_hr * humerus_r_f_ny;
+            let t681 = s_hr * humerus_r_f_nx;
+            let t682 = c_hr * humerus_r_f_ny;
             let t683 = t681 + t682;
+            let t684 = 0.112f64 * t676; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t685 = t683 + t684;
             let shoulder_fe_f_nx = t39 + humerus_r_f_nz;
-            let shoulder_fe_f_ny = t40 + t683;
+            let shoulder_fe_f_ny = t40 + t685;
             (
-                t672,
-                t673,
+                t674,
                 t675,
-                t676,
                 t677,
                 t678,
                 t679,
                 t680,
+                t681,
+                t682,
                 shoulder_fe_f_nx,
                 shoulder_fe_f_ny,
             )
         };
-        let (t684, t685) = {
+        let (t686, t687) = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t684 = c_sfe * shoulder_fe_f_nx;
-            let t685 = s_sfe * shoulder_fe_f_ny;
-            (t684, t685)
+            let t686 = c_sfe * shoulder_fe_f_nx;
+            let t687 = s_sfe * shoulder_fe_f_ny;
+            (t686, t687)
         };
-        let (t686, t687, t723, t724, t725) = {
+        let (t688, t689, t725, t726, t727) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let t686 = c_sfe * qd_sfe;
-            let t687 = s_sfe * qd_sfe;
-            let t688 = shoulder_fe_ixx * t686;
-            let t689 = shoulder_fe_ixy * t687;
-            let t690 = t688 - t689;
-            let t691 = shoulder_fe_ixy * t686;
-            let t692 = shoulder_fe_iyy * t687;
-            let t693 = t691 - t692;
-            let t694 = shoulder_fe_ixz * t686;
-            let t695 = shoulder_fe_iyz * t687;
-            let t696 = t694 - t695;
-            let t697 = shoulder_fe_ixx * s_sfe;
-            let t698 = shoulder_fe_ixy * c_sfe;
-            let t699 = t697 + t698;
-            let t700 = shoulder_fe_ixy * s_sfe;
-            let t701 = shoulder_fe_iyy * c_sfe;
-            let t702 = t700 + t701;
-            let t703 = shoulder_fe_ixz * s_sfe;
-            let t704 = shoulder_fe_iyz * c_sfe;
-            let t705 = t703 + t704;
-            let t706 = shoulder_fe_v_wy * t705;
-            let t707 = c_sfe * t32;
-            let t708 = t706 + t707;
-            let t709 = qd_sfe * t702;
-            let t710 = t708 - t709;
-            let t711 = qd_sfe * t699;
-            let t712 = shoulder_fe_v_wx * t705;
-            let t713 = s_sfe * t32;
-            let t714 = t712 + t713;
-            let t715 = t711 - t714;
-            let t716 = shoulder_fe_v_wx * t702;
-            let t717 = s_sfe * t27;
-            let t718 = t716 + t717;
-            let t719 = shoulder_fe_v_wy * t699;
-            let t720 = c_sfe * t22;
-            let t721 = t719 + t720;
-            let t722 = t718 - t721;
-            let t723 = t690 + t710;
-            let t724 = t693 + t715;
-            let t725 = t696 + t722;
-            (t686, t687, t723, t724, t725)
+            let t688 = c_sfe * qd_sfe;
+            let t689 = s_sfe * qd_sfe;
+            let t690 = shoulder_fe_ixx * t688;
+            let t691 = shoulder_fe_ixy * t689;
+            let t692 = t690 - t691;
+            let t693 = shoulder_fe_ixy * t688;
+            let t694 = shoulder_fe_iyy * t689;
+            let t695 = t693 - t694;
+            let t696 = shoulder_fe_ixz * t688;
+            let t697 = shoulder_fe_iyz * t689;
+            let t698 = t696 - t697;
+            let t699 = shoulder_fe_ixx * s_sfe;
+            let t700 = shoulder_fe_ixy * c_sfe;
+            let t701 = t699 + t700;
+            let t702 = shoulder_fe_ixy * s_sfe;
+            let t703 = shoulder_fe_iyy * c_sfe;
+            let t704 = t702 + t703;
+            let t705 = shoulder_fe_ixz * s_sfe;
+            let t706 = shoulder_fe_iyz * c_sfe;
+            let t707 = t705 + t706;
+            let t708 = shoulder_fe_v_wy * t707;
+            let t709 = c_sfe * t32;
+            let t710 = t708 + t709;
+            let t711 = qd_sfe * t704;
+            let t712 = t710 - t711;
+            let t713 = qd_sfe * t701;
+            let t714 = shoulder_fe_v_wx * t707;
+            let t715 = s_sfe * t32;
+            let t716 = t714 + t715;
+            let t717 = t713 - t716;
+            let t718 = shoulder_fe_v_wx * t704;
+            let t719 = s_sfe * t27;
+            let t720 = t718 + t719;
+            let t721 = shoulder_fe_v_wy * t701;
+            let t722 = c_sfe * t22;
+            let t723 = t721 + t722;
+            let t724 = t720 - t723;
+            let t725 = t692 + t712;
+            let t726 = t695 + t717;
+            let t727 = t698 + t724;
+            (t688, t689, t725, t726, t727)
         };
         let (
-            t727,
-            t728,
             t729,
             t730,
-            t740,
-            t741,
+            t731,
+            t732,
             t742,
             t743,
-            t864,
-            t865,
+            t744,
+            t745,
             t866,
             t867,
             t868,
+            t869,
+            t870,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t726 = 0.112f64 * c_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t727 = s_hr * c_sfe;
-            let t728 = c_hr * c_sfe;
-            let t729 = c_hr * t726;
-            let t730 = s_hr * t726;
-            let t731 = 0.112f64 * t687; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t732 = s_hr * t687;
-            let t733 = c_hr * t687;
-            let t734 = c_hr * t731;
-            let t735 = s_hr * t731;
-            let t736 = t728 * qd_hr;
-            let t737 = t727 * qd_hr;
+            let t728 = 0.112f64 * c_sfe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t729 = s_hr * c_sfe;
+            let t730 = c_hr * c_sfe;
+            let t731 = c_hr * t728;
+            let t732 = s_hr * t728;
+            let t733 = 0.112f64 * t689; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t734 = s_hr * t689;
+            let t735 = c_hr * t689;
+            let t736 = c_hr * t733;
+            let t737 = s_hr * t733;
             let t738 = t730 * qd_hr;
             let t739 = t729 * qd_hr;
-            let t740 = t736 - t732;
-            let t741 = t733 + t737;
-            let t742 = t734 + t738;
-            let t743 = t735 - t739;
-            let t744 = humerus_r_ixx * t740;
-            let t745 = humerus_r_ixy * t741;
-            let t746 = t744 - t745;
-            let t747 = humerus_r_ixz * t686;
-            let t748 = t746 + t747;
-            let t749 = humerus_r_ixy * t740;
-            let t750 = humerus_r_iyy * t741;
-            let t751 = t749 - t750;
-            let t752 = humerus_r_iyz * t686;
-            let t753 = t751 + t752;
-            let t754 = humerus_r_ixz * t740;
-            let t755 = humerus_r_iyz * t741;
-            let t756 = t754 - t755;
-            let t757 = humerus_r_izz * t686;
-            let t758 = t756 + t757;
-            let t759 = humerus_r_hz * t743;
-            let t760 = humerus_r_hz * t742;
-            let t761 = humerus_r_hx * t743;
-            let t762 = humerus_r_hy * t742;
-            let t763 = t761 + t762;
-            let t764 = t742 * humerus_r_m;
-            let t765 = t743 * humerus_r_m;
-            let t766 = humerus_r_hy * t686;
-            let t767 = humerus_r_hz * t741;
-            let t768 = t766 + t767;
-            let t769 = humerus_r_hz * t740;
-            let t770 = humerus_r_hx * t686;
-            let t771 = t769 - t770;
-            let t772 = t748 - t759;
-            let t773 = t753 - t760;
-            let t774 = t758 + t763;
-            let t775 = t764 + t768;
-            let t776 = t765 - t771;
-            let t777 = humerus_r_ixx * t727;
-            let t778 = humerus_r_ixy * t728;
-            let t779 = t777 + t778;
-            let t780 = humerus_r_ixz * s_sfe;
+            let t740 = t732 * qd_hr;
+            let t741 = t731 * qd_hr;
+            let t742 = t738 - t734;
+            let t743 = t735 + t739;
+            let t744 = t736 + t740;
+            let t745 = t737 - t741;
+            let t746 = humerus_r_ixx * t742;
+            let t747 = humerus_r_ixy * t743;
+            let t748 = t746 - t747;
+            let t749 = humerus_r_ixz * t688;
+            let t750 = t748 + t749;
+            let t751 = humerus_r_ixy * t742;
+            let t752 = humerus_r_iyy * t743;
+            let t753 = t751 - t752;
+            let t754 = humerus_r_iyz * t688;
+            let t755 = t753 + t754;
+            let t756 = humerus_r_ixz * t742;
+            let t757 = humerus_r_iyz * t743;
+            let t758 = t756 - t757;
+            let t759 = humerus_r_izz * t688;
+            let t760 = t758 + t759;
+            let t761 = humerus_r_hz * t745;
+            let t762 = humerus_r_hz * t744;
+            let t763 = humerus_r_hx * t745;
+            let t764 = humerus_r_hy * t744;
+            let t765 = t763 + t764;
+            let t766 = t744 * humerus_r_m;
+            let t767 = t745 * humerus_r_m;
+            let t768 = humerus_r_hy * t688;
+            let t769 = humerus_r_hz * t743;
+            let t770 = t768 + t769;
+            let t771 = humerus_r_hz * t742;
+            let t772 = humerus_r_hx * t688;
+            let t773 = t771 - t772;
+            let t774 = t750 - t761;
+            let t775 = t755 - t762;
+            let t776 = t760 + t765;
+            let t777 = t766 + t770;
+            let t778 = t767 - t773;
+            let t779 = humerus_r_ixx * t729;
+            let t780 = humerus_r_ixy * t730;
             let t781 = t779 + t780;
-            let t782 = humerus_r_ixy * t727;
-            let t783 = humerus_r_iyy * t728;
-            let t784 = t782 + t783;
-            let t785 = humerus_r_iyz * s_sfe;
+            let t782 = humerus_r_ixz * s_sfe;
+            let t783 = t781 + t782;
+            let t784 = humerus_r_ixy * t729;
+            let t785 = humerus_r_iyy * t730;
             let t786 = t784 + t785;
-            let t787 = humerus_r_ixz * t727;
-            let t788 = humerus_r_iyz * t728;
-            let t789 = t787 + t788;
-            let t790 = humerus_r_izz * s_sfe;
+            let t787 = humerus_r_iyz * s_sfe;
+            let t788 = t786 + t787;
+            let t789 = humerus_r_ixz * t729;
+            let t790 = humerus_r_iyz * t730;
             let t791 = t789 + t790;
-            let t792 = humerus_r_hz * t730;
-            let t793 = humerus_r_hz * t729;
-            let t794 = humerus_r_hx * t730;
-            let t795 = humerus_r_hy * t729;
-            let t796 = t794 + t795;
-            let t797 = t729 * humerus_r_m;
-            let t798 = t730 * humerus_r_m;
-            let t799 = humerus_r_hy * s_sfe;
-            let t800 = humerus_r_hz * t728;
-            let t801 = t799 - t800;
-            let t802 = humerus_r_hz * t727;
-            let t803 = humerus_r_hx * s_sfe;
-            let t804 = t802 - t803;
-            let t805 = humerus_r_hx * t728;
-            let t806 = humerus_r_hy * t727;
-            let t807 = t805 - t806;
-            let t808 = t781 + t792;
-            let t809 = t786 + t793;
-            let t810 = t791 - t796;
-            let t811 = t797 - t801;
-            let t812 = t798 + t804;
-            let t813 = humerus_r_v_wy * t810;
-            let t814 = t728 * t140;
-            let t815 = t813 + t814;
-            let t816 = humerus_r_v_wz * t809;
-            let t817 = s_sfe * t139;
-            let t818 = t816 + t817;
-            let t819 = t815 - t818;
-            let t820 = humerus_r_v_wz * t808;
-            let t821 = s_sfe * t138;
-            let t822 = t820 + t821;
-            let t823 = humerus_r_v_wx * t810;
-            let t824 = t727 * t140;
-            let t825 = t823 + t824;
-            let t826 = t822 - t825;
-            let t827 = humerus_r_v_wx * t809;
-            let t828 = t727 * t139;
-            let t829 = t827 + t828;
-            let t830 = humerus_r_v_wy * t808;
-            let t831 = t728 * t138;
-            let t832 = t830 + t831;
-            let t833 = t829 - t832;
-            let t834 = humerus_r_v_vy * t807;
-            let t835 = t730 * t137;
-            let t836 = t835 - t834;
-            let t837 = humerus_r_v_vx * t807;
-            let t838 = t729 * t137;
-            let t839 = t837 + t838;
-            let t840 = humerus_r_v_vx * t812;
-            let t841 = t729 * t142;
-            let t842 = t841 - t840;
-            let t843 = humerus_r_v_vy * t811;
-            let t844 = t730 * t141;
-            let t845 = t843 - t844;
-            let t846 = t842 - t845;
-            let t847 = t819 + t836;
-            let t848 = t826 + t839;
-            let t849 = t833 + t846;
-            let t850 = humerus_r_v_wy * t807;
-            let t851 = t728 * t137;
-            let t852 = t850 + t851;
-            let t853 = humerus_r_v_wz * t812;
-            let t854 = s_sfe * t142;
-            let t855 = t854 - t853;
-            let t856 = t852 + t855;
-            let t857 = humerus_r_v_wz * t811;
-            let t858 = s_sfe * t141;
-            let t859 = t857 + t858;
-            let t860 = humerus_r_v_wx * t807;
-            let t861 = t727 * t137;
-            let t862 = t860 + t861;
-            let t863 = t859 + t862;
-            let t864 = t772 + t847;
-            let t865 = t773 + t848;
+            let t792 = humerus_r_izz * s_sfe;
+            let t793 = t791 + t792;
+            let t794 = humerus_r_hz * t732;
+            let t795 = humerus_r_hz * t731;
+            let t796 = humerus_r_hx * t732;
+            let t797 = humerus_r_hy * t731;
+            let t798 = t796 + t797;
+            let t799 = t731 * humerus_r_m;
+            let t800 = t732 * humerus_r_m;
+            let t801 = humerus_r_hy * s_sfe;
+            let t802 = humerus_r_hz * t730;
+            let t803 = t801 - t802;
+            let t804 = humerus_r_hz * t729;
+            let t805 = humerus_r_hx * s_sfe;
+            let t806 = t804 - t805;
+            let t807 = humerus_r_hx * t730;
+            let t808 = humerus_r_hy * t729;
+            let t809 = t807 - t808;
+            let t810 = t783 + t794;
+            let t811 = t788 + t795;
+            let t812 = t793 - t798;
+            let t813 = t799 - t803;
+            let t814 = t800 + t806;
+            let t815 = humerus_r_v_wy * t812;
+            let t816 = t730 * t140;
+            let t817 = t815 + t816;
+            let t818 = humerus_r_v_wz * t811;
+            let t819 = s_sfe * t139;
+            let t820 = t818 + t819;
+            let t821 = t817 - t820;
+            let t822 = humerus_r_v_wz * t810;
+            let t823 = s_sfe * t138;
+            let t824 = t822 + t823;
+            let t825 = humerus_r_v_wx * t812;
+            let t826 = t729 * t140;
+            let t827 = t825 + t826;
+            let t828 = t824 - t827;
+            let t829 = humerus_r_v_wx * t811;
+            let t830 = t729 * t139;
+            let t831 = t829 + t830;
+            let t832 = humerus_r_v_wy * t810;
+            let t833 = t730 * t138;
+            let t834 = t832 + t833;
+            let t835 = t831 - t834;
+            let t836 = humerus_r_v_vy * t809;
+            let t837 = t732 * t137;
+            let t838 = t837 - t836;
+            let t839 = humerus_r_v_vx * t809;
+            let t840 = t731 * t137;
+            let t841 = t839 + t840;
+            let t842 = humerus_r_v_vx * t814;
+            let t843 = t731 * t142;
+            let t844 = t843 - t842;
+            let t845 = humerus_r_v_vy * t813;
+            let t846 = t732 * t141;
+            let t847 = t845 - t846;
+            let t848 = t844 - t847;
+            let t849 = t821 + t838;
+            let t850 = t828 + t841;
+            let t851 = t835 + t848;
+            let t852 = humerus_r_v_wy * t809;
+            let t853 = t730 * t137;
+            let t854 = t852 + t853;
+            let t855 = humerus_r_v_wz * t814;
+            let t856 = s_sfe * t142;
+            let t857 = t856 - t855;
+            let t858 = t854 + t857;
+            let t859 = humerus_r_v_wz * t813;
+            let t860 = s_sfe * t141;
+            let t861 = t859 + t860;
+            let t862 = humerus_r_v_wx * t809;
+            let t863 = t729 * t137;
+            let t864 = t862 + t863;
+            let t865 = t861 + t864;
             let t866 = t774 + t849;
-            let t867 = t775 + t856;
-            let t868 = t776 + t863;
+            let t867 = t775 + t850;
+            let t868 = t776 + t851;
+            let t869 = t777 + t858;
+            let t870 = t778 + t865;
             (
-                t727,
-                t728,
                 t729,
                 t730,
-                t740,
-                t741,
+                t731,
+                t732,
                 t742,
                 t743,
-                t864,
-                t865,
+                t744,
+                t745,
                 t866,
                 t867,
                 t868,
+                t869,
+                t870,
             )
         };
         let (
-            t871,
-            t875,
-            t878,
-            t879,
+            t873,
+            t877,
             t880,
-            t883,
-            t897,
-            t898,
+            t881,
+            t882,
+            t885,
             t899,
             t900,
-            t1051,
-            t1052,
+            t901,
+            t902,
             t1053,
             t1054,
             t1055,
             t1056,
+            t1057,
+            t1058,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t869 = 0.304f64 * t728; // 3.0400e-1 = joint EFE origin z
-            let t870 = 0.304f64 * t727; // 3.0400e-1 = joint EFE origin z
-            let t871 = t729 + t869;
-            let t872 = t730 + t870;
-            let t873 = c_efe * s_sfe;
-            let t874 = s_efe * t728;
-            let t875 = t873 + t874;
-            let t876 = s_efe * s_sfe;
-            let t877 = c_efe * t728;
-            let t878 = t877 - t876;
-            let t879 = s_efe * t872;
-            let t880 = c_efe * t872;
-            let t881 = 0.304f64 * t741; // 3.0400e-1 = joint EFE origin z
-            let t882 = 0.304f64 * t740; // 3.0400e-1 = joint EFE origin z
-            let t883 = t742 + t881;
-            let t884 = t743 - t882;
-            let t885 = c_efe * t686;
-            let t886 = s_efe * t741;
-            let t887 = t885 - t886;
-            let t888 = s_efe * t686;
-            let t889 = c_efe * t741;
-            let t890 = t888 + t889;
-            let t891 = s_efe * t884;
-            let t892 = c_efe * t884;
-            let t893 = t878 * qd_efe;
-            let t894 = t875 * qd_efe;
+            let t871 = 0.304f64 * t730; // 3.0400e-1 = joint EFE origin z
+            let t872 = 0.304f64 * t729; // 3.0400e-1 = joint EFE origin z
+            let t873 = t731 + t871;
+            let t874 = t732 + t872;
+            let t875 = c_efe * s_sfe;
+            let t876 = s_efe * t730;
+            let t877 = t875 + t876;
+            let t878 = s_efe * s_sfe;
+            let t879 = c_efe * t730;
+            let t880 = t879 - t878;
+            let t881 = s_efe * t874;
+            let t882 = c_efe * t874;
+            let t883 = 0.304f64 * t743; // 3.0400e-1 = joint EFE origin z
+            let t884 = 0.304f64 * t742; // 3.0400e-1 = joint EFE origin z
+            let t885 = t744 + t883;
+            let t886 = t745 - t884;
+            let t887 = c_efe * t688;
+            let t888 = s_efe * t743;
+            let t889 = t887 - t888;
+            let t890 = s_efe * t688;
+            let t891 = c_efe * t743;
+            let t892 = t890 + t891;
+            let t893 = s_efe * t886;
+            let t894 = c_efe * t886;
             let t895 = t880 * qd_efe;
-            let t896 = t879 * qd_efe;
-            let t897 = t887 + t893;
-            let t898 = t890 + t894;
-            let t899 = t891 - t895;
+            let t896 = t877 * qd_efe;
+            let t897 = t882 * qd_efe;
+            let t898 = t881 * qd_efe;
+            let t899 = t889 + t895;
             let t900 = t892 + t896;
-            let t901 = elbow_fe_ixx * t897;
-            let t902 = elbow_fe_ixy * t898;
-            let t903 = t901 - t902;
-            let t904 = elbow_fe_ixz * t740;
+            let t901 = t893 - t897;
+            let t902 = t894 + t898;
+            let t903 = elbow_fe_ixx * t899;
+            let t904 = elbow_fe_ixy * t900;
             let t905 = t903 - t904;
-            let t906 = elbow_fe_ixy * t897;
-            let t907 = elbow_fe_iyy * t898;
-            let t908 = t906 - t907;
-            let t909 = elbow_fe_iyz * t740;
+            let t906 = elbow_fe_ixz * t742;
+            let t907 = t905 - t906;
+            let t908 = elbow_fe_ixy * t899;
+            let t909 = elbow_fe_iyy * t900;
             let t910 = t908 - t909;
-            let t911 = elbow_fe_ixz * t897;
-            let t912 = elbow_fe_iyz * t898;
-            let t913 = t911 - t912;
-            let t914 = elbow_fe_izz * t740;
+            let t911 = elbow_fe_iyz * t742;
+            let t912 = t910 - t911;
+            let t913 = elbow_fe_ixz * t899;
+            let t914 = elbow_fe_iyz * t900;
             let t915 = t913 - t914;
-            let t916 = elbow_fe_hy * t883;
-            let t917 = elbow_fe_hz * t900;
-            let t918 = t916 - t917;
-            let t919 = elbow_fe_hz * t899;
-            let t920 = elbow_fe_hx * t883;
-            let t921 = t919 - t920;
-            let t922 = elbow_fe_hx * t900;
-            let t923 = elbow_fe_hy * t899;
-            let t924 = t922 - t923;
-            let t925 = t899 * elbow_fe_m;
-            let t926 = t900 * elbow_fe_m;
-            let t927 = t883 * elbow_fe_m;
-            let t928 = elbow_fe_hy * t740;
-            let t929 = elbow_fe_hz * t898;
-            let t930 = t929 - t928;
-            let t931 = elbow_fe_hz * t897;
-            let t932 = elbow_fe_hx * t740;
-            let t933 = t931 + t932;
-            let t934 = elbow_fe_hx * t898;
-            let t935 = elbow_fe_hy * t897;
-            let t936 = t934 + t935;
-            let t937 = t905 + t918;
-            let t938 = t910 + t921;
-            let t939 = t915 + t924;
-            let t940 = t925 - t930;
-            let t941 = t926 - t933;
-            let t942 = t927 + t936;
-            let t943 = elbow_fe_ixx * t875;
-            let t944 = elbow_fe_ixy * t878;
-            let t945 = t943 + t944;
-            let t946 = elbow_fe_ixz * t727;
-            let t947 = t945 - t946;
-            let t948 = elbow_fe_ixy * t875;
-            let t949 = elbow_fe_iyy * t878;
-            let t950 = t948 + t949;
-            let t951 = elbow_fe_iyz * t727;
-            let t952 = t950 - t951;
-            let t953 = elbow_fe_ixz * t875;
-            let t954 = elbow_fe_iyz * t878;
-            let t955 = t953 + t954;
-            let t956 = elbow_fe_izz * t727;
-            let t957 = t955 - t956;
-            let t958 = elbow_fe_hy * t871;
-            let t959 = elbow_fe_hz * t880;
-            let t960 = t959 - t958;
-            let t961 = elbow_fe_hz * t879;
-            let t962 = elbow_fe_hx * t871;
-            let t963 = t962 - t961;
-            let t964 = elbow_fe_hx * t880;
-            let t965 = elbow_fe_hy * t879;
-            let t966 = t965 - t964;
-            let t967 = t879 * elbow_fe_m;
-            let t968 = t880 * elbow_fe_m;
-            let t969 = t871 * elbow_fe_m;
-            let t970 = elbow_fe_hy * t727;
-            let t971 = elbow_fe_hz * t878;
-            let t972 = t970 + t971;
-            let t973 = elbow_fe_hz * t875;
-            let t974 = elbow_fe_hx * t727;
-            let t975 = t973 + t974;
-            let t976 = elbow_fe_hx * t878;
-            let t977 = elbow_fe_hy * t875;
-            let t978 = t976 - t977;
-            let t979 = t947 + t960;
-            let t980 = t952 + t963;
-            let t981 = t957 + t966;
-            let t982 = t972 - t967;
-            let t983 = t968 + t975;
-            let t984 = t969 + t978;
-            let t985 = elbow_fe_v_wy * t981;
-            let t986 = t878 * t277;
-            let t987 = t985 + t986;
-            let t988 = elbow_fe_v_wz * t980;
-            let t989 = t727 * t276;
-            let t990 = t988 - t989;
-            let t991 = t987 - t990;
-            let t992 = elbow_fe_v_wz * t979;
-            let t993 = t727 * t275;
-            let t994 = t992 - t993;
-            let t995 = elbow_fe_v_wx * t981;
-            let t996 = t875 * t277;
-            let t997 = t995 + t996;
-            let t998 = t994 - t997;
-            let t999 = elbow_fe_v_wx * t980;
-            let t1000 = t875 * t276;
-            let t1001 = t999 + t1000;
-            let t1002 = elbow_fe_v_wy * t979;
-            let t1003 = t878 * t275;
-            let t1004 = t1002 + t1003;
-            let t1005 = t1001 - t1004;
-            let t1006 = elbow_fe_v_vy * t984;
-            let t1007 = t880 * t280;
-            let t1008 = t1007 - t1006;
-            let t1009 = elbow_fe_v_vz * t983;
-            let t1010 = t871 * t279;
-            let t1011 = t1009 - t1010;
-            let t1012 = t1008 - t1011;
-            let t1013 = elbow_fe_v_vz * t982;
-            let t1014 = t871 * t278;
-            let t1015 = t1013 + t1014;
-            let t1016 = elbow_fe_v_vx * t984;
-            let t1017 = t879 * t280;
-            let t1018 = t1017 - t1016;
-            let t1019 = t1015 + t1018;
-            let t1020 = elbow_fe_v_vx * t983;
-            let t1021 = t879 * t279;
-            let t1022 = t1020 + t1021;
-            let t1023 = elbow_fe_v_vy * t982;
-            let t1024 = t880 * t278;
-            let t1025 = t1023 - t1024;
-            let t1026 = t1022 + t1025;
-            let t1027 = t991 + t1012;
-            let t1028 = t998 - t1019;
-            let t1029 = t1005 - t1026;
-            let t1030 = elbow_fe_v_wy * t984;
-            let t1031 = t878 * t280;
-            let t1032 = t1030 + t1031;
-            let t1033 = elbow_fe_v_wz * t983;
-            let t1034 = t727 * t279;
-            let t1035 = t1033 + t1034;
-            let t1036 = t1035 - t1032;
-            let t1037 = elbow_fe_v_wz * t982;
-            let t1038 = t727 * t278;
-            let t1039 = t1037 - t1038;
-            let t1040 = elbow_fe_v_wx * t984;
-            let t1041 = t875 * t280;
-            let t1042 = t1040 + t1041;
-            let t1043 = t1039 + t1042;
-            let t1044 = elbow_fe_v_wx * t983;
-            let t1045 = t875 * t279;
-            let t1046 = t1045 - t1044;
-            let t1047 = elbow_fe_v_wy * t982;
-            let t1048 = t878 * t278;
-            let t1049 = t1047 + t1048;
-            let t1050 = t1046 - t1049;
-            let t1051 = t937 + t1027;
-            let t1052 = t938 + t1028;
+            let t916 = elbow_fe_izz * t742;
+            let t917 = t915 - t916;
+            let t918 = elbow_fe_hy * t885;
+            let t919 = elbow_fe_hz * t902;
+            let t920 = t918 - t919;
+            let t921 = elbow_fe_hz * t901;
+            let t922 = elbow_fe_hx * t885;
+            let t923 = t921 - t922;
+            let t924 = elbow_fe_hx * t902;
+            let t925 = elbow_fe_hy * t901;
+            let t926 = t924 - t925;
+            let t927 = t901 * elbow_fe_m;
+            let t928 = t902 * elbow_fe_m;
+            let t929 = t885 * elbow_fe_m;
+            let t930 = elbow_fe_hy * t742;
+            let t931 = elbow_fe_hz * t900;
+            let t932 = t931 - t930;
+            let t933 = elbow_fe_hz * t899;
+            let t934 = elbow_fe_hx * t742;
+            let t935 = t933 + t934;
+            let t936 = elbow_fe_hx * t900;
+            let t937 = elbow_fe_hy * t899;
+            let t938 = t936 + t937;
+            let t939 = t907 + t920;
+            let t940 = t912 + t923;
+            let t941 = t917 + t926;
+            let t942 = t927 - t932;
+            let t943 = t928 - t935;
+            let t944 = t929 + t938;
+            let t945 = elbow_fe_ixx * t877;
+            let t946 = elbow_fe_ixy * t880;
+            let t947 = t945 + t946;
+            let t948 = elbow_fe_ixz * t729;
+            let t949 = t947 - t948;
+            let t950 = elbow_fe_ixy * t877;
+            let t951 = elbow_fe_iyy * t880;
+            let t952 = t950 + t951;
+            let t953 = elbow_fe_iyz * t729;
+            let t954 = t952 - t953;
+            let t955 = elbow_fe_ixz * t877;
+            let t956 = elbow_fe_iyz * t880;
+            let t957 = t955 + t956;
+            let t958 = elbow_fe_izz * t729;
+            let t959 = t957 - t958;
+            let t960 = elbow_fe_hy * t873;
+            let t961 = elbow_fe_hz * t882;
+            let t962 = t961 - t960;
+            let t963 = elbow_fe_hz * t881;
+            let t964 = elbow_fe_hx * t873;
+            let t965 = t964 - t963;
+            let t966 = elbow_fe_hx * t882;
+            let t967 = elbow_fe_hy * t881;
+            let t968 = t967 - t966;
+            let t969 = t881 * elbow_fe_m;
+            let t970 = t882 * elbow_fe_m;
+            let t971 = t873 * elbow_fe_m;
+            let t972 = elbow_fe_hy * t729;
+            let t973 = elbow_fe_hz * t880;
+            let t974 = t972 + t973;
+            let t975 = elbow_fe_hz * t877;
+            let t976 = elbow_fe_hx * t729;
+            let t977 = t975 + t976;
+            let t978 = elbow_fe_hx * t880;
+            let t979 = elbow_fe_hy * t877;
+            let t980 = t978 - t979;
+            let t981 = t949 + t962;
+            let t982 = t954 + t965;
+            let t983 = t959 + t968;
+            let t984 = t974 - t969;
+            let t985 = t970 + t977;
+            let t986 = t971 + t980;
+            let t987 = elbow_fe_v_wy * t983;
+            let t988 = t880 * t279;
+            let t989 = t987 + t988;
+            let t990 = elbow_fe_v_wz * t982;
+            let t991 = t729 * t278;
+            let t992 = t990 - t991;
+            let t993 = t989 - t992;
+            let t994 = elbow_fe_v_wz * t981;
+            let t995 = t729 * t277;
+            let t996 = t994 - t995;
+            let t997 = elbow_fe_v_wx * t983;
+            let t998 = t877 * t279;
+            let t999 = t997 + t998;
+            let t1000 = t996 - t999;
+            let t1001 = elbow_fe_v_wx * t982;
+            let t1002 = t877 * t278;
+            let t1003 = t1001 + t1002;
+            let t1004 = elbow_fe_v_wy * t981;
+            let t1005 = t880 * t277;
+            let t1006 = t1004 + t1005;
+            let t1007 = t1003 - t1006;
+            let t1008 = elbow_fe_v_vy * t986;
+            let t1009 = t882 * t282;
+            let t1010 = t1009 - t1008;
+            let t1011 = t173 * t985;
+            let t1012 = t873 * t281;
+            let t1013 = t1011 - t1012;
+            let t1014 = t1010 - t1013;
+            let t1015 = t173 * t984;
+            let t1016 = t873 * t280;
+            let t1017 = t1015 + t1016;
+            let t1018 = elbow_fe_v_vx * t986;
+            let t1019 = t881 * t282;
+            let t1020 = t1019 - t1018;
+            let t1021 = t1017 + t1020;
+            let t1022 = elbow_fe_v_vx * t985;
+            let t1023 = t881 * t281;
+            let t1024 = t1022 + t1023;
+            let t1025 = elbow_fe_v_vy * t984;
+            let t1026 = t882 * t280;
+            let t1027 = t1025 - t1026;
+            let t1028 = t1024 + t1027;
+            let t1029 = t993 + t1014;
+            let t1030 = t1000 - t1021;
+            let t1031 = t1007 - t1028;
+            let t1032 = elbow_fe_v_wy * t986;
+            let t1033 = t880 * t282;
+            let t1034 = t1032 + t1033;
+            let t1035 = elbow_fe_v_wz * t985;
+            let t1036 = t729 * t281;
+            let t1037 = t1035 + t1036;
+            let t1038 = t1037 - t1034;
+            let t1039 = elbow_fe_v_wz * t984;
+            let t1040 = t729 * t280;
+            let t1041 = t1039 - t1040;
+            let t1042 = elbow_fe_v_wx * t986;
+            let t1043 = t877 * t282;
+            let t1044 = t1042 + t1043;
+            let t1045 = t1041 + t1044;
+            let t1046 = elbow_fe_v_wx * t985;
+            let t1047 = t877 * t281;
+            let t1048 = t1047 - t1046;
+            let t1049 = elbow_fe_v_wy * t984;
+            let t1050 = t880 * t280;
+            let t1051 = t1049 + t1050;
+            let t1052 = t1048 - t1051;
             let t1053 = t939 + t1029;
-            let t1054 = t940 + t1036;
-            let t1055 = t941 + t1043;
-            let t1056 = t942 + t1050;
+            let t1054 = t940 + t1030;
+            let t1055 = t941 + t1031;
+            let t1056 = t942 + t1038;
+            let t1057 = t943 + t1045;
+            let t1058 = t944 + t1052;
             (
-                t871,
-                t875,
-                t878,
-                t879,
+                t873,
+                t877,
                 t880,
-                t883,
-                t897,
-                t898,
+                t881,
+                t882,
+                t885,
                 t899,
                 t900,
-                t1051,
-                t1052,
+                t901,
+                t902,
                 t1053,
                 t1054,
                 t1055,
                 t1056,
+                t1057,
+                t1058,
             )
         };
         let (
-            t1063,
-            t1066,
-            t1069,
-            t1072,
-            t1093,
-            t1094,
+            t1065,
+            t1068,
+            t1071,
+            t1074,
             t1095,
             t1096,
-            t1247,
-            t1248,
+            t1097,
+            t1098,
             t1249,
             t1250,
             t1251,
             t1252,
+            t1253,
+            t1254,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t1057 = 0.112f64 * t727; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1058 = 0.112f64 * t878; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1059 = t880 + t1057;
-            let t1060 = t871 + t1058;
-            let t1061 = c_wr * t727;
-            let t1062 = s_wr * t878;
-            let t1063 = t1061 + t1062;
-            let t1064 = s_wr * t727;
-            let t1065 = c_wr * t878;
-            let t1066 = t1065 - t1064;
-            let t1067 = c_wr * t1060;
-            let t1068 = s_wr * t1059;
-            let t1069 = t1067 - t1068;
-            let t1070 = s_wr * t1060;
-            let t1071 = c_wr * t1059;
-            let t1072 = t1070 + t1071;
-            let t1073 = 0.112f64 * t740; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1074 = 0.112f64 * t898; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1075 = t900 - t1073;
-            let t1076 = t883 + t1074;
-            let t1077 = c_wr * t740;
-            let t1078 = s_wr * t898;
-            let t1079 = t1077 - t1078;
-            let t1080 = s_wr * t740;
-            let t1081 = c_wr * t898;
-            let t1082 = t1080 + t1081;
-            let t1083 = c_wr * t1076;
-            let t1084 = s_wr * t1075;
-            let t1085 = t1084 - t1083;
-            let t1086 = s_wr * t1076;
-            let t1087 = c_wr * t1075;
-            let t1088 = t1086 + t1087;
-            let t1089 = t1066 * qd_wr;
-            let t1090 = t1063 * qd_wr;
-            let t1091 = t1072 * qd_wr;
-            let t1092 = t1069 * qd_wr;
-            let t1093 = t1079 + t1089;
-            let t1094 = t1082 + t1090;
-            let t1095 = t1085 - t1091;
-            let t1096 = t1088 - t1092;
-            let t1097 = wrist_r_ixx * t1093;
-            let t1098 = wrist_r_ixy * t1094;
-            let t1099 = t1097 - t1098;
-            let t1100 = wrist_r_ixz * t897;
-            let t1101 = t1099 + t1100;
-            let t1102 = wrist_r_ixy * t1093;
-            let t1103 = wrist_r_iyy * t1094;
-            let t1104 = t1102 - t1103;
-            let t1105 = wrist_r_iyz * t897;
-            let t1106 = t1104 + t1105;
-            let t1107 = wrist_r_ixz * t1093;
-            let t1108 = wrist_r_iyz * t1094;
-            let t1109 = t1107 - t1108;
-            let t1110 = wrist_r_izz * t897;
-            let t1111 = t1109 + t1110;
-            let t1112 = wrist_r_hy * t899;
-            let t1113 = wrist_r_hz * t1096;
-            let t1114 = t1112 - t1113;
-            let t1115 = wrist_r_hz * t1095;
-            let t1116 = wrist_r_hx * t899;
-            let t1117 = t1115 - t1116;
-            let t1118 = wrist_r_hx * t1096;
-            let t1119 = wrist_r_hy * t1095;
-            let t1120 = t1118 - t1119;
-            let t1121 = t1095 * wrist_r_m;
-            let t1122 = t1096 * wrist_r_m;
-            let t1123 = t899 * wrist_r_m;
-            let t1124 = wrist_r_hy * t897;
-            let t1125 = wrist_r_hz * t1094;
-            let t1126 = t1124 + t1125;
-            let t1127 = wrist_r_hz * t1093;
-            let t1128 = wrist_r_hx * t897;
-            let t1129 = t1127 - t1128;
-            let t1130 = wrist_r_hx * t1094;
-            let t1131 = wrist_r_hy * t1093;
-            let t1132 = t1130 + t1131;
-            let t1133 = t1101 + t1114;
-            let t1134 = t1106 + t1117;
-            let t1135 = t1111 + t1120;
-            let t1136 = t1121 - t1126;
-            let t1137 = t1122 - t1129;
-            let t1138 = t1123 + t1132;
-            let t1139 = wrist_r_ixx * t1063;
-            let t1140 = wrist_r_ixy * t1066;
-            let t1141 = t1139 + t1140;
-            let t1142 = wrist_r_ixz * t875;
+            let t1059 = 0.112f64 * t729; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1060 = 0.112f64 * t880; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1061 = t882 + t1059;
+            let t1062 = t873 + t1060;
+            let t1063 = c_wr * t729;
+            let t1064 = s_wr * t880;
+            let t1065 = t1063 + t1064;
+            let t1066 = s_wr * t729;
+            let t1067 = c_wr * t880;
+            let t1068 = t1067 - t1066;
+            let t1069 = c_wr * t1062;
+            let t1070 = s_wr * t1061;
+            let t1071 = t1069 - t1070;
+            let t1072 = s_wr * t1062;
+            let t1073 = c_wr * t1061;
+            let t1074 = t1072 + t1073;
+            let t1075 = 0.112f64 * t742; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1076 = 0.112f64 * t900; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1077 = t902 - t1075;
+            let t1078 = t885 + t1076;
+            let t1079 = c_wr * t742;
+            let t1080 = s_wr * t900;
+            let t1081 = t1079 - t1080;
+            let t1082 = s_wr * t742;
+            let t1083 = c_wr * t900;
+            let t1084 = t1082 + t1083;
+            let t1085 = c_wr * t1078;
+            let t1086 = s_wr * t1077;
+            let t1087 = t1086 - t1085;
+            let t1088 = s_wr * t1078;
+            let t1089 = c_wr * t1077;
+            let t1090 = t1088 + t1089;
+            let t1091 = t1068 * qd_wr;
+            let t1092 = t1065 * qd_wr;
+            let t1093 = t1074 * qd_wr;
+            let t1094 = t1071 * qd_wr;
+            let t1095 = t1081 + t1091;
+            let t1096 = t1084 + t1092;
+            let t1097 = t1087 - t1093;
+            let t1098 = t1090 - t1094;
+            let t1099 = wrist_r_ixx * t1095;
+            let t1100 = wrist_r_ixy * t1096;
+            let t1101 = t1099 - t1100;
+            let t1102 = wrist_r_ixz * t899;
+            let t1103 = t1101 + t1102;
+            let t1104 = wrist_r_ixy * t1095;
+            let t1105 = wrist_r_iyy * t1096;
+            let t1106 = t1104 - t1105;
+            let t1107 = wrist_r_iyz * t899;
+            let t1108 = t1106 + t1107;
+            let t1109 = wrist_r_ixz * t1095;
+            let t1110 = wrist_r_iyz * t1096;
+            let t1111 = t1109 - t1110;
+            let t1112 = wrist_r_izz * t899;
+            let t1113 = t1111 + t1112;
+            let t1114 = wrist_r_hy * t901;
+            let t1115 = wrist_r_hz * t1098;
+            let t1116 = t1114 - t1115;
+            let t1117 = wrist_r_hz * t1097;
+            let t1118 = wrist_r_hx * t901;
+            let t1119 = t1117 - t1118;
+            let t1120 = wrist_r_hx * t1098;
+            let t1121 = wrist_r_hy * t1097;
+            let t1122 = t1120 - t1121;
+            let t1123 = t1097 * wrist_r_m;
+            let t1124 = t1098 * wrist_r_m;
+            let t1125 = t901 * wrist_r_m;
+            let t1126 = wrist_r_hy * t899;
+            let t1127 = wrist_r_hz * t1096;
+            let t1128 = t1126 + t1127;
+            let t1129 = wrist_r_hz * t1095;
+            let t1130 = wrist_r_hx * t899;
+            let t1131 = t1129 - t1130;
+            let t1132 = wrist_r_hx * t1096;
+            let t1133 = wrist_r_hy * t1095;
+            let t1134 = t1132 + t1133;
+            let t1135 = t1103 + t1116;
+            let t1136 = t1108 + t1119;
+            let t1137 = t1113 + t1122;
+            let t1138 = t1123 - t1128;
+            let t1139 = t1124 - t1131;
+            let t1140 = t1125 + t1134;
+            let t1141 = wrist_r_ixx * t1065;
+            let t1142 = wrist_r_ixy * t1068;
             let t1143 = t1141 + t1142;
-            let t1144 = wrist_r_ixy * t1063;
-            let t1145 = wrist_r_iyy * t1066;
-            let t1146 = t1144 + t1145;
-            let t1147 = wrist_r_iyz * t875;
+            let t1144 = wrist_r_ixz * t877;
+            let t1145 = t1143 + t1144;
+            let t1146 = wrist_r_ixy * t1065;
+            let t1147 = wrist_r_iyy * t1068;
             let t1148 = t1146 + t1147;
-            let t1149 = wrist_r_ixz * t1063;
-            let t1150 = wrist_r_iyz * t1066;
-            let t1151 = t1149 + t1150;
-            let t1152 = wrist_r_izz * t875;
+            let t1149 = wrist_r_iyz * t877;
+            let t1150 = t1148 + t1149;
+            let t1151 = wrist_r_ixz * t1065;
+            let t1152 = wrist_r_iyz * t1068;
             let t1153 = t1151 + t1152;
-            let t1154 = wrist_r_hy * t879;
-            let t1155 = wrist_r_hz * t1072;
-            let t1156 = t1155 - t1154;
-            let t1157 = wrist_r_hz * t1069;
-            let t1158 = wrist_r_hx * t879;
-            let t1159 = t1157 + t1158;
-            let t1160 = wrist_r_hx * t1072;
-            let t1161 = wrist_r_hy * t1069;
-            let t1162 = t1160 + t1161;
-            let t1163 = t1069 * wrist_r_m;
-            let t1164 = t1072 * wrist_r_m;
-            let t1165 = t879 * wrist_r_m;
-            let t1166 = wrist_r_hy * t875;
-            let t1167 = wrist_r_hz * t1066;
-            let t1168 = t1166 - t1167;
-            let t1169 = wrist_r_hz * t1063;
-            let t1170 = wrist_r_hx * t875;
-            let t1171 = t1169 - t1170;
-            let t1172 = wrist_r_hx * t1066;
-            let t1173 = wrist_r_hy * t1063;
-            let t1174 = t1172 - t1173;
-            let t1175 = t1143 + t1156;
-            let t1176 = t1148 + t1159;
-            let t1177 = t1153 - t1162;
-            let t1178 = t1163 - t1168;
-            let t1179 = t1164 + t1171;
-            let t1180 = t1165 + t1174;
-            let t1181 = wrist_r_v_wy * t1177;
-            let t1182 = t1066 * t429;
-            let t1183 = t1181 + t1182;
-            let t1184 = wrist_r_v_wz * t1176;
-            let t1185 = t875 * t428;
-            let t1186 = t1184 + t1185;
-            let t1187 = t1183 - t1186;
-            let t1188 = wrist_r_v_wz * t1175;
-            let t1189 = t875 * t427;
-            let t1190 = t1188 + t1189;
-            let t1191 = wrist_r_v_wx * t1177;
-            let t1192 = t1063 * t429;
-            let t1193 = t1191 + t1192;
-            let t1194 = t1190 - t1193;
-            let t1195 = wrist_r_v_wx * t1176;
-            let t1196 = t1063 * t428;
-            let t1197 = t1195 + t1196;
-            let t1198 = wrist_r_v_wy * t1175;
-            let t1199 = t1066 * t427;
-            let t1200 = t1198 + t1199;
-            let t1201 = t1197 - t1200;
-            let t1202 = wrist_r_v_vy * t1180;
-            let t1203 = t1072 * t432;
-            let t1204 = t1202 + t1203;
-            let t1205 = elbow_fe_v_vx * t1179;
-            let t1206 = t879 * t431;
-            let t1207 = t1205 + t1206;
-            let t1208 = t1207 - t1204;
-            let t1209 = elbow_fe_v_vx * t1178;
-            let t1210 = t879 * t430;
-            let t1211 = t1209 - t1210;
-            let t1212 = wrist_r_v_vx * t1180;
-            let t1213 = t1069 * t432;
-            let t1214 = t1213 - t1212;
-            let t1215 = t1211 - t1214;
-            let t1216 = wrist_r_v_vx * t1179;
-            let t1217 = t1069 * t431;
-            let t1218 = t1217 - t1216;
-            let t1219 = wrist_r_v_vy * t1178;
-            let t1220 = t1072 * t430;
-            let t1221 = t1219 - t1220;
-            let t1222 = t1218 - t1221;
-            let t1223 = t1187 + t1208;
-            let t1224 = t1194 + t1215;
-            let t1225 = t1201 + t1222;
-            let t1226 = wrist_r_v_wy * t1180;
-            let t1227 = t1066 * t432;
-            let t1228 = t1227 - t1226;
-            let t1229 = wrist_r_v_wz * t1179;
-            let t1230 = t875 * t431;
-            let t1231 = t1230 - t1229;
-            let t1232 = t1228 - t1231;
-            let t1233 = wrist_r_v_wz * t1178;
-            let t1234 = t875 * t430;
-            let t1235 = t1233 + t1234;
-            let t1236 = wrist_r_v_wx * t1180;
-            let t1237 = t1063 * t432;
-            let t1238 = t1237 - t1236;
-            let t1239 = t1235 - t1238;
-            let t1240 = wrist_r_v_wx * t1179;
-            let t1241 = t1063 * t431;
-            let t1242 = t1241 - t1240;
-            let t1243 = wrist_r_v_wy * t1178;
-            let t1244 = t1066 * t430;
-            let t1245 = t1243 + t1244;
-            let t1246 = t1242 - t1245;
-            let t1247 = t1133 + t1223;
-            let t1248 = t1134 + t1224;
+            let t1154 = wrist_r_izz * t877;
+            let t1155 = t1153 + t1154;
+            let t1156 = wrist_r_hy * t881;
+            let t1157 = wrist_r_hz * t1074;
+            let t1158 = t1157 - t1156;
+            let t1159 = wrist_r_hz * t1071;
+            let t1160 = wrist_r_hx * t881;
+            let t1161 = t1159 + t1160;
+            let t1162 = wrist_r_hx * t1074;
+            let t1163 = wrist_r_hy * t1071;
+            let t1164 = t1162 + t1163;
+            let t1165 = t1071 * wrist_r_m;
+            let t1166 = t1074 * wrist_r_m;
+            let t1167 = t881 * wrist_r_m;
+            let t1168 = wrist_r_hy * t877;
+            let t1169 = wrist_r_hz * t1068;
+            let t1170 = t1168 - t1169;
+            let t1171 = wrist_r_hz * t1065;
+            let t1172 = wrist_r_hx * t877;
+            let t1173 = t1171 - t1172;
+            let t1174 = wrist_r_hx * t1068;
+            let t1175 = wrist_r_hy * t1065;
+            let t1176 = t1174 - t1175;
+            let t1177 = t1145 + t1158;
+            let t1178 = t1150 + t1161;
+            let t1179 = t1155 - t1164;
+            let t1180 = t1165 - t1170;
+            let t1181 = t1166 + t1173;
+            let t1182 = t1167 + t1176;
+            let t1183 = wrist_r_v_wy * t1179;
+            let t1184 = t1068 * t431;
+            let t1185 = t1183 + t1184;
+            let t1186 = wrist_r_v_wz * t1178;
+            let t1187 = t877 * t430;
+            let t1188 = t1186 + t1187;
+            let t1189 = t1185 - t1188;
+            let t1190 = wrist_r_v_wz * t1177;
+            let t1191 = t877 * t429;
+            let t1192 = t1190 + t1191;
+            let t1193 = wrist_r_v_wx * t1179;
+            let t1194 = t1065 * t431;
+            let t1195 = t1193 + t1194;
+            let t1196 = t1192 - t1195;
+            let t1197 = wrist_r_v_wx * t1178;
+            let t1198 = t1065 * t430;
+            let t1199 = t1197 + t1198;
+            let t1200 = wrist_r_v_wy * t1177;
+            let t1201 = t1068 * t429;
+            let t1202 = t1200 + t1201;
+            let t1203 = t1199 - t1202;
+            let t1204 = wrist_r_v_vy * t1182;
+            let t1205 = t1074 * t434;
+            let t1206 = t1204 + t1205;
+            let t1207 = elbow_fe_v_vx * t1181;
+            let t1208 = t881 * t433;
+            let t1209 = t1207 + t1208;
+            let t1210 = t1209 - t1206;
+            let t1211 = elbow_fe_v_vx * t1180;
+            let t1212 = t881 * t432;
+            let t1213 = t1211 - t1212;
+            let t1214 = wrist_r_v_vx * t1182;
+            let t1215 = t1071 * t434;
+            let t1216 = t1215 - t1214;
+            let t1217 = t1213 - t1216;
+            let t1218 = wrist_r_v_vx * t1181;
+            let t1219 = t1071 * t433;
+            let t1220 = t1219 - t1218;
+            let t1221 = wrist_r_v_vy * t1180;
+            let t1222 = t1074 * t432;
+            let t1223 = t1221 - t1222;
+            let t1224 = t1220 - t1223;
+            let t1225 = t1189 + t1210;
+            let t1226 = t1196 + t1217;
+            let t1227 = t1203 + t1224;
+            let t1228 = wrist_r_v_wy * t1182;
+            let t1229 = t1068 * t434;
+            let t1230 = t1229 - t1228;
+            let t1231 = wrist_r_v_wz * t1181;
+            let t1232 = t877 * t433;
+            let t1233 = t1232 - t1231;
+            let t1234 = t1230 - t1233;
+            let t1235 = wrist_r_v_wz * t1180;
+            let t1236 = t877 * t432;
+            let t1237 = t1235 + t1236;
+            let t1238 = wrist_r_v_wx * t1182;
+            let t1239 = t1065 * t434;
+            let t1240 = t1239 - t1238;
+            let t1241 = t1237 - t1240;
+            let t1242 = wrist_r_v_wx * t1181;
+            let t1243 = t1065 * t433;
+            let t1244 = t1243 - t1242;
+            let t1245 = wrist_r_v_wy * t1180;
+            let t1246 = t1068 * t432;
+            let t1247 = t1245 + t1246;
+            let t1248 = t1244 - t1247;
             let t1249 = t1135 + t1225;
-            let t1250 = t1136 + t1232;
-            let t1251 = t1137 + t1239;
-            let t1252 = t1138 + t1246;
+            let t1250 = t1136 + t1226;
+            let t1251 = t1137 + t1227;
+            let t1252 = t1138 + t1234;
+            let t1253 = t1139 + t1241;
+            let t1254 = t1140 + t1248;
             (
-                t1063,
-                t1066,
-                t1069,
-                t1072,
-                t1093,
-                t1094,
+                t1065,
+                t1068,
+                t1071,
+                t1074,
                 t1095,
                 t1096,
-                t1247,
-                t1248,
+                t1097,
+                t1098,
                 t1249,
                 t1250,
                 t1251,
                 t1252,
+                t1253,
+                t1254,
             )
         };
-        let (t1451, t1452, t1453, t1454, t1455, t1456) = {
+        let (t1453, t1454, t1455, t1456, t1457, t1458) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t1253 = 0.184f64 * t1066; // 1.8400e-1 = joint WFE origin z
-            let t1254 = 0.184f64 * t1063; // 1.8400e-1 = joint WFE origin z
-            let t1255 = 0.02075f64 * t875; // 2.0750e-2 = joint WFE origin x
-            let t1256 = t1254 - t1255;
-            let t1257 = 0.02075f64 * t1066; // 2.0750e-2 = joint WFE origin x
-            let t1258 = t1069 + t1253;
-            let t1259 = t1072 + t1256;
-            let t1260 = t879 + t1257;
-            let t1261 = c_wfe * t875;
-            let t1262 = s_wfe * t1063;
-            let t1263 = t1261 + t1262;
-            let t1264 = s_wfe * t875;
-            let t1265 = c_wfe * t1063;
-            let t1266 = t1265 - t1264;
-            let t1267 = c_wfe * t1260;
-            let t1268 = s_wfe * t1258;
-            let t1269 = t1268 - t1267;
+            let t1255 = 0.184f64 * t1068; // 1.8400e-1 = joint WFE origin z
+            let t1256 = 0.184f64 * t1065; // 1.8400e-1 = joint WFE origin z
+            let t1257 = 0.02075f64 * t877; // 2.0750e-2 = joint WFE origin x
+            let t1258 = t1256 - t1257;
+            let t1259 = 0.02075f64 * t1068; // 2.0750e-2 = joint WFE origin x
+            let t1260 = t1071 + t1255;
+            let t1261 = t1074 + t1258;
+            let t1262 = t881 + t1259;
+            let t1263 = c_wfe * t877;
+            let t1264 = s_wfe * t1065;
+            let t1265 = t1263 + t1264;
+            let t1266 = s_wfe * t877;
+            let t1267 = c_wfe * t1065;
+            let t1268 = t1267 - t1266;
+            let t1269 = c_wfe * t1262;
             let t1270 = s_wfe * t1260;
-            let t1271 = c_wfe * t1258;
-            let t1272 = t1270 + t1271;
-            let t1273 = 0.184f64 * t1094; // 1.8400e-1 = joint WFE origin z
-            let t1274 = 0.184f64 * t1093; // 1.8400e-1 = joint WFE origin z
-            let t1275 = 0.02075f64 * t897; // 2.0750e-2 = joint WFE origin x
-            let t1276 = t1274 - t1275;
-            let t1277 = 0.02075f64 * t1094; // 2.0750e-2 = joint WFE origin x
-            let t1278 = t1095 - t1273;
-            let t1279 = t1096 - t1276;
-            let t1280 = t899 + t1277;
-            let t1281 = c_wfe * t897;
-            let t1282 = s_wfe * t1093;
-            let t1283 = t1281 + t1282;
-            let t1284 = s_wfe * t897;
-            let t1285 = c_wfe * t1093;
-            let t1286 = t1285 - t1284;
-            let t1287 = c_wfe * t1280;
-            let t1288 = s_wfe * t1278;
-            let t1289 = t1287 + t1288;
+            let t1271 = t1270 - t1269;
+            let t1272 = s_wfe * t1262;
+            let t1273 = c_wfe * t1260;
+            let t1274 = t1272 + t1273;
+            let t1275 = 0.184f64 * t1096; // 1.8400e-1 = joint WFE origin z
+            let t1276 = 0.184f64 * t1095; // 1.8400e-1 = joint WFE origin z
+            let t1277 = 0.02075f64 * t899; // 2.0750e-2 = joint WFE origin x
+            let t1278 = t1276 - t1277;
+            let t1279 = 0.02075f64 * t1096; // 2.0750e-2 = joint WFE origin x
+            let t1280 = t1097 - t1275;
+            let t1281 = t1098 - t1278;
+            let t1282 = t901 + t1279;
+            let t1283 = c_wfe * t899;
+            let t1284 = s_wfe * t1095;
+            let t1285 = t1283 + t1284;
+            let t1286 = s_wfe * t899;
+            let t1287 = c_wfe * t1095;
+            let t1288 = t1287 - t1286;
+            let t1289 = c_wfe * t1282;
             let t1290 = s_wfe * t1280;
-            let t1291 = c_wfe * t1278;
-            let t1292 = t1291 - t1290;
-            let t1293 = t1266 * qd_wfe;
-            let t1294 = t1263 * qd_wfe;
-            let t1295 = t1272 * qd_wfe;
-            let t1296 = t1269 * qd_wfe;
-            let t1297 = t1283 + t1293;
-            let t1298 = t1286 - t1294;
-            let t1299 = t1289 + t1295;
-            let t1300 = t1292 - t1296;
-            let t1301 = wrist_fe_ixx * t1297;
-            let t1302 = wrist_fe_ixy * t1298;
-            let t1303 = t1301 + t1302;
-            let t1304 = wrist_fe_ixz * t1094;
-            let t1305 = t1303 - t1304;
-            let t1306 = wrist_fe_ixy * t1297;
-            let t1307 = wrist_fe_iyy * t1298;
-            let t1308 = t1306 + t1307;
-            let t1309 = wrist_fe_iyz * t1094;
-            let t1310 = t1308 - t1309;
-            let t1311 = wrist_fe_ixz * t1297;
-            let t1312 = wrist_fe_iyz * t1298;
-            let t1313 = t1311 + t1312;
-            let t1314 = wrist_fe_izz * t1094;
-            let t1315 = t1313 - t1314;
-            let t1316 = wrist_fe_hy * t1279;
-            let t1317 = wrist_fe_hz * t1300;
-            let t1318 = t1316 - t1317;
-            let t1319 = wrist_fe_hz * t1299;
-            let t1320 = wrist_fe_hx * t1279;
-            let t1321 = t1319 - t1320;
-            let t1322 = wrist_fe_hx * t1300;
-            let t1323 = wrist_fe_hy * t1299;
-            let t1324 = t1322 - t1323;
-            let t1325 = t1299 * wrist_fe_m;
-            let t1326 = t1300 * wrist_fe_m;
-            let t1327 = t1279 * wrist_fe_m;
-            let t1328 = wrist_fe_hy * t1094;
-            let t1329 = wrist_fe_hz * t1298;
-            let t1330 = t1328 + t1329;
-            let t1331 = wrist_fe_hz * t1297;
-            let t1332 = wrist_fe_hx * t1094;
-            let t1333 = t1331 + t1332;
-            let t1334 = wrist_fe_hx * t1298;
-            let t1335 = wrist_fe_hy * t1297;
-            let t1336 = t1334 - t1335;
-            let t1337 = t1305 + t1318;
-            let t1338 = t1310 + t1321;
-            let t1339 = t1315 + t1324;
-            let t1340 = t1325 + t1330;
-            let t1341 = t1326 - t1333;
-            let t1342 = t1327 - t1336;
-            let t1343 = wrist_fe_ixx * t1263;
-            let t1344 = wrist_fe_ixy * t1266;
-            let t1345 = t1343 + t1344;
-            let t1346 = wrist_fe_ixz * t1066;
+            let t1291 = t1289 + t1290;
+            let t1292 = s_wfe * t1282;
+            let t1293 = c_wfe * t1280;
+            let t1294 = t1293 - t1292;
+            let t1295 = t1268 * qd_wfe;
+            let t1296 = t1265 * qd_wfe;
+            let t1297 = t1274 * qd_wfe;
+            let t1298 = t1271 * qd_wfe;
+            let t1299 = t1285 + t1295;
+            let t1300 = t1288 - t1296;
+            let t1301 = t1291 + t1297;
+            let t1302 = t1294 - t1298;
+            let t1303 = wrist_fe_ixx * t1299;
+            let t1304 = wrist_fe_ixy * t1300;
+            let t1305 = t1303 + t1304;
+            let t1306 = wrist_fe_ixz * t1096;
+            let t1307 = t1305 - t1306;
+            let t1308 = wrist_fe_ixy * t1299;
+            let t1309 = wrist_fe_iyy * t1300;
+            let t1310 = t1308 + t1309;
+            let t1311 = wrist_fe_iyz * t1096;
+            let t1312 = t1310 - t1311;
+            let t1313 = wrist_fe_ixz * t1299;
+            let t1314 = wrist_fe_iyz * t1300;
+            let t1315 = t1313 + t1314;
+            let t1316 = wrist_fe_izz * t1096;
+            let t1317 = t1315 - t1316;
+            let t1318 = wrist_fe_hy * t1281;
+            let t1319 = wrist_fe_hz * t1302;
+            let t1320 = t1318 - t1319;
+            let t1321 = wrist_fe_hz * t1301;
+            let t1322 = wrist_fe_hx * t1281;
+            let t1323 = t1321 - t1322;
+            let t1324 = wrist_fe_hx * t1302;
+            let t1325 = wrist_fe_hy * t1301;
+            let t1326 = t1324 - t1325;
+            let t1327 = t1301 * wrist_fe_m;
+            let t1328 = t1302 * wrist_fe_m;
+            let t1329 = t1281 * wrist_fe_m;
+            let t1330 = wrist_fe_hy * t1096;
+            let t1331 = wrist_fe_hz * t1300;
+            let t1332 = t1330 + t1331;
+            let t1333 = wrist_fe_hz * t1299;
+            let t1334 = wrist_fe_hx * t1096;
+            let t1335 = t1333 + t1334;
+            let t1336 = wrist_fe_hx * t1300;
+            let t1337 = wrist_fe_hy * t1299;
+            let t1338 = t1336 - t1337;
+            let t1339 = t1307 + t1320;
+            let t1340 = t1312 + t1323;
+            let t1341 = t1317 + t1326;
+            let t1342 = t1327 + t1332;
+            let t1343 = t1328 - t1335;
+            let t1344 = t1329 - t1338;
+            let t1345 = wrist_fe_ixx * t1265;
+            let t1346 = wrist_fe_ixy * t1268;
             let t1347 = t1345 + t1346;
-            let t1348 = wrist_fe_ixy * t1263;
-            let t1349 = wrist_fe_iyy * t1266;
-            let t1350 = t1348 + t1349;
-            let t1351 = wrist_fe_iyz * t1066;
+            let t1348 = wrist_fe_ixz * t1068;
+            let t1349 = t1347 + t1348;
+            let t1350 = wrist_fe_ixy * t1265;
+            let t1351 = wrist_fe_iyy * t1268;
             let t1352 = t1350 + t1351;
-            let t1353 = wrist_fe_ixz * t1263;
-            let t1354 = wrist_fe_iyz * t1266;
-            let t1355 = t1353 + t1354;
-            let t1356 = wrist_fe_izz * t1066;
+            let t1353 = wrist_fe_iyz * t1068;
+            let t1354 = t1352 + t1353;
+            let t1355 = wrist_fe_ixz * t1265;
+            let t1356 = wrist_fe_iyz * t1268;
             let t1357 = t1355 + t1356;
-            let t1358 = wrist_fe_hy * t1259;
-            let t1359 = wrist_fe_hz * t1272;
-            let t1360 = t1358 + t1359;
-            let t1361 = wrist_fe_hz * t1269;
-            let t1362 = wrist_fe_hx * t1259;
-            let t1363 = t1361 + t1362;
-            let t1364 = wrist_fe_hx * t1272;
-            let t1365 = wrist_fe_hy * t1269;
-            let t1366 = t1364 - t1365;
-            let t1367 = t1269 * wrist_fe_m;
-            let t1368 = t1272 * wrist_fe_m;
-            let t1369 = t1259 * wrist_fe_m;
-            let t1370 = wrist_fe_hy * t1066;
-            let t1371 = wrist_fe_hz * t1266;
-            let t1372 = t1370 - t1371;
-            let t1373 = wrist_fe_hz * t1263;
-            let t1374 = wrist_fe_hx * t1066;
-            let t1375 = t1373 - t1374;
-            let t1376 = wrist_fe_hx * t1266;
-            let t1377 = wrist_fe_hy * t1263;
-            let t1378 = t1376 - t1377;
-            let t1379 = t1347 - t1360;
-            let t1380 = t1352 + t1363;
-            let t1381 = t1357 + t1366;
-            let t1382 = t1367 - t1372;
-            let t1383 = t1368 - t1375;
-            let t1384 = t1369 + t1378;
-            let t1385 = wrist_fe_v_wy * t1381;
-            let t1386 = t1266 * t587;
-            let t1387 = t1385 + t1386;
-            let t1388 = wrist_fe_v_wz * t1380;
-            let t1389 = t1066 * t586;
-            let t1390 = t1388 + t1389;
-            let t1391 = t1387 - t1390;
-            let t1392 = wrist_fe_v_wz * t1379;
-            let t1393 = t1066 * t585;
-            let t1394 = t1392 + t1393;
-            let t1395 = wrist_fe_v_wx * t1381;
-            let t1396 = t1263 * t587;
-            let t1397 = t1395 + t1396;
-            let t1398 = t1394 - t1397;
-            let t1399 = wrist_fe_v_wx * t1380;
-            let t1400 = t1263 * t586;
-            let t1401 = t1399 + t1400;
-            let t1402 = wrist_fe_v_wy * t1379;
-            let t1403 = t1266 * t585;
-            let t1404 = t1402 + t1403;
-            let t1405 = t1401 - t1404;
-            let t1406 = wrist_fe_v_vy * t1384;
-            let t1407 = t1272 * t590;
-            let t1408 = t1407 - t1406;
-            let t1409 = wrist_fe_v_vz * t1383;
-            let t1410 = t1259 * t589;
-            let t1411 = t1409 - t1410;
-            let t1412 = t1408 - t1411;
-            let t1413 = wrist_fe_v_vz * t1382;
-            let t1414 = t1259 * t588;
-            let t1415 = t1413 - t1414;
-            let t1416 = wrist_fe_v_vx * t1384;
-            let t1417 = t1269 * t590;
-            let t1418 = t1417 - t1416;
-            let t1419 = t1415 - t1418;
-            let t1420 = wrist_fe_v_vx * t1383;
-            let t1421 = t1269 * t589;
-            let t1422 = t1420 + t1421;
-            let t1423 = wrist_fe_v_vy * t1382;
-            let t1424 = t1272 * t588;
-            let t1425 = t1423 + t1424;
-            let t1426 = t1422 - t1425;
-            let t1427 = t1391 + t1412;
-            let t1428 = t1398 + t1419;
-            let t1429 = t1405 + t1426;
-            let t1430 = wrist_fe_v_wy * t1384;
-            let t1431 = t1266 * t590;
-            let t1432 = t1431 - t1430;
-            let t1433 = wrist_fe_v_wz * t1383;
-            let t1434 = t1066 * t589;
-            let t1435 = t1433 + t1434;
-            let t1436 = t1432 - t1435;
-            let t1437 = wrist_fe_v_wz * t1382;
-            let t1438 = t1066 * t588;
-            let t1439 = t1437 + t1438;
-            let t1440 = wrist_fe_v_wx * t1384;
-            let t1441 = t1263 * t590;
-            let t1442 = t1441 - t1440;
-            let t1443 = t1439 - t1442;
-            let t1444 = wrist_fe_v_wx * t1383;
-            let t1445 = t1263 * t589;
-            let t1446 = t1444 + t1445;
-            let t1447 = wrist_fe_v_wy * t1382;
-            let t1448 = t1266 * t588;
-            let t1449 = t1447 + t1448;
-            let t1450 = t1446 - t1449;
-            let t1451 = t1337 + t1427;
-            let t1452 = t1338 + t1428;
+            let t1358 = wrist_fe_izz * t1068;
+            let t1359 = t1357 + t1358;
+            let t1360 = wrist_fe_hy * t1261;
+            let t1361 = wrist_fe_hz * t1274;
+            let t1362 = t1360 + t1361;
+            let t1363 = wrist_fe_hz * t1271;
+            let t1364 = wrist_fe_hx * t1261;
+            let t1365 = t1363 + t1364;
+            let t1366 = wrist_fe_hx * t1274;
+            let t1367 = wrist_fe_hy * t1271;
+            let t1368 = t1366 - t1367;
+            let t1369 = t1271 * wrist_fe_m;
+            let t1370 = t1274 * wrist_fe_m;
+            let t1371 = t1261 * wrist_fe_m;
+            let t1372 = wrist_fe_hy * t1068;
+            let t1373 = wrist_fe_hz * t1268;
+            let t1374 = t1372 - t1373;
+            let t1375 = wrist_fe_hz * t1265;
+            let t1376 = wrist_fe_hx * t1068;
+            let t1377 = t1375 - t1376;
+            let t1378 = wrist_fe_hx * t1268;
+            let t1379 = wrist_fe_hy * t1265;
+            let t1380 = t1378 - t1379;
+            let t1381 = t1349 - t1362;
+            let t1382 = t1354 + t1365;
+            let t1383 = t1359 + t1368;
+            let t1384 = t1369 - t1374;
+            let t1385 = t1370 - t1377;
+            let t1386 = t1371 + t1380;
+            let t1387 = wrist_fe_v_wy * t1383;
+            let t1388 = t1268 * t589;
+            let t1389 = t1387 + t1388;
+            let t1390 = wrist_fe_v_wz * t1382;
+            let t1391 = t1068 * t588;
+            let t1392 = t1390 + t1391;
+            let t1393 = t1389 - t1392;
+            let t1394 = wrist_fe_v_wz * t1381;
+            let t1395 = t1068 * t587;
+            let t1396 = t1394 + t1395;
+            let t1397 = wrist_fe_v_wx * t1383;
+            let t1398 = t1265 * t589;
+            let t1399 = t1397 + t1398;
+            let t1400 = t1396 - t1399;
+            let t1401 = wrist_fe_v_wx * t1382;
+            let t1402 = t1265 * t588;
+            let t1403 = t1401 + t1402;
+            let t1404 = wrist_fe_v_wy * t1381;
+            let t1405 = t1268 * t587;
+            let t1406 = t1404 + t1405;
+            let t1407 = t1403 - t1406;
+            let t1408 = wrist_fe_v_vy * t1386;
+            let t1409 = t1274 * t592;
+            let t1410 = t1409 - t1408;
+            let t1411 = wrist_fe_v_vz * t1385;
+            let t1412 = t1261 * t591;
+            let t1413 = t1411 - t1412;
+            let t1414 = t1410 - t1413;
+            let t1415 = wrist_fe_v_vz * t1384;
+            let t1416 = t1261 * t590;
+            let t1417 = t1415 - t1416;
+            let t1418 = wrist_fe_v_vx * t1386;
+            let t1419 = t1271 * t592;
+            let t1420 = t1419 - t1418;
+            let t1421 = t1417 - t1420;
+            let t1422 = wrist_fe_v_vx * t1385;
+            let t1423 = t1271 * t591;
+            let t1424 = t1422 + t1423;
+            let t1425 = wrist_fe_v_vy * t1384;
+            let t1426 = t1274 * t590;
+            let t1427 = t1425 + t1426;
+            let t1428 = t1424 - t1427;
+            let t1429 = t1393 + t1414;
+            let t1430 = t1400 + t1421;
+            let t1431 = t1407 + t1428;
+            let t1432 = wrist_fe_v_wy * t1386;
+            let t1433 = t1268 * t592;
+            let t1434 = t1433 - t1432;
+            let t1435 = wrist_fe_v_wz * t1385;
+            let t1436 = t1068 * t591;
+            let t1437 = t1435 + t1436;
+            let t1438 = t1434 - t1437;
+            let t1439 = wrist_fe_v_wz * t1384;
+            let t1440 = t1068 * t590;
+            let t1441 = t1439 + t1440;
+            let t1442 = wrist_fe_v_wx * t1386;
+            let t1443 = t1265 * t592;
+            let t1444 = t1443 - t1442;
+            let t1445 = t1441 - t1444;
+            let t1446 = wrist_fe_v_wx * t1385;
+            let t1447 = t1265 * t591;
+            let t1448 = t1446 + t1447;
+            let t1449 = wrist_fe_v_wy * t1384;
+            let t1450 = t1268 * t590;
+            let t1451 = t1449 + t1450;
+            let t1452 = t1448 - t1451;
             let t1453 = t1339 + t1429;
-            let t1454 = t1340 + t1436;
-            let t1455 = t1341 + t1443;
-            let t1456 = t1342 + t1450;
-            (t1451, t1452, t1453, t1454, t1455, t1456)
+            let t1454 = t1340 + t1430;
+            let t1455 = t1341 + t1431;
+            let t1456 = t1342 + t1438;
+            let t1457 = t1343 + t1445;
+            let t1458 = t1344 + t1452;
+            (t1453, t1454, t1455, t1456, t1457, t1458)
         };
-        let (t1477, t1478, t1479, t1480, t1481, t1482) = {
+        let (t1479, t1480, t1481, t1482, t1483, t1484) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t1457 = c_wfe * t1454;
-            let t1458 = s_wfe * t1455;
-            let t1459 = t1457 - t1458;
-            let t1460 = s_wfe * t1454;
-            let t1461 = c_wfe * t1455;
-            let t1462 = t1460 + t1461;
-            let t1463 = c_wfe * t1451;
-            let t1464 = s_wfe * t1452;
-            let t1465 = t1463 - t1464;
-            let t1466 = s_wfe * t1451;
-            let t1467 = c_wfe * t1452;
-            let t1468 = t1466 + t1467;
-            let t1469 = 0.184f64 * t1456; // 1.8400e-1 = joint WFE origin z
-            let t1470 = 0.184f64 * t1462; // 1.8400e-1 = joint WFE origin z
-            let t1471 = 0.02075f64 * t1459; // 2.0750e-2 = joint WFE origin x
-            let t1472 = t1470 - t1471;
-            let t1473 = 0.02075f64 * t1456; // 2.0750e-2 = joint WFE origin x
-            let t1474 = t1468 - t1469;
-            let t1475 = t1453 + t1472;
-            let t1476 = t1465 + t1473;
-            let t1477 = t1247 + t1474;
-            let t1478 = t1248 + t1475;
+            let t1459 = c_wfe * t1456;
+            let t1460 = s_wfe * t1457;
+            let t1461 = t1459 - t1460;
+            let t1462 = s_wfe * t1456;
+            let t1463 = c_wfe * t1457;
+            let t1464 = t1462 + t1463;
+            let t1465 = c_wfe * t1453;
+            let t1466 = s_wfe * t1454;
+            let t1467 = t1465 - t1466;
+            let t1468 = s_wfe * t1453;
+            let t1469 = c_wfe * t1454;
+            let t1470 = t1468 + t1469;
+            let t1471 = 0.184f64 * t1458; // 1.8400e-1 = joint WFE origin z
+            let t1472 = 0.184f64 * t1464; // 1.8400e-1 = joint WFE origin z
+            let t1473 = 0.02075f64 * t1461; // 2.0750e-2 = joint WFE origin x
+            let t1474 = t1472 - t1473;
+            let t1475 = 0.02075f64 * t1458; // 2.0750e-2 = joint WFE origin x
+            let t1476 = t1470 - t1471;
+            let t1477 = t1455 + t1474;
+            let t1478 = t1467 + t1475;
             let t1479 = t1249 + t1476;
-            let t1480 = t1250 + t1462;
-            let t1481 = t1251 + t1456;
-            let t1482 = t1252 + t1459;
-            (t1477, t1478, t1479, t1480, t1481, t1482)
+            let t1480 = t1250 + t1477;
+            let t1481 = t1251 + t1478;
+            let t1482 = t1252 + t1464;
+            let t1483 = t1253 + t1458;
+            let t1484 = t1254 + t1461;
+            (t1479, t1480, t1481, t1482, t1483, t1484)
         };
-        let (t1499, t1500, t1501, t1502, t1503, t1504) = {
+        let (t1501, t1502, t1503, t1504, t1505, t1506) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t1483 = c_wr * t1480;
-            let t1484 = s_wr * t1481;
-            let t1485 = t1483 - t1484;
-            let t1486 = s_wr * t1480;
-            let t1487 = c_wr * t1481;
-            let t1488 = t1486 + t1487;
-            let t1489 = c_wr * t1477;
-            let t1490 = s_wr * t1478;
-            let t1491 = t1489 - t1490;
-            let t1492 = s_wr * t1477;
-            let t1493 = c_wr * t1478;
-            let t1494 = t1492 + t1493;
-            let t1495 = 0.112f64 * t1485; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1496 = 0.112f64 * t1488; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1497 = t1494 + t1495;
-            let t1498 = t1496 - t1491;
-            let t1499 = t1051 + t1479;
-            let t1500 = t1052 + t1497;
-            let t1501 = t1053 + t1498;
-            let t1502 = t1054 + t1482;
-            let t1503 = t1055 + t1488;
-            let t1504 = t1056 - t1485;
-            (t1499, t1500, t1501, t1502, t1503, t1504)
+            let t1485 = c_wr * t1482;
+            let t1486 = s_wr * t1483;
+            let t1487 = t1485 - t1486;
+            let t1488 = s_wr * t1482;
+            let t1489 = c_wr * t1483;
+            let t1490 = t1488 + t1489;
+            let t1491 = c_wr * t1479;
+            let t1492 = s_wr * t1480;
+            let t1493 = t1491 - t1492;
+            let t1494 = s_wr * t1479;
+            let t1495 = c_wr * t1480;
+            let t1496 = t1494 + t1495;
+            let t1497 = 0.112f64 * t1487; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1498 = 0.112f64 * t1490; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1499 = t1496 + t1497;
+            let t1500 = t1498 - t1493;
+            let t1501 = t1053 + t1481;
+            let t1502 = t1054 + t1499;
+            let t1503 = t1055 + t1500;
+            let t1504 = t1056 + t1484;
+            let t1505 = t1057 + t1490;
+            let t1506 = t1058 - t1487;
+            (t1501, t1502, t1503, t1504, t1505, t1506)
         };
-        let (t1518, t1519, t1520, t1521, t1522) = {
+        let (t1520, t1521, t1522, t1523, t1524) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t1505 = s_efe * t1502;
-            let t1506 = c_efe * t1503;
-            let t1507 = t1505 + t1506;
-            let t1508 = c_efe * t1499;
-            let t1509 = s_efe * t1500;
-            let t1510 = t1508 - t1509;
-            let t1511 = s_efe * t1499;
-            let t1512 = c_efe * t1500;
-            let t1513 = t1511 + t1512;
-            let t1514 = 0.304f64 * t1507; // 3.0400e-1 = joint EFE origin z
-            let t1515 = 0.304f64 * t1504; // 3.0400e-1 = joint EFE origin z
-            let t1516 = t1501 + t1514;
-            let t1517 = t1513 - t1515;
-            let t1518 = t864 - t1516;
-            let t1519 = t865 + t1517;
-            let t1520 = t866 + t1510;
-            let t1521 = t867 + t1504;
-            let t1522 = t868 + t1507;
-            (t1518, t1519, t1520, t1521, t1522)
+            let t1507 = s_efe * t1504;
+            let t1508 = c_efe * t1505;
+            let t1509 = t1507 + t1508;
+            let t1510 = c_efe * t1501;
+            let t1511 = s_efe * t1502;
+            let t1512 = t1510 - t1511;
+            let t1513 = s_efe * t1501;
+            let t1514 = c_efe * t1502;
+            let t1515 = t1513 + t1514;
+            let t1516 = 0.304f64 * t1509; // 3.0400e-1 = joint EFE origin z
+            let t1517 = 0.304f64 * t1506; // 3.0400e-1 = joint EFE origin z
+            let t1518 = t1503 + t1516;
+            let t1519 = t1515 - t1517;
+            let t1520 = t866 - t1518;
+            let t1521 = t867 + t1519;
+            let t1522 = t868 + t1512;
+            let t1523 = t869 + t1506;
+            let t1524 = t870 + t1509;
+            (t1520, t1521, t1522, t1523, t1524)
         };
-        let (t1539, t1540, t1541) = {
+        let (t1541, t1542, t1543) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t1523 = c_hr * t1521;
-            let t1524 = s_hr * t1522;
-            let t1525 = t1523 + t1524;
-            let t1526 = s_hr * t1521;
-            let t1527 = c_hr * t1522;
-            let t1528 = t1527 - t1526;
-            let t1529 = c_hr * t1518;
-            let t1530 = s_hr * t1519;
-            let t1531 = t1529 - t1530;
-            let t1532 = s_hr * t1518;
-            let t1533 = c_hr * t1519;
-            let t1534 = t1532 + t1533;
-            let t1535 = 0.112f64 * t1525; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1536 = 0.112f64 * t1528; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1537 = t1534 - t1535;
-            let t1538 = t1536 - t1531;
-            let t1539 = t723 + t1520;
-            let t1540 = t724 + t1537;
-            let t1541 = t725 + t1538;
-            (t1539, t1540, t1541)
+            let t1525 = c_hr * t1523;
+            let t1526 = s_hr * t1524;
+            let t1527 = t1525 + t1526;
+            let t1528 = s_hr * t1523;
+            let t1529 = c_hr * t1524;
+            let t1530 = t1529 - t1528;
+            let t1531 = c_hr * t1520;
+            let t1532 = s_hr * t1521;
+            let t1533 = t1531 - t1532;
+            let t1534 = s_hr * t1520;
+            let t1535 = c_hr * t1521;
+            let t1536 = t1534 + t1535;
+            let t1537 = 0.112f64 * t1527; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1538 = 0.112f64 * t1530; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1539 = t1536 - t1537;
+            let t1540 = t1538 - t1533;
+            let t1541 = t725 + t1522;
+            let t1542 = t726 + t1539;
+            let t1543 = t727 + t1540;
+            (t1541, t1542, t1543)
         };
-        let t1544 = {
+        let t1546 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t1542 = s_sfe * t1539;
-            let t1543 = c_sfe * t1540;
-            let t1544 = t1542 + t1543;
-            t1544
+            let t1544 = s_sfe * t1541;
+            let t1545 = c_sfe * t1542;
+            let t1546 = t1544 + t1545;
+            t1546
         };
-        let (t1559, t1561, t1562, t1563, t1564, t1580, t1581, t1582) = {
+        let (t1561, t1563, t1564, t1565, t1566, t1582, t1583, t1584) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let t1545 = shoulder_fe_ixx * shoulder_fe_a_wy;
-            let t1546 = t1545 - t9;
-            let t1547 = shoulder_fe_iyy * shoulder_fe_a_wx;
-            let t1548 = t5 - t1547;
-            let t1549 = shoulder_fe_ixz * shoulder_fe_a_wy;
-            let t1550 = shoulder_fe_iyz * shoulder_fe_a_wx;
-            let t1551 = t1549 - t1550;
-            let t1552 = shoulder_fe_hx * shoulder_fe_a_vx;
-            let t1553 = shoulder_fe_hy * shoulder_fe_a_vy;
-            let t1554 = t1552 + t1553;
-            let t1555 = t1546 + t15;
-            let t1556 = t1548 + t14;
-            let t1557 = t1551 - t1554;
-            let t1558 = shoulder_fe_ixx * shoulder_fe_v_wy;
-            let t1559 = t1558 - t23;
-            let t1560 = shoulder_fe_iyy * shoulder_fe_v_wx;
-            let t1561 = t19 - t1560;
-            let t1562 = shoulder_fe_ixz * shoulder_fe_v_wy;
-            let t1563 = shoulder_fe_iyz * shoulder_fe_v_wx;
-            let t1564 = t1562 - t1563;
-            let t1565 = shoulder_fe_v_wy * t1564;
-            let t1566 = t1565 - t37;
-            let t1567 = qd_sfe * t1561;
-            let t1568 = t1566 - t1567;
-            let t1569 = qd_sfe * t1559;
-            let t1570 = shoulder_fe_v_wx * t1564;
-            let t1571 = t1570 + t33;
-            let t1572 = t1569 - t1571;
-            let t1573 = shoulder_fe_v_wx * t1561;
-            let t1574 = shoulder_fe_v_wy * t27;
-            let t1575 = t1573 + t1574;
-            let t1576 = shoulder_fe_v_wy * t1559;
-            let t1577 = shoulder_fe_v_wx * t22;
-            let t1578 = t1576 - t1577;
-            let t1579 = t1575 - t1578;
-            let t1580 = t1555 + t1568;
-            let t1581 = t1556 + t1572;
-            let t1582 = t1557 + t1579;
-            (t1559, t1561, t1562, t1563, t1564, t1580, t1581, t1582)
+            let t1547 = shoulder_fe_ixx * shoulder_fe_a_wy;
+            let t1548 = t1547 - t9;
+            let t1549 = shoulder_fe_iyy * shoulder_fe_a_wx;
+            let t1550 = t5 - t1549;
+            let t1551 = shoulder_fe_ixz * shoulder_fe_a_wy;
+            let t1552 = shoulder_fe_iyz * shoulder_fe_a_wx;
+            let t1553 = t1551 - t1552;
+            let t1554 = shoulder_fe_hx * shoulder_fe_a_vx;
+            let t1555 = shoulder_fe_hy * shoulder_fe_a_vy;
+            let t1556 = t1554 + t1555;
+            let t1557 = t1548 + t15;
+            let t1558 = t1550 + t14;
+            let t1559 = t1553 - t1556;
+            let t1560 = shoulder_fe_ixx * shoulder_fe_v_wy;
+            let t1561 = t1560 - t23;
+            let t1562 = shoulder_fe_iyy * shoulder_fe_v_wx;
+            let t1563 = t19 - t1562;
+            let t1564 = shoulder_fe_ixz * shoulder_fe_v_wy;
+            let t1565 = shoulder_fe_iyz * shoulder_fe_v_wx;
+            let t1566 = t1564 - t1565;
+            let t1567 = shoulder_fe_v_wy * t1566;
+            let t1568 = t1567 - t37;
+            let t1569 = qd_sfe * t1563;
+            let t1570 = t1568 - t1569;
+            let t1571 = qd_sfe * t1561;
+            let t1572 = shoulder_fe_v_wx * t1566;
+            let t1573 = t1572 + t33;
+            let t1574 = t1571 - t1573;
+            let t1575 = shoulder_fe_v_wx * t1563;
+            let t1576 = shoulder_fe_v_wy * t27;
+            let t1577 = t1575 + t1576;
+            let t1578 = shoulder_fe_v_wy * t1561;
+            let t1579 = shoulder_fe_v_wx * t22;
+            let t1580 = t1578 - t1579;
+            let t1581 = t1577 - t1580;
+            let t1582 = t1557 + t1570;
+            let t1583 = t1558 + t1574;
+            let t1584 = t1559 + t1581;
+            (t1561, t1563, t1564, t1565, t1566, t1582, t1583, t1584)
         };
         let (
-            t1584,
-            t1585,
             t1586,
             t1587,
-            t1601,
-            t1602,
+            t1588,
+            t1589,
             t1603,
             t1604,
-            t1645,
-            t1650,
-            t1655,
-            t1664,
-            t1668,
-            t1729,
-            t1730,
+            t1605,
+            t1606,
+            t1647,
+            t1652,
+            t1657,
+            t1666,
+            t1670,
             t1731,
             t1732,
             t1733,
+            t1734,
+            t1735,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t1583 = 0.112f64 * shoulder_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1584 = s_hr * shoulder_fe_v_wx;
-            let t1585 = c_hr * shoulder_fe_v_wx;
-            let t1586 = c_hr * t1583;
-            let t1587 = s_hr * t1583;
-            let t1588 = 0.112f64 * shoulder_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1589 = s_hr * shoulder_fe_a_wx;
-            let t1590 = c_hr * shoulder_fe_a_wx;
-            let t1591 = c_hr * t1588;
-            let t1592 = s_hr * shoulder_fe_a_vx;
-            let t1593 = t1591 + t1592;
-            let t1594 = s_hr * t1588;
-            let t1595 = c_hr * shoulder_fe_a_vx;
-            let t1596 = t1594 - t1595;
-            let t1597 = t1585 * qd_hr;
-            let t1598 = t1584 * qd_hr;
+            let t1585 = 0.112f64 * shoulder_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1586 = s_hr * shoulder_fe_v_wx;
+            let t1587 = c_hr * shoulder_fe_v_wx;
+            let t1588 = c_hr * t1585;
+            let t1589 = s_hr * t1585;
+            let t1590 = 0.112f64 * shoulder_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1591 = s_hr * shoulder_fe_a_wx;
+            let t1592 = c_hr * shoulder_fe_a_wx;
+            let t1593 = c_hr * t1590;
+            let t1594 = s_hr * shoulder_fe_a_vx;
+            let t1595 = t1593 + t1594;
+            let t1596 = s_hr * t1590;
+            let t1597 = c_hr * shoulder_fe_a_vx;
+            let t1598 = t1596 - t1597;
             let t1599 = t1587 * qd_hr;
             let t1600 = t1586 * qd_hr;
-            let t1601 = t1589 + t1597;
-            let t1602 = t1598 - t1590;
-            let t1603 = t1599 - t1593;
-            let t1604 = t1596 + t1600;
-            let t1605 = humerus_r_ixx * t1601;
-            let t1606 = humerus_r_ixy * t1602;
-            let t1607 = t1606 - t1605;
-            let t1608 = humerus_r_ixz * shoulder_fe_a_wy;
-            let t1609 = t1607 + t1608;
-            let t1610 = humerus_r_ixy * t1601;
-            let t1611 = humerus_r_iyy * t1602;
-            let t1612 = t1611 - t1610;
-            let t1613 = humerus_r_iyz * shoulder_fe_a_wy;
-            let t1614 = t1612 + t1613;
-            let t1615 = humerus_r_ixz * t1601;
-            let t1616 = humerus_r_iyz * t1602;
-            let t1617 = t1616 - t1615;
-            let t1618 = humerus_r_izz * shoulder_fe_a_wy;
-            let t1619 = t1617 + t1618;
-            let t1620 = humerus_r_hy * shoulder_fe_a_vy;
-            let t1621 = humerus_r_hz * t1604;
-            let t1622 = t1620 - t1621;
-            let t1623 = humerus_r_hz * t1603;
-            let t1624 = humerus_r_hx * shoulder_fe_a_vy;
-            let t1625 = t1623 - t1624;
-            let t1626 = humerus_r_hx * t1604;
-            let t1627 = humerus_r_hy * t1603;
-            let t1628 = t1626 - t1627;
-            let t1629 = t1603 * humerus_r_m;
-            let t1630 = t1604 * humerus_r_m;
-            let t1631 = humerus_r_hy * shoulder_fe_a_wy;
-            let t1632 = humerus_r_hz * t1602;
-            let t1633 = t1631 - t1632;
-            let t1634 = humerus_r_hz * t1601;
-            let t1635 = humerus_r_hx * shoulder_fe_a_wy;
-            let t1636 = t1634 + t1635;
-            let t1637 = t1609 + t1622;
-            let t1638 = t1614 + t1625;
-            let t1639 = t1619 + t1628;
-            let t1640 = t1629 - t1633;
-            let t1641 = t1630 + t1636;
-            let t1642 = humerus_r_ixx * t1584;
-            let t1643 = humerus_r_ixy * t1585;
-            let t1644 = t1642 + t1643;
-            let t1645 = humerus_r_ixz * shoulder_fe_v_wy;
-            let t1646 = t1645 - t1644;
-            let t1647 = humerus_r_ixy * t1584;
-            let t1648 = humerus_r_iyy * t1585;
-            let t1649 = t1647 + t1648;
-            let t1650 = humerus_r_iyz * shoulder_fe_v_wy;
-            let t1651 = t1650 - t1649;
-            let t1652 = humerus_r_ixz * t1584;
-            let t1653 = humerus_r_iyz * t1585;
-            let t1654 = t1652 + t1653;
-            let t1655 = humerus_r_izz * shoulder_fe_v_wy;
-            let t1656 = t1655 - t1654;
-            let t1657 = humerus_r_hz * t1587;
-            let t1658 = humerus_r_hz * t1586;
-            let t1659 = humerus_r_hx * t1587;
-            let t1660 = humerus_r_hy * t1586;
-            let t1661 = t1659 + t1660;
-            let t1662 = t1586 * humerus_r_m;
-            let t1663 = t1587 * humerus_r_m;
-            let t1664 = humerus_r_hy * shoulder_fe_v_wy;
-            let t1665 = humerus_r_hz * t1585;
-            let t1666 = t1664 + t1665;
-            let t1667 = humerus_r_hz * t1584;
-            let t1668 = humerus_r_hx * shoulder_fe_v_wy;
-            let t1669 = t1667 + t1668;
-            let t1670 = humerus_r_hx * t1585;
-            let t1671 = humerus_r_hy * t1584;
-            let t1672 = t1671 - t1670;
-            let t1673 = t1646 - t1657;
-            let t1674 = t1651 - t1658;
-            let t1675 = t1656 + t1661;
-            let t1676 = t1662 + t1666;
-            let t1677 = t1663 + t1669;
-            let t1678 = humerus_r_v_wy * t1675;
-            let t1679 = t1585 * t140;
-            let t1680 = t1678 - t1679;
-            let t1681 = humerus_r_v_wz * t1674;
-            let t1682 = shoulder_fe_v_wy * t139;
-            let t1683 = t1681 + t1682;
-            let t1684 = t1680 - t1683;
-            let t1685 = humerus_r_v_wz * t1673;
-            let t1686 = shoulder_fe_v_wy * t138;
-            let t1687 = t1685 + t1686;
-            let t1688 = humerus_r_v_wx * t1675;
-            let t1689 = t1584 * t140;
-            let t1690 = t1688 - t1689;
-            let t1691 = t1687 - t1690;
-            let t1692 = humerus_r_v_wx * t1674;
-            let t1693 = t1584 * t139;
-            let t1694 = t1692 - t1693;
-            let t1695 = humerus_r_v_wy * t1673;
-            let t1696 = t1585 * t138;
-            let t1697 = t1695 - t1696;
-            let t1698 = t1694 - t1697;
-            let t1699 = humerus_r_v_vy * t1672;
-            let t1700 = t1587 * t137;
-            let t1701 = t1699 + t1700;
-            let t1702 = humerus_r_v_vx * t1672;
-            let t1703 = t1586 * t137;
-            let t1704 = t1703 - t1702;
-            let t1705 = humerus_r_v_vx * t1677;
-            let t1706 = t1586 * t142;
-            let t1707 = t1705 - t1706;
-            let t1708 = humerus_r_v_vy * t1676;
-            let t1709 = t1587 * t141;
-            let t1710 = t1709 - t1708;
-            let t1711 = t1707 - t1710;
-            let t1712 = t1684 - t1701;
-            let t1713 = t1691 - t1704;
-            let t1714 = t1698 + t1711;
-            let t1715 = humerus_r_v_wy * t1672;
-            let t1716 = t1585 * t137;
-            let t1717 = t1716 - t1715;
-            let t1718 = humerus_r_v_wz * t1677;
-            let t1719 = shoulder_fe_v_wy * t142;
-            let t1720 = t1718 + t1719;
-            let t1721 = t1717 - t1720;
-            let t1722 = humerus_r_v_wz * t1676;
-            let t1723 = shoulder_fe_v_wy * t141;
-            let t1724 = t1723 - t1722;
-            let t1725 = humerus_r_v_wx * t1672;
-            let t1726 = t1584 * t137;
-            let t1727 = t1726 - t1725;
-            let t1728 = t1724 - t1727;
-            let t1729 = t1637 + t1712;
-            let t1730 = t1638 + t1713;
+            let t1601 = t1589 * qd_hr;
+            let t1602 = t1588 * qd_hr;
+            let t1603 = t1591 + t1599;
+            let t1604 = t1600 - t1592;
+            let t1605 = t1601 - t1595;
+            let t1606 = t1598 + t1602;
+            let t1607 = humerus_r_ixx * t1603;
+            let t1608 = humerus_r_ixy * t1604;
+            let t1609 = t1608 - t1607;
+            let t1610 = humerus_r_ixz * shoulder_fe_a_wy;
+            let t1611 = t1609 + t1610;
+            let t1612 = humerus_r_ixy * t1603;
+            let t1613 = humerus_r_iyy * t1604;
+            let t1614 = t1613 - t1612;
+            let t1615 = humerus_r_iyz * shoulder_fe_a_wy;
+            let t1616 = t1614 + t1615;
+            let t1617 = humerus_r_ixz * t1603;
+            let t1618 = humerus_r_iyz * t1604;
+            let t1619 = t1618 - t1617;
+            let t1620 = humerus_r_izz * shoulder_fe_a_wy;
+            let t1621 = t1619 + t1620;
+            let t1622 = humerus_r_hy * shoulder_fe_a_vy;
+            let t1623 = humerus_r_hz * t1606;
+            let t1624 = t1622 - t1623;
+            let t1625 = humerus_r_hz * t1605;
+            let t1626 = humerus_r_hx * shoulder_fe_a_vy;
+            let t1627 = t1625 - t1626;
+            let t1628 = humerus_r_hx * t1606;
+            let t1629 = humerus_r_hy * t1605;
+            let t1630 = t1628 - t1629;
+            let t1631 = t1605 * humerus_r_m;
+            let t1632 = t1606 * humerus_r_m;
+            let t1633 = humerus_r_hy * shoulder_fe_a_wy;
+            let t1634 = humerus_r_hz * t1604;
+            let t1635 = t1633 - t1634;
+            let t1636 = humerus_r_hz * t1603;
+            let t1637 = humerus_r_hx * shoulder_fe_a_wy;
+            let t1638 = t1636 + t1637;
+            let t1639 = t1611 + t1624;
+            let t1640 = t1616 + t1627;
+            let t1641 = t1621 + t1630;
+            let t1642 = t1631 - t1635;
+            let t1643 = t1632 + t1638;
+            let t1644 = humerus_r_ixx * t1586;
+            let t1645 = humerus_r_ixy * t1587;
+            let t1646 = t1644 + t1645;
+            let t1647 = humerus_r_ixz * shoulder_fe_v_wy;
+            let t1648 = t1647 - t1646;
+            let t1649 = humerus_r_ixy * t1586;
+            let t1650 = humerus_r_iyy * t1587;
+            let t1651 = t1649 + t1650;
+            let t1652 = humerus_r_iyz * shoulder_fe_v_wy;
+            let t1653 = t1652 - t1651;
+            let t1654 = humerus_r_ixz * t1586;
+            let t1655 = humerus_r_iyz * t1587;
+            let t1656 = t1654 + t1655;
+            let t1657 = humerus_r_izz * shoulder_fe_v_wy;
+            let t1658 = t1657 - t1656;
+            let t1659 = humerus_r_hz * t1589;
+            let t1660 = humerus_r_hz * t1588;
+            let t1661 = humerus_r_hx * t1589;
+            let t1662 = humerus_r_hy * t1588;
+            let t1663 = t1661 + t1662;
+            let t1664 = t1588 * humerus_r_m;
+            let t1665 = t1589 * humerus_r_m;
+            let t1666 = humerus_r_hy * shoulder_fe_v_wy;
+            let t1667 = humerus_r_hz * t1587;
+            let t1668 = t1666 + t1667;
+            let t1669 = humerus_r_hz * t1586;
+            let t1670 = humerus_r_hx * shoulder_fe_v_wy;
+            let t1671 = t1669 + t1670;
+            let t1672 = humerus_r_hx * t1587;
+            let t1673 = humerus_r_hy * t1586;
+            let t1674 = t1673 - t1672;
+            let t1675 = t1648 - t1659;
+            let t1676 = t1653 - t1660;
+            let t1677 = t1658 + t1663;
+            let t1678 = t1664 + t1668;
+            let t1679 = t1665 + t1671;
+            let t1680 = humerus_r_v_wy * t1677;
+            let t1681 = t1587 * t140;
+            let t1682 = t1680 - t1681;
+            let t1683 = humerus_r_v_wz * t1676;
+            let t1684 = shoulder_fe_v_wy * t139;
+            let t1685 = t1683 + t1684;
+            let t1686 = t1682 - t1685;
+            let t1687 = humerus_r_v_wz * t1675;
+            let t1688 = shoulder_fe_v_wy * t138;
+            let t1689 = t1687 + t1688;
+            let t1690 = humerus_r_v_wx * t1677;
+            let t1691 = t1586 * t140;
+            let t1692 = t1690 - t1691;
+            let t1693 = t1689 - t1692;
+            let t1694 = humerus_r_v_wx * t1676;
+            let t1695 = t1586 * t139;
+            let t1696 = t1694 - t1695;
+            let t1697 = humerus_r_v_wy * t1675;
+            let t1698 = t1587 * t138;
+            let t1699 = t1697 - t1698;
+            let t1700 = t1696 - t1699;
+            let t1701 = humerus_r_v_vy * t1674;
+            let t1702 = t1589 * t137;
+            let t1703 = t1701 + t1702;
+            let t1704 = humerus_r_v_vx * t1674;
+            let t1705 = t1588 * t137;
+            let t1706 = t1705 - t1704;
+            let t1707 = humerus_r_v_vx * t1679;
+            let t1708 = t1588 * t142;
+            let t1709 = t1707 - t1708;
+            let t1710 = humerus_r_v_vy * t1678;
+            let t1711 = t1589 * t141;
+            let t1712 = t1711 - t1710;
+            let t1713 = t1709 - t1712;
+            let t1714 = t1686 - t1703;
+            let t1715 = t1693 - t1706;
+            let t1716 = t1700 + t1713;
+            let t1717 = humerus_r_v_wy * t1674;
+            let t1718 = t1587 * t137;
+            let t1719 = t1718 - t1717;
+            let t1720 = humerus_r_v_wz * t1679;
+            let t1721 = shoulder_fe_v_wy * t142;
+            let t1722 = t1720 + t1721;
+            let t1723 = t1719 - t1722;
+            let t1724 = humerus_r_v_wz * t1678;
+            let t1725 = shoulder_fe_v_wy * t141;
+            let t1726 = t1725 - t1724;
+            let t1727 = humerus_r_v_wx * t1674;
+            let t1728 = t1586 * t137;
+            let t1729 = t1728 - t1727;
+            let t1730 = t1726 - t1729;
             let t1731 = t1639 + t1714;
-            let t1732 = t1640 + t1721;
-            let t1733 = t1641 + t1728;
+            let t1732 = t1640 + t1715;
+            let t1733 = t1641 + t1716;
+            let t1734 = t1642 + t1723;
+            let t1735 = t1643 + t1730;
             (
-                t1584,
-                t1585,
                 t1586,
                 t1587,
-                t1601,
-                t1602,
+                t1588,
+                t1589,
                 t1603,
                 t1604,
-                t1645,
-                t1650,
-                t1655,
-                t1664,
-                t1668,
-                t1729,
-                t1730,
+                t1605,
+                t1606,
+                t1647,
+                t1652,
+                t1657,
+                t1666,
+                t1670,
                 t1731,
                 t1732,
                 t1733,
+                t1734,
+                t1735,
             )
         };
         let (
-            t1736,
             t1738,
             t1740,
-            t1741,
+            t1742,
             t1743,
-            t1744,
             t1745,
-            t1748,
-            t1766,
-            t1767,
+            t1746,
+            t1747,
+            t1750,
             t1768,
             t1769,
-            t1920,
-            t1921,
+            t1770,
+            t1771,
             t1922,
             t1923,
             t1924,
             t1925,
+            t1926,
+            t1927,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t1734 = 0.304f64 * t1585; // 3.0400e-1 = joint EFE origin z
-            let t1735 = 0.304f64 * t1584; // 3.0400e-1 = joint EFE origin z
-            let t1736 = t1586 + t1734;
-            let t1737 = t1587 + t1735;
-            let t1738 = c_efe * shoulder_fe_v_wy;
-            let t1739 = s_efe * t1585;
-            let t1740 = t1738 - t1739;
-            let t1741 = s_efe * shoulder_fe_v_wy;
-            let t1742 = c_efe * t1585;
-            let t1743 = t1741 + t1742;
-            let t1744 = s_efe * t1737;
-            let t1745 = c_efe * t1737;
-            let t1746 = 0.304f64 * t1602; // 3.0400e-1 = joint EFE origin z
-            let t1747 = 0.304f64 * t1601; // 3.0400e-1 = joint EFE origin z
-            let t1748 = t1603 + t1746;
-            let t1749 = t1604 + t1747;
-            let t1750 = c_efe * shoulder_fe_a_wy;
-            let t1751 = s_efe * t1602;
-            let t1752 = t1750 + t1751;
-            let t1753 = s_efe * shoulder_fe_a_wy;
-            let t1754 = c_efe * t1602;
-            let t1755 = t1754 - t1753;
-            let t1756 = c_efe * shoulder_fe_a_vy;
-            let t1757 = s_efe * t1749;
-            let t1758 = t1756 + t1757;
-            let t1759 = s_efe * shoulder_fe_a_vy;
-            let t1760 = c_efe * t1749;
-            let t1761 = t1760 - t1759;
-            let t1762 = t1743 * qd_efe;
-            let t1763 = t1740 * qd_efe;
+            let t1736 = 0.304f64 * t1587; // 3.0400e-1 = joint EFE origin z
+            let t1737 = 0.304f64 * t1586; // 3.0400e-1 = joint EFE origin z
+            let t1738 = t1588 + t1736;
+            let t1739 = t1589 + t1737;
+            let t1740 = c_efe * shoulder_fe_v_wy;
+            let t1741 = s_efe * t1587;
+            let t1742 = t1740 - t1741;
+            let t1743 = s_efe * shoulder_fe_v_wy;
+            let t1744 = c_efe * t1587;
+            let t1745 = t1743 + t1744;
+            let t1746 = s_efe * t1739;
+            let t1747 = c_efe * t1739;
+            let t1748 = 0.304f64 * t1604; // 3.0400e-1 = joint EFE origin z
+            let t1749 = 0.304f64 * t1603; // 3.0400e-1 = joint EFE origin z
+            let t1750 = t1605 + t1748;
+            let t1751 = t1606 + t1749;
+            let t1752 = c_efe * shoulder_fe_a_wy;
+            let t1753 = s_efe * t1604;
+            let t1754 = t1752 + t1753;
+            let t1755 = s_efe * shoulder_fe_a_wy;
+            let t1756 = c_efe * t1604;
+            let t1757 = t1756 - t1755;
+            let t1758 = c_efe * shoulder_fe_a_vy;
+            let t1759 = s_efe * t1751;
+            let t1760 = t1758 + t1759;
+            let t1761 = s_efe * shoulder_fe_a_vy;
+            let t1762 = c_efe * t1751;
+            let t1763 = t1762 - t1761;
             let t1764 = t1745 * qd_efe;
-            let t1765 = t1744 * qd_efe;
-            let t1766 = t1752 - t1762;
-            let t1767 = t1755 - t1763;
-            let t1768 = t1758 + t1764;
-            let t1769 = t1761 - t1765;
-            let t1770 = elbow_fe_ixx * t1766;
-            let t1771 = elbow_fe_ixy * t1767;
-            let t1772 = t1770 + t1771;
-            let t1773 = elbow_fe_ixz * t1601;
+            let t1765 = t1742 * qd_efe;
+            let t1766 = t1747 * qd_efe;
+            let t1767 = t1746 * qd_efe;
+            let t1768 = t1754 - t1764;
+            let t1769 = t1757 - t1765;
+            let t1770 = t1760 + t1766;
+            let t1771 = t1763 - t1767;
+            let t1772 = elbow_fe_ixx * t1768;
+            let t1773 = elbow_fe_ixy * t1769;
             let t1774 = t1772 + t1773;
-            let t1775 = elbow_fe_ixy * t1766;
-            let t1776 = elbow_fe_iyy * t1767;
-            let t1777 = t1775 + t1776;
-            let t1778 = elbow_fe_iyz * t1601;
+            let t1775 = elbow_fe_ixz * t1603;
+            let t1776 = t1774 + t1775;
+            let t1777 = elbow_fe_ixy * t1768;
+            let t1778 = elbow_fe_iyy * t1769;
             let t1779 = t1777 + t1778;
-            let t1780 = elbow_fe_ixz * t1766;
-            let t1781 = elbow_fe_iyz * t1767;
-            let t1782 = t1780 + t1781;
-            let t1783 = elbow_fe_izz * t1601;
+            let t1780 = elbow_fe_iyz * t1603;
+            let t1781 = t1779 + t1780;
+            let t1782 = elbow_fe_ixz * t1768;
+            let t1783 = elbow_fe_iyz * t1769;
             let t1784 = t1782 + t1783;
-            let t1785 = elbow_fe_hy * t1748;
-            let t1786 = elbow_fe_hz * t1769;
-            let t1787 = t1785 + t1786;
-            let t1788 = elbow_fe_hz * t1768;
-            let t1789 = elbow_fe_hx * t1748;
-            let t1790 = t1788 + t1789;
-            let t1791 = elbow_fe_hx * t1769;
-            let t1792 = elbow_fe_hy * t1768;
-            let t1793 = t1791 - t1792;
-            let t1794 = t1768 * elbow_fe_m;
-            let t1795 = t1769 * elbow_fe_m;
-            let t1796 = t1748 * elbow_fe_m;
-            let t1797 = elbow_fe_hy * t1601;
-            let t1798 = elbow_fe_hz * t1767;
-            let t1799 = t1797 - t1798;
-            let t1800 = elbow_fe_hz * t1766;
-            let t1801 = elbow_fe_hx * t1601;
-            let t1802 = t1800 - t1801;
-            let t1803 = elbow_fe_hx * t1767;
-            let t1804 = elbow_fe_hy * t1766;
-            let t1805 = t1803 - t1804;
-            let t1806 = t1774 - t1787;
-            let t1807 = t1779 + t1790;
-            let t1808 = t1784 + t1793;
-            let t1809 = t1794 - t1799;
-            let t1810 = t1795 - t1802;
-            let t1811 = t1796 + t1805;
-            let t1812 = elbow_fe_ixx * t1740;
-            let t1813 = elbow_fe_ixy * t1743;
-            let t1814 = t1812 - t1813;
-            let t1815 = elbow_fe_ixz * t1584;
-            let t1816 = t1814 + t1815;
-            let t1817 = elbow_fe_ixy * t1740;
-            let t1818 = elbow_fe_iyy * t1743;
-            let t1819 = t1817 - t1818;
-            let t1820 = elbow_fe_iyz * t1584;
-            let t1821 = t1819 + t1820;
-            let t1822 = elbow_fe_ixz * t1740;
-            let t1823 = elbow_fe_iyz * t1743;
-            let t1824 = t1822 - t1823;
-            let t1825 = elbow_fe_izz * t1584;
-            let t1826 = t1824 + t1825;
-            let t1827 = elbow_fe_hy * t1736;
-            let t1828 = elbow_fe_hz * t1745;
-            let t1829 = t1827 - t1828;
-            let t1830 = elbow_fe_hz * t1744;
-            let t1831 = elbow_fe_hx * t1736;
-            let t1832 = t1830 - t1831;
-            let t1833 = elbow_fe_hx * t1745;
-            let t1834 = elbow_fe_hy * t1744;
-            let t1835 = t1833 - t1834;
-            let t1836 = t1744 * elbow_fe_m;
-            let t1837 = t1745 * elbow_fe_m;
-            let t1838 = t1736 * elbow_fe_m;
-            let t1839 = elbow_fe_hy * t1584;
-            let t1840 = elbow_fe_hz * t1743;
-            let t1841 = t1839 + t1840;
-            let t1842 = elbow_fe_hz * t1740;
-            let t1843 = elbow_fe_hx * t1584;
-            let t1844 = t1842 - t1843;
-            let t1845 = elbow_fe_hx * t1743;
-            let t1846 = elbow_fe_hy * t1740;
-            let t1847 = t1845 + t1846;
-            let t1848 = t1816 + t1829;
-            let t1849 = t1821 + t1832;
-            let t1850 = t1826 + t1835;
-            let t1851 = t1836 - t1841;
-            let t1852 = t1837 - t1844;
-            let t1853 = t1838 + t1847;
-            let t1854 = elbow_fe_v_wy * t1850;
-            let t1855 = t1743 * t277;
-            let t1856 = t1854 - t1855;
-            let t1857 = elbow_fe_v_wz * t1849;
-            let t1858 = t1584 * t276;
-            let t1859 = t1857 + t1858;
-            let t1860 = t1856 - t1859;
-            let t1861 = elbow_fe_v_wz * t1848;
-            let t1862 = t1584 * t275;
-            let t1863 = t1861 + t1862;
-            let t1864 = elbow_fe_v_wx * t1850;
-            let t1865 = t1740 * t277;
-            let t1866 = t1864 + t1865;
-            let t1867 = t1863 - t1866;
-            let t1868 = elbow_fe_v_wx * t1849;
-            let t1869 = t1740 * t276;
-            let t1870 = t1868 + t1869;
-            let t1871 = elbow_fe_v_wy * t1848;
-            let t1872 = t1743 * t275;
-            let t1873 = t1871 - t1872;
-            let t1874 = t1870 - t1873;
-            let t1875 = elbow_fe_v_vy * t1853;
-            let t1876 = t1745 * t280;
-            let t1877 = t1875 - t1876;
-            let t1878 = elbow_fe_v_vz * t1852;
-            let t1879 = t1736 * t279;
-            let t1880 = t1879 - t1878;
-            let t1881 = t1877 - t1880;
-            let t1882 = elbow_fe_v_vz * t1851;
-            let t1883 = t1736 * t278;
-            let t1884 = t1883 - t1882;
-            let t1885 = elbow_fe_v_vx * t1853;
-            let t1886 = t1744 * t280;
-            let t1887 = t1885 - t1886;
-            let t1888 = t1884 - t1887;
-            let t1889 = elbow_fe_v_vx * t1852;
-            let t1890 = t1744 * t279;
-            let t1891 = t1889 + t1890;
-            let t1892 = elbow_fe_v_vy * t1851;
-            let t1893 = t1745 * t278;
-            let t1894 = t1892 + t1893;
-            let t1895 = t1891 - t1894;
-            let t1896 = t1860 + t1881;
-            let t1897 = t1867 + t1888;
-            let t1898 = t1874 + t1895;
-            let t1899 = elbow_fe_v_wy * t1853;
-            let t1900 = t1743 * t280;
-            let t1901 = t1899 + t1900;
-            let t1902 = elbow_fe_v_wz * t1852;
-            let t1903 = t1584 * t279;
-            let t1904 = t1902 + t1903;
-            let t1905 = t1901 - t1904;
-            let t1906 = elbow_fe_v_wz * t1851;
-            let t1907 = t1584 * t278;
-            let t1908 = t1906 + t1907;
-            let t1909 = elbow_fe_v_wx * t1853;
-            let t1910 = t1740 * t280;
-            let t1911 = t1909 - t1910;
-            let t1912 = t1908 - t1911;
-            let t1913 = elbow_fe_v_wx * t1852;
-            let t1914 = t1740 * t279;
-            let t1915 = t1913 + t1914;
-            let t1916 = elbow_fe_v_wy * t1851;
-            let t1917 = t1743 * t278;
-            let t1918 = t1916 - t1917;
-            let t1919 = t1915 - t1918;
-            let t1920 = t1806 + t1896;
-            let t1921 = t1807 + t1897;
+            let t1785 = elbow_fe_izz * t1603;
+            let t1786 = t1784 + t1785;
+            let t1787 = elbow_fe_hy * t1750;
+            let t1788 = elbow_fe_hz * t1771;
+            let t1789 = t1787 + t1788;
+            let t1790 = elbow_fe_hz * t1770;
+            let t1791 = elbow_fe_hx * t1750;
+            let t1792 = t1790 + t1791;
+            let t1793 = elbow_fe_hx * t1771;
+            let t1794 = elbow_fe_hy * t1770;
+            let t1795 = t1793 - t1794;
+            let t1796 = t1770 * elbow_fe_m;
+            let t1797 = t1771 * elbow_fe_m;
+            let t1798 = t1750 * elbow_fe_m;
+            let t1799 = elbow_fe_hy * t1603;
+            let t1800 = elbow_fe_hz * t1769;
+            let t1801 = t1799 - t1800;
+            let t1802 = elbow_fe_hz * t1768;
+            let t1803 = elbow_fe_hx * t1603;
+            let t1804 = t1802 - t1803;
+            let t1805 = elbow_fe_hx * t1769;
+            let t1806 = elbow_fe_hy * t1768;
+            let t1807 = t1805 - t1806;
+            let t1808 = t1776 - t1789;
+            let t1809 = t1781 + t1792;
+            let t1810 = t1786 + t1795;
+            let t1811 = t1796 - t1801;
+            let t1812 = t1797 - t1804;
+            let t1813 = t1798 + t1807;
+            let t1814 = elbow_fe_ixx * t1742;
+            let t1815 = elbow_fe_ixy * t1745;
+            let t1816 = t1814 - t1815;
+            let t1817 = elbow_fe_ixz * t1586;
+            let t1818 = t1816 + t1817;
+            let t1819 = elbow_fe_ixy * t1742;
+            let t1820 = elbow_fe_iyy * t1745;
+            let t1821 = t1819 - t1820;
+            let t1822 = elbow_fe_iyz * t1586;
+            let t1823 = t1821 + t1822;
+            let t1824 = elbow_fe_ixz * t1742;
+            let t1825 = elbow_fe_iyz * t1745;
+            let t1826 = t1824 - t1825;
+            let t1827 = elbow_fe_izz * t1586;
+            let t1828 = t1826 + t1827;
+            let t1829 = elbow_fe_hy * t1738;
+            let t1830 = elbow_fe_hz * t1747;
+            let t1831 = t1829 - t1830;
+            let t1832 = elbow_fe_hz * t1746;
+            let t1833 = elbow_fe_hx * t1738;
+            let t1834 = t1832 - t1833;
+            let t1835 = elbow_fe_hx * t1747;
+            let t1836 = elbow_fe_hy * t1746;
+            let t1837 = t1835 - t1836;
+            let t1838 = t1746 * elbow_fe_m;
+            let t1839 = t1747 * elbow_fe_m;
+            let t1840 = t1738 * elbow_fe_m;
+            let t1841 = elbow_fe_hy * t1586;
+            let t1842 = elbow_fe_hz * t1745;
+            let t1843 = t1841 + t1842;
+            let t1844 = elbow_fe_hz * t1742;
+            let t1845 = elbow_fe_hx * t1586;
+            let t1846 = t1844 - t1845;
+            let t1847 = elbow_fe_hx * t1745;
+            let t1848 = elbow_fe_hy * t1742;
+            let t1849 = t1847 + t1848;
+            let t1850 = t1818 + t1831;
+            let t1851 = t1823 + t1834;
+            let t1852 = t1828 + t1837;
+            let t1853 = t1838 - t1843;
+            let t1854 = t1839 - t1846;
+            let t1855 = t1840 + t1849;
+            let t1856 = elbow_fe_v_wy * t1852;
+            let t1857 = t1745 * t279;
+            let t1858 = t1856 - t1857;
+            let t1859 = elbow_fe_v_wz * t1851;
+            let t1860 = t1586 * t278;
+            let t1861 = t1859 + t1860;
+            let t1862 = t1858 - t1861;
+            let t1863 = elbow_fe_v_wz * t1850;
+            let t1864 = t1586 * t277;
+            let t1865 = t1863 + t1864;
+            let t1866 = elbow_fe_v_wx * t1852;
+            let t1867 = t1742 * t279;
+            let t1868 = t1866 + t1867;
+            let t1869 = t1865 - t1868;
+            let t1870 = elbow_fe_v_wx * t1851;
+            let t1871 = t1742 * t278;
+            let t1872 = t1870 + t1871;
+            let t1873 = elbow_fe_v_wy * t1850;
+            let t1874 = t1745 * t277;
+            let t1875 = t1873 - t1874;
+            let t1876 = t1872 - t1875;
+            let t1877 = elbow_fe_v_vy * t1855;
+            let t1878 = t1747 * t282;
+            let t1879 = t1877 - t1878;
+            let t1880 = t173 * t1854;
+            let t1881 = t1738 * t281;
+            let t1882 = t1881 - t1880;
+            let t1883 = t1879 - t1882;
+            let t1884 = t173 * t1853;
+            let t1885 = t1738 * t280;
+            let t1886 = t1885 - t1884;
+            let t1887 = elbow_fe_v_vx * t1855;
+            let t1888 = t1746 * t282;
+            let t1889 = t1887 - t1888;
+            let t1890 = t1886 - t1889;
+            let t1891 = elbow_fe_v_vx * t1854;
+            let t1892 = t1746 * t281;
+            let t1893 = t1891 + t1892;
+            let t1894 = elbow_fe_v_vy * t1853;
+            let t1895 = t1747 * t280;
+            let t1896 = t1894 + t1895;
+            let t1897 = t1893 - t1896;
+            let t1898 = t1862 + t1883;
+            let t1899 = t1869 + t1890;
+            let t1900 = t1876 + t1897;
+            let t1901 = elbow_fe_v_wy * t1855;
+            let t1902 = t1745 * t282;
+            let t1903 = t1901 + t1902;
+            let t1904 = elbow_fe_v_wz * t1854;
+            let t1905 = t1586 * t281;
+            let t1906 = t1904 + t1905;
+            let t1907 = t1903 - t1906;
+            let t1908 = elbow_fe_v_wz * t1853;
+            let t1909 = t1586 * t280;
+            let t1910 = t1908 + t1909;
+            let t1911 = elbow_fe_v_wx * t1855;
+            let t1912 = t1742 * t282;
+            let t1913 = t1911 - t1912;
+            let t1914 = t1910 - t1913;
+            let t1915 = elbow_fe_v_wx * t1854;
+            let t1916 = t1742 * t281;
+            let t1917 = t1915 + t1916;
+            let t1918 = elbow_fe_v_wy * t1853;
+            let t1919 = t1745 * t280;
+            let t1920 = t1918 - t1919;
+            let t1921 = t1917 - t1920;
             let t1922 = t1808 + t1898;
-            let t1923 = t1809 + t1905;
-            let t1924 = t1810 + t1912;
-            let t1925 = t1919 - t1811;
+            let t1923 = t1809 + t1899;
+            let t1924 = t1810 + t1900;
+            let t1925 = t1811 + t1907;
+            let t1926 = t1812 + t1914;
+            let t1927 = t1921 - t1813;
             (
-                t1736,
                 t1738,
                 t1740,
-                t1741,
+                t1742,
                 t1743,
-                t1744,
                 t1745,
-                t1748,
-                t1766,
-                t1767,
+                t1746,
+                t1747,
+                t1750,
                 t1768,
                 t1769,
-                t1920,
-                t1921,
+                t1770,
+                t1771,
                 t1922,
                 t1923,
                 t1924,
                 t1925,
+                t1926,
+                t1927,
             )
         };
         let (
-            t1932,
-            t1935,
-            t1938,
-            t1941,
-            t1962,
-            t1963,
+            t1934,
+            t1937,
+            t1940,
+            t1943,
             t1964,
             t1965,
-            t2116,
-            t2117,
+            t1966,
+            t1967,
             t2118,
             t2119,
             t2120,
             t2121,
+            t2122,
+            t2123,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t1926 = 0.112f64 * t1584; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1927 = 0.112f64 * t1743; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1928 = t1745 + t1926;
-            let t1929 = t1736 + t1927;
-            let t1930 = c_wr * t1584;
-            let t1931 = s_wr * t1743;
-            let t1932 = t1930 + t1931;
-            let t1933 = s_wr * t1584;
-            let t1934 = c_wr * t1743;
-            let t1935 = t1933 - t1934;
-            let t1936 = c_wr * t1929;
-            let t1937 = s_wr * t1928;
-            let t1938 = t1937 - t1936;
-            let t1939 = s_wr * t1929;
-            let t1940 = c_wr * t1928;
-            let t1941 = t1939 + t1940;
-            let t1942 = 0.112f64 * t1601; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1943 = 0.112f64 * t1767; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t1944 = t1769 + t1942;
-            let t1945 = t1748 + t1943;
-            let t1946 = c_wr * t1601;
-            let t1947 = s_wr * t1767;
-            let t1948 = t1947 - t1946;
-            let t1949 = s_wr * t1601;
-            let t1950 = c_wr * t1767;
-            let t1951 = t1949 + t1950;
-            let t1952 = c_wr * t1945;
-            let t1953 = s_wr * t1944;
-            let t1954 = t1952 + t1953;
-            let t1955 = s_wr * t1945;
-            let t1956 = c_wr * t1944;
-            let t1957 = t1956 - t1955;
-            let t1958 = t1935 * qd_wr;
-            let t1959 = t1932 * qd_wr;
-            let t1960 = t1941 * qd_wr;
-            let t1961 = t1938 * qd_wr;
-            let t1962 = t1948 + t1958;
-            let t1963 = t1951 + t1959;
-            let t1964 = t1954 + t1960;
-            let t1965 = t1957 - t1961;
-            let t1966 = wrist_r_ixx * t1962;
-            let t1967 = wrist_r_ixy * t1963;
-            let t1968 = t1966 + t1967;
-            let t1969 = wrist_r_ixz * t1766;
+            let t1928 = 0.112f64 * t1586; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1929 = 0.112f64 * t1745; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1930 = t1747 + t1928;
+            let t1931 = t1738 + t1929;
+            let t1932 = c_wr * t1586;
+            let t1933 = s_wr * t1745;
+            let t1934 = t1932 + t1933;
+            let t1935 = s_wr * t1586;
+            let t1936 = c_wr * t1745;
+            let t1937 = t1935 - t1936;
+            let t1938 = c_wr * t1931;
+            let t1939 = s_wr * t1930;
+            let t1940 = t1939 - t1938;
+            let t1941 = s_wr * t1931;
+            let t1942 = c_wr * t1930;
+            let t1943 = t1941 + t1942;
+            let t1944 = 0.112f64 * t1603; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1945 = 0.112f64 * t1769; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t1946 = t1771 + t1944;
+            let t1947 = t1750 + t1945;
+            let t1948 = c_wr * t1603;
+            let t1949 = s_wr * t1769;
+            let t1950 = t1949 - t1948;
+            let t1951 = s_wr * t1603;
+            let t1952 = c_wr * t1769;
+            let t1953 = t1951 + t1952;
+            let t1954 = c_wr * t1947;
+            let t1955 = s_wr * t1946;
+            let t1956 = t1954 + t1955;
+            let t1957 = s_wr * t1947;
+            let t1958 = c_wr * t1946;
+            let t1959 = t1958 - t1957;
+            let t1960 = t1937 * qd_wr;
+            let t1961 = t1934 * qd_wr;
+            let t1962 = t1943 * qd_wr;
+            let t1963 = t1940 * qd_wr;
+            let t1964 = t1950 + t1960;
+            let t1965 = t1953 + t1961;
+            let t1966 = t1956 + t1962;
+            let t1967 = t1959 - t1963;
+            let t1968 = wrist_r_ixx * t1964;
+            let t1969 = wrist_r_ixy * t1965;
             let t1970 = t1968 + t1969;
-            let t1971 = wrist_r_ixy * t1962;
-            let t1972 = wrist_r_iyy * t1963;
-            let t1973 = t1971 + t1972;
-            let t1974 = wrist_r_iyz * t1766;
+            let t1971 = wrist_r_ixz * t1768;
+            let t1972 = t1970 + t1971;
+            let t1973 = wrist_r_ixy * t1964;
+            let t1974 = wrist_r_iyy * t1965;
             let t1975 = t1973 + t1974;
-            let t1976 = wrist_r_ixz * t1962;
-            let t1977 = wrist_r_iyz * t1963;
-            let t1978 = t1976 + t1977;
-            let t1979 = wrist_r_izz * t1766;
+            let t1976 = wrist_r_iyz * t1768;
+            let t1977 = t1975 + t1976;
+            let t1978 = wrist_r_ixz * t1964;
+            let t1979 = wrist_r_iyz * t1965;
             let t1980 = t1978 + t1979;
-            let t1981 = wrist_r_hy * t1768;
-            let t1982 = wrist_r_hz * t1965;
-            let t1983 = t1981 - t1982;
-            let t1984 = wrist_r_hz * t1964;
-            let t1985 = wrist_r_hx * t1768;
-            let t1986 = t1984 - t1985;
-            let t1987 = wrist_r_hx * t1965;
-            let t1988 = wrist_r_hy * t1964;
-            let t1989 = t1987 - t1988;
-            let t1990 = t1964 * wrist_r_m;
-            let t1991 = t1965 * wrist_r_m;
-            let t1992 = t1768 * wrist_r_m;
-            let t1993 = wrist_r_hy * t1766;
-            let t1994 = wrist_r_hz * t1963;
-            let t1995 = t1993 - t1994;
-            let t1996 = wrist_r_hz * t1962;
-            let t1997 = wrist_r_hx * t1766;
-            let t1998 = t1996 - t1997;
-            let t1999 = wrist_r_hx * t1963;
-            let t2000 = wrist_r_hy * t1962;
-            let t2001 = t1999 - t2000;
-            let t2002 = t1970 + t1983;
-            let t2003 = t1975 + t1986;
-            let t2004 = t1980 + t1989;
-            let t2005 = t1990 - t1995;
-            let t2006 = t1991 - t1998;
-            let t2007 = t1992 - t2001;
-            let t2008 = wrist_r_ixx * t1932;
-            let t2009 = wrist_r_ixy * t1935;
-            let t2010 = t2009 - t2008;
-            let t2011 = wrist_r_ixz * t1740;
-            let t2012 = t2010 + t2011;
-            let t2013 = wrist_r_ixy * t1932;
-            let t2014 = wrist_r_iyy * t1935;
-            let t2015 = t2014 - t2013;
-            let t2016 = wrist_r_iyz * t1740;
-            let t2017 = t2015 + t2016;
-            let t2018 = wrist_r_ixz * t1932;
-            let t2019 = wrist_r_iyz * t1935;
-            let t2020 = t2019 - t2018;
-            let t2021 = wrist_r_izz * t1740;
-            let t2022 = t2020 + t2021;
-            let t2023 = wrist_r_hy * t1744;
-            let t2024 = wrist_r_hz * t1941;
-            let t2025 = t2023 - t2024;
-            let t2026 = wrist_r_hz * t1938;
-            let t2027 = wrist_r_hx * t1744;
-            let t2028 = t2026 - t2027;
-            let t2029 = wrist_r_hx * t1941;
-            let t2030 = wrist_r_hy * t1938;
-            let t2031 = t2029 - t2030;
-            let t2032 = t1938 * wrist_r_m;
-            let t2033 = t1941 * wrist_r_m;
-            let t2034 = t1744 * wrist_r_m;
-            let t2035 = wrist_r_hy * t1740;
-            let t2036 = wrist_r_hz * t1935;
-            let t2037 = t2035 - t2036;
-            let t2038 = wrist_r_hz * t1932;
-            let t2039 = wrist_r_hx * t1740;
-            let t2040 = t2038 + t2039;
-            let t2041 = wrist_r_hx * t1935;
-            let t2042 = wrist_r_hy * t1932;
-            let t2043 = t2041 + t2042;
-            let t2044 = t2012 + t2025;
-            let t2045 = t2017 + t2028;
-            let t2046 = t2022 + t2031;
-            let t2047 = t2032 - t2037;
-            let t2048 = t2033 + t2040;
-            let t2049 = t2034 - t2043;
-            let t2050 = wrist_r_v_wy * t2046;
-            let t2051 = t1935 * t429;
-            let t2052 = t2050 + t2051;
-            let t2053 = wrist_r_v_wz * t2045;
-            let t2054 = t1740 * t428;
-            let t2055 = t2053 + t2054;
-            let t2056 = t2052 - t2055;
-            let t2057 = wrist_r_v_wz * t2044;
-            let t2058 = t1740 * t427;
-            let t2059 = t2057 + t2058;
-            let t2060 = wrist_r_v_wx * t2046;
-            let t2061 = t1932 * t429;
-            let t2062 = t2060 - t2061;
-            let t2063 = t2059 - t2062;
-            let t2064 = wrist_r_v_wx * t2045;
-            let t2065 = t1932 * t428;
-            let t2066 = t2064 - t2065;
-            let t2067 = wrist_r_v_wy * t2044;
-            let t2068 = t1935 * t427;
-            let t2069 = t2067 + t2068;
-            let t2070 = t2066 - t2069;
-            let t2071 = wrist_r_v_vy * t2049;
-            let t2072 = t1941 * t432;
-            let t2073 = t2071 + t2072;
-            let t2074 = elbow_fe_v_vx * t2048;
-            let t2075 = t1744 * t431;
-            let t2076 = t2074 + t2075;
-            let t2077 = t2073 - t2076;
-            let t2078 = elbow_fe_v_vx * t2047;
-            let t2079 = t1744 * t430;
-            let t2080 = t2078 + t2079;
-            let t2081 = wrist_r_v_vx * t2049;
-            let t2082 = t1938 * t432;
-            let t2083 = t2081 + t2082;
-            let t2084 = t2080 - t2083;
-            let t2085 = wrist_r_v_vx * t2048;
-            let t2086 = t1938 * t431;
-            let t2087 = t2085 + t2086;
-            let t2088 = wrist_r_v_vy * t2047;
-            let t2089 = t1941 * t430;
-            let t2090 = t2088 + t2089;
-            let t2091 = t2087 - t2090;
-            let t2092 = t2056 + t2077;
-            let t2093 = t2063 + t2084;
-            let t2094 = t2070 + t2091;
-            let t2095 = wrist_r_v_wy * t2049;
-            let t2096 = t1935 * t432;
-            let t2097 = t2095 + t2096;
-            let t2098 = wrist_r_v_wz * t2048;
-            let t2099 = t1740 * t431;
-            let t2100 = t2098 + t2099;
-            let t2101 = t2097 - t2100;
-            let t2102 = wrist_r_v_wz * t2047;
-            let t2103 = t1740 * t430;
-            let t2104 = t2102 + t2103;
-            let t2105 = wrist_r_v_wx * t2049;
-            let t2106 = t1932 * t432;
-            let t2107 = t2105 - t2106;
-            let t2108 = t2104 - t2107;
-            let t2109 = wrist_r_v_wx * t2048;
-            let t2110 = t1932 * t431;
-            let t2111 = t2109 - t2110;
-            let t2112 = wrist_r_v_wy * t2047;
-            let t2113 = t1935 * t430;
-            let t2114 = t2112 + t2113;
-            let t2115 = t2111 - t2114;
-            let t2116 = t2002 + t2092;
-            let t2117 = t2003 + t2093;
+            let t1981 = wrist_r_izz * t1768;
+            let t1982 = t1980 + t1981;
+            let t1983 = wrist_r_hy * t1770;
+            let t1984 = wrist_r_hz * t1967;
+            let t1985 = t1983 - t1984;
+            let t1986 = wrist_r_hz * t1966;
+            let t1987 = wrist_r_hx * t1770;
+            let t1988 = t1986 - t1987;
+            let t1989 = wrist_r_hx * t1967;
+            let t1990 = wrist_r_hy * t1966;
+            let t1991 = t1989 - t1990;
+            let t1992 = t1966 * wrist_r_m;
+            let t1993 = t1967 * wrist_r_m;
+            let t1994 = t1770 * wrist_r_m;
+            let t1995 = wrist_r_hy * t1768;
+            let t1996 = wrist_r_hz * t1965;
+            let t1997 = t1995 - t1996;
+            let t1998 = wrist_r_hz * t1964;
+            let t1999 = wrist_r_hx * t1768;
+            let t2000 = t1998 - t1999;
+            let t2001 = wrist_r_hx * t1965;
+            let t2002 = wrist_r_hy * t1964;
+            let t2003 = t2001 - t2002;
+            let t2004 = t1972 + t1985;
+            let t2005 = t1977 + t1988;
+            let t2006 = t1982 + t1991;
+            let t2007 = t1992 - t1997;
+            let t2008 = t1993 - t2000;
+            let t2009 = t1994 - t2003;
+            let t2010 = wrist_r_ixx * t1934;
+            let t2011 = wrist_r_ixy * t1937;
+            let t2012 = t2011 - t2010;
+            let t2013 = wrist_r_ixz * t1742;
+            let t2014 = t2012 + t2013;
+            let t2015 = wrist_r_ixy * t1934;
+            let t2016 = wrist_r_iyy * t1937;
+            let t2017 = t2016 - t2015;
+            let t2018 = wrist_r_iyz * t1742;
+            let t2019 = t2017 + t2018;
+            let t2020 = wrist_r_ixz * t1934;
+            let t2021 = wrist_r_iyz * t1937;
+            let t2022 = t2021 - t2020;
+            let t2023 = wrist_r_izz * t1742;
+            let t2024 = t2022 + t2023;
+            let t2025 = wrist_r_hy * t1746;
+            let t2026 = wrist_r_hz * t1943;
+            let t2027 = t2025 - t2026;
+            let t2028 = wrist_r_hz * t1940;
+            let t2029 = wrist_r_hx * t1746;
+            let t2030 = t2028 - t2029;
+            let t2031 = wrist_r_hx * t1943;
+            let t2032 = wrist_r_hy * t1940;
+            let t2033 = t2031 - t2032;
+            let t2034 = t1940 * wrist_r_m;
+            let t2035 = t1943 * wrist_r_m;
+            let t2036 = t1746 * wrist_r_m;
+            let t2037 = wrist_r_hy * t1742;
+            let t2038 = wrist_r_hz * t1937;
+            let t2039 = t2037 - t2038;
+            let t2040 = wrist_r_hz * t1934;
+            let t2041 = wrist_r_hx * t1742;
+            let t2042 = t2040 + t2041;
+            let t2043 = wrist_r_hx * t1937;
+            let t2044 = wrist_r_hy * t1934;
+            let t2045 = t2043 + t2044;
+            let t2046 = t2014 + t2027;
+            let t2047 = t2019 + t2030;
+            let t2048 = t2024 + t2033;
+            let t2049 = t2034 - t2039;
+            let t2050 = t2035 + t2042;
+            let t2051 = t2036 - t2045;
+            let t2052 = wrist_r_v_wy * t2048;
+            let t2053 = t1937 * t431;
+            let t2054 = t2052 + t2053;
+            let t2055 = wrist_r_v_wz * t2047;
+            let t2056 = t1742 * t430;
+            let t2057 = t2055 + t2056;
+            let t2058 = t2054 - t2057;
+            let t2059 = wrist_r_v_wz * t2046;
+            let t2060 = t1742 * t429;
+            let t2061 = t2059 + t2060;
+            let t2062 = wrist_r_v_wx * t2048;
+            let t2063 = t1934 * t431;
+            let t2064 = t2062 - t2063;
+            let t2065 = t2061 - t2064;
+            let t2066 = wrist_r_v_wx * t2047;
+            let t2067 = t1934 * t430;
+            let t2068 = t2066 - t2067;
+            let t2069 = wrist_r_v_wy * t2046;
+            let t2070 = t1937 * t429;
+            let t2071 = t2069 + t2070;
+            let t2072 = t2068 - t2071;
+            let t2073 = wrist_r_v_vy * t2051;
+            let t2074 = t1943 * t434;
+            let t2075 = t2073 + t2074;
+            let t2076 = elbow_fe_v_vx * t2050;
+            let t2077 = t1746 * t433;
+            let t2078 = t2076 + t2077;
+            let t2079 = t2075 - t2078;
+            let t2080 = elbow_fe_v_vx * t2049;
+            let t2081 = t1746 * t432;
+            let t2082 = t2080 + t2081;
+            let t2083 = wrist_r_v_vx * t2051;
+            let t2084 = t1940 * t434;
+            let t2085 = t2083 + t2084;
+            let t2086 = t2082 - t2085;
+            let t2087 = wrist_r_v_vx * t2050;
+            let t2088 = t1940 * t433;
+            let t2089 = t2087 + t2088;
+            let t2090 = wrist_r_v_vy * t2049;
+            let t2091 = t1943 * t432;
+            let t2092 = t2090 + t2091;
+            let t2093 = t2089 - t2092;
+            let t2094 = t2058 + t2079;
+            let t2095 = t2065 + t2086;
+            let t2096 = t2072 + t2093;
+            let t2097 = wrist_r_v_wy * t2051;
+            let t2098 = t1937 * t434;
+            let t2099 = t2097 + t2098;
+            let t2100 = wrist_r_v_wz * t2050;
+            let t2101 = t1742 * t433;
+            let t2102 = t2100 + t2101;
+            let t2103 = t2099 - t2102;
+            let t2104 = wrist_r_v_wz * t2049;
+            let t2105 = t1742 * t432;
+            let t2106 = t2104 + t2105;
+            let t2107 = wrist_r_v_wx * t2051;
+            let t2108 = t1934 * t434;
+            let t2109 = t2107 - t2108;
+            let t2110 = t2106 - t2109;
+            let t2111 = wrist_r_v_wx * t2050;
+            let t2112 = t1934 * t433;
+            let t2113 = t2111 - t2112;
+            let t2114 = wrist_r_v_wy * t2049;
+            let t2115 = t1937 * t432;
+            let t2116 = t2114 + t2115;
+            let t2117 = t2113 - t2116;
             let t2118 = t2004 + t2094;
-            let t2119 = t2005 + t2101;
-            let t2120 = t2006 + t2108;
-            let t2121 = t2007 + t2115;
+            let t2119 = t2005 + t2095;
+            let t2120 = t2006 + t2096;
+            let t2121 = t2007 + t2103;
+            let t2122 = t2008 + t2110;
+            let t2123 = t2009 + t2117;
             (
-                t1932,
-                t1935,
-                t1938,
-                t1941,
-                t1962,
-                t1963,
+                t1934,
+                t1937,
+                t1940,
+                t1943,
                 t1964,
                 t1965,
-                t2116,
-                t2117,
+                t1966,
+                t1967,
                 t2118,
                 t2119,
                 t2120,
                 t2121,
+                t2122,
+                t2123,
             )
         };
-        let (t2320, t2321, t2322, t2323, t2324, t2325) = {
+        let (t2322, t2323, t2324, t2325, t2326, t2327) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t2122 = 0.184f64 * t1935; // 1.8400e-1 = joint WFE origin z
-            let t2123 = 0.184f64 * t1932; // 1.8400e-1 = joint WFE origin z
-            let t2124 = 0.02075f64 * t1740; // 2.0750e-2 = joint WFE origin x
-            let t2125 = t2123 + t2124;
-            let t2126 = 0.02075f64 * t1935; // 2.0750e-2 = joint WFE origin x
-            let t2127 = t1938 + t2122;
-            let t2128 = t1941 + t2125;
-            let t2129 = t1744 - t2126;
-            let t2130 = c_wfe * t1740;
-            let t2131 = s_wfe * t1932;
-            let t2132 = t2130 - t2131;
-            let t2133 = s_wfe * t1740;
-            let t2134 = c_wfe * t1932;
-            let t2135 = t2133 + t2134;
-            let t2136 = c_wfe * t2129;
-            let t2137 = s_wfe * t2127;
-            let t2138 = t2136 + t2137;
+            let t2124 = 0.184f64 * t1937; // 1.8400e-1 = joint WFE origin z
+            let t2125 = 0.184f64 * t1934; // 1.8400e-1 = joint WFE origin z
+            let t2126 = 0.02075f64 * t1742; // 2.0750e-2 = joint WFE origin x
+            let t2127 = t2125 + t2126;
+            let t2128 = 0.02075f64 * t1937; // 2.0750e-2 = joint WFE origin x
+            let t2129 = t1940 + t2124;
+            let t2130 = t1943 + t2127;
+            let t2131 = t1746 - t2128;
+            let t2132 = c_wfe * t1742;
+            let t2133 = s_wfe * t1934;
+            let t2134 = t2132 - t2133;
+            let t2135 = s_wfe * t1742;
+            let t2136 = c_wfe * t1934;
+            let t2137 = t2135 + t2136;
+            let t2138 = c_wfe * t2131;
             let t2139 = s_wfe * t2129;
-            let t2140 = c_wfe * t2127;
-            let t2141 = t2140 - t2139;
-            let t2142 = 0.184f64 * t1963; // 1.8400e-1 = joint WFE origin z
-            let t2143 = 0.184f64 * t1962; // 1.8400e-1 = joint WFE origin z
-            let t2144 = 0.02075f64 * t1766; // 2.0750e-2 = joint WFE origin x
-            let t2145 = t2143 - t2144;
-            let t2146 = 0.02075f64 * t1963; // 2.0750e-2 = joint WFE origin x
-            let t2147 = t1964 + t2142;
-            let t2148 = t1965 - t2145;
-            let t2149 = t1768 - t2146;
-            let t2150 = c_wfe * t1766;
-            let t2151 = s_wfe * t1962;
-            let t2152 = t2150 + t2151;
-            let t2153 = s_wfe * t1766;
-            let t2154 = c_wfe * t1962;
-            let t2155 = t2154 - t2153;
-            let t2156 = c_wfe * t2149;
-            let t2157 = s_wfe * t2147;
-            let t2158 = t2156 + t2157;
+            let t2140 = t2138 + t2139;
+            let t2141 = s_wfe * t2131;
+            let t2142 = c_wfe * t2129;
+            let t2143 = t2142 - t2141;
+            let t2144 = 0.184f64 * t1965; // 1.8400e-1 = joint WFE origin z
+            let t2145 = 0.184f64 * t1964; // 1.8400e-1 = joint WFE origin z
+            let t2146 = 0.02075f64 * t1768; // 2.0750e-2 = joint WFE origin x
+            let t2147 = t2145 - t2146;
+            let t2148 = 0.02075f64 * t1965; // 2.0750e-2 = joint WFE origin x
+            let t2149 = t1966 + t2144;
+            let t2150 = t1967 - t2147;
+            let t2151 = t1770 - t2148;
+            let t2152 = c_wfe * t1768;
+            let t2153 = s_wfe * t1964;
+            let t2154 = t2152 + t2153;
+            let t2155 = s_wfe * t1768;
+            let t2156 = c_wfe * t1964;
+            let t2157 = t2156 - t2155;
+            let t2158 = c_wfe * t2151;
             let t2159 = s_wfe * t2149;
-            let t2160 = c_wfe * t2147;
-            let t2161 = t2160 - t2159;
-            let t2162 = t2135 * qd_wfe;
-            let t2163 = t2132 * qd_wfe;
-            let t2164 = t2141 * qd_wfe;
-            let t2165 = t2138 * qd_wfe;
-            let t2166 = t2152 - t2162;
-            let t2167 = t2155 - t2163;
-            let t2168 = t2158 + t2164;
-            let t2169 = t2161 - t2165;
-            let t2170 = wrist_fe_ixx * t2166;
-            let t2171 = wrist_fe_ixy * t2167;
-            let t2172 = t2170 + t2171;
-            let t2173 = wrist_fe_ixz * t1963;
+            let t2160 = t2158 + t2159;
+            let t2161 = s_wfe * t2151;
+            let t2162 = c_wfe * t2149;
+            let t2163 = t2162 - t2161;
+            let t2164 = t2137 * qd_wfe;
+            let t2165 = t2134 * qd_wfe;
+            let t2166 = t2143 * qd_wfe;
+            let t2167 = t2140 * qd_wfe;
+            let t2168 = t2154 - t2164;
+            let t2169 = t2157 - t2165;
+            let t2170 = t2160 + t2166;
+            let t2171 = t2163 - t2167;
+            let t2172 = wrist_fe_ixx * t2168;
+            let t2173 = wrist_fe_ixy * t2169;
             let t2174 = t2172 + t2173;
-            let t2175 = wrist_fe_ixy * t2166;
-            let t2176 = wrist_fe_iyy * t2167;
-            let t2177 = t2175 + t2176;
-            let t2178 = wrist_fe_iyz * t1963;
+            let t2175 = wrist_fe_ixz * t1965;
+            let t2176 = t2174 + t2175;
+            let t2177 = wrist_fe_ixy * t2168;
+            let t2178 = wrist_fe_iyy * t2169;
             let t2179 = t2177 + t2178;
-            let t2180 = wrist_fe_ixz * t2166;
-            let t2181 = wrist_fe_iyz * t2167;
-            let t2182 = t2180 + t2181;
-            let t2183 = wrist_fe_izz * t1963;
+            let t2180 = wrist_fe_iyz * t1965;
+            let t2181 = t2179 + t2180;
+            let t2182 = wrist_fe_ixz * t2168;
+            let t2183 = wrist_fe_iyz * t2169;
             let t2184 = t2182 + t2183;
-            let t2185 = wrist_fe_hy * t2148;
-            let t2186 = wrist_fe_hz * t2169;
-            let t2187 = t2185 - t2186;
-            let t2188 = wrist_fe_hz * t2168;
-            let t2189 = wrist_fe_hx * t2148;
-            let t2190 = t2188 - t2189;
-            let t2191 = wrist_fe_hx * t2169;
-            let t2192 = wrist_fe_hy * t2168;
-            let t2193 = t2191 - t2192;
-            let t2194 = t2168 * wrist_fe_m;
-            let t2195 = t2169 * wrist_fe_m;
-            let t2196 = t2148 * wrist_fe_m;
-            let t2197 = wrist_fe_hy * t1963;
-            let t2198 = wrist_fe_hz * t2167;
-            let t2199 = t2197 - t2198;
-            let t2200 = wrist_fe_hz * t2166;
-            let t2201 = wrist_fe_hx * t1963;
-            let t2202 = t2200 - t2201;
-            let t2203 = wrist_fe_hx * t2167;
-            let t2204 = wrist_fe_hy * t2166;
-            let t2205 = t2203 - t2204;
-            let t2206 = t2174 + t2187;
-            let t2207 = t2179 + t2190;
-            let t2208 = t2184 + t2193;
-            let t2209 = t2194 - t2199;
-            let t2210 = t2195 - t2202;
-            let t2211 = t2196 - t2205;
-            let t2212 = wrist_fe_ixx * t2132;
-            let t2213 = wrist_fe_ixy * t2135;
-            let t2214 = t2212 - t2213;
-            let t2215 = wrist_fe_ixz * t1935;
-            let t2216 = t2214 + t2215;
-            let t2217 = wrist_fe_ixy * t2132;
-            let t2218 = wrist_fe_iyy * t2135;
-            let t2219 = t2217 - t2218;
-            let t2220 = wrist_fe_iyz * t1935;
-            let t2221 = t2219 + t2220;
-            let t2222 = wrist_fe_ixz * t2132;
-            let t2223 = wrist_fe_iyz * t2135;
-            let t2224 = t2222 - t2223;
-            let t2225 = wrist_fe_izz * t1935;
-            let t2226 = t2224 + t2225;
-            let t2227 = wrist_fe_hy * t2128;
-            let t2228 = wrist_fe_hz * t2141;
-            let t2229 = t2227 - t2228;
-            let t2230 = wrist_fe_hz * t2138;
-            let t2231 = wrist_fe_hx * t2128;
-            let t2232 = t2230 - t2231;
-            let t2233 = wrist_fe_hx * t2141;
-            let t2234 = wrist_fe_hy * t2138;
-            let t2235 = t2233 - t2234;
-            let t2236 = t2138 * wrist_fe_m;
-            let t2237 = t2141 * wrist_fe_m;
-            let t2238 = t2128 * wrist_fe_m;
-            let t2239 = wrist_fe_hy * t1935;
-            let t2240 = wrist_fe_hz * t2135;
-            let t2241 = t2239 + t2240;
-            let t2242 = wrist_fe_hz * t2132;
-            let t2243 = wrist_fe_hx * t1935;
-            let t2244 = t2242 - t2243;
-            let t2245 = wrist_fe_hx * t2135;
-            let t2246 = wrist_fe_hy * t2132;
-            let t2247 = t2245 + t2246;
-            let t2248 = t2216 + t2229;
-            let t2249 = t2221 + t2232;
-            let t2250 = t2226 + t2235;
-            let t2251 = t2236 - t2241;
-            let t2252 = t2237 - t2244;
-            let t2253 = t2238 + t2247;
-            let t2254 = wrist_fe_v_wy * t2250;
-            let t2255 = t2135 * t587;
-            let t2256 = t2254 - t2255;
-            let t2257 = wrist_fe_v_wz * t2249;
-            let t2258 = t1935 * t586;
-            let t2259 = t2257 + t2258;
-            let t2260 = t2256 - t2259;
-            let t2261 = wrist_fe_v_wz * t2248;
-            let t2262 = t1935 * t585;
-            let t2263 = t2261 + t2262;
-            let t2264 = wrist_fe_v_wx * t2250;
-            let t2265 = t2132 * t587;
-            let t2266 = t2264 + t2265;
-            let t2267 = t2263 - t2266;
-            let t2268 = wrist_fe_v_wx * t2249;
-            let t2269 = t2132 * t586;
-            let t2270 = t2268 + t2269;
-            let t2271 = wrist_fe_v_wy * t2248;
-            let t2272 = t2135 * t585;
-            let t2273 = t2271 - t2272;
-            let t2274 = t2270 - t2273;
-            let t2275 = wrist_fe_v_vy * t2253;
-            let t2276 = t2141 * t590;
-            let t2277 = t2275 + t2276;
-            let t2278 = wrist_fe_v_vz * t2252;
-            let t2279 = t2128 * t589;
-            let t2280 = t2278 + t2279;
-            let t2281 = t2277 - t2280;
-            let t2282 = wrist_fe_v_vz * t2251;
-            let t2283 = t2128 * t588;
-            let t2284 = t2282 + t2283;
-            let t2285 = wrist_fe_v_vx * t2253;
-            let t2286 = t2138 * t590;
-            let t2287 = t2285 + t2286;
-            let t2288 = t2284 - t2287;
-            let t2289 = wrist_fe_v_vx * t2252;
-            let t2290 = t2138 * t589;
-            let t2291 = t2289 + t2290;
-            let t2292 = wrist_fe_v_vy * t2251;
-            let t2293 = t2141 * t588;
-            let t2294 = t2292 + t2293;
-            let t2295 = t2291 - t2294;
-            let t2296 = t2260 + t2281;
-            let t2297 = t2267 + t2288;
-            let t2298 = t2274 + t2295;
-            let t2299 = wrist_fe_v_wy * t2253;
-            let t2300 = t2135 * t590;
-            let t2301 = t2299 - t2300;
-            let t2302 = wrist_fe_v_wz * t2252;
-            let t2303 = t1935 * t589;
-            let t2304 = t2302 + t2303;
-            let t2305 = t2301 - t2304;
-            let t2306 = wrist_fe_v_wz * t2251;
-            let t2307 = t1935 * t588;
-            let t2308 = t2306 + t2307;
-            let t2309 = wrist_fe_v_wx * t2253;
-            let t2310 = t2132 * t590;
-            let t2311 = t2309 + t2310;
-            let t2312 = t2308 - t2311;
-            let t2313 = wrist_fe_v_wx * t2252;
-            let t2314 = t2132 * t589;
-            let t2315 = t2313 + t2314;
-            let t2316 = wrist_fe_v_wy * t2251;
-            let t2317 = t2135 * t588;
-            let t2318 = t2316 - t2317;
-            let t2319 = t2315 - t2318;
-            let t2320 = t2206 + t2296;
-            let t2321 = t2207 + t2297;
+            let t2185 = wrist_fe_izz * t1965;
+            let t2186 = t2184 + t2185;
+            let t2187 = wrist_fe_hy * t2150;
+            let t2188 = wrist_fe_hz * t2171;
+            let t2189 = t2187 - t2188;
+            let t2190 = wrist_fe_hz * t2170;
+            let t2191 = wrist_fe_hx * t2150;
+            let t2192 = t2190 - t2191;
+            let t2193 = wrist_fe_hx * t2171;
+            let t2194 = wrist_fe_hy * t2170;
+            let t2195 = t2193 - t2194;
+            let t2196 = t2170 * wrist_fe_m;
+            let t2197 = t2171 * wrist_fe_m;
+            let t2198 = t2150 * wrist_fe_m;
+            let t2199 = wrist_fe_hy * t1965;
+            let t2200 = wrist_fe_hz * t2169;
+            let t2201 = t2199 - t2200;
+            let t2202 = wrist_fe_hz * t2168;
+            let t2203 = wrist_fe_hx * t1965;
+            let t2204 = t2202 - t2203;
+            let t2205 = wrist_fe_hx * t2169;
+            let t2206 = wrist_fe_hy * t2168;
+            let t2207 = t2205 - t2206;
+            let t2208 = t2176 + t2189;
+            let t2209 = t2181 + t2192;
+            let t2210 = t2186 + t2195;
+            let t2211 = t2196 - t2201;
+            let t2212 = t2197 - t2204;
+            let t2213 = t2198 - t2207;
+            let t2214 = wrist_fe_ixx * t2134;
+            let t2215 = wrist_fe_ixy * t2137;
+            let t2216 = t2214 - t2215;
+            let t2217 = wrist_fe_ixz * t1937;
+            let t2218 = t2216 + t2217;
+            let t2219 = wrist_fe_ixy * t2134;
+            let t2220 = wrist_fe_iyy * t2137;
+            let t2221 = t2219 - t2220;
+            let t2222 = wrist_fe_iyz * t1937;
+            let t2223 = t2221 + t2222;
+            let t2224 = wrist_fe_ixz * t2134;
+            let t2225 = wrist_fe_iyz * t2137;
+            let t2226 = t2224 - t2225;
+            let t2227 = wrist_fe_izz * t1937;
+            let t2228 = t2226 + t2227;
+            let t2229 = wrist_fe_hy * t2130;
+            let t2230 = wrist_fe_hz * t2143;
+            let t2231 = t2229 - t2230;
+            let t2232 = wrist_fe_hz * t2140;
+            let t2233 = wrist_fe_hx * t2130;
+            let t2234 = t2232 - t2233;
+            let t2235 = wrist_fe_hx * t2143;
+            let t2236 = wrist_fe_hy * t2140;
+            let t2237 = t2235 - t2236;
+            let t2238 = t2140 * wrist_fe_m;
+            let t2239 = t2143 * wrist_fe_m;
+            let t2240 = t2130 * wrist_fe_m;
+            let t2241 = wrist_fe_hy * t1937;
+            let t2242 = wrist_fe_hz * t2137;
+            let t2243 = t2241 + t2242;
+            let t2244 = wrist_fe_hz * t2134;
+            let t2245 = wrist_fe_hx * t1937;
+            let t2246 = t2244 - t2245;
+            let t2247 = wrist_fe_hx * t2137;
+            let t2248 = wrist_fe_hy * t2134;
+            let t2249 = t2247 + t2248;
+            let t2250 = t2218 + t2231;
+            let t2251 = t2223 + t2234;
+            let t2252 = t2228 + t2237;
+            let t2253 = t2238 - t2243;
+            let t2254 = t2239 - t2246;
+            let t2255 = t2240 + t2249;
+            let t2256 = wrist_fe_v_wy * t2252;
+            let t2257 = t2137 * t589;
+            let t2258 = t2256 - t2257;
+            let t2259 = wrist_fe_v_wz * t2251;
+            let t2260 = t1937 * t588;
+            let t2261 = t2259 + t2260;
+            let t2262 = t2258 - t2261;
+            let t2263 = wrist_fe_v_wz * t2250;
+            let t2264 = t1937 * t587;
+            let t2265 = t2263 + t2264;
+            let t2266 = wrist_fe_v_wx * t2252;
+            let t2267 = t2134 * t589;
+            let t2268 = t2266 + t2267;
+            let t2269 = t2265 - t2268;
+            let t2270 = wrist_fe_v_wx * t2251;
+            let t2271 = t2134 * t588;
+            let t2272 = t2270 + t2271;
+            let t2273 = wrist_fe_v_wy * t2250;
+            let t2274 = t2137 * t587;
+            let t2275 = t2273 - t2274;
+            let t2276 = t2272 - t2275;
+            let t2277 = wrist_fe_v_vy * t2255;
+            let t2278 = t2143 * t592;
+            let t2279 = t2277 + t2278;
+            let t2280 = wrist_fe_v_vz * t2254;
+            let t2281 = t2130 * t591;
+            let t2282 = t2280 + t2281;
+            let t2283 = t2279 - t2282;
+            let t2284 = wrist_fe_v_vz * t2253;
+            let t2285 = t2130 * t590;
+            let t2286 = t2284 + t2285;
+            let t2287 = wrist_fe_v_vx * t2255;
+            let t2288 = t2140 * t592;
+            let t2289 = t2287 + t2288;
+            let t2290 = t2286 - t2289;
+            let t2291 = wrist_fe_v_vx * t2254;
+            let t2292 = t2140 * t591;
+            let t2293 = t2291 + t2292;
+            let t2294 = wrist_fe_v_vy * t2253;
+            let t2295 = t2143 * t590;
+            let t2296 = t2294 + t2295;
+            let t2297 = t2293 - t2296;
+            let t2298 = t2262 + t2283;
+            let t2299 = t2269 + t2290;
+            let t2300 = t2276 + t2297;
+            let t2301 = wrist_fe_v_wy * t2255;
+            let t2302 = t2137 * t592;
+            let t2303 = t2301 - t2302;
+            let t2304 = wrist_fe_v_wz * t2254;
+            let t2305 = t1937 * t591;
+            let t2306 = t2304 + t2305;
+            let t2307 = t2303 - t2306;
+            let t2308 = wrist_fe_v_wz * t2253;
+            let t2309 = t1937 * t590;
+            let t2310 = t2308 + t2309;
+            let t2311 = wrist_fe_v_wx * t2255;
+            let t2312 = t2134 * t592;
+            let t2313 = t2311 + t2312;
+            let t2314 = t2310 - t2313;
+            let t2315 = wrist_fe_v_wx * t2254;
+            let t2316 = t2134 * t591;
+            let t2317 = t2315 + t2316;
+            let t2318 = wrist_fe_v_wy * t2253;
+            let t2319 = t2137 * t590;
+            let t2320 = t2318 - t2319;
+            let t2321 = t2317 - t2320;
             let t2322 = t2208 + t2298;
-            let t2323 = t2209 + t2305;
-            let t2324 = t2210 + t2312;
-            let t2325 = t2211 + t2319;
-            (t2320, t2321, t2322, t2323, t2324, t2325)
+            let t2323 = t2209 + t2299;
+            let t2324 = t2210 + t2300;
+            let t2325 = t2211 + t2307;
+            let t2326 = t2212 + t2314;
+            let t2327 = t2213 + t2321;
+            (t2322, t2323, t2324, t2325, t2326, t2327)
         };
-        let (t2346, t2347, t2348, t2349, t2350, t2351) = {
+        let (t2348, t2349, t2350, t2351, t2352, t2353) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t2326 = c_wfe * t2323;
-            let t2327 = s_wfe * t2324;
-            let t2328 = t2326 - t2327;
-            let t2329 = s_wfe * t2323;
-            let t2330 = c_wfe * t2324;
-            let t2331 = t2329 + t2330;
-            let t2332 = c_wfe * t2320;
-            let t2333 = s_wfe * t2321;
-            let t2334 = t2332 - t2333;
-            let t2335 = s_wfe * t2320;
-            let t2336 = c_wfe * t2321;
-            let t2337 = t2335 + t2336;
-            let t2338 = 0.184f64 * t2325; // 1.8400e-1 = joint WFE origin z
-            let t2339 = 0.184f64 * t2331; // 1.8400e-1 = joint WFE origin z
-            let t2340 = 0.02075f64 * t2328; // 2.0750e-2 = joint WFE origin x
-            let t2341 = t2339 - t2340;
-            let t2342 = 0.02075f64 * t2325; // 2.0750e-2 = joint WFE origin x
-            let t2343 = t2337 - t2338;
-            let t2344 = t2322 + t2341;
-            let t2345 = t2334 + t2342;
-            let t2346 = t2116 + t2343;
-            let t2347 = t2117 + t2344;
+            let t2328 = c_wfe * t2325;
+            let t2329 = s_wfe * t2326;
+            let t2330 = t2328 - t2329;
+            let t2331 = s_wfe * t2325;
+            let t2332 = c_wfe * t2326;
+            let t2333 = t2331 + t2332;
+            let t2334 = c_wfe * t2322;
+            let t2335 = s_wfe * t2323;
+            let t2336 = t2334 - t2335;
+            let t2337 = s_wfe * t2322;
+            let t2338 = c_wfe * t2323;
+            let t2339 = t2337 + t2338;
+            let t2340 = 0.184f64 * t2327; // 1.8400e-1 = joint WFE origin z
+            let t2341 = 0.184f64 * t2333; // 1.8400e-1 = joint WFE origin z
+            let t2342 = 0.02075f64 * t2330; // 2.0750e-2 = joint WFE origin x
+            let t2343 = t2341 - t2342;
+            let t2344 = 0.02075f64 * t2327; // 2.0750e-2 = joint WFE origin x
+            let t2345 = t2339 - t2340;
+            let t2346 = t2324 + t2343;
+            let t2347 = t2336 + t2344;
             let t2348 = t2118 + t2345;
-            let t2349 = t2119 + t2331;
-            let t2350 = t2120 + t2325;
-            let t2351 = t2121 + t2328;
-            (t2346, t2347, t2348, t2349, t2350, t2351)
+            let t2349 = t2119 + t2346;
+            let t2350 = t2120 + t2347;
+            let t2351 = t2121 + t2333;
+            let t2352 = t2122 + t2327;
+            let t2353 = t2123 + t2330;
+            (t2348, t2349, t2350, t2351, t2352, t2353)
         };
-        let (t2368, t2369, t2370, t2371, t2372, t2373) = {
+        let (t2370, t2371, t2372, t2373, t2374, t2375) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t2352 = c_wr * t2349;
-            let t2353 = s_wr * t2350;
-            let t2354 = t2352 - t2353;
-            let t2355 = s_wr * t2349;
-            let t2356 = c_wr * t2350;
-            let t2357 = t2355 + t2356;
-            let t2358 = c_wr * t2346;
-            let t2359 = s_wr * t2347;
-            let t2360 = t2358 - t2359;
-            let t2361 = s_wr * t2346;
-            let t2362 = c_wr * t2347;
-            let t2363 = t2361 + t2362;
-            let t2364 = 0.112f64 * t2354; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2365 = 0.112f64 * t2357; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2366 = t2363 + t2364;
-            let t2367 = t2365 - t2360;
-            let t2368 = t1920 + t2348;
-            let t2369 = t1921 + t2366;
-            let t2370 = t1922 + t2367;
-            let t2371 = t1923 + t2351;
-            let t2372 = t1924 + t2357;
-            let t2373 = t1925 - t2354;
-            (t2368, t2369, t2370, t2371, t2372, t2373)
+            let t2354 = c_wr * t2351;
+            let t2355 = s_wr * t2352;
+            let t2356 = t2354 - t2355;
+            let t2357 = s_wr * t2351;
+            let t2358 = c_wr * t2352;
+            let t2359 = t2357 + t2358;
+            let t2360 = c_wr * t2348;
+            let t2361 = s_wr * t2349;
+            let t2362 = t2360 - t2361;
+            let t2363 = s_wr * t2348;
+            let t2364 = c_wr * t2349;
+            let t2365 = t2363 + t2364;
+            let t2366 = 0.112f64 * t2356; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2367 = 0.112f64 * t2359; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2368 = t2365 + t2366;
+            let t2369 = t2367 - t2362;
+            let t2370 = t1922 + t2350;
+            let t2371 = t1923 + t2368;
+            let t2372 = t1924 + t2369;
+            let t2373 = t1925 + t2353;
+            let t2374 = t1926 + t2359;
+            let t2375 = t1927 - t2356;
+            (t2370, t2371, t2372, t2373, t2374, t2375)
         };
-        let (t2387, t2388, t2389, t2390, t2391) = {
+        let (t2389, t2390, t2391, t2392, t2393) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t2374 = s_efe * t2371;
-            let t2375 = c_efe * t2372;
-            let t2376 = t2374 + t2375;
-            let t2377 = c_efe * t2368;
-            let t2378 = s_efe * t2369;
-            let t2379 = t2377 - t2378;
-            let t2380 = s_efe * t2368;
-            let t2381 = c_efe * t2369;
-            let t2382 = t2380 + t2381;
-            let t2383 = 0.304f64 * t2376; // 3.0400e-1 = joint EFE origin z
-            let t2384 = 0.304f64 * t2373; // 3.0400e-1 = joint EFE origin z
-            let t2385 = t2370 + t2383;
-            let t2386 = t2382 - t2384;
-            let t2387 = t1729 - t2385;
-            let t2388 = t1730 + t2386;
-            let t2389 = t1731 + t2379;
-            let t2390 = t1732 - t2373;
-            let t2391 = t1733 + t2376;
-            (t2387, t2388, t2389, t2390, t2391)
+            let t2376 = s_efe * t2373;
+            let t2377 = c_efe * t2374;
+            let t2378 = t2376 + t2377;
+            let t2379 = c_efe * t2370;
+            let t2380 = s_efe * t2371;
+            let t2381 = t2379 - t2380;
+            let t2382 = s_efe * t2370;
+            let t2383 = c_efe * t2371;
+            let t2384 = t2382 + t2383;
+            let t2385 = 0.304f64 * t2378; // 3.0400e-1 = joint EFE origin z
+            let t2386 = 0.304f64 * t2375; // 3.0400e-1 = joint EFE origin z
+            let t2387 = t2372 + t2385;
+            let t2388 = t2384 - t2386;
+            let t2389 = t1731 - t2387;
+            let t2390 = t1732 + t2388;
+            let t2391 = t1733 + t2381;
+            let t2392 = t1734 - t2375;
+            let t2393 = t1735 + t2378;
+            (t2389, t2390, t2391, t2392, t2393)
         };
-        let (t2408, t2409, t2410) = {
+        let (t2410, t2411, t2412) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t2392 = c_hr * t2390;
-            let t2393 = s_hr * t2391;
-            let t2394 = t2392 - t2393;
-            let t2395 = s_hr * t2390;
-            let t2396 = c_hr * t2391;
-            let t2397 = t2395 + t2396;
-            let t2398 = c_hr * t2387;
-            let t2399 = s_hr * t2388;
-            let t2400 = t2398 - t2399;
-            let t2401 = s_hr * t2387;
-            let t2402 = c_hr * t2388;
-            let t2403 = t2401 + t2402;
-            let t2404 = 0.112f64 * t2394; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2405 = 0.112f64 * t2397; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2406 = t2403 + t2404;
-            let t2407 = t2405 - t2400;
-            let t2408 = t1580 + t2389;
-            let t2409 = t1581 + t2406;
-            let t2410 = t1582 + t2407;
-            (t2408, t2409, t2410)
+            let t2394 = c_hr * t2392;
+            let t2395 = s_hr * t2393;
+            let t2396 = t2394 - t2395;
+            let t2397 = s_hr * t2392;
+            let t2398 = c_hr * t2393;
+            let t2399 = t2397 + t2398;
+            let t2400 = c_hr * t2389;
+            let t2401 = s_hr * t2390;
+            let t2402 = t2400 - t2401;
+            let t2403 = s_hr * t2389;
+            let t2404 = c_hr * t2390;
+            let t2405 = t2403 + t2404;
+            let t2406 = 0.112f64 * t2396; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2407 = 0.112f64 * t2399; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2408 = t2405 + t2406;
+            let t2409 = t2407 - t2402;
+            let t2410 = t1582 + t2391;
+            let t2411 = t1583 + t2408;
+            let t2412 = t1584 + t2409;
+            (t2410, t2411, t2412)
         };
-        let t2415 = {
+        let t2417 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t2411 = s_sfe * t2408;
-            let t2412 = t2411 + t684;
-            let t2413 = c_sfe * t2409;
-            let t2414 = t2413 - t685;
-            let t2415 = t2412 + t2414;
-            t2415
+            let t2413 = s_sfe * t2410;
+            let t2414 = t2413 + t686;
+            let t2415 = c_sfe * t2411;
+            let t2416 = t2415 - t687;
+            let t2417 = t2414 + t2416;
+            t2417
         };
-        let (t2423, t2424, t2425) = {
+        let (t2425, t2426, t2427) = {
             // ── link `Shoulder_FE`, joint `SFE` (base to tip)
-            let t2416 = shoulder_fe_v_wy * shoulder_fe_izz;
-            let t2417 = t26 + t27;
-            let t2418 = t2416 - t2417;
-            let t2419 = t21 + t22;
-            let t2420 = shoulder_fe_v_wx * shoulder_fe_izz;
-            let t2421 = t2419 - t2420;
-            let t2422 = t1563 - t1562;
-            let t2423 = t1559 + t2418;
-            let t2424 = t1561 + t2421;
-            let t2425 = t1564 + t2422;
-            (t2423, t2424, t2425)
+            let t2418 = shoulder_fe_v_wy * shoulder_fe_izz;
+            let t2419 = t26 + t27;
+            let t2420 = t2418 - t2419;
+            let t2421 = t21 + t22;
+            let t2422 = shoulder_fe_v_wx * shoulder_fe_izz;
+            let t2423 = t2421 - t2422;
+            let t2424 = t1565 - t1564;
+            let t2425 = t1561 + t2420;
+            let t2426 = t1563 + t2423;
+            let t2427 = t1566 + t2424;
+            (t2425, t2426, t2427)
         };
         let (
-            t2426,
-            t2427,
-            t2432,
-            t2433,
+            t2428,
+            t2429,
             t2434,
             t2435,
-            t2533,
-            t2534,
+            t2436,
+            t2437,
             t2535,
             t2536,
             t2537,
+            t2538,
+            t2539,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t2426 = s_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2427 = c_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2428 = s_hr * qd_hr;
-            let t2429 = c_hr * qd_hr;
-            let t2430 = t2427 * qd_hr;
-            let t2431 = t2426 * qd_hr;
-            let t2432 = t2428 - t1584;
-            let t2433 = t2429 - t1585;
+            let t2428 = s_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2429 = c_hr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2430 = s_hr * qd_hr;
+            let t2431 = c_hr * qd_hr;
+            let t2432 = t2429 * qd_hr;
+            let t2433 = t2428 * qd_hr;
             let t2434 = t2430 - t1586;
-            let t2435 = t1587 - t2431;
-            let t2436 = humerus_r_ixx * t2432;
-            let t2437 = humerus_r_ixy * t2433;
-            let t2438 = t2436 + t2437;
-            let t2439 = t2438 + t1645;
-            let t2440 = humerus_r_ixy * t2432;
-            let t2441 = humerus_r_iyy * t2433;
-            let t2442 = t2440 + t2441;
-            let t2443 = t2442 + t1650;
-            let t2444 = humerus_r_ixz * t2432;
-            let t2445 = humerus_r_iyz * t2433;
-            let t2446 = t2444 + t2445;
-            let t2447 = t2446 + t1655;
-            let t2448 = humerus_r_hz * t2435;
-            let t2449 = humerus_r_hz * t2434;
-            let t2450 = humerus_r_hx * t2435;
-            let t2451 = humerus_r_hy * t2434;
-            let t2452 = t2450 - t2451;
-            let t2453 = t2434 * humerus_r_m;
-            let t2454 = t2435 * humerus_r_m;
-            let t2455 = humerus_r_hz * t2433;
-            let t2456 = t1664 - t2455;
-            let t2457 = humerus_r_hz * t2432;
-            let t2458 = t2457 - t1668;
-            let t2459 = t2439 - t2448;
-            let t2460 = t2443 + t2449;
-            let t2461 = t2447 + t2452;
-            let t2462 = t2453 - t2456;
-            let t2463 = t2454 - t2458;
-            let t2464 = humerus_r_ixx * c_hr;
-            let t2465 = humerus_r_ixy * s_hr;
-            let t2466 = t2465 - t2464;
-            let t2467 = humerus_r_ixy * c_hr;
-            let t2468 = humerus_r_iyy * s_hr;
-            let t2469 = t2468 - t2467;
-            let t2470 = humerus_r_ixz * c_hr;
-            let t2471 = humerus_r_iyz * s_hr;
-            let t2472 = t2471 - t2470;
-            let t2473 = humerus_r_hz * t2427;
-            let t2474 = humerus_r_hz * t2426;
-            let t2475 = humerus_r_hx * t2427;
-            let t2476 = humerus_r_hy * t2426;
-            let t2477 = t2475 - t2476;
-            let t2478 = t2426 * humerus_r_m;
-            let t2479 = t2427 * humerus_r_m;
-            let t2480 = humerus_r_hz * s_hr;
-            let t2481 = humerus_r_hz * c_hr;
-            let t2482 = humerus_r_hx * s_hr;
-            let t2483 = humerus_r_hy * c_hr;
-            let t2484 = t2482 + t2483;
-            let t2485 = t2466 - t2473;
-            let t2486 = t2469 + t2474;
-            let t2487 = t2472 + t2477;
-            let t2488 = t2478 + t2480;
-            let t2489 = t2479 + t2481;
-            let t2490 = humerus_r_v_wy * t2487;
-            let t2491 = s_hr * t140;
-            let t2492 = t2490 + t2491;
-            let t2493 = humerus_r_v_wz * t2486;
-            let t2494 = t2492 - t2493;
-            let t2495 = humerus_r_v_wz * t2485;
-            let t2496 = humerus_r_v_wx * t2487;
-            let t2497 = c_hr * t140;
-            let t2498 = t2496 - t2497;
-            let t2499 = t2495 - t2498;
-            let t2500 = humerus_r_v_wx * t2486;
-            let t2501 = c_hr * t139;
-            let t2502 = t2500 - t2501;
-            let t2503 = humerus_r_v_wy * t2485;
-            let t2504 = s_hr * t138;
-            let t2505 = t2503 + t2504;
-            let t2506 = t2502 - t2505;
-            let t2507 = humerus_r_v_vy * t2484;
-            let t2508 = t2427 * t137;
-            let t2509 = t2507 + t2508;
-            let t2510 = humerus_r_v_vx * t2484;
-            let t2511 = t2426 * t137;
-            let t2512 = t2510 + t2511;
-            let t2513 = humerus_r_v_vx * t2489;
-            let t2514 = t2426 * t142;
-            let t2515 = t2513 + t2514;
-            let t2516 = humerus_r_v_vy * t2488;
-            let t2517 = t2427 * t141;
-            let t2518 = t2516 + t2517;
-            let t2519 = t2515 - t2518;
-            let t2520 = t2494 - t2509;
-            let t2521 = t2499 + t2512;
-            let t2522 = t2506 + t2519;
-            let t2523 = humerus_r_v_wy * t2484;
-            let t2524 = s_hr * t137;
-            let t2525 = t2523 + t2524;
-            let t2526 = humerus_r_v_wz * t2489;
+            let t2435 = t2431 - t1587;
+            let t2436 = t2432 - t1588;
+            let t2437 = t1589 - t2433;
+            let t2438 = humerus_r_ixx * t2434;
+            let t2439 = humerus_r_ixy * t2435;
+            let t2440 = t2438 + t2439;
+            let t2441 = t2440 + t1647;
+            let t2442 = humerus_r_ixy * t2434;
+            let t2443 = humerus_r_iyy * t2435;
+            let t2444 = t2442 + t2443;
+            let t2445 = t2444 + t1652;
+            let t2446 = humerus_r_ixz * t2434;
+            let t2447 = humerus_r_iyz * t2435;
+            let t2448 = t2446 + t2447;
+            let t2449 = t2448 + t1657;
+            let t2450 = humerus_r_hz * t2437;
+            let t2451 = humerus_r_hz * t2436;
+            let t2452 = humerus_r_hx * t2437;
+            let t2453 = humerus_r_hy * t2436;
+            let t2454 = t2452 - t2453;
+            let t2455 = t2436 * humerus_r_m;
+            let t2456 = t2437 * humerus_r_m;
+            let t2457 = humerus_r_hz * t2435;
+            let t2458 = t1666 - t2457;
+            let t2459 = humerus_r_hz * t2434;
+            let t2460 = t2459 - t1670;
+            let t2461 = t2441 - t2450;
+            let t2462 = t2445 + t2451;
+            let t2463 = t2449 + t2454;
+            let t2464 = t2455 - t2458;
+            let t2465 = t2456 - t2460;
+            let t2466 = humerus_r_ixx * c_hr;
+            let t2467 = humerus_r_ixy * s_hr;
+            let t2468 = t2467 - t2466;
+            let t2469 = humerus_r_ixy * c_hr;
+            let t2470 = humerus_r_iyy * s_hr;
+            let t2471 = t2470 - t2469;
+            let t2472 = humerus_r_ixz * c_hr;
+            let t2473 = humerus_r_iyz * s_hr;
+            let t2474 = t2473 - t2472;
+            let t2475 = humerus_r_hz * t2429;
+            let t2476 = humerus_r_hz * t2428;
+            let t2477 = humerus_r_hx * t2429;
+            let t2478 = humerus_r_hy * t2428;
+            let t2479 = t2477 - t2478;
+            let t2480 = t2428 * humerus_r_m;
+            let t2481 = t2429 * humerus_r_m;
+            let t2482 = humerus_r_hz * s_hr;
+            let t2483 = humerus_r_hz * c_hr;
+            let t2484 = humerus_r_hx * s_hr;
+            let t2485 = humerus_r_hy * c_hr;
+            let t2486 = t2484 + t2485;
+            let t2487 = t2468 - t2475;
+            let t2488 = t2471 + t2476;
+            let t2489 = t2474 + t2479;
+            let t2490 = t2480 + t2482;
+            let t2491 = t2481 + t2483;
+            let t2492 = humerus_r_v_wy * t2489;
+            let t2493 = s_hr * t140;
+            let t2494 = t2492 + t2493;
+            let t2495 = humerus_r_v_wz * t2488;
+            let t2496 = t2494 - t2495;
+            let t2497 = humerus_r_v_wz * t2487;
+            let t2498 = humerus_r_v_wx * t2489;
+            let t2499 = c_hr * t140;
+            let t2500 = t2498 - t2499;
+            let t2501 = t2497 - t2500;
+            let t2502 = humerus_r_v_wx * t2488;
+            let t2503 = c_hr * t139;
+            let t2504 = t2502 - t2503;
+            let t2505 = humerus_r_v_wy * t2487;
+            let t2506 = s_hr * t138;
+            let t2507 = t2505 + t2506;
+            let t2508 = t2504 - t2507;
+            let t2509 = humerus_r_v_vy * t2486;
+            let t2510 = t2429 * t137;
+            let t2511 = t2509 + t2510;
+            let t2512 = humerus_r_v_vx * t2486;
+            let t2513 = t2428 * t137;
+            let t2514 = t2512 + t2513;
+            let t2515 = humerus_r_v_vx * t2491;
+            let t2516 = t2428 * t142;
+            let t2517 = t2515 + t2516;
+            let t2518 = humerus_r_v_vy * t2490;
+            let t2519 = t2429 * t141;
+            let t2520 = t2518 + t2519;
+            let t2521 = t2517 - t2520;
+            let t2522 = t2496 - t2511;
+            let t2523 = t2501 + t2514;
+            let t2524 = t2508 + t2521;
+            let t2525 = humerus_r_v_wy * t2486;
+            let t2526 = s_hr * t137;
             let t2527 = t2525 + t2526;
-            let t2528 = humerus_r_v_wz * t2488;
-            let t2529 = humerus_r_v_wx * t2484;
-            let t2530 = c_hr * t137;
-            let t2531 = t2530 - t2529;
-            let t2532 = t2528 - t2531;
-            let t2533 = t2459 + t2520;
-            let t2534 = t2460 + t2521;
+            let t2528 = humerus_r_v_wz * t2491;
+            let t2529 = t2527 + t2528;
+            let t2530 = humerus_r_v_wz * t2490;
+            let t2531 = humerus_r_v_wx * t2486;
+            let t2532 = c_hr * t137;
+            let t2533 = t2532 - t2531;
+            let t2534 = t2530 - t2533;
             let t2535 = t2461 + t2522;
-            let t2536 = t2462 - t2527;
-            let t2537 = t2463 + t2532;
-            (t2426, t2427, t2432, t2433, t2434, t2435, t2533, t2534, t2535, t2536, t2537)
+            let t2536 = t2462 + t2523;
+            let t2537 = t2463 + t2524;
+            let t2538 = t2464 - t2529;
+            let t2539 = t2465 + t2534;
+            (t2428, t2429, t2434, t2435, t2436, t2437, t2535, t2536, t2537, t2538, t2539)
         };
         let (
-            t2540,
             t2542,
-            t2543,
             t2544,
             t2545,
-            t2548,
-            t2560,
-            t2561,
+            t2546,
+            t2547,
+            t2550,
             t2562,
             t2563,
-            t2714,
-            t2715,
+            t2564,
+            t2565,
             t2716,
             t2717,
             t2718,
             t2719,
+            t2720,
+            t2721,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t2538 = 0.304f64 * s_hr; // 3.0400e-1 = joint EFE origin z
-            let t2539 = 0.304f64 * c_hr; // 3.0400e-1 = joint EFE origin z
-            let t2540 = t2426 + t2538;
-            let t2541 = t2427 + t2539;
-            let t2542 = s_efe * s_hr;
-            let t2543 = c_efe * s_hr;
-            let t2544 = s_efe * t2541;
-            let t2545 = c_efe * t2541;
-            let t2546 = 0.304f64 * t2433; // 3.0400e-1 = joint EFE origin z
-            let t2547 = 0.304f64 * t2432; // 3.0400e-1 = joint EFE origin z
-            let t2548 = t2434 + t2546;
-            let t2549 = t2435 - t2547;
-            let t2550 = s_efe * t2433;
-            let t2551 = t1738 + t2550;
-            let t2552 = c_efe * t2433;
-            let t2553 = t2552 - t1741;
-            let t2554 = s_efe * t2549;
-            let t2555 = c_efe * t2549;
-            let t2556 = t2543 * qd_efe;
-            let t2557 = t2542 * qd_efe;
+            let t2540 = 0.304f64 * s_hr; // 3.0400e-1 = joint EFE origin z
+            let t2541 = 0.304f64 * c_hr; // 3.0400e-1 = joint EFE origin z
+            let t2542 = t2428 + t2540;
+            let t2543 = t2429 + t2541;
+            let t2544 = s_efe * s_hr;
+            let t2545 = c_efe * s_hr;
+            let t2546 = s_efe * t2543;
+            let t2547 = c_efe * t2543;
+            let t2548 = 0.304f64 * t2435; // 3.0400e-1 = joint EFE origin z
+            let t2549 = 0.304f64 * t2434; // 3.0400e-1 = joint EFE origin z
+            let t2550 = t2436 + t2548;
+            let t2551 = t2437 - t2549;
+            let t2552 = s_efe * t2435;
+            let t2553 = t1740 + t2552;
+            let t2554 = c_efe * t2435;
+            let t2555 = t2554 - t1743;
+            let t2556 = s_efe * t2551;
+            let t2557 = c_efe * t2551;
             let t2558 = t2545 * qd_efe;
             let t2559 = t2544 * qd_efe;
-            let t2560 = t2551 + t2556;
-            let t2561 = t2553 - t2557;
-            let t2562 = t2554 + t2558;
+            let t2560 = t2547 * qd_efe;
+            let t2561 = t2546 * qd_efe;
+            let t2562 = t2553 + t2558;
             let t2563 = t2555 - t2559;
-            let t2564 = elbow_fe_ixx * t2560;
-            let t2565 = elbow_fe_ixy * t2561;
-            let t2566 = t2564 + t2565;
-            let t2567 = elbow_fe_ixz * t2432;
-            let t2568 = t2566 - t2567;
-            let t2569 = elbow_fe_ixy * t2560;
-            let t2570 = elbow_fe_iyy * t2561;
-            let t2571 = t2569 + t2570;
-            let t2572 = elbow_fe_iyz * t2432;
-            let t2573 = t2571 - t2572;
-            let t2574 = elbow_fe_ixz * t2560;
-            let t2575 = elbow_fe_iyz * t2561;
-            let t2576 = t2574 + t2575;
-            let t2577 = elbow_fe_izz * t2432;
-            let t2578 = t2576 - t2577;
-            let t2579 = elbow_fe_hy * t2548;
-            let t2580 = elbow_fe_hz * t2563;
-            let t2581 = t2579 + t2580;
-            let t2582 = elbow_fe_hz * t2562;
-            let t2583 = elbow_fe_hx * t2548;
-            let t2584 = t2582 + t2583;
-            let t2585 = elbow_fe_hx * t2563;
-            let t2586 = elbow_fe_hy * t2562;
-            let t2587 = t2585 - t2586;
-            let t2588 = t2562 * elbow_fe_m;
-            let t2589 = t2563 * elbow_fe_m;
-            let t2590 = t2548 * elbow_fe_m;
-            let t2591 = elbow_fe_hy * t2432;
-            let t2592 = elbow_fe_hz * t2561;
-            let t2593 = t2591 + t2592;
-            let t2594 = elbow_fe_hz * t2560;
-            let t2595 = elbow_fe_hx * t2432;
-            let t2596 = t2594 + t2595;
-            let t2597 = elbow_fe_hx * t2561;
-            let t2598 = elbow_fe_hy * t2560;
-            let t2599 = t2597 - t2598;
-            let t2600 = t2568 - t2581;
-            let t2601 = t2573 + t2584;
-            let t2602 = t2578 + t2587;
-            let t2603 = t2588 + t2593;
-            let t2604 = t2589 - t2596;
-            let t2605 = t2590 + t2599;
-            let t2606 = elbow_fe_ixx * t2542;
-            let t2607 = elbow_fe_ixy * t2543;
-            let t2608 = t2606 + t2607;
-            let t2609 = elbow_fe_ixz * c_hr;
+            let t2564 = t2556 + t2560;
+            let t2565 = t2557 - t2561;
+            let t2566 = elbow_fe_ixx * t2562;
+            let t2567 = elbow_fe_ixy * t2563;
+            let t2568 = t2566 + t2567;
+            let t2569 = elbow_fe_ixz * t2434;
+            let t2570 = t2568 - t2569;
+            let t2571 = elbow_fe_ixy * t2562;
+            let t2572 = elbow_fe_iyy * t2563;
+            let t2573 = t2571 + t2572;
+            let t2574 = elbow_fe_iyz * t2434;
+            let t2575 = t2573 - t2574;
+            let t2576 = elbow_fe_ixz * t2562;
+            let t2577 = elbow_fe_iyz * t2563;
+            let t2578 = t2576 + t2577;
+            let t2579 = elbow_fe_izz * t2434;
+            let t2580 = t2578 - t2579;
+            let t2581 = elbow_fe_hy * t2550;
+            let t2582 = elbow_fe_hz * t2565;
+            let t2583 = t2581 + t2582;
+            let t2584 = elbow_fe_hz * t2564;
+            let t2585 = elbow_fe_hx * t2550;
+            let t2586 = t2584 + t2585;
+            let t2587 = elbow_fe_hx * t2565;
+            let t2588 = elbow_fe_hy * t2564;
+            let t2589 = t2587 - t2588;
+            let t2590 = t2564 * elbow_fe_m;
+            let t2591 = t2565 * elbow_fe_m;
+            let t2592 = t2550 * elbow_fe_m;
+            let t2593 = elbow_fe_hy * t2434;
+            let t2594 = elbow_fe_hz * t2563;
+            let t2595 = t2593 + t2594;
+            let t2596 = elbow_fe_hz * t2562;
+            let t2597 = elbow_fe_hx * t2434;
+            let t2598 = t2596 + t2597;
+            let t2599 = elbow_fe_hx * t2563;
+            let t2600 = elbow_fe_hy * t2562;
+            let t2601 = t2599 - t2600;
+            let t2602 = t2570 - t2583;
+            let t2603 = t2575 + t2586;
+            let t2604 = t2580 + t2589;
+            let t2605 = t2590 + t2595;
+            let t2606 = t2591 - t2598;
+            let t2607 = t2592 + t2601;
+            let t2608 = elbow_fe_ixx * t2544;
+            let t2609 = elbow_fe_ixy * t2545;
             let t2610 = t2608 + t2609;
-            let t2611 = elbow_fe_ixy * t2542;
-            let t2612 = elbow_fe_iyy * t2543;
-            let t2613 = t2611 + t2612;
-            let t2614 = elbow_fe_iyz * c_hr;
+            let t2611 = elbow_fe_ixz * c_hr;
+            let t2612 = t2610 + t2611;
+            let t2613 = elbow_fe_ixy * t2544;
+            let t2614 = elbow_fe_iyy * t2545;
             let t2615 = t2613 + t2614;
-            let t2616 = elbow_fe_ixz * t2542;
-            let t2617 = elbow_fe_iyz * t2543;
-            let t2618 = t2616 + t2617;
-            let t2619 = elbow_fe_izz * c_hr;
+            let t2616 = elbow_fe_iyz * c_hr;
+            let t2617 = t2615 + t2616;
+            let t2618 = elbow_fe_ixz * t2544;
+            let t2619 = elbow_fe_iyz * t2545;
             let t2620 = t2618 + t2619;
-            let t2621 = elbow_fe_hy * t2540;
-            let t2622 = elbow_fe_hz * t2545;
-            let t2623 = t2621 + t2622;
-            let t2624 = elbow_fe_hz * t2544;
-            let t2625 = elbow_fe_hx * t2540;
-            let t2626 = t2624 + t2625;
-            let t2627 = elbow_fe_hx * t2545;
-            let t2628 = elbow_fe_hy * t2544;
-            let t2629 = t2627 - t2628;
-            let t2630 = t2544 * elbow_fe_m;
-            let t2631 = t2545 * elbow_fe_m;
-            let t2632 = t2540 * elbow_fe_m;
-            let t2633 = elbow_fe_hy * c_hr;
-            let t2634 = elbow_fe_hz * t2543;
-            let t2635 = t2633 - t2634;
-            let t2636 = elbow_fe_hz * t2542;
-            let t2637 = elbow_fe_hx * c_hr;
-            let t2638 = t2636 - t2637;
-            let t2639 = elbow_fe_hx * t2543;
-            let t2640 = elbow_fe_hy * t2542;
-            let t2641 = t2639 - t2640;
-            let t2642 = t2610 - t2623;
-            let t2643 = t2615 + t2626;
-            let t2644 = t2620 + t2629;
-            let t2645 = t2630 - t2635;
-            let t2646 = t2631 - t2638;
-            let t2647 = t2632 + t2641;
-            let t2648 = elbow_fe_v_wy * t2644;
-            let t2649 = t2543 * t277;
-            let t2650 = t2648 + t2649;
-            let t2651 = elbow_fe_v_wz * t2643;
-            let t2652 = c_hr * t276;
-            let t2653 = t2651 + t2652;
-            let t2654 = t2650 - t2653;
-            let t2655 = elbow_fe_v_wz * t2642;
-            let t2656 = c_hr * t275;
-            let t2657 = t2655 + t2656;
-            let t2658 = elbow_fe_v_wx * t2644;
-            let t2659 = t2542 * t277;
-            let t2660 = t2658 + t2659;
-            let t2661 = t2657 - t2660;
-            let t2662 = elbow_fe_v_wx * t2643;
-            let t2663 = t2542 * t276;
-            let t2664 = t2662 + t2663;
-            let t2665 = elbow_fe_v_wy * t2642;
-            let t2666 = t2543 * t275;
-            let t2667 = t2665 + t2666;
-            let t2668 = t2664 - t2667;
-            let t2669 = elbow_fe_v_vy * t2647;
-            let t2670 = t2545 * t280;
-            let t2671 = t2669 + t2670;
-            let t2672 = elbow_fe_v_vz * t2646;
-            let t2673 = t2540 * t279;
-            let t2674 = t2672 + t2673;
-            let t2675 = t2674 - t2671;
-            let t2676 = elbow_fe_v_vz * t2645;
-            let t2677 = t2540 * t278;
-            let t2678 = t2676 + t2677;
-            let t2679 = elbow_fe_v_vx * t2647;
-            let t2680 = t2544 * t280;
-            let t2681 = t2679 + t2680;
-            let t2682 = t2681 - t2678;
-            let t2683 = elbow_fe_v_vx * t2646;
-            let t2684 = t2544 * t279;
-            let t2685 = t2683 + t2684;
-            let t2686 = elbow_fe_v_vy * t2645;
-            let t2687 = t2545 * t278;
-            let t2688 = t2686 + t2687;
-            let t2689 = t2685 - t2688;
-            let t2690 = t2654 + t2675;
-            let t2691 = t2661 + t2682;
-            let t2692 = t2668 + t2689;
-            let t2693 = elbow_fe_v_wy * t2647;
-            let t2694 = t2543 * t280;
-            let t2695 = t2693 + t2694;
-            let t2696 = elbow_fe_v_wz * t2646;
-            let t2697 = c_hr * t279;
-            let t2698 = t2696 + t2697;
-            let t2699 = t2695 + t2698;
-            let t2700 = elbow_fe_v_wz * t2645;
-            let t2701 = c_hr * t278;
-            let t2702 = t2700 + t2701;
-            let t2703 = elbow_fe_v_wx * t2647;
-            let t2704 = t2542 * t280;
-            let t2705 = t2703 + t2704;
-            let t2706 = t2702 + t2705;
-            let t2707 = elbow_fe_v_wx * t2646;
-            let t2708 = t2542 * t279;
-            let t2709 = t2707 + t2708;
-            let t2710 = elbow_fe_v_wy * t2645;
-            let t2711 = t2543 * t278;
-            let t2712 = t2710 + t2711;
-            let t2713 = t2709 - t2712;
-            let t2714 = t2600 + t2690;
-            let t2715 = t2601 + t2691;
+            let t2621 = elbow_fe_izz * c_hr;
+            let t2622 = t2620 + t2621;
+            let t2623 = elbow_fe_hy * t2542;
+            let t2624 = elbow_fe_hz * t2547;
+            let t2625 = t2623 + t2624;
+            let t2626 = elbow_fe_hz * t2546;
+            let t2627 = elbow_fe_hx * t2542;
+            let t2628 = t2626 + t2627;
+            let t2629 = elbow_fe_hx * t2547;
+            let t2630 = elbow_fe_hy * t2546;
+            let t2631 = t2629 - t2630;
+            let t2632 = t2546 * elbow_fe_m;
+            let t2633 = t2547 * elbow_fe_m;
+            let t2634 = t2542 * elbow_fe_m;
+            let t2635 = elbow_fe_hy * c_hr;
+            let t2636 = elbow_fe_hz * t2545;
+            let t2637 = t2635 - t2636;
+            let t2638 = elbow_fe_hz * t2544;
+            let t2639 = elbow_fe_hx * c_hr;
+            let t2640 = t2638 - t2639;
+            let t2641 = elbow_fe_hx * t2545;
+            let t2642 = elbow_fe_hy * t2544;
+            let t2643 = t2641 - t2642;
+            let t2644 = t2612 - t2625;
+            let t2645 = t2617 + t2628;
+            let t2646 = t2622 + t2631;
+            let t2647 = t2632 - t2637;
+            let t2648 = t2633 - t2640;
+            let t2649 = t2634 + t2643;
+            let t2650 = elbow_fe_v_wy * t2646;
+            let t2651 = t2545 * t279;
+            let t2652 = t2650 + t2651;
+            let t2653 = elbow_fe_v_wz * t2645;
+            let t2654 = c_hr * t278;
+            let t2655 = t2653 + t2654;
+            let t2656 = t2652 - t2655;
+            let t2657 = elbow_fe_v_wz * t2644;
+            let t2658 = c_hr * t277;
+            let t2659 = t2657 + t2658;
+            let t2660 = elbow_fe_v_wx * t2646;
+            let t2661 = t2544 * t279;
+            let t2662 = t2660 + t2661;
+            let t2663 = t2659 - t2662;
+            let t2664 = elbow_fe_v_wx * t2645;
+            let t2665 = t2544 * t278;
+            let t2666 = t2664 + t2665;
+            let t2667 = elbow_fe_v_wy * t2644;
+            let t2668 = t2545 * t277;
+            let t2669 = t2667 + t2668;
+            let t2670 = t2666 - t2669;
+            let t2671 = elbow_fe_v_vy * t2649;
+            let t2672 = t2547 * t282;
+            let t2673 = t2671 + t2672;
+            let t2674 = t173 * t2648;
+            let t2675 = t2542 * t281;
+            let t2676 = t2674 + t2675;
+            let t2677 = t2676 - t2673;
+            let t2678 = t173 * t2647;
+            let t2679 = t2542 * t280;
+            let t2680 = t2678 + t2679;
+            let t2681 = elbow_fe_v_vx * t2649;
+            let t2682 = t2546 * t282;
+            let t2683 = t2681 + t2682;
+            let t2684 = t2683 - t2680;
+            let t2685 = elbow_fe_v_vx * t2648;
+            let t2686 = t2546 * t281;
+            let t2687 = t2685 + t2686;
+            let t2688 = elbow_fe_v_vy * t2647;
+            let t2689 = t2547 * t280;
+            let t2690 = t2688 + t2689;
+            let t2691 = t2687 - t2690;
+            let t2692 = t2656 + t2677;
+            let t2693 = t2663 + t2684;
+            let t2694 = t2670 + t2691;
+            let t2695 = elbow_fe_v_wy * t2649;
+            let t2696 = t2545 * t282;
+            let t2697 = t2695 + t2696;
+            let t2698 = elbow_fe_v_wz * t2648;
+            let t2699 = c_hr * t281;
+            let t2700 = t2698 + t2699;
+            let t2701 = t2697 + t2700;
+            let t2702 = elbow_fe_v_wz * t2647;
+            let t2703 = c_hr * t280;
+            let t2704 = t2702 + t2703;
+            let t2705 = elbow_fe_v_wx * t2649;
+            let t2706 = t2544 * t282;
+            let t2707 = t2705 + t2706;
+            let t2708 = t2704 + t2707;
+            let t2709 = elbow_fe_v_wx * t2648;
+            let t2710 = t2544 * t281;
+            let t2711 = t2709 + t2710;
+            let t2712 = elbow_fe_v_wy * t2647;
+            let t2713 = t2545 * t280;
+            let t2714 = t2712 + t2713;
+            let t2715 = t2711 - t2714;
             let t2716 = t2602 + t2692;
-            let t2717 = t2603 - t2699;
-            let t2718 = t2604 + t2706;
-            let t2719 = t2713 - t2605;
+            let t2717 = t2603 + t2693;
+            let t2718 = t2604 + t2694;
+            let t2719 = t2605 - t2701;
+            let t2720 = t2606 + t2708;
+            let t2721 = t2715 - t2607;
             (
-                t2540,
                 t2542,
-                t2543,
                 t2544,
                 t2545,
-                t2548,
-                t2560,
-                t2561,
+                t2546,
+                t2547,
+                t2550,
                 t2562,
                 t2563,
-                t2714,
-                t2715,
+                t2564,
+                t2565,
                 t2716,
                 t2717,
                 t2718,
                 t2719,
+                t2720,
+                t2721,
             )
         };
         let (
-            t2725,
-            t2728,
-            t2731,
-            t2734,
-            t2755,
-            t2756,
+            t2727,
+            t2730,
+            t2733,
+            t2736,
             t2757,
             t2758,
-            t2909,
-            t2910,
+            t2759,
+            t2760,
             t2911,
             t2912,
             t2913,
             t2914,
+            t2915,
+            t2916,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t2720 = 0.112f64 * t2543; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2721 = t2545 + t2427;
-            let t2722 = t2540 + t2720;
-            let t2723 = c_wr * c_hr;
-            let t2724 = s_wr * t2543;
-            let t2725 = t2724 - t2723;
-            let t2726 = s_wr * c_hr;
-            let t2727 = c_wr * t2543;
-            let t2728 = t2726 + t2727;
-            let t2729 = c_wr * t2722;
-            let t2730 = s_wr * t2721;
-            let t2731 = t2729 + t2730;
-            let t2732 = s_wr * t2722;
-            let t2733 = c_wr * t2721;
-            let t2734 = t2733 - t2732;
-            let t2735 = 0.112f64 * t2432; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2736 = 0.112f64 * t2561; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t2737 = t2563 - t2735;
-            let t2738 = t2548 + t2736;
-            let t2739 = c_wr * t2432;
-            let t2740 = s_wr * t2561;
-            let t2741 = t2739 + t2740;
-            let t2742 = s_wr * t2432;
-            let t2743 = c_wr * t2561;
-            let t2744 = t2743 - t2742;
-            let t2745 = c_wr * t2738;
-            let t2746 = s_wr * t2737;
-            let t2747 = t2745 + t2746;
-            let t2748 = s_wr * t2738;
-            let t2749 = c_wr * t2737;
-            let t2750 = t2749 - t2748;
-            let t2751 = t2728 * qd_wr;
-            let t2752 = t2725 * qd_wr;
-            let t2753 = t2734 * qd_wr;
-            let t2754 = t2731 * qd_wr;
-            let t2755 = t2741 + t2751;
-            let t2756 = t2744 - t2752;
-            let t2757 = t2747 + t2753;
-            let t2758 = t2750 - t2754;
-            let t2759 = wrist_r_ixx * t2755;
-            let t2760 = wrist_r_ixy * t2756;
-            let t2761 = t2759 + t2760;
-            let t2762 = wrist_r_ixz * t2560;
+            let t2722 = 0.112f64 * t2545; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2723 = t2547 + t2429;
+            let t2724 = t2542 + t2722;
+            let t2725 = c_wr * c_hr;
+            let t2726 = s_wr * t2545;
+            let t2727 = t2726 - t2725;
+            let t2728 = s_wr * c_hr;
+            let t2729 = c_wr * t2545;
+            let t2730 = t2728 + t2729;
+            let t2731 = c_wr * t2724;
+            let t2732 = s_wr * t2723;
+            let t2733 = t2731 + t2732;
+            let t2734 = s_wr * t2724;
+            let t2735 = c_wr * t2723;
+            let t2736 = t2735 - t2734;
+            let t2737 = 0.112f64 * t2434; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2738 = 0.112f64 * t2563; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t2739 = t2565 - t2737;
+            let t2740 = t2550 + t2738;
+            let t2741 = c_wr * t2434;
+            let t2742 = s_wr * t2563;
+            let t2743 = t2741 + t2742;
+            let t2744 = s_wr * t2434;
+            let t2745 = c_wr * t2563;
+            let t2746 = t2745 - t2744;
+            let t2747 = c_wr * t2740;
+            let t2748 = s_wr * t2739;
+            let t2749 = t2747 + t2748;
+            let t2750 = s_wr * t2740;
+            let t2751 = c_wr * t2739;
+            let t2752 = t2751 - t2750;
+            let t2753 = t2730 * qd_wr;
+            let t2754 = t2727 * qd_wr;
+            let t2755 = t2736 * qd_wr;
+            let t2756 = t2733 * qd_wr;
+            let t2757 = t2743 + t2753;
+            let t2758 = t2746 - t2754;
+            let t2759 = t2749 + t2755;
+            let t2760 = t2752 - t2756;
+            let t2761 = wrist_r_ixx * t2757;
+            let t2762 = wrist_r_ixy * t2758;
             let t2763 = t2761 + t2762;
-            let t2764 = wrist_r_ixy * t2755;
-            let t2765 = wrist_r_iyy * t2756;
-            let t2766 = t2764 + t2765;
-            let t2767 = wrist_r_iyz * t2560;
+            let t2764 = wrist_r_ixz * t2562;
+            let t2765 = t2763 + t2764;
+            let t2766 = wrist_r_ixy * t2757;
+            let t2767 = wrist_r_iyy * t2758;
             let t2768 = t2766 + t2767;
-            let t2769 = wrist_r_ixz * t2755;
-            let t2770 = wrist_r_iyz * t2756;
-            let t2771 = t2769 + t2770;
-            let t2772 = wrist_r_izz * t2560;
+            let t2769 = wrist_r_iyz * t2562;
+            let t2770 = t2768 + t2769;
+            let t2771 = wrist_r_ixz * t2757;
+            let t2772 = wrist_r_iyz * t2758;
             let t2773 = t2771 + t2772;
-            let t2774 = wrist_r_hy * t2562;
-            let t2775 = wrist_r_hz * t2758;
-            let t2776 = t2774 - t2775;
-            let t2777 = wrist_r_hz * t2757;
-            let t2778 = wrist_r_hx * t2562;
-            let t2779 = t2777 - t2778;
-            let t2780 = wrist_r_hx * t2758;
-            let t2781 = wrist_r_hy * t2757;
-            let t2782 = t2780 - t2781;
-            let t2783 = t2757 * wrist_r_m;
-            let t2784 = t2758 * wrist_r_m;
-            let t2785 = t2562 * wrist_r_m;
-            let t2786 = wrist_r_hy * t2560;
-            let t2787 = wrist_r_hz * t2756;
-            let t2788 = t2786 - t2787;
-            let t2789 = wrist_r_hz * t2755;
-            let t2790 = wrist_r_hx * t2560;
-            let t2791 = t2789 - t2790;
-            let t2792 = wrist_r_hx * t2756;
-            let t2793 = wrist_r_hy * t2755;
-            let t2794 = t2792 - t2793;
-            let t2795 = t2763 + t2776;
-            let t2796 = t2768 + t2779;
-            let t2797 = t2773 + t2782;
-            let t2798 = t2783 - t2788;
-            let t2799 = t2784 - t2791;
-            let t2800 = t2785 - t2794;
-            let t2801 = wrist_r_ixx * t2725;
-            let t2802 = wrist_r_ixy * t2728;
-            let t2803 = t2801 + t2802;
-            let t2804 = wrist_r_ixz * t2542;
+            let t2774 = wrist_r_izz * t2562;
+            let t2775 = t2773 + t2774;
+            let t2776 = wrist_r_hy * t2564;
+            let t2777 = wrist_r_hz * t2760;
+            let t2778 = t2776 - t2777;
+            let t2779 = wrist_r_hz * t2759;
+            let t2780 = wrist_r_hx * t2564;
+            let t2781 = t2779 - t2780;
+            let t2782 = wrist_r_hx * t2760;
+            let t2783 = wrist_r_hy * t2759;
+            let t2784 = t2782 - t2783;
+            let t2785 = t2759 * wrist_r_m;
+            let t2786 = t2760 * wrist_r_m;
+            let t2787 = t2564 * wrist_r_m;
+            let t2788 = wrist_r_hy * t2562;
+            let t2789 = wrist_r_hz * t2758;
+            let t2790 = t2788 - t2789;
+            let t2791 = wrist_r_hz * t2757;
+            let t2792 = wrist_r_hx * t2562;
+            let t2793 = t2791 - t2792;
+            let t2794 = wrist_r_hx * t2758;
+            let t2795 = wrist_r_hy * t2757;
+            let t2796 = t2794 - t2795;
+            let t2797 = t2765 + t2778;
+            let t2798 = t2770 + t2781;
+            let t2799 = t2775 + t2784;
+            let t2800 = t2785 - t2790;
+            let t2801 = t2786 - t2793;
+            let t2802 = t2787 - t2796;
+            let t2803 = wrist_r_ixx * t2727;
+            let t2804 = wrist_r_ixy * t2730;
             let t2805 = t2803 + t2804;
-            let t2806 = wrist_r_ixy * t2725;
-            let t2807 = wrist_r_iyy * t2728;
-            let t2808 = t2806 + t2807;
-            let t2809 = wrist_r_iyz * t2542;
+            let t2806 = wrist_r_ixz * t2544;
+            let t2807 = t2805 + t2806;
+            let t2808 = wrist_r_ixy * t2727;
+            let t2809 = wrist_r_iyy * t2730;
             let t2810 = t2808 + t2809;
-            let t2811 = wrist_r_ixz * t2725;
-            let t2812 = wrist_r_iyz * t2728;
-            let t2813 = t2811 + t2812;
-            let t2814 = wrist_r_izz * t2542;
+            let t2811 = wrist_r_iyz * t2544;
+            let t2812 = t2810 + t2811;
+            let t2813 = wrist_r_ixz * t2727;
+            let t2814 = wrist_r_iyz * t2730;
             let t2815 = t2813 + t2814;
-            let t2816 = wrist_r_hy * t2544;
-            let t2817 = wrist_r_hz * t2734;
-            let t2818 = t2816 - t2817;
-            let t2819 = wrist_r_hz * t2731;
-            let t2820 = wrist_r_hx * t2544;
-            let t2821 = t2819 - t2820;
-            let t2822 = wrist_r_hx * t2734;
-            let t2823 = wrist_r_hy * t2731;
-            let t2824 = t2822 - t2823;
-            let t2825 = t2731 * wrist_r_m;
-            let t2826 = t2734 * wrist_r_m;
-            let t2827 = t2544 * wrist_r_m;
-            let t2828 = wrist_r_hy * t2542;
-            let t2829 = wrist_r_hz * t2728;
-            let t2830 = t2828 - t2829;
-            let t2831 = wrist_r_hz * t2725;
-            let t2832 = wrist_r_hx * t2542;
-            let t2833 = t2831 - t2832;
-            let t2834 = wrist_r_hx * t2728;
-            let t2835 = wrist_r_hy * t2725;
-            let t2836 = t2834 - t2835;
-            let t2837 = t2805 + t2818;
-            let t2838 = t2810 + t2821;
-            let t2839 = t2815 + t2824;
-            let t2840 = t2825 - t2830;
-            let t2841 = t2826 - t2833;
-            let t2842 = t2827 - t2836;
-            let t2843 = wrist_r_v_wy * t2839;
-            let t2844 = t2728 * t429;
-            let t2845 = t2843 + t2844;
-            let t2846 = wrist_r_v_wz * t2838;
-            let t2847 = t2542 * t428;
-            let t2848 = t2846 + t2847;
-            let t2849 = t2845 - t2848;
-            let t2850 = wrist_r_v_wz * t2837;
-            let t2851 = t2542 * t427;
-            let t2852 = t2850 + t2851;
-            let t2853 = wrist_r_v_wx * t2839;
-            let t2854 = t2725 * t429;
-            let t2855 = t2853 + t2854;
-            let t2856 = t2852 - t2855;
-            let t2857 = wrist_r_v_wx * t2838;
-            let t2858 = t2725 * t428;
-            let t2859 = t2857 + t2858;
-            let t2860 = wrist_r_v_wy * t2837;
-            let t2861 = t2728 * t427;
-            let t2862 = t2860 + t2861;
-            let t2863 = t2859 - t2862;
-            let t2864 = wrist_r_v_vy * t2842;
-            let t2865 = t2734 * t432;
-            let t2866 = t2864 + t2865;
-            let t2867 = elbow_fe_v_vx * t2841;
-            let t2868 = t2544 * t431;
-            let t2869 = t2867 + t2868;
-            let t2870 = t2866 - t2869;
-            let t2871 = elbow_fe_v_vx * t2840;
-            let t2872 = t2544 * t430;
-            let t2873 = t2871 + t2872;
-            let t2874 = wrist_r_v_vx * t2842;
-            let t2875 = t2731 * t432;
-            let t2876 = t2874 + t2875;
-            let t2877 = t2873 - t2876;
-            let t2878 = wrist_r_v_vx * t2841;
-            let t2879 = t2731 * t431;
-            let t2880 = t2878 + t2879;
-            let t2881 = wrist_r_v_vy * t2840;
-            let t2882 = t2734 * t430;
-            let t2883 = t2881 + t2882;
-            let t2884 = t2880 - t2883;
-            let t2885 = t2849 + t2870;
-            let t2886 = t2856 + t2877;
-            let t2887 = t2863 + t2884;
-            let t2888 = wrist_r_v_wy * t2842;
-            let t2889 = t2728 * t432;
-            let t2890 = t2888 + t2889;
-            let t2891 = wrist_r_v_wz * t2841;
-            let t2892 = t2542 * t431;
-            let t2893 = t2891 + t2892;
-            let t2894 = t2890 - t2893;
-            let t2895 = wrist_r_v_wz * t2840;
-            let t2896 = t2542 * t430;
-            let t2897 = t2895 + t2896;
-            let t2898 = wrist_r_v_wx * t2842;
-            let t2899 = t2725 * t432;
-            let t2900 = t2898 + t2899;
-            let t2901 = t2897 - t2900;
-            let t2902 = wrist_r_v_wx * t2841;
-            let t2903 = t2725 * t431;
-            let t2904 = t2902 + t2903;
-            let t2905 = wrist_r_v_wy * t2840;
-            let t2906 = t2728 * t430;
-            let t2907 = t2905 + t2906;
-            let t2908 = t2904 - t2907;
-            let t2909 = t2795 + t2885;
-            let t2910 = t2796 + t2886;
+            let t2816 = wrist_r_izz * t2544;
+            let t2817 = t2815 + t2816;
+            let t2818 = wrist_r_hy * t2546;
+            let t2819 = wrist_r_hz * t2736;
+            let t2820 = t2818 - t2819;
+            let t2821 = wrist_r_hz * t2733;
+            let t2822 = wrist_r_hx * t2546;
+            let t2823 = t2821 - t2822;
+            let t2824 = wrist_r_hx * t2736;
+            let t2825 = wrist_r_hy * t2733;
+            let t2826 = t2824 - t2825;
+            let t2827 = t2733 * wrist_r_m;
+            let t2828 = t2736 * wrist_r_m;
+            let t2829 = t2546 * wrist_r_m;
+            let t2830 = wrist_r_hy * t2544;
+            let t2831 = wrist_r_hz * t2730;
+            let t2832 = t2830 - t2831;
+            let t2833 = wrist_r_hz * t2727;
+            let t2834 = wrist_r_hx * t2544;
+            let t2835 = t2833 - t2834;
+            let t2836 = wrist_r_hx * t2730;
+            let t2837 = wrist_r_hy * t2727;
+            let t2838 = t2836 - t2837;
+            let t2839 = t2807 + t2820;
+            let t2840 = t2812 + t2823;
+            let t2841 = t2817 + t2826;
+            let t2842 = t2827 - t2832;
+            let t2843 = t2828 - t2835;
+            let t2844 = t2829 - t2838;
+            let t2845 = wrist_r_v_wy * t2841;
+            let t2846 = t2730 * t431;
+            let t2847 = t2845 + t2846;
+            let t2848 = wrist_r_v_wz * t2840;
+            let t2849 = t2544 * t430;
+            let t2850 = t2848 + t2849;
+            let t2851 = t2847 - t2850;
+            let t2852 = wrist_r_v_wz * t2839;
+            let t2853 = t2544 * t429;
+            let t2854 = t2852 + t2853;
+            let t2855 = wrist_r_v_wx * t2841;
+            let t2856 = t2727 * t431;
+            let t2857 = t2855 + t2856;
+            let t2858 = t2854 - t2857;
+            let t2859 = wrist_r_v_wx * t2840;
+            let t2860 = t2727 * t430;
+            let t2861 = t2859 + t2860;
+            let t2862 = wrist_r_v_wy * t2839;
+            let t2863 = t2730 * t429;
+            let t2864 = t2862 + t2863;
+            let t2865 = t2861 - t2864;
+            let t2866 = wrist_r_v_vy * t2844;
+            let t2867 = t2736 * t434;
+            let t2868 = t2866 + t2867;
+            let t2869 = elbow_fe_v_vx * t2843;
+            let t2870 = t2546 * t433;
+            let t2871 = t2869 + t2870;
+            let t2872 = t2868 - t2871;
+            let t2873 = elbow_fe_v_vx * t2842;
+            let t2874 = t2546 * t432;
+            let t2875 = t2873 + t2874;
+            let t2876 = wrist_r_v_vx * t2844;
+            let t2877 = t2733 * t434;
+            let t2878 = t2876 + t2877;
+            let t2879 = t2875 - t2878;
+            let t2880 = wrist_r_v_vx * t2843;
+            let t2881 = t2733 * t433;
+            let t2882 = t2880 + t2881;
+            let t2883 = wrist_r_v_vy * t2842;
+            let t2884 = t2736 * t432;
+            let t2885 = t2883 + t2884;
+            let t2886 = t2882 - t2885;
+            let t2887 = t2851 + t2872;
+            let t2888 = t2858 + t2879;
+            let t2889 = t2865 + t2886;
+            let t2890 = wrist_r_v_wy * t2844;
+            let t2891 = t2730 * t434;
+            let t2892 = t2890 + t2891;
+            let t2893 = wrist_r_v_wz * t2843;
+            let t2894 = t2544 * t433;
+            let t2895 = t2893 + t2894;
+            let t2896 = t2892 - t2895;
+            let t2897 = wrist_r_v_wz * t2842;
+            let t2898 = t2544 * t432;
+            let t2899 = t2897 + t2898;
+            let t2900 = wrist_r_v_wx * t2844;
+            let t2901 = t2727 * t434;
+            let t2902 = t2900 + t2901;
+            let t2903 = t2899 - t2902;
+            let t2904 = wrist_r_v_wx * t2843;
+            let t2905 = t2727 * t433;
+            let t2906 = t2904 + t2905;
+            let t2907 = wrist_r_v_wy * t2842;
+            let t2908 = t2730 * t432;
+            let t2909 = t2907 + t2908;
+            let t2910 = t2906 - t2909;
             let t2911 = t2797 + t2887;
-            let t2912 = t2798 + t2894;
-            let t2913 = t2799 + t2901;
-            let t2914 = t2800 + t2908;
+            let t2912 = t2798 + t2888;
+            let t2913 = t2799 + t2889;
+            let t2914 = t2800 + t2896;
+            let t2915 = t2801 + t2903;
+            let t2916 = t2802 + t2910;
             (
-                t2725,
-                t2728,
-                t2731,
-                t2734,
-                t2755,
-                t2756,
+                t2727,
+                t2730,
+                t2733,
+                t2736,
                 t2757,
                 t2758,
-                t2909,
-                t2910,
+                t2759,
+                t2760,
                 t2911,
                 t2912,
                 t2913,
                 t2914,
+                t2915,
+                t2916,
             )
         };
-        let (t3113, t3114, t3115, t3116, t3117, t3118) = {
+        let (t3115, t3116, t3117, t3118, t3119, t3120) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t2915 = 0.184f64 * t2728; // 1.8400e-1 = joint WFE origin z
-            let t2916 = 0.184f64 * t2725; // 1.8400e-1 = joint WFE origin z
-            let t2917 = 0.02075f64 * t2542; // 2.0750e-2 = joint WFE origin x
-            let t2918 = t2916 - t2917;
-            let t2919 = 0.02075f64 * t2728; // 2.0750e-2 = joint WFE origin x
-            let t2920 = t2731 + t2915;
-            let t2921 = t2734 - t2918;
-            let t2922 = t2544 - t2919;
-            let t2923 = c_wfe * t2542;
-            let t2924 = s_wfe * t2725;
-            let t2925 = t2923 + t2924;
-            let t2926 = s_wfe * t2542;
-            let t2927 = c_wfe * t2725;
-            let t2928 = t2927 - t2926;
-            let t2929 = c_wfe * t2922;
-            let t2930 = s_wfe * t2920;
-            let t2931 = t2929 + t2930;
+            let t2917 = 0.184f64 * t2730; // 1.8400e-1 = joint WFE origin z
+            let t2918 = 0.184f64 * t2727; // 1.8400e-1 = joint WFE origin z
+            let t2919 = 0.02075f64 * t2544; // 2.0750e-2 = joint WFE origin x
+            let t2920 = t2918 - t2919;
+            let t2921 = 0.02075f64 * t2730; // 2.0750e-2 = joint WFE origin x
+            let t2922 = t2733 + t2917;
+            let t2923 = t2736 - t2920;
+            let t2924 = t2546 - t2921;
+            let t2925 = c_wfe * t2544;
+            let t2926 = s_wfe * t2727;
+            let t2927 = t2925 + t2926;
+            let t2928 = s_wfe * t2544;
+            let t2929 = c_wfe * t2727;
+            let t2930 = t2929 - t2928;
+            let t2931 = c_wfe * t2924;
             let t2932 = s_wfe * t2922;
-            let t2933 = c_wfe * t2920;
-            let t2934 = t2933 - t2932;
-            let t2935 = 0.184f64 * t2756; // 1.8400e-1 = joint WFE origin z
-            let t2936 = 0.184f64 * t2755; // 1.8400e-1 = joint WFE origin z
-            let t2937 = 0.02075f64 * t2560; // 2.0750e-2 = joint WFE origin x
-            let t2938 = t2936 - t2937;
-            let t2939 = 0.02075f64 * t2756; // 2.0750e-2 = joint WFE origin x
-            let t2940 = t2757 + t2935;
-            let t2941 = t2758 - t2938;
-            let t2942 = t2562 - t2939;
-            let t2943 = c_wfe * t2560;
-            let t2944 = s_wfe * t2755;
-            let t2945 = t2943 + t2944;
-            let t2946 = s_wfe * t2560;
-            let t2947 = c_wfe * t2755;
-            let t2948 = t2947 - t2946;
-            let t2949 = c_wfe * t2942;
-            let t2950 = s_wfe * t2940;
-            let t2951 = t2949 + t2950;
+            let t2933 = t2931 + t2932;
+            let t2934 = s_wfe * t2924;
+            let t2935 = c_wfe * t2922;
+            let t2936 = t2935 - t2934;
+            let t2937 = 0.184f64 * t2758; // 1.8400e-1 = joint WFE origin z
+            let t2938 = 0.184f64 * t2757; // 1.8400e-1 = joint WFE origin z
+            let t2939 = 0.02075f64 * t2562; // 2.0750e-2 = joint WFE origin x
+            let t2940 = t2938 - t2939;
+            let t2941 = 0.02075f64 * t2758; // 2.0750e-2 = joint WFE origin x
+            let t2942 = t2759 + t2937;
+            let t2943 = t2760 - t2940;
+            let t2944 = t2564 - t2941;
+            let t2945 = c_wfe * t2562;
+            let t2946 = s_wfe * t2757;
+            let t2947 = t2945 + t2946;
+            let t2948 = s_wfe * t2562;
+            let t2949 = c_wfe * t2757;
+            let t2950 = t2949 - t2948;
+            let t2951 = c_wfe * t2944;
             let t2952 = s_wfe * t2942;
-            let t2953 = c_wfe * t2940;
-            let t2954 = t2953 - t2952;
-            let t2955 = t2928 * qd_wfe;
-            let t2956 = t2925 * qd_wfe;
-            let t2957 = t2934 * qd_wfe;
-            let t2958 = t2931 * qd_wfe;
-            let t2959 = t2945 + t2955;
-            let t2960 = t2948 - t2956;
-            let t2961 = t2951 + t2957;
-            let t2962 = t2954 - t2958;
-            let t2963 = wrist_fe_ixx * t2959;
-            let t2964 = wrist_fe_ixy * t2960;
-            let t2965 = t2963 + t2964;
-            let t2966 = wrist_fe_ixz * t2756;
+            let t2953 = t2951 + t2952;
+            let t2954 = s_wfe * t2944;
+            let t2955 = c_wfe * t2942;
+            let t2956 = t2955 - t2954;
+            let t2957 = t2930 * qd_wfe;
+            let t2958 = t2927 * qd_wfe;
+            let t2959 = t2936 * qd_wfe;
+            let t2960 = t2933 * qd_wfe;
+            let t2961 = t2947 + t2957;
+            let t2962 = t2950 - t2958;
+            let t2963 = t2953 + t2959;
+            let t2964 = t2956 - t2960;
+            let t2965 = wrist_fe_ixx * t2961;
+            let t2966 = wrist_fe_ixy * t2962;
             let t2967 = t2965 + t2966;
-            let t2968 = wrist_fe_ixy * t2959;
-            let t2969 = wrist_fe_iyy * t2960;
-            let t2970 = t2968 + t2969;
-            let t2971 = wrist_fe_iyz * t2756;
+            let t2968 = wrist_fe_ixz * t2758;
+            let t2969 = t2967 + t2968;
+            let t2970 = wrist_fe_ixy * t2961;
+            let t2971 = wrist_fe_iyy * t2962;
             let t2972 = t2970 + t2971;
-            let t2973 = wrist_fe_ixz * t2959;
-            let t2974 = wrist_fe_iyz * t2960;
-            let t2975 = t2973 + t2974;
-            let t2976 = wrist_fe_izz * t2756;
+            let t2973 = wrist_fe_iyz * t2758;
+            let t2974 = t2972 + t2973;
+            let t2975 = wrist_fe_ixz * t2961;
+            let t2976 = wrist_fe_iyz * t2962;
             let t2977 = t2975 + t2976;
-            let t2978 = wrist_fe_hy * t2941;
-            let t2979 = wrist_fe_hz * t2962;
-            let t2980 = t2978 - t2979;
-            let t2981 = wrist_fe_hz * t2961;
-            let t2982 = wrist_fe_hx * t2941;
-            let t2983 = t2981 - t2982;
-            let t2984 = wrist_fe_hx * t2962;
-            let t2985 = wrist_fe_hy * t2961;
-            let t2986 = t2984 - t2985;
-            let t2987 = t2961 * wrist_fe_m;
-            let t2988 = t2962 * wrist_fe_m;
-            let t2989 = t2941 * wrist_fe_m;
-            let t2990 = wrist_fe_hy * t2756;
-            let t2991 = wrist_fe_hz * t2960;
-            let t2992 = t2990 - t2991;
-            let t2993 = wrist_fe_hz * t2959;
-            let t2994 = wrist_fe_hx * t2756;
-            let t2995 = t2993 - t2994;
-            let t2996 = wrist_fe_hx * t2960;
-            let t2997 = wrist_fe_hy * t2959;
-            let t2998 = t2996 - t2997;
-            let t2999 = t2967 + t2980;
-            let t3000 = t2972 + t2983;
-            let t3001 = t2977 + t2986;
-            let t3002 = t2987 - t2992;
-            let t3003 = t2988 - t2995;
-            let t3004 = t2989 - t2998;
-            let t3005 = wrist_fe_ixx * t2925;
-            let t3006 = wrist_fe_ixy * t2928;
-            let t3007 = t3005 + t3006;
-            let t3008 = wrist_fe_ixz * t2728;
+            let t2978 = wrist_fe_izz * t2758;
+            let t2979 = t2977 + t2978;
+            let t2980 = wrist_fe_hy * t2943;
+            let t2981 = wrist_fe_hz * t2964;
+            let t2982 = t2980 - t2981;
+            let t2983 = wrist_fe_hz * t2963;
+            let t2984 = wrist_fe_hx * t2943;
+            let t2985 = t2983 - t2984;
+            let t2986 = wrist_fe_hx * t2964;
+            let t2987 = wrist_fe_hy * t2963;
+            let t2988 = t2986 - t2987;
+            let t2989 = t2963 * wrist_fe_m;
+            let t2990 = t2964 * wrist_fe_m;
+            let t2991 = t2943 * wrist_fe_m;
+            let t2992 = wrist_fe_hy * t2758;
+            let t2993 = wrist_fe_hz * t2962;
+            let t2994 = t2992 - t2993;
+            let t2995 = wrist_fe_hz * t2961;
+            let t2996 = wrist_fe_hx * t2758;
+            let t2997 = t2995 - t2996;
+            let t2998 = wrist_fe_hx * t2962;
+            let t2999 = wrist_fe_hy * t2961;
+            let t3000 = t2998 - t2999;
+            let t3001 = t2969 + t2982;
+            let t3002 = t2974 + t2985;
+            let t3003 = t2979 + t2988;
+            let t3004 = t2989 - t2994;
+            let t3005 = t2990 - t2997;
+            let t3006 = t2991 - t3000;
+            let t3007 = wrist_fe_ixx * t2927;
+            let t3008 = wrist_fe_ixy * t2930;
             let t3009 = t3007 + t3008;
-            let t3010 = wrist_fe_ixy * t2925;
-            let t3011 = wrist_fe_iyy * t2928;
-            let t3012 = t3010 + t3011;
-            let t3013 = wrist_fe_iyz * t2728;
+            let t3010 = wrist_fe_ixz * t2730;
+            let t3011 = t3009 + t3010;
+            let t3012 = wrist_fe_ixy * t2927;
+            let t3013 = wrist_fe_iyy * t2930;
             let t3014 = t3012 + t3013;
-            let t3015 = wrist_fe_ixz * t2925;
-            let t3016 = wrist_fe_iyz * t2928;
-            let t3017 = t3015 + t3016;
-            let t3018 = wrist_fe_izz * t2728;
+            let t3015 = wrist_fe_iyz * t2730;
+            let t3016 = t3014 + t3015;
+            let t3017 = wrist_fe_ixz * t2927;
+            let t3018 = wrist_fe_iyz * t2930;
             let t3019 = t3017 + t3018;
-            let t3020 = wrist_fe_hy * t2921;
-            let t3021 = wrist_fe_hz * t2934;
-            let t3022 = t3020 - t3021;
-            let t3023 = wrist_fe_hz * t2931;
-            let t3024 = wrist_fe_hx * t2921;
-            let t3025 = t3023 - t3024;
-            let t3026 = wrist_fe_hx * t2934;
-            let t3027 = wrist_fe_hy * t2931;
-            let t3028 = t3026 - t3027;
-            let t3029 = t2931 * wrist_fe_m;
-            let t3030 = t2934 * wrist_fe_m;
-            let t3031 = t2921 * wrist_fe_m;
-            let t3032 = wrist_fe_hy * t2728;
-            let t3033 = wrist_fe_hz * t2928;
-            let t3034 = t3032 - t3033;
-            let t3035 = wrist_fe_hz * t2925;
-            let t3036 = wrist_fe_hx * t2728;
-            let t3037 = t3035 - t3036;
-            let t3038 = wrist_fe_hx * t2928;
-            let t3039 = wrist_fe_hy * t2925;
-            let t3040 = t3038 - t3039;
-            let t3041 = t3009 + t3022;
-            let t3042 = t3014 + t3025;
-            let t3043 = t3019 + t3028;
-            let t3044 = t3029 - t3034;
-            let t3045 = t3030 - t3037;
-            let t3046 = t3031 - t3040;
-            let t3047 = wrist_fe_v_wy * t3043;
-            let t3048 = t2928 * t587;
-            let t3049 = t3047 + t3048;
-            let t3050 = wrist_fe_v_wz * t3042;
-            let t3051 = t2728 * t586;
-            let t3052 = t3050 + t3051;
-            let t3053 = t3049 - t3052;
-            let t3054 = wrist_fe_v_wz * t3041;
-            let t3055 = t2728 * t585;
-            let t3056 = t3054 + t3055;
-            let t3057 = wrist_fe_v_wx * t3043;
-            let t3058 = t2925 * t587;
-            let t3059 = t3057 + t3058;
-            let t3060 = t3056 - t3059;
-            let t3061 = wrist_fe_v_wx * t3042;
-            let t3062 = t2925 * t586;
-            let t3063 = t3061 + t3062;
-            let t3064 = wrist_fe_v_wy * t3041;
-            let t3065 = t2928 * t585;
-            let t3066 = t3064 + t3065;
-            let t3067 = t3063 - t3066;
-            let t3068 = wrist_fe_v_vy * t3046;
-            let t3069 = t2934 * t590;
-            let t3070 = t3068 + t3069;
-            let t3071 = wrist_fe_v_vz * t3045;
-            let t3072 = t2921 * t589;
-            let t3073 = t3071 + t3072;
-            let t3074 = t3070 - t3073;
-            let t3075 = wrist_fe_v_vz * t3044;
-            let t3076 = t2921 * t588;
-            let t3077 = t3075 + t3076;
-            let t3078 = wrist_fe_v_vx * t3046;
-            let t3079 = t2931 * t590;
-            let t3080 = t3078 + t3079;
-            let t3081 = t3077 - t3080;
-            let t3082 = wrist_fe_v_vx * t3045;
-            let t3083 = t2931 * t589;
-            let t3084 = t3082 + t3083;
-            let t3085 = wrist_fe_v_vy * t3044;
-            let t3086 = t2934 * t588;
-            let t3087 = t3085 + t3086;
-            let t3088 = t3084 - t3087;
-            let t3089 = t3053 + t3074;
-            let t3090 = t3060 + t3081;
-            let t3091 = t3067 + t3088;
-            let t3092 = wrist_fe_v_wy * t3046;
-            let t3093 = t2928 * t590;
-            let t3094 = t3092 + t3093;
-            let t3095 = wrist_fe_v_wz * t3045;
-            let t3096 = t2728 * t589;
-            let t3097 = t3095 + t3096;
-            let t3098 = t3094 - t3097;
-            let t3099 = wrist_fe_v_wz * t3044;
-            let t3100 = t2728 * t588;
-            let t3101 = t3099 + t3100;
-            let t3102 = wrist_fe_v_wx * t3046;
-            let t3103 = t2925 * t590;
-            let t3104 = t3102 + t3103;
-            let t3105 = t3101 - t3104;
-            let t3106 = wrist_fe_v_wx * t3045;
-            let t3107 = t2925 * t589;
-            let t3108 = t3106 + t3107;
-            let t3109 = wrist_fe_v_wy * t3044;
-            let t3110 = t2928 * t588;
-            let t3111 = t3109 + t3110;
-            let t3112 = t3108 - t3111;
-            let t3113 = t2999 + t3089;
-            let t3114 = t3000 + t3090;
+            let t3020 = wrist_fe_izz * t2730;
+            let t3021 = t3019 + t3020;
+            let t3022 = wrist_fe_hy * t2923;
+            let t3023 = wrist_fe_hz * t2936;
+            let t3024 = t3022 - t3023;
+            let t3025 = wrist_fe_hz * t2933;
+            let t3026 = wrist_fe_hx * t2923;
+            let t3027 = t3025 - t3026;
+            let t3028 = wrist_fe_hx * t2936;
+            let t3029 = wrist_fe_hy * t2933;
+            let t3030 = t3028 - t3029;
+            let t3031 = t2933 * wrist_fe_m;
+            let t3032 = t2936 * wrist_fe_m;
+            let t3033 = t2923 * wrist_fe_m;
+            let t3034 = wrist_fe_hy * t2730;
+            let t3035 = wrist_fe_hz * t2930;
+            let t3036 = t3034 - t3035;
+            let t3037 = wrist_fe_hz * t2927;
+            let t3038 = wrist_fe_hx * t2730;
+            let t3039 = t3037 - t3038;
+            let t3040 = wrist_fe_hx * t2930;
+            let t3041 = wrist_fe_hy * t2927;
+            let t3042 = t3040 - t3041;
+            let t3043 = t3011 + t3024;
+            let t3044 = t3016 + t3027;
+            let t3045 = t3021 + t3030;
+            let t3046 = t3031 - t3036;
+            let t3047 = t3032 - t3039;
+            let t3048 = t3033 - t3042;
+            let t3049 = wrist_fe_v_wy * t3045;
+            let t3050 = t2930 * t589;
+            let t3051 = t3049 + t3050;
+            let t3052 = wrist_fe_v_wz * t3044;
+            let t3053 = t2730 * t588;
+            let t3054 = t3052 + t3053;
+            let t3055 = t3051 - t3054;
+            let t3056 = wrist_fe_v_wz * t3043;
+            let t3057 = t2730 * t587;
+            let t3058 = t3056 + t3057;
+            let t3059 = wrist_fe_v_wx * t3045;
+            let t3060 = t2927 * t589;
+            let t3061 = t3059 + t3060;
+            let t3062 = t3058 - t3061;
+            let t3063 = wrist_fe_v_wx * t3044;
+            let t3064 = t2927 * t588;
+            let t3065 = t3063 + t3064;
+            let t3066 = wrist_fe_v_wy * t3043;
+            let t3067 = t2930 * t587;
+            let t3068 = t3066 + t3067;
+            let t3069 = t3065 - t3068;
+            let t3070 = wrist_fe_v_vy * t3048;
+            let t3071 = t2936 * t592;
+            let t3072 = t3070 + t3071;
+            let t3073 = wrist_fe_v_vz * t3047;
+            let t3074 = t2923 * t591;
+            let t3075 = t3073 + t3074;
+            let t3076 = t3072 - t3075;
+            let t3077 = wrist_fe_v_vz * t3046;
+            let t3078 = t2923 * t590;
+            let t3079 = t3077 + t3078;
+            let t3080 = wrist_fe_v_vx * t3048;
+            let t3081 = t2933 * t592;
+            let t3082 = t3080 + t3081;
+            let t3083 = t3079 - t3082;
+            let t3084 = wrist_fe_v_vx * t3047;
+            let t3085 = t2933 * t591;
+            let t3086 = t3084 + t3085;
+            let t3087 = wrist_fe_v_vy * t3046;
+            let t3088 = t2936 * t590;
+            let t3089 = t3087 + t3088;
+            let t3090 = t3086 - t3089;
+            let t3091 = t3055 + t3076;
+            let t3092 = t3062 + t3083;
+            let t3093 = t3069 + t3090;
+            let t3094 = wrist_fe_v_wy * t3048;
+            let t3095 = t2930 * t592;
+            let t3096 = t3094 + t3095;
+            let t3097 = wrist_fe_v_wz * t3047;
+            let t3098 = t2730 * t591;
+            let t3099 = t3097 + t3098;
+            let t3100 = t3096 - t3099;
+            let t3101 = wrist_fe_v_wz * t3046;
+            let t3102 = t2730 * t590;
+            let t3103 = t3101 + t3102;
+            let t3104 = wrist_fe_v_wx * t3048;
+            let t3105 = t2927 * t592;
+            let t3106 = t3104 + t3105;
+            let t3107 = t3103 - t3106;
+            let t3108 = wrist_fe_v_wx * t3047;
+            let t3109 = t2927 * t591;
+            let t3110 = t3108 + t3109;
+            let t3111 = wrist_fe_v_wy * t3046;
+            let t3112 = t2930 * t590;
+            let t3113 = t3111 + t3112;
+            let t3114 = t3110 - t3113;
             let t3115 = t3001 + t3091;
-            let t3116 = t3002 + t3098;
-            let t3117 = t3003 + t3105;
-            let t3118 = t3004 + t3112;
-            (t3113, t3114, t3115, t3116, t3117, t3118)
+            let t3116 = t3002 + t3092;
+            let t3117 = t3003 + t3093;
+            let t3118 = t3004 + t3100;
+            let t3119 = t3005 + t3107;
+            let t3120 = t3006 + t3114;
+            (t3115, t3116, t3117, t3118, t3119, t3120)
         };
-        let (t3139, t3140, t3141, t3142, t3143, t3144) = {
+        let (t3141, t3142, t3143, t3144, t3145, t3146) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t3119 = c_wfe * t3116;
-            let t3120 = s_wfe * t3117;
-            let t3121 = t3119 - t3120;
-            let t3122 = s_wfe * t3116;
-            let t3123 = c_wfe * t3117;
-            let t3124 = t3122 + t3123;
-            let t3125 = c_wfe * t3113;
-            let t3126 = s_wfe * t3114;
-            let t3127 = t3125 - t3126;
-            let t3128 = s_wfe * t3113;
-            let t3129 = c_wfe * t3114;
-            let t3130 = t3128 + t3129;
-            let t3131 = 0.184f64 * t3118; // 1.8400e-1 = joint WFE origin z
-            let t3132 = 0.184f64 * t3124; // 1.8400e-1 = joint WFE origin z
-            let t3133 = 0.02075f64 * t3121; // 2.0750e-2 = joint WFE origin x
-            let t3134 = t3132 - t3133;
-            let t3135 = 0.02075f64 * t3118; // 2.0750e-2 = joint WFE origin x
-            let t3136 = t3130 - t3131;
-            let t3137 = t3115 + t3134;
-            let t3138 = t3127 + t3135;
-            let t3139 = t2909 + t3136;
-            let t3140 = t2910 + t3137;
+            let t3121 = c_wfe * t3118;
+            let t3122 = s_wfe * t3119;
+            let t3123 = t3121 - t3122;
+            let t3124 = s_wfe * t3118;
+            let t3125 = c_wfe * t3119;
+            let t3126 = t3124 + t3125;
+            let t3127 = c_wfe * t3115;
+            let t3128 = s_wfe * t3116;
+            let t3129 = t3127 - t3128;
+            let t3130 = s_wfe * t3115;
+            let t3131 = c_wfe * t3116;
+            let t3132 = t3130 + t3131;
+            let t3133 = 0.184f64 * t3120; // 1.8400e-1 = joint WFE origin z
+            let t3134 = 0.184f64 * t3126; // 1.8400e-1 = joint WFE origin z
+            let t3135 = 0.02075f64 * t3123; // 2.0750e-2 = joint WFE origin x
+            let t3136 = t3134 - t3135;
+            let t3137 = 0.02075f64 * t3120; // 2.0750e-2 = joint WFE origin x
+            let t3138 = t3132 - t3133;
+            let t3139 = t3117 + t3136;
+            let t3140 = t3129 + t3137;
             let t3141 = t2911 + t3138;
-            let t3142 = t2912 + t3124;
-            let t3143 = t2913 + t3118;
-            let t3144 = t2914 + t3121;
-            (t3139, t3140, t3141, t3142, t3143, t3144)
+            let t3142 = t2912 + t3139;
+            let t3143 = t2913 + t3140;
+            let t3144 = t2914 + t3126;
+            let t3145 = t2915 + t3120;
+            let t3146 = t2916 + t3123;
+            (t3141, t3142, t3143, t3144, t3145, t3146)
         };
-        let (t3161, t3162, t3163, t3164, t3165, t3166) = {
+        let (t3163, t3164, t3165, t3166, t3167, t3168) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t3145 = c_wr * t3142;
-            let t3146 = s_wr * t3143;
-            let t3147 = t3145 - t3146;
-            let t3148 = s_wr * t3142;
-            let t3149 = c_wr * t3143;
-            let t3150 = t3148 + t3149;
-            let t3151 = c_wr * t3139;
-            let t3152 = s_wr * t3140;
-            let t3153 = t3151 - t3152;
-            let t3154 = s_wr * t3139;
-            let t3155 = c_wr * t3140;
-            let t3156 = t3154 + t3155;
-            let t3157 = 0.112f64 * t3147; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3158 = 0.112f64 * t3150; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3159 = t3156 + t3157;
-            let t3160 = t3158 - t3153;
-            let t3161 = t2714 + t3141;
-            let t3162 = t2715 + t3159;
-            let t3163 = t2716 + t3160;
-            let t3164 = t2717 + t3144;
-            let t3165 = t2718 + t3150;
-            let t3166 = t2719 - t3147;
-            (t3161, t3162, t3163, t3164, t3165, t3166)
+            let t3147 = c_wr * t3144;
+            let t3148 = s_wr * t3145;
+            let t3149 = t3147 - t3148;
+            let t3150 = s_wr * t3144;
+            let t3151 = c_wr * t3145;
+            let t3152 = t3150 + t3151;
+            let t3153 = c_wr * t3141;
+            let t3154 = s_wr * t3142;
+            let t3155 = t3153 - t3154;
+            let t3156 = s_wr * t3141;
+            let t3157 = c_wr * t3142;
+            let t3158 = t3156 + t3157;
+            let t3159 = 0.112f64 * t3149; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3160 = 0.112f64 * t3152; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3161 = t3158 + t3159;
+            let t3162 = t3160 - t3155;
+            let t3163 = t2716 + t3143;
+            let t3164 = t2717 + t3161;
+            let t3165 = t2718 + t3162;
+            let t3166 = t2719 + t3146;
+            let t3167 = t2720 + t3152;
+            let t3168 = t2721 - t3149;
+            (t3163, t3164, t3165, t3166, t3167, t3168)
         };
-        let (t3180, t3181, t3182, t3183, t3184) = {
+        let (t3182, t3183, t3184, t3185, t3186) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t3167 = s_efe * t3164;
-            let t3168 = c_efe * t3165;
-            let t3169 = t3167 + t3168;
-            let t3170 = c_efe * t3161;
-            let t3171 = s_efe * t3162;
-            let t3172 = t3170 - t3171;
-            let t3173 = s_efe * t3161;
-            let t3174 = c_efe * t3162;
-            let t3175 = t3173 + t3174;
-            let t3176 = 0.304f64 * t3169; // 3.0400e-1 = joint EFE origin z
-            let t3177 = 0.304f64 * t3166; // 3.0400e-1 = joint EFE origin z
-            let t3178 = t3163 + t3176;
-            let t3179 = t3175 - t3177;
-            let t3180 = t2533 - t3178;
-            let t3181 = t2534 + t3179;
-            let t3182 = t2535 + t3172;
-            let t3183 = t2536 - t3166;
-            let t3184 = t2537 + t3169;
-            (t3180, t3181, t3182, t3183, t3184)
+            let t3169 = s_efe * t3166;
+            let t3170 = c_efe * t3167;
+            let t3171 = t3169 + t3170;
+            let t3172 = c_efe * t3163;
+            let t3173 = s_efe * t3164;
+            let t3174 = t3172 - t3173;
+            let t3175 = s_efe * t3163;
+            let t3176 = c_efe * t3164;
+            let t3177 = t3175 + t3176;
+            let t3178 = 0.304f64 * t3171; // 3.0400e-1 = joint EFE origin z
+            let t3179 = 0.304f64 * t3168; // 3.0400e-1 = joint EFE origin z
+            let t3180 = t3165 + t3178;
+            let t3181 = t3177 - t3179;
+            let t3182 = t2535 - t3180;
+            let t3183 = t2536 + t3181;
+            let t3184 = t2537 + t3174;
+            let t3185 = t2538 - t3168;
+            let t3186 = t2539 + t3171;
+            (t3182, t3183, t3184, t3185, t3186)
         };
-        let (t3201, t3202, t3203) = {
+        let (t3203, t3204, t3205) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t3185 = c_hr * t3183;
-            let t3186 = s_hr * t3184;
-            let t3187 = t3185 - t3186;
-            let t3188 = s_hr * t3183;
-            let t3189 = c_hr * t3184;
-            let t3190 = t3188 + t3189;
-            let t3191 = c_hr * t3180;
-            let t3192 = s_hr * t3181;
-            let t3193 = t3191 - t3192;
-            let t3194 = s_hr * t3180;
-            let t3195 = c_hr * t3181;
-            let t3196 = t3194 + t3195;
-            let t3197 = 0.112f64 * t3187; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3198 = 0.112f64 * t3190; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3199 = t3196 + t3197;
-            let t3200 = t3198 - t3193;
-            let t3201 = t2423 + t3182;
-            let t3202 = t2424 + t3199;
-            let t3203 = t2425 + t3200;
-            (t3201, t3202, t3203)
+            let t3187 = c_hr * t3185;
+            let t3188 = s_hr * t3186;
+            let t3189 = t3187 - t3188;
+            let t3190 = s_hr * t3185;
+            let t3191 = c_hr * t3186;
+            let t3192 = t3190 + t3191;
+            let t3193 = c_hr * t3182;
+            let t3194 = s_hr * t3183;
+            let t3195 = t3193 - t3194;
+            let t3196 = s_hr * t3182;
+            let t3197 = c_hr * t3183;
+            let t3198 = t3196 + t3197;
+            let t3199 = 0.112f64 * t3189; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3200 = 0.112f64 * t3192; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3201 = t3198 + t3199;
+            let t3202 = t3200 - t3195;
+            let t3203 = t2425 + t3184;
+            let t3204 = t2426 + t3201;
+            let t3205 = t2427 + t3202;
+            (t3203, t3204, t3205)
         };
-        let t3206 = {
+        let t3208 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t3204 = s_sfe * t3201;
-            let t3205 = c_sfe * t3202;
-            let t3206 = t3204 + t3205;
-            t3206
+            let t3206 = s_sfe * t3203;
+            let t3207 = c_sfe * t3204;
+            let t3208 = t3206 + t3207;
+            t3208
         };
         let (
-            t3207,
-            t3210,
-            t3211,
-            t3231,
-            t3236,
-            t3241,
-            t3250,
-            t3290,
-            t3291,
+            t3209,
+            t3212,
+            t3213,
+            t3233,
+            t3238,
+            t3243,
+            t3252,
             t3292,
             t3293,
             t3294,
+            t3295,
+            t3296,
         ) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t3207 = t43 - t44;
-            let t3208 = t54 - t55;
-            let t3209 = t3207 * qd_hr;
-            let t3210 = t59 + t3209;
-            let t3211 = t3208 - t66;
-            let t3212 = humerus_r_ixx * t3210;
-            let t3213 = humerus_r_ixy * t3211;
-            let t3214 = t3212 + t3213;
-            let t3215 = humerus_r_ixy * t3210;
-            let t3216 = humerus_r_iyy * t3211;
-            let t3217 = t3215 + t3216;
-            let t3218 = humerus_r_ixz * t3210;
-            let t3219 = humerus_r_iyz * t3211;
-            let t3220 = t3218 + t3219;
-            let t3221 = humerus_r_hx * humerus_r_a_vx;
-            let t3222 = humerus_r_hy * humerus_r_a_vy;
-            let t3223 = t3221 + t3222;
-            let t3224 = humerus_r_hz * t3211;
-            let t3225 = humerus_r_hz * t3210;
-            let t3226 = t3214 + t88;
-            let t3227 = t3217 + t86;
-            let t3228 = t3220 - t3223;
-            let t3229 = t95 + t3224;
-            let t3230 = t94 + t3225;
-            let t3231 = humerus_r_ixx * humerus_r_v_wy;
-            let t3232 = humerus_r_ixy * t3207;
-            let t3233 = t3231 + t3232;
-            let t3234 = humerus_r_iyy * t3207;
-            let t3235 = t108 + t3234;
-            let t3236 = humerus_r_ixz * humerus_r_v_wy;
-            let t3237 = humerus_r_iyz * t3207;
-            let t3238 = t3236 + t3237;
-            let t3239 = humerus_r_hx * humerus_r_v_vx;
-            let t3240 = humerus_r_hy * humerus_r_v_vy;
-            let t3241 = t3239 + t3240;
-            let t3242 = humerus_r_hz * t3207;
-            let t3243 = humerus_r_hx * t3207;
-            let t3244 = humerus_r_hy * humerus_r_v_wy;
-            let t3245 = t3243 - t3244;
-            let t3246 = t3233 + t123;
-            let t3247 = t3235 + t122;
-            let t3248 = t3238 - t3241;
-            let t3249 = t128 + t3242;
-            let t3250 = t127 + t130;
-            let t3251 = humerus_r_v_wy * t3248;
-            let t3252 = t3207 * t140;
-            let t3253 = t3251 + t3252;
-            let t3254 = humerus_r_v_wz * t3247;
-            let t3255 = t3253 - t3254;
-            let t3256 = humerus_r_v_wz * t3246;
-            let t3257 = humerus_r_v_wx * t3248;
-            let t3258 = t3257 + t143;
-            let t3259 = t3256 - t3258;
-            let t3260 = humerus_r_v_wx * t3247;
-            let t3261 = humerus_r_v_wy * t139;
-            let t3262 = t3260 + t3261;
-            let t3263 = humerus_r_v_wy * t3246;
-            let t3264 = t3207 * t138;
-            let t3265 = t3263 + t3264;
-            let t3266 = t3262 - t3265;
-            let t3267 = humerus_r_v_vy * t3245;
-            let t3268 = t153 - t3267;
-            let t3269 = humerus_r_v_vx * t3245;
-            let t3270 = t3269 + t152;
-            let t3271 = humerus_r_v_vx * t3250;
-            let t3272 = humerus_r_v_vy * t142;
-            let t3273 = t3272 - t3271;
-            let t3274 = humerus_r_v_vy * t3249;
-            let t3275 = humerus_r_v_vx * t141;
-            let t3276 = t3274 - t3275;
-            let t3277 = t3273 - t3276;
-            let t3278 = t3255 + t3268;
-            let t3279 = t3259 + t3270;
-            let t3280 = t3266 + t3277;
-            let t3281 = humerus_r_v_wy * t3245;
-            let t3282 = t3207 * t137;
-            let t3283 = t3281 + t3282;
-            let t3284 = humerus_r_v_wz * t3250;
-            let t3285 = t3284 - t3283;
-            let t3286 = humerus_r_v_wz * t3249;
-            let t3287 = humerus_r_v_wx * t3245;
-            let t3288 = t3287 + t160;
-            let t3289 = t3286 + t3288;
-            let t3290 = t3226 + t3278;
-            let t3291 = t3227 + t3279;
+            let t3209 = t43 - t44;
+            let t3210 = t54 - t55;
+            let t3211 = t3209 * qd_hr;
+            let t3212 = t59 + t3211;
+            let t3213 = t3210 - t66;
+            let t3214 = humerus_r_ixx * t3212;
+            let t3215 = humerus_r_ixy * t3213;
+            let t3216 = t3214 + t3215;
+            let t3217 = humerus_r_ixy * t3212;
+            let t3218 = humerus_r_iyy * t3213;
+            let t3219 = t3217 + t3218;
+            let t3220 = humerus_r_ixz * t3212;
+            let t3221 = humerus_r_iyz * t3213;
+            let t3222 = t3220 + t3221;
+            let t3223 = humerus_r_hx * humerus_r_a_vx;
+            let t3224 = humerus_r_hy * humerus_r_a_vy;
+            let t3225 = t3223 + t3224;
+            let t3226 = humerus_r_hz * t3213;
+            let t3227 = humerus_r_hz * t3212;
+            let t3228 = t3216 + t88;
+            let t3229 = t3219 + t86;
+            let t3230 = t3222 - t3225;
+            let t3231 = t95 + t3226;
+            let t3232 = t94 + t3227;
+            let t3233 = humerus_r_ixx * humerus_r_v_wy;
+            let t3234 = humerus_r_ixy * t3209;
+            let t3235 = t3233 + t3234;
+            let t3236 = humerus_r_iyy * t3209;
+            let t3237 = t108 + t3236;
+            let t3238 = humerus_r_ixz * humerus_r_v_wy;
+            let t3239 = humerus_r_iyz * t3209;
+            let t3240 = t3238 + t3239;
+            let t3241 = humerus_r_hx * humerus_r_v_vx;
+            let t3242 = humerus_r_hy * humerus_r_v_vy;
+            let t3243 = t3241 + t3242;
+            let t3244 = humerus_r_hz * t3209;
+            let t3245 = humerus_r_hx * t3209;
+            let t3246 = humerus_r_hy * humerus_r_v_wy;
+            let t3247 = t3245 - t3246;
+            let t3248 = t3235 + t123;
+            let t3249 = t3237 + t122;
+            let t3250 = t3240 - t3243;
+            let t3251 = t128 + t3244;
+            let t3252 = t127 + t130;
+            let t3253 = humerus_r_v_wy * t3250;
+            let t3254 = t3209 * t140;
+            let t3255 = t3253 + t3254;
+            let t3256 = humerus_r_v_wz * t3249;
+            let t3257 = t3255 - t3256;
+            let t3258 = humerus_r_v_wz * t3248;
+            let t3259 = humerus_r_v_wx * t3250;
+            let t3260 = t3259 + t143;
+            let t3261 = t3258 - t3260;
+            let t3262 = humerus_r_v_wx * t3249;
+            let t3263 = humerus_r_v_wy * t139;
+            let t3264 = t3262 + t3263;
+            let t3265 = humerus_r_v_wy * t3248;
+            let t3266 = t3209 * t138;
+            let t3267 = t3265 + t3266;
+            let t3268 = t3264 - t3267;
+            let t3269 = humerus_r_v_vy * t3247;
+            let t3270 = t153 - t3269;
+            let t3271 = humerus_r_v_vx * t3247;
+            let t3272 = t3271 + t152;
+            let t3273 = humerus_r_v_vx * t3252;
+            let t3274 = humerus_r_v_vy * t142;
+            let t3275 = t3274 - t3273;
+            let t3276 = humerus_r_v_vy * t3251;
+            let t3277 = humerus_r_v_vx * t141;
+            let t3278 = t3276 - t3277;
+            let t3279 = t3275 - t3278;
+            let t3280 = t3257 + t3270;
+            let t3281 = t3261 + t3272;
+            let t3282 = t3268 + t3279;
+            let t3283 = humerus_r_v_wy * t3247;
+            let t3284 = t3209 * t137;
+            let t3285 = t3283 + t3284;
+            let t3286 = humerus_r_v_wz * t3252;
+            let t3287 = t3286 - t3285;
+            let t3288 = humerus_r_v_wz * t3251;
+            let t3289 = humerus_r_v_wx * t3247;
+            let t3290 = t3289 + t160;
+            let t3291 = t3288 + t3290;
             let t3292 = t3228 + t3280;
-            let t3293 = t3229 + t3285;
-            let t3294 = t3289 - t3230;
+            let t3293 = t3229 + t3281;
+            let t3294 = t3230 + t3282;
+            let t3295 = t3231 + t3287;
+            let t3296 = t3291 - t3232;
             (
-                t3207,
-                t3210,
-                t3211,
-                t3231,
-                t3236,
-                t3241,
-                t3250,
-                t3290,
-                t3291,
+                t3209,
+                t3212,
+                t3213,
+                t3233,
+                t3238,
+                t3243,
+                t3252,
                 t3292,
                 t3293,
                 t3294,
+                t3295,
+                t3296,
             )
         };
         let (
-            t3296,
-            t3297,
             t3298,
             t3299,
             t3300,
-            t3303,
-            t3313,
-            t3314,
+            t3301,
+            t3302,
+            t3305,
             t3315,
             t3316,
-            t3362,
-            t3367,
-            t3372,
-            t3375,
+            t3317,
+            t3318,
+            t3364,
+            t3369,
+            t3374,
             t3377,
-            t3382,
-            t3383,
+            t3379,
             t3384,
+            t3385,
             t3386,
-            t3390,
-            t3467,
-            t3468,
+            t3388,
+            t3392,
             t3469,
             t3470,
             t3471,
             t3472,
+            t3473,
+            t3474,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t3295 = 0.304f64 * t3207; // 3.0400e-1 = joint EFE origin z
-            let t3296 = humerus_r_v_vy + t3295;
-            let t3297 = s_efe * t3207;
-            let t3298 = c_efe * t3207;
-            let t3299 = s_efe * elbow_fe_v_vz;
-            let t3300 = c_efe * elbow_fe_v_vz;
-            let t3301 = 0.304f64 * t3211; // 3.0400e-1 = joint EFE origin z
-            let t3302 = 0.304f64 * t3210; // 3.0400e-1 = joint EFE origin z
-            let t3303 = humerus_r_a_vy + t3301;
-            let t3304 = humerus_r_a_vx + t3302;
-            let t3305 = s_efe * t3211;
-            let t3306 = c_efe * t3211;
-            let t3307 = s_efe * t3304;
-            let t3308 = c_efe * t3304;
-            let t3309 = t3298 * qd_efe;
-            let t3310 = t3297 * qd_efe;
+            let t3297 = 0.304f64 * t3209; // 3.0400e-1 = joint EFE origin z
+            let t3298 = humerus_r_v_vy + t3297;
+            let t3299 = s_efe * t3209;
+            let t3300 = c_efe * t3209;
+            let t3301 = s_efe * t173;
+            let t3302 = c_efe * t173;
+            let t3303 = 0.304f64 * t3213; // 3.0400e-1 = joint EFE origin z
+            let t3304 = 0.304f64 * t3212; // 3.0400e-1 = joint EFE origin z
+            let t3305 = humerus_r_a_vy + t3303;
+            let t3306 = humerus_r_a_vx + t3304;
+            let t3307 = s_efe * t3213;
+            let t3308 = c_efe * t3213;
+            let t3309 = s_efe * t3306;
+            let t3310 = c_efe * t3306;
             let t3311 = t3300 * qd_efe;
             let t3312 = t3299 * qd_efe;
-            let t3313 = t3305 + t3309;
-            let t3314 = t3306 - t3310;
+            let t3313 = t3302 * qd_efe;
+            let t3314 = t3301 * qd_efe;
             let t3315 = t3307 + t3311;
-            let t3316 = t3312 - t3308;
-            let t3317 = elbow_fe_ixx * t3313;
-            let t3318 = elbow_fe_ixy * t3314;
-            let t3319 = t3317 + t3318;
-            let t3320 = elbow_fe_ixz * t3210;
-            let t3321 = t3319 - t3320;
-            let t3322 = elbow_fe_ixy * t3313;
-            let t3323 = elbow_fe_iyy * t3314;
-            let t3324 = t3322 + t3323;
-            let t3325 = elbow_fe_iyz * t3210;
-            let t3326 = t3324 - t3325;
-            let t3327 = elbow_fe_ixz * t3313;
-            let t3328 = elbow_fe_iyz * t3314;
-            let t3329 = t3327 + t3328;
-            let t3330 = elbow_fe_izz * t3210;
-            let t3331 = t3329 - t3330;
-            let t3332 = elbow_fe_hy * t3303;
-            let t3333 = elbow_fe_hz * t3316;
-            let t3334 = t3332 + t3333;
-            let t3335 = elbow_fe_hz * t3315;
-            let t3336 = elbow_fe_hx * t3303;
-            let t3337 = t3336 - t3335;
-            let t3338 = elbow_fe_hx * t3316;
-            let t3339 = elbow_fe_hy * t3315;
-            let t3340 = t3338 + t3339;
-            let t3341 = t3315 * elbow_fe_m;
-            let t3342 = t3316 * elbow_fe_m;
-            let t3343 = t3303 * elbow_fe_m;
-            let t3344 = elbow_fe_hy * t3210;
-            let t3345 = elbow_fe_hz * t3314;
-            let t3346 = t3344 + t3345;
-            let t3347 = elbow_fe_hz * t3313;
-            let t3348 = elbow_fe_hx * t3210;
-            let t3349 = t3347 + t3348;
-            let t3350 = elbow_fe_hx * t3314;
-            let t3351 = elbow_fe_hy * t3313;
-            let t3352 = t3350 - t3351;
-            let t3353 = t3321 - t3334;
-            let t3354 = t3326 + t3337;
-            let t3355 = t3331 + t3340;
-            let t3356 = t3346 - t3341;
-            let t3357 = t3342 - t3349;
-            let t3358 = t3343 + t3352;
-            let t3359 = elbow_fe_ixx * t3297;
-            let t3360 = elbow_fe_ixy * t3298;
-            let t3361 = t3359 + t3360;
-            let t3362 = elbow_fe_ixz * humerus_r_v_wy;
-            let t3363 = t3361 - t3362;
-            let t3364 = elbow_fe_ixy * t3297;
-            let t3365 = elbow_fe_iyy * t3298;
-            let t3366 = t3364 + t3365;
-            let t3367 = elbow_fe_iyz * humerus_r_v_wy;
-            let t3368 = t3366 - t3367;
-            let t3369 = elbow_fe_ixz * t3297;
-            let t3370 = elbow_fe_iyz * t3298;
-            let t3371 = t3369 + t3370;
-            let t3372 = elbow_fe_izz * humerus_r_v_wy;
-            let t3373 = t3371 - t3372;
-            let t3374 = elbow_fe_hy * t3296;
-            let t3375 = elbow_fe_hz * t3300;
-            let t3376 = t3375 - t3374;
-            let t3377 = elbow_fe_hz * t3299;
-            let t3378 = elbow_fe_hx * t3296;
-            let t3379 = t3378 - t3377;
-            let t3380 = elbow_fe_hx * t3300;
-            let t3381 = elbow_fe_hy * t3299;
-            let t3382 = t3381 - t3380;
-            let t3383 = t3299 * elbow_fe_m;
-            let t3384 = t3300 * elbow_fe_m;
-            let t3385 = t3296 * elbow_fe_m;
-            let t3386 = elbow_fe_hy * humerus_r_v_wy;
-            let t3387 = elbow_fe_hz * t3298;
-            let t3388 = t3386 + t3387;
-            let t3389 = elbow_fe_hz * t3297;
-            let t3390 = elbow_fe_hx * humerus_r_v_wy;
-            let t3391 = t3389 + t3390;
-            let t3392 = elbow_fe_hx * t3298;
-            let t3393 = elbow_fe_hy * t3297;
-            let t3394 = t3392 - t3393;
-            let t3395 = t3363 + t3376;
-            let t3396 = t3368 + t3379;
-            let t3397 = t3373 + t3382;
-            let t3398 = t3388 - t3383;
-            let t3399 = t3384 + t3391;
-            let t3400 = t3385 + t3394;
-            let t3401 = elbow_fe_v_wy * t3397;
-            let t3402 = t3298 * t277;
-            let t3403 = t3401 + t3402;
-            let t3404 = elbow_fe_v_wz * t3396;
-            let t3405 = humerus_r_v_wy * t276;
-            let t3406 = t3404 - t3405;
-            let t3407 = t3403 - t3406;
-            let t3408 = elbow_fe_v_wz * t3395;
-            let t3409 = humerus_r_v_wy * t275;
-            let t3410 = t3408 - t3409;
-            let t3411 = elbow_fe_v_wx * t3397;
-            let t3412 = t3297 * t277;
-            let t3413 = t3411 + t3412;
-            let t3414 = t3410 - t3413;
-            let t3415 = elbow_fe_v_wx * t3396;
-            let t3416 = t3297 * t276;
-            let t3417 = t3415 + t3416;
-            let t3418 = elbow_fe_v_wy * t3395;
-            let t3419 = t3298 * t275;
-            let t3420 = t3418 + t3419;
-            let t3421 = t3417 - t3420;
-            let t3422 = elbow_fe_v_vy * t3400;
-            let t3423 = t3300 * t280;
-            let t3424 = t3423 - t3422;
-            let t3425 = elbow_fe_v_vz * t3399;
-            let t3426 = t3296 * t279;
-            let t3427 = t3425 - t3426;
-            let t3428 = t3424 - t3427;
-            let t3429 = elbow_fe_v_vz * t3398;
-            let t3430 = t3296 * t278;
-            let t3431 = t3429 + t3430;
-            let t3432 = elbow_fe_v_vx * t3400;
-            let t3433 = t3299 * t280;
-            let t3434 = t3433 - t3432;
-            let t3435 = t3431 + t3434;
-            let t3436 = elbow_fe_v_vx * t3399;
-            let t3437 = t3299 * t279;
-            let t3438 = t3436 + t3437;
-            let t3439 = elbow_fe_v_vy * t3398;
-            let t3440 = t3300 * t278;
-            let t3441 = t3439 - t3440;
-            let t3442 = t3438 + t3441;
-            let t3443 = t3407 + t3428;
-            let t3444 = t3414 - t3435;
-            let t3445 = t3421 - t3442;
-            let t3446 = elbow_fe_v_wy * t3400;
-            let t3447 = t3298 * t280;
-            let t3448 = t3446 + t3447;
-            let t3449 = elbow_fe_v_wz * t3399;
-            let t3450 = humerus_r_v_wy * t279;
-            let t3451 = t3449 + t3450;
-            let t3452 = t3451 - t3448;
-            let t3453 = elbow_fe_v_wz * t3398;
-            let t3454 = humerus_r_v_wy * t278;
-            let t3455 = t3453 - t3454;
-            let t3456 = elbow_fe_v_wx * t3400;
-            let t3457 = t3297 * t280;
-            let t3458 = t3456 + t3457;
-            let t3459 = t3455 + t3458;
-            let t3460 = elbow_fe_v_wx * t3399;
-            let t3461 = t3297 * t279;
-            let t3462 = t3461 - t3460;
-            let t3463 = elbow_fe_v_wy * t3398;
-            let t3464 = t3298 * t278;
-            let t3465 = t3463 + t3464;
-            let t3466 = t3462 - t3465;
-            let t3467 = t3353 + t3443;
-            let t3468 = t3354 + t3444;
+            let t3316 = t3308 - t3312;
+            let t3317 = t3309 + t3313;
+            let t3318 = t3314 - t3310;
+            let t3319 = elbow_fe_ixx * t3315;
+            let t3320 = elbow_fe_ixy * t3316;
+            let t3321 = t3319 + t3320;
+            let t3322 = elbow_fe_ixz * t3212;
+            let t3323 = t3321 - t3322;
+            let t3324 = elbow_fe_ixy * t3315;
+            let t3325 = elbow_fe_iyy * t3316;
+            let t3326 = t3324 + t3325;
+            let t3327 = elbow_fe_iyz * t3212;
+            let t3328 = t3326 - t3327;
+            let t3329 = elbow_fe_ixz * t3315;
+            let t3330 = elbow_fe_iyz * t3316;
+            let t3331 = t3329 + t3330;
+            let t3332 = elbow_fe_izz * t3212;
+            let t3333 = t3331 - t3332;
+            let t3334 = elbow_fe_hy * t3305;
+            let t3335 = elbow_fe_hz * t3318;
+            let t3336 = t3334 + t3335;
+            let t3337 = elbow_fe_hz * t3317;
+            let t3338 = elbow_fe_hx * t3305;
+            let t3339 = t3338 - t3337;
+            let t3340 = elbow_fe_hx * t3318;
+            let t3341 = elbow_fe_hy * t3317;
+            let t3342 = t3340 + t3341;
+            let t3343 = t3317 * elbow_fe_m;
+            let t3344 = t3318 * elbow_fe_m;
+            let t3345 = t3305 * elbow_fe_m;
+            let t3346 = elbow_fe_hy * t3212;
+            let t3347 = elbow_fe_hz * t3316;
+            let t3348 = t3346 + t3347;
+            let t3349 = elbow_fe_hz * t3315;
+            let t3350 = elbow_fe_hx * t3212;
+            let t3351 = t3349 + t3350;
+            let t3352 = elbow_fe_hx * t3316;
+            let t3353 = elbow_fe_hy * t3315;
+            let t3354 = t3352 - t3353;
+            let t3355 = t3323 - t3336;
+            let t3356 = t3328 + t3339;
+            let t3357 = t3333 + t3342;
+            let t3358 = t3348 - t3343;
+            let t3359 = t3344 - t3351;
+            let t3360 = t3345 + t3354;
+            let t3361 = elbow_fe_ixx * t3299;
+            let t3362 = elbow_fe_ixy * t3300;
+            let t3363 = t3361 + t3362;
+            let t3364 = elbow_fe_ixz * humerus_r_v_wy;
+            let t3365 = t3363 - t3364;
+            let t3366 = elbow_fe_ixy * t3299;
+            let t3367 = elbow_fe_iyy * t3300;
+            let t3368 = t3366 + t3367;
+            let t3369 = elbow_fe_iyz * humerus_r_v_wy;
+            let t3370 = t3368 - t3369;
+            let t3371 = elbow_fe_ixz * t3299;
+            let t3372 = elbow_fe_iyz * t3300;
+            let t3373 = t3371 + t3372;
+            let t3374 = elbow_fe_izz * humerus_r_v_wy;
+            let t3375 = t3373 - t3374;
+            let t3376 = elbow_fe_hy * t3298;
+            let t3377 = elbow_fe_hz * t3302;
+            let t3378 = t3377 - t3376;
+            let t3379 = elbow_fe_hz * t3301;
+            let t3380 = elbow_fe_hx * t3298;
+            let t3381 = t3380 - t3379;
+            let t3382 = elbow_fe_hx * t3302;
+            let t3383 = elbow_fe_hy * t3301;
+            let t3384 = t3383 - t3382;
+            let t3385 = t3301 * elbow_fe_m;
+            let t3386 = t3302 * elbow_fe_m;
+            let t3387 = t3298 * elbow_fe_m;
+            let t3388 = elbow_fe_hy * humerus_r_v_wy;
+            let t3389 = elbow_fe_hz * t3300;
+            let t3390 = t3388 + t3389;
+            let t3391 = elbow_fe_hz * t3299;
+            let t3392 = elbow_fe_hx * humerus_r_v_wy;
+            let t3393 = t3391 + t3392;
+            let t3394 = elbow_fe_hx * t3300;
+            let t3395 = elbow_fe_hy * t3299;
+            let t3396 = t3394 - t3395;
+            let t3397 = t3365 + t3378;
+            let t3398 = t3370 + t3381;
+            let t3399 = t3375 + t3384;
+            let t3400 = t3390 - t3385;
+            let t3401 = t3386 + t3393;
+            let t3402 = t3387 + t3396;
+            let t3403 = elbow_fe_v_wy * t3399;
+            let t3404 = t3300 * t279;
+            let t3405 = t3403 + t3404;
+            let t3406 = elbow_fe_v_wz * t3398;
+            let t3407 = humerus_r_v_wy * t278;
+            let t3408 = t3406 - t3407;
+            let t3409 = t3405 - t3408;
+            let t3410 = elbow_fe_v_wz * t3397;
+            let t3411 = humerus_r_v_wy * t277;
+            let t3412 = t3410 - t3411;
+            let t3413 = elbow_fe_v_wx * t3399;
+            let t3414 = t3299 * t279;
+            let t3415 = t3413 + t3414;
+            let t3416 = t3412 - t3415;
+            let t3417 = elbow_fe_v_wx * t3398;
+            let t3418 = t3299 * t278;
+            let t3419 = t3417 + t3418;
+            let t3420 = elbow_fe_v_wy * t3397;
+            let t3421 = t3300 * t277;
+            let t3422 = t3420 + t3421;
+            let t3423 = t3419 - t3422;
+            let t3424 = elbow_fe_v_vy * t3402;
+            let t3425 = t3302 * t282;
+            let t3426 = t3425 - t3424;
+            let t3427 = t173 * t3401;
+            let t3428 = t3298 * t281;
+            let t3429 = t3427 - t3428;
+            let t3430 = t3426 - t3429;
+            let t3431 = t173 * t3400;
+            let t3432 = t3298 * t280;
+            let t3433 = t3431 + t3432;
+            let t3434 = elbow_fe_v_vx * t3402;
+            let t3435 = t3301 * t282;
+            let t3436 = t3435 - t3434;
+            let t3437 = t3433 + t3436;
+            let t3438 = elbow_fe_v_vx * t3401;
+            let t3439 = t3301 * t281;
+            let t3440 = t3438 + t3439;
+            let t3441 = elbow_fe_v_vy * t3400;
+            let t3442 = t3302 * t280;
+            let t3443 = t3441 - t3442;
+            let t3444 = t3440 + t3443;
+            let t3445 = t3409 + t3430;
+            let t3446 = t3416 - t3437;
+            let t3447 = t3423 - t3444;
+            let t3448 = elbow_fe_v_wy * t3402;
+            let t3449 = t3300 * t282;
+            let t3450 = t3448 + t3449;
+            let t3451 = elbow_fe_v_wz * t3401;
+            let t3452 = humerus_r_v_wy * t281;
+            let t3453 = t3451 + t3452;
+            let t3454 = t3453 - t3450;
+            let t3455 = elbow_fe_v_wz * t3400;
+            let t3456 = humerus_r_v_wy * t280;
+            let t3457 = t3455 - t3456;
+            let t3458 = elbow_fe_v_wx * t3402;
+            let t3459 = t3299 * t282;
+            let t3460 = t3458 + t3459;
+            let t3461 = t3457 + t3460;
+            let t3462 = elbow_fe_v_wx * t3401;
+            let t3463 = t3299 * t281;
+            let t3464 = t3463 - t3462;
+            let t3465 = elbow_fe_v_wy * t3400;
+            let t3466 = t3300 * t280;
+            let t3467 = t3465 + t3466;
+            let t3468 = t3464 - t3467;
             let t3469 = t3355 + t3445;
-            let t3470 = t3356 + t3452;
-            let t3471 = t3357 + t3459;
-            let t3472 = t3466 - t3358;
+            let t3470 = t3356 + t3446;
+            let t3471 = t3357 + t3447;
+            let t3472 = t3358 + t3454;
+            let t3473 = t3359 + t3461;
+            let t3474 = t3468 - t3360;
             (
-                t3296,
-                t3297,
                 t3298,
                 t3299,
                 t3300,
-                t3303,
-                t3313,
-                t3314,
+                t3301,
+                t3302,
+                t3305,
                 t3315,
                 t3316,
-                t3362,
-                t3367,
-                t3372,
-                t3375,
+                t3317,
+                t3318,
+                t3364,
+                t3369,
+                t3374,
                 t3377,
-                t3382,
-                t3383,
+                t3379,
                 t3384,
+                t3385,
                 t3386,
-                t3390,
-                t3467,
-                t3468,
+                t3388,
+                t3392,
                 t3469,
                 t3470,
                 t3471,
                 t3472,
+                t3473,
+                t3474,
             )
         };
         let (
-            t3477,
             t3479,
-            t3480,
+            t3481,
             t3482,
             t3484,
-            t3485,
+            t3486,
             t3487,
-            t3488,
-            t3509,
-            t3510,
+            t3489,
+            t3490,
             t3511,
             t3512,
-            t3570,
-            t3574,
-            t3581,
-            t3663,
-            t3664,
+            t3513,
+            t3514,
+            t3572,
+            t3576,
+            t3583,
             t3665,
             t3666,
             t3667,
             t3668,
+            t3669,
+            t3670,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t3473 = 0.112f64 * humerus_r_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3474 = 0.112f64 * t3298; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3475 = t3300 + t3473;
-            let t3476 = t3296 + t3474;
-            let t3477 = c_wr * humerus_r_v_wy;
-            let t3478 = s_wr * t3298;
-            let t3479 = t3477 + t3478;
-            let t3480 = s_wr * humerus_r_v_wy;
-            let t3481 = c_wr * t3298;
-            let t3482 = t3481 - t3480;
-            let t3483 = c_wr * t3476;
-            let t3484 = s_wr * t3475;
-            let t3485 = t3483 - t3484;
-            let t3486 = s_wr * t3476;
-            let t3487 = c_wr * t3475;
-            let t3488 = t3486 + t3487;
-            let t3489 = 0.112f64 * t3210; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3490 = 0.112f64 * t3314; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3491 = t3316 - t3489;
-            let t3492 = t3303 + t3490;
-            let t3493 = c_wr * t3210;
-            let t3494 = s_wr * t3314;
-            let t3495 = t3493 + t3494;
-            let t3496 = s_wr * t3210;
-            let t3497 = c_wr * t3314;
-            let t3498 = t3497 - t3496;
-            let t3499 = c_wr * t3492;
-            let t3500 = s_wr * t3491;
-            let t3501 = t3499 + t3500;
-            let t3502 = s_wr * t3492;
-            let t3503 = c_wr * t3491;
-            let t3504 = t3503 - t3502;
-            let t3505 = t3482 * qd_wr;
-            let t3506 = t3479 * qd_wr;
-            let t3507 = t3488 * qd_wr;
-            let t3508 = t3485 * qd_wr;
-            let t3509 = t3495 + t3505;
-            let t3510 = t3498 - t3506;
-            let t3511 = t3501 - t3507;
-            let t3512 = t3504 - t3508;
-            let t3513 = wrist_r_ixx * t3509;
-            let t3514 = wrist_r_ixy * t3510;
-            let t3515 = t3513 + t3514;
-            let t3516 = wrist_r_ixz * t3313;
+            let t3475 = 0.112f64 * humerus_r_v_wy; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3476 = 0.112f64 * t3300; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3477 = t3302 + t3475;
+            let t3478 = t3298 + t3476;
+            let t3479 = c_wr * humerus_r_v_wy;
+            let t3480 = s_wr * t3300;
+            let t3481 = t3479 + t3480;
+            let t3482 = s_wr * humerus_r_v_wy;
+            let t3483 = c_wr * t3300;
+            let t3484 = t3483 - t3482;
+            let t3485 = c_wr * t3478;
+            let t3486 = s_wr * t3477;
+            let t3487 = t3485 - t3486;
+            let t3488 = s_wr * t3478;
+            let t3489 = c_wr * t3477;
+            let t3490 = t3488 + t3489;
+            let t3491 = 0.112f64 * t3212; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3492 = 0.112f64 * t3316; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3493 = t3318 - t3491;
+            let t3494 = t3305 + t3492;
+            let t3495 = c_wr * t3212;
+            let t3496 = s_wr * t3316;
+            let t3497 = t3495 + t3496;
+            let t3498 = s_wr * t3212;
+            let t3499 = c_wr * t3316;
+            let t3500 = t3499 - t3498;
+            let t3501 = c_wr * t3494;
+            let t3502 = s_wr * t3493;
+            let t3503 = t3501 + t3502;
+            let t3504 = s_wr * t3494;
+            let t3505 = c_wr * t3493;
+            let t3506 = t3505 - t3504;
+            let t3507 = t3484 * qd_wr;
+            let t3508 = t3481 * qd_wr;
+            let t3509 = t3490 * qd_wr;
+            let t3510 = t3487 * qd_wr;
+            let t3511 = t3497 + t3507;
+            let t3512 = t3500 - t3508;
+            let t3513 = t3503 - t3509;
+            let t3514 = t3506 - t3510;
+            let t3515 = wrist_r_ixx * t3511;
+            let t3516 = wrist_r_ixy * t3512;
             let t3517 = t3515 + t3516;
-            let t3518 = wrist_r_ixy * t3509;
-            let t3519 = wrist_r_iyy * t3510;
-            let t3520 = t3518 + t3519;
-            let t3521 = wrist_r_iyz * t3313;
+            let t3518 = wrist_r_ixz * t3315;
+            let t3519 = t3517 + t3518;
+            let t3520 = wrist_r_ixy * t3511;
+            let t3521 = wrist_r_iyy * t3512;
             let t3522 = t3520 + t3521;
-            let t3523 = wrist_r_ixz * t3509;
-            let t3524 = wrist_r_iyz * t3510;
-            let t3525 = t3523 + t3524;
-            let t3526 = wrist_r_izz * t3313;
+            let t3523 = wrist_r_iyz * t3315;
+            let t3524 = t3522 + t3523;
+            let t3525 = wrist_r_ixz * t3511;
+            let t3526 = wrist_r_iyz * t3512;
             let t3527 = t3525 + t3526;
-            let t3528 = wrist_r_hy * t3315;
-            let t3529 = wrist_r_hz * t3512;
-            let t3530 = t3528 + t3529;
-            let t3531 = wrist_r_hz * t3511;
-            let t3532 = wrist_r_hx * t3315;
-            let t3533 = t3531 + t3532;
-            let t3534 = wrist_r_hx * t3512;
-            let t3535 = wrist_r_hy * t3511;
-            let t3536 = t3534 - t3535;
-            let t3537 = t3511 * wrist_r_m;
-            let t3538 = t3512 * wrist_r_m;
-            let t3539 = t3315 * wrist_r_m;
-            let t3540 = wrist_r_hy * t3313;
-            let t3541 = wrist_r_hz * t3510;
-            let t3542 = t3540 - t3541;
-            let t3543 = wrist_r_hz * t3509;
-            let t3544 = wrist_r_hx * t3313;
-            let t3545 = t3543 - t3544;
-            let t3546 = wrist_r_hx * t3510;
-            let t3547 = wrist_r_hy * t3509;
-            let t3548 = t3546 - t3547;
-            let t3549 = t3517 - t3530;
-            let t3550 = t3522 + t3533;
-            let t3551 = t3527 + t3536;
-            let t3552 = t3537 - t3542;
-            let t3553 = t3538 - t3545;
-            let t3554 = t3539 + t3548;
-            let t3555 = wrist_r_ixx * t3479;
-            let t3556 = wrist_r_ixy * t3482;
-            let t3557 = t3555 + t3556;
-            let t3558 = wrist_r_ixz * t3297;
+            let t3528 = wrist_r_izz * t3315;
+            let t3529 = t3527 + t3528;
+            let t3530 = wrist_r_hy * t3317;
+            let t3531 = wrist_r_hz * t3514;
+            let t3532 = t3530 + t3531;
+            let t3533 = wrist_r_hz * t3513;
+            let t3534 = wrist_r_hx * t3317;
+            let t3535 = t3533 + t3534;
+            let t3536 = wrist_r_hx * t3514;
+            let t3537 = wrist_r_hy * t3513;
+            let t3538 = t3536 - t3537;
+            let t3539 = t3513 * wrist_r_m;
+            let t3540 = t3514 * wrist_r_m;
+            let t3541 = t3317 * wrist_r_m;
+            let t3542 = wrist_r_hy * t3315;
+            let t3543 = wrist_r_hz * t3512;
+            let t3544 = t3542 - t3543;
+            let t3545 = wrist_r_hz * t3511;
+            let t3546 = wrist_r_hx * t3315;
+            let t3547 = t3545 - t3546;
+            let t3548 = wrist_r_hx * t3512;
+            let t3549 = wrist_r_hy * t3511;
+            let t3550 = t3548 - t3549;
+            let t3551 = t3519 - t3532;
+            let t3552 = t3524 + t3535;
+            let t3553 = t3529 + t3538;
+            let t3554 = t3539 - t3544;
+            let t3555 = t3540 - t3547;
+            let t3556 = t3541 + t3550;
+            let t3557 = wrist_r_ixx * t3481;
+            let t3558 = wrist_r_ixy * t3484;
             let t3559 = t3557 + t3558;
-            let t3560 = wrist_r_ixy * t3479;
-            let t3561 = wrist_r_iyy * t3482;
-            let t3562 = t3560 + t3561;
-            let t3563 = wrist_r_iyz * t3297;
+            let t3560 = wrist_r_ixz * t3299;
+            let t3561 = t3559 + t3560;
+            let t3562 = wrist_r_ixy * t3481;
+            let t3563 = wrist_r_iyy * t3484;
             let t3564 = t3562 + t3563;
-            let t3565 = wrist_r_ixz * t3479;
-            let t3566 = wrist_r_iyz * t3482;
-            let t3567 = t3565 + t3566;
-            let t3568 = wrist_r_izz * t3297;
+            let t3565 = wrist_r_iyz * t3299;
+            let t3566 = t3564 + t3565;
+            let t3567 = wrist_r_ixz * t3481;
+            let t3568 = wrist_r_iyz * t3484;
             let t3569 = t3567 + t3568;
-            let t3570 = wrist_r_hy * t3299;
-            let t3571 = wrist_r_hz * t3488;
-            let t3572 = t3571 - t3570;
-            let t3573 = wrist_r_hz * t3485;
-            let t3574 = wrist_r_hx * t3299;
-            let t3575 = t3573 + t3574;
-            let t3576 = wrist_r_hx * t3488;
-            let t3577 = wrist_r_hy * t3485;
-            let t3578 = t3576 + t3577;
-            let t3579 = t3485 * wrist_r_m;
-            let t3580 = t3488 * wrist_r_m;
-            let t3581 = t3299 * wrist_r_m;
-            let t3582 = wrist_r_hy * t3297;
-            let t3583 = wrist_r_hz * t3482;
-            let t3584 = t3582 - t3583;
-            let t3585 = wrist_r_hz * t3479;
-            let t3586 = wrist_r_hx * t3297;
-            let t3587 = t3585 - t3586;
-            let t3588 = wrist_r_hx * t3482;
-            let t3589 = wrist_r_hy * t3479;
-            let t3590 = t3588 - t3589;
-            let t3591 = t3559 + t3572;
-            let t3592 = t3564 + t3575;
-            let t3593 = t3569 - t3578;
-            let t3594 = t3579 - t3584;
-            let t3595 = t3580 + t3587;
-            let t3596 = t3581 + t3590;
-            let t3597 = wrist_r_v_wy * t3593;
-            let t3598 = t3482 * t429;
-            let t3599 = t3597 + t3598;
-            let t3600 = wrist_r_v_wz * t3592;
-            let t3601 = t3297 * t428;
-            let t3602 = t3600 + t3601;
-            let t3603 = t3599 - t3602;
-            let t3604 = wrist_r_v_wz * t3591;
-            let t3605 = t3297 * t427;
-            let t3606 = t3604 + t3605;
-            let t3607 = wrist_r_v_wx * t3593;
-            let t3608 = t3479 * t429;
-            let t3609 = t3607 + t3608;
-            let t3610 = t3606 - t3609;
-            let t3611 = wrist_r_v_wx * t3592;
-            let t3612 = t3479 * t428;
-            let t3613 = t3611 + t3612;
-            let t3614 = wrist_r_v_wy * t3591;
-            let t3615 = t3482 * t427;
-            let t3616 = t3614 + t3615;
-            let t3617 = t3613 - t3616;
-            let t3618 = wrist_r_v_vy * t3596;
-            let t3619 = t3488 * t432;
-            let t3620 = t3618 + t3619;
-            let t3621 = elbow_fe_v_vx * t3595;
-            let t3622 = t3299 * t431;
-            let t3623 = t3621 + t3622;
-            let t3624 = t3623 - t3620;
-            let t3625 = elbow_fe_v_vx * t3594;
-            let t3626 = t3299 * t430;
-            let t3627 = t3625 - t3626;
-            let t3628 = wrist_r_v_vx * t3596;
-            let t3629 = t3485 * t432;
-            let t3630 = t3629 - t3628;
-            let t3631 = t3627 - t3630;
-            let t3632 = wrist_r_v_vx * t3595;
-            let t3633 = t3485 * t431;
-            let t3634 = t3633 - t3632;
-            let t3635 = wrist_r_v_vy * t3594;
-            let t3636 = t3488 * t430;
-            let t3637 = t3635 - t3636;
-            let t3638 = t3634 - t3637;
-            let t3639 = t3603 + t3624;
-            let t3640 = t3610 + t3631;
-            let t3641 = t3617 + t3638;
-            let t3642 = wrist_r_v_wy * t3596;
-            let t3643 = t3482 * t432;
-            let t3644 = t3643 - t3642;
-            let t3645 = wrist_r_v_wz * t3595;
-            let t3646 = t3297 * t431;
-            let t3647 = t3646 - t3645;
-            let t3648 = t3644 - t3647;
-            let t3649 = wrist_r_v_wz * t3594;
-            let t3650 = t3297 * t430;
-            let t3651 = t3649 + t3650;
-            let t3652 = wrist_r_v_wx * t3596;
-            let t3653 = t3479 * t432;
-            let t3654 = t3653 - t3652;
-            let t3655 = t3651 - t3654;
-            let t3656 = wrist_r_v_wx * t3595;
-            let t3657 = t3479 * t431;
-            let t3658 = t3657 - t3656;
-            let t3659 = wrist_r_v_wy * t3594;
-            let t3660 = t3482 * t430;
-            let t3661 = t3659 + t3660;
-            let t3662 = t3658 - t3661;
-            let t3663 = t3549 + t3639;
-            let t3664 = t3550 + t3640;
+            let t3570 = wrist_r_izz * t3299;
+            let t3571 = t3569 + t3570;
+            let t3572 = wrist_r_hy * t3301;
+            let t3573 = wrist_r_hz * t3490;
+            let t3574 = t3573 - t3572;
+            let t3575 = wrist_r_hz * t3487;
+            let t3576 = wrist_r_hx * t3301;
+            let t3577 = t3575 + t3576;
+            let t3578 = wrist_r_hx * t3490;
+            let t3579 = wrist_r_hy * t3487;
+            let t3580 = t3578 + t3579;
+            let t3581 = t3487 * wrist_r_m;
+            let t3582 = t3490 * wrist_r_m;
+            let t3583 = t3301 * wrist_r_m;
+            let t3584 = wrist_r_hy * t3299;
+            let t3585 = wrist_r_hz * t3484;
+            let t3586 = t3584 - t3585;
+            let t3587 = wrist_r_hz * t3481;
+            let t3588 = wrist_r_hx * t3299;
+            let t3589 = t3587 - t3588;
+            let t3590 = wrist_r_hx * t3484;
+            let t3591 = wrist_r_hy * t3481;
+            let t3592 = t3590 - t3591;
+            let t3593 = t3561 + t3574;
+            let t3594 = t3566 + t3577;
+            let t3595 = t3571 - t3580;
+            let t3596 = t3581 - t3586;
+            let t3597 = t3582 + t3589;
+            let t3598 = t3583 + t3592;
+            let t3599 = wrist_r_v_wy * t3595;
+            let t3600 = t3484 * t431;
+            let t3601 = t3599 + t3600;
+            let t3602 = wrist_r_v_wz * t3594;
+            let t3603 = t3299 * t430;
+            let t3604 = t3602 + t3603;
+            let t3605 = t3601 - t3604;
+            let t3606 = wrist_r_v_wz * t3593;
+            let t3607 = t3299 * t429;
+            let t3608 = t3606 + t3607;
+            let t3609 = wrist_r_v_wx * t3595;
+            let t3610 = t3481 * t431;
+            let t3611 = t3609 + t3610;
+            let t3612 = t3608 - t3611;
+            let t3613 = wrist_r_v_wx * t3594;
+            let t3614 = t3481 * t430;
+            let t3615 = t3613 + t3614;
+            let t3616 = wrist_r_v_wy * t3593;
+            let t3617 = t3484 * t429;
+            let t3618 = t3616 + t3617;
+            let t3619 = t3615 - t3618;
+            let t3620 = wrist_r_v_vy * t3598;
+            let t3621 = t3490 * t434;
+            let t3622 = t3620 + t3621;
+            let t3623 = elbow_fe_v_vx * t3597;
+            let t3624 = t3301 * t433;
+            let t3625 = t3623 + t3624;
+            let t3626 = t3625 - t3622;
+            let t3627 = elbow_fe_v_vx * t3596;
+            let t3628 = t3301 * t432;
+            let t3629 = t3627 - t3628;
+            let t3630 = wrist_r_v_vx * t3598;
+            let t3631 = t3487 * t434;
+            let t3632 = t3631 - t3630;
+            let t3633 = t3629 - t3632;
+            let t3634 = wrist_r_v_vx * t3597;
+            let t3635 = t3487 * t433;
+            let t3636 = t3635 - t3634;
+            let t3637 = wrist_r_v_vy * t3596;
+            let t3638 = t3490 * t432;
+            let t3639 = t3637 - t3638;
+            let t3640 = t3636 - t3639;
+            let t3641 = t3605 + t3626;
+            let t3642 = t3612 + t3633;
+            let t3643 = t3619 + t3640;
+            let t3644 = wrist_r_v_wy * t3598;
+            let t3645 = t3484 * t434;
+            let t3646 = t3645 - t3644;
+            let t3647 = wrist_r_v_wz * t3597;
+            let t3648 = t3299 * t433;
+            let t3649 = t3648 - t3647;
+            let t3650 = t3646 - t3649;
+            let t3651 = wrist_r_v_wz * t3596;
+            let t3652 = t3299 * t432;
+            let t3653 = t3651 + t3652;
+            let t3654 = wrist_r_v_wx * t3598;
+            let t3655 = t3481 * t434;
+            let t3656 = t3655 - t3654;
+            let t3657 = t3653 - t3656;
+            let t3658 = wrist_r_v_wx * t3597;
+            let t3659 = t3481 * t433;
+            let t3660 = t3659 - t3658;
+            let t3661 = wrist_r_v_wy * t3596;
+            let t3662 = t3484 * t432;
+            let t3663 = t3661 + t3662;
+            let t3664 = t3660 - t3663;
             let t3665 = t3551 + t3641;
-            let t3666 = t3552 + t3648;
-            let t3667 = t3553 + t3655;
-            let t3668 = t3662 - t3554;
+            let t3666 = t3552 + t3642;
+            let t3667 = t3553 + t3643;
+            let t3668 = t3554 + t3650;
+            let t3669 = t3555 + t3657;
+            let t3670 = t3664 - t3556;
             (
-                t3477,
                 t3479,
-                t3480,
+                t3481,
                 t3482,
                 t3484,
-                t3485,
+                t3486,
                 t3487,
-                t3488,
-                t3509,
-                t3510,
+                t3489,
+                t3490,
                 t3511,
                 t3512,
-                t3570,
-                t3574,
-                t3581,
-                t3663,
-                t3664,
+                t3513,
+                t3514,
+                t3572,
+                t3576,
+                t3583,
                 t3665,
                 t3666,
                 t3667,
                 t3668,
+                t3669,
+                t3670,
             )
         };
-        let (t3867, t3868, t3869, t3870, t3871, t3872) = {
+        let (t3869, t3870, t3871, t3872, t3873, t3874) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t3669 = 0.184f64 * t3482; // 1.8400e-1 = joint WFE origin z
-            let t3670 = 0.184f64 * t3479; // 1.8400e-1 = joint WFE origin z
-            let t3671 = 0.02075f64 * t3297; // 2.0750e-2 = joint WFE origin x
-            let t3672 = t3670 - t3671;
-            let t3673 = 0.02075f64 * t3482; // 2.0750e-2 = joint WFE origin x
-            let t3674 = t3485 + t3669;
-            let t3675 = t3488 + t3672;
-            let t3676 = t3299 + t3673;
-            let t3677 = c_wfe * t3297;
-            let t3678 = s_wfe * t3479;
-            let t3679 = t3677 + t3678;
-            let t3680 = s_wfe * t3297;
-            let t3681 = c_wfe * t3479;
-            let t3682 = t3681 - t3680;
-            let t3683 = c_wfe * t3676;
-            let t3684 = s_wfe * t3674;
-            let t3685 = t3684 - t3683;
+            let t3671 = 0.184f64 * t3484; // 1.8400e-1 = joint WFE origin z
+            let t3672 = 0.184f64 * t3481; // 1.8400e-1 = joint WFE origin z
+            let t3673 = 0.02075f64 * t3299; // 2.0750e-2 = joint WFE origin x
+            let t3674 = t3672 - t3673;
+            let t3675 = 0.02075f64 * t3484; // 2.0750e-2 = joint WFE origin x
+            let t3676 = t3487 + t3671;
+            let t3677 = t3490 + t3674;
+            let t3678 = t3301 + t3675;
+            let t3679 = c_wfe * t3299;
+            let t3680 = s_wfe * t3481;
+            let t3681 = t3679 + t3680;
+            let t3682 = s_wfe * t3299;
+            let t3683 = c_wfe * t3481;
+            let t3684 = t3683 - t3682;
+            let t3685 = c_wfe * t3678;
             let t3686 = s_wfe * t3676;
-            let t3687 = c_wfe * t3674;
-            let t3688 = t3686 + t3687;
-            let t3689 = 0.184f64 * t3510; // 1.8400e-1 = joint WFE origin z
-            let t3690 = 0.184f64 * t3509; // 1.8400e-1 = joint WFE origin z
-            let t3691 = 0.02075f64 * t3313; // 2.0750e-2 = joint WFE origin x
-            let t3692 = t3690 - t3691;
-            let t3693 = 0.02075f64 * t3510; // 2.0750e-2 = joint WFE origin x
-            let t3694 = t3511 + t3689;
-            let t3695 = t3512 - t3692;
-            let t3696 = t3315 + t3693;
-            let t3697 = c_wfe * t3313;
-            let t3698 = s_wfe * t3509;
-            let t3699 = t3697 + t3698;
-            let t3700 = s_wfe * t3313;
-            let t3701 = c_wfe * t3509;
-            let t3702 = t3701 - t3700;
-            let t3703 = c_wfe * t3696;
-            let t3704 = s_wfe * t3694;
-            let t3705 = t3704 - t3703;
+            let t3687 = t3686 - t3685;
+            let t3688 = s_wfe * t3678;
+            let t3689 = c_wfe * t3676;
+            let t3690 = t3688 + t3689;
+            let t3691 = 0.184f64 * t3512; // 1.8400e-1 = joint WFE origin z
+            let t3692 = 0.184f64 * t3511; // 1.8400e-1 = joint WFE origin z
+            let t3693 = 0.02075f64 * t3315; // 2.0750e-2 = joint WFE origin x
+            let t3694 = t3692 - t3693;
+            let t3695 = 0.02075f64 * t3512; // 2.0750e-2 = joint WFE origin x
+            let t3696 = t3513 + t3691;
+            let t3697 = t3514 - t3694;
+            let t3698 = t3317 + t3695;
+            let t3699 = c_wfe * t3315;
+            let t3700 = s_wfe * t3511;
+            let t3701 = t3699 + t3700;
+            let t3702 = s_wfe * t3315;
+            let t3703 = c_wfe * t3511;
+            let t3704 = t3703 - t3702;
+            let t3705 = c_wfe * t3698;
             let t3706 = s_wfe * t3696;
-            let t3707 = c_wfe * t3694;
-            let t3708 = t3706 + t3707;
-            let t3709 = t3682 * qd_wfe;
-            let t3710 = t3679 * qd_wfe;
-            let t3711 = t3688 * qd_wfe;
-            let t3712 = t3685 * qd_wfe;
-            let t3713 = t3699 + t3709;
-            let t3714 = t3702 - t3710;
-            let t3715 = t3705 + t3711;
-            let t3716 = t3708 - t3712;
-            let t3717 = wrist_fe_ixx * t3713;
-            let t3718 = wrist_fe_ixy * t3714;
-            let t3719 = t3717 + t3718;
-            let t3720 = wrist_fe_ixz * t3510;
+            let t3707 = t3706 - t3705;
+            let t3708 = s_wfe * t3698;
+            let t3709 = c_wfe * t3696;
+            let t3710 = t3708 + t3709;
+            let t3711 = t3684 * qd_wfe;
+            let t3712 = t3681 * qd_wfe;
+            let t3713 = t3690 * qd_wfe;
+            let t3714 = t3687 * qd_wfe;
+            let t3715 = t3701 + t3711;
+            let t3716 = t3704 - t3712;
+            let t3717 = t3707 + t3713;
+            let t3718 = t3710 - t3714;
+            let t3719 = wrist_fe_ixx * t3715;
+            let t3720 = wrist_fe_ixy * t3716;
             let t3721 = t3719 + t3720;
-            let t3722 = wrist_fe_ixy * t3713;
-            let t3723 = wrist_fe_iyy * t3714;
-            let t3724 = t3722 + t3723;
-            let t3725 = wrist_fe_iyz * t3510;
+            let t3722 = wrist_fe_ixz * t3512;
+            let t3723 = t3721 + t3722;
+            let t3724 = wrist_fe_ixy * t3715;
+            let t3725 = wrist_fe_iyy * t3716;
             let t3726 = t3724 + t3725;
-            let t3727 = wrist_fe_ixz * t3713;
-            let t3728 = wrist_fe_iyz * t3714;
-            let t3729 = t3727 + t3728;
-            let t3730 = wrist_fe_izz * t3510;
+            let t3727 = wrist_fe_iyz * t3512;
+            let t3728 = t3726 + t3727;
+            let t3729 = wrist_fe_ixz * t3715;
+            let t3730 = wrist_fe_iyz * t3716;
             let t3731 = t3729 + t3730;
-            let t3732 = wrist_fe_hy * t3695;
-            let t3733 = wrist_fe_hz * t3716;
-            let t3734 = t3732 - t3733;
-            let t3735 = wrist_fe_hz * t3715;
-            let t3736 = wrist_fe_hx * t3695;
-            let t3737 = t3735 - t3736;
-            let t3738 = wrist_fe_hx * t3716;
-            let t3739 = wrist_fe_hy * t3715;
-            let t3740 = t3738 - t3739;
-            let t3741 = t3715 * wrist_fe_m;
-            let t3742 = t3716 * wrist_fe_m;
-            let t3743 = t3695 * wrist_fe_m;
-            let t3744 = wrist_fe_hy * t3510;
-            let t3745 = wrist_fe_hz * t3714;
-            let t3746 = t3744 - t3745;
-            let t3747 = wrist_fe_hz * t3713;
-            let t3748 = wrist_fe_hx * t3510;
-            let t3749 = t3747 - t3748;
-            let t3750 = wrist_fe_hx * t3714;
-            let t3751 = wrist_fe_hy * t3713;
-            let t3752 = t3750 - t3751;
-            let t3753 = t3721 + t3734;
-            let t3754 = t3726 + t3737;
-            let t3755 = t3731 + t3740;
-            let t3756 = t3741 - t3746;
-            let t3757 = t3742 - t3749;
-            let t3758 = t3743 - t3752;
-            let t3759 = wrist_fe_ixx * t3679;
-            let t3760 = wrist_fe_ixy * t3682;
-            let t3761 = t3759 + t3760;
-            let t3762 = wrist_fe_ixz * t3482;
+            let t3732 = wrist_fe_izz * t3512;
+            let t3733 = t3731 + t3732;
+            let t3734 = wrist_fe_hy * t3697;
+            let t3735 = wrist_fe_hz * t3718;
+            let t3736 = t3734 - t3735;
+            let t3737 = wrist_fe_hz * t3717;
+            let t3738 = wrist_fe_hx * t3697;
+            let t3739 = t3737 - t3738;
+            let t3740 = wrist_fe_hx * t3718;
+            let t3741 = wrist_fe_hy * t3717;
+            let t3742 = t3740 - t3741;
+            let t3743 = t3717 * wrist_fe_m;
+            let t3744 = t3718 * wrist_fe_m;
+            let t3745 = t3697 * wrist_fe_m;
+            let t3746 = wrist_fe_hy * t3512;
+            let t3747 = wrist_fe_hz * t3716;
+            let t3748 = t3746 - t3747;
+            let t3749 = wrist_fe_hz * t3715;
+            let t3750 = wrist_fe_hx * t3512;
+            let t3751 = t3749 - t3750;
+            let t3752 = wrist_fe_hx * t3716;
+            let t3753 = wrist_fe_hy * t3715;
+            let t3754 = t3752 - t3753;
+            let t3755 = t3723 + t3736;
+            let t3756 = t3728 + t3739;
+            let t3757 = t3733 + t3742;
+            let t3758 = t3743 - t3748;
+            let t3759 = t3744 - t3751;
+            let t3760 = t3745 - t3754;
+            let t3761 = wrist_fe_ixx * t3681;
+            let t3762 = wrist_fe_ixy * t3684;
             let t3763 = t3761 + t3762;
-            let t3764 = wrist_fe_ixy * t3679;
-            let t3765 = wrist_fe_iyy * t3682;
-            let t3766 = t3764 + t3765;
-            let t3767 = wrist_fe_iyz * t3482;
+            let t3764 = wrist_fe_ixz * t3484;
+            let t3765 = t3763 + t3764;
+            let t3766 = wrist_fe_ixy * t3681;
+            let t3767 = wrist_fe_iyy * t3684;
             let t3768 = t3766 + t3767;
-            let t3769 = wrist_fe_ixz * t3679;
-            let t3770 = wrist_fe_iyz * t3682;
-            let t3771 = t3769 + t3770;
-            let t3772 = wrist_fe_izz * t3482;
+            let t3769 = wrist_fe_iyz * t3484;
+            let t3770 = t3768 + t3769;
+            let t3771 = wrist_fe_ixz * t3681;
+            let t3772 = wrist_fe_iyz * t3684;
             let t3773 = t3771 + t3772;
-            let t3774 = wrist_fe_hy * t3675;
-            let t3775 = wrist_fe_hz * t3688;
-            let t3776 = t3774 + t3775;
-            let t3777 = wrist_fe_hz * t3685;
-            let t3778 = wrist_fe_hx * t3675;
-            let t3779 = t3777 + t3778;
-            let t3780 = wrist_fe_hx * t3688;
-            let t3781 = wrist_fe_hy * t3685;
-            let t3782 = t3780 - t3781;
-            let t3783 = t3685 * wrist_fe_m;
-            let t3784 = t3688 * wrist_fe_m;
-            let t3785 = t3675 * wrist_fe_m;
-            let t3786 = wrist_fe_hy * t3482;
-            let t3787 = wrist_fe_hz * t3682;
-            let t3788 = t3786 - t3787;
-            let t3789 = wrist_fe_hz * t3679;
-            let t3790 = wrist_fe_hx * t3482;
-            let t3791 = t3789 - t3790;
-            let t3792 = wrist_fe_hx * t3682;
-            let t3793 = wrist_fe_hy * t3679;
-            let t3794 = t3792 - t3793;
-            let t3795 = t3763 - t3776;
-            let t3796 = t3768 + t3779;
-            let t3797 = t3773 + t3782;
-            let t3798 = t3783 - t3788;
-            let t3799 = t3784 - t3791;
-            let t3800 = t3785 + t3794;
-            let t3801 = wrist_fe_v_wy * t3797;
-            let t3802 = t3682 * t587;
-            let t3803 = t3801 + t3802;
-            let t3804 = wrist_fe_v_wz * t3796;
-            let t3805 = t3482 * t586;
-            let t3806 = t3804 + t3805;
-            let t3807 = t3803 - t3806;
-            let t3808 = wrist_fe_v_wz * t3795;
-            let t3809 = t3482 * t585;
-            let t3810 = t3808 + t3809;
-            let t3811 = wrist_fe_v_wx * t3797;
-            let t3812 = t3679 * t587;
-            let t3813 = t3811 + t3812;
-            let t3814 = t3810 - t3813;
-            let t3815 = wrist_fe_v_wx * t3796;
-            let t3816 = t3679 * t586;
-            let t3817 = t3815 + t3816;
-            let t3818 = wrist_fe_v_wy * t3795;
-            let t3819 = t3682 * t585;
-            let t3820 = t3818 + t3819;
-            let t3821 = t3817 - t3820;
-            let t3822 = wrist_fe_v_vy * t3800;
-            let t3823 = t3688 * t590;
-            let t3824 = t3823 - t3822;
-            let t3825 = wrist_fe_v_vz * t3799;
-            let t3826 = t3675 * t589;
-            let t3827 = t3825 - t3826;
-            let t3828 = t3824 - t3827;
-            let t3829 = wrist_fe_v_vz * t3798;
-            let t3830 = t3675 * t588;
-            let t3831 = t3829 - t3830;
-            let t3832 = wrist_fe_v_vx * t3800;
-            let t3833 = t3685 * t590;
-            let t3834 = t3833 - t3832;
-            let t3835 = t3831 - t3834;
-            let t3836 = wrist_fe_v_vx * t3799;
-            let t3837 = t3685 * t589;
-            let t3838 = t3836 + t3837;
-            let t3839 = wrist_fe_v_vy * t3798;
-            let t3840 = t3688 * t588;
-            let t3841 = t3839 + t3840;
-            let t3842 = t3838 - t3841;
-            let t3843 = t3807 + t3828;
-            let t3844 = t3814 + t3835;
-            let t3845 = t3821 + t3842;
-            let t3846 = wrist_fe_v_wy * t3800;
-            let t3847 = t3682 * t590;
-            let t3848 = t3847 - t3846;
-            let t3849 = wrist_fe_v_wz * t3799;
-            let t3850 = t3482 * t589;
-            let t3851 = t3849 + t3850;
-            let t3852 = t3848 - t3851;
-            let t3853 = wrist_fe_v_wz * t3798;
-            let t3854 = t3482 * t588;
-            let t3855 = t3853 + t3854;
-            let t3856 = wrist_fe_v_wx * t3800;
-            let t3857 = t3679 * t590;
-            let t3858 = t3857 - t3856;
-            let t3859 = t3855 - t3858;
-            let t3860 = wrist_fe_v_wx * t3799;
-            let t3861 = t3679 * t589;
-            let t3862 = t3860 + t3861;
-            let t3863 = wrist_fe_v_wy * t3798;
-            let t3864 = t3682 * t588;
-            let t3865 = t3863 + t3864;
-            let t3866 = t3862 - t3865;
-            let t3867 = t3753 + t3843;
-            let t3868 = t3754 + t3844;
+            let t3774 = wrist_fe_izz * t3484;
+            let t3775 = t3773 + t3774;
+            let t3776 = wrist_fe_hy * t3677;
+            let t3777 = wrist_fe_hz * t3690;
+            let t3778 = t3776 + t3777;
+            let t3779 = wrist_fe_hz * t3687;
+            let t3780 = wrist_fe_hx * t3677;
+            let t3781 = t3779 + t3780;
+            let t3782 = wrist_fe_hx * t3690;
+            let t3783 = wrist_fe_hy * t3687;
+            let t3784 = t3782 - t3783;
+            let t3785 = t3687 * wrist_fe_m;
+            let t3786 = t3690 * wrist_fe_m;
+            let t3787 = t3677 * wrist_fe_m;
+            let t3788 = wrist_fe_hy * t3484;
+            let t3789 = wrist_fe_hz * t3684;
+            let t3790 = t3788 - t3789;
+            let t3791 = wrist_fe_hz * t3681;
+            let t3792 = wrist_fe_hx * t3484;
+            let t3793 = t3791 - t3792;
+            let t3794 = wrist_fe_hx * t3684;
+            let t3795 = wrist_fe_hy * t3681;
+            let t3796 = t3794 - t3795;
+            let t3797 = t3765 - t3778;
+            let t3798 = t3770 + t3781;
+            let t3799 = t3775 + t3784;
+            let t3800 = t3785 - t3790;
+            let t3801 = t3786 - t3793;
+            let t3802 = t3787 + t3796;
+            let t3803 = wrist_fe_v_wy * t3799;
+            let t3804 = t3684 * t589;
+            let t3805 = t3803 + t3804;
+            let t3806 = wrist_fe_v_wz * t3798;
+            let t3807 = t3484 * t588;
+            let t3808 = t3806 + t3807;
+            let t3809 = t3805 - t3808;
+            let t3810 = wrist_fe_v_wz * t3797;
+            let t3811 = t3484 * t587;
+            let t3812 = t3810 + t3811;
+            let t3813 = wrist_fe_v_wx * t3799;
+            let t3814 = t3681 * t589;
+            let t3815 = t3813 + t3814;
+            let t3816 = t3812 - t3815;
+            let t3817 = wrist_fe_v_wx * t3798;
+            let t3818 = t3681 * t588;
+            let t3819 = t3817 + t3818;
+            let t3820 = wrist_fe_v_wy * t3797;
+            let t3821 = t3684 * t587;
+            let t3822 = t3820 + t3821;
+            let t3823 = t3819 - t3822;
+            let t3824 = wrist_fe_v_vy * t3802;
+            let t3825 = t3690 * t592;
+            let t3826 = t3825 - t3824;
+            let t3827 = wrist_fe_v_vz * t3801;
+            let t3828 = t3677 * t591;
+            let t3829 = t3827 - t3828;
+            let t3830 = t3826 - t3829;
+            let t3831 = wrist_fe_v_vz * t3800;
+            let t3832 = t3677 * t590;
+            let t3833 = t3831 - t3832;
+            let t3834 = wrist_fe_v_vx * t3802;
+            let t3835 = t3687 * t592;
+            let t3836 = t3835 - t3834;
+            let t3837 = t3833 - t3836;
+            let t3838 = wrist_fe_v_vx * t3801;
+            let t3839 = t3687 * t591;
+            let t3840 = t3838 + t3839;
+            let t3841 = wrist_fe_v_vy * t3800;
+            let t3842 = t3690 * t590;
+            let t3843 = t3841 + t3842;
+            let t3844 = t3840 - t3843;
+            let t3845 = t3809 + t3830;
+            let t3846 = t3816 + t3837;
+            let t3847 = t3823 + t3844;
+            let t3848 = wrist_fe_v_wy * t3802;
+            let t3849 = t3684 * t592;
+            let t3850 = t3849 - t3848;
+            let t3851 = wrist_fe_v_wz * t3801;
+            let t3852 = t3484 * t591;
+            let t3853 = t3851 + t3852;
+            let t3854 = t3850 - t3853;
+            let t3855 = wrist_fe_v_wz * t3800;
+            let t3856 = t3484 * t590;
+            let t3857 = t3855 + t3856;
+            let t3858 = wrist_fe_v_wx * t3802;
+            let t3859 = t3681 * t592;
+            let t3860 = t3859 - t3858;
+            let t3861 = t3857 - t3860;
+            let t3862 = wrist_fe_v_wx * t3801;
+            let t3863 = t3681 * t591;
+            let t3864 = t3862 + t3863;
+            let t3865 = wrist_fe_v_wy * t3800;
+            let t3866 = t3684 * t590;
+            let t3867 = t3865 + t3866;
+            let t3868 = t3864 - t3867;
             let t3869 = t3755 + t3845;
-            let t3870 = t3756 + t3852;
-            let t3871 = t3757 + t3859;
-            let t3872 = t3758 + t3866;
-            (t3867, t3868, t3869, t3870, t3871, t3872)
+            let t3870 = t3756 + t3846;
+            let t3871 = t3757 + t3847;
+            let t3872 = t3758 + t3854;
+            let t3873 = t3759 + t3861;
+            let t3874 = t3760 + t3868;
+            (t3869, t3870, t3871, t3872, t3873, t3874)
         };
-        let (t3893, t3894, t3895, t3896, t3897, t3898) = {
+        let (t3895, t3896, t3897, t3898, t3899, t3900) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t3873 = c_wfe * t3870;
-            let t3874 = s_wfe * t3871;
-            let t3875 = t3873 - t3874;
-            let t3876 = s_wfe * t3870;
-            let t3877 = c_wfe * t3871;
-            let t3878 = t3876 + t3877;
-            let t3879 = c_wfe * t3867;
-            let t3880 = s_wfe * t3868;
-            let t3881 = t3879 - t3880;
-            let t3882 = s_wfe * t3867;
-            let t3883 = c_wfe * t3868;
-            let t3884 = t3882 + t3883;
-            let t3885 = 0.184f64 * t3872; // 1.8400e-1 = joint WFE origin z
-            let t3886 = 0.184f64 * t3878; // 1.8400e-1 = joint WFE origin z
-            let t3887 = 0.02075f64 * t3875; // 2.0750e-2 = joint WFE origin x
-            let t3888 = t3886 - t3887;
-            let t3889 = 0.02075f64 * t3872; // 2.0750e-2 = joint WFE origin x
-            let t3890 = t3884 - t3885;
-            let t3891 = t3869 + t3888;
-            let t3892 = t3881 + t3889;
-            let t3893 = t3663 + t3890;
-            let t3894 = t3664 + t3891;
+            let t3875 = c_wfe * t3872;
+            let t3876 = s_wfe * t3873;
+            let t3877 = t3875 - t3876;
+            let t3878 = s_wfe * t3872;
+            let t3879 = c_wfe * t3873;
+            let t3880 = t3878 + t3879;
+            let t3881 = c_wfe * t3869;
+            let t3882 = s_wfe * t3870;
+            let t3883 = t3881 - t3882;
+            let t3884 = s_wfe * t3869;
+            let t3885 = c_wfe * t3870;
+            let t3886 = t3884 + t3885;
+            let t3887 = 0.184f64 * t3874; // 1.8400e-1 = joint WFE origin z
+            let t3888 = 0.184f64 * t3880; // 1.8400e-1 = joint WFE origin z
+            let t3889 = 0.02075f64 * t3877; // 2.0750e-2 = joint WFE origin x
+            let t3890 = t3888 - t3889;
+            let t3891 = 0.02075f64 * t3874; // 2.0750e-2 = joint WFE origin x
+            let t3892 = t3886 - t3887;
+            let t3893 = t3871 + t3890;
+            let t3894 = t3883 + t3891;
             let t3895 = t3665 + t3892;
-            let t3896 = t3666 + t3878;
-            let t3897 = t3667 + t3872;
-            let t3898 = t3668 + t3875;
-            (t3893, t3894, t3895, t3896, t3897, t3898)
+            let t3896 = t3666 + t3893;
+            let t3897 = t3667 + t3894;
+            let t3898 = t3668 + t3880;
+            let t3899 = t3669 + t3874;
+            let t3900 = t3670 + t3877;
+            (t3895, t3896, t3897, t3898, t3899, t3900)
         };
-        let (t3915, t3916, t3917, t3918, t3919, t3920) = {
+        let (t3917, t3918, t3919, t3920, t3921, t3922) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t3899 = c_wr * t3896;
-            let t3900 = s_wr * t3897;
-            let t3901 = t3899 - t3900;
-            let t3902 = s_wr * t3896;
-            let t3903 = c_wr * t3897;
-            let t3904 = t3902 + t3903;
-            let t3905 = c_wr * t3893;
-            let t3906 = s_wr * t3894;
-            let t3907 = t3905 - t3906;
-            let t3908 = s_wr * t3893;
-            let t3909 = c_wr * t3894;
-            let t3910 = t3908 + t3909;
-            let t3911 = 0.112f64 * t3901; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3912 = 0.112f64 * t3904; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3913 = t3910 + t3911;
-            let t3914 = t3912 - t3907;
-            let t3915 = t3467 + t3895;
-            let t3916 = t3468 + t3913;
-            let t3917 = t3469 + t3914;
-            let t3918 = t3470 + t3898;
-            let t3919 = t3471 + t3904;
-            let t3920 = t3472 - t3901;
-            (t3915, t3916, t3917, t3918, t3919, t3920)
+            let t3901 = c_wr * t3898;
+            let t3902 = s_wr * t3899;
+            let t3903 = t3901 - t3902;
+            let t3904 = s_wr * t3898;
+            let t3905 = c_wr * t3899;
+            let t3906 = t3904 + t3905;
+            let t3907 = c_wr * t3895;
+            let t3908 = s_wr * t3896;
+            let t3909 = t3907 - t3908;
+            let t3910 = s_wr * t3895;
+            let t3911 = c_wr * t3896;
+            let t3912 = t3910 + t3911;
+            let t3913 = 0.112f64 * t3903; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3914 = 0.112f64 * t3906; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3915 = t3912 + t3913;
+            let t3916 = t3914 - t3909;
+            let t3917 = t3469 + t3897;
+            let t3918 = t3470 + t3915;
+            let t3919 = t3471 + t3916;
+            let t3920 = t3472 + t3900;
+            let t3921 = t3473 + t3906;
+            let t3922 = t3474 - t3903;
+            (t3917, t3918, t3919, t3920, t3921, t3922)
         };
-        let (t3934, t3935, t3936, t3937, t3938) = {
+        let (t3936, t3937, t3938, t3939, t3940) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t3921 = s_efe * t3918;
-            let t3922 = c_efe * t3919;
-            let t3923 = t3921 + t3922;
-            let t3924 = c_efe * t3915;
-            let t3925 = s_efe * t3916;
-            let t3926 = t3924 - t3925;
-            let t3927 = s_efe * t3915;
-            let t3928 = c_efe * t3916;
-            let t3929 = t3927 + t3928;
-            let t3930 = 0.304f64 * t3923; // 3.0400e-1 = joint EFE origin z
-            let t3931 = 0.304f64 * t3920; // 3.0400e-1 = joint EFE origin z
-            let t3932 = t3917 + t3930;
-            let t3933 = t3929 - t3931;
-            let t3934 = t3290 - t3932;
-            let t3935 = t3291 + t3933;
-            let t3936 = t3292 + t3926;
-            let t3937 = t3293 - t3920;
-            let t3938 = t3294 + t3923;
-            (t3934, t3935, t3936, t3937, t3938)
+            let t3923 = s_efe * t3920;
+            let t3924 = c_efe * t3921;
+            let t3925 = t3923 + t3924;
+            let t3926 = c_efe * t3917;
+            let t3927 = s_efe * t3918;
+            let t3928 = t3926 - t3927;
+            let t3929 = s_efe * t3917;
+            let t3930 = c_efe * t3918;
+            let t3931 = t3929 + t3930;
+            let t3932 = 0.304f64 * t3925; // 3.0400e-1 = joint EFE origin z
+            let t3933 = 0.304f64 * t3922; // 3.0400e-1 = joint EFE origin z
+            let t3934 = t3919 + t3932;
+            let t3935 = t3931 - t3933;
+            let t3936 = t3292 - t3934;
+            let t3937 = t3293 + t3935;
+            let t3938 = t3294 + t3928;
+            let t3939 = t3295 - t3922;
+            let t3940 = t3296 + t3925;
+            (t3936, t3937, t3938, t3939, t3940)
         };
-        let (t3961, t3962) = {
+        let (t3963, t3964) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t3939 = c_hr * t3937;
-            let t3940 = t3939 - t675;
-            let t3941 = s_hr * t3938;
-            let t3942 = t3941 + t676;
-            let t3943 = t3940 - t3942;
-            let t3944 = s_hr * t3937;
-            let t3945 = t3944 + t672;
-            let t3946 = c_hr * t3938;
-            let t3947 = t3946 - t673;
-            let t3948 = t3945 + t3947;
-            let t3949 = c_hr * t3934;
-            let t3950 = t3949 - t679;
-            let t3951 = s_hr * t3935;
-            let t3952 = t3951 + t680;
-            let t3953 = t3950 - t3952;
-            let t3954 = s_hr * t3934;
-            let t3955 = t3954 + t677;
-            let t3956 = c_hr * t3935;
-            let t3957 = t3956 - t678;
-            let t3958 = t3955 + t3957;
-            let t3959 = 0.112f64 * t3943; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3960 = 0.112f64 * t3948; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t3961 = t3958 + t3959;
-            let t3962 = t3960 - t3953;
-            (t3961, t3962)
+            let t3941 = c_hr * t3939;
+            let t3942 = t3941 - t677;
+            let t3943 = s_hr * t3940;
+            let t3944 = t3943 + t678;
+            let t3945 = t3942 - t3944;
+            let t3946 = s_hr * t3939;
+            let t3947 = t3946 + t674;
+            let t3948 = c_hr * t3940;
+            let t3949 = t3948 - t675;
+            let t3950 = t3947 + t3949;
+            let t3951 = c_hr * t3936;
+            let t3952 = t3951 - t681;
+            let t3953 = s_hr * t3937;
+            let t3954 = t3953 + t682;
+            let t3955 = t3952 - t3954;
+            let t3956 = s_hr * t3936;
+            let t3957 = t3956 + t679;
+            let t3958 = c_hr * t3937;
+            let t3959 = t3958 - t680;
+            let t3960 = t3957 + t3959;
+            let t3961 = 0.112f64 * t3945; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3962 = 0.112f64 * t3950; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t3963 = t3960 + t3961;
+            let t3964 = t3962 - t3955;
+            (t3963, t3964)
         };
-        let t3965 = {
+        let t3967 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t3963 = s_sfe * t3936;
-            let t3964 = c_sfe * t3961;
-            let t3965 = t3963 + t3964;
-            t3965
+            let t3965 = s_sfe * t3938;
+            let t3966 = c_sfe * t3963;
+            let t3967 = t3965 + t3966;
+            t3967
         };
-        let (t3985, t3986, t3987, t3988, t3989) = {
+        let (t3987, t3988, t3989, t3990, t3991) = {
             // ── link `Humerus_R`, joint `HR` (base to tip)
-            let t3966 = t3231 - t112;
-            let t3967 = humerus_r_iyy * humerus_r_v_wx;
-            let t3968 = t108 - t3967;
-            let t3969 = humerus_r_iyz * humerus_r_v_wx;
-            let t3970 = t3236 - t3969;
-            let t3971 = t3966 + t123;
-            let t3972 = t3968 + t122;
-            let t3973 = t3970 - t3241;
-            let t3974 = t128 - t132;
-            let t3975 = humerus_r_v_wy * humerus_r_izz;
-            let t3976 = t115 + t139;
-            let t3977 = t3975 - t3976;
-            let t3978 = t110 + t138;
-            let t3979 = humerus_r_v_wx * humerus_r_izz;
-            let t3980 = t3978 - t3979;
-            let t3981 = t3969 - t3236;
-            let t3982 = t3981 + t3241;
-            let t3983 = t133 + t142;
-            let t3984 = t141 - t129;
-            let t3985 = t3971 + t3977;
-            let t3986 = t3972 + t3980;
-            let t3987 = t3973 + t3982;
-            let t3988 = t3974 - t3983;
-            let t3989 = t3984 - t3250;
-            (t3985, t3986, t3987, t3988, t3989)
+            let t3968 = t3233 - t112;
+            let t3969 = humerus_r_iyy * humerus_r_v_wx;
+            let t3970 = t108 - t3969;
+            let t3971 = humerus_r_iyz * humerus_r_v_wx;
+            let t3972 = t3238 - t3971;
+            let t3973 = t3968 + t123;
+            let t3974 = t3970 + t122;
+            let t3975 = t3972 - t3243;
+            let t3976 = t128 - t132;
+            let t3977 = humerus_r_v_wy * humerus_r_izz;
+            let t3978 = t115 + t139;
+            let t3979 = t3977 - t3978;
+            let t3980 = t110 + t138;
+            let t3981 = humerus_r_v_wx * humerus_r_izz;
+            let t3982 = t3980 - t3981;
+            let t3983 = t3971 - t3238;
+            let t3984 = t3983 + t3243;
+            let t3985 = t133 + t142;
+            let t3986 = t141 - t129;
+            let t3987 = t3973 + t3979;
+            let t3988 = t3974 + t3982;
+            let t3989 = t3975 + t3984;
+            let t3990 = t3976 - t3985;
+            let t3991 = t3986 - t3252;
+            (t3987, t3988, t3989, t3990, t3991)
         };
-        let (t3994, t3995, t4086, t4087, t4088, t4089, t4090, t4091) = {
+        let (t3996, t3997, t4088, t4089, t4090, t4091, t4092, t4093) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t3990 = s_efe * humerus_r_v_wx;
-            let t3991 = c_efe * humerus_r_v_wx;
-            let t3992 = s_efe * qd_efe;
-            let t3993 = c_efe * qd_efe;
-            let t3994 = t3990 + t3992;
-            let t3995 = t3991 + t3993;
-            let t3996 = elbow_fe_ixx * t3994;
-            let t3997 = elbow_fe_ixy * t3995;
-            let t3998 = t3996 + t3997;
-            let t3999 = t3998 + t3362;
-            let t4000 = elbow_fe_ixy * t3994;
-            let t4001 = elbow_fe_iyy * t3995;
-            let t4002 = t4000 + t4001;
-            let t4003 = t4002 + t3367;
-            let t4004 = elbow_fe_ixz * t3994;
-            let t4005 = elbow_fe_iyz * t3995;
-            let t4006 = t4004 + t4005;
-            let t4007 = t4006 + t3372;
-            let t4008 = elbow_fe_hy * t173;
-            let t4009 = t3375 - t4008;
-            let t4010 = elbow_fe_hx * t173;
-            let t4011 = t4010 - t3377;
-            let t4012 = t173 * elbow_fe_m;
-            let t4013 = elbow_fe_hz * t3995;
-            let t4014 = t4013 - t3386;
-            let t4015 = elbow_fe_hz * t3994;
-            let t4016 = t3390 - t4015;
-            let t4017 = elbow_fe_hx * t3995;
-            let t4018 = elbow_fe_hy * t3994;
-            let t4019 = t4018 - t4017;
-            let t4020 = t4009 - t3999;
-            let t4021 = t4011 - t4003;
-            let t4022 = t3382 - t4007;
-            let t4023 = t3383 + t4014;
-            let t4024 = t3384 + t4016;
-            let t4025 = t4012 + t4019;
-            let t4026 = elbow_fe_ixx * c_efe;
-            let t4027 = elbow_fe_ixy * s_efe;
-            let t4028 = t4026 - t4027;
-            let t4029 = elbow_fe_ixy * c_efe;
-            let t4030 = elbow_fe_iyy * s_efe;
-            let t4031 = t4029 - t4030;
-            let t4032 = elbow_fe_ixz * c_efe;
-            let t4033 = elbow_fe_iyz * s_efe;
-            let t4034 = t4032 - t4033;
-            let t4035 = elbow_fe_hz * s_efe;
-            let t4036 = elbow_fe_hz * c_efe;
-            let t4037 = elbow_fe_hx * s_efe;
-            let t4038 = elbow_fe_hy * c_efe;
-            let t4039 = t4037 + t4038;
-            let t4040 = elbow_fe_v_wy * t4034;
-            let t4041 = s_efe * t277;
-            let t4042 = t4040 - t4041;
-            let t4043 = elbow_fe_v_wz * t4031;
+            let t3992 = s_efe * humerus_r_v_wx;
+            let t3993 = c_efe * humerus_r_v_wx;
+            let t3994 = s_efe * qd_efe;
+            let t3995 = c_efe * qd_efe;
+            let t3996 = t3992 + t3994;
+            let t3997 = t3993 + t3995;
+            let t3998 = elbow_fe_ixx * t3996;
+            let t3999 = elbow_fe_ixy * t3997;
+            let t4000 = t3998 + t3999;
+            let t4001 = t4000 + t3364;
+            let t4002 = elbow_fe_ixy * t3996;
+            let t4003 = elbow_fe_iyy * t3997;
+            let t4004 = t4002 + t4003;
+            let t4005 = t4004 + t3369;
+            let t4006 = elbow_fe_ixz * t3996;
+            let t4007 = elbow_fe_iyz * t3997;
+            let t4008 = t4006 + t4007;
+            let t4009 = t4008 + t3374;
+            let t4010 = elbow_fe_hy * t174;
+            let t4011 = t3377 - t4010;
+            let t4012 = elbow_fe_hx * t174;
+            let t4013 = t4012 - t3379;
+            let t4014 = t174 * elbow_fe_m;
+            let t4015 = elbow_fe_hz * t3997;
+            let t4016 = t4015 - t3388;
+            let t4017 = elbow_fe_hz * t3996;
+            let t4018 = t3392 - t4017;
+            let t4019 = elbow_fe_hx * t3997;
+            let t4020 = elbow_fe_hy * t3996;
+            let t4021 = t4020 - t4019;
+            let t4022 = t4011 - t4001;
+            let t4023 = t4013 - t4005;
+            let t4024 = t3384 - t4009;
+            let t4025 = t3385 + t4016;
+            let t4026 = t3386 + t4018;
+            let t4027 = t4014 + t4021;
+            let t4028 = elbow_fe_ixx * c_efe;
+            let t4029 = elbow_fe_ixy * s_efe;
+            let t4030 = t4028 - t4029;
+            let t4031 = elbow_fe_ixy * c_efe;
+            let t4032 = elbow_fe_iyy * s_efe;
+            let t4033 = t4031 - t4032;
+            let t4034 = elbow_fe_ixz * c_efe;
+            let t4035 = elbow_fe_iyz * s_efe;
+            let t4036 = t4034 - t4035;
+            let t4037 = elbow_fe_hz * s_efe;
+            let t4038 = elbow_fe_hz * c_efe;
+            let t4039 = elbow_fe_hx * s_efe;
+            let t4040 = elbow_fe_hy * c_efe;
+            let t4041 = t4039 + t4040;
+            let t4042 = elbow_fe_v_wy * t4036;
+            let t4043 = s_efe * t279;
             let t4044 = t4042 - t4043;
-            let t4045 = elbow_fe_v_wz * t4028;
-            let t4046 = elbow_fe_v_wx * t4034;
-            let t4047 = c_efe * t277;
-            let t4048 = t4046 + t4047;
-            let t4049 = t4045 - t4048;
-            let t4050 = elbow_fe_v_wx * t4031;
-            let t4051 = c_efe * t276;
-            let t4052 = t4050 + t4051;
-            let t4053 = elbow_fe_v_wy * t4028;
-            let t4054 = s_efe * t275;
-            let t4055 = t4053 - t4054;
-            let t4056 = t4052 - t4055;
-            let t4057 = elbow_fe_v_vy * t4039;
-            let t4058 = elbow_fe_v_vz * t4036;
-            let t4059 = t4057 - t4058;
-            let t4060 = elbow_fe_v_vz * t4035;
-            let t4061 = elbow_fe_v_vx * t4039;
-            let t4062 = t4060 - t4061;
-            let t4063 = elbow_fe_v_vx * t4036;
-            let t4064 = elbow_fe_v_vy * t4035;
-            let t4065 = t4064 - t4063;
-            let t4066 = t4044 + t4059;
-            let t4067 = t4049 + t4062;
-            let t4068 = t4056 + t4065;
-            let t4069 = elbow_fe_v_wy * t4039;
-            let t4070 = s_efe * t280;
-            let t4071 = t4069 + t4070;
-            let t4072 = elbow_fe_v_wz * t4036;
+            let t4045 = elbow_fe_v_wz * t4033;
+            let t4046 = t4044 - t4045;
+            let t4047 = elbow_fe_v_wz * t4030;
+            let t4048 = elbow_fe_v_wx * t4036;
+            let t4049 = c_efe * t279;
+            let t4050 = t4048 + t4049;
+            let t4051 = t4047 - t4050;
+            let t4052 = elbow_fe_v_wx * t4033;
+            let t4053 = c_efe * t278;
+            let t4054 = t4052 + t4053;
+            let t4055 = elbow_fe_v_wy * t4030;
+            let t4056 = s_efe * t277;
+            let t4057 = t4055 - t4056;
+            let t4058 = t4054 - t4057;
+            let t4059 = elbow_fe_v_vy * t4041;
+            let t4060 = t173 * t4038;
+            let t4061 = t4059 - t4060;
+            let t4062 = t173 * t4037;
+            let t4063 = elbow_fe_v_vx * t4041;
+            let t4064 = t4062 - t4063;
+            let t4065 = elbow_fe_v_vx * t4038;
+            let t4066 = elbow_fe_v_vy * t4037;
+            let t4067 = t4066 - t4065;
+            let t4068 = t4046 + t4061;
+            let t4069 = t4051 + t4064;
+            let t4070 = t4058 + t4067;
+            let t4071 = elbow_fe_v_wy * t4041;
+            let t4072 = s_efe * t282;
             let t4073 = t4071 + t4072;
-            let t4074 = elbow_fe_v_wz * t4035;
-            let t4075 = elbow_fe_v_wx * t4039;
-            let t4076 = c_efe * t280;
-            let t4077 = t4075 - t4076;
-            let t4078 = t4074 + t4077;
-            let t4079 = elbow_fe_v_wx * t4036;
-            let t4080 = c_efe * t279;
-            let t4081 = t4080 - t4079;
-            let t4082 = elbow_fe_v_wy * t4035;
-            let t4083 = s_efe * t278;
-            let t4084 = t4082 + t4083;
-            let t4085 = t4081 + t4084;
-            let t4086 = t4020 + t4066;
-            let t4087 = t4021 + t4067;
+            let t4074 = elbow_fe_v_wz * t4038;
+            let t4075 = t4073 + t4074;
+            let t4076 = elbow_fe_v_wz * t4037;
+            let t4077 = elbow_fe_v_wx * t4041;
+            let t4078 = c_efe * t282;
+            let t4079 = t4077 - t4078;
+            let t4080 = t4076 + t4079;
+            let t4081 = elbow_fe_v_wx * t4038;
+            let t4082 = c_efe * t281;
+            let t4083 = t4082 - t4081;
+            let t4084 = elbow_fe_v_wy * t4037;
+            let t4085 = s_efe * t280;
+            let t4086 = t4084 + t4085;
+            let t4087 = t4083 + t4086;
             let t4088 = t4022 + t4068;
-            let t4089 = t4073 - t4023;
-            let t4090 = t4024 + t4078;
-            let t4091 = t4085 - t4025;
-            (t3994, t3995, t4086, t4087, t4088, t4089, t4090, t4091)
+            let t4089 = t4023 + t4069;
+            let t4090 = t4024 + t4070;
+            let t4091 = t4075 - t4025;
+            let t4092 = t4026 + t4080;
+            let t4093 = t4087 - t4027;
+            (t3996, t3997, t4088, t4089, t4090, t4091, t4092, t4093)
         };
         let (
-            t4093,
-            t4094,
             t4095,
             t4096,
-            t4111,
-            t4112,
+            t4097,
+            t4098,
             t4113,
             t4114,
-            t4252,
-            t4253,
+            t4115,
+            t4116,
             t4254,
             t4255,
             t4256,
             t4257,
+            t4258,
+            t4259,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4092 = 0.112f64 * s_efe; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4093 = s_wr * s_efe;
-            let t4094 = c_wr * s_efe;
-            let t4095 = c_wr * t4092;
-            let t4096 = s_wr * t4092;
-            let t4097 = 0.112f64 * t3995; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4098 = t4097 - t173;
-            let t4099 = s_wr * t3995;
-            let t4100 = t3477 - t4099;
-            let t4101 = c_wr * t3995;
-            let t4102 = t3480 + t4101;
-            let t4103 = c_wr * t4098;
-            let t4104 = t4103 + t3484;
-            let t4105 = s_wr * t4098;
-            let t4106 = t4105 - t3487;
-            let t4107 = t4094 * qd_wr;
-            let t4108 = t4093 * qd_wr;
+            let t4094 = 0.112f64 * s_efe; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4095 = s_wr * s_efe;
+            let t4096 = c_wr * s_efe;
+            let t4097 = c_wr * t4094;
+            let t4098 = s_wr * t4094;
+            let t4099 = 0.112f64 * t3997; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4100 = t4099 - t174;
+            let t4101 = s_wr * t3997;
+            let t4102 = t3479 - t4101;
+            let t4103 = c_wr * t3997;
+            let t4104 = t3482 + t4103;
+            let t4105 = c_wr * t4100;
+            let t4106 = t4105 + t3486;
+            let t4107 = s_wr * t4100;
+            let t4108 = t4107 - t3489;
             let t4109 = t4096 * qd_wr;
             let t4110 = t4095 * qd_wr;
-            let t4111 = t4100 - t4107;
-            let t4112 = t4108 - t4102;
-            let t4113 = t4109 - t4104;
-            let t4114 = t4106 + t4110;
-            let t4115 = wrist_r_ixx * t4111;
-            let t4116 = wrist_r_ixy * t4112;
-            let t4117 = t4115 + t4116;
-            let t4118 = wrist_r_ixz * t3994;
-            let t4119 = t4117 - t4118;
-            let t4120 = wrist_r_ixy * t4111;
-            let t4121 = wrist_r_iyy * t4112;
-            let t4122 = t4120 + t4121;
-            let t4123 = wrist_r_iyz * t3994;
-            let t4124 = t4122 - t4123;
-            let t4125 = wrist_r_ixz * t4111;
-            let t4126 = wrist_r_iyz * t4112;
-            let t4127 = t4125 + t4126;
-            let t4128 = wrist_r_izz * t3994;
-            let t4129 = t4127 - t4128;
-            let t4130 = wrist_r_hz * t4114;
-            let t4131 = t3570 + t4130;
-            let t4132 = wrist_r_hz * t4113;
-            let t4133 = t4132 + t3574;
-            let t4134 = wrist_r_hx * t4114;
-            let t4135 = wrist_r_hy * t4113;
-            let t4136 = t4134 - t4135;
-            let t4137 = t4113 * wrist_r_m;
-            let t4138 = t4114 * wrist_r_m;
-            let t4139 = wrist_r_hy * t3994;
-            let t4140 = wrist_r_hz * t4112;
-            let t4141 = t4139 + t4140;
-            let t4142 = wrist_r_hz * t4111;
-            let t4143 = wrist_r_hx * t3994;
-            let t4144 = t4142 + t4143;
-            let t4145 = wrist_r_hx * t4112;
-            let t4146 = wrist_r_hy * t4111;
-            let t4147 = t4145 - t4146;
-            let t4148 = t4119 - t4131;
-            let t4149 = t4124 + t4133;
-            let t4150 = t4129 + t4136;
-            let t4151 = t4137 + t4141;
-            let t4152 = t4138 - t4144;
-            let t4153 = t3581 + t4147;
-            let t4154 = wrist_r_ixx * t4093;
-            let t4155 = wrist_r_ixy * t4094;
-            let t4156 = t4154 + t4155;
-            let t4157 = wrist_r_ixz * c_efe;
-            let t4158 = t4157 - t4156;
-            let t4159 = wrist_r_ixy * t4093;
-            let t4160 = wrist_r_iyy * t4094;
-            let t4161 = t4159 + t4160;
-            let t4162 = wrist_r_iyz * c_efe;
-            let t4163 = t4162 - t4161;
-            let t4164 = wrist_r_ixz * t4093;
-            let t4165 = wrist_r_iyz * t4094;
-            let t4166 = t4164 + t4165;
-            let t4167 = wrist_r_izz * c_efe;
-            let t4168 = t4167 - t4166;
-            let t4169 = wrist_r_hz * t4096;
-            let t4170 = wrist_r_hz * t4095;
-            let t4171 = wrist_r_hx * t4096;
-            let t4172 = wrist_r_hy * t4095;
-            let t4173 = t4171 + t4172;
-            let t4174 = t4095 * wrist_r_m;
-            let t4175 = t4096 * wrist_r_m;
-            let t4176 = wrist_r_hy * c_efe;
-            let t4177 = wrist_r_hz * t4094;
-            let t4178 = t4176 + t4177;
-            let t4179 = wrist_r_hz * t4093;
-            let t4180 = wrist_r_hx * c_efe;
-            let t4181 = t4179 + t4180;
-            let t4182 = wrist_r_hx * t4094;
-            let t4183 = wrist_r_hy * t4093;
-            let t4184 = t4183 - t4182;
-            let t4185 = t4158 - t4169;
-            let t4186 = t4163 - t4170;
-            let t4187 = t4168 + t4173;
-            let t4188 = t4174 + t4178;
-            let t4189 = t4175 + t4181;
-            let t4190 = wrist_r_v_wy * t4187;
-            let t4191 = t4094 * t429;
-            let t4192 = t4190 - t4191;
-            let t4193 = wrist_r_v_wz * t4186;
-            let t4194 = c_efe * t428;
-            let t4195 = t4193 + t4194;
-            let t4196 = t4192 - t4195;
-            let t4197 = wrist_r_v_wz * t4185;
-            let t4198 = c_efe * t427;
-            let t4199 = t4197 + t4198;
-            let t4200 = wrist_r_v_wx * t4187;
-            let t4201 = t4093 * t429;
-            let t4202 = t4200 - t4201;
-            let t4203 = t4199 - t4202;
-            let t4204 = wrist_r_v_wx * t4186;
-            let t4205 = t4093 * t428;
-            let t4206 = t4204 - t4205;
-            let t4207 = wrist_r_v_wy * t4185;
-            let t4208 = t4094 * t427;
-            let t4209 = t4207 - t4208;
-            let t4210 = t4206 - t4209;
-            let t4211 = wrist_r_v_vy * t4184;
-            let t4212 = t4096 * t432;
-            let t4213 = t4212 - t4211;
-            let t4214 = elbow_fe_v_vx * t4189;
-            let t4215 = t4213 - t4214;
-            let t4216 = elbow_fe_v_vx * t4188;
-            let t4217 = wrist_r_v_vx * t4184;
-            let t4218 = t4095 * t432;
-            let t4219 = t4217 + t4218;
-            let t4220 = t4219 - t4216;
-            let t4221 = wrist_r_v_vx * t4189;
-            let t4222 = t4095 * t431;
-            let t4223 = t4221 - t4222;
-            let t4224 = wrist_r_v_vy * t4188;
-            let t4225 = t4096 * t430;
-            let t4226 = t4225 - t4224;
-            let t4227 = t4223 - t4226;
-            let t4228 = t4196 + t4215;
-            let t4229 = t4203 + t4220;
-            let t4230 = t4210 + t4227;
-            let t4231 = wrist_r_v_wy * t4184;
-            let t4232 = t4094 * t432;
-            let t4233 = t4231 + t4232;
-            let t4234 = wrist_r_v_wz * t4189;
-            let t4235 = c_efe * t431;
-            let t4236 = t4234 + t4235;
-            let t4237 = t4233 + t4236;
-            let t4238 = wrist_r_v_wz * t4188;
-            let t4239 = c_efe * t430;
-            let t4240 = t4239 - t4238;
-            let t4241 = wrist_r_v_wx * t4184;
-            let t4242 = t4093 * t432;
-            let t4243 = t4241 + t4242;
-            let t4244 = t4240 + t4243;
-            let t4245 = wrist_r_v_wx * t4189;
-            let t4246 = t4093 * t431;
-            let t4247 = t4245 - t4246;
-            let t4248 = wrist_r_v_wy * t4188;
-            let t4249 = t4094 * t430;
-            let t4250 = t4248 + t4249;
-            let t4251 = t4247 + t4250;
-            let t4252 = t4148 + t4228;
-            let t4253 = t4149 + t4229;
+            let t4111 = t4098 * qd_wr;
+            let t4112 = t4097 * qd_wr;
+            let t4113 = t4102 - t4109;
+            let t4114 = t4110 - t4104;
+            let t4115 = t4111 - t4106;
+            let t4116 = t4108 + t4112;
+            let t4117 = wrist_r_ixx * t4113;
+            let t4118 = wrist_r_ixy * t4114;
+            let t4119 = t4117 + t4118;
+            let t4120 = wrist_r_ixz * t3996;
+            let t4121 = t4119 - t4120;
+            let t4122 = wrist_r_ixy * t4113;
+            let t4123 = wrist_r_iyy * t4114;
+            let t4124 = t4122 + t4123;
+            let t4125 = wrist_r_iyz * t3996;
+            let t4126 = t4124 - t4125;
+            let t4127 = wrist_r_ixz * t4113;
+            let t4128 = wrist_r_iyz * t4114;
+            let t4129 = t4127 + t4128;
+            let t4130 = wrist_r_izz * t3996;
+            let t4131 = t4129 - t4130;
+            let t4132 = wrist_r_hz * t4116;
+            let t4133 = t3572 + t4132;
+            let t4134 = wrist_r_hz * t4115;
+            let t4135 = t4134 + t3576;
+            let t4136 = wrist_r_hx * t4116;
+            let t4137 = wrist_r_hy * t4115;
+            let t4138 = t4136 - t4137;
+            let t4139 = t4115 * wrist_r_m;
+            let t4140 = t4116 * wrist_r_m;
+            let t4141 = wrist_r_hy * t3996;
+            let t4142 = wrist_r_hz * t4114;
+            let t4143 = t4141 + t4142;
+            let t4144 = wrist_r_hz * t4113;
+            let t4145 = wrist_r_hx * t3996;
+            let t4146 = t4144 + t4145;
+            let t4147 = wrist_r_hx * t4114;
+            let t4148 = wrist_r_hy * t4113;
+            let t4149 = t4147 - t4148;
+            let t4150 = t4121 - t4133;
+            let t4151 = t4126 + t4135;
+            let t4152 = t4131 + t4138;
+            let t4153 = t4139 + t4143;
+            let t4154 = t4140 - t4146;
+            let t4155 = t3583 + t4149;
+            let t4156 = wrist_r_ixx * t4095;
+            let t4157 = wrist_r_ixy * t4096;
+            let t4158 = t4156 + t4157;
+            let t4159 = wrist_r_ixz * c_efe;
+            let t4160 = t4159 - t4158;
+            let t4161 = wrist_r_ixy * t4095;
+            let t4162 = wrist_r_iyy * t4096;
+            let t4163 = t4161 + t4162;
+            let t4164 = wrist_r_iyz * c_efe;
+            let t4165 = t4164 - t4163;
+            let t4166 = wrist_r_ixz * t4095;
+            let t4167 = wrist_r_iyz * t4096;
+            let t4168 = t4166 + t4167;
+            let t4169 = wrist_r_izz * c_efe;
+            let t4170 = t4169 - t4168;
+            let t4171 = wrist_r_hz * t4098;
+            let t4172 = wrist_r_hz * t4097;
+            let t4173 = wrist_r_hx * t4098;
+            let t4174 = wrist_r_hy * t4097;
+            let t4175 = t4173 + t4174;
+            let t4176 = t4097 * wrist_r_m;
+            let t4177 = t4098 * wrist_r_m;
+            let t4178 = wrist_r_hy * c_efe;
+            let t4179 = wrist_r_hz * t4096;
+            let t4180 = t4178 + t4179;
+            let t4181 = wrist_r_hz * t4095;
+            let t4182 = wrist_r_hx * c_efe;
+            let t4183 = t4181 + t4182;
+            let t4184 = wrist_r_hx * t4096;
+            let t4185 = wrist_r_hy * t4095;
+            let t4186 = t4185 - t4184;
+            let t4187 = t4160 - t4171;
+            let t4188 = t4165 - t4172;
+            let t4189 = t4170 + t4175;
+            let t4190 = t4176 + t4180;
+            let t4191 = t4177 + t4183;
+            let t4192 = wrist_r_v_wy * t4189;
+            let t4193 = t4096 * t431;
+            let t4194 = t4192 - t4193;
+            let t4195 = wrist_r_v_wz * t4188;
+            let t4196 = c_efe * t430;
+            let t4197 = t4195 + t4196;
+            let t4198 = t4194 - t4197;
+            let t4199 = wrist_r_v_wz * t4187;
+            let t4200 = c_efe * t429;
+            let t4201 = t4199 + t4200;
+            let t4202 = wrist_r_v_wx * t4189;
+            let t4203 = t4095 * t431;
+            let t4204 = t4202 - t4203;
+            let t4205 = t4201 - t4204;
+            let t4206 = wrist_r_v_wx * t4188;
+            let t4207 = t4095 * t430;
+            let t4208 = t4206 - t4207;
+            let t4209 = wrist_r_v_wy * t4187;
+            let t4210 = t4096 * t429;
+            let t4211 = t4209 - t4210;
+            let t4212 = t4208 - t4211;
+            let t4213 = wrist_r_v_vy * t4186;
+            let t4214 = t4098 * t434;
+            let t4215 = t4214 - t4213;
+            let t4216 = elbow_fe_v_vx * t4191;
+            let t4217 = t4215 - t4216;
+            let t4218 = elbow_fe_v_vx * t4190;
+            let t4219 = wrist_r_v_vx * t4186;
+            let t4220 = t4097 * t434;
+            let t4221 = t4219 + t4220;
+            let t4222 = t4221 - t4218;
+            let t4223 = wrist_r_v_vx * t4191;
+            let t4224 = t4097 * t433;
+            let t4225 = t4223 - t4224;
+            let t4226 = wrist_r_v_vy * t4190;
+            let t4227 = t4098 * t432;
+            let t4228 = t4227 - t4226;
+            let t4229 = t4225 - t4228;
+            let t4230 = t4198 + t4217;
+            let t4231 = t4205 + t4222;
+            let t4232 = t4212 + t4229;
+            let t4233 = wrist_r_v_wy * t4186;
+            let t4234 = t4096 * t434;
+            let t4235 = t4233 + t4234;
+            let t4236 = wrist_r_v_wz * t4191;
+            let t4237 = c_efe * t433;
+            let t4238 = t4236 + t4237;
+            let t4239 = t4235 + t4238;
+            let t4240 = wrist_r_v_wz * t4190;
+            let t4241 = c_efe * t432;
+            let t4242 = t4241 - t4240;
+            let t4243 = wrist_r_v_wx * t4186;
+            let t4244 = t4095 * t434;
+            let t4245 = t4243 + t4244;
+            let t4246 = t4242 + t4245;
+            let t4247 = wrist_r_v_wx * t4191;
+            let t4248 = t4095 * t433;
+            let t4249 = t4247 - t4248;
+            let t4250 = wrist_r_v_wy * t4190;
+            let t4251 = t4096 * t432;
+            let t4252 = t4250 + t4251;
+            let t4253 = t4249 + t4252;
             let t4254 = t4150 + t4230;
-            let t4255 = t4151 - t4237;
-            let t4256 = t4152 + t4244;
-            let t4257 = t4251 - t4153;
+            let t4255 = t4151 + t4231;
+            let t4256 = t4152 + t4232;
+            let t4257 = t4153 - t4239;
+            let t4258 = t4154 + t4246;
+            let t4259 = t4253 - t4155;
             (
-                t4093,
-                t4094,
                 t4095,
                 t4096,
-                t4111,
-                t4112,
+                t4097,
+                t4098,
                 t4113,
                 t4114,
-                t4252,
-                t4253,
+                t4115,
+                t4116,
                 t4254,
                 t4255,
                 t4256,
                 t4257,
+                t4258,
+                t4259,
             )
         };
-        let (t4455, t4456, t4457, t4458, t4459, t4460) = {
+        let (t4457, t4458, t4459, t4460, t4461, t4462) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4258 = 0.184f64 * t4094; // 1.8400e-1 = joint WFE origin z
-            let t4259 = 0.184f64 * t4093; // 1.8400e-1 = joint WFE origin z
-            let t4260 = 0.02075f64 * c_efe; // 2.0750e-2 = joint WFE origin x
-            let t4261 = t4259 + t4260;
-            let t4262 = 0.02075f64 * t4094; // 2.0750e-2 = joint WFE origin x
-            let t4263 = t4095 + t4258;
-            let t4264 = t4096 + t4261;
-            let t4265 = c_wfe * c_efe;
-            let t4266 = s_wfe * t4093;
-            let t4267 = t4265 - t4266;
-            let t4268 = s_wfe * c_efe;
-            let t4269 = c_wfe * t4093;
-            let t4270 = t4268 + t4269;
-            let t4271 = c_wfe * t4262;
-            let t4272 = s_wfe * t4263;
-            let t4273 = t4271 - t4272;
-            let t4274 = s_wfe * t4262;
-            let t4275 = c_wfe * t4263;
-            let t4276 = t4274 + t4275;
-            let t4277 = 0.184f64 * t4112; // 1.8400e-1 = joint WFE origin z
-            let t4278 = 0.184f64 * t4111; // 1.8400e-1 = joint WFE origin z
-            let t4279 = 0.02075f64 * t3994; // 2.0750e-2 = joint WFE origin x
-            let t4280 = t4278 + t4279;
-            let t4281 = 0.02075f64 * t4112; // 2.0750e-2 = joint WFE origin x
-            let t4282 = t4113 + t4277;
-            let t4283 = t4114 - t4280;
-            let t4284 = t3299 + t4281;
-            let t4285 = c_wfe * t3994;
-            let t4286 = s_wfe * t4111;
-            let t4287 = t4286 - t4285;
-            let t4288 = s_wfe * t3994;
-            let t4289 = c_wfe * t4111;
-            let t4290 = t4288 + t4289;
-            let t4291 = c_wfe * t4284;
-            let t4292 = s_wfe * t4282;
-            let t4293 = t4292 - t4291;
+            let t4260 = 0.184f64 * t4096; // 1.8400e-1 = joint WFE origin z
+            let t4261 = 0.184f64 * t4095; // 1.8400e-1 = joint WFE origin z
+            let t4262 = 0.02075f64 * c_efe; // 2.0750e-2 = joint WFE origin x
+            let t4263 = t4261 + t4262;
+            let t4264 = 0.02075f64 * t4096; // 2.0750e-2 = joint WFE origin x
+            let t4265 = t4097 + t4260;
+            let t4266 = t4098 + t4263;
+            let t4267 = c_wfe * c_efe;
+            let t4268 = s_wfe * t4095;
+            let t4269 = t4267 - t4268;
+            let t4270 = s_wfe * c_efe;
+            let t4271 = c_wfe * t4095;
+            let t4272 = t4270 + t4271;
+            let t4273 = c_wfe * t4264;
+            let t4274 = s_wfe * t4265;
+            let t4275 = t4273 - t4274;
+            let t4276 = s_wfe * t4264;
+            let t4277 = c_wfe * t4265;
+            let t4278 = t4276 + t4277;
+            let t4279 = 0.184f64 * t4114; // 1.8400e-1 = joint WFE origin z
+            let t4280 = 0.184f64 * t4113; // 1.8400e-1 = joint WFE origin z
+            let t4281 = 0.02075f64 * t3996; // 2.0750e-2 = joint WFE origin x
+            let t4282 = t4280 + t4281;
+            let t4283 = 0.02075f64 * t4114; // 2.0750e-2 = joint WFE origin x
+            let t4284 = t4115 + t4279;
+            let t4285 = t4116 - t4282;
+            let t4286 = t3301 + t4283;
+            let t4287 = c_wfe * t3996;
+            let t4288 = s_wfe * t4113;
+            let t4289 = t4288 - t4287;
+            let t4290 = s_wfe * t3996;
+            let t4291 = c_wfe * t4113;
+            let t4292 = t4290 + t4291;
+            let t4293 = c_wfe * t4286;
             let t4294 = s_wfe * t4284;
-            let t4295 = c_wfe * t4282;
-            let t4296 = t4294 + t4295;
-            let t4297 = t4270 * qd_wfe;
-            let t4298 = t4267 * qd_wfe;
-            let t4299 = t4276 * qd_wfe;
-            let t4300 = t4273 * qd_wfe;
-            let t4301 = t4287 - t4297;
-            let t4302 = t4290 - t4298;
-            let t4303 = t4293 - t4299;
-            let t4304 = t4296 - t4300;
-            let t4305 = wrist_fe_ixx * t4301;
-            let t4306 = wrist_fe_ixy * t4302;
-            let t4307 = t4305 + t4306;
-            let t4308 = wrist_fe_ixz * t4112;
+            let t4295 = t4294 - t4293;
+            let t4296 = s_wfe * t4286;
+            let t4297 = c_wfe * t4284;
+            let t4298 = t4296 + t4297;
+            let t4299 = t4272 * qd_wfe;
+            let t4300 = t4269 * qd_wfe;
+            let t4301 = t4278 * qd_wfe;
+            let t4302 = t4275 * qd_wfe;
+            let t4303 = t4289 - t4299;
+            let t4304 = t4292 - t4300;
+            let t4305 = t4295 - t4301;
+            let t4306 = t4298 - t4302;
+            let t4307 = wrist_fe_ixx * t4303;
+            let t4308 = wrist_fe_ixy * t4304;
             let t4309 = t4307 + t4308;
-            let t4310 = wrist_fe_ixy * t4301;
-            let t4311 = wrist_fe_iyy * t4302;
-            let t4312 = t4310 + t4311;
-            let t4313 = wrist_fe_iyz * t4112;
+            let t4310 = wrist_fe_ixz * t4114;
+            let t4311 = t4309 + t4310;
+            let t4312 = wrist_fe_ixy * t4303;
+            let t4313 = wrist_fe_iyy * t4304;
             let t4314 = t4312 + t4313;
-            let t4315 = wrist_fe_ixz * t4301;
-            let t4316 = wrist_fe_iyz * t4302;
-            let t4317 = t4315 + t4316;
-            let t4318 = wrist_fe_izz * t4112;
+            let t4315 = wrist_fe_iyz * t4114;
+            let t4316 = t4314 + t4315;
+            let t4317 = wrist_fe_ixz * t4303;
+            let t4318 = wrist_fe_iyz * t4304;
             let t4319 = t4317 + t4318;
-            let t4320 = wrist_fe_hy * t4283;
-            let t4321 = wrist_fe_hz * t4304;
-            let t4322 = t4320 - t4321;
-            let t4323 = wrist_fe_hz * t4303;
-            let t4324 = wrist_fe_hx * t4283;
-            let t4325 = t4323 - t4324;
-            let t4326 = wrist_fe_hx * t4304;
-            let t4327 = wrist_fe_hy * t4303;
-            let t4328 = t4326 - t4327;
-            let t4329 = t4303 * wrist_fe_m;
-            let t4330 = t4304 * wrist_fe_m;
-            let t4331 = t4283 * wrist_fe_m;
-            let t4332 = wrist_fe_hy * t4112;
-            let t4333 = wrist_fe_hz * t4302;
-            let t4334 = t4332 - t4333;
-            let t4335 = wrist_fe_hz * t4301;
-            let t4336 = wrist_fe_hx * t4112;
-            let t4337 = t4335 - t4336;
-            let t4338 = wrist_fe_hx * t4302;
-            let t4339 = wrist_fe_hy * t4301;
-            let t4340 = t4338 - t4339;
-            let t4341 = t4309 + t4322;
-            let t4342 = t4314 + t4325;
-            let t4343 = t4319 + t4328;
-            let t4344 = t4329 - t4334;
-            let t4345 = t4330 - t4337;
-            let t4346 = t4331 - t4340;
-            let t4347 = wrist_fe_ixx * t4267;
-            let t4348 = wrist_fe_ixy * t4270;
-            let t4349 = t4347 - t4348;
-            let t4350 = wrist_fe_ixz * t4094;
+            let t4320 = wrist_fe_izz * t4114;
+            let t4321 = t4319 + t4320;
+            let t4322 = wrist_fe_hy * t4285;
+            let t4323 = wrist_fe_hz * t4306;
+            let t4324 = t4322 - t4323;
+            let t4325 = wrist_fe_hz * t4305;
+            let t4326 = wrist_fe_hx * t4285;
+            let t4327 = t4325 - t4326;
+            let t4328 = wrist_fe_hx * t4306;
+            let t4329 = wrist_fe_hy * t4305;
+            let t4330 = t4328 - t4329;
+            let t4331 = t4305 * wrist_fe_m;
+            let t4332 = t4306 * wrist_fe_m;
+            let t4333 = t4285 * wrist_fe_m;
+            let t4334 = wrist_fe_hy * t4114;
+            let t4335 = wrist_fe_hz * t4304;
+            let t4336 = t4334 - t4335;
+            let t4337 = wrist_fe_hz * t4303;
+            let t4338 = wrist_fe_hx * t4114;
+            let t4339 = t4337 - t4338;
+            let t4340 = wrist_fe_hx * t4304;
+            let t4341 = wrist_fe_hy * t4303;
+            let t4342 = t4340 - t4341;
+            let t4343 = t4311 + t4324;
+            let t4344 = t4316 + t4327;
+            let t4345 = t4321 + t4330;
+            let t4346 = t4331 - t4336;
+            let t4347 = t4332 - t4339;
+            let t4348 = t4333 - t4342;
+            let t4349 = wrist_fe_ixx * t4269;
+            let t4350 = wrist_fe_ixy * t4272;
             let t4351 = t4349 - t4350;
-            let t4352 = wrist_fe_ixy * t4267;
-            let t4353 = wrist_fe_iyy * t4270;
-            let t4354 = t4352 - t4353;
-            let t4355 = wrist_fe_iyz * t4094;
+            let t4352 = wrist_fe_ixz * t4096;
+            let t4353 = t4351 - t4352;
+            let t4354 = wrist_fe_ixy * t4269;
+            let t4355 = wrist_fe_iyy * t4272;
             let t4356 = t4354 - t4355;
-            let t4357 = wrist_fe_ixz * t4267;
-            let t4358 = wrist_fe_iyz * t4270;
-            let t4359 = t4357 - t4358;
-            let t4360 = wrist_fe_izz * t4094;
+            let t4357 = wrist_fe_iyz * t4096;
+            let t4358 = t4356 - t4357;
+            let t4359 = wrist_fe_ixz * t4269;
+            let t4360 = wrist_fe_iyz * t4272;
             let t4361 = t4359 - t4360;
-            let t4362 = wrist_fe_hy * t4264;
-            let t4363 = wrist_fe_hz * t4276;
-            let t4364 = t4362 + t4363;
-            let t4365 = wrist_fe_hz * t4273;
-            let t4366 = wrist_fe_hx * t4264;
-            let t4367 = t4365 - t4366;
-            let t4368 = wrist_fe_hx * t4276;
-            let t4369 = wrist_fe_hy * t4273;
-            let t4370 = t4368 + t4369;
-            let t4371 = t4273 * wrist_fe_m;
-            let t4372 = t4276 * wrist_fe_m;
-            let t4373 = t4264 * wrist_fe_m;
-            let t4374 = wrist_fe_hy * t4094;
-            let t4375 = wrist_fe_hz * t4270;
-            let t4376 = t4375 - t4374;
-            let t4377 = wrist_fe_hz * t4267;
-            let t4378 = wrist_fe_hx * t4094;
-            let t4379 = t4377 + t4378;
-            let t4380 = wrist_fe_hx * t4270;
-            let t4381 = wrist_fe_hy * t4267;
-            let t4382 = t4380 + t4381;
-            let t4383 = t4351 + t4364;
-            let t4384 = t4356 + t4367;
-            let t4385 = t4361 - t4370;
-            let t4386 = t4371 - t4376;
-            let t4387 = t4372 + t4379;
-            let t4388 = t4373 + t4382;
-            let t4389 = wrist_fe_v_wy * t4385;
-            let t4390 = t4270 * t587;
-            let t4391 = t4389 - t4390;
-            let t4392 = wrist_fe_v_wz * t4384;
-            let t4393 = t4094 * t586;
-            let t4394 = t4392 - t4393;
-            let t4395 = t4391 - t4394;
-            let t4396 = wrist_fe_v_wz * t4383;
-            let t4397 = t4094 * t585;
-            let t4398 = t4396 - t4397;
-            let t4399 = wrist_fe_v_wx * t4385;
-            let t4400 = t4267 * t587;
-            let t4401 = t4399 + t4400;
-            let t4402 = t4398 - t4401;
-            let t4403 = wrist_fe_v_wx * t4384;
-            let t4404 = t4267 * t586;
-            let t4405 = t4403 + t4404;
-            let t4406 = wrist_fe_v_wy * t4383;
-            let t4407 = t4270 * t585;
-            let t4408 = t4406 - t4407;
-            let t4409 = t4405 - t4408;
-            let t4410 = wrist_fe_v_vy * t4388;
-            let t4411 = t4276 * t590;
-            let t4412 = t4410 - t4411;
-            let t4413 = wrist_fe_v_vz * t4387;
-            let t4414 = t4264 * t589;
-            let t4415 = t4414 - t4413;
-            let t4416 = t4412 - t4415;
-            let t4417 = wrist_fe_v_vz * t4386;
-            let t4418 = t4264 * t588;
-            let t4419 = t4417 + t4418;
-            let t4420 = wrist_fe_v_vx * t4388;
-            let t4421 = t4273 * t590;
-            let t4422 = t4420 + t4421;
-            let t4423 = t4419 - t4422;
-            let t4424 = wrist_fe_v_vx * t4387;
-            let t4425 = t4273 * t589;
-            let t4426 = t4425 - t4424;
-            let t4427 = wrist_fe_v_vy * t4386;
-            let t4428 = t4276 * t588;
-            let t4429 = t4427 - t4428;
-            let t4430 = t4426 - t4429;
-            let t4431 = t4395 + t4416;
-            let t4432 = t4402 + t4423;
-            let t4433 = t4409 + t4430;
-            let t4434 = wrist_fe_v_wy * t4388;
-            let t4435 = t4270 * t590;
-            let t4436 = t4434 - t4435;
-            let t4437 = wrist_fe_v_wz * t4387;
-            let t4438 = t4094 * t589;
-            let t4439 = t4437 + t4438;
-            let t4440 = t4436 + t4439;
-            let t4441 = wrist_fe_v_wz * t4386;
-            let t4442 = t4094 * t588;
-            let t4443 = t4441 - t4442;
-            let t4444 = wrist_fe_v_wx * t4388;
-            let t4445 = t4267 * t590;
-            let t4446 = t4444 + t4445;
-            let t4447 = t4443 - t4446;
-            let t4448 = wrist_fe_v_wx * t4387;
-            let t4449 = t4267 * t589;
-            let t4450 = t4449 - t4448;
-            let t4451 = wrist_fe_v_wy * t4386;
-            let t4452 = t4270 * t588;
-            let t4453 = t4451 - t4452;
-            let t4454 = t4450 - t4453;
-            let t4455 = t4341 + t4431;
-            let t4456 = t4342 + t4432;
+            let t4362 = wrist_fe_izz * t4096;
+            let t4363 = t4361 - t4362;
+            let t4364 = wrist_fe_hy * t4266;
+            let t4365 = wrist_fe_hz * t4278;
+            let t4366 = t4364 + t4365;
+            let t4367 = wrist_fe_hz * t4275;
+            let t4368 = wrist_fe_hx * t4266;
+            let t4369 = t4367 - t4368;
+            let t4370 = wrist_fe_hx * t4278;
+            let t4371 = wrist_fe_hy * t4275;
+            let t4372 = t4370 + t4371;
+            let t4373 = t4275 * wrist_fe_m;
+            let t4374 = t4278 * wrist_fe_m;
+            let t4375 = t4266 * wrist_fe_m;
+            let t4376 = wrist_fe_hy * t4096;
+            let t4377 = wrist_fe_hz * t4272;
+            let t4378 = t4377 - t4376;
+            let t4379 = wrist_fe_hz * t4269;
+            let t4380 = wrist_fe_hx * t4096;
+            let t4381 = t4379 + t4380;
+            let t4382 = wrist_fe_hx * t4272;
+            let t4383 = wrist_fe_hy * t4269;
+            let t4384 = t4382 + t4383;
+            let t4385 = t4353 + t4366;
+            let t4386 = t4358 + t4369;
+            let t4387 = t4363 - t4372;
+            let t4388 = t4373 - t4378;
+            let t4389 = t4374 + t4381;
+            let t4390 = t4375 + t4384;
+            let t4391 = wrist_fe_v_wy * t4387;
+            let t4392 = t4272 * t589;
+            let t4393 = t4391 - t4392;
+            let t4394 = wrist_fe_v_wz * t4386;
+            let t4395 = t4096 * t588;
+            let t4396 = t4394 - t4395;
+            let t4397 = t4393 - t4396;
+            let t4398 = wrist_fe_v_wz * t4385;
+            let t4399 = t4096 * t587;
+            let t4400 = t4398 - t4399;
+            let t4401 = wrist_fe_v_wx * t4387;
+            let t4402 = t4269 * t589;
+            let t4403 = t4401 + t4402;
+            let t4404 = t4400 - t4403;
+            let t4405 = wrist_fe_v_wx * t4386;
+            let t4406 = t4269 * t588;
+            let t4407 = t4405 + t4406;
+            let t4408 = wrist_fe_v_wy * t4385;
+            let t4409 = t4272 * t587;
+            let t4410 = t4408 - t4409;
+            let t4411 = t4407 - t4410;
+            let t4412 = wrist_fe_v_vy * t4390;
+            let t4413 = t4278 * t592;
+            let t4414 = t4412 - t4413;
+            let t4415 = wrist_fe_v_vz * t4389;
+            let t4416 = t4266 * t591;
+            let t4417 = t4416 - t4415;
+            let t4418 = t4414 - t4417;
+            let t4419 = wrist_fe_v_vz * t4388;
+            let t4420 = t4266 * t590;
+            let t4421 = t4419 + t4420;
+            let t4422 = wrist_fe_v_vx * t4390;
+            let t4423 = t4275 * t592;
+            let t4424 = t4422 + t4423;
+            let t4425 = t4421 - t4424;
+            let t4426 = wrist_fe_v_vx * t4389;
+            let t4427 = t4275 * t591;
+            let t4428 = t4427 - t4426;
+            let t4429 = wrist_fe_v_vy * t4388;
+            let t4430 = t4278 * t590;
+            let t4431 = t4429 - t4430;
+            let t4432 = t4428 - t4431;
+            let t4433 = t4397 + t4418;
+            let t4434 = t4404 + t4425;
+            let t4435 = t4411 + t4432;
+            let t4436 = wrist_fe_v_wy * t4390;
+            let t4437 = t4272 * t592;
+            let t4438 = t4436 - t4437;
+            let t4439 = wrist_fe_v_wz * t4389;
+            let t4440 = t4096 * t591;
+            let t4441 = t4439 + t4440;
+            let t4442 = t4438 + t4441;
+            let t4443 = wrist_fe_v_wz * t4388;
+            let t4444 = t4096 * t590;
+            let t4445 = t4443 - t4444;
+            let t4446 = wrist_fe_v_wx * t4390;
+            let t4447 = t4269 * t592;
+            let t4448 = t4446 + t4447;
+            let t4449 = t4445 - t4448;
+            let t4450 = wrist_fe_v_wx * t4389;
+            let t4451 = t4269 * t591;
+            let t4452 = t4451 - t4450;
+            let t4453 = wrist_fe_v_wy * t4388;
+            let t4454 = t4272 * t590;
+            let t4455 = t4453 - t4454;
+            let t4456 = t4452 - t4455;
             let t4457 = t4343 + t4433;
-            let t4458 = t4344 + t4440;
-            let t4459 = t4345 + t4447;
-            let t4460 = t4346 + t4454;
-            (t4455, t4456, t4457, t4458, t4459, t4460)
+            let t4458 = t4344 + t4434;
+            let t4459 = t4345 + t4435;
+            let t4460 = t4346 + t4442;
+            let t4461 = t4347 + t4449;
+            let t4462 = t4348 + t4456;
+            (t4457, t4458, t4459, t4460, t4461, t4462)
         };
-        let (t4481, t4482, t4483, t4484, t4485, t4486) = {
+        let (t4483, t4484, t4485, t4486, t4487, t4488) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t4461 = c_wfe * t4458;
-            let t4462 = s_wfe * t4459;
-            let t4463 = t4461 - t4462;
-            let t4464 = s_wfe * t4458;
-            let t4465 = c_wfe * t4459;
-            let t4466 = t4464 + t4465;
-            let t4467 = c_wfe * t4455;
-            let t4468 = s_wfe * t4456;
-            let t4469 = t4467 - t4468;
-            let t4470 = s_wfe * t4455;
-            let t4471 = c_wfe * t4456;
-            let t4472 = t4470 + t4471;
-            let t4473 = 0.184f64 * t4460; // 1.8400e-1 = joint WFE origin z
-            let t4474 = 0.184f64 * t4466; // 1.8400e-1 = joint WFE origin z
-            let t4475 = 0.02075f64 * t4463; // 2.0750e-2 = joint WFE origin x
-            let t4476 = t4474 - t4475;
-            let t4477 = 0.02075f64 * t4460; // 2.0750e-2 = joint WFE origin x
-            let t4478 = t4472 - t4473;
-            let t4479 = t4457 + t4476;
-            let t4480 = t4469 + t4477;
-            let t4481 = t4252 + t4478;
-            let t4482 = t4253 + t4479;
+            let t4463 = c_wfe * t4460;
+            let t4464 = s_wfe * t4461;
+            let t4465 = t4463 - t4464;
+            let t4466 = s_wfe * t4460;
+            let t4467 = c_wfe * t4461;
+            let t4468 = t4466 + t4467;
+            let t4469 = c_wfe * t4457;
+            let t4470 = s_wfe * t4458;
+            let t4471 = t4469 - t4470;
+            let t4472 = s_wfe * t4457;
+            let t4473 = c_wfe * t4458;
+            let t4474 = t4472 + t4473;
+            let t4475 = 0.184f64 * t4462; // 1.8400e-1 = joint WFE origin z
+            let t4476 = 0.184f64 * t4468; // 1.8400e-1 = joint WFE origin z
+            let t4477 = 0.02075f64 * t4465; // 2.0750e-2 = joint WFE origin x
+            let t4478 = t4476 - t4477;
+            let t4479 = 0.02075f64 * t4462; // 2.0750e-2 = joint WFE origin x
+            let t4480 = t4474 - t4475;
+            let t4481 = t4459 + t4478;
+            let t4482 = t4471 + t4479;
             let t4483 = t4254 + t4480;
-            let t4484 = t4255 + t4466;
-            let t4485 = t4256 + t4460;
-            let t4486 = t4257 + t4463;
-            (t4481, t4482, t4483, t4484, t4485, t4486)
+            let t4484 = t4255 + t4481;
+            let t4485 = t4256 + t4482;
+            let t4486 = t4257 + t4468;
+            let t4487 = t4258 + t4462;
+            let t4488 = t4259 + t4465;
+            (t4483, t4484, t4485, t4486, t4487, t4488)
         };
-        let (t4503, t4504, t4505, t4506, t4507, t4508) = {
+        let (t4505, t4506, t4507, t4508, t4509, t4510) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t4487 = c_wr * t4484;
-            let t4488 = s_wr * t4485;
-            let t4489 = t4487 - t4488;
-            let t4490 = s_wr * t4484;
-            let t4491 = c_wr * t4485;
-            let t4492 = t4490 + t4491;
-            let t4493 = c_wr * t4481;
-            let t4494 = s_wr * t4482;
-            let t4495 = t4493 - t4494;
-            let t4496 = s_wr * t4481;
-            let t4497 = c_wr * t4482;
-            let t4498 = t4496 + t4497;
-            let t4499 = 0.112f64 * t4489; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4500 = 0.112f64 * t4492; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4501 = t4498 + t4499;
-            let t4502 = t4500 - t4495;
-            let t4503 = t4086 + t4483;
-            let t4504 = t4087 + t4501;
-            let t4505 = t4088 + t4502;
-            let t4506 = t4089 + t4486;
-            let t4507 = t4492 - t4090;
-            let t4508 = t4091 - t4489;
-            (t4503, t4504, t4505, t4506, t4507, t4508)
+            let t4489 = c_wr * t4486;
+            let t4490 = s_wr * t4487;
+            let t4491 = t4489 - t4490;
+            let t4492 = s_wr * t4486;
+            let t4493 = c_wr * t4487;
+            let t4494 = t4492 + t4493;
+            let t4495 = c_wr * t4483;
+            let t4496 = s_wr * t4484;
+            let t4497 = t4495 - t4496;
+            let t4498 = s_wr * t4483;
+            let t4499 = c_wr * t4484;
+            let t4500 = t4498 + t4499;
+            let t4501 = 0.112f64 * t4491; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4502 = 0.112f64 * t4494; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4503 = t4500 + t4501;
+            let t4504 = t4502 - t4497;
+            let t4505 = t4088 + t4485;
+            let t4506 = t4089 + t4503;
+            let t4507 = t4090 + t4504;
+            let t4508 = t4091 + t4488;
+            let t4509 = t4494 - t4092;
+            let t4510 = t4093 - t4491;
+            (t4505, t4506, t4507, t4508, t4509, t4510)
         };
-        let (t4522, t4523, t4524, t4525, t4526) = {
+        let (t4524, t4525, t4526, t4527, t4528) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t4509 = s_efe * t4506;
-            let t4510 = c_efe * t4507;
-            let t4511 = t4509 + t4510;
-            let t4512 = c_efe * t4503;
-            let t4513 = s_efe * t4504;
-            let t4514 = t4512 - t4513;
-            let t4515 = s_efe * t4503;
-            let t4516 = c_efe * t4504;
-            let t4517 = t4515 + t4516;
-            let t4518 = 0.304f64 * t4511; // 3.0400e-1 = joint EFE origin z
-            let t4519 = 0.304f64 * t4508; // 3.0400e-1 = joint EFE origin z
-            let t4520 = t4505 + t4518;
-            let t4521 = t4517 - t4519;
-            let t4522 = t3985 - t4520;
-            let t4523 = t3986 + t4521;
-            let t4524 = t3987 + t4514;
-            let t4525 = t3988 - t4508;
-            let t4526 = t3989 + t4511;
-            (t4522, t4523, t4524, t4525, t4526)
+            let t4511 = s_efe * t4508;
+            let t4512 = c_efe * t4509;
+            let t4513 = t4511 + t4512;
+            let t4514 = c_efe * t4505;
+            let t4515 = s_efe * t4506;
+            let t4516 = t4514 - t4515;
+            let t4517 = s_efe * t4505;
+            let t4518 = c_efe * t4506;
+            let t4519 = t4517 + t4518;
+            let t4520 = 0.304f64 * t4513; // 3.0400e-1 = joint EFE origin z
+            let t4521 = 0.304f64 * t4510; // 3.0400e-1 = joint EFE origin z
+            let t4522 = t4507 + t4520;
+            let t4523 = t4519 - t4521;
+            let t4524 = t3987 - t4522;
+            let t4525 = t3988 + t4523;
+            let t4526 = t3989 + t4516;
+            let t4527 = t3990 - t4510;
+            let t4528 = t3991 + t4513;
+            (t4524, t4525, t4526, t4527, t4528)
         };
-        let (t4541, t4542) = {
+        let (t4543, t4544) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t4527 = c_hr * t4525;
-            let t4528 = s_hr * t4526;
-            let t4529 = t4527 - t4528;
-            let t4530 = s_hr * t4525;
-            let t4531 = c_hr * t4526;
-            let t4532 = t4530 + t4531;
-            let t4533 = c_hr * t4522;
-            let t4534 = s_hr * t4523;
-            let t4535 = t4533 - t4534;
-            let t4536 = s_hr * t4522;
-            let t4537 = c_hr * t4523;
-            let t4538 = t4536 + t4537;
-            let t4539 = 0.112f64 * t4529; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4540 = 0.112f64 * t4532; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4541 = t4538 + t4539;
-            let t4542 = t4540 - t4535;
-            (t4541, t4542)
+            let t4529 = c_hr * t4527;
+            let t4530 = s_hr * t4528;
+            let t4531 = t4529 - t4530;
+            let t4532 = s_hr * t4527;
+            let t4533 = c_hr * t4528;
+            let t4534 = t4532 + t4533;
+            let t4535 = c_hr * t4524;
+            let t4536 = s_hr * t4525;
+            let t4537 = t4535 - t4536;
+            let t4538 = s_hr * t4524;
+            let t4539 = c_hr * t4525;
+            let t4540 = t4538 + t4539;
+            let t4541 = 0.112f64 * t4531; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4542 = 0.112f64 * t4534; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4543 = t4540 + t4541;
+            let t4544 = t4542 - t4537;
+            (t4543, t4544)
         };
-        let t4545 = {
+        let t4547 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t4543 = s_sfe * t4524;
-            let t4544 = c_sfe * t4541;
-            let t4545 = t4543 + t4544;
-            t4545
+            let t4545 = s_sfe * t4526;
+            let t4546 = c_sfe * t4543;
+            let t4547 = t4545 + t4546;
+            t4547
         };
         let (
-            t4568,
-            t4569,
-            t4573,
-            t4576,
-            t4577,
+            t4570,
+            t4571,
+            t4575,
             t4578,
             t4579,
             t4580,
             t4581,
-            t4630,
-            t4631,
+            t4582,
+            t4583,
             t4632,
             t4633,
             t4634,
             t4635,
+            t4636,
+            t4637,
         ) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t4546 = elbow_fe_ixx * elbow_fe_a_wy;
-            let t4547 = t4546 - t202;
-            let t4548 = elbow_fe_iyy * elbow_fe_a_wx;
-            let t4549 = t198 - t4548;
-            let t4550 = elbow_fe_ixz * elbow_fe_a_wy;
-            let t4551 = elbow_fe_iyz * elbow_fe_a_wx;
-            let t4552 = t4550 - t4551;
-            let t4553 = elbow_fe_hx * elbow_fe_a_vx;
-            let t4554 = elbow_fe_hy * elbow_fe_a_vy;
-            let t4555 = t4553 + t4554;
-            let t4556 = elbow_fe_hx * elbow_fe_a_wx;
-            let t4557 = elbow_fe_hy * elbow_fe_a_wy;
-            let t4558 = t4556 + t4557;
-            let t4559 = t4547 + t215;
-            let t4560 = t4549 + t213;
-            let t4561 = t4552 - t4555;
-            let t4562 = t222 - t227;
-            let t4563 = t221 + t225;
-            let t4564 = elbow_fe_ixx * elbow_fe_v_wy;
-            let t4565 = t4564 - t244;
-            let t4566 = elbow_fe_iyy * elbow_fe_v_wx;
-            let t4567 = t240 - t4566;
-            let t4568 = elbow_fe_ixz * elbow_fe_v_wy;
-            let t4569 = elbow_fe_iyz * elbow_fe_v_wx;
-            let t4570 = t4568 - t4569;
-            let t4571 = elbow_fe_hx * elbow_fe_v_vx;
-            let t4572 = elbow_fe_hy * elbow_fe_v_vy;
-            let t4573 = t4571 + t4572;
-            let t4574 = elbow_fe_hx * elbow_fe_v_wx;
-            let t4575 = elbow_fe_hy * elbow_fe_v_wy;
-            let t4576 = t4574 + t4575;
-            let t4577 = t4565 + t257;
-            let t4578 = t4567 + t255;
-            let t4579 = t4570 - t4573;
-            let t4580 = t264 - t269;
-            let t4581 = t263 + t267;
-            let t4582 = elbow_fe_v_wy * t4579;
-            let t4583 = t4582 - t285;
-            let t4584 = elbow_fe_v_wz * t4578;
-            let t4585 = t4583 - t4584;
-            let t4586 = elbow_fe_v_wz * t4577;
-            let t4587 = elbow_fe_v_wx * t4579;
-            let t4588 = t4587 + t281;
-            let t4589 = t4586 - t4588;
-            let t4590 = elbow_fe_v_wx * t4578;
-            let t4591 = elbow_fe_v_wy * t276;
-            let t4592 = t4590 + t4591;
-            let t4593 = elbow_fe_v_wy * t4577;
-            let t4594 = elbow_fe_v_wx * t275;
-            let t4595 = t4593 - t4594;
-            let t4596 = t4592 - t4595;
-            let t4597 = elbow_fe_v_vy * t4576;
-            let t4598 = t4597 + t294;
-            let t4599 = elbow_fe_v_vz * t4581;
-            let t4600 = t4598 - t4599;
-            let t4601 = elbow_fe_v_vz * t4580;
-            let t4602 = elbow_fe_v_vx * t4576;
-            let t4603 = t4602 - t290;
-            let t4604 = t4601 + t4603;
-            let t4605 = elbow_fe_v_vx * t4581;
-            let t4606 = elbow_fe_v_vy * t279;
-            let t4607 = t4606 - t4605;
-            let t4608 = elbow_fe_v_vy * t4580;
-            let t4609 = elbow_fe_v_vx * t278;
-            let t4610 = t4608 - t4609;
-            let t4611 = t4607 - t4610;
-            let t4612 = t4585 + t4600;
-            let t4613 = t4589 - t4604;
-            let t4614 = t4596 + t4611;
-            let t4615 = elbow_fe_v_wy * t4576;
-            let t4616 = t4615 + t306;
-            let t4617 = elbow_fe_v_wz * t4581;
-            let t4618 = t4616 + t4617;
-            let t4619 = elbow_fe_v_wz * t4580;
-            let t4620 = elbow_fe_v_wx * t4576;
-            let t4621 = t4620 - t302;
-            let t4622 = t4619 - t4621;
-            let t4623 = elbow_fe_v_wx * t4581;
-            let t4624 = elbow_fe_v_wy * t279;
-            let t4625 = t4624 - t4623;
-            let t4626 = elbow_fe_v_wy * t4580;
-            let t4627 = elbow_fe_v_wx * t278;
-            let t4628 = t4626 - t4627;
-            let t4629 = t4625 - t4628;
-            let t4630 = t4559 + t4612;
-            let t4631 = t4560 + t4613;
+            let t4548 = elbow_fe_ixx * elbow_fe_a_wy;
+            let t4549 = t4548 - t204;
+            let t4550 = elbow_fe_iyy * elbow_fe_a_wx;
+            let t4551 = t200 - t4550;
+            let t4552 = elbow_fe_ixz * elbow_fe_a_wy;
+            let t4553 = elbow_fe_iyz * elbow_fe_a_wx;
+            let t4554 = t4552 - t4553;
+            let t4555 = elbow_fe_hx * elbow_fe_a_vx;
+            let t4556 = elbow_fe_hy * elbow_fe_a_vy;
+            let t4557 = t4555 + t4556;
+            let t4558 = elbow_fe_hx * elbow_fe_a_wx;
+            let t4559 = elbow_fe_hy * elbow_fe_a_wy;
+            let t4560 = t4558 + t4559;
+            let t4561 = t4549 + t217;
+            let t4562 = t4551 + t215;
+            let t4563 = t4554 - t4557;
+            let t4564 = t224 - t229;
+            let t4565 = t223 + t227;
+            let t4566 = elbow_fe_ixx * elbow_fe_v_wy;
+            let t4567 = t4566 - t246;
+            let t4568 = elbow_fe_iyy * elbow_fe_v_wx;
+            let t4569 = t242 - t4568;
+            let t4570 = elbow_fe_ixz * elbow_fe_v_wy;
+            let t4571 = elbow_fe_iyz * elbow_fe_v_wx;
+            let t4572 = t4570 - t4571;
+            let t4573 = elbow_fe_hx * elbow_fe_v_vx;
+            let t4574 = elbow_fe_hy * elbow_fe_v_vy;
+            let t4575 = t4573 + t4574;
+            let t4576 = elbow_fe_hx * elbow_fe_v_wx;
+            let t4577 = elbow_fe_hy * elbow_fe_v_wy;
+            let t4578 = t4576 + t4577;
+            let t4579 = t4567 + t259;
+            let t4580 = t4569 + t257;
+            let t4581 = t4572 - t4575;
+            let t4582 = t266 - t271;
+            let t4583 = t265 + t269;
+            let t4584 = elbow_fe_v_wy * t4581;
+            let t4585 = t4584 - t287;
+            let t4586 = elbow_fe_v_wz * t4580;
+            let t4587 = t4585 - t4586;
+            let t4588 = elbow_fe_v_wz * t4579;
+            let t4589 = elbow_fe_v_wx * t4581;
+            let t4590 = t4589 + t283;
+            let t4591 = t4588 - t4590;
+            let t4592 = elbow_fe_v_wx * t4580;
+            let t4593 = elbow_fe_v_wy * t278;
+            let t4594 = t4592 + t4593;
+            let t4595 = elbow_fe_v_wy * t4579;
+            let t4596 = elbow_fe_v_wx * t277;
+            let t4597 = t4595 - t4596;
+            let t4598 = t4594 - t4597;
+            let t4599 = elbow_fe_v_vy * t4578;
+            let t4600 = t4599 + t296;
+            let t4601 = t173 * t4583;
+            let t4602 = t4600 - t4601;
+            let t4603 = t173 * t4582;
+            let t4604 = elbow_fe_v_vx * t4578;
+            let t4605 = t4604 - t292;
+            let t4606 = t4603 + t4605;
+            let t4607 = elbow_fe_v_vx * t4583;
+            let t4608 = elbow_fe_v_vy * t281;
+            let t4609 = t4608 - t4607;
+            let t4610 = elbow_fe_v_vy * t4582;
+            let t4611 = elbow_fe_v_vx * t280;
+            let t4612 = t4610 - t4611;
+            let t4613 = t4609 - t4612;
+            let t4614 = t4587 + t4602;
+            let t4615 = t4591 - t4606;
+            let t4616 = t4598 + t4613;
+            let t4617 = elbow_fe_v_wy * t4578;
+            let t4618 = t4617 + t308;
+            let t4619 = elbow_fe_v_wz * t4583;
+            let t4620 = t4618 + t4619;
+            let t4621 = elbow_fe_v_wz * t4582;
+            let t4622 = elbow_fe_v_wx * t4578;
+            let t4623 = t4622 - t304;
+            let t4624 = t4621 - t4623;
+            let t4625 = elbow_fe_v_wx * t4583;
+            let t4626 = elbow_fe_v_wy * t281;
+            let t4627 = t4626 - t4625;
+            let t4628 = elbow_fe_v_wy * t4582;
+            let t4629 = elbow_fe_v_wx * t280;
+            let t4630 = t4628 - t4629;
+            let t4631 = t4627 - t4630;
             let t4632 = t4561 + t4614;
-            let t4633 = t4562 + t4618;
-            let t4634 = t4622 - t4563;
-            let t4635 = t4558 + t4629;
+            let t4633 = t4562 + t4615;
+            let t4634 = t4563 + t4616;
+            let t4635 = t4564 + t4620;
+            let t4636 = t4624 - t4565;
+            let t4637 = t4560 + t4631;
             (
-                t4568,
-                t4569,
-                t4573,
-                t4576,
-                t4577,
+                t4570,
+                t4571,
+                t4575,
                 t4578,
                 t4579,
                 t4580,
                 t4581,
-                t4630,
-                t4631,
+                t4582,
+                t4583,
                 t4632,
                 t4633,
                 t4634,
                 t4635,
+                t4636,
+                t4637,
             )
         };
         let (
-            t4637,
-            t4638,
-            t4641,
-            t4644,
-            t4658,
-            t4659,
+            t4639,
+            t4640,
+            t4643,
+            t4646,
             t4660,
             t4661,
-            t4707,
-            t4712,
-            t4717,
+            t4662,
+            t4663,
+            t4709,
+            t4714,
             t4719,
-            t4723,
-            t4730,
-            t4731,
-            t4735,
-            t4812,
-            t4813,
+            t4721,
+            t4725,
+            t4732,
+            t4733,
+            t4737,
             t4814,
             t4815,
             t4816,
             t4817,
+            t4818,
+            t4819,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t4636 = 0.112f64 * elbow_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4637 = s_wr * elbow_fe_v_wx;
-            let t4638 = c_wr * elbow_fe_v_wx;
-            let t4639 = c_wr * t4636;
-            let t4640 = s_wr * elbow_fe_v_vx;
-            let t4641 = t4639 + t4640;
-            let t4642 = s_wr * t4636;
-            let t4643 = c_wr * elbow_fe_v_vx;
-            let t4644 = t4642 - t4643;
-            let t4645 = 0.112f64 * elbow_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t4646 = s_wr * elbow_fe_a_wx;
-            let t4647 = c_wr * elbow_fe_a_wx;
-            let t4648 = c_wr * t4645;
-            let t4649 = s_wr * elbow_fe_a_vx;
-            let t4650 = t4648 + t4649;
-            let t4651 = s_wr * t4645;
-            let t4652 = c_wr * elbow_fe_a_vx;
-            let t4653 = t4651 - t4652;
-            let t4654 = t4638 * qd_wr;
-            let t4655 = t4637 * qd_wr;
-            let t4656 = t4644 * qd_wr;
-            let t4657 = t4641 * qd_wr;
-            let t4658 = t4646 + t4654;
-            let t4659 = t4655 - t4647;
-            let t4660 = t4656 - t4650;
-            let t4661 = t4653 + t4657;
-            let t4662 = wrist_r_ixx * t4658;
-            let t4663 = wrist_r_ixy * t4659;
-            let t4664 = t4663 - t4662;
-            let t4665 = wrist_r_ixz * elbow_fe_a_wy;
-            let t4666 = t4664 + t4665;
-            let t4667 = wrist_r_ixy * t4658;
-            let t4668 = wrist_r_iyy * t4659;
-            let t4669 = t4668 - t4667;
-            let t4670 = wrist_r_iyz * elbow_fe_a_wy;
-            let t4671 = t4669 + t4670;
-            let t4672 = wrist_r_ixz * t4658;
-            let t4673 = wrist_r_iyz * t4659;
-            let t4674 = t4673 - t4672;
-            let t4675 = wrist_r_izz * elbow_fe_a_wy;
-            let t4676 = t4674 + t4675;
-            let t4677 = wrist_r_hy * elbow_fe_a_vy;
-            let t4678 = wrist_r_hz * t4661;
-            let t4679 = t4677 - t4678;
-            let t4680 = wrist_r_hz * t4660;
-            let t4681 = wrist_r_hx * elbow_fe_a_vy;
-            let t4682 = t4680 - t4681;
-            let t4683 = wrist_r_hx * t4661;
-            let t4684 = wrist_r_hy * t4660;
-            let t4685 = t4683 - t4684;
-            let t4686 = t4660 * wrist_r_m;
-            let t4687 = t4661 * wrist_r_m;
-            let t4688 = elbow_fe_a_vy * wrist_r_m;
-            let t4689 = wrist_r_hy * elbow_fe_a_wy;
-            let t4690 = wrist_r_hz * t4659;
-            let t4691 = t4689 - t4690;
-            let t4692 = wrist_r_hz * t4658;
-            let t4693 = wrist_r_hx * elbow_fe_a_wy;
-            let t4694 = t4692 + t4693;
-            let t4695 = wrist_r_hx * t4659;
-            let t4696 = wrist_r_hy * t4658;
-            let t4697 = t4695 + t4696;
-            let t4698 = t4666 + t4679;
-            let t4699 = t4671 + t4682;
-            let t4700 = t4676 + t4685;
-            let t4701 = t4686 - t4691;
-            let t4702 = t4687 + t4694;
-            let t4703 = t4688 - t4697;
-            let t4704 = wrist_r_ixx * t4637;
-            let t4705 = wrist_r_ixy * t4638;
-            let t4706 = t4704 + t4705;
-            let t4707 = wrist_r_ixz * elbow_fe_v_wy;
-            let t4708 = t4707 - t4706;
-            let t4709 = wrist_r_ixy * t4637;
-            let t4710 = wrist_r_iyy * t4638;
-            let t4711 = t4709 + t4710;
-            let t4712 = wrist_r_iyz * elbow_fe_v_wy;
-            let t4713 = t4712 - t4711;
-            let t4714 = wrist_r_ixz * t4637;
-            let t4715 = wrist_r_iyz * t4638;
-            let t4716 = t4714 + t4715;
-            let t4717 = wrist_r_izz * elbow_fe_v_wy;
-            let t4718 = t4717 - t4716;
-            let t4719 = wrist_r_hy * elbow_fe_v_vy;
-            let t4720 = wrist_r_hz * t4644;
-            let t4721 = t4719 - t4720;
-            let t4722 = wrist_r_hz * t4641;
-            let t4723 = wrist_r_hx * elbow_fe_v_vy;
-            let t4724 = t4722 + t4723;
-            let t4725 = wrist_r_hx * t4644;
-            let t4726 = wrist_r_hy * t4641;
-            let t4727 = t4725 + t4726;
-            let t4728 = t4641 * wrist_r_m;
-            let t4729 = t4644 * wrist_r_m;
-            let t4730 = elbow_fe_v_vy * wrist_r_m;
-            let t4731 = wrist_r_hy * elbow_fe_v_wy;
-            let t4732 = wrist_r_hz * t4638;
-            let t4733 = t4731 + t4732;
-            let t4734 = wrist_r_hz * t4637;
-            let t4735 = wrist_r_hx * elbow_fe_v_wy;
-            let t4736 = t4734 + t4735;
-            let t4737 = wrist_r_hx * t4638;
-            let t4738 = wrist_r_hy * t4637;
-            let t4739 = t4738 - t4737;
-            let t4740 = t4708 + t4721;
-            let t4741 = t4713 - t4724;
-            let t4742 = t4718 + t4727;
-            let t4743 = t4728 + t4733;
-            let t4744 = t4729 + t4736;
-            let t4745 = t4730 - t4739;
-            let t4746 = wrist_r_v_wy * t4742;
-            let t4747 = t4638 * t429;
-            let t4748 = t4746 - t4747;
-            let t4749 = wrist_r_v_wz * t4741;
-            let t4750 = elbow_fe_v_wy * t428;
-            let t4751 = t4749 + t4750;
-            let t4752 = t4748 - t4751;
-            let t4753 = wrist_r_v_wz * t4740;
-            let t4754 = elbow_fe_v_wy * t427;
-            let t4755 = t4753 + t4754;
-            let t4756 = wrist_r_v_wx * t4742;
-            let t4757 = t4637 * t429;
-            let t4758 = t4756 - t4757;
-            let t4759 = t4755 - t4758;
-            let t4760 = wrist_r_v_wx * t4741;
-            let t4761 = t4637 * t428;
-            let t4762 = t4760 - t4761;
-            let t4763 = wrist_r_v_wy * t4740;
-            let t4764 = t4638 * t427;
-            let t4765 = t4763 - t4764;
-            let t4766 = t4762 - t4765;
-            let t4767 = wrist_r_v_vy * t4745;
-            let t4768 = t4644 * t432;
-            let t4769 = t4767 + t4768;
-            let t4770 = elbow_fe_v_vx * t4744;
-            let t4771 = elbow_fe_v_vy * t431;
-            let t4772 = t4770 + t4771;
-            let t4773 = t4769 - t4772;
-            let t4774 = elbow_fe_v_vx * t4743;
-            let t4775 = elbow_fe_v_vy * t430;
-            let t4776 = t4775 - t4774;
-            let t4777 = wrist_r_v_vx * t4745;
-            let t4778 = t4641 * t432;
-            let t4779 = t4777 - t4778;
-            let t4780 = t4776 - t4779;
-            let t4781 = wrist_r_v_vx * t4744;
-            let t4782 = t4641 * t431;
-            let t4783 = t4781 - t4782;
-            let t4784 = wrist_r_v_vy * t4743;
-            let t4785 = t4644 * t430;
-            let t4786 = t4785 - t4784;
-            let t4787 = t4783 - t4786;
-            let t4788 = t4752 + t4773;
-            let t4789 = t4759 + t4780;
-            let t4790 = t4766 + t4787;
-            let t4791 = wrist_r_v_wy * t4745;
-            let t4792 = t4638 * t432;
-            let t4793 = t4791 - t4792;
-            let t4794 = wrist_r_v_wz * t4744;
-            let t4795 = elbow_fe_v_wy * t431;
-            let t4796 = t4794 + t4795;
-            let t4797 = t4793 - t4796;
-            let t4798 = wrist_r_v_wz * t4743;
-            let t4799 = elbow_fe_v_wy * t430;
-            let t4800 = t4799 - t4798;
-            let t4801 = wrist_r_v_wx * t4745;
-            let t4802 = t4637 * t432;
-            let t4803 = t4801 - t4802;
-            let t4804 = t4800 - t4803;
-            let t4805 = wrist_r_v_wx * t4744;
-            let t4806 = t4637 * t431;
-            let t4807 = t4805 - t4806;
-            let t4808 = wrist_r_v_wy * t4743;
-            let t4809 = t4638 * t430;
-            let t4810 = t4808 + t4809;
-            let t4811 = t4807 + t4810;
-            let t4812 = t4698 + t4788;
-            let t4813 = t4699 + t4789;
+            let t4638 = 0.112f64 * elbow_fe_v_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4639 = s_wr * elbow_fe_v_wx;
+            let t4640 = c_wr * elbow_fe_v_wx;
+            let t4641 = c_wr * t4638;
+            let t4642 = s_wr * elbow_fe_v_vx;
+            let t4643 = t4641 + t4642;
+            let t4644 = s_wr * t4638;
+            let t4645 = c_wr * elbow_fe_v_vx;
+            let t4646 = t4644 - t4645;
+            let t4647 = 0.112f64 * elbow_fe_a_wx; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t4648 = s_wr * elbow_fe_a_wx;
+            let t4649 = c_wr * elbow_fe_a_wx;
+            let t4650 = c_wr * t4647;
+            let t4651 = s_wr * elbow_fe_a_vx;
+            let t4652 = t4650 + t4651;
+            let t4653 = s_wr * t4647;
+            let t4654 = c_wr * elbow_fe_a_vx;
+            let t4655 = t4653 - t4654;
+            let t4656 = t4640 * qd_wr;
+            let t4657 = t4639 * qd_wr;
+            let t4658 = t4646 * qd_wr;
+            let t4659 = t4643 * qd_wr;
+            let t4660 = t4648 + t4656;
+            let t4661 = t4657 - t4649;
+            let t4662 = t4658 - t4652;
+            let t4663 = t4655 + t4659;
+            let t4664 = wrist_r_ixx * t4660;
+            let t4665 = wrist_r_ixy * t4661;
+            let t4666 = t4665 - t4664;
+            let t4667 = wrist_r_ixz * elbow_fe_a_wy;
+            let t4668 = t4666 + t4667;
+            let t4669 = wrist_r_ixy * t4660;
+            let t4670 = wrist_r_iyy * t4661;
+            let t4671 = t4670 - t4669;
+            let t4672 = wrist_r_iyz * elbow_fe_a_wy;
+            let t4673 = t4671 + t4672;
+            let t4674 = wrist_r_ixz * t4660;
+            let t4675 = wrist_r_iyz * t4661;
+            let t4676 = t4675 - t4674;
+            let t4677 = wrist_r_izz * elbow_fe_a_wy;
+            let t4678 = t4676 + t4677;
+            let t4679 = wrist_r_hy * elbow_fe_a_vy;
+            let t4680 = wrist_r_hz * t4663;
+            let t4681 = t4679 - t4680;
+            let t4682 = wrist_r_hz * t4662;
+            let t4683 = wrist_r_hx * elbow_fe_a_vy;
+            let t4684 = t4682 - t4683;
+            let t4685 = wrist_r_hx * t4663;
+            let t4686 = wrist_r_hy * t4662;
+            let t4687 = t4685 - t4686;
+            let t4688 = t4662 * wrist_r_m;
+            let t4689 = t4663 * wrist_r_m;
+            let t4690 = elbow_fe_a_vy * wrist_r_m;
+            let t4691 = wrist_r_hy * elbow_fe_a_wy;
+            let t4692 = wrist_r_hz * t4661;
+            let t4693 = t4691 - t4692;
+            let t4694 = wrist_r_hz * t4660;
+            let t4695 = wrist_r_hx * elbow_fe_a_wy;
+            let t4696 = t4694 + t4695;
+            let t4697 = wrist_r_hx * t4661;
+            let t4698 = wrist_r_hy * t4660;
+            let t4699 = t4697 + t4698;
+            let t4700 = t4668 + t4681;
+            let t4701 = t4673 + t4684;
+            let t4702 = t4678 + t4687;
+            let t4703 = t4688 - t4693;
+            let t4704 = t4689 + t4696;
+            let t4705 = t4690 - t4699;
+            let t4706 = wrist_r_ixx * t4639;
+            let t4707 = wrist_r_ixy * t4640;
+            let t4708 = t4706 + t4707;
+            let t4709 = wrist_r_ixz * elbow_fe_v_wy;
+            let t4710 = t4709 - t4708;
+            let t4711 = wrist_r_ixy * t4639;
+            let t4712 = wrist_r_iyy * t4640;
+            let t4713 = t4711 + t4712;
+            let t4714 = wrist_r_iyz * elbow_fe_v_wy;
+            let t4715 = t4714 - t4713;
+            let t4716 = wrist_r_ixz * t4639;
+            let t4717 = wrist_r_iyz * t4640;
+            let t4718 = t4716 + t4717;
+            let t4719 = wrist_r_izz * elbow_fe_v_wy;
+            let t4720 = t4719 - t4718;
+            let t4721 = wrist_r_hy * elbow_fe_v_vy;
+            let t4722 = wrist_r_hz * t4646;
+            let t4723 = t4721 - t4722;
+            let t4724 = wrist_r_hz * t4643;
+            let t4725 = wrist_r_hx * elbow_fe_v_vy;
+            let t4726 = t4724 + t4725;
+            let t4727 = wrist_r_hx * t4646;
+            let t4728 = wrist_r_hy * t4643;
+            let t4729 = t4727 + t4728;
+            let t4730 = t4643 * wrist_r_m;
+            let t4731 = t4646 * wrist_r_m;
+            let t4732 = elbow_fe_v_vy * wrist_r_m;
+            let t4733 = wrist_r_hy * elbow_fe_v_wy;
+            let t4734 = wrist_r_hz * t4640;
+            let t4735 = t4733 + t4734;
+            let t4736 = wrist_r_hz * t4639;
+            let t4737 = wrist_r_hx * elbow_fe_v_wy;
+            let t4738 = t4736 + t4737;
+            let t4739 = wrist_r_hx * t4640;
+            let t4740 = wrist_r_hy * t4639;
+            let t4741 = t4740 - t4739;
+            let t4742 = t4710 + t4723;
+            let t4743 = t4715 - t4726;
+            let t4744 = t4720 + t4729;
+            let t4745 = t4730 + t4735;
+            let t4746 = t4731 + t4738;
+            let t4747 = t4732 - t4741;
+            let t4748 = wrist_r_v_wy * t4744;
+            let t4749 = t4640 * t431;
+            let t4750 = t4748 - t4749;
+            let t4751 = wrist_r_v_wz * t4743;
+            let t4752 = elbow_fe_v_wy * t430;
+            let t4753 = t4751 + t4752;
+            let t4754 = t4750 - t4753;
+            let t4755 = wrist_r_v_wz * t4742;
+            let t4756 = elbow_fe_v_wy * t429;
+            let t4757 = t4755 + t4756;
+            let t4758 = wrist_r_v_wx * t4744;
+            let t4759 = t4639 * t431;
+            let t4760 = t4758 - t4759;
+            let t4761 = t4757 - t4760;
+            let t4762 = wrist_r_v_wx * t4743;
+            let t4763 = t4639 * t430;
+            let t4764 = t4762 - t4763;
+            let t4765 = wrist_r_v_wy * t4742;
+            let t4766 = t4640 * t429;
+            let t4767 = t4765 - t4766;
+            let t4768 = t4764 - t4767;
+            let t4769 = wrist_r_v_vy * t4747;
+            let t4770 = t4646 * t434;
+            let t4771 = t4769 + t4770;
+            let t4772 = elbow_fe_v_vx * t4746;
+            let t4773 = elbow_fe_v_vy * t433;
+            let t4774 = t4772 + t4773;
+            let t4775 = t4771 - t4774;
+            let t4776 = elbow_fe_v_vx * t4745;
+            let t4777 = elbow_fe_v_vy * t432;
+            let t4778 = t4777 - t4776;
+            let t4779 = wrist_r_v_vx * t4747;
+            let t4780 = t4643 * t434;
+            let t4781 = t4779 - t4780;
+            let t4782 = t4778 - t4781;
+            let t4783 = wrist_r_v_vx * t4746;
+            let t4784 = t4643 * t433;
+            let t4785 = t4783 - t4784;
+            let t4786 = wrist_r_v_vy * t4745;
+            let t4787 = t4646 * t432;
+            let t4788 = t4787 - t4786;
+            let t4789 = t4785 - t4788;
+            let t4790 = t4754 + t4775;
+            let t4791 = t4761 + t4782;
+            let t4792 = t4768 + t4789;
+            let t4793 = wrist_r_v_wy * t4747;
+            let t4794 = t4640 * t434;
+            let t4795 = t4793 - t4794;
+            let t4796 = wrist_r_v_wz * t4746;
+            let t4797 = elbow_fe_v_wy * t433;
+            let t4798 = t4796 + t4797;
+            let t4799 = t4795 - t4798;
+            let t4800 = wrist_r_v_wz * t4745;
+            let t4801 = elbow_fe_v_wy * t432;
+            let t4802 = t4801 - t4800;
+            let t4803 = wrist_r_v_wx * t4747;
+            let t4804 = t4639 * t434;
+            let t4805 = t4803 - t4804;
+            let t4806 = t4802 - t4805;
+            let t4807 = wrist_r_v_wx * t4746;
+            let t4808 = t4639 * t433;
+            let t4809 = t4807 - t4808;
+            let t4810 = wrist_r_v_wy * t4745;
+            let t4811 = t4640 * t432;
+            let t4812 = t4810 + t4811;
+            let t4813 = t4809 + t4812;
             let t4814 = t4700 + t4790;
-            let t4815 = t4701 + t4797;
-            let t4816 = t4702 + t4804;
-            let t4817 = t4703 + t4811;
+            let t4815 = t4701 + t4791;
+            let t4816 = t4702 + t4792;
+            let t4817 = t4703 + t4799;
+            let t4818 = t4704 + t4806;
+            let t4819 = t4705 + t4813;
             (
-                t4637,
-                t4638,
-                t4641,
-                t4644,
-                t4658,
-                t4659,
+                t4639,
+                t4640,
+                t4643,
+                t4646,
                 t4660,
                 t4661,
-                t4707,
-                t4712,
-                t4717,
+                t4662,
+                t4663,
+                t4709,
+                t4714,
                 t4719,
-                t4723,
-                t4730,
-                t4731,
-                t4735,
-                t4812,
-                t4813,
+                t4721,
+                t4725,
+                t4732,
+                t4733,
+                t4737,
                 t4814,
                 t4815,
                 t4816,
                 t4817,
+                t4818,
+                t4819,
             )
         };
-        let (t4820, t4826, t4829, t5016, t5017, t5018, t5019, t5020, t5021) = {
+        let (t4822, t4828, t4831, t5018, t5019, t5020, t5021, t5022, t5023) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t4818 = 0.184f64 * t4638; // 1.8400e-1 = joint WFE origin z
-            let t4819 = 0.184f64 * t4637; // 1.8400e-1 = joint WFE origin z
-            let t4820 = 0.02075f64 * elbow_fe_v_wy; // 2.0750e-2 = joint WFE origin x
-            let t4821 = t4819 + t4820;
-            let t4822 = 0.02075f64 * t4638; // 2.0750e-2 = joint WFE origin x
-            let t4823 = t4641 + t4818;
-            let t4824 = t4644 + t4821;
-            let t4825 = elbow_fe_v_vy + t4822;
-            let t4826 = c_wfe * elbow_fe_v_wy;
-            let t4827 = s_wfe * t4637;
-            let t4828 = t4826 - t4827;
-            let t4829 = s_wfe * elbow_fe_v_wy;
-            let t4830 = c_wfe * t4637;
-            let t4831 = t4829 + t4830;
-            let t4832 = c_wfe * t4825;
-            let t4833 = s_wfe * t4823;
-            let t4834 = t4832 - t4833;
+            let t4820 = 0.184f64 * t4640; // 1.8400e-1 = joint WFE origin z
+            let t4821 = 0.184f64 * t4639; // 1.8400e-1 = joint WFE origin z
+            let t4822 = 0.02075f64 * elbow_fe_v_wy; // 2.0750e-2 = joint WFE origin x
+            let t4823 = t4821 + t4822;
+            let t4824 = 0.02075f64 * t4640; // 2.0750e-2 = joint WFE origin x
+            let t4825 = t4643 + t4820;
+            let t4826 = t4646 + t4823;
+            let t4827 = elbow_fe_v_vy + t4824;
+            let t4828 = c_wfe * elbow_fe_v_wy;
+            let t4829 = s_wfe * t4639;
+            let t4830 = t4828 - t4829;
+            let t4831 = s_wfe * elbow_fe_v_wy;
+            let t4832 = c_wfe * t4639;
+            let t4833 = t4831 + t4832;
+            let t4834 = c_wfe * t4827;
             let t4835 = s_wfe * t4825;
-            let t4836 = c_wfe * t4823;
-            let t4837 = t4835 + t4836;
-            let t4838 = 0.184f64 * t4659; // 1.8400e-1 = joint WFE origin z
-            let t4839 = 0.184f64 * t4658; // 1.8400e-1 = joint WFE origin z
-            let t4840 = 0.02075f64 * elbow_fe_a_wy; // 2.0750e-2 = joint WFE origin x
-            let t4841 = t4839 + t4840;
-            let t4842 = 0.02075f64 * t4659; // 2.0750e-2 = joint WFE origin x
-            let t4843 = t4660 + t4838;
-            let t4844 = t4661 + t4841;
-            let t4845 = elbow_fe_a_vy - t4842;
-            let t4846 = c_wfe * elbow_fe_a_wy;
-            let t4847 = s_wfe * t4658;
-            let t4848 = t4846 - t4847;
-            let t4849 = s_wfe * elbow_fe_a_wy;
-            let t4850 = c_wfe * t4658;
-            let t4851 = t4849 + t4850;
-            let t4852 = c_wfe * t4845;
-            let t4853 = s_wfe * t4843;
-            let t4854 = t4852 + t4853;
+            let t4836 = t4834 - t4835;
+            let t4837 = s_wfe * t4827;
+            let t4838 = c_wfe * t4825;
+            let t4839 = t4837 + t4838;
+            let t4840 = 0.184f64 * t4661; // 1.8400e-1 = joint WFE origin z
+            let t4841 = 0.184f64 * t4660; // 1.8400e-1 = joint WFE origin z
+            let t4842 = 0.02075f64 * elbow_fe_a_wy; // 2.0750e-2 = joint WFE origin x
+            let t4843 = t4841 + t4842;
+            let t4844 = 0.02075f64 * t4661; // 2.0750e-2 = joint WFE origin x
+            let t4845 = t4662 + t4840;
+            let t4846 = t4663 + t4843;
+            let t4847 = elbow_fe_a_vy - t4844;
+            let t4848 = c_wfe * elbow_fe_a_wy;
+            let t4849 = s_wfe * t4660;
+            let t4850 = t4848 - t4849;
+            let t4851 = s_wfe * elbow_fe_a_wy;
+            let t4852 = c_wfe * t4660;
+            let t4853 = t4851 + t4852;
+            let t4854 = c_wfe * t4847;
             let t4855 = s_wfe * t4845;
-            let t4856 = c_wfe * t4843;
-            let t4857 = t4856 - t4855;
-            let t4858 = t4831 * qd_wfe;
-            let t4859 = t4828 * qd_wfe;
-            let t4860 = t4837 * qd_wfe;
-            let t4861 = t4834 * qd_wfe;
-            let t4862 = t4848 - t4858;
-            let t4863 = t4851 + t4859;
-            let t4864 = t4854 - t4860;
-            let t4865 = t4857 - t4861;
-            let t4866 = wrist_fe_ixx * t4862;
-            let t4867 = wrist_fe_ixy * t4863;
-            let t4868 = t4866 - t4867;
-            let t4869 = wrist_fe_ixz * t4659;
-            let t4870 = t4868 + t4869;
-            let t4871 = wrist_fe_ixy * t4862;
-            let t4872 = wrist_fe_iyy * t4863;
-            let t4873 = t4871 - t4872;
-            let t4874 = wrist_fe_iyz * t4659;
-            let t4875 = t4873 + t4874;
-            let t4876 = wrist_fe_ixz * t4862;
-            let t4877 = wrist_fe_iyz * t4863;
-            let t4878 = t4876 - t4877;
-            let t4879 = wrist_fe_izz * t4659;
-            let t4880 = t4878 + t4879;
-            let t4881 = wrist_fe_hy * t4844;
-            let t4882 = wrist_fe_hz * t4865;
-            let t4883 = t4881 - t4882;
-            let t4884 = wrist_fe_hz * t4864;
-            let t4885 = wrist_fe_hx * t4844;
-            let t4886 = t4884 - t4885;
-            let t4887 = wrist_fe_hx * t4865;
-            let t4888 = wrist_fe_hy * t4864;
-            let t4889 = t4887 - t4888;
-            let t4890 = t4864 * wrist_fe_m;
-            let t4891 = t4865 * wrist_fe_m;
-            let t4892 = t4844 * wrist_fe_m;
-            let t4893 = wrist_fe_hy * t4659;
-            let t4894 = wrist_fe_hz * t4863;
-            let t4895 = t4893 + t4894;
-            let t4896 = wrist_fe_hz * t4862;
-            let t4897 = wrist_fe_hx * t4659;
-            let t4898 = t4896 - t4897;
-            let t4899 = wrist_fe_hx * t4863;
-            let t4900 = wrist_fe_hy * t4862;
-            let t4901 = t4899 + t4900;
-            let t4902 = t4870 + t4883;
-            let t4903 = t4875 + t4886;
-            let t4904 = t4880 + t4889;
-            let t4905 = t4890 - t4895;
-            let t4906 = t4891 - t4898;
-            let t4907 = t4892 + t4901;
-            let t4908 = wrist_fe_ixx * t4828;
-            let t4909 = wrist_fe_ixy * t4831;
-            let t4910 = t4908 - t4909;
-            let t4911 = wrist_fe_ixz * t4638;
+            let t4856 = t4854 + t4855;
+            let t4857 = s_wfe * t4847;
+            let t4858 = c_wfe * t4845;
+            let t4859 = t4858 - t4857;
+            let t4860 = t4833 * qd_wfe;
+            let t4861 = t4830 * qd_wfe;
+            let t4862 = t4839 * qd_wfe;
+            let t4863 = t4836 * qd_wfe;
+            let t4864 = t4850 - t4860;
+            let t4865 = t4853 + t4861;
+            let t4866 = t4856 - t4862;
+            let t4867 = t4859 - t4863;
+            let t4868 = wrist_fe_ixx * t4864;
+            let t4869 = wrist_fe_ixy * t4865;
+            let t4870 = t4868 - t4869;
+            let t4871 = wrist_fe_ixz * t4661;
+            let t4872 = t4870 + t4871;
+            let t4873 = wrist_fe_ixy * t4864;
+            let t4874 = wrist_fe_iyy * t4865;
+            let t4875 = t4873 - t4874;
+            let t4876 = wrist_fe_iyz * t4661;
+            let t4877 = t4875 + t4876;
+            let t4878 = wrist_fe_ixz * t4864;
+            let t4879 = wrist_fe_iyz * t4865;
+            let t4880 = t4878 - t4879;
+            let t4881 = wrist_fe_izz * t4661;
+            let t4882 = t4880 + t4881;
+            let t4883 = wrist_fe_hy * t4846;
+            let t4884 = wrist_fe_hz * t4867;
+            let t4885 = t4883 - t4884;
+            let t4886 = wrist_fe_hz * t4866;
+            let t4887 = wrist_fe_hx * t4846;
+            let t4888 = t4886 - t4887;
+            let t4889 = wrist_fe_hx * t4867;
+            let t4890 = wrist_fe_hy * t4866;
+            let t4891 = t4889 - t4890;
+            let t4892 = t4866 * wrist_fe_m;
+            let t4893 = t4867 * wrist_fe_m;
+            let t4894 = t4846 * wrist_fe_m;
+            let t4895 = wrist_fe_hy * t4661;
+            let t4896 = wrist_fe_hz * t4865;
+            let t4897 = t4895 + t4896;
+            let t4898 = wrist_fe_hz * t4864;
+            let t4899 = wrist_fe_hx * t4661;
+            let t4900 = t4898 - t4899;
+            let t4901 = wrist_fe_hx * t4865;
+            let t4902 = wrist_fe_hy * t4864;
+            let t4903 = t4901 + t4902;
+            let t4904 = t4872 + t4885;
+            let t4905 = t4877 + t4888;
+            let t4906 = t4882 + t4891;
+            let t4907 = t4892 - t4897;
+            let t4908 = t4893 - t4900;
+            let t4909 = t4894 + t4903;
+            let t4910 = wrist_fe_ixx * t4830;
+            let t4911 = wrist_fe_ixy * t4833;
             let t4912 = t4910 - t4911;
-            let t4913 = wrist_fe_ixy * t4828;
-            let t4914 = wrist_fe_iyy * t4831;
-            let t4915 = t4913 - t4914;
-            let t4916 = wrist_fe_iyz * t4638;
+            let t4913 = wrist_fe_ixz * t4640;
+            let t4914 = t4912 - t4913;
+            let t4915 = wrist_fe_ixy * t4830;
+            let t4916 = wrist_fe_iyy * t4833;
             let t4917 = t4915 - t4916;
-            let t4918 = wrist_fe_ixz * t4828;
-            let t4919 = wrist_fe_iyz * t4831;
-            let t4920 = t4918 - t4919;
-            let t4921 = wrist_fe_izz * t4638;
+            let t4918 = wrist_fe_iyz * t4640;
+            let t4919 = t4917 - t4918;
+            let t4920 = wrist_fe_ixz * t4830;
+            let t4921 = wrist_fe_iyz * t4833;
             let t4922 = t4920 - t4921;
-            let t4923 = wrist_fe_hy * t4824;
-            let t4924 = wrist_fe_hz * t4837;
-            let t4925 = t4923 + t4924;
-            let t4926 = wrist_fe_hz * t4834;
-            let t4927 = wrist_fe_hx * t4824;
-            let t4928 = t4926 - t4927;
-            let t4929 = wrist_fe_hx * t4837;
-            let t4930 = wrist_fe_hy * t4834;
-            let t4931 = t4929 + t4930;
-            let t4932 = t4834 * wrist_fe_m;
-            let t4933 = t4837 * wrist_fe_m;
-            let t4934 = t4824 * wrist_fe_m;
-            let t4935 = wrist_fe_hy * t4638;
-            let t4936 = wrist_fe_hz * t4831;
-            let t4937 = t4936 - t4935;
-            let t4938 = wrist_fe_hz * t4828;
-            let t4939 = wrist_fe_hx * t4638;
-            let t4940 = t4938 + t4939;
-            let t4941 = wrist_fe_hx * t4831;
-            let t4942 = wrist_fe_hy * t4828;
-            let t4943 = t4941 + t4942;
-            let t4944 = t4912 + t4925;
-            let t4945 = t4917 + t4928;
-            let t4946 = t4922 - t4931;
-            let t4947 = t4932 - t4937;
-            let t4948 = t4933 + t4940;
-            let t4949 = t4934 + t4943;
-            let t4950 = wrist_fe_v_wy * t4946;
-            let t4951 = t4831 * t587;
-            let t4952 = t4950 - t4951;
-            let t4953 = wrist_fe_v_wz * t4945;
-            let t4954 = t4638 * t586;
-            let t4955 = t4953 - t4954;
-            let t4956 = t4952 - t4955;
-            let t4957 = wrist_fe_v_wz * t4944;
-            let t4958 = t4638 * t585;
-            let t4959 = t4957 - t4958;
-            let t4960 = wrist_fe_v_wx * t4946;
-            let t4961 = t4828 * t587;
-            let t4962 = t4960 + t4961;
-            let t4963 = t4959 - t4962;
-            let t4964 = wrist_fe_v_wx * t4945;
-            let t4965 = t4828 * t586;
-            let t4966 = t4964 + t4965;
-            let t4967 = wrist_fe_v_wy * t4944;
-            let t4968 = t4831 * t585;
-            let t4969 = t4967 - t4968;
-            let t4970 = t4966 - t4969;
-            let t4971 = wrist_fe_v_vy * t4949;
-            let t4972 = t4837 * t590;
-            let t4973 = t4971 - t4972;
-            let t4974 = wrist_fe_v_vz * t4948;
-            let t4975 = t4824 * t589;
-            let t4976 = t4975 - t4974;
-            let t4977 = t4973 - t4976;
-            let t4978 = wrist_fe_v_vz * t4947;
-            let t4979 = t4824 * t588;
-            let t4980 = t4978 + t4979;
-            let t4981 = wrist_fe_v_vx * t4949;
-            let t4982 = t4834 * t590;
-            let t4983 = t4981 + t4982;
-            let t4984 = t4980 - t4983;
-            let t4985 = wrist_fe_v_vx * t4948;
-            let t4986 = t4834 * t589;
-            let t4987 = t4986 - t4985;
-            let t4988 = wrist_fe_v_vy * t4947;
-            let t4989 = t4837 * t588;
-            let t4990 = t4988 - t4989;
-            let t4991 = t4987 - t4990;
-            let t4992 = t4956 + t4977;
-            let t4993 = t4963 + t4984;
-            let t4994 = t4970 + t4991;
-            let t4995 = wrist_fe_v_wy * t4949;
-            let t4996 = t4831 * t590;
-            let t4997 = t4995 - t4996;
-            let t4998 = wrist_fe_v_wz * t4948;
-            let t4999 = t4638 * t589;
-            let t5000 = t4998 + t4999;
-            let t5001 = t4997 + t5000;
-            let t5002 = wrist_fe_v_wz * t4947;
-            let t5003 = t4638 * t588;
-            let t5004 = t5002 - t5003;
-            let t5005 = wrist_fe_v_wx * t4949;
-            let t5006 = t4828 * t590;
-            let t5007 = t5005 + t5006;
-            let t5008 = t5004 - t5007;
-            let t5009 = wrist_fe_v_wx * t4948;
-            let t5010 = t4828 * t589;
-            let t5011 = t5010 - t5009;
-            let t5012 = wrist_fe_v_wy * t4947;
-            let t5013 = t4831 * t588;
-            let t5014 = t5012 - t5013;
-            let t5015 = t5011 - t5014;
-            let t5016 = t4902 + t4992;
-            let t5017 = t4903 + t4993;
+            let t4923 = wrist_fe_izz * t4640;
+            let t4924 = t4922 - t4923;
+            let t4925 = wrist_fe_hy * t4826;
+            let t4926 = wrist_fe_hz * t4839;
+            let t4927 = t4925 + t4926;
+            let t4928 = wrist_fe_hz * t4836;
+            let t4929 = wrist_fe_hx * t4826;
+            let t4930 = t4928 - t4929;
+            let t4931 = wrist_fe_hx * t4839;
+            let t4932 = wrist_fe_hy * t4836;
+            let t4933 = t4931 + t4932;
+            let t4934 = t4836 * wrist_fe_m;
+            let t4935 = t4839 * wrist_fe_m;
+            let t4936 = t4826 * wrist_fe_m;
+            let t4937 = wrist_fe_hy * t4640;
+            let t4938 = wrist_fe_hz * t4833;
+            let t4939 = t4938 - t4937;
+            let t4940 = wrist_fe_hz * t4830;
+            let t4941 = wrist_fe_hx * t4640;
+            let t4942 = t4940 + t4941;
+            let t4943 = wrist_fe_hx * t4833;
+            let t4944 = wrist_fe_hy * t4830;
+            let t4945 = t4943 + t4944;
+            let t4946 = t4914 + t4927;
+            let t4947 = t4919 + t4930;
+            let t4948 = t4924 - t4933;
+            let t4949 = t4934 - t4939;
+            let t4950 = t4935 + t4942;
+            let t4951 = t4936 + t4945;
+            let t4952 = wrist_fe_v_wy * t4948;
+            let t4953 = t4833 * t589;
+            let t4954 = t4952 - t4953;
+            let t4955 = wrist_fe_v_wz * t4947;
+            let t4956 = t4640 * t588;
+            let t4957 = t4955 - t4956;
+            let t4958 = t4954 - t4957;
+            let t4959 = wrist_fe_v_wz * t4946;
+            let t4960 = t4640 * t587;
+            let t4961 = t4959 - t4960;
+            let t4962 = wrist_fe_v_wx * t4948;
+            let t4963 = t4830 * t589;
+            let t4964 = t4962 + t4963;
+            let t4965 = t4961 - t4964;
+            let t4966 = wrist_fe_v_wx * t4947;
+            let t4967 = t4830 * t588;
+            let t4968 = t4966 + t4967;
+            let t4969 = wrist_fe_v_wy * t4946;
+            let t4970 = t4833 * t587;
+            let t4971 = t4969 - t4970;
+            let t4972 = t4968 - t4971;
+            let t4973 = wrist_fe_v_vy * t4951;
+            let t4974 = t4839 * t592;
+            let t4975 = t4973 - t4974;
+            let t4976 = wrist_fe_v_vz * t4950;
+            let t4977 = t4826 * t591;
+            let t4978 = t4977 - t4976;
+            let t4979 = t4975 - t4978;
+            let t4980 = wrist_fe_v_vz * t4949;
+            let t4981 = t4826 * t590;
+            let t4982 = t4980 + t4981;
+            let t4983 = wrist_fe_v_vx * t4951;
+            let t4984 = t4836 * t592;
+            let t4985 = t4983 + t4984;
+            let t4986 = t4982 - t4985;
+            let t4987 = wrist_fe_v_vx * t4950;
+            let t4988 = t4836 * t591;
+            let t4989 = t4988 - t4987;
+            let t4990 = wrist_fe_v_vy * t4949;
+            let t4991 = t4839 * t590;
+            let t4992 = t4990 - t4991;
+            let t4993 = t4989 - t4992;
+            let t4994 = t4958 + t4979;
+            let t4995 = t4965 + t4986;
+            let t4996 = t4972 + t4993;
+            let t4997 = wrist_fe_v_wy * t4951;
+            let t4998 = t4833 * t592;
+            let t4999 = t4997 - t4998;
+            let t5000 = wrist_fe_v_wz * t4950;
+            let t5001 = t4640 * t591;
+            let t5002 = t5000 + t5001;
+            let t5003 = t4999 + t5002;
+            let t5004 = wrist_fe_v_wz * t4949;
+            let t5005 = t4640 * t590;
+            let t5006 = t5004 - t5005;
+            let t5007 = wrist_fe_v_wx * t4951;
+            let t5008 = t4830 * t592;
+            let t5009 = t5007 + t5008;
+            let t5010 = t5006 - t5009;
+            let t5011 = wrist_fe_v_wx * t4950;
+            let t5012 = t4830 * t591;
+            let t5013 = t5012 - t5011;
+            let t5014 = wrist_fe_v_wy * t4949;
+            let t5015 = t4833 * t590;
+            let t5016 = t5014 - t5015;
+            let t5017 = t5013 - t5016;
             let t5018 = t4904 + t4994;
-            let t5019 = t4905 + t5001;
-            let t5020 = t4906 + t5008;
-            let t5021 = t4907 + t5015;
-            (t4820, t4826, t4829, t5016, t5017, t5018, t5019, t5020, t5021)
+            let t5019 = t4905 + t4995;
+            let t5020 = t4906 + t4996;
+            let t5021 = t4907 + t5003;
+            let t5022 = t4908 + t5010;
+            let t5023 = t4909 + t5017;
+            (t4822, t4828, t4831, t5018, t5019, t5020, t5021, t5022, t5023)
         };
-        let (t5042, t5043, t5044, t5045, t5046, t5047) = {
+        let (t5044, t5045, t5046, t5047, t5048, t5049) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t5022 = c_wfe * t5019;
-            let t5023 = s_wfe * t5020;
-            let t5024 = t5022 - t5023;
-            let t5025 = s_wfe * t5019;
-            let t5026 = c_wfe * t5020;
-            let t5027 = t5025 + t5026;
-            let t5028 = c_wfe * t5016;
-            let t5029 = s_wfe * t5017;
-            let t5030 = t5028 - t5029;
-            let t5031 = s_wfe * t5016;
-            let t5032 = c_wfe * t5017;
-            let t5033 = t5031 + t5032;
-            let t5034 = 0.184f64 * t5021; // 1.8400e-1 = joint WFE origin z
-            let t5035 = 0.184f64 * t5027; // 1.8400e-1 = joint WFE origin z
-            let t5036 = 0.02075f64 * t5024; // 2.0750e-2 = joint WFE origin x
-            let t5037 = t5035 - t5036;
-            let t5038 = 0.02075f64 * t5021; // 2.0750e-2 = joint WFE origin x
-            let t5039 = t5033 - t5034;
-            let t5040 = t5018 + t5037;
-            let t5041 = t5030 + t5038;
-            let t5042 = t4812 + t5039;
-            let t5043 = t4813 + t5040;
+            let t5024 = c_wfe * t5021;
+            let t5025 = s_wfe * t5022;
+            let t5026 = t5024 - t5025;
+            let t5027 = s_wfe * t5021;
+            let t5028 = c_wfe * t5022;
+            let t5029 = t5027 + t5028;
+            let t5030 = c_wfe * t5018;
+            let t5031 = s_wfe * t5019;
+            let t5032 = t5030 - t5031;
+            let t5033 = s_wfe * t5018;
+            let t5034 = c_wfe * t5019;
+            let t5035 = t5033 + t5034;
+            let t5036 = 0.184f64 * t5023; // 1.8400e-1 = joint WFE origin z
+            let t5037 = 0.184f64 * t5029; // 1.8400e-1 = joint WFE origin z
+            let t5038 = 0.02075f64 * t5026; // 2.0750e-2 = joint WFE origin x
+            let t5039 = t5037 - t5038;
+            let t5040 = 0.02075f64 * t5023; // 2.0750e-2 = joint WFE origin x
+            let t5041 = t5035 - t5036;
+            let t5042 = t5020 + t5039;
+            let t5043 = t5032 + t5040;
             let t5044 = t4814 + t5041;
-            let t5045 = t4815 + t5027;
-            let t5046 = t4816 + t5021;
-            let t5047 = t4817 + t5024;
-            (t5042, t5043, t5044, t5045, t5046, t5047)
+            let t5045 = t4815 + t5042;
+            let t5046 = t4816 + t5043;
+            let t5047 = t4817 + t5029;
+            let t5048 = t4818 + t5023;
+            let t5049 = t4819 + t5026;
+            (t5044, t5045, t5046, t5047, t5048, t5049)
         };
-        let (t5064, t5065, t5066, t5067, t5068, t5069) = {
+        let (t5066, t5067, t5068, t5069, t5070, t5071) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t5048 = c_wr * t5045;
-            let t5049 = s_wr * t5046;
-            let t5050 = t5048 - t5049;
-            let t5051 = s_wr * t5045;
-            let t5052 = c_wr * t5046;
-            let t5053 = t5051 + t5052;
-            let t5054 = c_wr * t5042;
-            let t5055 = s_wr * t5043;
-            let t5056 = t5054 - t5055;
-            let t5057 = s_wr * t5042;
-            let t5058 = c_wr * t5043;
-            let t5059 = t5057 + t5058;
-            let t5060 = 0.112f64 * t5050; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5061 = 0.112f64 * t5053; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5062 = t5059 + t5060;
-            let t5063 = t5061 - t5056;
-            let t5064 = t4630 + t5044;
-            let t5065 = t4631 + t5062;
-            let t5066 = t4632 + t5063;
-            let t5067 = t4633 + t5047;
-            let t5068 = t4634 + t5053;
-            let t5069 = t4635 - t5050;
-            (t5064, t5065, t5066, t5067, t5068, t5069)
+            let t5050 = c_wr * t5047;
+            let t5051 = s_wr * t5048;
+            let t5052 = t5050 - t5051;
+            let t5053 = s_wr * t5047;
+            let t5054 = c_wr * t5048;
+            let t5055 = t5053 + t5054;
+            let t5056 = c_wr * t5044;
+            let t5057 = s_wr * t5045;
+            let t5058 = t5056 - t5057;
+            let t5059 = s_wr * t5044;
+            let t5060 = c_wr * t5045;
+            let t5061 = t5059 + t5060;
+            let t5062 = 0.112f64 * t5052; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5063 = 0.112f64 * t5055; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5064 = t5061 + t5062;
+            let t5065 = t5063 - t5058;
+            let t5066 = t4632 + t5046;
+            let t5067 = t4633 + t5064;
+            let t5068 = t4634 + t5065;
+            let t5069 = t4635 + t5049;
+            let t5070 = t4636 + t5055;
+            let t5071 = t4637 - t5052;
+            (t5066, t5067, t5068, t5069, t5070, t5071)
         };
-        let (t5074, t5079, t5087, t5088) = {
+        let (t5076, t5081, t5089, t5090) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t5070 = s_efe * t5067;
-            let t5071 = t5070 + t657;
-            let t5072 = c_efe * t5068;
-            let t5073 = t5072 - t658;
-            let t5074 = t5071 + t5073;
-            let t5075 = c_efe * t5064;
-            let t5076 = t5075 - t665;
-            let t5077 = s_efe * t5065;
-            let t5078 = t5077 + t666;
-            let t5079 = t5076 - t5078;
-            let t5080 = s_efe * t5064;
-            let t5081 = t5080 + t662;
-            let t5082 = c_efe * t5065;
-            let t5083 = t5082 - t663;
-            let t5084 = t5081 + t5083;
-            let t5085 = 0.304f64 * t5074; // 3.0400e-1 = joint EFE origin z
-            let t5086 = 0.304f64 * t5069; // 3.0400e-1 = joint EFE origin z
-            let t5087 = t5066 + t5085;
-            let t5088 = t5084 - t5086;
-            (t5074, t5079, t5087, t5088)
+            let t5072 = s_efe * t5069;
+            let t5073 = t5072 + t659;
+            let t5074 = c_efe * t5070;
+            let t5075 = t5074 - t660;
+            let t5076 = t5073 + t5075;
+            let t5077 = c_efe * t5066;
+            let t5078 = t5077 - t667;
+            let t5079 = s_efe * t5067;
+            let t5080 = t5079 + t668;
+            let t5081 = t5078 - t5080;
+            let t5082 = s_efe * t5066;
+            let t5083 = t5082 + t664;
+            let t5084 = c_efe * t5067;
+            let t5085 = t5084 - t665;
+            let t5086 = t5083 + t5085;
+            let t5087 = 0.304f64 * t5076; // 3.0400e-1 = joint EFE origin z
+            let t5088 = 0.304f64 * t5071; // 3.0400e-1 = joint EFE origin z
+            let t5089 = t5068 + t5087;
+            let t5090 = t5086 - t5088;
+            (t5076, t5081, t5089, t5090)
         };
-        let (t5103, t5104) = {
+        let (t5105, t5106) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t5089 = c_hr * t5069;
-            let t5090 = s_hr * t5074;
-            let t5091 = t5089 + t5090;
-            let t5092 = s_hr * t5069;
-            let t5093 = c_hr * t5074;
-            let t5094 = t5093 - t5092;
-            let t5095 = c_hr * t5087;
-            let t5096 = s_hr * t5088;
-            let t5097 = t5095 + t5096;
-            let t5098 = s_hr * t5087;
-            let t5099 = c_hr * t5088;
-            let t5100 = t5099 - t5098;
-            let t5101 = 0.112f64 * t5091; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5102 = 0.112f64 * t5094; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5103 = t5100 - t5101;
-            let t5104 = t5097 + t5102;
-            (t5103, t5104)
+            let t5091 = c_hr * t5071;
+            let t5092 = s_hr * t5076;
+            let t5093 = t5091 + t5092;
+            let t5094 = s_hr * t5071;
+            let t5095 = c_hr * t5076;
+            let t5096 = t5095 - t5094;
+            let t5097 = c_hr * t5089;
+            let t5098 = s_hr * t5090;
+            let t5099 = t5097 + t5098;
+            let t5100 = s_hr * t5089;
+            let t5101 = c_hr * t5090;
+            let t5102 = t5101 - t5100;
+            let t5103 = 0.112f64 * t5093; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5104 = 0.112f64 * t5096; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5105 = t5102 - t5103;
+            let t5106 = t5099 + t5104;
+            (t5105, t5106)
         };
-        let t5107 = {
+        let t5109 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t5105 = s_sfe * t5079;
-            let t5106 = c_sfe * t5103;
-            let t5107 = t5105 + t5106;
-            t5107
+            let t5107 = s_sfe * t5081;
+            let t5108 = c_sfe * t5105;
+            let t5109 = t5107 + t5108;
+            t5109
         };
-        let (t5120, t5121, t5122, t5123, t5124, t5125) = {
+        let (t5122, t5123, t5124, t5125, t5126, t5127) = {
             // ── link `Elbow_FE`, joint `EFE` (base to tip)
-            let t5108 = elbow_fe_v_wy * elbow_fe_izz;
-            let t5109 = t247 + t276;
-            let t5110 = t5108 - t5109;
-            let t5111 = t242 + t275;
-            let t5112 = elbow_fe_v_wx * elbow_fe_izz;
-            let t5113 = t5111 - t5112;
-            let t5114 = t4569 - t4568;
-            let t5115 = t5110 + t258;
-            let t5116 = t5113 + t254;
-            let t5117 = t5114 + t4573;
-            let t5118 = t270 + t279;
-            let t5119 = t278 - t266;
-            let t5120 = t4577 + t5115;
-            let t5121 = t4578 + t5116;
+            let t5110 = elbow_fe_v_wy * elbow_fe_izz;
+            let t5111 = t249 + t278;
+            let t5112 = t5110 - t5111;
+            let t5113 = t244 + t277;
+            let t5114 = elbow_fe_v_wx * elbow_fe_izz;
+            let t5115 = t5113 - t5114;
+            let t5116 = t4571 - t4570;
+            let t5117 = t5112 + t260;
+            let t5118 = t5115 + t256;
+            let t5119 = t5116 + t4575;
+            let t5120 = t272 + t281;
+            let t5121 = t280 - t268;
             let t5122 = t4579 + t5117;
-            let t5123 = t4580 - t5118;
-            let t5124 = t5119 - t4581;
-            let t5125 = t4576 + t4576;
-            (t5120, t5121, t5122, t5123, t5124, t5125)
+            let t5123 = t4580 + t5118;
+            let t5124 = t4581 + t5119;
+            let t5125 = t4582 - t5120;
+            let t5126 = t5121 - t4583;
+            let t5127 = t4578 + t4578;
+            (t5122, t5123, t5124, t5125, t5126, t5127)
         };
         let (
-            t5126,
-            t5127,
-            t5132,
-            t5133,
+            t5128,
+            t5129,
             t5134,
             t5135,
-            t5250,
-            t5251,
+            t5136,
+            t5137,
             t5252,
             t5253,
             t5254,
             t5255,
+            t5256,
+            t5257,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t5126 = s_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5127 = c_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5128 = s_wr * qd_wr;
-            let t5129 = c_wr * qd_wr;
-            let t5130 = t5127 * qd_wr;
-            let t5131 = t5126 * qd_wr;
-            let t5132 = t5128 - t4637;
-            let t5133 = t5129 - t4638;
-            let t5134 = t5130 - t4641;
-            let t5135 = t4644 - t5131;
-            let t5136 = wrist_r_ixx * t5132;
-            let t5137 = wrist_r_ixy * t5133;
-            let t5138 = t5136 + t5137;
-            let t5139 = t5138 + t4707;
-            let t5140 = wrist_r_ixy * t5132;
-            let t5141 = wrist_r_iyy * t5133;
-            let t5142 = t5140 + t5141;
-            let t5143 = t5142 + t4712;
-            let t5144 = wrist_r_ixz * t5132;
-            let t5145 = wrist_r_iyz * t5133;
-            let t5146 = t5144 + t5145;
-            let t5147 = t5146 + t4717;
-            let t5148 = wrist_r_hz * t5135;
-            let t5149 = t4719 - t5148;
-            let t5150 = wrist_r_hz * t5134;
-            let t5151 = t5150 - t4723;
-            let t5152 = wrist_r_hx * t5135;
-            let t5153 = wrist_r_hy * t5134;
-            let t5154 = t5152 - t5153;
-            let t5155 = t5134 * wrist_r_m;
-            let t5156 = t5135 * wrist_r_m;
-            let t5157 = wrist_r_hz * t5133;
-            let t5158 = t4731 - t5157;
-            let t5159 = wrist_r_hz * t5132;
-            let t5160 = t5159 - t4735;
-            let t5161 = wrist_r_hx * t5133;
-            let t5162 = wrist_r_hy * t5132;
-            let t5163 = t5161 - t5162;
-            let t5164 = t5139 + t5149;
-            let t5165 = t5143 + t5151;
-            let t5166 = t5147 + t5154;
-            let t5167 = t5155 - t5158;
-            let t5168 = t5156 - t5160;
-            let t5169 = t4730 - t5163;
-            let t5170 = wrist_r_ixx * c_wr;
-            let t5171 = wrist_r_ixy * s_wr;
-            let t5172 = t5171 - t5170;
-            let t5173 = wrist_r_ixy * c_wr;
-            let t5174 = wrist_r_iyy * s_wr;
-            let t5175 = t5174 - t5173;
-            let t5176 = wrist_r_ixz * c_wr;
-            let t5177 = wrist_r_iyz * s_wr;
-            let t5178 = t5177 - t5176;
-            let t5179 = wrist_r_hz * t5127;
-            let t5180 = wrist_r_hz * t5126;
-            let t5181 = wrist_r_hx * t5127;
-            let t5182 = wrist_r_hy * t5126;
-            let t5183 = t5181 - t5182;
-            let t5184 = t5126 * wrist_r_m;
-            let t5185 = t5127 * wrist_r_m;
-            let t5186 = wrist_r_hz * s_wr;
-            let t5187 = wrist_r_hz * c_wr;
-            let t5188 = wrist_r_hx * s_wr;
-            let t5189 = wrist_r_hy * c_wr;
-            let t5190 = t5188 + t5189;
-            let t5191 = t5172 - t5179;
-            let t5192 = t5175 + t5180;
-            let t5193 = t5178 + t5183;
-            let t5194 = t5184 + t5186;
-            let t5195 = t5185 + t5187;
-            let t5196 = wrist_r_v_wy * t5193;
-            let t5197 = s_wr * t429;
-            let t5198 = t5196 + t5197;
-            let t5199 = wrist_r_v_wz * t5192;
-            let t5200 = t5198 - t5199;
-            let t5201 = wrist_r_v_wz * t5191;
-            let t5202 = wrist_r_v_wx * t5193;
-            let t5203 = c_wr * t429;
-            let t5204 = t5202 - t5203;
-            let t5205 = t5201 - t5204;
-            let t5206 = wrist_r_v_wx * t5192;
-            let t5207 = c_wr * t428;
-            let t5208 = t5206 - t5207;
-            let t5209 = wrist_r_v_wy * t5191;
-            let t5210 = s_wr * t427;
-            let t5211 = t5209 + t5210;
-            let t5212 = t5208 - t5211;
-            let t5213 = wrist_r_v_vy * t5190;
-            let t5214 = t5127 * t432;
-            let t5215 = t5214 - t5213;
-            let t5216 = elbow_fe_v_vx * t5195;
-            let t5217 = t5215 - t5216;
-            let t5218 = elbow_fe_v_vx * t5194;
-            let t5219 = wrist_r_v_vx * t5190;
-            let t5220 = t5126 * t432;
-            let t5221 = t5220 - t5219;
-            let t5222 = t5218 - t5221;
-            let t5223 = wrist_r_v_vx * t5195;
-            let t5224 = t5126 * t431;
-            let t5225 = t5223 + t5224;
-            let t5226 = wrist_r_v_vy * t5194;
-            let t5227 = t5127 * t430;
-            let t5228 = t5226 + t5227;
-            let t5229 = t5225 - t5228;
-            let t5230 = t5200 + t5217;
-            let t5231 = t5205 + t5222;
-            let t5232 = t5212 + t5229;
-            let t5233 = wrist_r_v_wy * t5190;
-            let t5234 = s_wr * t432;
-            let t5235 = t5234 - t5233;
-            let t5236 = wrist_r_v_wz * t5195;
-            let t5237 = t5235 - t5236;
-            let t5238 = wrist_r_v_wz * t5194;
-            let t5239 = wrist_r_v_wx * t5190;
-            let t5240 = c_wr * t432;
-            let t5241 = t5239 + t5240;
-            let t5242 = t5238 + t5241;
-            let t5243 = wrist_r_v_wx * t5195;
-            let t5244 = c_wr * t431;
-            let t5245 = t5243 - t5244;
-            let t5246 = wrist_r_v_wy * t5194;
-            let t5247 = s_wr * t430;
-            let t5248 = t5246 + t5247;
-            let t5249 = t5245 - t5248;
-            let t5250 = t5164 + t5230;
-            let t5251 = t5165 + t5231;
+            let t5128 = s_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5129 = c_wr * 0.112f64; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5130 = s_wr * qd_wr;
+            let t5131 = c_wr * qd_wr;
+            let t5132 = t5129 * qd_wr;
+            let t5133 = t5128 * qd_wr;
+            let t5134 = t5130 - t4639;
+            let t5135 = t5131 - t4640;
+            let t5136 = t5132 - t4643;
+            let t5137 = t4646 - t5133;
+            let t5138 = wrist_r_ixx * t5134;
+            let t5139 = wrist_r_ixy * t5135;
+            let t5140 = t5138 + t5139;
+            let t5141 = t5140 + t4709;
+            let t5142 = wrist_r_ixy * t5134;
+            let t5143 = wrist_r_iyy * t5135;
+            let t5144 = t5142 + t5143;
+            let t5145 = t5144 + t4714;
+            let t5146 = wrist_r_ixz * t5134;
+            let t5147 = wrist_r_iyz * t5135;
+            let t5148 = t5146 + t5147;
+            let t5149 = t5148 + t4719;
+            let t5150 = wrist_r_hz * t5137;
+            let t5151 = t4721 - t5150;
+            let t5152 = wrist_r_hz * t5136;
+            let t5153 = t5152 - t4725;
+            let t5154 = wrist_r_hx * t5137;
+            let t5155 = wrist_r_hy * t5136;
+            let t5156 = t5154 - t5155;
+            let t5157 = t5136 * wrist_r_m;
+            let t5158 = t5137 * wrist_r_m;
+            let t5159 = wrist_r_hz * t5135;
+            let t5160 = t4733 - t5159;
+            let t5161 = wrist_r_hz * t5134;
+            let t5162 = t5161 - t4737;
+            let t5163 = wrist_r_hx * t5135;
+            let t5164 = wrist_r_hy * t5134;
+            let t5165 = t5163 - t5164;
+            let t5166 = t5141 + t5151;
+            let t5167 = t5145 + t5153;
+            let t5168 = t5149 + t5156;
+            let t5169 = t5157 - t5160;
+            let t5170 = t5158 - t5162;
+            let t5171 = t4732 - t5165;
+            let t5172 = wrist_r_ixx * c_wr;
+            let t5173 = wrist_r_ixy * s_wr;
+            let t5174 = t5173 - t5172;
+            let t5175 = wrist_r_ixy * c_wr;
+            let t5176 = wrist_r_iyy * s_wr;
+            let t5177 = t5176 - t5175;
+            let t5178 = wrist_r_ixz * c_wr;
+            let t5179 = wrist_r_iyz * s_wr;
+            let t5180 = t5179 - t5178;
+            let t5181 = wrist_r_hz * t5129;
+            let t5182 = wrist_r_hz * t5128;
+            let t5183 = wrist_r_hx * t5129;
+            let t5184 = wrist_r_hy * t5128;
+            let t5185 = t5183 - t5184;
+            let t5186 = t5128 * wrist_r_m;
+            let t5187 = t5129 * wrist_r_m;
+            let t5188 = wrist_r_hz * s_wr;
+            let t5189 = wrist_r_hz * c_wr;
+            let t5190 = wrist_r_hx * s_wr;
+            let t5191 = wrist_r_hy * c_wr;
+            let t5192 = t5190 + t5191;
+            let t5193 = t5174 - t5181;
+            let t5194 = t5177 + t5182;
+            let t5195 = t5180 + t5185;
+            let t5196 = t5186 + t5188;
+            let t5197 = t5187 + t5189;
+            let t5198 = wrist_r_v_wy * t5195;
+            let t5199 = s_wr * t431;
+            let t5200 = t5198 + t5199;
+            let t5201 = wrist_r_v_wz * t5194;
+            let t5202 = t5200 - t5201;
+            let t5203 = wrist_r_v_wz * t5193;
+            let t5204 = wrist_r_v_wx * t5195;
+            let t5205 = c_wr * t431;
+            let t5206 = t5204 - t5205;
+            let t5207 = t5203 - t5206;
+            let t5208 = wrist_r_v_wx * t5194;
+            let t5209 = c_wr * t430;
+            let t5210 = t5208 - t5209;
+            let t5211 = wrist_r_v_wy * t5193;
+            let t5212 = s_wr * t429;
+            let t5213 = t5211 + t5212;
+            let t5214 = t5210 - t5213;
+            let t5215 = wrist_r_v_vy * t5192;
+            let t5216 = t5129 * t434;
+            let t5217 = t5216 - t5215;
+            let t5218 = elbow_fe_v_vx * t5197;
+            let t5219 = t5217 - t5218;
+            let t5220 = elbow_fe_v_vx * t5196;
+            let t5221 = wrist_r_v_vx * t5192;
+            let t5222 = t5128 * t434;
+            let t5223 = t5222 - t5221;
+            let t5224 = t5220 - t5223;
+            let t5225 = wrist_r_v_vx * t5197;
+            let t5226 = t5128 * t433;
+            let t5227 = t5225 + t5226;
+            let t5228 = wrist_r_v_vy * t5196;
+            let t5229 = t5129 * t432;
+            let t5230 = t5228 + t5229;
+            let t5231 = t5227 - t5230;
+            let t5232 = t5202 + t5219;
+            let t5233 = t5207 + t5224;
+            let t5234 = t5214 + t5231;
+            let t5235 = wrist_r_v_wy * t5192;
+            let t5236 = s_wr * t434;
+            let t5237 = t5236 - t5235;
+            let t5238 = wrist_r_v_wz * t5197;
+            let t5239 = t5237 - t5238;
+            let t5240 = wrist_r_v_wz * t5196;
+            let t5241 = wrist_r_v_wx * t5192;
+            let t5242 = c_wr * t434;
+            let t5243 = t5241 + t5242;
+            let t5244 = t5240 + t5243;
+            let t5245 = wrist_r_v_wx * t5197;
+            let t5246 = c_wr * t433;
+            let t5247 = t5245 - t5246;
+            let t5248 = wrist_r_v_wy * t5196;
+            let t5249 = s_wr * t432;
+            let t5250 = t5248 + t5249;
+            let t5251 = t5247 - t5250;
             let t5252 = t5166 + t5232;
-            let t5253 = t5167 + t5237;
-            let t5254 = t5168 + t5242;
-            let t5255 = t5169 + t5249;
+            let t5253 = t5167 + t5233;
+            let t5254 = t5168 + t5234;
+            let t5255 = t5169 + t5239;
+            let t5256 = t5170 + t5244;
+            let t5257 = t5171 + t5251;
             (
-                t5126,
-                t5127,
-                t5132,
-                t5133,
+                t5128,
+                t5129,
                 t5134,
                 t5135,
-                t5250,
-                t5251,
+                t5136,
+                t5137,
                 t5252,
                 t5253,
                 t5254,
                 t5255,
+                t5256,
+                t5257,
             )
         };
-        let (t5444, t5445, t5446, t5447, t5448, t5449) = {
+        let (t5446, t5447, t5448, t5449, t5450, t5451) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5256 = 0.184f64 * s_wr; // 1.8400e-1 = joint WFE origin z
-            let t5257 = 0.184f64 * c_wr; // 1.8400e-1 = joint WFE origin z
-            let t5258 = 0.02075f64 * s_wr; // 2.0750e-2 = joint WFE origin x
-            let t5259 = t5126 + t5256;
-            let t5260 = t5127 + t5257;
-            let t5261 = s_wfe * c_wr;
-            let t5262 = c_wfe * c_wr;
-            let t5263 = c_wfe * t5258;
-            let t5264 = s_wfe * t5259;
-            let t5265 = t5264 - t5263;
-            let t5266 = s_wfe * t5258;
-            let t5267 = c_wfe * t5259;
-            let t5268 = t5266 + t5267;
-            let t5269 = 0.184f64 * t5133; // 1.8400e-1 = joint WFE origin z
-            let t5270 = 0.184f64 * t5132; // 1.8400e-1 = joint WFE origin z
-            let t5271 = t5270 - t4820;
-            let t5272 = 0.02075f64 * t5133; // 2.0750e-2 = joint WFE origin x
-            let t5273 = t5134 + t5269;
-            let t5274 = t5135 - t5271;
-            let t5275 = elbow_fe_v_vy - t5272;
-            let t5276 = s_wfe * t5132;
-            let t5277 = t4826 + t5276;
-            let t5278 = c_wfe * t5132;
-            let t5279 = t5278 - t4829;
-            let t5280 = c_wfe * t5275;
-            let t5281 = s_wfe * t5273;
-            let t5282 = t5280 + t5281;
+            let t5258 = 0.184f64 * s_wr; // 1.8400e-1 = joint WFE origin z
+            let t5259 = 0.184f64 * c_wr; // 1.8400e-1 = joint WFE origin z
+            let t5260 = 0.02075f64 * s_wr; // 2.0750e-2 = joint WFE origin x
+            let t5261 = t5128 + t5258;
+            let t5262 = t5129 + t5259;
+            let t5263 = s_wfe * c_wr;
+            let t5264 = c_wfe * c_wr;
+            let t5265 = c_wfe * t5260;
+            let t5266 = s_wfe * t5261;
+            let t5267 = t5266 - t5265;
+            let t5268 = s_wfe * t5260;
+            let t5269 = c_wfe * t5261;
+            let t5270 = t5268 + t5269;
+            let t5271 = 0.184f64 * t5135; // 1.8400e-1 = joint WFE origin z
+            let t5272 = 0.184f64 * t5134; // 1.8400e-1 = joint WFE origin z
+            let t5273 = t5272 - t4822;
+            let t5274 = 0.02075f64 * t5135; // 2.0750e-2 = joint WFE origin x
+            let t5275 = t5136 + t5271;
+            let t5276 = t5137 - t5273;
+            let t5277 = elbow_fe_v_vy - t5274;
+            let t5278 = s_wfe * t5134;
+            let t5279 = t4828 + t5278;
+            let t5280 = c_wfe * t5134;
+            let t5281 = t5280 - t4831;
+            let t5282 = c_wfe * t5277;
             let t5283 = s_wfe * t5275;
-            let t5284 = c_wfe * t5273;
-            let t5285 = t5284 - t5283;
-            let t5286 = t5262 * qd_wfe;
-            let t5287 = t5261 * qd_wfe;
-            let t5288 = t5268 * qd_wfe;
-            let t5289 = t5265 * qd_wfe;
-            let t5290 = t5277 - t5286;
-            let t5291 = t5279 + t5287;
-            let t5292 = t5282 + t5288;
-            let t5293 = t5285 - t5289;
-            let t5294 = wrist_fe_ixx * t5290;
-            let t5295 = wrist_fe_ixy * t5291;
-            let t5296 = t5294 + t5295;
-            let t5297 = wrist_fe_ixz * t5133;
+            let t5284 = t5282 + t5283;
+            let t5285 = s_wfe * t5277;
+            let t5286 = c_wfe * t5275;
+            let t5287 = t5286 - t5285;
+            let t5288 = t5264 * qd_wfe;
+            let t5289 = t5263 * qd_wfe;
+            let t5290 = t5270 * qd_wfe;
+            let t5291 = t5267 * qd_wfe;
+            let t5292 = t5279 - t5288;
+            let t5293 = t5281 + t5289;
+            let t5294 = t5284 + t5290;
+            let t5295 = t5287 - t5291;
+            let t5296 = wrist_fe_ixx * t5292;
+            let t5297 = wrist_fe_ixy * t5293;
             let t5298 = t5296 + t5297;
-            let t5299 = wrist_fe_ixy * t5290;
-            let t5300 = wrist_fe_iyy * t5291;
-            let t5301 = t5299 + t5300;
-            let t5302 = wrist_fe_iyz * t5133;
+            let t5299 = wrist_fe_ixz * t5135;
+            let t5300 = t5298 + t5299;
+            let t5301 = wrist_fe_ixy * t5292;
+            let t5302 = wrist_fe_iyy * t5293;
             let t5303 = t5301 + t5302;
-            let t5304 = wrist_fe_ixz * t5290;
-            let t5305 = wrist_fe_iyz * t5291;
-            let t5306 = t5304 + t5305;
-            let t5307 = wrist_fe_izz * t5133;
+            let t5304 = wrist_fe_iyz * t5135;
+            let t5305 = t5303 + t5304;
+            let t5306 = wrist_fe_ixz * t5292;
+            let t5307 = wrist_fe_iyz * t5293;
             let t5308 = t5306 + t5307;
-            let t5309 = wrist_fe_hy * t5274;
-            let t5310 = wrist_fe_hz * t5293;
-            let t5311 = t5309 - t5310;
-            let t5312 = wrist_fe_hz * t5292;
-            let t5313 = wrist_fe_hx * t5274;
-            let t5314 = t5312 - t5313;
-            let t5315 = wrist_fe_hx * t5293;
-            let t5316 = wrist_fe_hy * t5292;
-            let t5317 = t5315 - t5316;
-            let t5318 = t5292 * wrist_fe_m;
-            let t5319 = t5293 * wrist_fe_m;
-            let t5320 = t5274 * wrist_fe_m;
-            let t5321 = wrist_fe_hy * t5133;
-            let t5322 = wrist_fe_hz * t5291;
-            let t5323 = t5321 - t5322;
-            let t5324 = wrist_fe_hz * t5290;
-            let t5325 = wrist_fe_hx * t5133;
-            let t5326 = t5324 - t5325;
-            let t5327 = wrist_fe_hx * t5291;
-            let t5328 = wrist_fe_hy * t5290;
-            let t5329 = t5327 - t5328;
-            let t5330 = t5298 + t5311;
-            let t5331 = t5303 + t5314;
-            let t5332 = t5308 + t5317;
-            let t5333 = t5318 - t5323;
-            let t5334 = t5319 - t5326;
-            let t5335 = t5320 - t5329;
-            let t5336 = wrist_fe_ixx * t5261;
-            let t5337 = wrist_fe_ixy * t5262;
-            let t5338 = t5336 + t5337;
-            let t5339 = wrist_fe_ixz * s_wr;
-            let t5340 = t5339 - t5338;
-            let t5341 = wrist_fe_ixy * t5261;
-            let t5342 = wrist_fe_iyy * t5262;
-            let t5343 = t5341 + t5342;
-            let t5344 = wrist_fe_iyz * s_wr;
-            let t5345 = t5344 - t5343;
-            let t5346 = wrist_fe_ixz * t5261;
-            let t5347 = wrist_fe_iyz * t5262;
-            let t5348 = t5346 + t5347;
-            let t5349 = wrist_fe_izz * s_wr;
-            let t5350 = t5349 - t5348;
-            let t5351 = wrist_fe_hy * t5260;
-            let t5352 = wrist_fe_hz * t5268;
-            let t5353 = t5351 - t5352;
-            let t5354 = wrist_fe_hz * t5265;
-            let t5355 = wrist_fe_hx * t5260;
-            let t5356 = t5354 - t5355;
-            let t5357 = wrist_fe_hx * t5268;
-            let t5358 = wrist_fe_hy * t5265;
-            let t5359 = t5357 - t5358;
-            let t5360 = t5265 * wrist_fe_m;
-            let t5361 = t5268 * wrist_fe_m;
-            let t5362 = t5260 * wrist_fe_m;
-            let t5363 = wrist_fe_hy * s_wr;
-            let t5364 = wrist_fe_hz * t5262;
-            let t5365 = t5363 + t5364;
-            let t5366 = wrist_fe_hz * t5261;
-            let t5367 = wrist_fe_hx * s_wr;
-            let t5368 = t5366 + t5367;
-            let t5369 = wrist_fe_hx * t5262;
-            let t5370 = wrist_fe_hy * t5261;
-            let t5371 = t5370 - t5369;
-            let t5372 = t5340 + t5353;
-            let t5373 = t5345 + t5356;
-            let t5374 = t5350 + t5359;
-            let t5375 = t5360 - t5365;
-            let t5376 = t5361 + t5368;
-            let t5377 = t5362 - t5371;
-            let t5378 = wrist_fe_v_wy * t5374;
-            let t5379 = t5262 * t587;
-            let t5380 = t5378 - t5379;
-            let t5381 = wrist_fe_v_wz * t5373;
-            let t5382 = s_wr * t586;
-            let t5383 = t5381 + t5382;
-            let t5384 = t5380 - t5383;
-            let t5385 = wrist_fe_v_wz * t5372;
-            let t5386 = s_wr * t585;
-            let t5387 = t5385 + t5386;
-            let t5388 = wrist_fe_v_wx * t5374;
-            let t5389 = t5261 * t587;
-            let t5390 = t5388 - t5389;
-            let t5391 = t5387 - t5390;
-            let t5392 = wrist_fe_v_wx * t5373;
-            let t5393 = t5261 * t586;
-            let t5394 = t5392 - t5393;
-            let t5395 = wrist_fe_v_wy * t5372;
-            let t5396 = t5262 * t585;
-            let t5397 = t5395 - t5396;
-            let t5398 = t5394 - t5397;
-            let t5399 = wrist_fe_v_vy * t5377;
-            let t5400 = t5268 * t590;
-            let t5401 = t5399 + t5400;
-            let t5402 = wrist_fe_v_vz * t5376;
-            let t5403 = t5260 * t589;
-            let t5404 = t5402 + t5403;
-            let t5405 = t5401 - t5404;
-            let t5406 = wrist_fe_v_vz * t5375;
-            let t5407 = t5260 * t588;
-            let t5408 = t5406 + t5407;
-            let t5409 = wrist_fe_v_vx * t5377;
-            let t5410 = t5265 * t590;
-            let t5411 = t5409 + t5410;
-            let t5412 = t5408 - t5411;
-            let t5413 = wrist_fe_v_vx * t5376;
-            let t5414 = t5265 * t589;
-            let t5415 = t5413 + t5414;
-            let t5416 = wrist_fe_v_vy * t5375;
-            let t5417 = t5268 * t588;
-            let t5418 = t5416 + t5417;
-            let t5419 = t5415 - t5418;
-            let t5420 = t5384 + t5405;
-            let t5421 = t5391 + t5412;
-            let t5422 = t5398 + t5419;
-            let t5423 = wrist_fe_v_wy * t5377;
-            let t5424 = t5262 * t590;
-            let t5425 = t5423 - t5424;
-            let t5426 = wrist_fe_v_wz * t5376;
-            let t5427 = s_wr * t589;
-            let t5428 = t5426 + t5427;
-            let t5429 = t5425 - t5428;
-            let t5430 = wrist_fe_v_wz * t5375;
-            let t5431 = s_wr * t588;
-            let t5432 = t5430 + t5431;
-            let t5433 = wrist_fe_v_wx * t5377;
-            let t5434 = t5261 * t590;
-            let t5435 = t5433 - t5434;
-            let t5436 = t5432 - t5435;
-            let t5437 = wrist_fe_v_wx * t5376;
-            let t5438 = t5261 * t589;
-            let t5439 = t5437 - t5438;
-            let t5440 = wrist_fe_v_wy * t5375;
-            let t5441 = t5262 * t588;
-            let t5442 = t5440 - t5441;
-            let t5443 = t5439 - t5442;
-            let t5444 = t5330 + t5420;
-            let t5445 = t5331 + t5421;
+            let t5309 = wrist_fe_izz * t5135;
+            let t5310 = t5308 + t5309;
+            let t5311 = wrist_fe_hy * t5276;
+            let t5312 = wrist_fe_hz * t5295;
+            let t5313 = t5311 - t5312;
+            let t5314 = wrist_fe_hz * t5294;
+            let t5315 = wrist_fe_hx * t5276;
+            let t5316 = t5314 - t5315;
+            let t5317 = wrist_fe_hx * t5295;
+            let t5318 = wrist_fe_hy * t5294;
+            let t5319 = t5317 - t5318;
+            let t5320 = t5294 * wrist_fe_m;
+            let t5321 = t5295 * wrist_fe_m;
+            let t5322 = t5276 * wrist_fe_m;
+            let t5323 = wrist_fe_hy * t5135;
+            let t5324 = wrist_fe_hz * t5293;
+            let t5325 = t5323 - t5324;
+            let t5326 = wrist_fe_hz * t5292;
+            let t5327 = wrist_fe_hx * t5135;
+            let t5328 = t5326 - t5327;
+            let t5329 = wrist_fe_hx * t5293;
+            let t5330 = wrist_fe_hy * t5292;
+            let t5331 = t5329 - t5330;
+            let t5332 = t5300 + t5313;
+            let t5333 = t5305 + t5316;
+            let t5334 = t5310 + t5319;
+            let t5335 = t5320 - t5325;
+            let t5336 = t5321 - t5328;
+            let t5337 = t5322 - t5331;
+            let t5338 = wrist_fe_ixx * t5263;
+            let t5339 = wrist_fe_ixy * t5264;
+            let t5340 = t5338 + t5339;
+            let t5341 = wrist_fe_ixz * s_wr;
+            let t5342 = t5341 - t5340;
+            let t5343 = wrist_fe_ixy * t5263;
+            let t5344 = wrist_fe_iyy * t5264;
+            let t5345 = t5343 + t5344;
+            let t5346 = wrist_fe_iyz * s_wr;
+            let t5347 = t5346 - t5345;
+            let t5348 = wrist_fe_ixz * t5263;
+            let t5349 = wrist_fe_iyz * t5264;
+            let t5350 = t5348 + t5349;
+            let t5351 = wrist_fe_izz * s_wr;
+            let t5352 = t5351 - t5350;
+            let t5353 = wrist_fe_hy * t5262;
+            let t5354 = wrist_fe_hz * t5270;
+            let t5355 = t5353 - t5354;
+            let t5356 = wrist_fe_hz * t5267;
+            let t5357 = wrist_fe_hx * t5262;
+            let t5358 = t5356 - t5357;
+            let t5359 = wrist_fe_hx * t5270;
+            let t5360 = wrist_fe_hy * t5267;
+            let t5361 = t5359 - t5360;
+            let t5362 = t5267 * wrist_fe_m;
+            let t5363 = t5270 * wrist_fe_m;
+            let t5364 = t5262 * wrist_fe_m;
+            let t5365 = wrist_fe_hy * s_wr;
+            let t5366 = wrist_fe_hz * t5264;
+            let t5367 = t5365 + t5366;
+            let t5368 = wrist_fe_hz * t5263;
+            let t5369 = wrist_fe_hx * s_wr;
+            let t5370 = t5368 + t5369;
+            let t5371 = wrist_fe_hx * t5264;
+            let t5372 = wrist_fe_hy * t5263;
+            let t5373 = t5372 - t5371;
+            let t5374 = t5342 + t5355;
+            let t5375 = t5347 + t5358;
+            let t5376 = t5352 + t5361;
+            let t5377 = t5362 - t5367;
+            let t5378 = t5363 + t5370;
+            let t5379 = t5364 - t5373;
+            let t5380 = wrist_fe_v_wy * t5376;
+            let t5381 = t5264 * t589;
+            let t5382 = t5380 - t5381;
+            let t5383 = wrist_fe_v_wz * t5375;
+            let t5384 = s_wr * t588;
+            let t5385 = t5383 + t5384;
+            let t5386 = t5382 - t5385;
+            let t5387 = wrist_fe_v_wz * t5374;
+            let t5388 = s_wr * t587;
+            let t5389 = t5387 + t5388;
+            let t5390 = wrist_fe_v_wx * t5376;
+            let t5391 = t5263 * t589;
+            let t5392 = t5390 - t5391;
+            let t5393 = t5389 - t5392;
+            let t5394 = wrist_fe_v_wx * t5375;
+            let t5395 = t5263 * t588;
+            let t5396 = t5394 - t5395;
+            let t5397 = wrist_fe_v_wy * t5374;
+            let t5398 = t5264 * t587;
+            let t5399 = t5397 - t5398;
+            let t5400 = t5396 - t5399;
+            let t5401 = wrist_fe_v_vy * t5379;
+            let t5402 = t5270 * t592;
+            let t5403 = t5401 + t5402;
+            let t5404 = wrist_fe_v_vz * t5378;
+            let t5405 = t5262 * t591;
+            let t5406 = t5404 + t5405;
+            let t5407 = t5403 - t5406;
+            let t5408 = wrist_fe_v_vz * t5377;
+            let t5409 = t5262 * t590;
+            let t5410 = t5408 + t5409;
+            let t5411 = wrist_fe_v_vx * t5379;
+            let t5412 = t5267 * t592;
+            let t5413 = t5411 + t5412;
+            let t5414 = t5410 - t5413;
+            let t5415 = wrist_fe_v_vx * t5378;
+            let t5416 = t5267 * t591;
+            let t5417 = t5415 + t5416;
+            let t5418 = wrist_fe_v_vy * t5377;
+            let t5419 = t5270 * t590;
+            let t5420 = t5418 + t5419;
+            let t5421 = t5417 - t5420;
+            let t5422 = t5386 + t5407;
+            let t5423 = t5393 + t5414;
+            let t5424 = t5400 + t5421;
+            let t5425 = wrist_fe_v_wy * t5379;
+            let t5426 = t5264 * t592;
+            let t5427 = t5425 - t5426;
+            let t5428 = wrist_fe_v_wz * t5378;
+            let t5429 = s_wr * t591;
+            let t5430 = t5428 + t5429;
+            let t5431 = t5427 - t5430;
+            let t5432 = wrist_fe_v_wz * t5377;
+            let t5433 = s_wr * t590;
+            let t5434 = t5432 + t5433;
+            let t5435 = wrist_fe_v_wx * t5379;
+            let t5436 = t5263 * t592;
+            let t5437 = t5435 - t5436;
+            let t5438 = t5434 - t5437;
+            let t5439 = wrist_fe_v_wx * t5378;
+            let t5440 = t5263 * t591;
+            let t5441 = t5439 - t5440;
+            let t5442 = wrist_fe_v_wy * t5377;
+            let t5443 = t5264 * t590;
+            let t5444 = t5442 - t5443;
+            let t5445 = t5441 - t5444;
             let t5446 = t5332 + t5422;
-            let t5447 = t5333 + t5429;
-            let t5448 = t5334 + t5436;
-            let t5449 = t5335 + t5443;
-            (t5444, t5445, t5446, t5447, t5448, t5449)
+            let t5447 = t5333 + t5423;
+            let t5448 = t5334 + t5424;
+            let t5449 = t5335 + t5431;
+            let t5450 = t5336 + t5438;
+            let t5451 = t5337 + t5445;
+            (t5446, t5447, t5448, t5449, t5450, t5451)
         };
-        let (t5470, t5471, t5472, t5473, t5474, t5475) = {
+        let (t5472, t5473, t5474, t5475, t5476, t5477) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t5450 = c_wfe * t5447;
-            let t5451 = s_wfe * t5448;
-            let t5452 = t5450 - t5451;
-            let t5453 = s_wfe * t5447;
-            let t5454 = c_wfe * t5448;
-            let t5455 = t5453 + t5454;
-            let t5456 = c_wfe * t5444;
-            let t5457 = s_wfe * t5445;
-            let t5458 = t5456 - t5457;
-            let t5459 = s_wfe * t5444;
-            let t5460 = c_wfe * t5445;
-            let t5461 = t5459 + t5460;
-            let t5462 = 0.184f64 * t5449; // 1.8400e-1 = joint WFE origin z
-            let t5463 = 0.184f64 * t5455; // 1.8400e-1 = joint WFE origin z
-            let t5464 = 0.02075f64 * t5452; // 2.0750e-2 = joint WFE origin x
-            let t5465 = t5463 - t5464;
-            let t5466 = 0.02075f64 * t5449; // 2.0750e-2 = joint WFE origin x
-            let t5467 = t5461 - t5462;
-            let t5468 = t5446 + t5465;
-            let t5469 = t5458 + t5466;
-            let t5470 = t5250 + t5467;
-            let t5471 = t5251 + t5468;
+            let t5452 = c_wfe * t5449;
+            let t5453 = s_wfe * t5450;
+            let t5454 = t5452 - t5453;
+            let t5455 = s_wfe * t5449;
+            let t5456 = c_wfe * t5450;
+            let t5457 = t5455 + t5456;
+            let t5458 = c_wfe * t5446;
+            let t5459 = s_wfe * t5447;
+            let t5460 = t5458 - t5459;
+            let t5461 = s_wfe * t5446;
+            let t5462 = c_wfe * t5447;
+            let t5463 = t5461 + t5462;
+            let t5464 = 0.184f64 * t5451; // 1.8400e-1 = joint WFE origin z
+            let t5465 = 0.184f64 * t5457; // 1.8400e-1 = joint WFE origin z
+            let t5466 = 0.02075f64 * t5454; // 2.0750e-2 = joint WFE origin x
+            let t5467 = t5465 - t5466;
+            let t5468 = 0.02075f64 * t5451; // 2.0750e-2 = joint WFE origin x
+            let t5469 = t5463 - t5464;
+            let t5470 = t5448 + t5467;
+            let t5471 = t5460 + t5468;
             let t5472 = t5252 + t5469;
-            let t5473 = t5253 + t5455;
-            let t5474 = t5254 + t5449;
-            let t5475 = t5255 + t5452;
-            (t5470, t5471, t5472, t5473, t5474, t5475)
+            let t5473 = t5253 + t5470;
+            let t5474 = t5254 + t5471;
+            let t5475 = t5255 + t5457;
+            let t5476 = t5256 + t5451;
+            let t5477 = t5257 + t5454;
+            (t5472, t5473, t5474, t5475, t5476, t5477)
         };
-        let (t5492, t5493, t5494, t5495, t5496, t5497) = {
+        let (t5494, t5495, t5496, t5497, t5498, t5499) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t5476 = c_wr * t5473;
-            let t5477 = s_wr * t5474;
-            let t5478 = t5476 - t5477;
-            let t5479 = s_wr * t5473;
-            let t5480 = c_wr * t5474;
-            let t5481 = t5479 + t5480;
-            let t5482 = c_wr * t5470;
-            let t5483 = s_wr * t5471;
-            let t5484 = t5482 - t5483;
-            let t5485 = s_wr * t5470;
-            let t5486 = c_wr * t5471;
-            let t5487 = t5485 + t5486;
-            let t5488 = 0.112f64 * t5478; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5489 = 0.112f64 * t5481; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5490 = t5487 + t5488;
-            let t5491 = t5489 - t5484;
-            let t5492 = t5120 + t5472;
-            let t5493 = t5121 + t5490;
-            let t5494 = t5122 + t5491;
-            let t5495 = t5123 + t5475;
-            let t5496 = t5124 + t5481;
-            let t5497 = t5125 - t5478;
-            (t5492, t5493, t5494, t5495, t5496, t5497)
+            let t5478 = c_wr * t5475;
+            let t5479 = s_wr * t5476;
+            let t5480 = t5478 - t5479;
+            let t5481 = s_wr * t5475;
+            let t5482 = c_wr * t5476;
+            let t5483 = t5481 + t5482;
+            let t5484 = c_wr * t5472;
+            let t5485 = s_wr * t5473;
+            let t5486 = t5484 - t5485;
+            let t5487 = s_wr * t5472;
+            let t5488 = c_wr * t5473;
+            let t5489 = t5487 + t5488;
+            let t5490 = 0.112f64 * t5480; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5491 = 0.112f64 * t5483; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5492 = t5489 + t5490;
+            let t5493 = t5491 - t5486;
+            let t5494 = t5122 + t5474;
+            let t5495 = t5123 + t5492;
+            let t5496 = t5124 + t5493;
+            let t5497 = t5125 + t5477;
+            let t5498 = t5126 + t5483;
+            let t5499 = t5127 - t5480;
+            (t5494, t5495, t5496, t5497, t5498, t5499)
         };
-        let (t5500, t5503, t5509, t5510) = {
+        let (t5502, t5505, t5511, t5512) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t5498 = s_efe * t5495;
-            let t5499 = c_efe * t5496;
-            let t5500 = t5498 + t5499;
-            let t5501 = c_efe * t5492;
-            let t5502 = s_efe * t5493;
-            let t5503 = t5501 - t5502;
-            let t5504 = s_efe * t5492;
-            let t5505 = c_efe * t5493;
-            let t5506 = t5504 + t5505;
-            let t5507 = 0.304f64 * t5500; // 3.0400e-1 = joint EFE origin z
-            let t5508 = 0.304f64 * t5497; // 3.0400e-1 = joint EFE origin z
-            let t5509 = t5494 + t5507;
-            let t5510 = t5506 - t5508;
-            (t5500, t5503, t5509, t5510)
+            let t5500 = s_efe * t5497;
+            let t5501 = c_efe * t5498;
+            let t5502 = t5500 + t5501;
+            let t5503 = c_efe * t5494;
+            let t5504 = s_efe * t5495;
+            let t5505 = t5503 - t5504;
+            let t5506 = s_efe * t5494;
+            let t5507 = c_efe * t5495;
+            let t5508 = t5506 + t5507;
+            let t5509 = 0.304f64 * t5502; // 3.0400e-1 = joint EFE origin z
+            let t5510 = 0.304f64 * t5499; // 3.0400e-1 = joint EFE origin z
+            let t5511 = t5496 + t5509;
+            let t5512 = t5508 - t5510;
+            (t5502, t5505, t5511, t5512)
         };
-        let (t5525, t5526) = {
+        let (t5527, t5528) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t5511 = c_hr * t5497;
-            let t5512 = s_hr * t5500;
-            let t5513 = t5511 + t5512;
-            let t5514 = s_hr * t5497;
-            let t5515 = c_hr * t5500;
-            let t5516 = t5515 - t5514;
-            let t5517 = c_hr * t5509;
-            let t5518 = s_hr * t5510;
-            let t5519 = t5517 + t5518;
-            let t5520 = s_hr * t5509;
-            let t5521 = c_hr * t5510;
-            let t5522 = t5521 - t5520;
-            let t5523 = 0.112f64 * t5513; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5524 = 0.112f64 * t5516; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5525 = t5522 - t5523;
-            let t5526 = t5519 + t5524;
-            (t5525, t5526)
+            let t5513 = c_hr * t5499;
+            let t5514 = s_hr * t5502;
+            let t5515 = t5513 + t5514;
+            let t5516 = s_hr * t5499;
+            let t5517 = c_hr * t5502;
+            let t5518 = t5517 - t5516;
+            let t5519 = c_hr * t5511;
+            let t5520 = s_hr * t5512;
+            let t5521 = t5519 + t5520;
+            let t5522 = s_hr * t5511;
+            let t5523 = c_hr * t5512;
+            let t5524 = t5523 - t5522;
+            let t5525 = 0.112f64 * t5515; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5526 = 0.112f64 * t5518; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5527 = t5524 - t5525;
+            let t5528 = t5521 + t5526;
+            (t5527, t5528)
         };
-        let t5529 = {
+        let t5531 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t5527 = s_sfe * t5503;
-            let t5528 = c_sfe * t5525;
-            let t5529 = t5527 + t5528;
-            t5529
+            let t5529 = s_sfe * t5505;
+            let t5530 = c_sfe * t5527;
+            let t5531 = t5529 + t5530;
+            t5531
         };
         let (
-            t5530,
-            t5533,
-            t5534,
-            t5557,
-            t5562,
-            t5567,
-            t5570,
-            t5576,
-            t5627,
-            t5628,
+            t5532,
+            t5535,
+            t5536,
+            t5559,
+            t5564,
+            t5569,
+            t5572,
+            t5578,
             t5629,
             t5630,
             t5631,
             t5632,
+            t5633,
+            t5634,
         ) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t5530 = t321 - t322;
-            let t5531 = t333 - t334;
-            let t5532 = t5530 * qd_wr;
-            let t5533 = t338 + t5532;
-            let t5534 = t5531 - t345;
-            let t5535 = wrist_r_ixx * t5533;
-            let t5536 = wrist_r_ixy * t5534;
-            let t5537 = t5535 + t5536;
-            let t5538 = wrist_r_ixy * t5533;
-            let t5539 = wrist_r_iyy * t5534;
-            let t5540 = t5538 + t5539;
-            let t5541 = wrist_r_ixz * t5533;
-            let t5542 = wrist_r_iyz * t5534;
-            let t5543 = t5541 + t5542;
-            let t5544 = wrist_r_hx * wrist_r_a_vx;
-            let t5545 = wrist_r_hy * wrist_r_a_vy;
-            let t5546 = t5544 + t5545;
-            let t5547 = wrist_r_hz * t5534;
-            let t5548 = wrist_r_hz * t5533;
-            let t5549 = wrist_r_hx * t5534;
-            let t5550 = wrist_r_hy * t5533;
-            let t5551 = t5549 - t5550;
-            let t5552 = t5537 + t367;
-            let t5553 = t5540 + t365;
-            let t5554 = t5543 - t5546;
-            let t5555 = t374 + t5547;
-            let t5556 = t373 + t5548;
-            let t5557 = wrist_r_ixx * wrist_r_v_wy;
-            let t5558 = wrist_r_ixy * t5530;
-            let t5559 = t5557 + t5558;
-            let t5560 = wrist_r_iyy * t5530;
-            let t5561 = t392 + t5560;
-            let t5562 = wrist_r_ixz * wrist_r_v_wy;
-            let t5563 = wrist_r_iyz * t5530;
-            let t5564 = t5562 + t5563;
-            let t5565 = wrist_r_hx * wrist_r_v_vx;
-            let t5566 = wrist_r_hy * wrist_r_v_vy;
-            let t5567 = t5565 + t5566;
-            let t5568 = wrist_r_hz * t5530;
-            let t5569 = wrist_r_hx * t5530;
-            let t5570 = wrist_r_hy * wrist_r_v_wy;
-            let t5571 = t5569 - t5570;
-            let t5572 = t5559 + t409;
-            let t5573 = t5561 + t407;
-            let t5574 = t5564 - t5567;
-            let t5575 = t416 + t5568;
-            let t5576 = t415 + t419;
-            let t5577 = wrist_r_v_wy * t5574;
-            let t5578 = t5530 * t429;
-            let t5579 = t5577 + t5578;
-            let t5580 = wrist_r_v_wz * t5573;
-            let t5581 = t5579 - t5580;
-            let t5582 = wrist_r_v_wz * t5572;
-            let t5583 = wrist_r_v_wx * t5574;
-            let t5584 = t5583 + t433;
-            let t5585 = t5582 - t5584;
-            let t5586 = wrist_r_v_wx * t5573;
-            let t5587 = wrist_r_v_wy * t428;
-            let t5588 = t5586 + t5587;
-            let t5589 = wrist_r_v_wy * t5572;
-            let t5590 = t5530 * t427;
-            let t5591 = t5589 + t5590;
-            let t5592 = t5588 - t5591;
-            let t5593 = wrist_r_v_vy * t5571;
-            let t5594 = t5593 + t446;
-            let t5595 = elbow_fe_v_vx * t5576;
-            let t5596 = t5595 - t5594;
-            let t5597 = elbow_fe_v_vx * t5575;
-            let t5598 = wrist_r_v_vx * t5571;
-            let t5599 = t442 - t5598;
-            let t5600 = t5597 - t5599;
-            let t5601 = wrist_r_v_vx * t5576;
-            let t5602 = wrist_r_v_vy * t431;
-            let t5603 = t5602 - t5601;
-            let t5604 = wrist_r_v_vy * t5575;
-            let t5605 = wrist_r_v_vx * t430;
-            let t5606 = t5604 - t5605;
-            let t5607 = t5603 - t5606;
-            let t5608 = t5581 + t5596;
-            let t5609 = t5585 + t5600;
-            let t5610 = t5592 + t5607;
-            let t5611 = wrist_r_v_wy * t5571;
-            let t5612 = t5530 * t432;
-            let t5613 = t5612 - t5611;
-            let t5614 = wrist_r_v_wz * t5576;
-            let t5615 = t5613 + t5614;
-            let t5616 = wrist_r_v_wz * t5575;
-            let t5617 = wrist_r_v_wx * t5571;
-            let t5618 = t454 - t5617;
-            let t5619 = t5616 - t5618;
-            let t5620 = wrist_r_v_wx * t5576;
-            let t5621 = wrist_r_v_wy * t431;
-            let t5622 = t5621 - t5620;
-            let t5623 = wrist_r_v_wy * t5575;
-            let t5624 = t5530 * t430;
-            let t5625 = t5623 + t5624;
-            let t5626 = t5622 - t5625;
-            let t5627 = t5552 + t5608;
-            let t5628 = t5553 + t5609;
+            let t5532 = t323 - t324;
+            let t5533 = t335 - t336;
+            let t5534 = t5532 * qd_wr;
+            let t5535 = t340 + t5534;
+            let t5536 = t5533 - t347;
+            let t5537 = wrist_r_ixx * t5535;
+            let t5538 = wrist_r_ixy * t5536;
+            let t5539 = t5537 + t5538;
+            let t5540 = wrist_r_ixy * t5535;
+            let t5541 = wrist_r_iyy * t5536;
+            let t5542 = t5540 + t5541;
+            let t5543 = wrist_r_ixz * t5535;
+            let t5544 = wrist_r_iyz * t5536;
+            let t5545 = t5543 + t5544;
+            let t5546 = wrist_r_hx * wrist_r_a_vx;
+            let t5547 = wrist_r_hy * wrist_r_a_vy;
+            let t5548 = t5546 + t5547;
+            let t5549 = wrist_r_hz * t5536;
+            let t5550 = wrist_r_hz * t5535;
+            let t5551 = wrist_r_hx * t5536;
+            let t5552 = wrist_r_hy * t5535;
+            let t5553 = t5551 - t5552;
+            let t5554 = t5539 + t369;
+            let t5555 = t5542 + t367;
+            let t5556 = t5545 - t5548;
+            let t5557 = t376 + t5549;
+            let t5558 = t375 + t5550;
+            let t5559 = wrist_r_ixx * wrist_r_v_wy;
+            let t5560 = wrist_r_ixy * t5532;
+            let t5561 = t5559 + t5560;
+            let t5562 = wrist_r_iyy * t5532;
+            let t5563 = t394 + t5562;
+            let t5564 = wrist_r_ixz * wrist_r_v_wy;
+            let t5565 = wrist_r_iyz * t5532;
+            let t5566 = t5564 + t5565;
+            let t5567 = wrist_r_hx * wrist_r_v_vx;
+            let t5568 = wrist_r_hy * wrist_r_v_vy;
+            let t5569 = t5567 + t5568;
+            let t5570 = wrist_r_hz * t5532;
+            let t5571 = wrist_r_hx * t5532;
+            let t5572 = wrist_r_hy * wrist_r_v_wy;
+            let t5573 = t5571 - t5572;
+            let t5574 = t5561 + t411;
+            let t5575 = t5563 + t409;
+            let t5576 = t5566 - t5569;
+            let t5577 = t418 + t5570;
+            let t5578 = t417 + t421;
+            let t5579 = wrist_r_v_wy * t5576;
+            let t5580 = t5532 * t431;
+            let t5581 = t5579 + t5580;
+            let t5582 = wrist_r_v_wz * t5575;
+            let t5583 = t5581 - t5582;
+            let t5584 = wrist_r_v_wz * t5574;
+            let t5585 = wrist_r_v_wx * t5576;
+            let t5586 = t5585 + t435;
+            let t5587 = t5584 - t5586;
+            let t5588 = wrist_r_v_wx * t5575;
+            let t5589 = wrist_r_v_wy * t430;
+            let t5590 = t5588 + t5589;
+            let t5591 = wrist_r_v_wy * t5574;
+            let t5592 = t5532 * t429;
+            let t5593 = t5591 + t5592;
+            let t5594 = t5590 - t5593;
+            let t5595 = wrist_r_v_vy * t5573;
+            let t5596 = t5595 + t448;
+            let t5597 = elbow_fe_v_vx * t5578;
+            let t5598 = t5597 - t5596;
+            let t5599 = elbow_fe_v_vx * t5577;
+            let t5600 = wrist_r_v_vx * t5573;
+            let t5601 = t444 - t5600;
+            let t5602 = t5599 - t5601;
+            let t5603 = wrist_r_v_vx * t5578;
+            let t5604 = wrist_r_v_vy * t433;
+            let t5605 = t5604 - t5603;
+            let t5606 = wrist_r_v_vy * t5577;
+            let t5607 = wrist_r_v_vx * t432;
+            let t5608 = t5606 - t5607;
+            let t5609 = t5605 - t5608;
+            let t5610 = t5583 + t5598;
+            let t5611 = t5587 + t5602;
+            let t5612 = t5594 + t5609;
+            let t5613 = wrist_r_v_wy * t5573;
+            let t5614 = t5532 * t434;
+            let t5615 = t5614 - t5613;
+            let t5616 = wrist_r_v_wz * t5578;
+            let t5617 = t5615 + t5616;
+            let t5618 = wrist_r_v_wz * t5577;
+            let t5619 = wrist_r_v_wx * t5573;
+            let t5620 = t456 - t5619;
+            let t5621 = t5618 - t5620;
+            let t5622 = wrist_r_v_wx * t5578;
+            let t5623 = wrist_r_v_wy * t433;
+            let t5624 = t5623 - t5622;
+            let t5625 = wrist_r_v_wy * t5577;
+            let t5626 = t5532 * t432;
+            let t5627 = t5625 + t5626;
+            let t5628 = t5624 - t5627;
             let t5629 = t5554 + t5610;
-            let t5630 = t5555 + t5615;
-            let t5631 = t5619 - t5556;
-            let t5632 = t5626 - t5551;
+            let t5630 = t5555 + t5611;
+            let t5631 = t5556 + t5612;
+            let t5632 = t5557 + t5617;
+            let t5633 = t5621 - t5558;
+            let t5634 = t5628 - t5553;
             (
-                t5530,
-                t5533,
-                t5534,
-                t5557,
-                t5562,
-                t5567,
-                t5570,
-                t5576,
-                t5627,
-                t5628,
+                t5532,
+                t5535,
+                t5536,
+                t5559,
+                t5564,
+                t5569,
+                t5572,
+                t5578,
                 t5629,
                 t5630,
                 t5631,
                 t5632,
+                t5633,
+                t5634,
             )
         };
         let (
-            t5636,
-            t5637,
-            t5722,
-            t5726,
-            t5733,
-            t5815,
-            t5816,
+            t5638,
+            t5639,
+            t5724,
+            t5728,
+            t5735,
             t5817,
             t5818,
             t5819,
             t5820,
+            t5821,
+            t5822,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5633 = 0.184f64 * t5530; // 1.8400e-1 = joint WFE origin z
-            let t5634 = 0.02075f64 * t5530; // 2.0750e-2 = joint WFE origin x
-            let t5635 = wrist_r_v_vy + t5633;
-            let t5636 = s_wfe * wrist_r_v_wy;
-            let t5637 = c_wfe * wrist_r_v_wy;
-            let t5638 = c_wfe * t5634;
-            let t5639 = s_wfe * t5635;
-            let t5640 = t5639 - t5638;
-            let t5641 = s_wfe * t5634;
-            let t5642 = c_wfe * t5635;
-            let t5643 = t5641 + t5642;
-            let t5644 = 0.184f64 * t5534; // 1.8400e-1 = joint WFE origin z
-            let t5645 = 0.184f64 * t5533; // 1.8400e-1 = joint WFE origin z
-            let t5646 = 0.02075f64 * t5534; // 2.0750e-2 = joint WFE origin x
-            let t5647 = wrist_r_a_vy + t5644;
-            let t5648 = wrist_r_a_vx + t5645;
-            let t5649 = s_wfe * t5533;
-            let t5650 = c_wfe * t5533;
-            let t5651 = c_wfe * t5646;
-            let t5652 = s_wfe * t5647;
-            let t5653 = t5652 - t5651;
-            let t5654 = s_wfe * t5646;
-            let t5655 = c_wfe * t5647;
-            let t5656 = t5654 + t5655;
-            let t5657 = t5637 * qd_wfe;
-            let t5658 = t5636 * qd_wfe;
-            let t5659 = t5643 * qd_wfe;
-            let t5660 = t5640 * qd_wfe;
-            let t5661 = t5649 + t5657;
-            let t5662 = t5650 - t5658;
-            let t5663 = t5653 + t5659;
-            let t5664 = t5656 - t5660;
-            let t5665 = wrist_fe_ixx * t5661;
-            let t5666 = wrist_fe_ixy * t5662;
-            let t5667 = t5665 + t5666;
-            let t5668 = wrist_fe_ixz * t5534;
+            let t5635 = 0.184f64 * t5532; // 1.8400e-1 = joint WFE origin z
+            let t5636 = 0.02075f64 * t5532; // 2.0750e-2 = joint WFE origin x
+            let t5637 = wrist_r_v_vy + t5635;
+            let t5638 = s_wfe * wrist_r_v_wy;
+            let t5639 = c_wfe * wrist_r_v_wy;
+            let t5640 = c_wfe * t5636;
+            let t5641 = s_wfe * t5637;
+            let t5642 = t5641 - t5640;
+            let t5643 = s_wfe * t5636;
+            let t5644 = c_wfe * t5637;
+            let t5645 = t5643 + t5644;
+            let t5646 = 0.184f64 * t5536; // 1.8400e-1 = joint WFE origin z
+            let t5647 = 0.184f64 * t5535; // 1.8400e-1 = joint WFE origin z
+            let t5648 = 0.02075f64 * t5536; // 2.0750e-2 = joint WFE origin x
+            let t5649 = wrist_r_a_vy + t5646;
+            let t5650 = wrist_r_a_vx + t5647;
+            let t5651 = s_wfe * t5535;
+            let t5652 = c_wfe * t5535;
+            let t5653 = c_wfe * t5648;
+            let t5654 = s_wfe * t5649;
+            let t5655 = t5654 - t5653;
+            let t5656 = s_wfe * t5648;
+            let t5657 = c_wfe * t5649;
+            let t5658 = t5656 + t5657;
+            let t5659 = t5639 * qd_wfe;
+            let t5660 = t5638 * qd_wfe;
+            let t5661 = t5645 * qd_wfe;
+            let t5662 = t5642 * qd_wfe;
+            let t5663 = t5651 + t5659;
+            let t5664 = t5652 - t5660;
+            let t5665 = t5655 + t5661;
+            let t5666 = t5658 - t5662;
+            let t5667 = wrist_fe_ixx * t5663;
+            let t5668 = wrist_fe_ixy * t5664;
             let t5669 = t5667 + t5668;
-            let t5670 = wrist_fe_ixy * t5661;
-            let t5671 = wrist_fe_iyy * t5662;
-            let t5672 = t5670 + t5671;
-            let t5673 = wrist_fe_iyz * t5534;
+            let t5670 = wrist_fe_ixz * t5536;
+            let t5671 = t5669 + t5670;
+            let t5672 = wrist_fe_ixy * t5663;
+            let t5673 = wrist_fe_iyy * t5664;
             let t5674 = t5672 + t5673;
-            let t5675 = wrist_fe_ixz * t5661;
-            let t5676 = wrist_fe_iyz * t5662;
-            let t5677 = t5675 + t5676;
-            let t5678 = wrist_fe_izz * t5534;
+            let t5675 = wrist_fe_iyz * t5536;
+            let t5676 = t5674 + t5675;
+            let t5677 = wrist_fe_ixz * t5663;
+            let t5678 = wrist_fe_iyz * t5664;
             let t5679 = t5677 + t5678;
-            let t5680 = wrist_fe_hy * t5648;
-            let t5681 = wrist_fe_hz * t5664;
-            let t5682 = t5680 + t5681;
-            let t5683 = wrist_fe_hz * t5663;
-            let t5684 = wrist_fe_hx * t5648;
-            let t5685 = t5683 + t5684;
-            let t5686 = wrist_fe_hx * t5664;
-            let t5687 = wrist_fe_hy * t5663;
-            let t5688 = t5686 - t5687;
-            let t5689 = t5663 * wrist_fe_m;
-            let t5690 = t5664 * wrist_fe_m;
-            let t5691 = t5648 * wrist_fe_m;
-            let t5692 = wrist_fe_hy * t5534;
-            let t5693 = wrist_fe_hz * t5662;
-            let t5694 = t5692 - t5693;
-            let t5695 = wrist_fe_hz * t5661;
-            let t5696 = wrist_fe_hx * t5534;
-            let t5697 = t5695 - t5696;
-            let t5698 = wrist_fe_hx * t5662;
-            let t5699 = wrist_fe_hy * t5661;
-            let t5700 = t5698 - t5699;
-            let t5701 = t5669 - t5682;
-            let t5702 = t5674 + t5685;
-            let t5703 = t5679 + t5688;
-            let t5704 = t5689 - t5694;
-            let t5705 = t5690 - t5697;
-            let t5706 = t5691 + t5700;
-            let t5707 = wrist_fe_ixx * t5636;
-            let t5708 = wrist_fe_ixy * t5637;
-            let t5709 = t5707 + t5708;
-            let t5710 = wrist_fe_ixz * t5530;
+            let t5680 = wrist_fe_izz * t5536;
+            let t5681 = t5679 + t5680;
+            let t5682 = wrist_fe_hy * t5650;
+            let t5683 = wrist_fe_hz * t5666;
+            let t5684 = t5682 + t5683;
+            let t5685 = wrist_fe_hz * t5665;
+            let t5686 = wrist_fe_hx * t5650;
+            let t5687 = t5685 + t5686;
+            let t5688 = wrist_fe_hx * t5666;
+            let t5689 = wrist_fe_hy * t5665;
+            let t5690 = t5688 - t5689;
+            let t5691 = t5665 * wrist_fe_m;
+            let t5692 = t5666 * wrist_fe_m;
+            let t5693 = t5650 * wrist_fe_m;
+            let t5694 = wrist_fe_hy * t5536;
+            let t5695 = wrist_fe_hz * t5664;
+            let t5696 = t5694 - t5695;
+            let t5697 = wrist_fe_hz * t5663;
+            let t5698 = wrist_fe_hx * t5536;
+            let t5699 = t5697 - t5698;
+            let t5700 = wrist_fe_hx * t5664;
+            let t5701 = wrist_fe_hy * t5663;
+            let t5702 = t5700 - t5701;
+            let t5703 = t5671 - t5684;
+            let t5704 = t5676 + t5687;
+            let t5705 = t5681 + t5690;
+            let t5706 = t5691 - t5696;
+            let t5707 = t5692 - t5699;
+            let t5708 = t5693 + t5702;
+            let t5709 = wrist_fe_ixx * t5638;
+            let t5710 = wrist_fe_ixy * t5639;
             let t5711 = t5709 + t5710;
-            let t5712 = wrist_fe_ixy * t5636;
-            let t5713 = wrist_fe_iyy * t5637;
-            let t5714 = t5712 + t5713;
-            let t5715 = wrist_fe_iyz * t5530;
+            let t5712 = wrist_fe_ixz * t5532;
+            let t5713 = t5711 + t5712;
+            let t5714 = wrist_fe_ixy * t5638;
+            let t5715 = wrist_fe_iyy * t5639;
             let t5716 = t5714 + t5715;
-            let t5717 = wrist_fe_ixz * t5636;
-            let t5718 = wrist_fe_iyz * t5637;
-            let t5719 = t5717 + t5718;
-            let t5720 = wrist_fe_izz * t5530;
+            let t5717 = wrist_fe_iyz * t5532;
+            let t5718 = t5716 + t5717;
+            let t5719 = wrist_fe_ixz * t5638;
+            let t5720 = wrist_fe_iyz * t5639;
             let t5721 = t5719 + t5720;
-            let t5722 = wrist_fe_hy * t474;
-            let t5723 = wrist_fe_hz * t5643;
-            let t5724 = t5722 + t5723;
-            let t5725 = wrist_fe_hz * t5640;
-            let t5726 = wrist_fe_hx * t474;
-            let t5727 = t5725 + t5726;
-            let t5728 = wrist_fe_hx * t5643;
-            let t5729 = wrist_fe_hy * t5640;
-            let t5730 = t5728 - t5729;
-            let t5731 = t5640 * wrist_fe_m;
-            let t5732 = t5643 * wrist_fe_m;
-            let t5733 = t474 * wrist_fe_m;
-            let t5734 = wrist_fe_hy * t5530;
-            let t5735 = wrist_fe_hz * t5637;
-            let t5736 = t5734 - t5735;
-            let t5737 = wrist_fe_hz * t5636;
-            let t5738 = wrist_fe_hx * t5530;
-            let t5739 = t5737 - t5738;
-            let t5740 = wrist_fe_hx * t5637;
-            let t5741 = wrist_fe_hy * t5636;
-            let t5742 = t5740 - t5741;
-            let t5743 = t5711 - t5724;
-            let t5744 = t5716 + t5727;
-            let t5745 = t5721 + t5730;
-            let t5746 = t5731 - t5736;
-            let t5747 = t5732 - t5739;
-            let t5748 = t5733 + t5742;
-            let t5749 = wrist_fe_v_wy * t5745;
-            let t5750 = t5637 * t587;
-            let t5751 = t5749 + t5750;
-            let t5752 = wrist_fe_v_wz * t5744;
-            let t5753 = t5530 * t586;
-            let t5754 = t5752 + t5753;
-            let t5755 = t5751 - t5754;
-            let t5756 = wrist_fe_v_wz * t5743;
-            let t5757 = t5530 * t585;
-            let t5758 = t5756 + t5757;
-            let t5759 = wrist_fe_v_wx * t5745;
-            let t5760 = t5636 * t587;
-            let t5761 = t5759 + t5760;
-            let t5762 = t5758 - t5761;
-            let t5763 = wrist_fe_v_wx * t5744;
-            let t5764 = t5636 * t586;
-            let t5765 = t5763 + t5764;
-            let t5766 = wrist_fe_v_wy * t5743;
-            let t5767 = t5637 * t585;
-            let t5768 = t5766 + t5767;
-            let t5769 = t5765 - t5768;
-            let t5770 = wrist_fe_v_vy * t5748;
-            let t5771 = t5643 * t590;
-            let t5772 = t5771 - t5770;
-            let t5773 = wrist_fe_v_vz * t5747;
-            let t5774 = t474 * t589;
-            let t5775 = t5773 - t5774;
-            let t5776 = t5772 - t5775;
-            let t5777 = wrist_fe_v_vz * t5746;
-            let t5778 = t474 * t588;
-            let t5779 = t5777 - t5778;
-            let t5780 = wrist_fe_v_vx * t5748;
-            let t5781 = t5640 * t590;
-            let t5782 = t5781 - t5780;
-            let t5783 = t5779 - t5782;
-            let t5784 = wrist_fe_v_vx * t5747;
-            let t5785 = t5640 * t589;
-            let t5786 = t5784 + t5785;
-            let t5787 = wrist_fe_v_vy * t5746;
-            let t5788 = t5643 * t588;
-            let t5789 = t5787 + t5788;
-            let t5790 = t5786 - t5789;
-            let t5791 = t5755 + t5776;
-            let t5792 = t5762 + t5783;
-            let t5793 = t5769 + t5790;
-            let t5794 = wrist_fe_v_wy * t5748;
-            let t5795 = t5637 * t590;
-            let t5796 = t5795 - t5794;
-            let t5797 = wrist_fe_v_wz * t5747;
-            let t5798 = t5530 * t589;
-            let t5799 = t5797 + t5798;
-            let t5800 = t5796 - t5799;
-            let t5801 = wrist_fe_v_wz * t5746;
-            let t5802 = t5530 * t588;
-            let t5803 = t5801 + t5802;
-            let t5804 = wrist_fe_v_wx * t5748;
-            let t5805 = t5636 * t590;
-            let t5806 = t5805 - t5804;
-            let t5807 = t5803 - t5806;
-            let t5808 = wrist_fe_v_wx * t5747;
-            let t5809 = t5636 * t589;
-            let t5810 = t5808 + t5809;
-            let t5811 = wrist_fe_v_wy * t5746;
-            let t5812 = t5637 * t588;
-            let t5813 = t5811 + t5812;
-            let t5814 = t5810 - t5813;
-            let t5815 = t5701 + t5791;
-            let t5816 = t5702 + t5792;
+            let t5722 = wrist_fe_izz * t5532;
+            let t5723 = t5721 + t5722;
+            let t5724 = wrist_fe_hy * t476;
+            let t5725 = wrist_fe_hz * t5645;
+            let t5726 = t5724 + t5725;
+            let t5727 = wrist_fe_hz * t5642;
+            let t5728 = wrist_fe_hx * t476;
+            let t5729 = t5727 + t5728;
+            let t5730 = wrist_fe_hx * t5645;
+            let t5731 = wrist_fe_hy * t5642;
+            let t5732 = t5730 - t5731;
+            let t5733 = t5642 * wrist_fe_m;
+            let t5734 = t5645 * wrist_fe_m;
+            let t5735 = t476 * wrist_fe_m;
+            let t5736 = wrist_fe_hy * t5532;
+            let t5737 = wrist_fe_hz * t5639;
+            let t5738 = t5736 - t5737;
+            let t5739 = wrist_fe_hz * t5638;
+            let t5740 = wrist_fe_hx * t5532;
+            let t5741 = t5739 - t5740;
+            let t5742 = wrist_fe_hx * t5639;
+            let t5743 = wrist_fe_hy * t5638;
+            let t5744 = t5742 - t5743;
+            let t5745 = t5713 - t5726;
+            let t5746 = t5718 + t5729;
+            let t5747 = t5723 + t5732;
+            let t5748 = t5733 - t5738;
+            let t5749 = t5734 - t5741;
+            let t5750 = t5735 + t5744;
+            let t5751 = wrist_fe_v_wy * t5747;
+            let t5752 = t5639 * t589;
+            let t5753 = t5751 + t5752;
+            let t5754 = wrist_fe_v_wz * t5746;
+            let t5755 = t5532 * t588;
+            let t5756 = t5754 + t5755;
+            let t5757 = t5753 - t5756;
+            let t5758 = wrist_fe_v_wz * t5745;
+            let t5759 = t5532 * t587;
+            let t5760 = t5758 + t5759;
+            let t5761 = wrist_fe_v_wx * t5747;
+            let t5762 = t5638 * t589;
+            let t5763 = t5761 + t5762;
+            let t5764 = t5760 - t5763;
+            let t5765 = wrist_fe_v_wx * t5746;
+            let t5766 = t5638 * t588;
+            let t5767 = t5765 + t5766;
+            let t5768 = wrist_fe_v_wy * t5745;
+            let t5769 = t5639 * t587;
+            let t5770 = t5768 + t5769;
+            let t5771 = t5767 - t5770;
+            let t5772 = wrist_fe_v_vy * t5750;
+            let t5773 = t5645 * t592;
+            let t5774 = t5773 - t5772;
+            let t5775 = wrist_fe_v_vz * t5749;
+            let t5776 = t476 * t591;
+            let t5777 = t5775 - t5776;
+            let t5778 = t5774 - t5777;
+            let t5779 = wrist_fe_v_vz * t5748;
+            let t5780 = t476 * t590;
+            let t5781 = t5779 - t5780;
+            let t5782 = wrist_fe_v_vx * t5750;
+            let t5783 = t5642 * t592;
+            let t5784 = t5783 - t5782;
+            let t5785 = t5781 - t5784;
+            let t5786 = wrist_fe_v_vx * t5749;
+            let t5787 = t5642 * t591;
+            let t5788 = t5786 + t5787;
+            let t5789 = wrist_fe_v_vy * t5748;
+            let t5790 = t5645 * t590;
+            let t5791 = t5789 + t5790;
+            let t5792 = t5788 - t5791;
+            let t5793 = t5757 + t5778;
+            let t5794 = t5764 + t5785;
+            let t5795 = t5771 + t5792;
+            let t5796 = wrist_fe_v_wy * t5750;
+            let t5797 = t5639 * t592;
+            let t5798 = t5797 - t5796;
+            let t5799 = wrist_fe_v_wz * t5749;
+            let t5800 = t5532 * t591;
+            let t5801 = t5799 + t5800;
+            let t5802 = t5798 - t5801;
+            let t5803 = wrist_fe_v_wz * t5748;
+            let t5804 = t5532 * t590;
+            let t5805 = t5803 + t5804;
+            let t5806 = wrist_fe_v_wx * t5750;
+            let t5807 = t5638 * t592;
+            let t5808 = t5807 - t5806;
+            let t5809 = t5805 - t5808;
+            let t5810 = wrist_fe_v_wx * t5749;
+            let t5811 = t5638 * t591;
+            let t5812 = t5810 + t5811;
+            let t5813 = wrist_fe_v_wy * t5748;
+            let t5814 = t5639 * t590;
+            let t5815 = t5813 + t5814;
+            let t5816 = t5812 - t5815;
             let t5817 = t5703 + t5793;
-            let t5818 = t5704 + t5800;
-            let t5819 = t5705 + t5807;
-            let t5820 = t5814 - t5706;
-            (t5636, t5637, t5722, t5726, t5733, t5815, t5816, t5817, t5818, t5819, t5820)
+            let t5818 = t5704 + t5794;
+            let t5819 = t5705 + t5795;
+            let t5820 = t5706 + t5802;
+            let t5821 = t5707 + t5809;
+            let t5822 = t5816 - t5708;
+            (t5638, t5639, t5724, t5728, t5735, t5817, t5818, t5819, t5820, t5821, t5822)
         };
-        let (t5841, t5842, t5843, t5844, t5845, t5846) = {
+        let (t5843, t5844, t5845, t5846, t5847, t5848) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t5821 = c_wfe * t5818;
-            let t5822 = s_wfe * t5819;
-            let t5823 = t5821 - t5822;
-            let t5824 = s_wfe * t5818;
-            let t5825 = c_wfe * t5819;
-            let t5826 = t5824 + t5825;
-            let t5827 = c_wfe * t5815;
-            let t5828 = s_wfe * t5816;
-            let t5829 = t5827 - t5828;
-            let t5830 = s_wfe * t5815;
-            let t5831 = c_wfe * t5816;
-            let t5832 = t5830 + t5831;
-            let t5833 = 0.184f64 * t5820; // 1.8400e-1 = joint WFE origin z
-            let t5834 = 0.184f64 * t5826; // 1.8400e-1 = joint WFE origin z
-            let t5835 = 0.02075f64 * t5823; // 2.0750e-2 = joint WFE origin x
-            let t5836 = t5834 - t5835;
-            let t5837 = 0.02075f64 * t5820; // 2.0750e-2 = joint WFE origin x
-            let t5838 = t5832 - t5833;
-            let t5839 = t5817 + t5836;
-            let t5840 = t5829 + t5837;
-            let t5841 = t5627 + t5838;
-            let t5842 = t5628 + t5839;
+            let t5823 = c_wfe * t5820;
+            let t5824 = s_wfe * t5821;
+            let t5825 = t5823 - t5824;
+            let t5826 = s_wfe * t5820;
+            let t5827 = c_wfe * t5821;
+            let t5828 = t5826 + t5827;
+            let t5829 = c_wfe * t5817;
+            let t5830 = s_wfe * t5818;
+            let t5831 = t5829 - t5830;
+            let t5832 = s_wfe * t5817;
+            let t5833 = c_wfe * t5818;
+            let t5834 = t5832 + t5833;
+            let t5835 = 0.184f64 * t5822; // 1.8400e-1 = joint WFE origin z
+            let t5836 = 0.184f64 * t5828; // 1.8400e-1 = joint WFE origin z
+            let t5837 = 0.02075f64 * t5825; // 2.0750e-2 = joint WFE origin x
+            let t5838 = t5836 - t5837;
+            let t5839 = 0.02075f64 * t5822; // 2.0750e-2 = joint WFE origin x
+            let t5840 = t5834 - t5835;
+            let t5841 = t5819 + t5838;
+            let t5842 = t5831 + t5839;
             let t5843 = t5629 + t5840;
-            let t5844 = t5630 + t5826;
-            let t5845 = t5631 + t5820;
-            let t5846 = t5632 + t5823;
-            (t5841, t5842, t5843, t5844, t5845, t5846)
+            let t5844 = t5630 + t5841;
+            let t5845 = t5631 + t5842;
+            let t5846 = t5632 + t5828;
+            let t5847 = t5633 + t5822;
+            let t5848 = t5634 + t5825;
+            (t5843, t5844, t5845, t5846, t5847, t5848)
         };
-        let (t5851, t5856, t5869, t5870) = {
+        let (t5853, t5858, t5871, t5872) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t5847 = c_wr * t5844;
-            let t5848 = t5847 - t644;
-            let t5849 = s_wr * t5845;
-            let t5850 = t5849 + t645;
-            let t5851 = t5848 - t5850;
-            let t5852 = s_wr * t5844;
-            let t5853 = t5852 + t641;
-            let t5854 = c_wr * t5845;
-            let t5855 = t5854 - t642;
-            let t5856 = t5853 + t5855;
-            let t5857 = c_wr * t5841;
-            let t5858 = t5857 - t650;
-            let t5859 = s_wr * t5842;
-            let t5860 = t5859 + t651;
-            let t5861 = t5858 - t5860;
-            let t5862 = s_wr * t5841;
-            let t5863 = t5862 + t647;
-            let t5864 = c_wr * t5842;
-            let t5865 = t5864 - t648;
-            let t5866 = t5863 + t5865;
-            let t5867 = 0.112f64 * t5851; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5868 = 0.112f64 * t5856; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5869 = t5866 + t5867;
-            let t5870 = t5868 - t5861;
-            (t5851, t5856, t5869, t5870)
+            let t5849 = c_wr * t5846;
+            let t5850 = t5849 - t646;
+            let t5851 = s_wr * t5847;
+            let t5852 = t5851 + t647;
+            let t5853 = t5850 - t5852;
+            let t5854 = s_wr * t5846;
+            let t5855 = t5854 + t643;
+            let t5856 = c_wr * t5847;
+            let t5857 = t5856 - t644;
+            let t5858 = t5855 + t5857;
+            let t5859 = c_wr * t5843;
+            let t5860 = t5859 - t652;
+            let t5861 = s_wr * t5844;
+            let t5862 = t5861 + t653;
+            let t5863 = t5860 - t5862;
+            let t5864 = s_wr * t5843;
+            let t5865 = t5864 + t649;
+            let t5866 = c_wr * t5844;
+            let t5867 = t5866 - t650;
+            let t5868 = t5865 + t5867;
+            let t5869 = 0.112f64 * t5853; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5870 = 0.112f64 * t5858; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5871 = t5868 + t5869;
+            let t5872 = t5870 - t5863;
+            (t5853, t5858, t5871, t5872)
         };
-        let (t5873, t5876, t5882, t5883) = {
+        let (t5875, t5878, t5884, t5885) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t5871 = s_efe * t5846;
-            let t5872 = c_efe * t5856;
-            let t5873 = t5871 + t5872;
-            let t5874 = c_efe * t5843;
-            let t5875 = s_efe * t5869;
-            let t5876 = t5874 - t5875;
-            let t5877 = s_efe * t5843;
-            let t5878 = c_efe * t5869;
-            let t5879 = t5877 + t5878;
-            let t5880 = 0.304f64 * t5873; // 3.0400e-1 = joint EFE origin z
-            let t5881 = 0.304f64 * t5851; // 3.0400e-1 = joint EFE origin z
-            let t5882 = t5870 + t5880;
-            let t5883 = t5879 + t5881;
-            (t5873, t5876, t5882, t5883)
+            let t5873 = s_efe * t5848;
+            let t5874 = c_efe * t5858;
+            let t5875 = t5873 + t5874;
+            let t5876 = c_efe * t5845;
+            let t5877 = s_efe * t5871;
+            let t5878 = t5876 - t5877;
+            let t5879 = s_efe * t5845;
+            let t5880 = c_efe * t5871;
+            let t5881 = t5879 + t5880;
+            let t5882 = 0.304f64 * t5875; // 3.0400e-1 = joint EFE origin z
+            let t5883 = 0.304f64 * t5853; // 3.0400e-1 = joint EFE origin z
+            let t5884 = t5872 + t5882;
+            let t5885 = t5881 + t5883;
+            (t5875, t5878, t5884, t5885)
         };
-        let (t5898, t5899) = {
+        let (t5900, t5901) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t5884 = c_hr * t5851;
-            let t5885 = s_hr * t5873;
-            let t5886 = t5884 - t5885;
-            let t5887 = s_hr * t5851;
-            let t5888 = c_hr * t5873;
-            let t5889 = t5887 + t5888;
-            let t5890 = c_hr * t5882;
-            let t5891 = s_hr * t5883;
-            let t5892 = t5890 + t5891;
-            let t5893 = s_hr * t5882;
-            let t5894 = c_hr * t5883;
-            let t5895 = t5894 - t5893;
-            let t5896 = 0.112f64 * t5886; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5897 = 0.112f64 * t5889; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t5898 = t5895 + t5896;
-            let t5899 = t5892 + t5897;
-            (t5898, t5899)
+            let t5886 = c_hr * t5853;
+            let t5887 = s_hr * t5875;
+            let t5888 = t5886 - t5887;
+            let t5889 = s_hr * t5853;
+            let t5890 = c_hr * t5875;
+            let t5891 = t5889 + t5890;
+            let t5892 = c_hr * t5884;
+            let t5893 = s_hr * t5885;
+            let t5894 = t5892 + t5893;
+            let t5895 = s_hr * t5884;
+            let t5896 = c_hr * t5885;
+            let t5897 = t5896 - t5895;
+            let t5898 = 0.112f64 * t5888; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5899 = 0.112f64 * t5891; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t5900 = t5897 + t5898;
+            let t5901 = t5894 + t5899;
+            (t5900, t5901)
         };
-        let t5902 = {
+        let t5904 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t5900 = s_sfe * t5876;
-            let t5901 = c_sfe * t5898;
-            let t5902 = t5900 + t5901;
-            t5902
+            let t5902 = s_sfe * t5878;
+            let t5903 = c_sfe * t5900;
+            let t5904 = t5902 + t5903;
+            t5904
         };
-        let (t5926, t5927, t5928, t5929, t5930, t5931) = {
+        let (t5928, t5929, t5930, t5931, t5932, t5933) = {
             // ── link `Wrist_R`, joint `WR` (base to tip)
-            let t5903 = t5557 - t396;
-            let t5904 = wrist_r_iyy * wrist_r_v_wx;
-            let t5905 = t392 - t5904;
-            let t5906 = wrist_r_iyz * wrist_r_v_wx;
-            let t5907 = t5562 - t5906;
-            let t5908 = wrist_r_hx * wrist_r_v_wx;
-            let t5909 = t5908 + t5570;
-            let t5910 = t5903 + t409;
-            let t5911 = t5905 + t407;
-            let t5912 = t5907 - t5567;
-            let t5913 = t416 - t421;
-            let t5914 = wrist_r_v_wy * wrist_r_izz;
-            let t5915 = t399 + t428;
-            let t5916 = t5914 - t5915;
-            let t5917 = t394 + t427;
-            let t5918 = wrist_r_v_wx * wrist_r_izz;
-            let t5919 = t5917 - t5918;
-            let t5920 = t5906 - t5562;
-            let t5921 = t5916 - t410;
-            let t5922 = t5919 - t406;
-            let t5923 = t5920 + t5567;
-            let t5924 = t422 + t431;
-            let t5925 = t430 - t418;
-            let t5926 = t5910 + t5921;
-            let t5927 = t5911 + t5922;
+            let t5905 = t5559 - t398;
+            let t5906 = wrist_r_iyy * wrist_r_v_wx;
+            let t5907 = t394 - t5906;
+            let t5908 = wrist_r_iyz * wrist_r_v_wx;
+            let t5909 = t5564 - t5908;
+            let t5910 = wrist_r_hx * wrist_r_v_wx;
+            let t5911 = t5910 + t5572;
+            let t5912 = t5905 + t411;
+            let t5913 = t5907 + t409;
+            let t5914 = t5909 - t5569;
+            let t5915 = t418 - t423;
+            let t5916 = wrist_r_v_wy * wrist_r_izz;
+            let t5917 = t401 + t430;
+            let t5918 = t5916 - t5917;
+            let t5919 = t396 + t429;
+            let t5920 = wrist_r_v_wx * wrist_r_izz;
+            let t5921 = t5919 - t5920;
+            let t5922 = t5908 - t5564;
+            let t5923 = t5918 - t412;
+            let t5924 = t5921 - t408;
+            let t5925 = t5922 + t5569;
+            let t5926 = t424 + t433;
+            let t5927 = t432 - t420;
             let t5928 = t5912 + t5923;
-            let t5929 = t5913 - t5924;
-            let t5930 = t5925 - t5576;
-            let t5931 = t5909 + t5909;
-            (t5926, t5927, t5928, t5929, t5930, t5931)
+            let t5929 = t5913 + t5924;
+            let t5930 = t5914 + t5925;
+            let t5931 = t5915 - t5926;
+            let t5932 = t5927 - t5578;
+            let t5933 = t5911 + t5911;
+            (t5928, t5929, t5930, t5931, t5932, t5933)
         };
-        let (t6053, t6054, t6055, t6056, t6057, t6058) = {
+        let (t6055, t6056, t6057, t6058, t6059, t6060) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t5932 = 0.02075f64 * wrist_r_v_wx; // 2.0750e-2 = joint WFE origin x
-            let t5933 = wrist_r_v_vy - t470;
-            let t5934 = c_wfe * t5932;
-            let t5935 = s_wfe * t5933;
-            let t5936 = t5934 + t5935;
-            let t5937 = s_wfe * t5932;
-            let t5938 = c_wfe * t5933;
-            let t5939 = t5938 - t5937;
-            let t5940 = s_wfe * qd_wfe;
-            let t5941 = c_wfe * qd_wfe;
-            let t5942 = t5636 - t5940;
-            let t5943 = t5637 - t5941;
-            let t5944 = wrist_fe_ixx * t5942;
-            let t5945 = wrist_fe_ixy * t5943;
-            let t5946 = t5944 + t5945;
-            let t5947 = wrist_fe_ixz * wrist_r_v_wx;
-            let t5948 = t5946 - t5947;
-            let t5949 = wrist_fe_ixy * t5942;
-            let t5950 = wrist_fe_iyy * t5943;
-            let t5951 = t5949 + t5950;
-            let t5952 = wrist_fe_iyz * wrist_r_v_wx;
-            let t5953 = t5951 - t5952;
-            let t5954 = wrist_fe_ixz * t5942;
-            let t5955 = wrist_fe_iyz * t5943;
-            let t5956 = t5954 + t5955;
-            let t5957 = wrist_fe_izz * wrist_r_v_wx;
-            let t5958 = t5956 - t5957;
-            let t5959 = wrist_fe_hz * t5939;
-            let t5960 = t5722 + t5959;
-            let t5961 = wrist_fe_hz * t5936;
-            let t5962 = t5961 + t5726;
-            let t5963 = wrist_fe_hx * t5939;
-            let t5964 = wrist_fe_hy * t5936;
-            let t5965 = t5963 - t5964;
-            let t5966 = t5936 * wrist_fe_m;
-            let t5967 = t5939 * wrist_fe_m;
-            let t5968 = wrist_fe_hy * wrist_r_v_wx;
-            let t5969 = wrist_fe_hz * t5943;
-            let t5970 = t5968 + t5969;
-            let t5971 = wrist_fe_hz * t5942;
-            let t5972 = wrist_fe_hx * wrist_r_v_wx;
-            let t5973 = t5971 + t5972;
-            let t5974 = wrist_fe_hx * t5943;
-            let t5975 = wrist_fe_hy * t5942;
-            let t5976 = t5974 - t5975;
-            let t5977 = t5948 - t5960;
-            let t5978 = t5953 + t5962;
-            let t5979 = t5958 + t5965;
-            let t5980 = t5966 + t5970;
-            let t5981 = t5967 - t5973;
-            let t5982 = t5733 + t5976;
-            let t5983 = wrist_fe_ixx * c_wfe;
-            let t5984 = wrist_fe_ixy * s_wfe;
-            let t5985 = t5983 - t5984;
-            let t5986 = wrist_fe_ixy * c_wfe;
-            let t5987 = wrist_fe_iyy * s_wfe;
-            let t5988 = t5986 - t5987;
-            let t5989 = wrist_fe_ixz * c_wfe;
-            let t5990 = wrist_fe_iyz * s_wfe;
-            let t5991 = t5989 - t5990;
-            let t5992 = wrist_fe_hy * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t5993 = wrist_fe_hx * 0.02075f64; // 2.0750e-2 = joint WFE origin x
-            let t5994 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
-            let t5995 = wrist_fe_hz * s_wfe;
-            let t5996 = wrist_fe_hz * c_wfe;
-            let t5997 = wrist_fe_hx * s_wfe;
-            let t5998 = wrist_fe_hy * c_wfe;
-            let t5999 = t5997 + t5998;
-            let t6000 = t5985 + t5992;
-            let t6001 = t5988 - t5993;
-            let t6002 = t5994 + t5999;
-            let t6003 = wrist_fe_v_wy * t5991;
-            let t6004 = s_wfe * t587;
-            let t6005 = t6003 - t6004;
-            let t6006 = wrist_fe_v_wz * t6001;
+            let t5934 = 0.02075f64 * wrist_r_v_wx; // 2.0750e-2 = joint WFE origin x
+            let t5935 = wrist_r_v_vy - t472;
+            let t5936 = c_wfe * t5934;
+            let t5937 = s_wfe * t5935;
+            let t5938 = t5936 + t5937;
+            let t5939 = s_wfe * t5934;
+            let t5940 = c_wfe * t5935;
+            let t5941 = t5940 - t5939;
+            let t5942 = s_wfe * qd_wfe;
+            let t5943 = c_wfe * qd_wfe;
+            let t5944 = t5638 - t5942;
+            let t5945 = t5639 - t5943;
+            let t5946 = wrist_fe_ixx * t5944;
+            let t5947 = wrist_fe_ixy * t5945;
+            let t5948 = t5946 + t5947;
+            let t5949 = wrist_fe_ixz * wrist_r_v_wx;
+            let t5950 = t5948 - t5949;
+            let t5951 = wrist_fe_ixy * t5944;
+            let t5952 = wrist_fe_iyy * t5945;
+            let t5953 = t5951 + t5952;
+            let t5954 = wrist_fe_iyz * wrist_r_v_wx;
+            let t5955 = t5953 - t5954;
+            let t5956 = wrist_fe_ixz * t5944;
+            let t5957 = wrist_fe_iyz * t5945;
+            let t5958 = t5956 + t5957;
+            let t5959 = wrist_fe_izz * wrist_r_v_wx;
+            let t5960 = t5958 - t5959;
+            let t5961 = wrist_fe_hz * t5941;
+            let t5962 = t5724 + t5961;
+            let t5963 = wrist_fe_hz * t5938;
+            let t5964 = t5963 + t5728;
+            let t5965 = wrist_fe_hx * t5941;
+            let t5966 = wrist_fe_hy * t5938;
+            let t5967 = t5965 - t5966;
+            let t5968 = t5938 * wrist_fe_m;
+            let t5969 = t5941 * wrist_fe_m;
+            let t5970 = wrist_fe_hy * wrist_r_v_wx;
+            let t5971 = wrist_fe_hz * t5945;
+            let t5972 = t5970 + t5971;
+            let t5973 = wrist_fe_hz * t5944;
+            let t5974 = wrist_fe_hx * wrist_r_v_wx;
+            let t5975 = t5973 + t5974;
+            let t5976 = wrist_fe_hx * t5945;
+            let t5977 = wrist_fe_hy * t5944;
+            let t5978 = t5976 - t5977;
+            let t5979 = t5950 - t5962;
+            let t5980 = t5955 + t5964;
+            let t5981 = t5960 + t5967;
+            let t5982 = t5968 + t5972;
+            let t5983 = t5969 - t5975;
+            let t5984 = t5735 + t5978;
+            let t5985 = wrist_fe_ixx * c_wfe;
+            let t5986 = wrist_fe_ixy * s_wfe;
+            let t5987 = t5985 - t5986;
+            let t5988 = wrist_fe_ixy * c_wfe;
+            let t5989 = wrist_fe_iyy * s_wfe;
+            let t5990 = t5988 - t5989;
+            let t5991 = wrist_fe_ixz * c_wfe;
+            let t5992 = wrist_fe_iyz * s_wfe;
+            let t5993 = t5991 - t5992;
+            let t5994 = wrist_fe_hy * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t5995 = wrist_fe_hx * 0.02075f64; // 2.0750e-2 = joint WFE origin x
+            let t5996 = 0.02075f64 * wrist_fe_m; // 2.0750e-2 = joint WFE origin x
+            let t5997 = wrist_fe_hz * s_wfe;
+            let t5998 = wrist_fe_hz * c_wfe;
+            let t5999 = wrist_fe_hx * s_wfe;
+            let t6000 = wrist_fe_hy * c_wfe;
+            let t6001 = t5999 + t6000;
+            let t6002 = t5987 + t5994;
+            let t6003 = t5990 - t5995;
+            let t6004 = t5996 + t6001;
+            let t6005 = wrist_fe_v_wy * t5993;
+            let t6006 = s_wfe * t589;
             let t6007 = t6005 - t6006;
-            let t6008 = wrist_fe_v_wz * t6000;
-            let t6009 = wrist_fe_v_wx * t5991;
-            let t6010 = c_wfe * t587;
-            let t6011 = t6009 + t6010;
-            let t6012 = t6008 - t6011;
-            let t6013 = wrist_fe_v_wx * t6001;
-            let t6014 = c_wfe * t586;
-            let t6015 = t6013 + t6014;
-            let t6016 = wrist_fe_v_wy * t6000;
-            let t6017 = s_wfe * t585;
-            let t6018 = t6016 - t6017;
-            let t6019 = t6015 - t6018;
-            let t6020 = wrist_fe_v_vy * t6002;
-            let t6021 = wrist_fe_v_vz * t5996;
-            let t6022 = 0.02075f64 * t589; // 2.0750e-2 = joint WFE origin x
-            let t6023 = t6022 - t6021;
-            let t6024 = t6020 - t6023;
-            let t6025 = wrist_fe_v_vz * t5995;
-            let t6026 = 0.02075f64 * t588; // 2.0750e-2 = joint WFE origin x
-            let t6027 = t6026 - t6025;
-            let t6028 = wrist_fe_v_vx * t6002;
-            let t6029 = t6027 - t6028;
-            let t6030 = wrist_fe_v_vx * t5996;
-            let t6031 = wrist_fe_v_vy * t5995;
-            let t6032 = t6031 - t6030;
-            let t6033 = t6007 + t6024;
-            let t6034 = t6012 + t6029;
-            let t6035 = t6019 + t6032;
-            let t6036 = wrist_fe_v_wy * t6002;
-            let t6037 = s_wfe * t590;
-            let t6038 = t6036 - t6037;
-            let t6039 = wrist_fe_v_wz * t5996;
-            let t6040 = t6038 + t6039;
-            let t6041 = wrist_fe_v_wz * t5995;
-            let t6042 = wrist_fe_v_wx * t6002;
-            let t6043 = c_wfe * t590;
-            let t6044 = t6042 + t6043;
-            let t6045 = t6041 + t6044;
-            let t6046 = wrist_fe_v_wx * t5996;
-            let t6047 = c_wfe * t589;
-            let t6048 = t6047 - t6046;
-            let t6049 = wrist_fe_v_wy * t5995;
-            let t6050 = s_wfe * t588;
-            let t6051 = t6049 + t6050;
-            let t6052 = t6048 + t6051;
-            let t6053 = t5977 + t6033;
-            let t6054 = t5978 + t6034;
+            let t6008 = wrist_fe_v_wz * t6003;
+            let t6009 = t6007 - t6008;
+            let t6010 = wrist_fe_v_wz * t6002;
+            let t6011 = wrist_fe_v_wx * t5993;
+            let t6012 = c_wfe * t589;
+            let t6013 = t6011 + t6012;
+            let t6014 = t6010 - t6013;
+            let t6015 = wrist_fe_v_wx * t6003;
+            let t6016 = c_wfe * t588;
+            let t6017 = t6015 + t6016;
+            let t6018 = wrist_fe_v_wy * t6002;
+            let t6019 = s_wfe * t587;
+            let t6020 = t6018 - t6019;
+            let t6021 = t6017 - t6020;
+            let t6022 = wrist_fe_v_vy * t6004;
+            let t6023 = wrist_fe_v_vz * t5998;
+            let t6024 = 0.02075f64 * t591; // 2.0750e-2 = joint WFE origin x
+            let t6025 = t6024 - t6023;
+            let t6026 = t6022 - t6025;
+            let t6027 = wrist_fe_v_vz * t5997;
+            let t6028 = 0.02075f64 * t590; // 2.0750e-2 = joint WFE origin x
+            let t6029 = t6028 - t6027;
+            let t6030 = wrist_fe_v_vx * t6004;
+            let t6031 = t6029 - t6030;
+            let t6032 = wrist_fe_v_vx * t5998;
+            let t6033 = wrist_fe_v_vy * t5997;
+            let t6034 = t6033 - t6032;
+            let t6035 = t6009 + t6026;
+            let t6036 = t6014 + t6031;
+            let t6037 = t6021 + t6034;
+            let t6038 = wrist_fe_v_wy * t6004;
+            let t6039 = s_wfe * t592;
+            let t6040 = t6038 - t6039;
+            let t6041 = wrist_fe_v_wz * t5998;
+            let t6042 = t6040 + t6041;
+            let t6043 = wrist_fe_v_wz * t5997;
+            let t6044 = wrist_fe_v_wx * t6004;
+            let t6045 = c_wfe * t592;
+            let t6046 = t6044 + t6045;
+            let t6047 = t6043 + t6046;
+            let t6048 = wrist_fe_v_wx * t5998;
+            let t6049 = c_wfe * t591;
+            let t6050 = t6049 - t6048;
+            let t6051 = wrist_fe_v_wy * t5997;
+            let t6052 = s_wfe * t590;
+            let t6053 = t6051 + t6052;
+            let t6054 = t6050 + t6053;
             let t6055 = t5979 + t6035;
-            let t6056 = t5980 + t6040;
-            let t6057 = t5981 - t6045;
-            let t6058 = t6052 - t5982;
-            (t6053, t6054, t6055, t6056, t6057, t6058)
+            let t6056 = t5980 + t6036;
+            let t6057 = t5981 + t6037;
+            let t6058 = t5982 + t6042;
+            let t6059 = t5983 - t6047;
+            let t6060 = t6054 - t5984;
+            (t6055, t6056, t6057, t6058, t6059, t6060)
         };
-        let (t6079, t6080, t6081, t6082, t6083, t6084) = {
+        let (t6081, t6082, t6083, t6084, t6085, t6086) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t6059 = c_wfe * t6056;
-            let t6060 = s_wfe * t6057;
-            let t6061 = t6059 - t6060;
-            let t6062 = s_wfe * t6056;
-            let t6063 = c_wfe * t6057;
-            let t6064 = t6062 + t6063;
-            let t6065 = c_wfe * t6053;
-            let t6066 = s_wfe * t6054;
-            let t6067 = t6065 - t6066;
-            let t6068 = s_wfe * t6053;
-            let t6069 = c_wfe * t6054;
-            let t6070 = t6068 + t6069;
-            let t6071 = 0.184f64 * t6058; // 1.8400e-1 = joint WFE origin z
-            let t6072 = 0.184f64 * t6064; // 1.8400e-1 = joint WFE origin z
-            let t6073 = 0.02075f64 * t6061; // 2.0750e-2 = joint WFE origin x
-            let t6074 = t6072 - t6073;
-            let t6075 = 0.02075f64 * t6058; // 2.0750e-2 = joint WFE origin x
-            let t6076 = t6070 - t6071;
-            let t6077 = t6055 + t6074;
-            let t6078 = t6067 + t6075;
-            let t6079 = t5926 + t6076;
-            let t6080 = t5927 + t6077;
+            let t6061 = c_wfe * t6058;
+            let t6062 = s_wfe * t6059;
+            let t6063 = t6061 - t6062;
+            let t6064 = s_wfe * t6058;
+            let t6065 = c_wfe * t6059;
+            let t6066 = t6064 + t6065;
+            let t6067 = c_wfe * t6055;
+            let t6068 = s_wfe * t6056;
+            let t6069 = t6067 - t6068;
+            let t6070 = s_wfe * t6055;
+            let t6071 = c_wfe * t6056;
+            let t6072 = t6070 + t6071;
+            let t6073 = 0.184f64 * t6060; // 1.8400e-1 = joint WFE origin z
+            let t6074 = 0.184f64 * t6066; // 1.8400e-1 = joint WFE origin z
+            let t6075 = 0.02075f64 * t6063; // 2.0750e-2 = joint WFE origin x
+            let t6076 = t6074 - t6075;
+            let t6077 = 0.02075f64 * t6060; // 2.0750e-2 = joint WFE origin x
+            let t6078 = t6072 - t6073;
+            let t6079 = t6057 + t6076;
+            let t6080 = t6069 + t6077;
             let t6081 = t5928 + t6078;
-            let t6082 = t5929 + t6064;
-            let t6083 = t5930 + t6058;
-            let t6084 = t5931 + t6061;
-            (t6079, t6080, t6081, t6082, t6083, t6084)
+            let t6082 = t5929 + t6079;
+            let t6083 = t5930 + t6080;
+            let t6084 = t5931 + t6066;
+            let t6085 = t5932 + t6060;
+            let t6086 = t5933 + t6063;
+            (t6081, t6082, t6083, t6084, t6085, t6086)
         };
-        let (t6087, t6090, t6099, t6100) = {
+        let (t6089, t6092, t6101, t6102) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t6085 = c_wr * t6082;
-            let t6086 = s_wr * t6083;
-            let t6087 = t6085 - t6086;
-            let t6088 = s_wr * t6082;
-            let t6089 = c_wr * t6083;
-            let t6090 = t6088 + t6089;
-            let t6091 = c_wr * t6079;
-            let t6092 = s_wr * t6080;
-            let t6093 = t6091 - t6092;
-            let t6094 = s_wr * t6079;
-            let t6095 = c_wr * t6080;
-            let t6096 = t6094 + t6095;
-            let t6097 = 0.112f64 * t6087; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6098 = 0.112f64 * t6090; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6099 = t6096 + t6097;
-            let t6100 = t6098 - t6093;
-            (t6087, t6090, t6099, t6100)
+            let t6087 = c_wr * t6084;
+            let t6088 = s_wr * t6085;
+            let t6089 = t6087 - t6088;
+            let t6090 = s_wr * t6084;
+            let t6091 = c_wr * t6085;
+            let t6092 = t6090 + t6091;
+            let t6093 = c_wr * t6081;
+            let t6094 = s_wr * t6082;
+            let t6095 = t6093 - t6094;
+            let t6096 = s_wr * t6081;
+            let t6097 = c_wr * t6082;
+            let t6098 = t6096 + t6097;
+            let t6099 = 0.112f64 * t6089; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6100 = 0.112f64 * t6092; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6101 = t6098 + t6099;
+            let t6102 = t6100 - t6095;
+            (t6089, t6092, t6101, t6102)
         };
-        let (t6103, t6106, t6112, t6113) = {
+        let (t6105, t6108, t6114, t6115) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t6101 = s_efe * t6084;
-            let t6102 = c_efe * t6090;
-            let t6103 = t6101 + t6102;
-            let t6104 = c_efe * t6081;
-            let t6105 = s_efe * t6099;
-            let t6106 = t6104 - t6105;
-            let t6107 = s_efe * t6081;
-            let t6108 = c_efe * t6099;
-            let t6109 = t6107 + t6108;
-            let t6110 = 0.304f64 * t6103; // 3.0400e-1 = joint EFE origin z
-            let t6111 = 0.304f64 * t6087; // 3.0400e-1 = joint EFE origin z
-            let t6112 = t6100 + t6110;
-            let t6113 = t6109 + t6111;
-            (t6103, t6106, t6112, t6113)
+            let t6103 = s_efe * t6086;
+            let t6104 = c_efe * t6092;
+            let t6105 = t6103 + t6104;
+            let t6106 = c_efe * t6083;
+            let t6107 = s_efe * t6101;
+            let t6108 = t6106 - t6107;
+            let t6109 = s_efe * t6083;
+            let t6110 = c_efe * t6101;
+            let t6111 = t6109 + t6110;
+            let t6112 = 0.304f64 * t6105; // 3.0400e-1 = joint EFE origin z
+            let t6113 = 0.304f64 * t6089; // 3.0400e-1 = joint EFE origin z
+            let t6114 = t6102 + t6112;
+            let t6115 = t6111 + t6113;
+            (t6105, t6108, t6114, t6115)
         };
-        let (t6128, t6129) = {
+        let (t6130, t6131) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t6114 = c_hr * t6087;
-            let t6115 = s_hr * t6103;
-            let t6116 = t6114 - t6115;
-            let t6117 = s_hr * t6087;
-            let t6118 = c_hr * t6103;
-            let t6119 = t6117 + t6118;
-            let t6120 = c_hr * t6112;
-            let t6121 = s_hr * t6113;
-            let t6122 = t6120 + t6121;
-            let t6123 = s_hr * t6112;
-            let t6124 = c_hr * t6113;
-            let t6125 = t6124 - t6123;
-            let t6126 = 0.112f64 * t6116; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6127 = 0.112f64 * t6119; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6128 = t6125 + t6126;
-            let t6129 = t6122 + t6127;
-            (t6128, t6129)
+            let t6116 = c_hr * t6089;
+            let t6117 = s_hr * t6105;
+            let t6118 = t6116 - t6117;
+            let t6119 = s_hr * t6089;
+            let t6120 = c_hr * t6105;
+            let t6121 = t6119 + t6120;
+            let t6122 = c_hr * t6114;
+            let t6123 = s_hr * t6115;
+            let t6124 = t6122 + t6123;
+            let t6125 = s_hr * t6114;
+            let t6126 = c_hr * t6115;
+            let t6127 = t6126 - t6125;
+            let t6128 = 0.112f64 * t6118; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6129 = 0.112f64 * t6121; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6130 = t6127 + t6128;
+            let t6131 = t6124 + t6129;
+            (t6130, t6131)
         };
-        let t6132 = {
+        let t6134 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t6130 = s_sfe * t6106;
-            let t6131 = c_sfe * t6128;
-            let t6132 = t6130 + t6131;
-            t6132
+            let t6132 = s_sfe * t6108;
+            let t6133 = c_sfe * t6130;
+            let t6134 = t6132 + t6133;
+            t6134
         };
         let (
-            t6155,
-            t6156,
-            t6160,
-            t6163,
-            t6164,
+            t6157,
+            t6158,
+            t6162,
             t6165,
             t6166,
             t6167,
             t6168,
-            t6217,
-            t6218,
+            t6169,
+            t6170,
             t6219,
             t6220,
             t6221,
             t6222,
+            t6223,
+            t6224,
         ) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t6133 = wrist_fe_ixx * wrist_fe_a_wy;
-            let t6134 = t6133 - t512;
-            let t6135 = wrist_fe_iyy * wrist_fe_a_wx;
-            let t6136 = t508 - t6135;
-            let t6137 = wrist_fe_ixz * wrist_fe_a_wy;
-            let t6138 = wrist_fe_iyz * wrist_fe_a_wx;
-            let t6139 = t6137 - t6138;
-            let t6140 = wrist_fe_hx * wrist_fe_a_vx;
-            let t6141 = wrist_fe_hy * wrist_fe_a_vy;
-            let t6142 = t6140 + t6141;
-            let t6143 = wrist_fe_hx * wrist_fe_a_wx;
-            let t6144 = wrist_fe_hy * wrist_fe_a_wy;
-            let t6145 = t6143 + t6144;
-            let t6146 = t6134 + t525;
-            let t6147 = t6136 + t523;
-            let t6148 = t6139 - t6142;
-            let t6149 = t532 - t537;
-            let t6150 = t531 + t535;
-            let t6151 = wrist_fe_ixx * wrist_fe_v_wy;
-            let t6152 = t6151 - t554;
-            let t6153 = wrist_fe_iyy * wrist_fe_v_wx;
-            let t6154 = t550 - t6153;
-            let t6155 = wrist_fe_ixz * wrist_fe_v_wy;
-            let t6156 = wrist_fe_iyz * wrist_fe_v_wx;
-            let t6157 = t6155 - t6156;
-            let t6158 = wrist_fe_hx * wrist_fe_v_vx;
-            let t6159 = wrist_fe_hy * wrist_fe_v_vy;
-            let t6160 = t6158 + t6159;
-            let t6161 = wrist_fe_hx * wrist_fe_v_wx;
-            let t6162 = wrist_fe_hy * wrist_fe_v_wy;
-            let t6163 = t6161 + t6162;
-            let t6164 = t6152 + t567;
-            let t6165 = t6154 + t565;
-            let t6166 = t6157 - t6160;
-            let t6167 = t574 - t579;
-            let t6168 = t573 + t577;
-            let t6169 = wrist_fe_v_wy * t6166;
-            let t6170 = t6169 - t595;
-            let t6171 = wrist_fe_v_wz * t6165;
-            let t6172 = t6170 - t6171;
-            let t6173 = wrist_fe_v_wz * t6164;
-            let t6174 = wrist_fe_v_wx * t6166;
-            let t6175 = t6174 + t591;
-            let t6176 = t6173 - t6175;
-            let t6177 = wrist_fe_v_wx * t6165;
-            let t6178 = wrist_fe_v_wy * t586;
-            let t6179 = t6177 + t6178;
-            let t6180 = wrist_fe_v_wy * t6164;
-            let t6181 = wrist_fe_v_wx * t585;
-            let t6182 = t6180 - t6181;
-            let t6183 = t6179 - t6182;
-            let t6184 = wrist_fe_v_vy * t6163;
-            let t6185 = t6184 - t604;
-            let t6186 = wrist_fe_v_vz * t6168;
-            let t6187 = t6185 + t6186;
-            let t6188 = wrist_fe_v_vz * t6167;
-            let t6189 = wrist_fe_v_vx * t6163;
-            let t6190 = t6189 + t600;
-            let t6191 = t6188 - t6190;
-            let t6192 = wrist_fe_v_vx * t6168;
-            let t6193 = wrist_fe_v_vy * t589;
-            let t6194 = t6193 - t6192;
-            let t6195 = wrist_fe_v_vy * t6167;
-            let t6196 = wrist_fe_v_vx * t588;
-            let t6197 = t6195 - t6196;
-            let t6198 = t6194 - t6197;
-            let t6199 = t6172 + t6187;
-            let t6200 = t6176 + t6191;
-            let t6201 = t6183 + t6198;
-            let t6202 = wrist_fe_v_wy * t6163;
-            let t6203 = t6202 - t616;
-            let t6204 = wrist_fe_v_wz * t6168;
-            let t6205 = t6203 + t6204;
-            let t6206 = wrist_fe_v_wz * t6167;
-            let t6207 = wrist_fe_v_wx * t6163;
-            let t6208 = t6207 + t612;
-            let t6209 = t6206 - t6208;
-            let t6210 = wrist_fe_v_wx * t6168;
-            let t6211 = wrist_fe_v_wy * t589;
-            let t6212 = t6211 - t6210;
-            let t6213 = wrist_fe_v_wy * t6167;
-            let t6214 = wrist_fe_v_wx * t588;
-            let t6215 = t6213 - t6214;
-            let t6216 = t6212 - t6215;
-            let t6217 = t6146 + t6199;
-            let t6218 = t6147 + t6200;
+            let t6135 = wrist_fe_ixx * wrist_fe_a_wy;
+            let t6136 = t6135 - t514;
+            let t6137 = wrist_fe_iyy * wrist_fe_a_wx;
+            let t6138 = t510 - t6137;
+            let t6139 = wrist_fe_ixz * wrist_fe_a_wy;
+            let t6140 = wrist_fe_iyz * wrist_fe_a_wx;
+            let t6141 = t6139 - t6140;
+            let t6142 = wrist_fe_hx * wrist_fe_a_vx;
+            let t6143 = wrist_fe_hy * wrist_fe_a_vy;
+            let t6144 = t6142 + t6143;
+            let t6145 = wrist_fe_hx * wrist_fe_a_wx;
+            let t6146 = wrist_fe_hy * wrist_fe_a_wy;
+            let t6147 = t6145 + t6146;
+            let t6148 = t6136 + t527;
+            let t6149 = t6138 + t525;
+            let t6150 = t6141 - t6144;
+            let t6151 = t534 - t539;
+            let t6152 = t533 + t537;
+            let t6153 = wrist_fe_ixx * wrist_fe_v_wy;
+            let t6154 = t6153 - t556;
+            let t6155 = wrist_fe_iyy * wrist_fe_v_wx;
+            let t6156 = t552 - t6155;
+            let t6157 = wrist_fe_ixz * wrist_fe_v_wy;
+            let t6158 = wrist_fe_iyz * wrist_fe_v_wx;
+            let t6159 = t6157 - t6158;
+            let t6160 = wrist_fe_hx * wrist_fe_v_vx;
+            let t6161 = wrist_fe_hy * wrist_fe_v_vy;
+            let t6162 = t6160 + t6161;
+            let t6163 = wrist_fe_hx * wrist_fe_v_wx;
+            let t6164 = wrist_fe_hy * wrist_fe_v_wy;
+            let t6165 = t6163 + t6164;
+            let t6166 = t6154 + t569;
+            let t6167 = t6156 + t567;
+            let t6168 = t6159 - t6162;
+            let t6169 = t576 - t581;
+            let t6170 = t575 + t579;
+            let t6171 = wrist_fe_v_wy * t6168;
+            let t6172 = t6171 - t597;
+            let t6173 = wrist_fe_v_wz * t6167;
+            let t6174 = t6172 - t6173;
+            let t6175 = wrist_fe_v_wz * t6166;
+            let t6176 = wrist_fe_v_wx * t6168;
+            let t6177 = t6176 + t593;
+            let t6178 = t6175 - t6177;
+            let t6179 = wrist_fe_v_wx * t6167;
+            let t6180 = wrist_fe_v_wy * t588;
+            let t6181 = t6179 + t6180;
+            let t6182 = wrist_fe_v_wy * t6166;
+            let t6183 = wrist_fe_v_wx * t587;
+            let t6184 = t6182 - t6183;
+            let t6185 = t6181 - t6184;
+            let t6186 = wrist_fe_v_vy * t6165;
+            let t6187 = t6186 - t606;
+            let t6188 = wrist_fe_v_vz * t6170;
+            let t6189 = t6187 + t6188;
+            let t6190 = wrist_fe_v_vz * t6169;
+            let t6191 = wrist_fe_v_vx * t6165;
+            let t6192 = t6191 + t602;
+            let t6193 = t6190 - t6192;
+            let t6194 = wrist_fe_v_vx * t6170;
+            let t6195 = wrist_fe_v_vy * t591;
+            let t6196 = t6195 - t6194;
+            let t6197 = wrist_fe_v_vy * t6169;
+            let t6198 = wrist_fe_v_vx * t590;
+            let t6199 = t6197 - t6198;
+            let t6200 = t6196 - t6199;
+            let t6201 = t6174 + t6189;
+            let t6202 = t6178 + t6193;
+            let t6203 = t6185 + t6200;
+            let t6204 = wrist_fe_v_wy * t6165;
+            let t6205 = t6204 - t618;
+            let t6206 = wrist_fe_v_wz * t6170;
+            let t6207 = t6205 + t6206;
+            let t6208 = wrist_fe_v_wz * t6169;
+            let t6209 = wrist_fe_v_wx * t6165;
+            let t6210 = t6209 + t614;
+            let t6211 = t6208 - t6210;
+            let t6212 = wrist_fe_v_wx * t6170;
+            let t6213 = wrist_fe_v_wy * t591;
+            let t6214 = t6213 - t6212;
+            let t6215 = wrist_fe_v_wy * t6169;
+            let t6216 = wrist_fe_v_wx * t590;
+            let t6217 = t6215 - t6216;
+            let t6218 = t6214 - t6217;
             let t6219 = t6148 + t6201;
-            let t6220 = t6149 + t6205;
-            let t6221 = t6209 - t6150;
-            let t6222 = t6145 + t6216;
+            let t6220 = t6149 + t6202;
+            let t6221 = t6150 + t6203;
+            let t6222 = t6151 + t6207;
+            let t6223 = t6211 - t6152;
+            let t6224 = t6147 + t6218;
             (
-                t6155,
-                t6156,
-                t6160,
-                t6163,
-                t6164,
+                t6157,
+                t6158,
+                t6162,
                 t6165,
                 t6166,
                 t6167,
                 t6168,
-                t6217,
-                t6218,
+                t6169,
+                t6170,
                 t6219,
                 t6220,
                 t6221,
                 t6222,
+                t6223,
+                t6224,
             )
         };
-        let (t6227, t6232, t6248, t6249, t6250) = {
+        let (t6229, t6234, t6250, t6251, t6252) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t6223 = c_wfe * t6220;
-            let t6224 = t6223 - t624;
-            let t6225 = s_wfe * t6221;
-            let t6226 = t6225 + t625;
-            let t6227 = t6224 - t6226;
-            let t6228 = s_wfe * t6220;
-            let t6229 = t6228 + t621;
-            let t6230 = c_wfe * t6221;
-            let t6231 = t6230 - t622;
-            let t6232 = t6229 + t6231;
-            let t6233 = c_wfe * t6217;
-            let t6234 = t6233 - t630;
-            let t6235 = s_wfe * t6218;
-            let t6236 = t6235 + t631;
-            let t6237 = t6234 - t6236;
-            let t6238 = s_wfe * t6217;
-            let t6239 = t6238 + t627;
-            let t6240 = c_wfe * t6218;
-            let t6241 = t6240 - t628;
-            let t6242 = t6239 + t6241;
-            let t6243 = 0.184f64 * t6222; // 1.8400e-1 = joint WFE origin z
-            let t6244 = 0.184f64 * t6232; // 1.8400e-1 = joint WFE origin z
-            let t6245 = 0.02075f64 * t6227; // 2.0750e-2 = joint WFE origin x
-            let t6246 = t6244 - t6245;
-            let t6247 = 0.02075f64 * t6222; // 2.0750e-2 = joint WFE origin x
-            let t6248 = t6242 - t6243;
-            let t6249 = t6219 + t6246;
-            let t6250 = t6237 + t6247;
-            (t6227, t6232, t6248, t6249, t6250)
+            let t6225 = c_wfe * t6222;
+            let t6226 = t6225 - t626;
+            let t6227 = s_wfe * t6223;
+            let t6228 = t6227 + t627;
+            let t6229 = t6226 - t6228;
+            let t6230 = s_wfe * t6222;
+            let t6231 = t6230 + t623;
+            let t6232 = c_wfe * t6223;
+            let t6233 = t6232 - t624;
+            let t6234 = t6231 + t6233;
+            let t6235 = c_wfe * t6219;
+            let t6236 = t6235 - t632;
+            let t6237 = s_wfe * t6220;
+            let t6238 = t6237 + t633;
+            let t6239 = t6236 - t6238;
+            let t6240 = s_wfe * t6219;
+            let t6241 = t6240 + t629;
+            let t6242 = c_wfe * t6220;
+            let t6243 = t6242 - t630;
+            let t6244 = t6241 + t6243;
+            let t6245 = 0.184f64 * t6224; // 1.8400e-1 = joint WFE origin z
+            let t6246 = 0.184f64 * t6234; // 1.8400e-1 = joint WFE origin z
+            let t6247 = 0.02075f64 * t6229; // 2.0750e-2 = joint WFE origin x
+            let t6248 = t6246 - t6247;
+            let t6249 = 0.02075f64 * t6224; // 2.0750e-2 = joint WFE origin x
+            let t6250 = t6244 - t6245;
+            let t6251 = t6221 + t6248;
+            let t6252 = t6239 + t6249;
+            (t6229, t6234, t6250, t6251, t6252)
         };
-        let (t6253, t6256, t6265, t6266) = {
+        let (t6255, t6258, t6267, t6268) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t6251 = c_wr * t6232;
-            let t6252 = s_wr * t6222;
-            let t6253 = t6251 - t6252;
-            let t6254 = s_wr * t6232;
-            let t6255 = c_wr * t6222;
-            let t6256 = t6254 + t6255;
-            let t6257 = c_wr * t6248;
-            let t6258 = s_wr * t6249;
-            let t6259 = t6257 - t6258;
-            let t6260 = s_wr * t6248;
-            let t6261 = c_wr * t6249;
-            let t6262 = t6260 + t6261;
-            let t6263 = 0.112f64 * t6253; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6264 = 0.112f64 * t6256; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6265 = t6262 + t6263;
-            let t6266 = t6264 - t6259;
-            (t6253, t6256, t6265, t6266)
+            let t6253 = c_wr * t6234;
+            let t6254 = s_wr * t6224;
+            let t6255 = t6253 - t6254;
+            let t6256 = s_wr * t6234;
+            let t6257 = c_wr * t6224;
+            let t6258 = t6256 + t6257;
+            let t6259 = c_wr * t6250;
+            let t6260 = s_wr * t6251;
+            let t6261 = t6259 - t6260;
+            let t6262 = s_wr * t6250;
+            let t6263 = c_wr * t6251;
+            let t6264 = t6262 + t6263;
+            let t6265 = 0.112f64 * t6255; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6266 = 0.112f64 * t6258; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6267 = t6264 + t6265;
+            let t6268 = t6266 - t6261;
+            (t6255, t6258, t6267, t6268)
         };
-        let (t6269, t6272, t6278, t6279) = {
+        let (t6271, t6274, t6280, t6281) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t6267 = s_efe * t6227;
-            let t6268 = c_efe * t6256;
-            let t6269 = t6267 + t6268;
-            let t6270 = c_efe * t6250;
-            let t6271 = s_efe * t6265;
-            let t6272 = t6270 - t6271;
-            let t6273 = s_efe * t6250;
-            let t6274 = c_efe * t6265;
-            let t6275 = t6273 + t6274;
-            let t6276 = 0.304f64 * t6269; // 3.0400e-1 = joint EFE origin z
-            let t6277 = 0.304f64 * t6253; // 3.0400e-1 = joint EFE origin z
-            let t6278 = t6266 + t6276;
-            let t6279 = t6275 + t6277;
-            (t6269, t6272, t6278, t6279)
+            let t6269 = s_efe * t6229;
+            let t6270 = c_efe * t6258;
+            let t6271 = t6269 + t6270;
+            let t6272 = c_efe * t6252;
+            let t6273 = s_efe * t6267;
+            let t6274 = t6272 - t6273;
+            let t6275 = s_efe * t6252;
+            let t6276 = c_efe * t6267;
+            let t6277 = t6275 + t6276;
+            let t6278 = 0.304f64 * t6271; // 3.0400e-1 = joint EFE origin z
+            let t6279 = 0.304f64 * t6255; // 3.0400e-1 = joint EFE origin z
+            let t6280 = t6268 + t6278;
+            let t6281 = t6277 + t6279;
+            (t6271, t6274, t6280, t6281)
         };
-        let (t6294, t6295) = {
+        let (t6296, t6297) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t6280 = c_hr * t6253;
-            let t6281 = s_hr * t6269;
-            let t6282 = t6280 - t6281;
-            let t6283 = s_hr * t6253;
-            let t6284 = c_hr * t6269;
-            let t6285 = t6283 + t6284;
-            let t6286 = c_hr * t6278;
-            let t6287 = s_hr * t6279;
-            let t6288 = t6286 + t6287;
-            let t6289 = s_hr * t6278;
-            let t6290 = c_hr * t6279;
-            let t6291 = t6290 - t6289;
-            let t6292 = 0.112f64 * t6282; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6293 = 0.112f64 * t6285; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6294 = t6291 + t6292;
-            let t6295 = t6288 + t6293;
-            (t6294, t6295)
+            let t6282 = c_hr * t6255;
+            let t6283 = s_hr * t6271;
+            let t6284 = t6282 - t6283;
+            let t6285 = s_hr * t6255;
+            let t6286 = c_hr * t6271;
+            let t6287 = t6285 + t6286;
+            let t6288 = c_hr * t6280;
+            let t6289 = s_hr * t6281;
+            let t6290 = t6288 + t6289;
+            let t6291 = s_hr * t6280;
+            let t6292 = c_hr * t6281;
+            let t6293 = t6292 - t6291;
+            let t6294 = 0.112f64 * t6284; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6295 = 0.112f64 * t6287; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6296 = t6293 + t6294;
+            let t6297 = t6290 + t6295;
+            (t6296, t6297)
         };
-        let t6298 = {
+        let t6300 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t6296 = s_sfe * t6272;
-            let t6297 = c_sfe * t6294;
-            let t6298 = t6296 + t6297;
-            t6298
+            let t6298 = s_sfe * t6274;
+            let t6299 = c_sfe * t6296;
+            let t6300 = t6298 + t6299;
+            t6300
         };
-        let (t6311, t6312, t6313, t6314, t6315, t6316) = {
+        let (t6313, t6314, t6315, t6316, t6317, t6318) = {
             // ── link `Wrist_FE`, joint `WFE` (base to tip)
-            let t6299 = wrist_fe_v_wy * wrist_fe_izz;
-            let t6300 = t557 + t586;
-            let t6301 = t6299 - t6300;
-            let t6302 = t552 + t585;
-            let t6303 = wrist_fe_v_wx * wrist_fe_izz;
-            let t6304 = t6302 - t6303;
-            let t6305 = t6156 - t6155;
-            let t6306 = t6301 - t568;
-            let t6307 = t6304 - t564;
-            let t6308 = t6305 + t6160;
-            let t6309 = t580 + t589;
-            let t6310 = t588 - t576;
-            let t6311 = t6164 + t6306;
-            let t6312 = t6165 + t6307;
+            let t6301 = wrist_fe_v_wy * wrist_fe_izz;
+            let t6302 = t559 + t588;
+            let t6303 = t6301 - t6302;
+            let t6304 = t554 + t587;
+            let t6305 = wrist_fe_v_wx * wrist_fe_izz;
+            let t6306 = t6304 - t6305;
+            let t6307 = t6158 - t6157;
+            let t6308 = t6303 - t570;
+            let t6309 = t6306 - t566;
+            let t6310 = t6307 + t6162;
+            let t6311 = t582 + t591;
+            let t6312 = t590 - t578;
             let t6313 = t6166 + t6308;
-            let t6314 = t6167 - t6309;
-            let t6315 = t6310 - t6168;
-            let t6316 = t6163 + t6163;
-            (t6311, t6312, t6313, t6314, t6315, t6316)
+            let t6314 = t6167 + t6309;
+            let t6315 = t6168 + t6310;
+            let t6316 = t6169 - t6311;
+            let t6317 = t6312 - t6170;
+            let t6318 = t6165 + t6165;
+            (t6313, t6314, t6315, t6316, t6317, t6318)
         };
-        let (t6319, t6322, t6334, t6335, t6336) = {
+        let (t6321, t6324, t6336, t6337, t6338) = {
             // ── link `Wrist_FE`, joint `WFE` (tip to base)
-            let t6317 = c_wfe * t6314;
-            let t6318 = s_wfe * t6315;
-            let t6319 = t6317 - t6318;
-            let t6320 = s_wfe * t6314;
-            let t6321 = c_wfe * t6315;
-            let t6322 = t6320 + t6321;
-            let t6323 = c_wfe * t6311;
-            let t6324 = s_wfe * t6312;
-            let t6325 = t6323 - t6324;
-            let t6326 = s_wfe * t6311;
-            let t6327 = c_wfe * t6312;
-            let t6328 = t6326 + t6327;
-            let t6329 = 0.184f64 * t6316; // 1.8400e-1 = joint WFE origin z
-            let t6330 = 0.184f64 * t6322; // 1.8400e-1 = joint WFE origin z
-            let t6331 = 0.02075f64 * t6319; // 2.0750e-2 = joint WFE origin x
-            let t6332 = t6330 - t6331;
-            let t6333 = 0.02075f64 * t6316; // 2.0750e-2 = joint WFE origin x
-            let t6334 = t6328 - t6329;
-            let t6335 = t6313 + t6332;
-            let t6336 = t6325 + t6333;
-            (t6319, t6322, t6334, t6335, t6336)
+            let t6319 = c_wfe * t6316;
+            let t6320 = s_wfe * t6317;
+            let t6321 = t6319 - t6320;
+            let t6322 = s_wfe * t6316;
+            let t6323 = c_wfe * t6317;
+            let t6324 = t6322 + t6323;
+            let t6325 = c_wfe * t6313;
+            let t6326 = s_wfe * t6314;
+            let t6327 = t6325 - t6326;
+            let t6328 = s_wfe * t6313;
+            let t6329 = c_wfe * t6314;
+            let t6330 = t6328 + t6329;
+            let t6331 = 0.184f64 * t6318; // 1.8400e-1 = joint WFE origin z
+            let t6332 = 0.184f64 * t6324; // 1.8400e-1 = joint WFE origin z
+            let t6333 = 0.02075f64 * t6321; // 2.0750e-2 = joint WFE origin x
+            let t6334 = t6332 - t6333;
+            let t6335 = 0.02075f64 * t6318; // 2.0750e-2 = joint WFE origin x
+            let t6336 = t6330 - t6331;
+            let t6337 = t6315 + t6334;
+            let t6338 = t6327 + t6335;
+            (t6321, t6324, t6336, t6337, t6338)
         };
-        let (t6339, t6342, t6351, t6352) = {
+        let (t6341, t6344, t6353, t6354) = {
             // ── link `Wrist_R`, joint `WR` (tip to base)
-            let t6337 = c_wr * t6322;
-            let t6338 = s_wr * t6316;
-            let t6339 = t6337 - t6338;
-            let t6340 = s_wr * t6322;
-            let t6341 = c_wr * t6316;
-            let t6342 = t6340 + t6341;
-            let t6343 = c_wr * t6334;
-            let t6344 = s_wr * t6335;
-            let t6345 = t6343 - t6344;
-            let t6346 = s_wr * t6334;
-            let t6347 = c_wr * t6335;
-            let t6348 = t6346 + t6347;
-            let t6349 = 0.112f64 * t6339; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6350 = 0.112f64 * t6342; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6351 = t6348 + t6349;
-            let t6352 = t6350 - t6345;
-            (t6339, t6342, t6351, t6352)
+            let t6339 = c_wr * t6324;
+            let t6340 = s_wr * t6318;
+            let t6341 = t6339 - t6340;
+            let t6342 = s_wr * t6324;
+            let t6343 = c_wr * t6318;
+            let t6344 = t6342 + t6343;
+            let t6345 = c_wr * t6336;
+            let t6346 = s_wr * t6337;
+            let t6347 = t6345 - t6346;
+            let t6348 = s_wr * t6336;
+            let t6349 = c_wr * t6337;
+            let t6350 = t6348 + t6349;
+            let t6351 = 0.112f64 * t6341; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6352 = 0.112f64 * t6344; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6353 = t6350 + t6351;
+            let t6354 = t6352 - t6347;
+            (t6341, t6344, t6353, t6354)
         };
-        let (t6355, t6358, t6364, t6365) = {
+        let (t6357, t6360, t6366, t6367) = {
             // ── link `Elbow_FE`, joint `EFE` (tip to base)
-            let t6353 = s_efe * t6319;
-            let t6354 = c_efe * t6342;
-            let t6355 = t6353 + t6354;
-            let t6356 = c_efe * t6336;
-            let t6357 = s_efe * t6351;
-            let t6358 = t6356 - t6357;
-            let t6359 = s_efe * t6336;
-            let t6360 = c_efe * t6351;
-            let t6361 = t6359 + t6360;
-            let t6362 = 0.304f64 * t6355; // 3.0400e-1 = joint EFE origin z
-            let t6363 = 0.304f64 * t6339; // 3.0400e-1 = joint EFE origin z
-            let t6364 = t6352 + t6362;
-            let t6365 = t6361 + t6363;
-            (t6355, t6358, t6364, t6365)
+            let t6355 = s_efe * t6321;
+            let t6356 = c_efe * t6344;
+            let t6357 = t6355 + t6356;
+            let t6358 = c_efe * t6338;
+            let t6359 = s_efe * t6353;
+            let t6360 = t6358 - t6359;
+            let t6361 = s_efe * t6338;
+            let t6362 = c_efe * t6353;
+            let t6363 = t6361 + t6362;
+            let t6364 = 0.304f64 * t6357; // 3.0400e-1 = joint EFE origin z
+            let t6365 = 0.304f64 * t6341; // 3.0400e-1 = joint EFE origin z
+            let t6366 = t6354 + t6364;
+            let t6367 = t6363 + t6365;
+            (t6357, t6360, t6366, t6367)
         };
-        let (t6380, t6381) = {
+        let (t6382, t6383) = {
             // ── link `Humerus_R`, joint `HR` (tip to base)
-            let t6366 = c_hr * t6339;
-            let t6367 = s_hr * t6355;
-            let t6368 = t6366 - t6367;
-            let t6369 = s_hr * t6339;
-            let t6370 = c_hr * t6355;
-            let t6371 = t6369 + t6370;
-            let t6372 = c_hr * t6364;
-            let t6373 = s_hr * t6365;
-            let t6374 = t6372 + t6373;
-            let t6375 = s_hr * t6364;
-            let t6376 = c_hr * t6365;
-            let t6377 = t6376 - t6375;
-            let t6378 = 0.112f64 * t6368; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6379 = 0.112f64 * t6371; // 1.1200e-1 = joint HR origin x or joint WR origin x
-            let t6380 = t6377 + t6378;
-            let t6381 = t6374 + t6379;
-            (t6380, t6381)
+            let t6368 = c_hr * t6341;
+            let t6369 = s_hr * t6357;
+            let t6370 = t6368 - t6369;
+            let t6371 = s_hr * t6341;
+            let t6372 = c_hr * t6357;
+            let t6373 = t6371 + t6372;
+            let t6374 = c_hr * t6366;
+            let t6375 = s_hr * t6367;
+            let t6376 = t6374 + t6375;
+            let t6377 = s_hr * t6366;
+            let t6378 = c_hr * t6367;
+            let t6379 = t6378 - t6377;
+            let t6380 = 0.112f64 * t6370; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6381 = 0.112f64 * t6373; // 1.1200e-1 = joint HR origin x or joint WR origin x
+            let t6382 = t6379 + t6380;
+            let t6383 = t6376 + t6381;
+            (t6382, t6383)
         };
-        let t6384 = {
+        let t6386 = {
             // ── link `Shoulder_FE`, joint `SFE` (tip to base)
-            let t6382 = s_sfe * t6358;
-            let t6383 = c_sfe * t6380;
-            let t6384 = t6382 + t6383;
-            t6384
+            let t6384 = s_sfe * t6360;
+            let t6385 = c_sfe * t6382;
+            let t6386 = t6384 + t6385;
+            t6386
         };
         let mut d_dq = ::hya_core::JointMatrix::<6>::zeros();
         let mut d_dqd = ::hya_core::JointMatrix::<6>::zeros();
-        d_dq[(0, 1)] = t2415;
-        d_dq[(0, 2)] = t3965;
-        d_dq[(0, 3)] = t5107;
-        d_dq[(0, 4)] = t5902;
-        d_dq[(0, 5)] = t6298;
-        d_dq[(1, 1)] = t2410;
-        d_dq[(1, 2)] = t3962;
-        d_dq[(1, 3)] = t5104;
-        d_dq[(1, 4)] = t5899;
-        d_dq[(1, 5)] = t6295;
-        d_dq[(2, 1)] = t2389;
-        d_dq[(2, 2)] = t3936;
-        d_dq[(2, 3)] = t5079;
-        d_dq[(2, 4)] = t5876;
-        d_dq[(2, 5)] = t6272;
-        d_dq[(3, 1)] = t2370;
-        d_dq[(3, 2)] = t3917;
-        d_dq[(3, 3)] = t5066;
-        d_dq[(3, 4)] = t5870;
-        d_dq[(3, 5)] = t6266;
-        d_dq[(4, 1)] = t2348;
-        d_dq[(4, 2)] = t3895;
-        d_dq[(4, 3)] = t5044;
-        d_dq[(4, 4)] = t5843;
-        d_dq[(4, 5)] = t6250;
-        d_dq[(5, 1)] = t2322;
-        d_dq[(5, 2)] = t3869;
-        d_dq[(5, 3)] = t5018;
-        d_dq[(5, 4)] = t5817;
-        d_dq[(5, 5)] = t6219;
-        d_dqd[(0, 0)] = t1544;
-        d_dqd[(0, 1)] = t3206;
-        d_dqd[(0, 2)] = t4545;
-        d_dqd[(0, 3)] = t5529;
-        d_dqd[(0, 4)] = t6132;
-        d_dqd[(0, 5)] = t6384;
-        d_dqd[(1, 0)] = t1541;
-        d_dqd[(1, 1)] = t3203;
-        d_dqd[(1, 2)] = t4542;
-        d_dqd[(1, 3)] = t5526;
-        d_dqd[(1, 4)] = t6129;
-        d_dqd[(1, 5)] = t6381;
-        d_dqd[(2, 0)] = t1520;
-        d_dqd[(2, 1)] = t3182;
-        d_dqd[(2, 2)] = t4524;
-        d_dqd[(2, 3)] = t5503;
-        d_dqd[(2, 4)] = t6106;
-        d_dqd[(2, 5)] = t6358;
-        d_dqd[(3, 0)] = t1501;
-        d_dqd[(3, 1)] = t3163;
-        d_dqd[(3, 2)] = t4505;
-        d_dqd[(3, 3)] = t5494;
-        d_dqd[(3, 4)] = t6100;
-        d_dqd[(3, 5)] = t6352;
-        d_dqd[(4, 0)] = t1479;
-        d_dqd[(4, 1)] = t3141;
-        d_dqd[(4, 2)] = t4483;
-        d_dqd[(4, 3)] = t5472;
-        d_dqd[(4, 4)] = t6081;
-        d_dqd[(4, 5)] = t6336;
-        d_dqd[(5, 0)] = t1453;
-        d_dqd[(5, 1)] = t3115;
-        d_dqd[(5, 2)] = t4457;
-        d_dqd[(5, 3)] = t5446;
-        d_dqd[(5, 4)] = t6055;
-        d_dqd[(5, 5)] = t6313;
+        d_dq[(0, 1)] = t2417;
+        d_dq[(0, 2)] = t3967;
+        d_dq[(0, 3)] = t5109;
+        d_dq[(0, 4)] = t5904;
+        d_dq[(0, 5)] = t6300;
+        d_dq[(1, 1)] = t2412;
+        d_dq[(1, 2)] = t3964;
+        d_dq[(1, 3)] = t5106;
+        d_dq[(1, 4)] = t5901;
+        d_dq[(1, 5)] = t6297;
+        d_dq[(2, 1)] = t2391;
+        d_dq[(2, 2)] = t3938;
+        d_dq[(2, 3)] = t5081;
+        d_dq[(2, 4)] = t5878;
+        d_dq[(2, 5)] = t6274;
+        d_dq[(3, 1)] = t2372;
+        d_dq[(3, 2)] = t3919;
+        d_dq[(3, 3)] = t5068;
+        d_dq[(3, 4)] = t5872;
+        d_dq[(3, 5)] = t6268;
+        d_dq[(4, 1)] = t2350;
+        d_dq[(4, 2)] = t3897;
+        d_dq[(4, 3)] = t5046;
+        d_dq[(4, 4)] = t5845;
+        d_dq[(4, 5)] = t6252;
+        d_dq[(5, 1)] = t2324;
+        d_dq[(5, 2)] = t3871;
+        d_dq[(5, 3)] = t5020;
+        d_dq[(5, 4)] = t5819;
+        d_dq[(5, 5)] = t6221;
+        d_dqd[(0, 0)] = t1546;
+        d_dqd[(0, 1)] = t3208;
+        d_dqd[(0, 2)] = t4547;
+        d_dqd[(0, 3)] = t5531;
+        d_dqd[(0, 4)] = t6134;
+        d_dqd[(0, 5)] = t6386;
+        d_dqd[(1, 0)] = t1543;
+        d_dqd[(1, 1)] = t3205;
+        d_dqd[(1, 2)] = t4544;
+        d_dqd[(1, 3)] = t5528;
+        d_dqd[(1, 4)] = t6131;
+        d_dqd[(1, 5)] = t6383;
+        d_dqd[(2, 0)] = t1522;
+        d_dqd[(2, 1)] = t3184;
+        d_dqd[(2, 2)] = t4526;
+        d_dqd[(2, 3)] = t5505;
+        d_dqd[(2, 4)] = t6108;
+        d_dqd[(2, 5)] = t6360;
+        d_dqd[(3, 0)] = t1503;
+        d_dqd[(3, 1)] = t3165;
+        d_dqd[(3, 2)] = t4507;
+        d_dqd[(3, 3)] = t5496;
+        d_dqd[(3, 4)] = t6102;
+        d_dqd[(3, 5)] = t6354;
+        d_dqd[(4, 0)] = t1481;
+        d_dqd[(4, 1)] = t3143;
+        d_dqd[(4, 2)] = t4485;
+        d_dqd[(4, 3)] = t5474;
+        d_dqd[(4, 4)] = t6083;
+        d_dqd[(4, 5)] = t6338;
+        d_dqd[(5, 0)] = t1455;
+        d_dqd[(5, 1)] = t3117;
+        d_dqd[(5, 2)] = t4459;
+        d_dqd[(5, 3)] = t5448;
+        d_dqd[(5, 4)] = t6057;
+        d_dqd[(5, 5)] = t6315;
         (d_dq, d_dqd)
     }
 }

@@ -1,9 +1,10 @@
-//! The runtime kinematic-tree model of a fixed-base arm, and its generic dynamics algorithms:
-//! RNEA (inverse dynamics), CRBA (mass matrix), `Cᵀq̇`, forward dynamics, frame poses and
-//! geometric Jacobians (Featherstone, *Rigid Body Dynamics Algorithms*, 2008).
+//! The kinematic-tree model of a fixed-base arm (Pinocchio's `Model`), its per-body workspace
+//! ([`BodyState`], Pinocchio's `Data`), and the dynamics algorithms written once for any number
+//! type ([`algorithms`], [`derivatives`]): RNEA, CRBA, `Cᵀq̇`, ABA, frame placements and
+//! Jacobians (Featherstone, *Rigid Body Dynamics Algorithms*, 2008).
 //!
 //! One body per moving joint; fixed joints are merged into their parent body by the loader
-//! (`hya-codegen`). Bodies are stored parents-first, so body `i`'s parent has an index below `i`.
+//! (`hya-urdf`). Bodies are stored parents-first, so body `i`'s parent has an index below `i`.
 //! Body `i`'s frame is the URDF frame of its link; `tree_transform` places its joint frame (at
 //! `q = 0`) in the parent body's frame. This model is the reference that generated code is
 //! checked and benchmarked against.
@@ -19,7 +20,6 @@ pub mod derivatives;
 mod workspace;
 
 use algorithms::ModelInertias;
-use derivatives::Direction;
 pub use workspace::{BodyState, JointTransform};
 
 use crate::spatial::{Motion, RigidBodyInertia, Transform};
@@ -467,26 +467,22 @@ impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
     ) -> (JointMatrix<N>, JointMatrix<N>) {
         let (mut d_dq, mut d_dqd) = (JointMatrix::<N>::zeros(), JointMatrix::<N>::zeros());
         let (mut tau, mut column) = (JointVector::<N>::zeros(), JointVector::<N>::zeros());
-        let inputs = (q.as_slice(), qd.as_slice(), qdd.as_slice());
-        let mut states = [BodyState::new(); N];
         let mut scratch = [[crate::dual::Dual::fixed(0.0); 4]; N];
-        for j in 0..N {
-            for (direction, matrix) in [(Direction::Position(j), &mut d_dq), (Direction::Velocity(j), &mut d_dqd)] {
-                derivatives::inverse_dynamics_directional(
-                    &self.model,
-                    &ModelInertias(&self.model),
-                    inputs,
-                    direction,
-                    &mut states,
-                    scratch.as_flattened_mut(),
-                    tau.as_mut_slice(),
-                    column.as_mut_slice(),
-                )
-                .expect("TreeDynamics<N> holds a model with N joints");
-                matrix.set_column(j, &column);
-            }
-        }
-        (d_dq, d_dqd)
+        // The derivatives need a workspace of dual numbers, not `run`'s.
+        self.run(|model, inertias, _| {
+            derivatives::inverse_dynamics_derivatives(
+                model,
+                inertias,
+                (q.as_slice(), qd.as_slice(), qdd.as_slice()),
+                &mut [BodyState::new(); N],
+                scratch.as_flattened_mut(),
+                tau.as_mut_slice(),
+                column.as_mut_slice(),
+                (d_dq.as_mut_slice(), d_dqd.as_mut_slice()),
+            )
+        });
+        // Written row-major into column-major storage: the transposes.
+        (d_dq.transpose(), d_dqd.transpose())
     }
 
     fn forward_dynamics(

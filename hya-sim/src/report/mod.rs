@@ -67,11 +67,12 @@ pub fn write<const N: usize>(
     for (name, svg) in &figures {
         save(name, svg)?;
     }
-    let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal") {
+    // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
+    let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
         Some(base) => viscous::section(base)?,
         None => String::new(),
     };
-    if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise")) {
+    if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {
         let points = crate::frequency::measure(base, &crate::frequency::FREQUENCIES_HZ)?;
         save("frequency.svg", &crate::frequency::figure(&points))?;
         plant_section.push_str(&frequency_section(&points));

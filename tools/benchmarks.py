@@ -36,8 +36,8 @@ def cpu():
 
 
 def stats(robot):
-    """Operation counts of the generated functions, from `hya-codegen --stats`."""
-    text = run(str(TARGET / "release/hya-codegen"), f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
+    """Operation counts of the generated functions, from `hya generate --stats`."""
+    text = run(str(TARGET / "release/hya"), "generate", f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
     counts = {}
     for line in text.splitlines()[1:]:
         name, adds, muls, _divs, trig = line.split()
@@ -54,7 +54,7 @@ def main():
     # target-cpu=native, like the Pinocchio build; a target directory of its own, so ordinary
     # builds keep theirs.
     env = dict(os.environ, RUSTFLAGS="-C target-cpu=native", CARGO_TARGET_DIR=str(TARGET))
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "hya-cli", "-p", "hya-codegen"], check=True, cwd=ROOT, env=env)
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "hya-cli"], check=True, cwd=ROOT, env=env)
     hya_runs = {r: [] for r in ROBOTS}
     pin_runs = {r: [] for r in ROBOTS}
     for round_index in range(args.rounds):
@@ -120,7 +120,7 @@ def main():
         "",
         "FD generated: the generated mass matrix and bias forces with a Cholesky solve; Pinocchio's aba is",
         "the articulated-body algorithm. Operation counts are of the generated code after constant folding",
-        "and dead-code elimination (`hya-codegen ROBOT.urdf --name X --stats`).",
+        "and dead-code elimination (`hya generate ROBOT.urdf --name X --stats`).",
         "",
     ]
     Path(args.out).write_text("\n".join(lines))

@@ -23,6 +23,7 @@ pub mod run;
 pub mod scenario;
 pub mod seeds;
 pub mod sensors;
+pub mod settings;
 pub mod svg;
 pub mod sweep;
 pub mod task;

@@ -8,6 +8,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::plant::{generic_dynamics, perturbed, Plant, PlantState};
 use crate::scenario::{ActuatorKind, FrictionKind, LoadConfig, PlantConfig, Scenario};
+use crate::settings::PlantLists;
 use crate::SimError;
 
 /// A torque command, N·m, held from `time` (s) until the next one.
@@ -39,20 +40,26 @@ pub fn scenario_plant<const N: usize>(
 ) -> Result<(Plant<N>, f64), SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
     let true_model = perturbed(model, scenario.plant.parameter_spread, &mut rng);
-    let plant = Plant::new(true_model, &generic_dynamics::<N>, &scenario.plant, &scenario.loads, q0, tau0, &mut rng)?;
+    let lists = PlantLists::of(&scenario.plant, &scenario.loads)?;
+    let plant = Plant::new(
+        true_model,
+        &generic_dynamics::<N>,
+        (&scenario.plant, &scenario.loads, &lists),
+        (q0, tau0),
+        &mut rng,
+    )?;
     Ok((plant, scenario.controller.dt_s / scenario.plant.substeps as f64))
 }
 
 /// The ideal plant ([`ideal_plant_config`]) of `model` at rest at `q0`.
 pub fn ideal_plant<const N: usize>(model: &TreeModel, q0: JointVector<N>) -> Result<Plant<N>, SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(0);
+    let (config, loads) = (ideal_plant_config(), LoadConfig::default());
     Plant::new(
         model.clone(),
         &generic_dynamics::<N>,
-        &ideal_plant_config(),
-        &LoadConfig::default(),
-        q0,
-        JointVector::zeros(),
+        (&config, &loads, &PlantLists::of(&config, &loads)?),
+        (q0, JointVector::zeros()),
         &mut rng,
     )
 }

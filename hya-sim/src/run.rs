@@ -16,9 +16,10 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::metrics::Metrics;
-use crate::plant::{per_joint, perturbed, DynamicsFactory, Plant};
+use crate::plant::{perturbed, DynamicsFactory, Plant};
 use crate::scenario::{Method, Scenario};
 use crate::sensors::Sensors;
+use crate::settings::JointSettings;
 use crate::task::Trajectory;
 use crate::SimError;
 
@@ -111,12 +112,11 @@ fn observer<'a, const N: usize>(
 pub fn gains<const N: usize>(
     nominal: &dyn Dynamics<N>,
     scenario: &Scenario,
-    q0: &JointVector<N>,
+    joints: &JointSettings<N>,
 ) -> Result<Gains<N>, SimError> {
     let c = &scenario.controller;
-    let omega = per_joint::<N>("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?;
-    let friction = per_joint::<N>("plant.static_nm", &scenario.plant.static_nm)?;
-    let inertia = nominal.mass_matrix(q0).diagonal();
+    let (omega, friction) = (&joints.natural_frequency, &joints.static_friction);
+    let inertia = nominal.mass_matrix(&joints.initial_position).diagonal();
     let kp: [f64; N] = core::array::from_fn(|i| {
         let floor = inertia[i] * omega[i] * omega[i];
         let ceiling = (inertia[i] * c.max_natural_frequency_rad_s.powi(2)).max(floor);
@@ -137,12 +137,11 @@ struct IntegralAction<const N: usize> {
 }
 
 impl<const N: usize> IntegralAction<N> {
-    fn new(gains: &Gains<N>, scenario: &Scenario) -> Result<Self, SimError> {
+    fn new(gains: &Gains<N>, scenario: &Scenario, joints: &JointSettings<N>) -> Result<Self, SimError> {
         let c = &scenario.controller;
-        let omega = per_joint::<N>("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?;
         Ok(Self {
-            gain: gains.kp().diagonal().component_mul(&omega) * c.integral_zero_ratio,
-            limit: per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?,
+            gain: gains.kp().diagonal().component_mul(&joints.natural_frequency) * c.integral_zero_ratio,
+            limit: joints.integral_limit,
             torque: JointVector::zeros(),
             dt: c.dt_s,
         })
@@ -167,18 +166,25 @@ pub fn simulate<const N: usize>(
     plant_dynamics: &DynamicsFactory<N>,
 ) -> Result<RunOutcome<N>, SimError> {
     let dt = scenario.controller.dt_s;
-    let q0 = per_joint::<N>("initial_position_rad", &crate::initial_position(scenario, N))?;
+    let joints = JointSettings::<N>::of(scenario)?;
+    let q0 = joints.initial_position;
     // One stream draws the model perturbation, then the friction profiles.
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
     let true_model = perturbed(nominal_model, scenario.plant.parameter_spread, &mut rng);
     let hold = nominal.gravity(&q0);
-    let mut plant = Plant::new(true_model, plant_dynamics, &scenario.plant, &scenario.loads, q0, hold, &mut rng)?;
+    let mut plant = Plant::new(
+        true_model,
+        plant_dynamics,
+        (&scenario.plant, &scenario.loads, &joints.plant),
+        (q0, hold),
+        &mut rng,
+    )?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
-    let trajectory = Trajectory::new(&scenario.task, q0)?;
-    let gains = gains(nominal, scenario, &q0)?;
+    let trajectory = Trajectory::new(&scenario.task, joints.task, q0)?;
+    let gains = gains(nominal, scenario, &joints)?;
     let controller = ComputedTorque::new(nominal, gains)
-        .with_torque_limit(per_joint("controller.torque_limit_nm", &scenario.controller.torque_limit_nm)?)
+        .with_torque_limit(joints.torque_limit)
         .map_err(|source| SimError::Setup { setting: "controller".into(), source })?;
 
     // The delays: readings wait `measurement_delay_ticks` before the controller sees them, and
@@ -193,7 +199,7 @@ pub fn simulate<const N: usize>(
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };
-    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario)).transpose()?;
+    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario, &joints)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substep = dt / scenario.plant.substeps as f64;
     let mut trace = Trace::default();

@@ -4,7 +4,6 @@ use std::f64::consts::PI;
 
 use hya_core::{JointVector, Reference};
 
-use crate::plant::per_joint;
 use crate::scenario::Task;
 use crate::SimError;
 
@@ -23,25 +22,20 @@ enum Shape<const N: usize> {
 }
 
 impl<const N: usize> Trajectory<N> {
-    /// The task's trajectory from `start`.
-    pub fn new(task: &Task, start: JointVector<N>) -> Result<Self, SimError> {
+    /// The task's trajectory from `start`; `per_joint` is the goto task's step or the sine
+    /// task's amplitudes ([`JointSettings::task`](crate::settings::JointSettings::task)).
+    pub fn new(task: &Task, per_joint: JointVector<N>, start: JointVector<N>) -> Result<Self, SimError> {
         let shape = match task {
             Task::Hold {} => Shape::Hold,
-            Task::Goto { start_s, transition_s, delta_rad } => {
+            Task::Goto { start_s, transition_s, .. } => {
                 if transition_s.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     return Err(SimError::Config("task.transition_s must be > 0".into()));
                 }
-                Shape::Goto {
-                    start_s: *start_s,
-                    transition_s: *transition_s,
-                    delta: per_joint("task.delta_rad", delta_rad)?,
-                }
+                Shape::Goto { start_s: *start_s, transition_s: *transition_s, delta: per_joint }
             }
-            Task::Sine { amplitude_rad, frequency_hz, ramp_s } => Shape::Sine {
-                amplitude: per_joint("task.amplitude_rad", amplitude_rad)?,
-                frequency_hz: *frequency_hz,
-                ramp_s: ramp_s.max(0.0),
-            },
+            Task::Sine { frequency_hz, ramp_s, .. } => {
+                Shape::Sine { amplitude: per_joint, frequency_hz: *frequency_hz, ramp_s: ramp_s.max(0.0) }
+            }
         };
         Ok(Self { start, shape })
     }

@@ -22,8 +22,8 @@ use std::f64::consts::TAU;
 use hya_core::JointVector;
 use rand::Rng;
 
-use crate::plant::per_joint;
 use crate::scenario::{FrictionKind, PlantConfig};
+use crate::settings::FrictionLists;
 use crate::SimError;
 
 /// Harmonics of each joint's position profile.
@@ -166,25 +166,15 @@ pub enum Friction<const N: usize> {
 }
 
 impl<const N: usize> Friction<N> {
-    /// From the plant configuration; the LuGre position profiles are drawn from `rng`.
-    pub fn new(config: &PlantConfig, rng: &mut impl Rng) -> Result<Self, SimError> {
-        if config.friction == FrictionKind::Off {
+    /// From the plant configuration and its checked lists; the LuGre position profiles are
+    /// drawn from `rng`.
+    pub fn new(config: &PlantConfig, lists: Option<&FrictionLists<N>>, rng: &mut impl Rng) -> Result<Self, SimError> {
+        let Some(FrictionLists { coulomb, breakaway, viscous, bristles }) =
+            lists.filter(|_| config.friction != FrictionKind::Off)
+        else {
             return Ok(Friction::Off);
-        }
-        let coulomb: JointVector<N> = per_joint("plant.coulomb_nm", &config.coulomb_nm)?;
-        let breakaway: JointVector<N> = per_joint("plant.static_nm", &config.static_nm)?;
-        let viscous: JointVector<N> = per_joint("plant.viscous_nm_s", &config.viscous_nm_s)?;
-        for i in 0..N {
-            if !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i]) {
-                return Err(SimError::Config(format!(
-                    "plant.static_nm[{i}] = {} must be ≥ plant.coulomb_nm[{i}] = {} > 0",
-                    breakaway[i], coulomb[i]
-                )));
-            }
-        }
-        if viscous.iter().any(|v| *v < 0.0) {
-            return Err(SimError::Config("plant.viscous_nm_s: every entry must be ≥ 0".into()));
-        }
+        };
+        let viscous = *viscous;
         let levels: [Levels; N] = core::array::from_fn(|i| Levels {
             coulomb: coulomb[i],
             breakaway: breakaway[i],
@@ -205,15 +195,9 @@ impl<const N: usize> Friction<N> {
                 position_variation: variation,
             }),
             FrictionKind::Lugre => {
-                let stiffness: JointVector<N> =
-                    per_joint("plant.bristle_stiffness_nm_rad", &config.bristle_stiffness_nm_rad)?;
-                let damping: JointVector<N> =
-                    per_joint("plant.bristle_damping_nm_s_rad", &config.bristle_damping_nm_s_rad)?;
-                if stiffness.iter().any(|s| *s <= 0.0) || damping.iter().any(|d| *d < 0.0) {
-                    return Err(SimError::Config(
-                        "plant.bristle_stiffness_nm_rad must be > 0 and plant.bristle_damping_nm_s_rad ≥ 0".into(),
-                    ));
-                }
+                let (stiffness, damping) = bristles.ok_or_else(|| {
+                    SimError::Config("plant.bristle_*: the settings were checked for another friction model".into())
+                })?;
                 let profile = core::array::from_fn(|_| PositionProfile::draw(variation, rng));
                 Friction::LuGre(LuGre { levels, profile, stiffness, damping, viscous })
             }

@@ -32,8 +32,8 @@
 
 use hya_core::JointVector;
 
-use crate::plant::per_joint;
 use crate::scenario::HydraulicConfig;
+use crate::settings::HydraulicLists;
 use crate::SimError;
 
 /// Regularisation pressure `δ` of the orifice law, Pa: below it the flow is linear in `Δp`, so
@@ -127,7 +127,7 @@ fn orifice_law(drop: f64) -> f64 {
 impl<const N: usize> HydraulicActuators<N> {
     /// From the configuration, for joints spanning `ranges` (rad; the chambers' volumes run
     /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other).
-    pub fn new(config: &HydraulicConfig, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
+    pub fn new(config: &HydraulicConfig, lists: &HydraulicLists<N>, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(v)
@@ -143,31 +143,18 @@ impl<const N: usize> HydraulicActuators<N> {
             )));
         }
         let bulk_modulus = positive("bulk_modulus_pa", config.bulk_modulus_pa)?;
-        let list = |name: &str, values: &[f64]| -> Result<JointVector<N>, SimError> {
-            let v: JointVector<N> = per_joint(&format!("plant.hydraulic.{name}"), values)?;
-            for x in v.iter() {
-                positive(name, *x)?;
-            }
-            Ok(v)
-        };
-        let displacement = list("displacement_m3_rad", &config.displacement_m3_rad)?;
-        let ratio = list("area_ratio", &config.area_ratio)?;
-        let dead_volume = list("dead_volume_m3", &config.dead_volume_m3)?;
-        let rated_flow = list("valve_rated_flow_m3_s", &config.valve_rated_flow_m3_s)?;
+        let HydraulicLists {
+            displacement,
+            area_ratio: ratio,
+            dead_volume,
+            rated_flow,
+            valve_frequency_hz: valve_hz,
+            torque_bandwidth_hz: bandwidth_hz,
+            null_bias: bias,
+            leakage,
+        } = lists;
         let rated_drop = positive("valve_rated_drop_pa", config.valve_rated_drop_pa)?;
-        let valve_hz = list("valve_natural_frequency_hz", &config.valve_natural_frequency_hz)?;
         let valve_damping = positive("valve_damping_ratio", config.valve_damping_ratio)?;
-        let bandwidth_hz = list("torque_bandwidth_hz", &config.torque_bandwidth_hz)?;
-        let bias: JointVector<N> = per_joint("plant.hydraulic.valve_null_bias", &config.valve_null_bias)?;
-        let leakage: JointVector<N> = per_joint("plant.hydraulic.leakage_m3_s_pa", &config.leakage_m3_s_pa)?;
-        if let Some(b) = bias.iter().find(|b| b.abs() > 0.2) {
-            return Err(SimError::Config(format!(
-                "plant.hydraulic.valve_null_bias: {b} is beyond ±0.2 of full opening"
-            )));
-        }
-        if let Some(l) = leakage.iter().find(|l| **l < 0.0) {
-            return Err(SimError::Config(format!("plant.hydraulic.leakage_m3_s_pa: {l} must be ≥ 0")));
-        }
         let ratio_i = config.torque_integral_ratio;
         if !(ratio_i.is_finite() && (0.0..=1.0).contains(&ratio_i)) {
             return Err(SimError::Config(format!(

@@ -23,18 +23,8 @@ use nalgebra::Vector3;
 use rand::Rng;
 
 use crate::scenario::{ActuatorKind, LoadConfig, PlantConfig, WeightDrop};
+use crate::settings::PlantLists;
 use crate::SimError;
-
-/// A per-joint list from the configuration, checked for length and finiteness.
-pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
-    if values.len() != N {
-        return Err(SimError::Config(format!("{name}: expected {N} values (one per joint), got {}", values.len())));
-    }
-    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-        return Err(SimError::Config(format!("{name}: {v} is not a finite number")));
-    }
-    Ok(JointVector::from_column_slice(values))
-}
 
 /// The nominal model with every body's mass, centre of mass and rotational inertia scaled by
 /// independent uniform factors in `[1 − spread, 1 + spread]`.
@@ -134,16 +124,15 @@ fn joint_ranges<const N: usize>(model: &TreeModel, q0: &JointVector<N>) -> [(f64
 }
 
 impl<const N: usize> Plant<N> {
-    /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
-    /// body from `true_model` (and from the model with the payload); `rng` draws the friction's
-    /// position profiles.
+    /// An arm at rest at `q0` whose actuators already hold `tau0` (`start = (q0, tau0)`);
+    /// `dynamics` builds its rigid body from `true_model` (and from the model with the payload);
+    /// `lists` are the per-joint settings of `config` and `loads`, checked; `rng` draws the
+    /// friction's position profiles.
     pub fn new(
         true_model: TreeModel,
         dynamics: &DynamicsFactory<N>,
-        config: &PlantConfig,
-        loads: &LoadConfig,
-        q0: JointVector<N>,
-        tau0: JointVector<N>,
+        (config, loads, lists): (&PlantConfig, &LoadConfig, &PlantLists<N>),
+        (q0, tau0): (JointVector<N>, JointVector<N>),
         rng: &mut impl Rng,
     ) -> Result<Self, SimError> {
         let loaded = match &loads.weight_drop {
@@ -155,22 +144,16 @@ impl<const N: usize> Plant<N> {
             }
             None => None,
         };
-        let sinusoid = match &loads.sinusoid {
-            Some(s) => Some((per_joint("loads.sinusoid.amplitude_nm", &s.amplitude_nm)?, s.frequency_hz)),
-            None => None,
-        };
+        let sinusoid = loads.sinusoid.as_ref().zip(lists.sinusoid_amplitude).map(|(s, a)| (a, s.frequency_hz));
+        let missing = |what: &str| SimError::Config(format!("{what}: the settings were checked for another actuator"));
         let actuators = match config.actuator {
             ActuatorKind::Ideal => Actuators::Ideal,
             ActuatorKind::Lag => {
-                let time_constant: JointVector<N> =
-                    per_joint("plant.actuator_time_constant_s", &config.actuator_time_constant_s)?;
-                if time_constant.iter().any(|t| *t <= 0.0) {
-                    return Err(SimError::Config("plant.actuator_time_constant_s: every entry must be > 0".into()));
-                }
-                Actuators::Lag(time_constant)
+                Actuators::Lag(lists.actuator_time_constant.ok_or_else(|| missing("plant.actuator_time_constant_s"))?)
             }
             ActuatorKind::Hydraulic => Actuators::Hydraulic(Box::new(HydraulicActuators::new(
                 &config.hydraulic,
+                lists.hydraulic.as_ref().ok_or_else(|| missing("plant.hydraulic"))?,
                 joint_ranges(&true_model, &q0),
             )?)),
         };
@@ -185,7 +168,7 @@ impl<const N: usize> Plant<N> {
             gravity: true_model.gravity_vector().norm(),
             model: true_model,
             loaded,
-            friction: Friction::new(config, rng)?,
+            friction: Friction::new(config, lists.friction.as_ref(), rng)?,
             actuators,
             sinusoid,
             state: PlantState { q: q0, qd: zero, bristle: zero, lag_torque, hydraulic },

@@ -121,7 +121,10 @@ fn friction_figure<const N: usize>(
     dt: f64,
 ) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
-    let Friction::LuGre(lugre) = Friction::<N>::new(config, &mut rng)? else { return Ok(None) };
+    let lists = crate::settings::PlantLists::<N>::of(config, &crate::scenario::LoadConfig::default())?;
+    let Friction::LuGre(lugre) = Friction::<N>::new(config, lists.friction.as_ref(), &mut rng)? else {
+        return Ok(None);
+    };
     let trace = &sine.trace;
     let panels = (0..N)
         .map(|j| {

@@ -1,0 +1,239 @@
+//! A scenario's per-joint settings, checked once for an arm of `N` joints: every list becomes a
+//! [`JointVector<N>`] of the right length, finite and in range, or the scenario is refused with
+//! the key named. The plant, the controller, the observers and the task receive these typed
+//! settings; none of them reads a raw list again.
+//!
+//! A list is converted only where it acts: the bristle lists for LuGre friction, the time
+//! constants for lag actuators, the valve and chamber lists for hydraulic ones; so a 7-joint arm
+//! with electric actuators need not restate HyA's six hydraulic figures.
+
+use hya_core::JointVector;
+
+use crate::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, Scenario, Task};
+use crate::SimError;
+
+/// A per-joint list from the configuration, checked for length and finiteness.
+pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
+    if values.len() != N {
+        return Err(SimError::Config(format!("{name}: expected {N} values (one per joint), got {}", values.len())));
+    }
+    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+        return Err(SimError::Config(format!("{name}: {v} is not a finite number")));
+    }
+    Ok(JointVector::from_column_slice(values))
+}
+
+/// `values` with every entry checked by `ok`, which `requirement` describes.
+fn each<const N: usize>(
+    name: &str,
+    values: JointVector<N>,
+    ok: impl Fn(f64) -> bool,
+    requirement: &str,
+) -> Result<JointVector<N>, SimError> {
+    match values.iter().position(|v| !ok(*v)) {
+        Some(i) => Err(SimError::Config(format!("{name}[{i}] = {}: {requirement}", values[i]))),
+        None => Ok(values),
+    }
+}
+
+/// The friction levels per joint, N·m and N·m·s/rad (when friction is on).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionLists<const N: usize> {
+    /// Coulomb level `F_c`.
+    pub coulomb: JointVector<N>,
+    /// Static (breakaway) level `F_s ≥ F_c`.
+    pub breakaway: JointVector<N>,
+    /// Viscous coefficient `σ2 ≥ 0`.
+    pub viscous: JointVector<N>,
+    /// LuGre bristle stiffness `σ0 > 0` and damping `σ1 ≥ 0`, for LuGre friction.
+    pub bristles: Option<(JointVector<N>, JointVector<N>)>,
+}
+
+/// The hydraulic actuators' per-joint figures (see [`HydraulicConfig`] for units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HydraulicLists<const N: usize> {
+    /// Cap-side displacement `D_a`, m³/rad.
+    pub displacement: JointVector<N>,
+    /// `D_b / D_a`.
+    pub area_ratio: JointVector<N>,
+    /// Dead volume `V_0`, m³.
+    pub dead_volume: JointVector<N>,
+    /// Rated valve flow `Q_n`, m³/s.
+    pub rated_flow: JointVector<N>,
+    /// Spool natural frequency, Hz.
+    pub valve_frequency_hz: JointVector<N>,
+    /// Torque-loop bandwidth, Hz.
+    pub torque_bandwidth_hz: JointVector<N>,
+    /// Spool null bias, fraction of full opening, within ±0.2.
+    pub null_bias: JointVector<N>,
+    /// Leakage `C_l ≥ 0`, m³/(s·Pa).
+    pub leakage: JointVector<N>,
+}
+
+impl<const N: usize> HydraulicLists<N> {
+    /// Checks and converts the per-joint figures of `h`.
+    pub fn of(h: &HydraulicConfig) -> Result<Self, SimError> {
+        let positive = |name: &str, values: &[f64]| {
+            let key = format!("plant.hydraulic.{name}");
+            each(&key, per_joint::<N>(&key, values)?, |v| v > 0.0, "must be > 0")
+        };
+        Ok(Self {
+            displacement: positive("displacement_m3_rad", &h.displacement_m3_rad)?,
+            area_ratio: positive("area_ratio", &h.area_ratio)?,
+            dead_volume: positive("dead_volume_m3", &h.dead_volume_m3)?,
+            rated_flow: positive("valve_rated_flow_m3_s", &h.valve_rated_flow_m3_s)?,
+            valve_frequency_hz: positive("valve_natural_frequency_hz", &h.valve_natural_frequency_hz)?,
+            torque_bandwidth_hz: positive("torque_bandwidth_hz", &h.torque_bandwidth_hz)?,
+            null_bias: each(
+                "plant.hydraulic.valve_null_bias",
+                per_joint("plant.hydraulic.valve_null_bias", &h.valve_null_bias)?,
+                |b| b.abs() <= 0.2,
+                "is beyond ±0.2 of full opening",
+            )?,
+            leakage: each(
+                "plant.hydraulic.leakage_m3_s_pa",
+                per_joint("plant.hydraulic.leakage_m3_s_pa", &h.leakage_m3_s_pa)?,
+                |l| l >= 0.0,
+                "must be ≥ 0",
+            )?,
+        })
+    }
+}
+
+/// The plant's per-joint settings: what [`crate::plant::Plant`] is built from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantLists<const N: usize> {
+    /// The friction levels, unless friction is off.
+    pub friction: Option<FrictionLists<N>>,
+    /// The lag actuators' time constants, s (`actuator = "lag"`).
+    pub actuator_time_constant: Option<JointVector<N>>,
+    /// The hydraulic actuators' figures (`actuator = "hydraulic"`).
+    pub hydraulic: Option<HydraulicLists<N>>,
+    /// The sinusoidal load's amplitudes, N·m.
+    pub sinusoid_amplitude: Option<JointVector<N>>,
+}
+
+impl<const N: usize> PlantLists<N> {
+    /// Checks and converts the lists of `plant` and `loads` that act.
+    pub fn of(p: &PlantConfig, loads: &LoadConfig) -> Result<Self, SimError> {
+        let friction = match p.friction {
+            FrictionKind::Off => None,
+            kind => Some(FrictionLists::of(p, kind == FrictionKind::Lugre)?),
+        };
+        Ok(Self {
+            friction,
+            actuator_time_constant: match p.actuator {
+                ActuatorKind::Lag => Some(each(
+                    "plant.actuator_time_constant_s",
+                    per_joint("plant.actuator_time_constant_s", &p.actuator_time_constant_s)?,
+                    |t| t > 0.0,
+                    "must be > 0",
+                )?),
+                _ => None,
+            },
+            hydraulic: match p.actuator {
+                ActuatorKind::Hydraulic => Some(HydraulicLists::of(&p.hydraulic)?),
+                _ => None,
+            },
+            sinusoid_amplitude: match &loads.sinusoid {
+                Some(s) => Some(per_joint("loads.sinusoid.amplitude_nm", &s.amplitude_nm)?),
+                None => None,
+            },
+        })
+    }
+}
+
+impl<const N: usize> FrictionLists<N> {
+    fn of(p: &PlantConfig, lugre: bool) -> Result<Self, SimError> {
+        let coulomb = per_joint::<N>("plant.coulomb_nm", &p.coulomb_nm)?;
+        let breakaway = per_joint::<N>("plant.static_nm", &p.static_nm)?;
+        if let Some(i) = (0..N).find(|&i| !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i])) {
+            return Err(SimError::Config(format!(
+                "plant.static_nm[{i}] = {} must be ≥ plant.coulomb_nm[{i}] = {} > 0",
+                breakaway[i], coulomb[i]
+            )));
+        }
+        let viscous =
+            each("plant.viscous_nm_s", per_joint("plant.viscous_nm_s", &p.viscous_nm_s)?, |v| v >= 0.0, "must be ≥ 0")?;
+        let bristles = if lugre {
+            Some((
+                each(
+                    "plant.bristle_stiffness_nm_rad",
+                    per_joint("plant.bristle_stiffness_nm_rad", &p.bristle_stiffness_nm_rad)?,
+                    |s| s > 0.0,
+                    "must be > 0",
+                )?,
+                each(
+                    "plant.bristle_damping_nm_s_rad",
+                    per_joint("plant.bristle_damping_nm_s_rad", &p.bristle_damping_nm_s_rad)?,
+                    |d| d >= 0.0,
+                    "must be ≥ 0",
+                )?,
+            ))
+        } else {
+            None
+        };
+        Ok(Self { coulomb, breakaway, viscous, bristles })
+    }
+}
+
+/// Every per-joint setting of a scenario, for an arm of `N` joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointSettings<const N: usize> {
+    /// The start pose, rad.
+    pub initial_position: JointVector<N>,
+    /// The goto task's step or the sine task's amplitudes, rad (zeros for `hold`).
+    pub task: JointVector<N>,
+    /// The controller's natural frequencies, rad/s.
+    pub natural_frequency: JointVector<N>,
+    /// The nominal static friction the gain rule stiffens against, N·m (`plant.static_nm`).
+    pub static_friction: JointVector<N>,
+    /// The PID's integral clamp, N·m.
+    pub integral_limit: JointVector<N>,
+    /// The controller's torque limits, N·m.
+    pub torque_limit: JointVector<N>,
+    /// The plant's.
+    pub plant: PlantLists<N>,
+}
+
+impl<const N: usize> JointSettings<N> {
+    /// Checks and converts every per-joint list of `scenario` that acts.
+    pub fn of(scenario: &Scenario) -> Result<Self, SimError> {
+        let c = &scenario.controller;
+        let task = match &scenario.task {
+            Task::Hold {} => JointVector::zeros(),
+            Task::Goto { delta_rad, .. } => per_joint("task.delta_rad", delta_rad)?,
+            Task::Sine { amplitude_rad, .. } => per_joint("task.amplitude_rad", amplitude_rad)?,
+        };
+        Ok(Self {
+            initial_position: per_joint("initial_position_rad", &crate::initial_position(scenario, N))?,
+            task,
+            natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
+            static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
+            integral_limit: per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?,
+            torque_limit: per_joint("controller.torque_limit_nm", &c.torque_limit_nm)?,
+            plant: PlantLists::of(&scenario.plant, &scenario.loads)?,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_are_checked_once_with_their_key_named() {
+        let mut scenario = Scenario::builtin("goto_internal").unwrap();
+        assert!(JointSettings::<6>::of(&scenario).is_ok());
+        let error = JointSettings::<7>::of(&scenario).unwrap_err().to_string();
+        assert!(error.contains("expected 7 values"), "{error}");
+        scenario.plant.bristle_damping_nm_s_rad[2] = -1.0;
+        let error = JointSettings::<6>::of(&scenario).unwrap_err().to_string();
+        assert!(error.contains("plant.bristle_damping_nm_s_rad[2] = -1"), "{error}");
+        // Lists that do not act are not read: lag actuators ignore the hydraulic figures.
+        scenario.plant.bristle_damping_nm_s_rad[2] = 1.0;
+        scenario.plant.actuator = ActuatorKind::Lag;
+        scenario.plant.hydraulic.area_ratio = vec![];
+        assert!(JointSettings::<6>::of(&scenario).unwrap().plant.hydraulic.is_none());
+    }
+}

@@ -141,7 +141,9 @@ impl<const N: usize> IntegralAction<N> {
         let c = &scenario.controller;
         Ok(Self {
             gain: gains.kp().diagonal().component_mul(&joints.natural_frequency) * c.integral_zero_ratio,
-            limit: joints.integral_limit,
+            limit: joints.integral_limit.ok_or_else(|| {
+                SimError::Config("controller.integral_limit_nm: the settings were checked without pid".into())
+            })?,
             torque: JointVector::zeros(),
             dt: c.dt_s,
         })

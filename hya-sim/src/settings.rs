@@ -1,11 +1,13 @@
 //! A scenario's per-joint settings, checked once for an arm of `N` joints: every list becomes a
 //! [`JointVector<N>`] of the right length, finite and in range, or the scenario is refused with
-//! the key named. The plant, the controller, the observers and the task receive these typed
-//! settings; none of them reads a raw list again.
+//! the key named. The plant, the controller's gain rule, the PID and the task receive these
+//! typed settings; none of them reads a raw list again (the observers take no per-joint list).
 //!
 //! A list is converted only where it acts: the bristle lists for LuGre friction, the time
-//! constants for lag actuators, the valve and chamber lists for hydraulic ones; so a 7-joint arm
-//! with electric actuators need not restate HyA's six hydraulic figures.
+//! constants for lag actuators, the valve and chamber lists for hydraulic ones, the integral
+//! clamp for the PID; so a 7-joint arm with electric actuators need not restate HyA's six
+//! hydraulic figures. The static friction levels are always read: the gain rule stiffens
+//! against them.
 
 use hya_core::JointVector;
 
@@ -144,7 +146,8 @@ impl<const N: usize> PlantLists<N> {
 }
 
 impl<const N: usize> FrictionLists<N> {
-    fn of(p: &PlantConfig, lugre: bool) -> Result<Self, SimError> {
+    /// Checks and converts the friction lists of `p`; the bristle lists too if `lugre`.
+    pub fn of(p: &PlantConfig, lugre: bool) -> Result<Self, SimError> {
         let coulomb = per_joint::<N>("plant.coulomb_nm", &p.coulomb_nm)?;
         let breakaway = per_joint::<N>("plant.static_nm", &p.static_nm)?;
         if let Some(i) = (0..N).find(|&i| !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i])) {
@@ -188,8 +191,8 @@ pub struct JointSettings<const N: usize> {
     pub natural_frequency: JointVector<N>,
     /// The nominal static friction the gain rule stiffens against, N·m (`plant.static_nm`).
     pub static_friction: JointVector<N>,
-    /// The PID's integral clamp, N·m.
-    pub integral_limit: JointVector<N>,
+    /// The PID's integral clamp, N·m (when the scenario runs `pid`).
+    pub integral_limit: Option<JointVector<N>>,
     /// The controller's torque limits, N·m.
     pub torque_limit: JointVector<N>,
     /// The plant's.
@@ -210,7 +213,10 @@ impl<const N: usize> JointSettings<N> {
             task,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
-            integral_limit: per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?,
+            integral_limit: match scenario.methods.contains(&crate::Method::Pid) {
+                true => Some(per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?),
+                false => None,
+            },
             torque_limit: per_joint("controller.torque_limit_nm", &c.torque_limit_nm)?,
             plant: PlantLists::of(&scenario.plant, &scenario.loads)?,
         })
@@ -235,5 +241,10 @@ mod tests {
         scenario.plant.actuator = ActuatorKind::Lag;
         scenario.plant.hydraulic.area_ratio = vec![];
         assert!(JointSettings::<6>::of(&scenario).unwrap().plant.hydraulic.is_none());
+        // The integral clamp is read only for a scenario that runs the PID.
+        scenario.controller.integral_limit_nm = vec![];
+        assert!(JointSettings::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
+        scenario.methods.retain(|m| *m != crate::Method::Pid);
+        assert!(JointSettings::<6>::of(&scenario).unwrap().integral_limit.is_none());
     }
 }

@@ -166,9 +166,12 @@ pub enum Friction<const N: usize> {
 }
 
 impl<const N: usize> Friction<N> {
-    /// From the plant configuration and its checked lists; the LuGre position profiles are
-    /// drawn from `rng`.
+    /// From the plant configuration and its checked lists (`None` only for friction off); the
+    /// LuGre position profiles are drawn from `rng`.
     pub fn new(config: &PlantConfig, lists: Option<&FrictionLists<N>>, rng: &mut impl Rng) -> Result<Self, SimError> {
+        if config.friction != FrictionKind::Off && lists.is_none() {
+            return Err(SimError::Config("plant.coulomb_nm: the settings were checked with friction off".into()));
+        }
         let Some(FrictionLists { coulomb, breakaway, viscous, bristles }) =
             lists.filter(|_| config.friction != FrictionKind::Off)
         else {

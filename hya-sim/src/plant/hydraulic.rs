@@ -125,7 +125,8 @@ fn orifice_law(drop: f64) -> f64 {
 }
 
 impl<const N: usize> HydraulicActuators<N> {
-    /// From the configuration, for joints spanning `ranges` (rad; the chambers' volumes run
+    /// From the configuration's scalars and the checked per-joint `lists` (the configuration's own
+    /// lists are not read), for joints spanning `ranges` (rad; the chambers' volumes run
     /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other).
     pub fn new(config: &HydraulicConfig, lists: &HydraulicLists<N>, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
         let positive = |name: &str, v: f64| {

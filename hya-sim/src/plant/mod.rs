@@ -124,9 +124,9 @@ fn joint_ranges<const N: usize>(model: &TreeModel, q0: &JointVector<N>) -> [(f64
 }
 
 impl<const N: usize> Plant<N> {
-    /// An arm at rest at `q0` whose actuators already hold `tau0` (`start = (q0, tau0)`);
-    /// `dynamics` builds its rigid body from `true_model` (and from the model with the payload);
-    /// `lists` are the per-joint settings of `config` and `loads`, checked; `rng` draws the
+    /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
+    /// body from `true_model` (and from the model with the payload); `lists` must be
+    /// [`PlantLists::of`] `config` and `loads` (a list they lack is an error); `rng` draws the
     /// friction's position profiles.
     pub fn new(
         true_model: TreeModel,
@@ -144,8 +144,12 @@ impl<const N: usize> Plant<N> {
             }
             None => None,
         };
-        let sinusoid = loads.sinusoid.as_ref().zip(lists.sinusoid_amplitude).map(|(s, a)| (a, s.frequency_hz));
-        let missing = |what: &str| SimError::Config(format!("{what}: the settings were checked for another actuator"));
+        let missing = |what: &str| SimError::Config(format!("{what}: the settings were checked for another plant"));
+        let sinusoid = match (&loads.sinusoid, lists.sinusoid_amplitude) {
+            (Some(s), Some(amplitude)) => Some((amplitude, s.frequency_hz)),
+            (Some(_), None) => return Err(missing("loads.sinusoid.amplitude_nm")),
+            (None, _) => None,
+        };
         let actuators = match config.actuator {
             ActuatorKind::Ideal => Actuators::Ideal,
             ActuatorKind::Lag => {

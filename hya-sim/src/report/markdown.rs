@@ -223,7 +223,7 @@ fn lagged_cancellation<const N: usize>(scenarios: &[Scenario]) -> Result<String,
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
     let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
     let nominal = nominal.as_ref();
-    let q0 = hya_core::JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
+    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::initial_position(first, N))?;
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let w = first.controller.observer_bandwidth_rad_s;
     let delay = 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
@@ -276,8 +276,9 @@ fn parameters<const N: usize>(scenarios: &[Scenario]) -> Result<String, SimError
     let c = &first.controller;
     let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
     let nominal = nominal.as_ref();
-    let q0 = hya_core::JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
-    let gains = gains(nominal, first, &crate::settings::JointSettings::<N>::of(first)?)?;
+    let joints = crate::settings::JointSettings::<N>::of(first)?;
+    let q0 = joints.initial_position;
+    let gains = gains(nominal, first, &joints)?;
     let _ = writeln!(
         md,
         "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, `K_I = K_P ω_n · {}`, its torque clamped to ± ({}) N·m (anti-windup). At low frequency the paper's estimator acts like this integral: pid is the honest baseline for it.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",

@@ -178,7 +178,7 @@ fn step_responses<const N: usize>(
 ) -> Result<(String, Vec<f64>), SimError> {
     const STEP_NM: f64 = 2.0;
     const STEP_AT_S: f64 = 0.05;
-    let q0 = JointVector::<N>::from_column_slice(&crate::initial_position(scenario, N));
+    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::initial_position(scenario, N))?;
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
     let mut rise_times = Vec::new();
@@ -268,7 +268,7 @@ pub fn section<const N: usize>(
     if p.actuator == ActuatorKind::Hydraulic {
         let (svg, rise_times) = step_responses(first, &model, nominal)?;
         let name = "plant_step.svg".to_owned();
-        let q0 = JointVector::<N>::from_column_slice(&crate::initial_position(first, N));
+        let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::initial_position(first, N))?;
         let (plant, _) = scenario_plant(&model, first, q0, nominal.gravity(&q0))?;
         let natural = match plant.actuators() {
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),

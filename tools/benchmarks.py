@@ -94,7 +94,7 @@ def main():
             f"{id_ops[0]}, {id_ops[1]}, {id_ops[2]} | {m_ops[0]}, {m_ops[1]}, {m_ops[2]} |"
         )
     tick = med(hya_runs["hya"], "tick_ns")
-    realtime = med(hya_runs["hya"], "goto_internal_realtime_factor")
+    realtime = med(hya_runs["hya"], "sim_realtime_factor_hydraulic")
     lines += [
         "",
         f"HyA control tick (two filter steps, estimator inverse dynamics, controller inverse dynamics): **{tick:.0f} ns**.",

@@ -39,9 +39,35 @@ struct Figures {
     generic_fd_ns: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     tick_ns: Option<f64>,
-    /// Simulated seconds per wall-clock second of `goto_internal` (method lu).
+    /// Simulated seconds per wall-clock second of `goto_internal` (method lu) on the simple
+    /// plant (`actuator = "lag"`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    goto_internal_realtime_factor: Option<f64>,
+    sim_realtime_factor: Option<f64>,
+    /// The same on the hydraulic plant (the scenario as built in).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sim_realtime_factor_hydraulic: Option<f64>,
+    /// The target features this binary was compiled for (`sse4.1 avx2 fma`, …).
+    build: &'static str,
+}
+
+/// The CPU features the compiler could use in this build: what separates a plain
+/// `cargo build --release` from `-C target-cpu=native`.
+fn build_features() -> &'static str {
+    const FEATURES: [(&str, bool); 8] = [
+        ("sse2", cfg!(target_feature = "sse2")),
+        ("sse4.1", cfg!(target_feature = "sse4.1")),
+        ("avx", cfg!(target_feature = "avx")),
+        ("avx2", cfg!(target_feature = "avx2")),
+        ("fma", cfg!(target_feature = "fma")),
+        ("avx512f", cfg!(target_feature = "avx512f")),
+        ("neon", cfg!(target_feature = "neon")),
+        ("crt-static", cfg!(target_feature = "crt-static")),
+    ];
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        let on: Vec<&str> = FEATURES.iter().filter(|(_, on)| *on).map(|(name, _)| *name).collect();
+        format!("{} {}", std::env::consts::ARCH, on.join(" "))
+    })
 }
 
 const ROUNDS: usize = 31;
@@ -106,7 +132,9 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         generated_fd_ns: fd(&generated),
         generic_fd_ns: fd(&generic),
         tick_ns: None,
-        goto_internal_realtime_factor: None,
+        sim_realtime_factor: None,
+        sim_realtime_factor_hydraulic: None,
+        build: build_features(),
     })
 }
 
@@ -127,9 +155,13 @@ fn tick_ns() -> Result<f64, CliError> {
     }))
 }
 
-/// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu.
-fn simulation_speed() -> Result<f64, CliError> {
-    let scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
+/// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu,
+/// on its hydraulic plant or, with `lag`, on first-order torque lags.
+fn simulation_speed(lag: bool) -> Result<f64, CliError> {
+    let mut scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
+    if lag {
+        scenario.plant.actuator = hya_sim::scenario::ActuatorKind::Lag;
+    }
     let start = Instant::now();
     hya_sim::run_method::<{ hya_sim::HYA_JOINTS }>(&scenario, hya_sim::Method::Lu)
         .map_err(|e| CliError::Input(e.to_string()))?;
@@ -156,7 +188,8 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     // The control tick and the simulator's speed are measured on HyA, the paper's arm.
     if let Some(hya) = figures.iter_mut().find(|f| f.robot == "hya") {
         hya.tick_ns = Some(tick_ns()?);
-        hya.goto_internal_realtime_factor = Some(simulation_speed()?);
+        hya.sim_realtime_factor = Some(simulation_speed(true)?);
+        hya.sim_realtime_factor_hydraulic = Some(simulation_speed(false)?);
     }
     if args.json {
         let text = if figures.len() == 1 {
@@ -169,13 +202,24 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "{:<8} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8}",
-        "robot", "id gen", "id gener", "ratio", "M gen", "M gener", "G gen", "FD gen", "FD gener", "tick", "sim x"
+        "{:<8} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8}",
+        "robot",
+        "id gen",
+        "id gener",
+        "ratio",
+        "M gen",
+        "M gener",
+        "G gen",
+        "FD gen",
+        "FD gener",
+        "tick",
+        "sim x",
+        "hydr x"
     )?;
     for f in &figures {
         writeln!(
             output,
-            "{:<8} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8}",
+            "{:<8} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8}",
             f.robot,
             f.generated_id_ns,
             f.generic_id_ns,
@@ -186,12 +230,14 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
             f.generated_fd_ns,
             f.generic_fd_ns,
             f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
-            f.goto_internal_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
+            f.sim_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
+            f.sim_realtime_factor_hydraulic.map_or("-".into(), |x| format!("{x:.0}")),
         )?;
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s)"
+        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {})",
+        build_features()
     )?;
     Ok(())
 }

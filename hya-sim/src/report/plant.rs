@@ -248,10 +248,17 @@ pub fn section<const N: usize>(
     };
     let _ = writeln!(
         md,
-        "The simulated arm (\"true\" plant) of `{}`, as the other scenarios use it unless they say otherwise: the nominal rigid body with seeded parameter errors, {friction}, {actuator}, encoders with {velocity}, and {} tick(s) of command delay. Gravity 9.81 m/s² along −z. The first testbed's plant is one setting away: `friction = \"smooth\"`, `actuator = \"lag\"`, `[sensors] velocity = \"sensor\"`.\n",
-        first.name, first.sensors.command_delay_ticks
+        "The simulated arm (\"true\" plant) of `{}`, as the other scenarios use it unless they say otherwise: the nominal rigid body with seeded parameter errors, {friction}, {actuator}, encoders with {velocity}, and {} tick(s) of command delay. Gravity {} m/s² along −z.{}\n",
+        first.name,
+        first.sensors.command_delay_ticks,
+        hya_core::STANDARD_GRAVITY,
+        if first.robot == "hya" {
+            " The first testbed's plant is one setting away: `friction = \"smooth\"`, `actuator = \"lag\"`, `[sensors] velocity = \"sensor\"`."
+        } else {
+            ""
+        }
     );
-    md.push_str("| parameter | value (per joint where a list) | unit | source |\n|---|---|---|---|\n");
+    md.push_str("| parameter | value (per joint where a list) | unit | source (of the default, HyA's, unless marked) |\n|---|---|---|---|\n");
     for r in parameter_rows(p, &first.sensors) {
         md.push_str(&table_row(r));
     }

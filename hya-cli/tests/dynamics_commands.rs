@@ -64,7 +64,8 @@ fn check_against_pinocchio(reference: &str, dof: usize, robot_args: &[&str]) {
 
 #[test]
 fn id_mass_gravity_agree_with_pinocchio_through_every_path() {
-    for (name, dof) in [("planar2", 2), ("hya", 6), ("ur5", 6), ("panda", 7), ("iiwa14", 7)] {
+    for robot in hya_robots::ROBOTS {
+        let (name, dof) = (robot.name, robot.dof);
         check_against_pinocchio(name, dof, &["--robot", name]);
         check_against_pinocchio(name, dof, &["--robot", name, "--generic"]);
         check_against_pinocchio(name, dof, &["--robot", &workspace(&format!("robots/urdf/{name}.urdf"))]);

@@ -8,7 +8,7 @@
 //! a comment where each body's pass begins.
 
 use hya_core::model::algorithms::{self, Inertias, ModelInertias};
-use hya_core::model::derivatives::{self, Direction};
+use hya_core::model::derivatives;
 use hya_core::model::{BodyState, ModelError, TreeModel};
 use hya_core::scalar::{Label, Quantity};
 use hya_core::spatial::{RigidBodyInertia, Transform};
@@ -257,15 +257,10 @@ impl<'a> Tracer<'a> {
             Ok(entries.iter().map(|e| e.2).collect())
         })?;
         let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        let stores =
-            entries.iter().zip(&outputs).filter(|((_, _, v), _)| *v != Value::zero()).map(|((i, j, _), value)| {
-                let (i, j) = (Literal::usize_unsuffixed(*i), Literal::usize_unsuffixed(*j));
-                if i.to_string() == j.to_string() {
-                    quote! { m[(#i, #j)] = #value; }
-                } else {
-                    quote! { m[(#i, #j)] = #value; m[(#j, #i)] = #value; }
-                }
-            });
+        // The lower triangle, and its mirror image above the diagonal.
+        let lower = entries.iter().zip(&outputs).map(|((i, j, value), out)| (*i, *j, *value, out));
+        let mirrored = lower.clone().filter(|(i, j, _, _)| i != j).map(|(i, j, v, out)| (j, i, v, out));
+        let stores = matrix_stores(&format_ident!("m"), lower.chain(mirrored).collect());
         let (signature, dof) = (self.signature("mass_matrix", &["q"]), self.dof());
         let tokens = quote! {
             /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
@@ -361,50 +356,34 @@ impl<'a> Tracer<'a> {
     /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
     fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {
         let n = self.model.dof();
-        let (rendered, _) = self.trace(
+        let (rendered, values) = self.trace(
             "inverse_dynamics_derivatives",
             &["q", "qd", "qdd"],
             Output::Vector("tau"),
             |x, inertias, _| {
-                let mut states = vec![BodyState::new(); n];
-                let mut scratch = vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n];
-                let (mut tau, mut column) = (vec![Value::zero(); n], vec![Value::zero(); n]);
                 let mut outputs = vec![Value::zero(); 2 * n * n];
-                for j in 0..n {
-                    for (k, direction) in [Direction::Position(j), Direction::Velocity(j)].into_iter().enumerate() {
-                        let inputs = (x[0].as_slice(), x[1].as_slice(), x[2].as_slice());
-                        derivatives::inverse_dynamics_directional(
-                            self.model,
-                            inertias,
-                            inputs,
-                            direction,
-                            &mut states,
-                            &mut scratch,
-                            &mut tau,
-                            &mut column,
-                        )?;
-                        for (i, value) in column.iter().enumerate() {
-                            outputs[k * n * n + i * n + j] = *value;
-                        }
-                    }
-                }
+                let (d_dq, d_dqd) = outputs.split_at_mut(n * n);
+                derivatives::inverse_dynamics_derivatives(
+                    self.model,
+                    inertias,
+                    (&x[0], &x[1], &x[2]),
+                    &mut vec![BodyState::new(); n],
+                    &mut vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n],
+                    &mut vec![Value::zero(); n],
+                    &mut vec![Value::zero(); n],
+                    (d_dq, d_dqd),
+                )?;
                 Ok(outputs)
             },
         )?;
         let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        let stores = |matrix: &proc_macro2::Ident, values: &[TokenStream]| -> Vec<TokenStream> {
-            values
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| v.to_string() != literal(0.0).to_string())
-                .map(|(k, v)| {
-                    let (i, j) = (Literal::usize_unsuffixed(k / n), Literal::usize_unsuffixed(k % n));
-                    quote! { #matrix[(#i, #j)] = #v; }
-                })
-                .collect()
+        // Row-major cells `k = i n + j` of each matrix.
+        let cells = |range: core::ops::Range<usize>| {
+            range.map(|k| ((k % (n * n)) / n, k % n, values[k], &outputs[k])).collect::<Vec<_>>()
         };
         let (by_q, by_qd) = (format_ident!("d_dq"), format_ident!("d_dqd"));
-        let (q_stores, qd_stores) = (stores(&by_q, &outputs[..n * n]), stores(&by_qd, &outputs[n * n..]));
+        let (q_stores, qd_stores) =
+            (matrix_stores(&by_q, cells(0..n * n)), matrix_stores(&by_qd, cells(n * n..2 * n * n)));
         let (signature, dof) = (self.signature("inverse_dynamics_derivatives", &["q", "qd", "qdd"]), self.dof());
         let tokens = quote! {
             /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i`
@@ -434,6 +413,18 @@ impl<'a> Tracer<'a> {
             self.inverse_dynamics_derivatives()?,
         ])
     }
+}
+
+/// `matrix[(i, j)] = value;` for every cell whose value is not a folded zero.
+fn matrix_stores(matrix: &proc_macro2::Ident, cells: Vec<(usize, usize, Value, &TokenStream)>) -> Vec<TokenStream> {
+    cells
+        .into_iter()
+        .filter(|(_, _, value, _)| *value != Value::zero())
+        .map(|(i, j, _, expression)| {
+            let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
+            quote! { #matrix[(#i, #j)] = #expression; }
+        })
+        .collect()
 }
 
 /// Lints generated code may trip: long literals, `let x = …; x`, `a * -b`.

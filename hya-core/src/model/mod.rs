@@ -243,27 +243,43 @@ impl TreeModel {
     ) -> Result<(DMatrix<f64>, DMatrix<f64>), ModelError> {
         let n = self.dof();
         let (mut d_dq, mut d_dqd) = (vec![0.0; n * n], vec![0.0; n * n]);
+        self.derivatives_into((q, qd, qdd), &mut d_dq, &mut d_dqd)?;
+        Ok((DMatrix::from_row_slice(n, n, &d_dq), DMatrix::from_row_slice(n, n, &d_dqd)))
+    }
+
+    /// `∂τ/∂q` and `∂τ/∂q̇`, row-major, into the caller's slices.
+    fn derivatives_into(
+        &self,
+        inputs: (&[f64], &[f64], &[f64]),
+        d_dq: &mut [f64],
+        d_dqd: &mut [f64],
+    ) -> Result<(), ModelError> {
+        let n = self.dof();
         derivatives::inverse_dynamics_derivatives(
             self,
             &ModelInertias(self),
-            (q, qd, qdd),
+            inputs,
             &mut vec![BodyState::new(); n],
             &mut vec![crate::dual::Dual::fixed(0.0); 4 * n],
             &mut vec![0.0; n],
             &mut vec![0.0; n],
-            (&mut d_dq, &mut d_dqd),
-        )?;
-        Ok((DMatrix::from_row_slice(n, n, &d_dq), DMatrix::from_row_slice(n, n, &d_dqd)))
+            (d_dq, d_dqd),
+        )
     }
 
     /// Forward dynamics `q̈` by the articulated-body algorithm ([`algorithms::forward_dynamics`]);
     /// an error if a joint meets no positive inertia.
     pub fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64]) -> Result<Vec<f64>, ModelError> {
         let mut qdd = vec![0.0; self.dof()];
-        let mut states = self.workspace();
-        algorithms::forward_dynamics(self, &ModelInertias(self), (q, qd, tau), &mut states, &mut qdd)?;
-        check_joint_inertias(self, &states)?;
+        self.forward_dynamics_checked((q, qd, tau), &mut qdd)?;
         Ok(qdd)
+    }
+
+    /// ABA into `qdd`, then the check that every joint met a positive inertia.
+    fn forward_dynamics_checked(&self, inputs: (&[f64], &[f64], &[f64]), qdd: &mut [f64]) -> Result<(), ModelError> {
+        let mut states = self.workspace();
+        algorithms::forward_dynamics(self, &ModelInertias(self), inputs, &mut states, qdd)?;
+        check_joint_inertias(self, &states)
     }
 
     /// Base frame to body `i`'s frame at `q`, for every body.
@@ -366,12 +382,10 @@ impl crate::SliceDynamics for TreeModel {
         .expect(SLICE_CONTRACT);
     }
     fn forward_dynamics_into(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
-        let result = self.forward_dynamics(q, qd, tau).map_err(|e| match e {
+        self.forward_dynamics_checked((q, qd, tau), qdd).map_err(|e| match e {
             ModelError::SingularJoint { .. } => Error::SingularMassMatrix,
             other => panic!("{SLICE_CONTRACT}: {other}"),
-        })?;
-        qdd.copy_from_slice(&result);
-        Ok(())
+        })
     }
     fn inverse_dynamics_derivatives_into(
         &self,
@@ -381,9 +395,7 @@ impl crate::SliceDynamics for TreeModel {
         d_dq: &mut [f64],
         d_dqd: &mut [f64],
     ) {
-        let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, qdd).expect(SLICE_CONTRACT);
-        d_dq.copy_from_slice(by_q.transpose().as_slice());
-        d_dqd.copy_from_slice(by_qd.transpose().as_slice());
+        self.derivatives_into((q, qd, qdd), d_dq, d_dqd).expect(SLICE_CONTRACT);
     }
 }
 

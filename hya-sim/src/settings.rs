@@ -120,7 +120,7 @@ impl<const N: usize> PlantLists<N> {
     pub fn of(p: &PlantConfig, loads: &LoadConfig) -> Result<Self, SimError> {
         let friction = match p.friction {
             FrictionKind::Off => None,
-            kind => Some(FrictionLists::of(p, kind == FrictionKind::Lugre)?),
+            _ => Some(FrictionLists::of(p)?),
         };
         Ok(Self {
             friction,
@@ -146,8 +146,8 @@ impl<const N: usize> PlantLists<N> {
 }
 
 impl<const N: usize> FrictionLists<N> {
-    /// Checks and converts the friction lists of `p`; the bristle lists too if `lugre`.
-    pub fn of(p: &PlantConfig, lugre: bool) -> Result<Self, SimError> {
+    /// Checks and converts the friction lists of `p`; the bristle lists too for LuGre friction.
+    pub fn of(p: &PlantConfig) -> Result<Self, SimError> {
         let coulomb = per_joint::<N>("plant.coulomb_nm", &p.coulomb_nm)?;
         let breakaway = per_joint::<N>("plant.static_nm", &p.static_nm)?;
         if let Some(i) = (0..N).find(|&i| !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i])) {
@@ -158,7 +158,7 @@ impl<const N: usize> FrictionLists<N> {
         }
         let viscous =
             each("plant.viscous_nm_s", per_joint("plant.viscous_nm_s", &p.viscous_nm_s)?, |v| v >= 0.0, "must be ≥ 0")?;
-        let bristles = if lugre {
+        let bristles = if p.friction == FrictionKind::Lugre {
             Some((
                 each(
                     "plant.bristle_stiffness_nm_rad",

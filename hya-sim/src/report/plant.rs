@@ -121,8 +121,9 @@ fn friction_figure<const N: usize>(
     dt: f64,
 ) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
-    let lists = crate::settings::PlantLists::<N>::of(config, &crate::scenario::LoadConfig::default())?;
-    let Friction::LuGre(lugre) = Friction::<N>::new(config, lists.friction.as_ref(), &mut rng)? else {
+    // Only the friction lists: the actuators' and the loads' do not enter the figure.
+    let lists = crate::settings::FrictionLists::<N>::of(config)?;
+    let Friction::LuGre(lugre) = Friction::<N>::new(config, Some(&lists), &mut rng)? else {
         return Ok(None);
     };
     let trace = &sine.trace;

@@ -46,18 +46,6 @@ pub struct Force<S = f64> {
     pub linear: Vector3<S>,
 }
 
-impl Default for Motion {
-    fn default() -> Self {
-        Self::zero()
-    }
-}
-
-impl Default for Force {
-    fn default() -> Self {
-        Self::zero()
-    }
-}
-
 /// `(x, y, z)` of constants.
 fn constant_vector<S: Real>(v: &Vector3<f64>) -> Vector3<S> {
     Vector3::new(S::constant(v[0]), S::constant(v[1]), S::constant(v[2]))
@@ -71,17 +59,70 @@ fn label_vector<S: Real>(v: &Vector3<S>, body: usize, quantity: Quantity, first:
     Vector3::from_fn(|i, _| v[i].labelled(Label { body, quantity, component: first + i as u8 }))
 }
 
+/// What motion and force vectors share: construction, zero, naming, and the linear operations
+/// `a + b`, `a − b`, `a s`, `a += b`, part by part.
+macro_rules! spatial_vector {
+    ($type:ident) => {
+        impl<S: Real> $type<S> {
+            /// From its angular and linear parts.
+            pub fn new(angular: Vector3<S>, linear: Vector3<S>) -> Self {
+                Self { angular, linear }
+            }
+
+            /// The zero vector.
+            pub fn zero() -> Self {
+                Self { angular: zero_vector(), linear: zero_vector() }
+            }
+
+            /// The same vector with its components named `quantity` of `body` (see
+            /// [`Real::labelled`]).
+            pub fn labelled(&self, body: usize, quantity: Quantity) -> Self {
+                Self {
+                    angular: label_vector(&self.angular, body, quantity, 0),
+                    linear: label_vector(&self.linear, body, quantity, 3),
+                }
+            }
+        }
+
+        impl Default for $type {
+            fn default() -> Self {
+                Self::zero()
+            }
+        }
+
+        impl<S: Real> Add for $type<S> {
+            type Output = Self;
+            fn add(self, rhs: Self) -> Self {
+                Self { angular: add3(&self.angular, &rhs.angular), linear: add3(&self.linear, &rhs.linear) }
+            }
+        }
+
+        impl<S: Real> Sub for $type<S> {
+            type Output = Self;
+            fn sub(self, rhs: Self) -> Self {
+                Self { angular: sub3(&self.angular, &rhs.angular), linear: sub3(&self.linear, &rhs.linear) }
+            }
+        }
+
+        impl<S: Real> Mul<S> for $type<S> {
+            type Output = Self;
+            fn mul(self, rhs: S) -> Self {
+                Self { angular: scale3(&self.angular, rhs), linear: scale3(&self.linear, rhs) }
+            }
+        }
+
+        impl<S: Real> AddAssign for $type<S> {
+            fn add_assign(&mut self, rhs: Self) {
+                *self = *self + rhs;
+            }
+        }
+    };
+}
+
+spatial_vector!(Motion);
+spatial_vector!(Force);
+
 impl<S: Real> Motion<S> {
-    /// `(ω, v)`.
-    pub fn new(angular: Vector3<S>, linear: Vector3<S>) -> Self {
-        Self { angular, linear }
-    }
-
-    /// No motion.
-    pub fn zero() -> Self {
-        Self { angular: zero_vector(), linear: zero_vector() }
-    }
-
     /// A constant motion vector.
     pub fn constant(m: &Motion<f64>) -> Self {
         Self { angular: constant_vector(&m.angular), linear: constant_vector(&m.linear) }
@@ -106,82 +147,6 @@ impl<S: Real> Motion<S> {
     /// The power pairing `m · f = ω · n + v · f`.
     pub fn dot(&self, force: &Force<S>) -> S {
         dot(&self.angular, &force.angular) + dot(&self.linear, &force.linear)
-    }
-
-    /// The same vector with its components named `quantity` of `body` (see [`Real::labelled`]).
-    pub fn labelled(&self, body: usize, quantity: Quantity) -> Self {
-        Self {
-            angular: label_vector(&self.angular, body, quantity, 0),
-            linear: label_vector(&self.linear, body, quantity, 3),
-        }
-    }
-}
-
-impl<S: Real> Force<S> {
-    /// `(n, f)`.
-    pub fn new(angular: Vector3<S>, linear: Vector3<S>) -> Self {
-        Self { angular, linear }
-    }
-
-    /// No force.
-    pub fn zero() -> Self {
-        Self { angular: zero_vector(), linear: zero_vector() }
-    }
-
-    /// The same vector with its components named `quantity` of `body` (see [`Real::labelled`]).
-    pub fn labelled(&self, body: usize, quantity: Quantity) -> Self {
-        Self {
-            angular: label_vector(&self.angular, body, quantity, 0),
-            linear: label_vector(&self.linear, body, quantity, 3),
-        }
-    }
-}
-
-impl<S: Real> Add for Motion<S> {
-    type Output = Motion<S>;
-    fn add(self, rhs: Motion<S>) -> Motion<S> {
-        Motion { angular: add3(&self.angular, &rhs.angular), linear: add3(&self.linear, &rhs.linear) }
-    }
-}
-
-impl<S: Real> Sub for Motion<S> {
-    type Output = Motion<S>;
-    fn sub(self, rhs: Motion<S>) -> Motion<S> {
-        Motion { angular: sub3(&self.angular, &rhs.angular), linear: sub3(&self.linear, &rhs.linear) }
-    }
-}
-
-impl<S: Real> Mul<S> for Motion<S> {
-    type Output = Motion<S>;
-    fn mul(self, rhs: S) -> Motion<S> {
-        Motion { angular: scale3(&self.angular, rhs), linear: scale3(&self.linear, rhs) }
-    }
-}
-
-impl<S: Real> Add for Force<S> {
-    type Output = Force<S>;
-    fn add(self, rhs: Force<S>) -> Force<S> {
-        Force { angular: add3(&self.angular, &rhs.angular), linear: add3(&self.linear, &rhs.linear) }
-    }
-}
-
-impl<S: Real> Sub for Force<S> {
-    type Output = Force<S>;
-    fn sub(self, rhs: Force<S>) -> Force<S> {
-        Force { angular: sub3(&self.angular, &rhs.angular), linear: sub3(&self.linear, &rhs.linear) }
-    }
-}
-
-impl<S: Real> Mul<S> for Force<S> {
-    type Output = Force<S>;
-    fn mul(self, rhs: S) -> Force<S> {
-        Force { angular: scale3(&self.angular, rhs), linear: scale3(&self.linear, rhs) }
-    }
-}
-
-impl<S: Real> AddAssign for Force<S> {
-    fn add_assign(&mut self, rhs: Force<S>) {
-        *self = *self + rhs;
     }
 }
 

@@ -309,7 +309,9 @@ impl Emitter {
         let live = self.live(outputs);
         let idents = self.identifiers(&live, names);
         let show = |v: Value| expression(v, &idents);
-        // Group the live statements; a cosine stays with its sine.
+        let batch = self.sin_cos_batch(&live);
+        // Group the live statements; a cosine stays with its sine, and batched sines with the
+        // first of them.
         let mut group_of = vec![usize::MAX; self.ops.len()];
         let mut groups: Vec<Vec<usize>> = Vec::new();
         let mut pass_marks = Vec::new();
@@ -325,6 +327,11 @@ impl Emitter {
             }
             if matches!(self.ops[id], Op::CosOf) {
                 group_of[id] = group_of[id - 1];
+                continue;
+            }
+            if let Some(&first) = batch.first().filter(|&&first| first < id && batch.contains(&id)) {
+                group_of[id] = group_of[first];
+                groups[group_of[first]].push(id);
                 continue;
             }
             let opens = pending.take();
@@ -355,7 +362,11 @@ impl Emitter {
             let mut statements = Vec::new();
             let mut handed_on = Vec::new();
             for &id in group {
-                statements.push(self.statement(id, &idents, &show, &mut counts));
+                statements.push(match batch.iter().position(|&b| b == id) {
+                    Some(0) => self.batched_sin_cos(&batch, &idents, &show, &mut counts),
+                    Some(_) => quote! {},
+                    None => self.statement(id, &idents, &show, &mut counts),
+                });
                 let cos = matches!(self.ops.get(id + 1), Some(Op::CosOf)).then_some(id + 1);
                 for defined in std::iter::once(id).chain(cos) {
                     if escapes[defined] {
@@ -371,6 +382,44 @@ impl Emitter {
         }
         let outputs = outputs.iter().map(|v| show(*v)).collect();
         Rendered { statements: quote! { #(#blocks)* }, counts, outputs, pass_marks }
+    }
+
+    /// The live `sin_cos` statements, if all their arguments are defined before the first of
+    /// them (joint angles, in every algorithm here): they then run as one lane-parallel call,
+    /// placed where the first one was. Empty otherwise.
+    fn sin_cos_batch(&self, live: &[bool]) -> Vec<usize> {
+        let batch: Vec<usize> =
+            (0..self.ops.len()).filter(|&id| live[id] && matches!(self.ops[id], Op::SinCos(_))).collect();
+        let first = batch.first().copied().unwrap_or(0);
+        let ready = batch.iter().all(|&id| self.operands(id).iter().all(|&operand| operand < first));
+        if ready {
+            batch
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// `let [(s_a, c_a), (s_b, c_b), …] = sin_cos_lanes([q_a, q_b, …]);`, counted as one
+    /// `sin_cos` per lane.
+    fn batched_sin_cos(
+        &self,
+        batch: &[usize],
+        idents: &[Option<Ident>],
+        show: &dyn Fn(Value) -> TokenStream,
+        counts: &mut OpCounts,
+    ) -> TokenStream {
+        let placeholder = || Ident::new("_", Span::call_site());
+        let name = |id: usize| idents.get(id).cloned().flatten().unwrap_or_else(placeholder);
+        let mut pairs = Vec::new();
+        let mut arguments = Vec::new();
+        for &id in batch {
+            let Op::SinCos(x) = &self.ops[id] else { continue };
+            counts.trig += 1;
+            let (sin, cos) = (name(id), name(id + 1));
+            pairs.push(quote! { (#sin, #cos) });
+            arguments.push(show(*x));
+        }
+        quote! { let [#(#pairs),*] = ::hya_core::sin_cos_lanes([#(#arguments),*]); }
     }
 
     /// Statement `id` as a `let`, counted.
@@ -587,9 +636,36 @@ mod tests {
         assert_eq!(rendered.counts, OpCounts { adds: 1, muls: 0, divs: 1, trig: 1 });
         assert_eq!(
             text(&rendered.statements),
-            "let (t0 , t1 , t2) = { let a = a ; let b = b ; let (t0 , _) = :: hya_core :: sin_cos (b) ; \
+            "let (t0 , t1 , t2) = { let a = a ; let b = b ; let [(t0 , _)] = :: hya_core :: sin_cos_lanes ([b]) ; \
              let t1 = b - a ; let t2 = b / a ; (t0 , t1 , t2) } ;"
         );
+    }
+
+    #[test]
+    fn sines_of_inputs_run_as_one_call_and_others_stay_apart() {
+        let (outputs, e) = trace(|| {
+            let (a, b) = (input("a", quote!(a)), input("b", quote!(b)));
+            let (sa, ca) = a.sin_cos();
+            let (sb, _) = b.sin_cos();
+            [sa * ca, sb]
+        });
+        let rendered = e.render(&outputs, &Plain);
+        assert_eq!(rendered.counts.trig, 2);
+        assert!(
+            text(&rendered.statements)
+                .contains("let [(t0 , t1) , (t2 , _)] = :: hya_core :: sin_cos_lanes ([a , b]) ;"),
+            "{}",
+            text(&rendered.statements)
+        );
+        // The second argument is computed after the first sine: no batch.
+        let (outputs, e) = trace(|| {
+            let a = input("a", quote!(a));
+            let (sa, _) = a.sin_cos();
+            let (sb, _) = (sa * a).sin_cos();
+            [sb]
+        });
+        let text = text(&e.render(&outputs, &Plain).statements);
+        assert_eq!(text.matches(":: hya_core :: sin_cos (").count(), 2, "{text}");
     }
 
     #[test]

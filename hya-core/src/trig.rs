@@ -1,6 +1,6 @@
 //! `sin` and `cos` in one call, without the platform's libm on the hot path.
 //!
-//! Generated dynamics call this once per revolute joint, so it dominates their cost for small
+//! Generated dynamics take all joints in one [`sin_cos_lanes`] call, which dominates their cost for small
 //! arms. Method: reduce `x = k π/2 + r` with `π/2` split into three parts (Cody–Waite; each of
 //! the first two parts has 33 significant bits, so `k · part` is exact for `|k| < 2²⁰`), then sum
 //! the Taylor series of `sin r` and `cos r` on `|r| ≤ π/4` to the `r¹⁵` and `r¹⁶` terms
@@ -48,24 +48,54 @@ fn horner(coefficients: &[f64], z: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |sum, c| sum * z + c)
 }
 
-/// `(sin x, cos x)`.
+/// `(sin x, cos x)`: [`sin_cos_lanes`] on one lane.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    if x.is_nan() || x.abs() > REDUCTION_LIMIT {
-        return libm::sincos(x);
-    }
-    // Round to nearest by the magic constant 1.5·2⁵²: exact for |x·2/π| < 2⁵¹, two additions.
+    sin_cos_lanes([x])[0]
+}
+
+/// `(sin x, cos x)` for every lane of `x`: the same reduction and series as [`sin_cos`], with
+/// the quadrant chosen by selects instead of a branch, so the compiler runs the lanes through
+/// one vectorised polynomial and mispredicts nothing when the angles' quadrants vary.
+///
+/// The quadrant `k mod 4` is read from the low bits of `x·2/π + 1.5·2⁵²`, whose last place is
+/// 1: the integer `k` sits in the mantissa (two's complement for negative `k`). With
+/// `(s, c) = (sin r, cos r)`, `sin x = ±(s or c)` and `cos x = ±(c or s)`:
+///
+/// ```text
+/// k mod 4 :   0    1    2    3
+/// sin x   :   s    c   −s   −c        odd k swaps, bit 1 of k negates
+/// cos x   :   c   −s   −c    s        odd k swaps, bit 1 of k + 1 negates
+/// ```
+///
+/// Lanes beyond the reduction's range, or not finite, are recomputed by `libm` (a branch
+/// never taken for joint angles). Each lane's result does not depend on the others (tested).
+#[inline]
+pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
     let magic = 6_755_399_441_055_744.0;
-    let k = (x * core::f64::consts::FRAC_2_PI + magic) - magic;
-    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    let z = r * r;
-    let (s, c) = (r * horner(&SIN, z), horner(&COS, z));
-    match (k as i64) & 3 {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
+    let mut out = [(0.0, 0.0); N];
+    for (x, out) in x.iter().zip(out.iter_mut()) {
+        let shifted = x * core::f64::consts::FRAC_2_PI + magic;
+        let k = shifted - magic;
+        let quadrant = shifted.to_bits();
+        let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+        let z = r * r;
+        let (s, c) = (r * horner(&SIN, z), horner(&COS, z));
+        let odd = quadrant & 1 == 1;
+        let (sin_base, cos_base) = if odd { (c, s) } else { (s, c) };
+        let sin_sign = (quadrant & 2) << 62;
+        let cos_sign = (quadrant.wrapping_add(1) & 2) << 62;
+        *out = (f64::from_bits(sin_base.to_bits() ^ sin_sign), f64::from_bits(cos_base.to_bits() ^ cos_sign));
     }
+    let outside = |x: &f64| x.is_nan() || x.abs() > REDUCTION_LIMIT;
+    if x.iter().any(outside) {
+        for (x, out) in x.iter().zip(out.iter_mut()) {
+            if outside(x) {
+                *out = libm::sincos(*x);
+            }
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -97,6 +127,26 @@ mod tests {
         for x in [0.0, -0.0, 1e-300, core::f64::consts::FRAC_PI_4, core::f64::consts::FRAC_PI_2, core::f64::consts::PI]
         {
             check(x);
+        }
+    }
+
+    #[test]
+    fn lanes_agree_with_the_scalar_call_bit_for_bit() {
+        let mut x = [0.0; 7];
+        for i in -100_000..=100_000 {
+            for (lane, x) in x.iter_mut().enumerate() {
+                *x = i as f64 * 1.1e-4 + lane as f64 * 0.37;
+            }
+            for (x, (s, c)) in x.iter().zip(sin_cos_lanes(x)) {
+                let (s_ref, c_ref) = sin_cos(*x);
+                assert!(s.to_bits() == s_ref.to_bits() && c.to_bits() == c_ref.to_bits(), "x = {x}");
+            }
+        }
+        let odd = [1e10, f64::NAN, -0.0, f64::INFINITY, -3.0, REDUCTION_LIMIT * 1.5];
+        for (x, (s, c)) in odd.iter().zip(sin_cos_lanes(odd)) {
+            let (s_ref, c_ref) = sin_cos(*x);
+            assert!(s.to_bits() == s_ref.to_bits() || (s.is_nan() && s_ref.is_nan()), "sin {x}");
+            assert!(c.to_bits() == c_ref.to_bits() || (c.is_nan() && c_ref.is_nan()), "cos {x}");
         }
     }
 

@@ -71,12 +71,15 @@ impl Hya {
             let q_efe = q[3];
             let q_wr = q[4];
             let q_wfe = q[5];
-            let (s_saa, c_saa) = ::hya_core::sin_cos(q_saa);
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_saa, c_saa), (s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe),
+            (s_wr, c_wr), (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_saa,
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 s_saa,
                 c_saa,
@@ -314,11 +317,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let qdd_efe = qdd[3];
             let qdd_wr = qdd[4];
             let qdd_wfe = qdd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 qd_saa,
                 qd_sfe,
@@ -1286,11 +1292,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let q_efe = q[3];
             let q_wr = q[4];
             let q_wfe = q[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe)
         };
         let (shoulder_fe_a_vx, shoulder_fe_a_vy, t0, t1, t4) = {
@@ -1552,11 +1561,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let qd_efe = qd[3];
             let qd_wr = qd[4];
             let qd_wfe = qd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 qd_saa,
                 qd_sfe,
@@ -2471,11 +2483,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let qd_efe = qd[3];
             let qd_wr = qd[4];
             let qd_wfe = qd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 qd_saa,
                 qd_sfe,
@@ -2990,11 +3005,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let q_efe = q[3];
             let q_wr = q[4];
             let q_wfe = q[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (s_sfe, c_sfe, s_hr, c_hr, s_efe, c_efe, s_wr, c_wr, s_wfe, c_wfe)
         };
         let (
@@ -3589,11 +3607,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let tau_efe = tau[3];
             let tau_wr = tau[4];
             let tau_wfe = tau[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 qd_saa,
                 qd_sfe,
@@ -5563,11 +5584,14 @@ impl ::hya_core::Dynamics<6> for Hya {
             let qdd_efe = qdd[3];
             let qdd_wr = qdd[4];
             let qdd_wfe = qdd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 qd_saa,
                 qd_sfe,

@@ -175,11 +175,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let qdd_efe = qdd[3];
             let qdd_wr = qdd[4];
             let qdd_wfe = qdd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_aa_izz,
                 shoulder_fe_hx,
@@ -1326,11 +1329,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let q_efe = q[3];
             let q_wr = q[4];
             let q_wfe = q[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_fe_hx,
                 shoulder_fe_hy,
@@ -1758,11 +1764,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let qd_efe = qd[3];
             let qd_wr = qd[4];
             let qd_wfe = qd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_fe_ixx,
                 shoulder_fe_iyy,
@@ -2893,11 +2902,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let qd_efe = qd[3];
             let qd_wr = qd[4];
             let qd_wfe = qd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_fe_ixx,
                 shoulder_fe_iyy,
@@ -3608,11 +3620,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let q_efe = q[3];
             let q_wr = q[4];
             let q_wfe = q[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_aa_izz,
                 shoulder_fe_m,
@@ -4445,11 +4460,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let tau_efe = tau[3];
             let tau_wr = tau[4];
             let tau_wfe = tau[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_aa_izz,
                 shoulder_fe_hx,
@@ -6740,11 +6758,14 @@ impl ::hya_core::Dynamics<6> for HyaParametric {
             let qdd_efe = qdd[3];
             let qdd_wr = qdd[4];
             let qdd_wfe = qdd[5];
-            let (s_sfe, c_sfe) = ::hya_core::sin_cos(q_sfe);
-            let (s_hr, c_hr) = ::hya_core::sin_cos(q_hr);
-            let (s_efe, c_efe) = ::hya_core::sin_cos(q_efe);
-            let (s_wr, c_wr) = ::hya_core::sin_cos(q_wr);
-            let (s_wfe, c_wfe) = ::hya_core::sin_cos(q_wfe);
+            let [(s_sfe, c_sfe), (s_hr, c_hr), (s_efe, c_efe), (s_wr, c_wr),
+            (s_wfe, c_wfe)] = ::hya_core::sin_cos_lanes([
+                q_sfe,
+                q_hr,
+                q_efe,
+                q_wr,
+                q_wfe,
+            ]);
             (
                 shoulder_fe_hx,
                 shoulder_fe_hy,

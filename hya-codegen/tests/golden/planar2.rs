@@ -38,8 +38,10 @@ impl Planar2 {
         let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
             let q_shoulder = q[0];
             let q_elbow = q[1];
-            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                q_shoulder,
+                q_elbow,
+            ]);
             (s_shoulder, c_shoulder, s_elbow, c_elbow)
         };
         let (t0, t1, t4, t7, t10, t11) = {
@@ -117,8 +119,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let qd_elbow = qd[1];
             let qdd_shoulder = qdd[0];
             let qdd_elbow = qdd[1];
-            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                q_shoulder,
+                q_elbow,
+            ]);
             (
                 qd_shoulder,
                 qd_elbow,
@@ -197,8 +201,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
             let q_shoulder = q[0];
             let q_elbow = q[1];
-            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                q_shoulder,
+                q_elbow,
+            ]);
             (s_shoulder, c_shoulder, s_elbow, c_elbow)
         };
         let (t0, upper_arm_a_vz, t1) = {
@@ -244,7 +250,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let q_elbow = q[1];
             let qd_shoulder = qd[0];
             let qd_elbow = qd[1];
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
             (qd_shoulder, qd_elbow, s_elbow, c_elbow)
         };
         let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
@@ -294,7 +300,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let q_elbow = q[1];
             let qd_shoulder = qd[0];
             let qd_elbow = qd[1];
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
             (qd_shoulder, qd_elbow, s_elbow, c_elbow)
         };
         let (forearm_v_vx, t1, forearm_f_fx, t4) = {
@@ -323,7 +329,7 @@ impl ::hya_core::Dynamics<2> for Planar2 {
     fn mass_matrix(&self, q: &::hya_core::JointVector<2>) -> ::hya_core::JointMatrix<2> {
         let c_elbow = {
             let q_elbow = q[1];
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
             c_elbow
         };
         let (t1, m_shoulder_shoulder) = {
@@ -373,8 +379,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let qd_elbow = qd[1];
             let tau_shoulder = tau[0];
             let tau_elbow = tau[1];
-            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                q_shoulder,
+                q_elbow,
+            ]);
             (
                 qd_shoulder,
                 qd_elbow,
@@ -499,8 +507,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
             let qd_elbow = qd[1];
             let qdd_shoulder = qdd[0];
             let qdd_elbow = qdd[1];
-            let (s_shoulder, c_shoulder) = ::hya_core::sin_cos(q_shoulder);
-            let (s_elbow, c_elbow) = ::hya_core::sin_cos(q_elbow);
+            let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                q_shoulder,
+                q_elbow,
+            ]);
             (
                 qd_shoulder,
                 qd_elbow,

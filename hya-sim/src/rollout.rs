@@ -48,7 +48,7 @@ pub fn scenario_plant<const N: usize>(
         (q0, tau0),
         &mut rng,
     )?;
-    Ok((plant, scenario.controller.dt_s / scenario.plant.substeps as f64))
+    Ok((plant, scenario.controller.dt_s / scenario.plant.substeps() as f64))
 }
 
 /// The ideal plant ([`ideal_plant_config`]) of `model` at rest at `q0`.

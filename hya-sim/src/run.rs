@@ -203,7 +203,7 @@ pub fn simulate<const N: usize>(
     };
     let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario, &joints)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
-    let substep = dt / scenario.plant.substeps as f64;
+    let substeps = scenario.plant.substeps();
     let mut trace = Trace::default();
     for k in 0..steps {
         let t = k as f64 * dt;
@@ -234,7 +234,7 @@ pub fn simulate<const N: usize>(
         commands.push_back(command);
         applied = commands.pop_front().unwrap_or(command);
         let state = plant.state;
-        let acceleration = plant.acceleration(t, &state, &applied)?;
+        let acceleration = plant.advance(dt, substeps, &applied)?;
         trace.time.push(t);
         trace.q.push(state.q);
         trace.q_des.push(reference.position);
@@ -243,9 +243,6 @@ pub fn simulate<const N: usize>(
         );
         trace.d_hat.push(d_hat);
         trace.tau_cmd.push(command);
-        for _ in 0..scenario.plant.substeps {
-            plant.step(substep, &applied)?;
-        }
     }
     let metrics = Metrics::of(&trace, scenario, method.estimates());
     Ok(RunOutcome { scenario: scenario.name.clone(), method, seed: scenario.seed, bandwidth_rad_s, trace, metrics })

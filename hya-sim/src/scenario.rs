@@ -308,8 +308,30 @@ pub struct PlantConfig {
     pub actuator_time_constant_s: Vec<f64>,
     /// The hydraulic actuators (`actuator = "hydraulic"`).
     pub hydraulic: HydraulicConfig,
-    /// Physics steps per control period.
-    pub substeps: usize,
+    /// Physics steps per control period; unset, chosen by the actuator ([`PlantConfig::substeps`]).
+    pub substeps: Option<usize>,
+}
+
+impl PlantConfig {
+    /// RK4 steps per control period: as set, or the fewest that keep the integration error
+    /// under 1e-7 rad per 1 ms tick (a hundredth of an encoder count) against a ten times finer
+    /// step along a goto move, measured by `tests/integration_step.rs`:
+    ///
+    /// | actuator | 1 | 2 | 4 sub-steps |
+    /// |---|---|---|---|
+    /// | hydraulic | 3.2e-7 | 1.4e-8 | 6.1e-9 rad |
+    /// | lag | 3.6e-7 | 3.5e-8 | 2.5e-8 rad |
+    /// | ideal | 3.7e-7 | 2.6e-8 | 3.0e-9 rad |
+    ///
+    /// The hydraulic plant takes 4 rather than 2: the orifice law's stiff mode near zero
+    /// pressure drop (≈ 4e3/s) then stays well inside RK4's stability region. Sliding bristles
+    /// sub-cycle further ([`crate::plant::Plant::step`]).
+    pub fn substeps(&self) -> usize {
+        self.substeps.unwrap_or(match self.actuator {
+            ActuatorKind::Hydraulic => 4,
+            ActuatorKind::Lag | ActuatorKind::Ideal => 2,
+        })
+    }
 }
 
 impl Default for PlantConfig {
@@ -328,11 +350,7 @@ impl Default for PlantConfig {
             actuator: ActuatorKind::Hydraulic,
             actuator_time_constant_s: vec![0.004, 0.004, 0.008, 0.008, 0.015, 0.015],
             hydraulic: HydraulicConfig::default(),
-            // Measured (tests/integration_step.rs): 2.2e-8 rad per tick from a ten times finer
-            // step over a goto move, under a five-hundredth of an encoder count (1 sub-step: 2.9e-7,
-            // 2: 3.1e-8); 4 rather than 2 keeps the orifice law's stiff mode near zero pressure
-            // drop (≈ 4e3/s) well inside RK4's stability region.
-            substeps: 4,
+            substeps: None,
         }
     }
 }
@@ -671,8 +689,8 @@ impl Scenario {
         if self.sensors.measurement_delay_ticks > 100 || self.sensors.command_delay_ticks > 100 {
             return Err("sensors: a delay of more than 100 ticks is not a plausible control loop".into());
         }
-        if !(1..=1000).contains(&self.plant.substeps) {
-            return Err(format!("plant.substeps = {}: must be between 1 and 1000", self.plant.substeps));
+        if !(1..=1000).contains(&self.plant.substeps()) {
+            return Err(format!("plant.substeps = {}: must be between 1 and 1000", self.plant.substeps()));
         }
         if self.methods.is_empty() {
             return Err("methods: name at least one of none, lu, chen, momentum, eso".into());

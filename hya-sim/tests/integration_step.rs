@@ -8,6 +8,7 @@
 
 use hya_core::JointVector;
 use hya_sim::rollout::scenario_plant;
+use hya_sim::scenario::ActuatorKind;
 use hya_sim::{run_method, Method, Scenario};
 
 /// Largest per-tick joint-angle difference, rad, between `substeps` and `10 × substeps`
@@ -36,13 +37,23 @@ fn tick_error(scenario: &Scenario, commands: &[JointVector<6>], substeps: usize)
 
 #[test]
 fn the_default_step_is_within_tolerance_of_a_ten_times_finer_one() {
-    // The goto move of the quick scenario (start at 3 s), with the new plant's stiffest parts
-    // (bristles, valves, oil) all active.
-    let mut scenario = Scenario::builtin("goto_internal").unwrap().quick();
-    scenario.duration_s = 4.5;
-    let commands = run_method::<6>(&scenario, Method::Lu).unwrap().trace.tau_cmd;
-    let default = scenario.plant.substeps;
-    let error = tick_error(&scenario, &commands, default);
-    eprintln!("{default} sub-steps per tick: {error:.2e} rad per tick from {} sub-steps", 10 * default);
-    assert!(error < 1e-7, "the default step leaves {error} rad of integration error per tick");
+    // The goto move of the quick scenario (start at 3 s), with the plant's stiffest parts
+    // (bristles, valves, oil) all active, on each actuator model.
+    for actuator in [ActuatorKind::Hydraulic, ActuatorKind::Lag, ActuatorKind::Ideal] {
+        let mut scenario = Scenario::builtin("goto_internal").unwrap().quick();
+        scenario.duration_s = 4.5;
+        scenario.plant.actuator = actuator;
+        let commands = run_method::<6>(&scenario, Method::Lu).unwrap().trace.tau_cmd;
+        let default = scenario.plant.substeps();
+        for substeps in [1, 2, 4] {
+            let error = tick_error(&scenario, &commands, substeps);
+            eprintln!("{actuator:?}: {substeps} sub-steps per tick: {error:.2e} rad per tick from {}", 10 * substeps);
+            if substeps == default {
+                assert!(
+                    error < 1e-7,
+                    "{actuator:?}: the default step leaves {error} rad of integration error per tick"
+                );
+            }
+        }
+    }
 }

@@ -50,7 +50,7 @@ fn one_joint(friction: FrictionKind, actuator: ActuatorKind, variation: f64) -> 
         actuator,
         actuator_time_constant_s: one(0.01),
         hydraulic: one_joint_hydraulics(),
-        substeps: 10,
+        substeps: Some(10),
         ..PlantConfig::default()
     }
 }

@@ -35,7 +35,7 @@ fn bad_numbers_are_refused_with_their_key() {
         ("fall_height_m", |s| drop_of(s).fall_height_m = -1.0),
         ("mass_kg", |s| drop_of(s).mass_kg = 1e300),
         ("remove_s", |s| drop_of(s).remove_s = Some(1.0)),
-        ("substeps", |s| s.plant.substeps = 100_000),
+        ("substeps", |s| s.plant.substeps = Some(100_000)),
         ("damping_ratio", |s| s.controller.damping_ratio = -1.0),
         ("parameter_spread", |s| s.plant.parameter_spread = f64::NAN),
         ("task.start_s", |s| {

@@ -272,25 +272,49 @@ impl<const N: usize> Plant<N> {
         Ok(PlantState { q: s.qd, qd: qdd, bristle, lag_torque, hydraulic })
     }
 
+    /// Advances one control period `dt` in `substeps` equal [`Plant::step`]s with the command
+    /// `τ_cmd` held, and returns the joint accelerations at its start: the first RK4 stage,
+    /// evaluated once for both.
+    pub fn advance(&mut self, dt: f64, substeps: usize, tau_cmd: &JointVector<N>) -> Result<JointVector<N>, SimError> {
+        let start = self.derivative(self.time, &self.state, tau_cmd)?;
+        let h = dt / substeps.max(1) as f64;
+        self.step_from(h, tau_cmd, Some(start))?;
+        for _ in 1..substeps {
+            self.step(h, tau_cmd)?;
+        }
+        Ok(start.qd)
+    }
+
     /// Advances by `h` with the command `τ_cmd` held: classic RK4, in as many equal sub-steps
     /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the bristles' relaxation rate `λ` at the
     /// start (at most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly.
     pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
+        self.step_from(h, tau_cmd, None)
+    }
+
+    /// [`Plant::step`], given the state's derivative at the start if it is known.
+    fn step_from(&mut self, h: f64, tau_cmd: &JointVector<N>, start: Option<PlantState<N>>) -> Result<(), SimError> {
         let rate = match &self.friction {
             Friction::LuGre(f) => f.relaxation_rate(&self.state.q, &self.state.qd),
             _ => 0.0,
         };
         let cycles = ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES);
+        // The known derivative is the first stage of the first cycle, whatever its length.
+        let mut first = start;
         for _ in 0..cycles {
-            self.rk4(h / cycles as f64, tau_cmd)?;
+            self.rk4(h / cycles as f64, tau_cmd, first.take())?;
         }
         Ok(())
     }
 
-    /// One classic RK4 step of length `h` with the command `τ_cmd` held.
-    fn rk4(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
+    /// One classic RK4 step of length `h` with the command `τ_cmd` held; `k1` is the state's
+    /// derivative now, if known.
+    fn rk4(&mut self, h: f64, tau_cmd: &JointVector<N>, k1: Option<PlantState<N>>) -> Result<(), SimError> {
         let (t, s) = (self.time, self.state);
-        let k1 = self.derivative(t, &s, tau_cmd)?;
+        let k1 = match k1 {
+            Some(k1) => k1,
+            None => self.derivative(t, &s, tau_cmd)?,
+        };
         let k2 = self.derivative(t + h / 2.0, &s.along(&k1, h / 2.0), tau_cmd)?;
         let k3 = self.derivative(t + h / 2.0, &s.along(&k2, h / 2.0), tau_cmd)?;
         let k4 = self.derivative(t + h, &s.along(&k3, h), tau_cmd)?;

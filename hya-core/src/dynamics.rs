@@ -87,7 +87,10 @@ pub trait Dynamics<const N: usize> {
     }
 }
 
-impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for &D {
+/// Implements [`Dynamics`] for a pointer type by forwarding every method to its target.
+macro_rules! forward_dynamics {
+    ($($pointer:ty),*) => {$(
+impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
     fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N> {
         (**self).inverse_dynamics(q, qd, qdd)
     }
@@ -120,6 +123,12 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for &D {
         (**self).forward_dynamics(q, qd, tau)
     }
 }
+    )*};
+}
+
+forward_dynamics!(&D);
+#[cfg(feature = "alloc")]
+forward_dynamics!(alloc::boxed::Box<D>, alloc::sync::Arc<D>);
 
 /// Dynamics whose number of joints is known only at run time, on slices: the view a command
 /// line or a loaded URDF needs. Every slice must have [`dof`](Self::dof) entries (`dof²` for

@@ -127,7 +127,7 @@ fn inertias<const N: usize>(model: &TreeModel) -> Result<[RigidBodyInertia; N], 
 
 /// A robot's nominal dynamics (the controller's and observers' model) and the factory of its
 /// plant's rigid body.
-type RobotDynamics<const N: usize> = (Box<dyn Dynamics<N> + Sync>, Box<plant::DynamicsFactory<N>>);
+type RobotDynamics<const N: usize> = (Box<dyn Dynamics<N> + Send + Sync>, Box<plant::DynamicsFactory<N>>);
 
 /// For a shipped robot with `N` joints: its generated dynamics, and its parameter-holding
 /// generated type fed the plant's perturbed inertias, so the plant runs generated code too.
@@ -135,7 +135,7 @@ fn shipped_dynamics<const N: usize>(robot: &str) -> Option<RobotDynamics<N>> {
     macro_rules! find {
         ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
             if robot == stringify!($module) {
-                let nominal: Box<dyn Dynamics<$dof> + Sync> = Box::new(hya_robots::$type);
+                let nominal: Box<dyn Dynamics<$dof> + Send + Sync> = Box::new(hya_robots::$type);
                 let factory: Box<plant::DynamicsFactory<$dof>> = Box::new(|m: &TreeModel| {
                     Ok(Box::new(hya_robots::$parametric::new(&inertias::<$dof>(m)?)) as Box<dyn Dynamics<$dof>>)
                 });
@@ -163,7 +163,7 @@ fn robot_dynamics<const N: usize>(robot: &str, model: &TreeModel) -> Result<Robo
 }
 
 /// The nominal dynamics of a scenario's robot, with `N` joints.
-pub fn nominal_dynamics<const N: usize>(robot: &str) -> Result<Box<dyn Dynamics<N> + Sync>, SimError> {
+pub fn nominal_dynamics<const N: usize>(robot: &str) -> Result<Box<dyn Dynamics<N> + Send + Sync>, SimError> {
     Ok(robot_dynamics::<N>(robot, &robot_model(robot)?)?.0)
 }
 

@@ -58,17 +58,18 @@ pub struct RunOutcome<const N: usize> {
     pub metrics: Metrics,
 }
 
-type Observer<'a, const N: usize> = Box<dyn DisturbanceObserver<N> + 'a>;
+/// A disturbance observer that may move between threads.
+pub type Observer<'a, const N: usize> = Box<dyn DisturbanceObserver<N> + Send + 'a>;
 
-/// The observer of `method`, started on the first measurement, with its rates at the start pose
-/// (1/s) computed from its design; `None` for the methods without one.
-fn observer<'a, const N: usize>(
+/// The observer of `method` on the model `nominal`, designed for `bandwidth` (rad/s) at the
+/// control period `dt` (s) and started on the first measurement, with its rates at the start
+/// pose (1/s) computed from its design; `None` for the methods without one.
+pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
     method: Method,
-    nominal: &'a dyn Dynamics<N>,
-    scenario: &Scenario,
+    nominal: D,
+    (bandwidth, dt): (f64, f64),
     first: &Measurement<N>,
 ) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
-    let (bandwidth, dt) = (scenario.controller.observer_bandwidth_rad_s, scenario.controller.dt_s);
     let q0 = first.position;
     let qd0 = first.velocity.unwrap_or_else(JointVector::zeros);
     let core = |source| SimError::Setup { setting: method.name().into(), source };
@@ -163,7 +164,7 @@ impl<const N: usize> IntegralAction<N> {
 pub fn simulate<const N: usize>(
     scenario: &Scenario,
     method: Method,
-    nominal: &dyn Dynamics<N>,
+    nominal: &(dyn Dynamics<N> + Sync),
     nominal_model: &TreeModel,
     plant_dynamics: &DynamicsFactory<N>,
 ) -> Result<RunOutcome<N>, SimError> {
@@ -197,7 +198,7 @@ pub fn simulate<const N: usize>(
     let mut commands: VecDeque<JointVector<N>> = std::iter::repeat_n(hold, command_delay).collect();
     let mut applied = hold;
     readings.push_back(sensors.read(&plant, &applied)?);
-    let (mut estimator, bandwidth_rad_s) = match observer(method, nominal, scenario, &readings[0])? {
+    let (mut estimator, bandwidth_rad_s) = match observer(method, nominal, (bandwidth, dt), &readings[0])? {
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod dynamics;
+mod estimate;
 mod experiments;
 mod filter;
 mod generate;
@@ -45,6 +46,13 @@ enum Command {
     Mass(dynamics::RobotArgs),
     /// Gravity torques: rows `q` to rows `G`.
     Gravity(dynamics::RobotArgs),
+    /// The disturbance estimator over a recorded log: rows `q τ` (angles in rad, torques in
+    /// N·m, one row per control tick, joints in the model's order) to rows `d̂` (N·m).
+    ///
+    /// The first row starts the estimator at rest there (`d̂ = G(q) − τ`); the filters take the
+    /// paper's ζ = 0.8, ω1 = ω2 = 50 rad/s unless given.
+    #[command(allow_negative_numbers = true)]
+    Estimate(estimate::EstimateArgs),
     /// Reproduce the paper's experiments on the simulated HyA and write a report.
     Reproduce(experiments::ReproduceArgs),
     /// Run a scenario of your own (TOML) and write a report.
@@ -79,6 +87,7 @@ fn main() -> ExitCode {
     let mut stdout = io::BufWriter::new(io::stdout().lock());
     let result = match cli.command {
         Command::Filter(args) => filter::run(&args, stdin, &mut stdout),
+        Command::Estimate(args) => estimate::run(&args, stdin, &mut stdout),
         Command::Robots(args) => dynamics::list(&args, &mut stdout),
         Command::Id(args) => {
             let (quantity, robot) = args.quantity();

@@ -2,9 +2,13 @@
 """Measures hya's generated and generic dynamics against Pinocchio in one run and writes
 BENCHMARKS.md. Run through tools/pinocchio_bench.sh, which builds the Pinocchio program.
 
-The machine's speed drifts by up to 1.8x for seconds at a time, so the programs are interleaved
-robot by robot, round after round, and each figure is the median over the rounds of the medians
-each program reports (each of those a median over 31 rounds of 2000 calls)."""
+Two hya builds take part: `plain`, the binary the README's `cargo run --release` builds, and
+`native`, the same with `RUSTFLAGS='-C target-cpu=native'` (like the Pinocchio build). The
+machine's speed drifts by up to 1.8x for seconds at a time, so the three programs are
+interleaved robot by robot, round after round (their order rotating), and every ratio is
+computed within a round, from figures measured seconds apart; tables give the median over the
+rounds and the spread (lowest to highest). Each program's figure in a round is itself a median
+over 31 rounds of 2000 calls."""
 import argparse
 import datetime
 import json
@@ -12,6 +16,8 @@ import os
 import platform
 import statistics
 import subprocess
+import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -21,11 +27,22 @@ ROBOTS = [
     for line in (ROOT / "robots" / "robots.list").read_text().splitlines()
     if line.strip() and not line.lstrip().startswith("#")
 ]
-TARGET = ROOT / "target" / "bench-native"
+# Where each build lives, and the flags it is built with.
+BUILDS = {
+    "plain": (ROOT / "target", {}),
+    "native": (ROOT / "target" / "bench-native", {"RUSTFLAGS": "-C target-cpu=native"}),
+}
+NOTES = Path(__file__).resolve().parent / "benchmarks_notes.md"
+# The last run's raw figures, for re-rendering (`--from-json`).
+RAW = Path(__file__).resolve().parent / ".build" / "benchmarks_raw.json"
 
 
 def run(*args):
     return subprocess.run(args, check=True, capture_output=True, text=True, cwd=ROOT).stdout
+
+
+def hya(build):
+    return str(BUILDS[build][0] / "release" / "hya")
 
 
 def cpu():
@@ -37,90 +54,180 @@ def cpu():
 
 def stats(robot):
     """Operation counts of the generated functions, from `hya generate --stats`."""
-    text = run(str(TARGET / "release/hya"), "generate", f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
+    text = run(hya("plain"), "generate", f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
     counts = {}
     for line in text.splitlines()[1:]:
-        name, adds, muls, _divs, trig = line.split()
-        counts[name] = (int(adds), int(muls), int(trig))
+        name, adds, muls, divs, trig = line.split()
+        counts[name] = (int(adds), int(muls), int(divs), int(trig))
     return counts
+
+
+def median_and_spread(values, digits=0, suffix=""):
+    """`median [lowest–highest]` of the rounds' values."""
+    values = [v for v in values if v is not None]
+    if not values:
+        return "–"
+    fmt = f"{{:.{digits}f}}"
+    med = fmt.format(statistics.median(values))
+    return f"{med}{suffix} [{fmt.format(min(values))}–{fmt.format(max(values))}]"
+
+
+def measure(pinocchio, rounds):
+    """`runs[round][robot] = {"plain": json, "native": json, "pinocchio": json}`."""
+    programs = {
+        "plain": lambda robot: [hya("plain"), "bench", "--robot", robot, "--json"],
+        "native": lambda robot: [hya("native"), "bench", "--robot", robot, "--json"],
+        "pinocchio": lambda robot: [pinocchio, robot, str(ROOT / f"robots/urdf/{robot}.urdf")],
+    }
+    order = list(programs)
+    runs = []
+    for round_index in range(rounds):
+        figures = {}
+        for robot in ROBOTS:
+            figures[robot] = {}
+            for name in order:
+                figures[robot][name] = json.loads(run(*programs[name](robot)))
+            order = order[1:] + order[:1]
+        runs.append(figures)
+        print(f"round {round_index + 1}/{rounds} done", flush=True)
+    return runs
+
+
+def reproduce_seconds(quick):
+    """Wall-clock seconds of `hya reproduce` (plain build) into a scratch directory."""
+    with tempfile.TemporaryDirectory() as out:
+        args = [hya("plain"), "reproduce", "--out", out] + (["--quick"] if quick else [])
+        start = time.monotonic()
+        subprocess.run(args, check=True, capture_output=True, cwd=ROOT)
+        return time.monotonic() - start
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pinocchio", required=True, help="the pinocchio_bench binary")
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--no-reproduce", action="store_true", help="skip timing `hya reproduce`")
     parser.add_argument("--out", default=str(ROOT / "BENCHMARKS.md"))
+    parser.add_argument("--from-json", help="write BENCHMARKS.md from a saved run's raw figures instead of measuring")
     args = parser.parse_args()
-    # target-cpu=native, like the Pinocchio build; a target directory of its own, so ordinary
-    # builds keep theirs.
-    env = dict(os.environ, RUSTFLAGS="-C target-cpu=native", CARGO_TARGET_DIR=str(TARGET))
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "hya-cli"], check=True, cwd=ROOT, env=env)
-    hya_runs = {r: [] for r in ROBOTS}
-    pin_runs = {r: [] for r in ROBOTS}
-    for round_index in range(args.rounds):
-        for robot in ROBOTS:
-            hya_runs[robot].append(json.loads(run(str(TARGET / "release/hya"), "bench", "--robot", robot, "--json")))
-            pin_runs[robot].append(json.loads(run(args.pinocchio, robot, str(ROOT / f"robots/urdf/{robot}.urdf"))))
-        print(f"round {round_index + 1}/{args.rounds} done", flush=True)
+    for build, (target, flags) in BUILDS.items():
+        env = {k: v for k, v in os.environ.items() if k != "RUSTFLAGS"}
+        env.update(CARGO_TARGET_DIR=str(target), **flags)
+        print(f"building hya ({build})", flush=True)
+        subprocess.run(["cargo", "build", "--release", "-q", "-p", "hya-cli"], check=True, cwd=ROOT, env=env)
+    if args.from_json:
+        saved = json.loads(Path(args.from_json).read_text())
+        runs, reproduce = saved["runs"], saved["reproduce"]
+    else:
+        runs = measure(args.pinocchio, args.rounds)
+        reproduce = None if args.no_reproduce else (reproduce_seconds(False), reproduce_seconds(True))
+        RAW.parent.mkdir(exist_ok=True)
+        RAW.write_text(json.dumps({"runs": runs, "reproduce": reproduce}))
+        print(f"raw figures in {RAW}", flush=True)
 
-    def med(runs, key):
-        values = [r[key] for r in runs if r.get(key) is not None]
-        return statistics.median(values) if values else None
+    def each(robot, program, key):
+        return [r[robot][program].get(key) for r in runs]
 
+    def ratios(robot, numerator, denominator):
+        """Per-round ratios `numerator / denominator`, each a (program, key) pair."""
+        out = []
+        for r in runs:
+            top, bottom = r[robot][numerator[0]].get(numerator[1]), r[robot][denominator[0]].get(denominator[1])
+            out.append(top / bottom if top and bottom else None)
+        return out
+
+    def med(values):
+        return statistics.median([v for v in values if v is not None])
+
+    build_features = {b: runs[0]["hya"][b]["build"] for b in ("plain", "native")}
     lines = [
         "# Benchmarks",
         "",
         "Generated dynamics against hya's generic tree model and Pinocchio, measured side by side in one run",
-        "by `tools/pinocchio_bench.sh` (medians in ns per call; ratios are Pinocchio or generic over generated).",
+        "by `tools/pinocchio_bench.sh` (`python3 tools/benchmarks.py --from-json tools/.build/benchmarks_raw.json` rewrites it from the saved figures). Figures are ns per call: the median over the rounds, with the lowest",
+        "and highest round in brackets. Ratios are computed within each round and then summarised the same way.",
         "",
-        f"- Date: {datetime.date.today().isoformat()}; CPU: {cpu()}; {os.cpu_count()} cores, shared and noisy.",
-        f"- hya: `RUSTFLAGS='-C target-cpu=native' cargo build --release` ({run('rustc', '--version').strip()}).",
+        f"- Date: {datetime.date.today().isoformat()}; CPU: {cpu()}; {os.cpu_count()} cores, shared and noisy; {run('rustc', '--version').strip()}.",
+        f"- hya **plain**: `cargo build --release`, what the README's commands build (compiled for `{build_features['plain']}`).",
+        f"- hya **native**: `RUSTFLAGS='-C target-cpu=native' cargo build --release` (compiled for `{build_features['native']}`); shown beside, labelled.",
         f"- Pinocchio {os.environ.get('PINOCCHIO_VERSION', '(version unknown)')} from the `pin` wheel: `g++ {os.environ.get('PINOCCHIO_FLAGS', '')}`; its algorithms are header templates, compiled with these flags.",
-        f"- Method: {args.rounds} interleaved rounds per robot; each program reports the median of 31 rounds of 2000 calls over 64 varied states.",
+        f"- Method: {args.rounds} rounds; in each, for every robot, the plain build, the native build and Pinocchio run one after the other (the order rotating); each reports the median of 31 rounds of 2000 calls over 64 varied states.",
         "",
-        "| robot | ID generated | ID generic | Pinocchio rnea | rnea / generated | generic / generated | M generated | M generic | Pinocchio crba | FD generated | FD generic | Pinocchio aba | ID ops (adds, muls, sin_cos) | M ops |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    for build in ("plain", "native"):
+        lines += [
+            f"## hya {build} build against Pinocchio (native)",
+            "",
+            "| robot | ID generated | ID generic | Pinocchio rnea | rnea / generated | M generated | Pinocchio crba | crba / M | FD generated (ABA) | FD generic | Pinocchio aba | aba / FD |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        for robot in ROBOTS:
+            lines.append(
+                f"| {robot} | {median_and_spread(each(robot, build, 'generated_id_ns'))} "
+                f"| {median_and_spread(each(robot, build, 'generic_id_ns'))} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'rnea_ns'))} "
+                f"| {median_and_spread(ratios(robot, ('pinocchio', 'rnea_ns'), (build, 'generated_id_ns')), 1, 'x')} "
+                f"| {median_and_spread(each(robot, build, 'generated_mass_ns'))} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'crba_ns'))} "
+                f"| {median_and_spread(ratios(robot, ('pinocchio', 'crba_ns'), (build, 'generated_mass_ns')), 1, 'x')} "
+                f"| {median_and_spread(each(robot, build, 'generated_fd_ns'))} "
+                f"| {median_and_spread(each(robot, build, 'generic_fd_ns'))} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'aba_ns'))} "
+                f"| {median_and_spread(ratios(robot, ('pinocchio', 'aba_ns'), (build, 'generated_fd_ns')), 1, 'x')} |"
+            )
+        lines.append("")
+    lines += [
+        "## HyA: control tick and simulator",
+        "",
+        "| figure | plain | native |",
+        "|---|---|---|",
+        f"| control tick (two filter steps, estimator ID, controller ID, checks), ns | {median_and_spread(each('hya', 'plain', 'tick_ns'))} | {median_and_spread(each('hya', 'native', 'tick_ns'))} |",
+        f"| `goto_internal`, method lu, lag actuators: simulated s per wall s | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor'))} |",
+        f"| the same on the hydraulic plant | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_hydraulic'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_hydraulic'))} |",
+    ]
+    if reproduce:
+        lines.append(f"| `hya reproduce` (full; `--quick`), wall s, plain build, once after the rounds | {reproduce[0]:.0f} ({reproduce[1]:.0f} quick) | – |")
+    lines += ["", "## Operation counts of the generated code", ""]
+    lines += [
+        "After constant folding, common-subexpression and dead-code elimination (`hya generate ROBOT.urdf --name X --stats`):",
+        "adds, multiplies, divisions, `sin_cos` lanes.",
+        "",
+        "| robot | inverse dynamics | mass matrix | forward dynamics (ABA) |",
+        "|---|---|---|---|",
+    ]
+    fmt_ops = lambda c: f"{c[0]} / {c[1]} / {c[2]} / {c[3]}"
     for robot in ROBOTS:
-        h, p = hya_runs[robot], pin_runs[robot]
-        gid, generic_id, rnea = med(h, "generated_id_ns"), med(h, "generic_id_ns"), med(p, "rnea_ns")
-        counts = stats(robot)
-        id_ops = counts["inverse_dynamics"]
-        m_ops = counts["mass_matrix"]
-        lines.append(
-            f"| {robot} | {gid:.0f} | {generic_id:.0f} | {rnea:.0f} | {rnea / gid:.1f}x | {generic_id / gid:.1f}x | "
-            f"{med(h, 'generated_mass_ns'):.0f} | {med(h, 'generic_mass_ns'):.0f} | {med(p, 'crba_ns'):.0f} | "
-            f"{med(h, 'generated_fd_ns'):.0f} | {med(h, 'generic_fd_ns'):.0f} | {med(p, 'aba_ns'):.0f} | "
-            f"{id_ops[0]}, {id_ops[1]}, {id_ops[2]} | {m_ops[0]}, {m_ops[1]}, {m_ops[2]} |"
-        )
-    tick = med(hya_runs["hya"], "tick_ns")
-    realtime = med(hya_runs["hya"], "sim_realtime_factor_hydraulic")
-    lines += [
-        "",
-        f"HyA control tick (two filter steps, estimator inverse dynamics, controller inverse dynamics): **{tick:.0f} ns**.",
+        c = stats(robot)
+        lines.append(f"| {robot} | {fmt_ops(c['inverse_dynamics'])} | {fmt_ops(c['mass_matrix'])} | {fmt_ops(c['forward_dynamics'])} |")
+    lines.append("")
+    if NOTES.exists():
+        lines += [NOTES.read_text().rstrip(), ""]
+
+    # The targets of the speed issue, on HyA, in the plain build (the one users get).
+    h = lambda key: med(each("hya", "plain", key))
+    rnea_ratio = med(ratios("hya", ("pinocchio", "rnea_ns"), ("plain", "generated_id_ns")))
+    aba_ratio = med(ratios("hya", ("pinocchio", "aba_ns"), ("plain", "generated_fd_ns")))
+    def verdict(ok):
+        return "met" if ok else "**missed**"
+
+    rows = [
+        ("generated ID ≤ 100 ns", f"{h('generated_id_ns'):.0f} ns", h("generated_id_ns") <= 100),
+        ("generated ID ≥ 10x Pinocchio's rnea", f"{rnea_ratio:.1f}x", rnea_ratio >= 10),
+        ("mass matrix ≤ 100 ns", f"{h('generated_mass_ns'):.0f} ns", h("generated_mass_ns") <= 100),
+        ("forward dynamics ≤ 300 ns", f"{h('generated_fd_ns'):.0f} ns", h("generated_fd_ns") <= 300),
+        ("forward dynamics ≥ 5x Pinocchio's aba", f"{aba_ratio:.1f}x", aba_ratio >= 5),
+        ("control tick ≤ 300 ns", f"{h('tick_ns'):.0f} ns", h("tick_ns") <= 300),
+        ("simulation ≥ 500x real time (lag)", f"{h('sim_realtime_factor'):.0f}x", h("sim_realtime_factor") >= 500),
+        ("simulation ≥ 100x real time (hydraulic)", f"{h('sim_realtime_factor_hydraulic'):.0f}x", h("sim_realtime_factor_hydraulic") >= 100),
     ]
-    if realtime:
-        lines.append(f"Simulation of `goto_internal` (method lu, 5 kHz RK4 plant): **{realtime:.0f}x** real time.")
-    hya_id = med(hya_runs["hya"], "generated_id_ns")
-    rnea_ratio = med(pin_runs["hya"], "rnea_ns") / hya_id
-    generic_ratio = med(hya_runs["hya"], "generic_id_ns") / hya_id
-    verdict = lambda ok: "met" if ok else "**missed**"
+    if reproduce:
+        rows.append(("`hya reproduce` < 1 min", f"{reproduce[0]:.0f} s", reproduce[0] < 60))
     lines += [
-        "",
-        "## Targets (HyA, this run)",
+        "## Targets (HyA, plain build, medians of this run)",
         "",
         "| target | measured | verdict |",
         "|---|---|---|",
-        f"| generated ID ≥ 4x faster than Pinocchio's rnea | {rnea_ratio:.1f}x | {verdict(rnea_ratio >= 4)} |",
-        f"| generated ID ≥ 3x faster than the generic path | {generic_ratio:.1f}x | {verdict(generic_ratio >= 3)} |",
-        f"| control tick < 500 ns | {tick:.0f} ns | {verdict(tick < 500)} |",
-        f"| goto_internal ≥ 200x real time | {realtime:.0f}x | {verdict(realtime >= 200)} |" if realtime else "",
-    ]
-    lines += [
-        "",
-        "FD generated: the generated mass matrix and bias forces with a Cholesky solve; Pinocchio's aba is",
-        "the articulated-body algorithm. Operation counts are of the generated code after constant folding",
-        "and dead-code elimination (`hya generate ROBOT.urdf --name X --stats`).",
+        *[f"| {name} | {value} | {verdict(ok)} |" for name, value, ok in rows],
         "",
     ]
     Path(args.out).write_text("\n".join(lines))

@@ -109,6 +109,7 @@ def main():
     parser.add_argument("--no-reproduce", action="store_true", help="skip timing `hya reproduce`")
     parser.add_argument("--out", default=str(ROOT / "BENCHMARKS.md"))
     parser.add_argument("--from-json", help="write BENCHMARKS.md from a saved run's raw figures instead of measuring")
+    parser.add_argument("--python", help="a Python with hya and pin installed: adds tools/python_bench.py's table")
     args = parser.parse_args()
     for build, (target, flags) in BUILDS.items():
         env = {k: v for k, v in os.environ.items() if k != "RUSTFLAGS"}
@@ -144,7 +145,7 @@ def main():
         "# Benchmarks",
         "",
         "Generated dynamics against hya's generic tree model and Pinocchio, measured side by side in one run",
-        "by `tools/pinocchio_bench.sh` (`python3 tools/benchmarks.py --from-json tools/.build/benchmarks_raw.json` rewrites it from the saved figures). Figures are ns per call: the median over the rounds, with the lowest",
+        "by `tools/pinocchio_bench.sh [--python PY]` (`python3 tools/benchmarks.py --pinocchio - --from-json tools/.build/benchmarks_raw.json [--python PY]` rewrites it from the saved figures). Figures are ns per call: the median over the rounds, with the lowest",
         "and highest round in brackets. Ratios are computed within each round and then summarised the same way.",
         "",
         f"- Date: {datetime.date.today().isoformat()}; CPU: {cpu()}; {os.cpu_count()} cores, shared and noisy; {run('rustc', '--version').strip()}.",
@@ -200,6 +201,20 @@ def main():
         c = stats(robot)
         lines.append(f"| {robot} | {fmt_ops(c['inverse_dynamics'])} | {fmt_ops(c['mass_matrix'])} | {fmt_ops(c['forward_dynamics'])} |")
     lines.append("")
+    if args.python:
+        print("timing from Python", flush=True)
+        table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"))
+        lines += [
+            "## From Python",
+            "",
+            "Per call from Python (the wheel `pip install ./hya-py` builds, plain flags), against `pin.rnea` from",
+            "the `pin` wheel; and the batch path's cost per state for 1024 states in one call (NumPy arrays,",
+            "the GIL released) against `pin.rnea` called in a Python loop. Medians of 15 interleaved rounds",
+            "(`tools/python_bench.py`, run after the rounds above).",
+            "",
+            table.rstrip(),
+            "",
+        ]
     if NOTES.exists():
         lines += [NOTES.read_text().rstrip(), ""]
 

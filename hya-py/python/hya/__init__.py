@@ -1,0 +1,31 @@
+"""hya: model-based control of robot arms under disturbances.
+
+Rigid-body dynamics of the shipped arms (generated code) and of any URDF, on NumPy arrays; the
+nonlinear disturbance estimator of Lu, Sandy & Buchli and the observers it is compared with; the
+computed-torque controller; and the simulator of the paper's experiments. Units: rad, rad/s,
+rad/s², N·m, m, s.
+"""
+
+from ._hya import (
+    ComputedTorque,
+    DisturbanceEstimator,
+    ExtendedStateObserver,
+    Model,
+    MomentumObserver,
+    NonlinearDisturbanceObserver,
+    ThirdOrderFilter,
+    UrdfError,
+    simulate,
+)
+
+__all__ = [
+    "ComputedTorque",
+    "DisturbanceEstimator",
+    "ExtendedStateObserver",
+    "Model",
+    "MomentumObserver",
+    "NonlinearDisturbanceObserver",
+    "ThirdOrderFilter",
+    "UrdfError",
+    "simulate",
+]

@@ -1,0 +1,516 @@
+//! The disturbance estimator of Lu, Sandy & Buchli, the observers it is compared with, the
+//! third-order filter and the computed-torque controller, stepped one tick per call or run over
+//! a whole log.
+
+use hya_core::{
+    ComputedTorque as CoreComputedTorque, Dynamics, FilterParams, Gains, JointVector, Measurement, Reference,
+    ThirdOrderFilter as CoreFilter,
+};
+use std::sync::{Mutex, PoisonError};
+
+use hya_sim::{ForJoints, Method, SimError};
+use numpy::PyArrayDyn;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::arrays::{output, rows, same_rows, Rows};
+use crate::model::Model;
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// An observer of any joint count, on slices.
+trait SliceObserver: Send {
+    fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String>;
+    fn disturbance(&self) -> Vec<f64>;
+}
+
+struct Fixed<const N: usize>(hya_sim::run::Observer<'static, N>);
+
+impl<const N: usize> SliceObserver for Fixed<N> {
+    fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String> {
+        let measurement = Measurement {
+            position: JointVector::from_column_slice(q),
+            velocity: qd.map(JointVector::from_column_slice),
+            torque: JointVector::from_column_slice(tau),
+        };
+        let estimate = self.0.update(&measurement).map_err(|e| e.to_string())?;
+        d_hat.copy_from_slice(estimate.as_slice());
+        Ok(())
+    }
+    fn disturbance(&self) -> Vec<f64> {
+        self.0.disturbance().as_slice().to_vec()
+    }
+}
+
+/// Builds an observer for `N` joints on the nominal model of `robot`.
+struct Build<'a> {
+    method: Method,
+    robot: &'a str,
+    params: Option<FilterParams>,
+    bandwidth_dt: (f64, f64),
+    q0: &'a [f64],
+    qd0: &'a [f64],
+    tau0: &'a [f64],
+}
+
+impl ForJoints for Build<'_> {
+    type Output = Box<dyn SliceObserver>;
+    fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
+        let nominal = hya_sim::nominal_dynamics::<N>(self.robot)?;
+        let first = Measurement {
+            position: JointVector::from_column_slice(self.q0),
+            velocity: Some(JointVector::from_column_slice(self.qd0)),
+            torque: JointVector::from_column_slice(self.tau0),
+        };
+        let observer: hya_sim::run::Observer<'static, N> = match (self.method, self.params) {
+            // The filters as given (the simulator's `lu` takes the paper's ζ and ω1 = ω2).
+            (Method::Lu, Some(params)) => {
+                let setup = |source| SimError::Setup { setting: "DisturbanceEstimator".into(), source };
+                Box::new(
+                    hya_core::DisturbanceEstimator::new(nominal, params, first.position, first.torque)
+                        .map_err(setup)?,
+                )
+            }
+            (method, _) => match hya_sim::run::observer(method, nominal, self.bandwidth_dt, &first)? {
+                Some((observer, _rates)) => observer,
+                None => return Err(SimError::Config(format!("method `{}` has no observer", method.name()))),
+            },
+        };
+        Ok(Box::new(Fixed(observer)))
+    }
+}
+
+/// Steps `observer` over every row of a log, without the GIL; `d̂` for every row.
+fn run_log(
+    py: Python<'_>,
+    observer: &mut dyn SliceObserver,
+    n: usize,
+    q: &Rows,
+    qd: Option<&Rows>,
+    tau: &Rows,
+) -> PyResult<Vec<f64>> {
+    py.allow_threads(|| {
+        let mut out = vec![0.0; q.count * n];
+        for (k, d_hat) in out.chunks_mut(n).enumerate() {
+            observer
+                .update(q.row(k, n), qd.map(|v| v.row(k, n)), tau.row(k, n), d_hat)
+                .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
+        }
+        Ok(out)
+    })
+}
+
+/// The shared body of every observer class: the model's joint count and the observer.
+struct ObserverCore {
+    dof: usize,
+    needs_velocity: bool,
+    /// Behind a mutex only to be `Sync`, as Python classes must be: every use holds `&mut`.
+    inner: Mutex<Box<dyn SliceObserver>>,
+}
+
+impl ObserverCore {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: &Model,
+        method: Method,
+        params: Option<FilterParams>,
+        bandwidth_dt: (f64, f64),
+        q0: Option<&Bound<'_, PyAny>>,
+        qd0: Option<&Bound<'_, PyAny>>,
+        tau0: Option<&Bound<'_, PyAny>>,
+        needs_velocity: bool,
+    ) -> PyResult<Self> {
+        let n = model.dof_count();
+        let vector = |name: &str, value: Option<&Bound<'_, PyAny>>| -> PyResult<Option<Vec<f64>>> {
+            value.map(|v| rows(name, v, n).and_then(|r| one_row(name, r))).transpose()
+        };
+        let q0 = vector("q0", q0)?.unwrap_or_else(|| vec![0.0; n]);
+        let qd0 = vector("qd0", qd0)?.unwrap_or_else(|| vec![0.0; n]);
+        let tau0 = match vector("tau0", tau0)? {
+            Some(tau0) => tau0,
+            None => model.gravity_of(&q0),
+        };
+        let build = Build { method, robot: model.source(), params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
+        let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
+        Ok(Self { dof: n, needs_velocity, inner: Mutex::new(inner) })
+    }
+
+    fn observer(&mut self) -> &mut dyn SliceObserver {
+        self.inner.get_mut().unwrap_or_else(PoisonError::into_inner).as_mut()
+    }
+
+    fn disturbance(&self) -> Vec<f64> {
+        self.inner.lock().unwrap_or_else(PoisonError::into_inner).disturbance()
+    }
+
+    fn update<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+        qd: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof;
+        let q = one_row("q", rows("q", q, n)?)?;
+        let tau = one_row("tau", rows("tau", tau, n)?)?;
+        let qd = self.velocity(qd.map(|v| rows("qd", v, n).and_then(|r| one_row("qd", r))).transpose()?)?;
+        let mut d_hat = vec![0.0; n];
+        self.observer().update(&q, qd.as_deref(), &tau, &mut d_hat).map_err(PyValueError::new_err)?;
+        output(py, d_hat, 1, false, &[n])
+    }
+
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        q_log: &Bound<'py, PyAny>,
+        tau_log: &Bound<'py, PyAny>,
+        qd_log: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof;
+        let [q, tau] = same_rows([("q_log", q_log), ("tau_log", tau_log)], n)?;
+        let qd = qd_log.map(|v| rows("qd_log", v, n)).transpose()?;
+        if let Some(rows) = qd.as_ref().filter(|r| r.count != q.count) {
+            return Err(PyValueError::new_err(format!("qd_log: {} rows, but q_log has {}", rows.count, q.count)));
+        }
+        if self.needs_velocity && qd.is_none() {
+            return Err(PyValueError::new_err("qd_log: this observer needs measured velocities"));
+        }
+        let out = run_log(py, self.observer(), n, &q, qd.as_ref(), &tau)?;
+        output(py, out, q.count, true, &[n])
+    }
+
+    fn velocity(&self, qd: Option<Vec<f64>>) -> PyResult<Option<Vec<f64>>> {
+        if self.needs_velocity && qd.is_none() {
+            return Err(PyValueError::new_err("qd: this observer needs the measured velocity"));
+        }
+        Ok(qd)
+    }
+}
+
+/// The single row of an argument that must not be a batch.
+fn one_row(name: &str, rows: Rows) -> PyResult<Vec<f64>> {
+    if rows.batched {
+        return Err(PyValueError::new_err(format!("{name}: one state expected, shape (dof,)")));
+    }
+    Ok(rows.data)
+}
+
+/// The disturbance estimator of Lu, Sandy & Buchli, "Nonlinear disturbance attenuation control
+/// of hydraulic robotics" (the paper's eq. 8–10):
+///
+///     d̂ = ID(q̂, q̂̇, q̂̈) − τ̂,   ID(q, q̇, q̈) = M(q) q̈ + C(q, q̇) + G(q)
+///
+/// where (q̂, q̂̇, q̂̈) are the states of the third-order filter
+///
+///     H(s) = ω1 ω2² / ((s + ω1)(s² + 2 ζ ω2 s + ω2²))
+///
+/// driven by the measured joint angles q (rad), and τ̂ the output of an identical filter driven
+/// by the measured joint torques τ (N·m): no numerical differentiation. d̂ (N·m) estimates
+/// d = M q̈ + C + G − τ, everything acting on the joints besides the actuators (friction, loads,
+/// model error), seen through the filter; the controller subtracts it (`ComputedTorque`).
+///
+/// Args:
+///     model: a hya.Model (its source, a shipped arm or a URDF, gives the estimator's model).
+///     zeta, omega1, omega2: the filter's damping ratio and corner frequencies, rad/s
+///         (the paper's 0.8, 50, 50 by default).
+///     dt: the control period, s (0.001).
+///     q0, tau0: the state the estimator starts at rest in (zeros, and G(q0)).
+#[pyclass(module = "hya")]
+pub struct DisturbanceEstimator {
+    core: ObserverCore,
+}
+
+#[pymethods]
+impl DisturbanceEstimator {
+    #[new]
+    #[pyo3(signature = (model, zeta=hya_core::filter::PAPER_ZETA, omega1=hya_core::filter::PAPER_BANDWIDTH_RAD_S, omega2=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001, q0=None, tau0=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: &Model,
+        zeta: f64,
+        omega1: f64,
+        omega2: f64,
+        dt: f64,
+        q0: Option<&Bound<'_, PyAny>>,
+        tau0: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
+        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), q0, None, tau0, false)?;
+        Ok(Self { core })
+    }
+
+    /// One control tick: filters the measured angles q (rad) and torques tau (N·m) and
+    /// returns the new d̂ (N·m). A non-finite input raises ValueError and changes nothing.
+    fn update<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        self.core.update(py, q, tau, None)
+    }
+
+    /// Steps every row of a log (shape (T, dof) each, one row per control tick) from the
+    /// current state, as `update` row by row would, and returns d̂ for every row, (T, dof).
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        q_log: &Bound<'py, PyAny>,
+        tau_log: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        self.core.run(py, q_log, tau_log, None)
+    }
+
+    /// The latest d̂, N·m.
+    #[getter]
+    fn disturbance(&self) -> Vec<f64> {
+        self.core.disturbance()
+    }
+}
+
+/// Declares an observer class: its paper, its constructor's extra parameter, and whether it
+/// reads velocities.
+macro_rules! observer_class {
+    ($(#[$doc:meta])* $name:ident, $method:expr, $needs_velocity:expr) => {
+        $(#[$doc])*
+        #[pyclass(module = "hya")]
+        pub struct $name {
+            core: ObserverCore,
+        }
+
+        #[pymethods]
+        impl $name {
+            #[new]
+            #[pyo3(signature = (model, bandwidth=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001, q0=None, qd0=None, tau0=None))]
+            fn new(
+                model: &Model,
+                bandwidth: f64,
+                dt: f64,
+                q0: Option<&Bound<'_, PyAny>>,
+                qd0: Option<&Bound<'_, PyAny>>,
+                tau0: Option<&Bound<'_, PyAny>>,
+            ) -> PyResult<Self> {
+                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), q0, qd0, tau0, $needs_velocity)?;
+                Ok(Self { core })
+            }
+
+            /// One control tick from the measured angles q (rad), torques tau (N·m) and, where
+            /// the observer needs them, velocities qd (rad/s); returns the new d̂ (N·m).
+            #[pyo3(signature = (q, tau, qd=None))]
+            fn update<'py>(
+                &mut self,
+                py: Python<'py>,
+                q: &Bound<'py, PyAny>,
+                tau: &Bound<'py, PyAny>,
+                qd: Option<&Bound<'py, PyAny>>,
+            ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+                self.core.update(py, q, tau, qd)
+            }
+
+            /// Steps every row of a log ((T, dof) each) and returns d̂ for every row.
+            #[pyo3(signature = (q_log, tau_log, qd_log=None))]
+            fn run<'py>(
+                &mut self,
+                py: Python<'py>,
+                q_log: &Bound<'py, PyAny>,
+                tau_log: &Bound<'py, PyAny>,
+                qd_log: Option<&Bound<'py, PyAny>>,
+            ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+                self.core.run(py, q_log, tau_log, qd_log)
+            }
+
+            /// The latest d̂, N·m.
+            #[getter]
+            fn disturbance(&self) -> Vec<f64> {
+                self.core.disturbance()
+            }
+        }
+    };
+}
+
+observer_class!(
+    /// The generalized-momentum observer (De Luca & Mattone, ICRA 2003; Haddadin et al.,
+    /// T-RO 2017), per-joint gain K_O = bandwidth (1/s):
+    ///
+    ///     p = M(q) q̇,   r = K_O (p − ∫(τ + Cᵀq̇ − G + r) dt − p0),   d̂ = r = K_O / (s + K_O) d
+    ///
+    /// It reads measured velocities (qd).
+    MomentumObserver,
+    Method::Momentum,
+    true
+);
+
+observer_class!(
+    /// The nonlinear disturbance observer of Chen et al. (IEEE TIE 47(4), 2000) with the gain
+    /// Y = β M(q0) of Mohammadi et al. (2013), β = bandwidth (1/s):
+    ///
+    ///     p = Y q̇,   L = Y M⁻¹(q),   ż = −L z + L (C + G − τ − p),   d̂ = z + p
+    ///
+    /// so d̂ converges to d at rate β near q0 (equal bandwidth with the other observers). It
+    /// reads measured velocities (qd).
+    NonlinearDisturbanceObserver,
+    Method::Chen,
+    true
+);
+
+observer_class!(
+    /// The model-assisted extended-state observer (Han; Gao's bandwidth parameterisation), per
+    /// joint, all three poles at −ω, ω = bandwidth (rad/s):
+    ///
+    ///     ż1 = z2 + 3ω (q − z1),   ż2 = z3 + [M⁻¹(τ − C − G)]_i + 3ω² (q − z1),
+    ///     ż3 = ω³ (q − z1),   d̂ = M(q) z3
+    ///
+    /// Like the paper's method it needs only the angles q, not velocities.
+    ExtendedStateObserver,
+    Method::Eso,
+    false
+);
+
+/// The paper's third-order filter, one channel per entry of x0, discretised exactly (zero-order
+/// hold) at the period dt:
+///
+///     H(s) = ω1 ω2² / ((s + ω1)(s² + 2 ζ ω2 s + ω2²))
+///
+/// Each step returns the filtered signal, its first and its second derivative.
+#[pyclass(module = "hya")]
+pub struct ThirdOrderFilter {
+    channels: Vec<CoreFilter<1>>,
+}
+
+#[pymethods]
+impl ThirdOrderFilter {
+    #[new]
+    #[pyo3(signature = (x0, zeta=hya_core::filter::PAPER_ZETA, omega1=hya_core::filter::PAPER_BANDWIDTH_RAD_S, omega2=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001))]
+    fn new(x0: Vec<f64>, zeta: f64, omega1: f64, omega2: f64, dt: f64) -> PyResult<Self> {
+        let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
+        let channels = x0
+            .iter()
+            .map(|&x| CoreFilter::new(params, JointVector::<1>::new(x)).map_err(value_error))
+            .collect::<PyResult<Vec<_>>>()?;
+        Ok(Self { channels })
+    }
+
+    /// One step with input u (one value per channel): returns (x, ẋ, ẍ), each (channels,).
+    fn step(&mut self, u: Vec<f64>) -> PyResult<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        if u.len() != self.channels.len() {
+            return Err(PyValueError::new_err(format!("u: {} values, expected {}", u.len(), self.channels.len())));
+        }
+        // Peek every channel first, so a bad input changes no channel.
+        let next = self
+            .channels
+            .iter()
+            .zip(&u)
+            .map(|(f, &x)| f.peek("u", &JointVector::<1>::new(x)).map_err(value_error))
+            .collect::<PyResult<Vec<_>>>()?;
+        let mut out = (Vec::new(), Vec::new(), Vec::new());
+        for ((filter, state), &x) in self.channels.iter_mut().zip(next).zip(&u) {
+            out.0.push(state.x1[0]);
+            out.1.push(state.x2[0]);
+            out.2.push(state.x3[0]);
+            filter.commit(state, JointVector::<1>::new(x));
+        }
+        Ok(out)
+    }
+}
+
+/// Dynamics-agnostic view of the controller for any joint count.
+trait SliceController: Send + Sync {
+    fn command(&self, q: &[f64], qd: &[f64], reference: [&[f64]; 3], d_hat: Option<&[f64]>)
+        -> Result<Vec<f64>, String>;
+}
+
+struct FixedController<const N: usize>(CoreComputedTorque<N, Box<dyn Dynamics<N> + Send + Sync>>);
+
+impl<const N: usize> SliceController for FixedController<N> {
+    fn command(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        reference: [&[f64]; 3],
+        d_hat: Option<&[f64]>,
+    ) -> Result<Vec<f64>, String> {
+        let v = JointVector::<N>::from_column_slice;
+        let reference =
+            Reference { position: v(reference[0]), velocity: v(reference[1]), acceleration: v(reference[2]) };
+        let d_hat = d_hat.map(v);
+        let command = self.0.command(&v(q), &v(qd), &reference, d_hat.as_ref()).map_err(|e| e.to_string())?;
+        Ok(command.torque.as_slice().to_vec())
+    }
+}
+
+struct BuildController<'a> {
+    robot: &'a str,
+    kp: &'a [f64],
+    kd: &'a [f64],
+    limit: Option<&'a [f64]>,
+}
+
+impl ForJoints for BuildController<'_> {
+    type Output = Box<dyn SliceController>;
+    fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
+        let setup = |source| SimError::Setup { setting: "ComputedTorque".into(), source };
+        let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
+        let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
+        let mut controller = CoreComputedTorque::new(hya_sim::nominal_dynamics::<N>(self.robot)?, gains);
+        if let Some(limit) = self.limit {
+            controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
+        }
+        Ok(Box::new(FixedController(controller)))
+    }
+}
+
+/// The computed-torque controller with disturbance compensation (the paper's eq. 11):
+///
+///     τ = M(q) q̈_des + C(q, q̇) + G(q) − K_D (q̇ − q̇_des) − K_P (q − q_des) − d̂
+///
+/// with diagonal gains kp (N·m/rad) and kd (N·m·s/rad), and per-joint torque limits (N·m) if
+/// given.
+#[pyclass(module = "hya")]
+pub struct ComputedTorque {
+    dof: usize,
+    inner: Box<dyn SliceController>,
+}
+
+#[pymethods]
+impl ComputedTorque {
+    #[new]
+    #[pyo3(signature = (model, kp, kd, torque_limit=None))]
+    fn new(model: &Model, kp: Vec<f64>, kd: Vec<f64>, torque_limit: Option<Vec<f64>>) -> PyResult<Self> {
+        let n = model.dof_count();
+        for (name, list) in [("kp", Some(&kp)), ("kd", Some(&kd)), ("torque_limit", torque_limit.as_ref())] {
+            if let Some(list) = list.filter(|l| l.len() != n) {
+                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
+            }
+        }
+        let build = BuildController { robot: model.source(), kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
+        let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
+        Ok(Self { dof: n, inner })
+    }
+
+    /// The commanded torque (N·m) at the measured (q, qd) for the reference (q_des, qd_des,
+    /// qdd_des; the last two zero if omitted), minus d_hat if given.
+    #[pyo3(signature = (q, qd, q_des, qd_des=None, qdd_des=None, d_hat=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn command(
+        &self,
+        q: Vec<f64>,
+        qd: Vec<f64>,
+        q_des: Vec<f64>,
+        qd_des: Option<Vec<f64>>,
+        qdd_des: Option<Vec<f64>>,
+        d_hat: Option<Vec<f64>>,
+    ) -> PyResult<Vec<f64>> {
+        let n = self.dof;
+        let zeros = vec![0.0; n];
+        let (qd_des, qdd_des) = (qd_des.unwrap_or_else(|| zeros.clone()), qdd_des.unwrap_or_else(|| zeros.clone()));
+        let args = [("q", &q), ("qd", &qd), ("q_des", &q_des), ("qd_des", &qd_des), ("qdd_des", &qdd_des)];
+        for (name, list) in args.into_iter().chain(d_hat.as_ref().map(|d| ("d_hat", d))) {
+            if list.len() != n {
+                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
+            }
+        }
+        self.inner.command(&q, &qd, [&q_des, &qd_des, &qdd_des], d_hat.as_deref()).map_err(PyValueError::new_err)
+    }
+}

@@ -1,0 +1,225 @@
+//! `hya.Model`: rigid-body dynamics of a shipped arm (generated code) or of any URDF (the
+//! run-time model), on NumPy arrays, one state or a batch per call.
+
+use hya_core::model::TreeModel;
+use hya_core::SliceDynamics;
+use hya_robots::RobotInfo;
+use numpy::PyArrayDyn;
+use pyo3::exceptions::{PyKeyError, PyValueError};
+use pyo3::prelude::*;
+
+use crate::arrays::{output, rows, same_rows};
+use crate::UrdfError;
+
+/// A robot's rigid-body dynamics.
+///
+/// Angles in rad, velocities in rad/s, accelerations in rad/s², torques in N·m, lengths in m.
+/// Joints are in the model's order (`joint_names`). Every method takes one state as arrays of
+/// shape `(dof,)`, or `n` states as `(n, dof)`, computed in one call without the GIL. Arrays
+/// of the wrong shape, or holding NaN or infinity, raise `ValueError` naming the argument.
+///
+/// Build one with `Model.builtin(name)` (a shipped arm: generated, unrolled code) or
+/// `Model.from_urdf(path)` (any URDF: the run-time kinematic-tree model).
+#[pyclass(module = "hya", frozen)]
+pub struct Model {
+    /// The shipped robot's name, or the URDF's path.
+    source: String,
+    model: TreeModel,
+    generated: Option<&'static RobotInfo>,
+}
+
+impl Model {
+    /// The shipped robot's name or the URDF's path: what the simulator and estimators take.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// Degrees of freedom.
+    pub fn dof_count(&self) -> usize {
+        self.model.bodies().len()
+    }
+
+    /// `G(q)` of one state of the right length.
+    pub fn gravity_of(&self, q: &[f64]) -> Vec<f64> {
+        let mut g = vec![0.0; q.len()];
+        self.dynamics().gravity_into(q, &mut g);
+        g
+    }
+
+    fn dynamics(&self) -> &(dyn SliceDynamics + Sync) {
+        match self.generated {
+            Some(robot) => robot.generated,
+            None => &self.model,
+        }
+    }
+
+    /// Runs `f(row, out)` for every row into `count × width` outputs, without the GIL for a batch.
+    fn each_row(
+        &self,
+        py: Python<'_>,
+        count: usize,
+        width: usize,
+        f: impl Fn(&(dyn SliceDynamics + Sync), usize, &mut [f64]) -> Result<(), String> + Send + Sync,
+    ) -> PyResult<Vec<f64>> {
+        let dynamics = self.dynamics();
+        let all = || {
+            let mut out = vec![0.0; count * width];
+            for (k, chunk) in out.chunks_mut(width.max(1)).enumerate() {
+                f(dynamics, k, chunk).map_err(PyValueError::new_err)?;
+            }
+            Ok(out)
+        };
+        // One state takes less time than releasing and taking back the GIL.
+        if count == 1 {
+            all()
+        } else {
+            py.allow_threads(all)
+        }
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// The model of a URDF file. Raises `hya.UrdfError` (a `ValueError`) naming the file and
+    /// the link or joint at fault.
+    #[staticmethod]
+    fn from_urdf(path: std::path::PathBuf) -> PyResult<Self> {
+        let loaded = hya_urdf::load_file(&path).map_err(|e| UrdfError::new_err(e.to_string()))?;
+        Ok(Self { source: path.display().to_string(), model: loaded.model, generated: None })
+    }
+
+    /// A shipped arm by name (`Model.builtin_names()`): generated code behind every method.
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<Self> {
+        let robot = hya_robots::find(name).ok_or_else(|| {
+            let known: Vec<&str> = hya_robots::ROBOTS.iter().map(|r| r.name).collect();
+            PyKeyError::new_err(format!("no shipped robot `{name}`; shipped: {}", known.join(", ")))
+        })?;
+        let loaded = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| UrdfError::new_err(e.to_string()))?;
+        Ok(Self { source: name.to_owned(), model: loaded.model, generated: Some(robot) })
+    }
+
+    /// The names of the shipped arms.
+    #[staticmethod]
+    fn builtin_names() -> Vec<&'static str> {
+        hya_robots::ROBOTS.iter().map(|r| r.name).collect()
+    }
+
+    /// Degrees of freedom.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.dof_count()
+    }
+
+    /// The joints' names, in the order of every array's columns.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.model.bodies().iter().map(|b| b.joint.clone()).collect()
+    }
+
+    /// The names of the frames `frame_pose` accepts (every link of the URDF).
+    #[getter]
+    fn frame_names(&self) -> Vec<String> {
+        self.model.frames().iter().map(|f| f.name.clone()).collect()
+    }
+
+    /// Whether the methods run generated code (a shipped arm) or the run-time model.
+    #[getter]
+    fn generated(&self) -> bool {
+        self.generated.is_some()
+    }
+
+    fn __repr__(&self) -> String {
+        let path = if self.generated.is_some() { "generated" } else { "run-time model" };
+        format!("hya.Model({:?}, dof={}, {path})", self.source, self.dof())
+    }
+
+    /// `τ = M(q) q̈ + C(q, q̇) + G(q)`, N·m: the joint torques that produce `q̈` at `(q, q̇)`
+    /// (gravity included, along the URDF's −z at 9.81 m/s²).
+    fn inverse_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        qdd: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let [q, qd, qdd] = same_rows([("q", q), ("qd", qd), ("qdd", qdd)], n)?;
+        let out = self.each_row(py, q.count, n, |d, k, tau| {
+            d.inverse_dynamics_into(q.row(k, n), qd.row(k, n), qdd.row(k, n), tau);
+            Ok(())
+        })?;
+        output(py, out, q.count, q.batched, &[n])
+    }
+
+    /// `M(q)`, kg·m²: the joint-space mass matrix, symmetric positive definite, shape
+    /// `(dof, dof)` (or `(n, dof, dof)`).
+    fn mass_matrix<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let q = rows("q", q, n)?;
+        let out = self.each_row(py, q.count, n * n, |d, k, m| {
+            d.mass_matrix_into(q.row(k, n), m);
+            Ok(())
+        })?;
+        output(py, out, q.count, q.batched, &[n, n])
+    }
+
+    /// `G(q)`, N·m: the torques that hold the arm still at `q`.
+    fn gravity<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let q = rows("q", q, n)?;
+        let out = self.each_row(py, q.count, n, |d, k, g| {
+            d.gravity_into(q.row(k, n), g);
+            Ok(())
+        })?;
+        output(py, out, q.count, q.batched, &[n])
+    }
+
+    /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`, rad/s², by the articulated-body algorithm.
+    fn forward_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let [q, qd, tau] = same_rows([("q", q), ("qd", qd), ("tau", tau)], n)?;
+        let out = self.each_row(py, q.count, n, |d, k, qdd| {
+            d.forward_dynamics_into(q.row(k, n), qd.row(k, n), tau.row(k, n), qdd).map_err(|e| format!("row {k}: {e}"))
+        })?;
+        output(py, out, q.count, q.batched, &[n])
+    }
+
+    /// The pose of frame `name` (a link) in the base frame at `q`: a 4×4 homogeneous matrix
+    /// `[[R, p], [0, 1]]` with `p_base = R p_frame + p` (shape `(n, 4, 4)` for a batch).
+    /// Computed by the run-time model for every robot.
+    fn frame_pose<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        name: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let q = rows("q", q, n)?;
+        if !self.model.frames().iter().any(|f| f.name == name) {
+            return Err(PyKeyError::new_err(format!("no frame `{name}`; frames: {}", self.frame_names().join(", "))));
+        }
+        let model = &self.model;
+        let out = py.allow_threads(|| -> PyResult<Vec<f64>> {
+            let mut out = Vec::with_capacity(q.count * 16);
+            for k in 0..q.count {
+                let pose = model.frame_pose(name, q.row(k, n)).map_err(|e| PyValueError::new_err(e.to_string()))?;
+                // hya's transform maps base coordinates into the frame's (`E`); its transpose
+                // holds the frame's axes in base coordinates.
+                let (rotation, origin) = (pose.rotation.transpose(), pose.translation);
+                for row in 0..3 {
+                    out.extend([rotation[(row, 0)], rotation[(row, 1)], rotation[(row, 2)], origin[row]]);
+                }
+                out.extend([0.0, 0.0, 0.0, 1.0]);
+            }
+            Ok(out)
+        })?;
+        output(py, out, q.count, q.batched, &[4, 4])
+    }
+}

@@ -1,0 +1,116 @@
+"""hya.Model against Pinocchio (an independent implementation) on every shipped arm and on a
+URDF only these tests hold; batches against single calls; errors on bad input."""
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import hya
+from conftest import DATA, urdf_path
+
+ARMS = hya.Model.builtin_names()
+TOL = 1e-9
+
+
+def pinocchio_model(path):
+    model = pin.buildModelFromUrdf(str(path))
+    return model, model.createData()
+
+
+def states(rng, dof, count=8):
+    return [rng.uniform(-1.5, 1.5, dof) for _ in range(3 * count)]
+
+
+def models():
+    """(label, hya model, URDF path): generated and run-time paths of each shipped arm, and the
+    tests' own URDF."""
+    for name in ARMS:
+        yield f"{name}-generated", hya.Model.builtin(name), urdf_path(name)
+        yield f"{name}-urdf", hya.Model.from_urdf(str(urdf_path(name))), urdf_path(name)
+    yield "branched_wrist", hya.Model.from_urdf(str(DATA / "branched_wrist.urdf")), DATA / "branched_wrist.urdf"
+
+
+@pytest.mark.parametrize("label,model,path", list(models()), ids=lambda x: x if isinstance(x, str) else "")
+def test_agrees_with_pinocchio(label, model, path, rng):
+    pm, pd = pinocchio_model(path)
+    assert list(pm.names)[1:] == model.joint_names, label
+    for _ in range(8):
+        q, qd, qdd = (rng.uniform(-1.5, 1.5, model.dof) for _ in range(3))
+        np.testing.assert_allclose(model.inverse_dynamics(q, qd, qdd), pin.rnea(pm, pd, q, qd, qdd), rtol=0, atol=TOL)
+        np.testing.assert_allclose(model.gravity(q), pin.computeGeneralizedGravity(pm, pd, q), rtol=0, atol=TOL)
+        mass = pin.crba(pm, pd, q)
+        mass = np.triu(mass) + np.triu(mass, 1).T
+        np.testing.assert_allclose(model.mass_matrix(q), mass, rtol=0, atol=TOL)
+        tau = rng.uniform(-5, 5, model.dof)
+        np.testing.assert_allclose(model.forward_dynamics(q, qd, tau), pin.aba(pm, pd, q, qd, tau), rtol=1e-9, atol=TOL)
+        pin.framesForwardKinematics(pm, pd, q)
+        for frame in model.frame_names:
+            if not pm.existFrame(frame):
+                continue
+            pose = model.frame_pose(q, frame)
+            reference = pd.oMf[pm.getFrameId(frame)].homogeneous
+            np.testing.assert_allclose(pose, reference, rtol=0, atol=1e-12, err_msg=f"{label}: frame {frame}")
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_a_batch_equals_row_by_row(name, rng):
+    model = hya.Model.builtin(name)
+    n = 17
+    q, qd, qdd = (rng.uniform(-2, 2, (n, model.dof)) for _ in range(3))
+    batch = {
+        "id": model.inverse_dynamics(q, qd, qdd),
+        "mass": model.mass_matrix(q),
+        "gravity": model.gravity(q),
+        "fd": model.forward_dynamics(q, qd, qdd),
+        "pose": model.frame_pose(q, model.frame_names[-1]),
+    }
+    assert batch["id"].shape == (n, model.dof) and batch["mass"].shape == (n, model.dof, model.dof)
+    assert batch["pose"].shape == (n, 4, 4)
+    for k in range(n):
+        # Bit for bit: the batch runs the same code on the same numbers.
+        assert np.array_equal(batch["id"][k], model.inverse_dynamics(q[k], qd[k], qdd[k]))
+        assert np.array_equal(batch["mass"][k], model.mass_matrix(q[k]))
+        assert np.array_equal(batch["gravity"][k], model.gravity(q[k]))
+        assert np.array_equal(batch["fd"][k], model.forward_dynamics(q[k], qd[k], qdd[k]))
+        assert np.array_equal(batch["pose"][k], model.frame_pose(q[k], model.frame_names[-1]))
+
+
+def test_array_likes_are_accepted():
+    model = hya.Model.builtin("hya")
+    as_list = model.gravity([0.0] * 6)
+    as_ints = model.gravity([0] * 6)
+    as_f32 = model.gravity(np.zeros(6, dtype=np.float32))
+    assert as_list.shape == (6,) and np.array_equal(as_list, as_ints) and np.array_equal(as_list, as_f32)
+    assert np.abs(as_list).max() > 1.0  # HyA's gravity torques at zero are not zero
+
+
+def test_bad_shapes_and_non_finite_values_name_the_argument():
+    model = hya.Model.builtin("hya")
+    good = np.zeros(6)
+    with pytest.raises(ValueError, match=r"qd: shape \[5\]"):
+        model.inverse_dynamics(good, np.zeros(5), good)
+    with pytest.raises(ValueError, match=r"q: shape \[2, 3, 6\]"):
+        model.gravity(np.zeros((2, 3, 6)))
+    with pytest.raises(ValueError, match=r"qdd\[2\] = NaN"):
+        model.inverse_dynamics(good, good, [0, 0, np.nan, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"tau\[1, 4\] = inf"):
+        bad = np.zeros((3, 6))
+        bad[1, 4] = np.inf
+        model.forward_dynamics(np.zeros((3, 6)), np.zeros((3, 6)), bad)
+    with pytest.raises(ValueError, match="qd: 2 row"):
+        model.inverse_dynamics(np.zeros((3, 6)), np.zeros((2, 6)), np.zeros((3, 6)))
+    with pytest.raises(ValueError, match="q: expected an array of numbers"):
+        model.gravity("not numbers")
+    with pytest.raises(KeyError, match="no frame `nowhere`"):
+        model.frame_pose(good, "nowhere")
+    with pytest.raises(KeyError, match="no shipped robot `hyb`"):
+        hya.Model.builtin("hyb")
+
+
+def test_a_broken_urdf_names_the_file_and_the_joint():
+    path = DATA / "broken_joint.urdf"
+    with pytest.raises(hya.UrdfError, match="broken_joint.urdf") as error:
+        hya.Model.from_urdf(str(path))
+    assert "bad_axis_joint" in str(error.value)
+    assert isinstance(error.value, ValueError)
+    with pytest.raises(hya.UrdfError, match="missing.urdf"):
+        hya.Model.from_urdf(str(DATA / "missing.urdf"))

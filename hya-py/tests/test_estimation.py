@@ -1,0 +1,95 @@
+"""The estimator, observers, filter and controller: a log run in one call equals stepping it,
+the estimator follows a disturbance it is shown, and bad input is refused without harm."""
+import numpy as np
+import pytest
+
+import hya
+
+
+def log(model, rng, ticks=400):
+    """A smooth joint-angle log about HyA's home and torques with a known offset."""
+    t = np.arange(ticks) * 1e-3
+    home = np.array([0.0, 0.0, -0.78, 0.78, 0.78, 0.0])
+    q = home + 0.05 * np.sin(2 * np.pi * np.outer(t, [0.5, 0.7, 0.9, 1.1, 1.3, 1.5]))
+    tau = model.gravity(q) + rng.normal(0.0, 0.01, q.shape)
+    qd = np.gradient(q, 1e-3, axis=0)
+    return q, qd, tau
+
+
+OBSERVERS = [
+    ("lu", lambda m, q0, qd0, tau0: hya.DisturbanceEstimator(m, q0=q0, tau0=tau0), False),
+    ("momentum", lambda m, q0, qd0, tau0: hya.MomentumObserver(m, q0=q0, qd0=qd0, tau0=tau0), True),
+    ("chen", lambda m, q0, qd0, tau0: hya.NonlinearDisturbanceObserver(m, q0=q0, qd0=qd0, tau0=tau0), True),
+    ("eso", lambda m, q0, qd0, tau0: hya.ExtendedStateObserver(m, q0=q0, qd0=qd0, tau0=tau0), False),
+]
+
+
+@pytest.mark.parametrize("name,make,velocity", OBSERVERS, ids=[o[0] for o in OBSERVERS])
+def test_running_a_log_equals_stepping_it(name, make, velocity, rng):
+    model = hya.Model.builtin("hya")
+    q, qd, tau = log(model, rng)
+    stepped, whole = make(model, q[0], qd[0], tau[0]), make(model, q[0], qd[0], tau[0])
+    by_step = np.array([stepped.update(q[k], tau[k], *((qd[k],) if velocity else ())) for k in range(len(q))])
+    at_once = whole.run(q, tau, *((qd,) if velocity else ()))
+    assert at_once.shape == q.shape
+    assert np.array_equal(by_step, at_once), name
+    assert np.array_equal(np.array(whole.disturbance), at_once[-1])
+
+
+def test_the_estimator_follows_a_constant_disturbance_through_its_filter():
+    # A held arm whose measured torque falls short of gravity by a constant δ: d = G − τ = δ.
+    model = hya.Model.builtin("hya")
+    q0 = np.array([0.0, 0.0, -0.78, 0.78, 0.78, 0.0])
+    delta = np.array([3.0, -2.0, 1.0, 0.5, -0.25, 0.1])
+    estimator = hya.DisturbanceEstimator(model, q0=q0)
+    ticks = 500
+    d_hat = estimator.run(np.tile(q0, (ticks, 1)), np.tile(model.gravity(q0) - delta, (ticks, 1)))
+    # The unit step response of the paper's filter at 0.5 s is within 1e-6 of one.
+    np.testing.assert_allclose(d_hat[-1], delta, rtol=0, atol=1e-5)
+    assert np.all(np.abs(d_hat[5]) < np.abs(delta) * 0.1)  # and it gets there through the filter
+
+
+def test_the_filter_reproduces_a_ramp_and_its_derivatives():
+    f = hya.ThirdOrderFilter([0.0, 1.0], dt=1e-3)
+    for k in range(1, 2001):
+        x, xd, xdd = f.step([0.5 * k * 1e-3, 1.0])
+    # Past the transient a ramp of slope 0.5 comes out delayed by the group delay, slope intact.
+    assert abs(xd[0] - 0.5) < 1e-9 and abs(xdd[0]) < 1e-9
+    assert x[1] == pytest.approx(1.0, abs=1e-9) and xd[1] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_bad_input_is_refused_and_changes_nothing():
+    model = hya.Model.builtin("hya")
+    q0 = np.array([0.0, 0.0, -0.78, 0.78, 0.78, 0.0])
+    estimator = hya.DisturbanceEstimator(model, q0=q0)
+    before = list(estimator.disturbance)
+    with pytest.raises(ValueError, match="tau"):
+        estimator.update(q0, [np.nan] * 6)
+    with pytest.raises(ValueError, match=r"q: shape \[5\]"):
+        estimator.update(q0[:5], np.zeros(6))
+    assert list(estimator.disturbance) == before
+    with pytest.raises(ValueError, match="qd"):
+        hya.MomentumObserver(model, q0=q0).update(q0, np.zeros(6))
+    with pytest.raises(ValueError, match="zeta"):
+        hya.DisturbanceEstimator(model, zeta=-1.0)
+    with pytest.raises(ValueError, match="u: 1 values, expected 2"):
+        hya.ThirdOrderFilter([0.0, 0.0]).step([1.0])
+
+
+def test_computed_torque_cancels_the_estimate():
+    model = hya.Model.builtin("hya")
+    q = np.array([0.1, -0.2, -0.7, 0.8, 0.7, 0.1])
+    controller = hya.ComputedTorque(model, kp=[100.0] * 6, kd=[10.0] * 6)
+    d_hat = [1.0, -2.0, 0.5, 0.0, 0.25, -0.1]
+    without = np.array(controller.command(q, np.zeros(6), q))
+    with_estimate = np.array(controller.command(q, np.zeros(6), q, d_hat=d_hat))
+    # On the reference, at rest: gravity, then gravity minus d̂.
+    np.testing.assert_allclose(without, model.gravity(q), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(with_estimate, model.gravity(q) - d_hat, rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="kd: 5 values, expected 6"):
+        hya.ComputedTorque(model, kp=[1.0] * 6, kd=[1.0] * 5)
+
+
+def test_help_shows_the_papers_equation():
+    doc = hya.DisturbanceEstimator.__doc__
+    assert "d̂ = ID(q̂, q̂̇, q̂̈) − τ̂" in doc and "ω1 ω2²" in doc

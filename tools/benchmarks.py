@@ -118,12 +118,22 @@ def main():
         subprocess.run(["cargo", "build", "--release", "-q", "-p", "hya-cli"], check=True, cwd=ROOT, env=env)
     if args.from_json:
         saved = json.loads(Path(args.from_json).read_text())
-        runs, reproduce = saved["runs"], saved["reproduce"]
+        runs, reproduce, meta = saved["runs"], saved["reproduce"], saved["meta"]
     else:
+        # What the figures were measured on, kept with them for a later rewrite.
+        meta = {
+            "date": datetime.date.today().isoformat(),
+            "cpu": cpu(),
+            "cores": os.cpu_count(),
+            "rustc": run("rustc", "--version").strip(),
+            "pinocchio": os.environ.get("PINOCCHIO_VERSION", "(version unknown)"),
+            "pinocchio_flags": os.environ.get("PINOCCHIO_FLAGS", "(flags unknown)"),
+            "rounds": args.rounds,
+        }
         runs = measure(args.pinocchio, args.rounds)
         reproduce = None if args.no_reproduce else (reproduce_seconds(False), reproduce_seconds(True))
         RAW.parent.mkdir(exist_ok=True)
-        RAW.write_text(json.dumps({"runs": runs, "reproduce": reproduce}))
+        RAW.write_text(json.dumps({"runs": runs, "reproduce": reproduce, "meta": meta}))
         print(f"raw figures in {RAW}", flush=True)
 
     def each(robot, program, key):
@@ -148,11 +158,11 @@ def main():
         "by `tools/pinocchio_bench.sh [--python PY]` (`python3 tools/benchmarks.py --pinocchio - --from-json tools/.build/benchmarks_raw.json [--python PY]` rewrites it from the saved figures). Figures are ns per call: the median over the rounds, with the lowest",
         "and highest round in brackets. Ratios are computed within each round and then summarised the same way.",
         "",
-        f"- Date: {datetime.date.today().isoformat()}; CPU: {cpu()}; {os.cpu_count()} cores, shared and noisy; {run('rustc', '--version').strip()}.",
+        f"- Date: {meta['date']}; CPU: {meta['cpu']}; {meta['cores']} cores, shared and noisy; {meta['rustc']}.",
         f"- hya **plain**: `cargo build --release`, what the README's commands build (compiled for `{build_features['plain']}`).",
         f"- hya **native**: `RUSTFLAGS='-C target-cpu=native' cargo build --release` (compiled for `{build_features['native']}`); shown beside, labelled.",
-        f"- Pinocchio {os.environ.get('PINOCCHIO_VERSION', '(version unknown)')} from the `pin` wheel: `g++ {os.environ.get('PINOCCHIO_FLAGS', '')}`; its algorithms are header templates, compiled with these flags.",
-        f"- Method: {args.rounds} rounds; in each, for every robot, the plain build, the native build and Pinocchio run one after the other (the order rotating); each reports the median of 31 rounds of 2000 calls over 64 varied states.",
+        f"- Pinocchio {meta['pinocchio']} from the `pin` wheel: `g++ {meta['pinocchio_flags']}`; its algorithms are header templates, compiled with these flags.",
+        f"- Method: {meta['rounds']} rounds; in each, for every robot, the plain build, the native build and Pinocchio run one after the other (the order rotating); each reports the median of 31 rounds of 2000 calls over 64 varied states. The Python table, if present, is measured after the rounds.",
         "",
     ]
     for build in ("plain", "native"):

@@ -8,6 +8,7 @@ after one untimed round.
 
     pip install ./hya-py pin && python tools/python_bench.py
 """
+import functools
 import statistics
 import time
 from pathlib import Path
@@ -41,18 +42,19 @@ def main():
         q, qd, qdd = (rng.uniform(-1, 1, (BATCH, generated.dof)) for _ in range(3))
         figures = {key: [] for key in ("gen", "rt", "pin", "batch", "pinloop")}
         # One untimed round first: the first calls of a freshly loaded model run slower.
-        for f in (generated.inverse_dynamics, runtime.inverse_dynamics, lambda a, b, c: pin.rnea(model, data, a, b, c)):
+        rnea = functools.partial(pin.rnea, model, data)
+        for f in (generated.inverse_dynamics, runtime.inverse_dynamics, rnea):
             per_call_ns(f, states)
         for _ in range(ROUNDS):
             figures["gen"].append(per_call_ns(generated.inverse_dynamics, states))
             figures["rt"].append(per_call_ns(runtime.inverse_dynamics, states))
-            figures["pin"].append(per_call_ns(lambda a, b, c: pin.rnea(model, data, a, b, c), states))
+            figures["pin"].append(per_call_ns(rnea, states))
             start = time.perf_counter_ns()
             generated.inverse_dynamics(q, qd, qdd)
             figures["batch"].append((time.perf_counter_ns() - start) / BATCH)
             start = time.perf_counter_ns()
             for k in range(BATCH):
-                pin.rnea(model, data, q[k], qd[k], qdd[k])
+                rnea(q[k], qd[k], qdd[k])
             figures["pinloop"].append((time.perf_counter_ns() - start) / BATCH)
         med = {key: statistics.median(values) for key, values in figures.items()}
         print(

@@ -88,7 +88,7 @@ pub trait Dynamics<const N: usize> {
 }
 
 /// Implements [`Dynamics`] for a pointer type by forwarding every method to its target.
-macro_rules! forward_dynamics {
+macro_rules! delegate_dynamics {
     ($($pointer:ty),*) => {$(
 impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
     fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N> {
@@ -126,9 +126,9 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
     )*};
 }
 
-forward_dynamics!(&D);
+delegate_dynamics!(&D);
 #[cfg(feature = "alloc")]
-forward_dynamics!(alloc::boxed::Box<D>, alloc::sync::Arc<D>);
+delegate_dynamics!(alloc::boxed::Box<D>, alloc::sync::Arc<D>);
 
 /// Dynamics whose number of joints is known only at run time, on slices: the view a command
 /// line or a loaded URDF needs. Every slice must have [`dof`](Self::dof) entries (`dof²` for

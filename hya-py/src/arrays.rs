@@ -31,7 +31,8 @@ impl Rows {
 pub fn rows(name: &str, value: &Bound<'_, PyAny>, width: usize) -> PyResult<Rows> {
     if let Ok(array) = value.downcast::<PyArrayDyn<f64>>() {
         let array = array.readonly();
-        if let Ok(data) = array.as_slice() {
+        // `as_slice` also accepts Fortran order, whose memory holds the rows column by column.
+        if let (true, Ok(data)) = (array.is_c_contiguous(), array.as_slice()) {
             return checked(name, data.to_vec(), array.shape(), width);
         }
     }

@@ -47,7 +47,7 @@ impl<const N: usize> SliceObserver for Fixed<N> {
 /// Builds an observer for `N` joints on the nominal model of `robot`.
 struct Build<'a> {
     method: Method,
-    robot: &'a str,
+    model: &'a Model,
     params: Option<FilterParams>,
     bandwidth_dt: (f64, f64),
     q0: &'a [f64],
@@ -58,7 +58,7 @@ struct Build<'a> {
 impl ForJoints for Build<'_> {
     type Output = Box<dyn SliceObserver>;
     fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
-        let nominal = hya_sim::nominal_dynamics::<N>(self.robot)?;
+        let nominal = self.model.nominal::<N>()?;
         let first = Measurement {
             position: JointVector::from_column_slice(self.q0),
             velocity: Some(JointVector::from_column_slice(self.qd0)),
@@ -132,7 +132,7 @@ impl ObserverCore {
             Some(tau0) => tau0,
             None => model.gravity_of(&q0),
         };
-        let build = Build { method, robot: model.source(), params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
+        let build = Build { method, model, params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
         let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, needs_velocity, inner: Mutex::new(inner) })
     }
@@ -343,8 +343,9 @@ observer_class!(
 );
 
 observer_class!(
-    /// The nonlinear disturbance observer of Chen et al. (IEEE TIE 47(4), 2000) with the gain
-    /// Y = β M(q0) of Mohammadi et al. (2013), β = bandwidth (1/s):
+    /// The nonlinear disturbance observer of Chen et al. (IEEE TIE 47(4), 2000) in the general
+    /// form of Mohammadi et al. (2013), with hya's gain Y = β M(q0), β = bandwidth (1/s)
+    /// (Mohammadi's own design is a scalar Y = y I):
     ///
     ///     p = Y q̇,   L = Y M⁻¹(q),   ż = −L z + L (C + G − τ − p),   d̂ = z + p
     ///
@@ -368,8 +369,8 @@ observer_class!(
     false
 );
 
-/// The paper's third-order filter, one channel per entry of x0, discretised exactly (zero-order
-/// hold) at the period dt:
+/// The paper's third-order filter, one channel per entry of x0, discretised exactly at the
+/// period dt for an input linear between samples (first-order hold):
 ///
 ///     H(s) = ω1 ω2² / ((s + ω1)(s² + 2 ζ ω2 s + ω2²))
 ///
@@ -441,7 +442,7 @@ impl<const N: usize> SliceController for FixedController<N> {
 }
 
 struct BuildController<'a> {
-    robot: &'a str,
+    model: &'a Model,
     kp: &'a [f64],
     kd: &'a [f64],
     limit: Option<&'a [f64]>,
@@ -453,7 +454,7 @@ impl ForJoints for BuildController<'_> {
         let setup = |source| SimError::Setup { setting: "ComputedTorque".into(), source };
         let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
         let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
-        let mut controller = CoreComputedTorque::new(hya_sim::nominal_dynamics::<N>(self.robot)?, gains);
+        let mut controller = CoreComputedTorque::new(self.model.nominal::<N>()?, gains);
         if let Some(limit) = self.limit {
             controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
         }
@@ -484,7 +485,7 @@ impl ComputedTorque {
                 return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
             }
         }
-        let build = BuildController { robot: model.source(), kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
+        let build = BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
         let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, inner })
     }

@@ -2,8 +2,9 @@
 //! run-time model), on NumPy arrays, one state or a batch per call.
 
 use hya_core::model::TreeModel;
-use hya_core::SliceDynamics;
+use hya_core::{Dynamics, SliceDynamics};
 use hya_robots::RobotInfo;
+use hya_sim::SimError;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
@@ -29,9 +30,14 @@ pub struct Model {
 }
 
 impl Model {
-    /// The shipped robot's name or the URDF's path: what the simulator and estimators take.
-    pub fn source(&self) -> &str {
-        &self.source
+    /// This model's dynamics as a fixed-size [`Dynamics`] for the estimators and the controller:
+    /// the shipped arm's generated code, or the run-time model this object loaded (never
+    /// reloaded from its path).
+    pub fn nominal<const N: usize>(&self) -> Result<Box<dyn Dynamics<N> + Send + Sync>, SimError> {
+        match self.generated {
+            Some(robot) => hya_sim::nominal_dynamics::<N>(robot.name),
+            None => Ok(Box::new(self.model.clone().into_dynamics::<N>()?)),
+        }
     }
 
     /// Degrees of freedom.

@@ -93,3 +93,16 @@ def test_computed_torque_cancels_the_estimate():
 def test_help_shows_the_papers_equation():
     doc = hya.DisturbanceEstimator.__doc__
     assert "d̂ = ID(q̂, q̂̇, q̂̈) − τ̂" in doc and "ω1 ω2²" in doc
+
+
+def test_a_urdf_model_is_used_as_loaded_not_reloaded_from_its_path(tmp_path, monkeypatch):
+    from conftest import DATA
+
+    monkeypatch.chdir(DATA)
+    model = hya.Model.from_urdf("branched_wrist.urdf")  # a relative path
+    monkeypatch.chdir(tmp_path)  # where that path leads nowhere
+    q0 = np.array([0.1, -0.2, 0.3])
+    estimator = hya.DisturbanceEstimator(model, q0=q0)
+    np.testing.assert_allclose(estimator.disturbance, np.zeros(3), atol=1e-12)
+    controller = hya.ComputedTorque(model, kp=[1.0] * 3, kd=[1.0] * 3)
+    np.testing.assert_allclose(controller.command(q0, np.zeros(3), q0), model.gravity(q0), atol=1e-12)

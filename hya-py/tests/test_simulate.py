@@ -5,8 +5,6 @@ import pytest
 import hya
 from conftest import ROOT
 
-tomllib = pytest.importorskip("tomllib")
-
 
 def test_a_builtin_scenario_returns_series_and_metrics():
     run = hya.simulate("goto_internal", method="lu", seed=1, quick=True)
@@ -21,6 +19,7 @@ def test_a_builtin_scenario_returns_series_and_metrics():
 
 
 def test_a_toml_path_and_a_dict_give_the_same_run(tmp_path):
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11 and later
     text = (ROOT / "hya-sim" / "scenarios" / "planar2_goto.toml").read_text()
     path = tmp_path / "planar2_goto.toml"
     path.write_text(text)
@@ -31,6 +30,7 @@ def test_a_toml_path_and_a_dict_give_the_same_run(tmp_path):
 
 
 def test_bad_scenarios_are_named():
+    tomllib = pytest.importorskip("tomllib")
     settings = tomllib.loads((ROOT / "hya-sim" / "scenarios" / "planar2_goto.toml").read_text())
     with pytest.raises(ValueError, match="duration_s"):
         hya.simulate(dict(settings, duration_s=-1.0))

@@ -35,6 +35,8 @@ BUILDS = {
 NOTES = Path(__file__).resolve().parent / "benchmarks_notes.md"
 # The last run's raw figures, for re-rendering (`--from-json`).
 RAW = Path(__file__).resolve().parent / ".build" / "benchmarks_raw.json"
+# The last Python table (`--python`), kept for rewrites without it.
+PYTHON_RAW = RAW.parent / "python_bench.md"
 
 
 def run(*args):
@@ -214,6 +216,10 @@ def main():
     if args.python:
         print("timing from Python", flush=True)
         table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"))
+        PYTHON_RAW.write_text(table)
+    else:
+        table = PYTHON_RAW.read_text() if PYTHON_RAW.exists() else None
+    if table:
         lines += [
             "## From Python",
             "",

@@ -198,7 +198,7 @@ fn one_row(name: &str, rows: Rows) -> PyResult<Vec<f64>> {
 }
 
 /// The disturbance estimator of Lu, Sandy & Buchli, "Nonlinear disturbance attenuation control
-/// of hydraulic robotics" (the paper's eq. 8–10):
+/// of hydraulic robotics" (the paper's section III):
 ///
 ///     d̂ = ID(q̂, q̂̇, q̂̈) − τ̂,   ID(q, q̇, q̈) = M(q) q̈ + C(q, q̇) + G(q)
 ///
@@ -212,7 +212,8 @@ fn one_row(name: &str, rows: Rows) -> PyResult<Vec<f64>> {
 /// model error), seen through the filter; the controller subtracts it (`ComputedTorque`).
 ///
 /// Args:
-///     model: a hya.Model (its source, a shipped arm or a URDF, gives the estimator's model).
+///     model: a hya.Model; the estimator runs on it as loaded (a shipped arm's generated code,
+///         or the URDF's run-time model).
 ///     zeta, omega1, omega2: the filter's damping ratio and corner frequencies, rad/s
 ///         (the paper's 0.8, 50, 50 by default).
 ///     dt: the control period, s (0.001).
@@ -225,7 +226,7 @@ pub struct DisturbanceEstimator {
 #[pymethods]
 impl DisturbanceEstimator {
     #[new]
-    #[pyo3(signature = (model, zeta=hya_core::filter::PAPER_ZETA, omega1=hya_core::filter::PAPER_BANDWIDTH_RAD_S, omega2=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001, q0=None, tau0=None))]
+    #[pyo3(signature = (model, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001, q0=None, tau0=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
@@ -283,7 +284,7 @@ macro_rules! observer_class {
         #[pymethods]
         impl $name {
             #[new]
-            #[pyo3(signature = (model, bandwidth=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001, q0=None, qd0=None, tau0=None))]
+            #[pyo3(signature = (model, bandwidth=50.0, dt=0.001, q0=None, qd0=None, tau0=None))]
             fn new(
                 model: &Model,
                 bandwidth: f64,
@@ -383,7 +384,7 @@ pub struct ThirdOrderFilter {
 #[pymethods]
 impl ThirdOrderFilter {
     #[new]
-    #[pyo3(signature = (x0, zeta=hya_core::filter::PAPER_ZETA, omega1=hya_core::filter::PAPER_BANDWIDTH_RAD_S, omega2=hya_core::filter::PAPER_BANDWIDTH_RAD_S, dt=0.001))]
+    #[pyo3(signature = (x0, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001))]
     fn new(x0: Vec<f64>, zeta: f64, omega1: f64, omega2: f64, dt: f64) -> PyResult<Self> {
         let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
         let channels = x0
@@ -462,7 +463,7 @@ impl ForJoints for BuildController<'_> {
     }
 }
 
-/// The computed-torque controller with disturbance compensation (the paper's eq. 11):
+/// The computed-torque controller with disturbance compensation (the paper's section IV):
 ///
 ///     τ = M(q) q̈_des + C(q, q̇) + G(q) − K_D (q̇ − q̇_des) − K_P (q − q_des) − d̂
 ///

@@ -90,9 +90,16 @@ def test_computed_torque_cancels_the_estimate():
         hya.ComputedTorque(model, kp=[1.0] * 6, kd=[1.0] * 5)
 
 
-def test_help_shows_the_papers_equation():
+def test_help_shows_the_papers_equation_and_defaults():
+    import inspect
+
     doc = hya.DisturbanceEstimator.__doc__
     assert "d̂ = ID(q̂, q̂̇, q̂̈) − τ̂" in doc and "ω1 ω2²" in doc
+    defaults = {k: p.default for k, p in inspect.signature(hya.DisturbanceEstimator).parameters.items()}
+    # The paper's filter: ζ = 0.8, ω1 = ω2 = 50 rad/s, at HyA's 1 kHz control rate.
+    assert (defaults["zeta"], defaults["omega1"], defaults["omega2"], defaults["dt"]) == (0.8, 50.0, 50.0, 0.001)
+    for observer in (hya.MomentumObserver, hya.NonlinearDisturbanceObserver, hya.ExtendedStateObserver):
+        assert inspect.signature(observer).parameters["bandwidth"].default == 50.0
 
 
 def test_a_urdf_model_is_used_as_loaded_not_reloaded_from_its_path(tmp_path, monkeypatch):

@@ -357,20 +357,58 @@ impl Emitter {
             }
         }
         let mut counts = OpCounts::default();
+        let layout = Layout { groups: &groups, group_of: &group_of, escapes: &escapes, batch: &batch, idents: &idents };
+        let plain = self.blocks(&layout, &show, &mut counts, false);
+        let fused = self.blocks(&layout, &show, &mut OpCounts::default(), true);
+        // The outputs' variables, bound by whichever variant the target compiles.
+        let mut results: Vec<Ident> = Vec::new();
+        for v in outputs.iter().filter(|v| matches!(v, Value::Var { .. })) {
+            let ident = idents[var_id(*v)].clone().unwrap_or_else(|| Ident::new("dead", Span::call_site()));
+            if !results.contains(&ident) {
+                results.push(ident);
+            }
+        }
+        let statements = if fused.to_string() == plain.to_string() {
+            plain
+        } else {
+            let pattern = match results.as_slice() {
+                [one] => quote! { #one },
+                _ => quote! { (#(#results),*) },
+            };
+            quote! {
+                #[cfg(target_feature = "fma")]
+                let #pattern = { #fused #pattern };
+                #[cfg(not(target_feature = "fma"))]
+                let #pattern = { #plain #pattern };
+            }
+        };
+        let outputs = outputs.iter().map(|v| show(*v)).collect();
+        Rendered { statements, counts, outputs, pass_marks }
+    }
+
+    /// The blocks of statements, products fused into the sums they feed within a block if
+    /// `fused` (see [`Emitter::render`]).
+    fn blocks(
+        &self,
+        layout: &Layout<'_>,
+        show: &dyn Fn(Value) -> TokenStream,
+        counts: &mut OpCounts,
+        fused: bool,
+    ) -> TokenStream {
         let mut blocks = Vec::new();
-        for group in &groups {
+        for group in layout.groups {
             let mut statements = Vec::new();
             let mut handed_on = Vec::new();
             for &id in group {
-                statements.push(match batch.iter().position(|&b| b == id) {
-                    Some(0) => self.batched_sin_cos(&batch, &idents, &show, &mut counts),
+                statements.push(match layout.batch.iter().position(|&b| b == id) {
+                    Some(0) => self.batched_sin_cos(layout.batch, layout.idents, show, counts),
                     Some(_) => quote! {},
-                    None => self.statement(id, &idents, &show, &mut counts),
+                    None => self.statement(id, layout.idents, show, counts, fused.then_some(layout.group_of)),
                 });
                 let cos = matches!(self.ops.get(id + 1), Some(Op::CosOf)).then_some(id + 1);
                 for defined in std::iter::once(id).chain(cos) {
-                    if escapes[defined] {
-                        handed_on.extend(idents[defined].clone());
+                    if layout.escapes[defined] {
+                        handed_on.extend(layout.idents[defined].clone());
                     }
                 }
             }
@@ -380,8 +418,17 @@ impl Emitter {
                 _ => quote! { let (#(#handed_on),*) = { #(#statements)* (#(#handed_on),*) }; },
             });
         }
-        let outputs = outputs.iter().map(|v| show(*v)).collect();
-        Rendered { statements: quote! { #(#blocks)* }, counts, outputs, pass_marks }
+        quote! { #(#blocks)* }
+    }
+
+    /// `x · y` if `value` is the result of a multiplication in the same block as statement `id`.
+    fn product_in_block(&self, value: Value, id: usize, group_of: &[usize]) -> Option<(Value, Value)> {
+        match (value, &self.ops.get(var_id(value))) {
+            (Value::Var { id: m, negated: false }, Some(Op::Mul(x, y))) if group_of[m] == group_of[id] => {
+                Some((*x, *y))
+            }
+            _ => None,
+        }
     }
 
     /// The live `sin_cos` statements, if all their arguments are defined before the first of
@@ -423,17 +470,45 @@ impl Emitter {
     }
 
     /// Statement `id` as a `let`, counted.
+    ///
+    /// With `fused` (the statements' blocks), a sum or difference with a product of the same
+    /// block becomes one `mul_add`: `a ± x·y`, `x·y − b` (the product's own statement is then
+    /// dead unless something else reads it, and the compiler drops it).
     fn statement(
         &self,
         id: usize,
         idents: &[Option<Ident>],
         show: &dyn Fn(Value) -> TokenStream,
         counts: &mut OpCounts,
+        fused: Option<&[usize]>,
     ) -> TokenStream {
         let placeholder = || Ident::new("_", Span::call_site());
         let name = idents[id].clone().unwrap_or_else(placeholder);
+        let product = |v: &Value| fused.and_then(|group_of| self.product_in_block(*v, id, group_of));
+        // `a + b` (or `a − b` if `minus`) as one `mul_add`, if either term is such a product.
+        let fma = |a: Value, b: Value, minus: bool| {
+            let (x, y, c) = match (product(&a), product(&b)) {
+                (Some((x, y)), _) => (x, y, if minus { -b } else { b }),
+                (None, Some((x, y))) => (if minus { -x } else { x }, y, a),
+                (None, None) => return None,
+            };
+            let (x, y, c) = (show(x), show(y), show(c));
+            Some(quote! { let #name = ::hya_core::mul_add(#x, #y, #c); })
+        };
         match &self.ops[id] {
             Op::Input(_, expr) => quote! { let #name = #expr; },
+            Op::Add(a, b) | Op::Sub(a, b) if fused.is_some() => {
+                counts.adds += 1;
+                let minus = matches!(self.ops[id], Op::Sub(..));
+                fma(*a, *b, minus).unwrap_or_else(|| {
+                    let (a, b) = (show(*a), show(*b));
+                    if minus {
+                        quote! { let #name = #a - #b; }
+                    } else {
+                        quote! { let #name = #a + #b; }
+                    }
+                })
+            }
             Op::Add(a, b) => {
                 counts.adds += 1;
                 let (a, b) = (show(*a), show(*b));
@@ -463,6 +538,15 @@ impl Emitter {
             Op::CosOf => quote! {},
         }
     }
+}
+
+/// Where each live statement goes in rendered code (see [`Emitter::render`]).
+struct Layout<'a> {
+    groups: &'a [Vec<usize>],
+    group_of: &'a [usize],
+    escapes: &'a [bool],
+    batch: &'a [usize],
+    idents: &'a [Option<Ident>],
 }
 
 /// Most statements in one block of rendered code (see [`Emitter::render`]).
@@ -642,6 +726,22 @@ mod tests {
     }
 
     #[test]
+    fn products_feeding_sums_fuse_only_where_the_target_has_fma() {
+        let (outputs, e) = trace(|| {
+            let (x, y, z) = (input("x", quote!(x)), input("y", quote!(y)), input("z", quote!(z)));
+            [x * y + z, z - x * y * y]
+        });
+        let rendered = e.render(&outputs, &Plain);
+        assert_eq!(rendered.counts, OpCounts { adds: 2, muls: 2, divs: 0, trig: 0 });
+        let text = text(&rendered.statements);
+        let (fused, plain) = text.split_once("# [cfg (not (target_feature = \"fma\"))]").unwrap_or_default();
+        assert!(fused.starts_with("# [cfg (target_feature = \"fma\")]"), "{text}");
+        assert!(fused.contains("let t1 = :: hya_core :: mul_add (x , y , z) ;"), "{fused}");
+        assert!(fused.contains("let t3 = :: hya_core :: mul_add (- t0 , y , z) ;"), "{fused}");
+        assert!(!plain.contains("mul_add") && plain.contains("let t1 = t0 + z ;"), "{plain}");
+    }
+
+    #[test]
     fn sines_of_inputs_run_as_one_call_and_others_stay_apart() {
         let (outputs, e) = trace(|| {
             let (a, b) = (input("a", quote!(a)), input("b", quote!(b)));
@@ -692,9 +792,14 @@ mod tests {
             [kept * kept]
         });
         let rendered = e.render(&outputs, &Plain);
+        // The variant without FMA (the one with it fuses `t0 + x` and is checked above).
+        let text = text(&rendered.statements);
+        let plain =
+            text.split_once("# [cfg (not (target_feature = \"fma\"))]").map(|(_, p)| p.trim()).unwrap_or_default();
         assert_eq!(
-            text(&rendered.statements),
-            "let t1 = { let x = x ; let t0 = x * x ; let t1 = t0 + x ; t1 } ; let t2 = { let t2 = t1 * t1 ; t2 } ;"
+            plain,
+            "let t2 = { let t1 = { let x = x ; let t0 = x * x ; let t1 = t0 + x ; t1 } ; \
+             let t2 = { let t2 = t1 * t1 ; t2 } ; t2 } ;"
         );
         assert_eq!(rendered.pass_marks, [("t2".to_owned(), "body 0".to_owned())]);
     }

@@ -2,8 +2,12 @@
 //!
 //! Takes a model that `hya-urdf` loaded and validated, and emits unrolled, const-sized Rust
 //! implementing [`hya_core::Dynamics`] for it ([`generate()`]), in
-//! the spirit of RobCoGen: constants folded into literals, one `sin_cos` per revolute joint,
-//! axis-aligned joints and sparse inertias exploited, zeros never multiplied, no allocation.
+//! the spirit of RobCoGen: constants folded into literals, the sines and cosines of all joints in
+//! one lane-parallel call, axis-aligned joints and sparse inertias exploited, zeros never
+//! multiplied, no allocation. Each function holds two variants of the same statements: where the
+//! target has fused multiply-add (`cfg(target_feature = "fma")`, e.g. `-C target-cpu=native`),
+//! a product feeding a sum in the same block becomes one `hya_core::mul_add`; elsewhere the
+//! plain arithmetic. Rust never fuses by itself, so this is the only way the FMA unit is used.
 //!
 //! ```no_run
 //! let loaded = hya_urdf::load_file("robots/urdf/hya.urdf")?;

@@ -40,7 +40,7 @@ pub mod test_arms;
 mod trig;
 
 pub use scalar::Real;
-pub use trig::{sin_cos, sin_cos_lanes};
+pub use trig::{mul_add, sin_cos, sin_cos_lanes};
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};

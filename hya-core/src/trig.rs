@@ -147,7 +147,7 @@ mod tests {
     }
 
     #[test]
-    fn lanes_agree_with_the_scalar_call_bit_for_bit() {
+    fn each_lane_is_computed_as_if_alone() {
         let mut x = [0.0; 7];
         for i in -100_000..=100_000 {
             for (lane, x) in x.iter_mut().enumerate() {

@@ -245,16 +245,6 @@ impl<const N: usize> Plant<N> {
         self.friction_torque(s).0 + self.external_torque(t, &s.q)
     }
 
-    /// The true joint accelerations in state `s` at time `t` under the command `τ_cmd`.
-    pub fn acceleration(
-        &self,
-        t: f64,
-        s: &PlantState<N>,
-        tau_cmd: &JointVector<N>,
-    ) -> Result<JointVector<N>, SimError> {
-        Ok(self.derivative(t, s, tau_cmd)?.qd)
-    }
-
     fn derivative(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
         let (friction, bristle) = self.friction_torque(s);
         let total = self.actuator_torque(s, tau_cmd) + friction + self.external_torque(t, &s.q);

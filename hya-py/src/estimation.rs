@@ -102,16 +102,15 @@ fn run_log(
     })
 }
 
-/// The shared body of every observer class: the model's joint count and the observer.
+/// The shared body of every observer class: the model's joint count and the observer (which
+/// itself refuses an update without the velocity it needs).
 struct ObserverCore {
     dof: usize,
-    needs_velocity: bool,
     /// Behind a mutex only to be `Sync`, as Python classes must be: every use holds `&mut`.
     inner: Mutex<Box<dyn SliceObserver>>,
 }
 
 impl ObserverCore {
-    #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
         method: Method,
@@ -120,7 +119,6 @@ impl ObserverCore {
         q0: Option<&Bound<'_, PyAny>>,
         qd0: Option<&Bound<'_, PyAny>>,
         tau0: Option<&Bound<'_, PyAny>>,
-        needs_velocity: bool,
     ) -> PyResult<Self> {
         let n = model.dof_count();
         let vector = |name: &str, value: Option<&Bound<'_, PyAny>>| -> PyResult<Option<Vec<f64>>> {
@@ -134,7 +132,7 @@ impl ObserverCore {
         };
         let build = Build { method, model, params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
         let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
-        Ok(Self { dof: n, needs_velocity, inner: Mutex::new(inner) })
+        Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
 
     fn observer(&mut self) -> &mut dyn SliceObserver {
@@ -155,7 +153,7 @@ impl ObserverCore {
         let n = self.dof;
         let q = one_row("q", rows("q", q, n)?)?;
         let tau = one_row("tau", rows("tau", tau, n)?)?;
-        let qd = self.velocity(qd.map(|v| rows("qd", v, n).and_then(|r| one_row("qd", r))).transpose()?)?;
+        let qd = qd.map(|v| rows("qd", v, n).and_then(|r| one_row("qd", r))).transpose()?;
         let mut d_hat = vec![0.0; n];
         self.observer().update(&q, qd.as_deref(), &tau, &mut d_hat).map_err(PyValueError::new_err)?;
         output(py, d_hat, 1, false, &[n])
@@ -174,18 +172,8 @@ impl ObserverCore {
         if let Some(rows) = qd.as_ref().filter(|r| r.count != q.count) {
             return Err(PyValueError::new_err(format!("qd_log: {} rows, but q_log has {}", rows.count, q.count)));
         }
-        if self.needs_velocity && qd.is_none() {
-            return Err(PyValueError::new_err("qd_log: this observer needs measured velocities"));
-        }
         let out = run_log(py, self.observer(), n, &q, qd.as_ref(), &tau)?;
         output(py, out, q.count, true, &[n])
-    }
-
-    fn velocity(&self, qd: Option<Vec<f64>>) -> PyResult<Option<Vec<f64>>> {
-        if self.needs_velocity && qd.is_none() {
-            return Err(PyValueError::new_err("qd: this observer needs the measured velocity"));
-        }
-        Ok(qd)
     }
 }
 
@@ -238,7 +226,7 @@ impl DisturbanceEstimator {
         tau0: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
-        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), q0, None, tau0, false)?;
+        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), q0, None, tau0)?;
         Ok(Self { core })
     }
 
@@ -274,7 +262,7 @@ impl DisturbanceEstimator {
 /// Declares an observer class: its paper, its constructor's extra parameter, and whether it
 /// reads velocities.
 macro_rules! observer_class {
-    ($(#[$doc:meta])* $name:ident, $method:expr, $needs_velocity:expr) => {
+    ($(#[$doc:meta])* $name:ident, $method:expr) => {
         $(#[$doc])*
         #[pyclass(module = "hya")]
         pub struct $name {
@@ -293,7 +281,7 @@ macro_rules! observer_class {
                 qd0: Option<&Bound<'_, PyAny>>,
                 tau0: Option<&Bound<'_, PyAny>>,
             ) -> PyResult<Self> {
-                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), q0, qd0, tau0, $needs_velocity)?;
+                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), q0, qd0, tau0)?;
                 Ok(Self { core })
             }
 
@@ -339,8 +327,7 @@ observer_class!(
     ///
     /// It reads measured velocities (qd).
     MomentumObserver,
-    Method::Momentum,
-    true
+    Method::Momentum
 );
 
 observer_class!(
@@ -353,8 +340,7 @@ observer_class!(
     /// so d̂ converges to d at rate β near q0 (equal bandwidth with the other observers). It
     /// reads measured velocities (qd).
     NonlinearDisturbanceObserver,
-    Method::Chen,
-    true
+    Method::Chen
 );
 
 observer_class!(
@@ -366,8 +352,7 @@ observer_class!(
     ///
     /// Like the paper's method it needs only the angles q, not velocities.
     ExtendedStateObserver,
-    Method::Eso,
-    false
+    Method::Eso
 );
 
 /// The paper's third-order filter, one channel per entry of x0, discretised exactly at the

@@ -359,7 +359,13 @@ impl Emitter {
         let mut counts = OpCounts::default();
         let layout = Layout { groups: &groups, group_of: &group_of, escapes: &escapes, batch: &batch, idents: &idents };
         let plain = self.blocks(&layout, &show, &mut counts, false);
-        let fused = self.blocks(&layout, &show, &mut OpCounts::default(), true);
+        // A sum reading a product of its own block, which the FMA variant fuses.
+        let fusable = layout.groups.iter().flatten().any(|&id| match &self.ops[id] {
+            Op::Add(a, b) | Op::Sub(a, b) => {
+                [a, b].iter().any(|v| self.product_in_block(**v, id, layout.group_of).is_some())
+            }
+            _ => false,
+        });
         // The outputs' variables, bound by whichever variant the target compiles.
         let mut results: Vec<Ident> = Vec::new();
         for v in outputs.iter().filter(|v| matches!(v, Value::Var { .. })) {
@@ -368,9 +374,10 @@ impl Emitter {
                 results.push(ident);
             }
         }
-        let statements = if fused.to_string() == plain.to_string() {
+        let statements = if !fusable {
             plain
         } else {
+            let fused = self.blocks(&layout, &show, &mut OpCounts::default(), true);
             let pattern = match results.as_slice() {
                 [one] => quote! { #one },
                 _ => quote! { (#(#results),*) },

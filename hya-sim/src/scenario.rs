@@ -315,7 +315,7 @@ pub struct PlantConfig {
 impl PlantConfig {
     /// RK4 steps per control period: as set, or the fewest that keep the integration error
     /// under 1e-7 rad per 1 ms tick (a hundredth of an encoder count) against a ten times finer
-    /// step along a goto move, measured by `tests/integration_step.rs`:
+    /// step along a goto move, measured by `tests/sim/integration_step.rs`:
     ///
     /// | actuator | 1 | 2 | 4 sub-steps |
     /// |---|---|---|---|

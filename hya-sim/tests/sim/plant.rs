@@ -2,7 +2,6 @@
 //! LuGre stiction and breakaway, the steady-sliding friction curve against its closed form, the
 //! hydraulic torque loop against its own linearisation, chamber pressures within tank and
 //! supply, and no energy created by a closed valve.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_core::JointVector;
 use hya_sim::plant::friction::Friction;

@@ -1,6 +1,5 @@
 //! Every shipped arm runs in the simulator: its built-in goto scenario, shortened, through the
 //! same machinery `hya run` uses, with the arm's own number of joints.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::{Experiment, Method, Scenario};
 

@@ -1,5 +1,4 @@
 //! Sweeps split into shards and merge back into exactly the unsharded result.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::sweep::{merge, run, Plan, Shard};
 use hya_sim::{Method, Scenario};

@@ -1,6 +1,5 @@
 //! Every number of a scenario is checked at the boundary: a bad value is refused with the key's
 //! name before anything runs, never silently defaulted, never met later as a misleading error.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::scenario::{Noise, Task, WeightDrop};
 use hya_sim::Scenario;

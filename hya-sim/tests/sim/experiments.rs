@@ -1,6 +1,5 @@
 //! The testbed's own laws: seeded runs repeat bit for bit, the free rigid body conserves energy.
 //! (The paper's claims are the report's output, never asserted here.)
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_core::JointVector;
 use hya_sim::plant::Plant;

@@ -1,6 +1,5 @@
 //! On a clean plant every observer's measured `d̂/d` follows its design's transfer function:
 //! the observers are implemented as designed, so the report's frequency figure is trustworthy.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::{frequency, Scenario};
 

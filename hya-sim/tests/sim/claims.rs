@@ -1,6 +1,5 @@
 //! The claim rules evaluate correctly on metric tables built to pass, fail or split them: the
 //! machinery, never a verdict on the simulation.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::claims::{judge, Need, Quantity, Rule, Side, Source, Verdict, RULES};
 use hya_sim::seeds::MetricTable;

@@ -9,7 +9,6 @@
 //! (HyA) and 300-fold (iiwa14) within the second, as the reference's header measures. 1e-8 rad
 //! leaves that growth three orders of margin and still catches any modelling difference
 //! (a wrong inertia, axis or gravity gives milliradians).
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_sim::rollout::{reference_gap, MUJOCO_HYA};
 
@@ -26,8 +25,8 @@ fn hya_follows_mujoco() {
 
 #[test]
 fn iiwa14_follows_mujoco() {
-    let torque = include_str!("data/mujoco_iiwa14_torque.csv");
-    let states = include_str!("data/mujoco_iiwa14_rollout.csv");
+    let torque = include_str!("../data/mujoco_iiwa14_torque.csv");
+    let states = include_str!("../data/mujoco_iiwa14_rollout.csv");
     let (q, qd) = reference_gap::<7>(&model("iiwa14"), torque, states).unwrap();
     eprintln!("iiwa14: worst |Δq| {q:.2e} rad, |Δq̇| {qd:.2e} rad/s over 1 s");
     assert!(q < 1e-8 && qd < 1e-6, "iiwa14 departs from MuJoCo by {q} rad, {qd} rad/s");

@@ -4,7 +4,6 @@
 //! (Whole open-loop rollouts are no measure: replayed without feedback, a held arm drifts away
 //! and stick-slip events amplify any difference, as they would in any simulator. In closed loop
 //! the controller sees the state again every tick.)
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_core::JointVector;
 use hya_sim::rollout::scenario_plant;

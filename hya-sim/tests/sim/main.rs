@@ -1,0 +1,14 @@
+//! The simulator's integration tests, in one binary: every test links the whole simulator and
+//! the generated dynamics of every shipped arm, so one binary instead of nine saves eight links
+//! and most of the disk a test build needs.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+mod arms;
+mod claims;
+mod experiments;
+mod frequency;
+mod integration_step;
+mod mujoco_reference;
+mod plant;
+mod scenario_validation;
+mod sweep;

@@ -383,10 +383,10 @@ impl Emitter {
                 _ => quote! { (#(#results),*) },
             };
             quote! {
-                #[cfg(target_feature = "fma")]
-                let #pattern = { #fused #pattern };
-                #[cfg(not(target_feature = "fma"))]
-                let #pattern = { #plain #pattern };
+                let #pattern = match ::hya_core::with_fma(#[inline(always)] || { #fused #pattern }) {
+                    Some(values) => values,
+                    None => { #plain #pattern }
+                };
             }
         };
         let outputs = outputs.iter().map(|v| show(*v)).collect();
@@ -732,8 +732,13 @@ mod tests {
         );
     }
 
+    /// The fused and the plain variant of a rendered function body.
+    fn variants(text: &str) -> (&str, &str) {
+        text.split_once("None =>").map(|(f, p)| (f, p.trim())).unwrap_or_default()
+    }
+
     #[test]
-    fn products_feeding_sums_fuse_only_where_the_target_has_fma() {
+    fn products_feeding_sums_fuse_in_the_variant_run_where_the_cpu_has_fma() {
         let (outputs, e) = trace(|| {
             let (x, y, z) = (input("x", quote!(x)), input("y", quote!(y)), input("z", quote!(z)));
             [x * y + z, z - x * y * y]
@@ -741,8 +746,8 @@ mod tests {
         let rendered = e.render(&outputs, &Plain);
         assert_eq!(rendered.counts, OpCounts { adds: 2, muls: 2, divs: 0, trig: 0 });
         let text = text(&rendered.statements);
-        let (fused, plain) = text.split_once("# [cfg (not (target_feature = \"fma\"))]").unwrap_or_default();
-        assert!(fused.starts_with("# [cfg (target_feature = \"fma\")]"), "{text}");
+        let (fused, plain) = variants(&text);
+        assert!(text.starts_with("let (t1 , t3) = match :: hya_core :: with_fma (# [inline (always)] ||"), "{text}");
         assert!(fused.contains("let t1 = :: hya_core :: mul_add (x , y , z) ;"), "{fused}");
         assert!(fused.contains("let t3 = :: hya_core :: mul_add (- t0 , y , z) ;"), "{fused}");
         assert!(!plain.contains("mul_add") && plain.contains("let t1 = t0 + z ;"), "{plain}");
@@ -801,12 +806,10 @@ mod tests {
         let rendered = e.render(&outputs, &Plain);
         // The variant without FMA (the one with it fuses `t0 + x` and is checked above).
         let text = text(&rendered.statements);
-        let plain =
-            text.split_once("# [cfg (not (target_feature = \"fma\"))]").map(|(_, p)| p.trim()).unwrap_or_default();
         assert_eq!(
-            plain,
-            "let t2 = { let t1 = { let x = x ; let t0 = x * x ; let t1 = t0 + x ; t1 } ; \
-             let t2 = { let t2 = t1 * t1 ; t2 } ; t2 } ;"
+            variants(&text).1,
+            "{ let t1 = { let x = x ; let t0 = x * x ; let t1 = t0 + x ; t1 } ; \
+             let t2 = { let t2 = t1 * t1 ; t2 } ; t2 } } ;"
         );
         assert_eq!(rendered.pass_marks, [("t2".to_owned(), "body 0".to_owned())]);
     }

@@ -53,18 +53,21 @@ fn bindings(source: &str) -> Vec<(String, Vec<String>)> {
 }
 
 /// The names each statement defines. A block's `let (a, b) = { …; (a, b) }` only hands on what
-/// its statements defined, so it is not counted; of the two variants of a function (with and
-/// without FMA, which define the same names) the one without is read.
+/// its statements defined, so it is not counted; of the two variants of a function,
+/// `match with_fma(|| { fused }) { Some(values) => values, None => { plain } }`, which define
+/// the same names, the plain one is read.
 fn collect(block: &syn::Block, names: &mut Vec<String>) {
     for statement in &block.stmts {
         let syn::Stmt::Local(local) = statement else { continue };
-        let fma_variant = local.attrs.iter().any(|a| {
-            a.path().is_ident("cfg")
-                && a.meta.require_list().is_ok_and(|l| l.tokens.to_string().starts_with("target_feature"))
-        });
         match local.init.as_ref().map(|init| init.expr.as_ref()) {
-            _ if fma_variant => {}
             Some(syn::Expr::Block(inner)) => collect(&inner.block, names),
+            Some(syn::Expr::Match(variants)) => {
+                for arm in &variants.arms {
+                    if let syn::Expr::Block(plain) = arm.body.as_ref() {
+                        collect(&plain.block, names);
+                    }
+                }
+            }
             _ => pattern(&local.pat, names),
         }
     }

@@ -28,6 +28,7 @@ pub mod error;
 pub mod estimator;
 pub mod filter;
 mod finite;
+mod fma;
 mod linalg;
 #[cfg(feature = "alloc")]
 pub mod model;
@@ -39,8 +40,9 @@ pub mod spatial;
 pub mod test_arms;
 mod trig;
 
+pub use fma::{mul_add, with_fma};
 pub use scalar::Real;
-pub use trig::{mul_add, sin_cos, sin_cos_lanes};
+pub use trig::{sin_cos, sin_cos_lanes};
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};

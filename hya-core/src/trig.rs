@@ -98,22 +98,6 @@ pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
     out
 }
 
-/// `a·b + c` with one rounding: what generated code computes a product feeding a sum with,
-/// when it is compiled for a CPU with fused multiply-add (`cfg(target_feature = "fma")`, e.g.
-/// `-C target-cpu=native`); Rust never fuses `a * b + c` by itself. Without `std`, `libm`'s
-/// `fma`.
-#[inline(always)]
-pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
-    #[cfg(feature = "std")]
-    {
-        a.mul_add(b, c)
-    }
-    #[cfg(not(feature = "std"))]
-    {
-        libm::fma(a, b, c)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -164,14 +148,6 @@ mod tests {
             assert!(s.to_bits() == s_ref.to_bits() || (s.is_nan() && s_ref.is_nan()), "sin {x}");
             assert!(c.to_bits() == c_ref.to_bits() || (c.is_nan() && c_ref.is_nan()), "cos {x}");
         }
-    }
-
-    #[test]
-    fn mul_add_rounds_once() {
-        // (1 + 2⁻³⁰)² = 1 + 2⁻²⁹ + 2⁻⁶⁰: the last term survives only an unrounded product.
-        let a = 1.0 + f64::EPSILON * 2f64.powi(22);
-        assert_eq!(mul_add(a, a, -1.0), 2f64.powi(-29) + 2f64.powi(-60));
-        assert_eq!(a * a - 1.0, 2f64.powi(-29));
     }
 
     #[test]

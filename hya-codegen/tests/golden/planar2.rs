@@ -35,63 +35,66 @@ impl Planar2 {
         &self,
         q: &::hya_core::JointVector<2>,
     ) -> [::hya_core::spatial::Transform; 4] {
-        #[cfg(target_feature = "fma")]
-        let (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11) = {
-            let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (s_shoulder, c_shoulder, s_elbow, c_elbow)
-            };
-            let (t0, t1, t4, t7, t10, t11) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t2 = c_elbow * c_shoulder;
-                let t3 = s_elbow * s_shoulder;
-                let t4 = ::hya_core::mul_add(c_elbow, c_shoulder, -t3);
-                let t5 = s_elbow * c_shoulder;
-                let t6 = c_elbow * s_shoulder;
-                let t7 = ::hya_core::mul_add(s_elbow, c_shoulder, t6);
-                let t8 = t4 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t9 = t7 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t10 = ::hya_core::mul_add(c_shoulder, 0.5f64, t8); // 5.0000e-1 = joint elbow origin x
-                let t11 = ::hya_core::mul_add(s_shoulder, 0.5f64, t9); // 5.0000e-1 = joint elbow origin x
-                (t0, t1, t4, t7, t10, t11)
-            };
-            (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11) = {
-            let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (s_shoulder, c_shoulder, s_elbow, c_elbow)
-            };
-            let (t0, t1, t4, t7, t10, t11) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t2 = c_elbow * c_shoulder;
-                let t3 = s_elbow * s_shoulder;
-                let t4 = t2 - t3;
-                let t5 = s_elbow * c_shoulder;
-                let t6 = c_elbow * s_shoulder;
-                let t7 = t5 + t6;
-                let t8 = t4 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t9 = t7 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t10 = t0 + t8;
-                let t11 = t1 + t9;
-                (t0, t1, t4, t7, t10, t11)
-            };
-            (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11)
+        let (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (s_shoulder, c_shoulder, s_elbow, c_elbow)
+                };
+                let (t0, t1, t4, t7, t10, t11) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t2 = c_elbow * c_shoulder;
+                    let t3 = s_elbow * s_shoulder;
+                    let t4 = ::hya_core::mul_add(c_elbow, c_shoulder, -t3);
+                    let t5 = s_elbow * c_shoulder;
+                    let t6 = c_elbow * s_shoulder;
+                    let t7 = ::hya_core::mul_add(s_elbow, c_shoulder, t6);
+                    let t8 = t4 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t9 = t7 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t10 = ::hya_core::mul_add(c_shoulder, 0.5f64, t8); // 5.0000e-1 = joint elbow origin x
+                    let t11 = ::hya_core::mul_add(s_shoulder, 0.5f64, t9); // 5.0000e-1 = joint elbow origin x
+                    (t0, t1, t4, t7, t10, t11)
+                };
+                (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (s_shoulder, c_shoulder, s_elbow, c_elbow)
+                };
+                let (t0, t1, t4, t7, t10, t11) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t2 = c_elbow * c_shoulder;
+                    let t3 = s_elbow * s_shoulder;
+                    let t4 = t2 - t3;
+                    let t5 = s_elbow * c_shoulder;
+                    let t6 = c_elbow * s_shoulder;
+                    let t7 = t5 + t6;
+                    let t8 = t4 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t9 = t7 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t10 = t0 + t8;
+                    let t11 = t1 + t9;
+                    (t0, t1, t4, t7, t10, t11)
+                };
+                (c_shoulder, s_shoulder, t4, t7, t0, t1, t10, t11)
+            }
         };
         [
             ::hya_core::spatial::Transform::from_arrays(
@@ -136,29 +139,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         qd: &::hya_core::JointVector<2>,
         qdd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        #[cfg(target_feature = "fma")]
-        let (upper_arm_f_ny, forearm_f_ny) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                qdd_shoulder,
-                qdd_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let qdd_shoulder = qdd[0];
-                let qdd_elbow = qdd[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+        let (upper_arm_f_ny, forearm_f_ny) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
@@ -167,96 +151,97 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t0, upper_arm_a_vz, t3) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.2475f64 * qdd_shoulder; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                let t2 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
-                let t3 = ::hya_core::mul_add(0.2475f64, qdd_shoulder, -t2); // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                (t0, upper_arm_a_vz, t3)
-            };
-            let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t4 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t4;
-                let t5 = c_elbow * t4;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t6 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t7 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
-                let t8 = c_elbow * t0;
-                let t9 = s_elbow * t7;
-                let t10 = ::hya_core::mul_add(c_elbow, t0, t9);
-                let t11 = s_elbow * t0;
-                let t12 = c_elbow * t7;
-                let t13 = ::hya_core::mul_add(c_elbow, t7, -t11);
-                let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let t14 = t5 * qd_elbow;
-                let t15 = forearm_v_vx * qd_elbow;
-                let forearm_a_vx = ::hya_core::mul_add(t5, qd_elbow, -t10);
-                let forearm_a_vz = ::hya_core::mul_add(forearm_v_vx, qd_elbow, t13);
-                let t16 = 0.11000000000000001f64 * forearm_a_wy; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t17 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t18 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t19 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t20 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t21 = ::hya_core::mul_add(
-                    0.11000000000000001f64,
-                    forearm_a_wy,
-                    -t17,
-                );
-                let t22 = ::hya_core::mul_add(forearm_a_vz, 2f64, -t20); // 2.0000e0 = forearm mass
-                let t23 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t24 = t5 * 2f64; // 2.0000e0 = forearm mass
-                let t25 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t26 = ::hya_core::mul_add(t5, 2f64, t25); // 2.0000e0 = forearm mass
-                let t27 = t5 * t23;
-                let t28 = forearm_v_vx * t26;
-                let t29 = ::hya_core::mul_add(forearm_v_vx, t26, -t27);
-                let t30 = forearm_v_wy * t26;
-                let t31 = forearm_v_wy * t23;
-                let forearm_f_ny = t21 + t29;
-                let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t30); // 2.0000e0 = forearm mass
-                let forearm_f_fz = ::hya_core::mul_add(-forearm_v_wy, t23, t22);
-                (forearm_f_ny, forearm_f_fx, forearm_f_fz)
-            };
-            let upper_arm_f_ny = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t32 = s_elbow * forearm_f_fx;
-                let t33 = c_elbow * forearm_f_fz;
-                let t34 = ::hya_core::mul_add(c_elbow, forearm_f_fz, -t32);
-                let t35 = 0.5f64 * t34; // 5.0000e-1 = joint elbow origin x
-                let t36 = ::hya_core::mul_add(-0.5f64, t34, forearm_f_ny); // 5.0000e-1 = joint elbow origin x
-                let upper_arm_f_ny = t3 + t36;
-                upper_arm_f_ny
-            };
-            (upper_arm_f_ny, forearm_f_ny)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (upper_arm_f_ny, forearm_f_ny) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                qdd_shoulder,
-                qdd_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let qdd_shoulder = qdd[0];
-                let qdd_elbow = qdd[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let qdd_shoulder = qdd[0];
+                    let qdd_elbow = qdd[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        qdd_shoulder,
+                        qdd_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t0, upper_arm_a_vz, t3) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.2475f64 * qdd_shoulder; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    let t2 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
+                    let t3 = ::hya_core::mul_add(0.2475f64, qdd_shoulder, -t2); // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    (t0, upper_arm_a_vz, t3)
+                };
+                let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t4 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t4;
+                    let t5 = c_elbow * t4;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t6 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t7 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
+                    let t8 = c_elbow * t0;
+                    let t9 = s_elbow * t7;
+                    let t10 = ::hya_core::mul_add(c_elbow, t0, t9);
+                    let t11 = s_elbow * t0;
+                    let t12 = c_elbow * t7;
+                    let t13 = ::hya_core::mul_add(c_elbow, t7, -t11);
+                    let forearm_a_wy = qdd_shoulder + qdd_elbow;
+                    let t14 = t5 * qd_elbow;
+                    let t15 = forearm_v_vx * qd_elbow;
+                    let forearm_a_vx = ::hya_core::mul_add(t5, qd_elbow, -t10);
+                    let forearm_a_vz = ::hya_core::mul_add(forearm_v_vx, qd_elbow, t13);
+                    let t16 = 0.11000000000000001f64 * forearm_a_wy; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t17 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t18 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t19 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t20 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t21 = ::hya_core::mul_add(
+                        0.11000000000000001f64,
+                        forearm_a_wy,
+                        -t17,
+                    );
+                    let t22 = ::hya_core::mul_add(forearm_a_vz, 2f64, -t20); // 2.0000e0 = forearm mass
+                    let t23 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t24 = t5 * 2f64; // 2.0000e0 = forearm mass
+                    let t25 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t26 = ::hya_core::mul_add(t5, 2f64, t25); // 2.0000e0 = forearm mass
+                    let t27 = t5 * t23;
+                    let t28 = forearm_v_vx * t26;
+                    let t29 = ::hya_core::mul_add(forearm_v_vx, t26, -t27);
+                    let t30 = forearm_v_wy * t26;
+                    let t31 = forearm_v_wy * t23;
+                    let forearm_f_ny = t21 + t29;
+                    let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t30); // 2.0000e0 = forearm mass
+                    let forearm_f_fz = ::hya_core::mul_add(-forearm_v_wy, t23, t22);
+                    (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+                };
+                let upper_arm_f_ny = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t32 = s_elbow * forearm_f_fx;
+                    let t33 = c_elbow * forearm_f_fz;
+                    let t34 = ::hya_core::mul_add(c_elbow, forearm_f_fz, -t32);
+                    let t35 = 0.5f64 * t34; // 5.0000e-1 = joint elbow origin x
+                    let t36 = ::hya_core::mul_add(-0.5f64, t34, forearm_f_ny); // 5.0000e-1 = joint elbow origin x
+                    let upper_arm_f_ny = t3 + t36;
+                    upper_arm_f_ny
+                };
+                (upper_arm_f_ny, forearm_f_ny)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
@@ -265,159 +250,183 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t0, upper_arm_a_vz, t3) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.2475f64 * qdd_shoulder; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                let t2 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
-                let t3 = t1 - t2;
-                (t0, upper_arm_a_vz, t3)
-            };
-            let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t4 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t4;
-                let t5 = c_elbow * t4;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t6 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t7 = upper_arm_a_vz - t6;
-                let t8 = c_elbow * t0;
-                let t9 = s_elbow * t7;
-                let t10 = t8 + t9;
-                let t11 = s_elbow * t0;
-                let t12 = c_elbow * t7;
-                let t13 = t12 - t11;
-                let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let t14 = t5 * qd_elbow;
-                let t15 = forearm_v_vx * qd_elbow;
-                let forearm_a_vx = t14 - t10;
-                let forearm_a_vz = t13 + t15;
-                let t16 = 0.11000000000000001f64 * forearm_a_wy; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t17 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t18 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t19 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t20 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t21 = t16 - t17;
-                let t22 = t19 - t20;
-                let t23 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t24 = t5 * 2f64; // 2.0000e0 = forearm mass
-                let t25 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t26 = t24 + t25;
-                let t27 = t5 * t23;
-                let t28 = forearm_v_vx * t26;
-                let t29 = t28 - t27;
-                let t30 = forearm_v_wy * t26;
-                let t31 = forearm_v_wy * t23;
-                let forearm_f_ny = t21 + t29;
-                let forearm_f_fx = t18 - t30;
-                let forearm_f_fz = t22 - t31;
-                (forearm_f_ny, forearm_f_fx, forearm_f_fz)
-            };
-            let upper_arm_f_ny = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t32 = s_elbow * forearm_f_fx;
-                let t33 = c_elbow * forearm_f_fz;
-                let t34 = t33 - t32;
-                let t35 = 0.5f64 * t34; // 5.0000e-1 = joint elbow origin x
-                let t36 = forearm_f_ny - t35;
-                let upper_arm_f_ny = t3 + t36;
-                upper_arm_f_ny
-            };
-            (upper_arm_f_ny, forearm_f_ny)
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let qdd_shoulder = qdd[0];
+                    let qdd_elbow = qdd[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        qdd_shoulder,
+                        qdd_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t0, upper_arm_a_vz, t3) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.2475f64 * qdd_shoulder; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    let t2 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
+                    let t3 = t1 - t2;
+                    (t0, upper_arm_a_vz, t3)
+                };
+                let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t4 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t4;
+                    let t5 = c_elbow * t4;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t6 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t7 = upper_arm_a_vz - t6;
+                    let t8 = c_elbow * t0;
+                    let t9 = s_elbow * t7;
+                    let t10 = t8 + t9;
+                    let t11 = s_elbow * t0;
+                    let t12 = c_elbow * t7;
+                    let t13 = t12 - t11;
+                    let forearm_a_wy = qdd_shoulder + qdd_elbow;
+                    let t14 = t5 * qd_elbow;
+                    let t15 = forearm_v_vx * qd_elbow;
+                    let forearm_a_vx = t14 - t10;
+                    let forearm_a_vz = t13 + t15;
+                    let t16 = 0.11000000000000001f64 * forearm_a_wy; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t17 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t18 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t19 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t20 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t21 = t16 - t17;
+                    let t22 = t19 - t20;
+                    let t23 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t24 = t5 * 2f64; // 2.0000e0 = forearm mass
+                    let t25 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t26 = t24 + t25;
+                    let t27 = t5 * t23;
+                    let t28 = forearm_v_vx * t26;
+                    let t29 = t28 - t27;
+                    let t30 = forearm_v_wy * t26;
+                    let t31 = forearm_v_wy * t23;
+                    let forearm_f_ny = t21 + t29;
+                    let forearm_f_fx = t18 - t30;
+                    let forearm_f_fz = t22 - t31;
+                    (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+                };
+                let upper_arm_f_ny = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t32 = s_elbow * forearm_f_fx;
+                    let t33 = c_elbow * forearm_f_fz;
+                    let t34 = t33 - t32;
+                    let t35 = 0.5f64 * t34; // 5.0000e-1 = joint elbow origin x
+                    let t36 = forearm_f_ny - t35;
+                    let upper_arm_f_ny = t3 + t36;
+                    upper_arm_f_ny
+                };
+                (upper_arm_f_ny, forearm_f_ny)
+            }
         };
         ::hya_core::JointVector::<2>::from([upper_arm_f_ny, forearm_f_ny])
     }
     /// Gravity torques `G(q)`.
     #[inline]
     fn gravity(&self, q: &::hya_core::JointVector<2>) -> ::hya_core::JointVector<2> {
-        #[cfg(target_feature = "fma")]
-        let (t14, t7) = {
-            let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (s_shoulder, c_shoulder, s_elbow, c_elbow)
-            };
-            let (t0, upper_arm_a_vz, t1) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
-                (t0, upper_arm_a_vz, t1)
-            };
-            let (t7, t8, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t2 = c_elbow * t0;
-                let t3 = s_elbow * upper_arm_a_vz;
-                let t4 = ::hya_core::mul_add(c_elbow, t0, t3);
-                let t5 = s_elbow * t0;
-                let t6 = c_elbow * upper_arm_a_vz;
-                let forearm_a_vz = ::hya_core::mul_add(c_elbow, upper_arm_a_vz, -t5);
-                let t7 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t8 = t4 * 2f64; // 2.0000e0 = forearm mass
-                let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                (t7, t8, forearm_f_fz)
-            };
-            let t14 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t9 = s_elbow * t8;
-                let t10 = c_elbow * forearm_f_fz;
-                let t11 = ::hya_core::mul_add(s_elbow, t8, t10);
-                let t12 = 0.5f64 * t11; // 5.0000e-1 = joint elbow origin x
-                let t13 = ::hya_core::mul_add(0.5f64, t11, t7); // 5.0000e-1 = joint elbow origin x
-                let t14 = t1 + t13;
-                t14
-            };
-            (t14, t7)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (t14, t7) = {
-            let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (s_shoulder, c_shoulder, s_elbow, c_elbow)
-            };
-            let (t0, upper_arm_a_vz, t1) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
-                (t0, upper_arm_a_vz, t1)
-            };
-            let (t7, t8, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t2 = c_elbow * t0;
-                let t3 = s_elbow * upper_arm_a_vz;
-                let t4 = t2 + t3;
-                let t5 = s_elbow * t0;
-                let t6 = c_elbow * upper_arm_a_vz;
-                let forearm_a_vz = t6 - t5;
-                let t7 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t8 = t4 * 2f64; // 2.0000e0 = forearm mass
-                let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                (t7, t8, forearm_f_fz)
-            };
-            let t14 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t9 = s_elbow * t8;
-                let t10 = c_elbow * forearm_f_fz;
-                let t11 = t9 + t10;
-                let t12 = 0.5f64 * t11; // 5.0000e-1 = joint elbow origin x
-                let t13 = t7 + t12;
-                let t14 = t1 + t13;
-                t14
-            };
-            (t14, t7)
+        let (t14, t7) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (s_shoulder, c_shoulder, s_elbow, c_elbow)
+                };
+                let (t0, upper_arm_a_vz, t1) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
+                    (t0, upper_arm_a_vz, t1)
+                };
+                let (t7, t8, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t2 = c_elbow * t0;
+                    let t3 = s_elbow * upper_arm_a_vz;
+                    let t4 = ::hya_core::mul_add(c_elbow, t0, t3);
+                    let t5 = s_elbow * t0;
+                    let t6 = c_elbow * upper_arm_a_vz;
+                    let forearm_a_vz = ::hya_core::mul_add(c_elbow, upper_arm_a_vz, -t5);
+                    let t7 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t8 = t4 * 2f64; // 2.0000e0 = forearm mass
+                    let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    (t7, t8, forearm_f_fz)
+                };
+                let t14 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t9 = s_elbow * t8;
+                    let t10 = c_elbow * forearm_f_fz;
+                    let t11 = ::hya_core::mul_add(s_elbow, t8, t10);
+                    let t12 = 0.5f64 * t11; // 5.0000e-1 = joint elbow origin x
+                    let t13 = ::hya_core::mul_add(0.5f64, t11, t7); // 5.0000e-1 = joint elbow origin x
+                    let t14 = t1 + t13;
+                    t14
+                };
+                (t14, t7)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (s_shoulder, c_shoulder, s_elbow, c_elbow)
+                };
+                let (t0, upper_arm_a_vz, t1) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.75f64 * upper_arm_a_vz; // 7.5000e-1 = upper_arm m·c_x
+                    (t0, upper_arm_a_vz, t1)
+                };
+                let (t7, t8, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t2 = c_elbow * t0;
+                    let t3 = s_elbow * upper_arm_a_vz;
+                    let t4 = t2 + t3;
+                    let t5 = s_elbow * t0;
+                    let t6 = c_elbow * upper_arm_a_vz;
+                    let forearm_a_vz = t6 - t5;
+                    let t7 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t8 = t4 * 2f64; // 2.0000e0 = forearm mass
+                    let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    (t7, t8, forearm_f_fz)
+                };
+                let t14 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t9 = s_elbow * t8;
+                    let t10 = c_elbow * forearm_f_fz;
+                    let t11 = t9 + t10;
+                    let t12 = 0.5f64 * t11; // 5.0000e-1 = joint elbow origin x
+                    let t13 = t7 + t12;
+                    let t14 = t1 + t13;
+                    t14
+                };
+                (t14, t7)
+            }
         };
         ::hya_core::JointVector::<2>::from([-t14, -t7])
     }
@@ -428,99 +437,106 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         q: &::hya_core::JointVector<2>,
         qd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        #[cfg(target_feature = "fma")]
-        let (upper_arm_f_ny, forearm_f_ny) = {
-            let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                (qd_shoulder, qd_elbow, s_elbow, c_elbow)
-            };
-            let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let forearm_a_vx = t1 * qd_elbow;
-                let forearm_a_vz = forearm_v_vx * qd_elbow;
-                let t2 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t3 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t4 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t5 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t6 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t7 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t8 = ::hya_core::mul_add(t1, 2f64, t7); // 2.0000e0 = forearm mass
-                let t9 = t1 * t5;
-                let t10 = forearm_v_vx * t8;
-                let t11 = ::hya_core::mul_add(forearm_v_vx, t8, -t9);
-                let t12 = forearm_v_wy * t8;
-                let t13 = forearm_v_wy * t5;
-                let forearm_f_ny = ::hya_core::mul_add(-0.4f64, forearm_a_vz, t11); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t12); // 2.0000e0 = forearm mass
-                let forearm_f_fz = ::hya_core::mul_add(forearm_a_vz, 2f64, -t13); // 2.0000e0 = forearm mass
-                (forearm_f_ny, forearm_f_fx, forearm_f_fz)
-            };
-            let upper_arm_f_ny = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t14 = s_elbow * forearm_f_fx;
-                let t15 = c_elbow * forearm_f_fz;
-                let upper_arm_f_fz = ::hya_core::mul_add(c_elbow, forearm_f_fz, -t14);
-                let t16 = 0.5f64 * upper_arm_f_fz; // 5.0000e-1 = joint elbow origin x
-                let upper_arm_f_ny = ::hya_core::mul_add(
-                    -0.5f64,
-                    upper_arm_f_fz,
-                    forearm_f_ny,
-                );
-                upper_arm_f_ny
-            };
-            (upper_arm_f_ny, forearm_f_ny)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (upper_arm_f_ny, forearm_f_ny) = {
-            let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                (qd_shoulder, qd_elbow, s_elbow, c_elbow)
-            };
-            let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let forearm_a_vx = t1 * qd_elbow;
-                let forearm_a_vz = forearm_v_vx * qd_elbow;
-                let t2 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t3 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t4 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t5 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t6 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t7 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t8 = t6 + t7;
-                let t9 = t1 * t5;
-                let t10 = forearm_v_vx * t8;
-                let t11 = t10 - t9;
-                let t12 = forearm_v_wy * t8;
-                let t13 = forearm_v_wy * t5;
-                let forearm_f_ny = t11 - t2;
-                let forearm_f_fx = t3 - t12;
-                let forearm_f_fz = t4 - t13;
-                (forearm_f_ny, forearm_f_fx, forearm_f_fz)
-            };
-            let upper_arm_f_ny = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t14 = s_elbow * forearm_f_fx;
-                let t15 = c_elbow * forearm_f_fz;
-                let upper_arm_f_fz = t15 - t14;
-                let t16 = 0.5f64 * upper_arm_f_fz; // 5.0000e-1 = joint elbow origin x
-                let upper_arm_f_ny = forearm_f_ny - t16;
-                upper_arm_f_ny
-            };
-            (upper_arm_f_ny, forearm_f_ny)
+        let (upper_arm_f_ny, forearm_f_ny) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+                };
+                let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let forearm_a_vx = t1 * qd_elbow;
+                    let forearm_a_vz = forearm_v_vx * qd_elbow;
+                    let t2 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t3 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t4 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t5 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t6 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t7 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t8 = ::hya_core::mul_add(t1, 2f64, t7); // 2.0000e0 = forearm mass
+                    let t9 = t1 * t5;
+                    let t10 = forearm_v_vx * t8;
+                    let t11 = ::hya_core::mul_add(forearm_v_vx, t8, -t9);
+                    let t12 = forearm_v_wy * t8;
+                    let t13 = forearm_v_wy * t5;
+                    let forearm_f_ny = ::hya_core::mul_add(-0.4f64, forearm_a_vz, t11); // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t12); // 2.0000e0 = forearm mass
+                    let forearm_f_fz = ::hya_core::mul_add(forearm_a_vz, 2f64, -t13); // 2.0000e0 = forearm mass
+                    (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+                };
+                let upper_arm_f_ny = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t14 = s_elbow * forearm_f_fx;
+                    let t15 = c_elbow * forearm_f_fz;
+                    let upper_arm_f_fz = ::hya_core::mul_add(
+                        c_elbow,
+                        forearm_f_fz,
+                        -t14,
+                    );
+                    let t16 = 0.5f64 * upper_arm_f_fz; // 5.0000e-1 = joint elbow origin x
+                    let upper_arm_f_ny = ::hya_core::mul_add(
+                        -0.5f64,
+                        upper_arm_f_fz,
+                        forearm_f_ny,
+                    );
+                    upper_arm_f_ny
+                };
+                (upper_arm_f_ny, forearm_f_ny)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+                };
+                let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let forearm_a_vx = t1 * qd_elbow;
+                    let forearm_a_vz = forearm_v_vx * qd_elbow;
+                    let t2 = 0.4f64 * forearm_a_vz; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t3 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t4 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t5 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t6 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t7 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t8 = t6 + t7;
+                    let t9 = t1 * t5;
+                    let t10 = forearm_v_vx * t8;
+                    let t11 = t10 - t9;
+                    let t12 = forearm_v_wy * t8;
+                    let t13 = forearm_v_wy * t5;
+                    let forearm_f_ny = t11 - t2;
+                    let forearm_f_fx = t3 - t12;
+                    let forearm_f_fz = t4 - t13;
+                    (forearm_f_ny, forearm_f_fx, forearm_f_fz)
+                };
+                let upper_arm_f_ny = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t14 = s_elbow * forearm_f_fx;
+                    let t15 = c_elbow * forearm_f_fz;
+                    let upper_arm_f_fz = t15 - t14;
+                    let t16 = 0.5f64 * upper_arm_f_fz; // 5.0000e-1 = joint elbow origin x
+                    let upper_arm_f_ny = forearm_f_ny - t16;
+                    upper_arm_f_ny
+                };
+                (upper_arm_f_ny, forearm_f_ny)
+            }
         };
         ::hya_core::JointVector::<2>::from([upper_arm_f_ny, forearm_f_ny])
     }
@@ -531,118 +547,124 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         q: &::hya_core::JointVector<2>,
         qd: &::hya_core::JointVector<2>,
     ) -> ::hya_core::JointVector<2> {
-        #[cfg(target_feature = "fma")]
-        let ct_elbow = {
-            let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                (qd_shoulder, qd_elbow, s_elbow, c_elbow)
-            };
-            let (forearm_v_vx, t1, forearm_f_fx, t4) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let forearm_f_fx = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t2 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t3 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t4 = ::hya_core::mul_add(t1, 2f64, t3); // 2.0000e0 = forearm mass
-                (forearm_v_vx, t1, forearm_f_fx, t4)
-            };
-            let ct_elbow = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t5 = t1 * forearm_f_fx;
-                let t6 = forearm_v_vx * t4;
-                let ct_elbow = ::hya_core::mul_add(t1, forearm_f_fx, -t6);
+        let ct_elbow = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+                };
+                let (forearm_v_vx, t1, forearm_f_fx, t4) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let forearm_f_fx = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t2 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t3 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t4 = ::hya_core::mul_add(t1, 2f64, t3); // 2.0000e0 = forearm mass
+                    (forearm_v_vx, t1, forearm_f_fx, t4)
+                };
+                let ct_elbow = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t5 = t1 * forearm_f_fx;
+                    let t6 = forearm_v_vx * t4;
+                    let ct_elbow = ::hya_core::mul_add(t1, forearm_f_fx, -t6);
+                    ct_elbow
+                };
                 ct_elbow
-            };
-            ct_elbow
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let ct_elbow = {
-            let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                (qd_shoulder, qd_elbow, s_elbow, c_elbow)
-            };
-            let (forearm_v_vx, t1, forearm_f_fx, t4) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let forearm_f_fx = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t2 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t3 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t4 = t2 + t3;
-                (forearm_v_vx, t1, forearm_f_fx, t4)
-            };
-            let ct_elbow = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t5 = t1 * forearm_f_fx;
-                let t6 = forearm_v_vx * t4;
-                let ct_elbow = t5 - t6;
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (qd_shoulder, qd_elbow, s_elbow, c_elbow) = {
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    (qd_shoulder, qd_elbow, s_elbow, c_elbow)
+                };
+                let (forearm_v_vx, t1, forearm_f_fx, t4) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let forearm_f_fx = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t2 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t3 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t4 = t2 + t3;
+                    (forearm_v_vx, t1, forearm_f_fx, t4)
+                };
+                let ct_elbow = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t5 = t1 * forearm_f_fx;
+                    let t6 = forearm_v_vx * t4;
+                    let ct_elbow = t5 - t6;
+                    ct_elbow
+                };
                 ct_elbow
-            };
-            ct_elbow
+            }
         };
         ::hya_core::JointVector::<2>::from([0f64, ct_elbow])
     }
     /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
     #[inline]
     fn mass_matrix(&self, q: &::hya_core::JointVector<2>) -> ::hya_core::JointMatrix<2> {
-        #[cfg(target_feature = "fma")]
-        let (m_shoulder_shoulder, m_elbow_shoulder) = {
-            let c_elbow = {
-                let q_elbow = q[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                c_elbow
-            };
-            let (t1, m_shoulder_shoulder) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t1 = 0.5f64 * t0; // 5.0000e-1 = joint elbow origin x
-                let t2 = ::hya_core::mul_add(0.5f64, t0, t1); // 5.0000e-1 = joint elbow origin x
-                let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t4 = 0.11000000000000001f64 + t3; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let m_shoulder_shoulder = 0.2475f64 + t4; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                (t1, m_shoulder_shoulder)
-            };
-            let m_elbow_shoulder = {
-                // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let m_elbow_shoulder = 0.11000000000000001f64 + t1; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                m_elbow_shoulder
-            };
-            (m_shoulder_shoulder, m_elbow_shoulder)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (m_shoulder_shoulder, m_elbow_shoulder) = {
-            let c_elbow = {
-                let q_elbow = q[1];
-                let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
-                c_elbow
-            };
-            let (t1, m_shoulder_shoulder) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t1 = 0.5f64 * t0; // 5.0000e-1 = joint elbow origin x
-                let t2 = t1 + t1;
-                let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t4 = 0.11000000000000001f64 + t3; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let m_shoulder_shoulder = 0.2475f64 + t4; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                (t1, m_shoulder_shoulder)
-            };
-            let m_elbow_shoulder = {
-                // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let m_elbow_shoulder = 0.11000000000000001f64 + t1; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                m_elbow_shoulder
-            };
-            (m_shoulder_shoulder, m_elbow_shoulder)
+        let (m_shoulder_shoulder, m_elbow_shoulder) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let c_elbow = {
+                    let q_elbow = q[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    c_elbow
+                };
+                let (t1, m_shoulder_shoulder) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t1 = 0.5f64 * t0; // 5.0000e-1 = joint elbow origin x
+                    let t2 = ::hya_core::mul_add(0.5f64, t0, t1); // 5.0000e-1 = joint elbow origin x
+                    let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t4 = 0.11000000000000001f64 + t3; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let m_shoulder_shoulder = 0.2475f64 + t4; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    (t1, m_shoulder_shoulder)
+                };
+                let m_elbow_shoulder = {
+                    // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                    let m_elbow_shoulder = 0.11000000000000001f64 + t1; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    m_elbow_shoulder
+                };
+                (m_shoulder_shoulder, m_elbow_shoulder)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let c_elbow = {
+                    let q_elbow = q[1];
+                    let [(s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([q_elbow]);
+                    c_elbow
+                };
+                let (t1, m_shoulder_shoulder) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t1 = 0.5f64 * t0; // 5.0000e-1 = joint elbow origin x
+                    let t2 = t1 + t1;
+                    let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t4 = 0.11000000000000001f64 + t3; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let m_shoulder_shoulder = 0.2475f64 + t4; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    (t1, m_shoulder_shoulder)
+                };
+                let m_elbow_shoulder = {
+                    // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                    let m_elbow_shoulder = 0.11000000000000001f64 + t1; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    m_elbow_shoulder
+                };
+                (m_shoulder_shoulder, m_elbow_shoulder)
+            }
         };
         let mut m = ::hya_core::JointMatrix::<2>::zeros();
         m[(0, 0)] = m_shoulder_shoulder;
@@ -660,29 +682,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         qd: &::hya_core::JointVector<2>,
         tau: &::hya_core::JointVector<2>,
     ) -> Result<::hya_core::JointVector<2>, ::hya_core::Error> {
-        #[cfg(target_feature = "fma")]
-        let (qdd_shoulder, qdd_elbow, upper_arm_u_ny) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                tau_shoulder,
-                tau_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let tau_shoulder = tau[0];
-                let tau_elbow = tau[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+        let (qdd_shoulder, qdd_elbow, upper_arm_u_ny) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     tau_shoulder,
@@ -691,120 +694,129 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t2, t3, forearm_p_ny, t10, t11) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t2 = t1 * qd_elbow;
-                let t3 = forearm_v_vx * qd_elbow;
-                let t4 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t5 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t6 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t7 = ::hya_core::mul_add(t1, 2f64, t6); // 2.0000e0 = forearm mass
-                let t8 = t1 * t4;
-                let t9 = forearm_v_vx * t7;
-                let forearm_p_ny = ::hya_core::mul_add(forearm_v_vx, t7, -t8);
-                let t10 = forearm_v_wy * t7;
-                let t11 = forearm_v_wy * t4;
-                (t2, t3, forearm_p_ny, t10, t11)
-            };
-            let (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let u_elbow = tau_elbow - forearm_p_ny;
-                let t12 = 2f64 * t2; // 2.0000e0 = forearm mass
-                let t13 = 0.5454545454545454f64 * t3;
-                let t14 = ::hya_core::mul_add(2f64, t2, -t10); // 2.0000e0 = forearm mass
-                let t15 = ::hya_core::mul_add(0.5454545454545454f64, t3, -t11);
-                let t16 = u_elbow * 9.09090909090909f64;
-                let t17 = 0.11000000000000001f64 * t16; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t18 = 0.4f64 * t16; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t19 = ::hya_core::mul_add(0.11000000000000001f64, t16, forearm_p_ny); // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t20 = ::hya_core::mul_add(-0.4f64, t16, t15); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t21 = 2f64 * s_elbow; // 2.0000e0 = forearm mass
-                let t22 = 0.5454545454545454f64 * c_elbow;
-                let t23 = c_elbow * t21;
-                let t24 = s_elbow * t22;
-                let t25 = ::hya_core::mul_add(s_elbow, t22, -t23);
-                let t26 = s_elbow * t21;
-                let t27 = c_elbow * t22;
-                let t28 = ::hya_core::mul_add(s_elbow, t21, t27);
-                let t29 = 0.5f64 * t25; // 5.0000e-1 = joint elbow origin x
-                let t30 = 0.5f64 * t28; // 5.0000e-1 = joint elbow origin x
-                let t31 = t30 * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t32 = s_elbow * t14;
-                let t33 = c_elbow * t20;
-                let upper_arm_p_fz = ::hya_core::mul_add(c_elbow, t20, -t32);
-                let t34 = 0.5f64 * upper_arm_p_fz; // 5.0000e-1 = joint elbow origin x
-                let upper_arm_p_ny = ::hya_core::mul_add(-0.5f64, upper_arm_p_fz, t19); // 5.0000e-1 = joint elbow origin x
-                let upper_arm_u_ny = ::hya_core::mul_add(t30, 0.5f64, 0.2475f64); // 5.0000e-1 = joint elbow origin x; 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                let t35 = ::hya_core::mul_add(0.5f64, t28, 0.75f64); // 5.0000e-1 = joint elbow origin x; 7.5000e-1 = upper_arm m·c_x
-                (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35)
-            };
-            let (u_shoulder, t36) = {
-                // ── link `upper_arm`, joint `shoulder` (tip to base)
-                let u_shoulder = tau_shoulder - upper_arm_p_ny;
-                let t36 = 1f64 / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
-                (u_shoulder, t36)
-            };
-            let (t37, upper_arm_a_vz, qdd_shoulder) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
-                let t37 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t38 = t37 * t29;
-                let t39 = upper_arm_a_vz * t35;
-                let t40 = ::hya_core::mul_add(t37, t29, -t39);
-                let t41 = u_shoulder - t40;
-                let qdd_shoulder = t41 * t36;
-                (t37, upper_arm_a_vz, qdd_shoulder)
-            };
-            let qdd_elbow = {
-                // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let t42 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t43 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
-                let t44 = s_elbow * t37;
-                let t45 = c_elbow * t43;
-                let t46 = ::hya_core::mul_add(c_elbow, t43, -t44);
-                let forearm_a_vz = t46 + t3;
-                let t47 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t48 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t49 = ::hya_core::mul_add(
-                    qdd_shoulder,
-                    0.11000000000000001f64,
-                    -t48,
-                );
-                let t50 = u_elbow - t49;
-                let qdd_elbow = t50 * 9.09090909090909f64;
-                qdd_elbow
-            };
-            (qdd_shoulder, qdd_elbow, upper_arm_u_ny)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (qdd_shoulder, qdd_elbow, upper_arm_u_ny) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                tau_shoulder,
-                tau_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let tau_shoulder = tau[0];
-                let tau_elbow = tau[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let tau_shoulder = tau[0];
+                    let tau_elbow = tau[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        tau_shoulder,
+                        tau_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t2, t3, forearm_p_ny, t10, t11) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t2 = t1 * qd_elbow;
+                    let t3 = forearm_v_vx * qd_elbow;
+                    let t4 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t5 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t6 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t7 = ::hya_core::mul_add(t1, 2f64, t6); // 2.0000e0 = forearm mass
+                    let t8 = t1 * t4;
+                    let t9 = forearm_v_vx * t7;
+                    let forearm_p_ny = ::hya_core::mul_add(forearm_v_vx, t7, -t8);
+                    let t10 = forearm_v_wy * t7;
+                    let t11 = forearm_v_wy * t4;
+                    (t2, t3, forearm_p_ny, t10, t11)
+                };
+                let (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let u_elbow = tau_elbow - forearm_p_ny;
+                    let t12 = 2f64 * t2; // 2.0000e0 = forearm mass
+                    let t13 = 0.5454545454545454f64 * t3;
+                    let t14 = ::hya_core::mul_add(2f64, t2, -t10); // 2.0000e0 = forearm mass
+                    let t15 = ::hya_core::mul_add(0.5454545454545454f64, t3, -t11);
+                    let t16 = u_elbow * 9.09090909090909f64;
+                    let t17 = 0.11000000000000001f64 * t16; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t18 = 0.4f64 * t16; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t19 = ::hya_core::mul_add(
+                        0.11000000000000001f64,
+                        t16,
+                        forearm_p_ny,
+                    );
+                    let t20 = ::hya_core::mul_add(-0.4f64, t16, t15); // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t21 = 2f64 * s_elbow; // 2.0000e0 = forearm mass
+                    let t22 = 0.5454545454545454f64 * c_elbow;
+                    let t23 = c_elbow * t21;
+                    let t24 = s_elbow * t22;
+                    let t25 = ::hya_core::mul_add(s_elbow, t22, -t23);
+                    let t26 = s_elbow * t21;
+                    let t27 = c_elbow * t22;
+                    let t28 = ::hya_core::mul_add(s_elbow, t21, t27);
+                    let t29 = 0.5f64 * t25; // 5.0000e-1 = joint elbow origin x
+                    let t30 = 0.5f64 * t28; // 5.0000e-1 = joint elbow origin x
+                    let t31 = t30 * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t32 = s_elbow * t14;
+                    let t33 = c_elbow * t20;
+                    let upper_arm_p_fz = ::hya_core::mul_add(c_elbow, t20, -t32);
+                    let t34 = 0.5f64 * upper_arm_p_fz; // 5.0000e-1 = joint elbow origin x
+                    let upper_arm_p_ny = ::hya_core::mul_add(
+                        -0.5f64,
+                        upper_arm_p_fz,
+                        t19,
+                    );
+                    let upper_arm_u_ny = ::hya_core::mul_add(t30, 0.5f64, 0.2475f64); // 5.0000e-1 = joint elbow origin x; 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    let t35 = ::hya_core::mul_add(0.5f64, t28, 0.75f64); // 5.0000e-1 = joint elbow origin x; 7.5000e-1 = upper_arm m·c_x
+                    (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35)
+                };
+                let (u_shoulder, t36) = {
+                    // ── link `upper_arm`, joint `shoulder` (tip to base)
+                    let u_shoulder = tau_shoulder - upper_arm_p_ny;
+                    let t36 = 1f64 / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
+                    (u_shoulder, t36)
+                };
+                let (t37, upper_arm_a_vz, qdd_shoulder) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
+                    let t37 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t38 = t37 * t29;
+                    let t39 = upper_arm_a_vz * t35;
+                    let t40 = ::hya_core::mul_add(t37, t29, -t39);
+                    let t41 = u_shoulder - t40;
+                    let qdd_shoulder = t41 * t36;
+                    (t37, upper_arm_a_vz, qdd_shoulder)
+                };
+                let qdd_elbow = {
+                    // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                    let t42 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t43 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
+                    let t44 = s_elbow * t37;
+                    let t45 = c_elbow * t43;
+                    let t46 = ::hya_core::mul_add(c_elbow, t43, -t44);
+                    let forearm_a_vz = t46 + t3;
+                    let t47 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t48 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t49 = ::hya_core::mul_add(
+                        qdd_shoulder,
+                        0.11000000000000001f64,
+                        -t48,
+                    );
+                    let t50 = u_elbow - t49;
+                    let qdd_elbow = t50 * 9.09090909090909f64;
+                    qdd_elbow
+                };
+                (qdd_shoulder, qdd_elbow, upper_arm_u_ny)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     tau_shoulder,
@@ -813,92 +825,113 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t2, t3, forearm_p_ny, t10, t11) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t0;
-                let t1 = c_elbow * t0;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t2 = t1 * qd_elbow;
-                let t3 = forearm_v_vx * qd_elbow;
-                let t4 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t5 = t1 * 2f64; // 2.0000e0 = forearm mass
-                let t6 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t7 = t5 + t6;
-                let t8 = t1 * t4;
-                let t9 = forearm_v_vx * t7;
-                let forearm_p_ny = t9 - t8;
-                let t10 = forearm_v_wy * t7;
-                let t11 = forearm_v_wy * t4;
-                (t2, t3, forearm_p_ny, t10, t11)
-            };
-            let (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let u_elbow = tau_elbow - forearm_p_ny;
-                let t12 = 2f64 * t2; // 2.0000e0 = forearm mass
-                let t13 = 0.5454545454545454f64 * t3;
-                let t14 = t12 - t10;
-                let t15 = t13 - t11;
-                let t16 = u_elbow * 9.09090909090909f64;
-                let t17 = 0.11000000000000001f64 * t16; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t18 = 0.4f64 * t16; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t19 = forearm_p_ny + t17;
-                let t20 = t15 - t18;
-                let t21 = 2f64 * s_elbow; // 2.0000e0 = forearm mass
-                let t22 = 0.5454545454545454f64 * c_elbow;
-                let t23 = c_elbow * t21;
-                let t24 = s_elbow * t22;
-                let t25 = t24 - t23;
-                let t26 = s_elbow * t21;
-                let t27 = c_elbow * t22;
-                let t28 = t26 + t27;
-                let t29 = 0.5f64 * t25; // 5.0000e-1 = joint elbow origin x
-                let t30 = 0.5f64 * t28; // 5.0000e-1 = joint elbow origin x
-                let t31 = t30 * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t32 = s_elbow * t14;
-                let t33 = c_elbow * t20;
-                let upper_arm_p_fz = t33 - t32;
-                let t34 = 0.5f64 * upper_arm_p_fz; // 5.0000e-1 = joint elbow origin x
-                let upper_arm_p_ny = t19 - t34;
-                let upper_arm_u_ny = 0.2475f64 + t31; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                let t35 = 0.75f64 + t30; // 7.5000e-1 = upper_arm m·c_x
-                (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35)
-            };
-            let (u_shoulder, t36) = {
-                // ── link `upper_arm`, joint `shoulder` (tip to base)
-                let u_shoulder = tau_shoulder - upper_arm_p_ny;
-                let t36 = 1f64 / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
-                (u_shoulder, t36)
-            };
-            let (t37, upper_arm_a_vz, qdd_shoulder) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
-                let t37 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t38 = t37 * t29;
-                let t39 = upper_arm_a_vz * t35;
-                let t40 = t38 - t39;
-                let t41 = u_shoulder - t40;
-                let qdd_shoulder = t41 * t36;
-                (t37, upper_arm_a_vz, qdd_shoulder)
-            };
-            let qdd_elbow = {
-                // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let t42 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t43 = upper_arm_a_vz - t42;
-                let t44 = s_elbow * t37;
-                let t45 = c_elbow * t43;
-                let t46 = t45 - t44;
-                let forearm_a_vz = t46 + t3;
-                let t47 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t48 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t49 = t47 - t48;
-                let t50 = u_elbow - t49;
-                let qdd_elbow = t50 * 9.09090909090909f64;
-                qdd_elbow
-            };
-            (qdd_shoulder, qdd_elbow, upper_arm_u_ny)
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let tau_shoulder = tau[0];
+                    let tau_elbow = tau[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        tau_shoulder,
+                        tau_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t2, t3, forearm_p_ny, t10, t11) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t0 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t0;
+                    let t1 = c_elbow * t0;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t2 = t1 * qd_elbow;
+                    let t3 = forearm_v_vx * qd_elbow;
+                    let t4 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t5 = t1 * 2f64; // 2.0000e0 = forearm mass
+                    let t6 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t7 = t5 + t6;
+                    let t8 = t1 * t4;
+                    let t9 = forearm_v_vx * t7;
+                    let forearm_p_ny = t9 - t8;
+                    let t10 = forearm_v_wy * t7;
+                    let t11 = forearm_v_wy * t4;
+                    (t2, t3, forearm_p_ny, t10, t11)
+                };
+                let (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let u_elbow = tau_elbow - forearm_p_ny;
+                    let t12 = 2f64 * t2; // 2.0000e0 = forearm mass
+                    let t13 = 0.5454545454545454f64 * t3;
+                    let t14 = t12 - t10;
+                    let t15 = t13 - t11;
+                    let t16 = u_elbow * 9.09090909090909f64;
+                    let t17 = 0.11000000000000001f64 * t16; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t18 = 0.4f64 * t16; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t19 = forearm_p_ny + t17;
+                    let t20 = t15 - t18;
+                    let t21 = 2f64 * s_elbow; // 2.0000e0 = forearm mass
+                    let t22 = 0.5454545454545454f64 * c_elbow;
+                    let t23 = c_elbow * t21;
+                    let t24 = s_elbow * t22;
+                    let t25 = t24 - t23;
+                    let t26 = s_elbow * t21;
+                    let t27 = c_elbow * t22;
+                    let t28 = t26 + t27;
+                    let t29 = 0.5f64 * t25; // 5.0000e-1 = joint elbow origin x
+                    let t30 = 0.5f64 * t28; // 5.0000e-1 = joint elbow origin x
+                    let t31 = t30 * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t32 = s_elbow * t14;
+                    let t33 = c_elbow * t20;
+                    let upper_arm_p_fz = t33 - t32;
+                    let t34 = 0.5f64 * upper_arm_p_fz; // 5.0000e-1 = joint elbow origin x
+                    let upper_arm_p_ny = t19 - t34;
+                    let upper_arm_u_ny = 0.2475f64 + t31; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
+                    let t35 = 0.75f64 + t30; // 7.5000e-1 = upper_arm m·c_x
+                    (u_elbow, t29, upper_arm_p_ny, upper_arm_u_ny, t35)
+                };
+                let (u_shoulder, t36) = {
+                    // ── link `upper_arm`, joint `shoulder` (tip to base)
+                    let u_shoulder = tau_shoulder - upper_arm_p_ny;
+                    let t36 = 1f64 / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
+                    (u_shoulder, t36)
+                };
+                let (t37, upper_arm_a_vz, qdd_shoulder) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
+                    let t37 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t38 = t37 * t29;
+                    let t39 = upper_arm_a_vz * t35;
+                    let t40 = t38 - t39;
+                    let t41 = u_shoulder - t40;
+                    let qdd_shoulder = t41 * t36;
+                    (t37, upper_arm_a_vz, qdd_shoulder)
+                };
+                let qdd_elbow = {
+                    // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                    let t42 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t43 = upper_arm_a_vz - t42;
+                    let t44 = s_elbow * t37;
+                    let t45 = c_elbow * t43;
+                    let t46 = t45 - t44;
+                    let forearm_a_vz = t46 + t3;
+                    let t47 = qdd_shoulder * 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
+                    let t48 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t49 = t47 - t48;
+                    let t50 = u_elbow - t49;
+                    let qdd_elbow = t50 * 9.09090909090909f64;
+                    qdd_elbow
+                };
+                (qdd_shoulder, qdd_elbow, upper_arm_u_ny)
+            }
         };
         if !(upper_arm_u_ny > 0.0) {
             return Err(::hya_core::Error::SingularMassMatrix);
@@ -914,29 +947,10 @@ impl ::hya_core::Dynamics<2> for Planar2 {
         qd: &::hya_core::JointVector<2>,
         qdd: &::hya_core::JointVector<2>,
     ) -> (::hya_core::JointMatrix<2>, ::hya_core::JointMatrix<2>) {
-        #[cfg(target_feature = "fma")]
-        let (t38, t88, t18, t79, t67, t92, t60) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                qdd_shoulder,
-                qdd_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let qdd_shoulder = qdd[0];
-                let qdd_elbow = qdd[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+        let (t38, t88, t18, t79, t67, t92, t60) = match ::hya_core::with_fma(
+            #[inline(always)]
+            || {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
@@ -945,73 +959,36 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t0, upper_arm_a_vz, t1) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.75f64 * t0; // 7.5000e-1 = upper_arm m·c_x
-                (t0, upper_arm_a_vz, t1)
-            };
-            let (
-                forearm_v_vx,
-                t3,
-                forearm_v_wy,
-                t9,
-                t13,
-                t17,
-                forearm_a_vx,
-                t18,
-                t19,
-                t20,
-                t22,
-                t25,
-                t26,
-                t27,
-                t28,
-                t30,
-                forearm_f_fx,
-                forearm_f_fz,
-            ) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t2 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t2;
-                let t3 = c_elbow * t2;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t4 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t5 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
-                let t6 = c_elbow * t0;
-                let t7 = c_elbow * upper_arm_a_vz;
-                let t8 = s_elbow * t5;
-                let t9 = s_elbow * t0;
-                let t10 = ::hya_core::mul_add(c_elbow, t0, t8);
-                let t11 = ::hya_core::mul_add(s_elbow, t0, -t7);
-                let t12 = s_elbow * upper_arm_a_vz;
-                let t13 = c_elbow * t5;
-                let t14 = ::hya_core::mul_add(c_elbow, t5, -t9);
-                let t15 = ::hya_core::mul_add(s_elbow, upper_arm_a_vz, t6);
-                let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let t16 = t3 * qd_elbow;
-                let t17 = forearm_v_vx * qd_elbow;
-                let forearm_a_vx = ::hya_core::mul_add(t3, qd_elbow, -t10);
-                let forearm_a_vz = ::hya_core::mul_add(forearm_v_vx, qd_elbow, t14);
-                let t18 = 0.4f64 * t15; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t19 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t20 = t11 * 2f64; // 2.0000e0 = forearm mass
-                let t21 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t22 = t15 * 2f64; // 2.0000e0 = forearm mass
-                let t23 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t24 = ::hya_core::mul_add(forearm_a_vz, 2f64, -t23); // 2.0000e0 = forearm mass
-                let t25 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t26 = t3 * 2f64; // 2.0000e0 = forearm mass
-                let t27 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t28 = ::hya_core::mul_add(t3, 2f64, t27); // 2.0000e0 = forearm mass
-                let t29 = forearm_v_wy * t28;
-                let t30 = forearm_v_wy * t25;
-                let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t29); // 2.0000e0 = forearm mass
-                let forearm_f_fz = ::hya_core::mul_add(-forearm_v_wy, t25, t24);
-                (
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let qdd_shoulder = qdd[0];
+                    let qdd_elbow = qdd[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        qdd_shoulder,
+                        qdd_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t0, upper_arm_a_vz, t1) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.75f64 * t0; // 7.5000e-1 = upper_arm m·c_x
+                    (t0, upper_arm_a_vz, t1)
+                };
+                let (
                     forearm_v_vx,
                     t3,
                     forearm_v_wy,
@@ -1030,123 +1007,161 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     t30,
                     forearm_f_fx,
                     forearm_f_fz,
-                )
-            };
-            let (t31, t32, t38) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t31 = c_elbow * forearm_f_fx;
-                let t32 = s_elbow * forearm_f_fz;
-                let t33 = s_elbow * t20;
-                let t34 = c_elbow * t22;
-                let t35 = ::hya_core::mul_add(s_elbow, t20, t34);
-                let t36 = 0.5f64 * t35; // 5.0000e-1 = joint elbow origin x
-                let t37 = ::hya_core::mul_add(0.5f64, t35, t18); // 5.0000e-1 = joint elbow origin x
-                let t38 = t1 + t37;
-                (t31, t32, t38)
-            };
-            let (t60, t61, t62) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t39 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t40 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t41 = t40 * qd_elbow;
-                let t42 = t39 * qd_elbow;
-                let t43 = 0.4f64 * t42; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t44 = t41 * 2f64; // 2.0000e0 = forearm mass
-                let t45 = t42 * 2f64; // 2.0000e0 = forearm mass
-                let t46 = t39 * 2f64; // 2.0000e0 = forearm mass
-                let t47 = t40 * 2f64; // 2.0000e0 = forearm mass
-                let t48 = ::hya_core::mul_add(t40, 2f64, 0.4f64); // 2.0000e0 = forearm mass; 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t49 = t3 * t46;
-                let t50 = t40 * t25;
-                let t51 = ::hya_core::mul_add(t3, t46, t50);
-                let t52 = forearm_v_vx * t48;
-                let t53 = t39 * t28;
-                let t54 = ::hya_core::mul_add(forearm_v_vx, t48, t53);
-                let t55 = t54 - t51;
-                let t56 = forearm_v_wy * t48;
-                let t57 = ::hya_core::mul_add(forearm_v_wy, t48, t28);
-                let t58 = forearm_v_wy * t46;
-                let t59 = ::hya_core::mul_add(forearm_v_wy, t46, t25);
-                let t60 = ::hya_core::mul_add(-0.4f64, t42, t55); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t61 = ::hya_core::mul_add(t41, 2f64, -t57); // 2.0000e0 = forearm mass
-                let t62 = ::hya_core::mul_add(t42, 2f64, -t59); // 2.0000e0 = forearm mass
-                (t60, t61, t62)
-            };
-            let t67 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t63 = s_elbow * t61;
-                let t64 = c_elbow * t62;
-                let t65 = ::hya_core::mul_add(c_elbow, t62, -t63);
-                let t66 = 0.5f64 * t65; // 5.0000e-1 = joint elbow origin x
-                let t67 = ::hya_core::mul_add(-0.5f64, t65, t60); // 5.0000e-1 = joint elbow origin x
-                t67
-            };
-            let (t79, t80, t81) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t68 = t9 - t13;
-                let t69 = t68 - t17;
-                let t70 = 0.4f64 * forearm_a_vx; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t71 = t69 * 2f64; // 2.0000e0 = forearm mass
-                let t72 = t3 * t26;
-                let t73 = forearm_v_vx * t25;
-                let t74 = ::hya_core::mul_add(forearm_v_vx, t25, -t72);
-                let t75 = t3 * t28;
-                let t76 = ::hya_core::mul_add(forearm_v_vx, t25, -t75);
-                let t77 = t74 - t76;
-                let t78 = forearm_v_wy * t26;
-                let t79 = ::hya_core::mul_add(-0.4f64, forearm_a_vx, t77); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t80 = ::hya_core::mul_add(t69, 2f64, t30); // 2.0000e0 = forearm mass
-                let t81 = ::hya_core::mul_add(-forearm_v_wy, t26, t19);
-                (t79, t80, t81)
-            };
-            let t88 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t82 = s_elbow * t80;
-                let t83 = ::hya_core::mul_add(s_elbow, t80, t31);
-                let t84 = c_elbow * t81;
-                let t85 = ::hya_core::mul_add(c_elbow, t81, -t32);
-                let t86 = t85 - t83;
-                let t87 = 0.5f64 * t86; // 5.0000e-1 = joint elbow origin x
-                let t88 = ::hya_core::mul_add(-0.5f64, t86, t79); // 5.0000e-1 = joint elbow origin x
-                t88
-            };
-            let t90 = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t89 = t27 + t28;
-                let t90 = t26 - t89;
-                t90
-            };
-            let t92 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t91 = s_elbow * t90;
-                let t92 = 0.5f64 * t91; // 5.0000e-1 = joint elbow origin x
-                t92
-            };
-            (t38, t88, t18, t79, t67, t92, t60)
-        };
-        #[cfg(not(target_feature = "fma"))]
-        let (t38, t88, t18, t79, t67, t92, t60) = {
-            let (
-                qd_shoulder,
-                qd_elbow,
-                qdd_shoulder,
-                qdd_elbow,
-                s_shoulder,
-                c_shoulder,
-                s_elbow,
-                c_elbow,
-            ) = {
-                let q_shoulder = q[0];
-                let q_elbow = q[1];
-                let qd_shoulder = qd[0];
-                let qd_elbow = qd[1];
-                let qdd_shoulder = qdd[0];
-                let qdd_elbow = qdd[1];
-                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
-                    q_shoulder,
-                    q_elbow,
-                ]);
-                (
+                ) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t2 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t2;
+                    let t3 = c_elbow * t2;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t4 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t5 = ::hya_core::mul_add(-0.5f64, qdd_shoulder, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
+                    let t6 = c_elbow * t0;
+                    let t7 = c_elbow * upper_arm_a_vz;
+                    let t8 = s_elbow * t5;
+                    let t9 = s_elbow * t0;
+                    let t10 = ::hya_core::mul_add(c_elbow, t0, t8);
+                    let t11 = ::hya_core::mul_add(s_elbow, t0, -t7);
+                    let t12 = s_elbow * upper_arm_a_vz;
+                    let t13 = c_elbow * t5;
+                    let t14 = ::hya_core::mul_add(c_elbow, t5, -t9);
+                    let t15 = ::hya_core::mul_add(s_elbow, upper_arm_a_vz, t6);
+                    let forearm_a_wy = qdd_shoulder + qdd_elbow;
+                    let t16 = t3 * qd_elbow;
+                    let t17 = forearm_v_vx * qd_elbow;
+                    let forearm_a_vx = ::hya_core::mul_add(t3, qd_elbow, -t10);
+                    let forearm_a_vz = ::hya_core::mul_add(forearm_v_vx, qd_elbow, t14);
+                    let t18 = 0.4f64 * t15; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t19 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t20 = t11 * 2f64; // 2.0000e0 = forearm mass
+                    let t21 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t22 = t15 * 2f64; // 2.0000e0 = forearm mass
+                    let t23 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t24 = ::hya_core::mul_add(forearm_a_vz, 2f64, -t23); // 2.0000e0 = forearm mass
+                    let t25 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t26 = t3 * 2f64; // 2.0000e0 = forearm mass
+                    let t27 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t28 = ::hya_core::mul_add(t3, 2f64, t27); // 2.0000e0 = forearm mass
+                    let t29 = forearm_v_wy * t28;
+                    let t30 = forearm_v_wy * t25;
+                    let forearm_f_fx = ::hya_core::mul_add(forearm_a_vx, 2f64, -t29); // 2.0000e0 = forearm mass
+                    let forearm_f_fz = ::hya_core::mul_add(-forearm_v_wy, t25, t24);
+                    (
+                        forearm_v_vx,
+                        t3,
+                        forearm_v_wy,
+                        t9,
+                        t13,
+                        t17,
+                        forearm_a_vx,
+                        t18,
+                        t19,
+                        t20,
+                        t22,
+                        t25,
+                        t26,
+                        t27,
+                        t28,
+                        t30,
+                        forearm_f_fx,
+                        forearm_f_fz,
+                    )
+                };
+                let (t31, t32, t38) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t31 = c_elbow * forearm_f_fx;
+                    let t32 = s_elbow * forearm_f_fz;
+                    let t33 = s_elbow * t20;
+                    let t34 = c_elbow * t22;
+                    let t35 = ::hya_core::mul_add(s_elbow, t20, t34);
+                    let t36 = 0.5f64 * t35; // 5.0000e-1 = joint elbow origin x
+                    let t37 = ::hya_core::mul_add(0.5f64, t35, t18); // 5.0000e-1 = joint elbow origin x
+                    let t38 = t1 + t37;
+                    (t31, t32, t38)
+                };
+                let (t60, t61, t62) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t39 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t40 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t41 = t40 * qd_elbow;
+                    let t42 = t39 * qd_elbow;
+                    let t43 = 0.4f64 * t42; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t44 = t41 * 2f64; // 2.0000e0 = forearm mass
+                    let t45 = t42 * 2f64; // 2.0000e0 = forearm mass
+                    let t46 = t39 * 2f64; // 2.0000e0 = forearm mass
+                    let t47 = t40 * 2f64; // 2.0000e0 = forearm mass
+                    let t48 = ::hya_core::mul_add(t40, 2f64, 0.4f64); // 2.0000e0 = forearm mass; 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t49 = t3 * t46;
+                    let t50 = t40 * t25;
+                    let t51 = ::hya_core::mul_add(t3, t46, t50);
+                    let t52 = forearm_v_vx * t48;
+                    let t53 = t39 * t28;
+                    let t54 = ::hya_core::mul_add(forearm_v_vx, t48, t53);
+                    let t55 = t54 - t51;
+                    let t56 = forearm_v_wy * t48;
+                    let t57 = ::hya_core::mul_add(forearm_v_wy, t48, t28);
+                    let t58 = forearm_v_wy * t46;
+                    let t59 = ::hya_core::mul_add(forearm_v_wy, t46, t25);
+                    let t60 = ::hya_core::mul_add(-0.4f64, t42, t55); // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t61 = ::hya_core::mul_add(t41, 2f64, -t57); // 2.0000e0 = forearm mass
+                    let t62 = ::hya_core::mul_add(t42, 2f64, -t59); // 2.0000e0 = forearm mass
+                    (t60, t61, t62)
+                };
+                let t67 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t63 = s_elbow * t61;
+                    let t64 = c_elbow * t62;
+                    let t65 = ::hya_core::mul_add(c_elbow, t62, -t63);
+                    let t66 = 0.5f64 * t65; // 5.0000e-1 = joint elbow origin x
+                    let t67 = ::hya_core::mul_add(-0.5f64, t65, t60); // 5.0000e-1 = joint elbow origin x
+                    t67
+                };
+                let (t79, t80, t81) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t68 = t9 - t13;
+                    let t69 = t68 - t17;
+                    let t70 = 0.4f64 * forearm_a_vx; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t71 = t69 * 2f64; // 2.0000e0 = forearm mass
+                    let t72 = t3 * t26;
+                    let t73 = forearm_v_vx * t25;
+                    let t74 = ::hya_core::mul_add(forearm_v_vx, t25, -t72);
+                    let t75 = t3 * t28;
+                    let t76 = ::hya_core::mul_add(forearm_v_vx, t25, -t75);
+                    let t77 = t74 - t76;
+                    let t78 = forearm_v_wy * t26;
+                    let t79 = ::hya_core::mul_add(-0.4f64, forearm_a_vx, t77); // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t80 = ::hya_core::mul_add(t69, 2f64, t30); // 2.0000e0 = forearm mass
+                    let t81 = ::hya_core::mul_add(-forearm_v_wy, t26, t19);
+                    (t79, t80, t81)
+                };
+                let t88 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t82 = s_elbow * t80;
+                    let t83 = ::hya_core::mul_add(s_elbow, t80, t31);
+                    let t84 = c_elbow * t81;
+                    let t85 = ::hya_core::mul_add(c_elbow, t81, -t32);
+                    let t86 = t85 - t83;
+                    let t87 = 0.5f64 * t86; // 5.0000e-1 = joint elbow origin x
+                    let t88 = ::hya_core::mul_add(-0.5f64, t86, t79); // 5.0000e-1 = joint elbow origin x
+                    t88
+                };
+                let t90 = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t89 = t27 + t28;
+                    let t90 = t26 - t89;
+                    t90
+                };
+                let t92 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t91 = s_elbow * t90;
+                    let t92 = 0.5f64 * t91; // 5.0000e-1 = joint elbow origin x
+                    t92
+                };
+                (t38, t88, t18, t79, t67, t92, t60)
+            },
+        ) {
+            Some(values) => values,
+            None => {
+                let (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
@@ -1155,73 +1170,36 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     c_shoulder,
                     s_elbow,
                     c_elbow,
-                )
-            };
-            let (t0, upper_arm_a_vz, t1) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = 0.75f64 * t0; // 7.5000e-1 = upper_arm m·c_x
-                (t0, upper_arm_a_vz, t1)
-            };
-            let (
-                forearm_v_vx,
-                t3,
-                forearm_v_wy,
-                t9,
-                t13,
-                t17,
-                forearm_a_vx,
-                t18,
-                t19,
-                t20,
-                t22,
-                t25,
-                t26,
-                t27,
-                t28,
-                t30,
-                forearm_f_fx,
-                forearm_f_fz,
-            ) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t2 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t2;
-                let t3 = c_elbow * t2;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t4 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
-                let t5 = upper_arm_a_vz - t4;
-                let t6 = c_elbow * t0;
-                let t7 = c_elbow * upper_arm_a_vz;
-                let t8 = s_elbow * t5;
-                let t9 = s_elbow * t0;
-                let t10 = t6 + t8;
-                let t11 = t9 - t7;
-                let t12 = s_elbow * upper_arm_a_vz;
-                let t13 = c_elbow * t5;
-                let t14 = t13 - t9;
-                let t15 = t12 + t6;
-                let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let t16 = t3 * qd_elbow;
-                let t17 = forearm_v_vx * qd_elbow;
-                let forearm_a_vx = t16 - t10;
-                let forearm_a_vz = t14 + t17;
-                let t18 = 0.4f64 * t15; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t19 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t20 = t11 * 2f64; // 2.0000e0 = forearm mass
-                let t21 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                let t22 = t15 * 2f64; // 2.0000e0 = forearm mass
-                let t23 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t24 = t21 - t23;
-                let t25 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t26 = t3 * 2f64; // 2.0000e0 = forearm mass
-                let t27 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t28 = t26 + t27;
-                let t29 = forearm_v_wy * t28;
-                let t30 = forearm_v_wy * t25;
-                let forearm_f_fx = t19 - t29;
-                let forearm_f_fz = t24 - t30;
-                (
+                ) = {
+                    let q_shoulder = q[0];
+                    let q_elbow = q[1];
+                    let qd_shoulder = qd[0];
+                    let qd_elbow = qd[1];
+                    let qdd_shoulder = qdd[0];
+                    let qdd_elbow = qdd[1];
+                    let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = ::hya_core::sin_cos_lanes([
+                        q_shoulder,
+                        q_elbow,
+                    ]);
+                    (
+                        qd_shoulder,
+                        qd_elbow,
+                        qdd_shoulder,
+                        qdd_elbow,
+                        s_shoulder,
+                        c_shoulder,
+                        s_elbow,
+                        c_elbow,
+                    )
+                };
+                let (t0, upper_arm_a_vz, t1) = {
+                    // ── link `upper_arm`, joint `shoulder` (base to tip)
+                    let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                    let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
+                    let t1 = 0.75f64 * t0; // 7.5000e-1 = upper_arm m·c_x
+                    (t0, upper_arm_a_vz, t1)
+                };
+                let (
                     forearm_v_vx,
                     t3,
                     forearm_v_wy,
@@ -1240,99 +1218,157 @@ impl ::hya_core::Dynamics<2> for Planar2 {
                     t30,
                     forearm_f_fx,
                     forearm_f_fz,
-                )
-            };
-            let (t31, t32, t38) = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t31 = c_elbow * forearm_f_fx;
-                let t32 = s_elbow * forearm_f_fz;
-                let t33 = s_elbow * t20;
-                let t34 = c_elbow * t22;
-                let t35 = t33 + t34;
-                let t36 = 0.5f64 * t35; // 5.0000e-1 = joint elbow origin x
-                let t37 = t18 + t36;
-                let t38 = t1 + t37;
-                (t31, t32, t38)
-            };
-            let (t60, t61, t62) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t39 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t40 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t41 = t40 * qd_elbow;
-                let t42 = t39 * qd_elbow;
-                let t43 = 0.4f64 * t42; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t44 = t41 * 2f64; // 2.0000e0 = forearm mass
-                let t45 = t42 * 2f64; // 2.0000e0 = forearm mass
-                let t46 = t39 * 2f64; // 2.0000e0 = forearm mass
-                let t47 = t40 * 2f64; // 2.0000e0 = forearm mass
-                let t48 = t47 + 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t49 = t3 * t46;
-                let t50 = t40 * t25;
-                let t51 = t49 + t50;
-                let t52 = forearm_v_vx * t48;
-                let t53 = t39 * t28;
-                let t54 = t52 + t53;
-                let t55 = t54 - t51;
-                let t56 = forearm_v_wy * t48;
-                let t57 = t56 + t28;
-                let t58 = forearm_v_wy * t46;
-                let t59 = t58 + t25;
-                let t60 = t55 - t43;
-                let t61 = t44 - t57;
-                let t62 = t45 - t59;
-                (t60, t61, t62)
-            };
-            let t67 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t63 = s_elbow * t61;
-                let t64 = c_elbow * t62;
-                let t65 = t64 - t63;
-                let t66 = 0.5f64 * t65; // 5.0000e-1 = joint elbow origin x
-                let t67 = t60 - t66;
-                t67
-            };
-            let (t79, t80, t81) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t68 = t9 - t13;
-                let t69 = t68 - t17;
-                let t70 = 0.4f64 * forearm_a_vx; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t71 = t69 * 2f64; // 2.0000e0 = forearm mass
-                let t72 = t3 * t26;
-                let t73 = forearm_v_vx * t25;
-                let t74 = t73 - t72;
-                let t75 = t3 * t28;
-                let t76 = t73 - t75;
-                let t77 = t74 - t76;
-                let t78 = forearm_v_wy * t26;
-                let t79 = t77 - t70;
-                let t80 = t71 + t30;
-                let t81 = t19 - t78;
-                (t79, t80, t81)
-            };
-            let t88 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t82 = s_elbow * t80;
-                let t83 = t82 + t31;
-                let t84 = c_elbow * t81;
-                let t85 = t84 - t32;
-                let t86 = t85 - t83;
-                let t87 = 0.5f64 * t86; // 5.0000e-1 = joint elbow origin x
-                let t88 = t79 - t87;
-                t88
-            };
-            let t90 = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t89 = t27 + t28;
-                let t90 = t26 - t89;
-                t90
-            };
-            let t92 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t91 = s_elbow * t90;
-                let t92 = 0.5f64 * t91; // 5.0000e-1 = joint elbow origin x
-                t92
-            };
-            (t38, t88, t18, t79, t67, t92, t60)
+                ) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t2 = 0.5f64 * qd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let forearm_v_vx = s_elbow * t2;
+                    let t3 = c_elbow * t2;
+                    let forearm_v_wy = qd_shoulder + qd_elbow;
+                    let t4 = 0.5f64 * qdd_shoulder; // 5.0000e-1 = joint elbow origin x
+                    let t5 = upper_arm_a_vz - t4;
+                    let t6 = c_elbow * t0;
+                    let t7 = c_elbow * upper_arm_a_vz;
+                    let t8 = s_elbow * t5;
+                    let t9 = s_elbow * t0;
+                    let t10 = t6 + t8;
+                    let t11 = t9 - t7;
+                    let t12 = s_elbow * upper_arm_a_vz;
+                    let t13 = c_elbow * t5;
+                    let t14 = t13 - t9;
+                    let t15 = t12 + t6;
+                    let forearm_a_wy = qdd_shoulder + qdd_elbow;
+                    let t16 = t3 * qd_elbow;
+                    let t17 = forearm_v_vx * qd_elbow;
+                    let forearm_a_vx = t16 - t10;
+                    let forearm_a_vz = t14 + t17;
+                    let t18 = 0.4f64 * t15; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t19 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t20 = t11 * 2f64; // 2.0000e0 = forearm mass
+                    let t21 = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
+                    let t22 = t15 * 2f64; // 2.0000e0 = forearm mass
+                    let t23 = 0.4f64 * forearm_a_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t24 = t21 - t23;
+                    let t25 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                    let t26 = t3 * 2f64; // 2.0000e0 = forearm mass
+                    let t27 = 0.4f64 * forearm_v_wy; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t28 = t26 + t27;
+                    let t29 = forearm_v_wy * t28;
+                    let t30 = forearm_v_wy * t25;
+                    let forearm_f_fx = t19 - t29;
+                    let forearm_f_fz = t24 - t30;
+                    (
+                        forearm_v_vx,
+                        t3,
+                        forearm_v_wy,
+                        t9,
+                        t13,
+                        t17,
+                        forearm_a_vx,
+                        t18,
+                        t19,
+                        t20,
+                        t22,
+                        t25,
+                        t26,
+                        t27,
+                        t28,
+                        t30,
+                        forearm_f_fx,
+                        forearm_f_fz,
+                    )
+                };
+                let (t31, t32, t38) = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t31 = c_elbow * forearm_f_fx;
+                    let t32 = s_elbow * forearm_f_fz;
+                    let t33 = s_elbow * t20;
+                    let t34 = c_elbow * t22;
+                    let t35 = t33 + t34;
+                    let t36 = 0.5f64 * t35; // 5.0000e-1 = joint elbow origin x
+                    let t37 = t18 + t36;
+                    let t38 = t1 + t37;
+                    (t31, t32, t38)
+                };
+                let (t60, t61, t62) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t39 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t40 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                    let t41 = t40 * qd_elbow;
+                    let t42 = t39 * qd_elbow;
+                    let t43 = 0.4f64 * t42; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t44 = t41 * 2f64; // 2.0000e0 = forearm mass
+                    let t45 = t42 * 2f64; // 2.0000e0 = forearm mass
+                    let t46 = t39 * 2f64; // 2.0000e0 = forearm mass
+                    let t47 = t40 * 2f64; // 2.0000e0 = forearm mass
+                    let t48 = t47 + 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t49 = t3 * t46;
+                    let t50 = t40 * t25;
+                    let t51 = t49 + t50;
+                    let t52 = forearm_v_vx * t48;
+                    let t53 = t39 * t28;
+                    let t54 = t52 + t53;
+                    let t55 = t54 - t51;
+                    let t56 = forearm_v_wy * t48;
+                    let t57 = t56 + t28;
+                    let t58 = forearm_v_wy * t46;
+                    let t59 = t58 + t25;
+                    let t60 = t55 - t43;
+                    let t61 = t44 - t57;
+                    let t62 = t45 - t59;
+                    (t60, t61, t62)
+                };
+                let t67 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t63 = s_elbow * t61;
+                    let t64 = c_elbow * t62;
+                    let t65 = t64 - t63;
+                    let t66 = 0.5f64 * t65; // 5.0000e-1 = joint elbow origin x
+                    let t67 = t60 - t66;
+                    t67
+                };
+                let (t79, t80, t81) = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t68 = t9 - t13;
+                    let t69 = t68 - t17;
+                    let t70 = 0.4f64 * forearm_a_vx; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                    let t71 = t69 * 2f64; // 2.0000e0 = forearm mass
+                    let t72 = t3 * t26;
+                    let t73 = forearm_v_vx * t25;
+                    let t74 = t73 - t72;
+                    let t75 = t3 * t28;
+                    let t76 = t73 - t75;
+                    let t77 = t74 - t76;
+                    let t78 = forearm_v_wy * t26;
+                    let t79 = t77 - t70;
+                    let t80 = t71 + t30;
+                    let t81 = t19 - t78;
+                    (t79, t80, t81)
+                };
+                let t88 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t82 = s_elbow * t80;
+                    let t83 = t82 + t31;
+                    let t84 = c_elbow * t81;
+                    let t85 = t84 - t32;
+                    let t86 = t85 - t83;
+                    let t87 = 0.5f64 * t86; // 5.0000e-1 = joint elbow origin x
+                    let t88 = t79 - t87;
+                    t88
+                };
+                let t90 = {
+                    // ── link `forearm`, joint `elbow` (base to tip)
+                    let t89 = t27 + t28;
+                    let t90 = t26 - t89;
+                    t90
+                };
+                let t92 = {
+                    // ── link `forearm`, joint `elbow` (tip to base)
+                    let t91 = s_elbow * t90;
+                    let t92 = 0.5f64 * t91; // 5.0000e-1 = joint elbow origin x
+                    t92
+                };
+                (t38, t88, t18, t79, t67, t92, t60)
+            }
         };
         let mut d_dq = ::hya_core::JointMatrix::<2>::zeros();
         let mut d_dqd = ::hya_core::JointMatrix::<2>::zeros();

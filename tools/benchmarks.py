@@ -153,6 +153,8 @@ def main():
         return statistics.median([v for v in values if v is not None])
 
     build_features = {b: runs[0]["hya"][b]["build"] for b in ("plain", "native")}
+    # How generated code met FMA in each build (absent from runs before the key existed).
+    fma = {b: runs[0]["hya"][b].get("generated_fma", "not recorded") for b in ("plain", "native")}
     lines = [
         "# Benchmarks",
         "",
@@ -161,8 +163,8 @@ def main():
         "and highest round in brackets. Ratios are computed within each round and then summarised the same way.",
         "",
         f"- Date: {meta['date']}; CPU: {meta['cpu']}; {meta['cores']} cores, shared and noisy; {meta['rustc']}.",
-        f"- hya **plain**: `cargo build --release`, what the README's commands build (compiled for `{build_features['plain']}`).",
-        f"- hya **native**: `RUSTFLAGS='-C target-cpu=native' cargo build --release` (compiled for `{build_features['native']}`); shown beside, labelled.",
+        f"- hya **plain**: `cargo build --release`, what the README's commands build (compiled for `{build_features['plain']}`; generated code's fused multiply-add variant: {fma['plain']}).",
+        f"- hya **native**: `RUSTFLAGS='-C target-cpu=native' cargo build --release` (compiled for `{build_features['native']}`; fused variant: {fma['native']}); shown beside, labelled.",
         f"- Pinocchio {meta['pinocchio']} from the `pin` wheel: `g++ {meta['pinocchio_flags']}`; its algorithms are header templates, compiled with these flags.",
         f"- Method: {meta['rounds']} rounds; in each, for every robot, the plain build, the native build and Pinocchio run one after the other (the order rotating); each reports the median of 31 rounds of 2000 calls over 64 varied states. The Python table, if present, is measured after the rounds.",
         "",

@@ -48,6 +48,18 @@ struct Figures {
     sim_realtime_factor_hydraulic: Option<f64>,
     /// The target features this binary was compiled for (`sse4.1 avx2 fma`, …).
     build: &'static str,
+    /// Whether generated code ran its fused multiply-add variant: `compiled` (the target has
+    /// FMA), `run time` (detected on this CPU) or `no`.
+    generated_fma: &'static str,
+}
+
+/// How generated code met fused multiply-add in this run (see `hya_core::with_fma`).
+fn generated_fma() -> &'static str {
+    match (cfg!(target_feature = "fma"), hya_core::with_fma(|| ()).is_some()) {
+        (true, _) => "compiled",
+        (false, true) => "run time",
+        (false, false) => "no",
+    }
 }
 
 /// The CPU features the compiler could use in this build: what separates a plain
@@ -135,6 +147,7 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         sim_realtime_factor: None,
         sim_realtime_factor_hydraulic: None,
         build: build_features(),
+        generated_fma: generated_fma(),
     })
 }
 
@@ -236,8 +249,9 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {})",
-        build_features()
+        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
+        build_features(),
+        generated_fma()
     )?;
     Ok(())
 }

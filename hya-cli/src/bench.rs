@@ -49,16 +49,18 @@ struct Figures {
     /// The target features this binary was compiled for (`sse4.1 avx2 fma`, …).
     build: &'static str,
     /// Whether generated code ran its fused multiply-add variant: `compiled` (the target has
-    /// FMA), `run time` (detected on this CPU) or `no`.
+    /// FMA), `run time` (detected on this CPU) or `no …`.
     generated_fma: &'static str,
 }
 
 /// How generated code met fused multiply-add in this run (see `hya_core::with_fma`).
 fn generated_fma() -> &'static str {
-    match (cfg!(target_feature = "fma"), hya_core::with_fma(|| ()).is_some()) {
-        (true, _) => "compiled",
-        (false, true) => "run time",
-        (false, false) => "no",
+    use hya_core::FmaSupport;
+    match (hya_core::FMA_SUPPORT, hya_core::with_fma(|| ()).is_some()) {
+        (FmaSupport::Compiled, _) => "compiled",
+        (FmaSupport::Detected, true) => "run time",
+        (FmaSupport::Detected, false) => "no (this CPU lacks it)",
+        (FmaSupport::Never, _) => "no",
     }
 }
 

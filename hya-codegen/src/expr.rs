@@ -366,7 +366,7 @@ impl Emitter {
             }
             _ => false,
         });
-        // The outputs' variables, bound by whichever variant the target compiles.
+        // The outputs' variables, bound by whichever variant runs.
         let mut results: Vec<Ident> = Vec::new();
         for v in outputs.iter().filter(|v| matches!(v, Value::Var { .. })) {
             let ident = idents[var_id(*v)].clone().unwrap_or_else(|| Ident::new("dead", Span::call_site()));

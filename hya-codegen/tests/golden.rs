@@ -3,7 +3,11 @@
 //! shows up in review. After a deliberate change: `UPDATE_GOLDEN=1 cargo test -p hya-codegen
 //! --test golden`, then read the diff. The golden files are also compiled here and checked
 //! against the run-time model (itself checked against Pinocchio by the workspace tests).
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+#![allow(clippy::unwrap_used)]
+// test helpers: a failed unwrap is a failed test
+// Generated code must compile in a crate that forbids `unsafe` (the golden files are included
+// below): the one `unsafe` call of the fused variant lives in `hya_core::with_fma`.
+#![forbid(unsafe_code)]
 
 use std::path::PathBuf;
 

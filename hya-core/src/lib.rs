@@ -40,7 +40,7 @@ pub mod spatial;
 pub mod test_arms;
 mod trig;
 
-pub use fma::{mul_add, with_fma};
+pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
 pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes};
 

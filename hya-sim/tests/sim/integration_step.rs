@@ -57,7 +57,7 @@ fn the_default_step_is_within_tolerance_of_a_ten_times_finer_one() {
     }
 }
 
-/// The table behind `PlantConfig::substeps`: `cargo test --release -p hya-sim --test
+/// The table behind `PlantConfig::substeps`: `cargo test --release -p hya-sim --test sim
 /// integration_step -- --ignored --nocapture`.
 #[test]
 #[ignore = "prints the error of 1, 2 and 4 sub-steps per actuator (release build: 10 s)"]

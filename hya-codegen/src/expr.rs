@@ -504,7 +504,7 @@ impl Emitter {
         };
         match &self.ops[id] {
             Op::Input(_, expr) => quote! { let #name = #expr; },
-            Op::Add(a, b) | Op::Sub(a, b) if fused.is_some() => {
+            Op::Add(a, b) | Op::Sub(a, b) => {
                 counts.adds += 1;
                 let minus = matches!(self.ops[id], Op::Sub(..));
                 fma(*a, *b, minus).unwrap_or_else(|| {
@@ -515,16 +515,6 @@ impl Emitter {
                         quote! { let #name = #a + #b; }
                     }
                 })
-            }
-            Op::Add(a, b) => {
-                counts.adds += 1;
-                let (a, b) = (show(*a), show(*b));
-                quote! { let #name = #a + #b; }
-            }
-            Op::Sub(a, b) => {
-                counts.adds += 1;
-                let (a, b) = (show(*a), show(*b));
-                quote! { let #name = #a - #b; }
             }
             Op::Mul(a, b) => {
                 counts.muls += 1;

@@ -27,6 +27,30 @@ pub enum Problem {
         /// The operating system's message.
         message: String,
     },
+    /// The description is larger than the loader reads ([`crate::MAX_FILE_BYTES`]).
+    #[error("{}: larger than the loader's limit of {} MiB ({limit} bytes, hya_urdf::MAX_FILE_BYTES)", size.map_or_else(|| "more bytes".to_owned(), |s| format!("{s} bytes")), limit >> 20)]
+    TooLarge {
+        /// The size, where known (a file's claimed or a text's real size); `None` when reading
+        /// stopped at the limit.
+        size: Option<u64>,
+        /// The limit, bytes.
+        limit: usize,
+    },
+    /// XML elements nested deeper than the loader accepts ([`crate::MAX_XML_DEPTH`]).
+    #[error("XML elements nested more than {limit} deep: beyond the loader's limit (hya_urdf::MAX_XML_DEPTH)")]
+    TooDeep {
+        /// The deepest nesting accepted.
+        limit: usize,
+    },
+    /// More joints, links or XML nodes than the loader accepts ([`crate::MAX_JOINTS`],
+    /// [`crate::MAX_LINKS`], [`crate::MAX_XML_NODES`]).
+    #[error("more than {limit} {what}: beyond the loader's limit (hya_urdf::{})", limit_name(what))]
+    TooMany {
+        /// `joints`, `links` or `XML nodes`.
+        what: &'static str,
+        /// The most accepted.
+        limit: usize,
+    },
     /// The XML is not a URDF `urdf-rs` can parse.
     #[error("not a valid URDF: {message}")]
     Parse {
@@ -158,6 +182,15 @@ pub enum Problem {
         /// The model's message.
         message: String,
     },
+}
+
+/// The constant that sets the limit on `what`, as [`Problem::TooMany`] names it.
+fn limit_name(what: &str) -> &'static str {
+    match what {
+        "joints" => "MAX_JOINTS",
+        "links" => "MAX_LINKS, one more than MAX_JOINTS",
+        _ => "MAX_XML_NODES",
+    }
 }
 
 /// Something odd the loader accepted.

@@ -6,6 +6,10 @@
 //! parent body. Used by the code generator, the `robot!` macro, the simulator and the `hya`
 //! command alike.
 //!
+//! Hostile text is bounded before it is parsed: at most [`MAX_FILE_BYTES`] bytes,
+//! [`MAX_XML_DEPTH`] levels of nesting, [`MAX_XML_NODES`] XML nodes, [`MAX_JOINTS`] joints and
+//! [`MAX_LINKS`] links (see [`limits`]).
+//!
 //! ```no_run
 //! let loaded = hya_urdf::load_file("robots/urdf/hya.urdf")?;
 //! println!("{} joints, SHA-256 {}", loaded.model.dof(), loaded.source.sha256);
@@ -13,7 +17,9 @@
 //! ```
 
 pub mod error;
+pub mod limits;
 pub mod load;
 
 pub use error::{LoadError, Problem, Warning};
+pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_DEPTH, MAX_XML_NODES};
 pub use load::{load_file, load_str, LoadedModel, Source};

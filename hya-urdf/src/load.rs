@@ -7,6 +7,7 @@
 //! children in file order.
 
 use std::collections::HashMap;
+use std::io::Read;
 use std::path::Path;
 
 use hya_core::model::{Body, Frame, JointKind, JointLimits, TreeModel};
@@ -15,6 +16,7 @@ use nalgebra::{Matrix3, Vector3};
 use urdf_rs::{JointType, Robot};
 
 use crate::error::{LoadError, Problem, Warning};
+use crate::limits::{check_text, MAX_FILE_BYTES};
 
 /// A loaded model and what the loader noticed but accepted.
 #[derive(Debug, Clone)]
@@ -46,17 +48,37 @@ impl Source {
     }
 }
 
-/// Reads and validates the URDF file at `path`.
+/// Reads and validates the URDF file at `path`: at most [`MAX_FILE_BYTES`] bytes, whatever size
+/// the file claims, then as [`load_str`].
 pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
     let path = path.as_ref();
     let source = path.display().to_string();
-    let text =
-        std::fs::read_to_string(path).map_err(|e| LoadError::new(&source, Problem::Read { message: e.to_string() }))?;
+    let text = read_bounded(path).map_err(|problem| LoadError::new(&source, problem))?;
     load_str(&text, &source)
 }
 
-/// Validates URDF text; `source` names it in errors (a file path, usually).
+/// The file's text, refused beyond [`MAX_FILE_BYTES`] before more is read: by the size it claims,
+/// then by what reading finds (devices and pipes claim 0 bytes).
+fn read_bounded(path: &Path) -> Result<String, Problem> {
+    let read_error = |e: std::io::Error| Problem::Read { message: e.to_string() };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let size = file.metadata().map_err(read_error)?.len();
+    if size > MAX_FILE_BYTES as u64 {
+        return Err(Problem::TooLarge { size: Some(size), limit: MAX_FILE_BYTES });
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES as u64 + 1).read_to_end(&mut bytes).map_err(read_error)?;
+    if bytes.len() > MAX_FILE_BYTES {
+        return Err(Problem::TooLarge { size: None, limit: MAX_FILE_BYTES });
+    }
+    String::from_utf8(bytes).map_err(|e| Problem::Read { message: format!("not UTF-8 text: {e}") })
+}
+
+/// Validates URDF text; `source` names it in errors (a file path, usually). Text beyond the
+/// limits of [`crate::limits`] (size, XML nesting and nodes, joints, links) is refused before it
+/// is parsed.
 pub fn load_str(text: &str, source: &str) -> Result<LoadedModel, LoadError> {
+    check_text(text).map_err(|problem| LoadError::new(source, problem))?;
     let robot = urdf_rs::read_from_string(text)
         .map_err(|e| LoadError::new(source, Problem::Parse { message: e.to_string() }))?;
     let mut loaded = build(&robot).map_err(|problem| LoadError::new(source, problem))?;
@@ -99,7 +121,13 @@ fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
         }
     };
 
-    let mut builder = TreeBuilder { robot, bodies: Vec::new(), frames: Vec::new(), warnings: Vec::new() };
+    let mut builder = TreeBuilder {
+        robot,
+        bodies: Vec::new(),
+        frames: Vec::new(),
+        reached: vec![false; robot.links.len()],
+        warnings: Vec::new(),
+    };
     builder.attach_link(root, None, Transform::identity())?;
     let mut stack: Vec<(usize, Option<usize>, Transform)> =
         children[root].iter().rev().map(|&j| (j, None, Transform::identity())).collect();
@@ -115,8 +143,8 @@ fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
         stack.extend(children[child].iter().rev().map(|&c| (c, child_body, child_placement)));
     }
     // Stack order visits every link reachable from the root; the rest sit on a cycle.
-    if let Some(orphan) = robot.links.iter().find(|l| !builder.frames.iter().any(|f| f.name == l.name)) {
-        return Err(Problem::Cycle { link: orphan.name.clone() });
+    if let Some(orphan) = builder.reached.iter().position(|reached| !reached) {
+        return Err(Problem::Cycle { link: robot.links[orphan].name.clone() });
     }
     builder.finish()
 }
@@ -186,6 +214,8 @@ struct TreeBuilder<'r> {
     robot: &'r Robot,
     bodies: Vec<Body>,
     frames: Vec<Frame>,
+    /// Per link: attached as a frame yet.
+    reached: Vec<bool>,
     warnings: Vec<Warning>,
 }
 
@@ -221,6 +251,7 @@ impl TreeBuilder<'_> {
             self.bodies[b].inertia += inertia.expressed_in_parent(&placement);
         }
         self.frames.push(Frame { name: link.name.clone(), body, placement });
+        self.reached[l] = true;
         Ok(())
     }
 

@@ -42,11 +42,11 @@ pub enum Problem {
         /// The deepest nesting accepted.
         limit: usize,
     },
-    /// More joints, links or XML nodes than the loader accepts ([`crate::MAX_JOINTS`],
-    /// [`crate::MAX_LINKS`], [`crate::MAX_XML_NODES`]).
+    /// More joints, links, XML nodes or attributes than the loader accepts ([`crate::MAX_JOINTS`],
+    /// [`crate::MAX_LINKS`], [`crate::MAX_XML_NODES`], [`crate::MAX_XML_ATTRIBUTES`]).
     #[error("more than {limit} {what}: beyond the loader's limit (hya_urdf::{})", limit_name(what))]
     TooMany {
-        /// `joints`, `links` or `XML nodes`.
+        /// `joints`, `links`, `XML nodes` or `XML attributes (counted as `=` signs)`.
         what: &'static str,
         /// The most accepted.
         limit: usize,
@@ -124,7 +124,7 @@ pub enum Problem {
         value: f64,
     },
     /// A link's mass is negative.
-    #[error("link `{link}`: negative mass {mass} kg")]
+    #[error("link `{link}`: negative mass {} kg", short(*.mass))]
     NegativeMass {
         /// The link.
         link: String,
@@ -132,7 +132,7 @@ pub enum Problem {
         mass: f64,
     },
     /// A link's inertia tensor has a negative principal moment.
-    #[error("link `{link}`: inertia has a negative principal moment {moment} kg·m²")]
+    #[error("link `{link}`: inertia has a negative principal moment {} kg·m²", short(*.moment))]
     NegativePrincipalMoment {
         /// The link.
         link: String,
@@ -152,7 +152,7 @@ pub enum Problem {
         limit: f64,
     },
     /// A positive mass too small to be a body.
-    #[error("link `{link}`: mass {mass} kg is positive but below 1e-9 kg; write 0 for a massless link")]
+    #[error("link `{link}`: mass {} kg is positive but below 1e-9 kg; write 0 for a massless link", short(*.mass))]
     TinyMass {
         /// The link.
         link: String,
@@ -166,6 +166,44 @@ pub enum Problem {
         joint: String,
         /// Its diagonal entry of the mass matrix at `q = 0`, kg·m² or kg.
         inertia: f64,
+    },
+    /// A mass matrix at `q = 0` that is singular though every diagonal entry is not: the joint's
+    /// motion moves no mass that the joints before it do not already move (two coaxial joints
+    /// with only massless links between them, for one).
+    #[error("joint `{joint}`: the mass matrix at q = 0 is singular here (Cholesky pivot {pivot:.3e} against diagonal {diagonal:.3e}): the joint moves no mass the joints before it do not (coaxial joints with no mass between them?)")]
+    NotPositiveDefinite {
+        /// The joint whose Cholesky pivot failed.
+        joint: String,
+        /// The pivot left for it after the joints before it, kg·m² or kg.
+        pivot: f64,
+        /// Its diagonal entry of the mass matrix, kg·m² or kg.
+        diagonal: f64,
+    },
+    /// A revolute or prismatic joint whose lower limit is above its upper limit.
+    #[error("joint `{joint}`: lower limit {} is above upper limit {}", short(*.lower), short(*.upper))]
+    InvertedLimits {
+        /// The joint.
+        joint: String,
+        /// The lower limit, rad or m.
+        lower: f64,
+        /// The upper limit, rad or m.
+        upper: f64,
+    },
+    /// A revolute or prismatic joint whose lower and upper limits are equal (and not both 0,
+    /// which reads as "no position limits": an omitted `lower` and `upper` reads as 0).
+    #[error("joint `{joint}`: lower and upper limits are both {}: the joint cannot move (make it fixed)", short(*.value))]
+    EqualLimits {
+        /// The joint.
+        joint: String,
+        /// Both limits, rad or m.
+        value: f64,
+    },
+    /// The robot, a link or a joint has an empty name (nothing could name it in messages,
+    /// outputs or generated code).
+    #[error("{element} has an empty name")]
+    EmptyName {
+        /// Which: `the robot`, `link number 3`, `joint number 2 (from `a` to `b`)`.
+        element: String,
     },
     /// A moving joint whose whole subtree carries no mass: the mass matrix would be singular.
     #[error("joint `{joint}` moves no mass at all (its whole subtree is massless)")]
@@ -184,11 +222,35 @@ pub enum Problem {
     },
 }
 
+/// `value` in a few significant digits: an absurd value must not make a message of 300 digits.
+fn short(value: f64) -> String {
+    let magnitude = value.abs();
+    if value == 0.0 || (1e-3..1e6).contains(&magnitude) {
+        // Six significant digits, trailing zeros dropped.
+        let decimals = (5 - magnitude.log10().floor().max(-3.0) as i32).max(0) as usize;
+        let text = format!("{value:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            text
+        }
+    } else {
+        let text = format!("{value:.5e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) if mantissa.contains('.') => {
+                format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => text,
+        }
+    }
+}
+
 /// The constant that sets the limit on `what`, as [`Problem::TooMany`] names it.
 fn limit_name(what: &str) -> &'static str {
     match what {
         "joints" => "MAX_JOINTS",
         "links" => "MAX_LINKS, one more than MAX_JOINTS",
+        "XML attributes (counted as `=` signs)" => "MAX_XML_ATTRIBUTES",
         _ => "MAX_XML_NODES",
     }
 }

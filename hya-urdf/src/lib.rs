@@ -7,7 +7,7 @@
 //! command alike.
 //!
 //! Hostile text is bounded before it is parsed: at most [`MAX_FILE_BYTES`] bytes,
-//! [`MAX_XML_DEPTH`] levels of nesting, [`MAX_XML_NODES`] XML nodes, [`MAX_JOINTS`] joints and
+//! [`MAX_XML_DEPTH`] levels of nesting, [`MAX_XML_NODES`] XML nodes, [`MAX_XML_ATTRIBUTES`] attributes, [`MAX_JOINTS`] joints and
 //! [`MAX_LINKS`] links (see [`limits`]).
 //!
 //! ```no_run
@@ -21,5 +21,5 @@ pub mod limits;
 pub mod load;
 
 pub use error::{LoadError, Problem, Warning};
-pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_DEPTH, MAX_XML_NODES};
+pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_ATTRIBUTES, MAX_XML_DEPTH, MAX_XML_NODES};
 pub use load::{load_file, load_str, LoadedModel, Source};

@@ -18,8 +18,15 @@ pub const MAX_XML_DEPTH: usize = 64;
 
 /// Most XML nodes accepted: elements plus text runs, comments, CDATA sections and processing
 /// instructions (the indentation between two tags is a text run). An arm takes a few hundred,
-/// a chain of [`MAX_JOINTS`] joints with visuals and collisions about 60,000.
-pub const MAX_XML_NODES: usize = 200_000;
+/// a chain of [`MAX_JOINTS`] joints with visuals and collisions about 45,000; at the limit
+/// `urdf-rs` takes about 100 MB.
+pub const MAX_XML_NODES: usize = 100_000;
+
+/// Most XML attributes accepted, counted as `=` signs anywhere in the text (each attribute has
+/// one, so this bounds them before any is parsed; `=` in comments and text counts too). A chain
+/// of [`MAX_JOINTS`] joints with visuals and collisions has about 30,000; at the limit `urdf-rs`
+/// takes about 60 MB.
+pub const MAX_XML_ATTRIBUTES: usize = 500_000;
 
 /// Most `<joint>` elements of a `<robot>`, of any type (fixed ones too). Loading checks the mass
 /// matrix at the zero pose, O(n²) in memory and O(n³) in time; at this cap that takes well
@@ -33,14 +40,15 @@ pub const MAX_LINKS: usize = MAX_JOINTS + 1;
 /// Characters handed to the tokenizer at a time (it copies its input into a queue of `char`s).
 const CHUNK_BYTES: usize = 64 * 1024;
 
-/// Refuses `text` if it is longer than [`MAX_FILE_BYTES`], nests elements deeper than
-/// [`MAX_XML_DEPTH`], holds more than [`MAX_XML_NODES`] nodes or has more than [`MAX_JOINTS`]
-/// joints or [`MAX_LINKS`] links. Malformed XML passes: `urdf-rs` reports it with the same
+/// Refuses `text` if it is longer than [`MAX_FILE_BYTES`], holds more than
+/// [`MAX_XML_ATTRIBUTES`] `=` signs, nests elements deeper than [`MAX_XML_DEPTH`], holds more
+/// than [`MAX_XML_NODES`] nodes or has more than [`MAX_JOINTS`] joints or [`MAX_LINKS`] links. Malformed XML passes: `urdf-rs` reports it with the same
 /// tokenizer's message, and stops where this pass stops.
 pub(crate) fn check_text(text: &str) -> Result<(), Problem> {
     if text.len() > MAX_FILE_BYTES {
         return Err(Problem::TooLarge { size: Some(text.len() as u64), limit: MAX_FILE_BYTES });
     }
+    too_many(text.bytes().filter(|&b| b == b'=').count(), MAX_XML_ATTRIBUTES, "XML attributes (counted as `=` signs)")?;
     let mut parser = xml::Parser::new();
     let mut counts = Counts::default();
     let mut start = 0;

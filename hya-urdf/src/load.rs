@@ -87,6 +87,7 @@ pub fn load_str(text: &str, source: &str) -> Result<LoadedModel, LoadError> {
 }
 
 fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
+    check_names(robot)?;
     let links =
         index_unique(robot.links.iter().map(|l| l.name.as_str()), |name| Problem::DuplicateLink { link: name })?;
     index_unique(robot.joints.iter().map(|j| j.name.as_str()), |name| Problem::DuplicateJoint { joint: name })?;
@@ -115,7 +116,9 @@ fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
     let roots: Vec<usize> = (0..robot.links.len()).filter(|&l| parent_joint[l].is_none()).collect();
     let root = match roots.as_slice() {
         [root] => *root,
-        [] => return Err(Problem::Cycle { link: robot.links.first().map(|l| l.name.clone()).unwrap_or_default() }),
+        [] => {
+            return Err(robot.links.first().map_or(Problem::NoMovingJoint, |l| Problem::Cycle { link: l.name.clone() }))
+        }
         several => {
             return Err(Problem::SeveralRoots { links: several.iter().map(|&l| robot.links[l].name.clone()).collect() })
         }
@@ -147,6 +150,20 @@ fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
         return Err(Problem::Cycle { link: robot.links[orphan].name.clone() });
     }
     builder.finish()
+}
+
+/// Refuses an empty robot, link or joint name.
+fn check_names(robot: &Robot) -> Result<(), Problem> {
+    let element = if robot.name.is_empty() {
+        "the robot".to_owned()
+    } else if let Some(i) = robot.links.iter().position(|l| l.name.is_empty()) {
+        format!("link number {} in the file", i + 1)
+    } else if let Some((i, j)) = robot.joints.iter().enumerate().find(|(_, j)| j.name.is_empty()) {
+        format!("joint number {} in the file (from `{}` to `{}`)", i + 1, j.parent.link, j.child.link)
+    } else {
+        return Ok(());
+    };
+    Err(Problem::EmptyName { element })
 }
 
 /// Name → index, refusing the first name that appears twice.
@@ -314,12 +331,45 @@ impl TreeBuilder<'_> {
         if let Some(i) = (0..model.dof()).find(|&i| mass[(i, i)].is_nan() || mass[(i, i)] < MIN_JOINT_INERTIA) {
             return Err(Problem::SingularJoint { joint: model.bodies()[i].joint.clone(), inertia: mass[(i, i)] });
         }
+        // Each diagonal entry alone is fine; the whole matrix must be positive definite too.
+        if let Err((i, pivot, diagonal)) = cholesky_pivots(mass) {
+            return Err(Problem::NotPositiveDefinite { joint: model.bodies()[i].joint.clone(), pivot, diagonal });
+        }
         Ok(LoadedModel {
             model,
             warnings: self.warnings,
             source: Source { file: String::new(), sha256: String::new() },
         })
     }
+}
+
+/// A Cholesky pivot below this fraction of its diagonal entry means a singular mass matrix
+/// (rounding leaves about 1e-16 of it where two joints move exactly the same masses).
+const MIN_RELATIVE_PIVOT: f64 = 1e-10;
+
+/// Factors the symmetric `m` in place (its upper triangle becomes `U`, `m = Uᵀ U`, column by
+/// column so that every dot product runs over contiguous memory); `Err((i, pivot, diagonal))` at
+/// the first joint whose pivot is below [`MIN_RELATIVE_PIVOT`] of its diagonal entry (or NaN).
+fn cholesky_pivots(mut m: nalgebra::DMatrix<f64>) -> Result<(), (usize, f64, f64)> {
+    let n = m.nrows();
+    let a = m.as_mut_slice();
+    for k in 0..n {
+        // Column k's rows 0..k hold U's entries above the diagonal, done already.
+        let (done, rest) = a.split_at_mut((k + 1) * n);
+        let column_k = &mut done[k * n..];
+        let diagonal = column_k[k];
+        let pivot = diagonal - column_k[..k].iter().map(|u| u * u).sum::<f64>();
+        if pivot.is_nan() || pivot <= MIN_RELATIVE_PIVOT * diagonal {
+            return Err((k, pivot, diagonal));
+        }
+        let root = pivot.sqrt();
+        column_k[k] = root;
+        for column_i in rest.chunks_exact_mut(n) {
+            let dot: f64 = column_k[..k].iter().zip(&column_i[..k]).map(|(u, v)| u * v).sum();
+            column_i[k] = (column_i[k] - dot) / root;
+        }
+    }
+    Ok(())
 }
 
 /// The joint's `<limit>`; `urdf-rs` fills an absent element with zeros, which means "no limits".
@@ -336,7 +386,14 @@ fn limits(joint: &urdf_rs::Joint) -> Result<JointLimits, Problem> {
         return Ok(JointLimits::default());
     }
     let finite = |v: f64| v.is_finite().then_some(v);
-    let bounded = joint.joint_type != JointType::Continuous;
+    // `lower = upper = 0` is also what an omitted `lower` and `upper` read as: no position limits.
+    let bounded = joint.joint_type != JointType::Continuous && !(l.lower == 0.0 && l.upper == 0.0);
+    if bounded && l.lower > l.upper {
+        return Err(Problem::InvertedLimits { joint: joint.name.clone(), lower: l.lower, upper: l.upper });
+    }
+    if bounded && l.lower == l.upper {
+        return Err(Problem::EqualLimits { joint: joint.name.clone(), value: l.lower });
+    }
     Ok(JointLimits {
         lower: finite(l.lower).filter(|_| bounded),
         upper: finite(l.upper).filter(|_| bounded),

@@ -6,7 +6,7 @@ use hya_urdf::{load_file, load_str, Problem, MAX_FILE_BYTES, MAX_JOINTS, MAX_XML
 
 /// The refusal of `text`, which must not load.
 fn refusal(text: &str) -> Problem {
-    load_str(text, "hostile.urdf").err().expect("the description is refused").problem
+    load_str(text, "hostile.urdf").expect_err("the description is refused").problem
 }
 
 /// A body the loader accepts: 1 kg, off every axis.
@@ -30,7 +30,7 @@ fn chain_joints_first(n: usize) -> String {
 
 /// Joint `j{i}` from link `l{i-1}` to `l{i}`, about z for odd `i`, y for even.
 fn joint(i: usize) -> String {
-    let axis = if i % 2 == 0 { "0 1 0" } else { "0 0 1" };
+    let axis = if i.is_multiple_of(2) { "0 1 0" } else { "0 0 1" };
     format!(
         "<joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{}\"/><child link=\"l{i}\"/><origin xyz=\"0.1 0 0\"/><axis xyz=\"{axis}\"/></joint>",
         i - 1
@@ -107,4 +107,81 @@ fn a_chain_of_twenty_thousand_joints_is_refused_by_the_joint_cap() {
     assert_eq!(refusal(&chain_joints_first(20_000)), Problem::TooMany { what: "joints", limit: MAX_JOINTS });
     // At the cap, the chain loads.
     assert_eq!(load_str(&chain_joints_first(MAX_JOINTS), "long.urdf").unwrap().model.dof(), MAX_JOINTS);
+}
+
+/// Two revolute joints `j1`, `j2` about z from `base` through `mid` to `tip`; `mid` and `tip` hold
+/// the given `<inertial>`s, `j2` sits at `j2_origin` and both have the `<limit>` given.
+fn two_joints(mid: &str, j2_origin: &str, limit: &str) -> String {
+    format!(
+        r#"<robot name="two">
+  <link name="base"/>
+  <link name="mid">{mid}</link>
+  <link name="tip">{INERTIAL}</link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="mid"/><axis xyz="0 0 1"/>{limit}</joint>
+  <joint name="j2" type="revolute"><parent link="mid"/><child link="tip"/><origin xyz="{j2_origin}"/><axis xyz="0 0 1"/>{limit}</joint>
+</robot>"#
+    )
+}
+
+const LIMIT: &str = r#"<limit lower="-1" upper="1" effort="10" velocity="1"/>"#;
+
+#[test]
+fn coaxial_joints_with_no_mass_between_are_refused() {
+    // Each diagonal entry of M is the tip's inertia about z, but M = [[I, I], [I, I]] is singular:
+    // `fd` and `plant` failed on it with "mass matrix is not positive definite".
+    let problem = refusal(&two_joints("", "0 0 0.1", LIMIT));
+    match &problem {
+        Problem::NotPositiveDefinite { joint, pivot, diagonal } => {
+            assert_eq!(joint, "j2");
+            assert!(pivot.abs() < 1e-10 * diagonal, "pivot {pivot} of {diagonal}");
+        }
+        other => panic!("refused for {other}"),
+    }
+    let message = problem.to_string();
+    assert!(message.contains("`j2`") && message.contains("singular"), "{message}");
+    assert!(message.len() < 300, "{message}");
+    // Offset sideways, the same joints are fine; so are coaxial ones with a mass between them.
+    assert!(load_str(&two_joints("", "0.1 0 0", LIMIT), "offset.urdf").is_ok());
+    assert!(load_str(&two_joints(INERTIAL, "0 0 0.1", LIMIT), "massive.urdf").is_ok());
+}
+
+#[test]
+fn inverted_and_equal_limits_are_refused_naming_joint_and_values() {
+    let inverted =
+        refusal(&two_joints(INERTIAL, "0.1 0 0", r#"<limit lower="3" upper="-3" effort="10" velocity="1"/>"#));
+    assert_eq!(inverted, Problem::InvertedLimits { joint: "j1".into(), lower: 3.0, upper: -3.0 });
+    assert!(inverted.to_string().contains("lower limit 3 is above upper limit -3"), "{inverted}");
+    let equal =
+        refusal(&two_joints(INERTIAL, "0.1 0 0", r#"<limit lower="0.5" upper="0.5" effort="10" velocity="1"/>"#));
+    assert_eq!(equal, Problem::EqualLimits { joint: "j1".into(), value: 0.5 });
+    assert!(equal.to_string().contains("`j1`") && equal.to_string().contains("0.5"), "{equal}");
+    // Zero for both, what an omitted `lower` and `upper` read as, means no position limits.
+    let unlimited = r#"<limit effort="10" velocity="1"/>"#;
+    let loaded = load_str(&two_joints(INERTIAL, "0.1 0 0", unlimited), "unlimited.urdf").unwrap();
+    let limits = &loaded.model.bodies()[0].limits;
+    assert_eq!((limits.lower, limits.upper, limits.effort), (None, None, Some(10.0)));
+    // A continuous joint's limits are ignored, whatever they say.
+    let continuous = two_joints(INERTIAL, "0.1 0 0", r#"<limit lower="3" upper="-3" effort="10" velocity="1"/>"#)
+        .replace("type=\"revolute\"", "type=\"continuous\"");
+    assert!(load_str(&continuous, "continuous.urdf").is_ok());
+}
+
+#[test]
+fn empty_names_are_refused() {
+    let valid = two_joints(INERTIAL, "0.1 0 0", LIMIT);
+    let robot = valid.replace("<robot name=\"two\">", "<robot name=\"\">");
+    assert_eq!(refusal(&robot), Problem::EmptyName { element: "the robot".into() });
+    let link = valid.replace("\"mid\"", "\"\"");
+    assert_eq!(refusal(&link), Problem::EmptyName { element: "link number 2 in the file".into() });
+    let joint = valid.replace("name=\"j2\"", "name=\"\"");
+    let problem = refusal(&joint);
+    assert_eq!(problem, Problem::EmptyName { element: "joint number 2 in the file (from `mid` to `tip`)".into() });
+    assert!(problem.to_string().ends_with("has an empty name"), "{problem}");
+}
+
+#[test]
+fn absurd_numbers_make_short_messages() {
+    let text = two_joints(&INERTIAL.replace("value=\"1\"", "value=\"-1e300\""), "0.1 0 0", LIMIT);
+    let message = refusal(&text).to_string();
+    assert!(message.contains("-1e300") && message.len() < 100, "{message}");
 }

@@ -95,9 +95,10 @@ fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
 pub fn list(args: &RobotsArgs, output: &mut impl Write) -> Result<(), CliError> {
     match &args.urdf {
         Some(path) => {
+            // Names come from the file: escaped, so that none can break the line.
             let model = load(path)?;
-            let joints: Vec<&str> = model.joint_names().collect();
-            writeln!(output, "{} {} {}", model.name(), model.dof(), joints.join(" "))?;
+            let joints: Vec<String> = model.joint_names().map(hya_urdf::escape_name).collect();
+            writeln!(output, "{} {} {}", hya_urdf::escape_name(model.name()), model.dof(), joints.join(" "))?;
         }
         None => {
             for robot in ROBOTS {

@@ -50,9 +50,10 @@ fn unique_fragments<'a>(names: impl Iterator<Item = &'a str>, fallback: &str) ->
         .collect()
 }
 
-/// A URDF name safe inside a `//` comment: printable ASCII, everything else escaped.
+/// A URDF name safe inside a `//` comment: printable ASCII, everything else escaped
+/// ([`hya_urdf::escape_name`], as the `hya` command prints names).
 pub fn comment_safe(name: &str) -> String {
-    name.escape_default().to_string()
+    hya_urdf::escape_name(name)
 }
 
 /// What a generated function's joint-space output is called.

@@ -2,6 +2,8 @@
 
 use thiserror::Error;
 
+use crate::name::escape_name;
+
 /// A robot description that could not be loaded: the file, and the problem in it.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[error("{file}: {problem}")]
@@ -58,19 +60,19 @@ pub enum Problem {
         message: String,
     },
     /// Two links share a name.
-    #[error("link name `{link}` is used twice")]
+    #[error("link name `{link}` is used twice", link = escape_name(link))]
     DuplicateLink {
         /// The name.
         link: String,
     },
     /// Two joints share a name.
-    #[error("joint name `{joint}` is used twice")]
+    #[error("joint name `{joint}` is used twice", joint = escape_name(joint))]
     DuplicateJoint {
         /// The name.
         joint: String,
     },
     /// A joint names a link that does not exist.
-    #[error("joint `{joint}`: {role} link `{link}` does not exist")]
+    #[error("joint `{joint}`: {role} link `{link}` does not exist", link = escape_name(link), joint = escape_name(joint))]
     UnknownLink {
         /// The joint.
         joint: String,
@@ -80,7 +82,7 @@ pub enum Problem {
         link: String,
     },
     /// A link is the child of two joints.
-    #[error("link `{link}` is the child of two joints, `{}` and `{}`", joints[0], joints[1])]
+    #[error("link `{link}` is the child of two joints, `{}` and `{}`", escape_name(&joints[0]), escape_name(&joints[1]), link = escape_name(link))]
     SeveralParents {
         /// The link.
         link: String,
@@ -88,19 +90,19 @@ pub enum Problem {
         joints: [String; 2],
     },
     /// More than one link has no parent.
-    #[error("several root links: {}; a model must be one tree", links.join(", "))]
+    #[error("several root links: {}; a model must be one tree", links.iter().map(|l| escape_name(l)).collect::<Vec<_>>().join(", "))]
     SeveralRoots {
         /// The parentless links.
         links: Vec<String>,
     },
     /// The joints form a cycle.
-    #[error("link `{link}` lies on a cycle of joints (not reachable from a single root)")]
+    #[error("link `{link}` lies on a cycle of joints (not reachable from a single root)", link = escape_name(link))]
     Cycle {
         /// A link on the cycle.
         link: String,
     },
     /// A joint type hya does not handle (yet).
-    #[error("joint `{joint}`: {kind} joints are not supported")]
+    #[error("joint `{joint}`: {kind} joints are not supported", joint = escape_name(joint))]
     UnsupportedJoint {
         /// The joint.
         joint: String,
@@ -108,7 +110,7 @@ pub enum Problem {
         kind: &'static str,
     },
     /// A joint's axis is the zero vector.
-    #[error("joint `{joint}`: axis is zero")]
+    #[error("joint `{joint}`: axis is zero", joint = escape_name(joint))]
     ZeroAxis {
         /// The joint.
         joint: String,
@@ -124,7 +126,7 @@ pub enum Problem {
         value: f64,
     },
     /// A link's mass is negative.
-    #[error("link `{link}`: negative mass {} kg", short(*.mass))]
+    #[error("link `{link}`: negative mass {} kg", short(*.mass), link = escape_name(link))]
     NegativeMass {
         /// The link.
         link: String,
@@ -132,7 +134,7 @@ pub enum Problem {
         mass: f64,
     },
     /// A link's inertia tensor has a negative principal moment.
-    #[error("link `{link}`: inertia has a negative principal moment {} kg·m²", short(*.moment))]
+    #[error("link `{link}`: inertia has a negative principal moment {} kg·m²", short(*.moment), link = escape_name(link))]
     NegativePrincipalMoment {
         /// The link.
         link: String,
@@ -152,7 +154,7 @@ pub enum Problem {
         limit: f64,
     },
     /// A positive mass too small to be a body.
-    #[error("link `{link}`: mass {} kg is positive but below 1e-9 kg; write 0 for a massless link", short(*.mass))]
+    #[error("link `{link}`: mass {} kg is positive but below 1e-9 kg; write 0 for a massless link", short(*.mass), link = escape_name(link))]
     TinyMass {
         /// The link.
         link: String,
@@ -160,7 +162,7 @@ pub enum Problem {
         mass: f64,
     },
     /// A joint that moves mass only along its own axis.
-    #[error("joint `{joint}`: its subtree has no inertia about the joint's axis (M = {inertia:e} at q = 0), so the mass matrix is singular")]
+    #[error("joint `{joint}`: its subtree has no inertia about the joint's axis (M = {inertia:e} at q = 0), so the mass matrix is singular", joint = escape_name(joint))]
     SingularJoint {
         /// The joint.
         joint: String,
@@ -170,7 +172,7 @@ pub enum Problem {
     /// A mass matrix at `q = 0` that is singular though every diagonal entry is not: the joint's
     /// motion moves no mass that the joints before it do not already move (two coaxial joints
     /// with only massless links between them, for one).
-    #[error("joint `{joint}`: the mass matrix at q = 0 is singular here (Cholesky pivot {pivot:.3e} against diagonal {diagonal:.3e}): the joint moves no mass the joints before it do not (coaxial joints with no mass between them?)")]
+    #[error("joint `{joint}`: the mass matrix at q = 0 is singular here (Cholesky pivot {pivot:.3e} against diagonal {diagonal:.3e}): the joint moves no mass the joints before it do not (coaxial joints with no mass between them?)", joint = escape_name(joint))]
     NotPositiveDefinite {
         /// The joint whose Cholesky pivot failed.
         joint: String,
@@ -180,7 +182,7 @@ pub enum Problem {
         diagonal: f64,
     },
     /// A revolute or prismatic joint whose lower limit is above its upper limit.
-    #[error("joint `{joint}`: lower limit {} is above upper limit {}", short(*.lower), short(*.upper))]
+    #[error("joint `{joint}`: lower limit {} is above upper limit {}", short(*.lower), short(*.upper), joint = escape_name(joint))]
     InvertedLimits {
         /// The joint.
         joint: String,
@@ -191,7 +193,7 @@ pub enum Problem {
     },
     /// A revolute or prismatic joint whose lower and upper limits are equal (and not both 0,
     /// which reads as "no position limits": an omitted `lower` and `upper` reads as 0).
-    #[error("joint `{joint}`: lower and upper limits are both {}: the joint cannot move (make it fixed)", short(*.value))]
+    #[error("joint `{joint}`: lower and upper limits are both {}: the joint cannot move (make it fixed)", short(*.value), joint = escape_name(joint))]
     EqualLimits {
         /// The joint.
         joint: String,
@@ -206,7 +208,7 @@ pub enum Problem {
         element: String,
     },
     /// A moving joint whose whole subtree carries no mass: the mass matrix would be singular.
-    #[error("joint `{joint}` moves no mass at all (its whole subtree is massless)")]
+    #[error("joint `{joint}` moves no mass at all (its whole subtree is massless)", joint = escape_name(joint))]
     MasslessJoint {
         /// The joint.
         joint: String,
@@ -273,7 +275,8 @@ impl std::fmt::Display for Warning {
         match self {
             Warning::TriangleInequality { link, moments: [a, b, c] } => write!(
                 f,
-                "link `{link}`: principal moments ({a:.6}, {b:.6}, {c:.6}) kg·m² violate the triangle inequality"
+                "link `{}`: principal moments ({a:.6}, {b:.6}, {c:.6}) kg·m² violate the triangle inequality",
+                escape_name(link)
             ),
         }
     }

@@ -19,7 +19,9 @@
 pub mod error;
 pub mod limits;
 pub mod load;
+pub mod name;
 
 pub use error::{LoadError, Problem, Warning};
 pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_ATTRIBUTES, MAX_XML_DEPTH, MAX_XML_NODES};
 pub use load::{load_file, load_str, LoadedModel, Source};
+pub use name::escape_name;

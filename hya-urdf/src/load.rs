@@ -17,6 +17,7 @@ use urdf_rs::{JointType, Robot};
 
 use crate::error::{LoadError, Problem, Warning};
 use crate::limits::{check_text, MAX_FILE_BYTES};
+use crate::name::escape_name;
 
 /// A loaded model and what the loader noticed but accepted.
 #[derive(Debug, Clone)]
@@ -137,7 +138,8 @@ fn build(robot: &Robot) -> Result<LoadedModel, Problem> {
     while let Some((j, body, parent_placement)) = stack.pop() {
         let joint = &robot.joints[j];
         let child = links[joint.child.link.as_str()];
-        let origin = parent_placement.then(&pose(&joint.origin, || format!("joint `{}` origin", joint.name))?);
+        let origin =
+            parent_placement.then(&pose(&joint.origin, || format!("joint `{}` origin", escape_name(&joint.name)))?);
         let (child_body, child_placement) = match joint.joint_type {
             JointType::Fixed => (body, origin),
             _ => (Some(builder.add_body(j, body, origin)?), Transform::identity()),
@@ -159,7 +161,12 @@ fn check_names(robot: &Robot) -> Result<(), Problem> {
     } else if let Some(i) = robot.links.iter().position(|l| l.name.is_empty()) {
         format!("link number {} in the file", i + 1)
     } else if let Some((i, j)) = robot.joints.iter().enumerate().find(|(_, j)| j.name.is_empty()) {
-        format!("joint number {} in the file (from `{}` to `{}`)", i + 1, j.parent.link, j.child.link)
+        format!(
+            "joint number {} in the file (from `{}` to `{}`)",
+            i + 1,
+            escape_name(&j.parent.link),
+            escape_name(&j.child.link)
+        )
     } else {
         return Ok(());
     };
@@ -240,7 +247,7 @@ impl TreeBuilder<'_> {
     /// A new body moved by joint `j`, whose joint frame sits at `origin` in the parent body.
     fn add_body(&mut self, j: usize, parent: Option<usize>, origin: Transform) -> Result<usize, Problem> {
         let joint = &self.robot.joints[j];
-        let what = || format!("joint `{}` axis", joint.name);
+        let what = || format!("joint `{}` axis", escape_name(&joint.name));
         let axis = finite_vector(&joint.axis.xyz, "xyz", &what)?;
         let length = axis.norm();
         if length < 1e-12 {
@@ -275,7 +282,7 @@ impl TreeBuilder<'_> {
     /// The link's `<inertial>` about its own frame's origin, after checking it.
     fn link_inertia(&mut self, link: &urdf_rs::Link) -> Result<RigidBodyInertia, Problem> {
         let inertial = &link.inertial;
-        let what = || format!("link `{}` inertial", link.name);
+        let what = || format!("link `{}` inertial", escape_name(&link.name));
         let mass = inertial.mass.value;
         if !mass.is_finite() {
             return Err(Problem::NonFinite { element: what(), field: "mass", value: mass });
@@ -377,7 +384,7 @@ fn limits(joint: &urdf_rs::Joint) -> Result<JointLimits, Problem> {
     let l = &joint.limit;
     if [l.lower, l.upper, l.effort, l.velocity].iter().any(|v| v.is_nan()) {
         return Err(Problem::NonFinite {
-            element: format!("joint `{}` limit", joint.name),
+            element: format!("joint `{}` limit", escape_name(&joint.name)),
             field: "limit",
             value: f64::NAN,
         });

@@ -185,3 +185,14 @@ fn absurd_numbers_make_short_messages() {
     let message = refusal(&text).to_string();
     assert!(message.contains("-1e300") && message.len() < 100, "{message}");
 }
+
+#[test]
+fn names_in_messages_are_escaped() {
+    // `&#10;` is a newline once parsed: printed raw, it would forge a line of the message.
+    let text = two_joints(&INERTIAL.replace("value=\"1\"", "value=\"-2\""), "0.1 0 0", LIMIT)
+        .replace("\"mid\"", "\"mid&#10;hya: forged\"");
+    let message = refusal(&text).to_string();
+    assert!(!message.contains('\n'), "{message:?}");
+    assert!(message.contains(r"`mid\nhya: forged`: negative mass -2 kg"), "{message}");
+    assert_eq!(hya_urdf::escape_name("a\nb\u{202E}"), r"a\nb\u{202e}");
+}

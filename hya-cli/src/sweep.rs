@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use hya_sim::output::OutputDir;
 use hya_sim::sweep::{self, Plan, Shard, Sweep};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -11,14 +12,15 @@ use crate::CliError;
 /// Parameters of `hya sweep`.
 #[derive(Debug, clap::Args)]
 pub struct SweepArgs {
-    /// Where `sweep.json` and the Pareto figure go.
+    /// Where `sweep.json` and the Pareto figure go (held by this run alone: shards of one sweep
+    /// need folders of their own).
     #[arg(long)]
     out: PathBuf,
     /// Shortened scenarios and one seed per point.
     #[arg(long)]
     quick: bool,
     /// Run only shard I of N (every N-th run from the I-th, from 0), e.g. `--shard 2/8` in a
-    /// Slurm array or GNU parallel job.
+    /// Slurm array or GNU parallel job, each with its own `--out`.
     #[arg(long, conflicts_with = "merge")]
     shard: Option<String>,
     /// Merge the `sweep.json` of these shard folders instead of running.
@@ -33,40 +35,43 @@ fn sim(e: hya_sim::SimError) -> CliError {
     CliError::Input(e.to_string())
 }
 
-fn read(dir: &std::path::Path) -> Result<Sweep, CliError> {
-    let path = dir.join("sweep.json");
-    let text =
-        std::fs::read_to_string(&path).map_err(|e| CliError::Input(format!("{}: cannot read: {e}", path.display())))?;
-    serde_json::from_str(&text).map_err(|e| CliError::Input(format!("{}: not a sweep: {e}", path.display())))
-}
-
 /// `hya sweep`.
 pub fn run(args: &SweepArgs) -> Result<(), CliError> {
-    let shards: Vec<Sweep> = args.merge.iter().map(|d| read(d)).collect::<Result<_, _>>()?;
-    let shard = args.shard.as_deref().map(Shard::parse).transpose().map_err(CliError::Input)?.unwrap_or(Shard::ALL);
-    for kept in hya_sim::output::prepare(&args.out, args.force).map_err(sim)? {
+    let shards: Vec<(String, Sweep)> = args
+        .merge
+        .iter()
+        .map(|dir| Ok((dir.display().to_string(), sweep::read(dir).map_err(sim)?)))
+        .collect::<Result<_, CliError>>()?;
+    // A merge rebuilds the plan its shards were run from.
+    let quick = shards.first().map_or(args.quick, |(_, s)| s.quick);
+    let plan = Plan::standard(quick).map_err(sim)?;
+    let shard = args.shard.as_deref().map(|s| Shard::parse(s, plan.runs())).transpose().map_err(CliError::Input)?;
+    let result = if shards.is_empty() { None } else { Some(sweep::merge(&plan, &shards).map_err(sim)?) };
+    let holder = hya_core::Clipped(&std::env::args().collect::<Vec<_>>().join(" "), 120).to_string();
+    let (out, kept) = OutputDir::open(&args.out, args.force, &holder).map_err(sim)?;
+    for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
-    let result = if args.merge.is_empty() {
-        let plan = Plan::standard(args.quick).map_err(sim)?;
-        let runs = plan.scenarios.len() * plan.methods.len() * plan.bandwidths_rad_s.len() * plan.seeds;
-        let total: f64 = plan.scenarios.iter().map(|s| s.duration_s).sum::<f64>()
-            * (runs / plan.scenarios.len()) as f64
-            / shard.count as f64;
-        let bar = ProgressBar::new(total.ceil() as u64).with_style(
-            ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} simulated s ({eta} left)")
-                .map_err(|e| CliError::Input(e.to_string()))?
-                .progress_chars("=> "),
-        );
-        let sweep = sweep::run(&plan, shard, &|seconds| bar.inc(seconds.round() as u64)).map_err(sim)?;
-        bar.finish_and_clear();
-        sweep
-    } else {
-        sweep::merge(&shards).map_err(sim)?
+    let result = match result {
+        Some(merged) => merged,
+        None => {
+            let shard = shard.unwrap_or(Shard::ALL);
+            let total: f64 = plan.scenarios.iter().map(|s| s.duration_s).sum::<f64>()
+                * (plan.runs() / plan.scenarios.len()) as f64
+                / shard.count as f64;
+            let bar = ProgressBar::new(total.ceil() as u64).with_style(
+                ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} simulated s ({eta} left)")
+                    .map_err(|e| CliError::Input(e.to_string()))?
+                    .progress_chars("=> "),
+            );
+            let sweep = sweep::run(&plan, shard, quick, &|seconds| bar.inc(seconds.round() as u64)).map_err(sim)?;
+            bar.finish_and_clear();
+            sweep
+        }
     };
     let json = serde_json::to_string_pretty(&result).map_err(|e| CliError::Input(e.to_string()))?;
-    hya_sim::output::save(&args.out, "sweep.json", &json).map_err(sim)?;
-    hya_sim::output::save(&args.out, "sweep_pareto.svg", &sweep::pareto_figure(&result)).map_err(sim)?;
-    eprintln!("{} points: {}", result.entries.len(), args.out.join("sweep.json").display());
+    out.save("sweep.json", &json).map_err(sim)?;
+    out.save("sweep_pareto.svg", &sweep::pareto_figure(&result)).map_err(sim)?;
+    eprintln!("{} points: {}", result.entries.len(), out.path().join("sweep.json").display());
     Ok(())
 }

@@ -75,3 +75,108 @@ fn force_replaces_an_earlier_report_and_keeps_other_files() {
     assert!(String::from_utf8_lossy(&again.stderr).contains("notes.txt"), "the kept file is not named");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The reproduction of the hostile-input probe: a manifest that is a symbolic link to a file
+/// elsewhere, and `report.md` a hard link to the user's own file. Neither file changes.
+#[cfg(unix)]
+#[test]
+fn force_never_writes_through_links() {
+    let dir = scratch("links");
+    let file = scenario(&dir, "tiny");
+    let out = dir.join("d");
+    std::fs::create_dir_all(&out).unwrap();
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "victim\n").unwrap();
+    std::os::unix::fs::symlink(&victim, out.join(".hya-files")).unwrap();
+    let thesis = dir.join("thesis.md");
+    std::fs::write(&thesis, "draft\n").unwrap();
+    std::fs::hard_link(&thesis, out.join("report.md")).unwrap();
+    assert_rejected(
+        &["run", &file, "--seeds", "1", "--force", "--out", out.to_str().unwrap()],
+        "",
+        &["not a regular file"],
+    );
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "victim\n");
+    assert_eq!(std::fs::read_to_string(&thesis).unwrap(), "draft\n");
+    // A planted manifest listing the user's data is not trusted either.
+    std::fs::remove_file(out.join(".hya-files")).unwrap();
+    std::fs::write(out.join(".hya-files"), "data.csv\nreport.md\n").unwrap();
+    std::fs::write(out.join("data.csv"), "precious").unwrap();
+    assert_rejected(
+        &["run", &file, "--seeds", "1", "--force", "--out", out.to_str().unwrap()],
+        "",
+        &["nothing was removed"],
+    );
+    assert_eq!(std::fs::read_to_string(out.join("data.csv")).unwrap(), "precious");
+    assert_eq!(std::fs::read_to_string(&thesis).unwrap(), "draft\n");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A second run into a folder another run holds is refused, naming the holder; so concurrent
+/// shards into one `--out` cannot overwrite each other's `sweep.json`.
+#[test]
+fn a_folder_in_use_is_refused() {
+    let dir = scratch("held");
+    let file = scenario(&dir, "tiny");
+    let out = dir.join("report");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join(".hya-lock"), "pid 1, hya sweep --shard 0/64\n").unwrap();
+    let held = std::fs::File::open(&out).unwrap();
+    held.try_lock().unwrap();
+    assert_rejected(&["run", &file, "--seeds", "1", "--out", out.to_str().unwrap()], "", &["in use", "--shard 0/64"]);
+    assert_rejected(&["sweep", "--quick", "--shard", "1/64", "--out", out.to_str().unwrap()], "", &["in use"]);
+    drop(held);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn refused_runs_leave_no_folder_behind() {
+    let dir = scratch("refused");
+    let out = dir.join("report");
+    // A scenario naming a URDF that does not exist is refused only when the robot loads.
+    let path = dir.join("missing_robot.toml");
+    std::fs::write(
+        &path,
+        "name = \"m\"\nrobot = \"no/such.urdf\"\nduration_s = 0.6\nmethods = [\"none\"]\n[task]\nkind = \"hold\"\n",
+    )
+    .unwrap();
+    assert_rejected(
+        &["run", path.to_str().unwrap(), "--seeds", "1", "--out", out.to_str().unwrap()],
+        "",
+        &["such.urdf"],
+    );
+    assert!(!out.exists(), "an empty --out is left behind");
+    assert_rejected(
+        &["sweep", "--quick", "--shard", "0/18446744073709551615", "--out", out.to_str().unwrap()],
+        "",
+        &["at most"],
+    );
+    assert!(!out.exists(), "an empty --out is left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn one_seed_prints_no_interval_and_costs_are_capped() {
+    let dir = scratch("seeds");
+    let file = scenario(&dir, "tiny");
+    let out = dir.join("report");
+    let run = hya(&["run", &file, "--seeds", "1", "--out", out.to_str().unwrap()], "");
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("± n/a") && !report.contains("inf"), "a single seed's interval");
+    // An hour of simulated time at a thousand sub-steps over 20 seeds: refused with its figure.
+    let long = dir.join("long.toml");
+    std::fs::write(
+        &long,
+        "name = \"long\"\nduration_s = 3600\nmethods = [\"none\", \"lu\"]\n[task]\nkind = \"hold\"\n[plant]\nsubsteps = 1000\n",
+    )
+    .unwrap();
+    let refused = dir.join("refused");
+    assert_rejected(
+        &["run", long.to_str().unwrap(), "--out", refused.to_str().unwrap()],
+        "",
+        &["integration steps", "--no-cost-limit"],
+    );
+    assert!(!refused.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

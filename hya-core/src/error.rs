@@ -9,7 +9,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
 pub enum Error {
     /// A construction parameter is out of its valid range.
-    #[error("invalid parameter `{name}` = {value}: must be {requirement}")]
+    #[error("invalid parameter `{name}` = {}: must be {requirement}", crate::Short(*value))]
     InvalidParameter {
         /// Name of the parameter, as in the documentation (`zeta`, `omega1_rad_s`, ...).
         name: &'static str,
@@ -31,7 +31,7 @@ pub enum Error {
     /// A finite sample beyond the filter's input range ([`MAX_FILTER_INPUT`](crate::MAX_FILTER_INPUT)):
     /// accepting it could overflow the filter's states, or an estimate computed from them, for
     /// good.
-    #[error("{signal}[{index}] = {value} is too large: beyond ±1e12, the filter's input range; the input was rejected and the state kept")]
+    #[error("{signal}[{index}] = {} is too large: beyond ±1e12, the filter's input range; the input was rejected and the state kept", crate::Short(*value))]
     Overflow {
         /// Which signal (`q_m`, `tau_m`, `u`).
         signal: &'static str,

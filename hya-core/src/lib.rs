@@ -22,6 +22,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod control;
+pub mod display;
 pub mod dual;
 pub mod dynamics;
 pub mod error;
@@ -45,6 +46,7 @@ pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes};
 
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
+pub use display::{Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;

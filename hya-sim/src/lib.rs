@@ -13,7 +13,9 @@
 //! ```
 
 pub mod claims;
+pub mod cost;
 pub mod frequency;
+pub mod input;
 pub mod metrics;
 pub mod output;
 pub mod plant;
@@ -57,6 +59,14 @@ pub enum SimError {
         /// What is wrong.
         message: String,
     },
+    /// A sweep shard that cannot be merged.
+    #[error("shard {shard}: {message}")]
+    Shard {
+        /// Where the shard came from.
+        shard: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// A setting that does not fit the robot.
     #[error("{0}")]
     Config(String),
@@ -82,12 +92,31 @@ pub enum SimError {
         /// What failed.
         source: hya_core::Error,
     },
+    /// A run whose cost is beyond a documented cap ([`cost`]).
+    #[error("{0}")]
+    Cost(String),
     /// The summary could not be serialised.
     #[error("summary.json: {0}")]
     Json(#[from] serde_json::Error),
+    /// One run of many failed: which one, and why.
+    #[error("{run}: {source}")]
+    Run {
+        /// Scenario, method and seed.
+        run: String,
+        /// What failed.
+        source: Box<SimError>,
+    },
     /// The simulation broke down numerically.
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// The report folder cannot be used as asked (nothing was written or removed).
+    #[error("--out {dir}: {message}")]
+    Output {
+        /// The folder.
+        dir: String,
+        /// Why.
+        message: String,
+    },
     /// Writing the report failed.
     #[error("{path}: {source}")]
     Io {
@@ -211,8 +240,8 @@ pub struct Experiment<'a> {
     pub seeds: usize,
     /// Told each finished run's simulated seconds.
     pub progress: &'a (dyn Fn(f64) + Sync),
-    /// The report's folder, made ready by [`output::prepare`].
-    pub out: &'a std::path::Path,
+    /// The report's folder, held by this run.
+    pub out: &'a output::OutputDir,
     /// Whether the scenarios were shortened (`--quick`).
     pub quick: bool,
     /// The command that asked, named in the report.

@@ -1,95 +1,291 @@
-//! The report folder: checked before any simulation starts, and every file written into it
-//! named by one plain file-name component, so nothing lands outside it.
+//! The report folder (`--out`): taken by one run at a time, and written so that nothing outside
+//! it is ever touched.
+//!
+//! - **One run at a time**: [`OutputDir::open`] takes an exclusive lock on the folder (an
+//!   advisory `flock` on the folder itself); a second run into it is refused, naming the holder
+//!   that the first wrote into [`LOCK_NOTE`].
+//! - **Nothing followed**: every file is written to a fresh temporary name (created exclusively,
+//!   so an entry planted there is never opened) and renamed into place; a rename replaces a
+//!   symbolic or hard link by a new file and never writes through it. A name that already
+//!   stands in the folder and was not written by this run is refused, not replaced.
+//! - **`--force` removes only what hya wrote**: the [`MANIFEST`] lists each file hya wrote with
+//!   the SHA-256 of its content. It is trusted only if it is a regular file of plain names;
+//!   a listed entry is removed only if it is still a regular file with that content. A listed
+//!   file that changed since, or that is not a regular file, makes `--force` refuse before
+//!   anything is removed.
+//! - **A refused run leaves nothing**: a folder that [`OutputDir::open`] created is removed again
+//!   if the run saved nothing into it.
 
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{Read, Write};
 use std::path::{Component, Path, PathBuf};
+use std::sync::Mutex;
+
+use sha2::{Digest, Sha256};
 
 use crate::SimError;
+
+/// The file in a report folder that lists every file hya wrote there with its SHA-256.
+pub const MANIFEST: &str = ".hya-files";
+/// The note naming the run that holds the folder (removed when it ends).
+pub const LOCK_NOTE: &str = ".hya-lock";
+/// The manifest's first line; a manifest without it (or from an older hya) is not trusted.
+const MANIFEST_HEADER: &str = "# hya report files: sha256, two spaces, file name";
+/// The largest manifest read, bytes (a report has a few hundred files at most).
+const MAX_MANIFEST_BYTES: u64 = 1 << 20;
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SimError {
     let path = path.display().to_string();
     move |source| SimError::Io { path, source }
 }
 
-/// The file in a report folder that lists, one per line, every file hya wrote there.
-pub const MANIFEST: &str = ".hya-files";
-
-/// Makes `dir` ready for a report, before anything is simulated: a folder that does not exist
-/// is created; an empty one is used as it is; a non-empty one only with `force`, and only if it
-/// holds an earlier report (a [`MANIFEST`]), whose listed files are then removed so that no
-/// stale figure stays mixed in. Anything else in it (and any symbolic link) is kept and
-/// returned, for the caller to name.
-pub fn prepare(dir: &Path, force: bool) -> Result<Vec<PathBuf>, SimError> {
-    if !dir.exists() {
-        std::fs::create_dir_all(dir).map_err(io_error(dir))?;
-        return Ok(Vec::new());
-    }
-    if !dir.is_dir() {
-        return Err(SimError::Config(format!("--out {}: exists and is not a folder", dir.display())));
-    }
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(io_error(dir))?
-        .map(|e| e.map(|e| e.path()))
-        .collect::<Result<_, _>>()
-        .map_err(io_error(dir))?;
-    entries.sort();
-    if entries.is_empty() {
-        return Ok(Vec::new());
-    }
-    if !force {
-        return Err(SimError::Config(format!(
-            "--out {}: the folder is not empty ({} entries, first {}); name a new or empty folder, or pass \
-             --force to replace the hya report in it",
-            dir.display(),
-            entries.len(),
-            entries[0].display()
-        )));
-    }
-    let manifest = dir.join(MANIFEST);
-    let listed = match std::fs::read_to_string(&manifest) {
-        Ok(text) => text.lines().map(str::to_owned).collect::<Vec<_>>(),
-        Err(_) => {
-            return Err(SimError::Config(format!(
-                "--out {}: --force replaces an earlier hya report, but this folder holds none (no {MANIFEST}); \
-                 nothing was removed",
-                dir.display()
-            )))
-        }
-    };
-    let mut kept = Vec::new();
-    for path in entries {
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
-        let plain_file = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_file());
-        if plain_file && (name == MANIFEST || listed.iter().any(|l| l == name)) {
-            std::fs::remove_file(&path).map_err(io_error(&path))?;
-        } else {
-            kept.push(path);
-        }
-    }
-    Ok(kept)
+fn refused(dir: &Path, why: impl std::fmt::Display) -> SimError {
+    SimError::Output { dir: dir.display().to_string(), message: why.to_string() }
 }
 
-/// Writes `text` to the file `name` inside `dir` and lists it in the [`MANIFEST`]; `name` must
-/// be one plain file name (no separator, `..`, root or drive), and nothing may stand at that
-/// path as a symbolic link (which would write outside `dir`).
-pub fn save(dir: &Path, name: &str, text: &str) -> Result<(), SimError> {
+/// SHA-256 of `bytes`, lower-case hex.
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Whether `name` is one plain file name: no separator, `..`, root, drive or hidden-file dot.
+fn is_plain_name(name: &str) -> bool {
     let mut components = Path::new(name).components();
-    let plain = matches!((components.next(), components.next()), (Some(Component::Normal(_)), None));
-    if !plain || name.contains(['/', '\\']) || name == MANIFEST {
-        return Err(SimError::Config(format!("report file name {name:?} is not a plain file name")));
+    matches!((components.next(), components.next()), (Some(Component::Normal(_)), None))
+        && !name.contains(['/', '\\'])
+        && !name.starts_with('.')
+        && !name.chars().any(char::is_control)
+}
+
+/// A report folder held by this run: see the module's documentation.
+#[derive(Debug)]
+pub struct OutputDir {
+    path: PathBuf,
+    /// The open folder, holding the exclusive lock until dropped.
+    lock: File,
+    /// Whether [`OutputDir::open`] created the folder.
+    created: bool,
+    /// Every file this run wrote, with its SHA-256.
+    written: Mutex<BTreeMap<String, String>>,
+}
+
+impl OutputDir {
+    /// Takes `dir` for a report, before anything is simulated. A folder that does not exist is
+    /// created; an empty one is used as it is; a non-empty one only with `force`, and only if it
+    /// holds an earlier report, whose files are then removed so that no stale figure stays mixed
+    /// in. Anything else in it is kept and returned, for the caller to name.
+    pub fn open(dir: &Path, force: bool, holder: &str) -> Result<(Self, Vec<PathBuf>), SimError> {
+        let created = match std::fs::metadata(dir) {
+            Ok(m) if m.is_dir() => false,
+            Ok(_) => return Err(refused(dir, "exists and is not a folder")),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                if std::fs::symlink_metadata(dir).is_ok() {
+                    return Err(refused(dir, "is a symbolic link to nothing; remove it or name another folder"));
+                }
+                std::fs::create_dir_all(dir).map_err(io_error(dir))?;
+                true
+            }
+            Err(e) => return Err(io_error(dir)(e)),
+        };
+        let lock = File::open(dir).map_err(io_error(dir))?;
+        if let Err(e) = lock.try_lock() {
+            return Err(match e {
+                std::fs::TryLockError::WouldBlock => refused(
+                    dir,
+                    format!("is in use by another hya run ({}); wait for it, or name another folder", holder_of(dir)),
+                ),
+                std::fs::TryLockError::Error(e) => io_error(dir)(e),
+            });
+        }
+        let out = Self { path: dir.to_owned(), lock, created, written: Mutex::new(BTreeMap::new()) };
+        let kept = out.clear_earlier_report(force)?;
+        out.write_atomically(LOCK_NOTE, format!("pid {}, {holder}\n", std::process::id()).as_bytes())?;
+        Ok((out, kept))
     }
-    let path = dir.join(name);
-    if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
-        return Err(SimError::Config(format!("{}: is a symbolic link; hya writes only plain files", path.display())));
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.path
     }
-    std::fs::write(&path, text).map_err(io_error(&path))?;
-    let manifest = dir.join(MANIFEST);
-    let mut listed = std::fs::read_to_string(&manifest).unwrap_or_default();
-    if !listed.lines().any(|l| l == name) {
-        listed.push_str(name);
-        listed.push('\n');
-        std::fs::write(&manifest, listed).map_err(io_error(&manifest))?;
+
+    /// The folder's entries other than the lock note and leftover temporary files, sorted.
+    fn entries(&self) -> Result<Vec<PathBuf>, SimError> {
+        let dir = &self.path;
+        let mut entries = Vec::new();
+        for entry in std::fs::read_dir(dir).map_err(io_error(dir))? {
+            let path = entry.map_err(io_error(dir))?.path();
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            if name != LOCK_NOTE && !(name.starts_with(".hya-tmp-")) {
+                entries.push(path);
+            }
+        }
+        entries.sort();
+        Ok(entries)
     }
-    Ok(())
+
+    /// See [`OutputDir::open`]: checks the folder and, with `force`, removes a verified report.
+    fn clear_earlier_report(&self, force: bool) -> Result<Vec<PathBuf>, SimError> {
+        let dir = &self.path;
+        let entries = self.entries()?;
+        if entries.is_empty() {
+            return Ok(Vec::new());
+        }
+        if !force {
+            return Err(refused(
+                dir,
+                format!(
+                    "the folder is not empty ({} entries, first {}); name a new or empty folder, or pass --force to \
+                     replace the hya report in it",
+                    entries.len(),
+                    entries[0].display()
+                ),
+            ));
+        }
+        let listed = read_manifest(dir)?;
+        // Every listed file is checked before any is removed: all or nothing.
+        let mut remove = Vec::new();
+        for (name, sha256) in &listed {
+            let path = dir.join(name);
+            match std::fs::symlink_metadata(&path) {
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                Err(e) => return Err(io_error(&path)(e)),
+                Ok(m) if !m.file_type().is_file() => {
+                    return Err(refused(
+                        dir,
+                        format!("{name} is listed in {MANIFEST} but is not a regular file; nothing was removed"),
+                    ))
+                }
+                Ok(_) => {
+                    let content = std::fs::read(&path).map_err(io_error(&path))?;
+                    if sha256_hex(&content) != *sha256 {
+                        return Err(refused(
+                            dir,
+                            format!(
+                                "{name} changed since hya wrote it (its SHA-256 differs from {MANIFEST}); nothing was \
+                                 removed: move it away or name another folder"
+                            ),
+                        ));
+                    }
+                    remove.push(path);
+                }
+            }
+        }
+        remove.push(dir.join(MANIFEST));
+        for path in &remove {
+            std::fs::remove_file(path).map_err(io_error(path))?;
+        }
+        Ok(entries.into_iter().filter(|p| !remove.contains(p)).collect())
+    }
+
+    /// Writes `text` to the file `name` inside the folder and lists it in the [`MANIFEST`];
+    /// `name` must be one plain file name, and no entry of that name may stand in the folder
+    /// unless this run wrote it.
+    pub fn save(&self, name: &str, text: &str) -> Result<(), SimError> {
+        if !is_plain_name(name) || name.len() > 255 {
+            return Err(refused(&self.path, format!("report file name {name:?} is not a plain file name")));
+        }
+        let mut written = self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let path = self.path.join(name);
+        if !written.contains_key(name) && std::fs::symlink_metadata(&path).is_ok() {
+            return Err(refused(
+                &self.path,
+                format!("{name} already stands there and is not from this run; hya does not replace it"),
+            ));
+        }
+        self.write_atomically(name, text.as_bytes())?;
+        written.insert(name.to_owned(), sha256_hex(text.as_bytes()));
+        let manifest: String = std::iter::once(format!("{MANIFEST_HEADER}\n"))
+            .chain(written.iter().map(|(name, sha256)| format!("{sha256}  {name}\n")))
+            .collect();
+        self.write_atomically(MANIFEST, manifest.as_bytes())
+    }
+
+    /// Writes `bytes` to a new temporary file in the folder and renames it to `name`.
+    fn write_atomically(&self, name: &str, bytes: &[u8]) -> Result<(), SimError> {
+        let temporary = self.path.join(format!(".hya-tmp-{}-{name}", std::process::id()));
+        let result = File::options()
+            .write(true)
+            .create_new(true)
+            .open(&temporary)
+            .and_then(|mut file| file.write_all(bytes).and_then(|()| file.sync_data()))
+            .and_then(|()| std::fs::rename(&temporary, self.path.join(name)));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&temporary);
+        }
+        result.map_err(io_error(&self.path.join(name)))
+    }
+}
+
+impl Drop for OutputDir {
+    /// Removes the lock note, and the folder itself if this run created it and saved nothing.
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(self.path.join(LOCK_NOTE));
+        let saved = self.written.get_mut().map_or(true, |w| !w.is_empty());
+        if self.created && !saved {
+            let _ = std::fs::remove_dir(&self.path);
+        }
+        let _ = self.lock.unlock();
+    }
+}
+
+/// What the [`LOCK_NOTE`] of a held folder says, for the refusal's message.
+fn holder_of(dir: &Path) -> String {
+    let path = dir.join(LOCK_NOTE);
+    let regular = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_file());
+    let mut note = String::new();
+    if regular {
+        if let Ok(file) = File::open(&path) {
+            let _ = file.take(200).read_to_string(&mut note);
+        }
+    }
+    let note: String = note.trim().chars().filter(|c| !c.is_control()).collect();
+    if note.is_empty() {
+        "holder unknown".into()
+    } else {
+        note
+    }
+}
+
+/// The trusted [`MANIFEST`] of `dir`: name → SHA-256, or the reason `--force` cannot trust it.
+fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
+    let path = dir.join(MANIFEST);
+    let none = || {
+        refused(
+            dir,
+            format!("--force replaces an earlier hya report, but this folder holds none (no {MANIFEST}); nothing was removed"),
+        )
+    };
+    let metadata = std::fs::symlink_metadata(&path).map_err(|_| none())?;
+    if !metadata.file_type().is_file() {
+        return Err(refused(dir, format!("{MANIFEST} is not a regular file; nothing was removed")));
+    }
+    if metadata.len() > MAX_MANIFEST_BYTES {
+        return Err(refused(dir, format!("{MANIFEST} is larger than {MAX_MANIFEST_BYTES} bytes; nothing was removed")));
+    }
+    let mut text = String::new();
+    File::open(&path).and_then(|f| f.take(MAX_MANIFEST_BYTES).read_to_string(&mut text)).map_err(io_error(&path))?;
+    let mut lines = text.lines();
+    if lines.next() != Some(MANIFEST_HEADER) {
+        return Err(refused(
+            dir,
+            format!("{MANIFEST} is not one this hya wrote (no checksums); nothing was removed: delete the old report yourself"),
+        ));
+    }
+    let mut listed = BTreeMap::new();
+    for (number, line) in lines.enumerate() {
+        let entry = line.split_once("  ").filter(|(sha, name)| {
+            sha.len() == 64 && sha.bytes().all(|b| b.is_ascii_hexdigit()) && is_plain_name(name) && *name != MANIFEST
+        });
+        let Some((sha256, name)) = entry else {
+            return Err(refused(
+                dir,
+                format!("{MANIFEST} line {}: not `sha256  plain-file-name`; nothing was removed", number + 2),
+            ));
+        };
+        listed.insert(name.to_owned(), sha256.to_owned());
+    }
+    Ok(listed)
 }
 
 #[cfg(test)]
@@ -107,48 +303,121 @@ mod tests {
     #[test]
     fn names_with_separators_or_parents_are_refused() {
         let dir = scratch("names");
-        std::fs::create_dir_all(&dir).unwrap();
-        for bad in ["../x.csv", "/tmp/x.csv", "a/b.csv", "..", "", "a\\b.csv"] {
-            assert!(save(&dir, bad, "x").is_err(), "{bad:?} accepted");
+        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        for bad in ["../x.csv", "/tmp/x.csv", "a/b.csv", "..", "", "a\\b.csv", ".hya-files", ".hidden", "a\nb"] {
+            assert!(out.save(bad, "x").is_err(), "{bad:?} accepted");
         }
-        save(&dir, "goto_lu.csv", "x").unwrap();
+        out.save("goto_lu.csv", "x").unwrap();
         assert!(dir.join("goto_lu.csv").is_file());
-        assert_eq!(std::fs::read_to_string(dir.join(MANIFEST)).unwrap(), "goto_lu.csv\n");
-        #[cfg(unix)]
-        {
-            std::os::unix::fs::symlink("/tmp/hya-elsewhere.md", dir.join("report.md")).unwrap();
-            assert!(save(&dir, "report.md", "x").unwrap_err().to_string().contains("symbolic link"));
-        }
+        let manifest = std::fs::read_to_string(dir.join(MANIFEST)).unwrap();
+        assert_eq!(manifest, format!("{MANIFEST_HEADER}\n{}  goto_lu.csv\n", sha256_hex(b"x")));
+        drop(out);
+        assert!(!dir.join(LOCK_NOTE).exists(), "the lock note goes with the run");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_non_empty_folder_needs_force_and_an_earlier_report() {
         let dir = scratch("force");
-        assert!(prepare(&dir, false).unwrap().is_empty(), "a new folder is created");
-        assert!(dir.is_dir());
-        std::fs::write(dir.join("notes.txt"), "mine").unwrap();
-        let refused = prepare(&dir, false).unwrap_err().to_string();
-        assert!(refused.contains("not empty") && refused.contains("--force"), "{refused}");
-        let refused = prepare(&dir, true).unwrap_err().to_string();
-        assert!(refused.contains(MANIFEST), "{refused}");
-        assert!(dir.join("notes.txt").is_file(), "nothing removed on refusal");
+        let (out, kept) = OutputDir::open(&dir, false, "test").unwrap();
+        assert!(kept.is_empty() && dir.is_dir(), "a new folder is created");
         for name in ["summary.json", "report.md", "old_lu.csv", "old_joints.svg"] {
-            save(&dir, name, "old").unwrap();
+            out.save(name, "old").unwrap();
         }
+        drop(out);
         std::fs::write(dir.join("measurements.csv"), "mine").unwrap();
-        let kept = prepare(&dir, true).unwrap();
-        assert_eq!(kept, vec![dir.join("measurements.csv"), dir.join("notes.txt")]);
+        let refused = OutputDir::open(&dir, false, "test").unwrap_err().to_string();
+        assert!(refused.contains("not empty") && refused.contains("--force"), "{refused}");
+        let (_out, kept) = OutputDir::open(&dir, true, "test").unwrap();
+        assert_eq!(kept, vec![dir.join("measurements.csv")]);
         assert!(!dir.join("old_lu.csv").exists() && !dir.join("summary.json").exists());
         assert!(!dir.join(MANIFEST).exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
-    fn a_file_as_the_folder_is_refused() {
+    fn force_without_a_trusted_manifest_removes_nothing() {
+        let dir = scratch("untrusted");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("data.csv"), "precious").unwrap();
+        let refused = OutputDir::open(&dir, true, "test").unwrap_err().to_string();
+        assert!(refused.contains("no .hya-files"), "{refused}");
+        // A planted manifest of the old kind (bare names), or with a wrong checksum.
+        std::fs::write(dir.join(MANIFEST), "data.csv\n").unwrap();
+        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("not one this hya wrote"));
+        std::fs::write(dir.join(MANIFEST), format!("{MANIFEST_HEADER}\n{}  data.csv\n", sha256_hex(b"other"))).unwrap();
+        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("changed since hya wrote it"));
+        std::fs::write(dir.join(MANIFEST), format!("{MANIFEST_HEADER}\n{}  ../data.csv\n", sha256_hex(b"x"))).unwrap();
+        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("line 2"));
+        assert_eq!(std::fs::read_to_string(dir.join("data.csv")).unwrap(), "precious");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_are_never_written_through() {
+        let dir = scratch("links");
+        let victim = scratch("links-victim");
+        std::fs::write(&victim, "victim").unwrap();
+        // A manifest that is a symbolic link to a file elsewhere: --force refuses, the file keeps.
+        std::fs::create_dir_all(&dir).unwrap();
+        std::os::unix::fs::symlink(&victim, dir.join(MANIFEST)).unwrap();
+        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("not a regular file"));
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "victim");
+        std::fs::remove_dir_all(&dir).unwrap();
+        // A report name that is a hard link or a symbolic link to the user's file: not replaced.
+        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        std::fs::hard_link(&victim, dir.join("report.md")).unwrap();
+        std::os::unix::fs::symlink(&victim, dir.join("summary.json")).unwrap();
+        for name in ["report.md", "summary.json"] {
+            assert!(out.save(name, "report").unwrap_err().to_string().contains("not from this run"));
+        }
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "victim");
+        // A planted temporary name is not opened either: the write fails, the file keeps.
+        let planted = dir.join(format!(".hya-tmp-{}-x.csv", std::process::id()));
+        std::os::unix::fs::symlink(&victim, &planted).unwrap();
+        assert!(out.save("x.csv", "x").is_err());
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "victim");
+        drop(out);
+        std::fs::remove_dir_all(&dir).unwrap();
+        std::fs::remove_file(&victim).unwrap();
+    }
+
+    #[test]
+    fn a_held_folder_is_refused_naming_its_holder() {
+        let dir = scratch("held");
+        let (first, _) = OutputDir::open(&dir, false, "hya sweep --shard 0/64").unwrap();
+        let refused = OutputDir::open(&dir, true, "hya sweep --shard 1/64").unwrap_err().to_string();
+        assert!(refused.contains("in use by another hya run") && refused.contains("--shard 0/64"), "{refused}");
+        first.save("sweep.json", "{}").unwrap();
+        drop(first);
+        let (_again, _) = OutputDir::open(&dir, true, "again").unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_folder_created_for_a_run_that_saved_nothing_is_removed() {
+        let dir = scratch("refused-run");
+        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        assert!(dir.is_dir());
+        drop(out);
+        assert!(!dir.exists(), "an empty --out is left behind");
+    }
+
+    #[test]
+    fn a_file_or_a_dangling_link_as_the_folder_is_refused() {
         let file = scratch("file");
         std::fs::write(&file, "x").unwrap();
-        assert!(prepare(&file, true).unwrap_err().to_string().contains("not a folder"));
+        assert!(OutputDir::open(&file, true, "test").unwrap_err().to_string().contains("not a folder"));
         std::fs::remove_file(&file).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("/nonexistent/hya", &file).unwrap();
+            assert!(OutputDir::open(&file, false, "test")
+                .unwrap_err()
+                .to_string()
+                .contains("symbolic link to nothing"));
+            std::fs::remove_file(&file).unwrap();
+        }
     }
 }

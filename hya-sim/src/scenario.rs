@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use hya_core::{Clipped, Short};
+
 use crate::SimError;
 
 /// One experiment: robot, task, plant, disturbances and the methods to compare.
@@ -49,6 +51,11 @@ pub struct Scenario {
     /// factor with `--quick`; frequencies and transition times are kept.
     #[serde(default = "default_quick_time_scale")]
     pub quick_time_scale: f64,
+    /// Accept physical settings beyond their plausible range ([`PLAUSIBLE`]): a valve flow of
+    /// 1e300 m³/s or a torque loop at 1 GHz is almost always a unit mistake, refused unless this
+    /// says otherwise. Finiteness and the numerical limits are checked regardless.
+    #[serde(default)]
+    pub allow_unphysical: bool,
 }
 
 fn default_robot() -> String {
@@ -63,6 +70,9 @@ fn default_quick_time_scale() -> f64 {
 
 /// Most control ticks a run may take: an hour at 1 kHz (every tick's trace is kept in memory).
 pub const MAX_TICKS: usize = 3_600_000;
+
+/// The largest scenario file read, bytes.
+pub const MAX_SCENARIO_BYTES: u64 = 1 << 20;
 
 /// Longest scenario name, in characters.
 pub const MAX_NAME_LEN: usize = 64;
@@ -517,7 +527,59 @@ fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
-        Err(format!("{name} = {v}: must be finite, between {lo} and {hi}"))
+        Err(format!("invalid setting `{name}` = {}: must be finite, between {} and {}", Short(v), Short(lo), Short(hi)))
+    }
+}
+
+/// The plausible range of each physical setting of a real arm, `(key, low, high, unit)`: a value
+/// outside is refused unless the scenario sets `allow_unphysical = true`. Per-joint lists are
+/// checked entry by entry. The ranges are wide (orders of magnitude around HyA's and the electric
+/// arms' figures); they catch unit mistakes, not design choices.
+pub const PLAUSIBLE: [(&str, f64, f64, &str); 27] = [
+    ("plant.coulomb_nm", 0.0, 1e4, "N·m"),
+    ("plant.static_nm", 0.0, 1e4, "N·m"),
+    ("plant.viscous_nm_s", 0.0, 1e4, "N·m·s/rad"),
+    ("plant.stribeck_velocity_rad_s", 1e-5, 10.0, "rad/s"),
+    ("plant.smoothing_rad_s", 1e-6, 10.0, "rad/s"),
+    ("plant.coulomb_position_variation", 0.0, 0.9, ""),
+    ("plant.bristle_stiffness_nm_rad", 1.0, 1e9, "N·m/rad"),
+    ("plant.bristle_damping_nm_s_rad", 0.0, 1e6, "N·m·s/rad"),
+    ("plant.actuator_time_constant_s", 1e-5, 10.0, "s"),
+    ("plant.hydraulic.supply_pressure_pa", 1e5, 1e8, "Pa"),
+    ("plant.hydraulic.tank_pressure_pa", 0.0, 1e7, "Pa"),
+    ("plant.hydraulic.bulk_modulus_pa", 1e7, 1e10, "Pa"),
+    ("plant.hydraulic.displacement_m3_rad", 1e-8, 1e-2, "m³/rad"),
+    ("plant.hydraulic.area_ratio", 0.05, 20.0, ""),
+    ("plant.hydraulic.dead_volume_m3", 1e-8, 0.1, "m³"),
+    ("plant.hydraulic.valve_rated_flow_m3_s", 1e-7, 0.1, "m³/s"),
+    ("plant.hydraulic.valve_rated_drop_pa", 1e4, 1e8, "Pa"),
+    ("plant.hydraulic.valve_natural_frequency_hz", 1.0, 5e3, "Hz"),
+    ("plant.hydraulic.valve_damping_ratio", 0.05, 10.0, ""),
+    ("plant.hydraulic.leakage_m3_s_pa", 0.0, 1e-9, "m³/(s·Pa)"),
+    ("plant.hydraulic.torque_bandwidth_hz", 0.1, 1e3, "Hz"),
+    ("plant.hydraulic.torque_integral_ratio", 0.0, 10.0, ""),
+    ("plant.hydraulic.velocity_compensation", 0.0, 2.0, ""),
+    ("sensors.velocity_cutoff_rad_s", 1.0, 1e5, "rad/s"),
+    ("sensors.pressure_noise_pa", 0.0, 1e7, "Pa"),
+    ("sensors.pressure_offset_pa", 0.0, 1e7, "Pa"),
+    ("loads.sinusoid.amplitude_nm", -1e4, 1e4, "N·m"),
+];
+
+/// `Ok` if every value of `key` lies in its [`PLAUSIBLE`] range.
+fn plausible(key: &str, values: &[f64]) -> Result<(), String> {
+    let Some(&(_, lo, hi, unit)) = PLAUSIBLE.iter().find(|(k, ..)| *k == key) else { return Ok(()) };
+    match values.iter().position(|v| !(lo..=hi).contains(v)) {
+        None => Ok(()),
+        Some(i) => {
+            let index = if values.len() > 1 { format!("[{i}]") } else { String::new() };
+            Err(format!(
+                "invalid setting `{key}{index}` = {} {unit}: beyond the plausible range {} to {} {unit} (a unit \
+                 mistake?); set allow_unphysical = true to run it anyway",
+                Short(values[i]),
+                Short(lo),
+                Short(hi)
+            ))
+        }
     }
 }
 
@@ -552,6 +614,14 @@ impl Scenario {
             toml::from_str(text).map_err(|e| SimError::Scenario { origin: source.into(), message: e.to_string() })?;
         scenario.validate().map_err(|message| SimError::Scenario { origin: source.into(), message })?;
         Ok(scenario)
+    }
+
+    /// Reads, parses and checks the scenario file at `path` (at most [`MAX_SCENARIO_BYTES`]).
+    pub fn from_file(path: &std::path::Path) -> Result<Self, SimError> {
+        let origin = path.display().to_string();
+        let text = crate::input::read_text(path, MAX_SCENARIO_BYTES)
+            .map_err(|message| SimError::Scenario { origin: origin.clone(), message })?;
+        Self::from_toml(&text, &origin)
     }
 
     /// The names of the embedded scenarios, in the order `hya reproduce` runs them.
@@ -595,29 +665,70 @@ impl Scenario {
         self.validate().map_err(|message| SimError::Scenario { origin: self.name.clone(), message })
     }
 
+    /// Every physical setting within its [`PLAUSIBLE`] range.
+    fn check_plausible(&self) -> Result<(), String> {
+        let (p, h, s) = (&self.plant, &self.plant.hydraulic, &self.sensors);
+        let lists: [(&str, &[f64]); 24] = [
+            ("plant.coulomb_nm", &p.coulomb_nm),
+            ("plant.static_nm", &p.static_nm),
+            ("plant.viscous_nm_s", &p.viscous_nm_s),
+            ("plant.stribeck_velocity_rad_s", &[p.stribeck_velocity_rad_s]),
+            ("plant.smoothing_rad_s", &[p.smoothing_rad_s]),
+            ("plant.coulomb_position_variation", &[p.coulomb_position_variation]),
+            ("plant.bristle_stiffness_nm_rad", &p.bristle_stiffness_nm_rad),
+            ("plant.bristle_damping_nm_s_rad", &p.bristle_damping_nm_s_rad),
+            ("plant.actuator_time_constant_s", &p.actuator_time_constant_s),
+            ("plant.hydraulic.supply_pressure_pa", &[h.supply_pressure_pa]),
+            ("plant.hydraulic.tank_pressure_pa", &[h.tank_pressure_pa]),
+            ("plant.hydraulic.bulk_modulus_pa", &[h.bulk_modulus_pa]),
+            ("plant.hydraulic.displacement_m3_rad", &h.displacement_m3_rad),
+            ("plant.hydraulic.area_ratio", &h.area_ratio),
+            ("plant.hydraulic.dead_volume_m3", &h.dead_volume_m3),
+            ("plant.hydraulic.valve_rated_flow_m3_s", &h.valve_rated_flow_m3_s),
+            ("plant.hydraulic.valve_rated_drop_pa", &[h.valve_rated_drop_pa]),
+            ("plant.hydraulic.valve_natural_frequency_hz", &h.valve_natural_frequency_hz),
+            ("plant.hydraulic.valve_damping_ratio", &[h.valve_damping_ratio]),
+            ("plant.hydraulic.leakage_m3_s_pa", &h.leakage_m3_s_pa),
+            ("plant.hydraulic.torque_bandwidth_hz", &h.torque_bandwidth_hz),
+            ("plant.hydraulic.torque_integral_ratio", &[h.torque_integral_ratio]),
+            ("plant.hydraulic.velocity_compensation", &[h.velocity_compensation]),
+            ("sensors.velocity_cutoff_rad_s", &[s.velocity_cutoff_rad_s]),
+        ];
+        for (key, values) in lists {
+            plausible(key, values)?;
+        }
+        plausible("sensors.pressure_noise_pa", &[s.pressure_noise_pa])?;
+        plausible("sensors.pressure_offset_pa", &[s.pressure_offset_pa])?;
+        if let Some(sinusoid) = &self.loads.sinusoid {
+            plausible("loads.sinusoid.amplitude_nm", &sinusoid.amplitude_nm)?;
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), String> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} must be finite and > 0, got {v}"))
+                Err(format!("invalid setting `{name}` = {}: must be finite and > 0", Short(v)))
             }
         };
-        check_file_stem(&self.name).map_err(|why| format!("name {:?}: {why}", self.name))?;
+        check_file_stem(&self.name)
+            .map_err(|why| format!("invalid setting `name` = \"{}\": {why}", Clipped(&self.name, 40)))?;
         let dt = self.controller.dt_s;
         within("controller.dt_s", dt, 1e-5, 0.1)?;
         positive("controller.dt_s", dt)?;
         if !(self.duration_s.is_finite() && self.duration_s > crate::metrics::WARM_UP_S + dt) {
             return Err(format!(
-                "duration_s = {}: must be longer than the {} s warm-up the metrics skip, plus one tick",
-                self.duration_s,
+                "invalid setting `duration_s` = {}: must be longer than the {} s warm-up the metrics skip, plus one tick",
+                Short(self.duration_s),
                 crate::metrics::WARM_UP_S
             ));
         }
         if self.duration_s / dt > MAX_TICKS as f64 {
             return Err(format!(
-                "duration_s / controller.dt_s = {:.0} ticks: at most {MAX_TICKS} (an hour at 1 kHz; each tick's trace is kept)",
-                self.duration_s / dt
+                "invalid setting `duration_s` / `controller.dt_s` = {} ticks: at most {MAX_TICKS} (an hour at 1 kHz; each tick's trace is kept)",
+                Short(self.duration_s / dt)
             ));
         }
         positive("controller.observer_bandwidth_rad_s", self.controller.observer_bandwidth_rad_s)?;
@@ -670,14 +781,14 @@ impl Scenario {
         }
         if !(self.sensors.pressure_noise_pa.is_finite() && self.sensors.pressure_noise_pa >= 0.0) {
             return Err(format!(
-                "sensors.pressure_noise_pa must be finite and ≥ 0, got {}",
-                self.sensors.pressure_noise_pa
+                "invalid setting `sensors.pressure_noise_pa` = {}: must be finite and ≥ 0",
+                Short(self.sensors.pressure_noise_pa)
             ));
         }
         if !(self.sensors.pressure_offset_pa.is_finite() && self.sensors.pressure_offset_pa >= 0.0) {
             return Err(format!(
-                "sensors.pressure_offset_pa must be finite and ≥ 0, got {}",
-                self.sensors.pressure_offset_pa
+                "invalid setting `sensors.pressure_offset_pa` = {}: must be finite and ≥ 0",
+                Short(self.sensors.pressure_offset_pa)
             ));
         }
         if !(16..=1 << 40).contains(&self.sensors.encoder_counts_per_rev) {
@@ -690,10 +801,24 @@ impl Scenario {
             return Err("sensors: a delay of more than 100 ticks is not a plausible control loop".into());
         }
         if !(1..=1000).contains(&self.plant.substeps()) {
-            return Err(format!("plant.substeps = {}: must be between 1 and 1000", self.plant.substeps()));
+            return Err(format!(
+                "invalid setting `plant.substeps` = {}: must be between 1 and 1000",
+                self.plant.substeps()
+            ));
         }
         if self.methods.is_empty() {
-            return Err("methods: name at least one of none, lu, chen, momentum, eso".into());
+            return Err("invalid setting `methods`: name at least one of none, pid, lu, chen, momentum, eso".into());
+        }
+        if let Some(twice) =
+            self.methods.iter().enumerate().find_map(|(i, m)| self.methods[..i].contains(m).then_some(m))
+        {
+            return Err(format!(
+                "invalid setting `methods`: `{}` is named twice (its runs would be pooled as if they were more seeds)",
+                twice.name()
+            ));
+        }
+        if !self.allow_unphysical {
+            self.check_plausible()?;
         }
         if let Some(drop) = &self.loads.weight_drop {
             within("loads.weight_drop.mass_kg", drop.mass_kg, 1e-6, 1e3)?;
@@ -701,7 +826,11 @@ impl Scenario {
             within("loads.weight_drop.drop_s", drop.drop_s, 0.0, 1e7)?;
             within("loads.weight_drop.fall_height_m", drop.fall_height_m, 0.0, 10.0)?;
             if let Some(remove) = drop.remove_s.filter(|r| !r.is_finite() || *r <= drop.drop_s) {
-                return Err(format!("loads.weight_drop: remove_s ({remove}) must come after drop_s ({})", drop.drop_s));
+                return Err(format!(
+                    "invalid setting `loads.weight_drop.remove_s` = {}: must come after drop_s = {}",
+                    Short(remove),
+                    Short(drop.drop_s)
+                ));
             }
         }
         Ok(())

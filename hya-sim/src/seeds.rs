@@ -118,13 +118,14 @@ pub fn run_seeds<const N: usize>(
     let mut table = MetricTable::default();
     let mut first = Vec::new();
     for (&(i, method, k), outcome) in jobs.iter().zip(results) {
-        let outcome = outcome.map_err(|e| {
-            SimError::Numerical(format!(
-                "{} / {} / seed {}: {e}",
+        let outcome = outcome.map_err(|e| SimError::Run {
+            run: format!(
+                "{} / {} / seed {}",
                 scenarios[i].name,
                 method.name(),
                 scenarios[i].seed.wrapping_add(k as u64)
-            ))
+            ),
+            source: Box::new(e),
         })?;
         table.push(&outcome.scenario, method, outcome.metrics.clone());
         if k == 0 {

@@ -49,14 +49,21 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let magnitude = 10f64.powf(raw.log10().floor());
     let step =
         [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * magnitude).find(|s| span / s <= 6.0).unwrap_or(10.0 * magnitude);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
-    (first..=last).map(|k| k as f64 * step).collect()
+    let (first, last) = ((lo / step).ceil(), (hi / step).floor());
+    // A span lost in the rounding of huge values gives no tick rather than billions.
+    if !(first.is_finite() && last.is_finite() && last - first <= 20.0) {
+        return Vec::new();
+    }
+    (first as i64..=last as i64).map(|k| k as f64 * step).collect()
 }
 
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
+
+/// The largest magnitude a plot's axes take in (the span of larger values overflows): points
+/// beyond it, or not finite, are not drawn.
+const MAX_PLOTTED: f64 = 1e150;
 
 /// Text centred at `(x, y)`; `vertical` turns it to read upwards (a y-axis label).
 fn centred_text(out: &mut String, x: f64, y: f64, size: u32, vertical: bool, text: &str) {
@@ -69,8 +76,9 @@ fn centred_text(out: &mut String, x: f64, y: f64, size: u32, vertical: bool, tex
 }
 
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) =
-        values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = values
+        .filter(|v| v.abs() <= MAX_PLOTTED)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
     if !lo.is_finite() {
         return (-1.0, 1.0);
     }
@@ -116,8 +124,13 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
     centred_text(out, x0 + 14.0, top + h / 2.0, 11, true, &p.y_label);
     for (k, s) in p.series.iter().enumerate() {
         let stride = s.points.len().div_ceil(MAX_POINTS).max(1);
-        let path: Vec<String> =
-            s.points.iter().step_by(stride).map(|(x, y)| format!("{:.1},{:.1}", sx(*x), sy(*y))).collect();
+        let path: Vec<String> = s
+            .points
+            .iter()
+            .step_by(stride)
+            .filter(|(x, y)| x.abs() <= MAX_PLOTTED && y.abs() <= MAX_PLOTTED)
+            .map(|(x, y)| format!("{:.1},{:.1}", sx(*x), sy(*y)))
+            .collect();
         let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
         if s.markers {
             // One path of zero-length round-capped segments: a dot per point, in one element.
@@ -251,6 +264,7 @@ mod tests {
     #[test]
     fn ticks_are_round_and_cover_the_range() {
         assert_eq!(ticks(0.0, 1.0), [0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0]);
+        assert!(ticks(1e300, 1e300 + 1e-12).is_empty(), "no billions of ticks for a lost span");
         assert!(ticks(-3.7, 12.2).iter().all(|t| (t / 5.0).fract() == 0.0));
     }
 
@@ -269,6 +283,19 @@ mod tests {
         };
         let svg = line_grid("t", "s", &[panel], 2);
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        let huge = Panel {
+            title: "huge".into(),
+            y_label: "x".into(),
+            series: vec![Series {
+                label: "h".into(),
+                points: vec![(1e308, 1e308), (-1e308, f64::NAN), (0.0, 1.0), (1.0, 2.0)],
+                color: PALETTE[0],
+                dashed: false,
+                markers: true,
+            }],
+        };
+        let huge = line_grid("t", "s", &[huge], 1);
+        assert!(!huge.contains("NaN") && !huge.contains("inf"), "non-finite coordinates: {huge}");
         assert!(svg.contains("q &lt;joint 1&gt; &amp; co") && !svg.contains("<joint"));
         let bars = bar_chart("rmse", "rad", &["j1".into()], &[("none".into(), vec![0.5])]);
         assert_eq!(bars.matches("<rect").count(), 1 + 1 + 1); // background, bar, legend swatch

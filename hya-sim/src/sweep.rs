@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::scenario::{Method, Scenario};
 use crate::svg::{line_grid, Panel, Series, PALETTE};
 use crate::{run_method, SimError, HYA_JOINTS};
+use hya_core::{Clipped, Short};
 
 /// What a sweep runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,6 +37,17 @@ impl Plan {
             bandwidths_rad_s: vec![10.0, 20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 200.0],
             seeds: if quick { 1 } else { 3 },
         })
+    }
+
+    /// How many runs the grid holds (the most shards it splits into).
+    pub fn runs(&self) -> usize {
+        self.scenarios.len() * self.methods.len() * self.bandwidths_rad_s.len() * self.seeds
+    }
+
+    /// The point run `job` gives, as [`key`] names entries.
+    fn point(&self, &(i, method, bandwidth, k): &(usize, Method, f64, usize)) -> Key {
+        let scenario = &self.scenarios[i];
+        (scenario.name.clone(), method.name().to_owned(), bandwidth.to_bits(), scenario.seed.wrapping_add(k as u64))
     }
 
     /// Every run of the grid, in one fixed order: `(scenario index, method, bandwidth, seed offset)`.
@@ -67,13 +79,18 @@ impl Shard {
     /// The whole sweep.
     pub const ALL: Shard = Shard { index: 0, count: 1 };
 
-    /// Parses `I/N` with `0 ≤ I < N`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let (i, n) = text.split_once('/').ok_or_else(|| format!("--shard {text:?}: expected I/N, e.g. 0/4"))?;
-        let parse = |x: &str| x.trim().parse::<usize>().map_err(|e| format!("--shard {text:?}: {x:?}: {e}"));
+    /// Parses `I/N` with `0 ≤ I < N ≤ runs` (a shard beyond the grid's `runs` would be empty).
+    pub fn parse(text: &str, runs: usize) -> Result<Self, String> {
+        let shown = Clipped(text, 40);
+        let (i, n) = text.split_once('/').ok_or_else(|| format!("--shard {shown}: expected I/N, e.g. 0/4"))?;
+        let parse =
+            |x: &str| x.trim().parse::<usize>().map_err(|e| format!("--shard {shown}: {}: {e}", Clipped(x, 20)));
         let (index, count) = (parse(i)?, parse(n)?);
         if count == 0 || index >= count {
-            return Err(format!("--shard {text:?}: need 0 ≤ I < N"));
+            return Err(format!("--shard {shown}: need 0 ≤ I < N"));
+        }
+        if count > runs {
+            return Err(format!("--shard {shown}: the sweep has {runs} runs, so N can be at most {runs}"));
         }
         Ok(Self { index, count })
     }
@@ -104,6 +121,8 @@ pub struct Sweep {
     /// What was swept (scenarios and durations, methods, bandwidths, seeds): shards of different
     /// sweeps do not merge.
     pub plan: String,
+    /// Whether the scenarios were shortened (`--quick`), so the merge can rebuild the plan.
+    pub quick: bool,
     /// Into how many shards the sweep was split.
     pub shards: usize,
     /// Which of them this file holds.
@@ -112,9 +131,15 @@ pub struct Sweep {
     pub entries: Vec<Entry>,
 }
 
-fn key(e: &Entry) -> (String, String, u64, u64) {
+/// A point of the grid: scenario, method, bandwidth's bits, seed.
+type Key = (String, String, u64, u64);
+
+fn key(e: &Entry) -> Key {
     (e.scenario.clone(), e.method.clone(), e.bandwidth_rad_s.to_bits(), e.seed)
 }
+
+/// The largest `sweep.json` read, bytes (the full grid's is about 60 kB).
+pub const MAX_SWEEP_BYTES: u64 = 16 << 20;
 
 impl Plan {
     /// A description of the grid that identifies it.
@@ -147,8 +172,9 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-/// Runs the shard `shard` of `plan`, telling `progress` each finished run's simulated seconds.
-pub fn run(plan: &Plan, shard: Shard, progress: &(dyn Fn(f64) + Sync)) -> Result<Sweep, SimError> {
+/// Runs the shard `shard` of `plan`, telling `progress` each finished run's simulated seconds;
+/// `quick` is recorded for the merge.
+pub fn run(plan: &Plan, shard: Shard, quick: bool, progress: &(dyn Fn(f64) + Sync)) -> Result<Sweep, SimError> {
     let jobs: Vec<_> =
         plan.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect();
     let entries = crate::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
@@ -171,50 +197,98 @@ pub fn run(plan: &Plan, shard: Shard, progress: &(dyn Fn(f64) + Sync)) -> Result
     .collect::<Result<Vec<_>, _>>()?;
     Ok(Sweep {
         plan: plan.fingerprint(),
+        quick,
         shards: shard.count,
         shard_indices: vec![shard.index],
         entries: Sweep::sorted(entries),
     })
 }
 
-/// Joins shards of one sweep: every entry once (an entry present in several shards must agree).
-/// Shards of different sweeps, or a set missing a shard, are refused.
-pub fn merge(shards: &[Sweep]) -> Result<Sweep, SimError> {
-    let Some(first) = shards.first() else { return Err(SimError::Config("no shards to merge".into())) };
-    if let Some(other) = shards.iter().find(|s| s.plan != first.plan || s.shards != first.shards) {
-        return Err(SimError::Config(format!(
-            "shards come from different sweeps: {:?} in {} shards against {:?} in {}",
-            first.plan, first.shards, other.plan, other.shards
-        )));
-    }
-    let missing: Vec<String> = (0..first.shards)
-        .filter(|i| !shards.iter().any(|s| s.shard_indices.contains(i)))
-        .map(|i| format!("{i}/{}", first.shards))
-        .collect();
-    if !missing.is_empty() {
-        return Err(SimError::Config(format!("missing shards: {}", missing.join(", "))));
-    }
-    let mut all: Vec<Entry> = shards.iter().flat_map(|s| s.entries.iter().cloned()).collect();
-    all.sort_by_key(key);
-    let mut merged: Vec<Entry> = Vec::with_capacity(all.len());
-    for entry in all {
-        match merged.last() {
-            Some(last) if key(last) == key(&entry) => {
-                if *last != entry {
-                    return Err(SimError::Config(format!(
-                        "shards disagree on {} / {} at {} rad/s, seed {}",
-                        entry.scenario, entry.method, entry.bandwidth_rad_s, entry.seed
-                    )));
-                }
-            }
-            _ => merged.push(entry),
+/// Reads the `sweep.json` of a shard folder, at most [`MAX_SWEEP_BYTES`].
+pub fn read(dir: &std::path::Path) -> Result<Sweep, SimError> {
+    let path = dir.join("sweep.json");
+    let origin = path.display().to_string();
+    let text = crate::input::read_text(&path, MAX_SWEEP_BYTES)
+        .map_err(|message| SimError::Shard { shard: origin.clone(), message })?;
+    serde_json::from_str(&text).map_err(|e| SimError::Shard { shard: origin, message: format!("not a sweep: {e}") })
+}
+
+/// Joins the shards of one sweep of `plan`, each named by where it came from. Every shard must
+/// come from `plan` split the same way, name shard indices in range that no other shard names,
+/// and hold exactly the grid's points of those indices, each value finite and ≥ 0; together they
+/// must cover every index. Anything else is refused, naming the shard.
+pub fn merge(plan: &Plan, shards: &[(String, Sweep)]) -> Result<Sweep, SimError> {
+    let Some((_, first)) = shards.first() else { return Err(SimError::Config("no shards to merge".into())) };
+    let runs = plan.runs();
+    let count = first.shards;
+    let fingerprint = plan.fingerprint();
+    let jobs = plan.jobs();
+    let mut claimed: Vec<Option<&str>> = Vec::new();
+    let mut all = Vec::with_capacity(runs);
+    for (origin, shard) in shards {
+        let refuse = |message: String| SimError::Shard { shard: origin.clone(), message };
+        if shard.plan != fingerprint || shard.quick != first.quick {
+            return Err(refuse(format!(
+                "comes from another sweep: {} against {}",
+                Clipped(&shard.plan, 200),
+                Clipped(&fingerprint, 200)
+            )));
         }
+        if shard.shards != count {
+            return Err(refuse(format!("is one of {} shards, the first of {count}", shard.shards)));
+        }
+        if !(1..=runs).contains(&count) {
+            return Err(refuse(format!("claims {count} shards; the sweep has {runs} runs, so 1 to {runs}")));
+        }
+        claimed.resize(count, None);
+        let mut expected = Vec::new();
+        for &index in &shard.shard_indices {
+            let Some(slot) = claimed.get_mut(index) else {
+                return Err(refuse(format!("names shard {index}, beyond 0 to {}", count - 1)));
+            };
+            if let Some(other) = slot.replace(origin) {
+                return Err(refuse(format!("names shard {index}/{count}, which {other} holds too")));
+            }
+            expected.extend(jobs.iter().skip(index).step_by(count).map(|job| plan.point(job)));
+        }
+        expected.sort();
+        let mut found: Vec<Key> = shard.entries.iter().map(key).collect();
+        found.sort();
+        if found != expected {
+            return Err(refuse(format!(
+                "holds {} points where its shards have {} of the grid (points missing, repeated or not in the plan)",
+                found.len(),
+                expected.len()
+            )));
+        }
+        if let Some(e) = shard
+            .entries
+            .iter()
+            .find(|e| ![e.rmse_d, e.tau_cmd_noise, e.rmse_q].iter().all(|v| v.is_finite() && *v >= 0.0))
+        {
+            return Err(refuse(format!(
+                "{} / {} at {} rad/s, seed {}: a value is not a finite number ≥ 0",
+                e.scenario,
+                e.method,
+                Short(e.bandwidth_rad_s),
+                e.seed
+            )));
+        }
+        all.extend(shard.entries.iter().cloned());
+    }
+    let missing: Vec<String> =
+        claimed.iter().enumerate().filter(|(_, c)| c.is_none()).take(10).map(|(i, _)| format!("{i}/{count}")).collect();
+    if !missing.is_empty() {
+        let more = claimed.iter().filter(|c| c.is_none()).count() - missing.len();
+        let more = if more > 0 { format!(" and {more} more") } else { String::new() };
+        return Err(SimError::Config(format!("missing shards: {}{more}", missing.join(", "))));
     }
     Ok(Sweep {
-        plan: first.plan.clone(),
-        shards: first.shards,
-        shard_indices: (0..first.shards).collect(),
-        entries: Sweep::sorted(merged),
+        plan: fingerprint,
+        quick: first.quick,
+        shards: count,
+        shard_indices: (0..count).collect(),
+        entries: Sweep::sorted(all),
     })
 }
 
@@ -252,8 +326,9 @@ pub fn pareto_figure(sweep: &Sweep) -> String {
                                 .iter()
                                 .filter(|e| e.scenario == scenario && e.method == *method && e.bandwidth_rad_s == *b)
                                 .collect();
+                            // Σ x/n: a mean of huge values stays finite.
                             let avg =
-                                |f: &dyn Fn(&Entry) -> f64| at.iter().map(|e| f(e)).sum::<f64>() / at.len() as f64;
+                                |f: &dyn Fn(&Entry) -> f64| at.iter().map(|e| f(e) / at.len() as f64).sum::<f64>();
                             (avg(&|e| e.tau_cmd_noise), avg(&value))
                         })
                         .collect();

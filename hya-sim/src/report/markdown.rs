@@ -66,7 +66,7 @@ pub(super) fn markdown<const N: usize>(
                 md.push_str(&table_row(
                     [o.method.name().to_string(), name.into()]
                         .into_iter()
-                        .chain(mean.iter().zip(&ci).map(|(m, c)| format!("{} ± {}", figure(*m), figure(*c)))),
+                        .chain(mean.iter().zip(&ci).map(|(m, c)| interval(*m, *c))),
                 ));
             }
         }
@@ -106,9 +106,7 @@ fn claims_table(claims: &[Judgement]) -> String {
         } else {
             c.numbers
                 .iter()
-                .map(|f| {
-                    format!("j{}: {} ± {}{}", f.joint, figure(f.mean), figure(f.ci95), if f.holds { "" } else { " ✗" })
-                })
+                .map(|f| format!("j{}: {}{}", f.joint, interval(f.mean, f.ci95), if f.holds { "" } else { " ✗" }))
                 .collect::<Vec<_>>()
                 .join("; ")
         };
@@ -155,6 +153,12 @@ pub(super) fn frequency_section(points: &[crate::frequency::Point]) -> String {
 }
 
 /// A number with three significant digits.
+/// `mean ± half-width`; a single seed has no interval: `n/a`, not `± inf`.
+fn interval(mean: f64, half_width: f64) -> String {
+    let half_width = if half_width.is_finite() { figure(half_width) } else { "n/a".into() };
+    format!("{} ± {half_width}", figure(mean))
+}
+
 fn figure(x: f64) -> String {
     if x == 0.0 || !x.is_finite() || (1e-2..1e4).contains(&x.abs()) {
         format!("{x:.3}")

@@ -15,8 +15,6 @@ mod viscous;
 
 pub use summary::{RunSummary, Summary};
 
-use std::path::Path;
-
 use crate::claims::judge_all;
 use crate::run::RunOutcome;
 use crate::scenario::Scenario;
@@ -26,17 +24,17 @@ use csv::csv;
 use markdown::{frequency_section, markdown};
 use summary::run_summary;
 
-/// Writes the whole report into `dir`, which [`crate::output::prepare`] has made ready:
+/// Writes the whole report into `dir`, held by this run:
 /// `outcomes` are the first seed's runs (with traces, for figures), `table` every seed's metrics.
 pub fn write<const N: usize>(
-    dir: &Path,
+    dir: &crate::output::OutputDir,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,
     quick: bool,
     generated_by: &str,
 ) -> Result<Summary, SimError> {
-    let save = |name: &str, text: &str| crate::output::save(dir, name, text);
+    let save = |name: &str, text: &str| dir.save(name, text);
     let robot = scenarios.first().map_or("hya".into(), |s| s.robot.clone());
     let summary = Summary {
         robot,

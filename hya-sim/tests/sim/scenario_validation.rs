@@ -64,3 +64,41 @@ fn extra_keys_after_off_or_hold_are_refused() {
     let message = Scenario::from_toml(&text, "t.toml").unwrap_err().to_string();
     assert!(message.contains("sigma"), "{message}");
 }
+
+#[test]
+fn a_method_named_twice_is_refused() {
+    let message = refusal(|s| s.methods = vec![hya_sim::Method::Lu; 3]);
+    assert!(message.contains("`lu` is named twice"), "{message}");
+}
+
+#[test]
+fn unphysical_values_are_refused_unless_allowed() {
+    type Change = fn(&mut Scenario);
+    let cases: &[(&str, Change)] = &[
+        ("plant.coulomb_nm[0]", |s| s.plant.coulomb_nm[0] = 1e300),
+        ("plant.hydraulic.valve_rated_flow_m3_s[3]", |s| s.plant.hydraulic.valve_rated_flow_m3_s[3] = 1e300),
+        ("plant.hydraulic.torque_bandwidth_hz[1]", |s| s.plant.hydraulic.torque_bandwidth_hz[1] = 1e9),
+        ("plant.actuator_time_constant_s[5]", |s| s.plant.actuator_time_constant_s[5] = 1e300),
+        ("plant.hydraulic.supply_pressure_pa", |s| s.plant.hydraulic.supply_pressure_pa = 1e12),
+    ];
+    for (key, change) in cases {
+        let message = refusal(change);
+        assert!(message.contains(key) && message.contains("allow_unphysical"), "{key}: {message}");
+        assert!(message.len() < 300, "a long message: {message}");
+        let mut allowed = Scenario::builtin("goto_weight").unwrap();
+        change(&mut allowed);
+        allowed.allow_unphysical = true;
+        assert!(allowed.check().is_ok(), "{key} refused although allowed");
+    }
+    for name in Scenario::builtin_names().chain(Scenario::arm_goto_names()) {
+        assert!(!Scenario::builtin(name).unwrap().allow_unphysical, "{name} needs allow_unphysical");
+    }
+}
+
+#[test]
+fn messages_print_numbers_short_and_names_clipped() {
+    let message = refusal(|s| s.controller.dt_s = 1e-300);
+    assert!(message.contains("`controller.dt_s` = 1e-300"), "{message}");
+    let message = refusal(|s| s.name = "x".repeat(10_000_000) + "/");
+    assert!(message.len() < 300, "the name is echoed whole ({} bytes)", message.len());
+}

@@ -1,0 +1,122 @@
+//! What a run will cost, known before it starts: the integration steps it takes and the trace
+//! memory it holds, checked against documented caps so that an absurd setting is refused with
+//! its figure instead of running for weeks or until memory runs out.
+//!
+//! Each run keeps its trace (time, `q`, `q_des`, `d`, `d̂`, `τ_cmd` per control tick) in memory
+//! while it runs, and the first seed's runs keep theirs until the report is written (for the
+//! figures and CSV files); later seeds keep only their metrics. So memory grows with the
+//! simulated duration of the first seed's runs, not with the number of seeds.
+
+use std::fmt;
+
+use hya_core::Short;
+
+use crate::scenario::Scenario;
+use crate::{SimError, MAX_JOINTS};
+
+/// The most plant integration steps (control ticks × sub-steps, summed over every run) a
+/// command runs without `--no-cost-limit`: about 4 hours of the hydraulic plant on 2 cores, 30
+/// times the default `hya reproduce`.
+pub const MAX_PHYSICS_STEPS: f64 = 3e9;
+
+/// The most trace memory a command holds without `--no-cost-limit`, bytes (4 GiB).
+pub const MAX_TRACE_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
+
+/// Bytes of trace per control tick for the largest arm: time and five joint vectors.
+const TRACE_BYTES_PER_TICK: f64 = (8 * (1 + 5 * MAX_JOINTS)) as f64;
+
+/// The cost of running every method of every scenario over some seeds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cost {
+    /// Closed-loop runs.
+    pub runs: usize,
+    /// Simulated time over every run, s.
+    pub simulated_s: f64,
+    /// Plant integration steps over every run.
+    pub physics_steps: f64,
+    /// The largest trace memory held at once, bytes (an upper bound: the largest arm's size).
+    pub trace_bytes: f64,
+}
+
+impl Cost {
+    /// The cost of `scenarios` (checked) over `seeds` seeds each, on every core of this machine.
+    pub fn of(scenarios: &[Scenario], seeds: usize) -> Self {
+        let ticks = |s: &Scenario| (s.duration_s / s.controller.dt_s).ceil();
+        let workers = std::thread::available_parallelism().map_or(1, |n| n.get()) as f64;
+        let kept: f64 = scenarios.iter().map(|s| ticks(s) * s.methods.len() as f64).sum();
+        let longest = scenarios.iter().map(ticks).fold(0.0, f64::max);
+        Self {
+            runs: scenarios.iter().map(|s| s.methods.len() * seeds).sum(),
+            simulated_s: scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum(),
+            physics_steps: scenarios
+                .iter()
+                .map(|s| ticks(s) * s.plant.substeps() as f64 * (s.methods.len() * seeds) as f64)
+                .sum(),
+            trace_bytes: (kept + workers * longest) * TRACE_BYTES_PER_TICK,
+        }
+    }
+
+    /// `Ok` within [`MAX_PHYSICS_STEPS`] and [`MAX_TRACE_BYTES`]; the error gives the figure,
+    /// the cap and the flag that lifts it.
+    pub fn check(&self) -> Result<(), SimError> {
+        let over = |what: &str, figure: String, cap: String| {
+            Err(SimError::Cost(format!(
+                "{what} {figure} is beyond the cap of {cap}; shorten duration_s, fewer seeds or methods, or \
+                 pass --no-cost-limit if you mean it"
+            )))
+        };
+        if self.physics_steps > MAX_PHYSICS_STEPS {
+            return over(
+                "the run would take",
+                format!("{} integration steps", Short(self.physics_steps)),
+                Short(MAX_PHYSICS_STEPS).to_string(),
+            );
+        }
+        if self.trace_bytes > MAX_TRACE_BYTES {
+            return over(
+                "the traces would hold",
+                format!("{} GiB of memory", Short(self.trace_bytes / (1u64 << 30) as f64)),
+                format!("{} GiB", Short(MAX_TRACE_BYTES / (1u64 << 30) as f64)),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for Cost {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} runs, {} s simulated, {} integration steps, at most {} MiB of traces in memory",
+            self.runs,
+            Short(self.simulated_s),
+            Short(self.physics_steps),
+            Short(self.trace_bytes / (1u64 << 20) as f64)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    #[test]
+    fn cost_grows_with_duration_substeps_methods_and_seeds_and_is_capped() {
+        let mut scenario = Scenario::builtin("goto_internal").unwrap();
+        let base = Cost::of(std::slice::from_ref(&scenario), 1);
+        let ticks = scenario.duration_s / scenario.controller.dt_s;
+        let methods = scenario.methods.len() as f64;
+        assert_eq!(base.physics_steps, ticks * scenario.plant.substeps() as f64 * methods);
+        assert!(Cost::of(std::slice::from_ref(&scenario), 20).check().is_ok(), "the default run is within the caps");
+        scenario.duration_s = 3600.0;
+        scenario.plant.substeps = Some(1000);
+        let error = Cost::of(std::slice::from_ref(&scenario), 20).check().unwrap_err().to_string();
+        assert!(error.contains("integration steps") && error.contains("--no-cost-limit"), "{error}");
+        // Memory grows with the duration, not with the seeds.
+        scenario.plant.substeps = Some(1);
+        let one = Cost::of(std::slice::from_ref(&scenario), 1);
+        assert_eq!(one.trace_bytes, Cost::of(std::slice::from_ref(&scenario), 20).trace_bytes);
+    }
+}

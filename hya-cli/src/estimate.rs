@@ -70,15 +70,14 @@ fn estimate<const N: usize>(
             }
             Some(e) => e.update(&q, &tau).map_err(at_line)?,
         };
-        rows::write(output, d_hat.iter().copied())?;
+        rows::write(output, d_hat.iter().copied()).map_err(|e| rows::at(format_args!("line {}", row.line), e))?;
     }
     Ok(())
 }
 
 /// `hya estimate`.
 pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
-    let params = FilterParams::new(args.zeta, args.omega1, args.omega2, args.dt)
-        .map_err(|e| CliError::Input(format!("estimator parameters: {e}")))?;
+    let params = crate::filter::params(args.zeta, args.omega1, args.omega2, args.dt)?;
     let dof = crate::dynamics::model(&args.robot)?.bodies().len();
     hya_sim::with_joints(dof, Estimate { robot: &args.robot, params, input, output })
         .map_err(|e| CliError::Input(e.to_string()))?

@@ -2,7 +2,7 @@
 
 use std::io::{BufRead, Write};
 
-use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
+use hya_core::{FilterParams, JointVector, Short, ThirdOrderFilter};
 
 use crate::{read_rows, rows, CliError};
 
@@ -23,10 +23,52 @@ pub struct FilterArgs {
     dt: f64,
 }
 
+/// The smallest damping ratio `ζ` the filter commands accept (hya-core allows up to 100): below
+/// it the second-order factor rings for thousands of periods, which no real design wants.
+pub const MIN_ZETA: f64 = 1e-3;
+
+/// The smallest `ω · dt` the filter commands accept, for `ω1` and `ω2` (hya-core bounds it above
+/// by [`hya_core::MAX_RATE_TIMES_DT`]): below it a corner frequency takes more than a million
+/// samples to act, and each sample moves the states by too little to tell from rounding (at
+/// `dt = 1e-300`, every output row equalled the first).
+pub const MIN_RATE_TIMES_DT: f64 = 1e-6;
+
+/// The filter parameters of `hya filter` and `hya estimate`: hya-core's checks, then
+/// `dt` within [`rows::MIN_DT_S`]–[`rows::MAX_DT_S`], `ζ ≥` [`MIN_ZETA`] and
+/// `ω · dt ≥` [`MIN_RATE_TIMES_DT`]; messages name the option and its value.
+pub fn params(zeta: f64, omega1: f64, omega2: f64, dt: f64) -> Result<FilterParams, CliError> {
+    let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(|e| match e {
+        hya_core::Error::InvalidParameter { name, value, requirement } => {
+            let option = match name {
+                "zeta" => "--zeta",
+                "omega1_rad_s" => "--omega1",
+                "omega2_rad_s" => "--omega2",
+                _ => "--dt",
+            };
+            CliError::Input(format!("{option} {} (`{name}`): must be {requirement}", Short(value)))
+        }
+        other => CliError::Input(format!("filter parameters: {}", other)),
+    })?;
+    rows::check_dt("--dt", dt)?;
+    if zeta < MIN_ZETA {
+        return Err(CliError::Input(format!("--zeta {}: must be at least {}", Short(zeta), Short(MIN_ZETA))));
+    }
+    for (option, omega) in [("--omega1", omega1), ("--omega2", omega2)] {
+        if omega * dt < MIN_RATE_TIMES_DT {
+            return Err(CliError::Input(format!(
+                "{option} {}: times --dt {} must be at least {}, or the filter barely moves between samples",
+                Short(omega),
+                Short(dt),
+                Short(MIN_RATE_TIMES_DT)
+            )));
+        }
+    }
+    Ok(params)
+}
+
 /// Filters every row of `input` and writes `x1…, x2…, x3…` per row to `output`.
 pub fn run(args: &FilterArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
-    let params = FilterParams::new(args.zeta, args.omega1, args.omega2, args.dt)
-        .map_err(|e| CliError::Input(format!("filter parameters: {e}")))?;
+    let params = params(args.zeta, args.omega1, args.omega2, args.dt)?;
     let mut channels: Vec<ThirdOrderFilter<1>> = Vec::new();
     for row in read_rows(input) {
         let row = row?;
@@ -47,7 +89,7 @@ pub fn run(args: &FilterArgs, input: impl BufRead, output: &mut impl Write) -> R
         let x1 = states.clone().map(|s| s.x1[0]);
         let x2 = states.clone().map(|s| s.x2[0]);
         let x3 = states.map(|s| s.x3[0]);
-        rows::write(output, x1.chain(x2).chain(x3))?;
+        rows::write(output, x1.chain(x2).chain(x3)).map_err(|e| rows::at(format_args!("line {}", row.line), e))?;
     }
     Ok(())
 }

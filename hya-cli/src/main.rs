@@ -113,13 +113,7 @@ fn main() -> ExitCode {
     }
 }
 
-/// Reads every data row of `input`; see [`rows::parse`].
+/// Reads every data row of `input` through a bounded line buffer; see [`rows::Reader`].
 pub fn read_rows(input: impl BufRead) -> impl Iterator<Item = Result<rows::Row, CliError>> {
-    input.lines().enumerate().filter_map(|(index, line)| match line {
-        Err(e) if e.kind() == io::ErrorKind::InvalidData => {
-            Some(Err(CliError::Input(format!("line {}: not valid UTF-8 text", index + 1))))
-        }
-        Err(e) => Some(Err(CliError::Io(e))),
-        Ok(text) => rows::parse(&text, index + 1).transpose(),
-    })
+    rows::Reader::new(input)
 }

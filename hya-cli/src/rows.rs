@@ -1,14 +1,63 @@
 //! Rows of numbers on stdin: whitespace- or comma-separated, `#` comments and blank lines skipped.
+//!
+//! Input is hostile until parsed: lines are read through a bounded buffer
+//! ([`MAX_LINE_BYTES`]), rows hold at most [`MAX_ROW_VALUES`] values, and every value read or
+//! written is finite. Messages show numbers in short form ([`Short`]) and echo at most
+//! [`ECHO_CHARS`] characters of what the user wrote ([`echo`]).
+
+use std::io::{BufRead, Read, Write};
+
+use hya_core::{Clipped, Short};
 
 use crate::CliError;
+
+/// The longest line a row command reads, in bytes (1 MiB), newline excluded. A real row (a few
+/// dozen numbers) is a few hundred bytes; a longer line is refused, naming it, as soon as its
+/// first `MAX_LINE_BYTES + 1` bytes have been read, so memory stays bounded whatever the input
+/// (`/dev/zero` included).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The most values one row may hold (4096): the widest real row is `hya id`'s `3n` for an arm of
+/// `n` joints, and `hya filter` keeps a filter per value of its first row, so this also caps
+/// its channels (and the memory of their states).
+pub const MAX_ROW_VALUES: usize = 4096;
+
+/// The shortest sample or output interval `--dt` a row command accepts, s (1 µs).
+pub const MIN_DT_S: f64 = 1e-6;
+
+/// The longest sample or output interval `--dt` a row command accepts, s.
+pub const MAX_DT_S: f64 = 1.0;
+
+/// How many characters of a field that is not a number an error message echoes.
+pub const ECHO_CHARS: usize = 40;
 
 /// One data row with the (1-based) line it came from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
     /// Line number in the input, from 1.
     pub line: usize,
-    /// The values, all finite.
+    /// The values, all finite, at most [`MAX_ROW_VALUES`].
     pub values: Vec<f64>,
+}
+
+/// User text for a message: quoted, control characters escaped, cut after [`ECHO_CHARS`]
+/// characters with an ellipsis.
+pub fn echo(text: &str) -> String {
+    format!("\"{}\"", Clipped(text, ECHO_CHARS))
+}
+
+/// Checks an interval option (`--dt`): finite and within [`MIN_DT_S`] to [`MAX_DT_S`].
+pub fn check_dt(option: &str, dt: f64) -> Result<f64, CliError> {
+    if dt.is_finite() && (MIN_DT_S..=MAX_DT_S).contains(&dt) {
+        Ok(dt)
+    } else {
+        Err(CliError::Input(format!(
+            "{option} {}: must be between {} and {} s",
+            Short(dt),
+            Short(MIN_DT_S),
+            Short(MAX_DT_S)
+        )))
+    }
 }
 
 /// Parses line `line` of the input; `None` for a blank or comment line.
@@ -17,17 +66,84 @@ pub fn parse(text: &str, line: usize) -> Result<Option<Row>, CliError> {
     if data.is_empty() {
         return Ok(None);
     }
-    let values = data
-        .split(|c: char| c == ',' || c.is_whitespace())
-        .filter(|field| !field.is_empty())
-        .enumerate()
-        .map(|(column, field)| match field.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(v) => Err(CliError::Input(format!("line {line}, column {}: non-finite value {v}", column + 1))),
-            Err(_) => Err(CliError::Input(format!("line {line}, column {}: not a number: {field:?}", column + 1))),
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut values = Vec::new();
+    let fields = data.split(|c: char| c == ',' || c.is_whitespace()).filter(|field| !field.is_empty());
+    for (column, field) in fields.enumerate() {
+        let column = column + 1;
+        if column > MAX_ROW_VALUES {
+            return Err(CliError::Input(format!(
+                "line {line}: more than {MAX_ROW_VALUES} values, the most a row may hold"
+            )));
+        }
+        match field.parse::<f64>() {
+            Ok(v) if v.is_finite() => values.push(v),
+            Ok(v) => {
+                return Err(CliError::Input(format!("line {line}, column {column}: non-finite value {}", Short(v))))
+            }
+            Err(_) => {
+                return Err(CliError::Input(format!("line {line}, column {column}: not a number: {}", echo(field))))
+            }
+        }
+    }
     Ok(Some(Row { line, values }))
+}
+
+/// The data rows of an input, read one line at a time through a buffer of at most
+/// [`MAX_LINE_BYTES`] + 1 bytes; see [`parse`]. Iteration ends after the first error.
+pub struct Reader<R> {
+    input: R,
+    buffer: Vec<u8>,
+    line: usize,
+    done: bool,
+}
+
+impl<R: BufRead> Reader<R> {
+    /// Reads the rows of `input`.
+    pub fn new(input: R) -> Self {
+        Self { input, buffer: Vec::new(), line: 0, done: false }
+    }
+
+    /// The next row, blank and comment lines skipped; `Ok(None)` at the end of the input.
+    fn next_row(&mut self) -> Result<Option<Row>, CliError> {
+        loop {
+            self.buffer.clear();
+            // At most one byte past the limit: enough to tell a line that is too long.
+            let limit = MAX_LINE_BYTES as u64 + 1;
+            if (&mut self.input).take(limit).read_until(b'\n', &mut self.buffer)? == 0 {
+                return Ok(None);
+            }
+            self.line += 1;
+            let bytes = match self.buffer.strip_suffix(b"\n") {
+                Some(bytes) => bytes,
+                None if self.buffer.len() > MAX_LINE_BYTES => {
+                    return Err(CliError::Input(format!(
+                        "line {}: longer than {MAX_LINE_BYTES} bytes, the longest line a row may take",
+                        self.line
+                    )))
+                }
+                None => &self.buffer,
+            };
+            let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
+            let text = std::str::from_utf8(bytes)
+                .map_err(|_| CliError::Input(format!("line {}: not valid UTF-8 text", self.line)))?;
+            if let Some(row) = parse(text, self.line)? {
+                return Ok(Some(row));
+            }
+        }
+    }
+}
+
+impl<R: BufRead> Iterator for Reader<R> {
+    type Item = Result<Row, CliError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let next = self.next_row().transpose();
+        self.done = !matches!(next, Some(Ok(_)));
+        next
+    }
 }
 
 /// Checks that `row` has `expected` values.
@@ -44,7 +160,22 @@ pub fn expect_width(row: &Row, expected: usize, what: &str) -> Result<(), CliErr
 }
 
 /// Writes `values` as one row; `{:?}` prints the shortest text that parses back to the same `f64`.
-pub fn write(out: &mut impl std::io::Write, values: impl IntoIterator<Item = f64>) -> Result<(), CliError> {
+///
+/// Refuses, before writing anything of the row, a row with a non-finite value: the error names
+/// the value and its place in the row ([`at`] adds the line or time).
+pub fn write<I>(out: &mut impl Write, values: I) -> Result<(), CliError>
+where
+    I: IntoIterator<Item = f64>,
+    I::IntoIter: Clone,
+{
+    let values = values.into_iter();
+    if let Some((j, v)) = values.clone().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(CliError::Input(format!(
+            "output value {} would be {}: the result overflows, and a non-finite number is never written",
+            j + 1,
+            Short(v)
+        )));
+    }
     let mut first = true;
     for v in values {
         if !first {
@@ -55,6 +186,14 @@ pub fn write(out: &mut impl std::io::Write, values: impl IntoIterator<Item = f64
     }
     out.write_all(b"\n")?;
     Ok(())
+}
+
+/// `error` prefixed with `place` (`line 3`, `t = 0.5 s`) if it is an input error.
+pub fn at(place: impl std::fmt::Display, error: CliError) -> CliError {
+    match error {
+        CliError::Input(message) => CliError::Input(format!("{place}: {message}")),
+        other => other,
+    }
 }
 
 #[cfg(test)]
@@ -74,6 +213,46 @@ mod tests {
         assert!(message.contains("line 12") && message.contains("column 2"), "{message}");
         let message = parse("1 NaN", 3).unwrap_err().to_string();
         assert!(message.contains("line 3") && message.contains("non-finite"), "{message}");
+    }
+
+    #[test]
+    fn long_fields_are_echoed_cut() {
+        let field = "y".repeat(10_000);
+        let message = parse(&format!("1 {field}"), 2).unwrap_err().to_string();
+        assert!(message.len() < 120 && message.contains("column 2") && message.contains("yyy…"), "{message}");
+    }
+
+    #[test]
+    fn rows_are_capped_in_values() {
+        let wide = "1 ".repeat(MAX_ROW_VALUES);
+        assert_eq!(parse(&wide, 1).unwrap().unwrap().values.len(), MAX_ROW_VALUES);
+        let message = parse(&format!("{wide} 1"), 5).unwrap_err().to_string();
+        assert!(message.contains("line 5") && message.contains("4096"), "{message}");
+    }
+
+    #[test]
+    fn the_reader_stops_at_a_long_line_and_counts_lines() {
+        let input = format!("1 2\n\n# c\r\n3 4\r\n{}\n5 6\n", "7".repeat(MAX_LINE_BYTES + 1));
+        let rows: Vec<_> = Reader::new(input.as_bytes()).collect();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(rows[1].as_ref().unwrap(), &Row { line: 4, values: vec![3.0, 4.0] });
+        let message = rows[2].as_ref().unwrap_err().to_string();
+        assert!(message.contains("line 5") && message.contains("1048576"), "{message}");
+        // A line of exactly the limit is read, with or without its newline.
+        let exact = format!("{}1", " ".repeat(MAX_LINE_BYTES - 1));
+        for input in [format!("{exact}\n"), exact.clone()] {
+            let rows: Vec<_> = Reader::new(input.as_bytes()).collect();
+            assert_eq!(rows.len(), 1);
+            assert_eq!(rows[0].as_ref().unwrap().values, vec![1.0]);
+        }
+    }
+
+    #[test]
+    fn non_finite_values_are_never_written() {
+        let mut out = Vec::new();
+        let message = write(&mut out, [1.0, f64::INFINITY]).unwrap_err().to_string();
+        assert!(message.contains("output value 2") && message.contains("inf"), "{message}");
+        assert!(out.is_empty(), "nothing of the row is written");
     }
 
     #[test]

@@ -5,7 +5,7 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use hya_core::model::TreeModel;
-use hya_core::JointVector;
+use hya_core::{JointVector, Short};
 use hya_sim::rollout::{ideal_plant, open_loop, scenario_plant, TorqueCommand};
 use hya_sim::Scenario;
 
@@ -19,23 +19,45 @@ pub struct PlantArgs {
     #[arg(long)]
     robot: String,
     /// The plant of this scenario file (its perturbation, friction, actuators and loads);
-    /// without it, the plant of the built-in `goto_internal`.
+    /// without it, the plant of the shipped arm's built-in scenario (`goto_internal` for
+    /// `hya`, `<arm>_goto` for the others; a URDF file needs `--scenario` or `--ideal`).
     #[arg(long, conflicts_with = "ideal")]
     scenario: Option<PathBuf>,
     /// The rigid body alone: nominal parameters, no friction, ideal actuators, no loads or
     /// noise, gravity 9.81 m/s² along −z.
     #[arg(long)]
     ideal: bool,
-    /// Initial joint angles, rad, space-separated (default: the robot's home pose).
+    /// Initial joint angles, rad, space-separated (default: the robot's home pose); within the
+    /// joints' limits and at most 100 in magnitude.
     #[arg(long)]
     q0: Option<String>,
-    /// Output interval of simulated time, s.
+    /// Output interval of simulated time, s (1e-6 to 1).
     #[arg(long, default_value_t = 0.001)]
     dt: f64,
-    /// Simulate until this time, s (default: the last row's time).
+    /// Simulate until this time, s (default: the last row's time; at most 1e6, and at most
+    /// 1e7 integration steps in all).
     #[arg(long)]
     until: Option<f64>,
 }
+
+/// The latest `--until` (or last row's time) `hya plant` accepts, s.
+pub const MAX_UNTIL_S: f64 = 1e6;
+
+/// The most integration steps one `hya plant` run takes (1e7, about a minute of computing for
+/// HyA): with steps of at most 0.1 ms (`--ideal`) or the scenario's physics step, and one more
+/// per output row and per torque row, it bounds the run's time (`--until 1e6 --dt 1` would take
+/// 1e10). The LuGre friction of a scenario may split a step further, by a bounded factor.
+pub const MAX_STEPS: f64 = 1e7;
+
+/// The most torque rows `hya plant` reads (1e6, 1000 s at 1 kHz): they are held in memory.
+pub const MAX_TORQUE_ROWS: usize = 1_000_000;
+
+/// The largest start position `--q0` accepts for any joint, rad (or m): angles beyond a few
+/// turns are typing errors, and at 1e300 the trigonometry returns noise.
+pub const MAX_START_POSITION: f64 = 100.0;
+
+/// The physics step of `--ideal`, s.
+const IDEAL_STEP_S: f64 = 1e-4;
 
 fn input(message: impl Into<String>) -> CliError {
     CliError::Input(message.into())
@@ -51,19 +73,52 @@ impl From<hya_sim::SimError> for CliError {
     }
 }
 
-/// The start pose: `--q0`, else the shipped robot's home pose, else zeros.
-fn start_pose(args: &PlantArgs, robot: &str, dof: usize) -> Result<Vec<f64>, CliError> {
-    match &args.q0 {
-        Some(text) => {
-            let values =
-                rows::parse(text, 1).map_err(|e| input(format!("--q0: {e}")))?.map_or(Vec::new(), |r| r.values);
-            if values.len() != dof {
-                return Err(input(format!("--q0: expected {dof} angles, got {}", values.len())));
-            }
-            Ok(values)
-        }
-        None => Ok(hya_robots::find(robot).map_or_else(|| vec![0.0; dof], |r| r.home.to_vec())),
+/// The start pose: `--q0` (checked against the joints' limits and [`MAX_START_POSITION`]),
+/// else the shipped robot's home pose, else zeros.
+fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f64>, CliError> {
+    let dof = model.dof();
+    let Some(text) = &args.q0 else {
+        return Ok(hya_robots::find(robot).map_or_else(|| vec![0.0; dof], |r| r.home.to_vec()));
+    };
+    let values = rows::parse(text, 1).map_err(|e| input(format!("--q0: {e}")))?.map_or(Vec::new(), |r| r.values);
+    if values.len() != dof {
+        return Err(input(format!("--q0: expected {dof} angles, got {}", values.len())));
     }
+    for (body, &q) in model.bodies().iter().zip(&values) {
+        let (lower, upper) =
+            (body.limits.lower.unwrap_or(-MAX_START_POSITION), body.limits.upper.unwrap_or(MAX_START_POSITION));
+        let (lower, upper) = (lower.max(-MAX_START_POSITION), upper.min(MAX_START_POSITION));
+        if !(lower..=upper).contains(&q) {
+            return Err(input(format!(
+                "--q0: joint {} at {}: outside its range, {} to {}",
+                rows::echo(&body.joint),
+                Short(q),
+                Short(lower),
+                Short(upper)
+            )));
+        }
+    }
+    Ok(values)
+}
+
+/// The scenario whose plant `hya plant` runs without `--ideal`: `--scenario`, else the first
+/// built-in scenario written for the shipped arm.
+fn scenario(args: &PlantArgs, robot: &str) -> Result<Scenario, CliError> {
+    if let Some(path) = &args.scenario {
+        return Ok(Scenario::from_file(path)?);
+    }
+    if let Some(shipped) = hya_robots::find(robot) {
+        for name in Scenario::builtin_names().chain(Scenario::arm_goto_names()) {
+            let builtin = Scenario::builtin(name)?;
+            if builtin.robot == shipped.name {
+                return Ok(builtin);
+            }
+        }
+    }
+    Err(input(format!(
+        "{}: no built-in scenario describes this arm's plant; pass --scenario FILE (its friction, actuators and loads) or --ideal",
+        rows::echo(robot)
+    )))
 }
 
 /// The torque rows `t τ1 … τn`: times from 0, strictly increasing.
@@ -71,14 +126,22 @@ fn commands<const N: usize>(stdin: impl BufRead) -> Result<Vec<TorqueCommand<N>>
     let mut commands: Vec<TorqueCommand<N>> = Vec::new();
     for row in read_rows(stdin) {
         let row = row?;
+        if commands.len() == MAX_TORQUE_ROWS {
+            return Err(input(format!("line {}: more than {MAX_TORQUE_ROWS} torque rows", row.line)));
+        }
         rows::expect_width(&row, N + 1, "t, then one torque per joint")?;
         let time = row.values[0];
         match commands.last() {
             None if time != 0.0 => {
-                return Err(input(format!("line {}: the first row must be at t = 0, not {time}", row.line)))
+                return Err(input(format!("line {}: the first row must be at t = 0, not {}", row.line, Short(time))))
             }
             Some(last) if time <= last.time => {
-                return Err(input(format!("line {}: t = {time} does not come after {}", row.line, last.time)))
+                return Err(input(format!(
+                    "line {}: t = {} does not come after {}",
+                    row.line,
+                    Short(time),
+                    Short(last.time)
+                )))
             }
             _ => {}
         }
@@ -95,32 +158,47 @@ fn rollout<const N: usize>(
     stdin: impl BufRead,
     output: &mut impl Write,
 ) -> Result<(), CliError> {
-    let q0 = JointVector::<N>::from_column_slice(&start_pose(args, robot, N)?);
+    let dt = rows::check_dt("--dt", args.dt)?;
+    if let Some(until) = args.until {
+        check_until("--until", until)?;
+    }
+    let q0 = JointVector::<N>::from_column_slice(&start_pose(args, robot, model)?);
+    let scenario = if args.ideal { None } else { Some(scenario(args, robot)?) };
     let commands = commands::<N>(stdin)?;
     let Some(last) = commands.last() else { return Err(input("no torque rows on stdin")) };
-    let until = args.until.unwrap_or(last.time);
-    if !(0.0..=1e6).contains(&until) {
-        return Err(input(format!("--until {until}: must be between 0 and 1e6 s")));
-    }
-    if !(args.dt.is_finite() && args.dt > 0.0 && until / args.dt <= 1e8) {
-        return Err(input(format!("--dt {}: must be > 0 and give at most 1e8 output rows", args.dt)));
-    }
-    let (mut plant, max_step) = if args.ideal {
-        (ideal_plant(model, q0)?, 1e-4)
-    } else {
-        let scenario = match &args.scenario {
-            Some(path) => {
-                let text = std::fs::read_to_string(path)
-                    .map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
-                Scenario::from_toml(&text, &path.display().to_string())?
-            }
-            None => Scenario::builtin("goto_internal")?,
-        };
-        scenario_plant(model, &scenario, q0, commands[0].torque)?
+    let until = match args.until {
+        Some(until) => until,
+        None => check_until("the last torque row's time", last.time)?,
     };
-    open_loop(&mut plant, &commands, max_step, args.dt, until, |t, state| {
+    let (mut plant, max_step) = match &scenario {
+        None => (ideal_plant(model, q0)?, IDEAL_STEP_S),
+        Some(scenario) => scenario_plant(model, scenario, q0, commands[0].torque)?,
+    };
+    // Each interval between events (output rows, torque rows) takes ⌈span / max_step⌉ steps.
+    let steps = until / max_step + until / dt + commands.len() as f64 + 1.0;
+    if steps > MAX_STEPS {
+        return Err(input(format!(
+            "--until {} s at --dt {} s takes about {} integration steps (physics step {} s): more than {}",
+            Short(until),
+            Short(dt),
+            Short(steps.round()),
+            Short(max_step),
+            Short(MAX_STEPS)
+        )));
+    }
+    open_loop(&mut plant, &commands, max_step, dt, until, |t, state| {
         rows::write(output, std::iter::once(t).chain(state.q.iter().copied()).chain(state.qd.iter().copied()))
+            .map_err(|e| rows::at(format_args!("t = {} s", Short(t)), e))
     })
+}
+
+/// Checks an end time: finite, from 0 to [`MAX_UNTIL_S`].
+fn check_until(what: &str, until: f64) -> Result<f64, CliError> {
+    if until.is_finite() && (0.0..=MAX_UNTIL_S).contains(&until) {
+        Ok(until)
+    } else {
+        Err(input(format!("{what} {}: must be between 0 and {} s", Short(until), Short(MAX_UNTIL_S))))
+    }
 }
 
 /// `hya plant`.
@@ -131,7 +209,7 @@ pub fn run(args: &PlantArgs, stdin: impl BufRead, output: &mut impl Write) -> Re
         ($($n:literal)*) => {
             match model.dof() {
                 $($n => rollout::<$n>(args, robot, &model, stdin, output),)*
-                n => Err(input(format!("hya plant runs arms of 1 to 12 joints; {robot} has {n}"))),
+                n => Err(input(format!("hya plant runs arms of 1 to 12 joints; {} has {n}", rows::echo(robot)))),
             }
         };
     }

@@ -91,3 +91,33 @@ fn unusable_models_exit_2_naming_the_joint() {
     let unnamed = dir.file("unnamed.urdf", &arm("arm", "link", ""));
     assert_rejected(&["robots", "--urdf", &unnamed], "", &["unnamed.urdf", "joint number 1", "empty name"]);
 }
+
+/// A serial chain of `n` revolute joints, alternating axes, all joints listed before the links.
+fn chain(n: usize) -> String {
+    let inertial = r#"<inertial><mass value="1"/><origin xyz="0.05 0.02 0.01"/><inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>"#;
+    let mut joints = String::new();
+    let mut links = String::from("<link name=\"l0\"/>");
+    for i in 1..=n {
+        let axis = if i.is_multiple_of(2) { "0 1 0" } else { "0 0 1" };
+        joints += &format!(
+            "<joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{}\"/><child link=\"l{i}\"/><origin xyz=\"0.1 0 0\"/><axis xyz=\"{axis}\"/></joint>\n",
+            i - 1
+        );
+        links += &format!("<link name=\"l{i}\">{inertial}</link>\n");
+    }
+    format!("<robot name=\"chain\">\n{joints}{links}</robot>\n")
+}
+
+#[test]
+fn long_chains_are_refused_by_the_loader_and_the_generator_naming_their_caps() {
+    let dir = TempDir::new("chains");
+    // Loading it took 3.4 GB.
+    let huge = dir.file("huge.urdf", &chain(20_000));
+    assert_rejected(&["robots", "--urdf", &huge], "", &["huge.urdf", "MAX_JOINTS", &hya_urdf::MAX_JOINTS.to_string()]);
+    // Generating code for 128 joints took over 5 GB; the generator's cap is far lower.
+    let n = hya_codegen::MAX_JOINTS + 1;
+    let long = dir.file("long.urdf", &chain(n));
+    let output = common::hya(&["robots", "--urdf", &long], "");
+    assert_eq!(output.status.code(), Some(0), "the loader takes it: {}", String::from_utf8_lossy(&output.stderr));
+    assert_rejected(&["generate", &long, "--name", "Long"], "", &["hya_codegen::MAX_JOINTS", &format!("{n} joints")]);
+}

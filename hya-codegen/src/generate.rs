@@ -41,14 +41,19 @@ impl Generated {
     }
 }
 
-/// Beyond this many joints the generator warns: unrolled code grows faster than quadratically
-/// with the joints of a chain (measured: 50 joints give 4.7 MB of source and 84 s of
-/// compilation, 100 joints 15.8 MB and 13 minutes), and the run-time model
-/// ([`hya_core::model::TreeModel`]) becomes the better tool.
-pub const WARN_ABOVE_JOINTS: usize = 30;
+/// Beyond this many joints the generator warns: unrolled code grows with about the square of
+/// the joints, the derivatives' most (measured with `hya generate` on a serial chain of
+/// revolute joints with offset centres of mass, release build, `/usr/bin/time -v`: 8 joints
+/// give 2.8 MB of source and take 0.1 GB of memory, 16 joints 10.6 MB and 0.35 GB, 24 joints
+/// 23 MB and 0.75 GB, 32 joints 40 MB and 1.3 GB, 50 joints 96 MB and 3.0 GB; HyA's 6 joints
+/// give 1.5 MB), and the run-time model ([`hya_core::model::TreeModel`]) becomes the better tool.
+pub const WARN_ABOVE_JOINTS: usize = 16;
 
-/// The generator refuses trees with more joints than this; use the run-time model for them.
-pub const MAX_JOINTS: usize = 128;
+/// The generator refuses trees with more joints than this, so that generating (in `hya generate`
+/// or a `robot!` macro at compile time) stays under about a gigabyte of memory (24 joints:
+/// 0.75 GB, 0.8 GB for the parametric twin; see [`WARN_ABOVE_JOINTS`]); use the run-time model
+/// for them.
+pub const MAX_JOINTS: usize = 24;
 
 /// Why code could not be generated.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -57,7 +62,7 @@ pub enum GenerateError {
     #[error("`{0}` is not a valid Rust type name")]
     TypeName(String),
     /// Too many joints for unrolled code ([`MAX_JOINTS`]).
-    #[error("{0} joints: beyond {MAX_JOINTS}, unrolled code is tens of megabytes; use the run-time model (hya_core::model::TreeModel)")]
+    #[error("{0} joints: beyond the generator's limit of {MAX_JOINTS} (hya_codegen::MAX_JOINTS): unrolled code for more takes over a gigabyte of memory to generate (32 joints: 40 MB of source, 1.3 GB); use the run-time model (hya_core::model::TreeModel)")]
     TooLarge(usize),
     /// The emitted code did not parse (a generator bug).
     #[error("generated code does not parse: {0}")]
@@ -466,7 +471,7 @@ fn check_size(model: &TreeModel) -> Result<(), GenerateError> {
 pub fn size_warning(model: &TreeModel) -> Option<String> {
     (model.dof() > WARN_ABOVE_JOINTS).then(|| {
         format!(
-            "{} joints: unrolled code grows faster than quadratically with the joints (50 joints: 4.7 MB of source, 84 s to compile); beyond {WARN_ABOVE_JOINTS}, consider the run-time model (hya_core::model::TreeModel)",
+            "{} joints: unrolled code grows with about the square of the joints (measured on a chain: 16 joints give 10.6 MB of source and take 0.35 GB of memory to generate, 24 joints 23 MB and 0.75 GB); beyond {WARN_ABOVE_JOINTS}, consider the run-time model (hya_core::model::TreeModel)",
             model.dof()
         )
     })

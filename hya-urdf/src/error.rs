@@ -1,5 +1,6 @@
 //! What the loader refuses ([`LoadError`]) and what it accepts with a remark ([`Warning`]).
 
+use hya_core::Short;
 use thiserror::Error;
 
 use crate::name::escape_name;
@@ -126,7 +127,7 @@ pub enum Problem {
         value: f64,
     },
     /// A link's mass is negative.
-    #[error("link `{link}`: negative mass {} kg", short(*.mass), link = escape_name(link))]
+    #[error("link `{link}`: negative mass {} kg", Short(*mass), link = escape_name(link))]
     NegativeMass {
         /// The link.
         link: String,
@@ -134,7 +135,7 @@ pub enum Problem {
         mass: f64,
     },
     /// A link's inertia tensor has a negative principal moment.
-    #[error("link `{link}`: inertia has a negative principal moment {} kg·m²", short(*.moment), link = escape_name(link))]
+    #[error("link `{link}`: inertia has a negative principal moment {} kg·m²", Short(*moment), link = escape_name(link))]
     NegativePrincipalMoment {
         /// The link.
         link: String,
@@ -154,7 +155,7 @@ pub enum Problem {
         limit: f64,
     },
     /// A positive mass too small to be a body.
-    #[error("link `{link}`: mass {} kg is positive but below 1e-9 kg; write 0 for a massless link", short(*.mass), link = escape_name(link))]
+    #[error("link `{link}`: mass {} kg is positive but below 1e-9 kg; write 0 for a massless link", Short(*mass), link = escape_name(link))]
     TinyMass {
         /// The link.
         link: String,
@@ -182,7 +183,7 @@ pub enum Problem {
         diagonal: f64,
     },
     /// A revolute or prismatic joint whose lower limit is above its upper limit.
-    #[error("joint `{joint}`: lower limit {} is above upper limit {}", short(*.lower), short(*.upper), joint = escape_name(joint))]
+    #[error("joint `{joint}`: lower limit {} is above upper limit {}", Short(*lower), Short(*upper), joint = escape_name(joint))]
     InvertedLimits {
         /// The joint.
         joint: String,
@@ -193,7 +194,7 @@ pub enum Problem {
     },
     /// A revolute or prismatic joint whose lower and upper limits are equal (and not both 0,
     /// which reads as "no position limits": an omitted `lower` and `upper` reads as 0).
-    #[error("joint `{joint}`: lower and upper limits are both {}: the joint cannot move (make it fixed)", short(*.value), joint = escape_name(joint))]
+    #[error("joint `{joint}`: lower and upper limits are both {}: the joint cannot move (make it fixed)", Short(*value), joint = escape_name(joint))]
     EqualLimits {
         /// The joint.
         joint: String,
@@ -222,29 +223,6 @@ pub enum Problem {
         /// The model's message.
         message: String,
     },
-}
-
-/// `value` in a few significant digits: an absurd value must not make a message of 300 digits.
-fn short(value: f64) -> String {
-    let magnitude = value.abs();
-    if value == 0.0 || (1e-3..1e6).contains(&magnitude) {
-        // Six significant digits, trailing zeros dropped.
-        let decimals = (5 - magnitude.log10().floor().max(-3.0) as i32).max(0) as usize;
-        let text = format!("{value:.decimals$}");
-        if text.contains('.') {
-            text.trim_end_matches('0').trim_end_matches('.').to_owned()
-        } else {
-            text
-        }
-    } else {
-        let text = format!("{value:.5e}");
-        match text.split_once('e') {
-            Some((mantissa, exponent)) if mantissa.contains('.') => {
-                format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
-            }
-            _ => text,
-        }
-    }
 }
 
 /// The constant that sets the limit on `what`, as [`Problem::TooMany`] names it.

@@ -177,10 +177,17 @@ fn simulation_speed(lag: bool) -> Result<f64, CliError> {
     if lag {
         scenario.plant.actuator = hya_sim::scenario::ActuatorKind::Lag;
     }
-    let start = Instant::now();
-    hya_sim::run_method::<{ hya_sim::HYA_JOINTS }>(&scenario, hya_sim::Method::Lu)
-        .map_err(|e| CliError::Input(e.to_string()))?;
-    Ok(scenario.duration_s / start.elapsed().as_secs_f64())
+    /// The run, timed on the robot [`hya_sim::with_robot`] hands over (loading it is not timed).
+    struct Timed<'a>(&'a hya_sim::Scenario);
+    impl hya_sim::ForRobot for Timed<'_> {
+        type Output = f64;
+        fn call<const N: usize>(self, robot: hya_sim::Robot<N>) -> Result<f64, hya_sim::SimError> {
+            let start = Instant::now();
+            hya_sim::simulate(self.0, hya_sim::Method::Lu, &robot)?;
+            Ok(self.0.duration_s / start.elapsed().as_secs_f64())
+        }
+    }
+    hya_sim::with_robot(&scenario.robot, Timed(&scenario)).map_err(|e| CliError::Input(e.to_string()))
 }
 
 /// `hya bench`.

@@ -3,9 +3,10 @@
 
 use std::io::{BufRead, Write};
 
+use hya_core::dispatch::{with_joints, ForJoints, MAX_JOINTS};
 use hya_core::filter::{PAPER_BANDWIDTH_RAD_S, PAPER_ZETA};
 use hya_core::{DisturbanceEstimator, FilterParams, JointVector};
-use hya_sim::{ForJoints, SimError};
+use hya_robots::ForArm;
 
 use crate::{read_rows, rows, CliError};
 
@@ -30,19 +31,28 @@ pub struct EstimateArgs {
     dt: f64,
 }
 
-/// The estimator over every row, for `N` joints.
+/// The estimator over every row, for the arm's `N` joints: a shipped arm's generated dynamics
+/// ([`ForArm`]), or a URDF's run-time model ([`ForJoints`], with the model in `model`).
 struct Estimate<'a, R, W> {
-    robot: &'a str,
+    model: Option<hya_core::model::TreeModel>,
     params: FilterParams,
     input: R,
     output: &'a mut W,
 }
 
+impl<R: BufRead, W: Write> ForArm for Estimate<'_, R, W> {
+    type Output = Result<(), CliError>;
+    fn call<const N: usize>(self, arm: hya_robots::Arm<N>) -> Self::Output {
+        estimate::<N>(arm.nominal, self.params, self.input, self.output)
+    }
+}
+
 impl<R: BufRead, W: Write> ForJoints for Estimate<'_, R, W> {
     type Output = Result<(), CliError>;
-    fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
-        let nominal = hya_sim::nominal_dynamics::<N>(self.robot)?;
-        Ok(estimate::<N>(nominal.as_ref(), self.params, self.input, self.output))
+    fn call<const N: usize>(self) -> Self::Output {
+        let model = self.model.ok_or_else(|| CliError::Input("no model to estimate with".into()))?;
+        let nominal = model.into_dynamics::<N>().map_err(|e| CliError::Input(e.to_string()))?;
+        estimate::<N>(&nominal, self.params, self.input, self.output)
     }
 }
 
@@ -78,7 +88,18 @@ fn estimate<const N: usize>(
 /// `hya estimate`.
 pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
     let params = crate::filter::params(args.zeta, args.omega1, args.omega2, args.dt)?;
-    let dof = crate::dynamics::model(&args.robot)?.bodies().len();
-    hya_sim::with_joints(dof, Estimate { robot: &args.robot, params, input, output })
-        .map_err(|e| CliError::Input(e.to_string()))?
+    let mut estimate = Estimate { model: None, params, input, output };
+    if hya_robots::find(&args.robot).is_some() {
+        return hya_robots::with_arm(&args.robot, estimate)
+            .unwrap_or_else(|| Err(CliError::Input(format!("robot `{}` has no dispatch", args.robot))));
+    }
+    let model = crate::dynamics::model(&args.robot)?;
+    let dof = model.dof();
+    estimate.model = Some(model);
+    with_joints(dof, estimate).unwrap_or_else(|| {
+        Err(CliError::Input(format!(
+            "{}: {dof} joints; the estimator runs arms of 1 to {MAX_JOINTS} joints",
+            args.robot
+        )))
+    })
 }

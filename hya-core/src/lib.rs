@@ -22,6 +22,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod control;
+pub mod dispatch;
 pub mod display;
 pub mod dual;
 pub mod dynamics;

@@ -8,7 +8,8 @@ use hya_core::{
 };
 use std::sync::{Mutex, PoisonError};
 
-use hya_sim::{ForJoints, Method, SimError};
+use hya_core::dispatch::ForJoints;
+use hya_sim::{Method, SimError};
 use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -56,8 +57,8 @@ struct Build<'a> {
 }
 
 impl ForJoints for Build<'_> {
-    type Output = Box<dyn SliceObserver>;
-    fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
+    type Output = Result<Box<dyn SliceObserver>, SimError>;
+    fn call<const N: usize>(self) -> Self::Output {
         let nominal = self.model.nominal::<N>()?;
         let first = Measurement {
             position: JointVector::from_column_slice(self.q0),
@@ -131,7 +132,7 @@ impl ObserverCore {
             None => model.gravity_of(&q0),
         };
         let build = Build { method, model, params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
-        let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
+        let inner = crate::model::for_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
 
@@ -435,8 +436,8 @@ struct BuildController<'a> {
 }
 
 impl ForJoints for BuildController<'_> {
-    type Output = Box<dyn SliceController>;
-    fn call<const N: usize>(self) -> Result<Self::Output, SimError> {
+    type Output = Result<Box<dyn SliceController>, SimError>;
+    fn call<const N: usize>(self) -> Self::Output {
         let setup = |source| SimError::Setup { setting: "ComputedTorque".into(), source };
         let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
         let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
@@ -472,7 +473,7 @@ impl ComputedTorque {
             }
         }
         let build = BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
-        let inner = hya_sim::with_joints(n, build).map_err(value_error)?;
+        let inner = crate::model::for_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, inner })
     }
 

@@ -12,6 +12,15 @@ use pyo3::prelude::*;
 use crate::arrays::{output, rows, same_rows};
 use crate::UrdfError;
 
+/// Calls `f` with `N` joints for `dof` from 1 to [`hya_sim::MAX_JOINTS`]; an error otherwise.
+pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = Result<T, SimError>>>(
+    dof: usize,
+    f: F,
+) -> Result<T, SimError> {
+    hya_core::dispatch::with_joints(dof, f)
+        .unwrap_or_else(|| Err(SimError::TooManyJoints { robot: "the model".into(), dof }))
+}
+
 /// A robot's rigid-body dynamics.
 ///
 /// Angles in rad, velocities in rad/s, accelerations in rad/s², torques in N·m, lengths in m.
@@ -35,7 +44,7 @@ impl Model {
     /// reloaded from its path).
     pub fn nominal<const N: usize>(&self) -> Result<Box<dyn Dynamics<N> + Send + Sync>, SimError> {
         match self.generated {
-            Some(robot) => hya_sim::nominal_dynamics::<N>(robot.name),
+            Some(robot) => Ok(hya_sim::Robot::<N>::load(robot.name)?.nominal),
             None => Ok(Box::new(self.model.clone().into_dynamics::<N>()?)),
         }
     }

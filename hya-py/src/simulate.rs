@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use hya_core::JointVector;
-use hya_sim::{ForJoints, Method, Scenario, SimError};
+use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
@@ -23,10 +23,10 @@ struct Run<'a> {
     method: Method,
 }
 
-impl ForJoints for Run<'_> {
+impl ForRobot for Run<'_> {
     type Output = Outcome;
-    fn call<const N: usize>(self) -> Result<Outcome, SimError> {
-        let run = hya_sim::run_method::<N>(self.scenario, self.method)?;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<Outcome, SimError> {
+        let run = hya_sim::simulate(self.scenario, self.method, &robot)?;
         let flat = |rows: &[JointVector<N>]| rows.iter().flat_map(|r| r.iter().copied()).collect::<Vec<f64>>();
         let trace = &run.trace;
         let series = BTreeMap::from([
@@ -91,9 +91,8 @@ pub fn simulate<'py>(
     let method: Method = serde_json::from_value(serde_json::Value::String(method.to_owned())).map_err(|_| {
         PyValueError::new_err(format!("method `{method}`: expected none, pid, lu, chen, momentum or eso"))
     })?;
-    let dof = hya_sim::robot_model(&scenario.robot).map_err(|e| PyValueError::new_err(e.to_string()))?.bodies().len();
     let outcome = py
-        .allow_threads(|| hya_sim::with_joints(dof, Run { scenario: &scenario, method }))
+        .allow_threads(|| hya_sim::with_robot(&scenario.robot, Run { scenario: &scenario, method }))
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let result = PyDict::new(py);
     let steps = outcome.time.len();

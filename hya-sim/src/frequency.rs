@@ -14,7 +14,7 @@ use crate::scenario::{
     ActuatorKind, FrictionKind, Method, Noise, NoiseConfig, Scenario, SinusoidLoad, TorqueSource, VelocitySource,
 };
 use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{run_method, SimError, HYA_JOINTS};
+use crate::SimError;
 
 /// The frequencies swept, Hz.
 pub const FREQUENCIES_HZ: [f64; 8] = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0];
@@ -62,7 +62,7 @@ fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
 /// A clean version of `base` (no friction, ideal actuators, no parameter error, exact sensors
 /// with a velocity sensor for the observers that read one) holding its pose under a sinusoidal
 /// torque on every joint at `frequency_hz`, for a whole number of periods after settling.
-fn clean_scenario(base: &Scenario, frequency_hz: f64) -> Scenario {
+fn clean_scenario(base: &Scenario, frequency_hz: f64, joints: usize) -> Scenario {
     let mut s = base.clone();
     s.name = "frequency".into();
     s.plant.friction = FrictionKind::Off;
@@ -73,7 +73,7 @@ fn clean_scenario(base: &Scenario, frequency_hz: f64) -> Scenario {
     s.sensors.torque = TorqueSource::Direct;
     s.sensors.encoder_counts_per_rev = 1 << 40;
     s.loads.weight_drop = None;
-    s.loads.sinusoid = Some(SinusoidLoad { amplitude_nm: vec![2.0; HYA_JOINTS], frequency_hz });
+    s.loads.sinusoid = Some(SinusoidLoad { amplitude_nm: vec![2.0; joints], frequency_hz });
     let periods = (3.0 * frequency_hz).ceil().max(2.0);
     s.duration_s = 2.0 + periods / frequency_hz;
     s
@@ -81,14 +81,18 @@ fn clean_scenario(base: &Scenario, frequency_hz: f64) -> Scenario {
 
 /// Every observer's measured response on `base`'s robot and controller at `frequencies_hz`
 /// ([`FREQUENCIES_HZ`] for the report).
-pub fn measure(base: &Scenario, frequencies_hz: &[f64]) -> Result<Vec<Point>, SimError> {
+pub fn measure<const N: usize>(
+    robot: &crate::Robot<N>,
+    base: &Scenario,
+    frequencies_hz: &[f64],
+) -> Result<Vec<Point>, SimError> {
     let beta = base.controller.observer_bandwidth_rad_s;
     let mut points = Vec::new();
     for &frequency_hz in frequencies_hz {
-        let scenario = clean_scenario(base, frequency_hz);
+        let scenario = clean_scenario(base, frequency_hz, N);
         let omega = std::f64::consts::TAU * frequency_hz;
         for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-            let trace = run_method::<HYA_JOINTS>(&scenario, method)?.trace;
+            let trace = crate::simulate(&scenario, method, robot)?.trace;
             // The whole periods after the first 2 s.
             let start = trace.time.partition_point(|t| *t < 2.0);
             let d: Vec<(f64, f64)> =

@@ -20,6 +20,7 @@ pub mod metrics;
 pub mod output;
 pub mod plant;
 pub mod report;
+pub mod robot;
 pub mod rollout;
 pub mod run;
 pub mod scenario;
@@ -30,13 +31,8 @@ pub mod svg;
 pub mod sweep;
 pub mod task;
 
-use std::any::Any;
-
-use hya_core::model::TreeModel;
-use hya_core::spatial::RigidBodyInertia;
-use hya_core::Dynamics;
-
 pub use metrics::Metrics;
+pub use robot::{with_robot, ForRobot, Robot};
 pub use run::{simulate, RunOutcome, Trace};
 pub use scenario::{Method, Scenario};
 
@@ -46,7 +42,7 @@ pub const HYA_JOINTS: usize = 6;
 
 /// The most joints a simulated arm may have (`hya run` instantiates the simulator for each size
 /// from 1 to this).
-pub const MAX_JOINTS: usize = 7;
+pub const MAX_JOINTS: usize = hya_core::dispatch::MAX_JOINTS;
 
 /// Errors of the simulator, naming the setting or the moment at fault.
 #[derive(Debug, thiserror::Error)]
@@ -73,6 +69,24 @@ pub enum SimError {
     /// The robot's description did not load.
     #[error(transparent)]
     Robot(#[from] hya_urdf::LoadError),
+    /// A robot with another number of joints than the code asking for it.
+    #[error("robot `{robot}` has {found} joints, not {expected}")]
+    JointCount {
+        /// The robot.
+        robot: String,
+        /// The joints asked for.
+        expected: usize,
+        /// The joints it has.
+        found: usize,
+    },
+    /// A robot with more joints than the simulator is compiled for.
+    #[error("robot `{robot}` has {dof} joints: the simulator runs arms of 1 to {MAX_JOINTS} joints")]
+    TooManyJoints {
+        /// The robot.
+        robot: String,
+        /// Its joints.
+        dof: usize,
+    },
     /// The robot's model does not fit what was asked of it.
     #[error(transparent)]
     Model(#[from] hya_core::model::ModelError),
@@ -127,107 +141,16 @@ pub enum SimError {
     },
 }
 
-/// The start pose of a scenario: its own, else the shipped robot's home pose (`robots.list`),
-/// else zeros.
-pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
-    match (&scenario.initial_position_rad, hya_robots::find(&scenario.robot)) {
-        (Some(q), _) => q.clone(),
-        (None, Some(robot)) => robot.home.to_vec(),
-        (None, None) => vec![0.0; dof],
-    }
-}
-
-/// The run-time model of a scenario's robot: a shipped robot by name, else a URDF file by path.
-pub fn robot_model(robot: &str) -> Result<TreeModel, SimError> {
-    Ok(match hya_robots::find(robot) {
-        Some(shipped) => hya_urdf::load_str(shipped.urdf, shipped.name)?.model,
-        None => hya_urdf::load_file(robot)?.model,
-    })
-}
-
-/// Body inertias of a model in joint order, as parametric generated dynamics take them.
-fn inertias<const N: usize>(model: &TreeModel) -> Result<[RigidBodyInertia; N], SimError> {
-    let bodies = model.bodies();
-    if bodies.len() != N {
-        return Err(SimError::Config(format!("expected {N} joints, found {}", bodies.len())));
-    }
-    Ok(core::array::from_fn(|i| bodies[i].inertia))
-}
-
-/// A robot's nominal dynamics (the controller's and observers' model) and the factory of its
-/// plant's rigid body.
-type RobotDynamics<const N: usize> = (Box<dyn Dynamics<N> + Send + Sync>, Box<plant::DynamicsFactory<N>>);
-
-/// For a shipped robot with `N` joints: its generated dynamics, and its parameter-holding
-/// generated type fed the plant's perturbed inertias, so the plant runs generated code too.
-fn shipped_dynamics<const N: usize>(robot: &str) -> Option<RobotDynamics<N>> {
-    macro_rules! find {
-        ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
-            if robot == stringify!($module) {
-                let nominal: Box<dyn Dynamics<$dof> + Send + Sync> = Box::new(hya_robots::$type);
-                let factory: Box<plant::DynamicsFactory<$dof>> = Box::new(|m: &TreeModel| {
-                    Ok(Box::new(hya_robots::$parametric::new(&inertias::<$dof>(m)?)) as Box<dyn Dynamics<$dof>>)
-                });
-                // The pair has the caller's type exactly when the robot has `N` joints.
-                let pair: Box<dyn Any> = Box::new((nominal, factory));
-                return pair.downcast::<RobotDynamics<N>>().ok().map(|pair| *pair);
-            }
-        )*};
-    }
-    hya_robots::for_each_robot!(find);
-    None
-}
-
-/// The dynamics a scenario runs on: a shipped robot's generated code, else the run-time model
-/// of its URDF, for nominal model and plant alike.
-fn robot_dynamics<const N: usize>(robot: &str, model: &TreeModel) -> Result<RobotDynamics<N>, SimError> {
-    if let Some(found) = shipped_dynamics::<N>(robot) {
-        return Ok(found);
-    }
-    if hya_robots::find(robot).is_some() {
-        return Err(SimError::Config(format!("robot `{robot}` does not have {N} joints")));
-    }
-    let nominal = model.clone().into_dynamics::<N>().map_err(|e| SimError::Config(format!("robot `{robot}`: {e}")))?;
-    Ok((Box::new(nominal), Box::new(plant::generic_dynamics::<N>)))
-}
-
-/// The nominal dynamics of a scenario's robot, with `N` joints.
-pub fn nominal_dynamics<const N: usize>(robot: &str) -> Result<Box<dyn Dynamics<N> + Send + Sync>, SimError> {
-    Ok(robot_dynamics::<N>(robot, &robot_model(robot)?)?.0)
-}
-
 /// Runs every method of `scenario`, in order.
 pub fn run_scenario<const N: usize>(scenario: &Scenario) -> Result<Vec<RunOutcome<N>>, SimError> {
-    scenario.methods.iter().map(|&method| run_method(scenario, method)).collect()
+    let robot = Robot::<N>::load(&scenario.robot)?;
+    scenario.methods.iter().map(|&method| simulate(scenario, method, &robot)).collect()
 }
 
-/// Runs one method of `scenario` on its robot, which must have `N` joints.
+/// Runs one method of `scenario` on its robot, which must have `N` joints (see [`Robot::load`];
+/// [`robot::with_robot`] finds `N` instead).
 pub fn run_method<const N: usize>(scenario: &Scenario, method: Method) -> Result<RunOutcome<N>, SimError> {
-    let model = robot_model(&scenario.robot)?;
-    let (nominal, plant) = robot_dynamics::<N>(&scenario.robot, &model)?;
-    simulate(scenario, method, nominal.as_ref(), &model, &plant)
-}
-
-/// Something to do with an arm of `N` joints, `N` known only at run time ([`with_joints`]).
-pub trait ForJoints {
-    /// What it gives.
-    type Output;
-    /// Does it for `N` joints.
-    fn call<const N: usize>(self) -> Result<Self::Output, SimError>;
-}
-
-/// Calls `f` with `N = dof`, for 1 to [`MAX_JOINTS`] joints.
-pub fn with_joints<F: ForJoints>(dof: usize, f: F) -> Result<F::Output, SimError> {
-    match dof {
-        1 => f.call::<1>(),
-        2 => f.call::<2>(),
-        3 => f.call::<3>(),
-        4 => f.call::<4>(),
-        5 => f.call::<5>(),
-        6 => f.call::<6>(),
-        7 => f.call::<7>(),
-        _ => Err(SimError::Config(format!("{dof} joints: the simulator runs arms of 1 to {MAX_JOINTS} joints"))),
-    }
+    simulate(scenario, method, &Robot::<N>::load(&scenario.robot)?)
 }
 
 /// What `hya reproduce` and `hya run` do: every method of every scenario (all on one robot)
@@ -258,15 +181,14 @@ impl Experiment<'_> {
                 first.name, first.robot, other.name, other.robot
             )));
         }
-        let dof = robot_model(&first.robot)?.dof();
-        with_joints(dof, self)
+        robot::with_robot(&first.robot.clone(), self)
     }
 }
 
-impl ForJoints for Experiment<'_> {
+impl ForRobot for Experiment<'_> {
     type Output = report::Summary;
-    fn call<const N: usize>(self) -> Result<report::Summary, SimError> {
-        let (outcomes, table) = seeds::run_seeds::<N>(self.scenarios, self.seeds, self.progress)?;
-        report::write(self.out, self.scenarios, &outcomes, &table, self.quick, self.generated_by)
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
+        let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
+        report::write(&robot, self.out, self.scenarios, &outcomes, &table, self.quick, self.generated_by)
     }
 }

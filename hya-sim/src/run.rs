@@ -5,7 +5,6 @@
 //! actuator torque: `d = ID_nominal(q, q̇, q̈_true) − τ_act`. It includes friction, parameter
 //! error, payload and external loads, so estimate errors are measured, not guessed.
 
-use hya_core::model::TreeModel;
 use std::collections::VecDeque;
 
 use hya_core::{
@@ -16,7 +15,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::metrics::Metrics;
-use crate::plant::{perturbed, DynamicsFactory, Plant};
+use crate::plant::{perturbed, Plant};
+use crate::robot::Robot;
 use crate::scenario::{Method, Scenario};
 use crate::sensors::Sensors;
 use crate::settings::JointSettings;
@@ -159,25 +159,24 @@ impl<const N: usize> IntegralAction<N> {
     }
 }
 
-/// Runs `scenario` with `method` on a plant built from `nominal_model` (perturbed, seeded), whose
-/// rigid body `plant_dynamics` builds.
+/// Runs `scenario` with `method` on `robot`: the controller and observers on its nominal
+/// dynamics, the plant on its model perturbed by the scenario's seed.
 pub fn simulate<const N: usize>(
     scenario: &Scenario,
     method: Method,
-    nominal: &(dyn Dynamics<N> + Sync),
-    nominal_model: &TreeModel,
-    plant_dynamics: &DynamicsFactory<N>,
+    robot: &Robot<N>,
 ) -> Result<RunOutcome<N>, SimError> {
+    let nominal = robot.nominal.as_ref();
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
     let q0 = joints.initial_position;
     // One stream draws the model perturbation, then the friction profiles.
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
-    let true_model = perturbed(nominal_model, scenario.plant.parameter_spread, &mut rng);
+    let true_model = perturbed(&robot.model, scenario.plant.parameter_spread, &mut rng);
     let hold = nominal.gravity(&q0);
     let mut plant = Plant::new(
         true_model,
-        plant_dynamics,
+        robot.plant.as_ref(),
         (&scenario.plant, &scenario.loads, &joints.plant),
         (q0, hold),
         &mut rng,

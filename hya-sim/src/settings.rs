@@ -14,6 +14,16 @@ use hya_core::JointVector;
 use crate::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, Scenario, Task};
 use crate::SimError;
 
+/// The start pose of a scenario: its own, else the shipped robot's home pose (`robots.list`),
+/// else zeros.
+pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
+    match (&scenario.initial_position_rad, hya_robots::find(&scenario.robot)) {
+        (Some(q), _) => q.clone(),
+        (None, Some(robot)) => robot.home.to_vec(),
+        (None, None) => vec![0.0; dof],
+    }
+}
+
 /// A per-joint list from the configuration, checked for length and finiteness.
 pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
     if values.len() != N {
@@ -209,7 +219,7 @@ impl<const N: usize> JointSettings<N> {
             Task::Sine { amplitude_rad, .. } => per_joint("task.amplitude_rad", amplitude_rad)?,
         };
         Ok(Self {
-            initial_position: per_joint("initial_position_rad", &crate::initial_position(scenario, N))?,
+            initial_position: per_joint("initial_position_rad", &initial_position(scenario, N))?,
             task,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,

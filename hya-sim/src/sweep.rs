@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::scenario::{Method, Scenario};
 use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{run_method, SimError, HYA_JOINTS};
+use crate::SimError;
 use hya_core::{Clipped, Short};
 
 /// What a sweep runs.
@@ -172,36 +172,58 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-/// Runs the shard `shard` of `plan`, telling `progress` each finished run's simulated seconds;
-/// `quick` is recorded for the merge.
+/// Runs the shard `shard` of `plan` on its scenarios' robot, telling `progress` each finished
+/// run's simulated seconds; `quick` is recorded for the merge.
 pub fn run(plan: &Plan, shard: Shard, quick: bool, progress: &(dyn Fn(f64) + Sync)) -> Result<Sweep, SimError> {
-    let jobs: Vec<_> =
-        plan.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect();
-    let entries = crate::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
-        let mut scenario = plan.scenarios[i].clone();
-        scenario.seed = scenario.seed.wrapping_add(k as u64);
-        scenario.controller.observer_bandwidth_rad_s = bandwidth;
-        let entry = run_method::<HYA_JOINTS>(&scenario, method).map(|o| Entry {
-            scenario: scenario.name.clone(),
-            method: method.name().to_owned(),
-            bandwidth_rad_s: bandwidth,
-            seed: scenario.seed,
-            rmse_d: o.metrics.rmse_d.as_deref().map_or(f64::NAN, mean),
-            tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
-            rmse_q: mean(&o.metrics.rmse_q),
-        });
-        progress(scenario.duration_s);
-        entry
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>, _>>()?;
-    Ok(Sweep {
-        plan: plan.fingerprint(),
-        quick,
-        shards: shard.count,
-        shard_indices: vec![shard.index],
-        entries: Sweep::sorted(entries),
-    })
+    let Some(first) = plan.scenarios.first() else { return Err(SimError::Config("a sweep of no scenario".into())) };
+    crate::robot::with_robot(&first.robot.clone(), ShardRun { plan, shard, quick, progress })
+}
+
+/// One shard of a sweep, for the robot [`with_robot`](crate::robot::with_robot) finds.
+struct ShardRun<'a> {
+    plan: &'a Plan,
+    shard: Shard,
+    quick: bool,
+    progress: &'a (dyn Fn(f64) + Sync),
+}
+
+impl crate::robot::ForRobot for ShardRun<'_> {
+    type Output = Sweep;
+    fn call<const N: usize>(self, robot: crate::Robot<N>) -> Result<Sweep, SimError> {
+        let (plan, shard) = (self.plan, self.shard);
+        let jobs: Vec<_> = plan
+            .jobs()
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| k % shard.count == shard.index)
+            .map(|(_, j)| j)
+            .collect();
+        let entries = crate::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
+            let mut scenario = plan.scenarios[i].clone();
+            scenario.seed = scenario.seed.wrapping_add(k as u64);
+            scenario.controller.observer_bandwidth_rad_s = bandwidth;
+            let entry = crate::simulate(&scenario, method, &robot).map(|o| Entry {
+                scenario: scenario.name.clone(),
+                method: method.name().to_owned(),
+                bandwidth_rad_s: bandwidth,
+                seed: scenario.seed,
+                rmse_d: o.metrics.rmse_d.as_deref().map_or(f64::NAN, mean),
+                tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
+                rmse_q: mean(&o.metrics.rmse_q),
+            });
+            (self.progress)(scenario.duration_s);
+            entry
+        })
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?;
+        Ok(Sweep {
+            plan: plan.fingerprint(),
+            quick: self.quick,
+            shards: shard.count,
+            shard_indices: vec![shard.index],
+            entries: Sweep::sorted(entries),
+        })
+    }
 }
 
 /// Reads the `sweep.json` of a shard folder, at most [`MAX_SWEEP_BYTES`].

@@ -75,3 +75,52 @@ impl core::fmt::Debug for RobotInfo {
 pub fn find(name: &str) -> Option<&'static RobotInfo> {
     ROBOTS.iter().find(|r| r.name == name)
 }
+
+/// One shipped arm with its number of joints as the constant `N` ([`with_arm`]): its generated
+/// dynamics, and a factory of its parameter-holding twin for other inertial parameters.
+#[cfg(feature = "std")]
+pub struct Arm<const N: usize> {
+    /// Its entry in [`ROBOTS`].
+    pub info: &'static RobotInfo,
+    /// The generated dynamics with the URDF's parameters.
+    pub nominal: &'static (dyn hya_core::Dynamics<N> + Send + Sync),
+    /// The parameter-holding twin for these body inertias (joint order): the same folded
+    /// kinematics for perturbed, identified or loaded bodies.
+    pub parametric: ParametricFactory<N>,
+}
+
+/// Builds an arm's parameter-holding twin from its body inertias, in joint order.
+#[cfg(feature = "std")]
+pub type ParametricFactory<const N: usize> =
+    fn(&[hya_core::spatial::RigidBodyInertia; N]) -> std::boxed::Box<dyn hya_core::Dynamics<N> + Send + Sync>;
+
+/// Something to do with a shipped arm, whose number of joints becomes the constant `N`.
+#[cfg(feature = "std")]
+pub trait ForArm {
+    /// What it gives.
+    type Output;
+    /// Does it for `arm`.
+    fn call<const N: usize>(self, arm: Arm<N>) -> Self::Output;
+}
+
+#[cfg(feature = "std")]
+macro_rules! arm_dispatch {
+    ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {
+        /// Calls `f` with the shipped arm called `name` (its joint count as `N`); `None` if no
+        /// shipped arm has that name. Instantiates `f` once per distinct joint count, not per arm.
+        pub fn with_arm<F: ForArm>(name: &str, f: F) -> Option<F::Output> {
+            $(
+                if name == stringify!($module) {
+                    return Some(f.call::<$dof>(Arm {
+                        info: find(name)?,
+                        nominal: &$type,
+                        parametric: |inertias| std::boxed::Box::new($parametric::new(inertias)),
+                    }));
+                }
+            )*
+            None
+        }
+    };
+}
+#[cfg(feature = "std")]
+for_each_robot!(arm_dispatch);

@@ -38,8 +38,7 @@ pub fn perturbed(model: &TreeModel, spread: f64, rng: &mut impl Rng) -> TreeMode
     })
 }
 
-/// Builds the plant's true rigid-body dynamics from a model (perturbed, or carrying a payload).
-pub type DynamicsFactory<const N: usize> = dyn Fn(&TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError>;
+pub use crate::robot::DynamicsFactory;
 
 /// The generic tree model as the plant's dynamics: works for any robot.
 pub fn generic_dynamics<const N: usize>(model: &TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError> {

@@ -27,6 +27,7 @@ use summary::run_summary;
 /// Writes the whole report into `dir`, held by this run:
 /// `outcomes` are the first seed's runs (with traces, for figures), `table` every seed's metrics.
 pub fn write<const N: usize>(
+    robot: &crate::Robot<N>,
     dir: &crate::output::OutputDir,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
@@ -35,9 +36,8 @@ pub fn write<const N: usize>(
     generated_by: &str,
 ) -> Result<Summary, SimError> {
     let save = |name: &str, text: &str| dir.save(name, text);
-    let robot = scenarios.first().map_or("hya".into(), |s| s.robot.clone());
     let summary = Summary {
-        robot,
+        robot: robot.name.clone(),
         quick,
         seeds: outcomes.first().map_or(0, |o| table.seeds(&o.scenario, o.method)),
         runs: outcomes.iter().map(|o| run_summary(table, &o.scenario, o.method, o.bandwidth_rad_s.clone())).collect(),
@@ -61,23 +61,24 @@ pub fn write<const N: usize>(
         }
         figure_names.insert(s.name.clone(), names);
     }
-    let (mut plant_section, figures) = plant::section(scenarios, outcomes)?;
+    let (mut plant_section, figures) = plant::section(robot, scenarios, outcomes)?;
     for (name, svg) in &figures {
         save(name, svg)?;
     }
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
     let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
-        Some(base) => viscous::section(base)?,
+        Some(base) => viscous::section(robot, base)?,
         None => String::new(),
     };
     if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {
-        let points = crate::frequency::measure(base, &crate::frequency::FREQUENCIES_HZ)?;
+        let points = crate::frequency::measure(robot, base, &crate::frequency::FREQUENCIES_HZ)?;
         save("frequency.svg", &crate::frequency::figure(&points))?;
         plant_section.push_str(&frequency_section(&points));
     }
     save(
         "report.md",
         &markdown(
+            robot,
             scenarios,
             outcomes,
             table,

@@ -179,7 +179,7 @@ fn step_responses<const N: usize>(
 ) -> Result<(String, Vec<f64>), SimError> {
     const STEP_NM: f64 = 2.0;
     const STEP_AT_S: f64 = 0.05;
-    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::initial_position(scenario, N))?;
+    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::settings::initial_position(scenario, N))?;
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
     let mut rise_times = Vec::new();
@@ -225,6 +225,7 @@ fn step_responses<const N: usize>(
 
 /// The "Plant" section and its figures.
 pub fn section<const N: usize>(
+    robot: &crate::Robot<N>,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
 ) -> Result<(String, Vec<Figure>), SimError> {
@@ -263,9 +264,8 @@ pub fn section<const N: usize>(
     for r in parameter_rows(p, &first.sensors) {
         md.push_str(&table_row(r));
     }
-    let model = crate::robot_model(&first.robot)?;
-    let nominal = crate::nominal_dynamics::<N>(&first.robot)?;
-    let nominal = nominal.as_ref();
+    let model = &robot.model;
+    let nominal = robot.nominal.as_ref();
     if let Some(sine) = outcomes.iter().find(|o| o.scenario.starts_with("sine_internal") && o.method == Method::Lu) {
         if let Some(svg) = friction_figure(p, sine, first.controller.dt_s)? {
             let name = "plant_friction.svg".to_owned();
@@ -274,10 +274,10 @@ pub fn section<const N: usize>(
         }
     }
     if p.actuator == ActuatorKind::Hydraulic {
-        let (svg, rise_times) = step_responses(first, &model, nominal)?;
+        let (svg, rise_times) = step_responses(first, model, nominal)?;
         let name = "plant_step.svg".to_owned();
-        let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::initial_position(first, N))?;
-        let (plant, _) = scenario_plant(&model, first, q0, nominal.gravity(&q0))?;
+        let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::settings::initial_position(first, N))?;
+        let (plant, _) = scenario_plant(model, first, q0, nominal.gravity(&q0))?;
         let natural = match plant.actuators() {
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
             _ => JointVector::zeros(),

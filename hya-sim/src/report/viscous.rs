@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use crate::scenario::{Method, Scenario};
 use crate::seeds::{per_joint_mean_ci95, run_seeds};
-use crate::{SimError, HYA_JOINTS};
+use crate::SimError;
 
 use super::text::table_row;
 
@@ -26,7 +26,7 @@ fn is_free(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
 }
 
 /// The section, from runs of `base` (the goto task) at every bandwidth.
-pub fn section(base: &Scenario) -> Result<String, SimError> {
+pub fn section<const N: usize>(robot: &crate::Robot<N>, base: &Scenario) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
         .iter()
         .map(|w| {
@@ -37,7 +37,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
             s
         })
         .collect();
-    let (_, table) = run_seeds::<HYA_JOINTS>(&scenarios, SEEDS, &|_| {})?;
+    let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
     let mut amplitude = Vec::new();
     for s in &scenarios {
         let values = table.values(&s.name, Method::Lu, "limit_cycle_q").unwrap_or_default();
@@ -58,7 +58,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
             .chain(["largest τ_d free of a limit cycle [ms]".to_owned(), "recommended ω1 = ω2 [rad/s]".to_owned()]),
     ));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 3)));
-    for j in 0..HYA_JOINTS {
+    for j in 0..N {
         // The slowest bandwidth from which on every faster one is free too.
         let free = |k: usize| is_free(&amplitude, k, j);
         let slowest_free = (0..BANDWIDTHS_RAD_S.len())
@@ -74,7 +74,7 @@ pub fn section(base: &Scenario) -> Result<String, SimError> {
     }
     // Joints where a longer delay is free of a limit cycle while a shorter one is not: there the
     // measurement contradicts the simple `F_v τ_d > M_ii` rule.
-    let contradicting: Vec<String> = (0..HYA_JOINTS)
+    let contradicting: Vec<String> = (0..N)
         .filter(|&j| {
             let free = |k: usize| is_free(&amplitude, k, j);
             (0..BANDWIDTHS_RAD_S.len())

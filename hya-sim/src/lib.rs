@@ -16,6 +16,7 @@ pub mod claims;
 pub mod cost;
 pub mod frequency;
 pub mod input;
+pub mod linear;
 pub mod metrics;
 pub mod output;
 pub mod plant;

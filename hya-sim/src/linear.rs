@@ -1,0 +1,1 @@
+//! Linear analysis of the observers and of each joint's loop (being written).

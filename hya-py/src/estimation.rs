@@ -76,7 +76,14 @@ impl ForJoints for Build<'_> {
             }
             (method, _) => match hya_sim::run::observer(method, nominal, self.bandwidth_dt, &first)? {
                 Some((observer, _rates)) => observer,
-                None => return Err(SimError::Config(format!("method `{}` has no observer", method.name()))),
+                None => {
+                    return Err(hya_sim::error::SettingError::new(
+                        "method",
+                        None,
+                        format!("`{}` has no observer", method.name()),
+                    )
+                    .into())
+                }
             },
         };
         Ok(Box::new(Fixed(observer)))

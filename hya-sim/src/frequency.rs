@@ -10,11 +10,11 @@
 
 use nalgebra::Complex;
 
-use crate::scenario::{
+use crate::config::scenario::{
     ActuatorKind, FrictionKind, Method, Noise, NoiseConfig, Scenario, SinusoidLoad, TorqueSource, VelocitySource,
 };
-use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::SimError;
+use crate::error::SimError;
+use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 
 /// The frequencies swept, Hz.
 pub const FREQUENCIES_HZ: [f64; 8] = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0];
@@ -82,7 +82,7 @@ fn clean_scenario(base: &Scenario, frequency_hz: f64, joints: usize) -> Scenario
 /// Every observer's measured response on `base`'s robot and controller at `frequencies_hz`
 /// ([`FREQUENCIES_HZ`] for the report).
 pub fn measure<const N: usize>(
-    robot: &crate::Robot<N>,
+    robot: &crate::robot::Robot<N>,
     base: &Scenario,
     frequencies_hz: &[f64],
 ) -> Result<Vec<Point>, SimError> {
@@ -92,7 +92,7 @@ pub fn measure<const N: usize>(
         let scenario = clean_scenario(base, frequency_hz, N);
         let omega = std::f64::consts::TAU * frequency_hz;
         for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-            let trace = crate::simulate(&scenario, method, robot)?.trace;
+            let trace = crate::analysis::outcome::simulate(&scenario, method, robot)?.trace;
             // The whole periods after the first 2 s.
             let start = trace.time.partition_point(|t| *t < 2.0);
             let d: Vec<(f64, f64)> =

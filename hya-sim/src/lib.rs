@@ -12,30 +12,30 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
-pub mod claims;
-pub mod cost;
+// The layers, lowest first: each imports only from those before it.
+pub mod analysis;
+pub mod config;
+pub mod error;
 pub mod frequency;
-pub mod input;
+pub mod io;
 pub mod linear;
-pub mod metrics;
-pub mod output;
 pub mod plant;
 pub mod report;
 pub mod robot;
-pub mod rollout;
 pub mod run;
-pub mod scenario;
-pub mod seeds;
-pub mod sensors;
-pub mod settings;
-pub mod svg;
-pub mod sweep;
-pub mod task;
 
-pub use metrics::Metrics;
+// The modules as they were named before the layers, for users of the crate.
+pub use analysis::{claims, metrics, seeds, sweep};
+pub use config::{cost, scenario, settings};
+pub use io::{input, output, svg};
+pub use run::{rollout, sensors, task};
+
+pub use analysis::metrics::Metrics;
+pub use analysis::outcome::{simulate, RunOutcome};
+pub use config::scenario::{Method, Scenario};
+pub use error::SimError;
 pub use robot::{with_robot, ForRobot, Robot};
-pub use run::{simulate, RunOutcome, Trace};
-pub use scenario::{Method, Scenario};
+pub use run::trace::Trace;
 
 /// Joints of HyA, the paper's arm: the size of the experiments that only HyA runs (the plant
 /// checks against MuJoCo, the viscous-friction and frequency sweeps, the benchmarks).
@@ -44,103 +44,6 @@ pub const HYA_JOINTS: usize = 6;
 /// The most joints a simulated arm may have (`hya run` instantiates the simulator for each size
 /// from 1 to this).
 pub const MAX_JOINTS: usize = hya_core::dispatch::MAX_JOINTS;
-
-/// Errors of the simulator, naming the setting or the moment at fault.
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// A scenario file that does not parse or check.
-    #[error("scenario {origin}: {message}")]
-    Scenario {
-        /// The file or built-in name.
-        origin: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A sweep shard that cannot be merged.
-    #[error("shard {shard}: {message}")]
-    Shard {
-        /// Where the shard came from.
-        shard: String,
-        /// What is wrong with it.
-        message: String,
-    },
-    /// A setting that does not fit the robot.
-    #[error("{0}")]
-    Config(String),
-    /// The robot's description did not load.
-    #[error(transparent)]
-    Robot(#[from] hya_urdf::LoadError),
-    /// A robot with another number of joints than the code asking for it.
-    #[error("robot `{robot}` has {found} joints, not {expected}")]
-    JointCount {
-        /// The robot.
-        robot: String,
-        /// The joints asked for.
-        expected: usize,
-        /// The joints it has.
-        found: usize,
-    },
-    /// A robot with more joints than the simulator is compiled for.
-    #[error("robot `{robot}` has {dof} joints: the simulator runs arms of 1 to {MAX_JOINTS} joints")]
-    TooManyJoints {
-        /// The robot.
-        robot: String,
-        /// Its joints.
-        dof: usize,
-    },
-    /// The robot's model does not fit what was asked of it.
-    #[error(transparent)]
-    Model(#[from] hya_core::model::ModelError),
-    /// A filter, observer or controller refused its settings.
-    #[error("{setting}: {source}")]
-    Setup {
-        /// What was being set up (`lu`, `sensors.velocity = "filter"`, …).
-        setting: String,
-        /// What it refused.
-        source: hya_core::Error,
-    },
-    /// A filter, observer or controller refused a step of the closed loop.
-    #[error("numerical failure at t = {time_s:.3} s: {source}")]
-    Step {
-        /// Simulated time, s.
-        time_s: f64,
-        /// What failed.
-        source: hya_core::Error,
-    },
-    /// A run whose cost is beyond a documented cap ([`cost`]).
-    #[error("{0}")]
-    Cost(String),
-    /// The summary could not be serialised.
-    #[error("summary.json: {0}")]
-    Json(#[from] serde_json::Error),
-    /// One run of many failed: which one, and why.
-    #[error("{run}: {source}")]
-    Run {
-        /// Scenario, method and seed.
-        run: String,
-        /// What failed.
-        source: Box<SimError>,
-    },
-    /// The simulation broke down numerically.
-    #[error("numerical failure: {0}")]
-    Numerical(String),
-    /// The report folder cannot be used as asked (nothing was written or removed).
-    #[error("--out {dir}: {message}")]
-    Output {
-        /// The folder.
-        dir: String,
-        /// Why.
-        message: String,
-    },
-    /// Writing the report failed.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The operating system's error.
-        source: std::io::Error,
-    },
-}
 
 /// Runs every method of `scenario`, in order.
 pub fn run_scenario<const N: usize>(scenario: &Scenario) -> Result<Vec<RunOutcome<N>>, SimError> {
@@ -175,12 +78,17 @@ pub struct Experiment<'a> {
 impl Experiment<'_> {
     /// Runs it on the scenarios' robot, whatever its number of joints.
     pub fn run(self) -> Result<report::Summary, SimError> {
-        let Some(first) = self.scenarios.first() else { return Err(SimError::Config("no scenario to run".into())) };
+        let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
         if let Some(other) = self.scenarios.iter().find(|s| s.robot != first.robot) {
-            return Err(SimError::Config(format!(
-                "one report covers one robot: `{}` runs `{}`, `{}` runs `{}`",
-                first.name, first.robot, other.name, other.robot
-            )));
+            return Err(error::SettingError::new(
+                "robot",
+                None,
+                format!(
+                    "one report covers one robot: `{}` runs `{}`, `{}` runs `{}`",
+                    first.name, first.robot, other.name, other.robot
+                ),
+            )
+            .into());
         }
         robot::with_robot(&first.robot.clone(), self)
     }

@@ -12,7 +12,7 @@ use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointMatrix, JointVector};
 use hya_robots::{Arm, ForArm};
 
-use crate::SimError;
+use crate::error::{SettingError, SimError};
 
 /// Builds the plant's true rigid-body dynamics from a model (perturbed, or carrying a payload).
 pub type DynamicsFactory<const N: usize> = dyn Fn(&TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError> + Send + Sync;
@@ -111,7 +111,7 @@ pub trait ForRobot {
 }
 
 /// Calls `f` with the robot called `robot`: a shipped arm by name (generated code), else the
-/// URDF at that path (the run-time model), of 1 to [`crate::MAX_JOINTS`] joints.
+/// URDF at that path (the run-time model), of 1 to [`hya_core::dispatch::MAX_JOINTS`] joints.
 pub fn with_robot<F: ForRobot>(robot: &str, f: F) -> Result<F::Output, SimError> {
     struct Shipped<F>(F);
     impl<F: ForRobot> ForArm for Shipped<F> {
@@ -138,7 +138,7 @@ pub fn with_robot<F: ForRobot>(robot: &str, f: F) -> Result<F::Output, SimError>
 /// [`hya_robots::with_arm`] found no arm that [`hya_robots::find`] found: the registry's two
 /// views disagree (a bug, reported as an error rather than a panic).
 fn unreachable_arm<T>(robot: &str) -> Result<T, SimError> {
-    Err(SimError::Config(format!("robot `{robot}` is listed but has no dispatch (a registry bug)")))
+    Err(SettingError::new("robot", None, format!("`{robot}` is listed but has no dispatch (a registry bug)")).into())
 }
 
 /// Dynamics of `M` joints seen as dynamics of `N = M` joints, for code whose `N` came from the

@@ -22,9 +22,9 @@ use std::f64::consts::TAU;
 use hya_core::JointVector;
 use rand::Rng;
 
-use crate::scenario::{FrictionKind, PlantConfig};
-use crate::settings::FrictionLists;
-use crate::SimError;
+use crate::config::scenario::{FrictionKind, PlantConfig};
+use crate::config::settings::FrictionLists;
+use crate::error::{SettingError, SimError};
 
 /// Harmonics of each joint's position profile.
 const PROFILE_HARMONICS: usize = 3;
@@ -170,7 +170,12 @@ impl<const N: usize> Friction<N> {
     /// LuGre position profiles are drawn from `rng`.
     pub fn new(config: &PlantConfig, lists: Option<&FrictionLists<N>>, rng: &mut impl Rng) -> Result<Self, SimError> {
         if config.friction != FrictionKind::Off && lists.is_none() {
-            return Err(SimError::Config("plant.coulomb_nm: the settings were checked with friction off".into()));
+            return Err(SettingError::new(
+                "plant.coulomb_nm",
+                None,
+                "missing: the settings were checked with friction off",
+            )
+            .into());
         }
         let Some(FrictionLists { coulomb, breakaway, viscous, bristles }) =
             lists.filter(|_| config.friction != FrictionKind::Off)
@@ -185,9 +190,12 @@ impl<const N: usize> Friction<N> {
         });
         let variation = config.coulomb_position_variation;
         if !(0.0..1.0).contains(&variation) {
-            return Err(SimError::Config(format!(
-                "plant.coulomb_position_variation = {variation}: must be in [0, 1) so that friction stays positive"
-            )));
+            return Err(SettingError::new(
+                "plant.coulomb_position_variation",
+                Some(variation),
+                "must be in [0, 1) so that friction stays positive",
+            )
+            .into());
         }
         Ok(match config.friction {
             FrictionKind::Off => Friction::Off, // returned above
@@ -199,7 +207,11 @@ impl<const N: usize> Friction<N> {
             }),
             FrictionKind::Lugre => {
                 let (stiffness, damping) = bristles.ok_or_else(|| {
-                    SimError::Config("plant.bristle_*: the settings were checked for another friction model".into())
+                    SettingError::new(
+                        "plant.bristle_*",
+                        None,
+                        "missing: the settings were checked for another friction model",
+                    )
                 })?;
                 let profile = core::array::from_fn(|_| PositionProfile::draw(variation, rng));
                 Friction::LuGre(LuGre { levels, profile, stiffness, damping, viscous })

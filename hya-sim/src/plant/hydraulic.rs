@@ -32,9 +32,9 @@
 
 use hya_core::JointVector;
 
-use crate::scenario::HydraulicConfig;
-use crate::settings::HydraulicLists;
-use crate::SimError;
+use crate::config::scenario::HydraulicConfig;
+use crate::config::settings::HydraulicLists;
+use crate::error::{SettingError, SimError};
 
 /// Regularisation pressure `δ` of the orifice law, Pa: below it the flow is linear in `Δp`, so
 /// the law has a finite slope at `Δp = 0` (the square root's is infinite).
@@ -133,15 +133,18 @@ impl<const N: usize> HydraulicActuators<N> {
             if v.is_finite() && v > 0.0 {
                 Ok(v)
             } else {
-                Err(SimError::Config(format!("plant.hydraulic.{name} = {v}: must be finite and > 0")))
+                Err(SettingError::new(format!("plant.hydraulic.{name}"), Some(v), "must be finite and > 0"))
             }
         };
         let supply = positive("supply_pressure_pa", config.supply_pressure_pa)?;
         let tank = config.tank_pressure_pa;
         if !(tank.is_finite() && tank >= 0.0 && tank < supply) {
-            return Err(SimError::Config(format!(
-                "plant.hydraulic.tank_pressure_pa = {tank}: must be ≥ 0 and below the supply pressure {supply}"
-            )));
+            return Err(SettingError::new(
+                "plant.hydraulic.tank_pressure_pa",
+                Some(tank),
+                format!("must be ≥ 0 and below the supply pressure {}", hya_core::Short(supply)),
+            )
+            .into());
         }
         let bulk_modulus = positive("bulk_modulus_pa", config.bulk_modulus_pa)?;
         let HydraulicLists {
@@ -158,15 +161,18 @@ impl<const N: usize> HydraulicActuators<N> {
         let valve_damping = positive("valve_damping_ratio", config.valve_damping_ratio)?;
         let ratio_i = config.torque_integral_ratio;
         if !(ratio_i.is_finite() && (0.0..=1.0).contains(&ratio_i)) {
-            return Err(SimError::Config(format!(
-                "plant.hydraulic.torque_integral_ratio = {ratio_i}: must be in [0, 1]"
-            )));
+            return Err(
+                SettingError::new("plant.hydraulic.torque_integral_ratio", Some(ratio_i), "must be in [0, 1]").into()
+            );
         }
         let compensation = config.velocity_compensation;
         if !(0.0..=2.0).contains(&compensation) {
-            return Err(SimError::Config(format!(
-                "plant.hydraulic.velocity_compensation = {compensation}: must be in [0, 2] (1 cancels the piston flow)"
-            )));
+            return Err(SettingError::new(
+                "plant.hydraulic.velocity_compensation",
+                Some(compensation),
+                "must be in [0, 2] (1 cancels the piston flow)",
+            )
+            .into());
         }
         let joints = core::array::from_fn(|i| {
             // Valve sizing: Q_n at Δp_n across both lands, so K_v = Q_n / √(Δp_n / 2).

@@ -22,9 +22,9 @@ use hya_core::{Dynamics, JointVector};
 use nalgebra::Vector3;
 use rand::Rng;
 
-use crate::scenario::{ActuatorKind, LoadConfig, PlantConfig, WeightDrop};
-use crate::settings::PlantLists;
-use crate::SimError;
+use crate::config::scenario::{ActuatorKind, LoadConfig, PlantConfig, WeightDrop};
+use crate::config::settings::PlantLists;
+use crate::error::{SettingError, SimError};
 
 /// The nominal model with every body's mass, centre of mass and rotational inertia scaled by
 /// independent uniform factors in `[1 − spread, 1 + spread]`.
@@ -138,15 +138,16 @@ impl<const N: usize> Plant<N> {
             Some(drop) => {
                 let with_payload = true_model
                     .with_point_mass(&drop.frame, drop.mass_kg)
-                    .map_err(|e| SimError::Config(format!("loads.weight_drop: {e}")))?;
+                    .map_err(|e| SettingError::new("loads.weight_drop.frame", None, e.to_string()))?;
                 Some((dynamics(&with_payload)?, drop.clone()))
             }
             None => None,
         };
-        let missing = |what: &str| SimError::Config(format!("{what}: the settings were checked for another plant"));
+        let missing =
+            |what: &str| SettingError::new(what, None, "missing: the settings were checked for another plant");
         let sinusoid = match (&loads.sinusoid, lists.sinusoid_amplitude) {
             (Some(s), Some(amplitude)) => Some((amplitude, s.frequency_hz)),
-            (Some(_), None) => return Err(missing("loads.sinusoid.amplitude_nm")),
+            (Some(_), None) => return Err(missing("loads.sinusoid.amplitude_nm").into()),
             (None, _) => None,
         };
         let actuators = match config.actuator {

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use crate::run::RunOutcome;
+use crate::analysis::outcome::RunOutcome;
 
 pub(super) fn csv<const N: usize>(o: &RunOutcome<N>) -> String {
     let mut text = String::from("t");

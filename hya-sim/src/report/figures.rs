@@ -4,10 +4,11 @@
 
 use hya_core::JointVector;
 
-use crate::run::{RunOutcome, Trace};
-use crate::scenario::{Method, Scenario};
-use crate::seeds::MetricTable;
-use crate::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
+use crate::analysis::outcome::RunOutcome;
+use crate::analysis::seeds::MetricTable;
+use crate::config::scenario::{Method, Scenario};
+use crate::io::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
+use crate::run::trace::Trace;
 
 use super::summary::aggregate;
 

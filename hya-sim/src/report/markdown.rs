@@ -3,18 +3,19 @@
 
 use std::fmt::Write as _;
 
-use crate::claims::{Judgement, Verdict, RULES};
-use crate::metrics::WARM_UP_S;
-use crate::run::{gains, RunOutcome};
-use crate::scenario::{Method, Scenario};
-use crate::seeds::MetricTable;
-use crate::SimError;
+use crate::analysis::claims::{Judgement, Verdict, RULES};
+use crate::analysis::metrics::WARM_UP_S;
+use crate::analysis::outcome::RunOutcome;
+use crate::analysis::seeds::MetricTable;
+use crate::config::scenario::{Method, Scenario};
+use crate::error::SimError;
+use crate::run::gains;
 
 use super::summary::*;
 use super::text::*;
 
 pub(super) fn markdown<const N: usize>(
-    robot: &crate::Robot<N>,
+    robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,
@@ -224,10 +225,16 @@ fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
 /// Cancelling viscous friction `−F_v q̇` with an estimate that lags by `τ_d` leaves
 /// `≈ F_v τ_d q̈`: the loop sees its inertia reduced by `F_v τ_d`. Where that exceeds the joint's
 /// inertia, the compensated joint is destabilised and only friction's nonlinearity bounds it.
-fn lagged_cancellation<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Scenario]) -> Result<String, SimError> {
+fn lagged_cancellation<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    scenarios: &[Scenario],
+) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
     let nominal = robot.nominal.as_ref();
-    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::settings::initial_position(first, N))?;
+    let q0 = crate::config::settings::per_joint::<N>(
+        "initial_position_rad",
+        &crate::config::settings::initial_position(first, N),
+    )?;
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let w = first.controller.observer_bandwidth_rad_s;
     let delay = 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
@@ -248,7 +255,7 @@ fn lagged_cancellation<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Sce
     Ok(md)
 }
 
-fn parameters<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Scenario]) -> Result<String, SimError> {
+fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scenario]) -> Result<String, SimError> {
     let mut md = String::from("\n## Every parameter\n\n");
     let Some(first) = scenarios.first() else { return Ok(md) };
     let model = &robot.model;
@@ -279,7 +286,7 @@ fn parameters<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Scenario]) -
     }
     let c = &first.controller;
     let nominal = robot.nominal.as_ref();
-    let joints = crate::settings::JointSettings::<N>::of(first)?;
+    let joints = crate::config::settings::JointSettings::<N>::of(first)?;
     let q0 = joints.initial_position;
     let gains = gains(nominal, first, &joints)?;
     let _ = writeln!(
@@ -287,9 +294,9 @@ fn parameters<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Scenario]) -
         "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, `K_I = K_P ω_n · {}`, its torque clamped to ± ({}) N·m (anti-windup). At low frequency the paper's estimator acts like this integral: pid is the honest baseline for it.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
         c.dt_s,
         match first.sensors.velocity {
-            crate::scenario::VelocitySource::Difference => "encoder difference (low-passed)",
-            crate::scenario::VelocitySource::Filter => "filtered (q̂̇ of the paper's filter)",
-            crate::scenario::VelocitySource::Sensor => "velocity sensor",
+            crate::config::scenario::VelocitySource::Difference => "encoder difference (low-passed)",
+            crate::config::scenario::VelocitySource::Filter => "filtered (q̂̇ of the paper's filter)",
+            crate::config::scenario::VelocitySource::Sensor => "velocity sensor",
         },
         list(&c.torque_limit_nm),
         list(&c.natural_frequency_rad_s),
@@ -314,11 +321,11 @@ fn parameters<const N: usize>(robot: &crate::Robot<N>, scenarios: &[Scenario]) -
                 "{} / {} / {}",
                 noise_text(&s.noise.position),
                 match s.sensors.velocity {
-                    crate::scenario::VelocitySource::Sensor => noise_text(&s.noise.velocity),
+                    crate::config::scenario::VelocitySource::Sensor => noise_text(&s.noise.velocity),
                     _ => "no sensor (from the encoders)".into(),
                 },
-                if s.plant.actuator == crate::scenario::ActuatorKind::Hydraulic
-                    && s.sensors.torque == crate::scenario::TorqueSource::Pressure
+                if s.plant.actuator == crate::config::scenario::ActuatorKind::Hydraulic
+                    && s.sensors.torque == crate::config::scenario::TorqueSource::Pressure
                 {
                     format!(
                         "from the chamber pressures (Gaussian σ = {} Pa, offsets within ±{} Pa)",

@@ -15,11 +15,11 @@ mod viscous;
 
 pub use summary::{RunSummary, Summary};
 
-use crate::claims::judge_all;
-use crate::run::RunOutcome;
-use crate::scenario::Scenario;
-use crate::seeds::MetricTable;
-use crate::SimError;
+use crate::analysis::claims::judge_all;
+use crate::analysis::outcome::RunOutcome;
+use crate::analysis::seeds::MetricTable;
+use crate::config::scenario::Scenario;
+use crate::error::SimError;
 use csv::csv;
 use markdown::{frequency_section, markdown};
 use summary::run_summary;
@@ -27,8 +27,8 @@ use summary::run_summary;
 /// Writes the whole report into `dir`, held by this run:
 /// `outcomes` are the first seed's runs (with traces, for figures), `table` every seed's metrics.
 pub fn write<const N: usize>(
-    robot: &crate::Robot<N>,
-    dir: &crate::output::OutputDir,
+    robot: &crate::robot::Robot<N>,
+    dir: &crate::io::output::OutputDir,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,

@@ -8,13 +8,14 @@ use hya_core::model::TreeModel;
 use hya_core::{Dynamics, JointVector};
 use rand::SeedableRng;
 
+use crate::analysis::outcome::RunOutcome;
+use crate::config::scenario::Method;
+use crate::config::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource};
+use crate::error::{SettingError, SimError};
+use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 use crate::plant::friction::Friction;
 use crate::plant::{Actuators, PlantState};
-use crate::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
-use crate::run::RunOutcome;
-use crate::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource};
-use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::{Method, SimError};
+use crate::run::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
 
 use super::text::table_row;
 
@@ -33,7 +34,7 @@ fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
     let acts = |name: &str| match name {
         "actuator_time_constant_s" => p.actuator == ActuatorKind::Lag,
         "pressure_noise_pa" | "pressure_offset_pa" => hydraulic && s.torque == TorqueSource::Pressure,
-        n if n.starts_with("bristle_") => p.friction == crate::scenario::FrictionKind::Lugre,
+        n if n.starts_with("bristle_") => p.friction == crate::config::scenario::FrictionKind::Lugre,
         n => hydraulic || !HYDRAULIC_ROWS.contains(&n),
     };
     let defaults = every_parameter_row(&PlantConfig::default(), &SensorConfig::default());
@@ -122,7 +123,7 @@ fn friction_figure<const N: usize>(
 ) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
     // Only the friction lists: the actuators' and the loads' do not enter the figure.
-    let lists = crate::settings::FrictionLists::<N>::of(config)?;
+    let lists = crate::config::settings::FrictionLists::<N>::of(config)?;
     let Friction::LuGre(lugre) = Friction::<N>::new(config, Some(&lists), &mut rng)? else {
         return Ok(None);
     };
@@ -179,14 +180,17 @@ fn step_responses<const N: usize>(
 ) -> Result<(String, Vec<f64>), SimError> {
     const STEP_NM: f64 = 2.0;
     const STEP_AT_S: f64 = 0.05;
-    let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::settings::initial_position(scenario, N))?;
+    let q0 = crate::config::settings::per_joint::<N>(
+        "initial_position_rad",
+        &crate::config::settings::initial_position(scenario, N),
+    )?;
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
     let mut rise_times = Vec::new();
     for j in 0..N {
         let (mut plant, max_step) = scenario_plant(model, scenario, q0, hold)?;
         let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
-            return Err(SimError::Config("the step response needs hydraulic actuators".into()));
+            return Err(SettingError::new("plant.actuator", None, "must be hydraulic for the step response").into());
         };
         let mut stepped = hold;
         stepped[j] += STEP_NM;
@@ -225,7 +229,7 @@ fn step_responses<const N: usize>(
 
 /// The "Plant" section and its figures.
 pub fn section<const N: usize>(
-    robot: &crate::Robot<N>,
+    robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
 ) -> Result<(String, Vec<Figure>), SimError> {
@@ -234,9 +238,9 @@ pub fn section<const N: usize>(
     let Some(first) = scenarios.first() else { return Ok((md, figures)) };
     let p = &first.plant;
     let friction = match p.friction {
-        crate::scenario::FrictionKind::Lugre => "LuGre friction",
-        crate::scenario::FrictionKind::Smooth => "smooth (tanh) friction without stiction",
-        crate::scenario::FrictionKind::Off => "no friction",
+        crate::config::scenario::FrictionKind::Lugre => "LuGre friction",
+        crate::config::scenario::FrictionKind::Smooth => "smooth (tanh) friction without stiction",
+        crate::config::scenario::FrictionKind::Off => "no friction",
     };
     let actuator = match p.actuator {
         ActuatorKind::Hydraulic => "hydraulic actuators with an inner PI torque loop",
@@ -244,9 +248,9 @@ pub fn section<const N: usize>(
         ActuatorKind::Ideal => "ideal actuators",
     };
     let velocity = match first.sensors.velocity {
-        crate::scenario::VelocitySource::Difference => "velocity from the encoders' difference",
-        crate::scenario::VelocitySource::Filter => "velocity from the paper's filter",
-        crate::scenario::VelocitySource::Sensor => "a velocity sensor",
+        crate::config::scenario::VelocitySource::Difference => "velocity from the encoders' difference",
+        crate::config::scenario::VelocitySource::Filter => "velocity from the paper's filter",
+        crate::config::scenario::VelocitySource::Sensor => "a velocity sensor",
     };
     let _ = writeln!(
         md,
@@ -276,7 +280,10 @@ pub fn section<const N: usize>(
     if p.actuator == ActuatorKind::Hydraulic {
         let (svg, rise_times) = step_responses(first, model, nominal)?;
         let name = "plant_step.svg".to_owned();
-        let q0 = crate::settings::per_joint::<N>("initial_position_rad", &crate::settings::initial_position(first, N))?;
+        let q0 = crate::config::settings::per_joint::<N>(
+            "initial_position_rad",
+            &crate::config::settings::initial_position(first, N),
+        )?;
         let (plant, _) = scenario_plant(model, first, q0, nominal.gravity(&q0))?;
         let natural = match plant.actuators() {
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),

@@ -3,9 +3,9 @@
 
 use serde::Serialize;
 
-use crate::claims::Judgement;
-use crate::scenario::Method;
-use crate::seeds::{per_joint_mean_ci95, MetricTable};
+use crate::analysis::claims::Judgement;
+use crate::analysis::seeds::{per_joint_mean_ci95, MetricTable};
+use crate::config::scenario::Method;
 
 /// One scenario and method's line in `summary.json`: per-joint means over the seeds, each with
 /// the half-width of its 95 % interval (`…_ci95`).

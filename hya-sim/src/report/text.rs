@@ -1,6 +1,6 @@
 //! Settings and numbers as report text: task, loads, noise, lists, table rows.
 
-use crate::scenario::{LoadConfig, Noise, Task};
+use crate::config::scenario::{LoadConfig, Noise, Task};
 
 use super::summary::list;
 

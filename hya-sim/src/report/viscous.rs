@@ -4,9 +4,9 @@
 
 use std::fmt::Write as _;
 
-use crate::scenario::{Method, Scenario};
-use crate::seeds::{per_joint_mean_ci95, run_seeds};
-use crate::SimError;
+use crate::analysis::seeds::{per_joint_mean_ci95, run_seeds};
+use crate::config::scenario::{Method, Scenario};
+use crate::error::SimError;
 
 use super::text::table_row;
 
@@ -26,7 +26,7 @@ fn is_free(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
 }
 
 /// The section, from runs of `base` (the goto task) at every bandwidth.
-pub fn section<const N: usize>(robot: &crate::Robot<N>, base: &Scenario) -> Result<String, SimError> {
+pub fn section<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
         .iter()
         .map(|w| {

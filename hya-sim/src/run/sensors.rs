@@ -8,9 +8,9 @@ use rand_distr::{Distribution, Normal};
 
 use hya_core::{FilterParams, JointVector, Measurement, ThirdOrderFilter};
 
+use crate::config::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, VelocitySource};
+use crate::error::SimError;
 use crate::plant::{Actuators, Plant};
-use crate::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, VelocitySource};
-use crate::SimError;
 
 /// The joint velocity the controller and observers read.
 #[derive(Debug, Clone)]

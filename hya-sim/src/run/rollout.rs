@@ -6,10 +6,10 @@ use hya_core::JointVector;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::config::scenario::{ActuatorKind, FrictionKind, LoadConfig, PlantConfig, Scenario};
+use crate::config::settings::PlantLists;
+use crate::error::SimError;
 use crate::plant::{generic_dynamics, perturbed, Plant, PlantState};
-use crate::scenario::{ActuatorKind, FrictionKind, LoadConfig, PlantConfig, Scenario};
-use crate::settings::PlantLists;
-use crate::SimError;
 
 /// A torque command, N·m, held from `time` (s) until the next one.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,7 +110,7 @@ pub fn open_loop<const N: usize, E: From<SimError>>(
 /// MuJoCo's rollout of HyA under a recorded torque sequence (`tools/mujoco_rollout.py`): the
 /// torque rows `t τ1 … τ6`, and the state rows `t q1 … q6 q̇1 … q̇6` every millisecond for 1 s.
 pub const MUJOCO_HYA: (&str, &str) =
-    (include_str!("../tests/data/mujoco_hya_torque.csv"), include_str!("../tests/data/mujoco_hya_rollout.csv"));
+    (include_str!("../../tests/data/mujoco_hya_torque.csv"), include_str!("../../tests/data/mujoco_hya_rollout.csv"));
 
 /// The numeric rows of a CSV whose comment lines start with `#`.
 pub fn csv_rows(text: &str) -> Result<Vec<Vec<f64>>, SimError> {
@@ -119,7 +119,9 @@ pub fn csv_rows(text: &str) -> Result<Vec<Vec<f64>>, SimError> {
         .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty())
         .map(|(k, l)| {
             l.split(',')
-                .map(|x| x.trim().parse::<f64>().map_err(|e| SimError::Config(format!("line {}: {x:?}: {e}", k + 1))))
+                .map(|x| {
+                    x.trim().parse::<f64>().map_err(|e| SimError::ReferenceData(format!("line {}: {x:?}: {e}", k + 1)))
+                })
                 .collect()
         })
         .collect()
@@ -133,12 +135,12 @@ pub fn reference_gap<const N: usize>(model: &TreeModel, torque: &str, states: &s
         .iter()
         .map(|r| match r.len() == N + 1 {
             true => Ok(TorqueCommand { time: r[0], torque: JointVector::from_column_slice(&r[1..]) }),
-            false => Err(SimError::Config(format!("torque rows need {} columns, found {}", N + 1, r.len()))),
+            false => Err(SimError::ReferenceData(format!("torque rows need {} columns, found {}", N + 1, r.len()))),
         })
         .collect::<Result<_, _>>()?;
     let reference = csv_rows(states)?;
     if reference.len() < 2 || reference.iter().any(|r| r.len() != 2 * N + 1) {
-        return Err(SimError::Config(format!("state rows need {} columns", 2 * N + 1)));
+        return Err(SimError::ReferenceData(format!("state rows need {} columns", 2 * N + 1)));
     }
     let q0 = JointVector::<N>::from_column_slice(&reference[0][1..=N]);
     let mut plant = ideal_plant(model, q0)?;
@@ -146,7 +148,8 @@ pub fn reference_gap<const N: usize>(model: &TreeModel, torque: &str, states: &s
     let interval = reference[1][0] - reference[0][0];
     let (mut q_gap, mut qd_gap, mut row) = (0.0_f64, 0.0_f64, 0);
     open_loop(&mut plant, &commands, 1e-4, interval, until, |t, s| {
-        let theirs = reference.get(row).ok_or_else(|| SimError::Config(format!("no reference row at t = {t}")))?;
+        let theirs =
+            reference.get(row).ok_or_else(|| SimError::ReferenceData(format!("no reference row at t = {t}")))?;
         row += 1;
         q_gap = q_gap.max((s.q - JointVector::<N>::from_column_slice(&theirs[1..=N])).amax());
         qd_gap = qd_gap.max((s.qd - JointVector::<N>::from_column_slice(&theirs[N + 1..])).amax());

@@ -24,7 +24,7 @@ use std::sync::Mutex;
 
 use sha2::{Digest, Sha256};
 
-use crate::SimError;
+use crate::error::SimError;
 
 /// The file in a report folder that lists every file hya wrote there with its SHA-256.
 pub const MANIFEST: &str = ".hya-files";

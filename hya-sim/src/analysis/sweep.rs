@@ -5,9 +5,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scenario::{Method, Scenario};
-use crate::svg::{line_grid, Panel, Series, PALETTE};
-use crate::SimError;
+use crate::config::scenario::{Method, Scenario};
+use crate::error::SimError;
+use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 use hya_core::{Clipped, Short};
 
 /// What a sweep runs.
@@ -175,7 +175,7 @@ fn mean(values: &[f64]) -> f64 {
 /// Runs the shard `shard` of `plan` on its scenarios' robot, telling `progress` each finished
 /// run's simulated seconds; `quick` is recorded for the merge.
 pub fn run(plan: &Plan, shard: Shard, quick: bool, progress: &(dyn Fn(f64) + Sync)) -> Result<Sweep, SimError> {
-    let Some(first) = plan.scenarios.first() else { return Err(SimError::Config("a sweep of no scenario".into())) };
+    let Some(first) = plan.scenarios.first() else { return Err(SimError::Nothing("a sweep of no scenario")) };
     crate::robot::with_robot(&first.robot.clone(), ShardRun { plan, shard, quick, progress })
 }
 
@@ -189,7 +189,7 @@ struct ShardRun<'a> {
 
 impl crate::robot::ForRobot for ShardRun<'_> {
     type Output = Sweep;
-    fn call<const N: usize>(self, robot: crate::Robot<N>) -> Result<Sweep, SimError> {
+    fn call<const N: usize>(self, robot: crate::robot::Robot<N>) -> Result<Sweep, SimError> {
         let (plan, shard) = (self.plan, self.shard);
         let jobs: Vec<_> = plan
             .jobs()
@@ -198,11 +198,11 @@ impl crate::robot::ForRobot for ShardRun<'_> {
             .filter(|(k, _)| k % shard.count == shard.index)
             .map(|(_, j)| j)
             .collect();
-        let entries = crate::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
+        let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
             let mut scenario = plan.scenarios[i].clone();
             scenario.seed = scenario.seed.wrapping_add(k as u64);
             scenario.controller.observer_bandwidth_rad_s = bandwidth;
-            let entry = crate::simulate(&scenario, method, &robot).map(|o| Entry {
+            let entry = crate::analysis::outcome::simulate(&scenario, method, &robot).map(|o| Entry {
                 scenario: scenario.name.clone(),
                 method: method.name().to_owned(),
                 bandwidth_rad_s: bandwidth,
@@ -230,7 +230,7 @@ impl crate::robot::ForRobot for ShardRun<'_> {
 pub fn read(dir: &std::path::Path) -> Result<Sweep, SimError> {
     let path = dir.join("sweep.json");
     let origin = path.display().to_string();
-    let text = crate::input::read_text(&path, MAX_SWEEP_BYTES)
+    let text = crate::io::input::read_text(&path, MAX_SWEEP_BYTES)
         .map_err(|message| SimError::Shard { shard: origin.clone(), message })?;
     serde_json::from_str(&text).map_err(|e| SimError::Shard { shard: origin, message: format!("not a sweep: {e}") })
 }
@@ -240,7 +240,7 @@ pub fn read(dir: &std::path::Path) -> Result<Sweep, SimError> {
 /// and hold exactly the grid's points of those indices, each value finite and ≥ 0; together they
 /// must cover every index. Anything else is refused, naming the shard.
 pub fn merge(plan: &Plan, shards: &[(String, Sweep)]) -> Result<Sweep, SimError> {
-    let Some((_, first)) = shards.first() else { return Err(SimError::Config("no shards to merge".into())) };
+    let Some((_, first)) = shards.first() else { return Err(SimError::Nothing("no shards to merge")) };
     let runs = plan.runs();
     let count = first.shards;
     let fingerprint = plan.fingerprint();
@@ -303,7 +303,7 @@ pub fn merge(plan: &Plan, shards: &[(String, Sweep)]) -> Result<Sweep, SimError>
     if !missing.is_empty() {
         let more = claimed.iter().filter(|c| c.is_none()).count() - missing.len();
         let more = if more > 0 { format!(" and {more} more") } else { String::new() };
-        return Err(SimError::Config(format!("missing shards: {}{more}", missing.join(", "))));
+        return Err(SimError::MissingShards(format!("{}{more}", missing.join(", "))));
     }
     Ok(Sweep {
         plan: fingerprint,

@@ -10,8 +10,8 @@
 
 use serde::Serialize;
 
-use crate::scenario::Method;
-use crate::seeds::{mean_ci95, MetricTable};
+use crate::analysis::seeds::{mean_ci95, MetricTable};
+use crate::config::scenario::Method;
 
 /// One metric of one method's runs of one scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,7 +20,7 @@ pub struct Source {
     pub scenario: &'static str,
     /// The method.
     pub method: Method,
-    /// The metric's name (see [`crate::Metrics::named`]).
+    /// The metric's name (see [`crate::analysis::metrics::Metrics::named`]).
     pub metric: &'static str,
 }
 

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use hya_core::{Clipped, Short};
 
-use crate::SimError;
+use crate::error::{SettingError, SimError};
 
 /// One experiment: robot, task, plant, disturbances and the methods to compare.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -70,6 +70,10 @@ fn default_quick_time_scale() -> f64 {
 
 /// Most control ticks a run may take: an hour at 1 kHz (every tick's trace is kept in memory).
 pub const MAX_TICKS: usize = 3_600_000;
+
+/// Metrics skip this start-up interval (observers and filters settling), s: a scenario must run
+/// longer.
+pub const WARM_UP_S: f64 = 0.5;
 
 /// The largest scenario file read, bytes.
 pub const MAX_SCENARIO_BYTES: u64 = 1 << 20;
@@ -505,29 +509,29 @@ pub struct WeightDrop {
 }
 
 const BUILTIN: [(&str, &str); 6] = [
-    ("goto_internal", include_str!("../scenarios/goto_internal.toml")),
-    ("sine_internal", include_str!("../scenarios/sine_internal.toml")),
-    ("goto_weight", include_str!("../scenarios/goto_weight.toml")),
-    ("sine_weight", include_str!("../scenarios/sine_weight.toml")),
-    ("estimator_noise_low", include_str!("../scenarios/estimator_noise_low.toml")),
-    ("estimator_noise_high", include_str!("../scenarios/estimator_noise_high.toml")),
+    ("goto_internal", include_str!("../../scenarios/goto_internal.toml")),
+    ("sine_internal", include_str!("../../scenarios/sine_internal.toml")),
+    ("goto_weight", include_str!("../../scenarios/goto_weight.toml")),
+    ("sine_weight", include_str!("../../scenarios/sine_weight.toml")),
+    ("estimator_noise_low", include_str!("../../scenarios/estimator_noise_low.toml")),
+    ("estimator_noise_high", include_str!("../../scenarios/estimator_noise_high.toml")),
 ];
 
 /// A goto task per shipped arm other than HyA (whose is `goto_internal`), `<robot>_goto`:
 /// electric arms, with torque-controlled joints and joint-torque sensors.
 const ARM_GOTO: [(&str, &str); 4] = [
-    ("planar2_goto", include_str!("../scenarios/planar2_goto.toml")),
-    ("ur5_goto", include_str!("../scenarios/ur5_goto.toml")),
-    ("panda_goto", include_str!("../scenarios/panda_goto.toml")),
-    ("iiwa14_goto", include_str!("../scenarios/iiwa14_goto.toml")),
+    ("planar2_goto", include_str!("../../scenarios/planar2_goto.toml")),
+    ("ur5_goto", include_str!("../../scenarios/ur5_goto.toml")),
+    ("panda_goto", include_str!("../../scenarios/panda_goto.toml")),
+    ("iiwa14_goto", include_str!("../../scenarios/iiwa14_goto.toml")),
 ];
 
 /// `Ok` if `v` is finite and `lo ≤ v ≤ hi`; the error names the key.
-fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
+fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
-        Err(format!("invalid setting `{name}` = {}: must be finite, between {} and {}", Short(v), Short(lo), Short(hi)))
+        Err(SettingError::new(name, Some(v), format!("must be finite, between {} and {}", Short(lo), Short(hi))))
     }
 }
 
@@ -566,18 +570,21 @@ pub const PLAUSIBLE: [(&str, f64, f64, &str); 27] = [
 ];
 
 /// `Ok` if every value of `key` lies in its [`PLAUSIBLE`] range.
-fn plausible(key: &str, values: &[f64]) -> Result<(), String> {
+fn plausible(key: &str, values: &[f64]) -> Result<(), SettingError> {
     let Some(&(_, lo, hi, unit)) = PLAUSIBLE.iter().find(|(k, ..)| *k == key) else { return Ok(()) };
     match values.iter().position(|v| !(lo..=hi).contains(v)) {
         None => Ok(()),
         Some(i) => {
             let index = if values.len() > 1 { format!("[{i}]") } else { String::new() };
-            Err(format!(
-                "invalid setting `{key}{index}` = {} {unit}: beyond the plausible range {} to {} {unit} (a unit \
-                 mistake?); set allow_unphysical = true to run it anyway",
-                Short(values[i]),
-                Short(lo),
-                Short(hi)
+            Err(SettingError::new(
+                format!("{key}{index}"),
+                Some(values[i]),
+                format!(
+                    "beyond the plausible range {} to {} {unit} (a unit mistake?); set allow_unphysical = true to run \
+                     it anyway",
+                    Short(lo),
+                    Short(hi)
+                ),
             ))
         }
     }
@@ -585,7 +592,7 @@ fn plausible(key: &str, values: &[f64]) -> Result<(), String> {
 
 impl Task {
     /// Checks every number of the task against the run's `duration`.
-    fn validate(&self, duration: f64) -> Result<(), String> {
+    fn validate(&self, duration: f64) -> Result<(), SettingError> {
         match self {
             Task::Hold {} => Ok(()),
             Task::Goto { start_s, transition_s, delta_rad } => {
@@ -612,14 +619,14 @@ impl Scenario {
     pub fn from_toml(text: &str, source: &str) -> Result<Self, SimError> {
         let scenario: Scenario =
             toml::from_str(text).map_err(|e| SimError::Scenario { origin: source.into(), message: e.to_string() })?;
-        scenario.validate().map_err(|message| SimError::Scenario { origin: source.into(), message })?;
+        scenario.validate().map_err(|setting| SimError::InvalidScenario { origin: source.into(), setting })?;
         Ok(scenario)
     }
 
     /// Reads, parses and checks the scenario file at `path` (at most [`MAX_SCENARIO_BYTES`]).
     pub fn from_file(path: &std::path::Path) -> Result<Self, SimError> {
         let origin = path.display().to_string();
-        let text = crate::input::read_text(path, MAX_SCENARIO_BYTES)
+        let text = crate::io::input::read_text(path, MAX_SCENARIO_BYTES)
             .map_err(|message| SimError::Scenario { origin: origin.clone(), message })?;
         Self::from_toml(&text, &origin)
     }
@@ -662,11 +669,11 @@ impl Scenario {
     /// Checks every setting, as [`Self::from_toml`] does (for a scenario changed after parsing,
     /// e.g. by [`Self::quick`]).
     pub fn check(&self) -> Result<(), SimError> {
-        self.validate().map_err(|message| SimError::Scenario { origin: self.name.clone(), message })
+        self.validate().map_err(|setting| SimError::InvalidScenario { origin: self.name.clone(), setting })
     }
 
     /// Every physical setting within its [`PLAUSIBLE`] range.
-    fn check_plausible(&self) -> Result<(), String> {
+    fn check_plausible(&self) -> Result<(), SettingError> {
         let (p, h, s) = (&self.plant, &self.plant.hydraulic, &self.sensors);
         let lists: [(&str, &[f64]); 24] = [
             ("plant.coulomb_nm", &p.coulomb_nm),
@@ -705,30 +712,31 @@ impl Scenario {
         Ok(())
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), SettingError> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("invalid setting `{name}` = {}: must be finite and > 0", Short(v)))
+                Err(SettingError::new(name, Some(v), "must be finite and > 0"))
             }
         };
         check_file_stem(&self.name)
-            .map_err(|why| format!("invalid setting `name` = \"{}\": {why}", Clipped(&self.name, 40)))?;
+            .map_err(|why| SettingError::new("name", None, format!("\"{}\" {why}", Clipped(&self.name, 40))))?;
         let dt = self.controller.dt_s;
         within("controller.dt_s", dt, 1e-5, 0.1)?;
         positive("controller.dt_s", dt)?;
-        if !(self.duration_s.is_finite() && self.duration_s > crate::metrics::WARM_UP_S + dt) {
-            return Err(format!(
-                "invalid setting `duration_s` = {}: must be longer than the {} s warm-up the metrics skip, plus one tick",
-                Short(self.duration_s),
-                crate::metrics::WARM_UP_S
+        if !(self.duration_s.is_finite() && self.duration_s > WARM_UP_S + dt) {
+            return Err(SettingError::new(
+                "duration_s",
+                Some(self.duration_s),
+                format!("must be longer than the {WARM_UP_S} s warm-up the metrics skip, plus one tick"),
             ));
         }
         if self.duration_s / dt > MAX_TICKS as f64 {
-            return Err(format!(
-                "invalid setting `duration_s` / `controller.dt_s` = {} ticks: at most {MAX_TICKS} (an hour at 1 kHz; each tick's trace is kept)",
-                Short(self.duration_s / dt)
+            return Err(SettingError::new(
+                "duration_s / controller.dt_s",
+                Some(self.duration_s / dt),
+                format!("at most {MAX_TICKS} ticks (an hour at 1 kHz; each tick's trace is kept)"),
             ));
         }
         positive("controller.observer_bandwidth_rad_s", self.controller.observer_bandwidth_rad_s)?;
@@ -779,42 +787,33 @@ impl Scenario {
             }
             within("loads.sinusoid.frequency_hz", s.frequency_hz, 1e-6, 1e3)?;
         }
-        if !(self.sensors.pressure_noise_pa.is_finite() && self.sensors.pressure_noise_pa >= 0.0) {
-            return Err(format!(
-                "invalid setting `sensors.pressure_noise_pa` = {}: must be finite and ≥ 0",
-                Short(self.sensors.pressure_noise_pa)
-            ));
+        for (key, v) in [
+            ("sensors.pressure_noise_pa", self.sensors.pressure_noise_pa),
+            ("sensors.pressure_offset_pa", self.sensors.pressure_offset_pa),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(SettingError::new(key, Some(v), "must be finite and ≥ 0"));
+            }
         }
-        if !(self.sensors.pressure_offset_pa.is_finite() && self.sensors.pressure_offset_pa >= 0.0) {
-            return Err(format!(
-                "invalid setting `sensors.pressure_offset_pa` = {}: must be finite and ≥ 0",
-                Short(self.sensors.pressure_offset_pa)
-            ));
-        }
-        if !(16..=1 << 40).contains(&self.sensors.encoder_counts_per_rev) {
-            return Err(format!(
-                "sensors.encoder_counts_per_rev = {}: must be between 16 and 2^40",
-                self.sensors.encoder_counts_per_rev
-            ));
-        }
-        if self.sensors.measurement_delay_ticks > 100 || self.sensors.command_delay_ticks > 100 {
-            return Err("sensors: a delay of more than 100 ticks is not a plausible control loop".into());
-        }
-        if !(1..=1000).contains(&self.plant.substeps()) {
-            return Err(format!(
-                "invalid setting `plant.substeps` = {}: must be between 1 and 1000",
-                self.plant.substeps()
-            ));
-        }
+        within(
+            "sensors.encoder_counts_per_rev",
+            self.sensors.encoder_counts_per_rev as f64,
+            16.0,
+            (1u64 << 40) as f64,
+        )?;
+        within("sensors.measurement_delay_ticks", self.sensors.measurement_delay_ticks as f64, 0.0, 100.0)?;
+        within("sensors.command_delay_ticks", self.sensors.command_delay_ticks as f64, 0.0, 100.0)?;
+        within("plant.substeps", self.plant.substeps() as f64, 1.0, 1000.0)?;
         if self.methods.is_empty() {
-            return Err("invalid setting `methods`: name at least one of none, pid, lu, chen, momentum, eso".into());
+            return Err(SettingError::new("methods", None, "name at least one of none, pid, lu, chen, momentum, eso"));
         }
         if let Some(twice) =
             self.methods.iter().enumerate().find_map(|(i, m)| self.methods[..i].contains(m).then_some(m))
         {
-            return Err(format!(
-                "invalid setting `methods`: `{}` is named twice (its runs would be pooled as if they were more seeds)",
-                twice.name()
+            return Err(SettingError::new(
+                "methods",
+                None,
+                format!("`{}` is named twice (its runs would be pooled as if they were more seeds)", twice.name()),
             ));
         }
         if !self.allow_unphysical {
@@ -826,10 +825,10 @@ impl Scenario {
             within("loads.weight_drop.drop_s", drop.drop_s, 0.0, 1e7)?;
             within("loads.weight_drop.fall_height_m", drop.fall_height_m, 0.0, 10.0)?;
             if let Some(remove) = drop.remove_s.filter(|r| !r.is_finite() || *r <= drop.drop_s) {
-                return Err(format!(
-                    "invalid setting `loads.weight_drop.remove_s` = {}: must come after drop_s = {}",
-                    Short(remove),
-                    Short(drop.drop_s)
+                return Err(SettingError::new(
+                    "loads.weight_drop.remove_s",
+                    Some(remove),
+                    format!("must come after drop_s = {}", Short(drop.drop_s)),
                 ));
             }
         }

@@ -11,8 +11,9 @@ use std::fmt;
 
 use hya_core::Short;
 
-use crate::scenario::Scenario;
-use crate::{SimError, MAX_JOINTS};
+use crate::config::scenario::Scenario;
+use crate::error::SimError;
+use hya_core::dispatch::MAX_JOINTS;
 
 /// The most plant integration steps (control ticks × sub-steps, summed over every run) a
 /// command runs without `--no-cost-limit`: about 4 hours of the hydraulic plant on 2 cores, 30

@@ -11,8 +11,8 @@
 
 use hya_core::JointVector;
 
-use crate::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, Scenario, Task};
-use crate::SimError;
+use crate::config::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, Scenario, Task};
+use crate::error::{SettingError, SimError};
 
 /// The start pose of a scenario: its own, else the shipped robot's home pose (`robots.list`),
 /// else zeros.
@@ -27,10 +27,15 @@ pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
 /// A per-joint list from the configuration, checked for length and finiteness.
 pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
     if values.len() != N {
-        return Err(SimError::Config(format!("{name}: expected {N} values (one per joint), got {}", values.len())));
+        return Err(SettingError::new(
+            name,
+            None,
+            format!("expected {N} values (one per joint), got {}", values.len()),
+        )
+        .into());
     }
-    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-        return Err(SimError::Config(format!("{name}: {v} is not a finite number")));
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(SettingError::new(format!("{name}[{i}]"), Some(values[i]), "must be a finite number").into());
     }
     Ok(JointVector::from_column_slice(values))
 }
@@ -43,7 +48,7 @@ fn each<const N: usize>(
     requirement: &str,
 ) -> Result<JointVector<N>, SimError> {
     match values.iter().position(|v| !ok(*v)) {
-        Some(i) => Err(SimError::Config(format!("{name}[{i}] = {}: {requirement}", values[i]))),
+        Some(i) => Err(SettingError::new(format!("{name}[{i}]"), Some(values[i]), requirement).into()),
         None => Ok(values),
     }
 }
@@ -161,10 +166,12 @@ impl<const N: usize> FrictionLists<N> {
         let coulomb = per_joint::<N>("plant.coulomb_nm", &p.coulomb_nm)?;
         let breakaway = per_joint::<N>("plant.static_nm", &p.static_nm)?;
         if let Some(i) = (0..N).find(|&i| !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i])) {
-            return Err(SimError::Config(format!(
-                "plant.static_nm[{i}] = {} must be ≥ plant.coulomb_nm[{i}] = {} > 0",
-                breakaway[i], coulomb[i]
-            )));
+            return Err(SettingError::new(
+                format!("plant.static_nm[{i}]"),
+                Some(breakaway[i]),
+                format!("must be ≥ plant.coulomb_nm[{i}] = {} > 0", hya_core::Short(coulomb[i])),
+            )
+            .into());
         }
         let viscous =
             each("plant.viscous_nm_s", per_joint("plant.viscous_nm_s", &p.viscous_nm_s)?, |v| v >= 0.0, "must be ≥ 0")?;
@@ -223,7 +230,7 @@ impl<const N: usize> JointSettings<N> {
             task,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
-            integral_limit: match scenario.methods.contains(&crate::Method::Pid) {
+            integral_limit: match scenario.methods.contains(&crate::config::scenario::Method::Pid) {
                 true => Some(per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?),
                 false => None,
             },
@@ -245,7 +252,7 @@ mod tests {
         assert!(error.contains("expected 7 values"), "{error}");
         scenario.plant.bristle_damping_nm_s_rad[2] = -1.0;
         let error = JointSettings::<6>::of(&scenario).unwrap_err().to_string();
-        assert!(error.contains("plant.bristle_damping_nm_s_rad[2] = -1"), "{error}");
+        assert!(error.contains("`plant.bristle_damping_nm_s_rad[2]` = -1"), "{error}");
         // Lists that do not act are not read: lag actuators ignore the hydraulic figures.
         scenario.plant.bristle_damping_nm_s_rad[2] = 1.0;
         scenario.plant.actuator = ActuatorKind::Lag;
@@ -254,7 +261,7 @@ mod tests {
         // The integral clamp is read only for a scenario that runs the PID.
         scenario.controller.integral_limit_nm = vec![];
         assert!(JointSettings::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
-        scenario.methods.retain(|m| *m != crate::Method::Pid);
+        scenario.methods.retain(|m| *m != crate::config::scenario::Method::Pid);
         assert!(JointSettings::<6>::of(&scenario).unwrap().integral_limit.is_none());
     }
 }

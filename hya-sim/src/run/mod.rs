@@ -14,49 +14,19 @@ use hya_core::{
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::metrics::Metrics;
+use crate::config::scenario::{Method, Scenario};
+use crate::config::settings::JointSettings;
+use crate::error::{SettingError, SimError};
 use crate::plant::{perturbed, Plant};
 use crate::robot::Robot;
-use crate::scenario::{Method, Scenario};
-use crate::sensors::Sensors;
-use crate::settings::JointSettings;
-use crate::task::Trajectory;
-use crate::SimError;
+use sensors::Sensors;
+use task::Trajectory;
+use trace::Trace;
 
-/// Time series of one run, one entry per control tick.
-#[derive(Debug, Clone, Default)]
-pub struct Trace<const N: usize> {
-    /// Time, s.
-    pub time: Vec<f64>,
-    /// True joint positions, rad.
-    pub q: Vec<JointVector<N>>,
-    /// Reference positions, rad.
-    pub q_des: Vec<JointVector<N>>,
-    /// True disturbance, N·m.
-    pub d_true: Vec<JointVector<N>>,
-    /// Estimated disturbance, N·m (zeros for `none`).
-    pub d_hat: Vec<JointVector<N>>,
-    /// Commanded torque, N·m.
-    pub tau_cmd: Vec<JointVector<N>>,
-}
-
-/// A finished run.
-#[derive(Debug, Clone)]
-pub struct RunOutcome<const N: usize> {
-    /// The scenario's name.
-    pub scenario: String,
-    /// The method.
-    pub method: Method,
-    /// The seed of the plant's perturbation, friction profile and noise.
-    pub seed: u64,
-    /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
-    /// `L` for Chen's observer); `None` without an observer.
-    pub bandwidth_rad_s: Option<Vec<f64>>,
-    /// Its time series.
-    pub trace: Trace<N>,
-    /// Its metrics.
-    pub metrics: Metrics,
-}
+pub mod rollout;
+pub mod sensors;
+pub mod task;
+pub mod trace;
 
 /// A disturbance observer that may move between threads.
 pub type Observer<'a, const N: usize> = Box<dyn DisturbanceObserver<N> + Send + 'a>;
@@ -143,7 +113,11 @@ impl<const N: usize> IntegralAction<N> {
         Ok(Self {
             gain: gains.kp().diagonal().component_mul(&joints.natural_frequency) * c.integral_zero_ratio,
             limit: joints.integral_limit.ok_or_else(|| {
-                SimError::Config("controller.integral_limit_nm: the settings were checked without pid".into())
+                SettingError::new(
+                    "controller.integral_limit_nm",
+                    None,
+                    "missing: the settings were checked without pid",
+                )
             })?,
             torque: JointVector::zeros(),
             dt: c.dt_s,
@@ -159,13 +133,23 @@ impl<const N: usize> IntegralAction<N> {
     }
 }
 
+/// The record of one closed-loop run.
+#[derive(Debug, Clone)]
+pub struct ClosedLoop<const N: usize> {
+    /// Its time series.
+    pub trace: Trace<N>,
+    /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
+    /// `L` for Chen's observer); `None` without an observer.
+    pub bandwidth_rad_s: Option<Vec<f64>>,
+}
+
 /// Runs `scenario` with `method` on `robot`: the controller and observers on its nominal
 /// dynamics, the plant on its model perturbed by the scenario's seed.
-pub fn simulate<const N: usize>(
+pub fn closed_loop<const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &Robot<N>,
-) -> Result<RunOutcome<N>, SimError> {
+) -> Result<ClosedLoop<N>, SimError> {
     let nominal = robot.nominal.as_ref();
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
@@ -244,6 +228,5 @@ pub fn simulate<const N: usize>(
         trace.d_hat.push(d_hat);
         trace.tau_cmd.push(command);
     }
-    let metrics = Metrics::of(&trace, scenario, method.estimates());
-    Ok(RunOutcome { scenario: scenario.name.clone(), method, seed: scenario.seed, bandwidth_rad_s, trace, metrics })
+    Ok(ClosedLoop { trace, bandwidth_rad_s })
 }

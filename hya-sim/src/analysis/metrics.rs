@@ -6,11 +6,10 @@ use serde::Serialize;
 
 use hya_core::JointVector;
 
-use crate::run::Trace;
-use crate::scenario::{Scenario, Task};
+use crate::config::scenario::{Scenario, Task};
+use crate::run::trace::Trace;
 
-/// Metrics skip this start-up interval (observers and filters settling), s.
-pub const WARM_UP_S: f64 = 0.5;
+pub use crate::config::scenario::WARM_UP_S;
 
 /// The final window in which a settled run is judged, s (or the last fifth of a shorter run).
 pub const SETTLED_WINDOW_S: f64 = 5.0;

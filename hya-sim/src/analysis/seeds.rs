@@ -4,10 +4,10 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::metrics::Metrics;
-use crate::run::RunOutcome;
-use crate::scenario::{Method, Scenario};
-use crate::SimError;
+use crate::analysis::metrics::Metrics;
+use crate::analysis::outcome::RunOutcome;
+use crate::config::scenario::{Method, Scenario};
+use crate::error::SimError;
 
 /// The metrics of every run, by scenario and method, one entry per seed in seed order.
 #[derive(Debug, Clone, Default)]
@@ -96,7 +96,7 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
 /// ones): the first seed's runs with their traces (for figures), and every run's metrics.
 /// `progress` is told each finished run's simulated seconds.
 pub fn run_seeds<const N: usize>(
-    robot: &crate::Robot<N>,
+    robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     seeds: usize,
     progress: &(dyn Fn(f64) + Sync),
@@ -109,7 +109,7 @@ pub fn run_seeds<const N: usize>(
     let results = parallel_map(&jobs, |&(i, method, k)| {
         let mut scenario = scenarios[i].clone();
         scenario.seed = scenario.seed.wrapping_add(k as u64);
-        let mut outcome = crate::simulate(&scenario, method, robot);
+        let mut outcome = crate::analysis::outcome::simulate(&scenario, method, robot);
         if let (Ok(o), true) = (outcome.as_mut(), k > 0) {
             o.trace = Default::default(); // only the first seed's traces are kept
         }

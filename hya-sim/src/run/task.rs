@@ -4,8 +4,8 @@ use std::f64::consts::PI;
 
 use hya_core::{JointVector, Reference};
 
-use crate::scenario::Task;
-use crate::SimError;
+use crate::config::scenario::Task;
+use crate::error::{SettingError, SimError};
 
 /// A reference trajectory `(q_des, q̇_des, q̈_des)(t)` around the start pose.
 #[derive(Debug, Clone)]
@@ -23,13 +23,13 @@ enum Shape<const N: usize> {
 
 impl<const N: usize> Trajectory<N> {
     /// The task's trajectory from `start`; `per_joint` is the goto task's step or the sine
-    /// task's amplitudes ([`JointSettings::task`](crate::settings::JointSettings::task)).
+    /// task's amplitudes ([`JointSettings::task`](crate::config::settings::JointSettings::task)).
     pub fn new(task: &Task, per_joint: JointVector<N>, start: JointVector<N>) -> Result<Self, SimError> {
         let shape = match task {
             Task::Hold {} => Shape::Hold,
             Task::Goto { start_s, transition_s, .. } => {
                 if transition_s.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                    return Err(SimError::Config("task.transition_s must be > 0".into()));
+                    return Err(SettingError::new("task.transition_s", Some(*transition_s), "must be > 0").into());
                 }
                 Shape::Goto { start_s: *start_s, transition_s: *transition_s, delta: per_joint }
             }

@@ -1,0 +1,44 @@
+//! A finished run: its trace and the metrics computed from it.
+
+use crate::analysis::metrics::Metrics;
+use crate::config::scenario::{Method, Scenario};
+use crate::error::SimError;
+use crate::robot::Robot;
+use crate::run::trace::Trace;
+
+/// A finished run.
+#[derive(Debug, Clone)]
+pub struct RunOutcome<const N: usize> {
+    /// The scenario's name.
+    pub scenario: String,
+    /// The method.
+    pub method: Method,
+    /// The seed of the plant's perturbation, friction profile and noise.
+    pub seed: u64,
+    /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
+    /// `L` for Chen's observer); `None` without an observer.
+    pub bandwidth_rad_s: Option<Vec<f64>>,
+    /// Its time series.
+    pub trace: Trace<N>,
+    /// Its metrics.
+    pub metrics: Metrics,
+}
+
+/// Runs `scenario` with `method` on `robot` ([`crate::run::closed_loop`]) and computes its
+/// metrics.
+pub fn simulate<const N: usize>(
+    scenario: &Scenario,
+    method: Method,
+    robot: &Robot<N>,
+) -> Result<RunOutcome<N>, SimError> {
+    let run = crate::run::closed_loop(scenario, method, robot)?;
+    let metrics = Metrics::of(&run.trace, scenario, method.estimates());
+    Ok(RunOutcome {
+        scenario: scenario.name.clone(),
+        method,
+        seed: scenario.seed,
+        bandwidth_rad_s: run.bandwidth_rad_s,
+        trace: run.trace,
+        metrics,
+    })
+}

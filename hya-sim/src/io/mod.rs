@@ -1,0 +1,6 @@
+//! Files: reading them bounded ([`input`]), the report folder that nothing escapes ([`output`]),
+//! and SVG drawing ([`svg`]).
+
+pub mod input;
+pub mod output;
+pub mod svg;

@@ -53,7 +53,7 @@ pub fn design(method: Method, beta: f64, omega: f64) -> Complex<f64> {
 }
 
 /// The complex amplitude of `x` at `ω` over the samples `(t, x)`: `(2/N) Σ x e^{−jωt}`.
-fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
+pub fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
     let n = samples.len().max(1) as f64;
     samples.iter().map(|(t, x)| Complex::new((omega * t).cos(), -(omega * t).sin()) * *x).sum::<Complex<f64>>()
         * (2.0 / n)

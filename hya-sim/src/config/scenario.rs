@@ -508,13 +508,14 @@ pub struct WeightDrop {
     pub impact_s: f64,
 }
 
-const BUILTIN: [(&str, &str); 6] = [
+const BUILTIN: [(&str, &str); 7] = [
     ("goto_internal", include_str!("../../scenarios/goto_internal.toml")),
     ("sine_internal", include_str!("../../scenarios/sine_internal.toml")),
     ("goto_weight", include_str!("../../scenarios/goto_weight.toml")),
     ("sine_weight", include_str!("../../scenarios/sine_weight.toml")),
     ("estimator_noise_low", include_str!("../../scenarios/estimator_noise_low.toml")),
     ("estimator_noise_high", include_str!("../../scenarios/estimator_noise_high.toml")),
+    ("estimator_noise_hydraulic", include_str!("../../scenarios/estimator_noise_hydraulic.toml")),
 ];
 
 /// A goto task per shipped arm other than HyA (whose is `goto_internal`), `<robot>_goto`:

@@ -67,7 +67,7 @@ fn command_line() -> String {
 
 /// Runs every method of every scenario over the seeds on every core, with a progress bar, then
 /// writes the report.
-fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, generated_by: &str) -> Result<(), CliError> {
+fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions) -> Result<(), CliError> {
     let quick = options.quick;
     let seeds = options.seeds.unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
     if !(1..=MAX_SEEDS).contains(&seeds) {
@@ -82,7 +82,11 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, generated_by: &str
     if !options.no_cost_limit {
         cost.check().map_err(sim)?;
     }
-    let (out, kept) = OutputDir::open(&options.out, options.force, &command_line()).map_err(sim)?;
+    let provenance = hya_sim::report::Provenance::here(
+        command_line(),
+        [env!("HYA_BUILD_COMMIT"), env!("HYA_BUILD_RUSTC"), env!("HYA_BUILD_PROFILE"), env!("HYA_BUILD_RUSTFLAGS")],
+    );
+    let (out, kept) = OutputDir::open(&options.out, options.force, &provenance.command).map_err(sim)?;
     for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
@@ -94,10 +98,16 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, generated_by: &str
     );
     bar.set_message(format!("{} runs", cost.runs));
     let progress = |seconds: f64| bar.inc(seconds.round() as u64);
-    let summary =
-        hya_sim::Experiment { scenarios: &scenarios, seeds, progress: &progress, out: &out, quick, generated_by }
-            .run()
-            .map_err(sim)?;
+    let summary = hya_sim::Experiment {
+        scenarios: &scenarios,
+        seeds,
+        progress: &progress,
+        out: &out,
+        quick,
+        provenance: &provenance,
+    }
+    .run()
+    .map_err(sim)?;
     bar.finish_and_clear();
     for claim in summary.claims.iter().filter(|c| c.seeds > 0) {
         let verdict = claim.verdict.name();
@@ -110,7 +120,7 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, generated_by: &str
 /// `hya reproduce`.
 pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
-    run_all(scenarios, &args.options, "hya reproduce")
+    run_all(scenarios, &args.options)
 }
 
 /// `hya run FILE.toml`: a scenario file (at most [`hya_sim::scenario::MAX_SCENARIO_BYTES`]), or a
@@ -122,5 +132,5 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     } else {
         Scenario::from_file(&args.file).map_err(sim)?
     };
-    run_all(vec![scenario], &args.options, "hya run")
+    run_all(vec![scenario], &args.options)
 }

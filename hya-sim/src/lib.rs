@@ -71,8 +71,8 @@ pub struct Experiment<'a> {
     pub out: &'a output::OutputDir,
     /// Whether the scenarios were shortened (`--quick`).
     pub quick: bool,
-    /// The command that asked, named in the report.
-    pub generated_by: &'a str,
+    /// The command that asked and the build that ran it, named in the report.
+    pub provenance: &'a report::Provenance,
 }
 
 impl Experiment<'_> {
@@ -98,6 +98,6 @@ impl ForRobot for Experiment<'_> {
     type Output = report::Summary;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
         let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
-        report::write(&robot, self.out, self.scenarios, &outcomes, &table, self.quick, self.generated_by)
+        report::write(&robot, self.out, self.scenarios, &outcomes, &table, self.quick, self.provenance)
     }
 }

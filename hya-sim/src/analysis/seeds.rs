@@ -27,6 +27,17 @@ impl MetricTable {
         runs.iter().map(|m| m.named().into_iter().find(|(name, _)| *name == metric).map(|(_, v)| v.to_vec())).collect()
     }
 
+    /// Every metric of `method` on `scenario` by name, `[seed][joint]` (empty where it did not run).
+    pub fn per_seed(&self, scenario: &str, method: Method) -> BTreeMap<&'static str, Vec<Vec<f64>>> {
+        let mut all: BTreeMap<&'static str, Vec<Vec<f64>>> = BTreeMap::new();
+        for metrics in self.runs.get(&(scenario.to_owned(), method)).into_iter().flatten() {
+            for (name, values) in metrics.named() {
+                all.entry(name).or_default().push(values.to_vec());
+            }
+        }
+        all
+    }
+
     /// How many seeds `method` ran on `scenario`.
     pub fn seeds(&self, scenario: &str, method: Method) -> usize {
         self.runs.get(&(scenario.to_owned(), method)).map_or(0, Vec::len)

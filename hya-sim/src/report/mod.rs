@@ -9,10 +9,12 @@ mod csv;
 mod figures;
 mod markdown;
 mod plant;
+mod provenance;
 mod summary;
 mod text;
 mod viscous;
 
+pub use provenance::Provenance;
 pub use summary::{RunSummary, Summary};
 
 use crate::analysis::claims::judge_all;
@@ -33,7 +35,7 @@ pub fn write<const N: usize>(
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,
     quick: bool,
-    generated_by: &str,
+    provenance: &Provenance,
 ) -> Result<Summary, SimError> {
     let save = |name: &str, text: &str| dir.save(name, text);
     let summary = Summary {
@@ -42,6 +44,7 @@ pub fn write<const N: usize>(
         seeds: outcomes.first().map_or(0, |o| table.seeds(&o.scenario, o.method)),
         runs: outcomes.iter().map(|o| run_summary(table, &o.scenario, o.method, o.bandwidth_rad_s.clone())).collect(),
         claims: judge_all(table),
+        provenance: provenance.clone(),
     };
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
@@ -83,7 +86,7 @@ pub fn write<const N: usize>(
             outcomes,
             table,
             &summary,
-            (quick, generated_by),
+            (quick, provenance),
             (&plant_section, &figure_names, &viscous_section),
         )?,
     )?;

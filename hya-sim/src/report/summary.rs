@@ -44,6 +44,9 @@ pub struct RunSummary {
     /// The observer's rates at the start pose from its design, 1/s; absent without an observer.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bandwidth_rad_s: Option<Vec<f64>>,
+    /// Every metric of every seed, `[seed][joint]`, seeds in order from the scenario's: the
+    /// numbers every mean, interval and verdict above is computed from.
+    pub per_seed: std::collections::BTreeMap<&'static str, Vec<Vec<f64>>>,
 }
 
 /// `summary.json`.
@@ -59,6 +62,8 @@ pub struct Summary {
     pub runs: Vec<RunSummary>,
     /// The paper's claims, judged over the seeds.
     pub claims: Vec<Judgement>,
+    /// What produced the report.
+    pub provenance: super::Provenance,
 }
 
 pub(super) fn mean(values: &[f64]) -> f64 {
@@ -109,5 +114,6 @@ pub(super) fn run_summary(
         limit_cycle_q,
         limit_cycle_q_ci95,
         bandwidth_rad_s: bandwidth,
+        per_seed: table.per_seed(scenario, method),
     }
 }

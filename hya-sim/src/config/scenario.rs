@@ -239,7 +239,10 @@ pub struct ControllerConfig {
     pub friction_error_rad: f64,
     /// The highest natural frequency the stiffening may reach, rad/s.
     pub max_natural_frequency_rad_s: f64,
-    /// PID: the integral's zero as a fraction of the natural frequency, `K_I = K_P ω_n · this`.
+    /// PID: how the integral gain is chosen.
+    pub integral_rule: IntegralRule,
+    /// PID with `integral_rule = "zero_ratio"`: the integral's zero as a fraction of the natural
+    /// frequency, `K_I = K_P ω_n · this`.
     pub integral_zero_ratio: f64,
     /// PID: the integral torque's clamp per joint, N·m (anti-windup).
     pub integral_limit_nm: Vec<f64>,
@@ -258,6 +261,7 @@ impl Default for ControllerConfig {
             damping_ratio: 0.8,
             friction_error_rad: 0.05,
             max_natural_frequency_rad_s: 40.0,
+            integral_rule: IntegralRule::MatchEstimator,
             integral_zero_ratio: 0.25,
             integral_limit_nm: vec![30.0; 6],
             torque_limit_nm: vec![150.0; 6],
@@ -265,6 +269,23 @@ impl Default for ControllerConfig {
             dt_s: 1e-3,
         }
     }
+}
+
+/// How the PID baseline's integral gain `K_I` is chosen, per joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegralRule {
+    /// The paper's estimator's low-frequency disturbance rejection. With `d̂ = H(s) d` and
+    /// `1 − H(s) ≈ τ_d s` at low frequency (`τ_d = 1/ω1 + 2ζ/ω2` at the observer bandwidth), a
+    /// disturbance leaves `q ≈ τ_d s d / K_P` under compensation and `q ≈ s d / K_I` under PID:
+    /// equal when `K_I = K_P / τ_d`. The PID's loop `M s³ + K_D s² + K_P s + K_I` is stable only
+    /// for `K_I < K_D K_P / M` (Routh), which the estimator's loop does not need; so `K_I` is
+    /// capped at half that bound: `K_I = min(K_P / τ_d, ½ K_D K_P / M_ii(q0))`.
+    #[default]
+    MatchEstimator,
+    /// `K_I = K_P ω_n · integral_zero_ratio`: the integral's zero at a fraction of the natural
+    /// frequency (a conventional, softer choice).
+    ZeroRatio,
 }
 
 /// The friction model of the plant.

@@ -102,10 +102,11 @@ fn claims_table(claims: &[Judgement]) -> String {
         return "## The paper's claims\n\nNone of the paper's experiments was run, so no claim is judged (`hya reproduce` runs them).\n".into();
     }
     let mut md = format!(
-        "## The paper's claims\n\n{} reproduced, {} partly, {} not reproduced, {} not run (of {}). Each rule is fixed in `hya-sim/src/claims.rs` before any run: at a joint it holds when the whole 95 % interval clears its threshold by the margin.\n\n| claim | section | paper | ours: per joint, mean ± 95 % | verdict |\n|---|---|---|---|---|\n",
+        "## The paper's claims\n\n{} reproduced, {} partly, {} not reproduced, {} not testable here, {} not run (of {}). Each rule is fixed in `hya-sim/src/analysis/claims.rs` before any run: at a joint it holds when the whole 95 % interval clears its threshold by the margin. A metric's interval is Student's t on the mean over seeds; a ratio's is taken on the logarithms of the per-seed ratios, around their geometric mean (ratios are skewed; an interval on them directly would reach below zero). Per-seed values are in `summary.json`.\n\n| claim | section | paper | ours: per joint, mean [95 % interval] | verdict |\n|---|---|---|---|---|\n",
         count(Verdict::Reproduced),
         count(Verdict::Partly),
         count(Verdict::NotReproduced),
+        count(Verdict::NotTestable),
         count(Verdict::NotRun),
         claims.len()
     );
@@ -115,13 +116,18 @@ fn claims_table(claims: &[Judgement]) -> String {
         } else {
             c.numbers
                 .iter()
-                .map(|f| format!("j{}: {}{}", f.joint, interval(f.mean, f.ci95), if f.holds { "" } else { " ✗" }))
+                .map(|f| {
+                    let quiet = if f.quiet { " (quiet)" } else { "" };
+                    let mark = if f.holds { "" } else { " ✗" };
+                    format!("j{}{quiet}: {} [{}, {}]{mark}", f.joint, figure(f.mean), figure(f.low), figure(f.high))
+                })
                 .collect::<Vec<_>>()
                 .join("; ")
         };
-        let verdict = match c.verdict {
-            Verdict::Partly | Verdict::NotReproduced => format!("**{}**", c.verdict.name()),
-            other => other.name().to_owned(),
+        let verdict = match (c.verdict, c.untestable) {
+            (Verdict::NotTestable, Some(why)) => format!("{}: {why}", c.verdict.name()),
+            (Verdict::Partly | Verdict::NotReproduced, _) => format!("**{}**", c.verdict.name()),
+            (other, _) => other.name().to_owned(),
         };
         md.push_str(&table_row([
             c.statement.to_owned(),
@@ -131,7 +137,7 @@ fn claims_table(claims: &[Judgement]) -> String {
             verdict.to_owned(),
         ]));
     }
-    md.push_str("\n✗ marks a joint where the rule does not hold.\n");
+    md.push_str("\n✗ marks a joint where the rule does not hold; (quiet) a joint the claim needs to stay on the other side of the threshold.\n");
     md
 }
 
@@ -296,9 +302,12 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
     let joints = crate::config::settings::JointSettings::<N>::of(first)?;
     let q0 = joints.initial_position;
     let gains = gains(nominal, first, &joints)?;
+    let integral = crate::run::integral_gain(&gains, &nominal.mass_matrix(&q0).diagonal(), first, &joints);
+    let integral_delay =
+        1.0 / c.observer_bandwidth_rad_s + 2.0 * hya_core::filter::PAPER_ZETA / c.observer_bandwidth_rad_s;
     let _ = writeln!(
         md,
-        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, `K_I = K_P ω_n · {}`, its torque clamped to ± ({}) N·m (anti-windup). At low frequency the paper's estimator acts like this integral: pid is the honest baseline for it.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
+        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, its torque clamped to ± ({}) N·m (anti-windup); {}: K_I = ({}) N·m/(rad·s){}.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
         c.dt_s,
         match first.sensors.velocity {
             crate::config::scenario::VelocitySource::Difference => "encoder difference (low-passed)",
@@ -312,8 +321,25 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         c.max_natural_frequency_rad_s,
         list(gains.kp().diagonal().as_slice()),
         list(gains.kd().diagonal().as_slice()),
-        c.integral_zero_ratio,
         list(&c.integral_limit_nm),
+        match c.integral_rule {
+            crate::config::scenario::IntegralRule::MatchEstimator => format!(
+                "`K_I` matches the paper's estimator's low-frequency disturbance rejection: with `1 − H(s) ≈ τ_d s`, a \
+                 disturbance `d` leaves `q ≈ τ_d s d / K_P` under compensation and `q ≈ s d / K_I` under PID, equal for \
+                 `K_I = K_P / τ_d` (τ_d = {:.3} s at ω1 = ω2 = {} rad/s), capped at half the ideal PID loop's stability \
+                 bound `K_D K_P / M_ii` (Routh on `M s³ + K_D s² + K_P s + K_I`; the estimator's loop needs no such bound)",
+                integral_delay,
+                c.observer_bandwidth_rad_s
+            ),
+            crate::config::scenario::IntegralRule::ZeroRatio => {
+                format!("`K_I = K_P ω_n · {}` (the integral's zero at that fraction of ω_n)", c.integral_zero_ratio)
+            }
+        },
+        list(integral.0.as_slice()),
+        match integral.1.iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| format!("{}", j + 1)).collect::<Vec<_>>() {
+            capped if capped.is_empty() => String::new(),
+            capped => format!(", capped on joints {}", capped.join(", ")),
+        },
         list(q0.as_slice()),
         b = c.observer_bandwidth_rad_s,
     );

@@ -14,7 +14,7 @@ use hya_core::{
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::config::scenario::{Method, Scenario};
+use crate::config::scenario::{IntegralRule, Method, Scenario};
 use crate::config::settings::JointSettings;
 use crate::error::{SettingError, SimError};
 use crate::plant::{perturbed, Plant};
@@ -97,7 +97,30 @@ pub fn gains<const N: usize>(
     Gains::diagonal(kp, kd).map_err(|source| SimError::Setup { setting: "controller".into(), source })
 }
 
-/// The integral term of the PID baseline, `K_I ∫ e dt` with `K_I = K_P ω_i`, its torque clamped
+/// The PID baseline's integral gain per joint, N·m/(rad·s), by the scenario's
+/// [`IntegralRule`]; `inertia` is the nominal `M_ii(q0)`, and whether each joint's gain was
+/// capped by the stability bound.
+pub fn integral_gain<const N: usize>(
+    gains: &Gains<N>,
+    inertia: &JointVector<N>,
+    scenario: &Scenario,
+    joints: &JointSettings<N>,
+) -> (JointVector<N>, [bool; N]) {
+    let c = &scenario.controller;
+    let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
+    match c.integral_rule {
+        IntegralRule::ZeroRatio => (kp.component_mul(&joints.natural_frequency) * c.integral_zero_ratio, [false; N]),
+        IntegralRule::MatchEstimator => {
+            let w = c.observer_bandwidth_rad_s;
+            let delay = 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
+            let capped: [bool; N] = core::array::from_fn(|i| kp[i] / delay > 0.5 * kd[i] * kp[i] / inertia[i]);
+            let gain = JointVector::from_fn(|i, _| (kp[i] / delay).min(0.5 * kd[i] * kp[i] / inertia[i]));
+            (gain, capped)
+        }
+    }
+}
+
+/// The integral term of the PID baseline, `K_I ∫ e dt` ([`integral_gain`]), its torque clamped
 /// to `± limit` (anti-windup: the integral stops growing at the clamp).
 #[derive(Debug, Clone)]
 struct IntegralAction<const N: usize> {
@@ -108,10 +131,10 @@ struct IntegralAction<const N: usize> {
 }
 
 impl<const N: usize> IntegralAction<N> {
-    fn new(gains: &Gains<N>, scenario: &Scenario, joints: &JointSettings<N>) -> Result<Self, SimError> {
+    fn new(gain: JointVector<N>, scenario: &Scenario, joints: &JointSettings<N>) -> Result<Self, SimError> {
         let c = &scenario.controller;
         Ok(Self {
-            gain: gains.kp().diagonal().component_mul(&joints.natural_frequency) * c.integral_zero_ratio,
+            gain,
             limit: joints.integral_limit.ok_or_else(|| {
                 SettingError::new(
                     "controller.integral_limit_nm",
@@ -185,7 +208,10 @@ pub fn closed_loop<const N: usize>(
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };
-    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(&gains, scenario, &joints)).transpose()?;
+    let inertia = nominal.mass_matrix(&q0).diagonal();
+    let mut integral = (method == Method::Pid)
+        .then(|| IntegralAction::new(integral_gain(&gains, &inertia, scenario, &joints).0, scenario, &joints))
+        .transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substeps = scenario.plant.substeps();
     let mut trace = Trace::default();

@@ -1,10 +1,10 @@
-//! The lagged-cancellation mechanism measured: the paper's estimator on the goto task at
-//! bandwidths from 20 to 200 rad/s, each joint's limit-cycle amplitude after settling, and per
-//! joint the largest filter delay that keeps it free of a limit cycle.
+//! Limit cycles measured: each method's peak-to-peak error after settling on the goto task, and
+//! the paper's estimator at bandwidths from 20 to 200 rad/s. No bandwidth is recommended here:
+//! the measurements show amplitudes, not a rule.
 
 use std::fmt::Write as _;
 
-use crate::analysis::seeds::{per_joint_mean_ci95, run_seeds};
+use crate::analysis::seeds::{per_joint_mean_ci95, run_seeds, MetricTable};
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 
@@ -25,8 +25,13 @@ fn is_free(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
     amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD)
 }
 
-/// The section, from runs of `base` (the goto task) at every bandwidth.
-pub fn section<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) -> Result<String, SimError> {
+/// The section, from `methods` (the report's runs, for the per-method table) and runs of `base`
+/// (the goto task) with the paper's estimator at every bandwidth.
+pub fn section<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    base: &Scenario,
+    methods: &MetricTable,
+) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
         .iter()
         .map(|w| {
@@ -43,55 +48,50 @@ pub fn section<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) 
         let values = table.values(&s.name, Method::Lu, "limit_cycle_q").unwrap_or_default();
         amplitude.push(per_joint_mean_ci95(&values).0);
     }
-    let delay = |w: f64| 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
     let mut md = format!(
-        "\nMeasured: `lu` on `{}` at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), the peak-to-peak tracking error over the final window (5 s, or the last fifth of a shorter run), mean over seeds (mrad); a joint counts as free of a limit cycle below {} mrad. Per joint, the slowest bandwidth from which on every faster one in the sweep is free of a limit cycle, and the delay `τ_d = 1/ω + 2ζ/ω` it allows:\n\n",
-        base.name,
+        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). Without compensation (`none`, a PD) a joint that sticks stays stuck within its band `F_s / K_P`. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad):\n\n",
+        base.name
+    );
+    md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
+    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
+    for method in [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
+        let Some(values) = methods.values(&base.name, method, "limit_cycle_q").filter(|v| !v.is_empty()) else {
+            continue;
+        };
+        let mean = per_joint_mean_ci95(&values).0;
+        md.push_str(&table_row(
+            [method.name().to_owned()].into_iter().chain(mean.iter().map(|v| format!("{:.2}", v * 1e3))),
+        ));
+    }
+    let _ = writeln!(
+        md,
+        "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), same measure (mrad); below {} mrad a joint counts as free of a limit cycle:\n",
         BANDWIDTHS_RAD_S[0],
         BANDWIDTHS_RAD_S[BANDWIDTHS_RAD_S.len() - 1],
         LIMIT_CYCLE_RAD * 1e3
     );
     md.push_str(&table_row(
-        ["joint".to_owned()]
-            .into_iter()
-            .chain(BANDWIDTHS_RAD_S.iter().map(|w| format!("{w} rad/s")))
-            .chain(["largest τ_d free of a limit cycle [ms]".to_owned(), "recommended ω1 = ω2 [rad/s]".to_owned()]),
+        ["joint".to_owned()].into_iter().chain(BANDWIDTHS_RAD_S.iter().map(|w| format!("{w} rad/s"))),
     ));
-    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 3)));
+    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 1)));
     for j in 0..N {
-        // The slowest bandwidth from which on every faster one is free too.
-        let free = |k: usize| is_free(&amplitude, k, j);
-        let slowest_free = (0..BANDWIDTHS_RAD_S.len())
-            .find(|&k| (k..BANDWIDTHS_RAD_S.len()).all(free))
-            .map_or(f64::INFINITY, |k| BANDWIDTHS_RAD_S[k]);
-        let (largest_delay, recommended) = if slowest_free.is_finite() {
-            (format!("{:.0}", delay(slowest_free) * 1e3), format!("{slowest_free}"))
-        } else {
-            ("none in the sweep".to_owned(), format!("above {}", BANDWIDTHS_RAD_S[BANDWIDTHS_RAD_S.len() - 1]))
-        };
         let cells = amplitude.iter().map(|a| a.get(j).map_or("-".to_owned(), |v| format!("{:.2}", v * 1e3)));
-        md.push_str(&table_row([format!("{}", j + 1)].into_iter().chain(cells).chain([largest_delay, recommended])));
+        md.push_str(&table_row([format!("{}", j + 1)].into_iter().chain(cells)));
     }
-    // Joints where a longer delay is free of a limit cycle while a shorter one is not: there the
-    // measurement contradicts the simple `F_v τ_d > M_ii` rule.
-    let contradicting: Vec<String> = (0..N)
-        .filter(|&j| {
-            let free = |k: usize| is_free(&amplitude, k, j);
-            (0..BANDWIDTHS_RAD_S.len())
-                .any(|slow| free(slow) && (slow + 1..BANDWIDTHS_RAD_S.len()).any(|fast| !free(fast)))
-        })
+    let free_everywhere: Vec<String> = (0..N)
+        .filter(|&j| (0..BANDWIDTHS_RAD_S.len()).all(|k| is_free(&amplitude, k, j)))
         .map(|j| format!("{}", j + 1))
         .collect();
-    if !contradicting.is_empty() {
-        let _ = writeln!(
-            md,
-            "\nOn joints {} a slower filter (a longer delay) is free of a limit cycle while a faster one is not: there the measurement does not follow the `F_v τ_d > M_ii` rule above, which ignores friction's nonlinearity and the actuators.",
-            contradicting.join(", ")
-        );
-    }
     let _ = writeln!(
         md,
-        "\nThe filters share one `Φ` for all joints, so one bandwidth serves the arm: by this table's definition the largest per-joint value keeps every joint free of a limit cycle in the sweep; a faster filter passes more sensor noise into `d̂` (see `hya sweep`)."
+        "\n{} A faster filter passes more sensor noise into `d̂` (see the sweep); a bandwidth should be chosen from both.",
+        if free_everywhere.len() == N {
+            "Every joint is free of a limit cycle at every bandwidth swept.".to_owned()
+        } else if free_everywhere.is_empty() {
+            "No joint is free of a limit cycle at every bandwidth swept.".to_owned()
+        } else {
+            format!("Joints {} are free of a limit cycle at every bandwidth swept; the others are not.", free_everywhere.join(", "))
+        }
     );
     Ok(md)
 }

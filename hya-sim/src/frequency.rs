@@ -35,21 +35,10 @@ pub struct Point {
     pub design: Complex<f64>,
 }
 
-/// The design transfer function of `method` at `ω` for the bandwidth `β`.
+/// The design transfer function of `method` at `ω` for the bandwidth `β`
+/// ([`ObserverDesign::of`](crate::linear::ObserverDesign::of)); zero for none and pid.
 pub fn design(method: Method, beta: f64, omega: f64) -> Complex<f64> {
-    let s = Complex::new(0.0, omega);
-    match method {
-        Method::Lu => {
-            let zeta = hya_core::filter::PAPER_ZETA;
-            Complex::new(beta * beta * beta, 0.0) / ((s + beta) * (s * s + s * (2.0 * zeta * beta) + beta * beta))
-        }
-        Method::Chen | Method::Momentum => Complex::new(beta, 0.0) / (s + beta),
-        Method::Eso => {
-            let pole = s + beta;
-            Complex::new(beta * beta * beta, 0.0) / (pole * pole * pole)
-        }
-        Method::None | Method::Pid => Complex::new(0.0, 0.0),
-    }
+    crate::linear::ObserverDesign::of(method, beta).map_or(Complex::new(0.0, 0.0), |d| d.response(omega))
 }
 
 /// The complex amplitude of `x` at `ω` over the samples `(t, x)`: `(2/N) Σ x e^{−jωt}`.

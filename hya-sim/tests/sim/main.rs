@@ -8,6 +8,7 @@ mod claims;
 mod experiments;
 mod frequency;
 mod integration_step;
+mod linear;
 mod mujoco_reference;
 mod plant;
 mod scenario_validation;

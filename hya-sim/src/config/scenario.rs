@@ -424,6 +424,9 @@ pub struct HydraulicConfig {
     pub torque_integral_ratio: f64,
     /// Fraction of the piston flow `D̄ q̇` the inner loop feeds forward to the valve (0 to 2).
     pub velocity_compensation: f64,
+    /// The inner torque loop's sample rate, Hz (1 to 1e6): it runs at `k / rate` and holds its
+    /// valve command between samples (HyQ's runs at 1 kHz).
+    pub torque_loop_rate_hz: f64,
 }
 
 impl Default for HydraulicConfig {
@@ -444,6 +447,7 @@ impl Default for HydraulicConfig {
             torque_bandwidth_hz: vec![40.0; 6],
             torque_integral_ratio: 0.2,
             velocity_compensation: 1.0,
+            torque_loop_rate_hz: 1000.0,
         }
     }
 }
@@ -561,7 +565,7 @@ fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
 /// outside is refused unless the scenario sets `allow_unphysical = true`. Per-joint lists are
 /// checked entry by entry. The ranges are wide (orders of magnitude around HyA's and the electric
 /// arms' figures); they catch unit mistakes, not design choices.
-pub const PLAUSIBLE: [(&str, f64, f64, &str); 27] = [
+pub const PLAUSIBLE: [(&str, f64, f64, &str); 28] = [
     ("plant.coulomb_nm", 0.0, 1e4, "N·m"),
     ("plant.static_nm", 0.0, 1e4, "N·m"),
     ("plant.viscous_nm_s", 0.0, 1e4, "N·m·s/rad"),
@@ -585,6 +589,7 @@ pub const PLAUSIBLE: [(&str, f64, f64, &str); 27] = [
     ("plant.hydraulic.torque_bandwidth_hz", 0.1, 1e3, "Hz"),
     ("plant.hydraulic.torque_integral_ratio", 0.0, 10.0, ""),
     ("plant.hydraulic.velocity_compensation", 0.0, 2.0, ""),
+    ("plant.hydraulic.torque_loop_rate_hz", 50.0, 1e5, "Hz"),
     ("sensors.velocity_cutoff_rad_s", 1.0, 1e5, "rad/s"),
     ("sensors.pressure_noise_pa", 0.0, 1e7, "Pa"),
     ("sensors.pressure_offset_pa", 0.0, 1e7, "Pa"),

@@ -66,7 +66,8 @@ pub struct FrictionLists<const N: usize> {
     pub bristles: Option<(JointVector<N>, JointVector<N>)>,
 }
 
-/// The hydraulic actuators' per-joint figures (see [`HydraulicConfig`] for units).
+/// The hydraulic actuators' per-joint figures and the inner torque loop's settings, checked
+/// (see [`HydraulicConfig`] for units).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HydraulicLists<const N: usize> {
     /// Cap-side displacement `D_a`, m³/rad.
@@ -85,11 +86,24 @@ pub struct HydraulicLists<const N: usize> {
     pub null_bias: JointVector<N>,
     /// Leakage `C_l ≥ 0`, m³/(s·Pa).
     pub leakage: JointVector<N>,
+    /// The inner torque loop's sample rate, Hz, within [`TORQUE_LOOP_RATE_HZ`].
+    pub torque_loop_rate_hz: f64,
 }
 
+/// The inner torque loop's sample rates simulated, Hz: from 1 Hz to 1 MHz (each sample above
+/// the physics step's rate costs an RK4 step).
+pub const TORQUE_LOOP_RATE_HZ: (f64, f64) = (1.0, 1e6);
+
 impl<const N: usize> HydraulicLists<N> {
-    /// Checks and converts the per-joint figures of `h`.
+    /// Checks and converts the per-joint figures and the inner loop's settings of `h`.
     pub fn of(h: &HydraulicConfig) -> Result<Self, SimError> {
+        let scalar = |name: &str, v: f64, ok: fn(f64) -> bool, requirement: &str| {
+            if v.is_finite() && ok(v) {
+                Ok(v)
+            } else {
+                Err(SettingError::new(format!("plant.hydraulic.{name}"), Some(v), requirement))
+            }
+        };
         let positive = |name: &str, values: &[f64]| {
             let key = format!("plant.hydraulic.{name}");
             each(&key, per_joint::<N>(&key, values)?, |v| v > 0.0, "must be > 0")
@@ -112,6 +126,12 @@ impl<const N: usize> HydraulicLists<N> {
                 per_joint("plant.hydraulic.leakage_m3_s_pa", &h.leakage_m3_s_pa)?,
                 |l| l >= 0.0,
                 "must be ≥ 0",
+            )?,
+            torque_loop_rate_hz: scalar(
+                "torque_loop_rate_hz",
+                h.torque_loop_rate_hz,
+                |r| (TORQUE_LOOP_RATE_HZ.0..=TORQUE_LOOP_RATE_HZ.1).contains(&r),
+                "must be finite, between 1 and 1e6 Hz",
             )?,
         })
     }

@@ -5,7 +5,7 @@
 //! pressures `p_a, p_b` and the joint angle `q`:
 //!
 //! ```text
-//! ẍ_v = ω_v² (sat(u) + b − x_v) − 2 ζ_v ω_v ẋ_v                 spool, second order
+//! ẍ_v = ω_v² (u_k + b − x_v) − 2 ζ_v ω_v ẋ_v                   spool, second order
 //! Q(Δp) = K_v Δp / (Δp² + δ²)^{1/4}                            orifice, ≈ K_v sgn(Δp) √|Δp|
 //! x_v ≥ 0: Q_a = x_v Q(p_s − p_a),   Q_b = −x_v Q(p_b − p_t)
 //! x_v < 0: Q_a = x_v Q(p_a − p_t),   Q_b = −x_v Q(p_s − p_b)
@@ -14,21 +14,38 @@
 //! ṗ_a = β / V_a (Q_a − Q_l − D_a q̇)
 //! ṗ_b = β / V_b (Q_b + Q_l + D_b q̇)
 //! τ_h = D_a p_a − D_b p_b                                         torque on the joint
-//! e = τ_ref − τ_h,   u = K_τ (e + ω_i ∫e dt) + k_vc D̄ q̇ / K_q        inner torque loop (PI)
 //! ```
 //!
 //! `D_a = A_a r` is the cap side's displacement per radian (piston area times lever arm for a
 //! cylinder, vane displacement for a rotary actuator), `D_b = α D_a` the rod side's; `K_q =
-//! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`. The
-//! loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range (where
-//! `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ = ω_τ / K_lock`; the integral
-//! term (zero at `ω_i`, a fraction of `ω_τ`) removes the steady error that leakage leaves; it
-//! stops integrating once its share alone opens the valve fully (conditional integration, an
-//! anti-windup). The loop reads the true chamber pressures (its analogue electronics are taken
-//! as exact); the controller's measured torque carries the sensors' offsets and noise. On a moving load the
-//! piston's own motion feeds back on the pressures, so the achieved torque bandwidth depends on
-//! the inertia the joint carries and on its pose: it falls out of the model. The lever arm is
-//! taken constant over the stroke (a real cylinder's varies with angle).
+//! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`.
+//!
+//! **The inner torque loop** is digital, as on HyQ: it runs at the sample instants `t_k = k T_s`
+//! (`T_s = 1 / f_s`, `f_s` = `torque_loop_rate_hz`, counted from the plant's time 0) and holds
+//! its valve command `u_k` until the next (a zero-order hold). `u_k` and the integral `I_k` are
+//! part of [`HydraulicState`] but not integrated: RK4 carries them unchanged. A physics step
+//! that spans a sample instant is split there ([`crate::plant::Plant::step`]), so every rate is
+//! exact and none is refused for not dividing the physics step; a rate above the physics step's
+//! costs one RK4 step per sample. At `t_k`:
+//!
+//! ```text
+//! e_k = τ_ref − τ_h(p_a, p_b)
+//! v_k = q̇(t_k)
+//! u_k = sat(K_τ (e_k + ω_i I_k) + k_vc D̄ v_k / K_q)
+//! I_{k+1} = I_k + T_s e_k,  unless |K_τ ω_i I_k| ≥ 1 and K_τ ω_i I_k e_k > 0      (anti-windup)
+//! ```
+//!
+//! The loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range,
+//! in continuous time (where `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ =
+//! ω_τ / K_lock`; the integral term (zero at `ω_i`, a fraction of `ω_τ`) removes the steady error
+//! that leakage leaves; it stops integrating once its share alone opens the valve fully
+//! (conditional integration, an anti-windup). Sampling adds a delay of about `T_s/2` that the
+//! design does not see. As `T_s → 0` the loop becomes the continuous one of
+//! [`HydraulicActuators::derivative`] (`u = sat(K_τ (e + ω_i ∫e dt) + k_vc D̄ q̇ / K_q)` on the
+//! true pressures and velocity), the design's reference. On a moving load the piston's own
+//! motion feeds back on the pressures, so the achieved torque bandwidth depends on the inertia
+//! the joint carries and on its pose: it falls out of the model. The lever arm is taken constant
+//! over the stroke (a real cylinder's varies with angle).
 
 use hya_core::JointVector;
 
@@ -51,15 +68,18 @@ pub struct HydraulicState<const N: usize> {
     pub pressure_a: JointVector<N>,
     /// Rod-side chamber pressure, Pa.
     pub pressure_b: JointVector<N>,
-    /// The inner loop's integral of the torque error, N·m·s.
+    /// The inner loop's integral of the torque error `I_k`, N·m·s: held between samples (the
+    /// continuous loop of [`HydraulicActuators::derivative`] integrates it).
     pub torque_integral: JointVector<N>,
+    /// The inner loop's valve command `u_k`, fraction of full opening: held between samples.
+    pub command: JointVector<N>,
 }
 
 impl<const N: usize> HydraulicState<N> {
     /// All zero (the rates of a resting actuator, or an unused state).
     pub fn zeros() -> Self {
         let z = JointVector::zeros();
-        Self { spool: z, spool_rate: z, pressure_a: z, pressure_b: z, torque_integral: z }
+        Self { spool: z, spool_rate: z, pressure_a: z, pressure_b: z, torque_integral: z, command: z }
     }
 
     /// `self + a k`, field by field.
@@ -70,12 +90,13 @@ impl<const N: usize> HydraulicState<N> {
             pressure_a: self.pressure_a + k.pressure_a * a,
             pressure_b: self.pressure_b + k.pressure_b * a,
             torque_integral: self.torque_integral + k.torque_integral * a,
+            command: self.command + k.command * a,
         }
     }
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        [self.spool, self.spool_rate, self.pressure_a, self.pressure_b, self.torque_integral]
+        [self.spool, self.spool_rate, self.pressure_a, self.pressure_b, self.torque_integral, self.command]
             .iter()
             .all(|v| v.iter().all(|x| x.is_finite()))
     }
@@ -109,14 +130,22 @@ struct Joint {
     velocity_compensation: f64,
 }
 
-/// The actuators of all joints, with the supply they share.
+/// The actuators of all joints, with the supply they share, and the inner loops' sample clock.
 #[derive(Debug, Clone)]
 pub struct HydraulicActuators<const N: usize> {
     joints: [Joint; N],
     supply: f64,
     tank: f64,
     bulk_modulus: f64,
+    /// `T_s`, s.
+    period: f64,
+    /// `k` of the next sample instant `k T_s`.
+    next_sample: u64,
 }
+
+/// Sample instants within this fraction of `T_s` of the plant's time count as now (the time is
+/// a sum of sub-steps, so it meets `k T_s` only to rounding).
+pub const SAMPLE_TOLERANCE: f64 = 1e-6;
 
 /// `Q(Δp) / K_v = Δp / (Δp² + δ²)^{1/4}`, √Pa.
 fn orifice_law(drop: f64) -> f64 {
@@ -156,6 +185,7 @@ impl<const N: usize> HydraulicActuators<N> {
             torque_bandwidth_hz: bandwidth_hz,
             null_bias: bias,
             leakage,
+            ..
         } = lists;
         let rated_drop = positive("valve_rated_drop_pa", config.valve_rated_drop_pa)?;
         let valve_damping = positive("valve_damping_ratio", config.valve_damping_ratio)?;
@@ -165,6 +195,7 @@ impl<const N: usize> HydraulicActuators<N> {
                 SettingError::new("plant.hydraulic.torque_integral_ratio", Some(ratio_i), "must be in [0, 1]").into()
             );
         }
+        let period = 1.0 / lists.torque_loop_rate_hz;
         let compensation = config.velocity_compensation;
         if !(0.0..=2.0).contains(&compensation) {
             return Err(SettingError::new(
@@ -201,7 +232,7 @@ impl<const N: usize> HydraulicActuators<N> {
                 compensation * 0.5 * (joint.displacement_a + joint.displacement_b) / flow_gain;
             joint
         });
-        Ok(Self { joints, supply, tank, bulk_modulus })
+        Ok(Self { joints, supply, tank, bulk_modulus, period, next_sample: 0 })
     }
 
     /// Supply and tank pressure, Pa.
@@ -220,7 +251,7 @@ impl<const N: usize> HydraulicActuators<N> {
     /// The actuators at rest holding `tau0` in equilibrium: chamber pressures with `p_a + p_b =
     /// p_s + p_t` (equal drops across the two lands) and `τ_h = τ0`; the spool opened just
     /// enough to feed the leakage, `x_v Q(p_s − p_a) = C_l (p_a − p_b)`; the loop's integral
-    /// holding that opening with no torque error.
+    /// holding that opening with no torque error, and commanding it.
     pub fn holding(&self, tau0: &JointVector<N>) -> HydraulicState<N> {
         let sum = self.supply + self.tank;
         let mut state = HydraulicState::zeros();
@@ -235,9 +266,10 @@ impl<const N: usize> HydraulicActuators<N> {
             state.pressure_a[i] = pa;
             state.pressure_b[i] = pb;
             state.spool[i] = opening;
+            state.command[i] = opening - j.null_bias;
             let integral_gain = j.torque_gain * j.integral_rate;
             if integral_gain > 0.0 {
-                state.torque_integral[i] = (opening - j.null_bias) / integral_gain;
+                state.torque_integral[i] = state.command[i] / integral_gain;
             }
         }
         state
@@ -248,8 +280,11 @@ impl<const N: usize> HydraulicActuators<N> {
         self.joints[i].volumes(q)
     }
 
-    /// The time derivative of the hydraulic state with the torque reference `τ_ref` held, for
-    /// the joints at `q, q̇`.
+    /// The time derivative of the hydraulic state under the continuous-time inner loop, the
+    /// design's reference and the sampled loop's limit as `T_s → 0`: with the torque reference
+    /// `τ_ref` held, the loop reads the true pressures and the true `q̇` of the joints at `q, q̇`
+    /// and integrates its error; `command` is left as it is. The plant runs
+    /// [`Self::held_derivative`] and [`Self::sample`] instead.
     pub fn derivative(
         &self,
         tau_ref: &JointVector<N>,
@@ -261,21 +296,85 @@ impl<const N: usize> HydraulicActuators<N> {
         let mut rate = HydraulicState::zeros();
         for (i, j) in self.joints.iter().enumerate() {
             let error = tau_ref[i] - torque[i];
-            // Anti-windup: the integral stops growing once its share alone opens the valve fully.
-            let integral_share = j.torque_gain * j.integral_rate * s.torque_integral[i];
-            rate.torque_integral[i] =
-                if integral_share.abs() >= 1.0 && integral_share * error > 0.0 { 0.0 } else { error };
-            let command = (j.torque_gain * error + integral_share + j.velocity_compensation * qd[i]).clamp(-1.0, 1.0);
-            rate.spool[i] = s.spool_rate[i];
-            rate.spool_rate[i] = j.valve_frequency * j.valve_frequency * (command + j.null_bias - s.spool[i])
-                - 2.0 * j.valve_damping * j.valve_frequency * s.spool_rate[i];
-            let (flow_a, flow_b) = self.valve_flows(j, s.spool[i], s.pressure_a[i], s.pressure_b[i]);
-            let leak = j.leakage * (s.pressure_a[i] - s.pressure_b[i]);
-            let (va, vb) = j.volumes(q[i]);
-            rate.pressure_a[i] = self.bulk_modulus / va * (flow_a - leak - j.displacement_a * qd[i]);
-            rate.pressure_b[i] = self.bulk_modulus / vb * (flow_b + leak + j.displacement_b * qd[i]);
+            let (command, integrating) = j.loop_law(error, s.torque_integral[i], qd[i]);
+            rate.torque_integral[i] = if integrating { error } else { 0.0 };
+            self.physics_rate(i, command, q[i], qd[i], s, &mut rate);
         }
         rate
+    }
+
+    /// The time derivative of the hydraulic state between two samples of the inner loop, for
+    /// the joints at `q, q̇`: the valve follows the held command `u_k`; the command and the
+    /// integral do not change.
+    pub fn held_derivative(&self, q: &JointVector<N>, qd: &JointVector<N>, s: &HydraulicState<N>) -> HydraulicState<N> {
+        let mut rate = HydraulicState::zeros();
+        for i in 0..N {
+            self.physics_rate(i, s.command[i], q[i], qd[i], s, &mut rate);
+        }
+        rate
+    }
+
+    /// Joint `i`'s spool and chamber rates in `rate` with the valve commanded to `command`.
+    fn physics_rate(
+        &self,
+        i: usize,
+        command: f64,
+        q: f64,
+        qd: f64,
+        s: &HydraulicState<N>,
+        rate: &mut HydraulicState<N>,
+    ) {
+        let j = &self.joints[i];
+        rate.spool[i] = s.spool_rate[i];
+        rate.spool_rate[i] = j.valve_frequency * j.valve_frequency * (command + j.null_bias - s.spool[i])
+            - 2.0 * j.valve_damping * j.valve_frequency * s.spool_rate[i];
+        let (flow_a, flow_b) = self.valve_flows(j, s.spool[i], s.pressure_a[i], s.pressure_b[i]);
+        let leak = j.leakage * (s.pressure_a[i] - s.pressure_b[i]);
+        let (va, vb) = j.volumes(q);
+        rate.pressure_a[i] = self.bulk_modulus / va * (flow_a - leak - j.displacement_a * qd);
+        rate.pressure_b[i] = self.bulk_modulus / vb * (flow_b + leak + j.displacement_b * qd);
+    }
+
+    /// The inner loops' sample period `T_s`, s.
+    pub fn sample_period(&self) -> f64 {
+        self.period
+    }
+
+    /// The time of the inner loops' next sample, s.
+    pub fn next_sample_time(&self) -> f64 {
+        self.next_sample as f64 * self.period
+    }
+
+    /// Whether the inner loops sample at `time`: their next instant is `time` (to rounding) or
+    /// past, or `time` went back by more than a period (a state restored to an earlier time).
+    pub fn sample_due(&self, time: f64) -> bool {
+        let next = self.next_sample_time();
+        next <= time + SAMPLE_TOLERANCE * self.period || next > time + 2.0 * self.period
+    }
+
+    /// Runs the inner loops once at `time`, a sample instant, with the torque reference
+    /// `τ_ref`, the joints at `q, q̇` and the hydraulic state `s`: sets the held command
+    /// `u_k`, updates the integral and moves the clock to the next instant after `time`.
+    pub fn sample(
+        &mut self,
+        time: f64,
+        tau_ref: &JointVector<N>,
+        _q: &JointVector<N>,
+        qd: &JointVector<N>,
+        s: &mut HydraulicState<N>,
+    ) {
+        for (i, j) in self.joints.iter().enumerate() {
+            let torque = j.displacement_a * s.pressure_a[i] - j.displacement_b * s.pressure_b[i];
+            let error = tau_ref[i] - torque;
+            let (command, integrating) = j.loop_law(error, s.torque_integral[i], qd[i]);
+            s.command[i] = command;
+            if integrating {
+                s.torque_integral[i] += self.period * error;
+            }
+        }
+        let k = (time / self.period + SAMPLE_TOLERANCE).floor().max(0.0);
+        // Saturates for an absurd time rather than wrapping.
+        self.next_sample = (k as u64).saturating_add(1);
     }
 
     /// `(Q_a, Q_b)` into the chambers through a valve opened by `x` (clamped to ±1), m³/s.
@@ -313,6 +412,17 @@ impl<const N: usize> HydraulicActuators<N> {
 }
 
 impl Joint {
+    /// The inner loop's valve command for the torque error `e`, the integral `I` and the
+    /// velocity `v`: `sat(K_τ (e + ω_i I) + k_vc D̄ v / K_q)`; and whether the integral may
+    /// grow (the anti-windup: not once its share alone opens the valve fully and `e` pushes
+    /// it further).
+    fn loop_law(&self, error: f64, integral: f64, velocity: f64) -> (f64, bool) {
+        let integral_share = self.torque_gain * self.integral_rate * integral;
+        let integrating = !(integral_share.abs() >= 1.0 && integral_share * error > 0.0);
+        let command = self.torque_gain * error + integral_share + self.velocity_compensation * velocity;
+        (command.clamp(-1.0, 1.0), integrating)
+    }
+
     fn volumes(&self, q: f64) -> (f64, f64) {
         let a = self.dead_volume + self.displacement_a * (q - self.lower).max(0.0);
         let b = self.dead_volume + self.displacement_b * (self.upper - q).max(0.0);

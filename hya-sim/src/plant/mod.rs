@@ -7,8 +7,13 @@
 //! ```
 //!
 //! `τ_act` comes from the actuator model: hydraulic ([`hydraulic`]: valve, chamber pressures,
-//! inner torque loop), a first-order lag `τ̇_act = (τ_cmd − τ_act) / T` (the first testbed's),
-//! or ideal (`τ_act = τ_cmd`). `τ_f` is LuGre or the smooth model ([`friction`]).
+//! a sampled inner torque loop), a first-order lag `τ̇_act = (τ_cmd − τ_act) / T` (the first
+//! testbed's), or ideal (`τ_act = τ_cmd`). `τ_f` is LuGre or the smooth model ([`friction`]).
+//!
+//! The hydraulic inner loop is discrete: at each of its sample instants `k T_s` the plant runs
+//! it once ([`HydraulicActuators::sample`]) and RK4 then integrates with its valve command held;
+//! a step that spans a sample instant is split there, so the loop samples exactly on time
+//! whatever the physics step.
 
 pub mod friction;
 pub mod hydraulic;
@@ -257,7 +262,7 @@ impl<const N: usize> Plant<N> {
             Actuators::Lag(time_constant) => {
                 ((tau_cmd - s.lag_torque).component_div(time_constant), HydraulicState::zeros())
             }
-            Actuators::Hydraulic(h) => (JointVector::zeros(), h.derivative(tau_cmd, &s.q, &s.qd, &s.hydraulic)),
+            Actuators::Hydraulic(h) => (JointVector::zeros(), h.held_derivative(&s.q, &s.qd, &s.hydraulic)),
         };
         Ok(PlantState { q: s.qd, qd: qdd, bristle, lag_torque, hydraulic })
     }
@@ -266,6 +271,7 @@ impl<const N: usize> Plant<N> {
     /// `τ_cmd` held, and returns the joint accelerations at its start: the first RK4 stage,
     /// evaluated once for both.
     pub fn advance(&mut self, dt: f64, substeps: usize, tau_cmd: &JointVector<N>) -> Result<JointVector<N>, SimError> {
+        self.sample_if_due(tau_cmd);
         let start = self.derivative(self.time, &self.state, tau_cmd)?;
         let h = dt / substeps.max(1) as f64;
         self.step_from(h, tau_cmd, Some(start))?;
@@ -277,7 +283,9 @@ impl<const N: usize> Plant<N> {
 
     /// Advances by `h` with the command `τ_cmd` held: classic RK4, in as many equal sub-steps
     /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the bristles' relaxation rate `λ` at the
-    /// start (at most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly.
+    /// start (at most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly. Hydraulic
+    /// actuators' inner loops run at each of their sample instants on the way, the sub-steps
+    /// split there.
     pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
         self.step_from(h, tau_cmd, None)
     }
@@ -292,9 +300,39 @@ impl<const N: usize> Plant<N> {
         // The known derivative is the first stage of the first cycle, whatever its length.
         let mut first = start;
         for _ in 0..cycles {
-            self.rk4(h / cycles as f64, tau_cmd, first.take())?;
+            self.rk4_sampled(h / cycles as f64, tau_cmd, first.take())?;
         }
         Ok(())
+    }
+
+    /// Runs the hydraulic inner loops if one of their sample instants is now; whether they ran.
+    fn sample_if_due(&mut self, tau_cmd: &JointVector<N>) -> bool {
+        match &mut self.actuators {
+            Actuators::Hydraulic(h) if h.sample_due(self.time) => {
+                let s = &mut self.state;
+                h.sample(self.time, tau_cmd, &s.q, &s.qd, &mut s.hydraulic);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// [`Plant::rk4`] over `h`, split at the hydraulic inner loops' sample instants, which run
+    /// the loops; one step of `h` for the other actuators.
+    fn rk4_sampled(&mut self, h: f64, tau_cmd: &JointVector<N>, mut k1: Option<PlantState<N>>) -> Result<(), SimError> {
+        let mut left = h;
+        loop {
+            if self.sample_if_due(tau_cmd) {
+                k1 = None;
+            }
+            let Actuators::Hydraulic(actuators) = &self.actuators else { return self.rk4(left, tau_cmd, k1) };
+            let to_sample = actuators.next_sample_time() - self.time;
+            if to_sample >= left - hydraulic::SAMPLE_TOLERANCE * actuators.sample_period() {
+                return self.rk4(left, tau_cmd, k1);
+            }
+            self.rk4(to_sample, tau_cmd, k1.take())?;
+            left -= to_sample;
+        }
     }
 
     /// One classic RK4 step of length `h` with the command `τ_cmd` held; `k1` is the state's

@@ -13,3 +13,4 @@ mod mujoco_reference;
 mod plant;
 mod scenario_validation;
 mod sweep;
+mod torque_loop;

@@ -17,11 +17,16 @@ const INERTIA: f64 = 0.05;
 
 /// A 1 kg link whose joint turns about the base's vertical axis, range ±1.5 rad.
 fn turntable() -> hya_core::model::TreeModel {
+    turntable_of(INERTIA)
+}
+
+/// [`turntable`] with `inertia` about the joint axis, kg·m².
+pub(super) fn turntable_of(inertia: f64) -> hya_core::model::TreeModel {
     let urdf = format!(
         r#"<robot name="turntable">
   <link name="base"/>
   <link name="arm">
-    <inertial><mass value="1"/><origin xyz="0 0 0"/><inertia ixx="0.01" iyy="0.01" izz="{INERTIA}" ixy="0" ixz="0" iyz="0"/></inertial>
+    <inertial><mass value="1"/><origin xyz="0 0 0"/><inertia ixx="0.01" iyy="0.01" izz="{inertia}" ixy="0" ixz="0" iyz="0"/></inertial>
   </link>
   <joint name="turn" type="revolute">
     <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
@@ -54,7 +59,8 @@ fn one_joint(friction: FrictionKind, actuator: ActuatorKind, variation: f64) -> 
     }
 }
 
-fn one_joint_hydraulics() -> HydraulicConfig {
+/// HyA's third joint's actuator, from the default figures.
+pub(super) fn one_joint_hydraulics() -> HydraulicConfig {
     let d = HydraulicConfig::default();
     let first = |v: &Vec<f64>| vec![v[2]];
     HydraulicConfig {
@@ -152,7 +158,14 @@ fn pack(s: &HydraulicState<1>) -> SVector<f64, 5> {
 
 fn unpack(x: &SVector<f64, 5>) -> HydraulicState<1> {
     let v = |k: usize| JointVector::from([x[k]]);
-    HydraulicState { spool: v(0), spool_rate: v(1), pressure_a: v(2), pressure_b: v(3), torque_integral: v(4) }
+    HydraulicState {
+        spool: v(0),
+        spool_rate: v(1),
+        pressure_a: v(2),
+        pressure_b: v(3),
+        torque_integral: v(4),
+        ..HydraulicState::zeros()
+    }
 }
 
 #[test]

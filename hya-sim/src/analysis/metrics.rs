@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use hya_core::JointVector;
 
+use crate::analysis::shadow::{shadow_metrics, ShadowMetrics};
 use crate::config::scenario::{Scenario, Task};
 use crate::run::trace::Trace;
 
@@ -44,6 +45,16 @@ fn quiet_from(scenario: &Scenario, event_s: f64) -> f64 {
     }
 }
 
+/// The names [`Metrics::named`] gives the shadow estimators' figures: per estimator of
+/// [`crate::run::trace::SHADOWS`], its RMSE against `d`, against its design, its noise, its error
+/// in the load's band.
+pub const SHADOW_METRIC_NAMES: [[&str; 4]; 4] = [
+    ["shadow_lu_rmse_d", "shadow_lu_rmse_design", "shadow_lu_noise", "shadow_lu_band_error"],
+    ["shadow_chen_rmse_d", "shadow_chen_rmse_design", "shadow_chen_noise", "shadow_chen_band_error"],
+    ["shadow_momentum_rmse_d", "shadow_momentum_rmse_design", "shadow_momentum_noise", "shadow_momentum_band_error"],
+    ["shadow_eso_rmse_d", "shadow_eso_rmse_design", "shadow_eso_noise", "shadow_eso_band_error"],
+];
+
 /// Per-joint figures of one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Metrics {
@@ -79,6 +90,9 @@ pub struct Metrics {
     pub estimate_velocity_correlation: Option<Vec<f64>>,
     /// `|mean d̂|`, N·m (a static-friction bias).
     pub estimate_mean_abs: Option<Vec<f64>>,
+    /// Every shadow estimator's figures ([`crate::run::trace::SHADOWS`] order), on this run's
+    /// measurements.
+    pub shadow: [ShadowMetrics; 4],
 }
 
 /// Per-joint `sqrt(mean(x²))` over the samples.
@@ -219,6 +233,7 @@ impl Metrics {
             }),
             estimate_mean_abs: has_estimate
                 .then(|| mean_over(start..trace.time.len(), |k| trace.d_hat[k]).iter().map(|m| m.abs()).collect()),
+            shadow: shadow_metrics(trace, scenario, start),
         }
     }
 
@@ -243,6 +258,13 @@ impl Metrics {
             ("estimate_mean_abs", &self.estimate_mean_abs),
         ];
         all.extend(optional.into_iter().filter_map(|(n, v)| v.as_deref().map(|v| (n, v))));
+        for (names, shadow) in SHADOW_METRIC_NAMES.iter().zip(&self.shadow) {
+            let values =
+                [Some(&shadow.rmse_d), Some(&shadow.rmse_design), Some(&shadow.noise), shadow.band_error.as_ref()];
+            all.extend(
+                names.iter().zip(values).filter_map(|(n, v)| v.filter(|v| !v.is_empty()).map(|v| (*n, v.as_slice()))),
+            );
+        }
         all
     }
 }

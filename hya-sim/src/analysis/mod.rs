@@ -6,4 +6,5 @@ pub mod claims;
 pub mod metrics;
 pub mod outcome;
 pub mod seeds;
+pub mod shadow;
 pub mod sweep;

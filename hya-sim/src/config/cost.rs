@@ -23,8 +23,9 @@ pub const MAX_PHYSICS_STEPS: f64 = 3e9;
 /// The most trace memory a command holds without `--no-cost-limit`, bytes (4 GiB).
 pub const MAX_TRACE_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
-/// Bytes of trace per control tick for the largest arm: time and five joint vectors.
-const TRACE_BYTES_PER_TICK: f64 = (8 * (1 + 5 * MAX_JOINTS)) as f64;
+/// Bytes of trace per control tick for the largest arm: time and nine joint vectors (`q`,
+/// `q_des`, `d`, `d̂`, `τ_cmd` and the four shadow estimates).
+const TRACE_BYTES_PER_TICK: f64 = (8 * (1 + 9 * MAX_JOINTS)) as f64;
 
 /// The cost of running every method of every scenario over some seeds.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -21,7 +21,7 @@ use crate::plant::{perturbed, Plant};
 use crate::robot::Robot;
 use sensors::Sensors;
 use task::Trajectory;
-use trace::Trace;
+use trace::{Trace, SHADOWS};
 
 pub mod rollout;
 pub mod sensors;
@@ -208,6 +208,13 @@ pub fn closed_loop<const N: usize>(
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };
+    // Shadow mode: every estimator on the same measurements, none acting on the loop.
+    let mut shadows = Vec::with_capacity(SHADOWS.len());
+    for method in SHADOWS {
+        if let Some((shadow, _)) = observer(method, nominal, (bandwidth, dt), &readings[0])? {
+            shadows.push(shadow);
+        }
+    }
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let mut integral = (method == Method::Pid)
         .then(|| IntegralAction::new(integral_gain(&gains, &inertia, scenario, &joints).0, scenario, &joints))
@@ -230,6 +237,9 @@ pub fn closed_loop<const N: usize>(
             Some(o) => *o.disturbance(),
             None => JointVector::zeros(),
         };
+        for (shadow, series) in shadows.iter_mut().zip(trace.shadow.iter_mut()) {
+            series.push(if k > 0 { shadow.update(&measurement).map_err(at)? } else { *shadow.disturbance() });
+        }
         let velocity = measurement.velocity.unwrap_or_else(JointVector::zeros);
         let reference = trajectory.at(t);
         // The PID's integral enters where d̂ does: τ = … − K_P e − K_I ∫e.

@@ -22,6 +22,7 @@ fn with_rmse(values: [f64; 6]) -> Metrics {
         estimate_shift: None,
         estimate_velocity_correlation: None,
         estimate_mean_abs: None,
+        shadow: Default::default(),
     }
 }
 

@@ -427,6 +427,12 @@ pub struct HydraulicConfig {
     /// The inner torque loop's sample rate, Hz (1 to 1e6): it runs at `k / rate` and holds its
     /// valve command between samples (HyQ's runs at 1 kHz).
     pub torque_loop_rate_hz: f64,
+    /// Standard deviation of the noise of each pressure transducer the inner loop reads, Pa
+    /// (fresh at every sample; as `sensors.pressure_noise_pa` by default).
+    pub torque_loop_pressure_noise_pa: f64,
+    /// Bound of each of those transducers' constant offsets (uniform, seeded), Pa (as
+    /// `sensors.pressure_offset_pa` by default).
+    pub torque_loop_pressure_offset_pa: f64,
 }
 
 impl Default for HydraulicConfig {
@@ -448,6 +454,8 @@ impl Default for HydraulicConfig {
             torque_integral_ratio: 0.2,
             velocity_compensation: 1.0,
             torque_loop_rate_hz: 1000.0,
+            torque_loop_pressure_noise_pa: 1e4,
+            torque_loop_pressure_offset_pa: 2.5e4,
         }
     }
 }
@@ -565,7 +573,7 @@ fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
 /// outside is refused unless the scenario sets `allow_unphysical = true`. Per-joint lists are
 /// checked entry by entry. The ranges are wide (orders of magnitude around HyA's and the electric
 /// arms' figures); they catch unit mistakes, not design choices.
-pub const PLAUSIBLE: [(&str, f64, f64, &str); 28] = [
+pub const PLAUSIBLE: [(&str, f64, f64, &str); 30] = [
     ("plant.coulomb_nm", 0.0, 1e4, "N·m"),
     ("plant.static_nm", 0.0, 1e4, "N·m"),
     ("plant.viscous_nm_s", 0.0, 1e4, "N·m·s/rad"),
@@ -590,6 +598,8 @@ pub const PLAUSIBLE: [(&str, f64, f64, &str); 28] = [
     ("plant.hydraulic.torque_integral_ratio", 0.0, 10.0, ""),
     ("plant.hydraulic.velocity_compensation", 0.0, 2.0, ""),
     ("plant.hydraulic.torque_loop_rate_hz", 50.0, 1e5, "Hz"),
+    ("plant.hydraulic.torque_loop_pressure_noise_pa", 0.0, 1e7, "Pa"),
+    ("plant.hydraulic.torque_loop_pressure_offset_pa", 0.0, 1e7, "Pa"),
     ("sensors.velocity_cutoff_rad_s", 1.0, 1e5, "rad/s"),
     ("sensors.pressure_noise_pa", 0.0, 1e7, "Pa"),
     ("sensors.pressure_offset_pa", 0.0, 1e7, "Pa"),

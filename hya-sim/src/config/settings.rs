@@ -88,6 +88,10 @@ pub struct HydraulicLists<const N: usize> {
     pub leakage: JointVector<N>,
     /// The inner torque loop's sample rate, Hz, within [`TORQUE_LOOP_RATE_HZ`].
     pub torque_loop_rate_hz: f64,
+    /// Its pressure transducers' noise (standard deviation, ≥ 0), Pa.
+    pub torque_loop_pressure_noise_pa: f64,
+    /// Their offsets' bound (≥ 0), Pa.
+    pub torque_loop_pressure_offset_pa: f64,
 }
 
 /// The inner torque loop's sample rates simulated, Hz: from 1 Hz to 1 MHz (each sample above
@@ -132,6 +136,18 @@ impl<const N: usize> HydraulicLists<N> {
                 h.torque_loop_rate_hz,
                 |r| (TORQUE_LOOP_RATE_HZ.0..=TORQUE_LOOP_RATE_HZ.1).contains(&r),
                 "must be finite, between 1 and 1e6 Hz",
+            )?,
+            torque_loop_pressure_noise_pa: scalar(
+                "torque_loop_pressure_noise_pa",
+                h.torque_loop_pressure_noise_pa,
+                |v| v >= 0.0,
+                "must be finite and ≥ 0",
+            )?,
+            torque_loop_pressure_offset_pa: scalar(
+                "torque_loop_pressure_offset_pa",
+                h.torque_loop_pressure_offset_pa,
+                |v| v >= 0.0,
+                "must be finite and ≥ 0",
             )?,
         })
     }

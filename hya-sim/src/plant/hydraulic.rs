@@ -21,19 +21,28 @@
 //! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`.
 //!
 //! **The inner torque loop** is digital, as on HyQ: it runs at the sample instants `t_k = k T_s`
-//! (`T_s = 1 / f_s`, `f_s` = `torque_loop_rate_hz`, counted from the plant's time 0) and holds
-//! its valve command `u_k` until the next (a zero-order hold). `u_k` and the integral `I_k` are
+//! (`T_s = 1 / f_s`, `f_s` = `torque_loop_rate_hz`, counted from the plant's time 0) on measured
+//! pressures and holds its valve command `u_k` until the next (a zero-order hold). `u_k` and the integral `I_k` are
 //! part of [`HydraulicState`] but not integrated: RK4 carries them unchanged. A physics step
 //! that spans a sample instant is split there ([`crate::plant::Plant::step`]), so every rate is
 //! exact and none is refused for not dividing the physics step; a rate above the physics step's
 //! costs one RK4 step per sample. At `t_k`:
 //!
 //! ```text
-//! e_k = τ_ref − τ_h(p_a, p_b)
+//! p_a,m = p_a + o_a + n_a,   p_b,m = p_b + o_b + n_b           pressure transducers
+//! e_k = τ_ref − (D_a p_a,m − D_b p_b,m)
 //! v_k = q̇(t_k)
 //! u_k = sat(K_τ (e_k + ω_i I_k) + k_vc D̄ v_k / K_q)
 //! I_{k+1} = I_k + T_s e_k,  unless |K_τ ω_i I_k| ≥ 1 and K_τ ω_i I_k e_k > 0      (anti-windup)
 //! ```
+//!
+//! Each transducer has a constant offset `o`, uniform in `±torque_loop_pressure_offset_pa`, and
+//! white Gaussian noise `n` of standard deviation `torque_loop_pressure_noise_pa`, fresh at every
+//! sample; both drawn from the actuators' own generator ([`HydraulicActuators::seeded`]; the plant
+//! seeds it from its own). The loop regulates the *measured* torque, so the joint's true torque
+//! stands off by `D_a o_a − D_b o_b` and carries the noise through the loop. (The controller's
+//! measured torque, `crate::run::sensors`, reads the same transducers in reality but draws its
+//! own offsets and noise; see [`HydraulicActuators::pressure_offsets`].)
 //!
 //! The loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range,
 //! in continuous time (where `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ =
@@ -48,6 +57,9 @@
 //! over the stroke (a real cylinder's varies with angle).
 
 use hya_core::JointVector;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
 
 use crate::config::scenario::HydraulicConfig;
 use crate::config::settings::HydraulicLists;
@@ -141,6 +153,13 @@ pub struct HydraulicActuators<const N: usize> {
     period: f64,
     /// `k` of the next sample instant `k T_s`.
     next_sample: u64,
+    /// The pressure transducers' noise, standard deviation, Pa.
+    pressure_noise: f64,
+    /// Their offset bound, Pa, and the offsets of the cap- and rod-side transducers.
+    offset_bound: f64,
+    offsets: (JointVector<N>, JointVector<N>),
+    /// Draws the offsets, then the noise.
+    rng: ChaCha8Rng,
 }
 
 /// Sample instants within this fraction of `T_s` of the plant's time count as now (the time is
@@ -156,7 +175,8 @@ fn orifice_law(drop: f64) -> f64 {
 impl<const N: usize> HydraulicActuators<N> {
     /// From the configuration's scalars and the checked per-joint `lists` (the configuration's own
     /// lists are not read), for joints spanning `ranges` (rad; the chambers' volumes run
-    /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other).
+    /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other). The pressure transducers'
+    /// offsets are zero and their noise comes from seed 0 until [`Self::seeded`].
     pub fn new(config: &HydraulicConfig, lists: &HydraulicLists<N>, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
@@ -232,7 +252,35 @@ impl<const N: usize> HydraulicActuators<N> {
                 compensation * 0.5 * (joint.displacement_a + joint.displacement_b) / flow_gain;
             joint
         });
-        Ok(Self { joints, supply, tank, bulk_modulus, period, next_sample: 0 })
+        Ok(Self {
+            joints,
+            supply,
+            tank,
+            bulk_modulus,
+            period,
+            next_sample: 0,
+            pressure_noise: lists.torque_loop_pressure_noise_pa,
+            offset_bound: lists.torque_loop_pressure_offset_pa,
+            offsets: (JointVector::zeros(), JointVector::zeros()),
+            rng: ChaCha8Rng::seed_from_u64(0),
+        })
+    }
+
+    /// The actuators with their pressure transducers' generator seeded by `seed`: the offsets
+    /// drawn from it (uniform within the bound, cap sides then rod sides), then every sample's
+    /// noise.
+    pub fn seeded(mut self, seed: u64) -> Self {
+        self.rng = ChaCha8Rng::seed_from_u64(seed);
+        let bound = self.offset_bound;
+        let mut draw = || JointVector::from_fn(|_, _| bound * (2.0 * self.rng.gen::<f64>() - 1.0));
+        self.offsets = (draw(), draw());
+        self
+    }
+
+    /// The constant offsets of the cap- and rod-side pressure transducers the inner loops read,
+    /// Pa (the controller's torque sensing could read the same ones).
+    pub fn pressure_offsets(&self) -> (JointVector<N>, JointVector<N>) {
+        self.offsets
     }
 
     /// Supply and tank pressure, Pa.
@@ -249,14 +297,16 @@ impl<const N: usize> HydraulicActuators<N> {
     }
 
     /// The actuators at rest holding `tau0` in equilibrium: chamber pressures with `p_a + p_b =
-    /// p_s + p_t` (equal drops across the two lands) and `τ_h = τ0`; the spool opened just
+    /// p_s + p_t` (equal drops across the two lands) and the torque the inner loop measures
+    /// (its transducers' offsets added, noise aside) at `τ0`, so `τ_h = τ0 − (D_a o_a − D_b o_b)`; the spool opened just
     /// enough to feed the leakage, `x_v Q(p_s − p_a) = C_l (p_a − p_b)`; the loop's integral
     /// holding that opening with no torque error, and commanding it.
     pub fn holding(&self, tau0: &JointVector<N>) -> HydraulicState<N> {
         let sum = self.supply + self.tank;
         let mut state = HydraulicState::zeros();
         for (i, j) in self.joints.iter().enumerate() {
-            let pa = ((tau0[i] + j.displacement_b * sum) / (j.displacement_a + j.displacement_b))
+            let offset_torque = j.displacement_a * self.offsets.0[i] - j.displacement_b * self.offsets.1[i];
+            let pa = ((tau0[i] - offset_torque + j.displacement_b * sum) / (j.displacement_a + j.displacement_b))
                 .clamp(self.tank, self.supply);
             let pb = sum - pa;
             // Opening towards a (x_v > 0) when a holds the higher pressure; the metering land
@@ -353,8 +403,9 @@ impl<const N: usize> HydraulicActuators<N> {
     }
 
     /// Runs the inner loops once at `time`, a sample instant, with the torque reference
-    /// `τ_ref`, the joints at `q, q̇` and the hydraulic state `s`: sets the held command
-    /// `u_k`, updates the integral and moves the clock to the next instant after `time`.
+    /// `τ_ref`, the joints at `q, q̇` and the hydraulic state `s`: reads the pressure
+    /// transducers, sets the held command `u_k`, updates the integral and moves the clock to the
+    /// next instant after `time`.
     pub fn sample(
         &mut self,
         time: f64,
@@ -363,8 +414,11 @@ impl<const N: usize> HydraulicActuators<N> {
         qd: &JointVector<N>,
         s: &mut HydraulicState<N>,
     ) {
-        for (i, j) in self.joints.iter().enumerate() {
-            let torque = j.displacement_a * s.pressure_a[i] - j.displacement_b * s.pressure_b[i];
+        for i in 0..N {
+            let j = self.joints[i];
+            let pa = s.pressure_a[i] + self.offsets.0[i] + self.noise();
+            let pb = s.pressure_b[i] + self.offsets.1[i] + self.noise();
+            let torque = j.displacement_a * pa - j.displacement_b * pb;
             let error = tau_ref[i] - torque;
             let (command, integrating) = j.loop_law(error, s.torque_integral[i], qd[i]);
             s.command[i] = command;
@@ -375,6 +429,14 @@ impl<const N: usize> HydraulicActuators<N> {
         let k = (time / self.period + SAMPLE_TOLERANCE).floor().max(0.0);
         // Saturates for an absurd time rather than wrapping.
         self.next_sample = (k as u64).saturating_add(1);
+    }
+
+    /// One draw of a transducer's noise, Pa (none drawn without noise).
+    fn noise(&mut self) -> f64 {
+        match self.pressure_noise > 0.0 {
+            true => self.pressure_noise * self.rng.sample::<f64, _>(StandardNormal),
+            false => 0.0,
+        }
     }
 
     /// `(Q_a, Q_b)` into the chambers through a valve opened by `x` (clamped to ±1), m³/s.

@@ -131,7 +131,8 @@ impl<const N: usize> Plant<N> {
     /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
     /// body from `true_model` (and from the model with the payload); `lists` must be
     /// [`PlantLists::of`] `config` and `loads` (a list they lack is an error); `rng` draws the
-    /// friction's position profiles.
+    /// friction's position profiles, then the seed of the hydraulic actuators' pressure
+    /// transducers ([`HydraulicActuators::seeded`]).
     pub fn new(
         true_model: TreeModel,
         dynamics: &DynamicsFactory<N>,
@@ -155,16 +156,20 @@ impl<const N: usize> Plant<N> {
             (Some(_), None) => return Err(missing("loads.sinusoid.amplitude_nm").into()),
             (None, _) => None,
         };
+        let friction = Friction::new(config, lists.friction.as_ref(), rng)?;
         let actuators = match config.actuator {
             ActuatorKind::Ideal => Actuators::Ideal,
             ActuatorKind::Lag => {
                 Actuators::Lag(lists.actuator_time_constant.ok_or_else(|| missing("plant.actuator_time_constant_s"))?)
             }
-            ActuatorKind::Hydraulic => Actuators::Hydraulic(Box::new(HydraulicActuators::new(
-                &config.hydraulic,
-                lists.hydraulic.as_ref().ok_or_else(|| missing("plant.hydraulic"))?,
-                joint_ranges(&true_model, &q0),
-            )?)),
+            ActuatorKind::Hydraulic => Actuators::Hydraulic(Box::new(
+                HydraulicActuators::new(
+                    &config.hydraulic,
+                    lists.hydraulic.as_ref().ok_or_else(|| missing("plant.hydraulic"))?,
+                    joint_ranges(&true_model, &q0),
+                )?
+                .seeded(rng.gen()),
+            )),
         };
         let hydraulic = match &actuators {
             Actuators::Hydraulic(h) => h.holding(&tau0),
@@ -177,7 +182,7 @@ impl<const N: usize> Plant<N> {
             gravity: true_model.gravity_vector().norm(),
             model: true_model,
             loaded,
-            friction: Friction::new(config, lists.friction.as_ref(), rng)?,
+            friction,
             actuators,
             sinusoid,
             state: PlantState { q: q0, qd: zero, bristle: zero, lag_torque, hydraulic },

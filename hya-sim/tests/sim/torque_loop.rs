@@ -26,7 +26,12 @@ const H: f64 = 1e-5;
 /// HyA's third joint's actuator (the default figures), its inner loop at `rate` Hz with
 /// noise-free pressure sensors and an ideal encoder.
 fn ideal_sensing(rate: f64) -> HydraulicConfig {
-    HydraulicConfig { torque_loop_rate_hz: rate, ..super::plant::one_joint_hydraulics() }
+    HydraulicConfig {
+        torque_loop_rate_hz: rate,
+        torque_loop_pressure_noise_pa: 0.0,
+        torque_loop_pressure_offset_pa: 0.0,
+        ..super::plant::one_joint_hydraulics()
+    }
 }
 
 fn plant(hydraulic: HydraulicConfig, inertia: f64) -> Plant<1> {
@@ -182,4 +187,57 @@ fn a_light_free_joint_tracks_torque_differently_from_a_locked_one() {
             "the free joint's step {free:?} is the locked joint's {locked:?}"
         );
     }
+}
+
+/// Mean and standard deviation of the locked joint's actuator torque, N·m, held at `TAU` by a
+/// 1 kHz loop whose transducers have `noise` and `offset` (Pa): every `H` over 0.4 s after 0.4 s
+/// (the step from rest settles in that).
+fn held_torque(noise: f64, offset: f64) -> (f64, f64, Plant<1>) {
+    let config = HydraulicConfig {
+        torque_loop_pressure_noise_pa: noise,
+        torque_loop_pressure_offset_pa: offset,
+        ..ideal_sensing(1e3)
+    };
+    let mut p = plant(config, LOCKED);
+    let h = actuators(&p);
+    let tau = JointVector::from([TAU]);
+    for _ in 0..(0.4 / H).round() as usize {
+        p.step(H, &tau).unwrap();
+    }
+    let mut samples = Vec::new();
+    for _ in 0..(0.4 / H).round() as usize {
+        p.step(H, &tau).unwrap();
+        samples.push(h.torque(&p.state.hydraulic.pressure_a, &p.state.hydraulic.pressure_b)[0]);
+    }
+    let mean = samples.iter().sum::<f64>() / samples.len() as f64;
+    let variance = samples.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / samples.len() as f64;
+    (mean, variance.sqrt(), p)
+}
+
+/// The torque the locked joint holds in [`held_torque`], N·m.
+const TAU: f64 = 5.0;
+
+#[test]
+fn pressure_noise_reaches_the_torque_in_proportion() {
+    let (_, quiet, _) = held_torque(0.0, 0.0);
+    let (_, low, _) = held_torque(1e4, 0.0);
+    let (_, high, _) = held_torque(4e4, 0.0);
+    eprintln!("locked joint at {TAU} N·m, 1 kHz loop: torque std {quiet:.2e} (no noise), {low:.4} (1e4 Pa), {high:.4} N·m (4e4 Pa)");
+    assert!(quiet < 0.01 * low, "no noise, yet the torque varies by {quiet} N·m ({low} with noise)");
+    assert!(low > 1e-3, "1e4 Pa of pressure noise leaves the torque still ({low} N·m)");
+    // The loop is linear about the held point: four times the noise, four times the spread.
+    assert!((high / low - 4.0).abs() < 0.4, "std {high} at 4e4 Pa against {low} at 1e4 Pa");
+}
+
+#[test]
+fn the_loop_regulates_the_measured_torque_so_offsets_shift_the_true_one() {
+    let (mean, _, p) = held_torque(0.0, 2.5e4);
+    let h = actuators(&p);
+    let (offset_a, offset_b) = h.pressure_offsets();
+    // What the transducers add to the torque the loop reads.
+    let bias = h.torque(&offset_a, &offset_b)[0];
+    eprintln!("offsets {offset_a:?} {offset_b:?} Pa: true torque {mean:.5} N·m, the loop's bias {bias:.5} N·m");
+    assert!(bias.abs() > 1e-3, "the seeded offsets add no torque ({bias} N·m)");
+    assert!(offset_a[0].abs() <= 2.5e4 && offset_b[0].abs() <= 2.5e4, "offsets beyond their bound");
+    assert!((mean - (TAU - bias)).abs() < 1e-3 * TAU, "true torque {mean} N·m, expected {TAU} − {bias}");
 }

@@ -1,9 +1,12 @@
-//! Models at the edge: a joint that meets no inertia is refused with an error, never a panic;
+//! Models at the edge: a joint that meets no inertia is refused with an error, never a panic,
+//! by the loader and, handed such a model anyway, by the generator;
 //! names that collide once numbered still give each generated value its own identifier.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_codegen::{generate, generate_parametric, GenerateError};
-use hya_urdf::load_str;
+use hya_core::model::TreeModel;
+use hya_core::spatial::RigidBodyInertia;
+use hya_urdf::{load_str, LoadedModel, Problem, Source};
 
 fn link(name: &str, mass: f64) -> String {
     format!(
@@ -17,18 +20,57 @@ fn joint(name: &str, kind: &str, parent: &str, child: &str, axis: &str) -> Strin
     )
 }
 
-#[test]
-fn a_joint_without_inertia_along_its_axis_is_an_error_not_a_panic() {
-    // Two collinear prismatic joints, the first carrying nothing: `D_1 = 0` at every pose.
-    let urdf = format!(
-        r#"<robot name="slides"><link name="base"/><link name="carriage"/>{}{}{}</robot>"#,
+/// Two collinear prismatic joints, `first` moving a massless `carriage` that `second` slides
+/// along the same axis: `D_1 = 0` at every pose. `carriage_mass` gives the carriage a body so
+/// that the loader accepts it.
+fn slides(carriage_mass: Option<f64>) -> String {
+    let carriage = carriage_mass.map_or_else(|| r#"<link name="carriage"/>"#.to_owned(), |m| link("carriage", m));
+    format!(
+        r#"<robot name="slides"><link name="base"/>{carriage}{}{}{}</robot>"#,
         link("slider", 1.0),
         joint("first", "prismatic", "base", "carriage", "1 0 0"),
         joint("second", "prismatic", "carriage", "slider", "1 0 0"),
-    );
-    // The loader accepts it (every M_ii is positive); the generator must refuse it.
-    let loaded = load_str(&urdf, "slides.urdf").unwrap();
-    match generate(&loaded, "Slides") {
+    )
+}
+
+#[test]
+fn the_loader_refuses_coaxial_joints_with_no_mass_between_them_naming_the_joint() {
+    // Every M_ii is positive, but M at q = 0 is singular: `second` moves only what `first` does.
+    let refused = load_str(&slides(None), "slides.urdf").unwrap_err();
+    assert_eq!(refused.file, "slides.urdf");
+    match &refused.problem {
+        Problem::NotPositiveDefinite { joint, pivot, diagonal } => {
+            assert_eq!(joint, "second");
+            assert!(*diagonal > 0.0 && pivot.abs() < 1e-10 * diagonal, "pivot {pivot:e}, diagonal {diagonal:e}");
+        }
+        other => panic!("expected a non-positive-definite mass matrix, got {other:?}"),
+    }
+    let message = refused.to_string();
+    assert!(message.contains("joint `second`") && message.contains("singular"), "{message}");
+}
+
+#[test]
+fn a_joint_without_inertia_along_its_axis_is_an_error_not_a_panic() {
+    // The loader no longer hands the generator such a model, so build it by hand: load the
+    // slides with a massive carriage, then take the carriage's inertia away again.
+    let massive = load_str(&slides(Some(1.0)), "slides.urdf").unwrap();
+    let mut bodies = massive.model.bodies().to_vec();
+    assert_eq!((bodies[0].joint.as_str(), bodies[0].link.as_str()), ("first", "carriage"));
+    bodies[0].inertia = RigidBodyInertia::zero();
+    let model = TreeModel::new(massive.model.name(), bodies, massive.model.frames().to_vec())
+        .unwrap()
+        .with_gravity(massive.model.gravity_vector());
+    let degenerate = LoadedModel {
+        model,
+        warnings: Vec::new(),
+        source: Source { file: "slides.urdf".to_owned(), sha256: massive.source.sha256.clone() },
+    };
+    // The model really is the degenerate one: its mass matrix is singular.
+    let mass = degenerate.model.mass_matrix(&[0.0, 0.0]).unwrap();
+    assert!((mass[(0, 0)] * mass[(1, 1)] - mass[(0, 1)] * mass[(1, 0)]).abs() < 1e-12, "{mass}");
+    // The massive version generates; the degenerate one is refused by the generator itself.
+    assert!(generate(&massive, "Slides").is_ok());
+    match generate(&degenerate, "Slides") {
         Err(GenerateError::NonFinite { function, .. }) => assert_eq!(function, "forward_dynamics"),
         other => panic!("expected a non-finite constant, got {:?}", other.map(|g| g.stats)),
     }

@@ -32,5 +32,5 @@ fn long_chains_are_warned_about_then_refused() {
     assert_eq!(refused, GenerateError::TooLarge(MAX_JOINTS + 1));
     assert!(refused.to_string().contains("run-time model"));
     // The run-time model still serves it.
-    assert_eq!(huge.gravity(&vec![0.0; MAX_JOINTS + 1]).unwrap().len(), MAX_JOINTS + 1);
+    assert_eq!(huge.gravity(&[0.0; MAX_JOINTS + 1]).unwrap().len(), MAX_JOINTS + 1);
 }

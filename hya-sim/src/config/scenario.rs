@@ -433,6 +433,12 @@ pub struct HydraulicConfig {
     /// Bound of each of those transducers' constant offsets (uniform, seeded), Pa (as
     /// `sensors.pressure_offset_pa` by default).
     pub torque_loop_pressure_offset_pa: f64,
+    /// The inner loop's encoder, counts per revolution (1 to 2^53; as
+    /// `sensors.encoder_counts_per_rev` by default): its load-motion compensation uses the
+    /// backward difference of the rounded angle over the loop's period.
+    pub torque_loop_encoder_counts_per_rev: u64,
+    /// Cut-off of the first-order low-pass on that difference, Hz (0 to 1e6; 0: none).
+    pub torque_loop_velocity_filter_hz: f64,
 }
 
 impl Default for HydraulicConfig {
@@ -456,6 +462,8 @@ impl Default for HydraulicConfig {
             torque_loop_rate_hz: 1000.0,
             torque_loop_pressure_noise_pa: 1e4,
             torque_loop_pressure_offset_pa: 2.5e4,
+            torque_loop_encoder_counts_per_rev: 1 << 19,
+            torque_loop_velocity_filter_hz: 0.0,
         }
     }
 }
@@ -573,7 +581,7 @@ fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
 /// outside is refused unless the scenario sets `allow_unphysical = true`. Per-joint lists are
 /// checked entry by entry. The ranges are wide (orders of magnitude around HyA's and the electric
 /// arms' figures); they catch unit mistakes, not design choices.
-pub const PLAUSIBLE: [(&str, f64, f64, &str); 30] = [
+pub const PLAUSIBLE: [(&str, f64, f64, &str); 32] = [
     ("plant.coulomb_nm", 0.0, 1e4, "N·m"),
     ("plant.static_nm", 0.0, 1e4, "N·m"),
     ("plant.viscous_nm_s", 0.0, 1e4, "N·m·s/rad"),
@@ -600,6 +608,8 @@ pub const PLAUSIBLE: [(&str, f64, f64, &str); 30] = [
     ("plant.hydraulic.torque_loop_rate_hz", 50.0, 1e5, "Hz"),
     ("plant.hydraulic.torque_loop_pressure_noise_pa", 0.0, 1e7, "Pa"),
     ("plant.hydraulic.torque_loop_pressure_offset_pa", 0.0, 1e7, "Pa"),
+    ("plant.hydraulic.torque_loop_encoder_counts_per_rev", 256.0, 9007199254740992.0, "counts/rev"),
+    ("plant.hydraulic.torque_loop_velocity_filter_hz", 0.0, 1e5, "Hz"),
     ("sensors.velocity_cutoff_rad_s", 1.0, 1e5, "rad/s"),
     ("sensors.pressure_noise_pa", 0.0, 1e7, "Pa"),
     ("sensors.pressure_offset_pa", 0.0, 1e7, "Pa"),

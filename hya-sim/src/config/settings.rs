@@ -92,11 +92,20 @@ pub struct HydraulicLists<const N: usize> {
     pub torque_loop_pressure_noise_pa: f64,
     /// Their offsets' bound (≥ 0), Pa.
     pub torque_loop_pressure_offset_pa: f64,
+    /// Its encoder's counts per revolution, 1 to 2^53.
+    pub torque_loop_encoder_counts_per_rev: u64,
+    /// Cut-off of its derived velocity's low-pass, Hz (0: none), within [`TORQUE_LOOP_RATE_HZ`]'s
+    /// upper bound.
+    pub torque_loop_velocity_filter_hz: f64,
 }
 
 /// The inner torque loop's sample rates simulated, Hz: from 1 Hz to 1 MHz (each sample above
 /// the physics step's rate costs an RK4 step).
 pub const TORQUE_LOOP_RATE_HZ: (f64, f64) = (1.0, 1e6);
+
+/// The most counts per revolution of the inner loop's encoder: 2^53 (a resolution of 7e-16 rad,
+/// the angle's own rounding near 1 rad; more would not be finer).
+pub const MAX_ENCODER_COUNTS: u64 = 1 << 53;
 
 impl<const N: usize> HydraulicLists<N> {
     /// Checks and converts the per-joint figures and the inner loop's settings of `h`.
@@ -148,6 +157,23 @@ impl<const N: usize> HydraulicLists<N> {
                 h.torque_loop_pressure_offset_pa,
                 |v| v >= 0.0,
                 "must be finite and ≥ 0",
+            )?,
+            torque_loop_encoder_counts_per_rev: match h.torque_loop_encoder_counts_per_rev {
+                n @ 1..=MAX_ENCODER_COUNTS => n,
+                n => {
+                    return Err(SettingError::new(
+                        "plant.hydraulic.torque_loop_encoder_counts_per_rev",
+                        Some(n as f64),
+                        "must be between 1 and 2^53",
+                    )
+                    .into())
+                }
+            },
+            torque_loop_velocity_filter_hz: scalar(
+                "torque_loop_velocity_filter_hz",
+                h.torque_loop_velocity_filter_hz,
+                |f| (0.0..=TORQUE_LOOP_RATE_HZ.1).contains(&f),
+                "must be finite, 0 (no filter) or up to 1e6 Hz",
             )?,
         })
     }

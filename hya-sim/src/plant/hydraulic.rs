@@ -31,7 +31,8 @@
 //! ```text
 //! p_a,m = p_a + o_a + n_a,   p_b,m = p_b + o_b + n_b           pressure transducers
 //! e_k = τ_ref − (D_a p_a,m − D_b p_b,m)
-//! v_k = q̇(t_k)
+//! q_k = r round(q(t_k) / r),   r = 2π / counts                  encoder
+//! v_k = a v_{k−1} + (1 − a)(q_k − q_{k−1}) / T_s,   a = e^{−2π f_v T_s}   derived velocity
 //! u_k = sat(K_τ (e_k + ω_i I_k) + k_vc D̄ v_k / K_q)
 //! I_{k+1} = I_k + T_s e_k,  unless |K_τ ω_i I_k| ≥ 1 and K_τ ω_i I_k e_k > 0      (anti-windup)
 //! ```
@@ -43,6 +44,12 @@
 //! stands off by `D_a o_a − D_b o_b` and carries the noise through the loop. (The controller's
 //! measured torque, `crate::run::sensors`, reads the same transducers in reality but draws its
 //! own offsets and noise; see [`HydraulicActuators::pressure_offsets`].)
+//!
+//! The load-motion compensation uses the velocity the loop can compute itself: the backward
+//! difference of its encoder's angle (`torque_loop_encoder_counts_per_rev` counts per turn)
+//! over its own period, through a first-order low-pass at `f_v` =
+//! `torque_loop_velocity_filter_hz` (0: none, `a = 0`). It lags `q̇` by about `T_s/2 + 1/(2π
+//! f_v)` and carries the quantum `r / T_s` (0.012 rad/s at 2^19 counts and 1 kHz).
 //!
 //! The loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range,
 //! in continuous time (where `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ =
@@ -85,13 +92,26 @@ pub struct HydraulicState<const N: usize> {
     pub torque_integral: JointVector<N>,
     /// The inner loop's valve command `u_k`, fraction of full opening: held between samples.
     pub command: JointVector<N>,
+    /// The inner loop's last encoder reading `q_k`, rad: held between samples.
+    pub loop_angle: JointVector<N>,
+    /// The inner loop's derived velocity `v_k`, rad/s: held between samples.
+    pub loop_velocity: JointVector<N>,
 }
 
 impl<const N: usize> HydraulicState<N> {
     /// All zero (the rates of a resting actuator, or an unused state).
     pub fn zeros() -> Self {
         let z = JointVector::zeros();
-        Self { spool: z, spool_rate: z, pressure_a: z, pressure_b: z, torque_integral: z, command: z }
+        Self {
+            spool: z,
+            spool_rate: z,
+            pressure_a: z,
+            pressure_b: z,
+            torque_integral: z,
+            command: z,
+            loop_angle: z,
+            loop_velocity: z,
+        }
     }
 
     /// `self + a k`, field by field.
@@ -103,14 +123,25 @@ impl<const N: usize> HydraulicState<N> {
             pressure_b: self.pressure_b + k.pressure_b * a,
             torque_integral: self.torque_integral + k.torque_integral * a,
             command: self.command + k.command * a,
+            loop_angle: self.loop_angle + k.loop_angle * a,
+            loop_velocity: self.loop_velocity + k.loop_velocity * a,
         }
     }
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        [self.spool, self.spool_rate, self.pressure_a, self.pressure_b, self.torque_integral, self.command]
-            .iter()
-            .all(|v| v.iter().all(|x| x.is_finite()))
+        [
+            self.spool,
+            self.spool_rate,
+            self.pressure_a,
+            self.pressure_b,
+            self.torque_integral,
+            self.command,
+            self.loop_angle,
+            self.loop_velocity,
+        ]
+        .iter()
+        .all(|v| v.iter().all(|x| x.is_finite()))
     }
 }
 
@@ -160,6 +191,10 @@ pub struct HydraulicActuators<const N: usize> {
     offsets: (JointVector<N>, JointVector<N>),
     /// Draws the offsets, then the noise.
     rng: ChaCha8Rng,
+    /// The encoder's resolution `r`, rad.
+    resolution: f64,
+    /// The derived velocity's low-pass pole `a`.
+    velocity_pole: f64,
 }
 
 /// Sample instants within this fraction of `T_s` of the plant's time count as now (the time is
@@ -263,6 +298,11 @@ impl<const N: usize> HydraulicActuators<N> {
             offset_bound: lists.torque_loop_pressure_offset_pa,
             offsets: (JointVector::zeros(), JointVector::zeros()),
             rng: ChaCha8Rng::seed_from_u64(0),
+            resolution: std::f64::consts::TAU / lists.torque_loop_encoder_counts_per_rev as f64,
+            velocity_pole: match lists.torque_loop_velocity_filter_hz {
+                f if f > 0.0 => (-std::f64::consts::TAU * f * period).exp(),
+                _ => 0.0,
+            },
         })
     }
 
@@ -402,25 +442,27 @@ impl<const N: usize> HydraulicActuators<N> {
         next <= time + SAMPLE_TOLERANCE * self.period || next > time + 2.0 * self.period
     }
 
+    /// The inner loops' encoder reading of `q`, rad: rounded to a count.
+    pub fn encoder(&self, q: &JointVector<N>) -> JointVector<N> {
+        q.map(|x| (x / self.resolution).round() * self.resolution)
+    }
+
     /// Runs the inner loops once at `time`, a sample instant, with the torque reference
-    /// `τ_ref`, the joints at `q, q̇` and the hydraulic state `s`: reads the pressure
-    /// transducers, sets the held command `u_k`, updates the integral and moves the clock to the
-    /// next instant after `time`.
-    pub fn sample(
-        &mut self,
-        time: f64,
-        tau_ref: &JointVector<N>,
-        _q: &JointVector<N>,
-        qd: &JointVector<N>,
-        s: &mut HydraulicState<N>,
-    ) {
+    /// `τ_ref`, the joints at `q` and the hydraulic state `s`: reads the pressure transducers
+    /// and the encoders, derives the velocity, sets the held command `u_k`, updates the integral
+    /// and moves the clock to the next instant after `time`.
+    pub fn sample(&mut self, time: f64, tau_ref: &JointVector<N>, q: &JointVector<N>, s: &mut HydraulicState<N>) {
+        let angle = self.encoder(q);
+        let a = self.velocity_pole;
+        s.loop_velocity = s.loop_velocity * a + (angle - s.loop_angle) * ((1.0 - a) / self.period);
+        s.loop_angle = angle;
         for i in 0..N {
             let j = self.joints[i];
             let pa = s.pressure_a[i] + self.offsets.0[i] + self.noise();
             let pb = s.pressure_b[i] + self.offsets.1[i] + self.noise();
             let torque = j.displacement_a * pa - j.displacement_b * pb;
             let error = tau_ref[i] - torque;
-            let (command, integrating) = j.loop_law(error, s.torque_integral[i], qd[i]);
+            let (command, integrating) = j.loop_law(error, s.torque_integral[i], s.loop_velocity[i]);
             s.command[i] = command;
             if integrating {
                 s.torque_integral[i] += self.period * error;

@@ -172,7 +172,7 @@ impl<const N: usize> Plant<N> {
             )),
         };
         let hydraulic = match &actuators {
-            Actuators::Hydraulic(h) => h.holding(&tau0),
+            Actuators::Hydraulic(h) => HydraulicState { loop_angle: h.encoder(&q0), ..h.holding(&tau0) },
             _ => HydraulicState::zeros(),
         };
         let lag_torque = if matches!(actuators, Actuators::Lag(_)) { tau0 } else { JointVector::zeros() };
@@ -315,7 +315,7 @@ impl<const N: usize> Plant<N> {
         match &mut self.actuators {
             Actuators::Hydraulic(h) if h.sample_due(self.time) => {
                 let s = &mut self.state;
-                h.sample(self.time, tau_cmd, &s.q, &s.qd, &mut s.hydraulic);
+                h.sample(self.time, tau_cmd, &s.q, &mut s.hydraulic);
                 true
             }
             _ => false,

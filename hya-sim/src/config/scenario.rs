@@ -439,6 +439,9 @@ pub struct HydraulicConfig {
     pub torque_loop_encoder_counts_per_rev: u64,
     /// Cut-off of the first-order low-pass on that difference, Hz (0 to 1e6; 0: none).
     pub torque_loop_velocity_filter_hz: f64,
+    /// The valve's dead band, fraction of full opening (0 to below 1): inner-loop outputs within
+    /// it give no spool command, those beyond it are shifted by it.
+    pub valve_dead_band: f64,
 }
 
 impl Default for HydraulicConfig {
@@ -464,6 +467,7 @@ impl Default for HydraulicConfig {
             torque_loop_pressure_offset_pa: 2.5e4,
             torque_loop_encoder_counts_per_rev: 1 << 19,
             torque_loop_velocity_filter_hz: 0.0,
+            valve_dead_band: 0.0,
         }
     }
 }
@@ -581,7 +585,7 @@ fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
 /// outside is refused unless the scenario sets `allow_unphysical = true`. Per-joint lists are
 /// checked entry by entry. The ranges are wide (orders of magnitude around HyA's and the electric
 /// arms' figures); they catch unit mistakes, not design choices.
-pub const PLAUSIBLE: [(&str, f64, f64, &str); 32] = [
+pub const PLAUSIBLE: [(&str, f64, f64, &str); 33] = [
     ("plant.coulomb_nm", 0.0, 1e4, "N·m"),
     ("plant.static_nm", 0.0, 1e4, "N·m"),
     ("plant.viscous_nm_s", 0.0, 1e4, "N·m·s/rad"),
@@ -610,6 +614,7 @@ pub const PLAUSIBLE: [(&str, f64, f64, &str); 32] = [
     ("plant.hydraulic.torque_loop_pressure_offset_pa", 0.0, 1e7, "Pa"),
     ("plant.hydraulic.torque_loop_encoder_counts_per_rev", 256.0, 9007199254740992.0, "counts/rev"),
     ("plant.hydraulic.torque_loop_velocity_filter_hz", 0.0, 1e5, "Hz"),
+    ("plant.hydraulic.valve_dead_band", 0.0, 0.5, ""),
     ("sensors.velocity_cutoff_rad_s", 1.0, 1e5, "rad/s"),
     ("sensors.pressure_noise_pa", 0.0, 1e7, "Pa"),
     ("sensors.pressure_offset_pa", 0.0, 1e7, "Pa"),

@@ -97,6 +97,8 @@ pub struct HydraulicLists<const N: usize> {
     /// Cut-off of its derived velocity's low-pass, Hz (0: none), within [`TORQUE_LOOP_RATE_HZ`]'s
     /// upper bound.
     pub torque_loop_velocity_filter_hz: f64,
+    /// The valve's dead band, fraction of full opening, in `[0, 1)`.
+    pub valve_dead_band: f64,
 }
 
 /// The inner torque loop's sample rates simulated, Hz: from 1 Hz to 1 MHz (each sample above
@@ -174,6 +176,12 @@ impl<const N: usize> HydraulicLists<N> {
                 h.torque_loop_velocity_filter_hz,
                 |f| (0.0..=TORQUE_LOOP_RATE_HZ.1).contains(&f),
                 "must be finite, 0 (no filter) or up to 1e6 Hz",
+            )?,
+            valve_dead_band: scalar(
+                "valve_dead_band",
+                h.valve_dead_band,
+                |d| (0.0..1.0).contains(&d),
+                "must be finite, ≥ 0 and below 1 (full opening)",
             )?,
         })
     }

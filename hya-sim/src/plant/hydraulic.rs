@@ -33,8 +33,9 @@
 //! e_k = τ_ref − (D_a p_a,m − D_b p_b,m)
 //! q_k = r round(q(t_k) / r),   r = 2π / counts                  encoder
 //! v_k = a v_{k−1} + (1 − a)(q_k − q_{k−1}) / T_s,   a = e^{−2π f_v T_s}   derived velocity
-//! u_k = sat(K_τ (e_k + ω_i I_k) + k_vc D̄ v_k / K_q)
-//! I_{k+1} = I_k + T_s e_k,  unless |K_τ ω_i I_k| ≥ 1 and K_τ ω_i I_k e_k > 0      (anti-windup)
+//! u_k = sat(dz(K_τ (e_k + ω_i I_k) + k_vc D̄ v_k / K_q))
+//! I_{k+1} = I_k + T_s e_k,  unless |K_τ ω_i I_k| ≥ 1 + δ_v and K_τ ω_i I_k e_k > 0  (anti-windup)
+//! dz(u) = 0 for |u| ≤ δ_v,   u − δ_v sgn(u) beyond                  valve dead band
 //! ```
 //!
 //! Each transducer has a constant offset `o`, uniform in `±torque_loop_pressure_offset_pa`, and
@@ -50,6 +51,11 @@
 //! over its own period, through a first-order low-pass at `f_v` =
 //! `torque_loop_velocity_filter_hz` (0: none, `a = 0`). It lags `q̇` by about `T_s/2 + 1/(2π
 //! f_v)` and carries the quantum `r / T_s` (0.012 rad/s at 2^19 counts and 1 kHz).
+//!
+//! The dead band `δ_v` (`valve_dead_band`, a fraction of full opening, default 0) models an
+//! overlapped spool seen from the command: inputs within it move no oil, those beyond it are
+//! shifted by it (full opening then takes `1 + δ_v`). The integral winds across it, so small
+//! torque errors are corrected late.
 //!
 //! The loop gain `K_τ` is designed for a torque bandwidth `ω_τ` on a locked joint at mid-range,
 //! in continuous time (where `τ̇_h = K_lock x_v`, `K_lock = β K_q (D_a/V_a + D_b/V_b)`): `K_τ =
@@ -171,6 +177,8 @@ struct Joint {
     integral_rate: f64,
     /// `k_vc D̄ / K_q`, s/rad.
     velocity_compensation: f64,
+    /// `δ_v`, fraction of full opening.
+    dead_band: f64,
 }
 
 /// The actuators of all joints, with the supply they share, and the inner loops' sample clock.
@@ -278,6 +286,7 @@ impl<const N: usize> HydraulicActuators<N> {
                 torque_gain: 0.0,
                 integral_rate: config.torque_integral_ratio * std::f64::consts::TAU * bandwidth_hz[i],
                 velocity_compensation: 0.0,
+                dead_band: lists.valve_dead_band,
             };
             let flow_gain = orifice * ((supply - tank) / 2.0).sqrt();
             let middle = 0.5 * (lower + upper);
@@ -359,7 +368,9 @@ impl<const N: usize> HydraulicActuators<N> {
             state.command[i] = opening - j.null_bias;
             let integral_gain = j.torque_gain * j.integral_rate;
             if integral_gain > 0.0 {
-                state.torque_integral[i] = state.command[i] / integral_gain;
+                // The input that gives this command through the dead band.
+                let input = state.command[i] + j.dead_band * state.command[i].signum();
+                state.torque_integral[i] = if state.command[i] == 0.0 { 0.0 } else { input / integral_gain };
             }
         }
         state
@@ -517,13 +528,14 @@ impl<const N: usize> HydraulicActuators<N> {
 
 impl Joint {
     /// The inner loop's valve command for the torque error `e`, the integral `I` and the
-    /// velocity `v`: `sat(K_τ (e + ω_i I) + k_vc D̄ v / K_q)`; and whether the integral may
-    /// grow (the anti-windup: not once its share alone opens the valve fully and `e` pushes
-    /// it further).
+    /// velocity `v`: `sat(dz(K_τ (e + ω_i I) + k_vc D̄ v / K_q))`; and whether the integral may
+    /// grow (the anti-windup: not once its share alone opens the valve fully, `|share| ≥ 1 +
+    /// δ_v`, and `e` pushes it further).
     fn loop_law(&self, error: f64, integral: f64, velocity: f64) -> (f64, bool) {
         let integral_share = self.torque_gain * self.integral_rate * integral;
-        let integrating = !(integral_share.abs() >= 1.0 && integral_share * error > 0.0);
-        let command = self.torque_gain * error + integral_share + self.velocity_compensation * velocity;
+        let integrating = !(integral_share.abs() >= 1.0 + self.dead_band && integral_share * error > 0.0);
+        let input = self.torque_gain * error + integral_share + self.velocity_compensation * velocity;
+        let command = if input.abs() <= self.dead_band { 0.0 } else { input - self.dead_band * input.signum() };
         (command.clamp(-1.0, 1.0), integrating)
     }
 

@@ -284,3 +284,62 @@ fn the_loop_derives_its_velocity_from_its_encoder() {
         assert!(worst_gap < bound, "the loop's velocity strays {worst_gap} rad/s from q̇");
     }
 }
+
+#[test]
+fn a_dead_band_delays_the_response_but_the_integral_crosses_it() {
+    let plain = step_response(&mut plant(ideal_sensing(1e3), LOCKED), 0.3);
+    let banded =
+        step_response(&mut plant(HydraulicConfig { valve_dead_band: 0.005, ..ideal_sensing(1e3) }, LOCKED), 0.3);
+    let (f_plain, f_banded) = (figures(&plain), figures(&banded));
+    let settled = |series: &[f64]| series.last().copied().unwrap_or(f64::NAN);
+    eprintln!(
+        "locked joint, 1 kHz loop: no dead band {f_plain:?}, dead band 0.5 % of full opening {f_banded:?}; after \
+         0.3 s {:.4} and {:.4} N·m",
+        settled(&plain),
+        settled(&banded)
+    );
+    // K_τ e is 0.014 of full opening for this 2 N·m step: the band eats a third of it, and the
+    // integral has to wind the rest across it.
+    assert!(
+        f_banded.at_10 > f_plain.at_10,
+        "10 % at {} ms with the band, {} ms without",
+        f_banded.at_10,
+        f_plain.at_10
+    );
+    assert!(f_banded.rise > 2.0 * f_plain.rise, "rise {} ms with the band, {} ms without", f_banded.rise, f_plain.rise);
+    assert!((settled(&banded) - STEP).abs() < 0.01 * STEP, "with the band the step settles at {}", settled(&banded));
+}
+
+#[test]
+fn the_loop_settings_are_refused_with_their_key() {
+    type Change = fn(&mut HydraulicConfig);
+    let cases: &[(&str, Change)] = &[
+        ("torque_loop_rate_hz", |h| h.torque_loop_rate_hz = -1000.0),
+        ("torque_loop_rate_hz", |h| h.torque_loop_rate_hz = 0.0),
+        ("torque_loop_rate_hz", |h| h.torque_loop_rate_hz = f64::NAN),
+        ("torque_loop_rate_hz", |h| h.torque_loop_rate_hz = 1e9),
+        ("torque_loop_pressure_noise_pa", |h| h.torque_loop_pressure_noise_pa = f64::NAN),
+        ("torque_loop_pressure_noise_pa", |h| h.torque_loop_pressure_noise_pa = -1.0),
+        ("torque_loop_pressure_offset_pa", |h| h.torque_loop_pressure_offset_pa = f64::INFINITY),
+        ("torque_loop_encoder_counts_per_rev", |h| h.torque_loop_encoder_counts_per_rev = 0),
+        ("torque_loop_encoder_counts_per_rev", |h| h.torque_loop_encoder_counts_per_rev = u64::MAX),
+        ("torque_loop_velocity_filter_hz", |h| h.torque_loop_velocity_filter_hz = -5.0),
+        ("torque_loop_velocity_filter_hz", |h| h.torque_loop_velocity_filter_hz = f64::NAN),
+        ("valve_dead_band", |h| h.valve_dead_band = 1.0),
+        ("valve_dead_band", |h| h.valve_dead_band = 1.5),
+        ("valve_dead_band", |h| h.valve_dead_band = -0.1),
+        ("valve_dead_band", |h| h.valve_dead_band = f64::NAN),
+    ];
+    for (key, change) in cases {
+        let mut config = ideal_sensing(1e3);
+        change(&mut config);
+        let error = HydraulicLists::<1>::of(&config).unwrap_err().to_string();
+        assert!(error.contains(&format!("`plant.hydraulic.{key}`")), "the refusal does not name {key}: {error}");
+        // And a scenario's per-joint settings, checked before a run, refuse it too.
+        let mut scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
+        change(&mut scenario.plant.hydraulic);
+        let error = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap_err().to_string();
+        assert!(error.contains(key), "the scenario's refusal does not name {key}: {error}");
+    }
+    assert!(HydraulicLists::<1>::of(&ideal_sensing(1e6)).is_ok());
+}

@@ -102,7 +102,7 @@ pub enum SimError {
         /// What failed.
         source: hya_core::Error,
     },
-    /// A run whose cost is beyond a documented cap ([`cost`]).
+    /// A run whose cost is beyond a documented cap ([`crate::config::cost`]).
     #[error("{0}")]
     Cost(String),
     /// The summary could not be serialised.

@@ -12,7 +12,8 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
-// The layers, lowest first: each imports only from those before it.
+// The layers, lowest first: error, io, config, robot, linear, plant, run, frequency, analysis,
+// report; each file imports only from the layers before its own (ARCHITECTURE.md).
 pub mod analysis;
 pub mod config;
 pub mod error;

@@ -282,6 +282,12 @@ impl EqualBandwidthRow {
     }
 }
 
+/// The low-frequency delay of the paper's filter at `ζ = 0.8`, `ω1 = ω2 = ω`: `1/ω + 2ζ/ω`, s.
+pub fn paper_delay(omega_rad_s: f64) -> f64 {
+    ObserverDesign::Lu { zeta: hya_core::filter::PAPER_ZETA, omega1_rad_s: omega_rad_s, omega2_rad_s: omega_rad_s }
+        .low_frequency_delay()
+}
+
 /// The paper's filter at `ζ = 0.8`, `ω1 = ω2 = omega_rad_s` (its own row first), then chen,
 /// momentum and eso each matched to it by [`Matching::ALL`], in that order: ten rows.
 pub fn equal_bandwidth_table(omega_rad_s: f64) -> Result<Vec<EqualBandwidthRow>, SettingError> {

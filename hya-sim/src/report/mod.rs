@@ -7,6 +7,7 @@
 
 mod csv;
 mod figures;
+mod loops;
 mod markdown;
 mod plant;
 mod provenance;
@@ -70,7 +71,7 @@ pub fn write<const N: usize>(
     }
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
     let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
-        Some(base) => viscous::section(robot, base, table)?,
+        Some(base) => loops::section(robot, base)? + &viscous::section(robot, base, table)?,
         None => String::new(),
     };
     if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {

@@ -303,7 +303,7 @@ pub fn section<const N: usize>(
         figures.push((name, svg));
     }
     if first.robot == "hya" {
-        let (q_gap, qd_gap) = reference_gap::<N>(&model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;
+        let (q_gap, qd_gap) = reference_gap::<N>(model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;
         let _ = writeln!(md, "\n### The rigid body against MuJoCo\n\nThe plant with friction, actuators, noise and parameter errors off (`hya plant --ideal`), under the torque sequence of `tools/mujoco_rollout.py`, against MuJoCo 4.0's rollout of the same URDF (RK4 at 0.1 ms both; gravity along −z, limits, contacts, damping and armature off in MuJoCo): the worst difference over 1 s is **{q_gap:.1e} rad** in angle and {qd_gap:.1e} rad/s in velocity, while the arm travels up to 1 rad.");
     }
     Ok((md, figures))

@@ -49,7 +49,7 @@ pub fn section<const N: usize>(
         amplitude.push(per_joint_mean_ci95(&values).0);
     }
     let mut md = format!(
-        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). Without compensation (`none`, a PD) a joint that sticks stays stuck within its band `F_s / K_P`. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad):\n\n",
+        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). `none` (a PD) has no integral to wind up: whatever it cycles is not hunting. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad):\n\n",
         base.name
     );
     md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));

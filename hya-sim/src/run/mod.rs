@@ -111,8 +111,7 @@ pub fn integral_gain<const N: usize>(
     match c.integral_rule {
         IntegralRule::ZeroRatio => (kp.component_mul(&joints.natural_frequency) * c.integral_zero_ratio, [false; N]),
         IntegralRule::MatchEstimator => {
-            let w = c.observer_bandwidth_rad_s;
-            let delay = 1.0 / w + 2.0 * hya_core::filter::PAPER_ZETA / w;
+            let delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
             let capped: [bool; N] = core::array::from_fn(|i| kp[i] / delay > 0.5 * kd[i] * kp[i] / inertia[i]);
             let gain = JointVector::from_fn(|i, _| (kp[i] / delay).min(0.5 * kd[i] * kp[i] / inertia[i]));
             (gain, capped)

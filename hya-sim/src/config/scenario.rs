@@ -424,8 +424,8 @@ pub struct HydraulicConfig {
     pub torque_integral_ratio: f64,
     /// Fraction of the piston flow `D̄ q̇` the inner loop feeds forward to the valve (0 to 2).
     pub velocity_compensation: f64,
-    /// The inner torque loop's sample rate, Hz (1 to 1e6): it runs at `k / rate` and holds its
-    /// valve command between samples (HyQ's runs at 1 kHz).
+    /// The inner torque loop's sample rate, Hz (1 to 1e6): it runs every `1 / rate` s and holds
+    /// its valve command between samples (HyQ's runs at 1 kHz).
     pub torque_loop_rate_hz: f64,
     /// Standard deviation of the noise of each pressure transducer the inner loop reads, Pa
     /// (fresh at every sample; as `sensors.pressure_noise_pa` by default).

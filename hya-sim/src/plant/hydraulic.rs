@@ -20,8 +20,10 @@
 //! cylinder, vane displacement for a rotary actuator), `D_b = α D_a` the rod side's; `K_q =
 //! K_v √((p_s − p_t)/2)` is the valve's flow gain at the nominal drop, `D̄ = (D_a + D_b)/2`.
 //!
-//! **The inner torque loop** is digital, as on HyQ: it runs at the sample instants `t_k = k T_s`
-//! (`T_s = 1 / f_s`, `f_s` = `torque_loop_rate_hz`, counted from the plant's time 0) on measured
+//! **The inner torque loop** is digital, as on HyQ: it runs at the sample instants `t_k = t_{k−1}
+//! + T_s` (`T_s = 1 / f_s`, `f_s` = `torque_loop_rate_hz`; `t_0` the plant's time 0, each next
+//! instant counted from the plant's time when the loop ran, so it keeps step with the plant's
+//! clock, a sum of sub-steps, and with the control ticks when `T_s` divides them) on measured
 //! pressures and holds its valve command `u_k` until the next (a zero-order hold). `u_k` and the integral `I_k` are
 //! part of [`HydraulicState`] but not integrated: RK4 carries them unchanged. A physics step
 //! that spans a sample instant is split there ([`crate::plant::Plant::step`]), so every rate is
@@ -68,6 +70,13 @@
 //! motion feeds back on the pressures, so the achieved torque bandwidth depends on the inertia
 //! the joint carries and on its pose: it falls out of the model. The lever arm is taken constant
 //! over the stroke (a real cylinder's varies with angle).
+//!
+//! The defaults (1 kHz, HyA's pressure transducers and encoder) change the plant from the
+//! continuous loop this model had before; that loop is approached with `torque_loop_rate_hz =
+//! 1e5`, `torque_loop_pressure_noise_pa = torque_loop_pressure_offset_pa = 0` and
+//! `torque_loop_encoder_counts_per_rev = 2^53` (a locked joint's step then rises within 2 % of
+//! the continuous loop's, `tests/sim/torque_loop.rs`; `allow_unphysical` for the rate above
+//! [`crate::config::scenario::PLAUSIBLE`]'s 1e5 Hz is not needed).
 
 use hya_core::JointVector;
 use rand::{Rng, SeedableRng};
@@ -190,8 +199,8 @@ pub struct HydraulicActuators<const N: usize> {
     bulk_modulus: f64,
     /// `T_s`, s.
     period: f64,
-    /// `k` of the next sample instant `k T_s`.
-    next_sample: u64,
+    /// The next sample instant, s.
+    next_sample: f64,
     /// The pressure transducers' noise, standard deviation, Pa.
     pressure_noise: f64,
     /// Their offset bound, Pa, and the offsets of the cap- and rod-side transducers.
@@ -206,7 +215,7 @@ pub struct HydraulicActuators<const N: usize> {
 }
 
 /// Sample instants within this fraction of `T_s` of the plant's time count as now (the time is
-/// a sum of sub-steps, so it meets `k T_s` only to rounding).
+/// a sum of sub-steps, so it meets an instant only to rounding).
 pub const SAMPLE_TOLERANCE: f64 = 1e-6;
 
 /// `Q(Δp) / K_v = Δp / (Δp² + δ²)^{1/4}`, √Pa.
@@ -302,7 +311,7 @@ impl<const N: usize> HydraulicActuators<N> {
             tank,
             bulk_modulus,
             period,
-            next_sample: 0,
+            next_sample: 0.0,
             pressure_noise: lists.torque_loop_pressure_noise_pa,
             offset_bound: lists.torque_loop_pressure_offset_pa,
             offsets: (JointVector::zeros(), JointVector::zeros()),
@@ -443,7 +452,7 @@ impl<const N: usize> HydraulicActuators<N> {
 
     /// The time of the inner loops' next sample, s.
     pub fn next_sample_time(&self) -> f64 {
-        self.next_sample as f64 * self.period
+        self.next_sample
     }
 
     /// Whether the inner loops sample at `time`: their next instant is `time` (to rounding) or
@@ -461,7 +470,7 @@ impl<const N: usize> HydraulicActuators<N> {
     /// Runs the inner loops once at `time`, a sample instant, with the torque reference
     /// `τ_ref`, the joints at `q` and the hydraulic state `s`: reads the pressure transducers
     /// and the encoders, derives the velocity, sets the held command `u_k`, updates the integral
-    /// and moves the clock to the next instant after `time`.
+    /// and sets the next instant to `time + T_s`.
     pub fn sample(&mut self, time: f64, tau_ref: &JointVector<N>, q: &JointVector<N>, s: &mut HydraulicState<N>) {
         let angle = self.encoder(q);
         let a = self.velocity_pole;
@@ -479,9 +488,7 @@ impl<const N: usize> HydraulicActuators<N> {
                 s.torque_integral[i] += self.period * error;
             }
         }
-        let k = (time / self.period + SAMPLE_TOLERANCE).floor().max(0.0);
-        // Saturates for an absurd time rather than wrapping.
-        self.next_sample = (k as u64).saturating_add(1);
+        self.next_sample = time + self.period;
     }
 
     /// One draw of a transducer's noise, Pa (none drawn without noise).

@@ -10,7 +10,7 @@
 //! a sampled inner torque loop), a first-order lag `τ̇_act = (τ_cmd − τ_act) / T` (the first
 //! testbed's), or ideal (`τ_act = τ_cmd`). `τ_f` is LuGre or the smooth model ([`friction`]).
 //!
-//! The hydraulic inner loop is discrete: at each of its sample instants `k T_s` the plant runs
+//! The hydraulic inner loop is discrete: at each of its sample instants, `T_s` apart, the plant runs
 //! it once ([`HydraulicActuators::sample`]) and RK4 then integrates with its valve command held;
 //! a step that spans a sample instant is split there, so the loop samples exactly on time
 //! whatever the physics step.

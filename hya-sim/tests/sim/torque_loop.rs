@@ -343,3 +343,26 @@ fn the_loop_settings_are_refused_with_their_key() {
     }
     assert!(HydraulicLists::<1>::of(&ideal_sensing(1e6)).is_ok());
 }
+
+#[test]
+fn the_loop_keeps_step_with_the_control_ticks() {
+    // 1 ms ticks of 4 sub-steps from t = 1e4 s (where the clock's rounding is coarser): after
+    // every tick the loop's next sample is the next tick's start, so every new command is read
+    // at once; the command alternates, and the held valve command follows it every tick.
+    let mut p = plant(ideal_sensing(1e3), LOCKED);
+    p.time = 1e4;
+    let h = actuators(&p);
+    let mut previous = f64::NAN;
+    for k in 0..5000 {
+        let tau = if k % 2 == 0 { 1.0 } else { -1.0 };
+        p.advance(1e-3, 4, &JointVector::from([tau])).unwrap();
+        let command = p.state.hydraulic.command[0];
+        assert!(command != previous, "tick {k}: the command {command} did not follow the reference");
+        previous = command;
+        let next = match p.actuators() {
+            Actuators::Hydraulic(a) => a.next_sample_time(),
+            _ => unreachable!(),
+        };
+        assert!((next - p.time).abs() < 1e-6 * h.sample_period(), "tick {k}: next sample at {next}, time {}", p.time);
+    }
+}

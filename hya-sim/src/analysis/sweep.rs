@@ -1,11 +1,14 @@
 //! Observer bandwidth sweeps: every observer from 10 to 200 rad/s on chosen scenarios, the
-//! estimate error against the noise it puts in the command and the tracking error it buys. The
-//! grid splits into shards (`i/n`: every n-th run from the i-th) that a batch scheduler runs on
+//! estimate error against the noise it puts in the command and the tracking error it buys. The PID
+//! baseline is swept the same way: its swept value is the equivalent bandwidth `ω` of its integral,
+//! `K_I = K_P / τ_d(ω)` with `τ_d(ω) = 1/ω + 2ζ/ω` (the paper's estimator's low-frequency delay at
+//! that bandwidth, [`IntegralRule::MatchEstimator`]), still capped at half the Routh bound
+//! `½ K_D K_P / M_ii` ([`crate::run::integral_gain`]). The grid splits into shards (`i/n`: every n-th run from the i-th) that a batch scheduler runs on
 //! separate machines; [`merge`] joins their `sweep.json` files into the same result as one run.
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::scenario::{Method, Scenario};
+use crate::config::scenario::{IntegralRule, Method, Scenario};
 use crate::error::SimError;
 use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 use hya_core::{Clipped, Short};
@@ -15,28 +18,58 @@ use hya_core::{Clipped, Short};
 pub struct Plan {
     /// The scenarios (already shortened where wanted).
     pub scenarios: Vec<Scenario>,
-    /// The observers.
+    /// The observers, and `pid` (its integral's equivalent bandwidth swept).
     pub methods: Vec<Method>,
-    /// Their bandwidths, rad/s.
+    /// Their bandwidths, rad/s (for `pid`, the bandwidth its `K_I` is matched to).
     pub bandwidths_rad_s: Vec<f64>,
     /// Seeds per point (the scenario's seed and the next ones).
     pub seeds: usize,
 }
 
 impl Plan {
-    /// The default grid: every observer at 10 to 200 rad/s on the high-noise estimator
+    /// The default grid: every observer and pid at 10 to 200 rad/s on the high-noise estimator
     /// comparison and the goto task; `quick` shortens the scenarios.
     pub fn standard(quick: bool) -> Result<Self, SimError> {
-        let scenarios = ["estimator_noise_high", "goto_internal"]
-            .iter()
-            .map(|name| Scenario::builtin(name).map(|s| if quick { s.quick() } else { s }))
-            .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
-            scenarios,
-            methods: vec![Method::Lu, Method::Chen, Method::Momentum, Method::Eso],
+            scenarios: builtin_scenarios(quick)?,
+            methods: SWEPT_METHODS.to_vec(),
             bandwidths_rad_s: vec![10.0, 20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 200.0],
             seeds: if quick { 1 } else { 3 },
         })
+    }
+
+    /// The reduced grid `hya reproduce` runs: the same scenarios and methods at
+    /// [`REPORT_BANDWIDTHS_RAD_S`], [`REPORT_SEEDS`] seeds (1 with `quick`, which also shortens the
+    /// scenarios).
+    pub fn report(quick: bool) -> Result<Self, SimError> {
+        Ok(Self {
+            scenarios: builtin_scenarios(quick)?,
+            methods: SWEPT_METHODS.to_vec(),
+            bandwidths_rad_s: REPORT_BANDWIDTHS_RAD_S.to_vec(),
+            seeds: if quick { 1 } else { REPORT_SEEDS },
+        })
+    }
+
+    /// The scenario one run of the grid simulates: the `scenario`-th at `bandwidth_rad_s` (for
+    /// every method: the observers read it as their bandwidth, pid's `K_I` rule
+    /// [`IntegralRule::MatchEstimator`] as its equivalent bandwidth), seed offset by `seed_offset`,
+    /// its methods just `method` (so pid's settings are checked when pid runs). `None` past the
+    /// plan's scenarios.
+    pub fn scenario_at(
+        &self,
+        scenario: usize,
+        method: Method,
+        bandwidth_rad_s: f64,
+        seed_offset: usize,
+    ) -> Option<Scenario> {
+        let mut s = self.scenarios.get(scenario)?.clone();
+        s.seed = s.seed.wrapping_add(seed_offset as u64);
+        s.controller.observer_bandwidth_rad_s = bandwidth_rad_s;
+        if method == Method::Pid {
+            s.controller.integral_rule = IntegralRule::MatchEstimator;
+        }
+        s.methods = vec![method];
+        Some(s)
     }
 
     /// How many runs the grid holds (the most shards it splits into).
@@ -64,6 +97,23 @@ impl Plan {
         }
         jobs
     }
+}
+
+/// The methods a sweep compares.
+const SWEPT_METHODS: [Method; 5] = [Method::Lu, Method::Chen, Method::Momentum, Method::Eso, Method::Pid];
+
+/// The bandwidths of the report's reduced grid, rad/s.
+pub const REPORT_BANDWIDTHS_RAD_S: [f64; 4] = [20.0, 50.0, 100.0, 200.0];
+
+/// Seeds per point of the report's reduced grid (without `--quick`).
+pub const REPORT_SEEDS: usize = 5;
+
+/// The swept scenarios, shortened with `quick`.
+fn builtin_scenarios(quick: bool) -> Result<Vec<Scenario>, SimError> {
+    ["estimator_noise_high", "goto_internal"]
+        .iter()
+        .map(|name| Scenario::builtin(name).map(|s| if quick { s.quick() } else { s }))
+        .collect()
 }
 
 /// One shard of a sweep: the `index`-th of `count` (from 0).
@@ -107,8 +157,9 @@ pub struct Entry {
     pub bandwidth_rad_s: f64,
     /// The run's seed.
     pub seed: u64,
-    /// Mean over joints of the RMSE of `d̂ − d`, N·m.
-    pub rmse_d: f64,
+    /// Mean over joints of the RMSE of `d̂ − d`, N·m; `None` for pid, which estimates nothing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rmse_d: Option<f64>,
     /// Mean over joints of the command-torque noise, N·m.
     pub tau_cmd_noise: f64,
     /// Mean over joints of the tracking RMSE, rad.
@@ -190,40 +241,44 @@ struct ShardRun<'a> {
 impl crate::robot::ForRobot for ShardRun<'_> {
     type Output = Sweep;
     fn call<const N: usize>(self, robot: crate::robot::Robot<N>) -> Result<Sweep, SimError> {
-        let (plan, shard) = (self.plan, self.shard);
-        let jobs: Vec<_> = plan
-            .jobs()
-            .into_iter()
-            .enumerate()
-            .filter(|(k, _)| k % shard.count == shard.index)
-            .map(|(_, j)| j)
-            .collect();
-        let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
-            let mut scenario = plan.scenarios[i].clone();
-            scenario.seed = scenario.seed.wrapping_add(k as u64);
-            scenario.controller.observer_bandwidth_rad_s = bandwidth;
-            let entry = crate::analysis::outcome::simulate(&scenario, method, &robot).map(|o| Entry {
-                scenario: scenario.name.clone(),
-                method: method.name().to_owned(),
-                bandwidth_rad_s: bandwidth,
-                seed: scenario.seed,
-                rmse_d: o.metrics.rmse_d.as_deref().map_or(f64::NAN, mean),
-                tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
-                rmse_q: mean(&o.metrics.rmse_q),
-            });
-            (self.progress)(scenario.duration_s);
-            entry
-        })
-        .into_iter()
-        .collect::<Result<Vec<_>, _>>()?;
-        Ok(Sweep {
-            plan: plan.fingerprint(),
-            quick: self.quick,
-            shards: shard.count,
-            shard_indices: vec![shard.index],
-            entries: Sweep::sorted(entries),
-        })
+        run_on(&robot, self.plan, self.shard, self.quick, self.progress)
     }
+}
+
+/// [`run`] on a robot already loaded (the plan's scenarios must name it).
+pub fn run_on<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    plan: &Plan,
+    shard: Shard,
+    quick: bool,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Sweep, SimError> {
+    let jobs: Vec<_> =
+        plan.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect();
+    let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
+        let scenario =
+            plan.scenario_at(i, method, bandwidth, k).ok_or(SimError::Nothing("a sweep point beyond its scenarios"))?;
+        let entry = crate::analysis::outcome::simulate(&scenario, method, robot).map(|o| Entry {
+            scenario: scenario.name.clone(),
+            method: method.name().to_owned(),
+            bandwidth_rad_s: bandwidth,
+            seed: scenario.seed,
+            rmse_d: o.metrics.rmse_d.as_deref().map(mean),
+            tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
+            rmse_q: mean(&o.metrics.rmse_q),
+        });
+        progress(scenario.duration_s);
+        entry
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>, _>>()?;
+    Ok(Sweep {
+        plan: plan.fingerprint(),
+        quick,
+        shards: shard.count,
+        shard_indices: vec![shard.index],
+        entries: Sweep::sorted(entries),
+    })
 }
 
 /// Reads the `sweep.json` of a shard folder, at most [`MAX_SWEEP_BYTES`].
@@ -286,7 +341,7 @@ pub fn merge(plan: &Plan, shards: &[(String, Sweep)]) -> Result<Sweep, SimError>
         if let Some(e) = shard
             .entries
             .iter()
-            .find(|e| ![e.rmse_d, e.tau_cmd_noise, e.rmse_q].iter().all(|v| v.is_finite() && *v >= 0.0))
+            .find(|e| ![e.rmse_d.unwrap_or(0.0), e.tau_cmd_noise, e.rmse_q].iter().all(|v| v.is_finite() && *v >= 0.0))
         {
             return Err(refuse(format!(
                 "{} / {} at {} rad/s, seed {}: a value is not a finite number ≥ 0",
@@ -321,7 +376,7 @@ pub fn pareto_figure(sweep: &Sweep) -> String {
     scenarios.dedup();
     let mut panels = Vec::new();
     for scenario in scenarios {
-        let estimate: fn(&Entry) -> f64 = |e| e.rmse_d;
+        let estimate: fn(&Entry) -> f64 = |e| e.rmse_d.unwrap_or(f64::NAN);
         let tracking: fn(&Entry) -> f64 = |e| e.rmse_q;
         for (y_label, value) in [("RMSE d̂ − d [N·m]", estimate), ("RMSE q [rad]", tracking)] {
             let mut methods: Vec<&str> =

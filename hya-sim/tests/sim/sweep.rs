@@ -9,7 +9,7 @@ fn tiny_plan() -> Plan {
     scenario.duration_s = 0.8;
     Plan {
         scenarios: vec![scenario],
-        methods: vec![Method::Lu, Method::Momentum],
+        methods: vec![Method::Lu, Method::Pid],
         bandwidths_rad_s: vec![30.0, 60.0],
         seeds: 2,
     }
@@ -33,6 +33,11 @@ fn merged_shards_equal_the_unsharded_sweep() {
     assert!(shards.iter().all(|s| s.entries.len() < 8), "each shard runs a part");
     let merged = merge(&plan, &named(&shards)).unwrap();
     assert_eq!(merged.entries, whole.entries);
+    // pid runs, with a tracking error and no estimate.
+    let pid: Vec<_> = whole.entries.iter().filter(|e| e.method == "pid").collect();
+    assert_eq!(pid.len(), 4);
+    assert!(pid.iter().all(|e| e.rmse_d.is_none() && e.rmse_q.is_finite() && e.rmse_q > 0.0));
+    assert!(whole.entries.iter().filter(|e| e.method == "lu").all(|e| e.rmse_d.is_some()));
     assert_eq!(merged.plan, whole.plan);
     // Through JSON and back, as `hya sweep --merge` reads them: still bit for bit.
     let reread: Vec<Sweep> =
@@ -81,4 +86,37 @@ fn shards_parse_and_refuse_nonsense() {
     for bad in ["8/8", "1/0", "x/2", "3", "-1/2", "0/9", "0/18446744073709551615"] {
         assert!(Shard::parse(bad, 8).is_err(), "{bad} accepted");
     }
+}
+
+/// pid's `K_I` per joint at the point of `plan` with swept value `omega`.
+fn integral_gain_at(plan: &Plan, omega: f64) -> Vec<f64> {
+    use hya_core::Dynamics;
+    let scenario = plan.scenario_at(0, Method::Pid, omega, 0).unwrap();
+    let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
+    let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
+    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &scenario, &joints).unwrap();
+    let inertia = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
+    hya_sim::run::integral_gain(&gains, &inertia, &scenario, &joints).0.iter().copied().collect()
+}
+
+#[test]
+fn pid_integral_gain_follows_the_swept_value() {
+    let mut plan = tiny_plan();
+    // Even a scenario set to another rule is swept by the estimator-matching rule.
+    plan.scenarios[0].controller.integral_rule = hya_sim::scenario::IntegralRule::ZeroRatio;
+    let (slow, fast) = (integral_gain_at(&plan, 5.0), integral_gain_at(&plan, 10.0));
+    // K_I = K_P ω / (1 + 2ζ): doubling ω doubles K_I where the Routh cap does not bind.
+    assert!(slow.iter().zip(&fast).any(|(s, f)| (f / s - 2.0).abs() < 1e-9), "{slow:?} {fast:?}");
+    assert!(slow.iter().zip(&fast).all(|(s, f)| f >= s && *s > 0.0));
+    let capped = integral_gain_at(&plan, 1e4);
+    assert!(capped.iter().zip(&integral_gain_at(&plan, 2e4)).all(|(a, b)| a == b), "capped at half the Routh bound");
+}
+
+#[test]
+fn the_report_grid_holds_every_method_and_pid() {
+    let plan = Plan::report(true).unwrap();
+    assert!(plan.methods.contains(&Method::Pid) && plan.methods.len() == 5);
+    assert_eq!(plan.seeds, 1);
+    assert_eq!(Plan::report(false).unwrap().runs(), 2 * 5 * 4 * hya_sim::sweep::REPORT_SEEDS);
+    assert!(Plan::standard(false).unwrap().methods.contains(&Method::Pid));
 }

@@ -8,9 +8,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::seeds::mean_ci95;
 use crate::config::scenario::{IntegralRule, Method, Scenario};
 use crate::error::SimError;
-use crate::io::svg::{line_grid, Panel, Series, PALETTE};
+use crate::io::svg::{marked_grid, Mark, MarkedPanel, Panel, Scale, Series, PALETTE};
 use hya_core::{Clipped, Short};
 
 /// What a sweep runs.
@@ -369,61 +370,160 @@ pub fn merge(plan: &Plan, shards: &[(String, Sweep)]) -> Result<Sweep, SimError>
     })
 }
 
-/// The Pareto figure: per scenario, estimate error and tracking RMSE against command noise, one
-/// line per method through its bandwidths (means over seeds).
-pub fn pareto_figure(sweep: &Sweep) -> String {
-    let mut scenarios: Vec<&str> = sweep.entries.iter().map(|e| e.scenario.as_str()).collect();
-    scenarios.dedup();
-    let mut panels = Vec::new();
-    for scenario in scenarios {
-        let estimate: fn(&Entry) -> f64 = |e| e.rmse_d.unwrap_or(f64::NAN);
-        let tracking: fn(&Entry) -> f64 = |e| e.rmse_q;
-        for (y_label, value) in [("RMSE d̂ − d [N·m]", estimate), ("RMSE q [rad]", tracking)] {
-            let mut methods: Vec<&str> =
-                sweep.entries.iter().filter(|e| e.scenario == scenario).map(|e| e.method.as_str()).collect();
-            methods.sort_unstable();
-            methods.dedup();
-            let series = methods
-                .iter()
-                .enumerate()
-                .map(|(k, method)| {
-                    let mut bandwidths: Vec<f64> = sweep
-                        .entries
-                        .iter()
-                        .filter(|e| e.scenario == scenario && e.method == *method)
-                        .map(|e| e.bandwidth_rad_s)
-                        .collect();
-                    bandwidths.sort_by(f64::total_cmp);
-                    bandwidths.dedup();
-                    let points = bandwidths
-                        .iter()
-                        .map(|b| {
-                            let at: Vec<&Entry> = sweep
-                                .entries
-                                .iter()
-                                .filter(|e| e.scenario == scenario && e.method == *method && e.bandwidth_rad_s == *b)
-                                .collect();
-                            // Σ x/n: a mean of huge values stays finite.
-                            let avg =
-                                |f: &dyn Fn(&Entry) -> f64| at.iter().map(|e| f(e) / at.len() as f64).sum::<f64>();
-                            (avg(&|e| e.tau_cmd_noise), avg(&value))
-                        })
-                        .collect();
-                    Series {
-                        label: format!(
-                            "{method} ({}–{} rad/s)",
-                            bandwidths.first().copied().unwrap_or(0.0),
-                            bandwidths.last().copied().unwrap_or(0.0)
-                        ),
-                        points,
-                        color: PALETTE[(k + 1) % PALETTE.len()],
-                        dashed: false,
-                        markers: false,
-                    }
-                })
-                .collect();
-            panels.push(Panel { title: scenario.to_owned(), y_label: y_label.into(), series });
+/// What a front plots against command noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// The tracking RMSE, rad.
+    Tracking,
+    /// The estimate's RMSE `d̂ − d`, N·m (not pid's: it estimates nothing).
+    Estimate,
+}
+
+impl Measure {
+    /// Both, tracking first.
+    pub const ALL: [Measure; 2] = [Measure::Tracking, Measure::Estimate];
+
+    /// Its value in one run.
+    pub fn of(self, e: &Entry) -> Option<f64> {
+        match self {
+            Measure::Tracking => Some(e.rmse_q),
+            Measure::Estimate => e.rmse_d,
         }
     }
-    line_grid("observer bandwidth sweep: error against command noise", "command-torque noise [N·m]", &panels, 2)
+
+    /// Its name and unit, for axes and text.
+    pub fn label(self) -> &'static str {
+        match self {
+            Measure::Tracking => "tracking RMSE [rad]",
+            Measure::Estimate => "estimate RMSE d̂ − d [N·m]",
+        }
+    }
+}
+
+/// One point of a front: a method at one swept value, means over seeds with the half-widths of
+/// their 95 % intervals (infinite with one seed).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrontPoint {
+    /// Method name.
+    pub method: String,
+    /// The swept value, rad/s.
+    pub bandwidth_rad_s: f64,
+    /// Command-torque noise, N·m: mean and half-width.
+    pub noise: (f64, f64),
+    /// The measure: mean and half-width.
+    pub error: (f64, f64),
+}
+
+/// The scenarios of a sweep, in its entries' order.
+pub fn scenarios(sweep: &Sweep) -> Vec<&str> {
+    let mut names: Vec<&str> = sweep.entries.iter().map(|e| e.scenario.as_str()).collect();
+    names.dedup();
+    names
+}
+
+/// Every point of `scenario` with `measure`, by method and swept value (methods without the
+/// measure, like pid's estimate, have none).
+pub fn front_points(sweep: &Sweep, scenario: &str, measure: Measure) -> Vec<FrontPoint> {
+    let mut keys: Vec<(&str, f64)> = sweep
+        .entries
+        .iter()
+        .filter(|e| e.scenario == scenario && measure.of(e).is_some())
+        .map(|e| (e.method.as_str(), e.bandwidth_rad_s))
+        .collect();
+    keys.sort_by(|a, b| a.0.cmp(b.0).then(a.1.total_cmp(&b.1)));
+    keys.dedup();
+    keys.into_iter()
+        .map(|(method, bandwidth)| {
+            let at: Vec<&Entry> = sweep
+                .entries
+                .iter()
+                .filter(|e| e.scenario == scenario && e.method == method && e.bandwidth_rad_s == bandwidth)
+                .collect();
+            let noise: Vec<f64> = at.iter().map(|e| e.tau_cmd_noise).collect();
+            let error: Vec<f64> = at.iter().filter_map(|e| measure.of(e)).collect();
+            FrontPoint {
+                method: method.to_owned(),
+                bandwidth_rad_s: bandwidth,
+                noise: mean_ci95(&noise),
+                error: mean_ci95(&error),
+            }
+        })
+        .collect()
+}
+
+/// `mean ± half`'s ends; an interval that is not finite (one seed) is taken as the mean alone.
+fn ends((mean, half): (f64, f64)) -> (f64, f64) {
+    let half = if half.is_finite() { half } else { 0.0 };
+    (mean - half, mean + half)
+}
+
+/// Whether `a` dominates `b`: in command noise and in error, `a` is nowhere worse beyond the
+/// intervals (its lower end not above `b`'s upper end) and in at least one it is better beyond
+/// them (its upper end below `b`'s lower end). With one seed the means are compared.
+pub fn dominates(a: &FrontPoint, b: &FrontPoint) -> bool {
+    let pairs = [(ends(a.noise), ends(b.noise)), (ends(a.error), ends(b.error))];
+    pairs.iter().all(|(a, b)| a.0 <= b.1) && pairs.iter().any(|(a, b)| a.1 < b.0)
+}
+
+/// The indices of the points no other point dominates (the Pareto-optimal set), in order.
+pub fn pareto_optimal(points: &[FrontPoint]) -> Vec<usize> {
+    (0..points.len()).filter(|&i| !points.iter().enumerate().any(|(j, p)| j != i && dominates(p, &points[i]))).collect()
+}
+
+/// A method's colour, the same in every panel.
+fn method_color(method: &str) -> &'static str {
+    let order = ["none", "lu", "chen", "momentum", "eso", "pid"];
+    PALETTE[order.iter().position(|m| *m == method).unwrap_or(order.len()) % PALETTE.len()]
+}
+
+/// One panel: `measure` against command noise on `scenario`, one line per method through its
+/// swept values, each point's marker labelled with its value and whiskers of its intervals; log
+/// axes where the means span more than a decade.
+fn front_panel(sweep: &Sweep, scenario: &str, measure: Measure) -> MarkedPanel {
+    let points = front_points(sweep, scenario, measure);
+    let mut methods: Vec<&str> = points.iter().map(|p| p.method.as_str()).collect();
+    methods.dedup();
+    let (mut series, mut marks) = (Vec::new(), Vec::new());
+    for method in methods {
+        let own: Vec<&FrontPoint> = points.iter().filter(|p| p.method == method).collect();
+        series.push(Series {
+            label: method.to_owned(),
+            points: own.iter().map(|p| (p.noise.0, p.error.0)).collect(),
+            color: method_color(method),
+            dashed: false,
+            markers: false,
+        });
+        marks.push(
+            own.iter()
+                .map(|p| Mark {
+                    label: format!("{}", Short(p.bandwidth_rad_s)),
+                    x_half_width: p.noise.1,
+                    y_half_width: p.error.1,
+                })
+                .collect(),
+        );
+    }
+    MarkedPanel {
+        panel: Panel { title: scenario.to_owned(), y_label: measure.label().into(), series },
+        marks,
+        x_scale: Scale::for_values(points.iter().map(|p| p.noise.0)),
+        y_scale: Scale::for_values(points.iter().map(|p| p.error.0)),
+    }
+}
+
+/// The Pareto figure: per scenario, tracking RMSE and estimate error against command noise, one
+/// line per method through its swept values (means over seeds), each marker labelled with its
+/// bandwidth in rad/s, whiskers of the 95 % intervals over seeds, log axes where the values span
+/// more than a decade.
+pub fn pareto_figure(sweep: &Sweep) -> String {
+    let panels: Vec<MarkedPanel> = scenarios(sweep)
+        .into_iter()
+        .flat_map(|scenario| Measure::ALL.map(|measure| front_panel(sweep, scenario, measure)))
+        .collect();
+    marked_grid(
+        "bandwidth sweep: error against command noise (labels: bandwidth, rad/s; pid: its integral's)",
+        "command-torque noise [N·m]",
+        &panels,
+        2,
+    )
 }

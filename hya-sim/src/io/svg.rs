@@ -32,6 +32,55 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
+/// How an axis maps values to positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Scale {
+    /// Evenly, with round ticks.
+    #[default]
+    Linear,
+    /// By decades, with a tick at each; values that are not positive are not drawn.
+    Log,
+}
+
+impl Scale {
+    /// Log where every finite value is positive and they span more than a decade; else linear.
+    pub fn for_values(values: impl Iterator<Item = f64>) -> Self {
+        let (lo, hi) =
+            values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        if lo > 0.0 && hi.is_finite() && hi > 10.0 * lo {
+            Scale::Log
+        } else {
+            Scale::Linear
+        }
+    }
+}
+
+/// A point's annotation on a [`MarkedPanel`]: a label beside its marker and the half-widths of
+/// its interval (whiskers; none where not finite and positive).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// Text beside the marker.
+    pub label: String,
+    /// Half-width of the interval on x.
+    pub x_half_width: f64,
+    /// Half-width of the interval on y.
+    pub y_half_width: f64,
+}
+
+/// A panel whose points are drawn as markers, each with its label and whiskers, on chosen
+/// scales; its series' lines join the markers.
+#[derive(Debug, Clone)]
+pub struct MarkedPanel {
+    /// The plot.
+    pub panel: Panel,
+    /// Per series, per point (a point without a mark gets a bare marker).
+    pub marks: Vec<Vec<Mark>>,
+    /// The x axis's scale.
+    pub x_scale: Scale,
+    /// The y axis's scale.
+    pub y_scale: Scale,
+}
+
 const PANEL_W: f64 = 540.0;
 const PANEL_H: f64 = 230.0;
 const MARGIN_L: f64 = 62.0;
@@ -75,6 +124,62 @@ fn centred_text(out: &mut String, x: f64, y: f64, size: u32, vertical: bool, tex
     let _ = writeln!(out, r#"<text {place} font-size="{size}" text-anchor="middle">{}</text>"#, escape(text));
 }
 
+/// One axis of a panel: its range (decades' exponents on a log scale) and scale.
+struct Axis {
+    lo: f64,
+    hi: f64,
+    scale: Scale,
+}
+
+impl Axis {
+    /// The axis covering `values` (padded when linear, whole decades when log).
+    fn of(values: impl Iterator<Item = f64>, scale: Scale) -> Self {
+        let (lo, hi) = match scale {
+            Scale::Linear => range(values),
+            Scale::Log => decades(values),
+        };
+        Self { lo, hi, scale }
+    }
+
+    /// Where `v` falls, 0 at the low end to 1 at the high end; `None` if it cannot be drawn.
+    fn fraction(&self, v: f64) -> Option<f64> {
+        let at = match self.scale {
+            Scale::Linear if v.abs() <= MAX_PLOTTED => v,
+            Scale::Log if v > 0.0 && v <= MAX_PLOTTED => v.log10(),
+            _ => return None,
+        };
+        Some((at - self.lo) / (self.hi - self.lo))
+    }
+
+    /// As [`Self::fraction`], clamped to the axis: a whisker's end beyond it stops at the frame.
+    fn clamped(&self, v: f64) -> Option<f64> {
+        match (self.scale, v.is_nan()) {
+            (_, true) => None,
+            (Scale::Log, false) if v <= 0.0 => Some(0.0),
+            _ => Some(self.fraction(v.clamp(-MAX_PLOTTED, MAX_PLOTTED))?.clamp(0.0, 1.0)),
+        }
+    }
+
+    fn ticks(&self) -> Vec<f64> {
+        match self.scale {
+            Scale::Linear => ticks(self.lo, self.hi),
+            Scale::Log => (self.lo as i32..=self.hi as i32).map(|e| 10f64.powi(e)).collect(),
+        }
+    }
+}
+
+/// The exponents of the whole decades covering the positive values (at least one decade).
+fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| *v > 0.0 && *v <= MAX_PLOTTED)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let (lo, hi) = (lo.log10().floor(), hi.log10().ceil());
+    (lo, hi.max(lo + 1.0))
+}
+
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.abs() <= MAX_PLOTTED)
@@ -86,20 +191,75 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
-    let (xl, xh) = range(p.series.iter().flat_map(|s| s.points.iter().map(|pt| pt.0)));
-    let (yl, yh) = range(p.series.iter().flat_map(|s| s.points.iter().map(|pt| pt.1)));
-    let (w, h) = (PANEL_W - MARGIN_L - MARGIN_R, PANEL_H - MARGIN_T - MARGIN_B);
-    let (left, top) = (x0 + MARGIN_L, y0 + MARGIN_T);
-    let sx = |x: f64| left + (x - xl) / (xh - xl) * w;
-    let sy = |y: f64| top + h - (y - yl) / (yh - yl) * h;
+/// A panel's frame on the page: the plot's corner and size, and its two axes.
+struct Frame {
+    left: f64,
+    top: f64,
+    w: f64,
+    h: f64,
+    x: Axis,
+    y: Axis,
+}
+
+impl Frame {
+    fn sx(&self, f: f64) -> f64 {
+        self.left + f * self.w
+    }
+
+    fn sy(&self, f: f64) -> f64 {
+        self.top + self.h - f * self.h
+    }
+
+    /// The page position of a data point, if it can be drawn.
+    fn at(&self, (x, y): (f64, f64)) -> Option<(f64, f64)> {
+        Some((self.sx(self.x.fraction(x)?), self.sy(self.y.fraction(y)?)))
+    }
+}
+
+/// Every value a panel's axis must cover: its points and the ends of their whiskers.
+fn extent<'a>(p: &'a Panel, marks: &'a [Vec<Mark>], y: bool) -> impl Iterator<Item = f64> + 'a {
+    p.series.iter().enumerate().flat_map(move |(k, s)| {
+        s.points.iter().enumerate().flat_map(move |(i, &(px, py))| {
+            let (v, half) = match (y, marks.get(k).and_then(|m| m.get(i))) {
+                (true, m) => (py, m.map_or(0.0, |m| m.y_half_width)),
+                (false, m) => (px, m.map_or(0.0, |m| m.x_half_width)),
+            };
+            let half = if half.is_finite() { half } else { 0.0 };
+            [v, v - half, v + half]
+        })
+    })
+}
+
+fn panel(out: &mut String, p: &Panel, marks: &[Vec<Mark>], scales: (Scale, Scale), corner: (f64, f64), x_label: &str) {
+    let (x0, y0) = corner;
+    let frame = Frame {
+        left: x0 + MARGIN_L,
+        top: y0 + MARGIN_T,
+        w: PANEL_W - MARGIN_L - MARGIN_R,
+        h: PANEL_H - MARGIN_T - MARGIN_B,
+        x: Axis::of(extent(p, marks, false), scales.0),
+        y: Axis::of(extent(p, marks, true), scales.1),
+    };
+    let (left, top, w, h) = (frame.left, frame.top, frame.w, frame.h);
     let _ = writeln!(
         out,
         r##"<rect x="{left:.1}" y="{top:.1}" width="{w:.1}" height="{h:.1}" fill="none" stroke="#888"/>"##
     );
     centred_text(out, left + w / 2.0, y0 + 17.0, 13, false, &p.title);
-    for t in ticks(xl, xh) {
-        let x = sx(t);
+    grid_lines(out, &frame);
+    centred_text(out, left + w / 2.0, top + h + 27.0, 11, false, x_label);
+    centred_text(out, x0 + 14.0, top + h / 2.0, 11, true, &p.y_label);
+    for (k, s) in p.series.iter().enumerate() {
+        series(out, &frame, s, marks.get(k).map_or(&[], |m| m.as_slice()), !marks.is_empty());
+        legend(out, &frame, s, k);
+    }
+}
+
+/// The ticks of both axes with their grid lines.
+fn grid_lines(out: &mut String, frame: &Frame) {
+    let (left, top, w, h) = (frame.left, frame.top, frame.w, frame.h);
+    for t in frame.x.ticks() {
+        let Some(x) = frame.x.fraction(t).map(|f| frame.sx(f)) else { continue };
         let _ = writeln!(
             out,
             r##"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="#eee"/><text x="{x:.1}" y="{:.1}" font-size="10" text-anchor="middle">{}</text>"##,
@@ -109,8 +269,8 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
             format_tick(t)
         );
     }
-    for t in ticks(yl, yh) {
-        let y = sy(t);
+    for t in frame.y.ticks() {
+        let Some(y) = frame.y.fraction(t).map(|f| frame.sy(f)) else { continue };
         let _ = writeln!(
             out,
             r##"<line x1="{left:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eee"/><text x="{:.1}" y="{:.1}" font-size="10" text-anchor="end">{}</text>"##,
@@ -120,47 +280,92 @@ fn panel(out: &mut String, p: &Panel, x0: f64, y0: f64, x_label: &str) {
             format_tick(t)
         );
     }
-    centred_text(out, left + w / 2.0, top + h + 27.0, 11, false, x_label);
-    centred_text(out, x0 + 14.0, top + h / 2.0, 11, true, &p.y_label);
-    for (k, s) in p.series.iter().enumerate() {
-        let stride = s.points.len().div_ceil(MAX_POINTS).max(1);
-        let path: Vec<String> = s
-            .points
-            .iter()
-            .step_by(stride)
-            .filter(|(x, y)| x.abs() <= MAX_PLOTTED && y.abs() <= MAX_PLOTTED)
-            .map(|(x, y)| format!("{:.1},{:.1}", sx(*x), sy(*y)))
-            .collect();
-        let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
-        if s.markers {
-            // One path of zero-length round-capped segments: a dot per point, in one element.
-            let dots: Vec<String> = path.iter().map(|p| format!("M{p}h0")).collect();
-            let _ = writeln!(
-                out,
-                r#"<path fill="none" stroke="{}" stroke-width="3" stroke-linecap="round" stroke-opacity="0.5" d="{}"/>"#,
-                s.color,
-                dots.join("")
-            );
-        } else {
-            let _ = writeln!(
-                out,
-                r#"<polyline fill="none" stroke="{}" stroke-width="1.2"{dash} points="{}"/>"#,
-                s.color,
-                path.join(" ")
-            );
-        }
-        let ly = top + 8.0 + 13.0 * k as f64;
+}
+
+/// One series: its line (or dots), and with `marked` a marker, label and whiskers per point.
+fn series(out: &mut String, frame: &Frame, s: &Series, marks: &[Mark], marked: bool) {
+    let stride = if marked { 1 } else { s.points.len().div_ceil(MAX_POINTS).max(1) };
+    let path: Vec<String> =
+        s.points.iter().step_by(stride).filter_map(|pt| frame.at(*pt)).map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+    let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
+    if s.markers && !marked {
+        // One path of zero-length round-capped segments: a dot per point, in one element.
+        let dots: Vec<String> = path.iter().map(|p| format!("M{p}h0")).collect();
         let _ = writeln!(
             out,
-            r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}" font-size="10">{}</text>"#,
-            left + w + 8.0,
-            left + w + 26.0,
+            r#"<path fill="none" stroke="{}" stroke-width="3" stroke-linecap="round" stroke-opacity="0.5" d="{}"/>"#,
             s.color,
-            left + w + 30.0,
-            ly + 3.0,
-            escape(&s.label)
+            dots.join("")
+        );
+    } else if !s.markers {
+        let _ = writeln!(
+            out,
+            r#"<polyline fill="none" stroke="{}" stroke-width="1.2"{dash} points="{}"/>"#,
+            s.color,
+            path.join(" ")
         );
     }
+    if marked {
+        for (i, &pt) in s.points.iter().enumerate() {
+            mark(out, frame, pt, marks.get(i), s.color);
+        }
+    }
+}
+
+/// A point's marker, its whiskers and its label; nothing for a point that cannot be drawn.
+fn mark(out: &mut String, frame: &Frame, (x, y): (f64, f64), mark: Option<&Mark>, color: &str) {
+    let Some((px, py)) = frame.at((x, y)) else { return };
+    if let Some(m) = mark {
+        let whisker = |v: f64, half: f64, axis: &Axis| {
+            (half.is_finite() && half > 0.0).then_some(())?;
+            Some((axis.clamped(v - half)?, axis.clamped(v + half)?))
+        };
+        if let Some((a, b)) = whisker(y, m.y_half_width, &frame.y) {
+            let (ya, yb) = (frame.sy(a), frame.sy(b));
+            let _ = writeln!(
+                out,
+                r#"<path fill="none" stroke="{color}" stroke-width="1" d="M{px:.1},{ya:.1}V{yb:.1}M{:.1},{ya:.1}h5M{:.1},{yb:.1}h5"/>"#,
+                px - 2.5,
+                px - 2.5
+            );
+        }
+        if let Some((a, b)) = whisker(x, m.x_half_width, &frame.x) {
+            let (xa, xb) = (frame.sx(a), frame.sx(b));
+            let _ = writeln!(
+                out,
+                r#"<path fill="none" stroke="{color}" stroke-width="1" d="M{xa:.1},{py:.1}H{xb:.1}M{xa:.1},{:.1}v5M{xb:.1},{:.1}v5"/>"#,
+                py - 2.5,
+                py - 2.5
+            );
+        }
+    }
+    let _ = writeln!(out, r#"<circle cx="{px:.1}" cy="{py:.1}" r="2.5" fill="{color}"/>"#);
+    if let Some(m) = mark.filter(|m| !m.label.is_empty()) {
+        let _ = writeln!(
+            out,
+            r#"<text class="mark" x="{:.1}" y="{:.1}" font-size="8" fill="{color}">{}</text>"#,
+            px + 3.5,
+            py - 3.5,
+            escape(&m.label)
+        );
+    }
+}
+
+/// The `k`-th entry of the legend right of the plot.
+fn legend(out: &mut String, frame: &Frame, s: &Series, k: usize) {
+    let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
+    let right = frame.left + frame.w;
+    let ly = frame.top + 8.0 + 13.0 * k as f64;
+    let _ = writeln!(
+        out,
+        r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}" font-size="10">{}</text>"#,
+        right + 8.0,
+        right + 26.0,
+        s.color,
+        right + 30.0,
+        ly + 3.0,
+        escape(&s.label)
+    );
 }
 
 fn format_tick(t: f64) -> String {
@@ -186,7 +391,23 @@ pub fn line_grid(title: &str, x_label: &str, panels: &[Panel], columns: usize) -
     let rows = panels.len().div_ceil(columns);
     let mut body = String::new();
     for (i, p) in panels.iter().enumerate() {
-        panel(&mut body, p, (i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H, x_label);
+        let corner = ((i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H);
+        panel(&mut body, p, &[], (Scale::Linear, Scale::Linear), corner, x_label);
+    }
+    document(columns as f64 * PANEL_W, 30.0 + rows as f64 * PANEL_H, title, &body)
+}
+
+/// A grid of [`MarkedPanel`]s sharing the x label: every drawable point a marker (`<circle>`)
+/// with its label (`<text class="mark">`) and whiskers.
+pub fn marked_grid(title: &str, x_label: &str, panels: &[MarkedPanel], columns: usize) -> String {
+    let columns = columns.max(1);
+    let rows = panels.len().div_ceil(columns);
+    let mut body = String::new();
+    for (i, p) in panels.iter().enumerate() {
+        let corner = ((i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H);
+        // A panel without marks still draws markers: one empty mark list per series.
+        let marks = if p.marks.is_empty() { vec![Vec::new(); p.panel.series.len().max(1)] } else { p.marks.clone() };
+        panel(&mut body, &p.panel, &marks, (p.x_scale, p.y_scale), corner, x_label);
     }
     document(columns as f64 * PANEL_W, 30.0 + rows as f64 * PANEL_H, title, &body)
 }
@@ -266,6 +487,18 @@ mod tests {
         assert_eq!(ticks(0.0, 1.0), [0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0]);
         assert!(ticks(1e300, 1e300 + 1e-12).is_empty(), "no billions of ticks for a lost span");
         assert!(ticks(-3.7, 12.2).iter().all(|t| (t / 5.0).fract() == 0.0));
+    }
+
+    #[test]
+    fn log_axes_cover_whole_decades_and_refuse_what_they_cannot_draw() {
+        let axis = Axis::of([0.002, 0.5, -1.0, f64::NAN, f64::INFINITY].into_iter(), Scale::Log);
+        assert_eq!(axis.ticks(), [1e-3, 1e-2, 1e-1, 1.0]);
+        assert_eq!(axis.fraction(0.01), Some(1.0 / 3.0));
+        assert!(axis.fraction(0.0).is_none() && axis.fraction(f64::NAN).is_none());
+        assert_eq!(axis.clamped(-3.0), Some(0.0));
+        assert_eq!(Scale::for_values([1.0, 20.0].into_iter()), Scale::Log);
+        assert_eq!(Scale::for_values([1.0, 9.0, f64::NAN].into_iter()), Scale::Linear);
+        assert_eq!(Scale::for_values([0.0, 20.0].into_iter()), Scale::Linear);
     }
 
     #[test]

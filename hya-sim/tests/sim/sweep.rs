@@ -1,7 +1,7 @@
 //! Sweeps split into shards and merge back into exactly the unsharded result; a merge refuses
 //! every set of shards that is not exactly one sweep's grid.
 
-use hya_sim::sweep::{merge, run, Plan, Shard, Sweep};
+use hya_sim::sweep::{dominates, merge, pareto_figure, pareto_optimal, run, Entry, FrontPoint, Plan, Shard, Sweep};
 use hya_sim::{Method, Scenario};
 
 fn tiny_plan() -> Plan {
@@ -119,4 +119,87 @@ fn the_report_grid_holds_every_method_and_pid() {
     assert_eq!(plan.seeds, 1);
     assert_eq!(Plan::report(false).unwrap().runs(), 2 * 5 * 4 * hya_sim::sweep::REPORT_SEEDS);
     assert!(Plan::standard(false).unwrap().methods.contains(&Method::Pid));
+}
+
+fn point(method: &str, noise: (f64, f64), error: (f64, f64)) -> FrontPoint {
+    FrontPoint { method: method.into(), bandwidth_rad_s: 50.0, noise, error }
+}
+
+#[test]
+fn the_pareto_set_of_a_small_table() {
+    let table = [
+        point("lu", (1.0, 0.1), (10.0, 0.5)),
+        point("lu", (2.0, 0.1), (5.0, 0.5)),
+        point("chen", (2.0, 0.1), (8.0, 0.5)), // as noisy as lu's second, worse beyond the intervals
+        point("chen", (3.0, 0.1), (5.2, 0.5)), // errors overlap lu's second, noisier beyond them
+        point("eso", (0.5, 0.1), (20.0, 1.0)), // the quietest
+        point("pid", (5.0, 0.1), (1.0, 0.1)),  // the most accurate
+        point("eso", (1.02, 0.1), (10.3, 0.5)), // within lu's first intervals: not beaten
+    ];
+    assert_eq!(pareto_optimal(&table), [0, 1, 4, 5, 6]);
+    assert!(dominates(&table[1], &table[2]) && !dominates(&table[2], &table[1]));
+    assert!(!dominates(&table[0], &table[6]) && !dominates(&table[6], &table[0]));
+    // One seed: no interval, the means decide.
+    let single: Vec<FrontPoint> = table
+        .iter()
+        .map(|p| FrontPoint { noise: (p.noise.0, f64::INFINITY), error: (p.error.0, f64::INFINITY), ..p.clone() })
+        .collect();
+    assert_eq!(pareto_optimal(&single), [0, 1, 4, 5]);
+}
+
+/// A hand-made sweep: lu and pid at three bandwidths, two seeds, noise spanning decades.
+fn table_sweep() -> Sweep {
+    let mut entries = Vec::new();
+    for (method, scale) in [("lu", 1.0), ("pid", 2.0)] {
+        for (k, bandwidth) in [20.0, 50.0, 200.0].into_iter().enumerate() {
+            for seed in 0..2u64 {
+                let wobble = 1.0 + 0.01 * seed as f64;
+                entries.push(Entry {
+                    scenario: "s".into(),
+                    method: method.into(),
+                    bandwidth_rad_s: bandwidth,
+                    seed,
+                    rmse_d: (method == "lu").then_some(0.3 * wobble / (k + 1) as f64),
+                    tau_cmd_noise: 0.5 * 10f64.powi(k as i32) * scale * wobble,
+                    rmse_q: 0.004 * wobble / (k + 1) as f64,
+                });
+            }
+        }
+    }
+    Sweep { plan: "table".into(), quick: false, shards: 1, shard_indices: vec![0], entries }
+}
+
+/// The tick labels along the bottom of the first panel.
+fn x_tick_labels(svg: &str) -> Vec<String> {
+    svg.split(r##"stroke="#eee"/><text"##)
+        .skip(1)
+        .filter_map(|t| t.split_once("</text>").map(|(tick, _)| tick))
+        .filter_map(|t| t.split_once(r#"text-anchor="middle">"#).map(|(_, label)| label.to_owned()))
+        .collect()
+}
+
+#[test]
+fn the_figure_marks_and_labels_every_point_on_log_axes() {
+    let sweep = table_sweep();
+    let svg = pareto_figure(&sweep);
+    // Tracking: lu and pid, 3 points each; estimate: lu's 3.
+    assert_eq!(svg.matches("<circle").count(), 9);
+    assert_eq!(svg.matches(r#"class="mark""#).count(), 9);
+    assert_eq!(svg.matches(">200</text>").count(), 3);
+    assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+    assert!(svg.matches("<path").count() >= 9, "whiskers of two seeds' intervals");
+    // Noise from 0.5 to 101 N·m: a log axis with a tick at each decade.
+    let ticks = x_tick_labels(&svg);
+    assert!(!ticks.is_empty());
+    for t in &ticks {
+        assert!(["0.1", "1", "10", "100", "1000"].contains(&t.as_str()), "{t} is not a decade: {ticks:?}");
+    }
+    assert!(ticks.contains(&"1".to_owned()) && ticks.contains(&"100".to_owned()));
+    // A point beyond the drawable and a single seed: no marker for it, still no NaN or inf.
+    let mut wild = sweep.clone();
+    wild.entries.retain(|e| e.seed == 0);
+    wild.entries[0].rmse_q = 1e300;
+    let svg = pareto_figure(&wild);
+    assert_eq!(svg.matches("<circle").count(), 8);
+    assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
 }

@@ -727,7 +727,7 @@ impl Scenario {
     /// Every physical setting within its [`PLAUSIBLE`] range.
     fn check_plausible(&self) -> Result<(), SettingError> {
         let (p, h, s) = (&self.plant, &self.plant.hydraulic, &self.sensors);
-        let lists: [(&str, &[f64]); 24] = [
+        let lists: [(&str, &[f64]); 30] = [
             ("plant.coulomb_nm", &p.coulomb_nm),
             ("plant.static_nm", &p.static_nm),
             ("plant.viscous_nm_s", &p.viscous_nm_s),
@@ -751,6 +751,12 @@ impl Scenario {
             ("plant.hydraulic.torque_bandwidth_hz", &h.torque_bandwidth_hz),
             ("plant.hydraulic.torque_integral_ratio", &[h.torque_integral_ratio]),
             ("plant.hydraulic.velocity_compensation", &[h.velocity_compensation]),
+            ("plant.hydraulic.torque_loop_rate_hz", &[h.torque_loop_rate_hz]),
+            ("plant.hydraulic.torque_loop_pressure_noise_pa", &[h.torque_loop_pressure_noise_pa]),
+            ("plant.hydraulic.torque_loop_pressure_offset_pa", &[h.torque_loop_pressure_offset_pa]),
+            ("plant.hydraulic.torque_loop_encoder_counts_per_rev", &[h.torque_loop_encoder_counts_per_rev as f64]),
+            ("plant.hydraulic.torque_loop_velocity_filter_hz", &[h.torque_loop_velocity_filter_hz]),
+            ("plant.hydraulic.valve_dead_band", &[h.valve_dead_band]),
             ("sensors.velocity_cutoff_rad_s", &[s.velocity_cutoff_rad_s]),
         ];
         for (key, values) in lists {

@@ -7,6 +7,7 @@
 
 mod csv;
 mod figures;
+mod gain_rule;
 mod loops;
 mod markdown;
 mod plant;
@@ -71,7 +72,9 @@ pub fn write<const N: usize>(
     }
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
     let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
-        Some(base) => loops::section(robot, base)? + &viscous::section(robot, base, table)?,
+        Some(base) => {
+            loops::section(robot, base)? + &viscous::section(robot, base, table)? + &gain_rule::section(robot, base)?
+        }
         None => String::new(),
     };
     if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {

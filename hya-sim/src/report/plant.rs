@@ -52,7 +52,7 @@ fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
 }
 
 /// The rows of the hydraulic actuators' settings.
-const HYDRAULIC_ROWS: [&str; 15] = [
+const HYDRAULIC_ROWS: [&str; 21] = [
     "supply_pressure_pa",
     "tank_pressure_pa",
     "bulk_modulus_pa",
@@ -68,6 +68,12 @@ const HYDRAULIC_ROWS: [&str; 15] = [
     "torque_bandwidth_hz",
     "torque_integral_ratio",
     "velocity_compensation",
+    "torque_loop_rate_hz",
+    "torque_loop_pressure_noise_pa",
+    "torque_loop_pressure_offset_pa",
+    "torque_loop_encoder_counts_per_rev",
+    "torque_loop_velocity_filter_hz",
+    "valve_dead_band",
 ];
 
 /// `(parameter, value, unit, source)` for every setting of the plant and the sensors, the
@@ -101,6 +107,12 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
         row("torque_bandwidth_hz", numbers(&h.torque_bandwidth_hz), "Hz", "≈ 40 Hz torque loop on HyQ (Boaventura et al., ICRA 2012; IROS 2013), here on a locked joint at mid-range"),
         row("torque_integral_ratio", format!("{}", h.torque_integral_ratio), "–", "our choice (HyQ runs a PI torque loop, Boaventura et al., IROS 2013)"),
         row("velocity_compensation", format!("{}", h.velocity_compensation), "–", "load-motion compensation (Boaventura et al., IROS 2012)"),
+        row("torque_loop_rate_hz", format!("{}", h.torque_loop_rate_hz), "Hz", "HyQ's torque loops run at 1 kHz (Boaventura et al., IROS 2012); sampled, the valve command held between samples"),
+        row("torque_loop_pressure_noise_pa", format!("{}", h.torque_loop_pressure_noise_pa), "Pa", "our choice: as the controller's pressure sensors (the inner loop reads its own draw)"),
+        row("torque_loop_pressure_offset_pa", format!("{}", h.torque_loop_pressure_offset_pa), "Pa", "our choice: as the controller's pressure sensors"),
+        row("torque_loop_encoder_counts_per_rev", format!("{}", h.torque_loop_encoder_counts_per_rev), "counts", "HyA's 19-bit encoders; the loop's load-motion compensation differentiates them"),
+        row("torque_loop_velocity_filter_hz", format!("{}", h.torque_loop_velocity_filter_hz), "Hz", "our choice: none (0)"),
+        row("valve_dead_band", format!("{}", h.valve_dead_band), "of full opening", "our choice: none (0)"),
         row("actuator_time_constant_s", numbers(&p.actuator_time_constant_s), "s", "our choice (`actuator = \"lag\"` only)"),
         row("substeps", format!("{}", p.substeps()), "per tick", "measured: the fewest RK4 sub-steps per 1 ms tick within 1e-7 rad per tick of a ten times finer step along a goto move (an encoder count is 1.2e-5 rad): 2 on lag actuators (1: 3.6e-7 rad, 2: 3.5e-8 rad), 4 on hydraulic ones (2 would do for accuracy; 4 keeps the orifice law's stiff mode near zero pressure drop well inside RK4's stability region), `cargo test --release -p hya-sim --test sim integration_step -- --ignored --nocapture`; sliding bristles sub-cycle further, keeping h·σ0|q̇|/g ≤ 1"),
         row("encoder_counts_per_rev", format!("{}", s.encoder_counts_per_rev), "counts", "HyA's 19-bit absolute encoders (Semini et al., SICFP 2015)"),
@@ -171,6 +183,31 @@ fn friction_figure<const N: usize>(
     Ok(Some(line_grid(&format!("{}: friction against joint velocity", sine.scenario), "q̇ [rad/s]", &panels, 3)))
 }
 
+/// Whether the lightly loaded joints track torque worse (the paper, VI-A, explains the wrist's
+/// oscillations so): the mean rise time of the joints below the median `M_ii` against the rest.
+fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
+    let mut sorted = inertia.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let Some(&median) = sorted.get(sorted.len() / 2) else { return String::new() };
+    let mean_rise = |light: bool| {
+        let rises: Vec<f64> = inertia
+            .iter()
+            .zip(rise_times)
+            .filter(|(m, r)| (**m < median) == light && r.is_finite())
+            .map(|(_, r)| *r)
+            .collect();
+        (rises.iter().sum::<f64>() / rises.len() as f64, rises.len())
+    };
+    let ((light, n_light), (heavy, n_heavy)) = (mean_rise(true), mean_rise(false));
+    if n_light == 0 || n_heavy == 0 {
+        return String::new();
+    }
+    let verdict = if light > heavy { "worse (slower)" } else { "no worse" };
+    format!(
+        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: the lightly loaded joints track a torque step {verdict} in this model.\n"
+    )
+}
+
 /// Each joint's actuator torque after a 2 N·m step of its command, the arm at the start pose
 /// with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise time.
 fn step_responses<const N: usize>(
@@ -184,6 +221,11 @@ fn step_responses<const N: usize>(
         "initial_position_rad",
         &crate::config::settings::initial_position(scenario, N),
     )?;
+    // Friction off: a 2 N·m step is below every joint's static friction, and a sticking joint
+    // would show the locked loop; free, each joint's load shapes its response.
+    let mut free = scenario.clone();
+    free.plant.friction = crate::config::scenario::FrictionKind::Off;
+    let scenario = &free;
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
     let mut rise_times = Vec::new();
@@ -289,7 +331,7 @@ pub fn section<const N: usize>(
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
             _ => JointVector::zeros(),
         };
-        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need): the loops were designed for ({}) Hz on a locked joint at mid-range (a first-order loop at 40 Hz rises from 10 to 90 % in 8.8 ms). How far a joint moves while the torque builds (its friction, its load) shapes the response; the oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
+        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. How far a joint moves while the torque builds (its load) shapes the response; the oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
         md.push_str("| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time of the torque step [ms] |\n|---|---|---|---|\n");
         let inertia = nominal.mass_matrix(&q0).diagonal();
         for j in 0..N {
@@ -300,6 +342,7 @@ pub fn section<const N: usize>(
                 if rise_times[j].is_finite() { format!("{:.1}", rise_times[j]) } else { "not reached in 90 ms".into() },
             ]));
         }
+        md.push_str(&load_and_torque_tracking(inertia.as_slice(), &rise_times));
         figures.push((name, svg));
     }
     if first.robot == "hya" {

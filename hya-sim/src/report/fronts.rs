@@ -1,0 +1,176 @@
+//! The main comparison: the Pareto fronts of a bandwidth sweep run inside `hya reproduce`. What
+//! is equal is said first; then, per scenario, tracking RMSE and estimate error against command
+//! noise for every method and pid ([`crate::sweep::pareto_figure`]), and in words which method's
+//! points no other point dominates beyond the 95 % intervals ([`crate::sweep::pareto_optimal`]).
+
+use std::fmt::Write as _;
+
+use crate::analysis::sweep::{
+    dominates, front_points, pareto_figure, pareto_optimal, run_on, scenarios, FrontPoint, Measure, Plan, Shard,
+    Sweep,
+};
+use crate::config::scenario::Method;
+use crate::config::settings::JointSettings;
+use crate::error::SimError;
+use hya_core::Short;
+
+/// The figure's file name.
+pub const FIGURE: &str = "fronts.svg";
+
+/// The sweep's file name: every seed's point, as `hya sweep` writes `sweep.json`.
+pub const SWEEP_FILE: &str = "fronts_sweep.json";
+
+/// The section on the report's reduced grid ([`Plan::report`], shortened and one seed with
+/// `quick`): its markdown, and the figure and the sweep as `(file name, text)`. Empty when the
+/// grid's scenarios are not for `robot` (they are HyA's).
+pub fn section<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    quick: bool,
+) -> Result<(String, Vec<(String, String)>), SimError> {
+    section_of(robot, &Plan::report(quick)?, quick)
+}
+
+/// The section on any grid of `robot`'s scenarios (the full grid: [`Plan::standard`]).
+pub fn section_of<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    plan: &Plan,
+    quick: bool,
+) -> Result<(String, Vec<(String, String)>), SimError> {
+    if plan.scenarios.iter().any(|s| s.robot != robot.name) {
+        return Ok((String::new(), Vec::new()));
+    }
+    let sweep = run_on(robot, plan, Shard::ALL, quick, &|_| {})?;
+    let mut md = equal_text(plan);
+    for scenario in scenarios(&sweep) {
+        md.push_str(&scenario_text(&sweep, scenario));
+    }
+    md.push_str(&integral_text(robot, plan)?);
+    let files = vec![(FIGURE.to_owned(), pareto_figure(&sweep)), (SWEEP_FILE.to_owned(), serde_json::to_string_pretty(&sweep)?)];
+    Ok((md, files))
+}
+
+/// What is equal between the methods, and what was swept.
+fn equal_text(plan: &Plan) -> String {
+    let scenarios: Vec<String> =
+        plan.scenarios.iter().map(|s| format!("`{}` ({} s)", s.name, Short(s.duration_s))).collect();
+    let methods: Vec<&str> = plan.methods.iter().map(|m| m.name()).collect();
+    let bandwidths: Vec<String> = plan.bandwidths_rad_s.iter().map(|w| format!("{}", Short(*w))).collect();
+    let mut md = String::from("\n## Pareto fronts: error against command noise\n\n");
+    let _ = writeln!(
+        md,
+        "What is equal: every run of a scenario has the same plant, task, sensors, PD gains (one gain rule for every method) and seeds; only the compensation and its bandwidth ω differ. At one ω: lu's filters have ζ = 0.8, ω1 = ω2 = ω; chen's `L = ω I` at the start pose; momentum's `K_O = ω`; eso's ω_o = ω; pid's integral `K_I = K_P / τ_d(ω)` with `τ_d = 1/ω + 2ζ/ω` (lu's low-frequency delay at ω), capped at half the Routh bound `½ K_D K_P / M_ii`. Swept: {} with {}, ω = {} rad/s, {} seed(s) each. Each point is the mean over seeds (and over joints) of the command-torque noise and of the error; whiskers are 95 % intervals over seeds{}.\n\n![Pareto fronts]({FIGURE})\n",
+        scenarios.join(" and "),
+        methods.join(", "),
+        bandwidths.join(", "),
+        plan.seeds,
+        if plan.seeds < 2 { " (one seed: no interval, means compared)" } else { "" },
+    );
+    md.push_str(
+        "\nA point is dominated when another is nowhere worse beyond the intervals (command noise and error) and better beyond them in one; the front is the points no other point dominates.\n",
+    );
+    md
+}
+
+/// The words for one scenario: per measure, the front from the quietest command up, and the
+/// methods with no point on it.
+fn scenario_text(sweep: &Sweep, scenario: &str) -> String {
+    let mut md = format!("\n### `{scenario}`\n\n");
+    for measure in Measure::ALL {
+        let points = front_points(sweep, scenario, measure);
+        if points.is_empty() {
+            continue;
+        }
+        let _ = writeln!(md, "- {}: {}", measure.label(), front_text(&points, measure));
+    }
+    md
+}
+
+/// An error as printed: tracking in mrad, estimates in N·m.
+fn error_text(value: f64, measure: Measure) -> String {
+    match measure {
+        Measure::Tracking => format!("{} mrad", Short(value * 1e3)),
+        Measure::Estimate => format!("{} N·m", Short(value)),
+    }
+}
+
+/// The front in order of command noise, grouped into runs of one method, then the methods off it.
+fn front_text(points: &[FrontPoint], measure: Measure) -> String {
+    let mut front: Vec<&FrontPoint> = pareto_optimal(points).into_iter().map(|i| &points[i]).collect();
+    front.sort_by(|a, b| a.noise.0.total_cmp(&b.noise.0));
+    let mut parts = Vec::new();
+    for run in front.chunk_by(|a, b| a.method == b.method) {
+        let (first, last) = (run[0], run[run.len() - 1]);
+        let omegas: Vec<String> = run.iter().map(|p| format!("{}", Short(p.bandwidth_rad_s))).collect();
+        parts.push(format!(
+            "{} at ω = {} rad/s (command noise {}–{} N·m, error {}–{})",
+            first.method,
+            omegas.join(", "),
+            Short(first.noise.0),
+            Short(last.noise.0),
+            error_text(first.error.0, measure),
+            error_text(last.error.0, measure)
+        ));
+    }
+    let mut text = format!("from the quietest command up, the front is {}.", parts.join("; then "));
+    text.push_str(&off_front_text(points, &front));
+    text
+}
+
+/// The methods with no point on the front, each with the method that dominates most of its points.
+fn off_front_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String {
+    let mut methods: Vec<&str> = points.iter().map(|p| p.method.as_str()).collect();
+    methods.dedup();
+    let mut text = String::new();
+    for method in methods.into_iter().filter(|m| front.iter().all(|p| p.method != *m)) {
+        let own: Vec<&FrontPoint> = points.iter().filter(|p| p.method == method).collect();
+        let count = |other: &str| {
+            own.iter().filter(|p| points.iter().any(|q| q.method == other && dominates(q, p))).count()
+        };
+        let mut others: Vec<&str> = points.iter().map(|p| p.method.as_str()).filter(|m| *m != method).collect();
+        others.dedup();
+        if let Some(best) = others.into_iter().max_by_key(|m| count(m)) {
+            let _ = write!(
+                text,
+                " No point of {method} is on the front; {best}'s points dominate {} of its {}.",
+                count(best),
+                own.len()
+            );
+        }
+    }
+    text
+}
+
+/// Where pid's `K_I` meets its cap, per scenario and swept ω, at the start pose.
+fn integral_text<const N: usize>(robot: &crate::robot::Robot<N>, plan: &Plan) -> Result<String, SimError> {
+    if !plan.methods.contains(&Method::Pid) {
+        return Ok(String::new());
+    }
+    let mut md = String::from(
+        "\npid's `K_I` at its cap (half the Routh bound), by swept ω; on a capped joint `K_I` no longer grows with ω:\n\n",
+    );
+    for (i, s) in plan.scenarios.iter().enumerate() {
+        let mut cells = Vec::new();
+        for &omega in &plan.bandwidths_rad_s {
+            let Some(scenario) = plan.scenario_at(i, Method::Pid, omega, 0) else { continue };
+            let capped: Vec<String> =
+                capped_joints(robot, &scenario)?.into_iter().map(|j| format!("{}", j + 1)).collect();
+            let joints = if capped.is_empty() { "none".to_owned() } else { format!("joints {}", capped.join(", ")) };
+            cells.push(format!("{} rad/s: {joints}", Short(omega)));
+        }
+        let _ = writeln!(md, "- `{}`: {}.", s.name, cells.join("; "));
+    }
+    Ok(md)
+}
+
+/// The joints (from 0) whose pid `K_I` is capped in `scenario`.
+fn capped_joints<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    scenario: &crate::config::scenario::Scenario,
+) -> Result<Vec<usize>, SimError> {
+    let joints = JointSettings::<N>::of(scenario)?;
+    let nominal = robot.nominal.as_ref();
+    let gains = crate::run::gains(nominal, scenario, &joints)?;
+    let inertia = nominal.mass_matrix(&joints.initial_position).diagonal();
+    let (_, capped) = crate::run::integral_gain(&gains, &inertia, scenario, &joints);
+    Ok((0..N).filter(|&j| capped[j]).collect())
+}

@@ -2,7 +2,7 @@
 //! time of whoever loads it.
 //!
 //! `urdf-rs` reads XML into a tree of elements, recursively, so deeply nested XML overflows the
-//! stack, and it keeps every node in memory. Before it sees any text, [`check_text`] runs the
+//! stack, and it keeps every node in memory. Before it sees any text, a check runs the
 //! same XML tokenizer it uses (`RustyXML`'s, event by event, never recursing) and refuses a text
 //! beyond any of these limits; [`crate::load_file`] reads at most [`MAX_FILE_BYTES`] + 1 bytes of
 //! a file, whatever size the file claims (`/dev/zero` and pipes claim 0).

@@ -107,7 +107,7 @@ const SWEPT_METHODS: [Method; 5] = [Method::Lu, Method::Chen, Method::Momentum, 
 pub const REPORT_BANDWIDTHS_RAD_S: [f64; 4] = [20.0, 50.0, 100.0, 200.0];
 
 /// Seeds per point of the report's reduced grid (without `--quick`).
-pub const REPORT_SEEDS: usize = 5;
+pub const REPORT_SEEDS: usize = 3;
 
 /// The swept scenarios, shortened with `quick`.
 fn builtin_scenarios(quick: bool) -> Result<Vec<Scenario>, SimError> {

@@ -387,12 +387,18 @@ fn document(width: f64, height: f64, title: &str, body: &str) -> String {
 
 /// A grid of line plots sharing the x label.
 pub fn line_grid(title: &str, x_label: &str, panels: &[Panel], columns: usize) -> String {
+    grid(title, panels.len(), columns, |body, i, corner| {
+        panel(body, &panels[i], &[], (Scale::Linear, Scale::Linear), corner, x_label)
+    })
+}
+
+/// A document of `count` panels in `columns`, each drawn by `draw(body, index, corner)`.
+fn grid(title: &str, count: usize, columns: usize, mut draw: impl FnMut(&mut String, usize, (f64, f64))) -> String {
     let columns = columns.max(1);
-    let rows = panels.len().div_ceil(columns);
+    let rows = count.div_ceil(columns);
     let mut body = String::new();
-    for (i, p) in panels.iter().enumerate() {
-        let corner = ((i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H);
-        panel(&mut body, p, &[], (Scale::Linear, Scale::Linear), corner, x_label);
+    for i in 0..count {
+        draw(&mut body, i, ((i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H));
     }
     document(columns as f64 * PANEL_W, 30.0 + rows as f64 * PANEL_H, title, &body)
 }
@@ -400,16 +406,12 @@ pub fn line_grid(title: &str, x_label: &str, panels: &[Panel], columns: usize) -
 /// A grid of [`MarkedPanel`]s sharing the x label: every drawable point a marker (`<circle>`)
 /// with its label (`<text class="mark">`) and whiskers.
 pub fn marked_grid(title: &str, x_label: &str, panels: &[MarkedPanel], columns: usize) -> String {
-    let columns = columns.max(1);
-    let rows = panels.len().div_ceil(columns);
-    let mut body = String::new();
-    for (i, p) in panels.iter().enumerate() {
-        let corner = ((i % columns) as f64 * PANEL_W, 30.0 + (i / columns) as f64 * PANEL_H);
+    grid(title, panels.len(), columns, |body, i, corner| {
+        let p = &panels[i];
         // A panel without marks still draws markers: one empty mark list per series.
         let marks = if p.marks.is_empty() { vec![Vec::new(); p.panel.series.len().max(1)] } else { p.marks.clone() };
-        panel(&mut body, &p.panel, &marks, (p.x_scale, p.y_scale), corner, x_label);
-    }
-    document(columns as f64 * PANEL_W, 30.0 + rows as f64 * PANEL_H, title, &body)
+        panel(body, &p.panel, &marks, (p.x_scale, p.y_scale), corner, x_label);
+    })
 }
 
 /// Grouped bars on a log scale (values spanning decades, like RMSEs): one group per category,

@@ -6,8 +6,7 @@
 use std::fmt::Write as _;
 
 use crate::analysis::sweep::{
-    dominates, front_points, pareto_figure, pareto_optimal, run_on, scenarios, FrontPoint, Measure, Plan, Shard,
-    Sweep,
+    dominates, front_points, pareto_figure, pareto_optimal, run_on, scenarios, FrontPoint, Measure, Plan, Shard, Sweep,
 };
 use crate::config::scenario::Method;
 use crate::config::settings::JointSettings;
@@ -45,7 +44,10 @@ pub fn section_of<const N: usize>(
         md.push_str(&scenario_text(&sweep, scenario));
     }
     md.push_str(&integral_text(robot, plan)?);
-    let files = vec![(FIGURE.to_owned(), pareto_figure(&sweep)), (SWEEP_FILE.to_owned(), serde_json::to_string_pretty(&sweep)?)];
+    let files = vec![
+        (FIGURE.to_owned(), pareto_figure(&sweep)),
+        (SWEEP_FILE.to_owned(), serde_json::to_string_pretty(&sweep)?),
+    ];
     Ok((md, files))
 }
 
@@ -101,19 +103,26 @@ fn front_text(points: &[FrontPoint], measure: Measure) -> String {
     for run in front.chunk_by(|a, b| a.method == b.method) {
         let (first, last) = (run[0], run[run.len() - 1]);
         let omegas: Vec<String> = run.iter().map(|p| format!("{}", Short(p.bandwidth_rad_s))).collect();
+        let noise = span(format!("{}", Short(first.noise.0)), format!("{}", Short(last.noise.0)));
+        let error = span(error_text(first.error.0, measure), error_text(last.error.0, measure));
         parts.push(format!(
-            "{} at ω = {} rad/s (command noise {}–{} N·m, error {}–{})",
+            "{} at ω = {} rad/s (command noise {noise} N·m, error {error})",
             first.method,
-            omegas.join(", "),
-            Short(first.noise.0),
-            Short(last.noise.0),
-            error_text(first.error.0, measure),
-            error_text(last.error.0, measure)
+            omegas.join(", ")
         ));
     }
     let mut text = format!("from the quietest command up, the front is {}.", parts.join("; then "));
     text.push_str(&off_front_text(points, &front));
     text
+}
+
+/// `a–b`, or `a` alone when both read the same.
+fn span(a: String, b: String) -> String {
+    if a == b {
+        a
+    } else {
+        format!("{a} to {b}")
+    }
 }
 
 /// The methods with no point on the front, each with the method that dominates most of its points.
@@ -123,9 +132,8 @@ fn off_front_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String {
     let mut text = String::new();
     for method in methods.into_iter().filter(|m| front.iter().all(|p| p.method != *m)) {
         let own: Vec<&FrontPoint> = points.iter().filter(|p| p.method == method).collect();
-        let count = |other: &str| {
-            own.iter().filter(|p| points.iter().any(|q| q.method == other && dominates(q, p))).count()
-        };
+        let count =
+            |other: &str| own.iter().filter(|p| points.iter().any(|q| q.method == other && dominates(q, p))).count();
         let mut others: Vec<&str> = points.iter().map(|p| p.method.as_str()).filter(|m| *m != method).collect();
         others.dedup();
         if let Some(best) = others.into_iter().max_by_key(|m| count(m)) {

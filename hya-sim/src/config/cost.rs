@@ -63,7 +63,7 @@ impl Cost {
     pub fn check(&self) -> Result<(), SimError> {
         let over = |what: &str, figure: String, cap: String| {
             Err(SimError::Cost(format!(
-                "{what} {figure} is beyond the cap of {cap}; shorten duration_s, fewer seeds or methods, or \
+                "{what} {figure}, beyond the cap of {cap}; shorten duration_s, fewer seeds or methods, or \
                  pass --no-cost-limit if you mean it"
             )))
         };

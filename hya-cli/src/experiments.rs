@@ -25,6 +25,10 @@ pub struct ReportOptions {
     /// Seeds per scenario and method (default: 20, or 4 with `--quick`).
     #[arg(long)]
     seeds: Option<usize>,
+    /// Run the report's bandwidth sweep on the full grid of `hya sweep` instead of the reduced one
+    /// (its Pareto fronts; several times longer).
+    #[arg(long)]
+    full_sweep: bool,
     /// Run even where the run's cost exceeds the documented cap (`hya_sim::cost::MAX_PHYSICS_STEPS`
     /// integration steps or `hya_sim::cost::MAX_TRACE_BYTES` of traces in memory).
     #[arg(long)]
@@ -104,6 +108,7 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions) -> Result<(), CliE
         progress: &progress,
         out: &out,
         quick,
+        full_sweep: options.full_sweep,
         provenance: &provenance,
     }
     .run()

@@ -72,6 +72,9 @@ pub struct Experiment<'a> {
     pub out: &'a output::OutputDir,
     /// Whether the scenarios were shortened (`--quick`).
     pub quick: bool,
+    /// Whether the report's bandwidth sweep runs the full grid (`hya sweep`'s) instead of the
+    /// reduced one.
+    pub full_sweep: bool,
     /// The command that asked and the build that ran it, named in the report.
     pub provenance: &'a report::Provenance,
 }
@@ -99,6 +102,14 @@ impl ForRobot for Experiment<'_> {
     type Output = report::Summary;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
         let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
-        report::write(&robot, self.out, self.scenarios, &outcomes, &table, self.quick, self.provenance)
+        report::write(
+            &robot,
+            self.out,
+            self.scenarios,
+            &outcomes,
+            &table,
+            (self.quick, self.full_sweep),
+            self.provenance,
+        )
     }
 }

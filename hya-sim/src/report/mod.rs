@@ -7,6 +7,7 @@
 
 mod csv;
 mod figures;
+mod fronts;
 mod gain_rule;
 mod loops;
 mod markdown;
@@ -36,10 +37,23 @@ pub fn write<const N: usize>(
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,
-    quick: bool,
+    (quick, full_sweep): (bool, bool),
     provenance: &Provenance,
 ) -> Result<Summary, SimError> {
     let save = |name: &str, text: &str| dir.save(name, text);
+    // The Pareto fronts of a bandwidth sweep, with the paper's experiments on HyA only.
+    let (fronts_section, fronts_files) = match scenarios.iter().any(|s| s.name == "goto_internal" && s.robot == "hya") {
+        true if full_sweep => fronts::section_of(robot, &crate::analysis::sweep::Plan::standard(quick)?, quick)?,
+        true => fronts::section(robot, quick)?,
+        false => (String::new(), Vec::new()),
+    };
+    let mut sweep = None;
+    for (name, text) in &fronts_files {
+        if name.ends_with(".json") {
+            sweep = Some(serde_json::from_str(text)?);
+        }
+        save(name, text)?;
+    }
     let summary = Summary {
         robot: robot.name.clone(),
         quick,
@@ -47,6 +61,7 @@ pub fn write<const N: usize>(
         runs: outcomes.iter().map(|o| run_summary(table, &o.scenario, o.method, o.bandwidth_rad_s.clone())).collect(),
         claims: judge_all(table),
         provenance: provenance.clone(),
+        sweep,
     };
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
@@ -73,7 +88,10 @@ pub fn write<const N: usize>(
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
     let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
         Some(base) => {
-            loops::section(robot, base)? + &viscous::section(robot, base, table)? + &gain_rule::section(robot, base)?
+            fronts_section
+                + &loops::section(robot, base)?
+                + &viscous::section(robot, base, table)?
+                + &gain_rule::section(robot, base)?
         }
         None => String::new(),
     };

@@ -64,6 +64,10 @@ pub struct Summary {
     pub claims: Vec<Judgement>,
     /// What produced the report.
     pub provenance: super::Provenance,
+    /// The bandwidth sweep behind the report's Pareto fronts, every seed's point (the format of
+    /// `hya sweep`'s `sweep.json`); absent where the report ran none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<serde_json::Value>,
 }
 
 pub(super) fn mean(values: &[f64]) -> f64 {

@@ -26,6 +26,7 @@ fn every_shipped_arm_has_a_goto_scenario_that_runs() {
             progress: &|_| {},
             out: &dir,
             quick: true,
+            full_sweep: false,
             provenance: &hya_sim::report::Provenance::unknown("the arms test"),
         }
         .run()

@@ -202,9 +202,9 @@ fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
     if n_light == 0 || n_heavy == 0 {
         return String::new();
     }
-    let verdict = if light > heavy { "worse (slower)" } else { "no worse" };
+    let verdict = if light > heavy { "slower" } else { "not slower" };
     format!(
-        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: the lightly loaded joints track a torque step {verdict} in this model.\n"
+        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model, for one large step with friction off (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders).\n"
     )
 }
 
@@ -331,7 +331,7 @@ pub fn section<const N: usize>(
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
             _ => JointVector::zeros(),
         };
-        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. How far a joint moves while the torque builds (its load) shapes the response; the oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
+        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. The oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
         md.push_str("| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time of the torque step [ms] |\n|---|---|---|---|\n");
         let inertia = nominal.mass_matrix(&q0).diagonal();
         for j in 0..N {

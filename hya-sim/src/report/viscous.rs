@@ -49,7 +49,7 @@ pub fn section<const N: usize>(
         amplitude.push(per_joint_mean_ci95(&values).0);
     }
     let mut md = format!(
-        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). `none` (a PD) has no integral to wind up: whatever it cycles is not hunting. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad):\n\n",
+        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). `none` (a PD) has no integral to wind up: whatever it cycles is not hunting. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad; peak-to-peak counts slow drift and settling as well as oscillation):\n\n",
         base.name
     );
     md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
@@ -90,7 +90,7 @@ pub fn section<const N: usize>(
         } else if free_everywhere.is_empty() {
             "No joint is free of a limit cycle at every bandwidth swept.".to_owned()
         } else {
-            format!("Joints {} are free of a limit cycle at every bandwidth swept; the others are not.", free_everywhere.join(", "))
+            format!("Joints {} are free of a limit cycle at every bandwidth swept; the others are not free at every one.", free_everywhere.join(", "))
         }
     );
     Ok(md)

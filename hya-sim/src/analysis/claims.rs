@@ -200,6 +200,25 @@ const fn weight_kept_near(id: &'static str, scenario: &'static str, section: &'s
     }
 }
 
+/// The paper's estimate more accurate than Chen's on `scenario`: RMSE(d̂ − d) of lu over chen's
+/// below 0.9 on every joint.
+const fn lu_beats_chen(id: &'static str, scenario: &'static str, statement: &'static str, paper: &'static str) -> Rule {
+    Rule {
+        id,
+        statement,
+        section: "V",
+        paper,
+        quantity: Quantity::Ratio(source(scenario, Method::Lu, "rmse_d"), source(scenario, Method::Chen, "rmse_d")),
+        joints: ALL,
+        side: Side::Below,
+        threshold: 1.0,
+        margin: 0.1,
+        need: Need::All,
+        quiet: &[],
+        untestable: None,
+    }
+}
+
 /// Every claim the report judges.
 pub const RULES: &[Rule] = &[
     compensation_lowers_rmse("goto_internal_rmse", "goto_internal", "VI-A"),
@@ -256,40 +275,18 @@ pub const RULES: &[Rule] = &[
         quiet: &[],
         untestable: None,
     },
-    Rule {
-        id: "lu_beats_chen_high_noise",
-        statement: "under high velocity noise the paper's estimate is more accurate than Chen's (RMSE ratio lu / chen below 0.9)",
-        section: "V",
-        paper: "more accurate under noise",
-        quantity: Quantity::Ratio(
-            source("estimator_noise_high", Method::Lu, "rmse_d"),
-            source("estimator_noise_high", Method::Chen, "rmse_d"),
-        ),
-        joints: ALL,
-        side: Side::Below,
-        threshold: 1.0,
-        margin: 0.1,
-        need: Need::All,
-        quiet: &[],
-        untestable: None,
-    },
-    Rule {
-        id: "lu_beats_chen_low_noise",
-        statement: "at σ_q̇ = 0.01 rad/s the paper's estimate is more accurate than Chen's (RMSE ratio lu / chen below 0.9); the observers run at equal pole magnitude, where Chen's lags less (20 ms against 52 ms)",
-        section: "V",
-        paper: "accurate estimates, where several of Chen's cannot track",
-        quantity: Quantity::Ratio(
-            source("estimator_noise_low", Method::Lu, "rmse_d"),
-            source("estimator_noise_low", Method::Chen, "rmse_d"),
-        ),
-        joints: ALL,
-        side: Side::Below,
-        threshold: 1.0,
-        margin: 0.1,
-        need: Need::All,
-        quiet: &[],
-        untestable: None,
-    },
+    lu_beats_chen(
+        "lu_beats_chen_high_noise",
+        "estimator_noise_high",
+        "under high velocity noise the paper's estimate is more accurate than Chen's (RMSE ratio lu / chen below 0.9)",
+        "more accurate under noise",
+    ),
+    lu_beats_chen(
+        "lu_beats_chen_low_noise",
+        "estimator_noise_low",
+        "at σ_q̇ = 0.01 rad/s the paper's estimate is more accurate than Chen's (RMSE ratio lu / chen below 0.9); the observers run at equal pole magnitude, where Chen's lags less (20 ms against 52 ms)",
+        "accurate estimates, where several of Chen's cannot track",
+    ),
     Rule {
         id: "chen_cannot_track_low_noise",
         statement: "at σ_q̇ = 0.01 rad/s Chen's estimate cannot track the disturbance on several joints (RMSE(d̂ − d) above half the disturbance's RMS on at least two joints)",

@@ -20,6 +20,9 @@ pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 /// Seeds per bandwidth.
 const SEEDS: usize = 3;
 
+/// The methods measured, in the table's order.
+const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
+
 /// Whether joint `j` is free of a limit cycle at the `k`-th bandwidth.
 fn is_free(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
     amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD)
@@ -49,20 +52,46 @@ pub fn section<const N: usize>(
         amplitude.push(per_joint_mean_ci95(&values).0);
     }
     let mut md = format!(
-        "\n### Limit cycles: stick-slip hunting\n\nA joint with stiction and integral action hunts: while it sticks, the integral winds the torque up until the joint breaks away; it overshoots, sticks on the other side, and the cycle repeats. The PID's integral does this, and so does every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's). `none` (a PD) has no integral to wind up: whatever it cycles is not hunting. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad; peak-to-peak counts slow drift and settling as well as oscillation):\n\n",
+        "\n### Limit cycles and residual motion\n\nOne candidate mechanism is stick-slip hunting: a joint with stiction and integral action sticks, the integral winds the torque up until the joint breaks away, it overshoots, sticks on the other side, and the cycle repeats. The PID's integral could do this, and so could every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's); `none` (a PD) has no integral to wind up, so whatever it shows is not hunting. The rows without stiction test the candidate. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad; peak-to-peak counts slow drift and settling as well as oscillation):\n\n",
         base.name
     );
     md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
-    for method in [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-        let Some(values) = methods.values(&base.name, method, "limit_cycle_q").filter(|v| !v.is_empty()) else {
-            continue;
-        };
-        let mean = per_joint_mean_ci95(&values).0;
-        md.push_str(&table_row(
-            [method.name().to_owned()].into_iter().chain(mean.iter().map(|v| format!("{:.2}", v * 1e3))),
-        ));
+    // The same loops without stiction: smooth friction (Coulomb through tanh, no breakaway).
+    let mut smooth = base.clone();
+    smooth.name = format!("{}_smooth", base.name);
+    smooth.plant.friction = crate::config::scenario::FrictionKind::Smooth;
+    smooth.methods = METHODS.to_vec();
+    let (_, without_stiction) = run_seeds(robot, std::slice::from_ref(&smooth), SEEDS, &|_| {})?;
+    let mut cycling = Vec::new();
+    for method in METHODS {
+        for (label, table, scenario) in [("", methods, &base.name), (" (no stiction)", &without_stiction, &smooth.name)]
+        {
+            let Some(values) = table.values(scenario, method, "limit_cycle_q").filter(|v| !v.is_empty()) else {
+                continue;
+            };
+            let mean = per_joint_mean_ci95(&values).0;
+            if !label.is_empty() && mean.iter().any(|a| *a >= LIMIT_CYCLE_RAD) {
+                cycling.push(method.name());
+            }
+            md.push_str(&table_row(
+                [format!("{}{label}", method.name())].into_iter().chain(mean.iter().map(|v| format!("{:.2}", v * 1e3))),
+            ));
+        }
     }
+    let _ = writeln!(
+        md,
+        "\nRows marked \"no stiction\" rerun the same scenario with smooth friction (the same Coulomb and viscous levels through `tanh`, no breakaway; {SEEDS} seeds): {}",
+        if cycling.is_empty() {
+            format!("no method keeps a joint at {} mrad or more, so the cycles above need stiction.", LIMIT_CYCLE_RAD * 1e3)
+        } else {
+            format!(
+                "{} still keep a joint at {} mrad or more without stiction: what this measure shows is not all stiction's.",
+                cycling.join(", "),
+                LIMIT_CYCLE_RAD * 1e3
+            )
+        }
+    );
     let _ = writeln!(
         md,
         "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), same measure (mrad); below {} mrad a joint counts as free of a limit cycle:\n",

@@ -41,12 +41,7 @@ pub fn design(method: Method, beta: f64, omega: f64) -> Complex<f64> {
     crate::linear::ObserverDesign::of(method, beta).map_or(Complex::new(0.0, 0.0), |d| d.response(omega))
 }
 
-/// The complex amplitude of `x` at `ω` over the samples `(t, x)`: `(2/N) Σ x e^{−jωt}`.
-pub fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
-    let n = samples.len().max(1) as f64;
-    samples.iter().map(|(t, x)| Complex::new((omega * t).cos(), -(omega * t).sin()) * *x).sum::<Complex<f64>>()
-        * (2.0 / n)
-}
+pub use crate::linear::phasor;
 
 /// A clean version of `base` (no friction, ideal actuators, no parameter error, exact sensors
 /// with a velocity sensor for the observers that read one) holding its pose under a sinusoidal

@@ -282,6 +282,14 @@ impl EqualBandwidthRow {
     }
 }
 
+/// The complex amplitude of `x` at `ω` over the samples `(t, x)`: `(2/N) Σ x e^{−jωt}` (exact
+/// for a sine over whole periods).
+pub fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
+    let n = samples.len().max(1) as f64;
+    samples.iter().map(|(t, x)| Complex::new((omega * t).cos(), -(omega * t).sin()) * *x).sum::<Complex<f64>>()
+        * (2.0 / n)
+}
+
 /// The low-frequency delay of the paper's filter at `ζ = 0.8`, `ω1 = ω2 = ω`: `1/ω + 2ζ/ω`, s.
 pub fn paper_delay(omega_rad_s: f64) -> f64 {
     ObserverDesign::Lu { zeta: hya_core::filter::PAPER_ZETA, omega1_rad_s: omega_rad_s, omega2_rad_s: omega_rad_s }

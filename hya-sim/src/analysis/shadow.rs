@@ -104,7 +104,7 @@ pub fn shadow_metrics<const N: usize>(trace: &Trace<N>, scenario: &Scenario, sta
                 .map(|j| {
                     let samples: Vec<(f64, f64)> =
                         (start..end).map(|k| (trace.time[k], d_hat[k][j] - trace.d_true[k][j])).collect();
-                    crate::frequency::phasor(&samples, std::f64::consts::TAU * load.frequency_hz).norm()
+                    crate::linear::phasor(&samples, std::f64::consts::TAU * load.frequency_hz).norm()
                 })
                 .collect()
         });

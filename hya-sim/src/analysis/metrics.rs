@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use hya_core::JointVector;
 
-use crate::analysis::shadow::{shadow_metrics, ShadowMetrics};
+use crate::analysis::shadow::{rms, shadow_metrics, ShadowMetrics};
 use crate::config::scenario::{Scenario, Task};
 use crate::run::trace::Trace;
 
@@ -93,13 +93,6 @@ pub struct Metrics {
     /// Every shadow estimator's figures ([`crate::run::trace::SHADOWS`] order), on this run's
     /// measurements.
     pub shadow: [ShadowMetrics; 4],
-}
-
-/// Per-joint `sqrt(mean(x²))` over the samples.
-fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
-    let (sum, count) = samples.fold((JointVector::<N>::zeros(), 0usize), |(s, n), x| (s + x.component_mul(&x), n + 1));
-    // An empty window has no RMS: NaN, which fails every rule, rather than a flattering 0.
-    (sum / count as f64).map(f64::sqrt).as_slice().to_vec()
 }
 
 /// Per-joint mean of `f(k)[j]` over the ticks `k` in `range`.

@@ -77,8 +77,9 @@ fn first_order_hold_lag<const N: usize>(beta: f64, dt: f64, u: &[JointVector<N>]
     y
 }
 
-/// Per joint `sqrt(mean(x²))`; NaN for no samples.
-fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
+/// Per-joint `sqrt(mean(x²))` over the samples. An empty window has no RMS: NaN, which fails
+/// every rule, rather than a flattering 0.
+pub(crate) fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
     let (sum, count) = samples.fold((JointVector::<N>::zeros(), 0usize), |(s, n), x| (s + x.component_mul(&x), n + 1));
     (sum / count as f64).map(f64::sqrt).as_slice().to_vec()
 }

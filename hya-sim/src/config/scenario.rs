@@ -707,6 +707,16 @@ impl Scenario {
         Self::from_toml(text, name)
     }
 
+    /// One point of a sweep over this scenario: a copy named `<name>_<tag>` that runs only
+    /// `method`, with `change` applied to it.
+    pub fn variant(&self, tag: &str, method: Method, change: impl FnOnce(&mut Scenario)) -> Scenario {
+        let mut variant = self.clone();
+        variant.name = format!("{}_{tag}", self.name);
+        variant.methods = vec![method];
+        change(&mut variant);
+        variant
+    }
+
     /// The shortened version for `--quick`: event times and duration scaled.
     pub fn quick(&self) -> Self {
         let k = self.quick_time_scale;

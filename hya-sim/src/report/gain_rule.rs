@@ -21,13 +21,7 @@ const SEEDS: usize = 3;
 pub fn section<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = FRICTION_ERRORS_RAD
         .iter()
-        .map(|e| {
-            let mut s = base.clone();
-            s.name = format!("{}_ef{e}", base.name);
-            s.controller.friction_error_rad = *e;
-            s.methods = vec![Method::None];
-            s
-        })
+        .map(|e| base.variant(&format!("ef{e}"), Method::None, |s| s.controller.friction_error_rad = *e))
         .collect();
     let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
     let mut md = format!(

@@ -37,13 +37,7 @@ pub fn section<const N: usize>(
 ) -> Result<String, SimError> {
     let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
         .iter()
-        .map(|w| {
-            let mut s = base.clone();
-            s.name = format!("{}_w{w}", base.name);
-            s.controller.observer_bandwidth_rad_s = *w;
-            s.methods = vec![Method::Lu];
-            s
-        })
+        .map(|w| base.variant(&format!("w{w}"), Method::Lu, |s| s.controller.observer_bandwidth_rad_s = *w))
         .collect();
     let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
     let mut amplitude = Vec::new();

@@ -13,20 +13,29 @@
 
 mod simulated_arm;
 
-use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, Reference};
-use simulated_arm::SimulatedArm;
+use hya_core::{ComputedTorque, DisturbanceEstimator, Error, FilterParams, Gains, JointVector, Reference};
+use simulated_arm::{Friction, SimulatedArm};
 
 hya_macros::robot!(OwnArm, "urdf/own_arm.urdf");
 
+/// The arm's joint count, from its URDF: every per-joint list below has this many entries.
+const N: usize = OwnArm::DOF;
 /// Control period, s (1 kHz).
 const DT: f64 = 0.001;
 /// Length of each run, s.
 const SECONDS: f64 = 5.0;
 /// Where the arm starts and about which it moves, rad.
-const HOME: [f64; 3] = [0.0, -0.6, 1.2];
-/// Amplitude of each joint's motion, rad, and its frequency, Hz.
-const AMPLITUDE: [f64; 3] = [0.8, 0.6, 0.8];
-const FREQUENCY: [f64; 3] = [0.3, 0.5, 0.4];
+const HOME: [f64; N] = [0.0, -0.6, 1.2];
+/// Amplitude of each joint's motion, rad.
+const AMPLITUDE: [f64; N] = [0.8, 0.6, 0.8];
+/// Frequency of each joint's motion, Hz.
+const FREQUENCY: [f64; N] = [0.3, 0.5, 0.4];
+/// `K_P` (N·m/rad) per joint.
+const KP: [f64; N] = [300.0, 300.0, 80.0];
+/// `K_D` (N·m·s/rad) per joint.
+const KD: [f64; N] = [30.0, 30.0, 8.0];
+/// The simulated arm's joint friction, which the URDF does not know.
+const FRICTION: Friction<N> = Friction { viscous: [0.4, 0.6, 0.3], coulomb: [1.0, 1.5, 0.8] };
 
 fn main() -> Result<(), Error> {
     println!("own_arm: joints {}; {SECONDS} s at {} Hz", OwnArm::JOINT_NAMES.join(", "), 1.0 / DT);
@@ -41,10 +50,9 @@ fn main() -> Result<(), Error> {
 
 /// One run of the control loop, with or without the estimate `d̂` in the command.
 fn track(compensate: bool) -> Result<Rms, Error> {
-    let q0 = JointVector::from(HOME);
-    let mut arm = SimulatedArm::new(OwnArm, DT, q0, OwnArm.gravity(&q0)); // ◀ robot: connect
+    let mut arm = SimulatedArm::new(OwnArm, FRICTION, DT, HOME.into()); // ◀ robot: connect
     let limits = OwnArm::EFFORT_LIMITS.map(|limit| limit.unwrap_or(0.0)).into();
-    let gains = Gains::diagonal([300.0, 300.0, 80.0], [30.0, 30.0, 8.0])?;
+    let gains = Gains::diagonal(KP, KD)?;
     let controller = ComputedTorque::new(OwnArm, gains).with_torque_limit(limits)?;
     let (q_m, tau_m) = (arm.read_joint_positions(), arm.read_joint_torques());
     let mut estimator = DisturbanceEstimator::new(OwnArm, FilterParams::paper(DT)?, q_m, tau_m)?;
@@ -63,7 +71,7 @@ fn track(compensate: bool) -> Result<Rms, Error> {
 
 /// `q_des = HOME + A (1 − cos ωt) / 2` per joint, starting at rest at `HOME`, with its
 /// derivatives `q̇_des = A ω sin(ωt) / 2` and `q̈_des = A ω² cos(ωt) / 2`.
-fn reference_at(t: f64) -> Reference<3> {
+fn reference_at(t: f64) -> Reference<N> {
     let omega = |i: usize| 2.0 * std::f64::consts::PI * FREQUENCY[i];
     Reference {
         position: JointVector::from_fn(|i, _| HOME[i] + AMPLITUDE[i] * (1.0 - (omega(i) * t).cos()) / 2.0),
@@ -76,14 +84,14 @@ fn reference_at(t: f64) -> Reference<3> {
 #[derive(Default)]
 struct Rms {
     ticks: usize,
-    tracking: JointVector<3>,
-    disturbance: JointVector<3>,
-    estimate_error: JointVector<3>,
+    tracking: JointVector<N>,
+    disturbance: JointVector<N>,
+    estimate_error: JointVector<N>,
 }
 
 impl Rms {
     /// Adds one tick's squares.
-    fn add(&mut self, error: &JointVector<3>, d_hat: &JointVector<3>, d: &JointVector<3>) {
+    fn add(&mut self, error: &JointVector<N>, d_hat: &JointVector<N>, d: &JointVector<N>) {
         self.tracking += error.component_mul(error);
         self.disturbance += d.component_mul(d);
         self.estimate_error += (d_hat - d).component_mul(&(d_hat - d));
@@ -91,12 +99,12 @@ impl Rms {
     }
 
     /// `√(Σ x² / ticks)` per joint of one of the sums.
-    fn of(&self, sum: &JointVector<3>) -> JointVector<3> {
+    fn of(&self, sum: &JointVector<N>) -> JointVector<N> {
         (sum / self.ticks.max(1) as f64).map(f64::sqrt)
     }
 }
 
 /// A vector as space-separated numbers with four decimals.
-fn row(values: &JointVector<3>) -> String {
+fn row(values: &JointVector<N>) -> String {
     values.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(" ")
 }

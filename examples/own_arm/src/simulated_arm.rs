@@ -1,4 +1,4 @@
-//! A stand-in for your robot's drivers: a simulated arm behind `read_joint_positions()`,
+//! A stand-in for your robot's drivers: a simulated arm of any URDF behind `read_joint_positions()`,
 //! `read_joint_velocities()`, `read_joint_torques()` and `write_joint_torques()`.
 //!
 //! Replace this module with calls to your robot's interface; the control loop in `main.rs` stays
@@ -12,7 +12,8 @@
 //!
 //! `s = MASS_SCALE`: every mass and inertia is that much larger than the URDF says (an
 //! unmodelled payload and model error); `f` is viscous and Coulomb friction (the Coulomb term
-//! smoothed over `v_s` so that the integrator need not resolve a discontinuity). Inverse dynamics
+//! smoothed over `v_s = STRIBECK_VELOCITY` so that the integrator need not resolve a
+//! discontinuity). Inverse dynamics
 //! is linear in the inertial parameters, so the plant's accelerations are the model's forward
 //! dynamics at a scaled torque: `q̈ = FD(q, q̇, (τ − f(q̇)) / s)`. The state is integrated with
 //! classic Runge–Kutta (RK4) at `SUBSTEPS` steps per tick, the torque held over the tick.
@@ -21,47 +22,54 @@ use hya_core::{Dynamics, Error, JointVector};
 
 /// How much heavier the simulated arm is than its URDF (1.25: 25 % heavier).
 pub const MASS_SCALE: f64 = 1.25;
-/// Viscous friction `b_i`, N·m·s/rad.
-pub const VISCOUS: [f64; 3] = [0.4, 0.6, 0.3];
-/// Coulomb friction `F_c,i`, N·m.
-pub const COULOMB: [f64; 3] = [1.0, 1.5, 0.8];
 /// Velocity over which the Coulomb term changes sign, rad/s.
 pub const STRIBECK_VELOCITY: f64 = 0.05;
 /// Integration steps per control tick.
 pub const SUBSTEPS: usize = 10;
 
-/// A three-joint arm integrated in time; `D` is the dynamics of its URDF.
-pub struct SimulatedArm<D> {
-    dynamics: D,
-    dt: f64,
-    q: JointVector<3>,
-    qd: JointVector<3>,
-    tau: JointVector<3>,
+/// Joint friction: viscous `b_i` (N·m·s/rad) and Coulomb `F_c,i` (N·m) per joint.
+#[derive(Debug, Clone, Copy)]
+pub struct Friction<const N: usize> {
+    /// `b_i`, N·m·s/rad.
+    pub viscous: [f64; N],
+    /// `F_c,i`, N·m.
+    pub coulomb: [f64; N],
 }
 
-impl<D: Dynamics<3>> SimulatedArm<D> {
-    /// At rest at `q0`, holding `tau0`, ticking every `dt` seconds.
-    pub fn new(dynamics: D, dt: f64, q0: JointVector<3>, tau0: JointVector<3>) -> Self {
-        Self { dynamics, dt, q: q0, qd: JointVector::zeros(), tau: tau0 }
+/// An arm of `N` joints integrated in time; `D` is the dynamics of its URDF.
+pub struct SimulatedArm<const N: usize, D> {
+    dynamics: D,
+    friction: Friction<N>,
+    dt: f64,
+    q: JointVector<N>,
+    qd: JointVector<N>,
+    tau: JointVector<N>,
+}
+
+impl<const N: usize, D: Dynamics<N>> SimulatedArm<N, D> {
+    /// At rest at `q0`, holding the model's gravity torque there, ticking every `dt` seconds.
+    pub fn new(dynamics: D, friction: Friction<N>, dt: f64, q0: JointVector<N>) -> Self {
+        let tau = dynamics.gravity(&q0);
+        Self { dynamics, friction, dt, q: q0, qd: JointVector::zeros(), tau }
     }
 
     /// Joint angles, rad. On a real arm: the encoders.
-    pub fn read_joint_positions(&self) -> JointVector<3> {
+    pub fn read_joint_positions(&self) -> JointVector<N> {
         self.q
     }
 
     /// Joint velocities, rad/s. On a real arm: the drives' velocity estimate.
-    pub fn read_joint_velocities(&self) -> JointVector<3> {
+    pub fn read_joint_velocities(&self) -> JointVector<N> {
         self.qd
     }
 
     /// Joint torques, N·m. On a real arm: torque sensors, or the last command without them.
-    pub fn read_joint_torques(&self) -> JointVector<3> {
+    pub fn read_joint_torques(&self) -> JointVector<N> {
         self.tau
     }
 
     /// Sends a torque command, held until the next one, and lets one tick pass.
-    pub fn write_joint_torques(&mut self, tau: &JointVector<3>) -> Result<(), Error> {
+    pub fn write_joint_torques(&mut self, tau: &JointVector<N>) -> Result<(), Error> {
         self.tau = *tau;
         let h = self.dt / SUBSTEPS as f64;
         for _ in 0..SUBSTEPS {
@@ -78,15 +86,16 @@ impl<D: Dynamics<3>> SimulatedArm<D> {
 
     /// The lumped disturbance `d = ID(q, q̇, q̈) − τ` acting now, in the URDF's model, N·m: what
     /// the estimator's `d̂` should follow. Only a simulation knows it.
-    pub fn true_disturbance(&self) -> Result<JointVector<3>, Error> {
+    pub fn true_disturbance(&self) -> Result<JointVector<N>, Error> {
         let qdd = self.acceleration(&self.q, &self.qd)?;
         Ok(self.dynamics.inverse_dynamics(&self.q, &self.qd, &qdd) - self.tau)
     }
 
     /// The plant's `q̈ = FD(q, q̇, (τ − f(q̇)) / s)`.
-    fn acceleration(&self, q: &JointVector<3>, qd: &JointVector<3>) -> Result<JointVector<3>, Error> {
+    fn acceleration(&self, q: &JointVector<N>, qd: &JointVector<N>) -> Result<JointVector<N>, Error> {
+        let Friction { viscous, coulomb } = &self.friction;
         let friction =
-            JointVector::from_fn(|i, _| VISCOUS[i] * qd[i] + COULOMB[i] * (qd[i] / STRIBECK_VELOCITY).tanh());
+            JointVector::from_fn(|i, _| viscous[i] * qd[i] + coulomb[i] * (qd[i] / STRIBECK_VELOCITY).tanh());
         self.dynamics.forward_dynamics(q, qd, &((self.tau - friction) / MASS_SCALE))
     }
 }

@@ -14,7 +14,7 @@
 //! 1 Hz for the paper's `ζ = 0.8`, `ω1 = ω2 = 50 rad/s`). Only joint angles are needed; no
 //! measured velocity and no numerical differentiation.
 
-use crate::filter::{FilterParams, FilterState, ThirdOrderFilter};
+use crate::filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter};
 use crate::finite::check;
 use crate::{Dynamics, Error, JointVector};
 
@@ -53,6 +53,38 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     pub fn update(&mut self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<JointVector<N>, Error> {
         let joints = self.joint_filter.peek("q_m", q_m)?;
         let torques = self.torque_filter.peek("tau_m", tau_m)?;
+        self.advance(joints, torques, q_m, tau_m)
+    }
+
+    /// As [`update`](Self::update), over a step of another length than the filters' sample time:
+    /// `step` discretises both filters over it (first-order hold between the previous samples and
+    /// these; built with [`FilterParams::with_dt`] from [`params`](Self::params), or taken from a
+    /// [`DiscretisationCache`](crate::step_cache::DiscretisationCache)). For logs whose rows are
+    /// not evenly spaced; see [`TimedEstimator`](crate::timed::TimedEstimator).
+    pub fn update_over(
+        &mut self,
+        step: &Discretisation,
+        q_m: &JointVector<N>,
+        tau_m: &JointVector<N>,
+    ) -> Result<JointVector<N>, Error> {
+        let joints = self.joint_filter.peek_over(step, "q_m", q_m)?;
+        let torques = self.torque_filter.peek_over(step, "tau_m", tau_m)?;
+        self.advance(joints, torques, q_m, tau_m)
+    }
+
+    /// The filters' parameters (both filters share them).
+    pub fn params(&self) -> &FilterParams {
+        self.joint_filter.params()
+    }
+
+    /// Commits peeked filter states and the estimate they give, or nothing if it is not finite.
+    fn advance(
+        &mut self,
+        joints: FilterState<N>,
+        torques: FilterState<N>,
+        q_m: &JointVector<N>,
+        tau_m: &JointVector<N>,
+    ) -> Result<JointVector<N>, Error> {
         let disturbance = self.estimate(&joints, &torques.x1)?;
         self.joint_filter.commit(joints, *q_m);
         self.torque_filter.commit(torques, *tau_m);

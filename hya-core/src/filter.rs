@@ -108,6 +108,12 @@ impl FilterParams {
         self.dt_s
     }
 
+    /// The same filter over another sample time `dt_s` (a log's own step), checked as in
+    /// [`new`](Self::new).
+    pub fn with_dt(&self, dt_s: f64) -> Result<Self, Error> {
+        Self::new(self.zeta, self.omega1_rad_s, self.omega2_rad_s, dt_s)
+    }
+
     /// Low-frequency group delay `1/ω1 + 2ζ/ω2`, s.
     pub fn group_delay_s(&self) -> f64 {
         1.0 / self.omega1_rad_s + 2.0 * self.zeta / self.omega2_rad_s
@@ -164,23 +170,19 @@ impl<const N: usize> FilterState<N> {
     }
 }
 
-/// The paper's third-order filter on `N` channels, stepped at a fixed sample time.
-///
-/// One 3x3 `Φ` and two input vectors, computed once at construction, serve every channel.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ThirdOrderFilter<const N: usize> {
-    params: FilterParams,
+/// One step's first-order-hold discretisation: `x_{k+1} = Φ x_k + γ_now u_k + γ_next u_{k+1}`
+/// with `Φ = e^{AT}`, `γ_now = Γa − Γb`, `γ_next = Γb` (see the module's equations), for the
+/// sample time `T` of the parameters it was built from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Discretisation {
     transition: Matrix3<f64>,
     input_now: Vector3<f64>,
     input_next: Vector3<f64>,
-    state: FilterState<N>,
-    last_input: JointVector<N>,
 }
 
-impl<const N: usize> ThirdOrderFilter<N> {
-    /// A filter at rest at `x0`: `x1 = x0`, `x2 = x3 = 0`, last input `x0`.
-    pub fn new(params: FilterParams, x0: JointVector<N>) -> Result<Self, Error> {
-        check("x0", &x0)?;
+impl Discretisation {
+    /// `Φ`, `γ_now`, `γ_next` over `params`' sample time, from one 5×5 matrix exponential.
+    pub fn new(params: &FilterParams) -> Self {
         let t = params.dt_s;
         let mut augmented = SMatrix::<f64, 5, 5>::zeros();
         augmented.fixed_view_mut::<3, 3>(0, 0).copy_from(&(params.state_matrix() * t));
@@ -189,14 +191,42 @@ impl<const N: usize> ThirdOrderFilter<N> {
         let e = matrix_exponential(&augmented);
         let gamma_a: Vector3<f64> = e.fixed_view::<3, 1>(0, 3).into();
         let gamma_b: Vector3<f64> = e.fixed_view::<3, 1>(0, 4).into();
+        Self { transition: e.fixed_view::<3, 3>(0, 0).into(), input_now: gamma_a - gamma_b, input_next: gamma_b }
+    }
+
+    /// The state transition `Φ = e^{AT}`.
+    pub fn transition(&self) -> &Matrix3<f64> {
+        &self.transition
+    }
+}
+
+/// The paper's third-order filter on `N` channels, stepped at a fixed sample time, or over a
+/// step of any length with [`peek_over`](Self::peek_over).
+///
+/// One 3x3 `Φ` and two input vectors, computed once at construction, serve every channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThirdOrderFilter<const N: usize> {
+    params: FilterParams,
+    discretisation: Discretisation,
+    state: FilterState<N>,
+    last_input: JointVector<N>,
+}
+
+impl<const N: usize> ThirdOrderFilter<N> {
+    /// A filter at rest at `x0`: `x1 = x0`, `x2 = x3 = 0`, last input `x0`.
+    pub fn new(params: FilterParams, x0: JointVector<N>) -> Result<Self, Error> {
+        check("x0", &x0)?;
         Ok(Self {
             params,
-            transition: e.fixed_view::<3, 3>(0, 0).into(),
-            input_now: gamma_a - gamma_b,
-            input_next: gamma_b,
+            discretisation: Discretisation::new(&params),
             state: FilterState::at_rest(x0),
             last_input: x0,
         })
+    }
+
+    /// The discretisation over the parameters' own sample time.
+    pub fn discretisation(&self) -> &Discretisation {
+        &self.discretisation
     }
 
     /// The parameters the filter was built with.
@@ -235,11 +265,24 @@ impl<const N: usize> ThirdOrderFilter<N> {
     /// that range keep every state bounded by a fixed multiple of it: every state it returns is
     /// finite, and so is every later one.
     pub fn peek(&self, signal: &'static str, u: &JointVector<N>) -> Result<FilterState<N>, Error> {
+        self.peek_over(&self.discretisation, signal, u)
+    }
+
+    /// As [`peek`](Self::peek), over the step that `step` discretises instead of the filter's own
+    /// sample time: a log's irregular step, with `step` built from
+    /// [`FilterParams::with_dt`] (or taken from a [`DiscretisationCache`](crate::step_cache::DiscretisationCache)).
+    /// Over a step of the filter's own length it computes exactly what `peek` does.
+    pub fn peek_over(
+        &self,
+        step: &Discretisation,
+        signal: &'static str,
+        u: &JointVector<N>,
+    ) -> Result<FilterState<N>, Error> {
         check(signal, u)?;
         if let Some(index) = u.iter().position(|x| x.abs() > MAX_FILTER_INPUT) {
             return Err(Error::Overflow { signal, index, value: u[index] });
         }
-        let (phi, now, next) = (&self.transition, &self.input_now, &self.input_next);
+        let (phi, now, next) = (&step.transition, &step.input_now, &step.input_next);
         let s = &self.state;
         let mut out = FilterState::<N>::at_rest(JointVector::zeros());
         // Channel by channel: x⁺ = Φ x + γ_now u_prev + γ_next u.
@@ -281,8 +324,9 @@ impl<const N: usize> ThirdOrderFilter<N> {
         let phase = omega_rad_s * self.params.dt_s;
         let z = Complex::new(libm::cos(phase), libm::sin(phase));
         let complex = |v: f64| Complex::new(v, 0.0);
-        let system = Matrix3::<Complex<f64>>::identity() * z - self.transition.map(complex);
-        let rhs = self.input_now.map(complex) + self.input_next.map(complex) * z;
+        let d = &self.discretisation;
+        let system = Matrix3::<Complex<f64>>::identity() * z - d.transition.map(complex);
+        let rhs = d.input_now.map(complex) + d.input_next.map(complex) * z;
         let x = system.lu().solve(&rhs)?;
         Some([x[0], x[1], x[2]])
     }

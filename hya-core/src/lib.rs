@@ -39,7 +39,9 @@ pub mod observers;
 pub mod sampling;
 pub mod scalar;
 pub mod spatial;
+pub mod step_cache;
 pub mod test_arms;
+pub mod timed;
 mod trig;
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
@@ -51,8 +53,10 @@ pub use display::{Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
-pub use filter::{FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
+pub use filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
 pub use finite::MAX_RATE_TIMES_DT;
+pub use step_cache::DiscretisationCache;
+pub use timed::{Step, TimedEstimator};
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };

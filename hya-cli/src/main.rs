@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod columns;
 mod dynamics;
 mod estimate;
 mod experiments;
@@ -50,7 +51,9 @@ enum Command {
     /// N·m, one row per control tick, joints in the model's order) to rows `d̂` (N·m).
     ///
     /// The first row starts the estimator at rest there (`d̂ = G(q) − τ`); the filters take the
-    /// paper's ζ = 0.8, ω1 = ω2 = 50 rad/s unless given.
+    /// paper's ζ = 0.8, ω1 = ω2 = 50 rad/s unless given. With `--timestamps`, rows `t q τ` (t in
+    /// s, strictly increasing, steps of any length) to rows `t d̂`; `--columns` picks t, q and τ
+    /// from a wider log by header name or position.
     #[command(allow_negative_numbers = true)]
     Estimate(estimate::EstimateArgs),
     /// Reproduce the paper's experiments on the simulated HyA and write a report.

@@ -60,6 +60,11 @@ pub fn check_dt(option: &str, dt: f64) -> Result<f64, CliError> {
     }
 }
 
+/// The fields of a line: separated by commas, tabs or spaces (runs of spaces count once).
+fn fields(data: &str) -> impl Iterator<Item = &str> {
+    data.split(|c: char| c == ',' || c.is_whitespace()).map(str::trim).filter(|field| !field.is_empty())
+}
+
 /// Parses line `line` of the input; `None` for a blank or comment line.
 pub fn parse(text: &str, line: usize) -> Result<Option<Row>, CliError> {
     let data = text.split('#').next().unwrap_or_default().trim();
@@ -67,8 +72,7 @@ pub fn parse(text: &str, line: usize) -> Result<Option<Row>, CliError> {
         return Ok(None);
     }
     let mut values = Vec::new();
-    let fields = data.split(|c: char| c == ',' || c.is_whitespace()).filter(|field| !field.is_empty());
-    for (column, field) in fields.enumerate() {
+    for (column, field) in fields(data).enumerate() {
         let column = column + 1;
         if column > MAX_ROW_VALUES {
             return Err(CliError::Input(format!(
@@ -95,12 +99,38 @@ pub struct Reader<R> {
     buffer: Vec<u8>,
     line: usize,
     done: bool,
+    header: Header,
+}
+
+/// Whether a [`Reader`] takes a header line, and the one it read.
+enum Header {
+    /// Every line is data.
+    Refused,
+    /// The first line whose first field is not a number is a header, if it comes first.
+    Allowed,
+    /// The header read, with its line.
+    Read(usize, Vec<String>),
 }
 
 impl<R: BufRead> Reader<R> {
     /// Reads the rows of `input`.
     pub fn new(input: R) -> Self {
-        Self { input, buffer: Vec::new(), line: 0, done: false }
+        Self { input, buffer: Vec::new(), line: 0, done: false, header: Header::Refused }
+    }
+
+    /// Reads the rows of `input`, the first of which may be a header: a line whose first field
+    /// is not a number, before any data row, is taken as column names (separated as values
+    /// are, at most [`MAX_ROW_VALUES`]) instead of data; see [`header`](Self::header).
+    pub fn with_header(input: R) -> Self {
+        Self { header: Header::Allowed, ..Self::new(input) }
+    }
+
+    /// The header line's number and column names, once read (after the first row).
+    pub fn header(&self) -> Option<(usize, &[String])> {
+        match &self.header {
+            Header::Read(line, names) => Some((*line, names)),
+            _ => None,
+        }
     }
 
     /// The next row, blank and comment lines skipped; `Ok(None)` at the end of the input.
@@ -126,6 +156,9 @@ impl<R: BufRead> Reader<R> {
             let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
             let text = std::str::from_utf8(bytes)
                 .map_err(|_| CliError::Input(format!("line {}: not valid UTF-8 text", self.line)))?;
+            if take_header(&mut self.header, self.line, text)? {
+                continue;
+            }
             if let Some(row) = parse(text, self.line)? {
                 return Ok(Some(row));
             }
@@ -143,6 +176,30 @@ impl<R: BufRead> Iterator for Reader<R> {
         let next = self.next_row().transpose();
         self.done = !matches!(next, Some(Ok(_)));
         next
+    }
+}
+
+/// Takes `text` as the header if one is allowed here and its first field is not a number.
+fn take_header(header: &mut Header, line: usize, text: &str) -> Result<bool, CliError> {
+    if !matches!(header, Header::Allowed) {
+        return Ok(false);
+    }
+    let data = text.split('#').next().unwrap_or_default();
+    let names: Vec<&str> = fields(data).take(MAX_ROW_VALUES + 1).collect();
+    match names.first() {
+        None => Ok(false),
+        Some(first) if first.parse::<f64>().is_ok() => {
+            *header = Header::Refused;
+            Ok(false)
+        }
+        Some(_) if names.len() > MAX_ROW_VALUES => Err(CliError::Input(format!(
+            "line {}: a header of more than {MAX_ROW_VALUES} names, the most a row may hold",
+            line
+        ))),
+        Some(_) => {
+            *header = Header::Read(line, names.iter().map(|n| n.to_string()).collect());
+            Ok(true)
+        }
     }
 }
 
@@ -245,6 +302,22 @@ mod tests {
             assert_eq!(rows.len(), 1);
             assert_eq!(rows[0].as_ref().unwrap().values, vec![1.0]);
         }
+    }
+
+    #[test]
+    fn a_header_is_read_only_where_allowed_and_only_first() {
+        let input = "# a log\ntime,q1\tq2 tau\n0, 1, 2, 3\nt q\n";
+        let mut reader = Reader::with_header(input.as_bytes());
+        assert_eq!(reader.next().unwrap().unwrap(), Row { line: 3, values: vec![0.0, 1.0, 2.0, 3.0] });
+        let (line, names) = reader.header().unwrap();
+        assert_eq!((line, names), (2, &["time".to_string(), "q1".into(), "q2".into(), "tau".into()][..]));
+        let message = reader.next().unwrap().unwrap_err().to_string();
+        assert!(message.contains("line 4, column 1"), "a second header is data: {message}");
+        let message = Reader::new(input.as_bytes()).next().unwrap().unwrap_err().to_string();
+        assert!(message.contains("line 2, column 1"), "{message}");
+        let mut numbers_first = Reader::with_header("1 2\nt q\n".as_bytes());
+        assert!(numbers_first.next().unwrap().is_ok() && numbers_first.header().is_none());
+        assert!(numbers_first.next().unwrap().is_err());
     }
 
     #[test]

@@ -1,0 +1,213 @@
+//! `--columns`: which columns of a log a row command reads, by header name or by position.
+//!
+//! A spec is a comma-separated list of items, each a column or a range of columns:
+//!
+//! - a position from 1 (`3`) or a range of positions (`2-7`);
+//! - a name from the log's header line (`t`, `q1`), or a range of names sharing a prefix and
+//!   ending in numbers (`q1-q6` is `q1, q2, …, q6`).
+//!
+//! The columns are read in the order listed; the command says what it expects in that order
+//! (`hya estimate --timestamps`: `t`, then the joint angles, then the torques).
+
+use crate::rows::{echo, Row, MAX_ROW_VALUES};
+use crate::CliError;
+
+/// One column of a spec before it meets the header: a position or a name.
+#[derive(Debug, Clone, PartialEq)]
+enum Column {
+    /// 1-based position.
+    Position(usize),
+    /// A header name.
+    Name(String),
+}
+
+/// A parsed `--columns` spec: the columns to read, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnSpec {
+    columns: Vec<Column>,
+}
+
+/// A spec resolved against the log: 0-based positions in the row, in the spec's order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    positions: Vec<usize>,
+    widest: usize,
+}
+
+fn bad_spec(item: &str, why: impl std::fmt::Display) -> CliError {
+    CliError::Input(format!("--columns item {}: {why}", echo(item)))
+}
+
+/// `name` split into its prefix and trailing number (`tau12` → `("tau", 12)`), if it ends in one.
+fn numbered(name: &str) -> Option<(&str, usize)> {
+    let digits = name.len() - name.trim_end_matches(|c: char| c.is_ascii_digit()).len();
+    let (prefix, number) = name.split_at(name.len() - digits);
+    Some((prefix, number.parse().ok()?))
+}
+
+impl ColumnSpec {
+    /// Parses `spec`; every error names the item and what is wrong with it.
+    pub fn parse(spec: &str) -> Result<Self, CliError> {
+        let mut columns = Vec::new();
+        for item in spec.split(',').map(str::trim) {
+            if item.is_empty() {
+                return Err(CliError::Input(format!("--columns {}: an empty item", echo(spec))));
+            }
+            match item.split_once('-') {
+                None => columns.push(match item.parse::<usize>() {
+                    Ok(0) => return Err(bad_spec(item, "positions count from 1")),
+                    Ok(position) => Column::Position(position),
+                    Err(_) => Column::Name(item.to_string()),
+                }),
+                Some((first, last)) => Self::range(item, first.trim(), last.trim(), &mut columns)?,
+            }
+            if columns.len() > MAX_ROW_VALUES {
+                return Err(bad_spec(item, format_args!("more than {MAX_ROW_VALUES} columns, the most a row holds")));
+            }
+        }
+        Ok(Self { columns })
+    }
+
+    /// Appends the columns of the range `first-last` (positions or numbered names).
+    fn range(item: &str, first: &str, last: &str, columns: &mut Vec<Column>) -> Result<(), CliError> {
+        let (from, to, prefix) = match (first.parse::<usize>(), last.parse::<usize>()) {
+            (Ok(from), Ok(to)) => (from, to, None),
+            _ => match (numbered(first), numbered(last)) {
+                (Some((p, from)), Some((q, to))) if p == q && !p.is_empty() => (from, to, Some(p)),
+                _ => {
+                    return Err(bad_spec(
+                        item,
+                        "a range is two positions (2-7) or two names with one prefix and numbers (q1-q6)",
+                    ))
+                }
+            },
+        };
+        if prefix.is_none() && from == 0 {
+            return Err(bad_spec(item, "positions count from 1"));
+        }
+        if to < from {
+            return Err(bad_spec(item, "the range ends before it starts"));
+        }
+        if to - from >= MAX_ROW_VALUES {
+            return Err(bad_spec(item, format_args!("more than {MAX_ROW_VALUES} columns, the most a row holds")));
+        }
+        columns.extend((from..=to).map(|k| match prefix {
+            None => Column::Position(k),
+            Some(p) => Column::Name(format!("{p}{k}")),
+        }));
+        Ok(())
+    }
+
+    /// How many columns the spec selects.
+    pub fn len(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// Positions in the row for the spec's columns, names looked up in `header` (its line and
+    /// names). A name without a header, a name the header lacks, or a column selected twice is an
+    /// error naming it.
+    pub fn resolve(&self, header: Option<(usize, &[String])>) -> Result<Selection, CliError> {
+        let mut positions = Vec::with_capacity(self.columns.len());
+        for column in &self.columns {
+            let position = match column {
+                Column::Position(p) => p - 1,
+                Column::Name(name) => match header {
+                    None => {
+                        return Err(CliError::Input(format!(
+                            "--columns names column {} but the log has no header line naming its columns",
+                            echo(name)
+                        )))
+                    }
+                    Some((line, names)) => names.iter().position(|n| n == name).ok_or_else(|| {
+                        CliError::Input(format!("--columns: no column {} in the header on line {line}", echo(name)))
+                    })?,
+                },
+            };
+            if positions.contains(&position) {
+                return Err(CliError::Input(format!("--columns selects column {} twice", position + 1)));
+            }
+            positions.push(position);
+        }
+        let widest = positions.iter().max().map_or(0, |p| p + 1);
+        Ok(Selection { positions, widest })
+    }
+}
+
+impl Selection {
+    /// The selected values of `row`, in the spec's order, into `out` (cleared first); an error
+    /// names the line if the row is too short for a selected column.
+    pub fn pick(&self, row: &Row, out: &mut Vec<f64>) -> Result<(), CliError> {
+        if row.values.len() < self.widest {
+            return Err(CliError::Input(format!(
+                "line {}: --columns reads column {}, but the row has {} values",
+                row.line,
+                self.widest,
+                row.values.len()
+            )));
+        }
+        out.clear();
+        out.extend(self.positions.iter().map(|&p| row.values[p]));
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header(names: &str) -> Vec<String> {
+        names.split(',').map(String::from).collect()
+    }
+
+    #[test]
+    fn names_ranges_and_positions_resolve_in_order() {
+        let names = header("time,q1,q2,qd1,qd2,tau1,tau2");
+        let spec = ColumnSpec::parse("time, q1-q2 ,tau1-tau2").unwrap();
+        assert_eq!(spec.len(), 5);
+        let selection = spec.resolve(Some((1, &names))).unwrap();
+        let row = Row { line: 2, values: vec![0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0] };
+        let mut out = Vec::new();
+        selection.pick(&row, &mut out).unwrap();
+        assert_eq!(out, [0.5, 1.0, 2.0, 5.0, 6.0]);
+        let by_position = ColumnSpec::parse("1,2-3,6-7").unwrap().resolve(None).unwrap();
+        assert_eq!(by_position, selection);
+        let reordered = ColumnSpec::parse("7,1").unwrap().resolve(None).unwrap();
+        reordered.pick(&row, &mut out).unwrap();
+        assert_eq!(out, [6.0, 0.5]);
+    }
+
+    #[test]
+    fn bad_specs_name_the_item() {
+        for (spec, expected) in [
+            ("t,,q1", "empty item"),
+            ("0,1", "count from 1"),
+            ("0-3", "count from 1"),
+            ("q6-q1", "ends before"),
+            ("7-2", "ends before"),
+            ("q1-tau3", "one prefix"),
+            ("a-b", "one prefix"),
+            ("1-99999", "4096"),
+        ] {
+            let message = ColumnSpec::parse(spec).unwrap_err().to_string();
+            assert!(message.contains(expected), "{spec}: {message}");
+        }
+    }
+
+    #[test]
+    fn unknown_names_repeats_and_short_rows_are_named() {
+        let names = header("t,q1,tau1");
+        let message = ColumnSpec::parse("t,q1,tau2").unwrap().resolve(Some((3, &names))).unwrap_err().to_string();
+        assert!(message.contains("\"tau2\"") && message.contains("line 3"), "{message}");
+        let message = ColumnSpec::parse("t").unwrap().resolve(None).unwrap_err().to_string();
+        assert!(message.contains("no header"), "{message}");
+        let message = ColumnSpec::parse("1,2,1").unwrap().resolve(None).unwrap_err().to_string();
+        assert!(message.contains("column 1 twice"), "{message}");
+        let selection = ColumnSpec::parse("1,5").unwrap().resolve(None).unwrap();
+        let row = Row { line: 9, values: vec![1.0, 2.0] };
+        let message = selection.pick(&row, &mut Vec::new()).unwrap_err().to_string();
+        assert!(
+            message.contains("line 9") && message.contains("column 5") && message.contains("2 values"),
+            "{message}"
+        );
+    }
+}

@@ -9,6 +9,7 @@ use std::f64::consts::FRAC_PI_4;
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference, ThirdOrderFilter,
+    TimedEstimator,
 };
 use hya_robots::{Hya, Panda};
 
@@ -68,6 +69,36 @@ fn hot_paths_do_not_allocate() {
         }
     });
     assert_eq!(count, 0, "the hot paths allocated {count} times");
+}
+
+/// The variable-step update of a log with timestamps: jittered steps, new lengths (each one's
+/// matrix exponential), cache evictions, gaps, a restart and a refused time.
+#[test]
+fn the_timestamped_update_does_not_allocate() {
+    let arm = PlanarTwoLink::default();
+    let params = FilterParams::paper(1e-3).unwrap();
+    let q0 = JointVector::from([0.3, -0.2]);
+    let mut estimator = TimedEstimator::new(&arm, params, 0.0, q0, arm.gravity(&q0)).unwrap();
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+    let count = allocations_during(|| {
+        let mut t = 0.0;
+        for k in 0..2000 {
+            // Steps of 0.8 to 1.2 ms in 13 lengths (more than the cache holds), a 30 ms gap every
+            // 100 rows, a 3 s one (a restart) at row 1000.
+            t += match k {
+                1000 => 3.0,
+                _ if k % 100 == 99 => 0.03,
+                _ => 8e-4 + (k % 13) as f64 * 3e-5,
+            };
+            let q = JointVector::from([0.3 + 0.1 * t.sin(), -0.2]);
+            let tau = arm.gravity(&q);
+            let step = estimator.update(std::hint::black_box(t), &q, &tau).unwrap();
+            assert_eq!(step.restarted, k == 1000);
+            assert!(estimator.update(t, &q, &tau).is_err(), "a repeated time is refused");
+        }
+    });
+    assert!(estimator.discretisations_computed() > 13, "the cache was exercised past its size");
+    assert_eq!(count, 0, "the timestamped update allocated {count} times");
 }
 
 /// Every entry point of generated dynamics, and the paper's loop on the generated HyA model.

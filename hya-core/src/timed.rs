@@ -16,7 +16,7 @@
 //!
 //! A gap is bridged exactly like any other step: the samples on either side are joined by a
 //! straight line, and the filters are advanced over it in closed form. The only limit is the
-//! matrix exponential's: a step with `ω · T_k >` [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT)
+//! matrix exponential's: a step with `ω · T_k >` [`MAX_RATE_TIMES_DT`]
 //! for `ω = max(ω1, ω2)` (2 s at the paper's 50 rad/s) restarts the estimator at rest on the
 //! sample after it instead. Over such a step the filters' slowest mode, `e^{−ζ ω2 T_k}` or
 //! `e^{−ω1 T_k}`, has decayed below `e^{−50}`: what they remembered of the past is gone either

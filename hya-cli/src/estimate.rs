@@ -6,8 +6,10 @@ use std::io::{BufRead, Write};
 
 use hya_core::dispatch::{with_joints, ForJoints, MAX_JOINTS};
 use hya_core::filter::{PAPER_BANDWIDTH_RAD_S, PAPER_ZETA};
-use hya_core::{DisturbanceEstimator, FilterParams, JointVector, Short, TimedEstimator};
+use hya_core::{DisturbanceEstimator, FilterParams, JointVector, Measurement, Short, TimedEstimator};
 use hya_robots::ForArm;
+use hya_sim::run::Observer;
+use hya_sim::Method;
 
 use crate::columns::{ColumnSpec, Selection};
 use crate::{rows, CliError};
@@ -49,11 +51,54 @@ pub struct EstimateArgs {
     /// not a number is the header, with or without --columns.
     #[arg(long)]
     columns: Option<String>,
+    /// The estimator: `lu` (the paper's, with --zeta, --omega1, --omega2), or one of the
+    /// observers it is compared with at --bandwidth, run at the fixed --dt: `chen` (Chen's
+    /// nonlinear observer) and `momentum` (the generalized-momentum observer) read measured
+    /// velocities, rows `q q̇ τ` (or t, q, q̇, τ from --columns), `eso` (the extended-state
+    /// observer) angles and torques only. --timestamps runs `lu` only: the observers are
+    /// discretised for one sample time.
+    #[arg(long, value_enum, default_value_t = EstimateMethod::Lu)]
+    method: EstimateMethod,
+    /// The observers' design bandwidth, rad/s (chen, momentum, eso).
+    #[arg(long, default_value_t = PAPER_BANDWIDTH_RAD_S)]
+    bandwidth: f64,
+}
+
+/// `--method`: the paper's estimator or an observer it is compared with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum EstimateMethod {
+    /// The paper's estimator (Lu, Sandy & Buchli).
+    Lu,
+    /// Chen's nonlinear disturbance observer; reads q̇.
+    Chen,
+    /// The generalized-momentum observer; reads q̇.
+    Momentum,
+    /// The model-assisted extended-state observer.
+    Eso,
+}
+
+impl EstimateMethod {
+    /// The simulator's name for it.
+    fn method(self) -> Method {
+        match self {
+            Self::Lu => Method::Lu,
+            Self::Chen => Method::Chen,
+            Self::Momentum => Method::Momentum,
+            Self::Eso => Method::Eso,
+        }
+    }
+
+    /// Whether its rows hold measured velocities.
+    fn reads_velocity(self) -> bool {
+        matches!(self, Self::Chen | Self::Momentum)
+    }
 }
 
 /// How `hya estimate` reads a row: its columns and whether it starts with a time.
 struct Layout {
     params: FilterParams,
+    method: EstimateMethod,
+    bandwidth_rad_s: f64,
     timestamps: bool,
     max_step_s: f64,
     columns: Option<ColumnSpec>,
@@ -87,25 +132,63 @@ impl<R: BufRead, W: Write> ForJoints for Estimate<'_, R, W> {
 /// The estimator, fixed-step or timestamped, once the first row has started it.
 #[allow(clippy::large_enum_variant)] // one per run, on the stack: the size costs nothing
 enum Running<'a, const N: usize> {
-    Fixed(DisturbanceEstimator<N, &'a dyn hya_core::Dynamics<N>>),
-    Timed(TimedEstimator<N, &'a dyn hya_core::Dynamics<N>>),
+    Fixed(Observer<'a, N>),
+    Timed(TimedEstimator<N, Nominal<'a, N>>),
+}
+
+/// The model every estimator runs on.
+type Nominal<'a, const N: usize> = &'a (dyn hya_core::Dynamics<N> + Sync);
+
+impl<'a, const N: usize> Running<'a, N> {
+    /// The estimator of `layout` at rest on the first row.
+    fn start(nominal: Nominal<'a, N>, layout: &Layout, t: f64, first: &Measurement<N>) -> Result<Self, CliError> {
+        let setup = |e: hya_core::Error| CliError::Input(e.to_string());
+        let (q, tau) = (first.position, first.torque);
+        Ok(match layout.method {
+            _ if layout.timestamps => {
+                Self::Timed(TimedEstimator::new(nominal, layout.params, t, q, tau).map_err(setup)?)
+            }
+            EstimateMethod::Lu => {
+                Self::Fixed(Box::new(DisturbanceEstimator::new(nominal, layout.params, q, tau).map_err(setup)?))
+            }
+            other => {
+                let design = (layout.bandwidth_rad_s, layout.params.dt_s());
+                match hya_sim::run::observer(other.method(), nominal, design, first) {
+                    Ok(Some((observer, _rates))) => Self::Fixed(observer),
+                    Ok(None) => {
+                        return Err(CliError::Input(format!("--method {}: no observer", other.method().name())))
+                    }
+                    Err(e) => return Err(CliError::Input(e.to_string())),
+                }
+            }
+        })
+    }
+
+    /// The latest `d̂`.
+    fn disturbance(&self) -> JointVector<N> {
+        match self {
+            Self::Fixed(e) => *e.disturbance(),
+            Self::Timed(e) => *e.estimator().disturbance(),
+        }
+    }
 }
 
 /// Rows `[t] q τ` (`2N` or `2N + 1` numbers, or the columns `--columns` selects) in, rows
 /// `[t] d̂` out; the first row starts the estimator at rest (`d̂ = G(q) − τ` there).
 fn estimate<'a, const N: usize>(
-    nominal: &'a dyn hya_core::Dynamics<N>,
+    nominal: Nominal<'a, N>,
     layout: &Layout,
     input: impl BufRead,
     output: &mut impl Write,
 ) -> Result<(), CliError> {
     let offset = usize::from(layout.timestamps);
-    let what = if layout.timestamps {
-        format!("the time t (s), then the {N} joint angles q (rad), then the {N} joint torques τ (N·m)")
-    } else {
-        format!("the {N} joint angles q (rad), then the {N} joint torques τ (N·m)")
-    };
-    let width = offset + 2 * N;
+    let velocity = layout.method.reads_velocity();
+    let what = format!(
+        "{}the {N} joint angles q (rad), {}then the {N} joint torques τ (N·m)",
+        if layout.timestamps { "the time t (s), then " } else { "" },
+        if velocity { format!("then the {N} joint velocities q̇ (rad/s), ") } else { String::new() }
+    );
+    let width = offset + (2 + usize::from(velocity)) * N;
     if let Some(spec) = &layout.columns {
         if spec.len() != width {
             return Err(CliError::Input(format!("--columns selects {} columns; {width} are read: {what}", spec.len())));
@@ -132,25 +215,24 @@ fn estimate<'a, const N: usize>(
             }
         };
         let t = values[0];
-        let q = JointVector::<N>::from_column_slice(&values[offset..offset + N]);
-        let tau = JointVector::<N>::from_column_slice(&values[offset + N..]);
+        let column = |k: usize| JointVector::<N>::from_column_slice(&values[offset + k * N..offset + (k + 1) * N]);
+        let measurement = Measurement {
+            position: column(0),
+            velocity: velocity.then(|| column(1)),
+            torque: column(1 + usize::from(velocity)),
+        };
+        let (q, tau) = (&measurement.position, &measurement.torque);
         let at_line = |e: hya_core::Error| CliError::Input(format!("line {}: {e}", row.line));
         let d_hat = match running.as_mut() {
             None => {
-                let started = if layout.timestamps {
-                    Running::Timed(TimedEstimator::new(nominal, layout.params, t, q, tau).map_err(at_line)?)
-                } else {
-                    Running::Fixed(DisturbanceEstimator::new(nominal, layout.params, q, tau).map_err(at_line)?)
-                };
-                let d_hat = match &started {
-                    Running::Fixed(e) => *e.disturbance(),
-                    Running::Timed(e) => *e.estimator().disturbance(),
-                };
+                let started = Running::start(nominal, layout, t, &measurement)
+                    .map_err(|e| rows::at(format_args!("line {}", row.line), e))?;
+                let d_hat = started.disturbance();
                 running = Some(started);
                 d_hat
             }
-            Some(Running::Fixed(e)) => e.update(&q, &tau).map_err(at_line)?,
-            Some(Running::Timed(e)) => timed_step(e, layout, row.line, t, &q, &tau, &mut gaps)?,
+            Some(Running::Fixed(e)) => e.update(&measurement).map_err(at_line)?,
+            Some(Running::Timed(e)) => timed_step(e, layout, row.line, t, q, tau, &mut gaps)?,
         };
         let time = layout.timestamps.then_some(t);
         rows::write(output, time.into_iter().chain(d_hat.iter().copied()))
@@ -169,7 +251,7 @@ const REPORTED_GAPS: usize = 20;
 /// One timestamped row: refuses a time that does not increase, reports a gap or a restart on
 /// stderr, and returns `d̂`.
 fn timed_step<const N: usize>(
-    estimator: &mut TimedEstimator<N, &dyn hya_core::Dynamics<N>>,
+    estimator: &mut TimedEstimator<N, Nominal<'_, N>>,
     layout: &Layout,
     line: usize,
     t: f64,
@@ -219,7 +301,20 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
         Some(s) => return Err(CliError::Input(format!("--max-step {}: must be finite and > 0 s", Short(s)))),
     };
     let columns = args.columns.as_deref().map(ColumnSpec::parse).transpose()?;
-    let layout = Layout { params, timestamps: args.timestamps, max_step_s, columns };
+    if args.timestamps && args.method != EstimateMethod::Lu {
+        return Err(CliError::Input(format!(
+            "--method {} with --timestamps: only lu is discretised per step; the observers run at a fixed --dt",
+            args.method.method().name()
+        )));
+    }
+    let layout = Layout {
+        params,
+        method: args.method,
+        bandwidth_rad_s: args.bandwidth,
+        timestamps: args.timestamps,
+        max_step_s,
+        columns,
+    };
     let mut estimate = Estimate { model: None, layout, input, output };
     if hya_robots::find(&args.robot).is_some() {
         return hya_robots::with_arm(&args.robot, estimate)

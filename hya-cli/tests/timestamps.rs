@@ -176,3 +176,48 @@ fn columns_pick_q_and_tau_from_a_wider_log_by_position_too() {
     let (plain, _) = run(&base[..6], &narrow);
     assert_eq!(plain, by_name);
 }
+
+/// planar2's gravity torques in closed form (robots/urdf/planar2.urdf, g = 9.81 m/s²).
+fn planar2_gravity(q: [f64; 2]) -> [f64; 2] {
+    let (m1, m2, l1, c1, c2) = (3.0, 2.0, 0.5, 0.25, 0.2);
+    let outer = m2 * c2 * (q[0] + q[1]).cos();
+    [-9.81 * ((m1 * c1 + m2 * l1) * q[0].cos() + outer), -9.81 * outer]
+}
+
+#[test]
+fn every_method_recovers_a_constant_disturbance_and_observers_read_velocity_columns() {
+    // The arm held at q0 with τ = G(q0) − δ: every estimator must settle on d̂ = δ.
+    let q0 = [0.4, -0.9];
+    let delta = [1.5, -0.7];
+    let g = planar2_gravity(q0);
+    let tau = [g[0] - delta[0], g[1] - delta[1]];
+    let mut narrow = String::new();
+    let mut wide = String::from("q1,q2,tau1,tau2,current1,qd1,qd2\n");
+    for _ in 0..1000 {
+        narrow += &format!("{} {} 0 0 {} {}\n", q0[0], q0[1], tau[0], tau[1]);
+        wide += &format!("{},{},{},{},9,0,0\n", q0[0], q0[1], tau[0], tau[1]);
+    }
+    let plain: String = narrow.lines().map(|l| l.replacen(" 0 0", "", 1) + "\n").collect();
+    for method in ["lu", "chen", "momentum", "eso"] {
+        let velocity = matches!(method, "chen" | "momentum");
+        let base = ["estimate", "--robot", "planar2", "--method", method];
+        let (rows, _) = run(&base, if velocity { &narrow } else { &plain });
+        let last = rows.last().unwrap();
+        for j in 0..2 {
+            assert!((last[j] - delta[j]).abs() < 1e-6, "{method}: d̂ {last:?} after 1 s, δ = {delta:?}");
+        }
+        let spec = if velocity { "q1-q2,qd1-qd2,tau1-tau2" } else { "q1-q2,tau1-tau2" };
+        let (picked, _) = run(&[&base[..], &["--columns", spec]].concat(), &wide);
+        assert_eq!(picked, rows, "{method}: --columns picks the same q, q̇, τ");
+    }
+    assert_rejected(
+        &["estimate", "--robot", "planar2", "--method", "chen"],
+        &plain,
+        &["line 1", "expected 6 values", "q̇"],
+    );
+    assert_rejected(
+        &["estimate", "--robot", "planar2", "--method", "eso", "--timestamps"],
+        "0 0 0 0 0\n",
+        &["--method eso with --timestamps", "only lu"],
+    );
+}

@@ -4,7 +4,7 @@
 
 use hya_core::{
     ComputedTorque as CoreComputedTorque, Dynamics, FilterParams, Gains, JointVector, Measurement, Reference,
-    ThirdOrderFilter as CoreFilter,
+    ThirdOrderFilter as CoreFilter, TimedEstimator,
 };
 use std::sync::{Mutex, PoisonError};
 
@@ -25,6 +25,10 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
 trait SliceObserver: Send {
     fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String>;
     fn disturbance(&self) -> Vec<f64>;
+    /// One sample at its own time `t`, s: only an estimator built with a first time takes it.
+    fn update_at(&mut self, _t: f64, _q: &[f64], _tau: &[f64], _d_hat: &mut [f64]) -> Result<(), String> {
+        Err("t: this estimator was built without t0; pass t0 to the constructor to give samples times".into())
+    }
 }
 
 struct Fixed<const N: usize>(hya_sim::run::Observer<'static, N>);
@@ -45,12 +49,32 @@ impl<const N: usize> SliceObserver for Fixed<N> {
     }
 }
 
+/// The paper's estimator over samples with their own times ([`TimedEstimator`]).
+struct Timed<const N: usize>(TimedEstimator<N, Box<dyn Dynamics<N> + Send + Sync>>);
+
+impl<const N: usize> SliceObserver for Timed<N> {
+    fn update(&mut self, _q: &[f64], _qd: Option<&[f64]>, _tau: &[f64], _d_hat: &mut [f64]) -> Result<(), String> {
+        Err("t: this estimator was built with t0, so every sample needs its time t".into())
+    }
+    fn update_at(&mut self, t: f64, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), String> {
+        let (q, tau) = (JointVector::from_column_slice(q), JointVector::from_column_slice(tau));
+        let step = self.0.update(t, &q, &tau).map_err(|e| e.to_string())?;
+        d_hat.copy_from_slice(step.disturbance.as_slice());
+        Ok(())
+    }
+    fn disturbance(&self) -> Vec<f64> {
+        self.0.estimator().disturbance().as_slice().to_vec()
+    }
+}
+
 /// Builds an observer for `N` joints on the nominal model of `robot`.
 struct Build<'a> {
     method: Method,
     model: &'a Model,
     params: Option<FilterParams>,
     bandwidth_dt: (f64, f64),
+    /// The first sample's time, for an estimator over timestamped samples.
+    t0: Option<f64>,
     q0: &'a [f64],
     qd0: &'a [f64],
     tau0: &'a [f64],
@@ -65,15 +89,16 @@ impl ForJoints for Build<'_> {
             velocity: Some(JointVector::from_column_slice(self.qd0)),
             torque: JointVector::from_column_slice(self.tau0),
         };
+        let setup = |source| SimError::Setup { setting: "DisturbanceEstimator".into(), source };
+        if let (Method::Lu, Some(params), Some(t0)) = (self.method, self.params, self.t0) {
+            let timed = TimedEstimator::new(nominal, params, t0, first.position, first.torque).map_err(setup)?;
+            return Ok(Box::new(Timed(timed)));
+        }
         let observer: hya_sim::run::Observer<'static, N> = match (self.method, self.params) {
             // The filters as given (the simulator's `lu` takes the paper's ζ and ω1 = ω2).
-            (Method::Lu, Some(params)) => {
-                let setup = |source| SimError::Setup { setting: "DisturbanceEstimator".into(), source };
-                Box::new(
-                    hya_core::DisturbanceEstimator::new(nominal, params, first.position, first.torque)
-                        .map_err(setup)?,
-                )
-            }
+            (Method::Lu, Some(params)) => Box::new(
+                hya_core::DisturbanceEstimator::new(nominal, params, first.position, first.torque).map_err(setup)?,
+            ),
             (method, _) => match hya_sim::run::observer(method, nominal, self.bandwidth_dt, &first)? {
                 Some((observer, _rates)) => observer,
                 None => {
@@ -98,13 +123,16 @@ fn run_log(
     q: &Rows,
     qd: Option<&Rows>,
     tau: &Rows,
+    t: Option<&[f64]>,
 ) -> PyResult<Vec<f64>> {
     py.allow_threads(|| {
         let mut out = vec![0.0; q.count * n];
         for (k, d_hat) in out.chunks_mut(n).enumerate() {
-            observer
-                .update(q.row(k, n), qd.map(|v| v.row(k, n)), tau.row(k, n), d_hat)
-                .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
+            match t {
+                None => observer.update(q.row(k, n), qd.map(|v| v.row(k, n)), tau.row(k, n), d_hat),
+                Some(t) => observer.update_at(t[k], q.row(k, n), tau.row(k, n), d_hat),
+            }
+            .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
         }
         Ok(out)
     })
@@ -119,11 +147,13 @@ struct ObserverCore {
 }
 
 impl ObserverCore {
+    #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
         method: Method,
         params: Option<FilterParams>,
         bandwidth_dt: (f64, f64),
+        t0: Option<f64>,
         q0: Option<&Bound<'_, PyAny>>,
         qd0: Option<&Bound<'_, PyAny>>,
         tau0: Option<&Bound<'_, PyAny>>,
@@ -138,7 +168,7 @@ impl ObserverCore {
             Some(tau0) => tau0,
             None => model.gravity_of(&q0),
         };
-        let build = Build { method, model, params, bandwidth_dt, q0: &q0, qd0: &qd0, tau0: &tau0 };
+        let build = Build { method, model, params, bandwidth_dt, t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
         let inner = crate::model::for_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
@@ -157,13 +187,18 @@ impl ObserverCore {
         q: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
         qd: Option<&Bound<'py, PyAny>>,
+        t: Option<f64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
         let q = one_row("q", rows("q", q, n)?)?;
         let tau = one_row("tau", rows("tau", tau, n)?)?;
         let qd = qd.map(|v| rows("qd", v, n).and_then(|r| one_row("qd", r))).transpose()?;
         let mut d_hat = vec![0.0; n];
-        self.observer().update(&q, qd.as_deref(), &tau, &mut d_hat).map_err(PyValueError::new_err)?;
+        match t {
+            None => self.observer().update(&q, qd.as_deref(), &tau, &mut d_hat),
+            Some(t) => self.observer().update_at(t, &q, &tau, &mut d_hat),
+        }
+        .map_err(PyValueError::new_err)?;
         output(py, d_hat, 1, false, &[n])
     }
 
@@ -173,6 +208,7 @@ impl ObserverCore {
         q_log: &Bound<'py, PyAny>,
         tau_log: &Bound<'py, PyAny>,
         qd_log: Option<&Bound<'py, PyAny>>,
+        t: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
         let [q, tau] = same_rows([("q_log", q_log), ("tau_log", tau_log)], n)?;
@@ -180,7 +216,10 @@ impl ObserverCore {
         if let Some(rows) = qd.as_ref().filter(|r| r.count != q.count) {
             return Err(PyValueError::new_err(format!("qd_log: {} rows, but q_log has {}", rows.count, q.count)));
         }
-        let out = run_log(py, self.observer(), n, &q, qd.as_ref(), &tau)?;
+        if let Some(t) = t.as_ref().filter(|t| t.len() != q.count) {
+            return Err(PyValueError::new_err(format!("t: {} times, but q_log has {} rows", t.len(), q.count)));
+        }
+        let out = run_log(py, self.observer(), n, &q, qd.as_ref(), &tau, t.as_deref())?;
         output(py, out, q.count, true, &[n])
     }
 }
@@ -214,6 +253,11 @@ fn one_row(name: &str, rows: Rows) -> PyResult<Vec<f64>> {
 ///         (the paper's 0.8, 50, 50 by default).
 ///     dt: the control period, s (0.001).
 ///     q0, tau0: the state the estimator starts at rest in (zeros, and G(q0)).
+///     t0: the time of that first sample, s, for a log with timestamps: then every `update`
+///         and `run` takes its samples' times `t` (strictly increasing), and each step is
+///         filtered exactly over its own length (first-order hold); a step longer than
+///         100 / max(omega1, omega2) s (2 s by default) restarts the estimator at rest, any
+///         shorter gap is bridged exactly (the samples either side joined by a straight line).
 #[pyclass(module = "hya")]
 pub struct DisturbanceEstimator {
     core: ObserverCore,
@@ -222,7 +266,7 @@ pub struct DisturbanceEstimator {
 #[pymethods]
 impl DisturbanceEstimator {
     #[new]
-    #[pyo3(signature = (model, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001, q0=None, tau0=None))]
+    #[pyo3(signature = (model, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001, q0=None, tau0=None, t0=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
@@ -232,32 +276,39 @@ impl DisturbanceEstimator {
         dt: f64,
         q0: Option<&Bound<'_, PyAny>>,
         tau0: Option<&Bound<'_, PyAny>>,
+        t0: Option<f64>,
     ) -> PyResult<Self> {
         let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
-        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), q0, None, tau0)?;
+        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), t0, q0, None, tau0)?;
         Ok(Self { core })
     }
 
     /// One control tick: filters the measured angles q (rad) and torques tau (N·m) and
     /// returns the new d̂ (N·m). A non-finite input raises ValueError and changes nothing.
+    /// With t0 given at construction, t (s) is the sample's time, after the previous one's.
+    #[pyo3(signature = (q, tau, t=None))]
     fn update<'py>(
         &mut self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
+        t: Option<f64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        self.core.update(py, q, tau, None)
+        self.core.update(py, q, tau, None, t)
     }
 
-    /// Steps every row of a log (shape (T, dof) each, one row per control tick) from the
-    /// current state, as `update` row by row would, and returns d̂ for every row, (T, dof).
+    /// Steps every row of a log (shape (T, dof) each, one row per control tick, or one row
+    /// per time of t, shape (T,), with t0 given at construction) from the current state, as
+    /// `update` row by row would, and returns d̂ for every row, (T, dof).
+    #[pyo3(signature = (q_log, tau_log, t=None))]
     fn run<'py>(
         &mut self,
         py: Python<'py>,
         q_log: &Bound<'py, PyAny>,
         tau_log: &Bound<'py, PyAny>,
+        t: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        self.core.run(py, q_log, tau_log, None)
+        self.core.run(py, q_log, tau_log, None, t)
     }
 
     /// The latest d̂, N·m.
@@ -289,7 +340,7 @@ macro_rules! observer_class {
                 qd0: Option<&Bound<'_, PyAny>>,
                 tau0: Option<&Bound<'_, PyAny>>,
             ) -> PyResult<Self> {
-                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), q0, qd0, tau0)?;
+                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), None, q0, qd0, tau0)?;
                 Ok(Self { core })
             }
 
@@ -303,7 +354,7 @@ macro_rules! observer_class {
                 tau: &Bound<'py, PyAny>,
                 qd: Option<&Bound<'py, PyAny>>,
             ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-                self.core.update(py, q, tau, qd)
+                self.core.update(py, q, tau, qd, None)
             }
 
             /// Steps every row of a log ((T, dof) each) and returns d̂ for every row.
@@ -315,7 +366,7 @@ macro_rules! observer_class {
                 tau_log: &Bound<'py, PyAny>,
                 qd_log: Option<&Bound<'py, PyAny>>,
             ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-                self.core.run(py, q_log, tau_log, qd_log)
+                self.core.run(py, q_log, tau_log, qd_log, None)
             }
 
             /// The latest d̂, N·m.

@@ -300,6 +300,9 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
         Some(s) if s.is_finite() && s > 0.0 => s,
         Some(s) => return Err(CliError::Input(format!("--max-step {}: must be finite and > 0 s", Short(s)))),
     };
+    if !(args.bandwidth.is_finite() && args.bandwidth > 0.0) {
+        return Err(CliError::Input(format!("--bandwidth {}: must be finite and > 0 rad/s", Short(args.bandwidth))));
+    }
     let columns = args.columns.as_deref().map(ColumnSpec::parse).transpose()?;
     if args.timestamps && args.method != EstimateMethod::Lu {
         return Err(CliError::Input(format!(

@@ -216,6 +216,11 @@ fn every_method_recovers_a_constant_disturbance_and_observers_read_velocity_colu
         &["line 1", "expected 6 values", "q̇"],
     );
     assert_rejected(
+        &["estimate", "--robot", "planar2", "--method", "chen", "--bandwidth", "-1"],
+        &narrow,
+        &["--bandwidth -1"],
+    );
+    assert_rejected(
         &["estimate", "--robot", "planar2", "--method", "eso", "--timestamps"],
         "0 0 0 0 0\n",
         &["--method eso with --timestamps", "only lu"],

@@ -85,6 +85,87 @@ pub trait Dynamics<const N: usize> {
         let cholesky = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?;
         Ok(cholesky.solve(&(tau - bias)))
     }
+
+    /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.
+    ///
+    /// Batches take one slice of joint vectors per argument (an array of structures: state `k`
+    /// is `q[k]`, `qd[k]`, …) and write one output per state; every slice must be as long as the
+    /// output ([`Error::BatchLength`] otherwise, nothing written). Generated dynamics run
+    /// [`BATCH_LANES`](crate::lanes::BATCH_LANES) states per step in vector registers
+    /// ([`crate::lanes::batch`]); the defaults loop over the single call.
+    fn inverse_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        tau: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        for (k, tau) in tau.iter_mut().enumerate() {
+            *tau = self.inverse_dynamics(&q[k], &qd[k], &qdd[k]);
+        }
+        Ok(())
+    }
+
+    /// [`gravity`](Self::gravity) of many states (see [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)).
+    fn gravity_batch(&self, q: &[JointVector<N>], g: &mut [JointVector<N>]) -> Result<(), Error> {
+        check_batch(&[q.len()], g.len())?;
+        for (k, g) in g.iter_mut().enumerate() {
+            *g = self.gravity(&q[k]);
+        }
+        Ok(())
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix) of many states (see [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)).
+    fn mass_matrix_batch(&self, q: &[JointVector<N>], m: &mut [JointMatrix<N>]) -> Result<(), Error> {
+        check_batch(&[q.len()], m.len())?;
+        for (k, m) in m.iter_mut().enumerate() {
+            *m = self.mass_matrix(&q[k]);
+        }
+        Ok(())
+    }
+
+    /// [`forward_dynamics`](Self::forward_dynamics) of many states (see
+    /// [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)); stops at the first state whose
+    /// mass matrix is singular, with the states before it written.
+    fn forward_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        qdd: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        for (k, qdd) in qdd.iter_mut().enumerate() {
+            *qdd = self.forward_dynamics(&q[k], &qd[k], &tau[k])?;
+        }
+        Ok(())
+    }
+
+    /// [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives) of many states (see
+    /// [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)); `d_dqd` as long as `d_dq`.
+    fn inverse_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        d_dq: &mut [JointMatrix<N>],
+        d_dqd: &mut [JointMatrix<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len(), d_dqd.len()], d_dq.len())?;
+        for (k, (d_dq, d_dqd)) in d_dq.iter_mut().zip(d_dqd.iter_mut()).enumerate() {
+            (*d_dq, *d_dqd) = self.inverse_dynamics_derivatives(&q[k], &qd[k], &qdd[k]);
+        }
+        Ok(())
+    }
+}
+
+/// `Err(BatchLength)` for the first argument whose length is not the output's.
+pub fn check_batch(arguments: &[usize], expected: usize) -> Result<(), Error> {
+    match arguments.iter().position(|&got| got != expected) {
+        Some(argument) => Err(Error::BatchLength { argument, expected, got: arguments[argument] }),
+        None => Ok(()),
+    }
 }
 
 /// Implements [`Dynamics`] for a pointer type by forwarding every method to its target.
@@ -121,6 +202,40 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
         tau: &JointVector<N>,
     ) -> Result<JointVector<N>, Error> {
         (**self).forward_dynamics(q, qd, tau)
+    }
+    fn inverse_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        tau: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        (**self).inverse_dynamics_batch(q, qd, qdd, tau)
+    }
+    fn gravity_batch(&self, q: &[JointVector<N>], g: &mut [JointVector<N>]) -> Result<(), Error> {
+        (**self).gravity_batch(q, g)
+    }
+    fn mass_matrix_batch(&self, q: &[JointVector<N>], m: &mut [JointMatrix<N>]) -> Result<(), Error> {
+        (**self).mass_matrix_batch(q, m)
+    }
+    fn forward_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        qdd: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        (**self).forward_dynamics_batch(q, qd, tau, qdd)
+    }
+    fn inverse_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        d_dq: &mut [JointMatrix<N>],
+        d_dqd: &mut [JointMatrix<N>],
+    ) -> Result<(), Error> {
+        (**self).inverse_dynamics_derivatives_batch(q, qd, qdd, d_dq, d_dqd)
     }
 }
     )*};

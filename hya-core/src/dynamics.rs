@@ -268,6 +268,54 @@ pub trait SliceDynamics {
         d_dq: &mut [f64],
         d_dqd: &mut [f64],
     );
+
+    /// [`inverse_dynamics_into`](Self::inverse_dynamics_into) of many states, rows of
+    /// [`dof`](Self::dof) values one after another (row-major `count × dof`); `tau` sets the
+    /// count, and every argument must hold as many rows ([`Error::BatchLength`] otherwise).
+    /// Generated dynamics run them in batches ([`Dynamics::inverse_dynamics_batch`]).
+    fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        for (k, tau) in tau.chunks_mut(n.max(1)).enumerate() {
+            let row = k * n..(k + 1) * n;
+            self.inverse_dynamics_into(&q[row.clone()], &qd[row.clone()], &qdd[row], tau);
+        }
+        Ok(())
+    }
+
+    /// [`gravity_into`](Self::gravity_into) of many states (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)).
+    fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len()], g.len())?;
+        for (k, g) in g.chunks_mut(n.max(1)).enumerate() {
+            self.gravity_into(&q[k * n..(k + 1) * n], g);
+        }
+        Ok(())
+    }
+
+    /// [`mass_matrix_into`](Self::mass_matrix_into) of many states, `dof²` outputs per row (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)).
+    fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len() * n], mass.len())?;
+        for (k, m) in mass.chunks_mut((n * n).max(1)).enumerate() {
+            self.mass_matrix_into(&q[k * n..(k + 1) * n], m);
+        }
+        Ok(())
+    }
+
+    /// [`forward_dynamics_into`](Self::forward_dynamics_into) of many states (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)); stops at the first singular one.
+    fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        for (k, qdd) in qdd.chunks_mut(n.max(1)).enumerate() {
+            let row = k * n..(k + 1) * n;
+            self.forward_dynamics_into(&q[row.clone()], &qd[row.clone()], &tau[row], qdd)?;
+        }
+        Ok(())
+    }
 }
 
 /// Any [`Dynamics<N>`] seen as [`SliceDynamics`].
@@ -308,4 +356,50 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
         d_dq.copy_from_slice(by_q.transpose().as_slice());
         d_dqd.copy_from_slice(by_qd.transpose().as_slice());
     }
+    fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        in_steps([q, qd, qdd], tau, |[q, qd, qdd], out| self.0.inverse_dynamics_batch(q, qd, qdd, out))
+    }
+    fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len()], g.len())?;
+        in_steps([q], g, |[q], out| self.0.gravity_batch(q, out))
+    }
+    fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len() * N], mass.len())?;
+        // M is symmetric, so its column-major storage is also its row-major layout.
+        in_steps([q], mass, |[q], out| self.0.mass_matrix_batch(q, out))
+    }
+    fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        in_steps([q, qd, tau], qdd, |[q, qd, tau], out| self.0.forward_dynamics_batch(q, qd, tau, out))
+    }
+}
+
+/// States per step of [`OnSlicesN`]'s row batches, copied to the stack and back.
+const ROWS_PER_STEP: usize = 64;
+
+/// Runs `batch` on the rows of `inputs` ([`ROWS_PER_STEP`] at a time, as joint vectors on the
+/// stack) and writes each result's `width` numbers (column-major storage) to its row of `out`.
+fn in_steps<const N: usize, const IN: usize, const R: usize, const C: usize>(
+    inputs: [&[f64]; IN],
+    out: &mut [f64],
+    mut batch: impl FnMut([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let width = R * C;
+    let mut arguments = [[JointVector::<N>::zeros(); ROWS_PER_STEP]; IN];
+    let mut results = [SMatrix::<f64, R, C>::zeros(); ROWS_PER_STEP];
+    for (step, out) in out.chunks_mut((ROWS_PER_STEP * width).max(1)).enumerate() {
+        let used = out.len() / width.max(1);
+        let first = step * ROWS_PER_STEP;
+        for (argument, input) in arguments.iter_mut().zip(inputs) {
+            for (k, state) in argument[..used].iter_mut().enumerate() {
+                *state = JointVector::from_column_slice(&input[(first + k) * N..(first + k + 1) * N]);
+            }
+        }
+        batch(core::array::from_fn(|i| &arguments[i][..used]), &mut results[..used])?;
+        for (row, result) in out.chunks_mut(width.max(1)).zip(&results) {
+            row.copy_from_slice(result.as_slice());
+        }
+    }
+    Ok(())
 }

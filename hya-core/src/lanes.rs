@@ -90,6 +90,20 @@ impl Arithmetic for f64 {
 #[repr(transparent)]
 pub struct Lanes<const L: usize, const FUSED: bool>(pub [f64; L]);
 
+/// `[f(0), f(1), …]` by a loop the compiler always inlines. (`array::map` and
+/// `array::from_fn` are calls of their own in functions as long as generated kernels, and one
+/// per operation costs more than the operation.)
+#[inline(always)]
+fn each<T: Copy, const L: usize>(zero: T, mut f: impl FnMut(usize) -> T) -> [T; L] {
+    let mut out = [zero; L];
+    let mut l = 0;
+    while l < L {
+        out[l] = f(l);
+        l += 1;
+    }
+    out
+}
+
 /// One `f64` with fused multiply-add: the single call's arithmetic where the CPU has FMA.
 pub type Fused = Lanes<1, true>;
 
@@ -110,14 +124,14 @@ macro_rules! lane_operator {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: Self) -> Self {
-                Self(core::array::from_fn(|l| self.0[l] $op rhs.0[l]))
+                Self(each(0.0, |l| self.0[l] $op rhs.0[l]))
             }
         }
         impl<const L: usize, const FUSED: bool> $trait<f64> for Lanes<L, FUSED> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: f64) -> Self {
-                Self(core::array::from_fn(|l| self.0[l] $op rhs))
+                Self(each(0.0, |l| self.0[l] $op rhs))
             }
         }
     };
@@ -132,7 +146,7 @@ impl<const L: usize, const FUSED: bool> Neg for Lanes<L, FUSED> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        Self(self.0.map(|x| -x))
+        Self(each(0.0, |l| -self.0[l]))
     }
 }
 
@@ -142,25 +156,26 @@ impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
     #[inline(always)]
     fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
         let (b, c) = (b.into(), c.into());
-        Self(core::array::from_fn(|l| {
-            if FUSED {
-                crate::mul_add(a.0[l], b.0[l], c.0[l])
-            } else {
-                a.0[l] * b.0[l] + c.0[l]
-            }
-        }))
+        Self(each(0.0, |l| if FUSED { crate::mul_add(a.0[l], b.0[l], c.0[l]) } else { a.0[l] * b.0[l] + c.0[l] }))
     }
 
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         let pairs = crate::sin_cos_lanes(self.0);
-        (Self(pairs.map(|p| p.0)), Self(pairs.map(|p| p.1)))
+        (Self(each(0.0, |l| pairs[l].0)), Self(each(0.0, |l| pairs[l].1)))
     }
 
-    /// One vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call per value, across its lanes.
+    /// One lane: one vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values
+    /// (all joints at once, as on `f64`). Several: one call per value, across its lanes.
     #[inline(always)]
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
-        x.map(Self::sin_cos)
+        let zero = (Self::from(0.0), Self::from(0.0));
+        if L == 1 {
+            let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0[0]));
+            each(zero, |k| (Self::from(pairs[k].0), Self::from(pairs[k].1)))
+        } else {
+            each(zero, |k| x[k].sin_cos())
+        }
     }
 
     #[inline(always)]
@@ -170,7 +185,7 @@ impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
 
     #[inline(always)]
     fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
-        Self(core::array::from_fn(f))
+        Self(each(0.0, f))
     }
 }
 
@@ -212,12 +227,13 @@ pub mod kernels {
 /// `[&args[0], &args[1], …]`.
 #[inline(always)]
 fn borrowed<T, const IN: usize>(args: &[T; IN]) -> [&T; IN] {
-    core::array::from_fn(|i| &args[i])
+    each(&args[0], |i| &args[i])
 }
 
 /// Runs `kernel` on one state: on [`Fused`] where the CPU has FMA, else on `f64` (see
-/// [`with_fma`](crate::with_fma)); `_function` picks which of the type's kernels.
-#[inline(always)]
+/// [`with_fma`](crate::with_fma)); `_function` picks which of the type's kernels. One function
+/// per kernel, which the single call and [`batch`]'s fallback share.
+#[inline]
 pub fn single<F, K, const N: usize, const IN: usize, const OUT: usize>(
     kernel: &K,
     _function: F,
@@ -226,10 +242,15 @@ pub fn single<F, K, const N: usize, const IN: usize, const OUT: usize>(
 where
     K: Kernel<F, N, IN, OUT>,
 {
-    let args: [[f64; N]; IN] = inputs.map(|v| core::array::from_fn(|j| v[j]));
+    let args: [[f64; N]; IN] = each([0.0; N], |i| each(0.0, |j| inputs[i][j]));
     let fused = crate::with_fma(
         #[inline(always)]
-        || kernel.run::<Fused>(borrowed(&args.map(|a| a.map(Fused::from)))).map(|v| v.0[0]),
+        || {
+            let args: [[Fused; N]; IN] =
+                each([Fused::from(0.0); N], |i| each(Fused::from(0.0), |j| Fused::from(args[i][j])));
+            let out = kernel.run::<Fused>(borrowed(&args));
+            each(0.0, |k| out[k].0[0])
+        },
     );
     fused.unwrap_or_else(
         #[inline(always)]
@@ -238,15 +259,17 @@ where
 }
 
 /// Runs `kernel` on every state of `inputs` (one slice per argument, all of `count` states) and
-/// hands state `k`'s outputs to `store(k, outputs)`, [`BATCH_LANES`] states per step (see
-/// [`with_vector_fma`]). A short last step repeats its last state in the unused lanes, whose
-/// results are dropped. Stops at the first error `store` returns (earlier states are stored).
+/// hands state `k`'s outputs to `store(k, outputs)`: [`BATCH_LANES`] states per step on code
+/// compiled for the CPU's vector unit and FMA where it has both ([`with_vector_fma`]), else one
+/// state at a time through [`single`]. A short last step repeats its last state in the unused
+/// lanes, whose results are dropped. Stops at the first error `store` returns (earlier states
+/// are stored).
 ///
 /// An error if a slice's length is not `count`.
 #[inline(always)]
-pub fn batch<F, K, const N: usize, const IN: usize, const OUT: usize>(
+pub fn batch<F: Copy, K, const N: usize, const IN: usize, const OUT: usize>(
     kernel: &K,
-    _function: F,
+    function: F,
     inputs: [&[JointVector<N>]; IN],
     count: usize,
     mut store: impl FnMut(usize, [f64; OUT]) -> Result<(), Error>,
@@ -259,15 +282,22 @@ where
             return Err(Error::BatchLength { argument, expected: count, got: states.len() });
         }
     }
-    let fused = with_vector_fma(
+    let vector = with_vector_fma(
         #[inline(always)]
-        || steps::<Lanes<BATCH_LANES, true>, F, K, N, IN, OUT>(kernel, inputs, &mut store),
+        || steps::<VectorLanes, F, K, N, IN, OUT>(kernel, inputs, &mut store),
     );
-    fused.unwrap_or_else(
-        #[inline(always)]
-        || steps::<Lanes<BATCH_LANES, false>, F, K, N, IN, OUT>(kernel, inputs, &mut store),
-    )
+    vector.unwrap_or_else(|| {
+        (0..count).try_for_each(|k| store(k, single(kernel, function, each(&inputs[0][k], |i| &inputs[i][k]))))
+    })
 }
+
+/// The lanes [`batch`] runs on where [`with_vector_fma`] does: AVX registers on x86-64.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+type VectorLanes = avx::F64x4;
+/// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
+/// the target's vector registers.
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+type VectorLanes = Lanes<BATCH_LANES, true>;
 
 /// [`batch`]'s loop on the arithmetic `A`.
 #[inline(always)]
@@ -283,12 +313,12 @@ where
     let mut start = 0;
     while start < count {
         let used = A::LANES.min(count - start);
-        let args: [[A; N]; IN] = core::array::from_fn(|i| {
-            core::array::from_fn(|j| A::from_lanes(|l| inputs[i][start + l.min(used - 1)][j]))
-        });
+        let zero = A::from(0.0);
+        let args: [[A; N]; IN] =
+            each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][start + l.min(used - 1)][j])));
         let outputs = kernel.run::<A>(borrowed(&args));
         for l in 0..used {
-            store(start + l, outputs.map(|v| v.lane(l)))?;
+            store(start + l, each(0.0, |k| outputs[k].lane(l)))?;
         }
         start += A::LANES;
     }
@@ -330,6 +360,120 @@ fn detected<R>(f: impl FnOnce() -> R) -> Option<R> {
 #[inline]
 fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
     None
+}
+
+/// Four `f64` in one AVX register, for [`batch`] on x86-64.
+///
+/// A private type: values exist only inside [`with_vector_fma`]'s function compiled for AVX2
+/// and FMA, run after the CPU was found to have both, which is what makes its intrinsics sound.
+/// (Arrays of four, as [`Lanes`], are split into scalars by the compiler in functions this long.)
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod avx {
+    use core::arch::x86_64::{
+        __m256d, _mm256_add_pd, _mm256_div_pd, _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
+    };
+    use core::ops::{Add, Div, Mul, Neg, Sub};
+
+    use super::{each, Arithmetic};
+
+    #[derive(Clone, Copy)]
+    pub struct F64x4(__m256d);
+
+    /// Runs an AVX or FMA intrinsic.
+    macro_rules! avx {
+        ($e:expr) => {
+            // SAFETY: an `F64x4` exists only inside `with_vector_fma`'s function, compiled for
+            // AVX2 and FMA and called once the CPU was found to have them (see the type's docs).
+            unsafe { $e }
+        };
+    }
+
+    impl From<f64> for F64x4 {
+        #[inline(always)]
+        fn from(value: f64) -> Self {
+            Self(avx!(_mm256_set1_pd(value)))
+        }
+    }
+
+    /// `F64x4 ∘ F64x4` and `F64x4 ∘ f64` by one intrinsic.
+    macro_rules! operator {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for F64x4 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: Self) -> Self {
+                    Self(avx!($intrinsic(self.0, rhs.0)))
+                }
+            }
+            impl $trait<f64> for F64x4 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: f64) -> Self {
+                    self.$method(Self::from(rhs))
+                }
+            }
+        };
+    }
+
+    operator!(Add, add, _mm256_add_pd);
+    operator!(Sub, sub, _mm256_sub_pd);
+    operator!(Mul, mul, _mm256_mul_pd);
+    operator!(Div, div, _mm256_div_pd);
+
+    impl Neg for F64x4 {
+        type Output = Self;
+        /// Flips the sign bits, as `-x` does on `f64`.
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Self(avx!(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))))
+        }
+    }
+
+    impl F64x4 {
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut out = [0.0; 4];
+            avx!(_mm256_storeu_pd(out.as_mut_ptr(), self.0));
+            out
+        }
+
+        #[inline(always)]
+        fn from_array(values: [f64; 4]) -> Self {
+            Self(avx!(_mm256_loadu_pd(values.as_ptr())))
+        }
+    }
+
+    impl Arithmetic for F64x4 {
+        const LANES: usize = 4;
+
+        #[inline(always)]
+        fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+            Self(avx!(_mm256_fmadd_pd(a.0, b.into().0, c.into().0)))
+        }
+
+        #[inline(always)]
+        fn sin_cos(self) -> (Self, Self) {
+            let pairs = crate::sin_cos_lanes(self.to_array());
+            (Self::from_array(each(0.0, |l| pairs[l].0)), Self::from_array(each(0.0, |l| pairs[l].1)))
+        }
+
+        #[inline(always)]
+        fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+            let zero = Self::from(0.0);
+            each((zero, zero), |k| x[k].sin_cos())
+        }
+
+        #[inline(always)]
+        fn lane(self, l: usize) -> f64 {
+            self.to_array()[l]
+        }
+
+        #[inline(always)]
+        fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
+            Self::from_array(each(0.0, f))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -70,7 +70,7 @@ struct Layout {
 /// nested in the previous one, and rustc's debug information overflows its stack beyond
 /// about 2000 nested scopes; blocks keep the nesting to the blocks' count plus one block.
 pub fn render(emitter: &Emitter, outputs: &[Value], names: &dyn Naming) -> Rendered {
-    let ops = fuse(&emitter.ops);
+    let ops = fuse(&emitter.ops, &emitter.segments());
     let live = live(&ops, outputs);
     let read = read(&ops, &live, outputs);
     let idents = identifiers(emitter, &ops, &live, &read, names);

@@ -128,7 +128,7 @@ fn with_emitter<R>(f: impl FnOnce(&mut Emitter) -> R) -> R {
     CURRENT.with(|c| {
         let mut current = c.borrow_mut();
         // Operations on variables only exist inside `trace`, which installs the emitter.
-        let emitter = current.as_mut().expect("a traced variable is used outside hya_codegen::expr::trace");
+        let emitter = current.as_mut().expect("a traced variable is used outside hya_codegen::trace::trace");
         f(emitter)
     })
 }
@@ -222,6 +222,15 @@ impl Emitter {
         if let Value::Var { id, negated: false } = value {
             self.labels.entry(id).or_insert(label);
         }
+    }
+
+    /// For each statement, the number of the body's pass it was recorded in (0 before the first).
+    pub(crate) fn segments(&self) -> Vec<usize> {
+        let mut segment = vec![0; self.ops.len()];
+        for (k, &(start, _, _)) in self.passes.iter().enumerate() {
+            segment.iter_mut().skip(start).for_each(|s| *s = k + 1);
+        }
+        segment
     }
 
     /// A non-finite constant the outputs depend on (a division by a joint inertia that folded

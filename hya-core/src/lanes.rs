@@ -105,7 +105,81 @@ fn each<T: Copy, const L: usize>(zero: T, mut f: impl FnMut(usize) -> T) -> [T; 
 }
 
 /// One `f64` with fused multiply-add: the single call's arithmetic where the CPU has FMA.
-pub type Fused = Lanes<1, true>;
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(transparent)]
+pub struct Fused(pub f64);
+
+impl From<f64> for Fused {
+    #[inline(always)]
+    fn from(value: f64) -> Self {
+        Self(value)
+    }
+}
+
+/// `Fused ∘ Fused` and `Fused ∘ f64`, as on `f64`.
+macro_rules! fused_operator {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for Fused {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: Self) -> Self {
+                Self(self.0 $op rhs.0)
+            }
+        }
+        impl $trait<f64> for Fused {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: f64) -> Self {
+                Self(self.0 $op rhs)
+            }
+        }
+    };
+}
+
+fused_operator!(Add, add, +);
+fused_operator!(Sub, sub, -);
+fused_operator!(Mul, mul, *);
+fused_operator!(Div, div, /);
+
+impl Neg for Fused {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self(-self.0)
+    }
+}
+
+impl Arithmetic for Fused {
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+        Self(crate::mul_add(a.0, b.into().0, c.into().0))
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = crate::sin_cos(self.0);
+        (Self(s), Self(c))
+    }
+
+    /// One vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values.
+    #[inline(always)]
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+        let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0));
+        each((Self(0.0), Self(0.0)), |k| (Self(pairs[k].0), Self(pairs[k].1)))
+    }
+
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self.0
+    }
+
+    #[inline(always)]
+    fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+        Self(f(0))
+    }
+}
 
 /// States per batch step: four `f64` fill a 256-bit AVX register (two NEON registers).
 pub const BATCH_LANES: usize = 4;
@@ -249,7 +323,7 @@ where
             let args: [[Fused; N]; IN] =
                 each([Fused::from(0.0); N], |i| each(Fused::from(0.0), |j| Fused::from(args[i][j])));
             let out = kernel.run::<Fused>(borrowed(&args));
-            each(0.0, |k| out[k].0[0])
+            each(0.0, |k| out[k].0)
         },
     );
     fused.unwrap_or_else(
@@ -538,6 +612,6 @@ mod tests {
         let a = 1.0 + f64::EPSILON * 2f64.powi(22);
         assert_eq!(<f64 as Arithmetic>::mul_add(a, a, -1.0), a * a - 1.0);
         assert_eq!(<Lanes<2, false> as Arithmetic>::mul_add(a.into(), a, -1.0).0, [a * a - 1.0; 2]);
-        assert_eq!(<Fused as Arithmetic>::mul_add(a.into(), a, -1.0).0, [crate::mul_add(a, a, -1.0)]);
+        assert_eq!(<Fused as Arithmetic>::mul_add(a.into(), a, -1.0).0, crate::mul_add(a, a, -1.0));
     }
 }

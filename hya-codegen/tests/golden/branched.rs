@@ -119,6 +119,11 @@ const _: () = {
                     c_right_shoulder,
                 )
             };
+            let t0 = {
+                // ── link `torso`, joint `waist` (base to tip)
+                let t0 = qdd_waist * 0.05f64; // 5.0000e-2 = torso I_zz
+                t0
+            };
             let (right_v_vx, right_a_vx, left_f_nx, left_f_ny, left_f_nz, left_f_fx) = {
                 // ── link `left`, joint `left_shoulder` (base to tip)
                 let right_v_vx = qd_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
@@ -126,32 +131,32 @@ const _: () = {
                 let left_v_wz = c_left_shoulder * qd_waist;
                 let right_a_vx = qdd_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
                 let left_a_vz = c_left_shoulder * 9.81f64; // 9.8100e0 = g
-                let t0 = left_v_wz * qd_left_shoulder;
-                let t1 = left_v_wy * qd_left_shoulder;
-                let left_a_wy = A::mul_add(s_left_shoulder, qdd_waist, t0);
-                let left_a_wz = A::mul_add(c_left_shoulder, qdd_waist, -t1);
-                let t2 = left_a_vz * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t3 = right_a_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t4 = left_a_wz * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t5 = A::mul_add(qdd_left_shoulder, 0.020000000000000004f64, t2); // 2.0000e-2 = left I_xx or left I_zz
-                let t6 = A::mul_add(left_a_wz, 0.020000000000000004f64, t3); // 2.0000e-2 = left I_xx or left I_zz
-                let t7 = A::mul_add(qdd_waist, 0.2f64, t4); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t8 = qd_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t9 = left_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t10 = right_v_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t11 = qd_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t12 = A::mul_add(left_v_wz, 0.020000000000000004f64, t10); // 2.0000e-2 = left I_xx or left I_zz
-                let t13 = left_v_wz * t9;
-                let t14 = A::mul_add(left_v_wy, t12, -t13);
-                let t15 = qd_left_shoulder * t12;
-                let t16 = A::mul_add(left_v_wz, t8, -t15);
-                let t17 = left_v_wy * t8;
-                let t18 = A::mul_add(qd_left_shoulder, t9, -t17);
-                let t19 = A::mul_add(right_v_vx, t11, t16);
-                let left_f_nx = t5 + t14;
-                let left_f_ny = A::mul_add(left_a_wy, 0.002f64, t19); // 2.0000e-3 = left I_yy or right I_yy
-                let left_f_nz = t6 + t18;
-                let left_f_fx = A::mul_add(left_v_wy, t11, -t7);
+                let t1 = left_v_wz * qd_left_shoulder;
+                let t2 = left_v_wy * qd_left_shoulder;
+                let left_a_wy = A::mul_add(s_left_shoulder, qdd_waist, t1);
+                let left_a_wz = A::mul_add(c_left_shoulder, qdd_waist, -t2);
+                let t3 = left_a_vz * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t4 = right_a_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t5 = left_a_wz * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t6 = A::mul_add(qdd_left_shoulder, 0.020000000000000004f64, t3); // 2.0000e-2 = left I_xx or left I_zz
+                let t7 = A::mul_add(left_a_wz, 0.020000000000000004f64, t4); // 2.0000e-2 = left I_xx or left I_zz
+                let t8 = A::mul_add(qdd_waist, 0.2f64, t5); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t9 = qd_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t10 = left_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t11 = right_v_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t12 = qd_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t13 = A::mul_add(left_v_wz, 0.020000000000000004f64, t11); // 2.0000e-2 = left I_xx or left I_zz
+                let t14 = left_v_wz * t10;
+                let t15 = A::mul_add(left_v_wy, t13, -t14);
+                let t16 = qd_left_shoulder * t13;
+                let t17 = A::mul_add(left_v_wz, t9, -t16);
+                let t18 = left_v_wy * t9;
+                let t19 = A::mul_add(qd_left_shoulder, t10, -t18);
+                let t20 = A::mul_add(right_v_vx, t12, t17);
+                let left_f_nx = t6 + t15;
+                let left_f_ny = A::mul_add(left_a_wy, 0.002f64, t20); // 2.0000e-3 = left I_yy or right I_yy
+                let left_f_nz = t7 + t19;
+                let left_f_fx = A::mul_add(left_v_wy, t12, -t8);
                 (right_v_vx, right_a_vx, left_f_nx, left_f_ny, left_f_nz, left_f_fx)
             };
             let (right_f_nx, right_f_ny, right_f_nz, right_f_fx) = {
@@ -159,48 +164,48 @@ const _: () = {
                 let right_v_wy = s_right_shoulder * qd_waist;
                 let right_v_wz = c_right_shoulder * qd_waist;
                 let right_a_vz = c_right_shoulder * 9.81f64; // 9.8100e0 = g
-                let t20 = right_v_wz * qd_right_shoulder;
-                let t21 = right_v_wy * qd_right_shoulder;
-                let right_a_wy = A::mul_add(s_right_shoulder, qdd_waist, t20);
-                let right_a_wz = A::mul_add(c_right_shoulder, qdd_waist, -t21);
-                let t22 = right_a_vz * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t23 = right_a_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t24 = right_a_wz * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t25 = A::mul_add(qdd_right_shoulder, 0.024f64, -t22); // 2.4000e-2 = right I_xx or right I_zz
-                let t26 = A::mul_add(right_a_wz, 0.024f64, t23); // 2.4000e-2 = right I_xx or right I_zz
-                let t27 = A::mul_add(right_a_vx, 1.2f64, t24); // 1.2000e0 = right mass
-                let t28 = qd_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t29 = right_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t30 = right_v_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t31 = qd_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t32 = A::mul_add(right_v_wz, 0.024f64, t30); // 2.4000e-2 = right I_xx or right I_zz
-                let t33 = right_v_wz * t29;
-                let t34 = A::mul_add(right_v_wy, t32, -t33);
-                let t35 = qd_right_shoulder * t32;
-                let t36 = A::mul_add(right_v_wz, t28, -t35);
-                let t37 = right_v_wy * t28;
-                let t38 = A::mul_add(qd_right_shoulder, t29, -t37);
-                let t39 = A::mul_add(right_v_vx, t31, t36);
-                let right_f_nx = t25 + t34;
-                let right_f_ny = A::mul_add(right_a_wy, 0.002f64, t39); // 2.0000e-3 = left I_yy or right I_yy
-                let right_f_nz = t26 + t38;
-                let right_f_fx = A::mul_add(-right_v_wy, t31, t27);
+                let t21 = right_v_wz * qd_right_shoulder;
+                let t22 = right_v_wy * qd_right_shoulder;
+                let right_a_wy = A::mul_add(s_right_shoulder, qdd_waist, t21);
+                let right_a_wz = A::mul_add(c_right_shoulder, qdd_waist, -t22);
+                let t23 = right_a_vz * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t24 = right_a_vx * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t25 = right_a_wz * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t26 = A::mul_add(qdd_right_shoulder, 0.024f64, -t23); // 2.4000e-2 = right I_xx or right I_zz
+                let t27 = A::mul_add(right_a_wz, 0.024f64, t24); // 2.4000e-2 = right I_xx or right I_zz
+                let t28 = A::mul_add(right_a_vx, 1.2f64, t25); // 1.2000e0 = right mass
+                let t29 = qd_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t30 = right_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t31 = right_v_vx * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t32 = qd_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t33 = A::mul_add(right_v_wz, 0.024f64, t31); // 2.4000e-2 = right I_xx or right I_zz
+                let t34 = right_v_wz * t30;
+                let t35 = A::mul_add(right_v_wy, t33, -t34);
+                let t36 = qd_right_shoulder * t33;
+                let t37 = A::mul_add(right_v_wz, t29, -t36);
+                let t38 = right_v_wy * t29;
+                let t39 = A::mul_add(qd_right_shoulder, t30, -t38);
+                let t40 = A::mul_add(right_v_vx, t32, t37);
+                let right_f_nx = t26 + t35;
+                let right_f_ny = A::mul_add(right_a_wy, 0.002f64, t40); // 2.0000e-3 = left I_yy or right I_yy
+                let right_f_nz = t27 + t39;
+                let right_f_fx = A::mul_add(-right_v_wy, t32, t28);
                 (right_f_nx, right_f_ny, right_f_nz, right_f_fx)
             };
-            let t43 = {
+            let t44 = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
-                let t40 = c_right_shoulder * right_f_nz;
-                let t41 = A::mul_add(s_right_shoulder, right_f_ny, t40);
-                let t42 = A::mul_add(right_f_fx, 0.2f64, t41); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t43 = A::mul_add(qdd_waist, 0.05f64, t42); // 5.0000e-2 = torso I_zz
-                t43
+                let t41 = c_right_shoulder * right_f_nz;
+                let t42 = A::mul_add(s_right_shoulder, right_f_ny, t41);
+                let t43 = A::mul_add(right_f_fx, 0.2f64, t42); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t44 = t0 + t43;
+                t44
             };
             let torso_f_nz = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
-                let t44 = c_left_shoulder * left_f_nz;
-                let t45 = A::mul_add(s_left_shoulder, left_f_ny, t44);
-                let t46 = A::mul_add(-left_f_fx, 0.2f64, t45); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let torso_f_nz = t43 + t46;
+                let t45 = c_left_shoulder * left_f_nz;
+                let t46 = A::mul_add(s_left_shoulder, left_f_ny, t45);
+                let t47 = A::mul_add(-left_f_fx, 0.2f64, t46); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let torso_f_nz = t44 + t47;
                 torso_f_nz
             };
             [torso_f_nz, left_f_nx, right_f_nx]
@@ -487,7 +492,7 @@ const _: () = {
                     c_right_shoulder,
                 )
             };
-            let (right_v_vx, left_v_wy, t0, t1, t5, left_p_nx, left_p_nz, left_p_ny) = {
+            let (right_v_vx, t0, t1, left_p_nx, left_p_nz, left_p_ny, left_p_fx) = {
                 // ── link `left`, joint `left_shoulder` (base to tip)
                 let right_v_vx = qd_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
                 let left_v_wy = s_left_shoulder * qd_waist;
@@ -506,9 +511,10 @@ const _: () = {
                 let t10 = left_v_wy * t2;
                 let left_p_nz = A::mul_add(qd_left_shoulder, t3, -t10);
                 let left_p_ny = A::mul_add(right_v_vx, t5, t9);
-                (right_v_vx, left_v_wy, t0, t1, t5, left_p_nx, left_p_nz, left_p_ny)
+                let left_p_fx = left_v_wy * t5;
+                (right_v_vx, t0, t1, left_p_nx, left_p_nz, left_p_ny, left_p_fx)
             };
-            let (right_v_wy, t11, t12, t16, right_p_nx, right_p_nz, right_p_ny) = {
+            let (t11, t12, right_p_nx, right_p_nz, right_p_ny, t22) = {
                 // ── link `right`, joint `right_shoulder` (base to tip)
                 let right_v_wy = s_right_shoulder * qd_waist;
                 let right_v_wz = c_right_shoulder * qd_waist;
@@ -526,15 +532,15 @@ const _: () = {
                 let t21 = right_v_wy * t13;
                 let right_p_nz = A::mul_add(qd_right_shoulder, t14, -t21);
                 let right_p_ny = A::mul_add(right_v_vx, t16, t20);
-                (right_v_wy, t11, t12, t16, right_p_nx, right_p_nz, right_p_ny)
+                let t22 = right_v_wy * t16;
+                (t11, t12, right_p_nx, right_p_nz, right_p_ny, t22)
             };
             let (u_right_shoulder, t36, t37) = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
                 let u_right_shoulder = tau_right_shoulder - right_p_nx;
-                let t22 = t12 * 0.12f64; // 1.2000e-1 = right m·c_y
                 let t23 = A::mul_add(t11, 0.002f64, right_p_ny); // 2.0000e-3 = left I_yy or right I_yy
                 let t24 = A::mul_add(-t12, 0.024f64, right_p_nz); // 2.4000e-2 = right I_xx or right I_zz
-                let t25 = A::mul_add(right_v_wy, t16, t22);
+                let t25 = A::mul_add(t12, 0.12f64, t22); // 1.2000e-1 = right m·c_y
                 let t26 = s_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
                 let t27 = c_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
                 let t28 = c_right_shoulder * t27;
@@ -552,48 +558,47 @@ const _: () = {
             let (u_left_shoulder, torso_u_nz, torso_p_nz) = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
                 let u_left_shoulder = tau_left_shoulder - left_p_nx;
-                let t38 = t1 * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t39 = A::mul_add(t0, 0.002f64, left_p_ny); // 2.0000e-3 = left I_yy or right I_yy
-                let t40 = A::mul_add(-t1, 0.020000000000000004f64, left_p_nz); // 2.0000e-2 = left I_xx or left I_zz
-                let t41 = A::mul_add(left_v_wy, t5, t38);
-                let t42 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t43 = c_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t44 = c_left_shoulder * t43;
-                let t45 = A::mul_add(s_left_shoulder, t42, t44);
-                let t46 = c_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t47 = A::mul_add(t46, 0.2f64, t45); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t48 = A::mul_add(t46, 0.2f64, t47); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t49 = t48 + 0.04000000000000001f64; // 4.0000e-2 = joint left_shoulder origin y or joint right_shoulder origin y × joint left_shoulder origin y or joint right_shoulder origin y
-                let t50 = c_left_shoulder * t40;
-                let t51 = A::mul_add(s_left_shoulder, t39, t50);
-                let t52 = A::mul_add(-t41, 0.2f64, t51); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let torso_u_nz = t37 + t49;
-                let torso_p_nz = t36 + t52;
+                let t38 = A::mul_add(t0, 0.002f64, left_p_ny); // 2.0000e-3 = left I_yy or right I_yy
+                let t39 = A::mul_add(-t1, 0.020000000000000004f64, left_p_nz); // 2.0000e-2 = left I_xx or left I_zz
+                let t40 = A::mul_add(t1, 0.1f64, left_p_fx); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t41 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t42 = c_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t43 = c_left_shoulder * t42;
+                let t44 = A::mul_add(s_left_shoulder, t41, t43);
+                let t45 = c_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t46 = A::mul_add(t45, 0.2f64, t44); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t47 = A::mul_add(t45, 0.2f64, t46); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t48 = t47 + 0.04000000000000001f64; // 4.0000e-2 = joint left_shoulder origin y or joint right_shoulder origin y × joint left_shoulder origin y or joint right_shoulder origin y
+                let t49 = c_left_shoulder * t39;
+                let t50 = A::mul_add(s_left_shoulder, t38, t49);
+                let t51 = A::mul_add(-t40, 0.2f64, t50); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let torso_u_nz = t37 + t48;
+                let torso_p_nz = t36 + t51;
                 (u_left_shoulder, torso_u_nz, torso_p_nz)
             };
-            let (u_waist, t53) = {
+            let (u_waist, t52) = {
                 // ── link `torso`, joint `waist` (tip to base)
                 let u_waist = tau_waist - torso_p_nz;
-                let t53 = A::from(1f64) / torso_u_nz; // 1.0000e0 = torso mass × joint left_shoulder origin y or joint right_shoulder origin y
-                (u_waist, t53)
+                let t52 = A::from(1f64) / torso_u_nz; // 1.0000e0 = torso mass × joint left_shoulder origin y or joint right_shoulder origin y
+                (u_waist, t52)
             };
             let qdd_waist = {
                 // ── link `torso`, joint `waist` (base to tip, last pass)
-                let qdd_waist = u_waist * t53;
+                let qdd_waist = u_waist * t52;
                 qdd_waist
             };
             let qdd_left_shoulder = {
                 // ── link `left`, joint `left_shoulder` (base to tip, last pass)
                 let left_a_vz = c_left_shoulder * 9.81f64; // 9.8100e0 = g
-                let t54 = A::mul_add(-left_a_vz, 0.1f64, u_left_shoulder); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let qdd_left_shoulder = t54 * 49.99999999999999f64;
+                let t53 = A::mul_add(-left_a_vz, 0.1f64, u_left_shoulder); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let qdd_left_shoulder = t53 * 49.99999999999999f64;
                 qdd_left_shoulder
             };
             let qdd_right_shoulder = {
                 // ── link `right`, joint `right_shoulder` (base to tip, last pass)
                 let right_a_vz = c_right_shoulder * 9.81f64; // 9.8100e0 = g
-                let t55 = A::mul_add(right_a_vz, 0.12f64, u_right_shoulder); // 1.2000e-1 = right m·c_y
-                let qdd_right_shoulder = t55 * 41.666666666666664f64;
+                let t54 = A::mul_add(right_a_vz, 0.12f64, u_right_shoulder); // 1.2000e-1 = right m·c_y
+                let qdd_right_shoulder = t54 * 41.666666666666664f64;
                 qdd_right_shoulder
             };
             [qdd_waist, qdd_left_shoulder, qdd_right_shoulder, torso_u_nz]
@@ -644,10 +649,12 @@ const _: () = {
                 left_a_wz,
                 t4,
                 t5,
+                t6,
                 t7,
                 t8,
                 t9,
-                t12,
+                t10,
+                t13,
                 left_f_ny,
                 left_f_nz,
             ) = {
@@ -665,17 +672,18 @@ const _: () = {
                 let t3 = A::mul_add(left_a_wz, 0.020000000000000004f64, t2); // 2.0000e-2 = left I_xx or left I_zz
                 let t4 = qd_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
                 let t5 = left_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t6 = right_v_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t7 = qd_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t8 = A::mul_add(left_v_wz, 0.020000000000000004f64, t6); // 2.0000e-2 = left I_xx or left I_zz
-                let t9 = left_v_wz * t4;
-                let t10 = qd_left_shoulder * t8;
-                let t11 = A::mul_add(left_v_wz, t4, -t10);
-                let t12 = left_v_wy * t4;
-                let t13 = A::mul_add(qd_left_shoulder, t5, -t12);
-                let t14 = A::mul_add(right_v_vx, t7, t11);
-                let left_f_ny = A::mul_add(left_a_wy, 0.002f64, t14); // 2.0000e-3 = left I_yy or right I_yy
-                let left_f_nz = t3 + t13;
+                let t6 = left_v_wz * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t7 = right_v_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t8 = qd_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t9 = A::mul_add(left_v_wz, 0.020000000000000004f64, t7); // 2.0000e-2 = left I_xx or left I_zz
+                let t10 = left_v_wz * t4;
+                let t11 = qd_left_shoulder * t9;
+                let t12 = A::mul_add(left_v_wz, t4, -t11);
+                let t13 = left_v_wy * t4;
+                let t14 = A::mul_add(qd_left_shoulder, t5, -t13);
+                let t15 = A::mul_add(right_v_vx, t8, t12);
+                let left_f_ny = A::mul_add(left_a_wy, 0.002f64, t15); // 2.0000e-3 = left I_yy or right I_yy
+                let left_f_nz = t3 + t14;
                 (
                     right_v_vx,
                     left_v_wy,
@@ -686,10 +694,12 @@ const _: () = {
                     left_a_wz,
                     t4,
                     t5,
+                    t6,
                     t7,
                     t8,
                     t9,
-                    t12,
+                    t10,
+                    t13,
                     left_f_ny,
                     left_f_nz,
                 )
@@ -700,12 +710,14 @@ const _: () = {
                 right_a_vy,
                 right_a_wy,
                 right_a_wz,
-                t19,
                 t20,
+                t21,
                 t22,
                 t23,
                 t24,
-                t27,
+                t25,
+                t26,
+                t29,
                 right_f_ny,
                 right_f_nz,
             ) = {
@@ -713,205 +725,208 @@ const _: () = {
                 let right_v_wy = s_right_shoulder * qd_waist;
                 let right_v_wz = c_right_shoulder * qd_waist;
                 let right_a_vy = s_right_shoulder * 9.81f64; // 9.8100e0 = g
-                let t15 = right_v_wz * qd_right_shoulder;
-                let t16 = right_v_wy * qd_right_shoulder;
-                let right_a_wy = A::mul_add(s_right_shoulder, qdd_waist, t15);
-                let right_a_wz = A::mul_add(c_right_shoulder, qdd_waist, -t16);
-                let t17 = right_a_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t18 = A::mul_add(right_a_wz, 0.024f64, t17); // 2.4000e-2 = right I_xx or right I_zz
-                let t19 = qd_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t20 = right_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t21 = right_v_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t22 = qd_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t23 = A::mul_add(right_v_wz, 0.024f64, t21); // 2.4000e-2 = right I_xx or right I_zz
-                let t24 = right_v_wz * t19;
-                let t25 = qd_right_shoulder * t23;
-                let t26 = A::mul_add(right_v_wz, t19, -t25);
-                let t27 = right_v_wy * t19;
-                let t28 = A::mul_add(qd_right_shoulder, t20, -t27);
-                let t29 = A::mul_add(right_v_vx, t22, t26);
-                let right_f_ny = A::mul_add(right_a_wy, 0.002f64, t29); // 2.0000e-3 = left I_yy or right I_yy
-                let right_f_nz = t18 + t28;
+                let t16 = right_v_wz * qd_right_shoulder;
+                let t17 = right_v_wy * qd_right_shoulder;
+                let right_a_wy = A::mul_add(s_right_shoulder, qdd_waist, t16);
+                let right_a_wz = A::mul_add(c_right_shoulder, qdd_waist, -t17);
+                let t18 = right_a_vx * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t19 = A::mul_add(right_a_wz, 0.024f64, t18); // 2.4000e-2 = right I_xx or right I_zz
+                let t20 = qd_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t21 = right_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t22 = right_v_wz * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t23 = right_v_vx * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t24 = qd_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t25 = A::mul_add(right_v_wz, 0.024f64, t23); // 2.4000e-2 = right I_xx or right I_zz
+                let t26 = right_v_wz * t20;
+                let t27 = qd_right_shoulder * t25;
+                let t28 = A::mul_add(right_v_wz, t20, -t27);
+                let t29 = right_v_wy * t20;
+                let t30 = A::mul_add(qd_right_shoulder, t21, -t29);
+                let t31 = A::mul_add(right_v_vx, t24, t28);
+                let right_f_ny = A::mul_add(right_a_wy, 0.002f64, t31); // 2.0000e-3 = left I_yy or right I_yy
+                let right_f_nz = t19 + t30;
                 (
                     right_v_wy,
                     right_v_wz,
                     right_a_vy,
                     right_a_wy,
                     right_a_wz,
-                    t19,
                     t20,
+                    t21,
                     t22,
                     t23,
                     t24,
-                    t27,
+                    t25,
+                    t26,
+                    t29,
                     right_f_ny,
                     right_f_nz,
                 )
             };
-            let (t30, t31) = {
-                // ── link `right`, joint `right_shoulder` (tip to base)
-                let t30 = c_right_shoulder * right_f_ny;
-                let t31 = s_right_shoulder * right_f_nz;
-                (t30, t31)
-            };
             let (t32, t33) = {
-                // ── link `left`, joint `left_shoulder` (tip to base)
-                let t32 = c_left_shoulder * left_f_ny;
-                let t33 = s_left_shoulder * left_f_nz;
+                // ── link `right`, joint `right_shoulder` (tip to base)
+                let t32 = c_right_shoulder * right_f_ny;
+                let t33 = s_right_shoulder * right_f_nz;
                 (t32, t33)
             };
-            let (t42, t49, t50, t51) = {
+            let (t34, t35) = {
+                // ── link `left`, joint `left_shoulder` (tip to base)
+                let t34 = c_left_shoulder * left_f_ny;
+                let t35 = s_left_shoulder * left_f_nz;
+                (t34, t35)
+            };
+            let (t44, t51, t52, t53) = {
                 // ── link `left`, joint `left_shoulder` (base to tip)
-                let t34 = c_left_shoulder * qd_left_shoulder;
-                let t35 = s_left_shoulder * qd_left_shoulder;
-                let t36 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t37 = A::mul_add(
+                let t36 = c_left_shoulder * qd_left_shoulder;
+                let t37 = s_left_shoulder * qd_left_shoulder;
+                let t38 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t39 = A::mul_add(
                     c_left_shoulder,
                     0.020000000000000004f64,
                     0.020000000000000004f64,
                 );
-                let t38 = s_left_shoulder * t8;
-                let t39 = A::mul_add(left_v_wy, t37, t38);
-                let t40 = c_left_shoulder * t5;
-                let t41 = A::mul_add(left_v_wz, t36, t40);
-                let t42 = t39 - t41;
-                let t43 = qd_left_shoulder * t37;
-                let t44 = A::mul_add(c_left_shoulder, t4, -t43);
-                let t45 = s_left_shoulder * t4;
-                let t46 = A::mul_add(qd_left_shoulder, t36, -t45);
-                let t47 = A::mul_add(t7, 0.2f64, t44); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t48 = s_left_shoulder * t7;
-                let t49 = A::mul_add(t34, 0.002f64, t47); // 2.0000e-3 = left I_yy or right I_yy
-                let t50 = A::mul_add(-t35, 0.020000000000000004f64, t46); // 2.0000e-2 = left I_xx or left I_zz
-                let t51 = A::mul_add(t35, 0.1f64, t48); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                (t42, t49, t50, t51)
+                let t40 = s_left_shoulder * t9;
+                let t41 = A::mul_add(left_v_wy, t39, t40);
+                let t42 = c_left_shoulder * t5;
+                let t43 = A::mul_add(left_v_wz, t38, t42);
+                let t44 = t41 - t43;
+                let t45 = qd_left_shoulder * t39;
+                let t46 = A::mul_add(c_left_shoulder, t4, -t45);
+                let t47 = s_left_shoulder * t4;
+                let t48 = A::mul_add(qd_left_shoulder, t38, -t47);
+                let t49 = A::mul_add(t8, 0.2f64, t46); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t50 = s_left_shoulder * t8;
+                let t51 = A::mul_add(t36, 0.002f64, t49); // 2.0000e-3 = left I_yy or right I_yy
+                let t52 = A::mul_add(-t37, 0.020000000000000004f64, t48); // 2.0000e-2 = left I_xx or left I_zz
+                let t53 = A::mul_add(t37, 0.1f64, t50); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                (t44, t51, t52, t53)
             };
-            let (t60, t67, t68, t69) = {
+            let (t62, t69, t70, t71) = {
                 // ── link `right`, joint `right_shoulder` (base to tip)
-                let t52 = c_right_shoulder * qd_right_shoulder;
-                let t53 = s_right_shoulder * qd_right_shoulder;
-                let t54 = s_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t55 = A::mul_add(c_right_shoulder, 0.024f64, 0.024f64); // 2.4000e-2 = right I_xx or right I_zz; 2.4000e-2 = right I_xx or right I_zz
-                let t56 = s_right_shoulder * t23;
-                let t57 = A::mul_add(right_v_wy, t55, t56);
-                let t58 = c_right_shoulder * t20;
-                let t59 = A::mul_add(right_v_wz, t54, t58);
-                let t60 = t57 - t59;
-                let t61 = qd_right_shoulder * t55;
-                let t62 = A::mul_add(c_right_shoulder, t19, -t61);
-                let t63 = s_right_shoulder * t19;
-                let t64 = A::mul_add(qd_right_shoulder, t54, -t63);
-                let t65 = A::mul_add(t22, 0.2f64, t62); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t66 = s_right_shoulder * t22;
-                let t67 = A::mul_add(t52, 0.002f64, t65); // 2.0000e-3 = left I_yy or right I_yy
-                let t68 = A::mul_add(-t53, 0.024f64, t64); // 2.4000e-2 = right I_xx or right I_zz
-                let t69 = A::mul_add(t53, 0.12f64, t66); // 1.2000e-1 = right m·c_y
-                (t60, t67, t68, t69)
+                let t54 = c_right_shoulder * qd_right_shoulder;
+                let t55 = s_right_shoulder * qd_right_shoulder;
+                let t56 = s_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t57 = A::mul_add(c_right_shoulder, 0.024f64, 0.024f64); // 2.4000e-2 = right I_xx or right I_zz; 2.4000e-2 = right I_xx or right I_zz
+                let t58 = s_right_shoulder * t25;
+                let t59 = A::mul_add(right_v_wy, t57, t58);
+                let t60 = c_right_shoulder * t21;
+                let t61 = A::mul_add(right_v_wz, t56, t60);
+                let t62 = t59 - t61;
+                let t63 = qd_right_shoulder * t57;
+                let t64 = A::mul_add(c_right_shoulder, t20, -t63);
+                let t65 = s_right_shoulder * t20;
+                let t66 = A::mul_add(qd_right_shoulder, t56, -t65);
+                let t67 = A::mul_add(t24, 0.2f64, t64); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t68 = s_right_shoulder * t24;
+                let t69 = A::mul_add(t54, 0.002f64, t67); // 2.0000e-3 = left I_yy or right I_yy
+                let t70 = A::mul_add(-t55, 0.024f64, t66); // 2.4000e-2 = right I_xx or right I_zz
+                let t71 = A::mul_add(t55, 0.12f64, t68); // 1.2000e-1 = right m·c_y
+                (t62, t69, t70, t71)
             };
-            let t72 = {
+            let t74 = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
-                let t70 = c_right_shoulder * t68;
-                let t71 = A::mul_add(s_right_shoulder, t67, t70);
-                let t72 = A::mul_add(-t69, 0.2f64, t71); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t72
+                let t72 = c_right_shoulder * t70;
+                let t73 = A::mul_add(s_right_shoulder, t69, t72);
+                let t74 = A::mul_add(-t71, 0.2f64, t73); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                t74
             };
-            let t76 = {
+            let t78 = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
-                let t73 = c_left_shoulder * t50;
-                let t74 = A::mul_add(s_left_shoulder, t49, t73);
-                let t75 = A::mul_add(-t51, 0.2f64, t74); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t76 = t72 + t75;
-                t76
+                let t75 = c_left_shoulder * t52;
+                let t76 = A::mul_add(s_left_shoulder, t51, t75);
+                let t77 = A::mul_add(-t53, 0.2f64, t76); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t78 = t74 + t77;
+                t78
             };
-            let (t78, t79, t88, t89, t90, t91) = {
+            let (t79, t80, t81, t90, t91, t92, t93) = {
                 // ── link `left`, joint `left_shoulder` (base to tip)
-                let t77 = left_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t78 = left_v_wy * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t79 = left_v_wy * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t80 = left_v_wy * t78;
-                let t81 = A::mul_add(left_v_wz, t8, -t80);
-                let t82 = left_v_wy * t5;
-                let t83 = A::mul_add(left_v_wz, t77, -t82);
-                let t84 = t81 - t83;
-                let t85 = A::mul_add(qd_left_shoulder, t78, -t12);
-                let t86 = A::mul_add(qd_left_shoulder, t77, -t9);
-                let t87 = left_v_wz * t7;
-                let t88 = A::mul_add(-left_a_vy, 0.1f64, t84); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t89 = A::mul_add(left_a_wz, 0.002f64, t85); // 2.0000e-3 = left I_yy or right I_yy
-                let t90 = A::mul_add(-left_a_wy, 0.020000000000000004f64, t86); // 2.0000e-2 = left I_xx or left I_zz
-                let t91 = A::mul_add(left_a_wy, 0.1f64, t87); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                (t78, t79, t88, t89, t90, t91)
+                let t79 = left_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t80 = left_v_wy * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t81 = left_v_wy * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t82 = left_v_wy * t80;
+                let t83 = A::mul_add(left_v_wz, t9, -t82);
+                let t84 = left_v_wy * t5;
+                let t85 = A::mul_add(left_v_wz, t79, -t84);
+                let t86 = t83 - t85;
+                let t87 = A::mul_add(qd_left_shoulder, t80, -t13);
+                let t88 = A::mul_add(qd_left_shoulder, t79, -t10);
+                let t89 = left_v_wz * t8;
+                let t90 = A::mul_add(-left_a_vy, 0.1f64, t86); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t91 = A::mul_add(left_a_wz, 0.002f64, t87); // 2.0000e-3 = left I_yy or right I_yy
+                let t92 = A::mul_add(-left_a_wy, 0.020000000000000004f64, t88); // 2.0000e-2 = left I_xx or left I_zz
+                let t93 = A::mul_add(left_a_wy, 0.1f64, t89); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                (t79, t80, t81, t90, t91, t92, t93)
             };
-            let t95 = {
+            let t97 = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
-                let t92 = A::mul_add(s_left_shoulder, t89, t32);
-                let t93 = A::mul_add(c_left_shoulder, t90, -t33);
-                let t94 = t92 + t93;
-                let t95 = A::mul_add(-t91, 0.2f64, t94); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t95
+                let t94 = A::mul_add(s_left_shoulder, t91, t34);
+                let t95 = A::mul_add(c_left_shoulder, t92, -t35);
+                let t96 = t94 + t95;
+                let t97 = A::mul_add(-t93, 0.2f64, t96); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                t97
             };
-            let (t99, t100, t101) = {
+            let (t101, t102, t103) = {
                 // ── link `left`, joint `left_shoulder` (base to tip)
-                let t96 = A::mul_add(left_v_wz, 0.020000000000000004f64, -t8); // 2.0000e-2 = left I_xx or left I_zz
-                let t97 = A::mul_add(left_v_wy, 0.002f64, -t78); // 2.0000e-3 = left I_yy or right I_yy
-                let t98 = A::mul_add(right_v_vx, 0.1f64, t96); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t99 = A::mul_add(left_v_wz, 0.002f64, t98); // 2.0000e-3 = left I_yy or right I_yy
-                let t100 = A::mul_add(-left_v_wy, 0.020000000000000004f64, t97); // 2.0000e-2 = left I_xx or left I_zz
-                let t101 = A::mul_add(left_v_wy, 0.1f64, t79); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                (t99, t100, t101)
+                let t98 = t6 - t9;
+                let t99 = t5 - t80;
+                let t100 = t98 + t7;
+                let t101 = t79 + t100;
+                let t102 = t99 - t80;
+                let t103 = t81 + t81;
+                (t101, t102, t103)
             };
-            let t104 = {
+            let t106 = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
-                let t102 = c_left_shoulder * t100;
-                let t103 = A::mul_add(s_left_shoulder, t99, t102);
-                let t104 = A::mul_add(-t101, 0.2f64, t103); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t104
+                let t104 = c_left_shoulder * t102;
+                let t105 = A::mul_add(s_left_shoulder, t101, t104);
+                let t106 = A::mul_add(-t103, 0.2f64, t105); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                t106
             };
-            let (t106, t107, t116, t117, t118, t119) = {
+            let (t107, t108, t109, t118, t119, t120, t121) = {
                 // ── link `right`, joint `right_shoulder` (base to tip)
-                let t105 = right_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t106 = right_v_wy * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t107 = right_v_wy * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t108 = right_v_wy * t106;
-                let t109 = A::mul_add(right_v_wz, t23, -t108);
-                let t110 = right_v_wy * t20;
-                let t111 = A::mul_add(right_v_wz, t105, -t110);
-                let t112 = t109 - t111;
-                let t113 = A::mul_add(qd_right_shoulder, t106, -t27);
-                let t114 = A::mul_add(qd_right_shoulder, t105, -t24);
-                let t115 = right_v_wz * t22;
-                let t116 = A::mul_add(right_a_vy, 0.12f64, t112); // 1.2000e-1 = right m·c_y
-                let t117 = A::mul_add(right_a_wz, 0.002f64, t113); // 2.0000e-3 = left I_yy or right I_yy
-                let t118 = A::mul_add(-right_a_wy, 0.024f64, t114); // 2.4000e-2 = right I_xx or right I_zz
-                let t119 = A::mul_add(right_a_wy, 0.12f64, t115); // 1.2000e-1 = right m·c_y
-                (t106, t107, t116, t117, t118, t119)
+                let t107 = right_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t108 = right_v_wy * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t109 = right_v_wy * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t110 = right_v_wy * t108;
+                let t111 = A::mul_add(right_v_wz, t25, -t110);
+                let t112 = right_v_wy * t21;
+                let t113 = A::mul_add(right_v_wz, t107, -t112);
+                let t114 = t111 - t113;
+                let t115 = A::mul_add(qd_right_shoulder, t108, -t29);
+                let t116 = A::mul_add(qd_right_shoulder, t107, -t26);
+                let t117 = right_v_wz * t24;
+                let t118 = A::mul_add(right_a_vy, 0.12f64, t114); // 1.2000e-1 = right m·c_y
+                let t119 = A::mul_add(right_a_wz, 0.002f64, t115); // 2.0000e-3 = left I_yy or right I_yy
+                let t120 = A::mul_add(-right_a_wy, 0.024f64, t116); // 2.4000e-2 = right I_xx or right I_zz
+                let t121 = A::mul_add(right_a_wy, 0.12f64, t117); // 1.2000e-1 = right m·c_y
+                (t107, t108, t109, t118, t119, t120, t121)
             };
-            let t123 = {
+            let t125 = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
-                let t120 = A::mul_add(s_right_shoulder, t117, t30);
-                let t121 = A::mul_add(c_right_shoulder, t118, -t31);
-                let t122 = t120 + t121;
-                let t123 = A::mul_add(-t119, 0.2f64, t122); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t123
+                let t122 = A::mul_add(s_right_shoulder, t119, t32);
+                let t123 = A::mul_add(c_right_shoulder, t120, -t33);
+                let t124 = t122 + t123;
+                let t125 = A::mul_add(-t121, 0.2f64, t124); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                t125
             };
-            let (t127, t128, t129) = {
+            let (t129, t130, t131) = {
                 // ── link `right`, joint `right_shoulder` (base to tip)
-                let t124 = A::mul_add(right_v_wz, 0.024f64, -t23); // 2.4000e-2 = right I_xx or right I_zz
-                let t125 = A::mul_add(right_v_wy, 0.002f64, -t106); // 2.0000e-3 = left I_yy or right I_yy
-                let t126 = A::mul_add(right_v_vx, 0.12f64, t124); // 1.2000e-1 = right m·c_y
-                let t127 = A::mul_add(right_v_wz, 0.002f64, t126); // 2.0000e-3 = left I_yy or right I_yy
-                let t128 = A::mul_add(-right_v_wy, 0.024f64, t125); // 2.4000e-2 = right I_xx or right I_zz
-                let t129 = A::mul_add(right_v_wy, 0.12f64, t107); // 1.2000e-1 = right m·c_y
-                (t127, t128, t129)
+                let t126 = t22 - t25;
+                let t127 = t21 - t108;
+                let t128 = t126 + t23;
+                let t129 = t107 + t128;
+                let t130 = t127 - t108;
+                let t131 = t109 + t109;
+                (t129, t130, t131)
             };
-            let t132 = {
+            let t134 = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
-                let t130 = c_right_shoulder * t128;
-                let t131 = A::mul_add(s_right_shoulder, t127, t130);
-                let t132 = A::mul_add(-t129, 0.2f64, t131); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t132
+                let t132 = c_right_shoulder * t130;
+                let t133 = A::mul_add(s_right_shoulder, t129, t132);
+                let t134 = A::mul_add(-t131, 0.2f64, t133); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                t134
             };
-            [t95, t123, t88, t116, t76, t104, t132, t42, t60]
+            [t97, t125, t90, t118, t78, t106, t134, t44, t62]
         }
     }
     impl Kernel<kernels::FramePoses, 3, 1, 24> for Branched {

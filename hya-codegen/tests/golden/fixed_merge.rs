@@ -116,14 +116,14 @@ const _: () = {
                     c_elbow,
                 )
             };
-            let (t0, t3) = {
+            let (t0, arm_a_vz, t3) = {
                 // ── link `arm`, joint `shoulder` (base to tip)
                 let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
                 let t1 = arm_a_vz * 0.54f64; // 5.4000e-1 = arm m·c_x
                 let t2 = A::mul_add(t0, 0.016f64, t1); // 1.6000e-2 = arm m·c_z
                 let t3 = A::mul_add(qdd_shoulder, 0.14832f64, -t2); // 1.4832e-1 = arm I_yy
-                (t0, t3)
+                (t0, arm_a_vz, t3)
             };
             let (
                 forearm_f_nx,
@@ -150,67 +150,66 @@ const _: () = {
                     0.8775825618903728f64,
                     qd_elbow,
                 );
-                let t11 = qdd_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t12 = A::mul_add(qdd_shoulder, 0.05f64, -t0); // 5.0000e-2 = joint elbow origin z
-                let t13 = A::mul_add(c_shoulder, 9.81f64, -t11); // 9.8100e0 = g
-                let t14 = qdd_shoulder * 0.479425538604203f64;
-                let t15 = t12 * 0.8775825618903728f64;
-                let t16 = t12 * 0.479425538604203f64;
-                let t17 = s_elbow * t13;
-                let t18 = A::mul_add(c_elbow, t15, -t17);
-                let t19 = c_elbow * t13;
-                let t20 = A::mul_add(s_elbow, t15, t19);
+                let t11 = A::mul_add(qdd_shoulder, 0.05f64, -t0); // 5.0000e-2 = joint elbow origin z
+                let t12 = A::mul_add(-qdd_shoulder, 0.3f64, arm_a_vz); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t13 = qdd_shoulder * 0.479425538604203f64;
+                let t14 = t11 * 0.8775825618903728f64;
+                let t15 = t11 * 0.479425538604203f64;
+                let t16 = s_elbow * t12;
+                let t17 = A::mul_add(c_elbow, t14, -t16);
+                let t18 = c_elbow * t12;
+                let t19 = A::mul_add(s_elbow, t14, t18);
                 let forearm_a_wy = A::mul_add(
                     qdd_shoulder,
                     0.8775825618903728f64,
                     qdd_elbow,
                 );
-                let t21 = forearm_v_wz * qd_elbow;
-                let t22 = forearm_v_wx * qd_elbow;
-                let forearm_a_wx = A::mul_add(c_elbow, t14, -t21);
-                let forearm_a_wz = A::mul_add(s_elbow, t14, t22);
-                let forearm_a_vx = A::mul_add(-forearm_v_vz, qd_elbow, t18);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t20);
-                let t23 = forearm_a_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t24 = t16 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t25 = A::mul_add(forearm_a_wy, 0.020000000000000004f64, -t23); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t26 = A::mul_add(forearm_a_wz, 0.020000000000000004f64, -t24); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t27 = A::mul_add(forearm_a_wz, 0.1f64, -t16); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t28 = A::mul_add(-forearm_a_wy, 0.1f64, forearm_a_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t29 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t30 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t31 = t8 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t32 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t30); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t33 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t31); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t34 = A::mul_add(forearm_v_wz, 0.1f64, -t8); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t35 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t36 = forearm_v_wz * t32;
-                let t37 = A::mul_add(forearm_v_wy, t33, -t36);
-                let t38 = forearm_v_wx * t33;
-                let t39 = A::mul_add(forearm_v_wz, t29, -t38);
-                let t40 = forearm_v_wy * t29;
-                let t41 = A::mul_add(forearm_v_wx, t32, -t40);
-                let t42 = forearm_v_vz * t34;
-                let t43 = A::mul_add(t8, t35, t42);
-                let t44 = forearm_v_vx * t35;
-                let t45 = A::mul_add(forearm_v_vz, forearm_v_vx, -t44);
-                let t46 = t8 * forearm_v_vx;
-                let t47 = A::mul_add(forearm_v_vx, t34, t46);
-                let t48 = t37 - t43;
-                let t49 = t39 + t45;
-                let t50 = t41 + t47;
-                let t51 = forearm_v_wz * t34;
-                let t52 = A::mul_add(forearm_v_wy, t35, -t51);
-                let t53 = forearm_v_wx * t35;
-                let t54 = A::mul_add(forearm_v_wz, forearm_v_vx, -t53);
-                let t55 = forearm_v_wy * forearm_v_vx;
-                let t56 = A::mul_add(forearm_v_wx, t34, -t55);
-                let forearm_f_nx = A::mul_add(forearm_a_wx, 0.002f64, t48); // 2.0000e-3 = forearm I_xx
-                let forearm_f_ny = t25 + t49;
-                let forearm_f_nz = t26 + t50;
-                let forearm_f_fx = forearm_a_vx + t52;
-                let forearm_f_fy = t27 + t54;
-                let forearm_f_fz = t28 + t56;
+                let t20 = forearm_v_wz * qd_elbow;
+                let t21 = forearm_v_wx * qd_elbow;
+                let forearm_a_wx = A::mul_add(c_elbow, t13, -t20);
+                let forearm_a_wz = A::mul_add(s_elbow, t13, t21);
+                let forearm_a_vx = A::mul_add(-forearm_v_vz, qd_elbow, t17);
+                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t19);
+                let t22 = forearm_a_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t23 = t15 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t24 = A::mul_add(forearm_a_wy, 0.020000000000000004f64, -t22); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t25 = A::mul_add(forearm_a_wz, 0.020000000000000004f64, -t23); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t26 = A::mul_add(forearm_a_wz, 0.1f64, -t15); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t27 = A::mul_add(-forearm_a_wy, 0.1f64, forearm_a_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t28 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t29 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t30 = t8 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t31 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t29); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t32 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t30); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t33 = A::mul_add(forearm_v_wz, 0.1f64, -t8); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t34 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t35 = forearm_v_wz * t31;
+                let t36 = A::mul_add(forearm_v_wy, t32, -t35);
+                let t37 = forearm_v_wx * t32;
+                let t38 = A::mul_add(forearm_v_wz, t28, -t37);
+                let t39 = forearm_v_wy * t28;
+                let t40 = A::mul_add(forearm_v_wx, t31, -t39);
+                let t41 = forearm_v_vz * t33;
+                let t42 = A::mul_add(t8, t34, t41);
+                let t43 = forearm_v_vx * t34;
+                let t44 = A::mul_add(forearm_v_vz, forearm_v_vx, -t43);
+                let t45 = t8 * forearm_v_vx;
+                let t46 = A::mul_add(forearm_v_vx, t33, t45);
+                let t47 = t36 - t42;
+                let t48 = t38 + t44;
+                let t49 = t40 + t46;
+                let t50 = forearm_v_wz * t33;
+                let t51 = A::mul_add(forearm_v_wy, t34, -t50);
+                let t52 = forearm_v_wx * t34;
+                let t53 = A::mul_add(forearm_v_wz, forearm_v_vx, -t52);
+                let t54 = forearm_v_wy * forearm_v_vx;
+                let t55 = A::mul_add(forearm_v_wx, t33, -t54);
+                let forearm_f_nx = A::mul_add(forearm_a_wx, 0.002f64, t47); // 2.0000e-3 = forearm I_xx
+                let forearm_f_ny = t24 + t48;
+                let forearm_f_nz = t25 + t49;
+                let forearm_f_fx = forearm_a_vx + t51;
+                let forearm_f_fy = t26 + t53;
+                let forearm_f_fz = t27 + t55;
                 (
                     forearm_f_nx,
                     forearm_f_ny,
@@ -222,20 +221,20 @@ const _: () = {
             };
             let arm_f_ny = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t57 = s_elbow * forearm_f_fz;
-                let t58 = A::mul_add(c_elbow, forearm_f_fx, t57);
-                let t59 = s_elbow * forearm_f_fx;
-                let t60 = A::mul_add(c_elbow, forearm_f_fz, -t59);
-                let t61 = s_elbow * forearm_f_nz;
-                let t62 = A::mul_add(c_elbow, forearm_f_nx, t61);
-                let t63 = forearm_f_fy * 0.479425538604203f64;
-                let t64 = A::mul_add(t58, 0.8775825618903728f64, -t63);
-                let t65 = forearm_f_ny * 0.8775825618903728f64;
-                let t66 = A::mul_add(t62, 0.479425538604203f64, t65);
-                let t67 = t60 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t68 = A::mul_add(t64, 0.05f64, -t67); // 5.0000e-2 = joint elbow origin z
-                let t69 = t66 + t68;
-                let arm_f_ny = t3 + t69;
+                let t56 = s_elbow * forearm_f_fz;
+                let t57 = A::mul_add(c_elbow, forearm_f_fx, t56);
+                let t58 = s_elbow * forearm_f_fx;
+                let t59 = A::mul_add(c_elbow, forearm_f_fz, -t58);
+                let t60 = s_elbow * forearm_f_nz;
+                let t61 = A::mul_add(c_elbow, forearm_f_nx, t60);
+                let t62 = forearm_f_fy * 0.479425538604203f64;
+                let t63 = A::mul_add(t57, 0.8775825618903728f64, -t62);
+                let t64 = forearm_f_ny * 0.8775825618903728f64;
+                let t65 = A::mul_add(t61, 0.479425538604203f64, t64);
+                let t66 = t59 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t67 = A::mul_add(t63, 0.05f64, -t66); // 5.0000e-2 = joint elbow origin z
+                let t68 = t65 + t67;
+                let arm_f_ny = t3 + t68;
                 arm_f_ny
             };
             [arm_f_ny, forearm_f_ny]
@@ -537,11 +536,10 @@ const _: () = {
                 )
             };
             let (
-                forearm_v_vx,
-                forearm_v_vz,
                 t7,
                 t8,
                 t9,
+                t10,
                 forearm_p_nx,
                 forearm_p_ny,
                 forearm_p_nz,
@@ -568,41 +566,41 @@ const _: () = {
                 );
                 let t7 = forearm_v_wz * qd_elbow;
                 let t8 = forearm_v_wx * qd_elbow;
-                let t9 = forearm_v_vx * qd_elbow;
-                let t10 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t11 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t12 = t4 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t13 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t11); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t14 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t12); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t15 = A::mul_add(forearm_v_wz, 0.1f64, -t4); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t16 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t17 = forearm_v_wz * t13;
-                let t18 = A::mul_add(forearm_v_wy, t14, -t17);
-                let t19 = forearm_v_wx * t14;
-                let t20 = A::mul_add(forearm_v_wz, t10, -t19);
-                let t21 = forearm_v_wy * t10;
-                let t22 = A::mul_add(forearm_v_wx, t13, -t21);
-                let t23 = forearm_v_vz * t15;
-                let t24 = A::mul_add(t4, t16, t23);
-                let t25 = forearm_v_vx * t16;
-                let t26 = A::mul_add(forearm_v_vz, forearm_v_vx, -t25);
-                let t27 = t4 * forearm_v_vx;
-                let t28 = A::mul_add(forearm_v_vx, t15, t27);
-                let forearm_p_nx = t18 - t24;
-                let forearm_p_ny = t20 + t26;
-                let forearm_p_nz = t22 + t28;
-                let t29 = forearm_v_wz * t15;
-                let forearm_p_fx = A::mul_add(forearm_v_wy, t16, -t29);
-                let t30 = forearm_v_wx * t16;
-                let forearm_p_fy = A::mul_add(forearm_v_wz, forearm_v_vx, -t30);
-                let t31 = forearm_v_wy * forearm_v_vx;
-                let forearm_p_fz = A::mul_add(forearm_v_wx, t15, -t31);
+                let t9 = forearm_v_vz * qd_elbow;
+                let t10 = forearm_v_vx * qd_elbow;
+                let t11 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t12 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t13 = t4 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t14 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t12); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t15 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t13); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t16 = A::mul_add(forearm_v_wz, 0.1f64, -t4); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t17 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t18 = forearm_v_wz * t14;
+                let t19 = A::mul_add(forearm_v_wy, t15, -t18);
+                let t20 = forearm_v_wx * t15;
+                let t21 = A::mul_add(forearm_v_wz, t11, -t20);
+                let t22 = forearm_v_wy * t11;
+                let t23 = A::mul_add(forearm_v_wx, t14, -t22);
+                let t24 = forearm_v_vz * t16;
+                let t25 = A::mul_add(t4, t17, t24);
+                let t26 = forearm_v_vx * t17;
+                let t27 = A::mul_add(forearm_v_vz, forearm_v_vx, -t26);
+                let t28 = t4 * forearm_v_vx;
+                let t29 = A::mul_add(forearm_v_vx, t16, t28);
+                let forearm_p_nx = t19 - t25;
+                let forearm_p_ny = t21 + t27;
+                let forearm_p_nz = t23 + t29;
+                let t30 = forearm_v_wz * t16;
+                let forearm_p_fx = A::mul_add(forearm_v_wy, t17, -t30);
+                let t31 = forearm_v_wx * t17;
+                let forearm_p_fy = A::mul_add(forearm_v_wz, forearm_v_vx, -t31);
+                let t32 = forearm_v_wy * forearm_v_vx;
+                let forearm_p_fz = A::mul_add(forearm_v_wx, t16, -t32);
                 (
-                    forearm_v_vx,
-                    forearm_v_vz,
                     t7,
                     t8,
                     t9,
+                    t10,
                     forearm_p_nx,
                     forearm_p_ny,
                     forearm_p_nz,
@@ -614,100 +612,99 @@ const _: () = {
             let (u_elbow, arm_p_ny, arm_u_ny, arm_u_fx, arm_u_fz) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
                 let u_elbow = tau_elbow - forearm_p_ny;
-                let t32 = A::mul_add(-t7, 0.002f64, forearm_p_nx); // 2.0000e-3 = forearm I_xx
-                let t33 = A::mul_add(
-                    t9,
+                let t33 = A::mul_add(-t7, 0.002f64, forearm_p_nx); // 2.0000e-3 = forearm I_xx
+                let t34 = A::mul_add(
+                    t10,
                     0.000000000000000013877787807814457f64,
                     forearm_p_ny,
                 );
-                let t34 = A::mul_add(t8, 0.020000000000000004f64, forearm_p_nz); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t35 = A::mul_add(-forearm_v_vz, qd_elbow, forearm_p_fx);
-                let t36 = A::mul_add(t8, 0.1f64, forearm_p_fy); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t37 = A::mul_add(t9, 0.5f64, forearm_p_fz);
-                let t38 = u_elbow * 49.99999999999999f64;
-                let t39 = A::mul_add(t38, 0.020000000000000004f64, t33); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t40 = A::mul_add(-t38, 0.1f64, t37); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t41 = c_elbow * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t42 = s_elbow * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t43 = s_elbow * t42;
-                let t44 = A::mul_add(c_elbow, t41, t43);
-                let t45 = s_elbow * 0.000000000000000013877787807814457f64;
-                let t46 = c_elbow * 0.000000000000000013877787807814457f64;
-                let t47 = s_elbow * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t48 = s_elbow * 0.5f64;
-                let t49 = c_elbow * 0.5f64;
-                let t50 = s_elbow * t48;
-                let t51 = A::mul_add(c_elbow, c_elbow, t50);
-                let t52 = s_elbow * c_elbow;
-                let t53 = A::mul_add(s_elbow, t49, -t52);
-                let t54 = c_elbow * t49;
-                let t55 = A::mul_add(s_elbow, s_elbow, t54);
-                let t56 = t44 * 0.479425538604203f64;
-                let t57 = t47 * 0.479425538604203f64;
-                let t58 = t45 * 0.8775825618903728f64;
-                let t59 = t57 * 0.479425538604203f64;
-                let t60 = A::mul_add(t58, 0.8775825618903728f64, -t59);
-                let t61 = t46 * 0.8775825618903728f64;
-                let t62 = t51 * 0.8775825618903728f64;
-                let t63 = t53 * 0.8775825618903728f64;
-                let t64 = A::mul_add(t62, 0.8775825618903728f64, 0.22984884706593015f64);
-                let t65 = t60 * 0.05f64; // 5.0000e-2 = joint elbow origin z
-                let t66 = A::mul_add(t61, 0.3f64, -t65); // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t67 = t63 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t68 = A::mul_add(t64, 0.05f64, -t67); // 5.0000e-2 = joint elbow origin z
-                let t69 = t55 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t70 = A::mul_add(t63, 0.05f64, -t69); // 5.0000e-2 = joint elbow origin z
-                let t71 = A::mul_add(t56, 0.479425538604203f64, -t66);
-                let t72 = t71 - t66;
-                let t73 = t68 * 0.05f64; // 5.0000e-2 = joint elbow origin z
-                let t74 = A::mul_add(t70, 0.3f64, -t73); // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t75 = t72 - t74;
-                let t76 = t60 + t68;
-                let t77 = A::mul_add(t46, 0.8775825618903728f64, t70);
-                let t78 = s_elbow * t40;
-                let t79 = A::mul_add(c_elbow, t35, t78);
-                let t80 = s_elbow * t35;
-                let t81 = A::mul_add(c_elbow, t40, -t80);
-                let t82 = s_elbow * t34;
-                let t83 = A::mul_add(c_elbow, t32, t82);
-                let t84 = t36 * 0.479425538604203f64;
-                let t85 = A::mul_add(t79, 0.8775825618903728f64, -t84);
-                let t86 = t39 * 0.8775825618903728f64;
-                let t87 = A::mul_add(t83, 0.479425538604203f64, t86);
-                let t88 = t81 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t89 = A::mul_add(t85, 0.05f64, -t88); // 5.0000e-2 = joint elbow origin z
-                let arm_p_ny = t87 + t89;
-                let arm_u_ny = t75 + 0.14832f64; // 1.4832e-1 = arm I_yy
-                let arm_u_fx = t76 + 0.016f64; // 1.6000e-2 = arm m·c_z
-                let arm_u_fz = t77 - 0.54f64; // 5.4000e-1 = arm m·c_x
+                let t35 = A::mul_add(t8, 0.020000000000000004f64, forearm_p_nz); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t36 = forearm_p_fx - t9;
+                let t37 = A::mul_add(t8, 0.1f64, forearm_p_fy); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t38 = A::mul_add(t10, 0.5f64, forearm_p_fz);
+                let t39 = u_elbow * 49.99999999999999f64;
+                let t40 = A::mul_add(t39, 0.020000000000000004f64, t34); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t41 = A::mul_add(-t39, 0.1f64, t38); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t42 = c_elbow * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t43 = s_elbow * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t44 = s_elbow * t43;
+                let t45 = A::mul_add(c_elbow, t42, t44);
+                let t46 = s_elbow * 0.000000000000000013877787807814457f64;
+                let t47 = c_elbow * 0.000000000000000013877787807814457f64;
+                let t48 = s_elbow * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t49 = s_elbow * 0.5f64;
+                let t50 = c_elbow * 0.5f64;
+                let t51 = s_elbow * t49;
+                let t52 = A::mul_add(c_elbow, c_elbow, t51);
+                let t53 = s_elbow * c_elbow;
+                let t54 = A::mul_add(s_elbow, t50, -t53);
+                let t55 = c_elbow * t50;
+                let t56 = A::mul_add(s_elbow, s_elbow, t55);
+                let t57 = t45 * 0.479425538604203f64;
+                let t58 = t48 * 0.479425538604203f64;
+                let t59 = t46 * 0.8775825618903728f64;
+                let t60 = t58 * 0.479425538604203f64;
+                let t61 = A::mul_add(t59, 0.8775825618903728f64, -t60);
+                let t62 = t47 * 0.8775825618903728f64;
+                let t63 = t52 * 0.8775825618903728f64;
+                let t64 = t54 * 0.8775825618903728f64;
+                let t65 = A::mul_add(t63, 0.8775825618903728f64, 0.22984884706593015f64);
+                let t66 = t61 * 0.05f64; // 5.0000e-2 = joint elbow origin z
+                let t67 = A::mul_add(t62, 0.3f64, -t66); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t68 = t64 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t69 = A::mul_add(t65, 0.05f64, -t68); // 5.0000e-2 = joint elbow origin z
+                let t70 = t56 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t71 = A::mul_add(t64, 0.05f64, -t70); // 5.0000e-2 = joint elbow origin z
+                let t72 = A::mul_add(t57, 0.479425538604203f64, -t67);
+                let t73 = t72 - t67;
+                let t74 = t69 * 0.05f64; // 5.0000e-2 = joint elbow origin z
+                let t75 = A::mul_add(t71, 0.3f64, -t74); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t76 = t73 - t75;
+                let t77 = t61 + t69;
+                let t78 = A::mul_add(t47, 0.8775825618903728f64, t71);
+                let t79 = s_elbow * t41;
+                let t80 = A::mul_add(c_elbow, t36, t79);
+                let t81 = s_elbow * t36;
+                let t82 = A::mul_add(c_elbow, t41, -t81);
+                let t83 = s_elbow * t35;
+                let t84 = A::mul_add(c_elbow, t33, t83);
+                let t85 = t37 * 0.479425538604203f64;
+                let t86 = A::mul_add(t80, 0.8775825618903728f64, -t85);
+                let t87 = t40 * 0.8775825618903728f64;
+                let t88 = A::mul_add(t84, 0.479425538604203f64, t87);
+                let t89 = t82 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t90 = A::mul_add(t86, 0.05f64, -t89); // 5.0000e-2 = joint elbow origin z
+                let arm_p_ny = t88 + t90;
+                let arm_u_ny = t76 + 0.14832f64; // 1.4832e-1 = arm I_yy
+                let arm_u_fx = t77 + 0.016f64; // 1.6000e-2 = arm m·c_z
+                let arm_u_fz = t78 - 0.54f64; // 5.4000e-1 = arm m·c_x
                 (u_elbow, arm_p_ny, arm_u_ny, arm_u_fx, arm_u_fz)
             };
-            let (u_shoulder, t90) = {
+            let (u_shoulder, t91) = {
                 // ── link `arm`, joint `shoulder` (tip to base)
                 let u_shoulder = tau_shoulder - arm_p_ny;
-                let t90 = A::from(1f64) / arm_u_ny;
-                (u_shoulder, t90)
+                let t91 = A::from(1f64) / arm_u_ny;
+                (u_shoulder, t91)
             };
-            let (t91, qdd_shoulder) = {
+            let (t92, arm_a_vz, qdd_shoulder) = {
                 // ── link `arm`, joint `shoulder` (base to tip, last pass)
-                let t91 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                let t92 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t92 = t91 * arm_u_fx;
-                let t93 = A::mul_add(arm_a_vz, arm_u_fz, -t92);
-                let t94 = u_shoulder - t93;
-                let qdd_shoulder = t94 * t90;
-                (t91, qdd_shoulder)
+                let t93 = t92 * arm_u_fx;
+                let t94 = A::mul_add(arm_a_vz, arm_u_fz, -t93);
+                let t95 = u_shoulder - t94;
+                let qdd_shoulder = t95 * t91;
+                (t92, arm_a_vz, qdd_shoulder)
             };
             let qdd_elbow = {
                 // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let t95 = qdd_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t96 = A::mul_add(qdd_shoulder, 0.05f64, -t91); // 5.0000e-2 = joint elbow origin z
-                let t97 = A::mul_add(c_shoulder, 9.81f64, -t95); // 9.8100e0 = g
+                let t96 = A::mul_add(qdd_shoulder, 0.05f64, -t92); // 5.0000e-2 = joint elbow origin z
+                let t97 = A::mul_add(-qdd_shoulder, 0.3f64, arm_a_vz); // 3.0000e-1 = joint elbow origin x or frame housing origin x
                 let t98 = qdd_shoulder * 0.8775825618903728f64;
                 let t99 = t96 * 0.8775825618903728f64;
                 let t100 = c_elbow * t97;
                 let t101 = A::mul_add(s_elbow, t99, t100);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t101);
+                let forearm_a_vz = t101 + t10;
                 let t102 = forearm_a_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
                 let t103 = A::mul_add(t98, 0.020000000000000004f64, -t102); // 2.0000e-2 = forearm I_yy or forearm I_zz
                 let t104 = u_elbow - t103;
@@ -760,32 +757,38 @@ const _: () = {
                 (t0, arm_a_vz, t2)
             };
             let (
-                t4,
                 t7,
                 forearm_v_wx,
                 forearm_v_wz,
                 forearm_v_vx,
                 t9,
+                t10,
                 forearm_v_vz,
                 forearm_v_wy,
-                t18,
+                t17,
+                t20,
                 t21,
-                t22,
-                t26,
+                t25,
                 forearm_a_wx,
                 forearm_a_wz,
                 forearm_a_vz,
-                t29,
-                t31,
+                t28,
+                t30,
+                t33,
                 t34,
+                t36,
                 t37,
                 t38,
                 t39,
                 t40,
                 t41,
-                t47,
-                t52,
+                t42,
+                t44,
+                t49,
+                t50,
                 t54,
+                t56,
+                t57,
                 forearm_f_nx,
                 forearm_f_nz,
                 forearm_f_fx,
@@ -809,308 +812,315 @@ const _: () = {
                     0.8775825618903728f64,
                     qd_elbow,
                 );
-                let t11 = qdd_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t12 = A::mul_add(qdd_shoulder, 0.05f64, -t0); // 5.0000e-2 = joint elbow origin z
-                let t13 = A::mul_add(c_shoulder, 9.81f64, -t11); // 9.8100e0 = g
-                let t14 = qdd_shoulder * 0.479425538604203f64;
-                let t15 = t12 * 0.8775825618903728f64;
-                let t16 = arm_a_vz * 0.8775825618903728f64;
-                let t17 = t12 * 0.479425538604203f64;
-                let t18 = arm_a_vz * 0.479425538604203f64;
-                let t19 = c_elbow * t16;
-                let t20 = s_elbow * t13;
-                let t21 = A::mul_add(c_elbow, t15, -t20);
-                let t22 = A::mul_add(s_elbow, t0, -t19);
-                let t23 = c_elbow * t13;
-                let t24 = c_elbow * t0;
+                let t11 = A::mul_add(qdd_shoulder, 0.05f64, -t0); // 5.0000e-2 = joint elbow origin z
+                let t12 = A::mul_add(-qdd_shoulder, 0.3f64, arm_a_vz); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t13 = qdd_shoulder * 0.479425538604203f64;
+                let t14 = t11 * 0.8775825618903728f64;
+                let t15 = arm_a_vz * 0.8775825618903728f64;
+                let t16 = t11 * 0.479425538604203f64;
+                let t17 = arm_a_vz * 0.479425538604203f64;
+                let t18 = c_elbow * t15;
+                let t19 = s_elbow * t12;
+                let t20 = A::mul_add(c_elbow, t14, -t19);
+                let t21 = A::mul_add(s_elbow, t0, -t18);
+                let t22 = c_elbow * t12;
+                let t23 = c_elbow * t0;
+                let t24 = A::mul_add(s_elbow, t14, t22);
                 let t25 = A::mul_add(s_elbow, t15, t23);
-                let t26 = A::mul_add(s_elbow, t16, t24);
                 let forearm_a_wy = A::mul_add(
                     qdd_shoulder,
                     0.8775825618903728f64,
                     qdd_elbow,
                 );
-                let t27 = forearm_v_wz * qd_elbow;
-                let t28 = forearm_v_wx * qd_elbow;
-                let forearm_a_wx = A::mul_add(c_elbow, t14, -t27);
-                let forearm_a_wz = A::mul_add(s_elbow, t14, t28);
-                let forearm_a_vx = A::mul_add(-forearm_v_vz, qd_elbow, t21);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t25);
-                let t29 = t26 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t26 = forearm_v_wz * qd_elbow;
+                let t27 = forearm_v_wx * qd_elbow;
+                let forearm_a_wx = A::mul_add(c_elbow, t13, -t26);
+                let forearm_a_wz = A::mul_add(s_elbow, t13, t27);
+                let forearm_a_vx = A::mul_add(-forearm_v_vz, qd_elbow, t20);
+                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t24);
+                let t28 = t25 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t29 = t16 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
                 let t30 = t17 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t31 = t18 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t32 = A::mul_add(forearm_a_wz, 0.020000000000000004f64, -t30); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t33 = A::mul_add(-forearm_a_wy, 0.1f64, forearm_a_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t34 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t31 = A::mul_add(forearm_a_wz, 0.020000000000000004f64, -t29); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t32 = A::mul_add(-forearm_a_wy, 0.1f64, forearm_a_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t33 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t34 = forearm_v_wz * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
                 let t35 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
                 let t36 = t7 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t37 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t35); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t38 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t36); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t39 = A::mul_add(forearm_v_wz, 0.1f64, -t7); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t40 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t41 = forearm_v_wz * t37;
-                let t42 = A::mul_add(forearm_v_wy, t38, -t41);
-                let t43 = forearm_v_wy * t34;
-                let t44 = A::mul_add(forearm_v_wx, t37, -t43);
-                let t45 = forearm_v_vz * t39;
-                let t46 = A::mul_add(t7, t40, t45);
-                let t47 = forearm_v_vx * t39;
-                let t48 = t7 * forearm_v_vx;
-                let t49 = A::mul_add(forearm_v_vx, t39, t48);
-                let t50 = t42 - t46;
-                let t51 = t44 + t49;
-                let t52 = forearm_v_wz * t39;
-                let t53 = A::mul_add(forearm_v_wy, t40, -t52);
-                let t54 = forearm_v_wx * t39;
-                let t55 = forearm_v_wy * forearm_v_vx;
-                let t56 = A::mul_add(forearm_v_wx, t39, -t55);
-                let forearm_f_nx = A::mul_add(forearm_a_wx, 0.002f64, t50); // 2.0000e-3 = forearm I_xx
-                let forearm_f_nz = t32 + t51;
-                let forearm_f_fx = forearm_a_vx + t53;
-                let forearm_f_fz = t33 + t56;
+                let t37 = forearm_v_wy * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t38 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t35); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t39 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t36); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t40 = A::mul_add(forearm_v_wz, 0.1f64, -t7); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t41 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t42 = forearm_v_wz * t38;
+                let t43 = A::mul_add(forearm_v_wy, t39, -t42);
+                let t44 = forearm_v_wx * t38;
+                let t45 = forearm_v_wy * t33;
+                let t46 = A::mul_add(forearm_v_wx, t38, -t45);
+                let t47 = forearm_v_vz * t40;
+                let t48 = A::mul_add(t7, t41, t47);
+                let t49 = forearm_v_vx * t40;
+                let t50 = t7 * forearm_v_vx;
+                let t51 = A::mul_add(forearm_v_vx, t40, t50);
+                let t52 = t43 - t48;
+                let t53 = t46 + t51;
+                let t54 = forearm_v_wz * t40;
+                let t55 = A::mul_add(forearm_v_wy, t41, -t54);
+                let t56 = forearm_v_wx * t40;
+                let t57 = forearm_v_wy * forearm_v_vx;
+                let t58 = A::mul_add(forearm_v_wx, t40, -t57);
+                let forearm_f_nx = A::mul_add(forearm_a_wx, 0.002f64, t52); // 2.0000e-3 = forearm I_xx
+                let forearm_f_nz = t31 + t53;
+                let forearm_f_fx = forearm_a_vx + t55;
+                let forearm_f_fz = t32 + t58;
                 (
-                    t4,
                     t7,
                     forearm_v_wx,
                     forearm_v_wz,
                     forearm_v_vx,
                     t9,
+                    t10,
                     forearm_v_vz,
                     forearm_v_wy,
-                    t18,
+                    t17,
+                    t20,
                     t21,
-                    t22,
-                    t26,
+                    t25,
                     forearm_a_wx,
                     forearm_a_wz,
                     forearm_a_vz,
-                    t29,
-                    t31,
+                    t28,
+                    t30,
+                    t33,
                     t34,
+                    t36,
                     t37,
                     t38,
                     t39,
                     t40,
                     t41,
-                    t47,
-                    t52,
+                    t42,
+                    t44,
+                    t49,
+                    t50,
                     t54,
+                    t56,
+                    t57,
                     forearm_f_nx,
                     forearm_f_nz,
                     forearm_f_fx,
                     forearm_f_fz,
                 )
             };
-            let (t57, t58, t61, t62, t66, t67, t75) = {
+            let (t59, t60, t63, t64, t68, t69, t77) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t57 = c_elbow * forearm_f_fx;
-                let t58 = s_elbow * forearm_f_fz;
-                let t59 = s_elbow * t26;
-                let t60 = A::mul_add(c_elbow, t22, -t59);
-                let t61 = s_elbow * forearm_f_fx;
-                let t62 = c_elbow * forearm_f_fz;
-                let t63 = c_elbow * t26;
-                let t64 = A::mul_add(s_elbow, t22, t63);
-                let t65 = s_elbow * t31;
-                let t66 = s_elbow * forearm_f_nx;
-                let t67 = c_elbow * forearm_f_nz;
-                let t68 = t18 * 0.479425538604203f64;
-                let t69 = A::mul_add(t60, 0.8775825618903728f64, -t68);
-                let t70 = t29 * 0.8775825618903728f64;
-                let t71 = A::mul_add(t65, 0.479425538604203f64, t70);
-                let t72 = t64 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t73 = A::mul_add(t69, 0.05f64, t72); // 5.0000e-2 = joint elbow origin z
-                let t74 = t71 + t73;
-                let t75 = t2 + t74;
-                (t57, t58, t61, t62, t66, t67, t75)
+                let t59 = c_elbow * forearm_f_fx;
+                let t60 = s_elbow * forearm_f_fz;
+                let t61 = s_elbow * t25;
+                let t62 = A::mul_add(c_elbow, t21, -t61);
+                let t63 = s_elbow * forearm_f_fx;
+                let t64 = c_elbow * forearm_f_fz;
+                let t65 = c_elbow * t25;
+                let t66 = A::mul_add(s_elbow, t21, t65);
+                let t67 = s_elbow * t30;
+                let t68 = s_elbow * forearm_f_nx;
+                let t69 = c_elbow * forearm_f_nz;
+                let t70 = t17 * 0.479425538604203f64;
+                let t71 = A::mul_add(t62, 0.8775825618903728f64, -t70);
+                let t72 = t28 * 0.8775825618903728f64;
+                let t73 = A::mul_add(t67, 0.479425538604203f64, t72);
+                let t74 = t66 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t75 = A::mul_add(t71, 0.05f64, t74); // 5.0000e-2 = joint elbow origin z
+                let t76 = t73 + t75;
+                let t77 = t2 + t76;
+                (t59, t60, t63, t64, t68, t69, t77)
             };
-            let (t138, t139, t140, t141, t142, t143) = {
+            let (t140, t141, t142, t143, t144, t145) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t76 = c_elbow * 0.479425538604203f64;
-                let t77 = s_elbow * 0.479425538604203f64;
-                let t78 = s_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t79 = A::mul_add(c_elbow, 0.04387912809451864f64, t78);
-                let t80 = c_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t81 = A::mul_add(s_elbow, 0.04387912809451864f64, -t80);
-                let t82 = t77 * qd_elbow;
-                let t83 = t76 * qd_elbow;
+                let t78 = c_elbow * 0.479425538604203f64;
+                let t79 = s_elbow * 0.479425538604203f64;
+                let t80 = s_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t81 = A::mul_add(c_elbow, 0.04387912809451864f64, t80);
+                let t82 = c_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t83 = A::mul_add(s_elbow, 0.04387912809451864f64, -t82);
                 let t84 = t79 * qd_elbow;
-                let t85 = t76 * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t86 = A::mul_add(-t81, 0.1f64, 0.01755165123780746f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t87 = A::mul_add(
-                    t77,
+                let t85 = t78 * qd_elbow;
+                let t86 = t81 * qd_elbow;
+                let t87 = t78 * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t88 = A::mul_add(-t83, 0.1f64, 0.01755165123780746f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t89 = A::mul_add(
+                    t79,
                     0.020000000000000004f64,
                     -0.0023971276930210153f64,
                 );
-                let t88 = A::mul_add(t77, 0.1f64, -0.02397127693021015f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t89 = t81 - 0.08775825618903728f64;
-                let t90 = t38 * 0.8775825618903728f64;
-                let t91 = A::mul_add(forearm_v_wy, t87, t90);
-                let t92 = t77 * t37;
-                let t93 = A::mul_add(forearm_v_wz, t86, t92);
-                let t94 = t91 - t93;
-                let t95 = t77 * t34;
-                let t96 = A::mul_add(forearm_v_wz, t85, t95);
-                let t97 = t76 * t38;
-                let t98 = A::mul_add(forearm_v_wx, t87, t97);
-                let t99 = t96 - t98;
-                let t100 = t76 * t37;
-                let t101 = A::mul_add(forearm_v_wx, t86, t100);
-                let t102 = t34 * 0.8775825618903728f64;
-                let t103 = A::mul_add(forearm_v_wy, t85, t102);
-                let t104 = t101 - t103;
-                let t105 = t40 * 0.02397127693021015f64;
-                let t106 = A::mul_add(t7, t89, t105);
-                let t107 = t81 * t39;
-                let t108 = A::mul_add(forearm_v_vz, t88, t107);
-                let t109 = t106 + t108;
-                let t110 = t81 * forearm_v_vx;
-                let t111 = A::mul_add(forearm_v_vz, t79, t110);
-                let t112 = t79 * t40;
-                let t113 = A::mul_add(forearm_v_vx, t89, t112);
-                let t114 = t111 - t113;
-                let t115 = t79 * t39;
-                let t116 = A::mul_add(forearm_v_vx, t88, t115);
-                let t117 = forearm_v_vx * 0.02397127693021015f64;
-                let t118 = A::mul_add(t7, t79, t117);
-                let t119 = t116 + t118;
-                let t120 = t94 - t109;
-                let t121 = t99 + t114;
-                let t122 = t104 + t119;
-                let t123 = t40 * 0.8775825618903728f64;
-                let t124 = A::mul_add(forearm_v_wy, t89, t123);
-                let t125 = t77 * t39;
-                let t126 = A::mul_add(forearm_v_wz, t88, t125);
-                let t127 = t124 - t126;
-                let t128 = t77 * forearm_v_vx;
-                let t129 = A::mul_add(forearm_v_wz, t79, t128);
-                let t130 = t76 * t40;
-                let t131 = A::mul_add(forearm_v_wx, t89, t130);
-                let t132 = t129 - t131;
-                let t133 = t76 * t39;
-                let t134 = A::mul_add(forearm_v_wx, t88, t133);
-                let t135 = forearm_v_vx * 0.8775825618903728f64;
-                let t136 = A::mul_add(forearm_v_wy, t79, t135);
-                let t137 = t134 - t136;
-                let t138 = A::mul_add(-t82, 0.002f64, t120); // 2.0000e-3 = forearm I_xx
-                let t139 = A::mul_add(-t84, 0.1f64, t121); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t140 = A::mul_add(t83, 0.020000000000000004f64, t122); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t141 = A::mul_add(-t81, qd_elbow, t127);
-                let t142 = A::mul_add(t83, 0.1f64, t132); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t143 = A::mul_add(t79, qd_elbow, t137);
-                (t138, t139, t140, t141, t142, t143)
+                let t90 = A::mul_add(t79, 0.1f64, -0.02397127693021015f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t91 = t83 - 0.08775825618903728f64;
+                let t92 = t39 * 0.8775825618903728f64;
+                let t93 = A::mul_add(forearm_v_wy, t89, t92);
+                let t94 = t79 * t38;
+                let t95 = A::mul_add(forearm_v_wz, t88, t94);
+                let t96 = t93 - t95;
+                let t97 = t79 * t33;
+                let t98 = A::mul_add(forearm_v_wz, t87, t97);
+                let t99 = t78 * t39;
+                let t100 = A::mul_add(forearm_v_wx, t89, t99);
+                let t101 = t98 - t100;
+                let t102 = t78 * t38;
+                let t103 = A::mul_add(forearm_v_wx, t88, t102);
+                let t104 = t33 * 0.8775825618903728f64;
+                let t105 = A::mul_add(forearm_v_wy, t87, t104);
+                let t106 = t103 - t105;
+                let t107 = t41 * 0.02397127693021015f64;
+                let t108 = A::mul_add(t7, t91, t107);
+                let t109 = t83 * t40;
+                let t110 = A::mul_add(forearm_v_vz, t90, t109);
+                let t111 = t108 + t110;
+                let t112 = t83 * forearm_v_vx;
+                let t113 = A::mul_add(forearm_v_vz, t81, t112);
+                let t114 = t81 * t41;
+                let t115 = A::mul_add(forearm_v_vx, t91, t114);
+                let t116 = t113 - t115;
+                let t117 = t81 * t40;
+                let t118 = A::mul_add(forearm_v_vx, t90, t117);
+                let t119 = forearm_v_vx * 0.02397127693021015f64;
+                let t120 = A::mul_add(t7, t81, t119);
+                let t121 = t118 + t120;
+                let t122 = t96 - t111;
+                let t123 = t101 + t116;
+                let t124 = t106 + t121;
+                let t125 = t41 * 0.8775825618903728f64;
+                let t126 = A::mul_add(forearm_v_wy, t91, t125);
+                let t127 = t79 * t40;
+                let t128 = A::mul_add(forearm_v_wz, t90, t127);
+                let t129 = t126 - t128;
+                let t130 = t79 * forearm_v_vx;
+                let t131 = A::mul_add(forearm_v_wz, t81, t130);
+                let t132 = t78 * t41;
+                let t133 = A::mul_add(forearm_v_wx, t91, t132);
+                let t134 = t131 - t133;
+                let t135 = t78 * t40;
+                let t136 = A::mul_add(forearm_v_wx, t90, t135);
+                let t137 = forearm_v_vx * 0.8775825618903728f64;
+                let t138 = A::mul_add(forearm_v_wy, t81, t137);
+                let t139 = t136 - t138;
+                let t140 = A::mul_add(-t84, 0.002f64, t122); // 2.0000e-3 = forearm I_xx
+                let t141 = A::mul_add(-t86, 0.1f64, t123); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t142 = A::mul_add(t85, 0.020000000000000004f64, t124); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t143 = A::mul_add(-t83, qd_elbow, t129);
+                let t144 = A::mul_add(t85, 0.1f64, t134); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t145 = A::mul_add(t81, qd_elbow, t139);
+                (t140, t141, t142, t143, t144, t145)
             };
-            let t156 = {
+            let t158 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t144 = s_elbow * t143;
-                let t145 = A::mul_add(c_elbow, t141, t144);
-                let t146 = s_elbow * t141;
-                let t147 = A::mul_add(c_elbow, t143, -t146);
-                let t148 = s_elbow * t140;
-                let t149 = A::mul_add(c_elbow, t138, t148);
-                let t150 = t142 * 0.479425538604203f64;
-                let t151 = A::mul_add(t145, 0.8775825618903728f64, -t150);
-                let t152 = t139 * 0.8775825618903728f64;
-                let t153 = A::mul_add(t149, 0.479425538604203f64, t152);
-                let t154 = t147 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t155 = A::mul_add(t151, 0.05f64, -t154); // 5.0000e-2 = joint elbow origin z
-                let t156 = t153 + t155;
-                t156
+                let t146 = s_elbow * t145;
+                let t147 = A::mul_add(c_elbow, t143, t146);
+                let t148 = s_elbow * t143;
+                let t149 = A::mul_add(c_elbow, t145, -t148);
+                let t150 = s_elbow * t142;
+                let t151 = A::mul_add(c_elbow, t140, t150);
+                let t152 = t144 * 0.479425538604203f64;
+                let t153 = A::mul_add(t147, 0.8775825618903728f64, -t152);
+                let t154 = t141 * 0.8775825618903728f64;
+                let t155 = A::mul_add(t151, 0.479425538604203f64, t154);
+                let t156 = t149 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t157 = A::mul_add(t153, 0.05f64, -t156); // 5.0000e-2 = joint elbow origin z
+                let t158 = t155 + t157;
+                t158
             };
-            let (t162, t195, t196, t197, t198, t199, t200) = {
+            let (t161, t162, t164, t196, t197, t198, t199, t200, t201) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t157 = A::mul_add(c_elbow, t4, -t9);
-                let t158 = A::mul_add(t157, qd_elbow, t21);
-                let t159 = forearm_v_wz * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t160 = forearm_v_wx * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t161 = forearm_v_vx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t162 = forearm_v_wx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t163 = forearm_v_wz * t161;
-                let t164 = A::mul_add(forearm_v_wx, t37, -t163);
-                let t165 = A::mul_add(forearm_v_wy, t160, -t164);
-                let t166 = forearm_v_wz * t159;
-                let t167 = A::mul_add(forearm_v_wx, t34, -t166);
-                let t168 = forearm_v_wz * t38;
-                let t169 = A::mul_add(forearm_v_wx, t160, -t168);
-                let t170 = t167 - t169;
-                let t171 = A::mul_add(forearm_v_wx, t161, t41);
-                let t172 = A::mul_add(forearm_v_wy, t159, -t171);
-                let t173 = A::mul_add(forearm_v_vz, t162, t47);
-                let t174 = A::mul_add(t7, forearm_v_vx, t173);
-                let t175 = forearm_v_vx * forearm_v_vx;
-                let t176 = A::mul_add(forearm_v_vz, t157, t175);
-                let t177 = t157 * t40;
-                let t178 = A::mul_add(forearm_v_vx, forearm_v_vx, t177);
-                let t179 = t176 - t178;
-                let t180 = t157 * t39;
-                let t181 = A::mul_add(forearm_v_vx, t162, t180);
-                let t182 = A::mul_add(t7, t157, t181);
-                let t183 = t165 - t174;
-                let t184 = t170 + t179;
-                let t185 = t172 + t182;
-                let t186 = A::mul_add(forearm_v_wz, t162, t54);
-                let t187 = A::mul_add(forearm_v_wy, forearm_v_vx, -t186);
-                let t188 = forearm_v_wx * forearm_v_vx;
-                let t189 = A::mul_add(forearm_v_wz, t157, t188);
-                let t190 = forearm_v_wz * t40;
-                let t191 = A::mul_add(forearm_v_wx, forearm_v_vx, -t190);
-                let t192 = t189 - t191;
-                let t193 = A::mul_add(forearm_v_wx, t162, -t52);
-                let t194 = A::mul_add(-forearm_v_wy, t157, t193);
-                let t195 = A::mul_add(-forearm_a_wz, 0.002f64, t183); // 2.0000e-3 = forearm I_xx
-                let t196 = A::mul_add(-t158, 0.1f64, t184); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t197 = A::mul_add(forearm_a_wx, 0.020000000000000004f64, t185); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t198 = t187 - forearm_a_vz;
-                let t199 = A::mul_add(forearm_a_wx, 0.1f64, t192); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t200 = t158 + t194;
-                (t162, t195, t196, t197, t198, t199, t200)
+                let t159 = t10 - t9;
+                let t160 = A::mul_add(t159, qd_elbow, t20);
+                let t161 = forearm_v_wz * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t162 = forearm_v_wx * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t163 = forearm_v_vx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t164 = forearm_v_wx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t165 = A::mul_add(-forearm_v_wz, t163, t44);
+                let t166 = A::mul_add(forearm_v_wy, t162, -t165);
+                let t167 = forearm_v_wz * t161;
+                let t168 = A::mul_add(forearm_v_wx, t33, -t167);
+                let t169 = forearm_v_wz * t39;
+                let t170 = A::mul_add(forearm_v_wx, t162, -t169);
+                let t171 = t168 - t170;
+                let t172 = A::mul_add(forearm_v_wx, t163, t42);
+                let t173 = A::mul_add(forearm_v_wy, t161, -t172);
+                let t174 = A::mul_add(forearm_v_vz, t164, t49);
+                let t175 = t50 + t174;
+                let t176 = forearm_v_vx * forearm_v_vx;
+                let t177 = A::mul_add(forearm_v_vz, t159, t176);
+                let t178 = t159 * t41;
+                let t179 = A::mul_add(forearm_v_vx, forearm_v_vx, t178);
+                let t180 = t177 - t179;
+                let t181 = t159 * t40;
+                let t182 = A::mul_add(forearm_v_vx, t164, t181);
+                let t183 = A::mul_add(t7, t159, t182);
+                let t184 = t166 - t175;
+                let t185 = t171 + t180;
+                let t186 = t173 + t183;
+                let t187 = A::mul_add(forearm_v_wz, t164, t56);
+                let t188 = t57 - t187;
+                let t189 = forearm_v_wx * forearm_v_vx;
+                let t190 = A::mul_add(forearm_v_wz, t159, t189);
+                let t191 = forearm_v_wz * t41;
+                let t192 = A::mul_add(forearm_v_wx, forearm_v_vx, -t191);
+                let t193 = t190 - t192;
+                let t194 = A::mul_add(forearm_v_wx, t164, -t54);
+                let t195 = A::mul_add(-forearm_v_wy, t159, t194);
+                let t196 = A::mul_add(-forearm_a_wz, 0.002f64, t184); // 2.0000e-3 = forearm I_xx
+                let t197 = A::mul_add(-t160, 0.1f64, t185); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t198 = A::mul_add(forearm_a_wx, 0.020000000000000004f64, t186); // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t199 = t188 - forearm_a_vz;
+                let t200 = A::mul_add(forearm_a_wx, 0.1f64, t193); // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t201 = t160 + t195;
+                (t161, t162, t164, t196, t197, t198, t199, t200, t201)
             };
-            let t216 = {
+            let t217 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t201 = A::mul_add(c_elbow, t198, -t61);
-                let t202 = A::mul_add(s_elbow, t200, t62);
-                let t203 = t201 + t202;
-                let t204 = A::mul_add(s_elbow, t198, t57);
-                let t205 = A::mul_add(c_elbow, t200, -t58);
-                let t206 = t205 - t204;
-                let t207 = A::mul_add(c_elbow, t195, -t66);
-                let t208 = A::mul_add(s_elbow, t197, t67);
-                let t209 = t207 + t208;
-                let t210 = t199 * 0.479425538604203f64;
-                let t211 = A::mul_add(t203, 0.8775825618903728f64, -t210);
-                let t212 = t196 * 0.8775825618903728f64;
-                let t213 = A::mul_add(t209, 0.479425538604203f64, t212);
-                let t214 = t206 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t215 = A::mul_add(t211, 0.05f64, -t214); // 5.0000e-2 = joint elbow origin z
-                let t216 = t213 + t215;
-                t216
+                let t202 = A::mul_add(c_elbow, t199, -t63);
+                let t203 = A::mul_add(s_elbow, t201, t64);
+                let t204 = t202 + t203;
+                let t205 = A::mul_add(s_elbow, t199, t59);
+                let t206 = A::mul_add(c_elbow, t201, -t60);
+                let t207 = t206 - t205;
+                let t208 = A::mul_add(c_elbow, t196, -t68);
+                let t209 = A::mul_add(s_elbow, t198, t69);
+                let t210 = t208 + t209;
+                let t211 = t200 * 0.479425538604203f64;
+                let t212 = A::mul_add(t204, 0.8775825618903728f64, -t211);
+                let t213 = t197 * 0.8775825618903728f64;
+                let t214 = A::mul_add(t210, 0.479425538604203f64, t213);
+                let t215 = t207 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t216 = A::mul_add(t212, 0.05f64, -t215); // 5.0000e-2 = joint elbow origin z
+                let t217 = t214 + t216;
+                t217
             };
-            let (t221, t222, t223, t224) = {
+            let (t222, t223, t224, t225) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t217 = A::mul_add(-forearm_v_wz, 0.020000000000000004f64, t38); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t218 = A::mul_add(forearm_v_wx, 0.020000000000000004f64, -t34); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t219 = A::mul_add(t7, 0.1f64, t217); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t220 = A::mul_add(-forearm_v_wy, 0.1f64, t40); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t221 = A::mul_add(-forearm_v_wz, 0.002f64, t219); // 2.0000e-3 = forearm I_xx
-                let t222 = A::mul_add(forearm_v_wx, 0.020000000000000004f64, t218); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t223 = t220 - forearm_v_vz;
-                let t224 = A::mul_add(forearm_v_wx, 0.1f64, t162); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                (t221, t222, t223, t224)
+                let t218 = t39 - t34;
+                let t219 = t162 - t33;
+                let t220 = t218 + t36;
+                let t221 = t41 - t37;
+                let t222 = t220 - t161;
+                let t223 = t162 + t219;
+                let t224 = t221 - forearm_v_vz;
+                let t225 = t164 + t164;
+                (t222, t223, t224, t225)
             };
-            let t233 = {
+            let t234 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t225 = c_elbow * t223;
-                let t226 = s_elbow * t223;
-                let t227 = s_elbow * t222;
-                let t228 = A::mul_add(c_elbow, t221, t227);
-                let t229 = t224 * 0.479425538604203f64;
-                let t230 = A::mul_add(t225, 0.8775825618903728f64, -t229);
-                let t231 = t226 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t232 = A::mul_add(t230, 0.05f64, t231); // 5.0000e-2 = joint elbow origin z
-                let t233 = A::mul_add(t228, 0.479425538604203f64, t232);
-                t233
+                let t226 = c_elbow * t224;
+                let t227 = s_elbow * t224;
+                let t228 = s_elbow * t223;
+                let t229 = A::mul_add(c_elbow, t222, t228);
+                let t230 = t225 * 0.479425538604203f64;
+                let t231 = A::mul_add(t226, 0.8775825618903728f64, -t230);
+                let t232 = t227 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t233 = A::mul_add(t231, 0.05f64, t232); // 5.0000e-2 = joint elbow origin z
+                let t234 = A::mul_add(t229, 0.479425538604203f64, t233);
+                t234
             };
-            [t75, t216, t29, t196, t156, t233, t139]
+            [t77, t217, t28, t197, t158, t234, t141]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 22> for FixedMerge {

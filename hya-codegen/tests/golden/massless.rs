@@ -377,12 +377,14 @@ const _: () = {
                 t1,
                 t2,
                 tool_a_vz,
+                t4,
                 t6,
                 t7,
                 t9,
                 t11,
                 t12,
                 t13,
+                t14,
                 t16,
                 tool_f_ny,
                 tool_f_nz,
@@ -415,12 +417,14 @@ const _: () = {
                     t1,
                     t2,
                     tool_a_vz,
+                    t4,
                     t6,
                     t7,
                     t9,
                     t11,
                     t12,
                     t13,
+                    t14,
                     t16,
                     tool_f_ny,
                     tool_f_nz,
@@ -458,9 +462,9 @@ const _: () = {
                 let t37 = A::mul_add(c_roll, t34, -t36);
                 t37
             };
-            let (t39, t40, t49, t50, t51) = {
+            let (t39, t40, t48, t49, t50) = {
                 // ── link `tool`, joint `roll` (base to tip)
-                let t38 = A::mul_add(t1, qd_roll, -t2);
+                let t38 = t4 - t2;
                 let t39 = t1 * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
                 let t40 = tool_v_wy * 0.001f64; // 1.0000e-3 = tool I_zz
                 let t41 = tool_v_wy * t40;
@@ -469,33 +473,32 @@ const _: () = {
                 let t44 = A::mul_add(t1, t39, -t43);
                 let t45 = t42 - t44;
                 let t46 = A::mul_add(qd_roll, t40, -t16);
-                let t47 = qd_roll * t39;
-                let t48 = A::mul_add(t1, t11, -t47);
-                let t49 = A::mul_add(-tool_a_vz, 0.08f64, t45); // 8.0000e-2 = tool m·c_z or tool c_z
-                let t50 = A::mul_add(-t6, 0.0104f64, t46); // 1.0400e-2 = tool I_xx or tool I_yy
-                let t51 = A::mul_add(t38, 0.001f64, t48); // 1.0000e-3 = tool I_zz
-                (t39, t40, t49, t50, t51)
+                let t47 = A::mul_add(-qd_roll, t39, t14);
+                let t48 = A::mul_add(-tool_a_vz, 0.08f64, t45); // 8.0000e-2 = tool m·c_z or tool c_z
+                let t49 = A::mul_add(-t6, 0.0104f64, t46); // 1.0400e-2 = tool I_xx or tool I_yy
+                let t50 = A::mul_add(t38, 0.001f64, t47); // 1.0000e-3 = tool I_zz
+                (t39, t40, t48, t49, t50)
             };
-            let t54 = {
+            let t53 = {
                 // ── link `tool`, joint `roll` (tip to base)
-                let t52 = A::mul_add(c_roll, t50, -t19);
-                let t53 = A::mul_add(s_roll, t51, t20);
-                let t54 = t52 - t53;
-                t54
+                let t51 = A::mul_add(c_roll, t49, -t19);
+                let t52 = A::mul_add(s_roll, t50, t20);
+                let t53 = t51 - t52;
+                t53
             };
-            let t56 = {
+            let t55 = {
                 // ── link `tool`, joint `roll` (base to tip)
-                let t55 = A::mul_add(t1, 0.001f64, -t39); // 1.0000e-3 = tool I_zz
-                let t56 = A::mul_add(-t1, 0.0104f64, t55); // 1.0400e-2 = tool I_xx or tool I_yy
-                t56
+                let t54 = t13 - t39;
+                let t55 = t54 - t39;
+                t55
             };
-            let t58 = {
+            let t57 = {
                 // ── link `tool`, joint `roll` (tip to base)
-                let t57 = s_roll * t40;
-                let t58 = A::mul_add(c_roll, t56, t57);
-                t58
+                let t56 = s_roll * t40;
+                let t57 = A::mul_add(c_roll, t55, t56);
+                t57
             };
-            [-t18, t54, t7, t49, t37, t58, t29]
+            [-t18, t53, t7, t48, t37, t57, t29]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 12> for Massless {

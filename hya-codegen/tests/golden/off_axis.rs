@@ -398,7 +398,7 @@ const _: () = {
                 let t8 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
                 (c_tilted, t0, t1, t2, t3, c_skewed, t4, t5, t6, t7, t8)
             };
-            let (first_a_vx, first_a_vy, first_a_vz, t13) = {
+            let (first_a_vx, first_a_vy, first_a_vz, t12, t14) = {
                 // ── link `first`, joint `tilted` (base to tip)
                 let t9 = t1 * 9.371850958322195f64;
                 let first_a_vx = A::mul_add(t0, 2.899053227347741f64, t9);
@@ -406,80 +406,266 @@ const _: () = {
                 let first_a_vy = A::mul_add(c_tilted, 2.899053227347741f64, t10);
                 let t11 = t2 * 2.899053227347741f64;
                 let first_a_vz = A::mul_add(t3, 9.371850958322195f64, -t11);
-                let t12 = first_a_vx * 0.03f64; // 3.0000e-2 = first m·c_y
-                let t13 = A::mul_add(first_a_vy, 0.15000000000000002f64, -t12); // 1.5000e-1 = first m·c_x
-                (first_a_vx, first_a_vy, first_a_vz, t13)
+                let t12 = first_a_vz * 0.03f64; // 3.0000e-2 = first m·c_y
+                let t13 = first_a_vx * 0.03f64; // 3.0000e-2 = first m·c_y
+                let t14 = A::mul_add(first_a_vy, 0.15000000000000002f64, -t13); // 1.5000e-1 = first m·c_x
+                (first_a_vx, first_a_vy, first_a_vz, t12, t14)
             };
-            let (second_a_vx, second_a_vy, second_a_vz, t28, second_f_ny, second_f_nz) = {
+            let (second_a_vx, second_a_vy, second_a_vz, t29, second_f_ny, second_f_nz) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t14 = first_a_vy * 0.18298657129998708f64;
-                let t15 = A::mul_add(first_a_vx, 0.90270109637546f64, -t14);
-                let t16 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t15);
-                let t17 = first_a_vy * 0.9800665778412416f64;
-                let t18 = A::mul_add(first_a_vx, 0.19866933079506122f64, t17);
-                let t19 = first_a_vy * 0.07736548146578168f64;
-                let t20 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t19);
-                let t21 = A::mul_add(first_a_vz, 0.9210609940028851f64, t20);
-                let t22 = t4 * t18;
-                let t23 = A::mul_add(c_skewed, t16, -t22);
-                let second_a_vx = A::mul_add(-t5, t21, t23);
-                let t24 = t6 * t18;
-                let t25 = A::mul_add(t4, t16, t24);
-                let second_a_vy = A::mul_add(t7, t21, t25);
-                let t26 = t7 * t18;
-                let t27 = A::mul_add(t5, t16, t26);
-                let second_a_vz = A::mul_add(t8, t21, t27);
-                let t28 = second_a_vy * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
-                let t29 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let second_f_ny = A::mul_add(second_a_vx, 0.01f64, -t29); // 1.0000e-2 = second m·c_z or second c_z
+                let t15 = first_a_vy * 0.18298657129998708f64;
+                let t16 = A::mul_add(first_a_vx, 0.90270109637546f64, -t15);
+                let t17 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t16);
+                let t18 = first_a_vy * 0.9800665778412416f64;
+                let t19 = A::mul_add(first_a_vx, 0.19866933079506122f64, t18);
+                let t20 = first_a_vy * 0.07736548146578168f64;
+                let t21 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t20);
+                let t22 = A::mul_add(first_a_vz, 0.9210609940028851f64, t21);
+                let t23 = t4 * t19;
+                let t24 = A::mul_add(c_skewed, t17, -t23);
+                let second_a_vx = A::mul_add(-t5, t22, t24);
+                let t25 = t6 * t19;
+                let t26 = A::mul_add(t4, t17, t25);
+                let second_a_vy = A::mul_add(t7, t22, t26);
+                let t27 = t7 * t19;
+                let t28 = A::mul_add(t5, t17, t27);
+                let second_a_vz = A::mul_add(t8, t22, t28);
+                let t29 = second_a_vy * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
+                let t30 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let second_f_ny = A::mul_add(second_a_vx, 0.01f64, -t30); // 1.0000e-2 = second m·c_z or second c_z
                 let second_f_nz = second_a_vy * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                (second_a_vx, second_a_vy, second_a_vz, t28, second_f_ny, second_f_nz)
+                (second_a_vx, second_a_vy, second_a_vz, t29, second_f_ny, second_f_nz)
             };
             let (g_skewed, first_f_nx, first_f_nz) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t30 = second_f_nz * 0.6f64;
-                let g_skewed = A::mul_add(second_f_ny, 0.8f64, -t30);
-                let t31 = t4 * second_a_vy;
-                let t32 = A::mul_add(c_skewed, second_a_vx, t31);
-                let t33 = A::mul_add(t5, second_a_vz, t32);
-                let t34 = t4 * second_a_vx;
-                let t35 = A::mul_add(t6, second_a_vy, -t34);
-                let t36 = A::mul_add(t7, second_a_vz, t35);
-                let t37 = t5 * second_a_vx;
-                let t38 = A::mul_add(t7, second_a_vy, -t37);
-                let t39 = A::mul_add(t8, second_a_vz, t38);
-                let t40 = c_skewed * t28;
-                let t41 = A::mul_add(t4, second_f_ny, -t40);
-                let t42 = A::mul_add(t5, second_f_nz, t41);
-                let t43 = t6 * second_f_ny;
-                let t44 = A::mul_add(t4, t28, t43);
-                let t45 = A::mul_add(t7, second_f_nz, t44);
-                let t46 = t7 * second_f_ny;
-                let t47 = A::mul_add(t5, t28, t46);
-                let t48 = A::mul_add(t8, second_f_nz, t47);
-                let t49 = t33 * 0.18298657129998708f64;
-                let t50 = A::mul_add(t36, 0.9800665778412416f64, -t49);
-                let t51 = A::mul_add(-t39, 0.07736548146578168f64, t50);
-                let t52 = t45 * 0.19866933079506122f64;
-                let t53 = A::mul_add(t42, 0.90270109637546f64, t52);
-                let t54 = A::mul_add(t48, 0.3816559020950483f64, t53);
-                let t55 = t42 * 0.3894183423086505f64;
-                let t56 = A::mul_add(t48, 0.9210609940028851f64, -t55);
-                let t57 = A::mul_add(t51, 0.2f64, t56); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let first_f_nx = A::mul_add(first_a_vz, 0.03f64, t54); // 3.0000e-2 = first m·c_y
-                let first_f_nz = t13 + t57;
+                let t31 = second_f_nz * 0.6f64;
+                let g_skewed = A::mul_add(second_f_ny, 0.8f64, -t31);
+                let t32 = t4 * second_a_vy;
+                let t33 = A::mul_add(c_skewed, second_a_vx, t32);
+                let t34 = A::mul_add(t5, second_a_vz, t33);
+                let t35 = t4 * second_a_vx;
+                let t36 = A::mul_add(t6, second_a_vy, -t35);
+                let t37 = A::mul_add(t7, second_a_vz, t36);
+                let t38 = t5 * second_a_vx;
+                let t39 = A::mul_add(t7, second_a_vy, -t38);
+                let t40 = A::mul_add(t8, second_a_vz, t39);
+                let t41 = c_skewed * t29;
+                let t42 = A::mul_add(t4, second_f_ny, -t41);
+                let t43 = A::mul_add(t5, second_f_nz, t42);
+                let t44 = t6 * second_f_ny;
+                let t45 = A::mul_add(t4, t29, t44);
+                let t46 = A::mul_add(t7, second_f_nz, t45);
+                let t47 = t7 * second_f_ny;
+                let t48 = A::mul_add(t5, t29, t47);
+                let t49 = A::mul_add(t8, second_f_nz, t48);
+                let t50 = t34 * 0.18298657129998708f64;
+                let t51 = A::mul_add(t37, 0.9800665778412416f64, -t50);
+                let t52 = A::mul_add(-t40, 0.07736548146578168f64, t51);
+                let t53 = t46 * 0.19866933079506122f64;
+                let t54 = A::mul_add(t43, 0.90270109637546f64, t53);
+                let t55 = A::mul_add(t49, 0.3816559020950483f64, t54);
+                let t56 = t43 * 0.3894183423086505f64;
+                let t57 = A::mul_add(t49, 0.9210609940028851f64, -t56);
+                let t58 = A::mul_add(t52, 0.2f64, t57); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let first_f_nx = t12 + t55;
+                let first_f_nz = t14 + t58;
                 (g_skewed, first_f_nx, first_f_nz)
             };
             let g_tilted = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t58 = first_f_nz * 0.8f64;
-                let g_tilted = A::mul_add(first_f_nx, 0.6f64, t58);
+                let t59 = first_f_nz * 0.8f64;
+                let g_tilted = A::mul_add(first_f_nx, 0.6f64, t59);
                 g_tilted
             };
             [g_tilted, g_skewed]
         }
     }
     impl Kernel<kernels::VelocityTerms, 2, 2, 2> for OffAxis {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
+            let (qd_tilted, qd_skewed, c_skewed, t0, t1, t2, t3, t4) = {
+                let q_skewed = q[1];
+                let qd_tilted = qd[0];
+                let qd_skewed = qd[1];
+                let [(s_skewed, c_skewed)] = A::sin_cos_lanes([q_skewed]);
+                let t0 = s_skewed * 0.6f64;
+                let t1 = s_skewed * 0.8f64;
+                let t2 = A::mul_add(
+                    c_skewed,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t3 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
+                let t4 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
+                (qd_tilted, qd_skewed, c_skewed, t0, t1, t2, t3, t4)
+            };
+            let (first_v_wx, first_v_wz, t6, t7) = {
+                // ── link `first`, joint `tilted` (base to tip)
+                let first_v_wx = qd_tilted * 0.6f64;
+                let first_v_wz = qd_tilted * 0.8f64;
+                let t5 = first_v_wx * 0.003f64; // 3.0000e-3 = first I_xy
+                let t6 = first_v_wz * t5;
+                let t7 = first_v_wx * t5;
+                (first_v_wx, first_v_wz, t6, t7)
+            };
+            let (
+                second_f_nx,
+                second_f_ny,
+                second_f_nz,
+                second_f_fx,
+                second_f_fy,
+                second_f_fz,
+            ) = {
+                // ── link `second`, joint `skewed` (base to tip)
+                let t8 = qd_skewed * 0.8f64;
+                let t9 = qd_skewed * 0.6f64;
+                let t10 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t11 = first_v_wz * 0.3894183423086505f64;
+                let t12 = A::mul_add(first_v_wx, 0.90270109637546f64, -t11);
+                let t13 = first_v_wx * 0.19866933079506122f64;
+                let t14 = first_v_wz * 0.9210609940028851f64;
+                let t15 = A::mul_add(first_v_wx, 0.3816559020950483f64, t14);
+                let t16 = t10 * 0.18298657129998708f64;
+                let t17 = t10 * 0.9800665778412416f64;
+                let t18 = t10 * 0.07736548146578168f64;
+                let t19 = t0 * t13;
+                let t20 = A::mul_add(c_skewed, t12, -t19);
+                let second_v_wx = A::mul_add(-t1, t15, t20);
+                let t21 = t2 * t13;
+                let t22 = A::mul_add(t0, t12, t21);
+                let t23 = A::mul_add(t3, t15, t22);
+                let t24 = t3 * t13;
+                let t25 = A::mul_add(t1, t12, t24);
+                let t26 = A::mul_add(t4, t15, t25);
+                let t27 = t0 * t17;
+                let t28 = A::mul_add(c_skewed, t16, t27);
+                let second_v_vx = A::mul_add(t1, t18, -t28);
+                let t29 = t0 * t16;
+                let t30 = A::mul_add(t2, t17, -t29);
+                let second_v_vy = A::mul_add(-t3, t18, t30);
+                let t31 = t1 * t16;
+                let t32 = A::mul_add(t3, t17, -t31);
+                let second_v_vz = A::mul_add(-t4, t18, t32);
+                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t23);
+                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t26);
+                let t33 = second_v_wz * t8;
+                let t34 = A::mul_add(second_v_wy, t9, t33);
+                let second_a_wy = second_v_wx * t9;
+                let second_a_wz = second_v_wx * t8;
+                let t35 = second_v_vz * t8;
+                let t36 = A::mul_add(second_v_vy, t9, t35);
+                let second_a_vy = second_v_vx * t9;
+                let second_a_vz = second_v_vx * t8;
+                let t37 = second_a_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t38 = A::mul_add(t34, 0.0040999999999999995f64, t37); // 4.1000e-3 = second I_xx
+                let t39 = second_a_wz * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t40 = A::mul_add(t34, 0.0015f64, t39); // 1.5000e-3 = second I_xz
+                let t41 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t42 = A::mul_add(t36, 0.01f64, t41); // 1.0000e-2 = second m·c_z or second c_z
+                let t43 = second_a_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t44 = A::mul_add(t34, 0.01f64, t43); // 1.0000e-2 = second m·c_z or second c_z
+                let t45 = second_a_wy * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t46 = A::mul_add(second_a_vy, 0.01f64, t38); // 1.0000e-2 = second m·c_z or second c_z
+                let t47 = A::mul_add(second_a_wy, 0.037599999999999995f64, -t42); // 3.7600e-2 = second I_yy
+                let t48 = A::mul_add(second_a_vy, 0.15f64, t40); // 1.5000e-1 = second m·c_x or second c_x
+                let t49 = A::mul_add(second_a_wy, 0.01f64, -t36); // 1.0000e-2 = second m·c_z or second c_z
+                let t50 = A::mul_add(second_v_vx, t9, t44);
+                let t51 = A::mul_add(second_v_vx, t8, -t45);
+                let t52 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t53 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t52); // 4.1000e-3 = second I_xx
+                let t54 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t55 = A::mul_add(second_v_wz, 0.0375f64, -t54); // 3.7500e-2 = second I_zz
+                let t56 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t57 = A::mul_add(second_v_vx, 0.01f64, -t56); // 1.0000e-2 = second m·c_z or second c_z
+                let t58 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t59 = A::mul_add(second_v_wx, 0.01f64, -t58); // 1.0000e-2 = second m·c_z or second c_z
+                let t60 = A::mul_add(-second_v_vy, 0.01f64, t53); // 1.0000e-2 = second m·c_z or second c_z
+                let t61 = A::mul_add(second_v_wy, 0.037599999999999995f64, t57); // 3.7600e-2 = second I_yy
+                let t62 = A::mul_add(second_v_vy, 0.15f64, t55); // 1.5000e-1 = second m·c_x or second c_x
+                let t63 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
+                let t64 = second_v_vy - t59;
+                let t65 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
+                let t66 = second_v_wz * t61;
+                let t67 = A::mul_add(second_v_wy, t62, -t66);
+                let t68 = second_v_wx * t62;
+                let t69 = A::mul_add(second_v_wz, t60, -t68);
+                let t70 = second_v_wy * t60;
+                let t71 = A::mul_add(second_v_wx, t61, -t70);
+                let t72 = second_v_vz * t64;
+                let t73 = A::mul_add(second_v_vy, t65, -t72);
+                let t74 = second_v_vx * t65;
+                let t75 = A::mul_add(second_v_vz, t63, -t74);
+                let t76 = second_v_vy * t63;
+                let t77 = A::mul_add(second_v_vx, t64, -t76);
+                let t78 = t67 + t73;
+                let t79 = t69 + t75;
+                let t80 = t71 + t77;
+                let t81 = second_v_wz * t64;
+                let t82 = A::mul_add(second_v_wy, t65, -t81);
+                let t83 = second_v_wx * t65;
+                let t84 = A::mul_add(second_v_wz, t63, -t83);
+                let t85 = second_v_wy * t63;
+                let t86 = A::mul_add(second_v_wx, t64, -t85);
+                let second_f_nx = t78 - t46;
+                let second_f_ny = t47 + t79;
+                let second_f_nz = t48 + t80;
+                let second_f_fx = t49 + t82;
+                let second_f_fy = t50 + t84;
+                let second_f_fz = t51 + t86;
+                (
+                    second_f_nx,
+                    second_f_ny,
+                    second_f_nz,
+                    second_f_fx,
+                    second_f_fy,
+                    second_f_fz,
+                )
+            };
+            let (cv_skewed, first_f_nx, first_f_nz) = {
+                // ── link `second`, joint `skewed` (tip to base)
+                let t87 = second_f_nz * 0.6f64;
+                let cv_skewed = A::mul_add(second_f_ny, 0.8f64, -t87);
+                let t88 = t0 * second_f_fy;
+                let t89 = A::mul_add(c_skewed, second_f_fx, t88);
+                let t90 = A::mul_add(t1, second_f_fz, t89);
+                let t91 = t0 * second_f_fx;
+                let t92 = A::mul_add(t2, second_f_fy, -t91);
+                let t93 = A::mul_add(t3, second_f_fz, t92);
+                let t94 = t1 * second_f_fx;
+                let t95 = A::mul_add(t3, second_f_fy, -t94);
+                let t96 = A::mul_add(t4, second_f_fz, t95);
+                let t97 = t0 * second_f_ny;
+                let t98 = A::mul_add(c_skewed, second_f_nx, t97);
+                let t99 = A::mul_add(t1, second_f_nz, t98);
+                let t100 = t0 * second_f_nx;
+                let t101 = A::mul_add(t2, second_f_ny, -t100);
+                let t102 = A::mul_add(t3, second_f_nz, t101);
+                let t103 = t1 * second_f_nx;
+                let t104 = A::mul_add(t3, second_f_ny, -t103);
+                let t105 = A::mul_add(t4, second_f_nz, t104);
+                let t106 = t90 * 0.18298657129998708f64;
+                let t107 = A::mul_add(t93, 0.9800665778412416f64, -t106);
+                let t108 = A::mul_add(-t96, 0.07736548146578168f64, t107);
+                let t109 = t102 * 0.19866933079506122f64;
+                let t110 = A::mul_add(t99, 0.90270109637546f64, t109);
+                let t111 = A::mul_add(t105, 0.3816559020950483f64, t110);
+                let t112 = t99 * 0.3894183423086505f64;
+                let t113 = A::mul_add(t105, 0.9210609940028851f64, -t112);
+                let t114 = A::mul_add(t108, 0.2f64, t113); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let first_f_nx = t6 + t111;
+                let first_f_nz = t114 - t7;
+                (cv_skewed, first_f_nx, first_f_nz)
+            };
+            let cv_tilted = {
+                // ── link `first`, joint `tilted` (tip to base)
+                let t115 = first_f_nz * 0.8f64;
+                let cv_tilted = A::mul_add(first_f_nx, 0.6f64, t115);
+                cv_tilted
+            };
+            [cv_tilted, cv_skewed]
+        }
+    }
+    impl Kernel<kernels::CoriolisTranspose, 2, 2, 2> for OffAxis {
         #[inline(always)]
         fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
             let (qd_tilted, qd_skewed, c_skewed, t0, t1, t2, t3, t4) = {
@@ -506,188 +692,6 @@ const _: () = {
                 (first_v_wx, first_v_wz, t5)
             };
             let (
-                second_f_nx,
-                second_f_ny,
-                second_f_nz,
-                second_f_fx,
-                second_f_fy,
-                second_f_fz,
-            ) = {
-                // ── link `second`, joint `skewed` (base to tip)
-                let t6 = qd_skewed * 0.8f64;
-                let t7 = qd_skewed * 0.6f64;
-                let t8 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t9 = first_v_wz * 0.3894183423086505f64;
-                let t10 = A::mul_add(first_v_wx, 0.90270109637546f64, -t9);
-                let t11 = first_v_wx * 0.19866933079506122f64;
-                let t12 = first_v_wz * 0.9210609940028851f64;
-                let t13 = A::mul_add(first_v_wx, 0.3816559020950483f64, t12);
-                let t14 = t8 * 0.18298657129998708f64;
-                let t15 = t8 * 0.9800665778412416f64;
-                let t16 = t8 * 0.07736548146578168f64;
-                let t17 = t0 * t11;
-                let t18 = A::mul_add(c_skewed, t10, -t17);
-                let second_v_wx = A::mul_add(-t1, t13, t18);
-                let t19 = t2 * t11;
-                let t20 = A::mul_add(t0, t10, t19);
-                let t21 = A::mul_add(t3, t13, t20);
-                let t22 = t3 * t11;
-                let t23 = A::mul_add(t1, t10, t22);
-                let t24 = A::mul_add(t4, t13, t23);
-                let t25 = t0 * t15;
-                let t26 = A::mul_add(c_skewed, t14, t25);
-                let second_v_vx = A::mul_add(t1, t16, -t26);
-                let t27 = t0 * t14;
-                let t28 = A::mul_add(t2, t15, -t27);
-                let second_v_vy = A::mul_add(-t3, t16, t28);
-                let t29 = t1 * t14;
-                let t30 = A::mul_add(t3, t15, -t29);
-                let second_v_vz = A::mul_add(-t4, t16, t30);
-                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t21);
-                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t24);
-                let t31 = second_v_wz * t6;
-                let t32 = A::mul_add(second_v_wy, t7, t31);
-                let second_a_wy = second_v_wx * t7;
-                let second_a_wz = second_v_wx * t6;
-                let t33 = second_v_vz * t6;
-                let t34 = A::mul_add(second_v_vy, t7, t33);
-                let second_a_vy = second_v_vx * t7;
-                let second_a_vz = second_v_vx * t6;
-                let t35 = second_a_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t36 = A::mul_add(t32, 0.0040999999999999995f64, t35); // 4.1000e-3 = second I_xx
-                let t37 = second_a_wz * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t38 = A::mul_add(t32, 0.0015f64, t37); // 1.5000e-3 = second I_xz
-                let t39 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t40 = A::mul_add(t34, 0.01f64, t39); // 1.0000e-2 = second m·c_z or second c_z
-                let t41 = second_a_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t42 = A::mul_add(t32, 0.01f64, t41); // 1.0000e-2 = second m·c_z or second c_z
-                let t43 = second_a_wy * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t44 = A::mul_add(second_a_vy, 0.01f64, t36); // 1.0000e-2 = second m·c_z or second c_z
-                let t45 = A::mul_add(second_a_wy, 0.037599999999999995f64, -t40); // 3.7600e-2 = second I_yy
-                let t46 = A::mul_add(second_a_vy, 0.15f64, t38); // 1.5000e-1 = second m·c_x or second c_x
-                let t47 = A::mul_add(second_a_wy, 0.01f64, -t34); // 1.0000e-2 = second m·c_z or second c_z
-                let t48 = A::mul_add(second_v_vx, t7, t42);
-                let t49 = A::mul_add(second_v_vx, t6, -t43);
-                let t50 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t51 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t50); // 4.1000e-3 = second I_xx
-                let t52 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t53 = A::mul_add(second_v_wz, 0.0375f64, -t52); // 3.7500e-2 = second I_zz
-                let t54 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t55 = A::mul_add(second_v_vx, 0.01f64, -t54); // 1.0000e-2 = second m·c_z or second c_z
-                let t56 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t57 = A::mul_add(second_v_wx, 0.01f64, -t56); // 1.0000e-2 = second m·c_z or second c_z
-                let t58 = A::mul_add(-second_v_vy, 0.01f64, t51); // 1.0000e-2 = second m·c_z or second c_z
-                let t59 = A::mul_add(second_v_wy, 0.037599999999999995f64, t55); // 3.7600e-2 = second I_yy
-                let t60 = A::mul_add(second_v_vy, 0.15f64, t53); // 1.5000e-1 = second m·c_x or second c_x
-                let t61 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t62 = second_v_vy - t57;
-                let t63 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t64 = second_v_wz * t59;
-                let t65 = A::mul_add(second_v_wy, t60, -t64);
-                let t66 = second_v_wx * t60;
-                let t67 = A::mul_add(second_v_wz, t58, -t66);
-                let t68 = second_v_wy * t58;
-                let t69 = A::mul_add(second_v_wx, t59, -t68);
-                let t70 = second_v_vz * t62;
-                let t71 = A::mul_add(second_v_vy, t63, -t70);
-                let t72 = second_v_vx * t63;
-                let t73 = A::mul_add(second_v_vz, t61, -t72);
-                let t74 = second_v_vy * t61;
-                let t75 = A::mul_add(second_v_vx, t62, -t74);
-                let t76 = t65 + t71;
-                let t77 = t67 + t73;
-                let t78 = t69 + t75;
-                let t79 = second_v_wz * t62;
-                let t80 = A::mul_add(second_v_wy, t63, -t79);
-                let t81 = second_v_wx * t63;
-                let t82 = A::mul_add(second_v_wz, t61, -t81);
-                let t83 = second_v_wy * t61;
-                let t84 = A::mul_add(second_v_wx, t62, -t83);
-                let second_f_nx = t76 - t44;
-                let second_f_ny = t45 + t77;
-                let second_f_nz = t46 + t78;
-                let second_f_fx = t47 + t80;
-                let second_f_fy = t48 + t82;
-                let second_f_fz = t49 + t84;
-                (
-                    second_f_nx,
-                    second_f_ny,
-                    second_f_nz,
-                    second_f_fx,
-                    second_f_fy,
-                    second_f_fz,
-                )
-            };
-            let (cv_skewed, first_f_nx, first_f_nz) = {
-                // ── link `second`, joint `skewed` (tip to base)
-                let t85 = second_f_nz * 0.6f64;
-                let cv_skewed = A::mul_add(second_f_ny, 0.8f64, -t85);
-                let t86 = t0 * second_f_fy;
-                let t87 = A::mul_add(c_skewed, second_f_fx, t86);
-                let t88 = A::mul_add(t1, second_f_fz, t87);
-                let t89 = t0 * second_f_fx;
-                let t90 = A::mul_add(t2, second_f_fy, -t89);
-                let t91 = A::mul_add(t3, second_f_fz, t90);
-                let t92 = t1 * second_f_fx;
-                let t93 = A::mul_add(t3, second_f_fy, -t92);
-                let t94 = A::mul_add(t4, second_f_fz, t93);
-                let t95 = t0 * second_f_ny;
-                let t96 = A::mul_add(c_skewed, second_f_nx, t95);
-                let t97 = A::mul_add(t1, second_f_nz, t96);
-                let t98 = t0 * second_f_nx;
-                let t99 = A::mul_add(t2, second_f_ny, -t98);
-                let t100 = A::mul_add(t3, second_f_nz, t99);
-                let t101 = t1 * second_f_nx;
-                let t102 = A::mul_add(t3, second_f_ny, -t101);
-                let t103 = A::mul_add(t4, second_f_nz, t102);
-                let t104 = t88 * 0.18298657129998708f64;
-                let t105 = A::mul_add(t91, 0.9800665778412416f64, -t104);
-                let t106 = A::mul_add(-t94, 0.07736548146578168f64, t105);
-                let t107 = t100 * 0.19866933079506122f64;
-                let t108 = A::mul_add(t97, 0.90270109637546f64, t107);
-                let t109 = A::mul_add(t103, 0.3816559020950483f64, t108);
-                let t110 = t97 * 0.3894183423086505f64;
-                let t111 = A::mul_add(t103, 0.9210609940028851f64, -t110);
-                let t112 = A::mul_add(t106, 0.2f64, t111); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let first_f_nx = A::mul_add(first_v_wz, t5, t109);
-                let first_f_nz = A::mul_add(-first_v_wx, t5, t112);
-                (cv_skewed, first_f_nx, first_f_nz)
-            };
-            let cv_tilted = {
-                // ── link `first`, joint `tilted` (tip to base)
-                let t113 = first_f_nz * 0.8f64;
-                let cv_tilted = A::mul_add(first_f_nx, 0.6f64, t113);
-                cv_tilted
-            };
-            [cv_tilted, cv_skewed]
-        }
-    }
-    impl Kernel<kernels::CoriolisTranspose, 2, 2, 2> for OffAxis {
-        #[inline(always)]
-        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
-            let (qd_tilted, qd_skewed, c_skewed, t0, t1, t2, t3, t4) = {
-                let q_skewed = q[1];
-                let qd_tilted = qd[0];
-                let qd_skewed = qd[1];
-                let [(s_skewed, c_skewed)] = A::sin_cos_lanes([q_skewed]);
-                let t0 = s_skewed * 0.6f64;
-                let t1 = s_skewed * 0.8f64;
-                let t2 = A::mul_add(
-                    c_skewed,
-                    0.3599999999999999f64,
-                    0.6400000000000001f64,
-                );
-                let t3 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
-                let t4 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
-                (qd_tilted, qd_skewed, c_skewed, t0, t1, t2, t3, t4)
-            };
-            let (first_v_wx, first_v_wz) = {
-                // ── link `first`, joint `tilted` (base to tip)
-                let first_v_wx = qd_tilted * 0.6f64;
-                let first_v_wz = qd_tilted * 0.8f64;
-                (first_v_wx, first_v_wz)
-            };
-            let (
                 second_v_wx,
                 second_v_vx,
                 second_v_vy,
@@ -702,48 +706,48 @@ const _: () = {
                 second_f_fz,
             ) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t5 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t6 = first_v_wz * 0.3894183423086505f64;
-                let t7 = A::mul_add(first_v_wx, 0.90270109637546f64, -t6);
-                let t8 = first_v_wx * 0.19866933079506122f64;
-                let t9 = first_v_wz * 0.9210609940028851f64;
-                let t10 = A::mul_add(first_v_wx, 0.3816559020950483f64, t9);
-                let t11 = t5 * 0.18298657129998708f64;
-                let t12 = t5 * 0.9800665778412416f64;
-                let t13 = t5 * 0.07736548146578168f64;
-                let t14 = t0 * t8;
-                let t15 = A::mul_add(c_skewed, t7, -t14);
-                let second_v_wx = A::mul_add(-t1, t10, t15);
-                let t16 = t2 * t8;
-                let t17 = A::mul_add(t0, t7, t16);
-                let t18 = A::mul_add(t3, t10, t17);
-                let t19 = t3 * t8;
-                let t20 = A::mul_add(t1, t7, t19);
-                let t21 = A::mul_add(t4, t10, t20);
-                let t22 = t0 * t12;
-                let t23 = A::mul_add(c_skewed, t11, t22);
-                let second_v_vx = A::mul_add(t1, t13, -t23);
-                let t24 = t0 * t11;
-                let t25 = A::mul_add(t2, t12, -t24);
-                let second_v_vy = A::mul_add(-t3, t13, t25);
-                let t26 = t1 * t11;
-                let t27 = A::mul_add(t3, t12, -t26);
-                let second_v_vz = A::mul_add(-t4, t13, t27);
-                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t18);
-                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t21);
-                let t28 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t29 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t28); // 4.1000e-3 = second I_xx
-                let t30 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t31 = A::mul_add(second_v_wz, 0.0375f64, -t30); // 3.7500e-2 = second I_zz
-                let t32 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t33 = A::mul_add(second_v_vx, 0.01f64, -t32); // 1.0000e-2 = second m·c_z or second c_z
-                let t34 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t35 = A::mul_add(second_v_wx, 0.01f64, -t34); // 1.0000e-2 = second m·c_z or second c_z
-                let second_f_nx = A::mul_add(-second_v_vy, 0.01f64, t29); // 1.0000e-2 = second m·c_z or second c_z
-                let second_f_ny = A::mul_add(second_v_wy, 0.037599999999999995f64, t33); // 3.7600e-2 = second I_yy
-                let second_f_nz = A::mul_add(second_v_vy, 0.15f64, t31); // 1.5000e-1 = second m·c_x or second c_x
+                let t6 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t7 = first_v_wz * 0.3894183423086505f64;
+                let t8 = A::mul_add(first_v_wx, 0.90270109637546f64, -t7);
+                let t9 = first_v_wx * 0.19866933079506122f64;
+                let t10 = first_v_wz * 0.9210609940028851f64;
+                let t11 = A::mul_add(first_v_wx, 0.3816559020950483f64, t10);
+                let t12 = t6 * 0.18298657129998708f64;
+                let t13 = t6 * 0.9800665778412416f64;
+                let t14 = t6 * 0.07736548146578168f64;
+                let t15 = t0 * t9;
+                let t16 = A::mul_add(c_skewed, t8, -t15);
+                let second_v_wx = A::mul_add(-t1, t11, t16);
+                let t17 = t2 * t9;
+                let t18 = A::mul_add(t0, t8, t17);
+                let t19 = A::mul_add(t3, t11, t18);
+                let t20 = t3 * t9;
+                let t21 = A::mul_add(t1, t8, t20);
+                let t22 = A::mul_add(t4, t11, t21);
+                let t23 = t0 * t13;
+                let t24 = A::mul_add(c_skewed, t12, t23);
+                let second_v_vx = A::mul_add(t1, t14, -t24);
+                let t25 = t0 * t12;
+                let t26 = A::mul_add(t2, t13, -t25);
+                let second_v_vy = A::mul_add(-t3, t14, t26);
+                let t27 = t1 * t12;
+                let t28 = A::mul_add(t3, t13, -t27);
+                let second_v_vz = A::mul_add(-t4, t14, t28);
+                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t19);
+                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t22);
+                let t29 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t30 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t29); // 4.1000e-3 = second I_xx
+                let t31 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t32 = A::mul_add(second_v_wz, 0.0375f64, -t31); // 3.7500e-2 = second I_zz
+                let t33 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t34 = A::mul_add(second_v_vx, 0.01f64, -t33); // 1.0000e-2 = second m·c_z or second c_z
+                let t35 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t36 = A::mul_add(second_v_wx, 0.01f64, -t35); // 1.0000e-2 = second m·c_z or second c_z
+                let second_f_nx = A::mul_add(-second_v_vy, 0.01f64, t30); // 1.0000e-2 = second m·c_z or second c_z
+                let second_f_ny = A::mul_add(second_v_wy, 0.037599999999999995f64, t34); // 3.7600e-2 = second I_yy
+                let second_f_nz = A::mul_add(second_v_vy, 0.15f64, t32); // 1.5000e-1 = second m·c_x or second c_x
                 let second_f_fx = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let second_f_fy = second_v_vy - t35;
+                let second_f_fy = second_v_vy - t36;
                 let second_f_fz = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
                 (
                     second_v_wx,
@@ -762,50 +766,50 @@ const _: () = {
             };
             let (ct_skewed, first_f_ny) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t36 = second_v_wz * 0.8f64;
-                let t37 = A::mul_add(second_v_wy, 0.6f64, t36);
-                let t38 = second_v_wx * 0.6f64;
-                let t39 = second_v_wx * 0.8f64;
-                let t40 = second_v_vz * 0.8f64;
-                let t41 = A::mul_add(second_v_vy, 0.6f64, t40);
-                let t42 = second_v_vx * 0.6f64;
-                let t43 = second_v_vx * 0.8f64;
-                let t44 = t37 * second_f_nx;
-                let t45 = A::mul_add(t38, second_f_ny, -t44);
-                let t46 = A::mul_add(t39, second_f_nz, t45);
-                let t47 = t41 * second_f_fx;
-                let t48 = A::mul_add(t42, second_f_fy, -t47);
-                let t49 = A::mul_add(t43, second_f_fz, t48);
-                let ct_skewed = t46 + t49;
-                let t50 = t0 * second_f_fy;
-                let t51 = A::mul_add(c_skewed, second_f_fx, t50);
-                let t52 = A::mul_add(t1, second_f_fz, t51);
-                let t53 = t1 * second_f_fx;
-                let t54 = A::mul_add(t3, second_f_fy, -t53);
-                let t55 = A::mul_add(t4, second_f_fz, t54);
-                let t56 = t0 * second_f_ny;
-                let t57 = A::mul_add(c_skewed, second_f_nx, t56);
-                let t58 = A::mul_add(t1, second_f_nz, t57);
-                let t59 = t0 * second_f_nx;
-                let t60 = A::mul_add(t2, second_f_ny, -t59);
-                let t61 = A::mul_add(t3, second_f_nz, t60);
-                let t62 = t1 * second_f_nx;
-                let t63 = A::mul_add(t3, second_f_ny, -t62);
-                let t64 = A::mul_add(t4, second_f_nz, t63);
-                let t65 = t52 * 0.3894183423086505f64;
-                let t66 = A::mul_add(t55, 0.9210609940028851f64, -t65);
-                let t67 = t58 * 0.18298657129998708f64;
-                let t68 = A::mul_add(t61, 0.9800665778412416f64, -t67);
-                let t69 = A::mul_add(-t64, 0.07736548146578168f64, t68);
-                let t70 = A::mul_add(-t66, 0.2f64, t69); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let first_f_ny = A::mul_add(-first_v_wx, 0.003f64, t70); // 3.0000e-3 = first I_xy
+                let t37 = second_v_wz * 0.8f64;
+                let t38 = A::mul_add(second_v_wy, 0.6f64, t37);
+                let t39 = second_v_wx * 0.6f64;
+                let t40 = second_v_wx * 0.8f64;
+                let t41 = second_v_vz * 0.8f64;
+                let t42 = A::mul_add(second_v_vy, 0.6f64, t41);
+                let t43 = second_v_vx * 0.6f64;
+                let t44 = second_v_vx * 0.8f64;
+                let t45 = t38 * second_f_nx;
+                let t46 = A::mul_add(t39, second_f_ny, -t45);
+                let t47 = A::mul_add(t40, second_f_nz, t46);
+                let t48 = t42 * second_f_fx;
+                let t49 = A::mul_add(t43, second_f_fy, -t48);
+                let t50 = A::mul_add(t44, second_f_fz, t49);
+                let ct_skewed = t47 + t50;
+                let t51 = t0 * second_f_fy;
+                let t52 = A::mul_add(c_skewed, second_f_fx, t51);
+                let t53 = A::mul_add(t1, second_f_fz, t52);
+                let t54 = t1 * second_f_fx;
+                let t55 = A::mul_add(t3, second_f_fy, -t54);
+                let t56 = A::mul_add(t4, second_f_fz, t55);
+                let t57 = t0 * second_f_ny;
+                let t58 = A::mul_add(c_skewed, second_f_nx, t57);
+                let t59 = A::mul_add(t1, second_f_nz, t58);
+                let t60 = t0 * second_f_nx;
+                let t61 = A::mul_add(t2, second_f_ny, -t60);
+                let t62 = A::mul_add(t3, second_f_nz, t61);
+                let t63 = t1 * second_f_nx;
+                let t64 = A::mul_add(t3, second_f_ny, -t63);
+                let t65 = A::mul_add(t4, second_f_nz, t64);
+                let t66 = t53 * 0.3894183423086505f64;
+                let t67 = A::mul_add(t56, 0.9210609940028851f64, -t66);
+                let t68 = t59 * 0.18298657129998708f64;
+                let t69 = A::mul_add(t62, 0.9800665778412416f64, -t68);
+                let t70 = A::mul_add(-t65, 0.07736548146578168f64, t69);
+                let t71 = A::mul_add(-t67, 0.2f64, t70); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let first_f_ny = t71 - t5;
                 (ct_skewed, first_f_ny)
             };
             let ct_tilted = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t71 = first_v_wx * 0.8f64;
-                let t72 = A::mul_add(first_v_wz, 0.6f64, -t71);
-                let ct_tilted = t72 * first_f_ny;
+                let t72 = first_v_wx * 0.8f64;
+                let t73 = A::mul_add(first_v_wz, 0.6f64, -t72);
+                let ct_tilted = t73 * first_f_ny;
                 ct_tilted
             };
             [ct_tilted, ct_skewed]
@@ -1033,24 +1037,22 @@ const _: () = {
                     t8,
                 )
             };
-            let (first_v_wx, first_v_wz, t9) = {
+            let (first_v_wx, first_v_wz, t10, t11) = {
                 // ── link `first`, joint `tilted` (base to tip)
                 let first_v_wx = qd_tilted * 0.6f64;
                 let first_v_wz = qd_tilted * 0.8f64;
                 let t9 = first_v_wx * 0.003f64; // 3.0000e-3 = first I_xy
-                (first_v_wx, first_v_wz, t9)
+                let t10 = first_v_wz * t9;
+                let t11 = first_v_wx * t9;
+                (first_v_wx, first_v_wz, t10, t11)
             };
             let (
-                t10,
-                t11,
-                second_v_wx,
-                second_v_vx,
-                t36,
-                t37,
                 t38,
+                t39,
                 t40,
-                t41,
                 t42,
+                t43,
+                t44,
                 second_p_nx,
                 second_p_ny,
                 second_p_nz,
@@ -1059,91 +1061,87 @@ const _: () = {
                 second_p_fz,
             ) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t10 = qd_skewed * 0.8f64;
-                let t11 = qd_skewed * 0.6f64;
-                let t12 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t13 = first_v_wz * 0.3894183423086505f64;
-                let t14 = A::mul_add(first_v_wx, 0.90270109637546f64, -t13);
-                let t15 = first_v_wx * 0.19866933079506122f64;
-                let t16 = first_v_wz * 0.9210609940028851f64;
-                let t17 = A::mul_add(first_v_wx, 0.3816559020950483f64, t16);
-                let t18 = t12 * 0.18298657129998708f64;
-                let t19 = t12 * 0.9800665778412416f64;
-                let t20 = t12 * 0.07736548146578168f64;
-                let t21 = t4 * t15;
-                let t22 = A::mul_add(c_skewed, t14, -t21);
-                let second_v_wx = A::mul_add(-t5, t17, t22);
-                let t23 = t6 * t15;
-                let t24 = A::mul_add(t4, t14, t23);
-                let t25 = A::mul_add(t7, t17, t24);
-                let t26 = t7 * t15;
-                let t27 = A::mul_add(t5, t14, t26);
-                let t28 = A::mul_add(t8, t17, t27);
-                let t29 = t4 * t19;
-                let t30 = A::mul_add(c_skewed, t18, t29);
-                let second_v_vx = A::mul_add(t5, t20, -t30);
-                let t31 = t4 * t18;
-                let t32 = A::mul_add(t6, t19, -t31);
-                let second_v_vy = A::mul_add(-t7, t20, t32);
-                let t33 = t5 * t18;
-                let t34 = A::mul_add(t7, t19, -t33);
-                let second_v_vz = A::mul_add(-t8, t20, t34);
-                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t25);
-                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t28);
-                let t35 = second_v_wz * t10;
-                let t36 = A::mul_add(second_v_wy, t11, t35);
-                let t37 = second_v_wx * t11;
-                let t38 = second_v_wx * t10;
-                let t39 = second_v_vz * t10;
-                let t40 = A::mul_add(second_v_vy, t11, t39);
-                let t41 = second_v_vx * t11;
-                let t42 = second_v_vx * t10;
-                let t43 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t44 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t43); // 4.1000e-3 = second I_xx
-                let t45 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t46 = A::mul_add(second_v_wz, 0.0375f64, -t45); // 3.7500e-2 = second I_zz
-                let t47 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t48 = A::mul_add(second_v_vx, 0.01f64, -t47); // 1.0000e-2 = second m·c_z or second c_z
-                let t49 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t50 = A::mul_add(second_v_wx, 0.01f64, -t49); // 1.0000e-2 = second m·c_z or second c_z
-                let t51 = A::mul_add(-second_v_vy, 0.01f64, t44); // 1.0000e-2 = second m·c_z or second c_z
-                let t52 = A::mul_add(second_v_wy, 0.037599999999999995f64, t48); // 3.7600e-2 = second I_yy
-                let t53 = A::mul_add(second_v_vy, 0.15f64, t46); // 1.5000e-1 = second m·c_x or second c_x
-                let t54 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t55 = second_v_vy - t50;
-                let t56 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t57 = second_v_wz * t52;
-                let t58 = A::mul_add(second_v_wy, t53, -t57);
-                let t59 = second_v_wx * t53;
-                let t60 = A::mul_add(second_v_wz, t51, -t59);
-                let t61 = second_v_wy * t51;
-                let t62 = A::mul_add(second_v_wx, t52, -t61);
-                let t63 = second_v_vz * t55;
-                let t64 = A::mul_add(second_v_vy, t56, -t63);
-                let t65 = second_v_vx * t56;
-                let t66 = A::mul_add(second_v_vz, t54, -t65);
-                let t67 = second_v_vy * t54;
-                let t68 = A::mul_add(second_v_vx, t55, -t67);
-                let second_p_nx = t58 + t64;
-                let second_p_ny = t60 + t66;
-                let second_p_nz = t62 + t68;
-                let t69 = second_v_wz * t55;
-                let second_p_fx = A::mul_add(second_v_wy, t56, -t69);
-                let t70 = second_v_wx * t56;
-                let second_p_fy = A::mul_add(second_v_wz, t54, -t70);
-                let t71 = second_v_wy * t54;
-                let second_p_fz = A::mul_add(second_v_wx, t55, -t71);
+                let t12 = qd_skewed * 0.8f64;
+                let t13 = qd_skewed * 0.6f64;
+                let t14 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t15 = first_v_wz * 0.3894183423086505f64;
+                let t16 = A::mul_add(first_v_wx, 0.90270109637546f64, -t15);
+                let t17 = first_v_wx * 0.19866933079506122f64;
+                let t18 = first_v_wz * 0.9210609940028851f64;
+                let t19 = A::mul_add(first_v_wx, 0.3816559020950483f64, t18);
+                let t20 = t14 * 0.18298657129998708f64;
+                let t21 = t14 * 0.9800665778412416f64;
+                let t22 = t14 * 0.07736548146578168f64;
+                let t23 = t4 * t17;
+                let t24 = A::mul_add(c_skewed, t16, -t23);
+                let second_v_wx = A::mul_add(-t5, t19, t24);
+                let t25 = t6 * t17;
+                let t26 = A::mul_add(t4, t16, t25);
+                let t27 = A::mul_add(t7, t19, t26);
+                let t28 = t7 * t17;
+                let t29 = A::mul_add(t5, t16, t28);
+                let t30 = A::mul_add(t8, t19, t29);
+                let t31 = t4 * t21;
+                let t32 = A::mul_add(c_skewed, t20, t31);
+                let second_v_vx = A::mul_add(t5, t22, -t32);
+                let t33 = t4 * t20;
+                let t34 = A::mul_add(t6, t21, -t33);
+                let second_v_vy = A::mul_add(-t7, t22, t34);
+                let t35 = t5 * t20;
+                let t36 = A::mul_add(t7, t21, -t35);
+                let second_v_vz = A::mul_add(-t8, t22, t36);
+                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t27);
+                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t30);
+                let t37 = second_v_wz * t12;
+                let t38 = A::mul_add(second_v_wy, t13, t37);
+                let t39 = second_v_wx * t13;
+                let t40 = second_v_wx * t12;
+                let t41 = second_v_vz * t12;
+                let t42 = A::mul_add(second_v_vy, t13, t41);
+                let t43 = second_v_vx * t13;
+                let t44 = second_v_vx * t12;
+                let t45 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t46 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t45); // 4.1000e-3 = second I_xx
+                let t47 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t48 = A::mul_add(second_v_wz, 0.0375f64, -t47); // 3.7500e-2 = second I_zz
+                let t49 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t50 = A::mul_add(second_v_vx, 0.01f64, -t49); // 1.0000e-2 = second m·c_z or second c_z
+                let t51 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t52 = A::mul_add(second_v_wx, 0.01f64, -t51); // 1.0000e-2 = second m·c_z or second c_z
+                let t53 = A::mul_add(-second_v_vy, 0.01f64, t46); // 1.0000e-2 = second m·c_z or second c_z
+                let t54 = A::mul_add(second_v_wy, 0.037599999999999995f64, t50); // 3.7600e-2 = second I_yy
+                let t55 = A::mul_add(second_v_vy, 0.15f64, t48); // 1.5000e-1 = second m·c_x or second c_x
+                let t56 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
+                let t57 = second_v_vy - t52;
+                let t58 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
+                let t59 = second_v_wz * t54;
+                let t60 = A::mul_add(second_v_wy, t55, -t59);
+                let t61 = second_v_wx * t55;
+                let t62 = A::mul_add(second_v_wz, t53, -t61);
+                let t63 = second_v_wy * t53;
+                let t64 = A::mul_add(second_v_wx, t54, -t63);
+                let t65 = second_v_vz * t57;
+                let t66 = A::mul_add(second_v_vy, t58, -t65);
+                let t67 = second_v_vx * t58;
+                let t68 = A::mul_add(second_v_vz, t56, -t67);
+                let t69 = second_v_vy * t56;
+                let t70 = A::mul_add(second_v_vx, t57, -t69);
+                let second_p_nx = t60 + t66;
+                let second_p_ny = t62 + t68;
+                let second_p_nz = t64 + t70;
+                let t71 = second_v_wz * t57;
+                let second_p_fx = A::mul_add(second_v_wy, t58, -t71);
+                let t72 = second_v_wx * t58;
+                let second_p_fy = A::mul_add(second_v_wz, t56, -t72);
+                let t73 = second_v_wy * t56;
+                let second_p_fz = A::mul_add(second_v_wx, t57, -t73);
                 (
-                    t10,
-                    t11,
-                    second_v_wx,
-                    second_v_vx,
-                    t36,
-                    t37,
                     t38,
+                    t39,
                     t40,
-                    t41,
                     t42,
+                    t43,
+                    t44,
                     second_p_nx,
                     second_p_ny,
                     second_p_nz,
@@ -1154,409 +1152,409 @@ const _: () = {
             };
             let (
                 u_skewed,
-                t123,
-                t124,
                 t125,
                 t126,
                 t127,
                 t128,
-                t256,
-                t259,
-                t262,
-                t265,
-                t268,
-                t271,
-                t289,
-                t292,
+                t129,
+                t130,
+                t258,
+                t261,
+                t264,
+                t267,
+                t270,
+                t273,
+                t291,
                 t294,
-                t306,
-                t312,
+                t296,
+                t308,
                 t314,
                 t316,
                 t318,
-                t321,
+                t320,
                 t323,
-                t326,
+                t325,
+                t328,
             ) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t72 = second_p_nz * 0.6f64;
-                let t73 = A::mul_add(second_p_ny, 0.8f64, -t72);
-                let u_skewed = tau_skewed - t73;
-                let t74 = t37 * 0.0007206900223618358f64;
-                let t75 = A::mul_add(t36, 0.004078436801192631f64, t74);
-                let t76 = A::mul_add(t38, 0.0009609200298157811f64, t75);
-                let t77 = t37 * 0.013512937919284422f64;
-                let t78 = A::mul_add(t36, 0.0007206900223618358f64, t77);
-                let t79 = A::mul_add(t38, 0.01801725055904589f64, t78);
-                let t80 = t37 * 0.01801725055904589f64;
-                let t81 = A::mul_add(t36, 0.0009609200298157811f64, t80);
-                let t82 = A::mul_add(t38, 0.024023000745394527f64, t81);
-                let t83 = t41 * 0.007843680119263124f64;
-                let t84 = A::mul_add(t40, 0.00019167287828772227f64, -t83);
-                let t85 = A::mul_add(t42, 0.002875093174315834f64, t84);
-                let t86 = t40 * 0.0035938664678947943f64;
-                let t87 = A::mul_add(t41, 0.07206900223618357f64, -t86);
-                let t88 = A::mul_add(-t42, 0.0539079970184219f64, t87);
-                let t89 = t40 * 0.004791821957193057f64;
-                let t90 = A::mul_add(t41, 0.0960920029815781f64, -t89);
-                let t91 = A::mul_add(-t42, 0.07187732935789586f64, t90);
-                let t92 = t85 - t76;
-                let t93 = t79 + t88;
-                let t94 = t82 + t91;
-                let t95 = t37 * 0.0035938664678947943f64;
-                let t96 = A::mul_add(t36, 0.00019167287828772227f64, t95);
-                let t97 = A::mul_add(t38, 0.004791821957193057f64, t96);
-                let t98 = t37 * 0.07206900223618357f64;
-                let t99 = A::mul_add(t36, 0.007843680119263124f64, t98);
-                let t100 = A::mul_add(t38, 0.0960920029815781f64, t99);
-                let t101 = t37 * 0.0539079970184219f64;
-                let t102 = A::mul_add(t36, 0.002875093174315834f64, t101);
-                let t103 = A::mul_add(t38, 0.07187732935789586f64, t102);
-                let t104 = t40 * 0.9982962410818869f64;
-                let t105 = A::mul_add(t41, 0.01916728782877223f64, -t104);
-                let t106 = A::mul_add(t42, 0.025556383771696303f64, t105);
-                let t107 = t40 * 0.01916728782877223f64;
-                let t108 = A::mul_add(t41, 0.7843680119263124f64, -t107);
-                let t109 = A::mul_add(-t42, 0.2875093174315834f64, t108);
-                let t110 = t41 * 0.2875093174315834f64;
-                let t111 = A::mul_add(t40, 0.025556383771696303f64, t110);
-                let t112 = A::mul_add(t42, 0.6166542434245554f64, -t111);
-                let t113 = t97 + t106;
-                let t114 = t100 + t109;
-                let t115 = t112 - t103;
-                let t116 = second_p_nx + t92;
-                let t117 = second_p_ny + t93;
-                let t118 = second_p_nz + t94;
-                let t119 = second_p_fx + t113;
-                let t120 = second_p_fy + t114;
-                let t121 = second_p_fz + t115;
-                let t122 = u_skewed * 26.621233095516985f64;
-                let t123 = A::mul_add(t122, 0.0009f64, t116); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t124 = A::mul_add(t122, 0.030079999999999996f64, t117);
-                let t125 = A::mul_add(-t122, 0.0225f64, t118); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t126 = A::mul_add(t122, 0.008f64, t119);
-                let t127 = A::mul_add(-t122, 0.09f64, t120);
-                let t128 = A::mul_add(-t122, 0.12f64, t121);
-                let t129 = t4 * 0.0007206900223618358f64;
-                let t130 = A::mul_add(c_skewed, 0.004078436801192631f64, -t129);
-                let t131 = A::mul_add(-t5, 0.0009609200298157811f64, t130);
-                let t132 = c_skewed * 0.0007206900223618358f64;
-                let t133 = A::mul_add(t4, 0.013512937919284422f64, -t132);
-                let t134 = A::mul_add(t5, 0.01801725055904589f64, t133);
-                let t135 = c_skewed * 0.0009609200298157811f64;
-                let t136 = A::mul_add(t4, 0.01801725055904589f64, -t135);
-                let t137 = A::mul_add(t5, 0.024023000745394527f64, t136);
-                let t138 = t6 * 0.0007206900223618358f64;
-                let t139 = A::mul_add(t4, 0.004078436801192631f64, t138);
-                let t140 = A::mul_add(t7, 0.0009609200298157811f64, t139);
-                let t141 = t6 * 0.013512937919284422f64;
-                let t142 = A::mul_add(t4, 0.0007206900223618358f64, t141);
-                let t143 = t7 * 0.01801725055904589f64;
-                let t144 = A::mul_add(t7, 0.01801725055904589f64, t142);
-                let t145 = t6 * 0.01801725055904589f64;
-                let t146 = A::mul_add(t4, 0.0009609200298157811f64, t145);
-                let t147 = A::mul_add(t7, 0.024023000745394527f64, t146);
-                let t148 = t7 * 0.0007206900223618358f64;
-                let t149 = A::mul_add(t5, 0.004078436801192631f64, t148);
-                let t150 = A::mul_add(t8, 0.0009609200298157811f64, t149);
-                let t151 = t7 * 0.013512937919284422f64;
-                let t152 = A::mul_add(t5, 0.0007206900223618358f64, t151);
-                let t153 = A::mul_add(t8, 0.01801725055904589f64, t152);
-                let t154 = A::mul_add(t5, 0.0009609200298157811f64, t143);
-                let t155 = A::mul_add(t8, 0.024023000745394527f64, t154);
-                let t156 = t4 * t134;
-                let t157 = A::mul_add(c_skewed, t131, t156);
-                let t158 = A::mul_add(t5, t137, t157);
-                let t159 = c_skewed * t140;
-                let t160 = A::mul_add(t4, t144, -t159);
-                let t161 = A::mul_add(t5, t147, t160);
-                let t162 = t6 * t144;
-                let t163 = A::mul_add(t4, t140, t162);
-                let t164 = A::mul_add(t7, t147, t163);
-                let t165 = c_skewed * t150;
-                let t166 = A::mul_add(t4, t153, -t165);
-                let t167 = A::mul_add(t5, t155, t166);
-                let t168 = t6 * t153;
-                let t169 = A::mul_add(t4, t150, t168);
-                let t170 = A::mul_add(t7, t155, t169);
-                let t171 = t7 * t153;
-                let t172 = A::mul_add(t5, t150, t171);
-                let t173 = A::mul_add(t8, t155, t172);
-                let t174 = t4 * 0.007843680119263124f64;
-                let t175 = A::mul_add(c_skewed, 0.00019167287828772227f64, t174);
-                let t176 = A::mul_add(t5, 0.002875093174315834f64, -t175);
-                let t177 = t4 * 0.07206900223618357f64;
-                let t178 = A::mul_add(c_skewed, 0.0035938664678947943f64, t177);
-                let t179 = A::mul_add(-t5, 0.0539079970184219f64, t178);
-                let t180 = t4 * 0.0960920029815781f64;
-                let t181 = A::mul_add(c_skewed, 0.004791821957193057f64, t180);
-                let t182 = A::mul_add(-t5, 0.07187732935789586f64, t181);
-                let t183 = t6 * 0.007843680119263124f64;
-                let t184 = A::mul_add(t4, 0.00019167287828772227f64, -t183);
-                let t185 = A::mul_add(t7, 0.002875093174315834f64, t184);
-                let t186 = t4 * 0.0035938664678947943f64;
-                let t187 = A::mul_add(t6, 0.07206900223618357f64, -t186);
-                let t188 = A::mul_add(-t7, 0.0539079970184219f64, t187);
-                let t189 = t4 * 0.004791821957193057f64;
-                let t190 = A::mul_add(t6, 0.0960920029815781f64, -t189);
-                let t191 = A::mul_add(-t7, 0.07187732935789586f64, t190);
-                let t192 = t7 * 0.007843680119263124f64;
-                let t193 = A::mul_add(t5, 0.00019167287828772227f64, -t192);
-                let t194 = A::mul_add(t8, 0.002875093174315834f64, t193);
-                let t195 = t5 * 0.0035938664678947943f64;
-                let t196 = A::mul_add(t7, 0.07206900223618357f64, -t195);
-                let t197 = A::mul_add(-t8, 0.0539079970184219f64, t196);
-                let t198 = t5 * 0.004791821957193057f64;
-                let t199 = A::mul_add(t7, 0.0960920029815781f64, -t198);
-                let t200 = A::mul_add(-t8, 0.07187732935789586f64, t199);
-                let t201 = t4 * t179;
-                let t202 = A::mul_add(c_skewed, t176, t201);
-                let t203 = A::mul_add(t5, t182, t202);
-                let t204 = t4 * t176;
-                let t205 = A::mul_add(t6, t179, -t204);
-                let t206 = A::mul_add(t7, t182, t205);
-                let t207 = t5 * t176;
-                let t208 = A::mul_add(t7, t179, -t207);
-                let t209 = A::mul_add(t8, t182, t208);
-                let t210 = t4 * t188;
-                let t211 = A::mul_add(c_skewed, t185, t210);
-                let t212 = A::mul_add(t5, t191, t211);
-                let t213 = t4 * t185;
-                let t214 = A::mul_add(t6, t188, -t213);
-                let t215 = A::mul_add(t7, t191, t214);
-                let t216 = t5 * t185;
-                let t217 = A::mul_add(t7, t188, -t216);
-                let t218 = A::mul_add(t8, t191, t217);
-                let t219 = t4 * t197;
-                let t220 = A::mul_add(c_skewed, t194, t219);
-                let t221 = A::mul_add(t5, t200, t220);
-                let t222 = t4 * t194;
-                let t223 = A::mul_add(t6, t197, -t222);
-                let t224 = A::mul_add(t7, t200, t223);
-                let t225 = t5 * t194;
-                let t226 = A::mul_add(t7, t197, -t225);
-                let t227 = A::mul_add(t8, t200, t226);
-                let t228 = t4 * 0.01916728782877223f64;
-                let t229 = A::mul_add(c_skewed, 0.9982962410818869f64, t228);
-                let t230 = A::mul_add(t5, 0.025556383771696303f64, t229);
-                let t231 = t4 * 0.7843680119263124f64;
-                let t232 = A::mul_add(c_skewed, 0.01916728782877223f64, t231);
-                let t233 = A::mul_add(-t5, 0.2875093174315834f64, t232);
-                let t234 = t4 * 0.2875093174315834f64;
-                let t235 = A::mul_add(c_skewed, 0.025556383771696303f64, -t234);
-                let t236 = A::mul_add(t5, 0.6166542434245554f64, t235);
-                let t237 = t4 * 0.9982962410818869f64;
-                let t238 = A::mul_add(t6, 0.01916728782877223f64, -t237);
-                let t239 = A::mul_add(t7, 0.025556383771696303f64, t238);
-                let t240 = A::mul_add(t6, 0.7843680119263124f64, -t228);
-                let t241 = t7 * 0.2875093174315834f64;
-                let t242 = A::mul_add(-t7, 0.2875093174315834f64, t240);
-                let t243 = t6 * 0.2875093174315834f64;
-                let t244 = A::mul_add(t4, 0.025556383771696303f64, t243);
-                let t245 = A::mul_add(t7, 0.6166542434245554f64, -t244);
-                let t246 = t5 * 0.9982962410818869f64;
-                let t247 = A::mul_add(t7, 0.01916728782877223f64, -t246);
-                let t248 = A::mul_add(t8, 0.025556383771696303f64, t247);
-                let t249 = t5 * 0.01916728782877223f64;
-                let t250 = A::mul_add(t7, 0.7843680119263124f64, -t249);
-                let t251 = A::mul_add(-t8, 0.2875093174315834f64, t250);
-                let t252 = A::mul_add(t5, 0.025556383771696303f64, t241);
-                let t253 = A::mul_add(t8, 0.6166542434245554f64, -t252);
-                let t254 = t4 * t233;
-                let t255 = A::mul_add(c_skewed, t230, t254);
-                let t256 = A::mul_add(t5, t236, t255);
-                let t257 = t4 * t242;
-                let t258 = A::mul_add(c_skewed, t239, t257);
-                let t259 = A::mul_add(t5, t245, t258);
-                let t260 = t4 * t239;
-                let t261 = A::mul_add(t6, t242, -t260);
-                let t262 = A::mul_add(t7, t245, t261);
-                let t263 = t4 * t251;
-                let t264 = A::mul_add(c_skewed, t248, t263);
-                let t265 = A::mul_add(t5, t253, t264);
-                let t266 = t4 * t248;
-                let t267 = A::mul_add(t6, t251, -t266);
-                let t268 = A::mul_add(t7, t253, t267);
-                let t269 = t5 * t248;
-                let t270 = A::mul_add(t7, t251, -t269);
-                let t271 = A::mul_add(t8, t253, t270);
-                let t272 = t161 * 0.19866933079506122f64;
-                let t273 = A::mul_add(t158, 0.90270109637546f64, t272);
-                let t274 = A::mul_add(t167, 0.3816559020950483f64, t273);
-                let t275 = t164 * 0.19866933079506122f64;
-                let t276 = A::mul_add(t161, 0.90270109637546f64, t275);
-                let t277 = A::mul_add(t170, 0.3816559020950483f64, t276);
-                let t278 = t170 * 0.19866933079506122f64;
-                let t279 = A::mul_add(t167, 0.90270109637546f64, t278);
-                let t280 = A::mul_add(t173, 0.3816559020950483f64, t279);
-                let t281 = t158 * 0.3894183423086505f64;
-                let t282 = A::mul_add(t167, 0.9210609940028851f64, -t281);
-                let t283 = t161 * 0.3894183423086505f64;
-                let t284 = A::mul_add(t170, 0.9210609940028851f64, -t283);
-                let t285 = t167 * 0.3894183423086505f64;
-                let t286 = A::mul_add(t173, 0.9210609940028851f64, -t285);
-                let t287 = t277 * 0.19866933079506122f64;
-                let t288 = A::mul_add(t274, 0.90270109637546f64, t287);
-                let t289 = A::mul_add(t280, 0.3816559020950483f64, t288);
-                let t290 = t284 * 0.19866933079506122f64;
-                let t291 = A::mul_add(t282, 0.90270109637546f64, t290);
-                let t292 = A::mul_add(t286, 0.3816559020950483f64, t291);
-                let t293 = t282 * 0.3894183423086505f64;
-                let t294 = A::mul_add(t286, 0.9210609940028851f64, -t293);
-                let t295 = t212 * 0.19866933079506122f64;
-                let t296 = A::mul_add(t203, 0.90270109637546f64, t295);
-                let t297 = A::mul_add(t221, 0.3816559020950483f64, t296);
-                let t298 = t215 * 0.19866933079506122f64;
-                let t299 = A::mul_add(t206, 0.90270109637546f64, t298);
-                let t300 = A::mul_add(t224, 0.3816559020950483f64, t299);
-                let t301 = t218 * 0.19866933079506122f64;
-                let t302 = A::mul_add(t209, 0.90270109637546f64, t301);
-                let t303 = A::mul_add(t227, 0.3816559020950483f64, t302);
-                let t304 = t203 * 0.18298657129998708f64;
-                let t305 = A::mul_add(t212, 0.9800665778412416f64, -t304);
-                let t306 = A::mul_add(-t221, 0.07736548146578168f64, t305);
-                let t307 = t206 * 0.18298657129998708f64;
-                let t308 = A::mul_add(t215, 0.9800665778412416f64, -t307);
-                let t309 = A::mul_add(-t224, 0.07736548146578168f64, t308);
-                let t310 = t209 * 0.18298657129998708f64;
-                let t311 = A::mul_add(t218, 0.9800665778412416f64, -t310);
-                let t312 = A::mul_add(-t227, 0.07736548146578168f64, t311);
-                let t313 = t203 * 0.3894183423086505f64;
-                let t314 = A::mul_add(t221, 0.9210609940028851f64, -t313);
-                let t315 = t206 * 0.3894183423086505f64;
-                let t316 = A::mul_add(t224, 0.9210609940028851f64, -t315);
-                let t317 = t209 * 0.3894183423086505f64;
-                let t318 = A::mul_add(t227, 0.9210609940028851f64, -t317);
-                let t319 = t300 * 0.19866933079506122f64;
-                let t320 = A::mul_add(t297, 0.90270109637546f64, t319);
-                let t321 = A::mul_add(t303, 0.3816559020950483f64, t320);
-                let t322 = t297 * 0.3894183423086505f64;
-                let t323 = A::mul_add(t303, 0.9210609940028851f64, -t322);
-                let t324 = t309 * 0.19866933079506122f64;
-                let t325 = A::mul_add(t306, 0.90270109637546f64, t324);
-                let t326 = A::mul_add(t312, 0.3816559020950483f64, t325);
+                let t74 = second_p_nz * 0.6f64;
+                let t75 = A::mul_add(second_p_ny, 0.8f64, -t74);
+                let u_skewed = tau_skewed - t75;
+                let t76 = t39 * 0.0007206900223618358f64;
+                let t77 = A::mul_add(t38, 0.004078436801192631f64, t76);
+                let t78 = A::mul_add(t40, 0.0009609200298157811f64, t77);
+                let t79 = t39 * 0.013512937919284422f64;
+                let t80 = A::mul_add(t38, 0.0007206900223618358f64, t79);
+                let t81 = A::mul_add(t40, 0.01801725055904589f64, t80);
+                let t82 = t39 * 0.01801725055904589f64;
+                let t83 = A::mul_add(t38, 0.0009609200298157811f64, t82);
+                let t84 = A::mul_add(t40, 0.024023000745394527f64, t83);
+                let t85 = t43 * 0.007843680119263124f64;
+                let t86 = A::mul_add(t42, 0.00019167287828772227f64, -t85);
+                let t87 = A::mul_add(t44, 0.002875093174315834f64, t86);
+                let t88 = t42 * 0.0035938664678947943f64;
+                let t89 = A::mul_add(t43, 0.07206900223618357f64, -t88);
+                let t90 = A::mul_add(-t44, 0.0539079970184219f64, t89);
+                let t91 = t42 * 0.004791821957193057f64;
+                let t92 = A::mul_add(t43, 0.0960920029815781f64, -t91);
+                let t93 = A::mul_add(-t44, 0.07187732935789586f64, t92);
+                let t94 = t87 - t78;
+                let t95 = t81 + t90;
+                let t96 = t84 + t93;
+                let t97 = t39 * 0.0035938664678947943f64;
+                let t98 = A::mul_add(t38, 0.00019167287828772227f64, t97);
+                let t99 = A::mul_add(t40, 0.004791821957193057f64, t98);
+                let t100 = t39 * 0.07206900223618357f64;
+                let t101 = A::mul_add(t38, 0.007843680119263124f64, t100);
+                let t102 = A::mul_add(t40, 0.0960920029815781f64, t101);
+                let t103 = t39 * 0.0539079970184219f64;
+                let t104 = A::mul_add(t38, 0.002875093174315834f64, t103);
+                let t105 = A::mul_add(t40, 0.07187732935789586f64, t104);
+                let t106 = t42 * 0.9982962410818869f64;
+                let t107 = A::mul_add(t43, 0.01916728782877223f64, -t106);
+                let t108 = A::mul_add(t44, 0.025556383771696303f64, t107);
+                let t109 = t42 * 0.01916728782877223f64;
+                let t110 = A::mul_add(t43, 0.7843680119263124f64, -t109);
+                let t111 = A::mul_add(-t44, 0.2875093174315834f64, t110);
+                let t112 = t43 * 0.2875093174315834f64;
+                let t113 = A::mul_add(t42, 0.025556383771696303f64, t112);
+                let t114 = A::mul_add(t44, 0.6166542434245554f64, -t113);
+                let t115 = t99 + t108;
+                let t116 = t102 + t111;
+                let t117 = t114 - t105;
+                let t118 = second_p_nx + t94;
+                let t119 = second_p_ny + t95;
+                let t120 = second_p_nz + t96;
+                let t121 = second_p_fx + t115;
+                let t122 = second_p_fy + t116;
+                let t123 = second_p_fz + t117;
+                let t124 = u_skewed * 26.621233095516985f64;
+                let t125 = A::mul_add(t124, 0.0009f64, t118); // 9.0000e-4 = first m·c_y × first m·c_y
+                let t126 = A::mul_add(t124, 0.030079999999999996f64, t119);
+                let t127 = A::mul_add(-t124, 0.0225f64, t120); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
+                let t128 = A::mul_add(t124, 0.008f64, t121);
+                let t129 = A::mul_add(-t124, 0.09f64, t122);
+                let t130 = A::mul_add(-t124, 0.12f64, t123);
+                let t131 = t4 * 0.0007206900223618358f64;
+                let t132 = A::mul_add(c_skewed, 0.004078436801192631f64, -t131);
+                let t133 = A::mul_add(-t5, 0.0009609200298157811f64, t132);
+                let t134 = c_skewed * 0.0007206900223618358f64;
+                let t135 = A::mul_add(t4, 0.013512937919284422f64, -t134);
+                let t136 = A::mul_add(t5, 0.01801725055904589f64, t135);
+                let t137 = c_skewed * 0.0009609200298157811f64;
+                let t138 = A::mul_add(t4, 0.01801725055904589f64, -t137);
+                let t139 = A::mul_add(t5, 0.024023000745394527f64, t138);
+                let t140 = t6 * 0.0007206900223618358f64;
+                let t141 = A::mul_add(t4, 0.004078436801192631f64, t140);
+                let t142 = A::mul_add(t7, 0.0009609200298157811f64, t141);
+                let t143 = t6 * 0.013512937919284422f64;
+                let t144 = A::mul_add(t4, 0.0007206900223618358f64, t143);
+                let t145 = t7 * 0.01801725055904589f64;
+                let t146 = A::mul_add(t7, 0.01801725055904589f64, t144);
+                let t147 = t6 * 0.01801725055904589f64;
+                let t148 = A::mul_add(t4, 0.0009609200298157811f64, t147);
+                let t149 = A::mul_add(t7, 0.024023000745394527f64, t148);
+                let t150 = t7 * 0.0007206900223618358f64;
+                let t151 = A::mul_add(t5, 0.004078436801192631f64, t150);
+                let t152 = A::mul_add(t8, 0.0009609200298157811f64, t151);
+                let t153 = t7 * 0.013512937919284422f64;
+                let t154 = A::mul_add(t5, 0.0007206900223618358f64, t153);
+                let t155 = A::mul_add(t8, 0.01801725055904589f64, t154);
+                let t156 = A::mul_add(t5, 0.0009609200298157811f64, t145);
+                let t157 = A::mul_add(t8, 0.024023000745394527f64, t156);
+                let t158 = t4 * t136;
+                let t159 = A::mul_add(c_skewed, t133, t158);
+                let t160 = A::mul_add(t5, t139, t159);
+                let t161 = c_skewed * t142;
+                let t162 = A::mul_add(t4, t146, -t161);
+                let t163 = A::mul_add(t5, t149, t162);
+                let t164 = t6 * t146;
+                let t165 = A::mul_add(t4, t142, t164);
+                let t166 = A::mul_add(t7, t149, t165);
+                let t167 = c_skewed * t152;
+                let t168 = A::mul_add(t4, t155, -t167);
+                let t169 = A::mul_add(t5, t157, t168);
+                let t170 = t6 * t155;
+                let t171 = A::mul_add(t4, t152, t170);
+                let t172 = A::mul_add(t7, t157, t171);
+                let t173 = t7 * t155;
+                let t174 = A::mul_add(t5, t152, t173);
+                let t175 = A::mul_add(t8, t157, t174);
+                let t176 = t4 * 0.007843680119263124f64;
+                let t177 = A::mul_add(c_skewed, 0.00019167287828772227f64, t176);
+                let t178 = A::mul_add(t5, 0.002875093174315834f64, -t177);
+                let t179 = t4 * 0.07206900223618357f64;
+                let t180 = A::mul_add(c_skewed, 0.0035938664678947943f64, t179);
+                let t181 = A::mul_add(-t5, 0.0539079970184219f64, t180);
+                let t182 = t4 * 0.0960920029815781f64;
+                let t183 = A::mul_add(c_skewed, 0.004791821957193057f64, t182);
+                let t184 = A::mul_add(-t5, 0.07187732935789586f64, t183);
+                let t185 = t6 * 0.007843680119263124f64;
+                let t186 = A::mul_add(t4, 0.00019167287828772227f64, -t185);
+                let t187 = A::mul_add(t7, 0.002875093174315834f64, t186);
+                let t188 = t4 * 0.0035938664678947943f64;
+                let t189 = A::mul_add(t6, 0.07206900223618357f64, -t188);
+                let t190 = A::mul_add(-t7, 0.0539079970184219f64, t189);
+                let t191 = t4 * 0.004791821957193057f64;
+                let t192 = A::mul_add(t6, 0.0960920029815781f64, -t191);
+                let t193 = A::mul_add(-t7, 0.07187732935789586f64, t192);
+                let t194 = t7 * 0.007843680119263124f64;
+                let t195 = A::mul_add(t5, 0.00019167287828772227f64, -t194);
+                let t196 = A::mul_add(t8, 0.002875093174315834f64, t195);
+                let t197 = t5 * 0.0035938664678947943f64;
+                let t198 = A::mul_add(t7, 0.07206900223618357f64, -t197);
+                let t199 = A::mul_add(-t8, 0.0539079970184219f64, t198);
+                let t200 = t5 * 0.004791821957193057f64;
+                let t201 = A::mul_add(t7, 0.0960920029815781f64, -t200);
+                let t202 = A::mul_add(-t8, 0.07187732935789586f64, t201);
+                let t203 = t4 * t181;
+                let t204 = A::mul_add(c_skewed, t178, t203);
+                let t205 = A::mul_add(t5, t184, t204);
+                let t206 = t4 * t178;
+                let t207 = A::mul_add(t6, t181, -t206);
+                let t208 = A::mul_add(t7, t184, t207);
+                let t209 = t5 * t178;
+                let t210 = A::mul_add(t7, t181, -t209);
+                let t211 = A::mul_add(t8, t184, t210);
+                let t212 = t4 * t190;
+                let t213 = A::mul_add(c_skewed, t187, t212);
+                let t214 = A::mul_add(t5, t193, t213);
+                let t215 = t4 * t187;
+                let t216 = A::mul_add(t6, t190, -t215);
+                let t217 = A::mul_add(t7, t193, t216);
+                let t218 = t5 * t187;
+                let t219 = A::mul_add(t7, t190, -t218);
+                let t220 = A::mul_add(t8, t193, t219);
+                let t221 = t4 * t199;
+                let t222 = A::mul_add(c_skewed, t196, t221);
+                let t223 = A::mul_add(t5, t202, t222);
+                let t224 = t4 * t196;
+                let t225 = A::mul_add(t6, t199, -t224);
+                let t226 = A::mul_add(t7, t202, t225);
+                let t227 = t5 * t196;
+                let t228 = A::mul_add(t7, t199, -t227);
+                let t229 = A::mul_add(t8, t202, t228);
+                let t230 = t4 * 0.01916728782877223f64;
+                let t231 = A::mul_add(c_skewed, 0.9982962410818869f64, t230);
+                let t232 = A::mul_add(t5, 0.025556383771696303f64, t231);
+                let t233 = t4 * 0.7843680119263124f64;
+                let t234 = A::mul_add(c_skewed, 0.01916728782877223f64, t233);
+                let t235 = A::mul_add(-t5, 0.2875093174315834f64, t234);
+                let t236 = t4 * 0.2875093174315834f64;
+                let t237 = A::mul_add(c_skewed, 0.025556383771696303f64, -t236);
+                let t238 = A::mul_add(t5, 0.6166542434245554f64, t237);
+                let t239 = t4 * 0.9982962410818869f64;
+                let t240 = A::mul_add(t6, 0.01916728782877223f64, -t239);
+                let t241 = A::mul_add(t7, 0.025556383771696303f64, t240);
+                let t242 = A::mul_add(t6, 0.7843680119263124f64, -t230);
+                let t243 = t7 * 0.2875093174315834f64;
+                let t244 = A::mul_add(-t7, 0.2875093174315834f64, t242);
+                let t245 = t6 * 0.2875093174315834f64;
+                let t246 = A::mul_add(t4, 0.025556383771696303f64, t245);
+                let t247 = A::mul_add(t7, 0.6166542434245554f64, -t246);
+                let t248 = t5 * 0.9982962410818869f64;
+                let t249 = A::mul_add(t7, 0.01916728782877223f64, -t248);
+                let t250 = A::mul_add(t8, 0.025556383771696303f64, t249);
+                let t251 = t5 * 0.01916728782877223f64;
+                let t252 = A::mul_add(t7, 0.7843680119263124f64, -t251);
+                let t253 = A::mul_add(-t8, 0.2875093174315834f64, t252);
+                let t254 = A::mul_add(t5, 0.025556383771696303f64, t243);
+                let t255 = A::mul_add(t8, 0.6166542434245554f64, -t254);
+                let t256 = t4 * t235;
+                let t257 = A::mul_add(c_skewed, t232, t256);
+                let t258 = A::mul_add(t5, t238, t257);
+                let t259 = t4 * t244;
+                let t260 = A::mul_add(c_skewed, t241, t259);
+                let t261 = A::mul_add(t5, t247, t260);
+                let t262 = t4 * t241;
+                let t263 = A::mul_add(t6, t244, -t262);
+                let t264 = A::mul_add(t7, t247, t263);
+                let t265 = t4 * t253;
+                let t266 = A::mul_add(c_skewed, t250, t265);
+                let t267 = A::mul_add(t5, t255, t266);
+                let t268 = t4 * t250;
+                let t269 = A::mul_add(t6, t253, -t268);
+                let t270 = A::mul_add(t7, t255, t269);
+                let t271 = t5 * t250;
+                let t272 = A::mul_add(t7, t253, -t271);
+                let t273 = A::mul_add(t8, t255, t272);
+                let t274 = t163 * 0.19866933079506122f64;
+                let t275 = A::mul_add(t160, 0.90270109637546f64, t274);
+                let t276 = A::mul_add(t169, 0.3816559020950483f64, t275);
+                let t277 = t166 * 0.19866933079506122f64;
+                let t278 = A::mul_add(t163, 0.90270109637546f64, t277);
+                let t279 = A::mul_add(t172, 0.3816559020950483f64, t278);
+                let t280 = t172 * 0.19866933079506122f64;
+                let t281 = A::mul_add(t169, 0.90270109637546f64, t280);
+                let t282 = A::mul_add(t175, 0.3816559020950483f64, t281);
+                let t283 = t160 * 0.3894183423086505f64;
+                let t284 = A::mul_add(t169, 0.9210609940028851f64, -t283);
+                let t285 = t163 * 0.3894183423086505f64;
+                let t286 = A::mul_add(t172, 0.9210609940028851f64, -t285);
+                let t287 = t169 * 0.3894183423086505f64;
+                let t288 = A::mul_add(t175, 0.9210609940028851f64, -t287);
+                let t289 = t279 * 0.19866933079506122f64;
+                let t290 = A::mul_add(t276, 0.90270109637546f64, t289);
+                let t291 = A::mul_add(t282, 0.3816559020950483f64, t290);
+                let t292 = t286 * 0.19866933079506122f64;
+                let t293 = A::mul_add(t284, 0.90270109637546f64, t292);
+                let t294 = A::mul_add(t288, 0.3816559020950483f64, t293);
+                let t295 = t284 * 0.3894183423086505f64;
+                let t296 = A::mul_add(t288, 0.9210609940028851f64, -t295);
+                let t297 = t214 * 0.19866933079506122f64;
+                let t298 = A::mul_add(t205, 0.90270109637546f64, t297);
+                let t299 = A::mul_add(t223, 0.3816559020950483f64, t298);
+                let t300 = t217 * 0.19866933079506122f64;
+                let t301 = A::mul_add(t208, 0.90270109637546f64, t300);
+                let t302 = A::mul_add(t226, 0.3816559020950483f64, t301);
+                let t303 = t220 * 0.19866933079506122f64;
+                let t304 = A::mul_add(t211, 0.90270109637546f64, t303);
+                let t305 = A::mul_add(t229, 0.3816559020950483f64, t304);
+                let t306 = t205 * 0.18298657129998708f64;
+                let t307 = A::mul_add(t214, 0.9800665778412416f64, -t306);
+                let t308 = A::mul_add(-t223, 0.07736548146578168f64, t307);
+                let t309 = t208 * 0.18298657129998708f64;
+                let t310 = A::mul_add(t217, 0.9800665778412416f64, -t309);
+                let t311 = A::mul_add(-t226, 0.07736548146578168f64, t310);
+                let t312 = t211 * 0.18298657129998708f64;
+                let t313 = A::mul_add(t220, 0.9800665778412416f64, -t312);
+                let t314 = A::mul_add(-t229, 0.07736548146578168f64, t313);
+                let t315 = t205 * 0.3894183423086505f64;
+                let t316 = A::mul_add(t223, 0.9210609940028851f64, -t315);
+                let t317 = t208 * 0.3894183423086505f64;
+                let t318 = A::mul_add(t226, 0.9210609940028851f64, -t317);
+                let t319 = t211 * 0.3894183423086505f64;
+                let t320 = A::mul_add(t229, 0.9210609940028851f64, -t319);
+                let t321 = t302 * 0.19866933079506122f64;
+                let t322 = A::mul_add(t299, 0.90270109637546f64, t321);
+                let t323 = A::mul_add(t305, 0.3816559020950483f64, t322);
+                let t324 = t299 * 0.3894183423086505f64;
+                let t325 = A::mul_add(t305, 0.9210609940028851f64, -t324);
+                let t326 = t311 * 0.19866933079506122f64;
+                let t327 = A::mul_add(t308, 0.90270109637546f64, t326);
+                let t328 = A::mul_add(t314, 0.3816559020950483f64, t327);
                 (
                     u_skewed,
-                    t123,
-                    t124,
                     t125,
                     t126,
                     t127,
                     t128,
-                    t256,
-                    t259,
-                    t262,
-                    t265,
-                    t268,
-                    t271,
-                    t289,
-                    t292,
+                    t129,
+                    t130,
+                    t258,
+                    t261,
+                    t264,
+                    t267,
+                    t270,
+                    t273,
+                    t291,
                     t294,
-                    t306,
-                    t312,
+                    t296,
+                    t308,
                     t314,
                     t316,
                     t318,
-                    t321,
+                    t320,
                     t323,
-                    t326,
+                    t325,
+                    t328,
                 )
             };
-            let (t359, t365, t393, t394, t395, t396, t397, first_p_nx, first_p_nz) = {
-                let t327 = t306 * 0.3894183423086505f64;
-                let t328 = A::mul_add(t312, 0.9210609940028851f64, -t327);
-                let t329 = t316 * 0.19866933079506122f64;
-                let t330 = A::mul_add(t314, 0.90270109637546f64, t329);
-                let t331 = A::mul_add(t318, 0.3816559020950483f64, t330);
-                let t332 = t314 * 0.3894183423086505f64;
-                let t333 = A::mul_add(t318, 0.9210609940028851f64, -t332);
-                let t334 = t256 * 0.18298657129998708f64;
-                let t335 = A::mul_add(t259, 0.9800665778412416f64, -t334);
-                let t336 = A::mul_add(-t265, 0.07736548146578168f64, t335);
-                let t337 = t259 * 0.18298657129998708f64;
-                let t338 = A::mul_add(t262, 0.9800665778412416f64, -t337);
-                let t339 = A::mul_add(-t268, 0.07736548146578168f64, t338);
-                let t340 = t265 * 0.18298657129998708f64;
-                let t341 = A::mul_add(t268, 0.9800665778412416f64, -t340);
-                let t342 = A::mul_add(-t271, 0.07736548146578168f64, t341);
-                let t343 = t256 * 0.3894183423086505f64;
-                let t344 = A::mul_add(t265, 0.9210609940028851f64, -t343);
-                let t345 = t259 * 0.3894183423086505f64;
-                let t346 = A::mul_add(t268, 0.9210609940028851f64, -t345);
-                let t347 = t265 * 0.3894183423086505f64;
-                let t348 = A::mul_add(t271, 0.9210609940028851f64, -t347);
-                let t349 = t339 * 0.19866933079506122f64;
-                let t350 = A::mul_add(t336, 0.90270109637546f64, t349);
-                let t351 = A::mul_add(t342, 0.3816559020950483f64, t350);
-                let t352 = t336 * 0.18298657129998708f64;
-                let t353 = A::mul_add(t339, 0.9800665778412416f64, -t352);
-                let t354 = A::mul_add(-t342, 0.07736548146578168f64, t353);
-                let t355 = t344 * 0.18298657129998708f64;
-                let t356 = A::mul_add(t346, 0.9800665778412416f64, -t355);
-                let t357 = A::mul_add(-t348, 0.07736548146578168f64, t356);
-                let t358 = t354 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t359 = A::mul_add(t326, 0.2f64, t292); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t360 = A::mul_add(t328, 0.2f64, t294); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t361 = A::mul_add(t328, 0.2f64, t360); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t362 = A::mul_add(t358, 0.2f64, t361); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t363 = A::mul_add(t351, 0.2f64, t323); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t364 = A::mul_add(t354, 0.2f64, t328); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t365 = A::mul_add(t357, 0.2f64, t333); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t366 = t4 * t127;
-                let t367 = A::mul_add(c_skewed, t126, t366);
-                let t368 = A::mul_add(t5, t128, t367);
-                let t369 = t4 * t126;
-                let t370 = A::mul_add(t6, t127, -t369);
-                let t371 = A::mul_add(t7, t128, t370);
-                let t372 = t5 * t126;
-                let t373 = A::mul_add(t7, t127, -t372);
-                let t374 = A::mul_add(t8, t128, t373);
-                let t375 = t4 * t124;
-                let t376 = A::mul_add(c_skewed, t123, t375);
-                let t377 = A::mul_add(t5, t125, t376);
-                let t378 = t4 * t123;
-                let t379 = A::mul_add(t6, t124, -t378);
-                let t380 = A::mul_add(t7, t125, t379);
-                let t381 = t5 * t123;
-                let t382 = A::mul_add(t7, t124, -t381);
-                let t383 = A::mul_add(t8, t125, t382);
-                let t384 = t368 * 0.18298657129998708f64;
-                let t385 = A::mul_add(t371, 0.9800665778412416f64, -t384);
-                let t386 = A::mul_add(-t374, 0.07736548146578168f64, t385);
-                let t387 = t380 * 0.19866933079506122f64;
-                let t388 = A::mul_add(t377, 0.90270109637546f64, t387);
-                let t389 = A::mul_add(t383, 0.3816559020950483f64, t388);
-                let t390 = t377 * 0.3894183423086505f64;
-                let t391 = A::mul_add(t383, 0.9210609940028851f64, -t390);
-                let t392 = A::mul_add(t386, 0.2f64, t391); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t393 = t289 + 0.010599999999999998f64; // 1.0600e-2 = first I_xx
-                let t394 = t362 + 0.03560000000000001f64; // 3.5600e-2 = first I_zz
-                let t395 = t363 - 0.03f64; // 3.0000e-2 = first m·c_y
-                let t396 = t364 + 0.15000000000000002f64; // 1.5000e-1 = first m·c_x
-                let t397 = t331 + 0.03f64; // 3.0000e-2 = first m·c_y
-                let first_p_nx = A::mul_add(first_v_wz, t9, t389);
-                let first_p_nz = A::mul_add(-first_v_wx, t9, t392);
-                (t359, t365, t393, t394, t395, t396, t397, first_p_nx, first_p_nz)
+            let (t361, t367, t395, t396, t397, t398, t399, first_p_nx, first_p_nz) = {
+                let t329 = t308 * 0.3894183423086505f64;
+                let t330 = A::mul_add(t314, 0.9210609940028851f64, -t329);
+                let t331 = t318 * 0.19866933079506122f64;
+                let t332 = A::mul_add(t316, 0.90270109637546f64, t331);
+                let t333 = A::mul_add(t320, 0.3816559020950483f64, t332);
+                let t334 = t316 * 0.3894183423086505f64;
+                let t335 = A::mul_add(t320, 0.9210609940028851f64, -t334);
+                let t336 = t258 * 0.18298657129998708f64;
+                let t337 = A::mul_add(t261, 0.9800665778412416f64, -t336);
+                let t338 = A::mul_add(-t267, 0.07736548146578168f64, t337);
+                let t339 = t261 * 0.18298657129998708f64;
+                let t340 = A::mul_add(t264, 0.9800665778412416f64, -t339);
+                let t341 = A::mul_add(-t270, 0.07736548146578168f64, t340);
+                let t342 = t267 * 0.18298657129998708f64;
+                let t343 = A::mul_add(t270, 0.9800665778412416f64, -t342);
+                let t344 = A::mul_add(-t273, 0.07736548146578168f64, t343);
+                let t345 = t258 * 0.3894183423086505f64;
+                let t346 = A::mul_add(t267, 0.9210609940028851f64, -t345);
+                let t347 = t261 * 0.3894183423086505f64;
+                let t348 = A::mul_add(t270, 0.9210609940028851f64, -t347);
+                let t349 = t267 * 0.3894183423086505f64;
+                let t350 = A::mul_add(t273, 0.9210609940028851f64, -t349);
+                let t351 = t341 * 0.19866933079506122f64;
+                let t352 = A::mul_add(t338, 0.90270109637546f64, t351);
+                let t353 = A::mul_add(t344, 0.3816559020950483f64, t352);
+                let t354 = t338 * 0.18298657129998708f64;
+                let t355 = A::mul_add(t341, 0.9800665778412416f64, -t354);
+                let t356 = A::mul_add(-t344, 0.07736548146578168f64, t355);
+                let t357 = t346 * 0.18298657129998708f64;
+                let t358 = A::mul_add(t348, 0.9800665778412416f64, -t357);
+                let t359 = A::mul_add(-t350, 0.07736548146578168f64, t358);
+                let t360 = t356 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t361 = A::mul_add(t328, 0.2f64, t294); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t362 = A::mul_add(t330, 0.2f64, t296); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t363 = A::mul_add(t330, 0.2f64, t362); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t364 = A::mul_add(t360, 0.2f64, t363); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t365 = A::mul_add(t353, 0.2f64, t325); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t366 = A::mul_add(t356, 0.2f64, t330); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t367 = A::mul_add(t359, 0.2f64, t335); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t368 = t4 * t129;
+                let t369 = A::mul_add(c_skewed, t128, t368);
+                let t370 = A::mul_add(t5, t130, t369);
+                let t371 = t4 * t128;
+                let t372 = A::mul_add(t6, t129, -t371);
+                let t373 = A::mul_add(t7, t130, t372);
+                let t374 = t5 * t128;
+                let t375 = A::mul_add(t7, t129, -t374);
+                let t376 = A::mul_add(t8, t130, t375);
+                let t377 = t4 * t126;
+                let t378 = A::mul_add(c_skewed, t125, t377);
+                let t379 = A::mul_add(t5, t127, t378);
+                let t380 = t4 * t125;
+                let t381 = A::mul_add(t6, t126, -t380);
+                let t382 = A::mul_add(t7, t127, t381);
+                let t383 = t5 * t125;
+                let t384 = A::mul_add(t7, t126, -t383);
+                let t385 = A::mul_add(t8, t127, t384);
+                let t386 = t370 * 0.18298657129998708f64;
+                let t387 = A::mul_add(t373, 0.9800665778412416f64, -t386);
+                let t388 = A::mul_add(-t376, 0.07736548146578168f64, t387);
+                let t389 = t382 * 0.19866933079506122f64;
+                let t390 = A::mul_add(t379, 0.90270109637546f64, t389);
+                let t391 = A::mul_add(t385, 0.3816559020950483f64, t390);
+                let t392 = t379 * 0.3894183423086505f64;
+                let t393 = A::mul_add(t385, 0.9210609940028851f64, -t392);
+                let t394 = A::mul_add(t388, 0.2f64, t393); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t395 = t291 + 0.010599999999999998f64; // 1.0600e-2 = first I_xx
+                let t396 = t364 + 0.03560000000000001f64; // 3.5600e-2 = first I_zz
+                let t397 = t365 - 0.03f64; // 3.0000e-2 = first m·c_y
+                let t398 = t366 + 0.15000000000000002f64; // 1.5000e-1 = first m·c_x
+                let t399 = t333 + 0.03f64; // 3.0000e-2 = first m·c_y
+                let first_p_nx = t10 + t391;
+                let first_p_nz = t394 - t11;
+                (t361, t367, t395, t396, t397, t398, t399, first_p_nx, first_p_nz)
             };
-            let (first_u_fx, first_u_fy, first_u_fz, d_tilted, u_tilted, t406) = {
+            let (first_u_fx, first_u_fy, first_u_fz, d_tilted, u_tilted, t408) = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t398 = t359 * 0.8f64;
-                let first_u_nx = A::mul_add(t393, 0.6f64, t398);
-                let t399 = t394 * 0.8f64;
-                let first_u_nz = A::mul_add(t359, 0.6f64, t399);
-                let t400 = t395 * 0.8f64;
-                let first_u_fx = A::mul_add(t321, 0.6f64, t400);
+                let t400 = t361 * 0.8f64;
+                let first_u_nx = A::mul_add(t395, 0.6f64, t400);
                 let t401 = t396 * 0.8f64;
-                let first_u_fy = A::mul_add(t326, 0.6f64, t401);
-                let t402 = t365 * 0.8f64;
-                let first_u_fz = A::mul_add(t397, 0.6f64, t402);
-                let t403 = first_u_nz * 0.8f64;
-                let d_tilted = A::mul_add(first_u_nx, 0.6f64, t403);
-                let t404 = first_p_nz * 0.8f64;
-                let t405 = A::mul_add(first_p_nx, 0.6f64, t404);
-                let u_tilted = tau_tilted - t405;
-                let t406 = A::from(1f64) / d_tilted;
-                (first_u_fx, first_u_fy, first_u_fz, d_tilted, u_tilted, t406)
+                let first_u_nz = A::mul_add(t361, 0.6f64, t401);
+                let t402 = t397 * 0.8f64;
+                let first_u_fx = A::mul_add(t323, 0.6f64, t402);
+                let t403 = t398 * 0.8f64;
+                let first_u_fy = A::mul_add(t328, 0.6f64, t403);
+                let t404 = t367 * 0.8f64;
+                let first_u_fz = A::mul_add(t399, 0.6f64, t404);
+                let t405 = first_u_nz * 0.8f64;
+                let d_tilted = A::mul_add(first_u_nx, 0.6f64, t405);
+                let t406 = first_p_nz * 0.8f64;
+                let t407 = A::mul_add(first_p_nx, 0.6f64, t406);
+                let u_tilted = tau_tilted - t407;
+                let t408 = A::from(1f64) / d_tilted;
+                (first_u_fx, first_u_fy, first_u_fz, d_tilted, u_tilted, t408)
             };
             let (
                 first_a_vx,
@@ -1567,70 +1565,70 @@ const _: () = {
                 first_a_wz,
             ) = {
                 // ── link `first`, joint `tilted` (base to tip, last pass)
-                let t407 = t1 * 9.371850958322195f64;
-                let first_a_vx = A::mul_add(t0, 2.899053227347741f64, t407);
-                let t408 = t2 * 9.371850958322195f64;
-                let first_a_vy = A::mul_add(c_tilted, 2.899053227347741f64, t408);
-                let t409 = t2 * 2.899053227347741f64;
-                let first_a_vz = A::mul_add(t3, 9.371850958322195f64, -t409);
-                let t410 = first_a_vy * first_u_fy;
-                let t411 = A::mul_add(first_a_vx, first_u_fx, t410);
-                let t412 = A::mul_add(first_a_vz, first_u_fz, t411);
-                let t413 = u_tilted - t412;
-                let qdd_tilted = t413 * t406;
+                let t409 = t1 * 9.371850958322195f64;
+                let first_a_vx = A::mul_add(t0, 2.899053227347741f64, t409);
+                let t410 = t2 * 9.371850958322195f64;
+                let first_a_vy = A::mul_add(c_tilted, 2.899053227347741f64, t410);
+                let t411 = t2 * 2.899053227347741f64;
+                let first_a_vz = A::mul_add(t3, 9.371850958322195f64, -t411);
+                let t412 = first_a_vy * first_u_fy;
+                let t413 = A::mul_add(first_a_vx, first_u_fx, t412);
+                let t414 = A::mul_add(first_a_vz, first_u_fz, t413);
+                let t415 = u_tilted - t414;
+                let qdd_tilted = t415 * t408;
                 let first_a_wx = qdd_tilted * 0.6f64;
                 let first_a_wz = qdd_tilted * 0.8f64;
                 (first_a_vx, first_a_vy, first_a_vz, qdd_tilted, first_a_wx, first_a_wz)
             };
             let qdd_skewed = {
                 // ── link `second`, joint `skewed` (base to tip, last pass)
-                let t414 = A::mul_add(first_a_wz, 0.2f64, first_a_vy); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t415 = first_a_wz * 0.3894183423086505f64;
-                let t416 = A::mul_add(first_a_wx, 0.90270109637546f64, -t415);
-                let t417 = first_a_wx * 0.19866933079506122f64;
-                let t418 = first_a_wz * 0.9210609940028851f64;
-                let t419 = A::mul_add(first_a_wx, 0.3816559020950483f64, t418);
-                let t420 = t414 * 0.18298657129998708f64;
-                let t421 = A::mul_add(first_a_vx, 0.90270109637546f64, -t420);
-                let t422 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t421);
-                let t423 = t414 * 0.9800665778412416f64;
-                let t424 = A::mul_add(first_a_vx, 0.19866933079506122f64, t423);
-                let t425 = t414 * 0.07736548146578168f64;
-                let t426 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t425);
-                let t427 = A::mul_add(first_a_vz, 0.9210609940028851f64, t426);
-                let t428 = t4 * t417;
-                let t429 = A::mul_add(c_skewed, t416, -t428);
-                let t430 = A::mul_add(-t5, t419, t429);
-                let t431 = t6 * t417;
-                let t432 = A::mul_add(t4, t416, t431);
-                let t433 = A::mul_add(t7, t419, t432);
-                let t434 = t7 * t417;
-                let t435 = A::mul_add(t5, t416, t434);
-                let t436 = A::mul_add(t8, t419, t435);
-                let t437 = t4 * t424;
-                let t438 = A::mul_add(c_skewed, t422, -t437);
-                let t439 = A::mul_add(-t5, t427, t438);
-                let t440 = t6 * t424;
-                let t441 = A::mul_add(t4, t422, t440);
-                let t442 = A::mul_add(t7, t427, t441);
-                let t443 = t7 * t424;
-                let t444 = A::mul_add(t5, t422, t443);
-                let t445 = A::mul_add(t8, t427, t444);
-                let second_a_wx = t430 - t36;
-                let t446 = A::mul_add(second_v_wx, t11, t433);
-                let t447 = A::mul_add(second_v_wx, t10, t436);
-                let second_a_vx = t439 - t40;
-                let second_a_vy = A::mul_add(second_v_vx, t11, t442);
-                let second_a_vz = A::mul_add(second_v_vx, t10, t445);
-                let t448 = t446 * 0.030079999999999996f64;
-                let t449 = A::mul_add(second_a_wx, 0.0009f64, t448); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t450 = A::mul_add(-t447, 0.0225f64, t449); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t451 = second_a_vy * 0.09f64;
-                let t452 = A::mul_add(second_a_vx, 0.008f64, -t451);
-                let t453 = A::mul_add(-second_a_vz, 0.12f64, t452);
-                let t454 = t450 + t453;
-                let t455 = u_skewed - t454;
-                let qdd_skewed = t455 * 26.621233095516985f64;
+                let t416 = A::mul_add(first_a_wz, 0.2f64, first_a_vy); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t417 = first_a_wz * 0.3894183423086505f64;
+                let t418 = A::mul_add(first_a_wx, 0.90270109637546f64, -t417);
+                let t419 = first_a_wx * 0.19866933079506122f64;
+                let t420 = first_a_wz * 0.9210609940028851f64;
+                let t421 = A::mul_add(first_a_wx, 0.3816559020950483f64, t420);
+                let t422 = t416 * 0.18298657129998708f64;
+                let t423 = A::mul_add(first_a_vx, 0.90270109637546f64, -t422);
+                let t424 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t423);
+                let t425 = t416 * 0.9800665778412416f64;
+                let t426 = A::mul_add(first_a_vx, 0.19866933079506122f64, t425);
+                let t427 = t416 * 0.07736548146578168f64;
+                let t428 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t427);
+                let t429 = A::mul_add(first_a_vz, 0.9210609940028851f64, t428);
+                let t430 = t4 * t419;
+                let t431 = A::mul_add(c_skewed, t418, -t430);
+                let t432 = A::mul_add(-t5, t421, t431);
+                let t433 = t6 * t419;
+                let t434 = A::mul_add(t4, t418, t433);
+                let t435 = A::mul_add(t7, t421, t434);
+                let t436 = t7 * t419;
+                let t437 = A::mul_add(t5, t418, t436);
+                let t438 = A::mul_add(t8, t421, t437);
+                let t439 = t4 * t426;
+                let t440 = A::mul_add(c_skewed, t424, -t439);
+                let t441 = A::mul_add(-t5, t429, t440);
+                let t442 = t6 * t426;
+                let t443 = A::mul_add(t4, t424, t442);
+                let t444 = A::mul_add(t7, t429, t443);
+                let t445 = t7 * t426;
+                let t446 = A::mul_add(t5, t424, t445);
+                let t447 = A::mul_add(t8, t429, t446);
+                let second_a_wx = t432 - t38;
+                let t448 = t435 + t39;
+                let t449 = t438 + t40;
+                let second_a_vx = t441 - t42;
+                let second_a_vy = t444 + t43;
+                let second_a_vz = t447 + t44;
+                let t450 = t448 * 0.030079999999999996f64;
+                let t451 = A::mul_add(second_a_wx, 0.0009f64, t450); // 9.0000e-4 = first m·c_y × first m·c_y
+                let t452 = A::mul_add(-t449, 0.0225f64, t451); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
+                let t453 = second_a_vy * 0.09f64;
+                let t454 = A::mul_add(second_a_vx, 0.008f64, -t453);
+                let t455 = A::mul_add(-second_a_vz, 0.12f64, t454);
+                let t456 = t452 + t455;
+                let t457 = u_skewed - t456;
+                let qdd_skewed = t457 * 26.621233095516985f64;
                 qdd_skewed
             };
             [qdd_tilted, qdd_skewed, d_tilted]
@@ -1728,8 +1726,9 @@ const _: () = {
                 t21,
                 first_a_wx,
                 first_a_wz,
-                t23,
+                t22,
                 t24,
+                t25,
             ) = {
                 // ── link `first`, joint `tilted` (base to tip)
                 let first_v_wx = qd_tilted * 0.6f64;
@@ -1748,9 +1747,10 @@ const _: () = {
                 let t21 = A::mul_add(t5, 2.899053227347741f64, t20);
                 let first_a_wx = qdd_tilted * 0.6f64;
                 let first_a_wz = qdd_tilted * 0.8f64;
-                let t22 = t15 * 0.03f64; // 3.0000e-2 = first m·c_y
-                let t23 = A::mul_add(t18, 0.15000000000000002f64, -t22); // 1.5000e-1 = first m·c_x
-                let t24 = first_v_wx * 0.003f64; // 3.0000e-3 = first I_xy
+                let t22 = t21 * 0.03f64; // 3.0000e-2 = first m·c_y
+                let t23 = t15 * 0.03f64; // 3.0000e-2 = first m·c_y
+                let t24 = A::mul_add(t18, 0.15000000000000002f64, -t23); // 1.5000e-1 = first m·c_x
+                let t25 = first_v_wx * 0.003f64; // 3.0000e-3 = first I_xy
                 (
                     first_v_wx,
                     first_v_wz,
@@ -1762,43 +1762,44 @@ const _: () = {
                     t21,
                     first_a_wx,
                     first_a_wz,
-                    t23,
+                    t22,
                     t24,
+                    t25,
                 )
             };
             let (
-                t25,
                 t26,
-                t29,
+                t27,
                 t30,
-                t32,
+                t31,
                 t33,
                 t34,
                 t35,
+                t36,
                 second_v_wx,
                 second_v_vx,
                 second_v_vy,
                 second_v_vz,
                 second_v_wy,
                 second_v_wz,
-                t52,
                 t53,
-                t55,
-                t60,
-                t64,
-                t70,
-                t86,
-                t92,
-                t98,
-                t109,
-                t113,
+                t54,
+                t56,
+                t61,
+                t65,
+                t71,
+                t87,
+                t93,
+                t99,
+                t110,
                 t114,
-                t131,
+                t115,
                 t132,
                 t133,
                 t134,
                 t135,
                 t136,
+                t137,
                 second_f_nx,
                 second_f_ny,
                 second_f_nz,
@@ -1807,190 +1808,190 @@ const _: () = {
                 second_f_fz,
             ) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t25 = qd_skewed * 0.8f64;
-                let t26 = qd_skewed * 0.6f64;
-                let t27 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t28 = first_v_wz * 0.3894183423086505f64;
-                let t29 = A::mul_add(first_v_wx, 0.90270109637546f64, -t28);
-                let t30 = first_v_wx * 0.19866933079506122f64;
-                let t31 = first_v_wz * 0.9210609940028851f64;
-                let t32 = A::mul_add(first_v_wx, 0.3816559020950483f64, t31);
-                let t33 = t27 * 0.18298657129998708f64;
-                let t34 = t27 * 0.9800665778412416f64;
-                let t35 = t27 * 0.07736548146578168f64;
-                let t36 = t8 * t30;
-                let t37 = A::mul_add(c_skewed, t29, -t36);
-                let second_v_wx = A::mul_add(-t9, t32, t37);
-                let t38 = t10 * t30;
-                let t39 = A::mul_add(t8, t29, t38);
-                let t40 = A::mul_add(t11, t32, t39);
-                let t41 = t11 * t30;
-                let t42 = A::mul_add(t9, t29, t41);
-                let t43 = A::mul_add(t12, t32, t42);
-                let t44 = t8 * t34;
-                let t45 = A::mul_add(c_skewed, t33, t44);
-                let second_v_vx = A::mul_add(t9, t35, -t45);
-                let t46 = t8 * t33;
-                let t47 = A::mul_add(t10, t34, -t46);
-                let second_v_vy = A::mul_add(-t11, t35, t47);
-                let t48 = t9 * t33;
-                let t49 = A::mul_add(t11, t34, -t48);
-                let second_v_vz = A::mul_add(-t12, t35, t49);
-                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t40);
-                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t43);
-                let t50 = A::mul_add(first_a_wz, 0.2f64, first_a_vy); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t51 = first_a_wz * 0.3894183423086505f64;
-                let t52 = A::mul_add(first_a_wx, 0.90270109637546f64, -t51);
-                let t53 = first_a_wx * 0.19866933079506122f64;
-                let t54 = first_a_wz * 0.9210609940028851f64;
-                let t55 = A::mul_add(first_a_wx, 0.3816559020950483f64, t54);
-                let t56 = t50 * 0.18298657129998708f64;
-                let t57 = t18 * 0.18298657129998708f64;
-                let t58 = A::mul_add(first_a_vx, 0.90270109637546f64, -t56);
-                let t59 = A::mul_add(t15, 0.90270109637546f64, -t57);
-                let t60 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t58);
-                let t61 = A::mul_add(t21, 0.3894183423086505f64, t59);
-                let t62 = t50 * 0.9800665778412416f64;
-                let t63 = t18 * 0.9800665778412416f64;
-                let t64 = A::mul_add(first_a_vx, 0.19866933079506122f64, t62);
-                let t65 = A::mul_add(t15, 0.19866933079506122f64, t63);
-                let t66 = t50 * 0.07736548146578168f64;
-                let t67 = t18 * 0.07736548146578168f64;
-                let t68 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t66);
-                let t69 = A::mul_add(t15, 0.3816559020950483f64, -t67);
-                let t70 = A::mul_add(first_a_vz, 0.9210609940028851f64, t68);
-                let t71 = A::mul_add(-t21, 0.9210609940028851f64, t69);
-                let t72 = t8 * t53;
-                let t73 = A::mul_add(c_skewed, t52, -t72);
-                let t74 = A::mul_add(-t9, t55, t73);
-                let t75 = t10 * t53;
-                let t76 = A::mul_add(t8, t52, t75);
-                let t77 = A::mul_add(t11, t55, t76);
-                let t78 = t11 * t53;
-                let t79 = A::mul_add(t9, t52, t78);
-                let t80 = A::mul_add(t12, t55, t79);
-                let t81 = t8 * t64;
+                let t26 = qd_skewed * 0.8f64;
+                let t27 = qd_skewed * 0.6f64;
+                let t28 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t29 = first_v_wz * 0.3894183423086505f64;
+                let t30 = A::mul_add(first_v_wx, 0.90270109637546f64, -t29);
+                let t31 = first_v_wx * 0.19866933079506122f64;
+                let t32 = first_v_wz * 0.9210609940028851f64;
+                let t33 = A::mul_add(first_v_wx, 0.3816559020950483f64, t32);
+                let t34 = t28 * 0.18298657129998708f64;
+                let t35 = t28 * 0.9800665778412416f64;
+                let t36 = t28 * 0.07736548146578168f64;
+                let t37 = t8 * t31;
+                let t38 = A::mul_add(c_skewed, t30, -t37);
+                let second_v_wx = A::mul_add(-t9, t33, t38);
+                let t39 = t10 * t31;
+                let t40 = A::mul_add(t8, t30, t39);
+                let t41 = A::mul_add(t11, t33, t40);
+                let t42 = t11 * t31;
+                let t43 = A::mul_add(t9, t30, t42);
+                let t44 = A::mul_add(t12, t33, t43);
+                let t45 = t8 * t35;
+                let t46 = A::mul_add(c_skewed, t34, t45);
+                let second_v_vx = A::mul_add(t9, t36, -t46);
+                let t47 = t8 * t34;
+                let t48 = A::mul_add(t10, t35, -t47);
+                let second_v_vy = A::mul_add(-t11, t36, t48);
+                let t49 = t9 * t34;
+                let t50 = A::mul_add(t11, t35, -t49);
+                let second_v_vz = A::mul_add(-t12, t36, t50);
+                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t41);
+                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t44);
+                let t51 = A::mul_add(first_a_wz, 0.2f64, first_a_vy); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t52 = first_a_wz * 0.3894183423086505f64;
+                let t53 = A::mul_add(first_a_wx, 0.90270109637546f64, -t52);
+                let t54 = first_a_wx * 0.19866933079506122f64;
+                let t55 = first_a_wz * 0.9210609940028851f64;
+                let t56 = A::mul_add(first_a_wx, 0.3816559020950483f64, t55);
+                let t57 = t51 * 0.18298657129998708f64;
+                let t58 = t18 * 0.18298657129998708f64;
+                let t59 = A::mul_add(first_a_vx, 0.90270109637546f64, -t57);
+                let t60 = A::mul_add(t15, 0.90270109637546f64, -t58);
+                let t61 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t59);
+                let t62 = A::mul_add(t21, 0.3894183423086505f64, t60);
+                let t63 = t51 * 0.9800665778412416f64;
+                let t64 = t18 * 0.9800665778412416f64;
+                let t65 = A::mul_add(first_a_vx, 0.19866933079506122f64, t63);
+                let t66 = A::mul_add(t15, 0.19866933079506122f64, t64);
+                let t67 = t51 * 0.07736548146578168f64;
+                let t68 = t18 * 0.07736548146578168f64;
+                let t69 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t67);
+                let t70 = A::mul_add(t15, 0.3816559020950483f64, -t68);
+                let t71 = A::mul_add(first_a_vz, 0.9210609940028851f64, t69);
+                let t72 = A::mul_add(-t21, 0.9210609940028851f64, t70);
+                let t73 = t8 * t54;
+                let t74 = A::mul_add(c_skewed, t53, -t73);
+                let t75 = A::mul_add(-t9, t56, t74);
+                let t76 = t10 * t54;
+                let t77 = A::mul_add(t8, t53, t76);
+                let t78 = A::mul_add(t11, t56, t77);
+                let t79 = t11 * t54;
+                let t80 = A::mul_add(t9, t53, t79);
+                let t81 = A::mul_add(t12, t56, t80);
                 let t82 = t8 * t65;
-                let t83 = A::mul_add(c_skewed, t60, -t81);
+                let t83 = t8 * t66;
                 let t84 = A::mul_add(c_skewed, t61, -t82);
-                let t85 = A::mul_add(-t9, t70, t83);
+                let t85 = A::mul_add(c_skewed, t62, -t83);
                 let t86 = A::mul_add(-t9, t71, t84);
-                let t87 = t10 * t64;
+                let t87 = A::mul_add(-t9, t72, t85);
                 let t88 = t10 * t65;
-                let t89 = A::mul_add(t8, t60, t87);
+                let t89 = t10 * t66;
                 let t90 = A::mul_add(t8, t61, t88);
-                let t91 = A::mul_add(t11, t70, t89);
+                let t91 = A::mul_add(t8, t62, t89);
                 let t92 = A::mul_add(t11, t71, t90);
-                let t93 = t11 * t64;
+                let t93 = A::mul_add(t11, t72, t91);
                 let t94 = t11 * t65;
-                let t95 = A::mul_add(t9, t60, t93);
+                let t95 = t11 * t66;
                 let t96 = A::mul_add(t9, t61, t94);
-                let t97 = A::mul_add(t12, t70, t95);
+                let t97 = A::mul_add(t9, t62, t95);
                 let t98 = A::mul_add(t12, t71, t96);
-                let t99 = A::mul_add(qdd_skewed, 0.8f64, t77);
-                let t100 = A::mul_add(-qdd_skewed, 0.6f64, t80);
-                let t101 = second_v_wz * t25;
-                let t102 = A::mul_add(second_v_wy, t26, t101);
-                let t103 = second_v_vz * t25;
-                let t104 = A::mul_add(second_v_vy, t26, t103);
-                let second_a_wx = t74 - t102;
-                let second_a_wy = A::mul_add(second_v_wx, t26, t99);
-                let second_a_wz = A::mul_add(second_v_wx, t25, t100);
-                let second_a_vx = t85 - t104;
-                let second_a_vy = A::mul_add(second_v_vx, t26, t91);
-                let second_a_vz = A::mul_add(second_v_vx, t25, t97);
-                let t105 = second_a_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t106 = A::mul_add(second_a_wx, 0.0040999999999999995f64, -t105); // 4.1000e-3 = second I_xx
-                let t107 = second_a_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t108 = A::mul_add(second_a_wz, 0.0375f64, -t107); // 3.7500e-2 = second I_zz
-                let t109 = t92 * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
-                let t110 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t111 = t98 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t112 = A::mul_add(second_a_vx, 0.01f64, -t110); // 1.0000e-2 = second m·c_z or second c_z
-                let t113 = A::mul_add(t86, 0.01f64, -t111); // 1.0000e-2 = second m·c_z or second c_z
-                let t114 = t92 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t115 = second_a_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t116 = A::mul_add(second_a_wx, 0.01f64, -t115); // 1.0000e-2 = second m·c_z or second c_z
-                let t117 = A::mul_add(-second_a_vy, 0.01f64, t106); // 1.0000e-2 = second m·c_z or second c_z
-                let t118 = A::mul_add(second_a_wy, 0.037599999999999995f64, t112); // 3.7600e-2 = second I_yy
-                let t119 = A::mul_add(second_a_vy, 0.15f64, t108); // 1.5000e-1 = second m·c_x or second c_x
-                let t120 = A::mul_add(second_a_wy, 0.01f64, second_a_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t121 = second_a_vy - t116;
-                let t122 = A::mul_add(-second_a_wy, 0.15f64, second_a_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t123 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t124 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t123); // 4.1000e-3 = second I_xx
-                let t125 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t126 = A::mul_add(second_v_wz, 0.0375f64, -t125); // 3.7500e-2 = second I_zz
-                let t127 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t128 = A::mul_add(second_v_vx, 0.01f64, -t127); // 1.0000e-2 = second m·c_z or second c_z
-                let t129 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t130 = A::mul_add(second_v_wx, 0.01f64, -t129); // 1.0000e-2 = second m·c_z or second c_z
-                let t131 = A::mul_add(-second_v_vy, 0.01f64, t124); // 1.0000e-2 = second m·c_z or second c_z
-                let t132 = A::mul_add(second_v_wy, 0.037599999999999995f64, t128); // 3.7600e-2 = second I_yy
-                let t133 = A::mul_add(second_v_vy, 0.15f64, t126); // 1.5000e-1 = second m·c_x or second c_x
-                let t134 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t135 = second_v_vy - t130;
-                let t136 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t137 = second_v_wz * t132;
-                let t138 = A::mul_add(second_v_wy, t133, -t137);
-                let t139 = second_v_wx * t133;
-                let t140 = A::mul_add(second_v_wz, t131, -t139);
-                let t141 = second_v_wy * t131;
-                let t142 = A::mul_add(second_v_wx, t132, -t141);
-                let t143 = second_v_vz * t135;
-                let t144 = A::mul_add(second_v_vy, t136, -t143);
-                let t145 = second_v_vx * t136;
-                let t146 = A::mul_add(second_v_vz, t134, -t145);
-                let t147 = second_v_vy * t134;
-                let t148 = A::mul_add(second_v_vx, t135, -t147);
-                let t149 = t138 + t144;
-                let t150 = t140 + t146;
-                let t151 = t142 + t148;
-                let t152 = second_v_wz * t135;
-                let t153 = A::mul_add(second_v_wy, t136, -t152);
-                let t154 = second_v_wx * t136;
-                let t155 = A::mul_add(second_v_wz, t134, -t154);
-                let t156 = second_v_wy * t134;
-                let t157 = A::mul_add(second_v_wx, t135, -t156);
-                let second_f_nx = t117 + t149;
-                let second_f_ny = t118 + t150;
-                let second_f_nz = t119 + t151;
-                let second_f_fx = t120 + t153;
-                let second_f_fy = t121 + t155;
-                let second_f_fz = t122 + t157;
+                let t99 = A::mul_add(t12, t72, t97);
+                let t100 = A::mul_add(qdd_skewed, 0.8f64, t78);
+                let t101 = A::mul_add(-qdd_skewed, 0.6f64, t81);
+                let t102 = second_v_wz * t26;
+                let t103 = A::mul_add(second_v_wy, t27, t102);
+                let t104 = second_v_vz * t26;
+                let t105 = A::mul_add(second_v_vy, t27, t104);
+                let second_a_wx = t75 - t103;
+                let second_a_wy = A::mul_add(second_v_wx, t27, t100);
+                let second_a_wz = A::mul_add(second_v_wx, t26, t101);
+                let second_a_vx = t86 - t105;
+                let second_a_vy = A::mul_add(second_v_vx, t27, t92);
+                let second_a_vz = A::mul_add(second_v_vx, t26, t98);
+                let t106 = second_a_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t107 = A::mul_add(second_a_wx, 0.0040999999999999995f64, -t106); // 4.1000e-3 = second I_xx
+                let t108 = second_a_wx * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t109 = A::mul_add(second_a_wz, 0.0375f64, -t108); // 3.7500e-2 = second I_zz
+                let t110 = t93 * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
+                let t111 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t112 = t99 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t113 = A::mul_add(second_a_vx, 0.01f64, -t111); // 1.0000e-2 = second m·c_z or second c_z
+                let t114 = A::mul_add(t87, 0.01f64, -t112); // 1.0000e-2 = second m·c_z or second c_z
+                let t115 = t93 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t116 = second_a_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t117 = A::mul_add(second_a_wx, 0.01f64, -t116); // 1.0000e-2 = second m·c_z or second c_z
+                let t118 = A::mul_add(-second_a_vy, 0.01f64, t107); // 1.0000e-2 = second m·c_z or second c_z
+                let t119 = A::mul_add(second_a_wy, 0.037599999999999995f64, t113); // 3.7600e-2 = second I_yy
+                let t120 = A::mul_add(second_a_vy, 0.15f64, t109); // 1.5000e-1 = second m·c_x or second c_x
+                let t121 = A::mul_add(second_a_wy, 0.01f64, second_a_vx); // 1.0000e-2 = second m·c_z or second c_z
+                let t122 = second_a_vy - t117;
+                let t123 = A::mul_add(-second_a_wy, 0.15f64, second_a_vz); // 1.5000e-1 = second m·c_x or second c_x
+                let t124 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t125 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t124); // 4.1000e-3 = second I_xx
+                let t126 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t127 = A::mul_add(second_v_wz, 0.0375f64, -t126); // 3.7500e-2 = second I_zz
+                let t128 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t129 = A::mul_add(second_v_vx, 0.01f64, -t128); // 1.0000e-2 = second m·c_z or second c_z
+                let t130 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t131 = A::mul_add(second_v_wx, 0.01f64, -t130); // 1.0000e-2 = second m·c_z or second c_z
+                let t132 = A::mul_add(-second_v_vy, 0.01f64, t125); // 1.0000e-2 = second m·c_z or second c_z
+                let t133 = A::mul_add(second_v_wy, 0.037599999999999995f64, t129); // 3.7600e-2 = second I_yy
+                let t134 = A::mul_add(second_v_vy, 0.15f64, t127); // 1.5000e-1 = second m·c_x or second c_x
+                let t135 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
+                let t136 = second_v_vy - t131;
+                let t137 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
+                let t138 = second_v_wz * t133;
+                let t139 = A::mul_add(second_v_wy, t134, -t138);
+                let t140 = second_v_wx * t134;
+                let t141 = A::mul_add(second_v_wz, t132, -t140);
+                let t142 = second_v_wy * t132;
+                let t143 = A::mul_add(second_v_wx, t133, -t142);
+                let t144 = second_v_vz * t136;
+                let t145 = A::mul_add(second_v_vy, t137, -t144);
+                let t146 = second_v_vx * t137;
+                let t147 = A::mul_add(second_v_vz, t135, -t146);
+                let t148 = second_v_vy * t135;
+                let t149 = A::mul_add(second_v_vx, t136, -t148);
+                let t150 = t139 + t145;
+                let t151 = t141 + t147;
+                let t152 = t143 + t149;
+                let t153 = second_v_wz * t136;
+                let t154 = A::mul_add(second_v_wy, t137, -t153);
+                let t155 = second_v_wx * t137;
+                let t156 = A::mul_add(second_v_wz, t135, -t155);
+                let t157 = second_v_wy * t135;
+                let t158 = A::mul_add(second_v_wx, t136, -t157);
+                let second_f_nx = t118 + t150;
+                let second_f_ny = t119 + t151;
+                let second_f_nz = t120 + t152;
+                let second_f_fx = t121 + t154;
+                let second_f_fy = t122 + t156;
+                let second_f_fz = t123 + t158;
                 (
-                    t25,
                     t26,
-                    t29,
+                    t27,
                     t30,
-                    t32,
+                    t31,
                     t33,
                     t34,
                     t35,
+                    t36,
                     second_v_wx,
                     second_v_vx,
                     second_v_vy,
                     second_v_vz,
                     second_v_wy,
                     second_v_wz,
-                    t52,
                     t53,
-                    t55,
-                    t60,
-                    t64,
-                    t70,
-                    t86,
-                    t92,
-                    t98,
-                    t109,
-                    t113,
+                    t54,
+                    t56,
+                    t61,
+                    t65,
+                    t71,
+                    t87,
+                    t93,
+                    t99,
+                    t110,
                     t114,
-                    t131,
+                    t115,
                     t132,
                     t133,
                     t134,
                     t135,
                     t136,
+                    t137,
                     second_f_nx,
                     second_f_ny,
                     second_f_nz,
@@ -1999,522 +2000,522 @@ const _: () = {
                     second_f_fz,
                 )
             };
-            let (t159, t187, t188) = {
+            let (t160, t188, t189) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t158 = t114 * 0.6f64;
-                let t159 = A::mul_add(t113, 0.8f64, -t158);
-                let t160 = t8 * t92;
-                let t161 = A::mul_add(c_skewed, t86, t160);
-                let t162 = A::mul_add(t9, t98, t161);
-                let t163 = t8 * t86;
-                let t164 = A::mul_add(t10, t92, -t163);
-                let t165 = A::mul_add(t11, t98, t164);
-                let t166 = t9 * t86;
-                let t167 = A::mul_add(t11, t92, -t166);
-                let t168 = A::mul_add(t12, t98, t167);
-                let t169 = c_skewed * t109;
-                let t170 = A::mul_add(t8, t113, -t169);
-                let t171 = A::mul_add(t9, t114, t170);
-                let t172 = t10 * t113;
-                let t173 = A::mul_add(t8, t109, t172);
-                let t174 = A::mul_add(t11, t114, t173);
-                let t175 = t11 * t113;
-                let t176 = A::mul_add(t9, t109, t175);
-                let t177 = A::mul_add(t12, t114, t176);
-                let t178 = t162 * 0.18298657129998708f64;
-                let t179 = A::mul_add(t165, 0.9800665778412416f64, -t178);
-                let t180 = A::mul_add(-t168, 0.07736548146578168f64, t179);
-                let t181 = t174 * 0.19866933079506122f64;
-                let t182 = A::mul_add(t171, 0.90270109637546f64, t181);
-                let t183 = A::mul_add(t177, 0.3816559020950483f64, t182);
-                let t184 = t171 * 0.3894183423086505f64;
-                let t185 = A::mul_add(t177, 0.9210609940028851f64, -t184);
-                let t186 = A::mul_add(t180, 0.2f64, t185); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t187 = A::mul_add(-t21, 0.03f64, t183); // 3.0000e-2 = first m·c_y
-                let t188 = t23 + t186;
-                (t159, t187, t188)
+                let t159 = t115 * 0.6f64;
+                let t160 = A::mul_add(t114, 0.8f64, -t159);
+                let t161 = t8 * t93;
+                let t162 = A::mul_add(c_skewed, t87, t161);
+                let t163 = A::mul_add(t9, t99, t162);
+                let t164 = t8 * t87;
+                let t165 = A::mul_add(t10, t93, -t164);
+                let t166 = A::mul_add(t11, t99, t165);
+                let t167 = t9 * t87;
+                let t168 = A::mul_add(t11, t93, -t167);
+                let t169 = A::mul_add(t12, t99, t168);
+                let t170 = c_skewed * t110;
+                let t171 = A::mul_add(t8, t114, -t170);
+                let t172 = A::mul_add(t9, t115, t171);
+                let t173 = t10 * t114;
+                let t174 = A::mul_add(t8, t110, t173);
+                let t175 = A::mul_add(t11, t115, t174);
+                let t176 = t11 * t114;
+                let t177 = A::mul_add(t9, t110, t176);
+                let t178 = A::mul_add(t12, t115, t177);
+                let t179 = t163 * 0.18298657129998708f64;
+                let t180 = A::mul_add(t166, 0.9800665778412416f64, -t179);
+                let t181 = A::mul_add(-t169, 0.07736548146578168f64, t180);
+                let t182 = t175 * 0.19866933079506122f64;
+                let t183 = A::mul_add(t172, 0.90270109637546f64, t182);
+                let t184 = A::mul_add(t178, 0.3816559020950483f64, t183);
+                let t185 = t172 * 0.3894183423086505f64;
+                let t186 = A::mul_add(t178, 0.9210609940028851f64, -t185);
+                let t187 = A::mul_add(t181, 0.2f64, t186); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t188 = t184 - t22;
+                let t189 = t24 + t187;
+                (t160, t188, t189)
             };
-            let t190 = {
+            let t191 = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t189 = t188 * 0.8f64;
-                let t190 = A::mul_add(t187, 0.6f64, t189);
-                t190
+                let t190 = t189 * 0.8f64;
+                let t191 = A::mul_add(t188, 0.6f64, t190);
+                t191
             };
-            let (t192, t194) = {
+            let (t193, t195) = {
                 // ── link `first`, joint `tilted` (base to tip)
-                let t191 = t24 * 0.8f64;
-                let t192 = A::mul_add(first_v_wz, 0.0018f64, t191);
-                let t193 = t24 * 0.6f64;
-                let t194 = A::mul_add(first_v_wx, 0.0018f64, t193);
-                (t192, t194)
+                let t192 = t25 * 0.8f64;
+                let t193 = A::mul_add(first_v_wz, 0.0018f64, t192);
+                let t194 = t25 * 0.6f64;
+                let t195 = A::mul_add(first_v_wx, 0.0018f64, t194);
+                (t193, t195)
             };
-            let (t298, t299, t300, t301, t302, t303) = {
+            let (t299, t300, t301, t302, t303, t304) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t195 = t8 * 0.11920159847703672f64;
-                let t196 = A::mul_add(c_skewed, 0.23008598397835556f64, -t195);
-                let t197 = A::mul_add(-t9, 0.9658423364593371f64, t196);
-                let t198 = t10 * 0.11920159847703672f64;
-                let t199 = A::mul_add(t8, 0.23008598397835556f64, t198);
-                let t200 = A::mul_add(t11, 0.9658423364593371f64, t199);
-                let t201 = t11 * 0.11920159847703672f64;
-                let t202 = A::mul_add(t9, 0.23008598397835556f64, t201);
-                let t203 = A::mul_add(t12, 0.9658423364593371f64, t202);
-                let t204 = t8 * 0.1568106524545987f64;
-                let t205 = A::mul_add(c_skewed, 0.029277851407997938f64, t204);
-                let t206 = A::mul_add(t9, 0.012378477034525071f64, -t205);
-                let t207 = t8 * 0.029277851407997938f64;
-                let t208 = A::mul_add(t10, 0.1568106524545987f64, -t207);
-                let t209 = A::mul_add(-t11, 0.012378477034525071f64, t208);
-                let t210 = t9 * 0.029277851407997938f64;
-                let t211 = A::mul_add(t11, 0.1568106524545987f64, -t210);
-                let t212 = A::mul_add(-t12, 0.012378477034525071f64, t211);
-                let t213 = t203 * t25;
-                let t214 = A::mul_add(t200, t26, t213);
-                let t215 = t197 * t26;
-                let t216 = t197 * t25;
-                let t217 = t212 * t25;
-                let t218 = A::mul_add(t209, t26, t217);
-                let t219 = t206 * t26;
-                let t220 = t206 * t25;
-                let t221 = t216 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t222 = A::mul_add(t214, 0.0040999999999999995f64, t221); // 4.1000e-3 = second I_xx
-                let t223 = t216 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t224 = A::mul_add(t214, 0.0015f64, t223); // 1.5000e-3 = second I_xz
-                let t225 = t220 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t226 = A::mul_add(t218, 0.01f64, t225); // 1.0000e-2 = second m·c_z or second c_z
-                let t227 = t216 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t228 = A::mul_add(t214, 0.01f64, t227); // 1.0000e-2 = second m·c_z or second c_z
-                let t229 = t215 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t230 = A::mul_add(t219, 0.01f64, t222); // 1.0000e-2 = second m·c_z or second c_z
-                let t231 = A::mul_add(t215, 0.037599999999999995f64, -t226); // 3.7600e-2 = second I_yy
-                let t232 = A::mul_add(t219, 0.15f64, t224); // 1.5000e-1 = second m·c_x or second c_x
-                let t233 = A::mul_add(t215, 0.01f64, -t218); // 1.0000e-2 = second m·c_z or second c_z
-                let t234 = A::mul_add(t206, t26, t228);
-                let t235 = A::mul_add(t206, t25, -t229);
-                let t236 = t203 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t237 = A::mul_add(t197, 0.0040999999999999995f64, -t236); // 4.1000e-3 = second I_xx
-                let t238 = t197 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t239 = A::mul_add(t203, 0.0375f64, -t238); // 3.7500e-2 = second I_zz
-                let t240 = t212 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t241 = A::mul_add(t206, 0.01f64, -t240); // 1.0000e-2 = second m·c_z or second c_z
-                let t242 = t203 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t243 = A::mul_add(t197, 0.01f64, -t242); // 1.0000e-2 = second m·c_z or second c_z
-                let t244 = A::mul_add(-t209, 0.01f64, t237); // 1.0000e-2 = second m·c_z or second c_z
-                let t245 = A::mul_add(t200, 0.037599999999999995f64, t241); // 3.7600e-2 = second I_yy
-                let t246 = A::mul_add(t209, 0.15f64, t239); // 1.5000e-1 = second m·c_x or second c_x
-                let t247 = A::mul_add(t200, 0.01f64, t206); // 1.0000e-2 = second m·c_z or second c_z
-                let t248 = t209 - t243;
-                let t249 = A::mul_add(-t200, 0.15f64, t212); // 1.5000e-1 = second m·c_x or second c_x
-                let t250 = t200 * t133;
-                let t251 = A::mul_add(second_v_wy, t246, t250);
-                let t252 = t203 * t132;
-                let t253 = A::mul_add(second_v_wz, t245, t252);
-                let t254 = t251 - t253;
-                let t255 = t203 * t131;
-                let t256 = A::mul_add(second_v_wz, t244, t255);
-                let t257 = t197 * t133;
-                let t258 = A::mul_add(second_v_wx, t246, t257);
-                let t259 = t256 - t258;
-                let t260 = t197 * t132;
-                let t261 = A::mul_add(second_v_wx, t245, t260);
-                let t262 = t200 * t131;
-                let t263 = A::mul_add(second_v_wy, t244, t262);
-                let t264 = t261 - t263;
-                let t265 = t209 * t136;
-                let t266 = A::mul_add(second_v_vy, t249, t265);
-                let t267 = t212 * t135;
-                let t268 = A::mul_add(second_v_vz, t248, t267);
-                let t269 = t266 - t268;
-                let t270 = t212 * t134;
-                let t271 = A::mul_add(second_v_vz, t247, t270);
-                let t272 = t206 * t136;
-                let t273 = A::mul_add(second_v_vx, t249, t272);
-                let t274 = t271 - t273;
-                let t275 = t206 * t135;
-                let t276 = A::mul_add(second_v_vx, t248, t275);
-                let t277 = t209 * t134;
-                let t278 = A::mul_add(second_v_vy, t247, t277);
-                let t279 = t276 - t278;
-                let t280 = t254 + t269;
-                let t281 = t259 + t274;
-                let t282 = t264 + t279;
-                let t283 = t200 * t136;
-                let t284 = A::mul_add(second_v_wy, t249, t283);
-                let t285 = t203 * t135;
-                let t286 = A::mul_add(second_v_wz, t248, t285);
-                let t287 = t284 - t286;
-                let t288 = t203 * t134;
-                let t289 = A::mul_add(second_v_wz, t247, t288);
-                let t290 = t197 * t136;
-                let t291 = A::mul_add(second_v_wx, t249, t290);
-                let t292 = t289 - t291;
-                let t293 = t197 * t135;
-                let t294 = A::mul_add(second_v_wx, t248, t293);
-                let t295 = t200 * t134;
-                let t296 = A::mul_add(second_v_wy, t247, t295);
-                let t297 = t294 - t296;
-                let t298 = t280 - t230;
-                let t299 = t231 + t281;
+                let t196 = t8 * 0.11920159847703672f64;
+                let t197 = A::mul_add(c_skewed, 0.23008598397835556f64, -t196);
+                let t198 = A::mul_add(-t9, 0.9658423364593371f64, t197);
+                let t199 = t10 * 0.11920159847703672f64;
+                let t200 = A::mul_add(t8, 0.23008598397835556f64, t199);
+                let t201 = A::mul_add(t11, 0.9658423364593371f64, t200);
+                let t202 = t11 * 0.11920159847703672f64;
+                let t203 = A::mul_add(t9, 0.23008598397835556f64, t202);
+                let t204 = A::mul_add(t12, 0.9658423364593371f64, t203);
+                let t205 = t8 * 0.1568106524545987f64;
+                let t206 = A::mul_add(c_skewed, 0.029277851407997938f64, t205);
+                let t207 = A::mul_add(t9, 0.012378477034525071f64, -t206);
+                let t208 = t8 * 0.029277851407997938f64;
+                let t209 = A::mul_add(t10, 0.1568106524545987f64, -t208);
+                let t210 = A::mul_add(-t11, 0.012378477034525071f64, t209);
+                let t211 = t9 * 0.029277851407997938f64;
+                let t212 = A::mul_add(t11, 0.1568106524545987f64, -t211);
+                let t213 = A::mul_add(-t12, 0.012378477034525071f64, t212);
+                let t214 = t204 * t26;
+                let t215 = A::mul_add(t201, t27, t214);
+                let t216 = t198 * t27;
+                let t217 = t198 * t26;
+                let t218 = t213 * t26;
+                let t219 = A::mul_add(t210, t27, t218);
+                let t220 = t207 * t27;
+                let t221 = t207 * t26;
+                let t222 = t217 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t223 = A::mul_add(t215, 0.0040999999999999995f64, t222); // 4.1000e-3 = second I_xx
+                let t224 = t217 * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t225 = A::mul_add(t215, 0.0015f64, t224); // 1.5000e-3 = second I_xz
+                let t226 = t221 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t227 = A::mul_add(t219, 0.01f64, t226); // 1.0000e-2 = second m·c_z or second c_z
+                let t228 = t217 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t229 = A::mul_add(t215, 0.01f64, t228); // 1.0000e-2 = second m·c_z or second c_z
+                let t230 = t216 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t231 = A::mul_add(t220, 0.01f64, t223); // 1.0000e-2 = second m·c_z or second c_z
+                let t232 = A::mul_add(t216, 0.037599999999999995f64, -t227); // 3.7600e-2 = second I_yy
+                let t233 = A::mul_add(t220, 0.15f64, t225); // 1.5000e-1 = second m·c_x or second c_x
+                let t234 = A::mul_add(t216, 0.01f64, -t219); // 1.0000e-2 = second m·c_z or second c_z
+                let t235 = A::mul_add(t207, t27, t229);
+                let t236 = A::mul_add(t207, t26, -t230);
+                let t237 = t204 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t238 = A::mul_add(t198, 0.0040999999999999995f64, -t237); // 4.1000e-3 = second I_xx
+                let t239 = t198 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t240 = A::mul_add(t204, 0.0375f64, -t239); // 3.7500e-2 = second I_zz
+                let t241 = t213 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t242 = A::mul_add(t207, 0.01f64, -t241); // 1.0000e-2 = second m·c_z or second c_z
+                let t243 = t204 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t244 = A::mul_add(t198, 0.01f64, -t243); // 1.0000e-2 = second m·c_z or second c_z
+                let t245 = A::mul_add(-t210, 0.01f64, t238); // 1.0000e-2 = second m·c_z or second c_z
+                let t246 = A::mul_add(t201, 0.037599999999999995f64, t242); // 3.7600e-2 = second I_yy
+                let t247 = A::mul_add(t210, 0.15f64, t240); // 1.5000e-1 = second m·c_x or second c_x
+                let t248 = A::mul_add(t201, 0.01f64, t207); // 1.0000e-2 = second m·c_z or second c_z
+                let t249 = t210 - t244;
+                let t250 = A::mul_add(-t201, 0.15f64, t213); // 1.5000e-1 = second m·c_x or second c_x
+                let t251 = t201 * t134;
+                let t252 = A::mul_add(second_v_wy, t247, t251);
+                let t253 = t204 * t133;
+                let t254 = A::mul_add(second_v_wz, t246, t253);
+                let t255 = t252 - t254;
+                let t256 = t204 * t132;
+                let t257 = A::mul_add(second_v_wz, t245, t256);
+                let t258 = t198 * t134;
+                let t259 = A::mul_add(second_v_wx, t247, t258);
+                let t260 = t257 - t259;
+                let t261 = t198 * t133;
+                let t262 = A::mul_add(second_v_wx, t246, t261);
+                let t263 = t201 * t132;
+                let t264 = A::mul_add(second_v_wy, t245, t263);
+                let t265 = t262 - t264;
+                let t266 = t210 * t137;
+                let t267 = A::mul_add(second_v_vy, t250, t266);
+                let t268 = t213 * t136;
+                let t269 = A::mul_add(second_v_vz, t249, t268);
+                let t270 = t267 - t269;
+                let t271 = t213 * t135;
+                let t272 = A::mul_add(second_v_vz, t248, t271);
+                let t273 = t207 * t137;
+                let t274 = A::mul_add(second_v_vx, t250, t273);
+                let t275 = t272 - t274;
+                let t276 = t207 * t136;
+                let t277 = A::mul_add(second_v_vx, t249, t276);
+                let t278 = t210 * t135;
+                let t279 = A::mul_add(second_v_vy, t248, t278);
+                let t280 = t277 - t279;
+                let t281 = t255 + t270;
+                let t282 = t260 + t275;
+                let t283 = t265 + t280;
+                let t284 = t201 * t137;
+                let t285 = A::mul_add(second_v_wy, t250, t284);
+                let t286 = t204 * t136;
+                let t287 = A::mul_add(second_v_wz, t249, t286);
+                let t288 = t285 - t287;
+                let t289 = t204 * t135;
+                let t290 = A::mul_add(second_v_wz, t248, t289);
+                let t291 = t198 * t137;
+                let t292 = A::mul_add(second_v_wx, t250, t291);
+                let t293 = t290 - t292;
+                let t294 = t198 * t136;
+                let t295 = A::mul_add(second_v_wx, t249, t294);
+                let t296 = t201 * t135;
+                let t297 = A::mul_add(second_v_wy, t248, t296);
+                let t298 = t295 - t297;
+                let t299 = t281 - t231;
                 let t300 = t232 + t282;
-                let t301 = t233 + t287;
-                let t302 = t234 + t292;
-                let t303 = t235 + t297;
-                (t298, t299, t300, t301, t302, t303)
+                let t301 = t233 + t283;
+                let t302 = t234 + t288;
+                let t303 = t235 + t293;
+                let t304 = t236 + t298;
+                (t299, t300, t301, t302, t303, t304)
             };
-            let (t305, t333, t334) = {
+            let (t306, t334, t335) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t304 = t300 * 0.6f64;
-                let t305 = A::mul_add(t299, 0.8f64, -t304);
-                let t306 = t8 * t302;
-                let t307 = A::mul_add(c_skewed, t301, t306);
-                let t308 = A::mul_add(t9, t303, t307);
-                let t309 = t8 * t301;
-                let t310 = A::mul_add(t10, t302, -t309);
-                let t311 = A::mul_add(t11, t303, t310);
-                let t312 = t9 * t301;
-                let t313 = A::mul_add(t11, t302, -t312);
-                let t314 = A::mul_add(t12, t303, t313);
-                let t315 = t8 * t299;
-                let t316 = A::mul_add(c_skewed, t298, t315);
-                let t317 = A::mul_add(t9, t300, t316);
-                let t318 = t8 * t298;
-                let t319 = A::mul_add(t10, t299, -t318);
-                let t320 = A::mul_add(t11, t300, t319);
-                let t321 = t9 * t298;
-                let t322 = A::mul_add(t11, t299, -t321);
-                let t323 = A::mul_add(t12, t300, t322);
-                let t324 = t308 * 0.18298657129998708f64;
-                let t325 = A::mul_add(t311, 0.9800665778412416f64, -t324);
-                let t326 = A::mul_add(-t314, 0.07736548146578168f64, t325);
-                let t327 = t320 * 0.19866933079506122f64;
-                let t328 = A::mul_add(t317, 0.90270109637546f64, t327);
-                let t329 = A::mul_add(t323, 0.3816559020950483f64, t328);
-                let t330 = t317 * 0.3894183423086505f64;
-                let t331 = A::mul_add(t323, 0.9210609940028851f64, -t330);
-                let t332 = A::mul_add(t326, 0.2f64, t331); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t333 = t192 + t329;
-                let t334 = t332 - t194;
-                (t305, t333, t334)
+                let t305 = t301 * 0.6f64;
+                let t306 = A::mul_add(t300, 0.8f64, -t305);
+                let t307 = t8 * t303;
+                let t308 = A::mul_add(c_skewed, t302, t307);
+                let t309 = A::mul_add(t9, t304, t308);
+                let t310 = t8 * t302;
+                let t311 = A::mul_add(t10, t303, -t310);
+                let t312 = A::mul_add(t11, t304, t311);
+                let t313 = t9 * t302;
+                let t314 = A::mul_add(t11, t303, -t313);
+                let t315 = A::mul_add(t12, t304, t314);
+                let t316 = t8 * t300;
+                let t317 = A::mul_add(c_skewed, t299, t316);
+                let t318 = A::mul_add(t9, t301, t317);
+                let t319 = t8 * t299;
+                let t320 = A::mul_add(t10, t300, -t319);
+                let t321 = A::mul_add(t11, t301, t320);
+                let t322 = t9 * t299;
+                let t323 = A::mul_add(t11, t300, -t322);
+                let t324 = A::mul_add(t12, t301, t323);
+                let t325 = t309 * 0.18298657129998708f64;
+                let t326 = A::mul_add(t312, 0.9800665778412416f64, -t325);
+                let t327 = A::mul_add(-t315, 0.07736548146578168f64, t326);
+                let t328 = t321 * 0.19866933079506122f64;
+                let t329 = A::mul_add(t318, 0.90270109637546f64, t328);
+                let t330 = A::mul_add(t324, 0.3816559020950483f64, t329);
+                let t331 = t318 * 0.3894183423086505f64;
+                let t332 = A::mul_add(t324, 0.9210609940028851f64, -t331);
+                let t333 = A::mul_add(t327, 0.2f64, t332); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t334 = t193 + t330;
+                let t335 = t333 - t195;
+                (t306, t334, t335)
             };
-            let (t336, t337, t338, t339, t340, t341) = {
+            let (t337, t338, t339, t340, t341, t342) = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t335 = t334 * 0.8f64;
-                let t336 = A::mul_add(t333, 0.6f64, t335);
-                let t337 = c_skewed * 0.6f64;
-                let t338 = c_skewed * 0.8f64;
-                let t339 = s_skewed * 0.3599999999999999f64;
-                let t340 = s_skewed * 0.48f64;
-                let t341 = s_skewed * 0.64f64;
-                (t336, t337, t338, t339, t340, t341)
+                let t336 = t335 * 0.8f64;
+                let t337 = A::mul_add(t334, 0.6f64, t336);
+                let t338 = c_skewed * 0.6f64;
+                let t339 = c_skewed * 0.8f64;
+                let t340 = s_skewed * 0.3599999999999999f64;
+                let t341 = s_skewed * 0.48f64;
+                let t342 = s_skewed * 0.64f64;
+                (t337, t338, t339, t340, t341, t342)
             };
-            let (t464, t465, t466, t467, t468, t469) = {
+            let (t465, t466, t467, t468, t469, t470) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t342 = t337 * t30;
-                let t343 = A::mul_add(s_skewed, t29, t342);
-                let t344 = A::mul_add(t338, t32, t343);
-                let t345 = t339 * t30;
-                let t346 = A::mul_add(t337, t29, -t345);
-                let t347 = A::mul_add(-t340, t32, t346);
-                let t348 = t340 * t30;
-                let t349 = A::mul_add(t338, t29, -t348);
-                let t350 = A::mul_add(-t341, t32, t349);
-                let t351 = t337 * t34;
-                let t352 = A::mul_add(s_skewed, t33, -t351);
-                let t353 = A::mul_add(t338, t35, t352);
-                let t354 = t339 * t34;
-                let t355 = A::mul_add(t337, t33, t354);
-                let t356 = A::mul_add(t340, t35, -t355);
-                let t357 = t340 * t34;
-                let t358 = A::mul_add(t338, t33, t357);
-                let t359 = A::mul_add(t341, t35, -t358);
-                let t360 = t337 * t53;
-                let t361 = A::mul_add(s_skewed, t52, t360);
-                let t362 = A::mul_add(t338, t55, t361);
-                let t363 = t339 * t53;
-                let t364 = A::mul_add(t337, t52, -t363);
-                let t365 = A::mul_add(-t340, t55, t364);
-                let t366 = t340 * t53;
-                let t367 = A::mul_add(t338, t52, -t366);
-                let t368 = A::mul_add(-t341, t55, t367);
-                let t369 = t337 * t64;
-                let t370 = A::mul_add(s_skewed, t60, t369);
-                let t371 = A::mul_add(t338, t70, t370);
-                let t372 = t339 * t64;
-                let t373 = A::mul_add(t337, t60, -t372);
-                let t374 = A::mul_add(-t340, t70, t373);
-                let t375 = t340 * t64;
-                let t376 = A::mul_add(t338, t60, -t375);
-                let t377 = A::mul_add(-t341, t70, t376);
-                let t378 = t350 * t25;
-                let t379 = A::mul_add(t347, t26, t378);
-                let t380 = t359 * t25;
-                let t381 = A::mul_add(t356, t26, t380);
-                let t382 = t362 + t379;
-                let t383 = A::mul_add(-t344, t26, t365);
-                let t384 = A::mul_add(-t344, t25, t368);
-                let t385 = t371 + t381;
-                let t386 = A::mul_add(t353, t26, t374);
-                let t387 = A::mul_add(t353, t25, t377);
-                let t388 = t384 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t389 = A::mul_add(t382, 0.0040999999999999995f64, t388); // 4.1000e-3 = second I_xx
-                let t390 = t384 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t391 = A::mul_add(t382, 0.0015f64, t390); // 1.5000e-3 = second I_xz
-                let t392 = t387 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t393 = A::mul_add(t385, 0.01f64, t392); // 1.0000e-2 = second m·c_z or second c_z
-                let t394 = t384 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t395 = A::mul_add(t382, 0.01f64, t394); // 1.0000e-2 = second m·c_z or second c_z
-                let t396 = A::mul_add(t386, 0.01f64, t389); // 1.0000e-2 = second m·c_z or second c_z
-                let t397 = A::mul_add(t383, 0.037599999999999995f64, -t393); // 3.7600e-2 = second I_yy
-                let t398 = A::mul_add(t386, 0.15f64, t391); // 1.5000e-1 = second m·c_x or second c_x
-                let t399 = A::mul_add(t383, 0.01f64, -t385); // 1.0000e-2 = second m·c_z or second c_z
-                let t400 = t386 + t395;
-                let t401 = A::mul_add(-t383, 0.15f64, t387); // 1.5000e-1 = second m·c_x or second c_x
-                let t402 = t350 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t403 = A::mul_add(t344, 0.0040999999999999995f64, t402); // 4.1000e-3 = second I_xx
-                let t404 = t350 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t405 = A::mul_add(t344, 0.0015f64, t404); // 1.5000e-3 = second I_xz
-                let t406 = t359 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t407 = A::mul_add(t353, 0.01f64, -t406); // 1.0000e-2 = second m·c_z or second c_z
-                let t408 = t350 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t409 = A::mul_add(t344, 0.01f64, t408); // 1.0000e-2 = second m·c_z or second c_z
-                let t410 = A::mul_add(t356, 0.01f64, t403); // 1.0000e-2 = second m·c_z or second c_z
-                let t411 = A::mul_add(t347, 0.037599999999999995f64, t407); // 3.7600e-2 = second I_yy
-                let t412 = A::mul_add(t356, 0.15f64, t405); // 1.5000e-1 = second m·c_x or second c_x
-                let t413 = A::mul_add(t347, 0.01f64, t353); // 1.0000e-2 = second m·c_z or second c_z
-                let t414 = t356 + t409;
-                let t415 = A::mul_add(-t347, 0.15f64, t359); // 1.5000e-1 = second m·c_x or second c_x
-                let t416 = t347 * t133;
-                let t417 = A::mul_add(second_v_wy, t412, t416);
-                let t418 = t350 * t132;
-                let t419 = A::mul_add(second_v_wz, t411, t418);
-                let t420 = t417 - t419;
-                let t421 = second_v_wz * t410;
-                let t422 = A::mul_add(t350, t131, -t421);
-                let t423 = t344 * t133;
-                let t424 = A::mul_add(second_v_wx, t412, -t423);
-                let t425 = t422 - t424;
-                let t426 = t344 * t132;
-                let t427 = A::mul_add(second_v_wx, t411, -t426);
-                let t428 = second_v_wy * t410;
-                let t429 = A::mul_add(t347, t131, -t428);
-                let t430 = t427 - t429;
-                let t431 = t356 * t136;
-                let t432 = A::mul_add(second_v_vy, t415, t431);
-                let t433 = t359 * t135;
-                let t434 = A::mul_add(second_v_vz, t414, t433);
-                let t435 = t432 - t434;
-                let t436 = t359 * t134;
-                let t437 = A::mul_add(second_v_vz, t413, t436);
-                let t438 = t353 * t136;
-                let t439 = A::mul_add(second_v_vx, t415, t438);
-                let t440 = t437 - t439;
-                let t441 = t353 * t135;
-                let t442 = A::mul_add(second_v_vx, t414, t441);
-                let t443 = t356 * t134;
-                let t444 = A::mul_add(second_v_vy, t413, t443);
-                let t445 = t442 - t444;
-                let t446 = t420 + t435;
-                let t447 = t425 + t440;
-                let t448 = t430 + t445;
-                let t449 = t347 * t136;
-                let t450 = A::mul_add(second_v_wy, t415, t449);
-                let t451 = t350 * t135;
-                let t452 = A::mul_add(second_v_wz, t414, t451);
-                let t453 = t450 - t452;
-                let t454 = t350 * t134;
-                let t455 = A::mul_add(second_v_wz, t413, t454);
-                let t456 = t344 * t136;
-                let t457 = A::mul_add(second_v_wx, t415, -t456);
-                let t458 = t455 - t457;
-                let t459 = t344 * t135;
-                let t460 = A::mul_add(second_v_wx, t414, -t459);
-                let t461 = t347 * t134;
-                let t462 = A::mul_add(second_v_wy, t413, t461);
-                let t463 = t460 - t462;
-                let t464 = t446 - t396;
-                let t465 = t397 + t447;
+                let t343 = t338 * t31;
+                let t344 = A::mul_add(s_skewed, t30, t343);
+                let t345 = A::mul_add(t339, t33, t344);
+                let t346 = t340 * t31;
+                let t347 = A::mul_add(t338, t30, -t346);
+                let t348 = A::mul_add(-t341, t33, t347);
+                let t349 = t341 * t31;
+                let t350 = A::mul_add(t339, t30, -t349);
+                let t351 = A::mul_add(-t342, t33, t350);
+                let t352 = t338 * t35;
+                let t353 = A::mul_add(s_skewed, t34, -t352);
+                let t354 = A::mul_add(t339, t36, t353);
+                let t355 = t340 * t35;
+                let t356 = A::mul_add(t338, t34, t355);
+                let t357 = A::mul_add(t341, t36, -t356);
+                let t358 = t341 * t35;
+                let t359 = A::mul_add(t339, t34, t358);
+                let t360 = A::mul_add(t342, t36, -t359);
+                let t361 = t338 * t54;
+                let t362 = A::mul_add(s_skewed, t53, t361);
+                let t363 = A::mul_add(t339, t56, t362);
+                let t364 = t340 * t54;
+                let t365 = A::mul_add(t338, t53, -t364);
+                let t366 = A::mul_add(-t341, t56, t365);
+                let t367 = t341 * t54;
+                let t368 = A::mul_add(t339, t53, -t367);
+                let t369 = A::mul_add(-t342, t56, t368);
+                let t370 = t338 * t65;
+                let t371 = A::mul_add(s_skewed, t61, t370);
+                let t372 = A::mul_add(t339, t71, t371);
+                let t373 = t340 * t65;
+                let t374 = A::mul_add(t338, t61, -t373);
+                let t375 = A::mul_add(-t341, t71, t374);
+                let t376 = t341 * t65;
+                let t377 = A::mul_add(t339, t61, -t376);
+                let t378 = A::mul_add(-t342, t71, t377);
+                let t379 = t351 * t26;
+                let t380 = A::mul_add(t348, t27, t379);
+                let t381 = t360 * t26;
+                let t382 = A::mul_add(t357, t27, t381);
+                let t383 = t363 + t380;
+                let t384 = A::mul_add(-t345, t27, t366);
+                let t385 = A::mul_add(-t345, t26, t369);
+                let t386 = t372 + t382;
+                let t387 = A::mul_add(t354, t27, t375);
+                let t388 = A::mul_add(t354, t26, t378);
+                let t389 = t385 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t390 = A::mul_add(t383, 0.0040999999999999995f64, t389); // 4.1000e-3 = second I_xx
+                let t391 = t385 * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t392 = A::mul_add(t383, 0.0015f64, t391); // 1.5000e-3 = second I_xz
+                let t393 = t388 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t394 = A::mul_add(t386, 0.01f64, t393); // 1.0000e-2 = second m·c_z or second c_z
+                let t395 = t385 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t396 = A::mul_add(t383, 0.01f64, t395); // 1.0000e-2 = second m·c_z or second c_z
+                let t397 = A::mul_add(t387, 0.01f64, t390); // 1.0000e-2 = second m·c_z or second c_z
+                let t398 = A::mul_add(t384, 0.037599999999999995f64, -t394); // 3.7600e-2 = second I_yy
+                let t399 = A::mul_add(t387, 0.15f64, t392); // 1.5000e-1 = second m·c_x or second c_x
+                let t400 = A::mul_add(t384, 0.01f64, -t386); // 1.0000e-2 = second m·c_z or second c_z
+                let t401 = t387 + t396;
+                let t402 = A::mul_add(-t384, 0.15f64, t388); // 1.5000e-1 = second m·c_x or second c_x
+                let t403 = t351 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t404 = A::mul_add(t345, 0.0040999999999999995f64, t403); // 4.1000e-3 = second I_xx
+                let t405 = t351 * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t406 = A::mul_add(t345, 0.0015f64, t405); // 1.5000e-3 = second I_xz
+                let t407 = t360 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t408 = A::mul_add(t354, 0.01f64, -t407); // 1.0000e-2 = second m·c_z or second c_z
+                let t409 = t351 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t410 = A::mul_add(t345, 0.01f64, t409); // 1.0000e-2 = second m·c_z or second c_z
+                let t411 = A::mul_add(t357, 0.01f64, t404); // 1.0000e-2 = second m·c_z or second c_z
+                let t412 = A::mul_add(t348, 0.037599999999999995f64, t408); // 3.7600e-2 = second I_yy
+                let t413 = A::mul_add(t357, 0.15f64, t406); // 1.5000e-1 = second m·c_x or second c_x
+                let t414 = A::mul_add(t348, 0.01f64, t354); // 1.0000e-2 = second m·c_z or second c_z
+                let t415 = t357 + t410;
+                let t416 = A::mul_add(-t348, 0.15f64, t360); // 1.5000e-1 = second m·c_x or second c_x
+                let t417 = t348 * t134;
+                let t418 = A::mul_add(second_v_wy, t413, t417);
+                let t419 = t351 * t133;
+                let t420 = A::mul_add(second_v_wz, t412, t419);
+                let t421 = t418 - t420;
+                let t422 = second_v_wz * t411;
+                let t423 = A::mul_add(t351, t132, -t422);
+                let t424 = t345 * t134;
+                let t425 = A::mul_add(second_v_wx, t413, -t424);
+                let t426 = t423 - t425;
+                let t427 = t345 * t133;
+                let t428 = A::mul_add(second_v_wx, t412, -t427);
+                let t429 = second_v_wy * t411;
+                let t430 = A::mul_add(t348, t132, -t429);
+                let t431 = t428 - t430;
+                let t432 = t357 * t137;
+                let t433 = A::mul_add(second_v_vy, t416, t432);
+                let t434 = t360 * t136;
+                let t435 = A::mul_add(second_v_vz, t415, t434);
+                let t436 = t433 - t435;
+                let t437 = t360 * t135;
+                let t438 = A::mul_add(second_v_vz, t414, t437);
+                let t439 = t354 * t137;
+                let t440 = A::mul_add(second_v_vx, t416, t439);
+                let t441 = t438 - t440;
+                let t442 = t354 * t136;
+                let t443 = A::mul_add(second_v_vx, t415, t442);
+                let t444 = t357 * t135;
+                let t445 = A::mul_add(second_v_vy, t414, t444);
+                let t446 = t443 - t445;
+                let t447 = t421 + t436;
+                let t448 = t426 + t441;
+                let t449 = t431 + t446;
+                let t450 = t348 * t137;
+                let t451 = A::mul_add(second_v_wy, t416, t450);
+                let t452 = t351 * t136;
+                let t453 = A::mul_add(second_v_wz, t415, t452);
+                let t454 = t451 - t453;
+                let t455 = t351 * t135;
+                let t456 = A::mul_add(second_v_wz, t414, t455);
+                let t457 = t345 * t137;
+                let t458 = A::mul_add(second_v_wx, t416, -t457);
+                let t459 = t456 - t458;
+                let t460 = t345 * t136;
+                let t461 = A::mul_add(second_v_wx, t415, -t460);
+                let t462 = t348 * t135;
+                let t463 = A::mul_add(second_v_wy, t414, t462);
+                let t464 = t461 - t463;
+                let t465 = t447 - t397;
                 let t466 = t398 + t448;
-                let t467 = t399 + t453;
-                let t468 = t400 + t458;
-                let t469 = t401 + t463;
-                (t464, t465, t466, t467, t468, t469)
+                let t467 = t399 + t449;
+                let t468 = t400 + t454;
+                let t469 = t401 + t459;
+                let t470 = t402 + t464;
+                (t465, t466, t467, t468, t469, t470)
             };
-            let (t471, t525, t528) = {
+            let (t472, t526, t529) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t470 = t466 * 0.6f64;
-                let t471 = A::mul_add(t465, 0.8f64, -t470);
-                let t472 = s_skewed * second_f_fx;
-                let t473 = A::mul_add(c_skewed, t467, -t472);
-                let t474 = t337 * second_f_fy;
-                let t475 = A::mul_add(t8, t468, t474);
-                let t476 = t473 + t475;
-                let t477 = t338 * second_f_fz;
-                let t478 = A::mul_add(t9, t469, t477);
-                let t479 = t476 + t478;
-                let t480 = t337 * second_f_fx;
-                let t481 = A::mul_add(t8, t467, t480);
-                let t482 = t339 * second_f_fy;
-                let t483 = A::mul_add(t10, t468, -t482);
-                let t484 = t483 - t481;
-                let t485 = t340 * second_f_fz;
-                let t486 = A::mul_add(t11, t469, -t485);
-                let t487 = t484 + t486;
-                let t488 = t338 * second_f_fx;
-                let t489 = A::mul_add(t9, t467, t488);
-                let t490 = t340 * second_f_fy;
-                let t491 = A::mul_add(t11, t468, -t490);
-                let t492 = t491 - t489;
-                let t493 = t341 * second_f_fz;
-                let t494 = A::mul_add(t12, t469, -t493);
-                let t495 = t492 + t494;
-                let t496 = s_skewed * second_f_nx;
-                let t497 = A::mul_add(c_skewed, t464, -t496);
-                let t498 = t337 * second_f_ny;
-                let t499 = A::mul_add(t8, t465, t498);
-                let t500 = t497 + t499;
-                let t501 = t338 * second_f_nz;
-                let t502 = A::mul_add(t9, t466, t501);
-                let t503 = t500 + t502;
-                let t504 = t337 * second_f_nx;
-                let t505 = A::mul_add(t8, t464, t504);
-                let t506 = t339 * second_f_ny;
-                let t507 = A::mul_add(t10, t465, -t506);
-                let t508 = t507 - t505;
-                let t509 = t340 * second_f_nz;
-                let t510 = A::mul_add(t11, t466, -t509);
-                let t511 = t508 + t510;
-                let t512 = t338 * second_f_nx;
-                let t513 = A::mul_add(t9, t464, t512);
-                let t514 = t340 * second_f_ny;
-                let t515 = A::mul_add(t11, t465, -t514);
-                let t516 = t515 - t513;
-                let t517 = t341 * second_f_nz;
-                let t518 = A::mul_add(t12, t466, -t517);
-                let t519 = t516 + t518;
-                let t520 = t479 * 0.18298657129998708f64;
-                let t521 = A::mul_add(t487, 0.9800665778412416f64, -t520);
-                let t522 = A::mul_add(-t495, 0.07736548146578168f64, t521);
-                let t523 = t511 * 0.19866933079506122f64;
-                let t524 = A::mul_add(t503, 0.90270109637546f64, t523);
-                let t525 = A::mul_add(t519, 0.3816559020950483f64, t524);
-                let t526 = t503 * 0.3894183423086505f64;
-                let t527 = A::mul_add(t519, 0.9210609940028851f64, -t526);
-                let t528 = A::mul_add(t522, 0.2f64, t527); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                (t471, t525, t528)
+                let t471 = t467 * 0.6f64;
+                let t472 = A::mul_add(t466, 0.8f64, -t471);
+                let t473 = s_skewed * second_f_fx;
+                let t474 = A::mul_add(c_skewed, t468, -t473);
+                let t475 = t338 * second_f_fy;
+                let t476 = A::mul_add(t8, t469, t475);
+                let t477 = t474 + t476;
+                let t478 = t339 * second_f_fz;
+                let t479 = A::mul_add(t9, t470, t478);
+                let t480 = t477 + t479;
+                let t481 = t338 * second_f_fx;
+                let t482 = A::mul_add(t8, t468, t481);
+                let t483 = t340 * second_f_fy;
+                let t484 = A::mul_add(t10, t469, -t483);
+                let t485 = t484 - t482;
+                let t486 = t341 * second_f_fz;
+                let t487 = A::mul_add(t11, t470, -t486);
+                let t488 = t485 + t487;
+                let t489 = t339 * second_f_fx;
+                let t490 = A::mul_add(t9, t468, t489);
+                let t491 = t341 * second_f_fy;
+                let t492 = A::mul_add(t11, t469, -t491);
+                let t493 = t492 - t490;
+                let t494 = t342 * second_f_fz;
+                let t495 = A::mul_add(t12, t470, -t494);
+                let t496 = t493 + t495;
+                let t497 = s_skewed * second_f_nx;
+                let t498 = A::mul_add(c_skewed, t465, -t497);
+                let t499 = t338 * second_f_ny;
+                let t500 = A::mul_add(t8, t466, t499);
+                let t501 = t498 + t500;
+                let t502 = t339 * second_f_nz;
+                let t503 = A::mul_add(t9, t467, t502);
+                let t504 = t501 + t503;
+                let t505 = t338 * second_f_nx;
+                let t506 = A::mul_add(t8, t465, t505);
+                let t507 = t340 * second_f_ny;
+                let t508 = A::mul_add(t10, t466, -t507);
+                let t509 = t508 - t506;
+                let t510 = t341 * second_f_nz;
+                let t511 = A::mul_add(t11, t467, -t510);
+                let t512 = t509 + t511;
+                let t513 = t339 * second_f_nx;
+                let t514 = A::mul_add(t9, t465, t513);
+                let t515 = t341 * second_f_ny;
+                let t516 = A::mul_add(t11, t466, -t515);
+                let t517 = t516 - t514;
+                let t518 = t342 * second_f_nz;
+                let t519 = A::mul_add(t12, t467, -t518);
+                let t520 = t517 + t519;
+                let t521 = t480 * 0.18298657129998708f64;
+                let t522 = A::mul_add(t488, 0.9800665778412416f64, -t521);
+                let t523 = A::mul_add(-t496, 0.07736548146578168f64, t522);
+                let t524 = t512 * 0.19866933079506122f64;
+                let t525 = A::mul_add(t504, 0.90270109637546f64, t524);
+                let t526 = A::mul_add(t520, 0.3816559020950483f64, t525);
+                let t527 = t504 * 0.3894183423086505f64;
+                let t528 = A::mul_add(t520, 0.9210609940028851f64, -t527);
+                let t529 = A::mul_add(t523, 0.2f64, t528); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                (t472, t526, t529)
             };
-            let t530 = {
+            let t531 = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t529 = t528 * 0.8f64;
-                let t530 = A::mul_add(t525, 0.6f64, t529);
-                t530
+                let t530 = t529 * 0.8f64;
+                let t531 = A::mul_add(t526, 0.6f64, t530);
+                t531
             };
-            let (t588, t589, t590, t591, t592, t593) = {
+            let (t589, t590, t591, t592, t593, t594) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t531 = t26 * 0.8f64;
-                let t532 = A::mul_add(second_v_wy, 0.6f64, t531);
-                let t533 = t25 * 0.6f64;
-                let t534 = A::mul_add(second_v_wz, 0.8f64, -t533);
-                let t535 = t532 + t534;
-                let t536 = second_v_wx * 0.6f64;
-                let t537 = second_v_wx * 0.8f64;
-                let t538 = second_v_vz * 0.8f64;
-                let t539 = A::mul_add(second_v_vy, 0.6f64, t538);
-                let t540 = second_v_vx * 0.6f64;
-                let t541 = second_v_vx * 0.8f64;
-                let t542 = t537 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t543 = A::mul_add(t535, 0.0040999999999999995f64, t542); // 4.1000e-3 = second I_xx
-                let t544 = t537 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t545 = A::mul_add(t535, 0.0015f64, t544); // 1.5000e-3 = second I_xz
-                let t546 = t541 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t547 = A::mul_add(t539, 0.01f64, t546); // 1.0000e-2 = second m·c_z or second c_z
-                let t548 = t537 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t549 = A::mul_add(t535, 0.01f64, t548); // 1.0000e-2 = second m·c_z or second c_z
-                let t550 = t536 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t551 = A::mul_add(t540, 0.01f64, t543); // 1.0000e-2 = second m·c_z or second c_z
-                let t552 = A::mul_add(t536, 0.037599999999999995f64, -t547); // 3.7600e-2 = second I_yy
-                let t553 = A::mul_add(t540, 0.15f64, t545); // 1.5000e-1 = second m·c_x or second c_x
-                let t554 = A::mul_add(t536, 0.01f64, -t539); // 1.0000e-2 = second m·c_z or second c_z
-                let t555 = A::mul_add(second_v_vx, 0.6f64, t549);
-                let t556 = A::mul_add(second_v_vx, 0.8f64, -t550);
-                let t557 = second_v_wy * 0.0225f64; // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t558 = A::mul_add(t133, 0.8f64, -t557);
-                let t559 = t132 * 0.6f64;
-                let t560 = A::mul_add(second_v_wz, 0.030079999999999996f64, -t559);
-                let t561 = t558 - t560;
-                let t562 = t131 * 0.6f64;
-                let t563 = A::mul_add(second_v_wz, 0.0009f64, -t562); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t564 = A::mul_add(second_v_wx, 0.0225f64, t563); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t565 = t131 * 0.8f64;
-                let t566 = A::mul_add(second_v_wy, 0.0009f64, t565); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t567 = A::mul_add(second_v_wx, 0.030079999999999996f64, -t566);
-                let t568 = second_v_vy * 0.12f64;
-                let t569 = A::mul_add(second_v_vz, 0.09f64, -t568);
-                let t570 = second_v_vx * 0.12f64;
-                let t571 = A::mul_add(second_v_vz, 0.008f64, t570);
-                let t572 = second_v_vy * 0.008f64;
-                let t573 = A::mul_add(second_v_vx, 0.09f64, t572);
-                let t574 = t561 + t569;
-                let t575 = t564 + t571;
-                let t576 = t567 - t573;
-                let t577 = second_v_wy * 0.12f64;
-                let t578 = A::mul_add(t136, 0.8f64, -t577);
-                let t579 = t135 * 0.6f64;
-                let t580 = A::mul_add(second_v_wz, 0.09f64, t579);
-                let t581 = t578 + t580;
-                let t582 = t134 * 0.6f64;
-                let t583 = A::mul_add(second_v_wz, 0.008f64, -t582);
-                let t584 = A::mul_add(second_v_wx, 0.12f64, t583);
-                let t585 = t134 * 0.8f64;
-                let t586 = A::mul_add(second_v_wy, 0.008f64, t585);
-                let t587 = A::mul_add(second_v_wx, 0.09f64, t586);
-                let t588 = t574 - t551;
-                let t589 = t552 + t575;
+                let t532 = t27 * 0.8f64;
+                let t533 = A::mul_add(second_v_wy, 0.6f64, t532);
+                let t534 = t26 * 0.6f64;
+                let t535 = A::mul_add(second_v_wz, 0.8f64, -t534);
+                let t536 = t533 + t535;
+                let t537 = second_v_wx * 0.6f64;
+                let t538 = second_v_wx * 0.8f64;
+                let t539 = second_v_vz * 0.8f64;
+                let t540 = A::mul_add(second_v_vy, 0.6f64, t539);
+                let t541 = second_v_vx * 0.6f64;
+                let t542 = second_v_vx * 0.8f64;
+                let t543 = t538 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t544 = A::mul_add(t536, 0.0040999999999999995f64, t543); // 4.1000e-3 = second I_xx
+                let t545 = t538 * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t546 = A::mul_add(t536, 0.0015f64, t545); // 1.5000e-3 = second I_xz
+                let t547 = t542 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t548 = A::mul_add(t540, 0.01f64, t547); // 1.0000e-2 = second m·c_z or second c_z
+                let t549 = t538 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t550 = A::mul_add(t536, 0.01f64, t549); // 1.0000e-2 = second m·c_z or second c_z
+                let t551 = t537 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t552 = A::mul_add(t541, 0.01f64, t544); // 1.0000e-2 = second m·c_z or second c_z
+                let t553 = A::mul_add(t537, 0.037599999999999995f64, -t548); // 3.7600e-2 = second I_yy
+                let t554 = A::mul_add(t541, 0.15f64, t546); // 1.5000e-1 = second m·c_x or second c_x
+                let t555 = A::mul_add(t537, 0.01f64, -t540); // 1.0000e-2 = second m·c_z or second c_z
+                let t556 = A::mul_add(second_v_vx, 0.6f64, t550);
+                let t557 = A::mul_add(second_v_vx, 0.8f64, -t551);
+                let t558 = second_v_wy * 0.0225f64; // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
+                let t559 = A::mul_add(t134, 0.8f64, -t558);
+                let t560 = t133 * 0.6f64;
+                let t561 = A::mul_add(second_v_wz, 0.030079999999999996f64, -t560);
+                let t562 = t559 - t561;
+                let t563 = t132 * 0.6f64;
+                let t564 = A::mul_add(second_v_wz, 0.0009f64, -t563); // 9.0000e-4 = first m·c_y × first m·c_y
+                let t565 = A::mul_add(second_v_wx, 0.0225f64, t564); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
+                let t566 = t132 * 0.8f64;
+                let t567 = A::mul_add(second_v_wy, 0.0009f64, t566); // 9.0000e-4 = first m·c_y × first m·c_y
+                let t568 = A::mul_add(second_v_wx, 0.030079999999999996f64, -t567);
+                let t569 = second_v_vy * 0.12f64;
+                let t570 = A::mul_add(second_v_vz, 0.09f64, -t569);
+                let t571 = second_v_vx * 0.12f64;
+                let t572 = A::mul_add(second_v_vz, 0.008f64, t571);
+                let t573 = second_v_vy * 0.008f64;
+                let t574 = A::mul_add(second_v_vx, 0.09f64, t573);
+                let t575 = t562 + t570;
+                let t576 = t565 + t572;
+                let t577 = t568 - t574;
+                let t578 = second_v_wy * 0.12f64;
+                let t579 = A::mul_add(t137, 0.8f64, -t578);
+                let t580 = t136 * 0.6f64;
+                let t581 = A::mul_add(second_v_wz, 0.09f64, t580);
+                let t582 = t579 + t581;
+                let t583 = t135 * 0.6f64;
+                let t584 = A::mul_add(second_v_wz, 0.008f64, -t583);
+                let t585 = A::mul_add(second_v_wx, 0.12f64, t584);
+                let t586 = t135 * 0.8f64;
+                let t587 = A::mul_add(second_v_wy, 0.008f64, t586);
+                let t588 = A::mul_add(second_v_wx, 0.09f64, t587);
+                let t589 = t575 - t552;
                 let t590 = t553 + t576;
-                let t591 = t554 + t581;
-                let t592 = t555 + t584;
-                let t593 = t556 - t587;
-                (t588, t589, t590, t591, t592, t593)
+                let t591 = t554 + t577;
+                let t592 = t555 + t582;
+                let t593 = t556 + t585;
+                let t594 = t557 - t588;
+                (t589, t590, t591, t592, t593, t594)
             };
-            let (t595, t619, t622) = {
+            let (t596, t620, t623) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t594 = t590 * 0.6f64;
-                let t595 = A::mul_add(t589, 0.8f64, -t594);
-                let t596 = t8 * t592;
-                let t597 = A::mul_add(c_skewed, t591, t596);
-                let t598 = A::mul_add(t9, t593, t597);
-                let t599 = t8 * t591;
-                let t600 = A::mul_add(t10, t592, -t599);
-                let t601 = A::mul_add(t11, t593, t600);
-                let t602 = t9 * t591;
-                let t603 = A::mul_add(t11, t592, -t602);
-                let t604 = A::mul_add(t12, t593, t603);
-                let t605 = t8 * t589;
-                let t606 = A::mul_add(c_skewed, t588, t605);
-                let t607 = A::mul_add(t9, t590, t606);
-                let t608 = t8 * t588;
-                let t609 = A::mul_add(t10, t589, -t608);
-                let t610 = A::mul_add(t11, t590, t609);
-                let t611 = t9 * t588;
-                let t612 = A::mul_add(t11, t589, -t611);
-                let t613 = A::mul_add(t12, t590, t612);
-                let t614 = t598 * 0.18298657129998708f64;
-                let t615 = A::mul_add(t601, 0.9800665778412416f64, -t614);
-                let t616 = A::mul_add(-t604, 0.07736548146578168f64, t615);
-                let t617 = t610 * 0.19866933079506122f64;
-                let t618 = A::mul_add(t607, 0.90270109637546f64, t617);
-                let t619 = A::mul_add(t613, 0.3816559020950483f64, t618);
-                let t620 = t607 * 0.3894183423086505f64;
-                let t621 = A::mul_add(t613, 0.9210609940028851f64, -t620);
-                let t622 = A::mul_add(t616, 0.2f64, t621); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                (t595, t619, t622)
+                let t595 = t591 * 0.6f64;
+                let t596 = A::mul_add(t590, 0.8f64, -t595);
+                let t597 = t8 * t593;
+                let t598 = A::mul_add(c_skewed, t592, t597);
+                let t599 = A::mul_add(t9, t594, t598);
+                let t600 = t8 * t592;
+                let t601 = A::mul_add(t10, t593, -t600);
+                let t602 = A::mul_add(t11, t594, t601);
+                let t603 = t9 * t592;
+                let t604 = A::mul_add(t11, t593, -t603);
+                let t605 = A::mul_add(t12, t594, t604);
+                let t606 = t8 * t590;
+                let t607 = A::mul_add(c_skewed, t589, t606);
+                let t608 = A::mul_add(t9, t591, t607);
+                let t609 = t8 * t589;
+                let t610 = A::mul_add(t10, t590, -t609);
+                let t611 = A::mul_add(t11, t591, t610);
+                let t612 = t9 * t589;
+                let t613 = A::mul_add(t11, t590, -t612);
+                let t614 = A::mul_add(t12, t591, t613);
+                let t615 = t599 * 0.18298657129998708f64;
+                let t616 = A::mul_add(t602, 0.9800665778412416f64, -t615);
+                let t617 = A::mul_add(-t605, 0.07736548146578168f64, t616);
+                let t618 = t611 * 0.19866933079506122f64;
+                let t619 = A::mul_add(t608, 0.90270109637546f64, t618);
+                let t620 = A::mul_add(t614, 0.3816559020950483f64, t619);
+                let t621 = t608 * 0.3894183423086505f64;
+                let t622 = A::mul_add(t614, 0.9210609940028851f64, -t621);
+                let t623 = A::mul_add(t617, 0.2f64, t622); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                (t596, t620, t623)
             };
-            let t624 = {
+            let t625 = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t623 = t622 * 0.8f64;
-                let t624 = A::mul_add(t619, 0.6f64, t623);
-                t624
+                let t624 = t623 * 0.8f64;
+                let t625 = A::mul_add(t620, 0.6f64, t624);
+                t625
             };
-            [t190, t530, t159, t471, t336, t624, t305, t595]
+            [t191, t531, t160, t472, t337, t625, t306, t596]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 21> for OffAxis {

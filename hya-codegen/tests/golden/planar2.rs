@@ -108,13 +108,13 @@ const _: () = {
                     c_elbow,
                 )
             };
-            let (t0, t2) = {
+            let (t0, upper_arm_a_vz, t2) = {
                 // ── link `upper_arm`, joint `shoulder` (base to tip)
                 let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
                 let t1 = upper_arm_a_vz * 0.75f64; // 7.5000e-1 = upper_arm m·c_x
                 let t2 = A::mul_add(qdd_shoulder, 0.2475f64, -t1); // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                (t0, t2)
+                (t0, upper_arm_a_vz, t2)
             };
             let (forearm_f_ny, forearm_f_fx, forearm_f_fz) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
@@ -122,36 +122,35 @@ const _: () = {
                 let forearm_v_vx = s_elbow * t3;
                 let t4 = c_elbow * t3;
                 let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t5 = qdd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t6 = A::mul_add(c_shoulder, 9.81f64, -t5); // 9.8100e0 = g
-                let t7 = s_elbow * t6;
-                let t8 = A::mul_add(c_elbow, t0, t7);
-                let t9 = s_elbow * t0;
-                let t10 = A::mul_add(c_elbow, t6, -t9);
+                let t5 = A::mul_add(-qdd_shoulder, 0.5f64, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
+                let t6 = s_elbow * t5;
+                let t7 = A::mul_add(c_elbow, t0, t6);
+                let t8 = s_elbow * t0;
+                let t9 = A::mul_add(c_elbow, t5, -t8);
                 let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let forearm_a_vx = A::mul_add(t4, qd_elbow, -t8);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t10);
-                let t11 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t12 = forearm_a_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t13 = A::mul_add(forearm_a_wy, 0.11000000000000001f64, -t11); // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t14 = A::mul_add(forearm_a_vz, 2f64, -t12); // 2.0000e0 = forearm mass
-                let t15 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t16 = forearm_v_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t17 = A::mul_add(t4, 2f64, t16); // 2.0000e0 = forearm mass
-                let t18 = t4 * t15;
-                let t19 = A::mul_add(forearm_v_vx, t17, -t18);
-                let t20 = forearm_v_wy * t17;
-                let forearm_f_ny = t13 + t19;
-                let forearm_f_fx = A::mul_add(forearm_a_vx, 2f64, -t20); // 2.0000e0 = forearm mass
-                let forearm_f_fz = A::mul_add(-forearm_v_wy, t15, t14);
+                let forearm_a_vx = A::mul_add(t4, qd_elbow, -t7);
+                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t9);
+                let t10 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t11 = forearm_a_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t12 = A::mul_add(forearm_a_wy, 0.11000000000000001f64, -t10); // 1.1000e-1 = forearm I_yy or forearm I_zz
+                let t13 = A::mul_add(forearm_a_vz, 2f64, -t11); // 2.0000e0 = forearm mass
+                let t14 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                let t15 = forearm_v_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t16 = A::mul_add(t4, 2f64, t15); // 2.0000e0 = forearm mass
+                let t17 = t4 * t14;
+                let t18 = A::mul_add(forearm_v_vx, t16, -t17);
+                let t19 = forearm_v_wy * t16;
+                let forearm_f_ny = t12 + t18;
+                let forearm_f_fx = A::mul_add(forearm_a_vx, 2f64, -t19); // 2.0000e0 = forearm mass
+                let forearm_f_fz = A::mul_add(-forearm_v_wy, t14, t13);
                 (forearm_f_ny, forearm_f_fx, forearm_f_fz)
             };
             let upper_arm_f_ny = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t21 = s_elbow * forearm_f_fx;
-                let t22 = A::mul_add(c_elbow, forearm_f_fz, -t21);
-                let t23 = A::mul_add(-t22, 0.5f64, forearm_f_ny); // 5.0000e-1 = joint elbow origin x
-                let upper_arm_f_ny = t2 + t23;
+                let t20 = s_elbow * forearm_f_fx;
+                let t21 = A::mul_add(c_elbow, forearm_f_fz, -t20);
+                let t22 = A::mul_add(-t21, 0.5f64, forearm_f_ny); // 5.0000e-1 = joint elbow origin x
+                let upper_arm_f_ny = t2 + t22;
                 upper_arm_f_ny
             };
             [upper_arm_f_ny, forearm_f_ny]
@@ -169,33 +168,33 @@ const _: () = {
                 ]);
                 (s_shoulder, c_shoulder, s_elbow, c_elbow)
             };
-            let (t0, upper_arm_a_vz) = {
+            let (t0, upper_arm_a_vz, t1) = {
                 // ── link `upper_arm`, joint `shoulder` (base to tip)
                 let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                (t0, upper_arm_a_vz)
+                let t1 = upper_arm_a_vz * 0.75f64; // 7.5000e-1 = upper_arm m·c_x
+                (t0, upper_arm_a_vz, t1)
             };
-            let (forearm_a_vz, t4, t5, forearm_f_fz) = {
+            let (t5, t6, forearm_f_fz) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t1 = s_elbow * upper_arm_a_vz;
-                let t2 = A::mul_add(c_elbow, t0, t1);
-                let t3 = s_elbow * t0;
-                let forearm_a_vz = A::mul_add(c_elbow, upper_arm_a_vz, -t3);
-                let t4 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t5 = t2 * 2f64; // 2.0000e0 = forearm mass
+                let t2 = s_elbow * upper_arm_a_vz;
+                let t3 = A::mul_add(c_elbow, t0, t2);
+                let t4 = s_elbow * t0;
+                let forearm_a_vz = A::mul_add(c_elbow, upper_arm_a_vz, -t4);
+                let t5 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t6 = t3 * 2f64; // 2.0000e0 = forearm mass
                 let forearm_f_fz = forearm_a_vz * 2f64; // 2.0000e0 = forearm mass
-                (forearm_a_vz, t4, t5, forearm_f_fz)
+                (t5, t6, forearm_f_fz)
             };
             let t10 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t6 = c_elbow * forearm_f_fz;
-                let t7 = A::mul_add(s_elbow, t5, t6);
-                let t8 = t7 * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t9 = A::mul_add(forearm_a_vz, 0.4f64, t8); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t10 = A::mul_add(upper_arm_a_vz, 0.75f64, t9); // 7.5000e-1 = upper_arm m·c_x
+                let t7 = c_elbow * forearm_f_fz;
+                let t8 = A::mul_add(s_elbow, t6, t7);
+                let t9 = A::mul_add(t8, 0.5f64, t5); // 5.0000e-1 = joint elbow origin x
+                let t10 = t1 + t9;
                 t10
             };
-            [-t10, -t4]
+            [-t10, -t5]
         }
     }
     impl Kernel<kernels::VelocityTerms, 2, 2, 2> for Planar2 {
@@ -276,7 +275,7 @@ const _: () = {
                 let [(_, c_elbow)] = A::sin_cos_lanes([q_elbow]);
                 c_elbow
             };
-            let (t0, m_shoulder_shoulder) = {
+            let (t1, m_shoulder_shoulder) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
                 let t0 = c_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
                 let t1 = t0 * 0.5f64; // 5.0000e-1 = joint elbow origin x
@@ -284,11 +283,11 @@ const _: () = {
                 let t3 = t2 + 0.5f64; // 5.0000e-1 = joint elbow origin x
                 let t4 = t3 + 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
                 let m_shoulder_shoulder = t4 + 0.2475f64; // 2.4750e-1 = upper_arm I_yy or upper_arm I_zz
-                (t0, m_shoulder_shoulder)
+                (t1, m_shoulder_shoulder)
             };
             let m_elbow_shoulder = {
                 // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let m_elbow_shoulder = A::mul_add(t0, 0.5f64, 0.11000000000000001f64); // 5.0000e-1 = joint elbow origin x; 1.1000e-1 = forearm I_yy or forearm I_zz
+                let m_elbow_shoulder = t1 + 0.11000000000000001f64; // 1.1000e-1 = forearm I_yy or forearm I_zz
                 m_elbow_shoulder
             };
             [m_shoulder_shoulder, m_elbow_shoulder]
@@ -328,7 +327,7 @@ const _: () = {
                     c_elbow,
                 )
             };
-            let (forearm_v_vx, t2, t3, forearm_p_ny, t8, t9) = {
+            let (t2, t3, forearm_p_ny, t8, t9) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
                 let t0 = qd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
                 let forearm_v_vx = s_elbow * t0;
@@ -343,7 +342,7 @@ const _: () = {
                 let forearm_p_ny = A::mul_add(forearm_v_vx, t6, -t7);
                 let t8 = forearm_v_wy * t6;
                 let t9 = forearm_v_wy * t4;
-                (forearm_v_vx, t2, t3, forearm_p_ny, t8, t9)
+                (t2, t3, forearm_p_ny, t8, t9)
             };
             let (u_elbow, t21, upper_arm_p_ny, upper_arm_u_ny, t24) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
@@ -374,7 +373,7 @@ const _: () = {
                 let t25 = A::from(1f64) / upper_arm_u_ny; // 1.0000e0 = forearm mass × joint elbow origin x
                 (u_shoulder, t25)
             };
-            let (t26, qdd_shoulder) = {
+            let (t26, upper_arm_a_vz, qdd_shoulder) = {
                 // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
                 let t26 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
@@ -382,19 +381,18 @@ const _: () = {
                 let t28 = A::mul_add(t26, t21, -t27);
                 let t29 = u_shoulder - t28;
                 let qdd_shoulder = t29 * t25;
-                (t26, qdd_shoulder)
+                (t26, upper_arm_a_vz, qdd_shoulder)
             };
             let qdd_elbow = {
                 // ── link `forearm`, joint `elbow` (base to tip, last pass)
-                let t30 = qdd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t31 = A::mul_add(c_shoulder, 9.81f64, -t30); // 9.8100e0 = g
-                let t32 = s_elbow * t26;
-                let t33 = A::mul_add(c_elbow, t31, -t32);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t33);
-                let t34 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t35 = A::mul_add(qdd_shoulder, 0.11000000000000001f64, -t34); // 1.1000e-1 = forearm I_yy or forearm I_zz
-                let t36 = u_elbow - t35;
-                let qdd_elbow = t36 * 9.09090909090909f64;
+                let t30 = A::mul_add(-qdd_shoulder, 0.5f64, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
+                let t31 = s_elbow * t26;
+                let t32 = A::mul_add(c_elbow, t30, -t31);
+                let forearm_a_vz = t32 + t3;
+                let t33 = forearm_a_vz * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t34 = A::mul_add(qdd_shoulder, 0.11000000000000001f64, -t33); // 1.1000e-1 = forearm I_yy or forearm I_zz
+                let t35 = u_elbow - t34;
+                let qdd_elbow = t35 * 9.09090909090909f64;
                 qdd_elbow
             };
             [qdd_shoulder, qdd_elbow, upper_arm_u_ny]
@@ -434,36 +432,39 @@ const _: () = {
                     c_elbow,
                 )
             };
-            let (t0, upper_arm_a_vz) = {
+            let (t0, upper_arm_a_vz, t1) = {
                 // ── link `upper_arm`, joint `shoulder` (base to tip)
                 let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
                 let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                (t0, upper_arm_a_vz)
+                let t1 = t0 * 0.75f64; // 7.5000e-1 = upper_arm m·c_x
+                (t0, upper_arm_a_vz, t1)
             };
             let (
                 forearm_v_vx,
-                t2,
+                t3,
                 forearm_v_wy,
+                t8,
                 t11,
-                t13,
-                forearm_a_vx,
                 t14,
+                forearm_a_vx,
                 t15,
                 t16,
-                t19,
-                t20,
+                t17,
+                t18,
+                t21,
                 t22,
+                t23,
                 t24,
+                t26,
                 forearm_f_fx,
                 forearm_f_fz,
             ) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t1 = qd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t1;
-                let t2 = c_elbow * t1;
+                let t2 = qd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let forearm_v_vx = s_elbow * t2;
+                let t3 = c_elbow * t2;
                 let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t3 = qdd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t4 = A::mul_add(c_shoulder, 9.81f64, -t3); // 9.8100e0 = g
+                let t4 = A::mul_add(-qdd_shoulder, 0.5f64, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
                 let t5 = c_elbow * t0;
                 let t6 = c_elbow * upper_arm_a_vz;
                 let t7 = s_elbow * t4;
@@ -474,104 +475,107 @@ const _: () = {
                 let t12 = A::mul_add(c_elbow, t4, -t8);
                 let t13 = A::mul_add(s_elbow, upper_arm_a_vz, t5);
                 let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let forearm_a_vx = A::mul_add(t2, qd_elbow, -t9);
+                let t14 = forearm_v_vx * qd_elbow;
+                let forearm_a_vx = A::mul_add(t3, qd_elbow, -t9);
                 let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t12);
-                let t14 = t13 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t15 = t10 * 2f64; // 2.0000e0 = forearm mass
-                let t16 = t13 * 2f64; // 2.0000e0 = forearm mass
-                let t17 = forearm_a_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t18 = A::mul_add(forearm_a_vz, 2f64, -t17); // 2.0000e0 = forearm mass
-                let t19 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t20 = t2 * 2f64; // 2.0000e0 = forearm mass
-                let t21 = forearm_v_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t22 = A::mul_add(t2, 2f64, t21); // 2.0000e0 = forearm mass
-                let t23 = forearm_v_wy * t22;
-                let t24 = forearm_v_wy * t19;
-                let forearm_f_fx = A::mul_add(forearm_a_vx, 2f64, -t23); // 2.0000e0 = forearm mass
-                let forearm_f_fz = A::mul_add(-forearm_v_wy, t19, t18);
+                let t15 = t13 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t16 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
+                let t17 = t10 * 2f64; // 2.0000e0 = forearm mass
+                let t18 = t13 * 2f64; // 2.0000e0 = forearm mass
+                let t19 = forearm_a_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t20 = A::mul_add(forearm_a_vz, 2f64, -t19); // 2.0000e0 = forearm mass
+                let t21 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
+                let t22 = t3 * 2f64; // 2.0000e0 = forearm mass
+                let t23 = forearm_v_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t24 = A::mul_add(t3, 2f64, t23); // 2.0000e0 = forearm mass
+                let t25 = forearm_v_wy * t24;
+                let t26 = forearm_v_wy * t21;
+                let forearm_f_fx = A::mul_add(forearm_a_vx, 2f64, -t25); // 2.0000e0 = forearm mass
+                let forearm_f_fz = A::mul_add(-forearm_v_wy, t21, t20);
                 (
                     forearm_v_vx,
-                    t2,
+                    t3,
                     forearm_v_wy,
+                    t8,
                     t11,
-                    t13,
-                    forearm_a_vx,
                     t14,
+                    forearm_a_vx,
                     t15,
                     t16,
-                    t19,
-                    t20,
+                    t17,
+                    t18,
+                    t21,
                     t22,
+                    t23,
                     t24,
+                    t26,
                     forearm_f_fx,
                     forearm_f_fz,
                 )
             };
-            let (t25, t26, t31) = {
+            let (t27, t28, t32) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t25 = c_elbow * forearm_f_fx;
-                let t26 = s_elbow * forearm_f_fz;
-                let t27 = c_elbow * t16;
-                let t28 = A::mul_add(s_elbow, t15, t27);
-                let t29 = t28 * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t30 = A::mul_add(t13, 0.4f64, t29); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t31 = A::mul_add(t0, 0.75f64, t30); // 7.5000e-1 = upper_arm m·c_x
-                (t25, t26, t31)
+                let t27 = c_elbow * forearm_f_fx;
+                let t28 = s_elbow * forearm_f_fz;
+                let t29 = c_elbow * t18;
+                let t30 = A::mul_add(s_elbow, t17, t29);
+                let t31 = A::mul_add(t30, 0.5f64, t15); // 5.0000e-1 = joint elbow origin x
+                let t32 = t1 + t31;
+                (t27, t28, t32)
             };
-            let (t45, t46, t47) = {
+            let (t46, t47, t48) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t32 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t33 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t34 = t33 * qd_elbow;
-                let t35 = t32 * qd_elbow;
-                let t36 = t32 * 2f64; // 2.0000e0 = forearm mass
-                let t37 = A::mul_add(t33, 2f64, 0.4f64); // 2.0000e0 = forearm mass; 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t38 = t33 * t19;
-                let t39 = A::mul_add(t2, t36, t38);
-                let t40 = t32 * t22;
-                let t41 = A::mul_add(forearm_v_vx, t37, t40);
-                let t42 = t41 - t39;
-                let t43 = A::mul_add(forearm_v_wy, t37, t22);
-                let t44 = A::mul_add(forearm_v_wy, t36, t19);
-                let t45 = A::mul_add(-t35, 0.4f64, t42); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t46 = A::mul_add(t34, 2f64, -t43); // 2.0000e0 = forearm mass
+                let t33 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t34 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t35 = t34 * qd_elbow;
+                let t36 = t33 * qd_elbow;
+                let t37 = t33 * 2f64; // 2.0000e0 = forearm mass
+                let t38 = A::mul_add(t34, 2f64, 0.4f64); // 2.0000e0 = forearm mass; 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t39 = t34 * t21;
+                let t40 = A::mul_add(t3, t37, t39);
+                let t41 = t33 * t24;
+                let t42 = A::mul_add(forearm_v_vx, t38, t41);
+                let t43 = t42 - t40;
+                let t44 = A::mul_add(forearm_v_wy, t38, t24);
+                let t45 = A::mul_add(forearm_v_wy, t37, t21);
+                let t46 = A::mul_add(-t36, 0.4f64, t43); // 4.0000e-1 = forearm m·c_x or frame tip origin x
                 let t47 = A::mul_add(t35, 2f64, -t44); // 2.0000e0 = forearm mass
-                (t45, t46, t47)
+                let t48 = A::mul_add(t36, 2f64, -t45); // 2.0000e0 = forearm mass
+                (t46, t47, t48)
             };
-            let t50 = {
+            let t51 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t48 = s_elbow * t46;
-                let t49 = A::mul_add(c_elbow, t47, -t48);
-                let t50 = A::mul_add(-t49, 0.5f64, t45); // 5.0000e-1 = joint elbow origin x
-                t50
+                let t49 = s_elbow * t47;
+                let t50 = A::mul_add(c_elbow, t48, -t49);
+                let t51 = A::mul_add(-t50, 0.5f64, t46); // 5.0000e-1 = joint elbow origin x
+                t51
             };
             let (t59, t60, t61) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t51 = A::mul_add(s_elbow, t0, -t11);
-                let t52 = A::mul_add(-forearm_v_vx, qd_elbow, t51);
-                let t53 = t2 * t20;
-                let t54 = A::mul_add(forearm_v_vx, t19, -t53);
-                let t55 = t2 * t22;
-                let t56 = A::mul_add(forearm_v_vx, t19, -t55);
-                let t57 = t54 - t56;
-                let t58 = forearm_v_wy * t20;
-                let t59 = A::mul_add(-forearm_a_vx, 0.4f64, t57); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t60 = A::mul_add(t52, 2f64, t24); // 2.0000e0 = forearm mass
-                let t61 = A::mul_add(forearm_a_vx, 2f64, -t58); // 2.0000e0 = forearm mass
+                let t52 = t8 - t11;
+                let t53 = t52 - t14;
+                let t54 = t3 * t22;
+                let t55 = A::mul_add(forearm_v_vx, t21, -t54);
+                let t56 = t3 * t24;
+                let t57 = A::mul_add(forearm_v_vx, t21, -t56);
+                let t58 = t55 - t57;
+                let t59 = A::mul_add(-forearm_a_vx, 0.4f64, t58); // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t60 = A::mul_add(t53, 2f64, t26); // 2.0000e0 = forearm mass
+                let t61 = A::mul_add(-forearm_v_wy, t22, t16);
                 (t59, t60, t61)
             };
             let t65 = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t62 = A::mul_add(s_elbow, t60, t25);
-                let t63 = A::mul_add(c_elbow, t61, -t26);
+                let t62 = A::mul_add(s_elbow, t60, t27);
+                let t63 = A::mul_add(c_elbow, t61, -t28);
                 let t64 = t63 - t62;
                 let t65 = A::mul_add(-t64, 0.5f64, t59); // 5.0000e-1 = joint elbow origin x
                 t65
             };
             let t67 = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t66 = A::mul_add(forearm_v_wy, 0.4f64, t22); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t67 = A::mul_add(t2, 2f64, -t66); // 2.0000e0 = forearm mass
+                let t66 = t23 + t24;
+                let t67 = t22 - t66;
                 t67
             };
             let t69 = {
@@ -580,7 +584,7 @@ const _: () = {
                 let t69 = t68 * 0.5f64; // 5.0000e-1 = joint elbow origin x
                 t69
             };
-            [t31, t65, t14, t59, t50, t69, t45]
+            [t32, t65, t15, t59, t51, t69, t46]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 16> for Planar2 {

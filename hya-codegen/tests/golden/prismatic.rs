@@ -81,27 +81,32 @@ const _: () = {
                 let qdd_slide = qdd[1];
                 (q_slide, qd_turn, qd_slide, qdd_turn, qdd_slide)
             };
+            let t0 = {
+                // ── link `turntable`, joint `turn` (base to tip)
+                let t0 = qdd_turn * 0.03f64; // 3.0000e-2 = turntable I_zz
+                t0
+            };
             let (carriage_f_nz, carriage_f_fx, carriage_f_fy) = {
                 // ── link `carriage`, joint `slide` (base to tip)
                 let carriage_v_vy = q_slide * qd_turn;
-                let t0 = qd_turn * qd_slide;
-                let carriage_a_vy = A::mul_add(q_slide, qdd_turn, t0);
-                let t1 = carriage_a_vy * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t2 = A::mul_add(qdd_turn, 0.020000000000000004f64, t1); // 2.0000e-2 = carriage I_yy or carriage I_zz
-                let t3 = A::mul_add(qdd_turn, 0.1f64, carriage_a_vy); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t4 = qd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t5 = A::mul_add(q_slide, qd_turn, t4);
-                let t6 = carriage_v_vy * qd_slide;
-                let t7 = A::mul_add(qd_slide, t5, -t6);
-                let carriage_f_nz = t2 + t7;
-                let carriage_f_fx = A::mul_add(-qd_turn, t5, qdd_slide);
-                let carriage_f_fy = A::mul_add(qd_turn, qd_slide, t3);
+                let t1 = qd_turn * qd_slide;
+                let carriage_a_vy = A::mul_add(q_slide, qdd_turn, t1);
+                let t2 = carriage_a_vy * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t3 = A::mul_add(qdd_turn, 0.020000000000000004f64, t2); // 2.0000e-2 = carriage I_yy or carriage I_zz
+                let t4 = A::mul_add(qdd_turn, 0.1f64, carriage_a_vy); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t5 = qd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t6 = A::mul_add(q_slide, qd_turn, t5);
+                let t7 = carriage_v_vy * qd_slide;
+                let t8 = A::mul_add(qd_slide, t6, -t7);
+                let carriage_f_nz = t3 + t8;
+                let carriage_f_fx = A::mul_add(-qd_turn, t6, qdd_slide);
+                let carriage_f_fy = A::mul_add(qd_turn, qd_slide, t4);
                 (carriage_f_nz, carriage_f_fx, carriage_f_fy)
             };
             let turntable_f_nz = {
                 // ── link `carriage`, joint `slide` (tip to base)
-                let t8 = A::mul_add(q_slide, carriage_f_fy, carriage_f_nz);
-                let turntable_f_nz = A::mul_add(qdd_turn, 0.03f64, t8); // 3.0000e-2 = turntable I_zz
+                let t9 = A::mul_add(q_slide, carriage_f_fy, carriage_f_nz);
+                let turntable_f_nz = t0 + t9;
                 turntable_f_nz
             };
             [turntable_f_nz, carriage_f_fx]
@@ -197,7 +202,7 @@ const _: () = {
                 let tau_slide = tau[1];
                 (q_slide, qd_turn, qd_slide, tau_turn, tau_slide)
             };
-            let (carriage_p_fy, t1, carriage_p_nz) = {
+            let (carriage_p_fy, carriage_p_nz, t3) = {
                 // ── link `carriage`, joint `slide` (base to tip)
                 let carriage_v_vy = q_slide * qd_turn;
                 let carriage_p_fy = qd_turn * qd_slide;
@@ -205,29 +210,30 @@ const _: () = {
                 let t1 = A::mul_add(q_slide, qd_turn, t0);
                 let t2 = carriage_v_vy * qd_slide;
                 let carriage_p_nz = A::mul_add(qd_slide, t1, -t2);
-                (carriage_p_fy, t1, carriage_p_nz)
+                let t3 = qd_turn * t1;
+                (carriage_p_fy, carriage_p_nz, t3)
             };
             let (u_slide, turntable_p_nz, turntable_u_nz) = {
                 // ── link `carriage`, joint `slide` (tip to base)
-                let u_slide = A::mul_add(qd_turn, t1, tau_slide);
-                let t3 = A::mul_add(carriage_p_fy, 0.1f64, carriage_p_nz); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let turntable_p_fy = A::mul_add(qd_turn, qd_slide, carriage_p_fy);
-                let t4 = A::mul_add(q_slide, 0.1f64, 0.020000000000000004f64); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …; 2.0000e-2 = carriage I_yy or carriage I_zz
-                let t5 = A::mul_add(q_slide, 0.1f64, t4); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t6 = A::mul_add(q_slide, q_slide, t5);
-                let turntable_p_nz = A::mul_add(q_slide, turntable_p_fy, t3);
-                let turntable_u_nz = t6 + 0.03f64; // 3.0000e-2 = turntable I_zz
+                let u_slide = tau_slide + t3;
+                let t4 = A::mul_add(carriage_p_fy, 0.1f64, carriage_p_nz); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let turntable_p_fy = carriage_p_fy + carriage_p_fy;
+                let t5 = A::mul_add(q_slide, 0.1f64, 0.020000000000000004f64); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …; 2.0000e-2 = carriage I_yy or carriage I_zz
+                let t6 = A::mul_add(q_slide, 0.1f64, t5); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t7 = A::mul_add(q_slide, q_slide, t6);
+                let turntable_p_nz = A::mul_add(q_slide, turntable_p_fy, t4);
+                let turntable_u_nz = t7 + 0.03f64; // 3.0000e-2 = turntable I_zz
                 (u_slide, turntable_p_nz, turntable_u_nz)
             };
-            let (u_turn, t7) = {
+            let (u_turn, t8) = {
                 // ── link `turntable`, joint `turn` (tip to base)
                 let u_turn = tau_turn - turntable_p_nz;
-                let t7 = A::from(1f64) / turntable_u_nz;
-                (u_turn, t7)
+                let t8 = A::from(1f64) / turntable_u_nz;
+                (u_turn, t8)
             };
             let qdd_turn = {
                 // ── link `turntable`, joint `turn` (base to tip, last pass)
-                let qdd_turn = u_turn * t7;
+                let qdd_turn = u_turn * t8;
                 qdd_turn
             };
             [qdd_turn, u_slide, turntable_u_nz]
@@ -243,55 +249,58 @@ const _: () = {
                 let qdd_turn = qdd[0];
                 (q_slide, qd_turn, qd_slide, qdd_turn)
             };
-            let (t3, carriage_f_fy) = {
+            let (carriage_v_vy, t0, t2, t4, t5, carriage_f_fy) = {
                 // ── link `carriage`, joint `slide` (base to tip)
-                let t0 = qd_turn * qd_slide;
-                let carriage_a_vy = A::mul_add(q_slide, qdd_turn, t0);
-                let t1 = A::mul_add(qdd_turn, 0.1f64, carriage_a_vy); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t2 = qd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t3 = A::mul_add(q_slide, qd_turn, t2);
-                let carriage_f_fy = A::mul_add(qd_turn, qd_slide, t1);
-                (t3, carriage_f_fy)
+                let carriage_v_vy = q_slide * qd_turn;
+                let t0 = q_slide * qdd_turn;
+                let t1 = qd_turn * qd_slide;
+                let carriage_a_vy = A::mul_add(q_slide, qdd_turn, t1);
+                let t2 = qdd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t3 = A::mul_add(qdd_turn, 0.1f64, carriage_a_vy); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t4 = qd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t5 = A::mul_add(q_slide, qd_turn, t4);
+                let carriage_f_fy = A::mul_add(qd_turn, qd_slide, t3);
+                (carriage_v_vy, t0, t2, t4, t5, carriage_f_fy)
             };
-            let (t7, t8, t9) = {
+            let (t9, t10, t11) = {
                 // ── link `carriage`, joint `slide` (base to tip)
-                let t4 = q_slide + 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t5 = q_slide * qd_slide;
-                let t6 = A::mul_add(qd_slide, t4, -t5);
-                let t7 = A::mul_add(qd_turn, t4, t3);
-                let t8 = A::mul_add(qd_slide, 0.1f64, t6); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t9 = qd_slide + qd_slide;
-                (t7, t8, t9)
+                let t6 = q_slide + 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t7 = q_slide * qd_slide;
+                let t8 = A::mul_add(qd_slide, t6, -t7);
+                let t9 = A::mul_add(qd_turn, t6, t5);
+                let t10 = A::mul_add(qd_slide, 0.1f64, t8); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t11 = qd_slide + qd_slide;
+                (t9, t10, t11)
             };
-            let t10 = {
+            let t12 = {
                 // ── link `carriage`, joint `slide` (tip to base)
-                let t10 = A::mul_add(q_slide, t9, t8);
-                t10
-            };
-            let t11 = {
-                // ── link `carriage`, joint `slide` (base to tip)
-                let t11 = qd_turn * qd_turn;
-                t11
+                let t12 = A::mul_add(q_slide, t11, t10);
+                t12
             };
             let t13 = {
-                // ── link `carriage`, joint `slide` (tip to base)
-                let t12 = A::mul_add(q_slide, qdd_turn, carriage_f_fy);
-                let t13 = A::mul_add(qdd_turn, 0.1f64, t12); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                // ── link `carriage`, joint `slide` (base to tip)
+                let t13 = qd_turn * qd_turn;
                 t13
             };
-            let (t15, t16) = {
-                // ── link `carriage`, joint `slide` (base to tip)
-                let t14 = A::mul_add(-q_slide, qd_turn, t3);
-                let t15 = A::mul_add(qd_turn, 0.1f64, t14); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t16 = qd_turn + qd_turn;
-                (t15, t16)
-            };
-            let t17 = {
+            let t15 = {
                 // ── link `carriage`, joint `slide` (tip to base)
-                let t17 = A::mul_add(q_slide, t16, t15);
-                t17
+                let t14 = t0 + carriage_f_fy;
+                let t15 = t2 + t14;
+                t15
             };
-            [t13, -t11, t10, t17, -t7]
+            let (t17, t18) = {
+                // ── link `carriage`, joint `slide` (base to tip)
+                let t16 = t5 - carriage_v_vy;
+                let t17 = t4 + t16;
+                let t18 = qd_turn + qd_turn;
+                (t17, t18)
+            };
+            let t19 = {
+                // ── link `carriage`, joint `slide` (tip to base)
+                let t19 = A::mul_add(q_slide, t18, t17);
+                t19
+            };
+            [t15, -t13, t12, t19, -t9]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 10> for Prismatic {

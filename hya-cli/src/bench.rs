@@ -37,6 +37,11 @@ struct Figures {
     generated_gravity_ns: f64,
     generated_fd_ns: f64,
     generic_fd_ns: f64,
+    /// Generated inverse dynamics on [`BATCH`] states per call (`Dynamics::inverse_dynamics_batch`),
+    /// ns per state.
+    batch_id_ns_per_state: f64,
+    /// The same for forward dynamics.
+    batch_fd_ns_per_state: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     tick_ns: Option<f64>,
     /// Simulated seconds per wall-clock second of `goto_internal` (method lu) on the simple
@@ -87,6 +92,25 @@ fn build_features() -> &'static str {
 const ROUNDS: usize = 31;
 const CALLS: usize = 2000;
 const STATES: usize = 64;
+/// States per batch call.
+const BATCH: usize = 1024;
+/// Batch calls per round.
+const BATCH_CALLS: usize = 8;
+
+/// Median over rounds of the mean ns per state of `f()`, a batch of [`BATCH`] states.
+fn median_batch_ns(mut f: impl FnMut()) -> f64 {
+    let mut rounds: Vec<f64> = (0..ROUNDS)
+        .map(|_| {
+            let start = Instant::now();
+            for _ in 0..BATCH_CALLS {
+                f();
+            }
+            start.elapsed().as_secs_f64() * 1e9 / (BATCH_CALLS * BATCH) as f64
+        })
+        .collect();
+    rounds.sort_by(f64::total_cmp);
+    rounds[ROUNDS / 2]
+}
 
 /// Median over rounds of the mean ns per call of `f(state index)`.
 fn median_ns(mut f: impl FnMut(usize)) -> f64 {
@@ -133,6 +157,19 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
             let _ = black_box(d.forward_dynamics(q, qd, tau));
         })
     };
+    let batch: Vec<[JointVector<N>; 3]> = hya_core::sampling::varied_states::<N, BATCH>().to_vec();
+    let [q, qd, x]: [Vec<JointVector<N>>; 3] = core::array::from_fn(|i| batch.iter().map(|s| s[i]).collect());
+    let mut out = vec![JointVector::<N>::zeros(); BATCH];
+    let batch_id = |out: &mut Vec<JointVector<N>>| {
+        median_batch_ns(|| {
+            let _ = black_box(generated.inverse_dynamics_batch(black_box(&q), &qd, &x, out));
+        })
+    };
+    let batch_fd = |out: &mut Vec<JointVector<N>>| {
+        median_batch_ns(|| {
+            let _ = black_box(generated.forward_dynamics_batch(black_box(&q), &qd, &x, out));
+        })
+    };
     // Generated and generic alternate, so slow phases of the machine hit both.
     Ok(Figures {
         robot: name,
@@ -145,6 +182,8 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         }),
         generated_fd_ns: fd(&generated),
         generic_fd_ns: fd(&generic),
+        batch_id_ns_per_state: batch_id(&mut out),
+        batch_fd_ns_per_state: batch_fd(&mut out),
         tick_ns: None,
         sim_realtime_factor: None,
         sim_realtime_factor_hydraulic: None,
@@ -224,15 +263,17 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "{:<8} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8}",
+        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8}",
         "robot",
         "id gen",
+        "id batch",
         "id gener",
         "ratio",
         "M gen",
         "M gener",
         "G gen",
         "FD gen",
+        "FD batch",
         "FD gener",
         "tick",
         "sim x",
@@ -241,15 +282,17 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     for f in &figures {
         writeln!(
             output,
-            "{:<8} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8}",
+            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8}",
             f.robot,
             f.generated_id_ns,
+            f.batch_id_ns_per_state,
             f.generic_id_ns,
             f.generic_id_ns / f.generated_id_ns,
             f.generated_mass_ns,
             f.generic_mass_ns,
             f.generated_gravity_ns,
             f.generated_fd_ns,
+            f.batch_fd_ns_per_state,
             f.generic_fd_ns,
             f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.sim_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
@@ -258,7 +301,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
+        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
         build_features(),
         generated_fma()
     )?;

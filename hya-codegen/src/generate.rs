@@ -7,18 +7,14 @@
 //! terms, velocity terms no gravity). Emitted through `quote`, formatted by prettyplease, with
 //! a comment where each body's pass begins.
 
-use hya_core::model::algorithms::{self, Inertias, ModelInertias};
-use hya_core::model::derivatives;
-use hya_core::model::{BodyState, ModelError, TreeModel};
-use hya_core::scalar::{Label, Quantity};
-use hya_core::spatial::{RigidBodyInertia, Transform};
-use hya_core::Real;
+use hya_core::model::TreeModel;
 use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
-use crate::expr::{self, input, literal, OpCounts, Rendered, Value};
-use crate::names::{comment_safe, Names, Output};
+use crate::functions::{Function, InertiaSource, Tracer};
+use crate::names::{comment_safe, Names};
 use crate::provenance::Provenance;
+use crate::render::{literal, OpCounts};
 use hya_urdf::LoadedModel;
 
 /// Generated source for one robot, with the operation count of each function.
@@ -33,9 +29,11 @@ pub struct Generated {
 impl Generated {
     /// A table of each function's additions, multiplications, divisions and `sin_cos` calls.
     pub fn stats_table(&self) -> String {
-        let mut table = format!("{:<36} {:>7} {:>7} {:>5} {:>5}\n", "function", "adds", "muls", "divs", "trig");
+        let mut table =
+            format!("{:<36} {:>7} {:>7} {:>8} {:>5} {:>5}\n", "function", "adds", "muls", "mul_adds", "divs", "trig");
         for (function, c) in &self.stats {
-            table += &format!("{function:<36} {:>7} {:>7} {:>5} {:>5}\n", c.adds, c.muls, c.divs, c.trig);
+            table +=
+                &format!("{function:<36} {:>7} {:>7} {:>8} {:>5} {:>5}\n", c.adds, c.muls, c.mul_adds, c.divs, c.trig);
         }
         table
     }
@@ -81,357 +79,6 @@ pub enum GenerateError {
     Model(#[from] hya_core::model::ModelError),
 }
 
-/// Where the bodies' inertias come from in generated code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum InertiaSource {
-    /// Folded in as literals (the zero-sized type).
-    Constant,
-    /// Read from the type's field, `self.0[body][parameter]` (the parameter-holding type).
-    Parameters,
-}
-
-/// Names of the ten inertial parameters, in `RigidBodyInertia::parameters` order.
-const PARAMETERS: [&str; 10] = ["m", "hx", "hy", "hz", "ixx", "iyy", "izz", "ixy", "ixz", "iyz"];
-
-/// Body inertias as a traced function sees them.
-enum TracedInertias<'a> {
-    /// The model's, as constants.
-    Model(ModelInertias<'a>),
-    /// Read from the parameter-holding type's field.
-    Parameters(Vec<RigidBodyInertia<Value>>),
-}
-
-impl Inertias<Value> for TracedInertias<'_> {
-    fn inertia(&self, body: usize) -> RigidBodyInertia<Value> {
-        match self {
-            TracedInertias::Model(model) => model.inertia(body),
-            TracedInertias::Parameters(parameters) => parameters[body],
-        }
-    }
-}
-
-/// The joint-vector arguments a function takes, by name: `q`, `qd`, `qdd`, `tau`.
-type Arguments = &'static [&'static str];
-
-/// One generated function: its tokens, the comments opening each body's pass, its counts.
-struct Function {
-    name: &'static str,
-    tokens: TokenStream,
-    pass_marks: Vec<(String, String)>,
-    counts: OpCounts,
-}
-
-/// Traces `hya-core`'s algorithms for one robot.
-struct Tracer<'a> {
-    model: &'a TreeModel,
-    names: Names,
-    source: InertiaSource,
-}
-
-impl<'a> Tracer<'a> {
-    fn dof(&self) -> Literal {
-        Literal::usize_unsuffixed(self.model.dof())
-    }
-
-    /// The inertias of the source; parameters become inputs `{link}_{parameter}`.
-    fn inertias(&self) -> TracedInertias<'a> {
-        match self.source {
-            InertiaSource::Constant => TracedInertias::Model(ModelInertias(self.model)),
-            InertiaSource::Parameters => TracedInertias::Parameters(
-                (0..self.model.dof())
-                    .map(|i| {
-                        RigidBodyInertia::from_parameters(&core::array::from_fn(|k| {
-                            let (body, parameter) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(k));
-                            input(self.names.body_input(i, PARAMETERS[k]), quote! { self.0[#body][#parameter] })
-                        }))
-                    })
-                    .collect(),
-            ),
-        }
-    }
-
-    /// The joint inputs of `arguments`, one vector per argument: `q_sfe` from `q[1]`.
-    fn joint_inputs(&self, arguments: Arguments) -> Vec<Vec<Value>> {
-        arguments
-            .iter()
-            .map(|argument| {
-                let ident = format_ident!("{argument}");
-                (0..self.model.dof())
-                    .map(|i| {
-                        let index = Literal::usize_unsuffixed(i);
-                        input(self.names.joint_input(argument, i), quote! { #ident[#index] })
-                    })
-                    .collect()
-            })
-            .collect()
-    }
-
-    /// `name(&self, arguments…)` for joint vectors of the robot's size.
-    fn signature(&self, name: &str, arguments: Arguments) -> TokenStream {
-        let (name, dof) = (format_ident!("{name}"), self.dof());
-        let arguments = arguments.iter().map(|a| format_ident!("{a}"));
-        quote! { fn #name(&self, #(#arguments: &::hya_core::JointVector<#dof>),*) }
-    }
-
-    /// Traces `algorithm` (which labels its outputs) and renders its statements.
-    fn trace(
-        &self,
-        function: &'static str,
-        arguments: Arguments,
-        output: Output,
-        algorithm: impl FnOnce(&[Vec<Value>], &TracedInertias, &mut [BodyState<Value>]) -> Result<Vec<Value>, ModelError>,
-    ) -> Result<(Rendered, Vec<Value>), GenerateError> {
-        let (outputs, emitter) = expr::trace(|| {
-            let inertias = self.inertias();
-            let inputs = self.joint_inputs(arguments);
-            algorithm(&inputs, &inertias, &mut vec![BodyState::new(); self.model.dof()])
-        });
-        let outputs = outputs?;
-        if let Some(value) = emitter.non_finite_constant(&outputs) {
-            return Err(GenerateError::NonFinite { function, value });
-        }
-        Ok((emitter.render(&outputs, &self.names.with_output(output)), outputs))
-    }
-
-    /// A function returning a joint vector, `prefix_{joint}` for each joint.
-    fn vector_function(
-        &self,
-        (name, doc): (&'static str, &str),
-        arguments: Arguments,
-        prefix: &'static str,
-        algorithm: impl FnOnce(
-            &[Vec<Value>],
-            &TracedInertias,
-            &mut [BodyState<Value>],
-            &mut [Value],
-        ) -> Result<(), ModelError>,
-    ) -> Result<Function, GenerateError> {
-        let (rendered, _) = self.trace(name, arguments, Output::Vector(prefix), |inputs, inertias, states| {
-            let mut out = vec![Value::zero(); self.model.dof()];
-            algorithm(inputs, inertias, states, &mut out)?;
-            Ok(out)
-        })?;
-        let (signature, dof) = (self.signature(name, arguments), self.dof());
-        let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        let tokens = quote! {
-            #[doc = #doc]
-            #[inline]
-            #signature -> ::hya_core::JointVector<#dof> {
-                #statements
-                ::hya_core::JointVector::<#dof>::from([#(#outputs),*])
-            }
-        };
-        Ok(Function { name, tokens, pass_marks, counts })
-    }
-
-    fn inverse_dynamics(&self) -> Result<Function, GenerateError> {
-        let doc = " Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.";
-        self.vector_function(("inverse_dynamics", doc), &["q", "qd", "qdd"], "tau", |x, inertias, states, tau| {
-            algorithms::inverse_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, tau)
-        })
-    }
-
-    fn gravity(&self) -> Result<Function, GenerateError> {
-        self.vector_function(("gravity", " Gravity torques `G(q)`."), &["q"], "g", |x, inertias, states, tau| {
-            algorithms::gravity(self.model, inertias, &x[0], states, tau)
-        })
-    }
-
-    fn velocity_terms(&self) -> Result<Function, GenerateError> {
-        let doc = " Coriolis and centripetal torques `C(q, q̇)`.";
-        self.vector_function(("velocity_terms", doc), &["q", "qd"], "cv", |x, inertias, states, tau| {
-            algorithms::velocity_terms(self.model, inertias, (&x[0], &x[1]), states, tau)
-        })
-    }
-
-    fn coriolis_transpose(&self) -> Result<Function, GenerateError> {
-        let doc = " `C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.";
-        let name = ("coriolis_transpose_times_velocity", doc);
-        self.vector_function(name, &["q", "qd"], "ct", |x, inertias, states, out| {
-            algorithms::coriolis_transpose_times_velocity(self.model, inertias, (&x[0], &x[1]), states, out)
-        })
-    }
-
-    fn mass_matrix(&self) -> Result<Function, GenerateError> {
-        let mut entries = Vec::new();
-        let (rendered, _) = self.trace("mass_matrix", &["q"], Output::Matrix, |x, inertias, states| {
-            algorithms::mass_matrix(self.model, inertias, &x[0], states, |i, j, value| {
-                let label = Label { body: i, quantity: Quantity::Joint, component: j as u8 };
-                entries.push((i, j, value.labelled(label)));
-            })?;
-            Ok(entries.iter().map(|e| e.2).collect())
-        })?;
-        let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        // The lower triangle, and its mirror image above the diagonal.
-        let lower = entries.iter().zip(&outputs).map(|((i, j, value), out)| (*i, *j, *value, out));
-        let mirrored = lower.clone().filter(|(i, j, _, _)| i != j).map(|(i, j, v, out)| (j, i, v, out));
-        let stores = matrix_stores(&format_ident!("m"), lower.chain(mirrored).collect());
-        let (signature, dof) = (self.signature("mass_matrix", &["q"]), self.dof());
-        let tokens = quote! {
-            /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
-            #[inline]
-            #signature -> ::hya_core::JointMatrix<#dof> {
-                #statements
-                let mut m = ::hya_core::JointMatrix::<#dof>::zeros();
-                #(#stores)*
-                m
-            }
-        };
-        Ok(Function { name: "mass_matrix", tokens, pass_marks, counts })
-    }
-
-    /// ABA, returning `Err(SingularMassMatrix)` unless every `D_i` that is not a positive
-    /// constant is positive at run time.
-    fn forward_dynamics(&self) -> Result<Function, GenerateError> {
-        let dof = self.model.dof();
-        let mut joint_inertias = Vec::new();
-        let (rendered, _) =
-            self.trace("forward_dynamics", &["q", "qd", "tau"], Output::Vector("qdd"), |x, inertias, states| {
-                let mut qdd = vec![Value::zero(); dof];
-                algorithms::forward_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, &mut qdd)?;
-                joint_inertias = states.iter().map(BodyState::joint_inertia).collect();
-                Ok(qdd.into_iter().chain(joint_inertias.iter().copied()).collect())
-            })?;
-        let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        let (qdd, d) = outputs.split_at(dof);
-        let checks: Vec<TokenStream> = joint_inertias
-            .iter()
-            .zip(d)
-            .filter_map(|(value, tokens)| match value {
-                Value::Const(c) if *c > 0.0 => None,
-                Value::Const(_) => Some(quote! { false }),
-                Value::Var { .. } => Some(quote! { #tokens > 0.0 }),
-            })
-            .collect();
-        let guard = (!checks.is_empty()).then(|| {
-            quote! {
-                if !(#(#checks)&&*) {
-                    return Err(::hya_core::Error::SingularMassMatrix);
-                }
-            }
-        });
-        let (signature, dof) = (self.signature("forward_dynamics", &["q", "qd", "tau"]), self.dof());
-        let tokens = quote! {
-            /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm,
-            /// unrolled; an error if a joint meets no positive inertia `D_i`.
-            #[inline]
-            #signature -> Result<::hya_core::JointVector<#dof>, ::hya_core::Error> {
-                #statements
-                #guard
-                Ok(::hya_core::JointVector::<#dof>::from([#(#qdd),*]))
-            }
-        };
-        Ok(Function { name: "forward_dynamics", tokens, pass_marks, counts })
-    }
-
-    /// `frame_poses(q)`: every named frame's pose in the base, as `Transform`s from the base
-    /// (`E` rotates base coordinates into the frame's, `r` is its origin).
-    fn frame_poses(&self) -> Result<Function, GenerateError> {
-        let frames = self.model.frames();
-        let (rendered, _) = self.trace("frame_poses", &["q"], Output::Vector("pose"), |x, _, states| {
-            let mut placements = vec![Transform::<Value>::identity(); self.model.dof()];
-            algorithms::body_placements(self.model, &x[0], states, &mut placements)?;
-            Ok(frames
-                .iter()
-                .flat_map(|f| {
-                    let body = f.body.map_or_else(Transform::identity, |b| placements[b]);
-                    let pose = body.then(&Transform::constant(&f.placement));
-                    (0..12).map(move |k| if k < 9 { pose.rotation[(k / 3, k % 3)] } else { pose.translation[k - 9] })
-                })
-                .collect())
-        })?;
-        let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        let poses = outputs.chunks(12).map(|p| {
-            let (r0, r1, r2, t) = (&p[0..3], &p[3..6], &p[6..9], &p[9..12]);
-            quote! { ::hya_core::spatial::Transform::from_arrays([[#(#r0),*], [#(#r1),*], [#(#r2),*]], [#(#t),*]) }
-        });
-        let (count, dof) = (Literal::usize_unsuffixed(frames.len()), self.dof());
-        let tokens = quote! {
-            /// The pose of every frame of [`Self::FRAME_NAMES`] in the base at `q`, as the transform
-            /// from the base to the frame (its `translation` is the frame's origin).
-            pub fn frame_poses(&self, q: &::hya_core::JointVector<#dof>) -> [::hya_core::spatial::Transform; #count] {
-                #statements
-                [#(#poses),*]
-            }
-        };
-        Ok(Function { name: "frame_poses", tokens, pass_marks, counts })
-    }
-
-    /// `(∂τ/∂q, ∂τ/∂q̇)`: `hya-core`'s dual-number derivative traced once per direction in one
-    /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
-    fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {
-        let n = self.model.dof();
-        let (rendered, values) = self.trace(
-            "inverse_dynamics_derivatives",
-            &["q", "qd", "qdd"],
-            Output::Vector("tau"),
-            |x, inertias, _| {
-                let mut outputs = vec![Value::zero(); 2 * n * n];
-                let (d_dq, d_dqd) = outputs.split_at_mut(n * n);
-                derivatives::inverse_dynamics_derivatives(
-                    self.model,
-                    inertias,
-                    (&x[0], &x[1], &x[2]),
-                    &mut vec![BodyState::new(); n],
-                    &mut vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n],
-                    &mut vec![Value::zero(); n],
-                    &mut vec![Value::zero(); n],
-                    (d_dq, d_dqd),
-                )?;
-                Ok(outputs)
-            },
-        )?;
-        let Rendered { statements, outputs, pass_marks, counts } = rendered;
-        // Row-major cells `k = i n + j` of each matrix.
-        let cells = |range: core::ops::Range<usize>| {
-            range.map(|k| ((k % (n * n)) / n, k % n, values[k], &outputs[k])).collect::<Vec<_>>()
-        };
-        let (by_q, by_qd) = (format_ident!("d_dq"), format_ident!("d_dqd"));
-        let (q_stores, qd_stores) =
-            (matrix_stores(&by_q, cells(0..n * n)), matrix_stores(&by_qd, cells(n * n..2 * n * n)));
-        let (signature, dof) = (self.signature("inverse_dynamics_derivatives", &["q", "qd", "qdd"]), self.dof());
-        let tokens = quote! {
-            /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i`
-            /// of each is `∂τ_i`.
-            #[inline]
-            #signature -> (::hya_core::JointMatrix<#dof>, ::hya_core::JointMatrix<#dof>) {
-                #statements
-                let mut #by_q = ::hya_core::JointMatrix::<#dof>::zeros();
-                let mut #by_qd = ::hya_core::JointMatrix::<#dof>::zeros();
-                #(#q_stores)*
-                #(#qd_stores)*
-                (#by_q, #by_qd)
-            }
-        };
-        Ok(Function { name: "inverse_dynamics_derivatives", tokens, pass_marks, counts })
-    }
-
-    /// The `Dynamics` entry points.
-    fn dynamics_functions(&self) -> Result<Vec<Function>, GenerateError> {
-        Ok(vec![
-            self.inverse_dynamics()?,
-            self.gravity()?,
-            self.velocity_terms()?,
-            self.coriolis_transpose()?,
-            self.mass_matrix()?,
-            self.forward_dynamics()?,
-            self.inverse_dynamics_derivatives()?,
-        ])
-    }
-}
-
-/// `matrix[(i, j)] = value;` for every cell whose value is not a folded zero.
-fn matrix_stores(matrix: &proc_macro2::Ident, cells: Vec<(usize, usize, Value, &TokenStream)>) -> Vec<TokenStream> {
-    cells
-        .into_iter()
-        .filter(|(_, _, value, _)| *value != Value::zero())
-        .map(|(i, j, _, expression)| {
-            let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
-            quote! { #matrix[(#i, #j)] = #expression; }
-        })
-        .collect()
-}
-
 /// Lints generated code may trip: long literals, `let x = …; x`, `a * -b`.
 fn allowed_lints() -> TokenStream {
     quote! {
@@ -442,21 +89,30 @@ fn allowed_lints() -> TokenStream {
             clippy::let_and_return,
             clippy::neg_multiply,
             clippy::too_many_lines,
-            clippy::neg_cmp_op_on_partial_ord,
-            unused_variables
+            clippy::neg_cmp_op_on_partial_ord
         )]
     }
 }
 
-/// `impl Dynamics<N> for Type` from the traced functions.
-fn dynamics_impl(type_name: &proc_macro2::Ident, dof: &Literal, functions: &[Function]) -> TokenStream {
-    let lints = allowed_lints();
-    let bodies = functions.iter().map(|f| &f.tokens);
+/// The kernels and `impl Dynamics<N> for Type`, in an anonymous `const` block: the names it
+/// imports and its `f_of` helpers stay out of the caller's module.
+fn dynamics_impl(tracer: &Tracer, functions: &[Function], frame_kernel: Option<&Function>) -> TokenStream {
+    let (lints, type_name, dof) = (allowed_lints(), &tracer.type_name, tracer.dof());
+    let kernels = functions.iter().chain(frame_kernel).map(|f| &f.kernel);
+    let conversions = functions.iter().map(|f| &f.conversion);
+    let entries = functions.iter().map(|f| &f.entry);
     quote! {
         #lints
-        impl ::hya_core::Dynamics<#dof> for #type_name {
-            #(#bodies)*
-        }
+        const _: () = {
+            use ::hya_core::dynamics::check_batch;
+            use ::hya_core::lanes::{batch, kernels, single, Arithmetic, Kernel};
+            use ::hya_core::{Dynamics, Error, JointMatrix, JointVector};
+            #(#kernels)*
+            #(#conversions)*
+            impl Dynamics<#dof> for #type_name {
+                #(#entries)*
+            }
+        };
     }
 }
 
@@ -510,12 +166,9 @@ fn format(tokens: TokenStream, functions: &[Function], provenance: &Provenance) 
     let mut marks: &[(String, String)] = &[];
     for line in formatted.lines() {
         let trimmed = line.trim_start();
-        if let Some(function) = functions.iter().find(|f| {
-            trimmed
-                .strip_prefix("fn ")
-                .or_else(|| trimmed.strip_prefix("pub fn "))
-                .is_some_and(|rest| rest.strip_prefix(f.name).is_some_and(|after| after.starts_with('(')))
-        }) {
+        // A kernel's statements follow its `impl Kernel<kernels::Marker, …` line.
+        let marker = trimmed.strip_prefix("impl Kernel<kernels::").and_then(|rest| rest.split(',').next());
+        if let Some(function) = marker.and_then(|m| functions.iter().find(|f| f.marker == m)) {
             marks = &function.pass_marks;
         }
         // A block's `let (…) = {` line names what the block hands on, not its first statement.
@@ -553,12 +206,12 @@ fn doc_naming(before: &str, name: &str, after: &str) -> TokenStream {
 /// model folded in.
 pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, GenerateError> {
     let model = &loaded.model;
-    let ident = type_ident(type_name)?;
     check_size(model)?;
-    let tracer = Tracer { model, names: Names::new(model), source: InertiaSource::Constant };
+    let tracer =
+        Tracer { model, names: Names::new(model), source: InertiaSource::Constant, type_name: type_ident(type_name)? };
     let mut functions = tracer.dynamics_functions()?;
-    let poses = tracer.frame_poses()?;
-    let dof = tracer.dof();
+    let (poses, poses_method) = tracer.frame_poses()?;
+    let (ident, dof) = (&tracer.type_name, tracer.dof());
     let names = model.joint_names().map(string_literal);
     let effort = model.bodies().iter().map(|b| match b.limits.effort {
         Some(v) => {
@@ -571,13 +224,13 @@ pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, Gene
     let frame_names = model.frames().iter().map(|f| string_literal(&f.name));
     let doc = doc_naming(" Rigid-body dynamics of `", model.name(), &format!("` ({} joints).", model.dof()));
     let lints = allowed_lints();
-    let poses_tokens = &poses.tokens;
-    let dynamics = dynamics_impl(&ident, &dof, &functions);
+    let dynamics = dynamics_impl(&tracer, &functions, Some(&poses));
     let tokens = quote! {
         #doc
         /// Generated by hya-codegen: constants folded, all joints' `sin_cos` in one call, loops
-        /// unrolled, no allocation; products fused into sums where the CPU has FMA
-        /// (`hya_core::with_fma`).
+        /// unrolled, no allocation; each function written once over `hya_core::Arithmetic`, run on
+        /// fused multiply-add where the CPU has it (`hya_core::lanes::single`) and on
+        /// several states per vector register in batches (`hya_core::lanes::batch`).
         #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
         pub struct #ident;
         impl #ident {
@@ -590,7 +243,7 @@ pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, Gene
             /// Every link of the description, in the order of [`Self::frame_poses`].
             pub const FRAME_NAMES: [&'static str; #frame_count] = [#(#frame_names),*];
             #lints
-            #poses_tokens
+            #poses_method
         }
         #dynamics
     };
@@ -605,17 +258,21 @@ pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, Gene
 /// plant, an identified model, a payload).
 pub fn generate_parametric(loaded: &LoadedModel, type_name: &str) -> Result<Generated, GenerateError> {
     let model = &loaded.model;
-    let ident = type_ident(type_name)?;
     check_size(model)?;
-    let tracer = Tracer { model, names: Names::new(model), source: InertiaSource::Parameters };
+    let tracer = Tracer {
+        model,
+        names: Names::new(model),
+        source: InertiaSource::Parameters,
+        type_name: type_ident(type_name)?,
+    };
     let functions = tracer.dynamics_functions()?;
-    let dof = tracer.dof();
+    let (ident, dof) = (&tracer.type_name, tracer.dof());
     let doc = doc_naming(
         " Rigid-body dynamics of `",
         model.name(),
         &format!("` ({} joints) with the inertial parameters as data:", model.dof()),
     );
-    let dynamics = dynamics_impl(&ident, &dof, &functions);
+    let dynamics = dynamics_impl(&tracer, &functions, None);
     let tokens = quote! {
         #doc
         /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.

@@ -4,11 +4,15 @@
 //! implementing [`hya_core::Dynamics`] for it ([`generate()`]), in
 //! the spirit of RobCoGen: constants folded into literals, the sines and cosines of all joints in
 //! one lane-parallel call, axis-aligned joints and sparse inertias exploited, zeros never
-//! multiplied, no allocation. Each function holds two variants of the same statements: in one, a
-//! product feeding a sum in the same block becomes one `hya_core::mul_add`, compiled for fused
-//! multiply-add and run where the CPU has it (`hya_core::with_fma`: decided at compile time
-//! when the target has FMA, at run time on x86 with `std`); the other keeps the plain
-//! arithmetic. Rust never fuses by itself, so this is the only way the FMA unit is used.
+//! multiplied, no allocation. Each function is written once, generic over
+//! [`hya_core::Arithmetic`], with every product that feeds a sum fused into one `A::mul_add`;
+//! `hya_core::lanes` runs it on plain `f64`, on fused multiply-add where the CPU has it, and on
+//! several robot states per vector register for the batch entry points.
+//!
+//! The generator works in four steps, one module each: [`trace`] runs `hya-core`'s algorithms
+//! on a recording number type; [`rewrite`] fuses products into sums and finds the live
+//! statements; [`names`] names them after joints and links; [`render`] writes them as blocks
+//! of `let` statements. [`generate`] assembles each robot's functions and the file.
 //!
 //! ```no_run
 //! let loaded = hya_urdf::load_file("robots/urdf/hya.urdf")?;
@@ -17,10 +21,16 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod expr;
+mod functions;
 pub mod generate;
 pub mod names;
 pub mod provenance;
+pub mod render;
+pub mod rewrite;
+pub mod trace;
+
+pub use render::{literal, render, OpCounts, Rendered};
+pub use trace::{input, trace, Emitter, Value};
 
 pub use generate::{
     generate, generate_parametric, size_warning, GenerateError, Generated, MAX_JOINTS, WARN_ABOVE_JOINTS,

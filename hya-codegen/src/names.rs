@@ -11,8 +11,43 @@ use std::collections::HashSet;
 
 use hya_core::model::TreeModel;
 use hya_core::scalar::{Label, Pass, Quantity};
+use proc_macro2::{Ident, Span};
 
-use crate::expr::Naming;
+use crate::trace::{Emitter, Op};
+
+/// How the generated code names labelled values and marks passes.
+pub trait Naming {
+    /// The identifier for a labelled value (made unique by [`identifiers`]).
+    fn label(&self, label: Label) -> String;
+    /// The comment text opening `body`'s `pass`.
+    fn pass(&self, body: usize, pass: Pass) -> String;
+}
+
+/// Identifiers for the statements that are read: inputs by their names, labelled statements
+/// by `names` (made unique), the rest `t0, t1, …`; `None` for the others.
+pub(crate) fn identifiers(
+    emitter: &Emitter,
+    ops: &[Op],
+    live: &[bool],
+    read: &[bool],
+    names: &dyn Naming,
+) -> Vec<Option<Ident>> {
+    let mut used = HashSet::new();
+    let mut temporaries = 0;
+    let mut idents = vec![None; ops.len()];
+    for (id, op) in ops.iter().enumerate().filter(|(id, _)| live[*id] && read[*id]) {
+        let wanted = match (op, emitter.labels.get(&id)) {
+            (Op::Input(name, _), _) => name.clone(),
+            (_, Some(label)) => names.label(*label),
+            _ => {
+                temporaries += 1;
+                format!("t{}", temporaries - 1)
+            }
+        };
+        idents[id] = Some(Ident::new(&unique_name(&mut used, wanted), Span::call_site()));
+    }
+    idents
+}
 
 /// `name` as a lower-case identifier fragment; `None` if nothing usable is left.
 fn identifier_fragment(name: &str) -> Option<String> {

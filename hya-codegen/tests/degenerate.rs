@@ -76,28 +76,59 @@ fn a_joint_without_inertia_along_its_axis_is_an_error_not_a_panic() {
     }
 }
 
-/// The `let` bindings of every function in `source`, with the function's name.
+/// The `let` bindings of every function in `source`, with the function's name (a kernel's by
+/// its marker: `InverseDynamics`), descending into the anonymous `const` block that holds the
+/// kernels and the trait's implementation.
 fn bindings(source: &str) -> Vec<(String, Vec<String>)> {
-    let file = syn::parse_file(source).unwrap();
-    let mut out = Vec::new();
-    for item in file.items {
-        if let syn::Item::Impl(block) = item {
-            for member in block.items {
-                if let syn::ImplItem::Fn(f) = member {
-                    let mut names = Vec::new();
-                    collect(&f.block, &mut names);
-                    out.push((f.sig.ident.to_string(), names));
+    fn walk(items: &[syn::Item], out: &mut Vec<(String, Vec<String>)>) {
+        for item in items {
+            match item {
+                syn::Item::Impl(block) => {
+                    // `impl Kernel<kernels::Marker, …> for Type`: named by its marker.
+                    let marker =
+                        block.trait_.as_ref().and_then(|(_, path, _)| match &path.segments.last()?.arguments {
+                            syn::PathArguments::AngleBracketed(arguments) => match arguments.args.first()? {
+                                syn::GenericArgument::Type(syn::Type::Path(t)) => {
+                                    Some(t.path.segments.last()?.ident.to_string())
+                                }
+                                _ => None,
+                            },
+                            _ => None,
+                        });
+                    for member in &block.items {
+                        if let syn::ImplItem::Fn(f) = member {
+                            let mut names = Vec::new();
+                            collect(&f.block, &mut names);
+                            out.push((marker.clone().unwrap_or_else(|| f.sig.ident.to_string()), names));
+                        }
+                    }
                 }
+                syn::Item::Const(constant) => {
+                    if let syn::Expr::Block(block) = constant.expr.as_ref() {
+                        let inner: Vec<syn::Item> = block
+                            .block
+                            .stmts
+                            .iter()
+                            .filter_map(|s| match s {
+                                syn::Stmt::Item(item) => Some(item.clone()),
+                                _ => None,
+                            })
+                            .collect();
+                        walk(&inner, out);
+                    }
+                }
+                _ => {}
             }
         }
     }
+    let file = syn::parse_file(source).unwrap();
+    let mut out = Vec::new();
+    walk(&file.items, &mut out);
     out
 }
 
 /// The names each statement defines. A block's `let (a, b) = { …; (a, b) }` only hands on what
-/// its statements defined, so it is not counted; of the two variants of a function,
-/// `match with_fma(|| { fused }) { Some(values) => values, None => { plain } }`, which define
-/// the same names, the plain one is read.
+/// its statements defined, so it is not counted.
 fn collect(block: &syn::Block, names: &mut Vec<String>) {
     for statement in &block.stmts {
         let syn::Stmt::Local(local) = statement else { continue };
@@ -143,9 +174,10 @@ fn every_generated_value_has_its_own_name_even_when_names_collide_once_numbered(
                 let count = names.iter().filter(|n| *n == name).count();
                 assert!(seen.insert(name.clone()), "{function}: `{name}` is defined {count} times");
             }
-            if function == "inverse_dynamics" {
+            if function == "InverseDynamics" {
                 assert!(names.len() > 10, "{function}: no definitions read");
             }
         }
+        assert!(bindings(&source).iter().any(|(f, _)| f == "InverseDynamics"), "the kernels were not read");
     }
 }

@@ -1,83 +1,177 @@
-//! The generated source of `planar2` and of HyA (both the constant-folded and the
-//! parameter-holding type) is pinned by golden files, so any change to the generator's output
-//! shows up in review. After a deliberate change: `UPDATE_GOLDEN=1 cargo test -p hya-codegen
-//! --test golden`, then read the diff. The golden files are also compiled here and checked
-//! against the run-time model (itself checked against Pinocchio by the workspace tests).
-#![allow(clippy::unwrap_used)]
-// test helpers: a failed unwrap is a failed test
-// Generated code must compile in a crate that forbids `unsafe` (the golden files are included
-// below): the one `unsafe` call of the fused variant lives in `hya_core::with_fma`.
+//! The generator's output is pinned by small golden files, one per feature of the generator
+//! (`tests/golden/<feature>.urdf`: a prismatic joint, off-axis joints, a fixed-joint merge, a
+//! branched tree, a massless link; and `planar2`, the teaching example), so that a change to
+//! the generator shows up in review as a diff a reviewer can read. HyA is pinned by its
+//! operation counts and size (`hya.stats`, what `hya generate --stats` prints), not by its text.
+//! After a deliberate change: `UPDATE_GOLDEN=1 cargo test -p hya-codegen --test golden`, then
+//! read the diff.
+//!
+//! The golden files are also compiled here, in a crate that denies unused variables (every
+//! statement generated is read) and `unsafe` (the one `unsafe` call lives in `hya_core`), and
+//! checked against the run-time model (itself checked against Pinocchio by the workspace tests),
+//! single calls and batches alike.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 #![forbid(unsafe_code)]
+#![deny(unused_variables, unused_assignments)]
 
 use std::path::PathBuf;
 
-use hya_core::{Dynamics, JointVector};
+use hya_core::model::TreeModel;
+use hya_core::{Dynamics, JointMatrix, JointVector};
 
+#[allow(dead_code)] // the constants each type carries, not all read here
 mod compiled {
-    include!("golden/hya.rs");
-    include!("golden/hya_parametric.rs");
+    include!("golden/planar2.rs");
+    include!("golden/prismatic.rs");
+    include!("golden/off_axis.rs");
+    include!("golden/fixed_merge.rs");
+    include!("golden/branched.rs");
+    include!("golden/massless.rs");
 }
+
+/// `(file stem, type name)` of each feature's golden input.
+const FEATURES: [(&str, &str); 5] = [
+    ("prismatic", "Prismatic"),
+    ("off_axis", "OffAxis"),
+    ("fixed_merge", "FixedMerge"),
+    ("branched", "Branched"),
+    ("massless", "Massless"),
+];
+
+/// Source bytes HyA's generated dynamics may take (the budget; 1.5 MB before the
+/// functions were written once over `hya_core::Arithmetic`).
+const HYA_SOURCE_BUDGET: usize = 600_000;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn load(robot: &str) -> hya_urdf::LoadedModel {
-    hya_urdf::load_file(root().join(format!("../robots/urdf/{robot}.urdf"))).unwrap()
+fn load(path: &str) -> hya_urdf::LoadedModel {
+    hya_urdf::load_file(root().join(path)).unwrap()
 }
 
-/// Compares `source` with the golden file `name`, rewriting it first under `UPDATE_GOLDEN`.
-fn check_golden(name: &str, source: &str) {
+/// Compares `text` with the golden file `name`, rewriting it first under `UPDATE_GOLDEN`.
+fn check_golden(name: &str, text: &str) {
     let golden = root().join("tests/golden").join(name);
     if std::env::var_os("UPDATE_GOLDEN").is_some() {
-        std::fs::write(&golden, source).unwrap();
+        std::fs::write(&golden, text).unwrap();
     }
     let expected = std::fs::read_to_string(&golden).unwrap();
-    assert!(source == expected, "generated code differs from {}; see the module docs", golden.display());
+    assert!(text == expected, "generated code differs from {}; see the module docs", golden.display());
 }
 
 #[test]
 fn generated_sources_match_the_golden_files() {
-    check_golden("planar2.rs", &hya_codegen::generate(&load("planar2"), "Planar2").unwrap().source);
-    let hya = load("hya");
-    check_golden("hya.rs", &hya_codegen::generate(&hya, "Hya").unwrap().source);
-    check_golden("hya_parametric.rs", &hya_codegen::generate_parametric(&hya, "HyaParametric").unwrap().source);
+    check_golden("planar2.rs", &hya_codegen::generate(&load("../robots/urdf/planar2.urdf"), "Planar2").unwrap().source);
+    for (feature, type_name) in FEATURES {
+        let loaded = load(&format!("tests/golden/{feature}.urdf"));
+        check_golden(&format!("{feature}.rs"), &hya_codegen::generate(&loaded, type_name).unwrap().source);
+    }
+}
+
+#[test]
+fn hya_is_pinned_by_its_operation_counts_and_size() {
+    let hya = load("../robots/urdf/hya.urdf");
+    let fixed = hya_codegen::generate(&hya, "Hya").unwrap();
+    let parametric = hya_codegen::generate_parametric(&hya, "HyaParametric").unwrap();
+    let stats = format!(
+        "Hya: {} bytes\n{}\nHyaParametric: {} bytes\n{}",
+        fixed.source.len(),
+        fixed.stats_table(),
+        parametric.source.len(),
+        parametric.stats_table()
+    );
+    check_golden("hya.stats", &stats);
+    assert!(fixed.source.len() <= HYA_SOURCE_BUDGET, "HyA's generated source is {} bytes", fixed.source.len());
 }
 
 #[test]
 fn generation_is_deterministic() {
-    let planar2 = load("planar2");
+    let planar2 = load("../robots/urdf/planar2.urdf");
     assert_eq!(
         hya_codegen::generate(&planar2, "Planar2").unwrap().source,
         hya_codegen::generate(&planar2, "Planar2").unwrap().source
     );
 }
 
+/// `|a − b| ≤ 1e-12 · max(|b|, 1)` entrywise.
+fn close(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs().max(1.0))
+}
+
+/// A few states of `N` joints, varied in every joint.
+fn states<const N: usize>() -> Vec<(JointVector<N>, JointVector<N>, JointVector<N>)> {
+    (0..7)
+        .map(|k| {
+            let f = |scale: f64, phase: f64| {
+                JointVector::<N>::from_fn(|i, _| scale * (1.3 * k as f64 + phase * i as f64 + 0.2).sin())
+            };
+            (f(1.2, 0.7), f(0.8, 1.9), f(2.0, 2.3))
+        })
+        .collect()
+}
+
+/// The generated `d` against the run-time `model` on single calls, and its batches against
+/// its single calls.
+fn check<const N: usize>(
+    d: &impl Dynamics<N>,
+    model: &TreeModel,
+    frame_poses: impl Fn(&JointVector<N>) -> Vec<hya_core::spatial::Transform>,
+) {
+    let states = states::<N>();
+    for (q, qd, qdd) in &states {
+        let tau = model.inverse_dynamics(q.as_slice(), qd.as_slice(), qdd.as_slice()).unwrap();
+        assert!(close(d.inverse_dynamics(q, qd, qdd).as_slice(), &tau), "{}: ID", model.name());
+        let mass = model.mass_matrix(q.as_slice()).unwrap();
+        assert!(close(d.mass_matrix(q).as_slice(), mass.as_slice()), "{}: M", model.name());
+        let fd = d.forward_dynamics(q, qd, &JointVector::from_column_slice(&tau)).unwrap();
+        assert!(close(fd.as_slice(), qdd.as_slice()), "{}: FD(ID(q̈)) = q̈", model.name());
+        for (name, pose) in model.frames().iter().map(|f| &f.name).zip(frame_poses(q)) {
+            let expected = model.frame_pose(name, q.as_slice()).unwrap();
+            assert!((pose.rotation - expected.rotation).norm() < 1e-12, "{name}");
+            assert!((pose.translation - expected.translation).norm() < 1e-12, "{name}");
+        }
+    }
+    let (q, qd, qdd): (Vec<_>, Vec<_>, Vec<_>) = states.iter().cloned().fold((vec![], vec![], vec![]), |mut acc, s| {
+        acc.0.push(s.0);
+        acc.1.push(s.1);
+        acc.2.push(s.2);
+        acc
+    });
+    let n = q.len();
+    let mut tau = vec![JointVector::<N>::zeros(); n];
+    d.inverse_dynamics_batch(&q, &qd, &qdd, &mut tau).unwrap();
+    let mut mass = vec![JointMatrix::<N>::zeros(); n];
+    d.mass_matrix_batch(&q, &mut mass).unwrap();
+    let mut fd = vec![JointVector::<N>::zeros(); n];
+    d.forward_dynamics_batch(&q, &qd, &tau, &mut fd).unwrap();
+    for k in 0..n {
+        assert!(close(tau[k].as_slice(), d.inverse_dynamics(&q[k], &qd[k], &qdd[k]).as_slice()), "batch ID {k}");
+        assert!(close(mass[k].as_slice(), d.mass_matrix(&q[k]).as_slice()), "batch M {k}");
+        assert!(close(fd[k].as_slice(), qdd[k].as_slice()), "batch FD {k}");
+    }
+}
+
 #[test]
-fn the_golden_hya_code_computes_what_the_run_time_model_does() {
-    let model = load("hya").model;
-    let parametric = compiled::HyaParametric::new(&core::array::from_fn(|i| model.bodies()[i].inertia));
-    let q = JointVector::<6>::from([0.1, -0.2, -0.5, 1.0, 0.3, 0.4]);
-    let qd = JointVector::<6>::from([0.5, -0.4, 0.3, -0.2, 0.1, 0.6]);
-    let qdd = JointVector::<6>::from([1.0, -1.0, 0.5, 0.8, -0.3, 0.2]);
-    let tau = model.inverse_dynamics(q.as_slice(), qd.as_slice(), qdd.as_slice()).unwrap();
-    let mass = model.mass_matrix(q.as_slice()).unwrap();
-    let fd = model.forward_dynamics(q.as_slice(), qd.as_slice(), &tau).unwrap();
-    let generated: [&dyn Dynamics<6>; 2] = [&compiled::Hya, &parametric];
-    for d in generated {
-        let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs().max(1.0));
-        assert!(close(d.inverse_dynamics(&q, &qd, &qdd).as_slice(), &tau));
-        assert!(close(d.mass_matrix(&q).as_slice(), mass.as_slice()));
-        let tau = JointVector::from_column_slice(&tau);
-        assert!(close(d.forward_dynamics(&q, &qd, &tau).unwrap().as_slice(), &fd));
-        assert!(close(fd.as_slice(), qdd.as_slice()), "FD(ID(q̈)) = q̈");
-    }
-    assert_eq!(compiled::Hya::DOF, model.dof());
-    assert!(compiled::Hya::JOINT_NAMES.iter().copied().eq(model.joint_names()));
-    assert!(compiled::Hya::EFFORT_LIMITS.iter().zip(model.bodies()).all(|(e, b)| *e == b.limits.effort));
-    for (name, pose) in compiled::Hya::FRAME_NAMES.iter().zip(compiled::Hya.frame_poses(&q)) {
-        let expected = model.frame_pose(name, q.as_slice()).unwrap();
-        assert!((pose.rotation - expected.rotation).norm() < 1e-12, "{name}");
-        assert!((pose.translation - expected.translation).norm() < 1e-12, "{name}");
-    }
+fn the_golden_code_computes_what_the_run_time_model_does() {
+    check(&compiled::Planar2, &load("../robots/urdf/planar2.urdf").model, |q| {
+        compiled::Planar2.frame_poses(q).to_vec()
+    });
+    let model = |feature: &str| load(&format!("tests/golden/{feature}.urdf")).model;
+    check(&compiled::Prismatic, &model("prismatic"), |q| compiled::Prismatic.frame_poses(q).to_vec());
+    check(&compiled::OffAxis, &model("off_axis"), |q| compiled::OffAxis.frame_poses(q).to_vec());
+    check(&compiled::FixedMerge, &model("fixed_merge"), |q| compiled::FixedMerge.frame_poses(q).to_vec());
+    check(&compiled::Branched, &model("branched"), |q| compiled::Branched.frame_poses(q).to_vec());
+    check(&compiled::Massless, &model("massless"), |q| compiled::Massless.frame_poses(q).to_vec());
+}
+
+#[test]
+fn each_golden_input_shows_its_feature() {
+    let model = |feature: &str| load(&format!("tests/golden/{feature}.urdf")).model;
+    assert_eq!(compiled::Prismatic::DOF, 2);
+    assert_eq!(model("fixed_merge").dof(), 2, "the fixed joint adds no degree of freedom");
+    assert!(model("fixed_merge").frames().iter().any(|f| f.name == "housing"), "the merged link stays a frame");
+    assert_eq!(compiled::Branched::DOF, 3);
+    let source = std::fs::read_to_string(root().join("tests/golden/massless.rs")).unwrap();
+    assert!(source.contains("Massless"), "the massless link's arm generates");
 }

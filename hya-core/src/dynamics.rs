@@ -85,6 +85,87 @@ pub trait Dynamics<const N: usize> {
         let cholesky = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?;
         Ok(cholesky.solve(&(tau - bias)))
     }
+
+    /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.
+    ///
+    /// Batches take one slice of joint vectors per argument (an array of structures: state `k`
+    /// is `q[k]`, `qd[k]`, …) and write one output per state; every slice must be as long as the
+    /// output ([`Error::BatchLength`] otherwise, nothing written). Generated dynamics run
+    /// [`BATCH_LANES`](crate::lanes::BATCH_LANES) states per step in vector registers
+    /// ([`crate::lanes::batch`]); the defaults loop over the single call.
+    fn inverse_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        tau: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        for (k, tau) in tau.iter_mut().enumerate() {
+            *tau = self.inverse_dynamics(&q[k], &qd[k], &qdd[k]);
+        }
+        Ok(())
+    }
+
+    /// [`gravity`](Self::gravity) of many states (see [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)).
+    fn gravity_batch(&self, q: &[JointVector<N>], g: &mut [JointVector<N>]) -> Result<(), Error> {
+        check_batch(&[q.len()], g.len())?;
+        for (k, g) in g.iter_mut().enumerate() {
+            *g = self.gravity(&q[k]);
+        }
+        Ok(())
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix) of many states (see [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)).
+    fn mass_matrix_batch(&self, q: &[JointVector<N>], m: &mut [JointMatrix<N>]) -> Result<(), Error> {
+        check_batch(&[q.len()], m.len())?;
+        for (k, m) in m.iter_mut().enumerate() {
+            *m = self.mass_matrix(&q[k]);
+        }
+        Ok(())
+    }
+
+    /// [`forward_dynamics`](Self::forward_dynamics) of many states (see
+    /// [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)); stops at the first state whose
+    /// mass matrix is singular, with the states before it written.
+    fn forward_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        qdd: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        for (k, qdd) in qdd.iter_mut().enumerate() {
+            *qdd = self.forward_dynamics(&q[k], &qd[k], &tau[k])?;
+        }
+        Ok(())
+    }
+
+    /// [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives) of many states (see
+    /// [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)); `d_dqd` as long as `d_dq`.
+    fn inverse_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        d_dq: &mut [JointMatrix<N>],
+        d_dqd: &mut [JointMatrix<N>],
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len(), d_dqd.len()], d_dq.len())?;
+        for (k, (d_dq, d_dqd)) in d_dq.iter_mut().zip(d_dqd.iter_mut()).enumerate() {
+            (*d_dq, *d_dqd) = self.inverse_dynamics_derivatives(&q[k], &qd[k], &qdd[k]);
+        }
+        Ok(())
+    }
+}
+
+/// `Err(BatchLength)` for the first argument whose length is not the output's.
+pub fn check_batch(arguments: &[usize], expected: usize) -> Result<(), Error> {
+    match arguments.iter().position(|&got| got != expected) {
+        Some(argument) => Err(Error::BatchLength { argument, expected, got: arguments[argument] }),
+        None => Ok(()),
+    }
 }
 
 /// Implements [`Dynamics`] for a pointer type by forwarding every method to its target.
@@ -122,6 +203,40 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
     ) -> Result<JointVector<N>, Error> {
         (**self).forward_dynamics(q, qd, tau)
     }
+    fn inverse_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        tau: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        (**self).inverse_dynamics_batch(q, qd, qdd, tau)
+    }
+    fn gravity_batch(&self, q: &[JointVector<N>], g: &mut [JointVector<N>]) -> Result<(), Error> {
+        (**self).gravity_batch(q, g)
+    }
+    fn mass_matrix_batch(&self, q: &[JointVector<N>], m: &mut [JointMatrix<N>]) -> Result<(), Error> {
+        (**self).mass_matrix_batch(q, m)
+    }
+    fn forward_dynamics_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        qdd: &mut [JointVector<N>],
+    ) -> Result<(), Error> {
+        (**self).forward_dynamics_batch(q, qd, tau, qdd)
+    }
+    fn inverse_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        qdd: &[JointVector<N>],
+        d_dq: &mut [JointMatrix<N>],
+        d_dqd: &mut [JointMatrix<N>],
+    ) -> Result<(), Error> {
+        (**self).inverse_dynamics_derivatives_batch(q, qd, qdd, d_dq, d_dqd)
+    }
 }
     )*};
 }
@@ -153,6 +268,54 @@ pub trait SliceDynamics {
         d_dq: &mut [f64],
         d_dqd: &mut [f64],
     );
+
+    /// [`inverse_dynamics_into`](Self::inverse_dynamics_into) of many states, rows of
+    /// [`dof`](Self::dof) values one after another (row-major `count × dof`); `tau` sets the
+    /// count, and every argument must hold as many rows ([`Error::BatchLength`] otherwise).
+    /// Generated dynamics run them in batches ([`Dynamics::inverse_dynamics_batch`]).
+    fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        for (k, tau) in tau.chunks_mut(n.max(1)).enumerate() {
+            let row = k * n..(k + 1) * n;
+            self.inverse_dynamics_into(&q[row.clone()], &qd[row.clone()], &qdd[row], tau);
+        }
+        Ok(())
+    }
+
+    /// [`gravity_into`](Self::gravity_into) of many states (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)).
+    fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len()], g.len())?;
+        for (k, g) in g.chunks_mut(n.max(1)).enumerate() {
+            self.gravity_into(&q[k * n..(k + 1) * n], g);
+        }
+        Ok(())
+    }
+
+    /// [`mass_matrix_into`](Self::mass_matrix_into) of many states, `dof²` outputs per row (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)).
+    fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len() * n], mass.len())?;
+        for (k, m) in mass.chunks_mut((n * n).max(1)).enumerate() {
+            self.mass_matrix_into(&q[k * n..(k + 1) * n], m);
+        }
+        Ok(())
+    }
+
+    /// [`forward_dynamics_into`](Self::forward_dynamics_into) of many states (see
+    /// [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)); stops at the first singular one.
+    fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        for (k, qdd) in qdd.chunks_mut(n.max(1)).enumerate() {
+            let row = k * n..(k + 1) * n;
+            self.forward_dynamics_into(&q[row.clone()], &qd[row.clone()], &tau[row], qdd)?;
+        }
+        Ok(())
+    }
 }
 
 /// Any [`Dynamics<N>`] seen as [`SliceDynamics`].
@@ -193,4 +356,50 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
         d_dq.copy_from_slice(by_q.transpose().as_slice());
         d_dqd.copy_from_slice(by_qd.transpose().as_slice());
     }
+    fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        in_steps([q, qd, qdd], tau, |[q, qd, qdd], out| self.0.inverse_dynamics_batch(q, qd, qdd, out))
+    }
+    fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len()], g.len())?;
+        in_steps([q], g, |[q], out| self.0.gravity_batch(q, out))
+    }
+    fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len() * N], mass.len())?;
+        // M is symmetric, so its column-major storage is also its row-major layout.
+        in_steps([q], mass, |[q], out| self.0.mass_matrix_batch(q, out))
+    }
+    fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        in_steps([q, qd, tau], qdd, |[q, qd, tau], out| self.0.forward_dynamics_batch(q, qd, tau, out))
+    }
+}
+
+/// States per step of [`OnSlicesN`]'s row batches, copied to the stack and back.
+const ROWS_PER_STEP: usize = 64;
+
+/// Runs `batch` on the rows of `inputs` ([`ROWS_PER_STEP`] at a time, as joint vectors on the
+/// stack) and writes each result's `width` numbers (column-major storage) to its row of `out`.
+fn in_steps<const N: usize, const IN: usize, const R: usize, const C: usize>(
+    inputs: [&[f64]; IN],
+    out: &mut [f64],
+    mut batch: impl FnMut([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let width = R * C;
+    let mut arguments = [[JointVector::<N>::zeros(); ROWS_PER_STEP]; IN];
+    let mut results = [SMatrix::<f64, R, C>::zeros(); ROWS_PER_STEP];
+    for (step, out) in out.chunks_mut((ROWS_PER_STEP * width).max(1)).enumerate() {
+        let used = out.len() / width.max(1);
+        let first = step * ROWS_PER_STEP;
+        for (argument, input) in arguments.iter_mut().zip(inputs) {
+            for (k, state) in argument[..used].iter_mut().enumerate() {
+                *state = JointVector::from_column_slice(&input[(first + k) * N..(first + k + 1) * N]);
+            }
+        }
+        batch(core::array::from_fn(|i| &arguments[i][..used]), &mut results[..used])?;
+        for (row, result) in out.chunks_mut(width.max(1)).zip(&results) {
+            row.copy_from_slice(result.as_slice());
+        }
+    }
+    Ok(())
 }

@@ -46,6 +46,16 @@ pub enum Error {
         /// Which signal (`qd_m`).
         signal: &'static str,
     },
+    /// A batch call's slices hold different numbers of states.
+    #[error("batch argument {argument} holds {got} states, the batch {expected}")]
+    BatchLength {
+        /// The argument's position (0 for the first joint-vector slice).
+        argument: usize,
+        /// The number of states of the batch (its output's length).
+        expected: usize,
+        /// The number the argument holds.
+        got: usize,
+    },
     /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
     #[error("the mass matrix is not positive definite at this configuration")]
     SingularMassMatrix,

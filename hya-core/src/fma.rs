@@ -1,11 +1,12 @@
 //! Fused multiply-add, `a·b + c` with one rounding, and the choice at run time of code compiled
 //! for it.
 //!
-//! Rust never contracts `a * b + c` into one instruction by itself, so generated dynamics come
-//! in two variants of the same statements: one that calls [`mul_add`] wherever a product feeds
-//! a sum, one that does not. [`with_fma`] runs the first where the CPU has the instruction:
-//! chosen at compile time when the target has it (`-C target-cpu=native`), else at run time on
-//! x86 with `std` (one cached CPUID test), else never.
+//! Rust never contracts `a * b + c` into one instruction by itself, so generated dynamics are
+//! written once over [`crate::Arithmetic`], whose `mul_add` rounds once on the fused types and
+//! twice on `f64`, and run twice-compiled (see [`crate::lanes::single`]): [`with_fma`] runs the
+//! fused arithmetic where the CPU has the instruction: chosen at compile time when the target
+//! has it (`-C target-cpu=native`), else at run time on x86 with `std` (one cached CPUID test),
+//! else never.
 
 /// `a·b + c` with one rounding. Without `std`, `libm`'s `fma`.
 #[inline(always)]

@@ -31,6 +31,7 @@ pub mod estimator;
 pub mod filter;
 mod finite;
 mod fma;
+pub mod lanes;
 mod linalg;
 #[cfg(feature = "alloc")]
 pub mod model;
@@ -45,6 +46,7 @@ pub mod timed;
 mod trig;
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
+pub use lanes::Arithmetic;
 pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes};
 

@@ -93,6 +93,32 @@ impl Model {
     }
 }
 
+impl Model {
+    /// All `count` states' outputs: `rows(dynamics, out)` once over them (the batch entry
+    /// points, on lanes of the vector unit for a shipped arm) without the GIL; for one state,
+    /// or if `rows` fails, `each(dynamics, row, out)` row by row ([`Self::each_row`]), which
+    /// names the row at fault.
+    fn compute(
+        &self,
+        py: Python<'_>,
+        (count, width): (usize, usize),
+        rows: impl Fn(&(dyn SliceDynamics + Sync), &mut [f64]) -> Result<(), hya_core::Error> + Send + Sync,
+        each: impl Fn(&(dyn SliceDynamics + Sync), usize, &mut [f64]) -> Result<(), String> + Send + Sync,
+    ) -> PyResult<Vec<f64>> {
+        if count > 1 {
+            let dynamics = self.dynamics();
+            let batch = py.allow_threads(|| {
+                let mut out = vec![0.0; count * width];
+                rows(dynamics, &mut out).ok().map(|()| out)
+            });
+            if let Some(out) = batch {
+                return Ok(out);
+            }
+        }
+        self.each_row(py, count, width, each)
+    }
+}
+
 #[pymethods]
 impl Model {
     /// The model of a URDF file. Raises `hya.UrdfError` (a `ValueError`) naming the file and
@@ -160,10 +186,15 @@ impl Model {
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof();
         let [q, qd, qdd] = same_rows([("q", q), ("qd", qd), ("qdd", qdd)], n)?;
-        let out = self.each_row(py, q.count, n, |d, k, tau| {
-            d.inverse_dynamics_into(q.row(k, n), qd.row(k, n), qdd.row(k, n), tau);
-            Ok(())
-        })?;
+        let out = self.compute(
+            py,
+            (q.count, n),
+            |d, tau| d.inverse_dynamics_rows(&q.data, &qd.data, &qdd.data, tau),
+            |d, k, tau| {
+                d.inverse_dynamics_into(q.row(k, n), qd.row(k, n), qdd.row(k, n), tau);
+                Ok(())
+            },
+        )?;
         output(py, out, q.count, q.batched, &[n])
     }
 
@@ -172,10 +203,15 @@ impl Model {
     fn mass_matrix<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof();
         let q = rows("q", q, n)?;
-        let out = self.each_row(py, q.count, n * n, |d, k, m| {
-            d.mass_matrix_into(q.row(k, n), m);
-            Ok(())
-        })?;
+        let out = self.compute(
+            py,
+            (q.count, n * n),
+            |d, m| d.mass_matrix_rows(&q.data, m),
+            |d, k, m| {
+                d.mass_matrix_into(q.row(k, n), m);
+                Ok(())
+            },
+        )?;
         output(py, out, q.count, q.batched, &[n, n])
     }
 
@@ -183,10 +219,15 @@ impl Model {
     fn gravity<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof();
         let q = rows("q", q, n)?;
-        let out = self.each_row(py, q.count, n, |d, k, g| {
-            d.gravity_into(q.row(k, n), g);
-            Ok(())
-        })?;
+        let out = self.compute(
+            py,
+            (q.count, n),
+            |d, g| d.gravity_rows(&q.data, g),
+            |d, k, g| {
+                d.gravity_into(q.row(k, n), g);
+                Ok(())
+            },
+        )?;
         output(py, out, q.count, q.batched, &[n])
     }
 
@@ -200,9 +241,15 @@ impl Model {
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof();
         let [q, qd, tau] = same_rows([("q", q), ("qd", qd), ("tau", tau)], n)?;
-        let out = self.each_row(py, q.count, n, |d, k, qdd| {
-            d.forward_dynamics_into(q.row(k, n), qd.row(k, n), tau.row(k, n), qdd).map_err(|e| format!("row {k}: {e}"))
-        })?;
+        let out = self.compute(
+            py,
+            (q.count, n),
+            |d, qdd| d.forward_dynamics_rows(&q.data, &qd.data, &tau.data, qdd),
+            |d, k, qdd| {
+                d.forward_dynamics_into(q.row(k, n), qd.row(k, n), tau.row(k, n), qdd)
+                    .map_err(|e| format!("row {k}: {e}"))
+            },
+        )?;
         output(py, out, q.count, q.batched, &[n])
     }
 

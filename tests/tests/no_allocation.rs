@@ -129,6 +129,27 @@ fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
     assert_eq!(count, 0, "generated dynamics allocated {count} times");
 }
 
+/// The batch entry points of generated dynamics work in place: the caller's slices in and out.
+#[test]
+fn generated_batches_do_not_allocate() {
+    let states: [[JointVector<6>; 3]; 37] = hya_core::sampling::varied_states();
+    let [q, qd, qdd]: [Vec<JointVector<6>>; 3] = core::array::from_fn(|i| states.iter().map(|s| s[i]).collect());
+    let mut out = vec![JointVector::<6>::zeros(); states.len()];
+    let mut m = vec![hya_core::JointMatrix::<6>::zeros(); states.len()];
+    let mut m2 = m.clone();
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+    let count = allocations_during(|| {
+        Hya.inverse_dynamics_batch(&q, &qd, &qdd, &mut out).unwrap();
+        Hya.gravity_batch(&q, &mut out).unwrap();
+        Hya.mass_matrix_batch(&q, &mut m).unwrap();
+        Hya.forward_dynamics_batch(&q, &qd, &qdd, &mut out).unwrap();
+        Hya.inverse_dynamics_derivatives_batch(&q, &qd, &qdd, &mut m, &mut m2).unwrap();
+        // The error path neither.
+        assert!(Hya.inverse_dynamics_batch(&q[1..], &qd, &qdd, &mut out).is_err());
+    });
+    assert_eq!(count, 0, "generated batches allocated {count} times");
+}
+
 /// The run-time model's fixed-size form keeps its workspace on the stack: every entry point,
 /// the articulated-body algorithm and the dual-number derivatives included.
 #[test]

@@ -1,0 +1,617 @@
+//! The arithmetic generated dynamics are written over, once: plain `f64`, fused multiply-add,
+//! and lanes that hold several robot states at a time.
+//!
+//! The generator emits each function as one body generic over [`Arithmetic`] (a [`Kernel`]);
+//! this module runs it:
+//! - [`single`]: one state, on [`Fused`] where the CPU has fused multiply-add
+//!   ([`with_fma`](crate::with_fma)), else on plain `f64`;
+//! - [`batch`]: many states, [`BATCH_LANES`] at a time in [`Lanes`], on code compiled for the
+//!   CPU's vector unit and its FMA where it has them ([`with_vector_fma`]: AVX2 + FMA on x86 with
+//!   `std`, chosen once per call by a cached CPUID test; NEON on aarch64), else on plain lanes.
+//!
+//! `A::mul_add(a, b, c)` is `a·b + c`: rounded twice on `f64` and plain lanes (exactly the
+//! statements `let p = a * b; let s = p + c;`), once on the fused types. Each lane of [`Lanes`]
+//! is computed as if alone: a batch's result for a state equals the single call's on the same
+//! arithmetic, bit for bit, and differs from the other arithmetic's only by rounding.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use crate::{Error, JointVector};
+
+/// Numbers generated dynamics compute with: `f64`, or [`Lanes`] of them.
+///
+/// Constants enter as `f64` on the right of `+ − × ÷` and as the last two arguments of
+/// [`mul_add`](Self::mul_add); `A::from(c)` where neither fits (a constant divided by a value).
+pub trait Arithmetic:
+    Copy
+    + From<f64>
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+    /// States held side by side.
+    const LANES: usize;
+
+    /// `a·b + c`: one rounding on the fused types, two otherwise.
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self;
+
+    /// `(sin x, cos x)` of every lane ([`sin_cos_lanes`](crate::sin_cos_lanes)'s method).
+    fn sin_cos(self) -> (Self, Self);
+
+    /// `(sin x, cos x)` of several values at once, e.g. all joint angles.
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K];
+
+    /// Lane `l`'s number.
+    fn lane(self, l: usize) -> f64;
+
+    /// A value whose lane `l` is `f(l)`.
+    fn from_lanes(f: impl FnMut(usize) -> f64) -> Self;
+}
+
+impl Arithmetic for f64 {
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+        a * b.into() + c.into()
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        crate::sin_cos(self)
+    }
+
+    #[inline(always)]
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+        crate::sin_cos_lanes(x)
+    }
+
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self
+    }
+
+    #[inline(always)]
+    fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+        f(0)
+    }
+}
+
+/// `L` numbers, one per robot state, operated on together (`FUSED`: with one rounding in
+/// [`Arithmetic::mul_add`]). Every operation is lane by lane, which the compiler turns into
+/// vector instructions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(transparent)]
+pub struct Lanes<const L: usize, const FUSED: bool>(pub [f64; L]);
+
+/// `[f(0), f(1), …]` by a loop the compiler always inlines. (`array::map` and
+/// `array::from_fn` are calls of their own in functions as long as generated kernels, and one
+/// per operation costs more than the operation.)
+#[inline(always)]
+fn each<T: Copy, const L: usize>(zero: T, mut f: impl FnMut(usize) -> T) -> [T; L] {
+    let mut out = [zero; L];
+    let mut l = 0;
+    while l < L {
+        out[l] = f(l);
+        l += 1;
+    }
+    out
+}
+
+/// One `f64` with fused multiply-add: the single call's arithmetic where the CPU has FMA.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(transparent)]
+pub struct Fused(pub f64);
+
+impl From<f64> for Fused {
+    #[inline(always)]
+    fn from(value: f64) -> Self {
+        Self(value)
+    }
+}
+
+/// `Fused ∘ Fused` and `Fused ∘ f64`, as on `f64`.
+macro_rules! fused_operator {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for Fused {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: Self) -> Self {
+                Self(self.0 $op rhs.0)
+            }
+        }
+        impl $trait<f64> for Fused {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: f64) -> Self {
+                Self(self.0 $op rhs)
+            }
+        }
+    };
+}
+
+fused_operator!(Add, add, +);
+fused_operator!(Sub, sub, -);
+fused_operator!(Mul, mul, *);
+fused_operator!(Div, div, /);
+
+impl Neg for Fused {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self(-self.0)
+    }
+}
+
+impl Arithmetic for Fused {
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+        Self(crate::mul_add(a.0, b.into().0, c.into().0))
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = crate::sin_cos(self.0);
+        (Self(s), Self(c))
+    }
+
+    /// One vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values.
+    #[inline(always)]
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+        let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0));
+        each((Self(0.0), Self(0.0)), |k| (Self(pairs[k].0), Self(pairs[k].1)))
+    }
+
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self.0
+    }
+
+    #[inline(always)]
+    fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+        Self(f(0))
+    }
+}
+
+/// States per batch step: four `f64` fill a 256-bit AVX register (two NEON registers).
+pub const BATCH_LANES: usize = 4;
+
+impl<const L: usize, const FUSED: bool> From<f64> for Lanes<L, FUSED> {
+    #[inline(always)]
+    fn from(value: f64) -> Self {
+        Self([value; L])
+    }
+}
+
+/// `Lanes ∘ Lanes` and `Lanes ∘ f64`, lane by lane.
+macro_rules! lane_operator {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl<const L: usize, const FUSED: bool> $trait for Lanes<L, FUSED> {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: Self) -> Self {
+                Self(each(0.0, |l| self.0[l] $op rhs.0[l]))
+            }
+        }
+        impl<const L: usize, const FUSED: bool> $trait<f64> for Lanes<L, FUSED> {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: f64) -> Self {
+                Self(each(0.0, |l| self.0[l] $op rhs))
+            }
+        }
+    };
+}
+
+lane_operator!(Add, add, +);
+lane_operator!(Sub, sub, -);
+lane_operator!(Mul, mul, *);
+lane_operator!(Div, div, /);
+
+impl<const L: usize, const FUSED: bool> Neg for Lanes<L, FUSED> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self(each(0.0, |l| -self.0[l]))
+    }
+}
+
+impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
+    const LANES: usize = L;
+
+    #[inline(always)]
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+        let (b, c) = (b.into(), c.into());
+        Self(each(0.0, |l| if FUSED { crate::mul_add(a.0[l], b.0[l], c.0[l]) } else { a.0[l] * b.0[l] + c.0[l] }))
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let pairs = crate::sin_cos_lanes(self.0);
+        (Self(each(0.0, |l| pairs[l].0)), Self(each(0.0, |l| pairs[l].1)))
+    }
+
+    /// One lane: one vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values
+    /// (all joints at once, as on `f64`). Several: one call per value, across its lanes.
+    #[inline(always)]
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+        let zero = (Self::from(0.0), Self::from(0.0));
+        if L == 1 {
+            let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0[0]));
+            each(zero, |k| (Self::from(pairs[k].0), Self::from(pairs[k].1)))
+        } else {
+            each(zero, |k| x[k].sin_cos())
+        }
+    }
+
+    #[inline(always)]
+    fn lane(self, l: usize) -> f64 {
+        self.0[l]
+    }
+
+    #[inline(always)]
+    fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
+        Self(each(0.0, f))
+    }
+}
+
+/// One generated function (`F`, a marker of [`kernels`]) of a robot with `N` joints, written
+/// once over any [`Arithmetic`]: `IN` joint vectors in, `OUT` numbers out.
+pub trait Kernel<F, const N: usize, const IN: usize, const OUT: usize> {
+    /// The function's statements on `A`.
+    fn run<A: Arithmetic>(&self, inputs: [&[A; N]; IN]) -> [A; OUT];
+}
+
+/// Markers naming the generated functions, so that one type implements [`Kernel`] once for each.
+pub mod kernels {
+    /// Inverse dynamics.
+    #[derive(Debug, Clone, Copy)]
+    pub struct InverseDynamics;
+    /// Gravity torques.
+    #[derive(Debug, Clone, Copy)]
+    pub struct Gravity;
+    /// Coriolis and centripetal torques.
+    #[derive(Debug, Clone, Copy)]
+    pub struct VelocityTerms;
+    /// `C_matᵀ q̇`.
+    #[derive(Debug, Clone, Copy)]
+    pub struct CoriolisTranspose;
+    /// The mass matrix's lower triangle.
+    #[derive(Debug, Clone, Copy)]
+    pub struct MassMatrix;
+    /// Forward dynamics, followed by the articulated inertias `D_i` to check.
+    #[derive(Debug, Clone, Copy)]
+    pub struct ForwardDynamics;
+    /// The derivatives of inverse dynamics.
+    #[derive(Debug, Clone, Copy)]
+    pub struct InverseDynamicsDerivatives;
+    /// Every frame's pose.
+    #[derive(Debug, Clone, Copy)]
+    pub struct FramePoses;
+}
+
+/// `[&args[0], &args[1], …]`.
+#[inline(always)]
+fn borrowed<T, const IN: usize>(args: &[T; IN]) -> [&T; IN] {
+    each(&args[0], |i| &args[i])
+}
+
+/// Runs `kernel` on one state: on [`Fused`] where the CPU has FMA, else on `f64` (see
+/// [`with_fma`](crate::with_fma)); `_function` picks which of the type's kernels. One function
+/// per kernel, which the single call and [`batch`]'s fallback share.
+#[inline]
+pub fn single<F, K, const N: usize, const IN: usize, const OUT: usize>(
+    kernel: &K,
+    _function: F,
+    inputs: [&JointVector<N>; IN],
+) -> [f64; OUT]
+where
+    K: Kernel<F, N, IN, OUT>,
+{
+    let args: [[f64; N]; IN] = each([0.0; N], |i| each(0.0, |j| inputs[i][j]));
+    let fused = crate::with_fma(
+        #[inline(always)]
+        || {
+            let args: [[Fused; N]; IN] =
+                each([Fused::from(0.0); N], |i| each(Fused::from(0.0), |j| Fused::from(args[i][j])));
+            let out = kernel.run::<Fused>(borrowed(&args));
+            each(0.0, |k| out[k].0)
+        },
+    );
+    fused.unwrap_or_else(
+        #[inline(always)]
+        || kernel.run::<f64>(borrowed(&args)),
+    )
+}
+
+/// Runs `kernel` on every state of `inputs` (one slice per argument, all of `count` states) and
+/// hands state `k`'s outputs to `store(k, outputs)`: [`BATCH_LANES`] states per step on code
+/// compiled for the CPU's vector unit and FMA where it has both ([`with_vector_fma`]), else one
+/// state at a time through [`single`]. A short last step repeats its last state in the unused
+/// lanes, whose results are dropped. Stops at the first error `store` returns (earlier states
+/// are stored).
+///
+/// An error if a slice's length is not `count`.
+#[inline(always)]
+pub fn batch<F: Copy, K, const N: usize, const IN: usize, const OUT: usize>(
+    kernel: &K,
+    function: F,
+    inputs: [&[JointVector<N>]; IN],
+    count: usize,
+    mut store: impl FnMut(usize, [f64; OUT]) -> Result<(), Error>,
+) -> Result<(), Error>
+where
+    K: Kernel<F, N, IN, OUT>,
+{
+    for (argument, states) in inputs.iter().enumerate() {
+        if states.len() != count {
+            return Err(Error::BatchLength { argument, expected: count, got: states.len() });
+        }
+    }
+    let vector = with_vector_fma(
+        #[inline(always)]
+        || steps::<VectorLanes, F, K, N, IN, OUT>(kernel, inputs, &mut store),
+    );
+    vector.unwrap_or_else(|| {
+        (0..count).try_for_each(|k| store(k, single(kernel, function, each(&inputs[0][k], |i| &inputs[i][k]))))
+    })
+}
+
+/// The lanes [`batch`] runs on where [`with_vector_fma`] does: AVX registers on x86-64.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+type VectorLanes = avx::F64x4;
+/// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
+/// the target's vector registers.
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+type VectorLanes = Lanes<BATCH_LANES, true>;
+
+/// [`batch`]'s loop on the arithmetic `A`.
+#[inline(always)]
+fn steps<A: Arithmetic, F, K, const N: usize, const IN: usize, const OUT: usize>(
+    kernel: &K,
+    inputs: [&[JointVector<N>]; IN],
+    store: &mut impl FnMut(usize, [f64; OUT]) -> Result<(), Error>,
+) -> Result<(), Error>
+where
+    K: Kernel<F, N, IN, OUT>,
+{
+    let count = inputs.first().map_or(0, |states| states.len());
+    let mut start = 0;
+    while start < count {
+        let used = A::LANES.min(count - start);
+        let zero = A::from(0.0);
+        let args: [[A; N]; IN] =
+            each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][start + l.min(used - 1)][j])));
+        let outputs = kernel.run::<A>(borrowed(&args));
+        for l in 0..used {
+            store(start + l, each(0.0, |k| outputs[k].lane(l)))?;
+        }
+        start += A::LANES;
+    }
+    Ok(())
+}
+
+/// `Some(f())` with `f` compiled for the CPU's vector unit and fused multiply-add if it has
+/// both, or `None`: AVX2 and FMA on x86 with `std` (one cached CPUID test), at compile time
+/// where the target has FMA (aarch64's NEON, `-C target-cpu=native`). `f` must be
+/// `#[inline(always)]`, as for [`with_fma`](crate::with_fma).
+#[inline]
+pub fn with_vector_fma<R>(f: impl FnOnce() -> R) -> Option<R> {
+    match crate::FMA_SUPPORT {
+        crate::FmaSupport::Never => None,
+        crate::FmaSupport::Compiled if !cfg!(target_arch = "x86_64") || cfg!(target_feature = "avx2") => Some(f()),
+        _ => detected(f),
+    }
+}
+
+/// Runs `f` inside a function compiled for AVX2 and FMA if the CPU has them.
+#[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+fn detected<R>(f: impl FnOnce() -> R) -> Option<R> {
+    /// # Safety
+    /// The CPU must have AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn compiled_for_avx2_fma<R>(f: impl FnOnce() -> R) -> R {
+        f()
+    }
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has both, as just detected.
+        Some(unsafe { compiled_for_avx2_fma(f) })
+    } else {
+        None
+    }
+}
+
+#[cfg(not(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))))]
+#[inline]
+fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
+    None
+}
+
+/// Four `f64` in one AVX register, for [`batch`] on x86-64.
+///
+/// A private type: values exist only inside [`with_vector_fma`]'s function compiled for AVX2
+/// and FMA, run after the CPU was found to have both, which is what makes its intrinsics sound.
+/// (Arrays of four, as [`Lanes`], are split into scalars by the compiler in functions this long.)
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod avx {
+    use core::arch::x86_64::{
+        __m256d, _mm256_add_pd, _mm256_div_pd, _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
+    };
+    use core::ops::{Add, Div, Mul, Neg, Sub};
+
+    use super::{each, Arithmetic};
+
+    #[derive(Clone, Copy)]
+    pub struct F64x4(__m256d);
+
+    /// Runs an AVX or FMA intrinsic.
+    macro_rules! avx {
+        ($e:expr) => {
+            // SAFETY: an `F64x4` exists only inside `with_vector_fma`'s function, compiled for
+            // AVX2 and FMA and called once the CPU was found to have them (see the type's docs).
+            unsafe { $e }
+        };
+    }
+
+    impl From<f64> for F64x4 {
+        #[inline(always)]
+        fn from(value: f64) -> Self {
+            Self(avx!(_mm256_set1_pd(value)))
+        }
+    }
+
+    /// `F64x4 ∘ F64x4` and `F64x4 ∘ f64` by one intrinsic.
+    macro_rules! operator {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for F64x4 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: Self) -> Self {
+                    Self(avx!($intrinsic(self.0, rhs.0)))
+                }
+            }
+            impl $trait<f64> for F64x4 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: f64) -> Self {
+                    self.$method(Self::from(rhs))
+                }
+            }
+        };
+    }
+
+    operator!(Add, add, _mm256_add_pd);
+    operator!(Sub, sub, _mm256_sub_pd);
+    operator!(Mul, mul, _mm256_mul_pd);
+    operator!(Div, div, _mm256_div_pd);
+
+    impl Neg for F64x4 {
+        type Output = Self;
+        /// Flips the sign bits, as `-x` does on `f64`.
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Self(avx!(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))))
+        }
+    }
+
+    impl F64x4 {
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut out = [0.0; 4];
+            avx!(_mm256_storeu_pd(out.as_mut_ptr(), self.0));
+            out
+        }
+
+        #[inline(always)]
+        fn from_array(values: [f64; 4]) -> Self {
+            Self(avx!(_mm256_loadu_pd(values.as_ptr())))
+        }
+    }
+
+    impl Arithmetic for F64x4 {
+        const LANES: usize = 4;
+
+        #[inline(always)]
+        fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+            Self(avx!(_mm256_fmadd_pd(a.0, b.into().0, c.into().0)))
+        }
+
+        #[inline(always)]
+        fn sin_cos(self) -> (Self, Self) {
+            let pairs = crate::sin_cos_lanes(self.to_array());
+            (Self::from_array(each(0.0, |l| pairs[l].0)), Self::from_array(each(0.0, |l| pairs[l].1)))
+        }
+
+        #[inline(always)]
+        fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+            let zero = Self::from(0.0);
+            each((zero, zero), |k| x[k].sin_cos())
+        }
+
+        #[inline(always)]
+        fn lane(self, l: usize) -> f64 {
+            self.to_array()[l]
+        }
+
+        #[inline(always)]
+        fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
+            Self::from_array(each(0.0, f))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `x·y + x` and `sin x`, a kernel small enough to check by hand.
+    struct Toy;
+    impl Kernel<kernels::Gravity, 2, 2, 3> for Toy {
+        fn run<A: Arithmetic>(&self, [x, y]: [&[A; 2]; 2]) -> [A; 3] {
+            let (s, c) = x[0].sin_cos();
+            [A::mul_add(x[0], y[1], x[1]), s, c / 2.0]
+        }
+    }
+
+    fn states(count: usize) -> (std::vec::Vec<JointVector<2>>, std::vec::Vec<JointVector<2>>) {
+        let x = (0..count).map(|k| JointVector::<2>::new(0.1 * k as f64, 1.0 / (k as f64 + 1.0))).collect();
+        let y = (0..count).map(|k| JointVector::<2>::new(-0.3 * k as f64, 1.0 + k as f64 / 3.0)).collect();
+        (x, y)
+    }
+
+    #[test]
+    fn a_batch_stores_every_state_once_with_the_single_call_result() {
+        for count in [0, 1, 3, 4, 5, 9] {
+            let (x, y) = states(count);
+            let mut seen = std::vec![None; count];
+            batch(&Toy, kernels::Gravity, [&x, &y], count, |k, out| {
+                assert!(seen[k].is_none(), "state {k} stored twice");
+                seen[k] = Some(out);
+                Ok(())
+            })
+            .unwrap();
+            for (k, out) in seen.iter().enumerate() {
+                let single = single(&Toy, kernels::Gravity, [&x[k], &y[k]]);
+                let out = out.unwrap();
+                for (a, b) in out.iter().zip(single) {
+                    assert!((a - b).abs() <= 1e-15 * b.abs().max(1.0), "state {k}: {out:?} vs {single:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lengths_that_differ_are_refused_and_store_errors_stop_the_batch() {
+        let (x, y) = states(5);
+        let refused = batch(&Toy, kernels::Gravity, [&x, &y[..4]], 5, |_, _| Ok(()));
+        assert_eq!(refused, Err(Error::BatchLength { argument: 1, expected: 5, got: 4 }));
+        let mut stored = 0;
+        let stopped = batch(&Toy, kernels::Gravity, [&x, &y], 5, |k, _| {
+            stored += 1;
+            if k == 2 {
+                Err(Error::SingularMassMatrix)
+            } else {
+                Ok(())
+            }
+        });
+        assert_eq!((stopped, stored), (Err(Error::SingularMassMatrix), 3));
+    }
+
+    #[test]
+    fn plain_mul_add_rounds_twice_and_fused_once() {
+        let a = 1.0 + f64::EPSILON * 2f64.powi(22);
+        assert_eq!(<f64 as Arithmetic>::mul_add(a, a, -1.0), a * a - 1.0);
+        assert_eq!(<Lanes<2, false> as Arithmetic>::mul_add(a.into(), a, -1.0).0, [a * a - 1.0; 2]);
+        assert_eq!(<Fused as Arithmetic>::mul_add(a.into(), a, -1.0).0, crate::mul_add(a, a, -1.0));
+    }
+}

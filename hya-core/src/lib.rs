@@ -57,8 +57,8 @@ pub use error::Error;
 pub use estimator::DisturbanceEstimator;
 pub use filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
 pub use finite::MAX_RATE_TIMES_DT;
-pub use step_cache::DiscretisationCache;
-pub use timed::{Step, TimedEstimator};
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };
+pub use step_cache::DiscretisationCache;
+pub use timed::{Step, TimedEstimator};

@@ -100,7 +100,8 @@ fn check_batches<const N: usize>(
     let q: Vec<_> = states.iter().map(|s| s.0).collect();
     let qd: Vec<_> = states.iter().map(|s| s.1).collect();
     let qdd: Vec<_> = states.iter().map(|s| s.2).collect();
-    let (mut tau, mut g, mut fd) = (vec![JointVector::zeros(); n], vec![JointVector::zeros(); n], vec![JointVector::zeros(); n]);
+    let (mut tau, mut g, mut fd) =
+        (vec![JointVector::zeros(); n], vec![JointVector::zeros(); n], vec![JointVector::zeros(); n]);
     let (mut m, mut by_q, mut by_qd) =
         (vec![JointMatrix::zeros(); n], vec![JointMatrix::zeros(); n], vec![JointMatrix::zeros(); n]);
     d.inverse_dynamics_batch(&q, &qd, &qdd, &mut tau).unwrap();
@@ -113,9 +114,17 @@ fn check_batches<const N: usize>(
         prop_assert!(close(&tau[k], &d.inverse_dynamics(&q[k], &qd[k], &qdd[k]), tol, floor), "ID, state {}", k);
         prop_assert!(close(&g[k], &d.gravity(&q[k]), tol, floor), "G, state {}", k);
         prop_assert!(close(&m[k], &d.mass_matrix(&q[k]), tol, floor), "M, state {}", k);
-        prop_assert!(close(&fd[k], &d.forward_dynamics(&q[k], &qd[k], &tau[k]).unwrap(), tol, floor), "FD, state {}", k);
+        prop_assert!(
+            close(&fd[k], &d.forward_dynamics(&q[k], &qd[k], &tau[k]).unwrap(), tol, floor),
+            "FD, state {}",
+            k
+        );
         let (single_q, single_qd) = d.inverse_dynamics_derivatives(&q[k], &qd[k], &qdd[k]);
-        prop_assert!(close(&by_q[k], &single_q, tol, floor) && close(&by_qd[k], &single_qd, tol, floor), "∂ID, state {}", k);
+        prop_assert!(
+            close(&by_q[k], &single_q, tol, floor) && close(&by_qd[k], &single_qd, tol, floor),
+            "∂ID, state {}",
+            k
+        );
     }
     let mut short = vec![JointVector::zeros(); n + 1];
     prop_assert!(d.inverse_dynamics_batch(&q, &qd, &qdd, &mut short).is_err(), "lengths that differ are refused");

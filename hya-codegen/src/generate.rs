@@ -1,7 +1,7 @@
 //! Unrolled, const-sized Rust dynamics for one robot.
 //!
 //! Each entry point of [`hya_core::Dynamics`] is `hya-core`'s own algorithm
-//! ([`hya_core::model::algorithms`]) run on the tracing number type [`Value`]: every constant
+//! ([`hya_core::model::algorithms`]) run on the tracing number type [`Value`](crate::Value): every constant
 //! of the model folds into the code, every operation on a joint input becomes one named
 //! statement, and each function keeps only what its outputs need (gravity has no velocity
 //! terms, velocity terms no gravity). Emitted through `quote`, formatted by prettyplease, with
@@ -253,7 +253,7 @@ pub fn generate(loaded: &LoadedModel, type_name: &str) -> Result<Generated, Gene
 }
 
 /// Generates the parameter-holding type `type_name`: the kinematics of the loaded model folded
-/// in as in [`generate`], each body's ten inertial parameters read from the type's field, so
+/// in as in [`generate()`], each body's ten inertial parameters read from the type's field, so
 /// that one compiled function serves any masses, centres of mass and inertias (a perturbed
 /// plant, an identified model, a payload).
 pub fn generate_parametric(loaded: &LoadedModel, type_name: &str) -> Result<Generated, GenerateError> {

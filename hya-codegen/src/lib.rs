@@ -9,10 +9,10 @@
 //! `hya_core::lanes` runs it on plain `f64`, on fused multiply-add where the CPU has it, and on
 //! several robot states per vector register for the batch entry points.
 //!
-//! The generator works in four steps, one module each: [`trace`] runs `hya-core`'s algorithms
+//! The generator works in four steps, one module each: [`trace`](mod@trace) runs `hya-core`'s algorithms
 //! on a recording number type; [`rewrite`] fuses products into sums and finds the live
-//! statements; [`names`] names them after joints and links; [`render`] writes them as blocks
-//! of `let` statements. [`generate`] assembles each robot's functions and the file.
+//! statements; [`names`] names them after joints and links; [`render`](mod@render) writes them as blocks
+//! of `let` statements. [`generate`](mod@generate) assembles each robot's functions and the file.
 //!
 //! ```no_run
 //! let loaded = hya_urdf::load_file("robots/urdf/hya.urdf")?;

@@ -17,7 +17,7 @@ use crate::trace::{Emitter, Op};
 
 /// How the generated code names labelled values and marks passes.
 pub trait Naming {
-    /// The identifier for a labelled value (made unique by [`identifiers`]).
+    /// The identifier for a labelled value (made unique by the renderer).
     fn label(&self, label: Label) -> String;
     /// The comment text opening `body`'s `pass`.
     fn pass(&self, body: usize, pass: Pass) -> String;

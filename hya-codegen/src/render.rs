@@ -27,10 +27,10 @@ pub struct OpCounts {
     pub trig: usize,
 }
 
-/// Most statements in one block of rendered code (see [`render`]).
+/// Most statements in one block of rendered code (see [`render()`]).
 pub const GROUP: usize = 256;
 
-/// Straight-line code from [`render`].
+/// Straight-line code from [`render()`].
 #[derive(Debug, Clone)]
 pub struct Rendered {
     /// `let` statements.

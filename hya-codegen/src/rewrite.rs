@@ -1,5 +1,5 @@
 //! Rewrites of a recorded program before it is rendered: products fused into the sums they
-//! feed ([`fuse`]), and the statements the outputs need ([`live`]).
+//! feed (`fuse`), and the statements the outputs need (`live`).
 //!
 //! Fusion comes first, so that a product read only by the sums it was fused into is dead and
 //! never emitted: every statement of rendered code is read.

@@ -6,7 +6,7 @@
 //! and `x + 0` emit nothing, and records one SSA statement on the thread's [`Emitter`]
 //! otherwise. Signs are carried on the value, so negation never costs a statement; identical
 //! statements are emitted once. What happens to the recording next is
-//! [`rewrite`](crate::rewrite)'s (fusion, liveness) and [`render`](crate::render)'s.
+//! [`rewrite`](crate::rewrite)'s (fusion, liveness) and [`render`](mod@crate::render)'s.
 
 use std::cell::RefCell;
 use std::collections::HashMap;

@@ -5,7 +5,14 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_4;
+use std::ptr::{null, null_mut};
 
+use hya_capi::{
+    hya_controller_command, hya_controller_free, hya_controller_new, hya_estimator_free, hya_estimator_new,
+    hya_estimator_update, hya_last_error, hya_model_forward_dynamics, hya_model_free, hya_model_from_arm,
+    hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix, hya_observer_free,
+    hya_observer_new_extended_state, hya_observer_update, HyaStatus,
+};
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference, ThirdOrderFilter,
@@ -166,4 +173,80 @@ fn the_fixed_size_run_time_model_does_not_allocate() {
         std::hint::black_box(model.inverse_dynamics_derivatives(&q, &q, &q));
     });
     assert_eq!(count, 0, "TreeDynamics<6> allocated {count} times");
+}
+
+/// After creation, no call through the C ABI touches the heap: dynamics, estimator, observer and
+/// controller calls, and their error paths (messages go to fixed buffers).
+#[test]
+fn c_abi_calls_after_creation_do_not_allocate() {
+    const N: usize = 6; // HyA
+    let (mut model, mut estimator, mut observer, mut controller) = (null_mut(), null_mut(), null_mut(), null_mut());
+    let q0 = [0.2; N];
+    let tau0 = [0.0; N];
+    // SAFETY: NUL-terminated names, arrays of N doubles, writable outputs.
+    unsafe {
+        assert_eq!(hya_model_from_arm(c"hya".as_ptr(), &mut model), HyaStatus::HyaOk);
+        assert_eq!(
+            hya_estimator_new(model, 0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), N, &mut estimator),
+            HyaStatus::HyaOk
+        );
+        assert_eq!(hya_observer_new_extended_state(model, 60.0, 1e-3, q0.as_ptr(), N, &mut observer), HyaStatus::HyaOk);
+        assert_eq!(
+            hya_controller_new(model, [100.0; N].as_ptr(), [20.0; N].as_ptr(), N, 1, &mut controller),
+            HyaStatus::HyaOk
+        );
+        // The thread's last-error buffer is made on first use; make it before counting.
+        let _ = hya_last_error();
+    }
+    // The counter must see allocations at all, or a zero below would prove nothing.
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+
+    let count = allocations_during(|| {
+        let (mut q, zero, nan) = (q0, [0.0; N], [f64::NAN; N]);
+        let (mut tau, mut d_hat, mut mass) = ([0.0; N], [0.0; N], [0.0; N * N]);
+        // SAFETY: live handles, arrays of N (N² for the mass matrix) doubles, or deliberately
+        // null or short arguments the ABI must refuse.
+        unsafe {
+            for k in 0..500 {
+                q[0] = 0.2 + 0.1 * (k as f64 * 1e-3).sin();
+                let p = q.as_ptr();
+                hya_controller_command(
+                    controller,
+                    p,
+                    zero.as_ptr(),
+                    q0.as_ptr(),
+                    zero.as_ptr(),
+                    zero.as_ptr(),
+                    d_hat.as_ptr(),
+                    N,
+                    tau.as_mut_ptr(),
+                );
+                hya_estimator_update(estimator, p, tau.as_ptr(), N, d_hat.as_mut_ptr());
+                hya_observer_update(observer, p, null(), tau.as_ptr(), N, d_hat.as_mut_ptr());
+                hya_model_inverse_dynamics(model, p, zero.as_ptr(), zero.as_ptr(), N, tau.as_mut_ptr());
+                hya_model_forward_dynamics(model, p, zero.as_ptr(), tau.as_ptr(), N, tau.as_mut_ptr());
+                hya_model_mass_matrix(model, p, N, mass.as_mut_ptr(), N * N);
+                hya_model_gravity(model, p, N, tau.as_mut_ptr());
+                // Error paths: a NaN, a short length, a null handle, a null output.
+                assert_eq!(
+                    hya_estimator_update(estimator, nan.as_ptr(), tau.as_ptr(), N, d_hat.as_mut_ptr()),
+                    HyaStatus::HyaErrNonFinite
+                );
+                assert_eq!(hya_model_gravity(model, p, N - 1, tau.as_mut_ptr()), HyaStatus::HyaErrLength);
+                assert_eq!(hya_model_gravity(null_mut(), p, N, tau.as_mut_ptr()), HyaStatus::HyaErrNull);
+                assert_eq!(
+                    hya_controller_command(controller, p, p, p, p, p, null(), N, null_mut()),
+                    HyaStatus::HyaErrNull
+                );
+            }
+        }
+    });
+    assert_eq!(count, 0, "calls through the ABI allocated {count} times");
+    // SAFETY: live handles, each freed once.
+    unsafe {
+        hya_controller_free(controller);
+        hya_observer_free(observer);
+        hya_estimator_free(estimator);
+        hya_model_free(model);
+    }
 }

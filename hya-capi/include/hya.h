@@ -1,0 +1,362 @@
+/*
+ * hya: disturbance estimation and computed-torque control for robot arms, from C and C++.
+ *
+ * Units: rad, rad/s, rad/s^2, N*m, s. Arrays are `double` with an explicit length `n`, which
+ * must equal the model's joint count (hya_model_dof); a mass matrix has n*n entries
+ * (symmetric, so row- and column-major agree).
+ *
+ * Status: every function returns HYA_OK or an error status. A function called on a handle
+ * writes the failure's message into that handle (hya_model_error, hya_estimator_error,
+ * hya_observer_error, hya_controller_error); a creation function, or any call given a null
+ * handle, writes it into the calling thread's last error (hya_last_error). Messages name the
+ * argument, index and value at fault. Rust panics never cross the boundary: they become
+ * HYA_ERR_PANIC. Read outputs only after HYA_OK.
+ *
+ * Ownership: every hya_*_new / hya_model_from_* call that returns HYA_OK gives the caller one
+ * handle, freed with the matching hya_*_free (free(NULL-handle) is a no-op). An estimator,
+ * observer or controller keeps its own reference to the model's dynamics, so the model may be
+ * freed first. Message pointers are owned by hya: valid until the next call on the same handle
+ * (or, for hya_last_error, the next hya call on the same thread) and never freed by the caller.
+ *
+ * Allocation: only the creation functions allocate; per-call functions (dynamics, updates,
+ * commands), including their error paths, do not.
+ *
+ * Threads: a handle is not to be used from two threads at once without a lock (calls take it
+ * mutably, at least to write its message). Distinct handles are independent, also when made
+ * from the same model, and may be used on different threads concurrently.
+ */
+
+
+#ifndef HYA_H
+#define HYA_H
+
+/* Generated from hya-capi/src by cbindgen (see hya-capi/tests/header.rs); do not edit. */
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+// The most bytes a message keeps (longer ones are cut at a character boundary).
+#define HYA_MESSAGE_CAPACITY 512
+
+// What a call did. `HYA_OK` is zero; every other value is a failure whose message is kept by
+// the handle (or, for creation and null handles, by `hya_last_error`).
+typedef enum {
+  // Success; outputs were written.
+  HYA_OK = 0,
+  // A required pointer (handle, array, name, output) was null.
+  HYA_ERR_NULL = 1,
+  // An array's length is not the model's joint count (or its square, for a mass matrix).
+  HYA_ERR_LENGTH = 2,
+  // An input held NaN or an infinity; state is unchanged.
+  HYA_ERR_NON_FINITE = 3,
+  // A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
+  // a shipped arm, or a model has more joints than hya dispatches to.
+  HYA_ERR_INVALID = 4,
+  // A URDF could not be read or is not a valid model.
+  HYA_ERR_MODEL = 5,
+  // A numerical failure: a singular mass matrix, an input beyond the filter's range.
+  HYA_ERR_NUMERIC = 6,
+  // A bug inside hya: a Rust panic, caught at the boundary.
+  HYA_ERR_PANIC = 7,
+} HyaStatus;
+
+// Where the PD feedback enters the computed-torque law.
+typedef enum {
+  // The paper's form: torque-level PD, gains in N·m/rad and N·m·s/rad.
+  HYA_PD_OUTSIDE_MASS_MATRIX = 0,
+  // The classic form: acceleration-level PD, gains in 1/s² and 1/s.
+  HYA_PD_INSIDE_MASS_MATRIX = 1,
+} HyaPdPlacement;
+
+// A computed-torque controller (opaque). Made by `hya_controller_new`, freed by
+// `hya_controller_free`.
+typedef struct HyaController HyaController;
+
+// The paper's disturbance estimator for one arm (opaque). Made by `hya_estimator_new`, freed by
+// `hya_estimator_free`.
+typedef struct HyaEstimator HyaEstimator;
+
+// A robot's rigid-body dynamics (opaque). Made by `hya_model_from_arm` or
+// `hya_model_from_urdf`, freed by `hya_model_free`.
+typedef struct HyaModel HyaModel;
+
+// A baseline disturbance observer (opaque). Made by one of `hya_observer_new_*`, freed by
+// `hya_observer_free`.
+typedef struct HyaObserver HyaObserver;
+
+#ifdef __cplusplus
+extern "C" {
+#endif // __cplusplus
+
+// Makes a controller on `model`'s dynamics with diagonal gains `kp`, `kd` (`n` = dof each,
+// finite and non-negative) and the PD placement `placement` (an `HyaPdPlacement` value; any
+// other is `HYA_ERR_INVALID`). On `HYA_OK`, `*out` is a new handle for `hya_controller_free`;
+// otherwise null, and `hya_last_error` says why.
+//
+// # Safety
+// `model` is null or a live handle; `kp`, `kd` are null or hold `n` doubles; `out` is null or
+// writable.
+HyaStatus hya_controller_new(const HyaModel *model,
+                             const double *kp,
+                             const double *kd,
+                             size_t n,
+                             uint32_t placement,
+                             HyaController **out);
+
+// The commanded torque `tau` for the state `(q, qd)`, the reference `(q_des, qd_des,
+// qdd_des)` and, unless `d_hat` is null, the compensation `− d̂`; `n` = dof each.
+//
+// # Safety
+// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases
+// no input.
+HyaStatus hya_controller_command(HyaController *controller,
+                                 const double *q,
+                                 const double *qd,
+                                 const double *q_des,
+                                 const double *qd_des,
+                                 const double *qdd_des,
+                                 const double *d_hat,
+                                 size_t n,
+                                 double *tau);
+
+// The message of the controller's last failed call (empty if none); owned by the controller.
+//
+// # Safety
+// `controller` is null or a live handle.
+const char *hya_controller_error(const HyaController *controller);
+
+// Frees a controller (null is a no-op).
+//
+// # Safety
+// `controller` is null or a handle from `hya_controller_new`, not used afterwards.
+void hya_controller_free(HyaController *controller);
+
+// Makes an estimator on `model`'s dynamics with filter damping `zeta`, bandwidths `omega1`
+// (position filter, rad/s) and `omega2` (rad/s), sample time `dt` (s), started at rest at
+// `(q0, tau0)` (`n` = dof each). The paper uses `zeta = 0.8`, `omega1 = omega2 = 50`.
+// On `HYA_OK`, `*out` is a new handle for `hya_estimator_free`; otherwise null, and
+// `hya_last_error` says why.
+//
+// # Safety
+// `model` is null or a live handle; `q0`, `tau0` are null or hold `n` doubles; `out` is null or
+// writable.
+HyaStatus hya_estimator_new(const HyaModel *model,
+                            double zeta,
+                            double omega1,
+                            double omega2,
+                            double dt,
+                            const double *q0,
+                            const double *tau0,
+                            size_t n,
+                            HyaEstimator **out);
+
+// One step: measured `q` and `tau` (`n` = dof each) in, the new `d̂` (N·m) out. A refused step
+// (NaN, wrong length) leaves the estimator as it was.
+//
+// # Safety
+// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
+// no input.
+HyaStatus hya_estimator_update(HyaEstimator *estimator,
+                               const double *q,
+                               const double *tau,
+                               size_t n,
+                               double *d_hat);
+
+// The latest `d̂` (N·m), `n` = dof entries.
+//
+// # Safety
+// `estimator` is null or a live handle; `d_hat` is null or holds `n` doubles.
+HyaStatus hya_estimator_disturbance(HyaEstimator *estimator, double *d_hat, size_t n);
+
+// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each).
+//
+// # Safety
+// `estimator` is null or a live handle; each non-null array holds `n` doubles.
+HyaStatus hya_estimator_reset(HyaEstimator *estimator,
+                              const double *q0,
+                              const double *tau0,
+                              size_t n);
+
+// The message of the estimator's last failed call (empty if none); owned by the estimator.
+//
+// # Safety
+// `estimator` is null or a live handle.
+const char *hya_estimator_error(const HyaEstimator *estimator);
+
+// Frees an estimator (null is a no-op).
+//
+// # Safety
+// `estimator` is null or a handle from `hya_estimator_new`, not used afterwards.
+void hya_estimator_free(HyaEstimator *estimator);
+
+// Makes a model of the shipped arm called `name` (`"hya"`, `"ur5"`, `"panda"`, `"iiwa14"`,
+// `"planar2"`; see `hya_arm_name`): its generated, unrolled dynamics. On `HYA_OK`, `*out` is a
+// new handle for `hya_model_free`; otherwise `*out` is null and `hya_last_error` says why.
+//
+// # Safety
+// `name` is null or a NUL-terminated string; `out` is null or writable.
+HyaStatus hya_model_from_arm(const char *name, HyaModel **out);
+
+// Loads the URDF file at `path` as a run-time kinematic-tree model (1 to 7 joints). On `HYA_OK`,
+// `*out` is a new handle for `hya_model_free`; otherwise `*out` is null and `hya_last_error`
+// names the file and the problem in it.
+//
+// # Safety
+// `path` is null or a NUL-terminated string; `out` is null or writable.
+HyaStatus hya_model_from_urdf(const char *path, HyaModel **out);
+
+// Frees a model (null is a no-op). Estimators, observers and controllers made from it stay
+// valid.
+//
+// # Safety
+// `model` is null or a handle from `hya_model_from_*`, not used afterwards.
+void hya_model_free(HyaModel *model);
+
+// The model's joint count, or 0 for a null handle.
+//
+// # Safety
+// `model` is null or a live handle.
+size_t hya_model_dof(const HyaModel *model);
+
+// The message of the model's last failed call (empty if none); owned by the model.
+//
+// # Safety
+// `model` is null or a live handle.
+const char *hya_model_error(const HyaModel *model);
+
+// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)`; every array has `n` = dof entries.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no
+// input.
+HyaStatus hya_model_inverse_dynamics(HyaModel *model,
+                                     const double *q,
+                                     const double *qd,
+                                     const double *qdd,
+                                     size_t n,
+                                     double *tau);
+
+// The mass matrix `M(q)`: `q` has `n` = dof entries, `mass` has `len` = dof² (symmetric, so
+// row- and column-major agree).
+//
+// # Safety
+// `model` is null or a live handle; `q` holds `n` doubles and `mass` `len`.
+HyaStatus hya_model_mass_matrix(HyaModel *model,
+                                const double *q,
+                                size_t n,
+                                double *mass,
+                                size_t len);
+
+// The gravity torque `G(q)`; both arrays have `n` = dof entries.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `n` doubles.
+HyaStatus hya_model_gravity(HyaModel *model, const double *q, size_t n, double *tau);
+
+// Forward dynamics `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`; every array has `n` = dof entries.
+// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` aliases no
+// input.
+HyaStatus hya_model_forward_dynamics(HyaModel *model,
+                                     const double *q,
+                                     const double *qd,
+                                     const double *tau,
+                                     size_t n,
+                                     double *qdd);
+
+// The number of shipped arms (for `hya_arm_name`).
+size_t hya_arm_count(void);
+
+// The name of shipped arm `index` (a static string), or null beyond `hya_arm_count()`.
+const char *hya_arm_name(size_t index);
+
+// The home pose of the shipped arm called `name` (rad, `n` = its joint count): a pose inside its
+// joint limits, where the examples start.
+//
+// # Safety
+// `name` is null or a NUL-terminated string; `q` is null or holds `n` doubles.
+HyaStatus hya_arm_home(const char *name, double *q, size_t n);
+
+// This thread's last error: the message of the last failed creation, or of a call given a
+// null handle. Owned by hya; valid until the next hya call on this thread.
+const char *hya_last_error(void);
+
+// Chen's nonlinear disturbance observer (IEEE TIE 2000) with Mohammadi's gain `Y = gain · I`:
+// `d̂̇ = Y M⁻¹(q) (d − d̂)`, stepped implicitly at `dt` (s), started at `qd0` (`n` = dof). Its
+// updates need the measured `qd`.
+//
+// # Safety
+// `model` is null or a live handle; `qd0` is null or holds `n` doubles; `out` is null or
+// writable.
+HyaStatus hya_observer_new_nonlinear(const HyaModel *model,
+                                     double gain,
+                                     double dt,
+                                     const double *qd0,
+                                     size_t n,
+                                     HyaObserver **out);
+
+// The generalised-momentum observer (De Luca; Haddadin 2017) with per-joint gains `gain` (1/s):
+// `d̂ / d = k / (s + k)` per joint, at `dt` (s), started at `(q0, qd0, tau0)`; every array has
+// `n` = dof entries. Its updates need the measured `qd`.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `n` doubles; `out` is null or
+// writable.
+HyaStatus hya_observer_new_momentum(const HyaModel *model,
+                                    const double *gain,
+                                    double dt,
+                                    const double *q0,
+                                    const double *qd0,
+                                    const double *tau0,
+                                    size_t n,
+                                    HyaObserver **out);
+
+// The extended-state observer (Han; Gao) of bandwidth `bandwidth` (rad/s): `d̂ / d = ω³ / (s +
+// ω)³` per joint, at `dt` (s), started at `q0` (`n` = dof). Needs no measured velocity.
+//
+// # Safety
+// `model` is null or a live handle; `q0` is null or holds `n` doubles; `out` is null or
+// writable.
+HyaStatus hya_observer_new_extended_state(const HyaModel *model,
+                                          double bandwidth,
+                                          double dt,
+                                          const double *q0,
+                                          size_t n,
+                                          HyaObserver **out);
+
+// One tick: measured `q`, `qd` (null if not measured; the nonlinear and momentum observers
+// need it) and `tau` in, the new `d̂` (N·m) out; `n` = dof each. A refused tick leaves the
+// observer as it was.
+//
+// # Safety
+// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
+// no input.
+HyaStatus hya_observer_update(HyaObserver *observer,
+                              const double *q,
+                              const double *qd,
+                              const double *tau,
+                              size_t n,
+                              double *d_hat);
+
+// The message of the observer's last failed call (empty if none); owned by the observer.
+//
+// # Safety
+// `observer` is null or a live handle.
+const char *hya_observer_error(const HyaObserver *observer);
+
+// Frees an observer (null is a no-op).
+//
+// # Safety
+// `observer` is null or a handle from `hya_observer_new_*`, not used afterwards.
+void hya_observer_free(HyaObserver *observer);
+
+#ifdef __cplusplus
+}  // extern "C"
+#endif  // __cplusplus
+
+#endif  /* HYA_H */

@@ -1,0 +1,140 @@
+//! The paper's disturbance estimator (Lu, Sandy & Buchli): third-order filters on `q` and `τ`,
+//! inverse dynamics on the filtered signals, `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂`.
+
+use std::ffi::c_char;
+
+use hya_core::FilterParams;
+
+use crate::arm::Estimate;
+use crate::model::{borrow, HyaModel};
+use crate::slices::{input, output};
+use crate::status::{create, destroy, on_handle, Handle, HyaStatus, Message};
+
+/// The paper's disturbance estimator for one arm (opaque). Made by `hya_estimator_new`, freed by
+/// `hya_estimator_free`.
+pub struct HyaEstimator {
+    estimator: Box<dyn Estimate>,
+    dof: usize,
+    message: Message,
+}
+
+impl Handle for HyaEstimator {
+    fn message(&mut self) -> &mut Message {
+        &mut self.message
+    }
+}
+
+/// Makes an estimator on `model`'s dynamics with filter damping `zeta`, bandwidths `omega1`
+/// (position filter, rad/s) and `omega2` (rad/s), sample time `dt` (s), started at rest at
+/// `(q0, tau0)` (`n` = dof each). The paper uses `zeta = 0.8`, `omega1 = omega2 = 50`.
+/// On `HYA_OK`, `*out` is a new handle for `hya_estimator_free`; otherwise null, and
+/// `hya_last_error` says why.
+///
+/// # Safety
+/// `model` is null or a live handle; `q0`, `tau0` are null or hold `n` doubles; `out` is null or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_new(
+    model: *const HyaModel,
+    zeta: f64,
+    omega1: f64,
+    omega2: f64,
+    dt: f64,
+    q0: *const f64,
+    tau0: *const f64,
+    n: usize,
+    out: *mut *mut HyaEstimator,
+) -> HyaStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        create(out, || {
+            let arm = borrow(model)?;
+            let dof = arm.dof();
+            let (q0, tau0) = (input("q0", q0, n, dof)?, input("tau0", tau0, n, dof)?);
+            let params = FilterParams::new(zeta, omega1, omega2, dt)?;
+            Ok(HyaEstimator { estimator: arm.estimator(params, q0, tau0)?, dof, message: Message::default() })
+        })
+    }
+}
+
+/// One step: measured `q` and `tau` (`n` = dof each) in, the new `d̂` (N·m) out. A refused step
+/// (NaN, wrong length) leaves the estimator as it was.
+///
+/// # Safety
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
+/// no input.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_update(
+    estimator: *mut HyaEstimator,
+    q: *const f64,
+    tau: *const f64,
+    n: usize,
+    d_hat: *mut f64,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the estimator.
+    unsafe {
+        on_handle(estimator, |e| {
+            let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
+            Ok(e.estimator.update(q, tau, output("d_hat", d_hat, n, e.dof)?)?)
+        })
+    }
+}
+
+/// The latest `d̂` (N·m), `n` = dof entries.
+///
+/// # Safety
+/// `estimator` is null or a live handle; `d_hat` is null or holds `n` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_disturbance(
+    estimator: *mut HyaEstimator,
+    d_hat: *mut f64,
+    n: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; length checked against the estimator.
+    unsafe {
+        on_handle(estimator, |e| {
+            e.estimator.disturbance(output("d_hat", d_hat, n, e.dof)?);
+            Ok(())
+        })
+    }
+}
+
+/// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each).
+///
+/// # Safety
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_reset(
+    estimator: *mut HyaEstimator,
+    q0: *const f64,
+    tau0: *const f64,
+    n: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the estimator.
+    unsafe {
+        on_handle(estimator, |e| {
+            let (q0, tau0) = (input("q0", q0, n, e.dof)?, input("tau0", tau0, n, e.dof)?);
+            Ok(e.estimator.reset(q0, tau0)?)
+        })
+    }
+}
+
+/// The message of the estimator's last failed call (empty if none); owned by the estimator.
+///
+/// # Safety
+/// `estimator` is null or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_error(estimator: *const HyaEstimator) -> *const c_char {
+    // SAFETY: the caller's contract.
+    unsafe { estimator.as_ref() }.map_or(c"null estimator handle".as_ptr(), |e| e.message.as_ptr())
+}
+
+/// Frees an estimator (null is a no-op).
+///
+/// # Safety
+/// `estimator` is null or a handle from `hya_estimator_new`, not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_free(estimator: *mut HyaEstimator) {
+    // SAFETY: the caller's contract.
+    unsafe { destroy(estimator) }
+}

@@ -1,0 +1,249 @@
+//! Models: a shipped arm's generated dynamics by name, or any URDF through the run-time model;
+//! inverse dynamics, mass matrix, gravity and forward dynamics on them.
+
+use std::ffi::{c_char, CStr};
+
+use crate::arm::{self, ArmModel};
+use crate::slices::{input, output};
+use crate::status::{create, destroy, on_handle, Failure, Handle, HyaStatus, Message};
+
+/// A robot's rigid-body dynamics (opaque). Made by `hya_model_from_arm` or
+/// `hya_model_from_urdf`, freed by `hya_model_free`.
+pub struct HyaModel {
+    pub(crate) arm: Box<dyn ArmModel>,
+    message: Message,
+}
+
+impl Handle for HyaModel {
+    fn message(&mut self) -> &mut Message {
+        &mut self.message
+    }
+}
+
+impl HyaModel {
+    fn new(arm: Box<dyn ArmModel>) -> Self {
+        Self { arm, message: Message::default() }
+    }
+}
+
+/// A C string argument as UTF-8.
+///
+/// # Safety
+/// `ptr` is null or a NUL-terminated string.
+pub(crate) unsafe fn text<'a>(name: &'static str, ptr: *const c_char) -> Result<&'a str, Failure> {
+    if ptr.is_null() {
+        return Err(Failure::Null(name));
+    }
+    // SAFETY: non-null and NUL-terminated by the caller's contract.
+    unsafe { CStr::from_ptr(ptr) }.to_str().map_err(|_| Failure::NotUtf8(name))
+}
+
+/// The model behind a creation call's `model` argument.
+///
+/// # Safety
+/// `model` is null or a live handle from this library.
+pub(crate) unsafe fn borrow<'a>(model: *const HyaModel) -> Result<&'a dyn ArmModel, Failure> {
+    // SAFETY: the caller's contract.
+    unsafe { model.as_ref() }.map(|m| &*m.arm).ok_or(Failure::Null("model"))
+}
+
+/// Makes a model of the shipped arm called `name` (`"hya"`, `"ur5"`, `"panda"`, `"iiwa14"`,
+/// `"planar2"`; see `hya_arm_name`): its generated, unrolled dynamics. On `HYA_OK`, `*out` is a
+/// new handle for `hya_model_free`; otherwise `*out` is null and `hya_last_error` says why.
+///
+/// # Safety
+/// `name` is null or a NUL-terminated string; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_from_arm(name: *const c_char, out: *mut *mut HyaModel) -> HyaStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe { create(out, || Ok(HyaModel::new(arm::shipped(text("name", name)?)?))) }
+}
+
+/// Loads the URDF file at `path` as a run-time kinematic-tree model (1 to 7 joints). On `HYA_OK`,
+/// `*out` is a new handle for `hya_model_free`; otherwise `*out` is null and `hya_last_error`
+/// names the file and the problem in it.
+///
+/// # Safety
+/// `path` is null or a NUL-terminated string; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_from_urdf(path: *const c_char, out: *mut *mut HyaModel) -> HyaStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        create(out, || {
+            let loaded = hya_urdf::load_file(text("path", path)?).map_err(Failure::Load)?;
+            Ok(HyaModel::new(arm::tree(loaded.model)?))
+        })
+    }
+}
+
+/// Frees a model (null is a no-op). Estimators, observers and controllers made from it stay
+/// valid.
+///
+/// # Safety
+/// `model` is null or a handle from `hya_model_from_*`, not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_free(model: *mut HyaModel) {
+    // SAFETY: the caller's contract.
+    unsafe { destroy(model) }
+}
+
+/// The model's joint count, or 0 for a null handle.
+///
+/// # Safety
+/// `model` is null or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_dof(model: *const HyaModel) -> usize {
+    // SAFETY: the caller's contract.
+    unsafe { borrow(model) }.map_or(0, |arm| arm.dof())
+}
+
+/// The message of the model's last failed call (empty if none); owned by the model.
+///
+/// # Safety
+/// `model` is null or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_error(model: *const HyaModel) -> *const c_char {
+    // SAFETY: the caller's contract.
+    match unsafe { model.as_ref() } {
+        Some(m) => m.message.as_ptr(),
+        None => c"null model handle".as_ptr(),
+    }
+}
+
+/// Runs `work` with the model's joint count, checking the handle.
+unsafe fn on_model(model: *mut HyaModel, work: impl FnOnce(&dyn ArmModel, usize) -> Result<(), Failure>) -> HyaStatus {
+    // SAFETY: the caller's contract.
+    unsafe { on_handle(model, |m| work(&*m.arm, m.arm.dof())) }
+}
+
+/// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)`; every array has `n` = dof entries.
+///
+/// # Safety
+/// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no
+/// input.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_inverse_dynamics(
+    model: *mut HyaModel,
+    q: *const f64,
+    qd: *const f64,
+    qdd: *const f64,
+    n: usize,
+    tau: *mut f64,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_model(model, |arm, dof| {
+            let (q, qd, qdd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("qdd", qdd, n, dof)?);
+            arm.inverse_dynamics(q, qd, qdd, output("tau", tau, n, dof)?);
+            Ok(())
+        })
+    }
+}
+
+/// The mass matrix `M(q)`: `q` has `n` = dof entries, `mass` has `len` = dof² (symmetric, so
+/// row- and column-major agree).
+///
+/// # Safety
+/// `model` is null or a live handle; `q` holds `n` doubles and `mass` `len`.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_mass_matrix(
+    model: *mut HyaModel,
+    q: *const f64,
+    n: usize,
+    mass: *mut f64,
+    len: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_model(model, |arm, dof| {
+            let q = input("q", q, n, dof)?;
+            arm.mass_matrix(q, output("mass", mass, len, dof * dof)?);
+            Ok(())
+        })
+    }
+}
+
+/// The gravity torque `G(q)`; both arrays have `n` = dof entries.
+///
+/// # Safety
+/// `model` is null or a live handle; each non-null array holds `n` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, n: usize, tau: *mut f64) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_model(model, |arm, dof| {
+            let q = input("q", q, n, dof)?;
+            arm.gravity(q, output("tau", tau, n, dof)?);
+            Ok(())
+        })
+    }
+}
+
+/// Forward dynamics `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`; every array has `n` = dof entries.
+/// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
+///
+/// # Safety
+/// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` aliases no
+/// input.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_forward_dynamics(
+    model: *mut HyaModel,
+    q: *const f64,
+    qd: *const f64,
+    tau: *const f64,
+    n: usize,
+    qdd: *mut f64,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_model(model, |arm, dof| {
+            let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
+            let qdd = output("qdd", qdd, n, dof)?;
+            arm.forward_dynamics(q, qd, tau, qdd)?;
+            crate::slices::finite("qdd", qdd)
+        })
+    }
+}
+
+/// The number of shipped arms (for `hya_arm_name`).
+#[no_mangle]
+pub extern "C" fn hya_arm_count() -> usize {
+    hya_robots::ROBOTS.len()
+}
+
+/// The name of shipped arm `index` (a static string), or null beyond `hya_arm_count()`.
+#[no_mangle]
+pub extern "C" fn hya_arm_name(index: usize) -> *const c_char {
+    static NAMES: std::sync::OnceLock<Vec<std::ffi::CString>> = std::sync::OnceLock::new();
+    let names =
+        NAMES.get_or_init(|| hya_robots::ROBOTS.iter().filter_map(|r| std::ffi::CString::new(r.name).ok()).collect());
+    names.get(index).map_or(core::ptr::null(), |name| name.as_ptr())
+}
+
+/// The home pose of the shipped arm called `name` (rad, `n` = its joint count): a pose inside its
+/// joint limits, where the examples start.
+///
+/// # Safety
+/// `name` is null or a NUL-terminated string; `q` is null or holds `n` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn hya_arm_home(name: *const c_char, q: *mut f64, n: usize) -> HyaStatus {
+    let home = || {
+        // SAFETY: the caller's contract.
+        let name = unsafe { text("name", name) }?;
+        let robot = hya_robots::find(name).ok_or_else(|| Failure::UnknownArm(name.to_owned()))?;
+        // SAFETY: the caller's contract; length checked against the arm.
+        unsafe { output("q", q, n, robot.dof) }?.copy_from_slice(robot.home);
+        Ok(())
+    };
+    match crate::status::guarded(home) {
+        Ok(()) => HyaStatus::HyaOk,
+        Err(failure) => crate::status::fail_globally(&failure),
+    }
+}
+
+/// This thread's last error: the message of the last failed creation, or of a call given a
+/// null handle. Owned by hya; valid until the next hya call on this thread.
+#[no_mangle]
+pub extern "C" fn hya_last_error() -> *const c_char {
+    crate::status::last_error_ptr()
+}

@@ -1,0 +1,76 @@
+//! From C's pointer and length to checked Rust slices: null, a wrong length and non-finite
+//! values are failures named after the argument, found before anything is read past the length.
+
+use crate::status::Failure;
+
+/// `n` values at `ptr`, which must be `expected` long and finite.
+///
+/// # Safety
+/// `ptr` is null or valid for reading `n` doubles.
+pub(crate) unsafe fn input<'a>(
+    name: &'static str,
+    ptr: *const f64,
+    n: usize,
+    expected: usize,
+) -> Result<&'a [f64], Failure> {
+    let values = unsafe { raw(name, ptr, n, expected) }?;
+    finite(name, values)?;
+    Ok(values)
+}
+
+/// Like [`input`], but null means "not given".
+///
+/// # Safety
+/// As [`input`].
+pub(crate) unsafe fn optional_input<'a>(
+    name: &'static str,
+    ptr: *const f64,
+    n: usize,
+    expected: usize,
+) -> Result<Option<&'a [f64]>, Failure> {
+    if ptr.is_null() {
+        Ok(None)
+    } else {
+        // SAFETY: the caller's contract.
+        unsafe { input(name, ptr, n, expected) }.map(Some)
+    }
+}
+
+/// `n` writable values at `ptr`, which must be `expected` long.
+///
+/// # Safety
+/// `ptr` is null or valid for writing `n` doubles, and aliases no input of the same call.
+pub(crate) unsafe fn output<'a>(
+    name: &'static str,
+    ptr: *mut f64,
+    n: usize,
+    expected: usize,
+) -> Result<&'a mut [f64], Failure> {
+    check(name, ptr.is_null(), n, expected)?;
+    // SAFETY: non-null, and the caller's contract gives `n` writable doubles.
+    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// `Err` at the first non-finite value.
+pub(crate) fn finite(name: &'static str, values: &[f64]) -> Result<(), Failure> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(Failure::NonFinite { name, index, value: values[index] }),
+        None => Ok(()),
+    }
+}
+
+unsafe fn raw<'a>(name: &'static str, ptr: *const f64, n: usize, expected: usize) -> Result<&'a [f64], Failure> {
+    check(name, ptr.is_null(), n, expected)?;
+    // SAFETY: non-null, and the caller's contract gives `n` readable doubles.
+    Ok(unsafe { core::slice::from_raw_parts(ptr, n) })
+}
+
+fn check(name: &'static str, null: bool, n: usize, expected: usize) -> Result<(), Failure> {
+    if null {
+        Err(Failure::Null(name))
+    } else if n != expected {
+        Err(Failure::Length { name, got: n, expected })
+    } else {
+        Ok(())
+    }
+}

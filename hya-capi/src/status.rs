@@ -1,0 +1,251 @@
+//! Status codes, the messages that explain them, and the guard that keeps panics on this side of
+//! the boundary.
+
+use core::fmt::{self, Write};
+use std::cell::RefCell;
+use std::ffi::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// What a call did. `HYA_OK` is zero; every other value is a failure whose message is kept by
+/// the handle (or, for creation and null handles, by `hya_last_error`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HyaStatus {
+    /// Success; outputs were written.
+    HyaOk = 0,
+    /// A required pointer (handle, array, name, output) was null.
+    HyaErrNull = 1,
+    /// An array's length is not the model's joint count (or its square, for a mass matrix).
+    HyaErrLength = 2,
+    /// An input held NaN or an infinity; state is unchanged.
+    HyaErrNonFinite = 3,
+    /// A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
+    /// a shipped arm, or a model has more joints than hya dispatches to.
+    HyaErrInvalid = 4,
+    /// A URDF could not be read or is not a valid model.
+    HyaErrModel = 5,
+    /// A numerical failure: a singular mass matrix, an input beyond the filter's range.
+    HyaErrNumeric = 6,
+    /// A bug inside hya: a Rust panic, caught at the boundary.
+    HyaErrPanic = 7,
+}
+
+/// Why a call failed, kept until it is written into a message.
+#[derive(Debug)]
+pub(crate) enum Failure {
+    /// A null pointer for the argument named.
+    Null(&'static str),
+    /// An array of the wrong length.
+    Length { name: &'static str, got: usize, expected: usize },
+    /// A non-finite input value.
+    NonFinite { name: &'static str, index: usize, value: f64 },
+    /// A string argument that is not UTF-8.
+    NotUtf8(&'static str),
+    /// A name no shipped arm has.
+    UnknownArm(String),
+    /// A model with a joint count outside what hya dispatches to.
+    JointCount { model: String, dof: usize },
+    /// hya-core refused the call.
+    Core(hya_core::Error),
+    /// The URDF loader refused the file.
+    Load(hya_urdf::LoadError),
+    /// The run-time model refused the description.
+    Model(hya_core::model::ModelError),
+    /// A panic caught at the boundary.
+    Panic(String),
+}
+
+impl Failure {
+    /// The status code this failure is reported with.
+    pub(crate) fn status(&self) -> HyaStatus {
+        match self {
+            Failure::Null(_) => HyaStatus::HyaErrNull,
+            Failure::Length { .. } => HyaStatus::HyaErrLength,
+            Failure::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
+            Failure::NotUtf8(_) | Failure::UnknownArm(_) | Failure::JointCount { .. } => HyaStatus::HyaErrInvalid,
+            Failure::Core(e) => match e {
+                hya_core::Error::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
+                hya_core::Error::InvalidParameter { .. } | hya_core::Error::MissingMeasurement { .. } => {
+                    HyaStatus::HyaErrInvalid
+                }
+                _ => HyaStatus::HyaErrNumeric,
+            },
+            Failure::Load(_) | Failure::Model(_) => HyaStatus::HyaErrModel,
+            Failure::Panic(_) => HyaStatus::HyaErrPanic,
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Null(name) => write!(f, "`{name}` is a null pointer"),
+            Failure::Length { name, got, expected } => {
+                write!(f, "`{name}` has length {got}; the model needs {expected}")
+            }
+            Failure::NonFinite { name, index, value } => write!(f, "non-finite {name}[{index}] = {value}"),
+            Failure::NotUtf8(name) => write!(f, "`{name}` is not UTF-8"),
+            Failure::UnknownArm(name) => {
+                write!(f, "no shipped arm is called `{name}`; the shipped arms are")?;
+                for (i, robot) in hya_robots::ROBOTS.iter().enumerate() {
+                    write!(f, "{} {}", if i == 0 { "" } else { "," }, robot.name)?;
+                }
+                Ok(())
+            }
+            Failure::JointCount { model, dof } => {
+                write!(f, "{model} has {dof} joints; hya handles 1 to {}", hya_core::dispatch::MAX_JOINTS)
+            }
+            Failure::Core(e) => write!(f, "{e}"),
+            Failure::Load(e) => write!(f, "{e}"),
+            Failure::Model(e) => write!(f, "{e}"),
+            Failure::Panic(what) => write!(f, "internal error (a bug in hya, please report it): {what}"),
+        }
+    }
+}
+
+impl From<hya_core::Error> for Failure {
+    fn from(e: hya_core::Error) -> Self {
+        Failure::Core(e)
+    }
+}
+
+/// The most bytes a message keeps (longer ones are cut at a character boundary).
+pub const HYA_MESSAGE_CAPACITY: usize = 512;
+
+/// A NUL-terminated message in a fixed buffer: writing one never allocates.
+#[derive(Debug, Clone)]
+pub(crate) struct Message {
+    bytes: [u8; HYA_MESSAGE_CAPACITY],
+    len: usize,
+}
+
+impl Default for Message {
+    fn default() -> Self {
+        Self { bytes: [0; HYA_MESSAGE_CAPACITY], len: 0 }
+    }
+}
+
+impl Write for Message {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        let room = HYA_MESSAGE_CAPACITY - 1 - self.len;
+        let mut take = s.len().min(room);
+        while !s.is_char_boundary(take) {
+            take -= 1;
+        }
+        let text = &s.as_bytes()[..take];
+        // An interior NUL would cut the message short in C: shown as a space instead.
+        for (slot, &b) in self.bytes[self.len..self.len + take].iter_mut().zip(text) {
+            *slot = if b == 0 { b' ' } else { b };
+        }
+        self.len += take;
+        self.bytes[self.len] = 0;
+        Ok(())
+    }
+}
+
+impl Message {
+    /// Replaces the message by `failure`'s text.
+    pub(crate) fn set(&mut self, failure: &Failure) {
+        self.len = 0;
+        self.bytes[0] = 0;
+        // Writing into a fixed buffer cannot fail (it truncates instead).
+        let _ = write!(self, "{failure}");
+    }
+
+    /// The message as a C string owned by `self`.
+    pub(crate) fn as_ptr(&self) -> *const c_char {
+        self.bytes.as_ptr().cast()
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<Message> = RefCell::new(Message::default());
+}
+
+/// Records `failure` as this thread's last error and returns its status.
+pub(crate) fn fail_globally(failure: &Failure) -> HyaStatus {
+    LAST_ERROR.with(|m| m.borrow_mut().set(failure));
+    failure.status()
+}
+
+/// This thread's last error, as a C string valid until the next hya call on this thread.
+pub(crate) fn last_error_ptr() -> *const c_char {
+    LAST_ERROR.with(|m| m.borrow().as_ptr())
+}
+
+/// Runs `work`, turning a panic into [`Failure::Panic`].
+pub(crate) fn guarded<T>(work: impl FnOnce() -> Result<T, Failure>) -> Result<T, Failure> {
+    catch_unwind(AssertUnwindSafe(work)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic without a message".to_owned());
+        Err(Failure::Panic(what))
+    })
+}
+
+/// A handle that keeps the message of its last failed call.
+pub(crate) trait Handle {
+    /// Where its messages go.
+    fn message(&mut self) -> &mut Message;
+}
+
+/// Runs `work` on the handle behind `handle`: a null handle fails into the thread's last error,
+/// any other failure (a panic included) into the handle's own message.
+///
+/// # Safety
+/// `handle` is null or points to a live `H` made by this library and not in use elsewhere.
+pub(crate) unsafe fn on_handle<H: Handle>(
+    handle: *mut H,
+    work: impl FnOnce(&mut H) -> Result<(), Failure>,
+) -> HyaStatus {
+    // SAFETY: the caller's contract.
+    let Some(h) = (unsafe { handle.as_mut() }) else {
+        return fail_globally(&Failure::Null("handle"));
+    };
+    match guarded(|| work(&mut *h)) {
+        Ok(()) => HyaStatus::HyaOk,
+        Err(failure) => {
+            h.message().set(&failure);
+            failure.status()
+        }
+    }
+}
+
+/// Creates a handle with `make` and stores it in `*out` (null on failure); failures go to the
+/// thread's last error.
+///
+/// # Safety
+/// `out` is null or valid for one pointer write.
+pub(crate) unsafe fn create<H>(out: *mut *mut H, make: impl FnOnce() -> Result<H, Failure>) -> HyaStatus {
+    if out.is_null() {
+        return fail_globally(&Failure::Null("out"));
+    }
+    let made = guarded(make);
+    // SAFETY: checked non-null above; the caller's contract makes it writable.
+    unsafe {
+        *out = core::ptr::null_mut();
+    }
+    match made {
+        Ok(handle) => {
+            // SAFETY: as above.
+            unsafe {
+                *out = Box::into_raw(Box::new(handle));
+            }
+            HyaStatus::HyaOk
+        }
+        Err(failure) => fail_globally(&failure),
+    }
+}
+
+/// Frees a handle made by [`create`]; null is a no-op.
+///
+/// # Safety
+/// `handle` is null or came from [`create`] and is not used afterwards.
+pub(crate) unsafe fn destroy<H>(handle: *mut H) {
+    if !handle.is_null() {
+        // SAFETY: the caller's contract; a panic in a destructor stays on this side.
+        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(handle) })));
+    }
+}

@@ -1,0 +1,286 @@
+//! The C ABI against the Rust API it wraps: on every shipped arm (and a URDF loaded at run time)
+//! the dynamics, the estimator, the observers and the controller give the Rust results to 1e-12
+//! through the ABI, step after step.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+use std::ffi::{CStr, CString};
+use std::path::Path;
+use std::ptr::{null, null_mut};
+
+use hya::*;
+use hya_core::observers::{
+    DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
+};
+use hya_core::{
+    ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, PdPlacement, Reference,
+};
+use hya_robots::{with_arm, Arm, ForArm, ROBOTS};
+
+const DT: f64 = 1e-3;
+const STEPS: usize = 300;
+
+/// A deterministic sequence of values in `[-1, 1)` (a 64-bit linear congruential generator).
+struct Sequence(u64);
+
+impl Sequence {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+    fn vector<const N: usize>(&mut self, scale: f64) -> JointVector<N> {
+        JointVector::from_fn(|_, _| scale * self.next())
+    }
+}
+
+fn assert_close(what: &str, abi: &[f64], rust: &[f64]) {
+    assert_eq!(abi.len(), rust.len(), "{what}: lengths");
+    for (i, (a, r)) in abi.iter().zip(rust).enumerate() {
+        assert!((a - r).abs() <= 1e-12 * (1.0 + r.abs()), "{what}[{i}]: ABI {a} vs Rust {r}");
+    }
+}
+
+fn ok(status: HyaStatus, message: impl FnOnce() -> String) {
+    assert_eq!(status, HyaStatus::HyaOk, "{}", message());
+}
+
+fn text(ptr: *const std::ffi::c_char) -> String {
+    // SAFETY: hya returns NUL-terminated strings it owns.
+    unsafe { CStr::from_ptr(ptr) }.to_string_lossy().into_owned()
+}
+
+fn last_error() -> String {
+    text(hya_last_error())
+}
+
+/// Every handle the ABI makes for one model, and the same objects made in Rust.
+struct Compare<'a, const N: usize, D: Dynamics<N> + Copy> {
+    model: *mut HyaModel,
+    rust: D,
+    name: &'a str,
+}
+
+impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
+    fn dynamics(&self, seq: &mut Sequence) {
+        for _ in 0..20 {
+            let (q, qd, qdd) = (seq.vector::<N>(2.0), seq.vector::<N>(3.0), seq.vector::<N>(5.0));
+            let mut out = [0.0; N];
+            let mut mass = vec![0.0; N * N];
+            // SAFETY: a live model and arrays of N (N² for the mass matrix) doubles.
+            unsafe {
+                ok(
+                    hya_model_inverse_dynamics(self.model, q.as_ptr(), qd.as_ptr(), qdd.as_ptr(), N, out.as_mut_ptr()),
+                    || self.error(),
+                );
+                assert_close(self.name, &out, self.rust.inverse_dynamics(&q, &qd, &qdd).as_slice());
+                ok(hya_model_gravity(self.model, q.as_ptr(), N, out.as_mut_ptr()), || self.error());
+                assert_close(self.name, &out, self.rust.gravity(&q).as_slice());
+                ok(hya_model_mass_matrix(self.model, q.as_ptr(), N, mass.as_mut_ptr(), N * N), || self.error());
+                assert_close(self.name, &mass, self.rust.mass_matrix(&q).as_slice());
+                let tau = seq.vector::<N>(20.0);
+                ok(
+                    hya_model_forward_dynamics(self.model, q.as_ptr(), qd.as_ptr(), tau.as_ptr(), N, out.as_mut_ptr()),
+                    || self.error(),
+                );
+                assert_close(self.name, &out, self.rust.forward_dynamics(&q, &qd, &tau).unwrap().as_slice());
+            }
+        }
+    }
+
+    /// The estimator, the three observers and the controller, fed the same measurements in
+    /// closed loop through the ABI and in Rust.
+    fn closed_loop(&self, seq: &mut Sequence) {
+        let q0 = seq.vector::<N>(0.5);
+        let tau0 = self.rust.gravity(&q0);
+        let (kp, kd) = ([400.0; N], [40.0; N]);
+        let params = FilterParams::new(0.8, 50.0, 40.0, DT).unwrap();
+        let zero = [0.0; N];
+        let gains: [f64; N] = core::array::from_fn(|i| 20.0 + i as f64);
+
+        let mut estimator = DisturbanceEstimator::new(self.rust, params, q0, tau0).unwrap();
+        let mut observers: [Box<dyn DisturbanceObserver<N>>; 3] = [
+            Box::new(NonlinearDisturbanceObserver::new(self.rust, 30.0, DT, JointVector::zeros()).unwrap()),
+            Box::new(MomentumObserver::new(self.rust, gains.into(), DT, q0, JointVector::zeros(), tau0).unwrap()),
+            Box::new(ExtendedStateObserver::new(self.rust, 60.0, DT, q0).unwrap()),
+        ];
+        let controllers = [PdPlacement::OutsideMassMatrix, PdPlacement::InsideMassMatrix]
+            .map(|p| ComputedTorque::new(self.rust, Gains::diagonal(kp, kd).unwrap()).with_placement(p));
+
+        let (mut e, mut o, mut c) = ([null_mut(); 1], [null_mut(); 3], [null_mut(); 2]);
+        // SAFETY: a live model, arrays of N doubles, writable outputs.
+        unsafe {
+            ok(
+                hya_estimator_new(self.model, 0.8, 50.0, 40.0, DT, q0.as_ptr(), tau0.as_ptr(), N, &mut e[0]),
+                last_error,
+            );
+            ok(hya_observer_new_nonlinear(self.model, 30.0, DT, zero.as_ptr(), N, &mut o[0]), last_error);
+            ok(
+                hya_observer_new_momentum(
+                    self.model,
+                    gains.as_ptr(),
+                    DT,
+                    q0.as_ptr(),
+                    zero.as_ptr(),
+                    tau0.as_ptr(),
+                    N,
+                    &mut o[1],
+                ),
+                last_error,
+            );
+            ok(hya_observer_new_extended_state(self.model, 60.0, DT, q0.as_ptr(), N, &mut o[2]), last_error);
+            for (placement, out) in [0, 1].into_iter().zip(&mut c) {
+                ok(hya_controller_new(self.model, kp.as_ptr(), kd.as_ptr(), N, placement, out), last_error);
+            }
+        }
+
+        let (mut q, mut qd) = (q0, JointVector::<N>::zeros());
+        let mut d_hat = JointVector::<N>::zeros();
+        for k in 0..STEPS {
+            let t = k as f64 * DT;
+            let reference = Reference {
+                position: q0.map(|x| x + 0.2 * (3.0 * t).sin()),
+                velocity: JointVector::repeat(0.6 * (3.0 * t).cos()),
+                acceleration: JointVector::repeat(-1.8 * (3.0 * t).sin()),
+            };
+            let mut tau = [0.0; N];
+            for (controller, handle) in controllers.iter().zip(c) {
+                for d_hat in [Some(&d_hat), None] {
+                    let rust = controller.command(&q, &qd, &reference, d_hat).unwrap().torque;
+                    // SAFETY: a live controller, arrays of N doubles (or a null d̂).
+                    let status = unsafe {
+                        hya_controller_command(
+                            handle,
+                            q.as_ptr(),
+                            qd.as_ptr(),
+                            reference.position.as_ptr(),
+                            reference.velocity.as_ptr(),
+                            reference.acceleration.as_ptr(),
+                            d_hat.map_or(null(), |d| d.as_ptr()),
+                            N,
+                            tau.as_mut_ptr(),
+                        )
+                    };
+                    ok(status, || text(unsafe { hya_controller_error(handle) }));
+                    assert_close("controller", &tau, rust.as_slice());
+                }
+            }
+            // The applied torque: the classic form (gains 1/s², stable on every arm at this
+            // step) with the compensation, plus a disturbance the estimator should see.
+            let applied = controllers[1].command(&q, &qd, &reference, Some(&d_hat)).unwrap().torque;
+            let disturbance = JointVector::<N>::from_fn(|i, _| 2.0 * (5.0 * t + i as f64).sin());
+            let qdd = self.rust.forward_dynamics(&q, &qd, &(applied + disturbance)).unwrap();
+            qd += qdd * DT;
+            q += qd * DT;
+
+            let mut out = [0.0; N];
+            d_hat = estimator.update(&q, &applied).unwrap();
+            // SAFETY: a live estimator, arrays of N doubles.
+            unsafe {
+                ok(hya_estimator_update(e[0], q.as_ptr(), applied.as_ptr(), N, out.as_mut_ptr()), || {
+                    text(hya_estimator_error(e[0]))
+                });
+            }
+            assert_close("estimator", &out, d_hat.as_slice());
+            let measurement = Measurement { position: q, velocity: Some(qd), torque: applied };
+            for (observer, handle) in observers.iter_mut().zip(o) {
+                let rust = observer.update(&measurement).unwrap();
+                // SAFETY: a live observer, arrays of N doubles.
+                unsafe {
+                    ok(
+                        hya_observer_update(handle, q.as_ptr(), qd.as_ptr(), applied.as_ptr(), N, out.as_mut_ptr()),
+                        || text(hya_observer_error(handle)),
+                    );
+                }
+                assert_close("observer", &out, rust.as_slice());
+            }
+        }
+        let mut latest = [0.0; N];
+        // SAFETY: live handles, freed once.
+        unsafe {
+            ok(hya_estimator_disturbance(e[0], latest.as_mut_ptr(), N), || text(hya_estimator_error(e[0])));
+            assert_close("latest estimate", &latest, d_hat.as_slice());
+            hya_estimator_free(e[0]);
+            o.into_iter().for_each(|h| hya_observer_free(h));
+            c.into_iter().for_each(|h| hya_controller_free(h));
+        }
+        assert!(d_hat.norm() > 0.1, "{}: the disturbance was not seen at all (|d̂| = {})", self.name, d_hat.norm());
+    }
+
+    fn error(&self) -> String {
+        // SAFETY: a live model.
+        text(unsafe { hya_model_error(self.model) })
+    }
+}
+
+struct Check;
+
+impl ForArm for Check {
+    type Output = ();
+    fn call<const N: usize>(self, arm: Arm<N>) {
+        let name = CString::new(arm.info.name).unwrap();
+        let mut model = null_mut();
+        // SAFETY: a NUL-terminated name and a writable output.
+        unsafe { ok(hya_model_from_arm(name.as_ptr(), &mut model), last_error) };
+        // SAFETY: a live model.
+        assert_eq!(unsafe { hya_model_dof(model) }, N);
+        let compare = Compare { model, rust: arm.nominal, name: arm.info.name };
+        let mut seq = Sequence(N as u64);
+        compare.dynamics(&mut seq);
+        compare.closed_loop(&mut seq);
+        // SAFETY: a live model, freed once.
+        unsafe { hya_model_free(model) };
+    }
+}
+
+#[test]
+fn every_shipped_arm_equals_the_rust_api() {
+    // SAFETY: plain queries.
+    let names: Vec<String> = (0..hya_arm_count()).map(|i| text(hya_arm_name(i))).collect();
+    assert_eq!(names, ROBOTS.iter().map(|r| r.name).collect::<Vec<_>>());
+    assert!(hya_arm_name(hya_arm_count()).is_null());
+    for robot in ROBOTS {
+        with_arm(robot.name, Check).unwrap();
+    }
+}
+
+/// A URDF through the run-time model equals the same file loaded in Rust; handles outlive their
+/// model.
+#[test]
+fn a_urdf_model_equals_the_loaded_tree() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../hya-urdf/tests/urdf/messy_tree.urdf");
+    let loaded = hya_urdf::load_file(path.to_str().unwrap()).unwrap();
+    let c_path = CString::new(path.to_str().unwrap()).unwrap();
+    let mut model = null_mut();
+    // SAFETY: a NUL-terminated path and a writable output.
+    unsafe { ok(hya_model_from_urdf(c_path.as_ptr(), &mut model), last_error) };
+    // SAFETY: a live model.
+    let dof = unsafe { hya_model_dof(model) };
+    assert_eq!(dof, loaded.model.dof());
+    struct Tree(*mut HyaModel, hya_core::model::TreeModel);
+    impl hya_core::dispatch::ForJoints for Tree {
+        type Output = ();
+        fn call<const N: usize>(self) {
+            let rust = self.1.into_dynamics::<N>().unwrap();
+            let compare = Compare { model: self.0, rust: &rust, name: "messy_tree" };
+            let mut seq = Sequence(7);
+            compare.dynamics(&mut seq);
+            // The estimator made from the model keeps working after the model is freed.
+            let (q0, tau0) = ([0.1; N], [0.0; N]);
+            let mut estimator = null_mut();
+            let mut d_hat = [0.0; N];
+            // SAFETY: live handles, arrays of N doubles, each handle freed once.
+            unsafe {
+                ok(
+                    hya_estimator_new(self.0, 0.8, 50.0, 50.0, DT, q0.as_ptr(), tau0.as_ptr(), N, &mut estimator),
+                    last_error,
+                );
+                hya_model_free(self.0);
+                ok(hya_estimator_update(estimator, q0.as_ptr(), tau0.as_ptr(), N, d_hat.as_mut_ptr()), || {
+                    text(hya_estimator_error(estimator))
+                });
+                hya_estimator_free(estimator);
+            }
+            assert!(d_hat.iter().all(|d| d.is_finite()));
+        }
+    }
+    hya_core::dispatch::with_joints(dof, Tree(model, loaded.model)).unwrap();
+}

@@ -1,0 +1,221 @@
+//! Hostile calls through the C ABI: null pointers, wrong lengths, NaN, out-of-range parameters,
+//! unknown names and bad files each return their status with a message that names the argument,
+//! index or value; none crashes, and a refused update leaves the state as it was.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+use std::ffi::{c_char, CStr, CString};
+use std::path::Path;
+use std::ptr::{null, null_mut};
+
+use hya::*;
+
+fn text(ptr: *const c_char) -> String {
+    assert!(!ptr.is_null(), "hya returned a null message");
+    // SAFETY: hya returns NUL-terminated strings it owns.
+    unsafe { CStr::from_ptr(ptr) }.to_string_lossy().into_owned()
+}
+
+/// Asserts `status` and that the message holds every one of `words`.
+fn refused(status: HyaStatus, expected: HyaStatus, message: &str, words: &[&str]) {
+    assert_eq!(status, expected, "message: {message}");
+    for word in words {
+        assert!(message.contains(word), "`{message}` does not mention `{word}`");
+    }
+}
+
+fn planar2() -> *mut HyaModel {
+    let mut model = null_mut();
+    // SAFETY: a NUL-terminated name and a writable output.
+    assert_eq!(unsafe { hya_model_from_arm(c"planar2".as_ptr(), &mut model) }, HyaStatus::HyaOk);
+    model
+}
+
+#[test]
+fn bad_models_are_refused_with_a_reason() {
+    let mut model = planar2();
+    // SAFETY: every pointer below is null, a NUL-terminated string or a writable output.
+    unsafe {
+        refused(
+            hya_model_from_arm(c"pr2".as_ptr(), &mut model),
+            HyaStatus::HyaErrInvalid,
+            &text(hya_last_error()),
+            &["pr2", "hya", "ur5", "panda", "iiwa14", "planar2"],
+        );
+        assert!(model.is_null(), "a failed creation leaves *out null");
+        refused(hya_model_from_arm(null(), &mut model), HyaStatus::HyaErrNull, &text(hya_last_error()), &["name"]);
+        refused(
+            hya_model_from_arm(c"hya".as_ptr(), null_mut()),
+            HyaStatus::HyaErrNull,
+            &text(hya_last_error()),
+            &["out"],
+        );
+        let not_utf8 = CString::new(vec![0xff, 0xfe]).unwrap();
+        refused(
+            hya_model_from_arm(not_utf8.as_ptr(), &mut model),
+            HyaStatus::HyaErrInvalid,
+            &text(hya_last_error()),
+            &["UTF-8"],
+        );
+        refused(
+            hya_model_from_urdf(c"/nonexistent/arm.urdf".as_ptr(), &mut model),
+            HyaStatus::HyaErrModel,
+            &text(hya_last_error()),
+            &["/nonexistent/arm.urdf"],
+        );
+        let malformed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../hya-urdf/tests/urdf/malformed");
+        let mut files = 0;
+        for entry in std::fs::read_dir(malformed).unwrap() {
+            let path = entry.unwrap().path();
+            let c_path = CString::new(path.to_str().unwrap()).unwrap();
+            let status = hya_model_from_urdf(c_path.as_ptr(), &mut model);
+            let message = text(hya_last_error());
+            assert_ne!(status, HyaStatus::HyaOk, "{} was accepted", path.display());
+            assert_ne!(status, HyaStatus::HyaErrPanic, "{}: {message}", path.display());
+            assert!(model.is_null());
+            let file = path.file_name().unwrap().to_str().unwrap();
+            assert!(message.contains(file), "`{message}` does not name {file}");
+            files += 1;
+        }
+        assert!(files > 3, "the malformed URDFs were not found");
+        // Freeing null is a no-op.
+        hya_model_free(null_mut());
+        hya_estimator_free(null_mut());
+        hya_observer_free(null_mut());
+        hya_controller_free(null_mut());
+        assert_eq!(hya_model_dof(null()), 0);
+    }
+}
+
+#[test]
+fn bad_dynamics_calls_are_refused() {
+    let model = planar2();
+    let (q, qd, qdd) = ([0.1, 0.2], [0.0; 2], [0.0; 2]);
+    let nan = [0.1, f64::NAN];
+    let mut out = [7.0; 2];
+    let mut mass = [0.0; 3];
+    // SAFETY: a live model (or null), arrays at least as long as the lengths passed.
+    unsafe {
+        let error = || text(hya_model_error(model));
+        let status = hya_model_inverse_dynamics(null_mut(), q.as_ptr(), qd.as_ptr(), qdd.as_ptr(), 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["handle"]);
+        let status = hya_model_inverse_dynamics(model, q.as_ptr(), null(), qdd.as_ptr(), 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &error(), &["qd"]);
+        let status = hya_model_inverse_dynamics(model, q.as_ptr(), qd.as_ptr(), qdd.as_ptr(), 1, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrLength, &error(), &["q", "1", "2"]);
+        let status = hya_model_inverse_dynamics(model, nan.as_ptr(), qd.as_ptr(), qdd.as_ptr(), 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["q[1]", "NaN"]);
+        assert_eq!(out, [7.0; 2], "a refused call wrote its output");
+        refused(hya_model_gravity(model, q.as_ptr(), 2, null_mut()), HyaStatus::HyaErrNull, &error(), &["tau"]);
+        refused(
+            hya_model_mass_matrix(model, q.as_ptr(), 2, mass.as_mut_ptr(), 3),
+            HyaStatus::HyaErrLength,
+            &error(),
+            &["mass", "3", "4"],
+        );
+        let inf = [f64::INFINITY, 0.0];
+        let status = hya_model_forward_dynamics(model, q.as_ptr(), qd.as_ptr(), inf.as_ptr(), 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["tau[0]", "inf"]);
+        // A success clears nothing but works.
+        assert_eq!(hya_model_gravity(model, q.as_ptr(), 2, out.as_mut_ptr()), HyaStatus::HyaOk);
+        hya_model_free(model);
+    }
+}
+
+#[test]
+fn bad_estimator_parameters_and_steps_are_refused_and_leave_the_state() {
+    let model = planar2();
+    let (q0, tau0) = ([0.1, 0.2], [0.0; 2]);
+    let mut estimator = null_mut();
+    // SAFETY: a live model (or null), arrays of 2 doubles, writable outputs.
+    unsafe {
+        let status = hya_estimator_new(model, -0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["zeta", "-0.8"]);
+        let status = hya_estimator_new(model, 0.8, 50.0, 50.0, 0.0, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["dt"]);
+        let status = hya_estimator_new(model, 0.8, f64::NAN, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        assert_ne!(status, HyaStatus::HyaOk);
+        let status = hya_estimator_new(null(), 0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["model"]);
+        assert!(estimator.is_null());
+
+        // Two estimators; one also receives refused steps. They must stay equal.
+        let mut twin = null_mut();
+        for out in [&mut estimator, &mut twin] {
+            let status = hya_estimator_new(model, 0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, out);
+            assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_last_error()));
+        }
+        let (mut d, mut d_twin) = ([0.0; 2], [0.0; 2]);
+        for k in 0..200 {
+            let q = [0.1 + 0.01 * k as f64, 0.2];
+            let tau = [1.0, -0.5];
+            let nan = [f64::NAN, 0.0];
+            let error = || text(hya_estimator_error(estimator));
+            refused(
+                hya_estimator_update(estimator, nan.as_ptr(), tau.as_ptr(), 2, d.as_mut_ptr()),
+                HyaStatus::HyaErrNonFinite,
+                &error(),
+                &["q", "NaN"],
+            );
+            refused(
+                hya_estimator_update(estimator, q.as_ptr(), tau.as_ptr(), 3, d.as_mut_ptr()),
+                HyaStatus::HyaErrLength,
+                &error(),
+                &["3"],
+            );
+            refused(
+                hya_estimator_update(estimator, q.as_ptr(), tau.as_ptr(), 2, null_mut()),
+                HyaStatus::HyaErrNull,
+                &error(),
+                &["d_hat"],
+            );
+            assert_eq!(hya_estimator_update(estimator, q.as_ptr(), tau.as_ptr(), 2, d.as_mut_ptr()), HyaStatus::HyaOk);
+            assert_eq!(hya_estimator_update(twin, q.as_ptr(), tau.as_ptr(), 2, d_twin.as_mut_ptr()), HyaStatus::HyaOk);
+            assert_eq!(d, d_twin, "a refused step changed the estimator (step {k})");
+        }
+        let status = hya_estimator_update(null_mut(), q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["handle"]);
+        hya_estimator_free(estimator);
+        hya_estimator_free(twin);
+        hya_model_free(model);
+    }
+}
+
+#[test]
+fn bad_controllers_and_observers_are_refused() {
+    let model = planar2();
+    let (kp, kd, bad) = ([100.0; 2], [10.0; 2], [100.0, -1.0]);
+    let zero = [0.0; 2];
+    let mut controller = null_mut();
+    let mut observer = null_mut();
+    let mut tau = [0.0; 2];
+    // SAFETY: a live model, arrays of 2 doubles, writable outputs.
+    unsafe {
+        let status = hya_controller_new(model, kp.as_ptr(), kd.as_ptr(), 2, 7, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["placement", "7"]);
+        let status = hya_controller_new(model, kp.as_ptr(), bad.as_ptr(), 2, 0, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["kd", "-1"]);
+        assert!(controller.is_null());
+        let status = hya_controller_new(model, kp.as_ptr(), kd.as_ptr(), 2, 1, &mut controller);
+        assert_eq!(status, HyaStatus::HyaOk);
+        let p = zero.as_ptr();
+        let status = hya_controller_command(controller, p, p, null(), p, p, null(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &text(hya_controller_error(controller)), &["q_des"]);
+        let nan = [0.0, f64::NAN];
+        let status = hya_controller_command(controller, p, p, p, p, p, nan.as_ptr(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNonFinite, &text(hya_controller_error(controller)), &["d_hat[1]"]);
+        hya_controller_free(controller);
+
+        let status = hya_observer_new_nonlinear(model, -3.0, 1e-3, p, 2, &mut observer);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["gain"]);
+        let status = hya_observer_new_extended_state(model, 1e6, 1e-3, p, 2, &mut observer);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["bandwidth"]);
+        let status = hya_observer_new_nonlinear(model, 30.0, 1e-3, p, 2, &mut observer);
+        assert_eq!(status, HyaStatus::HyaOk);
+        // Chen's observer needs the measured velocity.
+        let status = hya_observer_update(observer, p, null(), p, 2, tau.as_mut_ptr());
+        assert_eq!(status, HyaStatus::HyaErrInvalid, "{}", text(hya_observer_error(observer)));
+        assert!(text(hya_observer_error(observer)).contains("qd"), "{}", text(hya_observer_error(observer)));
+        hya_observer_free(observer);
+        hya_model_free(model);
+    }
+}

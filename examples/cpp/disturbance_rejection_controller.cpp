@@ -22,21 +22,32 @@ Result DisturbanceRejectionController::configure(const Params& params, JointInte
   return Result::kOk;
 }
 
-Result DisturbanceRejectionController::activate() {
+Result DisturbanceRejectionController::activate(double time) {
   HyaEstimator* estimator = nullptr;
-  hya::created(hya_estimator_new(model_.get(), params_.zeta, params_.omega, params_.omega, params_.period,
-                                 interfaces_->position.data(), interfaces_->effort.data(), dof_, &estimator),
+  const double* q = interfaces_->position.data();
+  const double* tau = interfaces_->effort.data();
+  const double zeta = params_.zeta, omega = params_.omega, dt = params_.period;
+  hya::created(params_.timestamps
+                   ? hya_estimator_new_timed(model_.get(), zeta, omega, omega, dt, time, q, tau, dof_, &estimator)
+                   : hya_estimator_new(model_.get(), zeta, omega, omega, dt, q, tau, dof_, &estimator),
                "estimator");
   estimator_.reset(estimator);
   d_hat_.assign(dof_, 0.0);
+  if (hya_model_gravity(model_.get(), interfaces_->position.data(), dof_, interfaces_->command.data()) != HYA_OK) {
+    return fail(hya_model_error(model_.get()));
+  }
   return Result::kOk;
 }
 
-// The estimator is discretised for the configured period: a late period is filtered as if it had
-// been on time (the loop counts them), as a fixed-rate controller does.
-Result DisturbanceRejectionController::update(double /*time*/, double /*period*/, const Reference& reference) {
+// With timestamps, a late period is filtered over its true length (with its own discretisation,
+// cached for lengths that recur), not as if it had been on time.
+Result DisturbanceRejectionController::update(double time, double /*period*/, const Reference& reference) {
   JointInterfaces& io = *interfaces_;
-  if (hya_estimator_update(estimator_.get(), io.position.data(), io.effort.data(), dof_, d_hat_.data()) != HYA_OK) {
+  const double *q = io.position.data(), *tau = io.effort.data();
+  const HyaStatus estimated = params_.timestamps
+                                  ? hya_estimator_update_at(estimator_.get(), time, q, tau, dof_, d_hat_.data(), nullptr)
+                                  : hya_estimator_update(estimator_.get(), q, tau, dof_, d_hat_.data());
+  if (estimated != HYA_OK) {
     return fail(hya_estimator_error(estimator_.get()));
   }
   const double* d_hat = params_.compensate ? d_hat_.data() : nullptr;

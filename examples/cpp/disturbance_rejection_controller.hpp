@@ -38,15 +38,19 @@ class DisturbanceRejectionController {
     double omega = 50.0;        // filter bandwidth, rad/s (the paper's)
     double period = 1e-3;       // s
     bool compensate = true;     // subtract d̂ from the command
+    bool timestamps = true;     // filter each period over its measured length (false: as `period`)
   };
 
   enum class Result { kOk, kError };
 
   // Makes the model, the estimator and the controller; throws with hya's message on failure.
   Result configure(const Params& params, JointInterfaces& interfaces);
-  // Restarts the estimator at rest at the current measurement and holds the current pose.
-  Result activate();
-  // One period: estimate d̂ from the measured q and τ, then command τ. No allocation.
+  // Starts the estimator at rest at the current measurement, at `time` (s), and commands the
+  // gravity torque G(q) until the first update.
+  Result activate(double time);
+  // One period at `time` (s, the sample's timestamp): estimate d̂ from the measured q and τ
+  // (with `timestamps`, the filters advance over the time since the previous update, however
+  // long it really was; without, over the configured period), then command τ. No allocation.
   Result update(double time, double period, const Reference& reference);
 
   size_t joints() const { return dof_; }

@@ -3,7 +3,10 @@
 // friction and a load it does not model (simulated_arm.hpp).
 //
 // The loop sleeps to absolute deadlines (clock_nanosleep on CLOCK_MONOTONIC, TIMER_ABSTIME), so
-// a late wake-up does not shift the following ones. It prints:
+// a late wake-up does not shift the following ones. As on a robot, the arm moves under the last
+// command for as long as each period really lasted, and the estimator steps by the samples'
+// timestamps (hya_estimator_update_at), so a late period is filtered over its true length. It
+// prints:
 //   - the period's jitter: |measured period − 1 ms| (median, p99, max) and the wake-up latency
 //     after each deadline;
 //   - the cost of one controller update (estimator + controller through the ABI; median, p99),
@@ -11,7 +14,10 @@
 //   - tracking with and without d̂ (the run without d̂ is the same loop, unpaced);
 // and exits 1 if the estimator does not follow the disturbance or compensation does not help.
 //
-//   examples/cpp/build.sh && target/release/hya_cpp_loop [--arm panda] [--seconds 3] [--fifo]
+//   examples/cpp/build.sh && target/release/hya_cpp_loop [--arm panda] [--seconds 3] [--fifo] [--fixed-step]
+//
+// --fixed-step filters every period as if it had lasted 1 ms (hya_estimator_update): cheaper, as
+// no period needs a discretisation of its own, and wrong by the period's jitter.
 
 #include <sched.h>
 #include <sys/mman.h>
@@ -39,6 +45,7 @@ struct Options {
   std::string arm = "panda";
   double seconds = 3.0;
   bool fifo = false;
+  bool fixed_step = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -51,8 +58,10 @@ Options parse(int argc, char** argv) {
       o.seconds = std::atof(argv[++i]);
     } else if (a == "--fifo") {
       o.fifo = true;
+    } else if (a == "--fixed-step") {
+      o.fixed_step = true;
     } else {
-      std::fprintf(stderr, "usage: %s [--arm NAME] [--seconds S] [--fifo]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--arm NAME] [--seconds S] [--fifo] [--fixed-step]\n", argv[0]);
       std::exit(2);
     }
   }
@@ -127,6 +136,7 @@ Run run(const Options& o, bool compensate, bool paced) {
   DisturbanceRejectionController::Params params;
   params.arm = o.arm;
   params.compensate = compensate;
+  params.timestamps = !o.fixed_step;
   params.period = kPeriod;
   controller.configure(params, io);
   const size_t n = controller.joints();
@@ -134,10 +144,14 @@ Run run(const Options& o, bool compensate, bool paced) {
   hya::created(hya_arm_home(o.arm.c_str(), q0.data(), n), "home pose");
   SimulatedArm arm(o.arm, q0);
   arm.read(io.position, io.velocity, io.effort);
-  controller.activate();
+  Run r;
+  if (controller.activate(0.0) != DisturbanceRejectionController::Result::kOk) {  // holds G(q) until the first update
+    std::fprintf(stderr, "activate failed: %s\n", controller.error().c_str());
+    r.ok = false;
+    return r;
+  }
 
   const size_t periods = static_cast<size_t>(std::lround(o.seconds / kPeriod));
-  Run r;
   r.period_error_ns.reserve(periods);
   r.latency_ns.reserve(periods);
   r.cost_ns.reserve(periods);
@@ -150,9 +164,11 @@ Run run(const Options& o, bool compensate, bool paced) {
 
   timespec deadline;
   clock_gettime(CLOCK_MONOTONIC, &deadline);
-  long long previous = to_ns(deadline);
+  const long long start = to_ns(deadline);
+  long long previous = start;
+  double t = 0.0;  // the sample's time, s: the wall clock's when paced, k ms when not
   for (size_t k = 0; k < periods; ++k) {
-    const double t = static_cast<double>(k) * kPeriod;
+    double period = kPeriod;
     if (paced) {
       advance(deadline, kPeriodNs);
       while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
@@ -161,12 +177,20 @@ Run run(const Options& o, bool compensate, bool paced) {
       r.latency_ns.push_back(woke - to_ns(deadline));
       r.period_error_ns.push_back(std::llabs(woke - previous - kPeriodNs));
       r.missed += (woke - previous) > kPeriodNs * 3 / 2;
+      period = static_cast<double>(woke - previous) * 1e-9;
       previous = woke;
     }
+    // The arm moved under the last command for as long as the period really lasted.
+    if (!arm.step(io.command, t, period, why)) {  // ◀ robot: the drives applied the command
+      std::fprintf(stderr, "simulation failed at t = %.3f s: %s\n", t, why.c_str());
+      r.ok = false;
+      return r;
+    }
+    t += period;
     arm.read(io.position, io.velocity, io.effort);  // ◀ robot: read state interfaces
     reference_at(t, q0, ref);
     const long long before = now_ns();
-    const auto result = controller.update(t, kPeriod, ref);
+    const auto result = controller.update(t, period, ref);  // ◀ robot: writes the command interface
     r.cost_ns.push_back(now_ns() - before);
     if (result != DisturbanceRejectionController::Result::kOk) {
       std::fprintf(stderr, "update failed at t = %.3f s: %s\n", t, controller.error().c_str());
@@ -182,11 +206,6 @@ Run run(const Options& o, bool compensate, bool paced) {
         r.disturbance_sq[i] += d[i] * d[i];
       }
       ++counted;
-    }
-    if (!arm.step(io.command, t, kPeriod, why)) {  // ◀ robot: write the command interface
-      std::fprintf(stderr, "simulation failed at t = %.3f s: %s\n", t, why.c_str());
-      r.ok = false;
-      return r;
     }
   }
   for (auto* v : {&r.tracking_sq, &r.estimate_error_sq, &r.disturbance_sq}) {
@@ -228,7 +247,8 @@ int main(int argc, char** argv) {
   }
   try {
     std::printf("hya C++ loop: %s at 1000 Hz for %.1f s; %s\n", o.arm.c_str(), o.seconds, machine().c_str());
-    std::printf("scheduling: %s\n", scheduling.c_str());
+    std::printf("scheduling: %s; estimator stepped %s\n", scheduling.c_str(),
+                o.fixed_step ? "at the fixed 1 ms (--fixed-step)" : "by timestamps");
     const Run without = run(o, false, false);
     const Run with = run(o, true, true);
     if (!without.ok || !with.ok) {

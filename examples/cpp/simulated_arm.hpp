@@ -4,7 +4,7 @@
 //
 //   M(q) q̈ + C(q, q̇) + G(q) = τ + d,   d = −f_v q̇ − f_c tanh(q̇ / 0.01) + τ_load(t)
 //
-// integrated semi-implicitly (q̇ first, then q) in ten substeps per control period. It reports
+// integrated semi-implicitly (q̇ first, then q) in substeps of at most 0.1 ms. It reports
 // the applied torque τ as the measured effort, as a torque-controlled arm's drives do, and the
 // true d for comparison with the estimate.
 #pragma once
@@ -46,7 +46,7 @@ class SimulatedArm {
   // Applies `tau` for `dt` seconds from time `t`; false (with the reason) if the dynamics fail.
   bool step(const std::vector<double>& tau, double t, double dt, std::string& why) {
     tau_ = tau;
-    const int substeps = 10;
+    const int substeps = static_cast<int>(std::ceil(dt / 1e-4 - 1e-9));
     const double h = dt / substeps;
     for (int s = 0; s < substeps; ++s) {
       disturbance(t + s * h);

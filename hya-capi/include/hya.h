@@ -153,7 +153,45 @@ HyaStatus hya_estimator_new(const HyaModel *model,
                             size_t n,
                             HyaEstimator **out);
 
-// One step: measured `q` and `tau` (`n` = dof each) in, the new `d̂` (N·m) out. A refused step
+// Makes an estimator for samples with their own timestamps (logs, loops whose period jitters):
+// each update brings its time `t` (s) and both filters advance exactly over that step's own
+// length (first-order hold), the discretisations of recent lengths cached. `dt` is the nominal
+// sample time (the first length cached); the estimator starts at rest at `(t0, q0, tau0)` (`n` =
+// dof each). A step longer than `100 / max(omega1, omega2)` s (2 s at the paper's 50 rad/s)
+// restarts it at rest instead of bridging. Update it with `hya_estimator_update_at` only.
+//
+// # Safety
+// As `hya_estimator_new`.
+HyaStatus hya_estimator_new_timed(const HyaModel *model,
+                                  double zeta,
+                                  double omega1,
+                                  double omega2,
+                                  double dt,
+                                  double t0,
+                                  const double *q0,
+                                  const double *tau0,
+                                  size_t n,
+                                  HyaEstimator **out);
+
+// The sample at time `t` (s, after the previous sample's): measured `q` and `tau` (`n` = dof
+// each) in, the new `d̂` (N·m) out; `*restarted` (unless null) says whether the step was a gap
+// too long to bridge, after which the estimator restarted at rest. For estimators made by
+// `hya_estimator_new_timed`. A refused sample (a time not after the previous one, NaN, wrong
+// length) leaves the estimator as it was.
+//
+// # Safety
+// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
+// no input; `restarted` is null or writable.
+HyaStatus hya_estimator_update_at(HyaEstimator *estimator,
+                                  double t,
+                                  const double *q,
+                                  const double *tau,
+                                  size_t n,
+                                  double *d_hat,
+                                  bool *restarted);
+
+// One step of the sample time `dt`: measured `q` and `tau` (`n` = dof each) in, the new `d̂`
+// (N·m) out. For estimators made by `hya_estimator_new`. A refused step
 // (NaN, wrong length) leaves the estimator as it was.
 //
 // # Safety
@@ -171,7 +209,8 @@ HyaStatus hya_estimator_update(HyaEstimator *estimator,
 // `estimator` is null or a live handle; `d_hat` is null or holds `n` doubles.
 HyaStatus hya_estimator_disturbance(HyaEstimator *estimator, double *d_hat, size_t n);
 
-// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each).
+// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each); a timed one at its latest
+// sample's time.
 //
 // # Safety
 // `estimator` is null or a live handle; each non-null array holds `n` doubles.

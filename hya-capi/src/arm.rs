@@ -10,7 +10,9 @@ use hya_core::model::TreeModel;
 use hya_core::observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };
-use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, Reference};
+use hya_core::{
+    ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, Reference, TimedEstimator,
+};
 use hya_robots::{with_arm, Arm, ForArm};
 
 use crate::status::Failure;
@@ -31,8 +33,15 @@ pub(crate) trait ArmModel: Send {
     fn gravity(&self, q: &[f64], tau: &mut [f64]);
     /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`.
     fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
-    /// The paper's estimator started at rest at `(q0, τ0)`.
-    fn estimator(&self, params: FilterParams, q0: &[f64], tau0: &[f64]) -> Result<Box<dyn Estimate>, Error>;
+    /// The paper's estimator started at rest at `(q0, τ0)`: stepped at `params`' sample time, or,
+    /// given a start time `t0`, over timestamped samples.
+    fn estimator(
+        &self,
+        params: FilterParams,
+        t0: Option<f64>,
+        q0: &[f64],
+        tau0: &[f64],
+    ) -> Result<Box<dyn Estimate>, Error>;
     /// One of the observers the paper compares against.
     fn observer(&self, spec: ObserverSpec<'_>) -> Result<Box<dyn Observe>, Error>;
     /// A computed-torque controller with diagonal gains.
@@ -49,14 +58,17 @@ pub(crate) enum ObserverSpec<'a> {
     ExtendedState { bandwidth_rad_s: f64, dt_s: f64, q0: &'a [f64] },
 }
 
-/// The paper's estimator on slices.
+/// The paper's estimator on slices, stepped at its fixed sample time or by timestamps.
 pub(crate) trait Estimate: Send {
-    /// One step with measured `q`, `τ`; writes the new `d̂`.
-    fn update(&mut self, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), Error>;
+    /// One step of the fixed sample time with measured `q`, `τ`; writes the new `d̂`.
+    fn update(&mut self, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), Failure>;
+    /// The sample at time `t` with measured `q`, `τ`; writes the new `d̂` and says whether the
+    /// step was a gap too long to bridge (the estimator restarted at rest).
+    fn update_at(&mut self, t: f64, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<bool, Failure>;
     /// The latest `d̂`.
     fn disturbance(&self, d_hat: &mut [f64]);
-    /// Restarts at rest at `(q0, τ0)`.
-    fn reset(&mut self, q0: &[f64], tau0: &[f64]) -> Result<(), Error>;
+    /// Restarts at rest at `(q0, τ0)` (a timed estimator: at the latest sample's time).
+    fn reset(&mut self, q0: &[f64], tau0: &[f64]) -> Result<(), Failure>;
 }
 
 /// A baseline observer on slices.
@@ -103,8 +115,18 @@ impl<const N: usize> ArmModel for Fixed<N> {
         qdd.copy_from_slice(self.dynamics.forward_dynamics(&v(q), &v(qd), &v(tau))?.as_slice());
         Ok(())
     }
-    fn estimator(&self, params: FilterParams, q0: &[f64], tau0: &[f64]) -> Result<Box<dyn Estimate>, Error> {
-        Ok(Box::new(DisturbanceEstimator::new(self.dynamics.clone(), params, v(q0), v(tau0))?))
+    fn estimator(
+        &self,
+        params: FilterParams,
+        t0: Option<f64>,
+        q0: &[f64],
+        tau0: &[f64],
+    ) -> Result<Box<dyn Estimate>, Error> {
+        let dynamics = self.dynamics.clone();
+        Ok(match t0 {
+            None => Box::new(DisturbanceEstimator::new(dynamics, params, v(q0), v(tau0))?),
+            Some(t0) => Box::new(TimedEstimator::new(dynamics, params, t0, v(q0), v(tau0))?),
+        })
     }
     fn observer(&self, spec: ObserverSpec<'_>) -> Result<Box<dyn Observe>, Error> {
         let dynamics = self.dynamics.clone();
@@ -131,15 +153,48 @@ impl<const N: usize> ArmModel for Fixed<N> {
 }
 
 impl<const N: usize, D: Dynamics<N> + Send> Estimate for DisturbanceEstimator<N, D> {
-    fn update(&mut self, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), Error> {
+    fn update(&mut self, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), Failure> {
         d_hat.copy_from_slice(DisturbanceEstimator::update(self, &v(q), &v(tau))?.as_slice());
         Ok(())
+    }
+    fn update_at(&mut self, _: f64, _: &[f64], _: &[f64], _: &mut [f64]) -> Result<bool, Failure> {
+        Err(Failure::Stepping {
+            called: "hya_estimator_update_at",
+            needs: "hya_estimator_new_timed",
+            made_by: "hya_estimator_new",
+            use_instead: "hya_estimator_update",
+        })
     }
     fn disturbance(&self, d_hat: &mut [f64]) {
         d_hat.copy_from_slice(DisturbanceEstimator::disturbance(self).as_slice());
     }
-    fn reset(&mut self, q0: &[f64], tau0: &[f64]) -> Result<(), Error> {
-        DisturbanceEstimator::reset(self, v(q0), v(tau0))
+    fn reset(&mut self, q0: &[f64], tau0: &[f64]) -> Result<(), Failure> {
+        Ok(DisturbanceEstimator::reset(self, v(q0), v(tau0))?)
+    }
+}
+
+impl<const N: usize, D: Dynamics<N> + Clone + Send> Estimate for TimedEstimator<N, D> {
+    fn update(&mut self, _: &[f64], _: &[f64], _: &mut [f64]) -> Result<(), Failure> {
+        Err(Failure::Stepping {
+            called: "hya_estimator_update",
+            needs: "hya_estimator_new",
+            made_by: "hya_estimator_new_timed",
+            use_instead: "hya_estimator_update_at",
+        })
+    }
+    fn update_at(&mut self, t: f64, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<bool, Failure> {
+        let step = TimedEstimator::update(self, t, &v(q), &v(tau))?;
+        d_hat.copy_from_slice(step.disturbance.as_slice());
+        Ok(step.restarted)
+    }
+    fn disturbance(&self, d_hat: &mut [f64]) {
+        d_hat.copy_from_slice(self.estimator().disturbance().as_slice());
+    }
+    fn reset(&mut self, q0: &[f64], tau0: &[f64]) -> Result<(), Failure> {
+        let estimator = self.estimator();
+        let (dynamics, params) = (estimator.dynamics().clone(), *estimator.params());
+        *self = TimedEstimator::new(dynamics, params, self.time_s(), v(q0), v(tau0))?;
+        Ok(())
     }
 }
 

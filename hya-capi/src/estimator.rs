@@ -46,18 +46,94 @@ pub unsafe extern "C" fn hya_estimator_new(
     out: *mut *mut HyaEstimator,
 ) -> HyaStatus {
     // SAFETY: the caller's contract, passed on.
+    unsafe { new_estimator(model, [zeta, omega1, omega2, dt], None, [q0, tau0], n, out) }
+}
+
+/// Makes an estimator for samples with their own timestamps (logs, loops whose period jitters):
+/// each update brings its time `t` (s) and both filters advance exactly over that step's own
+/// length (first-order hold), the discretisations of recent lengths cached. `dt` is the nominal
+/// sample time (the first length cached); the estimator starts at rest at `(t0, q0, tau0)` (`n` =
+/// dof each). A step longer than `100 / max(omega1, omega2)` s (2 s at the paper's 50 rad/s)
+/// restarts it at rest instead of bridging. Update it with `hya_estimator_update_at` only.
+///
+/// # Safety
+/// As `hya_estimator_new`.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_new_timed(
+    model: *const HyaModel,
+    zeta: f64,
+    omega1: f64,
+    omega2: f64,
+    dt: f64,
+    t0: f64,
+    q0: *const f64,
+    tau0: *const f64,
+    n: usize,
+    out: *mut *mut HyaEstimator,
+) -> HyaStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe { new_estimator(model, [zeta, omega1, omega2, dt], Some(t0), [q0, tau0], n, out) }
+}
+
+/// Creates an estimator with filter parameters `[ζ, ω1, ω2, dt]`, started at rest at `(q0, τ0)`
+/// and, for a timed one, at time `t0`.
+///
+/// # Safety
+/// As `hya_estimator_new`.
+unsafe fn new_estimator(
+    model: *const HyaModel,
+    [zeta, omega1, omega2, dt]: [f64; 4],
+    t0: Option<f64>,
+    [q0, tau0]: [*const f64; 2],
+    n: usize,
+    out: *mut *mut HyaEstimator,
+) -> HyaStatus {
+    // SAFETY: the caller's contract, passed on.
     unsafe {
         create(out, || {
             let arm = borrow(model)?;
             let dof = arm.dof();
             let (q0, tau0) = (input("q0", q0, n, dof)?, input("tau0", tau0, n, dof)?);
             let params = FilterParams::new(zeta, omega1, omega2, dt)?;
-            Ok(HyaEstimator { estimator: arm.estimator(params, q0, tau0)?, dof, message: Message::default() })
+            Ok(HyaEstimator { estimator: arm.estimator(params, t0, q0, tau0)?, dof, message: Message::default() })
         })
     }
 }
 
-/// One step: measured `q` and `tau` (`n` = dof each) in, the new `d̂` (N·m) out. A refused step
+/// The sample at time `t` (s, after the previous sample's): measured `q` and `tau` (`n` = dof
+/// each) in, the new `d̂` (N·m) out; `*restarted` (unless null) says whether the step was a gap
+/// too long to bridge, after which the estimator restarted at rest. For estimators made by
+/// `hya_estimator_new_timed`. A refused sample (a time not after the previous one, NaN, wrong
+/// length) leaves the estimator as it was.
+///
+/// # Safety
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
+/// no input; `restarted` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hya_estimator_update_at(
+    estimator: *mut HyaEstimator,
+    t: f64,
+    q: *const f64,
+    tau: *const f64,
+    n: usize,
+    d_hat: *mut f64,
+    restarted: *mut bool,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the estimator.
+    unsafe {
+        on_handle(estimator, |e| {
+            let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
+            let gap = e.estimator.update_at(t, q, tau, output("d_hat", d_hat, n, e.dof)?)?;
+            if let Some(restarted) = restarted.as_mut() {
+                *restarted = gap;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// One step of the sample time `dt`: measured `q` and `tau` (`n` = dof each) in, the new `d̂`
+/// (N·m) out. For estimators made by `hya_estimator_new`. A refused step
 /// (NaN, wrong length) leaves the estimator as it was.
 ///
 /// # Safety
@@ -75,7 +151,7 @@ pub unsafe extern "C" fn hya_estimator_update(
     unsafe {
         on_handle(estimator, |e| {
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
-            Ok(e.estimator.update(q, tau, output("d_hat", d_hat, n, e.dof)?)?)
+            e.estimator.update(q, tau, output("d_hat", d_hat, n, e.dof)?)
         })
     }
 }
@@ -99,7 +175,8 @@ pub unsafe extern "C" fn hya_estimator_disturbance(
     }
 }
 
-/// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each).
+/// Restarts the estimator at rest at `(q0, tau0)` (`n` = dof each); a timed one at its latest
+/// sample's time.
 ///
 /// # Safety
 /// `estimator` is null or a live handle; each non-null array holds `n` doubles.
@@ -114,7 +191,7 @@ pub unsafe extern "C" fn hya_estimator_reset(
     unsafe {
         on_handle(estimator, |e| {
             let (q0, tau0) = (input("q0", q0, n, e.dof)?, input("tau0", tau0, n, e.dof)?);
-            Ok(e.estimator.reset(q0, tau0)?)
+            e.estimator.reset(q0, tau0)
         })
     }
 }

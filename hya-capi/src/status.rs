@@ -51,6 +51,8 @@ pub(crate) enum Failure {
     Load(hya_urdf::LoadError),
     /// The run-time model refused the description.
     Model(hya_core::model::ModelError),
+    /// An estimator stepped the other way than it was made for.
+    Stepping { called: &'static str, needs: &'static str, made_by: &'static str, use_instead: &'static str },
     /// A panic caught at the boundary.
     Panic(String),
 }
@@ -62,7 +64,9 @@ impl Failure {
             Failure::Null(_) => HyaStatus::HyaErrNull,
             Failure::Length { .. } => HyaStatus::HyaErrLength,
             Failure::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
-            Failure::NotUtf8(_) | Failure::UnknownArm(_) | Failure::JointCount { .. } => HyaStatus::HyaErrInvalid,
+            Failure::NotUtf8(_) | Failure::UnknownArm(_) | Failure::JointCount { .. } | Failure::Stepping { .. } => {
+                HyaStatus::HyaErrInvalid
+            }
             Failure::Core(e) => match e {
                 hya_core::Error::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
                 hya_core::Error::InvalidParameter { .. } | hya_core::Error::MissingMeasurement { .. } => {
@@ -98,6 +102,10 @@ impl fmt::Display for Failure {
             Failure::Core(e) => write!(f, "{e}"),
             Failure::Load(e) => write!(f, "{e}"),
             Failure::Model(e) => write!(f, "{e}"),
+            Failure::Stepping { called, needs, made_by, use_instead } => write!(
+                f,
+                "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"
+            ),
             Failure::Panic(what) => write!(f, "internal error (a bug in hya, please report it): {what}"),
         }
     }

@@ -13,6 +13,7 @@ use hya_core::observers::{
 };
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, PdPlacement, Reference,
+    TimedEstimator,
 };
 use hya_robots::{with_arm, Arm, ForArm, ROBOTS};
 
@@ -205,6 +206,53 @@ impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
         assert!(d_hat.norm() > 0.1, "{}: the disturbance was not seen at all (|d̂| = {})", self.name, d_hat.norm());
     }
 
+    /// The timestamped estimator on jittered steps, a bridged gap and one too long to bridge.
+    fn timed(&self, seq: &mut Sequence) {
+        let (q0, tau0) = (seq.vector::<N>(0.5), seq.vector::<N>(5.0));
+        let params = FilterParams::paper(DT).unwrap();
+        let mut rust = TimedEstimator::new(self.rust, params, 10.0, q0, tau0).unwrap();
+        let mut handle = null_mut();
+        // SAFETY: a live model, arrays of N doubles, a writable output.
+        unsafe {
+            let status = hya_estimator_new_timed(
+                self.model,
+                0.8,
+                50.0,
+                50.0,
+                DT,
+                10.0,
+                q0.as_ptr(),
+                tau0.as_ptr(),
+                N,
+                &mut handle,
+            );
+            ok(status, last_error);
+        }
+        let (mut t, mut gaps) = (10.0, 0);
+        for k in 0..STEPS {
+            t += match k {
+                100 => 0.030,
+                200 => 2.5,
+                _ => DT * (1.0 + 0.3 * seq.next()),
+            };
+            let (q, tau) = (q0 + seq.vector::<N>(0.01), tau0 + seq.vector::<N>(1.0));
+            let step = rust.update(t, &q, &tau).unwrap();
+            let (mut out, mut restarted) = ([0.0; N], false);
+            // SAFETY: a live estimator, arrays of N doubles, a writable flag.
+            unsafe {
+                let status =
+                    hya_estimator_update_at(handle, t, q.as_ptr(), tau.as_ptr(), N, out.as_mut_ptr(), &mut restarted);
+                ok(status, || text(hya_estimator_error(handle)));
+            }
+            assert_close("timed estimator", &out, step.disturbance.as_slice());
+            assert_eq!(restarted, step.restarted);
+            gaps += usize::from(restarted);
+        }
+        assert_eq!(gaps, 1, "the 2.5 s gap restarts the estimator, nothing else does");
+        // SAFETY: a live handle, freed once.
+        unsafe { hya_estimator_free(handle) };
+    }
+
     fn error(&self) -> String {
         // SAFETY: a live model.
         text(unsafe { hya_model_error(self.model) })
@@ -226,6 +274,7 @@ impl ForArm for Check {
         let mut seq = Sequence(N as u64);
         compare.dynamics(&mut seq);
         compare.closed_loop(&mut seq);
+        compare.timed(&mut seq);
         // SAFETY: a live model, freed once.
         unsafe { hya_model_free(model) };
     }

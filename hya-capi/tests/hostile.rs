@@ -172,6 +172,22 @@ fn bad_estimator_parameters_and_steps_are_refused_and_leave_the_state() {
             assert_eq!(hya_estimator_update(twin, q.as_ptr(), tau.as_ptr(), 2, d_twin.as_mut_ptr()), HyaStatus::HyaOk);
             assert_eq!(d, d_twin, "a refused step changed the estimator (step {k})");
         }
+        // Each kind of estimator refuses the other kind's update, and time must move forward.
+        let status = hya_estimator_update_at(estimator, 1.0, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), null_mut());
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(estimator)), &["hya_estimator_new_timed"]);
+        let mut timed = null_mut();
+        let status =
+            hya_estimator_new_timed(model, 0.8, 50.0, 50.0, 1e-3, 5.0, q0.as_ptr(), tau0.as_ptr(), 2, &mut timed);
+        assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_last_error()));
+        let status = hya_estimator_update(timed, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(timed)), &["hya_estimator_update_at"]);
+        for t in [5.0, 4.0, f64::NAN] {
+            let status = hya_estimator_update_at(timed, t, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), null_mut());
+            refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(timed)), &["`t`"]);
+        }
+        let status = hya_estimator_update_at(timed, 5.001, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), null_mut());
+        assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_estimator_error(timed)));
+        hya_estimator_free(timed);
         let status = hya_estimator_update(null_mut(), q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr());
         refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["handle"]);
         hya_estimator_free(estimator);

@@ -9,9 +9,9 @@ use std::ptr::{null, null_mut};
 
 use hya_capi::{
     hya_controller_command, hya_controller_free, hya_controller_new, hya_estimator_free, hya_estimator_new,
-    hya_estimator_update, hya_last_error, hya_model_forward_dynamics, hya_model_free, hya_model_from_arm,
-    hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix, hya_observer_free,
-    hya_observer_new_extended_state, hya_observer_update, HyaStatus,
+    hya_estimator_new_timed, hya_estimator_update, hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics,
+    hya_model_free, hya_model_from_arm, hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix,
+    hya_observer_free, hya_observer_new_extended_state, hya_observer_update, HyaStatus,
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
@@ -181,6 +181,7 @@ fn the_fixed_size_run_time_model_does_not_allocate() {
 fn c_abi_calls_after_creation_do_not_allocate() {
     const N: usize = 6; // HyA
     let (mut model, mut estimator, mut observer, mut controller) = (null_mut(), null_mut(), null_mut(), null_mut());
+    let mut timed = null_mut();
     let q0 = [0.2; N];
     let tau0 = [0.0; N];
     // SAFETY: NUL-terminated names, arrays of N doubles, writable outputs.
@@ -188,6 +189,10 @@ fn c_abi_calls_after_creation_do_not_allocate() {
         assert_eq!(hya_model_from_arm(c"hya".as_ptr(), &mut model), HyaStatus::HyaOk);
         assert_eq!(
             hya_estimator_new(model, 0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), N, &mut estimator),
+            HyaStatus::HyaOk
+        );
+        assert_eq!(
+            hya_estimator_new_timed(model, 0.8, 50.0, 50.0, 1e-3, 0.0, q0.as_ptr(), tau0.as_ptr(), N, &mut timed),
             HyaStatus::HyaOk
         );
         assert_eq!(hya_observer_new_extended_state(model, 60.0, 1e-3, q0.as_ptr(), N, &mut observer), HyaStatus::HyaOk);
@@ -222,6 +227,11 @@ fn c_abi_calls_after_creation_do_not_allocate() {
                     tau.as_mut_ptr(),
                 );
                 hya_estimator_update(estimator, p, tau.as_ptr(), N, d_hat.as_mut_ptr());
+                // Jittered steps: new lengths, each one's matrix exponential, cache evictions.
+                let t = 1e-3 * k as f64 + 2e-4 * (k as f64 * 0.7).sin();
+                let status =
+                    hya_estimator_update_at(timed, 1e-3 + t, p, tau.as_ptr(), N, d_hat.as_mut_ptr(), null_mut());
+                assert_eq!(status, HyaStatus::HyaOk);
                 hya_observer_update(observer, p, null(), tau.as_ptr(), N, d_hat.as_mut_ptr());
                 hya_model_inverse_dynamics(model, p, zero.as_ptr(), zero.as_ptr(), N, tau.as_mut_ptr());
                 hya_model_forward_dynamics(model, p, zero.as_ptr(), tau.as_ptr(), N, tau.as_mut_ptr());
@@ -247,6 +257,7 @@ fn c_abi_calls_after_creation_do_not_allocate() {
         hya_controller_free(controller);
         hya_observer_free(observer);
         hya_estimator_free(estimator);
+        hya_estimator_free(timed);
         hya_model_free(model);
     }
 }

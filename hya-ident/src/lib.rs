@@ -1,0 +1,21 @@
+//! # hya-ident
+//!
+//! Identification of an arm from its logs starts here: inverse dynamics is linear in the
+//! bodies' inertial parameters,
+//!
+//! ```text
+//! τ = Y(q, q̇, q̈) π,   π = (π_1, …, π_B),   π_b = (m, h_x, h_y, h_z, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz)
+//! ```
+//!
+//! (ten per body, [`regressor`]), and a log identifies `π` only as well as the motion in it
+//! excites `Y`: [`excitation`] designs a periodic trajectory (a finite Fourier series per joint,
+//! within the joints' position and velocity limits) whose stacked regressor is well
+//! conditioned ([`conditioning`]).
+
+pub mod conditioning;
+pub mod excitation;
+pub mod regressor;
+
+pub use conditioning::Conditioning;
+pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
+pub use regressor::{nominal_parameters, Regressor, PARAMETERS_PER_BODY};

@@ -9,6 +9,7 @@ mod bench;
 mod columns;
 mod dynamics;
 mod estimate;
+mod excite;
 mod experiments;
 mod filter;
 mod generate;
@@ -69,6 +70,9 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Generate unrolled Rust dynamics from a URDF (`--stats`: operation counts instead).
     Generate(generate::GenerateArgs),
+    /// An exciting trajectory for identification: rows `t q… q̇… q̈…`, a Fourier series per joint
+    /// within the joints' position and velocity limits, chosen for a well-conditioned regressor
+    Excite(excite::ExciteArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -98,6 +102,7 @@ fn main() -> ExitCode {
         }
         Command::Fd(args) => dynamics::run(dynamics::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
         Command::Generate(args) => generate::run(&args, &mut stdout),
+        Command::Excite(args) => excite::run(&args, &mut stdout),
         Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),

@@ -245,3 +245,113 @@ impl ExcitationDesign {
         Ok(best)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hya_core::model::{Body, JointKind, JointLimits};
+    use hya_core::spatial::{RigidBodyInertia, Transform};
+    use nalgebra::{Matrix3, Vector3};
+
+    /// A planar two-link arm (joints about y, gravity along −z, in the arm's plane).
+    fn planar() -> TreeModel {
+        let link = |name: &str, parent: Option<usize>, offset: f64, mass: f64| Body {
+            link: format!("{name}_link"),
+            joint: name.to_owned(),
+            parent,
+            kind: JointKind::Revolute,
+            axis: Vector3::y(),
+            tree_transform: Transform::from_arrays(
+                [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                [offset, 0.0, 0.0],
+            ),
+            inertia: RigidBodyInertia::from_centre_of_mass(
+                mass,
+                Vector3::new(0.25, 0.0, 0.02),
+                Matrix3::from_diagonal(&Vector3::new(0.01, 0.02, 0.03)),
+            ),
+            limits: JointLimits { lower: Some(-2.0), upper: Some(1.0), velocity: Some(3.0), effort: None },
+        };
+        TreeModel::new("planar", vec![link("shoulder", None, 0.0, 2.0), link("elbow", Some(0), 0.5, 1.5)], vec![]).unwrap()
+    }
+
+    fn design(candidates: usize) -> (FourierTrajectory, Conditioning, Limits) {
+        let model = planar();
+        let limits = Limits::of(&model, 0.8, 0.5).unwrap();
+        let (trajectory, conditioning) =
+            ExcitationDesign { candidates, samples: 60, ..ExcitationDesign::default() }.run(&model, &limits).unwrap();
+        (trajectory, conditioning, limits)
+    }
+
+    #[test]
+    fn each_period_starts_and_ends_at_rest() {
+        let (trajectory, _, _) = design(3);
+        let period = trajectory.period_s();
+        for t in [0.0, period, 3.0 * period] {
+            let (q, qd, qdd) = trajectory.at(t);
+            let (q0, _, _) = trajectory.at(0.0);
+            for i in 0..2 {
+                assert!(qd[i].abs() < 1e-12 && qdd[i].abs() < 1e-12, "t = {t}: q̇ = {qd:?}, q̈ = {qdd:?}");
+                assert!((q[i] - q0[i]).abs() < 1e-9, "not periodic at t = {t}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_trajectory_stays_within_its_limits_between_grid_points_too() {
+        let (trajectory, _, limits) = design(3);
+        let steps = 10 * LIMIT_GRID;
+        for k in 0..=steps {
+            let (q, qd, _) = trajectory.at(trajectory.period_s() * k as f64 / steps as f64);
+            for i in 0..2 {
+                // The grid's limit holds between its points to within a few parts per million.
+                let slack = 1e-5 * (limits.upper[i] - limits.lower[i]);
+                assert!(q[i] >= limits.lower[i] - slack && q[i] <= limits.upper[i] + slack, "q[{i}] = {}", q[i]);
+                assert!(qd[i].abs() <= limits.velocity[i] * (1.0 + 1e-5), "q̇[{i}] = {}", qd[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn velocity_and_acceleration_are_the_derivatives_of_position() {
+        let (trajectory, _, _) = design(2);
+        let h = 1e-5;
+        for k in 1..50 {
+            let t = trajectory.period_s() * k as f64 / 50.0;
+            let ((qm, qdm, _), (qp, qdp, _), (_, qd, qdd)) = (trajectory.at(t - h), trajectory.at(t + h), trajectory.at(t));
+            for i in 0..2 {
+                assert!(((qp[i] - qm[i]) / (2.0 * h) - qd[i]).abs() < 1e-6, "q̇ at t = {t}");
+                assert!(((qdp[i] - qdm[i]) / (2.0 * h) - qdd[i]).abs() < 1e-5, "q̈ at t = {t}");
+            }
+        }
+    }
+
+    /// A planar 2R arm with gravity in its plane has six base parameters (Khalil and Dombre):
+    /// link 2's inertia about its axis and its two in-plane first moments; link 1's the same,
+    /// with link 2's mass lumped at the elbow (`I_1 + m_2 l_1²`, `h_1x + m_2 l_1`, `h_1z`).
+    #[test]
+    fn a_planar_two_link_arm_identifies_six_combinations() {
+        let (_, conditioning, _) = design(4);
+        assert_eq!(conditioning.rank, 6);
+        assert!(conditioning.condition_number.is_finite() && conditioning.condition_number >= 1.0);
+    }
+
+    #[test]
+    fn joints_without_limits_and_bad_settings_are_refused_by_name() {
+        let mut model = planar();
+        let mut bodies = model.bodies().to_vec();
+        bodies[1].limits.velocity = None;
+        model = TreeModel::new("planar", bodies, vec![]).unwrap();
+        let message = Limits::of(&model, 0.8, 0.5).unwrap_err().to_string();
+        assert!(message.contains("`elbow`") && message.contains("velocity"), "{message}");
+        assert!(Limits::of(&planar(), 0.0, 0.5).is_err());
+        let limits = Limits::of(&planar(), 0.8, 0.5).unwrap();
+        for design in [
+            ExcitationDesign { harmonics: 0, ..ExcitationDesign::default() },
+            ExcitationDesign { base_hz: f64::NAN, ..ExcitationDesign::default() },
+            ExcitationDesign { candidates: 0, ..ExcitationDesign::default() },
+        ] {
+            assert!(matches!(design.run(&planar(), &limits), Err(ExcitationError::Setting { .. })));
+        }
+    }
+}

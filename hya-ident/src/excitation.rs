@@ -272,7 +272,8 @@ mod tests {
             ),
             limits: JointLimits { lower: Some(-2.0), upper: Some(1.0), velocity: Some(3.0), effort: None },
         };
-        TreeModel::new("planar", vec![link("shoulder", None, 0.0, 2.0), link("elbow", Some(0), 0.5, 1.5)], vec![]).unwrap()
+        TreeModel::new("planar", vec![link("shoulder", None, 0.0, 2.0), link("elbow", Some(0), 0.5, 1.5)], vec![])
+            .unwrap()
     }
 
     fn design(candidates: usize) -> (FourierTrajectory, Conditioning, Limits) {
@@ -318,7 +319,8 @@ mod tests {
         let h = 1e-5;
         for k in 1..50 {
             let t = trajectory.period_s() * k as f64 / 50.0;
-            let ((qm, qdm, _), (qp, qdp, _), (_, qd, qdd)) = (trajectory.at(t - h), trajectory.at(t + h), trajectory.at(t));
+            let ((qm, qdm, _), (qp, qdp, _), (_, qd, qdd)) =
+                (trajectory.at(t - h), trajectory.at(t + h), trajectory.at(t));
             for i in 0..2 {
                 assert!(((qp[i] - qm[i]) / (2.0 * h) - qd[i]).abs() < 1e-6, "q̇ at t = {t}");
                 assert!(((qdp[i] - qdm[i]) / (2.0 * h) - qdd[i]).abs() < 1e-5, "q̈ at t = {t}");

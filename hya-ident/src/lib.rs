@@ -10,12 +10,15 @@
 //! (ten per body, [`regressor`]), and a log identifies `π` only as well as the motion in it
 //! excites `Y`: [`excitation`] designs a periodic trajectory (a finite Fourier series per joint,
 //! within the joints' position and velocity limits) whose stacked regressor is well
-//! conditioned ([`conditioning`]).
+//! conditioned ([`conditioning`]); only some combinations of the parameters, the base
+//! parameters ([`base`]), act on the joints at all.
 
+pub mod base;
 pub mod conditioning;
 pub mod excitation;
 pub mod regressor;
 
+pub use base::BaseParameters;
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
 pub use regressor::{nominal_parameters, Regressor, PARAMETERS_PER_BODY};

@@ -11,14 +11,17 @@
 //! excites `Y`: [`excitation`] designs a periodic trajectory (a finite Fourier series per joint,
 //! within the joints' position and velocity limits) whose stacked regressor is well
 //! conditioned ([`conditioning`]); only some combinations of the parameters, the base
-//! parameters ([`base`]), act on the joints at all.
+//! parameters ([`base`]), act on the joints at all; [`fit`] finds them and the joints'
+//! friction from a log's samples.
 
 pub mod base;
 pub mod conditioning;
 pub mod excitation;
+pub mod fit;
 pub mod regressor;
 
 pub use base::BaseParameters;
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
+pub use fit::{fit, Fit, FitError, Friction, Sample};
 pub use regressor::{nominal_parameters, Regressor, PARAMETERS_PER_BODY};

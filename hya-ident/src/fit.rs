@@ -1,0 +1,202 @@
+//! Base parameters and joint friction from samples `(q, q̇, q̈, τ)` by weighted least squares
+//! (Gautier and Khalil's inverse dynamic identification model):
+//!
+//! ```text
+//! τ_i = (Y_b π_b)_i + c_i tanh(q̇_i / s) + v_i q̇_i + o_i          joint i, every sample
+//! ```
+//!
+//! stacked over the samples into `W θ = τ`, `θ = (π_b, c, v, o)`, with `s` the friction's
+//! smoothing velocity. A first ordinary least-squares solve gives each joint's residual
+//! variance `σ_i²`; each joint's rows are then weighted by `1/σ_i` and solved again, so that a
+//! noisy joint does not drown a quiet one. The parameters' standard deviations are the
+//! square roots of the diagonal of `σ̂² (W_wᵀ W_w)⁻¹` of the weighted system, with `σ̂²` its
+//! residual variance; they hold for noise that is white and independent between samples.
+//!
+//! No physical consistency is imposed here: base parameters are combinations of the bodies'
+//! parameters and have no such constraint of their own.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::base::BaseParameters;
+use crate::conditioning::Conditioning;
+use crate::regressor::Regressor;
+
+/// One sample of a log: the joint state and the torque measured in it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample {
+    /// Positions, rad.
+    pub q: Vec<f64>,
+    /// Velocities, rad/s.
+    pub qd: Vec<f64>,
+    /// Accelerations, rad/s².
+    pub qdd: Vec<f64>,
+    /// Measured torques, N·m.
+    pub tau: Vec<f64>,
+}
+
+/// Per-joint friction `τ_f = c tanh(q̇/s) + v q̇ + o`: the torque the joint needs beyond the
+/// rigid body's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Friction {
+    /// `c`, N·m.
+    pub coulomb_nm: Vec<f64>,
+    /// `v`, N·m·s/rad.
+    pub viscous_nm_s: Vec<f64>,
+    /// `o`, N·m.
+    pub offset_nm: Vec<f64>,
+    /// `s`, rad/s.
+    pub smoothing_rad_s: f64,
+}
+
+impl Friction {
+    /// Joint `i`'s friction torque at velocity `qd`.
+    pub fn torque(&self, i: usize, qd: f64) -> f64 {
+        self.coulomb_nm[i] * (qd / self.smoothing_rad_s).tanh() + self.viscous_nm_s[i] * qd + self.offset_nm[i]
+    }
+}
+
+/// What the fit found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// `π_b`.
+    pub base: DVector<f64>,
+    /// Their standard deviations.
+    pub base_std: DVector<f64>,
+    /// The friction.
+    pub friction: Friction,
+    /// Its parameters' standard deviations, in the order `c`, `v`, `o` of every joint.
+    pub friction_std: Vec<[f64; 3]>,
+    /// Each joint's residual RMS on the samples fitted, N·m.
+    pub residual_rms_nm: Vec<f64>,
+    /// The weighted system's conditioning.
+    pub conditioning: Conditioning,
+}
+
+/// Why a fit failed.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Fewer rows than unknowns, or a sample of the wrong size.
+    #[error("{0}")]
+    Samples(String),
+    /// The regressor refused a sample.
+    #[error(transparent)]
+    Model(#[from] hya_core::model::ModelError),
+    /// The system does not determine the unknowns (the motion did not excite them).
+    #[error("the samples determine {rank} of the {unknowns} unknowns: the motion does not excite them all")]
+    RankDeficient {
+        /// The weighted system's rank.
+        rank: usize,
+        /// Base parameters and friction parameters.
+        unknowns: usize,
+    },
+}
+
+/// The stacked system `W θ = τ` of `samples`.
+fn system(
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+    smoothing: f64,
+) -> Result<(DMatrix<f64>, DVector<f64>), FitError> {
+    let n = samples.first().map_or(0, |s| s.q.len());
+    let (r, unknowns) = (base.rank(), base.rank() + 3 * n);
+    let mut w = DMatrix::zeros(n * samples.len(), unknowns);
+    let mut tau = DVector::zeros(n * samples.len());
+    let mut y = DMatrix::zeros(n, regressor.columns());
+    for (k, s) in samples.iter().enumerate() {
+        if [&s.qd, &s.qdd, &s.tau].iter().any(|v| v.len() != n) {
+            return Err(FitError::Samples(format!("sample {k} has vectors of different lengths")));
+        }
+        regressor.rows_into((&s.q, &s.qd, &s.qdd), &mut y, 0)?;
+        let yb = base.base_regressor(&y);
+        for i in 0..n {
+            let row = k * n + i;
+            w.view_mut((row, 0), (1, r)).copy_from(&yb.row(i));
+            w[(row, r + 3 * i)] = (s.qd[i] / smoothing).tanh();
+            w[(row, r + 3 * i + 1)] = s.qd[i];
+            w[(row, r + 3 * i + 2)] = 1.0;
+            tau[row] = s.tau[i];
+        }
+    }
+    Ok((w, tau))
+}
+
+/// Least squares `W θ ≈ b`, with `(WᵀW)⁻¹`; `None` if `W` is rank deficient.
+fn solve(w: &DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
+    let svd = w.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    if svd.singular_values.iter().any(|s| *s <= crate::conditioning::RANK_TOLERANCE * largest) {
+        return None;
+    }
+    let theta = svd.solve(b, 0.0).ok()?;
+    let v_t = svd.v_t.as_ref()?;
+    let inverse_squares = DMatrix::from_diagonal(&svd.singular_values.map(|s| 1.0 / (s * s)));
+    Some((theta, v_t.transpose() * inverse_squares * v_t))
+}
+
+/// Fits base parameters and friction to `samples` of `regressor`'s model.
+pub fn fit(
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+    smoothing_rad_s: f64,
+) -> Result<Fit, FitError> {
+    let n = samples.first().map_or(0, |s| s.q.len());
+    let unknowns = base.rank() + 3 * n;
+    if n == 0 || n * samples.len() < 2 * unknowns {
+        return Err(FitError::Samples(format!(
+            "{} samples of {n} joints give {} rows; fitting {unknowns} unknowns needs at least {}",
+            samples.len(),
+            n * samples.len(),
+            2 * unknowns
+        )));
+    }
+    let (w, tau) = system(regressor, base, samples, smoothing_rad_s)?;
+    let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&w).rank, unknowns };
+    let (first, _) = solve(&w, &tau).ok_or_else(rank_deficient)?;
+    let residual = &tau - &w * &first;
+    let dof_per_joint = (samples.len() as f64 - unknowns as f64 / n as f64).max(1.0);
+    let sigma: Vec<f64> = (0..n)
+        .map(|i| (residual.iter().skip(i).step_by(n).map(|e| e * e).sum::<f64>() / dof_per_joint).sqrt().max(1e-12))
+        .collect();
+    let weights = DVector::from_fn(w.nrows(), |row, _| 1.0 / sigma[row % n]);
+    let (ww, tw) = (DMatrix::from_fn(w.nrows(), w.ncols(), |r, c| w[(r, c)] * weights[r]), tau.component_mul(&weights));
+    let (theta, inverse) = solve(&ww, &tw).ok_or_else(rank_deficient)?;
+    let weighted_residual = &tw - &ww * &theta;
+    let variance = weighted_residual.norm_squared() / (ww.nrows() - unknowns) as f64;
+    let std = inverse.diagonal().map(|d| (variance * d).sqrt());
+    let final_residual = &tau - &w * &theta;
+    let r = base.rank();
+    let friction_part = |offset: usize| (0..n).map(|i| theta[r + 3 * i + offset]).collect();
+    Ok(Fit {
+        base: theta.rows(0, r).into_owned(),
+        base_std: std.rows(0, r).into_owned(),
+        friction: Friction {
+            coulomb_nm: friction_part(0),
+            viscous_nm_s: friction_part(1),
+            offset_nm: friction_part(2),
+            smoothing_rad_s,
+        },
+        friction_std: (0..n).map(|i| [std[r + 3 * i], std[r + 3 * i + 1], std[r + 3 * i + 2]]).collect(),
+        residual_rms_nm: (0..n)
+            .map(|i| {
+                (final_residual.iter().skip(i).step_by(n).map(|e| e * e).sum::<f64>() / samples.len() as f64).sqrt()
+            })
+            .collect(),
+        conditioning: Conditioning::of(&ww),
+    })
+}
+
+impl Fit {
+    /// The torque the fitted model predicts for `sample`'s state (its `tau` is ignored).
+    pub fn predict(
+        &self,
+        regressor: &Regressor<'_>,
+        base: &BaseParameters,
+        sample: &Sample,
+    ) -> Result<DVector<f64>, FitError> {
+        let y = regressor.rows((&sample.q, &sample.qd, &sample.qdd))?;
+        let rigid = base.base_regressor(&y) * &self.base;
+        Ok(DVector::from_fn(rigid.len(), |i, _| rigid[i] + self.friction.torque(i, sample.qd[i])))
+    }
+}

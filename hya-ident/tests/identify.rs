@@ -1,0 +1,164 @@
+//! Identification on a simulated HyA log: the true parameters known (the URDF's, perturbed),
+//! joint friction of the fitted form, Gaussian torque noise. The fit must recover the base
+//! parameters and friction within three of its own standard deviations and predict a held-out
+//! trajectory's torques better than the nominal model on every joint.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+use hya_core::model::TreeModel;
+use hya_core::spatial::RigidBodyInertia;
+use hya_ident::{fit, nominal_parameters, BaseParameters, ExcitationDesign, Friction, Limits, Regressor, Sample};
+use nalgebra::Vector3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const NOISE_NM: f64 = 0.3;
+const SMOOTHING: f64 = 0.05;
+
+/// `model` with every body's mass, centre of mass and inertia about it perturbed (physically:
+/// masses and principal inertias stay positive).
+fn perturbed(model: &TreeModel, rng: &mut ChaCha8Rng) -> TreeModel {
+    let bodies = model
+        .bodies()
+        .iter()
+        .map(|body| {
+            let mut body = body.clone();
+            if let Some((mass, com, inertia)) = body.inertia.centre_of_mass_form() {
+                let mut u = || rng.gen_range(-1.0..1.0);
+                let com = com + Vector3::new(u(), u(), u()) * 0.02;
+                body.inertia =
+                    RigidBodyInertia::from_centre_of_mass(mass * (1.0 + 0.15 * u()), com, inertia * (1.0 + 0.2 * u()));
+            }
+            body
+        })
+        .collect();
+    TreeModel::new(model.name(), bodies, model.frames().to_vec()).unwrap()
+}
+
+/// Samples of one designed trajectory at `rate_hz` over one period, torques from `truth`.
+fn log(
+    model: &TreeModel,
+    truth: &TreeModel,
+    friction: &Friction,
+    seed: u64,
+    rate_hz: f64,
+    rng: &mut ChaCha8Rng,
+) -> Vec<Sample> {
+    let limits = Limits::of(model, 0.8, 0.5).unwrap();
+    let design = ExcitationDesign { candidates: 3, samples: 40, seed, ..ExcitationDesign::default() };
+    let (trajectory, _) = design.run(model, &limits).unwrap();
+    let count = (trajectory.period_s() * rate_hz) as usize;
+    (0..count)
+        .map(|k| {
+            let (q, qd, qdd) = trajectory.at(k as f64 / rate_hz);
+            let rigid = truth.inverse_dynamics(&q, &qd, &qdd).unwrap();
+            let tau = (0..q.len())
+                .map(|i| {
+                    // Box–Muller: one standard normal draw.
+                    let (a, b): (f64, f64) = (rng.gen_range(f64::EPSILON..1.0), rng.gen_range(0.0..1.0));
+                    let noise = (-2.0 * a.ln()).sqrt() * (core::f64::consts::TAU * b).cos();
+                    rigid[i] + friction.torque(i, qd[i]) + NOISE_NM * noise
+                })
+                .collect();
+            Sample { q, qd, qdd, tau }
+        })
+        .collect()
+}
+
+#[test]
+fn a_simulated_hya_log_is_identified_within_three_standard_deviations() {
+    let robot = hya_robots::find("hya").unwrap();
+    let nominal = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let truth = perturbed(&nominal, &mut rng);
+    let friction = Friction {
+        coulomb_nm: vec![6.0, 6.0, 4.0, 4.0, 2.0, 2.0],
+        viscous_nm_s: vec![3.0, 3.0, 2.0, 2.0, 1.0, 1.0],
+        offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
+        smoothing_rad_s: SMOOTHING,
+    };
+    let fit_log = log(&nominal, &truth, &friction, 1, 50.0, &mut rng);
+    let held_out = log(&nominal, &truth, &friction, 2, 20.0, &mut rng);
+
+    let regressor = Regressor::new(&nominal);
+    let base = BaseParameters::of(&nominal, 5).unwrap();
+    let fitted = fit(&regressor, &base, &fit_log, SMOOTHING).unwrap();
+
+    let true_base = base.of_parameters(&nominal_parameters(&truth));
+    let mut worst: f64 = 0.0;
+    for j in 0..base.rank() {
+        let z = (fitted.base[j] - true_base[j]).abs() / fitted.base_std[j];
+        worst = worst.max(z);
+        assert!(z <= 3.0, "base parameter {j}: {} vs true {} (σ {})", fitted.base[j], true_base[j], fitted.base_std[j]);
+    }
+    for i in 0..6 {
+        let found = [fitted.friction.coulomb_nm[i], fitted.friction.viscous_nm_s[i], fitted.friction.offset_nm[i]];
+        let truth = [friction.coulomb_nm[i], friction.viscous_nm_s[i], friction.offset_nm[i]];
+        for k in 0..3 {
+            let z = (found[k] - truth[k]).abs() / fitted.friction_std[i][k];
+            worst = worst.max(z);
+            assert!(
+                z <= 3.0,
+                "joint {i} friction term {k}: {} vs true {} (σ {})",
+                found[k],
+                truth[k],
+                fitted.friction_std[i][k]
+            );
+        }
+    }
+    // The held-out trajectory: the identified model against the nominal one (rigid body only).
+    let (mut identified, mut nominal_error) = ([0.0; 6], [0.0; 6]);
+    for sample in &held_out {
+        let predicted = fitted.predict(&regressor, &base, sample).unwrap();
+        let rigid = nominal.inverse_dynamics(&sample.q, &sample.qd, &sample.qdd).unwrap();
+        for i in 0..6 {
+            identified[i] += (predicted[i] - sample.tau[i]).powi(2) / held_out.len() as f64;
+            nominal_error[i] += (rigid[i] - sample.tau[i]).powi(2) / held_out.len() as f64;
+        }
+    }
+    for i in 0..6 {
+        assert!(
+            identified[i] < nominal_error[i],
+            "joint {i}: held-out RMS {} identified vs {} nominal",
+            identified[i].sqrt(),
+            nominal_error[i].sqrt()
+        );
+    }
+    println!(
+        "{} base parameters; largest |error|/σ {worst:.2}; held-out RMS (N·m) identified {:?}, nominal {:?}",
+        base.rank(),
+        identified.map(|e| (e.sqrt() * 100.0).round() / 100.0),
+        nominal_error.map(|e| (e.sqrt() * 100.0).round() / 100.0)
+    );
+}
+
+/// The standard deviations the fit reports are the spread its estimates really have: a hundred
+/// fits of the planar arm on the same trajectory with fresh noise.
+#[test]
+fn the_reported_standard_deviations_match_the_spread_over_repeated_logs() {
+    let robot = hya_robots::find("planar2").unwrap();
+    let model = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
+    let friction = Friction {
+        coulomb_nm: vec![1.0, 0.5],
+        viscous_nm_s: vec![1.0, 0.5],
+        offset_nm: vec![0.2, -0.1],
+        smoothing_rad_s: SMOOTHING,
+    };
+    let (regressor, base) = (Regressor::new(&model), BaseParameters::of(&model, 5).unwrap());
+    let truth = base.of_parameters(&nominal_parameters(&model));
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let runs = 100;
+    let (mut squared_errors, mut reported) = (vec![0.0; base.rank()], vec![0.0; base.rank()]);
+    for _ in 0..runs {
+        let samples = log(&model, &model, &friction, 1, 50.0, &mut rng);
+        let fitted = fit(&regressor, &base, &samples, SMOOTHING).unwrap();
+        for j in 0..base.rank() {
+            squared_errors[j] += (fitted.base[j] - truth[j]).powi(2) / runs as f64;
+            reported[j] += fitted.base_std[j] / runs as f64;
+        }
+    }
+    for j in 0..base.rank() {
+        let ratio = squared_errors[j].sqrt() / reported[j];
+        // A spread from 100 runs is known to about ±7 %: the bounds are over three times that.
+        assert!((0.75..1.3).contains(&ratio), "base parameter {j}: spread / reported σ = {ratio:.2}");
+    }
+}

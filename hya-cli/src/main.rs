@@ -13,6 +13,7 @@ mod excite;
 mod experiments;
 mod filter;
 mod generate;
+mod identify;
 mod plant;
 mod rows;
 mod sweep;
@@ -73,6 +74,9 @@ enum Command {
     /// An exciting trajectory for identification: rows `t q… q̇… q̈…`, a Fourier series per joint
     /// within the joints' position and velocity limits, chosen for a well-conditioned regressor
     Excite(excite::ExciteArgs),
+    /// Base parameters and joint friction from a log of rows `q τ` (filtered as the estimator
+    /// does): `friction.toml` and `report.md` in `--out`, with held-out torque predictions
+    Identify(identify::IdentifyArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -103,6 +107,7 @@ fn main() -> ExitCode {
         Command::Fd(args) => dynamics::run(dynamics::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
         Command::Generate(args) => generate::run(&args, &mut stdout),
         Command::Excite(args) => excite::run(&args, &mut stdout),
+        Command::Identify(args) => identify::run(&args, stdin),
         Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),

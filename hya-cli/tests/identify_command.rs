@@ -1,0 +1,83 @@
+//! `hya identify` on a log made here: the planar arm with a 20 % heavier forearm than its URDF
+//! and joint friction, along a trajectory from `hya excite`'s design, torques exact (no noise).
+//! The identified friction must come back and the held-out prediction beat the nominal model.
+#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
+
+mod common;
+
+use common::{assert_rejected, hya};
+use hya_ident::{ExcitationDesign, Limits};
+
+const DT: f64 = 0.002;
+const COULOMB: [f64; 2] = [1.5, 0.8];
+const VISCOUS: [f64; 2] = [0.6, 0.3];
+
+/// Rows `q τ` of two periods of a designed trajectory.
+fn log() -> String {
+    let urdf = include_str!("../../robots/urdf/planar2.urdf");
+    let nominal = hya_urdf::load_str(urdf, "planar2").unwrap().model;
+    let truth =
+        hya_urdf::load_str(&urdf.replace("<mass value=\"2.0\"/>", "<mass value=\"2.4\"/>"), "truth").unwrap().model;
+    let limits = Limits::of(&nominal, 0.8, 0.5).unwrap();
+    let (trajectory, _) =
+        ExcitationDesign { candidates: 3, samples: 40, ..ExcitationDesign::default() }.run(&nominal, &limits).unwrap();
+    let rows = (2.0 * trajectory.period_s() / DT) as usize;
+    let mut text = String::new();
+    for k in 0..rows {
+        let (q, qd, qdd) = trajectory.at(k as f64 * DT);
+        let rigid = truth.inverse_dynamics(&q, &qd, &qdd).unwrap();
+        let tau: Vec<f64> =
+            (0..2).map(|i| rigid[i] + COULOMB[i] * (qd[i] / 0.05).tanh() + VISCOUS[i] * qd[i]).collect();
+        text += &format!("{} {} {} {}\n", q[0], q[1], tau[0], tau[1]);
+    }
+    text
+}
+
+/// The numbers of `key = [a, b]` in `toml`.
+fn list(toml: &str, key: &str) -> Vec<f64> {
+    let line = toml.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
+    line[line.find('[').unwrap() + 1..line.find(']').unwrap()].split(", ").map(|v| v.parse().unwrap()).collect()
+}
+
+#[test]
+fn identify_recovers_friction_and_beats_the_nominal_model_on_held_out_torques() {
+    let out = std::env::temp_dir().join(format!("hya-identify-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let output = hya(&["identify", "--robot", "planar2", "--dt", "0.002", "--out", out.to_str().unwrap()], &log());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let toml = std::fs::read_to_string(out.join("friction.toml")).unwrap();
+    for (found, truth) in
+        list(&toml, "coulomb_nm").iter().zip(COULOMB).chain(list(&toml, "viscous_nm_s").iter().zip(VISCOUS))
+    {
+        // The filters' lag and the model's nonlinearity leave a small bias; no noise otherwise.
+        assert!((found - truth).abs() < 0.05 * truth + 0.02, "{found} vs {truth}\n{toml}");
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let rows: Vec<Vec<f64>> = report
+        .lines()
+        .filter(|l| l.starts_with("| shoulder |") || l.starts_with("| elbow |"))
+        .take(2)
+        .map(|l| l.split('|').filter_map(|c| c.trim().parse().ok()).collect())
+        .collect();
+    assert_eq!(rows.len(), 2, "{report}");
+    for row in rows {
+        assert!(row[1] < 0.2 * row[0], "held-out RMS identified {} vs nominal {}\n{report}", row[1], row[0]);
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn identify_refuses_short_logs_and_bad_settings() {
+    assert_rejected(
+        &["identify", "--robot", "planar2", "--dt", "0.002", "--out", "/nonexistent/x"],
+        "0.1 0.2 1 2\n",
+        &["rows", "needs at least"],
+    );
+    assert_rejected(
+        &["identify", "--robot", "planar2", "--dt", "0.002"],
+        "0.1 0.2 1\n",
+        &["line 1", "expected 4 values"],
+    );
+    assert_rejected(&["identify", "--robot", "planar2", "--dt", "0.002", "--held-out", "1"], "", &["--held-out"]);
+}

@@ -11,7 +11,7 @@
 //! excites `Y`: [`excitation`] designs a periodic trajectory (a finite Fourier series per joint,
 //! within the joints' position and velocity limits) whose stacked regressor is well
 //! conditioned ([`conditioning`]); only some combinations of the parameters, the base
-//! parameters ([`base`]), act on the joints at all; [`fit`] finds them and the joints'
+//! parameters ([`base`]), act on the joints at all; [`fit`](mod@fit) finds them and the joints'
 //! friction from a log's samples.
 
 pub mod base;

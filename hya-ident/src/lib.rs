@@ -12,16 +12,19 @@
 //! within the joints' position and velocity limits) whose stacked regressor is well
 //! conditioned ([`conditioning`]); only some combinations of the parameters, the base
 //! parameters ([`base`]), act on the joints at all; [`fit`](mod@fit) finds them and the joints'
-//! friction from a log's samples.
+//! friction from a log's samples, and [`physical`] full parameters of real bodies that match
+//! them.
 
 pub mod base;
 pub mod conditioning;
 pub mod excitation;
 pub mod fit;
+pub mod physical;
 pub mod regressor;
 
 pub use base::BaseParameters;
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
 pub use fit::{fit, Fit, FitError, Friction, Sample};
-pub use regressor::{nominal_parameters, Regressor, PARAMETERS_PER_BODY};
+pub use physical::{consistent_parameters, is_consistent, Consistent};
+pub use regressor::{body_inertia, body_parameters, nominal_parameters, Regressor, PARAMETERS_PER_BODY};

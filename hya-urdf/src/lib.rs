@@ -4,7 +4,7 @@
 //! [`load_str`]): every description that makes no physical sense is refused with a
 //! [`LoadError`] naming the file and the link or joint; fixed joints are merged into their
 //! parent body. Used by the code generator, the `robot!` macro, the simulator and the `hya`
-//! command alike.
+//! command alike. [`with_inertias`] writes a description back with new inertias.
 //!
 //! Hostile text is bounded before it is parsed: at most [`MAX_FILE_BYTES`] bytes,
 //! [`MAX_XML_DEPTH`] levels of nesting, [`MAX_XML_NODES`] XML nodes, [`MAX_XML_ATTRIBUTES`] attributes, [`MAX_JOINTS`] joints and
@@ -20,8 +20,10 @@ pub mod error;
 pub mod limits;
 pub mod load;
 pub mod name;
+pub mod write;
 
 pub use error::{LoadError, Problem, Warning};
 pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_ATTRIBUTES, MAX_XML_DEPTH, MAX_XML_NODES};
 pub use load::{load_file, load_str, LoadedModel, Source};
 pub use name::escape_name;
+pub use write::with_inertias;

@@ -207,9 +207,13 @@ pub fn run(args: &IdentifyArgs, input: impl BufRead) -> Result<(), CliError> {
             3 * n
         )));
     }
-    let samples = with_joints(n, Filtered { rows: &rows, params, skip }).ok_or_else(|| {
+    let filtered = with_joints(n, Filtered { rows: &rows, params, skip }).ok_or_else(|| {
         CliError::Input(format!("{} joints: hya handles 1 to {}", n, hya_core::dispatch::MAX_JOINTS))
     })??;
+    // The filters make neighbouring samples' noise alike over about 1/ω: the fit takes one sample
+    // per 1/ω so that its residuals are near independent, as its standard deviations assume.
+    let stride = ((1.0 / (args.bandwidth_rad_s * dt)).round() as usize).max(1);
+    let samples: Vec<Sample> = filtered.into_iter().step_by(stride).collect();
     let split = ((1.0 - args.held_out) * samples.len() as f64) as usize;
     let (fitted_part, held_out) = samples.split_at(split);
     let fitted =
@@ -234,9 +238,12 @@ pub fn run(args: &IdentifyArgs, input: impl BufRead) -> Result<(), CliError> {
     let _ = writeln!(report, "# Identification of `{}`\n", model.name());
     let _ = writeln!(
         report,
-        "{} rows at {dt} s; the first {skip} left out while the filters (ζ 0.8, ω {} rad/s) settle; \
+        "{} rows at {dt} s; the first {skip} left out while the filters (ζ 0.8, ω {} rad/s) settle, then one \
+         row in {stride} (one per 1/ω, over which the filters make the noise of neighbouring rows alike); \
          {} samples fitted, the last {} held out. {} base parameters of {} and {} friction terms, by weighted \
-         least squares; condition number of the weighted system {:.3e}. Standard deviations assume white noise.\n",
+         least squares; condition number of the weighted system {:.3e}. Standard deviations assume the \
+         remaining noise white; the filters' lag adds a bias they do not count. Torques are compared \
+         after the same filter.\n",
         rows.len(),
         args.bandwidth_rad_s,
         fitted_part.len(),
@@ -294,6 +301,11 @@ pub fn run(args: &IdentifyArgs, input: impl BufRead) -> Result<(), CliError> {
                 full.inconsistent_nominal_bodies.iter().map(|&b| model.bodies()[b].link.as_str()).collect();
             format!(" The nominal description's inertia of {} is not that of a real body.", names.join(", "))
         }
+    );
+    let _ = writeln!(
+        report,
+        "A body's own mass is identifiable only where a base parameter is that mass alone; elsewhere the \
+         masses below are one consistent choice among many that predict the same torques.\n"
     );
     let _ = writeln!(report, "| link | nominal mass (kg) | identified mass (kg) |\n|---|---|---|");
     for (b, body) in model.bodies().iter().enumerate() {

@@ -20,11 +20,10 @@ pub fn with_inertias(text: &str, source: &str, inertias: &[(&str, RigidBodyInert
     let parse = |message: String| LoadError::new(source, Problem::Parse { message });
     let mut robot = urdf_rs::read_from_string(text).map_err(|e| parse(e.to_string()))?;
     for (name, inertia) in inertias {
-        let link = robot
-            .links
-            .iter_mut()
-            .find(|l| l.name == *name)
-            .ok_or_else(|| parse(format!("no link named `{}` to write an inertia into", crate::escape_name(name))))?;
+        let link =
+            robot.links.iter_mut().find(|l| l.name == *name).ok_or_else(|| {
+                parse(format!("no link named `{}` to write an inertia into", crate::escape_name(name)))
+            })?;
         link.inertial = urdf_inertial(inertia);
     }
     urdf_rs::write_to_string(&robot).map_err(|e| parse(format!("cannot write the URDF back: {e}")))

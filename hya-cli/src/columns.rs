@@ -9,7 +9,9 @@
 //! The columns are read in the order listed; the command says what it expects in that order
 //! (`hya estimate --timestamps`: `t`, then the joint angles, then the torques).
 
-use crate::rows::{echo, Row, MAX_ROW_VALUES};
+use std::io::BufRead;
+
+use crate::rows::{self, echo, Reader, Row, MAX_ROW_VALUES};
 use crate::CliError;
 
 /// One column of a spec before it meets the header: a position or a name.
@@ -148,6 +150,70 @@ impl Selection {
         out.clear();
         out.extend(self.positions.iter().map(|&p| row.values[p]));
         Ok(())
+    }
+}
+
+/// The rows of a log reduced to the values a command reads, in its order: the whole row
+/// (checked to be `width` wide) or the columns a `--columns` spec selects (resolved against the
+/// log's header when the first row comes). A first line whose first field is not a number is
+/// the header, with or without a spec.
+pub struct Picked<R> {
+    reader: Reader<R>,
+    spec: Option<ColumnSpec>,
+    selection: Option<Selection>,
+    width: usize,
+    what: String,
+    values: Vec<f64>,
+}
+
+impl<R: BufRead> Picked<R> {
+    /// Reads `input` for rows of `width` values described by `what` (for the errors), or the
+    /// columns `spec` selects, which must be `width` of them.
+    pub fn new(input: R, spec: Option<ColumnSpec>, width: usize, what: String) -> Result<Self, CliError> {
+        if let Some(spec) = &spec {
+            if spec.len() != width {
+                return Err(CliError::Input(format!(
+                    "--columns selects {} columns; {width} are read: {what}",
+                    spec.len()
+                )));
+            }
+        }
+        let reader = Reader::with_header(input);
+        Ok(Self { reader, spec, selection: None, width, what, values: Vec::with_capacity(width) })
+    }
+
+    /// The next row's line number, its values then in [`values`](Self::values); `None` at the
+    /// end of the input.
+    pub fn next_line(&mut self) -> Option<Result<usize, CliError>> {
+        let row = match self.reader.next()? {
+            Ok(row) => row,
+            Err(e) => return Some(Err(e)),
+        };
+        Some(self.take(row))
+    }
+
+    fn take(&mut self, row: Row) -> Result<usize, CliError> {
+        match &self.spec {
+            None => {
+                rows::expect_width(&row, self.width, &self.what)?;
+                self.values.clear();
+                self.values.extend_from_slice(&row.values);
+            }
+            Some(spec) => {
+                if self.selection.is_none() {
+                    self.selection = Some(spec.resolve(self.reader.header())?);
+                }
+                if let Some(selection) = &self.selection {
+                    selection.pick(&row, &mut self.values)?;
+                }
+            }
+        }
+        Ok(row.line)
+    }
+
+    /// The values of the row [`next_line`](Self::next_line) returned.
+    pub fn values(&self) -> &[f64] {
+        &self.values
     }
 }
 

@@ -11,7 +11,7 @@ use hya_robots::ForArm;
 use hya_sim::run::Observer;
 use hya_sim::Method;
 
-use crate::columns::{ColumnSpec, Selection};
+use crate::columns::{ColumnSpec, Picked};
 use crate::{rows, CliError};
 
 /// Parameters of `hya estimate`.
@@ -189,31 +189,12 @@ fn estimate<'a, const N: usize>(
         if velocity { format!("then the {N} joint velocities q̇ (rad/s), ") } else { String::new() }
     );
     let width = offset + (2 + usize::from(velocity)) * N;
-    if let Some(spec) = &layout.columns {
-        if spec.len() != width {
-            return Err(CliError::Input(format!("--columns selects {} columns; {width} are read: {what}", spec.len())));
-        }
-    }
-    let mut reader = rows::Reader::with_header(input);
-    let mut selection: Option<Selection> = None;
-    let mut picked = Vec::with_capacity(width);
+    let mut log = Picked::new(input, layout.columns.clone(), width, what)?;
     let mut running: Option<Running<'a, N>> = None;
     let mut gaps = 0;
-    while let Some(row) = reader.next() {
-        let row = row?;
-        let values = match &layout.columns {
-            None => {
-                rows::expect_width(&row, width, &what)?;
-                &row.values
-            }
-            Some(spec) => {
-                if selection.is_none() {
-                    selection = Some(spec.resolve(reader.header())?);
-                }
-                selection.as_ref().map_or(Ok(()), |s| s.pick(&row, &mut picked))?;
-                &picked
-            }
-        };
+    while let Some(line) = log.next_line() {
+        let line = line?;
+        let values = log.values();
         let t = values[0];
         let column = |k: usize| JointVector::<N>::from_column_slice(&values[offset + k * N..offset + (k + 1) * N]);
         let measurement = Measurement {
@@ -222,21 +203,21 @@ fn estimate<'a, const N: usize>(
             torque: column(1 + usize::from(velocity)),
         };
         let (q, tau) = (&measurement.position, &measurement.torque);
-        let at_line = |e: hya_core::Error| CliError::Input(format!("line {}: {e}", row.line));
+        let at_line = |e: hya_core::Error| CliError::Input(format!("line {}: {e}", line));
         let d_hat = match running.as_mut() {
             None => {
                 let started = Running::start(nominal, layout, t, &measurement)
-                    .map_err(|e| rows::at(format_args!("line {}", row.line), e))?;
+                    .map_err(|e| rows::at(format_args!("line {}", line), e))?;
                 let d_hat = started.disturbance();
                 running = Some(started);
                 d_hat
             }
             Some(Running::Fixed(e)) => e.update(&measurement).map_err(at_line)?,
-            Some(Running::Timed(e)) => timed_step(e, layout, row.line, t, q, tau, &mut gaps)?,
+            Some(Running::Timed(e)) => timed_step(e, layout, line, t, q, tau, &mut gaps)?,
         };
         let time = layout.timestamps.then_some(t);
         rows::write(output, time.into_iter().chain(d_hat.iter().copied()))
-            .map_err(|e| rows::at(format_args!("line {}", row.line), e))?;
+            .map_err(|e| rows::at(format_args!("line {}", line), e))?;
     }
     if gaps > REPORTED_GAPS {
         eprintln!("hya: {gaps} gaps in all, the first {REPORTED_GAPS} reported");

@@ -19,6 +19,7 @@ use crate::config::settings::JointSettings;
 use crate::error::{SettingError, SimError};
 use crate::plant::{perturbed, Plant};
 use crate::robot::Robot;
+use hya_core::model::TreeModel;
 use sensors::Sensors;
 use task::Trajectory;
 use trace::{Trace, SHADOWS};
@@ -172,13 +173,33 @@ pub fn closed_loop<const N: usize>(
     method: Method,
     robot: &Robot<N>,
 ) -> Result<ClosedLoop<N>, SimError> {
+    let joints = JointSettings::<N>::of(scenario)?;
+    let trajectory = Trajectory::new(&scenario.task, joints.task, joints.initial_position)?;
+    closed_loop_on(scenario, method, robot, &trajectory, |_, _| {})
+}
+
+/// The plant's true rigid body in `scenario` on `robot`: its model perturbed by the scenario's
+/// seed, with the random stream that then draws the friction profiles.
+pub fn true_model<const N: usize>(scenario: &Scenario, robot: &Robot<N>) -> (TreeModel, ChaCha8Rng) {
+    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
+    let model = perturbed(&robot.model, scenario.plant.parameter_spread, &mut rng);
+    (model, rng)
+}
+
+/// [`closed_loop`] following `trajectory` instead of the scenario's task, handing every
+/// measurement the controller reads, with its time, to `log`: the log a real arm would record.
+pub fn closed_loop_on<const N: usize>(
+    scenario: &Scenario,
+    method: Method,
+    robot: &Robot<N>,
+    trajectory: &Trajectory<N>,
+    mut log: impl FnMut(f64, &Measurement<N>),
+) -> Result<ClosedLoop<N>, SimError> {
     let nominal = robot.nominal.as_ref();
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
-    let q0 = joints.initial_position;
-    // One stream draws the model perturbation, then the friction profiles.
-    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
-    let true_model = perturbed(&robot.model, scenario.plant.parameter_spread, &mut rng);
+    let q0 = trajectory.at(0.0).position;
+    let (true_model, mut rng) = true_model(scenario, robot);
     let hold = nominal.gravity(&q0);
     let mut plant = Plant::new(
         true_model,
@@ -189,7 +210,6 @@ pub fn closed_loop<const N: usize>(
     )?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
-    let trajectory = Trajectory::new(&scenario.task, joints.task, q0)?;
     let gains = gains(nominal, scenario, &joints)?;
     let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(joints.torque_limit)
@@ -230,6 +250,7 @@ pub fn closed_loop<const N: usize>(
             }
         }
         let measurement = readings[0];
+        log(t, &measurement);
         let at = |source| SimError::Step { time_s: t, source };
         let d_hat = match estimator.as_mut() {
             Some(o) if k > 0 => o.update(&measurement).map_err(at)?,

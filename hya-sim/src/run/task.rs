@@ -1,4 +1,5 @@
-//! Reference trajectories: hold, goto (minimum-jerk transition) and sine.
+//! Reference trajectories: hold, goto (minimum-jerk transition), sine, and samples given by the
+//! user (an exciting trajectory from `hya excite`, say).
 
 use std::f64::consts::PI;
 
@@ -19,6 +20,79 @@ enum Shape<const N: usize> {
     Hold,
     Goto { start_s: f64, transition_s: f64, delta: JointVector<N> },
     Sine { amplitude: JointVector<N>, frequency_hz: f64, ramp_s: f64 },
+    Sampled(Samples<N>),
+}
+
+/// A reference given at sample times `t_k` (strictly increasing, from 0): between two samples
+/// the position is the cubic Hermite curve through their positions and velocities, the velocity
+/// its derivative, and the acceleration linear between theirs; before the first and after the
+/// last sample the reference holds that sample's position at rest.
+#[derive(Debug, Clone)]
+pub struct Samples<const N: usize> {
+    time: Vec<f64>,
+    points: Vec<Reference<N>>,
+}
+
+impl<const N: usize> Samples<N> {
+    /// Samples at `time` (strictly increasing, finite, from 0); an error names the first bad one.
+    pub fn new(time: Vec<f64>, points: Vec<Reference<N>>) -> Result<Self, SimError> {
+        let bad = |k: usize, value: f64, requirement: &str| {
+            Err(SettingError::new(format!("reference sample {}", k + 1), Some(value), requirement).into())
+        };
+        if time.is_empty() || time.len() != points.len() {
+            return bad(0, time.len() as f64, "one time per sample, at least one sample");
+        }
+        if time[0] != 0.0 {
+            return bad(0, time[0], "the first sample's time must be 0");
+        }
+        for (k, pair) in time.windows(2).enumerate() {
+            if !(pair[1].is_finite() && pair[1] > pair[0]) {
+                return bad(k + 1, pair[1], "times must be finite and strictly increasing");
+            }
+        }
+        if let Some(k) = points
+            .iter()
+            .position(|p| p.position.iter().chain(&p.velocity).chain(&p.acceleration).any(|v| !v.is_finite()))
+        {
+            return bad(k, f64::NAN, "every position, velocity and acceleration must be finite");
+        }
+        Ok(Self { time, points })
+    }
+
+    /// The last sample's time, s.
+    pub fn duration_s(&self) -> f64 {
+        self.time[self.time.len() - 1]
+    }
+
+    /// The first sample's position, rad.
+    pub fn start(&self) -> JointVector<N> {
+        self.points[0].position
+    }
+
+    /// The reference at `t` (see the type's notes).
+    fn at(&self, t: f64) -> Reference<N> {
+        let last = self.points.len() - 1;
+        if t <= 0.0 || last == 0 {
+            return Reference::hold(self.points[0].position);
+        }
+        if t >= self.time[last] {
+            return Reference::hold(self.points[last].position);
+        }
+        let k = self.time.partition_point(|&tk| tk <= t) - 1;
+        let (a, b) = (&self.points[k], &self.points[k + 1]);
+        let h = self.time[k + 1] - self.time[k];
+        let s = (t - self.time[k]) / h;
+        // Cubic Hermite basis on s ∈ [0, 1] and its derivative with respect to t.
+        let (s2, s3) = (s * s, s * s * s);
+        let (h00, h10, h01, h11) = (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2);
+        let (d00, d10, d01, d11) =
+            ((6.0 * s2 - 6.0 * s) / h, 3.0 * s2 - 4.0 * s + 1.0, (6.0 * s - 6.0 * s2) / h, 3.0 * s2 - 2.0 * s);
+        Reference {
+            position: a.position * h00 + a.velocity * (h * h10) + b.position * h01 + b.velocity * (h * h11),
+            velocity: a.position * d00 + a.velocity * d10 + b.position * d01 + b.velocity * d11,
+            acceleration: a.acceleration * (1.0 - s) + b.acceleration * s,
+        }
+    }
 }
 
 impl<const N: usize> Trajectory<N> {
@@ -38,6 +112,11 @@ impl<const N: usize> Trajectory<N> {
             }
         };
         Ok(Self { start, shape })
+    }
+
+    /// The trajectory through `samples`, starting at their first position.
+    pub fn sampled(samples: Samples<N>) -> Self {
+        Self { start: samples.start(), shape: Shape::Sampled(samples) }
     }
 
     /// The reference at time `t`.
@@ -77,6 +156,7 @@ impl<const N: usize> Trajectory<N> {
                     acceleration: amplitude * acceleration,
                 }
             }
+            Shape::Sampled(samples) => samples.at(t),
         }
     }
 }

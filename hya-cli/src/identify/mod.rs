@@ -1,0 +1,220 @@
+//! `hya identify`: base parameters and joint friction from a log of rows `[t] q τ`, written into
+//! `--out` as `identified.urdf`, `friction.toml`, `report.md` and `held_out.svg`.
+//!
+//! The log is filtered into samples ([`log`]); the first part is fitted and a later part held
+//! out, on which the identified and the nominal model's torque predictions are compared (and
+//! those of `--compare`'s model, whose base parameters the report also holds against the
+//! identified ones, in standard deviations).
+
+mod files;
+mod log;
+mod report;
+
+use std::io::BufRead;
+use std::path::PathBuf;
+
+use hya_core::dispatch::with_joints;
+use hya_core::model::TreeModel;
+use hya_core::FilterParams;
+use hya_ident::{consistent_parameters, fit, nominal_parameters, BaseParameters, Regressor, Sample};
+use hya_sim::io::output::OutputDir;
+
+use crate::columns::ColumnSpec;
+use crate::rows::check_dt;
+use crate::CliError;
+use files::{friction_toml, identified_urdf, list};
+use log::{Filter, Layout};
+use report::{Compared, Findings, Predictions};
+
+/// Parameters of `hya identify`.
+#[derive(Debug, clap::Args)]
+pub struct IdentifyArgs {
+    /// A shipped robot's name (see `hya robots`) or the path of a URDF file: the nominal model.
+    #[arg(long)]
+    robot: String,
+    /// The log's sample time, s (rows `q τ`, one per tick). With `--timestamps`, the nominal
+    /// step: the filters are designed at it and each row is filtered over its own step.
+    #[arg(long)]
+    dt: f64,
+    /// Rows start with their time t, s: `t q τ`, filtered over each step's own length.
+    #[arg(long)]
+    timestamps: bool,
+    /// With --timestamps: the longest step that is not a gap, s [default: 2.5 × --dt]; the
+    /// filters restart after a gap and settle again before samples are taken.
+    #[arg(long, requires = "timestamps")]
+    max_step: Option<f64>,
+    /// The columns to read, in the order t (with --timestamps), q, τ: header names, positions
+    /// from 1, or ranges (`t,q1-q6,tau1-tau6` or `1,2-7,14-19`); other columns are ignored. A
+    /// first line whose first field is not a number is the header, with or without --columns.
+    #[arg(long)]
+    columns: Option<String>,
+    /// A URDF (the same joints as --robot) to hold the identified model against: its base
+    /// parameters in standard deviations of the identified ones, and its held-out prediction
+    /// (a published identified model, or a simulation's true one).
+    #[arg(long)]
+    compare: Option<String>,
+    /// Where the files go (created; held by this run alone).
+    #[arg(long, default_value = "hya-identify")]
+    out: PathBuf,
+    /// Replace files hya wrote in `--out` before (see `hya run --help`).
+    #[arg(long)]
+    force: bool,
+    /// The fraction of the log, at its end, held out from the fit to test the prediction.
+    #[arg(long, default_value_t = 0.25)]
+    held_out: f64,
+    /// The friction model's smoothing velocity `s` in `c tanh(q̇/s)`, rad/s.
+    #[arg(long, default_value_t = 0.05)]
+    smoothing_rad_s: f64,
+    /// The filters' bandwidth ω, rad/s (damping 0.8, as the paper's).
+    #[arg(long, default_value_t = 50.0)]
+    bandwidth_rad_s: f64,
+}
+
+fn input(e: impl std::fmt::Display) -> CliError {
+    CliError::Input(e.to_string())
+}
+
+/// The model of `--compare`: a URDF with the nominal model's joints, in its order.
+fn compared_model(path: &str, nominal: &TreeModel) -> Result<TreeModel, CliError> {
+    let model = crate::dynamics::model(path)?;
+    let (theirs, ours): (Vec<&str>, Vec<&str>) = (model.joint_names().collect(), nominal.joint_names().collect());
+    if theirs != ours {
+        return Err(CliError::Input(format!(
+            "--compare {path}: its joints [{}] are not --robot's [{}]",
+            theirs.join(", "),
+            ours.join(", ")
+        )));
+    }
+    Ok(model)
+}
+
+/// Each sample's torque as `model` predicts it.
+fn rigid_predictions(model: &TreeModel, samples: &[Sample]) -> Result<Vec<Vec<f64>>, CliError> {
+    samples.iter().map(|s| model.inverse_dynamics(&s.q, &s.qd, &s.qdd).map_err(input)).collect()
+}
+
+/// `hya identify`.
+pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
+    let dt = check_dt("--dt", args.dt)?;
+    if !(args.held_out > 0.0 && args.held_out < 0.9) {
+        return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", args.held_out)));
+    }
+    if !(args.smoothing_rad_s > 0.0 && args.smoothing_rad_s.is_finite()) {
+        return Err(CliError::Input(format!("--smoothing-rad-s {}: must be positive", args.smoothing_rad_s)));
+    }
+    let max_step_s = match args.max_step {
+        None => 2.5 * dt,
+        Some(s) if s.is_finite() && s > 0.0 => s,
+        Some(s) => return Err(CliError::Input(format!("--max-step {s}: must be a positive number of seconds"))),
+    };
+    let layout = Layout {
+        params: FilterParams::new(0.8, args.bandwidth_rad_s, args.bandwidth_rad_s, dt)
+            .map_err(|e| CliError::Input(format!("--bandwidth-rad-s, --dt: {e}")))?,
+        timestamps: args.timestamps,
+        max_step_s,
+        columns: args.columns.as_deref().map(ColumnSpec::parse).transpose()?,
+    };
+    let model = crate::dynamics::model(&args.robot)?;
+    let compared = args.compare.as_deref().map(|path| compared_model(path, &model)).transpose()?;
+    let n = model.dof();
+    let regressor = Regressor::new(&model);
+    let base = BaseParameters::of(&model, 5).map_err(input)?;
+    let log = with_joints(n, Filter { input: stdin, layout: &layout }).ok_or_else(|| {
+        CliError::Input(format!("{} joints: hya handles 1 to {}", n, hya_core::dispatch::MAX_JOINTS))
+    })??;
+    let unknowns = base.rank() + 3 * n;
+    // At least twice as many equations as unknowns in the fitted part, and a held-out part.
+    let needed = ((2 * unknowns).div_ceil(n) as f64 / (1.0 - args.held_out)).ceil() as usize + 1;
+    let split = ((1.0 - args.held_out) * log.samples.len() as f64) as usize;
+    if log.samples.len() < needed {
+        return Err(CliError::Input(format!(
+            "the log has {} rows, giving {} samples (one per 1/ω = {} s after the filters' first {} s{}); \
+             identifying {} base parameters and {} friction terms needs at least {needed}",
+            log.rows,
+            log.samples.len(),
+            layout.spacing_s(),
+            layout.settling_s(),
+            if log.gaps > 0 { format!(", and again after each of {} gaps", log.gaps) } else { String::new() },
+            base.rank(),
+            3 * n
+        )));
+    }
+    let (fitted_part, held_out) = log.samples.split_at(split);
+    let fitted = fit(&regressor, &base, fitted_part, args.smoothing_rad_s).map_err(input)?;
+
+    let mut models = vec![
+        ("nominal model".to_owned(), rigid_predictions(&model, held_out)?),
+        (
+            "identified model".to_owned(),
+            held_out
+                .iter()
+                .map(|s| Ok(fitted.predict(&regressor, &base, s).map_err(input)?.as_slice().to_vec()))
+                .collect::<Result<_, CliError>>()?,
+        ),
+    ];
+    if let (Some(path), Some(compared)) = (&args.compare, &compared) {
+        models.push((format!("`{path}`"), rigid_predictions(compared, held_out)?));
+    }
+    let predictions = Predictions {
+        time_s: log.time_s[split..].to_vec(),
+        measured: held_out.iter().map(|s| s.tau.clone()).collect(),
+        models,
+    };
+    let joints: Vec<&str> = model.joint_names().collect();
+    let full = consistent_parameters(&base, &nominal_parameters(&model), &fitted.base);
+    let findings = Findings {
+        model: &model,
+        joints: &joints,
+        base: &base,
+        fitted: &fitted,
+        full: &full,
+        nominal_base: base.of_parameters(&nominal_parameters(&model)).as_slice().to_vec(),
+        compared: args.compare.iter().zip(&compared).next().map(|(path, compared)| Compared {
+            name: format!("`{path}`"),
+            base: base.of_parameters(&nominal_parameters(compared)).as_slice().to_vec(),
+        }),
+        predictions: &predictions,
+        setup: format!(
+            "{} rows{} at {dt} s{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
+             while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
+             noise alike): {} samples fitted, the last {} held out. {} base parameters of {} and {} friction \
+             terms, by weighted least squares; condition number of the weighted system {:.3e}. Standard \
+             deviations assume the remaining noise white; the filters' lag adds a bias they do not count. \
+             Torques are compared after the same filter.",
+            log.rows,
+            if args.timestamps { " with timestamps" } else { "" },
+            if log.gaps > 0 { format!(", {} gaps (longer than {max_step_s} s)", log.gaps) } else { String::new() },
+            args.bandwidth_rad_s,
+            layout.settling_s(),
+            fitted_part.len(),
+            held_out.len(),
+            base.rank(),
+            regressor.columns(),
+            3 * n,
+            fitted.conditioning.condition_number
+        ),
+    };
+
+    let (out, _) = OutputDir::open(&args.out, args.force, "hya identify").map_err(input)?;
+    let save = |name: &str, text: &str| out.save(name, text).map_err(input);
+    save("identified.urdf", &identified_urdf(&args.robot, &model, &full)?)?;
+    save("friction.toml", &friction_toml(&fitted, &joints))?;
+    save("report.md", &findings.markdown())?;
+    save("held_out.svg", &findings.figure())?;
+    let rms = |m: usize| list(predictions.rms(m));
+    eprintln!(
+        "hya identify: {} base parameters and {} friction terms from {} samples; held-out RMS (N·m) nominal [{}], \
+         identified [{}]{}; {}",
+        base.rank(),
+        3 * n,
+        fitted_part.len(),
+        rms(0),
+        rms(1),
+        findings.largest_deviation().map_or(String::new(), |d| format!(
+            ", compared [{}], identified base parameters within {d:.2} σ of the compared model's",
+            rms(2)
+        )),
+        out.path().join("report.md").display()
+    );
+    Ok(())
+}

@@ -1,0 +1,214 @@
+//! `report.md` and `held_out.svg`: what `hya identify` found and how well it predicts.
+
+use std::fmt::Write as _;
+
+use hya_core::model::TreeModel;
+use hya_ident::{BaseParameters, Consistent, Fit, PARAMETERS_PER_BODY};
+use hya_sim::svg::{line_grid, Panel, Series, PALETTE};
+
+/// Torques on the held-out samples: measured (after the filter) and each model's prediction.
+pub struct Predictions {
+    /// The samples' times, s.
+    pub time_s: Vec<f64>,
+    /// `τ̂` per sample, N·m.
+    pub measured: Vec<Vec<f64>>,
+    /// Each model's name and prediction per sample, N·m.
+    pub models: Vec<(String, Vec<Vec<f64>>)>,
+}
+
+impl Predictions {
+    /// Per-joint RMS of model `m`'s prediction error, N·m.
+    pub fn rms(&self, m: usize) -> Vec<f64> {
+        let n = self.measured.first().map_or(0, Vec::len);
+        let mut sums = vec![0.0; n];
+        for (predicted, measured) in self.models[m].1.iter().zip(&self.measured) {
+            for (i, (p, y)) in predicted.iter().zip(measured).enumerate() {
+                sums[i] += (p - y).powi(2);
+            }
+        }
+        sums.iter().map(|s| (s / self.measured.len().max(1) as f64).sqrt()).collect()
+    }
+}
+
+/// A model to hold the identified one against (`--compare`): its base parameters.
+pub struct Compared {
+    /// The file given.
+    pub name: String,
+    /// Its base parameters `K π`.
+    pub base: Vec<f64>,
+}
+
+/// Everything the report states.
+pub struct Findings<'a> {
+    /// The nominal model.
+    pub model: &'a TreeModel,
+    /// Its joints' names.
+    pub joints: &'a [&'a str],
+    /// The base parameters' definition.
+    pub base: &'a BaseParameters,
+    /// The fit.
+    pub fitted: &'a Fit,
+    /// Full parameters of real bodies matching the fit.
+    pub full: &'a Consistent,
+    /// The nominal model's base parameters.
+    pub nominal_base: Vec<f64>,
+    /// The model of `--compare`.
+    pub compared: Option<Compared>,
+    /// The held-out predictions.
+    pub predictions: &'a Predictions,
+    /// A paragraph on the data and how it was used.
+    pub setup: String,
+}
+
+/// The name of parameter `column` of the regressor (`joint: m·c_x`, …).
+fn parameter_name(joints: &[&str], column: usize) -> String {
+    const NAMES: [&str; 10] = ["m", "m·c_x", "m·c_y", "m·c_z", "I_xx", "I_xy", "I_yy", "I_xz", "I_yz", "I_zz"];
+    format!("{} {}", joints[column / NAMES.len()], NAMES[column % NAMES.len()])
+}
+
+impl Findings<'_> {
+    /// The largest `|π̂_b − π_b,compared| / σ` over the base parameters.
+    pub fn largest_deviation(&self) -> Option<f64> {
+        let compared = self.compared.as_ref()?;
+        let deviation = |j: usize| (self.fitted.base[j] - compared.base[j]).abs() / self.fitted.base_std[j];
+        Some((0..self.base.rank()).map(deviation).fold(0.0, f64::max))
+    }
+
+    /// `report.md`.
+    pub fn markdown(&self) -> String {
+        let mut report = String::new();
+        let _ = writeln!(report, "# Identification of `{}`\n\n{}\n", self.model.name(), self.setup);
+        self.prediction_table(&mut report);
+        self.base_table(&mut report);
+        self.friction_table(&mut report);
+        self.bodies(&mut report);
+        report
+    }
+
+    fn prediction_table(&self, report: &mut String) {
+        let models = &self.predictions.models;
+        let _ = writeln!(report, "## Torque prediction on the held-out part, RMS (N·m)\n");
+        let names: Vec<&str> = models.iter().map(|(name, _)| name.as_str()).collect();
+        let _ = writeln!(report, "| joint | {} |\n|---|{}", names.join(" | "), "---|".repeat(names.len()));
+        let rms: Vec<Vec<f64>> = (0..models.len()).map(|m| self.predictions.rms(m)).collect();
+        for (i, joint) in self.joints.iter().enumerate() {
+            let cells: Vec<String> = rms.iter().map(|r| format!("{:.4}", r[i])).collect();
+            let _ = writeln!(report, "| {joint} | {} |", cells.join(" | "));
+        }
+        let _ = writeln!(
+            report,
+            "\nOnly the identified model has friction (`friction.toml`'s); the others are rigid bodies. \
+             `held_out.svg` shows the torques over time.\n"
+        );
+    }
+
+    fn base_table(&self, report: &mut String) {
+        let _ = writeln!(report, "## Base parameters\n");
+        let _ = writeln!(
+            report,
+            "Each is the named parameter plus the dependent ones it absorbs (`π_b = K π`, `hya_ident::base`).\n"
+        );
+        let compared = self.compared.as_ref();
+        let extra = compared.map_or(String::new(), |c| format!(" {} | (identified − it)/σ |", c.name));
+        let _ = writeln!(
+            report,
+            "| # | named after | nominal | identified | standard deviation |{extra}\n|---|---|---|---|---|{}",
+            if compared.is_some() { "---|---|" } else { "" }
+        );
+        for (j, &column) in self.base.independent.iter().enumerate() {
+            let (value, std) = (self.fitted.base[j], self.fitted.base_std[j]);
+            let extra =
+                compared.map_or(String::new(), |c| format!(" {:.6} | {:+.2} |", c.base[j], (value - c.base[j]) / std));
+            let _ = writeln!(
+                report,
+                "| {j} | {} | {:.6} | {value:.6} | {std:.2e} |{extra}",
+                parameter_name(self.joints, column),
+                self.nominal_base[j],
+            );
+        }
+        if let (Some(c), Some(largest)) = (compared, self.largest_deviation()) {
+            let _ = writeln!(
+                report,
+                "\nThe identified base parameters lie within {largest:.2} of their standard deviations of {}'s.",
+                c.name
+            );
+        }
+    }
+
+    fn friction_table(&self, report: &mut String) {
+        let _ = writeln!(
+            report,
+            "\n## Friction\n\n| joint | coulomb (N·m) | viscous (N·m·s/rad) | offset (N·m) |\n|---|---|---|---|"
+        );
+        for (i, joint) in self.joints.iter().enumerate() {
+            let (f, s) = (&self.fitted.friction, self.fitted.friction_std[i]);
+            let _ = writeln!(
+                report,
+                "| {} | {:.4} ± {:.1e} | {:.4} ± {:.1e} | {:.4} ± {:.1e} |",
+                joint, f.coulomb_nm[i], s[0], f.viscous_nm_s[i], s[1], f.offset_nm[i], s[2]
+            );
+        }
+    }
+
+    fn bodies(&self, report: &mut String) {
+        let (full, model) = (self.full, self.model);
+        let mismatch =
+            (0..self.base.rank()).map(|j| full.base_mismatch[j].abs() / self.fitted.base_std[j]).fold(0.0, f64::max);
+        let inconsistent = if full.inconsistent_nominal_bodies.is_empty() {
+            String::new()
+        } else {
+            let names: Vec<&str> =
+                full.inconsistent_nominal_bodies.iter().map(|&b| model.bodies()[b].link.as_str()).collect();
+            format!(" The nominal description's inertia of {} is not that of a real body.", names.join(", "))
+        };
+        let _ = writeln!(
+            report,
+            "\n## Bodies (`identified.urdf`)\n\nFull parameters of real bodies (every pseudo-inertia positive \
+             definite), from the nominal ones by {} alternating projections (`hya_ident::physical`); they match \
+             the identified base parameters to within {mismatch:.2} of their standard deviations.{inconsistent}\n",
+            full.iterations,
+        );
+        let _ = writeln!(
+            report,
+            "A body's own mass is identifiable only where a base parameter is that mass alone; elsewhere the \
+             masses below are one consistent choice among many that predict the same torques.\n"
+        );
+        let _ = writeln!(report, "| link | nominal mass (kg) | identified mass (kg) |\n|---|---|---|");
+        for (b, body) in model.bodies().iter().enumerate() {
+            let mass = full.parameters[b * PARAMETERS_PER_BODY];
+            let _ = writeln!(report, "| {} | {:.4} | {mass:.4} |", body.link, body.inertia.mass);
+        }
+    }
+
+    /// `held_out.svg`: per joint, the measured torque and each model's prediction over the first
+    /// [`FIGURE_SAMPLES`] held-out samples.
+    pub fn figure(&self) -> String {
+        let p = self.predictions;
+        let shown = p.time_s.len().min(FIGURE_SAMPLES);
+        let series = |label: &str, values: &[Vec<f64>], i: usize, color: &'static str, dashed: bool| Series {
+            label: label.to_owned(),
+            points: p.time_s[..shown].iter().zip(values).map(|(&t, v)| (t, v[i])).collect(),
+            color,
+            dashed,
+            markers: false,
+        };
+        let panels: Vec<Panel> =
+            self.joints
+                .iter()
+                .enumerate()
+                .map(|(i, joint)| Panel {
+                    title: (*joint).to_owned(),
+                    y_label: "torque (N·m)".into(),
+                    series: std::iter::once(series("measured (filtered)", &p.measured, i, PALETTE[0], false))
+                        .chain(p.models.iter().enumerate().map(|(m, (name, values))| {
+                            series(name, values, i, PALETTE[1 + m % (PALETTE.len() - 1)], true)
+                        }))
+                        .collect(),
+                })
+                .collect();
+        line_grid(&format!("{}: held-out torques, measured and predicted", self.model.name()), "time (s)", &panels, 2)
+    }
+}
+
+/// The most held-out samples `held_out.svg` draws (at one per `1/ω`, 40 s at the default 50 rad/s).
+pub const FIGURE_SAMPLES: usize = 2000;

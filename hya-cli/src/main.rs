@@ -17,6 +17,7 @@ mod identify;
 mod plant;
 mod rows;
 mod sweep;
+mod track;
 
 /// hya: model-based control of robot arms under disturbances.
 #[derive(Debug, Parser)]
@@ -74,9 +75,14 @@ enum Command {
     /// An exciting trajectory for identification: rows `t q… q̇… q̈…`, a Fourier series per joint
     /// within the joints' position and velocity limits, chosen for a well-conditioned regressor
     Excite(excite::ExciteArgs),
-    /// Base parameters and joint friction from a log of rows `q τ` (filtered as the estimator
-    /// does): `friction.toml` and `report.md` in `--out`, with held-out torque predictions
+    /// Base parameters and joint friction from a log of rows `[t] q τ` (filtered as the
+    /// estimator does): `identified.urdf`, `friction.toml`, `report.md` and `held_out.svg` in
+    /// `--out`, with held-out torque predictions
     Identify(identify::IdentifyArgs),
+    /// The simulated arm follows a reference (rows `t q q̇ q̈`, as `hya excite` prints) under a
+    /// scenario's controller: rows `t q τ` as its sensors measure them on stdout, the log a real
+    /// arm would record; `--out` also writes the plant's true rigid body
+    Track(track::TrackArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
 }
@@ -108,6 +114,7 @@ fn main() -> ExitCode {
         Command::Generate(args) => generate::run(&args, &mut stdout),
         Command::Excite(args) => excite::run(&args, &mut stdout),
         Command::Identify(args) => identify::run(&args, stdin),
+        Command::Track(args) => track::run(&args, stdin, &mut stdout),
         Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),

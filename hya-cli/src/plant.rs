@@ -101,10 +101,11 @@ fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f6
     Ok(values)
 }
 
-/// The scenario whose plant `hya plant` runs without `--ideal`: `--scenario`, else the first
-/// built-in scenario written for the shipped arm.
-fn scenario(args: &PlantArgs, robot: &str) -> Result<Scenario, CliError> {
-    if let Some(path) = &args.scenario {
+/// The scenario whose plant `hya plant` and `hya track` run: `path`, else the first built-in
+/// scenario written for the shipped arm `robot`; the error for a URDF without one offers
+/// `--scenario`, and `alternative` besides.
+pub fn scenario(path: Option<&std::path::Path>, robot: &str, alternative: &str) -> Result<Scenario, CliError> {
+    if let Some(path) = path {
         return Ok(Scenario::from_file(path)?);
     }
     if let Some(shipped) = hya_robots::find(robot) {
@@ -116,7 +117,7 @@ fn scenario(args: &PlantArgs, robot: &str) -> Result<Scenario, CliError> {
         }
     }
     Err(input(format!(
-        "{}: no built-in scenario describes this arm's plant; pass --scenario FILE (its friction, actuators and loads) or --ideal",
+        "{}: no built-in scenario describes this arm's plant; pass --scenario FILE (its friction, actuators and loads){alternative}",
         rows::echo(robot)
     )))
 }
@@ -163,7 +164,7 @@ fn rollout<const N: usize>(
         check_until("--until", until)?;
     }
     let q0 = JointVector::<N>::from_column_slice(&start_pose(args, robot, model)?);
-    let scenario = if args.ideal { None } else { Some(scenario(args, robot)?) };
+    let scenario = if args.ideal { None } else { Some(scenario(args.scenario.as_deref(), robot, " or --ideal")?) };
     let commands = commands::<N>(stdin)?;
     let Some(last) = commands.last() else { return Err(input("no torque rows on stdin")) };
     let until = match args.until {

@@ -45,31 +45,42 @@ fn urdf_text(robot: &str) -> Result<String, CliError> {
     }
 }
 
-/// `identified.urdf`: each body's consistent inertia on the link of its joint, the links merged
-/// into it by fixed joints made massless (their mass is in the body's); checked by loading it
-/// back.
+/// `identified.urdf`: each body's consistent inertia (see [`with_body_inertias`]).
 pub fn identified_urdf(robot: &str, model: &TreeModel, full: &Consistent) -> Result<String, CliError> {
-    let inertia =
-        |b: usize| body_inertia(&full.parameters.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY]);
-    let mut inertias: Vec<(&str, RigidBodyInertia)> =
-        model.bodies().iter().enumerate().map(|(b, body)| (body.link.as_str(), inertia(b))).collect();
+    let inertias: Vec<RigidBodyInertia> = (0..model.bodies().len())
+        .map(|b| body_inertia(&full.parameters.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY]))
+        .collect();
+    with_body_inertias(robot, model, &inertias, "identified.urdf")
+}
+
+/// The description of `robot` (whose model is `model`) with body `b`'s inertia `inertias[b]` on
+/// the link of its joint, and the links merged into a body by fixed joints made massless (their
+/// mass is in the body's); checked by loading it back as `file`.
+pub fn with_body_inertias(
+    robot: &str,
+    model: &TreeModel,
+    inertias: &[RigidBodyInertia],
+    file: &str,
+) -> Result<String, CliError> {
+    let mut links: Vec<(&str, RigidBodyInertia)> =
+        model.bodies().iter().zip(inertias).map(|(body, inertia)| (body.link.as_str(), *inertia)).collect();
     for frame in model.frames() {
         if frame.body.is_some_and(|b| model.bodies()[b].link != frame.name) {
-            inertias.push((frame.name.as_str(), RigidBodyInertia::zero()));
+            links.push((frame.name.as_str(), RigidBodyInertia::zero()));
         }
     }
     let text =
-        hya_urdf::with_inertias(&urdf_text(robot)?, robot, &inertias).map_err(|e| CliError::Input(e.to_string()))?;
-    let written = hya_urdf::load_str(&text, "identified.urdf").map_err(|e| CliError::Input(e.to_string()))?.model;
-    for (b, body) in written.bodies().iter().enumerate() {
-        let (got, want) = (&body.inertia, inertia(b));
+        hya_urdf::with_inertias(&urdf_text(robot)?, robot, &links).map_err(|e| CliError::Input(e.to_string()))?;
+    let written = hya_urdf::load_str(&text, file).map_err(|e| CliError::Input(e.to_string()))?.model;
+    for (body, want) in written.bodies().iter().zip(inertias) {
+        let got = &body.inertia;
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
         let same = close(got.mass, want.mass)
             && (0..3).all(|k| close(got.first_moment[k], want.first_moment[k]))
             && (0..9).all(|k| close(got.rotational[k], want.rotational[k]));
         if !same {
             return Err(CliError::Input(format!(
-                "identified.urdf would not reproduce body `{}`'s identified inertia (a bug: please report it)",
+                "{file} would not reproduce body `{}`'s inertia (a bug: please report it)",
                 body.link
             )));
         }

@@ -6,7 +6,7 @@
 //! those of `--compare`'s model, whose base parameters the report also holds against the
 //! identified ones, in standard deviations).
 
-mod files;
+pub mod files;
 mod log;
 mod report;
 

@@ -116,6 +116,14 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in the order of the reports.
+    pub const ALL: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
+
+    /// The method called `name` ([`name`](Self::name)).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+
     /// Whether the method estimates the disturbance (all but `none` and `pid`).
     pub fn estimates(self) -> bool {
         !matches!(self, Method::None | Method::Pid)

@@ -160,3 +160,43 @@ impl<const N: usize> Trajectory<N> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `q(t) = t³`, whose acceleration is linear: the samples' interpolation is exact for it.
+    fn cubic(t: f64) -> Reference<1> {
+        Reference {
+            position: JointVector::from([t * t * t]),
+            velocity: JointVector::from([3.0 * t * t]),
+            acceleration: JointVector::from([6.0 * t]),
+        }
+    }
+
+    #[test]
+    fn sampled_reference_is_exact_for_a_cubic_and_holds_outside_its_samples() {
+        let time = vec![0.0, 0.5, 1.0];
+        let trajectory =
+            Trajectory::sampled(Samples::new(time.clone(), time.iter().map(|&t| cubic(t)).collect()).unwrap());
+        for t in [0.1, 0.25, 0.5, 0.8] {
+            let (got, want) = (trajectory.at(t), cubic(t));
+            assert!((got.position[0] - want.position[0]).abs() < 1e-15, "q at {t}");
+            assert!((got.velocity[0] - want.velocity[0]).abs() < 1e-14, "q̇ at {t}");
+            assert!((got.acceleration[0] - want.acceleration[0]).abs() < 1e-14, "q̈ at {t}");
+        }
+        assert_eq!(trajectory.at(2.0), Reference::hold(JointVector::from([1.0])));
+        assert_eq!(trajectory.at(-1.0), Reference::hold(JointVector::from([0.0])));
+    }
+
+    #[test]
+    fn samples_refuse_bad_times_and_values_by_sample() {
+        let point = cubic(0.0);
+        let error = |time: Vec<f64>, points: Vec<Reference<1>>| Samples::new(time, points).unwrap_err().to_string();
+        assert!(error(vec![0.0, 0.0], vec![point; 2]).contains("reference sample 2"));
+        assert!(error(vec![1.0], vec![point]).contains("first sample's time must be 0"));
+        let bad = Reference { position: JointVector::from([f64::NAN]), ..point };
+        assert!(error(vec![0.0, 1.0], vec![point, bad]).contains("reference sample 2"));
+        assert!(error(vec![], vec![]).contains("at least one sample"));
+    }
+}

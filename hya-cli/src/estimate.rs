@@ -13,6 +13,7 @@ use hya_sim::Method;
 
 use crate::columns::{ColumnSpec, Picked};
 use crate::{rows, CliError};
+use hya_sim::io::friction::JointFriction;
 
 /// Parameters of `hya estimate`.
 #[derive(Debug, clap::Args)]
@@ -62,6 +63,11 @@ pub struct EstimateArgs {
     /// The observers' design bandwidth, rad/s (chen, momentum, eso).
     #[arg(long, default_value_t = PAPER_BANDWIDTH_RAD_S)]
     bandwidth: f64,
+    /// Joint friction the model knows (`friction.toml` from `hya identify`): the rows out are
+    /// then what neither the rigid body nor that friction explains, `d̂ + τ_f(q̂̇)`, with the
+    /// friction at the filtered velocity. With `--method lu`.
+    #[arg(long)]
+    friction: Option<std::path::PathBuf>,
 }
 
 /// `--method`: the paper's estimator or an observer it is compared with.
@@ -102,6 +108,7 @@ struct Layout {
     timestamps: bool,
     max_step_s: f64,
     columns: Option<ColumnSpec>,
+    friction: Option<std::path::PathBuf>,
 }
 
 /// The estimator over every row, for the arm's `N` joints: a shipped arm's generated dynamics
@@ -132,6 +139,7 @@ impl<R: BufRead, W: Write> ForJoints for Estimate<'_, R, W> {
 /// The estimator, fixed-step or timestamped, once the first row has started it.
 #[allow(clippy::large_enum_variant)] // one per run, on the stack: the size costs nothing
 enum Running<'a, const N: usize> {
+    Paper(Box<DisturbanceEstimator<N, Nominal<'a, N>>>),
     Fixed(Observer<'a, N>),
     Timed(TimedEstimator<N, Nominal<'a, N>>),
 }
@@ -149,7 +157,7 @@ impl<'a, const N: usize> Running<'a, N> {
                 Self::Timed(TimedEstimator::new(nominal, layout.params, t, q, tau).map_err(setup)?)
             }
             EstimateMethod::Lu => {
-                Self::Fixed(Box::new(DisturbanceEstimator::new(nominal, layout.params, q, tau).map_err(setup)?))
+                Self::Paper(Box::new(DisturbanceEstimator::new(nominal, layout.params, q, tau).map_err(setup)?))
             }
             other => {
                 let design = (layout.bandwidth_rad_s, layout.params.dt_s());
@@ -167,8 +175,18 @@ impl<'a, const N: usize> Running<'a, N> {
     /// The latest `d̂`.
     fn disturbance(&self) -> JointVector<N> {
         match self {
+            Self::Paper(e) => *e.disturbance(),
             Self::Fixed(e) => *e.disturbance(),
             Self::Timed(e) => *e.estimator().disturbance(),
+        }
+    }
+
+    /// The filtered velocity `q̂̇` of the paper's estimator (`None` for the observers).
+    fn velocity(&self) -> Option<JointVector<N>> {
+        match self {
+            Self::Paper(e) => Some(e.joint_estimate().x2),
+            Self::Fixed(_) => None,
+            Self::Timed(e) => Some(e.estimator().joint_estimate().x2),
         }
     }
 }
@@ -189,6 +207,8 @@ fn estimate<'a, const N: usize>(
         if velocity { format!("then the {N} joint velocities q̇ (rad/s), ") } else { String::new() }
     );
     let width = offset + (2 + usize::from(velocity)) * N;
+    let friction = layout.friction.as_deref().map(|path| JointFriction::from_file(path, N)).transpose();
+    let friction = friction.map_err(|e| CliError::Input(format!("--friction {e}")))?;
     let mut log = Picked::new(input, layout.columns.clone(), width, what)?;
     let mut running: Option<Running<'a, N>> = None;
     let mut gaps = 0;
@@ -212,8 +232,13 @@ fn estimate<'a, const N: usize>(
                 running = Some(started);
                 d_hat
             }
+            Some(Running::Paper(e)) => e.update(q, tau).map_err(at_line)?,
             Some(Running::Fixed(e)) => e.update(&measurement).map_err(at_line)?,
             Some(Running::Timed(e)) => timed_step(e, layout, line, t, q, tau, &mut gaps)?,
+        };
+        let d_hat = match (&friction, running.as_ref().and_then(Running::velocity)) {
+            (Some(f), Some(v)) => JointVector::<N>::from_fn(|i, _| d_hat[i] + f.torque(i, v[i])),
+            _ => d_hat,
         };
         let time = layout.timestamps.then_some(t);
         rows::write(output, time.into_iter().chain(d_hat.iter().copied()))
@@ -285,6 +310,12 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
         return Err(CliError::Input(format!("--bandwidth {}: must be finite and > 0 rad/s", Short(args.bandwidth))));
     }
     let columns = args.columns.as_deref().map(ColumnSpec::parse).transpose()?;
+    if args.friction.is_some() && args.method != EstimateMethod::Lu {
+        return Err(CliError::Input(format!(
+            "--friction with --method {}: the friction is taken at the paper's filtered velocity; use --method lu",
+            args.method.method().name()
+        )));
+    }
     if args.timestamps && args.method != EstimateMethod::Lu {
         return Err(CliError::Input(format!(
             "--method {} with --timestamps: only lu is discretised per step; the observers run at a fixed --dt",
@@ -298,6 +329,7 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
         timestamps: args.timestamps,
         max_step_s,
         columns,
+        friction: args.friction.clone(),
     };
     let mut estimate = Estimate { model: None, layout, input, output };
     if hya_robots::find(&args.robot).is_some() {

@@ -70,3 +70,64 @@ fn bad_rows_and_parameters_are_named() {
     assert_rejected(&["estimate", "--robot", "hya", "--zeta", "-1"], q_tau, &["zeta"]);
     assert_rejected(&["estimate", "--robot", "no_such_arm.urdf"], q_tau, &["no_such_arm.urdf"]);
 }
+
+/// `d̂` rows of `hya estimate ARGS` on `input`.
+fn estimates(args: &[&str], input: &str) -> Vec<Vec<f64>> {
+    let output = common::hya(args, input);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn known_friction_is_taken_out_of_the_estimate() {
+    let dir = std::env::temp_dir().join(format!("hya-estimate-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |name: &str, coulomb: &str, viscous: &str, offset: &str| {
+        let path = dir.join(name);
+        let text = format!(
+            "smoothing_rad_s = 0.05\ncoulomb_nm = [{coulomb}]\nviscous_nm_s = [{viscous}]\noffset_nm = [{offset}]\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    // A planar arm swinging: rows q τ.
+    let log: String = (0..400)
+        .map(|k| {
+            let t = k as f64 * 0.001;
+            format!("{} {} {} {}\n", (3.0 * t).sin(), 0.5 * t, 2.0 * (2.0 * t).cos(), 1.0)
+        })
+        .collect();
+    let plain = estimates(&["estimate", "--robot", "planar2"], &log);
+    let offset = file("offset.toml", "0, 0", "0, 0", "0.5, -1.25");
+    let shifted = estimates(&["estimate", "--robot", "planar2", "--friction", &offset], &log);
+    // A constant friction torque τ_f = o: d̂ + o, row for row.
+    for (a, b) in plain.iter().zip(&shifted) {
+        assert_eq!(b[0], a[0] + 0.5);
+        assert_eq!(b[1], a[1] - 1.25);
+    }
+    // A viscous one adds v q̂̇: the shoulder's share follows the filtered velocity of sin 3t,
+    // late by the filters' group delay 1/ω1 + 2ζ/ω2 = 52 ms at the paper's values.
+    let viscous = file("viscous.toml", "0, 0", "2, 0", "0, 0");
+    let damped = estimates(&["estimate", "--robot", "planar2", "--friction", &viscous], &log);
+    let k = 399;
+    let (t, lag) = (k as f64 * 0.001, 0.052);
+    let added = damped[k][0] - plain[k][0];
+    assert!((added - 2.0 * 3.0 * (3.0 * (t - lag)).cos()).abs() < 0.1, "added {added}");
+    assert_eq!(damped[k][1], plain[k][1]);
+    let three = file("three.toml", "0, 0, 0", "0, 0, 0", "0, 0, 0");
+    assert_rejected(
+        &["estimate", "--robot", "planar2", "--friction", &three],
+        &log,
+        &["--friction", "3 values", "2 joints"],
+    );
+    assert_rejected(
+        &["estimate", "--robot", "planar2", "--method", "eso", "--friction", &offset],
+        &log,
+        &["--friction with --method eso"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,6 +1,7 @@
-//! Files: reading them bounded ([`input`]), the report folder that nothing escapes ([`output`]),
-//! and SVG drawing ([`svg`]).
+//! Files: reading them bounded ([`input`]), identified friction ([`friction`]), the report folder
+//! that nothing escapes ([`output`]), and SVG drawing ([`svg`]).
 
+pub mod friction;
 pub mod input;
 pub mod output;
 pub mod svg;

@@ -1,0 +1,91 @@
+//! `friction.toml`, the joint friction `hya identify` writes, read back for the estimator and
+//! the controller: per joint
+//!
+//! ```text
+//! τ_f = coulomb_nm · tanh(q̇ / smoothing_rad_s) + viscous_nm_s · q̇ + offset_nm
+//! ```
+//!
+//! the torque the joint needs beyond the rigid body (`τ = ID(q, q̇, q̈) + τ_f`), so the part of
+//! the disturbance `d = ID − τ` that the friction does not explain is `d + τ_f`.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+/// The largest `friction.toml` read, bytes: a few numbers per joint.
+pub const MAX_FRICTION_BYTES: u64 = 64 * 1024;
+
+/// Identified joint friction (see the module's notes).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointFriction {
+    /// `s`, rad/s.
+    pub smoothing_rad_s: f64,
+    /// Coulomb levels, N·m, per joint.
+    pub coulomb_nm: Vec<f64>,
+    /// Viscous coefficients, N·m·s/rad, per joint.
+    pub viscous_nm_s: Vec<f64>,
+    /// Constant offsets, N·m, per joint.
+    pub offset_nm: Vec<f64>,
+}
+
+impl JointFriction {
+    /// Reads and checks `path` for an arm of `joints` joints; the error names the file, the key
+    /// and the value.
+    pub fn from_file(path: &Path, joints: usize) -> Result<Self, String> {
+        let origin = path.display();
+        let text = crate::io::input::read_text(path, MAX_FRICTION_BYTES).map_err(|e| format!("{origin}: {e}"))?;
+        Self::from_toml(&text, joints).map_err(|e| format!("{origin}: {e}"))
+    }
+
+    /// Parses and checks `text` for an arm of `joints` joints.
+    pub fn from_toml(text: &str, joints: usize) -> Result<Self, String> {
+        let friction: Self = toml::from_str(text).map_err(|e| e.message().to_owned())?;
+        if !(friction.smoothing_rad_s.is_finite() && friction.smoothing_rad_s > 0.0) {
+            return Err(format!("smoothing_rad_s = {}: must be a positive number", friction.smoothing_rad_s));
+        }
+        for (key, values) in [
+            ("coulomb_nm", &friction.coulomb_nm),
+            ("viscous_nm_s", &friction.viscous_nm_s),
+            ("offset_nm", &friction.offset_nm),
+        ] {
+            if values.len() != joints {
+                return Err(format!("{key}: {} values for an arm of {joints} joints", values.len()));
+            }
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(format!("{key}[{i}] = {}: must be finite", values[i]));
+            }
+        }
+        Ok(friction)
+    }
+
+    /// Joint `i`'s friction torque at velocity `qd`, N·m.
+    pub fn torque(&self, i: usize, qd: f64) -> f64 {
+        self.coulomb_nm[i] * (qd / self.smoothing_rad_s).tanh() + self.viscous_nm_s[i] * qd + self.offset_nm[i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TWO_JOINTS: &str = "smoothing_rad_s = 0.05\ncoulomb_nm = [1.5, 0.8]\n# a comment\n\
+                              viscous_nm_s = [0.6, 0.3]\noffset_nm = [0.1, -0.2]\n";
+
+    #[test]
+    fn reads_what_identify_writes_and_evaluates_the_law() {
+        let f = JointFriction::from_toml(TWO_JOINTS, 2).unwrap();
+        let want = 1.5 * (0.1f64 / 0.05).tanh() + 0.6 * 0.1 + 0.1;
+        assert_eq!(f.torque(0, 0.1), want);
+        assert_eq!(f.torque(1, 0.0), -0.2);
+    }
+
+    #[test]
+    fn refuses_files_that_do_not_fit_the_arm_by_key() {
+        let error = |text: &str, joints| JointFriction::from_toml(text, joints).unwrap_err();
+        assert!(error(TWO_JOINTS, 3).contains("coulomb_nm: 2 values for an arm of 3 joints"));
+        assert!(error(&TWO_JOINTS.replace("0.05", "0"), 2).contains("smoothing_rad_s = 0"));
+        assert!(error(&TWO_JOINTS.replace("0.6", "nan"), 2).contains("viscous_nm_s[0] = NaN"));
+        assert!(error(&format!("{TWO_JOINTS}stribeck = 1\n"), 2).contains("stribeck"));
+    }
+}

@@ -260,6 +260,15 @@ pub struct ControllerConfig {
     pub observer_bandwidth_rad_s: f64,
     /// Control period, s.
     pub dt_s: f64,
+    /// The controller's and observers' rigid body from this URDF (an identified one, from
+    /// `hya identify`) instead of the robot's nominal one; the same joints. A path relative to
+    /// the working directory.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_urdf: Option<String>,
+    /// Joint friction the controller's model adds (`friction.toml` from `hya identify`): a
+    /// feed-forward in the command, and a part of `d` the observers no longer have to find.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_toml: Option<String>,
 }
 
 impl Default for ControllerConfig {
@@ -275,6 +284,8 @@ impl Default for ControllerConfig {
             torque_limit_nm: vec![150.0; 6],
             observer_bandwidth_rad_s: 50.0,
             dt_s: 1e-3,
+            model_urdf: None,
+            friction_toml: None,
         }
     }
 }

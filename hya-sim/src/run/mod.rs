@@ -24,6 +24,7 @@ use sensors::Sensors;
 use task::Trajectory;
 use trace::{Trace, SHADOWS};
 
+pub mod model;
 pub mod rollout;
 pub mod sensors;
 pub mod task;
@@ -195,7 +196,8 @@ pub fn closed_loop_on<const N: usize>(
     trajectory: &Trajectory<N>,
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let nominal = robot.nominal.as_ref();
+    let model = model::controller_model(scenario, robot)?;
+    let nominal = model.as_ref();
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
     let q0 = trajectory.at(0.0).position;

@@ -5,6 +5,7 @@
 
 mod arms;
 mod claims;
+mod controller_model;
 mod experiments;
 mod frequency;
 mod integration_step;

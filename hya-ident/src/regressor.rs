@@ -16,21 +16,61 @@
 //! the inverse dynamics of the model with every inertia zero but parameter `k` of body `b`,
 //! which is one: `Y e_{bk} = ID_{π = e_{bk}}(q, q̇, q̈)`. The columns are computed so, with the
 //! run-time model's RNEA and an inertia source that hands out those unit inertias; exact to
-//! rounding, for any URDF the loader accepts. Its cost is `10 B` RNEAs per state: this is for
-//! identification, not for the control loop.
+//! rounding, for any URDF the loader accepts ([`Regressor::new`]). Its cost is `10 B` RNEAs
+//! per state: this is for identification, not for the control loop.
+//!
+//! A shipped arm's generated code has a parameter-holding twin built from body inertias (the
+//! folded kinematics unrolled, the inertias read as data): [`Regressor::generated`] builds one
+//! twin per unit parameter once and computes each column with its generated inverse dynamics,
+//! the same linearity on generated code.
 
 use hya_core::model::algorithms::{self, Inertias};
 use hya_core::model::{BodyState, ModelError, TreeModel};
 use hya_core::spatial::RigidBodyInertia;
+use hya_core::{Dynamics, JointVector};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// Inertial parameters per body.
 pub const PARAMETERS_PER_BODY: usize = 10;
 
-/// The regressor of one model.
-#[derive(Debug, Clone)]
+/// The regressor of one model: the run-time model's RNEA, or generated twins.
 pub struct Regressor<'a> {
-    model: &'a TreeModel,
+    dof: usize,
+    source: Source<'a>,
+}
+
+/// Where the columns come from.
+enum Source<'a> {
+    /// The run-time model, with unit inertias handed to its RNEA.
+    Tree(&'a TreeModel),
+    /// One generated twin per column, column order.
+    Twins(Vec<Box<dyn UnitColumn + Send + Sync + 'a>>),
+}
+
+impl std::fmt::Debug for Regressor<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let source = match self.source {
+            Source::Tree(model) => format!("run-time model `{}`", model.name()),
+            Source::Twins(_) => "generated twins".to_owned(),
+        };
+        f.debug_struct("Regressor").field("dof", &self.dof).field("source", &source).finish()
+    }
+}
+
+/// The inverse dynamics of a model whose only inertial parameter is one unit: one column of `Y`.
+trait UnitColumn {
+    /// `ID(q, q̇, q̈)` of that model into `tau`.
+    fn torque(&self, state: (&[f64], &[f64], &[f64]), tau: &mut [f64]);
+}
+
+/// A generated twin of `N` joints with one unit parameter.
+struct Twin<const N: usize>(Box<dyn Dynamics<N> + Send + Sync>);
+
+impl<const N: usize> UnitColumn for Twin<N> {
+    fn torque(&self, (q, qd, qdd): (&[f64], &[f64], &[f64]), tau: &mut [f64]) {
+        let vector = JointVector::<N>::from_column_slice;
+        tau.copy_from_slice(self.0.inverse_dynamics(&vector(q), &vector(qd), &vector(qdd)).as_slice());
+    }
 }
 
 /// The inertia with parameter `k` (in the order of the module's notes) one and the rest zero.
@@ -93,14 +133,31 @@ impl Inertias<f64> for UnitParameter {
 }
 
 impl<'a> Regressor<'a> {
-    /// The regressor of `model` (one body per joint).
+    /// The regressor of `model` (one body per joint) by its run-time RNEA.
     pub fn new(model: &'a TreeModel) -> Self {
-        Self { model }
+        Self { dof: model.dof(), source: Source::Tree(model) }
+    }
+
+    /// The regressor of a shipped arm of `N` bodies by its generated code: `twin` builds its
+    /// parameter-holding twin from body inertias in joint order (`hya_robots::Arm::parametric`),
+    /// called once per column here.
+    pub fn generated<const N: usize>(
+        twin: impl Fn(&[RigidBodyInertia; N]) -> Box<dyn Dynamics<N> + Send + Sync>,
+    ) -> Regressor<'static> {
+        let mut columns: Vec<Box<dyn UnitColumn + Send + Sync>> = Vec::with_capacity(PARAMETERS_PER_BODY * N);
+        for body in 0..N {
+            for k in 0..PARAMETERS_PER_BODY {
+                let inertias =
+                    core::array::from_fn(|b| if b == body { unit_inertia(k) } else { RigidBodyInertia::zero() });
+                columns.push(Box::new(Twin::<N>(twin(&inertias))));
+            }
+        }
+        Regressor { dof: N, source: Source::Twins(columns) }
     }
 
     /// Its columns: `10 B`.
     pub fn columns(&self) -> usize {
-        PARAMETERS_PER_BODY * self.model.dof()
+        PARAMETERS_PER_BODY * self.dof
     }
 
     /// `Y(q, q̇, q̈)` into the `n` rows of `y` starting at `row` (`y` has [`Self::columns`]
@@ -111,19 +168,36 @@ impl<'a> Regressor<'a> {
         y: &mut DMatrix<f64>,
         row: usize,
     ) -> Result<(), ModelError> {
-        let n = self.model.dof();
+        let n = self.dof;
         if y.ncols() != self.columns() || y.nrows() < row + n {
             return Err(ModelError::Dimension { what: "regressor rows", expected: self.columns(), got: y.ncols() });
         }
-        let mut states = vec![BodyState::new(); n];
+        for (what, v) in [("q", q), ("q̇", qd), ("q̈", qdd)] {
+            if v.len() != n {
+                return Err(ModelError::Dimension { what, expected: n, got: v.len() });
+            }
+        }
         let mut tau = vec![0.0; n];
-        for body in 0..n {
-            for k in 0..PARAMETERS_PER_BODY {
-                let unit = UnitParameter { body, inertia: unit_inertia(k) };
-                algorithms::inverse_dynamics(self.model, &unit, (q, qd, qdd), &mut states, &mut tau)?;
-                let column = PARAMETERS_PER_BODY * body + k;
-                for (i, t) in tau.iter().enumerate() {
-                    y[(row + i, column)] = *t;
+        let mut put = |column: usize, tau: &[f64]| {
+            for (i, t) in tau.iter().enumerate() {
+                y[(row + i, column)] = *t;
+            }
+        };
+        match &self.source {
+            Source::Tree(model) => {
+                let mut states = vec![BodyState::new(); n];
+                for body in 0..n {
+                    for k in 0..PARAMETERS_PER_BODY {
+                        let unit = UnitParameter { body, inertia: unit_inertia(k) };
+                        algorithms::inverse_dynamics(model, &unit, (q, qd, qdd), &mut states, &mut tau)?;
+                        put(PARAMETERS_PER_BODY * body + k, &tau);
+                    }
+                }
+            }
+            Source::Twins(columns) => {
+                for (column, twin) in columns.iter().enumerate() {
+                    twin.torque((q, qd, qdd), &mut tau);
+                    put(column, &tau);
                 }
             }
         }
@@ -132,7 +206,7 @@ impl<'a> Regressor<'a> {
 
     /// `Y(q, q̇, q̈)`, `n × 10 B`.
     pub fn rows(&self, state: (&[f64], &[f64], &[f64])) -> Result<DMatrix<f64>, ModelError> {
-        let mut y = DMatrix::zeros(self.model.dof(), self.columns());
+        let mut y = DMatrix::zeros(self.dof, self.columns());
         self.rows_into(state, &mut y, 0)?;
         Ok(y)
     }

@@ -24,6 +24,19 @@ fn model(stem: &str) -> TreeModel {
     hya_urdf::load_file(path.to_str().unwrap()).unwrap().model
 }
 
+/// The regressor of shipped arm `name` on its generated code, if it is one.
+fn generated(name: &str) -> Option<Regressor<'static>> {
+    struct Build;
+    impl hya_robots::ForArm for Build {
+        type Output = Regressor<'static>;
+        fn call<const N: usize>(self, arm: hya_robots::Arm<N>) -> Self::Output {
+            Regressor::generated::<N>(arm.parametric)
+        }
+    }
+    hya_robots::find(name)?;
+    hya_robots::with_arm(name, Build)
+}
+
 #[test]
 fn the_regressor_equals_pinocchios_on_every_reference_file() {
     let mut files: Vec<_> = std::fs::read_dir(root().join("tests/reference/regressor"))
@@ -33,35 +46,40 @@ fn the_regressor_equals_pinocchios_on_every_reference_file() {
         .collect();
     files.sort();
     assert!(files.len() >= 7, "the shipped arms and two other URDFs: found {files:?}");
-    let mut worst: f64 = 0.0;
+    let (mut worst, mut generated_arms): (f64, usize) = (0.0, 0);
     for file in files {
         let stem = file.file_stem().unwrap().to_str().unwrap().to_owned();
         let model = model(&stem);
         let n = model.dof();
-        let regressor = Regressor::new(&model);
         let text = std::fs::read_to_string(&file).unwrap();
-        let mut rows = 0;
-        for line in text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("\"#")) {
-            let values: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
-            assert_eq!(values.len(), 3 * n + n * regressor.columns(), "{stem}: row length");
-            let (q, qd, qdd) = (&values[..n], &values[n..2 * n], &values[2 * n..3 * n]);
-            let y = regressor.rows((q, qd, qdd)).unwrap();
-            for i in 0..n {
-                for j in 0..regressor.columns() {
-                    let reference = values[3 * n + i * regressor.columns() + j];
-                    let error = (y[(i, j)] - reference).abs();
-                    worst = worst.max(error / (1.0 + reference.abs()));
-                    assert!(
-                        error <= 1e-9 * (1.0 + reference.abs()),
-                        "{stem}: Y[{i}, {j}] = {} vs Pinocchio {reference}",
-                        y[(i, j)]
-                    );
+        let mut sources = vec![("run-time", Regressor::new(&model))];
+        sources.extend(generated(&stem).map(|r| ("generated", r)));
+        for (source, regressor) in &sources {
+            let mut rows = 0;
+            for line in text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("\"#")) {
+                let values: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+                assert_eq!(values.len(), 3 * n + n * regressor.columns(), "{stem}: row length");
+                let (q, qd, qdd) = (&values[..n], &values[n..2 * n], &values[2 * n..3 * n]);
+                let y = regressor.rows((q, qd, qdd)).unwrap();
+                for i in 0..n {
+                    for j in 0..regressor.columns() {
+                        let reference = values[3 * n + i * regressor.columns() + j];
+                        let error = (y[(i, j)] - reference).abs();
+                        worst = worst.max(error / (1.0 + reference.abs()));
+                        assert!(
+                            error <= 1e-9 * (1.0 + reference.abs()),
+                            "{stem} ({source}): Y[{i}, {j}] = {} vs Pinocchio {reference}",
+                            y[(i, j)]
+                        );
+                    }
                 }
+                rows += 1;
             }
-            rows += 1;
+            assert!(rows > 0, "{stem}: no rows");
         }
-        assert!(rows > 0, "{stem}: no rows");
+        generated_arms += usize::from(sources.len() == 2);
     }
+    assert_eq!(generated_arms, hya_robots::ROBOTS.len(), "every shipped arm's generated regressor checked");
     println!("largest |Y − Y_pinocchio| / (1 + |Y_pinocchio|): {worst:.1e}");
 }
 

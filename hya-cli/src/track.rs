@@ -124,10 +124,10 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
             return Err(e);
         }
         eprintln!(
-            "hya track: {} s of `{}` on {} under {} (seed {}), {} rows",
+            "hya track: {} s on {} with the plant and sensors of `{}`, under {} (seed {}), {} rows",
             Short(scenario.duration_s),
-            scenario.name,
             robot.model.name(),
+            scenario.name,
             self.method.name(),
             scenario.seed,
             (scenario.duration_s / scenario.controller.dt_s).round()

@@ -130,7 +130,11 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         columns: args.columns.as_deref().map(ColumnSpec::parse).transpose()?,
     };
     let model = crate::dynamics::model(&args.robot)?;
-    let compared = args.compare.as_deref().map(|path| compared_model(path, &model)).transpose()?;
+    // `--compare`'s name in the report, and its model.
+    let compared = match &args.compare {
+        Some(path) => Some((format!("`{path}`"), compared_model(path, &model)?)),
+        None => None,
+    };
     let n = model.dof();
     let regressor = regressor(&args.robot, &model);
     let base = BaseParameters::of(&model, 5).map_err(input)?;
@@ -167,8 +171,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
                 .collect::<Result<_, CliError>>()?,
         ),
     ];
-    if let (Some(path), Some(compared)) = (&args.compare, &compared) {
-        models.push((format!("`{path}`"), rigid_predictions(compared, held_out)?));
+    if let Some((name, compared)) = &compared {
+        models.push((name.clone(), rigid_predictions(compared, held_out)?));
     }
     let predictions = Predictions {
         time_s: log.time_s[split..].to_vec(),
@@ -184,8 +188,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         fitted: &fitted,
         full: &full,
         nominal_base: base.of_parameters(&nominal_parameters(&model)).as_slice().to_vec(),
-        compared: args.compare.iter().zip(&compared).next().map(|(path, compared)| Compared {
-            name: format!("`{path}`"),
+        compared: compared.as_ref().map(|(name, compared)| Compared {
+            name: name.clone(),
             base: base.of_parameters(&nominal_parameters(compared)).as_slice().to_vec(),
         }),
         predictions: &predictions,

@@ -196,8 +196,8 @@ pub fn closed_loop_on<const N: usize>(
     trajectory: &Trajectory<N>,
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let model = model::controller_model(scenario, robot)?;
-    let nominal = model.as_ref();
+    let named = model::controller_model(scenario, robot)?;
+    let nominal = named.as_deref().unwrap_or(robot.nominal.as_ref());
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
     let q0 = trajectory.at(0.0).position;

@@ -66,12 +66,17 @@ impl<const N: usize, D: Dynamics<N>> Dynamics<N> for WithFriction<D> {
     }
 }
 
-/// The model the scenario's controller and observers use on `robot` (see the module's notes).
+/// The model the scenario's controller and observers use on `robot` (see the module's notes),
+/// where the scenario names one; `None` for the robot's own nominal dynamics, which the caller
+/// then uses as they are (no added indirection in the loop).
 pub fn controller_model<'a, const N: usize>(
     scenario: &Scenario,
     robot: &'a Robot<N>,
-) -> Result<Box<dyn Dynamics<N> + Send + Sync + 'a>, SimError> {
+) -> Result<Option<Box<dyn Dynamics<N> + Send + Sync + 'a>>, SimError> {
     let controller = &scenario.controller;
+    if controller.model_urdf.is_none() && controller.friction_toml.is_none() {
+        return Ok(None);
+    }
     let rigid: Box<dyn Dynamics<N> + Send + Sync + 'a> = match &controller.model_urdf {
         None => Box::new(robot.nominal.as_ref()),
         Some(path) => {
@@ -89,14 +94,14 @@ pub fn controller_model<'a, const N: usize>(
             Box::new(model.into_dynamics::<N>()?)
         }
     };
-    Ok(match &controller.friction_toml {
+    Ok(Some(match &controller.friction_toml {
         None => rigid,
         Some(path) => {
             let friction = JointFriction::from_file(std::path::Path::new(path), N)
                 .map_err(|e| SettingError::new("controller.friction_toml", None, e))?;
             Box::new(WithFriction::new(rigid, friction))
         }
-    })
+    }))
 }
 
 #[cfg(test)]

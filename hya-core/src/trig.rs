@@ -8,17 +8,20 @@
 //! place of 1.0 of `libm` (tested) for `|x| ≤ 1e5`; larger or non-finite inputs go to `libm`.
 
 /// Leading bits of π/2.
-const PIO2_1: f64 = 1.570_796_326_734_125_6;
+pub(crate) const PIO2_1: f64 = 1.570_796_326_734_125_6;
 /// The next bits of π/2.
-const PIO2_2: f64 = 6.077_100_506_303_966e-11;
+pub(crate) const PIO2_2: f64 = 6.077_100_506_303_966e-11;
 /// The rest of π/2.
-const PIO2_3: f64 = 2.022_266_248_711_166_4e-21;
+pub(crate) const PIO2_3: f64 = 2.022_266_248_711_166_4e-21;
 /// Beyond this, the reduction above loses accuracy.
-const REDUCTION_LIMIT: f64 = 1e5;
+pub(crate) const REDUCTION_LIMIT: f64 = 1e5;
+
+/// `1.5·2⁵²`: added to `x·2/π`, it leaves the nearest integer `k` in the low bits of the sum.
+pub(crate) const QUADRANT_SHIFT: f64 = 6_755_399_441_055_744.0;
 
 /// `(−1)ᵏ / (2k + 1)!`, k = 0..7: the Taylor coefficients of `sin r / r` in `z = r²`. The next
 /// term, `(π/4)¹⁷/17! ≈ 4e-17` relative, is below half an ulp.
-const SIN: [f64; 8] = [
+pub(crate) const SIN: [f64; 8] = [
     1.0,
     -1.0 / 6.0,
     1.0 / 120.0,
@@ -30,7 +33,7 @@ const SIN: [f64; 8] = [
 ];
 
 /// `(−1)ᵏ / (2k)!`, k = 0..8: the Taylor coefficients of `cos r` in `z = r²`.
-const COS: [f64; 9] = [
+pub(crate) const COS: [f64; 9] = [
     1.0,
     -1.0 / 2.0,
     1.0 / 24.0,
@@ -70,9 +73,13 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 ///
 /// Lanes beyond the reduction's range, or not finite, are recomputed by `libm` (a branch
 /// never taken for joint angles). Each lane's result does not depend on the others (tested).
-#[inline]
+///
+/// Always inlined: a call from code compiled for FMA or AVX2 (generated dynamics run in such
+/// functions, see [`with_fma`](crate::with_fma)) would otherwise run the baseline build's
+/// polynomial, without fused multiply-adds and on narrower registers.
+#[inline(always)]
 pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
-    let magic = 6_755_399_441_055_744.0;
+    let magic = QUADRANT_SHIFT;
     let mut out = [(0.0, 0.0); N];
     for (x, out) in x.iter().zip(out.iter_mut()) {
         let shifted = x * core::f64::consts::FRAC_2_PI + magic;
@@ -87,15 +94,28 @@ pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
         let cos_sign = (quadrant.wrapping_add(1) & 2) << 62;
         *out = (f64::from_bits(sin_base.to_bits() ^ sin_sign), f64::from_bits(cos_base.to_bits() ^ cos_sign));
     }
-    let outside = |x: &f64| x.is_nan() || x.abs() > REDUCTION_LIMIT;
-    if x.iter().any(outside) {
-        for (x, out) in x.iter().zip(out.iter_mut()) {
-            if outside(x) {
-                *out = libm::sincos(*x);
-            }
-        }
+    if x.iter().any(outside_reduction) {
+        by_libm_outside_reduction(&x, &mut out);
     }
     out
+}
+
+/// True where [`sin_cos_lanes`]' reduction loses accuracy.
+#[inline(always)]
+fn outside_reduction(x: &f64) -> bool {
+    x.is_nan() || x.abs() > REDUCTION_LIMIT
+}
+
+/// Recomputes by `libm` the lanes [`outside_reduction`]: a cold call, kept out of line so that
+/// the inlined polynomial stays small.
+#[cold]
+#[inline(never)]
+pub(crate) fn by_libm_outside_reduction<const N: usize>(x: &[f64; N], out: &mut [(f64, f64); N]) {
+    for (x, out) in x.iter().zip(out.iter_mut()) {
+        if outside_reduction(x) {
+            *out = libm::sincos(*x);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,239 @@
+//! [`F64x4`]: four `f64` in one AVX register, the lanes [`batch`](super::batch) runs on x86-64.
+//!
+//! A private type: values exist only inside [`with_vector_fma`](super::with_vector_fma)'s
+//! function compiled for AVX2 and FMA, run after the CPU was found to have both, which is what
+//! makes its intrinsics sound. (Arrays of four, as [`Lanes`](super::Lanes), are split into
+//! scalars by the compiler in functions this long.)
+//!
+//! Every intrinsic is called either from an `#[inline(always)]` method, which lands in that
+//! compiled function, or from a function compiled for AVX2 and FMA itself ([`sin_cos_each`]).
+//! No closure stands between them: LLVM may keep a closure out of line, compiled for the
+//! baseline, where an intrinsic becomes a call of its own.
+
+use core::arch::x86_64::{
+    __m256d, __m256i, _mm256_add_epi64, _mm256_add_pd, _mm256_and_si256, _mm256_andnot_pd, _mm256_blendv_pd,
+    _mm256_castpd_si256, _mm256_castsi256_pd, _mm256_cmp_pd, _mm256_cmpeq_epi64, _mm256_div_pd, _mm256_fmadd_pd,
+    _mm256_movemask_pd, _mm256_mul_pd, _mm256_set1_epi64x, _mm256_set1_pd, _mm256_slli_epi64, _mm256_sub_pd,
+    _mm256_xor_pd, _CMP_NLE_UQ,
+};
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::Arithmetic;
+use crate::trig::{by_libm_outside_reduction, COS, PIO2_1, PIO2_2, PIO2_3, QUADRANT_SHIFT, REDUCTION_LIMIT, SIN};
+
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct F64x4(__m256d);
+
+/// Runs an AVX or FMA intrinsic.
+macro_rules! avx {
+    ($e:expr) => {
+        // SAFETY: an `F64x4` exists only inside `with_vector_fma`'s function, compiled for
+        // AVX2 and FMA and called once the CPU was found to have them (see the module's docs).
+        unsafe { $e }
+    };
+}
+
+impl From<f64> for F64x4 {
+    #[inline(always)]
+    fn from(value: f64) -> Self {
+        Self(avx!(_mm256_set1_pd(value)))
+    }
+}
+
+/// `F64x4 ∘ F64x4` and `F64x4 ∘ f64` by one intrinsic.
+macro_rules! operator {
+    ($trait:ident, $method:ident, $intrinsic:ident) => {
+        impl $trait for F64x4 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: Self) -> Self {
+                Self(avx!($intrinsic(self.0, rhs.0)))
+            }
+        }
+        impl $trait<f64> for F64x4 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: f64) -> Self {
+                self.$method(Self::from(rhs))
+            }
+        }
+    };
+}
+
+operator!(Add, add, _mm256_add_pd);
+operator!(Sub, sub, _mm256_sub_pd);
+operator!(Mul, mul, _mm256_mul_pd);
+operator!(Div, div, _mm256_div_pd);
+
+impl Neg for F64x4 {
+    type Output = Self;
+    /// Flips the sign bits, as `-x` does on `f64`.
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self(avx!(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))))
+    }
+}
+
+impl F64x4 {
+    /// The lanes as an array (a bit cast, no instruction that needs AVX).
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        // SAFETY: `__m256d` is four `f64`, with no invalid bit patterns either way.
+        unsafe { core::mem::transmute::<__m256d, [f64; 4]>(self.0) }
+    }
+
+    /// Lanes from an array (a bit cast).
+    #[inline(always)]
+    fn from_array(values: [f64; 4]) -> Self {
+        // SAFETY: as in `to_array`.
+        Self(unsafe { core::mem::transmute::<[f64; 4], __m256d>(values) })
+    }
+}
+
+impl Arithmetic for F64x4 {
+    const LANES: usize = 4;
+
+    #[inline(always)]
+    fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
+        Self(avx!(_mm256_fmadd_pd(a.0, b.into().0, c.into().0)))
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        Self::sin_cos_lanes([self])[0]
+    }
+
+    /// All values at once, in one function compiled for AVX2, so their independent
+    /// polynomials interleave.
+    #[inline(always)]
+    fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
+        // SAFETY: see `avx!`.
+        unsafe { sin_cos_each(x) }
+    }
+
+    #[inline(always)]
+    fn lane(self, l: usize) -> f64 {
+        self.to_array()[l]
+    }
+
+    #[inline(always)]
+    fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+        Self::from_array([f(0), f(1), f(2), f(3)])
+    }
+}
+
+/// [`sin_cos_lanes`](crate::sin_cos_lanes) of every lane of every value, bit for bit: the
+/// same reduction, series and quadrant selects, each operation on four lanes (no fused
+/// multiply-add, which the scalar polynomial does not use either).
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
+    // Macros rather than closures, which might be compiled apart from the AVX2 function.
+    macro_rules! splat {
+        ($v:expr) => {
+            _mm256_set1_pd($v)
+        };
+    }
+    macro_rules! bits {
+        ($v:expr) => {
+            _mm256_set1_epi64x($v)
+        };
+    }
+    /// `±` by bit 1 of the quadrant: that bit moved to the sign.
+    macro_rules! sign {
+        ($q:expr) => {
+            _mm256_castsi256_pd(_mm256_slli_epi64::<62>(_mm256_and_si256($q, bits!(2))))
+        };
+    }
+    let mut out = [(F64x4(splat!(0.0)), F64x4(splat!(0.0))); K];
+    let mut outside = 0;
+    for (x, out) in x.iter().zip(out.iter_mut()) {
+        let x = x.0;
+        let shifted = _mm256_add_pd(_mm256_mul_pd(x, splat!(core::f64::consts::FRAC_2_PI)), splat!(QUADRANT_SHIFT));
+        let k = _mm256_sub_pd(shifted, splat!(QUADRANT_SHIFT));
+        let r = _mm256_sub_pd(
+            _mm256_sub_pd(_mm256_sub_pd(x, _mm256_mul_pd(k, splat!(PIO2_1))), _mm256_mul_pd(k, splat!(PIO2_2))),
+            _mm256_mul_pd(k, splat!(PIO2_3)),
+        );
+        let z = _mm256_mul_pd(r, r);
+        let (s, c) = (_mm256_mul_pd(r, horner(&SIN, z)), horner(&COS, z));
+        let quadrant: __m256i = _mm256_castpd_si256(shifted);
+        let odd = _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(quadrant, bits!(1)), bits!(1)));
+        let sin = _mm256_xor_pd(_mm256_blendv_pd(s, c, odd), sign!(quadrant));
+        let cos = _mm256_xor_pd(_mm256_blendv_pd(c, s, odd), sign!(_mm256_add_epi64(quadrant, bits!(1))));
+        *out = (F64x4(sin), F64x4(cos));
+        // Not finite, or beyond the reduction's range: `!(|x| ≤ limit)`.
+        let magnitude = _mm256_andnot_pd(splat!(-0.0), x);
+        outside |= _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_NLE_UQ>(magnitude, splat!(REDUCTION_LIMIT)));
+    }
+    if outside != 0 {
+        for (x, out) in x.iter().zip(out.iter_mut()) {
+            let mut pairs = [(0.0, 0.0); 4];
+            let values = x.to_array();
+            for (pair, (s, c)) in pairs.iter_mut().zip(out.0.to_array().into_iter().zip(out.1.to_array())) {
+                *pair = (s, c);
+            }
+            by_libm_outside_reduction(&values, &mut pairs);
+            *out = (F64x4::from_array(pairs.map(|p| p.0)), F64x4::from_array(pairs.map(|p| p.1)));
+        }
+    }
+    out
+}
+
+/// `Σ c_k z^k` by Horner's rule, with the scalar [`sin_cos_lanes`](crate::sin_cos_lanes)'s
+/// roundings (a product, then a sum).
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn horner(coefficients: &[f64], z: __m256d) -> __m256d {
+    let mut sum = _mm256_set1_pd(0.0);
+    for &c in coefficients.iter().rev() {
+        sum = _mm256_add_pd(_mm256_mul_pd(sum, z), _mm256_set1_pd(c));
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lanes::with_vector_fma;
+
+    /// Every lane of [`sin_cos_each`], bit for bit against the scalar polynomial, across
+    /// quadrants, signs, the reduction's limit and values it leaves to `libm`.
+    #[test]
+    fn four_lanes_equal_the_scalar_polynomial_bit_for_bit() {
+        let mut values: std::vec::Vec<f64> = (-4000..=4000).map(|i| i as f64 * 1.7e-3).collect();
+        values.extend([0.0, -0.0, 1e-300, 1e4, -7.5e4, REDUCTION_LIMIT, REDUCTION_LIMIT * 1.5, 1e10]);
+        values.extend([f64::NAN, f64::INFINITY, f64::NEG_INFINITY, core::f64::consts::FRAC_PI_4]);
+        let chunks: std::vec::Vec<[f64; 4]> =
+            values.chunks(4).map(|c| core::array::from_fn(|l| c[l.min(c.len() - 1)])).collect();
+        let lanes = with_vector_fma(
+            #[inline(always)]
+            || {
+                chunks
+                    .iter()
+                    .map(|&c| {
+                        let [(s, c)] = F64x4::sin_cos_lanes([F64x4::from_array(c)]);
+                        (s.to_array(), c.to_array())
+                    })
+                    .collect::<std::vec::Vec<_>>()
+            },
+        );
+        let Some(lanes) = lanes else {
+            assert!(!std::is_x86_feature_detected!("avx2") || !std::is_x86_feature_detected!("fma"));
+            return;
+        };
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for (chunk, (sin, cos)) in chunks.iter().zip(lanes) {
+            for (l, (s_ref, c_ref)) in crate::sin_cos_lanes(*chunk).into_iter().enumerate() {
+                assert!(
+                    same(sin[l], s_ref) && same(cos[l], c_ref),
+                    "x = {}: ({}, {}) vs ({s_ref}, {c_ref})",
+                    chunk[l],
+                    sin[l],
+                    cos[l]
+                );
+            }
+        }
+    }
+}

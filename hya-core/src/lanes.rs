@@ -159,14 +159,14 @@ impl Arithmetic for Fused {
 
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = crate::sin_cos(self.0);
-        (Self(s), Self(c))
+        Self::sin_cos_lanes([self])[0]
     }
 
-    /// One vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values.
+    /// One vectorised [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) call across the
+    /// values.
     #[inline(always)]
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
-        let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0));
+        let pairs = crate::sin_cos_lanes_fused::<K>(each(0.0, |k| x[k].0));
         each((Self(0.0), Self(0.0)), |k| (Self(pairs[k].0), Self(pairs[k].1)))
     }
 
@@ -233,19 +233,22 @@ impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
         Self(each(0.0, |l| if FUSED { crate::mul_add(a.0[l], b.0[l], c.0[l]) } else { a.0[l] * b.0[l] + c.0[l] }))
     }
 
+    /// [`sin_cos_lanes`](crate::sin_cos_lanes) across the lanes, its series fused where
+    /// `FUSED` ([`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused)).
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
-        let pairs = crate::sin_cos_lanes(self.0);
+        let pairs = if FUSED { crate::sin_cos_lanes_fused(self.0) } else { crate::sin_cos_lanes(self.0) };
         (Self(each(0.0, |l| pairs[l].0)), Self(each(0.0, |l| pairs[l].1)))
     }
 
-    /// One lane: one vectorised [`sin_cos_lanes`](crate::sin_cos_lanes) call across the values
-    /// (all joints at once, as on `f64`). Several: one call per value, across its lanes.
+    /// One lane: one vectorised call across the values (all joints at once, as on `f64`).
+    /// Several: one call per value, across its lanes.
     #[inline(always)]
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
         let zero = (Self::from(0.0), Self::from(0.0));
         if L == 1 {
-            let pairs = crate::sin_cos_lanes::<K>(each(0.0, |k| x[k].0[0]));
+            let x = each(0.0, |k| x[k].0[0]);
+            let pairs = if FUSED { crate::sin_cos_lanes_fused::<K>(x) } else { crate::sin_cos_lanes::<K>(x) };
             each(zero, |k| (Self::from(pairs[k].0), Self::from(pairs[k].1)))
         } else {
             each(zero, |k| x[k].sin_cos())

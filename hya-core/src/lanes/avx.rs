@@ -123,9 +123,8 @@ impl Arithmetic for F64x4 {
     }
 }
 
-/// [`sin_cos_lanes`](crate::sin_cos_lanes) of every lane of every value, bit for bit: the
-/// same reduction, series and quadrant selects, each operation on four lanes (no fused
-/// multiply-add, which the scalar polynomial does not use either).
+/// [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) of every lane of every value, bit for
+/// bit: the same reduction, fused series and quadrant selects, each operation on four lanes.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
@@ -181,14 +180,14 @@ fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
     out
 }
 
-/// `Σ c_k z^k` by Horner's rule, with the scalar [`sin_cos_lanes`](crate::sin_cos_lanes)'s
-/// roundings (a product, then a sum).
+/// `Σ c_k z^k` by Horner's rule, each step one fused multiply-add, as in
+/// [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused).
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn horner(coefficients: &[f64], z: __m256d) -> __m256d {
     let mut sum = _mm256_set1_pd(0.0);
     for &c in coefficients.iter().rev() {
-        sum = _mm256_add_pd(_mm256_mul_pd(sum, z), _mm256_set1_pd(c));
+        sum = _mm256_fmadd_pd(sum, z, _mm256_set1_pd(c));
     }
     sum
 }
@@ -198,7 +197,7 @@ mod tests {
     use super::*;
     use crate::lanes::with_vector_fma;
 
-    /// Every lane of [`sin_cos_each`], bit for bit against the scalar polynomial, across
+    /// Every lane of [`sin_cos_each`], bit for bit against the scalar fused polynomial, across
     /// quadrants, signs, the reduction's limit and values it leaves to `libm`.
     #[test]
     fn four_lanes_equal_the_scalar_polynomial_bit_for_bit() {
@@ -225,7 +224,7 @@ mod tests {
         };
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         for (chunk, (sin, cos)) in chunks.iter().zip(lanes) {
-            for (l, (s_ref, c_ref)) in crate::sin_cos_lanes(*chunk).into_iter().enumerate() {
+            for (l, (s_ref, c_ref)) in crate::sin_cos_lanes_fused(*chunk).into_iter().enumerate() {
                 assert!(
                     same(sin[l], s_ref) && same(cos[l], c_ref),
                     "x = {}: ({}, {}) vs ({s_ref}, {c_ref})",

@@ -50,6 +50,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     /// reported as [`Error::NonFinite`] and leaves every state as it was, so one bad sample never
     /// poisons the filters. The caller decides what to do for that tick (typically: keep the
     /// previous `d̂`, which [`disturbance`](Self::disturbance) still returns).
+    #[inline]
     pub fn update(&mut self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<JointVector<N>, Error> {
         let joints = self.joint_filter.peek("q_m", q_m)?;
         let torques = self.torque_filter.peek("tau_m", tau_m)?;
@@ -78,6 +79,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     }
 
     /// Commits peeked filter states and the estimate they give, or nothing if it is not finite.
+    #[inline(always)]
     fn advance(
         &mut self,
         joints: FilterState<N>,

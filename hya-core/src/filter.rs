@@ -264,6 +264,7 @@ impl<const N: usize> ThirdOrderFilter<N> {
     /// beyond [`MAX_FILTER_INPUT`] ([`Error::Overflow`]). The filter is stable, so inputs within
     /// that range keep every state bounded by a fixed multiple of it: every state it returns is
     /// finite, and so is every later one.
+    #[inline]
     pub fn peek(&self, signal: &'static str, u: &JointVector<N>) -> Result<FilterState<N>, Error> {
         self.peek_over(&self.discretisation, signal, u)
     }
@@ -272,6 +273,7 @@ impl<const N: usize> ThirdOrderFilter<N> {
     /// sample time: a log's irregular step, with `step` built from
     /// [`FilterParams::with_dt`] (or taken from a [`DiscretisationCache`](crate::step_cache::DiscretisationCache)).
     /// Over a step of the filter's own length it computes exactly what `peek` does.
+    #[inline(always)]
     pub fn peek_over(
         &self,
         step: &Discretisation,
@@ -302,6 +304,7 @@ impl<const N: usize> ThirdOrderFilter<N> {
     }
 
     /// Commits a state obtained from [`peek`](Self::peek) with the same input `u`.
+    #[inline]
     pub fn commit(&mut self, state: FilterState<N>, u: JointVector<N>) {
         self.state = state;
         self.last_input = u;

@@ -287,7 +287,8 @@ impl<const N: usize> ThirdOrderFilter<N> {
         let (phi, now, next) = (&step.transition, &step.input_now, &step.input_next);
         let s = &self.state;
         let mut out = FilterState::<N>::at_rest(JointVector::zeros());
-        // Channel by channel: x⁺ = Φ x + γ_now u_prev + γ_next u.
+        // Channel by channel: x⁺ = Φ x + γ_now u_prev + γ_next u. No exit inside the loop, so
+        // the compiler runs the channels side by side in vector registers.
         for j in 0..N {
             let (x1, x2, x3, previous, sample) = (s.x1[j], s.x2[j], s.x3[j], self.last_input[j], u[j]);
             let row = |r: usize| {
@@ -296,11 +297,12 @@ impl<const N: usize> ThirdOrderFilter<N> {
                 )
             };
             (out.x1[j], out.x2[j], out.x3[j]) = (row(0), row(1), row(2));
-            if !(out.x1[j].is_finite() && out.x2[j].is_finite() && out.x3[j].is_finite()) {
-                return Err(Error::Overflow { signal, index: j, value: sample });
-            }
         }
-        Ok(out)
+        let finite = |j: usize| out.x1[j].is_finite() && out.x2[j].is_finite() && out.x3[j].is_finite();
+        match (0..N).find(|&j| !finite(j)) {
+            Some(index) => Err(Error::Overflow { signal, index, value: u[index] }),
+            None => Ok(out),
+        }
     }
 
     /// Commits a state obtained from [`peek`](Self::peek) with the same input `u`.

@@ -33,6 +33,8 @@ BUILDS = {
     "native": (ROOT / "target" / "bench-native", {"RUSTFLAGS": "-C target-cpu=native"}),
 }
 NOTES = Path(__file__).resolve().parent / "benchmarks_notes.md"
+# Measurements made apart from this run (profiles, compile times), each dated in its text.
+STUDIES = Path(__file__).resolve().parent / "benchmarks_studies.md"
 # The last run's raw figures, for re-rendering (`--from-json`).
 RAW = Path(__file__).resolve().parent / ".build" / "benchmarks_raw.json"
 # The last Python table (`--python`), kept for rewrites without it.
@@ -59,8 +61,10 @@ def stats(robot):
     text = run(hya("plain"), "generate", f"robots/urdf/{robot}.urdf", "--name", "X", "--stats")
     counts = {}
     for line in text.splitlines()[1:]:
-        name, adds, muls, divs, trig = line.split()
-        counts[name] = (int(adds), int(muls), int(divs), int(trig))
+        if line.startswith("total"):
+            continue
+        name, adds, muls, mul_adds, divs, trig = line.split()
+        counts[name] = (int(adds), int(muls), int(mul_adds), int(divs), int(trig))
     return counts
 
 
@@ -113,7 +117,10 @@ def main():
     parser.add_argument("--from-json", help="write BENCHMARKS.md from a saved run's raw figures instead of measuring")
     parser.add_argument("--python", help="a Python with hya and pin installed: adds tools/python_bench.py's table")
     args = parser.parse_args()
+    # A rewrite from saved figures needs only the plain build, for the operation counts.
     for build, (target, flags) in BUILDS.items():
+        if args.from_json and build != "plain":
+            continue
         env = {k: v for k, v in os.environ.items() if k != "RUSTFLAGS"}
         env.update(CARGO_TARGET_DIR=str(target), **flags)
         print(f"building hya ({build})", flush=True)
@@ -192,6 +199,40 @@ def main():
             )
         lines.append("")
     lines += [
+        "## Batches: many states per call",
+        "",
+        "hya's batch entry points (`Dynamics::inverse_dynamics_batch`, `forward_dynamics_batch`) on 1024 states per",
+        "call, ns per state, against the single call in the same build and against Pinocchio on the same 1024 states:",
+        "`rnea` in a C++ loop, and `rneaInParallel` (OpenMP over a pool of model copies) on one thread and on every",
+        "core. A speed-up is single-call ns over batch ns per state, computed within each round. hya's batches run",
+        "four states per AVX2 register, in the plain build chosen at run time; they use one core.",
+        "",
+    ]
+    for build in ("plain", "native"):
+        lines += [
+            f"### hya {build} build",
+            "",
+            "| robot | ID single | ID batch | batch speed-up | Pinocchio rnea loop | rnea loop / ID batch | rneaInParallel, 1 thread | rneaInParallel, all cores | FD single | FD batch | batch speed-up |",
+            "|---|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        for robot in ROBOTS:
+            lines.append(
+                f"| {robot} | {median_and_spread(each(robot, build, 'generated_id_ns'))} "
+                f"| {median_and_spread(each(robot, build, 'batch_id_ns_per_state'))} "
+                f"| {median_and_spread(ratios(robot, (build, 'generated_id_ns'), (build, 'batch_id_ns_per_state')), 1, 'x')} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'rnea_loop_ns_per_state'))} "
+                f"| {median_and_spread(ratios(robot, ('pinocchio', 'rnea_loop_ns_per_state'), (build, 'batch_id_ns_per_state')), 1, 'x')} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'rnea_parallel_1_ns_per_state'))} "
+                f"| {median_and_spread(each(robot, 'pinocchio', 'rnea_parallel_all_ns_per_state'))} "
+                f"| {median_and_spread(each(robot, build, 'generated_fd_ns'))} "
+                f"| {median_and_spread(each(robot, build, 'batch_fd_ns_per_state'))} "
+                f"| {median_and_spread(ratios(robot, (build, 'generated_fd_ns'), (build, 'batch_fd_ns_per_state')), 1, 'x')} |"
+            )
+        lines.append("")
+    threads = {r["hya"]["pinocchio"].get("rnea_parallel_threads") for r in runs} - {None}
+    if threads:
+        lines += [f"`rneaInParallel`, all cores: {', '.join(str(t) for t in sorted(threads))} threads.", ""]
+    lines += [
         "## HyA: control tick and simulator",
         "",
         "| figure | plain | native |",
@@ -205,19 +246,19 @@ def main():
     lines += ["", "## Operation counts of the generated code", ""]
     lines += [
         "After constant folding, common-subexpression and dead-code elimination (`hya generate ROBOT.urdf --name X --stats`):",
-        "adds, multiplies, divisions, `sin_cos` lanes.",
+        "adds, multiplies, fused multiply-adds (each one add and one multiply of the plain variant), divisions, `sin_cos` lanes.",
         "",
         "| robot | inverse dynamics | mass matrix | forward dynamics (ABA) |",
         "|---|---|---|---|",
     ]
-    fmt_ops = lambda c: f"{c[0]} / {c[1]} / {c[2]} / {c[3]}"
+    fmt_ops = lambda c: " / ".join(str(n) for n in c)
     for robot in ROBOTS:
         c = stats(robot)
         lines.append(f"| {robot} | {fmt_ops(c['inverse_dynamics'])} | {fmt_ops(c['mass_matrix'])} | {fmt_ops(c['forward_dynamics'])} |")
     lines.append("")
     if args.python:
         print("timing from Python", flush=True)
-        table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"))
+        table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"), hya("plain"))
         PYTHON_RAW.write_text(table)
     else:
         table = PYTHON_RAW.read_text() if PYTHON_RAW.exists() else None
@@ -226,20 +267,26 @@ def main():
             "## From Python",
             "",
             "Per call from Python (the wheel `pip install ./hya-py` builds, plain flags), against `pin.rnea` from",
-            "the `pin` wheel; and the batch path's cost per state for 1024 states in one call (NumPy arrays,",
-            "the GIL released) against `pin.rnea` called in a Python loop. Medians of 15 interleaved rounds",
-            "(`tools/python_bench.py`, run after the rounds above).",
+            "the `pin` wheel; and the batch path's cost per state for 1024 states per call (NumPy arrays,",
+            "the GIL released; the mean of 8 calls, as `hya bench` times the Rust batches in the tables above)",
+            "against `pin.rnea` called in a Python loop. Medians of 15 interleaved rounds",
+            "(`tools/python_bench.py`, run after the rounds above). Each round also runs `hya bench` (plain build)",
+            "for the Rust batch figures beside them; ratios are taken within each round.",
             "",
             table.rstrip(),
             "",
         ]
-    if NOTES.exists():
-        lines += [NOTES.read_text().rstrip(), ""]
+    for notes in (STUDIES, NOTES):
+        if notes.exists():
+            lines += [notes.read_text().rstrip(), ""]
 
     # The targets of the speed issue, on HyA, in the plain build (the one users get).
     h = lambda key: med(each("hya", "plain", key))
     rnea_ratio = med(ratios("hya", ("pinocchio", "rnea_ns"), ("plain", "generated_id_ns")))
     aba_ratio = med(ratios("hya", ("pinocchio", "aba_ns"), ("plain", "generated_fd_ns")))
+    batch_id_speedup = med(ratios("hya", ("plain", "generated_id_ns"), ("plain", "batch_id_ns_per_state")))
+    batch_rnea_ratio = med(ratios("hya", ("pinocchio", "rnea_loop_ns_per_state"), ("plain", "batch_id_ns_per_state")))
+    batch_fd_speedup = med(ratios("hya", ("plain", "generated_fd_ns"), ("plain", "batch_fd_ns_per_state")))
     def verdict(ok):
         return "met" if ok else "**missed**"
 
@@ -250,8 +297,11 @@ def main():
         ("forward dynamics ≤ 300 ns", f"{h('generated_fd_ns'):.0f} ns", h("generated_fd_ns") <= 300),
         ("forward dynamics ≥ 5x Pinocchio's aba", f"{aba_ratio:.1f}x", aba_ratio >= 5),
         ("control tick ≤ 300 ns", f"{h('tick_ns'):.0f} ns", h("tick_ns") <= 300),
+        ("batch ID ≥ 3x the single call's throughput", f"{batch_id_speedup:.1f}x", batch_id_speedup >= 3),
+        ("batch ID ≥ 20x Pinocchio's rnea (in a loop, per state)", f"{batch_rnea_ratio:.1f}x", batch_rnea_ratio >= 20),
+        ("batch FD ≥ 2.5x the single call's throughput", f"{batch_fd_speedup:.1f}x", batch_fd_speedup >= 2.5),
         ("simulation ≥ 500x real time (lag)", f"{h('sim_realtime_factor'):.0f}x", h("sim_realtime_factor") >= 500),
-        ("simulation ≥ 100x real time (hydraulic)", f"{h('sim_realtime_factor_hydraulic'):.0f}x", h("sim_realtime_factor_hydraulic") >= 100),
+        ("simulation ≥ 300x real time (hydraulic)", f"{h('sim_realtime_factor_hydraulic'):.0f}x", h("sim_realtime_factor_hydraulic") >= 300),
     ]
     if reproduce:
         rows.append(("`hya reproduce` < 1 min", f"{reproduce[0]:.0f} s", reproduce[0] < 60))

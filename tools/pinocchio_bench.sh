@@ -14,8 +14,9 @@ mkdir -p "$here/.build"
 binary="$here/.build/pinocchio_bench"
 # Flags: -march=native like hya's release build here; EIGEN_MAX_ALIGN_BYTES=16 and
 # EIGEN_MALLOC_ALREADY_ALIGNED=1 because the model is built by the wheel's baseline-x86-64
-# parser library (else freeing it crashes); the Boost limits are those Pinocchio's CMake exports.
-flags=(-O3 -march=native -DNDEBUG -std=c++17 -w
+# parser library (else freeing it crashes); the Boost limits are those Pinocchio's CMake exports;
+# OpenMP for rneaInParallel (header-only in the wheel).
+flags=(-O3 -march=native -DNDEBUG -std=c++17 -w -fopenmp
   -DEIGEN_MAX_ALIGN_BYTES=16 -DEIGEN_MALLOC_ALREADY_ALIGNED=1
   -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS
   -DBOOST_FUSION_INVOKE_MAX_ARITY=12 -DPINOCCHIO_WITH_URDFDOM)

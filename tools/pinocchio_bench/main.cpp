@@ -1,12 +1,16 @@
 // Times Pinocchio's rnea, crba and aba on a URDF, the same way `hya bench` times hya:
 // the median over 31 rounds of the mean time per call within a round of 2000 calls cycling
-// through 64 pseudo-random states (q in ±π, v in ±2, a and τ in ±5). Prints one JSON object.
+// through 64 pseudo-random states (q in ±π, v in ±2, a and τ in ±5). Batches, as `hya bench`
+// times its batch calls: 1024 states per call (the 64 repeated), 8 calls per round, ns per
+// state: rnea in a loop, and rneaInParallel (OpenMP over a pool of model copies) on one thread
+// and on every core. Prints one JSON object.
 // Written for hya; built by tools/pinocchio_bench.sh against the `pin` wheel.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/algorithm/parallel/rnea.hpp>
 #include <pinocchio/parsers/urdf.hpp>
 
 #include <algorithm>
@@ -14,12 +18,15 @@
 #include <cstdint>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
 constexpr int kRounds = 31;
 constexpr int kCalls = 2000;
 constexpr int kStates = 64;
+constexpr int kBatch = 1024;
+constexpr int kBatchCalls = 8;
 
 template <typename F>
 double median_ns(F&& f) {
@@ -29,6 +36,20 @@ double median_ns(F&& f) {
     for (int k = 0; k < kCalls; ++k) f(k % kStates);
     std::chrono::duration<double, std::nano> elapsed = std::chrono::steady_clock::now() - start;
     rounds.push_back(elapsed.count() / kCalls);
+  }
+  std::nth_element(rounds.begin(), rounds.begin() + kRounds / 2, rounds.end());
+  return rounds[kRounds / 2];
+}
+
+// Median over rounds of the mean ns per state of `f()`, one call over kBatch states.
+template <typename F>
+double median_batch_ns(F&& f) {
+  std::vector<double> rounds;
+  for (int r = 0; r < kRounds; ++r) {
+    auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < kBatchCalls; ++k) f();
+    std::chrono::duration<double, std::nano> elapsed = std::chrono::steady_clock::now() - start;
+    rounds.push_back(elapsed.count() / (kBatchCalls * kBatch));
   }
   std::nth_element(rounds.begin(), rounds.begin() + kRounds / 2, rounds.end());
   return rounds[kRounds / 2];
@@ -80,7 +101,30 @@ int main(int argc, char** argv) {
   double rnea = median_ns([&](int k) { keep(pinocchio::rnea(model, data, q[k], v[k], a[k])); });
   double crba = median_ns([&](int k) { keep(pinocchio::crba(model, data, q[k])); });
   double aba = median_ns([&](int k) { keep(pinocchio::aba(model, data, q[k], v[k], a[k])); });
+  // Batches: states as columns.
+  Eigen::MatrixXd qs(model.nq, kBatch), vs(model.nv, kBatch), as(model.nv, kBatch), taus(model.nv, kBatch);
+  for (int k = 0; k < kBatch; ++k) {
+    qs.col(k) = q[k % kStates];
+    vs.col(k) = v[k % kStates];
+    as.col(k) = a[k % kStates];
+  }
+  double rnea_loop = median_batch_ns([&] {
+    for (int k = 0; k < kBatch; ++k) taus.col(k) = pinocchio::rnea(model, data, qs.col(k), vs.col(k), as.col(k));
+    keep(taus);
+  });
+  int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  pinocchio::ModelPool pool(model, cores);
+  auto parallel = [&](int threads) {
+    return median_batch_ns([&] {
+      pinocchio::rneaInParallel(static_cast<size_t>(threads), pool, qs, vs, as, taus);
+      keep(taus);
+    });
+  };
+  double parallel_one = parallel(1);
+  double parallel_all = parallel(cores);
   std::cout << "{\"robot\": \"" << argv[1] << "\", \"rnea_ns\": " << rnea << ", \"crba_ns\": " << crba
-            << ", \"aba_ns\": " << aba << "}" << std::endl;
+            << ", \"aba_ns\": " << aba << ", \"rnea_loop_ns_per_state\": " << rnea_loop
+            << ", \"rnea_parallel_1_ns_per_state\": " << parallel_one << ", \"rnea_parallel_threads\": " << cores
+            << ", \"rnea_parallel_all_ns_per_state\": " << parallel_all << "}" << std::endl;
   return 0;
 }

@@ -92,9 +92,9 @@ pub fn sin_cos_lanes_fused<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
     sin_cos_lanes_rounded::<true, N>(x)
 }
 
-/// [`sin_cos_lanes`], the series rounded as [`horner`] says.
+/// [`sin_cos_lanes`], the series rounded as [`horner`] says: fused for `FUSED`.
 #[inline(always)]
-fn sin_cos_lanes_rounded<const FUSED: bool, const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
+pub(crate) fn sin_cos_lanes_rounded<const FUSED: bool, const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
     let magic = QUADRANT_SHIFT;
     let mut out = [(0.0, 0.0); N];
     for (x, out) in x.iter().zip(out.iter_mut()) {

@@ -168,12 +168,9 @@ fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
     }
     if outside != 0 {
         for (x, out) in x.iter().zip(out.iter_mut()) {
-            let mut pairs = [(0.0, 0.0); 4];
-            let values = x.to_array();
-            for (pair, (s, c)) in pairs.iter_mut().zip(out.0.to_array().into_iter().zip(out.1.to_array())) {
-                *pair = (s, c);
-            }
-            by_libm_outside_reduction(&values, &mut pairs);
+            let (sin, cos) = (out.0.to_array(), out.1.to_array());
+            let mut pairs: [(f64, f64); 4] = core::array::from_fn(|l| (sin[l], cos[l]));
+            by_libm_outside_reduction(&x.to_array(), &mut pairs);
             *out = (F64x4::from_array(pairs.map(|p| p.0)), F64x4::from_array(pairs.map(|p| p.1)));
         }
     }

@@ -10,7 +10,9 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use hya_core::model::TreeDynamics;
-use hya_core::{ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference};
+use hya_core::{
+    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference,
+};
 use hya_robots::Hya;
 
 use crate::CliError;
@@ -42,8 +44,13 @@ struct Figures {
     batch_id_ns_per_state: f64,
     /// The same for forward dynamics.
     batch_fd_ns_per_state: f64,
+    /// The HyA control tick through `DisturbanceAttenuation::tick` (both inverse dynamics in one
+    /// batch call).
     #[serde(skip_serializing_if = "Option::is_none")]
     tick_ns: Option<f64>,
+    /// The same tick as `DisturbanceEstimator::update` then `ComputedTorque::command`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tick_in_sequence_ns: Option<f64>,
     /// Simulated seconds per wall-clock second of `goto_internal` (method lu) on the simple
     /// plant (`actuator = "lag"`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -185,6 +192,7 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         batch_id_ns_per_state: batch_id(&mut out),
         batch_fd_ns_per_state: batch_fd(&mut out),
         tick_ns: None,
+        tick_in_sequence_ns: None,
         sim_realtime_factor: None,
         sim_realtime_factor_hydraulic: None,
         build: build_features(),
@@ -192,21 +200,40 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
     })
 }
 
-/// One HyA control tick: estimator update (two filter steps, one ID) and controller step (one ID).
-fn tick_ns() -> Result<f64, CliError> {
+/// One HyA control tick, the estimator's update (two filter steps, one ID) and the controller's
+/// command (one ID): through [`DisturbanceAttenuation::tick`], both IDs in one batch call, and
+/// as the two calls in sequence. Medians, ns per tick.
+fn ticks_ns() -> Result<Ticks, CliError> {
     let core = |e: hya_core::Error| CliError::Input(e.to_string());
     let q0 = JointVector::<6>::from([0.0, 0.0, -0.78, 0.78, 0.78, 0.0]);
-    let mut estimator =
-        DisturbanceEstimator::new(Hya, FilterParams::paper(1e-3).map_err(core)?, q0, Hya.gravity(&q0)).map_err(core)?;
-    let controller = ComputedTorque::new(Hya, Gains::diagonal([300.0; 6], [30.0; 6]).map_err(core)?);
+    let (params, gains) =
+        (FilterParams::paper(1e-3).map_err(core)?, Gains::diagonal([300.0; 6], [30.0; 6]).map_err(core)?);
+    let mut paired = DisturbanceAttenuation::new(Hya, params, gains, q0, Hya.gravity(&q0)).map_err(core)?;
+    let mut estimator = DisturbanceEstimator::new(Hya, params, q0, Hya.gravity(&q0)).map_err(core)?;
+    let controller = ComputedTorque::new(Hya, gains);
     let states = states::<6>();
     let reference = Reference::hold(q0);
-    Ok(median_ns(|k| {
+    let measured = |k: usize| {
         let [dq, qd, tau] = black_box(&states[k]);
-        let q = q0 + dq * 1e-3;
-        let d_hat = estimator.update(&q, tau).unwrap_or_default();
-        black_box(controller.command(&q, qd, &reference, Some(&d_hat)).map(|c| c.torque).unwrap_or_default());
-    }))
+        (q0 + dq * 1e-3, qd, tau)
+    };
+    Ok(Ticks {
+        paired: median_ns(|k| {
+            let (q, qd, tau) = measured(k);
+            black_box(paired.tick(&q, qd, tau, &reference).map(|c| c.torque).unwrap_or_default());
+        }),
+        in_sequence: median_ns(|k| {
+            let (q, qd, tau) = measured(k);
+            let d_hat = estimator.update(&q, tau).unwrap_or_default();
+            black_box(controller.command(&q, qd, &reference, Some(&d_hat)).map(|c| c.torque).unwrap_or_default());
+        }),
+    })
+}
+
+/// [`ticks_ns`]'s two figures.
+struct Ticks {
+    paired: f64,
+    in_sequence: f64,
 }
 
 /// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu,
@@ -248,7 +275,8 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     hya_robots::for_each_robot!(bench_each);
     // The control tick and the simulator's speed are measured on HyA, the paper's arm.
     if let Some(hya) = figures.iter_mut().find(|f| f.robot == "hya") {
-        hya.tick_ns = Some(tick_ns()?);
+        let ticks = ticks_ns()?;
+        (hya.tick_ns, hya.tick_in_sequence_ns) = (Some(ticks.paired), Some(ticks.in_sequence));
         hya.sim_realtime_factor = Some(simulation_speed(true)?);
         hya.sim_realtime_factor_hydraulic = Some(simulation_speed(false)?);
     }
@@ -263,7 +291,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8}",
+        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8}",
         "robot",
         "id gen",
         "id batch",
@@ -276,13 +304,14 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
         "FD batch",
         "FD gener",
         "tick",
+        "tick seq",
         "sim x",
         "hydr x"
     )?;
     for f in &figures {
         writeln!(
             output,
-            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8}",
+            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8} {:>8}",
             f.robot,
             f.generated_id_ns,
             f.batch_id_ns_per_state,
@@ -295,13 +324,14 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
             f.batch_fd_ns_per_state,
             f.generic_fd_ns,
             f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
+            f.tick_in_sequence_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.sim_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
             f.sim_realtime_factor_hydraulic.map_or("-".into(), |x| format!("{x:.0}")),
         )?;
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
+        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
         build_features(),
         generated_fma()
     )?;

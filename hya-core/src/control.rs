@@ -148,17 +148,43 @@ impl<const N: usize, D: Dynamics<N>> ComputedTorque<N, D> {
         reference: &Reference<N>,
         disturbance_estimate: Option<&JointVector<N>>,
     ) -> Result<Command<N>, Error> {
+        let law = self.law(q, qd, reference)?;
+        let inverse_dynamics = self.dynamics.inverse_dynamics(q, qd, &law.acceleration);
+        self.finish(&law, inverse_dynamics, disturbance_estimate)
+    }
+
+    /// The law up to its inverse dynamics: checks the inputs and forms the PD feedback.
+    #[inline]
+    pub(crate) fn law(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        reference: &Reference<N>,
+    ) -> Result<Law<N>, Error> {
         check("q", q)?;
         check("qd", qd)?;
         check("q_des", &reference.position)?;
         check("qd_des", &reference.velocity)?;
         check("qdd_des", &reference.acceleration)?;
         let feedback = self.gains.kd * (qd - reference.velocity) + self.gains.kp * (q - reference.position);
-        let mut torque = match self.placement {
-            PdPlacement::OutsideMassMatrix => self.dynamics.inverse_dynamics(q, qd, &reference.acceleration) - feedback,
-            PdPlacement::InsideMassMatrix => {
-                self.dynamics.inverse_dynamics(q, qd, &(reference.acceleration - feedback))
-            }
+        Ok(match self.placement {
+            PdPlacement::OutsideMassMatrix => Law { acceleration: reference.acceleration, outside: Some(feedback) },
+            PdPlacement::InsideMassMatrix => Law { acceleration: reference.acceleration - feedback, outside: None },
+        })
+    }
+
+    /// The law from its inverse dynamics `ID(q, q̇, law.acceleration)`: subtracts the feedback
+    /// applied outside the mass matrix and `d̂`, checks the result and saturates it.
+    #[inline]
+    pub(crate) fn finish(
+        &self,
+        law: &Law<N>,
+        inverse_dynamics: JointVector<N>,
+        disturbance_estimate: Option<&JointVector<N>>,
+    ) -> Result<Command<N>, Error> {
+        let mut torque = match &law.outside {
+            Some(feedback) => inverse_dynamics - feedback,
+            None => inverse_dynamics,
         };
         if let Some(estimate) = disturbance_estimate {
             check("d_hat", estimate)?;
@@ -174,4 +200,13 @@ impl<const N: usize, D: Dynamics<N>> ComputedTorque<N, D> {
         }
         Ok(Command { torque, saturated })
     }
+}
+
+/// The control law before its one inverse dynamics pass `ID(q, q̇, acceleration)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Law<const N: usize> {
+    /// The acceleration argument: `q̈_des`, or `q̈_des − K_D ė − K_P e` inside the mass matrix.
+    pub(crate) acceleration: JointVector<N>,
+    /// `K_D ė + K_P e` where it is subtracted after the inverse dynamics (the paper's form).
+    outside: Option<JointVector<N>>,
 }

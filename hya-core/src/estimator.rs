@@ -52,9 +52,9 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     /// previous `d̂`, which [`disturbance`](Self::disturbance) still returns).
     #[inline]
     pub fn update(&mut self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<JointVector<N>, Error> {
-        let joints = self.joint_filter.peek("q_m", q_m)?;
-        let torques = self.torque_filter.peek("tau_m", tau_m)?;
-        self.advance(joints, torques, q_m, tau_m)
+        let filtered = self.peek(q_m, tau_m)?;
+        let inverse_dynamics = self.inverse_dynamics(&filtered.joints);
+        self.advance(filtered, inverse_dynamics, q_m, tau_m)
     }
 
     /// As [`update`](Self::update), over a step of another length than the filters' sample time:
@@ -68,9 +68,12 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
     ) -> Result<JointVector<N>, Error> {
-        let joints = self.joint_filter.peek_over(step, "q_m", q_m)?;
-        let torques = self.torque_filter.peek_over(step, "tau_m", tau_m)?;
-        self.advance(joints, torques, q_m, tau_m)
+        let filtered = Filtered {
+            joints: self.joint_filter.peek_over(step, "q_m", q_m)?,
+            torques: self.torque_filter.peek_over(step, "tau_m", tau_m)?,
+        };
+        let inverse_dynamics = self.inverse_dynamics(&filtered.joints);
+        self.advance(filtered, inverse_dynamics, q_m, tau_m)
     }
 
     /// The filters' parameters (both filters share them).
@@ -78,20 +81,45 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         self.joint_filter.params()
     }
 
-    /// Commits peeked filter states and the estimate they give, or nothing if it is not finite.
+    /// Both filters' states one sample ahead for the new measurements, not committed.
+    #[inline(always)]
+    pub(crate) fn peek(&self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<Filtered<N>, Error> {
+        Ok(Filtered { joints: self.joint_filter.peek("q_m", q_m)?, torques: self.torque_filter.peek("tau_m", tau_m)? })
+    }
+
+    /// `d̂` from peeked filter states and `inverse_dynamics = ID(q̂, q̂̇, q̂̈)` of their joints,
+    /// committed with them; nothing is committed if `d̂` is not finite.
     #[inline(always)]
     fn advance(
         &mut self,
-        joints: FilterState<N>,
-        torques: FilterState<N>,
+        filtered: Filtered<N>,
+        inverse_dynamics: JointVector<N>,
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
     ) -> Result<JointVector<N>, Error> {
-        let disturbance = self.estimate(&joints, &torques.x1)?;
-        self.joint_filter.commit(joints, *q_m);
-        self.torque_filter.commit(torques, *tau_m);
-        self.disturbance = disturbance;
+        let disturbance = filtered.disturbance(inverse_dynamics)?;
+        self.commit(filtered, disturbance, q_m, tau_m);
         Ok(disturbance)
+    }
+
+    /// Commits peeked filter states, their inputs and the estimate they gave.
+    #[inline(always)]
+    pub(crate) fn commit(
+        &mut self,
+        filtered: Filtered<N>,
+        disturbance: JointVector<N>,
+        q_m: &JointVector<N>,
+        tau_m: &JointVector<N>,
+    ) {
+        self.joint_filter.commit(filtered.joints, *q_m);
+        self.torque_filter.commit(filtered.torques, *tau_m);
+        self.disturbance = disturbance;
+    }
+
+    /// `ID(x1, x2, x3)` on the estimator's model.
+    #[inline(always)]
+    fn inverse_dynamics(&self, joints: &FilterState<N>) -> JointVector<N> {
+        self.dynamics.inverse_dynamics(&joints.x1, &joints.x2, &joints.x3)
     }
 
     /// Back to rest at `q0`, `τ0`, as at construction.
@@ -127,8 +155,40 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
 
     /// `ID(x1, x2, x3) − τ̂` from finite states; refused if the result is not finite.
     fn estimate(&self, joints: &FilterState<N>, filtered_torque: &JointVector<N>) -> Result<JointVector<N>, Error> {
-        let disturbance = self.dynamics.inverse_dynamics(&joints.x1, &joints.x2, &joints.x3) - filtered_torque;
-        check("d_hat", &disturbance)?;
-        Ok(disturbance)
+        disturbance(self.inverse_dynamics(joints), filtered_torque)
     }
+}
+
+/// The two filters' states one sample ahead, before they are committed.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Filtered<const N: usize> {
+    /// `(q̂, q̂̇, q̂̈)`.
+    pub(crate) joints: FilterState<N>,
+    /// `τ̂` in `x1`.
+    torques: FilterState<N>,
+}
+
+impl<const N: usize> Filtered<N> {
+    /// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂` from `inverse_dynamics = ID(q̂, q̂̇, q̂̈)`, refused if not finite.
+    #[inline(always)]
+    pub(crate) fn disturbance(&self, inverse_dynamics: JointVector<N>) -> Result<JointVector<N>, Error> {
+        disturbance(inverse_dynamics, &self.torques.x1)
+    }
+
+    /// [`disturbance`](Self::disturbance) for a caller that checks it (as `"d_hat"`) itself.
+    #[inline(always)]
+    pub(crate) fn disturbance_unchecked(&self, inverse_dynamics: JointVector<N>) -> JointVector<N> {
+        inverse_dynamics - self.torques.x1
+    }
+}
+
+/// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂`, refused if it is not finite.
+#[inline(always)]
+fn disturbance<const N: usize>(
+    inverse_dynamics: JointVector<N>,
+    filtered_torque: &JointVector<N>,
+) -> Result<JointVector<N>, Error> {
+    let disturbance = inverse_dynamics - filtered_torque;
+    check("d_hat", &disturbance)?;
+    Ok(disturbance)
 }

@@ -3,11 +3,24 @@
 use crate::{Error, JointVector};
 
 /// `Ok` if every entry of `values` is finite; otherwise names the first bad entry.
+///
+/// Inlined, with no exit inside the loop, so the hot paths' vectors stay in registers; the
+/// error is built out of line.
+#[inline(always)]
 pub(crate) fn check<const N: usize>(signal: &'static str, values: &JointVector<N>) -> Result<(), Error> {
-    match values.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(index) => Err(Error::NonFinite { signal, index, value: values[index] }),
+    if values.iter().fold(true, |finite, v| finite & v.is_finite()) {
+        Ok(())
+    } else {
+        Err(first_non_finite(signal, values))
     }
+}
+
+/// [`check`]'s error: the first entry of `values` that is not finite.
+#[cold]
+#[inline(never)]
+fn first_non_finite<const N: usize>(signal: &'static str, values: &JointVector<N>) -> Error {
+    let index = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+    Error::NonFinite { signal, index, value: values[index] }
 }
 
 /// `Ok` if `value` is finite and strictly positive; otherwise an [`Error::InvalidParameter`].

@@ -414,6 +414,18 @@ pub fn with_vector_fma<R>(f: impl FnOnce() -> R) -> Option<R> {
     }
 }
 
+/// `f(state)` compiled for the vector unit where [`with_vector_fma`] finds one, else as
+/// compiled. For code whose results must not depend on the CPU: Rust never contracts `a * b + c`
+/// into a fused operation, so only what `f` asks for explicitly changes.
+#[inline(always)]
+pub(crate) fn on_vector_unit<T, R>(state: &mut T, f: impl Fn(&mut T) -> R) -> R {
+    with_vector_fma(
+        #[inline(always)]
+        || f(state),
+    )
+    .unwrap_or_else(|| f(state))
+}
+
 /// Runs `f` inside a function compiled for AVX2 and FMA if the CPU has them.
 #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
 #[inline]

@@ -21,6 +21,7 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod attenuation;
 pub mod control;
 pub mod dispatch;
 pub mod display;
@@ -50,6 +51,7 @@ pub use lanes::Arithmetic;
 pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 
+pub use attenuation::DisturbanceAttenuation;
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use display::{Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};

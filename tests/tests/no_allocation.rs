@@ -15,8 +15,8 @@ use hya_capi::{
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
-    ComputedTorque, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference, ThirdOrderFilter,
-    TimedEstimator,
+    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector,
+    Reference, ThirdOrderFilter, TimedEstimator,
 };
 use hya_robots::{Hya, Panda};
 
@@ -115,6 +115,9 @@ fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
     let q0 = JointVector::<6>::from([0.0, 0.0, -FRAC_PI_4, FRAC_PI_4, FRAC_PI_4, 0.0]);
     let mut estimator = DisturbanceEstimator::new(Hya, params, q0, Hya.gravity(&q0)).unwrap();
     let controller = ComputedTorque::new(Hya, Gains::diagonal([100.0; 6], [10.0; 6]).unwrap());
+    let mut paired =
+        DisturbanceAttenuation::new(Hya, params, Gains::diagonal([100.0; 6], [10.0; 6]).unwrap(), q0, Hya.gravity(&q0))
+            .unwrap();
     let panda_q = JointVector::<7>::from([0.1, -0.3, 0.2, -1.5, 0.1, 1.2, 0.4]);
     assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
 
@@ -124,6 +127,9 @@ fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
             let qd = JointVector::from_element(0.1);
             let tau = controller.command(&q, &qd, &Reference::hold(q0), Some(estimator.disturbance())).unwrap().torque;
             estimator.update(&q, &tau).unwrap();
+            // The paired tick (both inverse dynamics in one batch call) and its error path.
+            std::hint::black_box(paired.tick(&q, &qd, &tau, &Reference::hold(q0)).unwrap());
+            assert!(paired.tick(&q, &JointVector::from_element(f64::NAN), &tau, &Reference::hold(q0)).is_err());
             std::hint::black_box(Hya.mass_matrix(&q));
             std::hint::black_box(Hya.coriolis_transpose_times_velocity(&q, &qd));
             std::hint::black_box(Hya.velocity_terms(&q, &qd));

@@ -375,31 +375,58 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
     }
 }
 
-/// States per step of [`OnSlicesN`]'s row batches, copied to the stack and back.
-const ROWS_PER_STEP: usize = 64;
-
-/// Runs `batch` on the rows of `inputs` ([`ROWS_PER_STEP`] at a time, as joint vectors on the
-/// stack) and writes each result's `width` numbers (column-major storage) to its row of `out`.
+/// Runs `batch` on the rows of `inputs` seen in place as joint vectors, writing each result's
+/// `R·C` numbers (column-major storage) to its row of `out`: no copy, as a row of `N` numbers
+/// has the layout of a `JointVector<N>`. An error if a slice is not a whole number of rows.
 fn in_steps<const N: usize, const IN: usize, const R: usize, const C: usize>(
     inputs: [&[f64]; IN],
     out: &mut [f64],
-    mut batch: impl FnMut([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
+    batch: impl FnOnce([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    let width = R * C;
-    let mut arguments = [[JointVector::<N>::zeros(); ROWS_PER_STEP]; IN];
-    let mut results = [SMatrix::<f64, R, C>::zeros(); ROWS_PER_STEP];
-    for (step, out) in out.chunks_mut((ROWS_PER_STEP * width).max(1)).enumerate() {
-        let used = out.len() / width.max(1);
-        let first = step * ROWS_PER_STEP;
-        for (argument, input) in arguments.iter_mut().zip(inputs) {
-            for (k, state) in argument[..used].iter_mut().enumerate() {
-                *state = JointVector::from_column_slice(&input[(first + k) * N..(first + k + 1) * N]);
-            }
-        }
-        batch(core::array::from_fn(|i| &arguments[i][..used]), &mut results[..used])?;
-        for (row, result) in out.chunks_mut(width.max(1)).zip(&results) {
-            row.copy_from_slice(result.as_slice());
-        }
+    let rows = out.len() / (R * C).max(1);
+    let whole = |argument: usize, values: usize, width: usize| match values % width.max(1) {
+        0 => Ok(()),
+        _ => Err(Error::BatchLength { argument, expected: rows, got: values / width.max(1) }),
+    };
+    for (argument, input) in inputs.iter().enumerate() {
+        whole(argument, input.len(), N)?;
     }
-    Ok(())
+    whole(IN, out.len(), R * C)?;
+    let arguments = inputs.map(bytemuck::cast_slice::<f64, JointVector<N>>);
+    batch(arguments, bytemuck::cast_slice_mut::<f64, SMatrix<f64, R, C>>(out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_arms::PlanarTwoLink;
+
+    /// Rows of three states, seen in place, give the single calls' results row by row; a slice
+    /// that is not a whole number of rows is refused.
+    #[test]
+    fn rows_equal_single_calls_and_partial_rows_are_refused() {
+        let arm = OnSlicesN::<2, _>(PlanarTwoLink::default());
+        let q = [0.1, -0.4, 0.7, 0.2, -1.1, 0.9];
+        let qd = [0.5, 0.3, -0.2, 1.0, 0.0, -0.6];
+        let qdd = [1.5, -2.0, 0.4, 0.1, -0.3, 2.2];
+        let (mut tau, mut g, mut m, mut fd) = ([0.0; 6], [0.0; 6], [0.0; 12], [0.0; 6]);
+        arm.inverse_dynamics_rows(&q, &qd, &qdd, &mut tau).unwrap();
+        arm.gravity_rows(&q, &mut g).unwrap();
+        arm.mass_matrix_rows(&q, &mut m).unwrap();
+        arm.forward_dynamics_rows(&q, &qd, &tau, &mut fd).unwrap();
+        for k in 0..3 {
+            let (row, (mut one, mut mass)) = (2 * k..2 * k + 2, ([0.0; 2], [0.0; 4]));
+            arm.inverse_dynamics_into(&q[row.clone()], &qd[row.clone()], &qdd[row.clone()], &mut one);
+            assert_eq!(one, tau[row.clone()], "ID, row {k}");
+            arm.gravity_into(&q[row.clone()], &mut one);
+            assert_eq!(one, g[row.clone()], "G, row {k}");
+            arm.mass_matrix_into(&q[row.clone()], &mut mass);
+            assert_eq!(mass, m[4 * k..4 * k + 4], "M, row {k}");
+            arm.forward_dynamics_into(&q[row.clone()], &qd[row.clone()], &tau[row.clone()], &mut one).unwrap();
+            assert_eq!(one, fd[row], "FD, row {k}");
+        }
+        let refused = arm.inverse_dynamics_rows(&q[..5], &qd[..5], &qdd[..5], &mut tau[..5]);
+        assert!(matches!(refused, Err(Error::BatchLength { argument: 0, .. })), "{refused:?}");
+        assert!(arm.mass_matrix_rows(&q, &mut m[..11]).is_err());
+    }
 }

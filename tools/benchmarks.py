@@ -237,7 +237,8 @@ def main():
         "",
         "| figure | plain | native |",
         "|---|---|---|",
-        f"| control tick (two filter steps, estimator ID, controller ID, checks), ns | {median_and_spread(each('hya', 'plain', 'tick_ns'))} | {median_and_spread(each('hya', 'native', 'tick_ns'))} |",
+        f"| control tick, `DisturbanceAttenuation::tick` (two filter steps, the estimator's and the controller's ID in one two-state batch, checks), ns | {median_and_spread(each('hya', 'plain', 'tick_ns'))} | {median_and_spread(each('hya', 'native', 'tick_ns'))} |",
+        f"| the same tick as `update` then `command` (two single IDs), ns | {median_and_spread(each('hya', 'plain', 'tick_in_sequence_ns'))} | {median_and_spread(each('hya', 'native', 'tick_in_sequence_ns'))} |",
         f"| `goto_internal`, method lu, lag actuators: simulated s per wall s | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor'))} |",
         f"| the same on the hydraulic plant | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_hydraulic'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_hydraulic'))} |",
     ]

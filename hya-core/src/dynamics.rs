@@ -271,7 +271,8 @@ pub trait SliceDynamics {
 
     /// [`inverse_dynamics_into`](Self::inverse_dynamics_into) of many states, rows of
     /// [`dof`](Self::dof) values one after another (row-major `count × dof`); `tau` sets the
-    /// count, and every argument must hold as many rows ([`Error::BatchLength`] otherwise).
+    /// count, and every argument must hold as many rows ([`Error::BatchLength`] otherwise) and end
+    /// at a row's end ([`Error::PartialRow`] otherwise).
     /// Generated dynamics run them in batches ([`Dynamics::inverse_dynamics_batch`]).
     fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
         let n = self.dof();
@@ -358,35 +359,34 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
     }
     fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
         check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
-        in_steps([q, qd, qdd], tau, |[q, qd, qdd], out| self.0.inverse_dynamics_batch(q, qd, qdd, out))
+        in_place([q, qd, qdd], tau, |[q, qd, qdd], out| self.0.inverse_dynamics_batch(q, qd, qdd, out))
     }
     fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
         check_batch(&[q.len()], g.len())?;
-        in_steps([q], g, |[q], out| self.0.gravity_batch(q, out))
+        in_place([q], g, |[q], out| self.0.gravity_batch(q, out))
     }
     fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
         check_batch(&[q.len() * N], mass.len())?;
         // M is symmetric, so its column-major storage is also its row-major layout.
-        in_steps([q], mass, |[q], out| self.0.mass_matrix_batch(q, out))
+        in_place([q], mass, |[q], out| self.0.mass_matrix_batch(q, out))
     }
     fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
         check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
-        in_steps([q, qd, tau], qdd, |[q, qd, tau], out| self.0.forward_dynamics_batch(q, qd, tau, out))
+        in_place([q, qd, tau], qdd, |[q, qd, tau], out| self.0.forward_dynamics_batch(q, qd, tau, out))
     }
 }
 
 /// Runs `batch` on the rows of `inputs` seen in place as joint vectors, writing each result's
 /// `R·C` numbers (column-major storage) to its row of `out`: no copy, as a row of `N` numbers
-/// has the layout of a `JointVector<N>`. An error if a slice is not a whole number of rows.
-fn in_steps<const N: usize, const IN: usize, const R: usize, const C: usize>(
+/// has the layout of a `JointVector<N>`. [`Error::PartialRow`] if a slice ends inside a row.
+fn in_place<const N: usize, const IN: usize, const R: usize, const C: usize>(
     inputs: [&[f64]; IN],
     out: &mut [f64],
     batch: impl FnOnce([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    let rows = out.len() / (R * C).max(1);
     let whole = |argument: usize, values: usize, width: usize| match values % width.max(1) {
         0 => Ok(()),
-        _ => Err(Error::BatchLength { argument, expected: rows, got: values / width.max(1) }),
+        _ => Err(Error::PartialRow { argument, values, width }),
     };
     for (argument, input) in inputs.iter().enumerate() {
         whole(argument, input.len(), N)?;
@@ -426,7 +426,7 @@ mod tests {
             assert_eq!(one, fd[row], "FD, row {k}");
         }
         let refused = arm.inverse_dynamics_rows(&q[..5], &qd[..5], &qdd[..5], &mut tau[..5]);
-        assert!(matches!(refused, Err(Error::BatchLength { argument: 0, .. })), "{refused:?}");
+        assert_eq!(refused, Err(Error::PartialRow { argument: 0, values: 5, width: 2 }));
         assert!(arm.mass_matrix_rows(&q, &mut m[..11]).is_err());
     }
 }

@@ -56,6 +56,16 @@ pub enum Error {
         /// The number the argument holds.
         got: usize,
     },
+    /// A row batch's slice (row after row of numbers) ends inside a row.
+    #[error("batch argument {argument} holds {values} numbers, not a whole number of rows of {width}")]
+    PartialRow {
+        /// The argument's position (the output's is after the inputs').
+        argument: usize,
+        /// How many numbers it holds.
+        values: usize,
+        /// The numbers per row.
+        width: usize,
+    },
     /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
     #[error("the mass matrix is not positive definite at this configuration")]
     SingularMassMatrix,

@@ -88,7 +88,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceAttenuation<N, D> {
                 )?;
                 let [estimated, commanded] = passes;
                 // `finish` refuses a non-finite `d̂` as `update` would, with the same error.
-                let disturbance = filtered.disturbance_unchecked(estimated);
+                let disturbance = filtered.disturbance(estimated);
                 let command = this.controller.finish(&law, commanded, Some(&disturbance))?;
                 this.estimator.commit(filtered, disturbance, q_m, tau_m);
                 Ok(command)

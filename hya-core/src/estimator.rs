@@ -97,7 +97,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
     ) -> Result<JointVector<N>, Error> {
-        let disturbance = filtered.disturbance(inverse_dynamics)?;
+        let disturbance = finite_disturbance(filtered.disturbance(inverse_dynamics))?;
         self.commit(filtered, disturbance, q_m, tau_m);
         Ok(disturbance)
     }
@@ -155,7 +155,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
 
     /// `ID(x1, x2, x3) − τ̂` from finite states; refused if the result is not finite.
     fn estimate(&self, joints: &FilterState<N>, filtered_torque: &JointVector<N>) -> Result<JointVector<N>, Error> {
-        disturbance(self.inverse_dynamics(joints), filtered_torque)
+        finite_disturbance(self.inverse_dynamics(joints) - filtered_torque)
     }
 }
 
@@ -169,26 +169,17 @@ pub(crate) struct Filtered<const N: usize> {
 }
 
 impl<const N: usize> Filtered<N> {
-    /// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂` from `inverse_dynamics = ID(q̂, q̂̇, q̂̈)`, refused if not finite.
+    /// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂` from `inverse_dynamics = ID(q̂, q̂̇, q̂̈)`, not yet checked: the
+    /// caller refuses it as `"d_hat"` if it is not finite.
     #[inline(always)]
-    pub(crate) fn disturbance(&self, inverse_dynamics: JointVector<N>) -> Result<JointVector<N>, Error> {
-        disturbance(inverse_dynamics, &self.torques.x1)
-    }
-
-    /// [`disturbance`](Self::disturbance) for a caller that checks it (as `"d_hat"`) itself.
-    #[inline(always)]
-    pub(crate) fn disturbance_unchecked(&self, inverse_dynamics: JointVector<N>) -> JointVector<N> {
+    pub(crate) fn disturbance(&self, inverse_dynamics: JointVector<N>) -> JointVector<N> {
         inverse_dynamics - self.torques.x1
     }
 }
 
-/// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂`, refused if it is not finite.
+/// `d̂`, refused as `"d_hat"` if it is not finite.
 #[inline(always)]
-fn disturbance<const N: usize>(
-    inverse_dynamics: JointVector<N>,
-    filtered_torque: &JointVector<N>,
-) -> Result<JointVector<N>, Error> {
-    let disturbance = inverse_dynamics - filtered_torque;
+fn finite_disturbance<const N: usize>(disturbance: JointVector<N>) -> Result<JointVector<N>, Error> {
     check("d_hat", &disturbance)?;
     Ok(disturbance)
 }

@@ -141,6 +141,19 @@ impl FilterParams {
 
 /// `v`, or zero where it is below the smallest normal double.
 ///
+/// Why [`ThirdOrderFilter::peek_over`] refuses the input `u`: its first non-finite entry
+/// ([`Error::NonFinite`]) or, if all are finite, its first beyond [`MAX_FILTER_INPUT`]
+/// ([`Error::Overflow`]).
+#[cold]
+#[inline(never)]
+fn refused_input<const N: usize>(signal: &'static str, u: &JointVector<N>) -> Error {
+    if let Err(error) = check(signal, u) {
+        return error;
+    }
+    let index = u.iter().position(|x| x.abs() > MAX_FILTER_INPUT).unwrap_or(0);
+    Error::Overflow { signal, index, value: u[index] }
+}
+
 /// A constant input (an encoder at rest, a held torque) makes `x2` and `x3` decay towards zero
 /// forever; flushed before they turn subnormal, where arithmetic runs 10 to 100 times slower.
 #[inline(always)]
@@ -280,9 +293,9 @@ impl<const N: usize> ThirdOrderFilter<N> {
         signal: &'static str,
         u: &JointVector<N>,
     ) -> Result<FilterState<N>, Error> {
-        check(signal, u)?;
-        if let Some(index) = u.iter().position(|x| x.abs() > MAX_FILTER_INPUT) {
-            return Err(Error::Overflow { signal, index, value: u[index] });
+        // One pass with no exit (NaN fails `≤`); which entry and why only on failure.
+        if !u.iter().fold(true, |within, x| within & (x.abs() <= MAX_FILTER_INPUT)) {
+            return Err(refused_input(signal, u));
         }
         let (phi, now, next) = (&step.transition, &step.input_now, &step.input_next);
         let s = &self.state;
@@ -298,10 +311,12 @@ impl<const N: usize> ThirdOrderFilter<N> {
             };
             (out.x1[j], out.x2[j], out.x3[j]) = (row(0), row(1), row(2));
         }
-        let finite = |j: usize| out.x1[j].is_finite() && out.x2[j].is_finite() && out.x3[j].is_finite();
-        match (0..N).find(|&j| !finite(j)) {
-            Some(index) => Err(Error::Overflow { signal, index, value: u[index] }),
-            None => Ok(out),
+        let finite = |j: usize| out.x1[j].is_finite() & out.x2[j].is_finite() & out.x3[j].is_finite();
+        if (0..N).fold(true, |all, j| all & finite(j)) {
+            Ok(out)
+        } else {
+            let index = (0..N).position(|j| !finite(j)).unwrap_or(0);
+            Err(Error::Overflow { signal, index, value: u[index] })
         }
     }
 
@@ -379,6 +394,18 @@ mod tests {
         let err = filter.step(&JointVector::from([f64::NAN])).unwrap_err();
         assert!(matches!(err, Error::NonFinite { index: 0, .. }));
         assert_eq!(filter, before);
+    }
+
+    #[test]
+    fn a_refused_input_names_its_first_non_finite_entry_else_its_first_beyond_the_bound() {
+        let filter = ThirdOrderFilter::new(FilterParams::paper(1e-3).unwrap(), JointVector::<3>::zeros()).unwrap();
+        let refused = |u: [f64; 3]| filter.peek("u", &JointVector::from(u)).unwrap_err();
+        // Non-finite wins over an earlier entry beyond the bound.
+        assert!(matches!(refused([2e12, 1.0, f64::INFINITY]), Error::NonFinite { index: 2, .. }));
+        let Error::Overflow { signal, index, value } = refused([1.0, -2e12, 3e12]) else { panic!("not an overflow") };
+        assert_eq!((signal, index, value), ("u", 1, -2e12));
+        // The bound itself is accepted.
+        assert!(filter.peek("u", &JointVector::from([MAX_FILTER_INPUT, -MAX_FILTER_INPUT, 0.0])).is_ok());
     }
 
     #[test]

@@ -106,32 +106,44 @@ const BATCH_CALLS: usize = 8;
 
 /// Median over rounds of the mean ns per state of `f()`, a batch of [`BATCH`] states.
 fn median_batch_ns(mut f: impl FnMut()) -> f64 {
-    let mut rounds: Vec<f64> = (0..ROUNDS)
-        .map(|_| {
-            let start = Instant::now();
-            for _ in 0..BATCH_CALLS {
-                f();
-            }
-            start.elapsed().as_secs_f64() * 1e9 / (BATCH_CALLS * BATCH) as f64
-        })
-        .collect();
+    median(
+        (0..ROUNDS)
+            .map(|_| {
+                let start = Instant::now();
+                for _ in 0..BATCH_CALLS {
+                    f();
+                }
+                start.elapsed().as_secs_f64() * 1e9 / (BATCH_CALLS * BATCH) as f64
+            })
+            .collect(),
+    )
+}
+
+/// The mean ns per call of `f(state index)` over one round of [`CALLS`] calls.
+fn round_ns(f: &mut impl FnMut(usize)) -> f64 {
+    let start = Instant::now();
+    for k in 0..CALLS {
+        f(k % STATES);
+    }
+    start.elapsed().as_secs_f64() * 1e9 / CALLS as f64
+}
+
+/// The median of per-round figures.
+fn median(mut rounds: Vec<f64>) -> f64 {
     rounds.sort_by(f64::total_cmp);
-    rounds[ROUNDS / 2]
+    rounds[rounds.len() / 2]
 }
 
 /// Median over rounds of the mean ns per call of `f(state index)`.
 fn median_ns(mut f: impl FnMut(usize)) -> f64 {
-    let mut rounds: Vec<f64> = (0..ROUNDS)
-        .map(|_| {
-            let start = Instant::now();
-            for k in 0..CALLS {
-                f(k % STATES);
-            }
-            start.elapsed().as_secs_f64() * 1e9 / CALLS as f64
-        })
-        .collect();
-    rounds.sort_by(f64::total_cmp);
-    rounds[ROUNDS / 2]
+    median((0..ROUNDS).map(|_| round_ns(&mut f)).collect())
+}
+
+/// [`median_ns`] of `a` and of `b`, their rounds interleaved so that the machine's slow and
+/// fast phases fall on both alike.
+fn interleaved_median_ns(mut a: impl FnMut(usize), mut b: impl FnMut(usize)) -> (f64, f64) {
+    let (rounds_a, rounds_b) = (0..ROUNDS).map(|_| (round_ns(&mut a), round_ns(&mut b))).unzip();
+    (median(rounds_a), median(rounds_b))
 }
 
 /// The benchmark's varied states (see [`hya_core::sampling::varied_states`]).
@@ -202,13 +214,13 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
 
 /// One HyA control tick, the estimator's update (two filter steps, one ID) and the controller's
 /// command (one ID): through [`DisturbanceAttenuation::tick`], both IDs in one batch call, and
-/// as the two calls in sequence. Medians, ns per tick.
+/// as the two calls in sequence. Medians of interleaved rounds, ns per tick.
 fn ticks_ns() -> Result<Ticks, CliError> {
     let core = |e: hya_core::Error| CliError::Input(e.to_string());
     let q0 = JointVector::<6>::from([0.0, 0.0, -0.78, 0.78, 0.78, 0.0]);
     let (params, gains) =
         (FilterParams::paper(1e-3).map_err(core)?, Gains::diagonal([300.0; 6], [30.0; 6]).map_err(core)?);
-    let mut paired = DisturbanceAttenuation::new(Hya, params, gains, q0, Hya.gravity(&q0)).map_err(core)?;
+    let mut attenuation = DisturbanceAttenuation::new(Hya, params, gains, q0, Hya.gravity(&q0)).map_err(core)?;
     let mut estimator = DisturbanceEstimator::new(Hya, params, q0, Hya.gravity(&q0)).map_err(core)?;
     let controller = ComputedTorque::new(Hya, gains);
     let states = states::<6>();
@@ -217,17 +229,18 @@ fn ticks_ns() -> Result<Ticks, CliError> {
         let [dq, qd, tau] = black_box(&states[k]);
         (q0 + dq * 1e-3, qd, tau)
     };
-    Ok(Ticks {
-        paired: median_ns(|k| {
+    let (paired, in_sequence) = interleaved_median_ns(
+        |k| {
             let (q, qd, tau) = measured(k);
-            black_box(paired.tick(&q, qd, tau, &reference).map(|c| c.torque).unwrap_or_default());
-        }),
-        in_sequence: median_ns(|k| {
+            black_box(attenuation.tick(&q, qd, tau, &reference).map(|c| c.torque).unwrap_or_default());
+        },
+        |k| {
             let (q, qd, tau) = measured(k);
             let d_hat = estimator.update(&q, tau).unwrap_or_default();
             black_box(controller.command(&q, qd, &reference, Some(&d_hat)).map(|c| c.torque).unwrap_or_default());
-        }),
-    })
+        },
+    );
+    Ok(Ticks { paired, in_sequence })
 }
 
 /// [`ticks_ns`]'s two figures.

@@ -139,8 +139,6 @@ impl FilterParams {
     }
 }
 
-/// `v`, or zero where it is below the smallest normal double.
-///
 /// Why [`ThirdOrderFilter::peek_over`] refuses the input `u`: its first non-finite entry
 /// ([`Error::NonFinite`]) or, if all are finite, its first beyond [`MAX_FILTER_INPUT`]
 /// ([`Error::Overflow`]).
@@ -154,6 +152,8 @@ fn refused_input<const N: usize>(signal: &'static str, u: &JointVector<N>) -> Er
     Error::Overflow { signal, index, value: u[index] }
 }
 
+/// `v`, or zero where it is below the smallest normal double.
+///
 /// A constant input (an encoder at rest, a held torque) makes `x2` and `x3` decay towards zero
 /// forever; flushed before they turn subnormal, where arithmetic runs 10 to 100 times slower.
 #[inline(always)]
@@ -402,6 +402,7 @@ mod tests {
         let refused = |u: [f64; 3]| filter.peek("u", &JointVector::from(u)).unwrap_err();
         // Non-finite wins over an earlier entry beyond the bound.
         assert!(matches!(refused([2e12, 1.0, f64::INFINITY]), Error::NonFinite { index: 2, .. }));
+        assert!(matches!(refused([3e12, f64::NAN, f64::NEG_INFINITY]), Error::NonFinite { index: 1, .. }));
         let Error::Overflow { signal, index, value } = refused([1.0, -2e12, 3e12]) else { panic!("not an overflow") };
         assert_eq!((signal, index, value), ("u", 1, -2e12));
         // The bound itself is accepted.

@@ -140,9 +140,19 @@ fn median_ns(mut f: impl FnMut(usize)) -> f64 {
 }
 
 /// [`median_ns`] of `a` and of `b`, their rounds interleaved so that the machine's slow and
-/// fast phases fall on both alike.
+/// fast phases fall on both alike, and which goes first alternating from round to round.
 fn interleaved_median_ns(mut a: impl FnMut(usize), mut b: impl FnMut(usize)) -> (f64, f64) {
-    let (rounds_a, rounds_b) = (0..ROUNDS).map(|_| (round_ns(&mut a), round_ns(&mut b))).unzip();
+    let (rounds_a, rounds_b) = (0..ROUNDS)
+        .map(|round| {
+            if round % 2 == 0 {
+                let first = round_ns(&mut a);
+                (first, round_ns(&mut b))
+            } else {
+                let first = round_ns(&mut b);
+                (round_ns(&mut a), first)
+            }
+        })
+        .unzip();
     (median(rounds_a), median(rounds_b))
 }
 

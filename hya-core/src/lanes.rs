@@ -370,9 +370,12 @@ where
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: AVX registers on x86-64.
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 type VectorLanes = avx::F64x4;
+/// The lanes [`batch`] runs on where [`with_vector_fma`] does: two NEON registers on aarch64.
+#[cfg(target_arch = "aarch64")]
+type VectorLanes = neon::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
 /// the target's vector registers.
-#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+#[cfg(not(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64")))]
 type VectorLanes = Lanes<BATCH_LANES, true>;
 
 /// [`batch`]'s loop on the arithmetic `A`.
@@ -450,9 +453,52 @@ fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
     None
 }
 
+/// `+ − × ÷` on a vector register type, with another of it or with an `f64` (broadcast by
+/// `From<f64>`): `$apply!(intrinsic, a, b)` computes one with the named intrinsic.
+#[cfg(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64"))]
+macro_rules! register_operators {
+    ($type:ty, $apply:ident, $($trait:ident $method:ident $intrinsic:ident),+) => {$(
+        impl $trait for $type {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: Self) -> Self {
+                $apply!($intrinsic, self, rhs)
+            }
+        }
+        impl $trait<f64> for $type {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, rhs: f64) -> Self {
+                self.$method(Self::from(rhs))
+            }
+        }
+    )+};
+}
+
+/// [`Arithmetic::lane`] and [`Arithmetic::from_lanes`] for a register type of four lanes with
+/// bit casts `to_array` and `from_array`.
+#[cfg(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64"))]
+macro_rules! lanes_by_array {
+    () => {
+        #[inline(always)]
+        fn lane(self, l: usize) -> f64 {
+            self.to_array()[l]
+        }
+
+        #[inline(always)]
+        fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+            Self::from_array([f(0), f(1), f(2), f(3)])
+        }
+    };
+}
+
 /// Four `f64` in one AVX register, for [`batch`] on x86-64.
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod avx;
+
+/// Four `f64` in two NEON registers, for [`batch`] on aarch64.
+#[cfg(target_arch = "aarch64")]
+mod neon;
 
 #[cfg(test)]
 mod tests {

@@ -41,30 +41,14 @@ impl From<f64> for F64x4 {
     }
 }
 
-/// `F64x4 ∘ F64x4` and `F64x4 ∘ f64` by one intrinsic.
-macro_rules! operator {
-    ($trait:ident, $method:ident, $intrinsic:ident) => {
-        impl $trait for F64x4 {
-            type Output = Self;
-            #[inline(always)]
-            fn $method(self, rhs: Self) -> Self {
-                Self(avx!($intrinsic(self.0, rhs.0)))
-            }
-        }
-        impl $trait<f64> for F64x4 {
-            type Output = Self;
-            #[inline(always)]
-            fn $method(self, rhs: f64) -> Self {
-                self.$method(Self::from(rhs))
-            }
-        }
+/// `F64x4 ∘ F64x4` by one intrinsic.
+macro_rules! register {
+    ($intrinsic:ident, $a:expr, $b:expr) => {
+        F64x4(avx!($intrinsic($a.0, $b.0)))
     };
 }
 
-operator!(Add, add, _mm256_add_pd);
-operator!(Sub, sub, _mm256_sub_pd);
-operator!(Mul, mul, _mm256_mul_pd);
-operator!(Div, div, _mm256_div_pd);
+register_operators!(F64x4, register, Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd);
 
 impl Neg for F64x4 {
     type Output = Self;
@@ -112,15 +96,7 @@ impl Arithmetic for F64x4 {
         unsafe { sin_cos_each(x) }
     }
 
-    #[inline(always)]
-    fn lane(self, l: usize) -> f64 {
-        self.to_array()[l]
-    }
-
-    #[inline(always)]
-    fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
-        Self::from_array([f(0), f(1), f(2), f(3)])
-    }
+    lanes_by_array!();
 }
 
 /// [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) of every lane of every value, bit for

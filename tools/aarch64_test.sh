@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The shipped arms on aarch64, under emulation: installs the cross linker and qemu-user from
+# Debian if they are missing, then builds hya-core and hya-robots for
+# aarch64-unknown-linux-gnu and runs their tests (the NEON batch against single calls, the
+# paired control tick) under qemu. Emulated timings say nothing about an aarch64 CPU's speed.
+#
+#   tools/aarch64_test.sh            # the test profile, as `cargo test`
+#   tools/aarch64_test.sh --release
+set -euo pipefail
+cd "$(dirname "$0")/.."
+target=aarch64-unknown-linux-gnu
+if ! command -v aarch64-linux-gnu-gcc >/dev/null || ! command -v qemu-aarch64 >/dev/null \
+    || [ ! -d /usr/aarch64-linux-gnu/lib ]; then
+    apt-get update -q
+    apt-get install -y -q gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user
+fi
+rustup target list --installed | grep -qx "$target" || rustup target add "$target"
+export CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc
+export CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="qemu-aarch64 -L /usr/aarch64-linux-gnu"
+cargo test --target "$target" -p hya-core -p hya-robots --lib --tests "$@"

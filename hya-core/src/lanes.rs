@@ -371,11 +371,11 @@ where
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 type VectorLanes = avx::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: two NEON registers on aarch64.
-#[cfg(target_arch = "aarch64")]
+#[cfg(all(target_arch = "aarch64", target_feature = "neon"))]
 type VectorLanes = neon::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
 /// the target's vector registers.
-#[cfg(not(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64")))]
+#[cfg(not(any(all(feature = "std", target_arch = "x86_64"), all(target_arch = "aarch64", target_feature = "neon"))))]
 type VectorLanes = Lanes<BATCH_LANES, true>;
 
 /// [`batch`]'s loop on the arithmetic `A`.
@@ -454,8 +454,9 @@ fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
 }
 
 /// `+ − × ÷` on a vector register type, with another of it or with an `f64` (broadcast by
-/// `From<f64>`): `$apply!(intrinsic, a, b)` computes one with the named intrinsic.
-#[cfg(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64"))]
+/// `From<f64>`): `$apply!(intrinsic, a, b)` computes one with the named intrinsic. (Unused
+/// on targets with neither register type.)
+#[allow(unused_macros)]
 macro_rules! register_operators {
     ($type:ty, $apply:ident, $($trait:ident $method:ident $intrinsic:ident),+) => {$(
         impl $trait for $type {
@@ -477,7 +478,7 @@ macro_rules! register_operators {
 
 /// [`Arithmetic::lane`] and [`Arithmetic::from_lanes`] for a register type of four lanes with
 /// bit casts `to_array` and `from_array`.
-#[cfg(any(all(feature = "std", target_arch = "x86_64"), target_arch = "aarch64"))]
+#[allow(unused_macros)]
 macro_rules! lanes_by_array {
     () => {
         #[inline(always)]
@@ -497,7 +498,7 @@ macro_rules! lanes_by_array {
 mod avx;
 
 /// Four `f64` in two NEON registers, for [`batch`] on aarch64.
-#[cfg(target_arch = "aarch64")]
+#[cfg(all(target_arch = "aarch64", target_feature = "neon"))]
 mod neon;
 
 #[cfg(test)]

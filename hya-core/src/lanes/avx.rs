@@ -48,7 +48,10 @@ macro_rules! register {
     };
 }
 
-register_operators!(F64x4, register, Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd);
+register_operators!(
+    F64x4, register,
+    Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd
+);
 
 impl Neg for F64x4 {
     type Output = Self;

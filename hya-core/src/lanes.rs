@@ -5,9 +5,10 @@
 //! this module runs it:
 //! - [`single`]: one state, on [`Fused`] where the CPU has fused multiply-add
 //!   ([`with_fma`](crate::with_fma)), else on plain `f64`;
-//! - [`batch`]: many states, [`BATCH_LANES`] at a time in [`Lanes`], on code compiled for the
-//!   CPU's vector unit and its FMA where it has them ([`with_vector_fma`]: AVX2 + FMA on x86 with
-//!   `std`, chosen once per call by a cached CPUID test; NEON on aarch64), else on plain lanes.
+//! - [`batch`]: many states, [`BATCH_LANES`] at a time in a vector register type, on code
+//!   compiled for the CPU's vector unit and its FMA where it has them ([`with_vector_fma`]: AVX2
+//!   and FMA on x86-64 with `std`, chosen once per call by a cached CPUID test; NEON on
+//!   aarch64; [`Lanes`] elsewhere), else one state at a time through [`single`].
 //!
 //! `A::mul_add(a, b, c)` is `a·b + c`: rounded twice on `f64` and plain lanes (exactly the
 //! statements `let p = a * b; let s = p + c;`), once on the fused types. Each lane of [`Lanes`]
@@ -41,8 +42,12 @@ pub trait Arithmetic:
     /// `a·b + c`: one rounding on the fused types, two otherwise.
     fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self;
 
-    /// `(sin x, cos x)` of every lane ([`sin_cos_lanes`](crate::sin_cos_lanes)'s method).
-    fn sin_cos(self) -> (Self, Self);
+    /// `(sin x, cos x)` of every lane ([`sin_cos_lanes`](crate::sin_cos_lanes)'s method): by
+    /// default, [`sin_cos_lanes`](Self::sin_cos_lanes) of the one value.
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        Self::sin_cos_lanes([self])[0]
+    }
 
     /// `(sin x, cos x)` of several values at once, e.g. all joint angles.
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K];
@@ -155,11 +160,6 @@ impl Arithmetic for Fused {
     #[inline(always)]
     fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
         Self(crate::mul_add(a.0, b.into().0, c.into().0))
-    }
-
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        Self::sin_cos_lanes([self])[0]
     }
 
     /// One vectorised [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) call across the
@@ -374,7 +374,8 @@ type VectorLanes = avx::F64x4;
 #[cfg(all(target_arch = "aarch64", target_feature = "neon"))]
 type VectorLanes = neon::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
-/// the target's vector registers.
+/// the target's vector registers itself, which in kernels this long costs LLVM far more time
+/// than register types do (see `neon.rs`).
 #[cfg(not(any(all(feature = "std", target_arch = "x86_64"), all(target_arch = "aarch64", target_feature = "neon"))))]
 type VectorLanes = Lanes<BATCH_LANES, true>;
 

@@ -86,11 +86,6 @@ impl Arithmetic for F64x4 {
         Self(avx!(_mm256_fmadd_pd(a.0, b.into().0, c.into().0)))
     }
 
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        Self::sin_cos_lanes([self])[0]
-    }
-
     /// All values at once, in one function compiled for AVX2, so their independent
     /// polynomials interleave.
     #[inline(always)]

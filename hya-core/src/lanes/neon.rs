@@ -25,7 +25,7 @@ macro_rules! neon {
     };
 }
 
-/// `op` on both registers.
+/// `$intrinsic` on both registers, lane by lane.
 macro_rules! both {
     ($intrinsic:ident, $($v:expr),+) => {
         F64x4([neon!($intrinsic($($v.0[0]),+)), neon!($intrinsic($($v.0[1]),+))])
@@ -75,11 +75,6 @@ impl Arithmetic for F64x4 {
     fn mul_add(a: Self, b: impl Into<Self>, c: impl Into<Self>) -> Self {
         let (b, c) = (b.into(), c.into());
         both!(vfmaq_f64, c, a, b)
-    }
-
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        Self::sin_cos_lanes([self])[0]
     }
 
     /// Each value's four lanes through the scalar fused polynomial

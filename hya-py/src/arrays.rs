@@ -1,83 +1,148 @@
 //! NumPy arguments in, NumPy results out: one state as shape `(dof,)`, or `n` states as
 //! `(n, dof)`; every value finite, or `ValueError` naming the argument.
+//!
+//! A C-contiguous float64 array is read where it lies, with the GIL held: no Python code can
+//! write it meanwhile. Work that releases the GIL takes [`Rows::detached`] values, copies of such
+//! arrays, since Python threads may write an array while the GIL is released.
+
+use std::borrow::Cow;
 
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// Rows of one argument, row-major, each `width` long.
-#[derive(Debug, Clone)]
-pub struct Rows {
-    /// The values, `count × width`.
-    pub data: Vec<f64>,
+/// Rows of one argument, row-major, each `width` long, every value finite.
+pub struct Rows<'py> {
+    name: &'static str,
+    values: Values<'py>,
     /// How many rows.
     pub count: usize,
     /// Whether the caller passed a batch (`(n, width)`) rather than one row (`(width,)`).
     pub batched: bool,
 }
 
-impl Rows {
-    /// Row `k`.
-    pub fn row(&self, k: usize, width: usize) -> &[f64] {
-        &self.data[k * width..(k + 1) * width]
+/// Where an argument's values are.
+enum Values<'py> {
+    /// In the caller's array, readable only with the GIL held (`PyReadonlyArray` is not `Send`).
+    InPlace(PyReadonlyArrayDyn<'py, f64>),
+    /// Converted by NumPy into a vector of our own.
+    Copied(Vec<f64>),
+}
+
+impl Rows<'_> {
+    /// The values, `count × width`, read with the GIL held.
+    pub fn values(&self) -> PyResult<&[f64]> {
+        match &self.values {
+            // Contiguous when read; only Python code run since (another argument's conversion)
+            // could have changed the array's layout.
+            Values::InPlace(array) => array
+                .as_slice()
+                .map_err(|_| PyValueError::new_err(format!("{}: array changed layout during the call", self.name))),
+            Values::Copied(values) => Ok(values),
+        }
     }
+
+    /// The values for work without the GIL: our own vector as it is, an array in place copied.
+    pub fn detached(&self) -> PyResult<Cow<'_, [f64]>> {
+        match &self.values {
+            Values::Copied(values) => Ok(Cow::Borrowed(values)),
+            Values::InPlace(_) => Ok(Cow::Owned(self.values()?.to_vec())),
+        }
+    }
+
+    /// The single row of an argument that must not be a batch.
+    pub fn one_row(&self) -> PyResult<&[f64]> {
+        if self.batched {
+            return Err(PyValueError::new_err(format!("{}: one state expected, shape (dof,)", self.name)));
+        }
+        self.values()
+    }
+}
+
+/// Row `k` of `values`, rows `width` long.
+pub fn row(values: &[f64], k: usize, width: usize) -> &[f64] {
+    &values[k * width..(k + 1) * width]
 }
 
 /// Reads `value` (a NumPy array or anything array-like) as rows of `width` finite numbers.
 ///
-/// A C-contiguous float64 array is copied as it is; anything else goes through NumPy's
-/// conversion first.
-pub fn rows(name: &str, value: &Bound<'_, PyAny>, width: usize) -> PyResult<Rows> {
-    if let Ok(array) = value.downcast::<PyArrayDyn<f64>>() {
-        let array = array.readonly();
-        // `as_slice` also accepts Fortran order, whose memory holds the rows column by column.
-        if let (true, Ok(data)) = (array.is_c_contiguous(), array.as_slice()) {
-            return checked(name, data.to_vec(), array.shape(), width);
-        }
-    }
-    let array: PyArrayLikeDyn<'_, f64, AllowTypeChange> =
-        value.extract().map_err(|_| PyValueError::new_err(format!("{name}: expected an array of numbers")))?;
-    let view = array.as_array();
-    checked(name, view.iter().copied().collect(), view.shape(), width)
-}
-
-/// `data` of shape `shape` as rows of `width`, if the shape fits and every value is finite.
-fn checked(name: &str, data: Vec<f64>, shape: &[usize], width: usize) -> PyResult<Rows> {
-    let (count, batched) = match shape {
-        [w] if *w == width => (1, false),
-        [n, w] if *w == width => (*n, true),
-        shape => {
-            return Err(PyValueError::new_err(format!("{name}: shape {shape:?}, expected ({width},) or (n, {width})")))
-        }
-    };
-    // One pass with no exit, which the compiler vectorises; the search only on failure.
-    if !data.iter().fold(true, |finite, x| finite & x.is_finite()) {
-        let at = data.iter().position(|x| !x.is_finite()).unwrap_or_default();
-        let (row, column) = (at / width, at % width);
-        let place = if batched { format!("[{row}, {column}]") } else { format!("[{column}]") };
-        return Err(PyValueError::new_err(format!("{name}{place} = {}: not finite", data[at])));
-    }
-    Ok(Rows { data, count, batched })
+/// A C-contiguous float64 array is read in place; anything else goes through NumPy's
+/// conversion into a vector of our own.
+pub fn rows<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> PyResult<Rows<'py>> {
+    let rows = shaped(name, value, width)?;
+    rows.check_finite(width)?;
+    Ok(rows)
 }
 
 /// Reads several arguments of the same width and checks they hold the same number of rows.
-pub fn same_rows<const K: usize>(args: [(&str, &Bound<'_, PyAny>); K], width: usize) -> PyResult<[Rows; K]> {
+///
+/// Every argument is converted before any is checked: a conversion may run Python code (an
+/// object's `__array__`), which could write an array read in place before it.
+pub fn same_rows<'py, const K: usize>(
+    args: [(&'static str, &Bound<'py, PyAny>); K],
+    width: usize,
+) -> PyResult<[Rows<'py>; K]> {
     let mut out = Vec::with_capacity(K);
     for (name, value) in args {
-        out.push(rows(name, value, width)?);
+        out.push(shaped(name, value, width)?);
+    }
+    for rows in &out {
+        rows.check_finite(width)?;
     }
     if let Some(first) = out.first() {
-        for (rows, (name, _)) in out.iter().zip(args) {
+        for rows in &out {
             if rows.count != first.count || rows.batched != first.batched {
                 return Err(PyValueError::new_err(format!(
-                    "{name}: {} row(s), but {} has {}",
-                    rows.count, args[0].0, first.count
+                    "{}: {} row(s), but {} has {}",
+                    rows.name, rows.count, first.name, first.count
                 )));
             }
         }
     }
     out.try_into().map_err(|_| PyValueError::new_err("internal: argument count"))
+}
+
+/// `value` as rows of `width`, if its shape fits; its values not yet checked.
+fn shaped<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> PyResult<Rows<'py>> {
+    let (values, shape) = match value.downcast::<PyArrayDyn<f64>>().map(|a| a.try_readonly()) {
+        // `as_slice` also accepts Fortran order, whose memory holds the rows column by column.
+        Ok(Ok(array)) if array.is_c_contiguous() && array.as_slice().is_ok() => {
+            let shape = array.shape().to_vec();
+            (Values::InPlace(array), shape)
+        }
+        _ => {
+            let array: PyArrayLikeDyn<'_, f64, AllowTypeChange> =
+                value.extract().map_err(|_| PyValueError::new_err(format!("{name}: expected an array of numbers")))?;
+            let view = array.as_array();
+            (Values::Copied(view.iter().copied().collect()), view.shape().to_vec())
+        }
+    };
+    let (count, batched) = match shape[..] {
+        [w] if w == width => (1, false),
+        [n, w] if w == width => (n, true),
+        _ => {
+            return Err(PyValueError::new_err(format!("{name}: shape {shape:?}, expected ({width},) or (n, {width})")))
+        }
+    };
+    Ok(Rows { name, values, count, batched })
+}
+
+impl Rows<'_> {
+    /// `ValueError` naming the first value that is not finite, as `name[row, column]`.
+    fn check_finite(&self, width: usize) -> PyResult<()> {
+        let values = self.values()?;
+        // One pass with no exit, which the compiler vectorises; the search only on failure.
+        if values.iter().fold(true, |finite, x| finite & x.is_finite()) {
+            return Ok(());
+        }
+        let at = values.iter().position(|x| !x.is_finite()).unwrap_or_default();
+        let (row, column) = (at / width.max(1), at % width.max(1));
+        let place = if self.batched { format!("[{row}, {column}]") } else { format!("[{column}]") };
+        Err(PyValueError::new_err(format!("{}{place} = {}: not finite", self.name, values[at])))
+    }
 }
 
 /// `data` as an array of shape `(count, *item)` if `batched`, else `item`.

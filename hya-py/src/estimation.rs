@@ -14,7 +14,7 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{output, rows, same_rows, Rows};
+use crate::arrays::{output, row, rows, same_rows, Rows};
 use crate::model::Model;
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -115,22 +115,21 @@ impl ForJoints for Build<'_> {
     }
 }
 
-/// Steps `observer` over every row of a log, without the GIL; `d̂` for every row.
+/// Steps `observer` over every row of a log (rows of `n`), without the GIL; `d̂` for every row.
 fn run_log(
     py: Python<'_>,
     observer: &mut dyn SliceObserver,
     n: usize,
-    q: &Rows,
-    qd: Option<&Rows>,
-    tau: &Rows,
+    (q, qd, tau): (&[f64], Option<&[f64]>, &[f64]),
     t: Option<&[f64]>,
 ) -> PyResult<Vec<f64>> {
     py.allow_threads(|| {
-        let mut out = vec![0.0; q.count * n];
-        for (k, d_hat) in out.chunks_mut(n).enumerate() {
+        let mut out = vec![0.0; q.len()];
+        for (k, d_hat) in out.chunks_mut(n.max(1)).enumerate() {
+            let (q, tau) = (row(q, k, n), row(tau, k, n));
             match t {
-                None => observer.update(q.row(k, n), qd.map(|v| v.row(k, n)), tau.row(k, n), d_hat),
-                Some(t) => observer.update_at(t[k], q.row(k, n), tau.row(k, n), d_hat),
+                None => observer.update(q, qd.map(|v| row(v, k, n)), tau, d_hat),
+                Some(t) => observer.update_at(t[k], q, tau, d_hat),
             }
             .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
         }
@@ -159,8 +158,8 @@ impl ObserverCore {
         tau0: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let n = model.dof_count();
-        let vector = |name: &str, value: Option<&Bound<'_, PyAny>>| -> PyResult<Option<Vec<f64>>> {
-            value.map(|v| rows(name, v, n).and_then(|r| one_row(name, r))).transpose()
+        let vector = |name: &'static str, value: Option<&Bound<'_, PyAny>>| -> PyResult<Option<Vec<f64>>> {
+            value.map(|v| rows(name, v, n)?.one_row().map(<[f64]>::to_vec)).transpose()
         };
         let q0 = vector("q0", q0)?.unwrap_or_else(|| vec![0.0; n]);
         let qd0 = vector("qd0", qd0)?.unwrap_or_else(|| vec![0.0; n]);
@@ -190,13 +189,13 @@ impl ObserverCore {
         t: Option<f64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
-        let q = one_row("q", rows("q", q, n)?)?;
-        let tau = one_row("tau", rows("tau", tau, n)?)?;
-        let qd = qd.map(|v| rows("qd", v, n).and_then(|r| one_row("qd", r))).transpose()?;
+        let (q, tau) = (rows("q", q, n)?, rows("tau", tau, n)?);
+        let qd = qd.map(|v| rows("qd", v, n)).transpose()?;
+        let (q, tau, qd) = (q.one_row()?, tau.one_row()?, qd.as_ref().map(Rows::one_row).transpose()?);
         let mut d_hat = vec![0.0; n];
         match t {
-            None => self.observer().update(&q, qd.as_deref(), &tau, &mut d_hat),
-            Some(t) => self.observer().update_at(t, &q, &tau, &mut d_hat),
+            None => self.observer().update(q, qd, tau, &mut d_hat),
+            Some(t) => self.observer().update_at(t, q, tau, &mut d_hat),
         }
         .map_err(PyValueError::new_err)?;
         output(py, d_hat, 1, false, &[n])
@@ -219,17 +218,12 @@ impl ObserverCore {
         if let Some(t) = t.as_ref().filter(|t| t.len() != q.count) {
             return Err(PyValueError::new_err(format!("t: {} times, but q_log has {} rows", t.len(), q.count)));
         }
-        let out = run_log(py, self.observer(), n, &q, qd.as_ref(), &tau, t.as_deref())?;
+        // Copies of arrays read in place, as the GIL is released.
+        let (q_log, tau_log) = (q.detached()?, tau.detached()?);
+        let qd_log = qd.as_ref().map(Rows::detached).transpose()?;
+        let out = run_log(py, self.observer(), n, (&q_log, qd_log.as_deref(), &tau_log), t.as_deref())?;
         output(py, out, q.count, true, &[n])
     }
-}
-
-/// The single row of an argument that must not be a batch.
-fn one_row(name: &str, rows: Rows) -> PyResult<Vec<f64>> {
-    if rows.batched {
-        return Err(PyValueError::new_err(format!("{name}: one state expected, shape (dof,)")));
-    }
-    Ok(rows.data)
 }
 
 /// The disturbance estimator of Lu, Sandy & Buchli, "Nonlinear disturbance attenuation control

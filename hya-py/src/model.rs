@@ -1,6 +1,8 @@
 //! `hya.Model`: rigid-body dynamics of a shipped arm (generated code) or of any URDF (the
 //! run-time model), on NumPy arrays, one state or a batch per call.
 
+use std::borrow::Cow;
+
 use hya_core::model::TreeModel;
 use hya_core::{Dynamics, SliceDynamics};
 use hya_robots::RobotInfo;
@@ -9,7 +11,12 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 
-use crate::arrays::{output, rows, same_rows};
+use crate::arrays::{output, row, rows, same_rows, Rows};
+
+/// The longest a batch may hold the GIL, reading NumPy's arrays in place: a fifth of Python's
+/// default switch interval (`sys.getswitchinterval()`, 5 ms), the time a thread running
+/// bytecode may itself keep the GIL from others. A batch that would take longer releases it.
+const GIL_HOLD_NS: usize = 1_000_000;
 use crate::UrdfError;
 
 /// Calls `f` with `N` joints for `dof` from 1 to [`hya_sim::MAX_JOINTS`]; an error otherwise.
@@ -25,8 +32,10 @@ pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = Result<T, SimErro
 ///
 /// Angles in rad, velocities in rad/s, accelerations in rad/s², torques in N·m, lengths in m.
 /// Joints are in the model's order (`joint_names`). Every method takes one state as arrays of
-/// shape `(dof,)`, or `n` states as `(n, dof)`, computed in one call without the GIL. Arrays
-/// of the wrong shape, or holding NaN or infinity, raise `ValueError` naming the argument.
+/// shape `(dof,)`, or `n` states as `(n, dof)`, computed in one call. A batch reads float64
+/// C-order arrays in place, holding the GIL, unless it would take more than about a millisecond:
+/// then it releases the GIL and computes on copies. Arrays of the wrong shape, or holding NaN or
+/// infinity, raise `ValueError` naming the argument.
 ///
 /// Build one with `Model.builtin(name)` (a shipped arm: generated, unrolled code) or
 /// `Model.from_urdf(path)` (any URDF: the run-time kinematic-tree model).
@@ -68,54 +77,56 @@ impl Model {
         }
     }
 
-    /// Runs `f(row, out)` for every row into `count × width` outputs, without the GIL for a batch.
-    fn each_row(
+    /// An upper bound of one state's cost in the costliest batch method, ns: forward dynamics
+    /// of a 7-joint arm takes 100 to 230 ns per state in a generated batch, 2 to 2.5 µs on the
+    /// run-time model (BENCHMARKS.md).
+    fn state_cost_ns(&self) -> usize {
+        match self.generated {
+            Some(_) => 250,
+            None => 2_500,
+        }
+    }
+
+    /// All states' outputs, `width` numbers per state: `batch(dynamics, values, out)` once over
+    /// them (the batch entry points, on lanes of the vector unit for a shipped arm); for one
+    /// state, or if `batch` fails, `each(dynamics, values, row, out)` row by row, which names
+    /// the row at fault.
+    ///
+    /// A batch that fits in [`GIL_HOLD_NS`] reads the arrays in place with the GIL held. A
+    /// larger one releases the GIL and runs on copies ([`Rows::detached`]), as Python threads
+    /// may then write the arrays.
+    fn compute<const K: usize>(
         &self,
         py: Python<'_>,
-        count: usize,
+        inputs: [&Rows; K],
         width: usize,
-        f: impl Fn(&(dyn SliceDynamics + Sync), usize, &mut [f64]) -> Result<(), String> + Send + Sync,
+        batch: impl Fn(&(dyn SliceDynamics + Sync), [&[f64]; K], &mut [f64]) -> Result<(), hya_core::Error> + Send + Sync,
+        each: impl Fn(&(dyn SliceDynamics + Sync), [&[f64]; K], usize, &mut [f64]) -> Result<(), String> + Send + Sync,
     ) -> PyResult<Vec<f64>> {
+        let count = inputs.first().map_or(0, |rows| rows.count);
         let dynamics = self.dynamics();
-        let all = || {
+        let run = |values: [&[f64]; K]| -> PyResult<Vec<f64>> {
             let mut out = vec![0.0; count * width];
+            if count > 1 && batch(dynamics, values, &mut out).is_ok() {
+                return Ok(out);
+            }
             for (k, chunk) in out.chunks_mut(width.max(1)).enumerate() {
-                f(dynamics, k, chunk).map_err(PyValueError::new_err)?;
+                each(dynamics, values, k, chunk).map_err(PyValueError::new_err)?;
             }
             Ok(out)
         };
-        // One state takes less time than releasing and taking back the GIL.
-        if count == 1 {
-            all()
-        } else {
-            py.allow_threads(all)
-        }
-    }
-}
-
-impl Model {
-    /// All `count` states' outputs: `rows(dynamics, out)` once over them (the batch entry
-    /// points, on lanes of the vector unit for a shipped arm) without the GIL; for one state,
-    /// or if `rows` fails, `each(dynamics, row, out)` row by row ([`Self::each_row`]), which
-    /// names the row at fault.
-    fn compute(
-        &self,
-        py: Python<'_>,
-        (count, width): (usize, usize),
-        rows: impl Fn(&(dyn SliceDynamics + Sync), &mut [f64]) -> Result<(), hya_core::Error> + Send + Sync,
-        each: impl Fn(&(dyn SliceDynamics + Sync), usize, &mut [f64]) -> Result<(), String> + Send + Sync,
-    ) -> PyResult<Vec<f64>> {
-        if count > 1 {
-            let dynamics = self.dynamics();
-            let batch = py.allow_threads(|| {
-                let mut out = vec![0.0; count * width];
-                rows(dynamics, &mut out).ok().map(|()| out)
-            });
-            if let Some(out) = batch {
-                return Ok(out);
+        if count.saturating_mul(self.state_cost_ns()) <= GIL_HOLD_NS {
+            let mut values = [&[][..]; K];
+            for (value, rows) in values.iter_mut().zip(inputs) {
+                *value = rows.values()?;
             }
+            return run(values);
         }
-        self.each_row(py, count, width, each)
+        let mut copies: [Cow<'_, [f64]>; K] = std::array::from_fn(|_| Cow::Borrowed(&[][..]));
+        for (copy, rows) in copies.iter_mut().zip(inputs) {
+            *copy = rows.detached()?;
+        }
+        py.allow_threads(|| run(copies.each_ref().map(|copy| &copy[..])))
     }
 }
 
@@ -188,10 +199,11 @@ impl Model {
         let [q, qd, qdd] = same_rows([("q", q), ("qd", qd), ("qdd", qdd)], n)?;
         let out = self.compute(
             py,
-            (q.count, n),
-            |d, tau| d.inverse_dynamics_rows(&q.data, &qd.data, &qdd.data, tau),
-            |d, k, tau| {
-                d.inverse_dynamics_into(q.row(k, n), qd.row(k, n), qdd.row(k, n), tau);
+            [&q, &qd, &qdd],
+            n,
+            |d, [q, qd, qdd], tau| d.inverse_dynamics_rows(q, qd, qdd, tau),
+            |d, [q, qd, qdd], k, tau| {
+                d.inverse_dynamics_into(row(q, k, n), row(qd, k, n), row(qdd, k, n), tau);
                 Ok(())
             },
         )?;
@@ -205,10 +217,11 @@ impl Model {
         let q = rows("q", q, n)?;
         let out = self.compute(
             py,
-            (q.count, n * n),
-            |d, m| d.mass_matrix_rows(&q.data, m),
-            |d, k, m| {
-                d.mass_matrix_into(q.row(k, n), m);
+            [&q],
+            n * n,
+            |d, [q], m| d.mass_matrix_rows(q, m),
+            |d, [q], k, m| {
+                d.mass_matrix_into(row(q, k, n), m);
                 Ok(())
             },
         )?;
@@ -221,10 +234,11 @@ impl Model {
         let q = rows("q", q, n)?;
         let out = self.compute(
             py,
-            (q.count, n),
-            |d, g| d.gravity_rows(&q.data, g),
-            |d, k, g| {
-                d.gravity_into(q.row(k, n), g);
+            [&q],
+            n,
+            |d, [q], g| d.gravity_rows(q, g),
+            |d, [q], k, g| {
+                d.gravity_into(row(q, k, n), g);
                 Ok(())
             },
         )?;
@@ -243,10 +257,11 @@ impl Model {
         let [q, qd, tau] = same_rows([("q", q), ("qd", qd), ("tau", tau)], n)?;
         let out = self.compute(
             py,
-            (q.count, n),
-            |d, qdd| d.forward_dynamics_rows(&q.data, &qd.data, &tau.data, qdd),
-            |d, k, qdd| {
-                d.forward_dynamics_into(q.row(k, n), qd.row(k, n), tau.row(k, n), qdd)
+            [&q, &qd, &tau],
+            n,
+            |d, [q, qd, tau], qdd| d.forward_dynamics_rows(q, qd, tau, qdd),
+            |d, [q, qd, tau], k, qdd| {
+                d.forward_dynamics_into(row(q, k, n), row(qd, k, n), row(tau, k, n), qdd)
                     .map_err(|e| format!("row {k}: {e}"))
             },
         )?;
@@ -267,11 +282,12 @@ impl Model {
         if !self.model.frames().iter().any(|f| f.name == name) {
             return Err(PyKeyError::new_err(format!("no frame `{name}`; frames: {}", self.frame_names().join(", "))));
         }
-        let model = &self.model;
+        let (model, count, values) = (&self.model, q.count, q.detached()?);
         let out = py.allow_threads(|| -> PyResult<Vec<f64>> {
-            let mut out = Vec::with_capacity(q.count * 16);
-            for k in 0..q.count {
-                let pose = model.frame_pose(name, q.row(k, n)).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let mut out = Vec::with_capacity(count * 16);
+            for k in 0..count {
+                let pose =
+                    model.frame_pose(name, row(&values, k, n)).map_err(|e| PyValueError::new_err(e.to_string()))?;
                 // hya's transform maps base coordinates into the frame's (`E`); its transpose
                 // holds the frame's axes in base coordinates.
                 let (rotation, origin) = (pose.rotation.transpose(), pose.translation);

@@ -47,18 +47,23 @@ def test_agrees_with_pinocchio(label, model, path, rng):
             np.testing.assert_allclose(pose, reference, rtol=0, atol=1e-12, err_msg=f"{label}: frame {frame}")
 
 
+def dynamics(model, q, qd, qdd):
+    """Every batch method's output on the states `(q, qd, qdd)` (`qdd` as torques for FD)."""
+    return {
+        "id": model.inverse_dynamics(q, qd, qdd),
+        "mass": model.mass_matrix(q),
+        "gravity": model.gravity(q),
+        "fd": model.forward_dynamics(q, qd, qdd),
+    }
+
+
 @pytest.mark.parametrize("name", ARMS)
 def test_a_batch_equals_row_by_row(name, rng):
     model = hya.Model.builtin(name)
     n = 17
     q, qd, qdd = (rng.uniform(-2, 2, (n, model.dof)) for _ in range(3))
-    batch = {
-        "id": model.inverse_dynamics(q, qd, qdd),
-        "mass": model.mass_matrix(q),
-        "gravity": model.gravity(q),
-        "fd": model.forward_dynamics(q, qd, qdd),
-        "pose": model.frame_pose(q, model.frame_names[-1]),
-    }
+    batch = dynamics(model, q, qd, qdd)
+    batch["pose"] = model.frame_pose(q, model.frame_names[-1])
     assert batch["id"].shape == (n, model.dof) and batch["mass"].shape == (n, model.dof, model.dof)
     assert batch["pose"].shape == (n, 4, 4)
     for k in range(n):
@@ -68,6 +73,36 @@ def test_a_batch_equals_row_by_row(name, rng):
         assert np.array_equal(batch["gravity"][k], model.gravity(q[k]))
         assert np.array_equal(batch["fd"][k], model.forward_dynamics(q[k], qd[k], qdd[k]))
         assert np.array_equal(batch["pose"][k], model.frame_pose(q[k], model.frame_names[-1]))
+
+
+@pytest.mark.parametrize("generated", [True, False], ids=["generated", "urdf"])
+def test_a_batch_too_long_to_hold_the_gil_gives_the_same_rows(generated, rng):
+    # Short batches read the arrays in place with the GIL held; one that would hold it past
+    # about a millisecond (5000 generated states, 500 on the run-time model) runs on copies
+    # without it. Both give the same rows, bit for bit.
+    model = hya.Model.builtin("iiwa14") if generated else hya.Model.from_urdf(str(urdf_path("iiwa14")))
+    n = 5000 if generated else 500
+    q, qd, qdd = (rng.uniform(-2, 2, (n, model.dof)) for _ in range(3))
+    long = dynamics(model, q, qd, qdd)
+    for rows in (slice(0, 9), slice(n - 9, n)):
+        short = dynamics(model, q[rows], qd[rows], qdd[rows])
+        for key, values in short.items():
+            assert np.array_equal(long[key][rows], values), key
+
+
+def test_an_array_written_while_later_arguments_convert_is_checked_after(rng):
+    # `q` is read in place; converting `qd` runs Python code that writes NaN into `q`. Every
+    # argument is checked after all are converted, so the NaN is refused, not computed on.
+    model = hya.Model.builtin("hya")
+    q = rng.uniform(-1, 1, (4, 6))
+
+    class Spoiler:
+        def __array__(self, dtype=None, copy=None):
+            q[2, 3] = np.nan
+            return np.zeros((4, 6))
+
+    with pytest.raises(ValueError, match=r"q\[2, 3\] = NaN"):
+        model.inverse_dynamics(q, Spoiler(), np.zeros((4, 6)))
 
 
 def test_any_memory_order_reads_the_same_rows(rng):

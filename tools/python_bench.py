@@ -8,6 +8,11 @@ libraries interleaved round by round, after one untimed round.
 
     pip install ./hya-py pin && python tools/python_bench.py [HYA_BINARY]
 
+Each round also times the Rust batch behind the same call in this process, without Python
+(`Model._rust_batch_ns`, on copies of the same arrays), and the table gives the ratio of
+Python's figure to it, round by round. Speeds here differ from one process to the next by up to
+1.6x on a shared machine, so a ratio against another process mixes that in.
+
 With the `hya` binary (the README's release build), each round also runs `hya bench --robot R
 --json` and the table gives its Rust batch figures and the ratio of Python's to them, round by
 round.
@@ -48,8 +53,8 @@ def main():
     rng = np.random.default_rng(1)
     binary = sys.argv[1] if len(sys.argv) > 1 else None
     rust = " Rust ID batch, per state | Python / Rust, ID batch | Rust FD batch, per state | Python / Rust, FD batch |" if binary else ""
-    print(f"| robot | hya generated, per call | hya run-time model, per call | pin.rnea, per call | hya ID batch of 1024, per state | hya FD batch of 1024, per state | pin.rnea in a Python loop, per state |{rust}")
-    print("|---|---|---|---|---|---|---|" + ("---|" * 4 if binary else ""))
+    print(f"| robot | hya generated, per call | hya run-time model, per call | pin.rnea, per call | hya ID batch of 1024, per state | hya FD batch of 1024, per state | pin.rnea in a Python loop, per state | Python / Rust in this process, ID batch | Python / Rust in this process, FD batch |{rust}")
+    print("|---|---|---|---|---|---|---|---|---|" + ("---|" * 4 if binary else ""))
     for name in hya.Model.builtin_names():
         generated = hya.Model.builtin(name)
         runtime = hya.Model.from_urdf(ROOT / "robots" / "urdf" / f"{name}.urdf")
@@ -57,7 +62,7 @@ def main():
         data = model.createData()
         states = [tuple(rng.uniform(-1, 1, generated.dof) for _ in range(3)) for _ in range(64)]
         q, qd, qdd = (rng.uniform(-1, 1, (BATCH, generated.dof)) for _ in range(3))
-        figures = {key: [] for key in ("gen", "rt", "pin", "batch", "fdbatch", "pinloop", "rust", "rustfd", "ratio", "ratiofd")}
+        figures = {key: [] for key in ("gen", "rt", "pin", "batch", "fdbatch", "pinloop", "here", "herefd", "rust", "rustfd", "ratio", "ratiofd")}
         # One untimed round first: the first calls of a freshly loaded model run slower.
         rnea = functools.partial(pin.rnea, model, data)
         for f in (generated.inverse_dynamics, runtime.inverse_dynamics, rnea):
@@ -67,7 +72,9 @@ def main():
             figures["rt"].append(per_call_ns(runtime.inverse_dynamics, states))
             figures["pin"].append(per_call_ns(rnea, states))
             figures["batch"].append(per_state_ns(generated.inverse_dynamics, q, qd, qdd))
+            figures["here"].append(figures["batch"][-1] / generated._rust_batch_ns("inverse_dynamics", q, qd, qdd, BATCH_CALLS))
             figures["fdbatch"].append(per_state_ns(generated.forward_dynamics, q, qd, qdd))
+            figures["herefd"].append(figures["fdbatch"][-1] / generated._rust_batch_ns("forward_dynamics", q, qd, qdd, BATCH_CALLS))
             start = time.perf_counter_ns()
             for k in range(BATCH):
                 rnea(q[k], qd[k], qdd[k])
@@ -81,7 +88,7 @@ def main():
         med = {key: statistics.median(values) for key, values in figures.items() if values}
         print(
             f"| {name} | {med['gen']:.0f} ns | {med['rt']:.0f} ns | {med['pin']:.0f} ns | "
-            f"{med['batch']:.0f} ns | {med['fdbatch']:.0f} ns | {med['pinloop']:.0f} ns |"
+            f"{med['batch']:.0f} ns | {med['fdbatch']:.0f} ns | {med['pinloop']:.0f} ns | {med['here']:.2f}x | {med['herefd']:.2f}x |"
             + (f" {med['rust']:.0f} ns | {med['ratio']:.2f}x | {med['rustfd']:.0f} ns | {med['ratiofd']:.2f}x |" if binary else "")
         )
 

@@ -134,8 +134,7 @@ impl Rows<'_> {
     /// `ValueError` naming the first value that is not finite, as `name[row, column]`.
     fn check_finite(&self, width: usize) -> PyResult<()> {
         let values = self.values()?;
-        // One pass with no exit, which the compiler vectorises; the search only on failure.
-        if values.iter().fold(true, |finite, x| finite & x.is_finite()) {
+        if all_finite(values) {
             return Ok(());
         }
         let at = values.iter().position(|x| !x.is_finite()).unwrap_or_default();
@@ -143,6 +142,22 @@ impl Rows<'_> {
         let place = if self.batched { format!("[{row}, {column}]") } else { format!("[{column}]") };
         Err(PyValueError::new_err(format!("{}{place} = {}: not finite", self.name, values[at])))
     }
+}
+
+/// Whether every value is finite, in one pass with no exit: `0·x` is ±0 for a finite `x` and
+/// NaN for ±∞ and NaN, and a NaN stays in any sum it enters. Eight running sums of those
+/// products fill the vector registers side by side, in about two thirds of the time of folding
+/// `is_finite` (0.17 against 0.25 ns per value here): a check of 18 values per state beside a
+/// batch of about 40 ns per state.
+fn all_finite(values: &[f64]) -> bool {
+    let mut sums = [0.0; 8];
+    let mut chunks = values.chunks_exact(8);
+    for chunk in &mut chunks {
+        for (sum, x) in sums.iter_mut().zip(chunk) {
+            *sum += x * 0.0;
+        }
+    }
+    sums.iter().chain(chunks.remainder()).all(|x| x * 0.0 == 0.0)
 }
 
 /// `data` as an array of shape `(count, *item)` if `batched`, else `item`.

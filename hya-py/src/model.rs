@@ -268,6 +268,34 @@ impl Model {
         output(py, out, q.count, q.batched, &[n])
     }
 
+    /// ns per state of `calls` calls of the Rust batch behind `method` (`"inverse_dynamics"` or
+    /// `"forward_dynamics"`) on the states `(a, b, c)`, copied once, timed in Rust without
+    /// Python: the reference a benchmark compares the Python call with in the same process
+    /// (`tools/python_bench.py`).
+    fn _rust_batch_ns(
+        &self,
+        method: &str,
+        a: &Bound<'_, PyAny>,
+        b: &Bound<'_, PyAny>,
+        c: &Bound<'_, PyAny>,
+        calls: usize,
+    ) -> PyResult<f64> {
+        let n = self.dof();
+        let [a, b, c] = same_rows([("a", a), ("b", b), ("c", c)], n)?;
+        let [a, b, c] = [a.values()?.to_vec(), b.values()?.to_vec(), c.values()?.to_vec()];
+        let (dynamics, mut out) = (self.dynamics(), vec![0.0; a.len()]);
+        let start = std::time::Instant::now();
+        for _ in 0..calls {
+            match method {
+                "inverse_dynamics" => dynamics.inverse_dynamics_rows(&a, &b, &c, &mut out),
+                "forward_dynamics" => dynamics.forward_dynamics_rows(&a, &b, &c, &mut out),
+                other => return Err(PyValueError::new_err(format!("method: `{other}` has no batch here"))),
+            }
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        }
+        Ok(start.elapsed().as_secs_f64() * 1e9 / (calls * a.len() / n.max(1)).max(1) as f64)
+    }
+
     /// The pose of frame `name` (a link) in the base frame at `q`: a 4×4 homogeneous matrix
     /// `[[R, p], [0, 1]]` with `p_base = R p_frame + p` (shape `(n, 4, 4)` for a batch).
     /// Computed by the run-time model for every robot.

@@ -149,6 +149,17 @@ def test_bad_shapes_and_non_finite_values_name_the_argument():
         hya.Model.builtin("hyb")
 
 
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_a_non_finite_value_anywhere_in_a_batch_is_found(bad):
+    # The check sums in blocks of eight values with a tail: every position of 3 × 6 values.
+    model = hya.Model.builtin("hya")
+    for at in range(18):
+        tau = np.zeros((3, 6))
+        tau.flat[at] = bad
+        with pytest.raises(ValueError, match=rf"tau\[{at // 6}, {at % 6}\] = -?(NaN|inf)"):
+            model.forward_dynamics(np.zeros((3, 6)), np.zeros((3, 6)), tau)
+
+
 def test_a_broken_urdf_names_the_file_and_the_joint():
     path = DATA / "broken_joint.urdf"
     with pytest.raises(hya.UrdfError, match="broken_joint.urdf") as error:

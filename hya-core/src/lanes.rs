@@ -337,8 +337,8 @@ where
 /// Runs `kernel` on every state of `inputs` (one slice per argument, all of `count` states) and
 /// hands state `k`'s outputs to `store(k, outputs)`: [`BATCH_LANES`] states per step on code
 /// compiled for the CPU's vector unit and FMA where it has both ([`with_vector_fma`]), else one
-/// state at a time through [`single`]. A short last step repeats its last state in the unused
-/// lanes, whose results are dropped. Stops at the first error `store` returns (earlier states
+/// state at a time through [`single`]. A short last step repeats its states cyclically in the
+/// unused lanes, whose results are dropped. Stops at the first error `store` returns (earlier states
 /// are stored).
 ///
 /// An error if a slice's length is not `count`.
@@ -394,8 +394,10 @@ where
     while start < count {
         let used = A::LANES.min(count - start);
         let zero = A::from(0.0);
-        let args: [[A; N]; IN] =
-            each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][start + l.min(used - 1)][j])));
+        // Unused lanes repeat the used ones cyclically: two states fill four lanes as
+        // `[s0, s1, s0, s1]`, which halves their `sin`/`cos` (see `sin_cos_lanes`).
+        let state = |l: usize| start + if used == A::LANES { l } else { l % used };
+        let args: [[A; N]; IN] = each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][state(l)][j])));
         let outputs = kernel.run::<A>(borrowed(&args));
         for l in 0..used {
             store(start + l, each(0.0, |k| outputs[k].lane(l)))?;

@@ -13,8 +13,8 @@
 use core::arch::x86_64::{
     __m256d, __m256i, _mm256_add_epi64, _mm256_add_pd, _mm256_and_si256, _mm256_andnot_pd, _mm256_blendv_pd,
     _mm256_castpd_si256, _mm256_castsi256_pd, _mm256_cmp_pd, _mm256_cmpeq_epi64, _mm256_div_pd, _mm256_fmadd_pd,
-    _mm256_movemask_pd, _mm256_mul_pd, _mm256_set1_epi64x, _mm256_set1_pd, _mm256_slli_epi64, _mm256_sub_pd,
-    _mm256_xor_pd, _CMP_NLE_UQ,
+    _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_permute4x64_epi64, _mm256_set1_epi64x,
+    _mm256_set1_pd, _mm256_slli_epi64, _mm256_sub_pd, _mm256_xor_pd, _CMP_NLE_UQ,
 };
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -87,21 +87,72 @@ impl Arithmetic for F64x4 {
     }
 
     /// All values at once, in one function compiled for AVX2, so their independent
-    /// polynomials interleave.
+    /// polynomials interleave. Where every value repeats its lower two lanes in its upper two
+    /// (a batch of one or two states, see [`batch`](super::batch)), pairs of values share a
+    /// register and half the polynomials are computed.
     #[inline(always)]
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
         // SAFETY: see `avx!`.
-        unsafe { sin_cos_each(x) }
+        unsafe { sin_cos_all(&x) }
     }
 
     lanes_by_array!();
 }
 
-/// [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) of every lane of every value, bit for
-/// bit: the same reduction, fused series and quadrant selects, each operation on four lanes.
+/// [`F64x4::sin_cos_lanes`]: [`sin_cos_of_pairs`] where every value's lanes 2 and 3 hold the
+/// bits of its lanes 0 and 1, else [`sin_cos_each`].
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
+fn sin_cos_all<const K: usize>(x: &[F64x4; K]) -> [(F64x4, F64x4); K] {
+    let zero = F64x4(_mm256_set1_pd(0.0));
+    let mut out = [(zero, zero); K];
+    let mut repeat = true;
+    // A batch of four states fails at the first value.
+    for x in x {
+        let bits = _mm256_castpd_si256(x.0);
+        let swapped = _mm256_permute4x64_epi64::<0b01_00_11_10>(bits);
+        if _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(bits, swapped))) != 0b1111 {
+            repeat = false;
+            break;
+        }
+    }
+    if repeat {
+        sin_cos_of_pairs(x, &mut out);
+    } else {
+        sin_cos_each(x, &mut out);
+    }
+    out
+}
+
+/// [`sin_cos_each`] of values whose upper two lanes repeat their lower two: the lower halves
+/// of two values share a register, and each result's halves are its lower half twice. Equal
+/// to [`sin_cos_each`] of `x` lane for lane, on half the registers.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn sin_cos_of_pairs<const K: usize>(x: &[F64x4; K], out: &mut [(F64x4, F64x4); K]) {
+    let mut packed = [F64x4(_mm256_set1_pd(0.0)); K];
+    let pairs = K.div_ceil(2);
+    for (p, packed) in packed[..pairs].iter_mut().enumerate() {
+        let (low, high) = (x[2 * p].0, x[(2 * p + 1).min(K - 1)].0);
+        *packed = F64x4(_mm256_permute2f128_pd::<0x20>(low, high));
+    }
+    let mut results = [(packed[0], packed[0]); K];
+    sin_cos_each(&packed[..pairs], &mut results[..pairs]);
+    for (k, out) in out.iter_mut().enumerate() {
+        let (sin, cos) = (results[k / 2].0 .0, results[k / 2].1 .0);
+        *out = match k % 2 {
+            0 => (F64x4(_mm256_permute2f128_pd::<0x00>(sin, sin)), F64x4(_mm256_permute2f128_pd::<0x00>(cos, cos))),
+            _ => (F64x4(_mm256_permute2f128_pd::<0x11>(sin, sin)), F64x4(_mm256_permute2f128_pd::<0x11>(cos, cos))),
+        };
+    }
+}
+
+/// [`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused) of every lane of every value of `x`
+/// into `out`, bit for bit: the same reduction, fused series and quadrant selects, each
+/// operation on four lanes.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn sin_cos_each(x: &[F64x4], out: &mut [(F64x4, F64x4)]) {
     // Macros rather than closures, which might be compiled apart from the AVX2 function.
     macro_rules! splat {
         ($v:expr) => {
@@ -119,7 +170,6 @@ fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
             _mm256_castsi256_pd(_mm256_slli_epi64::<62>(_mm256_and_si256($q, bits!(2))))
         };
     }
-    let mut out = [(F64x4(splat!(0.0)), F64x4(splat!(0.0))); K];
     let mut outside = 0;
     for (x, out) in x.iter().zip(out.iter_mut()) {
         let x = x.0;
@@ -148,7 +198,6 @@ fn sin_cos_each<const K: usize>(x: [F64x4; K]) -> [(F64x4, F64x4); K] {
             *out = (F64x4::from_array(pairs.map(|p| p.0)), F64x4::from_array(pairs.map(|p| p.1)));
         }
     }
-    out
 }
 
 /// `Σ c_k z^k` by Horner's rule, each step one fused multiply-add, as in
@@ -167,6 +216,42 @@ fn horner(coefficients: &[f64], z: __m256d) -> __m256d {
 mod tests {
     use super::*;
     use crate::lanes::with_vector_fma;
+
+    /// `sin`/`cos` of `values` (each four lanes) through [`F64x4::sin_cos_lanes`], as arrays,
+    /// or `None` without AVX2 and FMA.
+    #[allow(clippy::type_complexity)]
+    fn sin_cos_of<const K: usize>(values: [[f64; 4]; K]) -> Option<[([f64; 4], [f64; 4]); K]> {
+        with_vector_fma(
+            #[inline(always)]
+            || F64x4::sin_cos_lanes(values.map(F64x4::from_array)).map(|(s, c)| (s.to_array(), c.to_array())),
+        )
+    }
+
+    /// Values whose upper lanes repeat their lower ones (a batch of one or two states) share
+    /// registers two by two, in odd and even numbers of values; each lane still equals the
+    /// scalar polynomial bit for bit, as when one value does not repeat and none share.
+    #[test]
+    fn values_of_two_states_share_registers_and_give_the_same_bits() {
+        let pair = |a: f64, b: f64| [a, b, a, b];
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        let check = |values: &[[f64; 4]], results: &[([f64; 4], [f64; 4])]| {
+            for (x, (sin, cos)) in values.iter().zip(results) {
+                for (l, (s, c)) in crate::sin_cos_lanes_fused(*x).into_iter().enumerate() {
+                    assert!(same(sin[l], s) && same(cos[l], c), "x = {}: ({}, {}) vs ({s}, {c})", x[l], sin[l], cos[l]);
+                }
+            }
+        };
+        let three = [pair(0.3, -1.2), pair(2.9, f64::NAN), pair(1e10, -0.0)];
+        let Some(results) = sin_cos_of(three) else { return };
+        check(&three, &results);
+        let six =
+            [pair(0.1, 0.2), pair(-3.0, 4.0), pair(5.5, -6.5), pair(7.0, 1e-300), pair(-0.7, 0.7), pair(9.0, 1.0)];
+        check(&six, &sin_cos_of(six).unwrap_or_else(|| unreachable!()));
+        let one = [[0.25; 4]];
+        check(&one, &sin_cos_of(one).unwrap_or_else(|| unreachable!()));
+        let mixed = [pair(0.1, 0.2), [0.5, 0.6, 0.5, 0.7], pair(-1.0, 1.0)];
+        check(&mixed, &sin_cos_of(mixed).unwrap_or_else(|| unreachable!()));
+    }
 
     /// Every lane of [`sin_cos_each`], bit for bit against the scalar fused polynomial, across
     /// quadrants, signs, the reduction's limit and values it leaves to `libm`.

@@ -395,7 +395,7 @@ where
         let used = A::LANES.min(count - start);
         let zero = A::from(0.0);
         // Unused lanes repeat the used ones cyclically: two states fill four lanes as
-        // `[s0, s1, s0, s1]`, which halves their `sin`/`cos` (see `sin_cos_lanes`).
+        // `[s0, s1, s0, s1]`, whose `sin`/`cos` the AVX type computes on half the registers.
         let state = |l: usize| start + if used == A::LANES { l } else { l % used };
         let args: [[A; N]; IN] = each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][state(l)][j])));
         let outputs = kernel.run::<A>(borrowed(&args));
@@ -525,7 +525,7 @@ mod tests {
 
     #[test]
     fn a_batch_stores_every_state_once_with_the_single_call_result() {
-        for count in [0, 1, 3, 4, 5, 9] {
+        for count in [0, 1, 2, 3, 4, 5, 6, 9] {
             let (x, y) = states(count);
             let mut seen = std::vec![None; count];
             batch(&Toy, kernels::Gravity, [&x, &y], count, |k, out| {

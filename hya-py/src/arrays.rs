@@ -1,9 +1,15 @@
 //! NumPy arguments in, NumPy results out: one state as shape `(dof,)`, or `n` states as
 //! `(n, dof)`; every value finite, or `ValueError` naming the argument.
 //!
-//! A C-contiguous float64 array is read where it lies, with the GIL held: no Python code can
-//! write it meanwhile. Work that releases the GIL takes [`Rows::detached`] values, copies of such
-//! arrays, since Python threads may write an array while the GIL is released.
+//! A C-contiguous float64 array is read where it lies, with the GIL held, so no Python code
+//! runs meanwhile. Another thread inside a NumPy loop that released the GIL can still write it,
+//! as it can write any array an extension reads; that thread's caller gets numbers mixed from
+//! before and after, as from NumPy's own functions. Work that releases the GIL takes
+//! [`Rows::detached`] values, copies of such arrays, since Python code may then write them.
+//!
+//! A caller converts every argument ([`converted`], [`same_rows`]) before it checks any
+//! ([`checked`]): a conversion may run Python code (an object's `__array__`) that writes an
+//! array converted, and read in place, before it.
 
 use std::borrow::Cow;
 
@@ -14,10 +20,11 @@ use numpy::{
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// Rows of one argument, row-major, each `width` long, every value finite.
+/// Rows of one argument, row-major, each `width` long: finite once [`checked`].
 pub struct Rows<'py> {
     name: &'static str,
     values: Values<'py>,
+    width: usize,
     /// How many rows.
     pub count: usize,
     /// Whether the caller passed a batch (`(n, width)`) rather than one row (`(width,)`).
@@ -35,20 +42,21 @@ enum Values<'py> {
 impl Rows<'_> {
     /// The values, `count × width`, read with the GIL held.
     pub fn values(&self) -> PyResult<&[f64]> {
-        match &self.values {
-            // Contiguous when read; only Python code run since (another argument's conversion)
-            // could have changed the array's layout.
-            Values::InPlace(array) => array
-                .as_slice()
-                .map_err(|_| PyValueError::new_err(format!("{}: array changed layout during the call", self.name))),
-            Values::Copied(values) => Ok(values),
-        }
+        let values = match &self.values {
+            Values::InPlace(array) => array.as_slice().ok(),
+            Values::Copied(values) => Some(&values[..]),
+        };
+        // Contiguous and of this size when converted; only Python code run since (another
+        // argument's conversion, resizing it without a reference check) could change that.
+        values.filter(|v| v.len() == self.count * self.width).ok_or_else(|| {
+            PyValueError::new_err(format!("{}: the array changed shape or layout during the call", self.name))
+        })
     }
 
     /// The values for work without the GIL: our own vector as it is, an array in place copied.
     pub fn detached(&self) -> PyResult<Cow<'_, [f64]>> {
         match &self.values {
-            Values::Copied(values) => Ok(Cow::Borrowed(values)),
+            Values::Copied(_) => self.values().map(Cow::Borrowed),
             Values::InPlace(_) => Ok(Cow::Owned(self.values()?.to_vec())),
         }
     }
@@ -60,6 +68,18 @@ impl Rows<'_> {
         }
         self.values()
     }
+
+    /// `ValueError` naming the first value that is not finite, as `name[row, column]`.
+    fn check_finite(&self) -> PyResult<()> {
+        let values = self.values()?;
+        if all_finite(values) {
+            return Ok(());
+        }
+        let at = values.iter().position(|x| !x.is_finite()).unwrap_or_default();
+        let (row, column) = (at / self.width.max(1), at % self.width.max(1));
+        let place = if self.batched { format!("[{row}, {column}]") } else { format!("[{column}]") };
+        Err(PyValueError::new_err(format!("{}{place} = {}: not finite", self.name, values[at])))
+    }
 }
 
 /// Row `k` of `values`, rows `width` long.
@@ -67,46 +87,48 @@ pub fn row(values: &[f64], k: usize, width: usize) -> &[f64] {
     &values[k * width..(k + 1) * width]
 }
 
-/// Reads `value` (a NumPy array or anything array-like) as rows of `width` finite numbers.
-///
-/// A C-contiguous float64 array is read in place; anything else goes through NumPy's
-/// conversion into a vector of our own.
+/// Reads one argument (a NumPy array or anything array-like) as rows of `width` finite
+/// numbers: [`converted`], then [`checked`]. Only for a call's sole array argument.
 pub fn rows<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> PyResult<Rows<'py>> {
-    let rows = shaped(name, value, width)?;
-    rows.check_finite(width)?;
+    let rows = converted(name, value, width)?;
+    checked([&rows])?;
     Ok(rows)
 }
 
-/// Reads several arguments of the same width and checks they hold the same number of rows.
-///
-/// Every argument is converted before any is checked: a conversion may run Python code (an
-/// object's `__array__`), which could write an array read in place before it.
+/// Reads several arguments of the same width, all converted before any is checked, and checks
+/// they hold the same number of rows.
 pub fn same_rows<'py, const K: usize>(
     args: [(&'static str, &Bound<'py, PyAny>); K],
     width: usize,
 ) -> PyResult<[Rows<'py>; K]> {
     let mut out = Vec::with_capacity(K);
     for (name, value) in args {
-        out.push(shaped(name, value, width)?);
+        out.push(converted(name, value, width)?);
     }
-    for rows in &out {
-        rows.check_finite(width)?;
-    }
-    if let Some(first) = out.first() {
-        for rows in &out {
-            if rows.count != first.count || rows.batched != first.batched {
-                return Err(PyValueError::new_err(format!(
-                    "{}: {} row(s), but {} has {}",
-                    rows.name, rows.count, first.name, first.count
-                )));
-            }
-        }
-    }
+    checked(out.iter())?;
+    same_count(out.iter())?;
     out.try_into().map_err(|_| PyValueError::new_err("internal: argument count"))
 }
 
-/// `value` as rows of `width`, if its shape fits; its values not yet checked.
-fn shaped<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> PyResult<Rows<'py>> {
+/// `ValueError` unless every argument holds as many rows as the first, in the same shape
+/// (all batches, or all single rows).
+pub fn same_count<'a, 'py: 'a>(arguments: impl IntoIterator<Item = &'a Rows<'py>>) -> PyResult<()> {
+    let mut arguments = arguments.into_iter();
+    let Some(first) = arguments.next() else { return Ok(()) };
+    match arguments.find(|rows| rows.count != first.count || rows.batched != first.batched) {
+        Some(rows) => Err(PyValueError::new_err(format!(
+            "{}: {} row(s), but {} has {}",
+            rows.name, rows.count, first.name, first.count
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// `value` as rows of `width`, if its shape fits; its values not yet checked ([`checked`]).
+///
+/// A C-contiguous float64 array is read in place; anything else goes through NumPy's
+/// conversion into a vector of our own.
+pub fn converted<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> PyResult<Rows<'py>> {
     let (values, shape) = match value.downcast::<PyArrayDyn<f64>>().map(|a| a.try_readonly()) {
         // `as_slice` also accepts Fortran order, whose memory holds the rows column by column.
         Ok(Ok(array)) if array.is_c_contiguous() && array.as_slice().is_ok() => {
@@ -127,21 +149,13 @@ fn shaped<'py>(name: &'static str, value: &Bound<'py, PyAny>, width: usize) -> P
             return Err(PyValueError::new_err(format!("{name}: shape {shape:?}, expected ({width},) or (n, {width})")))
         }
     };
-    Ok(Rows { name, values, count, batched })
+    Ok(Rows { name, values, width, count, batched })
 }
 
-impl Rows<'_> {
-    /// `ValueError` naming the first value that is not finite, as `name[row, column]`.
-    fn check_finite(&self, width: usize) -> PyResult<()> {
-        let values = self.values()?;
-        if all_finite(values) {
-            return Ok(());
-        }
-        let at = values.iter().position(|x| !x.is_finite()).unwrap_or_default();
-        let (row, column) = (at / width.max(1), at % width.max(1));
-        let place = if self.batched { format!("[{row}, {column}]") } else { format!("[{column}]") };
-        Err(PyValueError::new_err(format!("{}{place} = {}: not finite", self.name, values[at])))
-    }
+/// `ValueError` naming the first value that is not finite in the first argument that has one.
+/// Call it after every argument of the call is [`converted`].
+pub fn checked<'a, 'py: 'a>(arguments: impl IntoIterator<Item = &'a Rows<'py>>) -> PyResult<()> {
+    arguments.into_iter().try_for_each(Rows::check_finite)
 }
 
 /// Whether every value is finite, in one pass with no exit: `0·x` is ±0 for a finite `x` and

@@ -14,7 +14,7 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{output, row, rows, same_rows, Rows};
+use crate::arrays::{checked, converted, output, row, rows, same_count, Rows};
 use crate::model::Model;
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -189,8 +189,9 @@ impl ObserverCore {
         t: Option<f64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
-        let (q, tau) = (rows("q", q, n)?, rows("tau", tau, n)?);
-        let qd = qd.map(|v| rows("qd", v, n)).transpose()?;
+        let (q, tau) = (converted("q", q, n)?, converted("tau", tau, n)?);
+        let qd = qd.map(|v| converted("qd", v, n)).transpose()?;
+        checked([Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten())?;
         let (q, tau, qd) = (q.one_row()?, tau.one_row()?, qd.as_ref().map(Rows::one_row).transpose()?);
         let mut d_hat = vec![0.0; n];
         match t {
@@ -210,11 +211,11 @@ impl ObserverCore {
         t: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
-        let [q, tau] = same_rows([("q_log", q_log), ("tau_log", tau_log)], n)?;
-        let qd = qd_log.map(|v| rows("qd_log", v, n)).transpose()?;
-        if let Some(rows) = qd.as_ref().filter(|r| r.count != q.count) {
-            return Err(PyValueError::new_err(format!("qd_log: {} rows, but q_log has {}", rows.count, q.count)));
-        }
+        let (q, tau) = (converted("q_log", q_log, n)?, converted("tau_log", tau_log, n)?);
+        let qd = qd_log.map(|v| converted("qd_log", v, n)).transpose()?;
+        let arguments = || [Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten();
+        checked(arguments())?;
+        same_count(arguments())?;
         if let Some(t) = t.as_ref().filter(|t| t.len() != q.count) {
             return Err(PyValueError::new_err(format!("t: {} times, but q_log has {} rows", t.len(), q.count)));
         }

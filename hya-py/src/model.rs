@@ -12,12 +12,12 @@ use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::arrays::{output, row, rows, same_rows, Rows};
+use crate::UrdfError;
 
 /// The longest a batch may hold the GIL, reading NumPy's arrays in place: a fifth of Python's
 /// default switch interval (`sys.getswitchinterval()`, 5 ms), the time a thread running
 /// bytecode may itself keep the GIL from others. A batch that would take longer releases it.
 const GIL_HOLD_NS: usize = 1_000_000;
-use crate::UrdfError;
 
 /// Calls `f` with `N` joints for `dof` from 1 to [`hya_sim::MAX_JOINTS`]; an error otherwise.
 pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = Result<T, SimError>>>(
@@ -78,8 +78,9 @@ impl Model {
     }
 
     /// An upper bound of one state's cost in the costliest batch method, ns: forward dynamics
-    /// of a 7-joint arm takes 100 to 230 ns per state in a generated batch, 2 to 2.5 µs on the
-    /// run-time model (BENCHMARKS.md).
+    /// of a shipped 6- or 7-joint arm took 77 to 182 ns per state in a generated batch, and
+    /// 1.7 to 2.5 µs on the generic tree model the run-time model runs (BENCHMARKS.md, FD
+    /// batch and FD generic, 2026-11-26).
     fn state_cost_ns(&self) -> usize {
         match self.generated {
             Some(_) => 250,
@@ -284,16 +285,17 @@ impl Model {
         let [a, b, c] = same_rows([("a", a), ("b", b), ("c", c)], n)?;
         let [a, b, c] = [a.values()?.to_vec(), b.values()?.to_vec(), c.values()?.to_vec()];
         let (dynamics, mut out) = (self.dynamics(), vec![0.0; a.len()]);
+        let batch = match method {
+            "inverse_dynamics" => <dyn SliceDynamics>::inverse_dynamics_rows,
+            "forward_dynamics" => <dyn SliceDynamics>::forward_dynamics_rows,
+            other => return Err(PyValueError::new_err(format!("method: `{other}` has no batch here"))),
+        };
         let start = std::time::Instant::now();
         for _ in 0..calls {
-            match method {
-                "inverse_dynamics" => dynamics.inverse_dynamics_rows(&a, &b, &c, &mut out),
-                "forward_dynamics" => dynamics.forward_dynamics_rows(&a, &b, &c, &mut out),
-                other => return Err(PyValueError::new_err(format!("method: `{other}` has no batch here"))),
-            }
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            batch(dynamics, &a, &b, &c, &mut out).map_err(|e| PyValueError::new_err(e.to_string()))?;
         }
-        Ok(start.elapsed().as_secs_f64() * 1e9 / (calls * a.len() / n.max(1)).max(1) as f64)
+        let states = calls as f64 * (a.len() / n.max(1)) as f64;
+        Ok(start.elapsed().as_secs_f64() * 1e9 / states.max(1.0))
     }
 
     /// The pose of frame `name` (a link) in the base frame at `q`: a 4×4 homogeneous matrix

@@ -76,6 +76,30 @@ def test_bad_input_is_refused_and_changes_nothing():
         hya.ThirdOrderFilter([0.0, 0.0]).step([1.0])
 
 
+class Spoiler:
+    """An array-like whose conversion writes NaN into another argument, read before it."""
+
+    def __init__(self, victim, at, value):
+        self.victim, self.at, self.value = victim, at, value
+
+    def __array__(self, dtype=None, copy=None):
+        self.victim[self.at] = np.nan
+        return self.value
+
+
+def test_an_argument_written_while_a_later_one_converts_is_refused():
+    # Every argument is converted before any is checked, in single steps and in logs alike.
+    model = hya.Model.builtin("hya")
+    q0 = np.array([0.0, 0.0, -0.78, 0.78, 0.78, 0.0])
+    estimator = hya.MomentumObserver(model, q0=q0)
+    q = q0.copy()
+    with pytest.raises(ValueError, match=r"q\[3\] = NaN: not finite"):
+        estimator.update(q, model.gravity(q0), qd=Spoiler(q, 3, np.zeros(6)))
+    q_log = np.tile(q0, (4, 1))
+    with pytest.raises(ValueError, match=r"q_log\[2, 3\] = NaN: not finite"):
+        estimator.run(q_log, np.tile(model.gravity(q0), (4, 1)), Spoiler(q_log, (2, 3), np.zeros((4, 6))))
+
+
 def test_computed_torque_cancels_the_estimate():
     model = hya.Model.builtin("hya")
     q = np.array([0.1, -0.2, -0.7, 0.8, 0.7, 0.1])

@@ -6,7 +6,8 @@
 //! scalars by the compiler in functions this long.)
 //!
 //! Every intrinsic is called either from an `#[inline(always)]` method, which lands in that
-//! compiled function, or from a function compiled for AVX2 and FMA itself ([`sin_cos_each`]).
+//! compiled function, or from a function compiled for AVX2 and FMA itself ([`sin_cos_all`] and
+//! the functions it calls).
 //! No closure stands between them: LLVM may keep a closure out of line, compiled for the
 //! baseline, where an intrinsic becomes a call of its own.
 
@@ -106,8 +107,8 @@ impl Arithmetic for F64x4 {
 fn sin_cos_all<const K: usize>(x: &[F64x4; K]) -> [(F64x4, F64x4); K] {
     let zero = F64x4(_mm256_set1_pd(0.0));
     let mut out = [(zero, zero); K];
-    let mut repeat = true;
-    // A batch of four states fails at the first value.
+    // One value gains nothing from sharing; a batch of four states fails at the first value.
+    let mut repeat = K >= 2;
     for x in x {
         let bits = _mm256_castpd_si256(x.0);
         let swapped = _mm256_permute4x64_epi64::<0b01_00_11_10>(bits);
@@ -225,6 +226,33 @@ mod tests {
             #[inline(always)]
             || F64x4::sin_cos_lanes(values.map(F64x4::from_array)).map(|(s, c)| (s.to_array(), c.to_array())),
         )
+    }
+
+    /// The shared-register path itself gives each lane the bits that computing every value
+    /// alone gives, NaN and the values left to `libm` included.
+    #[test]
+    fn sharing_registers_gives_the_bits_of_each_value_alone() {
+        let x = [[0.3, -1.2, 0.3, -1.2], [2.9, f64::NAN, 2.9, f64::NAN], [1e10, -0.0, 1e10, -0.0]];
+        let bits = |results: [(F64x4, F64x4); 3]| {
+            results.map(|(s, c)| (s.to_array().map(f64::to_bits), c.to_array().map(f64::to_bits)))
+        };
+        let Some((shared, alone)) = with_vector_fma(
+            #[inline(always)]
+            || {
+                let (x, zero) = (x.map(F64x4::from_array), F64x4::from(0.0));
+                let (mut shared, mut alone) = ([(zero, zero); 3], [(zero, zero); 3]);
+                // SAFETY: inside `with_vector_fma`'s function, compiled for AVX2 and FMA and
+                // called on a CPU that has both.
+                unsafe {
+                    sin_cos_of_pairs(&x, &mut shared);
+                    sin_cos_each(&x, &mut alone);
+                }
+                (bits(shared), bits(alone))
+            },
+        ) else {
+            return;
+        };
+        assert_eq!(shared, alone);
     }
 
     /// Values whose upper lanes repeat their lower ones (a batch of one or two states) share

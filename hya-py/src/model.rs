@@ -78,9 +78,9 @@ impl Model {
     }
 
     /// An upper bound of one state's cost in the costliest batch method, ns: forward dynamics
-    /// of a shipped 6- or 7-joint arm took 77 to 182 ns per state in a generated batch, and
-    /// 1.7 to 2.5 µs on the generic tree model the run-time model runs (BENCHMARKS.md, FD
-    /// batch and FD generic, 2026-11-26).
+    /// of a shipped 6- or 7-joint arm took 66 to 167 ns per state in a generated batch, and
+    /// 1.6 to 2.6 µs on the generic tree model the run-time model runs (BENCHMARKS.md, FD
+    /// batch and FD generic, every round of the run of 2026-11-26 at `40ce7c5`).
     fn state_cost_ns(&self) -> usize {
         match self.generated {
             Some(_) => 250,

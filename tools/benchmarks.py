@@ -308,7 +308,7 @@ def main():
             verdict = "met"
         else:
             verdict = f"met at the median ({meeting} of {len(rounds)} rounds)"
-        return f"| {name} | {median:.{digits}f}{unit} [{min(rounds):.{digits}f}–{max(rounds):.{digits}f}] | {verdict} |"
+        return f"| {name} | {median_and_spread(rounds, digits, unit)} | {verdict} |"
 
     rows = [
         target("generated ID ≤ 100 ns", h("generated_id_ns"), lambda v: v <= 100, " ns", 0),

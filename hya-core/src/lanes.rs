@@ -396,6 +396,7 @@ where
         let zero = A::from(0.0);
         // Unused lanes repeat the used ones cyclically: two states fill four lanes as
         // `[s0, s1, s0, s1]`, whose `sin`/`cos` the AVX type computes on half the registers.
+        // (The division only in a short step.)
         let state = |l: usize| start + if used == A::LANES { l } else { l % used };
         let args: [[A; N]; IN] = each([zero; N], |i| each(zero, |j| A::from_lanes(|l| inputs[i][state(l)][j])));
         let outputs = kernel.run::<A>(borrowed(&args));

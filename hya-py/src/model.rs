@@ -283,7 +283,7 @@ impl Model {
     ) -> PyResult<f64> {
         let n = self.dof();
         let [a, b, c] = same_rows([("a", a), ("b", b), ("c", c)], n)?;
-        let [a, b, c] = [a.values()?.to_vec(), b.values()?.to_vec(), c.values()?.to_vec()];
+        let [a, b, c] = [a.detached()?, b.detached()?, c.detached()?];
         let (dynamics, mut out) = (self.dynamics(), vec![0.0; a.len()]);
         let batch = match method {
             "inverse_dynamics" => <dyn SliceDynamics>::inverse_dynamics_rows,

@@ -100,29 +100,35 @@ impl Arithmetic for F64x4 {
     lanes_by_array!();
 }
 
-/// [`F64x4::sin_cos_lanes`]: [`sin_cos_of_pairs`] where every value's lanes 2 and 3 hold the
-/// bits of its lanes 0 and 1, else [`sin_cos_each`].
+/// [`F64x4::sin_cos_lanes`]: [`sin_cos_of_pairs`] where two or more values all repeat their
+/// lower lanes in their upper ones ([`halves_repeat`]), else [`sin_cos_each`].
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn sin_cos_all<const K: usize>(x: &[F64x4; K]) -> [(F64x4, F64x4); K] {
     let zero = F64x4(_mm256_set1_pd(0.0));
     let mut out = [(zero, zero); K];
-    // One value gains nothing from sharing; a batch of four states fails at the first value.
-    let mut repeat = K >= 2;
-    for x in x {
-        let bits = _mm256_castpd_si256(x.0);
-        let swapped = _mm256_permute4x64_epi64::<0b01_00_11_10>(bits);
-        if _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(bits, swapped))) != 0b1111 {
-            repeat = false;
-            break;
-        }
-    }
-    if repeat {
+    // One value gains nothing from sharing.
+    if K >= 2 && halves_repeat(x) {
         sin_cos_of_pairs(x, &mut out);
     } else {
         sin_cos_each(x, &mut out);
     }
     out
+}
+
+/// Whether every value's lanes 2 and 3 hold the bits of its lanes 0 and 1; a batch of four
+/// states fails at the first value.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn halves_repeat(x: &[F64x4]) -> bool {
+    for x in x {
+        let bits = _mm256_castpd_si256(x.0);
+        let swapped = _mm256_permute4x64_epi64::<0b01_00_11_10>(bits);
+        if _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(bits, swapped))) != 0b1111 {
+            return false;
+        }
+    }
+    true
 }
 
 /// [`sin_cos_each`] of values whose upper two lanes repeat their lower two: the lower halves
@@ -257,7 +263,8 @@ mod tests {
 
     /// Values whose upper lanes repeat their lower ones (a batch of one or two states) share
     /// registers two by two, in odd and even numbers of values; each lane still equals the
-    /// scalar polynomial bit for bit, as when one value does not repeat and none share.
+    /// scalar polynomial bit for bit, as for a single value (which shares with none) and when
+    /// one value does not repeat.
     #[test]
     fn values_of_two_states_share_registers_and_give_the_same_bits() {
         let pair = |a: f64, b: f64| [a, b, a, b];

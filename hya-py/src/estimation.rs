@@ -189,9 +189,7 @@ impl ObserverCore {
         t: Option<f64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
-        let (q, tau) = (converted("q", q, n)?, converted("tau", tau, n)?);
-        let qd = qd.map(|v| converted("qd", v, n)).transpose()?;
-        checked([Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten())?;
+        let (q, tau, qd) = measurements(["q", "tau", "qd"], (q, tau, qd), n)?;
         let (q, tau, qd) = (q.one_row()?, tau.one_row()?, qd.as_ref().map(Rows::one_row).transpose()?);
         let mut d_hat = vec![0.0; n];
         match t {
@@ -211,11 +209,8 @@ impl ObserverCore {
         t: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof;
-        let (q, tau) = (converted("q_log", q_log, n)?, converted("tau_log", tau_log, n)?);
-        let qd = qd_log.map(|v| converted("qd_log", v, n)).transpose()?;
-        let arguments = || [Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten();
-        checked(arguments())?;
-        same_count(arguments())?;
+        let (q, tau, qd) = measurements(["q_log", "tau_log", "qd_log"], (q_log, tau_log, qd_log), n)?;
+        same_count([Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten())?;
         if let Some(t) = t.as_ref().filter(|t| t.len() != q.count) {
             return Err(PyValueError::new_err(format!("t: {} times, but q_log has {} rows", t.len(), q.count)));
         }
@@ -225,6 +220,20 @@ impl ObserverCore {
         let out = run_log(py, self.observer(), n, (&q_log, qd_log.as_deref(), &tau_log), t.as_deref())?;
         output(py, out, q.count, true, &[n])
     }
+}
+
+/// The measured joint angles, torques and (optional) velocities of an observer's `update` or
+/// `run`, under the caller's argument names: every argument converted before any is checked, as
+/// a conversion can run Python code that writes into an array already read in place.
+fn measurements<'py>(
+    names: [&'static str; 3],
+    (q, tau, qd): (&Bound<'py, PyAny>, &Bound<'py, PyAny>, Option<&Bound<'py, PyAny>>),
+    width: usize,
+) -> PyResult<(Rows<'py>, Rows<'py>, Option<Rows<'py>>)> {
+    let (q, tau) = (converted(names[0], q, width)?, converted(names[1], tau, width)?);
+    let qd = qd.map(|v| converted(names[2], v, width)).transpose()?;
+    checked([Some(&q), Some(&tau), qd.as_ref()].into_iter().flatten())?;
+    Ok((q, tau, qd))
 }
 
 /// The disturbance estimator of Lu, Sandy & Buchli, "Nonlinear disturbance attenuation control

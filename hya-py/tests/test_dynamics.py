@@ -1,5 +1,9 @@
 """hya.Model against Pinocchio (an independent implementation) on every shipped arm and on a
 URDF only these tests hold; batches against single calls; errors on bad input."""
+import sys
+import threading
+import time
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -88,6 +92,47 @@ def test_a_batch_too_long_to_hold_the_gil_gives_the_same_rows(generated, rng):
         short = dynamics(model, q[rows], qd[rows], qdd[rows])
         for key, values in short.items():
             assert np.array_equal(long[key][rows], values), key
+
+
+class Counter(threading.Thread):
+    """Counts while it holds the GIL, letting go of it after each count (`sleep(0)`)."""
+
+    def __init__(self):
+        super().__init__(daemon=True)
+        self.count = 0
+        self.stop = False
+        self.counting = threading.Event()
+
+    def run(self):
+        self.counting.set()
+        while not self.stop:
+            self.count += 1
+            time.sleep(0)
+
+
+@pytest.mark.parametrize("generated", [True, False], ids=["generated", "run-time"])
+@pytest.mark.parametrize("long", [False, True], ids=["short", "long"])
+def test_a_short_batch_holds_the_gil_and_a_long_one_lets_go(generated, long, rng):
+    # With a switch interval far longer than the call, CPython never takes the GIL from this
+    # thread by force, so a thread waiting for it counts during the call only if the call lets
+    # go of it. The bounds: 4000 generated states or 400 on the run-time model held.
+    model = hya.Model.builtin("iiwa14") if generated else hya.Model.from_urdf(str(urdf_path("iiwa14")))
+    n = (50_000 if generated else 5_000) if long else (1_000 if generated else 100)
+    q, qd, qdd = (rng.uniform(-2, 2, (n, model.dof)) for _ in range(3))
+    interval = sys.getswitchinterval()
+    counter = Counter()
+    sys.setswitchinterval(5.0)
+    try:
+        counter.start()
+        counter.counting.wait()
+        before = counter.count
+        model.inverse_dynamics(q, qd, qdd)
+        counted = counter.count - before
+    finally:
+        counter.stop = True
+        counter.join()
+        sys.setswitchinterval(interval)
+    assert (counted > 0) == long, f"{n} states: the other thread counted {counted} times during the call"
 
 
 def test_an_array_written_while_later_arguments_convert_is_checked_after(rng):

@@ -39,6 +39,8 @@ STUDIES = Path(__file__).resolve().parent / "benchmarks_studies.md"
 RAW = Path(__file__).resolve().parent / ".build" / "benchmarks_raw.json"
 # The last Python table (`--python`), kept for rewrites without it.
 PYTHON_RAW = RAW.parent / "python_bench.md"
+# Every round of that table's figures.
+PYTHON_ROUNDS = RAW.parent / "python_bench_rounds.json"
 
 
 def run(*args):
@@ -267,7 +269,7 @@ def main():
     lines.append("")
     if args.python:
         print("timing from Python", flush=True)
-        table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"), hya("plain"))
+        table = run(args.python, str(Path(__file__).resolve().parent / "python_bench.py"), hya("plain"), "--rounds", str(PYTHON_ROUNDS))
         PYTHON_RAW.write_text(table)
     else:
         table = PYTHON_RAW.read_text() if PYTHON_RAW.exists() else None
@@ -281,7 +283,8 @@ def main():
             "the Rust batches in the tables above) against `pin.rnea` called in a Python loop. Medians of 15",
             "interleaved rounds (`tools/python_bench.py`, run after the rounds above). Each round also times the",
             "Rust batch behind the call in the same process, without Python, and runs `hya bench` (plain build)",
-            "for the Rust batch figures beside them; ratios are taken within each round.",
+            "for the Rust batch figures beside them; ratios are taken within each round."
+            + (f" Every round's figures are in `{PYTHON_ROUNDS.relative_to(ROOT)}` (not committed)." if PYTHON_ROUNDS.exists() else ""),
             "",
             table.rstrip(),
             "",

@@ -6,7 +6,10 @@ Each figure is the median over 15 rounds of the mean time per call within a roun
 (batch: the mean over 8 calls on 1024 states, as `hya bench` times its batches), with the two
 libraries interleaved round by round, after one untimed round.
 
-    pip install ./hya-py pin && python tools/python_bench.py [HYA_BINARY]
+    pip install ./hya-py pin && python tools/python_bench.py [HYA_BINARY] [--rounds FILE]
+
+`--rounds FILE` writes every round's figures (each arm, each column, in round order) to FILE as
+JSON, so that a median or a ratio in the table can be checked against its rounds.
 
 Each round also times the Rust batch behind the same call in this process, without Python
 (`Model._rust_batch_ns`, on copies of the same arrays), and the table gives the ratio of
@@ -17,11 +20,11 @@ With the `hya` binary (the README's release build), each round also runs `hya be
 --json` and the table gives its Rust batch figures and the ratio of Python's to them, round by
 round.
 """
+import argparse
 import functools
 import json
 import statistics
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -50,8 +53,12 @@ def per_state_ns(f, *arrays):
 
 
 def main():
+    parser = argparse.ArgumentParser(description="hya's inverse dynamics from Python against Pinocchio's.")
+    parser.add_argument("binary", nargs="?", help="the hya binary, for `hya bench` figures round by round")
+    parser.add_argument("--rounds", type=Path, help="write every round's figures to this JSON file")
+    args = parser.parse_args()
+    binary, rounds = args.binary, {}
     rng = np.random.default_rng(1)
-    binary = sys.argv[1] if len(sys.argv) > 1 else None
     rust = " Rust ID batch, per state | Python / Rust, ID batch | Rust FD batch, per state | Python / Rust, FD batch |" if binary else ""
     print(f"| robot | hya generated, per call | hya run-time model, per call | pin.rnea, per call | hya ID batch of 1024, per state | hya FD batch of 1024, per state | pin.rnea in a Python loop, per state | Python / Rust in this process, ID batch | Python / Rust in this process, FD batch |{rust}")
     print("|---|---|---|---|---|---|---|---|---|" + ("---|" * 4 if binary else ""))
@@ -85,12 +92,15 @@ def main():
                 figures["rustfd"].append(bench["batch_fd_ns_per_state"])
                 figures["ratio"].append(figures["batch"][-1] / figures["rust"][-1])
                 figures["ratiofd"].append(figures["fdbatch"][-1] / figures["rustfd"][-1])
-        med = {key: statistics.median(values) for key, values in figures.items() if values}
+        rounds[name] = {key: values for key, values in figures.items() if values}
+        med = {key: statistics.median(values) for key, values in rounds[name].items()}
         print(
             f"| {name} | {med['gen']:.0f} ns | {med['rt']:.0f} ns | {med['pin']:.0f} ns | "
             f"{med['batch']:.0f} ns | {med['fdbatch']:.0f} ns | {med['pinloop']:.0f} ns | {med['here']:.2f}x | {med['herefd']:.2f}x |"
             + (f" {med['rust']:.0f} ns | {med['ratio']:.2f}x | {med['rustfd']:.0f} ns | {med['ratiofd']:.2f}x |" if binary else "")
         )
+    if args.rounds:
+        args.rounds.write_text(json.dumps(rounds, indent=1) + "\n")
 
 
 if __name__ == "__main__":

@@ -220,6 +220,15 @@ fn every_method_recovers_a_constant_disturbance_and_observers_read_velocity_colu
         &narrow,
         &["--bandwidth -1"],
     );
+    // A bandwidth beyond the sample rate: every observer names it, Chen's too (which once
+    // printed rounding noise for it).
+    for (method, log) in [("chen", &narrow), ("momentum", &narrow), ("eso", &plain)] {
+        assert_rejected(
+            &["estimate", "--robot", "planar2", "--method", method, "--bandwidth", "1e9"],
+            log,
+            &["= 1e9", "dt_s is at most 100"],
+        );
+    }
     assert_rejected(
         &["estimate", "--robot", "planar2", "--method", "eso", "--timestamps"],
         "0 0 0 0 0\n",

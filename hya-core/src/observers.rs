@@ -68,7 +68,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceObserver<N> for DisturbanceEstim
 ///
 /// so that `d̂̇ = L (d − d̂)`: the observer's rates are the eigenvalues of `L(q)`. Two designs:
 /// Mohammadi's scalar `Y = y I` ([`mohammadi_gain`]; global convergence, but rates spread by the
-/// inertia ratio), and `Y = β M(q0)` ([`Self::with_gain_matrix`]), for which `L = β I` at `q0`
+/// inertia ratio), and `Y = β M(q0)` ([`Self::with_bandwidth`]), for which `L = β I` at `q0`
 /// (equal per-joint bandwidth `β` near the operating point). Stepped implicitly, because `L` is
 /// stiff for light distal links: `(I + T L) z_{k+1} = z_k + T L r`, `r = C + G − τ − p`, solved
 /// as `(M + T Y) w = M Y⁻¹ z_k + T r`, `z_{k+1} = Y w` (symmetric positive definite). Measured
@@ -102,8 +102,27 @@ impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
         Self::with_gain_matrix(dynamics, JointMatrix::<N>::identity() * gain, dt_s, qd0)
     }
 
+    /// An observer with `Y = β M(q0)`: rates `L = β I` at `q0`, equal per-joint bandwidth `β`
+    /// (1/s) near the operating point, at sample time `dt`; started at `z0 = −Y q̇0`. `β dt` at
+    /// most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT), as for the other observers: the
+    /// implicit step stays stable beyond it, but `d̂ = z + p` then cancels ever larger terms
+    /// (`p = β M q̇`) and loses the disturbance to rounding.
+    pub fn with_bandwidth(
+        dynamics: D,
+        bandwidth: f64,
+        dt_s: f64,
+        q0: &JointVector<N>,
+        qd0: JointVector<N>,
+    ) -> Result<Self, Error> {
+        let bandwidth = discretisable("bandwidth", bandwidth, positive("dt_s", dt_s)?)?;
+        check("q0", q0)?;
+        let gain = dynamics.mass_matrix(q0) * bandwidth;
+        Self::with_gain_matrix(dynamics, gain, dt_s, qd0)
+    }
+
     /// An observer with the gain matrix `Y` (symmetric positive definite, N·m·s/rad), e.g.
-    /// `β M(q0)` for equal rates `β` at `q0`; started at `z0 = −Y q̇0`.
+    /// `β M(q0)` for equal rates `β` at `q0` ([`Self::with_bandwidth`]); started at
+    /// `z0 = −Y q̇0`.
     pub fn with_gain_matrix(dynamics: D, gain: JointMatrix<N>, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
         check("qd0", &qd0)?;
         let symmetric = (gain - gain.transpose()).amax() <= 1e-12 * gain.amax();

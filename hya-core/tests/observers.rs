@@ -138,8 +138,7 @@ fn the_inertia_shaped_gain_gives_equal_rates_at_the_design_pose() {
     let arm = PlanarTwoLink::default();
     let q0 = JointVector::from([0.4, 0.8]);
     let zero = JointVector::zeros();
-    let shaped =
-        NonlinearDisturbanceObserver::with_gain_matrix(arm, arm.mass_matrix(&q0) * BANDWIDTH, DT, zero).unwrap();
+    let shaped = NonlinearDisturbanceObserver::with_bandwidth(arm, BANDWIDTH, DT, &q0, zero).unwrap();
     for rate in shaped.rates(&q0).unwrap().iter() {
         assert!((rate - BANDWIDTH).abs() < 1e-9 * BANDWIDTH, "rates {:?}", shaped.rates(&q0).unwrap());
     }
@@ -160,4 +159,20 @@ fn the_inertia_shaped_gain_gives_equal_rates_at_the_design_pose() {
     // A non-symmetric or indefinite gain is refused.
     let skew = hya_core::JointMatrix::<2>::new(1.0, 0.5, 0.0, 1.0);
     assert!(NonlinearDisturbanceObserver::with_gain_matrix(arm, skew, DT, zero).is_err());
+}
+
+#[test]
+fn a_bandwidth_beyond_the_sample_rate_is_refused_by_name() {
+    let arm = PlanarTwoLink::default();
+    let (q0, zero) = (JointVector::from([0.4, 0.8]), JointVector::zeros());
+    let at_limit = hya_core::MAX_RATE_TIMES_DT / DT;
+    assert!(NonlinearDisturbanceObserver::with_bandwidth(arm, at_limit, DT, &q0, zero).is_ok());
+    for bandwidth in [at_limit * 1.01, 1e9, 1e300, f64::INFINITY, f64::NAN, 0.0, -50.0] {
+        let error = NonlinearDisturbanceObserver::with_bandwidth(arm, bandwidth, DT, &q0, zero).unwrap_err();
+        assert!(error.to_string().contains("bandwidth"), "β = {bandwidth}: {error}");
+    }
+    let error =
+        NonlinearDisturbanceObserver::with_bandwidth(arm, BANDWIDTH, DT, &JointVector::from([0.4, f64::NAN]), zero)
+            .unwrap_err();
+    assert!(error.to_string().contains("q0"), "{error}");
 }

@@ -56,8 +56,7 @@ pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
         }
         Method::Chen => {
             // Y = β M(q0): L = Y M⁻¹ = β I at the start pose.
-            let gain = nominal.mass_matrix(&q0) * bandwidth;
-            let chen = NonlinearDisturbanceObserver::with_gain_matrix(nominal, gain, dt, qd0).map_err(core)?;
+            let chen = NonlinearDisturbanceObserver::with_bandwidth(nominal, bandwidth, dt, &q0, qd0).map_err(core)?;
             let rates = chen.rates(&q0).map_err(core)?.as_slice().to_vec();
             Some((Box::new(chen), rates))
         }

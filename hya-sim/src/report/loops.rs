@@ -11,6 +11,7 @@ use crate::config::settings::JointSettings;
 use crate::error::SimError;
 use crate::linear::{equal_bandwidth_table, Compensation, JointLoop, ObserverDesign, VelocityModel};
 use crate::robot::Robot;
+use crate::run::model::LoopModel;
 use crate::run::{gains, integral_gain};
 
 use super::text::table_row;
@@ -89,9 +90,9 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut md = equal_bandwidth(bandwidth)?;
     let joints = JointSettings::<N>::of(scenario)?;
-    let nominal = robot.nominal.as_ref();
-    let gains = gains(nominal, scenario, &joints)?;
-    let inertia = nominal.mass_matrix(&joints.initial_position).diagonal();
+    let model = LoopModel::of(scenario, robot)?;
+    let gains = gains(model.dynamics(), scenario, &joints)?;
+    let inertia = model.dynamics().mass_matrix(&joints.initial_position).diagonal();
     let (ki, _) = integral_gain(&gains, &inertia, scenario, &joints);
     let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
     let _ = writeln!(
@@ -125,4 +126,47 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     }
     md.push_str("\nThese loops have no stiction, an exact model, and the actuator as a first-order lag at its design bandwidth; the measured torque steps on the arm (the Plant section) are slower on the light joints, so the margins there are optimistic. Where a loop is stable with margin and the simulation still cycles, stick-slip hunting is the candidate the next section measures; a run with stiction off, which would separate it from a linear cause, is not part of this report.\n");
     Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// planar2's description, and the same with its links `factor` times as heavy.
+    fn planar2_scaled(factor: f64) -> (String, String) {
+        let path = format!("{}/../robots/urdf/planar2.urdf", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let heavy = [("3.0", "0.004", "0.06"), ("2.0", "0.002", "0.03")].iter().fold(text, |t, (m, ixx, iyy)| {
+            let scaled = |v: &str| format!("{}", v.parse::<f64>().unwrap_or(f64::NAN) * factor);
+            t.replace(&format!("<mass value=\"{m}\"/>"), &format!("<mass value=\"{}\"/>", scaled(m))).replace(
+                &format!("ixx=\"{ixx}\" iyy=\"{iyy}\" izz=\"{iyy}\""),
+                &format!("ixx=\"{}\" iyy=\"{}\" izz=\"{}\"", scaled(ixx), scaled(iyy), scaled(iyy)),
+            )
+        });
+        let heavy_path = std::env::temp_dir()
+            .join(format!("hya-loops-heavy-planar2-{}.urdf", std::process::id()))
+            .display()
+            .to_string();
+        std::fs::write(&heavy_path, heavy).unwrap_or_else(|e| panic!("{heavy_path}: {e}"));
+        (path, heavy_path)
+    }
+
+    #[test]
+    fn the_loop_analysis_runs_on_the_model_the_loop_runs_on() {
+        let (light, heavy) = planar2_scaled(2.0);
+        let load = |path: &str| Robot::<2>::load(path).unwrap_or_else(|e| panic!("{e}"));
+        let (light_robot, heavy_robot) = (load(&light), load(&heavy));
+        let mut scenario = Scenario::builtin("planar2_goto").unwrap_or_else(|e| panic!("{e}"));
+        scenario.robot = light.clone();
+        let on_light = section(&light_robot, &scenario).unwrap_or_else(|e| panic!("{e}"));
+        // The scenario names the heavy model for its controller: its loops are the heavy arm's.
+        let mut named = scenario.clone();
+        named.controller.model_urdf = Some(heavy.clone());
+        let on_named = section(&light_robot, &named).unwrap_or_else(|e| panic!("{e}"));
+        scenario.robot = heavy.clone();
+        let on_heavy = section(&heavy_robot, &scenario).unwrap_or_else(|e| panic!("{e}"));
+        let _ = std::fs::remove_file(&heavy);
+        assert_eq!(on_named, on_heavy);
+        assert_ne!(on_named, on_light, "twice the inertia left every margin as it was");
+    }
 }

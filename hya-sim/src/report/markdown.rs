@@ -297,12 +297,12 @@ fn lagged_cancellation<const N: usize>(
     scenarios: &[Scenario],
 ) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
-    let nominal = robot.nominal.as_ref();
+    let model = crate::run::model::LoopModel::of(first, robot)?;
     let q0 = crate::config::settings::per_joint::<N>(
         "initial_position_rad",
         &crate::config::settings::initial_position(first, N),
     )?;
-    let inertia = nominal.mass_matrix(&q0).diagonal();
+    let inertia = model.dynamics().mass_matrix(&q0).diagonal();
     let delay = crate::linear::paper_delay(first.controller.observer_bandwidth_rad_s);
     let mut md = format!(
         "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. (An earlier version of this report had the sign wrong: it said the inertia was reduced and predicted oscillation where `F_v τ_d > M_ii`.) This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the loops' crossovers (30–70 rad/s) `ω τ_d` is 1.5–3.5, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the exact transfer functions, rather than the ζ' column.\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii | ζ' (designed ζ = {zeta}) |\n|---|---|---|---|---|---|\n",
@@ -353,15 +353,16 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         ]));
     }
     let c = &first.controller;
-    let nominal = robot.nominal.as_ref();
+    let model = crate::run::model::LoopModel::of(first, robot)?;
     let joints = crate::config::settings::JointSettings::<N>::of(first)?;
     let q0 = joints.initial_position;
-    let gains = gains(nominal, first, &joints)?;
-    let integral = crate::run::integral_gain(&gains, &nominal.mass_matrix(&q0).diagonal(), first, &joints);
+    let gains = gains(model.dynamics(), first, &joints)?;
+    let integral = crate::run::integral_gain(&gains, &model.dynamics().mass_matrix(&q0).diagonal(), first, &joints);
     let integral_delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
     let _ = writeln!(
         md,
-        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from the nominal generated model at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on the nominal `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, its torque clamped to ± ({}) N·m (anti-windup); {}: K_I = ({}) N·m/(rad·s){}.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding the nominal gravity torque.",
+        "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from {} at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on that model's `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, its torque clamped to ± ({}) N·m (anti-windup); {}: K_I = ({}) N·m/(rad·s){}.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding that model's gravity torque.",
+        crate::run::model::describe(c),
         c.dt_s,
         match first.sensors.velocity {
             crate::config::scenario::VelocitySource::Difference => "encoder difference (low-passed)",

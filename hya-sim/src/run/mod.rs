@@ -195,8 +195,8 @@ pub fn closed_loop_on<const N: usize>(
     trajectory: &Trajectory<N>,
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let named = model::controller_model(scenario, robot)?;
-    let nominal = named.as_deref().unwrap_or(robot.nominal.as_ref());
+    let model = model::LoopModel::of(scenario, robot)?;
+    let nominal = model.dynamics();
     let dt = scenario.controller.dt_s;
     let joints = JointSettings::<N>::of(scenario)?;
     let q0 = trajectory.at(0.0).position;

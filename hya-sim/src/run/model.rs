@@ -104,6 +104,39 @@ pub fn controller_model<'a, const N: usize>(
     }))
 }
 
+/// The model the closed loop of a scenario runs on: the one the scenario names
+/// ([`controller_model`]), else the robot's nominal dynamics. Every analysis of that loop (its
+/// gains, its linearised margins) takes the same, so that it describes the loop that runs.
+pub struct LoopModel<'a, const N: usize> {
+    named: Option<Box<dyn Dynamics<N> + Send + Sync + 'a>>,
+    nominal: &'a (dyn Dynamics<N> + Send + Sync),
+}
+
+impl<'a, const N: usize> LoopModel<'a, N> {
+    /// `scenario`'s loop model on `robot`.
+    pub fn of(scenario: &Scenario, robot: &'a Robot<N>) -> Result<Self, SimError> {
+        Ok(Self { named: controller_model(scenario, robot)?, nominal: robot.nominal.as_ref() })
+    }
+
+    /// The dynamics.
+    pub fn dynamics(&self) -> &(dyn Dynamics<N> + Send + Sync + 'a) {
+        self.named.as_deref().unwrap_or(self.nominal)
+    }
+}
+
+/// How the report names the loop model of a scenario whose controller settings are
+/// `controller`: "the robot's nominal model", or the URDF and friction file it names.
+pub fn describe(controller: &crate::config::scenario::ControllerConfig) -> String {
+    let rigid = match &controller.model_urdf {
+        None => "the robot's nominal model".to_owned(),
+        Some(path) => format!("the model of `{path}` (`controller.model_urdf`)"),
+    };
+    match &controller.friction_toml {
+        None => rigid,
+        Some(path) => format!("{rigid} with the joint friction of `{path}` (`controller.friction_toml`)"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

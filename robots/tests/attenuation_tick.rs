@@ -1,6 +1,7 @@
 //! The paired control tick ([`DisturbanceAttenuation::tick`]) on every shipped arm's generated
 //! dynamics, where its two inverse dynamics run as one batch, against the estimator's update
-//! followed by the controller's command: equal bit for bit, and transactional on bad input.
+//! followed by the controller's command: equal bit for bit, and on bad input the same error,
+//! with nothing committed.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use hya_core::control::{PdPlacement, Reference};
@@ -42,7 +43,10 @@ fn check_tick<const N: usize, D: Dynamics<N> + Clone>(
                 prop_assert_eq!(got, expected, "command, tick {}", k);
                 prop_assert_eq!(paired.disturbance(), estimator.disturbance(), "d̂, tick {}", k);
             }
-            (Err(got), Err(_)) => {
+            (Err(got), Err(expected)) => {
+                // The same refusal, naming the same signal, entry and value (compared as text:
+                // a NaN value is not equal to itself).
+                prop_assert_eq!(format!("{got:?}"), format!("{expected:?}"), "error, tick {}", k);
                 prop_assert!(matches!(got, Error::NonFinite { .. }), "tick {}: {:?}", k, got);
                 prop_assert_eq!(state(&paired), before, "a refused tick changes nothing, tick {}", k);
                 // The two-call reference may have committed its update before the command failed;

@@ -103,10 +103,15 @@ impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
     }
 
     /// An observer with `Y = β M(q0)`: rates `L = β I` at `q0`, equal per-joint bandwidth `β`
-    /// (1/s) near the operating point, at sample time `dt`; started at `z0 = −Y q̇0`. `β dt` at
-    /// most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT), as for the other observers: the
-    /// implicit step stays stable beyond it, but `d̂ = z + p` then cancels ever larger terms
-    /// (`p = β M q̇`) and loses the disturbance to rounding.
+    /// (1/s) near the operating point, at sample time `dt`; started at `z0 = −Y q̇0`.
+    ///
+    /// `β dt` at most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT), the bound every filter and
+    /// observer here takes (thirty times the Nyquist limit). The implicit step is stable for any
+    /// `β`, but its pole `1 / (1 + β dt)` realises the rate `ln(1 + β dt) / dt`, not `β`, and for
+    /// `β dt ≫ 1` the observer becomes a one-step differentiator, `d̂ ≈ C + G − τ + M Δq̇ / dt`,
+    /// which passes velocity noise at `1 / dt`; far beyond (`β dt` of 1e9 and more) `d̂ = z + p`
+    /// also loses the disturbance to rounding. The bound holds at `q0`: elsewhere
+    /// `L(q) = β M(q0) M⁻¹(q)` departs from `β` with the inertia.
     pub fn with_bandwidth(
         dynamics: D,
         bandwidth: f64,

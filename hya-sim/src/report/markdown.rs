@@ -331,7 +331,11 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         Some(robot) => format!("`robots/urdf/{}.urdf`, generated code", robot.name),
         None => format!("`{}`, the run-time model", first.robot),
     };
-    let _ = writeln!(md, "### Nominal rigid-body model ({description}), used by the controller and observers\n");
+    let users = match first.controller.model_urdf {
+        None => ", used by the controller and observers",
+        Some(_) => " (the controller and observers use the one the scenario names)",
+    };
+    let _ = writeln!(md, "### Nominal rigid-body model ({description}){users}\n");
     md.push_str("| body (joint) | mass [kg] | centre of mass in body frame [m] | rotational inertia about the body origin [kg·m²] (xx, yy, zz, xy, xz, yz) |\n|---|---|---|---|\n");
     for b in model.bodies() {
         let i = &b.inertia;

@@ -1,8 +1,9 @@
 //! One closed-loop run: the controller at the control rate with its command held, the plant
 //! integrated at `substeps` times that rate, and the true disturbance recorded.
 //!
-//! The true disturbance is everything the nominal model does not explain, seen from the
-//! actuator torque: `d = ID_nominal(q, q̇, q̈_true) − τ_act`. It includes friction, parameter
+//! The true disturbance is everything the loop's model (the nominal one, or the one the scenario
+//! names: [`model::LoopModel`]) does not explain, seen from the actuator torque:
+//! `d = ID_model(q, q̇, q̈_true) − τ_act`. It includes friction, parameter
 //! error, payload and external loads, so estimate errors are measured, not guessed.
 
 use std::collections::VecDeque;
@@ -74,7 +75,7 @@ pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
 }
 
 /// Computed-torque gains by one rule for every method. Per joint, the natural frequency `ω_n`
-/// with damping ratio `ζ` on the nominal `M_ii(q0)`, stiffened where needed so that the PD's
+/// with damping ratio `ζ` on the loop model's `M_ii(q0)`, stiffened where needed so that the PD's
 /// torque at the error `e_f` reaches the joint's nominal static friction `F_s`, but to no more
 /// than `ω_max` (the actuators' and the delay's limit):
 ///
@@ -99,7 +100,7 @@ pub fn gains<const N: usize>(
 }
 
 /// The PID baseline's integral gain per joint, N·m/(rad·s), by the scenario's
-/// [`IntegralRule`]; `inertia` is the nominal `M_ii(q0)`, and whether each joint's gain was
+/// [`IntegralRule`]; `inertia` is the loop model's `M_ii(q0)`, and whether each joint's gain was
 /// capped by the stability bound.
 pub fn integral_gain<const N: usize>(
     gains: &Gains<N>,
@@ -167,7 +168,7 @@ pub struct ClosedLoop<const N: usize> {
 }
 
 /// Runs `scenario` with `method` on `robot`: the controller and observers on its nominal
-/// dynamics, the plant on its model perturbed by the scenario's seed.
+/// dynamics or the model the scenario names ([`model::LoopModel`]), the plant on its model perturbed by the scenario's seed.
 pub fn closed_loop<const N: usize>(
     scenario: &Scenario,
     method: Method,

@@ -133,7 +133,7 @@ pub fn describe(controller: &crate::config::scenario::ControllerConfig) -> Strin
     };
     match &controller.friction_toml {
         None => rigid,
-        Some(path) => format!("{rigid} with the joint friction of `{path}` (`controller.friction_toml`)"),
+        Some(path) => format!("{rigid}, plus the joint friction `τ_f(q̇)` of `{path}` (`controller.friction_toml`)"),
     }
 }
 

@@ -176,9 +176,6 @@ fn capped_joints<const N: usize>(
     scenario: &crate::config::scenario::Scenario,
 ) -> Result<Vec<usize>, SimError> {
     let joints = JointSettings::<N>::of(scenario)?;
-    let model = crate::run::model::LoopModel::of(scenario, robot)?;
-    let gains = crate::run::gains(model.dynamics(), scenario, &joints)?;
-    let inertia = model.dynamics().mass_matrix(&joints.initial_position).diagonal();
-    let (_, capped) = crate::run::integral_gain(&gains, &inertia, scenario, &joints);
+    let capped = crate::run::model::LoopModel::of(scenario, robot)?.design(scenario, &joints)?.capped;
     Ok((0..N).filter(|&j| capped[j]).collect())
 }

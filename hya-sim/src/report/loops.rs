@@ -11,8 +11,7 @@ use crate::config::settings::JointSettings;
 use crate::error::SimError;
 use crate::linear::{equal_bandwidth_table, Compensation, JointLoop, ObserverDesign, VelocityModel};
 use crate::robot::Robot;
-use crate::run::model::LoopModel;
-use crate::run::{gains, integral_gain};
+use crate::run::model::{LoopDesign, LoopModel};
 
 use super::text::table_row;
 
@@ -85,16 +84,31 @@ fn cell(joint: &JointLoop) -> Result<String, SimError> {
     })
 }
 
+/// Joint `j`'s `(M_ii, K_P, K_D, K_I)` in `design`.
+fn joint_numbers<const N: usize>(design: &LoopDesign<N>, j: usize) -> (f64, f64, f64, f64) {
+    (design.inertia[j], design.pd.kp()[(j, j)], design.pd.kd()[(j, j)], design.integral[j])
+}
+
+/// The gain crossover of each joint's loop under the paper's estimator at the scenario's
+/// bandwidth (that of its worst phase margin), rad/s.
+pub fn lu_crossovers<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<[f64; N], SimError> {
+    let joints = JointSettings::<N>::of(scenario)?;
+    let design = LoopModel::of(scenario, robot)?.design(scenario, &joints)?;
+    let bandwidth = scenario.controller.observer_bandwidth_rad_s;
+    let mut crossovers = [0.0; N];
+    for (j, crossover) in crossovers.iter_mut().enumerate() {
+        *crossover =
+            joint_loop::<N>(scenario, joint_numbers(&design, j), j, Method::Lu, bandwidth).margins()?.crossover_rad_s;
+    }
+    Ok(crossovers)
+}
+
 /// The section for `scenario` (HyA's goto task in the report) on `robot`.
 pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<String, SimError> {
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut md = equal_bandwidth(bandwidth)?;
     let joints = JointSettings::<N>::of(scenario)?;
-    let model = LoopModel::of(scenario, robot)?;
-    let gains = gains(model.dynamics(), scenario, &joints)?;
-    let inertia = model.dynamics().mass_matrix(&joints.initial_position).diagonal();
-    let (ki, _) = integral_gain(&gains, &inertia, scenario, &joints);
-    let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
+    let design = LoopModel::of(scenario, robot)?.design(scenario, &joints)?;
     let _ = writeln!(
         md,
         "\n### Each joint's loop, linearised\n\nPer joint of `{}` at its start pose: the rigid joint `M_ii s² + F_v s` under the PD, the velocity from the scenario's source, the method's compensation (the estimator's design `d̂ = H(s)(M_ii s² q_m − τ_m)`, or the PID's `K_I/s`), the actuator's torque bandwidth, the delays and the zero-order hold of the {} ms tick; no stiction. Phase margin / delay margin (the extra delay that makes the loop marginal), from the open loop broken at the command and the Nyquist criterion:\n",
@@ -104,7 +118,7 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     md.push_str(&table_row(["joint".to_owned()].into_iter().chain(METHODS.iter().map(|m| m.name().to_owned()))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), METHODS.len() + 1)));
     for j in 0..N {
-        let numbers = (inertia[j], kp[j], kd[j], ki[j]);
+        let numbers = joint_numbers(&design, j);
         let mut cells = vec![format!("{}", j + 1)];
         for method in METHODS {
             cells.push(cell(&joint_loop::<N>(scenario, numbers, j, method, bandwidth))?);
@@ -117,7 +131,7 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     ));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), LU_BANDWIDTHS_RAD_S.len() + 1)));
     for j in 0..N {
-        let numbers = (inertia[j], kp[j], kd[j], ki[j]);
+        let numbers = joint_numbers(&design, j);
         let mut cells = vec![format!("{}", j + 1)];
         for w in LU_BANDWIDTHS_RAD_S {
             cells.push(cell(&joint_loop::<N>(scenario, numbers, j, Method::Lu, w))?);

@@ -9,7 +9,6 @@ use crate::analysis::outcome::RunOutcome;
 use crate::analysis::seeds::MetricTable;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
-use crate::run::gains;
 use crate::run::trace::SHADOWS;
 
 use super::summary::*;
@@ -304,8 +303,11 @@ fn lagged_cancellation<const N: usize>(
     )?;
     let inertia = model.dynamics().mass_matrix(&q0).diagonal();
     let delay = crate::linear::paper_delay(first.controller.observer_bandwidth_rad_s);
+    let crossovers = super::loops::lu_crossovers(robot, first)?;
+    let (low, high) = crossovers.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &w| (l.min(w), h.max(w)));
+    let (low_lag, high_lag) = (low * delay, high * delay);
     let mut md = format!(
-        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. (An earlier version of this report had the sign wrong: it said the inertia was reduced and predicted oscillation where `F_v τ_d > M_ii`.) This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the loops' crossovers (30–70 rad/s) `ω τ_d` is 1.5–3.5, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the exact transfer functions, rather than the ζ' column.\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii | ζ' (designed ζ = {zeta}) |\n|---|---|---|---|---|---|\n",
+        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. (An earlier version of this report had the sign wrong: it said the inertia was reduced and predicted oscillation where `F_v τ_d > M_ii`.) This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the crossovers of this scenario's loops under the paper's estimator ({low:.0}–{high:.0} rad/s, from the exact loops of the margins table) `ω τ_d` is {low_lag:.1}–{high_lag:.1}, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the exact transfer functions, rather than the ζ' column.\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii | ζ' (designed ζ = {zeta}) |\n|---|---|---|---|---|---|\n",
         zeta = first.controller.damping_ratio
     );
     for j in 0..N {
@@ -357,11 +359,9 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         ]));
     }
     let c = &first.controller;
-    let model = crate::run::model::LoopModel::of(first, robot)?;
     let joints = crate::config::settings::JointSettings::<N>::of(first)?;
     let q0 = joints.initial_position;
-    let gains = gains(model.dynamics(), first, &joints)?;
-    let integral = crate::run::integral_gain(&gains, &model.dynamics().mass_matrix(&q0).diagonal(), first, &joints);
+    let design = crate::run::model::LoopModel::of(first, robot)?.design(first, &joints)?;
     let integral_delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
     let _ = writeln!(
         md,
@@ -378,8 +378,8 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         c.damping_ratio,
         c.friction_error_rad,
         c.max_natural_frequency_rad_s,
-        list(gains.kp().diagonal().as_slice()),
-        list(gains.kd().diagonal().as_slice()),
+        list(design.pd.kp().diagonal().as_slice()),
+        list(design.pd.kd().diagonal().as_slice()),
         list(&c.integral_limit_nm),
         match c.integral_rule {
             crate::config::scenario::IntegralRule::MatchEstimator => format!(
@@ -394,8 +394,8 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
                 format!("`K_I = K_P ω_n · {}` (the integral's zero at that fraction of ω_n)", c.integral_zero_ratio)
             }
         },
-        list(integral.0.as_slice()),
-        match integral.1.iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| format!("{}", j + 1)).collect::<Vec<_>>() {
+        list(design.integral.as_slice()),
+        match design.capped.iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| format!("{}", j + 1)).collect::<Vec<_>>() {
             capped if capped.is_empty() => String::new(),
             capped => format!(", capped on joints {}", capped.join(", ")),
         },

@@ -9,9 +9,10 @@
 //! The computed-torque command `ID_c(q, q̇, q̈_cmd) − d̂` then carries the friction as a
 //! feed-forward at the measured velocity, and every observer's `d̂` is what `ID_c` leaves.
 
-use hya_core::{Dynamics, JointMatrix, JointVector};
+use hya_core::{Dynamics, Gains, JointMatrix, JointVector};
 
 use crate::config::scenario::Scenario;
+use crate::config::settings::JointSettings;
 use crate::error::{SettingError, SimError};
 use crate::io::friction::JointFriction;
 use crate::robot::Robot;
@@ -122,6 +123,28 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     pub fn dynamics(&self) -> &(dyn Dynamics<N> + Send + Sync + 'a) {
         self.named.as_deref().unwrap_or(self.nominal)
     }
+
+    /// The loop's design at the scenario's start pose, as the closed loop makes it: the PD
+    /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_I` with the joints
+    /// whose gain is capped ([`integral_gain`](super::integral_gain)).
+    pub fn design(&self, scenario: &Scenario, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
+        let pd = super::gains(self.dynamics(), scenario, joints)?;
+        let inertia = self.dynamics().mass_matrix(&joints.initial_position).diagonal();
+        let (integral, capped) = super::integral_gain(&pd, &inertia, scenario, joints);
+        Ok(LoopDesign { pd, inertia, integral, capped })
+    }
+}
+
+/// [`LoopModel::design`].
+pub struct LoopDesign<const N: usize> {
+    /// `K_P`, `K_D`.
+    pub pd: Gains<N>,
+    /// `M_ii(q0)`, kg·m².
+    pub inertia: JointVector<N>,
+    /// The PID's `K_I`, N·m/(rad·s).
+    pub integral: JointVector<N>,
+    /// Joints whose `K_I` the stability bound capped.
+    pub capped: [bool; N],
 }
 
 /// How the report names the loop model of a scenario whose controller settings are

@@ -164,6 +164,9 @@ pub struct Picked<R> {
     width: usize,
     what: String,
     values: Vec<f64>,
+    /// How many values every row of the log holds, once known, and where that was set: by the
+    /// header (its line and names) or by the first row.
+    row_width: Option<(usize, String)>,
 }
 
 impl<R: BufRead> Picked<R> {
@@ -179,7 +182,7 @@ impl<R: BufRead> Picked<R> {
             }
         }
         let reader = Reader::with_header(input);
-        Ok(Self { reader, spec, selection: None, width, what, values: Vec::with_capacity(width) })
+        Ok(Self { reader, spec, selection: None, width, what, values: Vec::with_capacity(width), row_width: None })
     }
 
     /// The next row's line number, its values then in [`values`](Self::values); `None` at the
@@ -203,12 +206,33 @@ impl<R: BufRead> Picked<R> {
                 if self.selection.is_none() {
                     self.selection = Some(spec.resolve(self.reader.header())?);
                 }
+                self.check_ragged(&row)?;
                 if let Some(selection) = &self.selection {
                     selection.pick(&row, &mut self.values)?;
                 }
             }
         }
         Ok(row.line)
+    }
+
+    /// Refuses a row whose width differs from the header's, or from the first row's where the log
+    /// has no header: a row with a cell too few or too many would put values under the wrong
+    /// names.
+    fn check_ragged(&mut self, row: &Row) -> Result<(), CliError> {
+        let (expected, set_by) = self.row_width.get_or_insert_with(|| match self.reader.header() {
+            Some((line, names)) => (names.len(), format!("the header on line {line} names")),
+            None => (row.values.len(), format!("the first row, line {}, has", row.line)),
+        });
+        if row.values.len() == *expected {
+            Ok(())
+        } else {
+            Err(CliError::Input(format!(
+                "line {}: {} values, but {set_by} {expected}: a row with a cell too few or too many is refused, \
+                 as its values would stand under the wrong columns",
+                row.line,
+                row.values.len()
+            )))
+        }
     }
 
     /// The values of the row [`next_line`](Self::next_line) returned.
@@ -240,6 +264,30 @@ mod tests {
         let reordered = ColumnSpec::parse("7,1").unwrap().resolve(None).unwrap();
         reordered.pick(&row, &mut out).unwrap();
         assert_eq!(out, [6.0, 0.5]);
+    }
+
+    /// The values [`Picked`] reads from `input` with `spec`, or the first error.
+    fn picked(input: &str, spec: &str) -> Result<Vec<Vec<f64>>, String> {
+        let spec = ColumnSpec::parse(spec).unwrap();
+        let width = spec.len();
+        let mut picked = Picked::new(input.as_bytes(), Some(spec), width, "test".into()).unwrap();
+        let mut rows = Vec::new();
+        while let Some(line) = picked.next_line() {
+            line.map_err(|e| e.to_string())?;
+            rows.push(picked.values().to_vec());
+        }
+        Ok(rows)
+    }
+
+    #[test]
+    fn ragged_rows_are_refused_against_the_header_or_the_first_row() {
+        assert_eq!(picked("t,q1,q2\n0,1,2\n1,3,4\n", "t,q2").unwrap(), [[0.0, 2.0], [1.0, 4.0]]);
+        let message = picked("t,q1,q2,x\n0,1,2,5\n1,3,4\n", "t,q2").unwrap_err();
+        assert!(message.contains("line 3: 3 values, but the header on line 1 names 4"), "{message}");
+        let message = picked("t,q1\n0,1,2\n", "t,q1").unwrap_err();
+        assert!(message.contains("line 2: 3 values") && message.contains("names 2"), "{message}");
+        let message = picked("0 1 2\n1 3\n", "1,2").unwrap_err();
+        assert!(message.contains("line 2: 2 values, but the first row, line 1, has 3"), "{message}");
     }
 
     #[test]

@@ -60,9 +60,28 @@ pub fn check_dt(option: &str, dt: f64) -> Result<f64, CliError> {
     }
 }
 
-/// The fields of a line: separated by commas, tabs or spaces (runs of spaces count once).
-fn fields(data: &str) -> impl Iterator<Item = &str> {
-    data.split(|c: char| c == ',' || c.is_whitespace()).map(str::trim).filter(|field| !field.is_empty())
+/// The fields of a line: separated by commas, tabs or spaces (runs of spaces and tabs count
+/// once). A comma always ends a cell: an empty cell between two commas, before the first or after
+/// the last (`1,,3`, `,2`, `1,2,`) is a missing value, and an error naming its line and column,
+/// never skipped (a skipped cell would move every later value one column to the left).
+fn fields(data: &str, line: usize) -> Result<Vec<&str>, CliError> {
+    let mut fields = Vec::new();
+    for cell in data.split(',') {
+        let before = fields.len();
+        fields.extend(cell.split_whitespace());
+        if fields.len() == before && data.contains(',') {
+            return Err(CliError::Input(format!(
+                "line {line}, column {}: an empty cell (a missing value); fill it or remove the row",
+                before + 1
+            )));
+        }
+        if fields.len() > MAX_ROW_VALUES {
+            return Err(CliError::Input(format!(
+                "line {line}: more than {MAX_ROW_VALUES} values, the most a row may hold"
+            )));
+        }
+    }
+    Ok(fields)
 }
 
 /// Parses line `line` of the input; `None` for a blank or comment line.
@@ -72,13 +91,8 @@ pub fn parse(text: &str, line: usize) -> Result<Option<Row>, CliError> {
         return Ok(None);
     }
     let mut values = Vec::new();
-    for (column, field) in fields(data).enumerate() {
+    for (column, field) in fields(data, line)?.into_iter().enumerate() {
         let column = column + 1;
-        if column > MAX_ROW_VALUES {
-            return Err(CliError::Input(format!(
-                "line {line}: more than {MAX_ROW_VALUES} values, the most a row may hold"
-            )));
-        }
         match field.parse::<f64>() {
             Ok(v) if v.is_finite() => values.push(v),
             Ok(v) => {
@@ -185,18 +199,15 @@ fn take_header(header: &mut Header, line: usize, text: &str) -> Result<bool, Cli
         return Ok(false);
     }
     let data = text.split('#').next().unwrap_or_default();
-    let names: Vec<&str> = fields(data).take(MAX_ROW_VALUES + 1).collect();
-    match names.first() {
+    let first = data.split(|c: char| c == ',' || c.is_whitespace()).find(|field| !field.is_empty());
+    match first {
         None => Ok(false),
         Some(first) if first.parse::<f64>().is_ok() => {
             *header = Header::Refused;
             Ok(false)
         }
-        Some(_) if names.len() > MAX_ROW_VALUES => Err(CliError::Input(format!(
-            "line {}: a header of more than {MAX_ROW_VALUES} names, the most a row may hold",
-            line
-        ))),
         Some(_) => {
+            let names = fields(data, line)?;
             *header = Header::Read(line, names.iter().map(|n| n.to_string()).collect());
             Ok(true)
         }
@@ -262,6 +273,19 @@ mod tests {
         let row = parse(" 1.5, -2e-3\t4 # note", 7).unwrap().unwrap();
         assert_eq!(row, Row { line: 7, values: vec![1.5, -2e-3, 4.0] });
         assert!(parse("   # only a comment", 1).unwrap().is_none());
+    }
+
+    #[test]
+    fn empty_cells_are_refused_with_their_column() {
+        for (text, column) in [("0.001,0.1,,1", 3), (",2,3", 1), ("1,2,", 3), ("1, ,3", 2), ("1 2,,3", 3)] {
+            let message = parse(text, 4).unwrap_err().to_string();
+            assert!(message.contains(&format!("line 4, column {column}: an empty cell")), "{text}: {message}");
+        }
+        // Spaces alone never make an empty cell: runs of them separate once.
+        assert_eq!(parse("1   2\t\t3", 1).unwrap().unwrap().values, [1.0, 2.0, 3.0]);
+        let mut reader = Reader::with_header("t,,q2\n0,1,2\n".as_bytes());
+        let message = reader.next().unwrap().unwrap_err().to_string();
+        assert!(message.contains("line 1, column 2: an empty cell"), "{message}");
     }
 
     #[test]

@@ -181,3 +181,22 @@ fn long_fields_are_echoed_cut() {
     let message = stderr(&output);
     assert!(message.contains("line 1, column 2") && message.contains('…') && message.len() < 200, "{message}");
 }
+
+#[test]
+fn an_empty_cell_is_refused_not_skipped() {
+    // Skipping the empty q2 cell once moved tau1 under q2 and gave d̂ = −7.18 instead of −21.83.
+    let log = "t,q1,q2,tau1,tau2,current\n0,0.1,0.2,1,2,5\n0.001,0.1,,1,2,5\n";
+    let args = ["estimate", "--robot", "planar2", "--timestamps", "--columns", "t,q1-q2,tau1-tau2"];
+    assert_rejected(&args, log, &["line 3, column 3: an empty cell"]);
+    // Without --columns, and in a command that reads bare rows, the same.
+    assert_rejected(&["gravity", "--robot", "planar2"], "0.1,\n", &["line 1, column 2: an empty cell"]);
+}
+
+#[test]
+fn a_row_narrower_or_wider_than_the_header_is_refused() {
+    let args = ["estimate", "--robot", "planar2", "--timestamps", "--columns", "t,q1-q2,tau1-tau2"];
+    let short = "t,q1,q2,tau1,tau2,current\n0,0.1,0.2,1,2,5\n0.001,0.1,0.2,1,2\n";
+    assert_rejected(&args, short, &["line 3: 5 values, but the header on line 1 names 6"]);
+    let long = "t,q1,q2,tau1,tau2\n0,0.1,0.2,1,2,5\n";
+    assert_rejected(&args, long, &["line 2: 6 values, but the header on line 1 names 5"]);
+}

@@ -149,7 +149,10 @@ fn hostile_logs_are_named_by_line() {
         args
     };
     let log = "t,q1,q2,qd1,qd2,tau1,tau2\n0,0,0,0,0,0,0\n0.001,0,0,0,0,0\n";
-    assert_rejected(&with("t,q1-q2,tau1-tau2"), log, &["line 3", "column 7", "6 values"]);
+    assert_rejected(&with("t,q1-q2,tau1-tau2"), log, &["line 3: 6 values, but the header on line 1 names 7"]);
+    // Without a header, rows are counted against the first.
+    let headless = "0,0,0,0,0,0,0\n0.001,0,0,0,0,0\n";
+    assert_rejected(&with("1,2-3,6-7"), headless, &["line 2: 6 values, but the first row, line 1, has 7"]);
     assert_rejected(&with("t,q1-q2,tau1-tau3"), log, &["selects 6 columns", "5 are read"]);
     assert_rejected(&with("t,q1-q2,tau1,torque2"), log, &["no column \"torque2\"", "line 1"]);
     assert_rejected(&with("t,q2-q1,tau1-tau2"), log, &["\"q2-q1\"", "ends before"]);

@@ -1,6 +1,6 @@
 //! `hya reproduce` and `hya run`: the paper's experiments, or a scenario of your own.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use hya_sim::output::OutputDir;
 
@@ -71,7 +71,7 @@ fn command_line() -> String {
 
 /// Runs every method of every scenario over the seeds on every core, with a progress bar, then
 /// writes the report.
-fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions) -> Result<(), CliError> {
+fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path>) -> Result<(), CliError> {
     let quick = options.quick;
     let seeds = options.seeds.unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
     if !(1..=MAX_SEEDS).contains(&seeds) {
@@ -90,7 +90,8 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions) -> Result<(), CliE
         command_line(),
         [env!("HYA_BUILD_COMMIT"), env!("HYA_BUILD_RUSTC"), env!("HYA_BUILD_PROFILE"), env!("HYA_BUILD_RUSTFLAGS")],
     );
-    let (out, kept) = OutputDir::open(&options.out, options.force, &provenance.command).map_err(sim)?;
+    let reads: Vec<&Path> = file.into_iter().chain(scenarios.iter().flat_map(Scenario::files_read)).collect();
+    let (out, kept) = OutputDir::open(&options.out, options.force, &provenance.command, &reads).map_err(sim)?;
     for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
@@ -125,7 +126,7 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions) -> Result<(), CliE
 /// `hya reproduce`.
 pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
-    run_all(scenarios, &args.options)
+    run_all(scenarios, &args.options, None)
 }
 
 /// `hya run FILE.toml`: a scenario file (at most [`hya_sim::scenario::MAX_SCENARIO_BYTES`]), or a
@@ -137,5 +138,5 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     } else {
         Scenario::from_file(&args.file).map_err(sim)?
     };
-    run_all(vec![scenario], &args.options)
+    run_all(vec![scenario], &args.options, Some(&args.file))
 }

@@ -47,8 +47,11 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let plan = Plan::standard(quick).map_err(sim)?;
     let shard = args.shard.as_deref().map(|s| Shard::parse(s, plan.runs())).transpose().map_err(CliError::Input)?;
     let result = if shards.is_empty() { None } else { Some(sweep::merge(&plan, &shards).map_err(sim)?) };
+    let shard_files: Vec<PathBuf> = args.merge.iter().map(|dir| dir.join("sweep.json")).collect();
     let holder = hya_core::Clipped(&std::env::args().collect::<Vec<_>>().join(" "), 120).to_string();
-    let (out, kept) = OutputDir::open(&args.out, args.force, &holder).map_err(sim)?;
+    let (out, kept) =
+        OutputDir::open(&args.out, args.force, &holder, &shard_files.iter().map(PathBuf::as_path).collect::<Vec<_>>())
+            .map_err(sim)?;
     for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }

@@ -6,7 +6,7 @@
 //! hold an identification against.
 
 use std::io::{BufRead, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::{JointVector, Reference, Short};
@@ -101,12 +101,14 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         let cost = hya_sim::cost::Cost::of(std::slice::from_ref(scenario), 1);
         cost.check()?;
         if let Some(dir) = &self.args.out {
-            let (out, _) = OutputDir::open(dir, self.args.force, "hya track")?;
+            let reads: Vec<&Path> =
+                self.args.scenario.iter().map(PathBuf::as_path).chain(scenario.files_read()).collect();
+            let (out, _) = OutputDir::open(dir, self.args.force, "hya track", &reads)?;
             let (model, _) = true_model(scenario, robot);
             let inertias: Vec<RigidBodyInertia> = model.bodies().iter().map(|b| b.inertia).collect();
             out.save("true.urdf", &with_body_inertias(&self.args.robot, &robot.model, &inertias, "true.urdf")?)?;
         }
-        let names: Vec<&str> = robot.model.joint_names().collect();
+        let names: Vec<String> = robot.model.joint_names().map(hya_urdf::escape_name).collect();
         let header: Vec<String> =
             ["q", "tau"].iter().flat_map(|x| names.iter().map(move |joint| format!("{x}_{joint}"))).collect();
         writeln!(self.output, "t {}", header.join(" "))?;

@@ -88,3 +88,36 @@ fn identify_refuses_short_logs_and_bad_settings() {
     );
     assert_rejected(&["identify", "--robot", "planar2", "--dt", "0.002", "--held-out", "1"], "", &["--held-out"]);
 }
+
+#[test]
+fn force_never_removes_a_file_the_run_reads() {
+    let dir = std::env::temp_dir().join(format!("hya-identify-inputs-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.to_str().unwrap();
+    let first = hya(&["identify", "--robot", "planar2", "--dt", "0.002", "--out", out], &log());
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let identified = dir.join("identified.urdf");
+    let before = std::fs::read(&identified).unwrap();
+    // The identification as its own --compare, replaced in place: the input would be deleted.
+    let compare = identified.to_str().unwrap();
+    let args = ["identify", "--robot", "planar2", "--dt", "0.002", "--compare", compare, "--out", out, "--force"];
+    assert_rejected(&args, &log(), &["would remove identified.urdf, which this run reads"]);
+    // A scenario whose controller runs on the identification, with its report into that folder.
+    let scenario = std::env::temp_dir().join(format!("hya-identify-inputs-{}.toml", std::process::id()));
+    std::fs::write(
+        &scenario,
+        format!(
+            "name = \"tiny\"\nrobot = \"planar2\"\nduration_s = 0.6\nmethods = [\"none\"]\n[task]\nkind = \"hold\"\n\
+             [controller]\nnatural_frequency_rad_s = [12.0, 12.0]\nintegral_limit_nm = [30.0, 30.0]\n\
+             torque_limit_nm = [150.0, 150.0]\nmodel_urdf = {compare:?}\n[plant]\nactuator = \"ideal\"\n\
+             friction = \"smooth\"\n"
+        ),
+    )
+    .unwrap();
+    let run = ["run", scenario.to_str().unwrap(), "--out", out, "--force"];
+    assert_rejected(&run, "", &["would remove identified.urdf, which this run reads"]);
+    assert_eq!(std::fs::read(&identified).unwrap(), before, "the identification is untouched");
+    assert!(dir.join("report.md").is_file() && dir.join("friction.toml").is_file(), "nothing removed");
+    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::remove_file(&scenario).unwrap();
+}

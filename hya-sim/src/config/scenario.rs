@@ -698,6 +698,14 @@ impl Scenario {
         Ok(scenario)
     }
 
+    /// The paths of the files a run of this scenario reads: the robot (if a URDF rather than a
+    /// shipped arm's name), the controller's model and friction. For `--force`, which must not
+    /// remove any of them ([`crate::output::OutputDir::open`]).
+    pub fn files_read(&self) -> impl Iterator<Item = &std::path::Path> {
+        let controller = [&self.controller.model_urdf, &self.controller.friction_toml];
+        std::iter::once(&self.robot).chain(controller.into_iter().flatten()).map(std::path::Path::new)
+    }
+
     /// Reads, parses and checks the scenario file at `path` (at most [`MAX_SCENARIO_BYTES`]).
     pub fn from_file(path: &std::path::Path) -> Result<Self, SimError> {
         let origin = path.display().to_string();

@@ -13,6 +13,15 @@
 //!   a listed entry is removed only if it is still a regular file with that content. A listed
 //!   file that changed since, or that is not a regular file, makes `--force` refuse before
 //!   anything is removed.
+//! - **The manifest is a journal**: a name is listed as [`PENDING`] before its file is renamed
+//!   into place, and given its SHA-256 after; so a run killed at any point leaves a folder whose
+//!   every report file is listed, and the next `--force` removes them all (a pending one if it is
+//!   a regular file: no name is listed unless it was free when the run listed it). Temporary
+//!   files left by a killed run are removed when the folder is next taken: the lock proves that
+//!   no run that could still rename them is alive.
+//! - **`--force` never removes what the run reads**: the caller names the files the run reads
+//!   (scenario, URDFs, friction files); a listed report file that is one of them (the same
+//!   file, whatever path names it) makes `--force` refuse before anything is removed.
 //! - **A refused run leaves nothing**: a folder that [`OutputDir::open`] created is removed again
 //!   if the run saved nothing into it.
 
@@ -32,6 +41,10 @@ pub const MANIFEST: &str = ".hya-files";
 pub const LOCK_NOTE: &str = ".hya-lock";
 /// The manifest's first line; a manifest without it (or from an older hya) is not trusted.
 const MANIFEST_HEADER: &str = "# hya report files: sha256, two spaces, file name";
+/// What the manifest lists in place of a SHA-256 for a file about to be renamed into place.
+const PENDING: &str = "pending";
+/// The prefix of every temporary file name (`.hya-tmp-PID-NAME`).
+const TEMPORARY_PREFIX: &str = ".hya-tmp-";
 /// The largest manifest read, bytes (a report has a few hundred files at most).
 const MAX_MANIFEST_BYTES: u64 = 1 << 20;
 
@@ -66,16 +79,18 @@ pub struct OutputDir {
     lock: File,
     /// Whether [`OutputDir::open`] created the folder.
     created: bool,
-    /// Every file this run wrote, with its SHA-256.
-    written: Mutex<BTreeMap<String, String>>,
+    /// Every file this run wrote, with its SHA-256 (`None` while it is being written).
+    written: Mutex<BTreeMap<String, Option<String>>>,
 }
 
 impl OutputDir {
     /// Takes `dir` for a report, before anything is simulated. A folder that does not exist is
     /// created; an empty one is used as it is; a non-empty one only with `force`, and only if it
     /// holds an earlier report, whose files are then removed so that no stale figure stays mixed
-    /// in. Anything else in it is kept and returned, for the caller to name.
-    pub fn open(dir: &Path, force: bool, holder: &str) -> Result<(Self, Vec<PathBuf>), SimError> {
+    /// in. Anything else in it is kept and returned, for the caller to name. `reads` are the
+    /// files the run reads (paths that name no file are passed over): a report file among them
+    /// is never removed, and `--force` then refuses.
+    pub fn open(dir: &Path, force: bool, holder: &str, reads: &[&Path]) -> Result<(Self, Vec<PathBuf>), SimError> {
         let created = match std::fs::metadata(dir) {
             Ok(m) if m.is_dir() => false,
             Ok(_) => return Err(refused(dir, "exists and is not a folder")),
@@ -99,7 +114,8 @@ impl OutputDir {
             });
         }
         let out = Self { path: dir.to_owned(), lock, created, written: Mutex::new(BTreeMap::new()) };
-        let kept = out.clear_earlier_report(force)?;
+        out.remove_stale_temporaries()?;
+        let kept = out.clear_earlier_report(force, reads)?;
         out.write_atomically(LOCK_NOTE, format!("pid {}, {holder}\n", std::process::id()).as_bytes())?;
         Ok((out, kept))
     }
@@ -116,7 +132,7 @@ impl OutputDir {
         for entry in std::fs::read_dir(dir).map_err(io_error(dir))? {
             let path = entry.map_err(io_error(dir))?.path();
             let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
-            if name != LOCK_NOTE && !(name.starts_with(".hya-tmp-")) {
+            if name != LOCK_NOTE && !name.starts_with(TEMPORARY_PREFIX) {
                 entries.push(path);
             }
         }
@@ -124,8 +140,24 @@ impl OutputDir {
         Ok(entries)
     }
 
+    /// Removes the temporary files (regular files or links, never followed) a killed run left:
+    /// with the folder locked, no run that could still rename them is alive.
+    fn remove_stale_temporaries(&self) -> Result<(), SimError> {
+        let dir = &self.path;
+        for entry in std::fs::read_dir(dir).map_err(io_error(dir))? {
+            let entry = entry.map_err(io_error(dir))?;
+            let name = entry.file_name();
+            let stale = name.to_str().is_some_and(|n| n.starts_with(TEMPORARY_PREFIX))
+                && entry.file_type().is_ok_and(|t| t.is_file() || t.is_symlink());
+            if stale {
+                std::fs::remove_file(entry.path()).map_err(io_error(&entry.path()))?;
+            }
+        }
+        Ok(())
+    }
+
     /// See [`OutputDir::open`]: checks the folder and, with `force`, removes a verified report.
-    fn clear_earlier_report(&self, force: bool) -> Result<Vec<PathBuf>, SimError> {
+    fn clear_earlier_report(&self, force: bool, reads: &[&Path]) -> Result<Vec<PathBuf>, SimError> {
         let dir = &self.path;
         let entries = self.entries()?;
         if entries.is_empty() {
@@ -143,10 +175,23 @@ impl OutputDir {
             ));
         }
         let listed = read_manifest(dir)?;
+        let inputs: Vec<(PathBuf, &Path)> =
+            reads.iter().filter_map(|read| Some((std::fs::canonicalize(read).ok()?, *read))).collect();
         // Every listed file is checked before any is removed: all or nothing.
         let mut remove = Vec::new();
         for (name, sha256) in &listed {
             let path = dir.join(name);
+            let same = std::fs::canonicalize(&path).ok();
+            if let Some((_, read)) = inputs.iter().find(|(input, _)| Some(input) == same.as_ref()) {
+                return Err(refused(
+                    dir,
+                    format!(
+                        "--force would remove {name}, which this run reads ({}); nothing was removed: write the \
+                         report to another folder, or move the file out of this one first",
+                        read.display()
+                    ),
+                ));
+            }
             match std::fs::symlink_metadata(&path) {
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
                 Err(e) => return Err(io_error(&path)(e)),
@@ -156,9 +201,10 @@ impl OutputDir {
                         format!("{name} is listed in {MANIFEST} but is not a regular file; nothing was removed"),
                     ))
                 }
+                Ok(_) if sha256.is_none() => remove.push(path),
                 Ok(_) => {
                     let content = std::fs::read(&path).map_err(io_error(&path))?;
-                    if sha256_hex(&content) != *sha256 {
+                    if Some(sha256_hex(&content)) != *sha256 {
                         return Err(refused(
                             dir,
                             format!(
@@ -193,17 +239,26 @@ impl OutputDir {
                 format!("{name} already stands there and is not from this run; hya does not replace it"),
             ));
         }
+        if !written.contains_key(name) {
+            written.insert(name.to_owned(), None);
+            self.write_manifest(&written)?;
+        }
         self.write_atomically(name, text.as_bytes())?;
-        written.insert(name.to_owned(), sha256_hex(text.as_bytes()));
+        written.insert(name.to_owned(), Some(sha256_hex(text.as_bytes())));
+        self.write_manifest(&written)
+    }
+
+    /// Writes the [`MANIFEST`] of `written`, pending entries marked [`PENDING`].
+    fn write_manifest(&self, written: &BTreeMap<String, Option<String>>) -> Result<(), SimError> {
         let manifest: String = std::iter::once(format!("{MANIFEST_HEADER}\n"))
-            .chain(written.iter().map(|(name, sha256)| format!("{sha256}  {name}\n")))
+            .chain(written.iter().map(|(name, sha256)| format!("{}  {name}\n", sha256.as_deref().unwrap_or(PENDING))))
             .collect();
         self.write_atomically(MANIFEST, manifest.as_bytes())
     }
 
     /// Writes `bytes` to a new temporary file in the folder and renames it to `name`.
     fn write_atomically(&self, name: &str, bytes: &[u8]) -> Result<(), SimError> {
-        let temporary = self.path.join(format!(".hya-tmp-{}-{name}", std::process::id()));
+        let temporary = self.path.join(format!("{TEMPORARY_PREFIX}{}-{name}", std::process::id()));
         let result = File::options()
             .write(true)
             .create_new(true)
@@ -247,8 +302,9 @@ fn holder_of(dir: &Path) -> String {
     }
 }
 
-/// The trusted [`MANIFEST`] of `dir`: name → SHA-256, or the reason `--force` cannot trust it.
-fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
+/// The trusted [`MANIFEST`] of `dir`: name → SHA-256 (`None` for a pending entry), or the reason
+/// `--force` cannot trust it.
+fn read_manifest(dir: &Path) -> Result<BTreeMap<String, Option<String>>, SimError> {
     let path = dir.join(MANIFEST);
     let none = || {
         refused(
@@ -275,7 +331,8 @@ fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
     let mut listed = BTreeMap::new();
     for (number, line) in lines.enumerate() {
         let entry = line.split_once("  ").filter(|(sha, name)| {
-            sha.len() == 64 && sha.bytes().all(|b| b.is_ascii_hexdigit()) && is_plain_name(name) && *name != MANIFEST
+            let checksum = sha.len() == 64 && sha.bytes().all(|b| b.is_ascii_hexdigit());
+            (checksum || *sha == PENDING) && is_plain_name(name) && *name != MANIFEST
         });
         let Some((sha256, name)) = entry else {
             return Err(refused(
@@ -283,7 +340,7 @@ fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
                 format!("{MANIFEST} line {}: not `sha256  plain-file-name`; nothing was removed", number + 2),
             ));
         };
-        listed.insert(name.to_owned(), sha256.to_owned());
+        listed.insert(name.to_owned(), Some(sha256.to_owned()).filter(|sha| sha != PENDING));
     }
     Ok(listed)
 }
@@ -303,7 +360,7 @@ mod tests {
     #[test]
     fn names_with_separators_or_parents_are_refused() {
         let dir = scratch("names");
-        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        let (out, _) = OutputDir::open(&dir, false, "test", &[]).unwrap();
         for bad in ["../x.csv", "/tmp/x.csv", "a/b.csv", "..", "", "a\\b.csv", ".hya-files", ".hidden", "a\nb"] {
             assert!(out.save(bad, "x").is_err(), "{bad:?} accepted");
         }
@@ -319,16 +376,16 @@ mod tests {
     #[test]
     fn a_non_empty_folder_needs_force_and_an_earlier_report() {
         let dir = scratch("force");
-        let (out, kept) = OutputDir::open(&dir, false, "test").unwrap();
+        let (out, kept) = OutputDir::open(&dir, false, "test", &[]).unwrap();
         assert!(kept.is_empty() && dir.is_dir(), "a new folder is created");
         for name in ["summary.json", "report.md", "old_lu.csv", "old_joints.svg"] {
             out.save(name, "old").unwrap();
         }
         drop(out);
         std::fs::write(dir.join("measurements.csv"), "mine").unwrap();
-        let refused = OutputDir::open(&dir, false, "test").unwrap_err().to_string();
+        let refused = OutputDir::open(&dir, false, "test", &[]).unwrap_err().to_string();
         assert!(refused.contains("not empty") && refused.contains("--force"), "{refused}");
-        let (_out, kept) = OutputDir::open(&dir, true, "test").unwrap();
+        let (_out, kept) = OutputDir::open(&dir, true, "test", &[]).unwrap();
         assert_eq!(kept, vec![dir.join("measurements.csv")]);
         assert!(!dir.join("old_lu.csv").exists() && !dir.join("summary.json").exists());
         assert!(!dir.join(MANIFEST).exists());
@@ -340,16 +397,81 @@ mod tests {
         let dir = scratch("untrusted");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("data.csv"), "precious").unwrap();
-        let refused = OutputDir::open(&dir, true, "test").unwrap_err().to_string();
+        let refused = OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string();
         assert!(refused.contains("no .hya-files"), "{refused}");
         // A planted manifest of the old kind (bare names), or with a wrong checksum.
         std::fs::write(dir.join(MANIFEST), "data.csv\n").unwrap();
-        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("not one this hya wrote"));
+        assert!(OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string().contains("not one this hya wrote"));
         std::fs::write(dir.join(MANIFEST), format!("{MANIFEST_HEADER}\n{}  data.csv\n", sha256_hex(b"other"))).unwrap();
-        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("changed since hya wrote it"));
+        assert!(OutputDir::open(&dir, true, "test", &[])
+            .unwrap_err()
+            .to_string()
+            .contains("changed since hya wrote it"));
         std::fs::write(dir.join(MANIFEST), format!("{MANIFEST_HEADER}\n{}  ../data.csv\n", sha256_hex(b"x"))).unwrap();
-        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("line 2"));
+        assert!(OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string().contains("line 2"));
         assert_eq!(std::fs::read_to_string(dir.join("data.csv")).unwrap(), "precious");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A run of three files killed after `cut` of its steps: each file is listed pending, written
+    /// to a temporary, renamed into place and listed with its checksum (four steps each).
+    fn killed_run(dir: &Path, cut: usize) {
+        std::fs::create_dir_all(dir).unwrap();
+        let (out, _) = OutputDir::open(dir, false, "test", &[]).unwrap();
+        let mut written = BTreeMap::new();
+        for (step, name) in ["summary.json", "a.csv", "report.md"].iter().flat_map(|n| [n; 4]).enumerate().take(cut) {
+            match step % 4 {
+                0 => {
+                    written.insert(name.to_string(), None);
+                    out.write_manifest(&written).unwrap();
+                }
+                1 => std::fs::write(dir.join(format!("{TEMPORARY_PREFIX}999999-{name}")), "x").unwrap(),
+                2 => std::fs::rename(dir.join(format!("{TEMPORARY_PREFIX}999999-{name}")), dir.join(name)).unwrap(),
+                _ => {
+                    written.insert(name.to_string(), Some(sha256_hex(b"x")));
+                    out.write_manifest(&written).unwrap();
+                }
+            }
+        }
+        // SIGKILL runs no destructor; the lock note is what dropping would have removed.
+        drop(out);
+        std::fs::write(dir.join(LOCK_NOTE), "pid 999999, test").unwrap();
+    }
+
+    #[test]
+    fn force_cleans_a_run_killed_at_any_point() {
+        let dir = scratch("killed");
+        for cut in 1..=12 {
+            killed_run(&dir, cut);
+            std::fs::write(dir.join("mine.txt"), "user data").unwrap();
+            let (out, kept) = OutputDir::open(&dir, true, "test", &[]).unwrap_or_else(|e| panic!("cut {cut}: {e}"));
+            assert_eq!(kept, vec![dir.join("mine.txt")], "cut {cut}");
+            let mut left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+            left.sort();
+            assert_eq!(left, [LOCK_NOTE, "mine.txt"], "cut {cut}: the report and its temporaries are gone");
+            // The next run writes the same names.
+            for name in ["summary.json", "a.csv", "report.md"] {
+                out.save(name, "new").unwrap();
+            }
+            drop(out);
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
+
+    #[test]
+    fn force_never_removes_a_file_the_run_reads() {
+        let dir = scratch("reads");
+        let (out, _) = OutputDir::open(&dir, false, "test", &[]).unwrap();
+        out.save("identified.urdf", "<robot/>").unwrap();
+        out.save("report.md", "old").unwrap();
+        drop(out);
+        // Named through another path to the same file: still the same file.
+        let roundabout = dir.join("..").join(dir.file_name().unwrap()).join("identified.urdf");
+        let refused = OutputDir::open(&dir, true, "test", &[Path::new("hya"), &roundabout]).unwrap_err().to_string();
+        assert!(refused.contains("would remove identified.urdf, which this run reads"), "{refused}");
+        assert!(dir.join("identified.urdf").is_file() && dir.join("report.md").is_file(), "nothing removed");
+        let (_out, _) = OutputDir::open(&dir, true, "test", &[Path::new("/nonexistent/x.urdf")]).unwrap();
+        assert!(!dir.join("identified.urdf").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -362,11 +484,11 @@ mod tests {
         // A manifest that is a symbolic link to a file elsewhere: --force refuses, the file keeps.
         std::fs::create_dir_all(&dir).unwrap();
         std::os::unix::fs::symlink(&victim, dir.join(MANIFEST)).unwrap();
-        assert!(OutputDir::open(&dir, true, "test").unwrap_err().to_string().contains("not a regular file"));
+        assert!(OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string().contains("not a regular file"));
         assert_eq!(std::fs::read_to_string(&victim).unwrap(), "victim");
         std::fs::remove_dir_all(&dir).unwrap();
         // A report name that is a hard link or a symbolic link to the user's file: not replaced.
-        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        let (out, _) = OutputDir::open(&dir, false, "test", &[]).unwrap();
         std::fs::hard_link(&victim, dir.join("report.md")).unwrap();
         std::os::unix::fs::symlink(&victim, dir.join("summary.json")).unwrap();
         for name in ["report.md", "summary.json"] {
@@ -386,19 +508,19 @@ mod tests {
     #[test]
     fn a_held_folder_is_refused_naming_its_holder() {
         let dir = scratch("held");
-        let (first, _) = OutputDir::open(&dir, false, "hya sweep --shard 0/64").unwrap();
-        let refused = OutputDir::open(&dir, true, "hya sweep --shard 1/64").unwrap_err().to_string();
+        let (first, _) = OutputDir::open(&dir, false, "hya sweep --shard 0/64", &[]).unwrap();
+        let refused = OutputDir::open(&dir, true, "hya sweep --shard 1/64", &[]).unwrap_err().to_string();
         assert!(refused.contains("in use by another hya run") && refused.contains("--shard 0/64"), "{refused}");
         first.save("sweep.json", "{}").unwrap();
         drop(first);
-        let (_again, _) = OutputDir::open(&dir, true, "again").unwrap();
+        let (_again, _) = OutputDir::open(&dir, true, "again", &[]).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_folder_created_for_a_run_that_saved_nothing_is_removed() {
         let dir = scratch("refused-run");
-        let (out, _) = OutputDir::open(&dir, false, "test").unwrap();
+        let (out, _) = OutputDir::open(&dir, false, "test", &[]).unwrap();
         assert!(dir.is_dir());
         drop(out);
         assert!(!dir.exists(), "an empty --out is left behind");
@@ -408,12 +530,12 @@ mod tests {
     fn a_file_or_a_dangling_link_as_the_folder_is_refused() {
         let file = scratch("file");
         std::fs::write(&file, "x").unwrap();
-        assert!(OutputDir::open(&file, true, "test").unwrap_err().to_string().contains("not a folder"));
+        assert!(OutputDir::open(&file, true, "test", &[]).unwrap_err().to_string().contains("not a folder"));
         std::fs::remove_file(&file).unwrap();
         #[cfg(unix)]
         {
             std::os::unix::fs::symlink("/nonexistent/hya", &file).unwrap();
-            assert!(OutputDir::open(&file, false, "test")
+            assert!(OutputDir::open(&file, false, "test", &[])
                 .unwrap_err()
                 .to_string()
                 .contains("symbolic link to nothing"));

@@ -19,7 +19,7 @@ fn every_shipped_arm_has_a_goto_scenario_that_runs() {
         let scenario = shortened(&name);
         assert_eq!(scenario.robot, robot.name);
         let out = std::env::temp_dir().join(format!("hya-arms-test-{}-{name}", std::process::id()));
-        let (dir, _) = hya_sim::output::OutputDir::open(&out, false, "the arms test").unwrap();
+        let (dir, _) = hya_sim::output::OutputDir::open(&out, false, "the arms test", &[]).unwrap();
         let summary = Experiment {
             scenarios: std::slice::from_ref(&scenario),
             seeds: 1,

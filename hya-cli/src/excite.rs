@@ -3,6 +3,7 @@
 
 use std::io::Write;
 
+use hya_core::Short;
 use hya_ident::{ExcitationDesign, Limits};
 
 use crate::CliError;
@@ -43,20 +44,45 @@ pub struct ExciteArgs {
 /// Longest output, rows: a day at 1 kHz is far beyond any identification log.
 const MAX_ROWS: f64 = 1e8;
 
+/// Design time past which `hya excite` says how long the design will take, s.
+const ANNOUNCED_S: f64 = 2.0;
+
+/// Times the first candidate and, if the `candidates` will take longer than [`ANNOUNCED_S`], says
+/// how long on stderr before the rest run.
+fn announce_cost(candidates: usize) -> impl FnMut(usize) {
+    let start = std::time::Instant::now();
+    move |done| {
+        if done == 1 {
+            let each = start.elapsed().as_secs_f64();
+            let total = each * candidates as f64;
+            if total > ANNOUNCED_S {
+                eprintln!(
+                    "hya excite: {candidates} candidates at {} ms each (the first, timed): about {} s",
+                    Short(each * 1e3),
+                    Short(total.round())
+                );
+            }
+        }
+    }
+}
+
 /// `hya excite`.
 pub fn run(args: &ExciteArgs, output: &mut impl Write) -> Result<(), CliError> {
     let rows = args.periods as f64 / args.base_hz * args.rate_hz;
     if !(args.rate_hz > 0.0 && args.rate_hz <= 1e5) {
-        return Err(CliError::Input(format!("--rate-hz {}: must be in (0, 100000]", args.rate_hz)));
+        return Err(CliError::Input(format!("--rate-hz {}: must be in (0, 100000]", Short(args.rate_hz))));
     }
     if args.periods == 0 || rows.is_nan() || rows > MAX_ROWS {
         return Err(CliError::Input(format!(
-            "--periods {} at --base-hz {} and --rate-hz {} makes {rows:.0} rows; give 1 to {MAX_ROWS:.0}",
-            args.periods, args.base_hz, args.rate_hz
+            "--periods {} at --base-hz {} and --rate-hz {} makes {} rows; give 1 to {MAX_ROWS:.0}",
+            args.periods,
+            Short(args.base_hz),
+            Short(args.rate_hz),
+            Short(rows.round())
         )));
     }
     let model = crate::dynamics::model(&args.robot)?;
-    let input = |e: hya_ident::ExcitationError| CliError::Input(format!("{}: {e}", args.robot));
+    let input = |e: hya_ident::ExcitationError| CliError::Input(format!("{}: {e}", crate::rows::echo(&args.robot)));
     let limits = Limits::of(&model, args.range_fraction, args.velocity_fraction).map_err(input)?;
     let design = ExcitationDesign {
         harmonics: args.harmonics,
@@ -65,20 +91,21 @@ pub fn run(args: &ExciteArgs, output: &mut impl Write) -> Result<(), CliError> {
         seed: args.seed,
         ..ExcitationDesign::default()
     };
-    let (trajectory, conditioning) = design.run(&model, &limits).map_err(input)?;
+    let (trajectory, conditioning) =
+        design.run_observed(&model, &limits, announce_cost(args.candidates)).map_err(input)?;
     eprintln!(
         "hya excite: {} ({} joints), {} harmonics at {} Hz, best of {} candidates: regressor over one period \
          of rank {} of {} parameters, condition number {:.3e} (σ1/σr)",
         model.name(),
         model.dof(),
         args.harmonics,
-        args.base_hz,
+        Short(args.base_hz),
         args.candidates,
         conditioning.rank,
         hya_ident::PARAMETERS_PER_BODY * model.dof(),
         conditioning.condition_number
     );
-    let names: Vec<&str> = model.joint_names().collect();
+    let names: Vec<String> = model.joint_names().map(hya_urdf::escape_name).collect();
     let header: Vec<String> = ["q", "qd", "qdd"]
         .iter()
         .flat_map(|quantity| names.iter().map(move |joint| format!("{quantity}_{joint}")))

@@ -39,7 +39,11 @@ const STATES_PER_COLUMN: usize = 2;
 impl BaseParameters {
     /// Of `model`, from its regressor at seeded random states (joint angles in `[−π, π]`,
     /// velocities in `[−3, 3]` rad/s, accelerations in `[−10, 10]` rad/s²).
+    ///
+    /// Refuses a model of more than [`crate::MAX_JOINTS`] joints before anything is allocated
+    /// (the stack grows as the cube of the joint count: 400 joints would take 100 GB).
     pub fn of(model: &TreeModel, seed: u64) -> Result<Self, hya_core::model::ModelError> {
+        crate::check_joint_count(model)?;
         let regressor = Regressor::new(model);
         let (n, columns) = (model.dof(), regressor.columns());
         let states = STATES_PER_COLUMN * columns;

@@ -40,7 +40,7 @@ pub enum ExcitationError {
         what: &'static str,
     },
     /// A setting out of its range.
-    #[error("{name} = {value}: must be {requirement}")]
+    #[error("{name} = {}: must be {requirement}", hya_core::Short(*value))]
     Setting {
         /// The setting.
         name: &'static str,
@@ -190,6 +190,9 @@ impl Default for ExcitationDesign {
     }
 }
 
+/// The most candidates a design draws ([`ExcitationDesign::candidates`]).
+pub const MAX_CANDIDATES: usize = 100_000;
+
 /// Grid points per period on which the limits are enforced.
 const LIMIT_GRID: usize = 2000;
 
@@ -200,6 +203,18 @@ impl ExcitationDesign {
         model: &TreeModel,
         limits: &Limits,
     ) -> Result<(FourierTrajectory, Conditioning), ExcitationError> {
+        self.run_observed(model, limits, |_| {})
+    }
+
+    /// [`Self::run`], calling `done(k)` after the `k`-th candidate (from 1), e.g. to time the
+    /// first and say how long the rest will take.
+    pub fn run_observed(
+        &self,
+        model: &TreeModel,
+        limits: &Limits,
+        mut done: impl FnMut(usize),
+    ) -> Result<(FourierTrajectory, Conditioning), ExcitationError> {
+        crate::check_joint_count(model)?;
         if !(1..=20).contains(&self.harmonics) {
             return Err(ExcitationError::Setting {
                 name: "harmonics",
@@ -221,6 +236,13 @@ impl ExcitationDesign {
                 requirement: "at least 1 candidate and 2 samples",
             });
         }
+        if self.candidates > MAX_CANDIDATES {
+            return Err(ExcitationError::Setting {
+                name: "candidates",
+                value: self.candidates as f64,
+                requirement: "at most 100000 (about 9 ms each on a 7-joint arm: 15 minutes)",
+            });
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let regressor = Regressor::new(model);
         let n = model.dof();
@@ -236,11 +258,13 @@ impl ExcitationDesign {
             Ok((candidate, Conditioning::of(&w)))
         };
         let mut best = evaluate(&mut rng)?;
-        for _ in 1..self.candidates {
+        done(1);
+        for k in 2..=self.candidates {
             let candidate = evaluate(&mut rng)?;
             if candidate.1.condition_number < best.1.condition_number {
                 best = candidate;
             }
+            done(k);
         }
         Ok(best)
     }

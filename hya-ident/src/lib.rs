@@ -23,6 +23,17 @@ pub mod physical;
 pub mod regressor;
 
 pub use base::BaseParameters;
+
+/// The most joints identification and excitation design take: the arms the estimator runs
+/// ([`hya_core::dispatch::MAX_JOINTS`]). The regressor of `n` joints has `10 n` columns and the
+/// base-parameter stack `20 n` states of `n` rows each, so memory grows as `n³`.
+pub const MAX_JOINTS: usize = hya_core::dispatch::MAX_JOINTS;
+
+/// `Ok(dof)` if `model` has 1 to [`MAX_JOINTS`] joints; checked before anything that grows with
+/// the joint count is allocated.
+pub fn check_joint_count(model: &hya_core::model::TreeModel) -> Result<usize, hya_core::model::ModelError> {
+    hya_core::model::ModelError::joint_count(model, "identification", MAX_JOINTS)
+}
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
 pub use fit::{fit, Fit, FitError, Friction, Sample};

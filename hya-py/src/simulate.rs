@@ -61,8 +61,7 @@ fn scenario_of(value: &Bound<'_, PyAny>) -> PyResult<Scenario> {
     if Scenario::builtin_names().chain(Scenario::arm_goto_names()).any(|n| n == name) {
         return Scenario::builtin(name).map_err(error);
     }
-    let toml = std::fs::read_to_string(name).map_err(|e| PyValueError::new_err(format!("scenario {name}: {e}")))?;
-    Scenario::from_toml(&toml, name).map_err(error)
+    Scenario::from_file(std::path::Path::new(name)).map_err(error)
 }
 
 /// Runs one method of a scenario (a dict of its settings, a TOML path, or a built-in name such

@@ -17,6 +17,7 @@
 //! ```
 
 pub mod error;
+pub mod file;
 pub mod limits;
 pub mod load;
 pub mod name;
@@ -25,5 +26,5 @@ pub mod write;
 pub use error::{LoadError, Problem, Warning};
 pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_ATTRIBUTES, MAX_XML_DEPTH, MAX_XML_NODES};
 pub use load::{load_file, load_str, LoadedModel, Source};
-pub use name::escape_name;
+pub use name::{escape_name, joints_differ, name_list};
 pub use write::with_inertias;

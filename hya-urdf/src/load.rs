@@ -7,7 +7,6 @@
 //! children in file order.
 
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::Path;
 
 use hya_core::model::{Body, Frame, JointKind, JointLimits, TreeModel};
@@ -58,21 +57,13 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
     load_str(&text, &source)
 }
 
-/// The file's text, refused beyond [`MAX_FILE_BYTES`] before more is read: by the size it claims,
-/// then by what reading finds (devices and pipes claim 0 bytes).
+/// The file's text: a regular file of at most [`MAX_FILE_BYTES`] ([`crate::file::read_text`]).
 fn read_bounded(path: &Path) -> Result<String, Problem> {
-    let read_error = |e: std::io::Error| Problem::Read { message: e.to_string() };
-    let file = std::fs::File::open(path).map_err(read_error)?;
-    let size = file.metadata().map_err(read_error)?.len();
-    if size > MAX_FILE_BYTES as u64 {
-        return Err(Problem::TooLarge { size: Some(size), limit: MAX_FILE_BYTES });
-    }
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES as u64 + 1).read_to_end(&mut bytes).map_err(read_error)?;
-    if bytes.len() > MAX_FILE_BYTES {
-        return Err(Problem::TooLarge { size: None, limit: MAX_FILE_BYTES });
-    }
-    String::from_utf8(bytes).map_err(|e| Problem::Read { message: format!("not UTF-8 text: {e}") })
+    crate::file::read_text(path, MAX_FILE_BYTES as u64).map_err(|e| match e {
+        crate::file::ReadError::TooLarge { size, .. } => Problem::TooLarge { size, limit: MAX_FILE_BYTES },
+        crate::file::ReadError::Io(message) => Problem::Read { message },
+        other => Problem::Read { message: other.to_string() },
+    })
 }
 
 /// Validates URDF text; `source` names it in errors (a file path, usually). Text beyond the

@@ -83,11 +83,18 @@ fn text_beyond_the_size_limit_is_refused() {
 
 #[cfg(unix)]
 #[test]
-fn an_endless_device_is_read_only_up_to_the_limit() {
-    // `/dev/zero` claims 0 bytes and never ends.
+fn a_device_or_a_fifo_is_refused_before_it_is_opened() {
+    // `/dev/zero` claims 0 bytes and never ends; a FIFO without a writer blocks `open` for ever.
     let error = load_file("/dev/zero").unwrap_err();
-    assert_eq!(error.problem, Problem::TooLarge { size: None, limit: MAX_FILE_BYTES });
-    assert!(error.to_string().contains("/dev/zero"), "{error}");
+    let message = error.to_string();
+    assert!(message.contains("/dev/zero") && message.contains("a device, not a regular file"), "{message}");
+    let dir = std::env::temp_dir().join(format!("hya-urdf-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("robot.urdf");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let message = load_file(&fifo).unwrap_err().to_string();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(message.contains("robot.urdf") && message.contains("named pipe (FIFO)"), "{message}");
 }
 
 #[test]

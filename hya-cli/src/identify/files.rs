@@ -26,7 +26,7 @@ pub fn friction_toml(fitted: &Fit, joints: &[&str]) -> String {
          # standard deviations: [{}]\n\
          offset_nm = [{}]\n\
          # standard deviations: [{}]\n",
-        joints.join(", "),
+        hya_urdf::name_list(joints.iter().copied()),
         f.smoothing_rad_s,
         list(f.coulomb_nm.iter().copied()),
         column(0),
@@ -41,7 +41,8 @@ pub fn friction_toml(fitted: &Fit, joints: &[&str]) -> String {
 fn urdf_text(robot: &str) -> Result<String, CliError> {
     match hya_robots::find(robot) {
         Some(shipped) => Ok(shipped.urdf.to_owned()),
-        None => std::fs::read_to_string(robot).map_err(|e| CliError::Input(format!("{robot}: {e}"))),
+        None => hya_urdf::file::read_text(std::path::Path::new(robot), hya_urdf::MAX_FILE_BYTES as u64)
+            .map_err(|e| CliError::Input(format!("{}: {e}", crate::rows::echo(robot)))),
     }
 }
 

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use hya_core::dispatch::with_joints;
 use hya_core::model::TreeModel;
-use hya_core::FilterParams;
+use hya_core::{FilterParams, Short};
 use hya_ident::{consistent_parameters, fit, nominal_parameters, BaseParameters, Regressor, Sample};
 use hya_sim::io::output::OutputDir;
 
@@ -77,13 +77,8 @@ fn input(e: impl std::fmt::Display) -> CliError {
 /// The model of `--compare`: a URDF with the nominal model's joints, in its order.
 fn compared_model(path: &str, nominal: &TreeModel) -> Result<TreeModel, CliError> {
     let model = crate::dynamics::model(path)?;
-    let (theirs, ours): (Vec<&str>, Vec<&str>) = (model.joint_names().collect(), nominal.joint_names().collect());
-    if theirs != ours {
-        return Err(CliError::Input(format!(
-            "--compare {path}: its joints [{}] are not --robot's [{}]",
-            theirs.join(", "),
-            ours.join(", ")
-        )));
+    if let Some(why) = hya_urdf::joints_differ(&model, nominal, "--robot's") {
+        return Err(CliError::Input(format!("--compare {}: {why}", hya_core::Clipped(path, 200))));
     }
     Ok(model)
 }
@@ -112,15 +107,17 @@ fn rigid_predictions(model: &TreeModel, samples: &[Sample]) -> Result<Vec<Vec<f6
 pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     let dt = check_dt("--dt", args.dt)?;
     if !(args.held_out > 0.0 && args.held_out < 0.9) {
-        return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", args.held_out)));
+        return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", Short(args.held_out))));
     }
     if !(args.smoothing_rad_s > 0.0 && args.smoothing_rad_s.is_finite()) {
-        return Err(CliError::Input(format!("--smoothing-rad-s {}: must be positive", args.smoothing_rad_s)));
+        return Err(CliError::Input(format!("--smoothing-rad-s {}: must be positive", Short(args.smoothing_rad_s))));
     }
     let max_step_s = match args.max_step {
         None => 2.5 * dt,
         Some(s) if s.is_finite() && s > 0.0 => s,
-        Some(s) => return Err(CliError::Input(format!("--max-step {s}: must be a positive number of seconds"))),
+        Some(s) => {
+            return Err(CliError::Input(format!("--max-step {}: must be a positive number of seconds", Short(s))))
+        }
     };
     let layout = Layout {
         params: FilterParams::new(0.8, args.bandwidth_rad_s, args.bandwidth_rad_s, dt)
@@ -130,6 +127,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         columns: args.columns.as_deref().map(ColumnSpec::parse).transpose()?,
     };
     let model = crate::dynamics::model(&args.robot)?;
+    hya_ident::check_joint_count(&model).map_err(input)?;
     // `--compare`'s name in the report, and its model.
     let compared = match &args.compare {
         Some(path) => Some((format!("`{path}`"), compared_model(path, &model)?)),
@@ -180,10 +178,13 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         models,
     };
     let joints: Vec<&str> = model.joint_names().collect();
+    // The report shows each name escaped and cut, as messages do: no name can forge a line.
+    let shown: Vec<String> = joints.iter().map(|name| hya_urdf::name_list([*name])).collect();
+    let shown: Vec<&str> = shown.iter().map(String::as_str).collect();
     let full = consistent_parameters(&base, &nominal_parameters(&model), &fitted.base);
     let findings = Findings {
         model: &model,
-        joints: &joints,
+        joints: &shown,
         base: &base,
         fitted: &fitted,
         full: &full,
@@ -214,7 +215,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         ),
     };
 
-    let (out, _) = OutputDir::open(&args.out, args.force, "hya identify").map_err(input)?;
+    let reads = [Some(&args.robot), args.compare.as_ref()].into_iter().flatten().map(std::path::Path::new);
+    let (out, _) = OutputDir::open(&args.out, args.force, "hya identify", &reads.collect::<Vec<_>>()).map_err(input)?;
     let save = |name: &str, text: &str| out.save(name, text).map_err(input);
     save("identified.urdf", &identified_urdf(&args.robot, &model, &full)?)?;
     save("friction.toml", &friction_toml(&fitted, &joints))?;

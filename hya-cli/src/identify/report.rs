@@ -157,9 +157,8 @@ impl Findings<'_> {
         let inconsistent = if full.inconsistent_nominal_bodies.is_empty() {
             String::new()
         } else {
-            let names: Vec<&str> =
-                full.inconsistent_nominal_bodies.iter().map(|&b| model.bodies()[b].link.as_str()).collect();
-            format!(" The nominal description's inertia of {} is not that of a real body.", names.join(", "))
+            let names = full.inconsistent_nominal_bodies.iter().map(|&b| model.bodies()[b].link.as_str());
+            format!(" The nominal description's inertia of {} is not that of a real body.", hya_urdf::name_list(names))
         };
         let _ = writeln!(
             report,

@@ -124,12 +124,39 @@ pub enum ModelError {
     /// No frame of that name.
     #[error("no frame named `{0}`")]
     UnknownFrame(String),
+    /// A model with more joints (or none) than an algorithm takes: refused before the
+    /// algorithm allocates what grows with the joint count.
+    #[error("`{model}` has {dof} joints; {algorithm} handles arms of 1 to {limit}")]
+    JointCount {
+        /// The model's name, clipped and escaped ([`ModelError::joint_count`]).
+        model: String,
+        /// Its joints.
+        dof: usize,
+        /// What refused it.
+        algorithm: &'static str,
+        /// The most joints it takes.
+        limit: usize,
+    },
     /// A joint meets no positive inertia: the mass matrix is singular or indefinite there.
     #[error("joint `{joint}`: the articulated inertia about its axis is not positive")]
     SingularJoint {
         /// The joint's name.
         joint: String,
     },
+}
+
+impl ModelError {
+    /// `Ok(dof)` if `model` has 1 to `limit` joints, else [`ModelError::JointCount`] naming
+    /// `algorithm`.
+    pub fn joint_count(model: &TreeModel, algorithm: &'static str, limit: usize) -> Result<usize, Self> {
+        let dof = model.dof();
+        if (1..=limit).contains(&dof) {
+            Ok(dof)
+        } else {
+            let model = alloc::format!("{}", crate::Clipped(model.name(), 60));
+            Err(ModelError::JointCount { model, dof, algorithm, limit })
+        }
+    }
 }
 
 /// A fixed-base kinematic tree with rigid bodies, ready for the dynamics algorithms.

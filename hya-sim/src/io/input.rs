@@ -1,22 +1,21 @@
 //! Files the simulator reads (scenarios, sweep shards): read whole only below a size cap, checked
-//! while reading, so that `/dev/zero`, a pipe or a huge file is refused instead of filling memory.
+//! while reading, and regular files only, so that `/dev/zero`, a FIFO or a huge file is refused
+//! instead of filling memory or blocking.
 
-use std::io::Read;
 use std::path::Path;
 
 use hya_core::Short;
+use hya_urdf::file::ReadError;
 
-/// The text of the file at `path`, if it is UTF-8 of at most `limit` bytes; otherwise why not,
-/// naming the limit.
+/// The text of the regular file at `path`, if it is UTF-8 of at most `limit` bytes; otherwise why
+/// not, naming the limit in MiB (see [`hya_urdf::file::read_text`]).
 pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let mut bytes = Vec::new();
-    // Metadata can lie (`/dev/zero`, pipes report 0): the cap holds on what is read.
-    file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > limit {
-        return Err(format!("larger than the {} MiB this file may have", Short(limit as f64 / (1u64 << 20) as f64)));
-    }
-    String::from_utf8(bytes).map_err(|e| format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()))
+    hya_urdf::file::read_text(path, limit).map_err(|e| match e {
+        ReadError::TooLarge { .. } => {
+            format!("larger than the {} MiB this file may have", Short(limit as f64 / (1u64 << 20) as f64))
+        }
+        other => other.to_string(),
+    })
 }
 
 #[cfg(test)]
@@ -35,6 +34,6 @@ mod tests {
         assert!(read_text(&path, 99).unwrap_err().contains("not UTF-8"));
         std::fs::remove_file(&path).unwrap();
         #[cfg(unix)]
-        assert!(read_text(Path::new("/dev/zero"), 1 << 20).unwrap_err().contains("larger than"));
+        assert!(read_text(Path::new("/dev/zero"), 1 << 20).unwrap_err().contains("a device, not a regular file"));
     }
 }

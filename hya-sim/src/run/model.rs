@@ -82,15 +82,9 @@ pub fn controller_model<'a, const N: usize>(
         None => Box::new(robot.nominal.as_ref()),
         Some(path) => {
             let model = hya_urdf::load_file(path)?.model;
-            let (theirs, ours): (Vec<&str>, Vec<&str>) =
-                (model.joint_names().collect(), robot.model.joint_names().collect());
-            if theirs != ours {
-                return Err(SettingError::new(
-                    "controller.model_urdf",
-                    None,
-                    format!("{path}: its joints [{}] are not the robot's [{}]", theirs.join(", "), ours.join(", ")),
-                )
-                .into());
+            if let Some(why) = hya_urdf::joints_differ(&model, &robot.model, "the robot's") {
+                let path = hya_core::Clipped(path, 200);
+                return Err(SettingError::new("controller.model_urdf", None, format!("{path}: {why}")).into());
             }
             Box::new(model.into_dynamics::<N>()?)
         }

@@ -61,6 +61,10 @@ typedef enum {
   HYA_ERR_NUMERIC = 6,
   // A bug inside hya: a Rust panic, caught at the boundary.
   HYA_ERR_PANIC = 7,
+  // A handle that is not a live handle of the kind the call takes: one of another kind (an
+  // observer passed as a model), one already freed, or a pointer hya never made. Nothing was
+  // read through it.
+  HYA_ERR_HANDLE = 8,
 } HyaStatus;
 
 // Where the PD feedback enters the computed-torque law.
@@ -267,6 +271,7 @@ size_t hya_model_dof(const HyaModel *model);
 const char *hya_model_error(const HyaModel *model);
 
 // Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)`; every array has `n` = dof entries.
+// `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 //
 // # Safety
 // `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no

@@ -12,7 +12,7 @@ use hya_core::PdPlacement;
 use crate::arm::Control;
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, optional_input, output};
-use crate::status::{create, destroy, on_handle, Failure, Handle, HyaStatus, Message};
+use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
 /// Where the PD feedback enters the computed-torque law.
 #[repr(C)]
@@ -33,8 +33,12 @@ pub struct HyaController {
 }
 
 impl Handle for HyaController {
+    const KIND: &'static str = "HyaController";
     fn message(&mut self) -> &mut Message {
         &mut self.message
+    }
+    fn message_ref(&self) -> &Message {
+        &self.message
     }
 }
 
@@ -115,7 +119,7 @@ pub unsafe extern "C" fn hya_controller_command(
 #[no_mangle]
 pub unsafe extern "C" fn hya_controller_error(controller: *const HyaController) -> *const c_char {
     // SAFETY: the caller's contract.
-    unsafe { controller.as_ref() }.map_or(c"null controller handle".as_ptr(), |c| c.message.as_ptr())
+    unsafe { last_message(controller) }
 }
 
 /// Frees a controller (null is a no-op).

@@ -8,7 +8,7 @@ use hya_core::FilterParams;
 use crate::arm::Estimate;
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, output};
-use crate::status::{create, destroy, on_handle, Handle, HyaStatus, Message};
+use crate::status::{create, destroy, last_message, on_handle, Handle, HyaStatus, Message};
 
 /// The paper's disturbance estimator for one arm (opaque). Made by `hya_estimator_new`, freed by
 /// `hya_estimator_free`.
@@ -19,8 +19,12 @@ pub struct HyaEstimator {
 }
 
 impl Handle for HyaEstimator {
+    const KIND: &'static str = "HyaEstimator";
     fn message(&mut self) -> &mut Message {
         &mut self.message
+    }
+    fn message_ref(&self) -> &Message {
+        &self.message
     }
 }
 
@@ -203,7 +207,7 @@ pub unsafe extern "C" fn hya_estimator_reset(
 #[no_mangle]
 pub unsafe extern "C" fn hya_estimator_error(estimator: *const HyaEstimator) -> *const c_char {
     // SAFETY: the caller's contract.
-    unsafe { estimator.as_ref() }.map_or(c"null estimator handle".as_ptr(), |e| e.message.as_ptr())
+    unsafe { last_message(estimator) }
 }
 
 /// Frees an estimator (null is a no-op).

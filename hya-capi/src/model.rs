@@ -5,7 +5,7 @@ use std::ffi::{c_char, CStr};
 
 use crate::arm::{self, ArmModel};
 use crate::slices::{input, output};
-use crate::status::{create, destroy, on_handle, Failure, Handle, HyaStatus, Message};
+use crate::status::{borrow_live, create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
 /// A robot's rigid-body dynamics (opaque). Made by `hya_model_from_arm` or
 /// `hya_model_from_urdf`, freed by `hya_model_free`.
@@ -15,8 +15,12 @@ pub struct HyaModel {
 }
 
 impl Handle for HyaModel {
+    const KIND: &'static str = "HyaModel";
     fn message(&mut self) -> &mut Message {
         &mut self.message
+    }
+    fn message_ref(&self) -> &Message {
+        &self.message
     }
 }
 
@@ -44,7 +48,7 @@ pub(crate) unsafe fn text<'a>(name: &'static str, ptr: *const c_char) -> Result<
 /// `model` is null or a live handle from this library.
 pub(crate) unsafe fn borrow<'a>(model: *const HyaModel) -> Result<&'a dyn ArmModel, Failure> {
     // SAFETY: the caller's contract.
-    unsafe { model.as_ref() }.map(|m| &*m.arm).ok_or(Failure::Null("model"))
+    unsafe { borrow_live("model", model) }.map(|m| &*m.arm)
 }
 
 /// Makes a model of the shipped arm called `name` (`"hya"`, `"ur5"`, `"panda"`, `"iiwa14"`,
@@ -104,10 +108,7 @@ pub unsafe extern "C" fn hya_model_dof(model: *const HyaModel) -> usize {
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_error(model: *const HyaModel) -> *const c_char {
     // SAFETY: the caller's contract.
-    match unsafe { model.as_ref() } {
-        Some(m) => m.message.as_ptr(),
-        None => c"null model handle".as_ptr(),
-    }
+    unsafe { last_message(model) }
 }
 
 /// Runs `work` with the model's joint count, checking the handle.
@@ -117,6 +118,7 @@ unsafe fn on_model(model: *mut HyaModel, work: impl FnOnce(&dyn ArmModel, usize)
 }
 
 /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)`; every array has `n` = dof entries.
+/// `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 ///
 /// # Safety
 /// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no
@@ -134,8 +136,9 @@ pub unsafe extern "C" fn hya_model_inverse_dynamics(
     unsafe {
         on_model(model, |arm, dof| {
             let (q, qd, qdd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("qdd", qdd, n, dof)?);
-            arm.inverse_dynamics(q, qd, qdd, output("tau", tau, n, dof)?);
-            Ok(())
+            let tau = output("tau", tau, n, dof)?;
+            arm.inverse_dynamics(q, qd, qdd, tau);
+            Ok(hya_core::finite_result("tau", tau)?)
         })
     }
 }
@@ -157,8 +160,9 @@ pub unsafe extern "C" fn hya_model_mass_matrix(
     unsafe {
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
-            arm.mass_matrix(q, output("mass", mass, len, dof * dof)?);
-            Ok(())
+            let mass = output("mass", mass, len, dof * dof)?;
+            arm.mass_matrix(q, mass);
+            Ok(hya_core::finite_result("mass", mass)?)
         })
     }
 }
@@ -173,8 +177,9 @@ pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, 
     unsafe {
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
-            arm.gravity(q, output("tau", tau, n, dof)?);
-            Ok(())
+            let tau = output("tau", tau, n, dof)?;
+            arm.gravity(q, tau);
+            Ok(hya_core::finite_result("tau", tau)?)
         })
     }
 }
@@ -200,7 +205,7 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
             let qdd = output("qdd", qdd, n, dof)?;
             arm.forward_dynamics(q, qd, tau, qdd)?;
-            crate::slices::finite("qdd", qdd)
+            Ok(hya_core::finite_result("qdd", qdd)?)
         })
     }
 }

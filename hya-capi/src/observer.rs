@@ -7,7 +7,7 @@ use std::ffi::c_char;
 use crate::arm::{ArmModel, Observe, ObserverSpec};
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, optional_input, output};
-use crate::status::{create, destroy, on_handle, Failure, Handle, HyaStatus, Message};
+use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
 /// A baseline disturbance observer (opaque). Made by one of `hya_observer_new_*`, freed by
 /// `hya_observer_free`.
@@ -18,8 +18,12 @@ pub struct HyaObserver {
 }
 
 impl Handle for HyaObserver {
+    const KIND: &'static str = "HyaObserver";
     fn message(&mut self) -> &mut Message {
         &mut self.message
+    }
+    fn message_ref(&self) -> &Message {
+        &self.message
     }
 }
 
@@ -149,7 +153,7 @@ pub unsafe extern "C" fn hya_observer_update(
 #[no_mangle]
 pub unsafe extern "C" fn hya_observer_error(observer: *const HyaObserver) -> *const c_char {
     // SAFETY: the caller's contract.
-    unsafe { observer.as_ref() }.map_or(c"null observer handle".as_ptr(), |o| o.message.as_ptr())
+    unsafe { last_message(observer) }
 }
 
 /// Frees an observer (null is a no-op).

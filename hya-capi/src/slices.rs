@@ -52,7 +52,7 @@ pub(crate) unsafe fn output<'a>(
 }
 
 /// `Err` at the first non-finite value.
-pub(crate) fn finite(name: &'static str, values: &[f64]) -> Result<(), Failure> {
+fn finite(name: &'static str, values: &[f64]) -> Result<(), Failure> {
     match values.iter().position(|v| !v.is_finite()) {
         Some(index) => Err(Failure::NonFinite { name, index, value: values[index] }),
         None => Ok(()),

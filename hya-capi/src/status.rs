@@ -3,8 +3,10 @@
 
 use core::fmt::{self, Write};
 use std::cell::RefCell;
+use std::collections::BTreeMap;
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Mutex;
 
 /// What a call did. `HYA_OK` is zero; every other value is a failure whose message is kept by
 /// the handle (or, for creation and null handles, by `hya_last_error`).
@@ -28,6 +30,10 @@ pub enum HyaStatus {
     HyaErrNumeric = 6,
     /// A bug inside hya: a Rust panic, caught at the boundary.
     HyaErrPanic = 7,
+    /// A handle that is not a live handle of the kind the call takes: one of another kind (an
+    /// observer passed as a model), one already freed, or a pointer hya never made. Nothing was
+    /// read through it.
+    HyaErrHandle = 8,
 }
 
 /// Why a call failed, kept until it is written into a message.
@@ -53,6 +59,8 @@ pub(crate) enum Failure {
     Model(hya_core::model::ModelError),
     /// An estimator stepped the other way than it was made for.
     Stepping { called: &'static str, needs: &'static str, made_by: &'static str, use_instead: &'static str },
+    /// A pointer that is not a live handle of the kind expected.
+    Handle { expected: &'static str, found: Option<&'static str> },
     /// A panic caught at the boundary.
     Panic(String),
 }
@@ -75,6 +83,7 @@ impl Failure {
                 _ => HyaStatus::HyaErrNumeric,
             },
             Failure::Load(_) | Failure::Model(_) => HyaStatus::HyaErrModel,
+            Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,
         }
     }
@@ -105,6 +114,13 @@ impl fmt::Display for Failure {
             Failure::Stepping { called, needs, made_by, use_instead } => write!(
                 f,
                 "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"
+            ),
+            Failure::Handle { expected, found: Some(found) } => {
+                write!(f, "the handle is a live {found}, not a {expected}: nothing was read through it")
+            }
+            Failure::Handle { expected, found: None } => write!(
+                f,
+                "the handle is not a live {expected}: freed already, or never made by hya; nothing was read through it"
             ),
             Failure::Panic(what) => write!(f, "internal error (a bug in hya, please report it): {what}"),
         }
@@ -194,24 +210,80 @@ pub(crate) fn guarded<T>(work: impl FnOnce() -> Result<T, Failure>) -> Result<T,
 }
 
 /// A handle that keeps the message of its last failed call.
-pub(crate) trait Handle {
+pub(crate) trait Handle: 'static {
+    /// The handle type's name in the header (`HyaModel`), for messages.
+    const KIND: &'static str;
     /// Where its messages go.
     fn message(&mut self) -> &mut Message;
+    /// Its last message.
+    fn message_ref(&self) -> &Message;
+}
+
+/// The message of `handle`'s last failed call, or a static text if it is not a live handle of
+/// kind `H`.
+///
+/// # Safety
+/// As [`borrow_live`].
+pub(crate) unsafe fn last_message<H: Handle>(handle: *const H) -> *const c_char {
+    // SAFETY: the caller's contract.
+    match unsafe { borrow_live("handle", handle) } {
+        Ok(h) => h.message_ref().as_ptr(),
+        Err(_) => {
+            c"not a live handle of this kind: null, freed already, of another kind, or never made by hya".as_ptr()
+        }
+    }
+}
+
+/// Every handle this library made and has not freed: its address and kind ([`Handle::KIND`]).
+/// Each call checks its handle here before reading through it, so a handle of the wrong kind, a
+/// double free or a freed handle is an error status instead of undefined behaviour. (A handle
+/// freed and a new one made at the same address cannot be told apart: the registry knows
+/// addresses, not the caller's intent.)
+static LIVE: Mutex<BTreeMap<usize, &'static str>> = Mutex::new(BTreeMap::new());
+
+/// The registry, whatever a panicking thread left it as (its entries are inserted and removed
+/// whole, so a poisoned lock still guards a consistent map).
+fn live_handles() -> std::sync::MutexGuard<'static, BTreeMap<usize, &'static str>> {
+    LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// `Ok` if `handle` is a live handle of kind `H`; null is [`Failure::Null`].
+pub(crate) fn live<H: Handle>(name: &'static str, handle: *const H) -> Result<(), Failure> {
+    if handle.is_null() {
+        return Err(Failure::Null(name));
+    }
+    match live_handles().get(&(handle as usize)) {
+        Some(&kind) if kind == H::KIND => Ok(()),
+        found => Err(Failure::Handle { expected: H::KIND, found: found.copied() }),
+    }
+}
+
+/// The handle behind `handle` to read, once [`live`] says it is one of kind `H`.
+///
+/// # Safety
+/// `handle` is null or was made by this library (the registry checks which and whether it is
+/// still live); it is not being freed or used mutably by another thread.
+pub(crate) unsafe fn borrow_live<'a, H: Handle>(name: &'static str, handle: *const H) -> Result<&'a H, Failure> {
+    live(name, handle)?;
+    // SAFETY: a live handle of kind `H`, by the registry; the caller's contract for the rest.
+    Ok(unsafe { &*handle })
 }
 
 /// Runs `work` on the handle behind `handle`: a null handle fails into the thread's last error,
 /// any other failure (a panic included) into the handle's own message.
 ///
 /// # Safety
-/// `handle` is null or points to a live `H` made by this library and not in use elsewhere.
+/// `handle` is null or was made by this library (the registry checks which and whether it is
+/// still live), and is not in use elsewhere.
 pub(crate) unsafe fn on_handle<H: Handle>(
     handle: *mut H,
     work: impl FnOnce(&mut H) -> Result<(), Failure>,
 ) -> HyaStatus {
-    // SAFETY: the caller's contract.
-    let Some(h) = (unsafe { handle.as_mut() }) else {
-        return fail_globally(&Failure::Null("handle"));
-    };
+    if let Err(failure) = live("handle", handle) {
+        return fail_globally(&failure);
+    }
+    // SAFETY: a live handle of kind `H` (checked above); the caller's contract for the rest.
+    let h = unsafe { &mut *handle };
     match guarded(|| work(&mut *h)) {
         Ok(()) => HyaStatus::HyaOk,
         Err(failure) => {
@@ -226,7 +298,7 @@ pub(crate) unsafe fn on_handle<H: Handle>(
 ///
 /// # Safety
 /// `out` is null or valid for one pointer write.
-pub(crate) unsafe fn create<H>(out: *mut *mut H, make: impl FnOnce() -> Result<H, Failure>) -> HyaStatus {
+pub(crate) unsafe fn create<H: Handle>(out: *mut *mut H, make: impl FnOnce() -> Result<H, Failure>) -> HyaStatus {
     if out.is_null() {
         return fail_globally(&Failure::Null("out"));
     }
@@ -237,9 +309,11 @@ pub(crate) unsafe fn create<H>(out: *mut *mut H, make: impl FnOnce() -> Result<H
     }
     match made {
         Ok(handle) => {
+            let handle = Box::into_raw(Box::new(handle));
+            live_handles().insert(handle as usize, H::KIND);
             // SAFETY: as above.
             unsafe {
-                *out = Box::into_raw(Box::new(handle));
+                *out = handle;
             }
             HyaStatus::HyaOk
         }
@@ -247,13 +321,26 @@ pub(crate) unsafe fn create<H>(out: *mut *mut H, make: impl FnOnce() -> Result<H
     }
 }
 
-/// Frees a handle made by [`create`]; null is a no-op.
+/// Frees a handle made by [`create`]; null is a no-op. A pointer that is not a live handle of
+/// kind `H` (freed already, of another kind, never made by hya) is left alone, and the thread's
+/// last error says so.
 ///
 /// # Safety
-/// `handle` is null or came from [`create`] and is not used afterwards.
-pub(crate) unsafe fn destroy<H>(handle: *mut H) {
-    if !handle.is_null() {
-        // SAFETY: the caller's contract; a panic in a destructor stays on this side.
-        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(handle) })));
+/// `handle` is null or was made by this library, and is not used by another thread meanwhile.
+pub(crate) unsafe fn destroy<H: Handle>(handle: *mut H) {
+    if handle.is_null() {
+        return;
     }
+    let mut live = live_handles();
+    if live.get(&(handle as usize)) != Some(&H::KIND) {
+        let found = live.get(&(handle as usize)).copied();
+        drop(live);
+        fail_globally(&Failure::Handle { expected: H::KIND, found });
+        return;
+    }
+    live.remove(&(handle as usize));
+    drop(live);
+    // SAFETY: a live handle of kind `H` made by `create`, now out of the registry; a panic in a
+    // destructor stays on this side.
+    let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(handle) })));
 }

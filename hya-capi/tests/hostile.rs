@@ -235,3 +235,82 @@ fn bad_controllers_and_observers_are_refused() {
         hya_model_free(model);
     }
 }
+
+#[test]
+fn results_that_overflow_are_refused_not_returned() {
+    // q̇ = 1e160 squares past the largest double: the CLI refused it, the C ABI returned HYA_OK
+    // with NaN torques.
+    let model = planar2();
+    let (q, qd, qdd) = ([0.1, 0.2], [1e160, 0.0], [0.0; 2]);
+    let mut tau = [0.0; 2];
+    // SAFETY: a live model, arrays of 2 doubles.
+    unsafe {
+        let status = hya_model_inverse_dynamics(model, q.as_ptr(), qd.as_ptr(), qdd.as_ptr(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNumeric, &text(hya_model_error(model)), &["tau[", "not finite"]);
+        hya_model_free(model);
+    }
+}
+
+#[test]
+fn chen_s_gain_beyond_the_sample_rate_is_refused() {
+    // y = 1e300 at 1 ms gave d̂ ≈ 1e284 on a moving arm.
+    let model = planar2();
+    let zero = [0.0; 2];
+    let mut observer = null_mut();
+    // SAFETY: a live model, arrays of 2 doubles, a writable output.
+    unsafe {
+        for gain in [1e300, 1e9] {
+            let status = hya_observer_new_nonlinear(model, gain, 1e-3, zero.as_ptr(), 2, &mut observer);
+            refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["gain", "slowest rate"]);
+            assert!(observer.is_null());
+        }
+        hya_model_free(model);
+    }
+}
+
+#[test]
+fn handles_of_the_wrong_kind_and_freed_handles_are_refused() {
+    let model = planar2();
+    let zero = [0.0; 2];
+    let mut observer = null_mut();
+    let mut tau = [0.0; 2];
+    // SAFETY: the pointers passed are live handles, freed handles or of another kind: what the
+    // registry must catch before reading through them.
+    unsafe {
+        assert_eq!(hya_observer_new_nonlinear(model, 30.0, 1e-3, zero.as_ptr(), 2, &mut observer), HyaStatus::HyaOk);
+        let as_model = observer.cast::<HyaModel>();
+        let status = hya_model_gravity(as_model, zero.as_ptr(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrHandle, &text(hya_last_error()), &["HyaObserver", "not a HyaModel"]);
+        assert_eq!(hya_model_dof(as_model), 0);
+        hya_model_free(as_model);
+        refused(HyaStatus::HyaErrHandle, HyaStatus::HyaErrHandle, &text(hya_last_error()), &["HyaObserver"]);
+        // The observer survived the wrong free and works.
+        let status = hya_observer_update(observer, zero.as_ptr(), zero.as_ptr(), zero.as_ptr(), 2, tau.as_mut_ptr());
+        assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_observer_error(observer)));
+        hya_observer_free(observer);
+        // A double free, and a call on the freed handle.
+        hya_observer_free(observer);
+        refused(HyaStatus::HyaErrHandle, HyaStatus::HyaErrHandle, &text(hya_last_error()), &["freed already"]);
+        let status = hya_observer_update(observer, zero.as_ptr(), zero.as_ptr(), zero.as_ptr(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrHandle, &text(hya_last_error()), &["not a live HyaObserver"]);
+        assert!(text(hya_observer_error(observer)).contains("not a live handle"));
+        hya_model_free(model);
+        hya_model_free(model);
+        refused(HyaStatus::HyaErrHandle, HyaStatus::HyaErrHandle, &text(hya_last_error()), &["HyaModel"]);
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_the_urdf_is_refused_without_blocking() {
+    let dir = std::env::temp_dir().join(format!("hya-capi-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("arm.urdf");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let path = CString::new(fifo.to_str().unwrap()).unwrap();
+    let mut model = null_mut();
+    // SAFETY: a NUL-terminated path and a writable output.
+    let status = unsafe { hya_model_from_urdf(path.as_ptr(), &mut model) };
+    std::fs::remove_dir_all(&dir).unwrap();
+    refused(status, HyaStatus::HyaErrModel, &text(hya_last_error()), &["arm.urdf", "named pipe"]);
+}

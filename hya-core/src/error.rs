@@ -69,4 +69,16 @@ pub enum Error {
     /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
     #[error("the mass matrix is not positive definite at this configuration")]
     SingularMassMatrix,
+    /// A result computed from finite inputs is not finite: the inputs are beyond what double
+    /// precision carries through the computation (a joint velocity of 1e160 squares to
+    /// infinity). No output of the call is valid.
+    #[error("{quantity}[{index}] = {value}: the result is not finite (the inputs are too large for double precision); no output is valid")]
+    NonFiniteResult {
+        /// Which result (`tau`, `qdd`, `mass`).
+        quantity: &'static str,
+        /// The first non-finite entry.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
 }

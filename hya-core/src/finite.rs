@@ -32,6 +32,18 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, Error> {
     }
 }
 
+/// `Ok` if every entry of the result `values` is finite; otherwise [`Error::NonFiniteResult`]
+/// naming the first bad entry. Every front end (the CLI, Python, the C ABI) checks the results
+/// of a dynamics call with this before handing them out.
+pub fn finite_result(quantity: &'static str, values: &[f64]) -> Result<(), Error> {
+    if values.iter().fold(true, |finite, v| finite & v.is_finite()) {
+        Ok(())
+    } else {
+        let index = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+        Err(Error::NonFiniteResult { quantity, index, value: values[index] })
+    }
+}
+
 /// The largest `rate × dt` a discretised filter or observer accepts: 100 is thirty times the
 /// Nyquist limit `π`, far beyond any useful design, and keeps the matrix exponential's scaling
 /// to about twenty squarings (an unbounded product would make it loop for minutes, then overflow).

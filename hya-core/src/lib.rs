@@ -58,7 +58,7 @@ pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics,
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
 pub use filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
-pub use finite::MAX_RATE_TIMES_DT;
+pub use finite::{finite_result, MAX_RATE_TIMES_DT};
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };

@@ -122,13 +122,37 @@ impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
         let bandwidth = discretisable("bandwidth", bandwidth, positive("dt_s", dt_s)?)?;
         check("q0", q0)?;
         let gain = dynamics.mass_matrix(q0) * bandwidth;
-        Self::with_gain_matrix(dynamics, gain, dt_s, qd0)
+        Self::unbounded(dynamics, gain, dt_s, qd0)
     }
 
     /// An observer with the gain matrix `Y` (symmetric positive definite, N·m·s/rad), e.g.
     /// `β M(q0)` for equal rates `β` at `q0` ([`Self::with_bandwidth`]); started at
     /// `z0 = −Y q̇0`.
+    ///
+    /// The slowest rate of `L = Y M⁻¹(q)` at `q = 0` (the observer's guaranteed convergence
+    /// rate: Mohammadi's `β ≈ y / λmax(M)` for `Y = y I`) times `dt` must be at most
+    /// [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT), the bound [`Self::with_bandwidth`] puts
+    /// on `β` (why: there). The faster rates of light joints may exceed it, as the scalar design
+    /// makes them do (the implicit step is stable for any rate). This constructor takes no
+    /// operating point, so the bound holds at the zero pose. A gain far beyond it (`y` = 1e300
+    /// once gave `d̂` ≈ 1e284 on a moving arm) is refused by name.
     pub fn with_gain_matrix(dynamics: D, gain: JointMatrix<N>, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
+        let observer = Self::unbounded(dynamics, gain, dt_s, qd0)?;
+        let slowest = observer.rates(&JointVector::zeros())?.min();
+        if slowest * observer.dt_s <= crate::MAX_RATE_TIMES_DT {
+            Ok(observer)
+        } else {
+            Err(Error::InvalidParameter {
+                name: "gain",
+                value: observer.gain.amax(),
+                requirement: "such that the observer's slowest rate at q = 0 (its convergence rate, y / λmax(M) for a \
+                              scalar gain) times dt_s is at most 100 (thirty times the Nyquist limit)",
+            })
+        }
+    }
+
+    /// [`Self::with_gain_matrix`] without the bound on its rates (checked by the caller).
+    fn unbounded(dynamics: D, gain: JointMatrix<N>, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
         check("qd0", &qd0)?;
         let symmetric = (gain - gain.transpose()).amax() <= 1e-12 * gain.amax();
         let gain_inverse = match gain.cholesky() {

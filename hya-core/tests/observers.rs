@@ -175,4 +175,12 @@ fn a_bandwidth_beyond_the_sample_rate_is_refused_by_name() {
         NonlinearDisturbanceObserver::with_bandwidth(arm, BANDWIDTH, DT, &JointVector::from([0.4, f64::NAN]), zero)
             .unwrap_err();
     assert!(error.to_string().contains("q0"), "{error}");
+    // The scalar gain: its slowest rate at q = 0 is y / λmax(M(0)).
+    let heaviest = arm.mass_matrix(&zero).symmetric_eigenvalues().max();
+    let at_limit = hya_core::MAX_RATE_TIMES_DT / DT * heaviest;
+    assert!(NonlinearDisturbanceObserver::new(arm, at_limit * 0.999, DT, zero).is_ok());
+    for gain in [at_limit * 1.01, 1e300] {
+        let error = NonlinearDisturbanceObserver::new(arm, gain, DT, zero).unwrap_err().to_string();
+        assert!(error.contains("gain") && error.contains("slowest rate"), "y = {gain}: {error}");
+    }
 }

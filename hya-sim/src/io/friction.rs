@@ -10,10 +10,22 @@
 
 use std::path::Path;
 
+use hya_core::Short;
 use serde::Deserialize;
 
 /// The largest `friction.toml` read, bytes: a few numbers per joint.
 pub const MAX_FRICTION_BYTES: u64 = 64 * 1024;
+
+/// The plausible range of each key of a friction file, `(key, low, high, unit)`, as the
+/// scenario's friction keys have theirs (`hya_sim::scenario::PLAUSIBLE`). Coulomb and viscous
+/// terms may fall a little below zero, as an unconstrained fit of a joint with little friction
+/// can; far below, they would feed energy into the loop (−500 N·m·s/rad is refused).
+pub const PLAUSIBLE_FRICTION: [(&str, f64, f64, &str); 4] = [
+    ("smoothing_rad_s", 1e-6, 10.0, "rad/s"),
+    ("coulomb_nm", -100.0, 1e4, "N·m"),
+    ("viscous_nm_s", -100.0, 1e4, "N·m·s/rad"),
+    ("offset_nm", -1e4, 1e4, "N·m"),
+];
 
 /// Identified joint friction (see the module's notes).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -38,22 +50,32 @@ impl JointFriction {
         Self::from_toml(&text, joints).map_err(|e| format!("{origin}: {e}"))
     }
 
-    /// Parses and checks `text` for an arm of `joints` joints.
+    /// Parses and checks `text` for an arm of `joints` joints: every value within its
+    /// [`PLAUSIBLE_FRICTION`] range. A syntax error names its line and column.
     pub fn from_toml(text: &str, joints: usize) -> Result<Self, String> {
-        let friction: Self = toml::from_str(text).map_err(|e| e.message().to_owned())?;
-        if !(friction.smoothing_rad_s.is_finite() && friction.smoothing_rad_s > 0.0) {
-            return Err(format!("smoothing_rad_s = {}: must be a positive number", friction.smoothing_rad_s));
-        }
+        let friction: Self = toml::from_str(text).map_err(|e| e.to_string().trim_end().to_owned())?;
         for (key, values) in [
+            ("smoothing_rad_s", std::slice::from_ref(&friction.smoothing_rad_s)),
             ("coulomb_nm", &friction.coulomb_nm),
             ("viscous_nm_s", &friction.viscous_nm_s),
             ("offset_nm", &friction.offset_nm),
         ] {
-            if values.len() != joints {
+            if key != "smoothing_rad_s" && values.len() != joints {
                 return Err(format!("{key}: {} values for an arm of {joints} joints", values.len()));
             }
-            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-                return Err(format!("{key}[{i}] = {}: must be finite", values[i]));
+            let (lo, hi, unit) = PLAUSIBLE_FRICTION
+                .iter()
+                .find(|(k, ..)| *k == key)
+                .map(|&(_, lo, hi, unit)| (lo, hi, unit))
+                .unwrap_or((f64::NEG_INFINITY, f64::INFINITY, ""));
+            if let Some(i) = values.iter().position(|v| !(v.is_finite() && (lo..=hi).contains(v))) {
+                let index = if key == "smoothing_rad_s" { String::new() } else { format!("[{i}]") };
+                return Err(format!(
+                    "{key}{index} = {}: must be finite, between {} and {} {unit} (a unit mistake, or a fit gone wrong?)",
+                    Short(values[i]),
+                    Short(lo),
+                    Short(hi)
+                ));
             }
         }
         Ok(friction)
@@ -87,5 +109,23 @@ mod tests {
         assert!(error(&TWO_JOINTS.replace("0.05", "0"), 2).contains("smoothing_rad_s = 0"));
         assert!(error(&TWO_JOINTS.replace("0.6", "nan"), 2).contains("viscous_nm_s[0] = NaN"));
         assert!(error(&format!("{TWO_JOINTS}stribeck = 1\n"), 2).contains("stribeck"));
+    }
+
+    #[test]
+    fn refuses_implausible_values_and_names_the_line_of_a_syntax_error() {
+        let error = |text: &str| JointFriction::from_toml(text, 2).unwrap_err();
+        for (from, to, expected) in [
+            ("1.5", "1e300", "coulomb_nm[0] = 1e300: must be finite, between -100 and 10000 N·m"),
+            ("0.6", "-500", "viscous_nm_s[0] = -500"),
+            ("-0.2", "1e6", "offset_nm[1] = 1e6"),
+            ("0.05", "1e-300", "smoothing_rad_s = 1e-300"),
+        ] {
+            let message = error(&TWO_JOINTS.replacen(from, to, 1));
+            assert!(message.contains(expected), "{message}");
+        }
+        // A small negative term, as a fit of a joint with little friction gives, is read.
+        assert!(JointFriction::from_toml(&TWO_JOINTS.replace("0.3]", "-0.01]"), 2).is_ok());
+        let message = error(&TWO_JOINTS.replace("coulomb_nm = [1.5", "coulomb_nm = [1.5 x"));
+        assert!(message.contains("line 2"), "{message}");
     }
 }

@@ -84,7 +84,7 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
     let cost = hya_sim::cost::Cost::of(&scenarios, seeds);
     eprintln!("{cost}");
     if !options.no_cost_limit {
-        cost.check().map_err(sim)?;
+        cost.check("shorten duration_s, or run fewer seeds or methods", Some("--no-cost-limit")).map_err(sim)?;
     }
     let provenance = hya_sim::report::Provenance::here(
         command_line(),

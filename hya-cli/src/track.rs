@@ -88,6 +88,7 @@ impl<R: BufRead, W: Write> ForRobot for Track<'_, R, W> {
 impl<R: BufRead, W: Write> Track<'_, R, W> {
     fn track<const N: usize>(mut self, robot: &Robot<N>) -> Result<(), CliError> {
         let samples = reference::<N>(self.input)?;
+        samples.within_limits(&robot.model)?;
         let scenario = &mut self.scenario;
         scenario.initial_position_rad = Some(samples.start().as_slice().to_vec());
         scenario.duration_s = samples.duration_s();
@@ -99,7 +100,7 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         }
         scenario.check()?;
         let cost = hya_sim::cost::Cost::of(std::slice::from_ref(scenario), 1);
-        cost.check()?;
+        cost.check("track a shorter reference, or split it into parts", None)?;
         if let Some(dir) = &self.args.out {
             let reads: Vec<&Path> =
                 self.args.scenario.iter().map(PathBuf::as_path).chain(scenario.files_read()).collect();

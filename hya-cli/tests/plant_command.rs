@@ -71,3 +71,17 @@ fn bad_rows_are_refused_with_their_line() {
     // Without --scenario panda runs its own built-in scenario; its rows are still checked.
     assert_rejected(&["plant", "--robot", "panda"], "0 0 0 0 0 0 0\n", &["line 1", "expected 8 values"]);
 }
+
+#[test]
+fn a_runaway_is_named_as_one_not_blamed_on_the_mass_matrix() {
+    // 100 and 60 N·m on the planar arm's hydraulic plant: the state runs away within 0.2 s; the
+    // mass matrix (positive definite everywhere) was once blamed.
+    let output = hya(&["plant", "--robot", "planar2", "--until", "1"], "0 100 60\n");
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{message}");
+    assert!(
+        message.contains("the simulated arm diverged: joint 2 passed 100 rad/s, a speed no arm reaches, at t = 0.17"),
+        "{message}"
+    );
+    assert!(!message.starts_with("hya: numerical failure"), "{message}");
+}

@@ -238,3 +238,17 @@ fn every_method_recovers_a_constant_disturbance_and_observers_read_velocity_colu
         &["--method eso with --timestamps", "only lu"],
     );
 }
+
+#[test]
+fn restarts_are_reported_up_to_the_cap_then_counted() {
+    // Every step of this log is a restart (10 s apart): 200 of them once meant 200 lines of stderr.
+    let log: String = (0..201).map(|k| format!("{} 0.1 0.2 1 2\n", 10 * k)).collect();
+    let output = hya(&["estimate", "--robot", "planar2", "--timestamps", "--dt", "0.01"], &log);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert_eq!(stderr.lines().filter(|l| l.contains("gap of")).count(), 20, "{stderr}");
+    assert!(
+        stderr.contains("200 gaps in all, 200 of them restarts of the estimator; the first 20 reported"),
+        "{stderr}"
+    );
+}

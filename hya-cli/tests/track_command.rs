@@ -202,3 +202,13 @@ fn track_and_identify_refuse_bad_input_by_name() {
         &["--columns selects 3 columns; 4 are read"],
     );
 }
+
+#[test]
+fn a_reference_beyond_the_joint_limits_is_refused_by_name() {
+    let rows = "0 1e6 0 0 0 0 0  0 0 0 0 0 0  0 0 0 0 0 0\n1 1e6 0 0 0 0 0  0 0 0 0 0 0  0 0 0 0 0 0\n";
+    assert_rejected(
+        &["track", "--robot", "hya"],
+        rows,
+        &["reference sample 1 (t = 0 s), joint SAA", "= 1e6", "beyond the joint's limits"],
+    );
+}

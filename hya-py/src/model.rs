@@ -11,7 +11,7 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 
-use crate::arrays::{output, row, rows, same_rows, Rows};
+use crate::arrays::{finite_results, output, row, rows, same_rows, Rows};
 use crate::UrdfError;
 
 /// The longest a batch may hold the GIL, reading NumPy's arrays in place: a fifth of Python's
@@ -100,20 +100,21 @@ impl Model {
         &self,
         py: Python<'_>,
         inputs: [&Rows; K],
-        width: usize,
+        (quantity, width): (&'static str, usize),
         batch: impl Fn(&(dyn SliceDynamics + Sync), [&[f64]; K], &mut [f64]) -> Result<(), hya_core::Error> + Send + Sync,
         each: impl Fn(&(dyn SliceDynamics + Sync), [&[f64]; K], usize, &mut [f64]) -> Result<(), String> + Send + Sync,
     ) -> PyResult<Vec<f64>> {
         let count = inputs.first().map_or(0, |rows| rows.count);
+        let batched = inputs.first().is_some_and(|rows| rows.batched);
         let dynamics = self.dynamics();
         let run = |values: [&[f64]; K]| -> PyResult<Vec<f64>> {
             let mut out = vec![0.0; count * width];
-            if count > 1 && batch(dynamics, values, &mut out).is_ok() {
-                return Ok(out);
+            if !(count > 1 && batch(dynamics, values, &mut out).is_ok()) {
+                for (k, chunk) in out.chunks_mut(width.max(1)).enumerate() {
+                    each(dynamics, values, k, chunk).map_err(PyValueError::new_err)?;
+                }
             }
-            for (k, chunk) in out.chunks_mut(width.max(1)).enumerate() {
-                each(dynamics, values, k, chunk).map_err(PyValueError::new_err)?;
-            }
+            finite_results(quantity, &out, width, batched)?;
             Ok(out)
         };
         if count.saturating_mul(self.state_cost_ns()) <= GIL_HOLD_NS {
@@ -201,7 +202,7 @@ impl Model {
         let out = self.compute(
             py,
             [&q, &qd, &qdd],
-            n,
+            ("tau", n),
             |d, [q, qd, qdd], tau| d.inverse_dynamics_rows(q, qd, qdd, tau),
             |d, [q, qd, qdd], k, tau| {
                 d.inverse_dynamics_into(row(q, k, n), row(qd, k, n), row(qdd, k, n), tau);
@@ -219,7 +220,7 @@ impl Model {
         let out = self.compute(
             py,
             [&q],
-            n * n,
+            ("mass", n * n),
             |d, [q], m| d.mass_matrix_rows(q, m),
             |d, [q], k, m| {
                 d.mass_matrix_into(row(q, k, n), m);
@@ -236,7 +237,7 @@ impl Model {
         let out = self.compute(
             py,
             [&q],
-            n,
+            ("tau", n),
             |d, [q], g| d.gravity_rows(q, g),
             |d, [q], k, g| {
                 d.gravity_into(row(q, k, n), g);
@@ -259,7 +260,7 @@ impl Model {
         let out = self.compute(
             py,
             [&q, &qd, &tau],
-            n,
+            ("qdd", n),
             |d, [q, qd, tau], qdd| d.forward_dynamics_rows(q, qd, tau, qdd),
             |d, [q, qd, tau], k, qdd| {
                 d.forward_dynamics_into(row(q, k, n), row(qd, k, n), row(tau, k, n), qdd)

@@ -220,6 +220,23 @@ def test_a_non_finite_value_anywhere_in_a_batch_is_found(bad):
             model.forward_dynamics(np.zeros((3, 6)), np.zeros((3, 6)), tau)
 
 
+@pytest.mark.parametrize("name", ["ur5", "planar2"])
+def test_results_that_overflow_are_refused_as_the_cli_and_the_c_abi_refuse_them(name):
+    # q̇ = 1e160 squares past the largest double: finite inputs, non-finite torques.
+    model = hya.Model.builtin(name)
+    n = model.dof
+    fast = np.zeros(n)
+    fast[0] = 1e160
+    with pytest.raises(ValueError, match=r"tau\[\d\] = -?(NaN|inf): the result is not finite"):
+        model.inverse_dynamics(np.zeros(n), fast, np.zeros(n))
+    batch = np.zeros((5, n))
+    batch[3, 0] = 1e160
+    with pytest.raises(ValueError, match=r"row 3: tau\[\d\] = -?(NaN|inf)"):
+        model.inverse_dynamics(np.zeros((5, n)), batch, np.zeros((5, n)))
+    with pytest.raises(ValueError, match=r"row 3: qdd\[\d\] = -?(NaN|inf)"):
+        model.forward_dynamics(np.zeros((5, n)), batch, np.zeros((5, n)))
+
+
 def test_a_broken_urdf_names_the_file_and_the_joint():
     path = DATA / "broken_joint.urdf"
     with pytest.raises(hya.UrdfError, match="broken_joint.urdf") as error:

@@ -102,6 +102,31 @@ pub enum SimError {
         /// What failed.
         source: hya_core::Error,
     },
+    /// The simulated arm ran away: a joint passed a speed no arm reaches, then a dynamics call
+    /// failed (or the state became non-finite). Names the joint, when and how fast, so the
+    /// failure is not blamed on the model (a mass matrix positive definite everywhere).
+    #[error(
+        "the simulated arm diverged: joint {joint} {} at t = {} s; at t = {} s then: {cause} (the torques or the \
+         plant's settings drive it faster than the step follows)",
+        if velocity.is_finite() {
+            format!("passed {} rad/s, a speed no arm reaches,", Short(crate::plant::MAX_PLAUSIBLE_SPEED_RAD_S))
+        } else {
+            "reached a non-finite state".into()
+        },
+        Short(*runaway_s), Short(*time_s)
+    )]
+    Diverged {
+        /// When the integration broke down, s.
+        time_s: f64,
+        /// The joint, from 1.
+        joint: usize,
+        /// When it first passed the plausible speed, s.
+        runaway_s: f64,
+        /// Its velocity then, rad/s.
+        velocity: f64,
+        /// What failed.
+        cause: String,
+    },
     /// A run whose cost is beyond a documented cap ([`crate::config::cost`]).
     #[error("{0}")]
     Cost(String),

@@ -47,25 +47,27 @@ impl Cost {
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get()) as f64;
         let kept: f64 = scenarios.iter().map(|s| ticks(s) * s.methods.len() as f64).sum();
         let longest = scenarios.iter().map(ticks).fold(0.0, f64::max);
+        let runs: usize = scenarios.iter().map(|s| s.methods.len() * seeds).sum();
+        // The first seed's runs are the kept traces; the later seeds' run at most one per core.
+        let later = (runs - scenarios.iter().map(|s| s.methods.len()).sum::<usize>()) as f64;
         Self {
-            runs: scenarios.iter().map(|s| s.methods.len() * seeds).sum(),
+            runs,
             simulated_s: scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum(),
             physics_steps: scenarios
                 .iter()
                 .map(|s| ticks(s) * s.plant.substeps() as f64 * (s.methods.len() * seeds) as f64)
                 .sum(),
-            trace_bytes: (kept + workers * longest) * TRACE_BYTES_PER_TICK,
+            trace_bytes: (kept + workers.min(later) * longest) * TRACE_BYTES_PER_TICK,
         }
     }
 
     /// `Ok` within [`MAX_PHYSICS_STEPS`] and [`MAX_TRACE_BYTES`]; the error gives the figure,
-    /// the cap and the flag that lifts it.
-    pub fn check(&self) -> Result<(), SimError> {
+    /// the cap, what to shorten and, where the command has one (`lifted_by`), the flag that lifts
+    /// the cap.
+    pub fn check(&self, shorten: &str, lifted_by: Option<&str>) -> Result<(), SimError> {
+        let lift = lifted_by.map(|flag| format!(", or pass {flag} if you mean it")).unwrap_or_default();
         let over = |what: &str, figure: String, cap: String| {
-            Err(SimError::Cost(format!(
-                "{what} {figure}, beyond the cap of {cap}; shorten duration_s, fewer seeds or methods, or \
-                 pass --no-cost-limit if you mean it"
-            )))
+            Err(SimError::Cost(format!("{what} {figure}, beyond the cap of {cap}; {shorten}{lift}")))
         };
         if self.physics_steps > MAX_PHYSICS_STEPS {
             return over(
@@ -111,14 +113,27 @@ mod tests {
         let ticks = scenario.duration_s / scenario.controller.dt_s;
         let methods = scenario.methods.len() as f64;
         assert_eq!(base.physics_steps, ticks * scenario.plant.substeps() as f64 * methods);
-        assert!(Cost::of(std::slice::from_ref(&scenario), 20).check().is_ok(), "the default run is within the caps");
+        assert!(
+            Cost::of(std::slice::from_ref(&scenario), 20).check("", None).is_ok(),
+            "the default run is within the caps"
+        );
         scenario.duration_s = 3600.0;
         scenario.plant.substeps = Some(1000);
-        let error = Cost::of(std::slice::from_ref(&scenario), 20).check().unwrap_err().to_string();
-        assert!(error.contains("integration steps") && error.contains("--no-cost-limit"), "{error}");
-        // Memory grows with the duration, not with the seeds.
+        let cost = Cost::of(std::slice::from_ref(&scenario), 20);
+        let error = cost.check("shorten it", Some("--no-cost-limit")).unwrap_err().to_string();
+        assert!(
+            error.contains("integration steps, beyond the cap of 3e9; shorten it, or pass --no-cost-limit"),
+            "{error}"
+        );
+        let error = cost.check("shorten it", None).unwrap_err().to_string();
+        assert!(error.ends_with("shorten it"), "a command without the flag does not name it: {error}");
+        // Memory grows with the duration, not with the seeds once every core has a later seed's run.
         scenario.plant.substeps = Some(1);
-        let one = Cost::of(std::slice::from_ref(&scenario), 1);
-        assert_eq!(one.trace_bytes, Cost::of(std::slice::from_ref(&scenario), 20).trace_bytes);
+        let ten = Cost::of(std::slice::from_ref(&scenario), 10);
+        assert_eq!(ten.trace_bytes, Cost::of(std::slice::from_ref(&scenario), 20).trace_bytes);
+        // One run keeps one trace: no core's worth of later seeds counted beside it.
+        scenario.methods.truncate(1);
+        let ticks = (scenario.duration_s / scenario.controller.dt_s).ceil();
+        assert_eq!(Cost::of(std::slice::from_ref(&scenario), 1).trace_bytes, ticks * TRACE_BYTES_PER_TICK);
     }
 }

@@ -50,6 +50,25 @@ pub fn generic_dynamics<const N: usize>(model: &TreeModel) -> Result<Box<dyn Dyn
     Ok(Box::new(model.clone().into_dynamics::<N>()?))
 }
 
+/// A joint speed no arm reaches, rad/s (HyA's joints reach 12 rad/s, fast electric arms a few
+/// tens): an integration stage beyond it is the simulation running away ([`SimError::Diverged`]),
+/// not a property of the model.
+pub const MAX_PLAUSIBLE_SPEED_RAD_S: f64 = 100.0;
+
+/// The joint beyond [`MAX_PLAUSIBLE_SPEED_RAD_S`] in `state` (the fastest, a non-finite angle or
+/// velocity counting as infinitely fast) and its velocity; `None` if every joint is within it.
+fn fastest<const N: usize>(state: &PlantState<N>) -> Option<(usize, f64)> {
+    let speed = |j: usize| {
+        if state.q[j].is_finite() && state.qd[j].is_finite() {
+            state.qd[j].abs()
+        } else {
+            f64::INFINITY
+        }
+    };
+    let joint = (0..N).max_by(|&a, &b| speed(a).total_cmp(&speed(b)))?;
+    (speed(joint) > MAX_PLAUSIBLE_SPEED_RAD_S).then_some((joint, state.qd[joint]))
+}
+
 /// The arm's state: joints, friction bristles and actuators.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlantState<const N: usize> {
@@ -114,6 +133,9 @@ pub struct Plant<const N: usize> {
     pub state: PlantState<N>,
     /// The current time, s.
     pub time: f64,
+    /// The first whole step at which a joint passed [`MAX_PLAUSIBLE_SPEED_RAD_S`]: the joint,
+    /// the time, s, and its velocity, rad/s (for [`SimError::Diverged`]).
+    runaway: Option<(usize, f64, f64)>,
 }
 
 /// The joint ranges the actuators span: the description's limits, or `q0 ± π` where it gives
@@ -187,6 +209,7 @@ impl<const N: usize> Plant<N> {
             sinusoid,
             state: PlantState { q: q0, qd: zero, bristle: zero, lag_torque, hydraulic },
             time: 0.0,
+            runaway: None,
         })
     }
 
@@ -277,7 +300,7 @@ impl<const N: usize> Plant<N> {
     /// evaluated once for both.
     pub fn advance(&mut self, dt: f64, substeps: usize, tau_cmd: &JointVector<N>) -> Result<JointVector<N>, SimError> {
         self.sample_if_due(tau_cmd);
-        let start = self.derivative(self.time, &self.state, tau_cmd)?;
+        let start = self.stage(self.time, &self.state, tau_cmd)?;
         let h = dt / substeps.max(1) as f64;
         self.step_from(h, tau_cmd, Some(start))?;
         for _ in 1..substeps {
@@ -346,16 +369,44 @@ impl<const N: usize> Plant<N> {
         let (t, s) = (self.time, self.state);
         let k1 = match k1 {
             Some(k1) => k1,
-            None => self.derivative(t, &s, tau_cmd)?,
+            None => self.stage(t, &s, tau_cmd)?,
         };
-        let k2 = self.derivative(t + h / 2.0, &s.along(&k1, h / 2.0), tau_cmd)?;
-        let k3 = self.derivative(t + h / 2.0, &s.along(&k2, h / 2.0), tau_cmd)?;
-        let k4 = self.derivative(t + h, &s.along(&k3, h), tau_cmd)?;
-        self.state = s.along(&k1, h / 6.0).along(&k2, h / 3.0).along(&k3, h / 3.0).along(&k4, h / 6.0);
+        let k2 = self.stage(t + h / 2.0, &s.along(&k1, h / 2.0), tau_cmd)?;
+        let k3 = self.stage(t + h / 2.0, &s.along(&k2, h / 2.0), tau_cmd)?;
+        let k4 = self.stage(t + h, &s.along(&k3, h), tau_cmd)?;
+        let next = s.along(&k1, h / 6.0).along(&k2, h / 3.0).along(&k3, h / 3.0).along(&k4, h / 6.0);
+        if !next.is_finite() {
+            let cause = SimError::Numerical("the state became non-finite".into());
+            return Err(self.diverged(t + h, &next, cause).unwrap_or_else(|cause| cause));
+        }
+        self.state = next;
         self.time += h;
-        if !self.state.is_finite() {
-            return Err(SimError::Numerical(format!("the plant's state became non-finite at t = {:.4} s", self.time)));
+        if self.runaway.is_none() {
+            self.runaway = fastest(&next).map(|(joint, velocity)| (joint, self.time, velocity));
         }
         Ok(())
+    }
+
+    /// The derivative at an integration stage `stage`; a failure there is [`Self::diverged`].
+    fn stage(&self, t: f64, stage: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
+        self.derivative(t, stage, tau_cmd).map_err(|cause| self.diverged(t, stage, cause).unwrap_or_else(|e| e))
+    }
+
+    /// [`SimError::Diverged`] if a joint passed [`MAX_PLAUSIBLE_SPEED_RAD_S`] at a whole step
+    /// ([`Self::runaway`]) or does in `stage` (or `stage` is non-finite); otherwise `Err(cause)`,
+    /// a failure of its own.
+    fn diverged(&self, t: f64, stage: &PlantState<N>, cause: SimError) -> Result<SimError, SimError> {
+        let (joint, runaway_s, velocity) = match self.runaway {
+            Some(runaway) => runaway,
+            None => match fastest(stage) {
+                Some((joint, velocity)) => (joint, t, velocity),
+                None => return Err(cause),
+            },
+        };
+        let cause = match cause {
+            SimError::Step { source, .. } => source.to_string(),
+            other => other.to_string(),
+        };
+        Ok(SimError::Diverged { time_s: t, joint: joint + 1, runaway_s, velocity, cause })
     }
 }

@@ -196,6 +196,7 @@ pub fn closed_loop_on<const N: usize>(
     trajectory: &Trajectory<N>,
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
+    trajectory.within_limits(&robot.model)?;
     let model = model::LoopModel::of(scenario, robot)?;
     let nominal = model.dynamics();
     let dt = scenario.controller.dt_s;

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use hya_core::{JointVector, Reference};
+use hya_core::{JointVector, Reference, Short};
 
 use crate::config::scenario::Task;
 use crate::error::{SettingError, SimError};
@@ -59,6 +59,33 @@ impl<const N: usize> Samples<N> {
         Ok(Self { time, points })
     }
 
+    /// `Ok` if every sample's position lies within `model`'s joint limits where the description
+    /// gives them; an error names the sample, its time, the joint and the limits (a reference
+    /// at 1e6 rad once ran until the state became non-finite).
+    pub fn within_limits(&self, model: &hya_core::model::TreeModel) -> Result<(), SimError> {
+        for (k, (t, point)) in self.time.iter().zip(&self.points).enumerate() {
+            for (j, body) in model.bodies().iter().enumerate().take(N) {
+                let q = point.position[j];
+                let (lo, hi) =
+                    (body.limits.lower.unwrap_or(f64::NEG_INFINITY), body.limits.upper.unwrap_or(f64::INFINITY));
+                if !(lo..=hi).contains(&q) {
+                    return Err(SettingError::new(
+                        format!(
+                            "reference sample {} (t = {} s), joint {}",
+                            k + 1,
+                            Short(*t),
+                            hya_urdf::name_list([body.joint.as_str()])
+                        ),
+                        Some(q),
+                        format!("beyond the joint's limits [{}, {}] rad in the description", Short(lo), Short(hi)),
+                    )
+                    .into());
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The last sample's time, s.
     pub fn duration_s(&self) -> f64 {
         self.time[self.time.len() - 1]
@@ -96,6 +123,15 @@ impl<const N: usize> Samples<N> {
 }
 
 impl<const N: usize> Trajectory<N> {
+    /// `Ok` unless the trajectory is sampled and leaves `model`'s joint limits
+    /// ([`Samples::within_limits`]); the other shapes are checked with their scenario.
+    pub fn within_limits(&self, model: &hya_core::model::TreeModel) -> Result<(), SimError> {
+        match &self.shape {
+            Shape::Sampled(samples) => samples.within_limits(model),
+            _ => Ok(()),
+        }
+    }
+
     /// The task's trajectory from `start`; `per_joint` is the goto task's step or the sine
     /// task's amplitudes ([`JointSettings::task`](crate::config::settings::JointSettings::task)).
     pub fn new(task: &Task, per_joint: JointVector<N>, start: JointVector<N>) -> Result<Self, SimError> {

@@ -218,3 +218,58 @@ fn the_reported_standard_deviations_match_the_spread_over_repeated_logs() {
         assert!((0.75..1.3).contains(&ratio), "base parameter {j}: spread / reported σ = {ratio:.2}");
     }
 }
+
+#[test]
+fn the_streamed_fit_equals_the_dense_weighted_least_squares() {
+    // The fit reduces each joint's rows to a triangle block by block; here the whole stacked
+    // system is built and solved directly (SVD), weighted per joint by the first solve's residual.
+    let robot = hya_robots::find("hya").unwrap();
+    let nominal = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let truth = perturbed(&nominal, &mut rng);
+    let friction = Friction {
+        coulomb_nm: vec![6.0, 6.0, 4.0, 4.0, 2.0, 2.0],
+        viscous_nm_s: vec![3.0, 3.0, 2.0, 2.0, 1.0, 1.0],
+        offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
+        smoothing_rad_s: SMOOTHING,
+    };
+    let samples = log(&nominal, &truth, &friction, 1, 130.0, &mut rng); // 1300 samples: three blocks
+    let regressor = Regressor::new(&nominal);
+    let base = BaseParameters::of(&nominal, 5).unwrap();
+    let fitted = fit(&regressor, &base, &samples, SMOOTHING).unwrap();
+
+    let (n, r) = (6, base.rank());
+    let unknowns = r + 3 * n;
+    let mut w = nalgebra::DMatrix::zeros(n * samples.len(), unknowns);
+    let mut tau = nalgebra::DVector::zeros(n * samples.len());
+    for (k, s) in samples.iter().enumerate() {
+        let yb = base.base_regressor(&regressor.rows((&s.q, &s.qd, &s.qdd)).unwrap());
+        for i in 0..n {
+            w.view_mut((k * n + i, 0), (1, r)).copy_from(&yb.row(i));
+            w[(k * n + i, r + 3 * i)] = (s.qd[i] / SMOOTHING).tanh();
+            w[(k * n + i, r + 3 * i + 1)] = s.qd[i];
+            w[(k * n + i, r + 3 * i + 2)] = 1.0;
+            tau[k * n + i] = s.tau[i];
+        }
+    }
+    let first = w.clone().svd(true, true).solve(&tau, 0.0).unwrap();
+    let residual = &tau - &w * &first;
+    let per_joint = samples.len() as f64 - unknowns as f64 / n as f64;
+    let sigma: Vec<f64> =
+        (0..n).map(|i| (residual.iter().skip(i).step_by(n).map(|e| e * e).sum::<f64>() / per_joint).sqrt()).collect();
+    let weighted = nalgebra::DMatrix::from_fn(w.nrows(), w.ncols(), |row, c| w[(row, c)] / sigma[row % n]);
+    let weighted_tau = nalgebra::DVector::from_fn(tau.len(), |row, _| tau[row] / sigma[row % n]);
+    let theta = weighted.clone().svd(true, true).solve(&weighted_tau, 0.0).unwrap();
+    for j in 0..r {
+        let scale = theta[j].abs().max(fitted.base_std[j]);
+        assert!((fitted.base[j] - theta[j]).abs() < 1e-6 * scale, "base {j}: {} vs {}", fitted.base[j], theta[j]);
+    }
+    for i in 0..n {
+        assert!((fitted.friction.coulomb_nm[i] - theta[r + 3 * i]).abs() < 1e-6, "coulomb {i}");
+        assert!((fitted.friction.viscous_nm_s[i] - theta[r + 3 * i + 1]).abs() < 1e-6, "viscous {i}");
+    }
+    let singular = weighted.singular_values();
+    let dense_condition = singular.max() / singular.min();
+    let relative = (fitted.conditioning.condition_number - dense_condition).abs() / dense_condition;
+    assert!(relative < 1e-6, "condition number {} vs {dense_condition}", fitted.conditioning.condition_number);
+}

@@ -261,8 +261,8 @@ pub struct ControllerConfig {
     /// Control period, s.
     pub dt_s: f64,
     /// The controller's and observers' rigid body from this URDF (an identified one, from
-    /// `hya identify`) instead of the robot's nominal one; the same joints. A path relative to
-    /// the working directory.
+    /// `hya identify`) instead of the robot's nominal one; the same joints. A relative path is
+    /// taken from the scenario file's folder ([`Scenario::from_file`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_urdf: Option<String>,
     /// Joint friction the controller's model adds (`friction.toml` from `hya identify`): a
@@ -707,11 +707,31 @@ impl Scenario {
     }
 
     /// Reads, parses and checks the scenario file at `path` (at most [`MAX_SCENARIO_BYTES`]).
+    /// Relative paths in it (`robot` where it is not a shipped arm's name,
+    /// `controller.model_urdf`, `controller.friction_toml`) are taken relative to the file's
+    /// folder, as MuJoCo's and ROS's files take theirs, not to the working directory.
     pub fn from_file(path: &std::path::Path) -> Result<Self, SimError> {
         let origin = path.display().to_string();
         let text = crate::io::input::read_text(path, MAX_SCENARIO_BYTES)
             .map_err(|message| SimError::Scenario { origin: origin.clone(), message })?;
-        Self::from_toml(&text, &origin)
+        let mut scenario = Self::from_toml(&text, &origin)?;
+        if let Some(folder) = path.parent().filter(|f| !f.as_os_str().is_empty()) {
+            let resolve = |p: &mut String| {
+                if std::path::Path::new(p.as_str()).is_relative() {
+                    *p = folder.join(p.as_str()).display().to_string();
+                }
+            };
+            if hya_robots::find(&scenario.robot).is_none() {
+                resolve(&mut scenario.robot);
+            }
+            scenario
+                .controller
+                .model_urdf
+                .iter_mut()
+                .chain(scenario.controller.friction_toml.iter_mut())
+                .for_each(resolve);
+        }
+        Ok(scenario)
     }
 
     /// The names of the embedded scenarios, in the order `hya reproduce` runs them.

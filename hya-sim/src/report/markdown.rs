@@ -331,7 +331,7 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
     let model = &robot.model;
     let description = match hya_robots::find(&first.robot) {
         Some(robot) => format!("`robots/urdf/{}.urdf`, generated code", robot.name),
-        None => format!("`{}`, the run-time model", first.robot),
+        None => format!("`{}`, {}, the run-time model", first.robot, crate::run::model::file_digest(&first.robot)),
     };
     let users = match first.controller.model_urdf {
         None => ", used by the controller and observers",

@@ -146,11 +146,22 @@ pub struct LoopDesign<const N: usize> {
 pub fn describe(controller: &crate::config::scenario::ControllerConfig) -> String {
     let rigid = match &controller.model_urdf {
         None => "the robot's nominal model".to_owned(),
-        Some(path) => format!("the model of `{path}` (`controller.model_urdf`)"),
+        Some(path) => format!("the model of `{path}` ({}, `controller.model_urdf`)", file_digest(path)),
     };
     match &controller.friction_toml {
         None => rigid,
-        Some(path) => format!("{rigid}, plus the joint friction `τ_f(q̇)` of `{path}` (`controller.friction_toml`)"),
+        Some(path) => format!(
+            "{rigid}, plus the joint friction `τ_f(q̇)` of `{path}` ({}, `controller.friction_toml`)",
+            file_digest(path)
+        ),
+    }
+}
+
+/// `SHA-256 …` of the file at `path`, so that a report names exactly what it ran on.
+pub fn file_digest(path: &str) -> String {
+    match crate::io::input::sha256_of(std::path::Path::new(path)) {
+        Ok(sha256) => format!("SHA-256 `{sha256}`"),
+        Err(why) => format!("no SHA-256: the file {why} now"),
     }
 }
 

@@ -58,3 +58,25 @@ fn a_controller_model_of_other_joints_or_a_bad_friction_file_is_refused_by_name(
     let error = closed_loop(&missing, Method::Lu, &robot).unwrap_err().to_string();
     assert!(error.contains("controller.friction_toml") && error.contains("/nonexistent/friction.toml"), "{error}");
 }
+
+#[test]
+fn relative_paths_in_a_scenario_file_are_taken_from_its_folder() {
+    let dir = std::env::temp_dir().join(format!("hya-relative-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("models")).unwrap();
+    let file = dir.join("scenario.toml");
+    let text = "name = \"tiny\"\nrobot = \"models/arm.urdf\"\nduration_s = 0.6\nmethods = [\"none\"]\n[task]\n\
+                kind = \"hold\"\n[controller]\nmodel_urdf = \"models/identified.urdf\"\n\
+                friction_toml = \"/absolute/friction.toml\"\n";
+    std::fs::write(&file, text).unwrap();
+    let scenario = Scenario::from_file(&file).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(scenario.robot, dir.join("models/arm.urdf").display().to_string());
+    assert_eq!(scenario.controller.model_urdf, Some(dir.join("models/identified.urdf").display().to_string()));
+    assert_eq!(scenario.controller.friction_toml.as_deref(), Some("/absolute/friction.toml"));
+    // A shipped arm's name is a name, not a path.
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(&file, text.replace("models/arm.urdf", "hya")).unwrap();
+    let shipped = Scenario::from_file(&file).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(shipped.robot, "hya");
+}

@@ -167,7 +167,12 @@ pub struct Picked<R> {
     /// How many values every row of the log holds, once known, and where that was set: by the
     /// header (its line and names) or by the first row.
     row_width: Option<(usize, String)>,
+    /// Rows read ahead ([`Picked::nominal_step`]), with their lines, handed out first.
+    ahead: std::collections::VecDeque<(usize, Vec<f64>)>,
 }
+
+/// How many rows [`Picked::nominal_step`] reads ahead.
+pub const NOMINAL_STEP_ROWS: usize = 1000;
 
 impl<R: BufRead> Picked<R> {
     /// Reads `input` for rows of `width` values described by `what` (for the errors), or the
@@ -182,12 +187,25 @@ impl<R: BufRead> Picked<R> {
             }
         }
         let reader = Reader::with_header(input);
-        Ok(Self { reader, spec, selection: None, width, what, values: Vec::with_capacity(width), row_width: None })
+        Ok(Self {
+            reader,
+            spec,
+            selection: None,
+            width,
+            what,
+            values: Vec::with_capacity(width),
+            row_width: None,
+            ahead: Default::default(),
+        })
     }
 
     /// The next row's line number, its values then in [`values`](Self::values); `None` at the
     /// end of the input.
     pub fn next_line(&mut self) -> Option<Result<usize, CliError>> {
+        if let Some((line, values)) = self.ahead.pop_front() {
+            self.values = values;
+            return Some(Ok(line));
+        }
         let row = match self.reader.next()? {
             Ok(row) => row,
             Err(e) => return Some(Err(e)),
@@ -213,6 +231,49 @@ impl<R: BufRead> Picked<R> {
             }
         }
         Ok(row.line)
+    }
+
+    /// The nominal sample time of a log whose rows start with their time: the median step of its
+    /// first [`NOMINAL_STEP_ROWS`] rows (those that go forward; `None` if none does), which are
+    /// read ahead and handed out as usual after. For
+    /// `--timestamps` without `--dt`: a log's own rate, where a fixed default (1 ms) once made a
+    /// 100 Hz log report every step as a gap.
+    pub fn nominal_step(&mut self) -> Result<Option<f64>, CliError> {
+        while self.ahead.len() < NOMINAL_STEP_ROWS {
+            match self.reader.next() {
+                None => break,
+                Some(row) => {
+                    let line = self.take(row?)?;
+                    self.ahead.push_back((line, self.values.clone()));
+                }
+            }
+        }
+        let times: Vec<f64> = self.ahead.iter().map(|(_, values)| values[0]).collect();
+        // Steps that do not go forward are left to the reader, which names their line.
+        let mut steps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).filter(|s| s.is_finite() && *s > 0.0).collect();
+        if steps.is_empty() {
+            return Ok(None);
+        }
+        steps.sort_by(f64::total_cmp);
+        let median = steps[steps.len() / 2];
+        crate::rows::check_dt("the log's median step (no --dt given)", median).map(Some)
+    }
+
+    /// `params` at the log's [`nominal_step`](Self::nominal_step), and the gap limit: `max_step`
+    /// if given, else 2.5 steps; says on stderr which step it took.
+    pub fn adopt_nominal_step(
+        &mut self,
+        params: &hya_core::FilterParams,
+        max_step: Option<f64>,
+    ) -> Result<(hya_core::FilterParams, f64), CliError> {
+        let Some(dt) = self.nominal_step()? else {
+            let dt = params.dt_s();
+            eprintln!("hya: no --dt, and no step in time order to take it from: {} s", hya_core::Short(dt));
+            return Ok((*params, max_step.unwrap_or(2.5 * dt)));
+        };
+        eprintln!("hya: no --dt: the log's median step, {} s, is the nominal one", hya_core::Short(dt));
+        let params = params.with_dt(dt).map_err(|e| CliError::Input(format!("the log's median step: {e}")))?;
+        Ok((params, max_step.unwrap_or(2.5 * dt)))
     }
 
     /// Refuses a row whose width differs from the header's, or from the first row's where the log

@@ -31,10 +31,11 @@ pub struct EstimateArgs {
     /// Natural frequency ω2 of the second-order factor, rad/s.
     #[arg(long, default_value_t = PAPER_BANDWIDTH_RAD_S)]
     omega2: f64,
-    /// The log's sample time (one row per control tick), s. With `--timestamps`, the nominal
-    /// one: the gap limit's default is 2.5 times it.
-    #[arg(long, default_value_t = 0.001)]
-    dt: f64,
+    /// The log's sample time (one row per control tick), s [default: 0.001]. With
+    /// `--timestamps`, the nominal one, at which the filters are designed and the gap limit's
+    /// default is 2.5 times it [default: the median step of the log's first 1000 rows].
+    #[arg(long)]
+    dt: Option<f64>,
     /// Rows start with their time t (s, strictly increasing): `t q τ` in, `t d̂` out. Each step
     /// is filtered exactly over its own length (first-order hold between the rows). A step longer
     /// than --max-step is a gap, reported on stderr with its line and bridged the same exact way
@@ -101,8 +102,12 @@ impl EstimateMethod {
 }
 
 /// How `hya estimate` reads a row: its columns and whether it starts with a time.
+#[derive(Clone)]
 struct Layout {
     params: FilterParams,
+    /// The nominal step is to be taken from the log (`--timestamps` without `--dt`), and the gap
+    /// limit too unless `--max-step` gave it.
+    step_from_log: Option<Option<f64>>,
     method: EstimateMethod,
     bandwidth_rad_s: f64,
     timestamps: bool,
@@ -210,6 +215,15 @@ fn estimate<'a, const N: usize>(
     let friction = layout.friction.as_deref().map(|path| JointFriction::from_file(path, N)).transpose();
     let friction = friction.map_err(|e| CliError::Input(format!("--friction {e}")))?;
     let mut log = Picked::new(input, layout.columns.clone(), width, what)?;
+    let adopted;
+    let layout = match layout.step_from_log {
+        None => layout,
+        Some(max_step) => {
+            let (params, max_step_s) = log.adopt_nominal_step(&layout.params, max_step)?;
+            adopted = Layout { params, max_step_s, ..layout.clone() };
+            &adopted
+        }
+    };
     let mut running: Option<Running<'a, N>> = None;
     let mut gaps = Gaps::default();
     while let Some(line) = log.next_line() {
@@ -311,11 +325,15 @@ fn timed_step<const N: usize>(
     Ok(step.disturbance)
 }
 
+/// The sample time of a log without timestamps when `--dt` is not given, s.
+const DEFAULT_DT_S: f64 = 0.001;
+
 /// `hya estimate`.
 pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
-    let params = crate::filter::params(args.zeta, args.omega1, args.omega2, args.dt)?;
+    let dt = args.dt.unwrap_or(DEFAULT_DT_S);
+    let params = crate::filter::params(args.zeta, args.omega1, args.omega2, dt)?;
     let max_step_s = match args.max_step {
-        None => 2.5 * args.dt,
+        None => 2.5 * dt,
         Some(s) if s.is_finite() && s > 0.0 => s,
         Some(s) => return Err(CliError::Input(format!("--max-step {}: must be finite and > 0 s", Short(s)))),
     };
@@ -337,6 +355,7 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
     }
     let layout = Layout {
         params,
+        step_from_log: (args.timestamps && args.dt.is_none()).then_some(args.max_step),
         method: args.method,
         bandwidth_rad_s: args.bandwidth,
         timestamps: args.timestamps,

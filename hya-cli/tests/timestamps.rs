@@ -252,3 +252,19 @@ fn restarts_are_reported_up_to_the_cap_then_counted() {
         "{stderr}"
     );
 }
+
+#[test]
+fn without_dt_the_nominal_step_is_the_log_s_median_step() {
+    // A 100 Hz log: with the old fixed default of 1 ms, every step was reported as a gap.
+    let log: String = (0..300).map(|k| format!("{} 0.1 0.2 1 2\n", k as f64 * 0.01)).collect();
+    let (rows, stderr) = run(&["estimate", "--robot", "planar2", "--timestamps"], &log);
+    assert_eq!(rows.len(), 300);
+    assert!(stderr.contains("the log's median step, 0.01 s, is the nominal one"), "{stderr}");
+    assert!(!stderr.contains("gap"), "{stderr}");
+    // The same as giving it.
+    let (given, _) = run(&["estimate", "--robot", "planar2", "--timestamps", "--dt", "0.01"], &log);
+    assert_eq!(rows, given);
+    let (one, stderr) = run(&["estimate", "--robot", "planar2", "--timestamps"], "0 0.1 0.2 1 2\n");
+    assert_eq!(one.len(), 1);
+    assert!(stderr.contains("no --dt, and no step in time order to take it from: 0.001 s"), "{stderr}");
+}

@@ -107,6 +107,13 @@ fn identify_reads_timestamps_and_columns_as_it_reads_fixed_steps() {
         })
         .collect();
     let c = run(&picked, &["--timestamps", "--columns", "t,q_shoulder,q_elbow,tau_shoulder,tau_elbow"], &reordered);
+    // Without --dt, the log's median step (1 ms here) is the nominal one: the same fit again.
+    let median = scratch("median");
+    let args = ["identify", "--robot", "planar2", "--timestamps", "--out", median.to_str().unwrap()];
+    let output = hya(&args, &log);
+    assert!(String::from_utf8_lossy(&output.stderr).contains("the log's median step, 0.001 s"));
+    assert_eq!(std::fs::read_to_string(median.join("friction.toml")).unwrap(), b);
+    let _ = std::fs::remove_dir_all(median);
     for key in ["coulomb_nm", "viscous_nm_s", "offset_nm"] {
         for ((x, y), z) in list(&a, key).iter().zip(list(&b, key)).zip(list(&c, key)) {
             // Timestamps printed in decimal make steps of 1 ms to within rounding: the same fit.

@@ -31,6 +31,9 @@ pub struct Layout {
     pub max_step_s: f64,
     /// The columns to read (t, q, τ), if not the whole row.
     pub columns: Option<ColumnSpec>,
+    /// The nominal step is to be taken from the log (`--timestamps` without `--dt`), and the gap
+    /// limit too unless `--max-step` gave it.
+    pub step_from_log: Option<Option<f64>>,
 }
 
 impl Layout {
@@ -55,6 +58,10 @@ pub struct Filtered {
     pub rows: usize,
     /// The gaps across which the filters restarted.
     pub gaps: usize,
+    /// The nominal step the filters were designed at, s.
+    pub dt_s: f64,
+    /// The longest step that is not a gap, s.
+    pub max_step_s: f64,
 }
 
 /// Filtering a log for an arm of `N` joints ([`ForJoints`]).
@@ -85,10 +92,14 @@ fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filter
         if layout.timestamps { "the time t (s), then " } else { "" }
     );
     let mut log = Picked::new(input, layout.columns.clone(), offset + 2 * N, what)?;
-    let dt = layout.params.dt_s();
-    let mut cache = DiscretisationCache::new(layout.params);
+    let (params, max_step_s) = match layout.step_from_log {
+        None => (layout.params, layout.max_step_s),
+        Some(max_step) => log.adopt_nominal_step(&layout.params, max_step)?,
+    };
+    let dt = params.dt_s();
+    let mut cache = DiscretisationCache::new(params);
     let mut filters: Option<Pair<N>> = None;
-    let mut out = Filtered { samples: Vec::new(), time_s: Vec::new(), rows: 0, gaps: 0 };
+    let mut out = Filtered { samples: Vec::new(), time_s: Vec::new(), rows: 0, gaps: 0, dt_s: dt, max_step_s };
     let (mut previous_s, mut next_sample_s) = (0.0, 0.0);
     while let Some(line) = log.next_line() {
         let line = line?;
@@ -114,7 +125,7 @@ fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filter
                     Short(previous_s)
                 )))
             }
-            Some(pair) if step <= layout.max_step_s => {
+            Some(pair) if step <= max_step_s => {
                 let over = cache.get(step).map_err(at_line)?;
                 let angles = pair.angles.peek_over(over, "q", &q).map_err(at_line)?;
                 let torques = pair.torques.peek_over(over, "τ", &tau).map_err(at_line)?;
@@ -125,7 +136,7 @@ fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filter
                 if filters.is_some() {
                     out.gaps += 1;
                 }
-                let start = |x0| ThirdOrderFilter::<N>::new(layout.params, x0).map_err(at_line);
+                let start = |x0| ThirdOrderFilter::<N>::new(params, x0).map_err(at_line);
                 filters = Some(Pair { angles: start(q)?, torques: start(tau)? });
                 next_sample_s = t + layout.settling_s();
             }

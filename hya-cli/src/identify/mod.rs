@@ -33,9 +33,10 @@ pub struct IdentifyArgs {
     #[arg(long)]
     robot: String,
     /// The log's sample time, s (rows `q τ`, one per tick). With `--timestamps`, the nominal
-    /// step: the filters are designed at it and each row is filtered over its own step.
-    #[arg(long)]
-    dt: f64,
+    /// step: the filters are designed at it and each row is filtered over its own step
+    /// [default with --timestamps: the median step of the log's first 1000 rows].
+    #[arg(long, required_unless_present = "timestamps")]
+    dt: Option<f64>,
     /// Rows start with their time t, s: `t q τ`, filtered over each step's own length.
     #[arg(long)]
     timestamps: bool,
@@ -103,9 +104,13 @@ fn rigid_predictions(model: &TreeModel, samples: &[Sample]) -> Result<Vec<Vec<f6
     samples.iter().map(|s| model.inverse_dynamics(&s.q, &s.qd, &s.qdd).map_err(input)).collect()
 }
 
+/// The filters' step until a timestamped log without `--dt` gives its own, s.
+const PROVISIONAL_DT_S: f64 = 0.001;
+
 /// `hya identify`.
 pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
-    let dt = check_dt("--dt", args.dt)?;
+    // Without --dt, a timestamped log's own median step, taken while it is read (`log::filter`).
+    let dt = check_dt("--dt", args.dt.unwrap_or(PROVISIONAL_DT_S))?;
     if !(args.held_out > 0.0 && args.held_out < 0.9) {
         return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", Short(args.held_out))));
     }
@@ -125,6 +130,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         timestamps: args.timestamps,
         max_step_s,
         columns: args.columns.as_deref().map(ColumnSpec::parse).transpose()?,
+        step_from_log: (args.timestamps && args.dt.is_none()).then_some(args.max_step),
     };
     let model = crate::dynamics::model(&args.robot)?;
     hya_ident::check_joint_count(&model).map_err(input)?;
@@ -195,7 +201,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         }),
         predictions: &predictions,
         setup: format!(
-            "{} rows{} at {dt} s{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
+            "{} rows{} at {} s{}{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
              while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
              noise alike): {} samples fitted, the last {} held out. {} base parameters of {} and {} friction \
              terms, by weighted least squares; condition number of the weighted system {:.3e}. Standard \
@@ -203,8 +209,14 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
              Torques are compared after the same filter.",
             log.rows,
             if args.timestamps { " with timestamps" } else { "" },
-            if log.gaps > 0 { format!(", {} gaps (longer than {max_step_s} s)", log.gaps) } else { String::new() },
-            args.bandwidth_rad_s,
+            Short(log.dt_s),
+            if args.dt.is_none() { " (the log's median step)" } else { "" },
+            if log.gaps > 0 {
+                format!(", {} gaps (longer than {} s)", log.gaps, Short(log.max_step_s))
+            } else {
+                String::new()
+            },
+            Short(args.bandwidth_rad_s),
             layout.settling_s(),
             fitted_part.len(),
             held_out.len(),

@@ -77,10 +77,7 @@ pub fn model(robot: &str) -> Result<TreeModel, CliError> {
             .map(|loaded| loaded.model)
             .map_err(|e| CliError::Input(e.to_string())),
         None if std::path::Path::new(robot).exists() => load(robot),
-        None => {
-            let names: Vec<&str> = ROBOTS.iter().map(|r| r.name).collect();
-            Err(CliError::Input(format!("`{robot}` is neither a shipped robot ({}) nor a URDF file", names.join(", "))))
-        }
+        None => Err(CliError::Input(hya_robots::unknown(robot))),
     }
 }
 

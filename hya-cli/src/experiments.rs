@@ -46,7 +46,7 @@ pub struct ReproduceArgs {
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     /// The scenario file (TOML; see `hya-sim/scenarios/` for the format), or the name of a
-    /// built-in scenario (`goto_internal`, `panda_goto`, …).
+    /// built-in scenario (`goto_internal`, `panda_goto`, …; `hya scenarios` lists them).
     file: PathBuf,
     #[command(flatten)]
     options: ReportOptions,
@@ -80,6 +80,8 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
     let scenarios: Vec<Scenario> = scenarios.into_iter().map(|s| if quick { s.quick() } else { s }).collect();
     for s in &scenarios {
         s.check().map_err(sim)?; // a shortened scenario may fall under the warm-up
+        s.check_for_robot()
+            .map_err(|e| sim(hya_sim::SimError::Scenario { origin: s.name.clone(), message: e.to_string() }))?;
     }
     let cost = hya_sim::cost::Cost::of(&scenarios, seeds);
     eprintln!("{cost}");
@@ -123,6 +125,56 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
     Ok(())
 }
 
+/// Parameters of `hya scenarios`.
+#[derive(Debug, clap::Args)]
+pub struct ScenariosArgs {
+    /// One JSON object per scenario (`name`, `robot`, `duration_s`, `methods`, `description`) in
+    /// an array, instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `hya scenarios`: the built-in scenarios, one line each (name, robot, duration, methods, the
+/// description's first sentence), or as JSON with the whole description.
+pub fn scenarios(args: &ScenariosArgs, output: &mut impl std::io::Write) -> Result<(), CliError> {
+    let all: Vec<Scenario> = Scenario::builtin_names()
+        .chain(Scenario::arm_goto_names())
+        .map(Scenario::builtin)
+        .collect::<Result<_, _>>()
+        .map_err(sim)?;
+    if args.json {
+        let rows: Vec<serde_json::Value> = all
+            .iter()
+            .map(|s| {
+                serde_json::json!({
+                    "name": s.name,
+                    "robot": s.robot,
+                    "duration_s": s.duration_s,
+                    "methods": s.methods.iter().map(|m| m.name()).collect::<Vec<_>>(),
+                    "description": s.description,
+                })
+            })
+            .collect();
+        let text = serde_json::to_string_pretty(&rows).map_err(|e| CliError::Input(e.to_string()))?;
+        writeln!(output, "{text}")?;
+        return Ok(());
+    }
+    let width = all.iter().map(|s| s.name.len()).max().unwrap_or(0);
+    for s in &all {
+        let methods: Vec<&str> = s.methods.iter().map(|m| m.name()).collect();
+        writeln!(
+            output,
+            "{:width$}  {:8} {:>5} s  {:28}  {}",
+            s.name,
+            s.robot,
+            hya_core::Short(s.duration_s),
+            methods.join(","),
+            s.description.split(". ").next().unwrap_or_default().trim_end_matches('.')
+        )?;
+    }
+    Ok(())
+}
+
 /// `hya reproduce`.
 pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
@@ -132,11 +184,6 @@ pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
 /// `hya run FILE.toml`: a scenario file (at most [`hya_sim::scenario::MAX_SCENARIO_BYTES`]), or a
 /// built-in scenario's name.
 pub fn run(args: &RunArgs) -> Result<(), CliError> {
-    let name = args.file.to_string_lossy();
-    let scenario = if !args.file.exists() && Scenario::builtin(&name).is_ok() {
-        Scenario::builtin(&name).map_err(sim)?
-    } else {
-        Scenario::from_file(&args.file).map_err(sim)?
-    };
+    let scenario = Scenario::file_or_builtin(&args.file.to_string_lossy()).map_err(sim)?;
     run_all(vec![scenario], &args.options, Some(&args.file))
 }

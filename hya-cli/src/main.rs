@@ -63,6 +63,9 @@ enum Command {
     Reproduce(experiments::ReproduceArgs),
     /// Run a scenario of your own (TOML) and write a report.
     Run(experiments::RunArgs),
+    /// List the built-in scenarios (`hya run NAME` runs one): name, robot, duration, methods,
+    /// what it shows.
+    Scenarios(experiments::ScenariosArgs),
     /// Open-loop rollout of the simulated arm: rows `t τ1 … τn` (held until the next row) on
     /// stdin, rows `t q1 … qn q̇1 … q̇n` every `--dt` on stdout, from rest at `--q0`.
     Plant(plant::PlantArgs),
@@ -119,6 +122,7 @@ fn main() -> ExitCode {
         Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args),
         Command::Run(args) => experiments::run(&args),
+        Command::Scenarios(args) => experiments::scenarios(&args, &mut stdout),
         Command::Sweep(args) => sweep::run(&args),
         Command::Plant(args) => plant::run(&args, stdin, &mut stdout),
         Command::Bench(args) => bench::run(&args, &mut stdout),

@@ -104,16 +104,10 @@ fn force_never_removes_a_file_the_run_reads() {
     assert_rejected(&args, &log(), &["would remove identified.urdf, which this run reads"]);
     // A scenario whose controller runs on the identification, with its report into that folder.
     let scenario = std::env::temp_dir().join(format!("hya-identify-inputs-{}.toml", std::process::id()));
-    std::fs::write(
-        &scenario,
-        format!(
-            "name = \"tiny\"\nrobot = \"planar2\"\nduration_s = 0.6\nmethods = [\"none\"]\n[task]\nkind = \"hold\"\n\
-             [controller]\nnatural_frequency_rad_s = [12.0, 12.0]\nintegral_limit_nm = [30.0, 30.0]\n\
-             torque_limit_nm = [150.0, 150.0]\nmodel_urdf = {compare:?}\n[plant]\nactuator = \"ideal\"\n\
-             friction = \"smooth\"\n"
-        ),
-    )
-    .unwrap();
+    // planar2's built-in scenario (its per-joint lists fit the arm), its controller on the file.
+    let builtin = include_str!("../../hya-sim/scenarios/planar2_goto.toml");
+    let text = builtin.replacen("[controller]\n", &format!("[controller]\nmodel_urdf = {compare:?}\n"), 1);
+    std::fs::write(&scenario, text).unwrap();
     let run = ["run", scenario.to_str().unwrap(), "--out", out, "--force"];
     assert_rejected(&run, "", &["would remove identified.urdf, which this run reads"]);
     assert_eq!(std::fs::read(&identified).unwrap(), before, "the identification is untouched");

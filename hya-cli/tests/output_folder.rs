@@ -180,3 +180,38 @@ fn one_seed_prints_no_interval_and_costs_are_capped() {
     assert!(!refused.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn unknown_scenarios_and_robots_are_named_with_the_nearest_one() {
+    assert_rejected(
+        &["run", "panda_gotoo"],
+        "",
+        &["neither a scenario file nor a built-in", "did you mean `panda_goto`"],
+    );
+    let dir = scratch("misspelt");
+    let file = dir.join("scenario.toml");
+    std::fs::write(
+        &file,
+        "name = \"x\"\nrobot = \"pnada\"\nduration_s = 1\nmethods = [\"none\"]\n[task]\nkind = \"hold\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    assert_rejected(
+        &["run", file.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        "",
+        &["`pnada` is neither a shipped robot", "did you mean `panda`"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn scenarios_lists_every_built_in_scenario_once() {
+    let output = hya(&["scenarios"], "");
+    let text = String::from_utf8(output.stdout).unwrap();
+    let names: Vec<&str> = text.lines().map(|l| l.split_whitespace().next().unwrap()).collect();
+    let expected: Vec<&str> = hya_sim::Scenario::builtin_names().chain(hya_sim::Scenario::arm_goto_names()).collect();
+    assert_eq!(names, expected);
+    let json: serde_json::Value = serde_json::from_slice(&hya(&["scenarios", "--json"], "").stdout).unwrap();
+    assert_eq!(json.as_array().unwrap().len(), expected.len());
+    assert_eq!(json[0]["name"], "goto_internal");
+}

@@ -74,6 +74,41 @@ impl Display for Clipped<'_> {
     }
 }
 
+/// The candidate nearest to `text` by edit distance (insertions, deletions, substitutions of
+/// characters), if it is close enough to be a slip: at most 2 edits, or a third of its length for
+/// longer names. For "did you mean" in messages (`pnada` → `panda`); texts beyond 63
+/// characters are never matched (the distance runs in a fixed buffer, without allocating).
+pub fn closest<'a>(text: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    const LONGEST: usize = 63;
+    let distance = |a: &str, b: &str| -> Option<usize> {
+        let (a_len, b_len) = (a.chars().count(), b.chars().count());
+        if a_len > LONGEST || b_len > LONGEST {
+            return None;
+        }
+        let mut row = [0usize; LONGEST + 1];
+        for (j, slot) in row.iter_mut().enumerate().take(b_len + 1) {
+            *slot = j;
+        }
+        for (i, ca) in a.chars().enumerate() {
+            let mut diagonal = row[0];
+            row[0] = i + 1;
+            for (j, cb) in b.chars().enumerate() {
+                let above = row[j + 1];
+                row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != cb));
+                diagonal = above;
+            }
+        }
+        Some(row[b_len])
+    };
+    let allowed = (text.chars().count() / 3).max(2);
+    candidates
+        .into_iter()
+        .filter_map(|c| distance(text, c).map(|d| (d, c)))
+        .filter(|(d, _)| *d <= allowed)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;
@@ -99,6 +134,16 @@ mod tests {
         for (x, shown) in cases {
             assert_eq!(format!("{}", Short(x)), shown, "{x:e}");
         }
+    }
+
+    #[test]
+    fn slips_find_their_name_and_strangers_none() {
+        let arms = ["hya", "ur5", "panda", "iiwa14", "planar2"];
+        assert_eq!(closest("pnada", arms), Some("panda"));
+        assert_eq!(closest("iiwa", arms), Some("iiwa14"));
+        assert_eq!(closest("panda_gotoo", ["panda_goto", "ur5_goto"]), Some("panda_goto"));
+        assert_eq!(closest("kuka", arms), None);
+        assert_eq!(closest(&"x".repeat(100), arms), None);
     }
 
     #[test]

@@ -53,7 +53,7 @@ pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 
 pub use attenuation::DisturbanceAttenuation;
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
-pub use display::{Clipped, Short};
+pub use display::{closest, Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;

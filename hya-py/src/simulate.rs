@@ -57,11 +57,7 @@ fn scenario_of(value: &Bound<'_, PyAny>) -> PyResult<Scenario> {
         return Err(PyValueError::new_err("scenario: expected a dict, a TOML path or a built-in scenario's name"));
     };
     let name: String = text.extract()?;
-    let name = name.as_str();
-    if Scenario::builtin_names().chain(Scenario::arm_goto_names()).any(|n| n == name) {
-        return Scenario::builtin(name).map_err(error);
-    }
-    Scenario::from_file(std::path::Path::new(name)).map_err(error)
+    Scenario::file_or_builtin(&name).map_err(error)
 }
 
 /// Runs one method of a scenario (a dict of its settings, a TOML path, or a built-in name such

@@ -48,6 +48,9 @@ fn inertias<const N: usize>(model: &TreeModel) -> Result<[RigidBodyInertia; N], 
 pub fn robot_model(robot: &str) -> Result<TreeModel, SimError> {
     Ok(match hya_robots::find(robot) {
         Some(shipped) => hya_urdf::load_str(shipped.urdf, shipped.name)?.model,
+        None if std::fs::symlink_metadata(robot).is_err() => {
+            return Err(SettingError::new("robot", None, hya_robots::unknown(robot)).into())
+        }
         None => hya_urdf::load_file(robot)?.model,
     })
 }

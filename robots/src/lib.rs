@@ -76,6 +76,22 @@ pub fn find(name: &str) -> Option<&'static RobotInfo> {
     ROBOTS.iter().find(|r| r.name == name)
 }
 
+/// Why `name` names no robot, for a message: neither a shipped arm (listed, the nearest one
+/// suggested) nor a file that exists.
+#[cfg(feature = "std")]
+pub fn unknown(name: &str) -> std::string::String {
+    use std::{format, vec::Vec};
+    let names: Vec<&str> = ROBOTS.iter().map(|r| r.name).collect();
+    let suggestion = hya_core::closest(name, names.iter().copied())
+        .map(|near| format!("; did you mean `{near}`?"))
+        .unwrap_or_default();
+    format!(
+        "`{}` is neither a shipped robot ({}) nor a URDF file{suggestion}",
+        hya_core::Clipped(name, 60),
+        names.join(", ")
+    )
+}
+
 /// One shipped arm with its number of joints as the constant `N` ([`with_arm`]): its generated
 /// dynamics, and a factory of its parameter-holding twin for other inertial parameters.
 #[cfg(feature = "std")]

@@ -721,7 +721,10 @@ impl Scenario {
                     *p = folder.join(p.as_str()).display().to_string();
                 }
             };
-            if hya_robots::find(&scenario.robot).is_none() {
+            // A bare word that is no shipped arm's name stays a name, for the message that
+            // suggests the nearest arm; anything path-like is a path.
+            let path_like = |p: &str| p.contains(std::path::MAIN_SEPARATOR) || p.contains('/') || p.ends_with(".urdf");
+            if hya_robots::find(&scenario.robot).is_none() && path_like(&scenario.robot) {
                 resolve(&mut scenario.robot);
             }
             scenario
@@ -732,6 +735,43 @@ impl Scenario {
                 .for_each(resolve);
         }
         Ok(scenario)
+    }
+
+    /// The scenario file at `name`, if one stands there, else the built-in scenario of that
+    /// name; neither is an error that lists the built-in names and suggests the nearest.
+    pub fn file_or_builtin(name: &str) -> Result<Self, SimError> {
+        let path = std::path::Path::new(name);
+        if std::fs::symlink_metadata(path).is_ok() {
+            return Self::from_file(path);
+        }
+        if let Ok(scenario) = Self::builtin(name) {
+            return Ok(scenario);
+        }
+        let names: Vec<&str> = Self::builtin_names().chain(Self::arm_goto_names()).collect();
+        let suggestion = hya_core::closest(name, names.iter().copied())
+            .map(|near| format!("; did you mean `{near}`?"))
+            .unwrap_or_default();
+        Err(SimError::Scenario {
+            origin: hya_core::Clipped(name, 60).to_string(),
+            message: format!(
+                "neither a scenario file nor a built-in scenario ({}){suggestion} (`hya scenarios` describes them)",
+                names.join(", ")
+            ),
+        })
+    }
+
+    /// Checks what [`Scenario::check`] cannot without the robot: that it loads, and that every
+    /// per-joint list that acts fits its joints. For a command to call before it prints its
+    /// cost and starts simulating.
+    pub fn check_for_robot(&self) -> Result<(), SimError> {
+        struct Lists<'a>(&'a Scenario);
+        impl crate::robot::ForRobot for Lists<'_> {
+            type Output = ();
+            fn call<const N: usize>(self, _: crate::robot::Robot<N>) -> Result<(), SimError> {
+                crate::config::settings::JointSettings::<N>::of(self.0).map(|_| ())
+            }
+        }
+        crate::robot::with_robot(&self.robot, Lists(self))
     }
 
     /// The names of the embedded scenarios, in the order `hya reproduce` runs them.

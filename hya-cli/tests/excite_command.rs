@@ -50,3 +50,49 @@ fn excite_refuses_a_joint_without_limits_and_bad_settings() {
     assert_rejected(&["excite", "--robot", "planar2", "--harmonics", "0"], "", &["harmonics"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A URDF chain of `n` revolute joints with limits, written to a scratch file.
+fn chain_urdf(n: usize) -> std::path::PathBuf {
+    let mut text = String::from("<robot name=\"chain\"><link name=\"l0\"/>");
+    for k in 1..=n {
+        text += &format!(
+            "<link name=\"l{k}\"><inertial><mass value=\"1\"/><origin xyz=\"0.1 0 0\"/>\
+             <inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\
+             <joint name=\"j{k}\" type=\"revolute\"><parent link=\"l{}\"/><child link=\"l{k}\"/>\
+             <origin xyz=\"0.2 0 0\"/><axis xyz=\"0 {} {}\"/>\
+             <limit lower=\"-1\" upper=\"1\" velocity=\"2\" effort=\"10\"/></joint>",
+            k - 1,
+            k % 2,
+            (k + 1) % 2
+        );
+    }
+    text += "</robot>";
+    let path = std::env::temp_dir().join(format!("hya-chain-{n}-{}.urdf", std::process::id()));
+    std::fs::write(&path, text).unwrap_or_else(|e| panic!("{e}"));
+    path
+}
+
+#[test]
+fn identification_refuses_arms_beyond_seven_joints_before_allocating() {
+    // 400 joints once asked for a 100 GB allocation; 60 ran 12 s and 665 MB before refusing.
+    for n in [60, 400] {
+        let path = chain_urdf(n);
+        let urdf = path.to_str().unwrap_or_default();
+        let expected = format!("has {n} joints; identification handles arms of 1 to 7");
+        let started = std::time::Instant::now();
+        assert_rejected(&["excite", "--robot", urdf], "", &[expected.as_str()]);
+        assert_rejected(&["identify", "--robot", urdf, "--dt", "0.001"], "", &[expected.as_str()]);
+        assert!(started.elapsed().as_secs_f64() < 20.0, "{n} joints took {:?}", started.elapsed());
+        let _ = std::fs::remove_file(path);
+    }
+    // A million candidates (about 9 ms each on the Panda) is refused, not run for hours.
+    assert_rejected(
+        &["excite", "--robot", "panda", "--candidates", "1000000"],
+        "",
+        &["candidates = 1e6", "at most 100000"],
+    );
+    // Tiny numbers print short, not in 300 digits.
+    let output = hya(&["excite", "--robot", "planar2", "--base-hz", "1e-300"], "");
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(message.contains("1e-300") && message.len() < 300, "{message}");
+}

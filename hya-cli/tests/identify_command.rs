@@ -115,3 +115,57 @@ fn force_never_removes_a_file_the_run_reads() {
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_file(&scenario).unwrap();
 }
+
+#[test]
+fn joint_names_cannot_break_the_files_or_the_messages() {
+    let dir = std::env::temp_dir().join(format!("hya-identify-names-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // A line break and a TOML table header in a joint's name (legal XML).
+    let urdf = include_str!("../../robots/urdf/planar2.urdf").replace("name=\"shoulder\"", "name=\"shoulder&#10;[x]\"");
+    let robot = dir.join("forged.urdf");
+    std::fs::write(&robot, urdf).unwrap();
+    let out = dir.join("out");
+    let args = ["identify", "--robot", robot.to_str().unwrap(), "--dt", "0.002", "--out", out.to_str().unwrap()];
+    let output = hya(&args, &log());
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let friction = out.join("friction.toml");
+    let text = std::fs::read_to_string(&friction).unwrap();
+    assert!(text.contains("# Joints: shoulder\\n[x], elbow"), "{text}");
+    // The file reads back.
+    let estimate = hya(
+        &["estimate", "--robot", robot.to_str().unwrap(), "--friction", friction.to_str().unwrap()],
+        "0.1 0.2 1 2\n",
+    );
+    assert!(estimate.status.success(), "{}", String::from_utf8_lossy(&estimate.stderr));
+    // A --compare of a thousand long joint names: a short message, every name escaped.
+    let mut many = String::from("<robot name=\"many\"><link name=\"l0\"/>");
+    let long = "n".repeat(500);
+    for k in 1..=1000 {
+        many += &format!(
+            "<link name=\"l{k}\"><inertial><mass value=\"1\"/><inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" \
+             ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link><joint name=\"{long}{k}\" type=\"revolute\">\
+             <parent link=\"l{}\"/><child link=\"l{k}\"/><axis xyz=\"0 0 1\"/></joint>",
+            k - 1
+        );
+    }
+    many += "</robot>";
+    let compare = dir.join("many.urdf");
+    std::fs::write(&compare, many).unwrap();
+    let args = [
+        "identify",
+        "--robot",
+        "planar2",
+        "--dt",
+        "0.002",
+        "--compare",
+        compare.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let output = hya(&args, &log());
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{message}");
+    assert!(message.contains("(1000 in all)") && message.len() < 2000, "{} bytes: {message:.300}", message.len());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

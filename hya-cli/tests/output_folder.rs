@@ -215,3 +215,37 @@ fn scenarios_lists_every_built_in_scenario_once() {
     assert_eq!(json.as_array().unwrap().len(), expected.len());
     assert_eq!(json[0]["name"], "goto_internal");
 }
+
+/// A run killed (SIGKILL) at any moment leaves a folder that the next `--force` cleans
+/// completely: every file in it afterwards is the new run's (listed in its manifest), and no
+/// temporary file of the killed run stays.
+#[cfg(unix)]
+#[test]
+fn a_run_killed_at_any_moment_leaves_a_folder_force_cleans() {
+    let dir = scratch("killed");
+    let file = scenario(&dir, "tiny");
+    let out = dir.join("report");
+    let out_arg = out.to_str().unwrap();
+    for delay_ms in [0, 30, 80, 150, 300, 600, 1200] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hya"))
+            .args(["run", &file, "--out", out_arg, "--seeds", "2", "--force"])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let _ = child.kill(); // SIGKILL; it may have finished already
+        let _ = child.wait();
+        let again = hya(&["run", &file, "--out", out_arg, "--seeds", "2", "--force"], "");
+        assert_eq!(again.status.code(), Some(0), "after {delay_ms} ms: {}", String::from_utf8_lossy(&again.stderr));
+        let manifest = std::fs::read_to_string(out.join(".hya-files")).unwrap();
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let name = entry.unwrap().file_name().into_string().unwrap();
+            assert!(
+                name == ".hya-files" || manifest.lines().any(|l| l.ends_with(&format!("  {name}"))),
+                "after {delay_ms} ms: {name} is left over"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -37,6 +37,9 @@ pub const MIN_RATE_TIMES_DT: f64 = 1e-6;
 /// `dt` within [`rows::MIN_DT_S`]–[`rows::MAX_DT_S`], `ζ ≥` [`MIN_ZETA`] and
 /// `ω · dt ≥` [`MIN_RATE_TIMES_DT`]; messages name the option and its value.
 pub fn params(zeta: f64, omega1: f64, omega2: f64, dt: f64) -> Result<FilterParams, CliError> {
+    // --dt first: a step beyond its range would otherwise be blamed on the frequency it
+    // multiplies (`--dt 1000` once read "--omega1 50: must be such that it times dt_s …").
+    rows::check_dt("--dt", dt)?;
     let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(|e| match e {
         hya_core::Error::InvalidParameter { name, value, requirement } => {
             let option = match name {
@@ -45,11 +48,11 @@ pub fn params(zeta: f64, omega1: f64, omega2: f64, dt: f64) -> Result<FilterPara
                 "omega2_rad_s" => "--omega2",
                 _ => "--dt",
             };
-            CliError::Input(format!("{option} {} (`{name}`): must be {requirement}", Short(value)))
+            let requirement = requirement.replace("dt_s", "--dt");
+            CliError::Input(format!("{option} {}: must be {requirement}", Short(value)))
         }
         other => CliError::Input(format!("filter parameters: {}", other)),
     })?;
-    rows::check_dt("--dt", dt)?;
     if zeta < MIN_ZETA {
         return Err(CliError::Input(format!("--zeta {}: must be at least {}", Short(zeta), Short(MIN_ZETA))));
     }

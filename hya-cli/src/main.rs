@@ -19,9 +19,19 @@ mod rows;
 mod sweep;
 mod track;
 
+/// The version `--version` prints: the crate's, the commit it was built from, and the profile.
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("HYA_BUILD_COMMIT"),
+    ", ",
+    env!("HYA_BUILD_PROFILE"),
+    " build)"
+);
+
 /// hya: model-based control of robot arms under disturbances.
 #[derive(Debug, Parser)]
-#[command(name = "hya", version, about)]
+#[command(name = "hya", version = VERSION, about)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -88,6 +98,12 @@ enum Command {
     Track(track::TrackArgs),
     /// Time the generated and generic dynamics and the HyA control tick (medians, ns).
     Bench(bench::BenchArgs),
+    /// Print a completion script for a shell: `hya completions bash > ~/.local/share/bash-completion/completions/hya`
+    /// (zsh: a file `_hya` on `$fpath`; fish: `~/.config/fish/completions/hya.fish`).
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
 }
 
 /// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
@@ -126,6 +142,10 @@ fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run(&args),
         Command::Plant(args) => plant::run(&args, stdin, &mut stdout),
         Command::Bench(args) => bench::run(&args, &mut stdout),
+        Command::Completions { shell } => {
+            clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "hya", &mut stdout);
+            Ok(())
+        }
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

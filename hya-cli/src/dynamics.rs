@@ -45,6 +45,10 @@ pub struct RobotsArgs {
     /// Describe this URDF file instead of the shipped robots.
     #[arg(long)]
     urdf: Option<String>,
+    /// A JSON array of `{"name", "dof", "joints"}` (names as the file has them, JSON-escaped)
+    /// instead of one line per robot.
+    #[arg(long)]
+    json: bool,
 }
 
 /// The dynamics a command runs on.
@@ -90,18 +94,27 @@ fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
 
 /// `hya robots`: name, degrees of freedom and joint names in order, one robot per line.
 pub fn list(args: &RobotsArgs, output: &mut impl Write) -> Result<(), CliError> {
-    match &args.urdf {
-        Some(path) => {
-            // Names come from the file: escaped, so that none can break the line.
-            let model = load(path)?;
-            let joints: Vec<String> = model.joint_names().map(hya_urdf::escape_name).collect();
-            writeln!(output, "{} {} {}", hya_urdf::escape_name(model.name()), model.dof(), joints.join(" "))?;
-        }
-        None => {
-            for robot in ROBOTS {
-                writeln!(output, "{} {} {}", robot.name, robot.dof, robot.joint_names.join(" "))?;
-            }
-        }
+    let model = args.urdf.as_deref().map(load).transpose()?;
+    let robots: Vec<(String, usize, Vec<String>)> = match &model {
+        Some(model) => vec![(model.name().to_owned(), model.dof(), model.joint_names().map(String::from).collect())],
+        None => ROBOTS
+            .iter()
+            .map(|r| (r.name.to_owned(), r.dof, r.joint_names.iter().map(|j| j.to_string()).collect()))
+            .collect(),
+    };
+    if args.json {
+        let rows: Vec<serde_json::Value> = robots
+            .iter()
+            .map(|(name, dof, joints)| serde_json::json!({ "name": name, "dof": dof, "joints": joints }))
+            .collect();
+        let text = serde_json::to_string_pretty(&rows).map_err(|e| CliError::Input(e.to_string()))?;
+        writeln!(output, "{text}")?;
+        return Ok(());
+    }
+    for (name, dof, joints) in robots {
+        // Names come from the file: escaped, so that none can break the line.
+        let joints: Vec<String> = joints.iter().map(|j| hya_urdf::escape_name(j)).collect();
+        writeln!(output, "{} {dof} {}", hya_urdf::escape_name(&name), joints.join(" "))?;
     }
     Ok(())
 }

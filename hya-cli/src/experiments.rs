@@ -29,6 +29,12 @@ pub struct ReportOptions {
     /// (its Pareto fronts; several times longer).
     #[arg(long)]
     full_sweep: bool,
+    /// No cost line and no progress bar on stderr (warnings and errors still go there).
+    #[arg(short, long)]
+    quiet: bool,
+    /// The claims' verdicts on stdout as JSON (as in `summary.json`) instead of one line each.
+    #[arg(long)]
+    json: bool,
     /// Run even where the run's cost exceeds the documented cap (`hya_sim::cost::MAX_PHYSICS_STEPS`
     /// integration steps or `hya_sim::cost::MAX_TRACE_BYTES` of traces in memory).
     #[arg(long)]
@@ -71,7 +77,12 @@ fn command_line() -> String {
 
 /// Runs every method of every scenario over the seeds on every core, with a progress bar, then
 /// writes the report.
-fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path>) -> Result<(), CliError> {
+fn run_all(
+    scenarios: Vec<Scenario>,
+    options: &ReportOptions,
+    file: Option<&Path>,
+    output: &mut impl std::io::Write,
+) -> Result<(), CliError> {
     let quick = options.quick;
     let seeds = options.seeds.unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
     if !(1..=MAX_SEEDS).contains(&seeds) {
@@ -84,7 +95,9 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
             .map_err(|e| sim(hya_sim::SimError::Scenario { origin: s.name.clone(), message: e.to_string() }))?;
     }
     let cost = hya_sim::cost::Cost::of(&scenarios, seeds);
-    eprintln!("{cost}");
+    if !options.quiet {
+        eprintln!("{cost}");
+    }
     if !options.no_cost_limit {
         cost.check("shorten duration_s, or run fewer seeds or methods", Some("--no-cost-limit")).map_err(sim)?;
     }
@@ -104,6 +117,9 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
             .progress_chars("=> "),
     );
     bar.set_message(format!("{} runs", cost.runs));
+    if options.quiet {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
     let progress = |seconds: f64| bar.inc(seconds.round() as u64);
     let summary = hya_sim::Experiment {
         scenarios: &scenarios,
@@ -117,11 +133,18 @@ fn run_all(scenarios: Vec<Scenario>, options: &ReportOptions, file: Option<&Path
     .run()
     .map_err(sim)?;
     bar.finish_and_clear();
-    for claim in summary.claims.iter().filter(|c| c.seeds > 0) {
-        let verdict = claim.verdict.name();
-        eprintln!("{verdict:>15}: {} ({})", claim.statement, claim.section);
+    // The results go to stdout (`> file` keeps them); progress and diagnostics to stderr.
+    let judged: Vec<_> = summary.claims.iter().filter(|c| c.seeds > 0).collect();
+    if options.json {
+        let json = serde_json::json!({ "claims": judged, "report": out.path().join("report.md") });
+        writeln!(output, "{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Input(e.to_string()))?)?;
+        return Ok(());
     }
-    eprintln!("report: {}", out.path().join("report.md").display());
+    for claim in judged {
+        let verdict = claim.verdict.name();
+        writeln!(output, "{verdict:>15}: {} ({})", claim.statement, claim.section)?;
+    }
+    writeln!(output, "report: {}", out.path().join("report.md").display())?;
     Ok(())
 }
 
@@ -176,14 +199,14 @@ pub fn scenarios(args: &ScenariosArgs, output: &mut impl std::io::Write) -> Resu
 }
 
 /// `hya reproduce`.
-pub fn reproduce(args: &ReproduceArgs) -> Result<(), CliError> {
+pub fn reproduce(args: &ReproduceArgs, output: &mut impl std::io::Write) -> Result<(), CliError> {
     let scenarios = Scenario::builtin_names().map(Scenario::builtin).collect::<Result<Vec<_>, _>>().map_err(sim)?;
-    run_all(scenarios, &args.options, None)
+    run_all(scenarios, &args.options, None, output)
 }
 
 /// `hya run FILE.toml`: a scenario file (at most [`hya_sim::scenario::MAX_SCENARIO_BYTES`]), or a
 /// built-in scenario's name.
-pub fn run(args: &RunArgs) -> Result<(), CliError> {
+pub fn run(args: &RunArgs, output: &mut impl std::io::Write) -> Result<(), CliError> {
     let scenario = Scenario::file_or_builtin(&args.file.to_string_lossy()).map_err(sim)?;
-    run_all(vec![scenario], &args.options, Some(&args.file))
+    run_all(vec![scenario], &args.options, Some(&args.file), output)
 }

@@ -249,3 +249,22 @@ fn a_run_killed_at_any_moment_leaves_a_folder_force_cleans() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn results_go_to_stdout_and_quiet_silences_the_rest() {
+    let dir = scratch("quiet");
+    let file = scenario(&dir, "tiny");
+    let out = dir.join("report");
+    let output = hya(&["run", &file, "--out", out.to_str().unwrap(), "--seeds", "2", "--quiet"], "");
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(output.stderr.is_empty(), "quiet: {}", String::from_utf8_lossy(&output.stderr));
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    assert!(stdout.lines().last().unwrap().starts_with("report: "), "{stdout}");
+    let json = hya(&["run", &file, "--out", out.to_str().unwrap(), "--seeds", "2", "--force", "-q", "--json"], "");
+    let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert!(value["claims"].is_array() && value["report"].as_str().unwrap().ends_with("report.md"), "{value}");
+    let robots: serde_json::Value = serde_json::from_slice(&hya(&["robots", "--json"], "").stdout).unwrap();
+    assert_eq!(robots[0]["name"], "planar2");
+    assert_eq!(robots[0]["joints"][1], "elbow");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

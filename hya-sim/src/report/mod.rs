@@ -9,6 +9,7 @@ mod csv;
 mod figures;
 mod fronts;
 mod gain_rule;
+mod headline;
 mod loops;
 mod markdown;
 mod plant;

@@ -1,5 +1,7 @@
 //! Settings and numbers as report text: task, loads, noise, lists, table rows.
 
+use hya_core::Short;
+
 use crate::config::scenario::{LoadConfig, Noise, Task};
 
 use super::summary::list;
@@ -7,8 +9,8 @@ use super::summary::list;
 pub(super) fn noise_text(noise: &Noise) -> String {
     match noise {
         Noise::Off {} => "off".into(),
-        Noise::Uniform { bound } => format!("uniform ±{bound}"),
-        Noise::Gaussian { sigma } => format!("Gaussian σ = {sigma}"),
+        Noise::Uniform { bound } => format!("uniform ±{}", Short(*bound)),
+        Noise::Gaussian { sigma } => format!("Gaussian σ = {}", Short(*sigma)),
     }
 }
 
@@ -16,10 +18,20 @@ pub(super) fn task_text(task: &Task) -> String {
     match task {
         Task::Hold {} => "hold the start pose".into(),
         Task::Goto { start_s, transition_s, delta_rad } => {
-            format!("goto start + ({}) rad at {start_s} s, minimum-jerk over {transition_s} s", list(delta_rad))
+            format!(
+                "goto start + ({}) rad at {} s, minimum-jerk over {} s",
+                list(delta_rad),
+                Short(*start_s),
+                Short(*transition_s)
+            )
         }
         Task::Sine { amplitude_rad, frequency_hz, ramp_s } => {
-            format!("sine, amplitudes ({}) rad, {frequency_hz} Hz, ramped in over {ramp_s} s", list(amplitude_rad))
+            format!(
+                "sine, amplitudes ({}) rad, {} Hz, ramped in over {} s",
+                list(amplitude_rad),
+                Short(*frequency_hz),
+                Short(*ramp_s)
+            )
         }
     }
 }
@@ -27,17 +39,21 @@ pub(super) fn task_text(task: &Task) -> String {
 pub(super) fn loads_text(loads: &LoadConfig) -> String {
     let mut parts = Vec::new();
     if let Some(s) = &loads.sinusoid {
-        parts.push(format!("sinusoidal torques ({}) N·m at {} Hz, phase i·60°", list(&s.amplitude_nm), s.frequency_hz));
+        parts.push(format!(
+            "sinusoidal torques ({}) N·m at {} Hz, phase i·60°",
+            list(&s.amplitude_nm),
+            Short(s.frequency_hz)
+        ));
     }
     if let Some(d) = &loads.weight_drop {
         parts.push(format!(
             "{} kg dropped on `{}` at {} s from {} m (impact pulse {} s), {}",
-            d.mass_kg,
+            Short(d.mass_kg),
             d.frame,
-            d.drop_s,
-            d.fall_height_m,
-            d.impact_s,
-            d.remove_s.map_or("never removed".into(), |r| format!("removed at {r} s"))
+            Short(d.drop_s),
+            Short(d.fall_height_m),
+            Short(d.impact_s),
+            d.remove_s.map_or("never removed".into(), |r| format!("removed at {} s", Short(r)))
         ));
     }
     if parts.is_empty() {

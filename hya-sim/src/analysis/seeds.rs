@@ -44,16 +44,13 @@ impl MetricTable {
     }
 }
 
-/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom.
+/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (its 0.975 quantile,
+/// statrs' inverse distribution function; infinite for `df = 0`).
 fn student_t_975(df: usize) -> f64 {
-    const TABLE: [f64; 30] = [
-        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
-        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
-    ];
-    match df {
-        0 => f64::INFINITY,
-        1..=30 => TABLE[df - 1],
-        _ => 1.96 + 2.4 / df as f64,
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    match StudentsT::new(0.0, 1.0, df as f64) {
+        Ok(t) if df > 0 => t.inverse_cdf(0.975),
+        _ => f64::INFINITY,
     }
 }
 
@@ -153,10 +150,14 @@ mod tests {
 
     #[test]
     fn intervals_follow_student_t() {
-        // Samples 1..=5: mean 3, s = √2.5, t(4) = 2.776.
+        // Samples 1..=5: mean 3, s = √2.5, t(4) = 2.7764451 (tables' 2.776).
         let (mean, half) = mean_ci95(&[1.0, 2.0, 3.0, 4.0, 5.0]);
         assert!((mean - 3.0).abs() < 1e-15);
-        assert!((half - 2.776 * (2.5f64 / 5.0).sqrt()).abs() < 1e-12);
+        assert!((half - 2.776_445_105 * (2.5f64 / 5.0).sqrt()).abs() < 1e-8);
+        // Published quantiles (Abramowitz & Stegun, table 26.10), beyond the old table's 30 too.
+        for (df, t) in [(1, 12.706_204_7), (19, 2.093_024_1), (40, 2.021_075_4), (120, 1.979_930_4)] {
+            assert!((student_t_975(df) - t).abs() < 1e-6, "t({df}) = {}", student_t_975(df));
+        }
         assert!(mean_ci95(&[1.0]).1.is_infinite(), "one sample has no interval");
     }
 }

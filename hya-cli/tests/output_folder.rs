@@ -268,3 +268,32 @@ fn results_go_to_stdout_and_quiet_silences_the_rest() {
     assert_eq!(robots[0]["joints"][1], "elbow");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn every_per_joint_list_that_does_not_fit_is_named_at_once_before_the_cost() {
+    let dir = scratch("lists");
+    let file = dir.join("scenario.toml");
+    std::fs::write(
+        &file,
+        "name = \"x\"\nrobot = \"planar2\"\nduration_s = 1\nmethods = [\"none\"]\n[task]\nkind = \"hold\"\n\
+         [controller]\nnatural_frequency_rad_s = [12.0, 12.0]\ntorque_limit_nm = [150.0, 150.0]\n\
+         [plant]\nactuator = \"ideal\"\nfriction = \"lugre\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = hya(&["run", file.to_str().unwrap(), "--out", out.to_str().unwrap()], "");
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{message}");
+    for list in [
+        "plant.static_nm",
+        "plant.coulomb_nm",
+        "plant.viscous_nm_s",
+        "plant.bristle_stiffness_nm_rad",
+        "plant.bristle_damping_nm_s_rad",
+    ] {
+        assert!(message.contains(&format!("`{list}` (6 values)")), "{list}: {message}");
+    }
+    assert!(message.contains("5 per-joint settings do not fit the arm's 2 joints"), "{message}");
+    assert!(!message.contains("integration steps"), "refused after the cost line: {message}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

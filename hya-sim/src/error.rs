@@ -53,6 +53,29 @@ pub enum SimError {
     /// A setting that breaks its rule, or does not fit the robot.
     #[error(transparent)]
     Setting(#[from] SettingError),
+    /// A per-joint list with another number of values than the arm has joints.
+    #[error("invalid setting `{key}`: expected {expected} values (one per joint), got {got}")]
+    ListLength {
+        /// The list's key, e.g. `plant.coulomb_nm`.
+        key: String,
+        /// The arm's joints.
+        expected: usize,
+        /// The values the list has.
+        got: usize,
+    },
+    /// Several per-joint lists that do not fit the arm, all named at once.
+    #[error(
+        "{count} per-joint settings do not fit the arm's {expected} joints: {lists} (set each in the scenario, one \
+         value per joint; a list left out takes HyA's six-joint default)"
+    )]
+    ListLengths {
+        /// How many.
+        count: usize,
+        /// The arm's joints.
+        expected: usize,
+        /// Each list's key and length.
+        lists: String,
+    },
     /// A call with nothing to work on.
     #[error("nothing to do: {0}")]
     Nothing(&'static str),

@@ -27,12 +27,7 @@ pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
 /// A per-joint list from the configuration, checked for length and finiteness.
 pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
     if values.len() != N {
-        return Err(SettingError::new(
-            name,
-            None,
-            format!("expected {N} values (one per joint), got {}", values.len()),
-        )
-        .into());
+        return Err(SimError::ListLength { key: name.to_owned(), expected: N, got: values.len() });
     }
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         return Err(SettingError::new(format!("{name}[{i}]"), Some(values[i]), "must be a finite number").into());

@@ -138,7 +138,7 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
         }
         md.push_str(&table_row(cells));
     }
-    md.push_str("\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and the actuator as a first-order lag at its design bandwidth; the measured torque steps on the arm (the Plant section) are slower on the light joints, so the margins there are optimistic. Where a loop is stable with margin and the simulation still cycles, stick-slip hunting is the candidate the next section measures; a run with stiction off, which would separate it from a linear cause, is not part of this report.\n");
+    md.push_str("\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and the actuator as a first-order lag at its design bandwidth (the Plant section measures the torque loops on the arm: where a joint's measured response is slower than this design, its margin here is optimistic). Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
     Ok(md)
 }
 

@@ -289,7 +289,7 @@ fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
             o.method.name()
         );
     }
-    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it buys the first-order observers less lag, in estimate and tracking alike, and charges them command noise. Tracking RMSE alone does not settle which method is better on a real arm, where command noise excites the actuators (a hydraulic arm's valves most of all).\n");
+    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it buys the first-order observers less lag, in estimate and tracking alike, and charges them command noise. In this simulation command noise costs nothing beyond what it does to tracking (no valve wear, heating or excited structural mode is modelled), so the tracking figures here cannot charge it; on a real arm it may cost more.\n");
     md
 }
 

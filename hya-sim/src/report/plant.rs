@@ -204,7 +204,7 @@ fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
     }
     let verdict = if light > heavy { "slower" } else { "not slower" };
     format!(
-        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model, for one large step with friction off (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders).\n"
+        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model, for one large step with friction off (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders). A 2 N·m step on a free joint is large: where a light joint speeds up to its valve's flow limit within the step, its rise time measures that limit, not the small-signal torque loop the paper's explanation concerns, so these figures neither support nor refute it.\n"
     )
 }
 

@@ -136,7 +136,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     hya_ident::check_joint_count(&model).map_err(input)?;
     // `--compare`'s name in the report, and its model.
     let compared = match &args.compare {
-        Some(path) => Some((format!("`{path}`"), compared_model(path, &model)?)),
+        Some(path) => Some((hya_core::Clipped(path, 60).to_string(), compared_model(path, &model)?)),
         None => None,
     };
     let n = model.dof();

@@ -8,7 +8,8 @@
  * Status: every function returns HYA_OK or an error status. A function called on a handle
  * writes the failure's message into that handle (hya_model_error, hya_estimator_error,
  * hya_observer_error, hya_controller_error); a creation function, or any call given a null
- * handle, writes it into the calling thread's last error (hya_last_error). Messages name the
+ * handle or one that is not a live handle of its kind (HYA_ERR_HANDLE: freed, of another kind,
+ * never made by hya), writes it into the calling thread's last error (hya_last_error). Messages name the
  * argument, index and value at fault. Rust panics never cross the boundary: they become
  * HYA_ERR_PANIC. Read outputs only after HYA_OK.
  *
@@ -23,7 +24,10 @@
  *
  * Threads: a handle is not to be used from two threads at once without a lock (calls take it
  * mutably, at least to write its message). Distinct handles are independent, also when made
- * from the same model, and may be used on different threads concurrently.
+ * from the same model, and may be used on different threads concurrently. Every call checks its
+ * handle in a process-wide registry of live handles under a read lock (creation and freeing take
+ * it to write): calls on different threads do not wait for each other, but one may wait for a
+ * creation or a free in progress on another thread; create and free outside a real-time loop.
  */
 
 

@@ -6,7 +6,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::sync::RwLock;
 
 /// What a call did. `HYA_OK` is zero; every other value is a failure whose message is kept by
 /// the handle (or, for creation and null handles, by `hya_last_error`).
@@ -239,12 +239,17 @@ pub(crate) unsafe fn last_message<H: Handle>(handle: *const H) -> *const c_char 
 /// double free or a freed handle is an error status instead of undefined behaviour. (A handle
 /// freed and a new one made at the same address cannot be told apart: the registry knows
 /// addresses, not the caller's intent.)
-static LIVE: Mutex<BTreeMap<usize, &'static str>> = Mutex::new(BTreeMap::new());
+static LIVE: RwLock<BTreeMap<usize, &'static str>> = RwLock::new(BTreeMap::new());
 
-/// The registry, whatever a panicking thread left it as (its entries are inserted and removed
-/// whole, so a poisoned lock still guards a consistent map).
-fn live_handles() -> std::sync::MutexGuard<'static, BTreeMap<usize, &'static str>> {
-    LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+/// The registry to read, whatever a panicking thread left it as (its entries are inserted and
+/// removed whole, so a poisoned lock still guards a consistent map).
+fn live_handles() -> std::sync::RwLockReadGuard<'static, BTreeMap<usize, &'static str>> {
+    LIVE.read().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// The registry to change (creation and freeing only).
+fn live_handles_mut() -> std::sync::RwLockWriteGuard<'static, BTreeMap<usize, &'static str>> {
+    LIVE.write().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// `Ok` if `handle` is a live handle of kind `H`; null is [`Failure::Null`].
@@ -310,7 +315,7 @@ pub(crate) unsafe fn create<H: Handle>(out: *mut *mut H, make: impl FnOnce() -> 
     match made {
         Ok(handle) => {
             let handle = Box::into_raw(Box::new(handle));
-            live_handles().insert(handle as usize, H::KIND);
+            live_handles_mut().insert(handle as usize, H::KIND);
             // SAFETY: as above.
             unsafe {
                 *out = handle;
@@ -331,7 +336,7 @@ pub(crate) unsafe fn destroy<H: Handle>(handle: *mut H) {
     if handle.is_null() {
         return;
     }
-    let mut live = live_handles();
+    let mut live = live_handles_mut();
     if live.get(&(handle as usize)) != Some(&H::KIND) {
         let found = live.get(&(handle as usize)).copied();
         drop(live);

@@ -272,7 +272,11 @@ impl<R: BufRead> Picked<R> {
             return Ok((*params, max_step.unwrap_or(2.5 * dt)));
         };
         eprintln!("hya: no --dt: the log's median step, {} s, is the nominal one", hya_core::Short(dt));
-        let params = params.with_dt(dt).map_err(|e| CliError::Input(format!("the log's median step: {e}")))?;
+        // The command line's own checks of the filter at that step, as for a --dt given.
+        let params =
+            crate::filter::params(params.zeta(), params.omega1_rad_s(), params.omega2_rad_s(), dt).map_err(|e| {
+                crate::rows::at(format_args!("the log's median step {} s taken as --dt", hya_core::Short(dt)), e)
+            })?;
         Ok((params, max_step.unwrap_or(2.5 * dt)))
     }
 

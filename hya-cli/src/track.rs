@@ -102,8 +102,11 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         let cost = hya_sim::cost::Cost::of(std::slice::from_ref(scenario), 1);
         cost.check("track a shorter reference, or split it into parts", None)?;
         if let Some(dir) = &self.args.out {
-            let reads: Vec<&Path> =
-                self.args.scenario.iter().map(PathBuf::as_path).chain(scenario.files_read()).collect();
+            let robot_file = Path::new(&self.args.robot);
+            let reads: Vec<&Path> = std::iter::once(robot_file)
+                .chain(self.args.scenario.iter().map(PathBuf::as_path))
+                .chain(scenario.files_read())
+                .collect();
             let (out, _) = OutputDir::open(dir, self.args.force, "hya track", &reads)?;
             let (model, _) = true_model(scenario, robot);
             let inertias: Vec<RigidBodyInertia> = model.bodies().iter().map(|b| b.inertia).collect();

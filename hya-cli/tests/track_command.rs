@@ -219,3 +219,18 @@ fn a_reference_beyond_the_joint_limits_is_refused_by_name() {
         &["reference sample 1 (t = 0 s), joint SAA", "= 1e6", "beyond the joint's limits"],
     );
 }
+
+#[test]
+fn track_force_never_removes_the_urdf_it_tracks_on() {
+    let dir = scratch("track-inputs");
+    let out = dir.to_str().unwrap();
+    let rows = reference("planar2", "1", "0.5");
+    stdout_of(&["track", "--robot", "planar2", "--out", out], &rows);
+    let truth = dir.join("true.urdf");
+    let before = std::fs::read(&truth).unwrap();
+    let scenario = format!("{}/../hya-sim/scenarios/planar2_goto.toml", env!("CARGO_MANIFEST_DIR"));
+    let args = ["track", "--robot", truth.to_str().unwrap(), "--scenario", &scenario, "--out", out, "--force"];
+    assert_rejected(&args, &rows, &["would remove true.urdf, which this run reads"]);
+    assert_eq!(std::fs::read(&truth).unwrap(), before);
+    let _ = std::fs::remove_dir_all(dir);
+}

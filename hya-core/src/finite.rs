@@ -33,8 +33,9 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, Error> {
 }
 
 /// `Ok` if every entry of the result `values` is finite; otherwise [`Error::NonFiniteResult`]
-/// naming the first bad entry. Every front end (the CLI, Python, the C ABI) checks the results
-/// of a dynamics call with this before handing them out.
+/// naming the first bad entry. Python and the C ABI check the results of a dynamics call with
+/// this before handing them out; the command line refuses any non-finite value of an output row
+/// as it writes it (`rows::write`), dynamics or not.
 pub fn finite_result(quantity: &'static str, values: &[f64]) -> Result<(), Error> {
     if values.iter().fold(true, |finite, v| finite & v.is_finite()) {
         Ok(())

@@ -134,8 +134,10 @@ impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
     /// [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT), the bound [`Self::with_bandwidth`] puts
     /// on `β` (why: there). The faster rates of light joints may exceed it, as the scalar design
     /// makes them do (the implicit step is stable for any rate). This constructor takes no
-    /// operating point, so the bound holds at the zero pose. A gain far beyond it (`y` = 1e300
-    /// once gave `d̂` ≈ 1e284 on a moving arm) is refused by name.
+    /// operating point, so the bound holds at the zero pose. A scalar gain far beyond it (`y` =
+    /// 1e300 once gave `d̂` ≈ 1e284 on a moving arm) is refused by name; a gain matrix with one
+    /// small eigenvalue can still make other rates as fast as it likes (the C ABI and Python
+    /// take only `Y = y I`).
     pub fn with_gain_matrix(dynamics: D, gain: JointMatrix<N>, dt_s: f64, qd0: JointVector<N>) -> Result<Self, Error> {
         let observer = Self::unbounded(dynamics, gain, dt_s, qd0)?;
         let slowest = observer.rates(&JointVector::zeros())?.min();

@@ -82,11 +82,12 @@ fn log(
         .collect()
 }
 
-#[test]
-fn a_simulated_hya_log_is_identified_within_three_standard_deviations() {
+/// HyA's nominal model, a true one perturbed from it by `seed`'s draw, the joint friction of the
+/// logs, and the draw to go on with.
+fn simulated_hya(seed: u64) -> (TreeModel, TreeModel, Friction, ChaCha8Rng) {
     let robot = hya_robots::find("hya").unwrap();
     let nominal = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
-    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let truth = perturbed(&nominal, &mut rng);
     let friction = Friction {
         coulomb_nm: vec![6.0, 6.0, 4.0, 4.0, 2.0, 2.0],
@@ -94,6 +95,12 @@ fn a_simulated_hya_log_is_identified_within_three_standard_deviations() {
         offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
         smoothing_rad_s: SMOOTHING,
     };
+    (nominal, truth, friction, rng)
+}
+
+#[test]
+fn a_simulated_hya_log_is_identified_within_three_standard_deviations() {
+    let (nominal, truth, friction, mut rng) = simulated_hya(2026);
     let fit_log = log(&nominal, &truth, &friction, 1, 50.0, &mut rng);
     let held_out = log(&nominal, &truth, &friction, 2, 20.0, &mut rng);
 
@@ -223,16 +230,7 @@ fn the_reported_standard_deviations_match_the_spread_over_repeated_logs() {
 fn the_streamed_fit_equals_the_dense_weighted_least_squares() {
     // The fit reduces each joint's rows to a triangle block by block; here the whole stacked
     // system is built and solved directly (SVD), weighted per joint by the first solve's residual.
-    let robot = hya_robots::find("hya").unwrap();
-    let nominal = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
-    let mut rng = ChaCha8Rng::seed_from_u64(7);
-    let truth = perturbed(&nominal, &mut rng);
-    let friction = Friction {
-        coulomb_nm: vec![6.0, 6.0, 4.0, 4.0, 2.0, 2.0],
-        viscous_nm_s: vec![3.0, 3.0, 2.0, 2.0, 1.0, 1.0],
-        offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
-        smoothing_rad_s: SMOOTHING,
-    };
+    let (nominal, truth, friction, mut rng) = simulated_hya(7);
     let samples = log(&nominal, &truth, &friction, 1, 130.0, &mut rng); // 1300 samples: three blocks
     let regressor = Regressor::new(&nominal);
     let base = BaseParameters::of(&nominal, 5).unwrap();

@@ -4,8 +4,9 @@
 //! A named pipe (FIFO) blocks `open` until a writer comes, possibly forever, and a device or a
 //! pipe claims a size of 0 whatever it yields: both are refused by the file's type before it is
 //! opened, and the type is checked again on the open file. (A path swapped for a FIFO between
-//! the check and the open would still block the open: the standard library has no non-blocking
-//! open, and the race needs someone who already controls the path.)
+//! the check and the open would still block the open; opening with `O_NONBLOCK` would close that
+//! race, at the cost of a platform constant, and the race needs someone who already controls the
+//! path.)
 
 use std::fs::FileType;
 use std::io::Read;
@@ -18,7 +19,9 @@ pub enum ReadError {
     #[error("cannot read: {0}")]
     Io(String),
     /// Not a regular file: a folder, a named pipe, a device or a socket.
-    #[error("is {0}, not a regular file: hya reads files whole, and would wait for a writer or read without end")]
+    #[error(
+        "is {0}, not a regular file: hya reads only regular files (a pipe or a device could block it or never end)"
+    )]
     NotRegular(&'static str),
     /// More bytes than the cap.
     #[error("larger than the {limit} bytes this file may have")]

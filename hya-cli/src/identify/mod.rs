@@ -114,8 +114,15 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     if !(args.held_out > 0.0 && args.held_out < 0.9) {
         return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", Short(args.held_out))));
     }
-    if !(args.smoothing_rad_s > 0.0 && args.smoothing_rad_s.is_finite()) {
-        return Err(CliError::Input(format!("--smoothing-rad-s {}: must be positive", Short(args.smoothing_rad_s))));
+    // friction.toml must read back: the same range as its reader's.
+    let (_, lo, hi, _) = hya_sim::io::friction::PLAUSIBLE_FRICTION[0];
+    if !(args.smoothing_rad_s.is_finite() && (lo..=hi).contains(&args.smoothing_rad_s)) {
+        return Err(CliError::Input(format!(
+            "--smoothing-rad-s {}: must be between {} and {} rad/s (friction.toml's range)",
+            Short(args.smoothing_rad_s),
+            Short(lo),
+            Short(hi)
+        )));
     }
     let max_step_s = match args.max_step {
         None => 2.5 * dt,
@@ -231,7 +238,13 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     let (out, _) = OutputDir::open(&args.out, args.force, "hya identify", &reads.collect::<Vec<_>>()).map_err(input)?;
     let save = |name: &str, text: &str| out.save(name, text).map_err(input);
     save("identified.urdf", &identified_urdf(&args.robot, &model, &full)?)?;
-    save("friction.toml", &friction_toml(&fitted, &joints))?;
+    let friction = friction_toml(&fitted, &joints);
+    // The reader's own checks: a fitted term beyond its plausible range is said now, not when
+    // `estimate --friction` or `controller.friction_toml` refuses the file.
+    if let Err(why) = hya_sim::io::friction::JointFriction::from_toml(&friction, n) {
+        eprintln!("hya identify: warning: friction.toml is written, but hya will refuse to read it back: {why}");
+    }
+    save("friction.toml", &friction)?;
     save("report.md", &findings.markdown())?;
     save("held_out.svg", &findings.figure())?;
     let rms = |m: usize| list(predictions.rms(m));

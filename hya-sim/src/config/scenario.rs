@@ -721,10 +721,11 @@ impl Scenario {
                     *p = folder.join(p.as_str()).display().to_string();
                 }
             };
-            // A bare word that is no shipped arm's name stays a name, for the message that
-            // suggests the nearest arm; anything path-like is a path.
+            // A bare word that is no shipped arm's name and names no file beside the scenario
+            // stays a name, for the message that suggests the nearest arm.
             let path_like = |p: &str| p.contains(std::path::MAIN_SEPARATOR) || p.contains('/') || p.ends_with(".urdf");
-            if hya_robots::find(&scenario.robot).is_none() && path_like(&scenario.robot) {
+            let beside = |p: &str| folder.join(p).exists();
+            if hya_robots::find(&scenario.robot).is_none() && (path_like(&scenario.robot) || beside(&scenario.robot)) {
                 resolve(&mut scenario.robot);
             }
             scenario

@@ -21,9 +21,8 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
 /// The SHA-256 of the regular file at `path` (at most [`hya_urdf::MAX_FILE_BYTES`]), lower-case
 /// hex, for a report to name exactly which file it ran on; why not, if it cannot be read now.
 pub fn sha256_of(path: &Path) -> Result<String, String> {
-    use sha2::Digest;
     let bytes = hya_urdf::file::read_bytes(path, hya_urdf::MAX_FILE_BYTES as u64).map_err(|e| e.to_string())?;
-    Ok(sha2::Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect())
+    Ok(crate::io::output::sha256_hex(&bytes))
 }
 
 #[cfg(test)]

@@ -13,12 +13,14 @@
 //!   a listed entry is removed only if it is still a regular file with that content. A listed
 //!   file that changed since, or that is not a regular file, makes `--force` refuse before
 //!   anything is removed.
-//! - **The manifest is a journal**: a name is listed as [`PENDING`] before its file is renamed
-//!   into place, and given its SHA-256 after; so a run killed at any point leaves a folder whose
-//!   every report file is listed, and the next `--force` removes them all (a pending one if it is
-//!   a regular file: no name is listed unless it was free when the run listed it). Temporary
-//!   files left by a killed run are removed when the folder is next taken: the lock proves that
-//!   no run that could still rename them is alive.
+//! - **The manifest is a journal**: a name is listed with the SHA-256 of its content before its
+//!   file is renamed into place, and a `--force` that cleared a folder writes an empty manifest
+//!   at once; so a run killed (or failed) at any point leaves a folder whose every report file is
+//!   listed, absent or with its listed content, and the next `--force` removes them all. (A name
+//!   saved twice by one run, which no command does, would list only its new checksum while the
+//!   old content still stands, and `--force` would refuse: safe, not clean.) Temporary files
+//!   `.hya-tmp-PID-NAME` left by a killed run are removed when the folder is next taken and
+//!   found empty or trusted: the lock proves that no run that could still rename them is alive.
 //! - **`--force` never removes what the run reads**: the caller names the files the run reads
 //!   (scenario, URDFs, friction files); a listed report file that is one of them (the same
 //!   file, whatever path names it) makes `--force` refuse before anything is removed.
@@ -41,8 +43,6 @@ pub const MANIFEST: &str = ".hya-files";
 pub const LOCK_NOTE: &str = ".hya-lock";
 /// The manifest's first line; a manifest without it (or from an older hya) is not trusted.
 const MANIFEST_HEADER: &str = "# hya report files: sha256, two spaces, file name";
-/// What the manifest lists in place of a SHA-256 for a file about to be renamed into place.
-const PENDING: &str = "pending";
 /// The prefix of every temporary file name (`.hya-tmp-PID-NAME`).
 const TEMPORARY_PREFIX: &str = ".hya-tmp-";
 /// The largest manifest read, bytes (a report has a few hundred files at most).
@@ -58,7 +58,7 @@ fn refused(dir: &Path, why: impl std::fmt::Display) -> SimError {
 }
 
 /// SHA-256 of `bytes`, lower-case hex.
-fn sha256_hex(bytes: &[u8]) -> String {
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
@@ -79,8 +79,8 @@ pub struct OutputDir {
     lock: File,
     /// Whether [`OutputDir::open`] created the folder.
     created: bool,
-    /// Every file this run wrote, with its SHA-256 (`None` while it is being written).
-    written: Mutex<BTreeMap<String, Option<String>>>,
+    /// Every file this run wrote (or is writing), with its SHA-256.
+    written: Mutex<BTreeMap<String, String>>,
 }
 
 impl OutputDir {
@@ -114,8 +114,8 @@ impl OutputDir {
             });
         }
         let out = Self { path: dir.to_owned(), lock, created, written: Mutex::new(BTreeMap::new()) };
-        out.remove_stale_temporaries()?;
         let kept = out.clear_earlier_report(force, reads)?;
+        out.remove_stale_temporaries()?;
         out.write_atomically(LOCK_NOTE, format!("pid {}, {holder}\n", std::process::id()).as_bytes())?;
         Ok((out, kept))
     }
@@ -140,15 +140,19 @@ impl OutputDir {
         Ok(entries)
     }
 
-    /// Removes the temporary files (regular files or links, never followed) a killed run left:
+    /// Removes the temporary files (regular files or links, never followed, named
+    /// `.hya-tmp-PID-NAME`) a killed run left, once the folder is known to be empty or hya's:
     /// with the folder locked, no run that could still rename them is alive.
     fn remove_stale_temporaries(&self) -> Result<(), SimError> {
         let dir = &self.path;
         for entry in std::fs::read_dir(dir).map_err(io_error(dir))? {
             let entry = entry.map_err(io_error(dir))?;
             let name = entry.file_name();
-            let stale = name.to_str().is_some_and(|n| n.starts_with(TEMPORARY_PREFIX))
-                && entry.file_type().is_ok_and(|t| t.is_file() || t.is_symlink());
+            let temporary = name.to_str().and_then(|n| n.strip_prefix(TEMPORARY_PREFIX)).and_then(|rest| {
+                let (pid, file) = rest.split_once('-')?;
+                Some(!pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) && is_plain_name(file))
+            });
+            let stale = temporary == Some(true) && entry.file_type().is_ok_and(|t| t.is_file() || t.is_symlink());
             if stale {
                 std::fs::remove_file(entry.path()).map_err(io_error(&entry.path()))?;
             }
@@ -201,10 +205,9 @@ impl OutputDir {
                         format!("{name} is listed in {MANIFEST} but is not a regular file; nothing was removed"),
                     ))
                 }
-                Ok(_) if sha256.is_none() => remove.push(path),
                 Ok(_) => {
                     let content = std::fs::read(&path).map_err(io_error(&path))?;
-                    if Some(sha256_hex(&content)) != *sha256 {
+                    if sha256_hex(&content) != *sha256 {
                         return Err(refused(
                             dir,
                             format!(
@@ -217,10 +220,13 @@ impl OutputDir {
                 }
             }
         }
-        remove.push(dir.join(MANIFEST));
         for path in &remove {
             std::fs::remove_file(path).map_err(io_error(path))?;
         }
+        // The folder stays hya's (an empty manifest) until this run lists its first file: a run
+        // that fails or is killed before that leaves a folder the next `--force` still trusts.
+        self.write_manifest(&BTreeMap::new())?;
+        remove.push(dir.join(MANIFEST));
         Ok(entries.into_iter().filter(|p| !remove.contains(p)).collect())
     }
 
@@ -239,19 +245,16 @@ impl OutputDir {
                 format!("{name} already stands there and is not from this run; hya does not replace it"),
             ));
         }
-        if !written.contains_key(name) {
-            written.insert(name.to_owned(), None);
-            self.write_manifest(&written)?;
-        }
-        self.write_atomically(name, text.as_bytes())?;
-        written.insert(name.to_owned(), Some(sha256_hex(text.as_bytes())));
-        self.write_manifest(&written)
+        // Listed (with the content's checksum) before the file is renamed into place.
+        written.insert(name.to_owned(), sha256_hex(text.as_bytes()));
+        self.write_manifest(&written)?;
+        self.write_atomically(name, text.as_bytes())
     }
 
-    /// Writes the [`MANIFEST`] of `written`, pending entries marked [`PENDING`].
-    fn write_manifest(&self, written: &BTreeMap<String, Option<String>>) -> Result<(), SimError> {
+    /// Writes the [`MANIFEST`] of `written`.
+    fn write_manifest(&self, written: &BTreeMap<String, String>) -> Result<(), SimError> {
         let manifest: String = std::iter::once(format!("{MANIFEST_HEADER}\n"))
-            .chain(written.iter().map(|(name, sha256)| format!("{}  {name}\n", sha256.as_deref().unwrap_or(PENDING))))
+            .chain(written.iter().map(|(name, sha256)| format!("{sha256}  {name}\n")))
             .collect();
         self.write_atomically(MANIFEST, manifest.as_bytes())
     }
@@ -302,9 +305,8 @@ fn holder_of(dir: &Path) -> String {
     }
 }
 
-/// The trusted [`MANIFEST`] of `dir`: name → SHA-256 (`None` for a pending entry), or the reason
-/// `--force` cannot trust it.
-fn read_manifest(dir: &Path) -> Result<BTreeMap<String, Option<String>>, SimError> {
+/// The trusted [`MANIFEST`] of `dir`: name → SHA-256, or the reason `--force` cannot trust it.
+fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
     let path = dir.join(MANIFEST);
     let none = || {
         refused(
@@ -331,8 +333,7 @@ fn read_manifest(dir: &Path) -> Result<BTreeMap<String, Option<String>>, SimErro
     let mut listed = BTreeMap::new();
     for (number, line) in lines.enumerate() {
         let entry = line.split_once("  ").filter(|(sha, name)| {
-            let checksum = sha.len() == 64 && sha.bytes().all(|b| b.is_ascii_hexdigit());
-            (checksum || *sha == PENDING) && is_plain_name(name) && *name != MANIFEST
+            sha.len() == 64 && sha.bytes().all(|b| b.is_ascii_hexdigit()) && is_plain_name(name) && *name != MANIFEST
         });
         let Some((sha256, name)) = entry else {
             return Err(refused(
@@ -340,7 +341,7 @@ fn read_manifest(dir: &Path) -> Result<BTreeMap<String, Option<String>>, SimErro
                 format!("{MANIFEST} line {}: not `sha256  plain-file-name`; nothing was removed", number + 2),
             ));
         };
-        listed.insert(name.to_owned(), Some(sha256.to_owned()).filter(|sha| sha != PENDING));
+        listed.insert(name.to_owned(), sha256.to_owned());
     }
     Ok(listed)
 }
@@ -388,7 +389,8 @@ mod tests {
         let (_out, kept) = OutputDir::open(&dir, true, "test", &[]).unwrap();
         assert_eq!(kept, vec![dir.join("measurements.csv")]);
         assert!(!dir.join("old_lu.csv").exists() && !dir.join("summary.json").exists());
-        assert!(!dir.join(MANIFEST).exists());
+        let manifest = std::fs::read_to_string(dir.join(MANIFEST)).unwrap();
+        assert_eq!(manifest, format!("{MANIFEST_HEADER}\n"), "the cleared folder keeps an empty manifest");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -413,24 +415,24 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A run of three files killed after `cut` of its steps: each file is listed pending, written
-    /// to a temporary, renamed into place and listed with its checksum (four steps each).
+    /// A `--force` run of three files over an earlier report in `dir`, killed after `cut` of
+    /// its steps: each file is listed with its checksum, written to a temporary and renamed into
+    /// place (three steps each).
     fn killed_run(dir: &Path, cut: usize) {
-        std::fs::create_dir_all(dir).unwrap();
-        let (out, _) = OutputDir::open(dir, false, "test", &[]).unwrap();
+        let (earlier, _) = OutputDir::open(dir, false, "test", &[]).unwrap();
+        earlier.save("old.csv", "old").unwrap();
+        drop(earlier);
+        std::fs::write(dir.join("mine.txt"), "user data").unwrap();
+        let (out, _) = OutputDir::open(dir, true, "test", &[]).unwrap();
         let mut written = BTreeMap::new();
-        for (step, name) in ["summary.json", "a.csv", "report.md"].iter().flat_map(|n| [n; 4]).enumerate().take(cut) {
-            match step % 4 {
+        for (step, name) in ["summary.json", "a.csv", "report.md"].iter().flat_map(|n| [n; 3]).enumerate().take(cut) {
+            match step % 3 {
                 0 => {
-                    written.insert(name.to_string(), None);
+                    written.insert(name.to_string(), sha256_hex(b"x"));
                     out.write_manifest(&written).unwrap();
                 }
                 1 => std::fs::write(dir.join(format!("{TEMPORARY_PREFIX}999999-{name}")), "x").unwrap(),
-                2 => std::fs::rename(dir.join(format!("{TEMPORARY_PREFIX}999999-{name}")), dir.join(name)).unwrap(),
-                _ => {
-                    written.insert(name.to_string(), Some(sha256_hex(b"x")));
-                    out.write_manifest(&written).unwrap();
-                }
+                _ => std::fs::rename(dir.join(format!("{TEMPORARY_PREFIX}999999-{name}")), dir.join(name)).unwrap(),
             }
         }
         // SIGKILL runs no destructor; the lock note is what dropping would have removed.
@@ -441,14 +443,13 @@ mod tests {
     #[test]
     fn force_cleans_a_run_killed_at_any_point() {
         let dir = scratch("killed");
-        for cut in 1..=12 {
+        for cut in 0..=9 {
             killed_run(&dir, cut);
-            std::fs::write(dir.join("mine.txt"), "user data").unwrap();
             let (out, kept) = OutputDir::open(&dir, true, "test", &[]).unwrap_or_else(|e| panic!("cut {cut}: {e}"));
             assert_eq!(kept, vec![dir.join("mine.txt")], "cut {cut}");
             let mut left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
             left.sort();
-            assert_eq!(left, [LOCK_NOTE, "mine.txt"], "cut {cut}: the report and its temporaries are gone");
+            assert_eq!(left, [MANIFEST, LOCK_NOTE, "mine.txt"], "cut {cut}: the report and its temporaries are gone");
             // The next run writes the same names.
             for name in ["summary.json", "a.csv", "report.md"] {
                 out.save(name, "new").unwrap();
@@ -456,6 +457,29 @@ mod tests {
             drop(out);
             std::fs::remove_dir_all(&dir).unwrap();
         }
+    }
+
+    #[test]
+    fn a_file_changed_after_it_was_listed_is_not_removed() {
+        // Killed after listing summary.json's checksum and renaming it; then someone edits it.
+        let dir = scratch("edited");
+        killed_run(&dir, 3);
+        std::fs::write(dir.join("summary.json"), "edited by hand").unwrap();
+        let refused = OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string();
+        assert!(refused.contains("summary.json changed since hya wrote it"), "{refused}");
+        assert_eq!(std::fs::read_to_string(dir.join("summary.json")).unwrap(), "edited by hand");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn temporaries_are_left_alone_in_a_folder_not_known_to_be_hya_s() {
+        let dir = scratch("foreign");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join(".hya-tmp-12-data.csv"), "theirs").unwrap();
+        std::fs::write(dir.join("data.csv"), "theirs").unwrap();
+        assert!(OutputDir::open(&dir, true, "test", &[]).is_err());
+        assert!(dir.join(".hya-tmp-12-data.csv").is_file(), "a refused run removed a file");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -66,7 +66,8 @@ fn fastest<const N: usize>(state: &PlantState<N>) -> Option<(usize, f64)> {
         }
     };
     let joint = (0..N).max_by(|&a, &b| speed(a).total_cmp(&speed(b)))?;
-    (speed(joint) > MAX_PLAUSIBLE_SPEED_RAD_S).then_some((joint, state.qd[joint]))
+    let velocity = if state.q[joint].is_finite() { state.qd[joint] } else { f64::NAN };
+    (speed(joint) > MAX_PLAUSIBLE_SPEED_RAD_S).then_some((joint, velocity))
 }
 
 /// The arm's state: joints, friction bristles and actuators.
@@ -376,7 +377,7 @@ impl<const N: usize> Plant<N> {
         let k4 = self.stage(t + h, &s.along(&k3, h), tau_cmd)?;
         let next = s.along(&k1, h / 6.0).along(&k2, h / 3.0).along(&k3, h / 3.0).along(&k4, h / 6.0);
         if !next.is_finite() {
-            let cause = SimError::Numerical("the state became non-finite".into());
+            let cause = SimError::Numerical(format!("the plant's state became non-finite at t = {:.4} s", t + h));
             return Err(self.diverged(t + h, &next, cause).unwrap_or_else(|cause| cause));
         }
         self.state = next;

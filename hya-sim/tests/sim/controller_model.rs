@@ -79,4 +79,11 @@ fn relative_paths_in_a_scenario_file_are_taken_from_its_folder() {
     let shipped = Scenario::from_file(&file).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(shipped.robot, "hya");
+    // A bare name that is a file beside the scenario is that file.
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("myarm"), "").unwrap();
+    std::fs::write(&file, text.replace("models/arm.urdf", "myarm")).unwrap();
+    let beside = Scenario::from_file(&file).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(beside.robot, dir.join("myarm").display().to_string());
 }

@@ -112,8 +112,31 @@ fn front_text(points: &[FrontPoint], measure: Measure) -> String {
         ));
     }
     let mut text = format!("from the quietest command up, the front is {}.", parts.join("; then "));
+    text.push_str(&within_intervals_text(points, &front));
     text.push_str(&off_front_text(points, &front));
     text
+}
+
+/// The front's points that another point beats on both means, though not beyond the intervals:
+/// on the front only because the seeds cannot tell them apart.
+fn within_intervals_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String {
+    let beats = |q: &FrontPoint, p: &FrontPoint| {
+        q.noise.0 <= p.noise.0 && q.error.0 <= p.error.0 && (q.noise.0 < p.noise.0 || q.error.0 < p.error.0)
+    };
+    let named = |p: &FrontPoint| format!("{}@{}", p.method, Short(p.bandwidth_rad_s));
+    let beaten: Vec<String> = front
+        .iter()
+        .filter_map(|p| points.iter().find(|q| beats(q, p)).map(|q| format!("{} by {}", named(p), named(q))))
+        .collect();
+    match beaten.len() {
+        0 => String::new(),
+        k => format!(
+            " {k} of these {} points are beaten on both means by another point, within the intervals: \
+             indistinguishable at these seeds, not better ({}).",
+            front.len(),
+            beaten.join(", ")
+        ),
+    }
 }
 
 /// `a–b`, or `a` alone when both read the same.
@@ -178,4 +201,32 @@ fn capped_joints<const N: usize>(
     let joints = JointSettings::<N>::of(scenario)?;
     let capped = crate::run::model::LoopModel::of(scenario, robot)?.design(scenario, &joints)?.capped;
     Ok((0..N).filter(|&j| capped[j]).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(method: &str, bandwidth: f64, noise: (f64, f64), error: (f64, f64)) -> FrontPoint {
+        FrontPoint { method: method.into(), bandwidth_rad_s: bandwidth, noise, error }
+    }
+
+    #[test]
+    fn front_points_beaten_on_the_means_are_called_indistinguishable() {
+        // lu@20 is beaten on both means by pid@20, but their intervals overlap: both stay on the
+        // front, and the words say the seeds cannot tell them apart.
+        let points = vec![
+            point("lu", 20.0, (1.00, 0.05), (2.0, 0.5)),
+            point("pid", 20.0, (0.98, 0.05), (1.9, 0.5)),
+            point("chen", 50.0, (3.0, 0.1), (1.0, 0.1)),
+        ];
+        let front: Vec<&FrontPoint> = pareto_optimal(&points).into_iter().map(|i| &points[i]).collect();
+        assert_eq!(front.len(), 3);
+        let text = within_intervals_text(&points, &front);
+        assert!(text.contains("1 of these 3 points") && text.contains("lu@20 by pid@20"), "{text}");
+        // Apart beyond the intervals, nothing is said.
+        let apart = vec![point("lu", 20.0, (1.0, 0.01), (2.0, 0.01)), point("chen", 50.0, (3.0, 0.1), (1.0, 0.1))];
+        let front: Vec<&FrontPoint> = pareto_optimal(&apart).into_iter().map(|i| &apart[i]).collect();
+        assert!(within_intervals_text(&apart, &front).is_empty());
+    }
 }

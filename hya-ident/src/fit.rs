@@ -181,7 +181,9 @@ fn solve(w: &DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f6
 }
 
 /// Fits base parameters and friction to `samples` of `regressor`'s model, in memory that does
-/// not grow with the number of samples (see [`reduced`]).
+/// not grow with the number of samples: each joint's rows of `[W τ]` are reduced block by block
+/// to an upper triangle by QR, from which the solutions, residuals and singular values follow
+/// exactly (`‖τ_i − W_i θ‖² = ‖R_i [θ; −1]‖²`).
 pub fn fit(
     regressor: &Regressor<'_>,
     base: &BaseParameters,

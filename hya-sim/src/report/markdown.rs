@@ -24,7 +24,9 @@ pub(super) fn markdown<const N: usize>(
     (plant_section, figure_names, viscous_section): (&str, &std::collections::BTreeMap<String, Vec<String>>, &str),
 ) -> Result<String, SimError> {
     let mut md = String::new();
-    let arm = if summary.robot == "hya" { "HyA" } else { summary.robot.as_str() };
+    // A URDF's arm by its file's stem (`own_arm`, not `own_arm.urdf` or a path).
+    let stem = std::path::Path::new(&summary.robot).file_stem().and_then(|s| s.to_str());
+    let arm = if summary.robot == "hya" { "HyA" } else { stem.unwrap_or(summary.robot.as_str()) };
     let _ = writeln!(md, "# Lu, Sandy & Buchli on a simulated {arm}\n");
     md.push_str(&super::headline::in_short(scenarios, table, summary.seeds, arm, quick));
     let _ = writeln!(

@@ -14,7 +14,7 @@ use crate::config::scenario::{
     ActuatorKind, FrictionKind, Method, Noise, NoiseConfig, Scenario, SinusoidLoad, TorqueSource, VelocitySource,
 };
 use crate::error::SimError;
-use crate::io::svg::{line_grid, Panel, Series, PALETTE};
+use crate::io::svg::{line_grid_scaled, Panel, Scale, Series, PALETTE};
 
 /// The frequencies swept, Hz.
 pub const FREQUENCIES_HZ: [f64; 8] = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0];
@@ -102,7 +102,7 @@ pub fn figure(points: &[Point]) -> String {
         for (k, method) in methods.iter().enumerate() {
             let color = PALETTE[(k + 1) % PALETTE.len()];
             let mine: Vec<&Point> = points.iter().filter(|p| p.method == *method).collect();
-            let x = |p: &Point| p.frequency_hz.log10();
+            let x = |p: &Point| p.frequency_hz;
             series.push(Series {
                 label: format!("{} design", method.name()),
                 points: mine.iter().map(|p| (x(p), value(p.design))).collect(),
@@ -120,5 +120,6 @@ pub fn figure(points: &[Point]) -> String {
         }
         panels.push(Panel { title: title.into(), y_label: y_label.into(), series });
     }
-    line_grid(&format!("observer responses on joint {} (clean plant)", JOINT + 1), "log10 frequency [Hz]", &panels, 2)
+    let title = format!("observer responses on joint {} (clean plant): design (dashed), measured (dots)", JOINT + 1);
+    line_grid_scaled(&title, "frequency [Hz]", &panels, 2, Scale::Log)
 }

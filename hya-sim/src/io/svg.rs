@@ -352,16 +352,25 @@ fn mark(out: &mut String, frame: &Frame, (x, y): (f64, f64), mark: Option<&Mark>
 }
 
 /// The `k`-th entry of the legend right of the plot.
+/// The legend entry of series `k`: its line, or a dot for a series drawn as dots.
 fn legend(out: &mut String, frame: &Frame, s: &Series, k: usize) {
     let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
     let right = frame.left + frame.w;
     let ly = frame.top + 8.0 + 13.0 * k as f64;
+    if s.markers {
+        let _ = write!(out, r#"<circle cx="{:.1}" cy="{ly:.1}" r="2.5" fill="{}"/>"#, right + 17.0, s.color);
+    } else {
+        let _ = write!(
+            out,
+            r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="2"{dash}/>"#,
+            right + 8.0,
+            right + 26.0,
+            s.color
+        );
+    }
     let _ = writeln!(
         out,
-        r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}" font-size="10">{}</text>"#,
-        right + 8.0,
-        right + 26.0,
-        s.color,
+        r#"<text x="{:.1}" y="{:.1}" font-size="10">{}</text>"#,
         right + 30.0,
         ly + 3.0,
         escape(&s.label)
@@ -387,8 +396,13 @@ fn document(width: f64, height: f64, title: &str, body: &str) -> String {
 
 /// A grid of line plots sharing the x label.
 pub fn line_grid(title: &str, x_label: &str, panels: &[Panel], columns: usize) -> String {
+    line_grid_scaled(title, x_label, panels, columns, Scale::Linear)
+}
+
+/// [`line_grid`] with the x axis on `x_scale` (a logarithmic one for frequencies).
+pub fn line_grid_scaled(title: &str, x_label: &str, panels: &[Panel], columns: usize, x_scale: Scale) -> String {
     grid(title, panels.len(), columns, |body, i, corner| {
-        panel(body, &panels[i], &[], (Scale::Linear, Scale::Linear), corner, x_label)
+        panel(body, &panels[i], &[], (x_scale, Scale::Linear), corner, x_label)
     })
 }
 
@@ -489,6 +503,27 @@ mod tests {
         assert_eq!(ticks(0.0, 1.0), [0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0]);
         assert!(ticks(1e300, 1e300 + 1e-12).is_empty(), "no billions of ticks for a lost span");
         assert!(ticks(-3.7, 12.2).iter().all(|t| (t / 5.0).fract() == 0.0));
+    }
+
+    #[test]
+    fn a_dotted_series_has_a_dot_in_the_legend_and_a_log_axis_decade_ticks() {
+        let series = |label: &str, markers: bool| Series {
+            label: label.into(),
+            points: vec![(0.1, 1.0), (1.0, 0.5), (10.0, 0.1)],
+            color: "#000",
+            dashed: !markers,
+            markers,
+        };
+        let panel = Panel {
+            title: "t".into(),
+            y_label: "gain".into(),
+            series: vec![series("design", false), series("measured", true)],
+        };
+        let svg = line_grid_scaled("r", "frequency [Hz]", &[panel], 1, Scale::Log);
+        assert_eq!(svg.matches("<circle").count(), 1, "one legend dot, for the dotted series");
+        for tick in [">0.1<", ">1<", ">10<"] {
+            assert!(svg.contains(tick), "no tick {tick}");
+        }
     }
 
     #[test]

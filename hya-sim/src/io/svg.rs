@@ -249,8 +249,9 @@ fn panel(out: &mut String, p: &Panel, marks: &[Vec<Mark>], scales: (Scale, Scale
     grid_lines(out, &frame);
     centred_text(out, left + w / 2.0, top + h + 27.0, 11, false, x_label);
     centred_text(out, x0 + 14.0, top + h / 2.0, 11, true, &p.y_label);
+    let mut labels = Vec::new();
     for (k, s) in p.series.iter().enumerate() {
-        series(out, &frame, s, marks.get(k).map_or(&[], |m| m.as_slice()), !marks.is_empty());
+        series(out, &frame, s, marks.get(k).map_or(&[], |m| m.as_slice()), !marks.is_empty(), &mut labels);
         legend(out, &frame, s, k);
     }
 }
@@ -283,7 +284,7 @@ fn grid_lines(out: &mut String, frame: &Frame) {
 }
 
 /// One series: its line (or dots), and with `marked` a marker, label and whiskers per point.
-fn series(out: &mut String, frame: &Frame, s: &Series, marks: &[Mark], marked: bool) {
+fn series(out: &mut String, frame: &Frame, s: &Series, marks: &[Mark], marked: bool, labels: &mut Vec<Label>) {
     let stride = if marked { 1 } else { s.points.len().div_ceil(MAX_POINTS).max(1) };
     let path: Vec<String> =
         s.points.iter().step_by(stride).filter_map(|pt| frame.at(*pt)).map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
@@ -307,13 +308,36 @@ fn series(out: &mut String, frame: &Frame, s: &Series, marks: &[Mark], marked: b
     }
     if marked {
         for (i, &pt) in s.points.iter().enumerate() {
-            mark(out, frame, pt, marks.get(i), s.color);
+            mark(out, frame, pt, marks.get(i), s.color, labels);
         }
     }
 }
 
+/// A mark label's box on the page: left, top, right, bottom.
+type Label = (f64, f64, f64, f64);
+
+/// Where a label of `chars` characters goes beside a marker at `(px, py)`: the first of a few
+/// places around it that overlaps no label already placed in the panel (else the first place),
+/// so that labels of coinciding points ("100" over "100") do not print over each other.
+fn place_label(px: f64, py: f64, chars: usize, placed: &mut Vec<Label>) -> (f64, f64) {
+    let (w, h) = (4.6 * chars as f64, 8.0);
+    let spots = [(3.5, -3.5), (3.5, 9.5), (-3.5 - w, -3.5), (-3.5 - w, 9.5), (3.5, -12.5), (3.5, 18.5)];
+    let boxed = |(dx, dy): (f64, f64)| (px + dx, py + dy - h, px + dx + w, py + dy);
+    let free = |b: &Label| placed.iter().all(|p| b.2 <= p.0 || p.2 <= b.0 || b.3 <= p.1 || p.3 <= b.1);
+    let spot = spots.iter().copied().find(|s| free(&boxed(*s))).unwrap_or(spots[0]);
+    placed.push(boxed(spot));
+    (px + spot.0, py + spot.1)
+}
+
 /// A point's marker, its whiskers and its label; nothing for a point that cannot be drawn.
-fn mark(out: &mut String, frame: &Frame, (x, y): (f64, f64), mark: Option<&Mark>, color: &str) {
+fn mark(
+    out: &mut String,
+    frame: &Frame,
+    (x, y): (f64, f64),
+    mark: Option<&Mark>,
+    color: &str,
+    labels: &mut Vec<Label>,
+) {
     let Some((px, py)) = frame.at((x, y)) else { return };
     if let Some(m) = mark {
         let whisker = |v: f64, half: f64, axis: &Axis| {
@@ -341,18 +365,17 @@ fn mark(out: &mut String, frame: &Frame, (x, y): (f64, f64), mark: Option<&Mark>
     }
     let _ = writeln!(out, r#"<circle cx="{px:.1}" cy="{py:.1}" r="2.5" fill="{color}"/>"#);
     if let Some(m) = mark.filter(|m| !m.label.is_empty()) {
+        let (lx, ly) = place_label(px, py, m.label.chars().count(), labels);
         let _ = writeln!(
             out,
-            r#"<text class="mark" x="{:.1}" y="{:.1}" font-size="8" fill="{color}">{}</text>"#,
-            px + 3.5,
-            py - 3.5,
+            r#"<text class="mark" x="{lx:.1}" y="{ly:.1}" font-size="8" fill="{color}">{}</text>"#,
             escape(&m.label)
         );
     }
 }
 
-/// The `k`-th entry of the legend right of the plot.
-/// The legend entry of series `k`: its line, or a dot for a series drawn as dots.
+/// The `k`-th entry of the legend right of the plot: its line, or a dot for a series drawn as
+/// dots.
 fn legend(out: &mut String, frame: &Frame, s: &Series, k: usize) {
     let dash = if s.dashed { r#" stroke-dasharray="5,3""# } else { "" };
     let right = frame.left + frame.w;
@@ -524,6 +547,17 @@ mod tests {
         for tick in [">0.1<", ">1<", ">10<"] {
             assert!(svg.contains(tick), "no tick {tick}");
         }
+    }
+
+    #[test]
+    fn labels_of_coinciding_points_do_not_print_over_each_other() {
+        let mut placed = Vec::new();
+        let first = place_label(100.0, 100.0, 3, &mut placed);
+        let second = place_label(100.0, 100.0, 3, &mut placed);
+        let third = place_label(101.0, 99.0, 3, &mut placed);
+        assert!(first != second && second != third && first != third, "{first:?} {second:?} {third:?}");
+        // Apart, a label keeps its usual place.
+        assert_eq!(place_label(300.0, 300.0, 3, &mut placed), (303.5, 296.5));
     }
 
     #[test]

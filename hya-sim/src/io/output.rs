@@ -81,6 +81,8 @@ pub struct OutputDir {
     created: bool,
     /// Every file this run wrote (or is writing), with its SHA-256.
     written: Mutex<BTreeMap<String, String>>,
+    /// Whether this run wrote the [`LOCK_NOTE`] (only then does it remove it).
+    noted: bool,
 }
 
 impl OutputDir {
@@ -113,10 +115,10 @@ impl OutputDir {
                 std::fs::TryLockError::Error(e) => io_error(dir)(e),
             });
         }
-        let out = Self { path: dir.to_owned(), lock, created, written: Mutex::new(BTreeMap::new()) };
+        let mut out = Self { path: dir.to_owned(), lock, created, written: Mutex::new(BTreeMap::new()), noted: false };
         let kept = out.clear_earlier_report(force, reads)?;
-        out.remove_stale_temporaries()?;
         out.write_atomically(LOCK_NOTE, format!("pid {}, {holder}\n", std::process::id()).as_bytes())?;
+        out.noted = true;
         Ok((out, kept))
     }
 
@@ -150,7 +152,8 @@ impl OutputDir {
             let name = entry.file_name();
             let temporary = name.to_str().and_then(|n| n.strip_prefix(TEMPORARY_PREFIX)).and_then(|rest| {
                 let (pid, file) = rest.split_once('-')?;
-                Some(!pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) && is_plain_name(file))
+                let hya_file = is_plain_name(file) || file == MANIFEST || file == LOCK_NOTE;
+                Some(!pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) && hya_file)
             });
             let stale = temporary == Some(true) && entry.file_type().is_ok_and(|t| t.is_file() || t.is_symlink());
             if stale {
@@ -164,7 +167,11 @@ impl OutputDir {
     fn clear_earlier_report(&self, force: bool, reads: &[&Path]) -> Result<Vec<PathBuf>, SimError> {
         let dir = &self.path;
         let entries = self.entries()?;
-        if entries.is_empty() {
+        // Nothing, or only the empty manifest a cleared folder keeps: an empty folder.
+        let only_empty_manifest =
+            entries.len() == 1 && entries[0] == dir.join(MANIFEST) && read_manifest(dir).is_ok_and(|m| m.is_empty());
+        if entries.is_empty() || only_empty_manifest {
+            self.remove_stale_temporaries()?;
             return Ok(Vec::new());
         }
         if !force {
@@ -223,6 +230,8 @@ impl OutputDir {
         for path in &remove {
             std::fs::remove_file(path).map_err(io_error(path))?;
         }
+        // Before any new temporary: a killed run's, under this run's PID, would block it.
+        self.remove_stale_temporaries()?;
         // The folder stays hya's (an empty manifest) until this run lists its first file: a run
         // that fails or is killed before that leaves a folder the next `--force` still trusts.
         self.write_manifest(&BTreeMap::new())?;
@@ -276,11 +285,16 @@ impl OutputDir {
 }
 
 impl Drop for OutputDir {
-    /// Removes the lock note, and the folder itself if this run created it and saved nothing.
+    /// Removes the lock note this run wrote, and the folder itself if this run created it and
+    /// no file it listed stands there (it saved nothing, or every save failed): then only the
+    /// manifest goes with it, and `remove_dir` leaves a folder anything else was put into.
     fn drop(&mut self) {
-        let _ = std::fs::remove_file(self.path.join(LOCK_NOTE));
-        let saved = self.written.get_mut().map_or(true, |w| !w.is_empty());
-        if self.created && !saved {
+        if self.noted {
+            let _ = std::fs::remove_file(self.path.join(LOCK_NOTE));
+        }
+        let nothing_stands = self.written.get_mut().is_ok_and(|w| w.keys().all(|n| !self.path.join(n).exists()));
+        if self.created && nothing_stands {
+            let _ = std::fs::remove_file(self.path.join(MANIFEST));
             let _ = std::fs::remove_dir(&self.path);
         }
         let _ = self.lock.unlock();
@@ -468,6 +482,29 @@ mod tests {
         let refused = OutputDir::open(&dir, true, "test", &[]).unwrap_err().to_string();
         assert!(refused.contains("summary.json changed since hya wrote it"), "{refused}");
         assert_eq!(std::fs::read_to_string(dir.join("summary.json")).unwrap(), "edited by hand");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_killed_manifest_write_leaves_nothing_the_next_run_trips_on() {
+        // Killed while writing the manifest or the lock note, under a PID the next run may reuse.
+        let dir = scratch("manifest-temporary");
+        killed_run(&dir, 4);
+        let pid = std::process::id();
+        for name in [MANIFEST, LOCK_NOTE] {
+            std::fs::write(dir.join(format!("{TEMPORARY_PREFIX}{pid}-{name}")), "partial").unwrap();
+        }
+        let (out, _) = OutputDir::open(&dir, true, "test", &[]).unwrap();
+        out.save("summary.json", "new").unwrap();
+        drop(out);
+        let left: Vec<String> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        assert!(left.iter().all(|n| !n.starts_with(TEMPORARY_PREFIX)), "{left:?}");
+        // A folder --force cleared and nothing was saved into holds an empty manifest: empty.
+        std::fs::remove_dir_all(&dir).unwrap();
+        killed_run(&dir, 0);
+        std::fs::remove_file(dir.join("mine.txt")).unwrap();
+        assert!(OutputDir::open(&dir, false, "test", &[]).is_ok(), "a cleared folder needs no --force");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

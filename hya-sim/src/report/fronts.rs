@@ -131,8 +131,8 @@ fn within_intervals_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String
     match beaten.len() {
         0 => String::new(),
         k => format!(
-            " {k} of these {} points are beaten on both means by another point, within the intervals: \
-             indistinguishable at these seeds, not better ({}).",
+            " {k} of these {} points have another point no worse on either mean and lower on one, within the \
+             intervals: indistinguishable at these seeds, not better ({}).",
             front.len(),
             beaten.join(", ")
         ),
@@ -223,7 +223,7 @@ mod tests {
         let front: Vec<&FrontPoint> = pareto_optimal(&points).into_iter().map(|i| &points[i]).collect();
         assert_eq!(front.len(), 3);
         let text = within_intervals_text(&points, &front);
-        assert!(text.contains("1 of these 3 points") && text.contains("lu@20 by pid@20"), "{text}");
+        assert!(text.contains("1 of these 3 points have another") && text.contains("lu@20 by pid@20"), "{text}");
         // Apart beyond the intervals, nothing is said.
         let apart = vec![point("lu", 20.0, (1.0, 0.01), (2.0, 0.01)), point("chen", 50.0, (3.0, 0.1), (1.0, 0.1))];
         let front: Vec<&FrontPoint> = pareto_optimal(&apart).into_iter().map(|i| &apart[i]).collect();

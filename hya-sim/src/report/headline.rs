@@ -80,10 +80,13 @@ pub(super) fn in_short(scenarios: &[Scenario], table: &MetricTable, seeds: usize
                 d => format!(" ({d} more without a ratio: a zero or non-finite mean)"),
             };
             let worse = found.iter().filter(|r| **r < 1.0).count();
-            let verdict = match worse {
-                0 => "lu's mean lower on every entry".to_string(),
-                w if w == found.len() => format!("{}'s mean lower on every entry", baseline.name()),
-                w => format!("{}'s mean lower on {w} of {}", baseline.name(), found.len()),
+            let better = found.iter().filter(|r| **r > 1.0).count();
+            let ties = found.len() - worse - better;
+            let verdict = match (worse, ties) {
+                (0, 0) => "lu's mean lower on every entry".to_string(),
+                (w, 0) if w == found.len() => format!("{}'s mean lower on every entry", baseline.name()),
+                (w, 0) => format!("{}'s mean lower on {w} of {}", baseline.name(), found.len()),
+                (w, t) => format!("{}'s mean lower on {w} of {}, equal on {t}", baseline.name(), found.len()),
             };
             parts.push(format!("{what} [{unit}]: {} over {} entries{dropped}, {verdict}", spread(&found), found.len()));
         }

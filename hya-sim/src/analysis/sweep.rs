@@ -481,14 +481,15 @@ fn method_color(method: &str) -> &'static str {
 /// axes where the means span more than a decade.
 fn front_panel(sweep: &Sweep, scenario: &str, measure: Measure) -> MarkedPanel {
     let points = front_points(sweep, scenario, measure);
+    let front = pareto_optimal(&points);
     let mut methods: Vec<&str> = points.iter().map(|p| p.method.as_str()).collect();
     methods.dedup();
     let (mut series, mut marks) = (Vec::new(), Vec::new());
     for (k, method) in methods.into_iter().enumerate() {
-        let own: Vec<&FrontPoint> = points.iter().filter(|p| p.method == method).collect();
+        let own: Vec<(usize, &FrontPoint)> = points.iter().enumerate().filter(|(_, p)| p.method == method).collect();
         series.push(Series {
             label: method.to_owned(),
-            points: own.iter().map(|p| (p.noise.0, p.error.0)).collect(),
+            points: own.iter().map(|(_, p)| (p.noise.0, p.error.0)).collect(),
             color: method_color(method),
             // Every other method dashed: lines that coincide (chen's and momentum's, whose
             // designs agree) stay visible one through the other.
@@ -497,10 +498,11 @@ fn front_panel(sweep: &Sweep, scenario: &str, measure: Measure) -> MarkedPanel {
         });
         marks.push(
             own.iter()
-                .map(|p| Mark {
+                .map(|(i, p)| Mark {
                     label: format!("{}", Short(p.bandwidth_rad_s)),
                     x_half_width: p.noise.1,
                     y_half_width: p.error.1,
+                    ringed: front.contains(i),
                 })
                 .collect(),
         );
@@ -523,7 +525,7 @@ pub fn pareto_figure(sweep: &Sweep) -> String {
         .flat_map(|scenario| Measure::ALL.map(|measure| front_panel(sweep, scenario, measure)))
         .collect();
     marked_grid(
-        "bandwidth sweep: error against command noise (labels: bandwidth, rad/s; pid: its integral's)",
+        "bandwidth sweep: error against command noise (labels: bandwidth, rad/s; pid: its integral's; ringed: the front)",
         "command-torque noise [N·m]",
         &panels,
         2,

@@ -65,6 +65,8 @@ pub struct Mark {
     pub x_half_width: f64,
     /// Half-width of the interval on y.
     pub y_half_width: f64,
+    /// Drawn with a ring around the marker (a Pareto front's points).
+    pub ringed: bool,
 }
 
 /// A panel whose points are drawn as markers, each with its label and whiskers, on chosen
@@ -364,6 +366,12 @@ fn mark(
         }
     }
     let _ = writeln!(out, r#"<circle cx="{px:.1}" cy="{py:.1}" r="2.5" fill="{color}"/>"#);
+    if mark.is_some_and(|m| m.ringed) {
+        let _ = writeln!(
+            out,
+            r#"<circle class="front" cx="{px:.1}" cy="{py:.1}" r="5" fill="none" stroke="{color}" stroke-width="1"/>"#
+        );
+    }
     if let Some(m) = mark.filter(|m| !m.label.is_empty()) {
         let (lx, ly) = place_label(px, py, m.label.chars().count(), labels);
         let _ = writeln!(

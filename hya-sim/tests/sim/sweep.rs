@@ -1,7 +1,10 @@
 //! Sweeps split into shards and merge back into exactly the unsharded result; a merge refuses
 //! every set of shards that is not exactly one sweep's grid.
 
-use hya_sim::sweep::{dominates, merge, pareto_figure, pareto_optimal, run, Entry, FrontPoint, Plan, Shard, Sweep};
+use hya_sim::sweep::{
+    dominates, front_points, merge, pareto_figure, pareto_optimal, run, scenarios, Entry, FrontPoint, Measure, Plan,
+    Shard, Sweep,
+};
 use hya_sim::{Method, Scenario};
 
 fn tiny_plan() -> Plan {
@@ -182,8 +185,12 @@ fn x_tick_labels(svg: &str) -> Vec<String> {
 fn the_figure_marks_and_labels_every_point_on_log_axes() {
     let sweep = table_sweep();
     let svg = pareto_figure(&sweep);
-    // Tracking: lu and pid, 3 points each; estimate: lu's 3.
-    assert_eq!(svg.matches("<circle").count(), 9);
+    // Tracking: lu and pid, 3 points each; estimate: lu's 3. The front's points are ringed.
+    assert_eq!(svg.matches("<circle cx").count(), 9);
+    let fronts: usize =
+        Measure::ALL.iter().map(|&m| pareto_optimal(&front_points(&sweep, scenarios(&sweep)[0], m)).len()).sum();
+    assert!(fronts > 0);
+    assert_eq!(svg.matches(r#"<circle class="front""#).count(), fronts);
     assert_eq!(svg.matches(r#"class="mark""#).count(), 9);
     assert_eq!(svg.matches(">200</text>").count(), 3);
     assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
@@ -200,6 +207,6 @@ fn the_figure_marks_and_labels_every_point_on_log_axes() {
     wild.entries.retain(|e| e.seed == 0);
     wild.entries[0].rmse_q = 1e300;
     let svg = pareto_figure(&wild);
-    assert_eq!(svg.matches("<circle").count(), 8);
+    assert_eq!(svg.matches("<circle cx").count(), 8);
     assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
 }

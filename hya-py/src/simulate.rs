@@ -86,8 +86,12 @@ pub fn simulate<'py>(
     let method: Method = serde_json::from_value(serde_json::Value::String(method.to_owned())).map_err(|_| {
         PyValueError::new_err(format!("method `{method}`: expected none, pid, lu, chen, momentum or eso"))
     })?;
+    // The same refusals as `hya run`: every per-joint list that does not fit the arm, at once.
     let outcome = py
-        .allow_threads(|| hya_sim::with_robot(&scenario.robot, Run { scenario: &scenario, method }))
+        .allow_threads(|| {
+            scenario.check_for_robot()?;
+            hya_sim::with_robot(&scenario.robot, Run { scenario: &scenario, method })
+        })
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let result = PyDict::new(py);
     let steps = outcome.time.len();

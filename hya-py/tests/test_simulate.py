@@ -38,3 +38,7 @@ def test_bad_scenarios_are_named():
         hya.simulate(dict(settings, task={"kind": "goto"}))
     with pytest.raises(ValueError, match="method `fast`"):
         hya.simulate("goto_internal", method="fast")
+    # Every per-joint list that does not fit the arm at once, as `hya run` names them.
+    plant = {k: v for k, v in settings["plant"].items() if k not in ("coulomb_nm", "static_nm")}
+    with pytest.raises(ValueError, match=r"2 per-joint settings do not fit the arm's 2 joints.*static_nm.*coulomb_nm"):
+        hya.simulate(dict(settings, plant=plant))

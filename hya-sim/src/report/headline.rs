@@ -95,6 +95,11 @@ pub(super) fn in_short(scenarios: &[Scenario], table: &MetricTable, seeds: usize
         }
     }
     md.push_str(
+        "\nThe observers (lu, chen, momentum, eso) are all designed with their poles at one magnitude, the \
+         scenario's observer bandwidth; other matchings (equal −3 dB bandwidth, equal delay) are not run here, so \
+         the comparisons with chen, momentum and eso hold for that matching only.\n",
+    );
+    md.push_str(
         "\nHow the report was made follows; then the claims' verdicts, and the joints where a baseline's tracking or \
          estimate error is lower than lu's beyond the 95 % intervals (a stricter test than the means above).\n\n",
     );

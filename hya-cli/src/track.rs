@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::{JointVector, Reference, Short};
 use hya_sim::io::output::OutputDir;
+use hya_sim::run::trace::Recording;
 use hya_sim::run::{closed_loop_on, true_model};
 use hya_sim::scenario::Task;
 use hya_sim::task::{Samples, Trajectory};
@@ -118,7 +119,8 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         writeln!(self.output, "t {}", header.join(" "))?;
         let output = &mut *self.output;
         let mut failed = None;
-        closed_loop_on(scenario, self.method, robot, &Trajectory::sampled(samples), |t, measurement| {
+        let trajectory = Trajectory::sampled(samples);
+        closed_loop_on(scenario, self.method, robot, (&trajectory, Recording::Off), |t, measurement| {
             if failed.is_none() {
                 let values = std::iter::once(t).chain(measurement.position.iter().copied());
                 if let Err(e) = rows::write(output, values.chain(measurement.torque.iter().copied())) {

@@ -285,9 +285,35 @@ impl EqualBandwidthRow {
 /// The complex amplitude of `x` at `ω` over the samples `(t, x)`: `(2/N) Σ x e^{−jωt}` (exact
 /// for a sine over whole periods).
 pub fn phasor(samples: &[(f64, f64)], omega: f64) -> Complex<f64> {
-    let n = samples.len().max(1) as f64;
-    samples.iter().map(|(t, x)| Complex::new((omega * t).cos(), -(omega * t).sin()) * *x).sum::<Complex<f64>>()
-        * (2.0 / n)
+    let mut sum = PhasorSum::new(omega);
+    samples.iter().for_each(|(t, x)| sum.push(*t, *x));
+    sum.value()
+}
+
+/// [`phasor`] kept up to date sample by sample.
+#[derive(Debug, Clone, Copy)]
+pub struct PhasorSum {
+    omega: f64,
+    sum: Complex<f64>,
+    count: usize,
+}
+
+impl PhasorSum {
+    /// No samples yet, at `omega` (rad/s).
+    pub fn new(omega: f64) -> Self {
+        Self { omega, sum: Complex::new(0.0, 0.0), count: 0 }
+    }
+
+    /// Adds the sample `x` at `t`.
+    pub fn push(&mut self, t: f64, x: f64) {
+        self.sum += Complex::new((self.omega * t).cos(), -(self.omega * t).sin()) * x;
+        self.count += 1;
+    }
+
+    /// `(2/N) Σ x e^{−jωt}` so far (0 before any sample).
+    pub fn value(&self) -> Complex<f64> {
+        self.sum * (2.0 / self.count.max(1) as f64)
+    }
 }
 
 /// The low-frequency delay of the paper's filter at `ζ = 0.8`, `ω1 = ω2 = ω`: `1/ω + 2ζ/ω`, s.

@@ -6,9 +6,10 @@ use serde::Serialize;
 
 use hya_core::JointVector;
 
-use crate::analysis::shadow::{rms, shadow_metrics, ShadowMetrics};
+use crate::analysis::running::{Correlation, Extremes, Mean, Recovery, Rms, Spread, StepNoise, Window};
+use crate::analysis::shadow::{ShadowMetrics, ShadowRecorder};
 use crate::config::scenario::{Scenario, Task};
-use crate::run::trace::Trace;
+use crate::run::trace::{Tick, SHADOWS};
 
 pub use crate::config::scenario::WARM_UP_S;
 
@@ -95,141 +96,212 @@ pub struct Metrics {
     pub shadow: [ShadowMetrics; 4],
 }
 
-/// Per-joint mean of `f(k)[j]` over the ticks `k` in `range`.
-fn mean_over<const N: usize>(range: std::ops::Range<usize>, f: impl Fn(usize) -> JointVector<N>) -> Vec<f64> {
-    let count = range.len() as f64; // an empty window gives NaN
-    let sum = range.fold(JointVector::<N>::zeros(), |s, k| s + f(k));
-    (sum / count).as_slice().to_vec()
+/// A weight drop's windows: the error before it, while the weight rests, and the recoveries.
+#[derive(Debug, Clone)]
+struct DropWatch<const N: usize> {
+    before: Window,
+    error_before: Mean<N>,
+    resting: Window,
+    error_resting: Mean<N>,
+    drop_recovery: Recovery<N>,
+    removal_recovery: Option<Recovery<N>>,
 }
 
-/// The tick range of `[from, to)` seconds.
-fn ticks<const N: usize>(trace: &Trace<N>, from: f64, to: f64) -> std::ops::Range<usize> {
-    let start = trace.time.partition_point(|t| *t < from);
-    let end = trace.time.partition_point(|t| *t < to);
-    start..end.max(start)
+/// A goto task's mean estimate before the move and after the setpoint.
+#[derive(Debug, Clone)]
+struct EstimateShift<const N: usize> {
+    before: Window,
+    mean_before: Mean<N>,
+    after: Window,
+    mean_after: Mean<N>,
 }
 
-/// Per joint, the time from `from_s` until `|e|`, having left `band[j]`, stays back within it
-/// for [`RECOVERY_HOLD_S`]; 0 where it never leaves the band, the rest of the run where it
-/// never returns.
-fn recovery<const N: usize>(trace: &Trace<N>, from_s: f64, to_s: f64, band: &[f64]) -> Vec<f64> {
-    let range = ticks(trace, from_s, to_s);
-    (0..N)
-        .map(|j| {
-            let outside = |k: &usize| (trace.q[*k][j] - trace.q_des[*k][j]).abs() > band[j];
-            let Some(left) = range.clone().find(outside) else { return 0.0 };
-            let mut inside_since: Option<f64> = None;
-            for k in left..range.end {
-                let t = trace.time[k];
-                if (trace.q[k][j] - trace.q_des[k][j]).abs() <= band[j] {
-                    let since = *inside_since.get_or_insert(t);
-                    if t - since >= RECOVERY_HOLD_S {
-                        return since - from_s;
-                    }
-                } else {
-                    inside_since = None;
-                }
-            }
-            to_s - from_s
-        })
-        .collect()
+/// The correlation of `d̂` with the velocity from the true angles by central differences
+/// (one-sided at the ends), `(q_{k+1} − q_{k−1}) / (t_{k+1} − t_{k−1})`: each tick is paired
+/// once the next one is known.
+#[derive(Debug, Clone, Default)]
+struct VelocityCorrelation<const N: usize> {
+    previous: Option<(f64, JointVector<N>)>,
+    pending: Option<PendingTick<N>>,
+    correlation: Correlation<N>,
 }
 
-/// Per-joint Pearson correlation of `a` and `b` over the samples.
-fn correlation(pairs: &[(f64, f64)]) -> f64 {
-    let n = pairs.len().max(1) as f64;
-    let (ma, mb) = pairs.iter().fold((0.0, 0.0), |(x, y), (a, b)| (x + a / n, y + b / n));
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (a, b) in pairs {
-        sab += (a - ma) * (b - mb);
-        saa += (a - ma) * (a - ma);
-        sbb += (b - mb) * (b - mb);
+#[derive(Debug, Clone, Copy)]
+struct PendingTick<const N: usize> {
+    t: f64,
+    q: JointVector<N>,
+    d_hat: JointVector<N>,
+    counted: bool,
+}
+
+impl<const N: usize> VelocityCorrelation<N> {
+    fn push(&mut self, tick: &Tick<N>, counted: bool) {
+        self.settle(Some((tick.t, tick.q)));
+        self.pending = Some(PendingTick { t: tick.t, q: tick.q, d_hat: tick.d_hat, counted });
     }
-    if saa > 0.0 && sbb > 0.0 {
-        sab / (saa * sbb).sqrt()
-    } else {
-        0.0
+
+    /// Pairs the pending tick with its velocity, from the tick before it to `next` (or to
+    /// itself at the end of the run).
+    fn settle(&mut self, next: Option<(f64, JointVector<N>)>) {
+        let Some(p) = self.pending.take() else { return };
+        let (t_before, q_before) = self.previous.unwrap_or((p.t, p.q));
+        let (t_after, q_after) = next.unwrap_or((p.t, p.q));
+        if p.counted {
+            self.correlation.push(&p.d_hat, &((q_after - q_before) / (t_after - t_before).max(1e-12)));
+        }
+        self.previous = Some((p.t, p.q));
+    }
+
+    fn value(mut self) -> Vec<f64> {
+        self.settle(None);
+        self.correlation.value()
+    }
+}
+
+/// A run's [`Metrics`], accumulated tick by tick as the run goes: memory does not grow with
+/// the run's duration.
+#[derive(Debug, Clone)]
+pub struct MetricsRecorder<const N: usize> {
+    has_estimate: bool,
+    tracking: Rms<N>,
+    error_extremes: Extremes<N>,
+    settled: Window,
+    settled_error: Mean<N>,
+    settled_extremes: Extremes<N>,
+    command_noise: StepNoise<N>,
+    estimate_error: Rms<N>,
+    disturbance_spread: Spread<N>,
+    estimate_mean: Mean<N>,
+    velocity: VelocityCorrelation<N>,
+    drop: Option<DropWatch<N>>,
+    shift: Option<EstimateShift<N>>,
+    shadows: [ShadowRecorder<N>; 4],
+}
+
+impl<const N: usize> MetricsRecorder<N> {
+    /// The recorder of a run of `scenario` (which sets the windows) whose last tick is at
+    /// `last_time` (s); `has_estimate` for methods with a disturbance estimate.
+    pub fn new(scenario: &Scenario, has_estimate: bool, last_time: f64) -> Self {
+        let end = last_time + 1e-9;
+        let window = SETTLED_WINDOW_S.min(0.2 * (end - WARM_UP_S).max(0.0));
+        let drop = scenario.loads.weight_drop.as_ref().map(|d| {
+            let resting_until = d.remove_s.unwrap_or(end).min(end);
+            let before_from = (d.drop_s - SETTLED_WINDOW_S).max(quiet_from(scenario, d.drop_s));
+            DropWatch {
+                before: Window::new(before_from, d.drop_s),
+                error_before: Mean::default(),
+                resting: Window::new(d.drop_s + 0.5, resting_until),
+                error_resting: Mean::default(),
+                drop_recovery: Recovery::new(Window::new(d.drop_s, resting_until), RECOVERY_HOLD_S),
+                removal_recovery: d
+                    .remove_s
+                    .filter(|r| *r < end)
+                    .map(|r| Recovery::new(Window::new(r, end), RECOVERY_HOLD_S)),
+            }
+        });
+        let shift = match (&scenario.task, has_estimate) {
+            (Task::Goto { start_s, transition_s, .. }, true) => Some(EstimateShift {
+                before: Window::new((start_s - SETTLED_WINDOW_S).max(quiet_from(scenario, *start_s)), *start_s),
+                mean_before: Mean::default(),
+                after: Window::new((start_s + transition_s).max(end - window), end),
+                mean_after: Mean::default(),
+            }),
+            _ => None,
+        };
+        Self {
+            has_estimate,
+            tracking: Rms::default(),
+            error_extremes: Extremes::default(),
+            settled: Window::new(end - window, end),
+            settled_error: Mean::default(),
+            settled_extremes: Extremes::default(),
+            command_noise: StepNoise::default(),
+            estimate_error: Rms::default(),
+            disturbance_spread: Spread::default(),
+            estimate_mean: Mean::default(),
+            velocity: VelocityCorrelation::default(),
+            drop,
+            shift,
+            shadows: SHADOWS.map(|method| ShadowRecorder::new(method, scenario, last_time)),
+        }
+    }
+
+    /// Adds one control tick.
+    pub fn push(&mut self, tick: &Tick<N>) {
+        let (t, error) = (tick.t, tick.q - tick.q_des);
+        let after_warm_up = t >= WARM_UP_S;
+        for (recorder, d_hat) in self.shadows.iter_mut().zip(&tick.shadow) {
+            recorder.push(t, &tick.d_true, d_hat, after_warm_up);
+        }
+        if self.has_estimate {
+            self.velocity.push(tick, after_warm_up);
+        }
+        if self.settled.contains(t) {
+            self.settled_error.push(&error.abs());
+            self.settled_extremes.push(&error);
+        }
+        if let Some(drop) = self.drop.as_mut() {
+            if drop.before.contains(t) {
+                drop.error_before.push(&error.abs());
+            }
+            if drop.resting.contains(t) {
+                drop.error_resting.push(&error.abs());
+            }
+            let band = || drop.error_before.value().map(|e| (RECOVERY_FACTOR * e).max(RECOVERY_FLOOR_RAD));
+            drop.drop_recovery.push(t, &error, || band().as_slice().to_vec());
+            if let Some(removal) = drop.removal_recovery.as_mut() {
+                removal.push(t, &error, || band().as_slice().to_vec());
+            }
+        }
+        if let Some(shift) = self.shift.as_mut() {
+            if shift.before.contains(t) {
+                shift.mean_before.push(&tick.d_hat);
+            }
+            if shift.after.contains(t) {
+                shift.mean_after.push(&tick.d_hat);
+            }
+        }
+        if !after_warm_up {
+            return;
+        }
+        self.tracking.push(&error);
+        self.error_extremes.push(&error);
+        self.command_noise.push(&tick.tau_cmd);
+        self.estimate_error.push(&(tick.d_hat - tick.d_true));
+        self.disturbance_spread.push(&tick.d_true);
+        self.estimate_mean.push(&tick.d_hat);
+    }
+
+    /// The metrics of the ticks pushed.
+    pub fn finish(self) -> Metrics {
+        let estimated = |v: Vec<f64>| self.has_estimate.then_some(v);
+        let vec = |v: JointVector<N>| v.as_slice().to_vec();
+        let rmse_d = estimated(self.estimate_error.value());
+        let spread = self.disturbance_spread.value();
+        Metrics {
+            rmse_q: self.tracking.value(),
+            relative_rmse_d: rmse_d.as_ref().map(|r| r.iter().zip(&spread).map(|(e, s)| e / s.max(1e-12)).collect()),
+            rmse_d,
+            tau_cmd_noise: self.command_noise.value(),
+            max_abs_error_q: self.error_extremes.max_abs(),
+            steady_error_q: vec(self.settled_error.value()),
+            limit_cycle_q: self.settled_extremes.peak_to_peak(),
+            weight_error_q: self.drop.as_ref().map(|d| vec(d.error_resting.value())),
+            drop_recovery_s: self.drop.as_ref().map(|d| d.drop_recovery.value()),
+            removal_recovery_s: self.drop.as_ref().and_then(|d| d.removal_recovery.as_ref().map(Recovery::value)),
+            pre_drop_error_q: self.drop.as_ref().map(|d| vec(d.error_before.value())),
+            estimate_shift: self
+                .shift
+                .as_ref()
+                .map(|s| (s.mean_after.value() - s.mean_before.value()).abs().as_slice().to_vec()),
+            estimate_mean_abs: estimated(vec(self.estimate_mean.value().abs())),
+            estimate_velocity_correlation: estimated(self.velocity.value()),
+            shadow: self.shadows.each_ref().map(ShadowRecorder::finish),
+        }
     }
 }
 
 impl Metrics {
-    /// The metrics of `trace`, a run of `scenario` (which sets the windows), after the warm-up;
-    /// `has_estimate` for methods with a disturbance estimate.
-    pub fn of<const N: usize>(trace: &Trace<N>, scenario: &Scenario, has_estimate: bool) -> Self {
-        let end = trace.time.last().copied().unwrap_or(0.0) + 1e-9;
-        let start = trace.time.partition_point(|t| *t < WARM_UP_S);
-        let error = |k: usize| trace.q[k] - trace.q_des[k];
-        let errors = || (start..trace.time.len()).map(error);
-        let estimate_errors = (start..trace.time.len()).map(|k| trace.d_hat[k] - trace.d_true[k]);
-        let command_steps = trace.tau_cmd[start..].windows(2).map(|w| (w[1] - w[0]) / std::f64::consts::SQRT_2);
-        let window = SETTLED_WINDOW_S.min(0.2 * (end - WARM_UP_S).max(0.0));
-        let settled = ticks(trace, end - window, end);
-        let rmse_d = has_estimate.then(|| rms(estimate_errors));
-        let d_mean = mean_over(start..trace.time.len(), |k| trace.d_true[k]);
-        let d_spread =
-            rms((start..trace.time.len()).map(|k| trace.d_true[k] - JointVector::from_column_slice(&d_mean)));
-        let drop = scenario.loads.weight_drop.as_ref();
-        let pre_drop = drop.map(|d| {
-            let from = (d.drop_s - SETTLED_WINDOW_S).max(quiet_from(scenario, d.drop_s));
-            mean_over(ticks(trace, from, d.drop_s), |k| error(k).abs())
-        });
-        let band = |pre: &[f64]| pre.iter().map(|e| (RECOVERY_FACTOR * e).max(RECOVERY_FLOOR_RAD)).collect::<Vec<_>>();
-        let removal = drop.and_then(|d| d.remove_s).filter(|r| *r < end);
-        let velocity = |k: usize, j: usize| {
-            let (a, b) = (k.saturating_sub(1), (k + 1).min(trace.time.len() - 1));
-            (trace.q[b][j] - trace.q[a][j]) / (trace.time[b] - trace.time[a]).max(1e-12)
-        };
-        Metrics {
-            rmse_q: rms(errors()),
-            relative_rmse_d: rmse_d.as_ref().map(|r| r.iter().zip(&d_spread).map(|(e, s)| e / s.max(1e-12)).collect()),
-            rmse_d,
-            tau_cmd_noise: rms(command_steps),
-            max_abs_error_q: (0..N).map(|i| errors().map(|e| e[i].abs()).fold(0.0, f64::max)).collect(),
-            steady_error_q: mean_over(settled.clone(), |k| error(k).abs()),
-            limit_cycle_q: (0..N)
-                .map(|j| {
-                    let values = settled.clone().map(|k| error(k)[j]);
-                    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
-                    if hi >= lo {
-                        hi - lo
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
-            weight_error_q: drop.map(|d| {
-                mean_over(ticks(trace, d.drop_s + 0.5, d.remove_s.unwrap_or(end).min(end)), |k| error(k).abs())
-            }),
-            drop_recovery_s: drop
-                .zip(pre_drop.as_ref())
-                .map(|(d, pre)| recovery(trace, d.drop_s, d.remove_s.unwrap_or(end).min(end), &band(pre))),
-            removal_recovery_s: removal.zip(pre_drop.as_ref()).map(|(r, pre)| recovery(trace, r, end, &band(pre))),
-            pre_drop_error_q: pre_drop,
-            estimate_shift: match (&scenario.task, has_estimate) {
-                (Task::Goto { start_s, transition_s, .. }, true) => {
-                    let from = (start_s - SETTLED_WINDOW_S).max(quiet_from(scenario, *start_s));
-                    let before = mean_over(ticks(trace, from, *start_s), |k| trace.d_hat[k]);
-                    let after =
-                        mean_over(ticks(trace, (start_s + transition_s).max(end - window), end), |k| trace.d_hat[k]);
-                    Some(before.iter().zip(&after).map(|(b, a)| (a - b).abs()).collect())
-                }
-                _ => None,
-            },
-            estimate_velocity_correlation: has_estimate.then(|| {
-                (0..N)
-                    .map(|j| {
-                        let pairs: Vec<(f64, f64)> =
-                            (start..trace.time.len()).map(|k| (trace.d_hat[k][j], velocity(k, j))).collect();
-                        correlation(&pairs)
-                    })
-                    .collect()
-            }),
-            estimate_mean_abs: has_estimate
-                .then(|| mean_over(start..trace.time.len(), |k| trace.d_hat[k]).iter().map(|m| m.abs()).collect()),
-            shadow: shadow_metrics(trace, scenario, start),
-        }
-    }
-
     /// Every per-joint metric by name (those the run has), for tables and rules.
     pub fn named(&self) -> Vec<(&'static str, &[f64])> {
         let mut all: Vec<(&'static str, &[f64])> = vec![

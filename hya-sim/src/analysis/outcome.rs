@@ -1,10 +1,10 @@
-//! A finished run: its trace and the metrics computed from it.
+//! A finished run: its metrics and what was kept of its trace.
 
 use crate::analysis::metrics::Metrics;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::robot::Robot;
-use crate::run::trace::Trace;
+use crate::run::trace::{Recording, Trace};
 
 /// A finished run.
 #[derive(Debug, Clone)]
@@ -18,27 +18,36 @@ pub struct RunOutcome<const N: usize> {
     /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
     /// `L` for Chen's observer); `None` without an observer.
     pub bandwidth_rad_s: Option<Vec<f64>>,
-    /// Its time series.
+    /// Its time series, as far as they were kept ([`Recording`]).
     pub trace: Trace<N>,
     /// Its metrics.
     pub metrics: Metrics,
 }
 
-/// Runs `scenario` with `method` on `robot` ([`crate::run::closed_loop`]) and computes its
-/// metrics.
+/// Runs `scenario` with `method` on `robot` ([`crate::run::closed_loop`]), its trace bounded
+/// ([`Recording::Bounded`]).
 pub fn simulate<const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &Robot<N>,
 ) -> Result<RunOutcome<N>, SimError> {
-    let run = crate::run::closed_loop(scenario, method, robot)?;
-    let metrics = Metrics::of(&run.trace, scenario, method.estimates());
+    simulate_recording(scenario, method, robot, Recording::Bounded)
+}
+
+/// [`simulate`], keeping its trace as `recording` says.
+pub fn simulate_recording<const N: usize>(
+    scenario: &Scenario,
+    method: Method,
+    robot: &Robot<N>,
+    recording: Recording,
+) -> Result<RunOutcome<N>, SimError> {
+    let run = crate::run::closed_loop(scenario, method, robot, recording)?;
     Ok(RunOutcome {
         scenario: scenario.name.clone(),
         method,
         seed: scenario.seed,
         bandwidth_rad_s: run.bandwidth_rad_s,
         trace: run.trace,
-        metrics,
+        metrics: run.metrics,
     })
 }

@@ -8,6 +8,7 @@ use crate::analysis::metrics::Metrics;
 use crate::analysis::outcome::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
+use crate::run::trace::Recording;
 
 /// The metrics of every run, by scenario and method, one entry per seed in seed order.
 #[derive(Debug, Clone, Default)]
@@ -117,10 +118,9 @@ pub fn run_seeds<const N: usize>(
     let results = parallel_map(&jobs, |&(i, method, k)| {
         let mut scenario = scenarios[i].clone();
         scenario.seed = scenario.seed.wrapping_add(k as u64);
-        let mut outcome = crate::analysis::outcome::simulate(&scenario, method, robot);
-        if let (Ok(o), true) = (outcome.as_mut(), k > 0) {
-            o.trace = Default::default(); // only the first seed's traces are kept
-        }
+        // Only the first seed's traces are kept (for the figures and CSV files).
+        let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
+        let outcome = crate::analysis::outcome::simulate_recording(&scenario, method, robot, recording);
         progress(scenario.duration_s);
         outcome
     });

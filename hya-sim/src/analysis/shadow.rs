@@ -11,8 +11,9 @@
 use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
 use serde::Serialize;
 
+use crate::analysis::running::{Rms, StepNoise, Window};
 use crate::config::scenario::{Method, Scenario};
-use crate::run::trace::Trace;
+use crate::linear::PhasorSum;
 
 /// One shadow estimator's figures, per joint, after the warm-up.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -29,96 +30,159 @@ pub struct ShadowMetrics {
     pub band_error: Option<Vec<f64>>,
 }
 
-/// `H_m·d` for the design of `method` at `bandwidth` (rad/s), sampled every `dt` (s); the
-/// filter starts at rest on the first sample.
-pub fn designed<const N: usize>(
+/// `H_m` of one estimator's design at `bandwidth` (rad/s), sampled every `dt` (s), stepped
+/// sample by sample; it starts at rest on the first sample it is given.
+#[derive(Debug, Clone)]
+pub struct Design<const N: usize> {
     method: Method,
     bandwidth: f64,
     dt: f64,
-    d: &[JointVector<N>],
-) -> Option<Vec<JointVector<N>>> {
-    let first = *d.first()?;
-    let mut out = Vec::with_capacity(d.len());
-    match method {
-        Method::Lu => {
-            let mut filter = ThirdOrderFilter::new(FilterParams::paper_at(bandwidth, dt).ok()?, first).ok()?;
-            out.push(first);
-            for u in &d[1..] {
-                out.push(filter.step(u).ok()?.x1);
+    state: Option<DesignState<N>>,
+}
+
+#[derive(Debug, Clone)]
+enum DesignState<const N: usize> {
+    /// The paper's filter.
+    Lu(Box<ThirdOrderFilter<N>>),
+    /// First-order sections in series: one for Chen's and the momentum observer, three for the
+    /// ESO.
+    Lags(Vec<FirstOrderHoldLag<N>>),
+}
+
+impl<const N: usize> Design<N> {
+    /// The design of `method`; `None` for the methods without an estimator.
+    pub fn new(method: Method, bandwidth: f64, dt: f64) -> Option<Self> {
+        method.estimates().then_some(Self { method, bandwidth, dt, state: None })
+    }
+
+    /// `H_m·d` at this sample; `None` where the design cannot be discretised.
+    pub fn step(&mut self, d: &JointVector<N>) -> Option<JointVector<N>> {
+        let Some(state) = self.state.as_mut() else {
+            self.state = Some(match self.method {
+                Method::Lu => DesignState::Lu(Box::new(
+                    ThirdOrderFilter::new(FilterParams::paper_at(self.bandwidth, self.dt).ok()?, *d).ok()?,
+                )),
+                method => {
+                    let sections = if method == Method::Eso { 3 } else { 1 };
+                    DesignState::Lags(vec![FirstOrderHoldLag::at_rest(self.bandwidth, self.dt, d); sections])
+                }
+            });
+            return Some(*d);
+        };
+        match state {
+            DesignState::Lu(filter) => filter.step(d).ok().map(|s| s.x1),
+            DesignState::Lags(sections) => Some(sections.iter_mut().fold(*d, |u, lag| lag.step(&u))),
+        }
+    }
+}
+
+/// `β/(s + β)`, exact for an input linear between samples: `y_k = a y_{k−1} + b0 u_k +
+/// b1 u_{k−1}`, `a = e^{−βT}`, `b0 = 1 − (1 − a)/(βT)`, `b1 = (1 − a)/(βT) − a` (unity DC gain).
+#[derive(Debug, Clone, Copy)]
+struct FirstOrderHoldLag<const N: usize> {
+    a: f64,
+    b0: f64,
+    b1: f64,
+    y: JointVector<N>,
+    u: JointVector<N>,
+}
+
+impl<const N: usize> FirstOrderHoldLag<N> {
+    /// At rest on `u0`.
+    fn at_rest(beta: f64, dt: f64, u0: &JointVector<N>) -> Self {
+        let a = (-beta * dt).exp();
+        let c = (1.0 - a) / (beta * dt);
+        Self { a, b0: 1.0 - c, b1: c - a, y: *u0, u: *u0 }
+    }
+
+    fn step(&mut self, u: &JointVector<N>) -> JointVector<N> {
+        self.y = self.y * self.a + u * self.b0 + self.u * self.b1;
+        self.u = *u;
+        self.y
+    }
+}
+
+/// One shadow estimator's figures, accumulated tick by tick.
+#[derive(Debug, Clone)]
+pub struct ShadowRecorder<const N: usize> {
+    design: Option<Design<N>>,
+    error: Rms<N>,
+    design_error: Rms<N>,
+    noise: StepNoise<N>,
+    band: Option<BandError<N>>,
+}
+
+/// The amplitude of `d̂ − d` at a sinusoidal load's frequency, over whole periods from the
+/// first tick after the warm-up to the run's last tick.
+#[derive(Debug, Clone)]
+struct BandError<const N: usize> {
+    period: f64,
+    last_time: f64,
+    window: Option<Window>,
+    phasors: [PhasorSum; N],
+}
+
+impl<const N: usize> ShadowRecorder<N> {
+    /// The recorder of `method` (of [`crate::run::trace::SHADOWS`]) in `scenario`, whose last
+    /// tick is at `last_time` (s).
+    pub fn new(method: Method, scenario: &Scenario, last_time: f64) -> Self {
+        let c = &scenario.controller;
+        Self {
+            design: Design::new(method, c.observer_bandwidth_rad_s, c.dt_s),
+            error: Rms::default(),
+            design_error: Rms::default(),
+            noise: StepNoise::default(),
+            band: scenario.loads.sinusoid.as_ref().map(|load| BandError {
+                period: 1.0 / load.frequency_hz,
+                last_time,
+                window: None,
+                phasors: [PhasorSum::new(std::f64::consts::TAU * load.frequency_hz); N],
+            }),
+        }
+    }
+
+    /// Adds one tick: the true disturbance `d` and this estimator's `d_hat` at `t`, which counts
+    /// toward the figures `after_warm_up`.
+    pub fn push(&mut self, t: f64, d: &JointVector<N>, d_hat: &JointVector<N>, after_warm_up: bool) {
+        let designed = self.design.as_mut().and_then(|design| design.step(d));
+        if designed.is_none() {
+            self.design = None;
+        }
+        if !after_warm_up {
+            return;
+        }
+        let error = d_hat - d;
+        self.error.push(&error);
+        if let Some(designed) = designed {
+            self.design_error.push(&(d_hat - designed));
+        }
+        self.noise.push(d_hat);
+        if let Some(band) = self.band.as_mut() {
+            let window = *band.window.get_or_insert_with(|| {
+                let whole = ((band.last_time - t) / band.period).floor() * band.period;
+                Window::new(t, t + whole)
+            });
+            if window.contains(t) {
+                band.phasors.iter_mut().zip(error.iter()).for_each(|(p, e)| p.push(t, *e));
             }
         }
-        Method::Chen | Method::Momentum | Method::Eso => {
-            let sections = if method == Method::Eso { 3 } else { 1 };
-            let mut signal = d.to_vec();
-            for _ in 0..sections {
-                signal = first_order_hold_lag(bandwidth, dt, &signal);
-            }
-            out = signal;
-        }
-        Method::None | Method::Pid => return None,
     }
-    Some(out)
-}
 
-/// `β/(s + β)` on `u`, exact for an input linear between samples: `y_k = a y_{k−1} + b0 u_k +
-/// b1 u_{k−1}`, `a = e^{−βT}`, `b0 = 1 − (1 − a)/(βT)`, `b1 = (1 − a)/(βT) − a` (unity DC gain),
-/// at rest on the first sample.
-fn first_order_hold_lag<const N: usize>(beta: f64, dt: f64, u: &[JointVector<N>]) -> Vec<JointVector<N>> {
-    let a = (-beta * dt).exp();
-    let c = (1.0 - a) / (beta * dt);
-    let (b0, b1) = (1.0 - c, c - a);
-    let mut y = Vec::with_capacity(u.len());
-    for (k, uk) in u.iter().enumerate() {
-        y.push(match k {
-            0 => *uk,
-            _ => y[k - 1] * a + uk * b0 + u[k - 1] * b1,
-        });
-    }
-    y
-}
-
-/// Per-joint `sqrt(mean(x²))` over the samples. An empty window has no RMS: NaN, which fails
-/// every rule, rather than a flattering 0.
-pub(crate) fn rms<const N: usize>(samples: impl Iterator<Item = JointVector<N>>) -> Vec<f64> {
-    let (sum, count) = samples.fold((JointVector::<N>::zeros(), 0usize), |(s, n), x| (s + x.component_mul(&x), n + 1));
-    (sum / count as f64).map(f64::sqrt).as_slice().to_vec()
-}
-
-/// The figures of every shadow estimator of `trace` (a run of `scenario`), from tick `start`
-/// (the end of the warm-up) on.
-pub fn shadow_metrics<const N: usize>(trace: &Trace<N>, scenario: &Scenario, start: usize) -> [ShadowMetrics; 4] {
-    let c = &scenario.controller;
-    let n = trace.time.len();
-    core::array::from_fn(|i| {
-        let d_hat = &trace.shadow[i];
-        if d_hat.len() != n || start >= n {
+    /// The figures; empty ones where no tick followed the warm-up.
+    pub fn finish(&self) -> ShadowMetrics {
+        if self.error.count() == 0 {
             return ShadowMetrics::default();
         }
-        let method = crate::run::trace::SHADOWS[i];
-        let design = designed(method, c.observer_bandwidth_rad_s, c.dt_s, &trace.d_true).unwrap_or_default();
-        let band_error = scenario.loads.sinusoid.as_ref().map(|load| {
-            let period = 1.0 / load.frequency_hz;
-            let from = trace.time[start];
-            let whole = ((trace.time[n - 1] - from) / period).floor() * period;
-            let end = trace.time.partition_point(|t| *t < from + whole);
-            (0..N)
-                .map(|j| {
-                    let samples: Vec<(f64, f64)> =
-                        (start..end).map(|k| (trace.time[k], d_hat[k][j] - trace.d_true[k][j])).collect();
-                    crate::linear::phasor(&samples, std::f64::consts::TAU * load.frequency_hz).norm()
-                })
-                .collect()
-        });
         ShadowMetrics {
-            rmse_d: rms((start..n).map(|k| d_hat[k] - trace.d_true[k])),
-            rmse_design: match design.len() == n {
-                true => rms((start..n).map(|k| d_hat[k] - design[k])),
-                false => vec![f64::NAN; N],
+            rmse_d: self.error.value(),
+            rmse_design: match self.design {
+                Some(_) => self.design_error.value(),
+                None => vec![f64::NAN; N],
             },
-            noise: rms(d_hat[start..].windows(2).map(|w| (w[1] - w[0]) / std::f64::consts::SQRT_2)),
-            band_error,
+            noise: self.noise.value(),
+            band_error: self.band.as_ref().map(|b| b.phasors.iter().map(|p| p.value().norm()).collect()),
         }
-    })
+    }
 }
 
 #[cfg(test)]
@@ -134,11 +198,12 @@ mod tests {
         let dt = 1e-3;
         let ramp: Vec<JointVector<1>> = (0..4000).map(|k| JointVector::from([k as f64 * dt])).collect();
         for (method, delay) in [(Method::Chen, 1.0 / 50.0), (Method::Eso, 3.0 / 50.0), (Method::Lu, 0.052)] {
-            let out = designed(method, 50.0, dt, &ramp).unwrap();
+            let mut design = Design::new(method, 50.0, dt).unwrap();
+            let out: Vec<JointVector<1>> = ramp.iter().map(|d| design.step(d).unwrap()).collect();
             let lag = ramp[3999][0] - out[3999][0];
             assert!((lag - delay).abs() < 1e-6, "{method:?}: lag {lag}, design {delay}");
         }
-        let constant = vec![JointVector::<1>::from([2.5]); 100];
-        assert!(designed(Method::Momentum, 30.0, dt, &constant).unwrap().iter().all(|y| (y[0] - 2.5).abs() < 1e-12));
+        let mut momentum = Design::new(Method::Momentum, 30.0, dt).unwrap();
+        assert!((0..100).all(|_| (momentum.step(&JointVector::<1>::from([2.5])).unwrap()[0] - 2.5).abs() < 1e-12));
     }
 }

@@ -259,7 +259,8 @@ pub fn run_on<const N: usize>(
     let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
         let scenario =
             plan.scenario_at(i, method, bandwidth, k).ok_or(SimError::Nothing("a sweep point beyond its scenarios"))?;
-        let entry = crate::analysis::outcome::simulate(&scenario, method, robot).map(|o| Entry {
+        let recording = crate::run::trace::Recording::Off;
+        let entry = crate::analysis::outcome::simulate_recording(&scenario, method, robot, recording).map(|o| Entry {
             scenario: scenario.name.clone(),
             method: method.name().to_owned(),
             bandwidth_rad_s: bandwidth,

@@ -2,10 +2,10 @@
 //! memory it holds, checked against documented caps so that an absurd setting is refused with
 //! its figure instead of running for weeks or until memory runs out.
 //!
-//! Each run keeps its trace (time, `q`, `q_des`, `d`, `d̂`, `τ_cmd` per control tick) in memory
-//! while it runs, and the first seed's runs keep theirs until the report is written (for the
-//! figures and CSV files); later seeds keep only their metrics. So memory grows with the
-//! simulated duration of the first seed's runs, not with the number of seeds.
+//! Metrics are accumulated tick by tick; only the first seed's runs keep a trace (time, `q`,
+//! `q_des`, `d`, `d̂`, `τ_cmd`), for the figures and CSV files, of at most
+//! [`MAX_TRACE_SAMPLES`] ticks each (a longer run keeps every k-th tick). So memory grows with
+//! the number of scenarios and methods, not with the duration or the number of seeds.
 
 use std::fmt;
 
@@ -13,6 +13,7 @@ use hya_core::Short;
 
 use crate::config::scenario::Scenario;
 use crate::error::SimError;
+use crate::run::trace::{bytes_per_sample, MAX_TRACE_SAMPLES};
 use hya_core::dispatch::MAX_JOINTS;
 
 /// The most plant integration steps (control ticks × sub-steps, summed over every run) a
@@ -23,9 +24,8 @@ pub const MAX_PHYSICS_STEPS: f64 = 3e9;
 /// The most trace memory a command holds without `--no-cost-limit`, bytes (4 GiB).
 pub const MAX_TRACE_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
-/// Bytes of trace per control tick for the largest arm: time and nine joint vectors (`q`,
-/// `q_des`, `d`, `d̂`, `τ_cmd` and the four shadow estimates).
-const TRACE_BYTES_PER_TICK: f64 = (8 * (1 + 9 * MAX_JOINTS)) as f64;
+/// Bytes of trace per kept tick for the largest arm.
+const TRACE_BYTES_PER_TICK: f64 = bytes_per_sample(MAX_JOINTS) as f64;
 
 /// The cost of running every method of every scenario over some seeds.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,12 +44,8 @@ impl Cost {
     /// The cost of `scenarios` (checked) over `seeds` seeds each, on every core of this machine.
     pub fn of(scenarios: &[Scenario], seeds: usize) -> Self {
         let ticks = |s: &Scenario| (s.duration_s / s.controller.dt_s).ceil();
-        let workers = std::thread::available_parallelism().map_or(1, |n| n.get()) as f64;
-        let kept: f64 = scenarios.iter().map(|s| ticks(s) * s.methods.len() as f64).sum();
-        let longest = scenarios.iter().map(ticks).fold(0.0, f64::max);
+        let kept: f64 = scenarios.iter().map(|s| ticks(s).min(MAX_TRACE_SAMPLES as f64) * s.methods.len() as f64).sum();
         let runs: usize = scenarios.iter().map(|s| s.methods.len() * seeds).sum();
-        // The first seed's runs are the kept traces; the later seeds' run at most one per core.
-        let later = (runs - scenarios.iter().map(|s| s.methods.len()).sum::<usize>()) as f64;
         Self {
             runs,
             simulated_s: scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum(),
@@ -57,7 +53,7 @@ impl Cost {
                 .iter()
                 .map(|s| ticks(s) * s.plant.substeps() as f64 * (s.methods.len() * seeds) as f64)
                 .sum(),
-            trace_bytes: (kept + workers.min(later) * longest) * TRACE_BYTES_PER_TICK,
+            trace_bytes: kept * TRACE_BYTES_PER_TICK,
         }
     }
 
@@ -127,12 +123,14 @@ mod tests {
         );
         let error = cost.check("shorten it", None).unwrap_err().to_string();
         assert!(error.ends_with("shorten it"), "a command without the flag does not name it: {error}");
-        // Memory grows with the duration, not with the seeds once every core has a later seed's run.
+        // Memory depends neither on the seeds nor, beyond the trace's bound, on the duration.
         scenario.plant.substeps = Some(1);
         let ten = Cost::of(std::slice::from_ref(&scenario), 10);
         assert_eq!(ten.trace_bytes, Cost::of(std::slice::from_ref(&scenario), 20).trace_bytes);
-        // One run keeps one trace: no core's worth of later seeds counted beside it.
         scenario.methods.truncate(1);
+        let bounded = MAX_TRACE_SAMPLES as f64 * TRACE_BYTES_PER_TICK;
+        assert_eq!(Cost::of(std::slice::from_ref(&scenario), 1).trace_bytes, bounded);
+        scenario.duration_s = 20.0;
         let ticks = (scenario.duration_s / scenario.controller.dt_s).ceil();
         assert_eq!(Cost::of(std::slice::from_ref(&scenario), 1).trace_bytes, ticks * TRACE_BYTES_PER_TICK);
     }

@@ -10,6 +10,7 @@ use crate::analysis::seeds::MetricTable;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::SHADOWS;
+use hya_core::Short;
 
 use super::summary::*;
 use super::text::*;
@@ -84,9 +85,18 @@ pub(super) fn markdown<const N: usize>(
         }
         md.push_str(&shadow_table(s, &runs, table));
         md.push_str(&weight_drop_beside_the_paper(s, &runs));
+        let stride = runs.first().map_or(1, |o| o.trace.stride);
+        let thinned = match stride > 1 {
+            true => format!(
+                "; one control tick in {stride}, every {} ms: a trace keeps at most {} ticks so that memory does not grow with the run, while the metrics above use every tick",
+                Short(stride as f64 * s.controller.dt_s * 1e3),
+                crate::run::trace::MAX_TRACE_SAMPLES
+            ),
+            false => String::new(),
+        };
         let _ = writeln!(
             md,
-            "\n{}\n\nTime series: `{}_<method>.csv` (first seed).\n",
+            "\n{}\n\nTime series: `{}_<method>.csv` (first seed{thinned}).\n",
             figure_names
                 .get(&s.name)
                 .map_or(&[][..], |n| n.as_slice())

@@ -128,11 +128,7 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
 
 /// The model's steady-sliding friction and the sine task's estimated disturbance against joint
 /// velocity (the velocity from the true angles by central differences), one panel per joint.
-fn friction_figure<const N: usize>(
-    config: &PlantConfig,
-    sine: &RunOutcome<N>,
-    dt: f64,
-) -> Result<Option<String>, SimError> {
+fn friction_figure<const N: usize>(config: &PlantConfig, sine: &RunOutcome<N>) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
     // Only the friction lists: the actuators' and the loads' do not enter the figure.
     let lists = crate::config::settings::FrictionLists::<N>::of(config)?;
@@ -142,8 +138,9 @@ fn friction_figure<const N: usize>(
     let trace = &sine.trace;
     let panels = (0..N)
         .map(|j| {
-            let velocities: Vec<f64> =
-                (1..trace.q.len() - 1).map(|k| (trace.q[k + 1][j] - trace.q[k - 1][j]) / (2.0 * dt)).collect();
+            let velocities: Vec<f64> = (1..trace.q.len().saturating_sub(1))
+                .map(|k| (trace.q[k + 1][j] - trace.q[k - 1][j]) / (trace.time[k + 1] - trace.time[k - 1]))
+                .collect();
             let estimate: Vec<(f64, f64)> = velocities
                 .iter()
                 .enumerate()
@@ -313,7 +310,7 @@ pub fn section<const N: usize>(
     let model = &robot.model;
     let nominal = robot.nominal.as_ref();
     if let Some(sine) = outcomes.iter().find(|o| o.scenario.starts_with("sine_internal") && o.method == Method::Lu) {
-        if let Some(svg) = friction_figure(p, sine, first.controller.dt_s)? {
+        if let Some(svg) = friction_figure(p, sine)? {
             let name = "plant_friction.svg".to_owned();
             let _ = writeln!(md, "\n### Friction against velocity\n\n![friction]({name})\n\nThe LuGre model's steady-sliding torque `−(g(q̇) sgn q̇ + σ2 q̇)` at the nominal levels (black; the seeded profile moves it within ±{} of that), and the paper's estimate `d̂` of the sine task against the joint's velocity (dots). The estimate also holds the rigid-body model error and the actuators' torque error, so it sits off the curve by a joint-dependent offset; it opposes the motion where the curve does.", p.coulomb_position_variation);
             figures.push((name, svg));

@@ -23,7 +23,7 @@ use crate::robot::Robot;
 use hya_core::model::TreeModel;
 use sensors::Sensors;
 use task::Trajectory;
-use trace::{Trace, SHADOWS};
+use trace::{Recording, Tick, Trace, SHADOWS};
 
 pub mod model;
 pub mod rollout;
@@ -160,23 +160,27 @@ impl<const N: usize> IntegralAction<N> {
 /// The record of one closed-loop run.
 #[derive(Debug, Clone)]
 pub struct ClosedLoop<const N: usize> {
-    /// Its time series.
+    /// Its time series, as far as `Recording` kept them.
     pub trace: Trace<N>,
+    /// Its metrics, from every tick.
+    pub metrics: crate::analysis::metrics::Metrics,
     /// The observer's rates at the start pose, 1/s, from its design (ascending eigenvalues of
     /// `L` for Chen's observer); `None` without an observer.
     pub bandwidth_rad_s: Option<Vec<f64>>,
 }
 
 /// Runs `scenario` with `method` on `robot`: the controller and observers on its nominal
-/// dynamics or the model the scenario names ([`model::LoopModel`]), the plant on its model perturbed by the scenario's seed.
+/// dynamics or the model the scenario names ([`model::LoopModel`]), the plant on its model
+/// perturbed by the scenario's seed; its trace kept as `recording` says.
 pub fn closed_loop<const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &Robot<N>,
+    recording: Recording,
 ) -> Result<ClosedLoop<N>, SimError> {
     let joints = JointSettings::<N>::of(scenario)?;
     let trajectory = Trajectory::new(&scenario.task, joints.task, joints.initial_position)?;
-    closed_loop_on(scenario, method, robot, &trajectory, |_, _| {})
+    closed_loop_on(scenario, method, robot, (&trajectory, recording), |_, _| {})
 }
 
 /// The plant's true rigid body in `scenario` on `robot`: its model perturbed by the scenario's
@@ -193,7 +197,7 @@ pub fn closed_loop_on<const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &Robot<N>,
-    trajectory: &Trajectory<N>,
+    (trajectory, recording): (&Trajectory<N>, Recording),
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
     trajectory.within_limits(&robot.model)?;
@@ -243,7 +247,10 @@ pub fn closed_loop_on<const N: usize>(
         .transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substeps = scenario.plant.substeps();
-    let mut trace = Trace::default();
+    let mut trace = Trace::new(steps, recording);
+    let last_time = steps.saturating_sub(1) as f64 * dt;
+    let mut metrics = crate::analysis::metrics::MetricsRecorder::new(scenario, method.estimates(), last_time);
+    let mut shadow = [JointVector::zeros(); SHADOWS.len()];
     for k in 0..steps {
         let t = k as f64 * dt;
         if k > 0 {
@@ -260,8 +267,8 @@ pub fn closed_loop_on<const N: usize>(
             Some(o) => *o.disturbance(),
             None => JointVector::zeros(),
         };
-        for (shadow, series) in shadows.iter_mut().zip(trace.shadow.iter_mut()) {
-            series.push(if k > 0 { shadow.update(&measurement).map_err(at)? } else { *shadow.disturbance() });
+        for (observer, estimate) in shadows.iter_mut().zip(shadow.iter_mut()) {
+            *estimate = if k > 0 { observer.update(&measurement).map_err(at)? } else { *observer.disturbance() };
         }
         let velocity = measurement.velocity.unwrap_or_else(JointVector::zeros);
         let reference = trajectory.at(t);
@@ -278,14 +285,18 @@ pub fn closed_loop_on<const N: usize>(
         applied = commands.pop_front().unwrap_or(command);
         let state = plant.state;
         let acceleration = plant.advance(dt, substeps, &applied)?;
-        trace.time.push(t);
-        trace.q.push(state.q);
-        trace.q_des.push(reference.position);
-        trace.d_true.push(
-            nominal.inverse_dynamics(&state.q, &state.qd, &acceleration) - plant.actuator_torque(&state, &applied),
-        );
-        trace.d_hat.push(d_hat);
-        trace.tau_cmd.push(command);
+        let tick = Tick {
+            t,
+            q: state.q,
+            q_des: reference.position,
+            d_true: nominal.inverse_dynamics(&state.q, &state.qd, &acceleration)
+                - plant.actuator_torque(&state, &applied),
+            d_hat,
+            tau_cmd: command,
+            shadow,
+        };
+        trace.record(k, &tick);
+        metrics.push(&tick);
     }
-    Ok(ClosedLoop { trace, bandwidth_rad_s })
+    Ok(ClosedLoop { trace, metrics: metrics.finish(), bandwidth_rad_s })
 }

@@ -196,6 +196,25 @@ pub enum TorqueSource {
     Direct,
 }
 
+/// Which pressure transducers the controller's torque measurement reads
+/// ([`TorqueSource::Pressure`] on hydraulic actuators).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Transducers {
+    /// The inner torque loops' own, as on HyA (one transducer set per joint): the controller's
+    /// reading carries the same constant offsets as the loop's
+    /// (`plant.hydraulic.torque_loop_pressure_offset_pa`), with a noise draw of its own (a
+    /// simplification: the two read at their own instants). The torque error the offsets leave
+    /// in the loop, `D_a o_a − D_b o_b`, is then part of what the estimator sees
+    /// (`d̂ → d − (D_a o_a − D_b o_b)`) and the compensation removes it.
+    #[default]
+    Shared,
+    /// A second set with offsets of its own (bound `sensors.pressure_offset_pa`): the controller
+    /// and the inner loop disagree on the torque by the offsets' difference, which no estimate
+    /// sees, so a steady error of about that difference over `K_P` remains.
+    Independent,
+}
+
 /// What the controller can measure, and when.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -211,8 +230,11 @@ pub struct SensorConfig {
     pub torque: TorqueSource,
     /// Standard deviation of each pressure sensor's noise, Pa.
     pub pressure_noise_pa: f64,
-    /// Bound of each pressure sensor's constant offset (uniform, seeded), Pa.
+    /// Bound of each pressure sensor's constant offset (uniform, seeded), Pa; read with
+    /// [`Transducers::Independent`] only.
     pub pressure_offset_pa: f64,
+    /// Whether the controller reads the inner loops' transducers or a set of its own.
+    pub transducers: Transducers,
     /// Control ticks between a measurement and the controller reading it.
     pub measurement_delay_ticks: usize,
     /// Control ticks between the controller's command and the valves receiving it.
@@ -228,6 +250,7 @@ impl Default for SensorConfig {
             torque: TorqueSource::Pressure,
             pressure_noise_pa: 1e4,
             pressure_offset_pa: 2.5e4,
+            transducers: Transducers::Shared,
             measurement_delay_ticks: 0,
             command_delay_ticks: 1,
         }

@@ -45,8 +45,9 @@
 //! sample; both drawn from the actuators' own generator ([`HydraulicActuators::seeded`]; the plant
 //! seeds it from its own). The loop regulates the *measured* torque, so the joint's true torque
 //! stands off by `D_a o_a − D_b o_b` and carries the noise through the loop. (The controller's
-//! measured torque, `crate::run::sensors`, reads the same transducers in reality but draws its
-//! own offsets and noise; see [`HydraulicActuators::pressure_offsets`].)
+//! measured torque, `crate::run::sensors`, reads these transducers' offsets by default, as on
+//! HyA, or a set of its own: `sensors.transducers`; see
+//! [`HydraulicActuators::pressure_offsets`].)
 //!
 //! The load-motion compensation uses the velocity the loop can compute itself: the backward
 //! difference of its encoder's angle (`torque_loop_encoder_counts_per_rev` counts per turn)
@@ -336,7 +337,7 @@ impl<const N: usize> HydraulicActuators<N> {
     }
 
     /// The constant offsets of the cap- and rod-side pressure transducers the inner loops read,
-    /// Pa (the controller's torque sensing could read the same ones).
+    /// Pa (the controller's torque sensing reads the same ones with shared transducers).
     pub fn pressure_offsets(&self) -> (JointVector<N>, JointVector<N>) {
         self.offsets
     }

@@ -53,7 +53,13 @@ fn short(x: f64) -> String {
 }
 
 /// The section, from the runs of `scenarios` in `table` over `seeds` seeds.
-pub(super) fn in_short(scenarios: &[Scenario], table: &MetricTable, seeds: usize, arm: &str, quick: bool) -> String {
+pub(super) fn in_short(
+    scenarios: &[Scenario],
+    table: &MetricTable,
+    seeds: usize,
+    (arm, quick): (&str, bool),
+    sensitivity: Option<&super::sensitivity::Sensitivity>,
+) -> String {
     let methods: std::collections::BTreeSet<&str> =
         scenarios.iter().flat_map(|s| s.methods.iter().map(|m| m.name())).collect();
     let mut md = String::from("## In short\n\n");
@@ -99,6 +105,7 @@ pub(super) fn in_short(scenarios: &[Scenario], table: &MetricTable, seeds: usize
          scenario's observer bandwidth; other matchings (equal −3 dB bandwidth, equal delay) are not run here, so \
          the comparisons with chen, momentum and eso hold for that matching only.\n",
     );
+    md.push_str(&super::sensitivity::headline(sensitivity));
     md.push_str(
         "\nHow the report was made follows; then the claims' verdicts, and the joints where a baseline's tracking or \
          estimate error is lower than lu's beyond the 95 % intervals (a stricter test than the means above).\n\n",

@@ -14,6 +14,7 @@ mod loops;
 mod markdown;
 mod plant;
 mod provenance;
+mod sensitivity;
 mod summary;
 mod text;
 mod viscous;
@@ -55,6 +56,7 @@ pub fn write<const N: usize>(
         }
         save(name, text)?;
     }
+    let sensitivity = sensitivity::run(robot, scenarios, quick)?;
     let summary = Summary {
         robot: robot.name.clone(),
         quick,
@@ -63,6 +65,7 @@ pub fn write<const N: usize>(
         claims: judge_all(table),
         provenance: provenance.clone(),
         sweep,
+        sensitivity,
     };
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
@@ -87,15 +90,17 @@ pub fn write<const N: usize>(
         save(name, svg)?;
     }
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
-    let viscous_section = match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
-        Some(base) => {
-            fronts_section
-                + &loops::section(robot, base)?
-                + &viscous::section(robot, base, table)?
-                + &gain_rule::section(robot, base)?
-        }
-        None => String::new(),
-    };
+    let sensitivity_section = summary.sensitivity.as_ref().map(sensitivity::section).unwrap_or_default();
+    let viscous_section = sensitivity_section
+        + &match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
+            Some(base) => {
+                fronts_section
+                    + &loops::section(robot, base)?
+                    + &viscous::section(robot, base, table)?
+                    + &gain_rule::section(robot, base)?
+            }
+            None => String::new(),
+        };
     if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {
         let points = crate::frequency::measure(robot, base, &crate::frequency::FREQUENCIES_HZ)?;
         save("frequency.svg", &crate::frequency::figure(&points))?;

@@ -10,7 +10,7 @@ use rand::SeedableRng;
 
 use crate::analysis::outcome::RunOutcome;
 use crate::config::scenario::Method;
-use crate::config::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource};
+use crate::config::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource, Transducers};
 use crate::error::{SettingError, SimError};
 use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 use crate::plant::friction::Friction;
@@ -33,7 +33,10 @@ fn parameter_rows(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
     let hydraulic = p.actuator == ActuatorKind::Hydraulic;
     let acts = |name: &str| match name {
         "actuator_time_constant_s" => p.actuator == ActuatorKind::Lag,
-        "pressure_noise_pa" | "pressure_offset_pa" => hydraulic && s.torque == TorqueSource::Pressure,
+        "pressure_noise_pa" | "transducers" => hydraulic && s.torque == TorqueSource::Pressure,
+        "pressure_offset_pa" => {
+            hydraulic && s.torque == TorqueSource::Pressure && s.transducers == Transducers::Independent
+        }
         n if n.starts_with("bristle_") => p.friction == crate::config::scenario::FrictionKind::Lugre,
         n => hydraulic || !HYDRAULIC_ROWS.contains(&n),
     };
@@ -120,6 +123,7 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
         row("velocity_cutoff_rad_s", format!("{}", s.velocity_cutoff_rad_s), "rad/s", "our choice"),
         row("torque", format!("{:?}", s.torque).to_lowercase(), "–", "from the chamber pressures, so the actuators' own friction stays in the measured disturbance, as the paper observes (VI-A); HyA itself carries torque sensors and load cells (SICFP 2015)"),
         row("pressure_noise_pa", format!("{}", s.pressure_noise_pa), "Pa", "our choice"),
+        row("transducers", format!("{:?}", s.transducers).to_lowercase(), "–", "HyA's: the controller reads the inner torque loops' pressure transducers (one set per joint), so their offsets are shared; the noise is drawn per reading (a simplification). `independent` (a second set with offsets of its own) is a variant in the sensitivity table"),
         row("pressure_offset_pa", format!("{}", s.pressure_offset_pa), "Pa", "our choice: a fifth of the ±0.5 % FS accuracy of HyQ's 25 MPa transducers (Semini, PhD thesis, 2010), for sensors zeroed at start-up"),
         row("measurement_delay_ticks", format!("{}", s.measurement_delay_ticks), "ticks", "our choice"),
         row("command_delay_ticks", format!("{}", s.command_delay_ticks), "ticks", "our choice: one 1 ms tick (control at 1 kHz over EtherCAT)"),

@@ -68,6 +68,10 @@ pub struct Summary {
     /// `hya sweep`'s `sweep.json`); absent where the report ran none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweep: Option<serde_json::Value>,
+    /// The headline comparisons under other modelling choices, every seed's RMSE; absent where
+    /// the report ran none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<super::sensitivity::Sensitivity>,
 }
 
 pub(super) fn mean(values: &[f64]) -> f64 {

@@ -8,7 +8,7 @@ use rand_distr::{Distribution, Normal};
 
 use hya_core::{FilterParams, JointVector, Measurement, ThirdOrderFilter};
 
-use crate::config::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, VelocitySource};
+use crate::config::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, Transducers, VelocitySource};
 use crate::error::SimError;
 use crate::plant::{Actuators, Plant};
 
@@ -55,6 +55,7 @@ impl<const N: usize> Sensors<N> {
         // Stream 1 of the seed (the plant draws from stream 0), so no two seeds share numbers.
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         rng.set_stream(1);
+        // Drawn whichever set is read, so that the noise that follows is the same in both.
         let bound = config.pressure_offset_pa;
         let offsets = (draw(&mut rng, Noise::Uniform { bound }), draw(&mut rng, Noise::Uniform { bound }));
         Self { rng, noise, config, offsets, velocity: None, filter: (bandwidth, dt) }
@@ -74,8 +75,12 @@ impl<const N: usize> Sensors<N> {
         match (plant.actuators(), self.config.torque) {
             (Actuators::Hydraulic(h), TorqueSource::Pressure) => {
                 let gaussian = Noise::Gaussian { sigma: self.config.pressure_noise_pa };
-                let pa = state.hydraulic.pressure_a + self.offsets.0 + draw(&mut self.rng, gaussian);
-                let pb = state.hydraulic.pressure_b + self.offsets.1 + draw(&mut self.rng, gaussian);
+                let offsets = match self.config.transducers {
+                    Transducers::Shared => h.pressure_offsets(),
+                    Transducers::Independent => self.offsets,
+                };
+                let pa = state.hydraulic.pressure_a + offsets.0 + draw(&mut self.rng, gaussian);
+                let pb = state.hydraulic.pressure_b + offsets.1 + draw(&mut self.rng, gaussian);
                 h.torque(&pa, &pb)
             }
             _ => plant.actuator_torque(state, applied) + draw(&mut self.rng, self.noise.torque),
@@ -124,5 +129,38 @@ impl<const N: usize> Sensors<N> {
             }
             VelocitySource::Sensor => VelocityEstimate::Sensor,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+    use crate::config::scenario::Scenario;
+    use crate::robot::Robot;
+
+    /// With shared transducers the controller's torque is the inner loops' measured torque (their
+    /// offsets); with independent ones it carries offsets of its own.
+    #[test]
+    fn shared_transducers_carry_the_loops_offsets() {
+        let mut scenario = Scenario::builtin("goto_internal").unwrap();
+        scenario.sensors.pressure_noise_pa = 0.0;
+        let robot = Robot::<6>::load(&scenario.robot).unwrap();
+        let q0 = JointVector::from_column_slice(&crate::config::settings::initial_position(&scenario, 6));
+        let tau0 = JointVector::from([1.0, -2.0, 3.0, 0.5, -0.5, 0.2]);
+        let (plant, _) = crate::run::rollout::scenario_plant(&robot.model, &scenario, q0, tau0).unwrap();
+        let Actuators::Hydraulic(h) = plant.actuators() else { panic!("HyA's scenario has hydraulic actuators") };
+        let (oa, ob) = h.pressure_offsets();
+        assert!(oa.amax() > 0.0, "the loops' transducers have offsets");
+        let state = &plant.state.hydraulic;
+        let loops = h.torque(&(state.pressure_a + oa), &(state.pressure_b + ob));
+        let read = |transducers| {
+            let config = SensorConfig { transducers, ..scenario.sensors.clone() };
+            Sensors::new(config, scenario.noise.clone(), scenario.seed, 1e-3, 50.0).read(&plant, &tau0).unwrap().torque
+        };
+        assert_eq!(read(Transducers::Shared), loops);
+        let independent = read(Transducers::Independent);
+        assert!((independent - loops).amax() > 1e-3, "independent offsets: {independent} against {loops}");
     }
 }

@@ -328,6 +328,11 @@ pub enum IntegralRule {
     /// `K_I = K_P ω_n · integral_zero_ratio`: the integral's zero at a fraction of the natural
     /// frequency (a conventional, softer choice).
     ZeroRatio,
+    /// The PID tuned on its own terms: `K_P` as every method's (equal proportional stiffness),
+    /// `K_D` and `K_I` placing the rigid joint's three closed-loop poles together,
+    /// `M s³ + K_D s² + K_P s + K_I = M (s + ω)³`: `ω = √(K_P / 3M)`, `K_D = 3 M ω`,
+    /// `K_I = M ω³` (stable without a cap: `K_I = K_D K_P / 9M`, a ninth of the Routh bound).
+    PolePlacement,
 }
 
 /// The friction model of the plant.

@@ -84,9 +84,10 @@ fn cell(joint: &JointLoop) -> Result<String, SimError> {
     })
 }
 
-/// Joint `j`'s `(M_ii, K_P, K_D, K_I)` in `design`.
-fn joint_numbers<const N: usize>(design: &LoopDesign<N>, j: usize) -> (f64, f64, f64, f64) {
-    (design.inertia[j], design.pd.kp()[(j, j)], design.pd.kd()[(j, j)], design.integral[j])
+/// Joint `j`'s `(M_ii, K_P, K_D, K_I)` in `design` under `method` (the PID's own `K_D`).
+fn joint_numbers<const N: usize>(design: &LoopDesign<N>, j: usize, method: Method) -> (f64, f64, f64, f64) {
+    let kd = if method == Method::Pid { design.pid_kd[j] } else { design.pd.kd()[(j, j)] };
+    (design.inertia[j], design.pd.kp()[(j, j)], kd, design.integral[j])
 }
 
 /// The gain crossover of each joint's loop under the paper's estimator at the scenario's
@@ -97,8 +98,9 @@ pub fn lu_crossovers<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> R
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut crossovers = [0.0; N];
     for (j, crossover) in crossovers.iter_mut().enumerate() {
-        *crossover =
-            joint_loop::<N>(scenario, joint_numbers(&design, j), j, Method::Lu, bandwidth).margins()?.crossover_rad_s;
+        *crossover = joint_loop::<N>(scenario, joint_numbers(&design, j, Method::Lu), j, Method::Lu, bandwidth)
+            .margins()?
+            .crossover_rad_s;
     }
     Ok(crossovers)
 }
@@ -118,10 +120,9 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     md.push_str(&table_row(["joint".to_owned()].into_iter().chain(METHODS.iter().map(|m| m.name().to_owned()))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), METHODS.len() + 1)));
     for j in 0..N {
-        let numbers = joint_numbers(&design, j);
         let mut cells = vec![format!("{}", j + 1)];
         for method in METHODS {
-            cells.push(cell(&joint_loop::<N>(scenario, numbers, j, method, bandwidth))?);
+            cells.push(cell(&joint_loop::<N>(scenario, joint_numbers(&design, j, method), j, method, bandwidth))?);
         }
         md.push_str(&table_row(cells));
     }
@@ -131,7 +132,7 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     ));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), LU_BANDWIDTHS_RAD_S.len() + 1)));
     for j in 0..N {
-        let numbers = joint_numbers(&design, j);
+        let numbers = joint_numbers(&design, j, Method::Lu);
         let mut cells = vec![format!("{}", j + 1)];
         for w in LU_BANDWIDTHS_RAD_S {
             cells.push(cell(&joint_loop::<N>(scenario, numbers, j, Method::Lu, w))?);

@@ -416,6 +416,10 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
             crate::config::scenario::IntegralRule::ZeroRatio => {
                 format!("`K_I = K_P ω_n · {}` (the integral's zero at that fraction of ω_n)", c.integral_zero_ratio)
             }
+            crate::config::scenario::IntegralRule::PolePlacement => format!(
+                "the PID tuned on its own terms: the same `K_P`, and `K_D`, `K_I` placing the rigid joint's three poles together, `M s³ + K_D s² + K_P s + K_I = M (s + ω)³` with `ω = √(K_P / 3M_ii)` (pid's own K_D = {} N·m·s/rad)",
+                list(design.pid_kd.as_slice())
+            ),
         },
         list(design.integral.as_slice()),
         match design.capped.iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| format!("{}", j + 1)).collect::<Vec<_>>() {

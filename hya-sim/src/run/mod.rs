@@ -99,29 +99,38 @@ pub fn gains<const N: usize>(
     Gains::diagonal(kp, kd).map_err(|source| SimError::Setup { setting: "controller".into(), source })
 }
 
-/// The PID baseline's integral gain per joint, N·m/(rad·s), by the scenario's
-/// [`IntegralRule`]; `inertia` is the loop model's `M_ii(q0)`, and whether each joint's gain was
-/// capped by the stability bound.
-pub fn integral_gain<const N: usize>(
+/// The PID baseline's `K_D` and `K_I` per joint, N·m·s/rad and N·m/(rad·s), by the scenario's
+/// [`IntegralRule`] (`K_D` is the common rule's but for [`IntegralRule::PolePlacement`]);
+/// `inertia` is the loop model's `M_ii(q0)`; and whether each joint's `K_I` was capped by the
+/// stability bound.
+pub fn pid_gains<const N: usize>(
     gains: &Gains<N>,
     inertia: &JointVector<N>,
     scenario: &Scenario,
     joints: &JointSettings<N>,
-) -> (JointVector<N>, [bool; N]) {
+) -> (JointVector<N>, JointVector<N>, [bool; N]) {
     let c = &scenario.controller;
     let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
     match c.integral_rule {
-        IntegralRule::ZeroRatio => (kp.component_mul(&joints.natural_frequency) * c.integral_zero_ratio, [false; N]),
+        IntegralRule::ZeroRatio => {
+            (kd, kp.component_mul(&joints.natural_frequency) * c.integral_zero_ratio, [false; N])
+        }
         IntegralRule::MatchEstimator => {
             let delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
             let capped: [bool; N] = core::array::from_fn(|i| kp[i] / delay > 0.5 * kd[i] * kp[i] / inertia[i]);
             let gain = JointVector::from_fn(|i, _| (kp[i] / delay).min(0.5 * kd[i] * kp[i] / inertia[i]));
-            (gain, capped)
+            (kd, gain, capped)
+        }
+        IntegralRule::PolePlacement => {
+            let omega = JointVector::<N>::from_fn(|i, _| (kp[i] / (3.0 * inertia[i])).sqrt());
+            let kd = JointVector::from_fn(|i, _| 3.0 * inertia[i] * omega[i]);
+            let ki = JointVector::from_fn(|i, _| inertia[i] * omega[i].powi(3));
+            (kd, ki, [false; N])
         }
     }
 }
 
-/// The integral term of the PID baseline, `K_I ∫ e dt` ([`integral_gain`]), its torque clamped
+/// The integral term of the PID baseline, `K_I ∫ e dt` ([`pid_gains`]), its torque clamped
 /// to `± limit` (anti-windup: the integral stops growing at the clamp).
 #[derive(Debug, Clone)]
 struct IntegralAction<const N: usize> {
@@ -217,7 +226,13 @@ pub fn closed_loop_on<const N: usize>(
     )?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
-    let gains = gains(nominal, scenario, &joints)?;
+    let inertia = nominal.mass_matrix(&q0).diagonal();
+    let mut gains = gains(nominal, scenario, &joints)?;
+    let (pid_kd, pid_ki, _) = pid_gains(&gains, &inertia, scenario, &joints);
+    if method == Method::Pid {
+        let setup = |source| SimError::Setup { setting: "controller.integral_rule".into(), source };
+        gains = Gains::diagonal(gains.kp().diagonal().into(), pid_kd.into()).map_err(setup)?;
+    }
     let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(joints.torque_limit)
         .map_err(|source| SimError::Setup { setting: "controller".into(), source })?;
@@ -241,10 +256,7 @@ pub fn closed_loop_on<const N: usize>(
             shadows.push(shadow);
         }
     }
-    let inertia = nominal.mass_matrix(&q0).diagonal();
-    let mut integral = (method == Method::Pid)
-        .then(|| IntegralAction::new(integral_gain(&gains, &inertia, scenario, &joints).0, scenario, &joints))
-        .transpose()?;
+    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(pid_ki, scenario, &joints)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substeps = scenario.plant.substeps();
     let mut trace = Trace::new(steps, recording);

@@ -124,8 +124,8 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     pub fn design(&self, scenario: &Scenario, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
         let pd = super::gains(self.dynamics(), scenario, joints)?;
         let inertia = self.dynamics().mass_matrix(&joints.initial_position).diagonal();
-        let (integral, capped) = super::integral_gain(&pd, &inertia, scenario, joints);
-        Ok(LoopDesign { pd, inertia, integral, capped })
+        let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, scenario, joints);
+        Ok(LoopDesign { pd, inertia, pid_kd, integral, capped })
     }
 }
 
@@ -135,6 +135,8 @@ pub struct LoopDesign<const N: usize> {
     pub pd: Gains<N>,
     /// `M_ii(q0)`, kg·m².
     pub inertia: JointVector<N>,
+    /// The PID's `K_D`, N·m·s/rad (`pd`'s but for [`crate::config::scenario::IntegralRule::PolePlacement`]).
+    pub pid_kd: JointVector<N>,
     /// The PID's `K_I`, N·m/(rad·s).
     pub integral: JointVector<N>,
     /// Joints whose `K_I` the stability bound capped.

@@ -99,7 +99,7 @@ fn integral_gain_at(plan: &Plan, omega: f64) -> Vec<f64> {
     let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
     let gains = hya_sim::run::gains(robot.nominal.as_ref(), &scenario, &joints).unwrap();
     let inertia = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
-    hya_sim::run::integral_gain(&gains, &inertia, &scenario, &joints).0.iter().copied().collect()
+    hya_sim::run::pid_gains(&gains, &inertia, &scenario, &joints).1.iter().copied().collect()
 }
 
 #[test]
@@ -209,4 +209,30 @@ fn the_figure_marks_and_labels_every_point_on_log_axes() {
     let svg = pareto_figure(&wild);
     assert_eq!(svg.matches("<circle cx").count(), 8);
     assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+}
+
+/// The pole-placement rule gives `M s³ + K_D s² + K_P s + K_I = M (s + ω)³` on every joint, with
+/// the common `K_P`: `K_D² = 3 M K_P` and `K_I = K_D K_P / 9M`.
+#[test]
+fn pole_placement_puts_the_pid_poles_together() {
+    use hya_core::Dynamics;
+    let mut scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
+    scenario.controller.integral_rule = hya_sim::scenario::IntegralRule::PolePlacement;
+    let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
+    let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
+    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &scenario, &joints).unwrap();
+    let m = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
+    let (kd, ki, capped) = hya_sim::run::pid_gains(&gains, &m, &scenario, &joints);
+    let kp = gains.kp().diagonal();
+    for j in 0..6 {
+        let omega = (kp[j] / (3.0 * m[j])).sqrt();
+        // The coefficients of M (s + ω)³ against the PID loop's.
+        for (ours, placed) in
+            [(kd[j], 3.0 * m[j] * omega), (kp[j], 3.0 * m[j] * omega * omega), (ki[j], m[j] * omega.powi(3))]
+        {
+            assert!((ours - placed).abs() <= 1e-12 * placed, "joint {}: {ours} against {placed}", j + 1);
+        }
+        assert!(ki[j] < kd[j] * kp[j] / m[j], "joint {}: within the Routh bound", j + 1);
+    }
+    assert_eq!(capped, [false; 6]);
 }

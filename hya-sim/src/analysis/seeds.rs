@@ -70,6 +70,45 @@ pub fn mean_ci95(samples: &[f64]) -> (f64, f64) {
     (mean, student_t_975(n - 1) * (variance / n as f64).sqrt())
 }
 
+/// The ratio of two paired samples (the same seeds), `a[s] / b[s]`: the geometric mean over
+/// seeds and its 95 % interval, from the Student-t interval of `ln(a/b)`. Seed-to-seed spread
+/// that both share cancels in each ratio, which unpaired intervals cannot use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairedRatio {
+    /// The geometric mean of the ratios.
+    pub ratio: f64,
+    /// The interval's lower end.
+    pub low: f64,
+    /// The interval's upper end.
+    pub high: f64,
+}
+
+impl PairedRatio {
+    /// The ratio of `a` to `b`, paired by index.
+    pub fn of(a: &[f64], b: &[f64]) -> Self {
+        let logs: Vec<f64> = a.iter().zip(b).map(|(x, y)| (x / y).ln()).collect();
+        let (mean, half) = mean_ci95(&logs);
+        Self { ratio: mean.exp(), low: (mean - half).exp(), high: (mean + half).exp() }
+    }
+
+    /// Whether the whole interval lies above 1.
+    pub fn above_one(&self) -> bool {
+        self.low > 1.0
+    }
+
+    /// Whether the whole interval lies below 1.
+    pub fn below_one(&self) -> bool {
+        self.high < 1.0
+    }
+}
+
+/// Per joint, the paired ratio of `a[seed][joint]` to `b[seed][joint]` ([`PairedRatio`]).
+pub fn per_joint_paired_ratio(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<PairedRatio> {
+    let joints = a.first().map_or(0, Vec::len).min(b.first().map_or(0, Vec::len));
+    let column = |rows: &[Vec<f64>], j: usize| rows.iter().map(|r| r[j]).collect::<Vec<f64>>();
+    (0..joints).map(|j| PairedRatio::of(&column(a, j), &column(b, j))).collect()
+}
+
 /// Per joint, the mean and 95 % half-width over seeds of `values[seed][joint]`.
 pub fn per_joint_mean_ci95(values: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
     let joints = values.first().map_or(0, Vec::len);

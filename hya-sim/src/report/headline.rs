@@ -108,7 +108,7 @@ pub(super) fn in_short(
     md.push_str(&super::sensitivity::headline(sensitivity));
     md.push_str(
         "\nHow the report was made follows; then the claims' verdicts, and the joints where a baseline's tracking or \
-         estimate error is lower than lu's beyond the 95 % intervals (a stricter test than the means above).\n\n",
+         estimate error is lower than lu's by the paired per-seed ratio's 95 % interval (a stricter test than the means above).\n\n",
     );
     md
 }

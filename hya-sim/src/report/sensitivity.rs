@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::analysis::seeds::{mean_ci95, run_seeds};
+use crate::analysis::seeds::{per_joint_paired_ratio, run_seeds, PairedRatio};
 use crate::config::scenario::{IntegralRule, Method, Scenario, Transducers};
 use crate::error::SimError;
 
@@ -89,9 +89,6 @@ pub struct VariantRuns {
     pub rmse_q: BTreeMap<String, BTreeMap<String, Vec<Vec<f64>>>>,
 }
 
-/// A paired ratio: the geometric mean over seeds, its 95 % interval and its verdict.
-type PairedRatio = (f64, (f64, f64), Verdict);
-
 /// One comparison: a scenario, a baseline, and per variant the paired ratio of each joint.
 type Comparison = (String, Method, Vec<Vec<PairedRatio>>);
 
@@ -124,19 +121,17 @@ impl Verdict {
     }
 }
 
-/// The geometric mean of the paired ratios `numerator[s] / denominator[s]`, its 95 % interval
-/// (from the t interval of their logarithms) and the verdict on 1.
-pub fn paired_ratio(numerator: &[f64], denominator: &[f64]) -> PairedRatio {
-    let logs: Vec<f64> = numerator.iter().zip(denominator).map(|(a, b)| (a / b).ln()).collect();
-    let (mean, half) = mean_ci95(&logs);
-    let verdict = if mean - half > 0.0 {
-        Verdict::LuLower
-    } else if mean + half < 0.0 {
-        Verdict::BaselineLower
-    } else {
-        Verdict::Inconclusive
-    };
-    (mean.exp(), ((mean - half).exp(), (mean + half).exp()), verdict)
+impl Verdict {
+    /// The verdict of `baseline / lu`'s paired ratio on 1.
+    fn of(ratio: &PairedRatio) -> Self {
+        if ratio.above_one() {
+            Verdict::LuLower
+        } else if ratio.below_one() {
+            Verdict::BaselineLower
+        } else {
+            Verdict::Inconclusive
+        }
+    }
 }
 
 /// Runs every variant of the scenarios among `scenarios` that it varies (HyA's only); `None`
@@ -183,14 +178,7 @@ pub fn run<const N: usize>(
 fn ratios(runs: &VariantRuns, scenario: &str, baseline: Method) -> Vec<PairedRatio> {
     let methods = runs.rmse_q.get(scenario);
     let of = |m: Method| methods.and_then(|by| by.get(m.name())).cloned().unwrap_or_default();
-    let (base, lu) = (of(baseline), of(Method::Lu));
-    let joints = lu.first().map_or(0, Vec::len);
-    (0..joints)
-        .map(|j| {
-            let column = |runs: &[Vec<f64>]| runs.iter().map(|seed| seed[j]).collect::<Vec<f64>>();
-            paired_ratio(&column(&base), &column(&lu))
-        })
-        .collect()
+    per_joint_paired_ratio(&of(baseline), &of(Method::Lu))
 }
 
 /// The comparisons whose verdict changes between the variants.
@@ -227,7 +215,7 @@ pub fn changes(sensitivity: &Sensitivity) -> Changes {
         let joints = rows.first().map_or(0, Vec::len);
         changes.compared += joints;
         for j in 0..joints {
-            let verdicts: Vec<Verdict> = rows.iter().map(|row| row[j].2).collect();
+            let verdicts: Vec<Verdict> = rows.iter().map(|row| Verdict::of(&row[j])).collect();
             if verdicts.iter().all(|v| *v == verdicts[0]) {
                 continue;
             }
@@ -266,7 +254,7 @@ pub fn section(sensitivity: &Sensitivity) -> String {
         md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), joints + 1)));
         for (v, row) in sensitivity.variants.iter().zip(&rows) {
             md.push_str(&table_row([v.variant.clone()].into_iter().chain(
-                row.iter().map(|(r, (lo, hi), verdict)| format!("{r:.2} [{lo:.2}, {hi:.2}] {}", verdict.mark())),
+                row.iter().map(|r| format!("{:.2} [{:.2}, {:.2}] {}", r.ratio, r.low, r.high, Verdict::of(r).mark())),
             )));
         }
     }
@@ -313,18 +301,18 @@ mod tests {
     #[test]
     fn paired_ratios_give_their_verdicts() {
         // Every seed's ratio 2: no spread, lu lower.
-        let (r, (lo, hi), verdict) = paired_ratio(&[2.0, 4.0, 6.0], &[1.0, 2.0, 3.0]);
-        assert!((r - 2.0).abs() < 1e-12 && (lo - 2.0).abs() < 1e-12 && (hi - 2.0).abs() < 1e-12);
-        assert_eq!(verdict, Verdict::LuLower);
+        let r = PairedRatio::of(&[2.0, 4.0, 6.0], &[1.0, 2.0, 3.0]);
+        assert!((r.ratio - 2.0).abs() < 1e-12 && (r.low - 2.0).abs() < 1e-12 && (r.high - 2.0).abs() < 1e-12);
+        assert_eq!(Verdict::of(&r), Verdict::LuLower);
         // Ratios 1/2 every seed: the baseline lower.
-        assert_eq!(paired_ratio(&[1.0, 1.0], &[2.0, 2.0]).2, Verdict::BaselineLower);
+        assert_eq!(Verdict::of(&PairedRatio::of(&[1.0, 1.0], &[2.0, 2.0])), Verdict::BaselineLower);
         // Ratios 2 and 1/2: geometric mean 1, interval straddling it.
-        let (r, (lo, hi), verdict) = paired_ratio(&[2.0, 1.0], &[1.0, 2.0]);
-        assert!((r - 1.0).abs() < 1e-12 && lo < 1.0 && hi > 1.0);
-        assert_eq!(verdict, Verdict::Inconclusive);
+        let r = PairedRatio::of(&[2.0, 1.0], &[1.0, 2.0]);
+        assert!((r.ratio - 1.0).abs() < 1e-12 && r.low < 1.0 && r.high > 1.0);
+        assert_eq!(Verdict::of(&r), Verdict::Inconclusive);
         // Pairing matters: seed-to-seed spread that both share cancels in the ratio.
         let lu = [1.0, 10.0, 100.0];
         let base: Vec<f64> = lu.iter().map(|x| 1.1 * x).collect();
-        assert_eq!(paired_ratio(&base, &lu).2, Verdict::LuLower);
+        assert_eq!(Verdict::of(&PairedRatio::of(&base, &lu)), Verdict::LuLower);
     }
 }

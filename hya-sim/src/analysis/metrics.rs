@@ -24,6 +24,16 @@ pub const RECOVERY_FLOOR_RAD: f64 = 1e-3;
 /// See [`RECOVERY_FACTOR`], s.
 pub const RECOVERY_HOLD_S: f64 = 0.5;
 
+/// The window a limit cycle is looked for in: the run's last this many seconds, once the task
+/// has gone quiet (after the warm-up, a ramp or a move), s.
+pub const CYCLE_WINDOW_S: f64 = 10.0;
+
+/// The most samples of that window kept per joint (every k-th tick beyond).
+const CYCLE_SAMPLES: usize = 10_000;
+
+/// The highest frequency searched for a limit cycle, Hz.
+pub const CYCLE_MAX_HZ: f64 = 10.0;
+
 /// Observers and filters need this long after the warm-up before a "before" window opens, s.
 const SETTLE_AFTER_START_S: f64 = 1.0;
 
@@ -72,8 +82,18 @@ pub struct Metrics {
     pub max_abs_error_q: Vec<f64>,
     /// Mean `|q − q_des|` over the final window, rad (the steady-state error of a hold).
     pub steady_error_q: Vec<f64>,
-    /// Peak-to-peak of `q − q_des` over the final window, rad (a limit cycle's amplitude).
+    /// Peak-to-peak of `q − q_des` over the final window, rad (a limit cycle's amplitude, but
+    /// drift and settling count too).
     pub limit_cycle_q: Vec<f64>,
+    /// Amplitude of the largest spectral line of `q − q_des` once its straight-line trend is
+    /// removed, over the last [`CYCLE_WINDOW_S`] after the task went quiet (bins from two periods
+    /// per window to [`CYCLE_MAX_HZ`]), rad: an oscillation apart from drift; NaN where the window
+    /// is too short.
+    pub cycle_amplitude_q: Vec<f64>,
+    /// That line's frequency, Hz.
+    pub cycle_frequency_hz: Vec<f64>,
+    /// The trend's change over that window, rad: creep (drift), apart from oscillation.
+    pub creep_q: Vec<f64>,
     /// Mean `|q − q_des|` while a dropped weight rests on the arm (from 0.5 s after the drop), rad.
     pub weight_error_q: Option<Vec<f64>>,
     /// Mean `|q − q_des|` over the 5 s before the drop (from the end of any earlier move or ramp,
@@ -105,6 +125,54 @@ struct DropWatch<const N: usize> {
     error_resting: Mean<N>,
     drop_recovery: Recovery<N>,
     removal_recovery: Option<Recovery<N>>,
+}
+
+/// The tracking error's samples over the limit-cycle window, at most [`CYCLE_SAMPLES`] per joint.
+#[derive(Debug, Clone)]
+struct CycleWindow<const N: usize> {
+    window: Window,
+    stride: usize,
+    seen: usize,
+    step: f64,
+    first: Option<f64>,
+    samples: Vec<JointVector<N>>,
+}
+
+impl<const N: usize> CycleWindow<N> {
+    /// The window of a run of `scenario` ending at `end`, s, ticking every `dt`.
+    fn new(scenario: &Scenario, end: f64, dt: f64) -> Self {
+        let window = Window::new((end - CYCLE_WINDOW_S).max(quiet_from(scenario, end)), end);
+        let ticks = ((window.to - window.from) / dt).ceil().max(0.0) as usize;
+        let stride = ticks.div_ceil(CYCLE_SAMPLES).max(1);
+        let kept = ticks.div_ceil(stride);
+        Self { window, stride, seen: 0, step: stride as f64 * dt, first: None, samples: Vec::with_capacity(kept) }
+    }
+
+    fn push(&mut self, t: f64, error: &JointVector<N>) {
+        if !self.window.contains(t) {
+            return;
+        }
+        if self.seen.is_multiple_of(self.stride) {
+            self.first.get_or_insert(t);
+            self.samples.push(*error);
+        }
+        self.seen += 1;
+    }
+
+    /// Per joint, the spectral line's amplitude and frequency and the drift (NaN where the
+    /// window is too short).
+    fn lines(&self) -> [Vec<f64>; 3] {
+        let mut out = [Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N)];
+        for j in 0..N {
+            let x: Vec<f64> = self.samples.iter().map(|e| e[j]).collect();
+            let line = crate::analysis::running::spectral_line(&x, self.first.unwrap_or(0.0), self.step, CYCLE_MAX_HZ);
+            let values = line.map_or([f64::NAN; 3], |l| [l.amplitude, l.frequency_hz, l.drift]);
+            for (series, value) in out.iter_mut().zip(values) {
+                series.push(value);
+            }
+        }
+        out
+    }
 }
 
 /// A goto task's mean estimate before the move and after the setpoint.
@@ -168,6 +236,7 @@ pub struct MetricsRecorder<const N: usize> {
     settled: Window,
     settled_error: Mean<N>,
     settled_extremes: Extremes<N>,
+    cycle: CycleWindow<N>,
     command_noise: StepNoise<N>,
     estimate_error: Rms<N>,
     disturbance_spread: Spread<N>,
@@ -215,6 +284,7 @@ impl<const N: usize> MetricsRecorder<N> {
             settled: Window::new(end - window, end),
             settled_error: Mean::default(),
             settled_extremes: Extremes::default(),
+            cycle: CycleWindow::new(scenario, end, scenario.controller.dt_s),
             command_noise: StepNoise::default(),
             estimate_error: Rms::default(),
             disturbance_spread: Spread::default(),
@@ -236,6 +306,7 @@ impl<const N: usize> MetricsRecorder<N> {
         if self.has_estimate {
             self.velocity.push(tick, after_warm_up);
         }
+        self.cycle.push(t, &error);
         if self.settled.contains(t) {
             self.settled_error.push(&error.abs());
             self.settled_extremes.push(&error);
@@ -278,7 +349,11 @@ impl<const N: usize> MetricsRecorder<N> {
         let vec = |v: JointVector<N>| v.as_slice().to_vec();
         let rmse_d = estimated(self.estimate_error.value());
         let spread = self.disturbance_spread.value();
+        let [cycle_amplitude_q, cycle_frequency_hz, creep_q] = self.cycle.lines();
         Metrics {
+            cycle_amplitude_q,
+            cycle_frequency_hz,
+            creep_q,
             rmse_q: self.tracking.value(),
             relative_rmse_d: rmse_d.as_ref().map(|r| r.iter().zip(&spread).map(|(e, s)| e / s.max(1e-12)).collect()),
             rmse_d,
@@ -310,6 +385,9 @@ impl Metrics {
             ("max_abs_error_q", &self.max_abs_error_q),
             ("steady_error_q", &self.steady_error_q),
             ("limit_cycle_q", &self.limit_cycle_q),
+            ("cycle_amplitude_q", &self.cycle_amplitude_q),
+            ("cycle_frequency_hz", &self.cycle_frequency_hz),
+            ("creep_q", &self.creep_q),
         ];
         let optional: [(&'static str, &Option<Vec<f64>>); 9] = [
             ("rmse_d", &self.rmse_d),

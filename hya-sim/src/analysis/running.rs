@@ -267,6 +267,58 @@ impl<const N: usize> Recovery<N> {
     }
 }
 
+/// The largest spectral line of a series after its straight-line trend is removed: what is
+/// left of a limit cycle once drift (creep) is taken out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectralLine {
+    /// The line's amplitude (of the sine), in the series' unit.
+    pub amplitude: f64,
+    /// Its frequency, Hz.
+    pub frequency_hz: f64,
+    /// The trend's change over the series' span, in the series' unit (its drift).
+    pub drift: f64,
+}
+
+/// The [`SpectralLine`] of `x` sampled every `step` s from `t0`, over the bins `m / T`
+/// (`T = n · step`) from two periods per window up to `max_hz`: the least-squares line
+/// `a + b t` is removed, then `2 |Σ r_k e^{−jωt_k}| / n` at each bin. `None` with fewer than
+/// two bins.
+pub fn spectral_line(x: &[f64], t0: f64, step: f64, max_hz: f64) -> Option<SpectralLine> {
+    let n = x.len();
+    let span = n as f64 * step;
+    let bins = (max_hz * span).floor() as usize;
+    if n < 4 || bins < 3 {
+        return None;
+    }
+    let t = |k: usize| t0 + k as f64 * step;
+    let t_mean = t0 + 0.5 * (n - 1) as f64 * step;
+    let x_mean = x.iter().sum::<f64>() / n as f64;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (k, v) in x.iter().enumerate() {
+        sxy += (t(k) - t_mean) * (v - x_mean);
+        sxx += (t(k) - t_mean) * (t(k) - t_mean);
+    }
+    let slope = sxy / sxx;
+    let residual: Vec<f64> = x.iter().enumerate().map(|(k, v)| v - x_mean - slope * (t(k) - t_mean)).collect();
+    let mut best = (0.0_f64, 0.0);
+    for m in 2..=bins {
+        let omega = std::f64::consts::TAU * m as f64 / span;
+        // e^{−jω t_k} by rotation from e^{−jω t0}: one complex product per sample.
+        let rotation = nalgebra::Complex::new((omega * step).cos(), -(omega * step).sin());
+        let mut phase = nalgebra::Complex::new((omega * t0).cos(), -(omega * t0).sin());
+        let mut sum = nalgebra::Complex::new(0.0, 0.0);
+        for r in &residual {
+            sum += phase * *r;
+            phase *= rotation;
+        }
+        let amplitude = 2.0 * sum.norm() / n as f64;
+        if amplitude > best.0 {
+            best = (amplitude, m as f64 / span);
+        }
+    }
+    Some(SpectralLine { amplitude: best.0, frequency_hz: best.1, drift: slope * span })
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -314,6 +366,26 @@ mod tests {
         flat.push(&v(1.0), &v(1.0));
         flat.push(&v(2.0), &v(1.0));
         assert_eq!(flat.value()[0], 0.0);
+    }
+
+    #[test]
+    fn a_spectral_line_is_found_apart_from_the_drift() {
+        // A 0.4 Hz sine of 2 mrad on a ramp of 5 mrad over 10 s, sampled at 1 kHz.
+        let step = 1e-3;
+        let x: Vec<f64> = (0..10_000)
+            .map(|k| {
+                let t = 3.0 + k as f64 * step;
+                2e-3 * (std::f64::consts::TAU * 0.4 * t + 0.3).sin() + 5e-4 * t
+            })
+            .collect();
+        let line = spectral_line(&x, 3.0, step, 10.0).unwrap();
+        assert!((line.frequency_hz - 0.4).abs() < 1e-9, "{line:?}");
+        assert!((line.amplitude - 2e-3).abs() < 1e-4, "{line:?}");
+        assert!((line.drift - 5e-3).abs() < 5e-4, "{line:?}");
+        // A ramp alone has no line to speak of.
+        let ramp: Vec<f64> = (0..10_000).map(|k| 1e-3 * k as f64 * step).collect();
+        assert!(spectral_line(&ramp, 0.0, step, 10.0).unwrap().amplitude < 1e-12);
+        assert!(spectral_line(&ramp[..100], 0.0, step, 10.0).is_none(), "0.1 s holds too few bins");
     }
 
     #[test]

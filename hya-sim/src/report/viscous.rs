@@ -17,11 +17,81 @@ pub const BANDWIDTHS_RAD_S: [f64; 7] = [20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 20
 /// (about 80 counts of HyA's encoders); the measure counts drift and settling as well as cycles.
 pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 
+/// A joint counts as cycling where the largest spectral line of its detrended error
+/// ([`crate::metrics::Metrics::cycle_amplitude_q`]) reaches this amplitude, rad: a sine of
+/// 0.5 mrad peak to peak, about 40 counts of HyA's encoders.
+pub const CYCLE_AMPLITUDE_RAD: f64 = 2.5e-4;
+
 /// Seeds per bandwidth.
 const SEEDS: usize = 3;
 
 /// The methods measured, in the table's order.
 const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
+
+/// The median of `values` (NaN when empty).
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+/// Oscillation apart from drift, per method and joint of `scenario` in `table`: the share of
+/// seeds whose detrended error holds a spectral line of [`CYCLE_AMPLITUDE_RAD`] or more, with
+/// those seeds' median frequency and amplitude, and every seed's median drift.
+fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, scenario: &str) -> String {
+    let mut md = format!(
+        "\nThe same runs with oscillation told apart from drift: over the last {} s once the task is quiet, the straight-line trend of each joint's error is removed (its change over the window is the creep) and the largest spectral line of what is left is found (bins from two periods per window to {} Hz). A joint counts as cycling where that line reaches {} mrad (a sine of {} mrad peak to peak). Per method and joint: seeds cycling / seeds, then the cycling seeds' median frequency and amplitude; and the median creep over every seed, mrad:\n\n",
+        crate::metrics::CYCLE_WINDOW_S,
+        crate::metrics::CYCLE_MAX_HZ,
+        CYCLE_AMPLITUDE_RAD * 1e3,
+        2.0 * CYCLE_AMPLITUDE_RAD * 1e3
+    );
+    md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
+    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
+    let mut never = Vec::new();
+    for method in METHODS {
+        let get = |metric: &str| table.values(scenario, method, metric).filter(|v| !v.is_empty());
+        let (Some(amplitude), Some(frequency), Some(creep)) =
+            (get("cycle_amplitude_q"), get("cycle_frequency_hz"), get("creep_q"))
+        else {
+            continue;
+        };
+        let mut cells = Vec::new();
+        let mut cycling_anywhere = false;
+        for j in 0..N {
+            let cycling: Vec<usize> =
+                (0..amplitude.len()).filter(|&s| amplitude[s][j] >= CYCLE_AMPLITUDE_RAD).collect();
+            cycling_anywhere |= !cycling.is_empty();
+            let creep = median(creep.iter().map(|c| c[j].abs()).collect()) * 1e3;
+            cells.push(match cycling.is_empty() {
+                true => format!("0/{}; creep {creep:.2}", amplitude.len()),
+                false => format!(
+                    "{}/{} at {:.2} Hz, {:.2}; creep {creep:.2}",
+                    cycling.len(),
+                    amplitude.len(),
+                    median(cycling.iter().map(|&s| frequency[s][j]).collect()),
+                    median(cycling.iter().map(|&s| amplitude[s][j]).collect()) * 1e3
+                ),
+            });
+        }
+        if !cycling_anywhere {
+            never.push(method.name());
+        }
+        md.push_str(&table_row([method.name().to_owned()].into_iter().chain(cells)));
+    }
+    let _ = writeln!(
+        md,
+        "\n{}",
+        match never.len() {
+            0 => "Every method cycles on some joint in some seeds by this measure.".to_owned(),
+            _ => format!("{} cycle on no joint in any seed by this measure.", never.join(", ")),
+        }
+    );
+    md
+}
 
 /// Whether joint `j` is still by [`LIMIT_CYCLE_RAD`] at the `k`-th bandwidth.
 fn is_still(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
@@ -86,6 +156,7 @@ pub fn section<const N: usize>(
             )
         }
     );
+    md.push_str(&cycles_apart_from_drift::<N>(methods, &base.name));
     let _ = writeln!(
         md,
         "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), same measure (mrad); below {} mrad a joint counts as still (peak-to-peak counts drift and settling as well as cycles):\n",

@@ -64,8 +64,8 @@ fn scenario_of(value: &Bound<'_, PyAny>) -> PyResult<Scenario> {
 /// as "goto_internal") on the simulated arm.
 ///
 /// Returns a dict: "time" (T,) in s; "q" and "q_des" (T, dof) in rad; "d_true" and "d_hat"
-/// (T, dof) in N·m (true and estimated disturbance, d = M q̈ + C + G − τ_act on the nominal
-/// model); "tau_cmd" (T, dof) in N·m; "metrics", the run's metrics as in the report's
+/// (T, dof) in N·m (true and estimated disturbance, d = M q̈ + C + G − τ_act − τ_o on the nominal
+/// model, τ_o the torque sensors' constant offset); "tau_cmd" (T, dof) in N·m; "metrics", the run's metrics as in the report's
 /// summary.json (from every control tick); and "scenario", "method", "seed". The series hold
 /// every control tick up to 30 000 ticks (30 s at 1 kHz) and every k-th tick of a longer run,
 /// so that memory does not grow with the duration: "time" says which.

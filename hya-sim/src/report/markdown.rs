@@ -125,7 +125,7 @@ fn shadow_table<const N: usize>(s: &Scenario, runs: &[&RunOutcome<N>], table: &M
         return String::new();
     };
     let mut md = format!(
-        "\nShadow mode: every estimator on the same measurements, those of the `{}` loop ({}), so estimate quality is compared on identical data, apart from closed-loop effects. Means over joints, then over seeds ± 95 %; `H·d` is each estimator's own design applied to the true `d`, so `d̂ − H·d` is what it adds beyond its designed lag (noise, model error, the torque sensors' offsets):\n\n| estimator | RMSE d̂ − d [N·m] | RMSE d̂ − H·d [N·m] | noise in d̂: RMS of its first difference / √2 [N·m] | amplitude of d̂ − d at the load's frequency [N·m] |\n|---|---|---|---|---|\n",
+        "\nShadow mode: every estimator on the same measurements, those of the `{}` loop ({}), so estimate quality is compared on identical data, apart from closed-loop effects. Means over joints, then over seeds ± 95 %; `H·d` is each estimator's own design applied to the true `d`, so `d̂ − H·d` is what it adds beyond its designed lag (noise, model error; `d` already holds the torque sensors' constant offsets):\n\n| estimator | RMSE d̂ − d [N·m] | RMSE d̂ − H·d [N·m] | noise in d̂: RMS of its first difference / √2 [N·m] | amplitude of d̂ − d at the load's frequency [N·m] |\n|---|---|---|---|---|\n",
         host.name(),
         if host.estimates() { "which compensates with its own estimate; the others only watch" } else { "no estimate acts on the loop" }
     );
@@ -160,7 +160,11 @@ fn weight_drop_beside_the_paper<const N: usize>(s: &Scenario, runs: &[&RunOutcom
     let impact = joint2(drop.drop_s, drop.drop_s + 0.5);
     let extreme = impact.iter().copied().fold(0.0, |e: f64, d| if d.abs() > e.abs() { d } else { e });
     format!(
-        "\nThe weight drop beside the paper (VI-C, joint 2's `d̂`): the paper shows it moving from about +5 N·m to about −5 N·m, with a peak near −20 N·m at the impact; here (lu, first seed) its mean over the 2 s before the drop is {} N·m, from 0.5 to 2.5 s after it {} N·m, and its extreme within 0.5 s of the drop {} N·m.\n",
+        "\nThe weight drop beside the paper (VI-C, joint 2's `d̂`): the paper shows it moving from about +5 N·m to about −5 N·m, with a peak near −20 N·m at the impact; here (lu, first seed{}) its mean over the 2 s before the drop is {} N·m, from 0.5 to 2.5 s after it {} N·m, and its extreme within 0.5 s of the drop {} N·m.\n",
+        match trace.stride {
+            1 => String::new(),
+            k => format!(", its trace as kept: one tick in {k}"),
+        },
         figure(mean(&before)),
         figure(mean(&after)),
         figure(extreme)

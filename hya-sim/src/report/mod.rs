@@ -56,7 +56,7 @@ pub fn write<const N: usize>(
         }
         save(name, text)?;
     }
-    let sensitivity = sensitivity::run(robot, scenarios, quick)?;
+    let sensitivity = sensitivity::run(robot, scenarios, table)?;
     let summary = Summary {
         robot: robot.name.clone(),
         quick,

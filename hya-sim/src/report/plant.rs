@@ -112,7 +112,7 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
         row("velocity_compensation", format!("{}", h.velocity_compensation), "–", "load-motion compensation (Boaventura et al., IROS 2012)"),
         row("torque_loop_rate_hz", format!("{}", h.torque_loop_rate_hz), "Hz", "HyQ's torque loops run at 1 kHz (Boaventura et al., IROS 2012); sampled, the valve command held between samples"),
         row("torque_loop_pressure_noise_pa", format!("{}", h.torque_loop_pressure_noise_pa), "Pa", "our choice: as the controller's pressure sensors (the inner loop reads its own draw)"),
-        row("torque_loop_pressure_offset_pa", format!("{}", h.torque_loop_pressure_offset_pa), "Pa", "our choice: as the controller's pressure sensors"),
+        row("torque_loop_pressure_offset_pa", format!("{}", h.torque_loop_pressure_offset_pa), "Pa", "our choice: a fifth of the ±0.5 % FS accuracy of HyQ's 25 MPa transducers (Semini, PhD thesis, 2010), for sensors zeroed at start-up"),
         row("torque_loop_encoder_counts_per_rev", format!("{}", h.torque_loop_encoder_counts_per_rev), "counts", "HyA's 19-bit encoders; the loop's load-motion compensation differentiates them"),
         row("torque_loop_velocity_filter_hz", format!("{}", h.torque_loop_velocity_filter_hz), "Hz", "our choice: none (0)"),
         row("valve_dead_band", format!("{}", h.valve_dead_band), "of full opening", "our choice: none (0)"),
@@ -124,7 +124,7 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
         row("torque", format!("{:?}", s.torque).to_lowercase(), "–", "from the chamber pressures, so the actuators' own friction stays in the measured disturbance, as the paper observes (VI-A); HyA itself carries torque sensors and load cells (SICFP 2015)"),
         row("pressure_noise_pa", format!("{}", s.pressure_noise_pa), "Pa", "our choice"),
         row("transducers", format!("{:?}", s.transducers).to_lowercase(), "–", "HyA's: the controller reads the inner torque loops' pressure transducers (one set per joint), so their offsets are shared; the noise is drawn per reading (a simplification). `independent` (a second set with offsets of its own) is a variant in the sensitivity table"),
-        row("pressure_offset_pa", format!("{}", s.pressure_offset_pa), "Pa", "our choice: a fifth of the ±0.5 % FS accuracy of HyQ's 25 MPa transducers (Semini, PhD thesis, 2010), for sensors zeroed at start-up"),
+        row("pressure_offset_pa", format!("{}", s.pressure_offset_pa), "Pa", "our choice: as the torque loops' transducers (read with `transducers = \"independent\"` only)"),
         row("measurement_delay_ticks", format!("{}", s.measurement_delay_ticks), "ticks", "our choice"),
         row("command_delay_ticks", format!("{}", s.command_delay_ticks), "ticks", "our choice: one 1 ms tick (control at 1 kHz over EtherCAT)"),
     ]

@@ -6,15 +6,18 @@
 //! Each comparison is a paired ratio: per seed and joint `r = RMSE_baseline / RMSE_lu`, then the
 //! geometric mean over seeds with the 95 % interval of `ln r` (Student's t). The verdict is
 //! "lu lower" where the interval lies above 1, "baseline lower" where it lies below, and
-//! "inconclusive" where it straddles 1. A comparison whose verdict differs between the rows
-//! depends on that choice, and the section says so, computed from the table.
+//! "inconclusive" where it straddles 1. A choice's effect is paired too: per seed the variant's
+//! `r` over the report's, with its interval; the section lists the comparisons a choice moves
+//! (interval excluding 1) and those it moves across 1, computed from the table. The report's own
+//! row is its first seeds' runs, not a rerun; a variant reruns only the methods it changes (the
+//! others' runs are the report's, bit for bit).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::analysis::seeds::{per_joint_paired_ratio, run_seeds, PairedRatio};
+use crate::analysis::seeds::{per_joint_paired_ratio, run_seeds, MetricTable, PairedRatio};
 use crate::config::scenario::{IntegralRule, Method, Scenario, Transducers};
 use crate::error::SimError;
 
@@ -29,10 +32,8 @@ const METHODS: [Method; 4] = [Method::None, Method::Pid, Method::Lu, Method::Che
 /// The baselines each compared with `lu`.
 const BASELINES: [Method; 3] = [Method::None, Method::Pid, Method::Chen];
 
-/// Seeds per variant, scenario and method (the full report; `--quick`: [`QUICK_SEEDS`]).
+/// Seeds per variant, scenario and method: the report's first ones, at most this many.
 const SEEDS: usize = 6;
-/// See [`SEEDS`].
-const QUICK_SEEDS: usize = 3;
 
 /// One structural choice changed from the report's runs.
 struct Variant {
@@ -41,30 +42,36 @@ struct Variant {
     /// What it changes, for the text.
     change: &'static str,
     apply: fn(&mut Scenario),
+    /// The methods whose runs it changes (the others read nothing it touches).
+    changes: &'static [Method],
 }
 
 /// The report's runs first, then one change each.
 const VARIANTS: [Variant; 5] = [
-    Variant { name: "as run", change: "the report's settings", apply: |_| {} },
+    Variant { name: "as run", change: "the report's settings (its runs of these seeds)", apply: |_| {}, changes: &[] },
     Variant {
         name: "independent transducers",
-        change: "the controller reads pressure transducers of its own, with offsets of their own (`sensors.transducers = \"independent\"`), instead of the torque loops' (one set per joint, as on HyA)",
+        change: "the controller reads pressure transducers of its own, with offsets of their own (`sensors.transducers = \"independent\"`), instead of the torque loops' (one set per joint, as on HyA); none and pid read no torque, so only lu's and chen's runs change",
         apply: |s| s.sensors.transducers = Transducers::Independent,
+        changes: &[Method::Lu, Method::Chen],
     },
     Variant {
         name: "pid by pole placement",
-        change: "pid tuned on its own terms instead of matched to lu's low-frequency rejection and capped at half the Routh bound: the same `K_P`, `K_D` and `K_I` placing the rigid joint's three poles at one point, `M (s + ω)³` with `ω = √(K_P / 3M)` (`controller.integral_rule = \"pole_placement\"`); only pid's rows move",
+        change: "pid by another stated rule: the same `K_P`, and `K_D`, `K_I` placing the rigid joint's three poles at one point, `M (s + ω)³` with `ω = √(K_P / 3M)` (`controller.integral_rule = \"pole_placement\"`), stable without a cap; the rows show whether it is the stronger PID here",
         apply: |s| s.controller.integral_rule = IntegralRule::PolePlacement,
+        changes: &[Method::Pid],
     },
     Variant {
         name: "no Stribeck peak",
         change: "LuGre with its static level at the Coulomb level (`static_nm = coulomb_nm`): no breakaway peak",
         apply: |s| s.plant.static_nm = s.plant.coulomb_nm.clone(),
+        changes: &METHODS,
     },
     Variant {
         name: "command delay 6 ms",
         change: "six control ticks between the command and the valves instead of one",
         apply: |s| s.sensors.command_delay_ticks = 6,
+        changes: &METHODS,
     },
 ];
 
@@ -111,14 +118,6 @@ impl Verdict {
             Verdict::Inconclusive => "?",
         }
     }
-
-    fn words(self, baseline: Method) -> String {
-        match self {
-            Verdict::LuLower => "lu lower".into(),
-            Verdict::BaselineLower => format!("{} lower", baseline.name()),
-            Verdict::Inconclusive => "inconclusive".into(),
-        }
-    }
 }
 
 impl Verdict {
@@ -134,37 +133,48 @@ impl Verdict {
     }
 }
 
-/// Runs every variant of the scenarios among `scenarios` that it varies (HyA's only); `None`
-/// where none is there.
+/// Runs every variant of the scenarios among `scenarios` that it varies (HyA's only) over the
+/// report's first seeds (at most [`SEEDS`]; `table` holds the report's runs); `None` where none
+/// is there.
 pub fn run<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
-    quick: bool,
+    table: &MetricTable,
 ) -> Result<Option<Sensitivity>, SimError> {
     let bases: Vec<&Scenario> =
         scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
-    if bases.is_empty() {
-        return Ok(None);
-    }
-    let seeds = if quick { QUICK_SEEDS } else { SEEDS };
+    let Some(first) = bases.first() else { return Ok(None) };
+    let seeds = table.seeds(&first.name, Method::Lu).min(SEEDS);
+    let reported = |scenario: &str, method: Method| -> Vec<Vec<f64>> {
+        let mut values = table.values(scenario, method, "rmse_q").unwrap_or_default();
+        values.truncate(seeds);
+        values
+    };
     let mut variants = Vec::new();
     for variant in &VARIANTS {
         let runs: Vec<Scenario> = bases
             .iter()
+            .filter(|_| !variant.changes.is_empty())
             .map(|base| {
                 let mut s = (*base).clone();
-                s.methods = METHODS.to_vec();
+                s.methods = variant.changes.to_vec();
                 (variant.apply)(&mut s);
                 s
             })
             .collect();
-        let (_, table) = run_seeds(robot, &runs, seeds, &|_| {})?;
-        let rmse_q = runs
+        let (_, rerun) = run_seeds(robot, &runs, seeds, &|_| {})?;
+        let rmse_q = bases
             .iter()
             .map(|s| {
                 let methods = METHODS
                     .iter()
-                    .map(|m| (m.name().to_owned(), table.values(&s.name, *m, "rmse_q").unwrap_or_default()))
+                    .map(|m| {
+                        let values = match variant.changes.contains(m) {
+                            true => rerun.values(&s.name, *m, "rmse_q").unwrap_or_default(),
+                            false => reported(&s.name, *m),
+                        };
+                        (m.name().to_owned(), values)
+                    })
                     .collect();
                 (s.name.clone(), methods)
             })
@@ -181,15 +191,26 @@ fn ratios(runs: &VariantRuns, scenario: &str, baseline: Method) -> Vec<PairedRat
     per_joint_paired_ratio(&of(baseline), &of(Method::Lu))
 }
 
-/// The comparisons whose verdict changes between the variants.
+/// What one variant does to one comparison, where its paired effect is beyond the interval.
+#[derive(Debug, Clone)]
+pub struct Effect {
+    /// The variant.
+    pub variant: String,
+    /// `scenario joint, baseline / lu: as run → variant (× effect [interval])`.
+    pub line: String,
+    /// Whether the ratio's geometric mean moves across 1 (lu's advantage to the baseline's, or
+    /// back).
+    pub crosses: bool,
+}
+
+/// Every comparison a variant moves: per seed, the variant's ratio over the report's (same
+/// seeds), whose interval excludes 1.
 #[derive(Debug, Clone, Default)]
 pub struct Changes {
-    /// Comparisons made per variant (scenario, baseline, joint).
+    /// Comparisons per variant (scenario, baseline, joint).
     pub compared: usize,
-    /// Those where one variant finds lu lower and another the baseline, one line each.
-    pub reversed: Vec<String>,
-    /// Those conclusive in some variants and inconclusive in others, one line each.
-    pub significance: Vec<String>,
+    /// The moves, variant by variant.
+    pub moved: Vec<Effect>,
 }
 
 /// Every comparison of `sensitivity`: per scenario and baseline, the rows of paired ratios
@@ -208,27 +229,41 @@ fn comparisons(sensitivity: &Sensitivity) -> Vec<Comparison> {
         .collect()
 }
 
-/// The comparisons that change verdict between the variants.
+/// Per seed, `baseline / lu` at joint `j` of `scenario` in `runs`.
+fn seed_ratios(runs: &VariantRuns, scenario: &str, baseline: Method, j: usize) -> Vec<f64> {
+    let methods = runs.rmse_q.get(scenario);
+    let of = |m: Method| methods.and_then(|by| by.get(m.name())).cloned().unwrap_or_default();
+    of(baseline).iter().zip(of(Method::Lu)).map(|(b, l)| b[j] / l[j]).collect()
+}
+
+/// The comparisons each variant moves beyond its interval.
 pub fn changes(sensitivity: &Sensitivity) -> Changes {
     let mut changes = Changes::default();
+    let Some((reported, variants)) = sensitivity.variants.split_first() else { return changes };
     for (scenario, baseline, rows) in comparisons(sensitivity) {
         let joints = rows.first().map_or(0, Vec::len);
         changes.compared += joints;
-        for j in 0..joints {
-            let verdicts: Vec<Verdict> = rows.iter().map(|row| Verdict::of(&row[j])).collect();
-            if verdicts.iter().all(|v| *v == verdicts[0]) {
-                continue;
-            }
-            let by_row: Vec<String> = sensitivity
-                .variants
-                .iter()
-                .zip(&verdicts)
-                .map(|(v, verdict)| format!("{}: {}", v.variant, verdict.words(baseline)))
-                .collect();
-            let line = format!("`{scenario}` joint {}, {} / lu ({})", j + 1, baseline.name(), by_row.join("; "));
-            match verdicts.contains(&Verdict::LuLower) && verdicts.contains(&Verdict::BaselineLower) {
-                true => changes.reversed.push(line),
-                false => changes.significance.push(line),
+        for (v, row) in variants.iter().zip(&rows[1..]) {
+            for (j, ratio) in row.iter().enumerate() {
+                let own = seed_ratios(reported, &scenario, baseline, j);
+                let effect = PairedRatio::of(&seed_ratios(v, &scenario, baseline, j), &own);
+                if !effect.above_one() && !effect.below_one() {
+                    continue;
+                }
+                let before = rows[0][j].ratio;
+                changes.moved.push(Effect {
+                    variant: v.variant.clone(),
+                    line: format!(
+                        "`{scenario}` j{}, {} / lu: {before:.2} → {:.2} (× {:.2} [{:.2}, {:.2}])",
+                        j + 1,
+                        baseline.name(),
+                        ratio.ratio,
+                        effect.ratio,
+                        effect.low,
+                        effect.high
+                    ),
+                    crosses: (before > 1.0) != (ratio.ratio > 1.0),
+                });
             }
         }
     }
@@ -240,7 +275,7 @@ pub fn changes(sensitivity: &Sensitivity) -> Changes {
 /// apart from changes of significance.
 pub fn section(sensitivity: &Sensitivity) -> String {
     let mut md = format!(
-        "\n### Sensitivity to the modelling choices\n\nThe headline comparisons rerun with one structural choice changed at a time, {} seeds each (the same seeds in every row, so the rows are paired too):\n\n",
+        "\n## Sensitivity to the modelling choices\n\nThe headline comparisons rerun with one structural choice changed at a time, {} seeds each (the same seeds in every row, so the rows are paired too):\n\n",
         sensitivity.seeds
     );
     for v in &sensitivity.variants {
@@ -259,21 +294,18 @@ pub fn section(sensitivity: &Sensitivity) -> String {
         }
     }
     let changes = changes(sensitivity);
-    let list = |lines: &[String]| lines.iter().map(|l| format!("- {l}\n")).collect::<String>();
     let _ = writeln!(
         md,
-        "\nOf {} comparisons (scenario, baseline, joint), {} reverse between the rows (one variant finds lu lower, another the baseline){}",
-        changes.compared,
-        changes.reversed.len(),
-        if changes.reversed.is_empty() { ".".to_owned() } else { format!(":\n\n{}", list(&changes.reversed)) }
+        "\nWhat each choice does, paired by seed: per seed the variant's ratio over the report's, then the geometric mean with its 95 % interval; listed where the interval excludes 1 (a move beyond the seeds' spread), out of {} comparisons per variant (no correction for the number of comparisons). \"across 1\" marks a comparison whose mean ratio moves from one side of 1 to the other.",
+        changes.compared
     );
-    let _ = writeln!(
-        md,
-        "\n{} are conclusive in some rows and inconclusive in others: they depend on the choice, or need more seeds than these {} to tell{}",
-        changes.significance.len(),
-        sensitivity.seeds,
-        if changes.significance.is_empty() { ".".to_owned() } else { format!(":\n\n{}", list(&changes.significance)) }
-    );
+    for v in sensitivity.variants.iter().skip(1) {
+        let moved: Vec<&Effect> = changes.moved.iter().filter(|e| e.variant == v.variant).collect();
+        let _ = writeln!(md, "\n**{}** moves {} of {}:\n", v.variant, moved.len(), changes.compared);
+        for e in moved {
+            let _ = writeln!(md, "- {}{}", e.line, if e.crosses { ", across 1" } else { "" });
+        }
+    }
     md
 }
 
@@ -281,16 +313,26 @@ pub fn section(sensitivity: &Sensitivity) -> String {
 pub fn headline(sensitivity: Option<&Sensitivity>) -> String {
     let Some(sensitivity) = sensitivity else { return String::new() };
     let changes = changes(sensitivity);
-    let others: Vec<&str> = sensitivity.variants.iter().skip(1).map(|v| v.variant.as_str()).collect();
+    let per_variant: Vec<String> = sensitivity
+        .variants
+        .iter()
+        .skip(1)
+        .map(|v| {
+            let moved: Vec<&Effect> = changes.moved.iter().filter(|e| e.variant == v.variant).collect();
+            let across: Vec<&str> =
+                moved.iter().filter(|e| e.crosses).map(|e| e.line.split(':').next().unwrap_or_default()).collect();
+            match across.is_empty() {
+                true => format!("{}: {} moved", v.variant, moved.len()),
+                false => format!("{}: {} moved, across 1 on {}", v.variant, moved.len(), across.join(" and ")),
+            }
+        })
+        .collect();
     format!(
-        "\nRerun under {} other modelling choices ({}; {} seeds each), {} of the {} paired tracking comparisons with {} reverse their verdict and {} change significance: see \"Sensitivity to the modelling choices\".\n",
-        others.len(),
-        others.join(", "),
-        sensitivity.seeds,
-        changes.reversed.len(),
-        changes.compared,
+        "\nThe tracking comparisons with {} rest on modelling choices. Rerun with one choice changed at a time ({} seeds, paired by seed), the comparisons (of {}) each choice moves beyond the seeds' spread are: {}. See \"Sensitivity to the modelling choices\".\n",
         BASELINES.map(|m| m.name()).join(", "),
-        changes.significance.len()
+        sensitivity.seeds,
+        changes.compared,
+        per_variant.join("; ")
     )
 }
 

@@ -2,9 +2,12 @@
 //! integrated at `substeps` times that rate, and the true disturbance recorded.
 //!
 //! The true disturbance is everything the loop's model (the nominal one, or the one the scenario
-//! names: [`model::LoopModel`]) does not explain, seen from the actuator torque:
-//! `d = ID_model(q, q̇, q̈_true) − τ_act`. It includes friction, parameter
-//! error, payload and external loads, so estimate errors are measured, not guessed.
+//! names: [`model::LoopModel`]) does not explain, seen from the torque the controller measures,
+//! noise aside: `d = ID_model(q, q̇, q̈_true) − τ_act − τ_o`, with `τ_o` the constant error of
+//! that measurement (its pressure transducers' offsets, [`Sensors::offset_torque`]). It includes
+//! friction, parameter error, payload, external loads and the sensors' offsets, so estimate
+//! errors are measured, not guessed, and an estimator is not charged for an offset that the
+//! compensation needs it to take up.
 
 use std::collections::VecDeque;
 
@@ -226,6 +229,7 @@ pub fn closed_loop_on<const N: usize>(
     )?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
+    let offset_torque = sensors.offset_torque(&plant);
     let inertia = nominal.mass_matrix(&q0).diagonal();
     let mut gains = gains(nominal, scenario, &joints)?;
     let (pid_kd, pid_ki, _) = pid_gains(&gains, &inertia, scenario, &joints);
@@ -302,7 +306,8 @@ pub fn closed_loop_on<const N: usize>(
             q: state.q,
             q_des: reference.position,
             d_true: nominal.inverse_dynamics(&state.q, &state.qd, &acceleration)
-                - plant.actuator_torque(&state, &applied),
+                - plant.actuator_torque(&state, &applied)
+                - offset_torque,
             d_hat,
             tau_cmd: command,
             shadow,

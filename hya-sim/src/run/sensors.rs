@@ -10,6 +10,7 @@ use hya_core::{FilterParams, JointVector, Measurement, ThirdOrderFilter};
 
 use crate::config::scenario::{Noise, NoiseConfig, SensorConfig, TorqueSource, Transducers, VelocitySource};
 use crate::error::SimError;
+use crate::plant::hydraulic::HydraulicActuators;
 use crate::plant::{Actuators, Plant};
 
 /// The joint velocity the controller and observers read.
@@ -75,15 +76,32 @@ impl<const N: usize> Sensors<N> {
         match (plant.actuators(), self.config.torque) {
             (Actuators::Hydraulic(h), TorqueSource::Pressure) => {
                 let gaussian = Noise::Gaussian { sigma: self.config.pressure_noise_pa };
-                let offsets = match self.config.transducers {
-                    Transducers::Shared => h.pressure_offsets(),
-                    Transducers::Independent => self.offsets,
-                };
+                let offsets = self.pressure_offsets(h);
                 let pa = state.hydraulic.pressure_a + offsets.0 + draw(&mut self.rng, gaussian);
                 let pb = state.hydraulic.pressure_b + offsets.1 + draw(&mut self.rng, gaussian);
                 h.torque(&pa, &pb)
             }
             _ => plant.actuator_torque(state, applied) + draw(&mut self.rng, self.noise.torque),
+        }
+    }
+
+    /// The constant offsets of the pressure transducers the controller reads, Pa.
+    fn pressure_offsets(&self, h: &HydraulicActuators<N>) -> (JointVector<N>, JointVector<N>) {
+        match self.config.transducers {
+            Transducers::Shared => h.pressure_offsets(),
+            Transducers::Independent => self.offsets,
+        }
+    }
+
+    /// The constant error of the torque the controller reads from `plant`, N·m: its pressure
+    /// transducers' offsets seen as torque, `D_a o_a − D_b o_b` (zero for other sources).
+    pub fn offset_torque(&self, plant: &Plant<N>) -> JointVector<N> {
+        match (plant.actuators(), self.config.torque) {
+            (Actuators::Hydraulic(h), TorqueSource::Pressure) => {
+                let (a, b) = self.pressure_offsets(h);
+                h.torque(&a, &b)
+            }
+            _ => JointVector::zeros(),
         }
     }
 

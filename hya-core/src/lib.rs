@@ -48,6 +48,7 @@ mod trig;
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
 pub use lanes::Arithmetic;
+pub use linalg::symmetric_eigenvalues;
 pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 

@@ -50,7 +50,7 @@ mod tests {
 /// Each sweep zeroes every off-diagonal entry once with a plane rotation; it stops when the
 /// off-diagonal mass is below `1e-14` of the matrix's, or after 50 sweeps (Jacobi converges
 /// quadratically, in well under 10 sweeps for the sizes here).
-pub(crate) fn symmetric_eigenvalues<const D: usize>(m: &SMatrix<f64, D, D>) -> nalgebra::SVector<f64, D> {
+pub fn symmetric_eigenvalues<const D: usize>(m: &SMatrix<f64, D, D>) -> nalgebra::SVector<f64, D> {
     let mut a = (m + m.transpose()) * 0.5;
     let scale = a.iter().map(|x| x * x).sum::<f64>();
     for _ in 0..50 {

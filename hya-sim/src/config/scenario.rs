@@ -272,6 +272,8 @@ pub struct ControllerConfig {
     pub max_natural_frequency_rad_s: f64,
     /// PID: how the integral gain is chosen.
     pub integral_rule: IntegralRule,
+    /// Chen's observer: which gain design.
+    pub chen_gain: ChenGain,
     /// PID with `integral_rule = "zero_ratio"`: the integral's zero as a fraction of the natural
     /// frequency, `K_I = K_P ω_n · this`.
     pub integral_zero_ratio: f64,
@@ -302,6 +304,7 @@ impl Default for ControllerConfig {
             friction_error_rad: 0.05,
             max_natural_frequency_rad_s: 40.0,
             integral_rule: IntegralRule::MatchEstimator,
+            chen_gain: ChenGain::Inertia,
             integral_zero_ratio: 0.25,
             integral_limit_nm: vec![30.0; 6],
             torque_limit_nm: vec![150.0; 6],
@@ -311,6 +314,21 @@ impl Default for ControllerConfig {
             friction_toml: None,
         }
     }
+}
+
+/// The gain `Y` of Chen's observer (`L = Y M⁻¹(q)`, its rates the eigenvalues of `L`), at the
+/// observer bandwidth `β`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ChenGain {
+    /// `Y = β M(q0)`: `L = β I` at the start pose, every joint at rate `β` there (a
+    /// well-conditioned design, ours).
+    #[default]
+    Inertia,
+    /// The scalar gain of Chen et al. (2000) in Mohammadi's form, `Y = y I` with
+    /// `y = β λmax(M(q0))` (`ξ = 0`): the slowest rate at the start pose is `β`, the light joints'
+    /// are faster by the inertia ratio, and velocity noise reaches `d̂` through `y`.
+    Scalar,
 }
 
 /// How the PID baseline's integral gain `K_I` is chosen, per joint.

@@ -1,7 +1,8 @@
 //! Whether the headline comparisons survive the modelling choices behind them: the paper's
 //! estimator against `none`, `pid` and `chen` on the goto and sine tasks, rerun with one
 //! structural choice changed at a time (the torque sensors' transducers, the PID's tuning rule,
-//! the friction's Stribeck peak, the command delay), every variant on the same seeds.
+//! Chen's gain design, the friction's Stribeck peak, the command delay), every variant on the
+//! same seeds.
 //!
 //! Each comparison is a paired ratio: per seed and joint `r = RMSE_baseline / RMSE_lu`, then the
 //! geometric mean over seeds with the 95 % interval of `ln r` (Student's t). The verdict is
@@ -18,7 +19,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::analysis::seeds::{per_joint_paired_ratio, run_seeds, MetricTable, PairedRatio};
-use crate::config::scenario::{IntegralRule, Method, Scenario, Transducers};
+use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario, Transducers};
 use crate::error::SimError;
 
 use super::text::table_row;
@@ -47,7 +48,7 @@ struct Variant {
 }
 
 /// The report's runs first, then one change each.
-const VARIANTS: [Variant; 5] = [
+const VARIANTS: [Variant; 6] = [
     Variant { name: "as run", change: "the report's settings (its runs of these seeds)", apply: |_| {}, changes: &[] },
     Variant {
         name: "independent transducers",
@@ -60,6 +61,12 @@ const VARIANTS: [Variant; 5] = [
         change: "pid by another stated rule: the same `K_P`, and `K_D`, `K_I` placing the rigid joint's three poles at one point, `M (s + ω)³` with `ω = √(K_P / 3M)` (`controller.integral_rule = \"pole_placement\"`), stable without a cap; the rows show whether it is the stronger PID here",
         apply: |s| s.controller.integral_rule = IntegralRule::PolePlacement,
         changes: &[Method::Pid],
+    },
+    Variant {
+        name: "chen scalar gain",
+        change: "Chen's observer with the scalar gain of Chen et al. (2000) in Mohammadi's form, `Y = y I`, `y = β λmax(M(q0))` (`controller.chen_gain = \"scalar\"`), instead of `Y = β M(q0)`: the slowest rate at the start pose stays β, the light joints' rates grow by the inertia ratio, and velocity noise reaches `d̂` through `y`",
+        apply: |s| s.controller.chen_gain = ChenGain::Scalar,
+        changes: &[Method::Chen],
     },
     Variant {
         name: "no Stribeck peak",

@@ -18,7 +18,7 @@ use hya_core::{
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::config::scenario::{IntegralRule, Method, Scenario};
+use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario};
 use crate::config::settings::JointSettings;
 use crate::error::{SettingError, SimError};
 use crate::plant::{perturbed, Plant};
@@ -46,6 +46,16 @@ pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
     (bandwidth, dt): (f64, f64),
     first: &Measurement<N>,
 ) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
+    observer_designed(method, nominal, (bandwidth, dt, ChenGain::Inertia), first)
+}
+
+/// [`observer`] with Chen's observer by the gain design `chen`.
+pub fn observer_designed<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
+    method: Method,
+    nominal: D,
+    (bandwidth, dt, chen): (f64, f64, ChenGain),
+    first: &Measurement<N>,
+) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
     let q0 = first.position;
     let qd0 = first.velocity.unwrap_or_else(JointVector::zeros);
     let core = |source| SimError::Setup { setting: method.name().into(), source };
@@ -59,8 +69,16 @@ pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
             Some((Box::new(estimator), vec![rate; N]))
         }
         Method::Chen => {
-            // Y = β M(q0): L = Y M⁻¹ = β I at the start pose.
-            let chen = NonlinearDisturbanceObserver::with_bandwidth(nominal, bandwidth, dt, &q0, qd0).map_err(core)?;
+            let chen = match chen {
+                // Y = β M(q0): L = Y M⁻¹ = β I at the start pose.
+                ChenGain::Inertia => NonlinearDisturbanceObserver::with_bandwidth(nominal, bandwidth, dt, &q0, qd0),
+                // Y = y I, y = β λmax(M(q0)): the slowest rate at the start pose is β.
+                ChenGain::Scalar => {
+                    let largest = hya_core::symmetric_eigenvalues(&nominal.mass_matrix(&q0)).max();
+                    NonlinearDisturbanceObserver::new(nominal, bandwidth * largest, dt, qd0)
+                }
+            }
+            .map_err(core)?;
             let rates = chen.rates(&q0).map_err(core)?.as_slice().to_vec();
             Some((Box::new(chen), rates))
         }
@@ -249,14 +267,15 @@ pub fn closed_loop_on<const N: usize>(
     let mut commands: VecDeque<JointVector<N>> = std::iter::repeat_n(hold, command_delay).collect();
     let mut applied = hold;
     readings.push_back(sensors.read(&plant, &applied)?);
-    let (mut estimator, bandwidth_rad_s) = match observer(method, nominal, (bandwidth, dt), &readings[0])? {
+    let design = (bandwidth, dt, scenario.controller.chen_gain);
+    let (mut estimator, bandwidth_rad_s) = match observer_designed(method, nominal, design, &readings[0])? {
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
     };
     // Shadow mode: every estimator on the same measurements, none acting on the loop.
     let mut shadows = Vec::with_capacity(SHADOWS.len());
     for method in SHADOWS {
-        if let Some((shadow, _)) = observer(method, nominal, (bandwidth, dt), &readings[0])? {
+        if let Some((shadow, _)) = observer_designed(method, nominal, design, &readings[0])? {
             shadows.push(shadow);
         }
     }

@@ -236,3 +236,23 @@ fn pole_placement_puts_the_pid_poles_together() {
     }
     assert_eq!(capped, [false; 6]);
 }
+
+/// Chen's scalar design: `Y = β λmax(M(q0)) I`, so the slowest rate at the start pose is `β` and
+/// the light joints' are faster; the inertia design gives `β` on every joint.
+#[test]
+fn chen_designs_set_their_rates() {
+    use hya_core::{Dynamics, JointVector, Measurement};
+    let scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
+    let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
+    let q0 = JointVector::<6>::from_column_slice(&hya_sim::settings::initial_position(&scenario, 6));
+    let first = Measurement { position: q0, velocity: Some(JointVector::zeros()), torque: robot.nominal.gravity(&q0) };
+    let rates = |chen| {
+        let design = (50.0, 1e-3, chen);
+        hya_sim::run::observer_designed(Method::Chen, robot.nominal.as_ref(), design, &first).unwrap().unwrap().1
+    };
+    let inertia = rates(hya_sim::scenario::ChenGain::Inertia);
+    assert!(inertia.iter().all(|r| (r - 50.0).abs() < 1e-9), "{inertia:?}");
+    let scalar = rates(hya_sim::scenario::ChenGain::Scalar);
+    assert!((scalar[0] - 50.0).abs() < 1e-6, "slowest {scalar:?}");
+    assert!(scalar[5] > 10.0 * 50.0, "the light joints are faster: {scalar:?}");
+}

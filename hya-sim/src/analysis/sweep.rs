@@ -3,7 +3,7 @@
 //! baseline is swept the same way: its swept value is the equivalent bandwidth `ω` of its integral,
 //! `K_I = K_P / τ_d(ω)` with `τ_d(ω) = 1/ω + 2ζ/ω` (the paper's estimator's low-frequency delay at
 //! that bandwidth, [`IntegralRule::MatchEstimator`]), still capped at half the Routh bound
-//! `½ K_D K_P / M_ii` ([`crate::run::integral_gain`]). The grid splits into shards (`i/n`: every n-th run from the i-th) that a batch scheduler runs on
+//! `½ K_D K_P / M_ii` ([`crate::run::pid_gains`]). The grid splits into shards (`i/n`: every n-th run from the i-th) that a batch scheduler runs on
 //! separate machines; [`merge`] joins their `sweep.json` files into the same result as one run.
 
 use serde::{Deserialize, Serialize};

@@ -119,8 +119,8 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     }
 
     /// The loop's design at the scenario's start pose, as the closed loop makes it: the PD
-    /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_I` with the joints
-    /// whose gain is capped ([`integral_gain`](super::integral_gain)).
+    /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_D` and `K_I` with the joints
+    /// whose gain is capped ([`pid_gains`](super::pid_gains)).
     pub fn design(&self, scenario: &Scenario, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
         let pd = super::gains(self.dynamics(), scenario, joints)?;
         let inertia = self.dynamics().mass_matrix(&joints.initial_position).diagonal();

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use crate::analysis::sweep::{
     dominates, front_points, pareto_figure, pareto_optimal, run_on, scenarios, FrontPoint, Measure, Plan, Shard, Sweep,
 };
-use crate::config::scenario::Method;
+use crate::config::scenario::{ChenGain, Method};
 use crate::config::settings::JointSettings;
 use crate::error::SimError;
 use hya_core::Short;
@@ -57,10 +57,14 @@ fn equal_text(plan: &Plan) -> String {
         plan.scenarios.iter().map(|s| format!("`{}` ({} s)", s.name, Short(s.duration_s))).collect();
     let methods: Vec<&str> = plan.methods.iter().map(|m| m.name()).collect();
     let bandwidths: Vec<String> = plan.bandwidths_rad_s.iter().map(|w| format!("{}", Short(*w))).collect();
+    let chen = match plan.scenarios.first().map(|s| s.controller.chen_gain) {
+        Some(ChenGain::Scalar) => "scalar gain `Y = ω λmax(M(q0)) I` (slowest rate ω at the start pose)",
+        _ => "`L = ω I` at the start pose",
+    };
     let mut md = String::from("\n## Pareto fronts: error against command noise\n\n");
     let _ = writeln!(
         md,
-        "What is equal: every run of a scenario has the same plant, task, sensors, PD gains (one gain rule for every method) and seeds; only the compensation and its bandwidth ω differ. At one ω: lu's filters have ζ = 0.8, ω1 = ω2 = ω; chen's `L = ω I` at the start pose; momentum's `K_O = ω`; eso's ω_o = ω; pid's integral `K_I = K_P / τ_d(ω)` with `τ_d = 1/ω + 2ζ/ω` (lu's low-frequency delay at ω), capped at half the Routh bound `½ K_D K_P / M_ii`. Swept: {} with {}, ω = {} rad/s, {} seed(s) each. Each point is the mean over seeds (and over joints) of the command-torque noise and of the error; whiskers are 95 % intervals over seeds{}.\n\n![Pareto fronts]({FIGURE})\n",
+        "What is equal: every run of a scenario has the same plant, task, sensors, PD gains (one gain rule for every method) and seeds; only the compensation and its bandwidth ω differ. At one ω: lu's filters have ζ = 0.8, ω1 = ω2 = ω; chen's {chen}; momentum's `K_O = ω`; eso's ω_o = ω; pid's integral `K_I = K_P / τ_d(ω)` with `τ_d = 1/ω + 2ζ/ω` (lu's low-frequency delay at ω), capped at half the Routh bound `½ K_D K_P / M_ii`. Swept: {} with {}, ω = {} rad/s, {} seed(s) each. Each point is the mean over seeds (and over joints) of the command-torque noise and of the error; whiskers are 95 % intervals over seeds{}.\n\n![Pareto fronts]({FIGURE})\n",
         scenarios.join(" and "),
         methods.join(", "),
         bandwidths.join(", "),

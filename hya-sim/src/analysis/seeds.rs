@@ -70,6 +70,17 @@ pub fn mean_ci95(samples: &[f64]) -> (f64, f64) {
     (mean, student_t_975(n - 1) * (variance / n as f64).sqrt())
 }
 
+/// The median of `values` (NaN when empty): for metrics whose seeds split into groups (a joint
+/// that recovers or sticks), where a mean and a t interval mislead.
+pub fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
 /// The ratio of two paired samples (the same seeds), `a[s] / b[s]`: the geometric mean over
 /// seeds and its 95 % interval, from the Student-t interval of `ln(a/b)`. Seed-to-seed spread
 /// that both share cancels in each ratio, which unpaired intervals cannot use.

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use crate::analysis::seeds::{per_joint_mean_ci95, run_seeds, MetricTable};
+use crate::analysis::seeds::{median, per_joint_mean_ci95, run_seeds, MetricTable};
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 
@@ -27,16 +27,6 @@ const SEEDS: usize = 3;
 
 /// The methods measured, in the table's order.
 const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
-
-/// The median of `values` (NaN when empty).
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => values[n / 2],
-        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
-}
 
 /// Oscillation apart from drift, per method and joint of `scenario` in `table`: the share of
 /// seeds whose detrended error holds a spectral line of [`CYCLE_AMPLITUDE_RAD`] or more, with

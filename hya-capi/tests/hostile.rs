@@ -132,6 +132,11 @@ fn bad_estimator_parameters_and_steps_are_refused_and_leave_the_state() {
         refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["zeta", "-0.8"]);
         let status = hya_estimator_new(model, 0.8, 50.0, 50.0, 0.0, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
         refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["dt"]);
+        // The limits `hya filter` and Python refuse too (hya-core's FilterParams).
+        let status = hya_estimator_new(model, 1e-4, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["zeta", "0.001"]);
+        let status = hya_estimator_new(model, 0.8, 0.5, 50.0, 1e-6, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["omega1", "at least 1e-6"]);
         let status = hya_estimator_new(model, 0.8, f64::NAN, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);
         assert_ne!(status, HyaStatus::HyaOk);
         let status = hya_estimator_new(null(), 0.8, 50.0, 50.0, 1e-3, q0.as_ptr(), tau0.as_ptr(), 2, &mut estimator);

@@ -23,19 +23,9 @@ pub struct FilterArgs {
     dt: f64,
 }
 
-/// The smallest damping ratio `ζ` the filter commands accept (hya-core allows up to 100): below
-/// it the second-order factor rings for thousands of periods, which no real design wants.
-pub const MIN_ZETA: f64 = 1e-3;
-
-/// The smallest `ω · dt` the filter commands accept, for `ω1` and `ω2` (hya-core bounds it above
-/// by [`hya_core::MAX_RATE_TIMES_DT`]): below it a corner frequency takes more than a million
-/// samples to act, and each sample moves the states by too little to tell from rounding (at
-/// `dt = 1e-300`, every output row equalled the first).
-pub const MIN_RATE_TIMES_DT: f64 = 1e-6;
-
-/// The filter parameters of `hya filter` and `hya estimate`: hya-core's checks, then
-/// `dt` within [`rows::MIN_DT_S`]–[`rows::MAX_DT_S`], `ζ ≥` [`MIN_ZETA`] and
-/// `ω · dt ≥` [`MIN_RATE_TIMES_DT`]; messages name the option and its value.
+/// The filter parameters of `hya filter` and `hya estimate`: `dt` within
+/// [`rows::MIN_DT_S`]–[`rows::MAX_DT_S`] (a row command's sample interval), then hya-core's
+/// checks (the same for Python and the C ABI); messages name the option and its value.
 pub fn params(zeta: f64, omega1: f64, omega2: f64, dt: f64) -> Result<FilterParams, CliError> {
     // --dt first: a step beyond its range would otherwise be blamed on the frequency it
     // multiplies (`--dt 1000` once read "--omega1 50: must be such that it times dt_s …").
@@ -49,23 +39,14 @@ pub fn params(zeta: f64, omega1: f64, omega2: f64, dt: f64) -> Result<FilterPara
                 _ => "--dt",
             };
             let requirement = requirement.replace("dt_s", "--dt");
-            CliError::Input(format!("{option} {}: must be {requirement}", Short(value)))
+            let step = match option {
+                "--omega1" | "--omega2" => format!(" (--dt {})", Short(dt)),
+                _ => String::new(),
+            };
+            CliError::Input(format!("{option} {}: must be {requirement}{step}", Short(value)))
         }
         other => CliError::Input(format!("filter parameters: {}", other)),
     })?;
-    if zeta < MIN_ZETA {
-        return Err(CliError::Input(format!("--zeta {}: must be at least {}", Short(zeta), Short(MIN_ZETA))));
-    }
-    for (option, omega) in [("--omega1", omega1), ("--omega2", omega2)] {
-        if omega * dt < MIN_RATE_TIMES_DT {
-            return Err(CliError::Input(format!(
-                "{option} {}: times --dt {} must be at least {}, or the filter barely moves between samples",
-                Short(omega),
-                Short(dt),
-                Short(MIN_RATE_TIMES_DT)
-            )));
-        }
-    }
     Ok(params)
 }
 

@@ -61,19 +61,44 @@ pub const PAPER_ZETA: f64 = 0.8;
 /// The paper's `ω1 = ω2`, rad/s.
 pub const PAPER_BANDWIDTH_RAD_S: f64 = 50.0;
 
+/// The smallest damping ratio `ζ` a filter takes: below it the second-order factor rings for
+/// thousands of periods, which no real design wants.
+pub const MIN_ZETA: f64 = 1e-3;
+
+/// The smallest `ω · dt` a filter takes, for `ω1` and `ω2`: below it a corner frequency takes
+/// more than a million samples to act, and each sample moves the states by too little to tell
+/// from rounding (at `dt = 1e-300`, every output equalled the first).
+pub const MIN_RATE_TIMES_DT: f64 = 1e-6;
+
 impl FilterParams {
-    /// Checks that every parameter is finite and strictly positive, that `ζ ≤ 100`, and that
-    /// `ω1 · dt` and `ω2 · dt` are at most [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT).
+    /// Checks that every parameter is finite and strictly positive, that
+    /// [`MIN_ZETA`]` ≤ ζ ≤ 100`, and that `ω1 · dt` and `ω2 · dt` lie within
+    /// [`MIN_RATE_TIMES_DT`] and [`MAX_RATE_TIMES_DT`](crate::MAX_RATE_TIMES_DT).
     pub fn new(zeta: f64, omega1_rad_s: f64, omega2_rad_s: f64, dt_s: f64) -> Result<Self, Error> {
         let dt_s = positive("dt_s", dt_s)?;
         let zeta = positive("zeta", zeta)?;
-        if zeta > 100.0 {
-            return Err(Error::InvalidParameter { name: "zeta", value: zeta, requirement: "at most 100" });
+        if !(MIN_ZETA..=100.0).contains(&zeta) {
+            return Err(Error::InvalidParameter {
+                name: "zeta",
+                value: zeta,
+                requirement: "at least 0.001 and at most 100",
+            });
         }
+        let rate = |name, omega| {
+            let omega = discretisable(name, omega, dt_s)?;
+            match omega * dt_s >= MIN_RATE_TIMES_DT {
+                true => Ok(omega),
+                false => Err(Error::InvalidParameter {
+                    name,
+                    value: omega,
+                    requirement: "such that it times dt_s is at least 1e-6, or the filter barely moves between samples",
+                }),
+            }
+        };
         Ok(Self {
             zeta,
-            omega1_rad_s: discretisable("omega1_rad_s", omega1_rad_s, dt_s)?,
-            omega2_rad_s: discretisable("omega2_rad_s", omega2_rad_s, dt_s)?,
+            omega1_rad_s: rate("omega1_rad_s", omega1_rad_s)?,
+            omega2_rad_s: rate("omega2_rad_s", omega2_rad_s)?,
             dt_s,
         })
     }
@@ -368,8 +393,11 @@ mod tests {
             FilterParams::new(0.8, f64::NAN, 50.0, 1e-3),
             FilterParams::new(0.8, 50.0, -1.0, 1e-3),
             FilterParams::new(0.8, 50.0, 50.0, f64::INFINITY),
+            // Below the smallest damping ratio and the smallest ω · dt.
+            FilterParams::new(1e-4, 50.0, 50.0, 1e-3),
+            FilterParams::new(0.8, 0.5, 50.0, 1e-6),
         ];
-        let names: [&str; 4] = ["zeta", "omega1_rad_s", "omega2_rad_s", "dt_s"];
+        let names: [&str; 6] = ["zeta", "omega1_rad_s", "omega2_rad_s", "dt_s", "zeta", "omega1_rad_s"];
         for (result, expected) in bad.iter().zip(names) {
             match result {
                 Err(Error::InvalidParameter { name, .. }) => assert_eq!(*name, expected),

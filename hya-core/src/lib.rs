@@ -58,7 +58,9 @@ pub use display::{closest, Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};
 pub use error::Error;
 pub use estimator::DisturbanceEstimator;
-pub use filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT};
+pub use filter::{
+    Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT, MIN_RATE_TIMES_DT, MIN_ZETA,
+};
 pub use finite::{finite_result, MAX_RATE_TIMES_DT};
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,

@@ -72,6 +72,11 @@ def test_bad_input_is_refused_and_changes_nothing():
         hya.MomentumObserver(model, q0=q0).update(q0, np.zeros(6))
     with pytest.raises(ValueError, match="zeta"):
         hya.DisturbanceEstimator(model, zeta=-1.0)
+    # The limits `hya filter` and the C ABI refuse too (hya-core's FilterParams).
+    with pytest.raises(ValueError, match="zeta.*0.001"):
+        hya.ThirdOrderFilter([0.0], zeta=1e-4)
+    with pytest.raises(ValueError, match="at least 1e-6"):
+        hya.ThirdOrderFilter([0.0], omega1=0.5, dt=1e-6)
     with pytest.raises(ValueError, match="u: 1 values, expected 2"):
         hya.ThirdOrderFilter([0.0, 0.0]).step([1.0])
 

@@ -106,6 +106,13 @@ pub struct VariantRuns {
 /// One comparison: a scenario, a baseline, and per variant the paired ratio of each joint.
 type Comparison = (String, Method, Vec<Vec<PairedRatio>>);
 
+impl VariantRuns {
+    /// `method`'s `rmse_q[seed][joint]` on `scenario` (empty where it did not run).
+    fn rmse(&self, scenario: &str, method: Method) -> &[Vec<f64>] {
+        self.rmse_q.get(scenario).and_then(|by| by.get(method.name())).map_or(&[], Vec::as_slice)
+    }
+}
+
 /// A paired comparison's verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Verdict {
@@ -193,9 +200,7 @@ pub fn run<const N: usize>(
 
 /// Per joint, the paired ratio of `baseline` to `lu` in `runs` of `scenario`.
 fn ratios(runs: &VariantRuns, scenario: &str, baseline: Method) -> Vec<PairedRatio> {
-    let methods = runs.rmse_q.get(scenario);
-    let of = |m: Method| methods.and_then(|by| by.get(m.name())).cloned().unwrap_or_default();
-    per_joint_paired_ratio(&of(baseline), &of(Method::Lu))
+    per_joint_paired_ratio(runs.rmse(scenario, baseline), runs.rmse(scenario, Method::Lu))
 }
 
 /// What one variant does to one comparison, where its paired effect is beyond the interval.
@@ -238,9 +243,7 @@ fn comparisons(sensitivity: &Sensitivity) -> Vec<Comparison> {
 
 /// Per seed, `baseline / lu` at joint `j` of `scenario` in `runs`.
 fn seed_ratios(runs: &VariantRuns, scenario: &str, baseline: Method, j: usize) -> Vec<f64> {
-    let methods = runs.rmse_q.get(scenario);
-    let of = |m: Method| methods.and_then(|by| by.get(m.name())).cloned().unwrap_or_default();
-    of(baseline).iter().zip(of(Method::Lu)).map(|(b, l)| b[j] / l[j]).collect()
+    runs.rmse(scenario, baseline).iter().zip(runs.rmse(scenario, Method::Lu)).map(|(b, l)| b[j] / l[j]).collect()
 }
 
 /// The comparisons each variant moves beyond its interval.

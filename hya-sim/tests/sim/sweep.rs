@@ -225,11 +225,10 @@ fn pole_placement_puts_the_pid_poles_together() {
     let (kd, ki, capped) = hya_sim::run::pid_gains(&gains, &m, &scenario, &joints);
     let kp = gains.kp().diagonal();
     for j in 0..6 {
-        let omega = (kp[j] / (3.0 * m[j])).sqrt();
-        // The coefficients of M (s + ω)³ against the PID loop's.
-        for (ours, placed) in
-            [(kd[j], 3.0 * m[j] * omega), (kp[j], 3.0 * m[j] * omega * omega), (ki[j], m[j] * omega.powi(3))]
-        {
+        // M (s + ω)³ = M s³ + 3Mω s² + 3Mω² s + Mω³ with K_P = 3Mω² given: its other two
+        // coefficients in terms of K_P, without the rule's ω.
+        let (kd_placed, ki_placed) = ((3.0 * m[j] * kp[j]).sqrt(), (kp[j] / 3.0).powf(1.5) / m[j].sqrt());
+        for (ours, placed) in [(kd[j], kd_placed), (ki[j], ki_placed)] {
             assert!((ours - placed).abs() <= 1e-12 * placed, "joint {}: {ours} against {placed}", j + 1);
         }
         assert!(ki[j] < kd[j] * kp[j] / m[j], "joint {}: within the Routh bound", j + 1);

@@ -127,6 +127,19 @@ struct DropWatch<const N: usize> {
     removal_recovery: Option<Recovery<N>>,
 }
 
+/// The limit-cycle window of a run of `scenario` whose window ends at `end`, s.
+fn cycle_window_ending(scenario: &Scenario, end: f64) -> Window {
+    Window::new((end - CYCLE_WINDOW_S).max(quiet_from(scenario, end)), end)
+}
+
+/// The window [`Metrics::cycle_amplitude_q`] looks in on a run of `scenario`, s: its lowest
+/// frequency bin is two periods per window.
+pub fn cycle_window(scenario: &Scenario) -> Window {
+    let dt = scenario.controller.dt_s;
+    let steps = (scenario.duration_s / dt).round() as usize;
+    cycle_window_ending(scenario, steps.saturating_sub(1) as f64 * dt + 1e-9)
+}
+
 /// The tracking error's samples over the limit-cycle window, at most [`CYCLE_SAMPLES`] per joint.
 #[derive(Debug, Clone)]
 struct CycleWindow<const N: usize> {
@@ -141,7 +154,7 @@ struct CycleWindow<const N: usize> {
 impl<const N: usize> CycleWindow<N> {
     /// The window of a run of `scenario` ending at `end`, s, ticking every `dt`.
     fn new(scenario: &Scenario, end: f64, dt: f64) -> Self {
-        let window = Window::new((end - CYCLE_WINDOW_S).max(quiet_from(scenario, end)), end);
+        let window = cycle_window_ending(scenario, end);
         let ticks = ((window.to - window.from) / dt).ceil().max(0.0) as usize;
         let stride = ticks.div_ceil(CYCLE_SAMPLES).max(1);
         let kept = ticks.div_ceil(stride);

@@ -31,10 +31,18 @@ const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Che
 /// Oscillation apart from drift, per method and joint of `scenario` in `table`: the share of
 /// seeds whose detrended error holds a spectral line of [`CYCLE_AMPLITUDE_RAD`] or more, with
 /// those seeds' median frequency and amplitude, and every seed's median drift.
-fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, scenario: &str) -> String {
+fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario) -> String {
+    let scenario = base.name.as_str();
+    let window = crate::metrics::cycle_window(base);
+    let span = window.to - window.from;
+    let lowest_hz = 2.0 / span;
     let mut md = format!(
-        "\nThe same runs with oscillation told apart from drift: over the last {} s once the task is quiet, the straight-line trend of each joint's error is removed (its change over the window is the creep) and the largest spectral line of what is left is found (bins from two periods per window to {} Hz). A joint counts as cycling where that line reaches {} mrad (a sine of {} mrad peak to peak). Per method and joint: seeds cycling / seeds, then the cycling seeds' median frequency and amplitude; and the median creep over every seed, mrad:\n\n",
+        "\nThe same runs with oscillation told apart from drift: over the last {:.1} s once the task is quiet (at most {} s; here {:.1} to {:.1} s), the straight-line trend of each joint's error is removed (its change over the window is the creep) and the largest spectral line of what is left is found (bins from two periods per window, {:.2} Hz, to {} Hz). A joint counts as cycling where that line reaches {} mrad (a sine of {} mrad peak to peak). A line in the lowest bin cannot be told from drift that is not straight; cells whose median frequency lies there are marked \"lowest bin\". Per method and joint: seeds cycling / seeds, then the cycling seeds' median frequency and amplitude; and the median creep over every seed, mrad:\n\n",
+        span,
         crate::metrics::CYCLE_WINDOW_S,
+        window.from,
+        window.to,
+        lowest_hz,
         crate::metrics::CYCLE_MAX_HZ,
         CYCLE_AMPLITUDE_RAD * 1e3,
         2.0 * CYCLE_AMPLITUDE_RAD * 1e3
@@ -58,13 +66,16 @@ fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, scenario: &str) 
             let creep = median(creep.iter().map(|c| c[j].abs()).collect()) * 1e3;
             cells.push(match cycling.is_empty() {
                 true => format!("0/{}; creep {creep:.2}", amplitude.len()),
-                false => format!(
-                    "{}/{} at {:.2} Hz, {:.2}; creep {creep:.2}",
-                    cycling.len(),
-                    amplitude.len(),
-                    median(cycling.iter().map(|&s| frequency[s][j]).collect()),
-                    median(cycling.iter().map(|&s| amplitude[s][j]).collect()) * 1e3
-                ),
+                false => {
+                    let hz = median(cycling.iter().map(|&s| frequency[s][j]).collect());
+                    format!(
+                        "{}/{} at {hz:.2} Hz{}, {:.2}; creep {creep:.2}",
+                        cycling.len(),
+                        amplitude.len(),
+                        if hz < 1.25 * lowest_hz { " (lowest bin)" } else { "" },
+                        median(cycling.iter().map(|&s| amplitude[s][j]).collect()) * 1e3
+                    )
+                }
             });
         }
         if !cycling_anywhere {
@@ -146,7 +157,7 @@ pub fn section<const N: usize>(
             )
         }
     );
-    md.push_str(&cycles_apart_from_drift::<N>(methods, &base.name));
+    md.push_str(&cycles_apart_from_drift::<N>(methods, base));
     let _ = writeln!(
         md,
         "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), same measure (mrad); below {} mrad a joint counts as still (peak-to-peak counts drift and settling as well as cycles):\n",

@@ -50,7 +50,9 @@ def numbers(path):
 
 
 def rows(text):
-    return [[float(v) for v in line.split()] for line in text.splitlines() if line and line[0] in "-0123456789"]
+    """The numeric rows of hya's output (its header line left out; cells comma- or blank-separated)."""
+    return [[float(v) for v in line.replace(",", " ").split()]
+            for line in text.splitlines() if line and line[0] in "-0123456789"]
 
 
 def rms(residuals):

@@ -7,7 +7,9 @@ use hya_core::model::TreeModel;
 use hya_core::SliceDynamics;
 use hya_robots::{RobotInfo, ROBOTS};
 
-use crate::{read_rows, rows, CliError};
+use crate::table::names::{Joints, Unit};
+use crate::table::{Column, ColumnsArg, HeaderArg, RowWriter, Table};
+use crate::CliError;
 
 /// Which robot, and through which path.
 #[derive(Debug, clap::Args)]
@@ -18,6 +20,10 @@ pub struct RobotArgs {
     /// With a shipped robot: use the generic tree model instead of the generated code.
     #[arg(long)]
     generic: bool,
+    #[command(flatten)]
+    columns: ColumnsArg,
+    #[command(flatten)]
+    header: HeaderArg,
 }
 
 /// Parameters of `hya id`.
@@ -85,10 +91,13 @@ pub fn model(robot: &str) -> Result<TreeModel, CliError> {
     }
 }
 
-fn resolve(args: &RobotArgs) -> Result<Source, CliError> {
+/// The dynamics of `args`, and the model's joints (for the columns' names and units).
+fn resolve(args: &RobotArgs) -> Result<(Source, Joints), CliError> {
+    let model = model(&args.robot)?;
+    let joints = Joints::of(&model);
     match hya_robots::find(&args.robot) {
-        Some(robot) if !args.generic => Ok(Source::Generated(robot)),
-        _ => model(&args.robot).map(Source::Model),
+        Some(robot) if !args.generic => Ok((Source::Generated(robot), joints)),
+        _ => Ok((Source::Model(model), joints)),
     }
 }
 
@@ -134,16 +143,51 @@ pub enum Quantity {
     Derivatives,
 }
 
+impl Quantity {
+    /// The columns a row in holds, and what they are for the messages.
+    fn input(self, joints: &Joints) -> (Vec<Column>, &'static str) {
+        let q = joints.columns("q", Unit::Position);
+        let qd = joints.columns("qd", Unit::Velocity);
+        match self {
+            Self::InverseDynamics | Self::Derivatives => {
+                ([q, qd, joints.columns("qdd", Unit::Acceleration)].concat(), "q, qd, qdd: one per joint each")
+            }
+            Self::ForwardDynamics => {
+                ([q, qd, joints.columns("tau", Unit::Effort)].concat(), "q, qd, tau: one per joint each")
+            }
+            Self::MassMatrix | Self::Gravity => (q, "q: one per joint"),
+        }
+    }
+
+    /// The columns a row out holds: `τ`, `q̈`, `G` per joint, `M` or `∂τ` per pair of joints
+    /// (row-major), each in the units of its joints (`∂τ_i/∂q_j` in N m/rad for two revolute
+    /// joints).
+    fn output(self, joints: &Joints) -> Vec<Column> {
+        let effort = |i| Unit::Effort.of(i);
+        let position = |j| Unit::Position.of(j);
+        match self {
+            Self::InverseDynamics => joints.columns("tau", Unit::Effort),
+            Self::Gravity => joints.columns("g", Unit::Effort),
+            Self::ForwardDynamics => joints.columns("qdd", Unit::Acceleration),
+            Self::MassMatrix => joints.pairs("M", |i, j| format!("{} s^2/{}", effort(i), position(j))),
+            Self::Derivatives => [
+                joints.columns("tau", Unit::Effort),
+                joints.pairs("dtau_dq", |i, j| format!("{}/{}", effort(i), position(j))),
+                joints.pairs("dtau_dqd", |i, j| format!("{} s/{}", effort(i), position(j))),
+            ]
+            .concat(),
+        }
+    }
+}
+
 /// Runs `quantity` over every row of `input`.
 pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
-    let source = resolve(args)?;
+    let (source, joints) = resolve(args)?;
     let dynamics = source.dynamics();
     let n = dynamics.dof();
-    let (width, what) = match quantity {
-        Quantity::InverseDynamics | Quantity::Derivatives => (3 * n, "q, qd, qdd: one per joint each"),
-        Quantity::ForwardDynamics => (3 * n, "q, qd, tau: one per joint each"),
-        Quantity::MassMatrix | Quantity::Gravity => (n, "q: one per joint"),
-    };
+    let (wanted, what) = quantity.input(&joints);
+    let mut table = Table::new(input, args.columns.spec()?, wanted, what.to_string())?;
+    let mut writer = RowWriter::new(output, quantity.output(&joints), args.header.header());
     let mut result = vec![
         0.0;
         match quantity {
@@ -152,10 +196,9 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
             _ => n,
         }
     ];
-    for row in read_rows(input) {
-        let row = row?;
-        rows::expect_width(&row, width, what)?;
-        let v = &row.values;
+    while let Some(line) = table.next_line() {
+        let line = line?;
+        let v = table.values();
         match quantity {
             Quantity::InverseDynamics => {
                 dynamics.inverse_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
@@ -164,7 +207,7 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
             Quantity::Gravity => dynamics.gravity_into(v, &mut result),
             Quantity::ForwardDynamics => dynamics
                 .forward_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
-                .map_err(|e| CliError::Input(format!("line {}: {e}", row.line)))?,
+                .map_err(|e| CliError::Input(format!("line {line}: {e}")))?,
             Quantity::Derivatives => {
                 let (tau, rest) = result.split_at_mut(n);
                 let (by_q, by_qd) = rest.split_at_mut(n * n);
@@ -174,13 +217,12 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
         }
         if let Some(j) = result.iter().position(|v| !v.is_finite()) {
             return Err(CliError::Input(format!(
-                "line {}: the result overflows (entry {} is {}): the inputs are beyond what the model can evaluate",
-                row.line,
+                "line {line}: the result overflows (entry {} is {}): the inputs are beyond what the model can evaluate",
                 j + 1,
                 result[j]
             )));
         }
-        rows::write(output, result.iter().copied())?;
+        writer.write(result.iter().copied())?;
     }
     Ok(())
 }

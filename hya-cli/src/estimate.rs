@@ -11,8 +11,9 @@ use hya_robots::ForArm;
 use hya_sim::run::Observer;
 use hya_sim::Method;
 
-use crate::columns::{ColumnSpec, Picked};
-use crate::{rows, CliError};
+use crate::table::names::{self, Joints, Unit};
+use crate::table::{self, Column, ColumnSpec, ColumnsArg, HeaderArg, RowWriter, Table};
+use crate::CliError;
 use hya_sim::io::friction::JointFriction;
 
 /// Parameters of `hya estimate`.
@@ -47,12 +48,12 @@ pub struct EstimateArgs {
     /// With --timestamps: the longest step that is not reported as a gap, s [default: 2.5 × --dt].
     #[arg(long, requires = "timestamps")]
     max_step: Option<f64>,
-    /// The columns to read, in the order t (with --timestamps), q, τ: header names, positions
-    /// from 1, or ranges of either, comma-separated (`t,q1-q6,tau1-tau6`, `1,2-7,14-19`). Other
-    /// columns (velocities, currents, commands) are ignored. A first line whose first field is
-    /// not a number is the header, with or without --columns.
-    #[arg(long)]
-    columns: Option<String>,
+    /// (--columns) Read in the order t (with --timestamps), q, [q̇,] τ; other columns
+    /// (currents, commands) are ignored.
+    #[command(flatten)]
+    columns: ColumnsArg,
+    #[command(flatten)]
+    header: HeaderArg,
     /// The estimator: `lu` (the paper's, with --zeta, --omega1, --omega2), or one of the
     /// observers it is compared with at --bandwidth, run at the fixed --dt: `chen` (Chen's
     /// nonlinear observer) and `momentum` (the generalized-momentum observer) read measured
@@ -114,6 +115,9 @@ struct Layout {
     max_step_s: f64,
     columns: Option<ColumnSpec>,
     friction: Option<std::path::PathBuf>,
+    /// The model's joints, for the columns' names and units.
+    joints: Joints,
+    header: bool,
 }
 
 /// The estimator over every row, for the arm's `N` joints: a shipped arm's generated dynamics
@@ -211,10 +215,20 @@ fn estimate<'a, const N: usize>(
         if layout.timestamps { "the time t (s), then " } else { "" },
         if velocity { format!("then the {N} joint velocities q̇ (rad/s), ") } else { String::new() }
     );
-    let width = offset + (2 + usize::from(velocity)) * N;
+    let joints = &layout.joints;
+    let time = layout.timestamps.then(names::time);
+    let wanted: Vec<Column> = time
+        .iter()
+        .cloned()
+        .chain(joints.columns("q", Unit::Position))
+        .chain(velocity.then(|| joints.columns("qd", Unit::Velocity)).into_iter().flatten())
+        .chain(joints.columns("tau", Unit::Effort))
+        .collect();
+    let out_columns = time.into_iter().chain(joints.columns("d_hat", Unit::Effort)).collect();
     let friction = layout.friction.as_deref().map(|path| JointFriction::from_file(path, N)).transpose();
     let friction = friction.map_err(|e| CliError::Input(format!("--friction {e}")))?;
-    let mut log = Picked::new(input, layout.columns.clone(), width, what)?;
+    let mut log = Table::new(input, layout.columns.clone(), wanted, what)?;
+    let mut writer = RowWriter::new(output, out_columns, layout.header);
     let adopted;
     let layout = match layout.step_from_log {
         None => layout,
@@ -241,7 +255,7 @@ fn estimate<'a, const N: usize>(
         let d_hat = match running.as_mut() {
             None => {
                 let started = Running::start(nominal, layout, t, &measurement)
-                    .map_err(|e| rows::at(format_args!("line {}", line), e))?;
+                    .map_err(|e| table::at(format_args!("line {}", line), e))?;
                 let d_hat = started.disturbance();
                 running = Some(started);
                 d_hat
@@ -255,8 +269,9 @@ fn estimate<'a, const N: usize>(
             _ => d_hat,
         };
         let time = layout.timestamps.then_some(t);
-        rows::write(output, time.into_iter().chain(d_hat.iter().copied()))
-            .map_err(|e| rows::at(format_args!("line {}", line), e))?;
+        writer
+            .write(time.into_iter().chain(d_hat.iter().copied()))
+            .map_err(|e| table::at(format_args!("line {}", line), e))?;
     }
     if gaps.all > REPORTED_GAPS {
         eprintln!(
@@ -340,7 +355,7 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
     if !(args.bandwidth.is_finite() && args.bandwidth > 0.0) {
         return Err(CliError::Input(format!("--bandwidth {}: must be finite and > 0 rad/s", Short(args.bandwidth))));
     }
-    let columns = args.columns.as_deref().map(ColumnSpec::parse).transpose()?;
+    let columns = args.columns.spec()?;
     if args.friction.is_some() && args.method != EstimateMethod::Lu {
         return Err(CliError::Input(format!(
             "--friction with --method {}: the friction is taken at the paper's filtered velocity; use --method lu",
@@ -353,6 +368,7 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
             args.method.method().name()
         )));
     }
+    let model = crate::dynamics::model(&args.robot)?;
     let layout = Layout {
         params,
         step_from_log: (args.timestamps && args.dt.is_none()).then_some(args.max_step),
@@ -362,13 +378,14 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
         max_step_s,
         columns,
         friction: args.friction.clone(),
+        joints: Joints::of(&model),
+        header: args.header.header(),
     };
     let mut estimate = Estimate { model: None, layout, input, output };
     if hya_robots::find(&args.robot).is_some() {
         return hya_robots::with_arm(&args.robot, estimate)
             .unwrap_or_else(|| Err(CliError::Input(format!("robot `{}` has no dispatch", args.robot))));
     }
-    let model = crate::dynamics::model(&args.robot)?;
     let dof = model.dof();
     estimate.model = Some(model);
     with_joints(dof, estimate).unwrap_or_else(|| {

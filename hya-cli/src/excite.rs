@@ -6,6 +6,8 @@ use std::io::Write;
 use hya_core::Short;
 use hya_ident::{ExcitationDesign, Limits};
 
+use crate::table::names::Joints;
+use crate::table::RowWriter;
 use crate::CliError;
 
 /// Parameters of `hya excite`.
@@ -39,6 +41,8 @@ pub struct ExciteArgs {
     /// Seed of the candidates' draw.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    #[command(flatten)]
+    header: crate::table::HeaderArg,
 }
 
 /// Longest output, rows: a day at 1 kHz is far beyond any identification log.
@@ -82,7 +86,7 @@ pub fn run(args: &ExciteArgs, output: &mut impl Write) -> Result<(), CliError> {
         )));
     }
     let model = crate::dynamics::model(&args.robot)?;
-    let input = |e: hya_ident::ExcitationError| CliError::Input(format!("{}: {e}", crate::rows::echo(&args.robot)));
+    let input = |e: hya_ident::ExcitationError| CliError::Input(format!("{}: {e}", crate::table::echo(&args.robot)));
     let limits = Limits::of(&model, args.range_fraction, args.velocity_fraction).map_err(input)?;
     let design = ExcitationDesign {
         harmonics: args.harmonics,
@@ -105,17 +109,13 @@ pub fn run(args: &ExciteArgs, output: &mut impl Write) -> Result<(), CliError> {
         hya_ident::PARAMETERS_PER_BODY * model.dof(),
         conditioning.condition_number
     );
-    let names: Vec<String> = model.joint_names().map(hya_urdf::escape_name).collect();
-    let header: Vec<String> = ["q", "qd", "qdd"]
-        .iter()
-        .flat_map(|quantity| names.iter().map(move |joint| format!("{quantity}_{joint}")))
-        .collect();
-    writeln!(output, "# t {}", header.join(" "))?;
+    let joints = Joints::of(&model);
+    let columns = joints.reference();
+    let mut writer = RowWriter::new(output, columns, args.header.header());
     for k in 0..=rows.round() as usize {
         let t = k as f64 / args.rate_hz;
         let (q, qd, qdd) = trajectory.at(t);
-        let values: Vec<String> = q.iter().chain(&qd).chain(&qdd).map(|v| format!("{v:.9}")).collect();
-        writeln!(output, "{t:.6} {}", values.join(" "))?;
+        writer.write(std::iter::once(t).chain(q.iter().chain(&qd).chain(&qdd).copied()))?;
     }
     Ok(())
 }

@@ -1,12 +1,11 @@
 //! The `hya` command.
 
-use std::io::{self, BufRead, Write};
+use std::io::{self, Write};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 mod bench;
-mod columns;
 mod dynamics;
 mod estimate;
 mod excite;
@@ -15,8 +14,8 @@ mod filter;
 mod generate;
 mod identify;
 mod plant;
-mod rows;
 mod sweep;
+mod table;
 mod track;
 
 /// The version `--version` prints: the crate's, the commit it was built from, and the profile.
@@ -155,9 +154,4 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
-}
-
-/// Reads every data row of `input` through a bounded line buffer; see [`rows::Reader`].
-pub fn read_rows(input: impl BufRead) -> impl Iterator<Item = Result<rows::Row, CliError>> {
-    rows::Reader::new(input)
 }

@@ -9,7 +9,9 @@ use hya_core::{JointVector, Short};
 use hya_sim::rollout::{ideal_plant, open_loop, scenario_plant, TorqueCommand};
 use hya_sim::Scenario;
 
-use crate::{read_rows, rows, CliError};
+use crate::table::names::{self, Joints, Unit};
+use crate::table::{self, ColumnsArg, HeaderArg, RowWriter, Table};
+use crate::CliError;
 
 /// Parameters of `hya plant`.
 #[derive(Debug, clap::Args)]
@@ -38,6 +40,11 @@ pub struct PlantArgs {
     /// 1e7 integration steps in all).
     #[arg(long)]
     until: Option<f64>,
+    /// (--columns) Read in the order t, τ.
+    #[command(flatten)]
+    columns: ColumnsArg,
+    #[command(flatten)]
+    header: HeaderArg,
 }
 
 /// The latest `--until` (or last row's time) `hya plant` accepts, s.
@@ -80,7 +87,13 @@ fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f6
     let Some(text) = &args.q0 else {
         return Ok(hya_robots::find(robot).map_or_else(|| vec![0.0; dof], |r| r.home.to_vec()));
     };
-    let values = rows::parse(text, 1).map_err(|e| input(format!("--q0: {e}")))?.map_or(Vec::new(), |r| r.values);
+    // One row of the table format: blank- or comma-separated numbers.
+    let mut row = Table::any(text.as_bytes(), None);
+    let values = match row.next_line() {
+        Some(line) => line.map(|_| row.values().to_vec()).map_err(|e| input(format!("--q0: {e}")))?,
+        None if text.trim().is_empty() => Vec::new(),
+        None => return Err(input(format!("--q0 {}: not a list of numbers", table::echo(text)))),
+    };
     if values.len() != dof {
         return Err(input(format!("--q0: expected {dof} angles, got {}", values.len())));
     }
@@ -91,7 +104,7 @@ fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f6
         if !(lower..=upper).contains(&q) {
             return Err(input(format!(
                 "--q0: joint {} at {}: outside its range, {} to {}",
-                rows::echo(&body.joint),
+                table::echo(&body.joint),
                 Short(q),
                 Short(lower),
                 Short(upper)
@@ -118,35 +131,36 @@ pub fn scenario(path: Option<&std::path::Path>, robot: &str, alternative: &str) 
     }
     Err(input(format!(
         "{}: no built-in scenario describes this arm's plant; pass --scenario FILE (its friction, actuators and loads){alternative}",
-        rows::echo(robot)
+        table::echo(robot)
     )))
 }
 
-/// The torque rows `t τ1 … τn`: times from 0, strictly increasing.
-fn commands<const N: usize>(stdin: impl BufRead) -> Result<Vec<TorqueCommand<N>>, CliError> {
+/// The torque rows `t τ1 … τn` of an arm with `joints`: times from 0, strictly increasing.
+fn commands<const N: usize>(
+    stdin: impl BufRead,
+    args: &PlantArgs,
+    joints: &Joints,
+) -> Result<Vec<TorqueCommand<N>>, CliError> {
+    let wanted = [vec![names::time()], joints.columns("tau", Unit::Effort)].concat();
+    let mut table = Table::new(stdin, args.columns.spec()?, wanted, "t, then one torque per joint".into())?;
     let mut commands: Vec<TorqueCommand<N>> = Vec::new();
-    for row in read_rows(stdin) {
-        let row = row?;
+    while let Some(line) = table.next_line() {
+        let line = line?;
         if commands.len() == MAX_TORQUE_ROWS {
-            return Err(input(format!("line {}: more than {MAX_TORQUE_ROWS} torque rows", row.line)));
+            return Err(input(format!("line {line}: more than {MAX_TORQUE_ROWS} torque rows")));
         }
-        rows::expect_width(&row, N + 1, "t, then one torque per joint")?;
-        let time = row.values[0];
+        let row = table.values();
+        let time = row[0];
         match commands.last() {
             None if time != 0.0 => {
-                return Err(input(format!("line {}: the first row must be at t = 0, not {}", row.line, Short(time))))
+                return Err(input(format!("line {line}: the first row must be at t = 0, not {}", Short(time))))
             }
             Some(last) if time <= last.time => {
-                return Err(input(format!(
-                    "line {}: t = {} does not come after {}",
-                    row.line,
-                    Short(time),
-                    Short(last.time)
-                )))
+                return Err(input(format!("line {line}: t = {} does not come after {}", Short(time), Short(last.time))))
             }
             _ => {}
         }
-        commands.push(TorqueCommand { time, torque: JointVector::from_column_slice(&row.values[1..]) });
+        commands.push(TorqueCommand { time, torque: JointVector::from_column_slice(&row[1..]) });
     }
     Ok(commands)
 }
@@ -159,13 +173,14 @@ fn rollout<const N: usize>(
     stdin: impl BufRead,
     output: &mut impl Write,
 ) -> Result<(), CliError> {
-    let dt = rows::check_dt("--dt", args.dt)?;
+    let dt = table::check_dt("--dt", args.dt)?;
     if let Some(until) = args.until {
         check_until("--until", until)?;
     }
     let q0 = JointVector::<N>::from_column_slice(&start_pose(args, robot, model)?);
     let scenario = if args.ideal { None } else { Some(scenario(args.scenario.as_deref(), robot, " or --ideal")?) };
-    let commands = commands::<N>(stdin)?;
+    let joints = Joints::of(model);
+    let commands = commands::<N>(stdin, args, &joints)?;
     let Some(last) = commands.last() else { return Err(input("no torque rows on stdin")) };
     let until = match args.until {
         Some(until) => until,
@@ -187,9 +202,13 @@ fn rollout<const N: usize>(
             Short(MAX_STEPS)
         )));
     }
+    let columns =
+        [vec![names::time()], joints.columns("q", Unit::Position), joints.columns("qd", Unit::Velocity)].concat();
+    let mut writer = RowWriter::new(output, columns, args.header.header());
     open_loop(&mut plant, &commands, max_step, dt, until, |t, state| {
-        rows::write(output, std::iter::once(t).chain(state.q.iter().copied()).chain(state.qd.iter().copied()))
-            .map_err(|e| rows::at(format_args!("t = {} s", Short(t)), e))
+        writer
+            .write(std::iter::once(t).chain(state.q.iter().copied()).chain(state.qd.iter().copied()))
+            .map_err(|e| table::at(format_args!("t = {} s", Short(t)), e))
     })
 }
 
@@ -210,7 +229,7 @@ pub fn run(args: &PlantArgs, stdin: impl BufRead, output: &mut impl Write) -> Re
         ($($n:literal)*) => {
             match model.dof() {
                 $($n => rollout::<$n>(args, robot, &model, stdin, output),)*
-                n => Err(input(format!("hya plant runs arms of 1 to 12 joints; {} has {n}", rows::echo(robot)))),
+                n => Err(input(format!("hya plant runs arms of 1 to 12 joints; {} has {n}", table::echo(robot)))),
             }
         };
     }

@@ -17,9 +17,10 @@ use hya_sim::scenario::Task;
 use hya_sim::task::{Samples, Trajectory};
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 
-use crate::columns::Picked;
 use crate::identify::files::with_body_inertias;
-use crate::{rows, CliError};
+use crate::table::names::{self, Joints, Unit};
+use crate::table::{self, ColumnsArg, HeaderArg, RowWriter, Table};
+use crate::CliError;
 
 /// Parameters of `hya track`.
 #[derive(Debug, clap::Args)]
@@ -43,16 +44,22 @@ pub struct TrackArgs {
     /// Replace files hya wrote in `--out` before (see `hya run --help`).
     #[arg(long)]
     force: bool,
+    /// (--columns) Read in the order t, q, q̇, q̈.
+    #[command(flatten)]
+    columns: ColumnsArg,
+    #[command(flatten)]
+    header: HeaderArg,
 }
 
 /// The most reference rows `hya track` reads (1e6: 10⁴ s at `hya excite`'s 100 rows a second);
 /// they are held in memory.
 pub const MAX_REFERENCE_ROWS: usize = 1_000_000;
 
-/// The reference rows `t q q̇ q̈` of an `N`-joint arm.
-fn reference<const N: usize>(input: impl BufRead) -> Result<Samples<N>, CliError> {
+/// The reference rows `t q q̇ q̈` of an `N`-joint arm with `joints`.
+fn reference<const N: usize>(input: impl BufRead, args: &TrackArgs, joints: &Joints) -> Result<Samples<N>, CliError> {
     let what = format!("t, then the {N} joint angles q, velocities q̇ and accelerations q̈");
-    let mut log = Picked::new(input, None, 1 + 3 * N, what)?;
+    let wanted = joints.reference();
+    let mut log = Table::new(input, args.columns.spec()?, wanted, what)?;
     let (mut time, mut points) = (Vec::new(), Vec::new());
     while let Some(line) = log.next_line() {
         let line = line?;
@@ -88,7 +95,8 @@ impl<R: BufRead, W: Write> ForRobot for Track<'_, R, W> {
 
 impl<R: BufRead, W: Write> Track<'_, R, W> {
     fn track<const N: usize>(mut self, robot: &Robot<N>) -> Result<(), CliError> {
-        let samples = reference::<N>(self.input)?;
+        let joints = Joints::of(&robot.model);
+        let samples = reference::<N>(self.input, self.args, &joints)?;
         samples.within_limits(&robot.model)?;
         let scenario = &mut self.scenario;
         scenario.initial_position_rad = Some(samples.start().as_slice().to_vec());
@@ -113,17 +121,15 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
             let inertias: Vec<RigidBodyInertia> = model.bodies().iter().map(|b| b.inertia).collect();
             out.save("true.urdf", &with_body_inertias(&self.args.robot, &robot.model, &inertias, "true.urdf")?)?;
         }
-        let names: Vec<String> = robot.model.joint_names().map(hya_urdf::escape_name).collect();
-        let header: Vec<String> =
-            ["q", "tau"].iter().flat_map(|x| names.iter().map(move |joint| format!("{x}_{joint}"))).collect();
-        writeln!(self.output, "t {}", header.join(" "))?;
-        let output = &mut *self.output;
+        let columns =
+            [vec![names::time()], joints.columns("q", Unit::Position), joints.columns("tau", Unit::Effort)].concat();
+        let mut writer = RowWriter::new(&mut *self.output, columns, self.args.header.header());
         let mut failed = None;
         let trajectory = Trajectory::sampled(samples);
         closed_loop_on(scenario, self.method, robot, (&trajectory, Recording::Off), |t, measurement| {
             if failed.is_none() {
                 let values = std::iter::once(t).chain(measurement.position.iter().copied());
-                if let Err(e) = rows::write(output, values.chain(measurement.torque.iter().copied())) {
+                if let Err(e) = writer.write(values.chain(measurement.torque.iter().copied())) {
                     failed = Some(e);
                 }
             }
@@ -148,7 +154,7 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
 pub fn run(args: &TrackArgs, input: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
     let method = Method::from_name(&args.method).ok_or_else(|| {
         let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-        CliError::Input(format!("--method {}: one of {}", rows::echo(&args.method), names.join(", ")))
+        CliError::Input(format!("--method {}: one of {}", table::echo(&args.method), names.join(", ")))
     })?;
     let scenario = crate::plant::scenario(args.scenario.as_deref(), &args.robot, "")?;
     hya_sim::with_robot(&args.robot, Track { args, scenario, method, input, output })?

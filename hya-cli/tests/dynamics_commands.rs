@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_rejected, hya};
+use common::{assert_rejected, data_rows, hya};
 
 fn workspace(path: &str) -> String {
     format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"))
@@ -50,10 +50,12 @@ fn check_against_pinocchio(reference: &str, dof: usize, robot_args: &[&str]) {
         let output = hya(&args, &input);
         assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
         let text = String::from_utf8(output.stdout).unwrap();
-        assert_eq!(text.lines().count(), rows.len());
-        for (line, row) in text.lines().zip(&rows) {
+        let quantity = text.lines().next().unwrap().split('_').next().unwrap();
+        assert_eq!(quantity, ["tau", "M", "g", "qdd"][kinds.iter().position(|k| k.0 == kind).unwrap()], "{text}");
+        let got_rows = data_rows(&text);
+        assert_eq!(got_rows.len(), rows.len());
+        for (got, row) in got_rows.iter().zip(&rows) {
             let expected = &row[3 * dof..];
-            let got: Vec<f64> = line.split_whitespace().map(|v| v.parse().unwrap()).collect();
             assert_eq!(got.len(), expected.len());
             for (g, e) in got.iter().zip(expected) {
                 assert!((g - e).abs() <= 1e-9 * e.abs().max(1.0), "{reference} {command} {robot_args:?}: {g} vs {e}");
@@ -85,7 +87,11 @@ fn every_malformed_urdf_exits_with_2_naming_the_file() {
 
 #[test]
 fn bad_rows_and_unknown_robots_are_named() {
-    assert_rejected(&["id", "--robot", "planar2"], "0 0 0 0 0 0\n1 2\n", &["line 2", "expected 6 values"]);
+    assert_rejected(
+        &["id", "--robot", "planar2"],
+        "0 0 0 0 0 0\n1 2\n",
+        &["line 2: 2 values, but the first row, line 1, has 6"],
+    );
     assert_rejected(&["mass", "--robot", "hya"], "0 0 0 0 0 nan\n", &["line 1", "non-finite"]);
     assert_rejected(&["gravity", "--robot", "nope"], "0\n", &["nope", "hya", "panda"]);
 }
@@ -119,8 +125,7 @@ fn id_with_derivatives_prints_tau_then_both_jacobians_as_pinocchio_does() {
         let mut args = vec!["id", "--robot", "ur5", "--derivatives"];
         args.extend(generic.then_some("--generic"));
         let output = hya(&args, &input);
-        let got: Vec<f64> =
-            String::from_utf8(output.stdout).unwrap().split_whitespace().map(|v| v.parse().unwrap()).collect();
+        let got = data_rows(&String::from_utf8(output.stdout).unwrap()).concat();
         let expected: Vec<f64> = id[18..].iter().chain(&by_q[18..]).chain(&by_qd[18..]).copied().collect();
         assert_eq!(got.len(), 6 + 2 * 36);
         for (g, e) in got.iter().zip(&expected) {

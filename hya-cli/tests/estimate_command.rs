@@ -26,11 +26,7 @@ fn the_estimate_of_a_mujoco_log_is_the_true_disturbance_through_the_filter() {
         log.iter().map(|row| row[..12].iter().map(|x| format!("{x} ")).collect::<String>() + "\n").collect();
     let output = hya(&["estimate", "--robot", "hya"], &input);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let d_hat: Vec<Vec<f64>> = String::from_utf8(output.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let d_hat: Vec<Vec<f64>> = common::data_rows(&String::from_utf8(output.stdout).unwrap());
     assert_eq!(d_hat.len(), log.len());
 
     // The truth through H(s), from rest at d(0) = 0, on the same 1 ms grid.
@@ -75,11 +71,7 @@ fn bad_rows_and_parameters_are_named() {
 fn estimates(args: &[&str], input: &str) -> Vec<Vec<f64>> {
     let output = common::hya(args, input);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    String::from_utf8(output.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
-        .collect()
+    common::data_rows(&String::from_utf8(output.stdout).unwrap())
 }
 
 #[test]

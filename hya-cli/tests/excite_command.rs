@@ -14,8 +14,14 @@ fn excite_prints_one_period_from_rest_to_rest() {
     assert!(summary.contains("rank 6 of 20 parameters"), "{summary}");
     let text = String::from_utf8(output.stdout).unwrap_or_default();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("# t q_shoulder q_elbow qd_shoulder qd_elbow qdd_shoulder qdd_elbow"));
-    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(' ').map(|v| v.parse().unwrap_or(f64::NAN)).collect()).collect();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "t [s],q_shoulder [rad],q_elbow [rad],qd_shoulder [rad/s],qd_elbow [rad/s],\
+             qdd_shoulder [rad/s^2],qdd_elbow [rad/s^2]"
+        )
+    );
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect()).collect();
     // One period of 10 s at 20 rows per second, both ends included.
     assert_eq!(rows.len(), 201);
     for row in [&rows[0], &rows[200]] {

@@ -29,8 +29,8 @@ fn sinusoids_come_out_scaled_and_shifted_by_h() {
     let output = hya(&["filter", "--zeta", "0.8", "--omega1", "50", "--omega2", "50", "--dt", "0.001"], &input);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let text = String::from_utf8(output.stdout).unwrap();
-    let rows: Vec<Vec<f64>> =
-        text.lines().map(|line| line.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(text.lines().next(), Some("x1_u1,x1_u2,x1_u3,x2_u1,x2_u2,x2_u3,x3_u1,x3_u2,x3_u3"));
+    let rows = common::data_rows(&text);
     assert_eq!(rows.len(), steps + 1);
     assert!(rows.iter().all(|row| row.len() == 3 * omegas.len()));
     // After 2 s (40 group delays), each state is Im(H_i(jω) e^{jωt}) to 1 % of |H_i|: that bounds
@@ -55,13 +55,16 @@ fn sinusoids_come_out_scaled_and_shifted_by_h() {
 fn first_row_sets_the_state_at_rest() {
     let output = hya(&["filter"], "1.5 -2\n");
     assert!(output.status.success());
-    assert_eq!(String::from_utf8(output.stdout).unwrap(), "1.5 -2.0 0.0 0.0 0.0 0.0\n");
+    assert_eq!(
+        String::from_utf8(output.stdout).unwrap(),
+        "x1_u1,x1_u2,x2_u1,x2_u2,x3_u1,x3_u2\n1.5,-2.0,0.0,0.0,0.0,0.0\n"
+    );
 }
 
 #[test]
 fn bad_input_names_the_line_and_exits_with_2() {
     assert_rejected(&["filter"], "0 0\n1 1\n1 x\n", &["line 3", "column 2", "not a number"]);
-    assert_rejected(&["filter"], "0 0\n# comment\n\n1\n", &["line 4", "expected 2 values"]);
+    assert_rejected(&["filter"], "0 0\n# comment\n\n1\n", &["line 4: 1 values, but the first row, line 1, has 2"]);
     assert_rejected(&["filter"], "0\nnan\n", &["line 2", "non-finite"]);
     assert_rejected(&["filter"], "0\n1e999\n", &["line 2", "non-finite"]);
 }

@@ -14,26 +14,14 @@ fn reference(file: &str) -> String {
     std::fs::read_to_string(path).unwrap()
 }
 
-fn numbers(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .map(|l| {
-            l.split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|x| !x.is_empty())
-                .map(|x| x.parse().unwrap())
-                .collect()
-        })
-        .collect()
-}
-
 #[test]
 fn the_ideal_rollout_follows_mujoco() {
     let torque = reference("mujoco_hya_torque.csv");
     // The torque file's last row acts from 0.99 s; run on to 1 s as the reference does.
     let output = hya(&["plant", "--robot", "hya", "--ideal", "--until", "1.0"], &torque);
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
-    let ours = numbers(&String::from_utf8(output.stdout).unwrap());
-    let theirs = numbers(&reference("mujoco_hya_rollout.csv"));
+    let ours = common::data_rows(&String::from_utf8(output.stdout).unwrap());
+    let theirs = common::data_rows(&reference("mujoco_hya_rollout.csv"));
     assert_eq!(ours.len(), theirs.len(), "one row per millisecond from 0 to 1 s");
     let worst = ours
         .iter()
@@ -50,7 +38,7 @@ fn the_default_plant_holds_the_arm_with_gravity_torques() {
     let gravity = "0 0 40.2959021342 4.9492114049 4.5932244126 0.2688694044 -0.0555794064\n1 0 40.2959021342 4.9492114049 4.5932244126 0.2688694044 -0.0555794064\n";
     let output = hya(&["plant", "--robot", "hya", "--dt", "0.5"], gravity);
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
-    let rows = numbers(&String::from_utf8(output.stdout).unwrap());
+    let rows = common::data_rows(&String::from_utf8(output.stdout).unwrap());
     assert_eq!(rows.len(), 3, "rows at 0, 0.5 and 1 s");
     let home = hya_robots::hya::HOME;
     for row in &rows {

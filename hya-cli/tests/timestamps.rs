@@ -11,26 +11,19 @@ fn data(name: &str) -> String {
     std::fs::read_to_string(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
-fn numbers(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-        .collect()
-}
-
 /// `hya ARGS` on `input`, which must succeed: its stdout as rows, and its stderr.
 fn run(args: &[&str], input: &str) -> (Vec<Vec<f64>>, String) {
     let output = hya(args, input);
     let stderr = String::from_utf8(output.stderr).unwrap();
     assert!(output.status.success(), "{stderr}");
-    (numbers(&String::from_utf8(output.stdout).unwrap()), stderr)
+    (common::data_rows(&String::from_utf8(output.stdout).unwrap()), stderr)
 }
 
 #[test]
 fn a_jittered_log_with_gaps_matches_the_scipy_reference_to_1e_9() {
     let args = ["estimate", "--robot", "planar2", "--timestamps", "--dt", "0.01", "--columns", "t,q1-q2,tau1-tau2"];
     let (estimate, stderr) = run(&args, &data("timestamped_planar2_log.csv"));
-    let reference = numbers(&data("timestamped_planar2_estimate.csv"));
+    let reference = common::data_rows(&data("timestamped_planar2_estimate.csv"));
     assert_eq!(estimate.len(), reference.len());
     assert_eq!(estimate.len(), 110);
     let mut worst = 0.0f64;
@@ -141,7 +134,7 @@ fn hostile_logs_are_named_by_line() {
     );
     assert_rejected(&timed, "0 0 0 0 0\n-1 0 0 0 0\n", &["line 2", "not after"]);
     assert_rejected(&timed, "0 0 0 0 0\nnan 0 0 0 0\n", &["line 2, column 1", "non-finite"]);
-    assert_rejected(&timed, "0 0 0 0 0\n0.001 0 0 0\n", &["line 2", "expected 5 values", "time t"]);
+    assert_rejected(&timed, "0 0 0 0 0\n0.001 0 0 0\n", &["line 2: 4 values, but the first row, line 1, has 5"]);
     assert_rejected(&timed, "t q1 q2 tau1 tau2\n0 0 0 0 0\nt q1 q2 tau1 tau2\n", &["line 3, column 1", "not a number"]);
     let with = |spec: &'static str| {
         let mut args = timed.to_vec();
@@ -172,7 +165,7 @@ fn columns_pick_q_and_tau_from_a_wider_log_by_position_too() {
     let (by_position, _) = run(&[&base[..], &["1,2-3,6-7"]].concat(), &log);
     assert_eq!(by_name, by_position);
     // The same columns alone, space-separated without a header, give the same rows.
-    let narrow: String = numbers(&log.replace("t,q1", "#").replace(',', " "))
+    let narrow: String = common::data_rows(&log.replace("t,q1", "#").replace(',', " "))
         .iter()
         .map(|r| format!("{} {} {} {} {}\n", r[0], r[1], r[2], r[5], r[6]))
         .collect();

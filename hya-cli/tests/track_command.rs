@@ -26,14 +26,6 @@ fn reference(robot: &str, periods: &str, base_hz: &str) -> String {
     stdout_of(&["excite", "--robot", robot, "--periods", periods, "--base-hz", base_hz, "--candidates", "5"], "")
 }
 
-/// The data rows of a log (the header and comments left out).
-fn data_rows(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit() || c == '-'))
-        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
-        .collect()
-}
-
 /// The numbers of `key = [a, b]` in `toml`.
 fn list(toml: &str, key: &str) -> Vec<f64> {
     let line = toml.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
@@ -56,9 +48,10 @@ fn track_follows_the_reference_and_logs_the_sensors_and_the_true_body() {
     let out = scratch("planar");
     let reference = reference("planar2", "1", "0.5");
     let log = stdout_of(&["track", "--robot", "planar2", "--out", out.to_str().unwrap()], &reference);
-    assert!(log.starts_with("t q_shoulder q_elbow tau_shoulder tau_elbow\n"), "{}", &log[..80]);
-    let rows = data_rows(&log);
-    let wanted = data_rows(&reference);
+    let header = "t [s],q_shoulder [rad],q_elbow [rad],tau_shoulder [N m],tau_elbow [N m]\n";
+    assert!(log.starts_with(header), "{}", &log[..80]);
+    let rows = common::data_rows(&log);
+    let wanted = common::data_rows(&reference);
     // One row per control tick of the scenario (1 ms) over the reference's 2 s.
     let duration = wanted.last().unwrap()[0];
     assert_eq!(rows.len(), (duration / 0.001).round() as usize);
@@ -88,7 +81,7 @@ fn track_follows_the_reference_and_logs_the_sensors_and_the_true_body() {
 #[test]
 fn identify_reads_timestamps_and_columns_as_it_reads_fixed_steps() {
     let log = stdout_of(&["track", "--robot", "planar2", "--seed", "2"], &reference("planar2", "3", "0.5"));
-    let untimed: String = log.lines().skip(1).map(|l| l.split_once(' ').unwrap().1.to_owned() + "\n").collect();
+    let untimed: String = log.lines().skip(1).map(|l| l.split_once(',').unwrap().1.to_owned() + "\n").collect();
     let (fixed, timed, picked) = (scratch("fixed"), scratch("timed"), scratch("picked"));
     let run = |out: &Path, extra: &[&str], input: &str| {
         let mut args = vec!["identify", "--robot", "planar2", "--dt", "0.001", "--out", out.to_str().unwrap()];
@@ -102,8 +95,8 @@ fn identify_reads_timestamps_and_columns_as_it_reads_fixed_steps() {
     let reordered: String = log
         .lines()
         .map(|l| {
-            let v: Vec<&str> = l.split_whitespace().collect();
-            format!("{} {} {} {} {}\n", v[3], v[0], v[4], v[1], v[2])
+            let v: Vec<&str> = l.split(',').collect();
+            format!("{},{},{},{},{}\n", v[3], v[0], v[4], v[1], v[2])
         })
         .collect();
     let c = run(&picked, &["--timestamps", "--columns", "t,q_shoulder,q_elbow,tau_shoulder,tau_elbow"], &reordered);
@@ -133,9 +126,7 @@ fn identify_restarts_its_filters_after_a_gap() {
     // Drop 50 ms in the middle of the log.
     let cut: String = log
         .lines()
-        .filter(|l| {
-            l.split_whitespace().next().and_then(|t| t.parse::<f64>().ok()).is_none_or(|t| !(3.0..3.05).contains(&t))
-        })
+        .filter(|l| l.split(',').next().and_then(|t| t.parse::<f64>().ok()).is_none_or(|t| !(3.0..3.05).contains(&t)))
         .map(|l| l.to_owned() + "\n")
         .collect();
     let out = scratch("gap");

@@ -42,7 +42,7 @@ fn urdf_text(robot: &str) -> Result<String, CliError> {
     match hya_robots::find(robot) {
         Some(shipped) => Ok(shipped.urdf.to_owned()),
         None => hya_urdf::file::read_text(std::path::Path::new(robot), hya_urdf::MAX_FILE_BYTES as u64)
-            .map_err(|e| CliError::Input(format!("{}: {e}", crate::rows::echo(robot)))),
+            .map_err(|e| CliError::Input(format!("{}: {e}", crate::table::echo(robot)))),
     }
 }
 

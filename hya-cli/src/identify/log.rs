@@ -18,7 +18,8 @@ use hya_core::step_cache::DiscretisationCache;
 use hya_core::{FilterParams, JointVector, Short, ThirdOrderFilter};
 use hya_ident::Sample;
 
-use crate::columns::{ColumnSpec, Picked};
+use crate::table::names::{self, Joints, Unit};
+use crate::table::{ColumnSpec, Table};
 use crate::CliError;
 
 /// How the log is laid out and filtered.
@@ -34,6 +35,8 @@ pub struct Layout {
     /// The nominal step is to be taken from the log (`--timestamps` without `--dt`), and the gap
     /// limit too unless `--max-step` gave it.
     pub step_from_log: Option<Option<f64>>,
+    /// The model's joints, for the columns' names and units.
+    pub joints: Joints,
 }
 
 impl Layout {
@@ -91,7 +94,11 @@ fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filter
         "{}the {N} joint angles q (rad), then the {N} joint torques τ (N·m)",
         if layout.timestamps { "the time t (s), then " } else { "" }
     );
-    let mut log = Picked::new(input, layout.columns.clone(), offset + 2 * N, what)?;
+    let wanted = (layout.timestamps.then(names::time).into_iter())
+        .chain(layout.joints.columns("q", Unit::Position))
+        .chain(layout.joints.columns("tau", Unit::Effort))
+        .collect();
+    let mut log = Table::new(input, layout.columns.clone(), wanted, what)?;
     let (params, max_step_s) = match layout.step_from_log {
         None => (layout.params, layout.max_step_s),
         Some(max_step) => log.adopt_nominal_step(&layout.params, max_step)?,

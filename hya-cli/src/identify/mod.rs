@@ -19,8 +19,8 @@ use hya_core::{FilterParams, Short};
 use hya_ident::{consistent_parameters, fit, nominal_parameters, BaseParameters, Regressor, Sample};
 use hya_sim::io::output::OutputDir;
 
-use crate::columns::ColumnSpec;
-use crate::rows::check_dt;
+use crate::table::names::Joints;
+use crate::table::{check_dt, ColumnsArg};
 use crate::CliError;
 use files::{friction_toml, identified_urdf, list};
 use log::{Filter, Layout};
@@ -44,11 +44,9 @@ pub struct IdentifyArgs {
     /// filters restart after a gap and settle again before samples are taken.
     #[arg(long, requires = "timestamps")]
     max_step: Option<f64>,
-    /// The columns to read, in the order t (with --timestamps), q, τ: header names, positions
-    /// from 1, or ranges (`t,q1-q6,tau1-tau6` or `1,2-7,14-19`); other columns are ignored. A
-    /// first line whose first field is not a number is the header, with or without --columns.
-    #[arg(long)]
-    columns: Option<String>,
+    /// (--columns) Read in the order t (with --timestamps), q, τ; other columns are ignored.
+    #[command(flatten)]
+    columns: ColumnsArg,
     /// A URDF (the same joints as --robot) to hold the identified model against: its base
     /// parameters in standard deviations of the identified ones, and its held-out prediction
     /// (a published identified model, or a simulation's true one).
@@ -124,6 +122,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             Short(hi)
         )));
     }
+    let model = crate::dynamics::model(&args.robot)?;
     let max_step_s = match args.max_step {
         None => 2.5 * dt,
         Some(s) if s.is_finite() && s > 0.0 => s,
@@ -136,10 +135,10 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             .map_err(|e| CliError::Input(format!("--bandwidth-rad-s, --dt: {e}")))?,
         timestamps: args.timestamps,
         max_step_s,
-        columns: args.columns.as_deref().map(ColumnSpec::parse).transpose()?,
+        columns: args.columns.spec()?,
         step_from_log: (args.timestamps && args.dt.is_none()).then_some(args.max_step),
+        joints: Joints::of(&model),
     };
-    let model = crate::dynamics::model(&args.robot)?;
     hya_ident::check_joint_count(&model).map_err(input)?;
     // `--compare`'s name in the report, and its model.
     let compared = match &args.compare {

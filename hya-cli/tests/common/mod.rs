@@ -38,3 +38,13 @@ pub fn assert_rejected(args: &[&str], input: &str, expected_message: &[&str]) {
     }
     assert!(!message.contains("panicked"), "{message}");
 }
+
+/// The data rows of a command's output: the header line hya writes first left out (a line whose
+/// first cell is not a number), cells split at commas or blanks.
+pub fn data_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .map(|line| line.split(|c: char| c == ',' || c.is_whitespace()).filter(|c| !c.is_empty()))
+        .filter_map(|cells| cells.map(|c| c.parse::<f64>().ok()).collect::<Option<Vec<f64>>>())
+        .filter(|row| !row.is_empty())
+        .collect()
+}

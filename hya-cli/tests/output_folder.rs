@@ -60,6 +60,12 @@ fn force_replaces_an_earlier_report_and_keeps_other_files() {
     let first = hya(&["run", &file, "--out", out.to_str().unwrap(), "--seeds", "2"], "");
     assert_eq!(first.status.code(), Some(0), "{}", String::from_utf8_lossy(&first.stderr));
     assert!(out.join("summary.json").is_file() && out.join("tiny_none.csv").is_file());
+    // The time series is in the row commands' format: `hya gravity` finds its angles by name.
+    let series = std::fs::read_to_string(out.join("tiny_none.csv")).unwrap();
+    assert!(series.starts_with("t [s],q_SAA [rad],q_SFE [rad]"), "{}", &series[..80]);
+    let gravity = hya(&["gravity", "--robot", "hya"], &series);
+    assert_eq!(gravity.status.code(), Some(0), "{}", String::from_utf8_lossy(&gravity.stderr));
+    assert_eq!(common::data_rows(&String::from_utf8(gravity.stdout).unwrap()).len(), series.lines().count() - 1);
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     std::fs::write(out.join("measurements.csv"), "mine").unwrap();
     // A second scenario over the first one's report: every file of the first goes.

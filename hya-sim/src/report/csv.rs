@@ -1,26 +1,53 @@
-//! One run's time series as CSV: `t`, then `q`, `q_des`, `d_true`, `d_hat`, `tau_cmd` per joint.
+//! One run's time series as CSV, in the command line's table format (a header naming each column
+//! with its unit): `t [s]`, then per joint J `q_J`, `q_des_J` (rad, or m for a prismatic
+//! joint), `d_true_J`, `d_hat_J`, `tau_cmd_J` (N m, or N), written through the csv crate.
 
 use std::fmt::Write as _;
 
-use crate::analysis::outcome::RunOutcome;
+use hya_core::model::{JointKind, TreeModel};
 
-pub(super) fn csv<const N: usize>(o: &RunOutcome<N>) -> String {
-    let mut text = String::from("t");
-    for name in ["q", "q_des", "d_true", "d_hat", "tau_cmd"] {
-        for j in 1..=N {
-            let _ = write!(text, ",{name}{j}");
-        }
+use crate::analysis::outcome::RunOutcome;
+use crate::SimError;
+
+/// The header: `t [s]`, then each signal's column per joint of `model`.
+fn header(model: &TreeModel) -> Vec<String> {
+    // Each signal, and whether it is a position (else a torque).
+    let signals = [("q", true), ("q_des", true), ("d_true", false), ("d_hat", false), ("tau_cmd", false)];
+    let mut names = vec!["t [s]".to_string()];
+    for (signal, position) in signals {
+        names.extend(model.bodies().iter().map(|b| format!("{signal}_{} [{}]", b.joint, unit(b.kind, position))));
     }
-    text.push('\n');
+    names
+}
+
+/// A position's unit (`position`) or a torque's at a joint of `kind`.
+fn unit(kind: JointKind, position: bool) -> &'static str {
+    match (kind, position) {
+        (JointKind::Revolute, true) => "rad",
+        (JointKind::Prismatic, true) => "m",
+        (JointKind::Revolute, false) => "N m",
+        (JointKind::Prismatic, false) => "N",
+    }
+}
+
+/// The run's trace as CSV text for the file `name`, each number in the shortest text that reads
+/// back to it.
+pub(super) fn csv<const N: usize>(o: &RunOutcome<N>, model: &TreeModel, name: &str) -> Result<String, SimError> {
+    let failed =
+        |e: &dyn std::fmt::Display| SimError::Io { path: name.into(), source: std::io::Error::other(e.to_string()) };
+    let mut out = csv::Writer::from_writer(Vec::new());
+    out.write_record(header(model)).map_err(|e| failed(&e))?;
     let t = &o.trace;
+    let mut number = String::new();
     for k in 0..t.time.len() {
-        let _ = write!(text, "{:?}", t.time[k]);
-        for v in [&t.q[k], &t.q_des[k], &t.d_true[k], &t.d_hat[k], &t.tau_cmd[k]] {
-            for x in v.iter() {
-                let _ = write!(text, ",{x:?}");
-            }
+        let signals = [&t.q[k], &t.q_des[k], &t.d_true[k], &t.d_hat[k], &t.tau_cmd[k]];
+        for v in std::iter::once(t.time[k]).chain(signals.iter().flat_map(|s| s.iter().copied())) {
+            number.clear();
+            let _ = write!(number, "{v:?}");
+            out.write_field(&number).map_err(|e| failed(&e))?;
         }
-        text.push('\n');
+        out.write_record(None::<&[u8]>).map_err(|e| failed(&e))?;
     }
-    text
+    let bytes = out.into_inner().map_err(|e| failed(&e))?;
+    String::from_utf8(bytes).map_err(|e| failed(&e))
 }

@@ -70,7 +70,8 @@ pub fn write<const N: usize>(
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
     for o in outcomes {
-        save(&format!("{}_{}.csv", o.scenario, o.method.name()), &csv(o))?;
+        let name = format!("{}_{}.csv", o.scenario, o.method.name());
+        save(&name, &csv(o, &robot.model, &name)?)?;
     }
     let mut figure_names = std::collections::BTreeMap::new();
     for s in scenarios {

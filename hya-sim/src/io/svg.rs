@@ -1,5 +1,11 @@
 //! Plain SVG figures: grids of line plots and grouped bar charts. Text is left to the viewer's
 //! fonts, so nothing here needs a font file.
+//!
+//! Why not plotters' SVG backend: plotters measures every label through a font implementation
+//! before it places it, either `ttf` (font-kit, which finds fonts through fontconfig, a system
+//! library hya must not need) or `ab_glyph` (a font file registered at run time, which hya would
+//! have to ship). The figures need lines, dots, dashes, log axes and legends, which this writer
+//! draws in about 600 lines as `<text>` the viewer lays out.
 
 use std::fmt::Write;
 

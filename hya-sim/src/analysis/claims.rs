@@ -2,15 +2,23 @@
 //! with a threshold and a margin. A claim's verdict is an output of the report; no test asserts
 //! one (tests check that the rules evaluate correctly on tables built to pass or fail them).
 //!
-//! A rule's value is computed per seed and joint (a metric, or the ratio of two metrics of the
-//! same seed). A metric's centre is its mean over seeds with Student's t 95 % interval; a
-//! ratio's is its geometric mean, the interval taken on the logarithms (`exp(m̄ ± t s/√n)` of
-//! `m = ln ratio`): ratios of noisy positive figures are skewed and heavy-tailed, their
-//! logarithms much less so, and the interval then never reaches below zero. At a joint the rule
-//! holds when the whole interval lies beyond the threshold by the margin: `high < threshold −
-//! margin` (below) or `low > threshold + margin` (above). The claim is reproduced when it holds
-//! on every joint it names (or on the number it needs) and every joint it needs quiet stays on
-//! the other side, partly when on some, not reproduced when on none. A claim that rests on a
+//! A rule's value is computed per seed and joint (a metric, the ratio of two metrics of the same
+//! seed, or whether a metric is within a limit). A metric's centre is its mean over seeds with
+//! Student's t 95 % interval; a ratio's is its geometric mean, the interval taken on the
+//! logarithms (`exp(m̄ ± t s/√n)` of `m = ln ratio`): ratios of noisy positive figures are
+//! skewed and heavy-tailed, their logarithms much less so, and the interval then never reaches
+//! below zero. Ratios are paired: both runs of a seed share its plant, noise and model error. A
+//! share of seeds (for a metric that is censored or bimodal, such as a recovery time that is the
+//! window's length where a joint never recovers) has Wilson's 95 % score interval.
+//!
+//! At a joint the rule's bound is the threshold moved by the margin toward the claim's side
+//! (`threshold − margin` below, `threshold + margin` above). The rule **holds** there when the
+//! whole interval lies on the claim's side of the bound, **fails** when the whole interval lies
+//! on the other, and is **inconclusive** when the interval straddles it: more seeds could settle
+//! it. The claim is reproduced when it holds on every joint it names (or on the number it needs)
+//! and every joint it needs quiet stays on the other side; inconclusive when it could still be,
+//! were the inconclusive joints to hold; partly when it holds on some joints and cannot be
+//! reproduced; not reproduced when it holds on none and cannot be. A claim that rests on a
 //! fact of the real robot the simulation does not have is "not testable here", with the reason;
 //! its figures are still shown.
 
@@ -37,6 +45,8 @@ pub enum Quantity {
     Metric(Source),
     /// The first over the second, seed by seed.
     Ratio(Source, Source),
+    /// Whether the metric is below the limit, seed by seed (1 or 0): the share of seeds.
+    ShareBelow(Source, f64),
 }
 
 /// Which side of the threshold the claim needs.
@@ -93,9 +103,13 @@ pub enum Verdict {
     /// It holds wherever the claim needs it.
     #[serde(rename = "reproduced")]
     Reproduced,
-    /// It holds on some joints only.
+    /// It holds on some joints, fails on enough others that it cannot hold as the claim needs.
     #[serde(rename = "partly")]
     Partly,
+    /// It could hold as the claim needs, but joints whose interval straddles the bound leave it
+    /// open: more seeds could settle it.
+    #[serde(rename = "inconclusive")]
+    Inconclusive,
     /// It holds on none.
     #[serde(rename = "not reproduced")]
     NotReproduced,
@@ -113,6 +127,7 @@ impl Verdict {
         match self {
             Verdict::Reproduced => "reproduced",
             Verdict::Partly => "partly",
+            Verdict::Inconclusive => "inconclusive",
             Verdict::NotReproduced => "not reproduced",
             Verdict::NotRun => "not run",
             Verdict::NotTestable => "not testable here",
@@ -125,7 +140,7 @@ impl Verdict {
 pub struct JointFigure {
     /// The joint, from 1.
     pub joint: usize,
-    /// Mean over seeds (a geometric mean for a ratio).
+    /// Mean over seeds (a geometric mean for a ratio, the share for a share of seeds).
     pub mean: f64,
     /// Lower end of its 95 % interval.
     pub low: f64,
@@ -133,6 +148,8 @@ pub struct JointFigure {
     pub high: f64,
     /// Whether the rule holds there (for a joint that must stay quiet: whether it does).
     pub holds: bool,
+    /// Whether the interval straddles the rule's bound (neither holds nor fails).
+    pub inconclusive: bool,
     /// Whether this joint is one that must stay quiet.
     pub quiet: bool,
 }
@@ -158,6 +175,25 @@ pub struct Judgement {
 }
 
 const ALL: &[usize] = &[0, 1, 2, 3, 4, 5];
+
+/// Where a joint stands against a rule's bound.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Standing {
+    Holds,
+    Fails,
+    Inconclusive,
+}
+
+/// Where the interval `low..high` stands against `bound` for a claim that needs the value below
+/// it (`below`) or above it.
+fn standing(low: f64, high: f64, bound: f64, below: bool) -> Standing {
+    let (clear, crossed) = if below { (high < bound, low >= bound) } else { (low > bound, high <= bound) };
+    match (clear, crossed) {
+        (true, _) => Standing::Holds,
+        (_, true) => Standing::Fails,
+        _ => Standing::Inconclusive,
+    }
+}
 
 const fn source(scenario: &'static str, method: Method, metric: &'static str) -> Source {
     Source { scenario, method, metric }
@@ -229,13 +265,13 @@ pub const RULES: &[Rule] = &[
     weight_kept_near("sine_weight_joints_2_4", "sine_weight", "VI-D"),
     Rule {
         id: "goto_weight_recovery",
-        statement: "after the drop, the compensated joints 2 and 4 recover within 1 s (|e| back within twice its pre-drop level, and at least 1 mrad, for 0.5 s)",
+        statement: "after the drop, the compensated joints 2 and 4 recover within 1 s in most seeds (|e| back within twice its pre-drop level, and at least 1 mrad, for 0.5 s; the share of seeds, whose interval must lie above one half: a joint that never recovers has no time to average)",
         section: "VI-C",
         paper: "the joints deviate, then quickly recover",
-        quantity: Quantity::Metric(source("goto_weight", Method::Lu, "drop_recovery_s")),
+        quantity: Quantity::ShareBelow(source("goto_weight", Method::Lu, "drop_recovery_s"), 1.0),
         joints: &[1, 3],
-        side: Side::Below,
-        threshold: 1.0,
+        side: Side::Above,
+        threshold: 0.5,
         margin: 0.0,
         need: Need::All,
         quiet: &[],
@@ -403,19 +439,46 @@ fn values(quantity: &Quantity, table: &MetricTable) -> Option<Vec<Vec<f64>>> {
             let (a, b) = (get(a)?, get(b)?);
             Some(a.iter().zip(&b).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p / q).collect()).collect())
         }
+        Quantity::ShareBelow(s, limit) => {
+            let below = |v: &Vec<f64>| v.iter().map(|x| f64::from(u8::from(*x < *limit))).collect();
+            Some(get(s)?.iter().map(below).collect())
+        }
     }
 }
 
-/// The centre of `samples` and its 95 % interval `(low, high)`: the mean with Student's t for a
-/// metric, the geometric mean with the interval on the logarithms for a ratio.
-fn interval(samples: &[f64], ratio: bool) -> (f64, f64, f64) {
-    if ratio {
-        let logs: Vec<f64> = samples.iter().map(|x| x.ln()).collect();
-        let (mean, half) = mean_ci95(&logs);
-        (mean.exp(), (mean - half).exp(), (mean + half).exp())
-    } else {
-        let (mean, half) = mean_ci95(samples);
-        (mean, mean - half, mean + half)
+/// Wilson's 95 % score interval of a share `p` of `n` trials: `(p + z²/2n ± z √(p(1 − p)/n +
+/// z²/4n²)) / (1 + z²/n)`, which stays within 0 and 1 and is not empty at a share of 0 or 1.
+pub fn wilson_ci95(p: f64, n: usize) -> (f64, f64) {
+    const Z: f64 = 1.959_963_984_540_054;
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let n = n as f64;
+    let z2 = Z * Z;
+    let centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+    let half = Z * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt() / (1.0 + z2 / n);
+    ((centre - half).max(0.0), (centre + half).min(1.0))
+}
+
+/// The centre of `samples` of `quantity` and its 95 % interval `(low, high)`: the mean with
+/// Student's t for a metric, the geometric mean with the interval on the logarithms for a ratio,
+/// the share with Wilson's interval for a share of seeds.
+fn interval(samples: &[f64], quantity: &Quantity) -> (f64, f64, f64) {
+    match quantity {
+        Quantity::Ratio(..) => {
+            let logs: Vec<f64> = samples.iter().map(|x| x.ln()).collect();
+            let (mean, half) = mean_ci95(&logs);
+            (mean.exp(), (mean - half).exp(), (mean + half).exp())
+        }
+        Quantity::Metric(..) => {
+            let (mean, half) = mean_ci95(samples);
+            (mean, mean - half, mean + half)
+        }
+        Quantity::ShareBelow(..) => {
+            let share = samples.iter().sum::<f64>() / samples.len().max(1) as f64;
+            let (low, high) = wilson_ci95(share, samples.len());
+            (share, low, high)
+        }
     }
 }
 
@@ -432,27 +495,30 @@ pub fn judge(rule: &Rule, table: &MetricTable) -> Judgement {
     };
     let Some(per_seed) = values(&rule.quantity, table).filter(|v| !v.is_empty()) else { return judgement };
     judgement.seeds = per_seed.len();
-    let ratio = matches!(rule.quantity, Quantity::Ratio(..));
     let named = rule.joints.iter().map(|&j| (j, false));
+    let mut standings = Vec::new();
     for (j, quiet) in named.chain(rule.quiet.iter().map(|&j| (j, true))) {
         let samples: Vec<f64> = per_seed.iter().filter_map(|v| v.get(j).copied()).collect();
-        let (mean, low, high) = interval(&samples, ratio);
-        let (below, above) = (high < rule.threshold - rule.margin, low > rule.threshold + rule.margin);
-        let holds = match (rule.side, quiet) {
-            (Side::Below, false) | (Side::Above, true) => below,
-            (Side::Above, false) | (Side::Below, true) => above,
-        };
-        judgement.numbers.push(JointFigure { joint: j + 1, mean, low, high, holds, quiet });
+        let (mean, low, high) = interval(&samples, &rule.quantity);
+        // A quiet joint must stay on the other side of the threshold, by the margin.
+        let below = (rule.side == Side::Below) != quiet;
+        let bound = if below { rule.threshold - rule.margin } else { rule.threshold + rule.margin };
+        let standing = standing(low, high, bound, below);
+        standings.push((standing, quiet));
+        let (holds, inconclusive) = (standing == Standing::Holds, standing == Standing::Inconclusive);
+        judgement.numbers.push(JointFigure { joint: j + 1, mean, low, high, holds, inconclusive, quiet });
     }
-    let holding = judgement.numbers.iter().filter(|f| f.holds && !f.quiet).count();
-    let all_quiet = judgement.numbers.iter().filter(|f| f.quiet).all(|f| f.holds);
+    let count = |wanted: Standing, quiet: bool| standings.iter().filter(|&&s| s == (wanted, quiet)).count();
+    let (holding, open) = (count(Standing::Holds, false), count(Standing::Inconclusive, false));
+    let (quiet_crossed, quiet_open) = (count(Standing::Fails, true), count(Standing::Inconclusive, true));
     let needed = match rule.need {
         Need::All => rule.joints.len(),
         Need::AtLeast(k) => k,
     };
     judgement.verdict = match holding {
         _ if rule.untestable.is_some() => Verdict::NotTestable,
-        h if h >= needed && all_quiet => Verdict::Reproduced,
+        h if h >= needed && quiet_crossed + quiet_open == 0 => Verdict::Reproduced,
+        h if h + open >= needed && quiet_crossed == 0 => Verdict::Inconclusive,
         0 => Verdict::NotReproduced,
         _ => Verdict::Partly,
     };

@@ -217,8 +217,9 @@ fn claims_table(claims: &[Judgement]) -> String {
         return "## The paper's claims\n\nNone of the paper's experiments was run, so no claim is judged (`hya reproduce` runs them).\n".into();
     }
     let mut md = format!(
-        "## The paper's claims\n\n{} reproduced, {} partly, {} not reproduced, {} not testable here, {} not run (of {}). Each rule is written in `hya-sim/src/analysis/claims.rs` and applied as written to every run. At a joint a rule holds when the whole 95 % interval clears its threshold by the margin; with few seeds a wide interval reads as \"partly\" or \"not reproduced\" where it is really inconclusive (the per-seed values are in `summary.json`). A metric's interval is Student's t on the mean over seeds; a ratio's is taken on the logarithms of the per-seed ratios, around their geometric mean (ratios are skewed; an interval on them directly would reach below zero). Per-seed values are in `summary.json`.\n\n| claim | section | paper | ours: per joint, mean [95 % interval] | verdict |\n|---|---|---|---|---|\n",
+        "## The paper's claims\n\n{} reproduced, {} inconclusive, {} partly, {} not reproduced, {} not testable here, {} not run (of {}). Each rule is written in `hya-sim/src/analysis/claims.rs` and applied as written to every run. At a joint a rule holds when the whole 95 % interval clears its threshold by the margin, fails when the whole interval lies on the other side, and is inconclusive (?) when the interval straddles it; a claim is inconclusive when it would be reproduced were its inconclusive joints to hold, so more seeds could settle it. A metric's interval is Student's t on the mean over seeds; a ratio's is taken on the logarithms of the per-seed ratios of runs that share their seed (paired), around their geometric mean (ratios are skewed; an interval on them directly would reach below zero); a share of seeds has Wilson's interval. Per-seed values are in `summary.json`.\n\n| claim | section | paper | ours: per joint, mean [95 % interval] | verdict |\n|---|---|---|---|---|\n",
         count(Verdict::Reproduced),
+        count(Verdict::Inconclusive),
         count(Verdict::Partly),
         count(Verdict::NotReproduced),
         count(Verdict::NotTestable),
@@ -233,7 +234,11 @@ fn claims_table(claims: &[Judgement]) -> String {
                 .iter()
                 .map(|f| {
                     let quiet = if f.quiet { " (quiet)" } else { "" };
-                    let mark = if f.holds { "" } else { " ✗" };
+                    let mark = match (f.holds, f.inconclusive) {
+                        (true, _) => "",
+                        (false, true) => " ?",
+                        (false, false) => " ✗",
+                    };
                     format!("j{}{quiet}: {} [{}, {}]{mark}", f.joint, figure(f.mean), figure(f.low), figure(f.high))
                 })
                 .collect::<Vec<_>>()
@@ -241,7 +246,9 @@ fn claims_table(claims: &[Judgement]) -> String {
         };
         let verdict = match (c.verdict, c.untestable) {
             (Verdict::NotTestable, Some(why)) => format!("{}: {why}", c.verdict.name()),
-            (Verdict::Partly | Verdict::NotReproduced, _) => format!("**{}**", c.verdict.name()),
+            (Verdict::Partly | Verdict::NotReproduced | Verdict::Inconclusive, _) => {
+                format!("**{}**", c.verdict.name())
+            }
             (other, _) => other.name().to_owned(),
         };
         md.push_str(&table_row([
@@ -252,7 +259,7 @@ fn claims_table(claims: &[Judgement]) -> String {
             verdict.to_owned(),
         ]));
     }
-    md.push_str("\n✗ marks a joint where the rule does not hold; (quiet) a joint the claim needs to stay on the other side of the threshold.\n");
+    md.push_str("\n✗ marks a joint where the rule fails (its whole interval on the wrong side), ? one where it is inconclusive (the interval straddles the bound); (quiet) a joint the claim needs to stay on the other side of the threshold.\n");
     md
 }
 

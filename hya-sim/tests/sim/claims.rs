@@ -83,7 +83,62 @@ fn a_wide_interval_does_not_hold() {
     // A ratio's centre is the geometric mean, √(0.1 · 3), its interval taken on the logarithms.
     assert!((judged.numbers[0].mean - (0.1f64 * 3.0).sqrt()).abs() < 1e-12);
     assert!(judged.numbers[0].low > 0.0, "a ratio's interval stays above zero");
-    assert_eq!(judged.verdict, Verdict::NotReproduced, "{judged:?}");
+    // The interval straddles the bound 0.9: neither holds nor fails.
+    assert!(judged.numbers.iter().all(|f| !f.holds && f.inconclusive), "{judged:?}");
+    assert_eq!(judged.verdict, Verdict::Inconclusive, "{judged:?}");
+}
+
+#[test]
+fn one_joint_that_fails_makes_an_open_claim_partly() {
+    // Joints 1-5 straddle the bound; joint 6 is clearly worse: the claim cannot hold on all six.
+    let mut table = MetricTable::default();
+    for seed in 0..20 {
+        let lu = if seed % 2 == 0 { 0.1 } else { 3.0 };
+        table.push("goto_internal", Method::None, with_rmse([1.0; 6]));
+        table.push("goto_internal", Method::Lu, with_rmse([lu, lu, lu, lu, lu, 1.5]));
+    }
+    let judged = judge(rmse_rule(), &table);
+    assert_eq!(judged.verdict, Verdict::NotReproduced, "none holds, one fails: {judged:?}");
+    let mut table = self::table([0.5, 0.5, 0.5, 0.5, 0.5, 1.5], 0.05);
+    assert_eq!(judge(rmse_rule(), &table).verdict, Verdict::Partly);
+    // With the failing joint open instead, the claim is open.
+    for seed in 0..20 {
+        let lu = if seed % 2 == 0 { 0.1 } else { 3.0 };
+        table.push("goto_internal", Method::None, with_rmse([1.0; 6]));
+        table.push("goto_internal", Method::Lu, with_rmse([0.5, 0.5, 0.5, 0.5, 0.5, lu]));
+    }
+    let judged = judge(rmse_rule(), &table);
+    assert!(judged.numbers[..5].iter().all(|f| f.holds) && judged.numbers[5].inconclusive, "{judged:?}");
+    assert_eq!(judged.verdict, Verdict::Inconclusive);
+}
+
+#[test]
+fn a_share_of_seeds_has_wilsons_interval() {
+    // Wilson's interval at 12 of 20 (Newcombe 1998's worked form): 0.387 to 0.781.
+    let (low, high) = hya_sim::claims::wilson_ci95(0.6, 20);
+    assert!((low - 0.3866).abs() < 1e-3 && (high - 0.7812).abs() < 1e-3, "{low} {high}");
+    // Never outside 0..1, and not empty at a share of 1.
+    let (low, high) = hya_sim::claims::wilson_ci95(1.0, 20);
+    assert!(low > 0.8 && low < 1.0 && high == 1.0, "{low} {high}");
+    // A recovery rule: 20 of 20 seeds within the limit holds, 12 of 20 is open.
+    let rule = Rule {
+        quantity: Quantity::ShareBelow(Source { scenario: "goto_internal", method: Method::Lu, metric: "rmse_q" }, 1.0),
+        side: Side::Above,
+        threshold: 0.5,
+        margin: 0.0,
+        ..*rmse_rule()
+    };
+    let recovered = |within: usize| {
+        let mut table = MetricTable::default();
+        for seed in 0..20 {
+            table.push("goto_internal", Method::Lu, with_rmse([if seed < within { 0.5 } else { 4.0 }; 6]));
+        }
+        judge(&rule, &table)
+    };
+    assert_eq!(recovered(20).verdict, Verdict::Reproduced);
+    assert!((recovered(12).numbers[0].mean - 0.6).abs() < 1e-12);
+    assert_eq!(recovered(12).verdict, Verdict::Inconclusive);
+    assert_eq!(recovered(2).verdict, Verdict::NotReproduced);
 }
 
 #[test]
@@ -127,6 +182,7 @@ fn every_rule_names_metrics_the_runs_have() {
         let sources = match rule.quantity {
             Quantity::Metric(s) => vec![s],
             Quantity::Ratio(a, b) => vec![a, b],
+            Quantity::ShareBelow(s, _) => vec![s],
         };
         for s in sources {
             assert!(
@@ -182,5 +238,6 @@ fn a_heavy_tailed_ratio_is_not_carried_by_one_seed() {
     let judged = judge(rmse_rule(), &table);
     let figure = &judged.numbers[0];
     assert!(figure.low > 0.0 && figure.high > 0.9, "{figure:?}");
-    assert_eq!(judged.verdict, Verdict::NotReproduced);
+    // The interval reaches past the bound: the outlier leaves the claim open, never reproduced.
+    assert_eq!(judged.verdict, Verdict::Inconclusive);
 }

@@ -34,6 +34,11 @@ const CYCLE_SAMPLES: usize = 10_000;
 /// The highest frequency searched for a limit cycle, Hz.
 pub const CYCLE_MAX_HZ: f64 = 10.0;
 
+/// A joint counts as cycling where the largest spectral line of its detrended error
+/// ([`Metrics::cycle_amplitude_q`]) reaches this amplitude, rad: a sine of 0.5 mrad peak to
+/// peak, about 40 counts of HyA's encoders.
+pub const CYCLE_AMPLITUDE_RAD: f64 = 2.5e-4;
+
 /// Observers and filters need this long after the warm-up before a "before" window opens, s.
 const SETTLE_AFTER_START_S: f64 = 1.0;
 

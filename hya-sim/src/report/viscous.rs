@@ -17,10 +17,7 @@ pub const BANDWIDTHS_RAD_S: [f64; 7] = [20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 20
 /// (about 80 counts of HyA's encoders); the measure counts drift and settling as well as cycles.
 pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 
-/// A joint counts as cycling where the largest spectral line of its detrended error
-/// ([`crate::metrics::Metrics::cycle_amplitude_q`]) reaches this amplitude, rad: a sine of
-/// 0.5 mrad peak to peak, about 40 counts of HyA's encoders.
-pub const CYCLE_AMPLITUDE_RAD: f64 = 2.5e-4;
+use crate::metrics::CYCLE_AMPLITUDE_RAD;
 
 /// Seeds per bandwidth.
 const SEEDS: usize = 3;

@@ -122,7 +122,11 @@ fn a_share_of_seeds_has_wilsons_interval() {
     assert!(low > 0.8 && low < 1.0 && high == 1.0, "{low} {high}");
     // A recovery rule: 20 of 20 seeds within the limit holds, 12 of 20 is open.
     let rule = Rule {
-        quantity: Quantity::ShareBelow(Source { scenario: "goto_internal", method: Method::Lu, metric: "rmse_q" }, 1.0),
+        quantity: Quantity::Share(
+            Source { scenario: "goto_internal", method: Method::Lu, metric: "rmse_q" },
+            Side::Below,
+            1.0,
+        ),
         side: Side::Above,
         threshold: 0.5,
         margin: 0.0,
@@ -182,7 +186,7 @@ fn every_rule_names_metrics_the_runs_have() {
         let sources = match rule.quantity {
             Quantity::Metric(s) => vec![s],
             Quantity::Ratio(a, b) => vec![a, b],
-            Quantity::ShareBelow(s, _) => vec![s],
+            Quantity::Share(s, _, _) => vec![s],
         };
         for s in sources {
             assert!(

@@ -14,7 +14,7 @@ use hya_sim::Method;
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{self, Column, ColumnSpec, ColumnsArg, HeaderArg, RowWriter, Table};
 use crate::CliError;
-use hya_sim::io::friction::JointFriction;
+use hya_ident::JointFriction;
 
 /// Parameters of `hya estimate`.
 #[derive(Debug, clap::Args)]

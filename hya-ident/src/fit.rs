@@ -19,6 +19,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::base::BaseParameters;
 use crate::conditioning::Conditioning;
+use crate::friction::JointFriction;
 use crate::regressor::Regressor;
 
 /// One sample of a log: the joint state and the torque measured in it.
@@ -34,27 +35,6 @@ pub struct Sample {
     pub tau: Vec<f64>,
 }
 
-/// Per-joint friction `τ_f = c tanh(q̇/s) + v q̇ + o`: the torque the joint needs beyond the
-/// rigid body's.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Friction {
-    /// `c`, N·m.
-    pub coulomb_nm: Vec<f64>,
-    /// `v`, N·m·s/rad.
-    pub viscous_nm_s: Vec<f64>,
-    /// `o`, N·m.
-    pub offset_nm: Vec<f64>,
-    /// `s`, rad/s.
-    pub smoothing_rad_s: f64,
-}
-
-impl Friction {
-    /// Joint `i`'s friction torque at velocity `qd`.
-    pub fn torque(&self, i: usize, qd: f64) -> f64 {
-        self.coulomb_nm[i] * (qd / self.smoothing_rad_s).tanh() + self.viscous_nm_s[i] * qd + self.offset_nm[i]
-    }
-}
-
 /// What the fit found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fit {
@@ -63,7 +43,7 @@ pub struct Fit {
     /// Their standard deviations.
     pub base_std: DVector<f64>,
     /// The friction.
-    pub friction: Friction,
+    pub friction: JointFriction,
     /// Its parameters' standard deviations, in the order `c`, `v`, `o` of every joint.
     pub friction_std: Vec<[f64; 3]>,
     /// Each joint's residual RMS on the samples fitted, N·m.
@@ -218,7 +198,7 @@ pub fn fit(
     Ok(Fit {
         base: theta.rows(0, r).into_owned(),
         base_std: std.rows(0, r).into_owned(),
-        friction: Friction {
+        friction: JointFriction {
             coulomb_nm: friction_part(0),
             viscous_nm_s: friction_part(1),
             offset_nm: friction_part(2),

@@ -19,6 +19,7 @@ pub mod base;
 pub mod conditioning;
 pub mod excitation;
 pub mod fit;
+pub mod friction;
 pub mod physical;
 pub mod regressor;
 
@@ -36,6 +37,7 @@ pub fn check_joint_count(model: &hya_core::model::TreeModel) -> Result<usize, hy
 }
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
-pub use fit::{fit, Fit, FitError, Friction, Sample};
+pub use fit::{fit, Fit, FitError, Sample};
+pub use friction::JointFriction;
 pub use physical::{consistent_parameters, is_consistent, Consistent};
 pub use regressor::{body_inertia, body_parameters, nominal_parameters, Regressor, PARAMETERS_PER_BODY};

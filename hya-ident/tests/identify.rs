@@ -8,7 +8,7 @@ use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use hya_ident::{
     body_inertia, consistent_parameters, fit, is_consistent, nominal_parameters, BaseParameters, ExcitationDesign,
-    Friction, Limits, Regressor, Sample,
+    JointFriction, Limits, Regressor, Sample,
 };
 use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
@@ -56,7 +56,7 @@ fn perturbed(model: &TreeModel, rng: &mut ChaCha8Rng) -> TreeModel {
 fn log(
     model: &TreeModel,
     truth: &TreeModel,
-    friction: &Friction,
+    friction: &JointFriction,
     seed: u64,
     rate_hz: f64,
     rng: &mut ChaCha8Rng,
@@ -84,12 +84,12 @@ fn log(
 
 /// HyA's nominal model, a true one perturbed from it by `seed`'s draw, the joint friction of the
 /// logs, and the draw to go on with.
-fn simulated_hya(seed: u64) -> (TreeModel, TreeModel, Friction, ChaCha8Rng) {
+fn simulated_hya(seed: u64) -> (TreeModel, TreeModel, JointFriction, ChaCha8Rng) {
     let robot = hya_robots::find("hya").unwrap();
     let nominal = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let truth = perturbed(&nominal, &mut rng);
-    let friction = Friction {
+    let friction = JointFriction {
         coulomb_nm: vec![6.0, 6.0, 4.0, 4.0, 2.0, 2.0],
         viscous_nm_s: vec![3.0, 3.0, 2.0, 2.0, 1.0, 1.0],
         offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
@@ -200,7 +200,7 @@ fn a_simulated_hya_log_is_identified_within_three_standard_deviations() {
 fn the_reported_standard_deviations_match_the_spread_over_repeated_logs() {
     let robot = hya_robots::find("planar2").unwrap();
     let model = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
-    let friction = Friction {
+    let friction = JointFriction {
         coulomb_nm: vec![1.0, 0.5],
         viscous_nm_s: vec![1.0, 0.5],
         offset_nm: vec![0.2, -0.1],

@@ -7,6 +7,7 @@
 //! Everything else comes through `urdf-rs`'s writer unchanged in meaning (comments and
 //! formatting are not kept).
 
+use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use urdf_rs::{Inertia, Inertial, Mass, Pose, Vec3};
 
@@ -27,6 +28,42 @@ pub fn with_inertias(text: &str, source: &str, inertias: &[(&str, RigidBodyInert
         link.inertial = urdf_inertial(inertia);
     }
     urdf_rs::write_to_string(&robot).map_err(|e| parse(format!("cannot write the URDF back: {e}")))
+}
+
+/// The URDF `text` of `model` (from `source`) with body `b`'s inertia `inertias[b]` on the link
+/// of its joint, and the links merged into a body by fixed joints made massless (their mass is
+/// in the body's); checked by loading it back as `file`, whose bodies must have those inertias.
+pub fn with_body_inertias(
+    text: &str,
+    source: &str,
+    model: &TreeModel,
+    inertias: &[RigidBodyInertia],
+    file: &str,
+) -> Result<String, LoadError> {
+    let mut links: Vec<(&str, RigidBodyInertia)> =
+        model.bodies().iter().zip(inertias).map(|(body, inertia)| (body.link.as_str(), *inertia)).collect();
+    for frame in model.frames() {
+        if frame.body.is_some_and(|b| model.bodies()[b].link != frame.name) {
+            links.push((frame.name.as_str(), RigidBodyInertia::zero()));
+        }
+    }
+    let written_text = with_inertias(text, source, &links)?;
+    let written = crate::load_str(&written_text, file)?.model;
+    for (body, want) in written.bodies().iter().zip(inertias) {
+        let got = &body.inertia;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
+        let same = close(got.mass, want.mass)
+            && (0..3).all(|k| close(got.first_moment[k], want.first_moment[k]))
+            && (0..9).all(|k| close(got.rotational[k], want.rotational[k]));
+        if !same {
+            let message = format!(
+                "would not reproduce body `{}`'s inertia (a bug: please report it)",
+                crate::escape_name(&body.link)
+            );
+            return Err(LoadError::new(file, Problem::Model { message }));
+        }
+    }
+    Ok(written_text)
 }
 
 fn urdf_inertial(inertia: &RigidBodyInertia) -> Inertial {

@@ -113,7 +113,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", Short(args.held_out))));
     }
     // friction.toml must read back: the same range as its reader's.
-    let (_, lo, hi, _) = hya_sim::io::friction::PLAUSIBLE_FRICTION[0];
+    let (_, lo, hi, _) = hya_ident::friction::PLAUSIBLE_FRICTION[0];
     if !(args.smoothing_rad_s.is_finite() && (lo..=hi).contains(&args.smoothing_rad_s)) {
         return Err(CliError::Input(format!(
             "--smoothing-rad-s {}: must be between {} and {} rad/s (friction.toml's range)",
@@ -240,7 +240,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     let friction = friction_toml(&fitted, &joints);
     // The reader's own checks: a fitted term beyond its plausible range is said now, not when
     // `estimate --friction` or `controller.friction_toml` refuses the file.
-    if let Err(why) = hya_sim::io::friction::JointFriction::from_toml(&friction, n) {
+    if let Err(why) = hya_ident::JointFriction::from_toml(&friction, n) {
         eprintln!("hya identify: warning: friction.toml is written, but hya will refuse to read it back: {why}");
     }
     save("friction.toml", &friction)?;

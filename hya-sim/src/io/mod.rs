@@ -1,7 +1,6 @@
 //! Files: reading them bounded ([`input`]), identified friction ([`friction`]), the report folder
 //! that nothing escapes ([`output`]), and SVG drawing ([`svg`]).
 
-pub mod friction;
 pub mod input;
 pub mod output;
 pub mod svg;

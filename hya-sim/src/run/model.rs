@@ -14,8 +14,8 @@ use hya_core::{Dynamics, Gains, JointMatrix, JointVector};
 use crate::config::scenario::Scenario;
 use crate::config::settings::JointSettings;
 use crate::error::{SettingError, SimError};
-use crate::io::friction::JointFriction;
 use crate::robot::Robot;
+use hya_ident::JointFriction;
 
 /// Rigid-body dynamics `D` with joint friction added to the torque it takes.
 pub struct WithFriction<D> {

@@ -1,5 +1,6 @@
-//! `friction.toml`, the joint friction `hya identify` writes, read back for the estimator and
-//! the controller: per joint
+//! Identified joint friction, one type for the fit that finds it, the file that holds it
+//! (`friction.toml`, written by `hya identify`) and everything that reads it back (the
+//! estimator, the controller, the simulator). Per joint
 //!
 //! ```text
 //! τ_f = coulomb_nm · tanh(q̇ / smoothing_rad_s) + viscous_nm_s · q̇ + offset_nm
@@ -7,6 +8,9 @@
 //!
 //! the torque the joint needs beyond the rigid body (`τ = ID(q, q̇, q̈) + τ_f`), so the part of
 //! the disturbance `d = ID − τ` that the friction does not explain is `d + τ_f`.
+//!
+//! It lives here, beside the fit, rather than in hya-core: the file format needs serde and toml,
+//! which hya-core (no_std, for the control loop on a microcontroller) does not take.
 
 use std::path::Path;
 
@@ -16,8 +20,8 @@ use serde::Deserialize;
 /// The largest `friction.toml` read, bytes: a few numbers per joint.
 pub const MAX_FRICTION_BYTES: u64 = 64 * 1024;
 
-/// The plausible range of each key of a friction file, `(key, low, high, unit)`, as the
-/// scenario's friction keys have theirs (`hya_sim::scenario::PLAUSIBLE`). Coulomb and viscous
+/// The plausible range of each key of a friction file, `(key, low, high, unit)`, as a
+/// scenario's friction keys have theirs. Coulomb and viscous
 /// terms may fall a little below zero, as an unconstrained fit of a joint with little friction
 /// can; far below, they would feed energy into the loop (−500 N·m·s/rad is refused).
 pub const PLAUSIBLE_FRICTION: [(&str, f64, f64, &str); 4] = [
@@ -46,7 +50,7 @@ impl JointFriction {
     /// and the value.
     pub fn from_file(path: &Path, joints: usize) -> Result<Self, String> {
         let origin = path.display();
-        let text = crate::io::input::read_text(path, MAX_FRICTION_BYTES).map_err(|e| format!("{origin}: {e}"))?;
+        let text = hya_urdf::file::read_text(path, MAX_FRICTION_BYTES).map_err(|e| format!("{origin}: {e}"))?;
         Self::from_toml(&text, joints).map_err(|e| format!("{origin}: {e}"))
     }
 
@@ -85,6 +89,33 @@ impl JointFriction {
     pub fn torque(&self, i: usize, qd: f64) -> f64 {
         self.coulomb_nm[i] * (qd / self.smoothing_rad_s).tanh() + self.viscous_nm_s[i] * qd + self.offset_nm[i]
     }
+
+    /// The file [`from_toml`](Self::from_toml) reads: the law and the `joints`' names as
+    /// comments, each per-joint list, and under it its standard deviations (`std[i]` in the order
+    /// `c`, `v`, `o` of joint `i`) where given. Values with six decimals.
+    pub fn to_toml(&self, joints: &[&str], std: Option<&[[f64; 3]]>) -> String {
+        let list =
+            |values: &mut dyn Iterator<Item = f64>| values.map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", ");
+        let mut text = format!(
+            "# Joint friction identified by hya identify: the torque each joint needs beyond the rigid\n\
+             # body, tau_f = coulomb_nm * tanh(qd / smoothing_rad_s) + viscous_nm_s * qd + offset_nm.\n\
+             # Joints: {}\n\
+             smoothing_rad_s = {}\n",
+            hya_urdf::name_list(joints.iter().copied()),
+            self.smoothing_rad_s
+        );
+        for (k, (key, values)) in
+            [("coulomb_nm", &self.coulomb_nm), ("viscous_nm_s", &self.viscous_nm_s), ("offset_nm", &self.offset_nm)]
+                .into_iter()
+                .enumerate()
+        {
+            text += &format!("{key} = [{}]\n", list(&mut values.iter().copied()));
+            if let Some(std) = std {
+                text += &format!("# standard deviations: [{}]\n", list(&mut std.iter().map(|s| s[k])));
+            }
+        }
+        text
+    }
 }
 
 #[cfg(test)]
@@ -93,6 +124,16 @@ mod tests {
 
     const TWO_JOINTS: &str = "smoothing_rad_s = 0.05\ncoulomb_nm = [1.5, 0.8]\n# a comment\n\
                               viscous_nm_s = [0.6, 0.3]\noffset_nm = [0.1, -0.2]\n";
+
+    #[test]
+    fn what_it_writes_reads_back() {
+        let f = JointFriction::from_toml(TWO_JOINTS, 2).unwrap();
+        // A joint name cannot forge a line of the file.
+        let text = f.to_toml(&["shoulder", "elbow\nsmoothing_rad_s = 9"], Some(&[[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]]));
+        assert_eq!(JointFriction::from_toml(&text, 2).unwrap(), f);
+        assert!(text.contains("# standard deviations: [0.200000, 0.500000]"), "{text}");
+        assert_eq!(text.lines().filter(|l| l.starts_with("smoothing_rad_s")).count(), 1, "{text}");
+    }
 
     #[test]
     fn reads_what_identify_writes_and_evaluates_the_law() {

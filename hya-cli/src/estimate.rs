@@ -6,10 +6,9 @@ use std::io::{BufRead, Write};
 
 use hya_core::dispatch::{with_joints, ForJoints, MAX_JOINTS};
 use hya_core::filter::{PAPER_BANDWIDTH_RAD_S, PAPER_ZETA};
+use hya_core::{BoxedObserver, ObserverDesign};
 use hya_core::{DisturbanceEstimator, FilterParams, JointVector, Measurement, Short, TimedEstimator};
 use hya_robots::ForArm;
-use hya_sim::run::Observer;
-use hya_sim::Method;
 
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{self, Column, ColumnSpec, ColumnsArg, HeaderArg, RowWriter, Table};
@@ -86,13 +85,25 @@ enum EstimateMethod {
 }
 
 impl EstimateMethod {
-    /// The simulator's name for it.
-    fn method(self) -> Method {
+    /// Its name on the command line.
+    fn name(self) -> &'static str {
         match self {
-            Self::Lu => Method::Lu,
-            Self::Chen => Method::Chen,
-            Self::Momentum => Method::Momentum,
-            Self::Eso => Method::Eso,
+            Self::Lu => "lu",
+            Self::Chen => "chen",
+            Self::Momentum => "momentum",
+            Self::Eso => "eso",
+        }
+    }
+
+    /// Its design: the paper's estimator with `params`, an observer at pole magnitude
+    /// `bandwidth_rad_s` and `params`' step.
+    fn design(self, params: FilterParams, bandwidth_rad_s: f64) -> ObserverDesign {
+        let dt_s = params.dt_s();
+        match self {
+            Self::Lu => ObserverDesign::Paper(params),
+            Self::Chen => ObserverDesign::Nonlinear { bandwidth_rad_s, dt_s, gain: Default::default() },
+            Self::Momentum => ObserverDesign::Momentum { bandwidth_rad_s, dt_s },
+            Self::Eso => ObserverDesign::ExtendedState { bandwidth_rad_s, dt_s },
         }
     }
 
@@ -149,7 +160,7 @@ impl<R: BufRead, W: Write> ForJoints for Estimate<'_, R, W> {
 #[allow(clippy::large_enum_variant)] // one per run, on the stack: the size costs nothing
 enum Running<'a, const N: usize> {
     Paper(Box<DisturbanceEstimator<N, Nominal<'a, N>>>),
-    Fixed(Observer<'a, N>),
+    Fixed(BoxedObserver<'a, N>),
     Timed(TimedEstimator<N, Nominal<'a, N>>),
 }
 
@@ -169,14 +180,11 @@ impl<'a, const N: usize> Running<'a, N> {
                 Self::Paper(Box::new(DisturbanceEstimator::new(nominal, layout.params, q, tau).map_err(setup)?))
             }
             other => {
-                let design = (layout.bandwidth_rad_s, layout.params.dt_s());
-                match hya_sim::run::observer(other.method(), nominal, design, first) {
-                    Ok(Some((observer, _rates))) => Self::Fixed(observer),
-                    Ok(None) => {
-                        return Err(CliError::Input(format!("--method {}: no observer", other.method().name())))
-                    }
-                    Err(e) => return Err(CliError::Input(e.to_string())),
-                }
+                let design = other.design(layout.params, layout.bandwidth_rad_s);
+                let (observer, _rates) = design
+                    .build(nominal, first)
+                    .map_err(|e| CliError::Input(format!("--method {}: {e}", other.name())))?;
+                Self::Fixed(observer)
             }
         })
     }
@@ -359,13 +367,13 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
     if args.friction.is_some() && args.method != EstimateMethod::Lu {
         return Err(CliError::Input(format!(
             "--friction with --method {}: the friction is taken at the paper's filtered velocity; use --method lu",
-            args.method.method().name()
+            args.method.name()
         )));
     }
     if args.timestamps && args.method != EstimateMethod::Lu {
         return Err(CliError::Input(format!(
             "--method {} with --timestamps: only lu is discretised per step; the observers run at a fixed --dt",
-            args.method.method().name()
+            args.method.name()
         )));
     }
     let model = crate::dynamics::model(&args.robot)?;

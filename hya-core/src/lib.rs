@@ -36,6 +36,8 @@ pub mod lanes;
 mod linalg;
 #[cfg(feature = "alloc")]
 pub mod model;
+#[cfg(feature = "alloc")]
+pub mod observer_design;
 pub mod observers;
 #[cfg(feature = "sampling")]
 pub mod sampling;
@@ -62,6 +64,8 @@ pub use filter::{
     Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT, MIN_RATE_TIMES_DT, MIN_ZETA,
 };
 pub use finite::{finite_result, MAX_RATE_TIMES_DT};
+#[cfg(feature = "alloc")]
+pub use observer_design::{BoxedObserver, NonlinearGain, ObserverDesign};
 pub use observers::{
     DisturbanceObserver, ExtendedStateObserver, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
 };

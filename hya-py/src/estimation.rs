@@ -3,13 +3,13 @@
 //! a whole log.
 
 use hya_core::{
-    ComputedTorque as CoreComputedTorque, Dynamics, FilterParams, Gains, JointVector, Measurement, Reference,
-    ThirdOrderFilter as CoreFilter, TimedEstimator,
+    BoxedObserver, ComputedTorque as CoreComputedTorque, Dynamics, FilterParams, Gains, JointVector, Measurement,
+    ObserverDesign, Reference, ThirdOrderFilter as CoreFilter, TimedEstimator,
 };
 use std::sync::{Mutex, PoisonError};
 
 use hya_core::dispatch::ForJoints;
-use hya_sim::{Method, SimError};
+use hya_sim::SimError;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -31,7 +31,7 @@ trait SliceObserver: Send {
     }
 }
 
-struct Fixed<const N: usize>(hya_sim::run::Observer<'static, N>);
+struct Fixed<const N: usize>(BoxedObserver<'static, N>);
 
 impl<const N: usize> SliceObserver for Fixed<N> {
     fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String> {
@@ -69,11 +69,9 @@ impl<const N: usize> SliceObserver for Timed<N> {
 
 /// Builds an observer for `N` joints on the nominal model of `robot`.
 struct Build<'a> {
-    method: Method,
+    design: ObserverDesign,
     model: &'a Model,
-    params: Option<FilterParams>,
-    bandwidth_dt: (f64, f64),
-    /// The first sample's time, for an estimator over timestamped samples.
+    /// The first sample's time, for the paper's estimator over timestamped samples.
     t0: Option<f64>,
     q0: &'a [f64],
     qd0: &'a [f64],
@@ -89,28 +87,12 @@ impl ForJoints for Build<'_> {
             velocity: Some(JointVector::from_column_slice(self.qd0)),
             torque: JointVector::from_column_slice(self.tau0),
         };
-        let setup = |source| SimError::Setup { setting: "DisturbanceEstimator".into(), source };
-        if let (Method::Lu, Some(params), Some(t0)) = (self.method, self.params, self.t0) {
+        let setup = |source| SimError::Setup { setting: "the observer".into(), source };
+        if let (ObserverDesign::Paper(params), Some(t0)) = (self.design, self.t0) {
             let timed = TimedEstimator::new(nominal, params, t0, first.position, first.torque).map_err(setup)?;
             return Ok(Box::new(Timed(timed)));
         }
-        let observer: hya_sim::run::Observer<'static, N> = match (self.method, self.params) {
-            // The filters as given (the simulator's `lu` takes the paper's ζ and ω1 = ω2).
-            (Method::Lu, Some(params)) => Box::new(
-                hya_core::DisturbanceEstimator::new(nominal, params, first.position, first.torque).map_err(setup)?,
-            ),
-            (method, _) => match hya_sim::run::observer(method, nominal, self.bandwidth_dt, &first)? {
-                Some((observer, _rates)) => observer,
-                None => {
-                    return Err(hya_sim::error::SettingError::new(
-                        "method",
-                        None,
-                        format!("`{}` has no observer", method.name()),
-                    )
-                    .into())
-                }
-            },
-        };
+        let (observer, _rates) = self.design.build(nominal, &first).map_err(setup)?;
         Ok(Box::new(Fixed(observer)))
     }
 }
@@ -146,12 +128,9 @@ struct ObserverCore {
 }
 
 impl ObserverCore {
-    #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
-        method: Method,
-        params: Option<FilterParams>,
-        bandwidth_dt: (f64, f64),
+        design: ObserverDesign,
         t0: Option<f64>,
         q0: Option<&Bound<'_, PyAny>>,
         qd0: Option<&Bound<'_, PyAny>>,
@@ -167,7 +146,7 @@ impl ObserverCore {
             Some(tau0) => tau0,
             None => model.gravity_of(&q0),
         };
-        let build = Build { method, model, params, bandwidth_dt, t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
+        let build = Build { design, model, t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
         let inner = crate::model::for_joints(n, build).map_err(value_error)?;
         Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
@@ -283,7 +262,7 @@ impl DisturbanceEstimator {
         t0: Option<f64>,
     ) -> PyResult<Self> {
         let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
-        let core = ObserverCore::new(model, Method::Lu, Some(params), (omega1, dt), t0, q0, None, tau0)?;
+        let core = ObserverCore::new(model, ObserverDesign::Paper(params), t0, q0, None, tau0)?;
         Ok(Self { core })
     }
 
@@ -325,7 +304,7 @@ impl DisturbanceEstimator {
 /// Declares an observer class: its paper, its constructor's extra parameter, and whether it
 /// reads velocities.
 macro_rules! observer_class {
-    ($(#[$doc:meta])* $name:ident, $method:expr) => {
+    ($(#[$doc:meta])* $name:ident, $design:expr) => {
         $(#[$doc])*
         #[pyclass(module = "hya")]
         pub struct $name {
@@ -344,7 +323,8 @@ macro_rules! observer_class {
                 qd0: Option<&Bound<'_, PyAny>>,
                 tau0: Option<&Bound<'_, PyAny>>,
             ) -> PyResult<Self> {
-                let core = ObserverCore::new(model, $method, None, (bandwidth, dt), None, q0, qd0, tau0)?;
+                let design: fn(f64, f64) -> ObserverDesign = $design;
+                let core = ObserverCore::new(model, design(bandwidth, dt), None, q0, qd0, tau0)?;
                 Ok(Self { core })
             }
 
@@ -390,7 +370,7 @@ observer_class!(
     ///
     /// It reads measured velocities (qd).
     MomentumObserver,
-    Method::Momentum
+    |bandwidth_rad_s, dt_s| ObserverDesign::Momentum { bandwidth_rad_s, dt_s }
 );
 
 observer_class!(
@@ -403,7 +383,7 @@ observer_class!(
     /// so d̂ converges to d at rate β near q0 (equal bandwidth with the other observers). It
     /// reads measured velocities (qd).
     NonlinearDisturbanceObserver,
-    Method::Chen
+    |bandwidth_rad_s, dt_s| ObserverDesign::Nonlinear { bandwidth_rad_s, dt_s, gain: Default::default() }
 );
 
 observer_class!(
@@ -415,7 +395,7 @@ observer_class!(
     ///
     /// Like the paper's method it needs only the angles q, not velocities.
     ExtendedStateObserver,
-    Method::Eso
+    |bandwidth_rad_s, dt_s| ObserverDesign::ExtendedState { bandwidth_rad_s, dt_s }
 );
 
 /// The paper's third-order filter, one channel per entry of x0, discretised exactly at the

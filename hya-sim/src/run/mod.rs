@@ -12,8 +12,7 @@
 use std::collections::VecDeque;
 
 use hya_core::{
-    ComputedTorque, DisturbanceEstimator, DisturbanceObserver, Dynamics, ExtendedStateObserver, FilterParams, Gains,
-    JointVector, Measurement, MomentumObserver, NonlinearDisturbanceObserver,
+    BoxedObserver, ComputedTorque, Dynamics, Gains, JointVector, Measurement, NonlinearGain, ObserverDesign,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -34,65 +33,44 @@ pub mod sensors;
 pub mod task;
 pub mod trace;
 
-/// A disturbance observer that may move between threads.
-pub type Observer<'a, const N: usize> = Box<dyn DisturbanceObserver<N> + Send + 'a>;
-
-/// The observer of `method` on the model `nominal`, designed for `bandwidth` (rad/s) at the
-/// control period `dt` (s) and started on the first measurement, with its rates at the start
-/// pose (1/s) computed from its design; `None` for the methods without one.
-pub fn observer<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
+/// The observer design of `method` at pole magnitude `bandwidth` (rad/s) and control period
+/// `dt` (s), Chen's by the gain design `chen`; `None` for the methods without an observer.
+pub fn observer_design(
     method: Method,
-    nominal: D,
-    (bandwidth, dt): (f64, f64),
-    first: &Measurement<N>,
-) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
-    observer_designed(method, nominal, (bandwidth, dt, ChenGain::Inertia), first)
+    (bandwidth, dt, chen): (f64, f64, ChenGain),
+) -> Result<Option<ObserverDesign>, SimError> {
+    let (bandwidth_rad_s, dt_s) = (bandwidth, dt);
+    Ok(match method {
+        Method::None | Method::Pid => None,
+        Method::Lu => Some(
+            ObserverDesign::paper_at(bandwidth, dt)
+                .map_err(|source| SimError::Setup { setting: method.name().into(), source })?,
+        ),
+        Method::Chen => {
+            let gain = match chen {
+                ChenGain::Inertia => NonlinearGain::Inertia,
+                ChenGain::Scalar => NonlinearGain::Scalar,
+            };
+            Some(ObserverDesign::Nonlinear { bandwidth_rad_s, dt_s, gain })
+        }
+        Method::Momentum => Some(ObserverDesign::Momentum { bandwidth_rad_s, dt_s }),
+        Method::Eso => Some(ObserverDesign::ExtendedState { bandwidth_rad_s, dt_s }),
+    })
 }
 
-/// [`observer`] with Chen's observer by the gain design `chen`.
+/// The observer of `method` ([`observer_design`]) on the model `nominal`, started on the first
+/// measurement, with its rates at the start pose (1/s) from its design; `None` for the methods
+/// without one.
 pub fn observer_designed<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
     method: Method,
     nominal: D,
-    (bandwidth, dt, chen): (f64, f64, ChenGain),
+    design: (f64, f64, ChenGain),
     first: &Measurement<N>,
-) -> Result<Option<(Observer<'a, N>, Vec<f64>)>, SimError> {
-    let q0 = first.position;
-    let qd0 = first.velocity.unwrap_or_else(JointVector::zeros);
-    let core = |source| SimError::Setup { setting: method.name().into(), source };
-    Ok(match method {
-        Method::None | Method::Pid => None,
-        Method::Lu => {
-            let params = FilterParams::paper_at(bandwidth, dt).map_err(core)?;
-            // H(s)'s poles: −ω1 and −ζω2 ± jω2√(1 − ζ²), of magnitudes ω1 and ω2.
-            let rate = params.omega1_rad_s().min(params.omega2_rad_s());
-            let estimator = DisturbanceEstimator::new(nominal, params, q0, first.torque).map_err(core)?;
-            Some((Box::new(estimator), vec![rate; N]))
-        }
-        Method::Chen => {
-            let chen = match chen {
-                // Y = β M(q0): L = Y M⁻¹ = β I at the start pose.
-                ChenGain::Inertia => NonlinearDisturbanceObserver::with_bandwidth(nominal, bandwidth, dt, &q0, qd0),
-                // Y = y I, y = β λmax(M(q0)): the slowest rate at the start pose is β.
-                ChenGain::Scalar => {
-                    let largest = hya_core::symmetric_eigenvalues(&nominal.mass_matrix(&q0)).max();
-                    NonlinearDisturbanceObserver::new(nominal, bandwidth * largest, dt, qd0)
-                }
-            }
-            .map_err(core)?;
-            let rates = chen.rates(&q0).map_err(core)?.as_slice().to_vec();
-            Some((Box::new(chen), rates))
-        }
-        Method::Momentum => {
-            let gains = JointVector::repeat(bandwidth);
-            let momentum = MomentumObserver::new(nominal, gains, dt, q0, qd0, first.torque).map_err(core)?;
-            Some((Box::new(momentum), gains.as_slice().to_vec()))
-        }
-        Method::Eso => {
-            // Observer poles, all at −ω_o.
-            let eso = ExtendedStateObserver::new(nominal, bandwidth, dt, q0).map_err(core)?;
-            Some((Box::new(eso), vec![bandwidth; N]))
-        }
-    })
+) -> Result<Option<(BoxedObserver<'a, N>, Vec<f64>)>, SimError> {
+    let Some(design) = observer_design(method, design)? else { return Ok(None) };
+    let (observer, rates) =
+        design.build(nominal, first).map_err(|source| SimError::Setup { setting: method.name().into(), source })?;
+    Ok(Some((observer, rates.as_slice().to_vec())))
 }
 
 /// Computed-torque gains by one rule for every method. Per joint, the natural frequency `ω_n`

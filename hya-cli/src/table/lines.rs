@@ -128,91 +128,130 @@ fn blank(byte: u8) -> bool {
     byte == b' ' || byte == b'\t'
 }
 
+/// The UTF-8 byte-order mark some editors put before a file's first line.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Whether `line` has a comma outside quotes (a quote opens a cell at the line's start or after
+/// a comma or a blank, whichever separator the file turns out to use): what decides a file's
+/// separator on its first line that is not a comment.
+fn has_comma(bytes: &[u8]) -> bool {
+    let (mut quoted, mut at_start) = (false, true);
+    let mut k = 0;
+    while k < bytes.len() {
+        let b = bytes[k];
+        if quoted {
+            if b == b'"' {
+                if bytes.get(k + 1) == Some(&b'"') {
+                    k += 1;
+                } else {
+                    quoted = false;
+                }
+            }
+        } else {
+            match b {
+                b'#' => return false,
+                b',' => return true,
+                b'"' if at_start => quoted = true,
+                _ => {}
+            }
+            at_start = b == b',' || blank(b);
+        }
+        k += 1;
+    }
+    false
+}
+
+/// Where a cell's reading stands.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Cell {
+    /// Before the cell's first byte (blanks skipped).
+    Start,
+    /// In an unquoted cell (or after a quoted part: what follows is kept as it is, as the csv
+    /// crate keeps it).
+    Plain,
+    /// Inside quotes.
+    Quoted,
+}
+
 /// One line (`bytes`, line number `line`) as comma-separated cells: the comment cut off, blanks
 /// around cells dropped, and, in a blank-separated file, each run of blanks between cells made
-/// a comma. Quoted text is kept as it is; a quote left open at the end of the line is refused
-/// (a record never spans lines, so every message names the right one). Returns the separator
-/// this line decides, if it is the first that is not a comment and `known` is `None`.
+/// a comma. As in CSV, a quote opens quoted text only at a cell's start (`""` inside is a quote);
+/// elsewhere it is a character. A quote left open at the end of the line, or a carriage return
+/// outside quotes before it, is refused: a record never spans lines, so every line handed on
+/// holds one record and every message names the right line. Returns the separator this line
+/// decides, if it is the first that is not a comment and `known` is `None`.
 fn prepare(bytes: &[u8], line: usize, known: Option<(Separator, usize)>) -> io::Result<(Vec<u8>, Option<Separator>)> {
-    // The line without its comment: up to the first `#` outside quotes.
-    let mut quoted = false;
-    let mut end = bytes.len();
-    for (k, &b) in bytes.iter().enumerate() {
-        match b {
-            b'"' => quoted = !quoted,
-            b'#' if !quoted => {
-                end = k;
-                break;
-            }
-            _ => {}
-        }
-    }
-    if quoted {
-        return Err(refuse(format!("line {line}: a quote (\") is not closed on its line")));
-    }
-    let data = &bytes[..end];
-    if data.iter().all(|&b| blank(b)) {
-        return Ok((Vec::new(), None));
-    }
-    let has_comma = {
-        let mut quoted = false;
-        data.iter().any(|&b| {
-            quoted ^= b == b'"';
-            b == b',' && !quoted
-        })
-    };
+    let bytes = if line == 1 { bytes.strip_prefix(BOM).unwrap_or(bytes) } else { bytes };
+    let has_comma = has_comma(bytes);
     let (separator, decided) = match known {
-        Some((separator, _)) => (separator, None),
-        None => {
-            let separator = if has_comma { Separator::Comma } else { Separator::Blanks };
-            (separator, Some(separator))
+        Some((Separator::Blanks, first)) if has_comma => {
+            return Err(refuse(format!(
+                "line {line}: a comma, but line {first} separates its cells by blanks: one separator per file"
+            )))
         }
+        Some((separator, _)) => (separator, None),
+        None if has_comma => (Separator::Comma, Some(Separator::Comma)),
+        None => (Separator::Blanks, Some(Separator::Blanks)),
     };
-    if let (Some((Separator::Blanks, first)), true) = (known, has_comma) {
-        return Err(refuse(format!(
-            "line {line}: a comma, but line {first} separates its cells by blanks: one separator per file"
-        )));
-    }
-    let mut out = Vec::with_capacity(data.len());
-    let mut quoted = false;
-    // Blanks seen outside quotes and not yet written: written only if a cell goes on after them.
-    let mut pending_blanks = 0;
-    let mut cell_started = false;
-    for &b in data {
-        if quoted {
-            quoted = b != b'"';
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut state = Cell::Start;
+    // The length of `out` before the blanks that trail the cell so far (outside quotes).
+    let mut kept = 0;
+    let mut k = 0;
+    while k < bytes.len() {
+        let b = bytes[k];
+        k += 1;
+        if state == Cell::Quoted {
             out.push(b);
+            if b == b'"' {
+                if bytes.get(k) == Some(&b'"') {
+                    out.push(b'"');
+                    k += 1;
+                } else {
+                    state = Cell::Plain;
+                }
+            }
+            kept = out.len();
             continue;
         }
         match b {
-            b',' => {
-                pending_blanks = 0;
-                out.push(b',');
-                cell_started = false;
+            b'#' => break,
+            b'\r' => {
+                return Err(refuse(format!(
+                    "line {line}: a carriage return (\\r) inside the line: one row per line, ended by \\n or \\r\\n"
+                )))
             }
-            b if blank(b) => pending_blanks += 1,
+            b',' => {
+                out.truncate(kept);
+                out.push(b',');
+                kept = out.len();
+                state = Cell::Start;
+            }
+            b if blank(b) => match (state, separator) {
+                (Cell::Plain, Separator::Blanks) => state = Cell::Start,
+                (Cell::Plain, Separator::Comma) => out.push(b),
+                _ => {}
+            },
             b => {
-                if pending_blanks > 0 && cell_started && separator == Separator::Blanks {
-                    out.push(b',');
-                    pending_blanks = 0;
-                    cell_started = false;
+                if state == Cell::Start {
+                    // A new cell: in a blank-separated file, after the previous one.
+                    if separator == Separator::Blanks && !out.is_empty() {
+                        out.push(b',');
+                    }
+                    state = if b == b'"' { Cell::Quoted } else { Cell::Plain };
                 }
-                flush_blanks(&mut out, &mut pending_blanks, cell_started);
                 out.push(b);
-                cell_started = true;
-                quoted = b == b'"';
+                kept = out.len();
             }
         }
     }
-    Ok((out, decided))
-}
-
-/// Writes blanks held back inside a cell (`q 1` keeps its space); drops them before a cell.
-fn flush_blanks(out: &mut Vec<u8>, pending: &mut usize, cell_started: bool) {
-    if cell_started {
-        out.extend(std::iter::repeat_n(b' ', *pending));
+    if state == Cell::Quoted {
+        return Err(refuse(format!("line {line}: a quote (\") is not closed on its line")));
     }
-    *pending = 0;
+    out.truncate(kept);
+    // A comment or blank line decides nothing.
+    let decided = decided.filter(|_| !out.is_empty());
+    Ok((out, decided))
 }
 
 #[cfg(test)]
@@ -242,6 +281,25 @@ mod tests {
         lines.read_to_string(&mut out).unwrap();
         assert_eq!(out, "1,2\n\"#\",3\n");
         assert_eq!((lines.take_line(), lines.take_line()), (3, 4));
+    }
+
+    #[test]
+    fn quotes_open_only_at_a_cell_start_as_in_csv() {
+        // A quote inside a cell is a character: the next lines are not swallowed.
+        assert_eq!(prepared("0,a\"b,\"c\"\"d\"\n1,2,3\n").unwrap(), "0,a\"b,\"c\"\"d\"\n1,2,3\n");
+        assert_eq!(prepared("0 a\"b \"c d\"\n").unwrap(), "0,a\"b,\"c d\"\n");
+        let message = prepared("0,\"open\n1,2\n").unwrap_err();
+        assert!(message.contains("line 1: a quote"), "{message}");
+    }
+
+    #[test]
+    fn carriage_returns_inside_a_line_and_a_byte_order_mark() {
+        let message = prepared("0 1\r2 3\n").unwrap_err();
+        assert!(message.contains("line 1: a carriage return"), "{message}");
+        let message = prepared("0,1\n\r\r\n").unwrap_err();
+        assert!(message.contains("line 2: a carriage return"), "{message}");
+        // A byte-order mark before a first line that is a comment does not make it a line of cells.
+        assert_eq!(prepared("\u{feff}# log\nt,q\n0,1\n").unwrap(), "t,q\n0,1\n");
     }
 
     #[test]

@@ -25,11 +25,12 @@ impl Column {
         Self { name: name.into(), unit: None }
     }
 
-    /// A header cell: `name [unit]` (blanks around either ignored), or a name alone.
+    /// A header cell: `name [unit]` (a blank before the bracket), or a name alone (`q[0]` is a
+    /// name: an index, not a unit).
     pub fn from_header(cell: &str) -> Self {
         let cell = cell.trim();
-        if let Some(open) = cell.strip_suffix(']').and_then(|c| c.rfind('[')) {
-            let name = cell[..open].trim();
+        if let Some(open) = cell.strip_suffix(']').and_then(|c| c.rfind(" [")) {
+            let (name, open) = (cell[..open].trim(), open + 1);
             if !name.is_empty() {
                 return Self::new(name, cell[open + 1..cell.len() - 1].trim());
             }
@@ -154,7 +155,8 @@ mod tests {
     #[test]
     fn header_cells_split_into_name_and_unit() {
         assert_eq!(Column::from_header(" q_SAA [rad] "), Column::new("q_SAA", "rad"));
-        assert_eq!(Column::from_header("tau1[N m]"), Column::new("tau1", "N m"));
+        assert_eq!(Column::from_header("tau1\t [N m]"), Column::new("tau1", "N m"));
+        assert_eq!(Column::from_header("q[0]"), Column::bare("q[0]"), "an index is part of the name");
         assert_eq!(Column::from_header("t"), Column::bare("t"));
         assert_eq!(Column::from_header("[s]"), Column::bare("[s]"), "a unit alone is a name");
         assert_eq!(Column::new("q", "rad").to_string(), "q [rad]");

@@ -148,10 +148,15 @@ impl<R: BufRead> Table<R> {
                     _ => positions,
                 }
             }
-            (None, Some(wanted)) => match header.and_then(|(_, columns)| by_name(columns, wanted)) {
-                Some(positions) => positions,
-                None if width == wanted.len() => (0..width).collect(),
-                None => return Err(self.unreadable(line, width, wanted)),
+            (None, Some(wanted)) => match header.map(|(_, columns)| by_name(columns, wanted)) {
+                Some(Named::All(positions)) => positions,
+                // A header that names some of the columns read, one of them away from its place
+                // in the command's order: reading by position would put it under another's name.
+                Some(Named::Some(named)) if named.iter().any(|(k, p)| k != p) => {
+                    return Err(self.partly_named(line, &named, wanted))
+                }
+                _ if width == wanted.len() => (0..width).collect(),
+                _ => return Err(self.unreadable(line, width, wanted)),
             },
             (None, None) => (0..width).collect(),
         };
@@ -193,6 +198,26 @@ impl<R: BufRead> Table<R> {
         };
         CliError::Input(format!(
             "line {line}: expected {} values ({}), found {width}{names}; pick the columns with --columns",
+            wanted.len(),
+            self.what
+        ))
+    }
+
+    /// The error for a header that names some of the columns read, one away from its place.
+    fn partly_named(&self, line: usize, named: &[(usize, usize)], wanted: &[Column]) -> CliError {
+        let (k, p) = named.iter().find(|(k, p)| k != p).copied().unwrap_or_default();
+        let missing: Vec<String> = (0..wanted.len())
+            .filter(|j| !named.iter().any(|(k, _)| k == j))
+            .map(|j| echo(&wanted[j].name))
+            .take(3)
+            .collect();
+        CliError::Input(format!(
+            "line {line}: the header names {} in column {}, where reading by position would take column {}, and \
+             names no column {}: {} are read ({}); name them all, or pick them with --columns",
+            echo(&wanted[k].name),
+            p + 1,
+            k + 1,
+            missing.join(", "),
             wanted.len(),
             self.what
         ))
@@ -259,9 +284,24 @@ impl<R: BufRead> Table<R> {
     }
 }
 
-/// Positions of the `wanted` columns in a header, if it names every one.
-fn by_name(columns: &[Column], wanted: &[Column]) -> Option<Vec<usize>> {
-    wanted.iter().map(|w| columns.iter().position(|c| c.name == w.name)).collect()
+/// How many of the columns read a header names.
+enum Named {
+    /// Every one, at these positions.
+    All(Vec<usize>),
+    /// Some: each as (its place among those read, its position in the header).
+    Some(Vec<(usize, usize)>),
+    /// None.
+    None,
+}
+
+/// Where a header names the `wanted` columns.
+fn by_name(columns: &[Column], wanted: &[Column]) -> Named {
+    let found: Vec<Option<usize>> = wanted.iter().map(|w| columns.iter().position(|c| c.name == w.name)).collect();
+    match found.iter().filter(|f| f.is_some()).count() {
+        0 => Named::None,
+        n if n == wanted.len() => Named::All(found.into_iter().flatten().collect()),
+        _ => Named::Some(found.iter().enumerate().filter_map(|(k, f)| f.map(|p| (k, p))).collect()),
+    }
 }
 
 fn selection_mismatch(selected: usize, wanted: usize, what: &str) -> CliError {
@@ -352,6 +392,14 @@ mod tests {
         assert_eq!(rows, [(2, vec![0.0, 1.0, 3.0]), (3, vec![0.1, 4.0, 6.0])]);
         // A header of other names, exactly as wide as what is read: read in order.
         assert_eq!(read("time,x\n0,1\n", None, &["t", "q_a"]).unwrap(), [(2, vec![0.0, 1.0])]);
+        // One that names some of them, elsewhere: never read by position.
+        let message = read("tau_a,q\n1,2\n", None, &["q_a", "tau_a"]).unwrap_err();
+        assert!(
+            message.contains("names \"tau_a\" in column 1, where reading by position would take column 2"),
+            "{message}"
+        );
+        // A name in its place (a log's own `t`) leaves the others to their positions.
+        assert_eq!(read("t,q1\n0,1\n", None, &["t", "q_a"]).unwrap(), [(2, vec![0.0, 1.0])]);
         let message = read("time,x,y\n0,1,2\n", None, &["t", "q_a"]).unwrap_err();
         assert!(message.contains("expected 2 values (test), found 3 in the header on line 1"), "{message}");
         assert!(message.contains("names no column \"t\", \"q_a\""), "{message}");

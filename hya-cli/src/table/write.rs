@@ -24,7 +24,9 @@ impl<W: Write> RowWriter<W> {
     pub fn new(output: W, columns: Vec<Column>, header: bool) -> Self {
         let width = columns.len();
         Self {
-            csv: csv::WriterBuilder::new().from_writer(output),
+            // A cell holding `#` is quoted, so that a reader of this format does not take it
+            // for a comment.
+            csv: csv::WriterBuilder::new().comment(Some(b'#')).from_writer(output),
             header: header.then_some(columns),
             width,
             number: String::new(),
@@ -94,12 +96,15 @@ mod tests {
     #[test]
     fn the_header_comes_once_and_names_are_quoted_where_needed() {
         let mut out = Vec::new();
-        let columns = vec![Column::new("t", "s"), Column::new("q_a,b", "rad")];
+        let columns = vec![Column::new("t", "s"), Column::new("q_a,b", "rad"), Column::new("q#2", "rad")];
         let mut writer = RowWriter::new(&mut out, columns, true);
-        writer.write([0.0, 1.5]).unwrap();
-        writer.write([0.1, -2e-300]).unwrap();
+        writer.write([0.0, 1.5, 2.0]).unwrap();
+        writer.write([0.1, -2e-300, 3.0]).unwrap();
         drop(writer);
-        assert_eq!(String::from_utf8(out).unwrap(), "t [s],\"q_a,b [rad]\"\n0.0,1.5\n0.1,-2e-300\n");
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "t [s],\"q_a,b [rad]\",\"q#2 [rad]\"\n0.0,1.5,2.0\n0.1,-2e-300,3.0\n"
+        );
         let mut raw = Vec::new();
         RowWriter::new(&mut raw, vec![Column::bare("x")], false).write([3.0]).unwrap();
         assert_eq!(raw, b"3.0\n");

@@ -458,12 +458,14 @@ fn ends((mean, half): (f64, f64)) -> (f64, f64) {
     (mean - half, mean + half)
 }
 
-/// Whether `a` dominates `b`: in command noise and in error, `a` is nowhere worse beyond the
-/// intervals (its lower end not above `b`'s upper end) and in at least one it is better beyond
-/// them (its upper end below `b`'s lower end). With one seed the means are compared.
+/// Whether `a` dominates `b`: in command noise and in error `a`'s mean is no worse than `b`'s,
+/// and in at least one it is better beyond the intervals (its upper end below `b`'s lower end).
+/// With one seed the means are compared. (A rule that let `a` be worse in mean wherever the
+/// intervals overlap once called the three slowest points of a sweep its front: with three seeds
+/// an error interval can span most of the axis.)
 pub fn dominates(a: &FrontPoint, b: &FrontPoint) -> bool {
-    let pairs = [(ends(a.noise), ends(b.noise)), (ends(a.error), ends(b.error))];
-    pairs.iter().all(|(a, b)| a.0 <= b.1) && pairs.iter().any(|(a, b)| a.1 < b.0)
+    let pairs = [(a.noise, b.noise), (a.error, b.error)];
+    pairs.iter().all(|(a, b)| a.0 <= b.0) && pairs.iter().any(|(a, b)| ends(*a).1 < ends(*b).0)
 }
 
 /// The indices of the points no other point dominates (the Pareto-optimal set), in order.

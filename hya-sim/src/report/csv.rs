@@ -35,7 +35,7 @@ fn unit(kind: JointKind, position: bool) -> &'static str {
 pub(super) fn csv<const N: usize>(o: &RunOutcome<N>, model: &TreeModel, name: &str) -> Result<String, SimError> {
     let failed =
         |e: &dyn std::fmt::Display| SimError::Io { path: name.into(), source: std::io::Error::other(e.to_string()) };
-    let mut out = csv::Writer::from_writer(Vec::new());
+    let mut out = csv::WriterBuilder::new().comment(Some(b'#')).from_writer(Vec::new());
     out.write_record(header(model)).map_err(|e| failed(&e))?;
     let t = &o.trace;
     let mut number = String::new();

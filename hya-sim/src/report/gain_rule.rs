@@ -25,7 +25,7 @@ pub fn section<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) 
         .collect();
     let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
     let mut md = format!(
-        "\n### The uncompensated baseline and the gain rule\n\n`none`'s steady error depends on how stiff the PD is: the gain rule stiffens each joint until its torque at the error `e_f` reaches the joint's static friction (`K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`), so a joint that sticks stays within about `e_f` of its reference where `K_P` reaches `F_s / e_f`; where the ceiling `M_ii ω_max²` binds (the light wrist joints here), its error can be many times `e_f`, as the table shows. The report's runs use e_f = {} rad. `none` on `{}` at other e_f ({SEEDS} seeds each), mean |e| over the final window per joint, mrad:\n\n",
+        "\n### The uncompensated baseline and the gain rule\n\n`none`'s steady error depends on how stiff the PD is: the gain rule stiffens each joint until its torque at the error `e_f` reaches the joint's static friction (`K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`), so a joint that sticks stays within about `e_f` of its reference where `K_P` reaches `F_s / e_f`; where the ceiling `M_ii ω_max²` binds (the light wrist joints here), its error can exceed `e_f`, by as much as the table shows. The report's runs use e_f = {} rad. `none` on `{}` at other e_f ({SEEDS} seeds each), mean |e| over the final window per joint, mrad:\n\n",
         base.controller.friction_error_rad, base.name
     );
     md.push_str(&table_row(["e_f [rad]".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));

@@ -139,7 +139,7 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
         }
         md.push_str(&table_row(cells));
     }
-    md.push_str("\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and the actuator as a first-order lag at its design bandwidth (the Plant section measures the torque loops on the arm: where a joint's measured response is slower than this design, its margin here is optimistic). Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
+    md.push_str("\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and the actuator as a first-order lag at its design bandwidth (the Plant section's step test drives the torque loops into saturation, so it does not measure this small-signal lag: the margins hold as far as the first-order design does, which nothing here checks). Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
     Ok(md)
 }
 

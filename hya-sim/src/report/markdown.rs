@@ -150,7 +150,7 @@ fn recovery_shares(s: &Scenario, table: &MetricTable) -> String {
         return String::new();
     }
     let mut md = String::from(
-        "\nRecovery after the drop, seed by seed (the times split into seeds that recover and seeds that stay off their band, so the mean above can mislead): seeds recovered within 1 s / seeds, and the median time, s:\n\n",
+        "\nRecovery after the drop, seed by seed (the times split into seeds that recover and seeds that stay off their band, so a mean time would mislead; the claim counts seeds): seeds recovered within 1 s / seeds, and the median time, s:\n\n",
     );
     let mut header = false;
     for &method in &s.methods {
@@ -217,7 +217,7 @@ fn claims_table(claims: &[Judgement]) -> String {
         return "## The paper's claims\n\nNone of the paper's experiments was run, so no claim is judged (`hya reproduce` runs them).\n".into();
     }
     let mut md = format!(
-        "## The paper's claims\n\n{} reproduced, {} inconclusive, {} partly, {} not reproduced, {} not testable here, {} not run (of {}). Each rule is written in `hya-sim/src/analysis/claims.rs` and applied as written to every run. At a joint a rule holds when the whole 95 % interval clears its threshold by the margin, fails when the whole interval lies on the other side, and is inconclusive (?) when the interval straddles it; a claim is inconclusive when it would be reproduced were its inconclusive joints to hold, so more seeds could settle it. A metric's interval is Student's t on the mean over seeds; a ratio's is taken on the logarithms of the per-seed ratios of runs that share their seed (paired), around their geometric mean (ratios are skewed; an interval on them directly would reach below zero); a share of seeds has Wilson's interval. Per-seed values are in `summary.json`.\n\n| claim | section | paper | ours: per joint, mean [95 % interval] | verdict |\n|---|---|---|---|---|\n",
+        "## The paper's claims\n\n{} reproduced, {} inconclusive, {} partly, {} not reproduced, {} not testable here, {} not run (of {}). Each rule is written in `hya-sim/src/analysis/claims.rs` and applied as written to every run. At a joint a rule holds when the whole 95 % interval clears its threshold by the margin, fails when the whole interval lies on the other side, and is inconclusive (?) when the interval straddles it. A claim is inconclusive when it would be reproduced were its inconclusive joints to hold, so more seeds could settle it; partly when it holds on some of the joints it names, all of which it needs, and fails on others; not reproduced otherwise. A metric's interval is Student's t on the mean over seeds; a ratio's is taken on the logarithms of the per-seed ratios of runs that share their seed (paired), around their geometric mean (ratios are skewed; an interval on them directly would reach below zero); a share of seeds has Wilson's interval. Per-seed values are in `summary.json`.\n\n| claim | section | paper | ours: per joint, mean [95 % interval] | verdict |\n|---|---|---|---|---|\n",
         count(Verdict::Reproduced),
         count(Verdict::Inconclusive),
         count(Verdict::Partly),

@@ -176,7 +176,7 @@ pub fn section<const N: usize>(
         .collect();
     let _ = writeln!(
         md,
-        "\n{} A faster filter passes more sensor noise into `d̂` (see the sweep); a bandwidth should be chosen from both.",
+        "\n{} A faster filter passes more sensor noise into `d̂` (see the sweep).",
         if free_everywhere.len() == N {
             "Every joint stays still by this measure at every bandwidth swept.".to_owned()
         } else if free_everywhere.is_empty() {

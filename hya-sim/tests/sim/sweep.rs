@@ -142,6 +142,10 @@ fn the_pareto_set_of_a_small_table() {
     assert_eq!(pareto_optimal(&table), [0, 1, 4, 5, 6]);
     assert!(dominates(&table[1], &table[2]) && !dominates(&table[2], &table[1]));
     assert!(!dominates(&table[0], &table[6]) && !dominates(&table[6], &table[0]));
+    // Quieter beyond the intervals but four times the error in mean, its interval wide enough to
+    // reach the other's: not a dominating point.
+    let (quiet_but_worse, accurate) = (point("pid", (1.0, 0.01), (4.0, 3.0)), point("lu", (1.5, 0.01), (1.0, 0.5)));
+    assert!(!dominates(&quiet_but_worse, &accurate) && !dominates(&accurate, &quiet_but_worse));
     // One seed: no interval, the means decide.
     let single: Vec<FrontPoint> = table
         .iter()

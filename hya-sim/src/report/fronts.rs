@@ -72,7 +72,7 @@ fn equal_text(plan: &Plan) -> String {
         if plan.seeds < 2 { " (one seed: no interval, means compared)" } else { "" },
     );
     md.push_str(
-        "\nA point is dominated when another is nowhere worse beyond the intervals (command noise and error) and better beyond them in one; the front is the points no other point dominates.\n",
+        "\nA point is dominated when another is no worse in mean in both command noise and error and better beyond the 95 % intervals in one; the front is the points no other point dominates.\n",
     );
     md
 }

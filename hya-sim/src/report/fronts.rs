@@ -43,6 +43,7 @@ pub fn section_of<const N: usize>(
     for scenario in scenarios(&sweep) {
         md.push_str(&scenario_text(&sweep, scenario));
     }
+    md.push_str(&equal_delay_text(&sweep, plan));
     md.push_str(&integral_text(robot, plan)?);
     let files = vec![
         (FIGURE.to_owned(), pareto_figure(&sweep)),
@@ -89,6 +90,98 @@ fn scenario_text(sweep: &Sweep, scenario: &str) -> String {
         let _ = writeln!(md, "- {}: {}", measure.label(), front_text(&points, measure));
     }
     md
+}
+
+/// The paper's filter's low-frequency delay at `ω1 = ω2 = ω`, `ζ = 0.8`: `1/ω1 + 2ζ/ω2`, s.
+fn paper_delay_s(omega: f64) -> f64 {
+    (1.0 + 2.0 * hya_core::filter::PAPER_ZETA) / omega
+}
+
+/// Per seed, `measure` of `method` at `bandwidth` on `scenario`, keyed by seed.
+fn per_seed(sweep: &Sweep, scenario: &str, method: &str, bandwidth: f64, measure: Measure) -> Vec<(u64, f64)> {
+    let mut values: Vec<(u64, f64)> = sweep
+        .entries
+        .iter()
+        .filter(|e| e.scenario == scenario && e.method == method && e.bandwidth_rad_s == bandwidth)
+        .filter_map(|e| measure.of(e).map(|v| (e.seed, v)))
+        .collect();
+    values.sort_by_key(|(seed, _)| *seed);
+    values
+}
+
+/// The first-order observers (chen, momentum) against lu at about equal low-frequency delay, from
+/// the sweep's own points: lu at the scenarios' observer bandwidth ω (delay `2.6/ω`) against each
+/// at the swept `β` whose delay `1/β` is nearest, tracking and estimate error as paired per-seed
+/// ratios. The words (lower, higher, indistinguishable) come from the ratios' intervals.
+fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
+    let Some(omega) = plan.scenarios.first().map(|s| s.controller.observer_bandwidth_rad_s) else {
+        return String::new();
+    };
+    let lu_delay = paper_delay_s(omega);
+    let Some(beta) = plan
+        .bandwidths_rad_s
+        .iter()
+        .copied()
+        .min_by(|a, b| ((1.0 / a) - lu_delay).abs().total_cmp(&((1.0 / b) - lu_delay).abs()))
+    else {
+        return String::new();
+    };
+    let mut lines = Vec::new();
+    for scenario in scenarios(sweep) {
+        for method in ["chen", "momentum"] {
+            let mut parts = Vec::new();
+            for measure in Measure::ALL {
+                let (theirs, lus) =
+                    (per_seed(sweep, scenario, method, beta, measure), per_seed(sweep, scenario, "lu", omega, measure));
+                let paired: Vec<(f64, f64)> = theirs
+                    .iter()
+                    .filter_map(|(seed, v)| lus.iter().find(|(s, _)| s == seed).map(|(_, l)| (*v, *l)))
+                    .collect();
+                if paired.is_empty() {
+                    continue;
+                }
+                let (a, b): (Vec<f64>, Vec<f64>) = paired.into_iter().unzip();
+                let ratio = crate::analysis::seeds::PairedRatio::of(&a, &b);
+                let word = if ratio.below_one() {
+                    "lower than lu's"
+                } else if ratio.above_one() {
+                    "higher than lu's"
+                } else {
+                    "indistinguishable from lu's at these seeds"
+                };
+                parts.push(match a.len() {
+                    1 => format!("{} {:.2}× (one seed: no interval)", measure.label(), ratio.ratio),
+                    _ => {
+                        format!("{} {:.2}× [{:.2}, {:.2}], {word}", measure.label(), ratio.ratio, ratio.low, ratio.high)
+                    }
+                });
+            }
+            if !parts.is_empty() {
+                lines.push(format!("- `{scenario}`, {method} at β = {} rad/s: {}", Short(beta), parts.join("; ")));
+            }
+        }
+    }
+    if lines.is_empty() {
+        return String::new();
+    }
+    format!(
+        "
+### At about equal delay
+
+The runs above compare the observers at equal pole magnitude, where a first-order observer lags `1/ω` ({} ms at ω = {} rad/s) and lu's filter `1/ω1 + 2ζ/ω2` ({} ms). The sweep also holds the first-order observers at β = {} rad/s, whose delay `1/β` ({} ms) is the swept value nearest lu's at ω = {}. Their errors over lu's there, paired by seed (the geometric mean over seeds with its 95 % interval on the logarithms):
+
+{}
+
+The equal −3 dB matching (a first-order observer at lu's −3 dB frequency) is not run.
+",
+        Short(1e3 / omega),
+        Short(omega),
+        Short(lu_delay * 1e3),
+        Short(beta),
+        Short(1e3 / beta),
+        Short(omega),
+        lines.join("\n")
+    )
 }
 
 /// An error as printed: tracking in mrad, estimates in N·m.

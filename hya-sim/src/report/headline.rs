@@ -102,8 +102,9 @@ pub(super) fn in_short(
     }
     md.push_str(
         "\nThe observers (lu, chen, momentum, eso) are all designed with their poles at one magnitude, the \
-         scenario's observer bandwidth; other matchings (equal −3 dB bandwidth, equal delay) are not run here, so \
-         the comparisons with chen, momentum and eso hold for that matching only.\n",
+         scenario's observer bandwidth, so the comparisons with chen, momentum and eso hold for that matching; the \
+         Pareto section compares chen and momentum with lu at about equal delay too (3 seeds, the sweep's), and the \
+         equal −3 dB matching is not run.\n",
     );
     md.push_str(&super::sensitivity::headline(sensitivity));
     md.push_str(

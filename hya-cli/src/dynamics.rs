@@ -72,28 +72,9 @@ impl Source {
     }
 }
 
-fn load(path: &str) -> Result<TreeModel, CliError> {
-    let loaded = hya_urdf::load_file(path).map_err(|e| CliError::Input(e.to_string()))?;
-    for warning in &loaded.warnings {
-        eprintln!("hya: warning: {path}: {warning}");
-    }
-    Ok(loaded.model)
-}
-
-/// The run-time model of a shipped robot (by name) or of a URDF file (by path).
-pub fn model(robot: &str) -> Result<TreeModel, CliError> {
-    match hya_robots::find(robot) {
-        Some(shipped) => hya_urdf::load_str(shipped.urdf, shipped.name)
-            .map(|loaded| loaded.model)
-            .map_err(|e| CliError::Input(e.to_string())),
-        None if std::path::Path::new(robot).exists() => load(robot),
-        None => Err(CliError::Input(hya_robots::unknown(robot))),
-    }
-}
-
 /// The dynamics of `args`, and the model's joints (for the columns' names and units).
 fn resolve(args: &RobotArgs) -> Result<(Source, Joints), CliError> {
-    let model = model(&args.robot)?;
+    let model = crate::common::model(&args.robot)?;
     let joints = Joints::of(&model);
     match hya_robots::find(&args.robot) {
         Some(robot) if !args.generic => Ok((Source::Generated(robot), joints)),
@@ -103,7 +84,7 @@ fn resolve(args: &RobotArgs) -> Result<(Source, Joints), CliError> {
 
 /// `hya robots`: name, degrees of freedom and joint names in order, one robot per line.
 pub fn list(args: &RobotsArgs, output: &mut impl Write) -> Result<(), CliError> {
-    let model = args.urdf.as_deref().map(load).transpose()?;
+    let model = args.urdf.as_deref().map(crate::common::load).transpose()?;
     let robots: Vec<(String, usize, Vec<String>)> = match &model {
         Some(model) => vec![(model.name().to_owned(), model.dof(), model.joint_names().map(String::from).collect())],
         None => ROBOTS

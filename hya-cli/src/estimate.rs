@@ -376,7 +376,7 @@ pub fn run(args: &EstimateArgs, input: impl BufRead, output: &mut impl Write) ->
             args.method.name()
         )));
     }
-    let model = crate::dynamics::model(&args.robot)?;
+    let model = crate::common::model(&args.robot)?;
     let layout = Layout {
         params,
         step_from_log: (args.timestamps && args.dt.is_none()).then_some(args.max_step),

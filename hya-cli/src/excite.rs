@@ -85,7 +85,7 @@ pub fn run(args: &ExciteArgs, output: &mut impl Write) -> Result<(), CliError> {
             Short(rows.round())
         )));
     }
-    let model = crate::dynamics::model(&args.robot)?;
+    let model = crate::common::model(&args.robot)?;
     let input = |e: hya_ident::ExcitationError| CliError::Input(format!("{}: {e}", crate::table::echo(&args.robot)));
     let limits = Limits::of(&model, args.range_fraction, args.velocity_fraction).map_err(input)?;
     let design = ExcitationDesign {

@@ -5,7 +5,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub use common::CliError;
+
 mod bench;
+mod common;
 mod dynamics;
 mod estimate;
 mod excite;
@@ -103,17 +106,6 @@ enum Command {
         /// The shell.
         shell: clap_complete::Shell,
     },
-}
-
-/// A failure the user can act on: printed as `hya: MESSAGE`, exit code 2.
-#[derive(Debug, thiserror::Error)]
-pub enum CliError {
-    /// Bad input or parameters.
-    #[error("{0}")]
-    Input(String),
-    /// Reading stdin or writing stdout failed.
-    #[error("i/o: {0}")]
-    Io(#[from] io::Error),
 }
 
 fn main() -> ExitCode {

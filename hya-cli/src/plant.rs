@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use hya_core::model::TreeModel;
 use hya_core::{JointVector, Short};
 use hya_sim::rollout::{ideal_plant, open_loop, scenario_plant, TorqueCommand};
-use hya_sim::Scenario;
 
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{self, ColumnsArg, HeaderArg, RowWriter, Table};
@@ -70,16 +69,6 @@ fn input(message: impl Into<String>) -> CliError {
     CliError::Input(message.into())
 }
 
-fn sim(e: hya_sim::SimError) -> CliError {
-    CliError::Input(e.to_string())
-}
-
-impl From<hya_sim::SimError> for CliError {
-    fn from(e: hya_sim::SimError) -> Self {
-        sim(e)
-    }
-}
-
 /// The start pose: `--q0` (checked against the joints' limits and [`MAX_START_POSITION`]),
 /// else the shipped robot's home pose, else zeros.
 fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f64>, CliError> {
@@ -112,27 +101,6 @@ fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f6
         }
     }
     Ok(values)
-}
-
-/// The scenario whose plant `hya plant` and `hya track` run: `path`, else the first built-in
-/// scenario written for the shipped arm `robot`; the error for a URDF without one offers
-/// `--scenario`, and `alternative` besides.
-pub fn scenario(path: Option<&std::path::Path>, robot: &str, alternative: &str) -> Result<Scenario, CliError> {
-    if let Some(path) = path {
-        return Ok(Scenario::from_file(path)?);
-    }
-    if let Some(shipped) = hya_robots::find(robot) {
-        for name in Scenario::builtin_names().chain(Scenario::arm_goto_names()) {
-            let builtin = Scenario::builtin(name)?;
-            if builtin.robot == shipped.name {
-                return Ok(builtin);
-            }
-        }
-    }
-    Err(input(format!(
-        "{}: no built-in scenario describes this arm's plant; pass --scenario FILE (its friction, actuators and loads){alternative}",
-        table::echo(robot)
-    )))
 }
 
 /// The torque rows `t τ1 … τn` of an arm with `joints`: times from 0, strictly increasing.
@@ -178,7 +146,8 @@ fn rollout<const N: usize>(
         check_until("--until", until)?;
     }
     let q0 = JointVector::<N>::from_column_slice(&start_pose(args, robot, model)?);
-    let scenario = if args.ideal { None } else { Some(scenario(args.scenario.as_deref(), robot, " or --ideal")?) };
+    let scenario =
+        if args.ideal { None } else { Some(crate::common::scenario(args.scenario.as_deref(), robot, " or --ideal")?) };
     let joints = Joints::of(model);
     let commands = commands::<N>(stdin, args, &joints)?;
     let Some(last) = commands.last() else { return Err(input("no torque rows on stdin")) };
@@ -223,7 +192,7 @@ fn check_until(what: &str, until: f64) -> Result<f64, CliError> {
 
 /// `hya plant`.
 pub fn run(args: &PlantArgs, stdin: impl BufRead, output: &mut impl Write) -> Result<(), CliError> {
-    let model = crate::dynamics::model(&args.robot)?;
+    let model = crate::common::model(&args.robot)?;
     let robot = args.robot.as_str();
     macro_rules! by_dof {
         ($($n:literal)*) => {

@@ -17,7 +17,7 @@ use hya_sim::scenario::Task;
 use hya_sim::task::{Samples, Trajectory};
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 
-use crate::identify::files::with_body_inertias;
+use crate::common::with_body_inertias;
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{self, ColumnsArg, HeaderArg, RowWriter, Table};
 use crate::CliError;
@@ -156,6 +156,6 @@ pub fn run(args: &TrackArgs, input: impl BufRead, output: &mut impl Write) -> Re
         let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
         CliError::Input(format!("--method {}: one of {}", table::echo(&args.method), names.join(", ")))
     })?;
-    let scenario = crate::plant::scenario(args.scenario.as_deref(), &args.robot, "")?;
+    let scenario = crate::common::scenario(args.scenario.as_deref(), &args.robot, "")?;
     hya_sim::with_robot(&args.robot, Track { args, scenario, method, input, output })?
 }

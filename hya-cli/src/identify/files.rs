@@ -16,31 +16,10 @@ pub fn friction_toml(fitted: &Fit, joints: &[&str]) -> String {
     fitted.friction.to_toml(joints, Some(&fitted.friction_std))
 }
 
-/// The nominal description's text.
-fn urdf_text(robot: &str) -> Result<String, CliError> {
-    match hya_robots::find(robot) {
-        Some(shipped) => Ok(shipped.urdf.to_owned()),
-        None => hya_urdf::file::read_text(std::path::Path::new(robot), hya_urdf::MAX_FILE_BYTES as u64)
-            .map_err(|e| CliError::Input(format!("{}: {e}", crate::table::echo(robot)))),
-    }
-}
-
-/// `identified.urdf`: each body's consistent inertia (see [`with_body_inertias`]).
+/// `identified.urdf`: each body's consistent inertia (see [`crate::common::with_body_inertias`]).
 pub fn identified_urdf(robot: &str, model: &TreeModel, full: &Consistent) -> Result<String, CliError> {
     let inertias: Vec<RigidBodyInertia> = (0..model.bodies().len())
         .map(|b| body_inertia(&full.parameters.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY]))
         .collect();
-    with_body_inertias(robot, model, &inertias, "identified.urdf")
-}
-
-/// The description of `robot` (whose model is `model`) with body `b`'s inertia `inertias[b]`
-/// ([`hya_urdf::with_body_inertias`]), checked by loading it back as `file`.
-pub fn with_body_inertias(
-    robot: &str,
-    model: &TreeModel,
-    inertias: &[RigidBodyInertia],
-    file: &str,
-) -> Result<String, CliError> {
-    hya_urdf::with_body_inertias(&urdf_text(robot)?, robot, model, inertias, file)
-        .map_err(|e| CliError::Input(e.to_string()))
+    crate::common::with_body_inertias(robot, model, &inertias, "identified.urdf")
 }

@@ -75,7 +75,7 @@ fn input(e: impl std::fmt::Display) -> CliError {
 
 /// The model of `--compare`: a URDF with the nominal model's joints, in its order.
 fn compared_model(path: &str, nominal: &TreeModel) -> Result<TreeModel, CliError> {
-    let model = crate::dynamics::model(path)?;
+    let model = crate::common::model(path)?;
     if let Some(why) = hya_urdf::joints_differ(&model, nominal, "--robot's") {
         return Err(CliError::Input(format!("--compare {}: {why}", hya_core::Clipped(path, 200))));
     }
@@ -122,7 +122,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             Short(hi)
         )));
     }
-    let model = crate::dynamics::model(&args.robot)?;
+    let model = crate::common::model(&args.robot)?;
     let max_step_s = match args.max_step {
         None => 2.5 * dt,
         Some(s) if s.is_finite() && s > 0.0 => s,

@@ -10,8 +10,8 @@
 //! several robot states per vector register for the batch entry points.
 //!
 //! The generator works in four steps, one module each: [`trace`](mod@trace) runs `hya-core`'s algorithms
-//! on a recording number type; [`rewrite`] fuses products into sums and finds the live
-//! statements; [`names`] names them after joints and links; [`render`](mod@render) writes them as blocks
+//! on a recording number type and finds the statements an output depends on; [`rewrite`] fuses
+//! products into sums; [`names`] names them after joints and links; [`render`](mod@render) writes them as blocks
 //! of `let` statements. [`generate`](mod@generate) assembles each robot's functions and the file.
 //!
 //! ```no_run
@@ -21,13 +21,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod functions;
+mod error;
 pub mod generate;
 pub mod names;
 pub mod provenance;
 pub mod render;
 pub mod rewrite;
 pub mod trace;
+mod tracer;
 
 pub use render::{literal, render, OpCounts, Rendered};
 pub use trace::{input, trace, Emitter, Value};

@@ -9,8 +9,8 @@ use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
 use crate::names::{identifiers, Naming};
-use crate::rewrite::{fuse, live, read};
-use crate::trace::{var_id, Emitter, Op, Value};
+use crate::rewrite::{fuse, read};
+use crate::trace::{live, var_id, Emitter, Op, Value};
 
 /// Operation counts of generated code, after fusion and dead-code elimination.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

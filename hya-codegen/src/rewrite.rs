@@ -46,27 +46,6 @@ pub(crate) fn fuse(ops: &[Op], segment: &[usize]) -> Vec<Op> {
         .collect()
 }
 
-/// Which statements `outputs` depend on (a cosine keeps its sine's `sin_cos` alive).
-pub(crate) fn live(ops: &[Op], outputs: &[Value]) -> Vec<bool> {
-    let mut live = vec![false; ops.len()];
-    let mark = |v: &Value, live: &mut Vec<bool>| {
-        if let Value::Var { id, .. } = v {
-            live[*id] = true;
-        }
-    };
-    outputs.iter().for_each(|v| mark(v, &mut live));
-    for id in (0..ops.len()).rev() {
-        if !live[id] {
-            continue;
-        }
-        match &ops[id] {
-            Op::CosOf => live[id - 1] = true,
-            op => op.operands().iter().for_each(|v| mark(v, &mut live)),
-        }
-    }
-    live
-}
-
 /// Which statements are read: by an output or by a live statement (a `sin_cos` kept alive only
 /// for its cosine is live but not read).
 pub(crate) fn read(ops: &[Op], live: &[bool], outputs: &[Value]) -> Vec<bool> {
@@ -83,6 +62,7 @@ pub(crate) fn read(ops: &[Op], live: &[bool], outputs: &[Value]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::trace::live;
 
     fn var(id: usize) -> Value {
         Value::Var { id, negated: false }

@@ -6,7 +6,7 @@
 //! and `x + 0` emit nothing, and records one SSA statement on the thread's [`Emitter`]
 //! otherwise. Signs are carried on the value, so negation never costs a statement; identical
 //! statements are emitted once. What happens to the recording next is
-//! [`rewrite`](crate::rewrite)'s (fusion, liveness) and [`render`](mod@crate::render)'s.
+//! `rewrite`'s (fusion, liveness) and [`render`](mod@crate::render)'s.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -68,7 +68,7 @@ pub(crate) enum Op {
     SinCos(Value),
     /// The cosine half of the preceding `SinCos`.
     CosOf,
-    /// `a·b + c`, written by [`crate::rewrite::fuse`] where a product feeds a sum (`a` a variable).
+    /// `a·b + c`, written by `rewrite::fuse` where a product feeds a sum (`a` a variable).
     MulAdd(Value, Value, Value),
 }
 
@@ -236,13 +236,34 @@ impl Emitter {
     /// A non-finite constant the outputs depend on (a division by a joint inertia that folded
     /// to zero, say), which no literal can hold.
     pub fn non_finite_constant(&self, outputs: &[Value]) -> Option<f64> {
-        let live = crate::rewrite::live(&self.ops, outputs);
+        let live = live(&self.ops, outputs);
         let operands = self.ops.iter().enumerate().filter(|(id, _)| live[*id]).flat_map(|(_, op)| op.operands());
         operands.chain(outputs.iter().copied()).find_map(|v| match v {
             Value::Const(c) if !c.is_finite() => Some(c),
             _ => None,
         })
     }
+}
+
+/// Which statements `outputs` depend on (a cosine keeps its sine's `sin_cos` alive).
+pub(crate) fn live(ops: &[Op], outputs: &[Value]) -> Vec<bool> {
+    let mut live = vec![false; ops.len()];
+    let mark = |v: &Value, live: &mut Vec<bool>| {
+        if let Value::Var { id, .. } = v {
+            live[*id] = true;
+        }
+    };
+    outputs.iter().for_each(|v| mark(v, &mut live));
+    for id in (0..ops.len()).rev() {
+        if !live[id] {
+            continue;
+        }
+        match &ops[id] {
+            Op::CosOf => live[id - 1] = true,
+            op => op.operands().iter().for_each(|v| mark(v, &mut live)),
+        }
+    }
+    live
 }
 
 /// The statement defining a variable (`usize::MAX` for a constant).

@@ -78,10 +78,6 @@ pub(super) fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-pub(super) fn list(values: &[f64]) -> String {
-    values.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>().join(", ")
-}
-
 /// The mean and 95 % half-width over seeds of `metric` for one scenario and method.
 pub(super) fn aggregate(
     table: &MetricTable,

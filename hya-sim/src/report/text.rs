@@ -4,8 +4,6 @@ use hya_core::Short;
 
 use crate::config::scenario::{LoadConfig, Noise, Task};
 
-use super::summary::list;
-
 pub(super) fn noise_text(noise: &Noise) -> String {
     match noise {
         Noise::Off {} => "off".into(),
@@ -67,4 +65,9 @@ pub(super) fn loads_text(loads: &LoadConfig) -> String {
 pub(super) fn table_row(cells: impl IntoIterator<Item = String>) -> String {
     let cells: Vec<String> = cells.into_iter().map(|c| c.replace('|', "\\|")).collect();
     format!("| {} |\n", cells.join(" | "))
+}
+
+/// `values` with three decimals, comma-separated.
+pub(super) fn list(values: &[f64]) -> String {
+    values.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>().join(", ")
 }

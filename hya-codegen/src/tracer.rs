@@ -18,7 +18,7 @@ use hya_core::Real;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::generate::GenerateError;
+use crate::error::GenerateError;
 use crate::names::{Names, Output};
 use crate::render::{literal, render, OpCounts, Rendered};
 use crate::trace::{self, input, Value};

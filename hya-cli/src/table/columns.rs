@@ -5,7 +5,8 @@
 //! - a position from 1 (`3`) or a range of positions (`2-7`);
 //! - a name from the log's header line (`t`, `q1`, its unit left out), or a range of names:
 //!   two names sharing a prefix and ending in numbers count (`q1-q6` is `q1, q2, …, q6`), any
-//!   other two span the header from the first to the second (`q_SAA-q_WFE`).
+//!   other two span the header from the first to the second (`q_SAA-q_WFE`). An item the header
+//!   holds as a name is that name, hyphen or not (`joint-1`).
 //!
 //! The columns are read in the order listed; the command says what it expects in that order
 //! (`hya estimate --timestamps`: `t`, then the joint angles, then the torques).
@@ -22,6 +23,8 @@ enum Item {
     Name(String),
     /// Every column of the header from the first name to the second, both included.
     Span(String, String),
+    /// A name with a hyphen: a header name if the header has it, else a range of names.
+    Dashed(String),
 }
 
 /// A parsed `--columns` spec: the columns to read, in order.
@@ -55,13 +58,26 @@ impl ColumnSpec {
                     Ok(position) => Item::Position(position),
                     Err(_) => Item::Name(item.to_string()),
                 }),
-                Some((first, last)) => Self::range(item, first.trim(), last.trim(), &mut items)?,
+                // Two positions, or two names of one prefix ending in numbers: a range whose
+                // length is known before the header is read.
+                Some((first, last)) if Self::counted(first.trim(), last.trim()) => {
+                    Self::range(item, first.trim(), last.trim(), &mut items)?
+                }
+                Some(_) => items.push(Item::Dashed(item.to_string())),
             }
             if items.len() > MAX_ROW_VALUES {
                 return Err(bad_spec(item, format_args!("more than {MAX_ROW_VALUES} columns, the most a row holds")));
             }
         }
         Ok(Self { items })
+    }
+
+    /// Whether `first-last` is a range of positions (`2-7`) or of numbered names (`q1-q6`).
+    fn counted(first: &str, last: &str) -> bool {
+        let positions = first.parse::<usize>().is_ok() && last.parse::<usize>().is_ok();
+        let named =
+            matches!((numbered(first), numbered(last)), (Some((p, _)), Some((q, _))) if p == q && !p.is_empty());
+        positions || named
     }
 
     /// Appends the columns of the range `first-last`.
@@ -101,7 +117,7 @@ impl ColumnSpec {
     /// How many columns the spec selects, if that is known before the header is read (a span's
     /// length is not).
     pub fn len(&self) -> Option<usize> {
-        (!self.items.iter().any(|i| matches!(i, Item::Span(..)))).then_some(self.items.len())
+        (!self.items.iter().any(|i| matches!(i, Item::Span(..) | Item::Dashed(..)))).then_some(self.items.len())
     }
 
     /// 0-based positions in the row for the spec's columns, names looked up in `header` (its
@@ -120,7 +136,20 @@ impl ColumnSpec {
             }
         };
         let mut positions = Vec::with_capacity(self.items.len());
+        let mut items = Vec::with_capacity(self.items.len());
         for item in &self.items {
+            match item {
+                Item::Dashed(raw) if header.is_some_and(|(_, columns)| columns.iter().any(|c| &c.name == raw)) => {
+                    items.push(Item::Name(raw.clone()))
+                }
+                Item::Dashed(raw) => {
+                    let (first, last) = raw.split_once('-').unwrap_or((raw, ""));
+                    Self::range(raw, first.trim(), last.trim(), &mut items)?
+                }
+                other => items.push(other.clone()),
+            }
+        }
+        for item in &items {
             match item {
                 Item::Position(p) => positions.push(p - 1),
                 Item::Name(name) => positions.push(find(name)?),
@@ -137,6 +166,7 @@ impl ColumnSpec {
                     }
                     positions.extend(from..=to);
                 }
+                Item::Dashed(_) => {}
             }
         }
         for (k, position) in positions.iter().enumerate() {
@@ -176,6 +206,7 @@ mod tests {
 
     #[test]
     fn bad_specs_name_the_item() {
+        let names = header("t,q1,q2");
         for (spec, expected) in [
             ("t,,q1", "empty item"),
             ("0,1", "count from 1"),
@@ -186,9 +217,21 @@ mod tests {
             ("-3", "a first and a last"),
             ("1-99999", "4096"),
         ] {
-            let message = ColumnSpec::parse(spec).unwrap_err().to_string();
+            // Names with a hyphen are told from ranges once the header is known.
+            let message = match ColumnSpec::parse(spec) {
+                Err(e) => e.to_string(),
+                Ok(parsed) => parsed.resolve(Some((1, &names))).unwrap_err().to_string(),
+            };
             assert!(message.contains(expected), "{spec}: {message}");
         }
+    }
+
+    #[test]
+    fn a_header_name_with_a_hyphen_is_that_name() {
+        let names = header("t,joint-1,joint-2,q1,q2");
+        assert_eq!(ColumnSpec::parse("joint-2,t").unwrap().resolve(Some((1, &names))).unwrap(), [2, 0]);
+        // Not in the header: a range, as before.
+        assert_eq!(ColumnSpec::parse("q1-q2").unwrap().resolve(Some((1, &names))).unwrap(), [3, 4]);
     }
 
     #[test]

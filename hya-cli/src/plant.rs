@@ -83,6 +83,9 @@ fn start_pose(args: &PlantArgs, robot: &str, model: &TreeModel) -> Result<Vec<f6
         None if text.trim().is_empty() => Vec::new(),
         None => return Err(input(format!("--q0 {}: not a list of numbers", table::echo(text)))),
     };
+    if row.next_line().is_some() {
+        return Err(input(format!("--q0 {}: one line of angles, not several", table::echo(text))));
+    }
     if values.len() != dof {
         return Err(input(format!("--q0: expected {dof} angles, got {}", values.len())));
     }

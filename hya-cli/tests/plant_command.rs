@@ -56,6 +56,12 @@ fn bad_rows_are_refused_with_their_line() {
     assert_rejected(&args, "0 0 0 0 0 0 0\n0.5 0 x 0 0 0 0\n", &["line 2", "not a number"]);
     assert_rejected(&args, "", &["no torque rows"]);
     assert_rejected(&["plant", "--robot", "hya", "--ideal", "--q0", "0 0"], "0 0 0 0 0 0 0\n", &["--q0", "6 angles"]);
+    let two_lines = "0 0 0 0 0 0\n0.1 0 0 0 0 0";
+    assert_rejected(
+        &["plant", "--robot", "hya", "--ideal", "--q0", two_lines],
+        "0 0 0 0 0 0 0\n",
+        &["--q0", "one line"],
+    );
     // Without --scenario panda runs its own built-in scenario; its rows are still checked.
     assert_rejected(&["plant", "--robot", "panda"], "0 0 0 0 0 0 0\n", &["line 1", "expected 8 values"]);
 }

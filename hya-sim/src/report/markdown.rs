@@ -391,8 +391,7 @@ fn lagged_cancellation<const N: usize>(
     let (low, high) = crossovers.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &w| (l.min(w), h.max(w)));
     let (low_lag, high_lag) = (low * delay, high * delay);
     let mut md = format!(
-        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the crossovers of this scenario's loops under the paper's estimator ({low:.0}–{high:.0} rad/s, from the exact loops of the margins table) `ω τ_d` is {low_lag:.1}–{high_lag:.1}, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the exact transfer functions, rather than the ζ' column.\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii | ζ' (designed ζ = {zeta}) |\n|---|---|---|---|---|---|\n",
-        zeta = first.controller.damping_ratio
+        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the crossovers of this scenario's loops under the paper's estimator ({low:.0}–{high:.0} rad/s, from the exact loops of the margins table) `ω τ_d` is {low_lag:.1}–{high_lag:.1}, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the exact transfer functions, rather than this approximation (no run measures the damping it predicts, so the table gives only the added inertia).\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii |\n|---|---|---|---|---|\n",
     );
     for j in 0..N {
         let fv = first.plant.viscous_nm_s.get(j).copied().unwrap_or(0.0);
@@ -403,7 +402,6 @@ fn lagged_cancellation<const N: usize>(
             format!("{:.4}", fv * delay),
             format!("{:.4}", inertia[j]),
             format!("{heavier:.3}"),
-            format!("{:.3}", first.controller.damping_ratio / heavier.sqrt()),
         ]));
     }
     Ok(md)

@@ -40,7 +40,7 @@ fn refuse(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidData, LineError(message))
 }
 
-/// `input`'s lines, prepared ([`Prepared::prepare`]), as bytes for [`csv::Reader`].
+/// `input`'s lines, prepared ([`prepare`]), as bytes for [`csv::Reader`].
 pub struct Prepared<R> {
     input: R,
     raw: Vec<u8>,

@@ -37,8 +37,6 @@ pub struct Table<R> {
     what: String,
     /// The header's line and columns, once read.
     header: Option<(usize, Vec<Column>)>,
-    /// Whether the first record has been read (a header may only come first).
-    started: bool,
     layout: Option<Layout>,
     values: Vec<f64>,
     /// Rows read ahead ([`Table::nominal_step`]), with their lines, handed out first.
@@ -69,7 +67,6 @@ impl<R: BufRead> Table<R> {
             wanted: None,
             what: "one value per channel".into(),
             header: None,
-            started: false,
             layout: None,
             values: Vec::new(),
             ahead: VecDeque::new(),
@@ -77,7 +74,7 @@ impl<R: BufRead> Table<R> {
     }
 
     /// The next row's line number, its values then in [`values`](Self::values); `None` at the
-    /// end of the input. Iteration ends after the first error.
+    /// end of the input.
     pub fn next_line(&mut self) -> Option<Result<usize, CliError>> {
         if let Some((line, values)) = self.ahead.pop_front() {
             self.values = values;
@@ -110,7 +107,9 @@ impl<R: BufRead> Table<R> {
                     "line {line}: more than {MAX_ROW_VALUES} values, the most a row may hold"
                 )));
             }
-            if !std::mem::replace(&mut self.started, true) && self.is_header() {
+            // Only the first record may be a header: before it, neither a header nor a layout.
+            let first = self.header.is_none() && self.layout.is_none();
+            if first && self.is_header() {
                 let columns = (0..self.record.len())
                     .map(|k| header_cell(&self.record, k, line))
                     .collect::<Result<Vec<_>, _>>()?;
@@ -148,16 +147,26 @@ impl<R: BufRead> Table<R> {
                     _ => positions,
                 }
             }
-            (None, Some(wanted)) => match header.map(|(_, columns)| by_name(columns, wanted)) {
-                Some(Named::All(positions)) => positions,
-                // A header that names some of the columns read, one of them away from its place
-                // in the command's order: reading by position would put it under another's name.
-                Some(Named::Some(named)) if named.iter().any(|(k, p)| k != p) => {
-                    return Err(self.partly_named(line, &named, wanted))
+            (None, Some(wanted)) => {
+                // Where the header names each column read, if it does.
+                let found: Vec<Option<usize>> = match header {
+                    Some((_, columns)) => {
+                        wanted.iter().map(|w| columns.iter().position(|c| c.name == w.name)).collect()
+                    }
+                    None => vec![None; wanted.len()],
+                };
+                if found.iter().all(Option::is_some) {
+                    found.into_iter().flatten().collect()
+                } else if let Some(k) = (0..found.len()).find(|&k| found[k].is_some_and(|p| p != k)) {
+                    // A column read named away from its place in the command's order: reading by
+                    // position would put it under another's name.
+                    return Err(self.partly_named(line, k, &found, wanted));
+                } else if width == wanted.len() {
+                    (0..width).collect()
+                } else {
+                    return Err(self.unreadable(line, width, &found, wanted));
                 }
-                _ if width == wanted.len() => (0..width).collect(),
-                _ => return Err(self.unreadable(line, width, wanted)),
-            },
+            }
             (None, None) => (0..width).collect(),
         };
         if let Some(widest) = positions.iter().max().filter(|&&p| p >= width) {
@@ -182,17 +191,11 @@ impl<R: BufRead> Table<R> {
     }
 
     /// The error for a log whose columns are neither named as hya names them nor exactly the
-    /// command's.
-    fn unreadable(&self, line: usize, width: usize, wanted: &[Column]) -> CliError {
+    /// command's; `found` is where the header names each column read.
+    fn unreadable(&self, line: usize, width: usize, found: &[Option<usize>], wanted: &[Column]) -> CliError {
         let names = match &self.header {
-            Some((header_line, columns)) => {
-                let missing: Vec<String> = wanted
-                    .iter()
-                    .filter(|w| !columns.iter().any(|c| c.name == w.name))
-                    .map(|w| echo(&w.name))
-                    .take(3)
-                    .collect();
-                format!(" in the header on line {header_line}, which names no column {}", missing.join(", "))
+            Some((header_line, _)) => {
+                format!(" in the header on line {header_line}, which names no column {}", missing(found, wanted))
             }
             None => String::new(),
         };
@@ -203,21 +206,15 @@ impl<R: BufRead> Table<R> {
         ))
     }
 
-    /// The error for a header that names some of the columns read, one away from its place.
-    fn partly_named(&self, line: usize, named: &[(usize, usize)], wanted: &[Column]) -> CliError {
-        let (k, p) = named.iter().find(|(k, p)| k != p).copied().unwrap_or_default();
-        let missing: Vec<String> = (0..wanted.len())
-            .filter(|j| !named.iter().any(|(k, _)| k == j))
-            .map(|j| echo(&wanted[j].name))
-            .take(3)
-            .collect();
+    /// The error for a header that names column `k` of those read away from its place.
+    fn partly_named(&self, line: usize, k: usize, found: &[Option<usize>], wanted: &[Column]) -> CliError {
         CliError::Input(format!(
             "line {line}: the header names {} in column {}, where reading by position would take column {}, and \
              names no column {}: {} are read ({}); name them all, or pick them with --columns",
             echo(&wanted[k].name),
-            p + 1,
+            found[k].map_or(0, |p| p + 1),
             k + 1,
-            missing.join(", "),
+            missing(found, wanted),
             wanted.len(),
             self.what
         ))
@@ -284,24 +281,10 @@ impl<R: BufRead> Table<R> {
     }
 }
 
-/// How many of the columns read a header names.
-enum Named {
-    /// Every one, at these positions.
-    All(Vec<usize>),
-    /// Some: each as (its place among those read, its position in the header).
-    Some(Vec<(usize, usize)>),
-    /// None.
-    None,
-}
-
-/// Where a header names the `wanted` columns.
-fn by_name(columns: &[Column], wanted: &[Column]) -> Named {
-    let found: Vec<Option<usize>> = wanted.iter().map(|w| columns.iter().position(|c| c.name == w.name)).collect();
-    match found.iter().filter(|f| f.is_some()).count() {
-        0 => Named::None,
-        n if n == wanted.len() => Named::All(found.into_iter().flatten().collect()),
-        _ => Named::Some(found.iter().enumerate().filter_map(|(k, f)| f.map(|p| (k, p))).collect()),
-    }
+/// The first three of the `wanted` columns the header does not name (`found[k]` is `None`).
+fn missing(found: &[Option<usize>], wanted: &[Column]) -> String {
+    let names = wanted.iter().zip(found).filter(|(_, f)| f.is_none()).map(|(w, _)| echo(&w.name));
+    names.take(3).collect::<Vec<_>>().join(", ")
 }
 
 fn selection_mismatch(selected: usize, wanted: usize, what: &str) -> CliError {

@@ -84,14 +84,12 @@ impl Unit {
     pub fn of(self, kind: JointKind) -> &'static str {
         let revolute = kind == JointKind::Revolute;
         match self {
-            Self::Position if revolute => "rad",
-            Self::Position => "m",
+            Self::Position => kind.position_unit(),
             Self::Velocity if revolute => "rad/s",
             Self::Velocity => "m/s",
             Self::Acceleration if revolute => "rad/s^2",
             Self::Acceleration => "m/s^2",
-            Self::Effort if revolute => "N m",
-            Self::Effort => "N",
+            Self::Effort => kind.effort_unit(),
         }
     }
 }

@@ -36,6 +36,24 @@ pub enum JointKind {
     Prismatic,
 }
 
+impl JointKind {
+    /// The unit of the joint's position: `rad` or `m`.
+    pub fn position_unit(self) -> &'static str {
+        match self {
+            Self::Revolute => "rad",
+            Self::Prismatic => "m",
+        }
+    }
+
+    /// The unit of the effort that moves it: `N m` or `N`.
+    pub fn effort_unit(self) -> &'static str {
+        match self {
+            Self::Revolute => "N m",
+            Self::Prismatic => "N",
+        }
+    }
+}
+
 /// Joint limits as the robot description gives them; `None` where it gives none.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointLimits {

@@ -15,19 +15,10 @@ fn header(model: &TreeModel) -> Vec<String> {
     let signals = [("q", true), ("q_des", true), ("d_true", false), ("d_hat", false), ("tau_cmd", false)];
     let mut names = vec!["t [s]".to_string()];
     for (signal, position) in signals {
-        names.extend(model.bodies().iter().map(|b| format!("{signal}_{} [{}]", b.joint, unit(b.kind, position))));
+        let unit = |kind: JointKind| if position { kind.position_unit() } else { kind.effort_unit() };
+        names.extend(model.bodies().iter().map(|b| format!("{signal}_{} [{}]", b.joint, unit(b.kind))));
     }
     names
-}
-
-/// A position's unit (`position`) or a torque's at a joint of `kind`.
-fn unit(kind: JointKind, position: bool) -> &'static str {
-    match (kind, position) {
-        (JointKind::Revolute, true) => "rad",
-        (JointKind::Prismatic, true) => "m",
-        (JointKind::Revolute, false) => "N m",
-        (JointKind::Prismatic, false) => "N",
-    }
 }
 
 /// The run's trace as CSV text for the file `name`, each number in the shortest text that reads

@@ -104,13 +104,16 @@ pub enum ObserverDesign {
 }
 
 /// What "equal bandwidth" is taken to mean between two observers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Matching {
     /// The same slowest pole magnitude (what the simulator's one `observer_bandwidth_rad_s` does).
+    #[serde(rename = "equal pole magnitude")]
     PoleMagnitude,
     /// The same −3 dB frequency of `|d̂/d|`.
+    #[serde(rename = "equal −3 dB bandwidth")]
     Bandwidth3Db,
     /// The same low-frequency group delay of `d̂` behind `d`.
+    #[serde(rename = "equal low-frequency delay")]
     LowFrequencyDelay,
 }
 
@@ -124,6 +127,15 @@ impl Matching {
             Matching::PoleMagnitude => "equal pole magnitude",
             Matching::Bandwidth3Db => "equal −3 dB bandwidth",
             Matching::LowFrequencyDelay => "equal low-frequency delay",
+        }
+    }
+
+    /// The short name used in lists.
+    pub fn short(self) -> &'static str {
+        match self {
+            Matching::PoleMagnitude => "equal poles",
+            Matching::Bandwidth3Db => "equal −3 dB",
+            Matching::LowFrequencyDelay => "equal delay",
         }
     }
 }

@@ -42,6 +42,18 @@ impl MetricTable {
     pub fn seeds(&self, scenario: &str, method: Method) -> usize {
         self.runs.get(&(scenario.to_owned(), method)).map_or(0, Vec::len)
     }
+
+    /// The same table with every run cut to its first `seeds` seeds.
+    pub fn first_seeds(&self, seeds: usize) -> MetricTable {
+        let runs = self.runs.iter().map(|(key, runs)| (key.clone(), runs[..runs.len().min(seeds)].to_vec())).collect();
+        MetricTable { runs }
+    }
+
+    /// This table with `other`'s runs in place of its own where both ran a scenario and method.
+    pub fn overlaid(mut self, other: MetricTable) -> MetricTable {
+        self.runs.extend(other.runs);
+        self
+    }
 }
 
 /// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (its 0.975 quantile,

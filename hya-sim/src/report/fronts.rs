@@ -172,7 +172,7 @@ The runs above compare the observers at equal pole magnitude, where a first-orde
 
 {}
 
-The equal −3 dB matching (a first-order observer at lu's −3 dB frequency) is not run.
+The claims that name chen are judged at every matching, equal −3 dB too, in \"Chen's observer by gain design and matching\".
 ",
         Short(1e3 / omega),
         Short(omega),

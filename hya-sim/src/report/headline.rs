@@ -58,7 +58,7 @@ pub(super) fn in_short(
     table: &MetricTable,
     seeds: usize,
     (arm, quick): (&str, bool),
-    sensitivity: Option<&super::sensitivity::Sensitivity>,
+    (sensitivity, chen_designs): (Option<&super::sensitivity::Sensitivity>, Option<&super::chen_designs::ChenDesigns>),
 ) -> String {
     let methods: std::collections::BTreeSet<&str> =
         scenarios.iter().flat_map(|s| s.methods.iter().map(|m| m.name())).collect();
@@ -102,10 +102,10 @@ pub(super) fn in_short(
     }
     md.push_str(
         "\nThe observers (lu, chen, momentum, eso) are all designed with their poles at one magnitude, the \
-         scenario's observer bandwidth, so the comparisons with chen, momentum and eso hold for that matching; the \
-         Pareto section compares chen and momentum with lu at about equal delay too (3 seeds, the sweep's), and the \
-         equal −3 dB matching is not run.\n",
+         scenario's observer bandwidth, so the comparisons with chen, momentum and eso above hold for that matching; \
+         the Pareto section compares chen and momentum with lu at about equal delay too (3 seeds, the sweep's).\n",
     );
+    md.push_str(&super::chen_designs::headline(chen_designs));
     md.push_str(&super::sensitivity::headline(sensitivity));
     md.push_str(
         "\nHow the report was made follows; then the claims' verdicts, and the joints where a baseline's tracking or \

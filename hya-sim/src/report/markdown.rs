@@ -34,7 +34,7 @@ pub(super) fn markdown<const N: usize>(
         table,
         summary.seeds,
         (arm, quick),
-        summary.sensitivity.as_ref(),
+        (summary.sensitivity.as_ref(), summary.chen_designs.as_ref()),
     ));
     let _ = writeln!(
         md,
@@ -50,6 +50,7 @@ pub(super) fn markdown<const N: usize>(
         summary.seeds
     );
     md.push_str(&claims_table(&summary.claims));
+    md.push_str(&summary.chen_designs.as_ref().map(super::chen_designs::section).unwrap_or_default());
     md.push_str(&baselines_doing_better(scenarios, table));
     md.push_str(&observations(outcomes));
     md.push_str(&lagged_cancellation(robot, scenarios)?);
@@ -368,7 +369,7 @@ fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
             o.method.name()
         );
     }
-    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it gives the first-order observers less lag and, in the tables above, lower tracking errors (and on most joints lower estimate errors) with noisier commands. Whether the lower errors come from the lag is tested at about equal delay in the Pareto section (\"At about equal delay\", from the sweep's own runs); the equal −3 dB matching is not run. In this simulation command noise costs nothing beyond what it does to tracking (no valve wear, heating or excited structural mode is modelled), so the tracking figures here cannot charge it; on a real arm it may cost more.\n");
+    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it gives the first-order observers less lag and, in the tables above, lower tracking errors (and on most joints lower estimate errors) with noisier commands. Whether the lower errors come from the lag is tested at about equal delay in the Pareto section (\"At about equal delay\", from the sweep's own runs); the claims that name chen are judged at all three matchings in \"Chen's observer by gain design and matching\". In this simulation command noise costs nothing beyond what it does to tracking (no valve wear, heating or excited structural mode is modelled), so the tracking figures here cannot charge it; on a real arm it may cost more.\n");
     md
 }
 

@@ -5,6 +5,7 @@
 //! Here: the summary (`summary`), CSV (`csv`), figures, text helpers and the markdown,
 //! with the plant's and the viscous-friction sections apart.
 
+mod chen_designs;
 mod csv;
 mod figures;
 mod fronts;
@@ -57,6 +58,7 @@ pub fn write<const N: usize>(
         save(name, text)?;
     }
     let sensitivity = sensitivity::run(robot, scenarios, table)?;
+    let chen_designs = chen_designs::run(robot, scenarios, table)?;
     let summary = Summary {
         robot: robot.name.clone(),
         quick,
@@ -66,6 +68,7 @@ pub fn write<const N: usize>(
         provenance: provenance.clone(),
         sweep,
         sensitivity,
+        chen_designs,
     };
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;

@@ -72,6 +72,10 @@ pub struct Summary {
     /// the report ran none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<super::sensitivity::Sensitivity>,
+    /// The claims that name Chen's observer per gain design and matching, every seed's estimate
+    /// error; absent where the report ran none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chen_designs: Option<super::chen_designs::ChenDesigns>,
 }
 
 pub(super) fn mean(values: &[f64]) -> f64 {

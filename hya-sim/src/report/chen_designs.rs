@@ -1,0 +1,311 @@
+//! The section V claims that name Chen's observer, judged again per gain design and per
+//! matching: Chen's observer with `Y = β M(q0)` (ours, well conditioned) and with the scalar gain
+//! of Chen et al. (2000) in Mohammadi's form, each at the three meanings of "equal bandwidth" with
+//! the paper's filter (equal pole magnitude, equal −3 dB bandwidth, equal low-frequency delay).
+//!
+//! Each row reruns chen alone on the noise scenarios over the report's first seeds, with its `β`
+//! from [`crate::linear::ObserverDesign::matched_to`]; lu's runs are the report's (the same seeds,
+//! so every ratio stays paired), and the row of the report's own design at equal pole magnitude
+//! is the report's runs, not a rerun. Each claim is judged by its rule in
+//! [`crate::analysis::claims::RULES`], unchanged; only the table it reads differs.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::analysis::claims::{judge, Judgement, Verdict, RULES};
+use crate::analysis::seeds::{run_seeds, MetricTable};
+use crate::config::scenario::{ChenGain, Method, Scenario};
+use crate::error::SimError;
+use crate::linear::{Matching, ObserverDesign};
+
+use super::text::table_row;
+
+/// The noise scenarios of section V the claims read.
+const SCENARIOS: [&str; 2] = ["estimator_noise_low", "estimator_noise_high"];
+
+/// The claims that name Chen's observer, with the table's short name for each.
+const CLAIMS: [(&str, &str); 4] = [
+    ("chen_noise_sensitive", "chen's error at least doubles with the noise"),
+    ("lu_beats_chen_high_noise", "lu more accurate at σ_q̇ = 0.1"),
+    ("lu_beats_chen_low_noise", "lu more accurate at σ_q̇ = 0.01"),
+    ("chen_cannot_track_low_noise", "chen cannot track at σ_q̇ = 0.01"),
+];
+
+/// Seeds per row: the report's first ones, at most this many.
+const SEEDS: usize = 6;
+
+/// Chen's two gain designs, in the table's order.
+const DESIGNS: [ChenGain; 2] = [ChenGain::Inertia, ChenGain::Scalar];
+
+/// One design at one matching: its `β`, chen's estimate error per seed, and the claims' verdicts.
+#[derive(Debug, Clone, Serialize)]
+pub struct DesignRow {
+    /// Chen's gain design.
+    pub design: ChenGain,
+    /// How its `β` was matched to the paper's filter.
+    pub matching: Matching,
+    /// Chen's `β`, rad/s.
+    pub beta_rad_s: f64,
+    /// Whether the row is the report's own runs (not a rerun).
+    pub as_run: bool,
+    /// Per scenario, chen's `rmse_d[seed][joint]`, N·m.
+    pub rmse_d: BTreeMap<String, Vec<Vec<f64>>>,
+    /// The claims, judged on these runs and lu's.
+    pub claims: Vec<Judgement>,
+}
+
+/// Every row, in the order design by design, matching by matching.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChenDesigns {
+    /// Seeds per row (the report's first ones).
+    pub seeds: usize,
+    /// The paper's filter's parameter the matchings refer to, rad/s.
+    pub lu_bandwidth_rad_s: f64,
+    /// The rows.
+    pub rows: Vec<DesignRow>,
+}
+
+/// Chen's `β` matched to the paper's filter at `omega` by `matching`.
+fn matched_beta(omega: f64, matching: Matching) -> f64 {
+    let lu = ObserverDesign::of(Method::Lu, omega);
+    let chen = ObserverDesign::of(Method::Chen, omega);
+    match (lu, chen) {
+        (Some(lu), Some(chen)) => chen.matched_to(&lu, matching).parameter_rad_s(),
+        _ => omega,
+    }
+}
+
+/// Runs every row on the noise scenarios among `scenarios` (HyA's; `table` holds the report's
+/// runs); `None` where they are not there.
+pub fn run<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    scenarios: &[Scenario],
+    table: &MetricTable,
+) -> Result<Option<ChenDesigns>, SimError> {
+    let bases: Vec<&Scenario> =
+        scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
+    let Some(first) = bases.first() else { return Ok(None) };
+    let omega = first.controller.observer_bandwidth_rad_s;
+    let seeds = table.seeds(&first.name, Method::Chen).min(SEEDS);
+    let reported = table.first_seeds(seeds);
+    let mut rows = Vec::new();
+    for design in DESIGNS {
+        for matching in Matching::ALL {
+            let beta = matched_beta(omega, matching);
+            let as_run = matching == Matching::PoleMagnitude && bases.iter().all(|s| s.controller.chen_gain == design);
+            let runs = match as_run {
+                true => reported.clone(),
+                false => {
+                    let variants: Vec<Scenario> = bases
+                        .iter()
+                        .map(|base| {
+                            let mut s = (*base).clone();
+                            s.methods = vec![Method::Chen];
+                            s.controller.chen_gain = design;
+                            s.controller.observer_bandwidth_rad_s = beta;
+                            s
+                        })
+                        .collect();
+                    reported.clone().overlaid(run_seeds(robot, &variants, seeds, &|_| {})?.1)
+                }
+            };
+            let rmse_d = bases
+                .iter()
+                .map(|s| (s.name.clone(), runs.values(&s.name, Method::Chen, "rmse_d").unwrap_or_default()))
+                .collect();
+            let claims = CLAIMS
+                .iter()
+                .filter_map(|(id, _)| RULES.iter().find(|r| r.id == *id))
+                .map(|rule| judge(rule, &runs))
+                .collect();
+            rows.push(DesignRow { design, matching, beta_rad_s: beta, as_run, rmse_d, claims });
+        }
+    }
+    Ok(Some(ChenDesigns { seeds, lu_bandwidth_rad_s: omega, rows }))
+}
+
+/// The design's name in the text.
+fn design_name(design: ChenGain) -> &'static str {
+    match design {
+        ChenGain::Inertia => "`Y = β M(q0)`",
+        ChenGain::Scalar => "scalar `y = β λmax(M(q0))`",
+    }
+}
+
+/// A judged claim as a table cell: the verdict, then each joint's centre, marked where it fails
+/// (✗) or is open (?).
+fn cell(judgement: &Judgement) -> String {
+    let verdict = match judgement.verdict {
+        Verdict::Reproduced => judgement.verdict.name().to_owned(),
+        other => format!("**{}**", other.name()),
+    };
+    let figures: Vec<String> = judgement
+        .numbers
+        .iter()
+        .map(|f| {
+            let mark = match (f.holds, f.inconclusive) {
+                (true, _) => "",
+                (false, true) => " ?",
+                (false, false) => " ✗",
+            };
+            format!("{:.2}{mark}", f.mean)
+        })
+        .collect();
+    format!("{verdict}: {}", figures.join(", "))
+}
+
+/// What one claim's verdicts across the rows depend on, computed from them.
+fn dependence(rows: &[DesignRow], claim: usize) -> String {
+    let verdict = |r: &DesignRow| r.claims.get(claim).map_or(Verdict::NotRun, |c| c.verdict);
+    let constant_over = |same_group: &dyn Fn(&DesignRow, &DesignRow) -> bool| {
+        rows.iter().all(|a| rows.iter().filter(|b| same_group(a, b)).all(|b| verdict(a) == verdict(b)))
+    };
+    let by = |label: &dyn Fn(&DesignRow) -> String, keys: Vec<String>| -> String {
+        keys.iter()
+            .map(|k| {
+                let v = rows.iter().find(|r| &label(r) == k).map_or(Verdict::NotRun, verdict);
+                format!("{} with {k}", v.name())
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let first = rows.first().map_or(Verdict::NotRun, verdict);
+    if rows.iter().all(|r| verdict(r) == first) {
+        return format!("{} in every row", first.name());
+    }
+    let design = |r: &DesignRow| design_name(r.design).to_owned();
+    let matching = |r: &DesignRow| r.matching.name().to_owned();
+    if constant_over(&|a, b| a.design == b.design) {
+        return format!(
+            "depends on the gain design: {}",
+            by(&design, DESIGNS.map(design_name).map(String::from).to_vec())
+        );
+    }
+    if constant_over(&|a, b| a.matching == b.matching) {
+        return format!(
+            "depends on the matching: {}",
+            by(&matching, Matching::ALL.map(|m| m.name().to_owned()).to_vec())
+        );
+    }
+    // Grouped by verdict, each design with the matchings where it has that verdict.
+    let mut verdicts: Vec<Verdict> = rows.iter().map(verdict).collect();
+    verdicts.dedup();
+    verdicts.sort_by_key(|v| v.name());
+    verdicts.dedup();
+    let groups: Vec<String> = verdicts
+        .iter()
+        .map(|&v| {
+            let per_design: Vec<String> = DESIGNS
+                .iter()
+                .filter_map(|&d| {
+                    let at: Vec<&str> =
+                        rows.iter().filter(|r| r.design == d && verdict(r) == v).map(|r| r.matching.short()).collect();
+                    (!at.is_empty()).then(|| format!("{} at {}", design_name(d), at.join(", ")))
+                })
+                .collect();
+            format!("{} with {}", v.name(), per_design.join(" and "))
+        })
+        .collect();
+    format!("depends on both the design and the matching: {}", groups.join("; "))
+}
+
+/// The report's section: the rows' verdicts and figures, then what each claim depends on.
+pub fn section(designs: &ChenDesigns) -> String {
+    let mut md = format!(
+        "\n### Chen's observer by gain design and matching\n\nThe claims above that name Chen's observer are judged at one design (the report's: {}) and one matching (equal pole magnitude, β = {} rad/s). Here they are judged again, each by its own rule unchanged, with both of Chen's gain designs at each meaning of \"equal bandwidth\" with the paper's filter at ω = {} rad/s (see \"What equal bandwidth means\"), on the report's first {} seeds: chen alone is rerun, lu's runs are the report's, so every ratio stays paired by seed; the row marked (as run) is the report's own runs. The scalar design keeps the slowest rate at the start pose at β and makes the light joints faster by the inertia ratio. A cell gives the verdict and each joint's centre (lu / chen for the ratios; chen's RMSE(d̂ − d) over RMS(d) for \"cannot track\"; chen's σ_q̇ = 0.1 over 0.01 for \"doubles\"), ✗ where the joint fails, ? where it is open.\n\n",
+        design_name(designs.rows.iter().find(|r| r.as_run).map_or(ChenGain::Inertia, |r| r.design)),
+        hya_core::Short(designs.lu_bandwidth_rad_s),
+        hya_core::Short(designs.lu_bandwidth_rad_s),
+        designs.seeds
+    );
+    md.push_str(&table_row(
+        ["design".to_owned(), "matching".into(), "β [rad/s]".into()]
+            .into_iter()
+            .chain(CLAIMS.map(|(_, s)| s.to_owned())),
+    ));
+    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), CLAIMS.len() + 3)));
+    for r in &designs.rows {
+        let matching = if r.as_run { format!("{} (as run)", r.matching.name()) } else { r.matching.name().to_owned() };
+        md.push_str(&table_row(
+            [design_name(r.design).to_owned(), matching, format!("{:.1}", r.beta_rad_s)]
+                .into_iter()
+                .chain(r.claims.iter().map(cell)),
+        ));
+    }
+    md.push_str("\nAcross the rows, computed from the verdicts above:\n\n");
+    for (k, (_, name)) in CLAIMS.iter().enumerate() {
+        let _ = writeln!(md, "- {name}: {}.", dependence(&designs.rows, k));
+    }
+    md
+}
+
+/// The headline's sentence on the section, or nothing without one.
+pub fn headline(designs: Option<&ChenDesigns>) -> String {
+    let Some(designs) = designs else { return String::new() };
+    let claims: Vec<String> =
+        CLAIMS.iter().enumerate().map(|(k, (_, name))| format!("{name}: {}", dependence(&designs.rows, k))).collect();
+    format!(
+        "\nThe claims that name chen, judged again with both of its gain designs at all three matchings ({} seeds, \"Chen's observer by gain design and matching\"): {}.\n",
+        designs.seeds,
+        claims.join("; ")
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(design: ChenGain, matching: Matching, verdict: Verdict) -> DesignRow {
+        let judgement = Judgement {
+            id: "x",
+            statement: "x",
+            section: "V",
+            verdict,
+            numbers: Vec::new(),
+            seeds: 3,
+            untestable: None,
+        };
+        DesignRow { design, matching, beta_rad_s: 1.0, as_run: false, rmse_d: BTreeMap::new(), claims: vec![judgement] }
+    }
+
+    fn rows(verdict: impl Fn(ChenGain, Matching) -> Verdict) -> Vec<DesignRow> {
+        DESIGNS.iter().flat_map(|&d| Matching::ALL.map(|m| row(d, m, verdict(d, m)))).collect()
+    }
+
+    #[test]
+    fn dependence_names_the_choice_that_moves_a_verdict() {
+        let same = rows(|_, _| Verdict::Reproduced);
+        assert_eq!(dependence(&same, 0), "reproduced in every row");
+        let by_design = rows(|d, _| if d == ChenGain::Scalar { Verdict::Reproduced } else { Verdict::NotReproduced });
+        let text = dependence(&by_design, 0);
+        assert!(text.starts_with("depends on the gain design"), "{text}");
+        assert!(
+            text.contains("not reproduced with `Y = β M(q0)`") && text.contains("reproduced with scalar"),
+            "{text}"
+        );
+        let by_matching =
+            rows(|_, m| if m == Matching::LowFrequencyDelay { Verdict::Partly } else { Verdict::NotReproduced });
+        assert!(dependence(&by_matching, 0).starts_with("depends on the matching"));
+        let both = rows(|d, m| match (d, m) {
+            (ChenGain::Scalar, Matching::PoleMagnitude) => Verdict::Reproduced,
+            _ => Verdict::NotReproduced,
+        });
+        let text = dependence(&both, 0);
+        assert!(text.starts_with("depends on both"), "{text}");
+        assert!(text.ends_with("; reproduced with scalar `y = β λmax(M(q0))` at equal poles"), "{text}");
+        assert!(
+            text.contains("not reproduced with `Y = β M(q0)` at equal poles, equal −3 dB, equal delay and scalar"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn matched_betas_follow_the_equal_bandwidth_table() {
+        // At ω = 50 rad/s: lu's −3 dB bandwidth 32.4 rad/s, its delay 1/50 + 1.6/50 = 52 ms.
+        assert_eq!(matched_beta(50.0, Matching::PoleMagnitude), 50.0);
+        assert!((matched_beta(50.0, Matching::Bandwidth3Db) - 32.4).abs() < 0.05);
+        assert!((matched_beta(50.0, Matching::LowFrequencyDelay) - 1.0 / 0.052).abs() < 1e-9);
+    }
+}

@@ -12,8 +12,8 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
-// The layers, lowest first: error, io, config, robot, linear, plant, run, frequency, analysis,
-// report; each file imports only from the layers before its own (ARCHITECTURE.md).
+// The layers, lowest first: error, io, config, robot, linear, plant, run, frequency and
+// torque_response, analysis, report; each file imports only from the layers before its own (ARCHITECTURE.md).
 pub mod analysis;
 pub mod config;
 pub mod error;
@@ -24,6 +24,7 @@ pub mod plant;
 pub mod report;
 pub mod robot;
 pub mod run;
+pub mod torque_response;
 
 // The modules as they were named before the layers, for users of the crate.
 pub use analysis::{claims, metrics, seeds, sweep};

@@ -20,7 +20,8 @@
 //!
 //! ```text
 //! plant        J s² q = τ_a − F_v s q
-//! actuator     τ_a = A(s) e^{−s T_c} Z(s) τ_cmd,  A = ω_a/(s + ω_a),  Z = (1 − e^{−sT})/(sT)
+//! actuator     τ_a = A(s) e^{−s T_c} Z(s) τ_cmd,  A = 1, ω_a/(s + ω_a) or
+//!              ω_n² e^{−s T_a}/(s² + 2ζ ω_n s + ω_n²),  Z = (1 − e^{−sT})/(sT)
 //! measurement  q_m = e^{−s T_m} q,  τ_m = e^{−s T_m} τ_a
 //! velocity     v = V(s) q_m
 //! command      τ_cmd = −K_P q_m − K_D v − c
@@ -70,7 +71,7 @@ fn non_negative(key: &str, v: f64) -> Result<f64, SettingError> {
 }
 
 /// `s = jω`.
-fn jw(omega: f64) -> Complex<f64> {
+pub fn jw(omega: f64) -> Complex<f64> {
     Complex::new(0.0, omega)
 }
 
@@ -464,14 +465,72 @@ pub struct JointLoop {
     pub velocity: VelocityModel,
     /// What the command subtracts besides the PD.
     pub compensation: Compensation,
-    /// The actuator's torque bandwidth `ω_a` (`A = ω_a/(s + ω_a)`), rad/s; `None` for ideal.
-    pub actuator_bandwidth: Option<f64>,
+    /// The actuator's torque response `A(s)`.
+    pub actuator: ActuatorModel,
     /// `T_m`, the delay of the readings, s.
     pub measurement_delay_s: f64,
     /// `T_c`, the delay of the commands (beyond the hold), s.
     pub command_delay_s: f64,
     /// `T`, the control period, s (the zero-order hold `Z = (1 − e^{−sT})/(sT)`, exact).
     pub period_s: f64,
+}
+
+/// An actuator's torque over its command, `A(s)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ActuatorModel {
+    /// `A = 1`.
+    Ideal,
+    /// `A = ω_a / (s + ω_a)`.
+    Lag {
+        /// `ω_a`, rad/s.
+        bandwidth_rad_s: f64,
+    },
+    /// `A = ω_n² e^{−s T_a} / (s² + 2ζ ω_n s + ω_n²)`: a torque loop with a resonance and a
+    /// dead time, as fitted to measured responses ([`crate::torque_response`]).
+    SecondOrder {
+        /// `ω_n`, rad/s.
+        natural_rad_s: f64,
+        /// `ζ`.
+        damping: f64,
+        /// `T_a`, s.
+        delay_s: f64,
+    },
+}
+
+impl ActuatorModel {
+    /// `A(jω)`.
+    pub fn response(&self, omega: f64) -> Complex<f64> {
+        let s = jw(omega);
+        match *self {
+            Self::Ideal => Complex::from(1.0),
+            Self::Lag { bandwidth_rad_s: w } => Complex::from(w) / (s + w),
+            Self::SecondOrder { natural_rad_s: w, damping, delay_s } => {
+                Complex::from(w * w) / (s * s + s * (2.0 * damping * w) + w * w) * delay(omega, delay_s)
+            }
+        }
+    }
+
+    /// The group delay at `ω → 0`, s: 0, `1/ω_a`, `2ζ/ω_n + T_a`.
+    pub fn low_frequency_delay(&self) -> f64 {
+        match *self {
+            Self::Ideal => 0.0,
+            Self::Lag { bandwidth_rad_s } => 1.0 / bandwidth_rad_s,
+            Self::SecondOrder { natural_rad_s, damping, delay_s } => 2.0 * damping / natural_rad_s + delay_s,
+        }
+    }
+
+    /// Checks that rates and damping are finite and positive and the delay not negative.
+    pub fn check(&self) -> Result<(), SettingError> {
+        match *self {
+            Self::Ideal => Ok(()),
+            Self::Lag { bandwidth_rad_s } => positive("joint.actuator_bandwidth", bandwidth_rad_s).map(drop),
+            Self::SecondOrder { natural_rad_s, damping, delay_s } => {
+                positive("joint.actuator_natural_frequency", natural_rad_s)?;
+                positive("joint.actuator_damping", damping)?;
+                non_negative("joint.actuator_delay_s", delay_s).map(drop)
+            }
+        }
+    }
 }
 
 /// The stability margins of one [`JointLoop`].
@@ -530,7 +589,7 @@ impl JointLoop {
             kd: 2.0 * damping_ratio * (kp * inertia).sqrt(),
             velocity: VelocityModel::Sensor,
             compensation: Compensation::None,
-            actuator_bandwidth: None,
+            actuator: ActuatorModel::Ideal,
             measurement_delay_s: 0.0,
             command_delay_s: 0.0,
             period_s,
@@ -547,9 +606,7 @@ impl JointLoop {
         non_negative("joint.measurement_delay_s", self.measurement_delay_s)?;
         non_negative("joint.command_delay_s", self.command_delay_s)?;
         positive("joint.period_s", self.period_s)?;
-        if let Some(w) = self.actuator_bandwidth {
-            positive("joint.actuator_bandwidth", w)?;
-        }
+        self.actuator.check()?;
         self.velocity.check()?;
         self.compensation.check()
     }
@@ -564,7 +621,7 @@ impl JointLoop {
     /// `Z = (1 − e^{−sT})/(sT)` (1 − sT/2 below `ωT = 10⁻⁶`).
     pub fn actuator(&self, omega: f64) -> Complex<f64> {
         let s = jw(omega);
-        let lag = self.actuator_bandwidth.map_or(Complex::from(1.0), |w| Complex::from(w) / (s + w));
+        let lag = self.actuator.response(omega);
         let t = self.period_s;
         let hold = if omega * t < 1e-6 {
             Complex::from(1.0) - s * (t / 2.0)
@@ -611,7 +668,7 @@ impl JointLoop {
     /// delay plus the loop's own, `T_m + 1/ω_a + T_c + T/2`; `None` without an estimator.
     pub fn cancellation_lag_s(&self) -> Option<f64> {
         let design = self.compensation.design()?;
-        let actuator = self.actuator_bandwidth.map_or(0.0, |w| 1.0 / w);
+        let actuator = self.actuator.low_frequency_delay();
         Some(
             design.low_frequency_delay()
                 + self.measurement_delay_s
@@ -767,7 +824,7 @@ mod tests {
     fn lagged_cancellation_makes_the_joint_heavier() {
         // (1 + L) s (J s + F_v) − e^{−sT_m} A e^{−sT_c} Z (K_P + K_D V) = J_eff s² + O(s³).
         let mut joint = JointLoop::computed_torque(0.8, 2.5, 20.0, 0.8, 1e-3);
-        joint.actuator_bandwidth = Some(std::f64::consts::TAU * 40.0);
+        joint.actuator = ActuatorModel::Lag { bandwidth_rad_s: std::f64::consts::TAU * 40.0 };
         joint.command_delay_s = 1e-3;
         joint.compensation = Compensation::of(Method::Lu, 50.0, 0.0);
         let w = 1e-3;

@@ -2,16 +2,17 @@
 //! linearised loop with its stability margins, per method: the analysis the report's limit
 //! cycles are held against. The loop is the one of [`crate::linear`]: the rigid joint with its
 //! viscous friction, the PD, the velocity source, the estimator's design or the PID's integral,
-//! the actuator's torque bandwidth, the delays and the zero-order hold; no stiction.
+//! the actuator's torque response, the delays and the zero-order hold; no stiction.
 
 use std::fmt::Write as _;
 
 use crate::config::scenario::{ActuatorKind, Method, Scenario, VelocitySource};
 use crate::config::settings::JointSettings;
 use crate::error::SimError;
-use crate::linear::{equal_bandwidth_table, Compensation, JointLoop, ObserverDesign, VelocityModel};
+use crate::linear::{equal_bandwidth_table, ActuatorModel, Compensation, JointLoop, ObserverDesign, VelocityModel};
 use crate::robot::Robot;
 use crate::run::model::{LoopDesign, LoopModel};
+use crate::torque_response::TorqueResponses;
 
 use super::text::table_row;
 
@@ -39,9 +40,12 @@ fn equal_bandwidth(omega: f64) -> Result<String, SimError> {
     Ok(md)
 }
 
-/// Joint `j`'s linearised loop under `method` at `bandwidth` in `scenario`.
+/// Joint `j`'s linearised loop under `method` at `bandwidth` in `scenario`; a hydraulic
+/// actuator is the model fitted to its measured response where `torque` has one, a first-order
+/// lag at its design bandwidth otherwise.
 fn joint_loop<const N: usize>(
     scenario: &Scenario,
+    torque: Option<&TorqueResponses>,
     (inertia, kp, kd, ki): (f64, f64, f64, f64),
     j: usize,
     method: Method,
@@ -63,10 +67,19 @@ fn joint_loop<const N: usize>(
             }
         },
         compensation: Compensation::of(method, bandwidth, ki),
-        actuator_bandwidth: match plant.actuator {
-            ActuatorKind::Ideal => None,
-            ActuatorKind::Lag => plant.actuator_time_constant_s.get(j).map(|t| 1.0 / t),
-            ActuatorKind::Hydraulic => plant.hydraulic.torque_bandwidth_hz.get(j).map(|f| std::f64::consts::TAU * f),
+        actuator: match plant.actuator {
+            ActuatorKind::Ideal => ActuatorModel::Ideal,
+            ActuatorKind::Lag => plant
+                .actuator_time_constant_s
+                .get(j)
+                .map_or(ActuatorModel::Ideal, |t| ActuatorModel::Lag { bandwidth_rad_s: 1.0 / t }),
+            ActuatorKind::Hydraulic => {
+                torque.and_then(|t| t.model(j + 1)).unwrap_or_else(|| {
+                    plant.hydraulic.torque_bandwidth_hz.get(j).map_or(ActuatorModel::Ideal, |f| ActuatorModel::Lag {
+                        bandwidth_rad_s: std::f64::consts::TAU * f,
+                    })
+                })
+            }
         },
         measurement_delay_s: sensors.measurement_delay_ticks as f64 * dt,
         command_delay_s: sensors.command_delay_ticks as f64 * dt,
@@ -92,13 +105,17 @@ fn joint_numbers<const N: usize>(design: &LoopDesign<N>, j: usize, method: Metho
 
 /// The gain crossover of each joint's loop under the paper's estimator at the scenario's
 /// bandwidth (that of its worst phase margin), rad/s.
-pub fn lu_crossovers<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<[f64; N], SimError> {
+pub fn lu_crossovers<const N: usize>(
+    robot: &Robot<N>,
+    scenario: &Scenario,
+    torque: Option<&TorqueResponses>,
+) -> Result<[f64; N], SimError> {
     let joints = JointSettings::<N>::of(scenario)?;
     let design = LoopModel::of(scenario, robot)?.design(scenario, &joints)?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut crossovers = [0.0; N];
     for (j, crossover) in crossovers.iter_mut().enumerate() {
-        *crossover = joint_loop::<N>(scenario, joint_numbers(&design, j, Method::Lu), j, Method::Lu, bandwidth)
+        *crossover = joint_loop::<N>(scenario, torque, joint_numbers(&design, j, Method::Lu), j, Method::Lu, bandwidth)
             .margins()?
             .crossover_rad_s;
     }
@@ -106,14 +123,18 @@ pub fn lu_crossovers<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> R
 }
 
 /// The section for `scenario` (HyA's goto task in the report) on `robot`.
-pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<String, SimError> {
+pub fn section<const N: usize>(
+    robot: &Robot<N>,
+    scenario: &Scenario,
+    torque: Option<&TorqueResponses>,
+) -> Result<String, SimError> {
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut md = equal_bandwidth(bandwidth)?;
     let joints = JointSettings::<N>::of(scenario)?;
     let design = LoopModel::of(scenario, robot)?.design(scenario, &joints)?;
     let _ = writeln!(
         md,
-        "\n### Each joint's loop, linearised\n\nPer joint of `{}` at its start pose: the rigid joint `M_ii s² + F_v s` under the PD, the velocity from the scenario's source, the method's compensation (the estimator's design `d̂ = H(s)(M_ii s² q_m − τ_m)`, or the PID's `K_I/s`), the actuator's torque bandwidth, the delays and the zero-order hold of the {} ms tick; no stiction. Phase margin / delay margin (the extra delay that makes the loop marginal), from the open loop broken at the command and the Nyquist criterion:\n",
+        "\n### Each joint's loop, linearised\n\nPer joint of `{}` at its start pose: the rigid joint `M_ii s² + F_v s` under the PD, the velocity from the scenario's source, the method's compensation (the estimator's design `d̂ = H(s)(M_ii s² q_m − τ_m)`, or the PID's `K_I/s`), the actuator's torque response, the delays and the zero-order hold of the {} ms tick; no stiction. Phase margin / delay margin (the extra delay that makes the loop marginal), from the open loop broken at the command and the Nyquist criterion:\n",
         scenario.name,
         scenario.controller.dt_s * 1e3
     );
@@ -122,7 +143,14 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
     for j in 0..N {
         let mut cells = vec![format!("{}", j + 1)];
         for method in METHODS {
-            cells.push(cell(&joint_loop::<N>(scenario, joint_numbers(&design, j, method), j, method, bandwidth))?);
+            cells.push(cell(&joint_loop::<N>(
+                scenario,
+                torque,
+                joint_numbers(&design, j, method),
+                j,
+                method,
+                bandwidth,
+            ))?);
         }
         md.push_str(&table_row(cells));
     }
@@ -135,11 +163,18 @@ pub fn section<const N: usize>(robot: &Robot<N>, scenario: &Scenario) -> Result<
         let numbers = joint_numbers(&design, j, Method::Lu);
         let mut cells = vec![format!("{}", j + 1)];
         for w in LU_BANDWIDTHS_RAD_S {
-            cells.push(cell(&joint_loop::<N>(scenario, numbers, j, Method::Lu, w))?);
+            cells.push(cell(&joint_loop::<N>(scenario, torque, numbers, j, Method::Lu, w))?);
         }
         md.push_str(&table_row(cells));
     }
-    md.push_str("\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and the actuator as a first-order lag at its design bandwidth (the Plant section's step test drives the torque loops into saturation, so it does not measure this small-signal lag: the margins hold as far as the first-order design does, which nothing here checks). Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
+    let actuator = match (scenario.plant.actuator, torque) {
+        (ActuatorKind::Hydraulic, Some(_)) => "the actuator as the torque loop fitted to its measured locked response (the Plant section's \"The torque loops, measured as they are used\"; the back-drive of the moving actuator measured there is not in them)",
+        (ActuatorKind::Hydraulic, None) => "the actuator as a first-order lag at its design bandwidth, which nothing here measures",
+        (ActuatorKind::Lag, _) => "the actuator as its first-order lag",
+        (ActuatorKind::Ideal, _) => "the actuator as ideal",
+    };
+    let _ = write!(md, "\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and {actuator}.");
+    md.push_str(" Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
     Ok(md)
 }
 
@@ -173,13 +208,13 @@ mod tests {
         let (light_robot, heavy_robot) = (load(&light), load(&heavy));
         let mut scenario = Scenario::builtin("planar2_goto").unwrap_or_else(|e| panic!("{e}"));
         scenario.robot = light.clone();
-        let on_light = section(&light_robot, &scenario).unwrap_or_else(|e| panic!("{e}"));
+        let on_light = section(&light_robot, &scenario, None).unwrap_or_else(|e| panic!("{e}"));
         // The scenario names the heavy model for its controller: its loops are the heavy arm's.
         let mut named = scenario.clone();
         named.controller.model_urdf = Some(heavy.clone());
-        let on_named = section(&light_robot, &named).unwrap_or_else(|e| panic!("{e}"));
+        let on_named = section(&light_robot, &named, None).unwrap_or_else(|e| panic!("{e}"));
         scenario.robot = heavy.clone();
-        let on_heavy = section(&heavy_robot, &scenario).unwrap_or_else(|e| panic!("{e}"));
+        let on_heavy = section(&heavy_robot, &scenario, None).unwrap_or_else(|e| panic!("{e}"));
         let _ = std::fs::remove_file(&heavy);
         assert_eq!(on_named, on_heavy);
         assert_ne!(on_named, on_light, "twice the inertia left every margin as it was");

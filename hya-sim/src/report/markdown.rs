@@ -53,7 +53,7 @@ pub(super) fn markdown<const N: usize>(
     md.push_str(&summary.chen_designs.as_ref().map(super::chen_designs::section).unwrap_or_default());
     md.push_str(&baselines_doing_better(scenarios, table));
     md.push_str(&observations(outcomes));
-    md.push_str(&lagged_cancellation(robot, scenarios)?);
+    md.push_str(&lagged_cancellation(robot, scenarios, summary.torque_responses.as_ref())?);
     md.push_str(viscous_section);
     md.push_str(plant_section);
     md.push_str(&parameters(robot, scenarios)?);
@@ -379,6 +379,7 @@ fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
 fn lagged_cancellation<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
+    torque: Option<&crate::torque_response::TorqueResponses>,
 ) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
     let model = crate::run::model::LoopModel::of(first, robot)?;
@@ -388,7 +389,7 @@ fn lagged_cancellation<const N: usize>(
     )?;
     let inertia = model.dynamics().mass_matrix(&q0).diagonal();
     let delay = crate::linear::paper_delay(first.controller.observer_bandwidth_rad_s);
-    let crossovers = super::loops::lu_crossovers(robot, first)?;
+    let crossovers = super::loops::lu_crossovers(robot, first, torque)?;
     let (low, high) = crossovers.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &w| (l.min(w), h.max(w)));
     let (low_lag, high_lag) = (low * delay, high * delay);
     let mut md = format!(

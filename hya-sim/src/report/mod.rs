@@ -18,6 +18,7 @@ mod provenance;
 mod sensitivity;
 mod summary;
 mod text;
+mod torque_loops;
 mod viscous;
 
 pub use provenance::Provenance;
@@ -59,6 +60,13 @@ pub fn write<const N: usize>(
     }
     let sensitivity = sensitivity::run(robot, scenarios, table)?;
     let chen_designs = chen_designs::run(robot, scenarios, table)?;
+    // HyA's actuators measured on its goto task's plant: the Plant section shows them, the
+    // linearised loops use the fitted model.
+    let loop_base = scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya");
+    let torque_responses = match loop_base {
+        Some(base) => crate::torque_response::measure(robot, base)?,
+        None => None,
+    };
     let summary = Summary {
         robot: robot.name.clone(),
         quick,
@@ -69,6 +77,7 @@ pub fn write<const N: usize>(
         sweep,
         sensitivity,
         chen_designs,
+        torque_responses,
     };
     let json = serde_json::to_string_pretty(&summary)?;
     save("summary.json", &json)?;
@@ -89,17 +98,17 @@ pub fn write<const N: usize>(
         }
         figure_names.insert(s.name.clone(), names);
     }
-    let (mut plant_section, figures) = plant::section(robot, scenarios, outcomes)?;
+    let (mut plant_section, figures) = plant::section(robot, scenarios, outcomes, summary.torque_responses.as_ref())?;
     for (name, svg) in &figures {
         save(name, svg)?;
     }
     // The viscous-friction and frequency sweeps are HyA's experiments, on HyA only.
     let sensitivity_section = summary.sensitivity.as_ref().map(sensitivity::section).unwrap_or_default();
     let viscous_section = sensitivity_section
-        + &match scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya") {
+        + &match loop_base {
             Some(base) => {
                 fronts_section
-                    + &loops::section(robot, base)?
+                    + &loops::section(robot, base, summary.torque_responses.as_ref())?
                     + &viscous::section(robot, base, table)?
                     + &gain_rule::section(robot, base)?
             }

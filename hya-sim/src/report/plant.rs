@@ -185,7 +185,8 @@ fn friction_figure<const N: usize>(config: &PlantConfig, sine: &RunOutcome<N>) -
 }
 
 /// Whether the lightly loaded joints track torque worse (the paper, VI-A, explains the wrist's
-/// oscillations so): the mean rise time of the joints below the median `M_ii` against the rest.
+/// oscillations so): the mean rise time (of the small step) of the joints below the median
+/// `M_ii` against the rest.
 fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
     let mut sorted = inertia.to_vec();
     sorted.sort_by(f64::total_cmp);
@@ -205,24 +206,39 @@ fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
     }
     let verdict = if light > heavy { "slower" } else { "not slower" };
     format!(
-        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. Here the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model, for one large step with friction off (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders). A 2 N·m step on a free joint is large: where a light joint speeds up to its valve's flow limit within the step, its rise time measures that limit, not the small-signal torque loop the paper's explanation concerns, so these figures neither support nor refute it.\n"
+        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. For the {} N·m step, the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders). The {} N·m step is large: where a light joint speeds up to its valve's flow limit within the step, its rise time measures that limit, not the small-signal torque loop the paper's explanation concerns.\n",
+        STEPS_NM[0],
+        STEPS_NM[1]
     )
 }
 
-/// Each joint's actuator torque after a 2 N·m step of its command, the arm at the start pose
-/// with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise time.
+/// A rise time, ms, or that it was not reached within the window.
+fn rise_text(rise_ms: f64) -> String {
+    match rise_ms.is_finite() {
+        true => format!("{rise_ms:.1}"),
+        false => "not reached in 90 ms".into(),
+    }
+}
+
+/// The command steps of the step test, N·m: one small enough that no light joint reaches its
+/// valve's flow limit within the window, and a large one.
+const STEPS_NM: [f64; 2] = [0.05, 2.0];
+
+/// Each joint's actuator torque after a step of `step_nm` in its command, the arm at the start
+/// pose with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise
+/// time, ms.
 fn step_responses<const N: usize>(
     scenario: &Scenario,
     model: &TreeModel,
     nominal: &dyn Dynamics<N>,
+    step_nm: f64,
 ) -> Result<(String, Vec<f64>), SimError> {
-    const STEP_NM: f64 = 2.0;
     const STEP_AT_S: f64 = 0.05;
     let q0 = crate::config::settings::per_joint::<N>(
         "initial_position_rad",
         &crate::config::settings::initial_position(scenario, N),
     )?;
-    // Friction off: a 2 N·m step is below every joint's static friction, and a sticking joint
+    // Friction off: the steps are below every joint's static friction, and a sticking joint
     // would show the locked loop; free, each joint's load shapes its response.
     let mut free = scenario.clone();
     free.plant.friction = crate::config::scenario::FrictionKind::Off;
@@ -236,7 +252,7 @@ fn step_responses<const N: usize>(
             return Err(SettingError::new("plant.actuator", None, "must be hydraulic for the step response").into());
         };
         let mut stepped = hold;
-        stepped[j] += STEP_NM;
+        stepped[j] += step_nm;
         let commands = [TorqueCommand { time: 0.0, torque: hold }, TorqueCommand { time: STEP_AT_S, torque: stepped }];
         let mut points = Vec::new();
         let mut before = hold[j];
@@ -245,7 +261,7 @@ fn step_responses<const N: usize>(
             if t < STEP_AT_S {
                 before = torque;
             } else {
-                points.push(((t - STEP_AT_S) * 1e3, (torque - before) / STEP_NM));
+                points.push(((t - STEP_AT_S) * 1e3, (torque - before) / step_nm));
             }
             Ok::<(), SimError>(())
         })?;
@@ -263,7 +279,7 @@ fn step_responses<const N: usize>(
         });
     }
     let panel = Panel {
-        title: "change of actuator torque after a 2 N·m command step, over the step".into(),
+        title: format!("change of actuator torque after a {step_nm} N·m command step, over the step"),
         y_label: "Δτ_act / step".into(),
         series,
     };
@@ -275,6 +291,7 @@ pub fn section<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
+    torque: Option<&crate::torque_response::TorqueResponses>,
 ) -> Result<(String, Vec<Figure>), SimError> {
     let mut md = String::from("\n## Plant\n\n");
     let mut figures = Vec::new();
@@ -321,7 +338,8 @@ pub fn section<const N: usize>(
         }
     }
     if p.actuator == ActuatorKind::Hydraulic {
-        let (svg, rise_times) = step_responses(first, model, nominal)?;
+        let (svg, rise_times) = step_responses(first, model, nominal, STEPS_NM[0])?;
+        let (_, large_rise_times) = step_responses(first, model, nominal, STEPS_NM[1])?;
         let name = "plant_step.svg".to_owned();
         let q0 = crate::config::settings::per_joint::<N>(
             "initial_position_rad",
@@ -332,19 +350,25 @@ pub fn section<const N: usize>(
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
             _ => JointVector::zeros(),
         };
-        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a 2 N·m step of its own command, 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. The oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", numbers(&p.hydraulic.torque_bandwidth_hz));
-        md.push_str("| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time of the torque step [ms] |\n|---|---|---|---|\n");
+        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a {} N·m step of its own command (the figure; the table has a {} N·m step too), 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. The oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", STEPS_NM[0], STEPS_NM[1], numbers(&p.hydraulic.torque_bandwidth_hz));
+        let _ = writeln!(md, "| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time, {} N·m step [ms] | 10–90 % rise time, {} N·m step [ms] |\n|---|---|---|---|---|", STEPS_NM[0], STEPS_NM[1]);
         let inertia = nominal.mass_matrix(&q0).diagonal();
         for j in 0..N {
             md.push_str(&table_row([
                 format!("{}", j + 1),
                 format!("{:.4}", inertia[j]),
                 format!("{:.0}", natural[j] / std::f64::consts::TAU),
-                if rise_times[j].is_finite() { format!("{:.1}", rise_times[j]) } else { "not reached in 90 ms".into() },
+                rise_text(rise_times[j]),
+                rise_text(large_rise_times[j]),
             ]));
         }
         md.push_str(&load_and_torque_tracking(inertia.as_slice(), &rise_times));
         figures.push((name, svg));
+        if let Some(t) = torque {
+            let (text, figure) = super::torque_loops::section(t, &p.hydraulic.torque_bandwidth_hz, &p.viscous_nm_s);
+            md.push_str(&text);
+            figures.push(figure);
+        }
     }
     if first.robot == "hya" {
         let (q_gap, qd_gap) = reference_gap::<N>(model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;

@@ -76,6 +76,10 @@ pub struct Summary {
     /// error; absent where the report ran none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub chen_designs: Option<super::chen_designs::ChenDesigns>,
+    /// The hydraulic actuators' measured torque frequency responses and the fitted models;
+    /// absent where the report measured none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub torque_responses: Option<crate::torque_response::TorqueResponses>,
 }
 
 pub(super) fn mean(values: &[f64]) -> f64 {

@@ -7,7 +7,9 @@
 use std::collections::VecDeque;
 
 use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
-use hya_sim::linear::{equal_bandwidth_table, Compensation, JointLoop, Matching, ObserverDesign, VelocityModel};
+use hya_sim::linear::{
+    equal_bandwidth_table, ActuatorModel, Compensation, JointLoop, Matching, ObserverDesign, VelocityModel,
+};
 use hya_sim::Method;
 
 /// The control period, s.
@@ -91,7 +93,7 @@ fn equal_bandwidth_rows_reproduce_their_defining_equality() {
 /// bandwidth 2π·40 rad/s, one tick of command delay.
 fn hya_like(inertia: f64, viscous: f64, natural_frequency: f64, method: Method) -> JointLoop {
     let mut joint = JointLoop::computed_torque(inertia, viscous, natural_frequency, 0.8, T);
-    joint.actuator_bandwidth = Some(std::f64::consts::TAU * 40.0);
+    joint.actuator = ActuatorModel::Lag { bandwidth_rad_s: std::f64::consts::TAU * 40.0 };
     joint.command_delay_s = T;
     joint.compensation = Compensation::of(method, 50.0, joint.kp * natural_frequency * 0.25);
     joint
@@ -223,7 +225,11 @@ type State = [f64; 3];
 
 /// `ẋ` of the plant and actuator under the held command `u`.
 fn derivative(joint: &JointLoop, x: &State, u: f64) -> State {
-    let torque_rate = joint.actuator_bandwidth.map_or(0.0, |w| w * (u - x[2]));
+    let torque_rate = match joint.actuator {
+        ActuatorModel::Ideal => 0.0,
+        ActuatorModel::Lag { bandwidth_rad_s: w } => w * (u - x[2]),
+        ActuatorModel::SecondOrder { .. } => panic!("this simulation has first-order actuators only"),
+    };
     [x[1], (x[2] - joint.viscous * x[1]) / joint.inertia, torque_rate]
 }
 
@@ -257,7 +263,7 @@ fn impulse_response(joint: &JointLoop, ticks: usize) -> Vec<f64> {
         let c = compensation.step(joint.inertia, q, v, tau);
         commands.push_back(-joint.kp * q - joint.kd * v - c);
         let u = commands.pop_front().unwrap();
-        if joint.actuator_bandwidth.is_none() {
+        if joint.actuator == ActuatorModel::Ideal {
             x[2] = u;
         }
         for _ in 0..SUBSTEPS {

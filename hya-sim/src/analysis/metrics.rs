@@ -8,7 +8,7 @@ use hya_core::JointVector;
 
 use crate::analysis::running::{Correlation, Extremes, Mean, Recovery, Rms, Spread, StepNoise, Window};
 use crate::analysis::shadow::{ShadowMetrics, ShadowRecorder};
-use crate::config::scenario::{Scenario, Task};
+use crate::config::scenario::{FrictionKind, Scenario, Task};
 use crate::run::trace::{Tick, SHADOWS};
 
 pub use crate::config::scenario::WARM_UP_S;
@@ -116,6 +116,11 @@ pub struct Metrics {
     pub estimate_velocity_correlation: Option<Vec<f64>>,
     /// `|mean d̂|`, N·m (a static-friction bias).
     pub estimate_mean_abs: Option<Vec<f64>>,
+    /// [`Self::estimate_shift`] over the joint's nominal Coulomb friction level
+    /// (`plant.coulomb_nm`): a torque threshold scaled to each joint. Absent without friction.
+    pub estimate_shift_over_coulomb: Option<Vec<f64>>,
+    /// [`Self::estimate_mean_abs`] over the joint's nominal Coulomb friction level.
+    pub estimate_mean_over_coulomb: Option<Vec<f64>>,
     /// Every shadow estimator's figures ([`crate::run::trace::SHADOWS`] order), on this run's
     /// measurements.
     pub shadow: [ShadowMetrics; 4],
@@ -263,6 +268,8 @@ pub struct MetricsRecorder<const N: usize> {
     drop: Option<DropWatch<N>>,
     shift: Option<EstimateShift<N>>,
     shadows: [ShadowRecorder<N>; 4],
+    /// The joints' nominal Coulomb levels, N·m, where the plant has friction.
+    coulomb: Option<Vec<f64>>,
 }
 
 impl<const N: usize> MetricsRecorder<N> {
@@ -311,6 +318,8 @@ impl<const N: usize> MetricsRecorder<N> {
             drop,
             shift,
             shadows: SHADOWS.map(|method| ShadowRecorder::new(method, scenario, last_time)),
+            coulomb: (scenario.plant.friction != FrictionKind::Off && scenario.plant.coulomb_nm.len() == N)
+                .then(|| scenario.plant.coulomb_nm.clone()),
         }
     }
 
@@ -368,7 +377,16 @@ impl<const N: usize> MetricsRecorder<N> {
         let rmse_d = estimated(self.estimate_error.value());
         let spread = self.disturbance_spread.value();
         let [cycle_amplitude_q, cycle_frequency_hz, creep_q] = self.cycle.lines();
+        let estimate_shift =
+            self.shift.as_ref().map(|s| (s.mean_after.value() - s.mean_before.value()).abs().as_slice().to_vec());
+        let estimate_mean_abs = estimated(vec(self.estimate_mean.value().abs()));
+        let over_coulomb = |v: &Option<Vec<f64>>| match (v, &self.coulomb) {
+            (Some(v), Some(c)) => Some(v.iter().zip(c).map(|(x, c)| x / c).collect()),
+            _ => None,
+        };
         Metrics {
+            estimate_shift_over_coulomb: over_coulomb(&estimate_shift),
+            estimate_mean_over_coulomb: over_coulomb(&estimate_mean_abs),
             cycle_amplitude_q,
             cycle_frequency_hz,
             creep_q,
@@ -383,11 +401,8 @@ impl<const N: usize> MetricsRecorder<N> {
             drop_recovery_s: self.drop.as_ref().map(|d| d.drop_recovery.value()),
             removal_recovery_s: self.drop.as_ref().and_then(|d| d.removal_recovery.as_ref().map(Recovery::value)),
             pre_drop_error_q: self.drop.as_ref().map(|d| vec(d.error_before.value())),
-            estimate_shift: self
-                .shift
-                .as_ref()
-                .map(|s| (s.mean_after.value() - s.mean_before.value()).abs().as_slice().to_vec()),
-            estimate_mean_abs: estimated(vec(self.estimate_mean.value().abs())),
+            estimate_shift,
+            estimate_mean_abs,
             estimate_velocity_correlation: estimated(self.velocity.value()),
             shadow: self.shadows.each_ref().map(ShadowRecorder::finish),
         }
@@ -407,7 +422,7 @@ impl Metrics {
             ("cycle_frequency_hz", &self.cycle_frequency_hz),
             ("creep_q", &self.creep_q),
         ];
-        let optional: [(&'static str, &Option<Vec<f64>>); 9] = [
+        let optional: [(&'static str, &Option<Vec<f64>>); 11] = [
             ("rmse_d", &self.rmse_d),
             ("relative_rmse_d", &self.relative_rmse_d),
             ("weight_error_q", &self.weight_error_q),
@@ -417,6 +432,8 @@ impl Metrics {
             ("estimate_shift", &self.estimate_shift),
             ("estimate_velocity_correlation", &self.estimate_velocity_correlation),
             ("estimate_mean_abs", &self.estimate_mean_abs),
+            ("estimate_shift_over_coulomb", &self.estimate_shift_over_coulomb),
+            ("estimate_mean_over_coulomb", &self.estimate_mean_over_coulomb),
         ];
         all.extend(optional.into_iter().filter_map(|(n, v)| v.as_deref().map(|v| (n, v))));
         for (names, shadow) in SHADOW_METRIC_NAMES.iter().zip(&self.shadow) {
@@ -427,5 +444,41 @@ impl Metrics {
             );
         }
         all
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn torque_metrics_are_scaled_by_each_joints_coulomb_level() {
+        let scenario = Scenario::builtin("sine_internal").unwrap_or_else(|e| panic!("{e}"));
+        let coulomb = scenario.plant.coulomb_nm.clone();
+        let mut recorder = MetricsRecorder::<6>::new(&scenario, true, 3.0);
+        let d_hat = JointVector::<6>::from([1.0, -1.0, 0.6, -0.6, 0.4, 0.2]);
+        for k in 0..=3000 {
+            let zero = JointVector::zeros();
+            recorder.push(&crate::run::trace::Tick {
+                t: k as f64 * 1e-3,
+                q: zero,
+                q_des: zero,
+                d_true: zero,
+                d_hat,
+                tau_cmd: zero,
+                shadow: [zero; 4],
+            });
+        }
+        let metrics = recorder.finish();
+        let (Some(mean), Some(scaled)) = (metrics.estimate_mean_abs, metrics.estimate_mean_over_coulomb) else {
+            panic!("an estimating run has both")
+        };
+        for j in 0..6 {
+            assert!((mean[j] - d_hat[j].abs()).abs() < 1e-12 && (scaled[j] - mean[j] / coulomb[j]).abs() < 1e-12);
+        }
+        let mut frictionless = scenario.clone();
+        frictionless.plant.friction = FrictionKind::Off;
+        let none = MetricsRecorder::<6>::new(&frictionless, true, 3.0).finish();
+        assert!(none.estimate_mean_over_coulomb.is_none(), "no friction, no friction scale");
     }
 }

@@ -174,7 +174,7 @@ pub fn section<const N: usize>(
         (ActuatorKind::Ideal, _) => "the actuator as ideal",
     };
     let _ = write!(md, "\nThese loops have no stiction, take the controller's model as exact (the arm's own parameters differ by the seeded spread), and {actuator}.");
-    md.push_str(" Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without stiction.\n");
+    md.push_str(" Their friction is the viscous term alone: the slope of Coulomb friction at rest (LuGre's bristles, or the `tanh` law's F_c/ε) is not in them. Where a loop is stable with margin and the simulation still moves, stick-slip hunting is one candidate; the next section reruns the scenario without the friction's Stribeck peak.\n");
     Ok(md)
 }
 

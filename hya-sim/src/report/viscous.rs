@@ -1,6 +1,7 @@
-//! Limit cycles measured: each method's peak-to-peak error after settling on the goto task, and
-//! the paper's estimator at bandwidths from 20 to 200 rad/s. No bandwidth is recommended here:
-//! the measurements show amplitudes, not a rule.
+//! Limit cycles measured: each method's peak-to-peak error after settling on the goto task and
+//! its spectral cycles, with and without the friction's Stribeck peak, and the paper's estimator
+//! at bandwidths from 20 to 200 rad/s. No bandwidth is recommended here: the measurements show
+//! amplitudes, not a rule.
 
 use std::fmt::Write as _;
 
@@ -25,15 +26,12 @@ const SEEDS: usize = 3;
 /// The methods measured, in the table's order.
 const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
 
-/// Oscillation apart from drift, per method and joint of `scenario` in `table`: the share of
-/// seeds whose detrended error holds a spectral line of [`CYCLE_AMPLITUDE_RAD`] or more, with
-/// those seeds' median frequency and amplitude, and every seed's median drift.
-fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario) -> String {
-    let scenario = base.name.as_str();
+/// How [`cycle_table`] measures, for `base`'s window.
+fn cycles_text(base: &Scenario) -> String {
     let window = crate::metrics::cycle_window(base);
     let span = window.to - window.from;
     let lowest_hz = 2.0 / span;
-    let mut md = format!(
+    format!(
         "\nThe same runs with oscillation told apart from drift: over the last {:.1} s once the task is quiet (at most {} s; here {:.1} to {:.1} s), the straight-line trend of each joint's error is removed (its change over the window is the creep) and the largest spectral line of what is left is found (bins from two periods per window, {:.2} Hz, to {} Hz). A joint counts as cycling where that line reaches {} mrad (a sine of {} mrad peak to peak). A line in the lowest bin cannot be told from drift that is not straight; cells whose median frequency lies there are marked \"lowest bin\". Per method and joint: seeds cycling / seeds, then the cycling seeds' median frequency and amplitude; and the median creep over every seed, mrad:\n\n",
         span,
         crate::metrics::CYCLE_WINDOW_S,
@@ -43,10 +41,23 @@ fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario)
         crate::metrics::CYCLE_MAX_HZ,
         CYCLE_AMPLITUDE_RAD * 1e3,
         2.0 * CYCLE_AMPLITUDE_RAD * 1e3
-    );
-    md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
+    )
+}
+
+/// Per method, the joints (from 1) where most seeds cycle (at least half) and where none does.
+type CycleCounts = Vec<(Method, Vec<usize>, Vec<usize>)>;
+
+/// Oscillation apart from drift, per method and joint of `scenario` (its window that of `base`)
+/// in `table`: the share of seeds whose detrended error holds a spectral line of
+/// [`CYCLE_AMPLITUDE_RAD`] or more, with those seeds' median frequency and amplitude, and every
+/// seed's median drift; and per method the joints where most and where no seeds cycle.
+fn cycle_table<const N: usize>(table: &MetricTable, base: &Scenario, scenario: &str) -> (String, CycleCounts) {
+    let window = crate::metrics::cycle_window(base);
+    let lowest_hz = 2.0 / (window.to - window.from);
+    let mut md = table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}"))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
     let mut never = Vec::new();
+    let mut counts = Vec::new();
     for method in METHODS {
         let get = |metric: &str| table.values(scenario, method, metric).filter(|v| !v.is_empty());
         let (Some(amplitude), Some(frequency), Some(creep)) =
@@ -56,10 +67,17 @@ fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario)
         };
         let mut cells = Vec::new();
         let mut cycling_anywhere = false;
+        let (mut most, mut none) = (Vec::new(), Vec::new());
         for j in 0..N {
             let cycling: Vec<usize> =
                 (0..amplitude.len()).filter(|&s| amplitude[s][j] >= CYCLE_AMPLITUDE_RAD).collect();
             cycling_anywhere |= !cycling.is_empty();
+            if 2 * cycling.len() >= amplitude.len() {
+                most.push(j + 1);
+            }
+            if cycling.is_empty() {
+                none.push(j + 1);
+            }
             let creep = median(creep.iter().map(|c| c[j].abs()).collect()) * 1e3;
             cells.push(match cycling.is_empty() {
                 true => format!("0/{}; creep {creep:.2}", amplitude.len()),
@@ -78,6 +96,7 @@ fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario)
         if !cycling_anywhere {
             never.push(method.name());
         }
+        counts.push((method, most, none));
         md.push_str(&table_row([method.name().to_owned()].into_iter().chain(cells)));
     }
     let _ = writeln!(
@@ -88,12 +107,36 @@ fn cycles_apart_from_drift<const N: usize>(table: &MetricTable, base: &Scenario)
             _ => format!("{} cycle on no joint in any seed by this measure.", never.join(", ")),
         }
     );
-    md
+    (md, counts)
 }
 
-/// Whether joint `j` is still by [`LIMIT_CYCLE_RAD`] at the `k`-th bandwidth.
-fn is_still(amplitude: &[Vec<f64>], k: usize, j: usize) -> bool {
-    amplitude[k].get(j).is_some_and(|a| *a < LIMIT_CYCLE_RAD)
+/// Per method, what the control without the Stribeck peak does to the joints that cycle in most
+/// seeds of the report's runs, computed from both tables' counts.
+fn peak_comparison(with_peak: &CycleCounts, without: &CycleCounts) -> String {
+    let joints = |j: &[usize]| j.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
+    let lines: Vec<String> = with_peak
+        .iter()
+        .filter(|(_, most, _)| !most.is_empty())
+        .filter_map(|(method, most, _)| {
+            let (_, still, quiet) = without.iter().find(|(m, ..)| m == method)?;
+            let gone: Vec<usize> = most.iter().copied().filter(|j| quiet.contains(j)).collect();
+            let kept: Vec<usize> = most.iter().copied().filter(|j| still.contains(j)).collect();
+            Some(format!(
+                "{}: of the joints cycling in most seeds ({}), no seed cycles without the peak on {}, most still do on {}",
+                method.name(),
+                joints(most),
+                if gone.is_empty() { "none".to_owned() } else { joints(&gone) },
+                if kept.is_empty() { "none".to_owned() } else { joints(&kept) }
+            ))
+        })
+        .collect();
+    match lines.is_empty() {
+        true => "\nNo method cycles in most seeds on any joint of the report's runs.\n".to_owned(),
+        false => format!(
+            "\nComputed from the two tables: {}. A cycle that stops without the peak is stick-slip hunting; one that stays is not the peak's.\n",
+            lines.join("; ")
+        ),
+    }
 }
 
 /// The section, from `methods` (the report's runs, for the per-method table) and runs of `base`
@@ -108,26 +151,32 @@ pub fn section<const N: usize>(
         .map(|w| base.variant(&format!("w{w}"), Method::Lu, |s| s.controller.observer_bandwidth_rad_s = *w))
         .collect();
     let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
-    let mut amplitude = Vec::new();
-    for s in &scenarios {
-        let values = table.values(&s.name, Method::Lu, "limit_cycle_q").unwrap_or_default();
-        amplitude.push(per_joint_mean_ci95(&values).0);
-    }
+    // Per bandwidth, per joint: the seeds whose spectral line reaches the cycle amplitude.
+    let cycling_seeds: Vec<Vec<usize>> = scenarios
+        .iter()
+        .map(|s| {
+            let values = table.values(&s.name, Method::Lu, "cycle_amplitude_q").unwrap_or_default();
+            (0..N)
+                .map(|j| values.iter().filter(|v| v.get(j).is_some_and(|a| *a >= CYCLE_AMPLITUDE_RAD)).count())
+                .collect()
+        })
+        .collect();
     let mut md = format!(
-        "\n### Limit cycles and residual motion\n\nOne candidate mechanism is stick-slip hunting: a joint with stiction and integral action sticks, the integral winds the torque up until the joint breaks away, it overshoots, sticks on the other side, and the cycle repeats. The PID's integral could do this, and so could every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's); `none` (a PD) has no integral to wind up, so whatever it shows is not hunting. The rows without stiction rerun the scenario with the `tanh` law, which has no breakaway but is steep at rest (slope F_c/ε, far above F_v): they remove stiction, not every nonlinearity at rest, so they narrow the mechanism down without settling it. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad; peak-to-peak counts slow drift and settling as well as oscillation):\n\n",
+        "\n### Limit cycles and residual motion\n\nOne candidate mechanism is stick-slip hunting: a joint with stiction and integral action sticks, the integral winds the torque up until the joint breaks away, it overshoots, sticks on the other side, and the cycle repeats. The PID's integral could do this, and so could every estimator, which at low frequency acts as an integral of the error (gain about `K_P / τ_d` for the paper's); `none` (a PD) has no integral to wind up, so whatever it shows is not hunting. The rows \"no Stribeck peak\" rerun the scenario with LuGre at its static level equal to its Coulomb level (`static_nm = coulomb_nm`): the same bristles, Coulomb and viscous levels, no breakaway peak. A joint still sticks below the Coulomb level, so these rows remove the peak that hunting needs, not sticking. Measured on `{}` (peak-to-peak tracking error over the final window, mean over seeds, mrad; peak-to-peak counts slow drift and settling as well as oscillation):\n\n",
         base.name
     );
     md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
-    // The same loops without stiction: smooth friction (Coulomb through tanh, no breakaway).
-    let mut smooth = base.clone();
-    smooth.name = format!("{}_smooth", base.name);
-    smooth.plant.friction = crate::config::scenario::FrictionKind::Smooth;
-    smooth.methods = METHODS.to_vec();
-    let (_, without_stiction) = run_seeds(robot, std::slice::from_ref(&smooth), SEEDS, &|_| {})?;
+    // The same loops without the Stribeck peak: LuGre at F_s = F_c.
+    let mut no_peak = base.clone();
+    no_peak.name = format!("{}_no_peak", base.name);
+    no_peak.plant.static_nm = no_peak.plant.coulomb_nm.clone();
+    no_peak.methods = METHODS.to_vec();
+    let (_, without_peak) = run_seeds(robot, std::slice::from_ref(&no_peak), SEEDS, &|_| {})?;
     let mut cycling = Vec::new();
     for method in METHODS {
-        for (label, table, scenario) in [("", methods, &base.name), (" (no stiction)", &without_stiction, &smooth.name)]
+        for (label, table, scenario) in
+            [("", methods, &base.name), (" (no Stribeck peak)", &without_peak, &no_peak.name)]
         {
             let Some(values) = table.values(scenario, method, "limit_cycle_q").filter(|v| !v.is_empty()) else {
                 continue;
@@ -143,47 +192,51 @@ pub fn section<const N: usize>(
     }
     let _ = writeln!(
         md,
-        "\nRows marked \"no stiction\" rerun the same scenario with smooth friction (the same Coulomb and viscous levels through `tanh`, no breakaway; {SEEDS} seeds): {}",
+        "\nRows marked \"no Stribeck peak\" rerun the same scenario with LuGre at F_s = F_c ({SEEDS} seeds): {}",
         if cycling.is_empty() {
-            format!("no method keeps a joint at {} mrad or more, so the cycles above need stiction.", LIMIT_CYCLE_RAD * 1e3)
+            format!("no method keeps a joint at {} mrad or more peak to peak without the peak.", LIMIT_CYCLE_RAD * 1e3)
         } else {
             format!(
-                "{} still keep a joint at {} mrad or more without stiction: what this measure shows is not all stiction's.",
+                "{} still keep a joint at {} mrad or more peak to peak without the peak (peak to peak counts drift too: the spectral tables below tell cycles apart).",
                 cycling.join(", "),
                 LIMIT_CYCLE_RAD * 1e3
             )
         }
     );
-    md.push_str(&cycles_apart_from_drift::<N>(methods, base));
+    md.push_str(&cycles_text(base));
+    let (with_table, with_counts) = cycle_table::<N>(methods, base, &base.name);
+    md.push_str(&with_table);
+    let _ = writeln!(md, "\nThe same measure on the runs without the Stribeck peak ({SEEDS} seeds):\n");
+    let (without_table, without_counts) = cycle_table::<N>(&without_peak, base, &no_peak.name);
+    md.push_str(&without_table);
+    md.push_str(&peak_comparison(&with_counts, &without_counts));
     let _ = writeln!(
         md,
-        "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s ({SEEDS} seeds each), same measure (mrad); below {} mrad a joint counts as still (peak-to-peak counts drift and settling as well as cycles):\n",
+        "\nThe paper's estimator at ω1 = ω2 from {} to {} rad/s, seeds cycling of {SEEDS} by the spectral measure above (a line of {} mrad or more over the detrended error):\n",
         BANDWIDTHS_RAD_S[0],
         BANDWIDTHS_RAD_S[BANDWIDTHS_RAD_S.len() - 1],
-        LIMIT_CYCLE_RAD * 1e3
+        CYCLE_AMPLITUDE_RAD * 1e3
     );
     md.push_str(&table_row(
         ["joint".to_owned()].into_iter().chain(BANDWIDTHS_RAD_S.iter().map(|w| format!("{w} rad/s"))),
     ));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), BANDWIDTHS_RAD_S.len() + 1)));
     for j in 0..N {
-        let cells = amplitude.iter().map(|a| a.get(j).map_or("-".to_owned(), |v| format!("{:.2}", v * 1e3)));
+        let cells = cycling_seeds.iter().map(|c| format!("{}/{SEEDS}", c[j]));
         md.push_str(&table_row([format!("{}", j + 1)].into_iter().chain(cells)));
     }
-    let free_everywhere: Vec<String> = (0..N)
-        .filter(|&j| (0..BANDWIDTHS_RAD_S.len()).all(|k| is_still(&amplitude, k, j)))
-        .map(|j| format!("{}", j + 1))
-        .collect();
+    let free_everywhere: Vec<String> =
+        (0..N).filter(|&j| cycling_seeds.iter().all(|c| c[j] == 0)).map(|j| format!("{}", j + 1)).collect();
     let _ = writeln!(
         md,
         "\n{} A faster filter passes more sensor noise into `d̂` (see the sweep).",
         if free_everywhere.len() == N {
-            "Every joint stays still by this measure at every bandwidth swept.".to_owned()
+            "No joint cycles in any seed at any bandwidth swept.".to_owned()
         } else if free_everywhere.is_empty() {
-            "No joint stays still by this measure at every bandwidth swept.".to_owned()
+            "Every joint cycles in some seed at some bandwidth swept.".to_owned()
         } else {
             format!(
-                "Joints {} stay still by this measure at every bandwidth swept; the others exceed it at one or more (which may be drift or settling, not a cycle).",
+                "Joints {} cycle in no seed at any bandwidth swept; the others do in some seeds at one bandwidth or more (the lowest-bin caveat above applies).",
                 free_everywhere.join(", ")
             )
         }

@@ -25,6 +25,8 @@ fn with_rmse(values: [f64; 6]) -> Metrics {
         estimate_shift: None,
         estimate_velocity_correlation: None,
         estimate_mean_abs: None,
+        estimate_shift_over_coulomb: None,
+        estimate_mean_over_coulomb: None,
         shadow: Default::default(),
     }
 }
@@ -176,6 +178,8 @@ fn every_rule_names_metrics_the_runs_have() {
         "estimate_shift",
         "estimate_velocity_correlation",
         "estimate_mean_abs",
+        "estimate_shift_over_coulomb",
+        "estimate_mean_over_coulomb",
     ];
     for rule in RULES {
         let sources = match rule.quantity {

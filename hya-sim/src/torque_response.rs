@@ -188,7 +188,7 @@ impl<const N: usize> Window<N> {
 
 /// `scenario` with everything off that is not the actuators and the arm: friction, pressure
 /// noise and offsets, parameter spread, loads.
-fn clean(scenario: &Scenario) -> Scenario {
+pub fn clean(scenario: &Scenario) -> Scenario {
     let mut s = scenario.clone();
     s.plant.friction = FrictionKind::Off;
     s.plant.parameter_spread = 0.0;

@@ -400,7 +400,7 @@ pub const RULES: &[Rule] = &[
     },
     Rule {
         id: "friction_has_a_bias",
-        statement: "the estimated disturbance has a non-zero mean over the sine task: |mean d̂| above a tenth of the joint's nominal Coulomb friction F_c on at least four joints; the figures are |mean d̂| / F_c. The paper reads the mean as static friction; but friction is odd in the velocity, so over whole periods of a symmetric sine it averages to about zero: a mean can come from the model's error in gravity and inertia and from the torque sensors' offsets (not measured apart here)",
+        statement: "the estimated disturbance has a non-zero mean over the sine task: |mean d̂| above a tenth of the joint's nominal Coulomb friction F_c on at least four joints; the figures are |mean d̂| / F_c. The paper reads the mean as static friction; but friction is odd in the velocity and averages to about zero over whole periods of a symmetric sine (this task's window after the warm-up need not hold whole periods, so friction leaves some mean too): a mean can come from friction over a part period, the model's error in gravity and inertia and the torque sensors' offsets (not measured apart here)",
         section: "VI-B",
         paper: "the mean of the disturbance is not zero (read as static friction)",
         quantity: Quantity::Metric(source("sine_internal", Method::Lu, "estimate_mean_over_coulomb")),
@@ -414,7 +414,7 @@ pub const RULES: &[Rule] = &[
     },
     Rule {
         id: "oscillations_joints_3_5_6",
-        statement: "joints 3, 5 and 6 keep slight oscillations with compensation, and the others do not: in most seeds (the share's interval above one half) the error's largest spectral line reaches 0.25 mrad (a sine of 0.5 mrad peak to peak) on joints 3, 5 and 6, and in few (below one half) on joints 1, 2 and 4; the line is taken over the last 10 s once the task is quiet, after the straight-line trend (creep) is removed, so drift does not count, though a line in the lowest bin may be drift that is not straight",
+        statement: "joints 3, 5 and 6 keep slight oscillations with compensation, and the others do not: in most seeds (the share's interval above one half) the error's largest spectral line reaches 0.25 mrad (a sine of 0.5 mrad peak to peak) on joints 3, 5 and 6, and in few (below one half) on joints 1, 2 and 4; the line is taken over the last 10 s once the task is quiet (less in quick mode: the limit-cycle section gives the window), after the straight-line trend (creep) is removed, so drift does not count, though a line in the lowest bin may be drift that is not straight",
         section: "VI-A",
         paper: "slight oscillations in joints 3, 5 and 6",
         quantity: Quantity::Share(source("goto_internal", Method::Lu, "cycle_amplitude_q"), Side::Above, CYCLE_AMPLITUDE_RAD),

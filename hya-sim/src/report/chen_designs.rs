@@ -48,6 +48,9 @@ pub struct DesignRow {
     pub matching: Matching,
     /// Chen's `β`, rad/s.
     pub beta_rad_s: f64,
+    /// The fastest rate of `L = Y M⁻¹(q0)` at the start pose, rad/s: `β` for `Y = β M(q0)`,
+    /// `β λmax / λmin` of `M(q0)` for the scalar gain.
+    pub fastest_rate_rad_s: f64,
     /// Whether the row is the report's own runs (not a rerun).
     pub as_run: bool,
     /// Per scenario, chen's `rmse_d[seed][joint]`, N·m.
@@ -63,6 +66,8 @@ pub struct ChenDesigns {
     pub seeds: usize,
     /// The paper's filter's parameter the matchings refer to, rad/s.
     pub lu_bandwidth_rad_s: f64,
+    /// The control period, s: rates beyond `π/T` are not the continuous design's.
+    pub period_s: f64,
     /// The rows.
     pub rows: Vec<DesignRow>,
 }
@@ -88,6 +93,9 @@ pub fn run<const N: usize>(
         scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
     let Some(first) = bases.first() else { return Ok(None) };
     let omega = first.controller.observer_bandwidth_rad_s;
+    let q0 = crate::config::settings::JointSettings::<N>::of(first)?.initial_position;
+    let eigenvalues = hya_core::symmetric_eigenvalues(&robot.nominal.mass_matrix(&q0));
+    let spread = eigenvalues.max() / eigenvalues.min();
     let seeds = table.seeds(&first.name, Method::Chen).min(SEEDS);
     let reported = table.first_seeds(seeds);
     let mut rows = Vec::new();
@@ -120,10 +128,14 @@ pub fn run<const N: usize>(
                 .filter_map(|(id, _)| RULES.iter().find(|r| r.id == *id))
                 .map(|rule| judge(rule, &runs))
                 .collect();
-            rows.push(DesignRow { design, matching, beta_rad_s: beta, as_run, rmse_d, claims });
+            let fastest_rate_rad_s = match design {
+                ChenGain::Inertia => beta,
+                ChenGain::Scalar => beta * spread,
+            };
+            rows.push(DesignRow { design, matching, beta_rad_s: beta, fastest_rate_rad_s, as_run, rmse_d, claims });
         }
     }
-    Ok(Some(ChenDesigns { seeds, lu_bandwidth_rad_s: omega, rows }))
+    Ok(Some(ChenDesigns { seeds, lu_bandwidth_rad_s: omega, period_s: first.controller.dt_s, rows }))
 }
 
 /// The design's name in the text.
@@ -156,59 +168,55 @@ fn cell(judgement: &Judgement) -> String {
     format!("{verdict}: {}", figures.join(", "))
 }
 
-/// What one claim's verdicts across the rows depend on, computed from them.
+/// What one claim's verdicts across the rows depend on, computed from them: whether it is
+/// reproduced in every row, in none (then where it holds in part), or in some, and then whether
+/// the gain design or the matching alone tells which.
 fn dependence(rows: &[DesignRow], claim: usize) -> String {
     let verdict = |r: &DesignRow| r.claims.get(claim).map_or(Verdict::NotRun, |c| c.verdict);
-    let constant_over = |same_group: &dyn Fn(&DesignRow, &DesignRow) -> bool| {
-        rows.iter().all(|a| rows.iter().filter(|b| same_group(a, b)).all(|b| verdict(a) == verdict(b)))
-    };
-    let by = |label: &dyn Fn(&DesignRow) -> String, keys: Vec<String>| -> String {
-        keys.iter()
-            .map(|k| {
-                let v = rows.iter().find(|r| &label(r) == k).map_or(Verdict::NotRun, verdict);
-                format!("{} with {k}", v.name())
+    let reproduced = |r: &DesignRow| verdict(r) == Verdict::Reproduced;
+    // The rows `keep` picks, each design once with its matchings ("at every matching" for all).
+    let listed = |keep: &dyn Fn(&DesignRow) -> bool| -> Vec<String> {
+        DESIGNS
+            .iter()
+            .filter_map(|&d| {
+                let at: Vec<&str> =
+                    rows.iter().filter(|r| r.design == d && keep(r)).map(|r| r.matching.short()).collect();
+                match at.len() {
+                    0 => None,
+                    n if n == Matching::ALL.len() => Some(format!("{} at every matching", design_name(d))),
+                    _ => Some(format!("{} at {}", design_name(d), at.join(", "))),
+                }
             })
-            .collect::<Vec<_>>()
-            .join(", ")
+            .collect()
     };
-    let first = rows.first().map_or(Verdict::NotRun, verdict);
-    if rows.iter().all(|r| verdict(r) == first) {
-        return format!("{} in every row", first.name());
+    if rows.iter().all(reproduced) {
+        return "reproduced in every row".to_owned();
     }
-    let design = |r: &DesignRow| design_name(r.design).to_owned();
-    let matching = |r: &DesignRow| r.matching.name().to_owned();
-    if constant_over(&|a, b| a.design == b.design) {
-        return format!(
-            "depends on the gain design: {}",
-            by(&design, DESIGNS.map(design_name).map(String::from).to_vec())
-        );
+    if !rows.iter().any(reproduced) {
+        let partly = listed(&|r| matches!(verdict(r), Verdict::Partly | Verdict::Inconclusive));
+        return match partly.is_empty() {
+            true => "reproduced in no row".to_owned(),
+            false => {
+                format!("reproduced in no row; partly or inconclusive (some joints only) with {}", partly.join("; "))
+            }
+        };
     }
-    if constant_over(&|a, b| a.matching == b.matching) {
-        return format!(
-            "depends on the matching: {}",
-            by(&matching, Matching::ALL.map(|m| m.name().to_owned()).to_vec())
-        );
-    }
-    // Grouped by verdict, each design with the matchings where it has that verdict.
-    let mut verdicts: Vec<Verdict> = rows.iter().map(verdict).collect();
-    verdicts.dedup();
-    verdicts.sort_by_key(|v| v.name());
-    verdicts.dedup();
-    let groups: Vec<String> = verdicts
-        .iter()
-        .map(|&v| {
-            let per_design: Vec<String> = DESIGNS
-                .iter()
-                .filter_map(|&d| {
-                    let at: Vec<&str> =
-                        rows.iter().filter(|r| r.design == d && verdict(r) == v).map(|r| r.matching.short()).collect();
-                    (!at.is_empty()).then(|| format!("{} at {}", design_name(d), at.join(", ")))
-                })
-                .collect();
-            format!("{} with {}", v.name(), per_design.join(" and "))
-        })
-        .collect();
-    format!("depends on both the design and the matching: {}", groups.join("; "))
+    // Whether rows that share a design (or a matching) share whether the claim is reproduced.
+    let decided_by = |same: &dyn Fn(&DesignRow, &DesignRow) -> bool| {
+        rows.iter().all(|a| rows.iter().filter(|b| same(a, b)).all(|b| reproduced(a) == reproduced(b)))
+    };
+    let which = if decided_by(&|a, b| a.design == b.design) {
+        "depends on the gain design"
+    } else if decided_by(&|a, b| a.matching == b.matching) {
+        "depends on the matching"
+    } else {
+        "depends on both the design and the matching"
+    };
+    format!(
+        "{which}: reproduced with {}; not with {}",
+        listed(&reproduced).join("; "),
+        listed(&|r| !reproduced(r)).join("; ")
+    )
 }
 
 /// The report's section: the rows' verdicts and figures, then what each claim depends on.
@@ -221,18 +229,41 @@ pub fn section(designs: &ChenDesigns) -> String {
         designs.seeds
     );
     md.push_str(&table_row(
-        ["design".to_owned(), "matching".into(), "β [rad/s]".into()]
+        ["design".to_owned(), "matching".into(), "β [rad/s]".into(), "fastest rate at q0 [rad/s]".into()]
             .into_iter()
             .chain(CLAIMS.map(|(_, s)| s.to_owned())),
     ));
-    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), CLAIMS.len() + 3)));
+    md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), CLAIMS.len() + 4)));
     for r in &designs.rows {
         let matching = if r.as_run { format!("{} (as run)", r.matching.name()) } else { r.matching.name().to_owned() };
         md.push_str(&table_row(
-            [design_name(r.design).to_owned(), matching, format!("{:.1}", r.beta_rad_s)]
-                .into_iter()
-                .chain(r.claims.iter().map(cell)),
+            [
+                design_name(r.design).to_owned(),
+                matching,
+                format!("{:.1}", r.beta_rad_s),
+                format!("{:.0}", r.fastest_rate_rad_s),
+            ]
+            .into_iter()
+            .chain(r.claims.iter().map(cell)),
         ));
+    }
+    let nyquist = std::f64::consts::PI / designs.period_s;
+    let beyond: Vec<String> = designs
+        .rows
+        .iter()
+        .filter(|r| r.fastest_rate_rad_s > nyquist)
+        .map(|r| format!("{} at {}", design_name(r.design), r.matching.short()))
+        .collect();
+    if !beyond.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nIn {} of the {} rows ({}) the fastest rate at the start pose is beyond the {} ms tick's Nyquist rate `π/T` = {:.0} rad/s: on the joints that rate belongs to, the stepped observer is not the continuous design but close to a one-step differentiation of the measured velocity, so those rows hold lu against that, not against a matched observer.",
+            beyond.len(),
+            designs.rows.len(),
+            beyond.join("; "),
+            hya_core::Short(designs.period_s * 1e3),
+            nyquist
+        );
     }
     md.push_str("\nAcross the rows, computed from the verdicts above:\n\n");
     for (k, (_, name)) in CLAIMS.iter().enumerate() {
@@ -267,7 +298,15 @@ mod tests {
             seeds: 3,
             untestable: None,
         };
-        DesignRow { design, matching, beta_rad_s: 1.0, as_run: false, rmse_d: BTreeMap::new(), claims: vec![judgement] }
+        DesignRow {
+            design,
+            matching,
+            beta_rad_s: 1.0,
+            fastest_rate_rad_s: 1.0,
+            as_run: false,
+            rmse_d: BTreeMap::new(),
+            claims: vec![judgement],
+        }
     }
 
     fn rows(verdict: impl Fn(ChenGain, Matching) -> Verdict) -> Vec<DesignRow> {
@@ -280,13 +319,10 @@ mod tests {
         assert_eq!(dependence(&same, 0), "reproduced in every row");
         let by_design = rows(|d, _| if d == ChenGain::Scalar { Verdict::Reproduced } else { Verdict::NotReproduced });
         let text = dependence(&by_design, 0);
-        assert!(text.starts_with("depends on the gain design"), "{text}");
-        assert!(
-            text.contains("not reproduced with `Y = β M(q0)`") && text.contains("reproduced with scalar"),
-            "{text}"
-        );
+        assert!(text.starts_with("depends on the gain design: reproduced with scalar"), "{text}");
+        assert!(text.contains("not with `Y = β M(q0)` at every matching"), "{text}");
         let by_matching =
-            rows(|_, m| if m == Matching::LowFrequencyDelay { Verdict::Partly } else { Verdict::NotReproduced });
+            rows(|_, m| if m == Matching::LowFrequencyDelay { Verdict::Reproduced } else { Verdict::NotReproduced });
         assert!(dependence(&by_matching, 0).starts_with("depends on the matching"));
         let both = rows(|d, m| match (d, m) {
             (ChenGain::Scalar, Matching::PoleMagnitude) => Verdict::Reproduced,
@@ -294,11 +330,14 @@ mod tests {
         });
         let text = dependence(&both, 0);
         assert!(text.starts_with("depends on both"), "{text}");
-        assert!(text.ends_with("; reproduced with scalar `y = β λmax(M(q0))` at equal poles"), "{text}");
-        assert!(
-            text.contains("not reproduced with `Y = β M(q0)` at equal poles, equal −3 dB, equal delay and scalar"),
-            "{text}"
-        );
+        assert!(text.contains("reproduced with scalar `y = β λmax(M(q0))` at equal poles; not with"), "{text}");
+        // Never reproduced: "partly" in one row is not a dependence.
+        let one_partly = rows(|d, m| match (d, m) {
+            (ChenGain::Scalar, Matching::PoleMagnitude) => Verdict::Partly,
+            _ => Verdict::NotReproduced,
+        });
+        let text = dependence(&one_partly, 0);
+        assert!(text.starts_with("reproduced in no row; partly or inconclusive"), "{text}");
     }
 
     #[test]

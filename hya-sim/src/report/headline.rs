@@ -103,7 +103,7 @@ pub(super) fn in_short(
     md.push_str(
         "\nThe observers (lu, chen, momentum, eso) are all designed with their poles at one magnitude, the \
          scenario's observer bandwidth, so the comparisons with chen, momentum and eso above hold for that matching; \
-         the Pareto section compares chen and momentum with lu at about equal delay too (3 seeds, the sweep's).\n",
+         the Pareto section compares chen and momentum with lu at about equal delay too (on the sweep's seeds, stated there).\n",
     );
     md.push_str(&super::chen_designs::headline(chen_designs));
     md.push_str(&super::sensitivity::headline(sensitivity));

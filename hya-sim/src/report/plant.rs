@@ -185,29 +185,32 @@ fn friction_figure<const N: usize>(config: &PlantConfig, sine: &RunOutcome<N>) -
 }
 
 /// Whether the lightly loaded joints track torque worse (the paper, VI-A, explains the wrist's
-/// oscillations so): the mean rise time (of the small step) of the joints below the median
-/// `M_ii` against the rest.
+/// oscillations so): the median rise time (of the small step) of the joints below the median
+/// `M_ii` against the rest's, and the slowest joint.
 fn load_and_torque_tracking(inertia: &[f64], rise_times: &[f64]) -> String {
-    let mut sorted = inertia.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let Some(&median) = sorted.get(sorted.len() / 2) else { return String::new() };
-    let mean_rise = |light: bool| {
-        let rises: Vec<f64> = inertia
-            .iter()
-            .zip(rise_times)
-            .filter(|(m, r)| (**m < median) == light && r.is_finite())
-            .map(|(_, r)| *r)
-            .collect();
-        (rises.iter().sum::<f64>() / rises.len() as f64, rises.len())
+    let middle = crate::analysis::seeds::median(inertia.to_vec());
+    // A joint that never reached 90 % within the window is slower than every one that did.
+    let rise = |r: f64| if r.is_finite() { r } else { f64::INFINITY };
+    let rises = |light: bool| -> Vec<f64> {
+        inertia.iter().zip(rise_times).filter(|(m, _)| (**m < middle) == light).map(|(_, r)| rise(*r)).collect()
     };
-    let ((light, n_light), (heavy, n_heavy)) = (mean_rise(true), mean_rise(false));
-    if n_light == 0 || n_heavy == 0 {
+    let (light, heavy) = (rises(true), rises(false));
+    let slowest = rise_times.iter().map(|r| rise(*r)).enumerate().max_by(|a, b| a.1.total_cmp(&b.1));
+    let (Some((k, slowest_ms)), false, false) = (slowest, light.is_empty(), heavy.is_empty()) else {
         return String::new();
-    }
+    };
+    let (n_light, n_heavy) = (light.len(), heavy.len());
+    let with_ms = |r: f64| if r.is_finite() { format!("{r:.1} ms") } else { "beyond the 90 ms window".to_owned() };
+    let (light, heavy) = (crate::analysis::seeds::median(light), crate::analysis::seeds::median(heavy));
     let verdict = if light > heavy { "slower" } else { "not slower" };
     format!(
-        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. For the {} N·m step, the {n_light} joints below the median `M_ii` rise in {light:.1} ms on average, the other {n_heavy} in {heavy:.1} ms: on average the lightly loaded joints are {verdict} in this model (the rise times need not be monotonic in `M_ii`, and the joints differ in actuator too: vanes and cylinders). The {} N·m step is large: where a light joint speeds up to its valve's flow limit within the step, its rise time measures that limit, not the small-signal torque loop the paper's explanation concerns.\n",
+        "\nThe paper (VI-A) explains the wrist's oscillations by lightly loaded joints tracking torque worse. For the {} N·m step (one run per joint), the median rise time of the {n_light} joints below the median `M_ii` is {}, of the other {n_heavy} {}: by the medians the lightly loaded joints are {verdict} in this model; the slowest joint is {} ({}, `M_ii` = {:.4} kg·m²). The rise times need not be monotonic in `M_ii`: the joints differ in actuator too (vanes and cylinders). The {} N·m step is large: where a joint reaches its valve's flow limit within the step, its rise time measures that limit, not the small-signal loop; the frequency responses below are the small-signal measure.\n",
         STEPS_NM[0],
+        with_ms(light),
+        with_ms(heavy),
+        k + 1,
+        with_ms(slowest_ms),
+        inertia[k],
         STEPS_NM[1]
     )
 }
@@ -239,9 +242,9 @@ fn step_responses<const N: usize>(
         &crate::config::settings::initial_position(scenario, N),
     )?;
     // Friction off: the steps are below every joint's static friction, and a sticking joint
-    // would show the locked loop; free, each joint's load shapes its response.
-    let mut free = scenario.clone();
-    free.plant.friction = crate::config::scenario::FrictionKind::Off;
+    // would show the locked loop; free, each joint's load shapes its response. Pressure noise
+    // and offsets off too: a 0.05 N·m step is the size of one reading's noise.
+    let free = crate::torque_response::clean(scenario);
     let scenario = &free;
     let hold = nominal.gravity(&q0);
     let mut series = Vec::new();
@@ -350,7 +353,7 @@ pub fn section<const N: usize>(
             Actuators::Hydraulic(h) => h.natural_frequency(&q0, &nominal.mass_matrix(&q0).diagonal()),
             _ => JointVector::zeros(),
         };
-        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a {} N·m step of its own command (the figure; the table has a {} N·m step too), 50 ms after the arm was released at the start pose with every actuator holding the nominal gravity torque (which the perturbed arm does not quite need), friction off (a step below static friction would leave the joint stuck, as if locked): the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. The oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", STEPS_NM[0], STEPS_NM[1], numbers(&p.hydraulic.torque_bandwidth_hz));
+        let _ = writeln!(md, "\n### Actuators on the arm\n\n![step responses]({name})\n\nEach joint's actuator torque after a {} N·m step of its own command (the figure; the table has a {} N·m step too), 50 ms after the arm was released at the start pose with every actuator holding the gravity torque, friction off (a step below static friction would leave the joint stuck, as if locked), the parameter spread, pressure noise and transducer offsets off: the loops were designed for ({}) Hz on a locked joint at mid-range and run sampled, on measured pressures, with load-motion compensation from the encoders' difference. The oil-column natural frequency `√(β (D_a²/V_a + D_b²/V_b) / M_ii)` at the start pose, which the load sets, is in the table:\n", STEPS_NM[0], STEPS_NM[1], numbers(&p.hydraulic.torque_bandwidth_hz));
         let _ = writeln!(md, "| joint | M_ii(q0) [kg·m²] | hydraulic natural frequency [Hz] | 10–90 % rise time, {} N·m step [ms] | 10–90 % rise time, {} N·m step [ms] |\n|---|---|---|---|---|", STEPS_NM[0], STEPS_NM[1]);
         let inertia = nominal.mass_matrix(&q0).diagonal();
         for j in 0..N {

@@ -99,6 +99,8 @@ pub struct VariantRuns {
     pub variant: String,
     /// What it changes.
     pub change: String,
+    /// The methods it reran (the others' runs are the report's).
+    pub reran: Vec<&'static str>,
     /// Per scenario, per method, `rmse_q[seed][joint]`, rad.
     pub rmse_q: BTreeMap<String, BTreeMap<String, Vec<Vec<f64>>>>,
 }
@@ -193,7 +195,12 @@ pub fn run<const N: usize>(
                 (s.name.clone(), methods)
             })
             .collect();
-        variants.push(VariantRuns { variant: variant.name.into(), change: variant.change.into(), rmse_q });
+        variants.push(VariantRuns {
+            variant: variant.name.into(),
+            change: variant.change.into(),
+            reran: variant.changes.iter().map(|m| m.name()).collect(),
+            rmse_q,
+        });
     }
     Ok(Some(Sensitivity { seeds, variants }))
 }
@@ -221,6 +228,9 @@ pub struct Effect {
 pub struct Changes {
     /// Comparisons per variant (scenario, baseline, joint).
     pub compared: usize,
+    /// Per variant (after the report's own row), the comparisons it can move: those whose
+    /// baseline or lu it reran.
+    pub movable: Vec<usize>,
     /// The moves, variant by variant.
     pub moved: Vec<Effect>,
 }
@@ -250,9 +260,15 @@ fn seed_ratios(runs: &VariantRuns, scenario: &str, baseline: Method, j: usize) -
 pub fn changes(sensitivity: &Sensitivity) -> Changes {
     let mut changes = Changes::default();
     let Some((reported, variants)) = sensitivity.variants.split_first() else { return changes };
+    changes.movable = vec![0; variants.len()];
     for (scenario, baseline, rows) in comparisons(sensitivity) {
         let joints = rows.first().map_or(0, Vec::len);
         changes.compared += joints;
+        for (k, v) in variants.iter().enumerate() {
+            if v.reran.iter().any(|m| *m == baseline.name() || *m == Method::Lu.name()) {
+                changes.movable[k] += joints;
+            }
+        }
         for (v, row) in variants.iter().zip(&rows[1..]) {
             for (j, ratio) in row.iter().enumerate() {
                 let own = seed_ratios(reported, &scenario, baseline, j);
@@ -309,9 +325,14 @@ pub fn section(sensitivity: &Sensitivity) -> String {
         "\nWhat each choice does, paired by seed: per seed the variant's ratio over the report's, then the geometric mean with its 95 % interval; listed where the interval excludes 1 (a move beyond the seeds' spread), out of {} comparisons per variant (no correction for the number of comparisons). \"across 1\" marks a comparison whose mean ratio moves from one side of 1 to the other.",
         changes.compared
     );
-    for v in sensitivity.variants.iter().skip(1) {
+    for (v, movable) in sensitivity.variants.iter().skip(1).zip(&changes.movable) {
         let moved: Vec<&Effect> = changes.moved.iter().filter(|e| e.variant == v.variant).collect();
-        let _ = writeln!(md, "\n**{}** moves {} of {}:\n", v.variant, moved.len(), changes.compared);
+        let _ = writeln!(
+            md,
+            "\n**{}** moves {} of the {movable} comparisons it reruns a side of:\n",
+            v.variant,
+            moved.len()
+        );
         for e in moved {
             let _ = writeln!(md, "- {}{}", e.line, if e.crosses { ", across 1" } else { "" });
         }
@@ -319,7 +340,7 @@ pub fn section(sensitivity: &Sensitivity) -> String {
     md
 }
 
-/// The headline's sentence on the section, or nothing without one.
+/// The headline's sentence on the section, computed from its moves, or nothing without one.
 pub fn headline(sensitivity: Option<&Sensitivity>) -> String {
     let Some(sensitivity) = sensitivity else { return String::new() };
     let changes = changes(sensitivity);
@@ -327,21 +348,26 @@ pub fn headline(sensitivity: Option<&Sensitivity>) -> String {
         .variants
         .iter()
         .skip(1)
-        .map(|v| {
-            let moved: Vec<&Effect> = changes.moved.iter().filter(|e| e.variant == v.variant).collect();
-            let across: Vec<&str> =
-                moved.iter().filter(|e| e.crosses).map(|e| e.line.split(':').next().unwrap_or_default()).collect();
-            match across.is_empty() {
-                true => format!("{}: {} moved", v.variant, moved.len()),
-                false => format!("{}: {} moved, across 1 on {}", v.variant, moved.len(), across.join(" and ")),
-            }
+        .zip(&changes.movable)
+        .map(|(v, movable)| {
+            let moved = changes.moved.iter().filter(|e| e.variant == v.variant).count();
+            format!("{}: {moved} of {movable}", v.variant)
         })
         .collect();
+    let across: Vec<String> = changes
+        .moved
+        .iter()
+        .filter(|e| e.crosses)
+        .map(|e| format!("{} under {}", e.line.split(':').next().unwrap_or_default(), e.variant))
+        .collect();
+    let sides = match across.is_empty() {
+        true => "no comparison's mean ratio changes side under any of them".to_owned(),
+        false => format!("the mean ratio changes side on {} only", across.join("; ")),
+    };
     format!(
-        "\nThe tracking comparisons with {} rest on modelling choices. Rerun with one choice changed at a time ({} seeds, paired by seed), the comparisons (of {}) each choice moves beyond the seeds' spread are: {}. See \"Sensitivity to the modelling choices\".\n",
-        BASELINES.map(|m| m.name()).join(", "),
+        "\nRerun with one modelling choice changed at a time ({} seeds, paired by seed), the tracking comparisons with {} that each choice moves beyond the seeds' spread (of those it reruns a side of): {}; {sides} (no correction for the number of comparisons). See \"Sensitivity to the modelling choices\".\n",
         sensitivity.seeds,
-        changes.compared,
+        BASELINES.map(|m| m.name()).join(", "),
         per_variant.join("; ")
     )
 }

@@ -13,6 +13,14 @@ use super::text::table_row;
 /// The frequency at which the table compares locked and held gains, Hz.
 const COMPARED_AT_HZ: f64 = 20.0;
 
+/// The frequency at which the table gives the back-drive, Hz: near the position loops'
+/// crossovers (10 to 60 rad/s).
+const BACK_DRIVE_AT_HZ: f64 = 10.0;
+
+/// A held gain that differs from the locked one by more than this fraction is another actuator
+/// than the loops model.
+const GAIN_CHANGE: f64 = 0.2;
+
 /// A response that moves by more than this (`|ΔA|`) between the smallest and largest amplitude
 /// is amplitude-dependent.
 const AMPLITUDE_CHANGE: f64 = 0.1;
@@ -99,7 +107,7 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
     let small = AMPLITUDES_NM[0];
     let large = AMPLITUDES_NM[AMPLITUDES_NM.len() - 1];
     let mut md = format!(
-        "\n### The torque loops, measured as they are used\n\n![torque frequency responses]({name})\n\nEach joint's actuator torque over its command, `A(jω) = τ_act / τ_cmd`, from sinusoidal commands of {} N·m at {first} to {last} Hz on top of the holding torque: with the joint locked, and with the arm held at its start pose by the PD (`τ = g(q) − K_P (q − q0) − K_D q̇` plus the sine: the position loop closed, the joint free to move); pressure noise, transducer offsets, friction and the parameter spread off. The command is held over each 1 ms tick, and that hold is taken out (the linear loop has it apart). Fitted to the locked responses at {small} N·m (least squares on the complex responses), the model the linearised loops below use: the torque loop with its resonance and a dead time, `A(s) = ω_n² e^{{−s T_a}} / (s² + 2ζ ω_n s + ω_n²)`. On the moving joint the load's motion changes the chambers' pressures too: `τ_act = A τ_cmd − B q̇`, and the held runs give that back-drive `B = (A τ_cmd − τ_act) / q̇` (damping where its real part is positive), which the linear loops leave out. Per-frequency gains, phases and `B` are in `summary.json`.\n\n",
+        "\n### The torque loops, measured as they are used\n\n![torque frequency responses]({name})\n\nEach joint's actuator torque over its command, `A(jω) = τ_act / τ_cmd`, from sinusoidal commands of {} N·m at {first} to {last} Hz on top of the holding torque: with the joint locked, and with the arm held at its start pose by the PD (`τ = g(q) − K_P (q − q0) − K_D q̇` plus the sine: the position loop closed, the joint free to move); pressure noise, transducer offsets, friction and the parameter spread off. The command is held over each 1 ms tick, and that hold is taken out (the linear loop has it apart). Fitted to the locked responses at {small} N·m (least squares on the complex responses), the model the linearised loops use: the torque loop with its resonance and a dead time, `A(s) = ω_n² e^{{−s T_a}} / (s² + 2ζ ω_n s + ω_n²)`. On the moving joint the load's motion changes the chambers' pressures too: `τ_act = A τ_cmd − B q̇`, and the held runs give that back-drive `B = (A τ_cmd − τ_act) / q̇` (damping where its real part is positive), which the linear loops leave out. Per-frequency gains, phases and `B` are in `summary.json`.\n\n",
         AMPLITUDES_NM.map(|a| a.to_string()).join(", "),
     );
     md.push_str(&table_row([
@@ -111,15 +119,17 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
         "fitted T_a [ms]".into(),
         "fit residual (RMS of the complex error)".into(),
         format!("largest change of A from {small} to {large} N·m: locked / held"),
-        format!("held, {small} N·m: gain at {first} / {COMPARED_AT_HZ} Hz"),
-        format!("back-drive Re B at {first} Hz [N·m·s/rad]"),
+        format!("|A| at {COMPARED_AT_HZ} Hz, {small} N·m: locked / held"),
+        format!("back-drive Re B at {BACK_DRIVE_AT_HZ} Hz, {large} N·m [N·m·s/rad]"),
         "F_v [N·m·s/rad]".into(),
     ]));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), 11)));
     let at = frequencies.iter().position(|f| *f == COMPARED_AT_HZ);
     let gain_at =
         |r: Option<&Response>, k: Option<usize>| k.and_then(|k| r.map(|r| r.gain_phase[k].0)).unwrap_or(f64::NAN);
+    let back_at = frequencies.iter().position(|f| *f == BACK_DRIVE_AT_HZ);
     let (mut above, mut below, mut moved, mut damped) = (vec![], vec![], vec![], vec![]);
+    let (mut other_gain, mut feeding) = (vec![], vec![]);
     let mut locked_change = 0.0_f64;
     for fit in &t.fits {
         let j = fit.joint;
@@ -138,9 +148,18 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
         if change_held > AMPLITUDE_CHANGE {
             moved.push(j);
         }
-        let back_drive = held.and_then(|r| r.back_drive.first()).map_or(f64::NAN, |(m, p)| m * p.to_radians().cos());
-        if back_drive > fv {
+        let back_drive = response(t, Mounting::Held, large, j)
+            .and_then(|r| back_at.and_then(|k| r.back_drive.get(k)))
+            .map_or(f64::NAN, |(m, p)| m * p.to_radians().cos());
+        if back_drive.abs() > fv {
             damped.push(j);
+        }
+        if back_drive < 0.0 {
+            feeding.push(j);
+        }
+        let (locked_gain, held_gain) = (gain_at(locked, at), gain_at(held, at));
+        if (held_gain / locked_gain - 1.0).abs() > GAIN_CHANGE {
+            other_gain.push(j);
         }
         md.push_str(&table_row([
             j.to_string(),
@@ -151,18 +170,21 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
             format!("{:.2}", fit.delay_s * 1e3),
             format!("{:.3}", fit.residual),
             format!("{change_locked:.3} / {change_held:.2}"),
-            format!("{:.2} / {:.2}", gain_at(held, Some(0)), gain_at(held, at)),
+            format!("{locked_gain:.2} / {held_gain:.2}"),
             format!("{back_drive:.2}"),
             format!("{fv}"),
         ]));
     }
     let _ = writeln!(
         md,
-        "\nComputed from the table: locked, the measured −3 dB frequency is at or above the design bandwidth on joints {} and below it on {}; from {small} to {large} N·m the locked responses change by at most {locked_change:.3} (linear over this range), the held ones by more than {AMPLITUDE_CHANGE} on joints {}; the back-drive's real part at {first} Hz exceeds the joint's viscous friction on joints {}, where the moving actuator damps the joint more than the friction the linear loops hold. The loops' margins below use the fitted `A`, not the design bandwidth.",
+        "\nComputed from the table: locked, the measured −3 dB frequency is at or above the design bandwidth on joints {} and below it on {}; from {small} to {large} N·m the locked responses change by at most {locked_change:.3} (linear over this range), the held ones by more than {AMPLITUDE_CHANGE} on joints {} (at {small} N·m and the higher frequencies a joint moves less than an encoder count, so part of that change may be the encoders' quantisation). On the moving joint the actuator's gain at {COMPARED_AT_HZ} Hz differs from the locked one by more than {:.0} % on joints {}, and the back-drive's real part at {BACK_DRIVE_AT_HZ} Hz is larger in magnitude than the joint's viscous friction on joints {} (negative, feeding energy into the motion, on {}). The linearised loops' margins (\"Each joint's loop, linearised\") use the locked fit, not the design bandwidth, and leave the back-drive out: on the joints just named they are not to be relied on.",
         joints_text(&above),
         joints_text(&below),
         joints_text(&moved),
-        joints_text(&damped)
+        GAIN_CHANGE * 100.0,
+        joints_text(&other_gain),
+        joints_text(&damped),
+        joints_text(&feeding)
     );
     (md, (name, figure(t)))
 }

@@ -78,7 +78,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceAttenuation<N, D> {
             |this: &mut Self| {
                 let filtered = this.estimator.peek(q_m, tau_m)?;
                 let law = this.controller.law(q_m, qd, reference)?;
-                let joints = &filtered.joints;
+                let joints = &filtered.angles;
                 let mut passes = [JointVector::zeros(); 2];
                 this.controller.dynamics().inverse_dynamics_batch(
                     &[joints.x1, *q_m],

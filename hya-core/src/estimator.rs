@@ -14,7 +14,8 @@
 //! 1 Hz for the paper's `ζ = 0.8`, `ω1 = ω2 = 50 rad/s`). Only joint angles are needed; no
 //! measured velocity and no numerical differentiation.
 
-use crate::filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter};
+use crate::filter::{Discretisation, FilterParams, FilterState};
+use crate::filter_pair::{FilterPair, PairState};
 use crate::finite::check;
 use crate::{Dynamics, Error, JointVector};
 
@@ -24,23 +25,16 @@ use crate::{Dynamics, Error, JointVector};
 #[derive(Debug, Clone)]
 pub struct DisturbanceEstimator<const N: usize, D> {
     dynamics: D,
-    joint_filter: ThirdOrderFilter<N>,
-    torque_filter: ThirdOrderFilter<N>,
+    filters: FilterPair<N>,
     disturbance: JointVector<N>,
 }
 
 impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     /// An estimator at rest: filter states `(q0, 0, 0)` and `(τ0, 0, 0)`, `d̂ = G(q0) − τ0`.
     pub fn new(dynamics: D, params: FilterParams, q0: JointVector<N>, tau0: JointVector<N>) -> Result<Self, Error> {
-        check("q0", &q0)?;
-        check("tau0", &tau0)?;
-        let mut estimator = Self {
-            joint_filter: ThirdOrderFilter::new(params, q0)?,
-            torque_filter: ThirdOrderFilter::new(params, tau0)?,
-            disturbance: JointVector::zeros(),
-            dynamics,
-        };
-        estimator.disturbance = estimator.estimate(estimator.joint_filter.state(), &tau0)?;
+        let mut estimator =
+            Self { filters: FilterPair::new(params, q0, tau0)?, disturbance: JointVector::zeros(), dynamics };
+        estimator.disturbance = estimator.estimate(estimator.filters.angles(), &tau0)?;
         Ok(estimator)
     }
 
@@ -53,7 +47,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     #[inline]
     pub fn update(&mut self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<JointVector<N>, Error> {
         let filtered = self.peek(q_m, tau_m)?;
-        let inverse_dynamics = self.inverse_dynamics(&filtered.joints);
+        let inverse_dynamics = self.inverse_dynamics(&filtered.angles);
         self.advance(filtered, inverse_dynamics, q_m, tau_m)
     }
 
@@ -68,23 +62,20 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
     ) -> Result<JointVector<N>, Error> {
-        let filtered = Filtered {
-            joints: self.joint_filter.peek_over(step, "q_m", q_m)?,
-            torques: self.torque_filter.peek_over(step, "tau_m", tau_m)?,
-        };
-        let inverse_dynamics = self.inverse_dynamics(&filtered.joints);
+        let filtered = self.filters.peek_over(step, q_m, tau_m)?;
+        let inverse_dynamics = self.inverse_dynamics(&filtered.angles);
         self.advance(filtered, inverse_dynamics, q_m, tau_m)
     }
 
     /// The filters' parameters (both filters share them).
     pub fn params(&self) -> &FilterParams {
-        self.joint_filter.params()
+        self.filters.params()
     }
 
     /// Both filters' states one sample ahead for the new measurements, not committed.
     #[inline(always)]
-    pub(crate) fn peek(&self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<Filtered<N>, Error> {
-        Ok(Filtered { joints: self.joint_filter.peek("q_m", q_m)?, torques: self.torque_filter.peek("tau_m", tau_m)? })
+    pub(crate) fn peek(&self, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<PairState<N>, Error> {
+        self.filters.peek(q_m, tau_m)
     }
 
     /// `d̂` from peeked filter states and `inverse_dynamics = ID(q̂, q̂̇, q̂̈)` of their joints,
@@ -92,7 +83,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     #[inline(always)]
     fn advance(
         &mut self,
-        filtered: Filtered<N>,
+        filtered: PairState<N>,
         inverse_dynamics: JointVector<N>,
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
@@ -106,13 +97,12 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     #[inline(always)]
     pub(crate) fn commit(
         &mut self,
-        filtered: Filtered<N>,
+        filtered: PairState<N>,
         disturbance: JointVector<N>,
         q_m: &JointVector<N>,
         tau_m: &JointVector<N>,
     ) {
-        self.joint_filter.commit(filtered.joints, *q_m);
-        self.torque_filter.commit(filtered.torques, *tau_m);
+        self.filters.commit(filtered, q_m, tau_m);
         self.disturbance = disturbance;
     }
 
@@ -127,8 +117,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
         check("q0", &q0)?;
         check("tau0", &tau0)?;
         let disturbance = self.estimate(&FilterState::at_rest(q0), &tau0)?;
-        self.joint_filter.reset(q0)?;
-        self.torque_filter.reset(tau0)?;
+        self.filters.reset(q0, tau0)?;
         self.disturbance = disturbance;
         Ok(())
     }
@@ -140,12 +129,12 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
 
     /// Filtered joint states: `x1 = q̂` (rad), `x2 = q̂̇` (rad/s), `x3 = q̂̈` (rad/s²).
     pub fn joint_estimate(&self) -> &FilterState<N> {
-        self.joint_filter.state()
+        self.filters.angles()
     }
 
     /// Filtered joint torques `τ̂`, N·m.
     pub fn torque_estimate(&self) -> &JointVector<N> {
-        &self.torque_filter.state().x1
+        self.filters.torques()
     }
 
     /// The dynamics model the estimator uses.
@@ -156,24 +145,6 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     /// `ID(x1, x2, x3) − τ̂` from finite states; refused if the result is not finite.
     fn estimate(&self, joints: &FilterState<N>, filtered_torque: &JointVector<N>) -> Result<JointVector<N>, Error> {
         finite_disturbance(self.inverse_dynamics(joints) - filtered_torque)
-    }
-}
-
-/// The two filters' states one sample ahead, before they are committed.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Filtered<const N: usize> {
-    /// `(q̂, q̂̇, q̂̈)`.
-    pub(crate) joints: FilterState<N>,
-    /// `τ̂` in `x1`.
-    torques: FilterState<N>,
-}
-
-impl<const N: usize> Filtered<N> {
-    /// `d̂ = ID(q̂, q̂̇, q̂̈) − τ̂` from `inverse_dynamics = ID(q̂, q̂̇, q̂̈)`, not yet checked: the
-    /// caller refuses it as `"d_hat"` if it is not finite.
-    #[inline(always)]
-    pub(crate) fn disturbance(&self, inverse_dynamics: JointVector<N>) -> JointVector<N> {
-        inverse_dynamics - self.torques.x1
     }
 }
 

@@ -30,6 +30,7 @@ pub mod dynamics;
 pub mod error;
 pub mod estimator;
 pub mod filter;
+pub mod filter_pair;
 mod finite;
 mod fma;
 pub mod lanes;
@@ -63,6 +64,7 @@ pub use estimator::DisturbanceEstimator;
 pub use filter::{
     Discretisation, FilterParams, FilterState, ThirdOrderFilter, MAX_FILTER_INPUT, MIN_RATE_TIMES_DT, MIN_ZETA,
 };
+pub use filter_pair::{FilterPair, Next, PairState, StepClock};
 pub use finite::{finite_result, MAX_RATE_TIMES_DT};
 #[cfg(feature = "alloc")]
 pub use observer_design::{BoxedObserver, NonlinearGain, ObserverDesign};

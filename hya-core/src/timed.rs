@@ -9,7 +9,7 @@
 //! x_{k+1} = e^{A T_k} x_k + (Γa(T_k) − Γb(T_k)) u_k + Γb(T_k) u_{k+1}
 //! ```
 //!
-//! with the discretisations cached per length ([`DiscretisationCache`]). On a regular grid it
+//! with the discretisations cached per length ([`DiscretisationCache`](crate::step_cache::DiscretisationCache)). On a regular grid it
 //! computes bit for bit what [`DisturbanceEstimator::update`] does at that grid's `dt`.
 //!
 //! # Gaps
@@ -24,8 +24,7 @@
 
 use crate::estimator::DisturbanceEstimator;
 use crate::filter::FilterParams;
-use crate::finite::check;
-use crate::step_cache::DiscretisationCache;
+use crate::filter_pair::{Next, StepClock};
 use crate::{Dynamics, Error, JointVector, MAX_RATE_TIMES_DT};
 
 /// What one [`TimedEstimator::update`] did.
@@ -43,9 +42,7 @@ pub struct Step<const N: usize> {
 #[derive(Debug, Clone)]
 pub struct TimedEstimator<const N: usize, D> {
     estimator: DisturbanceEstimator<N, D>,
-    cache: DiscretisationCache,
-    time_s: f64,
-    longest_bridge_s: f64,
+    clock: StepClock,
 }
 
 impl<const N: usize, D: Dynamics<N>> TimedEstimator<N, D> {
@@ -58,14 +55,9 @@ impl<const N: usize, D: Dynamics<N>> TimedEstimator<N, D> {
         q0: JointVector<N>,
         tau0: JointVector<N>,
     ) -> Result<Self, Error> {
-        check("t", &JointVector::<1>::from([t0]))?;
         let fastest = params.omega1_rad_s().max(params.omega2_rad_s());
-        Ok(Self {
-            estimator: DisturbanceEstimator::new(dynamics, params, q0, tau0)?,
-            cache: DiscretisationCache::new(params),
-            time_s: t0,
-            longest_bridge_s: MAX_RATE_TIMES_DT / fastest,
-        })
+        let clock = StepClock::new(params, t0, MAX_RATE_TIMES_DT / fastest)?;
+        Ok(Self { estimator: DisturbanceEstimator::new(dynamics, params, q0, tau0)?, clock })
     }
 
     /// The sample at time `t`: the filters advance over `t − t_previous` (first-order hold), or
@@ -76,35 +68,26 @@ impl<const N: usize, D: Dynamics<N>> TimedEstimator<N, D> {
     /// the previous sample's ([`Error::InvalidParameter`] named `t`), or a bad measurement,
     /// changes nothing.
     pub fn update(&mut self, t: f64, q_m: &JointVector<N>, tau_m: &JointVector<N>) -> Result<Step<N>, Error> {
-        let length_s = t - self.time_s;
-        if !(t.is_finite() && length_s > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "t",
-                value: t,
-                requirement: "finite and after the previous sample's time",
-            });
-        }
-        let restarted = length_s > self.longest_bridge_s;
-        let disturbance = if restarted {
-            self.estimator.reset(*q_m, *tau_m)?;
-            *self.estimator.disturbance()
-        } else {
-            let step = self.cache.get(length_s)?;
-            self.estimator.update_over(step, q_m, tau_m)?
+        let (disturbance, length_s, restarted) = match self.clock.next(t)? {
+            Next::Gap(length_s) => {
+                self.estimator.reset(*q_m, *tau_m)?;
+                (*self.estimator.disturbance(), length_s, true)
+            }
+            Next::Step(step, length_s) => (self.estimator.update_over(step, q_m, tau_m)?, length_s, false),
         };
-        self.time_s = t;
+        self.clock.arrive(t);
         Ok(Step { disturbance, length_s, restarted })
     }
 
     /// The longest step bridged rather than restarted from, `100 / max(ω1, ω2)` s (see the
     /// module's notes on gaps).
     pub fn longest_bridge_s(&self) -> f64 {
-        self.longest_bridge_s
+        self.clock.longest_step_s()
     }
 
     /// The latest sample's time, s.
     pub fn time_s(&self) -> f64 {
-        self.time_s
+        self.clock.time_s()
     }
 
     /// The estimator, for `d̂` and the filtered states.
@@ -114,7 +97,7 @@ impl<const N: usize, D: Dynamics<N>> TimedEstimator<N, D> {
 
     /// The discretisations computed so far, one per new step length.
     pub fn discretisations_computed(&self) -> u64 {
-        self.cache.misses()
+        self.clock.discretisations_computed()
     }
 }
 

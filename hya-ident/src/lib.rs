@@ -11,15 +11,18 @@
 //! excites `Y`: [`excitation`] designs a periodic trajectory (a finite Fourier series per joint,
 //! within the joints' position and velocity limits) whose stacked regressor is well
 //! conditioned ([`conditioning`]); only some combinations of the parameters, the base
-//! parameters ([`base`]), act on the joints at all; [`fit`](mod@fit) finds them and the joints'
-//! friction from a log's samples, and [`physical`] full parameters of real bodies that match
-//! them.
+//! parameters ([`base`]), act on the joints at all; [`log`] filters a log's rows into samples,
+//! [`fit`](mod@fit) finds the base parameters and the joints' friction from them, and
+//! [`physical`] full parameters of real bodies that match them; [`identify`](mod@identify) does
+//! all of it, holding out the log's end to test the prediction.
 
 pub mod base;
 pub mod conditioning;
 pub mod excitation;
 pub mod fit;
 pub mod friction;
+pub mod identify;
+pub mod log;
 pub mod physical;
 pub mod regressor;
 
@@ -39,5 +42,7 @@ pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
 pub use fit::{fit, Fit, FitError, Sample};
 pub use friction::JointFriction;
+pub use identify::{identify, Identification, IdentifyError, Options};
+pub use log::{LogFilter, RowError, Timing};
 pub use physical::{consistent_parameters, is_consistent, Consistent};
 pub use regressor::{body_inertia, body_parameters, nominal_parameters, Regressor, PARAMETERS_PER_BODY};

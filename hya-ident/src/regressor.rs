@@ -155,6 +155,23 @@ impl<'a> Regressor<'a> {
         Regressor { dof: N, source: Source::Twins(columns) }
     }
 
+    /// The regressor of the robot `robot` names (a shipped arm's name, or a URDF's path) with
+    /// the model `model`: a shipped arm's generated code (about three times faster, the same
+    /// columns to rounding), else the run-time model's. Every front end picks it so, and so
+    /// gets the same numbers.
+    pub fn of_robot(robot: &str, model: &'a TreeModel) -> Self {
+        struct Generated;
+        impl hya_robots::ForArm for Generated {
+            type Output = Regressor<'static>;
+            fn call<const N: usize>(self, arm: hya_robots::Arm<N>) -> Self::Output {
+                Regressor::generated::<N>(arm.parametric)
+            }
+        }
+        hya_robots::find(robot)
+            .and_then(|_| hya_robots::with_arm(robot, Generated))
+            .unwrap_or_else(|| Regressor::new(model))
+    }
+
     /// Its columns: `10 B`.
     pub fn columns(&self) -> usize {
         PARAMETERS_PER_BODY * self.dof

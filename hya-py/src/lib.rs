@@ -4,6 +4,7 @@
 
 mod arrays;
 mod estimation;
+mod identification;
 mod model;
 mod simulate;
 
@@ -28,6 +29,7 @@ fn _hya(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<estimation::ThirdOrderFilter>()?;
     m.add_class::<estimation::ComputedTorque>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add("UrdfError", m.py().get_type::<UrdfError>())?;
     Ok(())
 }

@@ -43,6 +43,8 @@ pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = Result<T, SimErro
 pub struct Model {
     /// The shipped robot's name, or the URDF's path.
     source: String,
+    /// The description's text, as loaded.
+    urdf: String,
     model: TreeModel,
     generated: Option<&'static RobotInfo>,
 }
@@ -56,6 +58,21 @@ impl Model {
             Some(robot) => Ok(hya_sim::Robot::<N>::load(robot.name)?.nominal),
             None => Ok(Box::new(self.model.clone().into_dynamics::<N>()?)),
         }
+    }
+
+    /// The shipped robot's name, or the URDF's path.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The description's text.
+    pub fn urdf(&self) -> &str {
+        &self.urdf
+    }
+
+    /// The run-time model.
+    pub fn tree(&self) -> &TreeModel {
+        &self.model
     }
 
     /// Degrees of freedom.
@@ -138,8 +155,11 @@ impl Model {
     /// the link or joint at fault.
     #[staticmethod]
     fn from_urdf(path: std::path::PathBuf) -> PyResult<Self> {
-        let loaded = hya_urdf::load_file(&path).map_err(|e| UrdfError::new_err(e.to_string()))?;
-        Ok(Self { source: path.display().to_string(), model: loaded.model, generated: None })
+        let source = path.display().to_string();
+        let urdf = hya_urdf::file::read_text(&path, hya_urdf::MAX_FILE_BYTES as u64)
+            .map_err(|e| UrdfError::new_err(format!("{source}: {e}")))?;
+        let loaded = hya_urdf::load_str(&urdf, &source).map_err(|e| UrdfError::new_err(e.to_string()))?;
+        Ok(Self { source, urdf, model: loaded.model, generated: None })
     }
 
     /// A shipped arm by name (`Model.builtin_names()`): generated code behind every method.
@@ -150,7 +170,7 @@ impl Model {
             PyKeyError::new_err(format!("no shipped robot `{name}`; shipped: {}", known.join(", ")))
         })?;
         let loaded = hya_urdf::load_str(robot.urdf, robot.name).map_err(|e| UrdfError::new_err(e.to_string()))?;
-        Ok(Self { source: name.to_owned(), model: loaded.model, generated: Some(robot) })
+        Ok(Self { source: name.to_owned(), urdf: robot.urdf.to_owned(), model: loaded.model, generated: Some(robot) })
     }
 
     /// The names of the shipped arms.

@@ -5,4 +5,4 @@ mod error;
 mod robot;
 
 pub use error::CliError;
-pub use robot::{load, model, scenario, with_body_inertias};
+pub use robot::{load, model, scenario, urdf_text, with_body_inertias};

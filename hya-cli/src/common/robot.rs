@@ -28,7 +28,7 @@ pub fn model(robot: &str) -> Result<TreeModel, CliError> {
 }
 
 /// The nominal description's text.
-fn urdf_text(robot: &str) -> Result<String, CliError> {
+pub fn urdf_text(robot: &str) -> Result<String, CliError> {
     match hya_robots::find(robot) {
         Some(shipped) => Ok(shipped.urdf.to_owned()),
         None => hya_urdf::file::read_text(std::path::Path::new(robot), hya_urdf::MAX_FILE_BYTES as u64)

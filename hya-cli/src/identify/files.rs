@@ -1,8 +1,7 @@
 //! `friction.toml` and `identified.urdf`, the files a user loads back into hya.
 
 use hya_core::model::TreeModel;
-use hya_core::spatial::RigidBodyInertia;
-use hya_ident::{body_inertia, Consistent, Fit, PARAMETERS_PER_BODY};
+use hya_ident::{Consistent, Fit};
 
 use crate::CliError;
 
@@ -16,10 +15,8 @@ pub fn friction_toml(fitted: &Fit, joints: &[&str]) -> String {
     fitted.friction.to_toml(joints, Some(&fitted.friction_std))
 }
 
-/// `identified.urdf`: each body's consistent inertia (see [`crate::common::with_body_inertias`]).
+/// `identified.urdf` ([`hya_ident::identify::identified_urdf`]) of the robot `robot`.
 pub fn identified_urdf(robot: &str, model: &TreeModel, full: &Consistent) -> Result<String, CliError> {
-    let inertias: Vec<RigidBodyInertia> = (0..model.bodies().len())
-        .map(|b| body_inertia(&full.parameters.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY]))
-        .collect();
-    crate::common::with_body_inertias(robot, model, &inertias, "identified.urdf")
+    hya_ident::identify::identified_urdf(&crate::common::urdf_text(robot)?, robot, model, full)
+        .map_err(|e| CliError::Input(e.to_string()))
 }

@@ -1,22 +1,12 @@
-//! The log `hya identify` reads, filtered into samples `(q̂, q̂̇, q̂̈, τ̂)`.
-//!
-//! `q̂, q̂̇, q̂̈` come from the paper's third-order filter on `q` (no numerical differentiation)
-//! and `τ̂` from the same filter on `τ`, so that both carry the same lag, as in the estimator.
-//! With timestamps each step is filtered over its own length (first-order hold, as
-//! [`hya_core::TimedEstimator`] does); a step longer than `--max-step` is a gap, across which
-//! the derivatives would be guesses: both filters restart at rest on the row after it.
-//!
-//! After every (re)start the filters settle for `10/ω` seconds before a sample is taken; then one
-//! sample is taken per `1/ω` seconds, the time over which the filters make neighbouring rows'
-//! noise alike, so that the fit's residuals are near independent, as its standard deviations
-//! assume.
+//! The log `hya identify` reads: its table, in rows `[t] q τ`, fed to
+//! [`hya_ident::log::LogFilter`], which filters them into samples `(q̂, q̂̇, q̂̈, τ̂)` (see there
+//! for the filters, gaps, settling and the spacing of samples).
 
 use std::io::BufRead;
 
 use hya_core::dispatch::ForJoints;
-use hya_core::step_cache::DiscretisationCache;
-use hya_core::{FilterParams, JointVector, Short, ThirdOrderFilter};
-use hya_ident::Sample;
+use hya_core::FilterParams;
+use hya_ident::log::{LogFilter, Timing};
 
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{ColumnSpec, Table};
@@ -39,28 +29,10 @@ pub struct Layout {
     pub joints: Joints,
 }
 
-impl Layout {
-    /// How long the filters settle after a start before samples are taken, `10/ω` s.
-    pub fn settling_s(&self) -> f64 {
-        10.0 / self.params.omega1_rad_s()
-    }
-
-    /// The time between samples taken, `1/ω` s.
-    pub fn spacing_s(&self) -> f64 {
-        1.0 / self.params.omega1_rad_s()
-    }
-}
-
-/// The samples taken from a log.
+/// The samples taken from a log, and how it was read.
 pub struct Filtered {
-    /// The samples, in time order.
-    pub samples: Vec<Sample>,
-    /// Each sample's time, s (from the log's timestamps, or `k · dt`).
-    pub time_s: Vec<f64>,
-    /// The rows read.
-    pub rows: usize,
-    /// The gaps across which the filters restarted.
-    pub gaps: usize,
+    /// The samples, their times, the rows read and the gaps.
+    pub log: hya_ident::log::Filtered,
     /// The nominal step the filters were designed at, s.
     pub dt_s: f64,
     /// The longest step that is not a gap, s.
@@ -82,12 +54,8 @@ impl<R: BufRead> ForJoints for Filter<'_, R> {
     }
 }
 
-/// The two filters, on `q` and on `τ`.
-struct Pair<const N: usize> {
-    angles: ThirdOrderFilter<N>,
-    torques: ThirdOrderFilter<N>,
-}
-
+/// Reads the table and feeds its rows to [`hya_ident::log::LogFilter`], which filters them
+/// (and refuses a row with the words Python's `identify` uses too; here with its line).
 fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filtered, CliError> {
     let offset = usize::from(layout.timestamps);
     let what = format!(
@@ -103,66 +71,18 @@ fn filter<const N: usize>(input: impl BufRead, layout: &Layout) -> Result<Filter
         None => (layout.params, layout.max_step_s),
         Some(max_step) => log.adopt_nominal_step(&layout.params, max_step)?,
     };
-    let dt = params.dt_s();
-    let mut cache = DiscretisationCache::new(params);
-    let mut filters: Option<Pair<N>> = None;
-    let mut out = Filtered { samples: Vec::new(), time_s: Vec::new(), rows: 0, gaps: 0, dt_s: dt, max_step_s };
-    let (mut previous_s, mut next_sample_s) = (0.0, 0.0);
+    let timing = match layout.timestamps {
+        true => Timing::Stamped { max_step_s },
+        false => Timing::Fixed,
+    };
+    let mut filter = LogFilter::<N>::new(params, timing).map_err(|e| CliError::Input(format!("--max-step: {e}")))?;
     while let Some(line) = log.next_line() {
         let line = line?;
-        let at_line = |e: hya_core::Error| CliError::Input(format!("line {line}: {e}"));
         let values = log.values();
-        let t = if layout.timestamps { values[0] } else { out.rows as f64 * dt };
-        out.rows += 1;
-        let q = JointVector::<N>::from_column_slice(&values[offset..offset + N]);
-        let tau = JointVector::<N>::from_column_slice(&values[offset + N..offset + 2 * N]);
-        if !t.is_finite() {
-            return Err(CliError::Input(format!("line {line}: t = {t}: times must be finite")));
-        }
-        let step = t - previous_s;
-        match filters.as_mut() {
-            Some(pair) if !layout.timestamps => {
-                pair.angles.step(&q).map_err(at_line)?;
-                pair.torques.step(&tau).map_err(at_line)?;
-            }
-            Some(_) if step <= 0.0 => {
-                return Err(CliError::Input(format!(
-                    "line {line}: t = {} s is not after the previous row's t = {} s: times must strictly increase",
-                    Short(t),
-                    Short(previous_s)
-                )))
-            }
-            Some(pair) if step <= max_step_s => {
-                let over = cache.get(step).map_err(at_line)?;
-                let angles = pair.angles.peek_over(over, "q", &q).map_err(at_line)?;
-                let torques = pair.torques.peek_over(over, "τ", &tau).map_err(at_line)?;
-                pair.angles.commit(angles, q);
-                pair.torques.commit(torques, tau);
-            }
-            _ => {
-                if filters.is_some() {
-                    out.gaps += 1;
-                }
-                let start = |x0| ThirdOrderFilter::<N>::new(params, x0).map_err(at_line);
-                filters = Some(Pair { angles: start(q)?, torques: start(tau)? });
-                next_sample_s = t + layout.settling_s();
-            }
-        }
-        previous_s = t;
-        // Half a row early counts as on time: `k · dt` need not meet `m / ω` exactly.
-        if t >= next_sample_s - 0.5 * dt {
-            if let Some(pair) = &filters {
-                let state = pair.angles.state();
-                out.samples.push(Sample {
-                    q: state.x1.as_slice().to_vec(),
-                    qd: state.x2.as_slice().to_vec(),
-                    qdd: state.x3.as_slice().to_vec(),
-                    tau: pair.torques.state().x1.as_slice().to_vec(),
-                });
-                out.time_s.push(t);
-            }
-            next_sample_s += layout.spacing_s();
-        }
+        let t = if layout.timestamps { values[0] } else { f64::NAN };
+        filter
+            .push(t, &values[offset..offset + N], &values[offset + N..offset + 2 * N])
+            .map_err(|e| CliError::Input(format!("line {line}: {e}")))?;
     }
-    Ok(out)
+    Ok(Filtered { log: filter.finish(), dt_s: params.dt_s(), max_step_s })
 }

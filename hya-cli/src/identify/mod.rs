@@ -16,7 +16,8 @@ use std::path::PathBuf;
 use hya_core::dispatch::with_joints;
 use hya_core::model::TreeModel;
 use hya_core::{FilterParams, Short};
-use hya_ident::{consistent_parameters, fit, nominal_parameters, BaseParameters, Regressor, Sample};
+use hya_ident::identify::rigid_predictions;
+use hya_ident::{identify, nominal_parameters, BaseParameters, IdentifyError, Options, Regressor};
 use hya_sim::io::output::OutputDir;
 
 use crate::table::names::Joints;
@@ -82,24 +83,12 @@ fn compared_model(path: &str, nominal: &TreeModel) -> Result<TreeModel, CliError
     Ok(model)
 }
 
-/// The regressor of `robot`: a shipped arm's generated code (about three times faster, the same
-/// columns to rounding), else the run-time model's.
-fn regressor<'a>(robot: &str, model: &'a TreeModel) -> Regressor<'a> {
-    struct Generated;
-    impl hya_robots::ForArm for Generated {
-        type Output = Regressor<'static>;
-        fn call<const N: usize>(self, arm: hya_robots::Arm<N>) -> Self::Output {
-            Regressor::generated::<N>(arm.parametric)
-        }
+/// An identification error as the command line says it: an option by its flag.
+fn identify_error(e: IdentifyError) -> CliError {
+    match e {
+        IdentifyError::Option(name, why) => CliError::Input(format!("--{} {why}", name.replace('_', "-"))),
+        other => input(other),
     }
-    hya_robots::find(robot)
-        .and_then(|_| hya_robots::with_arm(robot, Generated))
-        .unwrap_or_else(|| Regressor::new(model))
-}
-
-/// Each sample's torque as `model` predicts it.
-fn rigid_predictions(model: &TreeModel, samples: &[Sample]) -> Result<Vec<Vec<f64>>, CliError> {
-    samples.iter().map(|s| model.inverse_dynamics(&s.q, &s.qd, &s.qdd).map_err(input)).collect()
 }
 
 /// The filters' step until a timestamped log without `--dt` gives its own, s.
@@ -109,19 +98,8 @@ const PROVISIONAL_DT_S: f64 = 0.001;
 pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     // Without --dt, a timestamped log's own median step, taken while it is read (`log::filter`).
     let dt = check_dt("--dt", args.dt.unwrap_or(PROVISIONAL_DT_S))?;
-    if !(args.held_out > 0.0 && args.held_out < 0.9) {
-        return Err(CliError::Input(format!("--held-out {}: must be in (0, 0.9)", Short(args.held_out))));
-    }
-    // friction.toml must read back: the same range as its reader's.
-    let (_, lo, hi, _) = hya_ident::friction::PLAUSIBLE_FRICTION[0];
-    if !(args.smoothing_rad_s.is_finite() && (lo..=hi).contains(&args.smoothing_rad_s)) {
-        return Err(CliError::Input(format!(
-            "--smoothing-rad-s {}: must be between {} and {} rad/s (friction.toml's range)",
-            Short(args.smoothing_rad_s),
-            Short(lo),
-            Short(hi)
-        )));
-    }
+    let options = Options { held_out: args.held_out, smoothing_rad_s: args.smoothing_rad_s };
+    options.check().map_err(identify_error)?;
     let model = crate::common::model(&args.robot)?;
     let max_step_s = match args.max_step {
         None => 2.5 * dt,
@@ -146,60 +124,32 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         None => None,
     };
     let n = model.dof();
-    let regressor = regressor(&args.robot, &model);
+    let regressor = Regressor::of_robot(&args.robot, &model);
     let base = BaseParameters::of(&model, 5).map_err(input)?;
     let log = with_joints(n, Filter { input: stdin, layout: &layout }).ok_or_else(|| {
         CliError::Input(format!("{} joints: hya handles 1 to {}", n, hya_core::dispatch::MAX_JOINTS))
     })??;
-    let unknowns = base.rank() + 3 * n;
-    // At least twice as many equations as unknowns in the fitted part, and a held-out part.
-    let needed = ((2 * unknowns).div_ceil(n) as f64 / (1.0 - args.held_out)).ceil() as usize + 1;
-    let split = ((1.0 - args.held_out) * log.samples.len() as f64) as usize;
-    if log.samples.len() < needed {
-        return Err(CliError::Input(format!(
-            "the log has {} rows, giving {} samples (one per 1/ω = {} s after the filters' first {} s{}); \
-             identifying {} base parameters and {} friction terms needs at least {needed}",
-            log.rows,
-            log.samples.len(),
-            layout.spacing_s(),
-            layout.settling_s(),
-            if log.gaps > 0 { format!(", and again after each of {} gaps", log.gaps) } else { String::new() },
-            base.rank(),
-            3 * n
-        )));
-    }
-    let (fitted_part, held_out) = log.samples.split_at(split);
-    let fitted = fit(&regressor, &base, fitted_part, args.smoothing_rad_s).map_err(input)?;
-
+    let found = identify(&model, &regressor, &base, &log.log, options).map_err(identify_error)?;
+    let held_out = &log.log.samples[found.fitted_samples..];
     let mut models = vec![
-        ("nominal model".to_owned(), rigid_predictions(&model, held_out)?),
-        (
-            "identified model".to_owned(),
-            held_out
-                .iter()
-                .map(|s| Ok(fitted.predict(&regressor, &base, s).map_err(input)?.as_slice().to_vec()))
-                .collect::<Result<_, CliError>>()?,
-        ),
+        ("nominal model".to_owned(), found.nominal.clone()),
+        ("identified model".to_owned(), found.identified.clone()),
     ];
     if let Some((name, compared)) = &compared {
-        models.push((name.clone(), rigid_predictions(compared, held_out)?));
+        models.push((name.clone(), rigid_predictions(compared, held_out).map_err(input)?));
     }
-    let predictions = Predictions {
-        time_s: log.time_s[split..].to_vec(),
-        measured: held_out.iter().map(|s| s.tau.clone()).collect(),
-        models,
-    };
+    let predictions = Predictions { time_s: found.held_out_time_s.clone(), measured: found.measured.clone(), models };
+    let (fitted, full) = (&found.fitted, &found.full);
     let joints: Vec<&str> = model.joint_names().collect();
     // The report shows each name escaped and cut, as messages do: no name can forge a line.
     let shown: Vec<String> = joints.iter().map(|name| hya_urdf::name_list([*name])).collect();
     let shown: Vec<&str> = shown.iter().map(String::as_str).collect();
-    let full = consistent_parameters(&base, &nominal_parameters(&model), &fitted.base);
     let findings = Findings {
         model: &model,
         joints: &shown,
         base: &base,
-        fitted: &fitted,
-        full: &full,
+        fitted,
+        full,
         nominal_base: base.of_parameters(&nominal_parameters(&model)).as_slice().to_vec(),
         compared: compared.as_ref().map(|(name, compared)| Compared {
             name: name.clone(),
@@ -213,18 +163,18 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
              terms, by weighted least squares; condition number of the weighted system {:.3e}. Standard \
              deviations assume the remaining noise white; the filters' lag adds a bias they do not count. \
              Torques are compared after the same filter.",
-            log.rows,
+            log.log.rows,
             if args.timestamps { " with timestamps" } else { "" },
             Short(log.dt_s),
             if args.dt.is_none() { " (the log's median step)" } else { "" },
-            if log.gaps > 0 {
-                format!(", {} gaps (longer than {} s)", log.gaps, Short(log.max_step_s))
+            if log.log.gaps > 0 {
+                format!(", {} gaps (longer than {} s)", log.log.gaps, Short(log.max_step_s))
             } else {
                 String::new()
             },
             Short(args.bandwidth_rad_s),
-            layout.settling_s(),
-            fitted_part.len(),
+            log.log.settling_s,
+            found.fitted_samples,
             held_out.len(),
             base.rank(),
             regressor.columns(),
@@ -236,8 +186,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     let reads = [Some(&args.robot), args.compare.as_ref()].into_iter().flatten().map(std::path::Path::new);
     let (out, _) = OutputDir::open(&args.out, args.force, "hya identify", &reads.collect::<Vec<_>>()).map_err(input)?;
     let save = |name: &str, text: &str| out.save(name, text).map_err(input);
-    save("identified.urdf", &identified_urdf(&args.robot, &model, &full)?)?;
-    let friction = friction_toml(&fitted, &joints);
+    save("identified.urdf", &identified_urdf(&args.robot, &model, full)?)?;
+    let friction = friction_toml(fitted, &joints);
     // The reader's own checks: a fitted term beyond its plausible range is said now, not when
     // `estimate --friction` or `controller.friction_toml` refuses the file.
     if let Err(why) = hya_ident::JointFriction::from_toml(&friction, n) {
@@ -252,7 +202,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
          identified [{}]{}; {}",
         base.rank(),
         3 * n,
-        fitted_part.len(),
+        found.fitted_samples,
         rms(0),
         rms(1),
         findings.largest_deviation().map_or(String::new(), |d| format!(

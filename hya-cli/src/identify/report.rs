@@ -19,14 +19,7 @@ pub struct Predictions {
 impl Predictions {
     /// Per-joint RMS of model `m`'s prediction error, N·m.
     pub fn rms(&self, m: usize) -> Vec<f64> {
-        let n = self.measured.first().map_or(0, Vec::len);
-        let mut sums = vec![0.0; n];
-        for (predicted, measured) in self.models[m].1.iter().zip(&self.measured) {
-            for (i, (p, y)) in predicted.iter().zip(measured).enumerate() {
-                sums[i] += (p - y).powi(2);
-            }
-        }
-        sums.iter().map(|s| (s / self.measured.len().max(1) as f64).sqrt()).collect()
+        hya_ident::identify::rms_error(&self.models[m].1, &self.measured)
     }
 }
 

@@ -15,6 +15,7 @@ from ._hya import (
     NonlinearDisturbanceObserver,
     ThirdOrderFilter,
     UrdfError,
+    identify,
     simulate,
 )
 
@@ -27,5 +28,6 @@ __all__ = [
     "NonlinearDisturbanceObserver",
     "ThirdOrderFilter",
     "UrdfError",
+    "identify",
     "simulate",
 ]

@@ -108,6 +108,22 @@ class ComputedTorque:
         d_hat: Optional[Sequence[float]] = None,
     ) -> List[float]: ...
 
+def identify(
+    model: Model,
+    q: ArrayLike,
+    tau: ArrayLike,
+    dt: float,
+    *,
+    t: Optional[ArrayLike] = None,
+    max_step: Optional[float] = None,
+    held_out: float = 0.25,
+    smoothing_rad_s: float = 0.05,
+    bandwidth_rad_s: float = 50.0,
+) -> Dict[str, Any]:
+    """Base parameters and joint friction of `model` from a log's rows of q (rad) and tau (N·m),
+    one per dt, or at the times t with dt their nominal step: what `hya identify` finds from the
+    same rows, with `identified_urdf` the text it writes."""
+
 def simulate(
     scenario: Union[str, Dict[str, Any]], method: str = "lu", seed: Optional[int] = None, quick: bool = False
 ) -> Dict[str, Any]:

@@ -1,0 +1,218 @@
+//! A log of rows `(t, q, τ)` filtered into the fit's samples `(q̂, q̂̇, q̂̈, τ̂)`.
+//!
+//! `q̂, q̂̇, q̂̈` come from the paper's third-order filter on `q` (no numerical differentiation)
+//! and `τ̂` from the same filter on `τ`, so that both carry the same lag, as in the estimator:
+//! the filters are [`hya_core::FilterPair`]. With timestamps each step is filtered over its own
+//! length (first-order hold, [`hya_core::StepClock`], as [`hya_core::TimedEstimator`] does); a
+//! step longer than the log's longest step is a gap, across which the derivatives would be
+//! guesses: both filters restart at rest on the row after it.
+//!
+//! After every (re)start the filters settle for `10/ω` seconds before a sample is taken; then one
+//! sample is taken per `1/ω` seconds, the time over which the filters make neighbouring rows'
+//! noise alike, so that the fit's residuals are near independent, as its standard deviations
+//! assume.
+//!
+//! The command line (`hya identify`) and Python (`hya.identify`) both feed their rows here, so
+//! both refuse the same rows with the same words.
+
+use hya_core::{FilterPair, FilterParams, JointVector, Next, Short, StepClock};
+
+use crate::fit::Sample;
+
+/// How the rows are timed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Timing {
+    /// One row per filter step (`t = k · dt`).
+    Fixed,
+    /// Rows carry their time; a step longer than this, s, is a gap.
+    Stamped {
+        /// The longest step that is not a gap, s.
+        max_step_s: f64,
+    },
+}
+
+/// A row the log filter refuses, with why; the caller adds where the row is.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct RowError(pub String);
+
+/// The samples taken from a log.
+#[derive(Debug, Clone, Default)]
+pub struct Filtered {
+    /// The samples, in time order.
+    pub samples: Vec<Sample>,
+    /// Each sample's time, s (the log's timestamps, or `k · dt`).
+    pub time_s: Vec<f64>,
+    /// The rows read.
+    pub rows: usize,
+    /// The gaps across which the filters restarted.
+    pub gaps: usize,
+    /// How long the filters settled after each start before samples were taken, s.
+    pub settling_s: f64,
+    /// The time between samples, s.
+    pub spacing_s: f64,
+}
+
+/// The filters running and the log's clock.
+#[derive(Debug, Clone)]
+struct Running<const N: usize> {
+    pair: FilterPair<N>,
+    clock: StepClock,
+}
+
+/// Filters a log row by row for an arm of `N` joints.
+#[derive(Debug, Clone)]
+pub struct LogFilter<const N: usize> {
+    params: FilterParams,
+    timing: Timing,
+    running: Option<Running<N>>,
+    next_sample_s: f64,
+    out: Filtered,
+}
+
+impl<const N: usize> LogFilter<N> {
+    /// A filter with `params` (designed at the log's nominal step) for rows timed by `timing`.
+    /// A gap limit that is not a positive number of seconds is refused.
+    pub fn new(params: FilterParams, timing: Timing) -> Result<Self, RowError> {
+        if let Timing::Stamped { max_step_s } = timing {
+            if !(max_step_s.is_finite() && max_step_s > 0.0) {
+                return Err(RowError(format!("max step {}: must be a positive number of seconds", Short(max_step_s))));
+            }
+        }
+        Ok(Self { params, timing, running: None, next_sample_s: 0.0, out: Filtered::default() })
+    }
+
+    /// How long the filters settle after a start before samples are taken, `10/ω` s.
+    pub fn settling_s(&self) -> f64 {
+        10.0 / self.params.omega1_rad_s()
+    }
+
+    /// The time between samples taken, `1/ω` s.
+    pub fn spacing_s(&self) -> f64 {
+        1.0 / self.params.omega1_rad_s()
+    }
+
+    /// The next row: its time `t` (ignored for [`Timing::Fixed`], whose rows are `k · dt`), the
+    /// joint angles `q`, rad, and torques `τ`, N·m (`N` each). A row refused leaves the filter
+    /// as it was.
+    pub fn push(&mut self, t: f64, q: &[f64], tau: &[f64]) -> Result<(), RowError> {
+        if q.len() != N || tau.len() != N {
+            return Err(RowError(format!("{} angles and {} torques for an arm of {N} joints", q.len(), tau.len())));
+        }
+        let (q, tau) = (JointVector::<N>::from_column_slice(q), JointVector::<N>::from_column_slice(tau));
+        let refused = |e: hya_core::Error| RowError(e.to_string());
+        let t = match self.timing {
+            Timing::Fixed => self.out.rows as f64 * self.params.dt_s(),
+            Timing::Stamped { .. } => t,
+        };
+        if !t.is_finite() {
+            return Err(RowError(format!("t = {t}: times must be finite")));
+        }
+        let restart = match (self.running.as_mut(), self.timing) {
+            (Some(running), Timing::Fixed) => {
+                let next = running.pair.peek(&q, &tau).map_err(refused)?;
+                running.pair.commit(next, &q, &tau);
+                false
+            }
+            (Some(running), Timing::Stamped { .. }) => {
+                let previous = running.clock.time_s();
+                match running.clock.next(t) {
+                    Err(_) if t <= previous => {
+                        return Err(RowError(format!(
+                            "t = {} s is not after the previous row's t = {} s: times must strictly increase",
+                            Short(t),
+                            Short(previous)
+                        )))
+                    }
+                    Err(e) => return Err(refused(e)),
+                    Ok(Next::Step(step, _)) => {
+                        let next = running.pair.peek_over(step, &q, &tau).map_err(refused)?;
+                        running.pair.commit(next, &q, &tau);
+                        running.clock.arrive(t);
+                        false
+                    }
+                    Ok(Next::Gap(_)) => true,
+                }
+            }
+            (None, _) => true,
+        };
+        if restart {
+            let longest = match self.timing {
+                Timing::Stamped { max_step_s } => max_step_s,
+                Timing::Fixed => self.params.dt_s(),
+            };
+            let running = Running {
+                pair: FilterPair::new(self.params, q, tau).map_err(refused)?,
+                clock: StepClock::new(self.params, t, longest).map_err(refused)?,
+            };
+            self.out.gaps += usize::from(self.running.is_some());
+            self.running = Some(running);
+            self.next_sample_s = t + self.settling_s();
+        }
+        self.out.rows += 1;
+        // Half a row early counts as on time: `k · dt` need not meet `m / ω` exactly.
+        if t >= self.next_sample_s - 0.5 * self.params.dt_s() {
+            if let Some(running) = &self.running {
+                let angles = running.pair.angles();
+                self.out.samples.push(Sample {
+                    q: angles.x1.as_slice().to_vec(),
+                    qd: angles.x2.as_slice().to_vec(),
+                    qdd: angles.x3.as_slice().to_vec(),
+                    tau: running.pair.torques().as_slice().to_vec(),
+                });
+                self.out.time_s.push(t);
+            }
+            self.next_sample_s += self.spacing_s();
+        }
+        Ok(())
+    }
+
+    /// The samples taken.
+    pub fn finish(self) -> Filtered {
+        Filtered { settling_s: self.settling_s(), spacing_s: self.spacing_s(), ..self.out }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(k: usize) -> ([f64; 2], [f64; 2]) {
+        let x = k as f64 * 1e-3;
+        ([x.sin(), 0.5 * x], [3.0 * x.cos(), 1.0 - x])
+    }
+
+    #[test]
+    fn fixed_and_stamped_rows_on_an_exact_grid_give_the_same_samples() {
+        let dt = 1.0 / 1024.0; // exact in binary: every step of the stamped rows is exactly dt
+        let params = FilterParams::new(0.8, 50.0, 50.0, dt).unwrap();
+        let mut fixed = LogFilter::<2>::new(params, Timing::Fixed).unwrap();
+        let mut stamped = LogFilter::<2>::new(params, Timing::Stamped { max_step_s: 2.5 * dt }).unwrap();
+        for k in 0..2000 {
+            let (q, tau) = row(k);
+            fixed.push(f64::NAN, &q, &tau).unwrap();
+            stamped.push(k as f64 * dt, &q, &tau).unwrap();
+        }
+        let (fixed, stamped) = (fixed.finish(), stamped.finish());
+        assert!(!fixed.samples.is_empty());
+        assert_eq!(fixed.samples, stamped.samples);
+        assert_eq!(fixed.time_s, stamped.time_s);
+    }
+
+    #[test]
+    fn a_gap_restarts_the_filters_and_bad_times_are_refused_without_effect() {
+        let params = FilterParams::new(0.8, 50.0, 50.0, 1e-3).unwrap();
+        let mut log = LogFilter::<2>::new(params, Timing::Stamped { max_step_s: 2.5e-3 }).unwrap();
+        let (q, tau) = row(0);
+        log.push(0.0, &q, &tau).unwrap();
+        log.push(1e-3, &q, &tau).unwrap();
+        let refused = log.push(1e-3, &q, &tau).unwrap_err().to_string();
+        assert!(refused.contains("strictly increase"), "{refused}");
+        assert!(log.push(f64::NAN, &q, &tau).unwrap_err().to_string().contains("finite"));
+        assert!(log.push(2e-3, &[f64::NAN, 0.0], &tau).is_err());
+        log.push(10e-3, &q, &tau).unwrap();
+        let out = log.finish();
+        assert_eq!((out.rows, out.gaps), (3, 1));
+        assert!(LogFilter::<2>::new(params, Timing::Stamped { max_step_s: -1.0 }).is_err());
+    }
+}

@@ -12,8 +12,9 @@
 //! # Ok::<(), hya_sim::SimError>(())
 //! ```
 
-// The layers, lowest first: error, io, config, robot, linear, plant, run, frequency and
-// torque_response, analysis, report; each file imports only from the layers before its own (ARCHITECTURE.md).
+// The layers, lowest first: error, io, config, robot, linear, plant, run, analysis, then the
+// measurements that run the plant and the loop (frequency, torque_response), report; each file
+// imports only from the layers before its own (ARCHITECTURE.md).
 pub mod analysis;
 pub mod config;
 pub mod error;

@@ -12,6 +12,11 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// The repository's file `path`.
+fn read(path: &str) -> String {
+    std::fs::read_to_string(root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
 /// hya's crates' dependencies on each other: (normal, build).
 fn manifests() -> (Edges, Edges) {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
@@ -42,8 +47,9 @@ fn manifests() -> (Edges, Edges) {
         }
     }
     // hya-py is built by maturin, outside the workspace: its own manifest's path dependencies.
-    let py: toml::Value = std::fs::read_to_string(root().join("hya-py/Cargo.toml")).unwrap().parse().unwrap();
-    for (to, spec) in py["dependencies"].as_table().unwrap() {
+    let py: toml::Value = read("hya-py/Cargo.toml").parse().unwrap_or_else(|e| panic!("hya-py/Cargo.toml: {e}"));
+    let dependencies = py["dependencies"].as_table().unwrap_or_else(|| panic!("hya-py/Cargo.toml: no [dependencies]"));
+    for (to, spec) in dependencies {
         if spec.get("path").is_some() {
             normal.insert(("hya-py".to_owned(), to.clone()));
         }
@@ -53,7 +59,7 @@ fn manifests() -> (Edges, Edges) {
 
 /// The arrows of ARCHITECTURE.md's drawing: (normal, build).
 fn drawing() -> (Edges, Edges) {
-    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let text = read("ARCHITECTURE.md");
     let block = text.split("```text").nth(1).and_then(|rest| rest.split("```").next()).expect("a text drawing");
     let crates = |group: &str| -> Vec<String> {
         group.split([',', ' ', '(']).filter(|w| w.starts_with("hya-")).map(String::from).collect()
@@ -121,14 +127,14 @@ fn the_drawing_of_the_crates_matches_their_manifests() {
 fn every_path_the_readme_and_architecture_cite_exists() {
     // Back-quoted paths that start at one of the repository's own folders.
     let tops: Vec<String> = std::fs::read_dir(root())
-        .unwrap()
+        .unwrap_or_else(|e| panic!("the repository's folder: {e}"))
         .filter_map(|e| e.ok())
         .filter(|e| e.path().is_dir())
         .filter_map(|e| e.file_name().into_string().ok())
         .filter(|n| !n.starts_with('.') && n != "target")
         .collect();
     for file in ["README.md", "ARCHITECTURE.md"] {
-        let text = std::fs::read_to_string(root().join(file)).unwrap();
+        let text = read(file);
         for cited in text.split('`').skip(1).step_by(2) {
             let Some((top, _)) = cited.split_once('/') else { continue };
             if !tops.iter().any(|t| t == top) || cited.contains([' ', '*', '<']) {

@@ -135,7 +135,8 @@ impl StepClock {
 
     /// What a sample at `t` is: a step (with its discretisation) or a gap. Nothing changes until
     /// [`arrive`](Self::arrive). A `t` that is not finite or not after the last sample's is
-    /// [`Error::InvalidParameter`] named `t`; so is a step the cache cannot discretise.
+    /// [`Error::InvalidParameter`] named `t`; a step the filters cannot be discretised over is
+    /// the error [`FilterParams::with_dt`] gives.
     pub fn next(&mut self, t: f64) -> Result<Next<'_>, Error> {
         let length_s = t - self.time_s;
         if !(t.is_finite() && length_s > 0.0) {

@@ -127,7 +127,7 @@ pub fn identify(
     options: Options,
 ) -> Result<Identification, IdentifyError> {
     options.check()?;
-    let n = model.dof();
+    let n = crate::check_joint_count(model)?;
     let unknowns = base.rank() + 3 * n;
     // At least twice as many equations as unknowns in the fitted part, and a held-out part.
     let needed = ((2 * unknowns).div_ceil(n) as f64 / (1.0 - options.held_out)).ceil() as usize + 1;

@@ -82,7 +82,12 @@ pub fn identify<'py>(
             PyValueError::new_err(format!("{n} joints: hya handles 1 to {}", hya_core::dispatch::MAX_JOINTS))
         })?
         .map_err(PyValueError::new_err)?;
-    let regressor = Regressor::of_robot(model.source(), tree);
+    // A shipped arm's generated twins only for a model built from it (a URDF file whose name is
+    // a shipped arm's is another model).
+    let regressor = match model.is_shipped() {
+        true => Regressor::of_robot(model.source(), tree),
+        false => Regressor::new(tree),
+    };
     let base = BaseParameters::of(tree, 5).map_err(value_error)?;
     let found = identify_log(tree, &regressor, &base, &log, options).map_err(value_error)?;
     let urdf =

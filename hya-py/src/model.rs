@@ -65,6 +65,11 @@ impl Model {
         &self.source
     }
 
+    /// Whether this is a shipped arm (`Model.builtin`), its dynamics generated code.
+    pub fn is_shipped(&self) -> bool {
+        self.generated.is_some()
+    }
+
     /// The description's text.
     pub fn urdf(&self) -> &str {
         &self.urdf

@@ -665,7 +665,8 @@ impl JointLoop {
     }
 
     /// The whole lag from the friction to its cancellation, s: the estimator's low-frequency
-    /// delay plus the loop's own, `T_m + 1/ω_a + T_c + T/2`; `None` without an estimator.
+    /// delay plus the loop's own, `T_m + τ_a + T_c + T/2` with `τ_a` the actuator's low-frequency
+    /// delay ([`ActuatorModel::low_frequency_delay`]); `None` without an estimator.
     pub fn cancellation_lag_s(&self) -> Option<f64> {
         let design = self.compensation.design()?;
         let actuator = self.actuator.low_frequency_delay();

@@ -189,6 +189,9 @@ fn dependence(rows: &[DesignRow], claim: usize) -> String {
             })
             .collect()
     };
+    if rows.iter().all(|r| matches!(verdict(r), Verdict::NotRun | Verdict::NotTestable)) {
+        return "not judged in any row (its runs are missing)".to_owned();
+    }
     if rows.iter().all(reproduced) {
         return "reproduced in every row".to_owned();
     }
@@ -213,7 +216,7 @@ fn dependence(rows: &[DesignRow], claim: usize) -> String {
         "depends on both the design and the matching"
     };
     format!(
-        "{which}: reproduced with {}; not with {}",
+        "{which}: reproduced with {}; not reproduced (or open) with {}",
         listed(&reproduced).join("; "),
         listed(&|r| !reproduced(r)).join("; ")
     )
@@ -320,7 +323,7 @@ mod tests {
         let by_design = rows(|d, _| if d == ChenGain::Scalar { Verdict::Reproduced } else { Verdict::NotReproduced });
         let text = dependence(&by_design, 0);
         assert!(text.starts_with("depends on the gain design: reproduced with scalar"), "{text}");
-        assert!(text.contains("not with `Y = β M(q0)` at every matching"), "{text}");
+        assert!(text.contains("not reproduced (or open) with `Y = β M(q0)` at every matching"), "{text}");
         let by_matching =
             rows(|_, m| if m == Matching::LowFrequencyDelay { Verdict::Reproduced } else { Verdict::NotReproduced });
         assert!(dependence(&by_matching, 0).starts_with("depends on the matching"));
@@ -330,7 +333,10 @@ mod tests {
         });
         let text = dependence(&both, 0);
         assert!(text.starts_with("depends on both"), "{text}");
-        assert!(text.contains("reproduced with scalar `y = β λmax(M(q0))` at equal poles; not with"), "{text}");
+        assert!(
+            text.contains("reproduced with scalar `y = β λmax(M(q0))` at equal poles; not reproduced (or open) with"),
+            "{text}"
+        );
         // Never reproduced: "partly" in one row is not a dependence.
         let one_partly = rows(|d, m| match (d, m) {
             (ChenGain::Scalar, Matching::PoleMagnitude) => Verdict::Partly,

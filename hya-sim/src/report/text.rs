@@ -67,6 +67,14 @@ pub(super) fn table_row(cells: impl IntoIterator<Item = String>) -> String {
     format!("| {} |\n", cells.join(" | "))
 }
 
+/// Joints (from 1) as a list, or "none".
+pub(super) fn joints_text(joints: &[usize]) -> String {
+    match joints.is_empty() {
+        true => "none".into(),
+        false => joints.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
+    }
+}
+
 /// `values` with three decimals, comma-separated.
 pub(super) fn list(values: &[f64]) -> String {
     values.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>().join(", ")

@@ -8,13 +8,13 @@ use std::fmt::Write as _;
 use crate::io::svg::{line_grid_scaled, Panel, Scale, Series, PALETTE};
 use crate::torque_response::{Mounting, Response, TorqueResponses, AMPLITUDES_NM};
 
-use super::text::table_row;
+use super::text::{joints_text, table_row};
 
 /// The frequency at which the table compares locked and held gains, Hz.
 const COMPARED_AT_HZ: f64 = 20.0;
 
-/// The frequency at which the table gives the back-drive, Hz: near the position loops'
-/// crossovers (10 to 60 rad/s).
+/// The frequency at which the table gives the back-drive, Hz (63 rad/s, at the upper end of the
+/// position loops' crossovers in the margins table).
 const BACK_DRIVE_AT_HZ: f64 = 10.0;
 
 /// A held gain that differs from the locked one by more than this fraction is another actuator
@@ -30,11 +30,15 @@ fn response(t: &TorqueResponses, mounting: Mounting, amplitude: f64, joint: usiz
     t.responses.iter().find(|r| r.mounting == mounting && r.amplitude_nm == amplitude && r.joint == joint)
 }
 
-/// The lowest frequency where `|A|` falls below `1/√2`, interpolated in `log f`; `None` where
-/// it stays above over the frequencies measured.
+/// The lowest frequency where `|A|` falls below `1/√2`, interpolated in `log f` (the lowest
+/// frequency measured if it is below there already); `None` where it stays above over the
+/// frequencies measured.
 fn measured_3db(frequencies: &[f64], r: &Response) -> Option<f64> {
     let level = std::f64::consts::FRAC_1_SQRT_2;
     let points: Vec<(f64, f64)> = frequencies.iter().zip(&r.gain_phase).map(|(f, (g, _))| (*f, *g)).collect();
+    if let Some((f, _)) = points.first().filter(|(_, g)| *g < level) {
+        return Some(*f);
+    }
     points.windows(2).find(|w| w[0].1 >= level && w[1].1 < level).map(|w| {
         let x = (w[0].1 - level) / (w[0].1 - w[1].1);
         (w[0].0.ln() + x * (w[1].0.ln() - w[0].0.ln())).exp()
@@ -90,14 +94,6 @@ fn figure(t: &TorqueResponses) -> String {
     line_grid_scaled("torque frequency responses", "frequency [Hz]", &panels, 3, Scale::Log)
 }
 
-/// Joints (from 1) as a list, or "none".
-fn joints_text(joints: &[usize]) -> String {
-    match joints.is_empty() {
-        true => "none".into(),
-        false => joints.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
-    }
-}
-
 /// The subsection and its figure `(name, svg)`; `design_hz` is each joint's design bandwidth,
 /// `viscous` its viscous friction `F_v`.
 pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (String, (String, String)) {
@@ -107,7 +103,7 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
     let small = AMPLITUDES_NM[0];
     let large = AMPLITUDES_NM[AMPLITUDES_NM.len() - 1];
     let mut md = format!(
-        "\n### The torque loops, measured as they are used\n\n![torque frequency responses]({name})\n\nEach joint's actuator torque over its command, `A(jω) = τ_act / τ_cmd`, from sinusoidal commands of {} N·m at {first} to {last} Hz on top of the holding torque: with the joint locked, and with the arm held at its start pose by the PD (`τ = g(q) − K_P (q − q0) − K_D q̇` plus the sine: the position loop closed, the joint free to move); pressure noise, transducer offsets, friction and the parameter spread off. The command is held over each 1 ms tick, and that hold is taken out (the linear loop has it apart). Fitted to the locked responses at {small} N·m (least squares on the complex responses), the model the linearised loops use: the torque loop with its resonance and a dead time, `A(s) = ω_n² e^{{−s T_a}} / (s² + 2ζ ω_n s + ω_n²)`. On the moving joint the load's motion changes the chambers' pressures too: `τ_act = A τ_cmd − B q̇`, and the held runs give that back-drive `B = (A τ_cmd − τ_act) / q̇` (damping where its real part is positive), which the linear loops leave out. Per-frequency gains, phases and `B` are in `summary.json`.\n\n",
+        "\n### The torque loops, measured as they are used\n\n![torque frequency responses]({name})\n\nEach joint's actuator torque over its command, `A(jω) = τ_act / τ_cmd`, from sinusoidal commands of {} N·m at {first} to {last} Hz on top of the holding torque: with the joint locked, and with the arm held at its start pose by the PD (`τ = g(q) − K_P (q − q0) − K_D q̇` plus the sine: the position loop closed, the joint free to move); pressure noise, transducer offsets, friction and the parameter spread off. The command is held over each control tick, and that hold is taken out (the linear loop has it apart). Fitted to the locked responses at {small} N·m (least squares on the complex responses), the model the linearised loops use: the torque loop with its resonance and a dead time, `A(s) = ω_n² e^{{−s T_a}} / (s² + 2ζ ω_n s + ω_n²)`. On the moving joint the load's motion changes the chambers' pressures too: `τ_act = A τ_cmd − B q̇`, and the held runs give that back-drive `B = (A τ_cmd − τ_act) / q̇` (damping where its real part is positive), which the linear loops leave out. Per-frequency gains, phases and `B` are in `summary.json`.\n\n",
         AMPLITUDES_NM.map(|a| a.to_string()).join(", "),
     );
     md.push_str(&table_row([
@@ -177,9 +173,10 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
     }
     let _ = writeln!(
         md,
-        "\nComputed from the table: locked, the measured −3 dB frequency is at or above the design bandwidth on joints {} and below it on {}; from {small} to {large} N·m the locked responses change by at most {locked_change:.3} (linear over this range), the held ones by more than {AMPLITUDE_CHANGE} on joints {} (at {small} N·m and the higher frequencies a joint moves less than an encoder count, so part of that change may be the encoders' quantisation). On the moving joint the actuator's gain at {COMPARED_AT_HZ} Hz differs from the locked one by more than {:.0} % on joints {}, and the back-drive's real part at {BACK_DRIVE_AT_HZ} Hz is larger in magnitude than the joint's viscous friction on joints {} (negative, feeding energy into the motion, on {}). The linearised loops' margins (\"Each joint's loop, linearised\") use the locked fit, not the design bandwidth, and leave the back-drive out: on the joints just named they are not to be relied on.",
+        "\nComputed from the table: locked, the measured −3 dB frequency is at or above the design bandwidth on joints {} and below it on {}; from {small} to {large} N·m the locked responses change by at most {locked_change:.3}{}, the held ones by more than {AMPLITUDE_CHANGE} on joints {}. On the moving joint the actuator's gain at {COMPARED_AT_HZ} Hz differs from the locked one by more than {:.0} % on joints {}, and the back-drive's real part at {BACK_DRIVE_AT_HZ} Hz is larger in magnitude than the joint's viscous friction on joints {}; that real part is negative (it feeds energy into the motion) on joints {}. The linearised loops' margins (\"Each joint's loop, linearised\") use the locked fit, not the design bandwidth, and leave the back-drive out: on the joints just named they are not to be relied on.",
         joints_text(&above),
         joints_text(&below),
+        if locked_change <= AMPLITUDE_CHANGE { " (within the change counted below)" } else { "" },
         joints_text(&moved),
         GAIN_CHANGE * 100.0,
         joints_text(&other_gain),

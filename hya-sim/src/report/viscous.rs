@@ -9,7 +9,7 @@ use crate::analysis::seeds::{median, per_joint_mean_ci95, run_seeds, MetricTable
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 
-use super::text::table_row;
+use super::text::{joints_text, table_row};
 
 /// The bandwidths swept, rad/s (`ω1 = ω2`, `ζ = 0.8`).
 pub const BANDWIDTHS_RAD_S: [f64; 7] = [20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 200.0];
@@ -117,10 +117,6 @@ fn cycle_table<const N: usize>(table: &MetricTable, base: &Scenario, scenario: &
 /// the report's runs are above the lowest bin in at least half the seeds, and the joints that
 /// cycle so only without the peak; computed from both tables' counts.
 fn peak_comparison(with_peak: &CycleCounts, without: &CycleCounts, seeds: (usize, usize)) -> String {
-    let joints = |j: &[usize]| match j.is_empty() {
-        true => "none".to_owned(),
-        false => j.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
-    };
     let lines: Vec<String> = with_peak
         .iter()
         .filter_map(|(method, most, _)| {
@@ -132,10 +128,10 @@ fn peak_comparison(with_peak: &CycleCounts, without: &CycleCounts, seeds: (usize
                 format!(
                     "{}: cycling with the peak on {}; of those, in no seed without it on {}, in half or more still on {}; cycling only without the peak on {}",
                     method.name(),
-                    joints(most),
-                    joints(&gone),
-                    joints(&kept),
-                    joints(&new)
+                    joints_text(most),
+                    joints_text(&gone),
+                    joints_text(&kept),
+                    joints_text(&new)
                 )
             })
         })

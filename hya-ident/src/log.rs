@@ -53,21 +53,28 @@ pub struct Filtered {
     pub spacing_s: f64,
 }
 
-/// The filters running and the log's clock.
-#[derive(Debug, Clone)]
-struct Running<const N: usize> {
-    pair: FilterPair<N>,
-    clock: StepClock,
-}
-
 /// Filters a log row by row for an arm of `N` joints.
 #[derive(Debug, Clone)]
 pub struct LogFilter<const N: usize> {
     params: FilterParams,
     timing: Timing,
-    running: Option<Running<N>>,
+    /// The filters, from the first row on.
+    pair: Option<FilterPair<N>>,
+    /// The log's time, from the first row on, for [`Timing::Stamped`] rows: kept across gaps,
+    /// so its discretisations are computed once per step length for the whole log.
+    clock: Option<StepClock>,
     next_sample_s: f64,
     out: Filtered,
+}
+
+/// What a row does to the filters.
+enum Advance {
+    /// They stepped to it.
+    Stepped,
+    /// They start at rest on it: the first row.
+    First,
+    /// They restart at rest on it: the row after a gap.
+    AfterGap,
 }
 
 impl<const N: usize> LogFilter<N> {
@@ -79,17 +86,10 @@ impl<const N: usize> LogFilter<N> {
                 return Err(RowError(format!("max step {}: must be a positive number of seconds", Short(max_step_s))));
             }
         }
-        Ok(Self { params, timing, running: None, next_sample_s: 0.0, out: Filtered::default() })
-    }
-
-    /// How long the filters settle after a start before samples are taken, `10/ω` s.
-    pub fn settling_s(&self) -> f64 {
-        10.0 / self.params.omega1_rad_s()
-    }
-
-    /// The time between samples taken, `1/ω` s.
-    pub fn spacing_s(&self) -> f64 {
-        1.0 / self.params.omega1_rad_s()
+        // The filters settle for 10/ω after each start; then one sample per 1/ω.
+        let omega = params.omega1_rad_s();
+        let out = Filtered { settling_s: 10.0 / omega, spacing_s: 1.0 / omega, ..Filtered::default() };
+        Ok(Self { params, timing, pair: None, clock: None, next_sample_s: 0.0, out })
     }
 
     /// The next row: its time `t` (ignored for [`Timing::Fixed`], whose rows are `k · dt`), the
@@ -108,15 +108,16 @@ impl<const N: usize> LogFilter<N> {
         if !t.is_finite() {
             return Err(RowError(format!("t = {t}: times must be finite")));
         }
-        let restart = match (self.running.as_mut(), self.timing) {
-            (Some(running), Timing::Fixed) => {
-                let next = running.pair.peek(&q, &tau).map_err(refused)?;
-                running.pair.commit(next, &q, &tau);
-                false
+        let advance = match (self.pair.as_mut(), self.clock.as_mut()) {
+            (None, _) => Advance::First,
+            (Some(pair), None) => {
+                let next = pair.peek(&q, &tau).map_err(refused)?;
+                pair.commit(next, &q, &tau);
+                Advance::Stepped
             }
-            (Some(running), Timing::Stamped { .. }) => {
-                let previous = running.clock.time_s();
-                match running.clock.next(t) {
+            (Some(pair), Some(clock)) => {
+                let previous = clock.time_s();
+                match clock.next(t) {
                     Err(_) if t <= previous => {
                         return Err(RowError(format!(
                             "t = {} s is not after the previous row's t = {} s: times must strictly increase",
@@ -126,50 +127,54 @@ impl<const N: usize> LogFilter<N> {
                     }
                     Err(e) => return Err(refused(e)),
                     Ok(Next::Step(step, _)) => {
-                        let next = running.pair.peek_over(step, &q, &tau).map_err(refused)?;
-                        running.pair.commit(next, &q, &tau);
-                        running.clock.arrive(t);
-                        false
+                        let next = pair.peek_over(step, &q, &tau).map_err(refused)?;
+                        pair.commit(next, &q, &tau);
+                        Advance::Stepped
                     }
-                    Ok(Next::Gap(_)) => true,
+                    Ok(Next::Gap(_)) => Advance::AfterGap,
                 }
             }
-            (None, _) => true,
         };
-        if restart {
-            let longest = match self.timing {
-                Timing::Stamped { max_step_s } => max_step_s,
-                Timing::Fixed => self.params.dt_s(),
-            };
-            let running = Running {
-                pair: FilterPair::new(self.params, q, tau).map_err(refused)?,
-                clock: StepClock::new(self.params, t, longest).map_err(refused)?,
-            };
-            self.out.gaps += usize::from(self.running.is_some());
-            self.running = Some(running);
-            self.next_sample_s = t + self.settling_s();
+        match (advance, self.pair.as_mut()) {
+            (Advance::Stepped, _) => {}
+            (Advance::AfterGap, Some(pair)) => {
+                pair.reset(q, tau).map_err(refused)?;
+                self.out.gaps += 1;
+                self.next_sample_s = t + self.out.settling_s;
+            }
+            _ => {
+                let pair = FilterPair::new(self.params, q, tau).map_err(refused)?;
+                if let Timing::Stamped { max_step_s } = self.timing {
+                    self.clock = Some(StepClock::new(self.params, t, max_step_s).map_err(refused)?);
+                }
+                self.pair = Some(pair);
+                self.next_sample_s = t + self.out.settling_s;
+            }
+        }
+        if let Some(clock) = self.clock.as_mut() {
+            clock.arrive(t);
         }
         self.out.rows += 1;
         // Half a row early counts as on time: `k · dt` need not meet `m / ω` exactly.
         if t >= self.next_sample_s - 0.5 * self.params.dt_s() {
-            if let Some(running) = &self.running {
-                let angles = running.pair.angles();
+            if let Some(pair) = &self.pair {
+                let angles = pair.angles();
                 self.out.samples.push(Sample {
                     q: angles.x1.as_slice().to_vec(),
                     qd: angles.x2.as_slice().to_vec(),
                     qdd: angles.x3.as_slice().to_vec(),
-                    tau: running.pair.torques().as_slice().to_vec(),
+                    tau: pair.torques().as_slice().to_vec(),
                 });
                 self.out.time_s.push(t);
             }
-            self.next_sample_s += self.spacing_s();
+            self.next_sample_s += self.out.spacing_s;
         }
         Ok(())
     }
 
     /// The samples taken.
     pub fn finish(self) -> Filtered {
-        Filtered { settling_s: self.settling_s(), spacing_s: self.spacing_s(), ..self.out }
+        self.out
     }
 }
 

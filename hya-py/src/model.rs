@@ -161,8 +161,7 @@ impl Model {
     #[staticmethod]
     fn from_urdf(path: std::path::PathBuf) -> PyResult<Self> {
         let source = path.display().to_string();
-        let urdf = hya_urdf::file::read_text(&path, hya_urdf::MAX_FILE_BYTES as u64)
-            .map_err(|e| UrdfError::new_err(format!("{source}: {e}")))?;
+        let urdf = hya_urdf::read_file(&path).map_err(|e| UrdfError::new_err(e.to_string()))?;
         let loaded = hya_urdf::load_str(&urdf, &source).map_err(|e| UrdfError::new_err(e.to_string()))?;
         Ok(Self { source, urdf, model: loaded.model, generated: None })
     }

@@ -128,7 +128,17 @@ pub struct TorqueResponses {
     pub fits: Vec<ActuatorFit>,
 }
 
+/// Joint `joint`'s (from 1) response at `amplitude` and `mounting` among `responses`.
+fn find(responses: &[Response], mounting: Mounting, amplitude: f64, joint: usize) -> Option<&Response> {
+    responses.iter().find(|r| r.mounting == mounting && r.amplitude_nm == amplitude && r.joint == joint)
+}
+
 impl TorqueResponses {
+    /// Joint `joint`'s (from 1) response at `amplitude` and `mounting`.
+    pub fn response(&self, mounting: Mounting, amplitude: f64, joint: usize) -> Option<&Response> {
+        find(&self.responses, mounting, amplitude, joint)
+    }
+
     /// Joint `joint`'s (from 1) fitted model.
     pub fn model(&self, joint: usize) -> Option<ActuatorModel> {
         self.fits.iter().find(|f| f.joint == joint).map(ActuatorFit::model)
@@ -312,11 +322,8 @@ pub fn measure<const N: usize>(
     for amplitude in AMPLITUDES_NM {
         for j in 0..N {
             let held = measured.by_ref().take(FREQUENCIES_HZ.len()).collect::<Result<Vec<_>, _>>()?;
-            let locked = responses
-                .iter()
-                .find(|r| r.mounting == Mounting::Locked && r.amplitude_nm == amplitude && r.joint == j + 1)
-                .map(Response::complex)
-                .unwrap_or_default();
+            let locked =
+                find(&responses, Mounting::Locked, amplitude, j + 1).map(Response::complex).unwrap_or_default();
             // B = (A_locked τ_cmd − τ_act) / q̇ = (A_locked − A_held) / (q̇ / τ_cmd).
             let back_drive = held.iter().zip(&locked).map(|((a, v), l)| polar((l - a) / v)).collect();
             responses.push(Response {

@@ -25,6 +25,6 @@ pub mod write;
 
 pub use error::{LoadError, Problem, Warning};
 pub use limits::{MAX_FILE_BYTES, MAX_JOINTS, MAX_LINKS, MAX_XML_ATTRIBUTES, MAX_XML_DEPTH, MAX_XML_NODES};
-pub use load::{load_file, load_str, LoadedModel, Source};
+pub use load::{load_file, load_str, read_file, LoadedModel, Source};
 pub use name::{escape_name, joints_differ, name_list};
 pub use write::{with_body_inertias, with_inertias};

@@ -52,9 +52,14 @@ impl Source {
 /// the file claims, then as [`load_str`].
 pub fn load_file(path: impl AsRef<Path>) -> Result<LoadedModel, LoadError> {
     let path = path.as_ref();
-    let source = path.display().to_string();
-    let text = read_bounded(path).map_err(|problem| LoadError::new(&source, problem))?;
-    load_str(&text, &source)
+    load_str(&read_file(path)?, &path.display().to_string())
+}
+
+/// The URDF file's text, as [`load_file`] reads it (at most [`MAX_FILE_BYTES`]): for a caller
+/// that keeps the text beside the model (to write it back with other inertias).
+pub fn read_file(path: impl AsRef<Path>) -> Result<String, LoadError> {
+    let path = path.as_ref();
+    read_bounded(path).map_err(|problem| LoadError::new(&path.display().to_string(), problem))
 }
 
 /// The file's text: a regular file of at most [`MAX_FILE_BYTES`] ([`crate::file::read_text`]).

@@ -48,8 +48,9 @@ pub struct DesignRow {
     pub matching: Matching,
     /// Chen's `β`, rad/s.
     pub beta_rad_s: f64,
-    /// The fastest rate of `L = Y M⁻¹(q0)` at the start pose, rad/s: `β` for `Y = β M(q0)`,
-    /// `β λmax / λmin` of `M(q0)` for the scalar gain.
+    /// The fastest rate of `L = Y M⁻¹(q0)` at the start pose, rad/s, as the observer's design
+    /// gives it (`ObserverDesign::build`): `β` for `Y = β M(q0)`, `β λmax / λmin` of `M(q0)` for
+    /// the scalar gain.
     pub fastest_rate_rad_s: f64,
     /// Whether the row is the report's own runs (not a rerun).
     pub as_run: bool,
@@ -94,8 +95,12 @@ pub fn run<const N: usize>(
     let Some(first) = bases.first() else { return Ok(None) };
     let omega = first.controller.observer_bandwidth_rad_s;
     let q0 = crate::config::settings::JointSettings::<N>::of(first)?.initial_position;
-    let eigenvalues = hya_core::symmetric_eigenvalues(&robot.nominal.mass_matrix(&q0));
-    let spread = eigenvalues.max() / eigenvalues.min();
+    // Chen's observer at rest at the start pose, for its rates there (its design's).
+    let at_rest = hya_core::Measurement {
+        position: q0,
+        velocity: Some(hya_core::JointVector::zeros()),
+        torque: robot.nominal.gravity(&q0),
+    };
     let seeds = table.seeds(&first.name, Method::Chen).min(SEEDS);
     let reported = table.first_seeds(seeds);
     let mut rows = Vec::new();
@@ -128,10 +133,9 @@ pub fn run<const N: usize>(
                 .filter_map(|(id, _)| RULES.iter().find(|r| r.id == *id))
                 .map(|rule| judge(rule, &runs))
                 .collect();
-            let fastest_rate_rad_s = match design {
-                ChenGain::Inertia => beta,
-                ChenGain::Scalar => beta * spread,
-            };
+            let design_at = (beta, first.controller.dt_s, design);
+            let rates = crate::run::observer_designed(Method::Chen, robot.nominal.as_ref(), design_at, &at_rest)?;
+            let fastest_rate_rad_s = rates.map_or(f64::NAN, |(_, rates)| rates.iter().fold(0.0, |a: f64, r| a.max(*r)));
             rows.push(DesignRow { design, matching, beta_rad_s: beta, fastest_rate_rad_s, as_run, rmse_d, claims });
         }
     }

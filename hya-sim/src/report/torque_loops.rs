@@ -25,11 +25,6 @@ const GAIN_CHANGE: f64 = 0.2;
 /// is amplitude-dependent.
 const AMPLITUDE_CHANGE: f64 = 0.1;
 
-/// Joint `joint`'s response at `amplitude` and `mounting`.
-fn response(t: &TorqueResponses, mounting: Mounting, amplitude: f64, joint: usize) -> Option<&Response> {
-    t.responses.iter().find(|r| r.mounting == mounting && r.amplitude_nm == amplitude && r.joint == joint)
-}
-
 /// The lowest frequency where `|A|` falls below `1/√2`, interpolated in `log f` (the lowest
 /// frequency measured if it is below there already); `None` where it stays above over the
 /// frequencies measured.
@@ -48,8 +43,8 @@ fn measured_3db(frequencies: &[f64], r: &Response) -> Option<f64> {
 /// The largest `|A(a_max) − A(a_min)|` over the frequencies, for `mounting`.
 fn amplitude_change(t: &TorqueResponses, mounting: Mounting, joint: usize) -> f64 {
     let (Some(small), Some(large)) = (
-        response(t, mounting, AMPLITUDES_NM[0], joint),
-        response(t, mounting, AMPLITUDES_NM[AMPLITUDES_NM.len() - 1], joint),
+        t.response(mounting, AMPLITUDES_NM[0], joint),
+        t.response(mounting, AMPLITUDES_NM[AMPLITUDES_NM.len() - 1], joint),
     ) else {
         return f64::NAN;
     };
@@ -65,7 +60,7 @@ fn figure(t: &TorqueResponses) -> String {
             let mut series = Vec::new();
             for (k, &amplitude) in AMPLITUDES_NM.iter().enumerate() {
                 for mounting in [Mounting::Held, Mounting::Locked] {
-                    let Some(r) = response(t, mounting, amplitude, joint) else { continue };
+                    let Some(r) = t.response(mounting, amplitude, joint) else { continue };
                     series.push(Series {
                         label: format!("{}, {amplitude} N·m", mounting.name()),
                         points: t.frequencies_hz.iter().zip(&r.gain_phase).map(|(f, (g, _))| (*f, *g)).collect(),
@@ -131,8 +126,8 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
         let j = fit.joint;
         let design = design_hz.get(j - 1).copied().unwrap_or(f64::NAN);
         let fv = viscous.get(j - 1).copied().unwrap_or(f64::NAN);
-        let locked = response(t, Mounting::Locked, small, j);
-        let held = response(t, Mounting::Held, small, j);
+        let locked = t.response(Mounting::Locked, small, j);
+        let held = t.response(Mounting::Held, small, j);
         let corner = locked.and_then(|r| measured_3db(frequencies, r));
         match corner {
             Some(f) if f < design => below.push(j),
@@ -144,7 +139,8 @@ pub fn section(t: &TorqueResponses, design_hz: &[f64], viscous: &[f64]) -> (Stri
         if change_held > AMPLITUDE_CHANGE {
             moved.push(j);
         }
-        let back_drive = response(t, Mounting::Held, large, j)
+        let back_drive = t
+            .response(Mounting::Held, large, j)
             .and_then(|r| back_at.and_then(|k| r.back_drive.get(k)))
             .map_or(f64::NAN, |(m, p)| m * p.to_radians().cos());
         if back_drive.abs() > fv {

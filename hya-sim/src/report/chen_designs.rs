@@ -255,16 +255,15 @@ pub fn section(designs: &ChenDesigns) -> String {
         ));
     }
     let nyquist = std::f64::consts::PI / designs.period_s;
-    let beyond: Vec<String> = designs
-        .rows
-        .iter()
-        .filter(|r| r.fastest_rate_rad_s > nyquist)
-        .map(|r| format!("{} at {}", design_name(r.design), r.matching.short()))
-        .collect();
+    let beyond = beyond_nyquist(designs);
     if !beyond.is_empty() {
+        // The implicit step's pole at the rate `r`, `1/(1 + r T)`: what each tick keeps of the
+        // previous estimate (hya-core's `observers.rs` derives the one-step differentiator).
+        let pole = |r: &DesignRow| 1.0 / (1.0 + r.fastest_rate_rad_s * designs.period_s);
+        let largest_pole = designs.rows.iter().filter(|r| r.fastest_rate_rad_s > nyquist).map(pole).fold(0.0, f64::max);
         let _ = writeln!(
             md,
-            "\nIn {} of the {} rows ({}) the fastest rate at the start pose is beyond the {} ms tick's Nyquist rate `π/T` = {:.0} rad/s: on the joints that rate belongs to, the stepped observer is not the continuous design but close to a one-step differentiation of the measured velocity, so those rows hold lu against that, not against a matched observer.",
+            "\nIn {} of the {} rows ({}) the fastest rate at the start pose is beyond the {} ms tick's Nyquist rate `π/T` = {:.0} rad/s. The stepped observer's pole at that rate, `1/(1 + rate·T)`, is at most {largest_pole:.2}: each tick keeps at most that share of the previous estimate, so on that joint `d̂` is close to a one-step difference of the measured velocity, not the continuous design; those rows hold lu against that, not against a matched observer.",
             beyond.len(),
             designs.rows.len(),
             beyond.join("; "),
@@ -279,13 +278,33 @@ pub fn section(designs: &ChenDesigns) -> String {
     md
 }
 
+/// The rows whose fastest rate at the start pose is beyond the tick's Nyquist rate `π/T`.
+fn beyond_nyquist(designs: &ChenDesigns) -> Vec<String> {
+    let nyquist = std::f64::consts::PI / designs.period_s;
+    designs
+        .rows
+        .iter()
+        .filter(|r| r.fastest_rate_rad_s > nyquist)
+        .map(|r| format!("{} at {}", design_name(r.design), r.matching.short()))
+        .collect()
+}
+
 /// The headline's sentence on the section, or nothing without one.
 pub fn headline(designs: Option<&ChenDesigns>) -> String {
     let Some(designs) = designs else { return String::new() };
     let claims: Vec<String> =
         CLAIMS.iter().enumerate().map(|(k, (_, name))| format!("{name}: {}", dependence(&designs.rows, k))).collect();
+    let beyond = beyond_nyquist(designs);
+    let caveat = match beyond.is_empty() {
+        true => String::new(),
+        false => format!(
+            " In {} of the rows ({}) chen's fastest rate is beyond the tick's Nyquist rate, where it is not the continuous design: what holds there holds against that.",
+            beyond.len(),
+            beyond.join("; ")
+        ),
+    };
     format!(
-        "\nThe claims that name chen, judged again with both of its gain designs at all three matchings ({} seeds, \"Chen's observer by gain design and matching\"): {}.\n",
+        "\nThe claims that name chen, judged again with both of its gain designs at all three matchings ({} seeds, \"Chen's observer by gain design and matching\"): {}.{caveat}\n",
         designs.seeds,
         claims.join("; ")
     )

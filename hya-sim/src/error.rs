@@ -132,7 +132,7 @@ pub enum SimError {
         "the simulated arm diverged: joint {joint} {} at t = {} s; at t = {} s then: {cause} (the torques or the \
          plant's settings drive it faster than the step follows)",
         if velocity.is_finite() {
-            format!("passed {} rad/s, a speed no arm reaches,", Short(crate::plant::MAX_PLAUSIBLE_SPEED_RAD_S))
+            format!("passed {} rad/s, a speed no arm reaches,", Short(*limit_rad_s))
         } else {
             "reached a non-finite state".into()
         },
@@ -147,6 +147,8 @@ pub enum SimError {
         runaway_s: f64,
         /// Its velocity then, rad/s.
         velocity: f64,
+        /// The speed it passed, rad/s: the plant's plausible limit.
+        limit_rad_s: f64,
         /// What failed.
         cause: String,
     },

@@ -807,58 +807,6 @@ impl Scenario {
         })
     }
 
-    /// Checks what [`Scenario::check`] cannot without the robot: that it loads, and that every
-    /// per-joint list that acts fits its joints, naming all lists that do not in one error
-    /// ([`SimError::ListLengths`]) rather than one per run. For a command to call before it
-    /// prints its cost and starts simulating.
-    pub fn check_for_robot(&self) -> Result<(), SimError> {
-        struct Lists<'a>(&'a Scenario);
-        impl crate::robot::ForRobot for Lists<'_> {
-            type Output = ();
-            fn call<const N: usize>(self, _: crate::robot::Robot<N>) -> Result<(), SimError> {
-                // Each list that does not fit is noted, then filled to N copies of its first
-                // value in a copy of the scenario, so that the next one is found.
-                let mut scenario = self.0.clone();
-                let mut misfits = Vec::new();
-                let first_error = loop {
-                    match crate::config::settings::JointSettings::<N>::of(&scenario) {
-                        Ok(_) => break None,
-                        Err(SimError::ListLength { key, got, .. }) if misfits.len() < 64 => {
-                            scenario = scenario.with_list_filled(&key, N)?;
-                            misfits.push(format!("`{key}` ({got} values)"));
-                        }
-                        Err(other) => break Some(other),
-                    }
-                };
-                match (misfits.len(), first_error) {
-                    (0, None) => Ok(()),
-                    (0, Some(error)) => Err(error),
-                    // A value check behind the misfits (such as `static_nm ≥ coulomb_nm` against
-                    // a filled default) stops the search: it is named too.
-                    (count, then) => {
-                        let then = then.map(|e| format!("; then, with those filled: {e}")).unwrap_or_default();
-                        Err(SimError::ListLengths { count, expected: N, lists: misfits.join(", ") + &then })
-                    }
-                }
-            }
-        }
-        crate::robot::with_robot(&self.robot, Lists(self))
-    }
-
-    /// This scenario with the list at the dotted `key` (`plant.coulomb_nm`) replaced by `n`
-    /// copies of its first value (0 if it has none).
-    fn with_list_filled(&self, key: &str, n: usize) -> Result<Self, SimError> {
-        let bad = |why: String| SimError::Scenario { origin: self.name.clone(), message: why };
-        let mut value = toml::Value::try_from(self).map_err(|e| bad(e.to_string()))?;
-        let mut slot = &mut value;
-        for part in key.split('.') {
-            slot = slot.get_mut(part).ok_or_else(|| bad(format!("no setting `{key}` (a bug)")))?;
-        }
-        let first = slot.as_array().and_then(|a| a.first()).cloned().unwrap_or(toml::Value::Float(0.0));
-        *slot = toml::Value::Array(vec![first; n]);
-        value.try_into().map_err(|e: toml::de::Error| bad(e.to_string()))
-    }
-
     /// The names of the embedded scenarios, in the order `hya reproduce` runs them.
     pub fn builtin_names() -> impl Iterator<Item = &'static str> {
         BUILTIN.iter().map(|(name, _)| *name)

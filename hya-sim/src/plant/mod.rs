@@ -408,6 +408,13 @@ impl<const N: usize> Plant<N> {
             SimError::Step { source, .. } => source.to_string(),
             other => other.to_string(),
         };
-        Ok(SimError::Diverged { time_s: t, joint: joint + 1, runaway_s, velocity, cause })
+        Ok(SimError::Diverged {
+            time_s: t,
+            joint: joint + 1,
+            runaway_s,
+            velocity,
+            limit_rad_s: MAX_PLAUSIBLE_SPEED_RAD_S,
+            cause,
+        })
     }
 }

@@ -9,10 +9,10 @@ use std::ffi::c_char;
 
 use hya_core::PdPlacement;
 
-use crate::arm::Control;
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, optional_input, output};
 use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
+use hya_core::erased::SliceController;
 
 /// Where the PD feedback enters the computed-torque law.
 #[repr(C)]
@@ -27,7 +27,7 @@ pub enum HyaPdPlacement {
 /// A computed-torque controller (opaque). Made by `hya_controller_new`, freed by
 /// `hya_controller_free`.
 pub struct HyaController {
-    controller: Box<dyn Control>,
+    controller: Box<dyn SliceController>,
     dof: usize,
     message: Message,
 }

@@ -3,19 +3,33 @@
 
 use std::ffi::c_char;
 
+use hya_core::erased::SliceObserver;
 use hya_core::FilterParams;
 
-use crate::arm::Estimate;
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, output};
-use crate::status::{create, destroy, last_message, on_handle, Handle, HyaStatus, Message};
+use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
 /// The paper's disturbance estimator for one arm (opaque). Made by `hya_estimator_new`, freed by
 /// `hya_estimator_free`.
 pub struct HyaEstimator {
-    estimator: Box<dyn Estimate>,
+    estimator: Box<dyn SliceObserver>,
     dof: usize,
     message: Message,
+}
+
+impl HyaEstimator {
+    /// Refuses a step of the other kind than the estimator was made for: over timestamped
+    /// samples (`timed`) or at its fixed sample time.
+    fn stepped(&self, timed: bool) -> Result<(), Failure> {
+        const FIXED: [&str; 2] = ["hya_estimator_update", "hya_estimator_new"];
+        const TIMED: [&str; 2] = ["hya_estimator_update_at", "hya_estimator_new_timed"];
+        let ([called, needs], [use_instead, made_by]) = if timed { (TIMED, FIXED) } else { (FIXED, TIMED) };
+        if self.estimator.is_timed() == timed {
+            return Ok(());
+        }
+        Err(Failure::Stepping { called, needs, made_by, use_instead })
+    }
 }
 
 impl Handle for HyaEstimator {
@@ -126,6 +140,7 @@ pub unsafe extern "C" fn hya_estimator_update_at(
     // SAFETY: the caller's contract; lengths checked against the estimator.
     unsafe {
         on_handle(estimator, |e| {
+            e.stepped(true)?;
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
             let gap = e.estimator.update_at(t, q, tau, output("d_hat", d_hat, n, e.dof)?)?;
             if let Some(restarted) = restarted.as_mut() {
@@ -154,8 +169,9 @@ pub unsafe extern "C" fn hya_estimator_update(
     // SAFETY: the caller's contract; lengths checked against the estimator.
     unsafe {
         on_handle(estimator, |e| {
+            e.stepped(false)?;
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
-            e.estimator.update(q, tau, output("d_hat", d_hat, n, e.dof)?)
+            Ok(e.estimator.update(q, None, tau, output("d_hat", d_hat, n, e.dof)?)?)
         })
     }
 }
@@ -173,7 +189,7 @@ pub unsafe extern "C" fn hya_estimator_disturbance(
     // SAFETY: the caller's contract; length checked against the estimator.
     unsafe {
         on_handle(estimator, |e| {
-            e.estimator.disturbance(output("d_hat", d_hat, n, e.dof)?);
+            e.estimator.disturbance(output("d_hat", d_hat, n, e.dof)?)?;
             Ok(())
         })
     }
@@ -195,7 +211,7 @@ pub unsafe extern "C" fn hya_estimator_reset(
     unsafe {
         on_handle(estimator, |e| {
             let (q0, tau0) = (input("q0", q0, n, e.dof)?, input("tau0", tau0, n, e.dof)?);
-            e.estimator.reset(q0, tau0)
+            Ok(e.estimator.reset(q0, tau0)?)
         })
     }
 }

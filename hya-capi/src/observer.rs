@@ -4,7 +4,9 @@
 
 use std::ffi::c_char;
 
-use crate::arm::{ArmModel, Observe, ObserverSpec};
+use hya_core::erased::SliceObserver;
+
+use crate::arm::{ArmModel, ObserverSpec};
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, optional_input, output};
 use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
@@ -12,7 +14,7 @@ use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, H
 /// A baseline disturbance observer (opaque). Made by one of `hya_observer_new_*`, freed by
 /// `hya_observer_free`.
 pub struct HyaObserver {
-    observer: Box<dyn Observe>,
+    observer: Box<dyn SliceObserver>,
     dof: usize,
     message: Message,
 }
@@ -31,7 +33,7 @@ impl Handle for HyaObserver {
 unsafe fn new_observer(
     model: *const HyaModel,
     out: *mut *mut HyaObserver,
-    make: impl FnOnce(&dyn ArmModel, usize) -> Result<Box<dyn Observe>, Failure>,
+    make: impl FnOnce(&dyn ArmModel, usize) -> Result<Box<dyn SliceObserver>, Failure>,
 ) -> HyaStatus {
     // SAFETY: the caller's contract, passed on.
     unsafe {

@@ -77,9 +77,10 @@ impl Failure {
             }
             Failure::Core(e) => match e {
                 hya_core::Error::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
-                hya_core::Error::InvalidParameter { .. } | hya_core::Error::MissingMeasurement { .. } => {
-                    HyaStatus::HyaErrInvalid
-                }
+                hya_core::Error::SliceLength { .. } => HyaStatus::HyaErrLength,
+                hya_core::Error::InvalidParameter { .. }
+                | hya_core::Error::MissingMeasurement { .. }
+                | hya_core::Error::Unsupported(_) => HyaStatus::HyaErrInvalid,
                 _ => HyaStatus::HyaErrNumeric,
             },
             Failure::Load(_) | Failure::Model(_) => HyaStatus::HyaErrModel,

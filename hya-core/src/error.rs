@@ -66,6 +66,22 @@ pub enum Error {
         /// The numbers per row.
         width: usize,
     },
+    /// A slice handed to an observer or controller on slices ([`crate::erased`]) holds another
+    /// number of values than the joints.
+    #[error("{signal} holds {got} values; the model has {expected} joints")]
+    SliceLength {
+        /// Which signal (`q`, `tau`, `d_hat`, ...).
+        signal: &'static str,
+        /// The joint count.
+        expected: usize,
+        /// The slice's length.
+        got: usize,
+    },
+    /// A call this observer does not take: a sample without its time for an estimator stepped
+    /// over timestamps, one with a time for an observer stepped at its period, a restart of an
+    /// observer that has none. Says which.
+    #[error("this observer does not take {0}")]
+    Unsupported(&'static str),
     /// The mass matrix is not positive definite at this configuration, so forward dynamics fails.
     #[error("the mass matrix is not positive definite at this configuration")]
     SingularMassMatrix,

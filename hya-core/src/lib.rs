@@ -27,6 +27,8 @@ pub mod dispatch;
 pub mod display;
 pub mod dual;
 pub mod dynamics;
+#[cfg(feature = "alloc")]
+pub mod erased;
 pub mod error;
 pub mod estimator;
 pub mod filter;

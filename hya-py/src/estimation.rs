@@ -2,14 +2,14 @@
 //! third-order filter and the computed-torque controller, stepped one tick per call or run over
 //! a whole log.
 
+use hya_core::erased::{self, SliceController, SliceObserver};
 use hya_core::{
-    BoxedObserver, ComputedTorque as CoreComputedTorque, Dynamics, FilterParams, Gains, JointVector, Measurement,
-    ObserverDesign, Reference, ThirdOrderFilter as CoreFilter, TimedEstimator,
+    ComputedTorque as CoreComputedTorque, FilterParams, Gains, JointVector, Measurement, ObserverDesign,
+    ThirdOrderFilter as CoreFilter,
 };
 use std::sync::{Mutex, PoisonError};
 
 use hya_core::dispatch::ForJoints;
-use hya_sim::SimError;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -19,52 +19,6 @@ use crate::model::Model;
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
-}
-
-/// An observer of any joint count, on slices.
-trait SliceObserver: Send {
-    fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String>;
-    fn disturbance(&self) -> Vec<f64>;
-    /// One sample at its own time `t`, s: only an estimator built with a first time takes it.
-    fn update_at(&mut self, _t: f64, _q: &[f64], _tau: &[f64], _d_hat: &mut [f64]) -> Result<(), String> {
-        Err("t: this estimator was built without t0; pass t0 to the constructor to give samples times".into())
-    }
-}
-
-struct Fixed<const N: usize>(BoxedObserver<'static, N>);
-
-impl<const N: usize> SliceObserver for Fixed<N> {
-    fn update(&mut self, q: &[f64], qd: Option<&[f64]>, tau: &[f64], d_hat: &mut [f64]) -> Result<(), String> {
-        let measurement = Measurement {
-            position: JointVector::from_column_slice(q),
-            velocity: qd.map(JointVector::from_column_slice),
-            torque: JointVector::from_column_slice(tau),
-        };
-        let estimate = self.0.update(&measurement).map_err(|e| e.to_string())?;
-        d_hat.copy_from_slice(estimate.as_slice());
-        Ok(())
-    }
-    fn disturbance(&self) -> Vec<f64> {
-        self.0.disturbance().as_slice().to_vec()
-    }
-}
-
-/// The paper's estimator over samples with their own times ([`TimedEstimator`]).
-struct Timed<const N: usize>(TimedEstimator<N, Box<dyn Dynamics<N> + Send + Sync>>);
-
-impl<const N: usize> SliceObserver for Timed<N> {
-    fn update(&mut self, _q: &[f64], _qd: Option<&[f64]>, _tau: &[f64], _d_hat: &mut [f64]) -> Result<(), String> {
-        Err("t: this estimator was built with t0, so every sample needs its time t".into())
-    }
-    fn update_at(&mut self, t: f64, q: &[f64], tau: &[f64], d_hat: &mut [f64]) -> Result<(), String> {
-        let (q, tau) = (JointVector::from_column_slice(q), JointVector::from_column_slice(tau));
-        let step = self.0.update(t, &q, &tau).map_err(|e| e.to_string())?;
-        d_hat.copy_from_slice(step.disturbance.as_slice());
-        Ok(())
-    }
-    fn disturbance(&self) -> Vec<f64> {
-        self.0.estimator().disturbance().as_slice().to_vec()
-    }
 }
 
 /// Builds an observer for `N` joints on the nominal model of `robot`.
@@ -79,7 +33,7 @@ struct Build<'a> {
 }
 
 impl ForJoints for Build<'_> {
-    type Output = Result<Box<dyn SliceObserver>, SimError>;
+    type Output = PyResult<Box<dyn SliceObserver>>;
     fn call<const N: usize>(self) -> Self::Output {
         let nominal = self.model.nominal::<N>()?;
         let first = Measurement {
@@ -87,13 +41,25 @@ impl ForJoints for Build<'_> {
             velocity: Some(JointVector::from_column_slice(self.qd0)),
             torque: JointVector::from_column_slice(self.tau0),
         };
-        let setup = |source| SimError::Setup { setting: "the observer".into(), source };
-        if let (ObserverDesign::Paper(params), Some(t0)) = (self.design, self.t0) {
-            let timed = TimedEstimator::new(nominal, params, t0, first.position, first.torque).map_err(setup)?;
-            return Ok(Box::new(Timed(timed)));
+        erased::observer(&self.design, nominal, &first, self.t0)
+            .map_err(|e| PyValueError::new_err(format!("the observer: {e}")))
+    }
+}
+
+/// One sample: at its time `t` for an estimator built with `t0`, else at the fixed period.
+fn step(
+    observer: &mut dyn SliceObserver,
+    t: Option<f64>,
+    (q, qd, tau): (&[f64], Option<&[f64]>, &[f64]),
+    d_hat: &mut [f64],
+) -> Result<(), String> {
+    match (t, observer.is_timed()) {
+        (None, false) => observer.update(q, qd, tau, d_hat).map_err(|e| e.to_string()),
+        (Some(t), true) => observer.update_at(t, q, tau, d_hat).map(drop).map_err(|e| e.to_string()),
+        (Some(_), false) => {
+            Err("t: this estimator was built without t0; pass t0 to the constructor to give samples times".into())
         }
-        let (observer, _rates) = self.design.build(nominal, &first).map_err(setup)?;
-        Ok(Box::new(Fixed(observer)))
+        (None, true) => Err("t: this estimator was built with t0, so every sample needs its time t".into()),
     }
 }
 
@@ -109,11 +75,8 @@ fn run_log(
         let mut out = vec![0.0; q.len()];
         for (k, d_hat) in out.chunks_mut(n.max(1)).enumerate() {
             let (q, tau) = (row(q, k, n), row(tau, k, n));
-            match t {
-                None => observer.update(q, qd.map(|v| row(v, k, n)), tau, d_hat),
-                Some(t) => observer.update_at(t[k], q, tau, d_hat),
-            }
-            .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
+            step(observer, t.map(|t| t[k]), (q, qd.map(|v| row(v, k, n)), tau), d_hat)
+                .map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
         }
         Ok(out)
     })
@@ -147,7 +110,7 @@ impl ObserverCore {
             None => model.gravity_of(&q0),
         };
         let build = Build { design, model, t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
-        let inner = crate::model::for_joints(n, build).map_err(value_error)?;
+        let inner = crate::model::for_joints(n, build)?;
         Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
 
@@ -156,7 +119,10 @@ impl ObserverCore {
     }
 
     fn disturbance(&self) -> Vec<f64> {
-        self.inner.lock().unwrap_or_else(PoisonError::into_inner).disturbance()
+        let mut d_hat = vec![0.0; self.dof];
+        // The slice has the observer's joint count: nothing to refuse.
+        let _ = self.inner.lock().unwrap_or_else(PoisonError::into_inner).disturbance(&mut d_hat);
+        d_hat
     }
 
     fn update<'py>(
@@ -171,11 +137,7 @@ impl ObserverCore {
         let (q, tau, qd) = measurements(["q", "tau", "qd"], (q, tau, qd), n)?;
         let (q, tau, qd) = (q.one_row()?, tau.one_row()?, qd.as_ref().map(Rows::one_row).transpose()?);
         let mut d_hat = vec![0.0; n];
-        match t {
-            None => self.observer().update(q, qd, tau, &mut d_hat),
-            Some(t) => self.observer().update_at(t, q, tau, &mut d_hat),
-        }
-        .map_err(PyValueError::new_err)?;
+        step(self.observer(), t, (q, qd, tau), &mut d_hat).map_err(PyValueError::new_err)?;
         output(py, d_hat, 1, false, &[n])
     }
 
@@ -445,31 +407,6 @@ impl ThirdOrderFilter {
     }
 }
 
-/// Dynamics-agnostic view of the controller for any joint count.
-trait SliceController: Send + Sync {
-    fn command(&self, q: &[f64], qd: &[f64], reference: [&[f64]; 3], d_hat: Option<&[f64]>)
-        -> Result<Vec<f64>, String>;
-}
-
-struct FixedController<const N: usize>(CoreComputedTorque<N, Box<dyn Dynamics<N> + Send + Sync>>);
-
-impl<const N: usize> SliceController for FixedController<N> {
-    fn command(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        reference: [&[f64]; 3],
-        d_hat: Option<&[f64]>,
-    ) -> Result<Vec<f64>, String> {
-        let v = JointVector::<N>::from_column_slice;
-        let reference =
-            Reference { position: v(reference[0]), velocity: v(reference[1]), acceleration: v(reference[2]) };
-        let d_hat = d_hat.map(v);
-        let command = self.0.command(&v(q), &v(qd), &reference, d_hat.as_ref()).map_err(|e| e.to_string())?;
-        Ok(command.torque.as_slice().to_vec())
-    }
-}
-
 struct BuildController<'a> {
     model: &'a Model,
     kp: &'a [f64],
@@ -478,16 +415,16 @@ struct BuildController<'a> {
 }
 
 impl ForJoints for BuildController<'_> {
-    type Output = Result<Box<dyn SliceController>, SimError>;
+    type Output = PyResult<Box<dyn SliceController>>;
     fn call<const N: usize>(self) -> Self::Output {
-        let setup = |source| SimError::Setup { setting: "ComputedTorque".into(), source };
+        let setup = |e: hya_core::Error| PyValueError::new_err(format!("ComputedTorque: {e}"));
         let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
         let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
         let mut controller = CoreComputedTorque::new(self.model.nominal::<N>()?, gains);
         if let Some(limit) = self.limit {
             controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
         }
-        Ok(Box::new(FixedController(controller)))
+        Ok(Box::new(controller))
     }
 }
 
@@ -515,7 +452,7 @@ impl ComputedTorque {
             }
         }
         let build = BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
-        let inner = crate::model::for_joints(n, build).map_err(value_error)?;
+        let inner = crate::model::for_joints(n, build)?;
         Ok(Self { dof: n, inner })
     }
 
@@ -541,6 +478,8 @@ impl ComputedTorque {
                 return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
             }
         }
-        self.inner.command(&q, &qd, [&q_des, &qd_des, &qdd_des], d_hat.as_deref()).map_err(PyValueError::new_err)
+        let mut tau = vec![0.0; n];
+        self.inner.command([&q, &qd], [&q_des, &qd_des, &qdd_des], d_hat.as_deref(), &mut tau).map_err(value_error)?;
+        Ok(tau)
     }
 }

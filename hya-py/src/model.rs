@@ -2,11 +2,11 @@
 //! run-time model), on NumPy arrays, one state or a batch per call.
 
 use std::borrow::Cow;
+use std::sync::Arc;
 
 use hya_core::model::TreeModel;
 use hya_core::{Dynamics, SliceDynamics};
 use hya_robots::RobotInfo;
-use hya_sim::SimError;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
@@ -19,13 +19,13 @@ use crate::UrdfError;
 /// bytecode may itself keep the GIL from others. A batch that would take longer releases it.
 const GIL_HOLD_NS: usize = 1_000_000;
 
-/// Calls `f` with `N` joints for `dof` from 1 to [`hya_sim::MAX_JOINTS`]; an error otherwise.
-pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = Result<T, SimError>>>(
-    dof: usize,
-    f: F,
-) -> Result<T, SimError> {
-    hya_core::dispatch::with_joints(dof, f)
-        .unwrap_or_else(|| Err(SimError::TooManyJoints { robot: "the model".into(), dof }))
+/// Calls `f` with `N` joints for `dof` from 1 to [`hya_core::dispatch::MAX_JOINTS`]; a
+/// `ValueError` otherwise.
+pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = PyResult<T>>>(dof: usize, f: F) -> PyResult<T> {
+    hya_core::dispatch::with_joints(dof, f).unwrap_or_else(|| {
+        let most = hya_core::dispatch::MAX_JOINTS;
+        Err(PyValueError::new_err(format!("the model has {dof} joints: hya's estimators run arms of 1 to {most}")))
+    })
 }
 
 /// A robot's rigid-body dynamics.
@@ -53,10 +53,19 @@ impl Model {
     /// This model's dynamics as a fixed-size [`Dynamics`] for the estimators and the controller:
     /// the shipped arm's generated code, or the run-time model this object loaded (never
     /// reloaded from its path).
-    pub fn nominal<const N: usize>(&self) -> Result<Box<dyn Dynamics<N> + Send + Sync>, SimError> {
+    pub fn nominal<const N: usize>(&self) -> PyResult<Arc<dyn Dynamics<N> + Send + Sync>> {
+        let value_error = |e: String| PyValueError::new_err(format!("{}: {e}", self.source));
         match self.generated {
-            Some(robot) => Ok(hya_sim::Robot::<N>::load(robot.name)?.nominal),
-            None => Ok(Box::new(self.model.clone().into_dynamics::<N>()?)),
+            Some(robot) => match hya_robots::nominal::<N>(robot.name) {
+                Some(generated) => Ok(Arc::new(generated)),
+                None => Err(value_error(format!("no generated dynamics of {N} joints (a registry bug)"))),
+            },
+            None => self
+                .model
+                .clone()
+                .into_dynamics::<N>()
+                .map(|d| Arc::new(d) as _)
+                .map_err(|e| value_error(e.to_string())),
         }
     }
 

@@ -110,6 +110,23 @@ pub struct Arm<const N: usize> {
 pub type ParametricFactory<const N: usize> =
     fn(&[hya_core::spatial::RigidBodyInertia; N]) -> std::boxed::Box<dyn hya_core::Dynamics<N> + Send + Sync>;
 
+/// The generated dynamics of the shipped arm called `name`, as `N` joints: `None` if no shipped
+/// arm has that name, or it has another number of joints. For a caller that fixed `N` from the
+/// arm's joint count ([`hya_core::dispatch::with_joints`]) and so cannot name it in [`with_arm`].
+#[cfg(feature = "std")]
+pub fn nominal<const N: usize>(name: &str) -> Option<&'static (dyn hya_core::Dynamics<N> + Send + Sync)> {
+    struct AsN<const N: usize>;
+    impl<const N: usize> ForArm for AsN<N> {
+        type Output = Option<&'static (dyn hya_core::Dynamics<N> + Send + Sync)>;
+        fn call<const M: usize>(self, arm: Arm<M>) -> Self::Output {
+            // The same type exactly when M = N.
+            let nominal: &dyn core::any::Any = &arm.nominal;
+            nominal.downcast_ref::<&'static (dyn hya_core::Dynamics<N> + Send + Sync)>().copied()
+        }
+    }
+    with_arm(name, AsN::<N>).flatten()
+}
+
 /// Something to do with a shipped arm, whose number of joints becomes the constant `N`.
 #[cfg(feature = "std")]
 pub trait ForArm {

@@ -201,3 +201,12 @@ macro_rules! robot_tests {
 }
 
 hya_robots::for_each_robot!(robot_tests);
+
+#[test]
+fn a_shipped_arms_dynamics_is_found_by_name_at_its_own_joint_count_only() {
+    let q = JointVector::<6>::from([0.1, -0.4, 0.7, 0.2, -0.3, 0.5]);
+    let found = hya_robots::nominal::<6>("ur5").unwrap_or_else(|| panic!("ur5 has 6 joints"));
+    assert_eq!(found.gravity(&q), hya_robots::ur5::Ur5.gravity(&q));
+    assert!(hya_robots::nominal::<7>("ur5").is_none(), "ur5 as 7 joints");
+    assert!(hya_robots::nominal::<6>("ur6").is_none(), "no arm called ur6");
+}

@@ -18,7 +18,7 @@
 //! are caught at the boundary, and null pointers, wrong lengths and non-finite inputs are
 //! errors.
 
-mod arm;
+mod arm_model;
 mod controller;
 mod estimator;
 mod model;

@@ -3,7 +3,7 @@
 
 use std::ffi::{c_char, CStr};
 
-use crate::arm::{self, ArmModel};
+use crate::arm_model::{self, ArmModel};
 use crate::slices::{input, output};
 use crate::status::{borrow_live, create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
@@ -60,7 +60,7 @@ pub(crate) unsafe fn borrow<'a>(model: *const HyaModel) -> Result<&'a dyn ArmMod
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_from_arm(name: *const c_char, out: *mut *mut HyaModel) -> HyaStatus {
     // SAFETY: the caller's contract, passed on.
-    unsafe { create(out, || Ok(HyaModel::new(arm::shipped(text("name", name)?)?))) }
+    unsafe { create(out, || Ok(HyaModel::new(arm_model::shipped(text("name", name)?)?))) }
 }
 
 /// Loads the URDF file at `path` as a run-time kinematic-tree model (1 to 7 joints). On `HYA_OK`,
@@ -75,7 +75,7 @@ pub unsafe extern "C" fn hya_model_from_urdf(path: *const c_char, out: *mut *mut
     unsafe {
         create(out, || {
             let loaded = hya_urdf::load_file(text("path", path)?).map_err(Failure::Load)?;
-            Ok(HyaModel::new(arm::tree(loaded.model)?))
+            Ok(HyaModel::new(arm_model::tree(loaded.model)?))
         })
     }
 }

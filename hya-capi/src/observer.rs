@@ -6,7 +6,7 @@ use std::ffi::c_char;
 
 use hya_core::erased::SliceObserver;
 
-use crate::arm::{ArmModel, ObserverSpec};
+use crate::arm_model::{ArmModel, ObserverSpec};
 use crate::model::{borrow, HyaModel};
 use crate::slices::{input, optional_input, output};
 use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};

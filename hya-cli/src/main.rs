@@ -9,14 +9,14 @@ pub use common::CliError;
 
 mod bench;
 mod common;
-mod dynamics;
 mod estimate;
 mod excite;
 mod experiments;
 mod filter;
 mod generate;
 mod identify;
-mod plant;
+mod open_loop;
+mod rigid_body;
 mod sweep;
 mod table;
 mod track;
@@ -49,19 +49,19 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Filter(filter::FilterArgs),
     /// List the shipped robots (or a URDF's model): name, degrees of freedom, joint names.
-    Robots(dynamics::RobotsArgs),
+    Robots(rigid_body::RobotsArgs),
     /// Inverse dynamics: rows `q qd qdd` (one value per joint each) to rows `τ`.
     ///
     /// A shipped robot's name uses its generated code (`--generic`: the runtime tree model); a
     /// URDF path is loaded at run time. Joint order is the model's (see `hya robots`). With
     /// `--derivatives`, each row also holds `∂τ/∂q` and `∂τ/∂q̇`, row-major.
-    Id(dynamics::IdArgs),
+    Id(rigid_body::IdArgs),
     /// Forward dynamics by the articulated-body algorithm: rows `q qd τ` to rows `q̈`.
-    Fd(dynamics::RobotArgs),
+    Fd(rigid_body::RobotArgs),
     /// Mass matrix: rows `q` to rows `M`, row-major.
-    Mass(dynamics::RobotArgs),
+    Mass(rigid_body::RobotArgs),
     /// Gravity torques: rows `q` to rows `G`.
-    Gravity(dynamics::RobotArgs),
+    Gravity(rigid_body::RobotArgs),
     /// The disturbance estimator over a recorded log: rows `q τ` (angles in rad, torques in
     /// N·m, one row per control tick, joints in the model's order) to rows `d̂` (N·m).
     ///
@@ -80,7 +80,7 @@ enum Command {
     Scenarios(experiments::ScenariosArgs),
     /// Open-loop rollout of the simulated arm: rows `t τ1 … τn` (held until the next row) on
     /// stdin, rows `t q1 … qn q̇1 … q̇n` every `--dt` on stdout, from rest at `--q0`.
-    Plant(plant::PlantArgs),
+    Plant(open_loop::PlantArgs),
     /// Sweep every observer's bandwidth (10 to 200 rad/s): `sweep.json` and a Pareto figure of
     /// estimate and tracking error against command noise; `--shard I/N` runs a part, `--merge`
     /// joins the parts.
@@ -115,23 +115,23 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Filter(args) => filter::run(&args, stdin, &mut stdout),
         Command::Estimate(args) => estimate::run(&args, stdin, &mut stdout),
-        Command::Robots(args) => dynamics::list(&args, &mut stdout),
+        Command::Robots(args) => rigid_body::list(&args, &mut stdout),
         Command::Id(args) => {
             let (quantity, robot) = args.quantity();
-            dynamics::run(quantity, robot, stdin, &mut stdout)
+            rigid_body::run(quantity, robot, stdin, &mut stdout)
         }
-        Command::Fd(args) => dynamics::run(dynamics::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
+        Command::Fd(args) => rigid_body::run(rigid_body::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
         Command::Generate(args) => generate::run(&args, &mut stdout),
         Command::Excite(args) => excite::run(&args, &mut stdout),
         Command::Identify(args) => identify::run(&args, stdin),
         Command::Track(args) => track::run(&args, stdin, &mut stdout),
-        Command::Mass(args) => dynamics::run(dynamics::Quantity::MassMatrix, &args, stdin, &mut stdout),
-        Command::Gravity(args) => dynamics::run(dynamics::Quantity::Gravity, &args, stdin, &mut stdout),
+        Command::Mass(args) => rigid_body::run(rigid_body::Quantity::MassMatrix, &args, stdin, &mut stdout),
+        Command::Gravity(args) => rigid_body::run(rigid_body::Quantity::Gravity, &args, stdin, &mut stdout),
         Command::Reproduce(args) => experiments::reproduce(&args, &mut stdout),
         Command::Run(args) => experiments::run(&args, &mut stdout),
         Command::Scenarios(args) => experiments::scenarios(&args, &mut stdout),
         Command::Sweep(args) => sweep::run(&args),
-        Command::Plant(args) => plant::run(&args, stdin, &mut stdout),
+        Command::Plant(args) => open_loop::run(&args, stdin, &mut stdout),
         Command::Bench(args) => bench::run(&args, &mut stdout),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "hya", &mut stdout);

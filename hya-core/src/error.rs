@@ -66,7 +66,7 @@ pub enum Error {
         /// The numbers per row.
         width: usize,
     },
-    /// A slice handed to an observer or controller on slices ([`crate::erased`]) holds another
+    /// A slice handed to an observer or controller on slices ([`crate::estimation::erased`]) holds another
     /// number of values than the joints.
     #[error("{signal} holds {got} values; the model has {expected} joints")]
     SliceLength {

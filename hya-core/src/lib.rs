@@ -21,35 +21,57 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
-pub mod attenuation;
-pub mod control;
+/// The estimation half: the filter and its pair on `q` and `τ`, the paper's estimator (fixed-step
+/// and timed), the observers it is compared with, the computed-torque controller, and both
+/// behind slices for front ends that learn the joint count at run time.
+mod estimation {
+    pub mod attenuation;
+    pub mod control;
+    #[cfg(feature = "alloc")]
+    pub mod erased;
+    pub mod estimator;
+    pub mod filter;
+    pub mod filter_pair;
+    #[cfg(feature = "alloc")]
+    pub mod observer_design;
+    pub mod observers;
+    pub mod step_cache;
+    pub mod timed;
+}
+
+/// The rigid-body half: the `Dynamics<N>` trait, the number types the algorithms are written on
+/// (`Real`, dual numbers, lanes of states), spatial algebra, and the run-time tree model with
+/// every algorithm written once.
+mod rigid_body {
+    pub mod dual;
+    pub mod dynamics;
+    pub(crate) mod fma;
+    pub mod lanes;
+    pub(crate) mod linalg;
+    #[cfg(feature = "alloc")]
+    pub mod model;
+    #[cfg(feature = "sampling")]
+    pub mod sampling;
+    pub mod scalar;
+    pub mod spatial;
+    pub(crate) mod trig;
+}
+
 pub mod dispatch;
 pub mod display;
-pub mod dual;
-pub mod dynamics;
-#[cfg(feature = "alloc")]
-pub mod erased;
 pub mod error;
-pub mod estimator;
-pub mod filter;
-pub mod filter_pair;
 mod finite;
-mod fma;
-pub mod lanes;
-mod linalg;
-#[cfg(feature = "alloc")]
-pub mod model;
-#[cfg(feature = "alloc")]
-pub mod observer_design;
-pub mod observers;
-#[cfg(feature = "sampling")]
-pub mod sampling;
-pub mod scalar;
-pub mod spatial;
-pub mod step_cache;
 pub mod test_arms;
-pub mod timed;
-mod trig;
+
+pub use estimation::{attenuation, control, estimator, filter, filter_pair, observers, step_cache, timed};
+#[cfg(feature = "alloc")]
+pub use estimation::{erased, observer_design};
+#[cfg(feature = "alloc")]
+pub use rigid_body::model;
+#[cfg(feature = "sampling")]
+pub use rigid_body::sampling;
+pub use rigid_body::{dual, dynamics, lanes, scalar, spatial};
+use rigid_body::{fma, linalg, trig};
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
 pub use lanes::Arithmetic;

@@ -6,7 +6,7 @@
 
 use libm::{cos, sin};
 
-use crate::dynamics::{Dynamics, JointMatrix, JointVector};
+use crate::rigid_body::dynamics::{Dynamics, JointMatrix, JointVector};
 
 /// A rotor of constant inertia `I` on a vertical axis: `I q̈ = τ`. The linear plant on which
 /// observers show their design transfer functions exactly.

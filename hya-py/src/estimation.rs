@@ -1,12 +1,8 @@
-//! The disturbance estimator of Lu, Sandy & Buchli, the observers it is compared with, the
-//! third-order filter and the computed-torque controller, stepped one tick per call or run over
-//! a whole log.
+//! The disturbance estimator of Lu, Sandy & Buchli and the observers it is compared with,
+//! stepped one tick per call or run over a whole log.
 
-use hya_core::erased::{self, SliceController, SliceObserver};
-use hya_core::{
-    ComputedTorque as CoreComputedTorque, FilterParams, Gains, JointVector, Measurement, ObserverDesign,
-    ThirdOrderFilter as CoreFilter,
-};
+use hya_core::erased::{self, SliceObserver};
+use hya_core::{FilterParams, JointVector, Measurement, ObserverDesign};
 use std::sync::{Mutex, PoisonError};
 
 use hya_core::dispatch::ForJoints;
@@ -16,10 +12,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{checked, converted, output, row, rows, same_count, Rows};
 use crate::model::Model;
-
-fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
+use crate::value_error;
 
 /// Builds an observer for `N` joints on the nominal model of `robot`.
 struct Build<'a> {
@@ -359,127 +352,3 @@ observer_class!(
     ExtendedStateObserver,
     |bandwidth_rad_s, dt_s| ObserverDesign::ExtendedState { bandwidth_rad_s, dt_s }
 );
-
-/// The paper's third-order filter, one channel per entry of x0, discretised exactly at the
-/// period dt for an input linear between samples (first-order hold):
-///
-///     H(s) = ω1 ω2² / ((s + ω1)(s² + 2 ζ ω2 s + ω2²))
-///
-/// Each step returns the filtered signal, its first and its second derivative.
-#[pyclass(module = "hya")]
-pub struct ThirdOrderFilter {
-    channels: Vec<CoreFilter<1>>,
-}
-
-#[pymethods]
-impl ThirdOrderFilter {
-    #[new]
-    #[pyo3(signature = (x0, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001))]
-    fn new(x0: Vec<f64>, zeta: f64, omega1: f64, omega2: f64, dt: f64) -> PyResult<Self> {
-        let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
-        let channels = x0
-            .iter()
-            .map(|&x| CoreFilter::new(params, JointVector::<1>::new(x)).map_err(value_error))
-            .collect::<PyResult<Vec<_>>>()?;
-        Ok(Self { channels })
-    }
-
-    /// One step with input u (one value per channel): returns (x, ẋ, ẍ), each (channels,).
-    fn step(&mut self, u: Vec<f64>) -> PyResult<(Vec<f64>, Vec<f64>, Vec<f64>)> {
-        if u.len() != self.channels.len() {
-            return Err(PyValueError::new_err(format!("u: {} values, expected {}", u.len(), self.channels.len())));
-        }
-        // Peek every channel first, so a bad input changes no channel.
-        let next = self
-            .channels
-            .iter()
-            .zip(&u)
-            .map(|(f, &x)| f.peek("u", &JointVector::<1>::new(x)).map_err(value_error))
-            .collect::<PyResult<Vec<_>>>()?;
-        let mut out = (Vec::new(), Vec::new(), Vec::new());
-        for ((filter, state), &x) in self.channels.iter_mut().zip(next).zip(&u) {
-            out.0.push(state.x1[0]);
-            out.1.push(state.x2[0]);
-            out.2.push(state.x3[0]);
-            filter.commit(state, JointVector::<1>::new(x));
-        }
-        Ok(out)
-    }
-}
-
-struct BuildController<'a> {
-    model: &'a Model,
-    kp: &'a [f64],
-    kd: &'a [f64],
-    limit: Option<&'a [f64]>,
-}
-
-impl ForJoints for BuildController<'_> {
-    type Output = PyResult<Box<dyn SliceController>>;
-    fn call<const N: usize>(self) -> Self::Output {
-        let setup = |e: hya_core::Error| PyValueError::new_err(format!("ComputedTorque: {e}"));
-        let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
-        let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
-        let mut controller = CoreComputedTorque::new(self.model.nominal::<N>()?, gains);
-        if let Some(limit) = self.limit {
-            controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
-        }
-        Ok(Box::new(controller))
-    }
-}
-
-/// The computed-torque controller with disturbance compensation (the paper's section IV):
-///
-///     τ = M(q) q̈_des + C(q, q̇) + G(q) − K_D (q̇ − q̇_des) − K_P (q − q_des) − d̂
-///
-/// with diagonal gains kp (N·m/rad) and kd (N·m·s/rad), and per-joint torque limits (N·m) if
-/// given.
-#[pyclass(module = "hya")]
-pub struct ComputedTorque {
-    dof: usize,
-    inner: Box<dyn SliceController>,
-}
-
-#[pymethods]
-impl ComputedTorque {
-    #[new]
-    #[pyo3(signature = (model, kp, kd, torque_limit=None))]
-    fn new(model: &Model, kp: Vec<f64>, kd: Vec<f64>, torque_limit: Option<Vec<f64>>) -> PyResult<Self> {
-        let n = model.dof_count();
-        for (name, list) in [("kp", Some(&kp)), ("kd", Some(&kd)), ("torque_limit", torque_limit.as_ref())] {
-            if let Some(list) = list.filter(|l| l.len() != n) {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
-        let build = BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
-        let inner = crate::model::for_joints(n, build)?;
-        Ok(Self { dof: n, inner })
-    }
-
-    /// The commanded torque (N·m) at the measured (q, qd) for the reference (q_des, qd_des,
-    /// qdd_des; the last two zero if omitted), minus d_hat if given.
-    #[pyo3(signature = (q, qd, q_des, qd_des=None, qdd_des=None, d_hat=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn command(
-        &self,
-        q: Vec<f64>,
-        qd: Vec<f64>,
-        q_des: Vec<f64>,
-        qd_des: Option<Vec<f64>>,
-        qdd_des: Option<Vec<f64>>,
-        d_hat: Option<Vec<f64>>,
-    ) -> PyResult<Vec<f64>> {
-        let n = self.dof;
-        let zeros = vec![0.0; n];
-        let (qd_des, qdd_des) = (qd_des.unwrap_or_else(|| zeros.clone()), qdd_des.unwrap_or_else(|| zeros.clone()));
-        let args = [("q", &q), ("qd", &qd), ("q_des", &q_des), ("qd_des", &qd_des), ("qdd_des", &qdd_des)];
-        for (name, list) in args.into_iter().chain(d_hat.as_ref().map(|d| ("d_hat", d))) {
-            if list.len() != n {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
-        let mut tau = vec![0.0; n];
-        self.inner.command([&q, &qd], [&q_des, &qd_des, &qdd_des], d_hat.as_deref(), &mut tau).map_err(value_error)?;
-        Ok(tau)
-    }
-}

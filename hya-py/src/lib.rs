@@ -3,7 +3,9 @@
 //! observers it is compared with and the computed-torque controller, and the simulator.
 
 mod arrays;
+mod control;
 mod estimation;
+mod filter;
 mod identification;
 mod model;
 mod simulate;
@@ -18,6 +20,11 @@ pyo3::create_exception!(
     "A URDF that cannot be loaded; the message names the file and the link or joint at fault."
 );
 
+/// A `ValueError` with `e`'s message.
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
 /// The native module; `import hya` re-exports it.
 #[pymodule]
 fn _hya(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -26,8 +33,8 @@ fn _hya(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<estimation::MomentumObserver>()?;
     m.add_class::<estimation::NonlinearDisturbanceObserver>()?;
     m.add_class::<estimation::ExtendedStateObserver>()?;
-    m.add_class::<estimation::ThirdOrderFilter>()?;
-    m.add_class::<estimation::ComputedTorque>()?;
+    m.add_class::<filter::ThirdOrderFilter>()?;
+    m.add_class::<control::ComputedTorque>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add("UrdfError", m.py().get_type::<UrdfError>())?;

@@ -76,7 +76,7 @@ pub fn measure<const N: usize>(
         let scenario = clean_scenario(base, frequency_hz, N);
         let omega = std::f64::consts::TAU * frequency_hz;
         for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
-            let trace = crate::analysis::outcome::simulate(&scenario, method, robot)?.trace;
+            let trace = crate::analysis::simulate::simulate(&scenario, method, robot)?.trace;
             // The whole periods after the first 2 s.
             let start = trace.time.partition_point(|t| *t < 2.0);
             let d: Vec<(f64, f64)> =

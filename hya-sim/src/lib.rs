@@ -34,7 +34,7 @@ pub use io::{input, output, svg};
 pub use run::{rollout, sensors, task};
 
 pub use analysis::metrics::Metrics;
-pub use analysis::outcome::{simulate, RunOutcome};
+pub use analysis::simulate::{simulate, RunOutcome};
 pub use config::scenario::{Method, Scenario};
 pub use error::SimError;
 pub use robot::{with_robot, ForRobot, Robot};

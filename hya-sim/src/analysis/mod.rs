@@ -4,8 +4,8 @@
 
 pub mod claims;
 pub mod metrics;
-pub mod outcome;
 pub mod running;
 pub mod seeds;
 pub mod shadow;
+pub mod simulate;
 pub mod sweep;

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use crate::analysis::metrics::Metrics;
-use crate::analysis::outcome::RunOutcome;
+use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::Recording;
@@ -170,7 +170,7 @@ pub fn run_seeds<const N: usize>(
         scenario.seed = scenario.seed.wrapping_add(k as u64);
         // Only the first seed's traces are kept (for the figures and CSV files).
         let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
-        let outcome = crate::analysis::outcome::simulate_recording(&scenario, method, robot, recording);
+        let outcome = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording);
         progress(scenario.duration_s);
         outcome
     });

@@ -260,7 +260,7 @@ pub fn run_on<const N: usize>(
         let scenario =
             plan.scenario_at(i, method, bandwidth, k).ok_or(SimError::Nothing("a sweep point beyond its scenarios"))?;
         let recording = crate::run::trace::Recording::Off;
-        let entry = crate::analysis::outcome::simulate_recording(&scenario, method, robot, recording).map(|o| Entry {
+        let entry = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording).map(|o| Entry {
             scenario: scenario.name.clone(),
             method: method.name().to_owned(),
             bandwidth_rad_s: bandwidth,

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use hya_core::model::{JointKind, TreeModel};
 
-use crate::analysis::outcome::RunOutcome;
+use crate::analysis::simulate::RunOutcome;
 use crate::SimError;
 
 /// The header: `t [s]`, then each signal's column per joint of `model`.

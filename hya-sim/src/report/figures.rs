@@ -4,8 +4,8 @@
 
 use hya_core::JointVector;
 
-use crate::analysis::outcome::RunOutcome;
 use crate::analysis::seeds::MetricTable;
+use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::io::svg::{bar_chart, line_grid, Panel, Series, PALETTE};
 use crate::run::trace::Trace;

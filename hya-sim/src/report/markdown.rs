@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 
 use crate::analysis::claims::{Judgement, Verdict, RULES};
 use crate::analysis::metrics::{SHADOW_METRIC_NAMES, WARM_UP_S};
-use crate::analysis::outcome::RunOutcome;
 use crate::analysis::seeds::MetricTable;
+use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::SHADOWS;

@@ -11,6 +11,7 @@ mod figures;
 mod fronts;
 mod gain_rule;
 mod headline;
+mod limit_cycles;
 mod loops;
 mod markdown;
 mod plant;
@@ -19,14 +20,13 @@ mod sensitivity;
 mod summary;
 mod text;
 mod torque_loops;
-mod viscous;
 
 pub use provenance::Provenance;
 pub use summary::{RunSummary, Summary};
 
 use crate::analysis::claims::judge_all;
-use crate::analysis::outcome::RunOutcome;
 use crate::analysis::seeds::MetricTable;
+use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::Scenario;
 use crate::error::SimError;
 use csv::csv;
@@ -109,7 +109,7 @@ pub fn write<const N: usize>(
             Some(base) => {
                 fronts_section
                     + &loops::section(robot, base, summary.torque_responses.as_ref())?
-                    + &viscous::section(robot, base, table)?
+                    + &limit_cycles::section(robot, base, table)?
                     + &gain_rule::section(robot, base)?
             }
             None => String::new(),

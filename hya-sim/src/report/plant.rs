@@ -8,7 +8,7 @@ use hya_core::model::TreeModel;
 use hya_core::{Dynamics, JointVector};
 use rand::SeedableRng;
 
-use crate::analysis::outcome::RunOutcome;
+use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::Method;
 use crate::config::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource, Transducers};
 use crate::error::{SettingError, SimError};

@@ -1,6 +1,6 @@
 //! The paper's nonlinear disturbance estimator (Lu, Sandy & Buchli, section III).
 //!
-//! Two identical third-order filters (see [`crate::filter`]) run on the measured joint angles
+//! Two identical third-order filters (see [`crate::estimation::filter`]) run on the measured joint angles
 //! `q_m` and the measured joint torques `τ_m`:
 //!
 //! ```text
@@ -14,8 +14,8 @@
 //! 1 Hz for the paper's `ζ = 0.8`, `ω1 = ω2 = 50 rad/s`). Only joint angles are needed; no
 //! measured velocity and no numerical differentiation.
 
-use crate::filter::{Discretisation, FilterParams, FilterState};
-use crate::filter_pair::{FilterPair, PairState};
+use crate::estimation::filter::{Discretisation, FilterParams, FilterState};
+use crate::estimation::filter_pair::{FilterPair, PairState};
 use crate::finite::check;
 use crate::{Dynamics, Error, JointVector};
 
@@ -54,8 +54,8 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceEstimator<N, D> {
     /// As [`update`](Self::update), over a step of another length than the filters' sample time:
     /// `step` discretises both filters over it (first-order hold between the previous samples and
     /// these; built with [`FilterParams::with_dt`] from [`params`](Self::params), or taken from a
-    /// [`DiscretisationCache`](crate::step_cache::DiscretisationCache)). For logs whose rows are
-    /// not evenly spaced; see [`TimedEstimator`](crate::timed::TimedEstimator).
+    /// [`DiscretisationCache`](crate::estimation::step_cache::DiscretisationCache)). For logs whose rows are
+    /// not evenly spaced; see [`TimedEstimator`](crate::estimation::timed::TimedEstimator).
     pub fn update_over(
         &mut self,
         step: &Discretisation,

@@ -2,7 +2,8 @@
 //! path in a file's code (a `use`, or a path written out) is an arrow to the file that holds the
 //! module it names, and the arrows of each crate form no circle. Unit tests (from `#[cfg(test)]`
 //! to the end of a file), comments and the crate root (`lib.rs`, `main.rs`: the crate's face,
-//! which declares every module) are left aside.
+//! which declares every module) are left aside. And hya-sim's files import only from their own
+//! layer or the ones before it, as ARCHITECTURE.md's table of layers lists them.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -189,4 +190,43 @@ fn a_circle_is_found_and_a_tree_is_not() {
     assert_eq!(circle(&arrows), None);
     arrows.insert(m("c"), [m("a")].into());
     assert_eq!(circle(&arrows).map(|c| c.len()), Some(3));
+}
+
+#[test]
+fn hya_sims_files_import_only_from_their_own_layer_or_the_ones_listed_before() {
+    // The layer table of ARCHITECTURE.md: rows `| `layer` | what | `file or folder` |`, lowest first.
+    let text =
+        std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap_or_else(|e| panic!("ARCHITECTURE.md: {e}"));
+    let start = text.find("| layer | what | files |").unwrap_or_else(|| panic!("ARCHITECTURE.md: no layer table"));
+    let layers: Vec<String> = text[start..]
+        .lines()
+        .skip(2)
+        .take_while(|line| line.starts_with('|'))
+        .filter_map(|line| line.split('`').nth(1).map(String::from))
+        .collect();
+    assert!(layers.len() >= 8, "ARCHITECTURE.md's layer table: {layers:?}");
+    // A module's layer: the one whose path is the longest start of the module's.
+    let rank = |module: &Module| {
+        let starts = |layer: &String| {
+            let path: Vec<&str> = layer.split("::").collect();
+            path.len() <= module.len() && path.iter().zip(module).all(|(a, b)| a == b)
+        };
+        (0..layers.len()).filter(|&i| starts(&layers[i])).max_by_key(|&i| layers[i].split("::").count())
+    };
+    for (from, targets) in arrows(&root().join("hya-sim/src")) {
+        let from_rank = rank(&from)
+            .unwrap_or_else(|| panic!("hya-sim/src: `{}` is in no layer of ARCHITECTURE.md", from.join("::")));
+        for to in targets {
+            let to_rank = rank(&to)
+                .unwrap_or_else(|| panic!("hya-sim/src: `{}` is in no layer of ARCHITECTURE.md", to.join("::")));
+            assert!(
+                to_rank <= from_rank,
+                "hya-sim/src: `{}` (layer `{}`) imports `{}` of the later layer `{}`",
+                from.join("::"),
+                layers[from_rank],
+                to.join("::"),
+                layers[to_rank]
+            );
+        }
+    }
 }

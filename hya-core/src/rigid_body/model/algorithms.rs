@@ -10,8 +10,8 @@ use nalgebra::Vector3;
 
 use super::workspace::{BodyState, JointTransform};
 use super::{ModelError, TreeModel};
-use crate::scalar::{Label, Pass, Quantity, Real};
-use crate::spatial::{ArticulatedInertia, Motion, RigidBodyInertia, Transform};
+use crate::rigid_body::scalar::{Label, Pass, Quantity, Real};
+use crate::rigid_body::spatial::{ArticulatedInertia, Motion, RigidBodyInertia, Transform};
 
 /// Where body `i`'s spatial inertia (about its frame's origin) comes from.
 pub trait Inertias<S> {

@@ -20,7 +20,7 @@ use core::ops::{Add, AddAssign, Mul, Sub};
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::scalar::{Label, Quantity, Real};
+use crate::rigid_body::scalar::{Label, Quantity, Real};
 
 mod articulated;
 mod vector;

@@ -43,7 +43,7 @@ use crate::finite::{check, discretisable, positive};
 /// The largest magnitude a filter accepts as input: no angle in rad or torque in N·m comes near
 /// it, and with it the states, and estimates computed from them, stay far from overflow.
 pub const MAX_FILTER_INPUT: f64 = 1e12;
-use crate::linalg::matrix_exponential;
+use crate::rigid_body::linalg::matrix_exponential;
 use crate::{Error, JointVector};
 
 /// Validated filter parameters: damping `ζ`, corner frequencies `ω1`, `ω2` (rad/s), sample time (s).
@@ -309,7 +309,7 @@ impl<const N: usize> ThirdOrderFilter<N> {
 
     /// As [`peek`](Self::peek), over the step that `step` discretises instead of the filter's own
     /// sample time: a log's irregular step, with `step` built from
-    /// [`FilterParams::with_dt`] (or taken from a [`DiscretisationCache`](crate::step_cache::DiscretisationCache)).
+    /// [`FilterParams::with_dt`] (or taken from a [`DiscretisationCache`](crate::estimation::step_cache::DiscretisationCache)).
     /// Over a step of the filter's own length it computes exactly what `peek` does.
     #[inline(always)]
     pub fn peek_over(

@@ -237,7 +237,7 @@ impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
     /// `FUSED` ([`sin_cos_lanes_fused`](crate::sin_cos_lanes_fused)).
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
-        let pairs = crate::trig::sin_cos_lanes_rounded::<FUSED, L>(self.0);
+        let pairs = crate::rigid_body::trig::sin_cos_lanes_rounded::<FUSED, L>(self.0);
         (Self(each(0.0, |l| pairs[l].0)), Self(each(0.0, |l| pairs[l].1)))
     }
 
@@ -247,7 +247,7 @@ impl<const L: usize, const FUSED: bool> Arithmetic for Lanes<L, FUSED> {
     fn sin_cos_lanes<const K: usize>(x: [Self; K]) -> [(Self, Self); K] {
         let zero = (Self::from(0.0), Self::from(0.0));
         if L == 1 {
-            let pairs = crate::trig::sin_cos_lanes_rounded::<FUSED, K>(each(0.0, |k| x[k].0[0]));
+            let pairs = crate::rigid_body::trig::sin_cos_lanes_rounded::<FUSED, K>(each(0.0, |k| x[k].0[0]));
             each(zero, |k| (Self::from(pairs[k].0), Self::from(pairs[k].1)))
         } else {
             each(zero, |k| x[k].sin_cos())

@@ -4,9 +4,9 @@
 
 use super::algorithms::{self, Inertias};
 use super::{BodyState, ModelError, TreeModel};
-use crate::dual::Dual;
-use crate::scalar::Real;
-use crate::spatial::RigidBodyInertia;
+use crate::rigid_body::dual::Dual;
+use crate::rigid_body::scalar::Real;
+use crate::rigid_body::spatial::RigidBodyInertia;
 
 /// Inertias of the number type `S` as fixed (tangent-free) dual numbers.
 struct Fixed<'a, I>(&'a I);

@@ -91,8 +91,8 @@ pub trait Dynamics<const N: usize> {
     /// Batches take one slice of joint vectors per argument (an array of structures: state `k`
     /// is `q[k]`, `qd[k]`, …) and write one output per state; every slice must be as long as the
     /// output ([`Error::BatchLength`] otherwise, nothing written). Generated dynamics run
-    /// [`BATCH_LANES`](crate::lanes::BATCH_LANES) states per step in vector registers
-    /// ([`crate::lanes::batch`]); the defaults loop over the single call.
+    /// [`BATCH_LANES`](crate::rigid_body::lanes::BATCH_LANES) states per step in vector registers
+    /// ([`crate::rigid_body::lanes::batch`]); the defaults loop over the single call.
     fn inverse_dynamics_batch(
         &self,
         q: &[JointVector<N>],

@@ -4,8 +4,8 @@
 use nalgebra::Vector3;
 
 use super::{Body, JointKind};
-use crate::scalar::{Label, Quantity, Real};
-use crate::spatial::{revolute_rotation, ArticulatedInertia, Force, Motion, RigidBodyInertia, Transform};
+use crate::rigid_body::scalar::{Label, Quantity, Real};
+use crate::rigid_body::spatial::{revolute_rotation, ArticulatedInertia, Force, Motion, RigidBodyInertia, Transform};
 
 /// A body's transform from its parent's frame, `X_i(q) = X_J(q) X_tree`.
 ///

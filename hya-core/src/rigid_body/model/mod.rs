@@ -22,7 +22,7 @@ mod workspace;
 use algorithms::ModelInertias;
 pub use workspace::{BodyState, JointTransform};
 
-use crate::spatial::{Motion, RigidBodyInertia, Transform};
+use crate::rigid_body::spatial::{Motion, RigidBodyInertia, Transform};
 use crate::{Dynamics, Error, JointMatrix, JointVector};
 
 pub use crate::STANDARD_GRAVITY;
@@ -305,7 +305,7 @@ impl TreeModel {
             &ModelInertias(self),
             inputs,
             &mut vec![BodyState::new(); n],
-            &mut vec![crate::dual::Dual::fixed(0.0); 4 * n],
+            &mut vec![crate::rigid_body::dual::Dual::fixed(0.0); 4 * n],
             &mut vec![0.0; n],
             &mut vec![0.0; n],
             (d_dq, d_dqd),
@@ -524,7 +524,7 @@ impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
     ) -> (JointMatrix<N>, JointMatrix<N>) {
         let (mut d_dq, mut d_dqd) = (JointMatrix::<N>::zeros(), JointMatrix::<N>::zeros());
         let (mut tau, mut column) = (JointVector::<N>::zeros(), JointVector::<N>::zeros());
-        let mut scratch = [[crate::dual::Dual::fixed(0.0); 4]; N];
+        let mut scratch = [[crate::rigid_body::dual::Dual::fixed(0.0); 4]; N];
         // The derivatives need a workspace of dual numbers, not `run`'s.
         self.run(|model, inertias, _| {
             derivatives::inverse_dynamics_derivatives(

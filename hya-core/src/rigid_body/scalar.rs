@@ -1,10 +1,10 @@
 //! The number type the rigid-body algorithms are written on.
 //!
-//! Spatial algebra and the algorithms of [`crate::model`] (RNEA, CRBA, `Cᵀq̇`, ABA, frame poses)
+//! Spatial algebra and the algorithms of [`crate::rigid_body::model`] (RNEA, CRBA, `Cᵀq̇`, ABA, frame poses)
 //! are written once, generic over [`Real`]. Three number types run them:
 //!
 //! - `f64`, for the run-time model;
-//! - [`Dual`](crate::dual::Dual), forward-mode dual numbers, for derivatives of the same code;
+//! - [`Dual`](crate::rigid_body::dual::Dual), forward-mode dual numbers, for derivatives of the same code;
 //! - the code generator's tracing type (in `hya-codegen`), which records every operation as a
 //!   statement of straight-line Rust and folds what is known at generation time.
 //!

@@ -15,7 +15,7 @@
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::finite::{check, discretisable, positive};
-use crate::linalg::matrix_exponential;
+use crate::rigid_body::linalg::matrix_exponential;
 use crate::{DisturbanceEstimator, Dynamics, Error, JointMatrix, JointVector};
 
 /// What an observer reads at one control tick.
@@ -185,7 +185,7 @@ impl<const N: usize, D: Dynamics<N>> NonlinearDisturbanceObserver<N, D> {
         // M⁻¹ = Aᵀ A with A the inverse Cholesky factor's transpose gives a symmetric similar form.
         let factor = root_inverse.cholesky().ok_or(Error::SingularMassMatrix)?.l();
         let symmetric = factor.transpose() * self.gain * factor;
-        Ok(crate::linalg::symmetric_eigenvalues(&symmetric))
+        Ok(crate::rigid_body::linalg::symmetric_eigenvalues(&symmetric))
     }
 }
 

@@ -10,7 +10,7 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::scalar::{Label, Pass, Real};
+use crate::rigid_body::scalar::{Label, Pass, Real};
 
 /// `value + tangent ε`.
 #[derive(Debug, Clone, Copy, PartialEq)]

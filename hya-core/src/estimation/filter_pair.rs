@@ -12,9 +12,9 @@
 //! [`DiscretisationCache`], and the gap policy as a number: a step longer than
 //! [`StepClock::longest_step_s`] is a gap, across which the caller restarts the filters.
 
-use crate::filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter};
+use crate::estimation::filter::{Discretisation, FilterParams, FilterState, ThirdOrderFilter};
+use crate::estimation::step_cache::DiscretisationCache;
 use crate::finite::check;
-use crate::step_cache::DiscretisationCache;
 use crate::{Error, JointVector};
 
 /// The filters on `q` and on `τ`.

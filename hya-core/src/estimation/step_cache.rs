@@ -2,14 +2,14 @@
 //!
 //! A log with timestamps steps by `T_k = t_{k+1} − t_k`, and the exact first-order-hold step over
 //! `T_k` needs `Φ = e^{A T_k}` and `Γa`, `Γb` from a 5×5 matrix exponential (see
-//! [`crate::filter`]): about as costly as the whole estimator update. Real logs repeat a few
+//! [`crate::estimation::filter`]): about as costly as the whole estimator update. Real logs repeat a few
 //! lengths (a regular grid's `dt`, the two or three values its printed timestamps round to, a
 //! controller's 10 and 12 ms): [`DiscretisationCache`] keeps the last [`CACHE_SLOTS`] lengths,
 //! keyed by the bits of `T_k`, so a regular log costs one lookup per row and a jittered log one
 //! exponential per new length. Least recently used lengths make room for new ones. The slots are
 //! a fixed array: nothing is allocated, ever.
 
-use crate::filter::{Discretisation, FilterParams};
+use crate::estimation::filter::{Discretisation, FilterParams};
 use crate::Error;
 
 /// How many step lengths a [`DiscretisationCache`] remembers.

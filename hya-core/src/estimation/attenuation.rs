@@ -17,7 +17,7 @@
 //! [`DisturbanceEstimator::update`] followed by [`ComputedTorque::command`] with the new `d̂`
 //! returns.
 
-use crate::control::{Command, ComputedTorque, Gains, PdPlacement, Reference};
+use crate::estimation::control::{Command, ComputedTorque, Gains, PdPlacement, Reference};
 use crate::{DisturbanceEstimator, Dynamics, Error, FilterParams, JointVector};
 
 /// The estimator and the controller that compensates its `d̂`, both on one model `D`.
@@ -59,7 +59,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceAttenuation<N, D> {
     /// One control tick: filters the measured `q_m` and `τ_m` into the new `d̂` and returns the
     /// command for the state `(q_m, q̇)` and `reference` that cancels it.
     ///
-    /// `q̇` is the velocity the loop closes on (see [`crate::control`]). The tick is
+    /// `q̇` is the velocity the loop closes on (see [`crate::estimation::control`]). The tick is
     /// transactional: a non-finite input, estimate or command is reported as
     /// [`Error::NonFinite`] (an overflowing filter input as [`Error::Overflow`]) and leaves the
     /// estimator as it was.
@@ -72,7 +72,7 @@ impl<const N: usize, D: Dynamics<N>> DisturbanceAttenuation<N, D> {
         reference: &Reference<N>,
     ) -> Result<Command<N>, Error> {
         // The whole tick compiled for the vector unit if there is one; the results do not change.
-        crate::lanes::on_vector_unit(
+        crate::rigid_body::lanes::on_vector_unit(
             self,
             #[inline(always)]
             |this: &mut Self| {

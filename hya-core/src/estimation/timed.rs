@@ -9,7 +9,7 @@
 //! x_{k+1} = e^{A T_k} x_k + (Γa(T_k) − Γb(T_k)) u_k + Γb(T_k) u_{k+1}
 //! ```
 //!
-//! with the discretisations cached per length ([`DiscretisationCache`](crate::step_cache::DiscretisationCache)). On a regular grid it
+//! with the discretisations cached per length ([`DiscretisationCache`](crate::estimation::step_cache::DiscretisationCache)). On a regular grid it
 //! computes bit for bit what [`DisturbanceEstimator::update`] does at that grid's `dt`.
 //!
 //! # Gaps
@@ -22,9 +22,9 @@
 //! `e^{−ω1 T_k}`, has decayed below `e^{−50}`: what they remembered of the past is gone either
 //! way. [`Step::restarted`] says which happened.
 
-use crate::estimator::DisturbanceEstimator;
-use crate::filter::FilterParams;
-use crate::filter_pair::{Next, StepClock};
+use crate::estimation::estimator::DisturbanceEstimator;
+use crate::estimation::filter::FilterParams;
+use crate::estimation::filter_pair::{Next, StepClock};
 use crate::{Dynamics, Error, JointVector, MAX_RATE_TIMES_DT};
 
 /// What one [`TimedEstimator::update`] did.

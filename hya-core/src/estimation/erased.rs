@@ -7,7 +7,7 @@
 
 use alloc::boxed::Box;
 
-use crate::observer_design::{BoxedObserver, ObserverDesign};
+use crate::estimation::observer_design::{BoxedObserver, ObserverDesign};
 use crate::{
     ComputedTorque, DisturbanceEstimator, Dynamics, Error, JointVector, Measurement, Reference, TimedEstimator,
 };

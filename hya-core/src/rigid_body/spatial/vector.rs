@@ -5,7 +5,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::scalar::Real;
+use crate::rigid_body::scalar::Real;
 
 /// `a + b`.
 pub fn add3<S: Real>(a: &Vector3<S>, b: &Vector3<S>) -> Vector3<S> {

@@ -7,7 +7,7 @@ use super::vector::{
     add_mat, cross_matrix, mat_mat, mat_tr_vec, mat_vec, outer, scale3, sub_mat, symmetric_from_upper, transpose,
 };
 use super::{add3, Force, Motion, RigidBodyInertia, Transform};
-use crate::scalar::Real;
+use crate::rigid_body::scalar::Real;
 
 /// `I^A = [[A, B], [Bᵀ, C]]` acting on motion `(ω, v)`: `I^A m = (A ω + B v, Bᵀ ω + C v)`,
 /// with `A` and `C` symmetric.
@@ -89,7 +89,7 @@ mod tests {
     use nalgebra::Vector3;
 
     use super::*;
-    use crate::spatial::{roll_pitch_yaw, Transform};
+    use crate::rigid_body::spatial::{roll_pitch_yaw, Transform};
 
     fn body() -> RigidBodyInertia {
         RigidBodyInertia::from_centre_of_mass(

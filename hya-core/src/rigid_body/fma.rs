@@ -3,7 +3,7 @@
 //!
 //! Rust never contracts `a * b + c` into one instruction by itself, so generated dynamics are
 //! written once over [`crate::Arithmetic`], whose `mul_add` rounds once on the fused types and
-//! twice on `f64`, and run twice-compiled (see [`crate::lanes::single`]): [`with_fma`] runs the
+//! twice on `f64`, and run twice-compiled (see [`crate::rigid_body::lanes::single`]): [`with_fma`] runs the
 //! fused arithmetic where the CPU has the instruction: chosen at compile time when the target
 //! has it (`-C target-cpu=native`), else at run time on x86 with `std` (one cached CPUID test),
 //! else never.

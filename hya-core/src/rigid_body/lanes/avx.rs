@@ -20,7 +20,9 @@ use core::arch::x86_64::{
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::Arithmetic;
-use crate::trig::{by_libm_outside_reduction, COS, PIO2_1, PIO2_2, PIO2_3, QUADRANT_SHIFT, REDUCTION_LIMIT, SIN};
+use crate::rigid_body::trig::{
+    by_libm_outside_reduction, COS, PIO2_1, PIO2_2, PIO2_3, QUADRANT_SHIFT, REDUCTION_LIMIT, SIN,
+};
 
 #[derive(Clone, Copy)]
 #[repr(transparent)]
@@ -222,7 +224,7 @@ fn horner(coefficients: &[f64], z: __m256d) -> __m256d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lanes::with_vector_fma;
+    use crate::rigid_body::lanes::with_vector_fma;
 
     /// `sin`/`cos` of `values` (each four lanes) through [`F64x4::sin_cos_lanes`], as arrays,
     /// or `None` without AVX2 and FMA.

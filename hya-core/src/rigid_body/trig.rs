@@ -85,7 +85,7 @@ pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {
 
 /// [`sin_cos_lanes`] with each step of the series a fused multiply-add: half the operations
 /// and half the polynomial's latency where the CPU has the instruction, as accurate (tested).
-/// What generated dynamics take on their fused arithmetic ([`crate::lanes::Fused`]), so that
+/// What generated dynamics take on their fused arithmetic ([`crate::rigid_body::lanes::Fused`]), so that
 /// a batch lane and a single call agree bit for bit.
 #[inline(always)]
 pub fn sin_cos_lanes_fused<const N: usize>(x: [f64; N]) -> [(f64, f64); N] {

@@ -65,8 +65,9 @@ pub struct EstimateArgs {
     #[arg(long, default_value_t = PAPER_BANDWIDTH_RAD_S)]
     bandwidth: f64,
     /// Joint friction the model knows (`friction.toml` from `hya identify`): the rows out are
-    /// then what neither the rigid body nor that friction explains, `d̂ + τ_f(q̂̇)`, with the
-    /// friction at the filtered velocity. With `--method lu`.
+    /// then what neither the rigid body nor that friction explains, `d̂ + τ_f(q̂̇)` (`+ I_a q̂̈`
+    /// where the file has an armature), at the filtered velocity and acceleration. With
+    /// `--method lu`.
     #[arg(long)]
     friction: Option<std::path::PathBuf>,
 }
@@ -198,13 +199,15 @@ impl<'a, const N: usize> Running<'a, N> {
         }
     }
 
-    /// The filtered velocity `q̂̇` of the paper's estimator (`None` for the observers).
-    fn velocity(&self) -> Option<JointVector<N>> {
-        match self {
-            Self::Paper(e) => Some(e.joint_estimate().x2),
-            Self::Fixed(_) => None,
-            Self::Timed(e) => Some(e.estimator().joint_estimate().x2),
-        }
+    /// The filtered velocity and acceleration `(q̂̇, q̂̈)` of the paper's estimator (`None` for
+    /// the observers).
+    fn filtered(&self) -> Option<(JointVector<N>, JointVector<N>)> {
+        let state = match self {
+            Self::Paper(e) => e.joint_estimate(),
+            Self::Fixed(_) => return None,
+            Self::Timed(e) => e.estimator().joint_estimate(),
+        };
+        Some((state.x2, state.x3))
     }
 }
 
@@ -272,8 +275,8 @@ fn estimate<'a, const N: usize>(
             Some(Running::Fixed(e)) => e.update(&measurement).map_err(at_line)?,
             Some(Running::Timed(e)) => timed_step(e, layout, line, t, q, tau, &mut gaps)?,
         };
-        let d_hat = match (&friction, running.as_ref().and_then(Running::velocity)) {
-            (Some(f), Some(v)) => JointVector::<N>::from_fn(|i, _| d_hat[i] + f.torque(i, v[i])),
+        let d_hat = match (&friction, running.as_ref().and_then(Running::filtered)) {
+            (Some(f), Some((v, a))) => JointVector::<N>::from_fn(|i, _| d_hat[i] + f.joint_torque(i, v[i], a[i])),
             _ => d_hat,
         };
         let time = layout.timestamps.then_some(t);

@@ -2,11 +2,11 @@
 //! (Gautier and Khalil's inverse dynamic identification model):
 //!
 //! ```text
-//! τ_i = (Y_b π_b)_i + c_i tanh(q̇_i / s) + v_i q̇_i + o_i          joint i, every sample
+//! τ_i = (Y_b π_b)_i + c_i tanh(q̇_i / s) + v_i q̇_i + o_i  (+ I_a,i q̈_i)      joint i, every sample
 //! ```
 //!
-//! stacked over the samples into `W θ = τ`, `θ = (π_b, c, v, o)`, with `s` the friction's
-//! smoothing velocity. A first ordinary least-squares solve gives each joint's residual
+//! stacked over the samples into `W θ = τ`, `θ = (π_b, c, v, o[, I_a])`, with `s` the friction's
+//! smoothing velocity and `I_a` the optional armature (reflected motor inertia). A first ordinary least-squares solve gives each joint's residual
 //! variance `σ_i²`; each joint's rows are then weighted by `1/σ_i` and solved again, so that a
 //! noisy joint does not drown a quiet one. The parameters' standard deviations are the
 //! square roots of the diagonal of `σ̂² (W_wᵀ W_w)⁻¹` of the weighted system, with `σ̂²` its
@@ -44,8 +44,9 @@ pub struct Fit {
     pub base_std: DVector<f64>,
     /// The friction.
     pub friction: JointFriction,
-    /// Its parameters' standard deviations, in the order `c`, `v`, `o` of every joint.
-    pub friction_std: Vec<[f64; 3]>,
+    /// Its parameters' standard deviations, in the order `c`, `v`, `o` (and `I_a` with an
+    /// armature) of every joint.
+    pub friction_std: Vec<Vec<f64>>,
     /// Each joint's residual RMS on the samples fitted, N·m.
     pub residual_rms_nm: Vec<f64>,
     /// The weighted system's conditioning.
@@ -85,14 +86,15 @@ const BLOCK_SAMPLES: usize = 512;
 /// so the least-squares solution, each joint's residual and the singular values of `W` (and of
 /// `W` weighted per joint) come from the `R_i` alone, exactly as from `W`: the fit's memory does
 /// not grow with the log (an hour at 1 kHz once took 1.95 GB as the stacked `W` and its copies).
-fn reduced(
+pub(crate) fn reduced(
     regressor: &Regressor<'_>,
     base: &BaseParameters,
     samples: &[Sample],
-    smoothing: f64,
+    law: Law,
 ) -> Result<Vec<DMatrix<f64>>, FitError> {
     let n = samples.first().map_or(0, |s| s.q.len());
-    let (r, unknowns) = (base.rank(), base.rank() + 3 * n);
+    let terms = law.terms();
+    let (r, unknowns) = (base.rank(), base.rank() + terms * n);
     let mut triangles = vec![DMatrix::zeros(0, unknowns + 1); n];
     let mut blocks = vec![DMatrix::zeros(BLOCK_SAMPLES, unknowns + 1); n];
     let mut y = DMatrix::zeros(n, regressor.columns());
@@ -108,9 +110,12 @@ fn reduced(
                 let mut row = block.row_mut(k);
                 row.fill(0.0);
                 row.columns_mut(0, r).copy_from(&yb.row(i));
-                row[r + 3 * i] = (s.qd[i] / smoothing).tanh();
-                row[r + 3 * i + 1] = s.qd[i];
-                row[r + 3 * i + 2] = 1.0;
+                row[r + terms * i] = (s.qd[i] / law.smoothing_rad_s).tanh();
+                row[r + terms * i + 1] = s.qd[i];
+                row[r + terms * i + 2] = 1.0;
+                if law.armature {
+                    row[r + terms * i + 3] = s.qdd[i];
+                }
                 row[unknowns] = s.tau[i];
             }
         }
@@ -126,7 +131,7 @@ fn reduced(
 
 /// The joints' triangles stacked, joint `i`'s scaled by `weights[i]`: `(A, b)` with
 /// `‖A θ − b‖² = Σ_i wᵢ² ‖τ_i − W_i θ‖²`, and the singular values of `A` those of the weighted `W`.
-fn stacked(triangles: &[DMatrix<f64>], weights: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+pub(crate) fn stacked(triangles: &[DMatrix<f64>], weights: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
     let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
     let rows: usize = triangles.iter().map(DMatrix::nrows).sum();
     let mut a = DMatrix::zeros(rows, unknowns);
@@ -142,13 +147,13 @@ fn stacked(triangles: &[DMatrix<f64>], weights: &[f64]) -> (DMatrix<f64>, DVecto
 }
 
 /// `‖τ_i − W_i θ‖²` of joint `i` from its triangle.
-fn residual_squares(triangle: &DMatrix<f64>, theta: &DVector<f64>) -> f64 {
+pub(crate) fn residual_squares(triangle: &DMatrix<f64>, theta: &DVector<f64>) -> f64 {
     let unknowns = triangle.ncols() - 1;
     (triangle.columns(0, unknowns) * theta - triangle.column(unknowns)).norm_squared()
 }
 
 /// Least squares `W θ ≈ b`, with `(WᵀW)⁻¹`; `None` if `W` is rank deficient.
-fn solve(w: &DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
+pub(crate) fn solve(w: &DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
     let svd = w.clone().svd(true, true);
     let largest = svd.singular_values.max();
     if svd.singular_values.iter().any(|s| *s <= crate::conditioning::RANK_TOLERANCE * largest) {
@@ -170,8 +175,49 @@ pub fn fit(
     samples: &[Sample],
     smoothing_rad_s: f64,
 ) -> Result<Fit, FitError> {
+    fit_with(regressor, base, samples, Law { smoothing_rad_s, armature: false })
+}
+
+/// The joint law beside the rigid body: the friction's smoothing velocity, and whether each joint
+/// has an armature `I_a q̈` to identify.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Law {
+    /// `s` in `c tanh(q̇/s)`, rad/s.
+    pub smoothing_rad_s: f64,
+    /// Whether to identify an armature per joint.
+    pub armature: bool,
+}
+
+impl Law {
+    /// The unknowns per joint: `c`, `v`, `o` and, with an armature, `I_a`.
+    pub fn terms(&self) -> usize {
+        3 + usize::from(self.armature)
+    }
+
+    /// The friction whose per-joint terms are `values` (`terms()` per joint, in order).
+    pub fn friction(&self, values: &[f64]) -> JointFriction {
+        let t = self.terms();
+        let part = |k: usize| values.chunks(t).map(|v| v[k]).collect();
+        JointFriction {
+            coulomb_nm: part(0),
+            viscous_nm_s: part(1),
+            offset_nm: part(2),
+            armature_kg_m2: if self.armature { part(3) } else { Vec::new() },
+            smoothing_rad_s: self.smoothing_rad_s,
+        }
+    }
+}
+
+/// [`fit()`] with the joint law `law`: an armature per joint if asked.
+pub fn fit_with(
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+    law: Law,
+) -> Result<Fit, FitError> {
     let n = samples.first().map_or(0, |s| s.q.len());
-    let unknowns = base.rank() + 3 * n;
+    let terms = law.terms();
+    let unknowns = base.rank() + terms * n;
     if n == 0 || n * samples.len() < 2 * unknowns {
         return Err(FitError::Samples(format!(
             "{} samples of {n} joints give {} rows; fitting {unknowns} unknowns needs at least {}",
@@ -180,7 +226,7 @@ pub fn fit(
             2 * unknowns
         )));
     }
-    let triangles = reduced(regressor, base, samples, smoothing_rad_s)?;
+    let triangles = reduced(regressor, base, samples, law)?;
     let (a, b) = stacked(&triangles, &vec![1.0; n]);
     let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&a).rank, unknowns };
     let (first, _) = solve(&a, &b).ok_or_else(rank_deficient)?;
@@ -194,17 +240,11 @@ pub fn fit(
     let variance = weighted_squares / (n * samples.len() - unknowns) as f64;
     let std = inverse.diagonal().map(|d| (variance * d).sqrt());
     let r = base.rank();
-    let friction_part = |offset: usize| (0..n).map(|i| theta[r + 3 * i + offset]).collect();
     Ok(Fit {
         base: theta.rows(0, r).into_owned(),
         base_std: std.rows(0, r).into_owned(),
-        friction: JointFriction {
-            coulomb_nm: friction_part(0),
-            viscous_nm_s: friction_part(1),
-            offset_nm: friction_part(2),
-            smoothing_rad_s,
-        },
-        friction_std: (0..n).map(|i| [std[r + 3 * i], std[r + 3 * i + 1], std[r + 3 * i + 2]]).collect(),
+        friction: law.friction(&theta.as_slice()[r..]),
+        friction_std: std.as_slice()[r..].chunks(terms).map(<[f64]>::to_vec).collect(),
         residual_rms_nm: triangles
             .iter()
             .map(|t| (residual_squares(t, &theta) / samples.len() as f64).sqrt())
@@ -223,6 +263,6 @@ impl Fit {
     ) -> Result<DVector<f64>, FitError> {
         let y = regressor.rows((&sample.q, &sample.qd, &sample.qdd))?;
         let rigid = base.base_regressor(&y) * &self.base;
-        Ok(DVector::from_fn(rigid.len(), |i, _| rigid[i] + self.friction.torque(i, sample.qd[i])))
+        Ok(DVector::from_fn(rigid.len(), |i, _| rigid[i] + self.friction.joint_torque(i, sample.qd[i], sample.qdd[i])))
     }
 }

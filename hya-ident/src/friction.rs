@@ -3,11 +3,14 @@
 //! estimator, the controller, the simulator). Per joint
 //!
 //! ```text
-//! τ_f = coulomb_nm · tanh(q̇ / smoothing_rad_s) + viscous_nm_s · q̇ + offset_nm
+//! τ_f = coulomb_nm · tanh(q̇ / smoothing_rad_s) + viscous_nm_s · q̇ + offset_nm  (+ armature_kg_m2 · q̈)
 //! ```
 //!
 //! the torque the joint needs beyond the rigid body (`τ = ID(q, q̇, q̈) + τ_f`), so the part of
-//! the disturbance `d = ID − τ` that the friction does not explain is `d + τ_f`.
+//! the disturbance `d = ID − τ` that the friction does not explain is `d + τ_f`. The optional
+//! `armature_kg_m2` is the motor's inertia reflected through the gear, `I_a q̈`, which no URDF
+//! link carries (an industrial arm's torque from motor currents holds it); a file without it
+//! has none.
 //!
 //! It lives here, beside the fit, rather than in hya-core: the file format needs serde and toml,
 //! which hya-core (no_std, for the control loop on a microcontroller) does not take.
@@ -24,11 +27,12 @@ pub const MAX_FRICTION_BYTES: u64 = 64 * 1024;
 /// scenario's friction keys have theirs. Coulomb and viscous
 /// terms may fall a little below zero, as an unconstrained fit of a joint with little friction
 /// can; far below, they would feed energy into the loop (−500 N·m·s/rad is refused).
-pub const PLAUSIBLE_FRICTION: [(&str, f64, f64, &str); 4] = [
+pub const PLAUSIBLE_FRICTION: [(&str, f64, f64, &str); 5] = [
     ("smoothing_rad_s", 1e-6, 10.0, "rad/s"),
     ("coulomb_nm", -100.0, 1e4, "N·m"),
     ("viscous_nm_s", -100.0, 1e4, "N·m·s/rad"),
     ("offset_nm", -1e4, 1e4, "N·m"),
+    ("armature_kg_m2", -1.0, 1e3, "kg·m²"),
 ];
 
 /// Identified joint friction (see the module's notes).
@@ -43,6 +47,9 @@ pub struct JointFriction {
     pub viscous_nm_s: Vec<f64>,
     /// Constant offsets, N·m, per joint.
     pub offset_nm: Vec<f64>,
+    /// Reflected motor inertias `I_a`, kg·m², per joint; empty for none.
+    #[serde(default)]
+    pub armature_kg_m2: Vec<f64>,
 }
 
 impl JointFriction {
@@ -63,8 +70,10 @@ impl JointFriction {
             ("coulomb_nm", &friction.coulomb_nm),
             ("viscous_nm_s", &friction.viscous_nm_s),
             ("offset_nm", &friction.offset_nm),
+            ("armature_kg_m2", &friction.armature_kg_m2),
         ] {
-            if key != "smoothing_rad_s" && values.len() != joints {
+            let optional = key == "armature_kg_m2" && values.is_empty();
+            if key != "smoothing_rad_s" && !optional && values.len() != joints {
                 return Err(format!("{key}: {} values for an arm of {joints} joints", values.len()));
             }
             let (lo, hi, unit) = PLAUSIBLE_FRICTION
@@ -90,10 +99,27 @@ impl JointFriction {
         self.coulomb_nm[i] * (qd / self.smoothing_rad_s).tanh() + self.viscous_nm_s[i] * qd + self.offset_nm[i]
     }
 
+    /// Joint `i`'s armature `I_a`, kg·m² (0 without one).
+    pub fn armature(&self, i: usize) -> f64 {
+        self.armature_kg_m2.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Joint `i`'s whole torque beyond the rigid body at velocity `qd` and acceleration `qdd`:
+    /// the friction and the armature's `I_a q̈`, N·m.
+    pub fn joint_torque(&self, i: usize, qd: f64, qdd: f64) -> f64 {
+        self.torque(i, qd) + self.armature(i) * qdd
+    }
+
+    /// Whether any joint has an armature.
+    pub fn has_armature(&self) -> bool {
+        self.armature_kg_m2.iter().any(|a| *a != 0.0)
+    }
+
     /// The file [`from_toml`](Self::from_toml) reads: the law and the `joints`' names as
     /// comments, each per-joint list, and under it its standard deviations (`std[i]` in the order
-    /// `c`, `v`, `o` of joint `i`) where given. Values with six decimals.
-    pub fn to_toml(&self, joints: &[&str], std: Option<&[[f64; 3]]>) -> String {
+    /// `c`, `v`, `o` and, with an armature, `I_a` of joint `i`) where given. Values with six
+    /// decimals; the armature's list only if the friction has one.
+    pub fn to_toml(&self, joints: &[&str], std: Option<&[Vec<f64>]>) -> String {
         let list =
             |values: &mut dyn Iterator<Item = f64>| values.map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", ");
         let mut text = format!(
@@ -104,13 +130,15 @@ impl JointFriction {
             hya_urdf::name_list(joints.iter().copied()),
             self.smoothing_rad_s
         );
-        for (k, (key, values)) in
-            [("coulomb_nm", &self.coulomb_nm), ("viscous_nm_s", &self.viscous_nm_s), ("offset_nm", &self.offset_nm)]
-                .into_iter()
-                .enumerate()
-        {
+        let lists = [
+            ("coulomb_nm", &self.coulomb_nm),
+            ("viscous_nm_s", &self.viscous_nm_s),
+            ("offset_nm", &self.offset_nm),
+            ("armature_kg_m2", &self.armature_kg_m2),
+        ];
+        for (k, (key, values)) in lists.into_iter().enumerate().filter(|(_, (_, v))| !v.is_empty()) {
             text += &format!("{key} = [{}]\n", list(&mut values.iter().copied()));
-            if let Some(std) = std {
+            if let Some(std) = std.filter(|s| s.iter().all(|s| s.len() > k)) {
                 text += &format!("# standard deviations: [{}]\n", list(&mut std.iter().map(|s| s[k])));
             }
         }
@@ -129,10 +157,25 @@ mod tests {
     fn what_it_writes_reads_back() {
         let f = JointFriction::from_toml(TWO_JOINTS, 2).unwrap();
         // A joint name cannot forge a line of the file.
-        let text = f.to_toml(&["shoulder", "elbow\nsmoothing_rad_s = 9"], Some(&[[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]]));
+        let text =
+            f.to_toml(&["shoulder", "elbow\nsmoothing_rad_s = 9"], Some(&[vec![0.1, 0.2, 0.3], vec![0.4, 0.5, 0.6]]));
         assert_eq!(JointFriction::from_toml(&text, 2).unwrap(), f);
         assert!(text.contains("# standard deviations: [0.200000, 0.500000]"), "{text}");
         assert_eq!(text.lines().filter(|l| l.starts_with("smoothing_rad_s")).count(), 1, "{text}");
+    }
+
+    #[test]
+    fn an_armature_is_written_read_and_adds_its_inertia() {
+        let mut f = JointFriction::from_toml(TWO_JOINTS, 2).unwrap();
+        assert!(!f.has_armature() && f.armature(1) == 0.0);
+        f.armature_kg_m2 = vec![0.25, 0.0];
+        let text = f.to_toml(&["a", "b"], Some(&[vec![0.1, 0.2, 0.3, 0.01], vec![0.4, 0.5, 0.6, 0.02]]));
+        assert!(text.contains("armature_kg_m2 = [0.250000, 0.000000]"), "{text}");
+        assert!(text.contains("# standard deviations: [0.010000, 0.020000]"), "{text}");
+        assert_eq!(JointFriction::from_toml(&text, 2).unwrap(), f);
+        assert_eq!(f.joint_torque(0, 0.0, 2.0), f.torque(0, 0.0) + 0.5);
+        let short = format!("{TWO_JOINTS}armature_kg_m2 = [0.1]\n");
+        assert!(JointFriction::from_toml(&short, 2).unwrap_err().contains("armature_kg_m2: 1 values"));
     }
 
     #[test]

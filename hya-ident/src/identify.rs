@@ -7,10 +7,14 @@
 use hya_core::model::TreeModel;
 use hya_core::Short;
 
-use crate::fit::{fit, Fit, FitError, Sample};
+use nalgebra::DVector;
+
+use crate::conditioning::Conditioning;
+use crate::fit::{fit_with, residual_squares, stacked, Fit, FitError, Law, Sample};
 use crate::log::Filtered;
-use crate::physical::{consistent_parameters, Consistent};
-use crate::regressor::{nominal_parameters, Regressor};
+use crate::physical::{consistent_parameters, is_consistent, Consistent};
+use crate::prior::{self, Problem, Validation};
+use crate::regressor::{nominal_parameters, Regressor, PARAMETERS_PER_BODY};
 use crate::BaseParameters;
 
 /// What the fit is asked.
@@ -20,6 +24,19 @@ pub struct Options {
     pub held_out: f64,
     /// The friction model's smoothing velocity `s` in `c tanh(q̇/s)`, rad/s.
     pub smoothing_rad_s: f64,
+    /// How much the nominal model is trusted ([`crate::prior`]).
+    pub prior_weight: PriorWeight,
+    /// Whether each joint has an armature `I_a q̈` to identify.
+    pub armature: bool,
+}
+
+/// The weight `λ` of the prior (the nominal model) against the log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PriorWeight {
+    /// This `λ ≥ 0`; 0 is the fit without prior.
+    Fixed(f64),
+    /// Chosen on held-out blocks of the fitted part ([`prior::choose`]).
+    Auto,
 }
 
 /// Why a log cannot be identified.
@@ -45,6 +62,14 @@ impl Options {
     pub fn check(&self) -> Result<(), IdentifyError> {
         if !(self.held_out > 0.0 && self.held_out < 0.9) {
             return Err(IdentifyError::Option("held_out", format!("{}: must be in (0, 0.9)", Short(self.held_out))));
+        }
+        if let PriorWeight::Fixed(lambda) = self.prior_weight {
+            if !(lambda.is_finite() && lambda >= 0.0) {
+                return Err(IdentifyError::Option(
+                    "prior_weight",
+                    format!("{}: must be finite and ≥ 0", Short(lambda)),
+                ));
+            }
         }
         let (_, lo, hi, _) = crate::friction::PLAUSIBLE_FRICTION[0];
         if !(self.smoothing_rad_s.is_finite() && (lo..=hi).contains(&self.smoothing_rad_s)) {
@@ -78,8 +103,18 @@ pub struct Identification {
     pub measured: Vec<Vec<f64>>,
     /// The nominal model's prediction of them (rigid body alone).
     pub nominal: Vec<Vec<f64>>,
-    /// The identified model's (base parameters and friction).
+    /// The nominal rigid bodies with the joint law (friction, and the armature if asked) fitted
+    /// alone on the same samples: the baseline that identifying the bodies must beat.
+    pub nominal_with_friction: Vec<Vec<f64>>,
+    /// The identified model's: the bodies of `identified.urdf` (their base parameters, which
+    /// miss the fitted ones by `full.base_mismatch`) and the fitted joint law.
     pub identified: Vec<Vec<f64>>,
+    /// The prior weight `λ` the fit used.
+    pub prior_weight: f64,
+    /// How `λ` was chosen, if on the data.
+    pub validation: Option<Validation>,
+    /// The nominal model's base parameters `K π⁰`, the prior the fit is pulled toward.
+    pub prior_base: DVector<f64>,
 }
 
 /// `identified.urdf`: the description `urdf` (of `source`, whose model is `model`) with each
@@ -128,7 +163,8 @@ pub fn identify(
 ) -> Result<Identification, IdentifyError> {
     options.check()?;
     let n = crate::check_joint_count(model)?;
-    let unknowns = base.rank() + 3 * n;
+    let law = Law { smoothing_rad_s: options.smoothing_rad_s, armature: options.armature };
+    let unknowns = base.rank() + law.terms() * n;
     // At least twice as many equations as unknowns in the fitted part, and a held-out part.
     let needed = ((2 * unknowns).div_ceil(n) as f64 / (1.0 - options.held_out)).ceil() as usize + 1;
     if log.samples.len() < needed {
@@ -141,18 +177,50 @@ pub fn identify(
             log.settling_s,
             if log.gaps > 0 { format!(", and again after each of {} gaps", log.gaps) } else { String::new() },
             base.rank(),
-            3 * n
+            law.terms() * n
         )));
     }
     let split = ((1.0 - options.held_out) * log.samples.len() as f64) as usize;
     let (fitted_part, held_out) = log.samples.split_at(split);
-    let fitted = fit(regressor, base, fitted_part, options.smoothing_rad_s)?;
+    let nominal = nominal_parameters(model);
+    let problem = Problem::new(base, &nominal, law, fitted_part);
+    // The fitted part's triangles: whole, or in blocks to choose λ on.
+    let (lambda, validation, triangles) = match options.prior_weight {
+        PriorWeight::Fixed(0.0) => (0.0, None, None),
+        PriorWeight::Fixed(lambda) => (lambda, None, Some(crate::fit::reduced(regressor, base, fitted_part, law)?)),
+        PriorWeight::Auto => {
+            let blocks = prior::blocks(regressor, base, fitted_part, law)?;
+            let triangles = prior::whole(&blocks);
+            let weights = joint_weights(&problem, &triangles, fitted_part.len());
+            let validation = prior::choose(&problem, &blocks, &weights);
+            (validation.chosen, Some(validation), Some(triangles))
+        }
+    };
+    let (fitted, full) = match triangles.filter(|_| lambda > 0.0) {
+        None => {
+            let fitted = fit_with(regressor, base, fitted_part, law)?;
+            let full = consistent_parameters(base, &nominal, &fitted.base);
+            (fitted, full)
+        }
+        Some(triangles) => regularised(&problem, base, &triangles, fitted_part.len(), lambda, &nominal)?,
+    };
+    // What the files predict: the bodies of `identified.urdf` (whose base parameters miss the
+    // fitted ones where no physical bodies give those) and `friction.toml`.
+    let as_written = Fit { base: base.of_parameters(&full.parameters), ..fitted.clone() };
     let identified = held_out
         .iter()
-        .map(|s| Ok(fitted.predict(regressor, base, s)?.as_slice().to_vec()))
+        .map(|s| Ok(as_written.predict(regressor, base, s)?.as_slice().to_vec()))
         .collect::<Result<_, IdentifyError>>()?;
-    let full = consistent_parameters(base, &nominal_parameters(model), &fitted.base);
+    let friction_alone = friction_on_nominal(&problem, regressor, base, fitted_part)?;
+    let nominal_with_friction = held_out
+        .iter()
+        .map(|s| Ok(friction_alone.predict(regressor, base, s)?.as_slice().to_vec()))
+        .collect::<Result<_, IdentifyError>>()?;
     Ok(Identification {
+        nominal_with_friction,
+        prior_weight: lambda,
+        validation,
+        prior_base: problem.prior_base(),
         full,
         fitted_samples: split,
         held_out_time_s: log.time_s[split..].to_vec(),
@@ -160,5 +228,92 @@ pub fn identify(
         nominal: rigid_predictions(model, held_out)?,
         identified,
         fitted,
+    })
+}
+
+/// Each joint's weight `1/σ_i` from the fit without prior on `triangles` of `samples` samples;
+/// where the log does not determine that fit, from the prior's own residual.
+fn joint_weights(problem: &Problem, triangles: &[nalgebra::DMatrix<f64>], samples: usize) -> Vec<f64> {
+    if let Some((weights, _)) = prior::unregularised(triangles, samples) {
+        return weights;
+    }
+    let prior_base = problem.prior_base();
+    let friction = triangles.first().map_or(0, |t| t.ncols() - 1 - prior_base.len());
+    let mut theta = DVector::zeros(prior_base.len() + friction);
+    theta.rows_mut(0, prior_base.len()).copy_from(&prior_base);
+    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / samples.max(1) as f64).sqrt().max(1e-12)).collect()
+}
+
+/// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples, and its
+/// bodies (physical by construction).
+fn regularised(
+    problem: &Problem,
+    base: &BaseParameters,
+    triangles: &[nalgebra::DMatrix<f64>],
+    samples: usize,
+    lambda: f64,
+    nominal: &DVector<f64>,
+) -> Result<(Fit, Consistent), IdentifyError> {
+    let law = problem.law();
+    let weights = joint_weights(problem, triangles, samples);
+    let normal = problem.normal(triangles, &weights, samples * triangles.len());
+    let found = problem.solve(&normal, lambda)?;
+    let theta = prior::base_coordinates(problem, &found);
+    let r = base.rank();
+    let fitted = Fit {
+        base: theta.rows(0, r).into_owned(),
+        base_std: found.base_std.clone(),
+        friction: law.friction(found.friction.as_slice()),
+        friction_std: found.friction_std.as_slice().chunks(law.terms()).map(<[f64]>::to_vec).collect(),
+        residual_rms_nm: triangles
+            .iter()
+            .map(|t| (residual_squares(t, &theta) / samples.max(1) as f64).sqrt())
+            .collect(),
+        conditioning: Conditioning::of(&stacked(triangles, &weights).0),
+    };
+    let bodies = nominal.len() / PARAMETERS_PER_BODY;
+    let body = |b: usize| &nominal.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY];
+    let full = Consistent {
+        base_mismatch: base.of_parameters(&found.parameters) - &fitted.base,
+        parameters: found.parameters,
+        iterations: found.iterations,
+        inconsistent_nominal_bodies: (0..bodies).filter(|&b| !is_consistent(body(b))).collect(),
+    };
+    Ok((fitted, full))
+}
+
+/// The joint law fitted alone to `samples` with the bodies held at the prior's: per joint, least
+/// squares of `τ_i − (Y_b K π⁰)_i` on its friction terms (the joints do not share them).
+fn friction_on_nominal(
+    problem: &Problem,
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+) -> Result<Fit, IdentifyError> {
+    let law = problem.law();
+    let triangles = crate::fit::reduced(regressor, base, samples, law)?;
+    let (r, t) = (base.rank(), law.terms());
+    let prior_base = problem.prior_base();
+    let mut terms = vec![0.0; t * triangles.len()];
+    let mut terms_std = Vec::with_capacity(triangles.len());
+    for (i, triangle) in triangles.iter().enumerate() {
+        let last = triangle.ncols() - 1;
+        let a = triangle.columns(r + t * i, t).into_owned();
+        let b = triangle.column(last) - triangle.columns(0, r) * &prior_base;
+        let (solution, _) = crate::fit::solve(&a, &b).ok_or(FitError::RankDeficient { rank: 0, unknowns: t })?;
+        terms[t * i..t * (i + 1)].copy_from_slice(solution.as_slice());
+        terms_std.push(vec![f64::NAN; t]);
+    }
+    let theta = DVector::from_iterator(r + terms.len(), prior_base.iter().chain(&terms).copied());
+    Ok(Fit {
+        base: prior_base.clone(),
+        base_std: DVector::from_element(r, f64::NAN),
+        friction: law.friction(&terms),
+        friction_std: terms_std,
+        residual_rms_nm: triangles
+            .iter()
+            .map(|t| (residual_squares(t, &theta) / samples.len().max(1) as f64).sqrt())
+            .collect(),
+        conditioning: Conditioning { rank: r, condition_number: f64::NAN },
     })
 }

@@ -24,6 +24,7 @@ pub mod friction;
 pub mod identify;
 pub mod log;
 pub mod physical;
+pub mod prior;
 pub mod regressor;
 
 pub use base::BaseParameters;
@@ -40,7 +41,7 @@ pub fn check_joint_count(model: &hya_core::model::TreeModel) -> Result<usize, hy
 }
 pub use conditioning::Conditioning;
 pub use excitation::{ExcitationDesign, ExcitationError, FourierTrajectory, Limits};
-pub use fit::{fit, Fit, FitError, Sample};
+pub use fit::{fit, fit_with, Fit, FitError, Law, Sample};
 pub use friction::JointFriction;
 pub use identify::{identify, Identification, IdentifyError, Options};
 pub use log::{LogFilter, RowError, Timing};

@@ -58,7 +58,7 @@ pub struct Consistent {
 }
 
 /// Body parameters from a pseudo-inertia: `m = J₃₃`, `h = J₀..₃,₃`, `I = tr(Σ) 1 − Σ`.
-fn from_pseudo_inertia(j: &Matrix4<f64>) -> [f64; PARAMETERS_PER_BODY] {
+pub(crate) fn from_pseudo_inertia(j: &Matrix4<f64>) -> [f64; PARAMETERS_PER_BODY] {
     let trace = j[(0, 0)] + j[(1, 1)] + j[(2, 2)];
     let i = |r: usize, c: usize| f64::from(u8::from(r == c)) * trace - j[(r, c)];
     [j[(3, 3)], j[(0, 3)], j[(1, 3)], j[(2, 3)], i(0, 0), i(0, 1), i(1, 1), i(0, 2), i(1, 2), i(2, 2)]

@@ -6,9 +6,10 @@
 
 use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
+use hya_ident::prior::{self, Problem};
 use hya_ident::{
     body_inertia, consistent_parameters, fit, is_consistent, nominal_parameters, BaseParameters, ExcitationDesign,
-    JointFriction, Limits, Regressor, Sample,
+    JointFriction, Law, Limits, Regressor, Sample, PARAMETERS_PER_BODY,
 };
 use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
@@ -74,7 +75,7 @@ fn log(
                     // Box–Muller: one standard normal draw.
                     let (a, b): (f64, f64) = (rng.gen_range(f64::EPSILON..1.0), rng.gen_range(0.0..1.0));
                     let noise = (-2.0 * a.ln()).sqrt() * (core::f64::consts::TAU * b).cos();
-                    rigid[i] + friction.torque(i, qd[i]) + NOISE_NM * noise
+                    rigid[i] + friction.joint_torque(i, qd[i], qdd[i]) + NOISE_NM * noise
                 })
                 .collect();
             Sample { q, qd, qdd, tau }
@@ -94,6 +95,7 @@ fn simulated_hya(seed: u64) -> (TreeModel, TreeModel, JointFriction, ChaCha8Rng)
         viscous_nm_s: vec![3.0, 3.0, 2.0, 2.0, 1.0, 1.0],
         offset_nm: vec![0.5, -0.4, 0.3, -0.2, 0.1, -0.1],
         smoothing_rad_s: SMOOTHING,
+        armature_kg_m2: Vec::new(),
     };
     (nominal, truth, friction, rng)
 }
@@ -205,6 +207,7 @@ fn the_reported_standard_deviations_match_the_spread_over_repeated_logs() {
         viscous_nm_s: vec![1.0, 0.5],
         offset_nm: vec![0.2, -0.1],
         smoothing_rad_s: SMOOTHING,
+        armature_kg_m2: Vec::new(),
     };
     let (regressor, base) = (Regressor::new(&model), BaseParameters::of(&model, 5).unwrap());
     let truth = base.of_parameters(&nominal_parameters(&model));
@@ -270,4 +273,60 @@ fn the_streamed_fit_equals_the_dense_weighted_least_squares() {
     let dense_condition = singular.max() / singular.min();
     let relative = (fitted.conditioning.condition_number - dense_condition).abs() / dense_condition;
     assert!(relative < 1e-6, "condition number {} vs {dense_condition}", fitted.conditioning.condition_number);
+}
+
+#[test]
+fn the_prior_keeps_bodies_physical_recovers_the_truth_and_at_a_large_weight_is_the_nominal_model() {
+    let (nominal, truth, mut friction, mut rng) = simulated_hya(2027);
+    friction.armature_kg_m2 = vec![0.0, 0.4, 0.3, 0.05, 0.02, 0.01];
+    let samples = log(&nominal, &truth, &friction, 1, 50.0, &mut rng);
+    let regressor = Regressor::new(&nominal);
+    let base = BaseParameters::of(&nominal, 5).unwrap();
+    let prior_parameters = nominal_parameters(&nominal);
+    let law = Law { smoothing_rad_s: SMOOTHING, armature: true };
+    let problem = Problem::new(&base, &prior_parameters, law, &samples);
+    let blocks = prior::blocks(&regressor, &base, &samples, law).unwrap();
+    let triangles = prior::whole(&blocks);
+    let weights = vec![1.0 / NOISE_NM; 6];
+    let normal = problem.normal(&triangles, &weights, samples.len() * 6);
+    let bodies = prior_parameters.len() / PARAMETERS_PER_BODY;
+    let body =
+        |p: &nalgebra::DVector<f64>, b: usize| p.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY].to_vec();
+
+    // A small weight: the log decides. Every body physical, the base parameters and the
+    // armatures of joints 2 to 6 within three standard deviations of the truth (joint 1's
+    // armature moves exactly as the first body's inertia about its axis does: no log tells them
+    // apart, so the prior does).
+    let found = problem.solve(&normal, 1e-6).unwrap();
+    assert!((0..bodies).all(|b| is_consistent(&body(&found.parameters, b))));
+    let (found_base, true_base) =
+        (base.of_parameters(&found.parameters), base.of_parameters(&nominal_parameters(&truth)));
+    for j in 0..base.rank() {
+        let z = (found_base[j] - true_base[j]).abs() / found.base_std[j];
+        assert!(z <= 3.0, "base parameter {j}: {} vs true {} (σ {})", found_base[j], true_base[j], found.base_std[j]);
+    }
+    // The check tells models apart: the nominal model is beyond three standard deviations of
+    // the fit on several base parameters.
+    let nominal_base = base.of_parameters(&prior_parameters);
+    let far = (0..base.rank()).filter(|&j| (found_base[j] - nominal_base[j]).abs() > 3.0 * found.base_std[j]).count();
+    assert!(far >= 3, "only {far} of {} base parameters tell the nominal model apart", base.rank());
+    for i in 1..6 {
+        let (value, std) = (found.friction[4 * i + 3], found.friction_std[4 * i + 3]);
+        let z = (value - friction.armature_kg_m2[i]).abs() / std;
+        assert!(z <= 3.0, "joint {i}'s armature {value} vs true {} (σ {std})", friction.armature_kg_m2[i]);
+    }
+
+    // A large weight: the nominal bodies, no friction.
+    let pinned = problem.solve(&normal, 1e8).unwrap();
+    let off = (&pinned.parameters - &prior_parameters).amax() / prior_parameters.amax();
+    assert!(off < 1e-4, "bodies {off} (relative) from the nominal model at λ = 1e8");
+    assert!(pinned.friction.amax() < 1e-2 * friction.coulomb_nm[0], "friction {}", pinned.friction.amax());
+
+    // λ chosen on held-out blocks: every weight of the grid tried; the chosen one has the least
+    // held-out error, and it is not the nominal model's extreme (the log here is informative).
+    let validation = prior::choose(&problem, &blocks, &weights);
+    assert_eq!(validation.curve.len(), prior::LAMBDA_GRID.len());
+    let least = validation.curve.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+    assert!(validation.curve.iter().any(|&(l, e)| l == validation.chosen && e == least), "{validation:?}");
+    assert!(validation.chosen < 1.0, "{validation:?}");
 }

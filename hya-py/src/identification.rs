@@ -4,6 +4,7 @@
 
 use hya_core::dispatch::ForJoints;
 use hya_core::FilterParams;
+use hya_ident::identify::PriorWeight;
 use hya_ident::log::{Filtered, LogFilter, Timing};
 use hya_ident::{identify as identify_log, BaseParameters, Options, Regressor};
 use pyo3::exceptions::PyValueError;
@@ -12,10 +13,7 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{checked, converted, row, same_count};
 use crate::model::Model;
-
-fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
+use crate::value_error;
 
 /// The log's rows through [`LogFilter`] for `N` joints.
 struct FilterRows<'a> {
@@ -41,11 +39,11 @@ impl ForJoints for FilterRows<'_> {
 /// Identifies `model` from a log: rows of joint angles `q` (rad) and torques `tau` (N·m), one
 /// per `dt` seconds, or at the times `t` (s) with `dt` their nominal step; a step longer than
 /// `max_step` (default 2.5 `dt`) is a gap. The same as `hya identify` with `--dt`,
-/// `--timestamps`, `--max-step`, `--held-out`, `--smoothing-rad-s` and `--bandwidth-rad-s`
-/// on those rows; returns a dict of the fit, the held-out test and `identified_urdf`, the
+/// `--timestamps`, `--max-step`, `--held-out`, `--smoothing-rad-s`, `--bandwidth-rad-s`,
+/// `--prior-weight` (`"auto"` or a number) and `--armature` on those rows; returns a dict of the fit, the held-out test and `identified_urdf`, the
 /// text `hya identify` writes.
 #[pyfunction]
-#[pyo3(signature = (model, q, tau, dt, *, t=None, max_step=None, held_out=0.25, smoothing_rad_s=0.05, bandwidth_rad_s=50.0))]
+#[pyo3(signature = (model, q, tau, dt, *, t=None, max_step=None, held_out=0.25, smoothing_rad_s=0.05, bandwidth_rad_s=50.0, prior_weight=None, armature=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify<'py>(
     py: Python<'py>,
@@ -58,7 +56,16 @@ pub fn identify<'py>(
     held_out: f64,
     smoothing_rad_s: f64,
     bandwidth_rad_s: f64,
+    prior_weight: Option<&Bound<'py, PyAny>>,
+    armature: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let prior_weight = match prior_weight {
+        None => PriorWeight::Auto,
+        Some(w) if w.extract::<String>().is_ok_and(|s| s == "auto") => PriorWeight::Auto,
+        Some(w) => PriorWeight::Fixed(
+            w.extract::<f64>().map_err(|_| PyValueError::new_err("prior_weight: \"auto\" or a number ≥ 0"))?,
+        ),
+    };
     let n = model.dof_count();
     let (q, tau) = (converted("q", q, n)?, converted("tau", tau, n)?);
     checked([&q, &tau])?;
@@ -71,7 +78,7 @@ pub fn identify<'py>(
         (None, Some(_)) => return Err(PyValueError::new_err("max_step: only with t (gaps are between times)")),
         (None, None) => Timing::Fixed,
     };
-    let options = Options { held_out, smoothing_rad_s };
+    let options = Options { held_out, smoothing_rad_s, prior_weight, armature };
     options.check().map_err(value_error)?;
     let params = FilterParams::new(0.8, bandwidth_rad_s, bandwidth_rad_s, dt).map_err(value_error)?;
     let tree = model.tree();
@@ -101,7 +108,14 @@ pub fn identify<'py>(
     friction.set_item("coulomb_nm", fitted.friction.coulomb_nm.clone())?;
     friction.set_item("viscous_nm_s", fitted.friction.viscous_nm_s.clone())?;
     friction.set_item("offset_nm", fitted.friction.offset_nm.clone())?;
+    if fitted.friction.has_armature() || armature {
+        friction.set_item("armature_kg_m2", fitted.friction.armature_kg_m2.clone())?;
+    }
     out.set_item("friction", friction)?;
+    out.set_item("prior_weight", found.prior_weight)?;
+    if let Some(validation) = &found.validation {
+        out.set_item("validation", validation.curve.clone())?;
+    }
     out.set_item("parameters", found.full.parameters.as_slice().to_vec())?;
     out.set_item("identified_urdf", urdf)?;
     out.set_item("condition_number", fitted.conditioning.condition_number)?;

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use hya_core::dispatch::with_joints;
 use hya_core::model::TreeModel;
 use hya_core::{FilterParams, Short};
-use hya_ident::identify::rigid_predictions;
+use hya_ident::identify::{rigid_predictions, PriorWeight};
 use hya_ident::{identify, nominal_parameters, BaseParameters, IdentifyError, Options, Regressor};
 use hya_sim::io::output::OutputDir;
 
@@ -68,6 +68,30 @@ pub struct IdentifyArgs {
     /// The filters' bandwidth ω, rad/s (damping 0.8, as the paper's).
     #[arg(long, default_value_t = 50.0)]
     bandwidth_rad_s: f64,
+    /// How far the fit trusts the nominal model (--robot) against the log: `auto` chooses the
+    /// weight λ on held-out blocks in time of the fitted part (the report shows the curve); a
+    /// number λ ≥ 0 fixes it; 0 fits the log alone (with the bodies made physical afterwards,
+    /// which can move them off the fit). The prior pulls each body toward its nominal one by the
+    /// log-det divergence of their pseudo-inertias, and keeps every body physical.
+    #[arg(long, default_value = "auto", value_parser = prior_weight)]
+    prior_weight: PriorWeight,
+    /// Identify each joint's armature, the motor inertia reflected through the gear (`I_a q̈`),
+    /// which no URDF link carries; written to friction.toml as `armature_kg_m2`.
+    #[arg(long)]
+    armature: bool,
+}
+
+/// `--prior-weight`: `auto` or a number.
+fn prior_weight(text: &str) -> Result<PriorWeight, String> {
+    match text {
+        "auto" => Ok(PriorWeight::Auto),
+        number => number
+            .parse::<f64>()
+            .ok()
+            .filter(|l| l.is_finite() && *l >= 0.0)
+            .map(PriorWeight::Fixed)
+            .ok_or_else(|| format!("`{}`: `auto` or a finite number ≥ 0", hya_core::Clipped(number, 40))),
+    }
 }
 
 fn input(e: impl std::fmt::Display) -> CliError {
@@ -98,7 +122,12 @@ const PROVISIONAL_DT_S: f64 = 0.001;
 pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     // Without --dt, a timestamped log's own median step, taken while it is read (`log::filter`).
     let dt = check_dt("--dt", args.dt.unwrap_or(PROVISIONAL_DT_S))?;
-    let options = Options { held_out: args.held_out, smoothing_rad_s: args.smoothing_rad_s };
+    let options = Options {
+        held_out: args.held_out,
+        smoothing_rad_s: args.smoothing_rad_s,
+        prior_weight: args.prior_weight,
+        armature: args.armature,
+    };
     options.check().map_err(identify_error)?;
     let model = crate::common::model(&args.robot)?;
     let max_step_s = match args.max_step {
@@ -134,12 +163,14 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     let mut models = vec![
         ("nominal model".to_owned(), found.nominal.clone()),
         ("identified model".to_owned(), found.identified.clone()),
+        ("nominal model + friction fit".to_owned(), found.nominal_with_friction.clone()),
     ];
     if let Some((name, compared)) = &compared {
         models.push((name.clone(), rigid_predictions(compared, held_out).map_err(input)?));
     }
     let predictions = Predictions { time_s: found.held_out_time_s.clone(), measured: found.measured.clone(), models };
     let (fitted, full) = (&found.fitted, &found.full);
+    let terms = fitted.friction_std.first().map_or(3, Vec::len);
     let joints: Vec<&str> = model.joint_names().collect();
     // The report shows each name escaped and cut, as messages do: no name can forge a line.
     let shown: Vec<String> = joints.iter().map(|name| hya_urdf::name_list([*name])).collect();
@@ -156,11 +187,13 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             base: base.of_parameters(&nominal_parameters(compared)).as_slice().to_vec(),
         }),
         predictions: &predictions,
+        prior_weight: found.prior_weight,
+        validation: found.validation.as_ref(),
         setup: format!(
             "{} rows{} at {} s{}{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
              while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
              noise alike): {} samples fitted, the last {} held out. {} base parameters of {} and {} friction \
-             terms, by weighted least squares; condition number of the weighted system {:.3e}. Standard \
+             terms, by weighted least squares{}; condition number of the weighted system {:.3e}. Standard \
              deviations assume the remaining noise white; the filters' lag adds a bias they do not count. \
              Torques are compared after the same filter.",
             log.log.rows,
@@ -178,7 +211,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             held_out.len(),
             base.rank(),
             regressor.columns(),
-            3 * n,
+            terms * n,
+            if found.prior_weight > 0.0 { " pulled toward the nominal model (see Prior)" } else { "" },
             fitted.conditioning.condition_number
         ),
     };
@@ -198,16 +232,22 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
     save("held_out.svg", &findings.figure())?;
     let rms = |m: usize| list(predictions.rms(m));
     eprintln!(
-        "hya identify: {} base parameters and {} friction terms from {} samples; held-out RMS (N·m) nominal [{}], \
-         identified [{}]{}; {}",
+        "hya identify: {} base parameters and {} friction terms from {} samples (prior weight {}); held-out RMS \
+         (N·m) nominal [{}], identified [{}], nominal + friction fit [{}]; relative to the torque's RMS, mean over \
+         joints: nominal {:.4}, identified {:.4}, nominal + friction fit {:.4}{}; {}",
         base.rank(),
-        3 * n,
+        terms * n,
         found.fitted_samples,
+        found.prior_weight,
         rms(0),
         rms(1),
+        rms(2),
+        predictions.relative(0),
+        predictions.relative(1),
+        predictions.relative(2),
         findings.largest_deviation().map_or(String::new(), |d| format!(
             ", compared [{}], identified base parameters within {d:.2} σ of the compared model's",
-            rms(2)
+            rms(3)
         )),
         out.path().join("report.md").display()
     );

@@ -21,6 +21,19 @@ impl Predictions {
     pub fn rms(&self, m: usize) -> Vec<f64> {
         hya_ident::identify::rms_error(&self.models[m].1, &self.measured)
     }
+
+    /// Per joint, the RMS of the measured torque itself, N·m.
+    pub fn measured_rms(&self) -> Vec<f64> {
+        let zeros: Vec<Vec<f64>> = self.measured.iter().map(|m| vec![0.0; m.len()]).collect();
+        hya_ident::identify::rms_error(&zeros, &self.measured)
+    }
+
+    /// Model `m`'s error relative to the measured torque, `RMS(τ − τ̂_m) / RMS(τ)`, mean over
+    /// the joints.
+    pub fn relative(&self, m: usize) -> f64 {
+        let (errors, scale) = (self.rms(m), self.measured_rms());
+        errors.iter().zip(&scale).map(|(e, s)| e / s.max(1e-12)).sum::<f64>() / errors.len().max(1) as f64
+    }
 }
 
 /// A model to hold the identified one against (`--compare`): its base parameters.
@@ -49,6 +62,10 @@ pub struct Findings<'a> {
     pub compared: Option<Compared>,
     /// The held-out predictions.
     pub predictions: &'a Predictions,
+    /// The prior's weight `λ` the fit used (0: the log alone).
+    pub prior_weight: f64,
+    /// How `λ` was chosen on the data, if it was.
+    pub validation: Option<&'a hya_ident::prior::Validation>,
     /// A paragraph on the data and how it was used.
     pub setup: String,
 }
@@ -72,6 +89,7 @@ impl Findings<'_> {
         let mut report = String::new();
         let _ = writeln!(report, "# Identification of `{}`\n\n{}\n", self.model.name(), self.setup);
         self.prediction_table(&mut report);
+        self.prior(&mut report);
         self.base_table(&mut report);
         self.friction_table(&mut report);
         self.bodies(&mut report);
@@ -82,17 +100,83 @@ impl Findings<'_> {
         let models = &self.predictions.models;
         let _ = writeln!(report, "## Torque prediction on the held-out part, RMS (N·m)\n");
         let names: Vec<&str> = models.iter().map(|(name, _)| name.as_str()).collect();
-        let _ = writeln!(report, "| joint | {} |\n|---|{}", names.join(" | "), "---|".repeat(names.len()));
-        let rms: Vec<Vec<f64>> = (0..models.len()).map(|m| self.predictions.rms(m)).collect();
-        for (i, joint) in self.joints.iter().enumerate() {
-            let cells: Vec<String> = rms.iter().map(|r| format!("{:.4}", r[i])).collect();
-            let _ = writeln!(report, "| {joint} | {} |", cells.join(" | "));
-        }
         let _ = writeln!(
             report,
-            "\nOnly the identified model has friction (`friction.toml`'s); the others are rigid bodies. \
-             `held_out.svg` shows the torques over time.\n"
+            "| joint | measured torque | {} |\n|---|---|{}",
+            names.join(" | "),
+            "---|".repeat(names.len())
         );
+        let rms: Vec<Vec<f64>> = (0..models.len()).map(|m| self.predictions.rms(m)).collect();
+        let measured = self.predictions.measured_rms();
+        for (i, joint) in self.joints.iter().enumerate() {
+            let cells: Vec<String> = rms.iter().map(|r| format!("{:.4}", r[i])).collect();
+            let _ = writeln!(report, "| {joint} | {:.4} | {} |", measured[i], cells.join(" | "));
+        }
+        let relative: Vec<String> = (0..models.len()).map(|m| format!("{:.4}", self.predictions.relative(m))).collect();
+        let _ = writeln!(report, "| RMS(error)/RMS(torque), mean over joints | 1 | {} |", relative.join(" | "));
+        let _ = writeln!(
+            report,
+            "\nThe identified model and \"nominal model + friction fit\" have the joint law (`friction.toml`'s: \
+             friction, and the armature if asked); the others are rigid bodies. \"Nominal model + friction fit\" \
+             keeps the nominal bodies and fits the joint law alone on the same samples: identifying the bodies is \
+             worth it where the identified model predicts better. `held_out.svg` shows the torques over time.\n"
+        );
+    }
+
+    /// Base parameter `j` in standard deviations from the nominal model's.
+    fn moved(&self, j: usize) -> f64 {
+        (self.fitted.base[j] - self.nominal_base[j]) / self.fitted.base_std[j]
+    }
+
+    fn prior(&self, report: &mut String) {
+        let _ = writeln!(
+            report,
+            "## Prior
+"
+        );
+        let _ = match self.prior_weight {
+            0.0 => writeln!(report, "The fit uses the log alone (`--prior-weight 0`)."),
+            lambda => writeln!(
+                report,
+                "The fit is pulled toward the nominal model with weight λ = {lambda:e}: each body by the log-det \
+                 divergence of its pseudo-inertia from the nominal one's (which keeps every body physical), each \
+                 friction term toward zero (`hya_ident::prior`)."
+            ),
+        };
+        if let Some(validation) = self.validation {
+            let _ = writeln!(
+                report,
+                "\nλ was chosen on the data: the fitted part cut into {} blocks in time, each held out in turn and \
+                 predicted by a fit to the others. Their whitened mean square error (1 is the noise level of the \
+                 fit; lower is better):\n\n| λ | held-out error |\n|---|---|",
+                hya_ident::prior::FOLDS
+            );
+            for (lambda, error) in &validation.curve {
+                let mark = if *lambda == validation.chosen { " (chosen)" } else { "" };
+                let _ = writeln!(report, "| {lambda:e}{mark} | {error:.4} |");
+            }
+        }
+        let r = self.base.rank();
+        let moved = (0..r).filter(|&j| self.moved(j).abs() > 3.0).count();
+        let undetermined: Vec<String> = (0..r)
+            .filter(|&j| self.fitted.base_std[j] > self.nominal_base[j].abs().max(1e-9))
+            .map(|j| j.to_string())
+            .collect();
+        let _ = writeln!(
+            report,
+            "\nThe log moved {moved} of the {r} base parameters more than three standard deviations from the \
+             nominal model's. {}",
+            match undetermined.len() {
+                0 => "Every base parameter's standard deviation is below its nominal magnitude.".to_owned(),
+                _ => format!(
+                    "Warning: the log leaves {} of them undetermined (standard deviation above the nominal \
+                     magnitude: # {}); excite them, or trust the prior there.",
+                    undetermined.len(),
+                    undetermined.join(", ")
+                ),
+            }
+        );
+        let _ = writeln!(report);
     }
 
     fn base_table(&self, report: &mut String) {
@@ -105,7 +189,7 @@ impl Findings<'_> {
         let extra = compared.map_or(String::new(), |c| format!(" {} | (identified − it)/σ |", c.name));
         let _ = writeln!(
             report,
-            "| # | named after | nominal | identified | standard deviation |{extra}\n|---|---|---|---|---|{}",
+            "| # | named after | nominal | identified | standard deviation | (identified − nominal)/σ |{extra}\n|---|---|---|---|---|---|{}",
             if compared.is_some() { "---|---|" } else { "" }
         );
         for (j, &column) in self.base.independent.iter().enumerate() {
@@ -114,9 +198,10 @@ impl Findings<'_> {
                 compared.map_or(String::new(), |c| format!(" {:.6} | {:+.2} |", c.base[j], (value - c.base[j]) / std));
             let _ = writeln!(
                 report,
-                "| {j} | {} | {:.6} | {value:.6} | {std:.2e} |{extra}",
+                "| {j} | {} | {:.6} | {value:.6} | {std:.2e} | {:+.2} |{extra}",
                 parameter_name(self.joints, column),
                 self.nominal_base[j],
+                self.moved(j),
             );
         }
         if let (Some(c), Some(largest)) = (compared, self.largest_deviation()) {
@@ -129,17 +214,18 @@ impl Findings<'_> {
     }
 
     fn friction_table(&self, report: &mut String) {
+        let f = &self.fitted.friction;
+        let armature = !f.armature_kg_m2.is_empty();
+        let (head, rule) = if armature { (" armature (kg·m²) |", "---|") } else { ("", "") };
         let _ = writeln!(
             report,
-            "\n## Friction\n\n| joint | coulomb (N·m) | viscous (N·m·s/rad) | offset (N·m) |\n|---|---|---|---|"
+            "\n## Friction\n\n| joint | coulomb (N·m) | viscous (N·m·s/rad) | offset (N·m) |{head}\n|---|---|---|---|{rule}"
         );
         for (i, joint) in self.joints.iter().enumerate() {
-            let (f, s) = (&self.fitted.friction, self.fitted.friction_std[i]);
-            let _ = writeln!(
-                report,
-                "| {} | {:.4} ± {:.1e} | {:.4} ± {:.1e} | {:.4} ± {:.1e} |",
-                joint, f.coulomb_nm[i], s[0], f.viscous_nm_s[i], s[1], f.offset_nm[i], s[2]
-            );
+            let values = [f.coulomb_nm[i], f.viscous_nm_s[i], f.offset_nm[i], f.armature(i)];
+            let cells: String =
+                values.iter().zip(&self.fitted.friction_std[i]).map(|(v, s)| format!(" {v:.4} ± {s:.1e} |")).collect();
+            let _ = writeln!(report, "| {joint} |{cells}");
         }
     }
 

@@ -17,7 +17,8 @@ use crate::error::{SettingError, SimError};
 use crate::robot::Robot;
 use hya_ident::JointFriction;
 
-/// Rigid-body dynamics `D` with joint friction added to the torque it takes.
+/// Rigid-body dynamics `D` with joint friction, and the armature `I_a q̈` where the friction file
+/// has one, added to the torque it takes.
 pub struct WithFriction<D> {
     dynamics: D,
     friction: JointFriction,
@@ -35,9 +36,10 @@ impl<D> WithFriction<D> {
 }
 
 impl<const N: usize, D: Dynamics<N>> Dynamics<N> for WithFriction<D> {
-    /// `ID(q, q̇, q̈) + τ_f(q̇)`.
+    /// `ID(q, q̇, q̈) + τ_f(q̇) + I_a q̈`.
     fn inverse_dynamics(&self, q: &JointVector<N>, qd: &JointVector<N>, qdd: &JointVector<N>) -> JointVector<N> {
-        self.dynamics.inverse_dynamics(q, qd, qdd) + self.torque(qd)
+        let armature = JointVector::<N>::from_fn(|i, _| self.friction.armature(i) * qdd[i]);
+        self.dynamics.inverse_dynamics(q, qd, qdd) + self.torque(qd) + armature
     }
 
     /// The rigid body's: friction stores no momentum.
@@ -45,9 +47,13 @@ impl<const N: usize, D: Dynamics<N>> Dynamics<N> for WithFriction<D> {
         self.dynamics.coriolis_transpose_times_velocity(q, qd)
     }
 
-    /// The rigid body's: friction does not depend on `q̈`.
+    /// The rigid body's plus the armature `diag(I_a)`: friction does not depend on `q̈`.
     fn mass_matrix(&self, q: &JointVector<N>) -> JointMatrix<N> {
-        self.dynamics.mass_matrix(q)
+        let mut mass = self.dynamics.mass_matrix(q);
+        for i in 0..N {
+            mass[(i, i)] += self.friction.armature(i);
+        }
+        mass
     }
 
     /// The rigid body's, with `∂τ_f,i/∂q̇_i = (c/s) sech²(q̇_i/s) + v` on the diagonal.

@@ -1,0 +1,372 @@
+//! Identification regularised toward a prior model: the nominal bodies (Lee, Wensing & Park,
+//! "Geometric robot dynamic identification: a convex programming approach", IEEE T-RO 36(2),
+//! 2020). Over the full parameters `π` (ten per body) and the joints' friction terms `f`,
+//!
+//! ```text
+//! minimise   (1/M) Σ_i w_i² ‖τ_i − W_i(K π, f)‖²  +  λ [ Σ_b D(J_b(π) ‖ J_b⁰)  +  Σ_k (s_k f_k)² ]
+//! D(J ‖ J⁰) = tr(J⁰⁻¹ J) − log det(J⁰⁻¹ J) − 4
+//! ```
+//!
+//! with `M` the rows fitted, `w_i` each joint's weight ([`crate::fit()`]'s `1/σ_i`), `J_b` a
+//! body's pseudo-inertia ([`crate::physical`]) and `J_b⁰` the nominal one. `D` is the log-det
+//! (Bregman) divergence of pseudo-inertias: zero at the prior, convex in `π`, and infinite where
+//! a body stops being physical, so every minimiser has `J_b ≻ 0`: physical consistency is kept,
+//! not projected afterwards. The friction terms are pulled toward zero, each scaled to the
+//! torque it makes at the log's RMS velocity or acceleration over the joint's RMS torque (`s_k`),
+//! so that `λ` weighs one dimensionless divergence against the whitened torque error. `λ = 0` is
+//! the unregularised fit; at `λ > 0` the directions the log does not excite follow the prior
+//! instead of the noise.
+//!
+//! The problem is smooth and strictly convex inside `J_b ≻ 0`; it is solved by Newton's method
+//! from the prior (where it is feasible), each step halved until the bodies stay physical and
+//! the objective falls enough (Armijo). The data term enters through each joint's reduced
+//! triangle ([`crate::fit`]), so the cost does not grow with the log.
+//!
+//! `λ` is chosen on the data ([`choose`]): the fitted samples are cut into contiguous blocks in
+//! time; each block is held out in turn, the rest fitted, and the held-out block's whitened
+//! error summed; the `λ` of the grid with the least error is taken.
+
+use nalgebra::{DMatrix, DVector, Matrix4};
+
+use crate::base::BaseParameters;
+use crate::fit::{reduced, residual_squares, solve, stacked, FitError, Law, Sample};
+use crate::physical::pseudo_inertia;
+use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
+
+/// The weights `λ` tried when it is chosen on the data: none, then 10⁻⁶ to 1 by decades.
+pub const LAMBDA_GRID: [f64; 8] = [0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
+
+/// The contiguous blocks the fitted samples are cut into to choose `λ`.
+pub const FOLDS: usize = 4;
+
+/// Newton steps made at most.
+const MAX_NEWTON: usize = 200;
+
+/// The parts of the problem that do not depend on `λ`.
+pub struct Problem {
+    /// `K`: full to base parameters.
+    to_base: DMatrix<f64>,
+    /// The prior's pseudo-inertias, one per body, and their inverses.
+    prior: Vec<(Matrix4<f64>, Matrix4<f64>)>,
+    /// The prior's parameters (each body's pseudo-inertia made positive definite if the
+    /// nominal one is not).
+    prior_parameters: DVector<f64>,
+    /// `s_k`, per friction term.
+    friction_scale: DVector<f64>,
+    /// The joint law.
+    law: Law,
+    /// `E_k`: the pseudo-inertia of the body parameters' `k`-th unit vector.
+    units: [Matrix4<f64>; PARAMETERS_PER_BODY],
+}
+
+/// A fit at one `λ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PriorFit {
+    /// `λ`.
+    pub lambda: f64,
+    /// `π`, ten per body, every body physical.
+    pub parameters: DVector<f64>,
+    /// The friction terms `f`, `law.terms()` per joint.
+    pub friction: DVector<f64>,
+    /// Standard deviations of `K π` (the base parameters) and of `f`, from the posterior
+    /// `σ̂² (AᵀA + λ M/2 ∇²prior)⁻¹` of the whitened problem.
+    pub base_std: DVector<f64>,
+    /// Of `f`.
+    pub friction_std: DVector<f64>,
+    /// Newton steps taken.
+    pub iterations: usize,
+}
+
+/// The data term of one set of samples: `AᵀA`, `Aᵀb`, `bᵀb` of the whitened system in the
+/// coordinates `(π, f)`, and its row count.
+#[derive(Debug, Clone)]
+pub struct Normal {
+    ata: DMatrix<f64>,
+    atb: DVector<f64>,
+    btb: f64,
+    rows: usize,
+}
+
+/// What choosing `λ` measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Validation {
+    /// Per `λ` of [`LAMBDA_GRID`]: the held-out blocks' whitened mean square error (1 is the
+    /// noise level of the fit without prior); infinite where a fit failed.
+    pub curve: Vec<(f64, f64)>,
+    /// The `λ` with the least error.
+    pub chosen: f64,
+}
+
+impl Problem {
+    /// The problem of `base`'s model with prior `nominal` (ten per body), friction law `law`
+    /// and the fitted `samples` (for the friction terms' scales).
+    pub fn new(base: &BaseParameters, nominal: &DVector<f64>, law: Law, samples: &[Sample]) -> Self {
+        let units = core::array::from_fn(|k| {
+            let mut e = [0.0; PARAMETERS_PER_BODY];
+            e[k] = 1.0;
+            pseudo_inertia(&e)
+        });
+        let bodies = nominal.len() / PARAMETERS_PER_BODY;
+        let mut prior_parameters = nominal.clone();
+        let prior = (0..bodies)
+            .map(|b| {
+                let body = &nominal.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY];
+                let j = positive_definite(&pseudo_inertia(body));
+                let parameters = crate::physical::from_pseudo_inertia(&j);
+                prior_parameters.rows_mut(b * PARAMETERS_PER_BODY, PARAMETERS_PER_BODY).copy_from_slice(&parameters);
+                let inverse = j.try_inverse().unwrap_or_else(Matrix4::identity);
+                (j, inverse)
+            })
+            .collect();
+        let n = samples.first().map_or(0, |s| s.q.len());
+        let rms = |f: &dyn Fn(&Sample) -> f64| {
+            (samples.iter().map(|s| f(s).powi(2)).sum::<f64>() / samples.len().max(1) as f64).sqrt()
+        };
+        let friction_scale = DVector::from_iterator(
+            law.terms() * n,
+            (0..n).flat_map(|i| {
+                let torque = rms(&|s| s.tau[i]).max(1e-9);
+                let (velocity, acceleration) = (rms(&|s| s.qd[i]), rms(&|s| s.qdd[i]));
+                [1.0, velocity, 1.0, acceleration].into_iter().take(law.terms()).map(move |x| x / torque)
+            }),
+        );
+        Self { to_base: base.to_base.clone(), prior, prior_parameters, friction_scale, law, units }
+    }
+
+    /// The unknowns: ten per body, then the friction terms.
+    fn unknowns(&self) -> usize {
+        self.prior_parameters.len() + self.friction_scale.len()
+    }
+
+    /// The whitened normal equations of joint triangles `triangles` (in base coordinates, as
+    /// [`crate::fit`] reduces them) with joint weights `weights`.
+    pub fn normal(&self, triangles: &[DMatrix<f64>], weights: &[f64], rows: usize) -> Normal {
+        let (r, p, f) = (self.to_base.nrows(), self.prior_parameters.len(), self.friction_scale.len());
+        let (a, b) = stacked(triangles, weights);
+        let mut full = DMatrix::zeros(a.nrows(), p + f);
+        full.columns_mut(0, p).copy_from(&(a.columns(0, r) * &self.to_base));
+        full.columns_mut(p, f).copy_from(&a.columns(r, f));
+        Normal { ata: full.transpose() * &full, atb: full.transpose() * &b, btb: b.norm_squared(), rows }
+    }
+
+    /// `Σ_b D(J_b ‖ J_b⁰) + Σ (s f)²`, its gradient and Hessian at `x`; `None` where a body is not
+    /// physical (`J_b` not positive definite).
+    fn prior_terms(&self, x: &DVector<f64>) -> Option<(f64, DVector<f64>, DMatrix<f64>)> {
+        let (p, m) = (self.prior_parameters.len(), self.unknowns());
+        let (mut value, mut gradient, mut hessian) = (0.0, DVector::zeros(m), DMatrix::zeros(m, m));
+        for (b, (j0, j0_inverse)) in self.prior.iter().enumerate() {
+            let at = b * PARAMETERS_PER_BODY;
+            let j = pseudo_inertia(&x.as_slice()[at..][..PARAMETERS_PER_BODY]);
+            let cholesky = j.cholesky()?;
+            let j_inverse = cholesky.inverse();
+            let log_det_ratio = 2.0 * cholesky.l().diagonal().map(f64::ln).sum() - j0.determinant().ln();
+            value += (j0_inverse * j).trace() - log_det_ratio - 4.0;
+            let products: Vec<Matrix4<f64>> = self.units.iter().map(|e| j_inverse * e).collect();
+            for k in 0..PARAMETERS_PER_BODY {
+                gradient[at + k] = (j0_inverse * self.units[k]).trace() - products[k].trace();
+                for l in 0..PARAMETERS_PER_BODY {
+                    hessian[(at + k, at + l)] = (products[k] * products[l]).trace();
+                }
+            }
+        }
+        for (k, s) in self.friction_scale.iter().enumerate() {
+            let scaled = s * x[p + k];
+            value += scaled * scaled;
+            gradient[p + k] = 2.0 * s * scaled;
+            hessian[(p + k, p + k)] = 2.0 * s * s;
+        }
+        Some((value, gradient, hessian))
+    }
+
+    /// The objective's data term `(1/M) ‖A x − b‖²` of `normal`.
+    fn data(normal: &Normal, x: &DVector<f64>) -> f64 {
+        (x.dot(&(&normal.ata * x)) - 2.0 * x.dot(&normal.atb) + normal.btb) / normal.rows.max(1) as f64
+    }
+
+    /// The minimiser at `lambda > 0` of the data `normal` plus `λ` times the prior.
+    pub fn solve(&self, normal: &Normal, lambda: f64) -> Result<PriorFit, FitError> {
+        let m = self.unknowns();
+        let scale = 1.0 / normal.rows.max(1) as f64;
+        let mut x = DVector::zeros(m);
+        x.rows_mut(0, self.prior_parameters.len()).copy_from(&self.prior_parameters);
+        let objective = |x: &DVector<f64>| self.prior_terms(x).map(|(v, ..)| Self::data(normal, x) + lambda * v);
+        let stuck = || FitError::Samples(format!("the fit with prior weight {lambda} found no descent direction"));
+        let mut iterations = 0;
+        let mut value = objective(&x).ok_or_else(stuck)?;
+        while iterations < MAX_NEWTON {
+            let (_, prior_gradient, prior_hessian) = self.prior_terms(&x).ok_or_else(stuck)?;
+            let gradient = (&normal.ata * &x - &normal.atb) * (2.0 * scale) + prior_gradient * lambda;
+            let hessian = &normal.ata * (2.0 * scale) + prior_hessian * lambda;
+            let step = hessian.clone().cholesky().ok_or_else(stuck)?.solve(&-&gradient);
+            let decrement = -gradient.dot(&step);
+            iterations += 1;
+            if decrement <= 1e-12 * value.abs().max(1e-12) {
+                break;
+            }
+            let mut t = 1.0;
+            loop {
+                let trial = &x + &step * t;
+                if let Some(v) = objective(&trial).filter(|v| *v <= value - 1e-4 * t * decrement) {
+                    x = trial;
+                    value = v;
+                    break;
+                }
+                t *= 0.5;
+                if t < 1e-12 {
+                    return Err(stuck());
+                }
+            }
+        }
+        self.posterior(normal, lambda, x, iterations)
+    }
+
+    /// The fit at `x` with its standard deviations.
+    fn posterior(
+        &self,
+        normal: &Normal,
+        lambda: f64,
+        x: DVector<f64>,
+        iterations: usize,
+    ) -> Result<PriorFit, FitError> {
+        let (p, f) = (self.prior_parameters.len(), self.friction_scale.len());
+        let (_, _, prior_hessian) = self.prior_terms(&x).ok_or_else(|| FitError::Samples("a body left".into()))?;
+        let rows = normal.rows.max(1) as f64;
+        let information = &normal.ata + prior_hessian * (lambda * rows / 2.0);
+        let covariance = information.try_inverse().unwrap_or_else(|| DMatrix::from_element(p + f, p + f, f64::NAN));
+        let variance = (x.dot(&(&normal.ata * &x)) - 2.0 * x.dot(&normal.atb) + normal.btb).max(0.0) / rows;
+        let pi_covariance = covariance.view((0, 0), (p, p));
+        let base_covariance = &self.to_base * pi_covariance * self.to_base.transpose();
+        Ok(PriorFit {
+            lambda,
+            base_std: base_covariance.diagonal().map(|d| (variance * d.max(0.0)).sqrt()),
+            friction_std: DVector::from_fn(f, |k, _| (variance * covariance[(p + k, p + k)].max(0.0)).sqrt()),
+            parameters: x.rows(0, p).into_owned(),
+            friction: x.rows(p, f).into_owned(),
+            iterations,
+        })
+    }
+
+    /// The prior's base parameters `K π⁰`.
+    pub fn prior_base(&self) -> DVector<f64> {
+        &self.to_base * &self.prior_parameters
+    }
+
+    /// The law of the friction terms.
+    pub fn law(&self) -> Law {
+        self.law
+    }
+}
+
+/// `j` with its eigenvalues raised to a millionth of its trace: a nominal body that is not
+/// physical made the nearest one that is, so that the prior is defined.
+fn positive_definite(j: &Matrix4<f64>) -> Matrix4<f64> {
+    let floor = 1e-6 * j.trace().abs().max(1e-9);
+    let eigen = j.symmetric_eigen();
+    eigen.eigenvectors
+        * Matrix4::from_diagonal(&eigen.eigenvalues.map(|e| e.max(floor)))
+        * eigen.eigenvectors.transpose()
+}
+
+/// A joint triangle per joint of `parts` stacked (each part's triangles, joint by joint).
+fn joined(parts: &[&Vec<DMatrix<f64>>]) -> Vec<DMatrix<f64>> {
+    let joints = parts.first().map_or(0, |p| p.len());
+    (0..joints)
+        .map(|i| {
+            let columns = parts[0][i].ncols();
+            let rows: usize = parts.iter().map(|p| p[i].nrows()).sum();
+            let mut stack = DMatrix::zeros(rows, columns);
+            let mut at = 0;
+            for part in parts {
+                stack.rows_mut(at, part[i].nrows()).copy_from(&part[i]);
+                at += part[i].nrows();
+            }
+            stack.qr().r()
+        })
+        .collect()
+}
+
+/// One contiguous block of samples, reduced: its joint triangles and how many samples it holds.
+#[derive(Debug, Clone)]
+pub struct Block {
+    /// Per joint, the triangle of its rows ([`crate::fit`]).
+    pub triangles: Vec<DMatrix<f64>>,
+    /// Its samples.
+    pub samples: usize,
+}
+
+/// The blocks of `samples`: [`FOLDS`] contiguous ones.
+pub fn blocks(
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+    law: Law,
+) -> Result<Vec<Block>, FitError> {
+    let size = samples.len().div_ceil(FOLDS).max(1);
+    samples
+        .chunks(size)
+        .map(|block| Ok(Block { triangles: reduced(regressor, base, block, law)?, samples: block.len() }))
+        .collect()
+}
+
+/// The whitened mean square error of `(π, f)` on the triangles `held_out` of `samples` samples.
+fn held_out_error(held_out: &[DMatrix<f64>], weights: &[f64], theta: &DVector<f64>, samples: usize) -> f64 {
+    let squares: f64 = held_out.iter().zip(weights).map(|(t, w)| w * w * residual_squares(t, theta)).sum();
+    squares / (samples * held_out.len()).max(1) as f64
+}
+
+/// The base-coordinate unknowns `(K π, f)` of a prior fit.
+pub fn base_coordinates(problem: &Problem, fit: &PriorFit) -> DVector<f64> {
+    let base = &problem.to_base * &fit.parameters;
+    DVector::from_iterator(base.len() + fit.friction.len(), base.iter().chain(fit.friction.iter()).copied())
+}
+
+/// The weights `1/σ_i` of an unregularised fit to `triangles` of `samples` samples, and its
+/// solution; `None` if the triangles do not determine the base parameters.
+pub fn unregularised(triangles: &[DMatrix<f64>], samples: usize) -> Option<(Vec<f64>, DVector<f64>)> {
+    let n = triangles.len();
+    let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
+    let (a, b) = stacked(triangles, &vec![1.0; n]);
+    let (first, _) = solve(&a, &b)?;
+    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
+    let weights: Vec<f64> =
+        triangles.iter().map(|t| 1.0 / (residual_squares(t, &first) / dof).sqrt().max(1e-12)).collect();
+    let (aw, bw) = stacked(triangles, &weights);
+    Some((weights, solve(&aw, &bw)?.0))
+}
+
+/// Chooses `λ` from [`LAMBDA_GRID`] by holding out each block of `blocks` in turn (see the
+/// module's notes), with the joint weights `weights` of the whole fitted part.
+pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validation {
+    let curve: Vec<(f64, f64)> = LAMBDA_GRID
+        .iter()
+        .map(|&lambda| {
+            let mut total = 0.0;
+            for k in 0..blocks.len() {
+                let rest: Vec<&Vec<DMatrix<f64>>> =
+                    (0..blocks.len()).filter(|&j| j != k).map(|j| &blocks[j].triangles).collect();
+                let training = joined(&rest);
+                let rows: usize =
+                    (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
+                let theta = if lambda == 0.0 {
+                    let (a, b) = stacked(&training, weights);
+                    solve(&a, &b).map(|(theta, _)| theta)
+                } else {
+                    let normal = problem.normal(&training, weights, rows);
+                    problem.solve(&normal, lambda).ok().map(|fit| base_coordinates(problem, &fit))
+                };
+                total += match theta {
+                    Some(theta) => held_out_error(&blocks[k].triangles, weights, &theta, blocks[k].samples),
+                    None => f64::INFINITY,
+                };
+            }
+            (lambda, total / blocks.len().max(1) as f64)
+        })
+        .collect();
+    let chosen = curve.iter().filter(|(_, e)| e.is_finite()).min_by(|a, b| a.1.total_cmp(&b.1)).map_or(0.0, |c| c.0);
+    Validation { curve, chosen }
+}
+
+/// All blocks' triangles as one set, per joint.
+pub fn whole(blocks: &[Block]) -> Vec<DMatrix<f64>> {
+    joined(&blocks.iter().map(|b| &b.triangles).collect::<Vec<_>>())
+}

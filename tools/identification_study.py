@@ -71,13 +71,17 @@ def rms_columns(table, skip_s):
 
 
 def report_numbers(path):
-    """Held-out RMS per model and the base parameters (nominal, identified, σ, true)."""
+    """Held-out RMS per joint (measured torque, then each model), the base parameters (nominal,
+    identified, σ, true, deviation) and the prior weight λ."""
     text = open(path).read()
     held = [[float(x) for x in re.findall(r"\| ([-\d.]+)", line)] for line in text.splitlines()
             if any(line.startswith(f"| {j} | ") for j in JOINTS) and "±" not in line][:len(JOINTS)]
-    base = [[float(x) for x in re.split(r"\s*\|\s*", line)[3:7] + [re.split(r"\s*\|\s*", line)[7]]]
-            for line in text.splitlines() if re.match(r"\| \d+ \| ", line)]
-    return held, base
+    # Base table cells: #, named after, nominal, identified, σ, (identified − nominal)/σ, compared,
+    # (identified − compared)/σ.
+    cells = [re.split(r"\s*\|\s*", line) for line in text.splitlines() if re.match(r"\| \d+ \| ", line)]
+    base = [[float(c[k]) for k in (3, 4, 5, 7, 8)] for c in cells]
+    weight = re.search(r"weight λ = (\S+):", text)
+    return held, base, float(weight.group(1)) if weight else 0.0
 
 
 def tracking_rms(log, reference):
@@ -97,43 +101,41 @@ def main():
     test_reference = hya(["excite", "--robot", "hya", "--periods", "2", "--seed", "2"])
     print(f"Logs: 30 s of `hya excite --seed 1` fitted (the last quarter held out), plant seed {PLANT_SEED}; "
           f"`{HYA}`; files in {folder}.\n")
-    print("| plant friction | held-out RMS, nominal (N·m) | held-out RMS, identified (N·m) "
-          "| ‖π_b − π_b,true‖ nominal | identified | largest deviation (σ) |")
-    print("|---|---|---|---|---|---|")
+    print("| plant friction | `--prior-weight` | held-out RMS, nominal (N·m) | held-out RMS, identified (N·m) "
+          "| ‖π_b − π_b,true‖ nominal | identified | largest deviation (σ) | λ |")
+    print("|---|---|---|---|---|---|---|---|")
     identified = None
     for k, (label, plant) in enumerate(PLANTS):
         truth, out = os.path.join(folder, f"truth{k}"), os.path.join(folder, f"identified{k}")
         log = hya(["track", "--robot", "hya", "--seed", PLANT_SEED, "--scenario", scenario(folder, f"plant{k}", plant),
                    "--out", truth], fit_reference)
-        hya(["identify", "--robot", "hya", "--dt", "0.001", "--timestamps", "--compare",
-             os.path.join(truth, "true.urdf"), "--out", out], log)
-        held, base = report_numbers(os.path.join(out, "report.md"))
-        nominal_error = math.sqrt(sum((b[0] - b[3]) ** 2 for b in base))
-        identified_error = math.sqrt(sum((b[1] - b[3]) ** 2 for b in base))
-        largest = max(abs(b[4]) for b in base)
-        print(f"| {label} | {fmt(h[0] for h in held)} | {fmt(h[1] for h in held)} | {nominal_error:.3f} "
-              f"| {identified_error:.3f} | {largest:.1f} |")
+        for prior in ("0", "auto"):
+            hya(["identify", "--robot", "hya", "--dt", "0.001", "--timestamps", "--compare",
+                 os.path.join(truth, "true.urdf"), "--prior-weight", prior, "--out", out + prior], log)
+            held, base, weight = report_numbers(os.path.join(out + prior, "report.md"))
+            nominal_error = math.sqrt(sum((b[0] - b[3]) ** 2 for b in base))
+            identified_error = math.sqrt(sum((b[1] - b[3]) ** 2 for b in base))
+            largest = max(abs(b[4]) for b in base)
+            print(f"| {label} | {prior} | {fmt(h[1] for h in held)} | {fmt(h[2] for h in held)} | {nominal_error:.3f} "
+                  f"| {identified_error:.3f} | {largest:.1f} | {weight:g} |")
         if k == 0:
             identified = out
 
     print("\nOn a second trajectory (`hya excite --seed 2`, 20 s) of the default plant, the first "
           f"{SETTLING_S:.0f} s left out, per joint {', '.join(JOINTS)}:\n")
-    urdf, friction = os.path.join(identified, "identified.urdf"), os.path.join(identified, "friction.toml")
-    models = [
-        ("nominal", "", []),
-        ("identified rigid body", f'model_urdf = "{urdf}"\n', []),
-        ("identified rigid body and friction", f'model_urdf = "{urdf}"\nfriction_toml = "{friction}"\n', []),
-    ]
+    models = [("nominal", None, None)]
+    for prior in ("0", "auto"):
+        urdf, friction = (os.path.join(identified + prior, name) for name in ("identified.urdf", "friction.toml"))
+        models += [(f"identified rigid body (`--prior-weight {prior}`)", urdf, None),
+                   (f"identified rigid body and friction (`--prior-weight {prior}`)", urdf, friction)]
     log = hya(["track", "--robot", "hya", "--seed", PLANT_SEED, "--scenario", scenario(folder, "default")],
               test_reference)
     print("| model | RMS of d̂ on the nominal controller's log (N·m) | tracking RMS, `lu` on this model (mrad) "
           "| tracking RMS, `none` on this model (mrad) |")
     print("|---|---|---|---|")
-    for k, (label, controller, _) in enumerate(models):
-        robot = urdf if "model_urdf" in controller else "hya"
-        args = ["estimate", "--robot", robot, "--timestamps"]
-        if "friction_toml" in controller:
-            args += ["--friction", friction]
+    for k, (label, urdf, friction) in enumerate(models):
+        args = ["estimate", "--robot", urdf or "hya", "--timestamps"] + (["--friction", friction] if friction else [])
+        controller = (f'model_urdf = "{urdf}"\n' if urdf else "") + (f'friction_toml = "{friction}"\n' if friction else "")
         d_hat = rms_columns(rows(hya(args, log)), SETTLING_S)
         path = scenario(folder, f"controller{k}", controller=controller)
         tracked = [tracking_rms(hya(["track", "--robot", "hya", "--seed", PLANT_SEED, "--scenario", path,

@@ -78,8 +78,8 @@ def main():
     print("|---|" + "---|" * (n + 1))
     line = lambda label, v: print(f"| {label} | " + " | ".join(f"{x:.3f}" for x in v) + f" | {sum(v) / n:.3f} |")
     shown_nominal = False
-    for label, extra in [("log alone (`--prior-weight 0`)", []),
-                         ("log alone, armature (`--prior-weight 0 --armature`)", ["--armature"]),
+    for label, extra in [("log alone (`--prior-weight 0`)", ["--prior-weight", "0"]),
+                         ("log alone, armature (`--prior-weight 0 --armature`)", ["--prior-weight", "0", "--armature"]),
                          ("prior, λ chosen (`--prior-weight auto`)", ["--prior-weight", "auto"]),
                          ("prior and armature (`--prior-weight auto --armature`)", ["--prior-weight", "auto", "--armature"])]:
         models, weight, _ = identify(robot, log, timing, n, extra)
@@ -91,7 +91,7 @@ def main():
             shown_nominal = True
         if "--armature" in extra:
             line("nominal URDF + friction and armature fit", models["nominal model + friction fit"])
-        elif extra == []:
+        elif extra == ["--prior-weight", "0"]:
             line("nominal URDF + friction fit", models["nominal model + friction fit"])
         line(f"`hya identify`, {label}; λ = {weight}", models["identified model"])
 

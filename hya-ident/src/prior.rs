@@ -20,11 +20,13 @@
 //! The problem is smooth and strictly convex inside `J_b ≻ 0`; it is solved by Newton's method
 //! from the prior (where it is feasible), each step halved until the bodies stay physical and
 //! the objective falls enough (Armijo). The data term enters through each joint's reduced
-//! triangle ([`crate::fit`]), so the cost does not grow with the log.
+//! triangle ([`crate::fit`](mod@crate::fit)), so the cost does not grow with the log.
 //!
 //! `λ` is chosen on the data ([`choose`]): the fitted samples are cut into contiguous blocks in
 //! time; each block is held out in turn, the rest fitted, and the held-out block's whitened
-//! error summed; the `λ` of the grid with the least error is taken.
+//! error averaged; of the grid, the largest `λ` whose error is within one standard error (over
+//! the blocks) of the least is taken (Hastie, Tibshirani & Friedman's one-standard-error rule):
+//! differences the blocks cannot resolve go to the prior, whose bodies are plausible ones.
 
 use nalgebra::{DMatrix, DVector, Matrix4};
 
@@ -33,8 +35,11 @@ use crate::fit::{reduced, residual_squares, solve, stacked, FitError, Law, Sampl
 use crate::physical::pseudo_inertia;
 use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
 
-/// The weights `λ` tried when it is chosen on the data: none, then 10⁻⁶ to 1 by decades.
-pub const LAMBDA_GRID: [f64; 8] = [0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
+/// The weights `λ` tried when it is chosen on the data: 10⁻⁸ to 100 by decades. Not 0: the fit
+/// without prior gives bodies that need not be physical, and the projection that makes them so
+/// ([`crate::physical`]) moves them off the fit, so its held-out error would flatter the model
+/// delivered; the smallest weight here keeps the bodies physical and still lets the log decide.
+pub const LAMBDA_GRID: [f64; 11] = [1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0];
 
 /// The contiguous blocks the fitted samples are cut into to choose `λ`.
 pub const FOLDS: usize = 4;
@@ -87,13 +92,25 @@ pub struct Normal {
     rows: usize,
 }
 
+/// One `λ` of the validation curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ValidationPoint {
+    /// `λ`.
+    pub lambda: f64,
+    /// The held-out blocks' whitened mean square error, mean over the blocks (1 is the noise
+    /// level of the fit without prior); infinite where a fit failed.
+    pub error: f64,
+    /// Its standard error over the blocks.
+    pub standard_error: f64,
+}
+
 /// What choosing `λ` measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Validation {
-    /// Per `λ` of [`LAMBDA_GRID`]: the held-out blocks' whitened mean square error (1 is the
-    /// noise level of the fit without prior); infinite where a fit failed.
-    pub curve: Vec<(f64, f64)>,
-    /// The `λ` with the least error.
+    /// Per `λ` of [`LAMBDA_GRID`].
+    pub curve: Vec<ValidationPoint>,
+    /// The largest `λ` whose error is within one standard error of the least (the
+    /// one-standard-error rule: where the data cannot tell weights apart, trust the prior more).
     pub chosen: f64,
 }
 
@@ -139,7 +156,7 @@ impl Problem {
     }
 
     /// The whitened normal equations of joint triangles `triangles` (in base coordinates, as
-    /// [`crate::fit`] reduces them) with joint weights `weights`.
+    /// [`crate::fit`](mod@crate::fit) reduces them) with joint weights `weights`.
     pub fn normal(&self, triangles: &[DMatrix<f64>], weights: &[f64], rows: usize) -> Normal {
         let (r, p, f) = (self.to_base.nrows(), self.prior_parameters.len(), self.friction_scale.len());
         let (a, b) = stacked(triangles, weights);
@@ -204,17 +221,25 @@ impl Problem {
                 break;
             }
             let mut t = 1.0;
-            loop {
+            let accepted = loop {
                 let trial = &x + &step * t;
                 if let Some(v) = objective(&trial).filter(|v| *v <= value - 1e-4 * t * decrement) {
                     x = trial;
                     value = v;
-                    break;
+                    break true;
                 }
                 t *= 0.5;
-                if t < 1e-12 {
-                    return Err(stuck());
+                if t < 1e-30 {
+                    break false;
                 }
+            };
+            if !accepted {
+                // Rounding, not the problem, stops the descent once the decrement is this small
+                // against the objective: the point is the minimiser to working precision.
+                if decrement <= 1e-8 * value.abs().max(1e-12) {
+                    break;
+                }
+                return Err(stuck());
             }
         }
         self.posterior(normal, lambda, x, iterations)
@@ -288,7 +313,7 @@ fn joined(parts: &[&Vec<DMatrix<f64>>]) -> Vec<DMatrix<f64>> {
 /// One contiguous block of samples, reduced: its joint triangles and how many samples it holds.
 #[derive(Debug, Clone)]
 pub struct Block {
-    /// Per joint, the triangle of its rows ([`crate::fit`]).
+    /// Per joint, the triangle of its rows ([`crate::fit`](mod@crate::fit)).
     pub triangles: Vec<DMatrix<f64>>,
     /// Its samples.
     pub samples: usize,
@@ -337,32 +362,34 @@ pub fn unregularised(triangles: &[DMatrix<f64>], samples: usize) -> Option<(Vec<
 /// Chooses `λ` from [`LAMBDA_GRID`] by holding out each block of `blocks` in turn (see the
 /// module's notes), with the joint weights `weights` of the whole fitted part.
 pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validation {
-    let curve: Vec<(f64, f64)> = LAMBDA_GRID
+    let curve: Vec<ValidationPoint> = LAMBDA_GRID
         .iter()
         .map(|&lambda| {
-            let mut total = 0.0;
+            let mut errors = Vec::with_capacity(blocks.len());
             for k in 0..blocks.len() {
                 let rest: Vec<&Vec<DMatrix<f64>>> =
                     (0..blocks.len()).filter(|&j| j != k).map(|j| &blocks[j].triangles).collect();
                 let training = joined(&rest);
                 let rows: usize =
                     (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
-                let theta = if lambda == 0.0 {
-                    let (a, b) = stacked(&training, weights);
-                    solve(&a, &b).map(|(theta, _)| theta)
-                } else {
-                    let normal = problem.normal(&training, weights, rows);
-                    problem.solve(&normal, lambda).ok().map(|fit| base_coordinates(problem, &fit))
-                };
-                total += match theta {
+                let normal = problem.normal(&training, weights, rows);
+                let theta = problem.solve(&normal, lambda).ok().map(|fit| base_coordinates(problem, &fit));
+                errors.push(match theta {
                     Some(theta) => held_out_error(&blocks[k].triangles, weights, &theta, blocks[k].samples),
                     None => f64::INFINITY,
-                };
+                });
             }
-            (lambda, total / blocks.len().max(1) as f64)
+            let count = errors.len().max(1) as f64;
+            let error = errors.iter().sum::<f64>() / count;
+            let spread = errors.iter().map(|e| (e - error).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
+            ValidationPoint { lambda, error, standard_error: (spread / count).sqrt() }
         })
         .collect();
-    let chosen = curve.iter().filter(|(_, e)| e.is_finite()).min_by(|a, b| a.1.total_cmp(&b.1)).map_or(0.0, |c| c.0);
+    let least = curve.iter().filter(|p| p.error.is_finite()).min_by(|a, b| a.error.total_cmp(&b.error));
+    let chosen = least.map_or(LAMBDA_GRID[LAMBDA_GRID.len() - 1], |least| {
+        let bound = least.error + least.standard_error;
+        curve.iter().filter(|p| p.error <= bound).map(|p| p.lambda).fold(least.lambda, f64::max)
+    });
     Validation { curve, chosen }
 }
 

@@ -60,7 +60,7 @@ pub fn identify<'py>(
     armature: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let prior_weight = match prior_weight {
-        None => PriorWeight::Auto,
+        None => PriorWeight::Fixed(0.0),
         Some(w) if w.extract::<String>().is_ok_and(|s| s == "auto") => PriorWeight::Auto,
         Some(w) => PriorWeight::Fixed(
             w.extract::<f64>().map_err(|_| PyValueError::new_err("prior_weight: \"auto\" or a number ≥ 0"))?,
@@ -114,7 +114,9 @@ pub fn identify<'py>(
     out.set_item("friction", friction)?;
     out.set_item("prior_weight", found.prior_weight)?;
     if let Some(validation) = &found.validation {
-        out.set_item("validation", validation.curve.clone())?;
+        let curve: Vec<(f64, f64, f64)> =
+            validation.curve.iter().map(|p| (p.lambda, p.error, p.standard_error)).collect();
+        out.set_item("validation", curve)?;
     }
     out.set_item("parameters", found.full.parameters.as_slice().to_vec())?;
     out.set_item("identified_urdf", urdf)?;

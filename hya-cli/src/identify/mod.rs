@@ -73,7 +73,7 @@ pub struct IdentifyArgs {
     /// number λ ≥ 0 fixes it; 0 fits the log alone (with the bodies made physical afterwards,
     /// which can move them off the fit). The prior pulls each body toward its nominal one by the
     /// log-det divergence of their pseudo-inertias, and keeps every body physical.
-    #[arg(long, default_value = "auto", value_parser = prior_weight)]
+    #[arg(long, default_value = "0", value_parser = prior_weight)]
     prior_weight: PriorWeight,
     /// Identify each joint's armature, the motor inertia reflected through the gear (`I_a q̈`),
     /// which no URDF link carries; written to friction.toml as `armature_kg_m2`.

@@ -148,12 +148,15 @@ impl Findings<'_> {
                 report,
                 "\nλ was chosen on the data: the fitted part cut into {} blocks in time, each held out in turn and \
                  predicted by a fit to the others. Their whitened mean square error (1 is the noise level of the \
-                 fit; lower is better):\n\n| λ | held-out error |\n|---|---|",
+                 fit; lower is better), with its standard error over the blocks; the chosen λ is the largest \
+                 whose error is within one standard error of the least (where the blocks cannot tell weights \
+                 apart, the prior is trusted more):\n\n| λ | held-out error | standard error |\n|---|---|---|",
                 hya_ident::prior::FOLDS
             );
-            for (lambda, error) in &validation.curve {
-                let mark = if *lambda == validation.chosen { " (chosen)" } else { "" };
-                let _ = writeln!(report, "| {lambda:e}{mark} | {error:.4} |");
+            for point in &validation.curve {
+                let mark = if point.lambda == validation.chosen { " (chosen)" } else { "" };
+                let _ =
+                    writeln!(report, "| {:e}{mark} | {:.4} | {:.4} |", point.lambda, point.error, point.standard_error);
             }
         }
         let r = self.base.rank();

@@ -1,5 +1,5 @@
 //! What the runs show: each run's metrics, accumulated tick by tick ([`running`], [`metrics`],
-//! [`outcome`]), many seeds with their intervals ([`seeds`]), the paper's claims judged by
+//! [`simulate`]), many seeds with their intervals ([`seeds`]), the paper's claims judged by
 //! fixed rules ([`claims`]) and bandwidth sweeps ([`sweep`]).
 
 pub mod claims;

@@ -32,7 +32,7 @@ pub const PLAUSIBLE_FRICTION: [(&str, f64, f64, &str); 5] = [
     ("coulomb_nm", -100.0, 1e4, "N·m"),
     ("viscous_nm_s", -100.0, 1e4, "N·m·s/rad"),
     ("offset_nm", -1e4, 1e4, "N·m"),
-    ("armature_kg_m2", -1.0, 1e3, "kg·m²"),
+    ("armature_kg_m2", 0.0, 1e3, "kg·m²"),
 ];
 
 /// Identified joint friction (see the module's notes).

@@ -191,7 +191,7 @@ pub fn identify(
         PriorWeight::Auto => {
             let blocks = prior::blocks(regressor, base, fitted_part, law)?;
             let triangles = prior::whole(&blocks);
-            let weights = joint_weights(&problem, &triangles, fitted_part.len());
+            let weights = joint_weights(&triangles, fitted_part.len());
             let validation = prior::choose(&problem, &blocks, &weights);
             (validation.chosen, Some(validation), Some(triangles))
         }
@@ -211,11 +211,14 @@ pub fn identify(
         .iter()
         .map(|s| Ok(as_written.predict(regressor, base, s)?.as_slice().to_vec()))
         .collect::<Result<_, IdentifyError>>()?;
-    let friction_alone = friction_on_nominal(&problem, regressor, base, fitted_part)?;
-    let nominal_with_friction = held_out
-        .iter()
-        .map(|s| Ok(friction_alone.predict(regressor, base, s)?.as_slice().to_vec()))
-        .collect::<Result<_, IdentifyError>>()?;
+    // The baseline, where the log determines the joint law alone; NaN where it does not.
+    let nominal_with_friction = match friction_on_nominal(&problem, regressor, base, fitted_part, &nominal) {
+        Ok(alone) => held_out
+            .iter()
+            .map(|s| Ok(alone.predict(regressor, base, s)?.as_slice().to_vec()))
+            .collect::<Result<_, IdentifyError>>()?,
+        Err(_) => held_out.iter().map(|s| vec![f64::NAN; s.tau.len()]).collect(),
+    };
     Ok(Identification {
         nominal_with_friction,
         prior_weight: lambda,
@@ -231,17 +234,11 @@ pub fn identify(
     })
 }
 
-/// Each joint's weight `1/σ_i` from the fit without prior on `triangles` of `samples` samples;
-/// where the log does not determine that fit, from the prior's own residual.
-fn joint_weights(problem: &Problem, triangles: &[nalgebra::DMatrix<f64>], samples: usize) -> Vec<f64> {
-    if let Some((weights, _)) = prior::unregularised(triangles, samples) {
-        return weights;
-    }
-    let prior_base = problem.prior_base();
-    let friction = triangles.first().map_or(0, |t| t.ncols() - 1 - prior_base.len());
-    let mut theta = DVector::zeros(prior_base.len() + friction);
-    theta.rows_mut(0, prior_base.len()).copy_from(&prior_base);
-    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / samples.max(1) as f64).sqrt().max(1e-12)).collect()
+/// Each joint's weight `1/σ_i` from the fit without prior on `triangles` of `samples` samples:
+/// its residual is unique even where the log does not determine the solution (an armature that
+/// moves exactly as a link's inertia), so the minimum-norm least-squares solution serves then.
+fn joint_weights(triangles: &[nalgebra::DMatrix<f64>], samples: usize) -> Vec<f64> {
+    prior::unregularised(triangles, samples).map_or_else(|| prior::minimum_norm_weights(triangles, samples), |(w, _)| w)
 }
 
 /// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples, and its
@@ -255,7 +252,7 @@ fn regularised(
     nominal: &DVector<f64>,
 ) -> Result<(Fit, Consistent), IdentifyError> {
     let law = problem.law();
-    let weights = joint_weights(problem, triangles, samples);
+    let weights = joint_weights(triangles, samples);
     let normal = problem.normal(triangles, &weights, samples * triangles.len());
     let found = problem.solve(&normal, lambda)?;
     let theta = prior::base_coordinates(problem, &found);
@@ -282,25 +279,28 @@ fn regularised(
     Ok((fitted, full))
 }
 
-/// The joint law fitted alone to `samples` with the bodies held at the prior's: per joint, least
-/// squares of `τ_i − (Y_b K π⁰)_i` on its friction terms (the joints do not share them).
+/// The joint law fitted alone to `samples` with the bodies held at the nominal ones (`nominal`,
+/// as the URDF gives them): per joint, least squares of `τ_i − (Y_b K π⁰)_i` on its friction
+/// terms (the joints do not share them).
 fn friction_on_nominal(
     problem: &Problem,
     regressor: &Regressor<'_>,
     base: &BaseParameters,
     samples: &[Sample],
+    nominal: &DVector<f64>,
 ) -> Result<Fit, IdentifyError> {
     let law = problem.law();
     let triangles = crate::fit::reduced(regressor, base, samples, law)?;
     let (r, t) = (base.rank(), law.terms());
-    let prior_base = problem.prior_base();
+    let prior_base = base.of_parameters(nominal);
     let mut terms = vec![0.0; t * triangles.len()];
     let mut terms_std = Vec::with_capacity(triangles.len());
     for (i, triangle) in triangles.iter().enumerate() {
         let last = triangle.ncols() - 1;
         let a = triangle.columns(r + t * i, t).into_owned();
         let b = triangle.column(last) - triangle.columns(0, r) * &prior_base;
-        let (solution, _) = crate::fit::solve(&a, &b).ok_or(FitError::RankDeficient { rank: 0, unknowns: t })?;
+        let rank = || FitError::RankDeficient { rank: Conditioning::of(&a).rank, unknowns: t };
+        let (solution, _) = crate::fit::solve(&a, &b).ok_or_else(rank)?;
         terms[t * i..t * (i + 1)].copy_from_slice(solution.as_slice());
         terms_std.push(vec![f64::NAN; t]);
     }

@@ -24,9 +24,10 @@
 //!
 //! `λ` is chosen on the data ([`choose`]): the fitted samples are cut into contiguous blocks in
 //! time; each block is held out in turn, the rest fitted, and the held-out block's whitened
-//! error averaged; of the grid, the largest `λ` whose error is within one standard error (over
-//! the blocks) of the least is taken (Hastie, Tibshirani & Friedman's one-standard-error rule):
-//! differences the blocks cannot resolve go to the prior, whose bodies are plausible ones.
+//! error averaged; of the grid, the largest `λ` whose excess over the least error is within one
+//! standard error of that excess over the blocks (Hastie, Tibshirani & Friedman's
+//! one-standard-error rule, on paired differences) is taken: differences the blocks cannot
+//! resolve go to the prior.
 
 use nalgebra::{DMatrix, DVector, Matrix4};
 
@@ -35,17 +36,19 @@ use crate::fit::{reduced, residual_squares, solve, stacked, FitError, Law, Sampl
 use crate::physical::pseudo_inertia;
 use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
 
-/// The weights `λ` tried when it is chosen on the data: 10⁻⁸ to 100 by decades. Not 0: the fit
+/// The weights `λ` tried when it is chosen on the data: 10⁻⁶ to 100 by decades. Not 0: the fit
 /// without prior gives bodies that need not be physical, and the projection that makes them so
 /// ([`crate::physical`]) moves them off the fit, so its held-out error would flatter the model
 /// delivered; the smallest weight here keeps the bodies physical and still lets the log decide.
-pub const LAMBDA_GRID: [f64; 11] = [1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0];
+/// Not below 10⁻⁶: there the minimiser can lie so near a body's boundary that Newton's steps,
+/// cut short by it, did not converge in [`MAX_NEWTON`] steps on a simulated HyA log.
+pub const LAMBDA_GRID: [f64; 9] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0];
 
 /// The contiguous blocks the fitted samples are cut into to choose `λ`.
 pub const FOLDS: usize = 4;
 
 /// Newton steps made at most.
-const MAX_NEWTON: usize = 200;
+pub const MAX_NEWTON: usize = 500;
 
 /// The parts of the problem that do not depend on `λ`.
 pub struct Problem {
@@ -73,8 +76,10 @@ pub struct PriorFit {
     pub parameters: DVector<f64>,
     /// The friction terms `f`, `law.terms()` per joint.
     pub friction: DVector<f64>,
-    /// Standard deviations of `K π` (the base parameters) and of `f`, from the posterior
-    /// `σ̂² (AᵀA + λ M/2 ∇²prior)⁻¹` of the whitened problem.
+    /// Standard deviations of `K π` (the base parameters) and of `f`: the spread of the estimate
+    /// over the noise of the log, `σ̂² H⁻¹ AᵀA H⁻¹` with `H = AᵀA + λ M/2 ∇²prior` of the whitened
+    /// problem (the prior is not counted as evidence: a direction only the prior fixes has a small
+    /// spread, not a small error).
     pub base_std: DVector<f64>,
     /// Of `f`.
     pub friction_std: DVector<f64>,
@@ -82,13 +87,16 @@ pub struct PriorFit {
     pub iterations: usize,
 }
 
-/// The data term of one set of samples: `AᵀA`, `Aᵀb`, `bᵀb` of the whitened system in the
-/// coordinates `(π, f)`, and its row count.
+/// The data term of one set of samples: the whitened system `A x ≈ b` in the coordinates
+/// `(π, f)` (its rows the joints' stacked triangles, a few hundred whatever the log's length),
+/// `AᵀA`, and the samples' row count `M`. The objective and its gradient are evaluated from the
+/// residual `A x − b` itself, not from the normal equations, which would lose the digits of the
+/// torque's size over the noise's squared.
 #[derive(Debug, Clone)]
 pub struct Normal {
+    a: DMatrix<f64>,
+    b: DVector<f64>,
     ata: DMatrix<f64>,
-    atb: DVector<f64>,
-    btb: f64,
     rows: usize,
 }
 
@@ -97,10 +105,11 @@ pub struct Normal {
 pub struct ValidationPoint {
     /// `λ`.
     pub lambda: f64,
-    /// The held-out blocks' whitened mean square error, mean over the blocks (1 is the noise
-    /// level of the fit without prior); infinite where a fit failed.
+    /// The held-out blocks' whitened mean square error, mean over the blocks weighted by their
+    /// samples (1 is the noise level of the fit without prior); infinite where a fit failed.
     pub error: f64,
-    /// Its standard error over the blocks.
+    /// The standard error, over the blocks, of its excess over the least error's (block by
+    /// block: paired); 0 for the least itself.
     pub standard_error: f64,
 }
 
@@ -109,8 +118,9 @@ pub struct ValidationPoint {
 pub struct Validation {
     /// Per `λ` of [`LAMBDA_GRID`].
     pub curve: Vec<ValidationPoint>,
-    /// The largest `λ` whose error is within one standard error of the least (the
-    /// one-standard-error rule: where the data cannot tell weights apart, trust the prior more).
+    /// The largest `λ` whose excess over the least error is within its standard error (the
+    /// one-standard-error rule, on paired differences: where the blocks cannot tell weights
+    /// apart, trust the prior more).
     pub chosen: f64,
 }
 
@@ -143,7 +153,8 @@ impl Problem {
             law.terms() * n,
             (0..n).flat_map(|i| {
                 let torque = rms(&|s| s.tau[i]).max(1e-9);
-                let (velocity, acceleration) = (rms(&|s| s.qd[i]), rms(&|s| s.qdd[i]));
+                // A joint that does not move still gets a (weak) prior on its terms.
+                let (velocity, acceleration) = (rms(&|s| s.qd[i]).max(1e-6), rms(&|s| s.qdd[i]).max(1e-6));
                 [1.0, velocity, 1.0, acceleration].into_iter().take(law.terms()).map(move |x| x / torque)
             }),
         );
@@ -163,7 +174,7 @@ impl Problem {
         let mut full = DMatrix::zeros(a.nrows(), p + f);
         full.columns_mut(0, p).copy_from(&(a.columns(0, r) * &self.to_base));
         full.columns_mut(p, f).copy_from(&a.columns(r, f));
-        Normal { ata: full.transpose() * &full, atb: full.transpose() * &b, btb: b.norm_squared(), rows }
+        Normal { ata: full.transpose() * &full, a: full, b, rows }
     }
 
     /// `Σ_b D(J_b ‖ J_b⁰) + Σ (s f)²`, its gradient and Hessian at `x`; `None` where a body is not
@@ -197,27 +208,62 @@ impl Problem {
 
     /// The objective's data term `(1/M) ‖A x − b‖²` of `normal`.
     fn data(normal: &Normal, x: &DVector<f64>) -> f64 {
-        (x.dot(&(&normal.ata * x)) - 2.0 * x.dot(&normal.atb) + normal.btb) / normal.rows.max(1) as f64
+        (&normal.a * x - &normal.b).norm_squared() / normal.rows.max(1) as f64
     }
 
-    /// The minimiser at `lambda > 0` of the data `normal` plus `λ` times the prior.
+    /// The minimiser at `lambda > 0` of the data `normal` plus `λ` times the prior, followed
+    /// down from the grid's largest weight: each minimiser starts Newton's method for the next
+    /// smaller weight (a path, as interior-point methods follow theirs), so that a small weight,
+    /// whose minimiser may lie near a body's boundary, is reached from nearby.
     pub fn solve(&self, normal: &Normal, lambda: f64) -> Result<PriorFit, FitError> {
+        let mut weights: Vec<f64> = LAMBDA_GRID.iter().rev().copied().filter(|&l| l > lambda).collect();
+        weights.push(lambda);
+        let mut path = self.path(normal, &weights);
+        path.pop().unwrap_or_else(|| Err(FitError::Samples("no prior weight".into())))
+    }
+
+    /// The minimisers at each of `weights` (decreasing), each started from the one before; once
+    /// one fails, the rest start from the prior again.
+    pub fn path(&self, normal: &Normal, weights: &[f64]) -> Vec<Result<PriorFit, FitError>> {
+        let mut start: Option<DVector<f64>> = None;
+        weights
+            .iter()
+            .map(|&lambda| {
+                let found = self.newton(normal, lambda, start.take());
+                if let Ok(fit) = &found {
+                    let mut x = DVector::zeros(self.unknowns());
+                    x.rows_mut(0, fit.parameters.len()).copy_from(&fit.parameters);
+                    x.rows_mut(fit.parameters.len(), fit.friction.len()).copy_from(&fit.friction);
+                    start = Some(x);
+                }
+                found
+            })
+            .collect()
+    }
+
+    /// Newton's method at `lambda` from `start` (the prior if none).
+    fn newton(&self, normal: &Normal, lambda: f64, start: Option<DVector<f64>>) -> Result<PriorFit, FitError> {
         let m = self.unknowns();
         let scale = 1.0 / normal.rows.max(1) as f64;
-        let mut x = DVector::zeros(m);
-        x.rows_mut(0, self.prior_parameters.len()).copy_from(&self.prior_parameters);
+        let mut x = start.unwrap_or_else(|| {
+            let mut x = DVector::zeros(m);
+            x.rows_mut(0, self.prior_parameters.len()).copy_from(&self.prior_parameters);
+            x
+        });
         let objective = |x: &DVector<f64>| self.prior_terms(x).map(|(v, ..)| Self::data(normal, x) + lambda * v);
         let stuck = || FitError::Samples(format!("the fit with prior weight {lambda} found no descent direction"));
         let mut iterations = 0;
         let mut value = objective(&x).ok_or_else(stuck)?;
+        let mut converged = false;
         while iterations < MAX_NEWTON {
             let (_, prior_gradient, prior_hessian) = self.prior_terms(&x).ok_or_else(stuck)?;
-            let gradient = (&normal.ata * &x - &normal.atb) * (2.0 * scale) + prior_gradient * lambda;
+            let gradient = normal.a.tr_mul(&(&normal.a * &x - &normal.b)) * (2.0 * scale) + prior_gradient * lambda;
             let hessian = &normal.ata * (2.0 * scale) + prior_hessian * lambda;
             let step = hessian.clone().cholesky().ok_or_else(stuck)?.solve(&-&gradient);
             let decrement = -gradient.dot(&step);
             iterations += 1;
-            if decrement <= 1e-12 * value.abs().max(1e-12) {
+            if decrement <= 1e-10 * value.abs().max(1e-12) {
+                converged = true;
                 break;
             }
             let mut t = 1.0;
@@ -237,10 +283,16 @@ impl Problem {
                 // Rounding, not the problem, stops the descent once the decrement is this small
                 // against the objective: the point is the minimiser to working precision.
                 if decrement <= 1e-8 * value.abs().max(1e-12) {
+                    converged = true;
                     break;
                 }
                 return Err(stuck());
             }
+        }
+        if !converged {
+            return Err(FitError::Samples(format!(
+                "the fit with prior weight {lambda} did not converge in {MAX_NEWTON} Newton steps"
+            )));
         }
         self.posterior(normal, lambda, x, iterations)
     }
@@ -257,8 +309,11 @@ impl Problem {
         let (_, _, prior_hessian) = self.prior_terms(&x).ok_or_else(|| FitError::Samples("a body left".into()))?;
         let rows = normal.rows.max(1) as f64;
         let information = &normal.ata + prior_hessian * (lambda * rows / 2.0);
-        let covariance = information.try_inverse().unwrap_or_else(|| DMatrix::from_element(p + f, p + f, f64::NAN));
-        let variance = (x.dot(&(&normal.ata * &x)) - 2.0 * x.dot(&normal.atb) + normal.btb).max(0.0) / rows;
+        let covariance = information
+            .try_inverse()
+            .map(|inverse| &inverse * &normal.ata * &inverse)
+            .unwrap_or_else(|| DMatrix::from_element(p + f, p + f, f64::NAN));
+        let variance = (&normal.a * &x - &normal.b).norm_squared() / rows;
         let pi_covariance = covariance.view((0, 0), (p, p));
         let base_covariance = &self.to_base * pi_covariance * self.to_base.transpose();
         Ok(PriorFit {
@@ -359,36 +414,73 @@ pub fn unregularised(triangles: &[DMatrix<f64>], samples: usize) -> Option<(Vec<
     Some((weights, solve(&aw, &bw)?.0))
 }
 
+/// The weights `1/σ_i` from the minimum-norm least-squares fit to `triangles` of `samples`
+/// samples (its residual is the least-squares residual, unique even where the solution is not).
+pub fn minimum_norm_weights(triangles: &[DMatrix<f64>], samples: usize) -> Vec<f64> {
+    let n = triangles.len();
+    let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
+    let (a, b) = stacked(triangles, &vec![1.0; n]);
+    let svd = a.svd(true, true);
+    let tolerance = crate::conditioning::RANK_TOLERANCE * svd.singular_values.max();
+    let theta = svd.solve(&b, tolerance).unwrap_or_else(|_| DVector::zeros(unknowns));
+    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
+    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / dof).sqrt().max(1e-12)).collect()
+}
+
 /// Chooses `λ` from [`LAMBDA_GRID`] by holding out each block of `blocks` in turn (see the
 /// module's notes), with the joint weights `weights` of the whole fitted part.
 pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validation {
-    let curve: Vec<ValidationPoint> = LAMBDA_GRID
-        .iter()
-        .map(|&lambda| {
-            let mut errors = Vec::with_capacity(blocks.len());
-            for k in 0..blocks.len() {
-                let rest: Vec<&Vec<DMatrix<f64>>> =
-                    (0..blocks.len()).filter(|&j| j != k).map(|j| &blocks[j].triangles).collect();
-                let training = joined(&rest);
-                let rows: usize =
-                    (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
-                let normal = problem.normal(&training, weights, rows);
-                let theta = problem.solve(&normal, lambda).ok().map(|fit| base_coordinates(problem, &fit));
-                errors.push(match theta {
-                    Some(theta) => held_out_error(&blocks[k].triangles, weights, &theta, blocks[k].samples),
-                    None => f64::INFINITY,
-                });
-            }
-            let count = errors.len().max(1) as f64;
-            let error = errors.iter().sum::<f64>() / count;
-            let spread = errors.iter().map(|e| (e - error).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
-            ValidationPoint { lambda, error, standard_error: (spread / count).sqrt() }
+    // Per block held out, the path down the grid; then per weight, its errors block by block.
+    let descending: Vec<f64> = LAMBDA_GRID.iter().rev().copied().collect();
+    let by_block: Vec<Vec<f64>> = (0..blocks.len())
+        .map(|k| {
+            let rest: Vec<&Vec<DMatrix<f64>>> =
+                (0..blocks.len()).filter(|&j| j != k).map(|j| &blocks[j].triangles).collect();
+            let training = joined(&rest);
+            let rows: usize =
+                (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
+            let normal = problem.normal(&training, weights, rows);
+            let mut errors: Vec<f64> = problem
+                .path(&normal, &descending)
+                .into_iter()
+                .map(|found| match found {
+                    Ok(fit) => held_out_error(
+                        &blocks[k].triangles,
+                        weights,
+                        &base_coordinates(problem, &fit),
+                        blocks[k].samples,
+                    ),
+                    Err(_) => f64::INFINITY,
+                })
+                .collect();
+            errors.reverse();
+            errors
         })
         .collect();
-    let least = curve.iter().filter(|p| p.error.is_finite()).min_by(|a, b| a.error.total_cmp(&b.error));
-    let chosen = least.map_or(LAMBDA_GRID[LAMBDA_GRID.len() - 1], |least| {
-        let bound = least.error + least.standard_error;
-        curve.iter().filter(|p| p.error <= bound).map(|p| p.lambda).fold(least.lambda, f64::max)
+    let per_block: Vec<Vec<f64>> =
+        (0..LAMBDA_GRID.len()).map(|g| by_block.iter().map(|errors| errors[g]).collect()).collect();
+    let total: f64 = blocks.iter().map(|b| b.samples as f64).sum::<f64>().max(1.0);
+    let mean = |values: &[f64]| values.iter().zip(blocks).map(|(v, b)| v * b.samples as f64).sum::<f64>() / total;
+    let errors: Vec<f64> = per_block.iter().map(|e| mean(e)).collect();
+    let least = (0..errors.len()).filter(|&k| errors[k].is_finite()).min_by(|&a, &b| errors[a].total_cmp(&errors[b]));
+    let curve: Vec<ValidationPoint> = (0..errors.len())
+        .map(|k| {
+            let standard_error = least.map_or(f64::NAN, |m| {
+                let excess: Vec<f64> = per_block[k].iter().zip(&per_block[m]).map(|(a, b)| a - b).collect();
+                let count = excess.len().max(1) as f64;
+                let average = excess.iter().sum::<f64>() / count;
+                let spread = excess.iter().map(|e| (e - average).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
+                (spread / count).sqrt()
+            });
+            ValidationPoint { lambda: LAMBDA_GRID[k], error: errors[k], standard_error }
+        })
+        .collect();
+    let chosen = least.map_or(LAMBDA_GRID[LAMBDA_GRID.len() - 1], |m| {
+        curve
+            .iter()
+            .filter(|p| p.error - curve[m].error <= p.standard_error)
+            .map(|p| p.lambda)
+            .fold(curve[m].lambda, f64::max)
     });
     Validation { curve, chosen }
 }
@@ -396,4 +488,53 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
 /// All blocks' triangles as one set, per joint.
 pub fn whole(blocks: &[Block]) -> Vec<DMatrix<f64>> {
     joined(&blocks.iter().map(|b| &b.triangles).collect::<Vec<_>>())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One 2 kg body (a box about its centre, shifted) and one joint's friction terms.
+    fn problem() -> (Problem, DVector<f64>) {
+        let body = [2.0, 0.2, -0.1, 0.05, 0.08, 0.01, 0.09, -0.02, 0.005, 0.07];
+        let base = BaseParameters::of_stack(&DMatrix::identity(PARAMETERS_PER_BODY, PARAMETERS_PER_BODY));
+        let sample = Sample { q: vec![0.1], qd: vec![0.5], qdd: vec![2.0], tau: vec![3.0] };
+        let law = Law { smoothing_rad_s: 0.05, armature: true };
+        let problem = Problem::new(&base, &DVector::from_row_slice(&body), law, &[sample]);
+        // A physical point off the prior: the body scaled and shifted, friction terms non-zero.
+        let mut x = DVector::from_iterator(14, body.iter().map(|v| v * 1.1).chain([0.4, 0.3, -0.2, 0.05]));
+        x[1] += 0.03;
+        (problem, x)
+    }
+
+    #[test]
+    fn the_prior_is_zero_at_the_nominal_bodies_and_its_derivatives_match_differences() {
+        let (problem, x) = problem();
+        let mut at_prior = DVector::zeros(14);
+        at_prior.rows_mut(0, PARAMETERS_PER_BODY).copy_from(&problem.prior_parameters);
+        let (zero, gradient_zero, _) = problem.prior_terms(&at_prior).unwrap();
+        assert!(zero.abs() < 1e-12 && gradient_zero.amax() < 1e-9, "{zero} {gradient_zero}");
+        let (value, gradient, hessian) = problem.prior_terms(&x).unwrap();
+        assert!(value > 0.0);
+        let h = 1e-6;
+        for k in 0..14 {
+            let step = |sign: f64| {
+                let mut y = x.clone();
+                y[k] += sign * h;
+                problem.prior_terms(&y).unwrap()
+            };
+            let ((plus, g_plus, _), (minus, g_minus, _)) = (step(1.0), step(-1.0));
+            let slope = (plus - minus) / (2.0 * h);
+            assert!((slope - gradient[k]).abs() < 1e-6 * (1.0 + slope.abs()), "∂/∂x{k}: {slope} vs {}", gradient[k]);
+            let column = (g_plus - g_minus) / (2.0 * h);
+            for l in 0..14 {
+                let (want, got) = (column[l], hessian[(l, k)]);
+                assert!((want - got).abs() < 1e-5 * (1.0 + want.abs()), "∂²/∂x{l}∂x{k}: {want} vs {got}");
+            }
+        }
+        // A body that is not physical has no divergence.
+        let mut bad = x.clone();
+        bad[0] = -1.0;
+        assert!(problem.prior_terms(&bad).is_none());
+    }
 }

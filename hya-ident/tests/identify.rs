@@ -323,14 +323,14 @@ fn the_prior_keeps_bodies_physical_recovers_the_truth_and_at_a_large_weight_is_t
     assert!(pinned.friction.amax() < 1e-2 * friction.coulomb_nm[0], "friction {}", pinned.friction.amax());
 
     // λ chosen on held-out blocks: every weight of the grid tried, each fit found; the chosen one
-    // within a standard error of the least error and the largest such; not the nominal model's
-    // extreme (the log here is informative).
+    // the largest whose excess over the least error is within its standard error; not the
+    // nominal model's extreme (the log here is informative).
     let validation = prior::choose(&problem, &blocks, &weights);
     assert_eq!(validation.curve.len(), prior::LAMBDA_GRID.len());
     assert!(validation.curve.iter().all(|p| p.error.is_finite()), "{validation:?}");
     let least = validation.curve.iter().min_by(|a, b| a.error.total_cmp(&b.error)).unwrap();
     let within: Vec<f64> =
-        validation.curve.iter().filter(|p| p.error <= least.error + least.standard_error).map(|p| p.lambda).collect();
+        validation.curve.iter().filter(|p| p.error - least.error <= p.standard_error).map(|p| p.lambda).collect();
     assert_eq!(Some(validation.chosen), within.iter().copied().reduce(f64::max), "{validation:?}");
     assert!(validation.chosen < 1.0, "{validation:?}");
 }

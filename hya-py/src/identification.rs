@@ -62,6 +62,9 @@ pub fn identify<'py>(
     let prior_weight = match prior_weight {
         None => PriorWeight::Fixed(0.0),
         Some(w) if w.extract::<String>().is_ok_and(|s| s == "auto") => PriorWeight::Auto,
+        Some(w) if w.is_instance_of::<pyo3::types::PyBool>() => {
+            return Err(PyValueError::new_err("prior_weight: \"auto\" or a number ≥ 0, not a bool"))
+        }
         Some(w) => PriorWeight::Fixed(
             w.extract::<f64>().map_err(|_| PyValueError::new_err("prior_weight: \"auto\" or a number ≥ 0"))?,
         ),

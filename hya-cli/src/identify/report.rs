@@ -148,9 +148,10 @@ impl Findings<'_> {
                 report,
                 "\nλ was chosen on the data: the fitted part cut into {} blocks in time, each held out in turn and \
                  predicted by a fit to the others. Their whitened mean square error (1 is the noise level of the \
-                 fit; lower is better), with its standard error over the blocks; the chosen λ is the largest \
-                 whose error is within one standard error of the least (where the blocks cannot tell weights \
-                 apart, the prior is trusted more):\n\n| λ | held-out error | standard error |\n|---|---|---|",
+                 fit; lower is better), and the standard error over the blocks of its excess over the least \
+                 error (block by block); the chosen λ is the largest whose excess is within that standard \
+                 error (where the blocks cannot tell weights apart, the prior is trusted more):\n\n\
+                 | λ | held-out error | standard error of the excess |\n|---|---|---|",
                 hya_ident::prior::FOLDS
             );
             for point in &validation.curve {
@@ -161,8 +162,14 @@ impl Findings<'_> {
         }
         let r = self.base.rank();
         let moved = (0..r).filter(|&j| self.moved(j).abs() > 3.0).count();
+        // A base parameter is undetermined when its standard deviation exceeds both its nominal
+        // and its identified magnitude (a zero nominal product of inertia is not flagged for
+        // being zero).
         let undetermined: Vec<String> = (0..r)
-            .filter(|&j| self.fitted.base_std[j] > self.nominal_base[j].abs().max(1e-9))
+            .filter(|&j| {
+                let magnitude = self.nominal_base[j].abs().max(self.fitted.base[j].abs()).max(1e-9);
+                self.fitted.base_std[j] > magnitude
+            })
             .map(|j| j.to_string())
             .collect();
         let _ = writeln!(
@@ -172,8 +179,8 @@ impl Findings<'_> {
             match undetermined.len() {
                 0 => "Every base parameter's standard deviation is below its nominal magnitude.".to_owned(),
                 _ => format!(
-                    "Warning: the log leaves {} of them undetermined (standard deviation above the nominal \
-                     magnitude: # {}); excite them, or trust the prior there.",
+                    "Warning: the log leaves {} of them undetermined (standard deviation above both the \
+                     nominal and the identified magnitude: # {}); excite them before trusting them.",
                     undetermined.len(),
                     undetermined.join(", ")
                 ),
@@ -242,12 +249,22 @@ impl Findings<'_> {
             let names = full.inconsistent_nominal_bodies.iter().map(|&b| model.bodies()[b].link.as_str());
             format!(" The nominal description's inertia of {} is not that of a real body.", hya_urdf::name_list(names))
         };
+        let how = match self.prior_weight {
+            0.0 => format!(
+                "from the nominal ones by {} alternating projections (`hya_ident::physical`); they match the \
+                 identified base parameters to within {mismatch:.2} of their standard deviations",
+                full.iterations
+            ),
+            _ => format!(
+                "found with the prior in {} Newton steps (`hya_ident::prior`): physical by construction, and \
+                 exactly the identified base parameters",
+                full.iterations
+            ),
+        };
         let _ = writeln!(
             report,
             "\n## Bodies (`identified.urdf`)\n\nFull parameters of real bodies (every pseudo-inertia positive \
-             definite), from the nominal ones by {} alternating projections (`hya_ident::physical`); they match \
-             the identified base parameters to within {mismatch:.2} of their standard deviations.{inconsistent}\n",
-            full.iterations,
+             definite), {how}.{inconsistent}\n"
         );
         let _ = writeln!(
             report,

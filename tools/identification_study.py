@@ -124,10 +124,14 @@ def main():
     print("\nOn a second trajectory (`hya excite --seed 2`, 20 s) of the default plant, the first "
           f"{SETTLING_S:.0f} s left out, per joint {', '.join(JOINTS)}:\n")
     models = [("nominal", None, None)]
-    for prior in ("0", "auto"):
-        urdf, friction = (os.path.join(identified + prior, name) for name in ("identified.urdf", "friction.toml"))
+    files = {prior: [os.path.join(identified + prior, name) for name in ("identified.urdf", "friction.toml")]
+             for prior in ("0", "auto")}
+    for prior, (urdf, friction) in files.items():
         models += [(f"identified rigid body (`--prior-weight {prior}`)", urdf, None),
                    (f"identified rigid body and friction (`--prior-weight {prior}`)", urdf, friction)]
+    # The two models' files swapped: which of them, bodies or friction, the loop answers to.
+    models += [("rigid body of `0`, friction of `auto`", files["0"][0], files["auto"][1]),
+               ("rigid body of `auto`, friction of `0`", files["auto"][0], files["0"][1])]
     log = hya(["track", "--robot", "hya", "--seed", PLANT_SEED, "--scenario", scenario(folder, "default")],
               test_reference)
     print("| model | RMS of d̂ on the nominal controller's log (N·m) | tracking RMS, `lu` on this model (mrad) "

@@ -26,6 +26,7 @@ pub mod log;
 pub mod physical;
 pub mod prior;
 pub mod regressor;
+pub mod with_friction;
 
 pub use base::BaseParameters;
 
@@ -47,3 +48,4 @@ pub use identify::{identify, Identification, IdentifyError, Options};
 pub use log::{LogFilter, RowError, Timing};
 pub use physical::{consistent_parameters, is_consistent, Consistent};
 pub use regressor::{body_inertia, body_parameters, nominal_parameters, Regressor, PARAMETERS_PER_BODY};
+pub use with_friction::WithFriction;

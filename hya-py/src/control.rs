@@ -14,6 +14,7 @@ struct BuildController<'a> {
     kp: &'a [f64],
     kd: &'a [f64],
     limit: Option<&'a [f64]>,
+    friction: Option<&'a hya_ident::JointFriction>,
 }
 
 impl ForJoints for BuildController<'_> {
@@ -22,7 +23,7 @@ impl ForJoints for BuildController<'_> {
         let setup = |e: hya_core::Error| PyValueError::new_err(format!("ComputedTorque: {e}"));
         let array = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
         let gains = Gains::diagonal(array(self.kp), array(self.kd)).map_err(setup)?;
-        let mut controller = CoreComputedTorque::new(self.model.nominal::<N>()?, gains);
+        let mut controller = CoreComputedTorque::new(self.model.nominal_with::<N>(self.friction)?, gains);
         if let Some(limit) = self.limit {
             controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
         }
@@ -35,7 +36,9 @@ impl ForJoints for BuildController<'_> {
 ///     τ = M(q) q̈_des + C(q, q̇) + G(q) − K_D (q̇ − q̇_des) − K_P (q − q_des) − d̂
 ///
 /// with diagonal gains kp (N·m/rad) and kd (N·m·s/rad), and per-joint torque limits (N·m) if
-/// given.
+/// given. With `friction` (a `friction.toml` from `hya identify`), the model is
+/// ID + τ_f(q̇) + I_a q̈: the friction a feed-forward at the measured velocity, as a scenario's
+/// `controller.friction_toml` makes it.
 #[pyclass(module = "hya")]
 pub struct ComputedTorque {
     dof: usize,
@@ -45,15 +48,23 @@ pub struct ComputedTorque {
 #[pymethods]
 impl ComputedTorque {
     #[new]
-    #[pyo3(signature = (model, kp, kd, torque_limit=None))]
-    fn new(model: &Model, kp: Vec<f64>, kd: Vec<f64>, torque_limit: Option<Vec<f64>>) -> PyResult<Self> {
+    #[pyo3(signature = (model, kp, kd, torque_limit=None, friction=None))]
+    fn new(
+        model: &Model,
+        kp: Vec<f64>,
+        kd: Vec<f64>,
+        torque_limit: Option<Vec<f64>>,
+        friction: Option<std::path::PathBuf>,
+    ) -> PyResult<Self> {
+        let friction = model.friction_file(friction)?;
         let n = model.dof_count();
         for (name, list) in [("kp", Some(&kp)), ("kd", Some(&kd)), ("torque_limit", torque_limit.as_ref())] {
             if let Some(list) = list.filter(|l| l.len() != n) {
                 return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
             }
         }
-        let build = BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref() };
+        let build =
+            BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref(), friction: friction.as_ref() };
         let inner = crate::model::for_joints(n, build)?;
         Ok(Self { dof: n, inner })
     }

@@ -18,6 +18,8 @@ use crate::value_error;
 struct Build<'a> {
     design: ObserverDesign,
     model: &'a Model,
+    /// The identified joint law added to the model, if any.
+    friction: Option<&'a hya_ident::JointFriction>,
     /// The first sample's time, for the paper's estimator over timestamped samples.
     t0: Option<f64>,
     q0: &'a [f64],
@@ -28,7 +30,7 @@ struct Build<'a> {
 impl ForJoints for Build<'_> {
     type Output = PyResult<Box<dyn SliceObserver>>;
     fn call<const N: usize>(self) -> Self::Output {
-        let nominal = self.model.nominal::<N>()?;
+        let nominal = self.model.nominal_with::<N>(self.friction)?;
         let first = Measurement {
             position: JointVector::from_column_slice(self.q0),
             velocity: Some(JointVector::from_column_slice(self.qd0)),
@@ -84,9 +86,11 @@ struct ObserverCore {
 }
 
 impl ObserverCore {
+    #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
         design: ObserverDesign,
+        friction: Option<hya_ident::JointFriction>,
         t0: Option<f64>,
         q0: Option<&Bound<'_, PyAny>>,
         qd0: Option<&Bound<'_, PyAny>>,
@@ -102,7 +106,7 @@ impl ObserverCore {
             Some(tau0) => tau0,
             None => model.gravity_of(&q0),
         };
-        let build = Build { design, model, t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
+        let build = Build { design, model, friction: friction.as_ref(), t0, q0: &q0, qd0: &qd0, tau0: &tau0 };
         let inner = crate::model::for_joints(n, build)?;
         Ok(Self { dof: n, inner: Mutex::new(inner) })
     }
@@ -196,6 +200,9 @@ fn measurements<'py>(
 ///         filtered exactly over its own length (first-order hold); a step longer than
 ///         100 / max(omega1, omega2) s (2 s by default) restarts the estimator at rest, any
 ///         shorter gap is bridged exactly (the samples either side joined by a straight line).
+///     friction: a `friction.toml` from `hya identify` (or `hya.identify`'s friction written
+///         out): d̂ is then what neither the rigid body nor that joint law explains,
+///         d̂ + τ_f(q̂̇) + I_a q̂̈, as `hya estimate --friction` gives it.
 #[pyclass(module = "hya")]
 pub struct DisturbanceEstimator {
     core: ObserverCore,
@@ -204,7 +211,7 @@ pub struct DisturbanceEstimator {
 #[pymethods]
 impl DisturbanceEstimator {
     #[new]
-    #[pyo3(signature = (model, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001, q0=None, tau0=None, t0=None))]
+    #[pyo3(signature = (model, zeta=0.8, omega1=50.0, omega2=50.0, dt=0.001, q0=None, tau0=None, t0=None, friction=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Model,
@@ -215,9 +222,11 @@ impl DisturbanceEstimator {
         q0: Option<&Bound<'_, PyAny>>,
         tau0: Option<&Bound<'_, PyAny>>,
         t0: Option<f64>,
+        friction: Option<std::path::PathBuf>,
     ) -> PyResult<Self> {
         let params = FilterParams::new(zeta, omega1, omega2, dt).map_err(value_error)?;
-        let core = ObserverCore::new(model, ObserverDesign::Paper(params), t0, q0, None, tau0)?;
+        let friction = model.friction_file(friction)?;
+        let core = ObserverCore::new(model, ObserverDesign::Paper(params), friction, t0, q0, None, tau0)?;
         Ok(Self { core })
     }
 
@@ -279,7 +288,7 @@ macro_rules! observer_class {
                 tau0: Option<&Bound<'_, PyAny>>,
             ) -> PyResult<Self> {
                 let design: fn(f64, f64) -> ObserverDesign = $design;
-                let core = ObserverCore::new(model, design(bandwidth, dt), None, q0, qd0, tau0)?;
+                let core = ObserverCore::new(model, design(bandwidth, dt), None, None, q0, qd0, tau0)?;
                 Ok(Self { core })
             }
 

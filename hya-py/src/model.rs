@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use hya_core::model::TreeModel;
 use hya_core::{Dynamics, SliceDynamics};
+use hya_ident::{JointFriction, WithFriction};
 use hya_robots::RobotInfo;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::{PyKeyError, PyValueError};
@@ -67,6 +68,29 @@ impl Model {
                 .map(|d| Arc::new(d) as _)
                 .map_err(|e| value_error(e.to_string())),
         }
+    }
+
+    /// [`Self::nominal`] with the identified joint law `friction` added where given
+    /// (`ID + τ_f(q̇) + I_a q̈`, as `hya estimate --friction` and a scenario's
+    /// `controller.friction_toml` add it).
+    pub fn nominal_with<const N: usize>(
+        &self,
+        friction: Option<&JointFriction>,
+    ) -> PyResult<Arc<dyn Dynamics<N> + Send + Sync>> {
+        let rigid = self.nominal::<N>()?;
+        Ok(match friction {
+            None => rigid,
+            Some(friction) => Arc::new(WithFriction::new(rigid, friction.clone())),
+        })
+    }
+
+    /// The friction file at `path` (from `hya identify`), checked for this model's joints.
+    pub fn friction_file(&self, path: Option<std::path::PathBuf>) -> PyResult<Option<JointFriction>> {
+        path.map(|path| {
+            JointFriction::from_file(&path, self.dof_count())
+                .map_err(|e| PyValueError::new_err(format!("friction: {e}")))
+        })
+        .transpose()
     }
 
     /// The shipped robot's name, or the URDF's path.

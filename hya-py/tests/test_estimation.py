@@ -142,3 +142,33 @@ def test_a_urdf_model_is_used_as_loaded_not_reloaded_from_its_path(tmp_path, mon
     np.testing.assert_allclose(estimator.disturbance, np.zeros(3), atol=1e-12)
     controller = hya.ComputedTorque(model, kp=[1.0] * 3, kd=[1.0] * 3)
     np.testing.assert_allclose(controller.command(q0, np.zeros(3), q0), model.gravity(q0), atol=1e-12)
+
+
+def test_an_identified_friction_file_adds_its_joint_law_at_the_filtered_motion(tmp_path, rng):
+    # d̂ with the file minus d̂ without it is τ_f(q̂̇) + I_a q̂̈, the filter's own q̂̇ and q̂̈ (the
+    # paper's filter on q, started at rest at q0, as the estimator's is).
+    model = hya.Model.builtin("hya")
+    q, _, tau = log(model, rng)
+    coulomb, viscous, offset, armature = [1.5, 1.2, 0.8, 0.6, 0.3, 0.2], [0.5] * 6, [0.1] * 6, [0.02] * 6
+    friction = tmp_path / "friction.toml"
+    friction.write_text(
+        "smoothing_rad_s = 0.05\n"
+        f"coulomb_nm = {coulomb}\nviscous_nm_s = {viscous}\noffset_nm = {offset}\narmature_kg_m2 = {armature}\n"
+    )
+    rigid = hya.DisturbanceEstimator(model, q0=q[0], tau0=tau[0]).run(q, tau)
+    with_law = hya.DisturbanceEstimator(model, q0=q[0], tau0=tau[0], friction=str(friction)).run(q, tau)
+    filt = hya.ThirdOrderFilter(list(q[0]))
+    # The estimator filters each row before it forms d̂: the state after row k.
+    states = [filt.step(list(qk)) for qk in q]
+    qd_hat = np.array([filt_state[1] for filt_state in states])
+    qdd_hat = np.array([filt_state[2] for filt_state in states])
+    law = (np.array(coulomb) * np.tanh(qd_hat / 0.05) + np.array(viscous) * qd_hat + np.array(offset)
+           + np.array(armature) * qdd_hat)
+    np.testing.assert_allclose(with_law - rigid, law, rtol=0, atol=1e-9)
+    with pytest.raises(ValueError, match="friction"):
+        hya.DisturbanceEstimator(model, friction=str(tmp_path / "missing.toml"))
+    controller = hya.ComputedTorque(model, [100.0] * 6, [20.0] * 6, friction=str(friction))
+    plain = hya.ComputedTorque(model, [100.0] * 6, [20.0] * 6)
+    qd = [0.1] * 6
+    added = np.array(controller.command(list(q[0]), qd, list(q[0]))) - np.array(plain.command(list(q[0]), qd, list(q[0])))
+    np.testing.assert_allclose(added, np.array(coulomb) * np.tanh(0.1 / 0.05) + 0.5 * 0.1 + 0.1, rtol=0, atol=1e-12)

@@ -54,6 +54,7 @@ class DisturbanceEstimator:
         q0: Optional[ArrayLike] = None,
         tau0: Optional[ArrayLike] = None,
         t0: Optional[float] = None,
+        friction: Optional[str] = None,
     ) -> None: ...
     def update(self, q: ArrayLike, tau: ArrayLike, t: Optional[float] = None) -> Array: ...
     def run(self, q_log: ArrayLike, tau_log: ArrayLike, t: Optional[ArrayLike] = None) -> Array: ...
@@ -96,7 +97,12 @@ class ComputedTorque:
     """τ = M q̈_des + C + G − K_D ė − K_P e − d̂."""
 
     def __init__(
-        self, model: Model, kp: Sequence[float], kd: Sequence[float], torque_limit: Optional[Sequence[float]] = None
+        self,
+        model: Model,
+        kp: Sequence[float],
+        kd: Sequence[float],
+        torque_limit: Optional[Sequence[float]] = None,
+        friction: Optional[str] = None,
     ) -> None: ...
     def command(
         self,
@@ -119,6 +125,8 @@ def identify(
     held_out: float = 0.25,
     smoothing_rad_s: float = 0.05,
     bandwidth_rad_s: float = 50.0,
+    prior_weight: Union[str, float, None] = None,
+    armature: bool = False,
 ) -> Dict[str, Any]:
     """Base parameters and joint friction of `model` from a log's rows of q (rad) and tau (N·m),
     one per dt, or at the times t with dt their nominal step: what `hya identify` finds from the

@@ -216,28 +216,54 @@ pub fn fit_with(
     law: Law,
 ) -> Result<Fit, FitError> {
     let n = samples.first().map_or(0, |s| s.q.len());
-    let terms = law.terms();
-    let unknowns = base.rank() + terms * n;
-    if n == 0 || n * samples.len() < 2 * unknowns {
+    enough_rows(n, samples.len(), base.rank() + law.terms() * n)?;
+    fit_reduced(&reduced(regressor, base, samples, law)?, base, law, samples.len())
+}
+
+/// At least twice as many rows (`joints × samples`) as unknowns.
+fn enough_rows(joints: usize, samples: usize, unknowns: usize) -> Result<(), FitError> {
+    if joints == 0 || joints * samples < 2 * unknowns {
         return Err(FitError::Samples(format!(
-            "{} samples of {n} joints give {} rows; fitting {unknowns} unknowns needs at least {}",
-            samples.len(),
-            n * samples.len(),
+            "{samples} samples of {joints} joints give {} rows; fitting {unknowns} unknowns needs at least {}",
+            joints * samples,
             2 * unknowns
         )));
     }
-    let triangles = reduced(regressor, base, samples, law)?;
-    let (a, b) = stacked(&triangles, &vec![1.0; n]);
-    let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&a).rank, unknowns };
-    let (first, _) = solve(&a, &b).ok_or_else(rank_deficient)?;
-    let dof_per_joint = (samples.len() as f64 - unknowns as f64 / n as f64).max(1.0);
-    let sigma: Vec<f64> =
-        triangles.iter().map(|t| (residual_squares(t, &first) / dof_per_joint).sqrt().max(1e-12)).collect();
-    let weights: Vec<f64> = sigma.iter().map(|s| 1.0 / s).collect();
-    let (aw, bw) = stacked(&triangles, &weights);
+    Ok(())
+}
+
+/// Each joint's weight `1/σ_i`, `σ_i²` its residual per degree of freedom in the unweighted
+/// least-squares fit to `triangles` of `samples` samples. The residual is unique even where the
+/// solution is not, so the minimum-norm solution serves a log that does not determine every
+/// unknown (an armature that moves exactly as a link's inertia).
+pub(crate) fn joint_weights(triangles: &[DMatrix<f64>], samples: usize) -> Vec<f64> {
+    let n = triangles.len();
+    let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
+    let (a, b) = stacked(triangles, &vec![1.0; n]);
+    let svd = a.svd(true, true);
+    let tolerance = crate::conditioning::RANK_TOLERANCE * svd.singular_values.max();
+    let theta = svd.solve(&b, tolerance).unwrap_or_else(|_| DVector::zeros(unknowns));
+    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
+    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / dof).sqrt().max(1e-12)).collect()
+}
+
+/// [`fit_with`] on the joints' triangles of `samples` samples, already reduced ([`reduced`]).
+pub(crate) fn fit_reduced(
+    triangles: &[DMatrix<f64>],
+    base: &BaseParameters,
+    law: Law,
+    samples: usize,
+) -> Result<Fit, FitError> {
+    let n = triangles.len();
+    let terms = law.terms();
+    let unknowns = base.rank() + terms * n;
+    enough_rows(n, samples, unknowns)?;
+    let weights = joint_weights(triangles, samples);
+    let (aw, bw) = stacked(triangles, &weights);
+    let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&aw).rank, unknowns };
     let (theta, inverse) = solve(&aw, &bw).ok_or_else(rank_deficient)?;
     let weighted_squares: f64 = triangles.iter().zip(&weights).map(|(t, w)| w * w * residual_squares(t, &theta)).sum();
-    let variance = weighted_squares / (n * samples.len() - unknowns) as f64;
+    let variance = weighted_squares / (n * samples - unknowns) as f64;
     let std = inverse.diagonal().map(|d| (variance * d).sqrt());
     let r = base.rank();
     Ok(Fit {
@@ -245,10 +271,7 @@ pub fn fit_with(
         base_std: std.rows(0, r).into_owned(),
         friction: law.friction(&theta.as_slice()[r..]),
         friction_std: std.as_slice()[r..].chunks(terms).map(<[f64]>::to_vec).collect(),
-        residual_rms_nm: triangles
-            .iter()
-            .map(|t| (residual_squares(t, &theta) / samples.len() as f64).sqrt())
-            .collect(),
+        residual_rms_nm: triangles.iter().map(|t| (residual_squares(t, &theta) / samples as f64).sqrt()).collect(),
         conditioning: Conditioning::of(&aw),
     })
 }

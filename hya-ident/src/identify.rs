@@ -10,7 +10,7 @@ use hya_core::Short;
 use nalgebra::DVector;
 
 use crate::conditioning::Conditioning;
-use crate::fit::{fit_with, residual_squares, stacked, Fit, FitError, Law, Sample};
+use crate::fit::{fit_reduced, joint_weights, reduced, residual_squares, stacked, Fit, FitError, Law, Sample};
 use crate::log::Filtered;
 use crate::physical::{consistent_parameters, is_consistent, Consistent};
 use crate::prior::{self, Problem, Validation};
@@ -184,25 +184,29 @@ pub fn identify(
     let (fitted_part, held_out) = log.samples.split_at(split);
     let nominal = nominal_parameters(model);
     let problem = Problem::new(base, &nominal, law, fitted_part);
-    // The fitted part's triangles: whole, or in blocks to choose λ on.
-    let (lambda, validation, triangles) = match options.prior_weight {
-        PriorWeight::Fixed(0.0) => (0.0, None, None),
-        PriorWeight::Fixed(lambda) => (lambda, None, Some(crate::fit::reduced(regressor, base, fitted_part, law)?)),
+    // The fitted part's rows reduced once (in blocks to choose λ on), and its joint weights.
+    let samples = fitted_part.len();
+    let (triangles, blocks) = match options.prior_weight {
+        PriorWeight::Fixed(_) => (reduced(regressor, base, fitted_part, law)?, Vec::new()),
         PriorWeight::Auto => {
             let blocks = prior::blocks(regressor, base, fitted_part, law)?;
-            let triangles = prior::whole(&blocks);
-            let weights = joint_weights(&triangles, fitted_part.len());
-            let validation = prior::choose(&problem, &blocks, &weights);
-            (validation.chosen, Some(validation), Some(triangles))
+            (prior::whole(&blocks), blocks)
         }
     };
-    let (fitted, full) = match triangles.filter(|_| lambda > 0.0) {
-        None => {
-            let fitted = fit_with(regressor, base, fitted_part, law)?;
-            let full = consistent_parameters(base, &nominal, &fitted.base);
-            (fitted, full)
+    let weights = joint_weights(&triangles, samples);
+    let (lambda, validation) = match options.prior_weight {
+        PriorWeight::Fixed(lambda) => (lambda, None),
+        PriorWeight::Auto => {
+            let validation = prior::choose(&problem, &blocks, &weights);
+            (validation.chosen, Some(validation))
         }
-        Some(triangles) => regularised(&problem, base, &triangles, fitted_part.len(), lambda, &nominal)?,
+    };
+    let (fitted, full) = if lambda > 0.0 {
+        regularised(&problem, base, &triangles, &weights, samples, lambda, &nominal)?
+    } else {
+        let fitted = fit_reduced(&triangles, base, law, samples)?;
+        let full = consistent_parameters(base, &nominal, &fitted.base);
+        (fitted, full)
     };
     // What the files predict: the bodies of `identified.urdf` (whose base parameters miss the
     // fitted ones where no physical bodies give those) and `friction.toml`.
@@ -212,7 +216,7 @@ pub fn identify(
         .map(|s| Ok(as_written.predict(regressor, base, s)?.as_slice().to_vec()))
         .collect::<Result<_, IdentifyError>>()?;
     // The baseline, where the log determines the joint law alone; NaN where it does not.
-    let nominal_with_friction = match friction_on_nominal(&problem, regressor, base, fitted_part, &nominal) {
+    let nominal_with_friction = match friction_on_nominal(&problem, base, &triangles, samples, &nominal) {
         Ok(alone) => held_out
             .iter()
             .map(|s| Ok(alone.predict(regressor, base, s)?.as_slice().to_vec()))
@@ -234,26 +238,19 @@ pub fn identify(
     })
 }
 
-/// Each joint's weight `1/σ_i` from the fit without prior on `triangles` of `samples` samples:
-/// its residual is unique even where the log does not determine the solution (an armature that
-/// moves exactly as a link's inertia), so the minimum-norm least-squares solution serves then.
-fn joint_weights(triangles: &[nalgebra::DMatrix<f64>], samples: usize) -> Vec<f64> {
-    prior::unregularised(triangles, samples).map_or_else(|| prior::minimum_norm_weights(triangles, samples), |(w, _)| w)
-}
-
 /// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples, and its
 /// bodies (physical by construction).
 fn regularised(
     problem: &Problem,
     base: &BaseParameters,
     triangles: &[nalgebra::DMatrix<f64>],
+    weights: &[f64],
     samples: usize,
     lambda: f64,
     nominal: &DVector<f64>,
 ) -> Result<(Fit, Consistent), IdentifyError> {
     let law = problem.law();
-    let weights = joint_weights(triangles, samples);
-    let normal = problem.normal(triangles, &weights, samples * triangles.len());
+    let normal = problem.normal(triangles, weights, samples * triangles.len());
     let found = problem.solve(&normal, lambda)?;
     let theta = prior::base_coordinates(problem, &found);
     let r = base.rank();
@@ -266,7 +263,7 @@ fn regularised(
             .iter()
             .map(|t| (residual_squares(t, &theta) / samples.max(1) as f64).sqrt())
             .collect(),
-        conditioning: Conditioning::of(&stacked(triangles, &weights).0),
+        conditioning: Conditioning::of(&stacked(triangles, weights).0),
     };
     let bodies = nominal.len() / PARAMETERS_PER_BODY;
     let body = |b: usize| &nominal.as_slice()[b * PARAMETERS_PER_BODY..][..PARAMETERS_PER_BODY];
@@ -284,13 +281,12 @@ fn regularised(
 /// terms (the joints do not share them).
 fn friction_on_nominal(
     problem: &Problem,
-    regressor: &Regressor<'_>,
     base: &BaseParameters,
-    samples: &[Sample],
+    triangles: &[nalgebra::DMatrix<f64>],
+    samples: usize,
     nominal: &DVector<f64>,
 ) -> Result<Fit, IdentifyError> {
     let law = problem.law();
-    let triangles = crate::fit::reduced(regressor, base, samples, law)?;
     let (r, t) = (base.rank(), law.terms());
     let prior_base = base.of_parameters(nominal);
     let mut terms = vec![0.0; t * triangles.len()];
@@ -312,7 +308,7 @@ fn friction_on_nominal(
         friction_std: terms_std,
         residual_rms_nm: triangles
             .iter()
-            .map(|t| (residual_squares(t, &theta) / samples.len().max(1) as f64).sqrt())
+            .map(|t| (residual_squares(t, &theta) / samples.max(1) as f64).sqrt())
             .collect(),
         conditioning: Conditioning { rank: r, condition_number: f64::NAN },
     })

@@ -32,7 +32,7 @@
 use nalgebra::{DMatrix, DVector, Matrix4};
 
 use crate::base::BaseParameters;
-use crate::fit::{reduced, residual_squares, solve, stacked, FitError, Law, Sample};
+use crate::fit::{reduced, residual_squares, stacked, FitError, Law, Sample};
 use crate::physical::pseudo_inertia;
 use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
 
@@ -398,33 +398,6 @@ fn held_out_error(held_out: &[DMatrix<f64>], weights: &[f64], theta: &DVector<f6
 pub fn base_coordinates(problem: &Problem, fit: &PriorFit) -> DVector<f64> {
     let base = &problem.to_base * &fit.parameters;
     DVector::from_iterator(base.len() + fit.friction.len(), base.iter().chain(fit.friction.iter()).copied())
-}
-
-/// The weights `1/σ_i` of an unregularised fit to `triangles` of `samples` samples, and its
-/// solution; `None` if the triangles do not determine the base parameters.
-pub fn unregularised(triangles: &[DMatrix<f64>], samples: usize) -> Option<(Vec<f64>, DVector<f64>)> {
-    let n = triangles.len();
-    let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
-    let (a, b) = stacked(triangles, &vec![1.0; n]);
-    let (first, _) = solve(&a, &b)?;
-    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
-    let weights: Vec<f64> =
-        triangles.iter().map(|t| 1.0 / (residual_squares(t, &first) / dof).sqrt().max(1e-12)).collect();
-    let (aw, bw) = stacked(triangles, &weights);
-    Some((weights, solve(&aw, &bw)?.0))
-}
-
-/// The weights `1/σ_i` from the minimum-norm least-squares fit to `triangles` of `samples`
-/// samples (its residual is the least-squares residual, unique even where the solution is not).
-pub fn minimum_norm_weights(triangles: &[DMatrix<f64>], samples: usize) -> Vec<f64> {
-    let n = triangles.len();
-    let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
-    let (a, b) = stacked(triangles, &vec![1.0; n]);
-    let svd = a.svd(true, true);
-    let tolerance = crate::conditioning::RANK_TOLERANCE * svd.singular_values.max();
-    let theta = svd.solve(&b, tolerance).unwrap_or_else(|_| DVector::zeros(unknowns));
-    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
-    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / dof).sqrt().max(1e-12)).collect()
 }
 
 /// Chooses `λ` from [`LAMBDA_GRID`] by holding out each block of `blocks` in turn (see the

@@ -255,6 +255,21 @@ HyaStatus hya_model_from_arm(const char *name, HyaModel **out);
 // `path` is null or a NUL-terminated string; `out` is null or writable.
 HyaStatus hya_model_from_urdf(const char *path, HyaModel **out);
 
+// Makes a new model: `model` with the joint law that `hya identify` wrote to the file at `path`
+// (`friction.toml`: Coulomb, viscous and offset per joint, and the armature `I_a` where it has
+// one). Its inverse dynamics is `ID(q, q̇, q̈) + τ_f(q̇) + I_a q̈` and its mass matrix
+// `M(q) + diag(I_a)`, so estimators made from it estimate what the law leaves unexplained, as
+// `hya estimate --friction` does, and controllers made from it feed the law forward at the
+// measured velocity. `model` is unchanged. On `HYA_OK`, `*out` is a new handle for
+// `hya_model_free`; otherwise `*out` is null and `hya_last_error` names the file, the key and
+// the value (a list of the wrong length for this model's joints, a value out of its plausible
+// range).
+//
+// # Safety
+// `model` is null or a live handle; `path` is null or a NUL-terminated string; `out` is null or
+// writable.
+HyaStatus hya_model_with_friction(const HyaModel *model, const char *path, HyaModel **out);
+
 // Frees a model (null is a no-op). Estimators, observers and controllers made from it stay
 // valid.
 //

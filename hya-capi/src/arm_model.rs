@@ -13,6 +13,7 @@ use hya_core::observers::{ExtendedStateObserver, MomentumObserver, NonlinearDist
 use hya_core::{
     ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, TimedEstimator,
 };
+use hya_ident::{JointFriction, WithFriction};
 use hya_robots::{with_arm, Arm, ForArm};
 
 use crate::status::Failure;
@@ -46,6 +47,9 @@ pub(crate) trait ArmModel: Send {
     fn observer(&self, spec: ObserverSpec<'_>) -> Result<Box<dyn SliceObserver>, Error>;
     /// A computed-torque controller with diagonal gains.
     fn controller(&self, kp: &[f64], kd: &[f64], placement: PdPlacement) -> Result<Box<dyn SliceController>, Error>;
+    /// This model with the identified joint law added (`hya_ident::WithFriction`), the friction
+    /// checked for this model's joints by its reader.
+    fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel>;
 }
 
 /// Which baseline observer to make, with its parameters (slices of the model's length).
@@ -118,6 +122,9 @@ impl<const N: usize> ArmModel for Fixed<N> {
         gains[1].copy_from_slice(kd);
         let gains = Gains::diagonal(gains[0], gains[1])?;
         Ok(Box::new(ComputedTorque::new(self.dynamics.clone(), gains).with_placement(placement)))
+    }
+    fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel> {
+        Box::new(Fixed::<N> { dynamics: Arc::new(WithFriction::new(self.dynamics.clone(), friction)) })
     }
 }
 

@@ -57,6 +57,9 @@ pub(crate) enum Failure {
     Load(hya_urdf::LoadError),
     /// The run-time model refused the description.
     Model(hya_core::model::ModelError),
+    /// The friction file (from `hya identify`) could not be read or was refused; the message
+    /// names the file, the key and the value.
+    Friction(String),
     /// An estimator stepped the other way than it was made for.
     Stepping { called: &'static str, needs: &'static str, made_by: &'static str, use_instead: &'static str },
     /// A pointer that is not a live handle of the kind expected.
@@ -83,7 +86,7 @@ impl Failure {
                 | hya_core::Error::Unsupported(_) => HyaStatus::HyaErrInvalid,
                 _ => HyaStatus::HyaErrNumeric,
             },
-            Failure::Load(_) | Failure::Model(_) => HyaStatus::HyaErrModel,
+            Failure::Load(_) | Failure::Model(_) | Failure::Friction(_) => HyaStatus::HyaErrModel,
             Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,
         }
@@ -112,6 +115,7 @@ impl fmt::Display for Failure {
             Failure::Core(e) => write!(f, "{e}"),
             Failure::Load(e) => write!(f, "{e}"),
             Failure::Model(e) => write!(f, "{e}"),
+            Failure::Friction(e) => write!(f, "friction: {e}"),
             Failure::Stepping { called, needs, made_by, use_instead } => write!(
                 f,
                 "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"

@@ -333,3 +333,43 @@ fn a_urdf_model_equals_the_loaded_tree() {
     }
     hya_core::dispatch::with_joints(dof, Tree(model, loaded.model)).unwrap();
 }
+
+/// A model with an identified joint law (`hya_model_with_friction`) equals `hya_ident::WithFriction`
+/// over the same file: dynamics, and the estimator, observers and controllers made from it.
+#[test]
+fn a_model_with_friction_equals_the_rust_model_with_friction() {
+    let dir = std::env::temp_dir().join(format!("hya-capi-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("friction.toml");
+    std::fs::write(
+        &path,
+        "smoothing_rad_s = 0.05\ncoulomb_nm = [2.0, 0.7]\nviscous_nm_s = [1.5, 0.4]\noffset_nm = [0.3, -0.1]\n\
+         armature_kg_m2 = [0.2, 0.05]\n",
+    )
+    .unwrap();
+    let friction = hya_ident::JointFriction::from_file(&path, 2).unwrap();
+    let rigid = hya_robots::nominal::<2>("planar2").unwrap();
+    let rust = hya_ident::WithFriction::new(rigid, friction);
+
+    let (base, c_path) = (planar2_model(), CString::new(path.to_str().unwrap()).unwrap());
+    let mut model = null_mut();
+    // SAFETY: a live model, a NUL-terminated path and a writable output; each handle freed once.
+    unsafe {
+        ok(hya_model_with_friction(base, c_path.as_ptr(), &mut model), last_error);
+        hya_model_free(base);
+    }
+    let compare = Compare { model, rust: &rust, name: "planar2 with friction" };
+    let mut seq = Sequence(11);
+    compare.dynamics(&mut seq);
+    compare.closed_loop(&mut seq);
+    // SAFETY: a live model, freed once.
+    unsafe { hya_model_free(model) };
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn planar2_model() -> *mut HyaModel {
+    let mut model = null_mut();
+    // SAFETY: a NUL-terminated name and a writable output.
+    unsafe { ok(hya_model_from_arm(c"planar2".as_ptr(), &mut model), last_error) };
+    model
+}

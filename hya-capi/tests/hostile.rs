@@ -86,6 +86,54 @@ fn bad_models_are_refused_with_a_reason() {
     }
 }
 
+/// The friction files every front end refuses (hya-ident's corpus, for a 2-joint arm), and a
+/// missing file, each named in the message; the model given stays usable.
+#[test]
+fn bad_friction_files_are_refused_with_a_reason() {
+    let base = planar2();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../hya-ident/tests/friction/refused");
+    let mut files = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let expect = std::fs::read_to_string(&path).unwrap();
+        let expect = expect.lines().next().and_then(|l| l.strip_prefix("# expect: ")).unwrap().to_owned();
+        let file = path.file_name().unwrap().to_str().unwrap();
+        let c_path = CString::new(path.to_str().unwrap()).unwrap();
+        let mut model = null_mut();
+        // SAFETY: a live model, a NUL-terminated path and a writable output.
+        let status = unsafe { hya_model_with_friction(base, c_path.as_ptr(), &mut model) };
+        let words: Vec<&str> = std::iter::once(file).chain(expect.split(" | ")).collect();
+        refused(status, HyaStatus::HyaErrModel, &text(hya_last_error()), &words);
+        assert!(model.is_null(), "a failed creation leaves *out null");
+        files += 1;
+    }
+    assert!(files >= 9, "the corpus was not found");
+    let mut model = null_mut();
+    // SAFETY: a live model or null, NUL-terminated paths or null, writable outputs.
+    unsafe {
+        refused(
+            hya_model_with_friction(base, c"/nonexistent/friction.toml".as_ptr(), &mut model),
+            HyaStatus::HyaErrModel,
+            &text(hya_last_error()),
+            &["/nonexistent/friction.toml"],
+        );
+        refused(
+            hya_model_with_friction(base, null(), &mut model),
+            HyaStatus::HyaErrNull,
+            &text(hya_last_error()),
+            &["path"],
+        );
+        refused(
+            hya_model_with_friction(null(), c"friction.toml".as_ptr(), &mut model),
+            HyaStatus::HyaErrNull,
+            &text(hya_last_error()),
+            &["model"],
+        );
+        assert_eq!(hya_model_dof(base), 2, "the model given is unchanged");
+        hya_model_free(base);
+    }
+}
+
 #[test]
 fn bad_dynamics_calls_are_refused() {
     let model = planar2();

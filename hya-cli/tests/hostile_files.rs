@@ -68,3 +68,22 @@ fn no_command_blocks_on_a_fifo() {
     exits_with_message(&["run", scenario.to_str().unwrap(), "--out", out], &["named pipe"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The friction files every front end refuses (hya-ident's corpus, for a 2-joint arm; each
+/// file's first line lists the words its message must hold), refused by `hya estimate` before
+/// it reads a row.
+#[test]
+fn bad_friction_files_are_refused_as_the_library_refuses_them() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hya-ident/tests/friction/refused");
+    let mut files = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expect = text.lines().next().and_then(|l| l.strip_prefix("# expect: ")).unwrap();
+        let file = path.file_name().unwrap().to_str().unwrap();
+        let words: Vec<&str> = std::iter::once(file).chain(expect.split(" | ")).collect();
+        exits_with_message(&["estimate", "--robot", "planar2", "--friction", path.to_str().unwrap()], &words);
+        files += 1;
+    }
+    assert!(files >= 9, "the corpus was not found");
+}

@@ -153,6 +153,27 @@ mod tests {
     const TWO_JOINTS: &str = "smoothing_rad_s = 0.05\ncoulomb_nm = [1.5, 0.8]\n# a comment\n\
                               viscous_nm_s = [0.6, 0.3]\noffset_nm = [0.1, -0.2]\n";
 
+    /// The shared corpus of refused friction files (`tests/friction/refused/`, for a 2-joint
+    /// arm; each file's first line `# expect: a | b` lists words its message must hold), which
+    /// the CLI, the C ABI and Python are each held to as well.
+    #[test]
+    fn the_refused_corpus_is_refused_naming_the_file_and_the_problem() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/friction/refused");
+        let mut files = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let expect = text.lines().next().and_then(|l| l.strip_prefix("# expect: ")).unwrap();
+            let message = JointFriction::from_file(&path, 2).expect_err(&path.display().to_string());
+            let file = path.file_name().unwrap().to_str().unwrap();
+            for word in std::iter::once(file).chain(expect.split(" | ")) {
+                assert!(message.contains(word), "{file}: `{message}` does not mention `{word}`");
+            }
+            files += 1;
+        }
+        assert!(files >= 9, "the corpus in {} was not found", dir.display());
+    }
+
     #[test]
     fn what_it_writes_reads_back() {
         let f = JointFriction::from_toml(TWO_JOINTS, 2).unwrap();

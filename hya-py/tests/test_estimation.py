@@ -1,5 +1,7 @@
 """The estimator, observers, filter and controller: a log run in one call equals stepping it,
 the estimator follows a disturbance it is shown, and bad input is refused without harm."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -172,3 +174,24 @@ def test_an_identified_friction_file_adds_its_joint_law_at_the_filtered_motion(t
     qd = [0.1] * 6
     added = np.array(controller.command(list(q[0]), qd, list(q[0]))) - np.array(plain.command(list(q[0]), qd, list(q[0])))
     np.testing.assert_allclose(added, np.array(coulomb) * np.tanh(0.1 / 0.05) + 0.5 * 0.1 + 0.1, rtol=0, atol=1e-12)
+
+
+REFUSED_FRICTION = Path(__file__).resolve().parents[2] / "hya-ident" / "tests" / "friction" / "refused"
+
+
+@pytest.mark.parametrize("path", sorted(REFUSED_FRICTION.glob("*.toml")), ids=lambda p: p.name)
+def test_bad_friction_files_are_refused_as_the_library_refuses_them(path):
+    # hya-ident's corpus, for a 2-joint arm: each file's first line lists the words its message
+    # must hold; the CLI and the C ABI are held to the same files.
+    words = [path.name] + path.read_text().splitlines()[0].removeprefix("# expect: ").split(" | ")
+    model = hya.Model.builtin("planar2")
+    for make in (lambda: hya.DisturbanceEstimator(model, friction=str(path)),
+                 lambda: hya.ComputedTorque(model, [1.0] * 2, [1.0] * 2, friction=str(path))):
+        with pytest.raises(ValueError) as refused:
+            make()
+        for word in words:
+            assert word in str(refused.value), f"{refused.value!s} lacks {word!r}"
+
+
+def test_the_refused_friction_corpus_is_there():
+    assert len(list(REFUSED_FRICTION.glob("*.toml"))) >= 9

@@ -8,9 +8,23 @@
 //! stacked over the samples into `W θ = τ`, `θ = (π_b, c, v, o[, I_a])`, with `s` the friction's
 //! smoothing velocity and `I_a` the optional armature (reflected motor inertia). A first ordinary least-squares solve gives each joint's residual
 //! variance `σ_i²`; each joint's rows are then weighted by `1/σ_i` and solved again, so that a
-//! noisy joint does not drown a quiet one. The parameters' standard deviations are the
-//! square roots of the diagonal of `σ̂² (W_wᵀ W_w)⁻¹` of the weighted system, with `σ̂²` its
-//! residual variance; they hold for noise that is white and independent between samples.
+//! noisy joint does not drown a quiet one.
+//!
+//! The parameters' standard deviations are the spread of the estimate over the log's errors,
+//! estimated from the log itself in [`SPREAD_PARTS`] contiguous parts in time (a cluster-robust
+//! sandwich, as in Liang and Zeger's and Newey and West's estimators):
+//!
+//! ```text
+//! Cov θ̂ = (W_wᵀ W_w)⁻¹ [P/(P−1) Σ_p (g_p − ḡ)(g_p − ḡ)ᵀ] (W_wᵀ W_w)⁻¹,   g_p = W_w,pᵀ (W_w,p θ̂ − τ_w,p)
+//! ```
+//!
+//! with `g_p` part `p`'s share of the weighted normal equations' residual. For errors white and
+//! independent between samples this estimates `σ̂² (W_wᵀ W_w)⁻¹`; the samples of a log are
+//! filtered (the torque and the accelerations through the same low-pass filters) and the model
+//! misses what it misses along the trajectory, so its errors are correlated over tens of
+//! samples, which shrinks the white formula's deviations several times over. Parts in time hold
+//! that correlation inside a part; what stays correlated across parts (an error that repeats
+//! with the trajectory) it does not see.
 //!
 //! No physical consistency is imposed here: base parameters are combinations of the bodies'
 //! parameters and have no such constraint of their own.
@@ -74,6 +88,65 @@ pub enum FitError {
 
 /// Samples whose rows are reduced together: a block of regressor rows per joint, then one QR.
 const BLOCK_SAMPLES: usize = 512;
+
+/// The contiguous parts in time the standard deviations are estimated over (see the module's
+/// notes): enough for the variances' own spread (about `1/√(2(P−1))` relative, 13 %), few
+/// enough that a part is long against the filters' memory.
+pub const SPREAD_PARTS: usize = 32;
+
+/// `samples` cut into `count` contiguous parts (fewer if there are fewer samples), each reduced
+/// to its joint triangles ([`reduced`]).
+pub(crate) fn reduced_parts(
+    regressor: &Regressor<'_>,
+    base: &BaseParameters,
+    samples: &[Sample],
+    law: Law,
+    count: usize,
+) -> Result<Vec<Vec<DMatrix<f64>>>, FitError> {
+    let size = samples.len().div_ceil(count.max(1)).max(1);
+    samples.chunks(size).map(|part| reduced(regressor, base, part, law)).collect()
+}
+
+/// One triangle per joint of all `parts` (each part's joint triangles) stacked: the triangles
+/// of their samples together.
+pub(crate) fn joined(parts: &[&[DMatrix<f64>]]) -> Vec<DMatrix<f64>> {
+    let joints = parts.first().map_or(0, |p| p.len());
+    (0..joints)
+        .map(|i| {
+            let columns = parts[0][i].ncols();
+            let rows: usize = parts.iter().map(|p| p[i].nrows()).sum();
+            let mut stack = DMatrix::zeros(rows, columns);
+            let mut at = 0;
+            for part in parts {
+                stack.rows_mut(at, part[i].nrows()).copy_from(&part[i]);
+                at += part[i].nrows();
+            }
+            stack.qr().r()
+        })
+        .collect()
+}
+
+/// `P/(P−1) Σ_p (g_p − ḡ)(g_p − ḡ)ᵀ` over `parts` (each part's joint triangles), with
+/// `g_p = Σ_i w_i² W_p,iᵀ (W_p,i θ − τ_p,i)`, from the triangles alone (`[W τ]ᵀ[W τ] = RᵀR`).
+pub(crate) fn score_spread(parts: &[&[DMatrix<f64>]], weights: &[f64], theta: &DVector<f64>) -> DMatrix<f64> {
+    let unknowns = theta.len();
+    let scores: Vec<DVector<f64>> = parts
+        .iter()
+        .map(|triangles| {
+            triangles.iter().zip(weights).fold(DVector::zeros(unknowns), |g, (t, w)| {
+                let w_part = t.columns(0, unknowns);
+                g + w_part.tr_mul(&(w_part * theta - t.column(unknowns))) * (w * w)
+            })
+        })
+        .collect();
+    let count = scores.len() as f64;
+    let mean = scores.iter().fold(DVector::zeros(unknowns), |m, g| m + g) / count.max(1.0);
+    let spread = scores.iter().fold(DMatrix::zeros(unknowns, unknowns), |s, g| {
+        let centred = g - &mean;
+        s + &centred * centred.transpose()
+    });
+    spread * (count / (count - 1.0).max(1.0))
+}
 
 /// Each joint's rows of the stacked system `[W τ]`, reduced by orthogonal transformations to an
 /// upper triangle `R_i` of at most `unknowns + 1` rows (a streamed, "tall and skinny" QR):
@@ -217,7 +290,9 @@ pub fn fit_with(
 ) -> Result<Fit, FitError> {
     let n = samples.first().map_or(0, |s| s.q.len());
     enough_rows(n, samples.len(), base.rank() + law.terms() * n)?;
-    fit_reduced(&reduced(regressor, base, samples, law)?, base, law, samples.len())
+    let parts = reduced_parts(regressor, base, samples, law, SPREAD_PARTS)?;
+    let parts: Vec<&[DMatrix<f64>]> = parts.iter().map(Vec::as_slice).collect();
+    fit_reduced(&joined(&parts), &parts, base, law, samples.len())
 }
 
 /// At least twice as many rows (`joints × samples`) as unknowns.
@@ -247,9 +322,11 @@ pub(crate) fn joint_weights(triangles: &[DMatrix<f64>], samples: usize) -> Vec<f
     triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / dof).sqrt().max(1e-12)).collect()
 }
 
-/// [`fit_with`] on the joints' triangles of `samples` samples, already reduced ([`reduced`]).
+/// [`fit_with`] on the joints' triangles of `samples` samples, already reduced ([`reduced`]),
+/// and of the contiguous `parts` they join ([`joined`]), for the standard deviations.
 pub(crate) fn fit_reduced(
     triangles: &[DMatrix<f64>],
+    parts: &[&[DMatrix<f64>]],
     base: &BaseParameters,
     law: Law,
     samples: usize,
@@ -262,9 +339,8 @@ pub(crate) fn fit_reduced(
     let (aw, bw) = stacked(triangles, &weights);
     let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&aw).rank, unknowns };
     let (theta, inverse) = solve(&aw, &bw).ok_or_else(rank_deficient)?;
-    let weighted_squares: f64 = triangles.iter().zip(&weights).map(|(t, w)| w * w * residual_squares(t, &theta)).sum();
-    let variance = weighted_squares / (n * samples - unknowns) as f64;
-    let std = inverse.diagonal().map(|d| (variance * d).sqrt());
+    let covariance = &inverse * score_spread(parts, &weights, &theta) * &inverse;
+    let std = covariance.diagonal().map(|d| d.max(0.0).sqrt());
     let r = base.rank();
     Ok(Fit {
         base: theta.rows(0, r).into_owned(),

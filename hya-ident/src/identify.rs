@@ -10,7 +10,7 @@ use hya_core::Short;
 use nalgebra::DVector;
 
 use crate::conditioning::Conditioning;
-use crate::fit::{fit_reduced, joint_weights, reduced, residual_squares, stacked, Fit, FitError, Law, Sample};
+use crate::fit::{fit_reduced, joint_weights, residual_squares, stacked, Fit, FitError, Law, Sample};
 use crate::log::Filtered;
 use crate::physical::{consistent_parameters, is_consistent, Consistent};
 use crate::prior::{self, Problem, Validation};
@@ -186,13 +186,9 @@ pub fn identify(
     let problem = Problem::new(base, &nominal, law, fitted_part);
     // The fitted part's rows reduced once (in blocks to choose λ on), and its joint weights.
     let samples = fitted_part.len();
-    let (triangles, blocks) = match options.prior_weight {
-        PriorWeight::Fixed(_) => (reduced(regressor, base, fitted_part, law)?, Vec::new()),
-        PriorWeight::Auto => {
-            let blocks = prior::blocks(regressor, base, fitted_part, law)?;
-            (prior::whole(&blocks), blocks)
-        }
-    };
+    // In blocks to choose λ on and in the parts that the standard deviations are estimated over.
+    let blocks = prior::blocks(regressor, base, fitted_part, law)?;
+    let (triangles, parts) = (prior::whole(&blocks), prior::parts(&blocks));
     let weights = joint_weights(&triangles, samples);
     let (lambda, validation) = match options.prior_weight {
         PriorWeight::Fixed(lambda) => (lambda, None),
@@ -202,9 +198,9 @@ pub fn identify(
         }
     };
     let (fitted, full) = if lambda > 0.0 {
-        regularised(&problem, base, &triangles, &weights, samples, lambda, &nominal)?
+        regularised(&problem, base, (&triangles, &parts), &weights, samples, lambda, &nominal)?
     } else {
-        let fitted = fit_reduced(&triangles, base, law, samples)?;
+        let fitted = fit_reduced(&triangles, &parts, base, law, samples)?;
         let full = consistent_parameters(base, &nominal, &fitted.base);
         (fitted, full)
     };
@@ -238,12 +234,12 @@ pub fn identify(
     })
 }
 
-/// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples, and its
-/// bodies (physical by construction).
+/// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples (which join
+/// `parts`, for the standard deviations), and its bodies (physical by construction).
 fn regularised(
     problem: &Problem,
     base: &BaseParameters,
-    triangles: &[nalgebra::DMatrix<f64>],
+    (triangles, parts): (&[nalgebra::DMatrix<f64>], &[&[nalgebra::DMatrix<f64>]]),
     weights: &[f64],
     samples: usize,
     lambda: f64,
@@ -251,7 +247,7 @@ fn regularised(
 ) -> Result<(Fit, Consistent), IdentifyError> {
     let law = problem.law();
     let normal = problem.normal(triangles, weights, samples * triangles.len());
-    let found = problem.solve(&normal, lambda)?;
+    let found = problem.spread_over(&normal, problem.solve(&normal, lambda)?, parts, weights)?;
     let theta = prior::base_coordinates(problem, &found);
     let r = base.rank();
     let fitted = Fit {

@@ -32,7 +32,7 @@
 use nalgebra::{DMatrix, DVector, Matrix4};
 
 use crate::base::BaseParameters;
-use crate::fit::{reduced, residual_squares, stacked, FitError, Law, Sample};
+use crate::fit::{joined, reduced_parts, residual_squares, stacked, FitError, Law, Sample, SPREAD_PARTS};
 use crate::physical::pseudo_inertia;
 use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
 
@@ -77,9 +77,11 @@ pub struct PriorFit {
     /// The friction terms `f`, `law.terms()` per joint.
     pub friction: DVector<f64>,
     /// Standard deviations of `K π` (the base parameters) and of `f`: the spread of the estimate
-    /// over the noise of the log, `σ̂² H⁻¹ AᵀA H⁻¹` with `H = AᵀA + λ M/2 ∇²prior` of the whitened
-    /// problem (the prior is not counted as evidence: a direction only the prior fixes has a small
-    /// spread, not a small error).
+    /// over the errors of the log, `H⁻¹ S H⁻¹` with `H = AᵀA + λ M/2 ∇²prior` of the whitened
+    /// problem and `S` the spread of its data term's gradient: `σ̂² AᵀA` for white errors
+    /// ([`Problem::solve`]), or estimated over contiguous parts of the log
+    /// ([`Problem::spread_over`]). The prior is not counted as evidence: a direction only the
+    /// prior fixes has a small spread, not a small error.
     pub base_std: DVector<f64>,
     /// Of `f`.
     pub friction_std: DVector<f64>,
@@ -294,16 +296,41 @@ impl Problem {
                 "the fit with prior weight {lambda} did not converge in {MAX_NEWTON} Newton steps"
             )));
         }
-        self.posterior(normal, lambda, x, iterations)
+        let rows = normal.rows.max(1) as f64;
+        let white = &normal.ata * ((&normal.a * &x - &normal.b).norm_squared() / rows);
+        self.posterior(normal, lambda, x, iterations, &white)
     }
 
-    /// The fit at `x` with its standard deviations.
+    /// `fit` (of `normal`, whose triangles join the contiguous `parts`, each part's joint
+    /// triangles) with its standard deviations estimated over the parts, as [`crate::fit`](mod@crate::fit)'s
+    /// are, instead of taking the errors as white: the parts' scores taken to `(π, f)` through
+    /// `T: (π, f) ↦ (K π, f)`.
+    pub fn spread_over(
+        &self,
+        normal: &Normal,
+        fit: PriorFit,
+        parts: &[&[DMatrix<f64>]],
+        weights: &[f64],
+    ) -> Result<PriorFit, FitError> {
+        let (p, f) = (self.prior_parameters.len(), self.friction_scale.len());
+        let r = self.to_base.nrows();
+        let mut t = DMatrix::zeros(r + f, p + f);
+        t.view_mut((0, 0), (r, p)).copy_from(&self.to_base);
+        t.view_mut((r, p), (f, f)).fill_with_identity();
+        let x = DVector::from_iterator(p + f, fit.parameters.iter().chain(fit.friction.iter()).copied());
+        let spread = t.transpose() * crate::fit::score_spread(parts, weights, &(&t * &x)) * &t;
+        self.posterior(normal, fit.lambda, x, fit.iterations, &spread)
+    }
+
+    /// The fit at `x` with its standard deviations, `H⁻¹ S H⁻¹` for the spread `S` of the data
+    /// term's gradient.
     fn posterior(
         &self,
         normal: &Normal,
         lambda: f64,
         x: DVector<f64>,
         iterations: usize,
+        spread: &DMatrix<f64>,
     ) -> Result<PriorFit, FitError> {
         let (p, f) = (self.prior_parameters.len(), self.friction_scale.len());
         let (_, _, prior_hessian) = self.prior_terms(&x).ok_or_else(|| FitError::Samples("a body left".into()))?;
@@ -311,15 +338,14 @@ impl Problem {
         let information = &normal.ata + prior_hessian * (lambda * rows / 2.0);
         let covariance = information
             .try_inverse()
-            .map(|inverse| &inverse * &normal.ata * &inverse)
+            .map(|inverse| &inverse * spread * &inverse)
             .unwrap_or_else(|| DMatrix::from_element(p + f, p + f, f64::NAN));
-        let variance = (&normal.a * &x - &normal.b).norm_squared() / rows;
         let pi_covariance = covariance.view((0, 0), (p, p));
         let base_covariance = &self.to_base * pi_covariance * self.to_base.transpose();
         Ok(PriorFit {
             lambda,
-            base_std: base_covariance.diagonal().map(|d| (variance * d.max(0.0)).sqrt()),
-            friction_std: DVector::from_fn(f, |k, _| (variance * covariance[(p + k, p + k)].max(0.0)).sqrt()),
+            base_std: base_covariance.diagonal().map(|d| d.max(0.0).sqrt()),
+            friction_std: DVector::from_fn(f, |k, _| covariance[(p + k, p + k)].max(0.0).sqrt()),
             parameters: x.rows(0, p).into_owned(),
             friction: x.rows(p, f).into_owned(),
             iterations,
@@ -347,24 +373,6 @@ fn positive_definite(j: &Matrix4<f64>) -> Matrix4<f64> {
         * eigen.eigenvectors.transpose()
 }
 
-/// A joint triangle per joint of `parts` stacked (each part's triangles, joint by joint).
-fn joined(parts: &[&Vec<DMatrix<f64>>]) -> Vec<DMatrix<f64>> {
-    let joints = parts.first().map_or(0, |p| p.len());
-    (0..joints)
-        .map(|i| {
-            let columns = parts[0][i].ncols();
-            let rows: usize = parts.iter().map(|p| p[i].nrows()).sum();
-            let mut stack = DMatrix::zeros(rows, columns);
-            let mut at = 0;
-            for part in parts {
-                stack.rows_mut(at, part[i].nrows()).copy_from(&part[i]);
-                at += part[i].nrows();
-            }
-            stack.qr().r()
-        })
-        .collect()
-}
-
 /// One contiguous block of samples, reduced: its joint triangles and how many samples it holds.
 #[derive(Debug, Clone)]
 pub struct Block {
@@ -372,9 +380,13 @@ pub struct Block {
     pub triangles: Vec<DMatrix<f64>>,
     /// Its samples.
     pub samples: usize,
+    /// Its contiguous parts' triangles, which it joins: every block's together are the
+    /// [`SPREAD_PARTS`] parts the standard deviations are estimated over.
+    pub parts: Vec<Vec<DMatrix<f64>>>,
 }
 
-/// The blocks of `samples`: [`FOLDS`] contiguous ones.
+/// The blocks of `samples`: [`FOLDS`] contiguous ones, each reduced in its share of
+/// [`SPREAD_PARTS`] parts and joined.
 pub fn blocks(
     regressor: &Regressor<'_>,
     base: &BaseParameters,
@@ -384,8 +396,17 @@ pub fn blocks(
     let size = samples.len().div_ceil(FOLDS).max(1);
     samples
         .chunks(size)
-        .map(|block| Ok(Block { triangles: reduced(regressor, base, block, law)?, samples: block.len() }))
+        .map(|block| {
+            let parts = reduced_parts(regressor, base, block, law, SPREAD_PARTS / FOLDS)?;
+            let triangles = joined(&parts.iter().map(Vec::as_slice).collect::<Vec<_>>());
+            Ok(Block { triangles, samples: block.len(), parts })
+        })
         .collect()
+}
+
+/// Every part of every block, in order in time.
+pub fn parts(blocks: &[Block]) -> Vec<&[DMatrix<f64>]> {
+    blocks.iter().flat_map(|b| b.parts.iter().map(Vec::as_slice)).collect()
 }
 
 /// The whitened mean square error of `(π, f)` on the triangles `held_out` of `samples` samples.
@@ -407,8 +428,8 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
     let descending: Vec<f64> = LAMBDA_GRID.iter().rev().copied().collect();
     let by_block: Vec<Vec<f64>> = (0..blocks.len())
         .map(|k| {
-            let rest: Vec<&Vec<DMatrix<f64>>> =
-                (0..blocks.len()).filter(|&j| j != k).map(|j| &blocks[j].triangles).collect();
+            let rest: Vec<&[DMatrix<f64>]> =
+                (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].triangles.as_slice()).collect();
             let training = joined(&rest);
             let rows: usize =
                 (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
@@ -460,7 +481,7 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
 
 /// All blocks' triangles as one set, per joint.
 pub fn whole(blocks: &[Block]) -> Vec<DMatrix<f64>> {
-    joined(&blocks.iter().map(|b| &b.triangles).collect::<Vec<_>>())
+    joined(&blocks.iter().map(|b| b.triangles.as_slice()).collect::<Vec<_>>())
 }
 
 #[cfg(test)]

@@ -194,8 +194,9 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
              while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
              noise alike): {} samples fitted, the last {} held out. {} base parameters of {} and {} friction \
              terms, by weighted least squares{}; condition number of the weighted system {:.3e}. Standard \
-             deviations assume the remaining noise white; the filters' lag adds a bias they do not count. \
-             Torques are compared after the same filter.",
+             deviations are the spread of the residual's share over {} contiguous parts of the fitted samples \
+             (a cluster-robust sandwich), so errors correlated within a part count; the filters' lag adds a \
+             bias they do not count. Torques are compared after the same filter.",
             log.log.rows,
             if args.timestamps { " with timestamps" } else { "" },
             Short(log.dt_s),
@@ -213,7 +214,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             regressor.columns(),
             terms * n,
             if found.prior_weight > 0.0 { " pulled toward the nominal model (see Prior)" } else { "" },
-            fitted.conditioning.condition_number
+            fitted.conditioning.condition_number,
+            hya_ident::fit::SPREAD_PARTS
         ),
     };
 

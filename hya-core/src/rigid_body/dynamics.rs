@@ -86,6 +86,29 @@ pub trait Dynamics<const N: usize> {
         Ok(cholesky.solve(&(tau - bias)))
     }
 
+    /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `(q, q̇, τ)` (`M⁻¹ = ∂q̈/∂τ`); row `i` of
+    /// each is `∂q̈_i`. Differentiating `ID(q, q̇, q̈) = τ` at `q̈ = FD(q, q̇, τ)` (Carpentier and
+    /// Mansard, RSS 2018):
+    ///
+    /// ```text
+    /// ∂q̈/∂q = −M⁻¹ ∂ID/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂ID/∂q̇   (both at q̈ = FD(q, q̇, τ))
+    /// ```
+    ///
+    /// so the cost is one forward dynamics, one [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives)
+    /// and one Cholesky inverse of `M`. [`Error::SingularMassMatrix`] where `M` is not positive
+    /// definite.
+    fn forward_dynamics_derivatives(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        tau: &JointVector<N>,
+    ) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
+        let qdd = self.forward_dynamics(q, qd, tau)?;
+        let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, &qdd);
+        let inverse = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
+        Ok((-(inverse * by_q), -(inverse * by_qd), inverse))
+    }
+
     /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.
     ///
     /// Batches take one slice of joint vectors per argument (an array of structures: state `k`
@@ -203,6 +226,14 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
     ) -> Result<JointVector<N>, Error> {
         (**self).forward_dynamics(q, qd, tau)
     }
+    fn forward_dynamics_derivatives(
+        &self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        tau: &JointVector<N>,
+    ) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
+        (**self).forward_dynamics_derivatives(q, qd, tau)
+    }
     fn inverse_dynamics_batch(
         &self,
         q: &[JointVector<N>],
@@ -268,6 +299,16 @@ pub trait SliceDynamics {
         d_dq: &mut [f64],
         d_dqd: &mut [f64],
     );
+
+    /// `∂q̈/∂q`, `∂q̈/∂q̇` and `M⁻¹` at `(q, q̇, τ)`, each `dof²`, row-major (row `i` is `∂q̈_i`;
+    /// see [`Dynamics::forward_dynamics_derivatives`]); an error where the mass matrix is singular.
+    fn forward_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        outputs: [&mut [f64]; 3],
+    ) -> Result<(), Error>;
 
     /// [`inverse_dynamics_into`](Self::inverse_dynamics_into) of many states, rows of
     /// [`dof`](Self::dof) values one after another (row-major `count × dof`); `tau` sets the
@@ -356,6 +397,21 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
         // Row-major: the transposes' column-major storage.
         d_dq.copy_from_slice(by_q.transpose().as_slice());
         d_dqd.copy_from_slice(by_qd.transpose().as_slice());
+    }
+    fn forward_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        outputs: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [q, qd, tau] = [q, qd, tau].map(JointVector::<N>::from_column_slice);
+        let (by_q, by_qd, inverse) = self.0.forward_dynamics_derivatives(&q, &qd, &tau)?;
+        for (out, matrix) in outputs.into_iter().zip([by_q, by_qd, inverse]) {
+            // Row-major: the transpose's column-major storage.
+            out.copy_from_slice(matrix.transpose().as_slice());
+        }
+        Ok(())
     }
     fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
         check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;

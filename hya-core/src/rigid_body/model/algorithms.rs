@@ -35,7 +35,7 @@ impl<S: Real> Inertias<S> for ModelInertias<'_> {
     }
 }
 
-fn check_len<T>(model: &TreeModel, what: &'static str, values: &[T]) -> Result<(), ModelError> {
+pub(super) fn check_len<T>(model: &TreeModel, what: &'static str, values: &[T]) -> Result<(), ModelError> {
     if values.len() == model.dof() {
         Ok(())
     } else {

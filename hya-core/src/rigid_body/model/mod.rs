@@ -17,6 +17,7 @@ use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 
 pub mod algorithms;
 pub mod derivatives;
+mod kinematics;
 mod workspace;
 
 use algorithms::ModelInertias;
@@ -334,40 +335,6 @@ impl TreeModel {
         Ok(placements)
     }
 
-    fn frame(&self, name: &str) -> Result<&Frame, ModelError> {
-        self.frames.iter().find(|f| f.name == name).ok_or_else(|| ModelError::UnknownFrame(name.into()))
-    }
-
-    /// Pose of the named frame in the base at `q`: as a transform from base to frame, so its
-    /// [`orientation`](Transform::orientation) and `translation` are the frame's axes and origin.
-    pub fn frame_pose(&self, frame: &str, q: &[f64]) -> Result<Transform, ModelError> {
-        let placements = self.body_placements(q)?;
-        let frame = self.frame(frame)?;
-        let body = frame.body.map_or(Transform::identity(), |b| placements[b]);
-        Ok(body.then(&frame.placement))
-    }
-
-    /// Geometric Jacobian of the named frame at `q`, in base coordinates: rows 0..3 map `q̇` to
-    /// the linear velocity of the frame's origin, rows 3..6 to its angular velocity.
-    pub fn frame_jacobian(&self, frame: &str, q: &[f64]) -> Result<DMatrix<f64>, ModelError> {
-        let placements = self.body_placements(q)?;
-        let target = self.frame(frame)?;
-        let origin = target.body.map_or(Transform::identity(), |b| placements[b]).then(&target.placement).translation;
-        let mut jacobian = DMatrix::zeros(6, self.dof());
-        let mut next = target.body;
-        while let Some(j) = next {
-            let axis = placements[j].orientation() * self.bodies[j].axis;
-            let (linear, angular) = match self.bodies[j].kind {
-                JointKind::Revolute => (axis.cross(&(origin - placements[j].translation)), axis),
-                JointKind::Prismatic => (axis, Vector3::zeros()),
-            };
-            jacobian.fixed_view_mut::<3, 1>(0, j).copy_from(&linear);
-            jacobian.fixed_view_mut::<3, 1>(3, j).copy_from(&angular);
-            next = self.bodies[j].parent;
-        }
-        Ok(jacobian)
-    }
-
     /// The same model with every body's inertia replaced by `f(body index, inertia)`.
     pub fn map_inertias(&self, mut f: impl FnMut(usize, &RigidBodyInertia) -> RigidBodyInertia) -> TreeModel {
         let mut model = self.clone();
@@ -441,6 +408,29 @@ impl crate::SliceDynamics for TreeModel {
         d_dqd: &mut [f64],
     ) {
         self.derivatives_into((q, qd, qdd), d_dq, d_dqd).expect(SLICE_CONTRACT);
+    }
+    /// As [`Dynamics::forward_dynamics_derivatives`]: `−M⁻¹ ∂ID/∂(q, q̇)` at `q̈ = FD(q, q̇, τ)`.
+    fn forward_dynamics_derivatives_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        [by_q, by_qd, inverse]: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let n = self.dof();
+        let mut qdd = vec![0.0; n];
+        self.forward_dynamics_into(q, qd, tau, &mut qdd)?;
+        self.inverse_dynamics_derivatives_into(q, qd, &qdd, by_q, by_qd);
+        self.mass_matrix_into(q, inverse);
+        let mass = DMatrix::from_row_slice(n, n, inverse);
+        let mass_inverse = mass.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
+        // Row-major in and out: the transposes' column-major storage.
+        for out in [by_q, by_qd] {
+            let product = -(&mass_inverse * DMatrix::from_row_slice(n, n, out));
+            out.copy_from_slice(product.transpose().as_slice());
+        }
+        inverse.copy_from_slice(mass_inverse.transpose().as_slice());
+        Ok(())
     }
 }
 

@@ -15,6 +15,7 @@ mod experiments;
 mod filter;
 mod generate;
 mod identify;
+mod kinematics;
 mod open_loop;
 mod rigid_body;
 mod sweep;
@@ -57,7 +58,15 @@ enum Command {
     /// `--derivatives`, each row also holds `∂τ/∂q` and `∂τ/∂q̇`, row-major.
     Id(rigid_body::IdArgs),
     /// Forward dynamics by the articulated-body algorithm: rows `q qd τ` to rows `q̈`.
-    Fd(rigid_body::RobotArgs),
+    ///
+    /// With `--derivatives`, rows `∂q̈/∂q`, `∂q̈/∂q̇` and `M⁻¹`, each row-major.
+    Fd(rigid_body::FdArgs),
+    /// A frame's geometric Jacobian: rows `q` to rows `J` (6 × n, row-major, world-aligned: the
+    /// linear velocity of the frame's origin, then the angular velocity, in the base's axes).
+    ///
+    /// With `--bias`, rows `q q̇` to rows `J̇ q̇` (the frame origin's classical acceleration and
+    /// its angular acceleration at `q̈ = 0`). The run-time kinematic tree of the model.
+    Jacobian(kinematics::JacobianArgs),
     /// Mass matrix: rows `q` to rows `M`, row-major.
     Mass(rigid_body::RobotArgs),
     /// Gravity torques: rows `q` to rows `G`.
@@ -120,7 +129,11 @@ fn main() -> ExitCode {
             let (quantity, robot) = args.quantity();
             rigid_body::run(quantity, robot, stdin, &mut stdout)
         }
-        Command::Fd(args) => rigid_body::run(rigid_body::Quantity::ForwardDynamics, &args, stdin, &mut stdout),
+        Command::Fd(args) => {
+            let (quantity, robot) = args.quantity();
+            rigid_body::run(quantity, robot, stdin, &mut stdout)
+        }
+        Command::Jacobian(args) => kinematics::run(&args, stdin, &mut stdout),
         Command::Generate(args) => generate::run(&args, &mut stdout),
         Command::Excite(args) => excite::run(&args, &mut stdout),
         Command::Identify(args) => identify::run(&args, stdin),

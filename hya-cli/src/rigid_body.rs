@@ -1,5 +1,5 @@
-//! `hya robots`, `hya id [--derivatives]`, `hya fd`, `hya mass`, `hya gravity`: rigid-body
-//! dynamics from the shell.
+//! `hya robots`, `hya id [--derivatives]`, `hya fd [--derivatives]`, `hya mass`, `hya gravity`:
+//! rigid-body dynamics from the shell.
 
 use std::io::{BufRead, Write};
 
@@ -41,6 +41,25 @@ impl IdArgs {
     /// What `hya id` computes, and for which robot.
     pub fn quantity(&self) -> (Quantity, &RobotArgs) {
         let quantity = if self.derivatives { Quantity::Derivatives } else { Quantity::InverseDynamics };
+        (quantity, &self.robot)
+    }
+}
+
+/// Parameters of `hya fd`.
+#[derive(Debug, clap::Args)]
+pub struct FdArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+    /// Print instead of `q̈` its derivatives `∂q̈/∂q`, `∂q̈/∂q̇` and `M⁻¹` (= `∂q̈/∂τ`), each
+    /// row-major (row i is ∂q̈_i), all on one line.
+    #[arg(long)]
+    derivatives: bool,
+}
+
+impl FdArgs {
+    /// What `hya fd` computes, and for which robot.
+    pub fn quantity(&self) -> (Quantity, &RobotArgs) {
+        let quantity = if self.derivatives { Quantity::FdDerivatives } else { Quantity::ForwardDynamics };
         (quantity, &self.robot)
     }
 }
@@ -122,6 +141,8 @@ pub enum Quantity {
     ForwardDynamics,
     /// Rows `q qd qdd` to `τ`, `∂τ/∂q`, `∂τ/∂q̇`.
     Derivatives,
+    /// Rows `q qd τ` to `∂q̈/∂q`, `∂q̈/∂q̇`, `M⁻¹`.
+    FdDerivatives,
 }
 
 impl Quantity {
@@ -133,7 +154,7 @@ impl Quantity {
             Self::InverseDynamics | Self::Derivatives => {
                 ([q, qd, joints.columns("qdd", Unit::Acceleration)].concat(), "q, qd, qdd: one per joint each")
             }
-            Self::ForwardDynamics => {
+            Self::ForwardDynamics | Self::FdDerivatives => {
                 ([q, qd, joints.columns("tau", Unit::Effort)].concat(), "q, qd, tau: one per joint each")
             }
             Self::MassMatrix | Self::Gravity => (q, "q: one per joint"),
@@ -146,6 +167,7 @@ impl Quantity {
     fn output(self, joints: &Joints) -> Vec<Column> {
         let effort = |i| Unit::Effort.of(i);
         let position = |j| Unit::Position.of(j);
+        let acceleration = |i| Unit::Acceleration.of(i);
         match self {
             Self::InverseDynamics => joints.columns("tau", Unit::Effort),
             Self::Gravity => joints.columns("g", Unit::Effort),
@@ -155,6 +177,12 @@ impl Quantity {
                 joints.columns("tau", Unit::Effort),
                 joints.pairs("dtau_dq", |i, j| format!("{}/{}", effort(i), position(j))),
                 joints.pairs("dtau_dqd", |i, j| format!("{} s/{}", effort(i), position(j))),
+            ]
+            .concat(),
+            Self::FdDerivatives => [
+                joints.pairs("dqdd_dq", |i, j| format!("{}/{}", acceleration(i), position(j))),
+                joints.pairs("dqdd_dqd", |i, j| format!("{} s/{}", acceleration(i), position(j))),
+                joints.pairs("Minv", |i, j| format!("{}/({})", acceleration(i), effort(j))),
             ]
             .concat(),
         }
@@ -167,35 +195,51 @@ pub fn run(quantity: Quantity, args: &RobotArgs, input: impl BufRead, output: &m
     let dynamics = source.dynamics();
     let n = dynamics.dof();
     let (wanted, what) = quantity.input(&joints);
-    let mut table = Table::new(input, args.columns.spec()?, wanted, what.to_string())?;
-    let mut writer = RowWriter::new(output, quantity.output(&joints), args.header.header());
-    let mut result = vec![
-        0.0;
+    let table = Table::new(input, args.columns.spec()?, wanted, what.to_string())?;
+    let writer = RowWriter::new(output, quantity.output(&joints), args.header.header());
+    let width = match quantity {
+        Quantity::MassMatrix => n * n,
+        Quantity::Derivatives => n + 2 * n * n,
+        Quantity::FdDerivatives => 3 * n * n,
+        _ => n,
+    };
+    each_row(table, writer, width, |v, result| {
+        let (a, b, c) = (&v[..n.min(v.len())], v.get(n..2 * n).unwrap_or(&[]), v.get(2 * n..).unwrap_or(&[]));
         match quantity {
-            Quantity::MassMatrix => n * n,
-            Quantity::Derivatives => n + 2 * n * n,
-            _ => n,
-        }
-    ];
-    while let Some(line) = table.next_line() {
-        let line = line?;
-        let v = table.values();
-        match quantity {
-            Quantity::InverseDynamics => {
-                dynamics.inverse_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
-            }
-            Quantity::MassMatrix => dynamics.mass_matrix_into(v, &mut result),
-            Quantity::Gravity => dynamics.gravity_into(v, &mut result),
-            Quantity::ForwardDynamics => dynamics
-                .forward_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], &mut result)
-                .map_err(|e| CliError::Input(format!("line {line}: {e}")))?,
+            Quantity::InverseDynamics => dynamics.inverse_dynamics_into(a, b, c, result),
+            Quantity::MassMatrix => dynamics.mass_matrix_into(v, result),
+            Quantity::Gravity => dynamics.gravity_into(v, result),
+            Quantity::ForwardDynamics => dynamics.forward_dynamics_into(a, b, c, result).map_err(|e| e.to_string())?,
             Quantity::Derivatives => {
                 let (tau, rest) = result.split_at_mut(n);
                 let (by_q, by_qd) = rest.split_at_mut(n * n);
-                dynamics.inverse_dynamics_into(&v[..n], &v[n..2 * n], &v[2 * n..], tau);
-                dynamics.inverse_dynamics_derivatives_into(&v[..n], &v[n..2 * n], &v[2 * n..], by_q, by_qd);
+                dynamics.inverse_dynamics_into(a, b, c, tau);
+                dynamics.inverse_dynamics_derivatives_into(a, b, c, by_q, by_qd);
+            }
+            Quantity::FdDerivatives => {
+                let (by_q, rest) = result.split_at_mut(n * n);
+                let (by_qd, inverse) = rest.split_at_mut(n * n);
+                dynamics
+                    .forward_dynamics_derivatives_into(a, b, c, [by_q, by_qd, inverse])
+                    .map_err(|e| e.to_string())?
             }
         }
+        Ok(())
+    })
+}
+
+/// Writes, for every row of `table`, the `width` values `compute` makes of its values; an error
+/// names the line (`compute`'s own, or a value that is not finite).
+pub(crate) fn each_row(
+    mut table: Table<impl BufRead>,
+    mut writer: RowWriter<impl Write>,
+    width: usize,
+    mut compute: impl FnMut(&[f64], &mut [f64]) -> Result<(), String>,
+) -> Result<(), CliError> {
+    let mut result = vec![0.0; width];
+    while let Some(line) = table.next_line() {
+        let line = line?;
+        compute(table.values(), &mut result).map_err(|e| CliError::Input(format!("line {line}: {e}")))?;
         if let Some(j) = result.iter().position(|v| !v.is_finite()) {
             return Err(CliError::Input(format!(
                 "line {line}: the result overflows (entry {} is {}): the inputs are beyond what the model can evaluate",

@@ -1,4 +1,4 @@
-//! `hya robots`, `hya id [--derivatives]`, `hya fd`, `hya mass`, `hya gravity`, `hya generate` end to end: against Pinocchio's reference
+//! `hya robots`, `hya id [--derivatives]`, `hya fd [--derivatives]`, `hya jacobian`, `hya mass`, `hya gravity`, `hya generate` end to end: against Pinocchio's reference
 //! rows through the generated code, the generic model and a URDF loaded at run time, and every
 //! malformed URDF refused with exit code 2.
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
@@ -150,4 +150,52 @@ fn generate_prints_code_naming_its_urdf_and_refuses_a_bad_type_name() {
         "",
         &["not a valid Rust type name"],
     );
+}
+
+/// `hya jacobian [--bias] --frame F` and `hya fd --derivatives` against Pinocchio's rows
+/// (`tests/reference/kinematics/`, `tools/kinematics_reference.py`): every link's Jacobian and
+/// `J̇ q̇` to 1e-12, `∂q̈/∂q`, `∂q̈/∂q̇` and `M⁻¹` to 1e-10.
+fn check_kinematics_against_pinocchio(reference: &str, dof: usize, robot: &str) -> usize {
+    let csv = std::fs::read_to_string(workspace(&format!("tests/reference/kinematics/{reference}.csv"))).unwrap();
+    let mut compared = 0;
+    for line in csv.lines().filter(|l| !l.starts_with('"')) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let numbers: Vec<f64> = fields[2..].iter().map(|v| v.parse().unwrap()).collect();
+        let (args, inputs, tolerance): (Vec<&str>, usize, f64) = match fields[0] {
+            "jacobian" => (vec!["jacobian", "--robot", robot, "--frame", fields[1]], dof, 1e-12),
+            "bias" => (vec!["jacobian", "--robot", robot, "--frame", fields[1], "--bias"], 2 * dof, 1e-12),
+            "fd_derivatives" => (vec!["fd", "--robot", robot, "--derivatives"], 3 * dof, 1e-10),
+            other => panic!("unknown kind {other}"),
+        };
+        let input = numbers[..inputs].iter().map(|v| format!("{v:?}")).collect::<Vec<_>>().join(" ") + "\n";
+        let output = hya(&args, &input);
+        assert!(output.status.success(), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+        let got = data_rows(&String::from_utf8(output.stdout).unwrap()).remove(0);
+        let expected = &numbers[inputs..];
+        assert_eq!(got.len(), expected.len(), "{args:?}");
+        let scale = expected.iter().fold(1.0f64, |m, e| m.max(e.abs()));
+        for (i, (g, e)) in got.iter().zip(expected).enumerate() {
+            assert!((g - e).abs() <= tolerance * scale, "{reference} {args:?} [{i}]: {g} vs pinocchio {e}");
+        }
+        compared += expected.len();
+    }
+    compared
+}
+
+#[test]
+fn jacobian_and_fd_derivatives_agree_with_pinocchio() {
+    assert!(check_kinematics_against_pinocchio("panda", 7, "panda") > 500);
+    assert!(
+        check_kinematics_against_pinocchio("slider_arm", 4, &workspace("hya-urdf/tests/urdf/slider_arm.urdf")) > 200
+    );
+    assert_rejected(
+        &["jacobian", "--robot", "planar2", "--frame", "nowhere"],
+        "0 0\n",
+        &["--frame nowhere", "base, upper_arm, forearm, tip"],
+    );
+    assert_rejected(&["jacobian", "--robot", "planar2", "--bias"], "0 0\n", &["line 1", "q, qd"]);
+    // Without --frame, the last link: planar2's tip, 0.9 m out along x at rest.
+    let text = String::from_utf8(hya(&["jacobian", "--robot", "planar2"], "0 0\n").stdout).unwrap();
+    let row = data_rows(&text).remove(0);
+    assert!((row[4] - -0.9).abs() < 1e-12, "∂z_tip/∂q_shoulder: {row:?}");
 }

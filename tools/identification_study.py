@@ -6,7 +6,8 @@ paper's controller, plant seed 3: parameters perturbed by up to 10 %, hydraulic 
 sensors with quantisation, noise and pressure offsets), and `hya identify` fits the log,
 held against the plant's true rigid body (`--compare true.urdf`). The plant's friction is
 varied, from the testbed's default (LuGre with Stribeck and a ±30 % position profile) down to
-none, to show which part of the friction the identification's model cannot take.
+none, to show which part of the friction the identification's model cannot take; and the
+filters' bandwidth varied on the same logs.
 
 Then what the identified model and friction leave: a second trajectory (another excite seed)
 on the same plant, `hya estimate` on its log with the nominal model, the identified one and
@@ -29,6 +30,7 @@ HYA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file_
 JOINTS = ["SAA", "SFE", "HR", "EFE", "WR", "WFE"]
 PLANT_SEED = "3"
 SETTLING_S = 2.0  # left out of every RMS: the estimator's and the loop's start
+BANDWIDTHS = [25, 50, 100, 200]  # the filters' bandwidths compared, rad/s (50: the default)
 
 # The plant's friction, most realistic first.
 PLANTS = [
@@ -105,10 +107,12 @@ def main():
           "| ‖π_b − π_b,true‖ nominal | identified | largest deviation (σ) | λ |")
     print("|---|---|---|---|---|---|---|---|")
     identified = None
+    logs = []
     for k, (label, plant) in enumerate(PLANTS):
         truth, out = os.path.join(folder, f"truth{k}"), os.path.join(folder, f"identified{k}")
         log = hya(["track", "--robot", "hya", "--seed", PLANT_SEED, "--scenario", scenario(folder, f"plant{k}", plant),
                    "--out", truth], fit_reference)
+        logs.append((label, log, os.path.join(truth, "true.urdf")))
         for prior in ("0", "auto"):
             hya(["identify", "--robot", "hya", "--dt", "0.001", "--timestamps", "--compare",
                  os.path.join(truth, "true.urdf"), "--prior-weight", prior, "--out", out + prior], log)
@@ -120,6 +124,22 @@ def main():
                   f"| {identified_error:.3f} | {largest:.1f} | {weight:g} |")
         if k == 0:
             identified = out
+
+    print("\nThe filters' bandwidth (`--bandwidth-rad-s`, the regressor's q̂, q̂̇, q̂̈ and the torque "
+          "alike; `--prior-weight 0`) on the same logs: the parameters' distance from the truth and the largest "
+          "deviation in σ:\n")
+    print("| plant friction | " + " | ".join(f"ω = {b} rad/s" for b in BANDWIDTHS) + " |")
+    print("|---|" + "---|" * len(BANDWIDTHS))
+    for label, log, truth in logs:
+        cells = []
+        for bandwidth in BANDWIDTHS:
+            out = os.path.join(folder, f"bandwidth{bandwidth}-{len(cells)}-{hash(label) & 0xffff}")
+            hya(["identify", "--robot", "hya", "--dt", "0.001", "--timestamps", "--compare", truth,
+                 "--bandwidth-rad-s", str(bandwidth), "--out", out], log)
+            _, base, _ = report_numbers(os.path.join(out, "report.md"))
+            distance = math.sqrt(sum((b[1] - b[3]) ** 2 for b in base))
+            cells.append(f"{distance:.3f}, {max(abs(b[4]) for b in base):.1f} σ")
+        print(f"| {label} | " + " | ".join(cells) + " |")
 
     print("\nOn a second trajectory (`hya excite --seed 2`, 20 s) of the default plant, the first "
           f"{SETTLING_S:.0f} s left out, per joint {', '.join(JOINTS)}:\n")

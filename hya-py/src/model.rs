@@ -20,6 +20,9 @@ use crate::UrdfError;
 /// bytecode may itself keep the GIL from others. A batch that would take longer releases it.
 const GIL_HOLD_NS: usize = 1_000_000;
 
+/// A NumPy array of float64 handed to Python.
+type Array<'py> = Bound<'py, PyArrayDyn<f64>>;
+
 /// Calls `f` with `N` joints for `dof` from 1 to [`hya_core::dispatch::MAX_JOINTS`]; a
 /// `ValueError` otherwise.
 pub fn for_joints<T, F: hya_core::dispatch::ForJoints<Output = PyResult<T>>>(dof: usize, f: F) -> PyResult<T> {
@@ -365,27 +368,135 @@ impl Model {
         q: &Bound<'py, PyAny>,
         name: &str,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let q = rows("q", q, self.dof())?;
+        self.per_frame_row(py, [&q], name, &[4, 4], |model, [q], out| {
+            let pose = model.frame_pose(name, q)?;
+            // hya's transform maps base coordinates into the frame's (`E`); its transpose
+            // holds the frame's axes in base coordinates.
+            let (rotation, origin) = (pose.rotation.transpose(), pose.translation);
+            for row in 0..3 {
+                out[4 * row..4 * row + 4].copy_from_slice(&[
+                    rotation[(row, 0)],
+                    rotation[(row, 1)],
+                    rotation[(row, 2)],
+                    origin[row],
+                ]);
+            }
+            out[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+            Ok(())
+        })
+    }
+
+    /// The geometric Jacobian of frame `name` (a link) at `q`, shape `(6, dof)` (`(n, 6, dof)`
+    /// for a batch): rows 0–2 map `q̇` to the linear velocity of the frame's origin, rows 3–5 to
+    /// its angular velocity, both in the base's axes (Pinocchio's `LOCAL_WORLD_ALIGNED`), or in
+    /// the frame's own axes with `local=True` (`LOCAL`). The run-time model, for every robot.
+    #[pyo3(signature = (q, name, local=false))]
+    fn frame_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        name: &str,
+        local: bool,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let n = self.dof();
         let q = rows("q", q, n)?;
-        if !self.model.frames().iter().any(|f| f.name == name) {
+        self.per_frame_row(py, [&q], name, &[6, n], |model, [q], out| {
+            let jacobian = if local { model.frame_jacobian_local(name, q)? } else { model.frame_jacobian(name, q)? };
+            // Row-major: the transpose's column-major storage.
+            out.copy_from_slice(jacobian.transpose().as_slice());
+            Ok(())
+        })
+    }
+
+    /// `J̇(q, q̇) q̇` of frame `name`, shape `(6,)` (`(n, 6)` for a batch): the classical
+    /// acceleration of the frame's origin (m/s²) and its angular acceleration (rad/s²) at
+    /// `q̈ = 0`, in the base's axes, so that the frame accelerates at `J q̈ + J̇ q̇`.
+    fn frame_acceleration_bias<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        name: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let [q, qd] = same_rows([("q", q), ("qd", qd)], self.dof())?;
+        self.per_frame_row(py, [&q, &qd], name, &[6], |model, [q, qd], out| {
+            out.copy_from_slice(&model.frame_acceleration_bias(name, q, qd)?);
+            Ok(())
+        })
+    }
+
+    /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `(q, q̇, τ)`, each `(dof, dof)` (`(n, dof,
+    /// dof)` for a batch), row `i` being `∂q̈_i`: `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at
+    /// `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
+    fn forward_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<[Array<'py>; 3]> {
+        let n = self.dof();
+        let [q, qd, tau] = same_rows([("q", q), ("qd", qd), ("tau", tau)], n)?;
+        let one = |d: &(dyn SliceDynamics + Sync), [q, qd, tau]: [&[f64]; 3], k: usize, out: &mut [f64]| {
+            let (by_q, rest) = out.split_at_mut(n * n);
+            let (by_qd, inverse) = rest.split_at_mut(n * n);
+            d.forward_dynamics_derivatives_into(row(q, k, n), row(qd, k, n), row(tau, k, n), [by_q, by_qd, inverse])
+                .map_err(|e| format!("row {k}: {e}"))
+        };
+        let out = self.compute(
+            py,
+            [&q, &qd, &tau],
+            ("forward_dynamics_derivatives", 3 * n * n),
+            |d, values, out| {
+                for (k, chunk) in out.chunks_mut(3 * n * n).enumerate() {
+                    one(d, values, k, chunk).map_err(|_| hya_core::Error::SingularMassMatrix)?;
+                }
+                Ok(())
+            },
+            one,
+        )?;
+        let part = |p: usize| -> Vec<f64> {
+            out.chunks(3 * n * n).flat_map(|state| state[p * n * n..(p + 1) * n * n].iter().copied()).collect()
+        };
+        Ok([
+            output(py, part(0), q.count, q.batched, &[n, n])?,
+            output(py, part(1), q.count, q.batched, &[n, n])?,
+            output(py, part(2), q.count, q.batched, &[n, n])?,
+        ])
+    }
+}
+
+impl Model {
+    /// For every row of `inputs`, `f(model, row's values, out)` writing `shape`'s numbers, on
+    /// copies without the GIL; frame `name` checked first (a `KeyError` listing the frames).
+    fn per_frame_row<'py, const K: usize>(
+        &self,
+        py: Python<'py>,
+        inputs: [&Rows<'py>; K],
+        name: &str,
+        shape: &[usize],
+        f: impl Fn(&TreeModel, [&[f64]; K], &mut [f64]) -> Result<(), hya_core::model::ModelError> + Send + Sync,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        if !self.model.frames().iter().any(|frame| frame.name == name) {
             return Err(PyKeyError::new_err(format!("no frame `{name}`; frames: {}", self.frame_names().join(", "))));
         }
-        let (model, count, values) = (&self.model, q.count, q.detached()?);
+        let (n, width) = (self.dof(), shape.iter().product::<usize>());
+        let (count, batched) = (inputs[0].count, inputs[0].batched);
+        let mut copies: [Cow<'_, [f64]>; K] = std::array::from_fn(|_| Cow::Borrowed(&[][..]));
+        for (copy, rows) in copies.iter_mut().zip(inputs) {
+            *copy = rows.detached()?;
+        }
+        let model = &self.model;
         let out = py.allow_threads(|| -> PyResult<Vec<f64>> {
-            let mut out = Vec::with_capacity(count * 16);
-            for k in 0..count {
-                let pose =
-                    model.frame_pose(name, row(&values, k, n)).map_err(|e| PyValueError::new_err(e.to_string()))?;
-                // hya's transform maps base coordinates into the frame's (`E`); its transpose
-                // holds the frame's axes in base coordinates.
-                let (rotation, origin) = (pose.rotation.transpose(), pose.translation);
-                for row in 0..3 {
-                    out.extend([rotation[(row, 0)], rotation[(row, 1)], rotation[(row, 2)], origin[row]]);
-                }
-                out.extend([0.0, 0.0, 0.0, 1.0]);
+            let mut out = vec![0.0; count * width];
+            for (k, chunk) in out.chunks_mut(width.max(1)).enumerate() {
+                let values = copies.each_ref().map(|copy| row(copy, k, n));
+                f(model, values, chunk).map_err(|e| PyValueError::new_err(format!("row {k}: {e}")))?;
             }
             Ok(out)
         })?;
-        output(py, out, q.count, q.batched, &[4, 4])
+        finite_results("frame", &out, width, batched)?;
+        output(py, out, count, batched, shape)
     }
 }

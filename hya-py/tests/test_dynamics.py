@@ -50,6 +50,25 @@ def test_agrees_with_pinocchio(label, model, path, rng):
             pose = model.frame_pose(q, frame)
             reference = pd.oMf[pm.getFrameId(frame)].homogeneous
             np.testing.assert_allclose(pose, reference, rtol=0, atol=1e-12, err_msg=f"{label}: frame {frame}")
+        pin.computeJointJacobians(pm, pd, q)
+        pin.forwardKinematics(pm, pd, q, qd, np.zeros(model.dof))
+        pin.updateFramePlacements(pm, pd)
+        for frame in compared:
+            fid = pm.getFrameId(frame)
+            for local, reference_frame in ((False, pin.LOCAL_WORLD_ALIGNED), (True, pin.LOCAL)):
+                np.testing.assert_allclose(model.frame_jacobian(q, frame, local=local),
+                                           pin.getFrameJacobian(pm, pd, fid, reference_frame), rtol=0, atol=1e-12,
+                                           err_msg=f"{label}: Jacobian of {frame}, local={local}")
+            bias = pin.getFrameClassicalAcceleration(pm, pd, fid, pin.LOCAL_WORLD_ALIGNED)
+            np.testing.assert_allclose(model.frame_acceleration_bias(q, qd, frame),
+                                       np.concatenate([bias.linear, bias.angular]), rtol=0, atol=1e-12,
+                                       err_msg=f"{label}: J̇q̇ of {frame}")
+        ours = model.forward_dynamics_derivatives(q, qd, tau)
+        theirs = list(pin.computeABADerivatives(pm, pd, q, qd, tau))
+        theirs[2] = np.triu(theirs[2]) + np.triu(theirs[2], 1).T
+        for what, a, b in zip(("dqdd/dq", "dqdd/dqd", "Minv"), ours, theirs):
+            scale = max(1.0, np.abs(b).max())
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * scale, err_msg=f"{label}: {what}")
 
 
 def dynamics(model, q, qd, qdd):
@@ -69,6 +88,11 @@ def test_a_batch_equals_row_by_row(name, rng):
     q, qd, qdd = (rng.uniform(-2, 2, (n, model.dof)) for _ in range(3))
     batch = dynamics(model, q, qd, qdd)
     batch["pose"] = model.frame_pose(q, model.frame_names[-1])
+    batch["jacobian"] = model.frame_jacobian(q, model.frame_names[-1])
+    batch["bias"] = model.frame_acceleration_bias(q, qd, model.frame_names[-1])
+    batch["fd_derivatives"] = model.forward_dynamics_derivatives(q, qd, qdd)
+    assert batch["jacobian"].shape == (n, 6, model.dof) and batch["bias"].shape == (n, 6)
+    assert all(part.shape == (n, model.dof, model.dof) for part in batch["fd_derivatives"])
     assert batch["id"].shape == (n, model.dof) and batch["mass"].shape == (n, model.dof, model.dof)
     assert batch["pose"].shape == (n, 4, 4)
     for k in range(n):
@@ -78,6 +102,10 @@ def test_a_batch_equals_row_by_row(name, rng):
         assert np.array_equal(batch["gravity"][k], model.gravity(q[k]))
         assert np.array_equal(batch["fd"][k], model.forward_dynamics(q[k], qd[k], qdd[k]))
         assert np.array_equal(batch["pose"][k], model.frame_pose(q[k], model.frame_names[-1]))
+        assert np.array_equal(batch["jacobian"][k], model.frame_jacobian(q[k], model.frame_names[-1]))
+        assert np.array_equal(batch["bias"][k], model.frame_acceleration_bias(q[k], qd[k], model.frame_names[-1]))
+        for part, single in zip(batch["fd_derivatives"], model.forward_dynamics_derivatives(q[k], qd[k], qdd[k])):
+            assert np.array_equal(part[k], single)
 
 
 @pytest.mark.parametrize("generated", [True, False], ids=["generated", "urdf"])
@@ -205,6 +233,12 @@ def test_bad_shapes_and_non_finite_values_name_the_argument():
         model.gravity("not numbers")
     with pytest.raises(KeyError, match="no frame `nowhere`"):
         model.frame_pose(good, "nowhere")
+    with pytest.raises(KeyError, match="no frame `nowhere`"):
+        model.frame_jacobian(good, "nowhere")
+    with pytest.raises(ValueError, match=r"qd\[3\] = NaN"):
+        model.frame_acceleration_bias(good, [0, 0, 0, np.nan, 0, 0], model.frame_names[-1])
+    with pytest.raises(ValueError, match=r"tau: shape \[5\]"):
+        model.forward_dynamics_derivatives(good, good, np.zeros(5))
     with pytest.raises(KeyError, match="no shipped robot `hyb`"):
         hya.Model.builtin("hyb")
 

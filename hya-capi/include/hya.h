@@ -332,6 +332,54 @@ HyaStatus hya_model_forward_dynamics(HyaModel *model,
                                      size_t n,
                                      double *qdd);
 
+// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `(q, q̇, τ)`: `q`, `qd`, `tau` have `n` = dof
+// entries, `dqdd_dq`, `dqdd_dqd` and `mass_inverse` `len` = dof² each, row-major (row `i` is
+// `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
+// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
+//
+// # Safety
+// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`,
+// aliasing no input.
+HyaStatus hya_model_forward_dynamics_derivatives(HyaModel *model,
+                                                 const double *q,
+                                                 const double *qd,
+                                                 const double *tau,
+                                                 size_t n,
+                                                 double *dqdd_dq,
+                                                 double *dqdd_dqd,
+                                                 double *mass_inverse,
+                                                 size_t len);
+
+// The geometric Jacobian of frame `frame` (any link of the description) at `q` (`n` = dof):
+// `jacobian` holds `len` = 6 × dof doubles, row-major, rows 0–2 mapping `q̇` to the linear
+// velocity of the frame's origin and rows 3–5 to its angular velocity, both in the base's axes
+// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have.
+//
+// # Safety
+// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` holds `n`
+// doubles and `jacobian` `len`.
+HyaStatus hya_model_frame_jacobian(HyaModel *model,
+                                   const char *frame,
+                                   const double *q,
+                                   size_t n,
+                                   double *jacobian,
+                                   size_t len);
+
+// `J̇(q, q̇) q̇` of frame `frame`: `bias` holds 6 doubles, the classical acceleration of the
+// frame's origin (m/s²) and its angular acceleration (rad/s²) at `q̈ = 0`, in the base's axes
+// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have.
+//
+// # Safety
+// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` and `qd`
+// hold `n` doubles and `bias` `len`.
+HyaStatus hya_model_frame_acceleration_bias(HyaModel *model,
+                                            const char *frame,
+                                            const double *q,
+                                            const double *qd,
+                                            size_t n,
+                                            double *bias,
+                                            size_t len);
+
 // The number of shipped arms (for `hya_arm_name`).
 size_t hya_arm_count(void);
 

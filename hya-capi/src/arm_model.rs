@@ -11,7 +11,8 @@ use hya_core::erased::{Boxed, SliceController, SliceObserver};
 use hya_core::model::TreeModel;
 use hya_core::observers::{ExtendedStateObserver, MomentumObserver, NonlinearDisturbanceObserver};
 use hya_core::{
-    ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, TimedEstimator,
+    ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, OnSlicesN, SliceDynamics,
+    TimedEstimator,
 };
 use hya_ident::{JointFriction, WithFriction};
 use hya_robots::{with_arm, Arm, ForArm};
@@ -34,6 +35,14 @@ pub(crate) trait ArmModel: Send {
     fn gravity(&self, q: &[f64], tau: &mut [f64]);
     /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`.
     fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
+    /// `∂q̈/∂q`, `∂q̈/∂q̇`, `M⁻¹`, each row-major.
+    fn forward_dynamics_derivatives(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error>;
     /// The paper's estimator started at rest at `(q0, τ0)`: stepped at `params`' sample time, or,
     /// given a start time `t0`, over timestamped samples.
     fn estimator(
@@ -87,6 +96,15 @@ impl<const N: usize> ArmModel for Fixed<N> {
     fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
         qdd.copy_from_slice(self.dynamics.forward_dynamics(&v(q), &v(qd), &v(tau))?.as_slice());
         Ok(())
+    }
+    fn forward_dynamics_derivatives(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        OnSlicesN::<N, _>(&self.dynamics).forward_dynamics_derivatives_into(q, qd, tau, out)
     }
     fn estimator(
         &self,

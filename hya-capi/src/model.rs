@@ -6,11 +6,14 @@ use std::ffi::{c_char, CStr};
 use crate::arm_model::{self, ArmModel};
 use crate::slices::{input, output};
 use crate::status::{borrow_live, create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
+use hya_core::model::TreeModel;
 
 /// A robot's rigid-body dynamics (opaque). Made by `hya_model_from_arm` or
 /// `hya_model_from_urdf`, freed by `hya_model_free`.
 pub struct HyaModel {
     pub(crate) arm: Box<dyn ArmModel>,
+    /// The run-time kinematic tree, for frame kinematics (a shipped arm's too).
+    tree: TreeModel,
     message: Message,
 }
 
@@ -25,8 +28,8 @@ impl Handle for HyaModel {
 }
 
 impl HyaModel {
-    fn new(arm: Box<dyn ArmModel>) -> Self {
-        Self { arm, message: Message::default() }
+    fn new(arm: Box<dyn ArmModel>, tree: TreeModel) -> Self {
+        Self { arm, tree, message: Message::default() }
     }
 }
 
@@ -60,7 +63,14 @@ pub(crate) unsafe fn borrow<'a>(model: *const HyaModel) -> Result<&'a dyn ArmMod
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_from_arm(name: *const c_char, out: *mut *mut HyaModel) -> HyaStatus {
     // SAFETY: the caller's contract, passed on.
-    unsafe { create(out, || Ok(HyaModel::new(arm_model::shipped(text("name", name)?)?))) }
+    unsafe {
+        create(out, || {
+            let name = text("name", name)?;
+            let robot = hya_robots::find(name).ok_or_else(|| Failure::UnknownArm(name.to_owned()))?;
+            let tree = hya_urdf::load_str(robot.urdf, robot.name).map_err(Failure::Load)?.model;
+            Ok(HyaModel::new(arm_model::shipped(name)?, tree))
+        })
+    }
 }
 
 /// Loads the URDF file at `path` as a run-time kinematic-tree model (1 to 7 joints). On `HYA_OK`,
@@ -75,7 +85,7 @@ pub unsafe extern "C" fn hya_model_from_urdf(path: *const c_char, out: *mut *mut
     unsafe {
         create(out, || {
             let loaded = hya_urdf::load_file(text("path", path)?).map_err(Failure::Load)?;
-            Ok(HyaModel::new(arm_model::tree(loaded.model)?))
+            Ok(HyaModel::new(arm_model::tree(loaded.model.clone())?, loaded.model))
         })
     }
 }
@@ -102,10 +112,11 @@ pub unsafe extern "C" fn hya_model_with_friction(
     // SAFETY: the caller's contract, passed on.
     unsafe {
         create(out, || {
-            let arm = borrow(model)?;
+            // SAFETY: the caller's contract.
+            let model = borrow_live("model", model)?;
             let path = std::path::Path::new(text("path", path)?);
-            let friction = hya_ident::JointFriction::from_file(path, arm.dof()).map_err(Failure::Friction)?;
-            Ok(HyaModel::new(arm.with_friction(friction)))
+            let friction = hya_ident::JointFriction::from_file(path, model.arm.dof()).map_err(Failure::Friction)?;
+            Ok(HyaModel::new(model.arm.with_friction(friction), model.tree.clone()))
         })
     }
 }
@@ -236,6 +247,102 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
             let qdd = output("qdd", qdd, n, dof)?;
             arm.forward_dynamics(q, qd, tau, qdd)?;
             Ok(hya_core::finite_result("qdd", qdd)?)
+        })
+    }
+}
+
+/// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `(q, q̇, τ)`: `q`, `qd`, `tau` have `n` = dof
+/// entries, `dqdd_dq`, `dqdd_dqd` and `mass_inverse` `len` = dof² each, row-major (row `i` is
+/// `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
+/// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
+///
+/// # Safety
+/// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`,
+/// aliasing no input.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
+    model: *mut HyaModel,
+    q: *const f64,
+    qd: *const f64,
+    tau: *const f64,
+    n: usize,
+    dqdd_dq: *mut f64,
+    dqdd_dqd: *mut f64,
+    mass_inverse: *mut f64,
+    len: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_model(model, |arm, dof| {
+            let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
+            let by_q = output("dqdd_dq", dqdd_dq, len, dof * dof)?;
+            let by_qd = output("dqdd_dqd", dqdd_dqd, len, dof * dof)?;
+            let inverse = output("mass_inverse", mass_inverse, len, dof * dof)?;
+            arm.forward_dynamics_derivatives(q, qd, tau, [&mut *by_q, &mut *by_qd, &mut *inverse])?;
+            for (name, values) in [("dqdd_dq", &*by_q), ("dqdd_dqd", &*by_qd), ("mass_inverse", &*inverse)] {
+                hya_core::finite_result(name, values)?;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// The geometric Jacobian of frame `frame` (any link of the description) at `q` (`n` = dof):
+/// `jacobian` holds `len` = 6 × dof doubles, row-major, rows 0–2 mapping `q̇` to the linear
+/// velocity of the frame's origin and rows 3–5 to its angular velocity, both in the base's axes
+/// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have.
+///
+/// # Safety
+/// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` holds `n`
+/// doubles and `jacobian` `len`.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_frame_jacobian(
+    model: *mut HyaModel,
+    frame: *const c_char,
+    q: *const f64,
+    n: usize,
+    jacobian: *mut f64,
+    len: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_handle(model, |m| {
+            let (frame, dof) = (text("frame", frame)?, m.tree.dof());
+            let q = input("q", q, n, dof)?;
+            let out = output("jacobian", jacobian, len, 6 * dof)?;
+            let found = m.tree.frame_jacobian(frame, q).map_err(Failure::Model)?;
+            // Row-major: the transpose's column-major storage.
+            out.copy_from_slice(found.transpose().as_slice());
+            Ok(hya_core::finite_result("jacobian", out)?)
+        })
+    }
+}
+
+/// `J̇(q, q̇) q̇` of frame `frame`: `bias` holds 6 doubles, the classical acceleration of the
+/// frame's origin (m/s²) and its angular acceleration (rad/s²) at `q̈ = 0`, in the base's axes
+/// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have.
+///
+/// # Safety
+/// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` and `qd`
+/// hold `n` doubles and `bias` `len`.
+#[no_mangle]
+pub unsafe extern "C" fn hya_model_frame_acceleration_bias(
+    model: *mut HyaModel,
+    frame: *const c_char,
+    q: *const f64,
+    qd: *const f64,
+    n: usize,
+    bias: *mut f64,
+    len: usize,
+) -> HyaStatus {
+    // SAFETY: the caller's contract; lengths checked against the model.
+    unsafe {
+        on_handle(model, |m| {
+            let (frame, dof) = (text("frame", frame)?, m.tree.dof());
+            let (q, qd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?);
+            let out = output("bias", bias, len, 6)?;
+            out.copy_from_slice(&m.tree.frame_acceleration_bias(frame, q, qd).map_err(Failure::Model)?);
+            Ok(hya_core::finite_result("bias", out)?)
         })
     }
 }

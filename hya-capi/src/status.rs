@@ -86,6 +86,8 @@ impl Failure {
                 | hya_core::Error::Unsupported(_) => HyaStatus::HyaErrInvalid,
                 _ => HyaStatus::HyaErrNumeric,
             },
+            // A frame the model lacks is a bad argument, not a bad model.
+            Failure::Model(hya_core::model::ModelError::UnknownFrame(_)) => HyaStatus::HyaErrInvalid,
             Failure::Load(_) | Failure::Model(_) | Failure::Friction(_) => HyaStatus::HyaErrModel,
             Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,

@@ -373,3 +373,75 @@ fn planar2_model() -> *mut HyaModel {
     unsafe { ok(hya_model_from_arm(c"planar2".as_ptr(), &mut model), last_error) };
     model
 }
+
+/// Frame Jacobians, `J̇ q̇` and forward-dynamics derivatives through the ABI equal the Rust
+/// API's (the run-time tree's frames, the model's `Dynamics`) on every shipped arm and every
+/// link, and a URDF model's too.
+#[test]
+fn frame_kinematics_and_fd_derivatives_equal_the_rust_api() {
+    let mut seq = Sequence(41);
+    for robot in ROBOTS {
+        let tree = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
+        let name = CString::new(robot.name).unwrap();
+        let mut model = null_mut();
+        // SAFETY: a NUL-terminated name and a writable output.
+        unsafe { ok(hya_model_from_arm(name.as_ptr(), &mut model), last_error) };
+        let n = robot.dof;
+        let v = |seq: &mut Sequence, scale: f64| -> Vec<f64> { (0..n).map(|_| scale * seq.next()).collect() };
+        let (q, qd, tau) = (v(&mut seq, 2.0), v(&mut seq, 3.0), v(&mut seq, 20.0));
+        let error = || text(unsafe { hya_model_error(model) });
+        for frame in tree.frames() {
+            let c_frame = CString::new(frame.name.as_str()).unwrap();
+            let (mut jacobian, mut bias) = (vec![0.0; 6 * n], [0.0; 6]);
+            // SAFETY: a live model, a NUL-terminated frame, arrays of the lengths passed.
+            unsafe {
+                ok(
+                    hya_model_frame_jacobian(model, c_frame.as_ptr(), q.as_ptr(), n, jacobian.as_mut_ptr(), 6 * n),
+                    error,
+                );
+                ok(
+                    hya_model_frame_acceleration_bias(
+                        model,
+                        c_frame.as_ptr(),
+                        q.as_ptr(),
+                        qd.as_ptr(),
+                        n,
+                        bias.as_mut_ptr(),
+                        6,
+                    ),
+                    error,
+                );
+            }
+            let rust = tree.frame_jacobian(&frame.name, &q).unwrap();
+            assert_close(&frame.name, &jacobian, rust.transpose().as_slice());
+            assert_close(&frame.name, &bias, &tree.frame_acceleration_bias(&frame.name, &q, &qd).unwrap());
+        }
+        let mut out = vec![vec![0.0; n * n]; 3];
+        let [a, b, c] = &mut out[..] else { unreachable!() };
+        // SAFETY: a live model, arrays of the lengths passed.
+        unsafe {
+            ok(
+                hya_model_forward_dynamics_derivatives(
+                    model,
+                    q.as_ptr(),
+                    qd.as_ptr(),
+                    tau.as_ptr(),
+                    n,
+                    a.as_mut_ptr(),
+                    b.as_mut_ptr(),
+                    c.as_mut_ptr(),
+                    n * n,
+                ),
+                error,
+            );
+        }
+        let mut rust = vec![vec![0.0; n * n]; 3];
+        let [x, y, z] = &mut rust[..] else { unreachable!() };
+        robot.generated.forward_dynamics_derivatives_into(&q, &qd, &tau, [x, y, z]).unwrap();
+        for (abi, rust) in out.iter().zip(&rust) {
+            assert_close(robot.name, abi, rust);
+        }
+        // SAFETY: a live model, freed once.
+        unsafe { hya_model_free(model) };
+    }
+}

@@ -134,6 +134,54 @@ fn bad_friction_files_are_refused_with_a_reason() {
     }
 }
 
+/// Frame kinematics refuse an unknown or null frame and outputs of the wrong length, naming them.
+#[test]
+fn bad_frame_calls_are_refused() {
+    let model = planar2();
+    let (q, qd) = ([0.1, 0.2], [0.3, 0.4]);
+    let mut out = [0.0; 12];
+    // SAFETY: a live model (freed once at the end), NUL-terminated names or null, arrays of at
+    // least the lengths passed.
+    unsafe {
+        let error = || text(hya_model_error(model));
+        let status = hya_model_frame_jacobian(model, c"nowhere".as_ptr(), q.as_ptr(), 2, out.as_mut_ptr(), 12);
+        refused(status, HyaStatus::HyaErrInvalid, &error(), &["nowhere"]);
+        let status = hya_model_frame_jacobian(model, null(), q.as_ptr(), 2, out.as_mut_ptr(), 12);
+        refused(status, HyaStatus::HyaErrNull, &error(), &["frame"]);
+        let status = hya_model_frame_jacobian(model, c"tip".as_ptr(), q.as_ptr(), 2, out.as_mut_ptr(), 6);
+        refused(status, HyaStatus::HyaErrLength, &error(), &["jacobian", "6", "12"]);
+        let status =
+            hya_model_frame_acceleration_bias(model, c"tip".as_ptr(), q.as_ptr(), qd.as_ptr(), 1, out.as_mut_ptr(), 6);
+        refused(status, HyaStatus::HyaErrLength, &error(), &["q"]);
+        let (mut a, mut b, mut c) = ([0.0; 4], [0.0; 4], [0.0; 3]);
+        let status = hya_model_forward_dynamics_derivatives(
+            model,
+            q.as_ptr(),
+            qd.as_ptr(),
+            [f64::NAN, 0.0].as_ptr(),
+            2,
+            a.as_mut_ptr(),
+            b.as_mut_ptr(),
+            c.as_mut_ptr(),
+            4,
+        );
+        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["tau[0]"]);
+        let status = hya_model_forward_dynamics_derivatives(
+            model,
+            q.as_ptr(),
+            qd.as_ptr(),
+            qd.as_ptr(),
+            2,
+            a.as_mut_ptr(),
+            b.as_mut_ptr(),
+            c.as_mut_ptr(),
+            3,
+        );
+        refused(status, HyaStatus::HyaErrLength, &error(), &["dqdd_dq", "3", "4"]);
+        hya_model_free(model);
+    }
+}
+
 #[test]
 fn bad_dynamics_calls_are_refused() {
     let model = planar2();

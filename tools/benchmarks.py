@@ -251,6 +251,10 @@ def main():
         f"| the same tick as `update` then `command` (two single IDs), ns | {median_and_spread(each('hya', 'plain', 'tick_in_sequence_ns'))} | {median_and_spread(each('hya', 'native', 'tick_in_sequence_ns'))} |",
         f"| `goto_internal`, method lu, lag actuators: simulated s per wall s | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor'))} |",
         f"| the same on the hydraulic plant | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_hydraulic'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_hydraulic'))} |",
+        f"| the same with ideal actuators | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_ideal'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_ideal'))} |",
+        f"| `(∂τ/∂q, ∂τ/∂q̇)`, generated (dual numbers), ns | {median_and_spread(each('hya', 'plain', 'generated_id_derivatives_ns'))} | {median_and_spread(each('hya', 'native', 'generated_id_derivatives_ns'))} |",
+        f"| `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)`, from the generated pieces, ns | {median_and_spread(each('hya', 'plain', 'generated_fd_derivatives_ns'))} | {median_and_spread(each('hya', 'native', 'generated_fd_derivatives_ns'))} |",
+        f"| last link's Jacobian, run-time tree, ns | {median_and_spread(each('hya', 'plain', 'generic_jacobian_ns'))} | {median_and_spread(each('hya', 'native', 'generic_jacobian_ns'))} |",
     ]
     if reproduce:
         lines.append(f"| `hya reproduce` (full; `--quick`), wall s, plain build, once after the rounds | {reproduce[0]:.0f} ({reproduce[1]:.0f} quick) | – |")

@@ -44,6 +44,15 @@ struct Figures {
     batch_id_ns_per_state: f64,
     /// The same for forward dynamics.
     batch_fd_ns_per_state: f64,
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics (`Dynamics::inverse_dynamics_derivatives`).
+    generated_id_derivatives_ns: f64,
+    generic_id_derivatives_ns: f64,
+    /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` (`Dynamics::forward_dynamics_derivatives`).
+    generated_fd_derivatives_ns: f64,
+    generic_fd_derivatives_ns: f64,
+    /// The last link's world-aligned Jacobian on the run-time tree (`TreeModel::frame_jacobian`;
+    /// frame kinematics are not generated yet).
+    generic_jacobian_ns: f64,
     /// The HyA control tick through `DisturbanceAttenuation::tick` (both inverse dynamics in one
     /// batch call).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -58,6 +67,10 @@ struct Figures {
     /// The same on the hydraulic plant (the scenario as built in).
     #[serde(skip_serializing_if = "Option::is_none")]
     sim_realtime_factor_hydraulic: Option<f64>,
+    /// The same with ideal actuators (the commanded torque acts at once): the closed loop,
+    /// estimators and controller included, on the rigid body and its friction alone.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sim_realtime_factor_ideal: Option<f64>,
     /// The target features this binary was compiled for (`sse4.1 avx2 fma`, …).
     build: &'static str,
     /// Whether generated code ran its fused multiply-add variant: `compiled` (the target has
@@ -186,6 +199,23 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
             let _ = black_box(d.forward_dynamics(q, qd, tau));
         })
     };
+    let id_derivatives = |d: &dyn Dynamics<N>| {
+        median_ns(|k| {
+            let [q, qd, qdd] = black_box(&states[k]);
+            black_box(d.inverse_dynamics_derivatives(q, qd, qdd));
+        })
+    };
+    let fd_derivatives = |d: &dyn Dynamics<N>| {
+        median_ns(|k| {
+            let [q, qd, tau] = black_box(&states[k]);
+            let _ = black_box(d.forward_dynamics_derivatives(q, qd, tau));
+        })
+    };
+    let tree = generic.model();
+    let last = tree.frames().last().map(|f| f.name.clone()).unwrap_or_default();
+    let generic_jacobian_ns = median_ns(|k| {
+        let _ = black_box(tree.frame_jacobian(&last, black_box(states[k][0].as_slice())));
+    });
     let batch: Vec<[JointVector<N>; 3]> = hya_core::sampling::varied_states::<N, BATCH>().to_vec();
     let [q, qd, x]: [Vec<JointVector<N>>; 3] = core::array::from_fn(|i| batch.iter().map(|s| s[i]).collect());
     let mut out = vec![JointVector::<N>::zeros(); BATCH];
@@ -213,10 +243,16 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         generic_fd_ns: fd(&generic),
         batch_id_ns_per_state: batch_id(&mut out),
         batch_fd_ns_per_state: batch_fd(&mut out),
+        generated_id_derivatives_ns: id_derivatives(&generated),
+        generic_id_derivatives_ns: id_derivatives(&generic),
+        generated_fd_derivatives_ns: fd_derivatives(&generated),
+        generic_fd_derivatives_ns: fd_derivatives(&generic),
+        generic_jacobian_ns,
         tick_ns: None,
         tick_in_sequence_ns: None,
         sim_realtime_factor: None,
         sim_realtime_factor_hydraulic: None,
+        sim_realtime_factor_ideal: None,
         build: build_features(),
         generated_fma: generated_fma(),
     })
@@ -260,12 +296,10 @@ struct Ticks {
 }
 
 /// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu,
-/// on its hydraulic plant or, with `lag`, on first-order torque lags.
-fn simulation_speed(lag: bool) -> Result<f64, CliError> {
+/// on the actuators `actuator` (the scenario's own: hydraulic).
+fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<f64, CliError> {
     let mut scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
-    if lag {
-        scenario.plant.actuator = hya_sim::scenario::ActuatorKind::Lag;
-    }
+    scenario.plant.actuator = actuator;
     /// The run, timed on the robot [`hya_sim::with_robot`] hands over (loading it is not timed).
     struct Timed<'a>(&'a hya_sim::Scenario);
     impl hya_sim::ForRobot for Timed<'_> {
@@ -300,8 +334,10 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     if let Some(hya) = figures.iter_mut().find(|f| f.robot == "hya") {
         let ticks = ticks_ns()?;
         (hya.tick_ns, hya.tick_in_sequence_ns) = (Some(ticks.paired), Some(ticks.in_sequence));
-        hya.sim_realtime_factor = Some(simulation_speed(true)?);
-        hya.sim_realtime_factor_hydraulic = Some(simulation_speed(false)?);
+        use hya_sim::scenario::ActuatorKind;
+        hya.sim_realtime_factor = Some(simulation_speed(ActuatorKind::Lag)?);
+        hya.sim_realtime_factor_hydraulic = Some(simulation_speed(ActuatorKind::Hydraulic)?);
+        hya.sim_realtime_factor_ideal = Some(simulation_speed(ActuatorKind::Ideal)?);
     }
     if args.json {
         let text = if figures.len() == 1 {
@@ -314,7 +350,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8}",
+        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8}",
         "robot",
         "id gen",
         "id batch",
@@ -326,15 +362,18 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
         "FD gen",
         "FD batch",
         "FD gener",
+        "dID gen",
+        "dFD gen",
         "tick",
         "tick seq",
         "sim x",
-        "hydr x"
+        "hydr x",
+        "ideal x"
     )?;
     for f in &figures {
         writeln!(
             output,
-            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8} {:>8}",
+            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8} {:>8} {:>8}",
             f.robot,
             f.generated_id_ns,
             f.batch_id_ns_per_state,
@@ -346,15 +385,18 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
             f.generated_fd_ns,
             f.batch_fd_ns_per_state,
             f.generic_fd_ns,
+            f.generated_id_derivatives_ns,
+            f.generated_fd_derivatives_ns,
             f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.tick_in_sequence_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.sim_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
             f.sim_realtime_factor_hydraulic.map_or("-".into(), |x| format!("{x:.0}")),
+            f.sim_realtime_factor_ideal.map_or("-".into(), |x| format!("{x:.0}")),
         )?;
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; build: {}; generated FMA: {})",
+        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; dID, dFD = derivatives of inverse and forward dynamics; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; ideal x: ideal actuators; build: {}; generated FMA: {})",
         build_features(),
         generated_fma()
     )?;

@@ -74,7 +74,7 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     };
     let json = serde_json::to_string_pretty(&result).map_err(|e| CliError::Input(e.to_string()))?;
     out.save("sweep.json", &json).map_err(sim)?;
-    out.save("sweep_pareto.svg", &sweep::pareto_figure(&result)).map_err(sim)?;
+    out.save("sweep_pareto.svg", &hya_sim::report::pareto_figure(&result)).map_err(sim)?;
     eprintln!("{} points: {}", result.entries.len(), out.path().join("sweep.json").display());
     Ok(())
 }

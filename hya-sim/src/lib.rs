@@ -25,6 +25,7 @@ pub mod plant;
 pub mod report;
 pub mod robot;
 pub mod run;
+pub mod studies;
 pub mod torque_response;
 
 // The modules as they were named before the layers, for users of the crate.
@@ -104,14 +105,7 @@ impl ForRobot for Experiment<'_> {
     type Output = report::Summary;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
         let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
-        report::write(
-            &robot,
-            self.out,
-            self.scenarios,
-            &outcomes,
-            &table,
-            (self.quick, self.full_sweep),
-            self.provenance,
-        )
+        let studies = studies::run(&robot, self.scenarios, &table, (self.quick, self.full_sweep))?;
+        report::write(&robot, self.out, self.scenarios, &outcomes, &table, studies, self.quick, self.provenance)
     }
 }

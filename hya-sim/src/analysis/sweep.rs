@@ -11,7 +11,6 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::seeds::mean_ci95;
 use crate::config::scenario::{IntegralRule, Method, Scenario};
 use crate::error::SimError;
-use crate::io::svg::{marked_grid, Mark, MarkedPanel, Panel, Scale, Series, PALETTE};
 use hya_core::{Clipped, Short};
 
 /// What a sweep runs.
@@ -471,66 +470,4 @@ pub fn dominates(a: &FrontPoint, b: &FrontPoint) -> bool {
 /// The indices of the points no other point dominates (the Pareto-optimal set), in order.
 pub fn pareto_optimal(points: &[FrontPoint]) -> Vec<usize> {
     (0..points.len()).filter(|&i| !points.iter().enumerate().any(|(j, p)| j != i && dominates(p, &points[i]))).collect()
-}
-
-/// A method's colour, the same in every panel.
-fn method_color(method: &str) -> &'static str {
-    let order = ["none", "lu", "chen", "momentum", "eso", "pid"];
-    PALETTE[order.iter().position(|m| *m == method).unwrap_or(order.len()) % PALETTE.len()]
-}
-
-/// One panel: `measure` against command noise on `scenario`, one line per method through its
-/// swept values, each point's marker labelled with its value and whiskers of its intervals; log
-/// axes where the means span more than a decade.
-fn front_panel(sweep: &Sweep, scenario: &str, measure: Measure) -> MarkedPanel {
-    let points = front_points(sweep, scenario, measure);
-    let front = pareto_optimal(&points);
-    let mut methods: Vec<&str> = points.iter().map(|p| p.method.as_str()).collect();
-    methods.dedup();
-    let (mut series, mut marks) = (Vec::new(), Vec::new());
-    for (k, method) in methods.into_iter().enumerate() {
-        let own: Vec<(usize, &FrontPoint)> = points.iter().enumerate().filter(|(_, p)| p.method == method).collect();
-        series.push(Series {
-            label: method.to_owned(),
-            points: own.iter().map(|(_, p)| (p.noise.0, p.error.0)).collect(),
-            color: method_color(method),
-            // Every other method dashed: lines that coincide (chen's and momentum's, whose
-            // designs agree) stay visible one through the other.
-            dashed: k % 2 == 1,
-            markers: false,
-        });
-        marks.push(
-            own.iter()
-                .map(|(i, p)| Mark {
-                    label: format!("{}", Short(p.bandwidth_rad_s)),
-                    x_half_width: p.noise.1,
-                    y_half_width: p.error.1,
-                    ringed: front.contains(i),
-                })
-                .collect(),
-        );
-    }
-    MarkedPanel {
-        panel: Panel { title: scenario.to_owned(), y_label: measure.label().into(), series },
-        marks,
-        x_scale: Scale::for_values(points.iter().map(|p| p.noise.0)),
-        y_scale: Scale::for_values(points.iter().map(|p| p.error.0)),
-    }
-}
-
-/// The Pareto figure: per scenario, tracking RMSE and estimate error against command noise, one
-/// line per method through its swept values (means over seeds), each marker labelled with its
-/// bandwidth in rad/s, whiskers of the 95 % intervals over seeds, log axes where the values span
-/// more than a decade.
-pub fn pareto_figure(sweep: &Sweep) -> String {
-    let panels: Vec<MarkedPanel> = scenarios(sweep)
-        .into_iter()
-        .flat_map(|scenario| Measure::ALL.map(|measure| front_panel(sweep, scenario, measure)))
-        .collect();
-    marked_grid(
-        "bandwidth sweep: error against command noise (labels: bandwidth, rad/s; pid: its integral's; ringed: the front)",
-        "command-torque noise [N·m]",
-        &panels,
-        2,
-    )
 }

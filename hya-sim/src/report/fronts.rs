@@ -1,16 +1,15 @@
 //! The main comparison: the Pareto fronts of a bandwidth sweep run inside `hya reproduce`. What
 //! is equal is said first; then, per scenario, tracking RMSE and estimate error against command
-//! noise for every method and pid ([`crate::sweep::pareto_figure`]), and in words which method's
+//! noise for every method and pid ([`pareto_figure`]), and in words which method's
 //! points no other point dominates beyond the 95 % intervals ([`crate::sweep::pareto_optimal`]).
 
 use std::fmt::Write as _;
 
-use crate::analysis::sweep::{
-    dominates, front_points, pareto_figure, pareto_optimal, run_on, scenarios, FrontPoint, Measure, Plan, Shard, Sweep,
-};
+use crate::analysis::sweep::{dominates, front_points, pareto_optimal, scenarios, FrontPoint, Measure, Plan, Sweep};
 use crate::config::scenario::{ChenGain, Method};
 use crate::config::settings::JointSettings;
 use crate::error::SimError;
+use crate::io::svg::{marked_grid, Mark, MarkedPanel, Panel, Scale, Series, PALETTE};
 use hya_core::Short;
 
 /// The figure's file name.
@@ -19,37 +18,84 @@ pub const FIGURE: &str = "fronts.svg";
 /// The sweep's file name: every seed's point, as `hya sweep` writes `sweep.json`.
 pub const SWEEP_FILE: &str = "fronts_sweep.json";
 
-/// The section on the report's reduced grid ([`Plan::report`], shortened and one seed with
-/// `quick`): its markdown, and the figure and the sweep as `(file name, text)`. Empty when the
-/// grid's scenarios are not for `robot` (they are HyA's).
-pub fn section<const N: usize>(
-    robot: &crate::robot::Robot<N>,
-    quick: bool,
-) -> Result<(String, Vec<(String, String)>), SimError> {
-    section_of(robot, &Plan::report(quick)?, quick)
-}
-
-/// The section on any grid of `robot`'s scenarios (the full grid: [`Plan::standard`]).
+/// The section on `sweep`, run on the grid `plan` of `robot`'s scenarios
+/// ([`crate::studies::run`]): its markdown, and the figure and the sweep as `(file name, text)`.
 pub fn section_of<const N: usize>(
     robot: &crate::robot::Robot<N>,
     plan: &Plan,
-    quick: bool,
+    sweep: &Sweep,
 ) -> Result<(String, Vec<(String, String)>), SimError> {
-    if plan.scenarios.iter().any(|s| s.robot != robot.name) {
-        return Ok((String::new(), Vec::new()));
-    }
-    let sweep = run_on(robot, plan, Shard::ALL, quick, &|_| {})?;
     let mut md = equal_text(plan);
-    for scenario in scenarios(&sweep) {
-        md.push_str(&scenario_text(&sweep, scenario));
+    for scenario in scenarios(sweep) {
+        md.push_str(&scenario_text(sweep, scenario));
     }
-    md.push_str(&equal_delay_text(&sweep, plan));
+    md.push_str(&equal_delay_text(sweep, plan));
     md.push_str(&integral_text(robot, plan)?);
-    let files = vec![
-        (FIGURE.to_owned(), pareto_figure(&sweep)),
-        (SWEEP_FILE.to_owned(), serde_json::to_string_pretty(&sweep)?),
-    ];
+    let files =
+        vec![(FIGURE.to_owned(), pareto_figure(sweep)), (SWEEP_FILE.to_owned(), serde_json::to_string_pretty(sweep)?)];
     Ok((md, files))
+}
+
+/// A method's colour, the same in every panel.
+fn method_color(method: &str) -> &'static str {
+    let order = ["none", "lu", "chen", "momentum", "eso", "pid"];
+    PALETTE[order.iter().position(|m| *m == method).unwrap_or(order.len()) % PALETTE.len()]
+}
+
+/// One panel: `measure` against command noise on `scenario`, one line per method through its
+/// swept values, each point's marker labelled with its value and whiskers of its intervals; log
+/// axes where the means span more than a decade.
+fn front_panel(sweep: &Sweep, scenario: &str, measure: Measure) -> MarkedPanel {
+    let points = front_points(sweep, scenario, measure);
+    let front = pareto_optimal(&points);
+    let mut methods: Vec<&str> = points.iter().map(|p| p.method.as_str()).collect();
+    methods.dedup();
+    let (mut series, mut marks) = (Vec::new(), Vec::new());
+    for (k, method) in methods.into_iter().enumerate() {
+        let own: Vec<(usize, &FrontPoint)> = points.iter().enumerate().filter(|(_, p)| p.method == method).collect();
+        series.push(Series {
+            label: method.to_owned(),
+            points: own.iter().map(|(_, p)| (p.noise.0, p.error.0)).collect(),
+            color: method_color(method),
+            // Every other method dashed: lines that coincide (chen's and momentum's, whose
+            // designs agree) stay visible one through the other.
+            dashed: k % 2 == 1,
+            markers: false,
+        });
+        marks.push(
+            own.iter()
+                .map(|(i, p)| Mark {
+                    label: format!("{}", Short(p.bandwidth_rad_s)),
+                    x_half_width: p.noise.1,
+                    y_half_width: p.error.1,
+                    ringed: front.contains(i),
+                })
+                .collect(),
+        );
+    }
+    MarkedPanel {
+        panel: Panel { title: scenario.to_owned(), y_label: measure.label().into(), series },
+        marks,
+        x_scale: Scale::for_values(points.iter().map(|p| p.noise.0)),
+        y_scale: Scale::for_values(points.iter().map(|p| p.error.0)),
+    }
+}
+
+/// The Pareto figure: per scenario, tracking RMSE and estimate error against command noise, one
+/// line per method through its swept values (means over seeds), each marker labelled with its
+/// bandwidth in rad/s, whiskers of the 95 % intervals over seeds, log axes where the values span
+/// more than a decade.
+pub fn pareto_figure(sweep: &Sweep) -> String {
+    let panels: Vec<MarkedPanel> = scenarios(sweep)
+        .into_iter()
+        .flat_map(|scenario| Measure::ALL.map(|measure| front_panel(sweep, scenario, measure)))
+        .collect();
+    marked_grid(
+        "bandwidth sweep: error against command noise (labels: bandwidth, rad/s; pid: its integral's; ringed: the front)",
+        "command-torque noise [N·m]",
+        &panels,
+        2,
+    )
 }
 
 /// What is equal between the methods, and what was swept.

@@ -58,7 +58,10 @@ pub(super) fn in_short(
     table: &MetricTable,
     seeds: usize,
     (arm, quick): (&str, bool),
-    (sensitivity, chen_designs): (Option<&super::sensitivity::Sensitivity>, Option<&super::chen_designs::ChenDesigns>),
+    (sensitivity, chen_designs): (
+        Option<&crate::studies::sensitivity::Sensitivity>,
+        Option<&crate::studies::chen_designs::ChenDesigns>,
+    ),
 ) -> String {
     let methods: std::collections::BTreeSet<&str> =
         scenarios.iter().flat_map(|s| s.methods.iter().map(|m| m.name())).collect();

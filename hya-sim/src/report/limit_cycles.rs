@@ -5,26 +5,17 @@
 
 use std::fmt::Write as _;
 
-use crate::analysis::seeds::{median, per_joint_mean_ci95, run_seeds, MetricTable};
+use crate::analysis::seeds::{median, per_joint_mean_ci95, MetricTable};
 use crate::config::scenario::{Method, Scenario};
-use crate::error::SimError;
+use crate::studies::limit_cycles::{LimitCycleRuns, BANDWIDTHS_RAD_S, METHODS, SEEDS};
 
 use super::text::{joints_text, table_row};
-
-/// The bandwidths swept, rad/s (`ω1 = ω2`, `ζ = 0.8`).
-pub const BANDWIDTHS_RAD_S: [f64; 7] = [20.0, 35.0, 50.0, 75.0, 100.0, 150.0, 200.0];
 
 /// A joint counts as still when its peak-to-peak error over the final 5 s stays below this, rad
 /// (about 80 counts of HyA's encoders); the measure counts drift and settling as well as cycles.
 pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 
 use crate::metrics::CYCLE_AMPLITUDE_RAD;
-
-/// Seeds per bandwidth.
-const SEEDS: usize = 3;
-
-/// The methods measured, in the table's order.
-const METHODS: [Method; 6] = [Method::None, Method::Pid, Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
 
 /// How [`cycle_table`] measures, for `base`'s window.
 fn cycles_text(base: &Scenario) -> String {
@@ -147,18 +138,10 @@ fn peak_comparison(with_peak: &CycleCounts, without: &CycleCounts, seeds: (usize
     }
 }
 
-/// The section, from `methods` (the report's runs, for the per-method table) and runs of `base`
-/// (the goto task) with the paper's estimator at every bandwidth.
-pub fn section<const N: usize>(
-    robot: &crate::robot::Robot<N>,
-    base: &Scenario,
-    methods: &MetricTable,
-) -> Result<String, SimError> {
-    let scenarios: Vec<Scenario> = BANDWIDTHS_RAD_S
-        .iter()
-        .map(|w| base.variant(&format!("w{w}"), Method::Lu, |s| s.controller.observer_bandwidth_rad_s = *w))
-        .collect();
-    let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
+/// The section, from `methods` (the report's runs, for the per-method table) and `runs` of `base`
+/// (the goto task; [`crate::studies::limit_cycles`]).
+pub fn section<const N: usize>(base: &Scenario, methods: &MetricTable, runs: &LimitCycleRuns) -> String {
+    let LimitCycleRuns { bandwidths: scenarios, by_bandwidth: table, no_peak, without_peak } = runs;
     // Per bandwidth, per joint: the seeds whose spectral line reaches the cycle amplitude.
     let cycling_seeds: Vec<Vec<usize>> = scenarios
         .iter()
@@ -175,16 +158,10 @@ pub fn section<const N: usize>(
     );
     md.push_str(&table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}")))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));
-    // The same loops without the Stribeck peak: LuGre at F_s = F_c.
-    let mut no_peak = base.clone();
-    no_peak.name = format!("{}_no_peak", base.name);
-    no_peak.plant.static_nm = no_peak.plant.coulomb_nm.clone();
-    no_peak.methods = METHODS.to_vec();
-    let (_, without_peak) = run_seeds(robot, std::slice::from_ref(&no_peak), SEEDS, &|_| {})?;
     let mut cycling = Vec::new();
     for method in METHODS {
         for (label, table, scenario) in
-            [("", methods, &base.name), (" (no Stribeck peak)", &without_peak, &no_peak.name)]
+            [("", methods, &base.name), (" (no Stribeck peak)", without_peak, &no_peak.name)]
         {
             let Some(values) = table.values(scenario, method, "limit_cycle_q").filter(|v| !v.is_empty()) else {
                 continue;
@@ -215,7 +192,7 @@ pub fn section<const N: usize>(
     let (with_table, with_counts) = cycle_table::<N>(methods, base, &base.name);
     md.push_str(&with_table);
     let _ = writeln!(md, "\nThe same measure on the runs without the Stribeck peak ({SEEDS} seeds):\n");
-    let (without_table, without_counts) = cycle_table::<N>(&without_peak, base, &no_peak.name);
+    let (without_table, without_counts) = cycle_table::<N>(without_peak, base, &no_peak.name);
     md.push_str(&without_table);
     let with_seeds = methods.seeds(&base.name, Method::Lu);
     md.push_str(&peak_comparison(&with_counts, &without_counts, (with_seeds, SEEDS)));
@@ -250,5 +227,5 @@ pub fn section<const N: usize>(
             )
         }
     );
-    Ok(md)
+    md
 }

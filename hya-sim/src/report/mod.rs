@@ -3,7 +3,8 @@
 //! Each of the paper's claims is judged by a rule fixed in [`crate::claims`] before any run: the
 //! verdict is the rule applied to the numbers, and the deciding numbers are printed next to it.
 //! Here: the summary (`summary`), CSV (`csv`), figures, text helpers and the markdown,
-//! with the plant's and the viscous-friction sections apart.
+//! with the plant's and the viscous-friction sections apart. The report renders the runs and
+//! what [`crate::studies`] found; it runs no simulation of its own.
 
 mod chen_designs;
 mod csv;
@@ -21,6 +22,7 @@ mod summary;
 mod text;
 mod torque_loops;
 
+pub use fronts::pareto_figure;
 pub use provenance::Provenance;
 pub use summary::{RunSummary, Summary};
 
@@ -29,44 +31,38 @@ use crate::analysis::seeds::MetricTable;
 use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::Scenario;
 use crate::error::SimError;
+use crate::studies::Studies;
 use csv::csv;
 use markdown::{frequency_section, markdown};
 use summary::run_summary;
 
-/// Writes the whole report into `dir`, held by this run:
-/// `outcomes` are the first seed's runs (with traces, for figures), `table` every seed's metrics.
+/// Writes the whole report into `dir`, held by this run: `outcomes` are the first seed's runs
+/// (with traces, for figures), `table` every seed's metrics, `studies` what the studies found
+/// ([`crate::studies::run`]). Nothing here runs the simulator.
+#[allow(clippy::too_many_arguments)]
 pub fn write<const N: usize>(
     robot: &crate::robot::Robot<N>,
     dir: &crate::io::output::OutputDir,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
     table: &MetricTable,
-    (quick, full_sweep): (bool, bool),
+    studies: Studies,
+    quick: bool,
     provenance: &Provenance,
 ) -> Result<Summary, SimError> {
     let save = |name: &str, text: &str| dir.save(name, text);
+    let Studies { fronts, sensitivity, chen_designs, torque_responses, frequency, limit_cycles, gain_rule, open_loop } =
+        studies;
     // The Pareto fronts of a bandwidth sweep, with the paper's experiments on HyA only.
-    let (fronts_section, fronts_files) = match scenarios.iter().any(|s| s.name == "goto_internal" && s.robot == "hya") {
-        true if full_sweep => fronts::section_of(robot, &crate::analysis::sweep::Plan::standard(quick)?, quick)?,
-        true => fronts::section(robot, quick)?,
-        false => (String::new(), Vec::new()),
+    let (fronts_section, fronts_files) = match &fronts {
+        Some((plan, sweep)) => fronts::section_of(robot, plan, sweep)?,
+        None => (String::new(), Vec::new()),
     };
-    let mut sweep = None;
     for (name, text) in &fronts_files {
-        if name.ends_with(".json") {
-            sweep = Some(serde_json::from_str(text)?);
-        }
         save(name, text)?;
     }
-    let sensitivity = sensitivity::run(robot, scenarios, table)?;
-    let chen_designs = chen_designs::run(robot, scenarios, table)?;
-    // HyA's actuators measured on its goto task's plant: the Plant section shows them, the
-    // linearised loops use the fitted model.
+    let sweep = fronts.map(|(_, sweep)| serde_json::to_value(sweep)).transpose()?;
     let loop_base = scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya");
-    let torque_responses = match loop_base {
-        Some(base) => crate::torque_response::measure(robot, base)?,
-        None => None,
-    };
     let summary = Summary {
         robot: robot.name.clone(),
         quick,
@@ -98,7 +94,8 @@ pub fn write<const N: usize>(
         }
         figure_names.insert(s.name.clone(), names);
     }
-    let (mut plant_section, figures) = plant::section(robot, scenarios, outcomes, summary.torque_responses.as_ref())?;
+    let (mut plant_section, figures) =
+        plant::section(robot, scenarios, outcomes, (summary.torque_responses.as_ref(), open_loop.as_ref()))?;
     for (name, svg) in &figures {
         save(name, svg)?;
     }
@@ -109,15 +106,17 @@ pub fn write<const N: usize>(
             Some(base) => {
                 fronts_section
                     + &loops::section(robot, base, summary.torque_responses.as_ref())?
-                    + &limit_cycles::section(robot, base, table)?
-                    + &gain_rule::section(robot, base)?
+                    + &limit_cycles
+                        .as_ref()
+                        .map(|runs| limit_cycles::section::<N>(base, table, runs))
+                        .unwrap_or_default()
+                    + &gain_rule.as_ref().map(|runs| gain_rule::section::<N>(base, runs)).unwrap_or_default()
             }
             None => String::new(),
         };
-    if let Some(base) = scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {
-        let points = crate::frequency::measure(robot, base, &crate::frequency::FREQUENCIES_HZ)?;
-        save("frequency.svg", &crate::frequency::figure(&points))?;
-        plant_section.push_str(&frequency_section(&points));
+    if let Some(points) = &frequency {
+        save("frequency.svg", &crate::frequency::figure(points))?;
+        plant_section.push_str(&frequency_section(points));
     }
     save(
         "report.md",

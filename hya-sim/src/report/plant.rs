@@ -4,18 +4,18 @@
 
 use std::fmt::Write as _;
 
-use hya_core::model::TreeModel;
-use hya_core::{Dynamics, JointVector};
+use hya_core::JointVector;
 use rand::SeedableRng;
 
 use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::Method;
 use crate::config::scenario::{ActuatorKind, PlantConfig, Scenario, SensorConfig, TorqueSource, Transducers};
-use crate::error::{SettingError, SimError};
+use crate::error::SimError;
 use crate::io::svg::{line_grid, Panel, Series, PALETTE};
 use crate::plant::friction::Friction;
-use crate::plant::{Actuators, PlantState};
-use crate::run::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
+use crate::plant::Actuators;
+use crate::run::rollout::scenario_plant;
+use crate::studies::step_responses::{OpenLoop, StepResponse, STEPS_NM};
 
 use super::text::table_row;
 
@@ -223,70 +223,26 @@ fn rise_text(rise_ms: f64) -> String {
     }
 }
 
-/// The command steps of the step test, N·m: one small enough that no light joint reaches its
-/// valve's flow limit within the window, and a large one.
-const STEPS_NM: [f64; 2] = [0.05, 2.0];
-
-/// Each joint's actuator torque after a step of `step_nm` in its command, the arm at the start
-/// pose with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise
-/// time, ms.
-fn step_responses<const N: usize>(
-    scenario: &Scenario,
-    model: &TreeModel,
-    nominal: &dyn Dynamics<N>,
-    step_nm: f64,
-) -> Result<(String, Vec<f64>), SimError> {
-    const STEP_AT_S: f64 = 0.05;
-    let q0 = crate::config::settings::per_joint::<N>(
-        "initial_position_rad",
-        &crate::config::settings::initial_position(scenario, N),
-    )?;
-    // Friction off: the steps are below every joint's static friction, and a sticking joint
-    // would show the locked loop; free, each joint's load shapes its response. Pressure noise
-    // and offsets off too: a 0.05 N·m step is the size of one reading's noise.
-    let free = crate::torque_response::clean(scenario);
-    let scenario = &free;
-    let hold = nominal.gravity(&q0);
-    let mut series = Vec::new();
-    let mut rise_times = Vec::new();
-    for j in 0..N {
-        let (mut plant, max_step) = scenario_plant(model, scenario, q0, hold)?;
-        let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
-            return Err(SettingError::new("plant.actuator", None, "must be hydraulic for the step response").into());
-        };
-        let mut stepped = hold;
-        stepped[j] += step_nm;
-        let commands = [TorqueCommand { time: 0.0, torque: hold }, TorqueCommand { time: STEP_AT_S, torque: stepped }];
-        let mut points = Vec::new();
-        let mut before = hold[j];
-        open_loop(&mut plant, &commands, max_step, 2e-4, STEP_AT_S + 0.1, |t, s: &PlantState<N>| {
-            let torque = actuators.torque(&s.hydraulic.pressure_a, &s.hydraulic.pressure_b)[j];
-            if t < STEP_AT_S {
-                before = torque;
-            } else {
-                points.push(((t - STEP_AT_S) * 1e3, (torque - before) / step_nm));
-            }
-            Ok::<(), SimError>(())
-        })?;
-        let crossing = |level: f64| points.iter().find(|(_, y)| *y >= level).map(|(t, _)| *t);
-        rise_times.push(match (crossing(0.1), crossing(0.9)) {
-            (Some(a), Some(b)) => b - a,
-            _ => f64::NAN,
-        });
-        series.push(Series {
+/// The step responses of one step size as a figure.
+fn step_figure(response: &StepResponse) -> String {
+    let series = response
+        .points
+        .iter()
+        .enumerate()
+        .map(|(j, points)| Series {
             label: format!("joint {}", j + 1),
-            points,
+            points: points.clone(),
             color: PALETTE[j % PALETTE.len()],
             dashed: j >= PALETTE.len(),
             markers: false,
-        });
-    }
+        })
+        .collect();
     let panel = Panel {
-        title: format!("change of actuator torque after a {step_nm} N·m command step, over the step"),
+        title: format!("change of actuator torque after a {} N·m command step, over the step", response.step_nm),
         y_label: "Δτ_act / step".into(),
         series,
     };
-    Ok((line_grid("torque step responses", "time after the step [ms]", &[panel], 1), rise_times))
+    line_grid("torque step responses", "time after the step [ms]", &[panel], 1)
 }
 
 /// The "Plant" section and its figures.
@@ -294,7 +250,7 @@ pub fn section<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     outcomes: &[RunOutcome<N>],
-    torque: Option<&crate::torque_response::TorqueResponses>,
+    (torque, open_loop): (Option<&crate::torque_response::TorqueResponses>, Option<&OpenLoop>),
 ) -> Result<(String, Vec<Figure>), SimError> {
     let mut md = String::from("\n## Plant\n\n");
     let mut figures = Vec::new();
@@ -340,9 +296,8 @@ pub fn section<const N: usize>(
             figures.push((name, svg));
         }
     }
-    if p.actuator == ActuatorKind::Hydraulic {
-        let (svg, rise_times) = step_responses(first, model, nominal, STEPS_NM[0])?;
-        let (_, large_rise_times) = step_responses(first, model, nominal, STEPS_NM[1])?;
+    if let Some([small, large]) = open_loop.map(|o| o.steps.as_slice()) {
+        let (svg, rise_times, large_rise_times) = (step_figure(small), &small.rise_ms, &large.rise_ms);
         let name = "plant_step.svg".to_owned();
         let q0 = crate::config::settings::per_joint::<N>(
             "initial_position_rad",
@@ -365,7 +320,7 @@ pub fn section<const N: usize>(
                 rise_text(large_rise_times[j]),
             ]));
         }
-        md.push_str(&load_and_torque_tracking(inertia.as_slice(), &rise_times));
+        md.push_str(&load_and_torque_tracking(inertia.as_slice(), rise_times));
         figures.push((name, svg));
         if let Some(t) = torque {
             let (text, figure) = super::torque_loops::section(t, &p.hydraulic.torque_bandwidth_hz, &p.viscous_nm_s);
@@ -373,8 +328,7 @@ pub fn section<const N: usize>(
             figures.push(figure);
         }
     }
-    if first.robot == "hya" {
-        let (q_gap, qd_gap) = reference_gap::<N>(model, MUJOCO_HYA.0, MUJOCO_HYA.1)?;
+    if let Some((q_gap, qd_gap)) = open_loop.and_then(|o| o.mujoco_gap) {
         let _ = writeln!(md, "\n### The rigid body against MuJoCo\n\nThe plant with friction, actuators, noise and parameter errors off (`hya plant --ideal`), under the torque sequence of `tools/mujoco_rollout.py`, against MuJoCo 4.0's rollout of the same URDF (RK4 at 0.1 ms both; gravity along −z, limits, contacts, damping and armature off in MuJoCo): the worst difference over 1 s is **{q_gap:.1e} rad** in angle and {qd_gap:.1e} rad/s in velocity, while the arm travels up to 1 rad.");
     }
     Ok((md, figures))

@@ -13,107 +13,16 @@
 //! row is its first seeds' runs, not a rerun; a variant reruns only the methods it changes (the
 //! others' runs are the report's, bit for bit).
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use serde::Serialize;
-
-use crate::analysis::seeds::{per_joint_paired_ratio, run_seeds, MetricTable, PairedRatio};
-use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario, Transducers};
-use crate::error::SimError;
+use crate::analysis::seeds::{per_joint_paired_ratio, PairedRatio};
+use crate::config::scenario::Method;
+use crate::studies::sensitivity::{Sensitivity, VariantRuns, BASELINES};
 
 use super::text::table_row;
 
-/// The scenarios varied (HyA's goto and sine tasks under internal disturbances).
-const SCENARIOS: [&str; 2] = ["goto_internal", "sine_internal"];
-
-/// The methods run in every variant: the paper's estimator and the baselines it is held against.
-const METHODS: [Method; 4] = [Method::None, Method::Pid, Method::Lu, Method::Chen];
-
-/// The baselines each compared with `lu`.
-const BASELINES: [Method; 3] = [Method::None, Method::Pid, Method::Chen];
-
-/// Seeds per variant, scenario and method: the report's first ones, at most this many.
-const SEEDS: usize = 6;
-
-/// One structural choice changed from the report's runs.
-struct Variant {
-    /// Its name in the table.
-    name: &'static str,
-    /// What it changes, for the text.
-    change: &'static str,
-    apply: fn(&mut Scenario),
-    /// The methods whose runs it changes (the others read nothing it touches).
-    changes: &'static [Method],
-}
-
-/// The report's runs first, then one change each.
-const VARIANTS: [Variant; 6] = [
-    Variant { name: "as run", change: "the report's settings (its runs of these seeds)", apply: |_| {}, changes: &[] },
-    Variant {
-        name: "independent transducers",
-        change: "the controller reads pressure transducers of its own, with offsets of their own (`sensors.transducers = \"independent\"`), instead of the torque loops' (one set per joint, as on HyA); none and pid read no torque, so only lu's and chen's runs change",
-        apply: |s| s.sensors.transducers = Transducers::Independent,
-        changes: &[Method::Lu, Method::Chen],
-    },
-    Variant {
-        name: "pid by pole placement",
-        change: "pid by another stated rule: the same `K_P`, and `K_D`, `K_I` placing the rigid joint's three poles at one point, `M (s + ω)³` with `ω = √(K_P / 3M)` (`controller.integral_rule = \"pole_placement\"`), stable without a cap; the rows show whether it is the stronger PID here",
-        apply: |s| s.controller.integral_rule = IntegralRule::PolePlacement,
-        changes: &[Method::Pid],
-    },
-    Variant {
-        name: "chen scalar gain",
-        change: "Chen's observer with the scalar gain of Chen et al. (2000) in Mohammadi's form, `Y = y I`, `y = β λmax(M(q0))` (`controller.chen_gain = \"scalar\"`), instead of `Y = β M(q0)`: the slowest rate at the start pose stays β, the light joints' rates grow by the inertia ratio, and velocity noise reaches `d̂` through `y`",
-        apply: |s| s.controller.chen_gain = ChenGain::Scalar,
-        changes: &[Method::Chen],
-    },
-    Variant {
-        name: "no Stribeck peak",
-        change: "LuGre with its static level at the Coulomb level (`static_nm = coulomb_nm`): no breakaway peak",
-        apply: |s| s.plant.static_nm = s.plant.coulomb_nm.clone(),
-        changes: &METHODS,
-    },
-    Variant {
-        name: "command delay 6 ms",
-        change: "six control ticks between the command and the valves instead of one",
-        apply: |s| s.sensors.command_delay_ticks = 6,
-        changes: &METHODS,
-    },
-];
-
-/// Every variant's runs: per variant and scenario, each method's tracking RMSE per seed and
-/// joint, rad (in `summary.json`).
-#[derive(Debug, Clone, Serialize)]
-pub struct Sensitivity {
-    /// Seeds per variant, scenario and method (the scenarios' own seeds and the next ones).
-    pub seeds: usize,
-    /// The variants, the report's own settings first.
-    pub variants: Vec<VariantRuns>,
-}
-
-/// One variant's runs.
-#[derive(Debug, Clone, Serialize)]
-pub struct VariantRuns {
-    /// Its name.
-    pub variant: String,
-    /// What it changes.
-    pub change: String,
-    /// The methods it reran (the others' runs are the report's).
-    pub reran: Vec<&'static str>,
-    /// Per scenario, per method, `rmse_q[seed][joint]`, rad.
-    pub rmse_q: BTreeMap<String, BTreeMap<String, Vec<Vec<f64>>>>,
-}
-
 /// One comparison: a scenario, a baseline, and per variant the paired ratio of each joint.
 type Comparison = (String, Method, Vec<Vec<PairedRatio>>);
-
-impl VariantRuns {
-    /// `method`'s `rmse_q[seed][joint]` on `scenario` (empty where it did not run).
-    fn rmse(&self, scenario: &str, method: Method) -> &[Vec<f64>] {
-        self.rmse_q.get(scenario).and_then(|by| by.get(method.name())).map_or(&[], Vec::as_slice)
-    }
-}
 
 /// A paired comparison's verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -147,62 +56,6 @@ impl Verdict {
             Verdict::Inconclusive
         }
     }
-}
-
-/// Runs every variant of the scenarios among `scenarios` that it varies (HyA's only) over the
-/// report's first seeds (at most [`SEEDS`]; `table` holds the report's runs); `None` where none
-/// is there.
-pub fn run<const N: usize>(
-    robot: &crate::robot::Robot<N>,
-    scenarios: &[Scenario],
-    table: &MetricTable,
-) -> Result<Option<Sensitivity>, SimError> {
-    let bases: Vec<&Scenario> =
-        scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
-    let Some(first) = bases.first() else { return Ok(None) };
-    let seeds = table.seeds(&first.name, Method::Lu).min(SEEDS);
-    let reported = |scenario: &str, method: Method| -> Vec<Vec<f64>> {
-        let mut values = table.values(scenario, method, "rmse_q").unwrap_or_default();
-        values.truncate(seeds);
-        values
-    };
-    let mut variants = Vec::new();
-    for variant in &VARIANTS {
-        let runs: Vec<Scenario> = bases
-            .iter()
-            .filter(|_| !variant.changes.is_empty())
-            .map(|base| {
-                let mut s = (*base).clone();
-                s.methods = variant.changes.to_vec();
-                (variant.apply)(&mut s);
-                s
-            })
-            .collect();
-        let (_, rerun) = run_seeds(robot, &runs, seeds, &|_| {})?;
-        let rmse_q = bases
-            .iter()
-            .map(|s| {
-                let methods = METHODS
-                    .iter()
-                    .map(|m| {
-                        let values = match variant.changes.contains(m) {
-                            true => rerun.values(&s.name, *m, "rmse_q").unwrap_or_default(),
-                            false => reported(&s.name, *m),
-                        };
-                        (m.name().to_owned(), values)
-                    })
-                    .collect();
-                (s.name.clone(), methods)
-            })
-            .collect();
-        variants.push(VariantRuns {
-            variant: variant.name.into(),
-            change: variant.change.into(),
-            reran: variant.changes.iter().map(|m| m.name()).collect(),
-            rmse_q,
-        });
-    }
-    Ok(Some(Sensitivity { seeds, variants }))
 }
 
 /// Per joint, the paired ratio of `baseline` to `lu` in `runs` of `scenario`.

@@ -71,11 +71,11 @@ pub struct Summary {
     /// The headline comparisons under other modelling choices, every seed's RMSE; absent where
     /// the report ran none.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sensitivity: Option<super::sensitivity::Sensitivity>,
+    pub sensitivity: Option<crate::studies::sensitivity::Sensitivity>,
     /// The claims that name Chen's observer per gain design and matching, every seed's estimate
     /// error; absent where the report ran none.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub chen_designs: Option<super::chen_designs::ChenDesigns>,
+    pub chen_designs: Option<crate::studies::chen_designs::ChenDesigns>,
     /// The hydraulic actuators' measured torque frequency responses and the fitted models;
     /// absent where the report measured none.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -1,9 +1,9 @@
 //! Sweeps split into shards and merge back into exactly the unsharded result; a merge refuses
 //! every set of shards that is not exactly one sweep's grid.
 
+use hya_sim::report::pareto_figure;
 use hya_sim::sweep::{
-    dominates, front_points, merge, pareto_figure, pareto_optimal, run, scenarios, Entry, FrontPoint, Measure, Plan,
-    Shard, Sweep,
+    dominates, front_points, merge, pareto_optimal, run, scenarios, Entry, FrontPoint, Measure, Plan, Shard, Sweep,
 };
 use hya_sim::{Method, Scenario};
 

@@ -1,0 +1,100 @@
+//! The hydraulic actuators on the arm, open loop: each joint's actuator torque after a step of
+//! its own command, and the rigid body against MuJoCo's rollout of the same URDF.
+//! [`crate::report`]'s Plant section draws and tabulates them.
+
+use hya_core::JointVector;
+
+use crate::config::scenario::Scenario;
+use crate::error::{SettingError, SimError};
+use crate::plant::{Actuators, PlantState};
+use crate::run::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
+
+/// The command steps of the step test, N·m: one small enough that no light joint reaches its
+/// valve's flow limit within the window, and a large one.
+pub const STEPS_NM: [f64; 2] = [0.05, 2.0];
+
+/// When the step comes, s after the release.
+const STEP_AT_S: f64 = 0.05;
+
+/// One step size's responses.
+#[derive(Debug, Clone)]
+pub struct StepResponse {
+    /// The step, N·m.
+    pub step_nm: f64,
+    /// Per joint, `(ms after the step, Δτ_act / step)`.
+    pub points: Vec<Vec<(f64, f64)>>,
+    /// Per joint, the 10–90 % rise time, ms (NaN where it does not reach 90 %).
+    pub rise_ms: Vec<f64>,
+}
+
+/// What the Plant section shows of the open-loop arm.
+#[derive(Debug, Clone)]
+pub struct OpenLoop {
+    /// Per step of [`STEPS_NM`], on hydraulic actuators only.
+    pub steps: Vec<StepResponse>,
+    /// The worst difference from MuJoCo's rollout of HyA, `(rad, rad/s)`, for HyA only.
+    pub mujoco_gap: Option<(f64, f64)>,
+}
+
+/// Each joint's actuator torque after a step of `step_nm` in its command, the arm at the start
+/// pose with every actuator holding the nominal gravity torque; and each joint's 10–90 % rise
+/// time.
+fn step_response<const N: usize>(
+    scenario: &Scenario,
+    robot: &crate::robot::Robot<N>,
+    step_nm: f64,
+) -> Result<StepResponse, SimError> {
+    let q0 = crate::config::settings::per_joint::<N>(
+        "initial_position_rad",
+        &crate::config::settings::initial_position(scenario, N),
+    )?;
+    // Friction off: the steps are below every joint's static friction, and a sticking joint
+    // would show the locked loop; free, each joint's load shapes its response. Pressure noise
+    // and offsets off too: a 0.05 N·m step is the size of one reading's noise.
+    let free = crate::torque_response::clean(scenario);
+    let hold: JointVector<N> = robot.nominal.gravity(&q0);
+    let (mut all_points, mut rise_ms) = (Vec::new(), Vec::new());
+    for j in 0..N {
+        let (mut plant, max_step) = scenario_plant(&robot.model, &free, q0, hold)?;
+        let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
+            return Err(SettingError::new("plant.actuator", None, "must be hydraulic for the step response").into());
+        };
+        let mut stepped = hold;
+        stepped[j] += step_nm;
+        let commands = [TorqueCommand { time: 0.0, torque: hold }, TorqueCommand { time: STEP_AT_S, torque: stepped }];
+        let mut points = Vec::new();
+        let mut before = hold[j];
+        open_loop(&mut plant, &commands, max_step, 2e-4, STEP_AT_S + 0.1, |t, s: &PlantState<N>| {
+            let torque = actuators.torque(&s.hydraulic.pressure_a, &s.hydraulic.pressure_b)[j];
+            if t < STEP_AT_S {
+                before = torque;
+            } else {
+                points.push(((t - STEP_AT_S) * 1e3, (torque - before) / step_nm));
+            }
+            Ok::<(), SimError>(())
+        })?;
+        let crossing = |level: f64| points.iter().find(|(_, y)| *y >= level).map(|(t, _)| *t);
+        rise_ms.push(match (crossing(0.1), crossing(0.9)) {
+            (Some(a), Some(b)) => b - a,
+            _ => f64::NAN,
+        });
+        all_points.push(points);
+    }
+    Ok(StepResponse { step_nm, points: all_points, rise_ms })
+}
+
+/// Runs the step test on `first`'s plant (the report's first scenario) where its actuators are
+/// hydraulic, and the comparison with MuJoCo where it is HyA.
+pub fn run<const N: usize>(robot: &crate::robot::Robot<N>, first: &Scenario) -> Result<OpenLoop, SimError> {
+    let steps = match first.plant.actuator {
+        crate::config::scenario::ActuatorKind::Hydraulic => {
+            STEPS_NM.iter().map(|&step| step_response(first, robot, step)).collect::<Result<_, _>>()?
+        }
+        _ => Vec::new(),
+    };
+    let mujoco_gap = match first.robot == "hya" {
+        true => Some(reference_gap::<N>(&robot.model, MUJOCO_HYA.0, MUJOCO_HYA.1)?),
+        false => None,
+    };
+    Ok(OpenLoop { steps, mujoco_gap })
+}

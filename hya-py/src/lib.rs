@@ -36,6 +36,7 @@ fn _hya(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<filter::ThirdOrderFilter>()?;
     m.add_class::<control::ComputedTorque>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::rollouts, m)?)?;
     m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add("UrdfError", m.py().get_type::<UrdfError>())?;
     Ok(())

@@ -16,6 +16,7 @@ from ._hya import (
     ThirdOrderFilter,
     UrdfError,
     identify,
+    rollouts,
     simulate,
 )
 
@@ -29,5 +30,6 @@ __all__ = [
     "ThirdOrderFilter",
     "UrdfError",
     "identify",
+    "rollouts",
     "simulate",
 ]

@@ -40,6 +40,14 @@ class Model:
         """q̈ = M⁻¹(τ − C − G), rad/s² (articulated-body algorithm); (dof,) or (n, dof)."""
     def frame_pose(self, q: ArrayLike, name: str) -> Array:
         """The frame's pose in the base frame, 4×4 homogeneous; (4, 4) or (n, 4, 4)."""
+    def frame_jacobian(self, q: ArrayLike, name: str, local: bool = False) -> Array:
+        """The frame's geometric Jacobian, linear rows then angular, world-aligned (local=True: in
+        the frame's axes); (6, dof) or (n, 6, dof)."""
+    def frame_acceleration_bias(self, q: ArrayLike, qd: ArrayLike, name: str) -> Array:
+        """J̇ q̇ of the frame: its origin's classical acceleration and its angular acceleration at
+        q̈ = 0, world-aligned; (6,) or (n, 6)."""
+    def forward_dynamics_derivatives(self, q: ArrayLike, qd: ArrayLike, tau: ArrayLike) -> List[Array]:
+        """[∂q̈/∂q, ∂q̈/∂q̇, M⁻¹], each (dof, dof) or (n, dof, dof), row i being ∂q̈_i."""
 
 class DisturbanceEstimator:
     """d̂ = ID(q̂, q̂̇, q̂̈) − τ̂ from two third-order filters (Lu, Sandy & Buchli)."""
@@ -139,3 +147,12 @@ def simulate(
 
     The series hold every control tick up to 30 000 ticks and every k-th tick of a longer run
     ("time" says which); the metrics use every tick."""
+
+def rollouts(
+    scenarios: Union[str, Dict[str, Any], List[Union[str, Dict[str, Any]]]],
+    method: str = "lu",
+    seeds: Optional[Sequence[int]] = None,
+    quick: bool = False,
+) -> Dict[str, Any]:
+    """Runs one method of every scenario with every seed, in Rust on every core; the series
+    stacked (T, runs, dof), scenario-major, with "metrics" and "runs" per run."""

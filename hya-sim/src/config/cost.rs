@@ -57,6 +57,19 @@ impl Cost {
         }
     }
 
+    /// The cost of one method of each of `scenarios` (checked) over `seeds` seeds each, every
+    /// run keeping its trace: a batch of rollouts handed back whole (Python's `hya.rollouts`).
+    pub fn of_rollouts(scenarios: &[Scenario], seeds: usize) -> Self {
+        let ticks = |s: &Scenario| (s.duration_s / s.controller.dt_s).ceil();
+        let each = |f: &dyn Fn(&Scenario) -> f64| scenarios.iter().map(f).sum::<f64>() * seeds as f64;
+        Self {
+            runs: scenarios.len() * seeds,
+            simulated_s: each(&|s| s.duration_s),
+            physics_steps: each(&|s| ticks(s) * s.plant.substeps() as f64),
+            trace_bytes: each(&|s| ticks(s).min(MAX_TRACE_SAMPLES as f64)) * TRACE_BYTES_PER_TICK,
+        }
+    }
+
     /// `Ok` within [`MAX_PHYSICS_STEPS`] and [`MAX_TRACE_BYTES`]; the error gives the figure,
     /// the cap, what to shorten and, where the command has one (`lifted_by`), the flag that lifts
     /// the cap.

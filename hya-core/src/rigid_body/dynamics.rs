@@ -106,7 +106,9 @@ pub trait Dynamics<const N: usize> {
         let qdd = self.forward_dynamics(q, qd, tau)?;
         let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, &qdd);
         let inverse = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
-        Ok((-(inverse * by_q), -(inverse * by_qd), inverse))
+        // `0 − x`, not `−x`: an exact zero stays +0 (a negated one prints as `-0`).
+        let negated = |m: JointMatrix<N>| m.map(|x| 0.0 - x);
+        Ok((negated(inverse * by_q), negated(inverse * by_qd), inverse))
     }
 
     /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.

@@ -426,7 +426,8 @@ impl crate::SliceDynamics for TreeModel {
         let mass_inverse = mass.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
         // Row-major in and out: the transposes' column-major storage.
         for out in [by_q, by_qd] {
-            let product = -(&mass_inverse * DMatrix::from_row_slice(n, n, out));
+            // `0 − x`, not `−x`: an exact zero stays +0.
+            let product = (&mass_inverse * DMatrix::from_row_slice(n, n, out)).map(|x| 0.0 - x);
             out.copy_from_slice(product.transpose().as_slice());
         }
         inverse.copy_from_slice(mass_inverse.transpose().as_slice());

@@ -57,9 +57,10 @@ typedef enum {
   // An input held NaN or an infinity; state is unchanged.
   HYA_ERR_NON_FINITE = 3,
   // A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
-  // a shipped arm, or a model has more joints than hya dispatches to.
+  // a shipped arm or not a frame of the model, or a model has more joints than hya dispatches
+  // to, or output arrays that must be distinct are the same.
   HYA_ERR_INVALID = 4,
-  // A URDF could not be read or is not a valid model.
+  // A URDF or a friction file could not be read or is not valid.
   HYA_ERR_MODEL = 5,
   // A numerical failure: a singular mass matrix, an input beyond the filter's range.
   HYA_ERR_NUMERIC = 6,
@@ -337,9 +338,12 @@ HyaStatus hya_model_forward_dynamics(HyaModel *model,
 // `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
 // `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 //
+// The three outputs must be distinct arrays (`HYA_ERR_INVALID` if two start at the same
+// address). Allocates on a URDF model (run-time code).
+//
 // # Safety
-// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`,
-// aliasing no input.
+// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`;
+// no output overlaps an input or another output.
 HyaStatus hya_model_forward_dynamics_derivatives(HyaModel *model,
                                                  const double *q,
                                                  const double *qd,
@@ -353,7 +357,8 @@ HyaStatus hya_model_forward_dynamics_derivatives(HyaModel *model,
 // The geometric Jacobian of frame `frame` (any link of the description) at `q` (`n` = dof):
 // `jacobian` holds `len` = 6 × dof doubles, row-major, rows 0–2 mapping `q̇` to the linear
 // velocity of the frame's origin and rows 3–5 to its angular velocity, both in the base's axes
-// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have.
+// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have
+// (the message lists its frames). Allocates (run-time code).
 //
 // # Safety
 // `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` holds `n`
@@ -367,7 +372,8 @@ HyaStatus hya_model_frame_jacobian(HyaModel *model,
 
 // `J̇(q, q̇) q̇` of frame `frame`: `bias` holds 6 doubles, the classical acceleration of the
 // frame's origin (m/s²) and its angular acceleration (rad/s²) at `q̈ = 0`, in the base's axes
-// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have.
+// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have
+// (the message lists its frames). Allocates (run-time code).
 //
 // # Safety
 // `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` and `qd`

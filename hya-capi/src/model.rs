@@ -256,9 +256,12 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
 /// `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
 /// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 ///
+/// The three outputs must be distinct arrays (`HYA_ERR_INVALID` if two start at the same
+/// address). Allocates on a URDF model (run-time code).
+///
 /// # Safety
-/// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`,
-/// aliasing no input.
+/// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`;
+/// no output overlaps an input or another output.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
     model: *mut HyaModel,
@@ -274,6 +277,9 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
         on_model(model, |arm, dof| {
+            if dqdd_dq == dqdd_dqd || dqdd_dq == mass_inverse || dqdd_dqd == mass_inverse {
+                return Err(Failure::Aliased("dqdd_dq, dqdd_dqd and mass_inverse"));
+            }
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
             let by_q = output("dqdd_dq", dqdd_dq, len, dof * dof)?;
             let by_qd = output("dqdd_dqd", dqdd_dqd, len, dof * dof)?;
@@ -290,7 +296,8 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
 /// The geometric Jacobian of frame `frame` (any link of the description) at `q` (`n` = dof):
 /// `jacobian` holds `len` = 6 × dof doubles, row-major, rows 0–2 mapping `q̇` to the linear
 /// velocity of the frame's origin and rows 3–5 to its angular velocity, both in the base's axes
-/// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have.
+/// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `HYA_ERR_INVALID` for a frame the model does not have
+/// (the message lists its frames). Allocates (run-time code).
 ///
 /// # Safety
 /// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` holds `n`
@@ -320,7 +327,8 @@ pub unsafe extern "C" fn hya_model_frame_jacobian(
 
 /// `J̇(q, q̇) q̇` of frame `frame`: `bias` holds 6 doubles, the classical acceleration of the
 /// frame's origin (m/s²) and its angular acceleration (rad/s²) at `q̈ = 0`, in the base's axes
-/// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have.
+/// (`q` and `qd` have `n` = dof entries). `HYA_ERR_INVALID` for a frame the model does not have
+/// (the message lists its frames). Allocates (run-time code).
 ///
 /// # Safety
 /// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `q` and `qd`

@@ -22,9 +22,10 @@ pub enum HyaStatus {
     /// An input held NaN or an infinity; state is unchanged.
     HyaErrNonFinite = 3,
     /// A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
-    /// a shipped arm, or a model has more joints than hya dispatches to.
+    /// a shipped arm or not a frame of the model, or a model has more joints than hya dispatches
+    /// to, or output arrays that must be distinct are the same.
     HyaErrInvalid = 4,
-    /// A URDF could not be read or is not a valid model.
+    /// A URDF or a friction file could not be read or is not valid.
     HyaErrModel = 5,
     /// A numerical failure: a singular mass matrix, an input beyond the filter's range.
     HyaErrNumeric = 6,
@@ -62,6 +63,8 @@ pub(crate) enum Failure {
     Friction(String),
     /// An estimator stepped the other way than it was made for.
     Stepping { called: &'static str, needs: &'static str, made_by: &'static str, use_instead: &'static str },
+    /// Output arrays that must be distinct start at the same address.
+    Aliased(&'static str),
     /// A pointer that is not a live handle of the kind expected.
     Handle { expected: &'static str, found: Option<&'static str> },
     /// A panic caught at the boundary.
@@ -75,9 +78,11 @@ impl Failure {
             Failure::Null(_) => HyaStatus::HyaErrNull,
             Failure::Length { .. } => HyaStatus::HyaErrLength,
             Failure::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
-            Failure::NotUtf8(_) | Failure::UnknownArm(_) | Failure::JointCount { .. } | Failure::Stepping { .. } => {
-                HyaStatus::HyaErrInvalid
-            }
+            Failure::NotUtf8(_)
+            | Failure::UnknownArm(_)
+            | Failure::JointCount { .. }
+            | Failure::Stepping { .. }
+            | Failure::Aliased(_) => HyaStatus::HyaErrInvalid,
             Failure::Core(e) => match e {
                 hya_core::Error::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
                 hya_core::Error::SliceLength { .. } => HyaStatus::HyaErrLength,
@@ -87,7 +92,7 @@ impl Failure {
                 _ => HyaStatus::HyaErrNumeric,
             },
             // A frame the model lacks is a bad argument, not a bad model.
-            Failure::Model(hya_core::model::ModelError::UnknownFrame(_)) => HyaStatus::HyaErrInvalid,
+            Failure::Model(hya_core::model::ModelError::UnknownFrame { .. }) => HyaStatus::HyaErrInvalid,
             Failure::Load(_) | Failure::Model(_) | Failure::Friction(_) => HyaStatus::HyaErrModel,
             Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,
@@ -118,6 +123,7 @@ impl fmt::Display for Failure {
             Failure::Load(e) => write!(f, "{e}"),
             Failure::Model(e) => write!(f, "{e}"),
             Failure::Friction(e) => write!(f, "friction: {e}"),
+            Failure::Aliased(names) => write!(f, "{names} must be distinct arrays; two of them are the same"),
             Failure::Stepping { called, needs, made_by, use_instead } => write!(
                 f,
                 "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"

@@ -145,7 +145,7 @@ fn bad_frame_calls_are_refused() {
     unsafe {
         let error = || text(hya_model_error(model));
         let status = hya_model_frame_jacobian(model, c"nowhere".as_ptr(), q.as_ptr(), 2, out.as_mut_ptr(), 12);
-        refused(status, HyaStatus::HyaErrInvalid, &error(), &["nowhere"]);
+        refused(status, HyaStatus::HyaErrInvalid, &error(), &["nowhere", "base, upper_arm, forearm, tip"]);
         let status = hya_model_frame_jacobian(model, null(), q.as_ptr(), 2, out.as_mut_ptr(), 12);
         refused(status, HyaStatus::HyaErrNull, &error(), &["frame"]);
         let status = hya_model_frame_jacobian(model, c"tip".as_ptr(), q.as_ptr(), 2, out.as_mut_ptr(), 6);
@@ -154,30 +154,13 @@ fn bad_frame_calls_are_refused() {
             hya_model_frame_acceleration_bias(model, c"tip".as_ptr(), q.as_ptr(), qd.as_ptr(), 1, out.as_mut_ptr(), 6);
         refused(status, HyaStatus::HyaErrLength, &error(), &["q"]);
         let (mut a, mut b, mut c) = ([0.0; 4], [0.0; 4], [0.0; 3]);
-        let status = hya_model_forward_dynamics_derivatives(
-            model,
-            q.as_ptr(),
-            qd.as_ptr(),
-            [f64::NAN, 0.0].as_ptr(),
-            2,
-            a.as_mut_ptr(),
-            b.as_mut_ptr(),
-            c.as_mut_ptr(),
-            4,
-        );
-        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["tau[0]"]);
-        let status = hya_model_forward_dynamics_derivatives(
-            model,
-            q.as_ptr(),
-            qd.as_ptr(),
-            qd.as_ptr(),
-            2,
-            a.as_mut_ptr(),
-            b.as_mut_ptr(),
-            c.as_mut_ptr(),
-            3,
-        );
-        refused(status, HyaStatus::HyaErrLength, &error(), &["dqdd_dq", "3", "4"]);
+        let (a, b, c) = (a.as_mut_ptr(), b.as_mut_ptr(), c.as_mut_ptr());
+        let derivatives = |tau: *const f64, [x, y, z]: [*mut f64; 3], len: usize| {
+            hya_model_forward_dynamics_derivatives(model, q.as_ptr(), qd.as_ptr(), tau, 2, x, y, z, len)
+        };
+        refused(derivatives([f64::NAN, 0.0].as_ptr(), [a, b, c], 4), HyaStatus::HyaErrNonFinite, &error(), &["tau[0]"]);
+        refused(derivatives(qd.as_ptr(), [a, b, c], 3), HyaStatus::HyaErrLength, &error(), &["dqdd_dq", "3", "4"]);
+        refused(derivatives(qd.as_ptr(), [a, a, c], 4), HyaStatus::HyaErrInvalid, &error(), &["distinct"]);
         hya_model_free(model);
     }
 }

@@ -34,20 +34,19 @@ pub struct JacobianArgs {
 /// The linear then angular axes of a world-aligned twist.
 const AXES: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
 
-/// `frame`, checked against the model's frames (the error lists them), or the last one.
+/// `frame`, checked by the model (whose error lists its frames), or its last one.
 fn frame_of(model: &TreeModel, frame: Option<&str>) -> Result<String, CliError> {
-    let names: Vec<&str> = model.frames().iter().map(|f| f.name.as_str()).collect();
     match frame {
-        Some(frame) if names.contains(&frame) => Ok(frame.to_owned()),
-        Some(frame) => Err(CliError::Input(format!(
-            "--frame {}: {} has no such link; its links are {}",
-            hya_urdf::escape_name(frame),
-            hya_urdf::escape_name(model.name()),
-            names.iter().map(|n| hya_urdf::escape_name(n)).collect::<Vec<_>>().join(", ")
-        ))),
-        None => names
+        Some(frame) => {
+            model
+                .frame_pose(frame, &vec![0.0; model.dof()])
+                .map_err(|e| CliError::Input(format!("--frame {}: {e}", hya_urdf::escape_name(frame))))?;
+            Ok(frame.to_owned())
+        }
+        None => model
+            .frames()
             .last()
-            .map(|n| (*n).to_owned())
+            .map(|f| f.name.clone())
             .ok_or_else(|| CliError::Input(format!("{} has no links", model.name()))),
     }
 }

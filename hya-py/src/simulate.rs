@@ -147,6 +147,15 @@ pub fn rollouts<'py>(
         return Err(PyValueError::new_err("rollouts: no scenario or no seed to run"));
     }
     let method = method_of(method)?;
+    // One time grid, checked before anything runs: the same arm, duration and control period.
+    let grid = |s: &Scenario| (s.robot.clone(), s.duration_s.to_bits(), s.controller.dt_s.to_bits());
+    if let Some((k, other)) = bases.iter().enumerate().find(|(_, s)| grid(s) != grid(&bases[0])) {
+        return Err(PyValueError::new_err(format!(
+            "scenario {k} ({}): its time grid or arm differs from scenario 0's ({}); rollouts stack runs of one \
+             arm, duration and control period",
+            other.name, bases[0].name
+        )));
+    }
     let per_scenario = seeds.as_ref().map_or(1, Vec::len);
     let cost = hya_sim::cost::Cost::of_rollouts(&bases, per_scenario);
     cost.check("run fewer seeds or shorter scenarios", None).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -166,8 +175,7 @@ pub fn rollouts<'py>(
             let first: &Outcome = first;
             if outcome.dof != first.dof || outcome.time != first.time {
                 return Err(PyValueError::new_err(format!(
-                    "run {r} ({}, seed {}): its time grid or arm differs from run 0's ({}); rollouts stack runs \
-                     of one arm, duration and control period",
+                    "run {r} ({}, seed {}): its time grid differs from run 0's ({})",
                     runs[r].name, runs[r].seed, runs[0].name
                 )));
             }
@@ -177,14 +185,19 @@ pub fn rollouts<'py>(
     let (steps, count, dof) = (done[0].time.len(), done.len(), done[0].dof);
     let result = PyDict::new(py);
     result.set_item("time", output(py, done[0].time.clone(), steps, false, &[steps])?)?;
-    for name in done[0].series.keys() {
+    let names: Vec<&'static str> = done[0].series.keys().copied().collect();
+    for name in names {
+        // Each run's series taken out as it is stacked: memory holds the traces and one stacked
+        // series at a time, not two copies of everything.
+        let parts: Vec<Vec<f64>> = done.iter_mut().map(|run| run.series.remove(name).unwrap_or_default()).collect();
         let mut stacked = Vec::with_capacity(steps * count * dof);
         for t in 0..steps {
-            for run in &done {
-                stacked.extend_from_slice(&run.series[name][t * dof..(t + 1) * dof]);
+            for part in &parts {
+                stacked.extend_from_slice(&part[t * dof..(t + 1) * dof]);
             }
         }
-        result.set_item(*name, output(py, stacked, steps, true, &[count, dof])?)?;
+        drop(parts);
+        result.set_item(name, output(py, stacked, steps, true, &[count, dof])?)?;
     }
     let json = py.import("json")?;
     let metrics: Vec<Bound<'py, PyAny>> =
@@ -208,7 +221,16 @@ fn in_parallel(runs: &[Scenario], method: Method) -> Vec<Result<Outcome, String>
                     loop {
                         let r = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                         let Some(scenario) = runs.get(r) else { break mine };
-                        mine.push((r, run_one(scenario, method).map_err(|e| e.to_string())));
+                        // A panic (a bug) fails its own run, not the worker's others.
+                        let outcome =
+                            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(scenario, method)));
+                        mine.push((
+                            r,
+                            match outcome {
+                                Ok(result) => result.map_err(|e| e.to_string()),
+                                Err(_) => Err("it panicked (a bug in hya, please report it)".to_owned()),
+                            },
+                        ));
                     }
                 })
             })

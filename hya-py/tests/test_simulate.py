@@ -67,7 +67,7 @@ def test_rollouts_of_several_scenarios_and_their_refusals(tmp_path):
     batch = hya.rollouts([settings, heavier], method="none", seeds=[5, 6], quick=True)
     assert batch["q"].shape[1:] == (4, 2)
     assert [name for name, _ in batch["runs"]] == [settings["name"]] * 2 + ["planar2_heavier"] * 2
-    with pytest.raises(ValueError, match="time grid or arm differs"):
+    with pytest.raises(ValueError, match="scenario 1 .* time grid or arm differs"):
         hya.rollouts([settings, "goto_internal"], method="none", quick=True)
     with pytest.raises(ValueError, match="no scenario or no seed"):
         hya.rollouts("goto_internal", seeds=[])

@@ -23,7 +23,10 @@ use crate::rigid_body::spatial::Transform;
 
 impl TreeModel {
     pub(super) fn frame(&self, name: &str) -> Result<&Frame, ModelError> {
-        self.frames.iter().find(|f| f.name == name).ok_or_else(|| ModelError::UnknownFrame(name.into()))
+        self.frames.iter().find(|f| f.name == name).ok_or_else(|| {
+            let frames: alloc::vec::Vec<&str> = self.frames.iter().map(|f| f.name.as_str()).collect();
+            ModelError::UnknownFrame { name: name.into(), frames: frames.join(", ") }
+        })
     }
 
     /// Pose of the named frame in the base at `q`: as a transform from base to frame, so its

@@ -141,8 +141,13 @@ pub enum ModelError {
         got: usize,
     },
     /// No frame of that name.
-    #[error("no frame named `{0}`")]
-    UnknownFrame(String),
+    #[error("no frame named `{name}`; the model's frames are {frames}")]
+    UnknownFrame {
+        /// The name asked for.
+        name: String,
+        /// The model's frames, comma-separated.
+        frames: String,
+    },
     /// A model with more joints (or none) than an algorithm takes: refused before the
     /// algorithm allocates what grows with the joint count.
     #[error("`{model}` has {dof} joints; {algorithm} handles arms of 1 to {limit}")]
@@ -632,7 +637,7 @@ mod tests {
             assert!((jacobian.fixed_view::<3, 1>(0, j) - rate).norm() < 1e-8);
             assert_eq!(jacobian[(5, j)], 1.0);
         }
-        assert!(matches!(model.frame_pose("nowhere", &q), Err(ModelError::UnknownFrame(_))));
+        assert!(matches!(model.frame_pose("nowhere", &q), Err(ModelError::UnknownFrame { .. })));
         assert!(matches!(model.inverse_dynamics(&[0.0], &[0.0], &[0.0]), Err(ModelError::Dimension { .. })));
     }
 }

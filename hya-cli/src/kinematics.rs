@@ -37,12 +37,10 @@ const AXES: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
 /// `frame`, checked by the model (whose error lists its frames), or its last one.
 fn frame_of(model: &TreeModel, frame: Option<&str>) -> Result<String, CliError> {
     match frame {
-        Some(frame) => {
-            model
-                .frame_pose(frame, &vec![0.0; model.dof()])
-                .map_err(|e| CliError::Input(format!("--frame {}: {e}", hya_urdf::escape_name(frame))))?;
-            Ok(frame.to_owned())
-        }
+        Some(frame) => model
+            .frame(frame)
+            .map(|f| f.name.clone())
+            .map_err(|e| CliError::Input(format!("--frame {}: {e}", hya_urdf::escape_name(frame)))),
         None => model
             .frames()
             .last()

@@ -444,18 +444,11 @@ impl Model {
             d.forward_dynamics_derivatives_into(row(q, k, n), row(qd, k, n), row(tau, k, n), [by_q, by_qd, inverse])
                 .map_err(|e| format!("row {k}: {e}"))
         };
-        let out = self.compute(
-            py,
-            [&q, &qd, &tau],
-            ("forward_dynamics_derivatives", 3 * n * n),
-            |d, values, out| {
-                for (k, chunk) in out.chunks_mut(3 * n * n).enumerate() {
-                    one(d, values, k, chunk).map_err(|_| hya_core::Error::SingularMassMatrix)?;
-                }
-                Ok(())
-            },
-            one,
-        )?;
+        // No batch entry point yet: every state goes through `one`, which names the row at fault.
+        let no_batch = |_: &(dyn SliceDynamics + Sync), _: [&[f64]; 3], _: &mut [f64]| {
+            Err(hya_core::Error::Unsupported("a batch of forward-dynamics derivatives"))
+        };
+        let out = self.compute(py, [&q, &qd, &tau], ("forward_dynamics_derivatives", 3 * n * n), no_batch, one)?;
         let part = |p: usize| -> Vec<f64> {
             out.chunks(3 * n * n).flat_map(|state| state[p * n * n..(p + 1) * n * n].iter().copied()).collect()
         };
@@ -469,7 +462,8 @@ impl Model {
 
 impl Model {
     /// For every row of `inputs`, `f(model, row's values, out)` writing `shape`'s numbers, on
-    /// copies without the GIL; frame `name` checked first (a `KeyError` listing the frames).
+    /// copies without the GIL; frame `name` checked first by the model (a `KeyError` listing
+    /// the frames).
     fn per_frame_row<'py, const K: usize>(
         &self,
         py: Python<'py>,
@@ -478,9 +472,7 @@ impl Model {
         shape: &[usize],
         f: impl Fn(&TreeModel, [&[f64]; K], &mut [f64]) -> Result<(), hya_core::model::ModelError> + Send + Sync,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        if !self.model.frames().iter().any(|frame| frame.name == name) {
-            return Err(PyKeyError::new_err(format!("no frame `{name}`; frames: {}", self.frame_names().join(", "))));
-        }
+        self.model.frame(name).map_err(|e| PyKeyError::new_err(e.to_string()))?;
         let (n, width) = (self.dof(), shape.iter().product::<usize>());
         let (count, batched) = (inputs[0].count, inputs[0].batched);
         let mut copies: [Cow<'_, [f64]>; K] = std::array::from_fn(|_| Cow::Borrowed(&[][..]));

@@ -22,7 +22,9 @@ use super::{Frame, JointKind, ModelError, TreeModel};
 use crate::rigid_body::spatial::Transform;
 
 impl TreeModel {
-    pub(super) fn frame(&self, name: &str) -> Result<&Frame, ModelError> {
+    /// The frame called `name` (every link of the description); an error listing the model's
+    /// frames otherwise, which every front end passes on.
+    pub fn frame(&self, name: &str) -> Result<&Frame, ModelError> {
         self.frames.iter().find(|f| f.name == name).ok_or_else(|| {
             let frames: alloc::vec::Vec<&str> = self.frames.iter().map(|f| f.name.as_str()).collect();
             ModelError::UnknownFrame { name: name.into(), frames: frames.join(", ") }

@@ -141,7 +141,7 @@ pub enum ModelError {
         got: usize,
     },
     /// No frame of that name.
-    #[error("no frame named `{name}`; the model's frames are {frames}")]
+    #[error("no frame `{name}`; the model's frames are {frames}")]
     UnknownFrame {
         /// The name asked for.
         name: String,

@@ -47,6 +47,31 @@ pub struct Sample {
     pub qdd: Vec<f64>,
     /// Measured torques, N·m.
     pub tau: Vec<f64>,
+    /// Per joint, its least speed over the filters' memory around the sample, rad/s, and 0
+    /// where its velocity changed sign there ([`crate::log`]); infinite for a state known
+    /// without filtering. The joint's row enters the fit only where this is at least
+    /// [`Law::least_speed_rad_s`]: elsewhere the filtered friction torque is no function of the
+    /// filtered velocity.
+    pub speed_margin_rad_s: Vec<f64>,
+}
+
+impl Sample {
+    /// A sample of a state known without filtering: every joint's row enters the fit.
+    pub fn new(q: Vec<f64>, qd: Vec<f64>, qdd: Vec<f64>, tau: Vec<f64>) -> Self {
+        let speed_margin_rad_s = vec![f64::INFINITY; tau.len()];
+        Self { q, qd, qdd, tau, speed_margin_rad_s }
+    }
+
+    /// Whether joint `i`'s row enters a fit of `law` (see [`Sample::speed_margin_rad_s`]).
+    pub fn fitted(&self, i: usize, law: Law) -> bool {
+        self.speed_margin_rad_s.get(i).is_some_and(|m| *m >= law.least_speed_rad_s())
+    }
+}
+
+/// Per joint, the rows of `samples` that enter a fit of `law` ([`Sample::fitted`]).
+pub(crate) fn fitted_rows(samples: &[Sample], law: Law) -> Vec<usize> {
+    let n = samples.first().map_or(0, |s| s.tau.len());
+    (0..n).map(|i| samples.iter().filter(|s| s.fitted(i, law)).count()).collect()
 }
 
 /// What the fit found.
@@ -176,7 +201,7 @@ pub(crate) fn reduced(
     let mut y = DMatrix::zeros(n, regressor.columns());
     for (b, chunk) in samples.chunks(BLOCK_SAMPLES).enumerate() {
         for (k, s) in chunk.iter().enumerate() {
-            if [&s.q, &s.qd, &s.qdd, &s.tau].iter().any(|v| v.len() != n) {
+            if [&s.q, &s.qd, &s.qdd, &s.tau].iter().any(|v| v.len() != n) || s.speed_margin_rad_s.len() != n {
                 let sample = b * BLOCK_SAMPLES + k;
                 return Err(FitError::Samples(format!("sample {sample} has vectors of different lengths")));
             }
@@ -193,6 +218,10 @@ pub(crate) fn reduced(
                     row[r + terms * i + 3] = s.qdd[i];
                 }
                 row[unknowns] = s.tau[i];
+                if !s.fitted(i, law) {
+                    // A row of zeros: left out of the triangle, and of the fit.
+                    row.fill(0.0);
+                }
             }
         }
         for (triangle, block) in triangles.iter_mut().zip(&blocks) {
@@ -265,6 +294,13 @@ pub struct Law {
 }
 
 impl Law {
+    /// The least speed, rad/s, a joint keeps over the filters' memory for its row to enter the
+    /// fit: `3 s`, beyond which `tanh(q̇/s)` is within 0.5 % of its limit `±1`, so that the
+    /// friction term is the same function of the filtered velocity as of the true one.
+    pub fn least_speed_rad_s(&self) -> f64 {
+        3.0 * self.smoothing_rad_s
+    }
+
     /// The unknowns per joint: `c`, `v`, `o` and, with an armature, `I_a`.
     pub fn terms(&self) -> usize {
         3 + usize::from(self.armature)
@@ -291,19 +327,20 @@ pub fn fit_with(
     samples: &[Sample],
     law: Law,
 ) -> Result<Fit, FitError> {
-    let n = samples.first().map_or(0, |s| s.q.len());
-    enough_rows(n, samples.len(), base.rank() + law.terms() * n)?;
+    let rows = fitted_rows(samples, law);
+    enough_rows(&rows, base.rank() + law.terms() * rows.len())?;
     let parts = reduced_parts(regressor, base, samples, law, SPREAD_PARTS)?;
     let parts: Vec<&[DMatrix<f64>]> = parts.iter().map(Vec::as_slice).collect();
-    fit_reduced(&joined(&parts), &parts, base, law, samples.len())
+    fit_reduced(&joined(&parts), &parts, base, law, &rows)
 }
 
-/// At least twice as many rows (`joints × samples`) as unknowns.
-fn enough_rows(joints: usize, samples: usize, unknowns: usize) -> Result<(), FitError> {
-    if joints == 0 || joints * samples < 2 * unknowns {
+/// At least twice as many rows (over the joints, `rows[i]` each) as unknowns.
+fn enough_rows(rows: &[usize], unknowns: usize) -> Result<(), FitError> {
+    let total: usize = rows.iter().sum();
+    if rows.is_empty() || total < 2 * unknowns {
         return Err(FitError::Samples(format!(
-            "{samples} samples of {joints} joints give {} rows; fitting {unknowns} unknowns needs at least {}",
-            joints * samples,
+            "{} joints' samples give {total} rows to fit; fitting {unknowns} unknowns needs at least {}",
+            rows.len(),
             2 * unknowns
         )));
     }
@@ -311,34 +348,34 @@ fn enough_rows(joints: usize, samples: usize, unknowns: usize) -> Result<(), Fit
 }
 
 /// Each joint's weight `1/σ_i`, `σ_i²` its residual per degree of freedom in the unweighted
-/// least-squares fit to `triangles` of `samples` samples. The residual is unique even where the
+/// least-squares fit to `triangles` of `rows[i]` rows each. The residual is unique even where the
 /// solution is not, so the minimum-norm solution serves a log that does not determine every
 /// unknown (an armature that moves exactly as a link's inertia).
-pub(crate) fn joint_weights(triangles: &[DMatrix<f64>], samples: usize) -> Vec<f64> {
+pub(crate) fn joint_weights(triangles: &[DMatrix<f64>], rows: &[usize]) -> Vec<f64> {
     let n = triangles.len();
     let unknowns = triangles.first().map_or(0, |t| t.ncols() - 1);
     let (a, b) = stacked(triangles, &vec![1.0; n]);
     let svd = a.svd(true, true);
     let tolerance = crate::conditioning::RANK_TOLERANCE * svd.singular_values.max();
     let theta = svd.solve(&b, tolerance).unwrap_or_else(|_| DVector::zeros(unknowns));
-    let dof = (samples as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
-    triangles.iter().map(|t| 1.0 / (residual_squares(t, &theta) / dof).sqrt().max(1e-12)).collect()
+    let dof = |rows: usize| (rows as f64 - unknowns as f64 / n.max(1) as f64).max(1.0);
+    triangles.iter().zip(rows).map(|(t, &m)| 1.0 / (residual_squares(t, &theta) / dof(m)).sqrt().max(1e-12)).collect()
 }
 
-/// [`fit_with`] on the joints' triangles of `samples` samples, already reduced ([`reduced`]),
+/// [`fit_with`] on the joints' triangles of `rows[i]` rows each, already reduced ([`reduced`]),
 /// and of the contiguous `parts` they join ([`joined`]), for the standard deviations.
 pub(crate) fn fit_reduced(
     triangles: &[DMatrix<f64>],
     parts: &[&[DMatrix<f64>]],
     base: &BaseParameters,
     law: Law,
-    samples: usize,
+    rows: &[usize],
 ) -> Result<Fit, FitError> {
     let n = triangles.len();
     let terms = law.terms();
     let unknowns = base.rank() + terms * n;
-    enough_rows(n, samples, unknowns)?;
-    let weights = joint_weights(triangles, samples);
+    enough_rows(rows, unknowns)?;
+    let weights = joint_weights(triangles, rows);
     let (aw, bw) = stacked(triangles, &weights);
     let rank_deficient = || FitError::RankDeficient { rank: Conditioning::of(&aw).rank, unknowns };
     let (theta, inverse) = solve(&aw, &bw).ok_or_else(rank_deficient)?;
@@ -350,9 +387,14 @@ pub(crate) fn fit_reduced(
         base_std: std.rows(0, r).into_owned(),
         friction: law.friction(&theta.as_slice()[r..]),
         friction_std: std.as_slice()[r..].chunks(terms).map(<[f64]>::to_vec).collect(),
-        residual_rms_nm: triangles.iter().map(|t| (residual_squares(t, &theta) / samples as f64).sqrt()).collect(),
+        residual_rms_nm: residual_rms(triangles, rows, &theta),
         conditioning: Conditioning::of(&aw),
     })
+}
+
+/// Each joint's residual RMS at `theta` over its `rows[i]` rows (`triangles`), N·m.
+pub(crate) fn residual_rms(triangles: &[DMatrix<f64>], rows: &[usize], theta: &DVector<f64>) -> Vec<f64> {
+    triangles.iter().zip(rows).map(|(t, &m)| (residual_squares(t, theta) / m.max(1) as f64).sqrt()).collect()
 }
 
 impl Fit {

@@ -10,7 +10,7 @@ use hya_core::Short;
 use nalgebra::DVector;
 
 use crate::conditioning::Conditioning;
-use crate::fit::{fit_reduced, joint_weights, residual_squares, stacked, Fit, FitError, Law, Sample};
+use crate::fit::{fit_reduced, fitted_rows, joint_weights, residual_rms, stacked, Fit, FitError, Law, Sample};
 use crate::log::Filtered;
 use crate::physical::{consistent_parameters, is_consistent, Consistent};
 use crate::prior::{self, Problem, Validation};
@@ -97,6 +97,9 @@ pub struct Identification {
     pub full: Consistent,
     /// How many samples were fitted (the first ones).
     pub fitted_samples: usize,
+    /// Per joint, the fitted samples whose row of that joint entered the fit: the others are
+    /// near a reversal of the joint ([`Sample::fitted`]).
+    pub fitted_rows: Vec<usize>,
     /// The held-out samples' times, s.
     pub held_out_time_s: Vec<f64>,
     /// The held-out samples' filtered torques, `[sample][joint]`, N·m.
@@ -185,11 +188,11 @@ pub fn identify(
     let nominal = nominal_parameters(model);
     let problem = Problem::new(base, &nominal, law, fitted_part);
     // The fitted part's rows reduced once (in blocks to choose λ on), and its joint weights.
-    let samples = fitted_part.len();
+    let rows = fitted_rows(fitted_part, law);
     // In blocks to choose λ on and in the parts that the standard deviations are estimated over.
     let blocks = prior::blocks(regressor, base, fitted_part, law)?;
     let (triangles, parts) = (prior::whole(&blocks), prior::parts(&blocks));
-    let weights = joint_weights(&triangles, samples);
+    let weights = joint_weights(&triangles, &rows);
     let (lambda, validation) = match options.prior_weight {
         PriorWeight::Fixed(lambda) => (lambda, None),
         PriorWeight::Auto => {
@@ -198,9 +201,9 @@ pub fn identify(
         }
     };
     let (fitted, full) = if lambda > 0.0 {
-        regularised(&problem, base, (&triangles, &parts), &weights, samples, lambda, &nominal)?
+        regularised(&problem, base, (&triangles, &parts), &weights, &rows, lambda, &nominal)?
     } else {
-        let fitted = fit_reduced(&triangles, &parts, base, law, samples)?;
+        let fitted = fit_reduced(&triangles, &parts, base, law, &rows)?;
         let full = consistent_parameters(base, &nominal, &fitted.base);
         (fitted, full)
     };
@@ -212,7 +215,7 @@ pub fn identify(
         .map(|s| Ok(as_written.predict(regressor, base, s)?.as_slice().to_vec()))
         .collect::<Result<_, IdentifyError>>()?;
     // The baseline, where the log determines the joint law alone; NaN where it does not.
-    let nominal_with_friction = match friction_on_nominal(&problem, base, &triangles, samples, &nominal) {
+    let nominal_with_friction = match friction_on_nominal(&problem, base, &triangles, &rows, &nominal) {
         Ok(alone) => held_out
             .iter()
             .map(|s| Ok(alone.predict(regressor, base, s)?.as_slice().to_vec()))
@@ -226,6 +229,7 @@ pub fn identify(
         prior_base: problem.prior_base(),
         full,
         fitted_samples: split,
+        fitted_rows: rows,
         held_out_time_s: log.time_s[split..].to_vec(),
         measured: held_out.iter().map(|s| s.tau.clone()).collect(),
         nominal: rigid_predictions(model, held_out)?,
@@ -234,19 +238,19 @@ pub fn identify(
     })
 }
 
-/// The fit at prior weight `lambda > 0` to the joint triangles of `samples` samples (which join
+/// The fit at prior weight `lambda > 0` to the joint triangles of `rows[i]` rows each (which join
 /// `parts`, for the standard deviations), and its bodies (physical by construction).
 fn regularised(
     problem: &Problem,
     base: &BaseParameters,
     (triangles, parts): (&[nalgebra::DMatrix<f64>], &[&[nalgebra::DMatrix<f64>]]),
     weights: &[f64],
-    samples: usize,
+    rows: &[usize],
     lambda: f64,
     nominal: &DVector<f64>,
 ) -> Result<(Fit, Consistent), IdentifyError> {
     let law = problem.law();
-    let normal = problem.normal(triangles, weights, samples * triangles.len());
+    let normal = problem.normal(triangles, weights, rows.iter().sum());
     let found = problem.spread_over(&normal, problem.solve(&normal, lambda)?, parts, weights)?;
     let theta = prior::base_coordinates(problem, &found);
     let r = base.rank();
@@ -255,10 +259,7 @@ fn regularised(
         base_std: found.base_std.clone(),
         friction: law.friction(found.friction.as_slice()),
         friction_std: found.friction_std.as_slice().chunks(law.terms()).map(<[f64]>::to_vec).collect(),
-        residual_rms_nm: triangles
-            .iter()
-            .map(|t| (residual_squares(t, &theta) / samples.max(1) as f64).sqrt())
-            .collect(),
+        residual_rms_nm: residual_rms(triangles, rows, &theta),
         conditioning: Conditioning::of(&stacked(triangles, weights).0),
     };
     let bodies = nominal.len() / PARAMETERS_PER_BODY;
@@ -272,14 +273,14 @@ fn regularised(
     Ok((fitted, full))
 }
 
-/// The joint law fitted alone to `samples` with the bodies held at the nominal ones (`nominal`,
+/// The joint law fitted alone to `rows[i]` rows each with the bodies held at the nominal ones (`nominal`,
 /// as the URDF gives them): per joint, least squares of `τ_i − (Y_b K π⁰)_i` on its friction
 /// terms (the joints do not share them).
 fn friction_on_nominal(
     problem: &Problem,
     base: &BaseParameters,
     triangles: &[nalgebra::DMatrix<f64>],
-    samples: usize,
+    rows: &[usize],
     nominal: &DVector<f64>,
 ) -> Result<Fit, IdentifyError> {
     let law = problem.law();
@@ -302,10 +303,7 @@ fn friction_on_nominal(
         base_std: DVector::from_element(r, f64::NAN),
         friction: law.friction(&terms),
         friction_std: terms_std,
-        residual_rms_nm: triangles
-            .iter()
-            .map(|t| (residual_squares(t, &theta) / samples.max(1) as f64).sqrt())
-            .collect(),
+        residual_rms_nm: residual_rms(triangles, rows, &theta),
         conditioning: Conditioning { rank: r, condition_number: f64::NAN },
     })
 }

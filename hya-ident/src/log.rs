@@ -12,6 +12,15 @@
 //! noise alike, so that the fit's residuals are near independent, as its standard deviations
 //! assume.
 //!
+//! A joint's row of a sample is left out of the fit ([`Sample::fitted`]) where the joint's
+//! filtered velocity changes sign, or comes within [`crate::fit::Law::least_speed_rad_s`] of
+//! zero, within `10/ω` seconds before or after it. The filter commutes
+//! with the linear terms of the model, not with friction's switch: through a reversal the
+//! filtered torque holds `F[c tanh(q̇/s)]`, smeared over the filters' memory, while the model
+//! sees `c tanh(F[q̇]/s)`, which switches at once. No parameter explains that difference, and
+//! it repeats at every reversal, so it would move the fit's parameters (on the simulated HyA
+//! several standard deviations, `tools/identification_study.py`) rather than average out.
+//!
 //! The command line (`hya identify`) and Python (`hya.identify`) both feed their rows here, so
 //! both refuse the same rows with the same words.
 
@@ -64,6 +73,8 @@ pub struct LogFilter<const N: usize> {
     /// so its discretisations are computed once per step length for the whole log.
     clock: Option<StepClock>,
     next_sample_s: f64,
+    /// Per sample, how many gaps came before it: samples of one stretch share it.
+    stretch: Vec<usize>,
     out: Filtered,
 }
 
@@ -89,7 +100,7 @@ impl<const N: usize> LogFilter<N> {
         // The filters settle for 10/ω after each start; then one sample per 1/ω.
         let omega = params.omega1_rad_s();
         let out = Filtered { settling_s: 10.0 / omega, spacing_s: 1.0 / omega, ..Filtered::default() };
-        Ok(Self { params, timing, pair: None, clock: None, next_sample_s: 0.0, out })
+        Ok(Self { params, timing, pair: None, clock: None, next_sample_s: 0.0, stretch: Vec::new(), out })
     }
 
     /// The next row: its time `t` (ignored for [`Timing::Fixed`], whose rows are `k · dt`), the
@@ -164,16 +175,34 @@ impl<const N: usize> LogFilter<N> {
                     qd: angles.x2.as_slice().to_vec(),
                     qdd: angles.x3.as_slice().to_vec(),
                     tau: pair.torques().as_slice().to_vec(),
+                    speed_margin_rad_s: vec![0.0; N],
                 });
                 self.out.time_s.push(t);
+                self.stretch.push(self.out.gaps);
             }
             self.next_sample_s += self.out.spacing_s;
         }
         Ok(())
     }
 
-    /// The samples taken.
-    pub fn finish(self) -> Filtered {
+    /// The samples taken, each with every joint's least speed over the filters' settling time
+    /// `10/ω` before and after it, 0 where the velocity changes sign there
+    /// ([`Sample::speed_margin_rad_s`]; see the module's notes).
+    pub fn finish(mut self) -> Filtered {
+        let (memory, out) = (self.out.settling_s, &mut self.out);
+        let velocities: Vec<[f64; N]> = out.samples.iter().map(|s| core::array::from_fn(|i| s.qd[i])).collect();
+        for k in 0..out.samples.len() {
+            let near =
+                |j: &usize| self.stretch[*j] == self.stretch[k] && (out.time_s[*j] - out.time_s[k]).abs() <= memory;
+            let first = (0..k).rev().take_while(|j| near(j)).last().unwrap_or(k);
+            let last = (k + 1..out.samples.len()).take_while(|j| near(j)).last().unwrap_or(k);
+            for i in 0..N {
+                let around = velocities[first..=last].iter().map(|v| v[i]);
+                let one_way = around.clone().all(|v| v > 0.0) || around.clone().all(|v| v < 0.0);
+                out.samples[k].speed_margin_rad_s[i] =
+                    if one_way { around.map(f64::abs).fold(f64::INFINITY, f64::min) } else { 0.0 };
+            }
+        }
         self.out
     }
 }
@@ -185,6 +214,37 @@ mod tests {
     fn row(k: usize) -> ([f64; 2], [f64; 2]) {
         let x = k as f64 * 1e-3;
         ([x.sin(), 0.5 * x], [3.0 * x.cos(), 1.0 - x])
+    }
+
+    #[test]
+    fn a_joint_has_no_speed_margin_within_the_filters_memory_of_its_reversal() {
+        // Joint 0 turns back (q = sin t, q̇ = cos t, once, at t = π/2); joint 1 moves at 0.5 rad/s.
+        let params = FilterParams::new(0.8, 50.0, 50.0, 1e-3).unwrap();
+        let mut log = LogFilter::<2>::new(params, Timing::Fixed).unwrap();
+        for k in 0..3000 {
+            let t = k as f64 * 1e-3;
+            log.push(t, &[t.sin(), 0.5 * t], &[0.0, 0.0]).unwrap();
+        }
+        let log = log.finish();
+        let memory = log.settling_s;
+        // Where the filtered velocity of joint 0 changes sign.
+        let k = log.samples.windows(2).position(|w| w[0].qd[0] > 0.0 && w[1].qd[0] <= 0.0).unwrap();
+        let turn = log.time_s[k + 1];
+        for (s, t) in log.samples.iter().zip(&log.time_s) {
+            let margin = s.speed_margin_rad_s[0];
+            if (t - turn).abs() < memory - log.spacing_s {
+                assert_eq!(margin, 0.0, "t = {t}");
+            } else if (t - turn).abs() > memory + log.spacing_s {
+                // The least |q̂̇| over the window, never above the sample's own.
+                assert!(margin > 0.0 && margin <= s.qd[0].abs(), "t = {t}: {margin}");
+            }
+            assert!((s.speed_margin_rad_s[1] - 0.5).abs() < 1e-2, "t = {t}: {}", s.speed_margin_rad_s[1]);
+        }
+        // Far from the turn the margin is the window's least speed: at t = 0.5 s, about
+        // |cos| at the window's later end, a little lagged by the filter.
+        let early = log.time_s.iter().position(|t| *t >= 0.5).unwrap();
+        let margin = log.samples[early].speed_margin_rad_s[0];
+        assert!(margin < log.samples[early].qd[0] && margin > (0.5f64 + memory).cos() - 0.05, "{margin}");
     }
 
     #[test]

@@ -32,7 +32,7 @@
 use nalgebra::{DMatrix, DVector, Matrix4};
 
 use crate::base::BaseParameters;
-use crate::fit::{joined, reduced_parts, residual_squares, stacked, FitError, Law, Sample, SPREAD_PARTS};
+use crate::fit::{fitted_rows, joined, reduced_parts, residual_squares, stacked, FitError, Law, Sample, SPREAD_PARTS};
 use crate::physical::pseudo_inertia;
 use crate::regressor::{Regressor, PARAMETERS_PER_BODY};
 
@@ -373,13 +373,13 @@ fn positive_definite(j: &Matrix4<f64>) -> Matrix4<f64> {
         * eigen.eigenvectors.transpose()
 }
 
-/// One contiguous block of samples, reduced: its joint triangles and how many samples it holds.
+/// One contiguous block of samples, reduced: its joint triangles and how many rows each holds.
 #[derive(Debug, Clone)]
 pub struct Block {
     /// Per joint, the triangle of its rows ([`crate::fit`](mod@crate::fit)).
     pub triangles: Vec<DMatrix<f64>>,
-    /// Its samples.
-    pub samples: usize,
+    /// Per joint, its rows that enter the fit ([`Sample::fitted`]).
+    pub rows: Vec<usize>,
     /// Its contiguous parts' triangles, which it joins: every block's together are the
     /// [`SPREAD_PARTS`] parts the standard deviations are estimated over.
     pub parts: Vec<Vec<DMatrix<f64>>>,
@@ -399,7 +399,7 @@ pub fn blocks(
         .map(|block| {
             let parts = reduced_parts(regressor, base, block, law, SPREAD_PARTS / FOLDS)?;
             let triangles = joined(&parts.iter().map(Vec::as_slice).collect::<Vec<_>>());
-            Ok(Block { triangles, samples: block.len(), parts })
+            Ok(Block { triangles, rows: fitted_rows(block, law), parts })
         })
         .collect()
 }
@@ -409,10 +409,10 @@ pub fn parts(blocks: &[Block]) -> Vec<&[DMatrix<f64>]> {
     blocks.iter().flat_map(|b| b.parts.iter().map(Vec::as_slice)).collect()
 }
 
-/// The whitened mean square error of `(π, f)` on the triangles `held_out` of `samples` samples.
-fn held_out_error(held_out: &[DMatrix<f64>], weights: &[f64], theta: &DVector<f64>, samples: usize) -> f64 {
+/// The whitened mean square error of `(π, f)` on the triangles `held_out` of `rows` rows.
+fn held_out_error(held_out: &[DMatrix<f64>], weights: &[f64], theta: &DVector<f64>, rows: usize) -> f64 {
     let squares: f64 = held_out.iter().zip(weights).map(|(t, w)| w * w * residual_squares(t, theta)).sum();
-    squares / (samples * held_out.len()).max(1) as f64
+    squares / rows.max(1) as f64
 }
 
 /// The base-coordinate unknowns `(K π, f)` of a prior fit.
@@ -431,8 +431,7 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
             let rest: Vec<&[DMatrix<f64>]> =
                 (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].triangles.as_slice()).collect();
             let training = joined(&rest);
-            let rows: usize =
-                (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].samples).sum::<usize>() * weights.len();
+            let rows: usize = (0..blocks.len()).filter(|&j| j != k).map(|j| blocks[j].rows.iter().sum::<usize>()).sum();
             let normal = problem.normal(&training, weights, rows);
             let mut errors: Vec<f64> = problem
                 .path(&normal, &descending)
@@ -442,7 +441,7 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
                         &blocks[k].triangles,
                         weights,
                         &base_coordinates(problem, &fit),
-                        blocks[k].samples,
+                        blocks[k].rows.iter().sum(),
                     ),
                     Err(_) => f64::INFINITY,
                 })
@@ -453,8 +452,9 @@ pub fn choose(problem: &Problem, blocks: &[Block], weights: &[f64]) -> Validatio
         .collect();
     let per_block: Vec<Vec<f64>> =
         (0..LAMBDA_GRID.len()).map(|g| by_block.iter().map(|errors| errors[g]).collect()).collect();
-    let total: f64 = blocks.iter().map(|b| b.samples as f64).sum::<f64>().max(1.0);
-    let mean = |values: &[f64]| values.iter().zip(blocks).map(|(v, b)| v * b.samples as f64).sum::<f64>() / total;
+    let block_rows = |b: &Block| b.rows.iter().sum::<usize>() as f64;
+    let total: f64 = blocks.iter().map(block_rows).sum::<f64>().max(1.0);
+    let mean = |values: &[f64]| values.iter().zip(blocks).map(|(v, b)| v * block_rows(b)).sum::<f64>() / total;
     let errors: Vec<f64> = per_block.iter().map(|e| mean(e)).collect();
     let least = (0..errors.len()).filter(|&k| errors[k].is_finite()).min_by(|&a, &b| errors[a].total_cmp(&errors[b]));
     let curve: Vec<ValidationPoint> = (0..errors.len())
@@ -492,7 +492,7 @@ mod tests {
     fn problem() -> (Problem, DVector<f64>) {
         let body = [2.0, 0.2, -0.1, 0.05, 0.08, 0.01, 0.09, -0.02, 0.005, 0.07];
         let base = BaseParameters::of_stack(&DMatrix::identity(PARAMETERS_PER_BODY, PARAMETERS_PER_BODY));
-        let sample = Sample { q: vec![0.1], qd: vec![0.5], qdd: vec![2.0], tau: vec![3.0] };
+        let sample = Sample::new(vec![0.1], vec![0.5], vec![2.0], vec![3.0]);
         let law = Law { smoothing_rad_s: 0.05, armature: true };
         let problem = Problem::new(&base, &DVector::from_row_slice(&body), law, &[sample]);
         // A physical point off the prior: the body scaled and shifted, friction terms non-zero.

@@ -127,6 +127,7 @@ pub fn identify<'py>(
     out.set_item("rows", log.rows)?;
     out.set_item("gaps", log.gaps)?;
     out.set_item("fitted_samples", found.fitted_samples)?;
+    out.set_item("fitted_rows", found.fitted_rows.clone())?;
     out.set_item("held_out_samples", found.measured.len())?;
     let rms = PyDict::new(py);
     rms.set_item("nominal", hya_ident::identify::rms_error(&found.nominal, &found.measured))?;

@@ -192,8 +192,11 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         setup: format!(
             "{} rows{} at {} s{}{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
              while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
-             noise alike): {} samples fitted, the last {} held out. {} base parameters of {} and {} friction \
-             terms, by weighted least squares{}; condition number of the weighted system {:.3e}. Standard \
+             noise alike): {} samples fitted, the last {} held out. A joint's row of a sample is left out of the \
+             fit where its filtered velocity turns or falls below 3 s = {} rad/s within 10/ω of the sample (there the \
+             filtered friction torque is no function of the filtered velocity): rows fitted per joint {}. {} base \
+             parameters of {} and {} friction terms, by weighted least squares{}; condition number of the weighted \
+             system {:.3e}. Standard \
              deviations are the spread of the residual's share over {} contiguous parts of the fitted samples \
              (a cluster-robust sandwich), so errors correlated within a part count; the filters' lag adds a \
              bias they do not count. Torques are compared after the same filter.",
@@ -210,6 +213,10 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             log.log.settling_s,
             found.fitted_samples,
             held_out.len(),
+            Short(
+                hya_ident::Law { smoothing_rad_s: args.smoothing_rad_s, armature: args.armature }.least_speed_rad_s()
+            ),
+            found.fitted_rows.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
             base.rank(),
             regressor.columns(),
             terms * n,

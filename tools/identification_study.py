@@ -126,16 +126,18 @@ def main():
             identified = out
 
     print("\nThe filters' bandwidth (`--bandwidth-rad-s`, the regressor's q̂, q̂̇, q̂̈ and the torque "
-          "alike; `--prior-weight 0`) on the same logs: the parameters' distance from the truth and the largest "
+          "alike; `--prior-weight 0`) on the same logs, and the default bandwidth with every joint's rows near its "
+          "reversals fitted too (`--keep-reversals`): the parameters' distance from the truth and the largest "
           "deviation in σ:\n")
-    print("| plant friction | " + " | ".join(f"ω = {b} rad/s" for b in BANDWIDTHS) + " |")
-    print("|---|" + "---|" * len(BANDWIDTHS))
+    variants = [(b, [], f"ω = {b} rad/s") for b in BANDWIDTHS] + [(50, ["--keep-reversals"], "ω = 50, reversals kept")]
+    print("| plant friction | " + " | ".join(name for _, _, name in variants) + " |")
+    print("|---|" + "---|" * len(variants))
     for label, log, truth in logs:
         cells = []
-        for bandwidth in BANDWIDTHS:
+        for bandwidth, extra, _ in variants:
             out = os.path.join(folder, f"bandwidth{bandwidth}-{len(cells)}-{hash(label) & 0xffff}")
             hya(["identify", "--robot", "hya", "--dt", "0.001", "--timestamps", "--compare", truth,
-                 "--bandwidth-rad-s", str(bandwidth), "--out", out], log)
+                 "--bandwidth-rad-s", str(bandwidth), "--out", out, *extra], log)
             _, base, _ = report_numbers(os.path.join(out, "report.md"))
             distance = math.sqrt(sum((b[1] - b[3]) ** 2 for b in base))
             cells.append(f"{distance:.3f}, {max(abs(b[4]) for b in base):.1f} σ")

@@ -77,24 +77,28 @@ def main():
     print("| model | " + " | ".join(f"j{i + 1}" for i in range(n)) + " | mean |")
     print("|---|" + "---|" * (n + 1))
     line = lambda label, v: print(f"| {label} | " + " | ".join(f"{x:.3f}" for x in v) + f" | {sum(v) / n:.3f} |")
-    shown_nominal = False
+    shown = set()  # the baselines printed: "nominal", and the joint law fitted alone per (armature, reversals)
     for label, extra in [("log alone (`--prior-weight 0`)", ["--prior-weight", "0"]),
                          ("log alone, armature (`--prior-weight 0 --armature`)", ["--prior-weight", "0", "--armature"]),
                          ("prior, λ chosen (`--prior-weight auto`)", ["--prior-weight", "auto"]),
-                         ("prior and armature (`--prior-weight auto --armature`)", ["--prior-weight", "auto", "--armature"])]:
+                         ("prior and armature (`--prior-weight auto --armature`)", ["--prior-weight", "auto", "--armature"]),
+                         ("log alone, reversals kept (`--prior-weight 0 --keep-reversals`)",
+                          ["--prior-weight", "0", "--keep-reversals"]),
+                         ("prior, reversals kept (`--prior-weight auto --keep-reversals`)",
+                          ["--prior-weight", "auto", "--keep-reversals"])]:
         models, weight, _ = identify(robot, log, timing, n, extra)
         if models is None:
             print(f"| `hya identify`, {label} | refused: {weight} |")
             continue
-        if not shown_nominal:
+        if "nominal" not in shown:
             line("nominal URDF", models["nominal model"])
-            shown_nominal = True
-        if "--armature" in extra:
-            line("nominal URDF + friction and armature fit", models["nominal model + friction fit"])
-        elif extra == ["--prior-weight", "0"]:
-            line("nominal URDF + friction fit", models["nominal model + friction fit"])
+            shown.add("nominal")
+        law = ("--armature" in extra, "--keep-reversals" in extra)
+        if law not in shown:
+            what = "friction and armature fit" if law[0] else "friction fit"
+            line(f"nominal URDF + {what}" + (", reversals kept" if law[1] else ""), models["nominal model + friction fit"])
+            shown.add(law)
         line(f"`hya identify`, {label}; λ = {weight}", models["identified model"])
-
 
 if __name__ == "__main__":
     main()

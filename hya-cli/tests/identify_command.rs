@@ -72,7 +72,35 @@ fn identify_recovers_friction_and_beats_the_nominal_model_on_held_out_torques() 
     let moment = identified.bodies()[1].inertia.first_moment.x;
     assert!((moment - 0.48).abs() < 0.01, "forearm m·c_x {moment}");
     assert!(report.contains("## Bodies (`identified.urdf`)"), "{report}");
+    // Rows near each joint's reversals are left out, and with --keep-reversals fitted.
+    let (samples, rows) = fitted(&report);
+    assert!(rows.iter().all(|&r| r > samples / 2 && r < samples), "{samples} samples, rows {rows:?}");
+    let kept = hya(
+        &[
+            "identify",
+            "--robot",
+            "planar2",
+            "--dt",
+            "0.002",
+            "--keep-reversals",
+            "--force",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &log(),
+    );
+    assert!(kept.status.success(), "{}", String::from_utf8_lossy(&kept.stderr));
+    let (samples, rows) = fitted(&std::fs::read_to_string(out.join("report.md")).unwrap());
+    assert_eq!(rows, vec![samples; 2]);
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The report's fitted samples and, per joint, the rows that entered the fit.
+fn fitted(report: &str) -> (usize, Vec<usize>) {
+    let number = |text: &str| text.trim().parse::<usize>().unwrap();
+    let samples = report.split(" samples fitted").next().unwrap().rsplit(' ').next().unwrap();
+    let rows = report.split("rows fitted per joint ").nth(1).unwrap().split('.').next().unwrap();
+    (number(samples), rows.split(", ").map(number).collect())
 }
 
 #[test]

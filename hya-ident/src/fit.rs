@@ -280,7 +280,7 @@ pub fn fit(
     samples: &[Sample],
     smoothing_rad_s: f64,
 ) -> Result<Fit, FitError> {
-    fit_with(regressor, base, samples, Law { smoothing_rad_s, armature: false })
+    fit_with(regressor, base, samples, Law { smoothing_rad_s, armature: false, keep_reversals: false })
 }
 
 /// The joint law beside the rigid body: the friction's smoothing velocity, and whether each joint
@@ -291,14 +291,23 @@ pub struct Law {
     pub smoothing_rad_s: f64,
     /// Whether to identify an armature per joint.
     pub armature: bool,
+    /// Whether to fit a joint's rows near its reversals too ([`Sample::speed_margin_rad_s`]):
+    /// they fit the friction's switch as the filtered data smear it, which moves the
+    /// parameters, and may predict a log like the fitted one better for it.
+    pub keep_reversals: bool,
 }
 
 impl Law {
     /// The least speed, rad/s, a joint keeps over the filters' memory for its row to enter the
     /// fit: `3 s`, beyond which `tanh(q̇/s)` is within 0.5 % of its limit `±1`, so that the
-    /// friction term is the same function of the filtered velocity as of the true one.
+    /// friction term is the same function of the filtered velocity as of the true one; 0 if
+    /// reversals are kept.
     pub fn least_speed_rad_s(&self) -> f64 {
-        3.0 * self.smoothing_rad_s
+        if self.keep_reversals {
+            0.0
+        } else {
+            3.0 * self.smoothing_rad_s
+        }
     }
 
     /// The unknowns per joint: `c`, `v`, `o` and, with an armature, `I_a`.
@@ -339,7 +348,8 @@ fn enough_rows(rows: &[usize], unknowns: usize) -> Result<(), FitError> {
     let total: usize = rows.iter().sum();
     if rows.is_empty() || total < 2 * unknowns {
         return Err(FitError::Samples(format!(
-            "{} joints' samples give {total} rows to fit; fitting {unknowns} unknowns needs at least {}",
+            "{} joints' samples give {total} rows to fit (rows near a joint's reversals not counted: see \
+             `keep_reversals`); fitting {unknowns} unknowns needs at least {}",
             rows.len(),
             2 * unknowns
         )));

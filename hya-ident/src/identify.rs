@@ -28,6 +28,8 @@ pub struct Options {
     pub prior_weight: PriorWeight,
     /// Whether each joint has an armature `I_a q̈` to identify.
     pub armature: bool,
+    /// Whether a joint's rows near its reversals are fitted too ([`Law::keep_reversals`]).
+    pub keep_reversals: bool,
 }
 
 /// The weight `λ` of the prior (the nominal model) against the log.
@@ -166,7 +168,11 @@ pub fn identify(
 ) -> Result<Identification, IdentifyError> {
     options.check()?;
     let n = crate::check_joint_count(model)?;
-    let law = Law { smoothing_rad_s: options.smoothing_rad_s, armature: options.armature };
+    let law = Law {
+        smoothing_rad_s: options.smoothing_rad_s,
+        armature: options.armature,
+        keep_reversals: options.keep_reversals,
+    };
     let unknowns = base.rank() + law.terms() * n;
     // At least twice as many equations as unknowns in the fitted part, and a held-out part.
     let needed = ((2 * unknowns).div_ceil(n) as f64 / (1.0 - options.held_out)).ceil() as usize + 1;

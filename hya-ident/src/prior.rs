@@ -493,7 +493,7 @@ mod tests {
         let body = [2.0, 0.2, -0.1, 0.05, 0.08, 0.01, 0.09, -0.02, 0.005, 0.07];
         let base = BaseParameters::of_stack(&DMatrix::identity(PARAMETERS_PER_BODY, PARAMETERS_PER_BODY));
         let sample = Sample::new(vec![0.1], vec![0.5], vec![2.0], vec![3.0]);
-        let law = Law { smoothing_rad_s: 0.05, armature: true };
+        let law = Law { smoothing_rad_s: 0.05, armature: true, keep_reversals: false };
         let problem = Problem::new(&base, &DVector::from_row_slice(&body), law, &[sample]);
         // A physical point off the prior: the body scaled and shifted, friction terms non-zero.
         let mut x = DVector::from_iterator(14, body.iter().map(|v| v * 1.1).chain([0.4, 0.3, -0.2, 0.05]));

@@ -324,7 +324,7 @@ fn the_prior_keeps_bodies_physical_recovers_the_truth_and_at_a_large_weight_is_t
     let regressor = Regressor::new(&nominal);
     let base = BaseParameters::of(&nominal, 5).unwrap();
     let prior_parameters = nominal_parameters(&nominal);
-    let law = Law { smoothing_rad_s: SMOOTHING, armature: true };
+    let law = Law { smoothing_rad_s: SMOOTHING, armature: true, keep_reversals: false };
     let problem = Problem::new(&base, &prior_parameters, law, &samples);
     let blocks = prior::blocks(&regressor, &base, &samples, law).unwrap();
     let triangles = prior::whole(&blocks);

@@ -40,10 +40,10 @@ impl ForJoints for FilterRows<'_> {
 /// per `dt` seconds, or at the times `t` (s) with `dt` their nominal step; a step longer than
 /// `max_step` (default 2.5 `dt`) is a gap. The same as `hya identify` with `--dt`,
 /// `--timestamps`, `--max-step`, `--held-out`, `--smoothing-rad-s`, `--bandwidth-rad-s`,
-/// `--prior-weight` (`"auto"` or a number) and `--armature` on those rows; returns a dict of the fit, the held-out test and `identified_urdf`, the
+/// `--prior-weight` (`"auto"` or a number), `--armature` and `--keep-reversals` on those rows; returns a dict of the fit, the held-out test and `identified_urdf`, the
 /// text `hya identify` writes.
 #[pyfunction]
-#[pyo3(signature = (model, q, tau, dt, *, t=None, max_step=None, held_out=0.25, smoothing_rad_s=0.05, bandwidth_rad_s=50.0, prior_weight=None, armature=false))]
+#[pyo3(signature = (model, q, tau, dt, *, t=None, max_step=None, held_out=0.25, smoothing_rad_s=0.05, bandwidth_rad_s=50.0, prior_weight=None, armature=false, keep_reversals=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify<'py>(
     py: Python<'py>,
@@ -58,6 +58,7 @@ pub fn identify<'py>(
     bandwidth_rad_s: f64,
     prior_weight: Option<&Bound<'py, PyAny>>,
     armature: bool,
+    keep_reversals: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let prior_weight = match prior_weight {
         None => PriorWeight::Fixed(0.0),
@@ -81,7 +82,7 @@ pub fn identify<'py>(
         (None, Some(_)) => return Err(PyValueError::new_err("max_step: only with t (gaps are between times)")),
         (None, None) => Timing::Fixed,
     };
-    let options = Options { held_out, smoothing_rad_s, prior_weight, armature };
+    let options = Options { held_out, smoothing_rad_s, prior_weight, armature, keep_reversals };
     options.check().map_err(value_error)?;
     let params = FilterParams::new(0.8, bandwidth_rad_s, bandwidth_rad_s, dt).map_err(value_error)?;
     let tree = model.tree();

@@ -45,6 +45,12 @@ def test_identify_finds_the_friction_and_predicts_better_than_the_nominal_model(
     rms = found["held_out_rms_nm"]
     assert all(i < 0.2 * n for i, n in zip(rms["identified"], rms["nominal"])), rms
     assert "<robot" in found["identified_urdf"]
+    # Each joint's rows near its reversals (here, with s = 0.5 rad/s, wherever it moves slower
+    # than 1.5 rad/s within 0.2 s of the sample: most of this log) are left out, unless kept.
+    assert len(found["fitted_rows"]) == 2
+    assert all(0 < r < found["fitted_samples"] for r in found["fitted_rows"])
+    kept = hya.identify(model, q, tau, DT, smoothing_rad_s=SMOOTHING, keep_reversals=True)
+    assert kept["fitted_rows"] == [kept["fitted_samples"]] * 2
 
 
 def test_identify_refuses_what_the_command_line_refuses():

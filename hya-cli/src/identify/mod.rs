@@ -79,6 +79,14 @@ pub struct IdentifyArgs {
     /// which no URDF link carries; written to friction.toml as `armature_kg_m2`.
     #[arg(long)]
     armature: bool,
+    /// Fit each joint's rows near its reversals too. By default they are left out: where the
+    /// joint's filtered velocity turns, or stays below 3 times the smoothing velocity, within
+    /// 10/ω of a sample, the filtered torque holds friction's switch smeared by the filters and
+    /// no parameter of the model explains it, so fitting those rows moves the parameters. With a
+    /// smoothing velocity large against the log's speeds most rows are left out: the report
+    /// gives the rows fitted per joint.
+    #[arg(long)]
+    keep_reversals: bool,
 }
 
 /// `--prior-weight`: `auto` or a number.
@@ -127,6 +135,7 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         smoothing_rad_s: args.smoothing_rad_s,
         prior_weight: args.prior_weight,
         armature: args.armature,
+        keep_reversals: args.keep_reversals,
     };
     options.check().map_err(identify_error)?;
     let model = crate::common::model(&args.robot)?;
@@ -214,7 +223,12 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             found.fitted_samples,
             held_out.len(),
             Short(
-                hya_ident::Law { smoothing_rad_s: args.smoothing_rad_s, armature: args.armature }.least_speed_rad_s()
+                hya_ident::Law {
+                    smoothing_rad_s: args.smoothing_rad_s,
+                    armature: args.armature,
+                    keep_reversals: args.keep_reversals
+                }
+                .least_speed_rad_s()
             ),
             found.fitted_rows.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
             base.rank(),

@@ -135,6 +135,7 @@ def identify(
     bandwidth_rad_s: float = 50.0,
     prior_weight: Union[str, float, None] = None,
     armature: bool = False,
+    keep_reversals: bool = False,
 ) -> Dict[str, Any]:
     """Base parameters and joint friction of `model` from a log's rows of q (rad) and tau (N·m),
     one per dt, or at the times t with dt their nominal step: what `hya identify` finds from the

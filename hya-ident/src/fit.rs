@@ -64,7 +64,7 @@ impl Sample {
 
     /// Whether joint `i`'s row enters a fit of `law` (see [`Sample::speed_margin_rad_s`]).
     pub fn fitted(&self, i: usize, law: Law) -> bool {
-        self.speed_margin_rad_s.get(i).is_some_and(|m| *m >= law.least_speed_rad_s())
+        self.speed_margin_rad_s.get(i).is_some_and(|m| law.keep_reversals || *m >= law.least_speed_rad_s())
     }
 }
 
@@ -86,7 +86,7 @@ pub struct Fit {
     /// Its parameters' standard deviations, in the order `c`, `v`, `o` (and `I_a` with an
     /// armature) of every joint.
     pub friction_std: Vec<Vec<f64>>,
-    /// Each joint's residual RMS on the samples fitted, N·m.
+    /// Each joint's residual RMS over its rows fitted, N·m.
     pub residual_rms_nm: Vec<f64>,
     /// The weighted system's conditioning.
     pub conditioning: Conditioning,
@@ -299,9 +299,9 @@ pub struct Law {
 
 impl Law {
     /// The least speed, rad/s, a joint keeps over the filters' memory for its row to enter the
-    /// fit: `3 s`, beyond which `tanh(q̇/s)` is within 0.5 % of its limit `±1`, so that the
-    /// friction term is the same function of the filtered velocity as of the true one; 0 if
-    /// reversals are kept.
+    /// fit: `3 s`, beyond which `tanh(q̇/s)` is within 0.5 % of its limit `±1`, so that, where
+    /// the true velocity stays as far from zero, the friction term is nearly the same function
+    /// of the filtered velocity as of the true one; 0 if reversals are kept.
     pub fn least_speed_rad_s(&self) -> f64 {
         if self.keep_reversals {
             0.0
@@ -348,8 +348,8 @@ fn enough_rows(rows: &[usize], unknowns: usize) -> Result<(), FitError> {
     let total: usize = rows.iter().sum();
     if rows.is_empty() || total < 2 * unknowns {
         return Err(FitError::Samples(format!(
-            "{} joints' samples give {total} rows to fit (rows near a joint's reversals not counted: see \
-             `keep_reversals`); fitting {unknowns} unknowns needs at least {}",
+            "{} joints' samples give {total} rows to fit (rows near a joint's reversals not counted unless \
+             kept: --keep-reversals, keep_reversals=True); fitting {unknowns} unknowns needs at least {}",
             rows.len(),
             2 * unknowns
         )));

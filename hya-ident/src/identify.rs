@@ -195,6 +195,20 @@ pub fn identify(
     let problem = Problem::new(base, &nominal, law, fitted_part);
     // The fitted part's rows reduced once (in blocks to choose λ on), and its joint weights.
     let rows = fitted_rows(fitted_part, law);
+    // Each joint's own share of the equations, twice over, from the rows its reversals leave.
+    let share = 2 * unknowns.div_ceil(n);
+    if let Some(i) = (0..n).find(|&i| rows[i] < share) {
+        return Err(IdentifyError::TooFew(format!(
+            "joint `{}` keeps {} of the {} fitted samples: its rows where its filtered velocity turns or falls below \
+             {} rad/s (3 times the smoothing velocity) within 10/ω are left out, and its share of the unknowns \
+             needs at least {share}; fit those rows too (--keep-reversals, keep_reversals=True) or lower the \
+             smoothing velocity",
+            model.bodies()[i].joint,
+            rows[i],
+            fitted_part.len(),
+            Short(law.least_speed_rad_s()),
+        )));
+    }
     // In blocks to choose λ on and in the parts that the standard deviations are estimated over.
     let blocks = prior::blocks(regressor, base, fitted_part, law)?;
     let (triangles, parts) = (prior::whole(&blocks), prior::parts(&blocks));

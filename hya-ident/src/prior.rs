@@ -108,7 +108,7 @@ pub struct ValidationPoint {
     /// `λ`.
     pub lambda: f64,
     /// The held-out blocks' whitened mean square error, mean over the blocks weighted by their
-    /// samples (1 is the noise level of the fit without prior); infinite where a fit failed.
+    /// fitted rows (1 is the noise level of the fit without prior); infinite where a fit failed.
     pub error: f64,
     /// The standard error, over the blocks, of its excess over the least error's (block by
     /// block: paired); 0 for the least itself.

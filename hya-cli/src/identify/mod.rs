@@ -17,7 +17,7 @@ use hya_core::dispatch::with_joints;
 use hya_core::model::TreeModel;
 use hya_core::{FilterParams, Short};
 use hya_ident::identify::{rigid_predictions, PriorWeight};
-use hya_ident::{identify, nominal_parameters, BaseParameters, IdentifyError, Options, Regressor};
+use hya_ident::{identify, nominal_parameters, BaseParameters, IdentifyError, Law, Options, Regressor};
 use hya_sim::io::output::OutputDir;
 
 use crate::table::names::Joints;
@@ -80,8 +80,8 @@ pub struct IdentifyArgs {
     #[arg(long)]
     armature: bool,
     /// Fit each joint's rows near its reversals too. By default they are left out: where the
-    /// joint's filtered velocity turns, or stays below 3 times the smoothing velocity, within
-    /// 10/ω of a sample, the filtered torque holds friction's switch smeared by the filters and
+    /// joint's filtered velocity turns, or falls below 3 times the smoothing velocity
+    /// (--smoothing-rad-s), within 10/ω of a sample, the filtered torque holds friction's switch smeared by the filters and
     /// no parameter of the model explains it, so fitting those rows moves the parameters. With a
     /// smoothing velocity large against the log's speeds most rows are left out: the report
     /// gives the rows fitted per joint.
@@ -201,9 +201,8 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
         setup: format!(
             "{} rows{} at {} s{}{}; filtered (ζ 0.8, ω {} rad/s), the first {} s after each start left out \
              while the filters settle, then one sample per 1/ω (over which the filters make neighbouring rows' \
-             noise alike): {} samples fitted, the last {} held out. A joint's row of a sample is left out of the \
-             fit where its filtered velocity turns or falls below 3 s = {} rad/s within 10/ω of the sample (there the \
-             filtered friction torque is no function of the filtered velocity): rows fitted per joint {}. {} base \
+             noise alike): {} samples fitted, the last {} held out. {}: rows fitted per joint {} (the held-out \
+             RMS is over every held-out sample). {} base \
              parameters of {} and {} friction terms, by weighted least squares{}; condition number of the weighted \
              system {:.3e}. Standard \
              deviations are the spread of the residual's share over {} contiguous parts of the fitted samples \
@@ -222,14 +221,16 @@ pub fn run(args: &IdentifyArgs, stdin: impl BufRead) -> Result<(), CliError> {
             log.log.settling_s,
             found.fitted_samples,
             held_out.len(),
-            Short(
-                hya_ident::Law {
-                    smoothing_rad_s: args.smoothing_rad_s,
-                    armature: args.armature,
-                    keep_reversals: args.keep_reversals
-                }
-                .least_speed_rad_s()
-            ),
+            if args.keep_reversals {
+                "Every joint's rows fitted, those near its reversals too (--keep-reversals)".to_string()
+            } else {
+                format!(
+                    "A joint's row of a sample is left out of the fit where its filtered velocity turns or falls below \
+                     3 s = {} rad/s within 10/ω of the sample (there the filtered friction torque is no function of \
+                     the filtered velocity)",
+                    Short(Law { smoothing_rad_s: args.smoothing_rad_s, armature: false, keep_reversals: false }.least_speed_rad_s())
+                )
+            },
             found.fitted_rows.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
             base.rank(),
             regressor.columns(),

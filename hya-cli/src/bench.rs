@@ -11,7 +11,8 @@ use std::time::Instant;
 
 use hya_core::model::TreeDynamics;
 use hya_core::{
-    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector, Reference,
+    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointMatrix,
+    JointVector, Reference,
 };
 use hya_robots::Hya;
 
@@ -44,6 +45,24 @@ struct Figures {
     batch_id_ns_per_state: f64,
     /// The same for forward dynamics.
     batch_fd_ns_per_state: f64,
+    /// The mass matrix and the inverse-dynamics derivatives on [`BATCH`] states per call, ns per
+    /// state.
+    batch_mass_ns_per_state: f64,
+    batch_id_derivatives_ns_per_state: f64,
+    /// The states per step of those batches on this CPU (`hya_core::lanes::batch_lanes`: 8 with
+    /// AVX-512F, 4 with AVX2 and FMA, 1 without a vector unit).
+    batch_lanes: usize,
+    /// Where the batches take 8 lanes: the same batches held to 4 (AVX2,
+    /// `hya_core::lanes::limit_batch_lanes`), measured beside them, ns per state (forward
+    /// dynamics takes 4 either way: `hya_core::lanes::kernels::Width`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    batch_id_ns_per_state_4_lanes: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    batch_fd_ns_per_state_4_lanes: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    batch_mass_ns_per_state_4_lanes: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    batch_id_derivatives_ns_per_state_4_lanes: Option<f64>,
     /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics (`Dynamics::inverse_dynamics_derivatives`).
     generated_id_derivatives_ns: f64,
     generic_id_derivatives_ns: f64,
@@ -218,17 +237,38 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
     });
     let batch: Vec<[JointVector<N>; 3]> = hya_core::sampling::varied_states::<N, BATCH>().to_vec();
     let [q, qd, x]: [Vec<JointVector<N>>; 3] = core::array::from_fn(|i| batch.iter().map(|s| s[i]).collect());
-    let mut out = vec![JointVector::<N>::zeros(); BATCH];
-    let batch_id = |out: &mut Vec<JointVector<N>>| {
-        median_batch_ns(|| {
-            let _ = black_box(generated.inverse_dynamics_batch(black_box(&q), &qd, &x, out));
-        })
+    let (mut out, mut matrices) = (vec![JointVector::<N>::zeros(); BATCH], vec![JointMatrix::<N>::zeros(); BATCH]);
+    let mut more_matrices = matrices.clone();
+    let lanes = hya_core::lanes::batch_lanes();
+    // Each batch on the CPU's lanes and, where those are eight, held to four just after it.
+    let both_widths = |mut run: Box<dyn FnMut() + '_>| {
+        let wide = median_batch_ns(&mut run);
+        let narrow = (lanes == 8).then(|| {
+            let _ = hya_core::lanes::limit_batch_lanes(4);
+            let ns = median_batch_ns(&mut run);
+            let _ = hya_core::lanes::limit_batch_lanes(8);
+            ns
+        });
+        (wide, narrow)
     };
-    let batch_fd = |out: &mut Vec<JointVector<N>>| {
-        median_batch_ns(|| {
-            let _ = black_box(generated.forward_dynamics_batch(black_box(&q), &qd, &x, out));
-        })
-    };
+    let (batch_id_ns_per_state, batch_id_ns_per_state_4_lanes) = both_widths(Box::new(|| {
+        let _ = black_box(generated.inverse_dynamics_batch(black_box(&q), &qd, &x, &mut out));
+    }));
+    let (batch_fd_ns_per_state, batch_fd_ns_per_state_4_lanes) = both_widths(Box::new(|| {
+        let _ = black_box(generated.forward_dynamics_batch(black_box(&q), &qd, &x, &mut out));
+    }));
+    let (batch_mass_ns_per_state, batch_mass_ns_per_state_4_lanes) = both_widths(Box::new(|| {
+        let _ = black_box(generated.mass_matrix_batch(black_box(&q), &mut matrices));
+    }));
+    let (batch_id_derivatives_ns_per_state, batch_id_derivatives_ns_per_state_4_lanes) = both_widths(Box::new(|| {
+        let _ = black_box(generated.inverse_dynamics_derivatives_batch(
+            black_box(&q),
+            &qd,
+            &x,
+            &mut matrices,
+            &mut more_matrices,
+        ));
+    }));
     // Generated and generic alternate, so slow phases of the machine hit both.
     Ok(Figures {
         robot: name,
@@ -241,8 +281,15 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         }),
         generated_fd_ns: fd(&generated),
         generic_fd_ns: fd(&generic),
-        batch_id_ns_per_state: batch_id(&mut out),
-        batch_fd_ns_per_state: batch_fd(&mut out),
+        batch_id_ns_per_state,
+        batch_fd_ns_per_state,
+        batch_lanes: lanes,
+        batch_id_ns_per_state_4_lanes,
+        batch_fd_ns_per_state_4_lanes,
+        batch_mass_ns_per_state,
+        batch_mass_ns_per_state_4_lanes,
+        batch_id_derivatives_ns_per_state,
+        batch_id_derivatives_ns_per_state_4_lanes,
         generated_id_derivatives_ns: id_derivatives(&generated),
         generic_id_derivatives_ns: id_derivatives(&generic),
         generated_fd_derivatives_ns: fd_derivatives(&generated),

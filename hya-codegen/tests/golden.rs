@@ -145,6 +145,14 @@ fn check<const N: usize>(
     d.mass_matrix_batch(&q, &mut mass).unwrap();
     let mut fd = vec![JointVector::<N>::zeros(); n];
     d.forward_dynamics_batch(&q, &qd, &tau, &mut fd).unwrap();
+    // The same batches on four lanes (AVX2 where the CPU has AVX-512, which the default takes):
+    // every lane computes its state alone, so the widths agree bit for bit.
+    hya_core::lanes::limit_batch_lanes(4).unwrap();
+    let (mut narrow_tau, mut narrow_fd) = (tau.clone(), fd.clone());
+    d.inverse_dynamics_batch(&q, &qd, &qdd, &mut narrow_tau).unwrap();
+    d.forward_dynamics_batch(&q, &qd, &tau, &mut narrow_fd).unwrap();
+    hya_core::lanes::limit_batch_lanes(8).unwrap();
+    assert_eq!((narrow_tau, narrow_fd), (tau.clone(), fd.clone()), "{}: batches on four and eight lanes", model.name());
     for k in 0..n {
         assert!(close(tau[k].as_slice(), d.inverse_dynamics(&q[k], &qd[k], &qdd[k]).as_slice()), "batch ID {k}");
         assert!(close(mass[k].as_slice(), d.mass_matrix(&q[k]).as_slice()), "batch M {k}");

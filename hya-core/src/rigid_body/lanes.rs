@@ -5,9 +5,10 @@
 //! this module runs it:
 //! - [`single`]: one state, on [`Fused`] where the CPU has fused multiply-add
 //!   ([`with_fma`](crate::with_fma)), else on plain `f64`;
-//! - [`batch`]: many states, [`BATCH_LANES`] at a time in a vector register type, on code
-//!   compiled for the CPU's vector unit and its FMA where it has them ([`with_vector_fma`]: AVX2
-//!   and FMA on x86-64 with `std`, chosen once per call by a cached CPUID test; NEON on
+//! - [`batch`]: many states, [`batch_lanes`] at a time in a vector register type, on code
+//!   compiled for the CPU's vector unit and its FMA where it has them: eight in an AVX-512
+//!   register where the CPU has AVX-512F ([`with_avx512`]), else [`BATCH_LANES`] ([`with_vector_fma`]:
+//!   AVX2 and FMA on x86-64 with `std`, chosen once per call by a cached CPUID test; NEON on
 //!   aarch64; [`Lanes`] elsewhere), else one state at a time through [`single`].
 //!
 //! `A::mul_add(a, b, c)` is `a·b + c`: rounded twice on `f64` and plain lanes (exactly the
@@ -181,8 +182,39 @@ impl Arithmetic for Fused {
     }
 }
 
-/// States per batch step: four `f64` fill a 256-bit AVX register (two NEON registers).
+/// States per batch step without AVX-512: four `f64` fill a 256-bit AVX register (two NEON
+/// registers). With AVX-512F a step takes eight ([`batch_lanes`]).
 pub const BATCH_LANES: usize = 4;
+
+/// The most states a batch step may take: 8 by default, [`limit_batch_lanes`] may lower it.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+static WIDEST_LANES: core::sync::atomic::AtomicUsize = core::sync::atomic::AtomicUsize::new(8);
+
+/// Lets batches take at most `lanes` states per step, for the whole process: 4 keeps them on
+/// AVX2 where the CPU has AVX-512 too (to compare the two widths, as `hya bench` does); 8, the
+/// default, lets them use AVX-512. Any other number is refused ([`Error::InvalidParameter`]).
+/// Results do not depend on it: every lane computes its state as the single call does.
+pub fn limit_batch_lanes(lanes: usize) -> Result<(), Error> {
+    if lanes != 4 && lanes != 8 {
+        return Err(Error::InvalidParameter { name: "batch lanes", value: lanes as f64, requirement: "4 or 8" });
+    }
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    WIDEST_LANES.store(lanes, core::sync::atomic::Ordering::Relaxed);
+    Ok(())
+}
+
+/// The states a [`batch`] step takes on this CPU now: 8 with AVX-512F (unless
+/// [`limit_batch_lanes`] said 4; forward dynamics stays on 4, see [`kernels::Width`]),
+/// [`BATCH_LANES`] on a vector unit with FMA, else 1.
+pub fn batch_lanes() -> usize {
+    if with_avx512(|| ()).is_some() {
+        8
+    } else if with_vector_fma(|| ()).is_some() {
+        BATCH_LANES
+    } else {
+        1
+    }
+}
 
 impl<const L: usize, const FUSED: bool> From<f64> for Lanes<L, FUSED> {
     #[inline(always)]
@@ -274,6 +306,28 @@ pub trait Kernel<F, const N: usize, const IN: usize, const OUT: usize> {
 
 /// Markers naming the generated functions, so that one type implements [`Kernel`] once for each.
 pub mod kernels {
+    /// Whether a function's batches take eight lanes where the CPU has AVX-512F
+    /// ([`with_avx512`](super::with_avx512)), or stay on four. Chosen by measurement
+    /// (`hya bench --json`, both widths side by side, 1024 states per call, Zen 5): eight lanes
+    /// took inverse dynamics from 33-58 to 25-38 ns per state on HyA, UR5, Panda and iiwa14, its
+    /// derivatives from 460-746 to 237-434 and the mass matrix from 38-82 to 39-47 (UR5 even), while
+    /// forward dynamics went from 72-77 to 101-105 on HyA and UR5 (even on the others), so it stays
+    /// on four. The results are the same bit for bit either way.
+    pub trait Width {
+        /// Eight lanes where the CPU has them.
+        const WIDE: bool = true;
+    }
+    impl Width for InverseDynamics {}
+    impl Width for Gravity {}
+    impl Width for VelocityTerms {}
+    impl Width for CoriolisTranspose {}
+    impl Width for MassMatrix {}
+    impl Width for ForwardDynamics {
+        const WIDE: bool = false;
+    }
+    impl Width for InverseDynamicsDerivatives {}
+    impl Width for FramePoses {}
+
     /// Inverse dynamics.
     #[derive(Debug, Clone, Copy)]
     pub struct InverseDynamics;
@@ -335,15 +389,17 @@ where
 }
 
 /// Runs `kernel` on every state of `inputs` (one slice per argument, all of `count` states) and
-/// hands state `k`'s outputs to `store(k, outputs)`: [`BATCH_LANES`] states per step on code
-/// compiled for the CPU's vector unit and FMA where it has both ([`with_vector_fma`]), else one
-/// state at a time through [`single`]. A short last step repeats its states cyclically in the
+/// hands state `k`'s outputs to `store(k, outputs)`: eight states per step in AVX-512 registers
+/// where the CPU has AVX-512F ([`with_avx512`]), the function is [`kernels::Width::WIDE`] and the
+/// batch holds more than [`BATCH_LANES`] states, [`BATCH_LANES`] on code compiled for the CPU's
+/// vector unit and FMA where it has both ([`with_vector_fma`]), else one state at a time
+/// through [`single`]. A short last step repeats its states cyclically in the
 /// unused lanes, whose results are dropped. Stops at the first error `store` returns (earlier states
 /// are stored).
 ///
 /// An error if a slice's length is not `count`.
 #[inline(always)]
-pub fn batch<F: Copy, K, const N: usize, const IN: usize, const OUT: usize>(
+pub fn batch<F: Copy + kernels::Width, K, const N: usize, const IN: usize, const OUT: usize>(
     kernel: &K,
     function: F,
     inputs: [&[JointVector<N>]; IN],
@@ -356,6 +412,16 @@ where
     for (argument, states) in inputs.iter().enumerate() {
         if states.len() != count {
             return Err(Error::BatchLength { argument, expected: count, got: states.len() });
+        }
+    }
+    // A batch of four states or fewer (the control tick's two) fills four lanes at least as well.
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    if F::WIDE && count > BATCH_LANES {
+        if let Some(done) = with_avx512(
+            #[inline(always)]
+            || steps::<avx512::F64x8, F, K, N, IN, OUT>(kernel, inputs, &mut store),
+        ) {
+            return done;
         }
     }
     let vector = with_vector_fma(
@@ -457,6 +523,38 @@ fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
     None
 }
 
+/// `Some(f())` with `f` compiled for AVX-512F, AVX2 and FMA if the CPU has them and
+/// [`limit_batch_lanes`] allows eight lanes, else `None` (always on targets other than x86-64
+/// with `std`). `f` must be `#[inline(always)]`, as for [`with_fma`](crate::with_fma).
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[inline]
+pub fn with_avx512<R>(f: impl FnOnce() -> R) -> Option<R> {
+    /// # Safety
+    /// The CPU must have AVX-512F, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    unsafe fn compiled_for_avx512<R>(f: impl FnOnce() -> R) -> R {
+        f()
+    }
+    let allowed = WIDEST_LANES.load(core::sync::atomic::Ordering::Relaxed) >= 8;
+    if allowed
+        && std::is_x86_feature_detected!("avx512f")
+        && std::is_x86_feature_detected!("avx2")
+        && std::is_x86_feature_detected!("fma")
+    {
+        // SAFETY: the CPU has all three, as just detected.
+        Some(unsafe { compiled_for_avx512(f) })
+    } else {
+        None
+    }
+}
+
+/// `None`: AVX-512 is used on x86-64 with `std` only.
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+#[inline]
+pub fn with_avx512<R>(_: impl FnOnce() -> R) -> Option<R> {
+    None
+}
+
 /// `+ − × ÷` on a vector register type, with another of it or with an `f64` (broadcast by
 /// `From<f64>`): `$apply!(intrinsic, a, b)` computes one with the named intrinsic. (Unused
 /// on targets with neither register type.)
@@ -501,6 +599,10 @@ macro_rules! lanes_by_array {
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod avx;
 
+/// Eight `f64` in one AVX-512 register, for [`batch`] on x86-64 CPUs with AVX-512F.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod avx512;
+
 /// Four `f64` in two NEON registers, for [`batch`] on aarch64.
 #[cfg(all(target_arch = "aarch64", target_feature = "neon"))]
 mod neon;
@@ -526,7 +628,7 @@ mod tests {
 
     #[test]
     fn a_batch_stores_every_state_once_with_the_single_call_result() {
-        for count in [0, 1, 2, 3, 4, 5, 6, 9] {
+        for count in [0, 1, 2, 3, 4, 5, 6, 9, 16, 19] {
             let (x, y) = states(count);
             let mut seen = std::vec![None; count];
             batch(&Toy, kernels::Gravity, [&x, &y], count, |k, out| {

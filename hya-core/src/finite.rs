@@ -1,13 +1,17 @@
 //! Finiteness checks shared by the hot paths.
 
-use crate::{Error, JointVector};
+use crate::Error;
 
 /// `Ok` if every entry of `values` is finite; otherwise names the first bad entry.
 ///
 /// Inlined, with no exit inside the loop, so the hot paths' vectors stay in registers; the
 /// error is built out of line.
 #[inline(always)]
-pub(crate) fn check<const N: usize>(signal: &'static str, values: &JointVector<N>) -> Result<(), Error> {
+/// Any fixed-size matrix, a [`JointVector`](crate::JointVector) among them: the index is the entry's column-major one.
+pub(crate) fn check<const R: usize, const C: usize>(
+    signal: &'static str,
+    values: &nalgebra::SMatrix<f64, R, C>,
+) -> Result<(), Error> {
     if values.iter().fold(true, |finite, v| finite & v.is_finite()) {
         Ok(())
     } else {
@@ -18,7 +22,10 @@ pub(crate) fn check<const N: usize>(signal: &'static str, values: &JointVector<N
 /// [`check`]'s error: the first entry of `values` that is not finite.
 #[cold]
 #[inline(never)]
-fn first_non_finite<const N: usize>(signal: &'static str, values: &JointVector<N>) -> Error {
+fn first_non_finite<const R: usize, const C: usize>(
+    signal: &'static str,
+    values: &nalgebra::SMatrix<f64, R, C>,
+) -> Error {
     let index = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
     Error::NonFinite { signal, index, value: values[index] }
 }

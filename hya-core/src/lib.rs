@@ -22,10 +22,12 @@ extern crate alloc;
 extern crate std;
 
 /// The estimation half: the filter and its pair on `q` and `τ`, the paper's estimator (fixed-step
-/// and timed), the observers it is compared with, the computed-torque controller, and both
+/// and timed), the observers it is compared with, the computed-torque and Cartesian impedance
+/// controllers, and both
 /// behind slices for front ends that learn the joint count at run time.
 mod estimation {
     pub mod attenuation;
+    pub mod cartesian;
     pub mod control;
     #[cfg(feature = "alloc")]
     pub mod erased;
@@ -63,7 +65,7 @@ pub mod error;
 mod finite;
 pub mod test_arms;
 
-pub use estimation::{attenuation, control, estimator, filter, filter_pair, observers, step_cache, timed};
+pub use estimation::{attenuation, cartesian, control, estimator, filter, filter_pair, observers, step_cache, timed};
 #[cfg(feature = "alloc")]
 pub use estimation::{erased, observer_design};
 #[cfg(feature = "alloc")]
@@ -80,6 +82,7 @@ pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 
 pub use attenuation::DisturbanceAttenuation;
+pub use cartesian::{CartesianImpedance, CartesianReference, FrameState, Impedance};
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use display::{closest, Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};

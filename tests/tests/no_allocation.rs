@@ -15,8 +15,8 @@ use hya_capi::{
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
-    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointVector,
-    Reference, ThirdOrderFilter, TimedEstimator,
+    CartesianImpedance, CartesianReference, ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics,
+    FilterParams, FrameState, Gains, Impedance, JointVector, Reference, ThirdOrderFilter, TimedEstimator,
 };
 use hya_robots::{Hya, Panda};
 
@@ -76,6 +76,35 @@ fn hot_paths_do_not_allocate() {
         }
     });
     assert_eq!(count, 0, "the hot paths allocated {count} times");
+}
+
+/// The Cartesian impedance controller's step on the generated Panda, given the tool's
+/// kinematics (from the run-time model, outside the counted work, as a generated frame would be).
+#[test]
+fn the_cartesian_impedance_step_does_not_allocate() {
+    let robot = hya_robots::find("panda").unwrap();
+    let model = hya_urdf::load_str(robot.urdf, robot.name).unwrap().model;
+    let tool = model.frames().last().unwrap().name.clone();
+    let ready = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
+    let q = JointVector::<7>::from(ready);
+    let frame = FrameState::of_tree(&model, &tool, &q).unwrap();
+    let mut target = frame.position;
+    target[0] += 0.01;
+    let reference = CartesianReference::hold(target, frame.orientation);
+    let gains = Impedance::new([500.0; 6], [50.0; 6]).unwrap().with_posture(ready, [5.0; 7], [2.0; 7]).unwrap();
+    let controller = CartesianImpedance::new(Panda, gains).with_torque_limit(JointVector::from([80.0; 7])).unwrap();
+    let d_hat = JointVector::<7>::from([0.5; 7]);
+    assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+    let count = allocations_during(|| {
+        for _ in 0..200 {
+            let command = controller.command(&q, &JointVector::zeros(), &frame, &reference, Some(&d_hat)).unwrap();
+            std::hint::black_box(command);
+            // The error path must not allocate either.
+            let bad = JointVector::from([f64::NAN; 7]);
+            assert!(controller.command(&bad, &JointVector::zeros(), &frame, &reference, None).is_err());
+        }
+    });
+    assert_eq!(count, 0, "the Cartesian step allocated {count} times");
 }
 
 /// The variable-step update of a log with timestamps: jittered steps, new lengths (each one's

@@ -120,10 +120,7 @@ impl<const N: usize, D: Dynamics<N>> ComputedTorque<N, D> {
 
     /// Saturates joint `i` to `[−limit[i], limit[i]]` N·m; every limit must be finite and `> 0`.
     pub fn with_torque_limit(mut self, limit: JointVector<N>) -> Result<Self, Error> {
-        if let Some(&value) = limit.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-            return Err(Error::InvalidParameter { name: "torque_limit", value, requirement: "finite and > 0" });
-        }
-        self.torque_limit = Some(limit);
+        self.torque_limit = Some(checked_torque_limit(limit)?);
         Ok(self)
     }
 
@@ -182,24 +179,43 @@ impl<const N: usize, D: Dynamics<N>> ComputedTorque<N, D> {
         inverse_dynamics: JointVector<N>,
         disturbance_estimate: Option<&JointVector<N>>,
     ) -> Result<Command<N>, Error> {
-        let mut torque = match &law.outside {
+        let torque = match &law.outside {
             Some(feedback) => inverse_dynamics - feedback,
             None => inverse_dynamics,
         };
-        if let Some(estimate) = disturbance_estimate {
-            check("d_hat", estimate)?;
-            torque -= estimate;
-        }
-        check("tau_cmd", &torque)?;
-        let mut saturated = [false; N];
-        if let Some(limit) = &self.torque_limit {
-            for i in 0..N {
-                saturated[i] = torque[i].abs() > limit[i];
-                torque[i] = torque[i].clamp(-limit[i], limit[i]);
-            }
-        }
-        Ok(Command { torque, saturated })
+        compensated(torque, disturbance_estimate, self.torque_limit.as_ref())
     }
+}
+
+/// `limit` if every entry is finite and `> 0`.
+pub(crate) fn checked_torque_limit<const N: usize>(limit: JointVector<N>) -> Result<JointVector<N>, Error> {
+    match limit.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        Some(&value) => Err(Error::InvalidParameter { name: "torque_limit", value, requirement: "finite and > 0" }),
+        None => Ok(limit),
+    }
+}
+
+/// A controller's command from its law's torque: `d̂` subtracted where given, checked finite,
+/// saturated to `limit` where given.
+#[inline]
+pub(crate) fn compensated<const N: usize>(
+    mut torque: JointVector<N>,
+    disturbance_estimate: Option<&JointVector<N>>,
+    limit: Option<&JointVector<N>>,
+) -> Result<Command<N>, Error> {
+    if let Some(estimate) = disturbance_estimate {
+        check("d_hat", estimate)?;
+        torque -= estimate;
+    }
+    check("tau_cmd", &torque)?;
+    let mut saturated = [false; N];
+    if let Some(limit) = limit {
+        for i in 0..N {
+            saturated[i] = torque[i].abs() > limit[i];
+            torque[i] = torque[i].clamp(-limit[i], limit[i]);
+        }
+    }
+    Ok(Command { torque, saturated })
 }
 
 /// The control law before its one inverse dynamics pass `ID(q, q̇, acceleration)`.

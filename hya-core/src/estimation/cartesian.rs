@@ -13,15 +13,17 @@
 //! desired twist in the same coordinates, and `log(R_des Rᵀ)` the rotation vector that turns the
 //! frame's axes onto the desired ones, in the base. `K_x`, `D_x` are diagonal (N/m and N·m/rad,
 //! N·s/m and N·m·s/rad). `P` projects the posture torque onto what exerts no force at the frame
-//! (the static, damped projector; `μ` keeps it bounded near singular poses), so that a redundant
-//! arm (the Panda's seven joints) holds its elbow near `q_rest` without pulling the tool.
+//! (the static projector, damped: `J P = μ² (J Jᵀ + μ² I)⁻¹ J`, zero at `μ = 0` and at most `μ/2`
+//! in norm otherwise; `μ` keeps `P` bounded near singular poses, where the undamped one is
+//! wrong before its factorisation fails), so that a redundant arm (the Panda's seven joints)
+//! holds its elbow near `q_rest` without pulling the tool.
 //! `C + G` is one inverse-dynamics pass `ID(q, q̇, 0)`. The sign of `d̂` is the crate's: a positive
 //! `d` pushes the joints like a positive `τ`, and compensation subtracts `d̂`.
 //!
 //! The frame's kinematics come in as a [`FrameState`], from generated code or from the run-time
 //! model ([`FrameState::of_tree`], which allocates); [`CartesianImpedance::command`] itself does not.
 
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{SMatrix, SVector};
 
 use crate::control::{checked_torque_limit, compensated, Command};
 use crate::finite::check;
@@ -29,16 +31,28 @@ use crate::{Dynamics, Error, JointMatrix, JointVector};
 
 /// A twist or a wrench: linear part (first three), then angular.
 pub type Vector6 = SVector<f64, 6>;
+/// A point or a rotation vector, m or rad.
+pub type Vector3 = nalgebra::Vector3<f64>;
+/// An orientation: a frame's axes in base coordinates.
+pub type Matrix3 = nalgebra::Matrix3<f64>;
 
 /// Where the controlled frame is at one instant, and how it moves with the joints.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameState<const N: usize> {
     /// The frame's origin in the base, m.
-    pub position: Vector3<f64>,
+    pub position: Vector3,
     /// The frame's axes in base coordinates (the columns of `R`).
-    pub orientation: Matrix3<f64>,
+    pub orientation: Matrix3,
     /// Its geometric Jacobian in base coordinates: linear rows, then angular.
     pub jacobian: SMatrix<f64, 6, N>,
+}
+
+impl<const N: usize> FrameState<N> {
+    /// From a pose as hya's kinematics give it (a [`Transform`](crate::spatial::Transform) from
+    /// the base to the frame, whose `rotation` is `Rᵀ`) and the Jacobian.
+    pub fn from_pose(pose: &crate::spatial::Transform, jacobian: SMatrix<f64, 6, N>) -> Self {
+        Self { position: pose.translation, orientation: pose.orientation(), jacobian }
+    }
 }
 
 #[cfg(feature = "alloc")]
@@ -53,11 +67,7 @@ impl<const N: usize> FrameState<N> {
     ) -> Result<Self, crate::model::ModelError> {
         let pose = model.frame_pose(frame, q.as_slice())?;
         let jacobian = model.frame_jacobian(frame, q.as_slice())?;
-        Ok(Self {
-            position: pose.translation,
-            orientation: pose.orientation(),
-            jacobian: SMatrix::<f64, 6, N>::from_fn(|r, c| jacobian[(r, c)]),
-        })
+        Ok(Self::from_pose(&pose, SMatrix::<f64, 6, N>::from_fn(|r, c| jacobian[(r, c)])))
     }
 }
 
@@ -65,16 +75,16 @@ impl<const N: usize> FrameState<N> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CartesianReference {
     /// Desired origin in the base, m.
-    pub position: Vector3<f64>,
+    pub position: Vector3,
     /// Desired axes in base coordinates; must be a rotation.
-    pub orientation: Matrix3<f64>,
+    pub orientation: Matrix3,
     /// Desired twist in base coordinates (m/s, then rad/s).
     pub twist: Vector6,
 }
 
 impl CartesianReference {
     /// Hold still at a pose.
-    pub fn hold(position: Vector3<f64>, orientation: Matrix3<f64>) -> Self {
+    pub fn hold(position: Vector3, orientation: Matrix3) -> Self {
         Self { position, orientation, twist: Vector6::zeros() }
     }
 }
@@ -121,8 +131,8 @@ impl<const N: usize> Impedance<N> {
         Ok(self)
     }
 
-    /// The projector's damping `μ`, m (finite and `≥ 0`; 0 is the undamped projector, which
-    /// fails at a singular pose).
+    /// The projector's damping `μ` (finite and `≥ 0`; the same for the linear and the angular
+    /// rows; 0 is the exact, undamped projector, wrong near singular poses).
     pub fn with_regularisation(mut self, mu: f64) -> Result<Self, Error> {
         non_negative("mu", &[mu])?;
         self.regularisation = mu;
@@ -142,7 +152,7 @@ fn non_negative(name: &'static str, values: &[f64]) -> Result<(), Error> {
 /// `θ = atan2(‖v‖, (tr R − 1)/2)` with `v = ½ (R₃₂ − R₂₃, R₁₃ − R₃₁, R₂₁ − R₁₂) = sin θ u`; near
 /// `θ = π`, where `v` vanishes, `u` is the column of `(R + Rᵀ)/2 − cos θ I = (1 − cos θ) u uᵀ`
 /// with the largest diagonal, signed as `v`.
-pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+pub fn rotation_vector(r: &Matrix3) -> Vector3 {
     let v = Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]) * 0.5;
     let cosine = ((r.trace() - 1.0) * 0.5).clamp(-1.0, 1.0);
     let sine = v.norm();
@@ -212,11 +222,12 @@ impl<const N: usize, D: Dynamics<N>> CartesianImpedance<N, D> {
         check("orientation_des", &reference.orientation)?;
         check("twist_des", &reference.twist)?;
         let off_rotation = (reference.orientation.transpose() * reference.orientation - Matrix3::identity()).norm();
-        if off_rotation > 1e-6 || reference.orientation.determinant() < 0.0 {
+        let determinant = reference.orientation.determinant();
+        if off_rotation > 1e-6 || determinant < 0.0 {
             return Err(Error::InvalidParameter {
                 name: "orientation_des",
-                value: off_rotation,
-                requirement: "a rotation: orthonormal, determinant +1",
+                value: if off_rotation > 1e-6 { off_rotation } else { determinant },
+                requirement: "a rotation: orthonormal (the value is ‖RᵀR − I‖), determinant +1 (else the value)",
             });
         }
         let gains = &self.impedance;
@@ -244,7 +255,7 @@ impl<const N: usize, D: Dynamics<N>> CartesianImpedance<N, D> {
 mod tests {
     use super::*;
 
-    fn rotation(axis: Vector3<f64>, angle: f64) -> Matrix3<f64> {
+    fn rotation(axis: Vector3, angle: f64) -> Matrix3 {
         nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle).into_inner()
     }
 

@@ -308,10 +308,11 @@ pub trait Kernel<F, const N: usize, const IN: usize, const OUT: usize> {
 pub mod kernels {
     /// Whether a function's batches take eight lanes where the CPU has AVX-512F
     /// ([`with_avx512`](super::with_avx512)), or stay on four. Chosen by measurement
-    /// (`hya bench --json`, both widths side by side, 1024 states per call, Zen 5): eight lanes
-    /// took inverse dynamics from 33-58 to 25-38 ns per state on HyA, UR5, Panda and iiwa14, its
-    /// derivatives from 460-746 to 237-434 and the mass matrix from 38-82 to 39-47 (UR5 even), while
-    /// forward dynamics went from 72-77 to 101-105 on HyA and UR5 (even on the others), so it stays
+    /// (`hya bench --json`, both widths side by side, 1024 states per call, Zen 5; BENCHMARKS.md):
+    /// the median over rounds of four-lane over eight-lane time was 1.21-1.45 for inverse dynamics
+    /// on HyA, UR5, Panda and iiwa14, 1.55-1.80 for its derivatives and 1.01-1.65 for the mass
+    /// matrix (UR5's even, single rounds either way), while forward dynamics took 101-105 ns per
+    /// state on eight lanes against 72-77 on four on HyA and UR5 (even on the others), so it stays
     /// on four. The results are the same bit for bit either way.
     pub trait Width {
         /// Eight lanes where the CPU has them.
@@ -523,8 +524,8 @@ fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
     None
 }
 
-/// `Some(f())` with `f` compiled for AVX-512F, AVX2 and FMA if the CPU has them and
-/// [`limit_batch_lanes`] allows eight lanes, else `None` (always on targets other than x86-64
+/// `Some(f())` with `f` compiled for AVX-512F, AVX2 and FMA if the CPU has them,
+/// [`limit_batch_lanes`] allows eight lanes and the build is not `plain-arithmetic`, else `None` (always on targets other than x86-64
 /// with `std`). `f` must be `#[inline(always)]`, as for [`with_fma`](crate::with_fma).
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 #[inline]
@@ -535,7 +536,9 @@ pub fn with_avx512<R>(f: impl FnOnce() -> R) -> Option<R> {
     unsafe fn compiled_for_avx512<R>(f: impl FnOnce() -> R) -> R {
         f()
     }
-    let allowed = WIDEST_LANES.load(core::sync::atomic::Ordering::Relaxed) >= 8;
+    // Under `plain-arithmetic` nothing runs fused, these lanes included.
+    let allowed = !matches!(crate::FMA_SUPPORT, crate::FmaSupport::Never)
+        && WIDEST_LANES.load(core::sync::atomic::Ordering::Relaxed) >= 8;
     if allowed
         && std::is_x86_feature_detected!("avx512f")
         && std::is_x86_feature_detected!("avx2")

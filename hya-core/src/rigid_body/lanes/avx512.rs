@@ -5,9 +5,9 @@
 //! [`with_avx512`](super::with_avx512)'s function, compiled for AVX-512F, AVX2 and FMA and run
 //! after the CPU was found to have them. Every intrinsic is called from an `#[inline(always)]`
 //! method, which lands in that function, or from a function compiled for AVX-512F itself
-//! ([`sin_cos_each`] and [`horner`]). Only AVX-512F instructions are used (the `pd` logic
-//! operations of AVX-512DQ are done on the integer view), so the CPU test is for AVX-512F
-//! alone.
+//! ([`sin_cos_each`], [`horner`] and [`xor`]). Only AVX-512F instructions are used (the `pd`
+//! logic operations of AVX-512DQ are done on the integer view); the CPU test is for AVX-512F,
+//! AVX2 and FMA, which the rest of the function is compiled for.
 
 use core::arch::x86_64::{
     __m512d, __m512i, _mm512_abs_pd, _mm512_add_epi64, _mm512_add_pd, _mm512_and_si512, _mm512_castpd_si512,
@@ -112,7 +112,7 @@ impl Arithmetic for F64x8 {
 
     #[inline(always)]
     fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
-        Self::from_array(core::array::from_fn(f))
+        Self::from_array(super::each(0.0, f))
     }
 }
 

@@ -299,15 +299,11 @@ pub struct Law {
 
 impl Law {
     /// The least speed, rad/s, a joint keeps over the filters' memory for its row to enter the
-    /// fit: `3 s`, beyond which `tanh(q̇/s)` is within 0.5 % of its limit `±1`, so that, where
-    /// the true velocity stays as far from zero, the friction term is nearly the same function
-    /// of the filtered velocity as of the true one; 0 if reversals are kept.
+    /// fit (unless reversals are kept, [`Sample::fitted`]): `3 s`, beyond which `tanh(q̇/s)` is
+    /// within 0.5 % of its limit `±1`, so that, where the true velocity stays as far from zero,
+    /// the friction term is nearly the same function of the filtered velocity as of the true one.
     pub fn least_speed_rad_s(&self) -> f64 {
-        if self.keep_reversals {
-            0.0
-        } else {
-            3.0 * self.smoothing_rad_s
-        }
+        3.0 * self.smoothing_rad_s
     }
 
     /// The unknowns per joint: `c`, `v`, `o` and, with an armature, `I_a`.

@@ -208,42 +208,14 @@ pub fn rollouts<'py>(
     Ok(result)
 }
 
-/// Every run of `runs`, on as many threads as the machine has cores, in order; a run's error
-/// as its message.
+/// Every run of `runs` on every core ([`hya_sim::seeds::parallel_map`]), in order; a run's
+/// error as its message.
 fn in_parallel(runs: &[Scenario], method: Method) -> Vec<Result<Outcome, String>> {
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let threads = std::thread::available_parallelism().map_or(1, usize::from).min(runs.len());
-    let mut done: Vec<(usize, Result<Outcome, String>)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let r = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(scenario) = runs.get(r) else { break mine };
-                        // A panic (a bug) fails its own run, not the worker's others.
-                        let outcome =
-                            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(scenario, method)));
-                        mine.push((
-                            r,
-                            match outcome {
-                                Ok(result) => result.map_err(|e| e.to_string()),
-                                Err(_) => Err("it panicked (a bug in hya, please report it)".to_owned()),
-                            },
-                        ));
-                    }
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|worker| worker.join().unwrap_or_default()).collect()
-    });
-    let mut ordered: Vec<Result<Outcome, String>> = (0..runs.len())
-        .map(|_| Err("its worker thread panicked (a bug in hya, please report it)".to_owned()))
-        .collect();
-    for (r, outcome) in done.drain(..) {
-        if let Some(slot) = ordered.get_mut(r) {
-            *slot = outcome;
+    hya_sim::seeds::parallel_map(runs, |scenario| {
+        // A panic (a bug) fails its own run, not the others.
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(scenario, method))) {
+            Ok(result) => result.map_err(|e| e.to_string()),
+            Err(_) => Err("it panicked (a bug in hya, please report it)".to_owned()),
         }
-    }
-    ordered
+    })
 }

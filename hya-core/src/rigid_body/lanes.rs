@@ -308,7 +308,7 @@ pub trait Kernel<F, const N: usize, const IN: usize, const OUT: usize> {
 pub mod kernels {
     /// Whether a function's batches take eight lanes where the CPU has AVX-512F
     /// ([`with_avx512`](super::with_avx512)), or stay on four. Chosen by measurement
-    /// (`hya bench --json`, both widths side by side, 1024 states per call, Zen 5; BENCHMARKS.md):
+    /// (`hya bench --json`, both widths side by side, 1024 states per call, on one x86-64 CPU with AVX-512F; BENCHMARKS.md):
     /// the median over rounds of four-lane over eight-lane time was 1.21-1.45 for inverse dynamics
     /// on HyA, UR5, Panda and iiwa14, 1.55-1.80 for its derivatives and 1.01-1.65 for the mass
     /// matrix (UR5's even, single rounds either way), while forward dynamics took 101-105 ns per

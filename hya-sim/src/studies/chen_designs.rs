@@ -88,8 +88,7 @@ pub fn run<const N: usize>(
     scenarios: &[Scenario],
     table: &MetricTable,
 ) -> Result<Option<ChenDesigns>, SimError> {
-    let bases: Vec<&Scenario> =
-        scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
+    let bases = super::hya_scenarios(scenarios, &SCENARIOS);
     let Some(first) = bases.first() else { return Ok(None) };
     let omega = first.controller.observer_bandwidth_rad_s;
     let q0 = crate::config::settings::JointSettings::<N>::of(first)?.initial_position;

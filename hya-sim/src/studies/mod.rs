@@ -36,6 +36,12 @@ pub struct Studies {
     pub open_loop: Option<step_responses::OpenLoop>,
 }
 
+/// HyA's scenarios among `scenarios` whose names are in `names`, in run order: the studies vary
+/// HyA's scenarios only.
+pub(crate) fn hya_scenarios<'a>(scenarios: &'a [Scenario], names: &[&str]) -> Vec<&'a Scenario> {
+    scenarios.iter().filter(|s| s.robot == "hya" && names.contains(&s.name.as_str())).collect()
+}
+
 /// Runs every study whose scenarios are among `scenarios` (`table` holds their runs); the
 /// fronts on the report's reduced grid, or with `full_sweep` on `hya sweep`'s (shortened with
 /// `quick`).
@@ -45,7 +51,7 @@ pub fn run<const N: usize>(
     table: &MetricTable,
     (quick, full_sweep): (bool, bool),
 ) -> Result<Studies, SimError> {
-    let goto = scenarios.iter().find(|s| s.name == "goto_internal" && s.robot == "hya");
+    let goto = hya_scenarios(scenarios, &["goto_internal"]).first().copied();
     let fronts = match goto {
         Some(_) => {
             let plan = if full_sweep { Plan::standard(quick)? } else { Plan::report(quick)? };

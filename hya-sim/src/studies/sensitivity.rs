@@ -109,8 +109,7 @@ pub fn run<const N: usize>(
     scenarios: &[Scenario],
     table: &MetricTable,
 ) -> Result<Option<Sensitivity>, SimError> {
-    let bases: Vec<&Scenario> =
-        scenarios.iter().filter(|s| s.robot == "hya" && SCENARIOS.contains(&s.name.as_str())).collect();
+    let bases = super::hya_scenarios(scenarios, &SCENARIOS);
     let Some(first) = bases.first() else { return Ok(None) };
     let seeds = table.seeds(&first.name, Method::Lu).min(SEEDS);
     let reported = |scenario: &str, method: Method| -> Vec<Vec<f64>> {

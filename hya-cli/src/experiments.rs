@@ -94,7 +94,8 @@ fn run_all(
         s.check_for_robot()
             .map_err(|e| sim(hya_sim::SimError::Scenario { origin: s.name.clone(), message: e.to_string() }))?;
     }
-    let cost = hya_sim::cost::Cost::of(&scenarios, seeds);
+    // The runs and the studies after them (the bandwidth sweep, the sensitivity variants, …).
+    let cost = hya_sim::Experiment::cost(&scenarios, seeds, (quick, options.full_sweep)).map_err(sim)?;
     if !options.quiet {
         eprintln!("{cost}");
     }
@@ -110,8 +111,7 @@ fn run_all(
     for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
     }
-    let total: f64 = scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum();
-    let bar = ProgressBar::new(total.ceil() as u64).with_style(
+    let bar = ProgressBar::new(cost.simulated_s.ceil() as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} simulated s ({eta} left)")
             .map_err(|e| CliError::Input(e.to_string()))?
             .progress_chars("=> "),

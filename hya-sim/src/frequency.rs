@@ -10,6 +10,7 @@
 
 use nalgebra::Complex;
 
+use crate::config::cost::Cost;
 use crate::config::scenario::{
     ActuatorKind, FrictionKind, Method, Noise, NoiseConfig, Scenario, SinusoidLoad, TorqueSource, VelocitySource,
 };
@@ -63,6 +64,18 @@ fn clean_scenario(base: &Scenario, frequency_hz: f64, joints: usize) -> Scenario
     s
 }
 
+/// The observers [`measure`] runs at each frequency.
+const METHODS: [Method; 4] = [Method::Lu, Method::Chen, Method::Momentum, Method::Eso];
+
+/// What [`measure`] costs on `base` for an arm of `joints` joints: one run per observer and
+/// frequency, each keeping its trace until it is measured.
+pub fn cost(base: &Scenario, frequencies_hz: &[f64], joints: usize) -> Cost {
+    frequencies_hz
+        .iter()
+        .flat_map(|&f| METHODS.map(|_| Cost::of_runs(&clean_scenario(base, f, joints), 1, 1)))
+        .fold(Cost::NONE, Cost::then)
+}
+
 /// Every observer's measured response on `base`'s robot and controller at `frequencies_hz`
 /// ([`FREQUENCIES_HZ`] for the report).
 pub fn measure<const N: usize>(
@@ -75,7 +88,7 @@ pub fn measure<const N: usize>(
     for &frequency_hz in frequencies_hz {
         let scenario = clean_scenario(base, frequency_hz, N);
         let omega = std::f64::consts::TAU * frequency_hz;
-        for method in [Method::Lu, Method::Chen, Method::Momentum, Method::Eso] {
+        for method in METHODS {
             let trace = crate::analysis::simulate::simulate(&scenario, method, robot)?.trace;
             // The whole periods after the first 2 s.
             let start = trace.time.partition_point(|t| *t < 2.0);

@@ -83,6 +83,15 @@ pub struct Experiment<'a> {
 }
 
 impl Experiment<'_> {
+    /// What an experiment on `scenarios` (checked) over `seeds` seeds costs, `quick` and
+    /// `full_sweep` as in [`Experiment`]: every method of every scenario over the seeds, and the
+    /// studies after them (the runs' traces held meanwhile).
+    pub fn cost(scenarios: &[Scenario], seeds: usize, options: (bool, bool)) -> Result<config::cost::Cost, SimError> {
+        let Some(first) = scenarios.first() else { return Ok(config::cost::Cost::NONE) };
+        let joints = robot::robot_model(&first.robot)?.dof();
+        Ok(config::cost::Cost::of(scenarios, seeds) + studies::cost(scenarios, seeds, joints, options)?)
+    }
+
     /// Runs it on the scenarios' robot, whatever its number of joints.
     pub fn run(self) -> Result<report::Summary, SimError> {
         let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
@@ -105,7 +114,7 @@ impl ForRobot for Experiment<'_> {
     type Output = report::Summary;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
         let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
-        let studies = studies::run(&robot, self.scenarios, &table, (self.quick, self.full_sweep))?;
+        let studies = studies::run(&robot, self.scenarios, &table, (self.quick, self.full_sweep), self.progress)?;
         report::write(&robot, self.out, self.scenarios, &outcomes, &table, studies, self.quick, self.provenance)
     }
 }

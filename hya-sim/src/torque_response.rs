@@ -25,6 +25,7 @@ use nalgebra::Complex;
 use serde::Serialize;
 
 use crate::analysis::seeds::parallel_map;
+use crate::config::cost::Cost;
 use crate::config::scenario::{ActuatorKind, FrictionKind, Scenario};
 use crate::config::settings::JointSettings;
 use crate::error::SimError;
@@ -277,6 +278,24 @@ fn held<const N: usize>(
         plant.advance(dt, substeps, &command)?;
     }
     Ok(window.responses(omega, dt)[0])
+}
+
+/// What [`measure`] costs on `scenario` for an arm of `joints` joints: per amplitude and
+/// frequency, the actuators locked and each joint held (nothing where they are not hydraulic).
+pub fn cost(scenario: &Scenario, joints: usize) -> Cost {
+    if scenario.plant.actuator != ActuatorKind::Hydraulic {
+        return Cost::NONE;
+    }
+    let dt = scenario.controller.dt_s;
+    let per_frequency: Cost = FREQUENCIES_HZ
+        .iter()
+        .map(|&f| {
+            let mut s = clean(scenario);
+            s.duration_s = (Window::<1>::new(f).to / dt).ceil() * dt;
+            Cost::open_loop(1, s.duration_s, dt / LOCKED_SUBSTEPS as f64) + Cost::of_runs(&s, joints, 0)
+        })
+        .sum();
+    (0..AMPLITUDES_NM.len()).map(|_| per_frequency).sum()
 }
 
 /// Measures every joint of `scenario` (hydraulic actuators; `None` otherwise) on `robot` and

@@ -77,6 +77,15 @@ impl Plan {
         self.scenarios.len() * self.methods.len() * self.bandwidths_rad_s.len() * self.seeds
     }
 
+    /// What running every point of the grid costs (no run keeps a trace).
+    pub fn cost(&self) -> crate::config::cost::Cost {
+        self.jobs()
+            .into_iter()
+            .filter_map(|(i, method, bandwidth, k)| self.scenario_at(i, method, bandwidth, k))
+            .map(|s| crate::config::cost::Cost::of_runs(&s, 1, 0))
+            .sum()
+    }
+
     /// The point run `job` gives, as [`key`] names entries.
     fn point(&self, &(i, method, bandwidth, k): &(usize, Method, f64, usize)) -> Key {
         let scenario = &self.scenarios[i];

@@ -2,6 +2,9 @@
 //! memory it holds, checked against documented caps so that an absurd setting is refused with
 //! its figure instead of running for weeks or until memory runs out.
 //!
+//! `hya reproduce` and `hya run` count their studies too (`hya_sim::studies::cost`): by default
+//! 1307 runs and 24,895 simulated seconds where the scenarios alone are 720 runs and 16,800 s.
+//!
 //! Metrics are accumulated tick by tick; only the first seed's runs keep a trace (time, `q`,
 //! `q_des`, `d`, `d̂`, `τ_cmd`), for the figures and CSV files, of at most
 //! [`MAX_TRACE_SAMPLES`] ticks each (a longer run keeps every k-th tick). So memory grows with
@@ -11,14 +14,14 @@ use std::fmt;
 
 use hya_core::Short;
 
-use crate::config::scenario::Scenario;
+use crate::config::scenario::{ActuatorKind, Scenario};
 use crate::error::SimError;
 use crate::run::trace::{bytes_per_sample, MAX_TRACE_SAMPLES};
 use hya_core::dispatch::MAX_JOINTS;
 
-/// The most plant integration steps (control ticks × sub-steps, summed over every run) a
-/// command runs without `--no-cost-limit`: 47 times the default `hya reproduce` (6.4e7 steps,
-/// about 2.5 minutes on 2 cores), so about two hours.
+/// The most plant integration steps (control ticks × [`steps_per_tick`], summed over every run
+/// and study) a command runs without `--no-cost-limit`: 32 times the default `hya reproduce`
+/// (9.4e7 steps with its studies, about two to five minutes on 2 cores), so one to three hours.
 pub const MAX_PHYSICS_STEPS: f64 = 3e9;
 
 /// The most trace memory a command holds without `--no-cost-limit`, bytes (4 GiB).
@@ -41,33 +44,48 @@ pub struct Cost {
 }
 
 impl Cost {
-    /// The cost of `scenarios` (checked) over `seeds` seeds each, on every core of this machine.
-    pub fn of(scenarios: &[Scenario], seeds: usize) -> Self {
-        let ticks = |s: &Scenario| (s.duration_s / s.controller.dt_s).ceil();
-        let kept: f64 = scenarios.iter().map(|s| ticks(s).min(MAX_TRACE_SAMPLES as f64) * s.methods.len() as f64).sum();
-        let runs: usize = scenarios.iter().map(|s| s.methods.len() * seeds).sum();
+    /// Nothing run.
+    pub const NONE: Self = Self { runs: 0, simulated_s: 0.0, physics_steps: 0.0, trace_bytes: 0.0 };
+
+    /// `runs` closed-loop runs of `scenario` (checked), `traced` of them keeping a trace, all
+    /// held at once.
+    pub fn of_runs(scenario: &Scenario, runs: usize, traced: usize) -> Self {
+        let ticks = (scenario.duration_s / scenario.controller.dt_s).ceil();
         Self {
             runs,
-            simulated_s: scenarios.iter().map(|s| s.duration_s * (s.methods.len() * seeds) as f64).sum(),
-            physics_steps: scenarios
-                .iter()
-                .map(|s| ticks(s) * s.plant.substeps() as f64 * (s.methods.len() * seeds) as f64)
-                .sum(),
-            trace_bytes: kept * TRACE_BYTES_PER_TICK,
+            simulated_s: scenario.duration_s * runs as f64,
+            physics_steps: ticks * steps_per_tick(scenario) * runs as f64,
+            trace_bytes: ticks.min(MAX_TRACE_SAMPLES as f64) * traced as f64 * TRACE_BYTES_PER_TICK,
         }
+    }
+
+    /// `runs` runs without a controller of `simulated_s` each, in steps of `step_s` (a plant
+    /// stepped open loop, an actuator alone), keeping no trace.
+    pub fn open_loop(runs: usize, simulated_s: f64, step_s: f64) -> Self {
+        Self {
+            runs,
+            simulated_s: simulated_s * runs as f64,
+            physics_steps: (simulated_s / step_s).ceil() * runs as f64,
+            trace_bytes: 0.0,
+        }
+    }
+
+    /// The cost of `scenarios` (checked) over `seeds` seeds each, on every core of this machine:
+    /// every method's first seed keeps its trace.
+    pub fn of(scenarios: &[Scenario], seeds: usize) -> Self {
+        scenarios.iter().map(|s| Self::of_runs(s, s.methods.len() * seeds, s.methods.len())).sum()
     }
 
     /// The cost of one method of each of `scenarios` (checked) over `seeds` seeds each, every
     /// run keeping its trace: a batch of rollouts handed back whole (Python's `hya.rollouts`).
     pub fn of_rollouts(scenarios: &[Scenario], seeds: usize) -> Self {
-        let ticks = |s: &Scenario| (s.duration_s / s.controller.dt_s).ceil();
-        let each = |f: &dyn Fn(&Scenario) -> f64| scenarios.iter().map(f).sum::<f64>() * seeds as f64;
-        Self {
-            runs: scenarios.len() * seeds,
-            simulated_s: each(&|s| s.duration_s),
-            physics_steps: each(&|s| ticks(s) * s.plant.substeps() as f64),
-            trace_bytes: each(&|s| ticks(s).min(MAX_TRACE_SAMPLES as f64)) * TRACE_BYTES_PER_TICK,
-        }
+        scenarios.iter().map(|s| Self::of_runs(s, seeds, seeds)).sum()
+    }
+
+    /// This, then `next` once this is done: runs, simulated time and steps add, and the traces
+    /// held at once are the larger of the two (each part drops its traces when it ends).
+    pub fn then(self, next: Self) -> Self {
+        Self { trace_bytes: self.trace_bytes.max(next.trace_bytes), ..self + next }
     }
 
     /// `Ok` within [`MAX_PHYSICS_STEPS`] and [`MAX_TRACE_BYTES`]; the error gives the figure,
@@ -96,6 +114,45 @@ impl Cost {
     }
 }
 
+/// Both held at once: everything adds, traces included.
+impl core::ops::Add for Cost {
+    type Output = Self;
+    fn add(self, other: Self) -> Self {
+        Self {
+            runs: self.runs + other.runs,
+            simulated_s: self.simulated_s + other.simulated_s,
+            physics_steps: self.physics_steps + other.physics_steps,
+            trace_bytes: self.trace_bytes + other.trace_bytes,
+        }
+    }
+}
+
+impl core::iter::Sum for Cost {
+    fn sum<I: Iterator<Item = Self>>(parts: I) -> Self {
+        parts.fold(Self::NONE, |a, b| a + b)
+    }
+}
+
+/// Plant integration steps per control tick: the sub-steps, and on hydraulic actuators one more
+/// for each sample instant of their inner torque loops that falls inside a sub-step, which the
+/// plant splits there ([`crate::plant::Plant::step`]; both clocks start at 0). LuGre's stiff
+/// cycles, taken while a joint slides fast, depend on the motion and are not counted.
+pub fn steps_per_tick(scenario: &Scenario) -> f64 {
+    let substeps = scenario.plant.substeps() as f64;
+    if scenario.plant.actuator != ActuatorKind::Hydraulic {
+        return substeps;
+    }
+    let samples = scenario.controller.dt_s * scenario.plant.hydraulic.torque_loop_rate_hz;
+    let whole = samples.round();
+    if (samples - whole).abs() > 1e-9 * whole || !(1.0..=1e6).contains(&whole) {
+        // The instants drift across the ticks: at most every one splits a sub-step.
+        return substeps + samples.ceil();
+    }
+    // Sample m of a tick at m/k of it lies on a sub-step boundary where m n / k is whole.
+    let (k, n) = (whole as u64, scenario.plant.substeps() as u64);
+    substeps + (1..=k).filter(|m| (m * n) % k != 0).count() as f64
+}
+
 impl fmt::Display for Cost {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
@@ -121,7 +178,13 @@ mod tests {
         let base = Cost::of(std::slice::from_ref(&scenario), 1);
         let ticks = scenario.duration_s / scenario.controller.dt_s;
         let methods = scenario.methods.len() as f64;
-        assert_eq!(base.physics_steps, ticks * scenario.plant.substeps() as f64 * methods);
+        assert_eq!(base.physics_steps, ticks * steps_per_tick(&scenario) * methods);
+        // The inner loops sample at the ticks (1 kHz, 1 ms): no sub-step is split; at 6 kHz
+        // over 4 sub-steps, the samples at 1/6, 2/6, 4/6 and 5/6 of a tick split one each.
+        assert_eq!(steps_per_tick(&scenario), 4.0);
+        scenario.plant.hydraulic.torque_loop_rate_hz = 6000.0;
+        assert_eq!(steps_per_tick(&scenario), 8.0);
+        scenario.plant.hydraulic.torque_loop_rate_hz = 1000.0;
         assert!(
             Cost::of(std::slice::from_ref(&scenario), 20).check("", None).is_ok(),
             "the default run is within the caps"

@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use crate::analysis::claims::{judge, Judgement, RULES};
 use crate::analysis::seeds::{run_seeds, MetricTable};
+use crate::config::cost::Cost;
 use crate::config::scenario::{ChenGain, Method, Scenario};
 use crate::error::SimError;
 use crate::linear::{Matching, ObserverDesign};
@@ -81,12 +82,44 @@ fn matched_beta(omega: f64, matching: Matching) -> f64 {
     }
 }
 
+/// Whether the row of `design` at `matching` is the report's own runs on `bases`, and else the
+/// runs it adds: chen alone, at its design and `β` matched to the first base's bandwidth.
+fn reruns(bases: &[&Scenario], design: ChenGain, matching: Matching) -> (bool, Vec<Scenario>) {
+    let Some(first) = bases.first() else { return (false, Vec::new()) };
+    let beta = matched_beta(first.controller.observer_bandwidth_rad_s, matching);
+    if matching == Matching::PoleMagnitude && bases.iter().all(|s| s.controller.chen_gain == design) {
+        return (true, Vec::new());
+    }
+    let variants = bases
+        .iter()
+        .map(|base| {
+            let mut s = (*base).clone();
+            s.methods = vec![Method::Chen];
+            s.controller.chen_gain = design;
+            s.controller.observer_bandwidth_rad_s = beta;
+            s
+        })
+        .collect();
+    (false, variants)
+}
+
+/// What [`run`] costs where the report runs `seeds` seeds.
+pub fn cost(scenarios: &[Scenario], seeds: usize) -> Cost {
+    let bases = super::hya_scenarios(scenarios, &SCENARIOS);
+    DESIGNS
+        .iter()
+        .flat_map(|&design| Matching::ALL.map(|matching| reruns(&bases, design, matching).1))
+        .map(|runs| Cost::of(&runs, seeds.min(SEEDS)))
+        .fold(Cost::NONE, Cost::then)
+}
+
 /// Runs every row on the noise scenarios among `scenarios` (HyA's; `table` holds the report's
-/// runs); `None` where they are not there.
+/// runs), telling `progress` each run's simulated seconds; `None` where they are not there.
 pub fn run<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     table: &MetricTable,
+    progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Option<ChenDesigns>, SimError> {
     let bases = super::hya_scenarios(scenarios, &SCENARIOS);
     let Some(first) = bases.first() else { return Ok(None) };
@@ -104,22 +137,10 @@ pub fn run<const N: usize>(
     for design in DESIGNS {
         for matching in Matching::ALL {
             let beta = matched_beta(omega, matching);
-            let as_run = matching == Matching::PoleMagnitude && bases.iter().all(|s| s.controller.chen_gain == design);
+            let (as_run, variants) = reruns(&bases, design, matching);
             let runs = match as_run {
                 true => reported.clone(),
-                false => {
-                    let variants: Vec<Scenario> = bases
-                        .iter()
-                        .map(|base| {
-                            let mut s = (*base).clone();
-                            s.methods = vec![Method::Chen];
-                            s.controller.chen_gain = design;
-                            s.controller.observer_bandwidth_rad_s = beta;
-                            s
-                        })
-                        .collect();
-                    reported.clone().overlaid(run_seeds(robot, &variants, seeds, &|_| {})?.1)
-                }
+                false => reported.clone().overlaid(run_seeds(robot, &variants, seeds, progress)?.1),
             };
             let rmse_d = bases
                 .iter()

@@ -2,6 +2,7 @@
 //! which the PD's torque reaches the joint's static friction. [`crate::report`] renders them.
 
 use crate::analysis::seeds::{run_seeds, MetricTable};
+use crate::config::cost::Cost;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 
@@ -21,12 +22,27 @@ pub struct GainRuleRuns {
     pub table: MetricTable,
 }
 
-/// Runs `none` on `base` (the goto task) at every `e_f`.
-pub fn run<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) -> Result<GainRuleRuns, SimError> {
-    let scenarios: Vec<Scenario> = FRICTION_ERRORS_RAD
+/// `base` (the goto task) at every `e_f`, `none` alone.
+fn scenarios(base: &Scenario) -> Vec<Scenario> {
+    FRICTION_ERRORS_RAD
         .iter()
         .map(|e| base.variant(&format!("ef{e}"), Method::None, |s| s.controller.friction_error_rad = *e))
-        .collect();
-    let (_, table) = run_seeds(robot, &scenarios, SEEDS, &|_| {})?;
+        .collect()
+}
+
+/// What [`run`] costs on `base`.
+pub fn cost(base: &Scenario) -> Cost {
+    Cost::of(&scenarios(base), SEEDS)
+}
+
+/// Runs `none` on `base` (the goto task) at every `e_f`, telling `progress` each run's simulated
+/// seconds.
+pub fn run<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    base: &Scenario,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<GainRuleRuns, SimError> {
+    let scenarios = scenarios(base);
+    let (_, table) = run_seeds(robot, &scenarios, SEEDS, progress)?;
     Ok(GainRuleRuns { scenarios, table })
 }

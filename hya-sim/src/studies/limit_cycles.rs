@@ -3,6 +3,7 @@
 //! (LuGre at `F_s = F_c`). [`crate::report`] measures the cycles in them and renders the tables.
 
 use crate::analysis::seeds::{run_seeds, MetricTable};
+use crate::config::cost::Cost;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 
@@ -28,18 +29,34 @@ pub struct LimitCycleRuns {
     pub without_peak: MetricTable,
 }
 
-/// Runs both on `base` (the goto task).
-pub fn run<const N: usize>(robot: &crate::robot::Robot<N>, base: &Scenario) -> Result<LimitCycleRuns, SimError> {
-    let bandwidths: Vec<Scenario> = BANDWIDTHS_RAD_S
+/// The goto task `base` at every bandwidth, and without the Stribeck peak.
+fn scenarios(base: &Scenario) -> (Vec<Scenario>, Scenario) {
+    let bandwidths = BANDWIDTHS_RAD_S
         .iter()
         .map(|w| base.variant(&format!("w{w}"), Method::Lu, |s| s.controller.observer_bandwidth_rad_s = *w))
         .collect();
-    let (_, by_bandwidth) = run_seeds(robot, &bandwidths, SEEDS, &|_| {})?;
     // The same loops without the Stribeck peak: LuGre at F_s = F_c.
     let mut no_peak = base.clone();
     no_peak.name = format!("{}_no_peak", base.name);
     no_peak.plant.static_nm = no_peak.plant.coulomb_nm.clone();
     no_peak.methods = METHODS.to_vec();
-    let (_, without_peak) = run_seeds(robot, std::slice::from_ref(&no_peak), SEEDS, &|_| {})?;
+    (bandwidths, no_peak)
+}
+
+/// What [`run`] costs on `base`.
+pub fn cost(base: &Scenario) -> Cost {
+    let (bandwidths, no_peak) = scenarios(base);
+    Cost::of(&bandwidths, SEEDS).then(Cost::of(std::slice::from_ref(&no_peak), SEEDS))
+}
+
+/// Runs both on `base` (the goto task), telling `progress` each run's simulated seconds.
+pub fn run<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    base: &Scenario,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<LimitCycleRuns, SimError> {
+    let (bandwidths, no_peak) = scenarios(base);
+    let (_, by_bandwidth) = run_seeds(robot, &bandwidths, SEEDS, progress)?;
+    let (_, without_peak) = run_seeds(robot, std::slice::from_ref(&no_peak), SEEDS, progress)?;
     Ok(LimitCycleRuns { bandwidths, by_bandwidth, no_peak, without_peak })
 }

@@ -12,6 +12,7 @@ pub mod step_responses;
 
 use crate::analysis::seeds::MetricTable;
 use crate::analysis::sweep::{run_on, Plan, Shard, Sweep};
+use crate::config::cost::Cost;
 use crate::config::scenario::Scenario;
 use crate::error::SimError;
 
@@ -42,41 +43,89 @@ pub(crate) fn hya_scenarios<'a>(scenarios: &'a [Scenario], names: &[&str]) -> Ve
     scenarios.iter().filter(|s| s.robot == "hya" && names.contains(&s.name.as_str())).collect()
 }
 
+/// The scenario the observers' frequency responses are measured on: HyA's first noise scenario.
+fn noise_base(scenarios: &[Scenario]) -> Option<&Scenario> {
+    scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya")
+}
+
+/// The bandwidth sweep's grid where the goto task is among `scenarios` and every scenario of
+/// the grid runs on its robot: the report's reduced grid, or with `full_sweep` `hya sweep`'s
+/// (shortened with `quick`).
+fn fronts_plan(goto: Option<&Scenario>, (quick, full_sweep): (bool, bool)) -> Result<Option<Plan>, SimError> {
+    let Some(goto) = goto else { return Ok(None) };
+    let plan = if full_sweep { Plan::standard(quick)? } else { Plan::report(quick)? };
+    Ok(plan.scenarios.iter().all(|s| s.robot == goto.robot).then_some(plan))
+}
+
+/// What [`run`] costs on `scenarios` (checked) where the report runs `seeds` seeds of each on an
+/// arm of `joints` joints, known before any run: every study's runs, one study after another.
+pub fn cost(scenarios: &[Scenario], seeds: usize, joints: usize, options: (bool, bool)) -> Result<Cost, SimError> {
+    let goto = hya_scenarios(scenarios, &["goto_internal"]).first().copied();
+    let noise = noise_base(scenarios);
+    let on_goto = |f: &dyn Fn(&Scenario) -> Cost| goto.map_or(Cost::NONE, f);
+    Ok([
+        fronts_plan(goto, options)?.map_or(Cost::NONE, |plan| plan.cost()),
+        sensitivity::cost(scenarios, seeds),
+        chen_designs::cost(scenarios, seeds),
+        on_goto(&|base| crate::torque_response::cost(base, joints)),
+        noise.map_or(Cost::NONE, |base| crate::frequency::cost(base, &crate::frequency::FREQUENCIES_HZ, joints)),
+        on_goto(&limit_cycles::cost),
+        on_goto(&gain_rule::cost),
+        scenarios.first().map_or(Cost::NONE, |first| step_responses::cost(first, joints)),
+    ]
+    .into_iter()
+    .fold(Cost::NONE, Cost::then))
+}
+
 /// Runs every study whose scenarios are among `scenarios` (`table` holds their runs); the
 /// fronts on the report's reduced grid, or with `full_sweep` on `hya sweep`'s (shortened with
-/// `quick`).
+/// `quick`). `progress` is told the simulated seconds done as the studies go, in all
+/// [`cost`]'s.
 pub fn run<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     table: &MetricTable,
-    (quick, full_sweep): (bool, bool),
+    options: (bool, bool),
+    progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Studies, SimError> {
     let goto = hya_scenarios(scenarios, &["goto_internal"]).first().copied();
-    let fronts = match goto {
-        Some(_) => {
-            let plan = if full_sweep { Plan::standard(quick)? } else { Plan::report(quick)? };
-            match plan.scenarios.iter().all(|s| s.robot == robot.name) {
-                true => {
-                    let sweep = run_on(robot, &plan, Shard::ALL, quick, &|_| {})?;
-                    Some((plan, sweep))
-                }
-                false => None,
-            }
+    let noise = noise_base(scenarios);
+    let fronts = match fronts_plan(goto, options)? {
+        Some(plan) => {
+            let sweep = run_on(robot, &plan, Shard::ALL, options.0, progress)?;
+            Some((plan, sweep))
         }
         None => None,
     };
-    let sensitivity = sensitivity::run(robot, scenarios, table)?;
-    let chen_designs = chen_designs::run(robot, scenarios, table)?;
+    let sensitivity = sensitivity::run(robot, scenarios, table, progress)?;
+    let chen_designs = chen_designs::run(robot, scenarios, table, progress)?;
+    // The studies that are not closed-loop runs tell their whole cost once done.
     let torque_responses = match goto {
-        Some(base) => crate::torque_response::measure(robot, base)?,
+        Some(base) => {
+            let measured = crate::torque_response::measure(robot, base)?;
+            progress(crate::torque_response::cost(base, N).simulated_s);
+            measured
+        }
         None => None,
     };
-    let frequency = match scenarios.iter().find(|s| s.name.starts_with("estimator_noise") && s.robot == "hya") {
-        Some(base) => Some(crate::frequency::measure(robot, base, &crate::frequency::FREQUENCIES_HZ)?),
+    let frequency = match noise {
+        Some(base) => {
+            let frequencies = &crate::frequency::FREQUENCIES_HZ;
+            let points = crate::frequency::measure(robot, base, frequencies)?;
+            progress(crate::frequency::cost(base, frequencies, N).simulated_s);
+            Some(points)
+        }
         None => None,
     };
-    let limit_cycles = goto.map(|base| limit_cycles::run(robot, base)).transpose()?;
-    let gain_rule = goto.map(|base| gain_rule::run(robot, base)).transpose()?;
-    let open_loop = scenarios.first().map(|first| step_responses::run(robot, first)).transpose()?;
+    let limit_cycles = goto.map(|base| limit_cycles::run(robot, base, progress)).transpose()?;
+    let gain_rule = goto.map(|base| gain_rule::run(robot, base, progress)).transpose()?;
+    let open_loop = match scenarios.first() {
+        Some(first) => {
+            let open_loop = step_responses::run(robot, first)?;
+            progress(step_responses::cost(first, N).simulated_s);
+            Some(open_loop)
+        }
+        None => None,
+    };
     Ok(Studies { fronts, sensitivity, chen_designs, torque_responses, frequency, limit_cycles, gain_rule, open_loop })
 }

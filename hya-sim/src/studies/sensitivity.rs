@@ -10,6 +10,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::analysis::seeds::{run_seeds, MetricTable};
+use crate::config::cost::Cost;
 use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario, Transducers};
 use crate::error::SimError;
 
@@ -71,6 +72,28 @@ const VARIANTS: [Variant; 6] = [
     },
 ];
 
+impl Variant {
+    /// The runs it adds on `bases`: each with the methods it changes, changed.
+    fn reruns(&self, bases: &[&Scenario]) -> Vec<Scenario> {
+        bases
+            .iter()
+            .filter(|_| !self.changes.is_empty())
+            .map(|base| {
+                let mut s = (*base).clone();
+                s.methods = self.changes.to_vec();
+                (self.apply)(&mut s);
+                s
+            })
+            .collect()
+    }
+}
+
+/// What [`run`] costs where the report runs `seeds` seeds.
+pub fn cost(scenarios: &[Scenario], seeds: usize) -> Cost {
+    let bases = super::hya_scenarios(scenarios, &SCENARIOS);
+    VARIANTS.iter().map(|v| Cost::of(&v.reruns(&bases), seeds.min(SEEDS))).fold(Cost::NONE, Cost::then)
+}
+
 /// Every variant's runs: per variant and scenario, each method's tracking RMSE per seed and
 /// joint, rad (in `summary.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -102,12 +125,13 @@ impl VariantRuns {
 }
 
 /// Runs every variant of the scenarios among `scenarios` that it varies (HyA's only) over the
-/// report's first seeds (at most [`SEEDS`]; `table` holds the report's runs); `None` where none
-/// is there.
+/// report's first seeds (at most [`SEEDS`]; `table` holds the report's runs), telling `progress`
+/// each run's simulated seconds; `None` where none is there.
 pub fn run<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     table: &MetricTable,
+    progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Option<Sensitivity>, SimError> {
     let bases = super::hya_scenarios(scenarios, &SCENARIOS);
     let Some(first) = bases.first() else { return Ok(None) };
@@ -119,17 +143,7 @@ pub fn run<const N: usize>(
     };
     let mut variants = Vec::new();
     for variant in &VARIANTS {
-        let runs: Vec<Scenario> = bases
-            .iter()
-            .filter(|_| !variant.changes.is_empty())
-            .map(|base| {
-                let mut s = (*base).clone();
-                s.methods = variant.changes.to_vec();
-                (variant.apply)(&mut s);
-                s
-            })
-            .collect();
-        let (_, rerun) = run_seeds(robot, &runs, seeds, &|_| {})?;
+        let (_, rerun) = run_seeds(robot, &variant.reruns(&bases), seeds, progress)?;
         let rmse_q = bases
             .iter()
             .map(|s| {

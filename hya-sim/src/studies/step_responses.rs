@@ -4,6 +4,7 @@
 
 use hya_core::JointVector;
 
+use crate::config::cost::Cost;
 use crate::config::scenario::Scenario;
 use crate::error::{SettingError, SimError};
 use crate::plant::{Actuators, PlantState};
@@ -15,6 +16,12 @@ pub const STEPS_NM: [f64; 2] = [0.05, 2.0];
 
 /// When the step comes, s after the release.
 const STEP_AT_S: f64 = 0.05;
+
+/// How long the response is followed after the step, s.
+const WINDOW_S: f64 = 0.1;
+
+/// The interval between the response's samples, s.
+const SAMPLE_S: f64 = 2e-4;
 
 /// One step size's responses.
 #[derive(Debug, Clone)]
@@ -64,7 +71,7 @@ fn step_response<const N: usize>(
         let commands = [TorqueCommand { time: 0.0, torque: hold }, TorqueCommand { time: STEP_AT_S, torque: stepped }];
         let mut points = Vec::new();
         let mut before = hold[j];
-        open_loop(&mut plant, &commands, max_step, 2e-4, STEP_AT_S + 0.1, |t, s: &PlantState<N>| {
+        open_loop(&mut plant, &commands, max_step, SAMPLE_S, STEP_AT_S + WINDOW_S, |t, s: &PlantState<N>| {
             let torque = actuators.torque(&s.hydraulic.pressure_a, &s.hydraulic.pressure_b)[j];
             if t < STEP_AT_S {
                 before = torque;
@@ -81,6 +88,19 @@ fn step_response<const N: usize>(
         all_points.push(points);
     }
     Ok(StepResponse { step_nm, points: all_points, rise_ms })
+}
+
+/// What [`run`]'s step test costs on `first` for an arm of `joints` joints: one open-loop run
+/// per step and joint, in the steps of the plant or of the sampling, whichever is shorter (the
+/// rigid body's 1 s rollout against MuJoCo, on HyA, not counted).
+pub fn cost(first: &Scenario, joints: usize) -> Cost {
+    match first.plant.actuator {
+        crate::config::scenario::ActuatorKind::Hydraulic => {
+            let step = (first.controller.dt_s / first.plant.substeps() as f64).min(SAMPLE_S);
+            Cost::open_loop(STEPS_NM.len() * joints, STEP_AT_S + WINDOW_S, step)
+        }
+        _ => Cost::NONE,
+    }
 }
 
 /// Runs the step test on `first`'s plant (the report's first scenario) where its actuators are

@@ -13,5 +13,6 @@ mod linear;
 mod mujoco_reference;
 mod plant;
 mod scenario_validation;
+mod study_cost;
 mod sweep;
 mod torque_loop;

@@ -1,0 +1,59 @@
+//! The cost `hya reproduce` prints before it runs counts the studies' runs: each closed-loop
+//! study, run on shortened scenarios, reports as many runs and simulated seconds as its cost
+//! said beforehand.
+
+use std::sync::Mutex;
+
+use hya_sim::analysis::seeds::run_seeds;
+use hya_sim::cost::Cost;
+use hya_sim::studies::{chen_designs, gain_rule, limit_cycles, sensitivity};
+use hya_sim::{Robot, Scenario, SimError};
+
+/// The runs and simulated seconds `study` tells its progress.
+fn counted(study: impl FnOnce(&(dyn Fn(f64) + Sync)) -> Result<(), SimError>) -> (usize, f64) {
+    let told = Mutex::new((0, 0.0));
+    study(&|seconds| {
+        let mut told = told.lock().unwrap();
+        *told = (told.0 + 1, told.1 + seconds);
+    })
+    .unwrap();
+    told.into_inner().unwrap()
+}
+
+fn assert_counts(study: &str, cost: Cost, (runs, seconds): (usize, f64)) {
+    assert!(runs > 0, "{study} ran nothing");
+    assert_eq!(cost.runs, runs, "{study}: runs counted against runs made");
+    assert!(
+        (cost.simulated_s - seconds).abs() < 1e-9 * seconds,
+        "{study}: {} s counted, {seconds} s run",
+        cost.simulated_s
+    );
+}
+
+#[test]
+fn each_closed_loop_study_costs_what_it_runs() {
+    let robot = Robot::<6>::load("hya").unwrap();
+    let scenarios: Vec<Scenario> = ["goto_internal", "sine_internal", "estimator_noise_low", "estimator_noise_high"]
+        .iter()
+        .map(|name| {
+            let mut s = Scenario::builtin(name).unwrap();
+            s.duration_s = 0.6;
+            s
+        })
+        .collect();
+    let seeds = 2;
+    let (_, table) = run_seeds(&robot, &scenarios, seeds, &|_| {}).unwrap();
+    let goto = &scenarios[0];
+    assert_counts(
+        "sensitivity",
+        sensitivity::cost(&scenarios, seeds),
+        counted(|p| sensitivity::run(&robot, &scenarios, &table, p).map(drop)),
+    );
+    assert_counts(
+        "chen designs",
+        chen_designs::cost(&scenarios, seeds),
+        counted(|p| chen_designs::run(&robot, &scenarios, &table, p).map(drop)),
+    );
+    assert_counts("limit cycles", limit_cycles::cost(goto), counted(|p| limit_cycles::run(&robot, goto, p).map(drop)));
+    assert_counts("gain rule", gain_rule::cost(goto), counted(|p| gain_rule::run(&robot, goto, p).map(drop)));
+}

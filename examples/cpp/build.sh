@@ -2,11 +2,21 @@
 # Builds the C++ loop with the system's g++ against hya's static library from
 # `cargo build --release`: TARGET/release/hya_cpp_loop, TARGET being cargo's target directory
 # (`target/`, or CARGO_TARGET_DIR; tools/target_dir.sh prints it).
+#
+# HYA_CARGO_PROFILE=test builds both in cargo's test profile instead (TARGET/debug/), whose
+# libraries `cargo test --workspace` has already built: CI does, to check the loop without a
+# second optimised build of the shipped arms. Its timings are not the release build's.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-cargo build --release -p hya-capi
-target="$(tools/target_dir.sh)"
+profile="${HYA_CARGO_PROFILE:-release}"
+case "$profile" in
+    release) dir=release ;;
+    test) dir=debug ;;
+    *) echo "HYA_CARGO_PROFILE must be release or test, not \`$profile\`" >&2; exit 2 ;;
+esac
+cargo build --profile "$profile" -p hya-capi
+target="$(tools/target_dir.sh)/$dir"
 g++ -std=c++17 -O2 -Wall -Wextra -Werror -I hya-capi/include -I examples/cpp \
     examples/cpp/main.cpp examples/cpp/disturbance_rejection_controller.cpp \
-    "$target/release/libhya.a" -lpthread -ldl -lm -o "$target/release/hya_cpp_loop"
-echo "built $target/release/hya_cpp_loop"
+    "$target/libhya.a" -lpthread -ldl -lm -o "$target/hya_cpp_loop"
+echo "built $target/hya_cpp_loop"

@@ -11,8 +11,8 @@ use std::time::Instant;
 
 use hya_core::model::TreeDynamics;
 use hya_core::{
-    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, Gains, JointMatrix,
-    JointVector, Reference,
+    ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics, FilterParams, FrameJacobian,
+    FrameKinematics, Gains, JointMatrix, JointVector, Reference,
 };
 use hya_robots::Hya;
 
@@ -69,9 +69,17 @@ struct Figures {
     /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` (`Dynamics::forward_dynamics_derivatives`).
     generated_fd_derivatives_ns: f64,
     generic_fd_derivatives_ns: f64,
-    /// The last link's world-aligned Jacobian on the run-time tree (`TreeModel::frame_jacobian`;
-    /// frame kinematics are not generated yet).
+    /// The last link's world-aligned Jacobian, generated (`FrameKinematics::frame_jacobian`) and
+    /// on the run-time tree (`TreeModel::frame_jacobian`, which allocates its result).
+    generated_jacobian_ns: f64,
     generic_jacobian_ns: f64,
+    /// The last link's `J̇ q̇`, generated (`FrameKinematics::frame_acceleration_bias`).
+    generated_jacobian_bias_ns: f64,
+    /// The generated Jacobian on [`BATCH`] states per call, ns per state, and held to four
+    /// lanes where the CPU has eight.
+    batch_jacobian_ns_per_state: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    batch_jacobian_ns_per_state_4_lanes: Option<f64>,
     /// The HyA control tick through `DisturbanceAttenuation::tick` (both inverse dynamics in one
     /// batch call).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -193,7 +201,10 @@ fn states<const N: usize>() -> [[JointVector<N>; 3]; STATES] {
     hya_core::sampling::varied_states()
 }
 
-fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D) -> Result<Figures, CliError> {
+fn bench_robot<const N: usize, D: Dynamics<N> + FrameKinematics<N>>(
+    name: &'static str,
+    generated: D,
+) -> Result<Figures, CliError> {
     let robot = hya_robots::find(name).ok_or_else(|| CliError::Input(format!("unknown robot {name}")))?;
     let generic: TreeDynamics<N> = hya_urdf::load_str(robot.urdf, name)
         .map_err(|e| CliError::Input(e.to_string()))?
@@ -232,8 +243,17 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
     };
     let tree = generic.model();
     let last = tree.frames().last().map(|f| f.name.clone()).unwrap_or_default();
-    let generic_jacobian_ns = median_ns(|k| {
-        let _ = black_box(tree.frame_jacobian(&last, black_box(states[k][0].as_slice())));
+    let (generated_jacobian_ns, generic_jacobian_ns) = interleaved_median_ns(
+        |k| {
+            black_box(generated.frame_jacobian(black_box(&states[k][0])));
+        },
+        |k| {
+            let _ = black_box(tree.frame_jacobian(&last, black_box(states[k][0].as_slice())));
+        },
+    );
+    let generated_jacobian_bias_ns = median_ns(|k| {
+        let [q, qd, _] = black_box(&states[k]);
+        black_box(generated.frame_acceleration_bias(q, qd));
     });
     let batch: Vec<[JointVector<N>; 3]> = hya_core::sampling::varied_states::<N, BATCH>().to_vec();
     let [q, qd, x]: [Vec<JointVector<N>>; 3] = core::array::from_fn(|i| batch.iter().map(|s| s[i]).collect());
@@ -269,6 +289,10 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
             &mut more_matrices,
         ));
     }));
+    let mut jacobians = vec![FrameJacobian::<N>::zeros(); BATCH];
+    let (batch_jacobian_ns_per_state, batch_jacobian_ns_per_state_4_lanes) = both_widths(Box::new(|| {
+        let _ = black_box(generated.frame_jacobian_batch(black_box(&q), &mut jacobians));
+    }));
     // Generated and generic alternate, so slow phases of the machine hit both.
     Ok(Figures {
         robot: name,
@@ -294,7 +318,11 @@ fn bench_robot<const N: usize, D: Dynamics<N>>(name: &'static str, generated: D)
         generic_id_derivatives_ns: id_derivatives(&generic),
         generated_fd_derivatives_ns: fd_derivatives(&generated),
         generic_fd_derivatives_ns: fd_derivatives(&generic),
+        generated_jacobian_ns,
         generic_jacobian_ns,
+        generated_jacobian_bias_ns,
+        batch_jacobian_ns_per_state,
+        batch_jacobian_ns_per_state_4_lanes,
         tick_ns: None,
         tick_in_sequence_ns: None,
         sim_realtime_factor: None,
@@ -397,7 +425,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<8} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8}",
         "robot",
         "id gen",
         "id batch",
@@ -411,6 +439,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
         "FD gener",
         "dID gen",
         "dFD gen",
+        "J gen",
         "tick",
         "tick seq",
         "sim x",
@@ -420,7 +449,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     for f in &figures {
         writeln!(
             output,
-            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8} {:>8} {:>8}",
+            "{:<8} {:>9.1} {:>9.1} {:>9.1} {:>6.2} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>8} {:>8} {:>8} {:>8} {:>8}",
             f.robot,
             f.generated_id_ns,
             f.batch_id_ns_per_state,
@@ -434,6 +463,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
             f.generic_fd_ns,
             f.generated_id_derivatives_ns,
             f.generated_fd_derivatives_ns,
+            f.generated_jacobian_ns,
             f.tick_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.tick_in_sequence_ns.map_or("-".into(), |t| format!("{t:.1}")),
             f.sim_realtime_factor.map_or("-".into(), |x| format!("{x:.0}")),
@@ -443,7 +473,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; dID, dFD = derivatives of inverse and forward dynamics; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; ideal x: ideal actuators; build: {}; generated FMA: {})",
+        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; dID, dFD = derivatives of inverse and forward dynamics; J = the last link's Jacobian; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; ideal x: ideal actuators; build: {}; generated FMA: {})",
         build_features(),
         generated_fma()
     )?;

@@ -462,6 +462,76 @@ impl<'a> Tracer<'a> {
         Ok((self.function("frame_poses", "FramePoses", traced, Default::default()), method))
     }
 
+    /// `FrameKinematics` of the model's last link (`TreeModel::tip_frame`): the Jacobian and
+    /// `J̇ q̇` traced from `hya-core`'s kinematics, and the `impl` whose pose reads
+    /// `frame_poses`. `None` for a model without links.
+    pub fn tip_kinematics(&self) -> Result<Option<(Vec<Function>, TokenStream)>, GenerateError> {
+        let Some(tip) = self.model.tip_frame() else { return Ok(None) };
+        let (n, dof, frames) = (self.model.dof(), self.dof(), self.model.frames().len());
+        let placements = |q: &[Value], states: &mut [BodyState<Value>]| {
+            let mut placements = vec![Transform::<Value>::identity(); n];
+            algorithms::body_placements(self.model, q, states, &mut placements).map(|()| placements)
+        };
+        let (name, marker) = ("frame_jacobian", "FrameJacobian");
+        let traced = self.trace((name, marker), &["q"], Output::Vector("j"), |x, _, states| {
+            let mut jacobian = vec![Value::zero(); 6 * n];
+            hya_core::model::kinematics::frame_jacobian(self.model, tip, &placements(&x[0], states)?, &mut jacobian)?;
+            Ok(jacobian)
+        })?;
+        let cells = (0..6 * n).map(|k| (k / n, k % n, traced.values[k], &traced.outputs.slots[k])).collect();
+        let stores = matrix_stores(&format_ident!("jacobian"), cells);
+        let output_type = quote! { ::hya_core::FrameJacobian<#dof> };
+        let conversion = quote! {
+            let mut jacobian = ::hya_core::FrameJacobian::<#dof>::zeros();
+            #(#stores)*
+            jacobian
+        };
+        let doc = " The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.";
+        let batch = Batch::one(
+            quote! { jacobian: &mut [::hya_core::FrameJacobian<#dof>] },
+            "jacobian",
+            quote! { jacobian[k] = frame_jacobian_of(&v) },
+        );
+        let entry = self.entry_points((name, marker, doc), &["q"], (output_type, conversion), Some(batch), &traced);
+        let jacobian = self.function(name, marker, traced, entry);
+
+        let (name, marker) = ("frame_acceleration_bias", "FrameAccelerationBias");
+        let traced = self.trace((name, marker), &["q", "qd"], Output::Vector("a"), |x, _, states| {
+            let placements = placements(&x[0], states)?;
+            Ok(hya_core::model::kinematics::frame_acceleration_bias(self.model, tip, &placements, &x[1])?.to_vec())
+        })?;
+        let slots = &traced.outputs.slots;
+        let output_type = quote! { ::hya_core::FrameVector };
+        let conversion = quote! { ::hya_core::FrameVector::new(#(#slots),*) };
+        let doc = " The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.";
+        let batch = Batch {
+            outputs: quote! { bias: &mut [::hya_core::FrameVector] },
+            first: format_ident!("bias"),
+            check: TokenStream::new(),
+            store: quote! { bias[k] = frame_acceleration_bias_of(&v) },
+        };
+        let entry =
+            self.entry_points((name, marker, doc), &["q", "qd"], (output_type, conversion), Some(batch), &traced);
+        let bias = self.function(name, marker, traced, entry);
+
+        let (tip_name, last, type_name) =
+            (Literal::string(&tip.name), Literal::usize_unsuffixed(frames - 1), &self.type_name);
+        let (jacobian_entry, bias_entry) = (&jacobian.entry, &bias.entry);
+        let implementation = quote! {
+            impl ::hya_core::FrameKinematics<#dof> for #type_name {
+                fn frame_name(&self) -> &'static str {
+                    #tip_name
+                }
+                fn frame_pose(&self, q: &JointVector<#dof>) -> ::hya_core::spatial::Transform {
+                    self.frame_poses(q)[#last]
+                }
+                #jacobian_entry
+                #bias_entry
+            }
+        };
+        Ok(Some((vec![jacobian, bias], implementation)))
+    }
+
     /// `(∂τ/∂q, ∂τ/∂q̇)`: `hya-core`'s dual-number derivative traced once per direction in one
     /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
     fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {

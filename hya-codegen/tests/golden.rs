@@ -17,7 +17,7 @@
 use std::path::PathBuf;
 
 use hya_core::model::TreeModel;
-use hya_core::{Dynamics, JointMatrix, JointVector};
+use hya_core::{Dynamics, FrameJacobian, FrameKinematics, FrameVector, JointMatrix, JointVector};
 
 #[allow(dead_code)] // the constants each type carries, not all read here
 mod compiled {
@@ -114,7 +114,7 @@ fn states<const N: usize>() -> Vec<(JointVector<N>, JointVector<N>, JointVector<
 /// The generated `d` against the run-time `model` on single calls, and its batches against
 /// its single calls.
 fn check<const N: usize>(
-    d: &impl Dynamics<N>,
+    d: &(impl Dynamics<N> + FrameKinematics<N>),
     model: &TreeModel,
     frame_poses: impl Fn(&JointVector<N>) -> Vec<hya_core::spatial::Transform>,
 ) {
@@ -131,6 +131,14 @@ fn check<const N: usize>(
             assert!((pose.rotation - expected.rotation).norm() < 1e-12, "{name}");
             assert!((pose.translation - expected.translation).norm() < 1e-12, "{name}");
         }
+        // The tip's kinematics against the run-time model's, which Pinocchio holds.
+        let tip = d.frame_name();
+        assert_eq!(Some(tip), model.tip_frame().map(|f| f.name.as_str()));
+        let jacobian = model.frame_jacobian(tip, q.as_slice()).unwrap();
+        assert!(close(d.frame_jacobian(q).as_slice(), jacobian.as_slice()), "{}: J of {tip}", model.name());
+        let bias = model.frame_acceleration_bias(tip, q.as_slice(), qd.as_slice()).unwrap();
+        assert!(close(d.frame_acceleration_bias(q, qd).as_slice(), &bias), "{}: J̇ q̇ of {tip}", model.name());
+        assert_eq!(d.frame_pose(q), model.frame_pose(tip, q.as_slice()).unwrap());
     }
     let (q, qd, qdd): (Vec<_>, Vec<_>, Vec<_>) = states.iter().cloned().fold((vec![], vec![], vec![]), |mut acc, s| {
         acc.0.push(s.0);
@@ -145,16 +153,23 @@ fn check<const N: usize>(
     d.mass_matrix_batch(&q, &mut mass).unwrap();
     let mut fd = vec![JointVector::<N>::zeros(); n];
     d.forward_dynamics_batch(&q, &qd, &tau, &mut fd).unwrap();
+    let mut jacobian = vec![FrameJacobian::<N>::zeros(); n];
+    d.frame_jacobian_batch(&q, &mut jacobian).unwrap();
+    let mut bias = vec![FrameVector::zeros(); n];
+    d.frame_acceleration_bias_batch(&q, &qd, &mut bias).unwrap();
     // The same batches on four lanes (AVX2 where the CPU has AVX-512, which the default takes):
     // every lane computes its state alone, so the widths agree bit for bit.
     hya_core::lanes::limit_batch_lanes(4).unwrap();
     let (mut narrow_tau, mut narrow_mass) = (tau.clone(), mass.clone());
     d.inverse_dynamics_batch(&q, &qd, &qdd, &mut narrow_tau).unwrap();
     d.mass_matrix_batch(&q, &mut narrow_mass).unwrap();
+    let (mut narrow_jacobian, mut narrow_bias) = (jacobian.clone(), bias.clone());
+    d.frame_jacobian_batch(&q, &mut narrow_jacobian).unwrap();
+    d.frame_acceleration_bias_batch(&q, &qd, &mut narrow_bias).unwrap();
     hya_core::lanes::limit_batch_lanes(8).unwrap();
     assert_eq!(
-        (narrow_tau, narrow_mass),
-        (tau.clone(), mass.clone()),
+        (narrow_tau, narrow_mass, narrow_jacobian, narrow_bias),
+        (tau.clone(), mass.clone(), jacobian.clone(), bias.clone()),
         "{}: batches on four and eight lanes",
         model.name()
     );
@@ -162,6 +177,8 @@ fn check<const N: usize>(
         assert!(close(tau[k].as_slice(), d.inverse_dynamics(&q[k], &qd[k], &qdd[k]).as_slice()), "batch ID {k}");
         assert!(close(mass[k].as_slice(), d.mass_matrix(&q[k]).as_slice()), "batch M {k}");
         assert!(close(fd[k].as_slice(), qdd[k].as_slice()), "batch FD {k}");
+        assert_eq!(jacobian[k], d.frame_jacobian(&q[k]), "batch J {k}");
+        assert_eq!(bias[k], d.frame_acceleration_bias(&q[k], &qd[k]), "batch J̇ q̇ {k}");
     }
 }
 

@@ -48,6 +48,7 @@ mod rigid_body {
     pub mod dual;
     pub mod dynamics;
     pub(crate) mod fma;
+    pub mod frame_kinematics;
     pub mod lanes;
     pub(crate) mod linalg;
     #[cfg(feature = "alloc")]
@@ -72,7 +73,7 @@ pub use estimation::{erased, observer_design};
 pub use rigid_body::model;
 #[cfg(feature = "sampling")]
 pub use rigid_body::sampling;
-pub use rigid_body::{dual, dynamics, lanes, scalar, spatial};
+pub use rigid_body::{dual, dynamics, frame_kinematics, lanes, scalar, spatial};
 use rigid_body::{fma, linalg, trig};
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
@@ -93,6 +94,7 @@ pub use filter::{
 };
 pub use filter_pair::{FilterPair, Next, PairState, StepClock};
 pub use finite::{finite_result, MAX_RATE_TIMES_DT};
+pub use frame_kinematics::{FrameJacobian, FrameKinematics, FrameVector};
 #[cfg(feature = "alloc")]
 pub use observer_design::{BoxedObserver, NonlinearGain, ObserverDesign};
 pub use observers::{

@@ -100,6 +100,8 @@ pub struct Arm<const N: usize> {
     pub info: &'static RobotInfo,
     /// The generated dynamics with the URDF's parameters.
     pub nominal: &'static (dyn hya_core::Dynamics<N> + Send + Sync),
+    /// The generated pose, Jacobian and `J̇ q̇` of its last link (the tool's flange).
+    pub tip: &'static (dyn hya_core::FrameKinematics<N> + Send + Sync),
     /// The parameter-holding twin for these body inertias (joint order): the same folded
     /// kinematics for perturbed, identified or loaded bodies.
     pub parametric: ParametricFactory<N>,
@@ -147,6 +149,7 @@ macro_rules! arm_dispatch {
                     return Some(f.call::<$dof>(Arm {
                         info: find(name)?,
                         nominal: &$type,
+                        tip: &$type,
                         parametric: |inertias| std::boxed::Box::new($parametric::new(inertias)),
                     }));
                 }

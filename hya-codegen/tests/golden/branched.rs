@@ -1004,6 +1004,54 @@ const _: () = {
             ]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 3, 1, 4> for Branched {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 3]; 1]) -> [A; 4] {
+            let (s_waist, c_waist) = {
+                let q_waist = q[0];
+                let [(s_waist, c_waist)] = A::sin_cos_lanes([q_waist]);
+                (s_waist, c_waist)
+            };
+            let (t0, t1) = {
+                // ── link `left`, joint `left_shoulder` (base to tip)
+                let t0 = s_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t1 = c_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                (t0, t1)
+            };
+            [t1, t0, c_waist, s_waist]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 3, 2, 4> for Branched {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 3]; 2]) -> [A; 4] {
+            let (qd_waist, qd_right_shoulder, s_waist, c_waist) = {
+                let q_waist = q[0];
+                let qd_waist = qd[0];
+                let qd_right_shoulder = qd[2];
+                let [(s_waist, c_waist)] = A::sin_cos_lanes([q_waist]);
+                (qd_waist, qd_right_shoulder, s_waist, c_waist)
+            };
+            let (t0, t1) = {
+                // ── link `left`, joint `left_shoulder` (base to tip)
+                let t0 = s_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t1 = c_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                (t0, t1)
+            };
+            let (t4, t5, t8, t9) = {
+                // ── link `right`, joint `right_shoulder` (base to tip)
+                let t2 = qd_waist * t1;
+                let t3 = qd_waist * t0;
+                let t4 = qd_waist * t3;
+                let t5 = qd_waist * t2;
+                let t6 = qd_waist * s_waist;
+                let t7 = qd_waist * c_waist;
+                let t8 = t6 * qd_right_shoulder;
+                let t9 = t7 * qd_right_shoulder;
+                (t4, t5, t8, t9)
+            };
+            [-t4, t5, -t8, t9]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 3]) -> JointVector<3> {
         JointVector::<3>::from([v[0], v[1], v[2]])
@@ -1051,6 +1099,20 @@ const _: () = {
         d_dqd[(1, 0)] = v[7];
         d_dqd[(2, 0)] = v[8];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 4]) -> ::hya_core::FrameJacobian<3> {
+        let mut jacobian = ::hya_core::FrameJacobian::<3>::zeros();
+        jacobian[(0, 0)] = v[0];
+        jacobian[(1, 0)] = v[1];
+        jacobian[(3, 2)] = v[2];
+        jacobian[(4, 2)] = v[3];
+        jacobian[(5, 0)] = 1f64;
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 4]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(v[0], v[1], 0f64, v[2], v[3], 0f64)
     }
     impl Dynamics<3> for Branched {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -1199,6 +1261,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<3> for Branched {
+        fn frame_name(&self) -> &'static str {
+            "right"
+        }
+        fn frame_pose(&self, q: &JointVector<3>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[3]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<3>) -> ::hya_core::FrameJacobian<3> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<3>],
+            jacobian: &mut [::hya_core::FrameJacobian<3>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<3>,
+            qd: &JointVector<3>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<3>],
+            qd: &[JointVector<3>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

@@ -1186,6 +1186,58 @@ const _: () = {
             ]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 2, 1, 4> for FixedMerge {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 2]; 1]) -> [A; 4] {
+            let (s_shoulder, c_shoulder) = {
+                let q_shoulder = q[0];
+                let [(s_shoulder, c_shoulder)] = A::sin_cos_lanes([q_shoulder]);
+                (s_shoulder, c_shoulder)
+            };
+            let (t1, t3, t4, t5) = {
+                // ── link `forearm`, joint `elbow` (base to tip)
+                let t0 = s_shoulder * 0.05f64; // 5.0000e-2 = joint elbow origin z
+                let t1 = A::mul_add(c_shoulder, 0.3f64, t0); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t2 = s_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t3 = A::mul_add(c_shoulder, 0.05f64, -t2); // 5.0000e-2 = joint elbow origin z
+                let t4 = c_shoulder * 0.479425538604203f64;
+                let t5 = s_shoulder * 0.479425538604203f64;
+                (t1, t3, t4, t5)
+            };
+            [t3, -t1, -t4, t5]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 2, 2, 4> for FixedMerge {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 4] {
+            let (qd_shoulder, qd_elbow, s_shoulder, c_shoulder) = {
+                let q_shoulder = q[0];
+                let qd_shoulder = qd[0];
+                let qd_elbow = qd[1];
+                let [(s_shoulder, c_shoulder)] = A::sin_cos_lanes([q_shoulder]);
+                (qd_shoulder, qd_elbow, s_shoulder, c_shoulder)
+            };
+            let (t8, t9, t12, t13) = {
+                // ── link `forearm`, joint `elbow` (base to tip)
+                let t0 = s_shoulder * 0.05f64; // 5.0000e-2 = joint elbow origin z
+                let t1 = A::mul_add(c_shoulder, 0.3f64, t0); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t2 = s_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t3 = A::mul_add(c_shoulder, 0.05f64, -t2); // 5.0000e-2 = joint elbow origin z
+                let t4 = c_shoulder * 0.479425538604203f64;
+                let t5 = s_shoulder * 0.479425538604203f64;
+                let t6 = qd_shoulder * t3;
+                let t7 = qd_shoulder * t1;
+                let t8 = qd_shoulder * t7;
+                let t9 = qd_shoulder * t6;
+                let t10 = qd_shoulder * t5;
+                let t11 = qd_shoulder * t4;
+                let t12 = t10 * qd_elbow;
+                let t13 = t11 * qd_elbow;
+                (t8, t9, t12, t13)
+            };
+            [-t8, -t9, t12, t13]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 2]) -> JointVector<2> {
         JointVector::<2>::from([v[0], v[1]])
@@ -1232,6 +1284,21 @@ const _: () = {
         d_dqd[(0, 1)] = v[5];
         d_dqd[(1, 0)] = v[6];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 4]) -> ::hya_core::FrameJacobian<2> {
+        let mut jacobian = ::hya_core::FrameJacobian::<2>::zeros();
+        jacobian[(0, 0)] = v[0];
+        jacobian[(2, 0)] = v[1];
+        jacobian[(3, 1)] = v[2];
+        jacobian[(4, 0)] = 1f64;
+        jacobian[(4, 1)] = 0.8775825618903728f64;
+        jacobian[(5, 1)] = v[3];
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 4]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(v[0], 0f64, v[1], v[2], 0f64, v[3])
     }
     impl Dynamics<2> for FixedMerge {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -1380,6 +1447,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<2> for FixedMerge {
+        fn frame_name(&self) -> &'static str {
+            "forearm"
+        }
+        fn frame_pose(&self, q: &JointVector<2>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[3]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<2>],
+            jacobian: &mut [::hya_core::FrameJacobian<2>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<2>,
+            qd: &JointVector<2>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<2>],
+            qd: &[JointVector<2>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

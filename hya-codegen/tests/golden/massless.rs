@@ -537,6 +537,38 @@ const _: () = {
             ]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 2, 1, 2> for Massless {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 2]; 1]) -> [A; 2] {
+            let (s_pitch, c_pitch) = {
+                let q_pitch = q[0];
+                let [(s_pitch, c_pitch)] = A::sin_cos_lanes([q_pitch]);
+                (s_pitch, c_pitch)
+            };
+            [c_pitch, -s_pitch]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 2, 2, 2> for Massless {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
+            let (qd_pitch, qd_roll, s_pitch, c_pitch) = {
+                let q_pitch = q[0];
+                let qd_pitch = qd[0];
+                let qd_roll = qd[1];
+                let [(s_pitch, c_pitch)] = A::sin_cos_lanes([q_pitch]);
+                (qd_pitch, qd_roll, s_pitch, c_pitch)
+            };
+            let (t2, t3) = {
+                // ── link `tool`, joint `roll` (base to tip)
+                let t0 = qd_pitch * s_pitch;
+                let t1 = qd_pitch * c_pitch;
+                let t2 = t0 * qd_roll;
+                let t3 = t1 * qd_roll;
+                (t2, t3)
+            };
+            [-t2, -t3]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 2]) -> JointVector<2> {
         JointVector::<2>::from([v[0], v[1]])
@@ -581,6 +613,18 @@ const _: () = {
         d_dqd[(0, 1)] = v[5];
         d_dqd[(1, 0)] = v[6];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 2]) -> ::hya_core::FrameJacobian<2> {
+        let mut jacobian = ::hya_core::FrameJacobian::<2>::zeros();
+        jacobian[(3, 1)] = v[0];
+        jacobian[(4, 0)] = 1f64;
+        jacobian[(5, 1)] = v[1];
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 2]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(0f64, 0f64, 0f64, v[0], 0f64, v[1])
     }
     impl Dynamics<2> for Massless {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -729,6 +773,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<2> for Massless {
+        fn frame_name(&self) -> &'static str {
+            "tool"
+        }
+        fn frame_pose(&self, q: &JointVector<2>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[2]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<2>],
+            jacobian: &mut [::hya_core::FrameJacobian<2>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<2>,
+            qd: &JointVector<2>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<2>],
+            qd: &[JointVector<2>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

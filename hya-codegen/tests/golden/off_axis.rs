@@ -2646,6 +2646,256 @@ const _: () = {
             ]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 2, 1, 9> for OffAxis {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 2]; 1]) -> [A; 9] {
+            let (c_tilted, t0, t1, t2, t3, t4, t5, t6, t7, t8, t9) = {
+                let q_tilted = q[0];
+                let q_skewed = q[1];
+                let [(s_tilted, c_tilted), (s_skewed, c_skewed)] = A::sin_cos_lanes([
+                    q_tilted,
+                    q_skewed,
+                ]);
+                let t0 = A::mul_add(c_tilted, 0.64f64, 0.36f64);
+                let t1 = s_tilted * 0.8f64;
+                let t2 = A::mul_add(-c_tilted, 0.48f64, 0.48f64);
+                let t3 = s_tilted * 0.6f64;
+                let t4 = A::mul_add(
+                    c_tilted,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t5 = s_skewed * 0.6f64;
+                let t6 = s_skewed * 0.8f64;
+                let t7 = A::mul_add(
+                    c_skewed,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t8 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
+                let t9 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
+                (c_tilted, t0, t1, t2, t3, t4, t5, t6, t7, t8, t9)
+            };
+            let (t11, t13, t16, t18, t19, t20) = {
+                // ── link `first`, joint `tilted` (base to tip)
+                let t10 = t2 * 0.29552020666133955f64;
+                let t11 = A::mul_add(t1, 0.955336489125606f64, -t10);
+                let t12 = t3 * 0.29552020666133955f64;
+                let t13 = A::mul_add(c_tilted, 0.955336489125606f64, -t12);
+                let t14 = t3 * 0.955336489125606f64;
+                let t15 = t4 * 0.29552020666133955f64;
+                let t16 = A::mul_add(t3, 0.955336489125606f64, t15);
+                let t17 = t2 * 0.955336489125606f64;
+                let t18 = A::mul_add(t1, 0.29552020666133955f64, t17);
+                let t19 = A::mul_add(c_tilted, 0.29552020666133955f64, t14);
+                let t20 = A::mul_add(t4, 0.955336489125606f64, -t12);
+                (t11, t13, t16, t18, t19, t20)
+            };
+            let (t59, t61, t63, t65, t67, t69, t72, t74, t76) = {
+                // ── link `second`, joint `skewed` (base to tip)
+                let t21 = t7 * 0.19866933079506122f64;
+                let t22 = A::mul_add(t5, 0.90270109637546f64, t21);
+                let t23 = A::mul_add(t8, 0.3816559020950483f64, t22);
+                let t24 = t8 * 0.19866933079506122f64;
+                let t25 = A::mul_add(t6, 0.90270109637546f64, t24);
+                let t26 = A::mul_add(t9, 0.3816559020950483f64, t25);
+                let t27 = t5 * 0.18298657129998708f64;
+                let t28 = A::mul_add(t7, 0.9800665778412416f64, -t27);
+                let t29 = A::mul_add(-t8, 0.07736548146578168f64, t28);
+                let t30 = t6 * 0.18298657129998708f64;
+                let t31 = A::mul_add(t8, 0.9800665778412416f64, -t30);
+                let t32 = A::mul_add(-t9, 0.07736548146578168f64, t31);
+                let t33 = t5 * 0.3894183423086505f64;
+                let t34 = A::mul_add(t8, 0.9210609940028851f64, -t33);
+                let t35 = t6 * 0.3894183423086505f64;
+                let t36 = A::mul_add(t9, 0.9210609940028851f64, -t35);
+                let t37 = t0 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t38 = t11 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t39 = t29 * t1;
+                let t40 = A::mul_add(t23, t0, -t39);
+                let t41 = A::mul_add(t34, t2, t40);
+                let t42 = t32 * t1;
+                let t43 = A::mul_add(t26, t0, -t42);
+                let t44 = A::mul_add(t36, t2, t43);
+                let t45 = t29 * t13;
+                let t46 = A::mul_add(t23, t11, t45);
+                let t47 = A::mul_add(-t34, t16, t46);
+                let t48 = t32 * t13;
+                let t49 = A::mul_add(t26, t11, t48);
+                let t50 = A::mul_add(-t36, t16, t49);
+                let t51 = t29 * t19;
+                let t52 = A::mul_add(t23, t18, t51);
+                let t53 = A::mul_add(t34, t20, t52);
+                let t54 = t32 * t19;
+                let t55 = A::mul_add(t26, t18, t54);
+                let t56 = A::mul_add(t36, t20, t55);
+                let t57 = A::mul_add(t18, 0.2f64, 0.2f64); // 2.0000e-1 = joint tilted origin z or joint skewed origin x; 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t58 = t44 * 0.6f64;
+                let t59 = A::mul_add(t41, 0.8f64, -t58);
+                let t60 = t50 * 0.6f64;
+                let t61 = A::mul_add(t47, 0.8f64, -t60);
+                let t62 = t56 * 0.6f64;
+                let t63 = A::mul_add(t53, 0.8f64, -t62);
+                let t64 = t2 * 0.8f64;
+                let t65 = A::mul_add(t0, 0.6f64, t64);
+                let t66 = t16 * 0.8f64;
+                let t67 = A::mul_add(t11, 0.6f64, -t66);
+                let t68 = t20 * 0.8f64;
+                let t69 = A::mul_add(t18, 0.6f64, t68);
+                let t70 = t57 - 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t71 = t69 * t38;
+                let t72 = A::mul_add(t67, t70, -t71);
+                let t73 = t65 * t70;
+                let t74 = A::mul_add(t69, t37, -t73);
+                let t75 = t67 * t37;
+                let t76 = A::mul_add(t65, t38, -t75);
+                (t59, t61, t63, t65, t67, t69, t72, t74, t76)
+            };
+            [t72, t74, t76, t65, t59, t67, t61, t69, t63]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 2, 2, 6> for OffAxis {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 6] {
+            let (
+                qd_tilted,
+                qd_skewed,
+                c_tilted,
+                t0,
+                t1,
+                t2,
+                t3,
+                t4,
+                t5,
+                t6,
+                t7,
+                t8,
+                t9,
+            ) = {
+                let q_tilted = q[0];
+                let q_skewed = q[1];
+                let qd_tilted = qd[0];
+                let qd_skewed = qd[1];
+                let [(s_tilted, c_tilted), (s_skewed, c_skewed)] = A::sin_cos_lanes([
+                    q_tilted,
+                    q_skewed,
+                ]);
+                let t0 = A::mul_add(c_tilted, 0.64f64, 0.36f64);
+                let t1 = s_tilted * 0.8f64;
+                let t2 = A::mul_add(-c_tilted, 0.48f64, 0.48f64);
+                let t3 = s_tilted * 0.6f64;
+                let t4 = A::mul_add(
+                    c_tilted,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t5 = s_skewed * 0.6f64;
+                let t6 = s_skewed * 0.8f64;
+                let t7 = A::mul_add(
+                    c_skewed,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t8 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
+                let t9 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
+                (qd_tilted, qd_skewed, c_tilted, t0, t1, t2, t3, t4, t5, t6, t7, t8, t9)
+            };
+            let (t11, t13, t16, t18, t19, t20) = {
+                // ── link `first`, joint `tilted` (base to tip)
+                let t10 = t2 * 0.29552020666133955f64;
+                let t11 = A::mul_add(t1, 0.955336489125606f64, -t10);
+                let t12 = t3 * 0.29552020666133955f64;
+                let t13 = A::mul_add(c_tilted, 0.955336489125606f64, -t12);
+                let t14 = t3 * 0.955336489125606f64;
+                let t15 = t4 * 0.29552020666133955f64;
+                let t16 = A::mul_add(t3, 0.955336489125606f64, t15);
+                let t17 = t2 * 0.955336489125606f64;
+                let t18 = A::mul_add(t1, 0.29552020666133955f64, t17);
+                let t19 = A::mul_add(c_tilted, 0.29552020666133955f64, t14);
+                let t20 = A::mul_add(t4, 0.955336489125606f64, -t12);
+                (t11, t13, t16, t18, t19, t20)
+            };
+            let (t81, t83, t85, t92, t93, t94) = {
+                // ── link `second`, joint `skewed` (base to tip)
+                let t21 = t7 * 0.19866933079506122f64;
+                let t22 = A::mul_add(t5, 0.90270109637546f64, t21);
+                let t23 = A::mul_add(t8, 0.3816559020950483f64, t22);
+                let t24 = t8 * 0.19866933079506122f64;
+                let t25 = A::mul_add(t6, 0.90270109637546f64, t24);
+                let t26 = A::mul_add(t9, 0.3816559020950483f64, t25);
+                let t27 = t5 * 0.18298657129998708f64;
+                let t28 = A::mul_add(t7, 0.9800665778412416f64, -t27);
+                let t29 = A::mul_add(-t8, 0.07736548146578168f64, t28);
+                let t30 = t6 * 0.18298657129998708f64;
+                let t31 = A::mul_add(t8, 0.9800665778412416f64, -t30);
+                let t32 = A::mul_add(-t9, 0.07736548146578168f64, t31);
+                let t33 = t5 * 0.3894183423086505f64;
+                let t34 = A::mul_add(t8, 0.9210609940028851f64, -t33);
+                let t35 = t6 * 0.3894183423086505f64;
+                let t36 = A::mul_add(t9, 0.9210609940028851f64, -t35);
+                let t37 = t0 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t38 = t11 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t39 = t29 * t1;
+                let t40 = A::mul_add(t23, t0, -t39);
+                let t41 = A::mul_add(t34, t2, t40);
+                let t42 = t32 * t1;
+                let t43 = A::mul_add(t26, t0, -t42);
+                let t44 = A::mul_add(t36, t2, t43);
+                let t45 = t29 * t13;
+                let t46 = A::mul_add(t23, t11, t45);
+                let t47 = A::mul_add(-t34, t16, t46);
+                let t48 = t32 * t13;
+                let t49 = A::mul_add(t26, t11, t48);
+                let t50 = A::mul_add(-t36, t16, t49);
+                let t51 = t29 * t19;
+                let t52 = A::mul_add(t23, t18, t51);
+                let t53 = A::mul_add(t34, t20, t52);
+                let t54 = t32 * t19;
+                let t55 = A::mul_add(t26, t18, t54);
+                let t56 = A::mul_add(t36, t20, t55);
+                let t57 = A::mul_add(t18, 0.2f64, 0.2f64); // 2.0000e-1 = joint tilted origin z or joint skewed origin x; 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t58 = t2 * 0.8f64;
+                let t59 = A::mul_add(t0, 0.6f64, t58);
+                let t60 = t16 * 0.8f64;
+                let t61 = A::mul_add(t11, 0.6f64, -t60);
+                let t62 = t20 * 0.8f64;
+                let t63 = A::mul_add(t18, 0.6f64, t62);
+                let t64 = t59 * qd_tilted;
+                let t65 = t61 * qd_tilted;
+                let t66 = t63 * qd_tilted;
+                let t67 = t57 - 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t68 = t44 * 0.6f64;
+                let t69 = A::mul_add(t41, 0.8f64, -t68);
+                let t70 = t50 * 0.6f64;
+                let t71 = A::mul_add(t47, 0.8f64, -t70);
+                let t72 = t56 * 0.6f64;
+                let t73 = A::mul_add(t53, 0.8f64, -t72);
+                let t74 = t66 * t38;
+                let t75 = A::mul_add(t65, t67, -t74);
+                let t76 = t64 * t67;
+                let t77 = A::mul_add(t66, t37, -t76);
+                let t78 = t65 * t37;
+                let t79 = A::mul_add(t64, t38, -t78);
+                let t80 = t66 * t77;
+                let t81 = A::mul_add(t65, t79, -t80);
+                let t82 = t64 * t79;
+                let t83 = A::mul_add(t66, t75, -t82);
+                let t84 = t65 * t75;
+                let t85 = A::mul_add(t64, t77, -t84);
+                let t86 = t66 * t71;
+                let t87 = A::mul_add(t65, t73, -t86);
+                let t88 = t64 * t73;
+                let t89 = A::mul_add(t66, t69, -t88);
+                let t90 = t65 * t69;
+                let t91 = A::mul_add(t64, t71, -t90);
+                let t92 = t87 * qd_skewed;
+                let t93 = t89 * qd_skewed;
+                let t94 = t91 * qd_skewed;
+                (t81, t83, t85, t92, t93, t94)
+            };
+            [t81, t83, t85, t92, t93, t94]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 2]) -> JointVector<2> {
         JointVector::<2>::from([v[0], v[1]])
@@ -2693,6 +2943,24 @@ const _: () = {
         d_dqd[(1, 0)] = v[6];
         d_dqd[(1, 1)] = v[7];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 9]) -> ::hya_core::FrameJacobian<2> {
+        let mut jacobian = ::hya_core::FrameJacobian::<2>::zeros();
+        jacobian[(0, 0)] = v[0];
+        jacobian[(1, 0)] = v[1];
+        jacobian[(2, 0)] = v[2];
+        jacobian[(3, 0)] = v[3];
+        jacobian[(3, 1)] = v[4];
+        jacobian[(4, 0)] = v[5];
+        jacobian[(4, 1)] = v[6];
+        jacobian[(5, 0)] = v[7];
+        jacobian[(5, 1)] = v[8];
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 6]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(v[0], v[1], v[2], v[3], v[4], v[5])
     }
     impl Dynamics<2> for OffAxis {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -2841,6 +3109,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<2> for OffAxis {
+        fn frame_name(&self) -> &'static str {
+            "second"
+        }
+        fn frame_pose(&self, q: &JointVector<2>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[2]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<2>],
+            jacobian: &mut [::hya_core::FrameJacobian<2>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<2>,
+            qd: &JointVector<2>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<2>],
+            qd: &[JointVector<2>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

@@ -633,6 +633,77 @@ const _: () = {
             ]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 2, 1, 4> for Planar2 {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 2]; 1]) -> [A; 4] {
+            let (s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                let q_shoulder = q[0];
+                let q_elbow = q[1];
+                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = A::sin_cos_lanes([
+                    q_shoulder,
+                    q_elbow,
+                ]);
+                (s_shoulder, c_shoulder, s_elbow, c_elbow)
+            };
+            let (t6, t7, t8, t9) = {
+                // ── link `forearm`, joint `elbow` (base to tip)
+                let t0 = s_elbow * s_shoulder;
+                let t1 = A::mul_add(c_elbow, c_shoulder, -t0);
+                let t2 = c_elbow * s_shoulder;
+                let t3 = A::mul_add(s_elbow, c_shoulder, t2);
+                let t4 = t1 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t5 = t3 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t6 = A::mul_add(c_shoulder, 0.5f64, t4); // 5.0000e-1 = joint elbow origin x
+                let t7 = A::mul_add(s_shoulder, 0.5f64, t5); // 5.0000e-1 = joint elbow origin x
+                let t8 = A::mul_add(-c_shoulder, 0.5f64, t6); // 5.0000e-1 = joint elbow origin x
+                let t9 = A::mul_add(s_shoulder, 0.5f64, -t7); // 5.0000e-1 = joint elbow origin x
+                (t6, t7, t8, t9)
+            };
+            [-t7, t9, -t6, -t8]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 2, 2, 2> for Planar2 {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
+            let (qd_shoulder, qd_elbow, s_shoulder, c_shoulder, s_elbow, c_elbow) = {
+                let q_shoulder = q[0];
+                let q_elbow = q[1];
+                let qd_shoulder = qd[0];
+                let qd_elbow = qd[1];
+                let [(s_shoulder, c_shoulder), (s_elbow, c_elbow)] = A::sin_cos_lanes([
+                    q_shoulder,
+                    q_elbow,
+                ]);
+                (qd_shoulder, qd_elbow, s_shoulder, c_shoulder, s_elbow, c_elbow)
+            };
+            let (t19, t20) = {
+                // ── link `forearm`, joint `elbow` (base to tip)
+                let t0 = c_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t1 = s_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t2 = s_elbow * s_shoulder;
+                let t3 = A::mul_add(c_elbow, c_shoulder, -t2);
+                let t4 = c_elbow * s_shoulder;
+                let t5 = A::mul_add(s_elbow, c_shoulder, t4);
+                let t6 = qd_shoulder * t1;
+                let t7 = qd_shoulder * t0;
+                let t8 = qd_shoulder + qd_elbow;
+                let t9 = t3 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t10 = t5 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t11 = A::mul_add(c_shoulder, 0.5f64, t9); // 5.0000e-1 = joint elbow origin x
+                let t12 = A::mul_add(s_shoulder, 0.5f64, t10); // 5.0000e-1 = joint elbow origin x
+                let t13 = A::mul_add(-c_shoulder, 0.5f64, t11); // 5.0000e-1 = joint elbow origin x
+                let t14 = A::mul_add(s_shoulder, 0.5f64, -t12); // 5.0000e-1 = joint elbow origin x
+                let t15 = t8 * t14;
+                let t16 = t8 * t13;
+                let t17 = t8 * t16;
+                let t18 = t8 * t15;
+                let t19 = A::mul_add(qd_shoulder, t7, t17);
+                let t20 = A::mul_add(qd_shoulder, t6, -t18);
+                (t19, t20)
+            };
+            [-t19, t20]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 2]) -> JointVector<2> {
         JointVector::<2>::from([v[0], v[1]])
@@ -679,6 +750,21 @@ const _: () = {
         d_dqd[(0, 1)] = v[5];
         d_dqd[(1, 0)] = v[6];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 4]) -> ::hya_core::FrameJacobian<2> {
+        let mut jacobian = ::hya_core::FrameJacobian::<2>::zeros();
+        jacobian[(0, 0)] = v[0];
+        jacobian[(0, 1)] = v[1];
+        jacobian[(2, 0)] = v[2];
+        jacobian[(2, 1)] = v[3];
+        jacobian[(4, 0)] = 1f64;
+        jacobian[(4, 1)] = 1f64;
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 2]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(v[0], 0f64, v[1], 0f64, 0f64, 0f64)
     }
     impl Dynamics<2> for Planar2 {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -827,6 +913,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<2> for Planar2 {
+        fn frame_name(&self) -> &'static str {
+            "tip"
+        }
+        fn frame_pose(&self, q: &JointVector<2>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[3]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<2>],
+            jacobian: &mut [::hya_core::FrameJacobian<2>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<2>,
+            qd: &JointVector<2>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<2>],
+            qd: &[JointVector<2>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

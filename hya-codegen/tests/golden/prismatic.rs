@@ -321,6 +321,53 @@ const _: () = {
             [c_turn, s_turn, -s_turn, c_turn, c_turn, s_turn, -s_turn, c_turn, t0, t1]
         }
     }
+    impl Kernel<kernels::FrameJacobian, 2, 1, 4> for Prismatic {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q]: [&[A; 2]; 1]) -> [A; 4] {
+            let (q_slide, s_turn, c_turn) = {
+                let q_turn = q[0];
+                let q_slide = q[1];
+                let [(s_turn, c_turn)] = A::sin_cos_lanes([q_turn]);
+                (q_slide, s_turn, c_turn)
+            };
+            let (t0, t1) = {
+                // ── link `carriage`, joint `slide` (base to tip)
+                let t0 = c_turn * q_slide;
+                let t1 = s_turn * q_slide;
+                (t0, t1)
+            };
+            [-t1, c_turn, t0, s_turn]
+        }
+    }
+    impl Kernel<kernels::FrameAccelerationBias, 2, 2, 2> for Prismatic {
+        #[inline(always)]
+        fn run<A: Arithmetic>(&self, [q, qd]: [&[A; 2]; 2]) -> [A; 2] {
+            let (q_slide, qd_turn, qd_slide, s_turn, c_turn) = {
+                let q_turn = q[0];
+                let q_slide = q[1];
+                let qd_turn = qd[0];
+                let qd_slide = qd[1];
+                let [(s_turn, c_turn)] = A::sin_cos_lanes([q_turn]);
+                (q_slide, qd_turn, qd_slide, s_turn, c_turn)
+            };
+            let (t9, t10) = {
+                // ── link `carriage`, joint `slide` (base to tip)
+                let t0 = c_turn * q_slide;
+                let t1 = s_turn * q_slide;
+                let t2 = qd_turn * t1;
+                let t3 = qd_turn * t0;
+                let t4 = qd_turn * t2;
+                let t5 = qd_turn * s_turn;
+                let t6 = qd_turn * c_turn;
+                let t7 = qd_slide + qd_slide;
+                let t8 = t5 * t7;
+                let t9 = A::mul_add(qd_turn, t3, t8);
+                let t10 = A::mul_add(t6, t7, -t4);
+                (t9, t10)
+            };
+            [-t9, t10]
+        }
+    }
     #[inline(always)]
     fn inverse_dynamics_of(v: &[f64; 2]) -> JointVector<2> {
         JointVector::<2>::from([v[0], v[1]])
@@ -363,6 +410,20 @@ const _: () = {
         d_dqd[(0, 1)] = v[3];
         d_dqd[(1, 0)] = v[4];
         (d_dq, d_dqd)
+    }
+    #[inline(always)]
+    fn frame_jacobian_of(v: &[f64; 4]) -> ::hya_core::FrameJacobian<2> {
+        let mut jacobian = ::hya_core::FrameJacobian::<2>::zeros();
+        jacobian[(0, 0)] = v[0];
+        jacobian[(0, 1)] = v[1];
+        jacobian[(1, 0)] = v[2];
+        jacobian[(1, 1)] = v[3];
+        jacobian[(5, 0)] = 1f64;
+        jacobian
+    }
+    #[inline(always)]
+    fn frame_acceleration_bias_of(v: &[f64; 2]) -> ::hya_core::FrameVector {
+        ::hya_core::FrameVector::new(v[0], v[1], 0f64, 0f64, 0f64, 0f64)
     }
     impl Dynamics<2> for Prismatic {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
@@ -511,6 +572,63 @@ const _: () = {
                 d_dq.len(),
                 |k, v| {
                     (d_dq[k], d_dqd[k]) = inverse_dynamics_derivatives_of(&v);
+                    Ok(())
+                },
+            )
+        }
+    }
+    impl ::hya_core::FrameKinematics<2> for Prismatic {
+        fn frame_name(&self) -> &'static str {
+            "carriage"
+        }
+        fn frame_pose(&self, q: &JointVector<2>) -> ::hya_core::spatial::Transform {
+            self.frame_poses(q)[2]
+        }
+        /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
+        #[inline]
+        fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
+            frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
+        }
+        fn frame_jacobian_batch(
+            &self,
+            q: &[JointVector<2>],
+            jacobian: &mut [::hya_core::FrameJacobian<2>],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameJacobian,
+                [q],
+                jacobian.len(),
+                |k, v| {
+                    jacobian[k] = frame_jacobian_of(&v);
+                    Ok(())
+                },
+            )
+        }
+        /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
+        #[inline]
+        fn frame_acceleration_bias(
+            &self,
+            q: &JointVector<2>,
+            qd: &JointVector<2>,
+        ) -> ::hya_core::FrameVector {
+            frame_acceleration_bias_of(
+                &single(self, kernels::FrameAccelerationBias, [q, qd]),
+            )
+        }
+        fn frame_acceleration_bias_batch(
+            &self,
+            q: &[JointVector<2>],
+            qd: &[JointVector<2>],
+            bias: &mut [::hya_core::FrameVector],
+        ) -> Result<(), Error> {
+            batch(
+                self,
+                kernels::FrameAccelerationBias,
+                [q, qd],
+                bias.len(),
+                |k, v| {
+                    bias[k] = frame_acceleration_bias_of(&v);
                     Ok(())
                 },
             )

@@ -53,6 +53,11 @@ impl<const N: usize> FrameState<N> {
     pub fn from_pose(pose: &crate::spatial::Transform, jacobian: SMatrix<f64, 6, N>) -> Self {
         Self { position: pose.translation, orientation: pose.orientation(), jacobian }
     }
+
+    /// The frame `kinematics` gives at `q`: a generated arm's tip, without allocating.
+    pub fn of(kinematics: &impl crate::FrameKinematics<N>, q: &JointVector<N>) -> Self {
+        Self::from_pose(&kinematics.frame_pose(q), kinematics.frame_jacobian(q))
+    }
 }
 
 #[cfg(feature = "alloc")]

@@ -328,6 +328,8 @@ pub mod kernels {
     }
     impl Width for InverseDynamicsDerivatives {}
     impl Width for FramePoses {}
+    impl Width for FrameJacobian {}
+    impl Width for FrameAccelerationBias {}
 
     /// Inverse dynamics.
     #[derive(Debug, Clone, Copy)]
@@ -353,6 +355,12 @@ pub mod kernels {
     /// Every frame's pose.
     #[derive(Debug, Clone, Copy)]
     pub struct FramePoses;
+    /// The tip frame's Jacobian.
+    #[derive(Debug, Clone, Copy)]
+    pub struct FrameJacobian;
+    /// The tip frame's `J̇ q̇`.
+    #[derive(Debug, Clone, Copy)]
+    pub struct FrameAccelerationBias;
 }
 
 /// `[&args[0], &args[1], …]`.

@@ -23,7 +23,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::rigid_body::scalar::{Label, Quantity, Real};
 
 mod articulated;
-mod vector;
+pub(crate) mod vector;
 
 pub use articulated::ArticulatedInertia;
 use vector::{add3, add_mat, cross, dot, mat_mat, mat_tr_vec, mat_vec, outer, scale3, sub3, sub_mat, transpose};
@@ -47,11 +47,11 @@ pub struct Force<S = f64> {
 }
 
 /// `(x, y, z)` of constants.
-fn constant_vector<S: Real>(v: &Vector3<f64>) -> Vector3<S> {
+pub(crate) fn constant_vector<S: Real>(v: &Vector3<f64>) -> Vector3<S> {
     Vector3::new(S::constant(v[0]), S::constant(v[1]), S::constant(v[2]))
 }
 
-fn zero_vector<S: Real>() -> Vector3<S> {
+pub(crate) fn zero_vector<S: Real>() -> Vector3<S> {
     Vector3::new(S::zero(), S::zero(), S::zero())
 }
 

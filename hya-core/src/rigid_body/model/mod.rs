@@ -17,7 +17,7 @@ use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 
 pub mod algorithms;
 pub mod derivatives;
-mod kinematics;
+pub mod kinematics;
 mod workspace;
 
 use algorithms::ModelInertias;

@@ -10,6 +10,7 @@ computed within a round, from figures measured seconds apart; tables give the me
 rounds and the spread (lowest to highest). Each program's figure in a round is itself a median
 over 31 rounds of 2000 calls."""
 import argparse
+from xml.etree import ElementTree
 import datetime
 import json
 import os
@@ -70,6 +71,12 @@ def stats(robot):
     return counts
 
 
+def last_link(robot):
+    """The URDF's last link, the frame whose kinematics hya generates (`TreeModel::tip_frame`)."""
+    links = ElementTree.parse(ROOT / f"robots/urdf/{robot}.urdf").getroot().iter("link")
+    return [link.get("name") for link in links][-1]
+
+
 def commit():
     """The commit measured, marked if the work tree differs from it."""
     head = run("git", "rev-parse", "--short", "HEAD").strip()
@@ -91,7 +98,7 @@ def measure(pinocchio, rounds):
     programs = {
         "plain": lambda robot: [hya("plain"), "bench", "--robot", robot, "--json"],
         "native": lambda robot: [hya("native"), "bench", "--robot", robot, "--json"],
-        "pinocchio": lambda robot: [pinocchio, robot, str(ROOT / f"robots/urdf/{robot}.urdf")],
+        "pinocchio": lambda robot: [pinocchio, robot, str(ROOT / f"robots/urdf/{robot}.urdf"), last_link(robot)],
     }
     order = list(programs)
     runs = []
@@ -239,6 +246,36 @@ def main():
                 f"| {median_and_spread(ratios(robot, (build, 'generated_fd_ns'), (build, 'batch_fd_ns_per_state')), 1, 'x')} |"
             )
         lines.append("")
+    lines += [
+        "## Frame kinematics and derivatives",
+        "",
+        "The last link's world-aligned Jacobian (hya's generated `FrameKinematics::frame_jacobian` against",
+        "Pinocchio's `computeFrameJacobian`, `LOCAL_WORLD_ALIGNED`, each from `q`), the derivatives of inverse",
+        "dynamics (hya's generated dual-number pass against `computeRNEADerivatives`) and of forward dynamics",
+        "(hya's `−M⁻¹ ∂ID` from the generated pieces, with `M⁻¹`, against `computeABADerivatives`), ns per call,",
+        "and the ratio Pinocchio / hya within each round. Rounds measured before these keys existed show –.",
+        "",
+    ]
+    for build in ("plain", "native"):
+        lines += [
+            f"### hya {build} build",
+            "",
+            "| robot | J generated | computeFrameJacobian | ratio | ∇ID generated | computeRNEADerivatives | ratio | ∇FD generated | computeABADerivatives | ratio |",
+            "|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        for robot in ROBOTS:
+            pairs = [
+                ("generated_jacobian_ns", "compute_frame_jacobian_ns"),
+                ("generated_id_derivatives_ns", "compute_rnea_derivatives_ns"),
+                ("generated_fd_derivatives_ns", "compute_aba_derivatives_ns"),
+            ]
+            cells = [
+                f"{median_and_spread(each(robot, build, ours))} | {median_and_spread(each(robot, 'pinocchio', theirs))} "
+                f"| {median_and_spread(ratios(robot, ('pinocchio', theirs), (build, ours)), 1, 'x')}"
+                for ours, theirs in pairs
+            ]
+            lines.append(f"| {robot} | " + " | ".join(cells) + " |")
+        lines.append("")
     threads = {r["hya"]["pinocchio"].get("rnea_parallel_threads") for r in runs} - {None}
     if threads:
         lines += [f"`rneaInParallel`, all cores: {', '.join(str(t) for t in sorted(threads))} threads.", ""]
@@ -330,10 +367,20 @@ def main():
         target("simulation ≥ 500x real time (lag)", h("sim_realtime_factor"), lambda v: v >= 500, "x", 0),
         target("simulation ≥ 300x real time (hydraulic)", h("sim_realtime_factor_hydraulic"), lambda v: v >= 300, "x", 0),
     ]
+    # The kinematics issue's targets, on HyA and iiwa14 (rounds from before these keys: none).
+    for robot in ("hya", "iiwa14"):
+        for name, ours, theirs in [
+            ("frame Jacobian ≥ 5x computeFrameJacobian", "generated_jacobian_ns", "compute_frame_jacobian_ns"),
+            ("∇ID ≥ 5x computeRNEADerivatives", "generated_id_derivatives_ns", "compute_rnea_derivatives_ns"),
+            ("∇FD ≥ 5x computeABADerivatives", "generated_fd_derivatives_ns", "compute_aba_derivatives_ns"),
+        ]:
+            measured = [v for v in ratios(robot, ("pinocchio", theirs), ("plain", ours)) if v is not None]
+            if robot in ROBOTS and measured:
+                rows.append(target(f"{robot}: {name}", measured, lambda v: v >= 5, "x", 1))
     if reproduce:
         rows.append(f"| `hya reproduce` < 1 min | {reproduce[0]:.0f} s (once) | {'met' if reproduce[0] < 60 else '**missed**'} |")
     lines += [
-        "## Targets (HyA, plain build: the median of this run's rounds, lowest and highest round in brackets)",
+        "## Targets (HyA unless named, plain build: the median of this run's rounds, lowest and highest round in brackets)",
         "",
         "| target | measured | verdict |",
         "|---|---|---|",

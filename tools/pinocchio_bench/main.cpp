@@ -3,11 +3,16 @@
 // through 64 pseudo-random states (q in ±π, v in ±2, a and τ in ±5). Batches, as `hya bench`
 // times its batch calls: 1024 states per call (the 64 repeated), 8 calls per round, ns per
 // state: rnea in a loop, and rneaInParallel (OpenMP over a pool of model copies) on one thread
-// and on every core. Prints one JSON object.
+// and on every core. With a frame name (a link), also computeFrameJacobian of that frame
+// (LOCAL_WORLD_ALIGNED) and the analytic derivatives computeRNEADerivatives and
+// computeABADerivatives. Prints one JSON object.
 // Written for hya; built by tools/pinocchio_bench.sh against the `pin` wheel.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/parallel/rnea.hpp>
@@ -63,8 +68,8 @@ void keep(T const& value) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: pinocchio_bench ROBOT_NAME ROBOT.urdf\n";
+  if (argc != 3 && argc != 4) {
+    std::cerr << "usage: pinocchio_bench ROBOT_NAME ROBOT.urdf [FRAME]\n";
     return 2;
   }
   pinocchio::Model model;
@@ -122,9 +127,35 @@ int main(int argc, char** argv) {
   };
   double parallel_one = parallel(1);
   double parallel_all = parallel(cores);
+  std::string kinematics;
+  if (argc == 4) {
+    if (!model.existFrame(argv[3])) {
+      std::cerr << "no frame " << argv[3] << " in " << argv[2] << "\n";
+      return 2;
+    }
+    auto frame = model.getFrameId(argv[3]);
+    pinocchio::Data::Matrix6x jacobian = pinocchio::Data::Matrix6x::Zero(6, model.nv);
+    double frame_jacobian = median_ns([&](int k) {
+      pinocchio::computeFrameJacobian(model, data, q[k], frame, pinocchio::LOCAL_WORLD_ALIGNED, jacobian);
+      keep(jacobian);
+    });
+    Eigen::MatrixXd by_q = Eigen::MatrixXd::Zero(model.nv, model.nv), by_v = by_q, by_a = by_q;
+    double rnea_derivatives = median_ns([&](int k) {
+      pinocchio::computeRNEADerivatives(model, data, q[k], v[k], a[k], by_q, by_v, by_a);
+      keep(by_q);
+    });
+    double aba_derivatives = median_ns([&](int k) {
+      pinocchio::computeABADerivatives(model, data, q[k], v[k], a[k], by_q, by_v, by_a);
+      keep(by_q);
+    });
+    kinematics = ", \"frame\": \"" + std::string(argv[3]) + "\", \"compute_frame_jacobian_ns\": " +
+                 std::to_string(frame_jacobian) + ", \"compute_rnea_derivatives_ns\": " +
+                 std::to_string(rnea_derivatives) + ", \"compute_aba_derivatives_ns\": " +
+                 std::to_string(aba_derivatives);
+  }
   std::cout << "{\"robot\": \"" << argv[1] << "\", \"rnea_ns\": " << rnea << ", \"crba_ns\": " << crba
             << ", \"aba_ns\": " << aba << ", \"rnea_loop_ns_per_state\": " << rnea_loop
             << ", \"rnea_parallel_1_ns_per_state\": " << parallel_one << ", \"rnea_parallel_threads\": " << cores
-            << ", \"rnea_parallel_all_ns_per_state\": " << parallel_all << "}" << std::endl;
+            << ", \"rnea_parallel_all_ns_per_state\": " << parallel_all << kinematics << "}" << std::endl;
   return 0;
 }

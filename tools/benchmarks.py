@@ -109,6 +109,11 @@ def measure(pinocchio, rounds):
             for name in order:
                 figures[robot][name] = json.loads(run(*programs[name](robot)))
             order = order[1:] + order[:1]
+        for robot in ROBOTS:
+            # Pinocchio timed the URDF's last link; hya's generated kinematics are of its tip.
+            tips = {figures[robot][b].get("frame") for b in ("plain", "native")} - {None}
+            if tips and tips != {last_link(robot)}:
+                raise SystemExit(f"{robot}: hya's tip {tips} is not the URDF's last link {last_link(robot)}")
         runs.append(figures)
         print(f"round {round_index + 1}/{rounds} done", flush=True)
     return runs
@@ -253,7 +258,8 @@ def main():
         "Pinocchio's `computeFrameJacobian`, `LOCAL_WORLD_ALIGNED`, each from `q`), the derivatives of inverse",
         "dynamics (hya's generated dual-number pass against `computeRNEADerivatives`) and of forward dynamics",
         "(hya's `−M⁻¹ ∂ID` from the generated pieces, with `M⁻¹`, against `computeABADerivatives`), ns per call,",
-        "and the ratio Pinocchio / hya within each round. Rounds measured before these keys existed show –.",
+        "and the ratio Pinocchio / hya within each round. `computeRNEADerivatives` also gives `∂τ/∂q̈ = M`, which hya's",
+        "∇ID leaves out; `computeABADerivatives` gives `M⁻¹` as hya's ∇FD does. Rounds measured before these keys existed show –.",
         "",
     ]
     for build in ("plain", "native"):

@@ -69,6 +69,8 @@ struct Figures {
     /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` (`Dynamics::forward_dynamics_derivatives`).
     generated_fd_derivatives_ns: f64,
     generic_fd_derivatives_ns: f64,
+    /// The frame the kinematics figures are of: the last link (`FrameKinematics::frame_name`).
+    frame: &'static str,
     /// The last link's world-aligned Jacobian, generated (`FrameKinematics::frame_jacobian`) and
     /// on the run-time tree (`TreeModel::frame_jacobian`, which allocates its result).
     generated_jacobian_ns: f64,
@@ -318,6 +320,7 @@ fn bench_robot<const N: usize, D: Dynamics<N> + FrameKinematics<N>>(
         generic_id_derivatives_ns: id_derivatives(&generic),
         generated_fd_derivatives_ns: fd_derivatives(&generated),
         generic_fd_derivatives_ns: fd_derivatives(&generic),
+        frame: generated.frame_name(),
         generated_jacobian_ns,
         generic_jacobian_ns,
         generated_jacobian_bias_ns,

@@ -129,11 +129,11 @@ int main(int argc, char** argv) {
   double parallel_all = parallel(cores);
   std::string kinematics;
   if (argc == 4) {
-    if (!model.existFrame(argv[3])) {
+    if (!model.existFrame(argv[3], pinocchio::BODY)) {
       std::cerr << "no frame " << argv[3] << " in " << argv[2] << "\n";
       return 2;
     }
-    auto frame = model.getFrameId(argv[3]);
+    auto frame = model.getFrameId(argv[3], pinocchio::BODY);
     pinocchio::Data::Matrix6x jacobian = pinocchio::Data::Matrix6x::Zero(6, model.nv);
     double frame_jacobian = median_ns([&](int k) {
       pinocchio::computeFrameJacobian(model, data, q[k], frame, pinocchio::LOCAL_WORLD_ALIGNED, jacobian);

@@ -313,7 +313,9 @@ pub mod kernels {
     /// on HyA, UR5, Panda and iiwa14, 1.55-1.80 for its derivatives and 1.01-1.65 for the mass
     /// matrix (UR5's even, single rounds either way), while forward dynamics took 101-105 ns per
     /// state on eight lanes against 72-77 on four on HyA and UR5 (even on the others), so it stays
-    /// on four. The results are the same bit for bit either way.
+    /// on four. The last link's Jacobian: 1.46-1.83 on HyA, iiwa14 and the Panda, 0.85-0.95 on
+    /// UR5 (three rounds), so eight; its `J̇ q̇`, not measured, follows it. The results are the
+    /// same bit for bit either way.
     pub trait Width {
         /// Eight lanes where the CPU has them.
         const WIDE: bool = true;

@@ -73,7 +73,8 @@ impl Cost {
     /// The cost of `scenarios` (checked) over `seeds` seeds each, on every core of this machine:
     /// every method's first seed keeps its trace.
     pub fn of(scenarios: &[Scenario], seeds: usize) -> Self {
-        scenarios.iter().map(|s| Self::of_runs(s, s.methods.len() * seeds, s.methods.len())).sum()
+        let traced = |s: &Scenario| if seeds > 0 { s.methods.len() } else { 0 };
+        scenarios.iter().map(|s| Self::of_runs(s, s.methods.len() * seeds, traced(s))).sum()
     }
 
     /// The cost of one method of each of `scenarios` (checked) over `seeds` seeds each, every

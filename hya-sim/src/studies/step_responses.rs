@@ -91,12 +91,13 @@ fn step_response<const N: usize>(
 }
 
 /// What [`run`]'s step test costs on `first` for an arm of `joints` joints: one open-loop run
-/// per step and joint, in the steps of the plant or of the sampling, whichever is shorter (the
-/// rigid body's 1 s rollout against MuJoCo, on HyA, not counted).
+/// per step and joint, each sample interval in as many equal steps as keep to the plant's step
+/// (the rigid body's 1 s rollout against MuJoCo, on HyA, not counted).
 pub fn cost(first: &Scenario, joints: usize) -> Cost {
     match first.plant.actuator {
         crate::config::scenario::ActuatorKind::Hydraulic => {
-            let step = (first.controller.dt_s / first.plant.substeps() as f64).min(SAMPLE_S);
+            let plant_step = first.controller.dt_s / first.plant.substeps() as f64;
+            let step = SAMPLE_S / (SAMPLE_S / plant_step).ceil();
             Cost::open_loop(STEPS_NM.len() * joints, STEP_AT_S + WINDOW_S, step)
         }
         _ => Cost::NONE,

@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use hya_sim::analysis::seeds::run_seeds;
 use hya_sim::cost::Cost;
 use hya_sim::studies::{chen_designs, gain_rule, limit_cycles, sensitivity};
-use hya_sim::{Robot, Scenario, SimError};
+use hya_sim::{Method, Robot, Scenario, SimError};
 
 /// The runs and simulated seconds `study` tells its progress.
 fn counted(study: impl FnOnce(&(dyn Fn(f64) + Sync)) -> Result<(), SimError>) -> (usize, f64) {
@@ -56,4 +56,10 @@ fn each_closed_loop_study_costs_what_it_runs() {
     );
     assert_counts("limit cycles", limit_cycles::cost(goto), counted(|p| limit_cycles::run(&robot, goto, p).map(drop)));
     assert_counts("gain rule", gain_rule::cost(goto), counted(|p| gain_rule::run(&robot, goto, p).map(drop)));
+    // Where the report ran no lu, the sensitivity study takes no seeds: nothing run, nothing costed.
+    let mut without_lu = scenarios.clone();
+    without_lu.iter_mut().for_each(|s| s.methods.retain(|m| *m != Method::Lu));
+    let (_, table) = run_seeds(&robot, &without_lu[..1], 1, &|_| {}).unwrap();
+    assert_eq!(sensitivity::cost(&without_lu, 1), Cost::NONE);
+    assert_eq!(counted(|p| sensitivity::run(&robot, &without_lu, &table, p).map(drop)), (0, 0.0));
 }

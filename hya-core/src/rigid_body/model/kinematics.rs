@@ -12,7 +12,6 @@
 //!
 //! and a frame at `o` on body `b` has `J̇ q̇ = (a_b + α_b × (o − p_b) + ω_b × (ω_b × (o − p_b)), α_b)`:
 //! the classical (not spatial) acceleration, what a point of the tool does when `q̈ = 0`.
-
 //!
 //! Both are written once over any [`Real`] ([`frame_jacobian`], [`frame_acceleration_bias`]):
 //! the run-time model runs them on `f64`, and the generator traces them into each arm's code for

@@ -59,10 +59,9 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         Some(merged) => merged,
         None => {
             let shard = shard.unwrap_or(Shard::ALL);
-            let total: f64 = plan.scenarios.iter().map(|s| s.duration_s).sum::<f64>()
-                * (plan.runs() / plan.scenarios.len()) as f64
-                / shard.count as f64;
-            let bar = ProgressBar::new(total.ceil() as u64).with_style(
+            let cost = plan.cost(shard);
+            eprintln!("{cost}");
+            let bar = ProgressBar::new(cost.simulated_s.ceil() as u64).with_style(
                 ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} simulated s ({eta} left)")
                     .map_err(|e| CliError::Input(e.to_string()))?
                     .progress_chars("=> "),

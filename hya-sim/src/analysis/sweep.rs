@@ -77,9 +77,9 @@ impl Plan {
         self.scenarios.len() * self.methods.len() * self.bandwidths_rad_s.len() * self.seeds
     }
 
-    /// What running every point of the grid costs (no run keeps a trace).
-    pub fn cost(&self) -> crate::config::cost::Cost {
-        self.jobs()
+    /// What running `shard`'s points of the grid costs (no run keeps a trace).
+    pub fn cost(&self, shard: Shard) -> crate::config::cost::Cost {
+        self.shard_jobs(shard)
             .into_iter()
             .filter_map(|(i, method, bandwidth, k)| self.scenario_at(i, method, bandwidth, k))
             .map(|s| crate::config::cost::Cost::of_runs(&s, 1, 0))
@@ -90,6 +90,11 @@ impl Plan {
     fn point(&self, &(i, method, bandwidth, k): &(usize, Method, f64, usize)) -> Key {
         let scenario = &self.scenarios[i];
         (scenario.name.clone(), method.name().to_owned(), bandwidth.to_bits(), scenario.seed.wrapping_add(k as u64))
+    }
+
+    /// The runs of `shard`: every `count`-th of [`Self::jobs`] from the `index`-th.
+    fn shard_jobs(&self, shard: Shard) -> Vec<(usize, Method, f64, usize)> {
+        self.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect()
     }
 
     /// Every run of the grid, in one fixed order: `(scenario index, method, bandwidth, seed offset)`.
@@ -262,8 +267,7 @@ pub fn run_on<const N: usize>(
     quick: bool,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Sweep, SimError> {
-    let jobs: Vec<_> =
-        plan.jobs().into_iter().enumerate().filter(|(k, _)| k % shard.count == shard.index).map(|(_, j)| j).collect();
+    let jobs = plan.shard_jobs(shard);
     let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
         let scenario =
             plan.scenario_at(i, method, bandwidth, k).ok_or(SimError::Nothing("a sweep point beyond its scenarios"))?;

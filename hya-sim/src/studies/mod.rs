@@ -64,7 +64,7 @@ pub fn cost(scenarios: &[Scenario], seeds: usize, joints: usize, options: (bool,
     let noise = noise_base(scenarios);
     let on_goto = |f: &dyn Fn(&Scenario) -> Cost| goto.map_or(Cost::NONE, f);
     Ok([
-        fronts_plan(goto, options)?.map_or(Cost::NONE, |plan| plan.cost()),
+        fronts_plan(goto, options)?.map_or(Cost::NONE, |plan| plan.cost(Shard::ALL)),
         sensitivity::cost(scenarios, seeds),
         chen_designs::cost(scenarios, seeds),
         on_goto(&|base| crate::torque_response::cost(base, joints)),

@@ -63,3 +63,16 @@ fn each_closed_loop_study_costs_what_it_runs() {
     assert_eq!(sensitivity::cost(&without_lu, 1), Cost::NONE);
     assert_eq!(counted(|p| sensitivity::run(&robot, &without_lu, &table, p).map(drop)), (0, 0.0));
 }
+
+#[test]
+fn a_sweeps_shards_cost_the_whole_grid_between_them() {
+    let plan = hya_sim::sweep::Plan::standard(true).unwrap();
+    let whole = plan.cost(hya_sim::sweep::Shard::ALL);
+    assert_eq!(whole.runs, plan.runs());
+    let shards: Vec<Cost> =
+        (0..3).map(|i| plan.cost(hya_sim::sweep::Shard::parse(&format!("{i}/3"), plan.runs()).unwrap())).collect();
+    assert_eq!(shards.iter().map(|c| c.runs).sum::<usize>(), whole.runs);
+    let seconds: f64 = shards.iter().map(|c| c.simulated_s).sum();
+    assert!((seconds - whole.simulated_s).abs() < 1e-9 * whole.simulated_s);
+    assert!(shards.iter().all(|c| c.runs > 0 && c.runs < whole.runs));
+}

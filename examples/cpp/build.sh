@@ -3,18 +3,19 @@
 # `cargo build --release`: TARGET/release/hya_cpp_loop, TARGET being cargo's target directory
 # (`target/`, or CARGO_TARGET_DIR; tools/target_dir.sh prints it).
 #
-# HYA_CARGO_PROFILE=test builds both in cargo's test profile instead (TARGET/debug/), whose
-# libraries `cargo test --workspace` has already built: CI does, to check the loop without a
-# second optimised build of the shipped arms. Its timings are not the release build's.
+# HYA_CARGO_PROFILE=test links the library `cargo test --workspace` builds instead (TARGET/debug/,
+# the test profile, with the features the whole workspace's tests unify, so that nothing is built
+# again after the tests): CI does, to check the loop without another build of the shipped arms.
+# Its timings are not the release build's.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 profile="${HYA_CARGO_PROFILE:-release}"
 case "$profile" in
-    release) dir=release ;;
-    test) dir=debug ;;
+    release) dir=release; cargo build --release -p hya-capi ;;
+    # `-p hya-capi` alone would resolve fewer features, and so build hya-core and every arm again.
+    test) dir=debug; cargo build --profile test --workspace --lib --tests ;;
     *) echo "HYA_CARGO_PROFILE must be release or test, not \`$profile\`" >&2; exit 2 ;;
 esac
-cargo build --profile "$profile" -p hya-capi
 target="$(tools/target_dir.sh)/$dir"
 g++ -std=c++17 -O2 -Wall -Wextra -Werror -I hya-capi/include -I examples/cpp \
     examples/cpp/main.cpp examples/cpp/disturbance_rejection_controller.cpp \

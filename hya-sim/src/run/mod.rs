@@ -226,12 +226,11 @@ pub fn closed_loop_on<const N: usize>(
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
     let offset_torque = sensors.offset_torque(&plant);
-    let inertia = nominal.mass_matrix(&q0).diagonal();
-    let mut gains = gains(nominal, scenario, &joints)?;
-    let (pid_kd, pid_ki, _) = pid_gains(&gains, &inertia, scenario, &joints);
+    let loop_design = model.design_at(scenario, &joints, &q0)?;
+    let mut gains = loop_design.pd;
     if method == Method::Pid {
         let setup = |source| SimError::Setup { setting: "controller.integral_rule".into(), source };
-        gains = Gains::diagonal(gains.kp().diagonal().into(), pid_kd.into()).map_err(setup)?;
+        gains = Gains::diagonal(gains.kp().diagonal().into(), loop_design.pid_kd.into()).map_err(setup)?;
     }
     let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(joints.torque_limit)
@@ -257,7 +256,8 @@ pub fn closed_loop_on<const N: usize>(
             shadows.push(shadow);
         }
     }
-    let mut integral = (method == Method::Pid).then(|| IntegralAction::new(pid_ki, scenario, &joints)).transpose()?;
+    let mut integral =
+        (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, scenario, &joints)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substeps = scenario.plant.substeps();
     let mut trace = Trace::new(steps, recording);

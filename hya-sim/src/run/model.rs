@@ -72,8 +72,19 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_D` and `K_I` with the joints
     /// whose gain is capped ([`pid_gains`](super::pid_gains)).
     pub fn design(&self, scenario: &Scenario, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
+        self.design_at(scenario, joints, &joints.initial_position)
+    }
+
+    /// [`design`](Self::design) with the PID's `M_ii` taken at `q0`, where the loop's reference
+    /// starts (the closed loop's; the PD's gains are the scenario's start pose's either way).
+    pub fn design_at(
+        &self,
+        scenario: &Scenario,
+        joints: &JointSettings<N>,
+        q0: &JointVector<N>,
+    ) -> Result<LoopDesign<N>, SimError> {
         let pd = super::gains(self.dynamics(), scenario, joints)?;
-        let inertia = self.dynamics().mass_matrix(&joints.initial_position).diagonal();
+        let inertia = self.dynamics().mass_matrix(q0).diagonal();
         let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, scenario, joints);
         Ok(LoopDesign { pd, inertia, pid_kd, integral, capped })
     }

@@ -4,8 +4,9 @@
 # (`target/`, or CARGO_TARGET_DIR; tools/target_dir.sh prints it).
 #
 # HYA_CARGO_PROFILE=test links the library `cargo test --workspace` builds instead (TARGET/debug/,
-# the test profile, with the features the whole workspace's tests unify, so that nothing is built
-# again after the tests): CI does, to check the loop without another build of the shipped arms.
+# the test profile, with the features the whole workspace's tests unify, so that neither hya-core
+# nor any arm is built again after the tests): CI does, to check the loop without another build of
+# the shipped arms.
 # Its timings are not the release build's.
 set -euo pipefail
 cd "$(dirname "$0")/../.."

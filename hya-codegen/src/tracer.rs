@@ -429,19 +429,24 @@ impl<'a> Tracer<'a> {
         Ok(self.function("forward_dynamics", "ForwardDynamics", traced, entry))
     }
 
+    /// Every body's placement in the base at the traced `q` ([`algorithms::body_placements`]).
+    fn placements(&self, q: &[Value], states: &mut [BodyState<Value>]) -> Result<Vec<Transform<Value>>, ModelError> {
+        let mut placements = vec![Transform::<Value>::identity(); self.model.dof()];
+        algorithms::body_placements(self.model, q, states, &mut placements)?;
+        Ok(placements)
+    }
+
     /// `frame_poses(q)`: every named frame's pose in the base, as `Transform`s from the base
     /// (`E` rotates base coordinates into the frame's, `r` is its origin). Its kernel and the
     /// inherent method that runs it.
     pub fn frame_poses(&self) -> Result<(Function, TokenStream), GenerateError> {
         let frames = self.model.frames();
         let traced = self.trace(("frame_poses", "FramePoses"), &["q"], Output::Vector("pose"), |x, _, states| {
-            let mut placements = vec![Transform::<Value>::identity(); self.model.dof()];
-            algorithms::body_placements(self.model, &x[0], states, &mut placements)?;
+            let placements = self.placements(&x[0], states)?;
             Ok(frames
                 .iter()
                 .flat_map(|f| {
-                    let body = f.body.map_or_else(Transform::identity, |b| placements[b]);
-                    let pose = body.then(&Transform::constant(&f.placement));
+                    let pose = hya_core::model::kinematics::frame_placement(f, &placements);
                     (0..12).map(move |k| if k < 9 { pose.rotation[(k / 3, k % 3)] } else { pose.translation[k - 9] })
                 })
                 .collect())
@@ -468,14 +473,15 @@ impl<'a> Tracer<'a> {
     pub fn tip_kinematics(&self) -> Result<Option<(Vec<Function>, TokenStream)>, GenerateError> {
         let Some(tip) = self.model.tip_frame() else { return Ok(None) };
         let (n, dof, frames) = (self.model.dof(), self.dof(), self.model.frames().len());
-        let placements = |q: &[Value], states: &mut [BodyState<Value>]| {
-            let mut placements = vec![Transform::<Value>::identity(); n];
-            algorithms::body_placements(self.model, q, states, &mut placements).map(|()| placements)
-        };
         let (name, marker) = ("frame_jacobian", "FrameJacobian");
         let traced = self.trace((name, marker), &["q"], Output::Vector("j"), |x, _, states| {
             let mut jacobian = vec![Value::zero(); 6 * n];
-            hya_core::model::kinematics::frame_jacobian(self.model, tip, &placements(&x[0], states)?, &mut jacobian)?;
+            hya_core::model::kinematics::frame_jacobian(
+                self.model,
+                tip,
+                &self.placements(&x[0], states)?,
+                &mut jacobian,
+            )?;
             Ok(jacobian)
         })?;
         let cells = (0..6 * n).map(|k| (k / n, k % n, traced.values[k], &traced.outputs.slots[k])).collect();
@@ -497,7 +503,7 @@ impl<'a> Tracer<'a> {
 
         let (name, marker) = ("frame_acceleration_bias", "FrameAccelerationBias");
         let traced = self.trace((name, marker), &["q", "qd"], Output::Vector("a"), |x, _, states| {
-            let placements = placements(&x[0], states)?;
+            let placements = self.placements(&x[0], states)?;
             Ok(hya_core::model::kinematics::frame_acceleration_bias(self.model, tip, &placements, &x[1])?.to_vec())
         })?;
         let slots = &traced.outputs.slots;

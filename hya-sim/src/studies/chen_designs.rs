@@ -86,10 +86,10 @@ fn matched_beta(omega: f64, matching: Matching) -> f64 {
 /// runs it adds: chen alone, at its design and `β` matched to the first base's bandwidth.
 fn reruns(bases: &[&Scenario], design: ChenGain, matching: Matching) -> (bool, Vec<Scenario>) {
     let Some(first) = bases.first() else { return (false, Vec::new()) };
-    let beta = matched_beta(first.controller.observer_bandwidth_rad_s, matching);
     if matching == Matching::PoleMagnitude && bases.iter().all(|s| s.controller.chen_gain == design) {
         return (true, Vec::new());
     }
+    let beta = matched_beta(first.controller.observer_bandwidth_rad_s, matching);
     let variants = bases
         .iter()
         .map(|base| {

@@ -100,32 +100,25 @@ pub fn run<const N: usize>(
     let sensitivity = sensitivity::run(robot, scenarios, table, progress)?;
     let chen_designs = chen_designs::run(robot, scenarios, table, progress)?;
     // The studies that are not closed-loop runs tell their whole cost once done.
-    let torque_responses = match goto {
-        Some(base) => {
-            let measured = crate::torque_response::measure(robot, base)?;
-            progress(crate::torque_response::cost(base, N).simulated_s);
-            measured
-        }
-        None => None,
-    };
-    let frequency = match noise {
-        Some(base) => {
-            let frequencies = &crate::frequency::FREQUENCIES_HZ;
-            let points = crate::frequency::measure(robot, base, frequencies)?;
-            progress(crate::frequency::cost(base, frequencies, N).simulated_s);
-            Some(points)
-        }
-        None => None,
-    };
+    let whole = |cost: Cost| progress(cost.simulated_s);
+    let torque_responses = goto
+        .map(|base| {
+            crate::torque_response::measure(robot, base).inspect(|_| whole(crate::torque_response::cost(base, N)))
+        })
+        .transpose()?
+        .flatten();
+    let frequencies = &crate::frequency::FREQUENCIES_HZ;
+    let frequency = noise
+        .map(|base| {
+            crate::frequency::measure(robot, base, frequencies)
+                .inspect(|_| whole(crate::frequency::cost(base, frequencies, N)))
+        })
+        .transpose()?;
     let limit_cycles = goto.map(|base| limit_cycles::run(robot, base, progress)).transpose()?;
     let gain_rule = goto.map(|base| gain_rule::run(robot, base, progress)).transpose()?;
-    let open_loop = match scenarios.first() {
-        Some(first) => {
-            let open_loop = step_responses::run(robot, first)?;
-            progress(step_responses::cost(first, N).simulated_s);
-            Some(open_loop)
-        }
-        None => None,
-    };
+    let open_loop = scenarios
+        .first()
+        .map(|first| step_responses::run(robot, first).inspect(|_| whole(step_responses::cost(first, N))))
+        .transpose()?;
     Ok(Studies { fronts, sensitivity, chen_designs, torque_responses, frequency, limit_cycles, gain_rule, open_loop })
 }

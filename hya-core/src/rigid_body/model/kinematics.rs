@@ -28,6 +28,13 @@ use crate::rigid_body::scalar::Real;
 use crate::rigid_body::spatial::vector::{add3, cross, mat_tr_vec, scale3, sub3};
 use crate::rigid_body::spatial::{constant_vector, zero_vector, Transform};
 
+/// `frame`'s pose in the base: its body's placement (the base's for a frame on the base) then
+/// the frame's own. `placements` are the bodies' ([`super::algorithms::body_placements`]).
+pub fn frame_placement<S: Real>(frame: &Frame, placements: &[Transform<S>]) -> Transform<S> {
+    let body = frame.body.map_or_else(Transform::identity, |b| placements[b]);
+    body.then(&Transform::constant(&frame.placement))
+}
+
 /// Geometric Jacobian of `frame` in base coordinates (see the module's notes) into `jacobian`,
 /// 6 × n row-major: rows 0..3 map `q̇` to the linear velocity of the frame's origin, rows 3..6
 /// to its angular velocity. `placements` are the bodies' ([`super::algorithms::body_placements`]).
@@ -48,7 +55,7 @@ pub fn frame_jacobian<S: Real>(
     }
     jacobian.fill(S::zero());
     let Some(body) = frame.body else { return Ok(()) };
-    let origin = placements[body].then(&Transform::constant(&frame.placement)).translation;
+    let origin = frame_placement(frame, placements).translation;
     let mut next = Some(body);
     while let Some(j) = next {
         let joint = &model.bodies()[j];
@@ -101,8 +108,7 @@ pub fn frame_acceleration_bias<S: Real>(
             }
         };
     }
-    let tip = placements[body].then(&Transform::constant(&frame.placement)).translation;
-    let r = sub3(&tip, &placements[body].translation);
+    let r = sub3(&frame_placement(frame, placements).translation, &placements[body].translation);
     let (w, dw) = (omega[body], alpha[body]);
     let linear = add3(&add3(&accel[body], &cross(&dw, &r)), &cross(&w, &cross(&w, &r)));
     Ok([linear[0], linear[1], linear[2], dw[0], dw[1], dw[2]])
@@ -128,9 +134,7 @@ impl TreeModel {
     /// [`orientation`](Transform::orientation) and `translation` are the frame's axes and origin.
     pub fn frame_pose(&self, frame: &str, q: &[f64]) -> Result<Transform, ModelError> {
         let placements = self.body_placements(q)?;
-        let frame = self.frame(frame)?;
-        let body = frame.body.map_or(Transform::identity(), |b| placements[b]);
-        Ok(body.then(&frame.placement))
+        Ok(frame_placement(self.frame(frame)?, &placements))
     }
 
     /// Geometric Jacobian of the named frame at `q`, in base coordinates: rows 0..3 map `q̇` to
@@ -161,7 +165,6 @@ impl TreeModel {
     /// three) and its angular acceleration (last three) at `q̈ = 0`, in base coordinates, so that
     /// the frame's acceleration is `J q̈ + J̇ q̇` ([`frame_acceleration_bias`]).
     pub fn frame_acceleration_bias(&self, frame: &str, q: &[f64], qd: &[f64]) -> Result<[f64; 6], ModelError> {
-        check_len(self, "joint velocities", qd)?;
         let placements = self.body_placements(q)?;
         frame_acceleration_bias(self, self.frame(frame)?, &placements, qd)
     }

@@ -23,6 +23,19 @@ impl SettingError {
     }
 }
 
+/// A parameter of a linearised loop or an observer's design transfer function
+/// ([`crate::linear`]) that breaks its rule: a design's input, not a scenario's setting.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("loop parameter `{name}` = {}: must be {rule}", Short(*value))]
+pub struct ParameterError {
+    /// The parameter, e.g. `joint.kp`.
+    pub name: &'static str,
+    /// Its value.
+    pub value: f64,
+    /// What it must satisfy.
+    pub rule: &'static str,
+}
+
 /// Errors of the simulator, naming the setting or the moment at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
@@ -50,6 +63,33 @@ pub enum SimError {
         /// The setting.
         setting: SettingError,
     },
+    /// A sampled reference (`hya track`'s rows) the loop cannot follow: the sample, from 1, and
+    /// the value that breaks the rule.
+    #[error("invalid reference sample {sample} = {}: {rule}", Short(*value))]
+    Reference {
+        /// The sample, and where it says more (its time, the joint).
+        sample: String,
+        /// The value.
+        value: f64,
+        /// What it must satisfy.
+        rule: String,
+    },
+    /// A robot that is neither a shipped arm nor a URDF file (the message suggests the nearest
+    /// name), or a registry that disagrees with itself.
+    #[error("robot: {0}")]
+    UnknownRobot(String),
+    /// A file a setting names (the controller's model or friction) whose content does not fit:
+    /// the setting, the file and why.
+    #[error("the file of `{setting}`: {message}")]
+    NamedFile {
+        /// The setting, e.g. `controller.model_urdf`.
+        setting: &'static str,
+        /// The file and what is wrong with it.
+        message: String,
+    },
+    /// A linearised loop's parameter that breaks its rule.
+    #[error(transparent)]
+    Parameter(#[from] ParameterError),
     /// A setting that breaks its rule, or does not fit the robot.
     #[error(transparent)]
     Setting(#[from] SettingError),

@@ -95,17 +95,7 @@ impl Experiment<'_> {
     /// Runs it on the scenarios' robot, whatever its number of joints.
     pub fn run(self) -> Result<report::Summary, SimError> {
         let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
-        if let Some(other) = self.scenarios.iter().find(|s| s.robot != first.robot) {
-            return Err(error::SettingError::new(
-                "robot",
-                None,
-                format!(
-                    "one report covers one robot: `{}` runs `{}`, `{}` runs `{}`",
-                    first.name, first.robot, other.name, other.robot
-                ),
-            )
-            .into());
-        }
+        config::scenario::shared_robot(self.scenarios)?;
         robot::with_robot(&first.robot.clone(), self)
     }
 }

@@ -12,7 +12,7 @@ use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointMatrix, JointVector};
 use hya_robots::{Arm, ForArm};
 
-use crate::error::{SettingError, SimError};
+use crate::error::SimError;
 
 /// Builds the plant's true rigid-body dynamics from a model (perturbed, or carrying a payload).
 pub type DynamicsFactory<const N: usize> = dyn Fn(&TreeModel) -> Result<Box<dyn Dynamics<N>>, SimError> + Send + Sync;
@@ -49,7 +49,7 @@ pub fn robot_model(robot: &str) -> Result<TreeModel, SimError> {
     Ok(match hya_robots::find(robot) {
         Some(shipped) => hya_urdf::load_str(shipped.urdf, shipped.name)?.model,
         None if std::fs::symlink_metadata(robot).is_err() => {
-            return Err(SettingError::new("robot", None, hya_robots::unknown(robot)).into())
+            return Err(SimError::UnknownRobot(hya_robots::unknown(robot)))
         }
         None => hya_urdf::load_file(robot)?.model,
     })
@@ -141,7 +141,7 @@ pub fn with_robot<F: ForRobot>(robot: &str, f: F) -> Result<F::Output, SimError>
 /// [`hya_robots::with_arm`] found no arm that [`hya_robots::find`] found: the registry's two
 /// views disagree (a bug, reported as an error rather than a panic).
 fn unreachable_arm<T>(robot: &str) -> Result<T, SimError> {
-    Err(SettingError::new("robot", None, format!("`{robot}` is listed but has no dispatch (a registry bug)")).into())
+    Err(SimError::UnknownRobot(format!("`{robot}` is listed but has no dispatch (a registry bug)")))
 }
 
 /// Dynamics of `M` joints seen as dynamics of `N = M` joints, for code whose `N` came from the

@@ -1,7 +1,9 @@
 //! The configuration, the lowest layer: a scenario as TOML ([`scenario`]), its per-joint settings
-//! checked once for an arm of `N` joints ([`settings`]), and what running it will cost
+//! checked once for an arm of `N` joints ([`settings`], on [`lists`]), the plant's typed by their kind ([`plant`]), and what running it will cost
 //! ([`cost`]). Nothing here knows of the plant, the loop or the metrics.
 
 pub mod cost;
+pub mod lists;
+pub mod plant;
 pub mod scenario;
 pub mod settings;

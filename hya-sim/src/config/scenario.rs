@@ -637,6 +637,24 @@ const ARM_GOTO: [(&str, &str); 4] = [
     ("iiwa14_goto", include_str!("../../scenarios/iiwa14_goto.toml")),
 ];
 
+/// `Ok` if every scenario of `scenarios` runs the same robot, as one report covers one robot; the
+/// error names two that differ.
+pub fn shared_robot(scenarios: &[Scenario]) -> Result<(), SimError> {
+    let Some(first) = scenarios.first() else { return Ok(()) };
+    match scenarios.iter().find(|s| s.robot != first.robot) {
+        None => Ok(()),
+        Some(other) => Err(SettingError::new(
+            "robot",
+            None,
+            format!(
+                "one report covers one robot: `{}` runs `{}`, `{}` runs `{}`",
+                first.name, first.robot, other.name, other.robot
+            ),
+        )
+        .into()),
+    }
+}
+
 /// `Ok` if `v` is finite and `lo ≤ v ≤ hi`; the error names the key.
 fn within(name: &str, v: f64, lo: f64, hi: f64) -> Result<(), SettingError> {
     if v.is_finite() && (lo..=hi).contains(&v) {

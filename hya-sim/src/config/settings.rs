@@ -7,11 +7,14 @@
 //! constants for lag actuators, the valve and chamber lists for hydraulic ones, the integral
 //! clamp for the PID; so a 7-joint arm with electric actuators need not restate HyA's six
 //! hydraulic figures. The static friction levels are always read: the gain rule stiffens
-//! against them.
+//! against them. The plant's settings are typed by their kind ([`crate::config::plant`]).
 
+use hya_core::model::TreeModel;
 use hya_core::JointVector;
 
-use crate::config::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, Scenario, Task};
+use crate::config::lists::per_joint;
+use crate::config::plant::PlantSetup;
+use crate::config::scenario::{Scenario, Task};
 use crate::error::{SettingError, SimError};
 use crate::robot::{with_robot, ForRobot, Robot};
 
@@ -25,241 +28,51 @@ pub fn initial_position(scenario: &Scenario, dof: usize) -> Vec<f64> {
     }
 }
 
-/// A per-joint list from the configuration, checked for length and finiteness.
-pub fn per_joint<const N: usize>(name: &str, values: &[f64]) -> Result<JointVector<N>, SimError> {
-    if values.len() != N {
-        return Err(SimError::ListLength { key: name.to_owned(), expected: N, got: values.len() });
-    }
-    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(SettingError::new(format!("{name}[{i}]"), Some(values[i]), "must be a finite number").into());
-    }
-    Ok(JointVector::from_column_slice(values))
+/// The task's reference around the start pose, checked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TaskSetup<const N: usize> {
+    /// Hold the start pose.
+    Hold,
+    /// A minimum-jerk move by `delta` (rad) from `start_s` over `transition_s > 0`, s.
+    Goto {
+        /// When the move starts, s.
+        start_s: f64,
+        /// Its duration, s.
+        transition_s: f64,
+        /// The step per joint, rad.
+        delta: JointVector<N>,
+    },
+    /// `amplitude` (rad) times `sin 2π f t`, ramped in over `ramp_s ≥ 0` s.
+    Sine {
+        /// Per joint, rad.
+        amplitude: JointVector<N>,
+        /// `f > 0`, Hz.
+        frequency_hz: f64,
+        /// The ramp's duration, s (0: none).
+        ramp_s: f64,
+    },
 }
 
-/// `values` with every entry checked by `ok`, which `requirement` describes.
-fn each<const N: usize>(
-    name: &str,
-    values: JointVector<N>,
-    ok: impl Fn(f64) -> bool,
-    requirement: &str,
-) -> Result<JointVector<N>, SimError> {
-    match values.iter().position(|v| !ok(*v)) {
-        Some(i) => Err(SettingError::new(format!("{name}[{i}]"), Some(values[i]), requirement).into()),
-        None => Ok(values),
-    }
-}
-
-/// The friction levels per joint, N·m and N·m·s/rad (when friction is on).
-#[derive(Debug, Clone, PartialEq)]
-pub struct FrictionLists<const N: usize> {
-    /// Coulomb level `F_c`.
-    pub coulomb: JointVector<N>,
-    /// Static (breakaway) level `F_s ≥ F_c`.
-    pub breakaway: JointVector<N>,
-    /// Viscous coefficient `σ2 ≥ 0`.
-    pub viscous: JointVector<N>,
-    /// LuGre bristle stiffness `σ0 > 0` and damping `σ1 ≥ 0`, for LuGre friction.
-    pub bristles: Option<(JointVector<N>, JointVector<N>)>,
-}
-
-/// The hydraulic actuators' per-joint figures and the inner torque loop's settings, checked
-/// (see [`HydraulicConfig`] for units).
-#[derive(Debug, Clone, PartialEq)]
-pub struct HydraulicLists<const N: usize> {
-    /// Cap-side displacement `D_a`, m³/rad.
-    pub displacement: JointVector<N>,
-    /// `D_b / D_a`.
-    pub area_ratio: JointVector<N>,
-    /// Dead volume `V_0`, m³.
-    pub dead_volume: JointVector<N>,
-    /// Rated valve flow `Q_n`, m³/s.
-    pub rated_flow: JointVector<N>,
-    /// Spool natural frequency, Hz.
-    pub valve_frequency_hz: JointVector<N>,
-    /// Torque-loop bandwidth, Hz.
-    pub torque_bandwidth_hz: JointVector<N>,
-    /// Spool null bias, fraction of full opening, within ±0.2.
-    pub null_bias: JointVector<N>,
-    /// Leakage `C_l ≥ 0`, m³/(s·Pa).
-    pub leakage: JointVector<N>,
-    /// The inner torque loop's sample rate, Hz, within [`TORQUE_LOOP_RATE_HZ`].
-    pub torque_loop_rate_hz: f64,
-    /// Its pressure transducers' noise (standard deviation, ≥ 0), Pa.
-    pub torque_loop_pressure_noise_pa: f64,
-    /// Their offsets' bound (≥ 0), Pa.
-    pub torque_loop_pressure_offset_pa: f64,
-    /// Its encoder's counts per revolution, 1 to 2^53.
-    pub torque_loop_encoder_counts_per_rev: u64,
-    /// Cut-off of its derived velocity's low-pass, Hz (0: none), within [`TORQUE_LOOP_RATE_HZ`]'s
-    /// upper bound.
-    pub torque_loop_velocity_filter_hz: f64,
-    /// The valve's dead band, fraction of full opening, in `[0, 1)`.
-    pub valve_dead_band: f64,
-}
-
-/// The inner torque loop's sample rates simulated, Hz: from 1 Hz to 1 MHz (each sample above
-/// the physics step's rate costs an RK4 step).
-pub const TORQUE_LOOP_RATE_HZ: (f64, f64) = (1.0, 1e6);
-
-/// The most counts per revolution of the inner loop's encoder: 2^53 (a resolution of 7e-16 rad,
-/// the angle's own rounding near 1 rad; more would not be finer).
-pub const MAX_ENCODER_COUNTS: u64 = 1 << 53;
-
-impl<const N: usize> HydraulicLists<N> {
-    /// Checks and converts the per-joint figures and the inner loop's settings of `h`.
-    pub fn of(h: &HydraulicConfig) -> Result<Self, SimError> {
-        let scalar = |name: &str, v: f64, ok: fn(f64) -> bool, requirement: &str| {
-            if v.is_finite() && ok(v) {
-                Ok(v)
-            } else {
-                Err(SettingError::new(format!("plant.hydraulic.{name}"), Some(v), requirement))
-            }
+impl<const N: usize> TaskSetup<N> {
+    /// Checks and converts `task`.
+    pub fn of(task: &Task) -> Result<Self, SimError> {
+        let rule = |key: &str, v: f64, ok: bool, requirement: &str| match v.is_finite() && ok {
+            true => Ok(v),
+            false => Err(SettingError::new(key, Some(v), requirement)),
         };
-        let positive = |name: &str, values: &[f64]| {
-            let key = format!("plant.hydraulic.{name}");
-            each(&key, per_joint::<N>(&key, values)?, |v| v > 0.0, "must be > 0")
-        };
-        Ok(Self {
-            displacement: positive("displacement_m3_rad", &h.displacement_m3_rad)?,
-            area_ratio: positive("area_ratio", &h.area_ratio)?,
-            dead_volume: positive("dead_volume_m3", &h.dead_volume_m3)?,
-            rated_flow: positive("valve_rated_flow_m3_s", &h.valve_rated_flow_m3_s)?,
-            valve_frequency_hz: positive("valve_natural_frequency_hz", &h.valve_natural_frequency_hz)?,
-            torque_bandwidth_hz: positive("torque_bandwidth_hz", &h.torque_bandwidth_hz)?,
-            null_bias: each(
-                "plant.hydraulic.valve_null_bias",
-                per_joint("plant.hydraulic.valve_null_bias", &h.valve_null_bias)?,
-                |b| b.abs() <= 0.2,
-                "is beyond ±0.2 of full opening",
-            )?,
-            leakage: each(
-                "plant.hydraulic.leakage_m3_s_pa",
-                per_joint("plant.hydraulic.leakage_m3_s_pa", &h.leakage_m3_s_pa)?,
-                |l| l >= 0.0,
-                "must be ≥ 0",
-            )?,
-            torque_loop_rate_hz: scalar(
-                "torque_loop_rate_hz",
-                h.torque_loop_rate_hz,
-                |r| (TORQUE_LOOP_RATE_HZ.0..=TORQUE_LOOP_RATE_HZ.1).contains(&r),
-                "must be finite, between 1 and 1e6 Hz",
-            )?,
-            torque_loop_pressure_noise_pa: scalar(
-                "torque_loop_pressure_noise_pa",
-                h.torque_loop_pressure_noise_pa,
-                |v| v >= 0.0,
-                "must be finite and ≥ 0",
-            )?,
-            torque_loop_pressure_offset_pa: scalar(
-                "torque_loop_pressure_offset_pa",
-                h.torque_loop_pressure_offset_pa,
-                |v| v >= 0.0,
-                "must be finite and ≥ 0",
-            )?,
-            torque_loop_encoder_counts_per_rev: match h.torque_loop_encoder_counts_per_rev {
-                n @ 1..=MAX_ENCODER_COUNTS => n,
-                n => {
-                    return Err(SettingError::new(
-                        "plant.hydraulic.torque_loop_encoder_counts_per_rev",
-                        Some(n as f64),
-                        "must be between 1 and 2^53",
-                    )
-                    .into())
-                }
+        Ok(match task {
+            Task::Hold {} => Self::Hold,
+            Task::Goto { start_s, transition_s, delta_rad } => Self::Goto {
+                start_s: rule("task.start_s", *start_s, true, "must be finite")?,
+                transition_s: rule("task.transition_s", *transition_s, *transition_s > 0.0, "must be > 0")?,
+                delta: per_joint("task.delta_rad", delta_rad)?,
             },
-            torque_loop_velocity_filter_hz: scalar(
-                "torque_loop_velocity_filter_hz",
-                h.torque_loop_velocity_filter_hz,
-                |f| (0.0..=TORQUE_LOOP_RATE_HZ.1).contains(&f),
-                "must be finite, 0 (no filter) or up to 1e6 Hz",
-            )?,
-            valve_dead_band: scalar(
-                "valve_dead_band",
-                h.valve_dead_band,
-                |d| (0.0..1.0).contains(&d),
-                "must be finite, ≥ 0 and below 1 (full opening)",
-            )?,
-        })
-    }
-}
-
-/// The plant's per-joint settings: what [`crate::plant::Plant`] is built from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlantLists<const N: usize> {
-    /// The friction levels, unless friction is off.
-    pub friction: Option<FrictionLists<N>>,
-    /// The lag actuators' time constants, s (`actuator = "lag"`).
-    pub actuator_time_constant: Option<JointVector<N>>,
-    /// The hydraulic actuators' figures (`actuator = "hydraulic"`).
-    pub hydraulic: Option<HydraulicLists<N>>,
-    /// The sinusoidal load's amplitudes, N·m.
-    pub sinusoid_amplitude: Option<JointVector<N>>,
-}
-
-impl<const N: usize> PlantLists<N> {
-    /// Checks and converts the lists of `plant` and `loads` that act.
-    pub fn of(p: &PlantConfig, loads: &LoadConfig) -> Result<Self, SimError> {
-        let friction = match p.friction {
-            FrictionKind::Off => None,
-            _ => Some(FrictionLists::of(p)?),
-        };
-        Ok(Self {
-            friction,
-            actuator_time_constant: match p.actuator {
-                ActuatorKind::Lag => Some(each(
-                    "plant.actuator_time_constant_s",
-                    per_joint("plant.actuator_time_constant_s", &p.actuator_time_constant_s)?,
-                    |t| t > 0.0,
-                    "must be > 0",
-                )?),
-                _ => None,
-            },
-            hydraulic: match p.actuator {
-                ActuatorKind::Hydraulic => Some(HydraulicLists::of(&p.hydraulic)?),
-                _ => None,
-            },
-            sinusoid_amplitude: match &loads.sinusoid {
-                Some(s) => Some(per_joint("loads.sinusoid.amplitude_nm", &s.amplitude_nm)?),
-                None => None,
+            Task::Sine { amplitude_rad, frequency_hz, ramp_s } => Self::Sine {
+                amplitude: per_joint("task.amplitude_rad", amplitude_rad)?,
+                frequency_hz: rule("task.frequency_hz", *frequency_hz, *frequency_hz > 0.0, "must be > 0")?,
+                ramp_s: rule("task.ramp_s", *ramp_s, *ramp_s >= 0.0, "must be ≥ 0")?,
             },
         })
-    }
-}
-
-impl<const N: usize> FrictionLists<N> {
-    /// Checks and converts the friction lists of `p`; the bristle lists too for LuGre friction.
-    pub fn of(p: &PlantConfig) -> Result<Self, SimError> {
-        let coulomb = per_joint::<N>("plant.coulomb_nm", &p.coulomb_nm)?;
-        let breakaway = per_joint::<N>("plant.static_nm", &p.static_nm)?;
-        if let Some(i) = (0..N).find(|&i| !(coulomb[i] > 0.0 && breakaway[i] >= coulomb[i])) {
-            return Err(SettingError::new(
-                format!("plant.static_nm[{i}]"),
-                Some(breakaway[i]),
-                format!("must be ≥ plant.coulomb_nm[{i}] = {} > 0", hya_core::Short(coulomb[i])),
-            )
-            .into());
-        }
-        let viscous =
-            each("plant.viscous_nm_s", per_joint("plant.viscous_nm_s", &p.viscous_nm_s)?, |v| v >= 0.0, "must be ≥ 0")?;
-        let bristles = if p.friction == FrictionKind::Lugre {
-            Some((
-                each(
-                    "plant.bristle_stiffness_nm_rad",
-                    per_joint("plant.bristle_stiffness_nm_rad", &p.bristle_stiffness_nm_rad)?,
-                    |s| s > 0.0,
-                    "must be > 0",
-                )?,
-                each(
-                    "plant.bristle_damping_nm_s_rad",
-                    per_joint("plant.bristle_damping_nm_s_rad", &p.bristle_damping_nm_s_rad)?,
-                    |d| d >= 0.0,
-                    "must be ≥ 0",
-                )?,
-            ))
-        } else {
-            None
-        };
-        Ok(Self { coulomb, breakaway, viscous, bristles })
     }
 }
 
@@ -268,8 +81,8 @@ impl<const N: usize> FrictionLists<N> {
 pub struct JointSettings<const N: usize> {
     /// The start pose, rad.
     pub initial_position: JointVector<N>,
-    /// The goto task's step or the sine task's amplitudes, rad (zeros for `hold`).
-    pub task: JointVector<N>,
+    /// The task.
+    pub task: TaskSetup<N>,
     /// The controller's natural frequencies, rad/s.
     pub natural_frequency: JointVector<N>,
     /// The nominal static friction the gain rule stiffens against, N·m (`plant.static_nm`).
@@ -279,21 +92,16 @@ pub struct JointSettings<const N: usize> {
     /// The controller's torque limits, N·m.
     pub torque_limit: JointVector<N>,
     /// The plant's.
-    pub plant: PlantLists<N>,
+    pub plant: PlantSetup<N>,
 }
 
 impl<const N: usize> JointSettings<N> {
     /// Checks and converts every per-joint list of `scenario` that acts.
     pub fn of(scenario: &Scenario) -> Result<Self, SimError> {
         let c = &scenario.controller;
-        let task = match &scenario.task {
-            Task::Hold {} => JointVector::zeros(),
-            Task::Goto { delta_rad, .. } => per_joint("task.delta_rad", delta_rad)?,
-            Task::Sine { amplitude_rad, .. } => per_joint("task.amplitude_rad", amplitude_rad)?,
-        };
         Ok(Self {
             initial_position: per_joint("initial_position_rad", &initial_position(scenario, N))?,
-            task,
+            task: TaskSetup::of(&scenario.task)?,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
             integral_limit: match scenario.methods.contains(&crate::config::scenario::Method::Pid) {
@@ -301,8 +109,29 @@ impl<const N: usize> JointSettings<N> {
                 false => None,
             },
             torque_limit: per_joint("controller.torque_limit_nm", &c.torque_limit_nm)?,
-            plant: PlantLists::of(&scenario.plant, &scenario.loads)?,
+            plant: PlantSetup::of(&scenario.plant, &scenario.loads)?,
         })
+    }
+}
+
+impl<const N: usize> JointSettings<N> {
+    /// The PID's integral clamp, N·m: read where the scenario runs `pid` (an error naming the
+    /// list where these settings were checked for a scenario that does not).
+    pub fn pid_integral_limit(&self) -> Result<JointVector<N>, SimError> {
+        self.integral_limit.ok_or_else(|| {
+            SettingError::new("controller.integral_limit_nm", None, "not read: the scenario's methods do not name pid")
+                .into()
+        })
+    }
+
+    /// [`Self::of`], and the settings that name a link checked against the arm's `model`: the
+    /// weight drop's frame.
+    pub fn for_arm(scenario: &Scenario, model: &TreeModel) -> Result<Self, SimError> {
+        let joints = Self::of(scenario)?;
+        if let Some(drop) = &joints.plant.loads.weight_drop {
+            model.frame(&drop.frame).map_err(|e| SettingError::new("loads.weight_drop.frame", None, e.to_string()))?;
+        }
+        Ok(joints)
     }
 }
 
@@ -316,13 +145,13 @@ impl Scenario {
         struct Lists<'a>(&'a Scenario);
         impl ForRobot for Lists<'_> {
             type Output = ();
-            fn call<const N: usize>(self, _: Robot<N>) -> Result<(), SimError> {
+            fn call<const N: usize>(self, robot: Robot<N>) -> Result<(), SimError> {
                 // Each list that does not fit is noted, then filled to N copies of its first
                 // value in a copy of the scenario, so that the next one is found.
                 let mut scenario = self.0.clone();
                 let mut misfits = Vec::new();
                 let first_error = loop {
-                    match JointSettings::<N>::of(&scenario) {
+                    match JointSettings::<N>::for_arm(&scenario, &robot.model) {
                         Ok(_) => break None,
                         Err(SimError::ListLength { key, got, .. }) if misfits.len() < 64 => {
                             scenario = scenario.with_list_filled(&key, N)?;
@@ -376,13 +205,35 @@ mod tests {
         assert!(error.contains("`plant.bristle_damping_nm_s_rad[2]` = -1"), "{error}");
         // Lists that do not act are not read: lag actuators ignore the hydraulic figures.
         scenario.plant.bristle_damping_nm_s_rad[2] = 1.0;
-        scenario.plant.actuator = ActuatorKind::Lag;
+        scenario.plant.actuator = crate::config::scenario::ActuatorKind::Lag;
         scenario.plant.hydraulic.area_ratio = vec![];
-        assert!(JointSettings::<6>::of(&scenario).unwrap().plant.hydraulic.is_none());
+        assert!(JointSettings::<6>::of(&scenario).unwrap().plant.hydraulic().is_none());
         // The integral clamp is read only for a scenario that runs the PID.
         scenario.controller.integral_limit_nm = vec![];
         assert!(JointSettings::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
         scenario.methods.retain(|m| *m != crate::config::scenario::Method::Pid);
-        assert!(JointSettings::<6>::of(&scenario).unwrap().integral_limit.is_none());
+        let joints = JointSettings::<6>::of(&scenario).unwrap();
+        assert!(joints.pid_integral_limit().unwrap_err().to_string().contains("controller.integral_limit_nm"));
+    }
+
+    #[test]
+    fn the_task_and_the_weights_frame_are_checked_before_a_run() {
+        let mut scenario = Scenario::builtin("goto_weight").unwrap();
+        let model = crate::robot::robot_model(&scenario.robot).unwrap();
+        assert!(JointSettings::<6>::for_arm(&scenario, &model).is_ok());
+        scenario.loads.weight_drop.as_mut().unwrap().frame = "no_such_link".into();
+        // `of` reads no model; `for_arm` and the check before a run name the frame.
+        assert!(JointSettings::<6>::of(&scenario).is_ok());
+        let error = JointSettings::<6>::for_arm(&scenario, &model).unwrap_err().to_string();
+        assert!(error.contains("`loads.weight_drop.frame`") && error.contains("no_such_link"), "{error}");
+        let error = scenario.check_for_robot().unwrap_err().to_string();
+        assert!(error.contains("`loads.weight_drop.frame`"), "{error}");
+        let task = |task: Task| TaskSetup::<1>::of(&task).unwrap_err().to_string();
+        let goto = Task::Goto { start_s: 1.0, transition_s: 0.0, delta_rad: vec![0.1] };
+        assert!(task(goto).contains("`task.transition_s` = 0"));
+        let sine = Task::Sine { amplitude_rad: vec![0.1], frequency_hz: 0.5, ramp_s: -1.0 };
+        assert!(task(sine).contains("`task.ramp_s` = -1"));
+        let sine = Task::Sine { amplitude_rad: vec![0.1], frequency_hz: f64::NAN, ramp_s: 1.0 };
+        assert!(task(sine).contains("`task.frequency_hz`"));
     }
 }

@@ -15,24 +15,22 @@
 use nalgebra::Complex;
 
 use crate::config::scenario::Method;
-use crate::error::SettingError;
+use crate::error::ParameterError;
 use crate::linear::phasors::jw;
 
-/// `v` if it is finite and strictly positive, else the error naming `key`.
-pub(crate) fn positive(key: &str, v: f64) -> Result<f64, SettingError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(SettingError::new(key, Some(v), "finite and strictly positive"))
+/// `v` if it is finite and strictly positive, else the error naming `name`.
+pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, ParameterError> {
+    match value.is_finite() && value > 0.0 {
+        true => Ok(value),
+        false => Err(ParameterError { name, value, rule: "finite and strictly positive" }),
     }
 }
 
-/// `v` if it is finite and not negative, else the error naming `key`.
-pub(crate) fn non_negative(key: &str, v: f64) -> Result<f64, SettingError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(SettingError::new(key, Some(v), "finite and not negative"))
+/// `v` if it is finite and not negative, else the error naming `name`.
+pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParameterError> {
+    match value.is_finite() && value >= 0.0 {
+        true => Ok(value),
+        false => Err(ParameterError { name, value, rule: "finite and not negative" }),
     }
 }
 
@@ -115,7 +113,7 @@ impl ObserverDesign {
     }
 
     /// Checks that every parameter is finite and strictly positive (so every pole is stable).
-    pub fn check(&self) -> Result<(), SettingError> {
+    pub fn check(&self) -> Result<(), ParameterError> {
         match *self {
             Self::Lu { zeta, omega1_rad_s, omega2_rad_s } => {
                 positive("observer.zeta", zeta)?;
@@ -259,7 +257,7 @@ pub fn paper_delay(omega_rad_s: f64) -> f64 {
 
 /// The paper's filter at `ζ = 0.8`, `ω1 = ω2 = omega_rad_s` (its own row first), then chen,
 /// momentum and eso each matched to it by [`Matching::ALL`], in that order: ten rows.
-pub fn equal_bandwidth_table(omega_rad_s: f64) -> Result<Vec<EqualBandwidthRow>, SettingError> {
+pub fn equal_bandwidth_table(omega_rad_s: f64) -> Result<Vec<EqualBandwidthRow>, ParameterError> {
     positive("observer_bandwidth_rad_s", omega_rad_s)?;
     let Some(lu) = ObserverDesign::of(Method::Lu, omega_rad_s) else { return Ok(Vec::new()) };
     let mut rows = vec![EqualBandwidthRow::new(Method::Lu, None, lu)];

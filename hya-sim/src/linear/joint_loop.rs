@@ -35,7 +35,7 @@
 use nalgebra::Complex;
 
 use crate::config::scenario::Method;
-use crate::error::{SettingError, SimError};
+use crate::error::{ParameterError, SimError};
 use crate::linear::designs::{non_negative, positive, ObserverDesign};
 use crate::linear::phasors::{delay, jw};
 
@@ -84,7 +84,7 @@ impl VelocityModel {
         }
     }
 
-    fn check(&self) -> Result<(), SettingError> {
+    fn check(&self) -> Result<(), ParameterError> {
         match self {
             Self::Sensor => Ok(()),
             Self::Difference { cutoff_rad_s } => positive("velocity.cutoff_rad_s", *cutoff_rad_s).map(|_| ()),
@@ -130,7 +130,7 @@ impl Compensation {
         }
     }
 
-    fn check(&self) -> Result<(), SettingError> {
+    fn check(&self) -> Result<(), ParameterError> {
         match self {
             Self::None => Ok(()),
             Self::Integral { ki } => positive("compensation.ki", *ki).map(|_| ()),
@@ -209,7 +209,7 @@ impl ActuatorModel {
     }
 
     /// Checks that rates and damping are finite and positive and the delay not negative.
-    pub fn check(&self) -> Result<(), SettingError> {
+    pub fn check(&self) -> Result<(), ParameterError> {
         match *self {
             Self::Ideal => Ok(()),
             Self::Lag { bandwidth_rad_s } => positive("joint.actuator_bandwidth", bandwidth_rad_s).map(drop),
@@ -287,7 +287,7 @@ impl JointLoop {
 
     /// Checks every number: `J`, `K_P`, `T` strictly positive, `F_v`, `K_D`, delays not
     /// negative, all finite, the actuator's bandwidth and the designs as their own checks ask.
-    pub fn check(&self) -> Result<(), SettingError> {
+    pub fn check(&self) -> Result<(), ParameterError> {
         positive("joint.inertia", self.inertia)?;
         non_negative("joint.viscous", self.viscous)?;
         positive("joint.kp", self.kp)?;

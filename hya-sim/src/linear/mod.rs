@@ -42,7 +42,7 @@ mod tests {
         assert!(equal_bandwidth_table(f64::INFINITY).is_err());
         let mut joint = JointLoop::computed_torque(1.0, 2.0, 20.0, 0.8, 1e-3);
         joint.command_delay_s = -1e-3;
-        assert!(matches!(joint.margins(), Err(SimError::Setting(_))));
+        assert!(matches!(joint.margins(), Err(SimError::Parameter(_))));
     }
 
     #[test]

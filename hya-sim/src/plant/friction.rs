@@ -22,9 +22,7 @@ use std::f64::consts::TAU;
 use hya_core::JointVector;
 use rand::Rng;
 
-use crate::config::scenario::{FrictionKind, PlantConfig};
-use crate::config::settings::FrictionLists;
-use crate::error::{SettingError, SimError};
+use crate::config::plant::{FrictionLevels, FrictionSetup};
 
 /// Harmonics of each joint's position profile.
 const PROFILE_HARMONICS: usize = 3;
@@ -166,57 +164,34 @@ pub enum Friction<const N: usize> {
 }
 
 impl<const N: usize> Friction<N> {
-    /// From the plant configuration and its checked lists (`None` only for friction off); the
-    /// LuGre position profiles are drawn from `rng`.
-    pub fn new(config: &PlantConfig, lists: Option<&FrictionLists<N>>, rng: &mut impl Rng) -> Result<Self, SimError> {
-        if config.friction != FrictionKind::Off && lists.is_none() {
-            return Err(SettingError::new(
-                "plant.coulomb_nm",
-                None,
-                "missing: the settings were checked with friction off",
-            )
-            .into());
-        }
-        let Some(FrictionLists { coulomb, breakaway, viscous, bristles }) =
-            lists.filter(|_| config.friction != FrictionKind::Off)
-        else {
-            return Ok(Friction::Off);
+    /// The law of `setup`; the LuGre position profiles are drawn from `rng`.
+    pub fn new(setup: &FrictionSetup<N>, rng: &mut impl Rng) -> Self {
+        let levels = |l: &FrictionLevels<N>| -> [Levels; N] {
+            core::array::from_fn(|i| Levels {
+                coulomb: l.coulomb[i],
+                breakaway: l.breakaway[i],
+                stribeck_velocity: l.stribeck_velocity,
+            })
         };
-        let viscous = *viscous;
-        let levels: [Levels; N] = core::array::from_fn(|i| Levels {
-            coulomb: coulomb[i],
-            breakaway: breakaway[i],
-            stribeck_velocity: config.stribeck_velocity_rad_s,
-        });
-        let variation = config.coulomb_position_variation;
-        if !(0.0..1.0).contains(&variation) {
-            return Err(SettingError::new(
-                "plant.coulomb_position_variation",
-                Some(variation),
-                "must be in [0, 1) so that friction stays positive",
-            )
-            .into());
-        }
-        Ok(match config.friction {
-            FrictionKind::Off => Friction::Off, // returned above
-            FrictionKind::Smooth => Friction::Smooth(Smooth {
-                levels,
-                viscous,
-                smoothing: config.smoothing_rad_s,
-                position_variation: variation,
+        match setup {
+            FrictionSetup::Off => Friction::Off,
+            FrictionSetup::Smooth { levels: l, smoothing } => Friction::Smooth(Smooth {
+                levels: levels(l),
+                viscous: l.viscous,
+                smoothing: *smoothing,
+                position_variation: l.position_variation,
             }),
-            FrictionKind::Lugre => {
-                let (stiffness, damping) = bristles.ok_or_else(|| {
-                    SettingError::new(
-                        "plant.bristle_*",
-                        None,
-                        "missing: the settings were checked for another friction model",
-                    )
-                })?;
-                let profile = core::array::from_fn(|_| PositionProfile::draw(variation, rng));
-                Friction::LuGre(LuGre { levels, profile, stiffness, damping, viscous })
+            FrictionSetup::LuGre { levels: l, stiffness, damping } => {
+                let profile = core::array::from_fn(|_| PositionProfile::draw(l.position_variation, rng));
+                Friction::LuGre(LuGre {
+                    levels: levels(l),
+                    profile,
+                    stiffness: *stiffness,
+                    damping: *damping,
+                    viscous: l.viscous,
+                })
             }
-        })
+        }
     }
 }
 

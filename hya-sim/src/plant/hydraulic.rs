@@ -84,9 +84,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
-use crate::config::scenario::HydraulicConfig;
-use crate::config::settings::HydraulicLists;
-use crate::error::{SettingError, SimError};
+use crate::config::plant::HydraulicSetup;
 
 /// Regularisation pressure `δ` of the orifice law, Pa: below it the flow is linear in `Δp`, so
 /// the law has a finite slope at `Δp = 0` (the square root's is infinite).
@@ -226,30 +224,18 @@ fn orifice_law(drop: f64) -> f64 {
 }
 
 impl<const N: usize> HydraulicActuators<N> {
-    /// From the configuration's scalars and the checked per-joint `lists` (the configuration's own
-    /// lists are not read), for joints spanning `ranges` (rad; the chambers' volumes run
-    /// from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other). The pressure transducers'
-    /// offsets are zero and their noise comes from seed 0 until [`Self::seeded`].
-    pub fn new(config: &HydraulicConfig, lists: &HydraulicLists<N>, ranges: [(f64, f64); N]) -> Result<Self, SimError> {
-        let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(SettingError::new(format!("plant.hydraulic.{name}"), Some(v), "must be finite and > 0"))
-            }
-        };
-        let supply = positive("supply_pressure_pa", config.supply_pressure_pa)?;
-        let tank = config.tank_pressure_pa;
-        if !(tank.is_finite() && tank >= 0.0 && tank < supply) {
-            return Err(SettingError::new(
-                "plant.hydraulic.tank_pressure_pa",
-                Some(tank),
-                format!("must be ≥ 0 and below the supply pressure {}", hya_core::Short(supply)),
-            )
-            .into());
-        }
-        let bulk_modulus = positive("bulk_modulus_pa", config.bulk_modulus_pa)?;
-        let HydraulicLists {
+    /// From the checked settings `setup`, for joints spanning `ranges` (rad; the chambers'
+    /// volumes run from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other). The pressure
+    /// transducers' offsets are zero and their noise comes from seed 0 until [`Self::seeded`].
+    pub fn new(setup: &HydraulicSetup<N>, ranges: [(f64, f64); N]) -> Self {
+        let HydraulicSetup {
+            supply_pressure: supply,
+            tank_pressure: tank,
+            bulk_modulus,
+            rated_drop,
+            valve_damping,
+            torque_integral_ratio,
+            velocity_compensation: compensation,
             displacement,
             area_ratio: ratio,
             dead_volume,
@@ -259,25 +245,8 @@ impl<const N: usize> HydraulicActuators<N> {
             null_bias: bias,
             leakage,
             ..
-        } = lists;
-        let rated_drop = positive("valve_rated_drop_pa", config.valve_rated_drop_pa)?;
-        let valve_damping = positive("valve_damping_ratio", config.valve_damping_ratio)?;
-        let ratio_i = config.torque_integral_ratio;
-        if !(ratio_i.is_finite() && (0.0..=1.0).contains(&ratio_i)) {
-            return Err(
-                SettingError::new("plant.hydraulic.torque_integral_ratio", Some(ratio_i), "must be in [0, 1]").into()
-            );
-        }
-        let period = 1.0 / lists.torque_loop_rate_hz;
-        let compensation = config.velocity_compensation;
-        if !(0.0..=2.0).contains(&compensation) {
-            return Err(SettingError::new(
-                "plant.hydraulic.velocity_compensation",
-                Some(compensation),
-                "must be in [0, 2] (1 cancels the piston flow)",
-            )
-            .into());
-        }
+        } = *setup;
+        let period = 1.0 / setup.torque_loop_rate_hz;
         let joints = core::array::from_fn(|i| {
             // Valve sizing: Q_n at Δp_n across both lands, so K_v = Q_n / √(Δp_n / 2).
             let orifice = rated_flow[i] / (rated_drop / 2.0).sqrt();
@@ -294,9 +263,9 @@ impl<const N: usize> HydraulicActuators<N> {
                 null_bias: bias[i],
                 leakage: leakage[i],
                 torque_gain: 0.0,
-                integral_rate: config.torque_integral_ratio * std::f64::consts::TAU * bandwidth_hz[i],
+                integral_rate: torque_integral_ratio * std::f64::consts::TAU * bandwidth_hz[i],
                 velocity_compensation: 0.0,
-                dead_band: lists.valve_dead_band,
+                dead_band: setup.valve_dead_band,
             };
             let flow_gain = orifice * ((supply - tank) / 2.0).sqrt();
             let middle = 0.5 * (lower + upper);
@@ -306,23 +275,23 @@ impl<const N: usize> HydraulicActuators<N> {
                 compensation * 0.5 * (joint.displacement_a + joint.displacement_b) / flow_gain;
             joint
         });
-        Ok(Self {
+        Self {
             joints,
             supply,
             tank,
             bulk_modulus,
             period,
             next_sample: 0.0,
-            pressure_noise: lists.torque_loop_pressure_noise_pa,
-            offset_bound: lists.torque_loop_pressure_offset_pa,
+            pressure_noise: setup.torque_loop_pressure_noise_pa,
+            offset_bound: setup.torque_loop_pressure_offset_pa,
             offsets: (JointVector::zeros(), JointVector::zeros()),
             rng: ChaCha8Rng::seed_from_u64(0),
-            resolution: std::f64::consts::TAU / lists.torque_loop_encoder_counts_per_rev as f64,
-            velocity_pole: match lists.torque_loop_velocity_filter_hz {
+            resolution: std::f64::consts::TAU / setup.torque_loop_encoder_counts_per_rev as f64,
+            velocity_pole: match setup.torque_loop_velocity_filter_hz {
                 f if f > 0.0 => (-std::f64::consts::TAU * f * period).exp(),
                 _ => 0.0,
             },
-        })
+        }
     }
 
     /// The actuators with their pressure transducers' generator seeded by `seed`: the offsets

@@ -27,9 +27,9 @@ use hya_core::{Dynamics, JointVector};
 use nalgebra::Vector3;
 use rand::Rng;
 
-use crate::config::scenario::{ActuatorKind, LoadConfig, PlantConfig, WeightDrop};
-use crate::config::settings::PlantLists;
-use crate::error::{SettingError, SimError};
+use crate::config::plant::{ActuatorSetup, PlantSetup};
+use crate::config::scenario::WeightDrop;
+use crate::error::SimError;
 
 /// The nominal model with every body's mass, centre of mass and rotational inertia scaled by
 /// independent uniform factors in `[1 − spread, 1 + spread]`.
@@ -151,47 +151,28 @@ fn joint_ranges<const N: usize>(model: &TreeModel, q0: &JointVector<N>) -> [(f64
 }
 
 impl<const N: usize> Plant<N> {
-    /// An arm at rest at `q0` whose actuators already hold `tau0`; `dynamics` builds its rigid
-    /// body from `true_model` (and from the model with the payload); `lists` must be
-    /// [`PlantLists::of`] `config` and `loads` (a list they lack is an error); `rng` draws the
-    /// friction's position profiles, then the seed of the hydraulic actuators' pressure
-    /// transducers ([`HydraulicActuators::seeded`]).
+    /// An arm at rest at `q0` whose actuators already hold `tau0`, built as `setup` says;
+    /// `dynamics` builds its rigid body from `true_model` (and from the model with the payload);
+    /// `rng` draws the friction's position profiles, then the seed of the hydraulic actuators'
+    /// pressure transducers ([`HydraulicActuators::seeded`]).
     pub fn new(
         true_model: TreeModel,
         dynamics: &DynamicsFactory<N>,
-        (config, loads, lists): (&PlantConfig, &LoadConfig, &PlantLists<N>),
+        setup: &PlantSetup<N>,
         (q0, tau0): (JointVector<N>, JointVector<N>),
         rng: &mut impl Rng,
     ) -> Result<Self, SimError> {
-        let loaded = match &loads.weight_drop {
-            Some(drop) => {
-                let with_payload = true_model
-                    .with_point_mass(&drop.frame, drop.mass_kg)
-                    .map_err(|e| SettingError::new("loads.weight_drop.frame", None, e.to_string()))?;
-                Some((dynamics(&with_payload)?, drop.clone()))
-            }
+        let loaded = match &setup.loads.weight_drop {
+            Some(drop) => Some((dynamics(&true_model.with_point_mass(&drop.frame, drop.mass_kg)?)?, drop.clone())),
             None => None,
         };
-        let missing =
-            |what: &str| SettingError::new(what, None, "missing: the settings were checked for another plant");
-        let sinusoid = match (&loads.sinusoid, lists.sinusoid_amplitude) {
-            (Some(s), Some(amplitude)) => Some((amplitude, s.frequency_hz)),
-            (Some(_), None) => return Err(missing("loads.sinusoid.amplitude_nm").into()),
-            (None, _) => None,
-        };
-        let friction = Friction::new(config, lists.friction.as_ref(), rng)?;
-        let actuators = match config.actuator {
-            ActuatorKind::Ideal => Actuators::Ideal,
-            ActuatorKind::Lag => {
-                Actuators::Lag(lists.actuator_time_constant.ok_or_else(|| missing("plant.actuator_time_constant_s"))?)
-            }
-            ActuatorKind::Hydraulic => Actuators::Hydraulic(Box::new(
-                HydraulicActuators::new(
-                    &config.hydraulic,
-                    lists.hydraulic.as_ref().ok_or_else(|| missing("plant.hydraulic"))?,
-                    joint_ranges(&true_model, &q0),
-                )?
-                .seeded(rng.gen()),
+        let sinusoid = setup.loads.sinusoid.map(|s| (s.amplitude, s.frequency_hz));
+        let friction = Friction::new(&setup.friction, rng);
+        let actuators = match &setup.actuators {
+            ActuatorSetup::Ideal => Actuators::Ideal,
+            ActuatorSetup::Lag(time_constant) => Actuators::Lag(*time_constant),
+            ActuatorSetup::Hydraulic(h) => Actuators::Hydraulic(Box::new(
+                HydraulicActuators::new(h, joint_ranges(&true_model, &q0)).seeded(rng.gen()),
             )),
         };
         let hydraulic = match &actuators {

@@ -7,7 +7,6 @@ use std::fmt::Write as _;
 
 use crate::analysis::sweep::{dominates, front_points, pareto_optimal, scenarios, FrontPoint, Measure, Plan, Sweep};
 use crate::config::scenario::{ChenGain, Method};
-use crate::config::settings::JointSettings;
 use crate::error::SimError;
 use crate::io::svg::{marked_grid, Mark, MarkedPanel, Panel, Scale, Series, PALETTE};
 use hya_core::Short;
@@ -341,8 +340,7 @@ fn capped_joints<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenario: &crate::config::scenario::Scenario,
 ) -> Result<Vec<usize>, SimError> {
-    let joints = JointSettings::<N>::of(scenario)?;
-    let capped = crate::run::model::LoopModel::of(scenario, robot)?.design(scenario, &joints)?.capped;
+    let capped = crate::run::model::LoopDesign::of(scenario, robot)?.capped;
     Ok((0..N).filter(|&j| capped[j]).collect())
 }
 

@@ -383,7 +383,7 @@ fn lagged_cancellation<const N: usize>(
 ) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
     let model = crate::run::model::LoopModel::of(first, robot)?;
-    let q0 = crate::config::settings::per_joint::<N>(
+    let q0 = crate::config::lists::per_joint::<N>(
         "initial_position_rad",
         &crate::config::settings::initial_position(first, N),
     )?;
@@ -443,9 +443,8 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         ]));
     }
     let c = &first.controller;
-    let joints = crate::config::settings::JointSettings::<N>::of(first)?;
-    let q0 = joints.initial_position;
-    let design = crate::run::model::LoopModel::of(first, robot)?.design(first, &joints)?;
+    let design = crate::run::model::LoopDesign::of(first, robot)?;
+    let q0 = design.pose;
     let integral_delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
     let _ = writeln!(
         md,

@@ -135,8 +135,8 @@ fn every_parameter_row(p: &PlantConfig, s: &SensorConfig) -> Vec<[String; 4]> {
 fn friction_figure<const N: usize>(config: &PlantConfig, sine: &RunOutcome<N>) -> Result<Option<String>, SimError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
     // Only the friction lists: the actuators' and the loads' do not enter the figure.
-    let lists = crate::config::settings::FrictionLists::<N>::of(config)?;
-    let Friction::LuGre(lugre) = Friction::<N>::new(config, Some(&lists), &mut rng)? else {
+    let setup = crate::config::plant::FrictionSetup::<N>::of(config)?;
+    let Friction::LuGre(lugre) = Friction::<N>::new(&setup, &mut rng) else {
         return Ok(None);
     };
     let trace = &sine.trace;
@@ -299,7 +299,7 @@ pub fn section<const N: usize>(
     if let Some([small, large]) = open_loop.map(|o| o.steps.as_slice()) {
         let (svg, rise_times, large_rise_times) = (step_figure(small), &small.rise_ms, &large.rise_ms);
         let name = "plant_step.svg".to_owned();
-        let q0 = crate::config::settings::per_joint::<N>(
+        let q0 = crate::config::lists::per_joint::<N>(
             "initial_position_rad",
             &crate::config::settings::initial_position(first, N),
         )?;

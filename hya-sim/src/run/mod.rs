@@ -19,7 +19,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario};
 use crate::config::settings::JointSettings;
-use crate::error::{SettingError, SimError};
+use crate::error::SimError;
 use crate::plant::{perturbed, Plant};
 use crate::robot::Robot;
 use hya_core::model::TreeModel;
@@ -142,18 +142,7 @@ struct IntegralAction<const N: usize> {
 impl<const N: usize> IntegralAction<N> {
     fn new(gain: JointVector<N>, scenario: &Scenario, joints: &JointSettings<N>) -> Result<Self, SimError> {
         let c = &scenario.controller;
-        Ok(Self {
-            gain,
-            limit: joints.integral_limit.ok_or_else(|| {
-                SettingError::new(
-                    "controller.integral_limit_nm",
-                    None,
-                    "missing: the settings were checked without pid",
-                )
-            })?,
-            torque: JointVector::zeros(),
-            dt: c.dt_s,
-        })
+        Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: c.dt_s })
     }
 
     /// Adds `K_I e T` and returns the clamped integral torque, N·m.
@@ -186,9 +175,9 @@ pub fn closed_loop<const N: usize>(
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<ClosedLoop<N>, SimError> {
-    let joints = JointSettings::<N>::of(scenario)?;
-    let trajectory = Trajectory::new(&scenario.task, joints.task, joints.initial_position)?;
-    closed_loop_on(scenario, method, robot, (&trajectory, recording), |_, _| {})
+    let joints = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let trajectory = Trajectory::new(joints.task, joints.initial_position);
+    run_loop((scenario, &joints), method, robot, (&trajectory, recording), |_, _| {})
 }
 
 /// The plant's true rigid body in `scenario` on `robot`: its model perturbed by the scenario's
@@ -206,27 +195,32 @@ pub fn closed_loop_on<const N: usize>(
     method: Method,
     robot: &Robot<N>,
     (trajectory, recording): (&Trajectory<N>, Recording),
+    log: impl FnMut(f64, &Measurement<N>),
+) -> Result<ClosedLoop<N>, SimError> {
+    let joints = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    run_loop((scenario, &joints), method, robot, (trajectory, recording), log)
+}
+
+/// The closed loop of [`closed_loop_on`], given `scenario`'s checked settings `joints`.
+fn run_loop<const N: usize>(
+    (scenario, joints): (&Scenario, &JointSettings<N>),
+    method: Method,
+    robot: &Robot<N>,
+    (trajectory, recording): (&Trajectory<N>, Recording),
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
     trajectory.within_limits(&robot.model)?;
     let model = model::LoopModel::of(scenario, robot)?;
     let nominal = model.dynamics();
     let dt = scenario.controller.dt_s;
-    let joints = JointSettings::<N>::of(scenario)?;
     let q0 = trajectory.at(0.0).position;
     let (true_model, mut rng) = true_model(scenario, robot);
     let hold = nominal.gravity(&q0);
-    let mut plant = Plant::new(
-        true_model,
-        robot.plant.as_ref(),
-        (&scenario.plant, &scenario.loads, &joints.plant),
-        (q0, hold),
-        &mut rng,
-    )?;
+    let mut plant = Plant::new(true_model, robot.plant.as_ref(), &joints.plant, (q0, hold), &mut rng)?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
     let offset_torque = sensors.offset_torque(&plant);
-    let loop_design = model.design_at(scenario, &joints, &q0)?;
+    let loop_design = model.design_at(scenario, joints, &q0)?;
     let mut gains = loop_design.pd;
     if method == Method::Pid {
         let setup = |source| SimError::Setup { setting: "controller.integral_rule".into(), source };
@@ -257,7 +251,7 @@ pub fn closed_loop_on<const N: usize>(
         }
     }
     let mut integral =
-        (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, scenario, &joints)).transpose()?;
+        (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, scenario, joints)).transpose()?;
     let steps = (scenario.duration_s / dt).round() as usize;
     let substeps = scenario.plant.substeps();
     let mut trace = Trace::new(steps, recording);

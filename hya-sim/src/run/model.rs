@@ -13,7 +13,7 @@ use hya_core::{Dynamics, Gains, JointVector};
 
 use crate::config::scenario::Scenario;
 use crate::config::settings::JointSettings;
-use crate::error::{SettingError, SimError};
+use crate::error::SimError;
 use crate::robot::Robot;
 use hya_ident::{JointFriction, WithFriction};
 
@@ -34,7 +34,10 @@ pub fn controller_model<'a, const N: usize>(
             let model = hya_urdf::load_file(path)?.model;
             if let Some(why) = hya_urdf::joints_differ(&model, &robot.model, "the robot's") {
                 let path = hya_core::Clipped(path, 200);
-                return Err(SettingError::new("controller.model_urdf", None, format!("{path}: {why}")).into());
+                return Err(SimError::NamedFile {
+                    setting: "controller.model_urdf",
+                    message: format!("{path}: {why}"),
+                });
             }
             Box::new(model.into_dynamics::<N>()?)
         }
@@ -43,7 +46,7 @@ pub fn controller_model<'a, const N: usize>(
         None => rigid,
         Some(path) => {
             let friction = JointFriction::from_file(std::path::Path::new(path), N)
-                .map_err(|e| SettingError::new("controller.friction_toml", None, e))?;
+                .map_err(|message| SimError::NamedFile { setting: "controller.friction_toml", message })?;
             Box::new(WithFriction::new(rigid, friction))
         }
     }))
@@ -86,7 +89,7 @@ impl<'a, const N: usize> LoopModel<'a, N> {
         let pd = super::gains(self.dynamics(), scenario, joints)?;
         let inertia = self.dynamics().mass_matrix(q0).diagonal();
         let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, scenario, joints);
-        Ok(LoopDesign { pd, inertia, pid_kd, integral, capped })
+        Ok(LoopDesign { pd, pose: *q0, inertia, pid_kd, integral, capped })
     }
 }
 
@@ -94,6 +97,8 @@ impl<'a, const N: usize> LoopModel<'a, N> {
 pub struct LoopDesign<const N: usize> {
     /// `K_P`, `K_D`.
     pub pd: Gains<N>,
+    /// The pose `q0` of `M_ii`, rad.
+    pub pose: JointVector<N>,
     /// `M_ii(q0)`, kg·m².
     pub inertia: JointVector<N>,
     /// The PID's `K_D`, N·m·s/rad (`pd`'s but for [`crate::config::scenario::IntegralRule::PolePlacement`]).
@@ -102,6 +107,15 @@ pub struct LoopDesign<const N: usize> {
     pub integral: JointVector<N>,
     /// Joints whose `K_I` the stability bound capped.
     pub capped: [bool; N],
+}
+
+impl<const N: usize> LoopDesign<N> {
+    /// The design of `scenario`'s loop on `robot` at its start pose, as its closed loop makes it:
+    /// its settings checked, its model loaded ([`LoopModel::design`]).
+    pub fn of(scenario: &Scenario, robot: &Robot<N>) -> Result<Self, SimError> {
+        let joints = JointSettings::<N>::of(scenario)?;
+        LoopModel::of(scenario, robot)?.design(scenario, &joints)
+    }
 }
 
 /// How the report names the loop model of a scenario whose controller settings are

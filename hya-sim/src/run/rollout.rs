@@ -6,8 +6,8 @@ use hya_core::JointVector;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::config::scenario::{ActuatorKind, FrictionKind, LoadConfig, PlantConfig, Scenario};
-use crate::config::settings::PlantLists;
+use crate::config::plant::PlantSetup;
+use crate::config::scenario::Scenario;
 use crate::error::SimError;
 use crate::plant::{generic_dynamics, perturbed, Plant, PlantState};
 
@@ -20,16 +20,6 @@ pub struct TorqueCommand<const N: usize> {
     pub torque: JointVector<N>,
 }
 
-/// The rigid body alone: nominal parameters, no friction, ideal actuators, no loads.
-pub fn ideal_plant_config() -> PlantConfig {
-    PlantConfig {
-        parameter_spread: 0.0,
-        friction: FrictionKind::Off,
-        actuator: ActuatorKind::Ideal,
-        ..PlantConfig::default()
-    }
-}
-
 /// The plant of `scenario` (its seeded parameter perturbation, friction, actuators and loads)
 /// for `model`, at rest at `q0` with its actuators holding `tau0`, and its physics step, s.
 pub fn scenario_plant<const N: usize>(
@@ -40,28 +30,16 @@ pub fn scenario_plant<const N: usize>(
 ) -> Result<(Plant<N>, f64), SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
     let true_model = perturbed(model, scenario.plant.parameter_spread, &mut rng);
-    let lists = PlantLists::of(&scenario.plant, &scenario.loads)?;
-    let plant = Plant::new(
-        true_model,
-        &generic_dynamics::<N>,
-        (&scenario.plant, &scenario.loads, &lists),
-        (q0, tau0),
-        &mut rng,
-    )?;
+    let setup = PlantSetup::of(&scenario.plant, &scenario.loads)?;
+    let plant = Plant::new(true_model, &generic_dynamics::<N>, &setup, (q0, tau0), &mut rng)?;
     Ok((plant, scenario.controller.dt_s / scenario.plant.substeps() as f64))
 }
 
-/// The ideal plant ([`ideal_plant_config`]) of `model` at rest at `q0`.
+/// The rigid body of `model` alone ([`PlantSetup::rigid_body`]: nominal parameters, no
+/// friction, ideal actuators, no loads), at rest at `q0`.
 pub fn ideal_plant<const N: usize>(model: &TreeModel, q0: JointVector<N>) -> Result<Plant<N>, SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(0);
-    let (config, loads) = (ideal_plant_config(), LoadConfig::default());
-    Plant::new(
-        model.clone(),
-        &generic_dynamics::<N>,
-        (&config, &loads, &PlantLists::of(&config, &loads)?),
-        (q0, JointVector::zeros()),
-        &mut rng,
-    )
+    Plant::new(model.clone(), &generic_dynamics::<N>, &PlantSetup::rigid_body(), (q0, JointVector::zeros()), &mut rng)
 }
 
 /// Runs `plant` from its current state under `commands` (increasing times, the first at the

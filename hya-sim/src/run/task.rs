@@ -5,8 +5,8 @@ use std::f64::consts::PI;
 
 use hya_core::{JointVector, Reference, Short};
 
-use crate::config::scenario::Task;
-use crate::error::{SettingError, SimError};
+use crate::config::settings::TaskSetup;
+use crate::error::SimError;
 
 /// A reference trajectory `(q_des, q̇_des, q̈_des)(t)` around the start pose.
 #[derive(Debug, Clone)]
@@ -17,9 +17,7 @@ pub struct Trajectory<const N: usize> {
 
 #[derive(Debug, Clone)]
 enum Shape<const N: usize> {
-    Hold,
-    Goto { start_s: f64, transition_s: f64, delta: JointVector<N> },
-    Sine { amplitude: JointVector<N>, frequency_hz: f64, ramp_s: f64 },
+    Task(TaskSetup<N>),
     Sampled(Samples<N>),
 }
 
@@ -37,7 +35,7 @@ impl<const N: usize> Samples<N> {
     /// Samples at `time` (strictly increasing, finite, from 0); an error names the first bad one.
     pub fn new(time: Vec<f64>, points: Vec<Reference<N>>) -> Result<Self, SimError> {
         let bad = |k: usize, value: f64, requirement: &str| {
-            Err(SettingError::new(format!("reference sample {}", k + 1), Some(value), requirement).into())
+            Err(SimError::Reference { sample: format!("{}", k + 1), value, rule: requirement.into() })
         };
         if time.is_empty() || time.len() != points.len() {
             return bad(0, time.len() as f64, "one time per sample, at least one sample");
@@ -69,17 +67,20 @@ impl<const N: usize> Samples<N> {
                 let (lo, hi) =
                     (body.limits.lower.unwrap_or(f64::NEG_INFINITY), body.limits.upper.unwrap_or(f64::INFINITY));
                 if !(lo..=hi).contains(&q) {
-                    return Err(SettingError::new(
-                        format!(
-                            "reference sample {} (t = {} s), joint {}",
+                    return Err(SimError::Reference {
+                        sample: format!(
+                            "{} (t = {} s), joint {}",
                             k + 1,
                             Short(*t),
                             hya_urdf::name_list([body.joint.as_str()])
                         ),
-                        Some(q),
-                        format!("beyond the joint's limits [{}, {}] rad in the description", Short(lo), Short(hi)),
-                    )
-                    .into());
+                        value: q,
+                        rule: format!(
+                            "beyond the joint's limits [{}, {}] rad in the description",
+                            Short(lo),
+                            Short(hi)
+                        ),
+                    });
                 }
             }
         }
@@ -132,22 +133,9 @@ impl<const N: usize> Trajectory<N> {
         }
     }
 
-    /// The task's trajectory from `start`; `per_joint` is the goto task's step or the sine
-    /// task's amplitudes ([`JointSettings::task`](crate::config::settings::JointSettings::task)).
-    pub fn new(task: &Task, per_joint: JointVector<N>, start: JointVector<N>) -> Result<Self, SimError> {
-        let shape = match task {
-            Task::Hold {} => Shape::Hold,
-            Task::Goto { start_s, transition_s, .. } => {
-                if transition_s.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                    return Err(SettingError::new("task.transition_s", Some(*transition_s), "must be > 0").into());
-                }
-                Shape::Goto { start_s: *start_s, transition_s: *transition_s, delta: per_joint }
-            }
-            Task::Sine { frequency_hz, ramp_s, .. } => {
-                Shape::Sine { amplitude: per_joint, frequency_hz: *frequency_hz, ramp_s: ramp_s.max(0.0) }
-            }
-        };
-        Ok(Self { start, shape })
+    /// The trajectory of `task` from `start`.
+    pub fn new(task: TaskSetup<N>, start: JointVector<N>) -> Self {
+        Self { start, shape: Shape::Task(task) }
     }
 
     /// The trajectory through `samples`, starting at their first position.
@@ -157,22 +145,22 @@ impl<const N: usize> Trajectory<N> {
 
     /// The reference at time `t`.
     pub fn at(&self, t: f64) -> Reference<N> {
-        match &self.shape {
-            Shape::Hold => Reference::hold(self.start),
-            Shape::Goto { start_s, transition_s, delta } => {
+        match self.shape {
+            Shape::Task(TaskSetup::Hold) => Reference::hold(self.start),
+            Shape::Task(TaskSetup::Goto { start_s, transition_s, delta }) => {
                 // Minimum jerk: s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ on τ = (t − t0)/T ∈ [0, 1].
                 let tau = ((t - start_s) / transition_s).clamp(0.0, 1.0);
-                let inside = (0.0..1.0).contains(&tau) && t >= *start_s;
+                let inside = (0.0..1.0).contains(&tau) && t >= start_s;
                 let s = tau.powi(3) * (10.0 - 15.0 * tau + 6.0 * tau * tau);
                 let ds = if inside { 30.0 * tau * tau * (1.0 - tau).powi(2) / transition_s } else { 0.0 };
                 let dds =
                     if inside { 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / transition_s.powi(2) } else { 0.0 };
                 Reference { position: self.start + delta * s, velocity: delta * ds, acceleration: delta * dds }
             }
-            Shape::Sine { amplitude, frequency_hz, ramp_s } => {
+            Shape::Task(TaskSetup::Sine { amplitude, frequency_hz, ramp_s }) => {
                 // A(t) = A r(t) with the smooth ramp r = minimum jerk over [0, ramp_s].
                 let w = 2.0 * PI * frequency_hz;
-                let (r, dr, ddr) = if *ramp_s > 0.0 && t < *ramp_s {
+                let (r, dr, ddr) = if ramp_s > 0.0 && t < ramp_s {
                     let u = (t / ramp_s).max(0.0);
                     (
                         u.powi(3) * (10.0 - 15.0 * u + 6.0 * u * u),
@@ -192,7 +180,7 @@ impl<const N: usize> Trajectory<N> {
                     acceleration: amplitude * acceleration,
                 }
             }
-            Shape::Sampled(samples) => samples.at(t),
+            Shape::Sampled(ref samples) => samples.at(t),
         }
     }
 }

@@ -6,7 +6,7 @@ use hya_core::JointVector;
 
 use crate::config::cost::Cost;
 use crate::config::scenario::Scenario;
-use crate::error::{SettingError, SimError};
+use crate::error::SimError;
 use crate::plant::{Actuators, PlantState};
 use crate::run::rollout::{open_loop, reference_gap, scenario_plant, TorqueCommand, MUJOCO_HYA};
 
@@ -51,7 +51,7 @@ fn step_response<const N: usize>(
     robot: &crate::robot::Robot<N>,
     step_nm: f64,
 ) -> Result<StepResponse, SimError> {
-    let q0 = crate::config::settings::per_joint::<N>(
+    let q0 = crate::config::lists::per_joint::<N>(
         "initial_position_rad",
         &crate::config::settings::initial_position(scenario, N),
     )?;
@@ -64,7 +64,7 @@ fn step_response<const N: usize>(
     for j in 0..N {
         let (mut plant, max_step) = scenario_plant(&robot.model, &free, q0, hold)?;
         let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
-            return Err(SettingError::new("plant.actuator", None, "must be hydraulic for the step response").into());
+            return Err(SimError::Nothing("the step response needs hydraulic actuators"));
         };
         let mut stepped = hold;
         stepped[j] += step_nm;

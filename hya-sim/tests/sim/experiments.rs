@@ -33,7 +33,7 @@ fn the_free_plant_conserves_energy() {
     let mut plant = Plant::new(
         model.clone(),
         &hya_sim::plant::generic_dynamics,
-        (&config, &LoadConfig::default(), &hya_sim::settings::PlantLists::of(&config, &LoadConfig::default()).unwrap()),
+        &hya_sim::config::plant::PlantSetup::of(&config, &LoadConfig::default()).unwrap(),
         (q0, zero),
         &mut rng,
     )

@@ -4,11 +4,11 @@
 //! supply, and no energy created by a closed valve.
 
 use hya_core::JointVector;
+use hya_sim::config::plant::{HydraulicSetup, PlantSetup};
 use hya_sim::plant::friction::Friction;
 use hya_sim::plant::hydraulic::{HydraulicActuators, HydraulicState};
 use hya_sim::plant::Plant;
 use hya_sim::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig};
-use hya_sim::settings::{HydraulicLists, PlantLists};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 
@@ -81,7 +81,7 @@ fn plant(config: &PlantConfig, q0: f64, tau0: f64) -> Plant<1> {
     Plant::new(
         turntable(),
         &hya_sim::plant::generic_dynamics,
-        (config, &LoadConfig::default(), &PlantLists::of(config, &LoadConfig::default()).unwrap()),
+        &PlantSetup::of(config, &LoadConfig::default()).unwrap(),
         (JointVector::from([q0]), JointVector::from([tau0])),
         &mut rng,
     )
@@ -171,7 +171,7 @@ fn unpack(x: &SVector<f64, 5>) -> HydraulicState<1> {
 #[test]
 fn locked_joint_torque_step_matches_the_linearisation() {
     let config = one_joint_hydraulics();
-    let actuator = HydraulicActuators::<1>::new(&config, &HydraulicLists::of(&config).unwrap(), [(-1.5, 1.5)]).unwrap();
+    let actuator = HydraulicActuators::<1>::new(&HydraulicSetup::of(&config).unwrap(), [(-1.5, 1.5)]);
     let (q, qd) = (JointVector::from([0.0]), JointVector::zeros());
     let tau0 = 10.0;
     let rate = |x: &SVector<f64, 5>, tau_ref: f64| {

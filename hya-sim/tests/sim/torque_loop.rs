@@ -5,10 +5,10 @@
 //! derived velocity; the dead band; and the loop's settings refused with their key.
 
 use hya_core::JointVector;
+use hya_sim::config::plant::{HydraulicSetup, PlantSetup};
 use hya_sim::plant::hydraulic::{HydraulicActuators, HydraulicState};
 use hya_sim::plant::{Actuators, Plant};
 use hya_sim::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig};
-use hya_sim::settings::{HydraulicLists, PlantLists};
 use rand::SeedableRng;
 
 /// The load of a locked joint, kg·m².
@@ -31,7 +31,7 @@ fn ideal_sensing(rate: f64) -> HydraulicConfig {
         torque_loop_rate_hz: rate,
         torque_loop_pressure_noise_pa: 0.0,
         torque_loop_pressure_offset_pa: 0.0,
-        torque_loop_encoder_counts_per_rev: hya_sim::settings::MAX_ENCODER_COUNTS,
+        torque_loop_encoder_counts_per_rev: hya_sim::config::plant::MAX_ENCODER_COUNTS,
         torque_loop_velocity_filter_hz: 0.0,
         ..super::plant::one_joint_hydraulics()
     }
@@ -50,7 +50,7 @@ fn plant(hydraulic: HydraulicConfig, inertia: f64) -> Plant<1> {
     Plant::new(
         super::plant::turntable_of(inertia),
         &hya_sim::plant::generic_dynamics,
-        (&config, &loads, &PlantLists::of(&config, &loads).unwrap()),
+        &PlantSetup::of(&config, &loads).unwrap(),
         (JointVector::zeros(), JointVector::zeros()),
         &mut rng,
     )
@@ -84,7 +84,7 @@ fn step_response(plant: &mut Plant<1>, seconds: f64) -> Vec<f64> {
 /// The same step on a locked joint under the continuous loop
 /// ([`HydraulicActuators::derivative`]), integrated by RK4 at `H`.
 fn continuous_step_response(config: &HydraulicConfig, seconds: f64) -> Vec<f64> {
-    let h = HydraulicActuators::<1>::new(config, &HydraulicLists::of(config).unwrap(), [(-1.5, 1.5)]).unwrap();
+    let h = HydraulicActuators::<1>::new(&HydraulicSetup::of(config).unwrap(), [(-1.5, 1.5)]);
     let (q, qd) = (JointVector::zeros(), JointVector::zeros());
     let rate = |s: &HydraulicState<1>| h.derivative(&JointVector::from([STEP]), &q, &qd, s);
     let mut s = h.holding(&JointVector::zeros());
@@ -329,11 +329,20 @@ fn the_loop_settings_are_refused_with_their_key() {
         ("valve_dead_band", |h| h.valve_dead_band = 1.5),
         ("valve_dead_band", |h| h.valve_dead_band = -0.1),
         ("valve_dead_band", |h| h.valve_dead_band = f64::NAN),
+        // The actuators' scalars, checked with the lists before a plant is built.
+        ("supply_pressure_pa", |h| h.supply_pressure_pa = 0.0),
+        ("tank_pressure_pa", |h| h.tank_pressure_pa = h.supply_pressure_pa),
+        ("tank_pressure_pa", |h| h.tank_pressure_pa = -1.0),
+        ("bulk_modulus_pa", |h| h.bulk_modulus_pa = f64::NAN),
+        ("valve_rated_drop_pa", |h| h.valve_rated_drop_pa = -1.0),
+        ("valve_damping_ratio", |h| h.valve_damping_ratio = 0.0),
+        ("torque_integral_ratio", |h| h.torque_integral_ratio = 1.5),
+        ("velocity_compensation", |h| h.velocity_compensation = 2.5),
     ];
     for (key, change) in cases {
         let mut config = ideal_sensing(1e3);
         change(&mut config);
-        let error = HydraulicLists::<1>::of(&config).unwrap_err().to_string();
+        let error = HydraulicSetup::<1>::of(&config).unwrap_err().to_string();
         assert!(error.contains(&format!("`plant.hydraulic.{key}`")), "the refusal does not name {key}: {error}");
         // And a scenario's per-joint settings, checked before a run, refuse it too.
         let mut scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
@@ -341,7 +350,7 @@ fn the_loop_settings_are_refused_with_their_key() {
         let error = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap_err().to_string();
         assert!(error.contains(key), "the scenario's refusal does not name {key}: {error}");
     }
-    assert!(HydraulicLists::<1>::of(&ideal_sensing(1e6)).is_ok());
+    assert!(HydraulicSetup::<1>::of(&ideal_sensing(1e6)).is_ok());
 }
 
 #[test]

@@ -123,7 +123,7 @@ pub struct LoadSetup<const N: usize> {
     /// The sinusoidal load.
     pub sinusoid: Option<SinusoidLoad<N>>,
     /// The weight dropped on a link (its frame checked against the arm by
-    /// [`crate::config::settings::Setup::of`]).
+    /// [`crate::config::settings::JointSettings::for_arm`]).
     pub weight_drop: Option<WeightDrop>,
 }
 

@@ -1,12 +1,14 @@
 //! The plant of a scenario, checked once for an arm of `N` joints: the friction law and the
 //! actuators as data-carrying enums, so that the plant receives the settings of its own kind and
 //! nothing else ([`PlantSetup`]). Every rule the plant relies on (`F_s ≥ F_c > 0`, the tank below
-//! the supply, an integral ratio in `[0, 1]`, …) is checked here, with the key named; building
-//! the plant from a setup cannot fail on a setting.
+//! the supply, an integral ratio in `[0, 1]`, …) is checked here, with the key named, and the
+//! weight drop's frame against the arm ([`PlantSetup::check_against`]); building the plant from a
+//! setup so checked cannot fail on a setting.
 
+use hya_core::model::TreeModel;
 use hya_core::JointVector;
 
-use crate::config::lists::{each, per_joint};
+use crate::config::lists::{per_joint, per_joint_where, scalar};
 use crate::config::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig, WeightDrop};
 use crate::error::{SettingError, SimError};
 
@@ -123,7 +125,7 @@ pub struct LoadSetup<const N: usize> {
     /// The sinusoidal load.
     pub sinusoid: Option<SinusoidLoad<N>>,
     /// The weight dropped on a link (its frame checked against the arm by
-    /// [`crate::config::settings::JointSettings::for_arm`]).
+    /// [`PlantSetup::check_against`]).
     pub weight_drop: Option<WeightDrop>,
 }
 
@@ -146,24 +148,25 @@ pub const TORQUE_LOOP_RATE_HZ: (f64, f64) = (1.0, 1e6);
 /// the angle's own rounding near 1 rad; more would not be finer).
 pub const MAX_ENCODER_COUNTS: u64 = 1 << 53;
 
-/// `v` if it is finite and `ok`, else the error naming `key` and `requirement`.
-fn scalar(key: &str, v: f64, ok: impl Fn(f64) -> bool, requirement: impl Into<String>) -> Result<f64, SettingError> {
-    if v.is_finite() && ok(v) {
-        Ok(v)
-    } else {
-        Err(SettingError::new(key, Some(v), requirement))
-    }
-}
-
 impl<const N: usize> HydraulicSetup<N> {
-    /// Checks and converts the hydraulic settings `h`.
+    /// Checks and converts the hydraulic settings `h`: the per-joint lists first (so that a
+    /// check of every list's length sees them all), then the scalars.
     pub fn of(h: &HydraulicConfig) -> Result<Self, SimError> {
         let key = |name: &str| format!("plant.hydraulic.{name}");
         let positive = |name: &str, v: f64| scalar(&key(name), v, |v| v > 0.0, "must be finite and > 0");
         let list = |name: &str, values: &[f64], ok: fn(f64) -> bool, requirement: &str| {
-            let key = key(name);
-            each(&key, per_joint::<N>(&key, values)?, ok, requirement)
+            per_joint_where::<N>(&key(name), values, ok, requirement)
         };
+        let displacement = list("displacement_m3_rad", &h.displacement_m3_rad, |v| v > 0.0, "must be > 0")?;
+        let area_ratio = list("area_ratio", &h.area_ratio, |v| v > 0.0, "must be > 0")?;
+        let dead_volume = list("dead_volume_m3", &h.dead_volume_m3, |v| v > 0.0, "must be > 0")?;
+        let rated_flow = list("valve_rated_flow_m3_s", &h.valve_rated_flow_m3_s, |v| v > 0.0, "must be > 0")?;
+        let valve_frequency_hz =
+            list("valve_natural_frequency_hz", &h.valve_natural_frequency_hz, |v| v > 0.0, "must be > 0")?;
+        let torque_bandwidth_hz = list("torque_bandwidth_hz", &h.torque_bandwidth_hz, |v| v > 0.0, "must be > 0")?;
+        let null_bias =
+            list("valve_null_bias", &h.valve_null_bias, |b| b.abs() <= 0.2, "is beyond ±0.2 of full opening")?;
+        let leakage = list("leakage_m3_s_pa", &h.leakage_m3_s_pa, |l| l >= 0.0, "must be ≥ 0")?;
         let supply = positive("supply_pressure_pa", h.supply_pressure_pa)?;
         Ok(Self {
             supply_pressure: supply,
@@ -188,24 +191,14 @@ impl<const N: usize> HydraulicSetup<N> {
                 |k| (0.0..=2.0).contains(&k),
                 "must be in [0, 2] (1 cancels the piston flow)",
             )?,
-            displacement: list("displacement_m3_rad", &h.displacement_m3_rad, |v| v > 0.0, "must be > 0")?,
-            area_ratio: list("area_ratio", &h.area_ratio, |v| v > 0.0, "must be > 0")?,
-            dead_volume: list("dead_volume_m3", &h.dead_volume_m3, |v| v > 0.0, "must be > 0")?,
-            rated_flow: list("valve_rated_flow_m3_s", &h.valve_rated_flow_m3_s, |v| v > 0.0, "must be > 0")?,
-            valve_frequency_hz: list(
-                "valve_natural_frequency_hz",
-                &h.valve_natural_frequency_hz,
-                |v| v > 0.0,
-                "must be > 0",
-            )?,
-            torque_bandwidth_hz: list("torque_bandwidth_hz", &h.torque_bandwidth_hz, |v| v > 0.0, "must be > 0")?,
-            null_bias: list(
-                "valve_null_bias",
-                &h.valve_null_bias,
-                |b| b.abs() <= 0.2,
-                "is beyond ±0.2 of full opening",
-            )?,
-            leakage: list("leakage_m3_s_pa", &h.leakage_m3_s_pa, |l| l >= 0.0, "must be ≥ 0")?,
+            displacement,
+            area_ratio,
+            dead_volume,
+            rated_flow,
+            valve_frequency_hz,
+            torque_bandwidth_hz,
+            null_bias,
+            leakage,
             torque_loop_rate_hz: scalar(
                 &key("torque_loop_rate_hz"),
                 h.torque_loop_rate_hz,
@@ -267,12 +260,7 @@ impl<const N: usize> FrictionLevels<N> {
         Ok(Self {
             coulomb,
             breakaway,
-            viscous: each(
-                "plant.viscous_nm_s",
-                per_joint("plant.viscous_nm_s", &p.viscous_nm_s)?,
-                |v| v >= 0.0,
-                "must be ≥ 0",
-            )?,
+            viscous: per_joint_where("plant.viscous_nm_s", &p.viscous_nm_s, |v| v >= 0.0, "must be ≥ 0")?,
             stribeck_velocity: scalar(
                 "plant.stribeck_velocity_rad_s",
                 p.stribeck_velocity_rad_s,
@@ -301,28 +289,20 @@ impl<const N: usize> FrictionSetup<N> {
             },
             FrictionKind::Lugre => Self::LuGre {
                 levels: FrictionLevels::of(p)?,
-                stiffness: each(
+                stiffness: per_joint_where(
                     "plant.bristle_stiffness_nm_rad",
-                    per_joint("plant.bristle_stiffness_nm_rad", &p.bristle_stiffness_nm_rad)?,
+                    &p.bristle_stiffness_nm_rad,
                     |s| s > 0.0,
                     "must be > 0",
                 )?,
-                damping: each(
+                damping: per_joint_where(
                     "plant.bristle_damping_nm_s_rad",
-                    per_joint("plant.bristle_damping_nm_s_rad", &p.bristle_damping_nm_s_rad)?,
+                    &p.bristle_damping_nm_s_rad,
                     |d| d >= 0.0,
                     "must be ≥ 0",
                 )?,
             },
         })
-    }
-
-    /// The levels, unless friction is off.
-    pub fn levels(&self) -> Option<&FrictionLevels<N>> {
-        match self {
-            Self::Off => None,
-            Self::Smooth { levels, .. } | Self::LuGre { levels, .. } => Some(levels),
-        }
     }
 }
 
@@ -331,9 +311,9 @@ impl<const N: usize> ActuatorSetup<N> {
     pub fn of(p: &PlantConfig) -> Result<Self, SimError> {
         Ok(match p.actuator {
             ActuatorKind::Ideal => Self::Ideal,
-            ActuatorKind::Lag => Self::Lag(each(
+            ActuatorKind::Lag => Self::Lag(per_joint_where(
                 "plant.actuator_time_constant_s",
-                per_joint("plant.actuator_time_constant_s", &p.actuator_time_constant_s)?,
+                &p.actuator_time_constant_s,
                 |t| t > 0.0,
                 "must be > 0",
             )?),
@@ -376,11 +356,46 @@ impl<const N: usize> PlantSetup<N> {
         }
     }
 
-    /// The hydraulic actuators' settings, if the actuators are hydraulic.
-    pub fn hydraulic(&self) -> Option<&HydraulicSetup<N>> {
-        match &self.actuators {
-            ActuatorSetup::Hydraulic(h) => Some(h),
-            _ => None,
+    /// `Ok` if the settings that name a link name one of `model`'s: the weight drop's frame.
+    pub fn check_against(&self, model: &TreeModel) -> Result<(), SimError> {
+        match &self.loads.weight_drop {
+            Some(drop) => model
+                .frame(&drop.frame)
+                .map(|_| ())
+                .map_err(|e| SettingError::new("loads.weight_drop.frame", None, e.to_string()).into()),
+            None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_friction_laws_settings_are_refused_with_their_key() {
+        type Change = fn(&mut PlantConfig);
+        let cases: &[(&str, Change)] = &[
+            ("plant.coulomb_position_variation", |p| p.coulomb_position_variation = 1.0),
+            ("plant.coulomb_position_variation", |p| p.coulomb_position_variation = -0.1),
+            ("plant.stribeck_velocity_rad_s", |p| p.stribeck_velocity_rad_s = 0.0),
+            ("plant.stribeck_velocity_rad_s", |p| p.stribeck_velocity_rad_s = f64::NAN),
+            ("plant.static_nm[1]", |p| p.static_nm[1] = 0.5 * p.coulomb_nm[1]),
+            ("plant.bristle_stiffness_nm_rad[0]", |p| p.bristle_stiffness_nm_rad[0] = 0.0),
+            ("plant.smoothing_rad_s", |p| {
+                p.friction = FrictionKind::Smooth;
+                p.smoothing_rad_s = -1.0
+            }),
+        ];
+        for (key, change) in cases {
+            let mut plant = PlantConfig::default();
+            change(&mut plant);
+            let error = FrictionSetup::<6>::of(&plant).unwrap_err().to_string();
+            assert!(error.contains(&format!("`{key}`")), "the refusal does not name {key}: {error}");
+        }
+        // Friction off reads none of them.
+        let plant =
+            PlantConfig { friction: FrictionKind::Off, coulomb_position_variation: 5.0, ..PlantConfig::default() };
+        assert_eq!(FrictionSetup::<6>::of(&plant).unwrap(), FrictionSetup::Off);
     }
 }

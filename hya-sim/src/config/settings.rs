@@ -12,9 +12,9 @@
 use hya_core::model::TreeModel;
 use hya_core::JointVector;
 
-use crate::config::lists::per_joint;
+use crate::config::lists::{per_joint, scalar};
 use crate::config::plant::PlantSetup;
-use crate::config::scenario::{Scenario, Task};
+use crate::config::scenario::{Method, Scenario, Task};
 use crate::error::{SettingError, SimError};
 use crate::robot::{with_robot, ForRobot, Robot};
 
@@ -56,21 +56,17 @@ pub enum TaskSetup<const N: usize> {
 impl<const N: usize> TaskSetup<N> {
     /// Checks and converts `task`.
     pub fn of(task: &Task) -> Result<Self, SimError> {
-        let rule = |key: &str, v: f64, ok: bool, requirement: &str| match v.is_finite() && ok {
-            true => Ok(v),
-            false => Err(SettingError::new(key, Some(v), requirement)),
-        };
         Ok(match task {
             Task::Hold {} => Self::Hold,
             Task::Goto { start_s, transition_s, delta_rad } => Self::Goto {
-                start_s: rule("task.start_s", *start_s, true, "must be finite")?,
-                transition_s: rule("task.transition_s", *transition_s, *transition_s > 0.0, "must be > 0")?,
+                start_s: scalar("task.start_s", *start_s, |_| true, "must be finite")?,
+                transition_s: scalar("task.transition_s", *transition_s, |t| t > 0.0, "must be > 0")?,
                 delta: per_joint("task.delta_rad", delta_rad)?,
             },
             Task::Sine { amplitude_rad, frequency_hz, ramp_s } => Self::Sine {
                 amplitude: per_joint("task.amplitude_rad", amplitude_rad)?,
-                frequency_hz: rule("task.frequency_hz", *frequency_hz, *frequency_hz > 0.0, "must be > 0")?,
-                ramp_s: rule("task.ramp_s", *ramp_s, *ramp_s >= 0.0, "must be ≥ 0")?,
+                frequency_hz: scalar("task.frequency_hz", *frequency_hz, |f| f > 0.0, "must be > 0")?,
+                ramp_s: scalar("task.ramp_s", *ramp_s, |r| r >= 0.0, "must be ≥ 0")?,
             },
         })
     }
@@ -96,15 +92,21 @@ pub struct JointSettings<const N: usize> {
 }
 
 impl<const N: usize> JointSettings<N> {
-    /// Checks and converts every per-joint list of `scenario` that acts.
+    /// Checks and converts every per-joint list of `scenario` that acts (the PID's integral
+    /// clamp where its methods name pid).
     pub fn of(scenario: &Scenario) -> Result<Self, SimError> {
+        Self::reading(scenario, scenario.methods.contains(&Method::Pid))
+    }
+
+    /// [`Self::of`], reading the PID's integral clamp where `pid` says.
+    fn reading(scenario: &Scenario, pid: bool) -> Result<Self, SimError> {
         let c = &scenario.controller;
         Ok(Self {
             initial_position: per_joint("initial_position_rad", &initial_position(scenario, N))?,
             task: TaskSetup::of(&scenario.task)?,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
-            integral_limit: match scenario.methods.contains(&crate::config::scenario::Method::Pid) {
+            integral_limit: match pid {
                 true => Some(per_joint("controller.integral_limit_nm", &c.integral_limit_nm)?),
                 false => None,
             },
@@ -115,8 +117,8 @@ impl<const N: usize> JointSettings<N> {
 }
 
 impl<const N: usize> JointSettings<N> {
-    /// The PID's integral clamp, N·m: read where the scenario runs `pid` (an error naming the
-    /// list where these settings were checked for a scenario that does not).
+    /// The PID's integral clamp, N·m: read where the scenario runs `pid` or the settings are
+    /// [`Self::for_run`]'s of a pid run (else an error naming the list; a run of pid has it).
     pub fn pid_integral_limit(&self) -> Result<JointVector<N>, SimError> {
         self.integral_limit.ok_or_else(|| {
             SettingError::new("controller.integral_limit_nm", None, "not read: the scenario's methods do not name pid")
@@ -125,22 +127,30 @@ impl<const N: usize> JointSettings<N> {
     }
 
     /// [`Self::of`], and the settings that name a link checked against the arm's `model`: the
-    /// weight drop's frame.
+    /// weight drop's frame ([`PlantSetup::check_against`]).
     pub fn for_arm(scenario: &Scenario, model: &TreeModel) -> Result<Self, SimError> {
         let joints = Self::of(scenario)?;
-        if let Some(drop) = &joints.plant.loads.weight_drop {
-            model.frame(&drop.frame).map_err(|e| SettingError::new("loads.weight_drop.frame", None, e.to_string()))?;
-        }
+        joints.plant.check_against(model)?;
+        Ok(joints)
+    }
+
+    /// [`Self::for_arm`] for one run of `method`: the PID's integral clamp read for a run of pid
+    /// whatever the scenario's methods.
+    pub fn for_run(scenario: &Scenario, method: Method, model: &TreeModel) -> Result<Self, SimError> {
+        let joints = Self::reading(scenario, method == Method::Pid || scenario.methods.contains(&Method::Pid))?;
+        joints.plant.check_against(model)?;
         Ok(joints)
     }
 }
 
 /// The scenario checked against its robot: the per-joint lists, which need the joint count.
 impl Scenario {
-    /// Checks what [`Scenario::check`] cannot without the robot: that it loads, and that every
+    /// Checks what [`Scenario::check`] cannot without the robot: that it loads, that every
     /// per-joint list that acts fits its joints, naming all lists that do not in one error
-    /// ([`SimError::ListLengths`]) rather than one per run. For a command to call before it
-    /// prints its cost and starts simulating.
+    /// ([`SimError::ListLengths`]) rather than one per run, and then everything
+    /// [`JointSettings::for_arm`] checks (each list's values, the task, the plant's settings, the
+    /// weight drop's frame). For a command to call before it prints its cost and starts
+    /// simulating.
     pub fn check_for_robot(&self) -> Result<(), SimError> {
         struct Lists<'a>(&'a Scenario);
         impl ForRobot for Lists<'_> {
@@ -207,13 +217,19 @@ mod tests {
         scenario.plant.bristle_damping_nm_s_rad[2] = 1.0;
         scenario.plant.actuator = crate::config::scenario::ActuatorKind::Lag;
         scenario.plant.hydraulic.area_ratio = vec![];
-        assert!(JointSettings::<6>::of(&scenario).unwrap().plant.hydraulic().is_none());
+        let plant = JointSettings::<6>::of(&scenario).unwrap().plant;
+        assert!(matches!(plant.actuators, crate::config::plant::ActuatorSetup::Lag(_)));
         // The integral clamp is read only for a scenario that runs the PID.
         scenario.controller.integral_limit_nm = vec![];
         assert!(JointSettings::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
-        scenario.methods.retain(|m| *m != crate::config::scenario::Method::Pid);
+        scenario.methods.retain(|m| *m != Method::Pid);
         let joints = JointSettings::<6>::of(&scenario).unwrap();
         assert!(joints.pid_integral_limit().unwrap_err().to_string().contains("controller.integral_limit_nm"));
+        // A run of pid reads it whatever the scenario's methods, and refuses it there.
+        let model = crate::robot::robot_model(&scenario.robot).unwrap();
+        let error = JointSettings::<6>::for_run(&scenario, Method::Pid, &model).unwrap_err().to_string();
+        assert!(error.contains("controller.integral_limit_nm"), "{error}");
+        assert!(JointSettings::<6>::for_run(&scenario, Method::Lu, &model).is_ok());
     }
 
     #[test]

@@ -175,7 +175,7 @@ pub fn closed_loop<const N: usize>(
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<ClosedLoop<N>, SimError> {
-    let joints = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let joints = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
     let trajectory = Trajectory::new(joints.task, joints.initial_position);
     run_loop((scenario, &joints), method, robot, (&trajectory, recording), |_, _| {})
 }
@@ -197,7 +197,7 @@ pub fn closed_loop_on<const N: usize>(
     (trajectory, recording): (&Trajectory<N>, Recording),
     log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let joints = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let joints = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
     run_loop((scenario, &joints), method, robot, (trajectory, recording), log)
 }
 

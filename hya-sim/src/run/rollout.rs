@@ -31,6 +31,7 @@ pub fn scenario_plant<const N: usize>(
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
     let true_model = perturbed(model, scenario.plant.parameter_spread, &mut rng);
     let setup = PlantSetup::of(&scenario.plant, &scenario.loads)?;
+    setup.check_against(model)?;
     let plant = Plant::new(true_model, &generic_dynamics::<N>, &setup, (q0, tau0), &mut rng)?;
     Ok((plant, scenario.controller.dt_s / scenario.plant.substeps() as f64))
 }

@@ -54,6 +54,33 @@ pub fn effective_inertia(inertia: f64, viscous: f64, lag_s: f64) -> f64 {
     inertia + viscous * lag_s
 }
 
+/// The residual of cancelling viscous friction through an estimate `d̂ = H(s) d` at one frequency,
+/// exactly: an inertia the joint gains and a damping it keeps.
+///
+/// ```text
+/// d − d̂ = −F_v (1 − H(s)) s q ≡ −(m_a s² + c_a s) q   at s = jω
+///   ⇒   c_a + jω m_a = F_v (1 − H(jω)),   m_a = F_v Im(1 − H)/ω,   c_a = F_v Re(1 − H)
+/// ```
+///
+/// so the joint moves as `(J + m_a) q̈ + c_a q̇ = u` at that frequency. As `ω → 0`,
+/// `1 − H ≈ τ_d jω`: `m_a → F_v τ_d` ([`effective_inertia`]) and `c_a → 0`; as `ω → ∞`, `H → 0`:
+/// nothing is cancelled, `m_a → 0` and `c_a → F_v`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViscousResidual {
+    /// `m_a`, kg·m².
+    pub added_inertia: f64,
+    /// `c_a`, N·m·s/rad.
+    pub kept_damping: f64,
+}
+
+impl ViscousResidual {
+    /// The residual of `viscous` (`F_v`) cancelled through `design` at `omega` rad/s (> 0).
+    pub fn at(design: &ObserverDesign, viscous: f64, omega: f64) -> Self {
+        let rest = Complex::from(1.0) - design.response(omega);
+        Self { added_inertia: viscous * rest.im / omega, kept_damping: viscous * rest.re }
+    }
+}
+
 /// The velocity the PD (and chen's and the momentum observer) reads, `v = V(s) q_m`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum VelocityModel {

@@ -11,7 +11,9 @@ pub mod joint_loop;
 pub mod phasors;
 
 pub use designs::{equal_bandwidth_table, paper_delay, EqualBandwidthRow, Matching, ObserverDesign};
-pub use joint_loop::{effective_inertia, ActuatorModel, Compensation, JointLoop, Margins, VelocityModel};
+pub use joint_loop::{
+    effective_inertia, ActuatorModel, Compensation, JointLoop, Margins, VelocityModel, ViscousResidual,
+};
 pub use phasors::{jw, phasor, PhasorSum};
 
 #[cfg(test)]
@@ -59,5 +61,21 @@ mod tests {
         let expected = effective_inertia(joint.inertia, joint.viscous, joint.cancellation_lag_s().unwrap());
         assert!(expected > joint.inertia);
         assert!((second_order.re - expected).abs() < 1e-3 * expected, "{second_order} against {expected}");
+    }
+
+    #[test]
+    fn the_exact_residual_has_the_lagged_asymptote_and_keeps_the_damping_late() {
+        let design = ObserverDesign::of(Method::Lu, 50.0).unwrap();
+        let slow = ViscousResidual::at(&design, 2.0, 1e-4);
+        assert!((slow.added_inertia - effective_inertia(0.0, 2.0, design.low_frequency_delay())).abs() < 1e-6);
+        assert!(slow.kept_damping.abs() < 1e-6, "{slow:?}");
+        let fast = ViscousResidual::at(&design, 2.0, 1e5);
+        assert!(fast.added_inertia.abs() < 1e-6 && (fast.kept_damping - 2.0).abs() < 1e-6, "{fast:?}");
+        // Between, the residual's phasor is `F_v (1 − H) jω` itself.
+        let w = 80.0;
+        let at = ViscousResidual::at(&design, 2.0, w);
+        let phasor = (Complex::from(1.0) - design.response(w)) * jw(w) * 2.0;
+        let rebuilt = jw(w) * jw(w) * at.added_inertia + jw(w) * at.kept_damping;
+        assert!((phasor - rebuilt).norm() < 1e-12 * phasor.norm());
     }
 }

@@ -5,6 +5,7 @@
 
 use std::fmt::Write as _;
 
+use crate::analysis::seeds::PairedRatio;
 use crate::analysis::sweep::{dominates, front_points, pareto_optimal, scenarios, FrontPoint, Measure, Plan, Sweep};
 use crate::config::scenario::{ChenGain, Method};
 use crate::error::SimError;
@@ -154,10 +155,73 @@ fn per_seed(sweep: &Sweep, scenario: &str, method: &str, bandwidth: f64, measure
     values
 }
 
+/// `method` at `bandwidth` over lu at `omega` on `scenario`, paired by seed; `None` where no seed
+/// ran both.
+fn ratio_to_lu(
+    sweep: &Sweep,
+    scenario: &str,
+    (method, bandwidth): (&str, f64),
+    omega: f64,
+    measure: Measure,
+) -> Option<(PairedRatio, usize)> {
+    let (theirs, lus) =
+        (per_seed(sweep, scenario, method, bandwidth, measure), per_seed(sweep, scenario, "lu", omega, measure));
+    let (a, b): (Vec<f64>, Vec<f64>) =
+        theirs.iter().filter_map(|(seed, v)| lus.iter().find(|(s, _)| s == seed).map(|(_, l)| (*v, *l))).unzip();
+    (!a.is_empty()).then(|| (PairedRatio::of(&a, &b), a.len()))
+}
+
+/// The share of a log-ratio gap `ln r_poles` that matching the delay closes:
+/// `1 − ln r_delay / ln r_poles` (1: closed; above 1: reversed; below 0: widened).
+fn share_closed(at_poles: f64, at_delay: f64) -> f64 {
+    1.0 - at_delay.ln() / at_poles.ln()
+}
+
+/// What matching the delay does to the tracking gaps that favoured a first-order observer at equal
+/// poles, from `(at equal poles, at equal delay)` ratios to lu: how many it closes or reverses,
+/// narrows (and by how much on a log scale) or widens.
+fn gap_text(pairs: &[(f64, f64)]) -> String {
+    let shares: Vec<f64> = pairs.iter().filter(|(poles, _)| *poles < 1.0).map(|&(p, d)| share_closed(p, d)).collect();
+    if shares.is_empty() {
+        return String::new();
+    }
+    let closed = shares.iter().filter(|&&x| x >= 1.0).count();
+    let narrowed: Vec<f64> = shares.iter().copied().filter(|&x| (0.0..1.0).contains(&x)).collect();
+    let widened = shares.len() - closed - narrowed.len();
+    let mut parts = Vec::new();
+    if closed > 0 {
+        parts.push(format!("closes or reverses the gap in {closed}"));
+    }
+    if let (Some(low), Some(high)) =
+        (narrowed.iter().copied().reduce(f64::min), narrowed.iter().copied().reduce(f64::max))
+    {
+        parts.push(format!(
+            "narrows the gap in {} (closing {} of it on a log scale)",
+            narrowed.len(),
+            span(format!("{:.0} %", 100.0 * low), format!("{:.0} %", 100.0 * high))
+        ));
+    }
+    if widened > 0 {
+        parts.push(format!("widens the gap in {widened}"));
+    }
+    let reading = if closed == shares.len() {
+        "the lag accounts for the whole gap there"
+    } else {
+        "the lag does not account for the whole gap (on the means; where the lines above give intervals, they say whether what is left exceeds the seeds' spread)"
+    };
+    format!(
+        "\nOf the {} pairs whose tracking error was below lu's at equal poles, matching the delay {}: {reading}.\n",
+        shares.len(),
+        parts.join(", ")
+    )
+}
+
 /// The first-order observers (chen, momentum) against lu at about equal low-frequency delay, from
 /// the sweep's own points: lu at the scenarios' observer bandwidth ω (delay `2.6/ω`) against each
 /// at the swept `β` whose delay `1/β` is nearest, tracking and estimate error as paired per-seed
-/// ratios. The words (lower, higher, indistinguishable) come from the ratios' intervals.
+/// ratios, beside the same ratio at equal poles (`β = ω`). The words (lower, higher,
+/// indistinguishable) come from the ratios' intervals; how much of the tracking gap the delay
+/// explains from the two ratios ([`gap_text`]).
 fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
     let Some(omega) = plan.scenarios.first().map(|s| s.controller.observer_bandwidth_rad_s) else {
         return String::new();
@@ -172,21 +236,18 @@ fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
         return String::new();
     };
     let mut lines = Vec::new();
+    let mut tracking_gaps = Vec::new();
     for scenario in scenarios(sweep) {
         for method in ["chen", "momentum"] {
             let mut parts = Vec::new();
             for measure in Measure::ALL {
-                let (theirs, lus) =
-                    (per_seed(sweep, scenario, method, beta, measure), per_seed(sweep, scenario, "lu", omega, measure));
-                let paired: Vec<(f64, f64)> = theirs
-                    .iter()
-                    .filter_map(|(seed, v)| lus.iter().find(|(s, _)| s == seed).map(|(_, l)| (*v, *l)))
-                    .collect();
-                if paired.is_empty() {
+                let Some((ratio, seeds)) = ratio_to_lu(sweep, scenario, (method, beta), omega, measure) else {
                     continue;
+                };
+                let at_poles = ratio_to_lu(sweep, scenario, (method, omega), omega, measure);
+                if let (Measure::Tracking, Some((poles, _))) = (measure, at_poles) {
+                    tracking_gaps.push((poles.ratio, ratio.ratio));
                 }
-                let (a, b): (Vec<f64>, Vec<f64>) = paired.into_iter().unzip();
-                let ratio = crate::analysis::seeds::PairedRatio::of(&a, &b);
                 let word = if ratio.below_one() {
                     "lower than lu's"
                 } else if ratio.above_one() {
@@ -194,12 +255,12 @@ fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
                 } else {
                     "indistinguishable from lu's at these seeds"
                 };
-                parts.push(match a.len() {
-                    1 => format!("{} {:.2}× (one seed: no interval)", measure.label(), ratio.ratio),
-                    _ => {
-                        format!("{} {:.2}× [{:.2}, {:.2}], {word}", measure.label(), ratio.ratio, ratio.low, ratio.high)
-                    }
-                });
+                let at_delay = match seeds {
+                    1 => format!("{:.2}× (one seed: no interval)", ratio.ratio),
+                    _ => format!("{:.2}× [{:.2}, {:.2}], {word}", ratio.ratio, ratio.low, ratio.high),
+                };
+                let poles = at_poles.map_or(String::new(), |(p, _)| format!(", at equal poles {:.2}×", p.ratio));
+                parts.push(format!("{} {at_delay}{poles}", measure.label()));
             }
             if !parts.is_empty() {
                 lines.push(format!("- `{scenario}`, {method} at β = {} rad/s: {}", Short(beta), parts.join("; ")));
@@ -213,10 +274,10 @@ fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
         "
 ### At about equal delay
 
-The runs above compare the observers at equal pole magnitude, where a first-order observer lags `1/ω` ({} ms at ω = {} rad/s) and lu's filter `1/ω1 + 2ζ/ω2` ({} ms). The sweep also holds the first-order observers at β = {} rad/s, whose delay `1/β` ({} ms) is the swept value nearest lu's at ω = {}. Their errors over lu's there, paired by seed (the geometric mean over seeds with its 95 % interval on the logarithms):
+The runs above compare the observers at equal pole magnitude, where a first-order observer lags `1/ω` ({} ms at ω = {} rad/s) and lu's filter `1/ω1 + 2ζ/ω2` ({} ms). The sweep also holds the first-order observers at β = {} rad/s, whose delay `1/β` ({} ms) is the swept value nearest lu's at ω = {}. Their errors over lu's there, paired by seed (the geometric mean over seeds with its 95 % interval on the logarithms), each followed by the same ratio at equal poles (β = ω):
 
 {}
-
+{}
 The claims that name chen are judged at every matching, equal −3 dB too, in \"Chen's observer by gain design and matching\".
 ",
         Short(1e3 / omega),
@@ -225,7 +286,8 @@ The claims that name chen are judged at every matching, equal −3 dB too, in \"
         Short(beta),
         Short(1e3 / beta),
         Short(omega),
-        lines.join("\n")
+        lines.join("\n"),
+        gap_text(&tracking_gaps)
     )
 }
 
@@ -304,13 +366,38 @@ fn off_front_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String {
         if let Some(best) = others.into_iter().max_by_key(|m| count(m)) {
             let _ = write!(
                 text,
-                " No point of {method} is on the front; {best}'s points dominate {} of its {}.",
+                " No point of {method} is on the front; {best}'s points dominate {} of its {}{}.",
                 count(best),
-                own.len()
+                own.len(),
+                one_seed_margin(points, &own, best)
             );
         }
     }
     text
+}
+
+/// With one seed (no interval), how narrowly `by`'s points dominate `own`'s: per dominated point
+/// the widest relative gap of its best dominator (`(b − a)/b` on the mean where it is lower),
+/// and the least of those; empty with intervals, which already judge the gaps.
+fn one_seed_margin(points: &[FrontPoint], own: &[&FrontPoint], by: &str) -> String {
+    if own.iter().any(|p| p.noise.1.is_finite() || p.error.1.is_finite()) {
+        return String::new();
+    }
+    let gap = |q: &FrontPoint, p: &FrontPoint| {
+        ((p.noise.0 - q.noise.0) / p.noise.0.abs()).max((p.error.0 - q.error.0) / p.error.0.abs())
+    };
+    let least = own
+        .iter()
+        .filter_map(|p| points.iter().filter(|q| q.method == by && dominates(q, p)).map(|q| gap(q, p)).reduce(f64::max))
+        .reduce(f64::min);
+    match least {
+        Some(least) => format!(
+            " on the means alone, by as little as {:.1} % on the measure where they are lower (one seed: no interval \
+             to judge the gaps by)",
+            100.0 * least
+        ),
+        None => String::new(),
+    }
 }
 
 /// Where pid's `K_I` meets its cap, per scenario and swept ω, at the start pose.
@@ -369,5 +456,38 @@ mod tests {
         let apart = vec![point("lu", 20.0, (1.0, 0.01), (2.0, 0.01)), point("chen", 50.0, (3.0, 0.1), (1.0, 0.1))];
         let front: Vec<&FrontPoint> = pareto_optimal(&apart).into_iter().map(|i| &apart[i]).collect();
         assert!(within_intervals_text(&apart, &front).is_empty());
+    }
+
+    #[test]
+    fn one_seed_domination_names_its_narrowest_margin() {
+        let one = f64::INFINITY;
+        let points = vec![
+            point("chen", 50.0, (1.00, one), (0.99, one)),
+            point("chen", 100.0, (2.0, one), (0.5, one)),
+            point("momentum", 50.0, (1.00, one), (1.00, one)),
+            point("momentum", 100.0, (2.2, one), (0.5, one)),
+        ];
+        let own: Vec<&FrontPoint> = points.iter().filter(|p| p.method == "momentum").collect();
+        // momentum@50 is beaten by 1 % in error, momentum@100 by 9.1 % in noise: the least is 1 %.
+        let text = one_seed_margin(&points, &own, "chen");
+        assert!(text.contains("by as little as 1.0 %"), "{text}");
+        // With intervals the margin is not stated: the intervals judge it.
+        let seeded: Vec<FrontPoint> =
+            points.iter().map(|p| FrontPoint { noise: (p.noise.0, 0.01), ..p.clone() }).collect();
+        let own: Vec<&FrontPoint> = seeded.iter().filter(|p| p.method == "momentum").collect();
+        assert!(one_seed_margin(&seeded, &own, "chen").is_empty());
+    }
+
+    #[test]
+    fn matching_the_delay_is_said_to_close_narrow_or_widen_the_gap_from_the_ratios() {
+        assert!((share_closed(0.5, 0.5) - 0.0).abs() < 1e-12 && (share_closed(0.5, 1.0) - 1.0).abs() < 1e-12);
+        // Narrowed: 0.5 → 0.8 closes 1 − ln 0.8/ln 0.5 = 68 %; a gap in lu's favour is not counted.
+        let text = gap_text(&[(0.5, 0.8), (1.2, 1.1)]);
+        assert!(text.contains("Of the 1 pairs") && text.contains("narrows the gap in 1 (closing 68 %"), "{text}");
+        assert!(text.contains("does not account for the whole gap"), "{text}");
+        let text = gap_text(&[(0.5, 1.05), (0.6, 0.4)]);
+        assert!(text.contains("closes or reverses the gap in 1") && text.contains("widens the gap in 1"), "{text}");
+        assert!(gap_text(&[(0.5, 1.0)]).contains("accounts for the whole gap"));
+        assert!(gap_text(&[(1.3, 0.9)]).is_empty());
     }
 }

@@ -9,6 +9,7 @@ use crate::analysis::seeds::MetricTable;
 use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
+use crate::linear::{effective_inertia, ObserverDesign, ViscousResidual};
 use crate::run::trace::SHADOWS;
 use hya_core::Short;
 
@@ -369,13 +370,15 @@ fn observations<const N: usize>(outcomes: &[RunOutcome<N>]) -> String {
             o.method.name()
         );
     }
-    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it gives the first-order observers less lag and, in the tables above, lower tracking errors (and on most joints lower estimate errors) with noisier commands. Whether the lower errors come from the lag is tested at about equal delay in the Pareto section (\"At about equal delay\", from the sweep's own runs); the claims that name chen are judged at all three matchings in \"Chen's observer by gain design and matching\" where the noise scenarios ran. In this simulation command noise costs nothing beyond what it does to tracking (no valve wear, heating or excited structural mode is modelled), so the tracking figures here cannot charge it; on a real arm it may cost more.\n");
+    md.push_str("\nObservers that use the measured velocity (chen, momentum) feed its noise into `d̂` and so into the command. They also lag less: every observer here has its poles at the same magnitude ω, which gives the paper's filter a low-frequency delay of `1/ω1 + 2ζ/ω2` (52 ms at 50 rad/s) and a first-order observer one of `1/β` (20 ms). Equal pole magnitude is one meaning of \"equal bandwidth\" among several (see the observers' design table): it gives the first-order observers less lag. In the tables above they also have lower tracking errors (and on most joints lower estimate errors) with noisier commands; that does not show the lag causes the lower errors. The Pareto section measures how much of the gap is left when the delays are matched (\"At about equal delay\", from the sweep's own runs); the claims that name chen are judged at all three matchings in \"Chen's observer by gain design and matching\" where the noise scenarios ran. In this simulation command noise costs nothing beyond what it does to tracking (no valve wear, heating or excited structural mode is modelled), so the tracking figures here cannot charge it; on a real arm it may cost more.\n");
     md
 }
 
 /// Cancelling viscous friction `d = −F_v q̇` with an estimate that lags by `τ_d` leaves
 /// `d − d̂ ≈ −F_v τ_d q̈`: the joint moves as `(M_ii + F_v τ_d) q̈ = u`, its inertia increased by
-/// `F_v τ_d` and its damping ratio lowered by `√(M_ii / (M_ii + F_v τ_d))`; per joint, the table.
+/// `F_v τ_d` and its damping ratio lowered by `√(M_ii / (M_ii + F_v τ_d))`. Per joint, the table
+/// gives that asymptote and the exact residual at the joint's crossover ([`ViscousResidual`]),
+/// where `ω τ_d` is not small.
 fn lagged_cancellation<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
@@ -388,22 +391,46 @@ fn lagged_cancellation<const N: usize>(
         &crate::config::settings::initial_position(first, N),
     )?;
     let inertia = model.dynamics().mass_matrix(&q0).diagonal();
-    let delay = crate::linear::paper_delay(first.controller.observer_bandwidth_rad_s);
+    let bandwidth = first.controller.observer_bandwidth_rad_s;
+    let Some(design) = ObserverDesign::of(Method::Lu, bandwidth) else { return Ok(String::new()) };
+    let delay = design.low_frequency_delay();
     let crossovers = super::loops::lu_crossovers(robot, first, torque)?;
-    let (low, high) = crossovers.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &w| (l.min(w), h.max(w)));
-    let (low_lag, high_lag) = (low * delay, high * delay);
+    let viscous: [f64; N] = std::array::from_fn(|j| first.plant.viscous_nm_s.get(j).copied().unwrap_or(0.0));
+    let residuals: [ViscousResidual; N] =
+        std::array::from_fn(|j| ViscousResidual::at(&design, viscous[j], crossovers[j]));
+    let range = |values: &mut dyn Iterator<Item = f64>| {
+        values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)))
+    };
+    let (low, high) = range(&mut crossovers.iter().copied());
+    let rubbing: Vec<usize> = (0..N).filter(|&j| viscous[j] > 0.0).collect();
+    let (inertia_low, inertia_high) =
+        range(&mut rubbing.iter().map(|&j| 100.0 * residuals[j].added_inertia / (viscous[j] * delay)));
+    let (damping_low, damping_high) =
+        range(&mut rubbing.iter().map(|&j| 100.0 * residuals[j].kept_damping / viscous[j]));
+    let exact = if rubbing.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " There the exact residual counts: with `H(s)` the paper's filter's design, `F_v (1 − H(jω_c)) = c_a + jω_c m_a` at each joint's crossover `ω_c`, an added inertia `m_a` ({inertia_low:.0}–{inertia_high:.0} % of the asymptote `F_v τ_d` on these joints) and a damping `c_a` the joint keeps ({damping_low:.0}–{damping_high:.0} % of its `F_v`). The table gives both; the margins table below is computed from the whole linearised loop (its delays and actuator too), without either."
+        )
+    };
     let mut md = format!(
-        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the crossovers of this scenario's loops under the paper's estimator ({low:.0}–{high:.0} rad/s, from the linearised loops of the margins table) `ω τ_d` is {low_lag:.1}–{high_lag:.1}, where the exact residual `F_v s (1 − H(s))` adds less inertia and keeps some damping: read the margins table below, computed from the linearised loop's transfer functions without this approximation, rather than it (no run measures the damping it predicts, so the table gives only the added inertia, an asymptote for `ω τ_d ≪ 1`).\n\n| joint | F_v [N·m·s/rad] | F_v τ_d [kg·m²] | M_ii(q0) [kg·m²] | (M_ii + F_v τ_d) / M_ii |\n|---|---|---|---|---|\n",
+        "\n### Lagged cancellation of viscous friction\n\nThe estimate lags the disturbance by about τ_d = 1/ω1 + 2ζ/ω2 = {delay:.3} s. Cancelling viscous friction `d = −F_v q̇` with `d̂ ≈ d(t − τ_d) ≈ −F_v (q̇ − τ_d q̈)` leaves `d − d̂ ≈ −F_v τ_d q̈`, so the compensated joint moves as `(M_ii + F_v τ_d) q̈ = u`: heavier than the model by `F_v τ_d`, and without the friction's damping. The PD, designed for `M_ii`, then runs at `ω_n' = ω_n √(M_ii / (M_ii + F_v τ_d))` with damping ratio `ζ' = ζ √(M_ii / (M_ii + F_v τ_d))`. This is the low-frequency approximation, valid for `ω τ_d ≪ 1`; at the crossovers of this scenario's loops under the paper's estimator ({low:.0}–{high:.0} rad/s, from the linearised loops of the margins table) `ω τ_d` is {:.1}–{:.1}.{exact}\n\n| joint | F_v [N·m·s/rad] | M_ii(q0) [kg·m²] | F_v τ_d [kg·m²] | (M_ii + F_v τ_d) / M_ii | ω_c [rad/s] | m_a at ω_c [kg·m²] | (M_ii + m_a) / M_ii | c_a / F_v at ω_c |\n|---|---|---|---|---|---|---|---|---|\n",
+        low * delay,
+        high * delay,
     );
     for j in 0..N {
-        let fv = first.plant.viscous_nm_s.get(j).copied().unwrap_or(0.0);
-        let heavier = (inertia[j] + fv * delay) / inertia[j];
+        let (fv, residual) = (viscous[j], residuals[j]);
         md.push_str(&table_row([
             format!("{}", j + 1),
             format!("{fv}"),
-            format!("{:.4}", fv * delay),
             format!("{:.4}", inertia[j]),
-            format!("{heavier:.3}"),
+            format!("{:.4}", fv * delay),
+            format!("{:.3}", effective_inertia(inertia[j], fv, delay) / inertia[j]),
+            format!("{:.0}", crossovers[j]),
+            format!("{:.4}", residual.added_inertia),
+            format!("{:.3}", (inertia[j] + residual.added_inertia) / inertia[j]),
+            if fv > 0.0 { format!("{:.2}", residual.kept_damping / fv) } else { "–".to_owned() },
         ]));
     }
     Ok(md)

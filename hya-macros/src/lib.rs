@@ -16,7 +16,15 @@
 //!
 //! `robot!(Name, urdf = "<robot …>…</robot>")` takes the description inline instead (for tests
 //! and small examples). Errors name the path as written, so they read the same wherever the
-//! crate is built.
+//! crate is built. A bad description does not compile:
+//!
+//! ```compile_fail
+//! // A revolute joint about a zero axis: "inline URDF: joint `j1`: axis is zero".
+//! hya_macros::robot!(Bad, urdf = r#"<robot name="bad"><link name="base"/><link name="a">
+//!   <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+//!   <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 0"/>
+//!     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#);
+//! ```
 
 use std::path::PathBuf;
 
@@ -91,4 +99,59 @@ fn expand(args: &RobotArgs) -> syn::Result<proc_macro2::TokenStream> {
         #tracking
         #code
     })
+}
+
+#[cfg(test)]
+mod tests {
+    //! The messages of bad invocations, through the macro's own parser and expansion (a
+    //! `compile_fail` example in the crate docs shows they stop the build).
+    use super::*;
+
+    /// The message `robot!(<tokens>)` fails with.
+    fn error_of(tokens: proc_macro2::TokenStream) -> String {
+        match syn::parse2::<RobotArgs>(tokens).and_then(|args| expand(&args)) {
+            Ok(_) => panic!("expanded"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    /// A one-link arm whose joints are `joints` (XML), inline.
+    fn inline(joints: &str) -> proc_macro2::TokenStream {
+        let urdf = format!(
+            r#"<robot name="bad"><link name="base"/><link name="a"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>{joints}</robot>"#
+        );
+        quote!(Bad, urdf = #urdf)
+    }
+
+    const LIMIT: &str = r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#;
+
+    #[test]
+    fn a_missing_child_link_is_named() {
+        let joints = format!(
+            r#"<joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>{LIMIT}</joint><joint name="j2" type="revolute"><parent link="a"/><child link="ghost"/><axis xyz="0 0 1"/>{LIMIT}</joint>"#
+        );
+        assert_eq!(error_of(inline(&joints)), "inline URDF: joint `j2`: child link `ghost` does not exist");
+    }
+
+    #[test]
+    fn a_zero_axis_is_named() {
+        let joints = format!(
+            r#"<joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 0"/>{LIMIT}</joint>"#
+        );
+        assert_eq!(error_of(inline(&joints)), "inline URDF: joint `j1`: axis is zero");
+    }
+
+    #[test]
+    fn a_missing_file_is_named_as_written() {
+        assert_eq!(
+            error_of(quote!(Bad, "tests/urdf/does_not_exist.urdf")),
+            "tests/urdf/does_not_exist.urdf: cannot read: No such file or directory (os error 2)"
+        );
+    }
+
+    #[test]
+    fn the_name_must_be_an_identifier_and_the_key_urdf() {
+        assert_eq!(error_of(quote!("Bad", "tests/urdf/arm.urdf")), "expected identifier");
+        assert_eq!(error_of(quote!(Bad, text = "<robot/>")), "expected a path string or `urdf = \"…\"`");
+    }
 }

@@ -1,2 +1,0 @@
-hya_macros::robot!(Bad, "tests/urdf/does_not_exist.urdf");
-fn main() {}

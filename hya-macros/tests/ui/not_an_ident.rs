@@ -1,2 +1,0 @@
-hya_macros::robot!("Bad", "tests/urdf/arm.urdf");
-fn main() {}

@@ -23,16 +23,27 @@ pub struct ReportOptions {
     #[arg(long)]
     force: bool,
     /// Seeds per scenario and method (default: 20, or 4 with `--quick`).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "merge")]
     seeds: Option<usize>,
     /// Run the report's bandwidth sweep on the full grid of `hya sweep` instead of the reduced one
     /// (its Pareto fronts; several times longer).
     #[arg(long)]
     full_sweep: bool,
+    /// Run only shard I of N of the runs (every N-th run from the I-th, from 0), e.g. `--shard
+    /// 2/8` in a Slurm array: `--out` gets the shard's runs (`runs.cbor`), no report. `--merge`
+    /// then writes the report.
+    #[arg(long, conflicts_with = "merge")]
+    shard: Option<String>,
+    /// Write the report from the runs of these shard folders (each from `--shard`, of the same
+    /// scenarios and build): the studies run here, and the report is the one an unsharded run
+    /// writes. The seeds, `--quick` and `--full-sweep` are the shards'.
+    #[arg(long, num_args = 1.., conflicts_with_all = ["quick", "full_sweep"])]
+    merge: Vec<PathBuf>,
     /// No cost line and no progress bar on stderr (warnings and errors still go there).
     #[arg(short, long)]
     quiet: bool,
-    /// The claims' verdicts on stdout as JSON (as in `summary.json`) instead of one line each.
+    /// The claims' verdicts on stdout as JSON (as in `summary.json`) instead of one line each
+    /// (with `--shard`, the shard, its runs and its file).
     #[arg(long)]
     json: bool,
     /// Run even where the run's cost exceeds the documented cap (`hya_sim::cost::MAX_PHYSICS_STEPS`
@@ -75,16 +86,33 @@ fn command_line() -> String {
     hya_core::Clipped(&line, 120).to_string()
 }
 
+/// What one call runs: everything, a shard of the runs, or the report from shards.
+enum Part {
+    All,
+    Shard(hya_sim::sweep::Shard),
+    Merge(Vec<(String, hya_sim::seed_shards::RunShard)>),
+}
+
 /// Runs every method of every scenario over the seeds on every core, with a progress bar, then
-/// writes the report.
+/// writes the report (or, with `--shard`, one shard's runs; with `--merge`, the report from the
+/// shards' runs).
 fn run_all(
     scenarios: Vec<Scenario>,
     options: &ReportOptions,
     file: Option<&Path>,
     output: &mut impl std::io::Write,
 ) -> Result<(), CliError> {
-    let quick = options.quick;
-    let seeds = options.seeds.unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
+    let merged: Vec<(String, hya_sim::seed_shards::RunShard)> = options
+        .merge
+        .iter()
+        .map(|dir| Ok((dir.display().to_string(), hya_sim::seed_shards::read(dir).map_err(sim)?)))
+        .collect::<Result<_, CliError>>()?;
+    // A merge runs what its shards were run with.
+    let shards_key = merged.first().map(|(_, shard)| &shard.experiment);
+    let quick = shards_key.map_or(options.quick, |key| key.quick);
+    let full_sweep = shards_key.map_or(options.full_sweep, |key| key.full_sweep);
+    let seeds =
+        shards_key.map(|key| key.seeds).or(options.seeds).unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
     if !(1..=MAX_SEEDS).contains(&seeds) {
         return Err(CliError::Input(format!("--seeds {seeds}: must be between 1 and {MAX_SEEDS}")));
     }
@@ -94,8 +122,19 @@ fn run_all(
         s.check_for_robot()
             .map_err(|e| sim(hya_sim::SimError::Scenario { origin: s.name.clone(), message: e.to_string() }))?;
     }
+    let runs = hya_sim::seeds::jobs(&scenarios, seeds).len();
+    let part = match (&options.shard, merged) {
+        (Some(text), _) => Part::Shard(hya_sim::sweep::Shard::parse(text, runs).map_err(CliError::Input)?),
+        (None, merged) if !merged.is_empty() => Part::Merge(merged),
+        _ => Part::All,
+    };
     // The runs and the studies after them (the bandwidth sweep, the sensitivity variants, …).
-    let cost = hya_sim::Experiment::cost(&scenarios, seeds, (quick, options.full_sweep)).map_err(sim)?;
+    let cost = match &part {
+        Part::All => hya_sim::Experiment::cost(&scenarios, seeds, (quick, full_sweep)),
+        Part::Shard(shard) => Ok(hya_sim::seed_shards::cost(&scenarios, seeds, *shard)),
+        Part::Merge(_) => hya_sim::Experiment::studies_cost(&scenarios, seeds, (quick, full_sweep)),
+    }
+    .map_err(sim)?;
     if !options.quiet {
         eprintln!("{cost}");
     }
@@ -106,7 +145,13 @@ fn run_all(
         command_line(),
         [env!("HYA_BUILD_COMMIT"), env!("HYA_BUILD_RUSTC"), env!("HYA_BUILD_PROFILE"), env!("HYA_BUILD_RUSTFLAGS")],
     );
-    let reads: Vec<&Path> = file.into_iter().chain(scenarios.iter().flat_map(Scenario::files_read)).collect();
+    let shard_files: Vec<PathBuf> =
+        options.merge.iter().map(|dir| dir.join(hya_sim::seed_shards::SHARD_FILE)).collect();
+    let reads: Vec<&Path> = file
+        .into_iter()
+        .chain(scenarios.iter().flat_map(Scenario::files_read))
+        .chain(shard_files.iter().map(PathBuf::as_path))
+        .collect();
     let (out, kept) = OutputDir::open(&options.out, options.force, &provenance.command, &reads).map_err(sim)?;
     for kept in kept {
         eprintln!("warning: {} is not a report file; left in place", kept.display());
@@ -121,16 +166,31 @@ fn run_all(
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     let progress = |seconds: f64| bar.inc(seconds.round() as u64);
-    let summary = hya_sim::Experiment {
+    let experiment = hya_sim::Experiment {
         scenarios: &scenarios,
         seeds,
         progress: &progress,
         out: &out,
         quick,
-        full_sweep: options.full_sweep,
+        full_sweep,
         provenance: &provenance,
+    };
+    let summary = match &part {
+        Part::All => experiment.run(),
+        Part::Merge(shards) => experiment.run_merged(shards),
+        Part::Shard(shard) => {
+            let held = experiment.run_shard(*shard).map_err(sim)?;
+            bar.finish_and_clear();
+            let file = out.path().join(hya_sim::seed_shards::SHARD_FILE);
+            if options.json {
+                let json = serde_json::json!({ "shard": format!("{}/{}", shard.index, shard.count), "runs": held, "of": runs, "file": file });
+                writeln!(output, "{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Input(e.to_string()))?)?;
+            } else {
+                writeln!(output, "shard {}/{}: {held} of {runs} runs in {}", shard.index, shard.count, file.display())?;
+            }
+            return Ok(());
+        }
     }
-    .run()
     .map_err(sim)?;
     bar.finish_and_clear();
     // The results go to stdout (`> file` keeps them); progress and diagnostics to stderr.

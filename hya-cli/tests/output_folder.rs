@@ -10,10 +10,7 @@ use std::path::{Path, PathBuf};
 use common::{assert_rejected, hya};
 
 fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hya-cli-out-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch(&format!("out-{tag}"))
 }
 
 /// A one-tick-long scenario named `name`, written into `dir`.

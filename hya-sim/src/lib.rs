@@ -29,7 +29,7 @@ pub mod studies;
 pub mod torque_response;
 
 // The modules as they were named before the layers, for users of the crate.
-pub use analysis::{claims, metrics, seeds, sweep};
+pub use analysis::{claims, metrics, seed_shards, seeds, sweep};
 pub use config::{cost, scenario, settings};
 pub use io::{input, output, svg};
 pub use run::{rollout, sensors, task};
@@ -82,29 +82,109 @@ pub struct Experiment<'a> {
     pub provenance: &'a report::Provenance,
 }
 
-impl Experiment<'_> {
+impl<'a> Experiment<'a> {
     /// What an experiment on `scenarios` (checked) over `seeds` seeds costs, `quick` and
     /// `full_sweep` as in [`Experiment`]: every method of every scenario over the seeds, and the
     /// studies after them (the runs' traces held meanwhile).
     pub fn cost(scenarios: &[Scenario], seeds: usize, options: (bool, bool)) -> Result<config::cost::Cost, SimError> {
+        Ok(config::cost::Cost::of(scenarios, seeds) + Self::studies_cost(scenarios, seeds, options)?)
+    }
+
+    /// The studies' part of [`Self::cost`]: what a merge of shards runs.
+    pub fn studies_cost(
+        scenarios: &[Scenario],
+        seeds: usize,
+        options: (bool, bool),
+    ) -> Result<config::cost::Cost, SimError> {
         let Some(first) = scenarios.first() else { return Ok(config::cost::Cost::NONE) };
         let joints = robot::robot_model(&first.robot)?.dof();
-        Ok(config::cost::Cost::of(scenarios, seeds) + studies::cost(scenarios, seeds, joints, options)?)
+        studies::cost(scenarios, seeds, joints, options)
     }
 
     /// Runs it on the scenarios' robot, whatever its number of joints.
     pub fn run(self) -> Result<report::Summary, SimError> {
+        match self.on_robot(Part::All)? {
+            Done::Report(summary) => Ok(*summary),
+            Done::Shard(_) => Err(SimError::Nothing("a whole experiment wrote a shard")),
+        }
+    }
+
+    /// Runs shard `shard` of its runs ([`seed_shards`]) and writes them to the folder as
+    /// [`seed_shards::SHARD_FILE`]; no study and no report (the merge runs those). Returns how
+    /// many runs the shard holds.
+    pub fn run_shard(self, shard: analysis::sweep::Shard) -> Result<usize, SimError> {
+        match self.on_robot(Part::Shard(shard))? {
+            Done::Shard(runs) => Ok(runs),
+            Done::Report(_) => Err(SimError::Nothing("a shard wrote a report")),
+        }
+    }
+
+    /// Takes its runs from `shards` (each with where it came from; [`seed_shards::merge`] checks
+    /// them), then runs the studies and writes the report: the report of the unsharded
+    /// experiment.
+    pub fn run_merged(self, shards: &'a [(String, seed_shards::RunShard)]) -> Result<report::Summary, SimError> {
+        match self.on_robot(Part::Merged(shards))? {
+            Done::Report(summary) => Ok(*summary),
+            Done::Shard(_) => Err(SimError::Nothing("a merge wrote a shard")),
+        }
+    }
+
+    /// The experiment's key and build, as shards record them.
+    fn key(&self) -> Result<(seed_shards::ExperimentKey, String), SimError> {
+        let key = seed_shards::ExperimentKey::of(self.scenarios, self.seeds, (self.quick, self.full_sweep))?;
+        Ok((key, self.provenance.build()))
+    }
+
+    fn on_robot(self, part: Part<'a>) -> Result<Done, SimError> {
         let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
         config::scenario::shared_robot(self.scenarios)?;
-        robot::with_robot(&first.robot.clone(), self)
+        robot::with_robot(&first.robot.clone(), Running { experiment: self, part })
     }
 }
 
-impl ForRobot for Experiment<'_> {
-    type Output = report::Summary;
-    fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
-        let (outcomes, table) = seeds::run_seeds::<N>(&robot, self.scenarios, self.seeds, self.progress)?;
-        let studies = studies::run(&robot, self.scenarios, &table, (self.quick, self.full_sweep), self.progress)?;
-        report::write(&robot, self.out, self.scenarios, &outcomes, &table, studies, self.quick, self.provenance)
+/// Which of an experiment's parts a call runs.
+enum Part<'a> {
+    /// Every run, the studies and the report.
+    All,
+    /// One shard of the runs, written to the folder.
+    Shard(analysis::sweep::Shard),
+    /// The runs from these shards, then the studies and the report.
+    Merged(&'a [(String, seed_shards::RunShard)]),
+}
+
+/// What a part leaves.
+enum Done {
+    /// The report's summary.
+    Report(Box<report::Summary>),
+    /// A shard of this many runs, written.
+    Shard(usize),
+}
+
+/// An experiment and the part of it to run, for [`robot::with_robot`].
+struct Running<'a> {
+    experiment: Experiment<'a>,
+    part: Part<'a>,
+}
+
+impl ForRobot for Running<'_> {
+    type Output = Done;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<Done, SimError> {
+        let e = self.experiment;
+        let (outcomes, table) = match self.part {
+            Part::All => seeds::run_seeds::<N>(&robot, e.scenarios, e.seeds, e.progress)?,
+            Part::Shard(shard) => {
+                let (key, build) = e.key()?;
+                let stored = seed_shards::run(&robot, e.scenarios, (&key, &build), shard, e.progress)?;
+                e.out.save_bytes(seed_shards::SHARD_FILE, &stored.to_bytes()?)?;
+                return Ok(Done::Shard(stored.runs.len()));
+            }
+            Part::Merged(shards) => {
+                let (key, build) = e.key()?;
+                seed_shards::merge::<N>(e.scenarios, (&key, &build), shards)?
+            }
+        };
+        let studies = studies::run(&robot, e.scenarios, &table, (e.quick, e.full_sweep), e.progress)?;
+        let summary = report::write(&robot, e.out, e.scenarios, &outcomes, &table, studies, e.quick, e.provenance)?;
+        Ok(Done::Report(Box::new(summary)))
     }
 }

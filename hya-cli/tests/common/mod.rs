@@ -28,6 +28,15 @@ pub fn hya_bytes(args: &[&str], stdin: &[u8]) -> Output {
     output
 }
 
+/// A new empty folder for one test, `tag` naming it (with the process, so runs side by side do
+/// not meet).
+pub fn scratch(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hya-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder is created");
+    dir
+}
+
 /// `hya ARGS` on `input` must exit with code 2 and a message containing every `expected` part.
 pub fn assert_rejected(args: &[&str], input: &str, expected_message: &[&str]) {
     let output = hya(args, input);

@@ -2,7 +2,7 @@
 //! what a single RMSE hides (steady-state error, limit-cycle amplitude, recovery after a load
 //! change, how the estimate moves with the task).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use hya_core::JointVector;
 
@@ -72,7 +72,7 @@ pub const SHADOW_METRIC_NAMES: [[&str; 4]; 4] = [
 ];
 
 /// Per-joint figures of one run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// RMSE of tracking, `q − q_des`, rad.
     pub rmse_q: Vec<f64>,

@@ -151,6 +151,52 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
     jobs.par_iter().map(&f).collect()
 }
 
+/// One run of an experiment: which scenario, the method, which seed (0: the scenario's own).
+pub type Job = (usize, Method, usize);
+
+/// Every run of every scenario and method over `seeds` seeds, scenario by scenario, method by
+/// method, seed by seed: the order runs are reported, stored and sharded in.
+pub fn jobs(scenarios: &[Scenario], seeds: usize) -> Vec<Job> {
+    scenarios
+        .iter()
+        .enumerate()
+        .flat_map(|(i, s)| s.methods.iter().flat_map(move |&m| (0..seeds).map(move |k| (i, m, k))))
+        .collect()
+}
+
+/// Runs `jobs` on every core, each seed's offset added to its scenario's seed, the first seed's
+/// traces kept (for figures); `progress` is told each finished run's simulated seconds.
+pub fn run_jobs<const N: usize>(
+    robot: &crate::robot::Robot<N>,
+    scenarios: &[Scenario],
+    jobs: &[Job],
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Vec<RunOutcome<N>>, SimError> {
+    let results = parallel_map(jobs, |&(i, method, k)| {
+        let mut scenario = scenarios[i].clone();
+        scenario.seed = scenario.seed.wrapping_add(k as u64);
+        // Only the first seed's traces are kept (for the figures and CSV files).
+        let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
+        let outcome = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording);
+        progress(scenario.duration_s);
+        outcome
+    });
+    jobs.iter()
+        .zip(results)
+        .map(|(&(i, method, k), outcome)| {
+            outcome.map_err(|e| SimError::Run {
+                run: format!(
+                    "{} / {} / seed {}",
+                    scenarios[i].name,
+                    method.name(),
+                    scenarios[i].seed.wrapping_add(k as u64)
+                ),
+                source: Box::new(e),
+            })
+        })
+        .collect()
+}
+
 /// The runs of every scenario and method over `seeds` seeds (the scenario's seed and the next
 /// ones): the first seed's runs with their traces (for figures), and every run's metrics.
 /// `progress` is told each finished run's simulated seconds.
@@ -160,32 +206,11 @@ pub fn run_seeds<const N: usize>(
     seeds: usize,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<(Vec<RunOutcome<N>>, MetricTable), SimError> {
-    let jobs: Vec<(usize, Method, usize)> = scenarios
-        .iter()
-        .enumerate()
-        .flat_map(|(i, s)| s.methods.iter().flat_map(move |&m| (0..seeds).map(move |k| (i, m, k))))
-        .collect();
-    let results = parallel_map(&jobs, |&(i, method, k)| {
-        let mut scenario = scenarios[i].clone();
-        scenario.seed = scenario.seed.wrapping_add(k as u64);
-        // Only the first seed's traces are kept (for the figures and CSV files).
-        let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
-        let outcome = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording);
-        progress(scenario.duration_s);
-        outcome
-    });
+    let jobs = jobs(scenarios, seeds);
+    let outcomes = run_jobs(robot, scenarios, &jobs, progress)?;
     let mut table = MetricTable::default();
     let mut first = Vec::new();
-    for (&(i, method, k), outcome) in jobs.iter().zip(results) {
-        let outcome = outcome.map_err(|e| SimError::Run {
-            run: format!(
-                "{} / {} / seed {}",
-                scenarios[i].name,
-                method.name(),
-                scenarios[i].seed.wrapping_add(k as u64)
-            ),
-            source: Box::new(e),
-        })?;
+    for (&(_, method, k), outcome) in jobs.iter().zip(outcomes) {
         table.push(&outcome.scenario, method, outcome.metrics.clone());
         if k == 0 {
             first.push(outcome);

@@ -9,14 +9,14 @@
 //! nonlinearity of `M(q)`.
 
 use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::running::{Rms, StepNoise, Window};
 use crate::config::scenario::{Method, Scenario};
 use crate::linear::PhasorSum;
 
 /// One shadow estimator's figures, per joint, after the warm-up.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct ShadowMetrics {
     /// RMSE of `d̂ − d`, N·m.
     pub rmse_d: Vec<f64>,

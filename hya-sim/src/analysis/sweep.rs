@@ -154,7 +154,7 @@ impl Shard {
             return Err(format!("--shard {shown}: need 0 ≤ I < N"));
         }
         if count > runs {
-            return Err(format!("--shard {shown}: the sweep has {runs} runs, so N can be at most {runs}"));
+            return Err(format!("--shard {shown}: there are {runs} runs, so N can be at most {runs}"));
         }
         Ok(Self { index, count })
     }

@@ -243,6 +243,11 @@ impl OutputDir {
     /// `name` must be one plain file name, and no entry of that name may stand in the folder
     /// unless this run wrote it.
     pub fn save(&self, name: &str, text: &str) -> Result<(), SimError> {
+        self.save_bytes(name, text.as_bytes())
+    }
+
+    /// [`Self::save`] for bytes that are not text (a shard's runs).
+    pub fn save_bytes(&self, name: &str, bytes: &[u8]) -> Result<(), SimError> {
         if !is_plain_name(name) || name.len() > 255 {
             return Err(refused(&self.path, format!("report file name {name:?} is not a plain file name")));
         }
@@ -255,9 +260,9 @@ impl OutputDir {
             ));
         }
         // Listed (with the content's checksum) before the file is renamed into place.
-        written.insert(name.to_owned(), sha256_hex(text.as_bytes()));
+        written.insert(name.to_owned(), sha256_hex(bytes));
         self.write_manifest(&written)?;
-        self.write_atomically(name, text.as_bytes())
+        self.write_atomically(name, bytes)
     }
 
     /// Writes the [`MANIFEST`] of `written`.

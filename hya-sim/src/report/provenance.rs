@@ -43,6 +43,12 @@ impl Provenance {
         }
     }
 
+    /// What decides a run's last bits: the commit, rustc, profile, flags and the use of fused
+    /// multiply-add (shards merge only where these agree).
+    pub fn build(&self) -> String {
+        format!("{}; {}; {} profile; RUSTFLAGS {}; {}", self.commit, self.rustc, self.profile, self.rustflags, self.fma)
+    }
+
     /// A provenance for tests and library callers that know nothing of their build.
     pub fn unknown(command: &str) -> Self {
         Self::here(command.into(), ["unknown"; 4])

@@ -310,7 +310,7 @@ pub fn measure<const N: usize>(
     let scenario = clean(scenario);
     let joints = JointSettings::<N>::of(&scenario)?;
     let q0 = joints.initial_position;
-    let gains = crate::run::gains(robot.nominal.as_ref(), &scenario, &joints)?;
+    let gains = crate::run::gains(robot.nominal.as_ref(), &joints)?;
     let kp: [f64; N] = core::array::from_fn(|i| gains.kp()[(i, i)]);
     let kd: [f64; N] = core::array::from_fn(|i| gains.kd()[(i, i)]);
     let dt = scenario.controller.dt_s;

@@ -8,7 +8,7 @@ use hya_core::JointVector;
 
 use crate::analysis::running::{Correlation, Extremes, Mean, Recovery, Rms, Spread, StepNoise, Window};
 use crate::analysis::shadow::{ShadowMetrics, ShadowRecorder};
-use crate::config::scenario::{FrictionKind, Scenario, Task};
+use crate::config::settings::{JointSettings, TaskTimes, Timing};
 use crate::run::trace::{Tick, SHADOWS};
 
 pub use crate::config::scenario::WARM_UP_S;
@@ -45,12 +45,12 @@ const SETTLE_AFTER_START_S: f64 = 1.0;
 /// The earliest time a window that must precede `event_s` may open: after the warm-up and the
 /// observers' settling, after a sine task's ramp, and after a goto move that ends before the
 /// event (plus [`SETTLE_AFTER_START_S`]).
-fn quiet_from(scenario: &Scenario, event_s: f64) -> f64 {
+fn quiet_from(task: TaskTimes, event_s: f64) -> f64 {
     let start = WARM_UP_S + SETTLE_AFTER_START_S;
-    match &scenario.task {
-        Task::Hold {} => start,
-        Task::Sine { ramp_s, .. } => start.max(ramp_s + SETTLE_AFTER_START_S),
-        Task::Goto { start_s, transition_s, .. } => {
+    match task {
+        TaskTimes::Hold => start,
+        TaskTimes::Sine { ramp_s } => start.max(ramp_s + SETTLE_AFTER_START_S),
+        TaskTimes::Goto { start_s, transition_s } => {
             let moved = start_s + transition_s + SETTLE_AFTER_START_S;
             if moved < event_s {
                 start.max(moved)
@@ -137,17 +137,15 @@ struct DropWatch<const N: usize> {
     removal_recovery: Option<Recovery<N>>,
 }
 
-/// The limit-cycle window of a run of `scenario` whose window ends at `end`, s.
-fn cycle_window_ending(scenario: &Scenario, end: f64) -> Window {
-    Window::new((end - CYCLE_WINDOW_S).max(quiet_from(scenario, end)), end)
+/// The limit-cycle window of a run of `task` whose window ends at `end`, s.
+fn cycle_window_ending(task: TaskTimes, end: f64) -> Window {
+    Window::new((end - CYCLE_WINDOW_S).max(quiet_from(task, end)), end)
 }
 
-/// The window [`Metrics::cycle_amplitude_q`] looks in on a run of `scenario`, s: its lowest
-/// frequency bin is two periods per window.
-pub fn cycle_window(scenario: &Scenario) -> Window {
-    let dt = scenario.controller.dt_s;
-    let steps = (scenario.duration_s / dt).round() as usize;
-    cycle_window_ending(scenario, steps.saturating_sub(1) as f64 * dt + 1e-9)
+/// The window [`Metrics::cycle_amplitude_q`] looks in on a run of `task` on the clock `timing`,
+/// s: its lowest frequency bin is two periods per window.
+pub fn cycle_window(task: TaskTimes, timing: &Timing) -> Window {
+    cycle_window_ending(task, timing.last_time_s() + 1e-9)
 }
 
 /// The tracking error's samples over the limit-cycle window, at most [`CYCLE_SAMPLES`] per joint.
@@ -162,9 +160,9 @@ struct CycleWindow<const N: usize> {
 }
 
 impl<const N: usize> CycleWindow<N> {
-    /// The window of a run of `scenario` ending at `end`, s, ticking every `dt`.
-    fn new(scenario: &Scenario, end: f64, dt: f64) -> Self {
-        let window = cycle_window_ending(scenario, end);
+    /// The window of a run of `task` ending at `end`, s, ticking every `dt`.
+    fn new(task: TaskTimes, end: f64, dt: f64) -> Self {
+        let window = cycle_window_ending(task, end);
         let ticks = ((window.to - window.from) / dt).ceil().max(0.0) as usize;
         let stride = ticks.div_ceil(CYCLE_SAMPLES).max(1);
         let kept = ticks.div_ceil(stride);
@@ -273,14 +271,15 @@ pub struct MetricsRecorder<const N: usize> {
 }
 
 impl<const N: usize> MetricsRecorder<N> {
-    /// The recorder of a run of `scenario` (which sets the windows) whose last tick is at
-    /// `last_time` (s); `has_estimate` for methods with a disturbance estimate.
-    pub fn new(scenario: &Scenario, has_estimate: bool, last_time: f64) -> Self {
+    /// The recorder of a run set up by `setup` (its task, loads and clock set the windows) whose
+    /// last tick is at `last_time` (s); `has_estimate` for methods with a disturbance estimate.
+    pub fn new(setup: &JointSettings<N>, has_estimate: bool, last_time: f64) -> Self {
         let end = last_time + 1e-9;
         let window = SETTLED_WINDOW_S.min(0.2 * (end - WARM_UP_S).max(0.0));
-        let drop = scenario.loads.weight_drop.as_ref().map(|d| {
+        let task = setup.task.times();
+        let drop = setup.plant.loads.weight_drop.as_ref().map(|d| {
             let resting_until = d.remove_s.unwrap_or(end).min(end);
-            let before_from = (d.drop_s - SETTLED_WINDOW_S).max(quiet_from(scenario, d.drop_s));
+            let before_from = (d.drop_s - SETTLED_WINDOW_S).max(quiet_from(task, d.drop_s));
             DropWatch {
                 before: Window::new(before_from, d.drop_s),
                 error_before: Mean::default(),
@@ -293,9 +292,9 @@ impl<const N: usize> MetricsRecorder<N> {
                     .map(|r| Recovery::new(Window::new(r, end), RECOVERY_HOLD_S)),
             }
         });
-        let shift = match (&scenario.task, has_estimate) {
-            (Task::Goto { start_s, transition_s, .. }, true) => Some(EstimateShift {
-                before: Window::new((start_s - SETTLED_WINDOW_S).max(quiet_from(scenario, *start_s)), *start_s),
+        let shift = match (task, has_estimate) {
+            (TaskTimes::Goto { start_s, transition_s }, true) => Some(EstimateShift {
+                before: Window::new((start_s - SETTLED_WINDOW_S).max(quiet_from(task, start_s)), start_s),
                 mean_before: Mean::default(),
                 after: Window::new((start_s + transition_s).max(end - window), end),
                 mean_after: Mean::default(),
@@ -309,7 +308,7 @@ impl<const N: usize> MetricsRecorder<N> {
             settled: Window::new(end - window, end),
             settled_error: Mean::default(),
             settled_extremes: Extremes::default(),
-            cycle: CycleWindow::new(scenario, end, scenario.controller.dt_s),
+            cycle: CycleWindow::new(task, end, setup.control.dt_s),
             command_noise: StepNoise::default(),
             estimate_error: Rms::default(),
             disturbance_spread: Spread::default(),
@@ -317,9 +316,10 @@ impl<const N: usize> MetricsRecorder<N> {
             velocity: VelocityCorrelation::default(),
             drop,
             shift,
-            shadows: SHADOWS.map(|method| ShadowRecorder::new(method, scenario, last_time)),
-            coulomb: (scenario.plant.friction != FrictionKind::Off && scenario.plant.coulomb_nm.len() == N)
-                .then(|| scenario.plant.coulomb_nm.clone()),
+            shadows: SHADOWS.map(|method| {
+                ShadowRecorder::new(method, &setup.control, setup.plant.loads.sinusoid.as_ref(), last_time)
+            }),
+            coulomb: setup.plant.friction.levels().map(|levels| levels.coulomb.iter().copied().collect()),
         }
     }
 
@@ -450,12 +450,18 @@ impl Metrics {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::scenario::{FrictionKind, Scenario};
+
+    /// The settings of `scenario` on six joints.
+    fn setup(scenario: &Scenario) -> JointSettings<6> {
+        JointSettings::of(scenario).unwrap_or_else(|e| panic!("{e}"))
+    }
 
     #[test]
     fn torque_metrics_are_scaled_by_each_joints_coulomb_level() {
         let scenario = Scenario::builtin("sine_internal").unwrap_or_else(|e| panic!("{e}"));
         let coulomb = scenario.plant.coulomb_nm.clone();
-        let mut recorder = MetricsRecorder::<6>::new(&scenario, true, 3.0);
+        let mut recorder = MetricsRecorder::<6>::new(&setup(&scenario), true, 3.0);
         let d_hat = JointVector::<6>::from([1.0, -1.0, 0.6, -0.6, 0.4, 0.2]);
         for k in 0..=3000 {
             let zero = JointVector::zeros();
@@ -478,7 +484,7 @@ mod tests {
         }
         let mut frictionless = scenario.clone();
         frictionless.plant.friction = FrictionKind::Off;
-        let none = MetricsRecorder::<6>::new(&frictionless, true, 3.0).finish();
+        let none = MetricsRecorder::<6>::new(&setup(&frictionless), true, 3.0).finish();
         assert!(none.estimate_mean_over_coulomb.is_none(), "no friction, no friction scale");
     }
 }

@@ -8,6 +8,7 @@ use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::Recording;
+use crate::run::RunSetup;
 
 /// The metrics of every run, by scenario and method, one entry per seed in seed order.
 #[derive(Debug, Clone, Default)]
@@ -165,36 +166,35 @@ pub fn jobs(scenarios: &[Scenario], seeds: usize) -> Vec<Job> {
 }
 
 /// Runs `jobs` on every core, each seed's offset added to its scenario's seed, the first seed's
-/// traces kept (for figures); `progress` is told each finished run's simulated seconds.
+/// traces kept (for figures); `progress` is told each finished run's simulated seconds. Each
+/// scenario and method is set up once ([`RunSetup`]) for all its seeds.
 pub fn run_jobs<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
     jobs: &[Job],
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Vec<RunOutcome<N>>, SimError> {
+    let seed = |i: usize, k: usize| scenarios[i].seed.wrapping_add(k as u64);
+    let failed = |(i, method, k): Job| {
+        move |e: SimError| SimError::Run {
+            run: format!("{} / {} / seed {}", scenarios[i].name, method.name(), seed(i, k)),
+            source: Box::new(e),
+        }
+    };
+    let mut setups = BTreeMap::new();
+    for &(i, method, k) in jobs {
+        if let std::collections::btree_map::Entry::Vacant(slot) = setups.entry((i, method)) {
+            slot.insert(RunSetup::new(&scenarios[i], method, robot).map_err(failed((i, method, k)))?);
+        }
+    }
     let results = parallel_map(jobs, |&(i, method, k)| {
-        let mut scenario = scenarios[i].clone();
-        scenario.seed = scenario.seed.wrapping_add(k as u64);
         // Only the first seed's traces are kept (for the figures and CSV files).
         let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
-        let outcome = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording);
-        progress(scenario.duration_s);
-        outcome
+        let run = setups[&(i, method)].run(seed(i, k), recording);
+        progress(scenarios[i].duration_s);
+        run.map(|run| RunOutcome::of(&scenarios[i].name, method, seed(i, k), run))
     });
-    jobs.iter()
-        .zip(results)
-        .map(|(&(i, method, k), outcome)| {
-            outcome.map_err(|e| SimError::Run {
-                run: format!(
-                    "{} / {} / seed {}",
-                    scenarios[i].name,
-                    method.name(),
-                    scenarios[i].seed.wrapping_add(k as u64)
-                ),
-                source: Box::new(e),
-            })
-        })
-        .collect()
+    jobs.iter().zip(results).map(|(&job, outcome)| outcome.map_err(failed(job))).collect()
 }
 
 /// The runs of every scenario and method over `seeds` seeds (the scenario's seed and the next

@@ -12,7 +12,9 @@ use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::running::{Rms, StepNoise, Window};
-use crate::config::scenario::{Method, Scenario};
+use crate::config::plant::SinusoidLoad;
+use crate::config::scenario::Method;
+use crate::config::settings::ControlSetup;
 use crate::linear::PhasorSum;
 
 /// One shadow estimator's figures, per joint, after the warm-up.
@@ -123,16 +125,16 @@ struct BandError<const N: usize> {
 }
 
 impl<const N: usize> ShadowRecorder<N> {
-    /// The recorder of `method` (of [`crate::run::trace::SHADOWS`]) in `scenario`, whose last
-    /// tick is at `last_time` (s).
-    pub fn new(method: Method, scenario: &Scenario, last_time: f64) -> Self {
-        let c = &scenario.controller;
+    /// The recorder of `method` (of [`crate::run::trace::SHADOWS`]) under the controller's
+    /// settings `c` and the sinusoidal load (whose band it watches), whose last tick is at
+    /// `last_time` (s).
+    pub fn new(method: Method, c: &ControlSetup, sinusoid: Option<&SinusoidLoad<N>>, last_time: f64) -> Self {
         Self {
             design: Design::new(method, c.observer_bandwidth_rad_s, c.dt_s),
             error: Rms::default(),
             design_error: Rms::default(),
             noise: StepNoise::default(),
-            band: scenario.loads.sinusoid.as_ref().map(|load| BandError {
+            band: sinusoid.map(|load| BandError {
                 period: 1.0 / load.frequency_hz,
                 last_time,
                 window: None,

@@ -42,12 +42,19 @@ pub fn simulate_recording<const N: usize>(
     recording: Recording,
 ) -> Result<RunOutcome<N>, SimError> {
     let run = crate::run::closed_loop(scenario, method, robot, recording)?;
-    Ok(RunOutcome {
-        scenario: scenario.name.clone(),
-        method,
-        seed: scenario.seed,
-        bandwidth_rad_s: run.bandwidth_rad_s,
-        trace: run.trace,
-        metrics: run.metrics,
-    })
+    Ok(RunOutcome::of(&scenario.name, method, scenario.seed, run))
+}
+
+impl<const N: usize> RunOutcome<N> {
+    /// The outcome of `run`, a run of the scenario named `scenario` with `method` from `seed`.
+    pub fn of(scenario: &str, method: Method, seed: u64, run: crate::run::ClosedLoop<N>) -> Self {
+        Self {
+            scenario: scenario.to_owned(),
+            method,
+            seed,
+            bandwidth_rad_s: run.bandwidth_rad_s,
+            trace: run.trace,
+            metrics: run.metrics,
+        }
+    }
 }

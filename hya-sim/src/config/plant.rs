@@ -278,6 +278,14 @@ impl<const N: usize> FrictionLevels<N> {
 }
 
 impl<const N: usize> FrictionSetup<N> {
+    /// The levels, `None` without friction.
+    pub fn levels(&self) -> Option<&FrictionLevels<N>> {
+        match self {
+            Self::Off => None,
+            Self::Smooth { levels, .. } | Self::LuGre { levels, .. } => Some(levels),
+        }
+    }
+
     /// Checks and converts the friction settings of `p`: the levels for any law, the bristle
     /// lists for LuGre.
     pub fn of(p: &PlantConfig) -> Result<Self, SimError> {

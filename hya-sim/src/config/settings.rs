@@ -1,7 +1,10 @@
-//! A scenario's per-joint settings, checked once for an arm of `N` joints: every list becomes a
-//! [`JointVector<N>`] of the right length, finite and in range, or the scenario is refused with
-//! the key named. The plant, the controller's gain rule, the PID and the task receive these
-//! typed settings; none of them reads a raw list again (the observers take no per-joint list).
+//! A scenario's settings as a closed loop reads them, checked once for an arm of `N` joints
+//! ([`JointSettings`]): every list becomes a [`JointVector<N>`] of the right length, finite and in
+//! range, or the scenario is refused with the key named; the controller's scalars, the clock and
+//! the sensors come along. The plant, the controller's gain rule, the PID, the task, the loop and
+//! its metrics receive these typed settings; none of them reads the scenario again (the loop
+//! model's files are loaded by [`crate::run::model::LoopModel`], once per scenario and method
+//! with [`crate::run::RunSetup`]).
 //!
 //! A list is converted only where it acts: the bristle lists for LuGre friction, the time
 //! constants for lag actuators, the valve and chamber lists for hydraulic ones, the integral
@@ -14,7 +17,9 @@ use hya_core::JointVector;
 
 use crate::config::lists::{per_joint, scalar};
 use crate::config::plant::PlantSetup;
-use crate::config::scenario::{Method, Scenario, Task};
+use crate::config::scenario::{
+    ChenGain, ControllerConfig, IntegralRule, Method, NoiseConfig, Scenario, SensorConfig, Task,
+};
 use crate::error::{SettingError, SimError};
 use crate::robot::{with_robot, ForRobot, Robot};
 
@@ -72,7 +77,110 @@ impl<const N: usize> TaskSetup<N> {
     }
 }
 
-/// Every per-joint setting of a scenario, for an arm of `N` joints.
+/// When a task moves, whatever its joints: what a metric's windows wait for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TaskTimes {
+    /// Holds still.
+    Hold,
+    /// Moves over `[start_s, start_s + transition_s]`.
+    Goto {
+        /// When the move starts, s.
+        start_s: f64,
+        /// Its duration, s.
+        transition_s: f64,
+    },
+    /// Moves throughout, ramped in over `ramp_s`.
+    Sine {
+        /// The ramp's duration, s.
+        ramp_s: f64,
+    },
+}
+
+impl TaskTimes {
+    /// `task`'s times.
+    pub fn of(task: &Task) -> Self {
+        match *task {
+            Task::Hold {} => Self::Hold,
+            Task::Goto { start_s, transition_s, .. } => Self::Goto { start_s, transition_s },
+            Task::Sine { ramp_s, .. } => Self::Sine { ramp_s },
+        }
+    }
+}
+
+impl<const N: usize> TaskSetup<N> {
+    /// Its times.
+    pub fn times(&self) -> TaskTimes {
+        match *self {
+            Self::Hold => TaskTimes::Hold,
+            Self::Goto { start_s, transition_s, .. } => TaskTimes::Goto { start_s, transition_s },
+            Self::Sine { ramp_s, .. } => TaskTimes::Sine { ramp_s },
+        }
+    }
+}
+
+/// The controller's scalar settings (the scenario's check has held each to its rule).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControlSetup {
+    /// The control period `T`, s.
+    pub dt_s: f64,
+    /// Every observer's pole magnitude, rad/s.
+    pub observer_bandwidth_rad_s: f64,
+    /// Chen's gain design.
+    pub chen_gain: ChenGain,
+    /// The PD's damping ratio `ζ`.
+    pub damping_ratio: f64,
+    /// The stiffest natural frequency the gain rule may give, rad/s.
+    pub max_natural_frequency_rad_s: f64,
+    /// The error `e_f` at which the PD's torque reaches the static friction, rad.
+    pub friction_error_rad: f64,
+    /// The PID's rule for `K_I` (and, by pole placement, `K_D`).
+    pub integral_rule: IntegralRule,
+    /// `K_I / (K_P ω_n)` under [`IntegralRule::ZeroRatio`].
+    pub integral_zero_ratio: f64,
+}
+
+impl ControlSetup {
+    /// `controller`'s scalars.
+    pub fn of(controller: &ControllerConfig) -> Self {
+        Self {
+            dt_s: controller.dt_s,
+            observer_bandwidth_rad_s: controller.observer_bandwidth_rad_s,
+            chen_gain: controller.chen_gain,
+            damping_ratio: controller.damping_ratio,
+            max_natural_frequency_rad_s: controller.max_natural_frequency_rad_s,
+            friction_error_rad: controller.friction_error_rad,
+            integral_rule: controller.integral_rule,
+            integral_zero_ratio: controller.integral_zero_ratio,
+        }
+    }
+}
+
+/// A run's clock: the control period, the ticks, the plant's steps per tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timing {
+    /// The control period, s.
+    pub dt_s: f64,
+    /// Control ticks, `round(duration / dt)`.
+    pub steps: usize,
+    /// Plant integration steps per tick.
+    pub substeps: usize,
+}
+
+impl Timing {
+    /// `scenario`'s clock.
+    pub fn of(scenario: &Scenario) -> Self {
+        let dt_s = scenario.controller.dt_s;
+        Self { dt_s, steps: (scenario.duration_s / dt_s).round() as usize, substeps: scenario.plant.substeps() }
+    }
+
+    /// The last tick's time, s.
+    pub fn last_time_s(&self) -> f64 {
+        self.steps.saturating_sub(1) as f64 * self.dt_s
+    }
+}
+
+/// Every setting of a scenario a closed loop reads, checked for an arm of `N` joints: the
+/// per-joint lists, the controller's scalars, the clock, the sensors, the task and the plant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointSettings<const N: usize> {
     /// The start pose, rad.
@@ -89,6 +197,16 @@ pub struct JointSettings<const N: usize> {
     pub torque_limit: JointVector<N>,
     /// The plant's.
     pub plant: PlantSetup<N>,
+    /// The controller's scalars.
+    pub control: ControlSetup,
+    /// The clock.
+    pub timing: Timing,
+    /// The sensors.
+    pub sensors: SensorConfig,
+    /// Their noise.
+    pub noise: NoiseConfig,
+    /// The relative spread of the plant's inertial parameters about the model's.
+    pub parameter_spread: f64,
 }
 
 impl<const N: usize> JointSettings<N> {
@@ -112,6 +230,11 @@ impl<const N: usize> JointSettings<N> {
             },
             torque_limit: per_joint("controller.torque_limit_nm", &c.torque_limit_nm)?,
             plant: PlantSetup::of(&scenario.plant, &scenario.loads)?,
+            control: ControlSetup::of(c),
+            timing: Timing::of(scenario),
+            sensors: scenario.sensors.clone(),
+            noise: scenario.noise.clone(),
+            parameter_spread: scenario.plant.parameter_spread,
         })
     }
 }

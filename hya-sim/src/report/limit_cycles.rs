@@ -17,9 +17,15 @@ pub const LIMIT_CYCLE_RAD: f64 = 1e-3;
 
 use crate::metrics::CYCLE_AMPLITUDE_RAD;
 
+/// [`crate::metrics::cycle_window`] of a run of `base`.
+fn cycle_window_of(base: &Scenario) -> crate::analysis::running::Window {
+    let task = crate::config::settings::TaskTimes::of(&base.task);
+    crate::metrics::cycle_window(task, &crate::config::settings::Timing::of(base))
+}
+
 /// How [`cycle_table`] measures, for `base`'s window.
 fn cycles_text(base: &Scenario) -> String {
-    let window = crate::metrics::cycle_window(base);
+    let window = cycle_window_of(base);
     let span = window.to - window.from;
     let lowest_hz = 2.0 / span;
     format!(
@@ -44,7 +50,7 @@ type CycleCounts = Vec<(Method, Vec<usize>, Vec<usize>)>;
 /// [`CYCLE_AMPLITUDE_RAD`] or more, with those seeds' median frequency and amplitude, and every
 /// seed's median drift; and per method the joints where most and where no seeds cycle.
 fn cycle_table<const N: usize>(table: &MetricTable, base: &Scenario, scenario: &str) -> (String, CycleCounts) {
-    let window = crate::metrics::cycle_window(base);
+    let window = cycle_window_of(base);
     let lowest_hz = 2.0 / (window.to - window.from);
     let mut md = table_row(["method".to_owned()].into_iter().chain((1..=N).map(|j| format!("j{j}"))));
     md.push_str(&table_row(std::iter::repeat_n("---".to_owned(), N + 1)));

@@ -81,12 +81,8 @@ pub fn observer_designed<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
 /// ```text
 /// K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²),   K_D = 2 ζ √(K_P M_ii)
 /// ```
-pub fn gains<const N: usize>(
-    nominal: &dyn Dynamics<N>,
-    scenario: &Scenario,
-    joints: &JointSettings<N>,
-) -> Result<Gains<N>, SimError> {
-    let c = &scenario.controller;
+pub fn gains<const N: usize>(nominal: &dyn Dynamics<N>, joints: &JointSettings<N>) -> Result<Gains<N>, SimError> {
+    let c = &joints.control;
     let (omega, friction) = (&joints.natural_frequency, &joints.static_friction);
     let inertia = nominal.mass_matrix(&joints.initial_position).diagonal();
     let kp: [f64; N] = core::array::from_fn(|i| {
@@ -98,17 +94,16 @@ pub fn gains<const N: usize>(
     Gains::diagonal(kp, kd).map_err(|source| SimError::Setup { setting: "controller".into(), source })
 }
 
-/// The PID baseline's `K_D` and `K_I` per joint, N·m·s/rad and N·m/(rad·s), by the scenario's
+/// The PID baseline's `K_D` and `K_I` per joint, N·m·s/rad and N·m/(rad·s), by the controller's
 /// [`IntegralRule`] (`K_D` is the common rule's but for [`IntegralRule::PolePlacement`]);
 /// `inertia` is the loop model's `M_ii(q0)`; and whether each joint's `K_I` was capped by the
 /// stability bound.
 pub fn pid_gains<const N: usize>(
     gains: &Gains<N>,
     inertia: &JointVector<N>,
-    scenario: &Scenario,
     joints: &JointSettings<N>,
 ) -> (JointVector<N>, JointVector<N>, [bool; N]) {
-    let c = &scenario.controller;
+    let c = &joints.control;
     let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
     match c.integral_rule {
         IntegralRule::ZeroRatio => {
@@ -140,9 +135,8 @@ struct IntegralAction<const N: usize> {
 }
 
 impl<const N: usize> IntegralAction<N> {
-    fn new(gain: JointVector<N>, scenario: &Scenario, joints: &JointSettings<N>) -> Result<Self, SimError> {
-        let c = &scenario.controller;
-        Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: c.dt_s })
+    fn new(gain: JointVector<N>, joints: &JointSettings<N>) -> Result<Self, SimError> {
+        Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: joints.control.dt_s })
     }
 
     /// Adds `K_I e T` and returns the clamped integral torque, N·m.
@@ -166,25 +160,57 @@ pub struct ClosedLoop<const N: usize> {
     pub bandwidth_rad_s: Option<Vec<f64>>,
 }
 
-/// Runs `scenario` with `method` on `robot`: the controller and observers on its nominal
-/// dynamics or the model the scenario names ([`model::LoopModel`]), the plant on its model
-/// perturbed by the scenario's seed; its trace kept as `recording` says.
+/// One scenario's loop under one method, set up once (its settings checked, its loop model
+/// loaded, its reference built) and shared by its seeds: each [`run`](Self::run) differs only by
+/// the seed, which draws the plant's perturbation, friction profiles and noise.
+pub struct RunSetup<'a, const N: usize> {
+    method: Method,
+    settings: JointSettings<N>,
+    model: model::LoopModel<'a, N>,
+    trajectory: Trajectory<N>,
+    robot: &'a Robot<N>,
+}
+
+impl<'a, const N: usize> RunSetup<'a, N> {
+    /// `scenario` under `method` on `robot`: the controller and observers on its nominal dynamics
+    /// or the model the scenario names ([`model::LoopModel`]).
+    pub fn new(scenario: &Scenario, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
+        let settings = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
+        let trajectory = Trajectory::new(settings.task, settings.initial_position);
+        trajectory.within_limits(&robot.model)?;
+        let model = model::LoopModel::of(scenario, robot)?;
+        Ok(Self { method, settings, model, trajectory, robot })
+    }
+
+    /// The run of `seed`, the plant on the robot's model perturbed by it; its trace kept as
+    /// `recording` says.
+    pub fn run(&self, seed: u64, recording: Recording) -> Result<ClosedLoop<N>, SimError> {
+        let on = (&self.trajectory, recording);
+        run_loop((&self.settings, &self.model, seed), self.method, self.robot, on, |_, _| {})
+    }
+}
+
+/// Runs `scenario` with `method` on `robot` ([`RunSetup`]) from the scenario's seed; its trace
+/// kept as `recording` says.
 pub fn closed_loop<const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<ClosedLoop<N>, SimError> {
-    let joints = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
-    let trajectory = Trajectory::new(joints.task, joints.initial_position);
-    run_loop((scenario, &joints), method, robot, (&trajectory, recording), |_, _| {})
+    RunSetup::new(scenario, method, robot)?.run(scenario.seed, recording)
 }
 
 /// The plant's true rigid body in `scenario` on `robot`: its model perturbed by the scenario's
 /// seed, with the random stream that then draws the friction profiles.
 pub fn true_model<const N: usize>(scenario: &Scenario, robot: &Robot<N>) -> (TreeModel, ChaCha8Rng) {
-    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
-    let model = perturbed(&robot.model, scenario.plant.parameter_spread, &mut rng);
+    true_model_of(&robot.model, scenario.plant.parameter_spread, scenario.seed)
+}
+
+/// [`true_model`] of `model` with the relative parameter spread `spread`, drawn from `seed`.
+fn true_model_of(model: &TreeModel, spread: f64, seed: u64) -> (TreeModel, ChaCha8Rng) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let model = perturbed(model, spread, &mut rng);
     (model, rng)
 }
 
@@ -197,30 +223,31 @@ pub fn closed_loop_on<const N: usize>(
     (trajectory, recording): (&Trajectory<N>, Recording),
     log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let joints = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
-    run_loop((scenario, &joints), method, robot, (trajectory, recording), log)
+    let settings = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
+    trajectory.within_limits(&robot.model)?;
+    let model = model::LoopModel::of(scenario, robot)?;
+    run_loop((&settings, &model, scenario.seed), method, robot, (trajectory, recording), log)
 }
 
-/// The closed loop of [`closed_loop_on`], given `scenario`'s checked settings `joints`.
+/// The closed loop under `joints` (a scenario's checked settings) on the loop model `model`,
+/// its plant drawn from `seed`.
 fn run_loop<const N: usize>(
-    (scenario, joints): (&Scenario, &JointSettings<N>),
+    (joints, model, seed): (&JointSettings<N>, &model::LoopModel<'_, N>, u64),
     method: Method,
     robot: &Robot<N>,
     (trajectory, recording): (&Trajectory<N>, Recording),
     mut log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    trajectory.within_limits(&robot.model)?;
-    let model = model::LoopModel::of(scenario, robot)?;
     let nominal = model.dynamics();
-    let dt = scenario.controller.dt_s;
+    let dt = joints.timing.dt_s;
     let q0 = trajectory.at(0.0).position;
-    let (true_model, mut rng) = true_model(scenario, robot);
+    let (true_model, mut rng) = true_model_of(&robot.model, joints.parameter_spread, seed);
     let hold = nominal.gravity(&q0);
     let mut plant = Plant::new(true_model, robot.plant.as_ref(), &joints.plant, (q0, hold), &mut rng)?;
-    let bandwidth = scenario.controller.observer_bandwidth_rad_s;
-    let mut sensors = Sensors::new(scenario.sensors.clone(), scenario.noise.clone(), scenario.seed, dt, bandwidth);
+    let bandwidth = joints.control.observer_bandwidth_rad_s;
+    let mut sensors = Sensors::new(joints.sensors.clone(), joints.noise.clone(), seed, dt, bandwidth);
     let offset_torque = sensors.offset_torque(&plant);
-    let loop_design = model.design_at(scenario, joints, &q0)?;
+    let loop_design = model.design_at(joints, &q0)?;
     let mut gains = loop_design.pd;
     if method == Method::Pid {
         let setup = |source| SimError::Setup { setting: "controller.integral_rule".into(), source };
@@ -233,12 +260,12 @@ fn run_loop<const N: usize>(
     // The delays: readings wait `measurement_delay_ticks` before the controller sees them, and
     // commands `command_delay_ticks` before the valves do (the actuators hold `G(q0)` until then).
     let (measurement_delay, command_delay) =
-        (scenario.sensors.measurement_delay_ticks, scenario.sensors.command_delay_ticks);
+        (joints.sensors.measurement_delay_ticks, joints.sensors.command_delay_ticks);
     let mut readings: VecDeque<Measurement<N>> = VecDeque::with_capacity(measurement_delay + 1);
     let mut commands: VecDeque<JointVector<N>> = std::iter::repeat_n(hold, command_delay).collect();
     let mut applied = hold;
     readings.push_back(sensors.read(&plant, &applied)?);
-    let design = (bandwidth, dt, scenario.controller.chen_gain);
+    let design = (bandwidth, dt, joints.control.chen_gain);
     let (mut estimator, bandwidth_rad_s) = match observer_designed(method, nominal, design, &readings[0])? {
         Some((o, rates)) => (Some(o), Some(rates)),
         None => (None, None),
@@ -251,12 +278,11 @@ fn run_loop<const N: usize>(
         }
     }
     let mut integral =
-        (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, scenario, joints)).transpose()?;
-    let steps = (scenario.duration_s / dt).round() as usize;
-    let substeps = scenario.plant.substeps();
+        (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, joints)).transpose()?;
+    let (steps, substeps) = (joints.timing.steps, joints.timing.substeps);
     let mut trace = Trace::new(steps, recording);
-    let last_time = steps.saturating_sub(1) as f64 * dt;
-    let mut metrics = crate::analysis::metrics::MetricsRecorder::new(scenario, method.estimates(), last_time);
+    let last_time = joints.timing.last_time_s();
+    let mut metrics = crate::analysis::metrics::MetricsRecorder::new(joints, method.estimates(), last_time);
     let mut shadow = [JointVector::zeros(); SHADOWS.len()];
     for k in 0..steps {
         let t = k as f64 * dt;

@@ -74,21 +74,16 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     /// The loop's design at the scenario's start pose, as the closed loop makes it: the PD
     /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_D` and `K_I` with the joints
     /// whose gain is capped ([`pid_gains`](super::pid_gains)).
-    pub fn design(&self, scenario: &Scenario, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
-        self.design_at(scenario, joints, &joints.initial_position)
+    pub fn design(&self, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
+        self.design_at(joints, &joints.initial_position)
     }
 
     /// [`design`](Self::design) with the PID's `M_ii` taken at `q0`, where the loop's reference
     /// starts (the closed loop's; the PD's gains are the scenario's start pose's either way).
-    pub fn design_at(
-        &self,
-        scenario: &Scenario,
-        joints: &JointSettings<N>,
-        q0: &JointVector<N>,
-    ) -> Result<LoopDesign<N>, SimError> {
-        let pd = super::gains(self.dynamics(), scenario, joints)?;
+    pub fn design_at(&self, joints: &JointSettings<N>, q0: &JointVector<N>) -> Result<LoopDesign<N>, SimError> {
+        let pd = super::gains(self.dynamics(), joints)?;
         let inertia = self.dynamics().mass_matrix(q0).diagonal();
-        let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, scenario, joints);
+        let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, joints);
         Ok(LoopDesign { pd, pose: *q0, inertia, pid_kd, integral, capped })
     }
 }
@@ -114,7 +109,7 @@ impl<const N: usize> LoopDesign<N> {
     /// its settings checked, its model loaded ([`LoopModel::design`]).
     pub fn of(scenario: &Scenario, robot: &Robot<N>) -> Result<Self, SimError> {
         let joints = JointSettings::<N>::of(scenario)?;
-        LoopModel::of(scenario, robot)?.design(scenario, &joints)
+        LoopModel::of(scenario, robot)?.design(&joints)
     }
 }
 

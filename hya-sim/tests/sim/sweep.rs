@@ -97,9 +97,9 @@ fn integral_gain_at(plan: &Plan, omega: f64) -> Vec<f64> {
     let scenario = plan.scenario_at(0, Method::Pid, omega, 0).unwrap();
     let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
     let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
-    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &scenario, &joints).unwrap();
+    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &joints).unwrap();
     let inertia = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
-    hya_sim::run::pid_gains(&gains, &inertia, &scenario, &joints).1.iter().copied().collect()
+    hya_sim::run::pid_gains(&gains, &inertia, &joints).1.iter().copied().collect()
 }
 
 #[test]
@@ -224,9 +224,9 @@ fn pole_placement_puts_the_pid_poles_together() {
     scenario.controller.integral_rule = hya_sim::scenario::IntegralRule::PolePlacement;
     let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
     let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
-    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &scenario, &joints).unwrap();
+    let gains = hya_sim::run::gains(robot.nominal.as_ref(), &joints).unwrap();
     let m = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
-    let (kd, ki, capped) = hya_sim::run::pid_gains(&gains, &m, &scenario, &joints);
+    let (kd, ki, capped) = hya_sim::run::pid_gains(&gains, &m, &joints);
     let kp = gains.kp().diagonal();
     for j in 0..6 {
         // M (s + ω)³ = M s³ + 3Mω s² + 3Mω² s + Mω³ with K_P = 3Mω² given: its other two

@@ -132,7 +132,7 @@ pub fn section(designs: &ChenDesigns) -> String {
         let largest_pole = designs.rows.iter().filter(|r| r.fastest_rate_rad_s > nyquist).map(pole).fold(0.0, f64::max);
         let _ = writeln!(
             md,
-            "\nIn {} of the {} rows ({}) the fastest rate at the start pose is beyond the {} ms tick's Nyquist rate `π/T` = {:.0} rad/s. The stepped observer's pole at that rate, `1/(1 + rate·T)`, is at most {largest_pole:.2}: each tick keeps at most that share of the previous estimate, so on that joint `d̂` is close to a one-step difference of the measured velocity, not the continuous design; those rows hold lu against that, not against a matched observer.",
+            "\nIn {} of the {} rows ({}) the fastest rate at the start pose is beyond the {} ms tick's Nyquist rate `π/T` = {:.0} rad/s. The observer, stepped implicitly, has its pole at that rate at `1/(1 + rate·T)`, at most {largest_pole:.3}: each tick keeps at most that share of the previous estimate, so on that joint `d̂` is close to a one-step difference of the measured velocity, not the continuous design; those rows hold lu against that, not against a matched observer.",
             beyond.len(),
             designs.rows.len(),
             beyond.join("; "),

@@ -180,7 +180,7 @@ fn share_closed(at_poles: f64, at_delay: f64) -> f64 {
 /// What matching the delay does to the tracking gaps that favoured a first-order observer at equal
 /// poles, from `(at equal poles, at equal delay)` ratios to lu: how many it closes or reverses,
 /// narrows (and by how much on a log scale) or widens.
-fn gap_text(pairs: &[(f64, f64)]) -> String {
+fn gap_text(pairs: &[(f64, f64)], seeds: usize) -> String {
     let shares: Vec<f64> = pairs.iter().filter(|(poles, _)| *poles < 1.0).map(|&(p, d)| share_closed(p, d)).collect();
     if shares.is_empty() {
         return String::new();
@@ -204,13 +204,21 @@ fn gap_text(pairs: &[(f64, f64)]) -> String {
     if widened > 0 {
         parts.push(format!("widens the gap in {widened}"));
     }
-    let reading = if closed == shares.len() {
-        "the lag accounts for the whole gap there"
+    let on = match seeds {
+        1 => "on the means of one seed, with no interval",
+        _ => "on the means; the intervals above say whether what is left exceeds the seeds' spread",
+    };
+    let tail = if closed == shares.len() {
+        format!(" ({on}): the low-frequency lag accounts for the whole gap there")
     } else {
-        "the lag does not account for the whole gap (on the means; where the lines above give intervals, they say whether what is left exceeds the seeds' spread)"
+        format!(
+            "; it does not remove the whole gap ({on}). What is left is not explained here: the delays \
+             match at low frequency only, and at the loops' crossovers a first-order observer and lu's filter \
+             still differ in phase, so lag may remain"
+        )
     };
     format!(
-        "\nOf the {} pairs whose tracking error was below lu's at equal poles, matching the delay {}: {reading}.\n",
+        "\nOf the {} pairs whose tracking error was below lu's at equal poles, matching the low-frequency delay {}{tail}.\n",
         shares.len(),
         parts.join(", ")
     )
@@ -287,7 +295,7 @@ The claims that name chen are judged at every matching, equal −3 dB too, in \"
         Short(1e3 / beta),
         Short(omega),
         lines.join("\n"),
-        gap_text(&tracking_gaps)
+        gap_text(&tracking_gaps, plan.seeds)
     )
 }
 
@@ -317,8 +325,37 @@ fn front_text(points: &[FrontPoint], measure: Measure) -> String {
     }
     let mut text = format!("from the quietest command up, the front is {}.", parts.join("; then "));
     text.push_str(&within_intervals_text(points, &front));
+    text.push_str(&near_tie_text(points, &front));
     text.push_str(&off_front_text(points, &front));
     text
+}
+
+/// How close two command noises must be, relative, for the report not to rank by them.
+const NOISE_TIE: f64 = 0.01;
+
+/// The front's points that are on it only by a command noise less than [`NOISE_TIE`] below that
+/// of a point with lower error: a quieter command by so little does not separate them.
+fn near_tie_text(points: &[FrontPoint], front: &[&FrontPoint]) -> String {
+    let named = |p: &FrontPoint| format!("{}@{}", p.method, Short(p.bandwidth_rad_s));
+    let tied: Vec<String> = front
+        .iter()
+        .filter_map(|p| {
+            points
+                .iter()
+                .find(|q| q.error.0 < p.error.0 && q.noise.0 > p.noise.0 && q.noise.0 <= p.noise.0 * (1.0 + NOISE_TIE))
+                .map(|q| format!("{} against {}", named(p), named(q)))
+        })
+        .collect();
+    match tied.len() {
+        0 => String::new(),
+        k => format!(
+            " {k} of these points {} on the front only by a command noise less than {} % below that of a point \
+             with lower error ({}): a difference that small does not rank them.",
+            if k == 1 { "is" } else { "are" },
+            Short(100.0 * NOISE_TIE),
+            tied.join(", ")
+        ),
+    }
 }
 
 /// The front's points that another point beats on both means, though not beyond the intervals:
@@ -482,12 +519,27 @@ mod tests {
     fn matching_the_delay_is_said_to_close_narrow_or_widen_the_gap_from_the_ratios() {
         assert!((share_closed(0.5, 0.5) - 0.0).abs() < 1e-12 && (share_closed(0.5, 1.0) - 1.0).abs() < 1e-12);
         // Narrowed: 0.5 → 0.8 closes 1 − ln 0.8/ln 0.5 = 68 %; a gap in lu's favour is not counted.
-        let text = gap_text(&[(0.5, 0.8), (1.2, 1.1)]);
+        let text = gap_text(&[(0.5, 0.8), (1.2, 1.1)], 3);
         assert!(text.contains("Of the 1 pairs") && text.contains("narrows the gap in 1 (closing 68 %"), "{text}");
-        assert!(text.contains("does not account for the whole gap"), "{text}");
-        let text = gap_text(&[(0.5, 1.05), (0.6, 0.4)]);
+        assert!(text.contains("it does not remove the whole gap (on the means;"), "{text}");
+        let text = gap_text(&[(0.5, 1.05), (0.6, 0.4)], 1);
         assert!(text.contains("closes or reverses the gap in 1") && text.contains("widens the gap in 1"), "{text}");
-        assert!(gap_text(&[(0.5, 1.0)]).contains("accounts for the whole gap"));
-        assert!(gap_text(&[(1.3, 0.9)]).is_empty());
+        assert!(text.contains("one seed, with no interval"), "{text}");
+        assert!(gap_text(&[(0.5, 1.0)], 3).contains("accounts for the whole gap"));
+        assert!(gap_text(&[(1.3, 0.9)], 3).is_empty());
+    }
+
+    #[test]
+    fn a_front_point_kept_by_a_near_tie_in_noise_is_named() {
+        let one = f64::INFINITY;
+        let points =
+            vec![point("pid", 20.0, (1.677_238, one), (20.8, one)), point("lu", 20.0, (1.677_240, one), (17.7, one))];
+        let front: Vec<&FrontPoint> = pareto_optimal(&points).into_iter().map(|i| &points[i]).collect();
+        assert_eq!(front.len(), 2, "neither dominates on the means");
+        let text = near_tie_text(&points, &front);
+        assert!(text.contains("1 of these points") && text.contains("pid@20 against lu@20"), "{text}");
+        let apart = vec![point("pid", 20.0, (1.5, one), (20.8, one)), point("lu", 20.0, (1.7, one), (17.7, one))];
+        let front: Vec<&FrontPoint> = pareto_optimal(&apart).into_iter().map(|i| &apart[i]).collect();
+        assert!(near_tie_text(&apart, &front).is_empty());
     }
 }

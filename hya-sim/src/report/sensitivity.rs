@@ -86,6 +86,9 @@ pub struct Changes {
     pub movable: Vec<usize>,
     /// The moves, variant by variant.
     pub moved: Vec<Effect>,
+    /// The comparisons whose mean ratio changes side under a variant though the change is not
+    /// beyond the seeds' spread: `scenario jN, baseline / lu under variant`.
+    pub crossed_within: Vec<String>,
 }
 
 /// Every comparison of `sensitivity`: per scenario and baseline, the rows of paired ratios
@@ -126,10 +129,16 @@ pub fn changes(sensitivity: &Sensitivity) -> Changes {
             for (j, ratio) in row.iter().enumerate() {
                 let own = seed_ratios(reported, &scenario, baseline, j);
                 let effect = PairedRatio::of(&seed_ratios(v, &scenario, baseline, j), &own);
+                let before = rows[0][j].ratio;
                 if !effect.above_one() && !effect.below_one() {
+                    if (before > 1.0) != (ratio.ratio > 1.0) {
+                        let name = format!("`{scenario}` j{}, {} / lu", j + 1, baseline.name());
+                        changes
+                            .crossed_within
+                            .push(format!("{name} under {} ({before:.2} → {:.2})", v.variant, ratio.ratio));
+                    }
                     continue;
                 }
-                let before = rows[0][j].ratio;
                 changes.moved.push(Effect {
                     variant: v.variant.clone(),
                     line: format!(
@@ -213,10 +222,14 @@ pub fn headline(sensitivity: Option<&Sensitivity>) -> String {
         .filter(|e| e.crosses)
         .map(|e| format!("{} under {}", e.line.split(':').next().unwrap_or_default(), e.variant))
         .collect();
-    let sides = match across.is_empty() {
-        true => "no comparison's mean ratio changes side under any of them".to_owned(),
-        false => format!("the mean ratio changes side on {} only", across.join("; ")),
+    let mut sides = match across.is_empty() {
+        true => "among these moves no mean ratio changes side".to_owned(),
+        false => format!("among these moves the mean ratio changes side on {} only", across.join("; ")),
     };
+    if !changes.crossed_within.is_empty() {
+        let _ =
+            write!(sides, "; within the seeds' spread it also changes side on {}", changes.crossed_within.join("; "));
+    }
     format!(
         "\nRerun with one modelling choice changed at a time ({} seeds, paired by seed), the tracking comparisons with {} that each choice moves beyond the seeds' spread (of those it reruns a side of): {}; {sides} (no correction for the number of comparisons). See \"Sensitivity to the modelling choices\".\n",
         sensitivity.seeds,

@@ -36,8 +36,8 @@ pub struct ReportOptions {
     shard: Option<String>,
     /// Write the report from the runs of these shard folders (each from `--shard`, of the same
     /// scenarios and build): the studies run here, and the report is the one an unsharded run
-    /// writes. The seeds, `--quick` and `--full-sweep` are the shards'.
-    #[arg(long, num_args = 1.., conflicts_with_all = ["quick", "full_sweep"])]
+    /// writes. The seeds and `--quick` are the shards'.
+    #[arg(long, num_args = 1.., conflicts_with = "quick")]
     merge: Vec<PathBuf>,
     /// No cost line and no progress bar on stderr (warnings and errors still go there).
     #[arg(short, long)]
@@ -110,7 +110,7 @@ fn run_all(
     // A merge runs what its shards were run with.
     let shards_key = merged.first().map(|(_, shard)| &shard.experiment);
     let quick = shards_key.map_or(options.quick, |key| key.quick);
-    let full_sweep = shards_key.map_or(options.full_sweep, |key| key.full_sweep);
+    let full_sweep = options.full_sweep;
     let seeds =
         shards_key.map(|key| key.seeds).or(options.seeds).unwrap_or(if quick { QUICK_SEEDS } else { DEFAULT_SEEDS });
     if !(1..=MAX_SEEDS).contains(&seeds) {
@@ -131,7 +131,7 @@ fn run_all(
     // The runs and the studies after them (the bandwidth sweep, the sensitivity variants, …).
     let cost = match &part {
         Part::All => hya_sim::Experiment::cost(&scenarios, seeds, (quick, full_sweep)),
-        Part::Shard(shard) => Ok(hya_sim::seed_shards::cost(&scenarios, seeds, *shard)),
+        Part::Shard(shard) => hya_sim::seed_shards::cost(&scenarios, seeds, *shard),
         Part::Merge(_) => hya_sim::Experiment::studies_cost(&scenarios, seeds, (quick, full_sweep)),
     }
     .map_err(sim)?;
@@ -145,6 +145,11 @@ fn run_all(
         command_line(),
         [env!("HYA_BUILD_COMMIT"), env!("HYA_BUILD_RUSTC"), env!("HYA_BUILD_PROFILE"), env!("HYA_BUILD_RUSTFLAGS")],
     );
+    // Shards that do not make one experiment are refused before the folder is taken.
+    if let Part::Merge(shards) = &part {
+        let joints = hya_sim::robot::robot_model(&scenarios[0].robot).map_err(sim)?.dof();
+        hya_sim::seed_shards::check(&scenarios, (seeds, quick), (&provenance.build(), joints), shards).map_err(sim)?;
+    }
     let shard_files: Vec<PathBuf> =
         options.merge.iter().map(|dir| dir.join(hya_sim::seed_shards::SHARD_FILE)).collect();
     let reads: Vec<&Path> = file

@@ -112,6 +112,17 @@ fn shards_that_are_not_one_experiment_are_refused_and_kept() {
     let before = std::fs::read(dir.join("s0").join("runs.cbor")).unwrap();
     assert_rejected(&["run", &file, "-q", "--force", "--out", &s0, "--merge", &s0, &s1], "", &["runs.cbor"]);
     assert_eq!(std::fs::read(dir.join("s0").join("runs.cbor")).unwrap(), before, "a shard's runs changed");
+    // Nor over a folder holding a shard it is not given: the merge is refused before the
+    // folder is taken, and a shard run never replaces another's runs.
+    let other_runs = std::fs::read(dir.join("other").join("runs.cbor")).unwrap();
+    assert_rejected(&["run", &file, "-q", "--force", "--out", &other, "--merge", &s0, &s1], "", &["runs.cbor"]);
+    assert_rejected(&["run", &file, "-q", "--force", "--out", &other, "--merge", &s0], "", &["missing shards"]);
+    assert_rejected(
+        &["run", &file, "--seeds", "2", "-q", "--force", "--shard", "0/2", "--out", &other],
+        "",
+        &["--force would remove runs.cbor"],
+    );
+    assert_eq!(std::fs::read(dir.join("other").join("runs.cbor")).unwrap(), other_runs, "a shard's runs changed");
     // The good pair still merges.
     ok(&["run", &file, "-q", "--out", &out, "--merge", &s0, &s1]);
     assert!(dir.join("out").join("report.md").is_file());

@@ -143,10 +143,9 @@ mod tests {
 
     #[test]
     fn a_missing_file_is_named_as_written() {
-        assert_eq!(
-            error_of(quote!(Bad, "tests/urdf/does_not_exist.urdf")),
-            "tests/urdf/does_not_exist.urdf: cannot read: No such file or directory (os error 2)"
-        );
+        // The operating system's own words follow; they differ between systems.
+        let message = error_of(quote!(Bad, "tests/urdf/does_not_exist.urdf"));
+        assert!(message.starts_with("tests/urdf/does_not_exist.urdf: cannot read: "), "{message}");
     }
 
     #[test]

@@ -131,7 +131,7 @@ impl<'a> Experiment<'a> {
 
     /// The experiment's key and build, as shards record them.
     fn key(&self) -> Result<(seed_shards::ExperimentKey, String), SimError> {
-        let key = seed_shards::ExperimentKey::of(self.scenarios, self.seeds, (self.quick, self.full_sweep))?;
+        let key = seed_shards::ExperimentKey::of(self.scenarios, self.seeds, self.quick)?;
         Ok((key, self.provenance.build()))
     }
 

@@ -308,7 +308,7 @@ impl<const N: usize> MetricsRecorder<N> {
             settled: Window::new(end - window, end),
             settled_error: Mean::default(),
             settled_extremes: Extremes::default(),
-            cycle: CycleWindow::new(task, end, setup.control.dt_s),
+            cycle: CycleWindow::new(task, end, setup.timing.dt_s),
             command_noise: StepNoise::default(),
             estimate_error: Rms::default(),
             disturbance_spread: Spread::default(),
@@ -317,7 +317,12 @@ impl<const N: usize> MetricsRecorder<N> {
             drop,
             shift,
             shadows: SHADOWS.map(|method| {
-                ShadowRecorder::new(method, &setup.control, setup.plant.loads.sinusoid.as_ref(), last_time)
+                ShadowRecorder::new(
+                    method,
+                    (setup.control.observer_bandwidth_rad_s, setup.timing.dt_s),
+                    setup.plant.loads.sinusoid.as_ref(),
+                    last_time,
+                )
             }),
             coulomb: setup.plant.friction.levels().map(|levels| levels.coulomb.iter().copied().collect()),
         }

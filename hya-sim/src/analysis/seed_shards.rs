@@ -20,17 +20,18 @@ use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::Trace;
 
-/// The file a shard's runs go to in its folder.
-pub const SHARD_FILE: &str = "runs.cbor";
+pub use crate::io::output::SHARD_FILE;
 
 /// The version of [`SHARD_FILE`]'s layout; a merge refuses another.
 const FORMAT: u32 = 1;
 
-/// What makes two shards parts of one experiment: the scenarios (every setting), the seeds and
-/// the report's options.
+/// What makes two shards parts of one experiment's runs: the scenarios (every setting, and the
+/// content of every file they name), the seeds and whether they were shortened. (The studies'
+/// options are the merge's: they change no run.)
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExperimentKey {
-    /// SHA-256 of the scenarios' settings (as JSON), hex.
+    /// SHA-256 of the scenarios' settings (as JSON) and of the content of each file they read
+    /// (URDFs, friction files), hex.
     pub scenarios_sha256: String,
     /// The scenarios' names, for the messages.
     pub scenario_names: Vec<String>,
@@ -38,23 +39,30 @@ pub struct ExperimentKey {
     pub seeds: usize,
     /// Whether the scenarios were shortened (`--quick`).
     pub quick: bool,
-    /// Whether the report's sweep runs the full grid.
-    pub full_sweep: bool,
 }
 
 impl ExperimentKey {
-    /// The key of an experiment on `scenarios` over `seeds` seeds, `(quick, full_sweep)`.
-    pub fn of(scenarios: &[Scenario], seeds: usize, (quick, full_sweep): (bool, bool)) -> Result<Self, SimError> {
-        let settings = serde_json::to_string(scenarios).map_err(|e| SimError::Shard {
-            shard: "this experiment".to_owned(),
-            message: format!("its settings do not serialise: {e}"),
-        })?;
+    /// The key of an experiment on `scenarios` over `seeds` seeds, shortened if `quick`. A file
+    /// a scenario names that cannot be read is refused here, before any run.
+    pub fn of(scenarios: &[Scenario], seeds: usize, quick: bool) -> Result<Self, SimError> {
+        let refuse = |message: String| SimError::Shard { shard: "this experiment".to_owned(), message };
+        let settings =
+            serde_json::to_string(scenarios).map_err(|e| refuse(format!("its settings do not serialise: {e}")))?;
+        let mut digest = Sha256::new();
+        digest.update(settings.as_bytes());
+        for s in scenarios {
+            // A shipped arm's name is no file: its model is compiled in (the build is checked).
+            for path in s.files_read().filter(|p| hya_robots::find(&p.to_string_lossy()).is_none()) {
+                let sha256 = crate::io::input::sha256_of(path)
+                    .map_err(|why| refuse(format!("{} ({}): {why}", path.display(), s.name)))?;
+                digest.update(sha256.as_bytes());
+            }
+        }
         Ok(Self {
-            scenarios_sha256: Sha256::digest(settings.as_bytes()).iter().map(|b| format!("{b:02x}")).collect(),
+            scenarios_sha256: digest.finalize().iter().map(|b| format!("{b:02x}")).collect(),
             scenario_names: scenarios.iter().map(|s| s.name.clone()).collect(),
             seeds,
             quick,
-            full_sweep,
         })
     }
 }
@@ -172,16 +180,23 @@ pub fn read(dir: &std::path::Path) -> Result<RunShard, SimError> {
 }
 
 /// The cost of `shard` of the experiment's runs (no study: the merge runs those).
-pub fn cost(scenarios: &[Scenario], seeds: usize, shard: Shard) -> Cost {
-    shard_jobs(scenarios, seeds, shard)
+pub fn cost(scenarios: &[Scenario], seeds: usize, shard: Shard) -> Result<Cost, SimError> {
+    Ok(shard_jobs(scenarios, seeds, shard)?
         .into_iter()
         .map(|(i, _, k)| Cost::of_runs(&scenarios[i], 1, usize::from(k == 0)))
-        .fold(Cost::NONE, |a, b| a + b)
+        .fold(Cost::NONE, |a, b| a + b))
 }
 
-/// The experiment's runs in `shard`.
-fn shard_jobs(scenarios: &[Scenario], seeds: usize, shard: Shard) -> Vec<seeds::Job> {
-    seeds::jobs(scenarios, seeds).into_iter().skip(shard.index).step_by(shard.count).collect()
+/// The experiment's runs in `shard` (checked: `0 ≤ index < count ≤ runs`).
+fn shard_jobs(scenarios: &[Scenario], seeds: usize, shard: Shard) -> Result<Vec<seeds::Job>, SimError> {
+    let jobs = seeds::jobs(scenarios, seeds);
+    if shard.count == 0 || shard.index >= shard.count || shard.count > jobs.len() {
+        return Err(SimError::Shard {
+            shard: format!("{}/{}", shard.index, shard.count),
+            message: format!("need 0 ≤ I < N ≤ {}, the experiment's runs", jobs.len()),
+        });
+    }
+    Ok(jobs.into_iter().skip(shard.index).step_by(shard.count).collect())
 }
 
 /// Runs `shard` of the experiment (`key`'s) on `robot`, `build` naming the build.
@@ -192,7 +207,7 @@ pub fn run<const N: usize>(
     shard: Shard,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<RunShard, SimError> {
-    let jobs = shard_jobs(scenarios, key.seeds, shard);
+    let jobs = shard_jobs(scenarios, key.seeds, shard)?;
     let outcomes = seeds::run_jobs(robot, scenarios, &jobs, progress)?;
     let runs = jobs
         .iter()
@@ -216,35 +231,45 @@ pub fn run<const N: usize>(
     })
 }
 
-/// The runs of every shard of one experiment (`key`'s, on `scenarios`, built as `build`), as
-/// [`seeds::run_seeds`] returns them; each shard with where it came from. Refused: a shard of
-/// another experiment, build or shard count, a shard named twice or missing, a shard whose runs
-/// are not the ones its index names, a trace of the wrong size.
-pub fn merge<const N: usize>(
+/// Checks that `shards` (each with where it came from) are every shard of the runs of one
+/// experiment on `scenarios` over `seeds` seeds, shortened if `quick`, run by `build` on an arm
+/// of `joints` joints: for a command to call before it takes its output folder.
+pub fn check(
     scenarios: &[Scenario],
-    (key, build): (&ExperimentKey, &str),
+    (seeds, quick): (usize, bool),
+    (build, joints): (&str, usize),
     shards: &[(String, RunShard)],
-) -> Result<(Vec<RunOutcome<N>>, MetricTable), SimError> {
+) -> Result<(), SimError> {
+    let key = ExperimentKey::of(scenarios, seeds, quick)?;
+    place(&seeds::jobs(scenarios, seeds), (&key, build, joints), shards).map(|_| ())
+}
+
+/// Each of `jobs`' run from `shards`, in the jobs' order; see [`merge`] for what is refused.
+fn place<'s>(
+    jobs: &[seeds::Job],
+    (key, build, joints): (&ExperimentKey, &str, usize),
+    shards: &'s [(String, RunShard)],
+) -> Result<Vec<&'s StoredRun>, SimError> {
     let Some((_, first)) = shards.first() else { return Err(SimError::Nothing("no shards to merge")) };
-    let jobs = seeds::jobs(scenarios, key.seeds);
     let count = first.count;
-    let mut holder: Vec<Option<&str>> = vec![None; count];
+    let mut holder: Vec<Option<&str>> = Vec::new();
     let mut slots: Vec<Option<&StoredRun>> = vec![None; jobs.len()];
     for (origin, shard) in shards {
         let refuse = |message: String| SimError::Shard { shard: origin.clone(), message };
         if shard.experiment != *key {
+            let describe = |k: &ExperimentKey| {
+                format!(
+                    "{} over {} seeds{} (settings and files' SHA-256 {})",
+                    k.scenario_names.join(", "),
+                    k.seeds,
+                    if k.quick { ", quick" } else { "" },
+                    Clipped(&k.scenarios_sha256, 12)
+                )
+            };
             return Err(refuse(format!(
-                "comes from another experiment: {} over {} seeds{}{} (scenarios' SHA-256 {}), not {} over {} seeds{}{} ({})",
-                shard.experiment.scenario_names.join(", "),
-                shard.experiment.seeds,
-                if shard.experiment.quick { ", quick" } else { "" },
-                if shard.experiment.full_sweep { ", full sweep" } else { "" },
-                Clipped(&shard.experiment.scenarios_sha256, 12),
-                key.scenario_names.join(", "),
-                key.seeds,
-                if key.quick { ", quick" } else { "" },
-                if key.full_sweep { ", full sweep" } else { "" },
-                Clipped(&key.scenarios_sha256, 12),
+                "comes from another experiment: {}, not {}",
+                describe(&shard.experiment),
+                describe(key)
             )));
         }
         if shard.build != build {
@@ -253,9 +278,16 @@ pub fn merge<const N: usize>(
                 Clipped(&shard.build, 200)
             )));
         }
-        if shard.count != count || !(1..=jobs.len()).contains(&count) {
-            return Err(refuse(format!("is one of {} shards, the first of {count}", shard.count)));
+        if !(1..=jobs.len()).contains(&shard.count) {
+            return Err(refuse(format!("claims {} shards; the experiment has {} runs", shard.count, jobs.len())));
         }
+        if shard.count != count {
+            return Err(refuse(format!(
+                "is one of {} shards, where the first shard given is one of {count}",
+                shard.count
+            )));
+        }
+        holder.resize(count, None);
         let Some(slot) = holder.get_mut(shard.index) else {
             return Err(refuse(format!("names shard {}, beyond 0 to {}", shard.index, count - 1)));
         };
@@ -274,6 +306,12 @@ pub fn merge<const N: usize>(
             )));
         }
         for (run, j) in shard.runs.iter().zip(expected) {
+            if let Some((name, values)) = run.metrics.named().into_iter().find(|(_, v)| v.len() != joints) {
+                return Err(refuse(format!(
+                    "run {j}'s `{name}` has {} values, not one per joint ({joints})",
+                    values.len()
+                )));
+            }
             slots[j] = Some(run);
         }
     }
@@ -282,10 +320,26 @@ pub fn merge<const N: usize>(
     if !missing.is_empty() {
         return Err(SimError::MissingShards(missing.join(", ")));
     }
+    slots
+        .into_iter()
+        .map(|slot| slot.ok_or(SimError::MissingShards("a run (a bug: every shard was found)".into())))
+        .collect()
+}
+
+/// The runs of every shard of one experiment (`key`'s, on `scenarios`, built as `build`), as
+/// [`seeds::run_seeds`] returns them; each shard with where it came from. Refused: a shard of
+/// another experiment, build or shard count, a shard named twice or missing, a shard whose runs
+/// are not the ones its index names, a metric or trace not of `N` joints.
+pub fn merge<const N: usize>(
+    scenarios: &[Scenario],
+    (key, build): (&ExperimentKey, &str),
+    shards: &[(String, RunShard)],
+) -> Result<(Vec<RunOutcome<N>>, MetricTable), SimError> {
+    let jobs = seeds::jobs(scenarios, key.seeds);
+    let slots = place(&jobs, (key, build, N), shards)?;
     let mut table = MetricTable::default();
     let mut first_seeds = Vec::new();
     for (&(i, method, k), run) in jobs.iter().zip(slots) {
-        let Some(run) = run else { return Err(SimError::MissingShards(format!("run {i}/{}/{k}", method.name()))) };
         let scenario = &scenarios[i];
         table.push(&scenario.name, method, run.metrics.clone());
         if k == 0 {
@@ -304,4 +358,39 @@ pub fn merge<const N: usize>(
         }
     }
     Ok((first_seeds, table))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_shard_outside_the_experiments_runs_is_refused_in_the_library() {
+        let scenarios = [Scenario::builtin("goto_internal").unwrap_or_else(|e| panic!("{e}"))];
+        let runs = seeds::jobs(&scenarios, 2).len();
+        for (index, count) in [(0, 0), (2, 2), (0, runs + 1)] {
+            assert!(cost(&scenarios, 2, Shard { index, count }).is_err(), "{index}/{count} accepted");
+        }
+        let whole = cost(&scenarios, 2, Shard { index: 0, count: 1 }).unwrap_or_else(|e| panic!("{e}"));
+        let halves =
+            [0, 1].map(|index| cost(&scenarios, 2, Shard { index, count: 2 }).unwrap_or_else(|e| panic!("{e}")));
+        assert_eq!(whole.runs, runs);
+        assert_eq!(halves[0].runs + halves[1].runs, runs);
+    }
+
+    #[test]
+    fn a_trace_keeps_its_bits_and_a_misfit_is_refused() {
+        let mut trace = Trace::<2> { stride: 3, time: vec![0.0, 0.5], ..Trace::default() };
+        let v = |a: f64| vec![JointVector::<2>::new(a, f64::NAN), JointVector::<2>::new(-a, 1e-300)];
+        (trace.q, trace.q_des, trace.d_true, trace.d_hat, trace.tau_cmd) = (v(1.0), v(2.0), v(3.0), v(4.0), v(5.0));
+        let stored = StoredTrace::of(&trace);
+        let mut bytes = Vec::new();
+        ciborium::into_writer(&stored, &mut bytes).unwrap_or_else(|e| panic!("{e}"));
+        let back: StoredTrace = ciborium::from_reader(bytes.as_slice()).unwrap_or_else(|e| panic!("{e}"));
+        let again = back.trace::<2>().unwrap_or_else(|| panic!("a trace of two joints"));
+        let bits =
+            |t: &Trace<2>| t.q.iter().chain(&t.tau_cmd).flat_map(|x| x.iter().map(|v| v.to_bits())).collect::<Vec<_>>();
+        assert_eq!(bits(&again), bits(&trace));
+        assert!(back.trace::<3>().is_none(), "two joints read as three");
+    }
 }

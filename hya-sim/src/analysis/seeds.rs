@@ -181,10 +181,15 @@ pub fn run_jobs<const N: usize>(
             source: Box::new(e),
         }
     };
+    // A setup's error is every seed's: it names none.
     let mut setups = BTreeMap::new();
-    for &(i, method, k) in jobs {
+    for &(i, method, _) in jobs {
         if let std::collections::btree_map::Entry::Vacant(slot) = setups.entry((i, method)) {
-            slot.insert(RunSetup::new(&scenarios[i], method, robot).map_err(failed((i, method, k)))?);
+            let setup = RunSetup::new(&scenarios[i], method, robot).map_err(|e| SimError::Run {
+                run: format!("{} / {}", scenarios[i].name, method.name()),
+                source: Box::new(e),
+            })?;
+            slot.insert(setup);
         }
     }
     let results = parallel_map(jobs, |&(i, method, k)| {

@@ -14,7 +14,6 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::running::{Rms, StepNoise, Window};
 use crate::config::plant::SinusoidLoad;
 use crate::config::scenario::Method;
-use crate::config::settings::ControlSetup;
 use crate::linear::PhasorSum;
 
 /// One shadow estimator's figures, per joint, after the warm-up.
@@ -125,12 +124,17 @@ struct BandError<const N: usize> {
 }
 
 impl<const N: usize> ShadowRecorder<N> {
-    /// The recorder of `method` (of [`crate::run::trace::SHADOWS`]) under the controller's
-    /// settings `c` and the sinusoidal load (whose band it watches), whose last tick is at
-    /// `last_time` (s).
-    pub fn new(method: Method, c: &ControlSetup, sinusoid: Option<&SinusoidLoad<N>>, last_time: f64) -> Self {
+    /// The recorder of `method` (of [`crate::run::trace::SHADOWS`]) at the observers' pole
+    /// magnitude `bandwidth` (rad/s) and control period `dt` (s), under the sinusoidal load
+    /// (whose band it watches), whose last tick is at `last_time` (s).
+    pub fn new(
+        method: Method,
+        (bandwidth, dt): (f64, f64),
+        sinusoid: Option<&SinusoidLoad<N>>,
+        last_time: f64,
+    ) -> Self {
         Self {
-            design: Design::new(method, c.observer_bandwidth_rad_s, c.dt_s),
+            design: Design::new(method, bandwidth, dt),
             error: Rms::default(),
             design_error: Rms::default(),
             noise: StepNoise::default(),

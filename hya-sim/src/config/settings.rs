@@ -118,11 +118,10 @@ impl<const N: usize> TaskSetup<N> {
     }
 }
 
-/// The controller's scalar settings (the scenario's check has held each to its rule).
+/// The controller's scalar settings (the scenario's check has held each to its rule; the control
+/// period is the clock's, [`Timing::dt_s`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControlSetup {
-    /// The control period `T`, s.
-    pub dt_s: f64,
     /// Every observer's pole magnitude, rad/s.
     pub observer_bandwidth_rad_s: f64,
     /// Chen's gain design.
@@ -143,7 +142,6 @@ impl ControlSetup {
     /// `controller`'s scalars.
     pub fn of(controller: &ControllerConfig) -> Self {
         Self {
-            dt_s: controller.dt_s,
             observer_bandwidth_rad_s: controller.observer_bandwidth_rad_s,
             chen_gain: controller.chen_gain,
             damping_ratio: controller.damping_ratio,
@@ -179,8 +177,9 @@ impl Timing {
     }
 }
 
-/// Every setting of a scenario a closed loop reads, checked for an arm of `N` joints: the
-/// per-joint lists, the controller's scalars, the clock, the sensors, the task and the plant.
+/// Every setting of a scenario a closed loop reads, for an arm of `N` joints: the per-joint lists,
+/// the task and the plant checked here; the controller's scalars, the clock and the sensors as
+/// the scenario's own check left them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointSettings<const N: usize> {
     /// The start pose, rad.

@@ -24,6 +24,8 @@
 //! - **`--force` never removes what the run reads**: the caller names the files the run reads
 //!   (scenario, URDFs, friction files); a listed report file that is one of them (the same
 //!   file, whatever path names it) makes `--force` refuse before anything is removed.
+//! - **`--force` never removes a shard's runs** ([`SHARD_FILE`], written by `--shard`): they
+//!   may be hours of computing and are a merge's input; they are removed by hand or not at all.
 //! - **A refused run leaves nothing**: a folder that [`OutputDir::open`] created is removed again
 //!   if the run saved nothing into it.
 
@@ -41,6 +43,9 @@ use crate::error::SimError;
 pub const MANIFEST: &str = ".hya-files";
 /// The note naming the run that holds the folder (removed when it ends).
 pub const LOCK_NOTE: &str = ".hya-lock";
+/// The file a shard of `hya run`/`hya reproduce` (`--shard`) keeps its runs in
+/// ([`crate::seed_shards`]); `--force` never removes it.
+pub const SHARD_FILE: &str = "runs.cbor";
 /// The manifest's first line; a manifest without it (or from an older hya) is not trusted.
 const MANIFEST_HEADER: &str = "# hya report files: sha256, two spaces, file name";
 /// The prefix of every temporary file name (`.hya-tmp-PID-NAME`).
@@ -192,6 +197,15 @@ impl OutputDir {
         let mut remove = Vec::new();
         for (name, sha256) in &listed {
             let path = dir.join(name);
+            if name == SHARD_FILE && std::fs::symlink_metadata(&path).is_ok() {
+                return Err(refused(
+                    dir,
+                    format!(
+                        "--force would remove {SHARD_FILE}, a shard's runs; nothing was removed: name another \
+                         folder, or remove the file yourself if you mean to"
+                    ),
+                ));
+            }
             let same = std::fs::canonicalize(&path).ok();
             if let Some((_, read)) = inputs.iter().find(|(input, _)| Some(input) == same.as_ref()) {
                 return Err(refused(

@@ -218,8 +218,11 @@ fn gap_text(pairs: &[(f64, f64)], seeds: usize) -> String {
         )
     };
     format!(
-        "\nOf the {} pairs whose tracking error was below lu's at equal poles, matching the low-frequency delay {}{tail}.\n",
-        shares.len(),
+        "\nOf the {} whose tracking error was below lu's at equal poles, matching the low-frequency delay {}{tail}.\n",
+        match shares.len() {
+            1 => "one pair".to_owned(),
+            n => format!("{n} pairs"),
+        },
         parts.join(", ")
     )
 }
@@ -245,6 +248,7 @@ fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
     };
     let mut lines = Vec::new();
     let mut tracking_gaps = Vec::new();
+    let mut paired_seeds = usize::MAX;
     for scenario in scenarios(sweep) {
         for method in ["chen", "momentum"] {
             let mut parts = Vec::new();
@@ -253,8 +257,9 @@ fn equal_delay_text(sweep: &Sweep, plan: &Plan) -> String {
                     continue;
                 };
                 let at_poles = ratio_to_lu(sweep, scenario, (method, omega), omega, measure);
-                if let (Measure::Tracking, Some((poles, _))) = (measure, at_poles) {
+                if let (Measure::Tracking, Some((poles, poles_seeds))) = (measure, at_poles) {
                     tracking_gaps.push((poles.ratio, ratio.ratio));
+                    paired_seeds = paired_seeds.min(seeds.min(poles_seeds));
                 }
                 let word = if ratio.below_one() {
                     "lower than lu's"
@@ -295,7 +300,7 @@ The claims that name chen are judged at every matching, equal −3 dB too, in \"
         Short(1e3 / beta),
         Short(omega),
         lines.join("\n"),
-        gap_text(&tracking_gaps, plan.seeds)
+        gap_text(&tracking_gaps, paired_seeds)
     )
 }
 
@@ -520,7 +525,7 @@ mod tests {
         assert!((share_closed(0.5, 0.5) - 0.0).abs() < 1e-12 && (share_closed(0.5, 1.0) - 1.0).abs() < 1e-12);
         // Narrowed: 0.5 → 0.8 closes 1 − ln 0.8/ln 0.5 = 68 %; a gap in lu's favour is not counted.
         let text = gap_text(&[(0.5, 0.8), (1.2, 1.1)], 3);
-        assert!(text.contains("Of the 1 pairs") && text.contains("narrows the gap in 1 (closing 68 %"), "{text}");
+        assert!(text.contains("Of the one pair") && text.contains("narrows the gap in 1 (closing 68 %"), "{text}");
         assert!(text.contains("it does not remove the whole gap (on the means;"), "{text}");
         let text = gap_text(&[(0.5, 1.05), (0.6, 0.4)], 1);
         assert!(text.contains("closes or reverses the gap in 1") && text.contains("widens the gap in 1"), "{text}");

@@ -136,7 +136,7 @@ struct IntegralAction<const N: usize> {
 
 impl<const N: usize> IntegralAction<N> {
     fn new(gain: JointVector<N>, joints: &JointSettings<N>) -> Result<Self, SimError> {
-        Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: joints.control.dt_s })
+        Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: joints.timing.dt_s })
     }
 
     /// Adds `K_I e T` and returns the clamped integral torque, N·m.

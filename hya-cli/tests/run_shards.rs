@@ -123,6 +123,17 @@ fn shards_that_are_not_one_experiment_are_refused_and_kept() {
         &["--force would remove runs.cbor"],
     );
     assert_eq!(std::fs::read(dir.join("other").join("runs.cbor")).unwrap(), other_runs, "a shard's runs changed");
+    // A number changed inside a shard still decodes; the manifest's checksum catches it.
+    let copy = dir.join("flipped");
+    std::fs::create_dir_all(&copy).unwrap();
+    for name in ["runs.cbor", ".hya-files"] {
+        std::fs::copy(dir.join("s1").join(name), copy.join(name)).unwrap();
+    }
+    let mut bytes = std::fs::read(copy.join("runs.cbor")).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 1;
+    std::fs::write(copy.join("runs.cbor"), bytes).unwrap();
+    assert_rejected(&["run", &file, "-q", "--out", &out, "--merge", &s0, &path("flipped")], "", &["SHA-256 differs"]);
     // The good pair still merges.
     ok(&["run", &file, "-q", "--out", &out, "--merge", &s0, &s1]);
     assert!(dir.join("out").join("report.md").is_file());

@@ -170,12 +170,26 @@ impl RunShard {
 /// ([`crate::config::cost::MAX_TRACE_BYTES`]) and as much again for the metrics and the layout.
 pub const MAX_SHARD_BYTES: u64 = 2 * crate::config::cost::MAX_TRACE_BYTES as u64;
 
-/// Reads the [`SHARD_FILE`] of a shard folder, at most [`MAX_SHARD_BYTES`].
+/// Reads the [`SHARD_FILE`] of a shard folder, at most [`MAX_SHARD_BYTES`]. Where the folder's
+/// manifest (written with the shard) lists the file, its bytes must have the listed SHA-256: a
+/// flipped bit in a number would still decode. (A shard copied without its folder's manifest is
+/// read on the strength of its layout alone.)
 pub fn read(dir: &std::path::Path) -> Result<RunShard, SimError> {
     let path = dir.join(SHARD_FILE);
     let origin = path.display().to_string();
     let bytes = hya_urdf::file::read_bytes(&path, MAX_SHARD_BYTES)
         .map_err(|e| SimError::Shard { shard: origin.clone(), message: e.to_string() })?;
+    if let Some(listed) = crate::io::output::listed_sha256(dir, SHARD_FILE) {
+        if crate::io::output::sha256_hex(&bytes) != listed {
+            return Err(SimError::Shard {
+                shard: origin,
+                message: format!(
+                    "its SHA-256 differs from the one {} lists: the file changed since it was written",
+                    crate::io::output::MANIFEST
+                ),
+            });
+        }
+    }
     RunShard::from_bytes(&bytes, &origin)
 }
 

@@ -339,6 +339,12 @@ fn holder_of(dir: &Path) -> String {
 }
 
 /// The trusted [`MANIFEST`] of `dir`: name → SHA-256, or the reason `--force` cannot trust it.
+/// The SHA-256 the [`MANIFEST`] of `dir` lists for the file `name`, if the folder has a manifest
+/// hya wrote and it lists the file: what a reader of that file checks its bytes against.
+pub fn listed_sha256(dir: &Path, name: &str) -> Option<String> {
+    read_manifest(dir).ok()?.remove(name)
+}
+
 fn read_manifest(dir: &Path) -> Result<BTreeMap<String, String>, SimError> {
     let path = dir.join(MANIFEST);
     let none = || {

@@ -132,7 +132,7 @@ fn run_all(
     let cost = match &part {
         Part::All => hya_sim::Experiment::cost(&scenarios, seeds, (quick, full_sweep)),
         Part::Shard(shard) => hya_sim::seed_shards::cost(&scenarios, seeds, *shard),
-        Part::Merge(_) => hya_sim::Experiment::studies_cost(&scenarios, seeds, (quick, full_sweep)),
+        Part::Merge(_) => hya_sim::Experiment::merge_cost(&scenarios, seeds, (quick, full_sweep)),
     }
     .map_err(sim)?;
     if !options.quiet {

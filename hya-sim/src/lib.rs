@@ -90,7 +90,21 @@ impl<'a> Experiment<'a> {
         Ok(config::cost::Cost::of(scenarios, seeds) + Self::studies_cost(scenarios, seeds, options)?)
     }
 
-    /// The studies' part of [`Self::cost`]: what a merge of shards runs.
+    /// What a merge of shards costs: the studies, with the first seeds' traces (taken from the
+    /// shards) held meanwhile.
+    pub fn merge_cost(
+        scenarios: &[Scenario],
+        seeds: usize,
+        options: (bool, bool),
+    ) -> Result<config::cost::Cost, SimError> {
+        let held = config::cost::Cost {
+            trace_bytes: config::cost::Cost::of(scenarios, seeds).trace_bytes,
+            ..config::cost::Cost::NONE
+        };
+        Ok(held + Self::studies_cost(scenarios, seeds, options)?)
+    }
+
+    /// The studies' part of [`Self::cost`].
     pub fn studies_cost(
         scenarios: &[Scenario],
         seeds: usize,

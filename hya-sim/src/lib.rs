@@ -117,30 +117,28 @@ impl<'a> Experiment<'a> {
 
     /// Runs it on the scenarios' robot, whatever its number of joints.
     pub fn run(self) -> Result<report::Summary, SimError> {
-        match self.on_robot(Part::All)? {
-            Done::Report(summary) => Ok(*summary),
-            Done::Shard(_) => Err(SimError::Nothing("a whole experiment wrote a shard")),
-        }
+        self.report_from(None)
     }
 
     /// Runs shard `shard` of its runs ([`seed_shards`]) and writes them to the folder as
     /// [`seed_shards::SHARD_FILE`]; no study and no report (the merge runs those). Returns how
     /// many runs the shard holds.
     pub fn run_shard(self, shard: analysis::sweep::Shard) -> Result<usize, SimError> {
-        match self.on_robot(Part::Shard(shard))? {
-            Done::Shard(runs) => Ok(runs),
-            Done::Report(_) => Err(SimError::Nothing("a shard wrote a report")),
-        }
+        let robot = self.shared_robot()?;
+        robot::with_robot(&robot, Sharding { experiment: self, shard })
     }
 
     /// Takes its runs from `shards` (each with where it came from; [`seed_shards::merge`] checks
     /// them), then runs the studies and writes the report: the report of the unsharded
     /// experiment.
     pub fn run_merged(self, shards: &'a [(String, seed_shards::RunShard)]) -> Result<report::Summary, SimError> {
-        match self.on_robot(Part::Merged(shards))? {
-            Done::Report(summary) => Ok(*summary),
-            Done::Shard(_) => Err(SimError::Nothing("a merge wrote a shard")),
-        }
+        self.report_from(Some(shards))
+    }
+
+    /// The report, its runs run here (`None`) or taken from shards.
+    fn report_from(self, shards: Option<&'a [(String, seed_shards::RunShard)]>) -> Result<report::Summary, SimError> {
+        let robot = self.shared_robot()?;
+        robot::with_robot(&robot, Reporting { experiment: self, shards })
     }
 
     /// The experiment's key and build, as shards record them.
@@ -149,56 +147,49 @@ impl<'a> Experiment<'a> {
         Ok((key, self.provenance.build()))
     }
 
-    fn on_robot(self, part: Part<'a>) -> Result<Done, SimError> {
+    /// The robot every scenario runs on.
+    fn shared_robot(&self) -> Result<String, SimError> {
         let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
         config::scenario::shared_robot(self.scenarios)?;
-        robot::with_robot(&first.robot.clone(), Running { experiment: self, part })
+        Ok(first.robot.clone())
     }
 }
 
-/// Which of an experiment's parts a call runs.
-enum Part<'a> {
-    /// Every run, the studies and the report.
-    All,
-    /// One shard of the runs, written to the folder.
-    Shard(analysis::sweep::Shard),
-    /// The runs from these shards, then the studies and the report.
-    Merged(&'a [(String, seed_shards::RunShard)]),
-}
-
-/// What a part leaves.
-enum Done {
-    /// The report's summary.
-    Report(Box<report::Summary>),
-    /// A shard of this many runs, written.
-    Shard(usize),
-}
-
-/// An experiment and the part of it to run, for [`robot::with_robot`].
-struct Running<'a> {
+/// An experiment's report, its runs run here or taken from `shards`, for [`robot::with_robot`].
+struct Reporting<'a> {
     experiment: Experiment<'a>,
-    part: Part<'a>,
+    shards: Option<&'a [(String, seed_shards::RunShard)]>,
 }
 
-impl ForRobot for Running<'_> {
-    type Output = Done;
-    fn call<const N: usize>(self, robot: Robot<N>) -> Result<Done, SimError> {
+impl ForRobot for Reporting<'_> {
+    type Output = report::Summary;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<report::Summary, SimError> {
         let e = self.experiment;
-        let (outcomes, table) = match self.part {
-            Part::All => seeds::run_seeds::<N>(&robot, e.scenarios, e.seeds, e.progress)?,
-            Part::Shard(shard) => {
-                let (key, build) = e.key()?;
-                let stored = seed_shards::run(&robot, e.scenarios, (&key, &build), shard, e.progress)?;
-                e.out.save_bytes(seed_shards::SHARD_FILE, &stored.to_bytes()?)?;
-                return Ok(Done::Shard(stored.runs.len()));
-            }
-            Part::Merged(shards) => {
+        let (outcomes, table) = match self.shards {
+            None => seeds::run_seeds::<N>(&robot, e.scenarios, e.seeds, e.progress)?,
+            Some(shards) => {
                 let (key, build) = e.key()?;
                 seed_shards::merge::<N>(e.scenarios, (&key, &build), shards)?
             }
         };
         let studies = studies::run(&robot, e.scenarios, &table, (e.quick, e.full_sweep), e.progress)?;
-        let summary = report::write(&robot, e.out, e.scenarios, &outcomes, &table, studies, e.quick, e.provenance)?;
-        Ok(Done::Report(Box::new(summary)))
+        report::write(&robot, e.out, e.scenarios, &outcomes, &table, studies, e.quick, e.provenance)
+    }
+}
+
+/// One shard of an experiment's runs, written to its folder, for [`robot::with_robot`].
+struct Sharding<'a> {
+    experiment: Experiment<'a>,
+    shard: analysis::sweep::Shard,
+}
+
+impl ForRobot for Sharding<'_> {
+    type Output = usize;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<usize, SimError> {
+        let e = self.experiment;
+        let (key, build) = e.key()?;
+        let stored = seed_shards::run(&robot, e.scenarios, (&key, &build), self.shard, e.progress)?;
+        e.out.save_bytes(seed_shards::SHARD_FILE, &stored.to_bytes()?)?;
+        Ok(stored.runs.len())
     }
 }

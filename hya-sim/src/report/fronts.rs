@@ -213,8 +213,8 @@ fn gap_text(pairs: &[(f64, f64)], seeds: usize) -> String {
     } else {
         format!(
             "; it does not remove the whole gap ({on}). What is left is not explained here: the delays \
-             match at low frequency only, and at the loops' crossovers a first-order observer and lu's filter \
-             still differ in phase, so lag may remain"
+             match at low frequency only, and no run here tells lag at higher frequencies from any other \
+             cause"
         )
     };
     format!(

@@ -256,7 +256,7 @@ def main():
         "",
         "The last link's world-aligned Jacobian (hya's generated `FrameKinematics::frame_jacobian` against",
         "Pinocchio's `computeFrameJacobian`, `LOCAL_WORLD_ALIGNED`, each from `q`), the derivatives of inverse",
-        "dynamics (hya's generated dual-number pass against `computeRNEADerivatives`) and of forward dynamics",
+        "dynamics (hya's generated analytic pass against `computeRNEADerivatives`) and of forward dynamics",
         "(hya's `−M⁻¹ ∂ID` from the generated pieces, with `M⁻¹`, against `computeABADerivatives`), ns per call,",
         "and the ratio Pinocchio / hya within each round. `computeRNEADerivatives` also gives `∂τ/∂q̈ = M`, which hya's",
         "∇ID leaves out; `computeABADerivatives` gives `M⁻¹` as hya's ∇FD does. Rounds measured before these keys existed show –.",
@@ -295,7 +295,7 @@ def main():
         f"| `goto_internal`, method lu, lag actuators: simulated s per wall s | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor'))} |",
         f"| the same on the hydraulic plant | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_hydraulic'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_hydraulic'))} |",
         f"| the same with ideal actuators | {median_and_spread(each('hya', 'plain', 'sim_realtime_factor_ideal'))} | {median_and_spread(each('hya', 'native', 'sim_realtime_factor_ideal'))} |",
-        f"| `(∂τ/∂q, ∂τ/∂q̇)`, generated (dual numbers), ns | {median_and_spread(each('hya', 'plain', 'generated_id_derivatives_ns'))} | {median_and_spread(each('hya', 'native', 'generated_id_derivatives_ns'))} |",
+        f"| `(∂τ/∂q, ∂τ/∂q̇)`, generated (analytic), ns | {median_and_spread(each('hya', 'plain', 'generated_id_derivatives_ns'))} | {median_and_spread(each('hya', 'native', 'generated_id_derivatives_ns'))} |",
         f"| `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)`, from the generated pieces, ns | {median_and_spread(each('hya', 'plain', 'generated_fd_derivatives_ns'))} | {median_and_spread(each('hya', 'native', 'generated_fd_derivatives_ns'))} |",
         f"| last link's Jacobian, run-time tree, ns | {median_and_spread(each('hya', 'plain', 'generic_jacobian_ns'))} | {median_and_spread(each('hya', 'native', 'generic_jacobian_ns'))} |",
     ]

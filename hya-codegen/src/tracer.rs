@@ -538,8 +538,8 @@ impl<'a> Tracer<'a> {
         Ok(Some((vec![jacobian, bias], implementation)))
     }
 
-    /// `(∂τ/∂q, ∂τ/∂q̇)`: `hya-core`'s dual-number derivative traced once per direction in one
-    /// trace, so the primal RNEA is shared and each direction adds only its tangent statements.
+    /// `(∂τ/∂q, ∂τ/∂q̇)`: `hya-core`'s analytic derivative pass (one pass over the bodies in base
+    /// coordinates, then six-vector products per pair of related joints), traced.
     fn inverse_dynamics_derivatives(&self) -> Result<Function, GenerateError> {
         let n = self.model.dof();
         let (name, marker) = ("inverse_dynamics_derivatives", "InverseDynamicsDerivatives");
@@ -551,9 +551,7 @@ impl<'a> Tracer<'a> {
                 self.model,
                 inertias,
                 (&x[0], &x[1], &x[2]),
-                &mut vec![BodyState::new(); n],
-                &mut vec![hya_core::dual::Dual::fixed(Value::zero()); 4 * n],
-                &mut vec![Value::zero(); n],
+                &mut vec![derivatives::DerivativeState::new(); n],
                 &mut vec![Value::zero(); n],
                 (d_dq, d_dqd),
             )?;
@@ -575,8 +573,8 @@ impl<'a> Tracer<'a> {
             #(#qd_stores)*
             (#by_q, #by_qd)
         };
-        let doc = " `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of \
-                   each is `∂τ_i`.";
+        let doc = " `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` \
+                   of each is `∂τ_i`.";
         let batch = Batch {
             outputs: quote! { d_dq: &mut [JointMatrix<#dof>], d_dqd: &mut [JointMatrix<#dof>] },
             first: by_q.clone(),

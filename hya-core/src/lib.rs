@@ -56,6 +56,7 @@ mod rigid_body {
     #[cfg(feature = "sampling")]
     pub mod sampling;
     pub mod scalar;
+    pub(crate) mod site;
     pub mod spatial;
     pub(crate) mod trig;
 }

@@ -196,7 +196,7 @@ fn generated_batches_do_not_allocate() {
 }
 
 /// The run-time model's fixed-size form keeps its workspace on the stack: every entry point,
-/// the articulated-body algorithm and the dual-number derivatives included.
+/// the articulated-body algorithm and the analytic derivatives included.
 #[test]
 fn the_fixed_size_run_time_model_does_not_allocate() {
     let model = hya_urdf::load_str(hya_robots::hya::URDF, "hya").unwrap().model.into_dynamics::<6>().unwrap();

@@ -604,18 +604,16 @@ const _: () = {
             [qdd_waist, qdd_left_shoulder, qdd_right_shoulder, torso_u_nz]
         }
     }
-    impl Kernel<kernels::InverseDynamicsDerivatives, 3, 3, 9> for Branched {
+    impl Kernel<kernels::InverseDynamicsDerivatives, 3, 3, 11> for Branched {
         #[inline(always)]
-        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 3]; 3]) -> [A; 9] {
+        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 3]; 3]) -> [A; 11] {
             let (
+                q_left_shoulder,
+                q_right_shoulder,
                 qd_waist,
                 qd_left_shoulder,
                 qd_right_shoulder,
                 qdd_waist,
-                s_left_shoulder,
-                c_left_shoulder,
-                s_right_shoulder,
-                c_right_shoulder,
             ) = {
                 let q_left_shoulder = q[1];
                 let q_right_shoulder = q[2];
@@ -623,310 +621,336 @@ const _: () = {
                 let qd_left_shoulder = qd[1];
                 let qd_right_shoulder = qd[2];
                 let qdd_waist = qdd[0];
+                (
+                    q_left_shoulder,
+                    q_right_shoulder,
+                    qd_waist,
+                    qd_left_shoulder,
+                    qd_right_shoulder,
+                    qdd_waist,
+                )
+            };
+            let (
+                t22,
+                t34,
+                t37,
+                t38,
+                t39,
+                t40,
+                t44,
+                t47,
+                t48,
+                t55,
+                t59,
+                t60,
+                t66,
+                t67,
+                t70,
+                t74,
+                s_right_shoulder,
+                c_right_shoulder,
+            ) = {
                 let [(s_left_shoulder, c_left_shoulder),
                 (s_right_shoulder, c_right_shoulder)] = A::sin_cos_lanes([
                     q_left_shoulder,
                     q_right_shoulder,
                 ]);
+                let t0 = qd_left_shoulder * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t1 = qd_left_shoulder * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t2 = qd_waist * qd_left_shoulder;
+                let t3 = qd_waist * t0;
+                let t4 = c_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t5 = s_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
+                let t6 = c_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t7 = s_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t8 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t9 = c_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t10 = s_left_shoulder * t7;
+                let t11 = A::mul_add(c_left_shoulder, t6, t10);
+                let t12 = c_left_shoulder * t7;
+                let t13 = A::mul_add(s_left_shoulder, t6, -t12);
+                let t14 = s_left_shoulder * t9;
+                let t15 = A::mul_add(c_left_shoulder, t8, -t14);
+                let t16 = c_left_shoulder * t9;
+                let t17 = A::mul_add(s_left_shoulder, t8, t16);
+                let t18 = t5 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t19 = A::mul_add(t4, 0.2f64, t18); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t20 = t19 + t19;
+                let t21 = t20 + 0.13f64;
+                let t22 = t21 + 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
+                let t23 = t11 + t21;
+                let t24 = t17 + t21;
+                let t25 = A::mul_add(-t4, 0.2f64, t23); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t26 = A::mul_add(-t5, 0.2f64, t13); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t27 = A::mul_add(-t4, 0.3f64, t15); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t28 = A::mul_add(-t5, 0.3f64, t24); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t29 = A::mul_add(-t4, 0.2f64, t25); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t30 = A::mul_add(-t4, 0.3f64, t26); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t31 = A::mul_add(-t5, 0.2f64, t27); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t32 = A::mul_add(-t5, 0.3f64, t28); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t33 = t29 - 0.04000000000000001f64; // 4.0000e-2 = joint left_shoulder origin y or joint right_shoulder origin y × joint left_shoulder origin y or joint right_shoulder origin y
+                let t34 = t30 - 0.06f64; // 6.0000e-2 = torso m·c_z × right m·c_y
+                let t35 = t31 - 0.06f64; // 6.0000e-2 = torso m·c_z × right m·c_y
+                let t36 = t32 - 0.09f64; // 9.0000e-2 = joint left_shoulder origin z or joint right_shoulder origin z × joint left_shoulder origin z or joint right_shoulder origin z
+                let t37 = A::mul_add(c_left_shoulder, 0.1f64, 0.2f64); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …; 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t38 = A::mul_add(s_left_shoulder, 0.1f64, 0.3f64); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …; 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t39 = t35 * qd_waist;
+                let t40 = t36 * qd_waist;
+                let t41 = t37 * t1;
+                let t42 = t38 * t0;
+                let t43 = A::mul_add(t37, t1, t42);
+                let t44 = t37 * qd_waist;
+                let t45 = t38 * qd_left_shoulder;
+                let t46 = A::mul_add(t22, qd_left_shoulder, -t43);
+                let t47 = A::mul_add(qd_left_shoulder, 0.3f64, -t45); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t48 = A::mul_add(t37, qd_left_shoulder, -t1);
+                let t49 = t35 * qdd_waist;
+                let t50 = A::mul_add(t33, t2, t49);
+                let t51 = t38 * t2;
+                let t52 = A::mul_add(t37, qdd_waist, -t51);
+                let t53 = A::mul_add(-t38, t3, t50);
+                let t54 = A::mul_add(qd_waist, t0, t52);
+                let t55 = qd_waist * t46;
+                let t56 = qd_left_shoulder * t40;
+                let t57 = A::mul_add(qd_waist, t46, -t56);
+                let t58 = A::mul_add(t1, t44, t57);
+                let t59 = t53 + t58;
+                let t60 = A::mul_add(qd_waist, t47, t54);
+                let t61 = qd_waist * t33;
+                let t62 = qd_left_shoulder * t36;
+                let t63 = qd_left_shoulder * t35;
+                let t64 = t1 * t38;
+                let t65 = A::mul_add(t0, t37, -t64);
+                let t66 = t65 + t65;
+                let t67 = A::mul_add(qd_waist, t22, -t61);
+                let t68 = A::mul_add(qd_left_shoulder, t33, -t62);
+                let t69 = A::mul_add(t38, t0, -t41);
+                let t70 = t68 - t69;
+                let t71 = A::mul_add(qd_left_shoulder, t35, t63);
+                let t72 = A::mul_add(t1, t38, t64);
+                let t73 = t71 + t72;
+                let t74 = t73 + t66;
                 (
-                    qd_waist,
-                    qd_left_shoulder,
-                    qd_right_shoulder,
-                    qdd_waist,
-                    s_left_shoulder,
-                    c_left_shoulder,
+                    t22,
+                    t34,
+                    t37,
+                    t38,
+                    t39,
+                    t40,
+                    t44,
+                    t47,
+                    t48,
+                    t55,
+                    t59,
+                    t60,
+                    t66,
+                    t67,
+                    t70,
+                    t74,
                     s_right_shoulder,
                     c_right_shoulder,
                 )
             };
             let (
-                right_v_vx,
-                left_v_wy,
-                left_v_wz,
-                right_a_vx,
-                left_a_vy,
-                left_a_wy,
-                left_a_wz,
-                t4,
-                t5,
-                t6,
-                t7,
-                t8,
-                t9,
-                t10,
-                t13,
-                left_f_ny,
-                left_f_nz,
-            ) = {
-                // ── link `left`, joint `left_shoulder` (base to tip)
-                let right_v_vx = qd_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let left_v_wy = s_left_shoulder * qd_waist;
-                let left_v_wz = c_left_shoulder * qd_waist;
-                let right_a_vx = qdd_waist * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let left_a_vy = s_left_shoulder * 9.81f64; // 9.8100e0 = g
-                let t0 = left_v_wz * qd_left_shoulder;
-                let t1 = left_v_wy * qd_left_shoulder;
-                let left_a_wy = A::mul_add(s_left_shoulder, qdd_waist, t0);
-                let left_a_wz = A::mul_add(c_left_shoulder, qdd_waist, -t1);
-                let t2 = right_a_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t3 = A::mul_add(left_a_wz, 0.020000000000000004f64, t2); // 2.0000e-2 = left I_xx or left I_zz
-                let t4 = qd_left_shoulder * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t5 = left_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t6 = left_v_wz * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t7 = right_v_vx * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t8 = qd_left_shoulder * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t9 = A::mul_add(left_v_wz, 0.020000000000000004f64, t7); // 2.0000e-2 = left I_xx or left I_zz
-                let t10 = left_v_wz * t4;
-                let t11 = qd_left_shoulder * t9;
-                let t12 = A::mul_add(left_v_wz, t4, -t11);
-                let t13 = left_v_wy * t4;
-                let t14 = A::mul_add(qd_left_shoulder, t5, -t13);
-                let t15 = A::mul_add(right_v_vx, t8, t12);
-                let left_f_ny = A::mul_add(left_a_wy, 0.002f64, t15); // 2.0000e-3 = left I_yy or right I_yy
-                let left_f_nz = t3 + t14;
-                (
-                    right_v_vx,
-                    left_v_wy,
-                    left_v_wz,
-                    right_a_vx,
-                    left_a_vy,
-                    left_a_wy,
-                    left_a_wz,
-                    t4,
-                    t5,
-                    t6,
-                    t7,
-                    t8,
-                    t9,
-                    t10,
-                    t13,
-                    left_f_ny,
-                    left_f_nz,
-                )
-            };
-            let (
-                right_v_wy,
-                right_v_wz,
-                right_a_vy,
-                right_a_wy,
-                right_a_wz,
-                t20,
-                t21,
-                t22,
-                t23,
-                t24,
-                t25,
-                t26,
-                t29,
-                right_f_ny,
-                right_f_nz,
+                t97,
+                t109,
+                t112,
+                t113,
+                t114,
+                t115,
+                t119,
+                t123,
+                t124,
+                t131,
+                t135,
+                t136,
+                t143,
+                t144,
+                t147,
+                t151,
             ) = {
                 // ── link `right`, joint `right_shoulder` (base to tip)
-                let right_v_wy = s_right_shoulder * qd_waist;
-                let right_v_wz = c_right_shoulder * qd_waist;
-                let right_a_vy = s_right_shoulder * 9.81f64; // 9.8100e0 = g
-                let t16 = right_v_wz * qd_right_shoulder;
-                let t17 = right_v_wy * qd_right_shoulder;
-                let right_a_wy = A::mul_add(s_right_shoulder, qdd_waist, t16);
-                let right_a_wz = A::mul_add(c_right_shoulder, qdd_waist, -t17);
-                let t18 = right_a_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t19 = A::mul_add(right_a_wz, 0.024f64, t18); // 2.4000e-2 = right I_xx or right I_zz
-                let t20 = qd_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t21 = right_v_wy * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t22 = right_v_wz * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t23 = right_v_vx * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t24 = qd_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t25 = A::mul_add(right_v_wz, 0.024f64, t23); // 2.4000e-2 = right I_xx or right I_zz
-                let t26 = right_v_wz * t20;
-                let t27 = qd_right_shoulder * t25;
-                let t28 = A::mul_add(right_v_wz, t20, -t27);
-                let t29 = right_v_wy * t20;
-                let t30 = A::mul_add(qd_right_shoulder, t21, -t29);
-                let t31 = A::mul_add(right_v_vx, t24, t28);
-                let right_f_ny = A::mul_add(right_a_wy, 0.002f64, t31); // 2.0000e-3 = left I_yy or right I_yy
-                let right_f_nz = t19 + t30;
+                let t75 = qd_right_shoulder * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t76 = qd_right_shoulder * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t77 = qd_waist * qd_right_shoulder;
+                let t78 = qd_waist * t75;
+                let t79 = c_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t80 = s_right_shoulder * 0.12f64; // 1.2000e-1 = right m·c_y
+                let t81 = c_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t82 = s_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t83 = s_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
+                let t84 = c_right_shoulder * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t85 = s_right_shoulder * t82;
+                let t86 = A::mul_add(c_right_shoulder, t81, t85);
+                let t87 = c_right_shoulder * t82;
+                let t88 = A::mul_add(s_right_shoulder, t81, -t87);
+                let t89 = s_right_shoulder * t84;
+                let t90 = A::mul_add(c_right_shoulder, t83, -t89);
+                let t91 = c_right_shoulder * t84;
+                let t92 = A::mul_add(s_right_shoulder, t83, t91);
+                let t93 = t80 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t94 = A::mul_add(t79, 0.2f64, -t93); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t95 = t94 + t94;
+                let t96 = t95 + 0.156f64;
+                let t97 = t96 + 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
+                let t98 = t86 + t96;
+                let t99 = t92 + t96;
+                let t100 = A::mul_add(-t79, 0.2f64, t98); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t101 = A::mul_add(-t80, 0.2f64, t88); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t102 = A::mul_add(t79, 0.3f64, t90); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t103 = A::mul_add(t80, 0.3f64, t99); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t104 = A::mul_add(-t79, 0.2f64, t100); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t105 = A::mul_add(t79, 0.3f64, t101); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t106 = A::mul_add(-t80, 0.2f64, t102); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t107 = A::mul_add(t80, 0.3f64, t103); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t108 = t104 - 0.048f64;
+                let t109 = t105 + 0.072f64;
+                let t110 = t106 + 0.072f64;
+                let t111 = t107 - 0.108f64;
+                let t112 = A::mul_add(c_right_shoulder, 0.12f64, 0.24f64); // 1.2000e-1 = right m·c_y; 2.4000e-1 = joint left_shoulder origin y or joint right_shoulder origin y × right mass
+                let t113 = A::mul_add(-s_right_shoulder, 0.12f64, 0.36f64); // 1.2000e-1 = right m·c_y; 3.6000e-1 = joint left_shoulder origin z or joint right_shoulder origin z × right mass
+                let t114 = t110 * qd_waist;
+                let t115 = t111 * qd_waist;
+                let t116 = t112 * t76;
+                let t117 = t113 * t75;
+                let t118 = A::mul_add(t112, t76, t117);
+                let t119 = t112 * qd_waist;
+                let t120 = t113 * qd_right_shoulder;
+                let t121 = t112 * qd_right_shoulder;
+                let t122 = A::mul_add(t97, qd_right_shoulder, -t118);
+                let t123 = A::mul_add(t75, 1.2f64, -t120); // 1.2000e0 = right mass
+                let t124 = A::mul_add(t76, 1.2f64, -t121); // 1.2000e0 = right mass
+                let t125 = t110 * qdd_waist;
+                let t126 = A::mul_add(t108, t77, t125);
+                let t127 = t113 * t77;
+                let t128 = A::mul_add(t112, qdd_waist, t127);
+                let t129 = A::mul_add(-t113, t78, t126);
+                let t130 = A::mul_add(-t78, 1.2f64, t128); // 1.2000e0 = right mass
+                let t131 = qd_waist * t122;
+                let t132 = qd_right_shoulder * t115;
+                let t133 = A::mul_add(qd_waist, t122, -t132);
+                let t134 = A::mul_add(t76, t119, t133);
+                let t135 = t129 + t134;
+                let t136 = A::mul_add(-qd_waist, t123, t130);
+                let t137 = qd_waist * t108;
+                let t138 = qd_right_shoulder * t111;
+                let t139 = qd_right_shoulder * t110;
+                let t140 = t75 * t112;
+                let t141 = t76 * t113;
+                let t142 = A::mul_add(t76, t113, -t140);
+                let t143 = t142 + t142;
+                let t144 = A::mul_add(qd_waist, t97, -t137);
+                let t145 = A::mul_add(qd_right_shoulder, t108, -t138);
+                let t146 = A::mul_add(t113, t75, -t116);
+                let t147 = t145 - t146;
+                let t148 = A::mul_add(qd_right_shoulder, t110, t139);
+                let t149 = A::mul_add(t76, t113, t141);
+                let t150 = t148 - t149;
+                let t151 = t150 + t143;
                 (
-                    right_v_wy,
-                    right_v_wz,
-                    right_a_vy,
-                    right_a_wy,
-                    right_a_wz,
-                    t20,
-                    t21,
-                    t22,
-                    t23,
-                    t24,
-                    t25,
-                    t26,
-                    t29,
-                    right_f_ny,
-                    right_f_nz,
+                    t97,
+                    t109,
+                    t112,
+                    t113,
+                    t114,
+                    t115,
+                    t119,
+                    t123,
+                    t124,
+                    t131,
+                    t135,
+                    t136,
+                    t143,
+                    t144,
+                    t147,
+                    t151,
                 )
             };
-            let (t32, t33) = {
+            let (t154, t155, t161, t164, t165, t166, t167) = {
                 // ── link `right`, joint `right_shoulder` (tip to base)
-                let t32 = c_right_shoulder * right_f_ny;
-                let t33 = s_right_shoulder * right_f_nz;
-                (t32, t33)
+                let t152 = t113 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t153 = A::mul_add(t112, 0.2f64, t152); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t154 = t97 - t153;
+                let t155 = -t113 + 0.36f64; // 3.6000e-1 = joint left_shoulder origin z or joint right_shoulder origin z × right mass
+                let t156 = t123 * 0.2f64; // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t157 = t124 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t158 = A::mul_add(t123, 0.2f64, -t157); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t159 = t143 + t158;
+                let t160 = A::mul_add(-t119, 0.2f64, t144); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t161 = A::mul_add(t119, 0.3f64, -t114); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t162 = A::mul_add(t124, 0.3f64, -t156); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t163 = A::mul_add(t119, 0.2f64, -t115); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t164 = A::mul_add(-t119, 0.3f64, t114); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t165 = t159 - t162;
+                let t166 = t160 - t163;
+                let t167 = t161 - t164;
+                (t154, t155, t161, t164, t165, t166, t167)
             };
-            let (t34, t35) = {
+            let (t170, t171, t176, t178, t179, t180, t181) = {
                 // ── link `left`, joint `left_shoulder` (tip to base)
-                let t34 = c_left_shoulder * left_f_ny;
-                let t35 = s_left_shoulder * left_f_nz;
-                (t34, t35)
+                let t168 = t38 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t169 = A::mul_add(t37, 0.2f64, t168); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t170 = t22 - t169;
+                let t171 = -t38 + 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t172 = t48 * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t173 = A::mul_add(t47, 0.2f64, t172); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t174 = t66 - t173;
+                let t175 = A::mul_add(-t44, 0.2f64, t67); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t176 = A::mul_add(t44, 0.3f64, t39); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t177 = A::mul_add(t44, 0.2f64, -t40); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
+                let t178 = t174 - t173;
+                let t179 = t175 - t177;
+                let t180 = t176 + t176;
+                let t181 = t151 + t74;
+                (t170, t171, t176, t178, t179, t180, t181)
             };
-            let (t44, t51, t52, t53) = {
-                // ── link `left`, joint `left_shoulder` (base to tip)
-                let t36 = c_left_shoulder * qd_left_shoulder;
-                let t37 = s_left_shoulder * qd_left_shoulder;
-                let t38 = s_left_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t39 = A::mul_add(
-                    c_left_shoulder,
-                    0.020000000000000004f64,
-                    0.020000000000000004f64,
-                );
-                let t40 = s_left_shoulder * t9;
-                let t41 = A::mul_add(left_v_wy, t39, t40);
-                let t42 = c_left_shoulder * t5;
-                let t43 = A::mul_add(left_v_wz, t38, t42);
-                let t44 = t41 - t43;
-                let t45 = qd_left_shoulder * t39;
-                let t46 = A::mul_add(c_left_shoulder, t4, -t45);
-                let t47 = s_left_shoulder * t4;
-                let t48 = A::mul_add(qd_left_shoulder, t38, -t47);
-                let t49 = A::mul_add(t8, 0.2f64, t46); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t50 = s_left_shoulder * t8;
-                let t51 = A::mul_add(t36, 0.002f64, t49); // 2.0000e-3 = left I_yy or right I_yy
-                let t52 = A::mul_add(-t37, 0.020000000000000004f64, t48); // 2.0000e-2 = left I_xx or left I_zz
-                let t53 = A::mul_add(t37, 0.1f64, t50); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                (t44, t51, t52, t53)
+            let (t182, t183, t184, t185, t186, t187, t196, t200, t203) = {
+                // ── link `left`, joint `left_shoulder` (base to tip, last pass)
+                let t182 = qd_waist * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t183 = qdd_waist * 0.3f64; // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t184 = qd_waist * qd_waist;
+                let t185 = A::mul_add(-qd_waist, t182, 9.81f64); // 9.8100e0 = g
+                let t186 = qd_waist + qd_waist;
+                let t187 = A::mul_add(qd_waist, 0.3f64, t182); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t188 = A::mul_add(t60, 0.3f64, t59); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t189 = t37 * t183;
+                let t190 = A::mul_add(t34, qdd_waist, t189);
+                let t191 = t188 + t190;
+                let t192 = t47 * t182;
+                let t193 = A::mul_add(t70, qd_waist, t192);
+                let t194 = t191 + t193;
+                let t195 = A::mul_add(t47, t182, t55);
+                let t196 = t194 - t195;
+                let t197 = t37 * t187;
+                let t198 = A::mul_add(t34, t186, t197);
+                let t199 = t198 - t176;
+                let t200 = t199 + t176;
+                let t201 = t184 * t170;
+                let t202 = A::mul_add(t185, t171, -t201);
+                let t203 = A::mul_add(qd_waist, t179, t202);
+                (t182, t183, t184, t185, t186, t187, t196, t200, t203)
             };
-            let (t62, t69, t70, t71) = {
-                // ── link `right`, joint `right_shoulder` (base to tip)
-                let t54 = c_right_shoulder * qd_right_shoulder;
-                let t55 = s_right_shoulder * qd_right_shoulder;
-                let t56 = s_right_shoulder * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t57 = A::mul_add(c_right_shoulder, 0.024f64, 0.024f64); // 2.4000e-2 = right I_xx or right I_zz; 2.4000e-2 = right I_xx or right I_zz
-                let t58 = s_right_shoulder * t25;
-                let t59 = A::mul_add(right_v_wy, t57, t58);
-                let t60 = c_right_shoulder * t21;
-                let t61 = A::mul_add(right_v_wz, t56, t60);
-                let t62 = t59 - t61;
-                let t63 = qd_right_shoulder * t57;
-                let t64 = A::mul_add(c_right_shoulder, t20, -t63);
-                let t65 = s_right_shoulder * t20;
-                let t66 = A::mul_add(qd_right_shoulder, t56, -t65);
-                let t67 = A::mul_add(t24, 0.2f64, t64); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t68 = s_right_shoulder * t24;
-                let t69 = A::mul_add(t54, 0.002f64, t67); // 2.0000e-3 = left I_yy or right I_yy
-                let t70 = A::mul_add(-t55, 0.024f64, t66); // 2.4000e-2 = right I_xx or right I_zz
-                let t71 = A::mul_add(t55, 0.12f64, t68); // 1.2000e-1 = right m·c_y
-                (t62, t69, t70, t71)
+            let (t212, t216, t219) = {
+                // ── link `right`, joint `right_shoulder` (base to tip, last pass)
+                let t204 = A::mul_add(-t136, 0.3f64, t135); // 3.0000e-1 = joint left_shoulder origin z or joint right_shoulder origin z
+                let t205 = t112 * t183;
+                let t206 = A::mul_add(t109, qdd_waist, -t205);
+                let t207 = t204 + t206;
+                let t208 = t123 * t182;
+                let t209 = A::mul_add(t147, qd_waist, t208);
+                let t210 = t207 + t209;
+                let t211 = A::mul_add(t123, t182, t131);
+                let t212 = t210 - t211;
+                let t213 = t112 * t187;
+                let t214 = A::mul_add(t109, t186, -t213);
+                let t215 = t214 + t161;
+                let t216 = t215 + t164;
+                let t217 = t184 * t154;
+                let t218 = A::mul_add(t185, t155, -t217);
+                let t219 = A::mul_add(qd_waist, t166, t218);
+                (t212, t216, t219)
             };
-            let t74 = {
-                // ── link `right`, joint `right_shoulder` (tip to base)
-                let t72 = c_right_shoulder * t70;
-                let t73 = A::mul_add(s_right_shoulder, t69, t72);
-                let t74 = A::mul_add(-t71, 0.2f64, t73); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t74
-            };
-            let t78 = {
-                // ── link `left`, joint `left_shoulder` (tip to base)
-                let t75 = c_left_shoulder * t52;
-                let t76 = A::mul_add(s_left_shoulder, t51, t75);
-                let t77 = A::mul_add(-t53, 0.2f64, t76); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                let t78 = t74 + t77;
-                t78
-            };
-            let (t79, t80, t81, t90, t91, t92, t93) = {
-                // ── link `left`, joint `left_shoulder` (base to tip)
-                let t79 = left_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t80 = left_v_wy * 0.020000000000000004f64; // 2.0000e-2 = left I_xx or left I_zz
-                let t81 = left_v_wy * 0.1f64; // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t82 = left_v_wy * t80;
-                let t83 = A::mul_add(left_v_wz, t9, -t82);
-                let t84 = left_v_wy * t5;
-                let t85 = A::mul_add(left_v_wz, t79, -t84);
-                let t86 = t83 - t85;
-                let t87 = A::mul_add(qd_left_shoulder, t80, -t13);
-                let t88 = A::mul_add(qd_left_shoulder, t79, -t10);
-                let t89 = left_v_wz * t8;
-                let t90 = A::mul_add(-left_a_vy, 0.1f64, t86); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                let t91 = A::mul_add(left_a_wz, 0.002f64, t87); // 2.0000e-3 = left I_yy or right I_yy
-                let t92 = A::mul_add(-left_a_wy, 0.020000000000000004f64, t88); // 2.0000e-2 = left I_xx or left I_zz
-                let t93 = A::mul_add(left_a_wy, 0.1f64, t89); // 1.0000e-1 = torso c_z or left m·c_y or left c_y or …
-                (t79, t80, t81, t90, t91, t92, t93)
-            };
-            let t97 = {
-                // ── link `left`, joint `left_shoulder` (tip to base)
-                let t94 = A::mul_add(s_left_shoulder, t91, t34);
-                let t95 = A::mul_add(c_left_shoulder, t92, -t35);
-                let t96 = t94 + t95;
-                let t97 = A::mul_add(-t93, 0.2f64, t96); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t97
-            };
-            let (t101, t102, t103) = {
-                // ── link `left`, joint `left_shoulder` (base to tip)
-                let t98 = t6 - t9;
-                let t99 = t5 - t80;
-                let t100 = t98 + t7;
-                let t101 = t79 + t100;
-                let t102 = t99 - t80;
-                let t103 = t81 + t81;
-                (t101, t102, t103)
-            };
-            let t106 = {
-                // ── link `left`, joint `left_shoulder` (tip to base)
-                let t104 = c_left_shoulder * t102;
-                let t105 = A::mul_add(s_left_shoulder, t101, t104);
-                let t106 = A::mul_add(-t103, 0.2f64, t105); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t106
-            };
-            let (t107, t108, t109, t118, t119, t120, t121) = {
-                // ── link `right`, joint `right_shoulder` (base to tip)
-                let t107 = right_v_wz * 0.002f64; // 2.0000e-3 = left I_yy or right I_yy
-                let t108 = right_v_wy * 0.024f64; // 2.4000e-2 = right I_xx or right I_zz
-                let t109 = right_v_wy * 0.12f64; // 1.2000e-1 = right m·c_y
-                let t110 = right_v_wy * t108;
-                let t111 = A::mul_add(right_v_wz, t25, -t110);
-                let t112 = right_v_wy * t21;
-                let t113 = A::mul_add(right_v_wz, t107, -t112);
-                let t114 = t111 - t113;
-                let t115 = A::mul_add(qd_right_shoulder, t108, -t29);
-                let t116 = A::mul_add(qd_right_shoulder, t107, -t26);
-                let t117 = right_v_wz * t24;
-                let t118 = A::mul_add(right_a_vy, 0.12f64, t114); // 1.2000e-1 = right m·c_y
-                let t119 = A::mul_add(right_a_wz, 0.002f64, t115); // 2.0000e-3 = left I_yy or right I_yy
-                let t120 = A::mul_add(-right_a_wy, 0.024f64, t116); // 2.4000e-2 = right I_xx or right I_zz
-                let t121 = A::mul_add(right_a_wy, 0.12f64, t117); // 1.2000e-1 = right m·c_y
-                (t107, t108, t109, t118, t119, t120, t121)
-            };
-            let t125 = {
-                // ── link `right`, joint `right_shoulder` (tip to base)
-                let t122 = A::mul_add(s_right_shoulder, t119, t32);
-                let t123 = A::mul_add(c_right_shoulder, t120, -t33);
-                let t124 = t122 + t123;
-                let t125 = A::mul_add(-t121, 0.2f64, t124); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t125
-            };
-            let (t129, t130, t131) = {
-                // ── link `right`, joint `right_shoulder` (base to tip)
-                let t126 = t22 - t25;
-                let t127 = t21 - t108;
-                let t128 = t126 + t23;
-                let t129 = t107 + t128;
-                let t130 = t127 - t108;
-                let t131 = t109 + t109;
-                (t129, t130, t131)
-            };
-            let t134 = {
-                // ── link `right`, joint `right_shoulder` (tip to base)
-                let t132 = c_right_shoulder * t130;
-                let t133 = A::mul_add(s_right_shoulder, t129, t132);
-                let t134 = A::mul_add(-t131, 0.2f64, t133); // 2.0000e-1 = joint left_shoulder origin y or joint right_shoulder origin y
-                t134
-            };
-            [t97, t125, t90, t118, t78, t106, t134, t44, t62]
+            [t196, t212, t203, t219, t181, t200, t216, -t180, t178, t167, t165]
         }
     }
     impl Kernel<kernels::FramePoses, 3, 1, 24> for Branched {
@@ -1085,7 +1109,7 @@ const _: () = {
     }
     #[inline(always)]
     fn inverse_dynamics_derivatives_of(
-        v: &[f64; 9],
+        v: &[f64; 11],
     ) -> (JointMatrix<3>, JointMatrix<3>) {
         let mut d_dq = JointMatrix::<3>::zeros();
         let mut d_dqd = JointMatrix::<3>::zeros();
@@ -1097,7 +1121,9 @@ const _: () = {
         d_dqd[(0, 1)] = v[5];
         d_dqd[(0, 2)] = v[6];
         d_dqd[(1, 0)] = v[7];
-        d_dqd[(2, 0)] = v[8];
+        d_dqd[(1, 1)] = v[8];
+        d_dqd[(2, 0)] = v[9];
+        d_dqd[(2, 2)] = v[10];
         (d_dq, d_dqd)
     }
     #[inline(always)]
@@ -1233,7 +1259,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

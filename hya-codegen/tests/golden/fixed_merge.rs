@@ -714,16 +714,16 @@ const _: () = {
             [qdd_shoulder, qdd_elbow, arm_u_ny]
         }
     }
-    impl Kernel<kernels::InverseDynamicsDerivatives, 2, 3, 7> for FixedMerge {
+    impl Kernel<kernels::InverseDynamicsDerivatives, 2, 3, 8> for FixedMerge {
         #[inline(always)]
-        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 2]; 3]) -> [A; 7] {
+        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 2]; 3]) -> [A; 8] {
             let (
                 qd_shoulder,
                 qd_elbow,
                 qdd_shoulder,
                 qdd_elbow,
-                s_shoulder,
-                c_shoulder,
+                t0,
+                t1,
                 s_elbow,
                 c_elbow,
             ) = {
@@ -737,390 +737,345 @@ const _: () = {
                     q_shoulder,
                     q_elbow,
                 ]);
+                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                let t1 = c_shoulder * 9.81f64; // 9.8100e0 = g
                 (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
                     qdd_elbow,
-                    s_shoulder,
-                    c_shoulder,
+                    t0,
+                    t1,
                     s_elbow,
                     c_elbow,
                 )
             };
-            let (t0, arm_a_vz, t2) = {
-                // ── link `arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = arm_a_vz * 0.016f64; // 1.6000e-2 = arm m·c_z
-                let t2 = A::mul_add(t0, 0.54f64, -t1); // 5.4000e-1 = arm m·c_x
-                (t0, arm_a_vz, t2)
-            };
             let (
-                t7,
-                forearm_v_wx,
-                forearm_v_wz,
-                forearm_v_vx,
-                t9,
-                t10,
-                forearm_v_vz,
-                forearm_v_wy,
-                t17,
-                t20,
-                t21,
-                t25,
-                forearm_a_wx,
-                forearm_a_wz,
-                forearm_a_vz,
-                t28,
-                t30,
-                t33,
-                t34,
-                t36,
-                t37,
-                t38,
-                t39,
-                t40,
-                t41,
-                t42,
-                t44,
-                t49,
-                t50,
-                t54,
-                t56,
-                t57,
-                forearm_f_nx,
-                forearm_f_nz,
-                forearm_f_fx,
-                forearm_f_fz,
+                t29,
+                t61,
+                t63,
+                t67,
+                t68,
+                t70,
+                t71,
+                t73,
+                t74,
+                t91,
+                t92,
+                t93,
+                t94,
+                t95,
+                t96,
+                t116,
+                t117,
+                t118,
+                t132,
+                t135,
+                t138,
+                t142,
+                t145,
             ) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t3 = qd_shoulder * 0.05f64; // 5.0000e-2 = joint elbow origin z
-                let t4 = qd_shoulder * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t5 = qd_shoulder * 0.479425538604203f64;
-                let t6 = t3 * 0.8775825618903728f64;
-                let t7 = t3 * 0.479425538604203f64;
-                let forearm_v_wx = c_elbow * t5;
-                let forearm_v_wz = s_elbow * t5;
-                let t8 = s_elbow * t4;
-                let forearm_v_vx = A::mul_add(c_elbow, t6, t8);
-                let t9 = s_elbow * t6;
-                let t10 = c_elbow * t4;
-                let forearm_v_vz = A::mul_add(s_elbow, t6, -t10);
-                let forearm_v_wy = A::mul_add(
-                    qd_shoulder,
-                    0.8775825618903728f64,
-                    qd_elbow,
-                );
-                let t11 = A::mul_add(qdd_shoulder, 0.05f64, -t0); // 5.0000e-2 = joint elbow origin z
-                let t12 = A::mul_add(-qdd_shoulder, 0.3f64, arm_a_vz); // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t13 = qdd_shoulder * 0.479425538604203f64;
-                let t14 = t11 * 0.8775825618903728f64;
-                let t15 = arm_a_vz * 0.8775825618903728f64;
-                let t16 = t11 * 0.479425538604203f64;
-                let t17 = arm_a_vz * 0.479425538604203f64;
-                let t18 = c_elbow * t15;
-                let t19 = s_elbow * t12;
-                let t20 = A::mul_add(c_elbow, t14, -t19);
-                let t21 = A::mul_add(s_elbow, t0, -t18);
-                let t22 = c_elbow * t12;
-                let t23 = c_elbow * t0;
-                let t24 = A::mul_add(s_elbow, t14, t22);
-                let t25 = A::mul_add(s_elbow, t15, t23);
-                let forearm_a_wy = A::mul_add(
-                    qdd_shoulder,
-                    0.8775825618903728f64,
-                    qdd_elbow,
-                );
-                let t26 = forearm_v_wz * qd_elbow;
-                let t27 = forearm_v_wx * qd_elbow;
-                let forearm_a_wx = A::mul_add(c_elbow, t13, -t26);
-                let forearm_a_wz = A::mul_add(s_elbow, t13, t27);
-                let forearm_a_vx = A::mul_add(-forearm_v_vz, qd_elbow, t20);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t24);
-                let t28 = t25 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t29 = t16 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t30 = t17 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t31 = A::mul_add(forearm_a_wz, 0.020000000000000004f64, -t29); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t32 = A::mul_add(-forearm_a_wy, 0.1f64, forearm_a_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t33 = forearm_v_wx * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t34 = forearm_v_wz * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t35 = forearm_v_vz * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t36 = t7 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t37 = forearm_v_wy * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t38 = A::mul_add(forearm_v_wy, 0.020000000000000004f64, -t35); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t39 = A::mul_add(forearm_v_wz, 0.020000000000000004f64, -t36); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t40 = A::mul_add(forearm_v_wz, 0.1f64, -t7); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t41 = A::mul_add(-forearm_v_wy, 0.1f64, forearm_v_vz); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t42 = forearm_v_wz * t38;
-                let t43 = A::mul_add(forearm_v_wy, t39, -t42);
-                let t44 = forearm_v_wx * t38;
-                let t45 = forearm_v_wy * t33;
-                let t46 = A::mul_add(forearm_v_wx, t38, -t45);
-                let t47 = forearm_v_vz * t40;
-                let t48 = A::mul_add(t7, t41, t47);
-                let t49 = forearm_v_vx * t40;
-                let t50 = t7 * forearm_v_vx;
-                let t51 = A::mul_add(forearm_v_vx, t40, t50);
-                let t52 = t43 - t48;
-                let t53 = t46 + t51;
-                let t54 = forearm_v_wz * t40;
-                let t55 = A::mul_add(forearm_v_wy, t41, -t54);
-                let t56 = forearm_v_wx * t40;
-                let t57 = forearm_v_wy * forearm_v_vx;
-                let t58 = A::mul_add(forearm_v_wx, t40, -t57);
-                let forearm_f_nx = A::mul_add(forearm_a_wx, 0.002f64, t52); // 2.0000e-3 = forearm I_xx
-                let forearm_f_nz = t31 + t53;
-                let forearm_f_fx = forearm_a_vx + t55;
-                let forearm_f_fz = t32 + t58;
+                let t2 = c_elbow * 0.8775825618903728f64;
+                let t3 = s_elbow * 0.8775825618903728f64;
+                let t4 = c_elbow * 0.479425538604203f64;
+                let t5 = s_elbow * 0.479425538604203f64;
+                let t6 = qd_elbow * 0.479425538604203f64;
+                let t7 = qd_elbow * 0.8775825618903728f64;
+                let t8 = qd_elbow * 0.04387912809451864f64;
+                let t9 = qd_elbow * 0.02397127693021015f64;
+                let t10 = qd_elbow * 0.2632747685671118f64;
+                let t11 = A::mul_add(qd_elbow, 0.8775825618903728f64, qd_shoulder);
+                let t12 = qdd_elbow * 0.479425538604203f64;
+                let t13 = qdd_elbow * 0.02397127693021015f64;
+                let t14 = A::mul_add(qdd_elbow, 0.8775825618903728f64, qdd_shoulder);
+                let t15 = A::mul_add(qdd_elbow, 0.04387912809451864f64, t0);
+                let t16 = A::mul_add(qdd_elbow, 0.2632747685671118f64, t1);
+                let t17 = t6 * t7;
+                let t18 = A::mul_add(t11, t6, -t17);
+                let t19 = t6 * t9;
+                let t20 = t11 * t8;
+                let t21 = A::mul_add(t6, t9, t20);
+                let t22 = t10 * t7;
+                let t23 = A::mul_add(t8, t7, t19);
+                let t24 = A::mul_add(t11, t10, -t22);
+                let t25 = t21 - t23;
+                let t26 = t24 - t15;
+                let t27 = t16 + t25;
+                let t28 = t2 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t29 = t4 * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t30 = s_elbow * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
+                let t31 = t2 * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t32 = t3 * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t33 = t4 * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t34 = t5 * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t35 = s_elbow * 0.002f64; // 2.0000e-3 = forearm I_xx
+                let t36 = c_elbow * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
+                let t37 = A::mul_add(t2, t31, 0.004596976941318604f64);
+                let t38 = A::mul_add(t3, t32, t37);
+                let t39 = A::mul_add(t4, t31, -0.008414709848078966f64);
+                let t40 = A::mul_add(t5, t32, t39);
+                let t41 = s_elbow * t31;
+                let t42 = A::mul_add(c_elbow, t32, -t41);
+                let t43 = A::mul_add(t2, t33, -0.008414709848078968f64);
+                let t44 = A::mul_add(t3, t34, t43);
+                let t45 = A::mul_add(t4, t33, 0.015403023058681402f64);
+                let t46 = A::mul_add(t5, t34, t45);
+                let t47 = s_elbow * t33;
+                let t48 = A::mul_add(c_elbow, t34, -t47);
+                let t49 = t4 * t35;
+                let t50 = A::mul_add(t5, t36, -t49);
+                let t51 = c_elbow * t36;
+                let t52 = A::mul_add(s_elbow, t35, t51);
+                let t53 = t30 * 0.05f64; // 5.0000e-2 = joint elbow origin z
+                let t54 = A::mul_add(t28, 0.3f64, -t53); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t55 = t54 + t54;
+                let t56 = t55 + 0.0925f64;
+                let t57 = t38 + t56;
+                let t58 = t46 + t56;
+                let t59 = t52 + t56;
+                let t60 = A::mul_add(-t28, 0.3f64, t57); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t61 = A::mul_add(-t29, 0.3f64, t40); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t62 = A::mul_add(t30, 0.3f64, t42); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t63 = A::mul_add(-t29, 0.05f64, t50); // 5.0000e-2 = joint elbow origin z
+                let t64 = A::mul_add(t30, 0.05f64, t59); // 5.0000e-2 = joint elbow origin z
+                let t65 = A::mul_add(-t28, 0.3f64, t60); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t66 = A::mul_add(-t28, 0.05f64, t62); // 5.0000e-2 = joint elbow origin z
+                let t67 = A::mul_add(-t29, 0.3f64, t44); // 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t68 = A::mul_add(-t29, 0.05f64, t48); // 5.0000e-2 = joint elbow origin z
+                let t69 = A::mul_add(t30, 0.05f64, t64); // 5.0000e-2 = joint elbow origin z
+                let t70 = t65 - 0.09f64; // 9.0000e-2 = joint elbow origin x or frame housing origin x × joint elbow origin x or frame housing origin x
+                let t71 = t66 - 0.015f64; // 1.5000e-2 = joint elbow origin x or frame housing origin x × joint elbow origin z
+                let t72 = t69 - 0.0025000000000000005f64; // 2.5000e-3 = joint elbow origin z × joint elbow origin z
+                let t73 = A::mul_add(t2, 0.1f64, 0.3f64); // 1.0000e-1 = forearm m·c_x or forearm c_x; 3.0000e-1 = joint elbow origin x or frame housing origin x
+                let t74 = A::mul_add(-s_elbow, 0.1f64, 0.05f64); // 1.0000e-1 = forearm m·c_x or forearm c_x; 5.0000e-2 = joint elbow origin z
+                let t75 = t70 * t6;
+                let t76 = A::mul_add(t67, t11, -t75);
+                let t77 = t61 * t6;
+                let t78 = A::mul_add(t58, t11, -t77);
+                let t79 = t71 * t6;
+                let t80 = t68 * t11;
+                let t81 = A::mul_add(t68, t11, -t79);
+                let t82 = t74 * t9;
+                let t83 = A::mul_add(t29, t10, t82);
+                let t84 = t74 * t8;
+                let t85 = t73 * t10;
+                let t86 = A::mul_add(t74, t8, t85);
+                let t87 = t73 * t9;
+                let t88 = A::mul_add(t29, t8, -t87);
+                let t89 = t29 * t6;
+                let t90 = A::mul_add(t73, t11, t89);
+                let t91 = t76 + t83;
+                let t92 = t78 - t86;
+                let t93 = t81 + t88;
+                let t94 = A::mul_add(t74, t11, -t8);
+                let t95 = A::mul_add(t74, t6, -t9);
+                let t96 = A::mul_add(qd_elbow, 0.2632747685671118f64, -t90);
+                let t97 = t71 * t12;
+                let t98 = A::mul_add(t68, t14, -t97);
+                let t99 = A::mul_add(t72, t18, t98);
+                let t100 = t29 * t26;
+                let t101 = A::mul_add(t73, t13, t100);
+                let t102 = t74 * t14;
+                let t103 = A::mul_add(t29, t18, -t102);
+                let t104 = t29 * t12;
+                let t105 = A::mul_add(t73, t14, t104);
+                let t106 = t99 - t101;
+                let t107 = t26 - t103;
+                let t108 = t27 - t105;
+                let t109 = t11 * t91;
+                let t110 = A::mul_add(t6, t92, t109);
+                let t111 = t8 * t95;
+                let t112 = A::mul_add(t9, t94, -t111);
+                let t113 = t112 - t110;
+                let t114 = t11 * t94;
+                let t115 = A::mul_add(t6, t95, t114);
+                let t116 = t106 + t113;
+                let t117 = A::mul_add(t11, t96, t107);
+                let t118 = t108 - t115;
+                let t119 = t11 * t71;
+                let t120 = A::mul_add(t11, t70, t77);
+                let t121 = t6 * t68;
+                let t122 = t6 * t58;
+                let t123 = A::mul_add(t67, t11, t122);
+                let t124 = t8 * t73;
+                let t125 = t9 * t29;
+                let t126 = A::mul_add(t8, t73, t125);
+                let t127 = A::mul_add(t10, t74, -t126);
+                let t128 = t127 + t127;
+                let t129 = A::mul_add(t11, t71, t119);
+                let t130 = A::mul_add(t8, t73, t124);
+                let t131 = t129 + t130;
+                let t132 = t131 + t128;
+                let t133 = A::mul_add(t71, t6, t80);
+                let t134 = A::mul_add(t29, t8, t87);
+                let t135 = t133 + t134;
+                let t136 = A::mul_add(t11, t72, -t120);
+                let t137 = A::mul_add(t73, t10, -t84);
+                let t138 = t136 - t137;
+                let t139 = A::mul_add(t6, t68, t121);
+                let t140 = A::mul_add(t9, t29, t125);
+                let t141 = t139 + t140;
+                let t142 = t141 + t128;
+                let t143 = A::mul_add(t6, t72, -t123);
+                let t144 = A::mul_add(t29, t10, -t82);
+                let t145 = t143 - t144;
                 (
-                    t7,
-                    forearm_v_wx,
-                    forearm_v_wz,
-                    forearm_v_vx,
-                    t9,
-                    t10,
-                    forearm_v_vz,
-                    forearm_v_wy,
-                    t17,
-                    t20,
-                    t21,
-                    t25,
-                    forearm_a_wx,
-                    forearm_a_wz,
-                    forearm_a_vz,
-                    t28,
-                    t30,
-                    t33,
-                    t34,
-                    t36,
-                    t37,
-                    t38,
-                    t39,
-                    t40,
-                    t41,
-                    t42,
-                    t44,
-                    t49,
-                    t50,
-                    t54,
-                    t56,
-                    t57,
-                    forearm_f_nx,
-                    forearm_f_nz,
-                    forearm_f_fx,
-                    forearm_f_fz,
+                    t29,
+                    t61,
+                    t63,
+                    t67,
+                    t68,
+                    t70,
+                    t71,
+                    t73,
+                    t74,
+                    t91,
+                    t92,
+                    t93,
+                    t94,
+                    t95,
+                    t96,
+                    t116,
+                    t117,
+                    t118,
+                    t132,
+                    t135,
+                    t138,
+                    t142,
+                    t145,
                 )
             };
-            let (t59, t60, t63, t64, t68, t69, t77) = {
+            let (
+                t156,
+                t157,
+                t158,
+                t159,
+                t160,
+                t175,
+                t181,
+                t183,
+                t184,
+                t185,
+                t186,
+                t187,
+            ) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t59 = c_elbow * forearm_f_fx;
-                let t60 = s_elbow * forearm_f_fz;
-                let t61 = s_elbow * t25;
-                let t62 = A::mul_add(c_elbow, t21, -t61);
-                let t63 = s_elbow * forearm_f_fx;
-                let t64 = c_elbow * forearm_f_fz;
-                let t65 = c_elbow * t25;
-                let t66 = A::mul_add(s_elbow, t21, t65);
-                let t67 = s_elbow * t30;
-                let t68 = s_elbow * forearm_f_nx;
-                let t69 = c_elbow * forearm_f_nz;
-                let t70 = t17 * 0.479425538604203f64;
-                let t71 = A::mul_add(t62, 0.8775825618903728f64, -t70);
-                let t72 = t28 * 0.8775825618903728f64;
-                let t73 = A::mul_add(t67, 0.479425538604203f64, t72);
-                let t74 = t66 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t75 = A::mul_add(t71, 0.05f64, t74); // 5.0000e-2 = joint elbow origin z
-                let t76 = t73 + t75;
-                let t77 = t2 + t76;
-                (t59, t60, t63, t64, t68, t69, t77)
-            };
-            let (t140, t141, t142, t143, t144, t145) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t78 = c_elbow * 0.479425538604203f64;
-                let t79 = s_elbow * 0.479425538604203f64;
-                let t80 = s_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t81 = A::mul_add(c_elbow, 0.04387912809451864f64, t80);
-                let t82 = c_elbow * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t83 = A::mul_add(s_elbow, 0.04387912809451864f64, -t82);
-                let t84 = t79 * qd_elbow;
-                let t85 = t78 * qd_elbow;
-                let t86 = t81 * qd_elbow;
-                let t87 = t78 * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t88 = A::mul_add(-t83, 0.1f64, 0.01755165123780746f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t89 = A::mul_add(
-                    t79,
-                    0.020000000000000004f64,
-                    -0.0023971276930210153f64,
+                let t146 = t70 * 0.479425538604203f64;
+                let t147 = A::mul_add(t67, 0.8775825618903728f64, -t146);
+                let t148 = t71 * 0.479425538604203f64;
+                let t149 = A::mul_add(t68, 0.8775825618903728f64, -t148);
+                let t150 = t74 * 0.02397127693021015f64;
+                let t151 = A::mul_add(t29, 0.2632747685671118f64, t150);
+                let t152 = t73 * 0.02397127693021015f64;
+                let t153 = A::mul_add(t29, 0.04387912809451864f64, -t152);
+                let t154 = t29 * 0.479425538604203f64;
+                let t155 = A::mul_add(t73, 0.8775825618903728f64, t154);
+                let t156 = t147 + t151;
+                let t157 = t149 + t153;
+                let t158 = A::mul_add(
+                    t74,
+                    0.8775825618903728f64,
+                    -0.04387912809451864f64,
                 );
-                let t90 = A::mul_add(t79, 0.1f64, -0.02397127693021015f64); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t91 = t83 - 0.08775825618903728f64;
-                let t92 = t39 * 0.8775825618903728f64;
-                let t93 = A::mul_add(forearm_v_wy, t89, t92);
-                let t94 = t79 * t38;
-                let t95 = A::mul_add(forearm_v_wz, t88, t94);
-                let t96 = t93 - t95;
-                let t97 = t79 * t33;
-                let t98 = A::mul_add(forearm_v_wz, t87, t97);
-                let t99 = t78 * t39;
-                let t100 = A::mul_add(forearm_v_wx, t89, t99);
-                let t101 = t98 - t100;
-                let t102 = t78 * t38;
-                let t103 = A::mul_add(forearm_v_wx, t88, t102);
-                let t104 = t33 * 0.8775825618903728f64;
-                let t105 = A::mul_add(forearm_v_wy, t87, t104);
-                let t106 = t103 - t105;
-                let t107 = t41 * 0.02397127693021015f64;
-                let t108 = A::mul_add(t7, t91, t107);
-                let t109 = t83 * t40;
-                let t110 = A::mul_add(forearm_v_vz, t90, t109);
-                let t111 = t108 + t110;
-                let t112 = t83 * forearm_v_vx;
-                let t113 = A::mul_add(forearm_v_vz, t81, t112);
-                let t114 = t81 * t41;
-                let t115 = A::mul_add(forearm_v_vx, t91, t114);
-                let t116 = t113 - t115;
-                let t117 = t81 * t40;
-                let t118 = A::mul_add(forearm_v_vx, t90, t117);
-                let t119 = forearm_v_vx * 0.02397127693021015f64;
-                let t120 = A::mul_add(t7, t81, t119);
-                let t121 = t118 + t120;
-                let t122 = t96 - t111;
-                let t123 = t101 + t116;
-                let t124 = t106 + t121;
-                let t125 = t41 * 0.8775825618903728f64;
-                let t126 = A::mul_add(forearm_v_wy, t91, t125);
-                let t127 = t79 * t40;
-                let t128 = A::mul_add(forearm_v_wz, t90, t127);
-                let t129 = t126 - t128;
-                let t130 = t79 * forearm_v_vx;
-                let t131 = A::mul_add(forearm_v_wz, t81, t130);
-                let t132 = t78 * t41;
-                let t133 = A::mul_add(forearm_v_wx, t91, t132);
-                let t134 = t131 - t133;
-                let t135 = t78 * t40;
-                let t136 = A::mul_add(forearm_v_wx, t90, t135);
-                let t137 = forearm_v_vx * 0.8775825618903728f64;
-                let t138 = A::mul_add(forearm_v_wy, t81, t137);
-                let t139 = t136 - t138;
-                let t140 = A::mul_add(-t84, 0.002f64, t122); // 2.0000e-3 = forearm I_xx
-                let t141 = A::mul_add(-t86, 0.1f64, t123); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t142 = A::mul_add(t85, 0.020000000000000004f64, t124); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t143 = A::mul_add(-t83, qd_elbow, t129);
-                let t144 = A::mul_add(t85, 0.1f64, t134); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t145 = A::mul_add(t81, qd_elbow, t139);
-                (t140, t141, t142, t143, t144, t145)
+                let t159 = A::mul_add(
+                    t74,
+                    0.479425538604203f64,
+                    -0.02397127693021015f64,
+                );
+                let t160 = -t155 + 0.2632747685671118f64;
+                let t161 = t132 * 0.479425538604203f64;
+                let t162 = A::mul_add(t135, 0.8775825618903728f64, -t161);
+                let t163 = t135 * 0.479425538604203f64;
+                let t164 = A::mul_add(t142, 0.8775825618903728f64, -t163);
+                let t165 = t138 * 0.479425538604203f64;
+                let t166 = A::mul_add(t145, 0.8775825618903728f64, -t165);
+                let t167 = t96 * 0.02397127693021015f64;
+                let t168 = A::mul_add(t95, 0.2632747685671118f64, t167);
+                let t169 = t94 * 0.2632747685671118f64;
+                let t170 = A::mul_add(t96, 0.04387912809451864f64, t169);
+                let t171 = t94 * 0.02397127693021015f64;
+                let t172 = t95 * 0.04387912809451864f64;
+                let t173 = A::mul_add(t95, 0.04387912809451864f64, -t171);
+                let t174 = t162 + t168;
+                let t175 = t164 - t170;
+                let t176 = t166 + t173;
+                let t177 = t91 * 0.8775825618903728f64;
+                let t178 = A::mul_add(t92, 0.479425538604203f64, t177);
+                let t179 = A::mul_add(t94, 0.02397127693021015f64, -t172);
+                let t180 = A::mul_add(t93, 0.8775825618903728f64, -t168);
+                let t181 = A::mul_add(t93, 0.479425538604203f64, t170);
+                let t182 = t179 - t178;
+                let t183 = t174 - t180;
+                let t184 = t175 - t181;
+                let t185 = t176 - t182;
+                let t186 = t73 + 0.54f64; // 5.4000e-1 = arm m·c_x
+                let t187 = t74 + 0.016f64; // 1.6000e-2 = arm m·c_z
+                (t156, t157, t158, t159, t160, t175, t181, t183, t184, t185, t186, t187)
             };
-            let t158 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t146 = s_elbow * t145;
-                let t147 = A::mul_add(c_elbow, t143, t146);
-                let t148 = s_elbow * t143;
-                let t149 = A::mul_add(c_elbow, t145, -t148);
-                let t150 = s_elbow * t142;
-                let t151 = A::mul_add(c_elbow, t140, t150);
-                let t152 = t144 * 0.479425538604203f64;
-                let t153 = A::mul_add(t147, 0.8775825618903728f64, -t152);
-                let t154 = t141 * 0.8775825618903728f64;
-                let t155 = A::mul_add(t151, 0.479425538604203f64, t154);
-                let t156 = t149 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t157 = A::mul_add(t153, 0.05f64, -t156); // 5.0000e-2 = joint elbow origin z
-                let t158 = t155 + t157;
-                t158
+            let (t189, t191) = {
+                // ── link `arm`, joint `shoulder` (base to tip, last pass)
+                let t188 = t187 * t1;
+                let t189 = A::mul_add(t186, t0, -t188);
+                let t190 = t0 * t160;
+                let t191 = A::mul_add(t1, t158, t190);
+                (t189, t191)
             };
-            let (t161, t162, t164, t196, t197, t198, t199, t200, t201) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t159 = t10 - t9;
-                let t160 = A::mul_add(t159, qd_elbow, t20);
-                let t161 = forearm_v_wz * 0.002f64; // 2.0000e-3 = forearm I_xx
-                let t162 = forearm_v_wx * 0.020000000000000004f64; // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t163 = forearm_v_vx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t164 = forearm_v_wx * 0.1f64; // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t165 = A::mul_add(-forearm_v_wz, t163, t44);
-                let t166 = A::mul_add(forearm_v_wy, t162, -t165);
-                let t167 = forearm_v_wz * t161;
-                let t168 = A::mul_add(forearm_v_wx, t33, -t167);
-                let t169 = forearm_v_wz * t39;
-                let t170 = A::mul_add(forearm_v_wx, t162, -t169);
-                let t171 = t168 - t170;
-                let t172 = A::mul_add(forearm_v_wx, t163, t42);
-                let t173 = A::mul_add(forearm_v_wy, t161, -t172);
-                let t174 = A::mul_add(forearm_v_vz, t164, t49);
-                let t175 = t50 + t174;
-                let t176 = forearm_v_vx * forearm_v_vx;
-                let t177 = A::mul_add(forearm_v_vz, t159, t176);
-                let t178 = t159 * t41;
-                let t179 = A::mul_add(forearm_v_vx, forearm_v_vx, t178);
-                let t180 = t177 - t179;
-                let t181 = t159 * t40;
-                let t182 = A::mul_add(forearm_v_vx, t164, t181);
-                let t183 = A::mul_add(t7, t159, t182);
-                let t184 = t166 - t175;
-                let t185 = t171 + t180;
-                let t186 = t173 + t183;
-                let t187 = A::mul_add(forearm_v_wz, t164, t56);
-                let t188 = t57 - t187;
-                let t189 = forearm_v_wx * forearm_v_vx;
-                let t190 = A::mul_add(forearm_v_wz, t159, t189);
-                let t191 = forearm_v_wz * t41;
-                let t192 = A::mul_add(forearm_v_wx, forearm_v_vx, -t191);
-                let t193 = t190 - t192;
-                let t194 = A::mul_add(forearm_v_wx, t164, -t54);
-                let t195 = A::mul_add(-forearm_v_wy, t159, t194);
-                let t196 = A::mul_add(-forearm_a_wz, 0.002f64, t184); // 2.0000e-3 = forearm I_xx
-                let t197 = A::mul_add(-t160, 0.1f64, t185); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t198 = A::mul_add(forearm_a_wx, 0.020000000000000004f64, t186); // 2.0000e-2 = forearm I_yy or forearm I_zz
-                let t199 = t188 - forearm_a_vz;
-                let t200 = A::mul_add(forearm_a_wx, 0.1f64, t193); // 1.0000e-1 = forearm m·c_x or forearm c_x
-                let t201 = t160 + t195;
-                (t161, t162, t164, t196, t197, t198, t199, t200, t201)
+            let (t223, t228, t235, t241) = {
+                // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                let t192 = qd_shoulder * 0.479425538604203f64;
+                let t193 = qd_shoulder * 0.2632747685671118f64;
+                let t194 = qd_shoulder * 0.04387912809451864f64;
+                let t195 = qdd_shoulder * 0.479425538604203f64;
+                let t196 = t1 * 0.8775825618903728f64;
+                let t197 = t1 * 0.479425538604203f64;
+                let t198 = t0 * 0.8775825618903728f64;
+                let t199 = A::mul_add(qdd_shoulder, 0.2632747685671118f64, -t196);
+                let t200 = A::mul_add(qdd_shoulder, 0.04387912809451864f64, -t198);
+                let t201 = qd_shoulder * t192;
+                let t202 = A::mul_add(qd_shoulder, t194, t199);
+                let t203 = A::mul_add(-qd_shoulder, t193, t200);
+                let t204 = A::mul_add(qd_shoulder, 0.479425538604203f64, t192);
+                let t205 = A::mul_add(qd_shoulder, 0.2632747685671118f64, t193);
+                let t206 = A::mul_add(qd_shoulder, 0.04387912809451864f64, t194);
+                let t207 = t118 * 0.04387912809451864f64;
+                let t208 = A::mul_add(t117, 0.2632747685671118f64, t207);
+                let t209 = A::mul_add(t116, 0.479425538604203f64, t208);
+                let t210 = t63 * t195;
+                let t211 = A::mul_add(t61, t201, t210);
+                let t212 = t73 * t203;
+                let t213 = A::mul_add(t74, t202, -t212);
+                let t214 = t211 + t213;
+                let t215 = t209 + t214;
+                let t216 = t96 * t193;
+                let t217 = t94 * t194;
+                let t218 = A::mul_add(t96, t193, -t217);
+                let t219 = A::mul_add(t145, t192, t218);
+                let t220 = t215 + t219;
+                let t221 = A::mul_add(t94, t194, -t216);
+                let t222 = A::mul_add(t192, t91, t221);
+                let t223 = t220 + t222;
+                let t224 = t73 * t206;
+                let t225 = A::mul_add(t74, t205, -t224);
+                let t226 = A::mul_add(t63, t204, t225);
+                let t227 = t226 + t175;
+                let t228 = t227 + t181;
+                let t229 = t195 * t157;
+                let t230 = A::mul_add(t201, t156, t229);
+                let t231 = t197 * t159;
+                let t232 = A::mul_add(t202, t158, -t231);
+                let t233 = A::mul_add(t203, t160, t232);
+                let t234 = t230 + t233;
+                let t235 = A::mul_add(t192, t185, t234);
+                let t236 = t206 * t160;
+                let t237 = A::mul_add(t205, t158, t236);
+                let t238 = A::mul_add(t204, t157, t237);
+                let t239 = t183 * 0.479425538604203f64;
+                let t240 = A::mul_add(t184, 0.8775825618903728f64, -t239);
+                let t241 = t238 + t240;
+                (t223, t228, t235, t241)
             };
-            let t217 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t202 = A::mul_add(c_elbow, t199, -t63);
-                let t203 = A::mul_add(s_elbow, t201, t64);
-                let t204 = t202 + t203;
-                let t205 = A::mul_add(s_elbow, t199, t59);
-                let t206 = A::mul_add(c_elbow, t201, -t60);
-                let t207 = t206 - t205;
-                let t208 = A::mul_add(c_elbow, t196, -t68);
-                let t209 = A::mul_add(s_elbow, t198, t69);
-                let t210 = t208 + t209;
-                let t211 = t200 * 0.479425538604203f64;
-                let t212 = A::mul_add(t204, 0.8775825618903728f64, -t211);
-                let t213 = t197 * 0.8775825618903728f64;
-                let t214 = A::mul_add(t210, 0.479425538604203f64, t213);
-                let t215 = t207 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t216 = A::mul_add(t212, 0.05f64, -t215); // 5.0000e-2 = joint elbow origin z
-                let t217 = t214 + t216;
-                t217
-            };
-            let (t222, t223, t224, t225) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t218 = t39 - t34;
-                let t219 = t162 - t33;
-                let t220 = t218 + t36;
-                let t221 = t41 - t37;
-                let t222 = t220 - t161;
-                let t223 = t162 + t219;
-                let t224 = t221 - forearm_v_vz;
-                let t225 = t164 + t164;
-                (t222, t223, t224, t225)
-            };
-            let t234 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t226 = c_elbow * t224;
-                let t227 = s_elbow * t224;
-                let t228 = s_elbow * t223;
-                let t229 = A::mul_add(c_elbow, t222, t228);
-                let t230 = t225 * 0.479425538604203f64;
-                let t231 = A::mul_add(t226, 0.8775825618903728f64, -t230);
-                let t232 = t227 * 0.3f64; // 3.0000e-1 = joint elbow origin x or frame housing origin x
-                let t233 = A::mul_add(t231, 0.05f64, t232); // 5.0000e-2 = joint elbow origin z
-                let t234 = A::mul_add(t229, 0.479425538604203f64, t233);
-                t234
-            };
-            [t77, t217, t28, t197, t158, t234, t141]
+            [t189, t223, -t191, t235, t142, t228, t184, t241]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 22> for FixedMerge {
@@ -1272,7 +1227,7 @@ const _: () = {
     }
     #[inline(always)]
     fn inverse_dynamics_derivatives_of(
-        v: &[f64; 7],
+        v: &[f64; 8],
     ) -> (JointMatrix<2>, JointMatrix<2>) {
         let mut d_dq = JointMatrix::<2>::zeros();
         let mut d_dqd = JointMatrix::<2>::zeros();
@@ -1283,6 +1238,7 @@ const _: () = {
         d_dqd[(0, 0)] = v[4];
         d_dqd[(0, 1)] = v[5];
         d_dqd[(1, 0)] = v[6];
+        d_dqd[(1, 1)] = v[7];
         (d_dq, d_dqd)
     }
     #[inline(always)]
@@ -1419,7 +1375,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

@@ -354,7 +354,7 @@ const _: () = {
     impl Kernel<kernels::InverseDynamicsDerivatives, 2, 3, 7> for Massless {
         #[inline(always)]
         fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 2]; 3]) -> [A; 7] {
-            let (qd_pitch, qd_roll, qdd_pitch, s_pitch, c_pitch, s_roll, c_roll) = {
+            let (qd_pitch, qd_roll, qdd_pitch, t0, t1, s_roll, c_roll) = {
                 let q_pitch = q[0];
                 let q_roll = q[1];
                 let qd_pitch = qd[0];
@@ -364,141 +364,70 @@ const _: () = {
                     q_pitch,
                     q_roll,
                 ]);
-                (qd_pitch, qd_roll, qdd_pitch, s_pitch, c_pitch, s_roll, c_roll)
-            };
-            let (t0, gimbal_a_vz) = {
-                // ── link `gimbal`, joint `pitch` (base to tip)
                 let t0 = s_pitch * 9.81f64; // 9.8100e0 = g
-                let gimbal_a_vz = c_pitch * 9.81f64; // 9.8100e0 = g
-                (t0, gimbal_a_vz)
+                let t1 = c_pitch * 9.81f64; // 9.8100e0 = g
+                (qd_pitch, qd_roll, qdd_pitch, t0, t1, s_roll, c_roll)
             };
-            let (
-                tool_v_wy,
-                t1,
-                t2,
-                tool_a_vz,
-                t4,
-                t6,
-                t7,
-                t9,
-                t11,
-                t12,
-                t13,
-                t14,
-                t16,
-                tool_f_ny,
-                tool_f_nz,
-            ) = {
+            let (t4, t14, t18, t19, t22, t24, t26, t30, t31, t32) = {
                 // ── link `tool`, joint `roll` (base to tip)
-                let tool_v_wy = c_roll * qd_pitch;
-                let t1 = s_roll * qd_pitch;
-                let t2 = c_roll * qdd_pitch;
-                let t3 = s_roll * t0;
-                let tool_a_vz = c_roll * gimbal_a_vz;
-                let t4 = t1 * qd_roll;
-                let t5 = tool_v_wy * qd_roll;
-                let tool_a_wy = A::mul_add(c_roll, qdd_pitch, -t4);
-                let t6 = A::mul_add(s_roll, qdd_pitch, t5);
-                let t7 = t3 * 0.08f64; // 8.0000e-2 = tool m·c_z or tool c_z
-                let t8 = t0 * 0.08f64; // 8.0000e-2 = tool m·c_z or tool c_z
-                let t9 = gimbal_a_vz * 0.08f64; // 8.0000e-2 = tool m·c_z or tool c_z
-                let t10 = A::mul_add(tool_a_wy, 0.0104f64, -t8); // 1.0400e-2 = tool I_xx or tool I_yy
-                let t11 = qd_roll * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
-                let t12 = tool_v_wy * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
-                let t13 = t1 * 0.001f64; // 1.0000e-3 = tool I_zz
-                let t14 = t1 * t11;
-                let t15 = A::mul_add(qd_roll, t13, -t14);
-                let t16 = tool_v_wy * t11;
-                let t17 = A::mul_add(qd_roll, t12, -t16);
-                let tool_f_ny = t10 + t15;
-                let tool_f_nz = A::mul_add(-t6, 0.001f64, t17); // 1.0000e-3 = tool I_zz
-                (
-                    tool_v_wy,
-                    t1,
-                    t2,
-                    tool_a_vz,
-                    t4,
-                    t6,
-                    t7,
-                    t9,
-                    t11,
-                    t12,
-                    t13,
-                    t14,
-                    t16,
-                    tool_f_ny,
-                    tool_f_nz,
-                )
+                let t2 = qd_pitch * qd_roll;
+                let t3 = s_roll * 0.08f64; // 8.0000e-2 = tool m·c_z or tool c_z
+                let t4 = c_roll * 0.08f64; // 8.0000e-2 = tool m·c_z or tool c_z
+                let t5 = c_roll * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
+                let t6 = s_roll * 0.001f64; // 1.0000e-3 = tool I_zz
+                let t7 = s_roll * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
+                let t8 = c_roll * 0.001f64; // 1.0000e-3 = tool I_zz
+                let t9 = s_roll * t6;
+                let t10 = A::mul_add(c_roll, t5, t9);
+                let t11 = c_roll * t6;
+                let t12 = A::mul_add(s_roll, t5, -t11);
+                let t13 = s_roll * t8;
+                let t14 = A::mul_add(c_roll, t7, -t13);
+                let t15 = c_roll * t8;
+                let t16 = A::mul_add(s_roll, t7, t15);
+                let t17 = qd_roll * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
+                let t18 = t10 * qd_pitch;
+                let t19 = t12 * qd_pitch;
+                let t20 = t16 * t2;
+                let t21 = A::mul_add(t12, qdd_pitch, -t20);
+                let t22 = t3 * t0;
+                let t23 = A::mul_add(-t3, t0, t21);
+                let t24 = qd_pitch * t17;
+                let t25 = A::mul_add(qd_roll, t18, -t24);
+                let t26 = t23 + t25;
+                let t27 = qd_pitch * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
+                let t28 = qd_roll * t12;
+                let t29 = qd_roll * t16;
+                let t30 = A::mul_add(qd_pitch, t16, -t27);
+                let t31 = A::mul_add(qd_roll, t12, t28);
+                let t32 = A::mul_add(qd_roll, t10, -t29);
+                (t4, t14, t18, t19, t22, t24, t26, t30, t31, t32)
             };
-            let (t18, t19, t20) = {
+            let (t33, t34) = {
                 // ── link `tool`, joint `roll` (tip to base)
-                let t18 = c_roll * t9;
-                let t19 = s_roll * tool_f_ny;
-                let t20 = c_roll * tool_f_nz;
-                (t18, t19, t20)
+                let t33 = t19 + t19;
+                let t34 = t30 - t18;
+                (t33, t34)
             };
-            let (t29, t34, t35) = {
-                // ── link `tool`, joint `roll` (base to tip)
-                let t21 = s_roll * qd_roll;
-                let t22 = c_roll * qd_roll;
-                let t23 = c_roll * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
-                let t24 = s_roll * 0.001f64; // 1.0000e-3 = tool I_zz
-                let t25 = c_roll * t13;
-                let t26 = A::mul_add(tool_v_wy, t24, t25);
-                let t27 = s_roll * t12;
-                let t28 = A::mul_add(t1, t23, t27);
-                let t29 = t28 - t26;
-                let t30 = s_roll * t11;
-                let t31 = A::mul_add(qd_roll, t24, -t30);
-                let t32 = c_roll * t11;
-                let t33 = A::mul_add(qd_roll, t23, -t32);
-                let t34 = A::mul_add(-t21, 0.0104f64, t31); // 1.0400e-2 = tool I_xx or tool I_yy
-                let t35 = A::mul_add(-t22, 0.001f64, t33); // 1.0000e-3 = tool I_zz
-                (t29, t34, t35)
+            let t35 = {
+                // ── link `gimbal`, joint `pitch` (base to tip, last pass)
+                let t35 = t4 * t1;
+                t35
             };
-            let t37 = {
-                // ── link `tool`, joint `roll` (tip to base)
-                let t36 = s_roll * t35;
-                let t37 = A::mul_add(c_roll, t34, -t36);
-                t37
+            let (t41, t43, t44) = {
+                // ── link `tool`, joint `roll` (base to tip, last pass)
+                let t36 = qd_pitch * qd_pitch;
+                let t37 = qd_pitch + qd_pitch;
+                let t38 = A::mul_add(t36, 0.0104f64, t35); // 1.0400e-2 = tool I_xx or tool I_yy
+                let t39 = A::mul_add(t14, qdd_pitch, t26);
+                let t40 = A::mul_add(t32, qd_pitch, t39);
+                let t41 = t40 + t24;
+                let t42 = A::mul_add(-t14, t37, t19);
+                let t43 = t42 - t19;
+                let t44 = A::mul_add(qd_pitch, t34, t38);
+                (t41, t43, t44)
             };
-            let (t39, t40, t48, t49, t50) = {
-                // ── link `tool`, joint `roll` (base to tip)
-                let t38 = t4 - t2;
-                let t39 = t1 * 0.0104f64; // 1.0400e-2 = tool I_xx or tool I_yy
-                let t40 = tool_v_wy * 0.001f64; // 1.0000e-3 = tool I_zz
-                let t41 = tool_v_wy * t40;
-                let t42 = A::mul_add(t1, t13, -t41);
-                let t43 = tool_v_wy * t12;
-                let t44 = A::mul_add(t1, t39, -t43);
-                let t45 = t42 - t44;
-                let t46 = A::mul_add(qd_roll, t40, -t16);
-                let t47 = A::mul_add(-qd_roll, t39, t14);
-                let t48 = A::mul_add(-tool_a_vz, 0.08f64, t45); // 8.0000e-2 = tool m·c_z or tool c_z
-                let t49 = A::mul_add(-t6, 0.0104f64, t46); // 1.0400e-2 = tool I_xx or tool I_yy
-                let t50 = A::mul_add(t38, 0.001f64, t47); // 1.0000e-3 = tool I_zz
-                (t39, t40, t48, t49, t50)
-            };
-            let t53 = {
-                // ── link `tool`, joint `roll` (tip to base)
-                let t51 = A::mul_add(c_roll, t49, -t19);
-                let t52 = A::mul_add(s_roll, t50, t20);
-                let t53 = t51 - t52;
-                t53
-            };
-            let t55 = {
-                // ── link `tool`, joint `roll` (base to tip)
-                let t54 = t13 - t39;
-                let t55 = t54 - t39;
-                t55
-            };
-            let t57 = {
-                // ── link `tool`, joint `roll` (tip to base)
-                let t56 = s_roll * t40;
-                let t57 = A::mul_add(c_roll, t55, t56);
-                t57
-            };
-            [-t18, t53, t7, t48, t37, t57, t29]
+            [-t35, -t41, t22, -t44, -t31, t43, t33]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 12> for Massless {
@@ -745,7 +674,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

@@ -1642,23 +1642,11 @@ const _: () = {
                 qd_skewed,
                 qdd_tilted,
                 qdd_skewed,
-                s_tilted,
-                c_tilted,
-                t0,
-                t1,
-                t2,
-                t3,
-                t4,
-                t5,
-                t6,
-                t7,
-                s_skewed,
-                c_skewed,
-                t8,
-                t9,
                 t10,
                 t11,
                 t12,
+                s_skewed,
+                c_skewed,
             ) = {
                 let q_tilted = q[0];
                 let q_skewed = q[1];
@@ -1671,851 +1659,668 @@ const _: () = {
                     q_skewed,
                 ]);
                 let t0 = s_tilted * 0.8f64;
-                let t1 = c_tilted * 0.8f64;
-                let t2 = s_tilted * 0.48f64;
-                let t3 = A::mul_add(-c_tilted, 0.48f64, 0.48f64);
-                let t4 = s_tilted * 0.6f64;
-                let t5 = c_tilted * 0.6f64;
-                let t6 = s_tilted * 0.3599999999999999f64;
-                let t7 = A::mul_add(
+                let t1 = A::mul_add(-c_tilted, 0.48f64, 0.48f64);
+                let t2 = s_tilted * 0.6f64;
+                let t3 = A::mul_add(
                     c_tilted,
                     0.3599999999999999f64,
                     0.6400000000000001f64,
                 );
-                let t8 = s_skewed * 0.6f64;
-                let t9 = s_skewed * 0.8f64;
-                let t10 = A::mul_add(
-                    c_skewed,
-                    0.3599999999999999f64,
-                    0.6400000000000001f64,
-                );
-                let t11 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
-                let t12 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
+                let t4 = t2 * 0.29552020666133955f64;
+                let t5 = t2 * 0.955336489125606f64;
+                let t6 = t1 * 0.955336489125606f64;
+                let t7 = A::mul_add(t0, 0.29552020666133955f64, t6);
+                let t8 = A::mul_add(c_tilted, 0.29552020666133955f64, t5);
+                let t9 = A::mul_add(t3, 0.955336489125606f64, -t4);
+                let t10 = t7 * 9.81f64; // 9.8100e0 = g
+                let t11 = t8 * 9.81f64; // 9.8100e0 = g
+                let t12 = t9 * 9.81f64; // 9.8100e0 = g
                 (
                     qd_tilted,
                     qd_skewed,
                     qdd_tilted,
                     qdd_skewed,
-                    s_tilted,
-                    c_tilted,
-                    t0,
-                    t1,
-                    t2,
-                    t3,
-                    t4,
-                    t5,
-                    t6,
-                    t7,
-                    s_skewed,
-                    c_skewed,
-                    t8,
-                    t9,
                     t10,
                     t11,
                     t12,
+                    s_skewed,
+                    c_skewed,
                 )
             };
-            let (
-                first_v_wx,
-                first_v_wz,
-                first_a_vx,
-                t15,
-                first_a_vy,
-                t18,
-                first_a_vz,
-                t21,
-                first_a_wx,
-                first_a_wz,
-                t22,
-                t24,
-                t25,
-            ) = {
+            let (t13, t14, t15, t16, t17, t19) = {
                 // ── link `first`, joint `tilted` (base to tip)
-                let first_v_wx = qd_tilted * 0.6f64;
-                let first_v_wz = qd_tilted * 0.8f64;
-                let t13 = t3 * 9.371850958322195f64;
-                let t14 = t2 * 9.371850958322195f64;
-                let first_a_vx = A::mul_add(t0, 2.899053227347741f64, t13);
-                let t15 = A::mul_add(t1, 2.899053227347741f64, t14);
-                let t16 = s_tilted * 2.899053227347741f64;
-                let t17 = t4 * 9.371850958322195f64;
-                let first_a_vy = A::mul_add(c_tilted, 2.899053227347741f64, t17);
-                let t18 = A::mul_add(t5, 9.371850958322195f64, -t16);
-                let t19 = t4 * 2.899053227347741f64;
-                let t20 = t6 * 9.371850958322195f64;
-                let first_a_vz = A::mul_add(t7, 9.371850958322195f64, -t19);
-                let t21 = A::mul_add(t5, 2.899053227347741f64, t20);
-                let first_a_wx = qdd_tilted * 0.6f64;
-                let first_a_wz = qdd_tilted * 0.8f64;
-                let t22 = t21 * 0.03f64; // 3.0000e-2 = first m·c_y
-                let t23 = t15 * 0.03f64; // 3.0000e-2 = first m·c_y
-                let t24 = A::mul_add(t18, 0.15000000000000002f64, -t23); // 1.5000e-1 = first m·c_x
-                let t25 = first_v_wx * 0.003f64; // 3.0000e-3 = first I_xy
-                (
-                    first_v_wx,
-                    first_v_wz,
-                    first_a_vx,
-                    t15,
-                    first_a_vy,
-                    t18,
-                    first_a_vz,
-                    t21,
-                    first_a_wx,
-                    first_a_wz,
-                    t22,
-                    t24,
-                    t25,
-                )
+                let t13 = qd_tilted * 0.6f64;
+                let t14 = qd_tilted * 0.8f64;
+                let t15 = qdd_tilted * 0.6f64;
+                let t16 = qdd_tilted * 0.8f64;
+                let t17 = t13 * 0.003f64; // 3.0000e-3 = first I_xy
+                let t18 = t14 * 0.003f64; // 3.0000e-3 = first I_xy
+                let t19 = A::mul_add(t14, 0.003f64, t18); // 3.0000e-3 = first I_xy
+                (t13, t14, t15, t16, t17, t19)
             };
             let (
-                t26,
-                t27,
-                t30,
-                t31,
-                t33,
-                t34,
-                t35,
-                t36,
-                second_v_wx,
-                second_v_vx,
-                second_v_vy,
-                second_v_vz,
-                second_v_wy,
-                second_v_wz,
-                t53,
+                t50,
+                t52,
                 t54,
+                t55,
                 t56,
-                t61,
-                t65,
-                t71,
-                t87,
-                t93,
-                t99,
-                t110,
-                t114,
-                t115,
-                t132,
+                t92,
+                t94,
+                t127,
                 t133,
-                t134,
-                t135,
-                t136,
-                t137,
-                second_f_nx,
-                second_f_ny,
-                second_f_nz,
-                second_f_fx,
-                second_f_fy,
-                second_f_fz,
+                t141,
+                t142,
+                t144,
+                t145,
+                t147,
+                t148,
+                t149,
+                t150,
+                t166,
+                t173,
+                t174,
+                t175,
+                t176,
+                t177,
+                t222,
+                t223,
+                t224,
+                t225,
+                t226,
+                t227,
+                t248,
+                t250,
+                t252,
+                t256,
+                t259,
+                t263,
+                t264,
+                t267,
+                t268,
             ) = {
                 // ── link `second`, joint `skewed` (base to tip)
-                let t26 = qd_skewed * 0.8f64;
-                let t27 = qd_skewed * 0.6f64;
-                let t28 = first_v_wz * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t29 = first_v_wz * 0.3894183423086505f64;
-                let t30 = A::mul_add(first_v_wx, 0.90270109637546f64, -t29);
-                let t31 = first_v_wx * 0.19866933079506122f64;
-                let t32 = first_v_wz * 0.9210609940028851f64;
-                let t33 = A::mul_add(first_v_wx, 0.3816559020950483f64, t32);
-                let t34 = t28 * 0.18298657129998708f64;
-                let t35 = t28 * 0.9800665778412416f64;
-                let t36 = t28 * 0.07736548146578168f64;
-                let t37 = t8 * t31;
-                let t38 = A::mul_add(c_skewed, t30, -t37);
-                let second_v_wx = A::mul_add(-t9, t33, t38);
-                let t39 = t10 * t31;
-                let t40 = A::mul_add(t8, t30, t39);
-                let t41 = A::mul_add(t11, t33, t40);
-                let t42 = t11 * t31;
-                let t43 = A::mul_add(t9, t30, t42);
-                let t44 = A::mul_add(t12, t33, t43);
-                let t45 = t8 * t35;
-                let t46 = A::mul_add(c_skewed, t34, t45);
-                let second_v_vx = A::mul_add(t9, t36, -t46);
-                let t47 = t8 * t34;
-                let t48 = A::mul_add(t10, t35, -t47);
-                let second_v_vy = A::mul_add(-t11, t36, t48);
-                let t49 = t9 * t34;
-                let t50 = A::mul_add(t11, t35, -t49);
-                let second_v_vz = A::mul_add(-t12, t36, t50);
-                let second_v_wy = A::mul_add(qd_skewed, 0.8f64, t41);
-                let second_v_wz = A::mul_add(-qd_skewed, 0.6f64, t44);
-                let t51 = A::mul_add(first_a_wz, 0.2f64, first_a_vy); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t52 = first_a_wz * 0.3894183423086505f64;
-                let t53 = A::mul_add(first_a_wx, 0.90270109637546f64, -t52);
-                let t54 = first_a_wx * 0.19866933079506122f64;
-                let t55 = first_a_wz * 0.9210609940028851f64;
-                let t56 = A::mul_add(first_a_wx, 0.3816559020950483f64, t55);
-                let t57 = t51 * 0.18298657129998708f64;
-                let t58 = t18 * 0.18298657129998708f64;
-                let t59 = A::mul_add(first_a_vx, 0.90270109637546f64, -t57);
-                let t60 = A::mul_add(t15, 0.90270109637546f64, -t58);
-                let t61 = A::mul_add(-first_a_vz, 0.3894183423086505f64, t59);
-                let t62 = A::mul_add(t21, 0.3894183423086505f64, t60);
-                let t63 = t51 * 0.9800665778412416f64;
-                let t64 = t18 * 0.9800665778412416f64;
-                let t65 = A::mul_add(first_a_vx, 0.19866933079506122f64, t63);
-                let t66 = A::mul_add(t15, 0.19866933079506122f64, t64);
-                let t67 = t51 * 0.07736548146578168f64;
-                let t68 = t18 * 0.07736548146578168f64;
-                let t69 = A::mul_add(first_a_vx, 0.3816559020950483f64, -t67);
-                let t70 = A::mul_add(t15, 0.3816559020950483f64, -t68);
-                let t71 = A::mul_add(first_a_vz, 0.9210609940028851f64, t69);
-                let t72 = A::mul_add(-t21, 0.9210609940028851f64, t70);
-                let t73 = t8 * t54;
-                let t74 = A::mul_add(c_skewed, t53, -t73);
-                let t75 = A::mul_add(-t9, t56, t74);
-                let t76 = t10 * t54;
-                let t77 = A::mul_add(t8, t53, t76);
-                let t78 = A::mul_add(t11, t56, t77);
-                let t79 = t11 * t54;
-                let t80 = A::mul_add(t9, t53, t79);
-                let t81 = A::mul_add(t12, t56, t80);
-                let t82 = t8 * t65;
-                let t83 = t8 * t66;
-                let t84 = A::mul_add(c_skewed, t61, -t82);
-                let t85 = A::mul_add(c_skewed, t62, -t83);
-                let t86 = A::mul_add(-t9, t71, t84);
-                let t87 = A::mul_add(-t9, t72, t85);
-                let t88 = t10 * t65;
-                let t89 = t10 * t66;
-                let t90 = A::mul_add(t8, t61, t88);
-                let t91 = A::mul_add(t8, t62, t89);
-                let t92 = A::mul_add(t11, t71, t90);
-                let t93 = A::mul_add(t11, t72, t91);
-                let t94 = t11 * t65;
-                let t95 = t11 * t66;
-                let t96 = A::mul_add(t9, t61, t94);
-                let t97 = A::mul_add(t9, t62, t95);
-                let t98 = A::mul_add(t12, t71, t96);
-                let t99 = A::mul_add(t12, t72, t97);
-                let t100 = A::mul_add(qdd_skewed, 0.8f64, t78);
-                let t101 = A::mul_add(-qdd_skewed, 0.6f64, t81);
-                let t102 = second_v_wz * t26;
-                let t103 = A::mul_add(second_v_wy, t27, t102);
-                let t104 = second_v_vz * t26;
-                let t105 = A::mul_add(second_v_vy, t27, t104);
-                let second_a_wx = t75 - t103;
-                let second_a_wy = A::mul_add(second_v_wx, t27, t100);
-                let second_a_wz = A::mul_add(second_v_wx, t26, t101);
-                let second_a_vx = t86 - t105;
-                let second_a_vy = A::mul_add(second_v_vx, t27, t92);
-                let second_a_vz = A::mul_add(second_v_vx, t26, t98);
-                let t106 = second_a_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t107 = A::mul_add(second_a_wx, 0.0040999999999999995f64, -t106); // 4.1000e-3 = second I_xx
-                let t108 = second_a_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t109 = A::mul_add(second_a_wz, 0.0375f64, -t108); // 3.7500e-2 = second I_zz
-                let t110 = t93 * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
-                let t111 = second_a_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t112 = t99 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t113 = A::mul_add(second_a_vx, 0.01f64, -t111); // 1.0000e-2 = second m·c_z or second c_z
-                let t114 = A::mul_add(t87, 0.01f64, -t112); // 1.0000e-2 = second m·c_z or second c_z
-                let t115 = t93 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t116 = second_a_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t117 = A::mul_add(second_a_wx, 0.01f64, -t116); // 1.0000e-2 = second m·c_z or second c_z
-                let t118 = A::mul_add(-second_a_vy, 0.01f64, t107); // 1.0000e-2 = second m·c_z or second c_z
-                let t119 = A::mul_add(second_a_wy, 0.037599999999999995f64, t113); // 3.7600e-2 = second I_yy
-                let t120 = A::mul_add(second_a_vy, 0.15f64, t109); // 1.5000e-1 = second m·c_x or second c_x
-                let t121 = A::mul_add(second_a_wy, 0.01f64, second_a_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t122 = second_a_vy - t117;
-                let t123 = A::mul_add(-second_a_wy, 0.15f64, second_a_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t124 = second_v_wz * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t125 = A::mul_add(second_v_wx, 0.0040999999999999995f64, -t124); // 4.1000e-3 = second I_xx
-                let t126 = second_v_wx * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t127 = A::mul_add(second_v_wz, 0.0375f64, -t126); // 3.7500e-2 = second I_zz
-                let t128 = second_v_vz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t129 = A::mul_add(second_v_vx, 0.01f64, -t128); // 1.0000e-2 = second m·c_z or second c_z
-                let t130 = second_v_wz * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t131 = A::mul_add(second_v_wx, 0.01f64, -t130); // 1.0000e-2 = second m·c_z or second c_z
-                let t132 = A::mul_add(-second_v_vy, 0.01f64, t125); // 1.0000e-2 = second m·c_z or second c_z
-                let t133 = A::mul_add(second_v_wy, 0.037599999999999995f64, t129); // 3.7600e-2 = second I_yy
-                let t134 = A::mul_add(second_v_vy, 0.15f64, t127); // 1.5000e-1 = second m·c_x or second c_x
-                let t135 = A::mul_add(second_v_wy, 0.01f64, second_v_vx); // 1.0000e-2 = second m·c_z or second c_z
-                let t136 = second_v_vy - t131;
-                let t137 = A::mul_add(-second_v_wy, 0.15f64, second_v_vz); // 1.5000e-1 = second m·c_x or second c_x
-                let t138 = second_v_wz * t133;
-                let t139 = A::mul_add(second_v_wy, t134, -t138);
-                let t140 = second_v_wx * t134;
-                let t141 = A::mul_add(second_v_wz, t132, -t140);
-                let t142 = second_v_wy * t132;
-                let t143 = A::mul_add(second_v_wx, t133, -t142);
-                let t144 = second_v_vz * t136;
-                let t145 = A::mul_add(second_v_vy, t137, -t144);
-                let t146 = second_v_vx * t137;
-                let t147 = A::mul_add(second_v_vz, t135, -t146);
-                let t148 = second_v_vy * t135;
-                let t149 = A::mul_add(second_v_vx, t136, -t148);
-                let t150 = t139 + t145;
-                let t151 = t141 + t147;
-                let t152 = t143 + t149;
-                let t153 = second_v_wz * t136;
-                let t154 = A::mul_add(second_v_wy, t137, -t153);
-                let t155 = second_v_wx * t137;
-                let t156 = A::mul_add(second_v_wz, t135, -t155);
-                let t157 = second_v_wy * t135;
-                let t158 = A::mul_add(second_v_wx, t136, -t157);
-                let second_f_nx = t118 + t150;
-                let second_f_ny = t119 + t151;
-                let second_f_nz = t120 + t152;
-                let second_f_fx = t121 + t154;
-                let second_f_fy = t122 + t156;
-                let second_f_fz = t123 + t158;
+                let t20 = s_skewed * 0.6f64;
+                let t21 = s_skewed * 0.8f64;
+                let t22 = A::mul_add(
+                    c_skewed,
+                    0.3599999999999999f64,
+                    0.6400000000000001f64,
+                );
+                let t23 = A::mul_add(c_skewed, 0.48f64, -0.48f64);
+                let t24 = A::mul_add(c_skewed, 0.64f64, 0.36f64);
+                let t25 = t20 * 0.19866933079506122f64;
+                let t26 = A::mul_add(c_skewed, 0.90270109637546f64, -t25);
+                let t27 = A::mul_add(-t21, 0.3816559020950483f64, t26);
+                let t28 = t22 * 0.19866933079506122f64;
+                let t29 = A::mul_add(t20, 0.90270109637546f64, t28);
+                let t30 = A::mul_add(t23, 0.3816559020950483f64, t29);
+                let t31 = t23 * 0.19866933079506122f64;
+                let t32 = A::mul_add(t21, 0.90270109637546f64, t31);
+                let t33 = A::mul_add(t24, 0.3816559020950483f64, t32);
+                let t34 = t20 * 0.9800665778412416f64;
+                let t35 = A::mul_add(c_skewed, 0.18298657129998708f64, t34);
+                let t36 = A::mul_add(t21, 0.07736548146578168f64, -t35);
+                let t37 = t20 * 0.18298657129998708f64;
+                let t38 = A::mul_add(t22, 0.9800665778412416f64, -t37);
+                let t39 = A::mul_add(-t23, 0.07736548146578168f64, t38);
+                let t40 = t21 * 0.18298657129998708f64;
+                let t41 = A::mul_add(t23, 0.9800665778412416f64, -t40);
+                let t42 = A::mul_add(-t24, 0.07736548146578168f64, t41);
+                let t43 = t21 * 0.9210609940028851f64;
+                let t44 = A::mul_add(c_skewed, 0.3894183423086505f64, t43);
+                let t45 = t20 * 0.3894183423086505f64;
+                let t46 = A::mul_add(t23, 0.9210609940028851f64, -t45);
+                let t47 = t21 * 0.3894183423086505f64;
+                let t48 = A::mul_add(t24, 0.9210609940028851f64, -t47);
+                let t49 = t33 * 0.6f64;
+                let t50 = A::mul_add(t30, 0.8f64, -t49);
+                let t51 = t42 * 0.6f64;
+                let t52 = A::mul_add(t39, 0.8f64, -t51);
+                let t53 = t48 * 0.6f64;
+                let t54 = A::mul_add(t46, 0.8f64, -t53);
+                let t55 = t54 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t56 = t52 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t57 = t50 * qd_skewed;
+                let t58 = t52 * qd_skewed;
+                let t59 = t54 * qd_skewed;
+                let t60 = t55 * qd_skewed;
+                let t61 = t56 * qd_skewed;
+                let t62 = A::mul_add(t50, qd_skewed, t13);
+                let t63 = A::mul_add(t54, qd_skewed, t14);
+                let t64 = A::mul_add(t50, qdd_skewed, t15);
+                let t65 = A::mul_add(t54, qdd_skewed, t16);
+                let t66 = A::mul_add(-t55, qdd_skewed, t11);
+                let t67 = A::mul_add(t56, qdd_skewed, t12);
+                let t68 = t63 * t58;
+                let t69 = A::mul_add(t58, t59, -t68);
+                let t70 = t62 * t59;
+                let t71 = A::mul_add(t63, t57, -t70);
+                let t72 = t58 * t57;
+                let t73 = A::mul_add(t62, t58, -t72);
+                let t74 = t58 * t61;
+                let t75 = t63 * t60;
+                let t76 = A::mul_add(t58, t61, t75);
+                let t77 = t62 * t61;
+                let t78 = t62 * t60;
+                let t79 = A::mul_add(t60, t59, t74);
+                let t80 = t76 - t79;
+                let t81 = A::mul_add(t61, t57, -t77);
+                let t82 = A::mul_add(t60, t57, -t78);
+                let t83 = t64 + t69;
+                let t84 = A::mul_add(t52, qdd_skewed, t71);
+                let t85 = t65 + t73;
+                let t86 = t10 + t80;
+                let t87 = t66 + t81;
+                let t88 = t67 + t82;
+                let t89 = t33 * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
+                let t90 = A::mul_add(t27, 0.15f64, t89); // 1.5000e-1 = second m·c_x or second c_x
+                let t91 = t42 * 0.01f64; // 1.0000e-2 = second m·c_z or second c_z
+                let t92 = A::mul_add(t36, 0.15f64, t91); // 1.5000e-1 = second m·c_x or second c_x
+                let t93 = t44 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
+                let t94 = A::mul_add(t48, 0.01f64, -t93); // 1.0000e-2 = second m·c_z or second c_z
+                let t95 = t33 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t96 = A::mul_add(t27, 0.0040999999999999995f64, -t95); // 4.1000e-3 = second I_xx
+                let t97 = t30 * 0.037599999999999995f64; // 3.7600e-2 = second I_yy
+                let t98 = t27 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t99 = A::mul_add(t33, 0.0375f64, -t98); // 3.7500e-2 = second I_zz
+                let t100 = t42 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t101 = A::mul_add(t36, 0.0040999999999999995f64, -t100); // 4.1000e-3 = second I_xx
+                let t102 = t39 * 0.037599999999999995f64; // 3.7600e-2 = second I_yy
+                let t103 = t36 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t104 = A::mul_add(t42, 0.0375f64, -t103); // 3.7500e-2 = second I_zz
+                let t105 = t48 * 0.0015f64; // 1.5000e-3 = second I_xz
+                let t106 = A::mul_add(t44, 0.0040999999999999995f64, t105); // 4.1000e-3 = second I_xx
+                let t107 = t46 * 0.037599999999999995f64; // 3.7600e-2 = second I_yy
+                let t108 = t48 * 0.0375f64; // 3.7500e-2 = second I_zz
+                let t109 = A::mul_add(t44, 0.0015f64, t108); // 1.5000e-3 = second I_xz
+                let t110 = t30 * t97;
+                let t111 = A::mul_add(t27, t96, t110);
+                let t112 = A::mul_add(t33, t99, t111);
+                let t113 = t39 * t97;
+                let t114 = A::mul_add(t36, t96, t113);
+                let t115 = A::mul_add(t42, t99, t114);
+                let t116 = t44 * t96;
+                let t117 = A::mul_add(t46, t97, -t116);
+                let t118 = A::mul_add(t48, t99, t117);
+                let t119 = t30 * t102;
+                let t120 = A::mul_add(t27, t101, t119);
+                let t121 = A::mul_add(t33, t104, t120);
+                let t122 = t39 * t102;
+                let t123 = A::mul_add(t36, t101, t122);
+                let t124 = A::mul_add(t42, t104, t123);
+                let t125 = t44 * t101;
+                let t126 = A::mul_add(t46, t102, -t125);
+                let t127 = A::mul_add(t48, t104, t126);
+                let t128 = t27 * t106;
+                let t129 = A::mul_add(t30, t107, -t128);
+                let t130 = A::mul_add(t33, t109, t129);
+                let t131 = t36 * t106;
+                let t132 = A::mul_add(t39, t107, -t131);
+                let t133 = A::mul_add(t42, t109, t132);
+                let t134 = t46 * t107;
+                let t135 = A::mul_add(t44, t106, t134);
+                let t136 = A::mul_add(t48, t109, t135);
+                let t137 = t90 * 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t138 = A::mul_add(t90, 0.2f64, t137); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t139 = t138 + 0.04000000000000001f64; // 4.0000e-2 = joint tilted origin z or joint skewed origin x × joint tilted origin z or joint skewed origin x
+                let t140 = t112 + t139;
+                let t141 = t124 + t139;
+                let t142 = t136 + t139;
+                let t143 = A::mul_add(-t90, 0.2f64, t140); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t144 = A::mul_add(-t92, 0.2f64, t115); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t145 = A::mul_add(-t94, 0.2f64, t118); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t146 = A::mul_add(-t90, 0.2f64, t143); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t147 = A::mul_add(-t92, 0.2f64, t121); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t148 = A::mul_add(-t94, 0.2f64, t130); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t149 = t146 - 0.04000000000000001f64; // 4.0000e-2 = joint tilted origin z or joint skewed origin x × joint tilted origin z or joint skewed origin x
+                let t150 = t90 + 0.2f64; // 2.0000e-1 = joint tilted origin z or joint skewed origin x
+                let t151 = t147 * t58;
+                let t152 = A::mul_add(t149, t62, t151);
+                let t153 = A::mul_add(t148, t63, t152);
+                let t154 = t141 * t58;
+                let t155 = A::mul_add(t144, t62, t154);
+                let t156 = t133 * t63;
+                let t157 = A::mul_add(t133, t63, t155);
+                let t158 = t145 * t62;
+                let t159 = t127 * t58;
+                let t160 = A::mul_add(t145, t62, t159);
+                let t161 = A::mul_add(t142, t63, t160);
+                let t162 = t94 * t60;
+                let t163 = A::mul_add(t92, t61, t162);
+                let t164 = t92 * t63;
+                let t165 = t94 * t58;
+                let t166 = A::mul_add(t92, t63, -t165);
+                let t167 = t94 * t62;
+                let t168 = t150 * t63;
+                let t169 = A::mul_add(t94, t62, -t168);
+                let t170 = t150 * t58;
+                let t171 = t92 * t62;
+                let t172 = A::mul_add(t150, t58, -t171);
+                let t173 = t153 + t163;
+                let t174 = A::mul_add(-t150, t61, t157);
+                let t175 = A::mul_add(-t150, t60, t161);
+                let t176 = A::mul_add(t55, qd_skewed, t169);
+                let t177 = A::mul_add(t56, qd_skewed, -t172);
+                let t178 = t147 * t84;
+                let t179 = A::mul_add(t149, t83, t178);
+                let t180 = A::mul_add(t148, t85, t179);
+                let t181 = t141 * t84;
+                let t182 = A::mul_add(t144, t83, t181);
+                let t183 = A::mul_add(t133, t85, t182);
+                let t184 = t127 * t84;
+                let t185 = A::mul_add(t145, t83, t184);
+                let t186 = A::mul_add(t142, t85, t185);
+                let t187 = t94 * t87;
+                let t188 = A::mul_add(t92, t88, -t187);
+                let t189 = t150 * t88;
+                let t190 = A::mul_add(t94, t86, -t189);
+                let t191 = t92 * t86;
+                let t192 = A::mul_add(t150, t87, -t191);
+                let t193 = t94 * t84;
+                let t194 = A::mul_add(t92, t85, -t193);
+                let t195 = t150 * t85;
+                let t196 = A::mul_add(t94, t83, -t195);
+                let t197 = t92 * t83;
+                let t198 = A::mul_add(t150, t84, -t197);
+                let t199 = t180 + t188;
+                let t200 = t183 + t190;
+                let t201 = t186 + t192;
+                let t202 = t86 - t194;
+                let t203 = t87 - t196;
+                let t204 = t88 - t198;
+                let t205 = t63 * t174;
+                let t206 = A::mul_add(t58, t175, -t205);
+                let t207 = t62 * t175;
+                let t208 = A::mul_add(t63, t173, -t207);
+                let t209 = t58 * t173;
+                let t210 = A::mul_add(t62, t174, -t209);
+                let t211 = t60 * t177;
+                let t212 = A::mul_add(t61, t176, -t211);
+                let t213 = t206 + t212;
+                let t214 = A::mul_add(-t61, t166, t208);
+                let t215 = A::mul_add(-t60, t166, t210);
+                let t216 = t63 * t176;
+                let t217 = A::mul_add(t58, t177, t216);
+                let t218 = t62 * t177;
+                let t219 = A::mul_add(t63, t166, t218);
+                let t220 = t62 * t176;
+                let t221 = A::mul_add(t58, t166, -t220);
+                let t222 = t199 + t213;
+                let t223 = t200 + t214;
+                let t224 = t201 + t215;
+                let t225 = t202 + t217;
+                let t226 = t203 - t219;
+                let t227 = t204 + t221;
+                let t228 = t63 * t144;
+                let t229 = A::mul_add(t58, t145, -t228);
+                let t230 = A::mul_add(t63, t149, -t158);
+                let t231 = t58 * t149;
+                let t232 = A::mul_add(t144, t62, -t231);
+                let t233 = t63 * t141;
+                let t234 = A::mul_add(t127, t58, -t233);
+                let t235 = t62 * t127;
+                let t236 = A::mul_add(t63, t147, -t235);
+                let t237 = A::mul_add(t62, t141, -t151);
+                let t238 = A::mul_add(t58, t142, -t156);
+                let t239 = t62 * t142;
+                let t240 = A::mul_add(t148, t63, -t239);
+                let t241 = t58 * t148;
+                let t242 = A::mul_add(t62, t133, -t241);
+                let t243 = t60 * t92;
+                let t244 = t61 * t94;
+                let t245 = A::mul_add(t61, t94, -t243);
+                let t246 = t245 + t245;
+                let t247 = t229 + t229;
+                let t248 = t247 + t246;
+                let t249 = t230 + t234;
+                let t250 = A::mul_add(t150, t60, t249);
+                let t251 = t232 + t238;
+                let t252 = A::mul_add(-t150, t61, t251);
+                let t253 = t236 + t236;
+                let t254 = A::mul_add(t60, t92, t243);
+                let t255 = t253 + t254;
+                let t256 = t255 + t246;
+                let t257 = t237 + t240;
+                let t258 = A::mul_add(t92, t61, -t162);
+                let t259 = t257 - t258;
+                let t260 = t242 + t242;
+                let t261 = A::mul_add(t61, t94, t244);
+                let t262 = t260 - t261;
+                let t263 = t262 + t246;
+                let t264 = A::mul_add(t94, t58, -t164);
+                let t265 = A::mul_add(t150, t63, -t167);
+                let t266 = A::mul_add(t92, t62, -t170);
+                let t267 = A::mul_add(-t55, qd_skewed, t265);
+                let t268 = A::mul_add(t56, qd_skewed, t266);
                 (
-                    t26,
-                    t27,
-                    t30,
-                    t31,
-                    t33,
-                    t34,
-                    t35,
-                    t36,
-                    second_v_wx,
-                    second_v_vx,
-                    second_v_vy,
-                    second_v_vz,
-                    second_v_wy,
-                    second_v_wz,
-                    t53,
+                    t50,
+                    t52,
                     t54,
+                    t55,
                     t56,
-                    t61,
-                    t65,
-                    t71,
-                    t87,
-                    t93,
-                    t99,
-                    t110,
-                    t114,
-                    t115,
-                    t132,
+                    t92,
+                    t94,
+                    t127,
                     t133,
-                    t134,
-                    t135,
-                    t136,
-                    t137,
-                    second_f_nx,
-                    second_f_ny,
-                    second_f_nz,
-                    second_f_fx,
-                    second_f_fy,
-                    second_f_fz,
+                    t141,
+                    t142,
+                    t144,
+                    t145,
+                    t147,
+                    t148,
+                    t149,
+                    t150,
+                    t166,
+                    t173,
+                    t174,
+                    t175,
+                    t176,
+                    t177,
+                    t222,
+                    t223,
+                    t224,
+                    t225,
+                    t226,
+                    t227,
+                    t248,
+                    t250,
+                    t252,
+                    t256,
+                    t259,
+                    t263,
+                    t264,
+                    t267,
+                    t268,
                 )
             };
-            let (t160, t188, t189) = {
+            let (
+                t281,
+                t286,
+                t287,
+                t288,
+                t289,
+                t290,
+                t308,
+                t310,
+                t319,
+                t321,
+                t328,
+                t329,
+                t330,
+                t331,
+                t332,
+                t333,
+                t334,
+                t335,
+                t336,
+                t337,
+                t338,
+            ) = {
                 // ── link `second`, joint `skewed` (tip to base)
-                let t159 = t115 * 0.6f64;
-                let t160 = A::mul_add(t114, 0.8f64, -t159);
-                let t161 = t8 * t93;
-                let t162 = A::mul_add(c_skewed, t87, t161);
-                let t163 = A::mul_add(t9, t99, t162);
-                let t164 = t8 * t87;
-                let t165 = A::mul_add(t10, t93, -t164);
-                let t166 = A::mul_add(t11, t99, t165);
-                let t167 = t9 * t87;
-                let t168 = A::mul_add(t11, t93, -t167);
-                let t169 = A::mul_add(t12, t99, t168);
-                let t170 = c_skewed * t110;
-                let t171 = A::mul_add(t8, t114, -t170);
-                let t172 = A::mul_add(t9, t115, t171);
-                let t173 = t10 * t114;
-                let t174 = A::mul_add(t8, t110, t173);
-                let t175 = A::mul_add(t11, t115, t174);
-                let t176 = t11 * t114;
-                let t177 = A::mul_add(t9, t110, t176);
-                let t178 = A::mul_add(t12, t115, t177);
-                let t179 = t163 * 0.18298657129998708f64;
-                let t180 = A::mul_add(t166, 0.9800665778412416f64, -t179);
-                let t181 = A::mul_add(-t169, 0.07736548146578168f64, t180);
-                let t182 = t175 * 0.19866933079506122f64;
-                let t183 = A::mul_add(t172, 0.90270109637546f64, t182);
-                let t184 = A::mul_add(t178, 0.3816559020950483f64, t183);
-                let t185 = t172 * 0.3894183423086505f64;
-                let t186 = A::mul_add(t178, 0.9210609940028851f64, -t185);
-                let t187 = A::mul_add(t181, 0.2f64, t186); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t188 = t184 - t22;
-                let t189 = t24 + t187;
-                (t160, t188, t189)
+                let t269 = t147 * t52;
+                let t270 = A::mul_add(t149, t50, t269);
+                let t271 = A::mul_add(t148, t54, t270);
+                let t272 = t141 * t52;
+                let t273 = A::mul_add(t144, t50, t272);
+                let t274 = A::mul_add(t133, t54, t273);
+                let t275 = t127 * t52;
+                let t276 = A::mul_add(t145, t50, t275);
+                let t277 = A::mul_add(t142, t54, t276);
+                let t278 = t94 * t55;
+                let t279 = A::mul_add(t92, t56, t278);
+                let t280 = t94 * t52;
+                let t281 = A::mul_add(t92, t54, -t280);
+                let t282 = t150 * t54;
+                let t283 = A::mul_add(t94, t50, -t282);
+                let t284 = t92 * t50;
+                let t285 = A::mul_add(t150, t52, -t284);
+                let t286 = t271 + t279;
+                let t287 = A::mul_add(-t150, t56, t274);
+                let t288 = A::mul_add(-t150, t55, t277);
+                let t289 = t55 + t283;
+                let t290 = t56 - t285;
+                let t291 = t250 * t52;
+                let t292 = A::mul_add(t248, t50, t291);
+                let t293 = A::mul_add(t252, t54, t292);
+                let t294 = t256 * t52;
+                let t295 = A::mul_add(t250, t50, t294);
+                let t296 = A::mul_add(t259, t54, t295);
+                let t297 = t259 * t52;
+                let t298 = A::mul_add(t252, t50, t297);
+                let t299 = A::mul_add(t263, t54, t298);
+                let t300 = t268 * t55;
+                let t301 = A::mul_add(t267, t56, t300);
+                let t302 = t268 * t52;
+                let t303 = A::mul_add(t267, t54, -t302);
+                let t304 = t264 * t54;
+                let t305 = A::mul_add(t268, t50, -t304);
+                let t306 = t267 * t50;
+                let t307 = A::mul_add(t264, t52, -t306);
+                let t308 = t293 + t301;
+                let t309 = A::mul_add(-t264, t56, t296);
+                let t310 = A::mul_add(-t264, t55, t299);
+                let t311 = t54 * t174;
+                let t312 = A::mul_add(t52, t175, -t311);
+                let t313 = t50 * t175;
+                let t314 = A::mul_add(t54, t173, -t313);
+                let t315 = t52 * t173;
+                let t316 = A::mul_add(t50, t174, -t315);
+                let t317 = t55 * t177;
+                let t318 = A::mul_add(t56, t176, -t317);
+                let t319 = t312 + t318;
+                let t320 = A::mul_add(-t56, t166, t314);
+                let t321 = A::mul_add(-t55, t166, t316);
+                let t322 = t54 * t176;
+                let t323 = A::mul_add(t52, t177, t322);
+                let t324 = t50 * t177;
+                let t325 = A::mul_add(t54, t166, t324);
+                let t326 = t50 * t176;
+                let t327 = A::mul_add(t52, t166, -t326);
+                let t328 = t308 - t319;
+                let t329 = t309 - t320;
+                let t330 = t310 - t321;
+                let t331 = t303 + t323;
+                let t332 = t325 - t305;
+                let t333 = t307 + t327;
+                let t334 = t150 + 0.15000000000000002f64; // 1.5000e-1 = first m·c_x
+                let t335 = t92 + 0.03f64; // 3.0000e-2 = first m·c_y
+                let t336 = t19 + t248;
+                let t337 = t252 - t17;
+                let t338 = t174 - t17;
+                (
+                    t281,
+                    t286,
+                    t287,
+                    t288,
+                    t289,
+                    t290,
+                    t308,
+                    t310,
+                    t319,
+                    t321,
+                    t328,
+                    t329,
+                    t330,
+                    t331,
+                    t332,
+                    t333,
+                    t334,
+                    t335,
+                    t336,
+                    t337,
+                    t338,
+                )
             };
-            let t191 = {
+            let (t339, t341, t342, t347, t348) = {
                 // ── link `first`, joint `tilted` (tip to base)
-                let t190 = t189 * 0.8f64;
-                let t191 = A::mul_add(t188, 0.6f64, t190);
-                t191
+                let t339 = t335 * 0.8f64;
+                let t340 = t334 * 0.8f64;
+                let t341 = A::mul_add(t94, 0.6f64, -t340);
+                let t342 = t335 * 0.6f64;
+                let t343 = t337 * 0.8f64;
+                let t344 = A::mul_add(t336, 0.6f64, t343);
+                let t345 = t263 * 0.8f64;
+                let t346 = A::mul_add(t337, 0.6f64, t345);
+                let t347 = A::mul_add(t338, 0.8f64, t344);
+                let t348 = A::mul_add(-t338, 0.6f64, t346);
+                (t339, t341, t342, t347, t348)
             };
-            let (t193, t195) = {
-                // ── link `first`, joint `tilted` (base to tip)
-                let t192 = t25 * 0.8f64;
-                let t193 = A::mul_add(first_v_wz, 0.0018f64, t192);
-                let t194 = t25 * 0.6f64;
-                let t195 = A::mul_add(first_v_wx, 0.0018f64, t194);
-                (t193, t195)
+            let (t355, t357, t360, t362) = {
+                // ── link `first`, joint `tilted` (base to tip, last pass)
+                let t349 = t11 * 0.8f64;
+                let t350 = t10 * 0.8f64;
+                let t351 = A::mul_add(t12, 0.6f64, -t350);
+                let t352 = t11 * 0.6f64;
+                let t353 = t351 * t341;
+                let t354 = A::mul_add(t349, t339, t353);
+                let t355 = A::mul_add(t352, t342, t354);
+                let t356 = t348 * 0.8f64;
+                let t357 = A::mul_add(t347, 0.6f64, t356);
+                let t358 = t351 * t289;
+                let t359 = A::mul_add(t349, t281, t358);
+                let t360 = A::mul_add(t352, t290, t359);
+                let t361 = t330 * 0.8f64;
+                let t362 = A::mul_add(t328, 0.6f64, t361);
+                (t355, t357, t360, t362)
             };
-            let (t299, t300, t301, t302, t303, t304) = {
-                // ── link `second`, joint `skewed` (base to tip)
-                let t196 = t8 * 0.11920159847703672f64;
-                let t197 = A::mul_add(c_skewed, 0.23008598397835556f64, -t196);
-                let t198 = A::mul_add(-t9, 0.9658423364593371f64, t197);
-                let t199 = t10 * 0.11920159847703672f64;
-                let t200 = A::mul_add(t8, 0.23008598397835556f64, t199);
-                let t201 = A::mul_add(t11, 0.9658423364593371f64, t200);
-                let t202 = t11 * 0.11920159847703672f64;
-                let t203 = A::mul_add(t9, 0.23008598397835556f64, t202);
-                let t204 = A::mul_add(t12, 0.9658423364593371f64, t203);
-                let t205 = t8 * 0.1568106524545987f64;
-                let t206 = A::mul_add(c_skewed, 0.029277851407997938f64, t205);
-                let t207 = A::mul_add(t9, 0.012378477034525071f64, -t206);
-                let t208 = t8 * 0.029277851407997938f64;
-                let t209 = A::mul_add(t10, 0.1568106524545987f64, -t208);
-                let t210 = A::mul_add(-t11, 0.012378477034525071f64, t209);
-                let t211 = t9 * 0.029277851407997938f64;
-                let t212 = A::mul_add(t11, 0.1568106524545987f64, -t211);
-                let t213 = A::mul_add(-t12, 0.012378477034525071f64, t212);
-                let t214 = t204 * t26;
-                let t215 = A::mul_add(t201, t27, t214);
-                let t216 = t198 * t27;
-                let t217 = t198 * t26;
-                let t218 = t213 * t26;
-                let t219 = A::mul_add(t210, t27, t218);
-                let t220 = t207 * t27;
-                let t221 = t207 * t26;
-                let t222 = t217 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t223 = A::mul_add(t215, 0.0040999999999999995f64, t222); // 4.1000e-3 = second I_xx
-                let t224 = t217 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t225 = A::mul_add(t215, 0.0015f64, t224); // 1.5000e-3 = second I_xz
-                let t226 = t221 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t227 = A::mul_add(t219, 0.01f64, t226); // 1.0000e-2 = second m·c_z or second c_z
-                let t228 = t217 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t229 = A::mul_add(t215, 0.01f64, t228); // 1.0000e-2 = second m·c_z or second c_z
-                let t230 = t216 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t231 = A::mul_add(t220, 0.01f64, t223); // 1.0000e-2 = second m·c_z or second c_z
-                let t232 = A::mul_add(t216, 0.037599999999999995f64, -t227); // 3.7600e-2 = second I_yy
-                let t233 = A::mul_add(t220, 0.15f64, t225); // 1.5000e-1 = second m·c_x or second c_x
-                let t234 = A::mul_add(t216, 0.01f64, -t219); // 1.0000e-2 = second m·c_z or second c_z
-                let t235 = A::mul_add(t207, t27, t229);
-                let t236 = A::mul_add(t207, t26, -t230);
-                let t237 = t204 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t238 = A::mul_add(t198, 0.0040999999999999995f64, -t237); // 4.1000e-3 = second I_xx
-                let t239 = t198 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t240 = A::mul_add(t204, 0.0375f64, -t239); // 3.7500e-2 = second I_zz
-                let t241 = t213 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t242 = A::mul_add(t207, 0.01f64, -t241); // 1.0000e-2 = second m·c_z or second c_z
-                let t243 = t204 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t244 = A::mul_add(t198, 0.01f64, -t243); // 1.0000e-2 = second m·c_z or second c_z
-                let t245 = A::mul_add(-t210, 0.01f64, t238); // 1.0000e-2 = second m·c_z or second c_z
-                let t246 = A::mul_add(t201, 0.037599999999999995f64, t242); // 3.7600e-2 = second I_yy
-                let t247 = A::mul_add(t210, 0.15f64, t240); // 1.5000e-1 = second m·c_x or second c_x
-                let t248 = A::mul_add(t201, 0.01f64, t207); // 1.0000e-2 = second m·c_z or second c_z
-                let t249 = t210 - t244;
-                let t250 = A::mul_add(-t201, 0.15f64, t213); // 1.5000e-1 = second m·c_x or second c_x
-                let t251 = t201 * t134;
-                let t252 = A::mul_add(second_v_wy, t247, t251);
-                let t253 = t204 * t133;
-                let t254 = A::mul_add(second_v_wz, t246, t253);
-                let t255 = t252 - t254;
-                let t256 = t204 * t132;
-                let t257 = A::mul_add(second_v_wz, t245, t256);
-                let t258 = t198 * t134;
-                let t259 = A::mul_add(second_v_wx, t247, t258);
-                let t260 = t257 - t259;
-                let t261 = t198 * t133;
-                let t262 = A::mul_add(second_v_wx, t246, t261);
-                let t263 = t201 * t132;
-                let t264 = A::mul_add(second_v_wy, t245, t263);
-                let t265 = t262 - t264;
-                let t266 = t210 * t137;
-                let t267 = A::mul_add(second_v_vy, t250, t266);
-                let t268 = t213 * t136;
-                let t269 = A::mul_add(second_v_vz, t249, t268);
-                let t270 = t267 - t269;
-                let t271 = t213 * t135;
-                let t272 = A::mul_add(second_v_vz, t248, t271);
-                let t273 = t207 * t137;
-                let t274 = A::mul_add(second_v_vx, t250, t273);
-                let t275 = t272 - t274;
-                let t276 = t207 * t136;
-                let t277 = A::mul_add(second_v_vx, t249, t276);
-                let t278 = t210 * t135;
-                let t279 = A::mul_add(second_v_vy, t248, t278);
-                let t280 = t277 - t279;
-                let t281 = t255 + t270;
-                let t282 = t260 + t275;
-                let t283 = t265 + t280;
-                let t284 = t201 * t137;
-                let t285 = A::mul_add(second_v_wy, t250, t284);
-                let t286 = t204 * t136;
-                let t287 = A::mul_add(second_v_wz, t249, t286);
-                let t288 = t285 - t287;
-                let t289 = t204 * t135;
-                let t290 = A::mul_add(second_v_wz, t248, t289);
-                let t291 = t198 * t137;
-                let t292 = A::mul_add(second_v_wx, t250, t291);
-                let t293 = t290 - t292;
-                let t294 = t198 * t136;
-                let t295 = A::mul_add(second_v_wx, t249, t294);
-                let t296 = t201 * t135;
-                let t297 = A::mul_add(second_v_wy, t248, t296);
-                let t298 = t295 - t297;
-                let t299 = t281 - t231;
-                let t300 = t232 + t282;
-                let t301 = t233 + t283;
-                let t302 = t234 + t288;
-                let t303 = t235 + t293;
-                let t304 = t236 + t298;
-                (t299, t300, t301, t302, t303, t304)
+            let (t464, t466, t481, t495) = {
+                // ── link `second`, joint `skewed` (base to tip, last pass)
+                let t363 = t14 * t52;
+                let t364 = t13 * t54;
+                let t365 = A::mul_add(t14, t50, -t364);
+                let t366 = t13 * t52;
+                let t367 = t14 * t55;
+                let t368 = t13 * t56;
+                let t369 = t13 * t55;
+                let t370 = t15 * t54;
+                let t371 = A::mul_add(t16, t50, -t370);
+                let t372 = t12 * t52;
+                let t373 = A::mul_add(t11, t54, -t372);
+                let t374 = t10 * t54;
+                let t375 = A::mul_add(t12, t50, -t374);
+                let t376 = t11 * t50;
+                let t377 = A::mul_add(t10, t52, -t376);
+                let t378 = A::mul_add(t16, t55, t373);
+                let t379 = A::mul_add(-t15, t56, t375);
+                let t380 = A::mul_add(-t15, t55, t377);
+                let t381 = t14 * t365;
+                let t382 = t13 * t366;
+                let t383 = A::mul_add(t14, t363, t382);
+                let t384 = t13 * t365;
+                let t385 = t13 * t369;
+                let t386 = A::mul_add(t14, t367, t385);
+                let t387 = A::mul_add(t16, t52, t381);
+                let t388 = t371 - t383;
+                let t389 = A::mul_add(t15, t52, t384);
+                let t390 = A::mul_add(t14, t368, t378);
+                let t391 = t379 + t386;
+                let t392 = A::mul_add(-t13, t368, t380);
+                let t393 = A::mul_add(t14, t52, t363);
+                let t394 = t365 + t365;
+                let t395 = A::mul_add(t13, t52, t366);
+                let t396 = A::mul_add(t14, t55, t367);
+                let t397 = A::mul_add(t13, t56, t368);
+                let t398 = A::mul_add(t13, t55, t369);
+                let t399 = t54 * t223;
+                let t400 = A::mul_add(t52, t224, -t399);
+                let t401 = t52 * t222;
+                let t402 = A::mul_add(t50, t223, -t401);
+                let t403 = t56 * t226;
+                let t404 = A::mul_add(t55, t227, t403);
+                let t405 = t400 - t404;
+                let t406 = A::mul_add(t55, t225, t402);
+                let t407 = t149 * t387;
+                let t408 = A::mul_add(t147, t388, -t407);
+                let t409 = A::mul_add(t148, t389, t408);
+                let t410 = t145 * t387;
+                let t411 = A::mul_add(t127, t388, -t410);
+                let t412 = A::mul_add(t142, t389, t411);
+                let t413 = t94 * t391;
+                let t414 = A::mul_add(t92, t392, -t413);
+                let t415 = t92 * t390;
+                let t416 = A::mul_add(t150, t391, -t415);
+                let t417 = t409 + t414;
+                let t418 = t412 + t416;
+                let t419 = t405 + t417;
+                let t420 = t406 + t418;
+                let t421 = t248 * t363;
+                let t422 = A::mul_add(t250, t365, -t421);
+                let t423 = A::mul_add(t252, t366, t422);
+                let t424 = t252 * t363;
+                let t425 = A::mul_add(t259, t365, -t424);
+                let t426 = A::mul_add(t263, t366, t425);
+                let t427 = t267 * t369;
+                let t428 = A::mul_add(t268, t368, -t427);
+                let t429 = t267 * t367;
+                let t430 = A::mul_add(t264, t368, t429);
+                let t431 = t423 + t428;
+                let t432 = t426 - t430;
+                let t433 = t419 + t431;
+                let t434 = t420 + t432;
+                let t435 = t366 * t174;
+                let t436 = A::mul_add(t365, t175, -t435);
+                let t437 = t365 * t173;
+                let t438 = A::mul_add(t363, t174, t437);
+                let t439 = t369 * t176;
+                let t440 = A::mul_add(t368, t177, t439);
+                let t441 = t368 * t166;
+                let t442 = A::mul_add(t367, t176, t441);
+                let t443 = t436 - t440;
+                let t444 = t438 + t442;
+                let t445 = t433 + t443;
+                let t446 = t434 - t444;
+                let t447 = t149 * t393;
+                let t448 = A::mul_add(t147, t394, -t447);
+                let t449 = A::mul_add(t148, t395, t448);
+                let t450 = t145 * t393;
+                let t451 = A::mul_add(t127, t394, -t450);
+                let t452 = A::mul_add(t142, t395, t451);
+                let t453 = t92 * t398;
+                let t454 = A::mul_add(t94, t397, -t453);
+                let t455 = t92 * t396;
+                let t456 = A::mul_add(t150, t397, t455);
+                let t457 = t449 + t454;
+                let t458 = t452 - t456;
+                let t459 = t457 + t308;
+                let t460 = t458 + t310;
+                let t461 = t459 + t319;
+                let t462 = t460 + t321;
+                let t463 = t446 * 0.8f64;
+                let t464 = A::mul_add(t445, 0.6f64, t463);
+                let t465 = t462 * 0.8f64;
+                let t466 = A::mul_add(t461, 0.6f64, t465);
+                let t467 = t387 * t286;
+                let t468 = A::mul_add(t388, t287, -t467);
+                let t469 = A::mul_add(t389, t288, t468);
+                let t470 = t391 * t289;
+                let t471 = A::mul_add(t390, t281, t470);
+                let t472 = A::mul_add(t392, t290, -t471);
+                let t473 = t469 + t472;
+                let t474 = t363 * t328;
+                let t475 = A::mul_add(t365, t329, -t474);
+                let t476 = A::mul_add(t366, t330, t475);
+                let t477 = t368 * t332;
+                let t478 = A::mul_add(t367, t331, t477);
+                let t479 = A::mul_add(t369, t333, -t478);
+                let t480 = t476 + t479;
+                let t481 = t473 + t480;
+                let t482 = t393 * t286;
+                let t483 = A::mul_add(t394, t287, -t482);
+                let t484 = A::mul_add(t395, t288, t483);
+                let t485 = t396 * t281;
+                let t486 = A::mul_add(t397, t289, -t485);
+                let t487 = A::mul_add(-t398, t290, t486);
+                let t488 = t484 + t487;
+                let t489 = t52 * t329;
+                let t490 = A::mul_add(t50, t328, t489);
+                let t491 = A::mul_add(t54, t330, t490);
+                let t492 = t56 * t333;
+                let t493 = A::mul_add(t55, t332, t492);
+                let t494 = t491 - t493;
+                let t495 = t488 + t494;
+                (t464, t466, t481, t495)
             };
-            let (t306, t334, t335) = {
-                // ── link `second`, joint `skewed` (tip to base)
-                let t305 = t301 * 0.6f64;
-                let t306 = A::mul_add(t300, 0.8f64, -t305);
-                let t307 = t8 * t303;
-                let t308 = A::mul_add(c_skewed, t302, t307);
-                let t309 = A::mul_add(t9, t304, t308);
-                let t310 = t8 * t302;
-                let t311 = A::mul_add(t10, t303, -t310);
-                let t312 = A::mul_add(t11, t304, t311);
-                let t313 = t9 * t302;
-                let t314 = A::mul_add(t11, t303, -t313);
-                let t315 = A::mul_add(t12, t304, t314);
-                let t316 = t8 * t300;
-                let t317 = A::mul_add(c_skewed, t299, t316);
-                let t318 = A::mul_add(t9, t301, t317);
-                let t319 = t8 * t299;
-                let t320 = A::mul_add(t10, t300, -t319);
-                let t321 = A::mul_add(t11, t301, t320);
-                let t322 = t9 * t299;
-                let t323 = A::mul_add(t11, t300, -t322);
-                let t324 = A::mul_add(t12, t301, t323);
-                let t325 = t309 * 0.18298657129998708f64;
-                let t326 = A::mul_add(t312, 0.9800665778412416f64, -t325);
-                let t327 = A::mul_add(-t315, 0.07736548146578168f64, t326);
-                let t328 = t321 * 0.19866933079506122f64;
-                let t329 = A::mul_add(t318, 0.90270109637546f64, t328);
-                let t330 = A::mul_add(t324, 0.3816559020950483f64, t329);
-                let t331 = t318 * 0.3894183423086505f64;
-                let t332 = A::mul_add(t324, 0.9210609940028851f64, -t331);
-                let t333 = A::mul_add(t327, 0.2f64, t332); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                let t334 = t193 + t330;
-                let t335 = t333 - t195;
-                (t306, t334, t335)
-            };
-            let (t337, t338, t339, t340, t341, t342) = {
-                // ── link `first`, joint `tilted` (tip to base)
-                let t336 = t335 * 0.8f64;
-                let t337 = A::mul_add(t334, 0.6f64, t336);
-                let t338 = c_skewed * 0.6f64;
-                let t339 = c_skewed * 0.8f64;
-                let t340 = s_skewed * 0.3599999999999999f64;
-                let t341 = s_skewed * 0.48f64;
-                let t342 = s_skewed * 0.64f64;
-                (t337, t338, t339, t340, t341, t342)
-            };
-            let (t465, t466, t467, t468, t469, t470) = {
-                // ── link `second`, joint `skewed` (base to tip)
-                let t343 = t338 * t31;
-                let t344 = A::mul_add(s_skewed, t30, t343);
-                let t345 = A::mul_add(t339, t33, t344);
-                let t346 = t340 * t31;
-                let t347 = A::mul_add(t338, t30, -t346);
-                let t348 = A::mul_add(-t341, t33, t347);
-                let t349 = t341 * t31;
-                let t350 = A::mul_add(t339, t30, -t349);
-                let t351 = A::mul_add(-t342, t33, t350);
-                let t352 = t338 * t35;
-                let t353 = A::mul_add(s_skewed, t34, -t352);
-                let t354 = A::mul_add(t339, t36, t353);
-                let t355 = t340 * t35;
-                let t356 = A::mul_add(t338, t34, t355);
-                let t357 = A::mul_add(t341, t36, -t356);
-                let t358 = t341 * t35;
-                let t359 = A::mul_add(t339, t34, t358);
-                let t360 = A::mul_add(t342, t36, -t359);
-                let t361 = t338 * t54;
-                let t362 = A::mul_add(s_skewed, t53, t361);
-                let t363 = A::mul_add(t339, t56, t362);
-                let t364 = t340 * t54;
-                let t365 = A::mul_add(t338, t53, -t364);
-                let t366 = A::mul_add(-t341, t56, t365);
-                let t367 = t341 * t54;
-                let t368 = A::mul_add(t339, t53, -t367);
-                let t369 = A::mul_add(-t342, t56, t368);
-                let t370 = t338 * t65;
-                let t371 = A::mul_add(s_skewed, t61, t370);
-                let t372 = A::mul_add(t339, t71, t371);
-                let t373 = t340 * t65;
-                let t374 = A::mul_add(t338, t61, -t373);
-                let t375 = A::mul_add(-t341, t71, t374);
-                let t376 = t341 * t65;
-                let t377 = A::mul_add(t339, t61, -t376);
-                let t378 = A::mul_add(-t342, t71, t377);
-                let t379 = t351 * t26;
-                let t380 = A::mul_add(t348, t27, t379);
-                let t381 = t360 * t26;
-                let t382 = A::mul_add(t357, t27, t381);
-                let t383 = t363 + t380;
-                let t384 = A::mul_add(-t345, t27, t366);
-                let t385 = A::mul_add(-t345, t26, t369);
-                let t386 = t372 + t382;
-                let t387 = A::mul_add(t354, t27, t375);
-                let t388 = A::mul_add(t354, t26, t378);
-                let t389 = t385 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t390 = A::mul_add(t383, 0.0040999999999999995f64, t389); // 4.1000e-3 = second I_xx
-                let t391 = t385 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t392 = A::mul_add(t383, 0.0015f64, t391); // 1.5000e-3 = second I_xz
-                let t393 = t388 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t394 = A::mul_add(t386, 0.01f64, t393); // 1.0000e-2 = second m·c_z or second c_z
-                let t395 = t385 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t396 = A::mul_add(t383, 0.01f64, t395); // 1.0000e-2 = second m·c_z or second c_z
-                let t397 = A::mul_add(t387, 0.01f64, t390); // 1.0000e-2 = second m·c_z or second c_z
-                let t398 = A::mul_add(t384, 0.037599999999999995f64, -t394); // 3.7600e-2 = second I_yy
-                let t399 = A::mul_add(t387, 0.15f64, t392); // 1.5000e-1 = second m·c_x or second c_x
-                let t400 = A::mul_add(t384, 0.01f64, -t386); // 1.0000e-2 = second m·c_z or second c_z
-                let t401 = t387 + t396;
-                let t402 = A::mul_add(-t384, 0.15f64, t388); // 1.5000e-1 = second m·c_x or second c_x
-                let t403 = t351 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t404 = A::mul_add(t345, 0.0040999999999999995f64, t403); // 4.1000e-3 = second I_xx
-                let t405 = t351 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t406 = A::mul_add(t345, 0.0015f64, t405); // 1.5000e-3 = second I_xz
-                let t407 = t360 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t408 = A::mul_add(t354, 0.01f64, -t407); // 1.0000e-2 = second m·c_z or second c_z
-                let t409 = t351 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t410 = A::mul_add(t345, 0.01f64, t409); // 1.0000e-2 = second m·c_z or second c_z
-                let t411 = A::mul_add(t357, 0.01f64, t404); // 1.0000e-2 = second m·c_z or second c_z
-                let t412 = A::mul_add(t348, 0.037599999999999995f64, t408); // 3.7600e-2 = second I_yy
-                let t413 = A::mul_add(t357, 0.15f64, t406); // 1.5000e-1 = second m·c_x or second c_x
-                let t414 = A::mul_add(t348, 0.01f64, t354); // 1.0000e-2 = second m·c_z or second c_z
-                let t415 = t357 + t410;
-                let t416 = A::mul_add(-t348, 0.15f64, t360); // 1.5000e-1 = second m·c_x or second c_x
-                let t417 = t348 * t134;
-                let t418 = A::mul_add(second_v_wy, t413, t417);
-                let t419 = t351 * t133;
-                let t420 = A::mul_add(second_v_wz, t412, t419);
-                let t421 = t418 - t420;
-                let t422 = second_v_wz * t411;
-                let t423 = A::mul_add(t351, t132, -t422);
-                let t424 = t345 * t134;
-                let t425 = A::mul_add(second_v_wx, t413, -t424);
-                let t426 = t423 - t425;
-                let t427 = t345 * t133;
-                let t428 = A::mul_add(second_v_wx, t412, -t427);
-                let t429 = second_v_wy * t411;
-                let t430 = A::mul_add(t348, t132, -t429);
-                let t431 = t428 - t430;
-                let t432 = t357 * t137;
-                let t433 = A::mul_add(second_v_vy, t416, t432);
-                let t434 = t360 * t136;
-                let t435 = A::mul_add(second_v_vz, t415, t434);
-                let t436 = t433 - t435;
-                let t437 = t360 * t135;
-                let t438 = A::mul_add(second_v_vz, t414, t437);
-                let t439 = t354 * t137;
-                let t440 = A::mul_add(second_v_vx, t416, t439);
-                let t441 = t438 - t440;
-                let t442 = t354 * t136;
-                let t443 = A::mul_add(second_v_vx, t415, t442);
-                let t444 = t357 * t135;
-                let t445 = A::mul_add(second_v_vy, t414, t444);
-                let t446 = t443 - t445;
-                let t447 = t421 + t436;
-                let t448 = t426 + t441;
-                let t449 = t431 + t446;
-                let t450 = t348 * t137;
-                let t451 = A::mul_add(second_v_wy, t416, t450);
-                let t452 = t351 * t136;
-                let t453 = A::mul_add(second_v_wz, t415, t452);
-                let t454 = t451 - t453;
-                let t455 = t351 * t135;
-                let t456 = A::mul_add(second_v_wz, t414, t455);
-                let t457 = t345 * t137;
-                let t458 = A::mul_add(second_v_wx, t416, -t457);
-                let t459 = t456 - t458;
-                let t460 = t345 * t136;
-                let t461 = A::mul_add(second_v_wx, t415, -t460);
-                let t462 = t348 * t135;
-                let t463 = A::mul_add(second_v_wy, t414, t462);
-                let t464 = t461 - t463;
-                let t465 = t447 - t397;
-                let t466 = t398 + t448;
-                let t467 = t399 + t449;
-                let t468 = t400 + t454;
-                let t469 = t401 + t459;
-                let t470 = t402 + t464;
-                (t465, t466, t467, t468, t469, t470)
-            };
-            let (t472, t526, t529) = {
-                // ── link `second`, joint `skewed` (tip to base)
-                let t471 = t467 * 0.6f64;
-                let t472 = A::mul_add(t466, 0.8f64, -t471);
-                let t473 = s_skewed * second_f_fx;
-                let t474 = A::mul_add(c_skewed, t468, -t473);
-                let t475 = t338 * second_f_fy;
-                let t476 = A::mul_add(t8, t469, t475);
-                let t477 = t474 + t476;
-                let t478 = t339 * second_f_fz;
-                let t479 = A::mul_add(t9, t470, t478);
-                let t480 = t477 + t479;
-                let t481 = t338 * second_f_fx;
-                let t482 = A::mul_add(t8, t468, t481);
-                let t483 = t340 * second_f_fy;
-                let t484 = A::mul_add(t10, t469, -t483);
-                let t485 = t484 - t482;
-                let t486 = t341 * second_f_fz;
-                let t487 = A::mul_add(t11, t470, -t486);
-                let t488 = t485 + t487;
-                let t489 = t339 * second_f_fx;
-                let t490 = A::mul_add(t9, t468, t489);
-                let t491 = t341 * second_f_fy;
-                let t492 = A::mul_add(t11, t469, -t491);
-                let t493 = t492 - t490;
-                let t494 = t342 * second_f_fz;
-                let t495 = A::mul_add(t12, t470, -t494);
-                let t496 = t493 + t495;
-                let t497 = s_skewed * second_f_nx;
-                let t498 = A::mul_add(c_skewed, t465, -t497);
-                let t499 = t338 * second_f_ny;
-                let t500 = A::mul_add(t8, t466, t499);
-                let t501 = t498 + t500;
-                let t502 = t339 * second_f_nz;
-                let t503 = A::mul_add(t9, t467, t502);
-                let t504 = t501 + t503;
-                let t505 = t338 * second_f_nx;
-                let t506 = A::mul_add(t8, t465, t505);
-                let t507 = t340 * second_f_ny;
-                let t508 = A::mul_add(t10, t466, -t507);
-                let t509 = t508 - t506;
-                let t510 = t341 * second_f_nz;
-                let t511 = A::mul_add(t11, t467, -t510);
-                let t512 = t509 + t511;
-                let t513 = t339 * second_f_nx;
-                let t514 = A::mul_add(t9, t465, t513);
-                let t515 = t341 * second_f_ny;
-                let t516 = A::mul_add(t11, t466, -t515);
-                let t517 = t516 - t514;
-                let t518 = t342 * second_f_nz;
-                let t519 = A::mul_add(t12, t467, -t518);
-                let t520 = t517 + t519;
-                let t521 = t480 * 0.18298657129998708f64;
-                let t522 = A::mul_add(t488, 0.9800665778412416f64, -t521);
-                let t523 = A::mul_add(-t496, 0.07736548146578168f64, t522);
-                let t524 = t512 * 0.19866933079506122f64;
-                let t525 = A::mul_add(t504, 0.90270109637546f64, t524);
-                let t526 = A::mul_add(t520, 0.3816559020950483f64, t525);
-                let t527 = t504 * 0.3894183423086505f64;
-                let t528 = A::mul_add(t520, 0.9210609940028851f64, -t527);
-                let t529 = A::mul_add(t523, 0.2f64, t528); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                (t472, t526, t529)
-            };
-            let t531 = {
-                // ── link `first`, joint `tilted` (tip to base)
-                let t530 = t529 * 0.8f64;
-                let t531 = A::mul_add(t526, 0.6f64, t530);
-                t531
-            };
-            let (t589, t590, t591, t592, t593, t594) = {
-                // ── link `second`, joint `skewed` (base to tip)
-                let t532 = t27 * 0.8f64;
-                let t533 = A::mul_add(second_v_wy, 0.6f64, t532);
-                let t534 = t26 * 0.6f64;
-                let t535 = A::mul_add(second_v_wz, 0.8f64, -t534);
-                let t536 = t533 + t535;
-                let t537 = second_v_wx * 0.6f64;
-                let t538 = second_v_wx * 0.8f64;
-                let t539 = second_v_vz * 0.8f64;
-                let t540 = A::mul_add(second_v_vy, 0.6f64, t539);
-                let t541 = second_v_vx * 0.6f64;
-                let t542 = second_v_vx * 0.8f64;
-                let t543 = t538 * 0.0015f64; // 1.5000e-3 = second I_xz
-                let t544 = A::mul_add(t536, 0.0040999999999999995f64, t543); // 4.1000e-3 = second I_xx
-                let t545 = t538 * 0.0375f64; // 3.7500e-2 = second I_zz
-                let t546 = A::mul_add(t536, 0.0015f64, t545); // 1.5000e-3 = second I_xz
-                let t547 = t542 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t548 = A::mul_add(t540, 0.01f64, t547); // 1.0000e-2 = second m·c_z or second c_z
-                let t549 = t538 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t550 = A::mul_add(t536, 0.01f64, t549); // 1.0000e-2 = second m·c_z or second c_z
-                let t551 = t537 * 0.15f64; // 1.5000e-1 = second m·c_x or second c_x
-                let t552 = A::mul_add(t541, 0.01f64, t544); // 1.0000e-2 = second m·c_z or second c_z
-                let t553 = A::mul_add(t537, 0.037599999999999995f64, -t548); // 3.7600e-2 = second I_yy
-                let t554 = A::mul_add(t541, 0.15f64, t546); // 1.5000e-1 = second m·c_x or second c_x
-                let t555 = A::mul_add(t537, 0.01f64, -t540); // 1.0000e-2 = second m·c_z or second c_z
-                let t556 = A::mul_add(second_v_vx, 0.6f64, t550);
-                let t557 = A::mul_add(second_v_vx, 0.8f64, -t551);
-                let t558 = second_v_wy * 0.0225f64; // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t559 = A::mul_add(t134, 0.8f64, -t558);
-                let t560 = t133 * 0.6f64;
-                let t561 = A::mul_add(second_v_wz, 0.030079999999999996f64, -t560);
-                let t562 = t559 - t561;
-                let t563 = t132 * 0.6f64;
-                let t564 = A::mul_add(second_v_wz, 0.0009f64, -t563); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t565 = A::mul_add(second_v_wx, 0.0225f64, t564); // 2.2500e-2 = second m·c_x or second c_x × second m·c_x or second c_x
-                let t566 = t132 * 0.8f64;
-                let t567 = A::mul_add(second_v_wy, 0.0009f64, t566); // 9.0000e-4 = first m·c_y × first m·c_y
-                let t568 = A::mul_add(second_v_wx, 0.030079999999999996f64, -t567);
-                let t569 = second_v_vy * 0.12f64;
-                let t570 = A::mul_add(second_v_vz, 0.09f64, -t569);
-                let t571 = second_v_vx * 0.12f64;
-                let t572 = A::mul_add(second_v_vz, 0.008f64, t571);
-                let t573 = second_v_vy * 0.008f64;
-                let t574 = A::mul_add(second_v_vx, 0.09f64, t573);
-                let t575 = t562 + t570;
-                let t576 = t565 + t572;
-                let t577 = t568 - t574;
-                let t578 = second_v_wy * 0.12f64;
-                let t579 = A::mul_add(t137, 0.8f64, -t578);
-                let t580 = t136 * 0.6f64;
-                let t581 = A::mul_add(second_v_wz, 0.09f64, t580);
-                let t582 = t579 + t581;
-                let t583 = t135 * 0.6f64;
-                let t584 = A::mul_add(second_v_wz, 0.008f64, -t583);
-                let t585 = A::mul_add(second_v_wx, 0.12f64, t584);
-                let t586 = t135 * 0.8f64;
-                let t587 = A::mul_add(second_v_wy, 0.008f64, t586);
-                let t588 = A::mul_add(second_v_wx, 0.09f64, t587);
-                let t589 = t575 - t552;
-                let t590 = t553 + t576;
-                let t591 = t554 + t577;
-                let t592 = t555 + t582;
-                let t593 = t556 + t585;
-                let t594 = t557 - t588;
-                (t589, t590, t591, t592, t593, t594)
-            };
-            let (t596, t620, t623) = {
-                // ── link `second`, joint `skewed` (tip to base)
-                let t595 = t591 * 0.6f64;
-                let t596 = A::mul_add(t590, 0.8f64, -t595);
-                let t597 = t8 * t593;
-                let t598 = A::mul_add(c_skewed, t592, t597);
-                let t599 = A::mul_add(t9, t594, t598);
-                let t600 = t8 * t592;
-                let t601 = A::mul_add(t10, t593, -t600);
-                let t602 = A::mul_add(t11, t594, t601);
-                let t603 = t9 * t592;
-                let t604 = A::mul_add(t11, t593, -t603);
-                let t605 = A::mul_add(t12, t594, t604);
-                let t606 = t8 * t590;
-                let t607 = A::mul_add(c_skewed, t589, t606);
-                let t608 = A::mul_add(t9, t591, t607);
-                let t609 = t8 * t589;
-                let t610 = A::mul_add(t10, t590, -t609);
-                let t611 = A::mul_add(t11, t591, t610);
-                let t612 = t9 * t589;
-                let t613 = A::mul_add(t11, t590, -t612);
-                let t614 = A::mul_add(t12, t591, t613);
-                let t615 = t599 * 0.18298657129998708f64;
-                let t616 = A::mul_add(t602, 0.9800665778412416f64, -t615);
-                let t617 = A::mul_add(-t605, 0.07736548146578168f64, t616);
-                let t618 = t611 * 0.19866933079506122f64;
-                let t619 = A::mul_add(t608, 0.90270109637546f64, t618);
-                let t620 = A::mul_add(t614, 0.3816559020950483f64, t619);
-                let t621 = t608 * 0.3894183423086505f64;
-                let t622 = A::mul_add(t614, 0.9210609940028851f64, -t621);
-                let t623 = A::mul_add(t617, 0.2f64, t622); // 2.0000e-1 = joint tilted origin z or joint skewed origin x
-                (t596, t620, t623)
-            };
-            let t625 = {
-                // ── link `first`, joint `tilted` (tip to base)
-                let t624 = t623 * 0.8f64;
-                let t625 = A::mul_add(t620, 0.6f64, t624);
-                t625
-            };
-            [t191, t531, t160, t472, t337, t625, t306, t596]
+            [-t355, t464, -t360, t481, t357, t466, t362, t495]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 21> for OffAxis {
@@ -3081,7 +2886,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

@@ -398,16 +398,16 @@ const _: () = {
             [qdd_shoulder, qdd_elbow, upper_arm_u_ny]
         }
     }
-    impl Kernel<kernels::InverseDynamicsDerivatives, 2, 3, 7> for Planar2 {
+    impl Kernel<kernels::InverseDynamicsDerivatives, 2, 3, 8> for Planar2 {
         #[inline(always)]
-        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 2]; 3]) -> [A; 7] {
+        fn run<A: Arithmetic>(&self, [q, qd, qdd]: [&[A; 2]; 3]) -> [A; 8] {
             let (
                 qd_shoulder,
                 qd_elbow,
                 qdd_shoulder,
                 qdd_elbow,
-                s_shoulder,
-                c_shoulder,
+                t0,
+                t1,
                 s_elbow,
                 c_elbow,
             ) = {
@@ -421,170 +421,75 @@ const _: () = {
                     q_shoulder,
                     q_elbow,
                 ]);
+                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
+                let t1 = c_shoulder * 9.81f64; // 9.8100e0 = g
                 (
                     qd_shoulder,
                     qd_elbow,
                     qdd_shoulder,
                     qdd_elbow,
-                    s_shoulder,
-                    c_shoulder,
+                    t0,
+                    t1,
                     s_elbow,
                     c_elbow,
                 )
             };
-            let (t0, upper_arm_a_vz, t1) = {
-                // ── link `upper_arm`, joint `shoulder` (base to tip)
-                let t0 = s_shoulder * 9.81f64; // 9.8100e0 = g
-                let upper_arm_a_vz = c_shoulder * 9.81f64; // 9.8100e0 = g
-                let t1 = t0 * 0.75f64; // 7.5000e-1 = upper_arm m·c_x
-                (t0, upper_arm_a_vz, t1)
-            };
-            let (
-                forearm_v_vx,
-                t3,
-                forearm_v_wy,
-                t8,
-                t11,
-                t14,
-                forearm_a_vx,
-                t15,
-                t16,
-                t17,
-                t18,
-                t21,
-                t22,
-                t23,
-                t24,
-                t26,
-                forearm_f_fx,
-                forearm_f_fz,
-            ) = {
+            let (t8, t9, t10, t12, t15, t17) = {
                 // ── link `forearm`, joint `elbow` (base to tip)
-                let t2 = qd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let forearm_v_vx = s_elbow * t2;
-                let t3 = c_elbow * t2;
-                let forearm_v_wy = qd_shoulder + qd_elbow;
-                let t4 = A::mul_add(-qdd_shoulder, 0.5f64, upper_arm_a_vz); // 5.0000e-1 = joint elbow origin x
-                let t5 = c_elbow * t0;
-                let t6 = c_elbow * upper_arm_a_vz;
-                let t7 = s_elbow * t4;
-                let t8 = s_elbow * t0;
-                let t9 = A::mul_add(c_elbow, t0, t7);
-                let t10 = A::mul_add(s_elbow, t0, -t6);
-                let t11 = c_elbow * t4;
-                let t12 = A::mul_add(c_elbow, t4, -t8);
-                let t13 = A::mul_add(s_elbow, upper_arm_a_vz, t5);
-                let forearm_a_wy = qdd_shoulder + qdd_elbow;
-                let t14 = forearm_v_vx * qd_elbow;
-                let forearm_a_vx = A::mul_add(t3, qd_elbow, -t9);
-                let forearm_a_vz = A::mul_add(forearm_v_vx, qd_elbow, t12);
-                let t15 = t13 * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t16 = forearm_a_vx * 2f64; // 2.0000e0 = forearm mass
-                let t17 = t10 * 2f64; // 2.0000e0 = forearm mass
-                let t18 = t13 * 2f64; // 2.0000e0 = forearm mass
-                let t19 = forearm_a_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t20 = A::mul_add(forearm_a_vz, 2f64, -t19); // 2.0000e0 = forearm mass
-                let t21 = forearm_v_vx * 2f64; // 2.0000e0 = forearm mass
-                let t22 = t3 * 2f64; // 2.0000e0 = forearm mass
-                let t23 = forearm_v_wy * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t24 = A::mul_add(t3, 2f64, t23); // 2.0000e0 = forearm mass
-                let t25 = forearm_v_wy * t24;
-                let t26 = forearm_v_wy * t21;
-                let forearm_f_fx = A::mul_add(forearm_a_vx, 2f64, -t25); // 2.0000e0 = forearm mass
-                let forearm_f_fz = A::mul_add(-forearm_v_wy, t21, t20);
-                (
-                    forearm_v_vx,
-                    t3,
-                    forearm_v_wy,
-                    t8,
-                    t11,
-                    t14,
-                    forearm_a_vx,
-                    t15,
-                    t16,
-                    t17,
-                    t18,
-                    t21,
-                    t22,
-                    t23,
-                    t24,
-                    t26,
-                    forearm_f_fx,
-                    forearm_f_fz,
-                )
+                let t2 = qd_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t3 = qd_shoulder + qd_elbow;
+                let t4 = qdd_shoulder + qdd_elbow;
+                let t5 = t2 * qd_elbow;
+                let t6 = A::mul_add(t3, t2, -t5);
+                let t7 = t6 - t0;
+                let t8 = s_elbow * 0.4f64; // 4.0000e-1 = forearm m·c_x or frame tip origin x
+                let t9 = A::mul_add(c_elbow, 0.4f64, 1f64); // 4.0000e-1 = forearm m·c_x or frame tip origin x; 1.0000e0 = forearm mass × joint elbow origin x
+                let t10 = t8 * t3;
+                let t11 = t9 * t3;
+                let t12 = A::mul_add(t2, 2f64, -t11); // 2.0000e0 = forearm mass
+                let t13 = t8 * t4;
+                let t14 = A::mul_add(t7, 2f64, -t13); // 2.0000e0 = forearm mass
+                let t15 = A::mul_add(t3, t12, t14);
+                let t16 = t2 * t8;
+                let t17 = A::mul_add(t2, t8, t16);
+                (t8, t9, t10, t12, t15, t17)
             };
-            let (t27, t28, t32) = {
+            let (t18, t19, t20, t21, t22) = {
                 // ── link `forearm`, joint `elbow` (tip to base)
-                let t27 = c_elbow * forearm_f_fx;
-                let t28 = s_elbow * forearm_f_fz;
-                let t29 = c_elbow * t18;
-                let t30 = A::mul_add(s_elbow, t17, t29);
-                let t31 = A::mul_add(t30, 0.5f64, t15); // 5.0000e-1 = joint elbow origin x
-                let t32 = t1 + t31;
-                (t27, t28, t32)
+                let t18 = -t9 + 1f64; // 1.0000e0 = forearm mass × joint elbow origin x
+                let t19 = t10 * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t20 = A::mul_add(t10, 0.5f64, -t17); // 5.0000e-1 = joint elbow origin x
+                let t21 = A::mul_add(t10, 0.5f64, t20); // 5.0000e-1 = joint elbow origin x
+                let t22 = t9 + 0.75f64; // 7.5000e-1 = upper_arm m·c_x
+                (t18, t19, t20, t21, t22)
             };
-            let (t46, t47, t48) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t33 = s_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t34 = c_elbow * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                let t35 = t34 * qd_elbow;
-                let t36 = t33 * qd_elbow;
-                let t37 = t33 * 2f64; // 2.0000e0 = forearm mass
-                let t38 = A::mul_add(t34, 2f64, 0.4f64); // 2.0000e0 = forearm mass; 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t39 = t34 * t21;
-                let t40 = A::mul_add(t3, t37, t39);
-                let t41 = t33 * t24;
-                let t42 = A::mul_add(forearm_v_vx, t38, t41);
-                let t43 = t42 - t40;
-                let t44 = A::mul_add(forearm_v_wy, t38, t24);
-                let t45 = A::mul_add(forearm_v_wy, t37, t21);
-                let t46 = A::mul_add(-t36, 0.4f64, t43); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t47 = A::mul_add(t35, 2f64, -t44); // 2.0000e0 = forearm mass
-                let t48 = A::mul_add(t36, 2f64, -t45); // 2.0000e0 = forearm mass
-                (t46, t47, t48)
+            let (t24, t26) = {
+                // ── link `upper_arm`, joint `shoulder` (base to tip, last pass)
+                let t23 = t22 * t0;
+                let t24 = A::mul_add(t8, t1, t23);
+                let t25 = t0 * t18;
+                let t26 = A::mul_add(t8, t1, -t25);
+                (t24, t26)
             };
-            let t51 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t49 = s_elbow * t47;
-                let t50 = A::mul_add(c_elbow, t48, -t49);
-                let t51 = A::mul_add(-t50, 0.5f64, t46); // 5.0000e-1 = joint elbow origin x
-                t51
+            let (t35, t37, t39, t40) = {
+                // ── link `forearm`, joint `elbow` (base to tip, last pass)
+                let t27 = qd_shoulder * 0.5f64; // 5.0000e-1 = joint elbow origin x
+                let t28 = A::mul_add(qdd_shoulder, 0.5f64, -t1); // 5.0000e-1 = joint elbow origin x
+                let t29 = A::mul_add(qd_shoulder, t27, t0);
+                let t30 = A::mul_add(qd_shoulder, 0.5f64, t27); // 5.0000e-1 = joint elbow origin x
+                let t31 = t8 * t28;
+                let t32 = A::mul_add(t9, t29, -t31);
+                let t33 = A::mul_add(t15, 0.5f64, t32); // 5.0000e-1 = joint elbow origin x
+                let t34 = A::mul_add(t12, t27, t33);
+                let t35 = A::mul_add(-t12, t27, t34);
+                let t36 = A::mul_add(-t8, t30, t20);
+                let t37 = t36 - t19;
+                let t38 = t29 * t18;
+                let t39 = A::mul_add(t8, t28, t38);
+                let t40 = A::mul_add(-t8, t30, t21);
+                (t35, t37, t39, t40)
             };
-            let (t59, t60, t61) = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t52 = t8 - t11;
-                let t53 = t52 - t14;
-                let t54 = t3 * t22;
-                let t55 = A::mul_add(forearm_v_vx, t21, -t54);
-                let t56 = t3 * t24;
-                let t57 = A::mul_add(forearm_v_vx, t21, -t56);
-                let t58 = t55 - t57;
-                let t59 = A::mul_add(-forearm_a_vx, 0.4f64, t58); // 4.0000e-1 = forearm m·c_x or frame tip origin x
-                let t60 = A::mul_add(t53, 2f64, t26); // 2.0000e0 = forearm mass
-                let t61 = A::mul_add(-forearm_v_wy, t22, t16);
-                (t59, t60, t61)
-            };
-            let t65 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t62 = A::mul_add(s_elbow, t60, t27);
-                let t63 = A::mul_add(c_elbow, t61, -t28);
-                let t64 = t63 - t62;
-                let t65 = A::mul_add(-t64, 0.5f64, t59); // 5.0000e-1 = joint elbow origin x
-                t65
-            };
-            let t67 = {
-                // ── link `forearm`, joint `elbow` (base to tip)
-                let t66 = t23 + t24;
-                let t67 = t22 - t66;
-                t67
-            };
-            let t69 = {
-                // ── link `forearm`, joint `elbow` (tip to base)
-                let t68 = s_elbow * t67;
-                let t69 = t68 * 0.5f64; // 5.0000e-1 = joint elbow origin x
-                t69
-            };
-            [t32, t65, t15, t59, t51, t69, t46]
+            [t24, t35, t26, -t39, -t17, t37, t21, t40]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 16> for Planar2 {
@@ -738,7 +643,7 @@ const _: () = {
     }
     #[inline(always)]
     fn inverse_dynamics_derivatives_of(
-        v: &[f64; 7],
+        v: &[f64; 8],
     ) -> (JointMatrix<2>, JointMatrix<2>) {
         let mut d_dq = JointMatrix::<2>::zeros();
         let mut d_dqd = JointMatrix::<2>::zeros();
@@ -749,6 +654,7 @@ const _: () = {
         d_dqd[(0, 0)] = v[4];
         d_dqd[(0, 1)] = v[5];
         d_dqd[(1, 0)] = v[6];
+        d_dqd[(1, 1)] = v[7];
         (d_dq, d_dqd)
     }
     #[inline(always)]
@@ -885,7 +791,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

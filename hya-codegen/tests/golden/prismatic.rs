@@ -249,58 +249,35 @@ const _: () = {
                 let qdd_turn = qdd[0];
                 (q_slide, qd_turn, qd_slide, qdd_turn)
             };
-            let (carriage_v_vy, t0, t2, t4, t5, carriage_f_fy) = {
+            let (t0, t1, t2, t3, t5, t7) = {
                 // ── link `carriage`, joint `slide` (base to tip)
-                let carriage_v_vy = q_slide * qd_turn;
-                let t0 = q_slide * qdd_turn;
-                let t1 = qd_turn * qd_slide;
-                let carriage_a_vy = A::mul_add(q_slide, qdd_turn, t1);
-                let t2 = qdd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t3 = A::mul_add(qdd_turn, 0.1f64, carriage_a_vy); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t4 = qd_turn * 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t5 = A::mul_add(q_slide, qd_turn, t4);
-                let carriage_f_fy = A::mul_add(qd_turn, qd_slide, t3);
-                (carriage_v_vy, t0, t2, t4, t5, carriage_f_fy)
+                let t0 = qd_turn * qd_slide;
+                let t1 = q_slide + 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
+                let t2 = t1 * qd_turn;
+                let t3 = t1 * qdd_turn;
+                let t4 = A::mul_add(qd_turn, qd_slide, t3);
+                let t5 = A::mul_add(qd_turn, qd_slide, t4);
+                let t6 = qd_slide * t1;
+                let t7 = A::mul_add(qd_slide, t1, t6);
+                (t0, t1, t2, t3, t5, t7)
             };
-            let (t9, t10, t11) = {
-                // ── link `carriage`, joint `slide` (base to tip)
-                let t6 = q_slide + 0.1f64; // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t7 = q_slide * qd_slide;
-                let t8 = A::mul_add(qd_slide, t6, -t7);
-                let t9 = A::mul_add(qd_turn, t6, t5);
-                let t10 = A::mul_add(qd_slide, 0.1f64, t8); // 1.0000e-1 = turntable m·c_z or joint turn origin z or carriage m·c_x or …
-                let t11 = qd_slide + qd_slide;
-                (t9, t10, t11)
-            };
-            let t12 = {
+            let t8 = {
                 // ── link `carriage`, joint `slide` (tip to base)
-                let t12 = A::mul_add(q_slide, t11, t10);
-                t12
+                let t8 = t2 + t2;
+                t8
             };
-            let t13 = {
-                // ── link `carriage`, joint `slide` (base to tip)
-                let t13 = qd_turn * qd_turn;
-                t13
+            let (t9, t13, t15) = {
+                // ── link `carriage`, joint `slide` (base to tip, last pass)
+                let t9 = qd_turn * qd_turn;
+                let t10 = qd_turn + qd_turn;
+                let t11 = t5 + t3;
+                let t12 = t11 + t0;
+                let t13 = t12 - t0;
+                let t14 = A::mul_add(t1, t10, -t2);
+                let t15 = t14 + t2;
+                (t9, t13, t15)
             };
-            let t15 = {
-                // ── link `carriage`, joint `slide` (tip to base)
-                let t14 = t0 + carriage_f_fy;
-                let t15 = t2 + t14;
-                t15
-            };
-            let (t17, t18) = {
-                // ── link `carriage`, joint `slide` (base to tip)
-                let t16 = t5 - carriage_v_vy;
-                let t17 = t4 + t16;
-                let t18 = qd_turn + qd_turn;
-                (t17, t18)
-            };
-            let t19 = {
-                // ── link `carriage`, joint `slide` (tip to base)
-                let t19 = A::mul_add(q_slide, t18, t17);
-                t19
-            };
-            [t15, -t13, t12, t19, -t9]
+            [t13, -t9, t7, t15, -t8]
         }
     }
     impl Kernel<kernels::FramePoses, 2, 1, 10> for Prismatic {
@@ -544,7 +521,7 @@ const _: () = {
                 },
             )
         }
-        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by forward-mode dual numbers, unrolled; row `i` of each is `∂τ_i`.
+        /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
         #[inline]
         fn inverse_dynamics_derivatives(
             &self,

@@ -54,7 +54,7 @@ pub trait Dynamics<const N: usize> {
     ///
     /// The default takes central differences with step `10⁻⁶` (an error near `10⁻¹⁰` relative,
     /// from rounding and curvature): generated dynamics and the run-time model override it with
-    /// exact dual-number derivatives.
+    /// the exact analytic pass ([`crate::model::derivatives`]).
     fn inverse_dynamics_derivatives(
         &self,
         q: &JointVector<N>,

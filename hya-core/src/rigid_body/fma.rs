@@ -54,9 +54,16 @@ pub const FMA_SUPPORT: FmaSupport = if cfg!(feature = "plain-arithmetic") {
 /// is an `Fn`, called directly, so no call shim stands between it and that function.
 #[inline]
 pub fn with_fma<R>(fused: impl Fn() -> R) -> Option<R> {
+    with_fma_at(&(), fused)
+}
+
+/// [`with_fma`], its fused copy compiled with `site`'s code
+/// ([`Site`](crate::rigid_body::site::Site)).
+#[inline]
+pub(crate) fn with_fma_at<S: ?Sized, R>(site: &S, fused: impl Fn() -> R) -> Option<R> {
     match FMA_SUPPORT {
         FmaSupport::Compiled => Some(fused()),
-        FmaSupport::Detected => detected(fused),
+        FmaSupport::Detected => detected(site, fused),
         FmaSupport::Never => None,
     }
 }
@@ -64,17 +71,12 @@ pub fn with_fma<R>(fused: impl Fn() -> R) -> Option<R> {
 /// Runs `fused` inside a function compiled for FMA if the CPU has it.
 #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
 #[inline]
-fn detected<R>(fused: impl Fn() -> R) -> Option<R> {
-    /// # Safety
-    /// The CPU must have FMA.
-    #[target_feature(enable = "fma")]
-    unsafe fn compiled_for_fma<R>(f: impl Fn() -> R) -> R {
-        f()
-    }
+fn detected<S: ?Sized, R>(site: &S, fused: impl Fn() -> R) -> Option<R> {
+    use crate::rigid_body::site::Site;
     if std::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has FMA, as just detected (which also means the OS saves the AVX
         // registers FMA uses).
-        Some(unsafe { compiled_for_fma(fused) })
+        Some(unsafe { site.on_fma(fused) })
     } else {
         None
     }
@@ -82,7 +84,7 @@ fn detected<R>(fused: impl Fn() -> R) -> Option<R> {
 
 #[cfg(not(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))))]
 #[inline]
-fn detected<R>(_: impl Fn() -> R) -> Option<R> {
+fn detected<S: ?Sized, R>(_: &S, _: impl Fn() -> R) -> Option<R> {
     None
 }
 

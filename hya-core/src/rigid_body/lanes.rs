@@ -384,7 +384,8 @@ where
     K: Kernel<F, N, IN, OUT>,
 {
     let args: [[f64; N]; IN] = each([0.0; N], |i| each(0.0, |j| inputs[i][j]));
-    let fused = crate::with_fma(
+    let fused = crate::fma::with_fma_at(
+        kernel,
         #[inline(always)]
         || {
             let args: [[Fused; N]; IN] =
@@ -428,14 +429,16 @@ where
     // A batch of four states or fewer (the control tick's two) fills four lanes at least as well.
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
     if F::WIDE && count > BATCH_LANES {
-        if let Some(done) = with_avx512(
+        if let Some(done) = with_avx512_at(
+            kernel,
             #[inline(always)]
             || steps::<avx512::F64x8, F, K, N, IN, OUT>(kernel, inputs, &mut store),
         ) {
             return done;
         }
     }
-    let vector = with_vector_fma(
+    let vector = with_vector_fma_at(
+        kernel,
         #[inline(always)]
         || steps::<VectorLanes, F, K, N, IN, OUT>(kernel, inputs, &mut store),
     );
@@ -491,10 +494,17 @@ where
 /// `#[inline(always)]`, as for [`with_fma`](crate::with_fma).
 #[inline]
 pub fn with_vector_fma<R>(f: impl FnOnce() -> R) -> Option<R> {
+    with_vector_fma_at(&(), f)
+}
+
+/// [`with_vector_fma`], its vector copy compiled with `site`'s code
+/// ([`Site`](crate::rigid_body::site::Site)).
+#[inline]
+fn with_vector_fma_at<S: ?Sized, R>(site: &S, f: impl FnOnce() -> R) -> Option<R> {
     match crate::FMA_SUPPORT {
         crate::FmaSupport::Never => None,
         crate::FmaSupport::Compiled if !cfg!(target_arch = "x86_64") || cfg!(target_feature = "avx2") => Some(f()),
-        _ => detected(f),
+        _ => detected(site, f),
     }
 }
 
@@ -513,16 +523,11 @@ pub(crate) fn on_vector_unit<T, R>(state: &mut T, f: impl Fn(&mut T) -> R) -> R 
 /// Runs `f` inside a function compiled for AVX2 and FMA if the CPU has them.
 #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
 #[inline]
-fn detected<R>(f: impl FnOnce() -> R) -> Option<R> {
-    /// # Safety
-    /// The CPU must have AVX2 and FMA.
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn compiled_for_avx2_fma<R>(f: impl FnOnce() -> R) -> R {
-        f()
-    }
+fn detected<S: ?Sized, R>(site: &S, f: impl FnOnce() -> R) -> Option<R> {
+    use crate::rigid_body::site::Site;
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has both, as just detected.
-        Some(unsafe { compiled_for_avx2_fma(f) })
+        Some(unsafe { site.on_avx2_fma(f) })
     } else {
         None
     }
@@ -530,22 +535,23 @@ fn detected<R>(f: impl FnOnce() -> R) -> Option<R> {
 
 #[cfg(not(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))))]
 #[inline]
-fn detected<R>(_: impl FnOnce() -> R) -> Option<R> {
+fn detected<S: ?Sized, R>(_: &S, _: impl FnOnce() -> R) -> Option<R> {
     None
 }
 
 /// `Some(f())` with `f` compiled for AVX-512F, AVX2 and FMA if the CPU has them,
 /// [`limit_batch_lanes`] allows eight lanes and the build is not `plain-arithmetic`, else `None` (always on targets other than x86-64
 /// with `std`). `f` must be `#[inline(always)]`, as for [`with_fma`](crate::with_fma).
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
 #[inline]
 pub fn with_avx512<R>(f: impl FnOnce() -> R) -> Option<R> {
-    /// # Safety
-    /// The CPU must have AVX-512F, AVX2 and FMA.
-    #[target_feature(enable = "avx512f,avx2,fma")]
-    unsafe fn compiled_for_avx512<R>(f: impl FnOnce() -> R) -> R {
-        f()
-    }
+    with_avx512_at(&(), f)
+}
+
+/// [`with_avx512`], its copy compiled with `site`'s code ([`Site`](crate::rigid_body::site::Site)).
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[inline]
+fn with_avx512_at<S: ?Sized, R>(site: &S, f: impl FnOnce() -> R) -> Option<R> {
+    use crate::rigid_body::site::Site;
     // Under `plain-arithmetic` nothing runs fused, these lanes included.
     let allowed = !matches!(crate::FMA_SUPPORT, crate::FmaSupport::Never)
         && WIDEST_LANES.load(core::sync::atomic::Ordering::Relaxed) >= 8;
@@ -555,7 +561,7 @@ pub fn with_avx512<R>(f: impl FnOnce() -> R) -> Option<R> {
         && std::is_x86_feature_detected!("fma")
     {
         // SAFETY: the CPU has all three, as just detected.
-        Some(unsafe { compiled_for_avx512(f) })
+        Some(unsafe { site.on_avx512(f) })
     } else {
         None
     }
@@ -564,7 +570,7 @@ pub fn with_avx512<R>(f: impl FnOnce() -> R) -> Option<R> {
 /// `None`: AVX-512 is used on x86-64 with `std` only.
 #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
 #[inline]
-pub fn with_avx512<R>(_: impl FnOnce() -> R) -> Option<R> {
+fn with_avx512_at<S: ?Sized, R>(_: &S, _: impl FnOnce() -> R) -> Option<R> {
     None
 }
 

@@ -216,6 +216,14 @@ impl<S: Real> Transform<S> {
         Motion { angular: mat_vec(&self.rotation, &m.angular), linear: mat_vec(&self.rotation, &shifted) }
     }
 
+    /// Maps a motion vector from B back to A coordinates (`X⁻¹ m`): `ω_A = Eᵀ ω`,
+    /// `v_A = Eᵀ v + r × ω_A`.
+    pub fn apply_inverse_motion(&self, m: &Motion<S>) -> Motion<S> {
+        let angular = mat_tr_vec(&self.rotation, &m.angular);
+        let linear = add3(&mat_tr_vec(&self.rotation, &m.linear), &cross(&self.translation, &angular));
+        Motion { angular, linear }
+    }
+
     /// Maps a force vector from B back to A coordinates (`Xᵀ f`).
     pub fn apply_transpose_force(&self, f: &Force<S>) -> Force<S> {
         let linear = mat_tr_vec(&self.rotation, &f.linear);
@@ -347,6 +355,29 @@ impl<S: Real> RigidBodyInertia<S> {
         }
         let rotational = sub_mat(&sub_mat(&sub_mat(&rotational, &outer(&g, r)), &outer(r, &g)), &outer(r, &mr));
         RigidBodyInertia { mass: self.mass, first_moment: add3(&g, &mr), rotational }
+    }
+
+    /// `İ = v ×* I − I v×`: how this inertia, of a body moving with `v` and given in a fixed
+    /// frame, changes. With `v = (ω, v_o)` and `I = (m, h, Ī)` it is again a rigid-body
+    /// inertia, massless:
+    ///
+    /// ```text
+    /// ṁ = 0,   ḣ = ω × h + m v_o,   dĪ/dt = [ω]× Ī − Ī [ω]× − h v_oᵀ − v_o hᵀ + 2 (v_o · h) 1
+    /// ```
+    pub fn rate(&self, v: &Motion<S>) -> RigidBodyInertia<S> {
+        let (h, w, vo) = (&self.first_moment, &v.angular, &v.linear);
+        // `[ω]× Ī − Ī [ω]× = A + Aᵀ` with `A = [ω]× Ī`, as `Ī` is symmetric.
+        let a = mat_mat(&vector::cross_matrix(w), &self.rotational);
+        let twice_power = dot(vo, h) + dot(vo, h);
+        let upper = Matrix3::from_fn(|r, c| {
+            let diagonal = if r == c { twice_power } else { S::zero() };
+            ((a[(r, c)] + a[(c, r)]) - (h[r] * vo[c] + vo[r] * h[c])) + diagonal
+        });
+        RigidBodyInertia {
+            mass: S::zero(),
+            first_moment: add3(&cross(w, h), &scale3(vo, self.mass)),
+            rotational: vector::symmetric_from_upper(&upper),
+        }
     }
 
     /// The ten inertial parameters `(m, h_x, h_y, h_z, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)`,

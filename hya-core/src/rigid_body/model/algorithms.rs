@@ -43,7 +43,7 @@ pub(super) fn check_len<T>(model: &TreeModel, what: &'static str, values: &[T]) 
     }
 }
 
-fn subspace<S: Real>(model: &TreeModel, i: usize) -> Motion<S> {
+pub(super) fn subspace<S: Real>(model: &TreeModel, i: usize) -> Motion<S> {
     Motion::constant(&model.bodies()[i].subspace())
 }
 
@@ -52,7 +52,7 @@ fn joint_label(body: usize) -> Label {
 }
 
 /// The base's acceleration `a_0 = −g`: gravity enters as an upward acceleration of the base.
-fn base_acceleration<S: Real>(model: &TreeModel, with_gravity: bool) -> Motion<S> {
+pub(super) fn base_acceleration<S: Real>(model: &TreeModel, with_gravity: bool) -> Motion<S> {
     let gravity = if with_gravity { -model.gravity_vector() } else { Vector3::zeros() };
     Motion::constant(&Motion::new(Vector3::zeros(), gravity))
 }

@@ -284,7 +284,7 @@ impl TreeModel {
         Ok(out)
     }
 
-    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`, exact, by dual numbers
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`, analytic
     /// ([`derivatives::inverse_dynamics_derivatives`]); row `i` of each is `∂τ_i`.
     pub fn inverse_dynamics_derivatives(
         &self,
@@ -310,9 +310,7 @@ impl TreeModel {
             self,
             &ModelInertias(self),
             inputs,
-            &mut vec![BodyState::new(); n],
-            &mut vec![crate::rigid_body::dual::Dual::fixed(0.0); 4 * n],
-            &mut vec![0.0; n],
+            &mut vec![derivatives::DerivativeState::new(); n],
             &mut vec![0.0; n],
             (d_dq, d_dqd),
         )
@@ -519,18 +517,15 @@ impl<const N: usize> Dynamics<N> for TreeDynamics<N> {
         qdd: &JointVector<N>,
     ) -> (JointMatrix<N>, JointMatrix<N>) {
         let (mut d_dq, mut d_dqd) = (JointMatrix::<N>::zeros(), JointMatrix::<N>::zeros());
-        let (mut tau, mut column) = (JointVector::<N>::zeros(), JointVector::<N>::zeros());
-        let mut scratch = [[crate::rigid_body::dual::Dual::fixed(0.0); 4]; N];
-        // The derivatives need a workspace of dual numbers, not `run`'s.
+        let mut tau = JointVector::<N>::zeros();
+        // The derivatives keep their own per-body state, not `run`'s.
         self.run(|model, inertias, _| {
             derivatives::inverse_dynamics_derivatives(
                 model,
                 inertias,
                 (q.as_slice(), qd.as_slice(), qdd.as_slice()),
-                &mut [BodyState::new(); N],
-                scratch.as_flattened_mut(),
+                &mut [derivatives::DerivativeState::new(); N],
                 tau.as_mut_slice(),
-                column.as_mut_slice(),
                 (d_dq.as_mut_slice(), d_dqd.as_mut_slice()),
             )
         });
@@ -609,7 +604,7 @@ mod tests {
         let tau = JointVector::from([4.0, -1.5]);
         let by_aba = tree.forward_dynamics(&q, &qd, &tau).unwrap();
         assert!(close(by_aba, arm.forward_dynamics(&q, &qd, &tau).unwrap()), "{by_aba}");
-        // Dual-number derivatives against the trait's central differences of the closed form.
+        // Analytic derivatives against the trait's central differences of the closed form.
         let (by_q, by_qd) = tree.inverse_dynamics_derivatives(&q, &qd, &qdd);
         let (fd_q, fd_qd) = arm.inverse_dynamics_derivatives(&q, &qd, &qdd);
         assert!((by_q - fd_q).norm() < 1e-7 && (by_qd - fd_qd).norm() < 1e-7, "{by_q} {fd_q} {by_qd} {fd_qd}");

@@ -1142,7 +1142,6 @@ const _: () = {
     }
     impl Dynamics<3> for Branched {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
-        #[inline]
         fn inverse_dynamics(
             &self,
             q: &JointVector<3>,
@@ -1170,7 +1169,6 @@ const _: () = {
             )
         }
         /// Gravity torques `G(q)`.
-        #[inline]
         fn gravity(&self, q: &JointVector<3>) -> JointVector<3> {
             gravity_of(&single(self, kernels::Gravity, [q]))
         }
@@ -1191,7 +1189,6 @@ const _: () = {
             )
         }
         /// Coriolis and centripetal torques `C(q, q̇)`.
-        #[inline]
         fn velocity_terms(
             &self,
             q: &JointVector<3>,
@@ -1200,7 +1197,6 @@ const _: () = {
             velocity_terms_of(&single(self, kernels::VelocityTerms, [q, qd]))
         }
         /// `C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.
-        #[inline]
         fn coriolis_transpose_times_velocity(
             &self,
             q: &JointVector<3>,
@@ -1211,7 +1207,6 @@ const _: () = {
             )
         }
         /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
-        #[inline]
         fn mass_matrix(&self, q: &JointVector<3>) -> JointMatrix<3> {
             mass_matrix_of(&single(self, kernels::MassMatrix, [q]))
         }
@@ -1232,7 +1227,6 @@ const _: () = {
             )
         }
         /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm, unrolled; an error if a joint meets no positive inertia `D_i`.
-        #[inline]
         fn forward_dynamics(
             &self,
             q: &JointVector<3>,
@@ -1260,7 +1254,6 @@ const _: () = {
             )
         }
         /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
-        #[inline]
         fn inverse_dynamics_derivatives(
             &self,
             q: &JointVector<3>,
@@ -1300,7 +1293,6 @@ const _: () = {
             self.frame_poses(q)[3]
         }
         /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
-        #[inline]
         fn frame_jacobian(&self, q: &JointVector<3>) -> ::hya_core::FrameJacobian<3> {
             frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
         }
@@ -1321,7 +1313,6 @@ const _: () = {
             )
         }
         /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
-        #[inline]
         fn frame_acceleration_bias(
             &self,
             q: &JointVector<3>,

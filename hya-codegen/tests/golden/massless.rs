@@ -557,7 +557,6 @@ const _: () = {
     }
     impl Dynamics<2> for Massless {
         /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) + G(q)` by RNEA, unrolled.
-        #[inline]
         fn inverse_dynamics(
             &self,
             q: &JointVector<2>,
@@ -585,7 +584,6 @@ const _: () = {
             )
         }
         /// Gravity torques `G(q)`.
-        #[inline]
         fn gravity(&self, q: &JointVector<2>) -> JointVector<2> {
             gravity_of(&single(self, kernels::Gravity, [q]))
         }
@@ -606,7 +604,6 @@ const _: () = {
             )
         }
         /// Coriolis and centripetal torques `C(q, q̇)`.
-        #[inline]
         fn velocity_terms(
             &self,
             q: &JointVector<2>,
@@ -615,7 +612,6 @@ const _: () = {
             velocity_terms_of(&single(self, kernels::VelocityTerms, [q, qd]))
         }
         /// `C_matᵀ q̇ = Ṁ q̇ − C` from the subtree momenta.
-        #[inline]
         fn coriolis_transpose_times_velocity(
             &self,
             q: &JointVector<2>,
@@ -626,7 +622,6 @@ const _: () = {
             )
         }
         /// Mass matrix `M(q)` by the composite-rigid-body algorithm, unrolled.
-        #[inline]
         fn mass_matrix(&self, q: &JointVector<2>) -> JointMatrix<2> {
             mass_matrix_of(&single(self, kernels::MassMatrix, [q]))
         }
@@ -647,7 +642,6 @@ const _: () = {
             )
         }
         /// Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm, unrolled; an error if a joint meets no positive inertia `D_i`.
-        #[inline]
         fn forward_dynamics(
             &self,
             q: &JointVector<2>,
@@ -675,7 +669,6 @@ const _: () = {
             )
         }
         /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics by the analytic derivative pass, unrolled; row `i` of each is `∂τ_i`.
-        #[inline]
         fn inverse_dynamics_derivatives(
             &self,
             q: &JointVector<2>,
@@ -715,7 +708,6 @@ const _: () = {
             self.frame_poses(q)[2]
         }
         /// The tip's geometric Jacobian, world-aligned, linear rows first; unrolled.
-        #[inline]
         fn frame_jacobian(&self, q: &JointVector<2>) -> ::hya_core::FrameJacobian<2> {
             frame_jacobian_of(&single(self, kernels::FrameJacobian, [q]))
         }
@@ -736,7 +728,6 @@ const _: () = {
             )
         }
         /// The tip's `J̇ q̇`: its origin's classical acceleration and its angular acceleration at `q̈ = 0`.
-        #[inline]
         fn frame_acceleration_bias(
             &self,
             q: &JointVector<2>,

@@ -128,8 +128,22 @@ fn run_all(
         (None, merged) if !merged.is_empty() => Part::Merge(merged),
         _ => Part::All,
     };
+    // A task set in task space is its own experiment, reported at the controlled frame.
+    let cartesian = match scenarios.as_slice() {
+        [one] if one.task.is_cartesian() => match part {
+            Part::All => Some(one),
+            _ => {
+                return Err(CliError::Input(format!(
+                    "{}: a task set in task space does not shard (--shard, --merge)",
+                    one.name
+                )))
+            }
+        },
+        _ => None,
+    };
     // The runs and the studies after them (the bandwidth sweep, the sensitivity variants, …).
     let cost = match &part {
+        Part::All if cartesian.is_some() => Ok(hya_sim::cost::Cost::of(&scenarios, seeds)),
         Part::All => hya_sim::Experiment::cost(&scenarios, seeds, (quick, full_sweep)),
         Part::Shard(shard) => hya_sim::seed_shards::cost(&scenarios, seeds, *shard),
         Part::Merge(_) => hya_sim::Experiment::merge_cost(&scenarios, seeds, (quick, full_sweep)),
@@ -171,6 +185,13 @@ fn run_all(
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     let progress = |seconds: f64| bar.inc(seconds.round() as u64);
+    if let Some(scenario) = cartesian {
+        let experiment =
+            hya_sim::CartesianExperiment { scenario, seeds, progress: &progress, out: &out, provenance: &provenance };
+        let summary = experiment.run().map_err(sim)?;
+        bar.finish_and_clear();
+        return cartesian_results(&summary, out.path(), options.json, output);
+    }
     let experiment = hya_sim::Experiment {
         scenarios: &scenarios,
         seeds,
@@ -213,6 +234,37 @@ fn run_all(
     Ok(())
 }
 
+/// The results of a task-space experiment on stdout: per estimator, what its compensation changes
+/// at the controlled frame (the report's "In short"), and the report's path.
+fn cartesian_results(
+    summary: &hya_sim::report::cartesian::CartesianSummary,
+    dir: &Path,
+    json: bool,
+    output: &mut impl std::io::Write,
+) -> Result<(), CliError> {
+    let report = dir.join("report.md");
+    if json {
+        let json = serde_json::json!({ "changes": summary.changes, "report": report });
+        writeln!(output, "{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Input(e.to_string()))?)?;
+        return Ok(());
+    }
+    for change in &summary.changes {
+        for (name, ratio, low, high, lower) in &change.ratios {
+            writeln!(
+                output,
+                "{:>9}: {name} × {} [{}, {}] against none, lower in {lower} of {} seeds",
+                change.method.name(),
+                hya_core::Short(*ratio),
+                hya_core::Short(*low),
+                hya_core::Short(*high),
+                summary.seeds
+            )?;
+        }
+    }
+    writeln!(output, "report: {}", report.display())?;
+    Ok(())
+}
+
 /// Parameters of `hya scenarios`.
 #[derive(Debug, clap::Args)]
 pub struct ScenariosArgs {
@@ -227,6 +279,7 @@ pub struct ScenariosArgs {
 pub fn scenarios(args: &ScenariosArgs, output: &mut impl std::io::Write) -> Result<(), CliError> {
     let all: Vec<Scenario> = Scenario::builtin_names()
         .chain(Scenario::arm_goto_names())
+        .chain(Scenario::task_space_names())
         .map(Scenario::builtin)
         .collect::<Result<_, _>>()
         .map_err(sim)?;

@@ -212,7 +212,10 @@ fn scenarios_lists_every_built_in_scenario_once() {
     let output = hya(&["scenarios"], "");
     let text = String::from_utf8(output.stdout).unwrap();
     let names: Vec<&str> = text.lines().map(|l| l.split_whitespace().next().unwrap()).collect();
-    let expected: Vec<&str> = hya_sim::Scenario::builtin_names().chain(hya_sim::Scenario::arm_goto_names()).collect();
+    let expected: Vec<&str> = hya_sim::Scenario::builtin_names()
+        .chain(hya_sim::Scenario::arm_goto_names())
+        .chain(hya_sim::Scenario::task_space_names())
+        .collect();
     assert_eq!(names, expected);
     let json: serde_json::Value = serde_json::from_slice(&hya(&["scenarios", "--json"], "").stdout).unwrap();
     assert_eq!(json.as_array().unwrap().len(), expected.len());

@@ -150,6 +150,14 @@ impl<'a> Experiment<'a> {
     /// The robot every scenario runs on.
     fn shared_robot(&self) -> Result<String, SimError> {
         let Some(first) = self.scenarios.first() else { return Err(SimError::Nothing("no scenario to run")) };
+        if let Some(cartesian) = self.scenarios.iter().find(|s| s.task.is_cartesian()) {
+            return Err(SimError::Scenario {
+                origin: cartesian.name.clone(),
+                message: "a task set in task space is reported at its frame (CartesianExperiment, `hya run` on it \
+                          alone), not among the paper's joint-space experiments"
+                    .into(),
+            });
+        }
         config::scenario::shared_robot(self.scenarios)?;
         Ok(first.robot.clone())
     }
@@ -191,5 +199,38 @@ impl ForRobot for Sharding<'_> {
         let stored = seed_shards::run(&robot, e.scenarios, (&key, &build), self.shard, e.progress)?;
         e.out.save_bytes(seed_shards::SHARD_FILE, &stored.to_bytes()?)?;
         Ok(stored.runs.len())
+    }
+}
+
+/// What `hya run` does with a scenario set in task space ([`config::scenario::Task::Cartesian`]):
+/// every method over `seeds` seeds under the Cartesian impedance controller, measured at the
+/// controlled frame ([`studies::cartesian`]), and its report in `out`
+/// ([`report::cartesian`]).
+pub struct CartesianExperiment<'a> {
+    /// The scenario, checked.
+    pub scenario: &'a Scenario,
+    /// Seeds per method.
+    pub seeds: usize,
+    /// Told each finished run's simulated seconds.
+    pub progress: &'a (dyn Fn(f64) + Sync),
+    /// The report's folder, held by this run.
+    pub out: &'a output::OutputDir,
+    /// The command that asked and the build that ran it, named in the report.
+    pub provenance: &'a report::Provenance,
+}
+
+impl CartesianExperiment<'_> {
+    /// Runs it on the scenario's robot, whatever its number of joints.
+    pub fn run(self) -> Result<report::cartesian::CartesianSummary, SimError> {
+        let robot = self.scenario.robot.clone();
+        robot::with_robot(&robot, self)
+    }
+}
+
+impl ForRobot for CartesianExperiment<'_> {
+    type Output = report::cartesian::CartesianSummary;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<Self::Output, SimError> {
+        let study = studies::cartesian::run(&robot, self.scenario, self.seeds, self.progress)?;
+        report::cartesian::write(self.out, &study, self.provenance)
     }
 }

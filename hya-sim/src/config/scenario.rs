@@ -166,6 +166,38 @@ pub enum Task {
         /// Ramp-in of the amplitude, s.
         ramp_s: f64,
     },
+    /// Task space: hold the controlled frame's start pose, then move it by `offset_m` (in the
+    /// base) and turn it by the rotation vector `rotation_rad` (in the base) with a minimum-jerk
+    /// transition starting at `start_s`; the controller is `controller.cartesian`'s impedance.
+    Cartesian {
+        /// When the move starts, s.
+        start_s: f64,
+        /// Duration of the minimum-jerk transition, s.
+        transition_s: f64,
+        /// The frame's displacement in the base, m (three values).
+        offset_m: Vec<f64>,
+        /// The frame's turn as a rotation vector in the base, rad (three values, norm below π).
+        rotation_rad: Vec<f64>,
+    },
+}
+
+/// The Cartesian impedance controller of a [`Task::Cartesian`] scenario
+/// (`hya_core::CartesianImpedance`): a spring and a damper at one frame of the arm, a posture
+/// spring in the task's null space around the start pose.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CartesianConfig {
+    /// The controlled link (the description's last link when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<String>,
+    /// `K_x`: N/m for the three linear directions, then N·m/rad for the three rotations.
+    pub stiffness: Vec<f64>,
+    /// `D_x`: N·s/m, then N·m·s/rad.
+    pub damping: Vec<f64>,
+    /// `K_n` per joint, N·m/rad.
+    pub posture_stiffness_nm_rad: Vec<f64>,
+    /// `D_n` per joint, N·m·s/rad.
+    pub posture_damping_nm_s_rad: Vec<f64>,
 }
 
 /// Where the joint velocity that the controller and the observers read comes from.
@@ -294,6 +326,11 @@ pub struct ControllerConfig {
     /// feed-forward in the command, and a part of `d` the observers no longer have to find.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction_toml: Option<String>,
+    /// The task-space controller of a [`Task::Cartesian`] scenario (required there, refused
+    /// elsewhere); the joint-space gain settings above then act only through the observers'
+    /// shared settings and the torque limits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cartesian: Option<CartesianConfig>,
 }
 
 impl Default for ControllerConfig {
@@ -312,6 +349,7 @@ impl Default for ControllerConfig {
             dt_s: 1e-3,
             model_urdf: None,
             friction_toml: None,
+            cartesian: None,
         }
     }
 }
@@ -637,6 +675,10 @@ const ARM_GOTO: [(&str, &str); 4] = [
     ("iiwa14_goto", include_str!("../../scenarios/iiwa14_goto.toml")),
 ];
 
+/// Tasks set in task space, under the Cartesian impedance controller (`hya run` alone: the
+/// paper's report is in joint space).
+const TASK_SPACE: [(&str, &str); 1] = [("panda_cartesian", include_str!("../../scenarios/panda_cartesian.toml"))];
+
 /// `Ok` if every scenario of `scenarios` runs the same robot, as one report covers one robot; the
 /// error names two that differ.
 pub fn shared_robot(scenarios: &[Scenario]) -> Result<(), SimError> {
@@ -749,7 +791,60 @@ impl Task {
                 within("task.frequency_hz", *frequency_hz, 1e-6, 100.0)?;
                 within("task.ramp_s", *ramp_s, 0.0, 1e4)
             }
+            Task::Cartesian { start_s, transition_s, offset_m, rotation_rad } => {
+                within("task.start_s", *start_s, 0.0, duration)?;
+                within("task.transition_s", *transition_s, 1e-3, 1e4)?;
+                three("task.offset_m", offset_m, 10.0)?;
+                three("task.rotation_rad", rotation_rad, std::f64::consts::PI)?;
+                let turn = rotation_rad.iter().map(|r| r * r).sum::<f64>().sqrt();
+                if turn >= std::f64::consts::PI {
+                    return Err(SettingError::new(
+                        "task.rotation_rad",
+                        Some(turn),
+                        "its norm (the angle turned) must be below π: a half turn's direction is ambiguous",
+                    ));
+                }
+                Ok(())
+            }
         }
+    }
+
+    /// Whether the task is set in task space (the controller is then Cartesian).
+    pub fn is_cartesian(&self) -> bool {
+        matches!(self, Task::Cartesian { .. })
+    }
+}
+
+/// `Ok` if `values` holds three numbers within `±bound`; the error names the key.
+fn three(key: &str, values: &[f64], bound: f64) -> Result<(), SettingError> {
+    if values.len() != 3 {
+        return Err(SettingError::new(key, Some(values.len() as f64), "needs three values (x, y, z in the base)"));
+    }
+    for (i, v) in values.iter().enumerate() {
+        within(&format!("{key}[{i}]"), *v, -bound, bound)?;
+    }
+    Ok(())
+}
+
+impl CartesianConfig {
+    /// Checks the six task-space gains (finite, `≥ 0`, below 10⁶); the posture lists are
+    /// checked per joint with the arm ([`crate::config::settings::JointSettings`]).
+    fn validate(&self) -> Result<(), SettingError> {
+        for (key, values) in
+            [("controller.cartesian.stiffness", &self.stiffness), ("controller.cartesian.damping", &self.damping)]
+        {
+            if values.len() != 6 {
+                return Err(SettingError::new(
+                    key,
+                    Some(values.len() as f64),
+                    "needs six values: three linear (N/m or N·s/m), then three angular (N·m/rad or N·m·s/rad)",
+                ));
+            }
+            for (i, v) in values.iter().enumerate() {
+                within(&format!("{key}[{i}]"), *v, 0.0, 1e6)?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -812,7 +907,8 @@ impl Scenario {
         if let Ok(scenario) = Self::builtin(name) {
             return Ok(scenario);
         }
-        let names: Vec<&str> = Self::builtin_names().chain(Self::arm_goto_names()).collect();
+        let names: Vec<&str> =
+            Self::builtin_names().chain(Self::arm_goto_names()).chain(Self::task_space_names()).collect();
         let suggestion = hya_core::closest(name, names.iter().copied())
             .map(|near| format!("; did you mean `{near}`?"))
             .unwrap_or_default();
@@ -835,13 +931,17 @@ impl Scenario {
         ARM_GOTO.iter().map(|(name, _)| *name)
     }
 
+    /// The names of the embedded task-space scenarios (`panda_cartesian`).
+    pub fn task_space_names() -> impl Iterator<Item = &'static str> {
+        TASK_SPACE.iter().map(|(name, _)| *name)
+    }
+
     /// An embedded scenario by name: one of the paper's experiments or an arm's goto task.
     pub fn builtin(name: &str) -> Result<Self, SimError> {
-        let (_, text) = BUILTIN
-            .iter()
-            .chain(&ARM_GOTO)
-            .find(|(n, _)| *n == name)
-            .ok_or_else(|| SimError::Scenario { origin: name.into(), message: "no such built-in scenario".into() })?;
+        let (_, text) =
+            BUILTIN.iter().chain(&ARM_GOTO).chain(&TASK_SPACE).find(|(n, _)| *n == name).ok_or_else(|| {
+                SimError::Scenario { origin: name.into(), message: "no such built-in scenario".into() }
+            })?;
         Self::from_toml(text, name)
     }
 
@@ -860,7 +960,7 @@ impl Scenario {
         let k = self.quick_time_scale;
         let mut quick = self.clone();
         quick.duration_s *= k;
-        if let Task::Goto { start_s, .. } = &mut quick.task {
+        if let Task::Goto { start_s, .. } | Task::Cartesian { start_s, .. } = &mut quick.task {
             *start_s *= k;
         }
         if let Some(drop) = &mut quick.loads.weight_drop {
@@ -980,6 +1080,31 @@ impl Scenario {
             }
         }
         self.task.validate(self.duration_s)?;
+        match (&self.task, &self.controller.cartesian) {
+            (Task::Cartesian { .. }, None) => {
+                return Err(SettingError::new(
+                    "controller.cartesian",
+                    None,
+                    "a task of kind cartesian needs the impedance's gains (stiffness, damping, posture_stiffness_nm_rad, posture_damping_nm_s_rad)",
+                ))
+            }
+            (Task::Cartesian { .. }, Some(gains)) => gains.validate()?,
+            (_, Some(_)) => {
+                return Err(SettingError::new(
+                    "controller.cartesian",
+                    None,
+                    "acts only with a task of kind cartesian; this scenario's controller works in joint space",
+                ))
+            }
+            (_, None) => {}
+        }
+        if self.task.is_cartesian() && self.methods.contains(&Method::Pid) {
+            return Err(SettingError::new(
+                "methods",
+                None,
+                "pid's integral acts on joint errors, which a task of kind cartesian does not have: name none, lu, chen, momentum or eso",
+            ));
+        }
         for (name, noise) in [
             ("noise.position", self.noise.position),
             ("noise.velocity", self.noise.velocity),

@@ -15,10 +15,10 @@
 use hya_core::model::TreeModel;
 use hya_core::JointVector;
 
-use crate::config::lists::{per_joint, scalar};
+use crate::config::lists::{per_joint, per_joint_where, scalar};
 use crate::config::plant::PlantSetup;
 use crate::config::scenario::{
-    ChenGain, ControllerConfig, IntegralRule, Method, NoiseConfig, Scenario, SensorConfig, Task,
+    CartesianConfig, ChenGain, ControllerConfig, IntegralRule, Method, NoiseConfig, Scenario, SensorConfig, Task,
 };
 use crate::error::{SettingError, SimError};
 use crate::robot::{with_robot, ForRobot, Robot};
@@ -56,6 +56,27 @@ pub enum TaskSetup<const N: usize> {
         /// The ramp's duration, s (0: none).
         ramp_s: f64,
     },
+    /// Hold the start pose in joint space (the posture's rest); the controlled frame follows a
+    /// minimum-jerk move by `offset` (m, in the base) and a turn by the rotation vector
+    /// `rotation` (rad, in the base) from `start_s` over `transition_s > 0`, s
+    /// ([`crate::run::cartesian`]).
+    Cartesian {
+        /// When the move starts, s.
+        start_s: f64,
+        /// Its duration, s.
+        transition_s: f64,
+        /// The frame's displacement, m.
+        offset: [f64; 3],
+        /// The frame's turn, rad.
+        rotation: [f64; 3],
+    },
+}
+
+/// Three values as an array, each finite; the error names the key (the scenario's check has
+/// held the length to three).
+fn three(key: &str, values: &[f64]) -> Result<[f64; 3], SimError> {
+    let v: JointVector<3> = per_joint(key, values)?;
+    Ok(v.into())
 }
 
 impl<const N: usize> TaskSetup<N> {
@@ -72,6 +93,12 @@ impl<const N: usize> TaskSetup<N> {
                 amplitude: per_joint("task.amplitude_rad", amplitude_rad)?,
                 frequency_hz: scalar("task.frequency_hz", *frequency_hz, |f| f > 0.0, "must be > 0")?,
                 ramp_s: scalar("task.ramp_s", *ramp_s, |r| r >= 0.0, "must be ≥ 0")?,
+            },
+            Task::Cartesian { start_s, transition_s, offset_m, rotation_rad } => Self::Cartesian {
+                start_s: scalar("task.start_s", *start_s, |_| true, "must be finite")?,
+                transition_s: scalar("task.transition_s", *transition_s, |t| t > 0.0, "must be > 0")?,
+                offset: three("task.offset_m", offset_m)?,
+                rotation: three("task.rotation_rad", rotation_rad)?,
             },
         })
     }
@@ -103,6 +130,7 @@ impl TaskTimes {
             Task::Hold {} => Self::Hold,
             Task::Goto { start_s, transition_s, .. } => Self::Goto { start_s, transition_s },
             Task::Sine { ramp_s, .. } => Self::Sine { ramp_s },
+            Task::Cartesian { start_s, transition_s, .. } => Self::Goto { start_s, transition_s },
         }
     }
 }
@@ -114,6 +142,7 @@ impl<const N: usize> TaskSetup<N> {
             Self::Hold => TaskTimes::Hold,
             Self::Goto { start_s, transition_s, .. } => TaskTimes::Goto { start_s, transition_s },
             Self::Sine { ramp_s, .. } => TaskTimes::Sine { ramp_s },
+            Self::Cartesian { start_s, transition_s, .. } => TaskTimes::Goto { start_s, transition_s },
         }
     }
 }
@@ -206,6 +235,48 @@ pub struct JointSettings<const N: usize> {
     pub noise: NoiseConfig,
     /// The relative spread of the plant's inertial parameters about the model's.
     pub parameter_spread: f64,
+    /// The task-space controller of a Cartesian task (its posture's rest the start pose).
+    pub cartesian: Option<CartesianSetup<N>>,
+}
+
+/// The Cartesian impedance controller's settings, checked for an arm of `N` joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianSetup<const N: usize> {
+    /// The controlled link; `None`: the description's last link.
+    pub frame: Option<String>,
+    /// The gains, the posture's rest at the start pose.
+    pub impedance: hya_core::Impedance<N>,
+}
+
+impl<const N: usize> CartesianSetup<N> {
+    /// Checks and converts `config`, the posture held around `rest`.
+    fn of(config: &CartesianConfig, rest: &JointVector<N>) -> Result<Self, SimError> {
+        let key = "controller.cartesian";
+        let setup = |source| SimError::Setup { setting: key.into(), source };
+        let six = |values: &[f64]| -> [f64; 6] { core::array::from_fn(|i| values.get(i).copied().unwrap_or(f64::NAN)) };
+        let posture = |name: &str, values: &[f64]| {
+            per_joint_where::<N>(&format!("{key}.{name}"), values, |v| v >= 0.0, "must be ≥ 0")
+        };
+        let stiffness = posture("posture_stiffness_nm_rad", &config.posture_stiffness_nm_rad)?;
+        let damping = posture("posture_damping_nm_s_rad", &config.posture_damping_nm_s_rad)?;
+        let impedance = hya_core::Impedance::new(six(&config.stiffness), six(&config.damping))
+            .and_then(|gains| gains.with_posture((*rest).into(), stiffness.into(), damping.into()))
+            .map_err(setup)?;
+        Ok(Self { frame: config.frame.clone(), impedance })
+    }
+
+    /// The controlled frame's name in `model`: the configured one if the model has it (else an
+    /// error listing its frames), else its last link.
+    pub fn frame_in<'m>(&'m self, model: &'m TreeModel) -> Result<&'m str, SimError> {
+        let named =
+            |e: hya_core::model::ModelError| SettingError::new("controller.cartesian.frame", None, e.to_string());
+        match &self.frame {
+            Some(name) => Ok(model.frame(name).map_err(named)?.name.as_str()),
+            None => model.tip_frame().map(|f| f.name.as_str()).ok_or_else(|| {
+                SettingError::new("controller.cartesian.frame", None, "the description has no link to control").into()
+            }),
+        }
+    }
 }
 
 impl<const N: usize> JointSettings<N> {
@@ -234,6 +305,13 @@ impl<const N: usize> JointSettings<N> {
             sensors: scenario.sensors.clone(),
             noise: scenario.noise.clone(),
             parameter_spread: scenario.plant.parameter_spread,
+            cartesian: match &c.cartesian {
+                Some(config) => Some(CartesianSetup::of(
+                    config,
+                    &per_joint("initial_position_rad", &initial_position(scenario, N))?,
+                )?),
+                None => None,
+            },
         })
     }
 }
@@ -249,19 +327,25 @@ impl<const N: usize> JointSettings<N> {
     }
 
     /// [`Self::of`], and the settings that name a link checked against the arm's `model`: the
-    /// weight drop's frame ([`PlantSetup::check_against`]).
+    /// weight drop's frame ([`PlantSetup::check_against`]) and the Cartesian controller's.
     pub fn for_arm(scenario: &Scenario, model: &TreeModel) -> Result<Self, SimError> {
-        let joints = Self::of(scenario)?;
-        joints.plant.check_against(model)?;
-        Ok(joints)
+        Self::of(scenario)?.checked_against(model)
     }
 
     /// [`Self::for_arm`] for one run of `method`: the PID's integral clamp read for a run of pid
     /// whatever the scenario's methods.
     pub fn for_run(scenario: &Scenario, method: Method, model: &TreeModel) -> Result<Self, SimError> {
-        let joints = Self::reading(scenario, method == Method::Pid || scenario.methods.contains(&Method::Pid))?;
-        joints.plant.check_against(model)?;
-        Ok(joints)
+        Self::reading(scenario, method == Method::Pid || scenario.methods.contains(&Method::Pid))?
+            .checked_against(model)
+    }
+
+    /// These settings if the links they name are `model`'s.
+    fn checked_against(self, model: &TreeModel) -> Result<Self, SimError> {
+        self.plant.check_against(model)?;
+        if let Some(cartesian) = &self.cartesian {
+            cartesian.frame_in(model)?;
+        }
+        Ok(self)
     }
 }
 

@@ -6,6 +6,7 @@
 //! with the plant's and the viscous-friction sections apart. The report renders the runs and
 //! what [`crate::studies`] found; it runs no simulation of its own.
 
+pub mod cartesian;
 mod chen_designs;
 mod csv;
 mod figures;

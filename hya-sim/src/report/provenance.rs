@@ -49,6 +49,15 @@ impl Provenance {
         format!("{}; {}; {} profile; RUSTFLAGS {}; {}", self.commit, self.rustc, self.profile, self.rustflags, self.fma)
     }
 
+    /// The command and the build as the reports print them: "`command` (commit …, rustc …, …
+    /// profile, RUSTFLAGS …; generated dynamics …; CPU …)".
+    pub fn described(&self) -> String {
+        format!(
+            "`{}` (commit {}, {}, {} profile, RUSTFLAGS {}; generated dynamics {}; CPU {})",
+            self.command, self.commit, self.rustc, self.profile, self.rustflags, self.fma, self.cpu
+        )
+    }
+
     /// A provenance for tests and library callers that know nothing of their build.
     pub fn unknown(command: &str) -> Self {
         Self::here(command.into(), ["unknown"; 4])

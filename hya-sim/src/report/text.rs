@@ -31,6 +31,16 @@ pub(super) fn task_text(task: &Task) -> String {
                 Short(*ramp_s)
             )
         }
+        Task::Cartesian { start_s, transition_s, offset_m, rotation_rad } => {
+            format!(
+                "move the controlled frame by ({}) m and turn it by ({}) rad (rotation vector, base axes) at {} s, \
+                 minimum-jerk over {} s",
+                list(offset_m),
+                list(rotation_rad),
+                Short(*start_s),
+                Short(*transition_s)
+            )
+        }
     }
 }
 
@@ -78,4 +88,20 @@ pub(super) fn joints_text(joints: &[usize]) -> String {
 /// `values` with three decimals, comma-separated.
 pub(super) fn list(values: &[f64]) -> String {
     values.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>().join(", ")
+}
+
+/// `mean ± half-width`; a single seed has no interval: `n/a`, not `± inf`.
+pub(super) fn interval(mean: f64, half_width: f64) -> String {
+    let half_width = if half_width.is_finite() { figure(half_width) } else { "n/a".into() };
+    format!("{} ± {half_width}", figure(mean))
+}
+
+/// A number with three decimals, or three significant digits in scientific notation outside
+/// `[0.01, 10⁴)`.
+pub(super) fn figure(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-2..1e4).contains(&x.abs()) {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.2e}")
+    }
 }

@@ -27,6 +27,7 @@ use sensors::Sensors;
 use task::Trajectory;
 use trace::{Recording, Tick, Trace, SHADOWS};
 
+pub mod cartesian;
 pub mod model;
 pub mod rollout;
 pub mod sensors;
@@ -256,6 +257,13 @@ fn run_loop<const N: usize>(
     let controller = ComputedTorque::new(nominal, gains)
         .with_torque_limit(joints.torque_limit)
         .map_err(|source| SimError::Setup { setting: "controller".into(), source })?;
+    // A task set in task space is the Cartesian impedance controller's instead.
+    let cartesian = match &joints.cartesian {
+        Some(setup) => {
+            cartesian::CartesianLaw::new((setup, &joints.task), nominal, &robot.model, (&q0, joints.torque_limit))?
+        }
+        None => None,
+    };
 
     // The delays: readings wait `measurement_delay_ticks` before the controller sees them, and
     // commands `command_delay_ticks` before the valves do (the actuators hold `G(q0)` until then).
@@ -312,8 +320,10 @@ fn run_loop<const N: usize>(
             (None, true) => Some(&d_hat),
             (None, false) => None,
         };
-        let command =
-            controller.command(&measurement.position, &velocity, &reference, compensation).map_err(at)?.torque;
+        let command = match &cartesian {
+            Some(law) => law.command(t, (&measurement.position, &velocity), compensation)?,
+            None => controller.command(&measurement.position, &velocity, &reference, compensation).map_err(at)?.torque,
+        };
         commands.push_back(command);
         applied = commands.pop_front().unwrap_or(command);
         let state = plant.state;

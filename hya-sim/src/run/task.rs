@@ -123,6 +123,18 @@ impl<const N: usize> Samples<N> {
     }
 }
 
+/// The minimum-jerk profile from 0 to 1 over `[start_s, start_s + transition_s]` and its first
+/// two time derivatives at `t`: `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵` on `τ = (t − start_s)/T ∈ [0, 1]`,
+/// constant outside.
+pub fn minimum_jerk(t: f64, start_s: f64, transition_s: f64) -> (f64, f64, f64) {
+    let tau = ((t - start_s) / transition_s).clamp(0.0, 1.0);
+    let inside = (0.0..1.0).contains(&tau) && t >= start_s;
+    let s = tau.powi(3) * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+    let ds = if inside { 30.0 * tau * tau * (1.0 - tau).powi(2) / transition_s } else { 0.0 };
+    let dds = if inside { 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / transition_s.powi(2) } else { 0.0 };
+    (s, ds, dds)
+}
+
 impl<const N: usize> Trajectory<N> {
     /// `Ok` unless the trajectory is sampled and leaves `model`'s joint limits
     /// ([`Samples::within_limits`]); the other shapes are checked with their scenario.
@@ -146,30 +158,16 @@ impl<const N: usize> Trajectory<N> {
     /// The reference at time `t`.
     pub fn at(&self, t: f64) -> Reference<N> {
         match self.shape {
-            Shape::Task(TaskSetup::Hold) => Reference::hold(self.start),
+            // A Cartesian task holds the joints' start pose: the posture's rest.
+            Shape::Task(TaskSetup::Hold | TaskSetup::Cartesian { .. }) => Reference::hold(self.start),
             Shape::Task(TaskSetup::Goto { start_s, transition_s, delta }) => {
-                // Minimum jerk: s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ on τ = (t − t0)/T ∈ [0, 1].
-                let tau = ((t - start_s) / transition_s).clamp(0.0, 1.0);
-                let inside = (0.0..1.0).contains(&tau) && t >= start_s;
-                let s = tau.powi(3) * (10.0 - 15.0 * tau + 6.0 * tau * tau);
-                let ds = if inside { 30.0 * tau * tau * (1.0 - tau).powi(2) / transition_s } else { 0.0 };
-                let dds =
-                    if inside { 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / transition_s.powi(2) } else { 0.0 };
+                let (s, ds, dds) = minimum_jerk(t, start_s, transition_s);
                 Reference { position: self.start + delta * s, velocity: delta * ds, acceleration: delta * dds }
             }
             Shape::Task(TaskSetup::Sine { amplitude, frequency_hz, ramp_s }) => {
                 // A(t) = A r(t) with the smooth ramp r = minimum jerk over [0, ramp_s].
                 let w = 2.0 * PI * frequency_hz;
-                let (r, dr, ddr) = if ramp_s > 0.0 && t < ramp_s {
-                    let u = (t / ramp_s).max(0.0);
-                    (
-                        u.powi(3) * (10.0 - 15.0 * u + 6.0 * u * u),
-                        30.0 * u * u * (1.0 - u).powi(2) / ramp_s,
-                        60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / ramp_s.powi(2),
-                    )
-                } else {
-                    (1.0, 0.0, 0.0)
-                };
+                let (r, dr, ddr) = if ramp_s > 0.0 { minimum_jerk(t, 0.0, ramp_s) } else { (1.0, 0.0, 0.0) };
                 let (s, c) = (w * t).sin_cos();
                 let position = r * s;
                 let velocity = dr * s + r * w * c;

@@ -4,6 +4,7 @@
 //! frequency responses, the runs behind the limit-cycle and gain-rule tables, and the open-loop
 //! arm's step responses and gap to MuJoCo. [`crate::report`] renders them; it runs none of these.
 
+pub mod cartesian;
 pub mod chen_designs;
 pub mod gain_rule;
 pub mod limit_cycles;

@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 mod arms;
+mod cartesian;
 mod claims;
 mod controller_model;
 mod experiments;

@@ -90,7 +90,7 @@ fn unphysical_values_are_refused_unless_allowed() {
         allowed.allow_unphysical = true;
         assert!(allowed.check().is_ok(), "{key} refused although allowed");
     }
-    for name in Scenario::builtin_names().chain(Scenario::arm_goto_names()) {
+    for name in Scenario::builtin_names().chain(Scenario::arm_goto_names()).chain(Scenario::task_space_names()) {
         assert!(!Scenario::builtin(name).unwrap().allow_unphysical, "{name} needs allow_unphysical");
     }
 }

@@ -1,0 +1,221 @@
+//! A task-space scenario's study: every method over seeds under the Cartesian impedance
+//! controller ([`crate::run::cartesian`]), measured where the task is set, at the controlled
+//! frame: the distance of its origin from the reference and the angle between its axes and the
+//! reference's, `‖p_des − p‖` and `‖log(R_des Rᵀ)‖`, from the plant's true joint angles.
+//!
+//! Per run, each over the ticks its trace keeps (every tick up to 30 s of control):
+//! - RMS after the metrics' warm-up;
+//! - the peak during the move and the half second after it (`[t_s, t_s + T + 0.5]`);
+//! - the mean over the run's final window ([`SETTLED_WINDOW_S`], or its last fifth): where the
+//!   arm holds the moved pose, under the payload if one rests there;
+//! - the mean over the hold before the move once a payload set down before it has rested
+//!   half a second (`None` without one).
+
+use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
+use crate::analysis::seeds::parallel_map;
+use crate::config::scenario::{Method, Scenario, Task};
+use crate::config::settings::JointSettings;
+use crate::error::SimError;
+use crate::robot::Robot;
+use crate::run::cartesian::CartesianLaw;
+use crate::run::trace::{Recording, Trace};
+use crate::run::RunSetup;
+
+/// The controlled frame's errors in one run (m and rad; see the module's notes).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ToolErrors {
+    /// RMS of `‖p_des − p‖` after the warm-up, m.
+    pub position_rms_m: f64,
+    /// Peak of `‖p_des − p‖` over the move and the half second after it, m.
+    pub position_peak_m: f64,
+    /// Mean of `‖p_des − p‖` over the final window, m.
+    pub position_final_m: f64,
+    /// Mean of `‖p_des − p‖` over the loaded hold before the move, m.
+    pub position_loaded_hold_m: Option<f64>,
+    /// RMS of the orientation error's angle after the warm-up, rad.
+    pub orientation_rms_rad: f64,
+    /// Its peak over the move and the half second after it, rad.
+    pub orientation_peak_rad: f64,
+    /// Its mean over the final window, rad.
+    pub orientation_final_rad: f64,
+}
+
+/// One run of the study.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CartesianRun {
+    /// Its method.
+    pub method: Method,
+    /// Its seed.
+    pub seed: u64,
+    /// The controlled frame's errors.
+    pub tool: ToolErrors,
+    /// `√(Σ_j RMSE(d̂_j − d_j)²)` after the warm-up, N·m (`None` without an estimate).
+    pub disturbance_error_nm: Option<f64>,
+    /// `√(Σ_j σ_j²)` of the joints' command noise (the RMS of the command's first difference
+    /// over √2), N·m.
+    pub command_noise_nm: f64,
+}
+
+/// The controlled frame's error over time in one run, for the figure and the CSV file.
+#[derive(Debug, Clone, Default)]
+pub struct ToolSeries {
+    /// Time, s.
+    pub time: Vec<f64>,
+    /// `(p_des − p, log(R_des Rᵀ))` in base axes, m and rad.
+    pub error: Vec<[f64; 6]>,
+    /// `‖p_des − p‖`, m.
+    pub position_m: Vec<f64>,
+    /// `‖log(R_des Rᵀ)‖`, rad.
+    pub orientation_rad: Vec<f64>,
+}
+
+/// What the study found.
+#[derive(Debug, Clone)]
+pub struct CartesianStudy {
+    /// The scenario, as run.
+    pub scenario: Scenario,
+    /// The controlled frame.
+    pub frame: String,
+    /// Seeds per method.
+    pub seeds: usize,
+    /// Every run, method by method, seed by seed.
+    pub runs: Vec<CartesianRun>,
+    /// The first seed's error norms per method, in the scenario's order.
+    pub first: Vec<(Method, ToolSeries)>,
+}
+
+impl CartesianStudy {
+    /// `method`'s runs, seed by seed.
+    pub fn of(&self, method: Method) -> impl Iterator<Item = &CartesianRun> {
+        self.runs.iter().filter(move |r| r.method == method)
+    }
+}
+
+/// Runs every method of `scenario` (a task-space one) over `seeds` seeds (the scenario's seed
+/// and the next ones) on every core; `progress` is told each finished run's simulated seconds.
+pub fn run<const N: usize>(
+    robot: &Robot<N>,
+    scenario: &Scenario,
+    seeds: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<CartesianStudy, SimError> {
+    if !scenario.task.is_cartesian() {
+        return Err(SimError::Scenario {
+            origin: scenario.name.clone(),
+            message: "its task is set in joint space: `hya run` reports it as the paper's experiments".into(),
+        });
+    }
+    let settings = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let Some(setup) = &settings.cartesian else { return Err(SimError::Nothing("no Cartesian controller")) };
+    let nominal = robot.nominal.as_ref();
+    let q0 = settings.initial_position;
+    let law = CartesianLaw::new((setup, &settings.task), nominal, &robot.model, (&q0, settings.torque_limit))?
+        .ok_or(SimError::Nothing("no Cartesian task"))?;
+    let setups =
+        scenario.methods.iter().map(|&method| RunSetup::new(scenario, method, robot)).collect::<Result<Vec<_>, _>>()?;
+    let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
+    let seed = |k: usize| scenario.seed.wrapping_add(k as u64);
+    let results: Vec<Result<_, SimError>> = parallel_map(&jobs, |&(m, k)| {
+        let method = scenario.methods[m];
+        let failed = |e: SimError| SimError::Run {
+            run: format!("{} / {} / seed {}", scenario.name, method.name(), seed(k)),
+            source: Box::new(e),
+        };
+        let run = setups[m].run(seed(k), Recording::Bounded).map_err(failed)?;
+        progress(scenario.duration_s);
+        let series = series(&law, &run.trace).map_err(failed)?;
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let record = CartesianRun {
+            method,
+            seed: seed(k),
+            tool: errors(&series, scenario),
+            disturbance_error_nm: run.metrics.rmse_d.as_deref().map(norm),
+            command_noise_nm: norm(&run.metrics.tau_cmd_noise),
+        };
+        Ok((record, (k == 0).then_some((method, series))))
+    });
+    let mut study = CartesianStudy {
+        scenario: scenario.clone(),
+        frame: law.frame().to_owned(),
+        seeds,
+        runs: vec![],
+        first: vec![],
+    };
+    for result in results {
+        let (run, first) = result?;
+        study.runs.push(run);
+        study.first.extend(first);
+    }
+    Ok(study)
+}
+
+/// The error norms of the ticks `trace` kept.
+fn series<const N: usize>(law: &CartesianLaw<'_, N>, trace: &Trace<N>) -> Result<ToolSeries, SimError> {
+    let mut series = ToolSeries::default();
+    for (&t, q) in trace.time.iter().zip(&trace.q) {
+        let error = law.pose_error(t, q)?;
+        series.time.push(t);
+        series.error.push(error.into());
+        series.position_m.push(error.fixed_rows::<3>(0).norm());
+        series.orientation_rad.push(error.fixed_rows::<3>(3).norm());
+    }
+    Ok(series)
+}
+
+/// The windows of the module's notes on `series`.
+fn errors(series: &ToolSeries, scenario: &Scenario) -> ToolErrors {
+    let end = series.time.last().copied().unwrap_or(0.0);
+    let (start_s, transition_s) = match scenario.task {
+        Task::Cartesian { start_s, transition_s, .. } => (start_s, transition_s),
+        _ => (end, 0.0),
+    };
+    let final_from = end - SETTLED_WINDOW_S.min(0.2 * end);
+    let loaded_from = scenario.loads.weight_drop.as_ref().map(|d| d.drop_s + 0.5).filter(|&from| from < start_s);
+    let window = |values: &[f64], from: f64, to: f64| -> Vec<f64> {
+        series.time.iter().zip(values).filter(|(t, _)| (from..=to).contains(*t)).map(|(_, v)| *v).collect()
+    };
+    let rms = |v: Vec<f64>| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let peak = |v: Vec<f64>| v.into_iter().fold(0.0, f64::max);
+    let move_end = start_s + transition_s + 0.5;
+    let (p, r) = (&series.position_m, &series.orientation_rad);
+    ToolErrors {
+        position_rms_m: rms(window(p, WARM_UP_S, end)),
+        position_peak_m: peak(window(p, start_s, move_end)),
+        position_final_m: mean(window(p, final_from, end)),
+        position_loaded_hold_m: loaded_from.map(|from| mean(window(p, from, start_s))),
+        orientation_rms_rad: rms(window(r, WARM_UP_S, end)),
+        orientation_peak_rad: peak(window(r, start_s, move_end)),
+        orientation_final_rad: mean(window(r, final_from, end)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_windows_take_what_the_notes_say() {
+        // 0.1 s ticks over 10 s; the position error is t itself, the orientation error 1.
+        let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.1).collect();
+        let series =
+            ToolSeries { position_m: time.clone(), orientation_rad: vec![1.0; time.len()], time, error: vec![] };
+        let mut scenario = Scenario::builtin("panda_cartesian").unwrap();
+        scenario.task =
+            Task::Cartesian { start_s: 5.0, transition_s: 1.0, offset_m: vec![0.0; 3], rotation_rad: vec![0.0; 3] };
+        scenario.loads.weight_drop.as_mut().unwrap().drop_s = 1.5;
+        let e = errors(&series, &scenario);
+        // The move's window ends at 6.5 s; the final window is the last fifth, [8, 10].
+        assert!((e.position_peak_m - 6.5).abs() < 1e-9, "{e:?}");
+        assert!((e.position_final_m - 9.0).abs() < 1e-9, "{e:?}");
+        // The loaded hold: [2, 5], mean 3.5.
+        assert!((e.position_loaded_hold_m.unwrap() - 3.5).abs() < 1e-9, "{e:?}");
+        assert!((e.orientation_rms_rad - 1.0).abs() < 1e-12 && (e.orientation_final_rad - 1.0).abs() < 1e-12);
+        // RMS of t over [0.5, 10] on the 0.1 s grid.
+        let kept: Vec<f64> = (5..=100).map(|k| k as f64 * 0.1).collect();
+        let rms = (kept.iter().map(|t| t * t).sum::<f64>() / kept.len() as f64).sqrt();
+        assert!((e.position_rms_m - rms).abs() < 1e-9);
+        scenario.loads.weight_drop = None;
+        assert_eq!(errors(&series, &scenario).position_loaded_hold_m, None);
+    }
+}

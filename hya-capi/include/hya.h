@@ -80,6 +80,10 @@ typedef enum {
   HYA_PD_INSIDE_MASS_MATRIX = 1,
 } HyaPdPlacement;
 
+// A Cartesian impedance controller (opaque). Made by `hya_cartesian_new`, freed by
+// `hya_cartesian_free`.
+typedef struct HyaCartesian HyaCartesian;
+
 // A computed-torque controller (opaque). Made by `hya_controller_new`, freed by
 // `hya_controller_free`.
 typedef struct HyaController HyaController;
@@ -99,6 +103,62 @@ typedef struct HyaObserver HyaObserver;
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Makes a Cartesian impedance controller on `model`'s dynamics holding frame `frame` (any link
+// of the description; null: the last link) with the spring `stiffness` (6 doubles: N/m for x,
+// y, z, then N·m/rad) and damper `damping` (6: N·s/m, then N·m·s/rad), each finite and
+// non-negative. Unless `posture_rest` is null, the joints are held near it (rad) in the task's
+// null space by `posture_stiffness` (N·m/rad) and `posture_damping` (N·m·s/rad), `n` = dof
+// each; `mu` (m, finite, ≥ 0; 1e-3 is a fair default) damps the null-space projector near
+// singular poses. A frame the model does not have is `HYA_ERR_INVALID`, the message listing its
+// frames. On `HYA_OK`, `*out` is a new handle for `hya_cartesian_free`; otherwise null, and
+// `hya_last_error` says why.
+//
+// # Safety
+// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `stiffness`
+// and `damping` are null or hold 6 doubles; the posture arrays are null or hold `n` doubles;
+// `out` is null or writable.
+HyaStatus hya_cartesian_new(const HyaModel *model,
+                            const char *frame,
+                            const double *stiffness,
+                            const double *damping,
+                            const double *posture_rest,
+                            const double *posture_stiffness,
+                            const double *posture_damping,
+                            size_t n,
+                            double mu,
+                            HyaCartesian **out);
+
+// The commanded torque `tau` (`n` = dof) at the measured `(q, qd)` for the frame's desired
+// position `position_des` (3 doubles, m), orientation `orientation_des` (9 doubles: the 3 × 3
+// rotation row-major, whose columns are the frame's desired axes in the base's) and twist
+// `twist_des` (6 doubles: m/s, then rad/s; null: at rest) and, unless `d_hat` is null, the
+// compensation `− d̂`. An orientation that is not a rotation is `HYA_ERR_INVALID`.
+//
+// # Safety
+// `controller` is null or a live handle; `q`, `qd`, `d_hat` are null or hold `n` doubles, the
+// reference arrays 3, 9 and 6; `tau` aliases no input.
+HyaStatus hya_cartesian_command(HyaCartesian *controller,
+                                const double *q,
+                                const double *qd,
+                                const double *position_des,
+                                const double *orientation_des,
+                                const double *twist_des,
+                                const double *d_hat,
+                                size_t n,
+                                double *tau);
+
+// The message of the controller's last failed call (empty if none); owned by the controller.
+//
+// # Safety
+// `controller` is null or a live handle.
+const char *hya_cartesian_error(const HyaCartesian *controller);
+
+// Frees a Cartesian controller (null is a no-op).
+//
+// # Safety
+// `controller` is null or a handle from `hya_cartesian_new`, not used afterwards.
+void hya_cartesian_free(HyaCartesian *controller);
 
 // Makes a controller on `model`'s dynamics with diagonal gains `kp`, `kd` (`n` = dof each,
 // finite and non-negative) and the PD placement `placement` (an `HyaPdPlacement` value; any

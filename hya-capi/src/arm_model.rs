@@ -7,12 +7,12 @@ use std::sync::Arc;
 
 use hya_core::control::PdPlacement;
 use hya_core::dispatch::{with_joints, ForJoints};
-use hya_core::erased::{Boxed, SliceController, SliceObserver};
+use hya_core::erased::{Boxed, SliceCartesian, SliceController, SliceObserver};
 use hya_core::model::TreeModel;
 use hya_core::observers::{ExtendedStateObserver, MomentumObserver, NonlinearDisturbanceObserver};
 use hya_core::{
-    ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, Gains, JointVector, OnSlicesN, SliceDynamics,
-    TimedEstimator,
+    CartesianImpedance, ComputedTorque, DisturbanceEstimator, Dynamics, Error, FilterParams, FrameImpedance, Gains,
+    Impedance, JointVector, OnSlicesN, SliceDynamics, TimedEstimator, TreeFrame,
 };
 use hya_ident::{JointFriction, WithFriction};
 use hya_robots::{with_arm, Arm, ForArm};
@@ -56,9 +56,26 @@ pub(crate) trait ArmModel: Send {
     fn observer(&self, spec: ObserverSpec<'_>) -> Result<Box<dyn SliceObserver>, Error>;
     /// A computed-torque controller with diagonal gains.
     fn controller(&self, kp: &[f64], kd: &[f64], placement: PdPlacement) -> Result<Box<dyn SliceController>, Error>;
+    /// The Cartesian impedance controller on `tree`'s frame `frame` (its last link when `None`).
+    fn cartesian(
+        &self,
+        tree: &TreeModel,
+        frame: Option<&str>,
+        gains: CartesianGains<'_>,
+    ) -> Result<Box<dyn SliceCartesian>, Failure>;
     /// This model with the identified joint law added (`hya_ident::WithFriction`), the friction
     /// checked for this model's joints by its reader.
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel>;
+}
+
+/// The Cartesian impedance controller's gains: the spring and damper at the frame (6 values
+/// each), the posture's rest, spring and damper per joint (slices of the model's length; rest
+/// zeros and no posture term when absent), and the projector's damping `μ`.
+pub(crate) struct CartesianGains<'a> {
+    pub(crate) stiffness: &'a [f64],
+    pub(crate) damping: &'a [f64],
+    pub(crate) posture: Option<[&'a [f64]; 3]>,
+    pub(crate) regularisation: f64,
 }
 
 /// Which baseline observer to make, with its parameters (slices of the model's length).
@@ -140,6 +157,22 @@ impl<const N: usize> ArmModel for Fixed<N> {
         gains[1].copy_from_slice(kd);
         let gains = Gains::diagonal(gains[0], gains[1])?;
         Ok(Box::new(ComputedTorque::new(self.dynamics.clone(), gains).with_placement(placement)))
+    }
+    fn cartesian(
+        &self,
+        tree: &TreeModel,
+        frame: Option<&str>,
+        gains: CartesianGains<'_>,
+    ) -> Result<Box<dyn SliceCartesian>, Failure> {
+        let six = |x: &[f64]| -> [f64; 6] { core::array::from_fn(|i| x[i]) };
+        let joints = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
+        let mut impedance =
+            Impedance::<N>::new(six(gains.stiffness), six(gains.damping))?.with_regularisation(gains.regularisation)?;
+        if let Some([rest, stiffness, damping]) = gains.posture {
+            impedance = impedance.with_posture(joints(rest), joints(stiffness), joints(damping))?;
+        }
+        let frame = TreeFrame::<N>::new(tree.clone(), frame).map_err(Failure::Model)?;
+        Ok(Box::new(FrameImpedance::new(CartesianImpedance::new(self.dynamics.clone(), impedance), frame)))
     }
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel> {
         Box::new(Fixed::<N> { dynamics: Arc::new(WithFriction::new(self.dynamics.clone(), friction)) })

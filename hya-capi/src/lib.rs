@@ -10,6 +10,7 @@
 //! - The observers it is compared against ([`hya_observer_new_nonlinear`],
 //!   [`hya_observer_new_momentum`], [`hya_observer_new_extended_state`]).
 //! - Computed-torque control ([`hya_controller_new`], [`hya_controller_command`]).
+//! - Cartesian impedance control on a frame ([`hya_cartesian_new`], [`hya_cartesian_command`]).
 //!
 //! The joint count is known only at run time: each creation dispatches once to the
 //! const-generic code for that count and keeps it as a boxed trait object, so calls after
@@ -19,6 +20,7 @@
 //! errors.
 
 mod arm_model;
+mod cartesian;
 mod controller;
 mod estimator;
 mod model;
@@ -26,6 +28,7 @@ mod observer;
 mod slices;
 mod status;
 
+pub use cartesian::*;
 pub use controller::*;
 pub use estimator::*;
 pub use model::*;

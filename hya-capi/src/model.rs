@@ -13,7 +13,7 @@ use hya_core::model::TreeModel;
 pub struct HyaModel {
     pub(crate) arm: Box<dyn ArmModel>,
     /// The run-time kinematic tree, for frame kinematics (a shipped arm's too).
-    tree: TreeModel,
+    pub(crate) tree: TreeModel,
     message: Message,
 }
 
@@ -51,7 +51,16 @@ pub(crate) unsafe fn text<'a>(name: &'static str, ptr: *const c_char) -> Result<
 /// `model` is null or a live handle from this library.
 pub(crate) unsafe fn borrow<'a>(model: *const HyaModel) -> Result<&'a dyn ArmModel, Failure> {
     // SAFETY: the caller's contract.
-    unsafe { borrow_live("model", model) }.map(|m| &*m.arm)
+    unsafe { borrow_model(model) }.map(|m| &*m.arm)
+}
+
+/// The whole model behind a creation call's `model` argument (its kinematic tree too).
+///
+/// # Safety
+/// `model` is null or a live handle from this library.
+pub(crate) unsafe fn borrow_model<'a>(model: *const HyaModel) -> Result<&'a HyaModel, Failure> {
+    // SAFETY: the caller's contract.
+    unsafe { borrow_live("model", model) }
 }
 
 /// Makes a model of the shipped arm called `name` (`"hya"`, `"ur5"`, `"panda"`, `"iiwa14"`,

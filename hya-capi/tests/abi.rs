@@ -441,3 +441,121 @@ fn frame_kinematics_equal_the_rust_api() {
         unsafe { hya_model_free(model) };
     }
 }
+
+/// The Cartesian impedance controller through the ABI equals `hya_core::CartesianImpedance` on
+/// the run-time tree's frame kinematics, on the Panda's flange and on one of its middle links,
+/// with and without posture, twist and `d̂`; a frame the model lacks and an orientation that is
+/// not a rotation are refused by name.
+#[test]
+fn the_cartesian_controller_equals_the_rust_api() {
+    use hya_core::{CartesianImpedance, CartesianReference, FrameState, Impedance};
+    const N: usize = 7;
+    let tree = hya_urdf::load_str(hya_robots::panda::URDF, "panda").unwrap().model;
+    let mut model = null_mut();
+    // SAFETY: a NUL-terminated name and a writable output.
+    unsafe { ok(hya_model_from_arm(c"panda".as_ptr(), &mut model), last_error) };
+    let (stiffness, damping) = ([1500.0, 500.0, 600.0, 8.0, 23.0, 0.7], [200.0, 70.0, 80.0, 1.0, 3.0, 0.1]);
+    let rest = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
+    let (kn, dn) = ([5.0; N], [2.0; N]);
+    let mut seq = Sequence(7);
+    for (frame, posture) in [("panda_link8", true), ("panda_link5", false)] {
+        let c_frame = CString::new(frame).unwrap();
+        let mut controller = null_mut();
+        let (rest_ptr, kn_ptr, dn_ptr) =
+            if posture { (rest.as_ptr(), kn.as_ptr(), dn.as_ptr()) } else { (null(), null(), null()) };
+        // SAFETY: a live model, a NUL-terminated frame, arrays of 6 and N doubles or null.
+        unsafe {
+            let status = hya_cartesian_new(
+                model,
+                c_frame.as_ptr(),
+                stiffness.as_ptr(),
+                damping.as_ptr(),
+                rest_ptr,
+                kn_ptr,
+                dn_ptr,
+                N,
+                1e-3,
+                &mut controller,
+            );
+            ok(status, last_error);
+        }
+        let mut gains = Impedance::<N>::new(stiffness, damping).unwrap();
+        if posture {
+            gains = gains.with_posture(rest, kn, dn).unwrap();
+        }
+        let rust = CartesianImpedance::new(hya_robots::Panda, gains);
+        for step in 0..20 {
+            let q = JointVector::<N>::from(rest) + seq.vector::<N>(0.3);
+            let qd = seq.vector::<N>(1.0);
+            let d_hat = seq.vector::<N>(2.0);
+            let at = FrameState::of_tree(&tree, frame, &seq.vector::<N>(0.3)).unwrap();
+            let twist = hya_core::cartesian::Vector6::from_fn(|_, _| 0.1 * seq.next());
+            let reference = CartesianReference { position: at.position, orientation: at.orientation, twist };
+            let (given_twist, given_d_hat) = (step % 2 == 0, step % 3 == 0);
+            let mut tau = [0.0; N];
+            let orientation: Vec<f64> = reference.orientation.transpose().as_slice().to_vec(); // row-major
+                                                                                               // SAFETY: a live controller, arrays of the lengths passed or null.
+            unsafe {
+                let status = hya_cartesian_command(
+                    controller,
+                    q.as_ptr(),
+                    qd.as_ptr(),
+                    reference.position.as_ptr(),
+                    orientation.as_ptr(),
+                    if given_twist { twist.as_ptr() } else { null() },
+                    if given_d_hat { d_hat.as_ptr() } else { null() },
+                    N,
+                    tau.as_mut_ptr(),
+                );
+                ok(status, || text(hya_cartesian_error(controller)));
+            }
+            let reference =
+                CartesianReference { twist: if given_twist { twist } else { Default::default() }, ..reference };
+            let frame_now = FrameState::of_tree(&tree, frame, &q).unwrap();
+            let expected = rust.command(&q, &qd, &frame_now, &reference, given_d_hat.then_some(&d_hat)).unwrap();
+            assert_close(frame, &tau, expected.torque.as_slice());
+        }
+        // Not a rotation: refused, named.
+        let skewed = [1.0, 0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let mut tau = [0.0; N];
+        // SAFETY: a live controller, arrays of the lengths passed.
+        unsafe {
+            let status = hya_cartesian_command(
+                controller,
+                rest.as_ptr(),
+                kn.as_ptr(),
+                [0.3, 0.0, 0.5].as_ptr(),
+                skewed.as_ptr(),
+                null(),
+                null(),
+                N,
+                tau.as_mut_ptr(),
+            );
+            assert_eq!(status, HyaStatus::HyaErrInvalid);
+            assert!(text(hya_cartesian_error(controller)).contains("orientation_des"));
+            hya_cartesian_free(controller);
+        }
+    }
+    // A frame the Panda does not have: refused, its frames listed.
+    let mut controller = null_mut();
+    // SAFETY: a live model, a NUL-terminated frame, arrays of 6 doubles, a writable output.
+    unsafe {
+        let status = hya_cartesian_new(
+            model,
+            c"panda_hand".as_ptr(),
+            stiffness.as_ptr(),
+            damping.as_ptr(),
+            null(),
+            null(),
+            null(),
+            N,
+            1e-3,
+            &mut controller,
+        );
+        assert_eq!(status, HyaStatus::HyaErrInvalid);
+        assert!(controller.is_null());
+        let message = last_error();
+        assert!(message.contains("panda_hand") && message.contains("panda_link8"), "{message}");
+        hya_model_free(model);
+    }
+}

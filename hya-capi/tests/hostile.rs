@@ -321,6 +321,77 @@ fn bad_controllers_and_observers_are_refused() {
 }
 
 #[test]
+fn bad_cartesian_controllers_and_commands_are_refused() {
+    let model = planar2();
+    let (stiffness, damping, negative) = ([100.0; 6], [10.0; 6], [10.0, 10.0, 10.0, -1.0, 10.0, 10.0]);
+    let (zero, nan) = ([0.0; 2], [0.0, f64::NAN]);
+    let identity = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let mirrored = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0];
+    let mut controller = null_mut();
+    let mut tau = [0.0; 2];
+    let (s, d, p) = (stiffness.as_ptr(), damping.as_ptr(), zero.as_ptr());
+    // SAFETY: a live model, arrays of the lengths passed or null, writable outputs.
+    unsafe {
+        let status =
+            hya_cartesian_new(model, null(), s, negative.as_ptr(), null(), null(), null(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["damping", "-1"]);
+        let status = hya_cartesian_new(model, null(), null(), d, null(), null(), null(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["stiffness"]);
+        let status = hya_cartesian_new(model, null(), s, d, p, null(), p, 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["posture_stiffness"]);
+        let status = hya_cartesian_new(model, null(), s, d, p, p, p, 1, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrLength, &text(hya_last_error()), &["posture_rest"]);
+        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), 2, f64::NAN, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["mu"]);
+        let status =
+            hya_cartesian_new(model, c"nowhere".as_ptr(), s, d, null(), null(), null(), 2, 0.0, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["nowhere"]);
+        assert!(controller.is_null());
+        // The last link by default.
+        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), 2, 1e-3, &mut controller);
+        assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_last_error()));
+        let position = [0.5, 0.0, 0.0];
+        let command = |q: &[f64; 2], orientation: &[f64; 9], d_hat: *const f64, tau: &mut [f64; 2]| {
+            hya_cartesian_command(
+                controller,
+                q.as_ptr(),
+                p,
+                position.as_ptr(),
+                orientation.as_ptr(),
+                null(),
+                d_hat,
+                2,
+                tau.as_mut_ptr(),
+            )
+        };
+        refused(
+            command(&nan, &identity, null(), &mut tau),
+            HyaStatus::HyaErrNonFinite,
+            &text(hya_cartesian_error(controller)),
+            &["q[1]"],
+        );
+        refused(
+            command(&zero, &mirrored, null(), &mut tau),
+            HyaStatus::HyaErrInvalid,
+            &text(hya_cartesian_error(controller)),
+            &["orientation_des", "determinant"],
+        );
+        refused(
+            command(&zero, &identity, nan.as_ptr(), &mut tau),
+            HyaStatus::HyaErrNonFinite,
+            &text(hya_cartesian_error(controller)),
+            &["d_hat[1]"],
+        );
+        let status =
+            hya_cartesian_command(controller, p, p, null(), identity.as_ptr(), null(), null(), 2, tau.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &text(hya_cartesian_error(controller)), &["position_des"]);
+        assert_eq!(command(&zero, &identity, null(), &mut tau), HyaStatus::HyaOk);
+        hya_cartesian_free(controller);
+        hya_model_free(model);
+    }
+}
+
+#[test]
 fn results_that_overflow_are_refused_not_returned() {
     // q̇ = 1e160 squares past the largest double: the CLI refused it, the C ABI returned HYA_OK
     // with NaN torques.

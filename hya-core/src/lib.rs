@@ -85,6 +85,8 @@ pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 
 pub use attenuation::DisturbanceAttenuation;
 pub use cartesian::{CartesianImpedance, CartesianReference, FrameState, Impedance};
+#[cfg(feature = "alloc")]
+pub use cartesian::{FrameImpedance, TreeFrame};
 pub use control::{ComputedTorque, Gains, PdPlacement, Reference};
 pub use display::{closest, Clipped, Short};
 pub use dynamics::{Dynamics, JointMatrix, JointVector, OnSlicesN, SliceDynamics, STANDARD_GRAVITY};

@@ -8,10 +8,11 @@ use std::f64::consts::FRAC_PI_4;
 use std::ptr::{null, null_mut};
 
 use hya_capi::{
-    hya_controller_command, hya_controller_free, hya_controller_new, hya_estimator_free, hya_estimator_new,
-    hya_estimator_new_timed, hya_estimator_update, hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics,
-    hya_model_free, hya_model_from_arm, hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix,
-    hya_observer_free, hya_observer_new_extended_state, hya_observer_update, HyaStatus,
+    hya_cartesian_command, hya_cartesian_free, hya_cartesian_new, hya_controller_command, hya_controller_free,
+    hya_controller_new, hya_estimator_free, hya_estimator_new, hya_estimator_new_timed, hya_estimator_update,
+    hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics, hya_model_free, hya_model_from_arm,
+    hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix, hya_observer_free,
+    hya_observer_new_extended_state, hya_observer_update, HyaStatus,
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
@@ -290,8 +291,66 @@ fn c_abi_calls_after_creation_do_not_allocate() {
         }
     });
     assert_eq!(count, 0, "calls through the ABI allocated {count} times");
+    // The Cartesian controller on a frame of the run-time tree: its kinematics into the buffers
+    // made at creation, and its refusals, without the heap.
+    let mut cartesian = null_mut();
+    let (stiffness, damping) = ([500.0; 6], [50.0; 6]);
+    // SAFETY: a live model, a NUL-terminated frame, arrays of 6 doubles, a writable output.
+    unsafe {
+        let status = hya_cartesian_new(
+            model,
+            c"ee".as_ptr(),
+            stiffness.as_ptr(),
+            damping.as_ptr(),
+            null(),
+            null(),
+            null(),
+            N,
+            1e-3,
+            &mut cartesian,
+        );
+        assert_eq!(status, HyaStatus::HyaOk, "{:?}", std::ffi::CStr::from_ptr(hya_last_error()));
+    }
+    let identity = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let skewed = [1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let count = allocations_during(|| {
+        let (mut q, zero, mut tau) = (q0, [0.0; N], [0.0; N]);
+        // SAFETY: a live handle, arrays of the lengths passed, or a skewed orientation it refuses.
+        unsafe {
+            for k in 0..500 {
+                q[1] = 0.2 + 0.1 * (k as f64 * 1e-3).sin();
+                let position = [0.3, 0.1, 0.4];
+                let status = hya_cartesian_command(
+                    cartesian,
+                    q.as_ptr(),
+                    zero.as_ptr(),
+                    position.as_ptr(),
+                    identity.as_ptr(),
+                    null(),
+                    zero.as_ptr(),
+                    N,
+                    tau.as_mut_ptr(),
+                );
+                assert_eq!(status, HyaStatus::HyaOk);
+                let status = hya_cartesian_command(
+                    cartesian,
+                    q.as_ptr(),
+                    zero.as_ptr(),
+                    position.as_ptr(),
+                    skewed.as_ptr(),
+                    null(),
+                    null(),
+                    N,
+                    tau.as_mut_ptr(),
+                );
+                assert_eq!(status, HyaStatus::HyaErrInvalid);
+            }
+        }
+    });
+    assert_eq!(count, 0, "the Cartesian controller through the ABI allocated {count} times");
     // SAFETY: live handles, each freed once.
     unsafe {
+        hya_cartesian_free(cartesian);
         hya_controller_free(controller);
         hya_observer_free(observer);
         hya_estimator_free(estimator);

@@ -76,6 +76,93 @@ impl<const N: usize> FrameState<N> {
     }
 }
 
+/// A named frame of a run-time model whose kinematics ([`FrameState`]) are computed into
+/// workspaces sized once here: after [`TreeFrame::new`], [`TreeFrame::state`] does not allocate,
+/// so a controller on any URDF can run in a real-time loop.
+#[cfg(feature = "alloc")]
+#[derive(Debug, Clone)]
+pub struct TreeFrame<const N: usize> {
+    model: crate::model::TreeModel,
+    frame: crate::model::Frame,
+    bodies: alloc::vec::Vec<crate::model::BodyState>,
+    placements: alloc::vec::Vec<crate::spatial::Transform>,
+    jacobian: alloc::vec::Vec<f64>,
+}
+
+#[cfg(feature = "alloc")]
+impl<const N: usize> TreeFrame<N> {
+    /// The frame called `frame` of `model` (its last link when `None`); a frame the model does
+    /// not have (the error lists its frames), or a model without `N` joints, is refused.
+    pub fn new(model: crate::model::TreeModel, frame: Option<&str>) -> Result<Self, crate::model::ModelError> {
+        use crate::model::ModelError;
+        if model.dof() != N {
+            return Err(ModelError::Dimension { what: "joints", expected: N, got: model.dof() });
+        }
+        let frame = match frame {
+            Some(name) => model.frame(name)?.clone(),
+            None => model.tip_frame().cloned().ok_or(ModelError::Dimension { what: "frames", expected: 1, got: 0 })?,
+        };
+        Ok(Self {
+            bodies: alloc::vec![crate::model::BodyState::new(); N],
+            placements: alloc::vec![crate::spatial::Transform::identity(); N],
+            jacobian: alloc::vec![0.0; 6 * N],
+            model,
+            frame,
+        })
+    }
+
+    /// The frame's name.
+    pub fn name(&self) -> &str {
+        &self.frame.name
+    }
+
+    /// The frame at `q` (finite: the caller's check), without allocating.
+    pub fn state(&mut self, q: &JointVector<N>) -> FrameState<N> {
+        use crate::model::{algorithms, kinematics};
+        // The workspaces have the model's lengths, fixed at construction: neither call can fail.
+        let placed = algorithms::body_placements(&self.model, q.as_slice(), &mut self.bodies, &mut self.placements);
+        let jacobian = kinematics::frame_jacobian(&self.model, &self.frame, &self.placements, &mut self.jacobian);
+        debug_assert!(placed.is_ok() && jacobian.is_ok());
+        let pose = kinematics::frame_placement(&self.frame, &self.placements);
+        FrameState::from_pose(&pose, SMatrix::<f64, 6, N>::from_row_slice(&self.jacobian))
+    }
+}
+
+/// The Cartesian impedance controller on a run-time model's frame ([`TreeFrame`]): the frame's
+/// kinematics and the law in one call, without allocating after construction.
+#[cfg(feature = "alloc")]
+#[derive(Debug, Clone)]
+pub struct FrameImpedance<const N: usize, D> {
+    controller: CartesianImpedance<N, D>,
+    frame: TreeFrame<N>,
+}
+
+#[cfg(feature = "alloc")]
+impl<const N: usize, D: Dynamics<N>> FrameImpedance<N, D> {
+    /// `controller` holding `frame`.
+    pub fn new(controller: CartesianImpedance<N, D>, frame: TreeFrame<N>) -> Self {
+        Self { controller, frame }
+    }
+
+    /// The controlled frame's name.
+    pub fn frame_name(&self) -> &str {
+        self.frame.name()
+    }
+
+    /// [`CartesianImpedance::command`] with the frame's kinematics at the measured `q`.
+    pub fn command(
+        &mut self,
+        q: &JointVector<N>,
+        qd: &JointVector<N>,
+        reference: &CartesianReference,
+        disturbance_estimate: Option<&JointVector<N>>,
+    ) -> Result<Command<N>, Error> {
+        check("q", q)?;
+        let frame = self.frame.state(q);
+        self.controller.command(q, qd, &frame, reference, disturbance_estimate)
+    }
+}
+
 /// The desired pose and twist of the frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CartesianReference {

@@ -53,6 +53,66 @@ pub trait SliceController: Send + Sync {
     ) -> Result<(), Error>;
 }
 
+/// The Cartesian impedance law on a model's frame ([`crate::FrameImpedance`]) on slices.
+pub trait SliceCartesian: Send {
+    /// The joint count, the length of every joint slice.
+    fn dof(&self) -> usize;
+    /// The controlled frame's name.
+    fn frame(&self) -> &str;
+    /// Writes the commanded torque for the measured `[q, q̇]`, the frame's desired `[p_des
+    /// (3 values, m), R_des (9, row-major: the frame's desired axes are its columns), ẋ_des (6:
+    /// m/s, then rad/s)]` in the base's axes and, if given, `d̂`.
+    fn command(
+        &mut self,
+        state: [&[f64]; 2],
+        reference: [&[f64]; 3],
+        d_hat: Option<&[f64]>,
+        tau: &mut [f64],
+    ) -> Result<(), Error>;
+}
+
+#[cfg(feature = "alloc")]
+impl<const N: usize, D: Dynamics<N> + Send> SliceCartesian for crate::FrameImpedance<N, D> {
+    fn dof(&self) -> usize {
+        N
+    }
+    fn frame(&self) -> &str {
+        self.frame_name()
+    }
+    fn command(
+        &mut self,
+        [q, qd]: [&[f64]; 2],
+        [position, orientation, twist]: [&[f64]; 3],
+        d_hat: Option<&[f64]>,
+        tau: &mut [f64],
+    ) -> Result<(), Error> {
+        let reference = crate::CartesianReference {
+            position: sized::<3>("position_des", position, "3 values: x, y, z in the base, m")?,
+            orientation: crate::cartesian::Matrix3::from_row_slice(
+                sized::<9>("orientation_des", orientation, "9 values: the 3 × 3 rotation, row-major")?.as_slice(),
+            ),
+            twist: sized::<6>("twist_des", twist, "6 values: m/s, then rad/s, in the base")?,
+        };
+        let d_hat = d_hat.map(|d| joints("d_hat", d)).transpose()?;
+        joints::<N>("tau", tau)?;
+        let command =
+            crate::FrameImpedance::command(self, &joints("q", q)?, &joints("qd", qd)?, &reference, d_hat.as_ref())?;
+        write("tau", &command.torque, tau)
+    }
+}
+
+/// `values` as a vector of `K`, if it holds that many (`what` says what they are).
+fn sized<const K: usize>(
+    name: &'static str,
+    values: &[f64],
+    requirement: &'static str,
+) -> Result<nalgebra::SVector<f64, K>, Error> {
+    if values.len() != K {
+        return Err(Error::InvalidParameter { name, value: values.len() as f64, requirement });
+    }
+    Ok(nalgebra::SVector::from_column_slice(values))
+}
+
 /// `values` as a joint vector, if it holds `N` of them.
 fn joints<const N: usize>(signal: &'static str, values: &[f64]) -> Result<JointVector<N>, Error> {
     if values.len() != N {

@@ -1,8 +1,14 @@
-//! The computed-torque controller with disturbance compensation.
+//! The computed-torque controller and the Cartesian impedance controller, both with disturbance
+//! compensation.
+
+use std::sync::{Mutex, PoisonError};
 
 use hya_core::dispatch::ForJoints;
-use hya_core::erased::SliceController;
-use hya_core::{ComputedTorque as CoreComputedTorque, Gains, JointVector};
+use hya_core::erased::{SliceCartesian, SliceController};
+use hya_core::{
+    CartesianImpedance as CoreCartesianImpedance, ComputedTorque as CoreComputedTorque, FrameImpedance, Gains,
+    Impedance, JointVector, TreeFrame,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -93,6 +99,144 @@ impl ComputedTorque {
         }
         let mut tau = vec![0.0; n];
         self.inner.command([&q, &qd], [&q_des, &qd_des, &qdd_des], d_hat.as_deref(), &mut tau).map_err(value_error)?;
+        Ok(tau)
+    }
+}
+
+struct BuildCartesian<'a> {
+    model: &'a Model,
+    frame: Option<&'a str>,
+    gains: [&'a [f64]; 2],
+    posture: Option<[&'a [f64]; 3]>,
+    regularisation: f64,
+    limit: Option<&'a [f64]>,
+}
+
+impl ForJoints for BuildCartesian<'_> {
+    type Output = PyResult<Box<dyn SliceCartesian>>;
+    fn call<const N: usize>(self) -> Self::Output {
+        let setup = |e: hya_core::Error| PyValueError::new_err(format!("CartesianImpedance: {e}"));
+        let six = |x: &[f64]| -> [f64; 6] { core::array::from_fn(|i| x[i]) };
+        let joints = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
+        let [stiffness, damping] = self.gains;
+        let mut gains = Impedance::<N>::new(six(stiffness), six(damping))
+            .and_then(|g| g.with_regularisation(self.regularisation))
+            .map_err(setup)?;
+        if let Some([rest, k, d]) = self.posture {
+            gains = gains.with_posture(joints(rest), joints(k), joints(d)).map_err(setup)?;
+        }
+        let mut controller = CoreCartesianImpedance::new(self.model.nominal::<N>()?, gains);
+        if let Some(limit) = self.limit {
+            controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
+        }
+        let frame = TreeFrame::<N>::new(self.model.tree().clone(), self.frame)
+            .map_err(|e| PyValueError::new_err(format!("CartesianImpedance: {e}")))?;
+        Ok(Box::new(FrameImpedance::new(controller, frame)))
+    }
+}
+
+/// Cartesian impedance control of one frame of the arm with the paper's compensation:
+///
+///     τ = Jᵀ (K_x e − D_x (J q̇ − ẋ_des)) + C(q, q̇) + G(q) − d̂ + P (−K_n (q − q_rest) − D_n q̇)
+///     e = (p_des − p, log(R_des Rᵀ)),   P = I − Jᵀ (J Jᵀ + μ² I)⁻¹ J
+///
+/// stiffness K_x and damping D_x: 6 values each (N/m, N·s/m for x, y, z in the base; then
+/// N·m/rad, N·m·s/rad), non-negative; frame: any link of the description (default: the last);
+/// posture_rest with posture_stiffness and posture_damping (per joint) hold the joints near a pose
+/// in the task's null space; mu (m) damps the projector near singular poses; torque_limit
+/// (N·m per joint) saturates the command. Poses, twists and Jacobians are in the base's axes,
+/// linear parts first (Pinocchio's LOCAL_WORLD_ALIGNED). A command does not allocate.
+#[pyclass(module = "hya")]
+pub struct CartesianImpedance {
+    dof: usize,
+    /// Its frame's kinematics are computed into buffers it holds: one call at a time.
+    inner: Mutex<Box<dyn SliceCartesian>>,
+}
+
+#[pymethods]
+impl CartesianImpedance {
+    #[new]
+    #[pyo3(signature = (model, stiffness, damping, frame=None, posture_rest=None, posture_stiffness=None,
+        posture_damping=None, mu=1e-3, torque_limit=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: &Model,
+        stiffness: Vec<f64>,
+        damping: Vec<f64>,
+        frame: Option<String>,
+        posture_rest: Option<Vec<f64>>,
+        posture_stiffness: Option<Vec<f64>>,
+        posture_damping: Option<Vec<f64>>,
+        mu: f64,
+        torque_limit: Option<Vec<f64>>,
+    ) -> PyResult<Self> {
+        let n = model.dof_count();
+        for (name, list) in [("stiffness", &stiffness), ("damping", &damping)] {
+            if list.len() != 6 {
+                return Err(PyValueError::new_err(format!("{name}: {} values, expected 6", list.len())));
+            }
+        }
+        let posture = match (&posture_rest, &posture_stiffness, &posture_damping) {
+            (None, None, None) => None,
+            (Some(rest), Some(k), Some(d)) => Some([rest.as_slice(), k.as_slice(), d.as_slice()]),
+            _ => {
+                return Err(PyValueError::new_err(
+                    "posture_rest, posture_stiffness and posture_damping go together: give all three or none",
+                ))
+            }
+        };
+        let lists =
+            posture.iter().flat_map(|p| ["posture_rest", "posture_stiffness", "posture_damping"].into_iter().zip(*p));
+        for (name, list) in lists.chain(torque_limit.as_deref().map(|l| ("torque_limit", l))) {
+            if list.len() != n {
+                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
+            }
+        }
+        let build = BuildCartesian {
+            model,
+            frame: frame.as_deref(),
+            gains: [&stiffness, &damping],
+            posture,
+            regularisation: mu,
+            limit: torque_limit.as_deref(),
+        };
+        let inner = crate::model::for_joints(n, build)?;
+        Ok(Self { dof: n, inner: Mutex::new(inner) })
+    }
+
+    /// The controlled frame's name.
+    #[getter]
+    fn frame(&self) -> String {
+        self.inner.lock().unwrap_or_else(PoisonError::into_inner).frame().to_owned()
+    }
+
+    /// The commanded torque (N·m) at the measured (q, qd) for the frame's desired position
+    /// (3 values, m), orientation (3 × 3 rotation whose columns are the frame's desired axes in
+    /// the base's) and twist (6 values, m/s then rad/s; at rest if omitted), minus d_hat if given.
+    #[pyo3(signature = (q, qd, position, orientation, twist=None, d_hat=None))]
+    fn command(
+        &self,
+        q: Vec<f64>,
+        qd: Vec<f64>,
+        position: Vec<f64>,
+        orientation: Vec<Vec<f64>>,
+        twist: Option<Vec<f64>>,
+        d_hat: Option<Vec<f64>>,
+    ) -> PyResult<Vec<f64>> {
+        let n = self.dof;
+        for (name, list) in [("q", &q), ("qd", &qd)].into_iter().chain(d_hat.as_ref().map(|d| ("d_hat", d))) {
+            if list.len() != n {
+                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
+            }
+        }
+        if orientation.len() != 3 || orientation.iter().any(|row| row.len() != 3) {
+            return Err(PyValueError::new_err("orientation: a 3 × 3 rotation matrix, expected"));
+        }
+        let rows: Vec<f64> = orientation.concat();
+        let twist = twist.unwrap_or_else(|| vec![0.0; 6]);
+        let mut tau = vec![0.0; n];
+        let mut inner = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
+        inner.command([&q, &qd], [&position, &rows, &twist], d_hat.as_deref(), &mut tau).map_err(value_error)?;
         Ok(tau)
     }
 }

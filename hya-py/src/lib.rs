@@ -35,6 +35,7 @@ fn _hya(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<estimation::ExtendedStateObserver>()?;
     m.add_class::<filter::ThirdOrderFilter>()?;
     m.add_class::<control::ComputedTorque>()?;
+    m.add_class::<control::CartesianImpedance>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::rollouts, m)?)?;
     m.add_function(wrap_pyfunction!(identification::identify, m)?)?;

@@ -122,6 +122,32 @@ class ComputedTorque:
         d_hat: Optional[Sequence[float]] = None,
     ) -> List[float]: ...
 
+class CartesianImpedance:
+    """τ = Jᵀ(K_x e − D_x (J q̇ − ẋ_des)) + C + G − d̂ + P(−K_n (q − q_rest) − D_n q̇), on one frame."""
+
+    frame: str
+    def __init__(
+        self,
+        model: Model,
+        stiffness: Sequence[float],
+        damping: Sequence[float],
+        frame: Optional[str] = None,
+        posture_rest: Optional[Sequence[float]] = None,
+        posture_stiffness: Optional[Sequence[float]] = None,
+        posture_damping: Optional[Sequence[float]] = None,
+        mu: float = 0.001,
+        torque_limit: Optional[Sequence[float]] = None,
+    ) -> None: ...
+    def command(
+        self,
+        q: Sequence[float],
+        qd: Sequence[float],
+        position: Sequence[float],
+        orientation: Sequence[Sequence[float]],
+        twist: Optional[Sequence[float]] = None,
+        d_hat: Optional[Sequence[float]] = None,
+    ) -> List[float]: ...
+
 def identify(
     model: Model,
     q: ArrayLike,

@@ -15,6 +15,14 @@ use pyo3::prelude::*;
 use crate::model::Model;
 use crate::value_error;
 
+/// `Err` naming the first of `lists` that does not hold `n` values.
+fn lengths<'a>(n: usize, lists: impl IntoIterator<Item = (&'a str, &'a [f64])>) -> PyResult<()> {
+    match lists.into_iter().find(|(_, list)| list.len() != n) {
+        Some((name, list)) => Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len()))),
+        None => Ok(()),
+    }
+}
+
 struct BuildController<'a> {
     model: &'a Model,
     kp: &'a [f64],
@@ -64,11 +72,8 @@ impl ComputedTorque {
     ) -> PyResult<Self> {
         let friction = model.friction_file(friction)?;
         let n = model.dof_count();
-        for (name, list) in [("kp", Some(&kp)), ("kd", Some(&kd)), ("torque_limit", torque_limit.as_ref())] {
-            if let Some(list) = list.filter(|l| l.len() != n) {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
+        let limit = torque_limit.as_deref().map(|l| ("torque_limit", l));
+        lengths(n, [("kp", kp.as_slice()), ("kd", kd.as_slice())].into_iter().chain(limit))?;
         let build =
             BuildController { model, kp: &kp, kd: &kd, limit: torque_limit.as_deref(), friction: friction.as_ref() };
         let inner = crate::model::for_joints(n, build)?;
@@ -92,11 +97,8 @@ impl ComputedTorque {
         let zeros = vec![0.0; n];
         let (qd_des, qdd_des) = (qd_des.unwrap_or_else(|| zeros.clone()), qdd_des.unwrap_or_else(|| zeros.clone()));
         let args = [("q", &q), ("qd", &qd), ("q_des", &q_des), ("qd_des", &qd_des), ("qdd_des", &qdd_des)];
-        for (name, list) in args.into_iter().chain(d_hat.as_ref().map(|d| ("d_hat", d))) {
-            if list.len() != n {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
+        let args = args.into_iter().map(|(name, list)| (name, list.as_slice()));
+        lengths(n, args.chain(d_hat.as_deref().map(|d| ("d_hat", d))))?;
         let mut tau = vec![0.0; n];
         self.inner.command([&q, &qd], [&q_des, &qd_des, &qdd_des], d_hat.as_deref(), &mut tau).map_err(value_error)?;
         Ok(tau)
@@ -171,11 +173,7 @@ impl CartesianImpedance {
         torque_limit: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let n = model.dof_count();
-        for (name, list) in [("stiffness", &stiffness), ("damping", &damping)] {
-            if list.len() != 6 {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected 6", list.len())));
-            }
-        }
+        lengths(6, [("stiffness", stiffness.as_slice()), ("damping", damping.as_slice())])?;
         let posture = match (&posture_rest, &posture_stiffness, &posture_damping) {
             (None, None, None) => None,
             (Some(rest), Some(k), Some(d)) => Some([rest.as_slice(), k.as_slice(), d.as_slice()]),
@@ -187,11 +185,7 @@ impl CartesianImpedance {
         };
         let lists =
             posture.iter().flat_map(|p| ["posture_rest", "posture_stiffness", "posture_damping"].into_iter().zip(*p));
-        for (name, list) in lists.chain(torque_limit.as_deref().map(|l| ("torque_limit", l))) {
-            if list.len() != n {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
+        lengths(n, lists.chain(torque_limit.as_deref().map(|l| ("torque_limit", l))))?;
         let build = BuildCartesian {
             model,
             frame: frame.as_deref(),
@@ -224,11 +218,8 @@ impl CartesianImpedance {
         d_hat: Option<Vec<f64>>,
     ) -> PyResult<Vec<f64>> {
         let n = self.dof;
-        for (name, list) in [("q", &q), ("qd", &qd)].into_iter().chain(d_hat.as_ref().map(|d| ("d_hat", d))) {
-            if list.len() != n {
-                return Err(PyValueError::new_err(format!("{name}: {} values, expected {n}", list.len())));
-            }
-        }
+        let state = [("q", q.as_slice()), ("qd", qd.as_slice())];
+        lengths(n, state.into_iter().chain(d_hat.as_deref().map(|d| ("d_hat", d))))?;
         if orientation.len() != 3 || orientation.iter().any(|row| row.len() != 3) {
             return Err(PyValueError::new_err("orientation: a 3 × 3 rotation matrix, expected"));
         }

@@ -13,8 +13,8 @@
 
 use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
 use crate::analysis::seeds::parallel_map;
-use crate::config::scenario::{Method, Scenario, Task};
-use crate::config::settings::JointSettings;
+use crate::config::scenario::{Method, Scenario};
+use crate::config::settings::{JointSettings, TaskTimes};
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::cartesian::CartesianLaw;
@@ -99,18 +99,19 @@ pub fn run<const N: usize>(
     seeds: usize,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<CartesianStudy, SimError> {
-    if !scenario.task.is_cartesian() {
+    let settings = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let Some(setup) = &settings.cartesian else {
         return Err(SimError::Scenario {
             origin: scenario.name.clone(),
             message: "its task is set in joint space: `hya run` reports it as the paper's experiments".into(),
         });
-    }
-    let settings = JointSettings::<N>::for_arm(scenario, &robot.model)?;
-    let Some(setup) = &settings.cartesian else { return Err(SimError::Nothing("no Cartesian controller")) };
+    };
     let nominal = robot.nominal.as_ref();
     let q0 = settings.initial_position;
-    let law = CartesianLaw::new((setup, &settings.task), nominal, &robot.model, (&q0, settings.torque_limit))?
-        .ok_or(SimError::Nothing("no Cartesian task"))?;
+    let law = CartesianLaw::new((setup, &settings.task), nominal, &robot.model, (&q0, settings.torque_limit))?.ok_or(
+        SimError::Nothing("a Cartesian controller without a Cartesian task (refused by the scenario's check)"),
+    )?;
+    let drop_s = settings.plant.loads.weight_drop.as_ref().map(|d| d.drop_s);
     let setups =
         scenario.methods.iter().map(|&method| RunSetup::new(scenario, method, robot)).collect::<Result<Vec<_>, _>>()?;
     let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
@@ -128,7 +129,7 @@ pub fn run<const N: usize>(
         let record = CartesianRun {
             method,
             seed: seed(k),
-            tool: errors(&series, scenario),
+            tool: errors(&series, settings.task.times(), drop_s),
             disturbance_error_nm: run.metrics.rmse_d.as_deref().map(norm),
             command_noise_nm: norm(&run.metrics.tau_cmd_noise),
         };
@@ -162,15 +163,16 @@ fn series<const N: usize>(law: &CartesianLaw<'_, N>, trace: &Trace<N>) -> Result
     Ok(series)
 }
 
-/// The windows of the module's notes on `series`.
-fn errors(series: &ToolSeries, scenario: &Scenario) -> ToolErrors {
+/// The windows of the module's notes on `series`, for a move at `times` and a payload set down
+/// at `drop_s`.
+fn errors(series: &ToolSeries, times: TaskTimes, drop_s: Option<f64>) -> ToolErrors {
     let end = series.time.last().copied().unwrap_or(0.0);
-    let (start_s, transition_s) = match scenario.task {
-        Task::Cartesian { start_s, transition_s, .. } => (start_s, transition_s),
+    let (start_s, transition_s) = match times {
+        TaskTimes::Goto { start_s, transition_s } => (start_s, transition_s),
         _ => (end, 0.0),
     };
     let final_from = end - SETTLED_WINDOW_S.min(0.2 * end);
-    let loaded_from = scenario.loads.weight_drop.as_ref().map(|d| d.drop_s + 0.5).filter(|&from| from < start_s);
+    let loaded_from = drop_s.map(|d| d + 0.5).filter(|&from| from < start_s);
     let window = |values: &[f64], from: f64, to: f64| -> Vec<f64> {
         series.time.iter().zip(values).filter(|(t, _)| (from..=to).contains(*t)).map(|(_, v)| *v).collect()
     };
@@ -200,11 +202,8 @@ mod tests {
         let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.1).collect();
         let series =
             ToolSeries { position_m: time.clone(), orientation_rad: vec![1.0; time.len()], time, error: vec![] };
-        let mut scenario = Scenario::builtin("panda_cartesian").unwrap();
-        scenario.task =
-            Task::Cartesian { start_s: 5.0, transition_s: 1.0, offset_m: vec![0.0; 3], rotation_rad: vec![0.0; 3] };
-        scenario.loads.weight_drop.as_mut().unwrap().drop_s = 1.5;
-        let e = errors(&series, &scenario);
+        let times = TaskTimes::Goto { start_s: 5.0, transition_s: 1.0 };
+        let e = errors(&series, times, Some(1.5));
         // The move's window ends at 6.5 s; the final window is the last fifth, [8, 10].
         assert!((e.position_peak_m - 6.5).abs() < 1e-9, "{e:?}");
         assert!((e.position_final_m - 9.0).abs() < 1e-9, "{e:?}");
@@ -215,7 +214,6 @@ mod tests {
         let kept: Vec<f64> = (5..=100).map(|k| k as f64 * 0.1).collect();
         let rms = (kept.iter().map(|t| t * t).sum::<f64>() / kept.len() as f64).sqrt();
         assert!((e.position_rms_m - rms).abs() < 1e-9);
-        scenario.loads.weight_drop = None;
-        assert_eq!(errors(&series, &scenario).position_loaded_hold_m, None);
+        assert_eq!(errors(&series, times, None).position_loaded_hold_m, None);
     }
 }

@@ -249,14 +249,20 @@ fn cartesian_results(
         return Ok(());
     }
     for change in &summary.changes {
-        for (name, ratio, low, high, lower) in &change.ratios {
+        for r in &change.ratios {
             writeln!(
                 output,
-                "{:>9}: {name} × {} [{}, {}] against none, lower in {lower} of {} seeds",
+                "{:>9}: {} the {} from {} to {} {} (× {} [{}, {}] paired by seed, lower in {} of {} seeds)",
                 change.method.name(),
-                hya_core::Short(*ratio),
-                hya_core::Short(*low),
-                hya_core::Short(*high),
+                r.direction(),
+                r.name,
+                hya_core::Short(r.none_mean),
+                hya_core::Short(r.mean),
+                r.unit,
+                hya_core::Short(r.ratio),
+                hya_core::Short(r.low),
+                hya_core::Short(r.high),
+                r.lower,
                 summary.seeds
             )?;
         }

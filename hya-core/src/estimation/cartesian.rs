@@ -223,6 +223,11 @@ impl<const N: usize> Impedance<N> {
         Ok(self)
     }
 
+    /// The spring `K_x` (N/m for the first three entries, N·m/rad for the last three).
+    pub fn stiffness(&self) -> Vector6 {
+        self.stiffness
+    }
+
     /// The projector's damping `μ` (finite and `≥ 0`; the same for the linear and the angular
     /// rows; 0 is the exact, undamped projector, wrong near singular poses).
     pub fn with_regularisation(mut self, mu: f64) -> Result<Self, Error> {

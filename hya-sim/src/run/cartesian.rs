@@ -57,6 +57,11 @@ impl<'a, const N: usize> CartesianLaw<'a, N> {
         }))
     }
 
+    /// The spring `K_x` (N/m, then N·m/rad).
+    pub fn stiffness(&self) -> Vector6 {
+        self.controller.impedance().stiffness()
+    }
+
     /// The controlled frame's name.
     pub fn frame(&self) -> &str {
         self.frame

@@ -6,15 +6,16 @@
 //! Per run, each over the ticks its trace keeps (every tick up to 30 s of control):
 //! - RMS after the metrics' warm-up;
 //! - the peak during the move and the half second after it (`[t_s, t_s + T + 0.5]`);
-//! - the mean over the run's final window ([`SETTLED_WINDOW_S`], or its last fifth): where the
-//!   arm holds the moved pose, under the payload if one rests there;
+//! - the mean over the run's final window (its last [`SETTLED_WINDOW_S`], or the last fifth of
+//!   what follows the warm-up, as the joint-space metrics take it), starting no earlier than 1 s
+//!   after the move: where the arm holds the moved pose, under the payload if one rests there;
 //! - the mean over the hold before the move once a payload set down before it has rested
 //!   half a second (`None` without one).
 
 use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
 use crate::analysis::seeds::parallel_map;
 use crate::config::scenario::{Method, Scenario};
-use crate::config::settings::{JointSettings, TaskTimes};
+use crate::config::settings::{JointSettings, TaskSetup, TaskTimes};
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::cartesian::CartesianLaw;
@@ -69,6 +70,19 @@ pub struct ToolSeries {
     pub orientation_rad: Vec<f64>,
 }
 
+/// What the loop's design says the frame's errors cannot go below, at the start pose.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Floors {
+    /// How far the frame's origin moves for half an encoder count on every joint at once,
+    /// `Σ_j ‖J_v,j‖ π / counts`, m: position errors below it are below what the loop measures.
+    pub resolution_m: f64,
+    /// How far the spring lets the origin trail at the reference's peak acceleration, without an
+    /// acceleration feed-forward in the law: `‖(Λ_ii a_i / K_i)_{i = x, y, z}‖`, m, with `Λ` the
+    /// task-space inertia `(J M⁻¹ Jᵀ)⁻¹` of the loop's model (no payload) and `a` the
+    /// minimum-jerk peak `10/√3 Δp / T²` (`None` where `Λ` is singular).
+    pub trailing_m: Option<f64>,
+}
+
 /// What the study found.
 #[derive(Debug, Clone)]
 pub struct CartesianStudy {
@@ -76,6 +90,8 @@ pub struct CartesianStudy {
     pub scenario: Scenario,
     /// The controlled frame.
     pub frame: String,
+    /// The floors of the errors at the start pose.
+    pub floors: Floors,
     /// Seeds per method.
     pub seeds: usize,
     /// Every run, method by method, seed by seed.
@@ -138,6 +154,7 @@ pub fn run<const N: usize>(
     let mut study = CartesianStudy {
         scenario: scenario.clone(),
         frame: law.frame().to_owned(),
+        floors: floors(&law, nominal, &settings)?,
         seeds,
         runs: vec![],
         first: vec![],
@@ -148,6 +165,33 @@ pub fn run<const N: usize>(
         study.first.extend(first);
     }
     Ok(study)
+}
+
+/// The [`Floors`] of the loop `law` on the model `nominal` at the start pose.
+fn floors<const N: usize>(
+    law: &CartesianLaw<'_, N>,
+    nominal: &dyn hya_core::Dynamics<N>,
+    settings: &JointSettings<N>,
+) -> Result<Floors, SimError> {
+    let q0 = settings.initial_position;
+    let jacobian = law.frame_state(&q0)?.jacobian;
+    let quantum = std::f64::consts::PI / settings.sensors.encoder_counts_per_rev as f64;
+    let resolution_m = (0..N).map(|j| jacobian.fixed_view::<3, 1>(0, j).norm() * quantum).sum();
+    let TaskSetup::Cartesian { transition_s, offset, .. } = settings.task else {
+        return Ok(Floors { resolution_m, trailing_m: None });
+    };
+    let stiffness = law.stiffness();
+    let inverse_mass = nominal.mass_matrix(&q0).try_inverse();
+    let task_inertia = inverse_mass.and_then(|m| (jacobian * m * jacobian.transpose()).try_inverse());
+    let peak = 10.0 / 3f64.sqrt() / (transition_s * transition_s);
+    let trailing_m = task_inertia.map(|inertia| {
+        (0..3)
+            .map(|i| if stiffness[i] > 0.0 { inertia[(i, i)] * peak * offset[i] / stiffness[i] } else { 0.0 })
+            .map(|e| e * e)
+            .sum::<f64>()
+            .sqrt()
+    });
+    Ok(Floors { resolution_m, trailing_m })
 }
 
 /// The error norms of the ticks `trace` kept.
@@ -171,7 +215,7 @@ fn errors(series: &ToolSeries, times: TaskTimes, drop_s: Option<f64>) -> ToolErr
         TaskTimes::Goto { start_s, transition_s } => (start_s, transition_s),
         _ => (end, 0.0),
     };
-    let final_from = end - SETTLED_WINDOW_S.min(0.2 * end);
+    let final_from = (end - SETTLED_WINDOW_S.min(0.2 * (end - WARM_UP_S))).max(start_s + transition_s + 1.0).min(end);
     let loaded_from = drop_s.map(|d| d + 0.5).filter(|&from| from < start_s);
     let window = |values: &[f64], from: f64, to: f64| -> Vec<f64> {
         series.time.iter().zip(values).filter(|(t, _)| (from..=to).contains(*t)).map(|(_, v)| *v).collect()
@@ -204,9 +248,17 @@ mod tests {
             ToolSeries { position_m: time.clone(), orientation_rad: vec![1.0; time.len()], time, error: vec![] };
         let times = TaskTimes::Goto { start_s: 5.0, transition_s: 1.0 };
         let e = errors(&series, times, Some(1.5));
-        // The move's window ends at 6.5 s; the final window is the last fifth, [8, 10].
+        // The move's window ends at 6.5 s; the final window is the last fifth after the warm-up,
+        // [8.1, 10].
         assert!((e.position_peak_m - 6.5).abs() < 1e-9, "{e:?}");
-        assert!((e.position_final_m - 9.0).abs() < 1e-9, "{e:?}");
+        let mean_from = |from: f64| {
+            let kept: Vec<f64> = series.time.iter().copied().filter(|t| (from..=10.0).contains(t)).collect();
+            kept.iter().sum::<f64>() / kept.len() as f64
+        };
+        assert!((e.position_final_m - mean_from(8.1)).abs() < 1e-9, "{e:?}");
+        // A move that ends late pushes the final window to 1 s after it.
+        let late = errors(&series, TaskTimes::Goto { start_s: 8.0, transition_s: 0.5 }, None);
+        assert!((late.position_final_m - mean_from(9.5)).abs() < 1e-9, "{late:?}");
         // The loaded hold: [2, 5], mean 3.5.
         assert!((e.position_loaded_hold_m.unwrap() - 3.5).abs() < 1e-9, "{e:?}");
         assert!((e.orientation_rms_rad - 1.0).abs() < 1e-12 && (e.orientation_final_rad - 1.0).abs() < 1e-12);

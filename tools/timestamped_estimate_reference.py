@@ -3,7 +3,7 @@
 
 Writes hya-cli/tests/data/timestamped_planar2_log.csv (header `t,q1,q2,qd1,qd2,tau1,tau2`,
 comma-separated: the velocities are there for `--columns` to skip) and
-timestamped_planar2_estimate.csv (rows `t d̂1 d̂2`), which hya-cli/tests/timestamps.rs compares
+timestamped_planar2_estimate.csv (rows `t d̂1 d̂2`), which hya-cli/tests/cli/timestamps.rs compares
 with hya to 1e-9. Independent of hya's code: the arm's inverse dynamics in closed form from
 robots/urdf/planar2.urdf's figures, each step's first-order-hold discretisation from
 scipy.linalg.expm of the augmented matrix

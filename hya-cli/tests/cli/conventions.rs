@@ -1,10 +1,7 @@
 //! What a command-line user expects of any tool: shell completions, a version that names its
 //! commit, options blamed by the names they type.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 #[test]
 fn completions_cover_every_command_in_each_shell() {

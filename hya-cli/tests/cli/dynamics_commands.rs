@@ -1,11 +1,8 @@
 //! `hya robots`, `hya id [--derivatives]`, `hya fd [--derivatives]`, `hya jacobian`, `hya mass`, `hya gravity`, `hya generate` end to end: against Pinocchio's reference
 //! rows through the generated code, the generic model and a URDF loaded at run time, and every
 //! malformed URDF refused with exit code 2.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, data_rows, hya};
+use crate::common::{assert_rejected, data_rows, hya};
 
 fn workspace(path: &str) -> String {
     format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"))
@@ -100,12 +97,12 @@ fn bad_rows_and_unknown_robots_are_named() {
 fn overflowing_results_and_non_utf8_input_are_refused_with_the_line() {
     // q̇ = 1e154 squares to infinity in the velocity terms.
     let row = "0 0 0 0 0 0  1e154 0 0 0 0 0  0 0 0 0 0 0\n";
-    common::assert_rejected(
+    crate::common::assert_rejected(
         &["id", "--robot", "hya"],
         &format!("0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n{row}"),
         &["line 2", "overflows"],
     );
-    let output = common::hya_bytes(&["gravity", "--robot", "hya"], b"0 0 0 0 0 0\n\xff\xfe 0 0 0 0 0\n");
+    let output = crate::common::hya_bytes(&["gravity", "--robot", "hya"], b"0 0 0 0 0 0\n\xff\xfe 0 0 0 0 0\n");
     assert_eq!(output.status.code(), Some(2));
     let message = String::from_utf8_lossy(&output.stderr);
     assert!(message.contains("line 2") && message.contains("UTF-8"), "{message}");

@@ -1,11 +1,8 @@
 //! `hya estimate` end to end, on a log of HyA simulated by MuJoCo under a known disturbance
 //! (`tools/mujoco_estimate_log.py`): `d̂` must follow the true disturbance passed through the
 //! paper's filter. And its answers to bad input.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 use hya_core::{FilterParams, JointVector, ThirdOrderFilter};
 
 /// Rows `q(6) τ(6) d(6)` of the MuJoCo log.
@@ -26,7 +23,7 @@ fn the_estimate_of_a_mujoco_log_is_the_true_disturbance_through_the_filter() {
         log.iter().map(|row| row[..12].iter().map(|x| format!("{x} ")).collect::<String>() + "\n").collect();
     let output = hya(&["estimate", "--robot", "hya"], &input);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let d_hat: Vec<Vec<f64>> = common::data_rows(&String::from_utf8(output.stdout).unwrap());
+    let d_hat: Vec<Vec<f64>> = crate::common::data_rows(&String::from_utf8(output.stdout).unwrap());
     assert_eq!(d_hat.len(), log.len());
 
     // The truth through H(s), from rest at d(0) = 0, on the same 1 ms grid.
@@ -69,9 +66,9 @@ fn bad_rows_and_parameters_are_named() {
 
 /// `d̂` rows of `hya estimate ARGS` on `input`.
 fn estimates(args: &[&str], input: &str) -> Vec<Vec<f64>> {
-    let output = common::hya(args, input);
+    let output = crate::common::hya(args, input);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    common::data_rows(&String::from_utf8(output.stdout).unwrap())
+    crate::common::data_rows(&String::from_utf8(output.stdout).unwrap())
 }
 
 #[test]

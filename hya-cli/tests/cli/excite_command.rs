@@ -1,9 +1,7 @@
 //! `hya excite`: rows `t q q̇ q̈` of a trajectory that starts and ends at rest, with the
 //! regressor's rank and conditioning on stderr; joints without limits refused by name.
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 #[test]
 fn excite_prints_one_period_from_rest_to_rest() {

@@ -1,10 +1,7 @@
 //! `hya filter` end to end: the binary on sinusoids against the closed-form `H(jω)`, and its
 //! answers to bad input.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 use nalgebra::{Complex, ComplexField};
 
 /// `[H, jωH, (jω)²H]` of the paper's filter, ζ = 0.8, ω1 = ω2 = 50 rad/s.
@@ -30,7 +27,7 @@ fn sinusoids_come_out_scaled_and_shifted_by_h() {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let text = String::from_utf8(output.stdout).unwrap();
     assert_eq!(text.lines().next(), Some("x1_u1,x1_u2,x1_u3,x2_u1,x2_u2,x2_u3,x3_u1,x3_u2,x3_u3"));
-    let rows = common::data_rows(&text);
+    let rows = crate::common::data_rows(&text);
     assert_eq!(rows.len(), steps + 1);
     assert!(rows.iter().all(|row| row.len() == 3 * omegas.len()));
     // After 2 s (40 group delays), each state is Im(H_i(jω) e^{jωt}) to 1 % of |H_i|: that bounds

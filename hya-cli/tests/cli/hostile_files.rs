@@ -1,7 +1,6 @@
 //! Paths that are not regular files (issue 35): a named pipe (FIFO) blocks `open` until a writer
 //! comes, so every command that reads a path must refuse one by its type instead of hanging.
 #![cfg(unix)]
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
 use std::path::PathBuf;
 use std::process::{Command, Stdio};

@@ -1,11 +1,8 @@
 //! Hostile input to the row commands (issue 18): lines without end, rows without end, absurd
 //! intervals, step counts and start poses, and results that overflow. Each is refused with exit
 //! code 2 and a short message naming the line, option or value; no command prints NaN or inf.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya, hya_bytes};
+use crate::common::{assert_rejected, hya, hya_bytes};
 
 /// Every command that reads rows, with arguments that make it run.
 const ROW_COMMANDS: [&[&str]; 8] = [
@@ -57,7 +54,7 @@ fn a_row_of_too_many_values_is_refused_before_any_state_is_made() {
     // The cap itself is accepted.
     let output = hya(&["filter"], &("0.5 ".repeat(4096) + "\n"));
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    assert_eq!(common::data_rows(&String::from_utf8(output.stdout).unwrap()).concat().len(), 3 * 4096);
+    assert_eq!(crate::common::data_rows(&String::from_utf8(output.stdout).unwrap()).concat().len(), 3 * 4096);
 }
 
 #[cfg(unix)]
@@ -133,7 +130,7 @@ fn plant_without_a_scenario_runs_each_shipped_arms_own() {
         assert_eq!(output.status.code(), Some(0), "{robot}: {}", stderr(&output));
         assert_all_finite(&output.stdout);
         let text = String::from_utf8(output.stdout).unwrap();
-        let rows = common::data_rows(&text);
+        let rows = crate::common::data_rows(&text);
         assert_eq!(rows.len(), 21, "{robot}: rows every 10 ms from 0 to 0.2 s");
         assert!(rows.iter().all(|r| r.len() == 1 + 2 * dof), "{robot}");
     }

@@ -1,12 +1,10 @@
 //! Hostile URDFs given to the `hya` binary (issue 18): every command that reads one refuses it
 //! with exit code 2 and a message naming the limit or the fault, and never crashes.
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers: a failed unwrap is a failed test
-
-mod common;
+#![allow(clippy::expect_used)] // test helpers: a failed expect is a failed test
 
 use std::path::PathBuf;
 
-use common::assert_rejected;
+use crate::common::assert_rejected;
 
 /// A temporary folder of this test process, removed when dropped.
 struct TempDir(PathBuf);
@@ -70,7 +68,7 @@ fn arm(robot: &str, link: &str, joint: &str) -> String {
 fn names_with_line_breaks_are_printed_escaped() {
     let dir = TempDir::new("names");
     let forged = dir.file("forged.urdf", &arm("arm&#10;ur5 6 forged", "link", "j1&#10;panda 7 forged"));
-    let output = common::hya(&["robots", "--urdf", &forged], "");
+    let output = crate::common::hya(&["robots", "--urdf", &forged], "");
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
     let stdout = String::from_utf8(output.stdout).unwrap();
     assert_eq!(stdout, "arm\\nur5 6 forged 1 j1\\npanda 7 forged\n");
@@ -117,7 +115,7 @@ fn long_chains_are_refused_by_the_loader_and_the_generator_naming_their_caps() {
     // Generating code for 128 joints took over 5 GB; the generator's cap is far lower.
     let n = hya_codegen::MAX_JOINTS + 1;
     let long = dir.file("long.urdf", &chain(n));
-    let output = common::hya(&["robots", "--urdf", &long], "");
+    let output = crate::common::hya(&["robots", "--urdf", &long], "");
     assert_eq!(output.status.code(), Some(0), "the loader takes it: {}", String::from_utf8_lossy(&output.stderr));
     assert_rejected(&["generate", &long, "--name", "Long"], "", &["hya_codegen::MAX_JOINTS", &format!("{n} joints")]);
 }

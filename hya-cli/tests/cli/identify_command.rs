@@ -2,11 +2,8 @@
 //! and joint friction, along a trajectory from `hya excite`'s design, torques exact (no noise).
 //! The identified friction and forearm must come back and the held-out prediction beat the
 //! nominal model.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 use hya_ident::{ExcitationDesign, Limits};
 
 const DT: f64 = 0.002;
@@ -15,7 +12,7 @@ const VISCOUS: [f64; 2] = [0.6, 0.3];
 
 /// Rows `q τ` of two periods of a designed trajectory.
 fn log() -> String {
-    let urdf = include_str!("../../robots/urdf/planar2.urdf");
+    let urdf = include_str!("../../../robots/urdf/planar2.urdf");
     let nominal = hya_urdf::load_str(urdf, "planar2").unwrap().model;
     let truth =
         hya_urdf::load_str(&urdf.replace("<mass value=\"2.0\"/>", "<mass value=\"2.4\"/>"), "truth").unwrap().model;
@@ -140,7 +137,7 @@ fn force_never_removes_a_file_the_run_reads() {
     // A scenario whose controller runs on the identification, with its report into that folder.
     let scenario = std::env::temp_dir().join(format!("hya-identify-inputs-{}.toml", std::process::id()));
     // planar2's built-in scenario (its per-joint lists fit the arm), its controller on the file.
-    let builtin = include_str!("../../hya-sim/scenarios/planar2_goto.toml");
+    let builtin = include_str!("../../../hya-sim/scenarios/planar2_goto.toml");
     let text = builtin.replacen("[controller]\n", &format!("[controller]\nmodel_urdf = {compare:?}\n"), 1);
     std::fs::write(&scenario, text).unwrap();
     let run = ["run", scenario.to_str().unwrap(), "--out", out, "--force"];
@@ -157,7 +154,8 @@ fn joint_names_cannot_break_the_files_or_the_messages() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // A line break and a TOML table header in a joint's name (legal XML).
-    let urdf = include_str!("../../robots/urdf/planar2.urdf").replace("name=\"shoulder\"", "name=\"shoulder&#10;[x]\"");
+    let urdf =
+        include_str!("../../../robots/urdf/planar2.urdf").replace("name=\"shoulder\"", "name=\"shoulder&#10;[x]\"");
     let robot = dir.join("forged.urdf");
     std::fs::write(&robot, urdf).unwrap();
     let out = dir.join("out");

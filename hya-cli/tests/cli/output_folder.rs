@@ -1,16 +1,13 @@
 //! `hya run` writes only inside `--out`: a scenario name cannot name a path, and a folder that
 //! holds anything is refused (or, with `--force`, an earlier report in it replaced) before any
 //! simulation starts.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
-
-mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 fn scratch(tag: &str) -> PathBuf {
-    common::scratch(&format!("out-{tag}"))
+    crate::common::scratch(&format!("out-{tag}"))
 }
 
 /// A one-tick-long scenario named `name`, written into `dir`.
@@ -62,7 +59,7 @@ fn force_replaces_an_earlier_report_and_keeps_other_files() {
     assert!(series.starts_with("t [s],q_SAA [rad],q_SFE [rad]"), "{}", &series[..80]);
     let gravity = hya(&["gravity", "--robot", "hya"], &series);
     assert_eq!(gravity.status.code(), Some(0), "{}", String::from_utf8_lossy(&gravity.stderr));
-    assert_eq!(common::data_rows(&String::from_utf8(gravity.stdout).unwrap()).len(), series.lines().count() - 1);
+    assert_eq!(crate::common::data_rows(&String::from_utf8(gravity.stdout).unwrap()).len(), series.lines().count() - 1);
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     std::fs::write(out.join("measurements.csv"), "mine").unwrap();
     // A second scenario over the first one's report: every file of the first goes.

@@ -1,11 +1,8 @@
 //! One command's output is the next one's input: `hya excite | hya track | hya estimate`
 //! (and `identify`, `id`, `gravity`), in the one table format, with its header, quoting,
 //! ragged rows and empty cells.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, data_rows, hya};
+use crate::common::{assert_rejected, data_rows, hya};
 
 /// `hya ARGS` on `input`, which must succeed: its stdout.
 fn run(args: &[&str], input: &str) -> String {

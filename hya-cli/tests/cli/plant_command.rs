@@ -1,13 +1,10 @@
 //! `hya plant`: open-loop rollouts from the shell. The ideal plant follows MuJoCo's rollout of
 //! the same torque rows (an independent, accurate integration: RK4 at 0.1 ms, checked against
 //! 0.01 ms) to 1e-4 rad over 1 s; bad rows are refused with their line number.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
-
-mod common;
 
 use std::path::PathBuf;
 
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 fn reference(file: &str) -> String {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../hya-sim/tests/data").join(file);
@@ -20,8 +17,8 @@ fn the_ideal_rollout_follows_mujoco() {
     // The torque file's last row acts from 0.99 s; run on to 1 s as the reference does.
     let output = hya(&["plant", "--robot", "hya", "--ideal", "--until", "1.0"], &torque);
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
-    let ours = common::data_rows(&String::from_utf8(output.stdout).unwrap());
-    let theirs = common::data_rows(&reference("mujoco_hya_rollout.csv"));
+    let ours = crate::common::data_rows(&String::from_utf8(output.stdout).unwrap());
+    let theirs = crate::common::data_rows(&reference("mujoco_hya_rollout.csv"));
     assert_eq!(ours.len(), theirs.len(), "one row per millisecond from 0 to 1 s");
     let worst = ours
         .iter()
@@ -38,7 +35,7 @@ fn the_default_plant_holds_the_arm_with_gravity_torques() {
     let gravity = "0 0 40.2959021342 4.9492114049 4.5932244126 0.2688694044 -0.0555794064\n1 0 40.2959021342 4.9492114049 4.5932244126 0.2688694044 -0.0555794064\n";
     let output = hya(&["plant", "--robot", "hya", "--dt", "0.5"], gravity);
     assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
-    let rows = common::data_rows(&String::from_utf8(output.stdout).unwrap());
+    let rows = crate::common::data_rows(&String::from_utf8(output.stdout).unwrap());
     assert_eq!(rows.len(), 3, "rows at 0, 0.5 and 1 s");
     let home = hya_robots::hya::HOME;
     for row in &rows {

@@ -1,15 +1,12 @@
 //! `hya run --shard I/N` and `--merge`: the merged report is the unsharded one, and shards that do
 //! not make one experiment are refused by name, their files untouched.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
-
-mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 fn scratch(tag: &str) -> PathBuf {
-    common::scratch(&format!("shards-{tag}"))
+    crate::common::scratch(&format!("shards-{tag}"))
 }
 
 /// A short hold of HyA under two methods, written into `dir`.

@@ -1,11 +1,8 @@
 //! `hya estimate --timestamps`: against an independent NumPy/SciPy implementation
 //! (`tools/timestamped_estimate_reference.py`), against the fixed-step estimator on a regular
 //! log and on a fine grid, and its answers to hostile logs.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
 
-mod common;
-
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 fn data(name: &str) -> String {
     std::fs::read_to_string(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
@@ -16,14 +13,14 @@ fn run(args: &[&str], input: &str) -> (Vec<Vec<f64>>, String) {
     let output = hya(args, input);
     let stderr = String::from_utf8(output.stderr).unwrap();
     assert!(output.status.success(), "{stderr}");
-    (common::data_rows(&String::from_utf8(output.stdout).unwrap()), stderr)
+    (crate::common::data_rows(&String::from_utf8(output.stdout).unwrap()), stderr)
 }
 
 #[test]
 fn a_jittered_log_with_gaps_matches_the_scipy_reference_to_1e_9() {
     let args = ["estimate", "--robot", "planar2", "--timestamps", "--dt", "0.01", "--columns", "t,q1-q2,tau1-tau2"];
     let (estimate, stderr) = run(&args, &data("timestamped_planar2_log.csv"));
-    let reference = common::data_rows(&data("timestamped_planar2_estimate.csv"));
+    let reference = crate::common::data_rows(&data("timestamped_planar2_estimate.csv"));
     assert_eq!(estimate.len(), reference.len());
     assert_eq!(estimate.len(), 110);
     let mut worst = 0.0f64;
@@ -165,7 +162,7 @@ fn columns_pick_q_and_tau_from_a_wider_log_by_position_too() {
     let (by_position, _) = run(&[&base[..], &["1,2-3,6-7"]].concat(), &log);
     assert_eq!(by_name, by_position);
     // The same columns alone, space-separated without a header, give the same rows.
-    let narrow: String = common::data_rows(&log.replace("t,q1", "#").replace(',', " "))
+    let narrow: String = crate::common::data_rows(&log.replace("t,q1", "#").replace(',', " "))
         .iter()
         .map(|r| format!("{} {} {} {} {}\n", r[0], r[1], r[2], r[5], r[6]))
         .collect();

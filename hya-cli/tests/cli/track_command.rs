@@ -1,12 +1,9 @@
 //! `hya track` (the simulated arm following a reference, logged as its sensors read it) and
 //! `hya identify` on its logs: with timestamps, `--columns`, gaps and `--compare`.
-#![allow(clippy::unwrap_used)] // test helpers: a failed unwrap is a failed test
-
-mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_rejected, hya};
+use crate::common::{assert_rejected, hya};
 
 /// A fresh folder name under the temporary directory.
 fn scratch(name: &str) -> PathBuf {
@@ -50,8 +47,8 @@ fn track_follows_the_reference_and_logs_the_sensors_and_the_true_body() {
     let log = stdout_of(&["track", "--robot", "planar2", "--out", out.to_str().unwrap()], &reference);
     let header = "t [s],q_shoulder [rad],q_elbow [rad],tau_shoulder [N m],tau_elbow [N m]\n";
     assert!(log.starts_with(header), "{}", &log[..80]);
-    let rows = common::data_rows(&log);
-    let wanted = common::data_rows(&reference);
+    let rows = crate::common::data_rows(&log);
+    let wanted = crate::common::data_rows(&reference);
     // One row per control tick of the scenario (1 ms) over the reference's 2 s.
     let duration = wanted.last().unwrap()[0];
     assert_eq!(rows.len(), (duration / 0.001).round() as usize);
@@ -71,7 +68,7 @@ fn track_follows_the_reference_and_logs_the_sensors_and_the_true_body() {
     assert!(worst < 0.1 * smallest_range, "largest tracking error {worst} rad of a range of {smallest_range} rad");
     // true.urdf is the plant's body: the URDF's masses, each perturbed by at most the spread.
     let truth = hya_urdf::load_file(out.join("true.urdf").to_str().unwrap()).unwrap().model;
-    let nominal = hya_urdf::load_str(include_str!("../../robots/urdf/planar2.urdf"), "planar2").unwrap().model;
+    let nominal = hya_urdf::load_str(include_str!("../../../robots/urdf/planar2.urdf"), "planar2").unwrap().model;
     let ratios: Vec<f64> =
         truth.bodies().iter().zip(nominal.bodies()).map(|(t, n)| t.inertia.mass / n.inertia.mass).collect();
     assert!(ratios.iter().all(|r| (r - 1.0).abs() <= 0.1 + 1e-12) && ratios.iter().any(|r| *r != 1.0), "{ratios:?}");

@@ -107,17 +107,19 @@ extern "C" {
 // Makes a Cartesian impedance controller on `model`'s dynamics holding frame `frame` (any link
 // of the description; null: the last link) with the spring `stiffness` (6 doubles: N/m for x,
 // y, z, then N·m/rad) and damper `damping` (6: N·s/m, then N·m·s/rad), each finite and
-// non-negative. Unless `posture_rest` is null, the joints are held near it (rad) in the task's
-// null space by `posture_stiffness` (N·m/rad) and `posture_damping` (N·m·s/rad), `n` = dof
-// each; `mu` (m, finite, ≥ 0; 1e-3 is a fair default) damps the null-space projector near
-// singular poses. A frame the model does not have is `HYA_ERR_INVALID`, the message listing its
+// non-negative. With `posture_rest`, `posture_stiffness` and `posture_damping` (all three, or
+// all null), the joints are held near the rest pose (rad) in the task's null space (N·m/rad,
+// N·m·s/rad); `mu` (m, finite, ≥ 0; 1e-3 is a fair default) damps the null-space projector near
+// singular poses; unless `torque_limit` is null, joint `i`'s command is saturated to
+// `±torque_limit[i]` N·m (each finite and > 0). The posture and limit arrays hold `n` = dof
+// doubles. A frame the model does not have is `HYA_ERR_INVALID`, the message listing its
 // frames. On `HYA_OK`, `*out` is a new handle for `hya_cartesian_free`; otherwise null, and
 // `hya_last_error` says why.
 //
 // # Safety
 // `model` is null or a live handle; `frame` is null or a NUL-terminated string; `stiffness`
-// and `damping` are null or hold 6 doubles; the posture arrays are null or hold `n` doubles;
-// `out` is null or writable.
+// and `damping` are null or hold 6 doubles; the posture and limit arrays are null or hold `n`
+// doubles; `out` is null or writable.
 HyaStatus hya_cartesian_new(const HyaModel *model,
                             const char *frame,
                             const double *stiffness,
@@ -125,6 +127,7 @@ HyaStatus hya_cartesian_new(const HyaModel *model,
                             const double *posture_rest,
                             const double *posture_stiffness,
                             const double *posture_damping,
+                            const double *torque_limit,
                             size_t n,
                             double mu,
                             HyaCartesian **out);

@@ -68,14 +68,15 @@ pub(crate) trait ArmModel: Send {
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel>;
 }
 
-/// The Cartesian impedance controller's gains: the spring and damper at the frame (6 values
-/// each), the posture's rest, spring and damper per joint (slices of the model's length; rest
-/// zeros and no posture term when absent), and the projector's damping `μ`.
+/// The Cartesian impedance controller's settings as C gives them: the spring and damper at the
+/// frame, the posture's rest, spring and damper (all or none), the projector's damping `μ`
+/// (checked by `hya_core::Impedance::from_slices`) and the torque limits, if any.
 pub(crate) struct CartesianGains<'a> {
     pub(crate) stiffness: &'a [f64],
     pub(crate) damping: &'a [f64],
-    pub(crate) posture: Option<[&'a [f64]; 3]>,
+    pub(crate) posture: [Option<&'a [f64]>; 3],
     pub(crate) regularisation: f64,
+    pub(crate) torque_limit: Option<&'a [f64]>,
 }
 
 /// Which baseline observer to make, with its parameters (slices of the model's length).
@@ -164,15 +165,14 @@ impl<const N: usize> ArmModel for Fixed<N> {
         frame: Option<&str>,
         gains: CartesianGains<'_>,
     ) -> Result<Box<dyn SliceCartesian>, Failure> {
-        let six = |x: &[f64]| -> [f64; 6] { core::array::from_fn(|i| x[i]) };
-        let joints = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
-        let mut impedance =
-            Impedance::<N>::new(six(gains.stiffness), six(gains.damping))?.with_regularisation(gains.regularisation)?;
-        if let Some([rest, stiffness, damping]) = gains.posture {
-            impedance = impedance.with_posture(joints(rest), joints(stiffness), joints(damping))?;
+        let impedance =
+            Impedance::<N>::from_slices(gains.stiffness, gains.damping, gains.posture, gains.regularisation)?;
+        let mut controller = CartesianImpedance::new(self.dynamics.clone(), impedance);
+        if let Some(limit) = gains.torque_limit {
+            controller = controller.with_torque_limit(v(limit))?;
         }
         let frame = TreeFrame::<N>::new(tree.clone(), frame).map_err(Failure::Model)?;
-        Ok(Box::new(FrameImpedance::new(CartesianImpedance::new(self.dynamics.clone(), impedance), frame)))
+        Ok(Box::new(FrameImpedance::new(controller, frame)))
     }
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel> {
         Box::new(Fixed::<N> { dynamics: Arc::new(WithFriction::new(self.dynamics.clone(), friction)) })

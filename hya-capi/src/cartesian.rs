@@ -39,17 +39,19 @@ impl Handle for HyaCartesian {
 /// Makes a Cartesian impedance controller on `model`'s dynamics holding frame `frame` (any link
 /// of the description; null: the last link) with the spring `stiffness` (6 doubles: N/m for x,
 /// y, z, then N·m/rad) and damper `damping` (6: N·s/m, then N·m·s/rad), each finite and
-/// non-negative. Unless `posture_rest` is null, the joints are held near it (rad) in the task's
-/// null space by `posture_stiffness` (N·m/rad) and `posture_damping` (N·m·s/rad), `n` = dof
-/// each; `mu` (m, finite, ≥ 0; 1e-3 is a fair default) damps the null-space projector near
-/// singular poses. A frame the model does not have is `HYA_ERR_INVALID`, the message listing its
+/// non-negative. With `posture_rest`, `posture_stiffness` and `posture_damping` (all three, or
+/// all null), the joints are held near the rest pose (rad) in the task's null space (N·m/rad,
+/// N·m·s/rad); `mu` (m, finite, ≥ 0; 1e-3 is a fair default) damps the null-space projector near
+/// singular poses; unless `torque_limit` is null, joint `i`'s command is saturated to
+/// `±torque_limit[i]` N·m (each finite and > 0). The posture and limit arrays hold `n` = dof
+/// doubles. A frame the model does not have is `HYA_ERR_INVALID`, the message listing its
 /// frames. On `HYA_OK`, `*out` is a new handle for `hya_cartesian_free`; otherwise null, and
 /// `hya_last_error` says why.
 ///
 /// # Safety
 /// `model` is null or a live handle; `frame` is null or a NUL-terminated string; `stiffness`
-/// and `damping` are null or hold 6 doubles; the posture arrays are null or hold `n` doubles;
-/// `out` is null or writable.
+/// and `damping` are null or hold 6 doubles; the posture and limit arrays are null or hold `n`
+/// doubles; `out` is null or writable.
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hya_cartesian_new(
@@ -60,6 +62,7 @@ pub unsafe extern "C" fn hya_cartesian_new(
     posture_rest: *const f64,
     posture_stiffness: *const f64,
     posture_damping: *const f64,
+    torque_limit: *const f64,
     n: usize,
     mu: f64,
     out: *mut *mut HyaCartesian,
@@ -70,16 +73,17 @@ pub unsafe extern "C" fn hya_cartesian_new(
             let model = borrow_model(model)?;
             let dof = model.arm.dof();
             let frame = if frame.is_null() { None } else { Some(text("frame", frame)?) };
-            let (stiffness, damping) = (input("stiffness", stiffness, 6, 6)?, input("damping", damping, 6, 6)?);
-            let posture = match optional_input("posture_rest", posture_rest, n, dof)? {
-                Some(rest) => Some([
-                    rest,
-                    input("posture_stiffness", posture_stiffness, n, dof)?,
-                    input("posture_damping", posture_damping, n, dof)?,
-                ]),
-                None => None,
+            let gains = CartesianGains {
+                stiffness: input("stiffness", stiffness, 6, 6)?,
+                damping: input("damping", damping, 6, 6)?,
+                posture: [
+                    optional_input("posture_rest", posture_rest, n, dof)?,
+                    optional_input("posture_stiffness", posture_stiffness, n, dof)?,
+                    optional_input("posture_damping", posture_damping, n, dof)?,
+                ],
+                regularisation: mu,
+                torque_limit: optional_input("torque_limit", torque_limit, n, dof)?,
             };
-            let gains = CartesianGains { stiffness, damping, posture, regularisation: mu };
             let controller = model.arm.cartesian(&model.tree, frame, gains)?;
             Ok(HyaCartesian { controller, dof, message: Message::default() })
         })

@@ -457,6 +457,7 @@ fn the_cartesian_controller_equals_the_rust_api() {
     let (stiffness, damping) = ([1500.0, 500.0, 600.0, 8.0, 23.0, 0.7], [200.0, 70.0, 80.0, 1.0, 3.0, 0.1]);
     let rest = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
     let (kn, dn) = ([5.0; N], [2.0; N]);
+    let limit = [20.0, 20.0, 20.0, 20.0, 5.0, 5.0, 5.0];
     let mut seq = Sequence(7);
     for (frame, posture) in [("panda_link8", true), ("panda_link5", false)] {
         let c_frame = CString::new(frame).unwrap();
@@ -473,6 +474,7 @@ fn the_cartesian_controller_equals_the_rust_api() {
                 rest_ptr,
                 kn_ptr,
                 dn_ptr,
+                if posture { null() } else { limit.as_ptr() },
                 N,
                 1e-3,
                 &mut controller,
@@ -483,7 +485,10 @@ fn the_cartesian_controller_equals_the_rust_api() {
         if posture {
             gains = gains.with_posture(rest, kn, dn).unwrap();
         }
-        let rust = CartesianImpedance::new(hya_robots::Panda, gains);
+        let mut rust = CartesianImpedance::new(hya_robots::Panda, gains);
+        if !posture {
+            rust = rust.with_torque_limit(JointVector::from(limit)).unwrap();
+        }
         for step in 0..20 {
             let q = JointVector::<N>::from(rest) + seq.vector::<N>(0.3);
             let qd = seq.vector::<N>(1.0);
@@ -545,6 +550,7 @@ fn the_cartesian_controller_equals_the_rust_api() {
             c"panda_hand".as_ptr(),
             stiffness.as_ptr(),
             damping.as_ptr(),
+            null(),
             null(),
             null(),
             null(),

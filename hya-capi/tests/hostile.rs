@@ -332,23 +332,54 @@ fn bad_cartesian_controllers_and_commands_are_refused() {
     let (s, d, p) = (stiffness.as_ptr(), damping.as_ptr(), zero.as_ptr());
     // SAFETY: a live model, arrays of the lengths passed or null, writable outputs.
     unsafe {
-        let status =
-            hya_cartesian_new(model, null(), s, negative.as_ptr(), null(), null(), null(), 2, 1e-3, &mut controller);
+        let status = hya_cartesian_new(
+            model,
+            null(),
+            s,
+            negative.as_ptr(),
+            null(),
+            null(),
+            null(),
+            null(),
+            2,
+            1e-3,
+            &mut controller,
+        );
         refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["damping", "-1"]);
-        let status = hya_cartesian_new(model, null(), null(), d, null(), null(), null(), 2, 1e-3, &mut controller);
-        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["stiffness"]);
-        let status = hya_cartesian_new(model, null(), s, d, p, null(), p, 2, 1e-3, &mut controller);
-        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["posture_stiffness"]);
-        let status = hya_cartesian_new(model, null(), s, d, p, p, p, 1, 1e-3, &mut controller);
-        refused(status, HyaStatus::HyaErrLength, &text(hya_last_error()), &["posture_rest"]);
-        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), 2, f64::NAN, &mut controller);
-        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["mu"]);
         let status =
-            hya_cartesian_new(model, c"nowhere".as_ptr(), s, d, null(), null(), null(), 2, 0.0, &mut controller);
+            hya_cartesian_new(model, null(), null(), d, null(), null(), null(), null(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["stiffness"]);
+        let status = hya_cartesian_new(model, null(), s, d, p, null(), p, null(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["posture", "all given or none"]);
+        let status = hya_cartesian_new(model, null(), null(), d, null(), p, null(), null(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["stiffness"]);
+        let status =
+            hya_cartesian_new(model, null(), s, d, null(), null(), null(), nan.as_ptr(), 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrNonFinite, &text(hya_last_error()), &["torque_limit[1]"]);
+        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), p, 2, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["torque_limit"]);
+        let status = hya_cartesian_new(model, null(), s, d, p, p, p, null(), 1, 1e-3, &mut controller);
+        refused(status, HyaStatus::HyaErrLength, &text(hya_last_error()), &["posture_rest"]);
+        let status =
+            hya_cartesian_new(model, null(), s, d, null(), null(), null(), null(), 2, f64::NAN, &mut controller);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["mu"]);
+        let status = hya_cartesian_new(
+            model,
+            c"nowhere".as_ptr(),
+            s,
+            d,
+            null(),
+            null(),
+            null(),
+            null(),
+            2,
+            0.0,
+            &mut controller,
+        );
         refused(status, HyaStatus::HyaErrInvalid, &text(hya_last_error()), &["nowhere"]);
         assert!(controller.is_null());
         // The last link by default.
-        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), 2, 1e-3, &mut controller);
+        let status = hya_cartesian_new(model, null(), s, d, null(), null(), null(), null(), 2, 1e-3, &mut controller);
         assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_last_error()));
         let position = [0.5, 0.0, 0.0];
         let command = |q: &[f64; 2], orientation: &[f64; 9], d_hat: *const f64, tau: &mut [f64; 2]| {

@@ -109,7 +109,7 @@ struct BuildCartesian<'a> {
     model: &'a Model,
     frame: Option<&'a str>,
     gains: [&'a [f64]; 2],
-    posture: Option<[&'a [f64]; 3]>,
+    posture: [Option<&'a [f64]>; 3],
     regularisation: f64,
     limit: Option<&'a [f64]>,
 }
@@ -118,15 +118,9 @@ impl ForJoints for BuildCartesian<'_> {
     type Output = PyResult<Box<dyn SliceCartesian>>;
     fn call<const N: usize>(self) -> Self::Output {
         let setup = |e: hya_core::Error| PyValueError::new_err(format!("CartesianImpedance: {e}"));
-        let six = |x: &[f64]| -> [f64; 6] { core::array::from_fn(|i| x[i]) };
-        let joints = |x: &[f64]| -> [f64; N] { core::array::from_fn(|i| x[i]) };
         let [stiffness, damping] = self.gains;
-        let mut gains = Impedance::<N>::new(six(stiffness), six(damping))
-            .and_then(|g| g.with_regularisation(self.regularisation))
-            .map_err(setup)?;
-        if let Some([rest, k, d]) = self.posture {
-            gains = gains.with_posture(joints(rest), joints(k), joints(d)).map_err(setup)?;
-        }
+        let gains =
+            Impedance::<N>::from_slices(stiffness, damping, self.posture, self.regularisation).map_err(setup)?;
         let mut controller = CoreCartesianImpedance::new(self.model.nominal::<N>()?, gains);
         if let Some(limit) = self.limit {
             controller = controller.with_torque_limit(JointVector::from_column_slice(limit)).map_err(setup)?;
@@ -147,7 +141,8 @@ impl ForJoints for BuildCartesian<'_> {
 /// posture_rest with posture_stiffness and posture_damping (per joint) hold the joints near a pose
 /// in the task's null space; mu (m) damps the projector near singular poses; torque_limit
 /// (N·m per joint) saturates the command. Poses, twists and Jacobians are in the base's axes,
-/// linear parts first (Pinocchio's LOCAL_WORLD_ALIGNED). A command does not allocate.
+/// linear parts first (Pinocchio's LOCAL_WORLD_ALIGNED). The law and the frame's kinematics
+/// behind a command do not allocate (the Python call around them does).
 #[pyclass(module = "hya")]
 pub struct CartesianImpedance {
     dof: usize,
@@ -173,19 +168,8 @@ impl CartesianImpedance {
         torque_limit: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let n = model.dof_count();
-        lengths(6, [("stiffness", stiffness.as_slice()), ("damping", damping.as_slice())])?;
-        let posture = match (&posture_rest, &posture_stiffness, &posture_damping) {
-            (None, None, None) => None,
-            (Some(rest), Some(k), Some(d)) => Some([rest.as_slice(), k.as_slice(), d.as_slice()]),
-            _ => {
-                return Err(PyValueError::new_err(
-                    "posture_rest, posture_stiffness and posture_damping go together: give all three or none",
-                ))
-            }
-        };
-        let lists =
-            posture.iter().flat_map(|p| ["posture_rest", "posture_stiffness", "posture_damping"].into_iter().zip(*p));
-        lengths(n, lists.chain(torque_limit.as_deref().map(|l| ("torque_limit", l))))?;
+        lengths(n, torque_limit.as_deref().map(|l| ("torque_limit", l)))?;
+        let posture = [posture_rest.as_deref(), posture_stiffness.as_deref(), posture_damping.as_deref()];
         let build = BuildCartesian {
             model,
             frame: frame.as_deref(),
@@ -207,27 +191,29 @@ impl CartesianImpedance {
     /// The commanded torque (N·m) at the measured (q, qd) for the frame's desired position
     /// (3 values, m), orientation (3 × 3 rotation whose columns are the frame's desired axes in
     /// the base's) and twist (6 values, m/s then rad/s; at rest if omitted), minus d_hat if given.
-    #[pyo3(signature = (q, qd, position, orientation, twist=None, d_hat=None))]
+    #[pyo3(signature = (q, qd, position_des, orientation_des, twist_des=None, d_hat=None))]
     fn command(
         &self,
         q: Vec<f64>,
         qd: Vec<f64>,
-        position: Vec<f64>,
-        orientation: Vec<Vec<f64>>,
-        twist: Option<Vec<f64>>,
+        position_des: Vec<f64>,
+        orientation_des: Vec<Vec<f64>>,
+        twist_des: Option<Vec<f64>>,
         d_hat: Option<Vec<f64>>,
     ) -> PyResult<Vec<f64>> {
         let n = self.dof;
         let state = [("q", q.as_slice()), ("qd", qd.as_slice())];
         lengths(n, state.into_iter().chain(d_hat.as_deref().map(|d| ("d_hat", d))))?;
-        if orientation.len() != 3 || orientation.iter().any(|row| row.len() != 3) {
-            return Err(PyValueError::new_err("orientation: a 3 × 3 rotation matrix, expected"));
+        if orientation_des.len() != 3 || orientation_des.iter().any(|row| row.len() != 3) {
+            return Err(PyValueError::new_err("orientation_des: a 3 × 3 rotation matrix, expected"));
         }
-        let rows: Vec<f64> = orientation.concat();
-        let twist = twist.unwrap_or_else(|| vec![0.0; 6]);
+        let rows: Vec<f64> = orientation_des.concat();
+        let twist_des = twist_des.unwrap_or_else(|| vec![0.0; 6]);
         let mut tau = vec![0.0; n];
         let mut inner = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
-        inner.command([&q, &qd], [&position, &rows, &twist], d_hat.as_deref(), &mut tau).map_err(value_error)?;
+        inner
+            .command([&q, &qd], [&position_des, &rows, &twist_des], d_hat.as_deref(), &mut tau)
+            .map_err(value_error)?;
         Ok(tau)
     }
 }

@@ -305,6 +305,7 @@ fn c_abi_calls_after_creation_do_not_allocate() {
             null(),
             null(),
             null(),
+            null(),
             N,
             1e-3,
             &mut cartesian,

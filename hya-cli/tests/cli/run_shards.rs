@@ -143,7 +143,7 @@ fn shards_that_are_not_one_experiment_are_refused_and_kept() {
 fn a_task_space_scenario_runs_alone_and_does_not_shard() {
     let dir = scratch("cartesian");
     let file = dir.join("reach.toml");
-    let text = "name = \"reach\"\nrobot = \"panda\"\nduration_s = 1.2\nmethods = [\"none\", \"lu\"]\n\
+    let text = "name = \"reach\"\nrobot = \"panda\"\nduration_s = 2.0\nmethods = [\"none\", \"lu\"]\n\
         [task]\nkind = \"cartesian\"\nstart_s = 0.6\ntransition_s = 0.3\noffset_m = [0.02, 0.0, 0.0]\nrotation_rad = [0.0, 0.0, 0.1]\n\
         [controller]\nnatural_frequency_rad_s = [12.0, 12.0, 12.0, 12.0, 12.0, 12.0, 12.0]\ntorque_limit_nm = [87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0]\n\
         [controller.cartesian]\nstiffness = [1500.0, 500.0, 600.0, 8.0, 23.0, 2.6]\ndamping = [200.0, 70.0, 80.0, 1.0, 3.0, 0.18]\n\

@@ -149,6 +149,16 @@ impl<const N: usize, D: Dynamics<N>> FrameImpedance<N, D> {
         self.frame.name()
     }
 
+    /// The controller.
+    pub fn controller(&self) -> &CartesianImpedance<N, D> {
+        &self.controller
+    }
+
+    /// The frame's kinematics at `q` (finite), without allocating ([`TreeFrame::state`]).
+    pub fn frame_state(&mut self, q: &JointVector<N>) -> FrameState<N> {
+        self.frame.state(q)
+    }
+
     /// [`CartesianImpedance::command`] with the frame's kinematics at the measured `q`.
     pub fn command(
         &mut self,
@@ -207,6 +217,44 @@ impl<const N: usize> Impedance<N> {
             rest: JointVector::zeros(),
             regularisation: 1e-3,
         })
+    }
+
+    /// The gains from slices, as the front ends hold them (the C ABI, Python): `stiffness` and
+    /// `damping` of six values each ([`Self::new`]), the posture's `[rest, K_n, D_n]` given all
+    /// three (`N` values each, [`Self::with_posture`]) or none, and `μ`
+    /// ([`Self::with_regularisation`]). Every length is checked here, so all front ends refuse
+    /// the same inputs.
+    pub fn from_slices(
+        stiffness: &[f64],
+        damping: &[f64],
+        posture: [Option<&[f64]>; 3],
+        mu: f64,
+    ) -> Result<Self, Error> {
+        let six = |name: &'static str, values: &[f64]| -> Result<[f64; 6], Error> {
+            values.try_into().map_err(|_| Error::InvalidParameter {
+                name,
+                value: values.len() as f64,
+                requirement: "6 values (the value is how many were given): x, y, z, then the three rotations",
+            })
+        };
+        let joints = |signal: &'static str, values: &[f64]| -> Result<[f64; N], Error> {
+            values.try_into().map_err(|_| Error::SliceLength { signal, expected: N, got: values.len() })
+        };
+        let gains = Self::new(six("stiffness", stiffness)?, six("damping", damping)?)?.with_regularisation(mu)?;
+        match posture {
+            [None, None, None] => Ok(gains),
+            [Some(rest), Some(k), Some(d)] => gains.with_posture(
+                joints("posture_rest", rest)?,
+                joints("posture_stiffness", k)?,
+                joints("posture_damping", d)?,
+            ),
+            given => Err(Error::InvalidParameter {
+                name: "posture",
+                value: given.iter().flatten().count() as f64,
+                requirement:
+                    "posture_rest, posture_stiffness and posture_damping all given or none (the value is how many were)",
+            }),
+        }
     }
 
     /// Holds the joints near `rest` (rad) in the task's null space with `K_n` (N·m/rad) and

@@ -142,9 +142,9 @@ class CartesianImpedance:
         self,
         q: Sequence[float],
         qd: Sequence[float],
-        position: Sequence[float],
-        orientation: Sequence[Sequence[float]],
-        twist: Optional[Sequence[float]] = None,
+        position_des: Sequence[float],
+        orientation_des: Sequence[Sequence[float]],
+        twist_des: Optional[Sequence[float]] = None,
         d_hat: Optional[Sequence[float]] = None,
     ) -> List[float]: ...
 

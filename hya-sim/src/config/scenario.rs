@@ -794,6 +794,17 @@ impl Task {
             Task::Cartesian { start_s, transition_s, offset_m, rotation_rad } => {
                 within("task.start_s", *start_s, 0.0, duration)?;
                 within("task.transition_s", *transition_s, 1e-3, 1e4)?;
+                // The study's final window starts 1 s after the move.
+                if start_s + transition_s + 1.0 >= duration {
+                    return Err(SettingError::new(
+                        "task.start_s + task.transition_s",
+                        Some(start_s + transition_s),
+                        format!(
+                            "must end more than 1 s before duration_s = {} (the frame is judged holding the moved pose)",
+                            Short(duration)
+                        ),
+                    ));
+                }
                 three("task.offset_m", offset_m, 10.0)?;
                 three("task.rotation_rad", rotation_rad, std::f64::consts::PI)?;
                 let turn = rotation_rad.iter().map(|r| r * r).sum::<f64>().sqrt();

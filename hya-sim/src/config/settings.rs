@@ -265,17 +265,11 @@ impl<const N: usize> CartesianSetup<N> {
         Ok(Self { frame: config.frame.clone(), impedance })
     }
 
-    /// The controlled frame's name in `model`: the configured one if the model has it (else an
-    /// error listing its frames), else its last link.
-    pub fn frame_in<'m>(&'m self, model: &'m TreeModel) -> Result<&'m str, SimError> {
-        let named =
-            |e: hya_core::model::ModelError| SettingError::new("controller.cartesian.frame", None, e.to_string());
-        match &self.frame {
-            Some(name) => Ok(model.frame(name).map_err(named)?.name.as_str()),
-            None => model.tip_frame().map(|f| f.name.as_str()).ok_or_else(|| {
-                SettingError::new("controller.cartesian.frame", None, "the description has no link to control").into()
-            }),
-        }
+    /// The controlled frame of `model`, its kinematics' workspaces sized: the configured link if
+    /// the model has it (else an error listing its links), else its last link.
+    pub fn tree_frame(&self, model: &TreeModel) -> Result<hya_core::TreeFrame<N>, SimError> {
+        hya_core::TreeFrame::new(model.clone(), self.frame.as_deref())
+            .map_err(|e| SettingError::new("controller.cartesian.frame", None, e.to_string()).into())
     }
 }
 
@@ -343,7 +337,7 @@ impl<const N: usize> JointSettings<N> {
     fn checked_against(self, model: &TreeModel) -> Result<Self, SimError> {
         self.plant.check_against(model)?;
         if let Some(cartesian) = &self.cartesian {
-            cartesian.frame_in(model)?;
+            cartesian.tree_frame(model)?;
         }
         Ok(self)
     }

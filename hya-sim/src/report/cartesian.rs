@@ -49,7 +49,7 @@ const COLUMNS: [Column; 9] = [
 /// The columns whose paired ratios against `none` say what compensation changes.
 const COMPARED: [usize; 5] = [0, 1, 4, 5, 8];
 
-/// What [`write`] returns and keeps in `summary.json`.
+/// What [`write()`] returns and keeps in `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct CartesianSummary {
     /// The scenario's name.
@@ -267,7 +267,7 @@ fn in_short(study: &CartesianStudy, summary: &CartesianSummary) -> String {
             ". The loop resolves {} mm at the frame (half an encoder count on every joint at the start pose); {}.\n",
             figure(resolution_mm),
             if error < 10.0 * resolution_mm {
-                "errors within a few times that are at the edge of what it measures"
+                "errors within ten times that are at the edge of what it measures"
             } else {
                 "the errors above are well above it"
             }
@@ -319,7 +319,7 @@ fn trailing(study: &CartesianStudy, floors: Floors) -> String {
         return String::new();
     };
     format!(
-        "During the move, the peak position error with compensation is {}–{} mm on average: the law has no acceleration feed-forward, and at the reference's peak acceleration the springs let the origin trail by about {} mm (`Λ_ii a_i / K_i` with the task-space inertia `Λ` of the model at the start pose, without the payload), which no estimator removes.\n\n",
+        "During the move, the peak position error with compensation is {}–{} mm on average: the law has no acceleration feed-forward, and at the reference's peak acceleration the springs let the origin trail by about {} mm (`K⁻¹ Λ a`, quasi-static, with the task-space inertia `Λ` of the loop's model at the start pose, without the payload, and the reference's peak linear and angular acceleration `a`; the position rows), which no estimator removes.\n\n",
         figure(low),
         figure(high),
         figure(trailing * 1e3)

@@ -8,22 +8,24 @@
 //!
 //! with `(p₀, R₀)` the frame's pose at the start pose, `Δp` the task's offset and `θ` its
 //! rotation vector, both in the base: the turn keeps one axis, so the desired angular velocity is
-//! `ṡ θ`. The frame's kinematics come from the robot's run-time model (which allocates; the
-//! controller's law itself does not).
+//! `ṡ θ`. The frame's kinematics come from the robot's run-time model, into buffers sized once
+//! ([`hya_core::TreeFrame`]): a tick does not allocate.
 
 use hya_core::cartesian::{Matrix3, Vector3, Vector6};
 use hya_core::model::TreeModel;
-use hya_core::{CartesianImpedance, CartesianReference, Dynamics, FrameState, JointVector};
+use hya_core::{CartesianImpedance, CartesianReference, Dynamics, FrameImpedance, FrameState, JointVector};
 
 use crate::config::settings::{CartesianSetup, TaskSetup};
 use crate::error::SimError;
 use crate::run::task::minimum_jerk;
 
+/// The loop's dynamics, as the closed loop holds them.
+type LoopDynamics<'a, const N: usize> = &'a (dyn Dynamics<N> + Send + Sync + 'a);
+
 /// A Cartesian task's controller and its moving reference.
+#[derive(Clone)]
 pub struct CartesianLaw<'a, const N: usize> {
-    controller: CartesianImpedance<N, &'a (dyn Dynamics<N> + Send + Sync + 'a)>,
-    model: &'a TreeModel,
-    frame: &'a str,
+    law: FrameImpedance<N, LoopDynamics<'a, N>>,
     start: (Vector3, Matrix3),
     offset: Vector3,
     rotation: Vector3,
@@ -35,22 +37,20 @@ impl<'a, const N: usize> CartesianLaw<'a, N> {
     /// the frame as `task` says from its pose at `q0` on `model` (the robot's kinematics); `None`
     /// unless `task` is Cartesian.
     pub fn new(
-        (setup, task): (&'a CartesianSetup<N>, &TaskSetup<N>),
-        nominal: &'a (dyn Dynamics<N> + Send + Sync + 'a),
-        model: &'a TreeModel,
+        (setup, task): (&CartesianSetup<N>, &TaskSetup<N>),
+        nominal: LoopDynamics<'a, N>,
+        model: &TreeModel,
         (q0, torque_limit): (&JointVector<N>, JointVector<N>),
     ) -> Result<Option<Self>, SimError> {
         let TaskSetup::Cartesian { start_s, transition_s, offset, rotation } = *task else { return Ok(None) };
         let controller = CartesianImpedance::new(nominal, setup.impedance)
             .with_torque_limit(torque_limit)
             .map_err(|source| SimError::Setup { setting: "controller.torque_limit_nm".into(), source })?;
-        let frame = setup.frame_in(model)?;
-        let pose = model.frame_pose(frame, q0.as_slice())?;
+        let mut law = FrameImpedance::new(controller, setup.tree_frame(model)?);
+        let at_start = law.frame_state(q0);
         Ok(Some(Self {
-            controller,
-            model,
-            frame,
-            start: (pose.translation, pose.orientation()),
+            law,
+            start: (at_start.position, at_start.orientation),
             offset: offset.into(),
             rotation: rotation.into(),
             times: (start_s, transition_s),
@@ -59,12 +59,12 @@ impl<'a, const N: usize> CartesianLaw<'a, N> {
 
     /// The spring `K_x` (N/m, then N·m/rad).
     pub fn stiffness(&self) -> Vector6 {
-        self.controller.impedance().stiffness()
+        self.law.controller().impedance().stiffness()
     }
 
     /// The controlled frame's name.
     pub fn frame(&self) -> &str {
-        self.frame
+        self.law.frame_name()
     }
 
     /// The reference pose and twist at `t` (see the module's notes).
@@ -83,25 +83,26 @@ impl<'a, const N: usize> CartesianLaw<'a, N> {
         CartesianReference { position: p0 + self.offset * s, orientation: turn * r0, twist }
     }
 
-    /// The frame's kinematics at `q`.
-    pub fn frame_state(&self, q: &JointVector<N>) -> Result<FrameState<N>, SimError> {
-        Ok(FrameState::of_tree(self.model, self.frame, q)?)
+    /// The frame's kinematics at `q` (finite), without allocating.
+    pub fn frame_state(&mut self, q: &JointVector<N>) -> FrameState<N> {
+        self.law.frame_state(q)
     }
 
-    /// The pose error `(p_des − p, log(R_des Rᵀ))` at `t` with the arm at `q` (m, rad).
-    pub fn pose_error(&self, t: f64, q: &JointVector<N>) -> Result<Vector6, SimError> {
-        Ok(CartesianImpedance::<N, &dyn Dynamics<N>>::pose_error(&self.frame_state(q)?, &self.reference(t)))
+    /// The pose error `(p_des − p, log(R_des Rᵀ))` at `t` with the arm at `q` (finite; m, rad).
+    pub fn pose_error(&mut self, t: f64, q: &JointVector<N>) -> Vector6 {
+        let frame = self.frame_state(q);
+        CartesianImpedance::<N, LoopDynamics<'a, N>>::pose_error(&frame, &self.reference(t))
     }
 
     /// The command at `t` from the measured `q`, `q̇`, compensating `d̂` when given.
     pub fn command(
-        &self,
+        &mut self,
         t: f64,
         (q, qd): (&JointVector<N>, &JointVector<N>),
         compensation: Option<&JointVector<N>>,
     ) -> Result<JointVector<N>, SimError> {
-        let frame = self.frame_state(q)?;
-        let command = self.controller.command(q, qd, &frame, &self.reference(t), compensation);
+        let reference = self.reference(t);
+        let command = self.law.command(q, qd, &reference, compensation);
         Ok(command.map_err(|source| SimError::Step { time_s: t, source })?.torque)
     }
 }

@@ -176,6 +176,20 @@ impl<'a, const N: usize> RunSetup<'a, N> {
     /// `scenario` under `method` on `robot`: the controller and observers on its nominal dynamics
     /// or the model the scenario names ([`model::LoopModel`]).
     pub fn new(scenario: &Scenario, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
+        if scenario.task.is_cartesian() {
+            return Err(SimError::Scenario {
+                origin: scenario.name.clone(),
+                message: "a task set in task space is measured at its frame (studies::cartesian, `hya run` on it \
+                          alone), not by the joint-space runs"
+                    .into(),
+            });
+        }
+        Self::task_space(scenario, method, robot)
+    }
+
+    /// [`Self::new`] for a scenario of either kind: the Cartesian study's runs, which it measures
+    /// at the frame ([`crate::studies::cartesian`]).
+    pub fn task_space(scenario: &Scenario, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
         let settings = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
         let trajectory = Trajectory::new(settings.task, settings.initial_position);
         trajectory.within_limits(&robot.model)?;
@@ -258,7 +272,7 @@ fn run_loop<const N: usize>(
         .with_torque_limit(joints.torque_limit)
         .map_err(|source| SimError::Setup { setting: "controller".into(), source })?;
     // A task set in task space is the Cartesian impedance controller's instead.
-    let cartesian = match &joints.cartesian {
+    let mut cartesian = match &joints.cartesian {
         Some(setup) => {
             cartesian::CartesianLaw::new((setup, &joints.task), nominal, &robot.model, (&q0, joints.torque_limit))?
         }
@@ -320,7 +334,7 @@ fn run_loop<const N: usize>(
             (None, true) => Some(&d_hat),
             (None, false) => None,
         };
-        let command = match &cartesian {
+        let command = match cartesian.as_mut() {
             Some(law) => law.command(t, (&measurement.position, &velocity), compensation)?,
             None => controller.command(&measurement.position, &velocity, &reference, compensation).map_err(at)?.torque,
         };

@@ -19,8 +19,10 @@ use crate::config::settings::{JointSettings, TaskSetup, TaskTimes};
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::cartesian::CartesianLaw;
+use crate::run::model::LoopModel;
 use crate::run::trace::{Recording, Trace};
 use crate::run::RunSetup;
+use hya_core::cartesian::Vector6;
 
 /// The controlled frame's errors in one run (m and rad; see the module's notes).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -122,14 +124,18 @@ pub fn run<const N: usize>(
             message: "its task is set in joint space: `hya run` reports it as the paper's experiments".into(),
         });
     };
-    let nominal = robot.nominal.as_ref();
+    let model = LoopModel::of(scenario, robot)?;
     let q0 = settings.initial_position;
-    let law = CartesianLaw::new((setup, &settings.task), nominal, &robot.model, (&q0, settings.torque_limit))?.ok_or(
-        SimError::Nothing("a Cartesian controller without a Cartesian task (refused by the scenario's check)"),
-    )?;
+    let law = CartesianLaw::new((setup, &settings.task), model.dynamics(), &robot.model, (&q0, settings.torque_limit))?
+        .ok_or(SimError::Nothing(
+            "a Cartesian controller without a Cartesian task (refused by the scenario's check)",
+        ))?;
     let drop_s = settings.plant.loads.weight_drop.as_ref().map(|d| d.drop_s);
-    let setups =
-        scenario.methods.iter().map(|&method| RunSetup::new(scenario, method, robot)).collect::<Result<Vec<_>, _>>()?;
+    let setups = scenario
+        .methods
+        .iter()
+        .map(|&method| RunSetup::task_space(scenario, method, robot))
+        .collect::<Result<Vec<_>, _>>()?;
     let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
     let seed = |k: usize| scenario.seed.wrapping_add(k as u64);
     let results: Vec<Result<_, SimError>> = parallel_map(&jobs, |&(m, k)| {
@@ -140,7 +146,7 @@ pub fn run<const N: usize>(
         };
         let run = setups[m].run(seed(k), Recording::Bounded).map_err(failed)?;
         progress(scenario.duration_s);
-        let series = series(&law, &run.trace).map_err(failed)?;
+        let series = series(law.clone(), &run.trace);
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         let record = CartesianRun {
             method,
@@ -154,7 +160,7 @@ pub fn run<const N: usize>(
     let mut study = CartesianStudy {
         scenario: scenario.clone(),
         frame: law.frame().to_owned(),
-        floors: floors(&law, nominal, &settings)?,
+        floors: floors(law.clone(), model.dynamics(), &settings),
         seeds,
         runs: vec![],
         first: vec![],
@@ -167,44 +173,43 @@ pub fn run<const N: usize>(
     Ok(study)
 }
 
-/// The [`Floors`] of the loop `law` on the model `nominal` at the start pose.
+/// The [`Floors`] of the loop `law` on its model `dynamics` at the start pose.
 fn floors<const N: usize>(
-    law: &CartesianLaw<'_, N>,
-    nominal: &dyn hya_core::Dynamics<N>,
+    mut law: CartesianLaw<'_, N>,
+    dynamics: &dyn hya_core::Dynamics<N>,
     settings: &JointSettings<N>,
-) -> Result<Floors, SimError> {
+) -> Floors {
     let q0 = settings.initial_position;
-    let jacobian = law.frame_state(&q0)?.jacobian;
+    let jacobian = law.frame_state(&q0).jacobian;
     let quantum = std::f64::consts::PI / settings.sensors.encoder_counts_per_rev as f64;
     let resolution_m = (0..N).map(|j| jacobian.fixed_view::<3, 1>(0, j).norm() * quantum).sum();
-    let TaskSetup::Cartesian { transition_s, offset, .. } = settings.task else {
-        return Ok(Floors { resolution_m, trailing_m: None });
+    let TaskSetup::Cartesian { transition_s, offset, rotation, .. } = settings.task else {
+        return Floors { resolution_m, trailing_m: None };
     };
+    // Quasi-static at the reference's peak acceleration: K e = Λ a, every spring needed.
     let stiffness = law.stiffness();
-    let inverse_mass = nominal.mass_matrix(&q0).try_inverse();
-    let task_inertia = inverse_mass.and_then(|m| (jacobian * m * jacobian.transpose()).try_inverse());
     let peak = 10.0 / 3f64.sqrt() / (transition_s * transition_s);
-    let trailing_m = task_inertia.map(|inertia| {
-        (0..3)
-            .map(|i| if stiffness[i] > 0.0 { inertia[(i, i)] * peak * offset[i] / stiffness[i] } else { 0.0 })
-            .map(|e| e * e)
-            .sum::<f64>()
-            .sqrt()
+    let acceleration = Vector6::from_iterator(offset.iter().chain(&rotation).map(|v| v * peak));
+    let inverse_mass = dynamics.mass_matrix(&q0).try_inverse();
+    let task_inertia = inverse_mass.and_then(|m| (jacobian * m * jacobian.transpose()).try_inverse());
+    let trailing_m = task_inertia.filter(|_| stiffness.iter().all(|k| *k > 0.0)).map(|inertia| {
+        let error = (inertia * acceleration).component_div(&stiffness);
+        error.fixed_rows::<3>(0).norm()
     });
-    Ok(Floors { resolution_m, trailing_m })
+    Floors { resolution_m, trailing_m }
 }
 
 /// The error norms of the ticks `trace` kept.
-fn series<const N: usize>(law: &CartesianLaw<'_, N>, trace: &Trace<N>) -> Result<ToolSeries, SimError> {
+fn series<const N: usize>(mut law: CartesianLaw<'_, N>, trace: &Trace<N>) -> ToolSeries {
     let mut series = ToolSeries::default();
     for (&t, q) in trace.time.iter().zip(&trace.q) {
-        let error = law.pose_error(t, q)?;
+        let error = law.pose_error(t, q);
         series.time.push(t);
         series.error.push(error.into());
         series.position_m.push(error.fixed_rows::<3>(0).norm());
         series.orientation_rad.push(error.fixed_rows::<3>(3).norm());
     }
-    Ok(series)
+    series
 }
 
 /// The windows of the module's notes on `series`, for a move at `times` and a payload set down
@@ -243,9 +248,12 @@ mod tests {
     #[test]
     fn the_windows_take_what_the_notes_say() {
         // 0.1 s ticks over 10 s; the position error is t itself, the orientation error 1.
+        // A spike of 100 at 4 s, before the move, which no window of the move or the end takes;
+        // the orientation error 1 but 3 at 8 s.
         let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.1).collect();
-        let series =
-            ToolSeries { position_m: time.clone(), orientation_rad: vec![1.0; time.len()], time, error: vec![] };
+        let position_m = time.iter().map(|&t| if (t - 4.0).abs() < 1e-9 { 100.0 } else { t }).collect();
+        let orientation_rad = time.iter().map(|&t| if (t - 8.0).abs() < 1e-9 { 3.0 } else { 1.0 }).collect();
+        let series = ToolSeries { position_m, orientation_rad, time, error: vec![] };
         let times = TaskTimes::Goto { start_s: 5.0, transition_s: 1.0 };
         let e = errors(&series, times, Some(1.5));
         // The move's window ends at 6.5 s; the final window is the last fifth after the warm-up,
@@ -259,13 +267,27 @@ mod tests {
         // A move that ends late pushes the final window to 1 s after it.
         let late = errors(&series, TaskTimes::Goto { start_s: 8.0, transition_s: 0.5 }, None);
         assert!((late.position_final_m - mean_from(9.5)).abs() < 1e-9, "{late:?}");
-        // The loaded hold: [2, 5], mean 3.5.
-        assert!((e.position_loaded_hold_m.unwrap() - 3.5).abs() < 1e-9, "{e:?}");
-        assert!((e.orientation_rms_rad - 1.0).abs() < 1e-12 && (e.orientation_final_rad - 1.0).abs() < 1e-12);
-        // RMS of t over [0.5, 10] on the 0.1 s grid.
-        let kept: Vec<f64> = (5..=100).map(|k| k as f64 * 0.1).collect();
-        let rms = (kept.iter().map(|t| t * t).sum::<f64>() / kept.len() as f64).sqrt();
-        assert!((e.position_rms_m - rms).abs() < 1e-9);
+        // The loaded hold: [2, 5], the spike at 4 s in it.
+        let hold: Vec<f64> = series
+            .time
+            .iter()
+            .zip(&series.position_m)
+            .filter(|(t, _)| (2.0..=5.0).contains(*t))
+            .map(|(_, v)| *v)
+            .collect();
+        assert!((e.position_loaded_hold_m.unwrap() - hold.iter().sum::<f64>() / hold.len() as f64).abs() < 1e-9);
+        // The orientation's peak over the move is 1, and its final mean too: the final window
+        // starts at 8.1 s, after the 3 at 8 s.
+        assert!((e.orientation_peak_rad - 1.0).abs() < 1e-12 && (e.orientation_final_rad - 1.0).abs() < 1e-12);
+        // RMS over [0.5, 10] on the 0.1 s grid, the spike and the 3 included.
+        let kept: Vec<f64> =
+            series.time.iter().zip(&series.position_m).filter(|(t, _)| **t >= 0.5).map(|(_, v)| *v).collect();
+        let rms = (kept.iter().map(|v| v * v).sum::<f64>() / kept.len() as f64).sqrt();
+        assert!((e.position_rms_m - rms).abs() < 1e-9 && rms > 10.0);
+        let turned: Vec<f64> =
+            series.time.iter().zip(&series.orientation_rad).filter(|(t, _)| **t >= 0.5).map(|(_, v)| *v).collect();
+        let rms = (turned.iter().map(|v| v * v).sum::<f64>() / turned.len() as f64).sqrt();
+        assert!((e.orientation_rms_rad - rms).abs() < 1e-12 && rms > 1.0);
         assert_eq!(errors(&series, times, None).position_loaded_hold_m, None);
     }
 }

@@ -51,6 +51,13 @@ fn settings_that_do_not_fit_a_task_space_task_are_refused_by_key() {
     s.controller.cartesian.as_mut().unwrap().frame = Some("panda_hand".into());
     let message = s.check_for_robot().unwrap_err().to_string();
     assert!(message.contains("panda_hand") && message.contains("panda_link8"), "{message}");
+    // The frame is judged holding the moved pose: the run must last beyond 1 s after the move.
+    let message = refusal(|s| s.duration_s = 7.4);
+    assert!(message.contains("task.start_s + task.transition_s") && message.contains("1 s"), "{message}");
+    // The joint-space runs (hya.simulate, the paper's experiments) refuse it: it is measured at
+    // its frame.
+    let message = hya_sim::run_method::<7>(&scenario(), Method::Lu).unwrap_err().to_string();
+    assert!(message.contains("task space"), "{message}");
     // A posture list of the wrong length is named too.
     let mut s = scenario();
     s.controller.cartesian.as_mut().unwrap().posture_damping_nm_s_rad.pop();
@@ -77,7 +84,7 @@ fn the_reference_twist_is_the_pose_rate_and_the_move_ends_at_the_offset() {
     let settings = JointSettings::<7>::for_arm(&s, &robot.model).unwrap();
     let setup = settings.cartesian.as_ref().unwrap();
     let q0 = settings.initial_position;
-    let law =
+    let mut law =
         CartesianLaw::new((setup, &settings.task), robot.nominal.as_ref(), &robot.model, (&q0, settings.torque_limit))
             .unwrap()
             .unwrap();
@@ -102,8 +109,8 @@ fn the_reference_twist_is_the_pose_rate_and_the_move_ends_at_the_offset() {
         assert!((spin - now.twist.fixed_rows::<3>(3)).norm() < 1e-6, "angular at {t}");
     }
     // The frame's error is zero at the start pose, at the start.
-    assert!(law.pose_error(0.0, &q0).unwrap().norm() < 1e-12);
-    assert!(law.pose_error(0.0, &(q0 + JointVector::from_element(0.01))).unwrap().norm() > 1e-3);
+    assert!(law.pose_error(0.0, &q0).norm() < 1e-12);
+    assert!(law.pose_error(0.0, &(q0 + JointVector::from_element(0.01))).norm() > 1e-3);
 }
 
 /// The scenario on an ideal arm (the nominal rigid body, no friction, lag, payload or noise),

@@ -319,7 +319,7 @@ fn trailing(study: &CartesianStudy, floors: Floors) -> String {
         return String::new();
     };
     format!(
-        "During the move, the peak position error with compensation is {}–{} mm on average: the law has no acceleration feed-forward, and at the reference's peak acceleration the springs let the origin trail by about {} mm (`K⁻¹ Λ a`, quasi-static, with the task-space inertia `Λ` of the loop's model at the start pose, without the payload, and the reference's peak linear and angular acceleration `a`; the position rows), which no estimator removes.\n\n",
+        "During the move, the peak position error with compensation is {}–{} mm on average: the law has no acceleration feed-forward, and at the reference's peak acceleration the springs let the origin trail by about {} mm (`K⁻¹ Λ a`, quasi-static, with the task-space inertia `Λ` of the loop's model at the start pose, without the payload, and the reference's peak linear and angular acceleration `a`; the position rows; it leaves out what the dampers add), which no estimator removes.\n\n",
         figure(low),
         figure(high),
         figure(trailing * 1e3)

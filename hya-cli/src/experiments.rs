@@ -186,8 +186,14 @@ fn run_all(
     }
     let progress = |seconds: f64| bar.inc(seconds.round() as u64);
     if let Some(scenario) = cartesian {
-        let experiment =
-            hya_sim::CartesianExperiment { scenario, seeds, progress: &progress, out: &out, provenance: &provenance };
+        let experiment = hya_sim::CartesianExperiment {
+            scenario,
+            seeds,
+            progress: &progress,
+            out: &out,
+            quick,
+            provenance: &provenance,
+        };
         let summary = experiment.run().map_err(sim)?;
         bar.finish_and_clear();
         return cartesian_results(&summary, out.path(), options.json, output);

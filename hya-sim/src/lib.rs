@@ -215,6 +215,8 @@ pub struct CartesianExperiment<'a> {
     pub progress: &'a (dyn Fn(f64) + Sync),
     /// The report's folder, held by this run.
     pub out: &'a output::OutputDir,
+    /// Whether the scenario was shortened (`--quick`), said in the report.
+    pub quick: bool,
     /// The command that asked and the build that ran it, named in the report.
     pub provenance: &'a report::Provenance,
 }
@@ -231,6 +233,6 @@ impl ForRobot for CartesianExperiment<'_> {
     type Output = report::cartesian::CartesianSummary;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<Self::Output, SimError> {
         let study = studies::cartesian::run(&robot, self.scenario, self.seeds, self.progress)?;
-        report::cartesian::write(self.out, &study, self.provenance)
+        report::cartesian::write(self.out, &study, (self.quick, self.provenance))
     }
 }

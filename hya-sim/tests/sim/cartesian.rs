@@ -141,6 +141,7 @@ fn on_an_ideal_arm_the_loop_holds_the_moved_pose_and_the_report_is_written() {
         seeds: 1,
         progress: &|_| {},
         out: &dir,
+        quick: false,
         provenance: &hya_sim::report::Provenance::unknown("the cartesian test"),
     }
     .run()
@@ -159,6 +160,7 @@ fn on_an_ideal_arm_the_loop_holds_the_moved_pose_and_the_report_is_written() {
     }
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## In short") && report.contains("`lu`'s compensation"), "{report}");
+    assert!(report.contains("- Mode: full."), "{report}");
     // The joint-space experiment does not take it.
     let message = Experiment {
         scenarios: std::slice::from_ref(&s),

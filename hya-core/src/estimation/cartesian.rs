@@ -167,7 +167,7 @@ impl<const N: usize, D: Dynamics<N>> FrameImpedance<N, D> {
         reference: &CartesianReference,
         disturbance_estimate: Option<&JointVector<N>>,
     ) -> Result<Command<N>, Error> {
-        check("q", q)?;
+        // A non-finite `q` gives a non-finite frame, which the law refuses, naming `q` first.
         let frame = self.frame.state(q);
         self.controller.command(q, qd, &frame, reference, disturbance_estimate)
     }
@@ -191,6 +191,10 @@ impl CartesianReference {
     }
 }
 
+/// The projector's damping `μ` unless set otherwise (m): small against the Jacobian's entries of
+/// an arm's links, large enough to keep `(J Jᵀ + μ² I)` factorable at a singular pose.
+pub const DEFAULT_REGULARISATION: f64 = 1e-3;
+
 /// The gains of the task-space spring and damper and of the posture in its null space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impedance<const N: usize> {
@@ -204,7 +208,8 @@ pub struct Impedance<const N: usize> {
 
 impl<const N: usize> Impedance<N> {
     /// A spring `K_x` (N/m for the first three entries, N·m/rad for the last three) and a damper
-    /// `D_x` (N·s/m, N·m·s/rad) at the frame, and no posture term; `μ = 10⁻³` (m). Every entry
+    /// `D_x` (N·s/m, N·m·s/rad) at the frame, and no posture term; `μ` =
+    /// [`DEFAULT_REGULARISATION`]. Every entry
     /// must be finite and non-negative.
     pub fn new(stiffness: [f64; 6], damping: [f64; 6]) -> Result<Self, Error> {
         non_negative("stiffness", &stiffness)?;
@@ -215,7 +220,7 @@ impl<const N: usize> Impedance<N> {
             posture_stiffness: JointVector::zeros(),
             posture_damping: JointVector::zeros(),
             rest: JointVector::zeros(),
-            regularisation: 1e-3,
+            regularisation: DEFAULT_REGULARISATION,
         })
     }
 

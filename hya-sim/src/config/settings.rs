@@ -252,16 +252,20 @@ impl<const N: usize> CartesianSetup<N> {
     /// Checks and converts `config`, the posture held around `rest`.
     fn of(config: &CartesianConfig, rest: &JointVector<N>) -> Result<Self, SimError> {
         let key = "controller.cartesian";
-        let setup = |source| SimError::Setup { setting: key.into(), source };
-        let six = |values: &[f64]| -> [f64; 6] { core::array::from_fn(|i| values.get(i).copied().unwrap_or(f64::NAN)) };
+        // The posture lists checked here, by key; the rest by the library, as for C and Python.
         let posture = |name: &str, values: &[f64]| {
             per_joint_where::<N>(&format!("{key}.{name}"), values, |v| v >= 0.0, "must be ≥ 0")
         };
         let stiffness = posture("posture_stiffness_nm_rad", &config.posture_stiffness_nm_rad)?;
         let damping = posture("posture_damping_nm_s_rad", &config.posture_damping_nm_s_rad)?;
-        let impedance = hya_core::Impedance::new(six(&config.stiffness), six(&config.damping))
-            .and_then(|gains| gains.with_posture((*rest).into(), stiffness.into(), damping.into()))
-            .map_err(setup)?;
+        let lists = [Some(rest.as_slice()), Some(stiffness.as_slice()), Some(damping.as_slice())];
+        let impedance = hya_core::Impedance::from_slices(
+            &config.stiffness,
+            &config.damping,
+            lists,
+            hya_core::cartesian::DEFAULT_REGULARISATION,
+        )
+        .map_err(|source| SimError::Setup { setting: key.into(), source })?;
         Ok(Self { frame: config.frame.clone(), impedance })
     }
 
@@ -283,8 +287,9 @@ impl<const N: usize> JointSettings<N> {
     /// [`Self::of`], reading the PID's integral clamp where `pid` says.
     fn reading(scenario: &Scenario, pid: bool) -> Result<Self, SimError> {
         let c = &scenario.controller;
+        let initial_position = per_joint("initial_position_rad", &initial_position(scenario, N))?;
         Ok(Self {
-            initial_position: per_joint("initial_position_rad", &initial_position(scenario, N))?,
+            initial_position,
             task: TaskSetup::of(&scenario.task)?,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,
             static_friction: per_joint("plant.static_nm", &scenario.plant.static_nm)?,
@@ -299,13 +304,7 @@ impl<const N: usize> JointSettings<N> {
             sensors: scenario.sensors.clone(),
             noise: scenario.noise.clone(),
             parameter_spread: scenario.plant.parameter_spread,
-            cartesian: match &c.cartesian {
-                Some(config) => Some(CartesianSetup::of(
-                    config,
-                    &per_joint("initial_position_rad", &initial_position(scenario, N))?,
-                )?),
-                None => None,
-            },
+            cartesian: c.cartesian.as_ref().map(|config| CartesianSetup::of(config, &initial_position)).transpose()?,
         })
     }
 }

@@ -63,12 +63,13 @@ fn allowed_lints() -> TokenStream {
     }
 }
 
-/// The kernels and `impl Dynamics<N> for Type`, in an anonymous `const` block: the names it
-/// imports and its `f_of` helpers stay out of the caller's module.
-fn dynamics_impl(tracer: &Tracer, functions: &[Function], frames: Option<(&[Function], &TokenStream)>) -> TokenStream {
+/// The kernels and `impl Dynamics<N> for Type`, with `extra` functions' kernels beside them and
+/// their own `impl` (the tip's kinematics; the parametric twin's `BodiesBatch`), in an anonymous
+/// `const` block: the names it imports and its `f_of` helpers stay out of the caller's module.
+fn dynamics_impl(tracer: &Tracer, functions: &[Function], extra: Option<(&[Function], &TokenStream)>) -> TokenStream {
     let (lints, type_name, dof) = (allowed_lints(), &tracer.type_name, tracer.dof());
     let empty = TokenStream::new();
-    let (frame_functions, frame_impl) = frames.unwrap_or((&[], &empty));
+    let (frame_functions, frame_impl) = extra.unwrap_or((&[], &empty));
     let kernels = functions.iter().chain(frame_functions).map(|f| &f.kernel);
     let conversions = functions.iter().chain(frame_functions).map(|f| &f.conversion);
     let entries = functions.iter().map(|f| &f.entry);
@@ -240,14 +241,16 @@ pub fn generate_parametric(loaded: &LoadedModel, type_name: &str) -> Result<Gene
         source: InertiaSource::Parameters,
         type_name: type_ident(type_name)?,
     };
-    let functions = tracer.dynamics_functions()?;
+    let mut functions = tracer.dynamics_functions()?;
+    let (bodies, bodies_impl) = tracer.forward_dynamics_of_bodies()?;
     let (ident, dof) = (&tracer.type_name, tracer.dof());
     let doc = doc_naming(
         " Rigid-body dynamics of `",
         model.name(),
         &format!("` ({} joints) with the inertial parameters as data:", model.dof()),
     );
-    let dynamics = dynamics_impl(&tracer, &functions, None);
+    let dynamics = dynamics_impl(&tracer, &functions, Some((std::slice::from_ref(&bodies), &bodies_impl)));
+    functions.push(bodies);
     let tokens = quote! {
         #doc
         /// `self.0[i]` is body `i`'s `RigidBodyInertia::parameters()`, about its frame origin.

@@ -30,6 +30,9 @@ pub(crate) enum InertiaSource {
     Constant,
     /// Read from the type's field, `self.0[body][parameter]` (the parameter-holding type).
     Parameters,
+    /// Read from the kernel's inputs, `bodies_{parameter}[body]`, a lane value per state (the
+    /// parameter-holding type's `BodiesBatch`).
+    Inputs,
 }
 
 /// Names of the ten inertial parameters, in `RigidBodyInertia::parameters` order.
@@ -143,24 +146,46 @@ impl<'a> Tracer<'a> {
         Literal::usize_unsuffixed(self.model.dof())
     }
 
-    /// The inertias of the source; parameters become inputs `{link}_{parameter}`.
-    fn inertias(&self) -> TracedInertias<'a> {
+    /// The inertias of the source; parameters become inputs `{link}_{parameter}`, read as
+    /// `parameters[k][body]` for [`InertiaSource::Inputs`].
+    fn inertias(&self, parameters: &[Vec<Value>]) -> TracedInertias<'a> {
+        let read = |i: usize, k: usize| {
+            let (body, parameter) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(k));
+            input(self.names.body_input(i, PARAMETERS[k]), quote! { A::from(self.0[#body][#parameter]) })
+        };
         match self.source {
             InertiaSource::Constant => TracedInertias::Model(ModelInertias(self.model)),
-            InertiaSource::Parameters => TracedInertias::Parameters(
+            InertiaSource::Parameters | InertiaSource::Inputs => TracedInertias::Parameters(
                 (0..self.model.dof())
                     .map(|i| {
-                        RigidBodyInertia::from_parameters(&core::array::from_fn(|k| {
-                            let (body, parameter) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(k));
-                            input(
-                                self.names.body_input(i, PARAMETERS[k]),
-                                quote! { A::from(self.0[#body][#parameter]) },
-                            )
+                        RigidBodyInertia::from_parameters(&core::array::from_fn(|k| match parameters.get(k) {
+                            Some(column) => column[i],
+                            None => read(i, k),
                         }))
                     })
                     .collect(),
             ),
         }
+    }
+
+    /// The ten parameter inputs of [`InertiaSource::Inputs`], one vector of bodies per
+    /// parameter (`bodies_m[i]` body `i`'s mass); none for the other sources.
+    fn parameter_inputs(&self) -> Vec<Vec<Value>> {
+        if self.source != InertiaSource::Inputs {
+            return Vec::new();
+        }
+        PARAMETERS
+            .iter()
+            .map(|parameter| {
+                let column = format_ident!("bodies_{parameter}");
+                (0..self.model.dof())
+                    .map(|i| {
+                        let body = Literal::usize_unsuffixed(i);
+                        input(self.names.body_input(i, parameter), quote! { #column[#body] })
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// The joint inputs of `arguments`, one vector per argument: `q_sfe` from `q[1]`.
@@ -188,10 +213,11 @@ impl<'a> Tracer<'a> {
         output: Output,
         algorithm: impl FnOnce(&[Vec<Value>], &TracedInertias, &mut [BodyState<Value>]) -> Result<Vec<Value>, ModelError>,
     ) -> Result<Traced, GenerateError> {
-        let ((values, inputs), emitter) = trace::trace(|| {
-            let inertias = self.inertias();
+        let ((values, inputs, parameters), emitter) = trace::trace(|| {
+            let parameters = self.parameter_inputs();
+            let inertias = self.inertias(&parameters);
             let inputs = self.joint_inputs(arguments);
-            (algorithm(&inputs, &inertias, &mut vec![BodyState::new(); self.model.dof()]), inputs)
+            (algorithm(&inputs, &inertias, &mut vec![BodyState::new(); self.model.dof()]), inputs, parameters)
         });
         let values = values?;
         if let Some(value) = emitter.non_finite_constant(&values) {
@@ -199,16 +225,17 @@ impl<'a> Tracer<'a> {
         }
         let rendered = render(&emitter, &values, &self.names.with_output(output));
         let outputs = Outputs::new(&values, &rendered);
-        // An argument none of whose joints is read is bound to `_`.
-        let bound = arguments.iter().zip(&inputs).map(|(argument, joints)| {
-            if joints.iter().any(|v| rendered.reads(*v)) {
-                format_ident!("{argument}")
-            } else {
-                format_ident!("_")
-            }
-        });
+        // An argument none of whose joints (or bodies) is read is bound to `_`.
+        let columns = parameters.iter().zip(PARAMETERS).map(|(c, p)| (format_ident!("bodies_{p}"), c));
+        let bound: Vec<Ident> = arguments
+            .iter()
+            .zip(&inputs)
+            .map(|(argument, joints)| (format_ident!("{argument}"), joints))
+            .chain(columns)
+            .map(|(name, read)| if read.iter().any(|v| rendered.reads(*v)) { name } else { format_ident!("_") })
+            .collect();
         let (marker_ident, type_name, dof) = (format_ident!("{marker}"), &self.type_name, self.dof());
-        let (count, arity) = (outputs.count(), Literal::usize_unsuffixed(arguments.len()));
+        let (count, arity) = (outputs.count(), Literal::usize_unsuffixed(bound.len()));
         let (statements, returned) = (&rendered.statements, &outputs.returned);
         let kernel = quote! {
             impl Kernel<kernels::#marker_ident, #dof, #arity, #count> for #type_name {
@@ -384,21 +411,40 @@ impl<'a> Tracer<'a> {
     /// ABA, returning `Err(SingularMassMatrix)` unless every `D_i` that is not a positive
     /// constant is positive at run time.
     fn forward_dynamics(&self) -> Result<Function, GenerateError> {
+        let (traced, joint_inertias) = self.forward_dynamics_traced(("forward_dynamics", "ForwardDynamics"))?;
+        let (output_type, conversion) = self.forward_dynamics_conversion(&traced, &joint_inertias);
+        let dof = self.dof();
+        let doc = " Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm, unrolled; \
+                   an error if a joint meets no positive inertia `D_i`.";
+        let batch =
+            Batch::one(quote! { qdd: &mut [JointVector<#dof>] }, "qdd", quote! { qdd[k] = forward_dynamics_of(&v)? });
+        let name = ("forward_dynamics", "ForwardDynamics", doc);
+        let entry = self.entry_points(name, &["q", "qd", "tau"], (output_type, conversion), Some(batch), &traced);
+        Ok(self.function("forward_dynamics", "ForwardDynamics", traced, entry))
+    }
+
+    /// ABA traced as `(function, marker)`: the accelerations, then each joint's articulated
+    /// inertia `D_i`; and the traced `D_i`.
+    fn forward_dynamics_traced(
+        &self,
+        (function, marker): (&'static str, &'static str),
+    ) -> Result<(Traced, Vec<Value>), GenerateError> {
         let dof = self.model.dof();
         let mut joint_inertias = Vec::new();
-        let arguments: Arguments = &["q", "qd", "tau"];
-        let traced = self.trace(
-            ("forward_dynamics", "ForwardDynamics"),
-            arguments,
-            Output::Vector("qdd"),
-            |x, inertias, states| {
+        let traced =
+            self.trace((function, marker), &["q", "qd", "tau"], Output::Vector("qdd"), |x, inertias, states| {
                 let mut qdd = vec![Value::zero(); dof];
                 algorithms::forward_dynamics(self.model, inertias, (&x[0], &x[1], &x[2]), states, &mut qdd)?;
                 joint_inertias = states.iter().map(BodyState::joint_inertia).collect();
                 Ok(qdd.into_iter().chain(joint_inertias.iter().copied()).collect())
-            },
-        )?;
-        let (qdd, d) = traced.outputs.slots.split_at(dof);
+            })?;
+        Ok((traced, joint_inertias))
+    }
+
+    /// ABA's numbers as `Result<JointVector<N>, Error>`: `Err(SingularMassMatrix)` unless every
+    /// `D_i` that is not a positive constant is positive at run time.
+    fn forward_dynamics_conversion(&self, traced: &Traced, joint_inertias: &[Value]) -> (TokenStream, TokenStream) {
+        let (qdd, d) = traced.outputs.slots.split_at(self.model.dof());
         let checks: Vec<TokenStream> = joint_inertias
             .iter()
             .zip(d)
@@ -421,13 +467,53 @@ impl<'a> Tracer<'a> {
             #guard
             Ok(JointVector::<#dof>::from([#(#qdd),*]))
         };
-        let doc = " Forward dynamics `q̈ = M(q)⁻¹ (τ − C − G)` by the articulated-body algorithm, unrolled; \
-                   an error if a joint meets no positive inertia `D_i`.";
-        let batch =
-            Batch::one(quote! { qdd: &mut [JointVector<#dof>] }, "qdd", quote! { qdd[k] = forward_dynamics_of(&v)? });
-        let name = ("forward_dynamics", "ForwardDynamics", doc);
-        let entry = self.entry_points(name, arguments, (output_type, conversion), Some(batch), &traced);
-        Ok(self.function("forward_dynamics", "ForwardDynamics", traced, entry))
+        (output_type, conversion)
+    }
+
+    /// `BodiesBatch` for the parameter-holding type: ABA with each state's bodies read from the
+    /// kernel's inputs (`forward_dynamics_of_bodies_of` converts its numbers as
+    /// `forward_dynamics_of` does). The function and the `impl`.
+    pub fn forward_dynamics_of_bodies(&self) -> Result<(Function, TokenStream), GenerateError> {
+        let (name, marker) = ("forward_dynamics_of_bodies", "ForwardDynamicsOfBodies");
+        let inputs = Tracer {
+            source: InertiaSource::Inputs,
+            names: self.names.clone(),
+            type_name: self.type_name.clone(),
+            ..*self
+        };
+        let (traced, joint_inertias) = inputs.forward_dynamics_traced((name, marker))?;
+        let (output_type, conversion) = self.forward_dynamics_conversion(&traced, &joint_inertias);
+        let count = traced.outputs.count();
+        let (type_name, dof) = (&self.type_name, self.dof());
+        let columns = (0..PARAMETERS.len()).map(Literal::usize_unsuffixed);
+        let implementation = quote! {
+            #[inline(always)]
+            fn forward_dynamics_of_bodies_of(v: &[f64; #count]) -> #output_type {
+                #conversion
+            }
+            impl ::hya_core::BodiesBatch<#dof> for #type_name {
+                fn forward_dynamics_of_bodies_batch(
+                    &self,
+                    bodies: ::hya_core::BodyColumns<'_, #dof>,
+                    q: &[JointVector<#dof>],
+                    qd: &[JointVector<#dof>],
+                    tau: &[JointVector<#dof>],
+                    qdd: &mut [JointVector<#dof>],
+                ) -> Result<(), Error> {
+                    batch(
+                        self,
+                        kernels::ForwardDynamicsOfBodies,
+                        [q, qd, tau, #(bodies[#columns]),*],
+                        qdd.len(),
+                        |k, v| {
+                            qdd[k] = forward_dynamics_of_bodies_of(&v)?;
+                            Ok(())
+                        },
+                    )
+                }
+            }
+        };
+        Ok((self.function(name, marker, traced, Default::default()), implementation))
     }
 
     /// Every body's placement in the base at the traced `q` ([`algorithms::body_placements`]).

@@ -45,6 +45,7 @@ mod estimation {
 /// (`Real`, dual numbers, lanes of states), spatial algebra, and the run-time tree model with
 /// every algorithm written once.
 mod rigid_body {
+    pub mod bodies_batch;
     pub mod dual;
     pub mod dynamics;
     pub(crate) mod fma;
@@ -74,7 +75,7 @@ pub use estimation::{erased, observer_design};
 pub use rigid_body::model;
 #[cfg(feature = "sampling")]
 pub use rigid_body::sampling;
-pub use rigid_body::{dual, dynamics, frame_kinematics, lanes, scalar, spatial};
+pub use rigid_body::{bodies_batch, dual, dynamics, frame_kinematics, lanes, scalar, spatial};
 use rigid_body::{fma, linalg, trig};
 
 pub use fma::{mul_add, with_fma, FmaSupport, FMA_SUPPORT};
@@ -84,6 +85,7 @@ pub use scalar::Real;
 pub use trig::{sin_cos, sin_cos_lanes, sin_cos_lanes_fused};
 
 pub use attenuation::DisturbanceAttenuation;
+pub use bodies_batch::{BodiesBatch, BodyColumns};
 pub use cartesian::{CartesianImpedance, CartesianReference, FrameState, Impedance};
 #[cfg(feature = "alloc")]
 pub use cartesian::{FrameImpedance, TreeFrame};

@@ -105,6 +105,9 @@ pub struct Arm<const N: usize> {
     /// The parameter-holding twin for these body inertias (joint order): the same folded
     /// kinematics for perturbed, identified or loaded bodies.
     pub parametric: ParametricFactory<N>,
+    /// Forward dynamics of many states, each with its own bodies, on the parametric twin's kernel
+    /// (the simulator's seeds in lockstep).
+    pub bodies: &'static (dyn hya_core::BodiesBatch<N> + Send + Sync),
 }
 
 /// Builds an arm's parameter-holding twin from its body inertias, in joint order.
@@ -151,6 +154,7 @@ macro_rules! arm_dispatch {
                         nominal: &$type,
                         tip: &$type,
                         parametric: |inertias| std::boxed::Box::new($parametric::new(inertias)),
+                        bodies: &$parametric([[0.0; 10]; $dof]),
                     }));
                 }
             )*

@@ -21,7 +21,10 @@ fn generic<const N: usize>(urdf: &str) -> TreeDynamics<N> {
     hya_urdf::load_str(urdf, "test").unwrap().model.into_dynamics().unwrap()
 }
 
-fn state<const N: usize>() -> impl Strategy<Value = (JointVector<N>, JointVector<N>, JointVector<N>)> {
+/// `(q, q̇, q̈ or τ)`.
+type State<const N: usize> = (JointVector<N>, JointVector<N>, JointVector<N>);
+
+fn state<const N: usize>() -> impl Strategy<Value = State<N>> {
     let vector = |bound: f64| proptest::array::uniform::<_, N>(-bound..bound).prop_map(JointVector::from);
     (vector(std::f64::consts::PI), vector(2.0), vector(5.0))
 }
@@ -141,6 +144,37 @@ fn perturbed(model: &TreeModel, factors: &[f64]) -> TreeModel {
     })
 }
 
+/// `BodiesBatch` against the parametric twin of each state's own bodies, bit for bit (as
+/// [`check_batches`]); a singular state's error is the batch's too.
+fn check_bodies_batch<const N: usize, P: Dynamics<N>>(
+    batch: &impl hya_core::BodiesBatch<N>,
+    twin: impl Fn(&[RigidBodyInertia; N]) -> P,
+    states: &[(State<N>, [RigidBodyInertia; N])],
+) -> Result<(), TestCaseError> {
+    let n = states.len();
+    let q: Vec<_> = states.iter().map(|s| s.0 .0).collect();
+    let qd: Vec<_> = states.iter().map(|s| s.0 .1).collect();
+    let tau: Vec<_> = states.iter().map(|s| s.0 .2).collect();
+    let columns: Vec<_> =
+        states.iter().map(|s| hya_core::bodies_batch::body_columns(&s.1.map(|b| b.parameters()))).collect();
+    let by_parameter: [Vec<JointVector<N>>; 10] = core::array::from_fn(|p| columns.iter().map(|c| c[p]).collect());
+    let bodies: hya_core::BodyColumns<N> = core::array::from_fn(|p| by_parameter[p].as_slice());
+    let mut qdd = vec![JointVector::zeros(); n];
+    batch.forward_dynamics_of_bodies_batch(bodies, &q, &qd, &tau, &mut qdd).unwrap();
+    for (k, state) in states.iter().enumerate() {
+        let single = twin(&state.1).forward_dynamics(&q[k], &qd[k], &tau[k]).unwrap();
+        prop_assert_eq!(qdd[k], single, "state {}", k);
+    }
+    let mut short = vec![JointVector::zeros(); n + 1];
+    prop_assert!(batch.forward_dynamics_of_bodies_batch(bodies, &q, &qd, &tau, &mut short).is_err(), "lengths differ");
+    // A massless, inertia-free arm has no articulated inertia: refused, not divided by.
+    let empty = [JointVector::zeros(); 10];
+    let singular: hya_core::BodyColumns<N> = core::array::from_fn(|p| core::slice::from_ref(&empty[p]));
+    let refused = batch.forward_dynamics_of_bodies_batch(singular, &q[..1], &qd[..1], &tau[..1], &mut qdd[..1]);
+    prop_assert_eq!(refused, Err(hya_core::Error::SingularMassMatrix));
+    Ok(())
+}
+
 macro_rules! robot_tests {
     ($($module:ident $type:ident $parametric:ident $dof:literal [$($home:expr),*] $doc:literal;)*) => {$(
         mod $module {
@@ -161,6 +195,21 @@ macro_rules! robot_tests {
                     let model = hya_urdf::load_str(URDF, "test").unwrap().model;
                     let inertias: [RigidBodyInertia; $dof] = core::array::from_fn(|i| model.bodies()[i].inertia);
                     check_batches(&$parametric::new(&inertias), &states)?;
+                }
+
+                #[test]
+                fn bodies_batch_equals_each_states_own_twin(
+                    states in proptest::collection::vec((state::<$dof>(), proptest::collection::vec(0.8..1.2f64, 7)), 1..11),
+                ) {
+                    let model = hya_urdf::load_str(URDF, "test").unwrap().model;
+                    let states: Vec<_> = states
+                        .into_iter()
+                        .map(|(s, factors)| {
+                            let bodies = perturbed(&model, &factors);
+                            (s, core::array::from_fn(|i| bodies.bodies()[i].inertia))
+                        })
+                        .collect();
+                    check_bodies_batch(&$parametric([[0.0; 10]; $dof]), |b| $parametric::new(b), &states)?;
                 }
 
                 #[test]

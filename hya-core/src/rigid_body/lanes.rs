@@ -328,6 +328,9 @@ pub mod kernels {
     impl Width for ForwardDynamics {
         const WIDE: bool = false;
     }
+    impl Width for ForwardDynamicsOfBodies {
+        const WIDE: bool = false;
+    }
     impl Width for InverseDynamicsDerivatives {}
     impl Width for FramePoses {}
     impl Width for FrameJacobian {}
@@ -351,6 +354,10 @@ pub mod kernels {
     /// Forward dynamics, followed by the articulated inertias `D_i` to check.
     #[derive(Debug, Clone, Copy)]
     pub struct ForwardDynamics;
+    /// Forward dynamics with each state's bodies as inputs (`BodiesBatch`), followed by the
+    /// articulated inertias `D_i` to check.
+    #[derive(Debug, Clone, Copy)]
+    pub struct ForwardDynamicsOfBodies;
     /// The derivatives of inverse dynamics.
     #[derive(Debug, Clone, Copy)]
     pub struct InverseDynamicsDerivatives;

@@ -89,17 +89,26 @@ struct Figures {
     /// The same tick as `DisturbanceEstimator::update` then `ComputedTorque::command`.
     #[serde(skip_serializing_if = "Option::is_none")]
     tick_in_sequence_ns: Option<f64>,
-    /// Simulated seconds per wall-clock second of `goto_internal` (method lu) on the simple
-    /// plant (`actuator = "lag"`).
+    /// Seed-seconds simulated per wall-clock second on one core, `goto_internal` (method lu)
+    /// on the simple plant (`actuator = "lag"`), its seeds in lockstep as `hya run` runs them.
     #[serde(skip_serializing_if = "Option::is_none")]
     sim_realtime_factor: Option<f64>,
-    /// The same on the hydraulic plant (the scenario as built in).
+    /// The same seeds run one by one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sim_realtime_factor_one_by_one: Option<f64>,
+    /// The same on the hydraulic plant (the scenario as built in), in lockstep.
     #[serde(skip_serializing_if = "Option::is_none")]
     sim_realtime_factor_hydraulic: Option<f64>,
+    /// The hydraulic plant's seeds one by one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sim_realtime_factor_hydraulic_one_by_one: Option<f64>,
     /// The same with ideal actuators (the commanded torque acts at once): the closed loop,
-    /// estimators and controller included, on the rigid body and its friction alone.
+    /// estimators and controller included, on the rigid body and its friction alone; in lockstep.
     #[serde(skip_serializing_if = "Option::is_none")]
     sim_realtime_factor_ideal: Option<f64>,
+    /// The ideal actuators' seeds one by one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sim_realtime_factor_ideal_one_by_one: Option<f64>,
     /// The target features this binary was compiled for (`sse4.1 avx2 fma`, …).
     build: &'static str,
     /// Whether generated code ran its fused multiply-add variant: `compiled` (the target has
@@ -329,8 +338,11 @@ fn bench_robot<const N: usize, D: Dynamics<N> + FrameKinematics<N>>(
         tick_ns: None,
         tick_in_sequence_ns: None,
         sim_realtime_factor: None,
+        sim_realtime_factor_one_by_one: None,
         sim_realtime_factor_hydraulic: None,
+        sim_realtime_factor_hydraulic_one_by_one: None,
         sim_realtime_factor_ideal: None,
+        sim_realtime_factor_ideal_one_by_one: None,
         build: build_features(),
         generated_fma: generated_fma(),
     })
@@ -373,22 +385,42 @@ struct Ticks {
     in_sequence: f64,
 }
 
-/// Simulated seconds per wall-clock second of the full `goto_internal` scenario with method lu,
-/// on the actuators `actuator` (the scenario's own: hydraulic).
-fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<f64, CliError> {
+/// Seed-seconds simulated per wall-clock second of `goto_internal` (method lu) on `actuator`,
+/// over one lockstep's worth of seeds ([`hya_sim::seeds::LOCKSTEP_SEEDS`]), their traces off: the
+/// seeds run together ([`RunSetup::run_together`](hya_sim::run::RunSetup::run_together), as
+/// `hya run` and `hya reproduce` run them), then one by one on the same core.
+fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<SimulationSpeed, CliError> {
     let mut scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
     scenario.plant.actuator = actuator;
-    /// The run, timed on the robot [`hya_sim::with_robot`] hands over (loading it is not timed).
+    /// The runs, timed on the robot [`hya_sim::with_robot`] hands over (loading it is not timed).
     struct Timed<'a>(&'a hya_sim::Scenario);
     impl hya_sim::ForRobot for Timed<'_> {
-        type Output = f64;
-        fn call<const N: usize>(self, robot: hya_sim::Robot<N>) -> Result<f64, hya_sim::SimError> {
+        type Output = SimulationSpeed;
+        fn call<const N: usize>(self, robot: hya_sim::Robot<N>) -> Result<SimulationSpeed, hya_sim::SimError> {
+            let setup = hya_sim::run::RunSetup::new(self.0, hya_sim::Method::Lu, &robot)?;
+            let seeds: Vec<(u64, hya_sim::run::trace::Recording)> = (0..hya_sim::seeds::LOCKSTEP_SEEDS as u64)
+                .map(|k| (self.0.seed + k, hya_sim::run::trace::Recording::Off))
+                .collect();
+            let simulated = self.0.duration_s * seeds.len() as f64;
             let start = Instant::now();
-            hya_sim::simulate(self.0, hya_sim::Method::Lu, &robot)?;
-            Ok(self.0.duration_s / start.elapsed().as_secs_f64())
+            for run in setup.run_together(&seeds) {
+                run?;
+            }
+            let together = simulated / start.elapsed().as_secs_f64();
+            let start = Instant::now();
+            for &(seed, recording) in &seeds {
+                setup.run(seed, recording)?;
+            }
+            Ok(SimulationSpeed { together, alone: simulated / start.elapsed().as_secs_f64() })
         }
     }
     hya_sim::with_robot(&scenario.robot, Timed(&scenario)).map_err(|e| CliError::Input(e.to_string()))
+}
+
+/// [`simulation_speed`]'s figures.
+struct SimulationSpeed {
+    together: f64,
+    alone: f64,
 }
 
 /// `hya bench`.
@@ -413,9 +445,14 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
         let ticks = ticks_ns()?;
         (hya.tick_ns, hya.tick_in_sequence_ns) = (Some(ticks.paired), Some(ticks.in_sequence));
         use hya_sim::scenario::ActuatorKind;
-        hya.sim_realtime_factor = Some(simulation_speed(ActuatorKind::Lag)?);
-        hya.sim_realtime_factor_hydraulic = Some(simulation_speed(ActuatorKind::Hydraulic)?);
-        hya.sim_realtime_factor_ideal = Some(simulation_speed(ActuatorKind::Ideal)?);
+        let lag = simulation_speed(ActuatorKind::Lag)?;
+        (hya.sim_realtime_factor, hya.sim_realtime_factor_one_by_one) = (Some(lag.together), Some(lag.alone));
+        let hydraulic = simulation_speed(ActuatorKind::Hydraulic)?;
+        hya.sim_realtime_factor_hydraulic = Some(hydraulic.together);
+        hya.sim_realtime_factor_hydraulic_one_by_one = Some(hydraulic.alone);
+        let ideal = simulation_speed(ActuatorKind::Ideal)?;
+        (hya.sim_realtime_factor_ideal, hya.sim_realtime_factor_ideal_one_by_one) =
+            (Some(ideal.together), Some(ideal.alone));
     }
     if args.json {
         let text = if figures.len() == 1 {
@@ -476,7 +513,7 @@ pub fn run(args: &BenchArgs, output: &mut impl std::io::Write) -> Result<(), Cli
     }
     writeln!(
         output,
-        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; dID, dFD = derivatives of inverse and forward dynamics; J = the last link's Jacobian; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = simulated s per wall s, lag actuators; hydr x: hydraulic; ideal x: ideal actuators; build: {}; generated FMA: {})",
+        "(ns per call, medians; gen = generated, batch = generated on 1024 states per call, ns per state, gener = generic tree model; dID, dFD = derivatives of inverse and forward dynamics; J = the last link's Jacobian; tick = HyA's control tick, both IDs in one batch call; tick seq = update then command; sim x = seed-seconds simulated per wall s on one core, seeds in lockstep, lag actuators; hydr x: hydraulic; ideal x: ideal actuators; build: {}; generated FMA: {})",
         build_features(),
         generated_fma()
     )?;

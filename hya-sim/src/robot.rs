@@ -9,7 +9,7 @@
 use hya_core::dispatch::{with_joints, ForJoints};
 use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
-use hya_core::{Dynamics, JointMatrix, JointVector};
+use hya_core::{BodiesBatch, Dynamics, JointMatrix, JointVector};
 use hya_robots::{Arm, ForArm};
 
 use crate::error::SimError;
@@ -27,6 +27,10 @@ pub struct Robot<const N: usize> {
     pub nominal: Box<dyn Dynamics<N> + Send + Sync>,
     /// The plant's rigid body for a (perturbed, loaded) model.
     pub plant: Box<DynamicsFactory<N>>,
+    /// Forward dynamics of many plants at once, each with its own bodies, where the plant's rigid
+    /// body is generated code (a shipped arm's parametric twin): the seeds of a run in lockstep
+    /// ([`crate::plant::lockstep`]). `None` on the run-time model, whose seeds run one by one.
+    pub bodies: Option<&'static (dyn BodiesBatch<N> + Send + Sync)>,
 }
 
 impl<const N: usize> std::fmt::Debug for Robot<N> {
@@ -64,6 +68,7 @@ impl<const N: usize> Robot<N> {
             model: robot_model(arm.info.name)?,
             nominal: Box::new(arm.nominal),
             plant: Box::new(move |m: &TreeModel| Ok(parametric(&inertias::<N>(m)?) as Box<dyn Dynamics<N>>)),
+            bodies: Some(arm.bodies),
         })
     }
 
@@ -72,7 +77,7 @@ impl<const N: usize> Robot<N> {
     pub fn from_model(name: &str, model: TreeModel) -> Result<Self, SimError> {
         let nominal = model.clone().into_dynamics::<N>()?;
         let plant = |m: &TreeModel| Ok(Box::new(m.clone().into_dynamics::<N>()?) as Box<dyn Dynamics<N>>);
-        Ok(Self { name: name.to_owned(), model, nominal: Box::new(nominal), plant: Box::new(plant) })
+        Ok(Self { name: name.to_owned(), model, nominal: Box::new(nominal), plant: Box::new(plant), bodies: None })
     }
 
     /// The robot called `robot` (a shipped arm's name or a URDF's path), which must have `N`
@@ -95,6 +100,7 @@ impl<const N: usize> Robot<N> {
                     plant: Box::new(move |m: &TreeModel| {
                         Ok(Box::new(Resized::<M, _>(plant(m)?)) as Box<dyn Dynamics<N>>)
                     }),
+                    bodies: None,
                 })
             }
         }

@@ -152,6 +152,10 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
     jobs.par_iter().map(&f).collect()
 }
 
+/// How many seeds of one scenario and method [`run_jobs`] steps together
+/// ([`RunSetup::run_together`]): the lanes of the batch its plants' forward dynamics runs on.
+pub const LOCKSTEP_SEEDS: usize = hya_core::lanes::BATCH_LANES;
+
 /// One run of an experiment: which scenario, the method, which seed (0: the scenario's own).
 pub type Job = (usize, Method, usize);
 
@@ -167,7 +171,8 @@ pub fn jobs(scenarios: &[Scenario], seeds: usize) -> Vec<Job> {
 
 /// Runs `jobs` on every core, each seed's offset added to its scenario's seed, the first seed's
 /// traces kept (for figures); `progress` is told each finished run's simulated seconds. Each
-/// scenario and method is set up once ([`RunSetup`]) for all its seeds.
+/// scenario and method is set up once ([`RunSetup`]) for all its seeds, which run
+/// [`LOCKSTEP_SEEDS`] at a time in lockstep ([`RunSetup::run_together`]: the same results).
 pub fn run_jobs<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
@@ -192,13 +197,27 @@ pub fn run_jobs<const N: usize>(
             slot.insert(setup);
         }
     }
-    let results = parallel_map(jobs, |&(i, method, k)| {
+    // The seeds of one scenario and method step together, a vector register's worth at a time.
+    let groups: Vec<&[Job]> =
+        jobs.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)).flat_map(|g| g.chunks(LOCKSTEP_SEEDS)).collect();
+    let results = parallel_map(&groups, |group| {
+        let (i, method, _) = group[0];
         // Only the first seed's traces are kept (for the figures and CSV files).
-        let recording = if k == 0 { Recording::Bounded } else { Recording::Off };
-        let run = setups[&(i, method)].run(seed(i, k), recording);
-        progress(scenarios[i].duration_s);
-        run.map(|run| RunOutcome::of(&scenarios[i].name, method, seed(i, k), run))
+        let seeds: Vec<(u64, Recording)> = group
+            .iter()
+            .map(|&(_, _, k)| (seed(i, k), if k == 0 { Recording::Bounded } else { Recording::Off }))
+            .collect();
+        let runs = setups[&(i, method)].run_together(&seeds);
+        for _ in group.iter() {
+            progress(scenarios[i].duration_s);
+        }
+        group
+            .iter()
+            .zip(runs)
+            .map(|(&(_, _, k), run)| run.map(|run| RunOutcome::of(&scenarios[i].name, method, seed(i, k), run)))
+            .collect::<Vec<_>>()
     });
+    let results = results.into_iter().flatten();
     jobs.iter().zip(results).map(|(&job, outcome)| outcome.map_err(failed(job))).collect()
 }
 

@@ -17,10 +17,12 @@
 
 pub mod friction;
 pub mod hydraulic;
+pub mod lockstep;
 
 pub use friction::Friction;
 pub use hydraulic::{HydraulicActuators, HydraulicState};
 
+use hya_core::bodies_batch::{body_columns, BODY_PARAMETERS};
 use hya_core::model::TreeModel;
 use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointVector};
@@ -97,10 +99,21 @@ impl<const N: usize> PlantState<N> {
         }
     }
 
+    /// At rest at zero, every field zero.
+    pub fn zeros() -> Self {
+        let zero = JointVector::zeros();
+        Self { q: zero, qd: zero, bristle: zero, lag_torque: zero, hydraulic: HydraulicState::zeros() }
+    }
+
     fn is_finite(&self) -> bool {
         [self.q, self.qd, self.bristle, self.lag_torque].iter().all(|v| v.iter().all(|x| x.is_finite()))
             && self.hydraulic.is_finite()
     }
+}
+
+/// Classic RK4's new state from `s` and its four stages over `h`.
+fn rk4_sum<const N: usize>(s: &PlantState<N>, [k1, k2, k3, k4]: [&PlantState<N>; 4], h: f64) -> PlantState<N> {
+    s.along(k1, h / 6.0).along(k2, h / 3.0).along(k3, h / 3.0).along(k4, h / 6.0)
 }
 
 /// The largest `h λ` an RK4 step takes on the bristles' relaxation (RK4 is stable to 2.78 on
@@ -121,11 +134,22 @@ pub enum Actuators<const N: usize> {
     Hydraulic(Box<HydraulicActuators<N>>),
 }
 
+/// One rigid body's bodies as [`hya_core::BodiesBatch`] reads them, by parameter.
+type Bodies<const N: usize> = [JointVector<N>; BODY_PARAMETERS];
+
+/// The bodies of `model`'s `N` joints, by parameter ([`hya_core::bodies_batch`]).
+fn bodies_of<const N: usize>(model: &TreeModel) -> Bodies<N> {
+    let bodies = model.bodies();
+    body_columns(&core::array::from_fn(|i| bodies.get(i).map_or([0.0; BODY_PARAMETERS], |b| b.inertia.parameters())))
+}
+
 /// The simulated arm.
 pub struct Plant<const N: usize> {
     model: TreeModel,
     unloaded: Box<dyn Dynamics<N>>,
     loaded: Option<(Box<dyn Dynamics<N>>, WeightDrop)>,
+    /// The bodies of `unloaded` and of `loaded`, for the seeds' lockstep ([`lockstep`]).
+    bodies: (Bodies<N>, Option<Bodies<N>>),
     friction: Friction<N>,
     actuators: Actuators<N>,
     sinusoid: Option<(JointVector<N>, f64)>,
@@ -162,9 +186,12 @@ impl<const N: usize> Plant<N> {
         (q0, tau0): (JointVector<N>, JointVector<N>),
         rng: &mut impl Rng,
     ) -> Result<Self, SimError> {
-        let loaded = match &setup.loads.weight_drop {
-            Some(drop) => Some((dynamics(&true_model.with_point_mass(&drop.frame, drop.mass_kg)?)?, drop.clone())),
-            None => None,
+        let (loaded, loaded_bodies) = match &setup.loads.weight_drop {
+            Some(drop) => {
+                let model = true_model.with_point_mass(&drop.frame, drop.mass_kg)?;
+                (Some((dynamics(&model)?, drop.clone())), Some(bodies_of(&model)))
+            }
+            None => (None, None),
         };
         let sinusoid = setup.loads.sinusoid.map(|s| (s.amplitude, s.frequency_hz));
         let friction = Friction::new(&setup.friction, rng);
@@ -183,6 +210,7 @@ impl<const N: usize> Plant<N> {
         let zero = JointVector::zeros();
         Ok(Self {
             unloaded: dynamics(&true_model)?,
+            bodies: (bodies_of(&true_model), loaded_bodies),
             gravity: true_model.gravity_vector().norm(),
             model: true_model,
             loaded,
@@ -208,8 +236,21 @@ impl<const N: usize> Plant<N> {
     /// The true dynamics at time `t`: with the payload while it rests on the arm.
     pub fn dynamics(&self, t: f64) -> &dyn Dynamics<N> {
         match &self.loaded {
-            Some((loaded, drop)) if t >= drop.drop_s && drop.remove_s.is_none_or(|r| t < r) => loaded.as_ref(),
+            Some((loaded, drop)) if Self::carries(drop, t) => loaded.as_ref(),
             _ => self.unloaded.as_ref(),
+        }
+    }
+
+    /// Whether the payload `drop` rests on the arm at `t`.
+    fn carries(drop: &WeightDrop, t: f64) -> bool {
+        t >= drop.drop_s && drop.remove_s.is_none_or(|r| t < r)
+    }
+
+    /// The bodies of [`Self::dynamics`] at `t`, by parameter.
+    fn bodies(&self, t: f64) -> &Bodies<N> {
+        match (&self.loaded, &self.bodies.1) {
+            (Some((_, drop)), Some(loaded)) if Self::carries(drop, t) => loaded,
+            _ => &self.bodies.0,
         }
     }
 
@@ -260,13 +301,29 @@ impl<const N: usize> Plant<N> {
         self.friction_torque(s).0 + self.external_torque(t, &s.q)
     }
 
-    fn derivative(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
+    /// Every torque on the joints in state `s` at `t` (actuators, friction, loads) and the
+    /// bristle rate `ż`: the derivative's part before the rigid body.
+    fn joint_torque(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> (JointVector<N>, JointVector<N>) {
         let (friction, bristle) = self.friction_torque(s);
-        let total = self.actuator_torque(s, tau_cmd) + friction + self.external_torque(t, &s.q);
+        (self.actuator_torque(s, tau_cmd) + friction + self.external_torque(t, &s.q), bristle)
+    }
+
+    fn derivative(&self, t: f64, s: &PlantState<N>, tau_cmd: &JointVector<N>) -> Result<PlantState<N>, SimError> {
+        let (total, bristle) = self.joint_torque(t, s, tau_cmd);
         let qdd = self
             .dynamics(t)
             .forward_dynamics(&s.q, &s.qd, &total)
             .map_err(|source| SimError::Step { time_s: t, source })?;
+        Ok(self.rate(s, tau_cmd, (qdd, bristle)))
+    }
+
+    /// The derivative of state `s` given its joint accelerations `q̈` and bristle rate `ż`.
+    fn rate(
+        &self,
+        s: &PlantState<N>,
+        tau_cmd: &JointVector<N>,
+        (qdd, bristle): (JointVector<N>, JointVector<N>),
+    ) -> PlantState<N> {
         let (lag_torque, hydraulic) = match &self.actuators {
             Actuators::Ideal => (JointVector::zeros(), HydraulicState::zeros()),
             Actuators::Lag(time_constant) => {
@@ -274,7 +331,7 @@ impl<const N: usize> Plant<N> {
             }
             Actuators::Hydraulic(h) => (JointVector::zeros(), h.held_derivative(&s.q, &s.qd, &s.hydraulic)),
         };
-        Ok(PlantState { q: s.qd, qd: qdd, bristle, lag_torque, hydraulic })
+        PlantState { q: s.qd, qd: qdd, bristle, lag_torque, hydraulic }
     }
 
     /// Advances one control period `dt` in `substeps` equal [`Plant::step`]s with the command
@@ -302,17 +359,31 @@ impl<const N: usize> Plant<N> {
 
     /// [`Plant::step`], given the state's derivative at the start if it is known.
     fn step_from(&mut self, h: f64, tau_cmd: &JointVector<N>, start: Option<PlantState<N>>) -> Result<(), SimError> {
-        let rate = match &self.friction {
-            Friction::LuGre(f) => f.relaxation_rate(&self.state.q, &self.state.qd),
-            _ => 0.0,
-        };
-        let cycles = ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES);
+        let cycles = self.cycles(h);
         // The known derivative is the first stage of the first cycle, whatever its length.
         let mut first = start;
         for _ in 0..cycles {
             self.rk4_sampled(h / cycles as f64, tau_cmd, first.take())?;
         }
         Ok(())
+    }
+
+    /// How many equal RK4 sub-steps a step of `h` takes from the current state ([`Self::step`]).
+    fn cycles(&self, h: f64) -> usize {
+        let rate = match &self.friction {
+            Friction::LuGre(f) => f.relaxation_rate(&self.state.q, &self.state.qd),
+            _ => 0.0,
+        };
+        ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES)
+    }
+
+    /// The span to the hydraulic inner loops' next sample instant, s, if it falls within a
+    /// step of `left` ([`Self::rk4_sampled`] splits the step there); `None` if it does not or
+    /// the arm has no such loops.
+    fn sample_split(&self, left: f64) -> Option<f64> {
+        let Actuators::Hydraulic(actuators) = &self.actuators else { return None };
+        let to_sample = actuators.next_sample_time() - self.time;
+        (to_sample < left - hydraulic::SAMPLE_TOLERANCE * actuators.sample_period()).then_some(to_sample)
     }
 
     /// Runs the hydraulic inner loops if one of their sample instants is now; whether they ran.
@@ -335,11 +406,7 @@ impl<const N: usize> Plant<N> {
             if self.sample_if_due(tau_cmd) {
                 k1 = None;
             }
-            let Actuators::Hydraulic(actuators) = &self.actuators else { return self.rk4(left, tau_cmd, k1) };
-            let to_sample = actuators.next_sample_time() - self.time;
-            if to_sample >= left - hydraulic::SAMPLE_TOLERANCE * actuators.sample_period() {
-                return self.rk4(left, tau_cmd, k1);
-            }
+            let Some(to_sample) = self.sample_split(left) else { return self.rk4(left, tau_cmd, k1) };
             self.rk4(to_sample, tau_cmd, k1.take())?;
             left -= to_sample;
         }
@@ -356,7 +423,13 @@ impl<const N: usize> Plant<N> {
         let k2 = self.stage(t + h / 2.0, &s.along(&k1, h / 2.0), tau_cmd)?;
         let k3 = self.stage(t + h / 2.0, &s.along(&k2, h / 2.0), tau_cmd)?;
         let k4 = self.stage(t + h, &s.along(&k3, h), tau_cmd)?;
-        let next = s.along(&k1, h / 6.0).along(&k2, h / 3.0).along(&k3, h / 3.0).along(&k4, h / 6.0);
+        self.commit(h, rk4_sum(&s, [&k1, &k2, &k3, &k4], h))
+    }
+
+    /// Takes `next` as the state `h` after the current one: an error if it is not finite; notes
+    /// a joint past [`MAX_PLAUSIBLE_SPEED_RAD_S`].
+    fn commit(&mut self, h: f64, next: PlantState<N>) -> Result<(), SimError> {
+        let t = self.time;
         if !next.is_finite() {
             let cause = SimError::Numerical(format!("the plant's state became non-finite at t = {:.4} s", t + h));
             return Err(self.diverged(t + h, &next, cause).unwrap_or_else(|cause| cause));

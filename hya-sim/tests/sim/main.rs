@@ -11,6 +11,7 @@ mod experiments;
 mod frequency;
 mod integration_step;
 mod linear;
+mod lockstep;
 mod mujoco_reference;
 mod plant;
 mod scenario_validation;

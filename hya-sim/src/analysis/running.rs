@@ -301,22 +301,45 @@ pub fn spectral_line(x: &[f64], t0: f64, step: f64, max_hz: f64) -> Option<Spect
     let slope = sxy / sxx;
     let residual: Vec<f64> = x.iter().enumerate().map(|(k, v)| v - x_mean - slope * (t(k) - t_mean)).collect();
     let mut best = (0.0_f64, 0.0);
-    for m in 2..=bins {
-        let omega = std::f64::consts::TAU * m as f64 / span;
-        // e^{−jω t_k} by rotation from e^{−jω t0}: one complex product per sample.
-        let rotation = nalgebra::Complex::new((omega * step).cos(), -(omega * step).sin());
-        let mut phase = nalgebra::Complex::new((omega * t0).cos(), -(omega * t0).sin());
-        let mut sum = nalgebra::Complex::new(0.0, 0.0);
-        for r in &residual {
-            sum += phase * *r;
-            phase *= rotation;
-        }
-        let amplitude = 2.0 * sum.norm() / n as f64;
-        if amplitude > best.0 {
-            best = (amplitude, m as f64 / span);
+    for first in (2..=bins).step_by(BINS_AT_ONCE) {
+        let sums = bin_sums(&residual, (t0, step, span), first, bins);
+        for (m, sum) in (first..=bins).zip(sums) {
+            let amplitude = 2.0 * sum.norm() / n as f64;
+            if amplitude > best.0 {
+                best = (amplitude, m as f64 / span);
+            }
         }
     }
     Some(SpectralLine { amplitude: best.0, frequency_hz: best.1, drift: slope * span })
+}
+
+/// Bins [`bin_sums`] runs side by side: each bin's rotation is a chain of dependent products,
+/// so a few chains at once keep the multipliers busy.
+const BINS_AT_ONCE: usize = 4;
+
+/// `Σ r_k e^{−jω_m t_k}` for bins `m = first, first + 1, …` (at most [`BINS_AT_ONCE`], none past
+/// `last`), `ω_m = 2π m / span`, `t_k = t0 + k step`: `e^{−jω t_k}` by rotation from `e^{−jω t0}`,
+/// one complex product per sample; each bin's arithmetic in the same order as alone (bins past
+/// `last` are computed and dropped).
+fn bin_sums(
+    residual: &[f64],
+    (t0, step, span): (f64, f64, f64),
+    first: usize,
+    last: usize,
+) -> impl Iterator<Item = nalgebra::Complex<f64>> {
+    let omega: [f64; BINS_AT_ONCE] = core::array::from_fn(|i| std::f64::consts::TAU * (first + i) as f64 / span);
+    let (c, d) = (omega.map(|w| (w * step).cos()), omega.map(|w| -(w * step).sin()));
+    let (mut re, mut im) = (omega.map(|w| (w * t0).cos()), omega.map(|w| -(w * t0).sin()));
+    let (mut sum_re, mut sum_im) = ([0.0; BINS_AT_ONCE], [0.0; BINS_AT_ONCE]);
+    for r in residual {
+        for i in 0..BINS_AT_ONCE {
+            sum_re[i] += re[i] * r;
+            sum_im[i] += im[i] * r;
+            // (re + j im)(c + j d)
+            (re[i], im[i]) = (re[i] * c[i] - im[i] * d[i], im[i] * c[i] + re[i] * d[i]);
+        }
+    }
+    (0..BINS_AT_ONCE).take(last + 1 - first).map(move |i| nalgebra::Complex::new(sum_re[i], sum_im[i]))
 }
 
 #[cfg(test)]

@@ -4,6 +4,8 @@
 use std::collections::BTreeMap;
 
 use hya_core::JointVector;
+use hya_sim::run::trace::Recording;
+use hya_sim::run::RunSetup;
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -28,17 +30,41 @@ impl ForRobot for Run<'_> {
     type Output = Outcome;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<Outcome, SimError> {
         let run = hya_sim::simulate(self.scenario, self.method, &robot)?;
-        let flat = |rows: &[JointVector<N>]| rows.iter().flat_map(|r| r.iter().copied()).collect::<Vec<f64>>();
-        let trace = &run.trace;
-        let series = BTreeMap::from([
-            ("q", flat(&trace.q)),
-            ("q_des", flat(&trace.q_des)),
-            ("d_true", flat(&trace.d_true)),
-            ("d_hat", flat(&trace.d_hat)),
-            ("tau_cmd", flat(&trace.tau_cmd)),
-        ]);
-        let metrics = serde_json::to_string(&run.metrics)?;
-        Ok(Outcome { dof: N, time: trace.time.clone(), series, metrics })
+        outcome(&run.trace, &run.metrics)
+    }
+}
+
+/// A run's trace and metrics as an [`Outcome`].
+fn outcome<const N: usize>(trace: &hya_sim::Trace<N>, metrics: &hya_sim::Metrics) -> Result<Outcome, SimError> {
+    let flat = |rows: &[JointVector<N>]| rows.iter().flat_map(|r| r.iter().copied()).collect::<Vec<f64>>();
+    let series = BTreeMap::from([
+        ("q", flat(&trace.q)),
+        ("q_des", flat(&trace.q_des)),
+        ("d_true", flat(&trace.d_true)),
+        ("d_hat", flat(&trace.d_hat)),
+        ("tau_cmd", flat(&trace.tau_cmd)),
+    ]);
+    Ok(Outcome { dof: N, time: trace.time.clone(), series, metrics: serde_json::to_string(metrics)? })
+}
+
+/// Seeds of one scenario under one method, run together ([`RunSetup::run_together`]: each what
+/// `hya.simulate` gives it), each with its own outcome.
+struct Seeds<'a> {
+    scenario: &'a Scenario,
+    method: Method,
+    seeds: &'a [u64],
+}
+
+impl ForRobot for Seeds<'_> {
+    type Output = Vec<Result<Outcome, String>>;
+    fn call<const N: usize>(self, robot: Robot<N>) -> Result<Self::Output, SimError> {
+        let setup = RunSetup::new(self.scenario, self.method, &robot)?;
+        let seeds: Vec<(u64, Recording)> = self.seeds.iter().map(|&seed| (seed, Recording::Bounded)).collect();
+        let runs = setup.run_together(&seeds);
+        Ok(runs
+            .into_iter()
+            .map(|run| run.and_then(|r| outcome(&r.trace, &r.metrics)).map_err(|e| e.to_string()))
+            .collect())
     }
 }
 
@@ -167,7 +193,7 @@ pub fn rollouts<'py>(
             chosen.into_iter().map(move |seed| Scenario { seed, ..base.clone() })
         })
         .collect();
-    let outcomes = py.allow_threads(|| in_parallel(&runs, method));
+    let outcomes = py.allow_threads(|| in_parallel(&bases, method, seeds.as_deref()));
     let mut done = Vec::with_capacity(runs.len());
     for (r, outcome) in outcomes.into_iter().enumerate() {
         let outcome = outcome.map_err(|e| PyValueError::new_err(format!("run {r} ({}): {e}", runs[r].name)))?;
@@ -208,14 +234,30 @@ pub fn rollouts<'py>(
     Ok(result)
 }
 
-/// Every run of `runs` on every core ([`hya_sim::seeds::parallel_map`]), in order; a run's
-/// error as its message.
-fn in_parallel(runs: &[Scenario], method: Method) -> Vec<Result<Outcome, String>> {
-    hya_sim::seeds::parallel_map(runs, |scenario| {
-        // A panic (a bug) fails its own run, not the others.
-        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(scenario, method))) {
-            Ok(result) => result.map_err(|e| e.to_string()),
-            Err(_) => Err("it panicked (a bug in hya, please report it)".to_owned()),
-        }
-    })
+/// Every seed of `seeds` (default: each scenario's own) of every scenario of `bases` on every
+/// core ([`hya_sim::seeds::parallel_map`]), in order, scenario-major; a run's error as its
+/// message. A scenario's seeds run [`hya_sim::seeds::LOCKSTEP_SEEDS`] at a time in lockstep.
+fn in_parallel(bases: &[Scenario], method: Method, seeds: Option<&[u64]>) -> Vec<Result<Outcome, String>> {
+    let groups: Vec<(&Scenario, Vec<u64>)> = bases
+        .iter()
+        .flat_map(|base| {
+            let chosen = seeds.map_or_else(|| vec![base.seed], <[u64]>::to_vec);
+            let groups: Vec<Vec<u64>> = chosen.chunks(hya_sim::seeds::LOCKSTEP_SEEDS).map(<[u64]>::to_vec).collect();
+            groups.into_iter().map(move |group| (base, group))
+        })
+        .collect();
+    let outcomes = hya_sim::seeds::parallel_map(&groups, |(scenario, seeds)| {
+        let group = || {
+            scenario.check_for_robot()?;
+            hya_sim::with_robot(&scenario.robot, Seeds { scenario, method, seeds })
+        };
+        // A panic (a bug) fails its own runs, not the others.
+        let failed = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(group)) {
+            Ok(Ok(runs)) => return runs,
+            Ok(Err(e)) => e.to_string(),
+            Err(_) => "it panicked (a bug in hya, please report it)".to_owned(),
+        };
+        seeds.iter().map(|_| Err(failed.clone())).collect()
+    });
+    outcomes.into_iter().flatten().collect()
 }

@@ -14,6 +14,7 @@
 
 use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
 use crate::analysis::seeds::parallel_map;
+use crate::analysis::seeds::LOCKSTEP_SEEDS;
 use crate::config::scenario::{Method, Scenario};
 use crate::config::settings::{JointSettings, TaskSetup, TaskTimes};
 use crate::error::SimError;
@@ -136,27 +137,42 @@ pub fn run<const N: usize>(
         .iter()
         .map(|&method| RunSetup::task_space(scenario, method, robot))
         .collect::<Result<Vec<_>, _>>()?;
-    let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
+    // Each method's seeds step together, a lockstep's worth at a time (`RunSetup::run_together`).
+    let jobs: Vec<(usize, Vec<usize>)> = (0..setups.len())
+        .flat_map(|m| {
+            let seeds: Vec<usize> = (0..seeds).collect();
+            let groups: Vec<Vec<usize>> = seeds.chunks(LOCKSTEP_SEEDS).map(<[usize]>::to_vec).collect();
+            groups.into_iter().map(move |group| (m, group))
+        })
+        .collect();
     let seed = |k: usize| scenario.seed.wrapping_add(k as u64);
-    let results: Vec<Result<_, SimError>> = parallel_map(&jobs, |&(m, k)| {
-        let method = scenario.methods[m];
-        let failed = |e: SimError| SimError::Run {
-            run: format!("{} / {} / seed {}", scenario.name, method.name(), seed(k)),
-            source: Box::new(e),
-        };
-        let run = setups[m].run(seed(k), Recording::Bounded).map_err(failed)?;
-        progress(scenario.duration_s);
-        let series = series(law.clone(), &run.trace);
-        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let record = CartesianRun {
-            method,
-            seed: seed(k),
-            tool: errors(&series, settings.task.times(), drop_s),
-            disturbance_error_nm: run.metrics.rmse_d.as_deref().map(norm),
-            command_noise_nm: norm(&run.metrics.tau_cmd_noise),
-        };
-        Ok((record, (k == 0).then_some((method, series))))
+    let groups = parallel_map(&jobs, |(m, group)| {
+        let method = scenario.methods[*m];
+        let runs = setups[*m].run_together(&group.iter().map(|&k| (seed(k), Recording::Bounded)).collect::<Vec<_>>());
+        group
+            .iter()
+            .zip(runs)
+            .map(|(&k, run)| {
+                let failed = |e: SimError| SimError::Run {
+                    run: format!("{} / {} / seed {}", scenario.name, method.name(), seed(k)),
+                    source: Box::new(e),
+                };
+                let run = run.map_err(failed)?;
+                progress(scenario.duration_s);
+                let series = series(law.clone(), &run.trace);
+                let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let record = CartesianRun {
+                    method,
+                    seed: seed(k),
+                    tool: errors(&series, settings.task.times(), drop_s),
+                    disturbance_error_nm: run.metrics.rmse_d.as_deref().map(norm),
+                    command_noise_nm: norm(&run.metrics.tau_cmd_noise),
+                };
+                Ok((record, (k == 0).then_some((method, series))))
+            })
+            .collect::<Vec<Result<_, SimError>>>()
     });
+    let results = groups.into_iter().flatten();
     let mut study = CartesianStudy {
         scenario: scenario.clone(),
         frame: law.frame().to_owned(),

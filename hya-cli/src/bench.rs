@@ -388,7 +388,8 @@ struct Ticks {
 /// Seed-seconds simulated per wall-clock second of `goto_internal` (method lu) on `actuator`,
 /// over one lockstep's worth of seeds ([`hya_sim::seeds::LOCKSTEP_SEEDS`]), their traces off: the
 /// seeds run together ([`RunSetup::run_together`](hya_sim::run::RunSetup::run_together), as
-/// `hya run` and `hya reproduce` run them), then one by one on the same core.
+/// `hya run` and `hya reproduce` run them), and one by one on the same core, in alternating
+/// order over [`SIMULATION_ROUNDS`] rounds; the medians.
 fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<SimulationSpeed, CliError> {
     let mut scenario = hya_sim::Scenario::builtin("goto_internal").map_err(|e| CliError::Input(e.to_string()))?;
     scenario.plant.actuator = actuator;
@@ -402,22 +403,41 @@ fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<Simulat
                 .map(|k| (self.0.seed + k, hya_sim::run::trace::Recording::Off))
                 .collect();
             let simulated = self.0.duration_s * seeds.len() as f64;
-            let start = Instant::now();
-            for run in setup.run_together(&seeds) {
-                run?;
+            let together = || -> Result<f64, hya_sim::SimError> {
+                let start = Instant::now();
+                for run in setup.run_together(&seeds) {
+                    run?;
+                }
+                Ok(simulated / start.elapsed().as_secs_f64())
+            };
+            let alone = || -> Result<f64, hya_sim::SimError> {
+                let start = Instant::now();
+                for &(seed, recording) in &seeds {
+                    setup.run(seed, recording)?;
+                }
+                Ok(simulated / start.elapsed().as_secs_f64())
+            };
+            // Rounds in turn, which goes first alternating, so both see the machine alike.
+            let (mut with, mut without) = (Vec::new(), Vec::new());
+            for round in 0..SIMULATION_ROUNDS {
+                if round % 2 == 0 {
+                    with.push(together()?);
+                    without.push(alone()?);
+                } else {
+                    without.push(alone()?);
+                    with.push(together()?);
+                }
             }
-            let together = simulated / start.elapsed().as_secs_f64();
-            let start = Instant::now();
-            for &(seed, recording) in &seeds {
-                setup.run(seed, recording)?;
-            }
-            Ok(SimulationSpeed { together, alone: simulated / start.elapsed().as_secs_f64() })
+            Ok(SimulationSpeed { together: median(with), alone: median(without) })
         }
     }
     hya_sim::with_robot(&scenario.robot, Timed(&scenario)).map_err(|e| CliError::Input(e.to_string()))
 }
 
-/// [`simulation_speed`]'s figures.
+/// Rounds of [`simulation_speed`], each timing the seeds together and one by one.
+const SIMULATION_ROUNDS: usize = 3;
+
+/// [`simulation_speed`]'s figures: medians over its rounds.
 struct SimulationSpeed {
     together: f64,
     alone: f64,

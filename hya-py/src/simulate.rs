@@ -185,24 +185,23 @@ pub fn rollouts<'py>(
     let per_scenario = seeds.as_ref().map_or(1, Vec::len);
     let cost = hya_sim::cost::Cost::of_rollouts(&bases, per_scenario);
     cost.check("run fewer seeds or shorter scenarios", None).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let runs: Vec<Scenario> = bases
+    // Every run, scenario-major: its scenario's index and its seed.
+    let runs: Vec<(usize, u64)> = bases
         .iter()
-        .flat_map(|base| {
-            let own = [base.seed];
-            let chosen: Vec<u64> = seeds.as_deref().unwrap_or(&own).to_vec();
-            chosen.into_iter().map(move |seed| Scenario { seed, ..base.clone() })
-        })
+        .enumerate()
+        .flat_map(|(b, base)| seeds.clone().unwrap_or_else(|| vec![base.seed]).into_iter().map(move |seed| (b, seed)))
         .collect();
-    let outcomes = py.allow_threads(|| in_parallel(&bases, method, seeds.as_deref()));
+    let outcomes = py.allow_threads(|| in_parallel(&bases, &runs, method));
     let mut done = Vec::with_capacity(runs.len());
     for (r, outcome) in outcomes.into_iter().enumerate() {
-        let outcome = outcome.map_err(|e| PyValueError::new_err(format!("run {r} ({}): {e}", runs[r].name)))?;
+        let outcome =
+            outcome.map_err(|e| PyValueError::new_err(format!("run {r} ({}): {e}", bases[runs[r].0].name)))?;
         if let Some(first) = done.first() {
             let first: &Outcome = first;
             if outcome.dof != first.dof || outcome.time != first.time {
                 return Err(PyValueError::new_err(format!(
                     "run {r} ({}, seed {}): its time grid differs from run 0's ({})",
-                    runs[r].name, runs[r].seed, runs[0].name
+                    bases[runs[r].0].name, runs[r].1, bases[runs[0].0].name
                 )));
             }
         }
@@ -229,27 +228,21 @@ pub fn rollouts<'py>(
     let metrics: Vec<Bound<'py, PyAny>> =
         done.iter().map(|run| json.call_method1("loads", (run.metrics.as_str(),))).collect::<PyResult<_>>()?;
     result.set_item("metrics", metrics)?;
-    result.set_item("runs", runs.iter().map(|s| (s.name.clone(), s.seed)).collect::<Vec<_>>())?;
+    result.set_item("runs", runs.iter().map(|&(b, seed)| (bases[b].name.clone(), seed)).collect::<Vec<_>>())?;
     result.set_item("method", method.name())?;
     Ok(result)
 }
 
-/// Every seed of `seeds` (default: each scenario's own) of every scenario of `bases` on every
-/// core ([`hya_sim::seeds::parallel_map`]), in order, scenario-major; a run's error as its
-/// message. A scenario's seeds run [`hya_sim::seeds::LOCKSTEP_SEEDS`] at a time in lockstep.
-fn in_parallel(bases: &[Scenario], method: Method, seeds: Option<&[u64]>) -> Vec<Result<Outcome, String>> {
-    let groups: Vec<(&Scenario, Vec<u64>)> = bases
-        .iter()
-        .flat_map(|base| {
-            let chosen = seeds.map_or_else(|| vec![base.seed], <[u64]>::to_vec);
-            let groups: Vec<Vec<u64>> = chosen.chunks(hya_sim::seeds::LOCKSTEP_SEEDS).map(<[u64]>::to_vec).collect();
-            groups.into_iter().map(move |group| (base, group))
-        })
-        .collect();
-    let outcomes = hya_sim::seeds::parallel_map(&groups, |(scenario, seeds)| {
+/// Every run of `runs` (a scenario of `bases` by index, and a seed) on every core
+/// ([`hya_sim::seeds::parallel_map`]), in order; a run's error as its message. A scenario's
+/// seeds run together ([`hya_sim::seeds::lockstep_groups`]).
+fn in_parallel(bases: &[Scenario], runs: &[(usize, u64)], method: Method) -> Vec<Result<Outcome, String>> {
+    let groups = hya_sim::seeds::lockstep_groups(runs, |&(b, _)| b);
+    let outcomes = hya_sim::seeds::parallel_map(&groups, |group| {
+        let (scenario, seeds) = (&bases[group[0].0], group.iter().map(|&(_, seed)| seed).collect::<Vec<u64>>());
         let group = || {
             scenario.check_for_robot()?;
-            hya_sim::with_robot(&scenario.robot, Seeds { scenario, method, seeds })
+            hya_sim::with_robot(&scenario.robot, Seeds { scenario, method, seeds: &seeds })
         };
         // A panic (a bug) fails its own runs, not the others.
         let failed = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(group)) {

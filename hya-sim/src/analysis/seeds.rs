@@ -156,6 +156,12 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
 /// ([`RunSetup::run_together`]): the lanes of the batch its plants' forward dynamics runs on.
 pub const LOCKSTEP_SEEDS: usize = hya_core::lanes::BATCH_LANES;
 
+/// `items` in the groups that step together: consecutive items of one `key` (a scenario and a
+/// method: runs that differ by seed alone), [`LOCKSTEP_SEEDS`] at a time, in order.
+pub fn lockstep_groups<T, K: PartialEq>(items: &[T], key: impl Fn(&T) -> K) -> Vec<&[T]> {
+    items.chunk_by(|a, b| key(a) == key(b)).flat_map(|group| group.chunks(LOCKSTEP_SEEDS)).collect()
+}
+
 /// One run of an experiment: which scenario, the method, which seed (0: the scenario's own).
 pub type Job = (usize, Method, usize);
 
@@ -197,9 +203,7 @@ pub fn run_jobs<const N: usize>(
             slot.insert(setup);
         }
     }
-    // The seeds of one scenario and method step together, a vector register's worth at a time.
-    let groups: Vec<&[Job]> =
-        jobs.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)).flat_map(|g| g.chunks(LOCKSTEP_SEEDS)).collect();
+    let groups = lockstep_groups(jobs, |&(i, method, _)| (i, method));
     let results = parallel_map(&groups, |group| {
         let (i, method, _) = group[0];
         // Only the first seed's traces are kept (for the figures and CSV files).

@@ -4,11 +4,12 @@
 //!
 //! Each plant's arithmetic is its own advance's, in the same order, and the batch equals the
 //! single call bit for bit, so a plant stepped here ends where it would have ended alone, bit
-//! for bit (`tests/lockstep.rs`). Where the plants would part ways (a different number of
-//! sub-cycles for the bristles, a hydraulic sample instant splitting one plant's step and not
-//! another's, a state the batch refuses), each plant takes that step alone, by its own
-//! methods, and they continue together from the next one; a plant that fails stops there with
-//! its own error and the others go on.
+//! for bit (`hya-sim/tests/sim/lockstep.rs`). Where the plants part ways, each keeps its own
+//! course and the batch takes the plants that need it: a plant that sub-cycles its step more
+//! for its bristles' stiffness takes its extra RK4 steps while the others wait, a plant whose
+//! hydraulic sample instant falls within a step splits it there on its own clock. A state the
+//! batch refuses sends every plant of that step to its own methods, so that a plant that fails
+//! stops with its own error; the others go on together.
 
 use hya_core::bodies_batch::BODY_PARAMETERS;
 use hya_core::{BodiesBatch, JointVector};
@@ -49,9 +50,10 @@ pub struct Lockstep<'k, const N: usize> {
 /// How many RK4 steps a [`Lockstep`]'s plants took together (their stages batched) and alone.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Steps {
-    /// Steps of one plant whose stages were batched with the others'.
+    /// RK4 steps of one plant whose stages were batched with the others'.
     pub together: usize,
-    /// Steps (or sub-cycled steps) one plant took by its own methods.
+    /// Evaluations one plant made by its own methods after the batch refused a state: an RK4
+    /// step, or the derivative at the start of a period.
     pub alone: usize,
 }
 
@@ -59,7 +61,9 @@ pub struct Steps {
 pub type Failure = Option<SimError>;
 
 impl<'k, const N: usize> Lockstep<'k, N> {
-    /// Buffers for `plants` plants, their rigid bodies by `kernel` (the arm's parametric twin's).
+    /// Buffers for `plants` plants, their rigid bodies by `kernel`: the parametric twin of the
+    /// arm whose factory built the plants ([`crate::robot::Robot::bodies`] beside
+    /// [`crate::robot::Robot::plant`]), which reads each plant's bodies as its own dynamics does.
     pub fn new(kernel: &'k (dyn BodiesBatch<N> + Send + Sync), plants: usize) -> Self {
         let vectors = || vec![JointVector::zeros(); plants];
         let states = || vec![PlantState::zeros(); plants];
@@ -175,8 +179,9 @@ impl<'k, const N: usize> Lockstep<'k, N> {
         }
     }
 
-    /// [`Plant::rk4`] of every active plant `j` over `span[j]`, its four stages batched; a plant
-    /// takes the step alone, which names its own failure, if the batch refused a stage.
+    /// [`Plant::rk4`] of every active plant `j` over `span[j]`, its four stages batched; if the
+    /// batch refused a stage, every active plant takes the step alone instead, so that a plant
+    /// that fails names its own failure.
     fn rk4(&mut self, plants: &mut [Plant<N>], commands: &[JointVector<N>], failed: &mut [Failure]) {
         let together = self.rk4_stages(plants, commands);
         for &j in &self.active {

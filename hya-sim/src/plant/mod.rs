@@ -137,19 +137,34 @@ pub enum Actuators<const N: usize> {
 /// One rigid body's bodies as [`hya_core::BodiesBatch`] reads them, by parameter.
 type Bodies<const N: usize> = [JointVector<N>; BODY_PARAMETERS];
 
-/// The bodies of `model`'s `N` joints, by parameter ([`hya_core::bodies_batch`]).
-fn bodies_of<const N: usize>(model: &TreeModel) -> Bodies<N> {
+/// The bodies of `model`'s `N` joints, by parameter ([`hya_core::bodies_batch`]); an error if
+/// it has not `N`.
+fn bodies_of<const N: usize>(model: &TreeModel) -> Result<Bodies<N>, SimError> {
     let bodies = model.bodies();
-    body_columns(&core::array::from_fn(|i| bodies.get(i).map_or([0.0; BODY_PARAMETERS], |b| b.inertia.parameters())))
+    if bodies.len() != N {
+        return Err(SimError::JointCount { robot: model.name().to_owned(), expected: N, found: bodies.len() });
+    }
+    Ok(body_columns(&core::array::from_fn(|i| bodies[i].inertia.parameters())))
+}
+
+/// A rigid body of the arm: its dynamics, and its bodies for the seeds' lockstep ([`lockstep`]).
+struct RigidBody<const N: usize> {
+    dynamics: Box<dyn Dynamics<N>>,
+    bodies: Bodies<N>,
+}
+
+impl<const N: usize> RigidBody<N> {
+    fn of(model: &TreeModel, dynamics: &DynamicsFactory<N>) -> Result<Self, SimError> {
+        Ok(Self { dynamics: dynamics(model)?, bodies: bodies_of(model)? })
+    }
 }
 
 /// The simulated arm.
 pub struct Plant<const N: usize> {
     model: TreeModel,
-    unloaded: Box<dyn Dynamics<N>>,
-    loaded: Option<(Box<dyn Dynamics<N>>, WeightDrop)>,
-    /// The bodies of `unloaded` and of `loaded`, for the seeds' lockstep ([`lockstep`]).
-    bodies: (Bodies<N>, Option<Bodies<N>>),
+    unloaded: RigidBody<N>,
+    /// The arm with its payload, and when it carries it.
+    loaded: Option<(RigidBody<N>, WeightDrop)>,
     friction: Friction<N>,
     actuators: Actuators<N>,
     sinusoid: Option<(JointVector<N>, f64)>,
@@ -186,12 +201,12 @@ impl<const N: usize> Plant<N> {
         (q0, tau0): (JointVector<N>, JointVector<N>),
         rng: &mut impl Rng,
     ) -> Result<Self, SimError> {
-        let (loaded, loaded_bodies) = match &setup.loads.weight_drop {
+        let loaded = match &setup.loads.weight_drop {
             Some(drop) => {
                 let model = true_model.with_point_mass(&drop.frame, drop.mass_kg)?;
-                (Some((dynamics(&model)?, drop.clone())), Some(bodies_of(&model)))
+                Some((RigidBody::of(&model, dynamics)?, drop.clone()))
             }
-            None => (None, None),
+            None => None,
         };
         let sinusoid = setup.loads.sinusoid.map(|s| (s.amplitude, s.frequency_hz));
         let friction = Friction::new(&setup.friction, rng);
@@ -209,8 +224,7 @@ impl<const N: usize> Plant<N> {
         let lag_torque = if matches!(actuators, Actuators::Lag(_)) { tau0 } else { JointVector::zeros() };
         let zero = JointVector::zeros();
         Ok(Self {
-            unloaded: dynamics(&true_model)?,
-            bodies: (bodies_of(&true_model), loaded_bodies),
+            unloaded: RigidBody::of(&true_model, dynamics)?,
             gravity: true_model.gravity_vector().norm(),
             model: true_model,
             loaded,
@@ -235,9 +249,14 @@ impl<const N: usize> Plant<N> {
 
     /// The true dynamics at time `t`: with the payload while it rests on the arm.
     pub fn dynamics(&self, t: f64) -> &dyn Dynamics<N> {
+        self.rigid_body(t).dynamics.as_ref()
+    }
+
+    /// The rigid body at `t`: with the payload while it rests on the arm.
+    fn rigid_body(&self, t: f64) -> &RigidBody<N> {
         match &self.loaded {
-            Some((loaded, drop)) if Self::carries(drop, t) => loaded.as_ref(),
-            _ => self.unloaded.as_ref(),
+            Some((loaded, drop)) if Self::carries(drop, t) => loaded,
+            _ => &self.unloaded,
         }
     }
 
@@ -248,10 +267,7 @@ impl<const N: usize> Plant<N> {
 
     /// The bodies of [`Self::dynamics`] at `t`, by parameter.
     fn bodies(&self, t: f64) -> &Bodies<N> {
-        match (&self.loaded, &self.bodies.1) {
-            (Some((_, drop)), Some(loaded)) if Self::carries(drop, t) => loaded,
-            _ => &self.bodies.0,
-        }
+        &self.rigid_body(t).bodies
     }
 
     /// External joint torques at `t`: the sinusoid, and the weight's impact pulse.

@@ -13,8 +13,7 @@
 //!   half a second (`None` without one).
 
 use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
-use crate::analysis::seeds::parallel_map;
-use crate::analysis::seeds::LOCKSTEP_SEEDS;
+use crate::analysis::seeds::{lockstep_groups, parallel_map};
 use crate::config::scenario::{Method, Scenario};
 use crate::config::settings::{JointSettings, TaskSetup, TaskTimes};
 use crate::error::SimError;
@@ -137,22 +136,17 @@ pub fn run<const N: usize>(
         .iter()
         .map(|&method| RunSetup::task_space(scenario, method, robot))
         .collect::<Result<Vec<_>, _>>()?;
-    // Each method's seeds step together, a lockstep's worth at a time (`RunSetup::run_together`).
-    let jobs: Vec<(usize, Vec<usize>)> = (0..setups.len())
-        .flat_map(|m| {
-            let seeds: Vec<usize> = (0..seeds).collect();
-            let groups: Vec<Vec<usize>> = seeds.chunks(LOCKSTEP_SEEDS).map(<[usize]>::to_vec).collect();
-            groups.into_iter().map(move |group| (m, group))
-        })
-        .collect();
+    let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
     let seed = |k: usize| scenario.seed.wrapping_add(k as u64);
-    let groups = parallel_map(&jobs, |(m, group)| {
-        let method = scenario.methods[*m];
-        let runs = setups[*m].run_together(&group.iter().map(|&k| (seed(k), Recording::Bounded)).collect::<Vec<_>>());
+    // Each method's seeds step together (`RunSetup::run_together`).
+    let groups = parallel_map(&lockstep_groups(&jobs, |&(m, _)| m), |group| {
+        let (m, method) = (group[0].0, scenario.methods[group[0].0]);
+        let runs =
+            setups[m].run_together(&group.iter().map(|&(_, k)| (seed(k), Recording::Bounded)).collect::<Vec<_>>());
         group
             .iter()
             .zip(runs)
-            .map(|(&k, run)| {
+            .map(|(&(_, k), run)| {
                 let failed = |e: SimError| SimError::Run {
                     run: format!("{} / {} / seed {}", scenario.name, method.name(), seed(k)),
                     source: Box::new(e),

@@ -9,7 +9,10 @@ use hya_core::spatial::RigidBodyInertia;
 use hya_core::{Dynamics, JointVector};
 use hya_robots::HyaParametric;
 use hya_sim::config::plant::PlantSetup;
-use hya_sim::plant::lockstep::{Failure, Lockstep};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use hya_core::BodiesBatch;
+use hya_sim::plant::lockstep::{Failure, Lockstep, Steps};
 use hya_sim::plant::{perturbed, Plant};
 use hya_sim::run::trace::Recording;
 use hya_sim::run::RunSetup;
@@ -42,18 +45,53 @@ fn command(plant: &Plant<6>, k: usize, j: usize, scale: f64) -> JointVector<6> {
     hold + JointVector::from_fn(|i, _| scale * 20.0 * (6.0 * t + i as f64 + j as f64).sin())
 }
 
+/// HyA's twin, refusing every `every`-th batch (from the `first`) as if a state were singular:
+/// the lockstep's fallbacks, where each plant steps alone.
+struct Refusing {
+    calls: AtomicUsize,
+    first: usize,
+    every: usize,
+}
+
+impl BodiesBatch<6> for Refusing {
+    fn forward_dynamics_of_bodies_batch(
+        &self,
+        bodies: hya_core::BodyColumns<'_, 6>,
+        q: &[JointVector<6>],
+        qd: &[JointVector<6>],
+        tau: &[JointVector<6>],
+        qdd: &mut [JointVector<6>],
+    ) -> Result<(), hya_core::Error> {
+        let call = self.calls.fetch_add(1, Ordering::Relaxed);
+        if call >= self.first && (call - self.first).is_multiple_of(self.every) {
+            return Err(hya_core::Error::SingularMassMatrix);
+        }
+        HyaParametric([[0.0; 10]; 6]).forward_dynamics_of_bodies_batch(bodies, q, qd, tau, qdd)
+    }
+}
+
 /// Steps `count` plants of `scenario` in lockstep and alone for `ticks` periods, the plant
 /// `runaway` (if any) under a command far beyond the arm's; checks every state, time,
 /// acceleration and failure for equality.
 fn check(scenario: &Scenario, count: usize, ticks: usize, runaway: Option<usize>) {
+    let steps = check_on(&HyaParametric([[0.0; 10]; 6]), scenario, (count, ticks), runaway);
+    assert!(steps.together > 4 * steps.alone, "most steps should be taken together: {steps:?}");
+}
+
+/// [`check`] with the plants' rigid bodies batched on `kernel`; the lockstep's step counts.
+fn check_on(
+    kernel: &(dyn BodiesBatch<6> + Send + Sync),
+    scenario: &Scenario,
+    (count, ticks): (usize, usize),
+    runaway: Option<usize>,
+) -> Steps {
     let scale = |j: usize| if Some(j) == runaway { 1e6 } else { 1.0 };
     let (dt, substeps) = (1e-3, scenario.plant.substeps.unwrap_or(4));
     let seeds: Vec<u64> = (0..count as u64).map(|k| scenario.seed + k).collect();
     let mut together: Vec<Plant<6>> = seeds.iter().map(|&s| plant(scenario, s)).collect();
     let mut alone: Vec<Plant<6>> = seeds.iter().map(|&s| plant(scenario, s)).collect();
     let mut alone_failed: Vec<Option<String>> = vec![None; count];
-    let kernel = HyaParametric([[0.0; 10]; 6]);
-    let mut lockstep = Lockstep::new(&kernel, count);
+    let mut lockstep = Lockstep::new(kernel, count);
     let (mut accelerations, mut failed) =
         (vec![JointVector::zeros(); count], (0..count).map(|_| Failure::None).collect::<Vec<_>>());
     for k in 0..ticks {
@@ -80,11 +118,28 @@ fn check(scenario: &Scenario, count: usize, ticks: usize, runaway: Option<usize>
     }
     let steps = lockstep.steps();
     eprintln!("{}: {steps:?}", scenario.name);
-    assert!(steps.together > 4 * steps.alone, "most steps should be taken together: {steps:?}");
     if let Some(j) = runaway {
         assert!(alone_failed[j].is_some(), "the runaway plant {j} should fail");
     }
     assert!(alone_failed.iter().enumerate().all(|(j, f)| f.is_none() || Some(j) == runaway));
+    steps
+}
+
+#[test]
+fn inner_loops_sampled_within_a_step_split_every_plants_step_alike() {
+    // 3 kHz against RK4 steps of 0.25 ms: sample instants fall inside steps, which split there.
+    let mut scenario = Scenario::builtin("goto_internal").unwrap();
+    scenario.plant.hydraulic.torque_loop_rate_hz = 3000.0;
+    check(&scenario, 3, 200, None);
+}
+
+#[test]
+fn plants_whose_batch_is_refused_step_alone_and_alike() {
+    let scenario = Scenario::builtin("goto_internal").unwrap();
+    // Refused now and then: at a period's first stage and at later ones alike.
+    let kernel = Refusing { calls: AtomicUsize::new(0), first: 0, every: 13 };
+    let steps = check_on(&kernel, &scenario, (3, 200), None);
+    assert!(steps.alone > 0 && steps.together > 0, "both paths ran: {steps:?}");
 }
 
 #[test]

@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::seeds::mean_ci95;
+use crate::analysis::seeds::{lockstep_groups, mean_ci95};
 use crate::config::scenario::{IntegralRule, Method, Scenario};
 use crate::error::SimError;
 use hya_core::{Clipped, Short};
@@ -268,24 +268,36 @@ pub fn run_on<const N: usize>(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Sweep, SimError> {
     let jobs = plan.shard_jobs(shard);
-    let entries = crate::analysis::seeds::parallel_map(&jobs, |&(i, method, bandwidth, k)| {
-        let scenario =
-            plan.scenario_at(i, method, bandwidth, k).ok_or(SimError::Nothing("a sweep point beyond its scenarios"))?;
-        let recording = crate::run::trace::Recording::Off;
-        let entry = crate::analysis::simulate::simulate_recording(&scenario, method, robot, recording).map(|o| Entry {
-            scenario: scenario.name.clone(),
-            method: method.name().to_owned(),
-            bandwidth_rad_s: bandwidth,
-            seed: scenario.seed,
-            rmse_d: o.metrics.rmse_d.as_deref().map(mean),
-            tau_cmd_noise: mean(&o.metrics.tau_cmd_noise),
-            rmse_q: mean(&o.metrics.rmse_q),
+    // A point's seeds step together (`RunSetup::run_together`): they differ by seed alone.
+    let groups = lockstep_groups(&jobs, |&(i, method, bandwidth, _)| (i, method, bandwidth.to_bits()));
+    let entries = crate::analysis::seeds::parallel_map(&groups, |group| {
+        let beyond = || SimError::Nothing("a sweep point beyond its scenarios");
+        let point = |k: usize| plan.scenario_at(group[0].0, group[0].1, group[0].2, k).ok_or_else(beyond);
+        let (scenario, method, bandwidth) = (point(group[0].3)?, group[0].1, group[0].2);
+        let seeds = group
+            .iter()
+            .map(|&(.., k)| Ok((point(k)?.seed, crate::run::trace::Recording::Off)))
+            .collect::<Result<Vec<_>, SimError>>()?;
+        let setup = crate::run::RunSetup::new(&scenario, method, robot)?;
+        let entries = setup.run_together(&seeds).into_iter().zip(&seeds).map(|(run, &(seed, _))| {
+            progress(scenario.duration_s);
+            run.map(|run| Entry {
+                scenario: scenario.name.clone(),
+                method: method.name().to_owned(),
+                bandwidth_rad_s: bandwidth,
+                seed,
+                rmse_d: run.metrics.rmse_d.as_deref().map(mean),
+                tau_cmd_noise: mean(&run.metrics.tau_cmd_noise),
+                rmse_q: mean(&run.metrics.rmse_q),
+            })
         });
-        progress(scenario.duration_s);
-        entry
+        entries.collect::<Result<Vec<_>, SimError>>()
     })
     .into_iter()
-    .collect::<Result<Vec<_>, _>>()?;
+    .collect::<Result<Vec<Vec<_>>, _>>()?
+    .into_iter()
+    .flatten()
+    .collect();
     Ok(Sweep {
         plan: plan.fingerprint(),
         quick,

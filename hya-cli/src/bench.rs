@@ -49,6 +49,9 @@ struct Figures {
     /// state.
     batch_mass_ns_per_state: f64,
     batch_id_derivatives_ns_per_state: f64,
+    /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` on [`BATCH`] states per call
+    /// (`Dynamics::forward_dynamics_derivatives_batch`), ns per state.
+    batch_fd_derivatives_ns_per_state: f64,
     /// The states per step of those batches on this CPU (`hya_core::lanes::batch_lanes`: 8 with
     /// AVX-512F, 4 with AVX2 and FMA, 1 without a vector unit).
     batch_lanes: usize,
@@ -300,6 +303,11 @@ fn bench_robot<const N: usize, D: Dynamics<N> + FrameKinematics<N>>(
             &mut more_matrices,
         ));
     }));
+    let mut inverses = matrices.clone();
+    let batch_fd_derivatives_ns_per_state = median_batch_ns(|| {
+        let outputs = (&mut matrices[..], &mut more_matrices[..], &mut inverses[..]);
+        let _ = black_box(generated.forward_dynamics_derivatives_batch(black_box(&q), &qd, &x, outputs));
+    });
     let mut jacobians = vec![FrameJacobian::<N>::zeros(); BATCH];
     let (batch_jacobian_ns_per_state, batch_jacobian_ns_per_state_4_lanes) = both_widths(Box::new(|| {
         let _ = black_box(generated.frame_jacobian_batch(black_box(&q), &mut jacobians));
@@ -325,6 +333,7 @@ fn bench_robot<const N: usize, D: Dynamics<N> + FrameKinematics<N>>(
         batch_mass_ns_per_state_4_lanes,
         batch_id_derivatives_ns_per_state,
         batch_id_derivatives_ns_per_state_4_lanes,
+        batch_fd_derivatives_ns_per_state,
         generated_id_derivatives_ns: id_derivatives(&generated),
         generic_id_derivatives_ns: id_derivatives(&generic),
         generated_fd_derivatives_ns: fd_derivatives(&generated),

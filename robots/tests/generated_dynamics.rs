@@ -127,6 +127,18 @@ fn check_batches<const N: usize>(
     }
     let mut short = vec![JointVector::zeros(); n + 1];
     prop_assert!(d.inverse_dynamics_batch(&q, &qd, &qdd, &mut short).is_err(), "lengths that differ are refused");
+    // The forward-dynamics derivatives over more states than one chunk, the states cycled.
+    let many = 2 * hya_core::dynamics::DERIVATIVE_CHUNK + 3;
+    let cycled = |v: &[JointVector<N>]| (0..many).map(|k| v[k % n]).collect::<Vec<_>>();
+    let (q, qd, tau) = (cycled(&q), cycled(&qd), cycled(&tau));
+    let mut outputs =
+        [vec![JointMatrix::zeros(); many], vec![JointMatrix::zeros(); many], vec![JointMatrix::zeros(); many]];
+    let [by_q, by_qd, inverse] = &mut outputs;
+    d.forward_dynamics_derivatives_batch(&q, &qd, &tau, (by_q, by_qd, inverse)).unwrap();
+    for k in 0..many {
+        let single = d.forward_dynamics_derivatives(&q[k], &qd[k], &tau[k]).unwrap();
+        prop_assert_eq!((by_q[k], by_qd[k], inverse[k]), single, "∂FD, state {}", k);
+    }
     Ok(())
 }
 

@@ -105,10 +105,7 @@ pub trait Dynamics<const N: usize> {
     ) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
         let qdd = self.forward_dynamics(q, qd, tau)?;
         let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, &qdd);
-        let inverse = self.mass_matrix(q).cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
-        // `0 − x`, not `−x`: an exact zero stays +0 (a negated one prints as `-0`).
-        let negated = |m: JointMatrix<N>| m.map(|x| 0.0 - x);
-        Ok((negated(inverse * by_q), negated(inverse * by_qd), inverse))
+        derivatives_through_inverse(self.mass_matrix(q), by_q, by_qd)
     }
 
     /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.
@@ -183,6 +180,55 @@ pub trait Dynamics<const N: usize> {
         }
         Ok(())
     }
+
+    /// [`forward_dynamics_derivatives`](Self::forward_dynamics_derivatives) of many states (see
+    /// [`inverse_dynamics_batch`](Self::inverse_dynamics_batch)): `(d_dq[k], d_dqd[k],
+    /// inverse[k])` for state `k`, the three outputs as long. The same computation as the single
+    /// call, its three dynamics passes as batches ([`forward_dynamics_batch`](Self::forward_dynamics_batch),
+    /// [`inverse_dynamics_derivatives_batch`](Self::inverse_dynamics_derivatives_batch),
+    /// [`mass_matrix_batch`](Self::mass_matrix_batch)) over [`DERIVATIVE_CHUNK`] states at a time
+    /// (their accelerations on the stack: no allocation), so each state's result is the single
+    /// call's. Stops at the first state whose mass matrix is not positive definite
+    /// ([`Error::SingularMassMatrix`]; the chunks before it are stored).
+    fn forward_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        (d_dq, d_dqd, inverse): (&mut [JointMatrix<N>], &mut [JointMatrix<N>], &mut [JointMatrix<N>]),
+    ) -> Result<(), Error> {
+        check_batch(&[q.len(), qd.len(), tau.len(), d_dqd.len(), inverse.len()], d_dq.len())?;
+        let mut qdd = [JointVector::<N>::zeros(); DERIVATIVE_CHUNK];
+        for start in (0..q.len()).step_by(DERIVATIVE_CHUNK) {
+            let range = start..(start + DERIVATIVE_CHUNK).min(q.len());
+            let (q, qd, tau, qdd) =
+                (&q[range.clone()], &qd[range.clone()], &tau[range.clone()], &mut qdd[..range.len()]);
+            let (d_dq, d_dqd, inverse) = (&mut d_dq[range.clone()], &mut d_dqd[range.clone()], &mut inverse[range]);
+            self.forward_dynamics_batch(q, qd, tau, qdd)?;
+            self.inverse_dynamics_derivatives_batch(q, qd, qdd, d_dq, d_dqd)?;
+            self.mass_matrix_batch(q, inverse)?;
+            for ((by_q, by_qd), m) in d_dq.iter_mut().zip(d_dqd.iter_mut()).zip(inverse.iter_mut()) {
+                (*by_q, *by_qd, *m) = derivatives_through_inverse(*m, *by_q, *by_qd)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// States per step of [`Dynamics::forward_dynamics_derivatives_batch`]: two steps of eight lanes.
+pub const DERIVATIVE_CHUNK: usize = 16;
+
+/// `(−M⁻¹ ∂ID/∂q, −M⁻¹ ∂ID/∂q̇, M⁻¹)` from `M` and the inverse-dynamics derivatives at
+/// `q̈ = FD(q, q̇, τ)` (see [`Dynamics::forward_dynamics_derivatives`]).
+fn derivatives_through_inverse<const N: usize>(
+    m: JointMatrix<N>,
+    by_q: JointMatrix<N>,
+    by_qd: JointMatrix<N>,
+) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
+    let inverse = m.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
+    // `0 − x`, not `−x`: an exact zero stays +0 (a negated one prints as `-0`).
+    let negated = |m: JointMatrix<N>| m.map(|x| 0.0 - x);
+    Ok((negated(inverse * by_q), negated(inverse * by_qd), inverse))
 }
 
 /// `Err(BatchLength)` for the first argument whose length is not the output's.
@@ -269,6 +315,15 @@ impl<const N: usize, D: Dynamics<N> + ?Sized> Dynamics<N> for $pointer {
         d_dqd: &mut [JointMatrix<N>],
     ) -> Result<(), Error> {
         (**self).inverse_dynamics_derivatives_batch(q, qd, qdd, d_dq, d_dqd)
+    }
+    fn forward_dynamics_derivatives_batch(
+        &self,
+        q: &[JointVector<N>],
+        qd: &[JointVector<N>],
+        tau: &[JointVector<N>],
+        outputs: (&mut [JointMatrix<N>], &mut [JointMatrix<N>], &mut [JointMatrix<N>]),
+    ) -> Result<(), Error> {
+        (**self).forward_dynamics_derivatives_batch(q, qd, tau, outputs)
     }
 }
     )*};

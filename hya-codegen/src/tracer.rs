@@ -177,13 +177,7 @@ impl<'a> Tracer<'a> {
         PARAMETERS
             .iter()
             .map(|parameter| {
-                let column = format_ident!("bodies_{parameter}");
-                (0..self.model.dof())
-                    .map(|i| {
-                        let body = Literal::usize_unsuffixed(i);
-                        input(self.names.body_input(i, parameter), quote! { #column[#body] })
-                    })
-                    .collect()
+                self.per_body(&format_ident!("bodies_{parameter}"), |i| self.names.body_input(i, parameter))
             })
             .collect()
     }
@@ -192,14 +186,16 @@ impl<'a> Tracer<'a> {
     fn joint_inputs(&self, arguments: Arguments) -> Vec<Vec<Value>> {
         arguments
             .iter()
-            .map(|argument| {
-                let ident = format_ident!("{argument}");
-                (0..self.model.dof())
-                    .map(|i| {
-                        let index = Literal::usize_unsuffixed(i);
-                        input(self.names.joint_input(argument, i), quote! { #ident[#index] })
-                    })
-                    .collect()
+            .map(|argument| self.per_body(&format_ident!("{argument}"), |i| self.names.joint_input(argument, i)))
+            .collect()
+    }
+
+    /// One input per joint (or body) `i`, named `name(i)`, read from `array[i]`.
+    fn per_body(&self, array: &Ident, name: impl Fn(usize) -> String) -> Vec<Value> {
+        (0..self.model.dof())
+            .map(|i| {
+                let index = Literal::usize_unsuffixed(i);
+                input(name(i), quote! { #array[#index] })
             })
             .collect()
     }

@@ -59,6 +59,7 @@ mod rigid_body {
     pub mod scalar;
     pub(crate) mod site;
     pub mod spatial;
+    pub(crate) mod through_inverse;
     pub(crate) mod trig;
 }
 

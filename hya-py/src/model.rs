@@ -444,11 +444,10 @@ impl Model {
             d.forward_dynamics_derivatives_into(row(q, k, n), row(qd, k, n), row(tau, k, n), [by_q, by_qd, inverse])
                 .map_err(|e| format!("row {k}: {e}"))
         };
-        // No batch entry point yet: every state goes through `one`, which names the row at fault.
-        let no_batch = |_: &(dyn SliceDynamics + Sync), _: [&[f64]; 3], _: &mut [f64]| {
-            Err(hya_core::Error::Unsupported("a batch of forward-dynamics derivatives"))
+        let batch = |d: &(dyn SliceDynamics + Sync), [q, qd, tau]: [&[f64]; 3], out: &mut [f64]| {
+            d.forward_dynamics_derivatives_rows(q, qd, tau, out)
         };
-        let out = self.compute(py, [&q, &qd, &tau], ("forward_dynamics_derivatives", 3 * n * n), no_batch, one)?;
+        let out = self.compute(py, [&q, &qd, &tau], ("forward_dynamics_derivatives", 3 * n * n), batch, one)?;
         let part = |p: usize| -> Vec<f64> {
             out.chunks(3 * n * n).flat_map(|state| state[p * n * n..(p + 1) * n * n].iter().copied()).collect()
         };

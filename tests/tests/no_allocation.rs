@@ -17,8 +17,8 @@ use hya_capi::{
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
     CartesianImpedance, CartesianReference, ComputedTorque, DisturbanceAttenuation, DisturbanceEstimator, Dynamics,
-    FilterParams, FrameKinematics, FrameState, Gains, Impedance, JointVector, Reference, ThirdOrderFilter,
-    TimedEstimator,
+    FilterParams, FrameKinematics, FrameState, Gains, Impedance, JointVector, OnSlicesN, Reference, SliceDynamics,
+    ThirdOrderFilter, TimedEstimator,
 };
 use hya_robots::{Hya, Panda};
 
@@ -165,6 +165,7 @@ fn generated_dynamics_and_the_hya_control_tick_do_not_allocate() {
             std::hint::black_box(Hya.forward_dynamics(&q, &qd, &tau).unwrap());
             std::hint::black_box(Panda.inverse_dynamics(&panda_q, &panda_q, &panda_q));
             std::hint::black_box(Hya.inverse_dynamics_derivatives(&q, &qd, &tau));
+            std::hint::black_box(Hya.forward_dynamics_derivatives(&q, &qd, &tau).unwrap());
             std::hint::black_box(Panda.forward_dynamics(&panda_q, &panda_q, &panda_q).unwrap());
         }
     });
@@ -178,7 +179,10 @@ fn generated_batches_do_not_allocate() {
     let [q, qd, qdd]: [Vec<JointVector<6>>; 3] = core::array::from_fn(|i| states.iter().map(|s| s[i]).collect());
     let mut out = vec![JointVector::<6>::zeros(); states.len()];
     let mut m = vec![hya_core::JointMatrix::<6>::zeros(); states.len()];
-    let mut m2 = m.clone();
+    let (mut m2, mut m3) = (m.clone(), m.clone());
+    let mut rows = vec![0.0; 3 * 36 * states.len()];
+    let flat = |v: &[JointVector<6>]| -> Vec<f64> { v.iter().flat_map(|x| x.iter().copied()).collect() };
+    let (q_rows, qd_rows, tau_rows) = (flat(&q), flat(&qd), flat(&qdd));
     let mut jacobian = vec![hya_core::FrameJacobian::<6>::zeros(); states.len()];
     let mut bias = vec![hya_core::FrameVector::zeros(); states.len()];
     assert!(allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
@@ -188,6 +192,8 @@ fn generated_batches_do_not_allocate() {
         Hya.mass_matrix_batch(&q, &mut m).unwrap();
         Hya.forward_dynamics_batch(&q, &qd, &qdd, &mut out).unwrap();
         Hya.inverse_dynamics_derivatives_batch(&q, &qd, &qdd, &mut m, &mut m2).unwrap();
+        Hya.forward_dynamics_derivatives_batch(&q, &qd, &qdd, (&mut m, &mut m2, &mut m3)).unwrap();
+        OnSlicesN::<6, _>(Hya).forward_dynamics_derivatives_rows(&q_rows, &qd_rows, &tau_rows, &mut rows).unwrap();
         Hya.frame_jacobian_batch(&q, &mut jacobian).unwrap();
         Hya.frame_acceleration_bias_batch(&q, &qd, &mut bias).unwrap();
         // The error path neither.

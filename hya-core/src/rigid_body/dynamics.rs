@@ -6,6 +6,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::rigid_body::through_inverse::{through_inverse, through_inverse_batch};
 use crate::Error;
 
 /// Standard gravity along the base's −z, m/s² (the paper's and Pinocchio's value).
@@ -95,7 +96,9 @@ pub trait Dynamics<const N: usize> {
     /// ```
     ///
     /// so the cost is one forward dynamics, one [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives)
-    /// and one Cholesky inverse of `M`. [`Error::SingularMassMatrix`] where `M` is not positive
+    /// and one inverse of `M` by its `L D Lᵀ` factors (`crate::rigid_body::through_inverse`, with
+    /// the products on fused multiply-adds where the CPU has them; in lanes in the batch).
+    /// [`Error::SingularMassMatrix`] where `M` is not positive
     /// definite.
     fn forward_dynamics_derivatives(
         &self,
@@ -105,7 +108,7 @@ pub trait Dynamics<const N: usize> {
     ) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
         let qdd = self.forward_dynamics(q, qd, tau)?;
         let (by_q, by_qd) = self.inverse_dynamics_derivatives(q, qd, &qdd);
-        derivatives_through_inverse(self.mass_matrix(q), by_q, by_qd)
+        through_inverse(&self.mass_matrix(q), &by_q, &by_qd)
     }
 
     /// [`inverse_dynamics`](Self::inverse_dynamics) of many states: `tau[k] = ID(q[k], q̇[k], q̈[k])`.
@@ -207,9 +210,7 @@ pub trait Dynamics<const N: usize> {
             self.forward_dynamics_batch(q, qd, tau, qdd)?;
             self.inverse_dynamics_derivatives_batch(q, qd, qdd, d_dq, d_dqd)?;
             self.mass_matrix_batch(q, inverse)?;
-            for ((by_q, by_qd), m) in d_dq.iter_mut().zip(d_dqd.iter_mut()).zip(inverse.iter_mut()) {
-                (*by_q, *by_qd, *m) = derivatives_through_inverse(*m, *by_q, *by_qd)?;
-            }
+            through_inverse_batch(inverse, d_dq, d_dqd)?;
         }
         Ok(())
     }
@@ -217,19 +218,6 @@ pub trait Dynamics<const N: usize> {
 
 /// States per step of [`Dynamics::forward_dynamics_derivatives_batch`]: two steps of eight lanes.
 pub const DERIVATIVE_CHUNK: usize = 16;
-
-/// `(−M⁻¹ ∂ID/∂q, −M⁻¹ ∂ID/∂q̇, M⁻¹)` from `M` and the inverse-dynamics derivatives at
-/// `q̈ = FD(q, q̇, τ)` (see [`Dynamics::forward_dynamics_derivatives`]).
-fn derivatives_through_inverse<const N: usize>(
-    m: JointMatrix<N>,
-    by_q: JointMatrix<N>,
-    by_qd: JointMatrix<N>,
-) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
-    let inverse = m.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
-    // `0 − x`, not `−x`: an exact zero stays +0 (a negated one prints as `-0`).
-    let negated = |m: JointMatrix<N>| m.map(|x| 0.0 - x);
-    Ok((negated(inverse * by_q), negated(inverse * by_qd), inverse))
-}
 
 /// `Err(BatchLength)` for the first argument whose length is not the output's.
 pub fn check_batch(arguments: &[usize], expected: usize) -> Result<(), Error> {
@@ -375,6 +363,7 @@ pub trait SliceDynamics {
     fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
         let n = self.dof();
         check_batch(&[q.len(), qd.len(), qdd.len()], tau.len())?;
+        whole_input_rows(&[q, qd, qdd], n)?;
         for (k, tau) in tau.chunks_mut(n.max(1)).enumerate() {
             let row = k * n..(k + 1) * n;
             self.inverse_dynamics_into(&q[row.clone()], &qd[row.clone()], &qdd[row], tau);
@@ -387,6 +376,7 @@ pub trait SliceDynamics {
     fn gravity_rows(&self, q: &[f64], g: &mut [f64]) -> Result<(), Error> {
         let n = self.dof();
         check_batch(&[q.len()], g.len())?;
+        whole_input_rows(&[q], n)?;
         for (k, g) in g.chunks_mut(n.max(1)).enumerate() {
             self.gravity_into(&q[k * n..(k + 1) * n], g);
         }
@@ -398,6 +388,7 @@ pub trait SliceDynamics {
     fn mass_matrix_rows(&self, q: &[f64], mass: &mut [f64]) -> Result<(), Error> {
         let n = self.dof();
         check_batch(&[q.len() * n], mass.len())?;
+        whole_input_rows(&[q], n)?;
         for (k, m) in mass.chunks_mut((n * n).max(1)).enumerate() {
             self.mass_matrix_into(&q[k * n..(k + 1) * n], m);
         }
@@ -409,9 +400,35 @@ pub trait SliceDynamics {
     fn forward_dynamics_rows(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
         let n = self.dof();
         check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
+        whole_input_rows(&[q, qd, tau], n)?;
         for (k, qdd) in qdd.chunks_mut(n.max(1)).enumerate() {
             let row = k * n..(k + 1) * n;
             self.forward_dynamics_into(&q[row.clone()], &qd[row.clone()], &tau[row], qdd)?;
+        }
+        Ok(())
+    }
+
+    /// [`forward_dynamics_derivatives_into`](Self::forward_dynamics_derivatives_into) of many
+    /// states: per row of `q`, `q̇`, `τ`, `3·dof²` numbers of `out`, `∂q̈/∂q`, `∂q̈/∂q̇` and `M⁻¹`
+    /// one after another, each row-major (see [`inverse_dynamics_rows`](Self::inverse_dynamics_rows)).
+    /// Stops at the first singular state, with an error (rows before it may be written).
+    /// Generated dynamics run them in batches ([`Dynamics::forward_dynamics_derivatives_batch`]).
+    fn forward_dynamics_derivatives_rows(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let n = self.dof();
+        check_batch(&[q.len() * 3 * n, qd.len() * 3 * n, tau.len() * 3 * n], out.len())?;
+        whole_input_rows(&[q, qd, tau], n)?;
+        for (k, row) in out.chunks_mut((3 * n * n).max(1)).enumerate() {
+            let state = k * n..(k + 1) * n;
+            let (by_q, rest) = row.split_at_mut(n * n);
+            let (by_qd, inverse) = rest.split_at_mut(n * n);
+            let outputs = [by_q, by_qd, inverse];
+            self.forward_dynamics_derivatives_into(&q[state.clone()], &qd[state.clone()], &tau[state], outputs)?;
         }
         Ok(())
     }
@@ -487,6 +504,38 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
         check_batch(&[q.len(), qd.len(), tau.len()], qdd.len())?;
         in_place([q, qd, tau], qdd, |[q, qd, tau], out| self.0.forward_dynamics_batch(q, qd, tau, out))
     }
+    /// [`Dynamics::forward_dynamics_derivatives_batch`] over [`DERIVATIVE_CHUNK`] states at a
+    /// time, each chunk's matrices on the stack and then written row-major to its rows.
+    fn forward_dynamics_derivatives_rows(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let width = 3 * N * N;
+        check_batch(&[q.len() * 3 * N, qd.len() * 3 * N, tau.len() * 3 * N], out.len())?;
+        let [q, qd, tau] = whole_rows::<N, 3>([q, qd, tau])?;
+        let [mut by_q, mut by_qd, mut inverse] = [[JointMatrix::<N>::zeros(); DERIVATIVE_CHUNK]; 3];
+        for (start, rows) in (0..).step_by(DERIVATIVE_CHUNK).zip(out.chunks_mut(DERIVATIVE_CHUNK * width.max(1))) {
+            let states = start..start + rows.len() / width.max(1);
+            let used = states.len();
+            let outputs = (&mut by_q[..used], &mut by_qd[..used], &mut inverse[..used]);
+            self.0.forward_dynamics_derivatives_batch(
+                &q[states.clone()],
+                &qd[states.clone()],
+                &tau[states],
+                outputs,
+            )?;
+            for (k, row) in rows.chunks_mut(width.max(1)).enumerate() {
+                for (part, matrix) in row.chunks_mut((N * N).max(1)).zip([&by_q[k], &by_qd[k], &inverse[k]]) {
+                    // Row-major: the transpose's column-major storage.
+                    part.copy_from_slice(matrix.transpose().as_slice());
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Runs `batch` on the rows of `inputs` seen in place as joint vectors, writing each result's
@@ -497,16 +546,29 @@ fn in_place<const N: usize, const IN: usize, const R: usize, const C: usize>(
     out: &mut [f64],
     batch: impl FnOnce([&[JointVector<N>]; IN], &mut [SMatrix<f64, R, C>]) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    let whole = |argument: usize, values: usize, width: usize| match values % width.max(1) {
+    let arguments = whole_rows::<N, IN>(inputs)?;
+    whole_row(IN, out.len(), R * C)?;
+    batch(arguments, bytemuck::cast_slice_mut::<f64, SMatrix<f64, R, C>>(out))
+}
+
+/// The rows of `inputs` seen in place as joint vectors; [`Error::PartialRow`] if a slice ends
+/// inside a row.
+fn whole_rows<const N: usize, const IN: usize>(inputs: [&[f64]; IN]) -> Result<[&[JointVector<N>]; IN], Error> {
+    whole_input_rows(&inputs, N)?;
+    Ok(inputs.map(bytemuck::cast_slice::<f64, JointVector<N>>))
+}
+
+/// [`Error::PartialRow`] for the first of `inputs` that ends inside a row of `n` numbers.
+fn whole_input_rows(inputs: &[&[f64]], n: usize) -> Result<(), Error> {
+    inputs.iter().enumerate().try_for_each(|(argument, input)| whole_row(argument, input.len(), n))
+}
+
+/// [`Error::PartialRow`] unless `values` numbers of `argument` are whole rows of `width`.
+fn whole_row(argument: usize, values: usize, width: usize) -> Result<(), Error> {
+    match values % width.max(1) {
         0 => Ok(()),
         _ => Err(Error::PartialRow { argument, values, width }),
-    };
-    for (argument, input) in inputs.iter().enumerate() {
-        whole(argument, input.len(), N)?;
     }
-    whole(IN, out.len(), R * C)?;
-    let arguments = inputs.map(bytemuck::cast_slice::<f64, JointVector<N>>);
-    batch(arguments, bytemuck::cast_slice_mut::<f64, SMatrix<f64, R, C>>(out))
 }
 
 #[cfg(test)]
@@ -541,5 +603,80 @@ mod tests {
         let refused = arm.inverse_dynamics_rows(&q[..5], &qd[..5], &qdd[..5], &mut tau[..5]);
         assert_eq!(refused, Err(Error::PartialRow { argument: 0, values: 5, width: 2 }));
         assert!(arm.mass_matrix_rows(&q, &mut m[..11]).is_err());
+    }
+
+    /// The default row methods, on a type with the single calls only.
+    struct SingleCalls(OnSlicesN<2, PlanarTwoLink>);
+
+    impl SliceDynamics for SingleCalls {
+        fn dof(&self) -> usize {
+            2
+        }
+        fn inverse_dynamics_into(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
+            self.0.inverse_dynamics_into(q, qd, qdd, tau);
+        }
+        fn gravity_into(&self, q: &[f64], tau: &mut [f64]) {
+            self.0.gravity_into(q, tau);
+        }
+        fn mass_matrix_into(&self, q: &[f64], mass: &mut [f64]) {
+            self.0.mass_matrix_into(q, mass);
+        }
+        fn forward_dynamics_into(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
+            self.0.forward_dynamics_into(q, qd, tau, qdd)
+        }
+        fn inverse_dynamics_derivatives_into(
+            &self,
+            q: &[f64],
+            qd: &[f64],
+            qdd: &[f64],
+            by_q: &mut [f64],
+            by_qd: &mut [f64],
+        ) {
+            self.0.inverse_dynamics_derivatives_into(q, qd, qdd, by_q, by_qd);
+        }
+        fn forward_dynamics_derivatives_into(
+            &self,
+            q: &[f64],
+            qd: &[f64],
+            tau: &[f64],
+            outputs: [&mut [f64]; 3],
+        ) -> Result<(), Error> {
+            self.0.forward_dynamics_derivatives_into(q, qd, tau, outputs)
+        }
+    }
+
+    /// Forward-dynamics derivatives by rows, batched and by the default, are the single call's
+    /// row by row; every default refuses a slice that ends inside a row, with an error, not a
+    /// panic.
+    #[test]
+    fn derivative_rows_equal_single_calls_and_defaults_refuse_partial_rows() {
+        let batched = OnSlicesN::<2, _>(PlanarTwoLink::default());
+        let by_default = SingleCalls(batched);
+        // Twenty states: a whole chunk of the batch and a part of the next.
+        let q: [f64; 40] = core::array::from_fn(|i| (i as f64 * 0.37).sin());
+        let qd: [f64; 40] = core::array::from_fn(|i| (i as f64 * 0.71).cos());
+        let tau: [f64; 40] = core::array::from_fn(|i| 3.0 * (i as f64 * 0.13).sin());
+        let (mut rows, mut default_rows) = ([0.0; 240], [0.0; 240]);
+        batched.forward_dynamics_derivatives_rows(&q, &qd, &tau, &mut rows).unwrap();
+        by_default.forward_dynamics_derivatives_rows(&q, &qd, &tau, &mut default_rows).unwrap();
+        for k in 0..20 {
+            let state = 2 * k..2 * k + 2;
+            let mut one = [[0.0; 4]; 3];
+            let [a, b, c] = &mut one;
+            batched
+                .forward_dynamics_derivatives_into(&q[state.clone()], &qd[state.clone()], &tau[state], [a, b, c])
+                .unwrap();
+            assert_eq!(one.concat(), rows[12 * k..12 * k + 12], "row {k}");
+            assert_eq!(one.concat(), default_rows[12 * k..12 * k + 12], "row {k}, by default");
+        }
+        let partial = Err(Error::PartialRow { argument: 0, values: 5, width: 2 });
+        let (mut five, mut ten) = ([0.0; 5], [0.0; 10]);
+        assert_eq!(by_default.inverse_dynamics_rows(&q[..5], &qd[..5], &tau[..5], &mut five), partial);
+        assert_eq!(by_default.gravity_rows(&q[..5], &mut five), partial);
+        assert_eq!(by_default.mass_matrix_rows(&q[..5], &mut ten), partial);
+        assert_eq!(by_default.forward_dynamics_rows(&q[..5], &qd[..5], &tau[..5], &mut five), partial);
+        let mut thirty = [0.0; 30];
+        assert_eq!(by_default.forward_dynamics_derivatives_rows(&q[..5], &qd[..5], &tau[..5], &mut thirty), partial);
+        assert_eq!(batched.forward_dynamics_derivatives_rows(&q[..5], &qd[..5], &tau[..5], &mut thirty), partial);
     }
 }

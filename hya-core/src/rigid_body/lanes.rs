@@ -456,15 +456,15 @@ where
 
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: AVX registers on x86-64.
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
-type VectorLanes = avx::F64x4;
+pub(crate) type VectorLanes = avx::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: two NEON registers on aarch64.
 #[cfg(all(target_arch = "aarch64", target_feature = "neon"))]
-type VectorLanes = neon::F64x4;
+pub(crate) type VectorLanes = neon::F64x4;
 /// The lanes [`batch`] runs on where [`with_vector_fma`] does: arrays the compiler maps to
 /// the target's vector registers itself, which in kernels this long costs LLVM far more time
 /// than register types do (see `neon.rs`).
 #[cfg(not(any(all(feature = "std", target_arch = "x86_64"), all(target_arch = "aarch64", target_feature = "neon"))))]
-type VectorLanes = Lanes<BATCH_LANES, true>;
+pub(crate) type VectorLanes = Lanes<BATCH_LANES, true>;
 
 /// [`batch`]'s loop on the arithmetic `A`.
 #[inline(always)]

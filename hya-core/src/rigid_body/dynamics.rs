@@ -95,9 +95,10 @@ pub trait Dynamics<const N: usize> {
     /// ∂q̈/∂q = −M⁻¹ ∂ID/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂ID/∂q̇   (both at q̈ = FD(q, q̇, τ))
     /// ```
     ///
-    /// so the cost is one forward dynamics, one [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives)
-    /// and one inverse of `M` by its `L D Lᵀ` factors (`crate::rigid_body::through_inverse`, with
-    /// the products on fused multiply-adds where the CPU has them; in lanes in the batch).
+    /// so the cost is one forward dynamics, one [`inverse_dynamics_derivatives`](Self::inverse_dynamics_derivatives),
+    /// one [`mass_matrix`](Self::mass_matrix) and its inverse by `L D Lᵀ` factors (no square
+    /// roots) with the two products, on fused multiply-adds where the CPU has them (one state per
+    /// vector lane in [`forward_dynamics_derivatives_batch`](Self::forward_dynamics_derivatives_batch)).
     /// [`Error::SingularMassMatrix`] where `M` is not positive
     /// definite.
     fn forward_dynamics_derivatives(

@@ -32,8 +32,10 @@ type JointMatrix<const N: usize> = SMatrix<f64, N, N>;
 type Columns<A, const N: usize> = [[A; N]; N];
 
 /// The module's computation on `A`, in place: `m` becomes `M⁻¹`, `by_q` and `by_qd` their
-/// products `−M⁻¹ ∂ID`; returns the pivots `D`. `M` and `M⁻¹` are symmetric, so `m[i][j]` is
-/// `M_ij` in either order; the products are read and written by columns.
+/// products `−M⁻¹ ∂ID`; returns the pivots `D`. `M` and `M⁻¹` are symmetric (as
+/// [`Dynamics::mass_matrix`](crate::Dynamics::mass_matrix) promises), so `m[i][j]` is `M_ij` in
+/// either order; "below the diagonal" below means `i > j` in `m[i][j]`, which is nalgebra's
+/// upper triangle. The products are read and written by columns.
 ///
 /// The factors live in `m` as they are made: `l_ij` below the diagonal, `l_ij d_j` above it (at
 /// `(j, i)`), then `W = L⁻¹` over `L` column by column (each `w_ij` needs `l_ik` of later columns
@@ -108,9 +110,10 @@ fn solve<A: Arithmetic, const N: usize>(
     pivots
 }
 
-/// Whether a pivot shows `M` positive definite.
+/// Whether a pivot shows `M` positive definite, with a finite inverse (a subnormal pivot's is
+/// not).
 fn positive(pivot: f64) -> bool {
-    pivot > 0.0 && pivot.is_finite()
+    pivot > 0.0 && pivot.is_finite() && (1.0 / pivot).is_finite()
 }
 
 /// `(−M⁻¹ by_q, −M⁻¹ by_qd, M⁻¹)`: with fused multiply-adds where the CPU has them
@@ -123,8 +126,7 @@ pub(crate) fn through_inverse<const N: usize>(
 ) -> Result<(JointMatrix<N>, JointMatrix<N>, JointMatrix<N>), Error> {
     // Shared with the closure [`with_fma`](crate::with_fma) needs (an `Fn`), written in place.
     let matrices = core::cell::RefCell::new([m.data.0, by_q.data.0, by_qd.data.0]);
-    let pivots = crate::rigid_body::fma::with_fma_at(
-        &(),
+    let pivots = crate::with_fma(
         #[inline(always)]
         || on::<Fused, N>(&mut matrices.borrow_mut()),
     )
@@ -203,13 +205,15 @@ fn in_lanes<A: Arithmetic, const N: usize>(states: [&mut [JointMatrix<N>]; 3]) -
     let mut start = 0;
     while start < count {
         let used = A::LANES.min(count - start);
+        // (The division only in a short step.)
+        let state = |l: usize| start + if used == A::LANES { l } else { l % used };
         let matrices = [&*m, &*by_q, &*by_qd];
         for p in 0..3 {
             for c in 0..N {
                 for r in 0..N {
                     lanes[p][c][r] = A::from_lanes(
                         #[inline(always)]
-                        |l| matrices[p][start + l % used].data.0[c][r],
+                        |l| matrices[p][state(l)].data.0[c][r],
                     );
                 }
             }

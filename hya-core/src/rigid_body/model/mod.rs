@@ -23,7 +23,9 @@ mod workspace;
 use algorithms::ModelInertias;
 pub use workspace::{BodyState, JointTransform};
 
+use crate::dispatch::{with_joints, ForJoints};
 use crate::rigid_body::spatial::{Motion, RigidBodyInertia, Transform};
+use crate::rigid_body::through_inverse::through_inverse;
 use crate::{Dynamics, Error, JointMatrix, JointVector};
 
 pub use crate::STANDARD_GRAVITY;
@@ -425,6 +427,11 @@ impl crate::SliceDynamics for TreeModel {
         self.forward_dynamics_into(q, qd, tau, &mut qdd)?;
         self.inverse_dynamics_derivatives_into(q, qd, &qdd, by_q, by_qd);
         self.mass_matrix_into(q, inverse);
+        // Up to `MAX_JOINTS`, the fixed-size models' last step, so that a URDF and its generated
+        // arm take the same one; nalgebra's Cholesky beyond.
+        if let Some(done) = with_joints(n, ThroughInverseRows([by_q, by_qd, inverse])) {
+            return done;
+        }
         let mass = DMatrix::from_row_slice(n, n, inverse);
         let mass_inverse = mass.cholesky().ok_or(Error::SingularMassMatrix)?.inverse();
         // Row-major in and out: the transposes' column-major storage.
@@ -434,6 +441,24 @@ impl crate::SliceDynamics for TreeModel {
             out.copy_from_slice(product.transpose().as_slice());
         }
         inverse.copy_from_slice(mass_inverse.transpose().as_slice());
+        Ok(())
+    }
+}
+
+/// `through_inverse` on row-major `N × N` slices: `[∂ID/∂q, ∂ID/∂q̇, M]` in,
+/// `[∂q̈/∂q, ∂q̈/∂q̇, M⁻¹]` out.
+struct ThroughInverseRows<'a>([&'a mut [f64]; 3]);
+
+impl ForJoints for ThroughInverseRows<'_> {
+    type Output = Result<(), Error>;
+    fn call<const N: usize>(self) -> Result<(), Error> {
+        let [by_q, by_qd, mass] = self.0;
+        let [rows_q, rows_qd, rows_mass] = [&*by_q, &*by_qd, &*mass].map(JointMatrix::<N>::from_row_slice);
+        let (dq, dqd, inverse) = through_inverse(&rows_mass, &rows_q, &rows_qd)?;
+        for (out, matrix) in [by_q, by_qd, mass].into_iter().zip([dq, dqd, inverse]) {
+            // Row-major: the transpose's column-major storage.
+            out.copy_from_slice(matrix.transpose().as_slice());
+        }
         Ok(())
     }
 }
@@ -608,6 +633,21 @@ mod tests {
         let (by_q, by_qd) = tree.inverse_dynamics_derivatives(&q, &qd, &qdd);
         let (fd_q, fd_qd) = arm.inverse_dynamics_derivatives(&q, &qd, &qdd);
         assert!((by_q - fd_q).norm() < 1e-7 && (by_qd - fd_qd).norm() < 1e-7, "{by_q} {fd_q} {by_qd} {fd_qd}");
+    }
+
+    /// On slices, up to `MAX_JOINTS` joints, the run-time model takes the fixed-size model's
+    /// last step of `∇FD`: the two give the same numbers, bit for bit.
+    #[test]
+    fn forward_dynamics_derivatives_on_slices_equal_the_fixed_size_models() {
+        let tree = two_link_tree(&PlanarTwoLink::default());
+        let (q, qd, tau) = ([0.7, -1.3], [1.1, 2.4], [4.0, -1.5]);
+        let mut out = [[0.0; 4]; 3];
+        let [a, b, c] = &mut out;
+        crate::SliceDynamics::forward_dynamics_derivatives_into(tree.model(), &q, &qd, &tau, [a, b, c]).unwrap();
+        let fixed = tree.forward_dynamics_derivatives(&q.into(), &qd.into(), &tau.into()).unwrap();
+        for (slice, matrix) in out.iter().zip([fixed.0, fixed.1, fixed.2]) {
+            assert_eq!(slice[..], matrix.transpose().as_slice()[..]);
+        }
     }
 
     #[test]

@@ -220,6 +220,17 @@ pub trait Dynamics<const N: usize> {
 /// States per step of [`Dynamics::forward_dynamics_derivatives_batch`]: two steps of eight lanes.
 pub const DERIVATIVE_CHUNK: usize = 16;
 
+/// Each of `matrices` into its slice of `outputs`, row-major (the transpose's column-major
+/// storage): how slices carry `N × N` results.
+pub(crate) fn write_row_major<const N: usize, const K: usize>(
+    outputs: [&mut [f64]; K],
+    matrices: [&JointMatrix<N>; K],
+) {
+    for (out, matrix) in outputs.into_iter().zip(matrices) {
+        out.copy_from_slice(matrix.transpose().as_slice());
+    }
+}
+
 /// `Err(BatchLength)` for the first argument whose length is not the output's.
 pub fn check_batch(arguments: &[usize], expected: usize) -> Result<(), Error> {
     match arguments.iter().position(|&got| got != expected) {
@@ -482,10 +493,7 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
     ) -> Result<(), Error> {
         let [q, qd, tau] = [q, qd, tau].map(JointVector::<N>::from_column_slice);
         let (by_q, by_qd, inverse) = self.0.forward_dynamics_derivatives(&q, &qd, &tau)?;
-        for (out, matrix) in outputs.into_iter().zip([by_q, by_qd, inverse]) {
-            // Row-major: the transpose's column-major storage.
-            out.copy_from_slice(matrix.transpose().as_slice());
-        }
+        write_row_major(outputs, [&by_q, &by_qd, &inverse]);
         Ok(())
     }
     fn inverse_dynamics_rows(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<(), Error> {
@@ -529,10 +537,9 @@ impl<const N: usize, D: Dynamics<N>> SliceDynamics for OnSlicesN<N, D> {
                 outputs,
             )?;
             for (k, row) in rows.chunks_mut(width.max(1)).enumerate() {
-                for (part, matrix) in row.chunks_mut((N * N).max(1)).zip([&by_q[k], &by_qd[k], &inverse[k]]) {
-                    // Row-major: the transpose's column-major storage.
-                    part.copy_from_slice(matrix.transpose().as_slice());
-                }
+                let (by_q_row, rest) = row.split_at_mut(N * N);
+                let (by_qd_row, inverse_row) = rest.split_at_mut(N * N);
+                write_row_major([by_q_row, by_qd_row, inverse_row], [&by_q[k], &by_qd[k], &inverse[k]]);
             }
         }
         Ok(())

@@ -24,6 +24,7 @@ use algorithms::ModelInertias;
 pub use workspace::{BodyState, JointTransform};
 
 use crate::dispatch::{with_joints, ForJoints};
+use crate::rigid_body::dynamics::write_row_major;
 use crate::rigid_body::spatial::{Motion, RigidBodyInertia, Transform};
 use crate::rigid_body::through_inverse::through_inverse;
 use crate::{Dynamics, Error, JointMatrix, JointVector};
@@ -455,10 +456,7 @@ impl ForJoints for ThroughInverseRows<'_> {
         let [by_q, by_qd, mass] = self.0;
         let [rows_q, rows_qd, rows_mass] = [&*by_q, &*by_qd, &*mass].map(JointMatrix::<N>::from_row_slice);
         let (dq, dqd, inverse) = through_inverse(&rows_mass, &rows_q, &rows_qd)?;
-        for (out, matrix) in [by_q, by_qd, mass].into_iter().zip([dq, dqd, inverse]) {
-            // Row-major: the transpose's column-major storage.
-            out.copy_from_slice(matrix.transpose().as_slice());
-        }
+        write_row_major([by_q, by_qd, mass], [&dq, &dqd, &inverse]);
         Ok(())
     }
 }

@@ -104,6 +104,74 @@ typedef struct HyaObserver HyaObserver;
 extern "C" {
 #endif // __cplusplus
 
+// Inverse dynamics of `count` states: `q`, `qd`, `qdd` and `tau` hold `count × n` doubles,
+// row-major, `n` = dof. See `hya_model_inverse_dynamics`.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `count × n` doubles; `tau`
+// aliases no input.
+HyaStatus hya_model_inverse_dynamics_batch(HyaModel *model,
+                                           const double *q,
+                                           const double *qd,
+                                           const double *qdd,
+                                           size_t count,
+                                           size_t n,
+                                           double *tau);
+
+// Gravity torques of `count` states: `q` and `tau` hold `count × n` doubles, `n` = dof. See
+// `hya_model_gravity`.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `count × n` doubles.
+HyaStatus hya_model_gravity_batch(HyaModel *model,
+                                  const double *q,
+                                  size_t count,
+                                  size_t n,
+                                  double *tau);
+
+// Mass matrices of `count` states: `q` holds `count × n` doubles (`n` = dof), `mass`
+// `count × n²`, one matrix after another. See `hya_model_mass_matrix`.
+//
+// # Safety
+// `model` is null or a live handle; `q` holds `count × n` doubles and `mass` `count × n²`.
+HyaStatus hya_model_mass_matrix_batch(HyaModel *model,
+                                      const double *q,
+                                      size_t count,
+                                      size_t n,
+                                      double *mass);
+
+// Forward dynamics of `count` states: `q`, `qd`, `tau` and `qdd` hold `count × n` doubles,
+// `n` = dof. `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite
+// (the message names its row). See `hya_model_forward_dynamics`.
+//
+// # Safety
+// `model` is null or a live handle; each non-null array holds `count × n` doubles; `qdd`
+// aliases no input.
+HyaStatus hya_model_forward_dynamics_batch(HyaModel *model,
+                                           const double *q,
+                                           const double *qd,
+                                           const double *tau,
+                                           size_t count,
+                                           size_t n,
+                                           double *qdd);
+
+// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `count` states: `q`, `qd`, `tau` hold
+// `count × n` doubles (`n` = dof); `out` holds `count × 3n²`: per state `∂q̈/∂q`, `∂q̈/∂q̇`,
+// `M⁻¹`, each `n × n` row-major (row `i` is `∂q̈_i`), one after another.
+// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite (the message
+// names its row). See `hya_model_forward_dynamics_derivatives`.
+//
+// # Safety
+// `model` is null or a live handle; `q`, `qd`, `tau` hold `count × n` doubles and `out`
+// `count × 3n²`; `out` overlaps no input.
+HyaStatus hya_model_forward_dynamics_derivatives_batch(HyaModel *model,
+                                                       const double *q,
+                                                       const double *qd,
+                                                       const double *tau,
+                                                       size_t count,
+                                                       size_t n,
+                                                       double *out);
+
 // Makes a Cartesian impedance controller on `model`'s dynamics holding frame `frame` (any link
 // of the description; null: the last link) with the spring `stiffness` (6 doubles: N/m for x,
 // y, z, then N·m/rad) and damper `damping` (6: N·s/m, then N·m·s/rad), each finite and

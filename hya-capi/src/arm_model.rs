@@ -35,6 +35,9 @@ pub(crate) trait ArmModel: Send {
     fn gravity(&self, q: &[f64], tau: &mut [f64]);
     /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`.
     fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
+    /// The same model on rows of states, for the batch entry points: a shipped arm's generated
+    /// batches (SIMD lanes), a URDF's one call per state.
+    fn rows(&self) -> &dyn SliceDynamics;
     /// `∂q̈/∂q`, `∂q̈/∂q̇`, `M⁻¹`, each row-major.
     fn forward_dynamics_derivatives(
         &self,
@@ -96,6 +99,14 @@ fn v<const N: usize>(values: &[f64]) -> JointVector<N> {
 /// A model of `N` joints.
 struct Fixed<const N: usize> {
     dynamics: Shared<N>,
+    /// The same dynamics on rows.
+    slices: OnSlicesN<N, Shared<N>>,
+}
+
+impl<const N: usize> Fixed<N> {
+    fn new(dynamics: Shared<N>) -> Self {
+        Self { slices: OnSlicesN(dynamics.clone()), dynamics }
+    }
 }
 
 impl<const N: usize> ArmModel for Fixed<N> {
@@ -115,6 +126,9 @@ impl<const N: usize> ArmModel for Fixed<N> {
         qdd.copy_from_slice(self.dynamics.forward_dynamics(&v(q), &v(qd), &v(tau))?.as_slice());
         Ok(())
     }
+    fn rows(&self) -> &dyn SliceDynamics {
+        &self.slices
+    }
     fn forward_dynamics_derivatives(
         &self,
         q: &[f64],
@@ -122,7 +136,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
         tau: &[f64],
         out: [&mut [f64]; 3],
     ) -> Result<(), Error> {
-        OnSlicesN::<N, _>(&self.dynamics).forward_dynamics_derivatives_into(q, qd, tau, out)
+        self.slices.forward_dynamics_derivatives_into(q, qd, tau, out)
     }
     fn estimator(
         &self,
@@ -175,7 +189,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
         Ok(Box::new(FrameImpedance::new(controller, frame)))
     }
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel> {
-        Box::new(Fixed::<N> { dynamics: Arc::new(WithFriction::new(self.dynamics.clone(), friction)) })
+        Box::new(Fixed::<N>::new(Arc::new(WithFriction::new(self.dynamics.clone(), friction))))
     }
 }
 
@@ -185,7 +199,7 @@ pub(crate) fn shipped(name: &str) -> Result<Box<dyn ArmModel>, Failure> {
     impl ForArm for Generated {
         type Output = Box<dyn ArmModel>;
         fn call<const N: usize>(self, arm: Arm<N>) -> Box<dyn ArmModel> {
-            Box::new(Fixed::<N> { dynamics: Arc::new(arm.nominal) })
+            Box::new(Fixed::<N>::new(Arc::new(arm.nominal)))
         }
     }
     with_arm(name, Generated).ok_or_else(|| Failure::UnknownArm(name.to_owned()))
@@ -198,7 +212,7 @@ pub(crate) fn tree(model: TreeModel) -> Result<Box<dyn ArmModel>, Failure> {
         type Output = Result<Box<dyn ArmModel>, Failure>;
         fn call<const N: usize>(self) -> Self::Output {
             let dynamics = self.0.into_dynamics::<N>().map_err(Failure::Model)?;
-            Ok(Box::new(Fixed::<N> { dynamics: Arc::new(dynamics) }))
+            Ok(Box::new(Fixed::<N>::new(Arc::new(dynamics))))
         }
     }
     let (name, dof) = (model.name().to_owned(), model.dof());

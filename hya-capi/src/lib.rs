@@ -5,7 +5,8 @@
 //!
 //! - Models: a shipped arm's generated code by name ([`hya_model_from_arm`]) or any URDF through
 //!   the run-time kinematic tree ([`hya_model_from_urdf`]); inverse dynamics, mass matrix,
-//!   gravity, forward dynamics.
+//!   gravity, forward dynamics and its derivatives, one state per call or many
+//!   ([`hya_model_inverse_dynamics_batch`] and its siblings: a shipped arm's SIMD batches).
 //! - The paper's disturbance estimator ([`hya_estimator_new`], [`hya_estimator_update`]).
 //! - The observers it is compared against ([`hya_observer_new_nonlinear`],
 //!   [`hya_observer_new_momentum`], [`hya_observer_new_extended_state`]).
@@ -20,6 +21,7 @@
 //! errors.
 
 mod arm_model;
+mod batch;
 mod cartesian;
 mod controller;
 mod estimator;
@@ -28,6 +30,7 @@ mod observer;
 mod slices;
 mod status;
 
+pub use batch::*;
 pub use cartesian::*;
 pub use controller::*;
 pub use estimator::*;

@@ -51,6 +51,57 @@ pub(crate) unsafe fn output<'a>(
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
 }
 
+/// `count` rows of `n` values at `ptr`, one after another: `n` must be `dof`, and every value
+/// finite (a failure names the row and the joint).
+///
+/// # Safety
+/// `ptr` is null or valid for reading `count × n` doubles.
+pub(crate) unsafe fn input_rows<'a>(
+    name: &'static str,
+    ptr: *const f64,
+    (count, n): (usize, usize),
+    dof: usize,
+) -> Result<&'a [f64], Failure> {
+    check(name, ptr.is_null(), n, dof)?;
+    let len = rows_length(name, count, n)?;
+    // SAFETY: non-null, and the caller's contract gives `count × n` readable doubles.
+    let values = unsafe { core::slice::from_raw_parts(ptr, len) };
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(at) => {
+            let failure = Failure::NonFinite { name, index: at % n, value: values[at] };
+            Err(Failure::InRow { row: at / n, failure: Box::new(failure) })
+        }
+        None => Ok(values),
+    }
+}
+
+/// `count` rows of `width` writable values at `ptr`.
+///
+/// # Safety
+/// `ptr` is null or valid for writing `count × width` doubles, and aliases no input of the
+/// same call.
+pub(crate) unsafe fn output_rows<'a>(
+    name: &'static str,
+    ptr: *mut f64,
+    count: usize,
+    width: usize,
+) -> Result<&'a mut [f64], Failure> {
+    if ptr.is_null() {
+        return Err(Failure::Null(name));
+    }
+    let len = rows_length(name, count, width)?;
+    // SAFETY: non-null, and the caller's contract gives `count × width` writable doubles.
+    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+}
+
+/// `count × width`, or a failure if that many doubles cannot be addressed.
+fn rows_length(name: &'static str, count: usize, width: usize) -> Result<usize, Failure> {
+    count
+        .checked_mul(width)
+        .filter(|&len| len <= isize::MAX as usize / core::mem::size_of::<f64>())
+        .ok_or(Failure::TooManyRows { name, count, width })
+}
+
 /// `Err` at the first non-finite value.
 fn finite(name: &'static str, values: &[f64]) -> Result<(), Failure> {
     match values.iter().position(|v| !v.is_finite()) {

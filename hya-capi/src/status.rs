@@ -44,6 +44,8 @@ pub(crate) enum Failure {
     Null(&'static str),
     /// An array of the wrong length.
     Length { name: &'static str, got: usize, expected: usize },
+    /// More rows than memory can address.
+    TooManyRows { name: &'static str, count: usize, width: usize },
     /// A non-finite input value.
     NonFinite { name: &'static str, index: usize, value: f64 },
     /// A string argument that is not UTF-8.
@@ -69,6 +71,8 @@ pub(crate) enum Failure {
     Handle { expected: &'static str, found: Option<&'static str> },
     /// A panic caught at the boundary.
     Panic(String),
+    /// A failure at one state (row, from 0) of a batch call.
+    InRow { row: usize, failure: Box<Failure> },
 }
 
 impl Failure {
@@ -76,7 +80,7 @@ impl Failure {
     pub(crate) fn status(&self) -> HyaStatus {
         match self {
             Failure::Null(_) => HyaStatus::HyaErrNull,
-            Failure::Length { .. } => HyaStatus::HyaErrLength,
+            Failure::Length { .. } | Failure::TooManyRows { .. } => HyaStatus::HyaErrLength,
             Failure::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
             Failure::NotUtf8(_)
             | Failure::UnknownArm(_)
@@ -96,6 +100,7 @@ impl Failure {
             Failure::Load(_) | Failure::Model(_) | Failure::Friction(_) => HyaStatus::HyaErrModel,
             Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,
+            Failure::InRow { failure, .. } => failure.status(),
         }
     }
 }
@@ -106,6 +111,9 @@ impl fmt::Display for Failure {
             Failure::Null(name) => write!(f, "`{name}` is a null pointer"),
             Failure::Length { name, got, expected } => {
                 write!(f, "`{name}` has length {got}; the model needs {expected}")
+            }
+            Failure::TooManyRows { name, count, width } => {
+                write!(f, "`{name}`: {count} rows of {width} doubles are more than memory can address")
             }
             Failure::NonFinite { name, index, value } => write!(f, "non-finite {name}[{index}] = {value}"),
             Failure::NotUtf8(name) => write!(f, "`{name}` is not UTF-8"),
@@ -136,6 +144,7 @@ impl fmt::Display for Failure {
                 "the handle is not a live {expected}: freed already, or never made by hya; nothing was read through it"
             ),
             Failure::Panic(what) => write!(f, "internal error (a bug in hya, please report it): {what}"),
+            Failure::InRow { row, failure } => write!(f, "row {row}: {failure}"),
         }
     }
 }

@@ -108,6 +108,59 @@ impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
         }
     }
 
+    /// The batch entry points on seven states (more than a vector's lanes, not a multiple of
+    /// them) equal the Rust model's single calls, state by state.
+    fn batches(&self, seq: &mut Sequence) {
+        const COUNT: usize = 7;
+        let states: Vec<[JointVector<N>; 4]> =
+            (0..COUNT).map(|_| [2.0, 3.0, 5.0, 20.0].map(|scale| seq.vector::<N>(scale))).collect();
+        let column = |i: usize| -> Vec<f64> { states.iter().flat_map(|s| s[i].iter().copied()).collect() };
+        let [q, qd, qdd, tau] = [0, 1, 2, 3].map(column);
+        let mut out = vec![f64::NAN; COUNT * N];
+        let mut mass = vec![f64::NAN; COUNT * N * N];
+        let mut derivatives = vec![f64::NAN; COUNT * 3 * N * N];
+        // SAFETY: a live model; inputs and outputs of COUNT rows of the widths passed.
+        unsafe {
+            let (q, qd, qdd, tau) = (q.as_ptr(), qd.as_ptr(), qdd.as_ptr(), tau.as_ptr());
+            ok(hya_model_inverse_dynamics_batch(self.model, q, qd, qdd, COUNT, N, out.as_mut_ptr()), || self.error());
+            for (k, [q, qd, qdd, _]) in states.iter().enumerate() {
+                assert_close(self.name, &out[k * N..][..N], self.rust.inverse_dynamics(q, qd, qdd).as_slice());
+            }
+            ok(hya_model_gravity_batch(self.model, q, COUNT, N, out.as_mut_ptr()), || self.error());
+            for (k, [q, ..]) in states.iter().enumerate() {
+                assert_close(self.name, &out[k * N..][..N], self.rust.gravity(q).as_slice());
+            }
+            ok(hya_model_mass_matrix_batch(self.model, q, COUNT, N, mass.as_mut_ptr()), || self.error());
+            for (k, [q, ..]) in states.iter().enumerate() {
+                assert_close(self.name, &mass[k * N * N..][..N * N], self.rust.mass_matrix(q).as_slice());
+            }
+            ok(hya_model_forward_dynamics_batch(self.model, q, qd, tau, COUNT, N, out.as_mut_ptr()), || self.error());
+            for (k, [q, qd, _, tau]) in states.iter().enumerate() {
+                assert_close(self.name, &out[k * N..][..N], self.rust.forward_dynamics(q, qd, tau).unwrap().as_slice());
+            }
+            ok(
+                hya_model_forward_dynamics_derivatives_batch(
+                    self.model,
+                    q,
+                    qd,
+                    tau,
+                    COUNT,
+                    N,
+                    derivatives.as_mut_ptr(),
+                ),
+                || self.error(),
+            );
+            for (k, [q, qd, _, tau]) in states.iter().enumerate() {
+                let (by_q, by_qd, inverse) = self.rust.forward_dynamics_derivatives(q, qd, tau).unwrap();
+                let row = &derivatives[k * 3 * N * N..][..3 * N * N];
+                for (part, rust) in row.chunks(N * N).zip([by_q, by_qd, inverse]) {
+                    // Row-major through the ABI: the transpose's column-major storage.
+                    assert_close(self.name, part, rust.transpose().as_slice());
+                }
+            }
+        }
+    }
+
     /// The estimator, the three observers and the controller, fed the same measurements in
     /// closed loop through the ABI and in Rust.
     fn closed_loop(&self, seq: &mut Sequence) {
@@ -294,6 +347,7 @@ impl ForArm for Check {
         let compare = Compare { model, rust: arm.nominal, name: arm.info.name };
         let mut seq = Sequence(N as u64);
         compare.dynamics(&mut seq);
+        compare.batches(&mut seq);
         compare.closed_loop(&mut seq);
         compare.timed(&mut seq);
         // SAFETY: a live model, freed once.
@@ -333,6 +387,7 @@ fn a_urdf_model_equals_the_loaded_tree() {
             let compare = Compare { model: self.0, rust: &rust, name: "messy_tree" };
             let mut seq = Sequence(7);
             compare.dynamics(&mut seq);
+            compare.batches(&mut seq);
             // The estimator made from the model keeps working after the model is freed.
             let (q0, tau0) = ([0.1; N], [0.0; N]);
             let mut estimator = null_mut();

@@ -201,6 +201,34 @@ fn bad_dynamics_calls_are_refused() {
 }
 
 #[test]
+fn bad_batch_calls_are_refused_naming_the_row() {
+    let model = planar2();
+    // Three states of two joints; the second's joint 1 is not a number.
+    let q = [0.1, 0.2, 0.3, f64::NAN, 0.5, 0.6];
+    let zeros = [0.0; 6];
+    let mut out = [7.0; 6];
+    // SAFETY: a live model (or null), arrays at least as long as the rows passed.
+    unsafe {
+        let error = || text(hya_model_error(model));
+        let status =
+            hya_model_inverse_dynamics_batch(model, q.as_ptr(), zeros.as_ptr(), zeros.as_ptr(), 3, 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["row 1", "q[1]", "NaN"]);
+        assert_eq!(out, [7.0; 6], "a refused batch wrote its output");
+        let status = hya_model_gravity_batch(model, zeros.as_ptr(), 3, 3, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrLength, &error(), &["q", "3", "2"]);
+        let status = hya_model_gravity_batch(model, zeros.as_ptr(), 3, 2, null_mut());
+        refused(status, HyaStatus::HyaErrNull, &error(), &["tau"]);
+        let status = hya_model_mass_matrix_batch(model, zeros.as_ptr(), usize::MAX / 2, 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrLength, &error(), &["q", "rows"]);
+        let status = hya_model_gravity_batch(null_mut(), zeros.as_ptr(), 3, 2, out.as_mut_ptr());
+        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["handle"]);
+        // No state at all is no work, and no error.
+        assert_eq!(hya_model_gravity_batch(model, zeros.as_ptr(), 0, 2, out.as_mut_ptr()), HyaStatus::HyaOk);
+        hya_model_free(model);
+    }
+}
+
+#[test]
 fn bad_estimator_parameters_and_steps_are_refused_and_leave_the_state() {
     let model = planar2();
     let (q0, tau0) = ([0.1, 0.2], [0.0; 2]);

@@ -3,7 +3,9 @@
  *
  * Units: rad, rad/s, rad/s^2, N*m, s. Arrays are `double` with an explicit length `n`, which
  * must equal the model's joint count (hya_model_dof); a mass matrix has n*n entries
- * (symmetric, so row- and column-major agree).
+ * (symmetric, so row- and column-major agree). The batch functions (hya_model_*_batch) take
+ * `count` states as rows of `n`, row-major (count*n doubles per argument), and name the row
+ * of a failure.
  *
  * Status: every function returns HYA_OK or an error status. A function called on a handle
  * writes the failure's message into that handle (hya_model_error, hya_estimator_error,
@@ -104,12 +106,12 @@ typedef struct HyaObserver HyaObserver;
 extern "C" {
 #endif // __cplusplus
 
-// Inverse dynamics of `count` states: `q`, `qd`, `qdd` and `tau` hold `count × n` doubles,
-// row-major, `n` = dof. See `hya_model_inverse_dynamics`.
+// `τ = M(q) q̈ + C(q, q̇) + G(q)` (N·m) at `count` states: `q` (rad), `qd` (rad/s), `qdd`
+// (rad/s²) and `tau` hold `count × n` doubles, row-major, `n` = dof. As
+// `hya_model_inverse_dynamics`, state by state.
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `count × n` doubles; `tau`
-// aliases no input.
+// `model` is null or a live handle; each non-null array holds `count × n` doubles.
 HyaStatus hya_model_inverse_dynamics_batch(HyaModel *model,
                                            const double *q,
                                            const double *qd,
@@ -118,8 +120,8 @@ HyaStatus hya_model_inverse_dynamics_batch(HyaModel *model,
                                            size_t n,
                                            double *tau);
 
-// Gravity torques of `count` states: `q` and `tau` hold `count × n` doubles, `n` = dof. See
-// `hya_model_gravity`.
+// `G(q)` (N·m) at `count` states: `q` (rad) and `tau` hold `count × n` doubles, `n` = dof. As
+// `hya_model_gravity`, state by state.
 //
 // # Safety
 // `model` is null or a live handle; each non-null array holds `count × n` doubles.
@@ -129,24 +131,25 @@ HyaStatus hya_model_gravity_batch(HyaModel *model,
                                   size_t n,
                                   double *tau);
 
-// Mass matrices of `count` states: `q` holds `count × n` doubles (`n` = dof), `mass`
-// `count × n²`, one matrix after another. See `hya_model_mass_matrix`.
+// `M(q)` (kg·m²) at `count` states: `q` holds `count × n` doubles (`n` = dof), `mass` `len` =
+// `count × n²`, one symmetric matrix after another. As `hya_model_mass_matrix`, state by state.
 //
 // # Safety
-// `model` is null or a live handle; `q` holds `count × n` doubles and `mass` `count × n²`.
+// `model` is null or a live handle; `q` holds `count × n` doubles and `mass` `len`.
 HyaStatus hya_model_mass_matrix_batch(HyaModel *model,
                                       const double *q,
                                       size_t count,
                                       size_t n,
-                                      double *mass);
+                                      double *mass,
+                                      size_t len);
 
-// Forward dynamics of `count` states: `q`, `qd`, `tau` and `qdd` hold `count × n` doubles,
-// `n` = dof. `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite
-// (the message names its row). See `hya_model_forward_dynamics`.
+// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))` (rad/s²) at `count` states: `q`, `qd`, `tau` (N·m) and
+// `qdd` hold `count × n` doubles, `n` = dof. As `hya_model_forward_dynamics`, state by state;
+// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite, named by
+// its row (the rows before it written).
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `count × n` doubles; `qdd`
-// aliases no input.
+// `model` is null or a live handle; each non-null array holds `count × n` doubles.
 HyaStatus hya_model_forward_dynamics_batch(HyaModel *model,
                                            const double *q,
                                            const double *qd,
@@ -156,21 +159,22 @@ HyaStatus hya_model_forward_dynamics_batch(HyaModel *model,
                                            double *qdd);
 
 // `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `count` states: `q`, `qd`, `tau` hold
-// `count × n` doubles (`n` = dof); `out` holds `count × 3n²`: per state `∂q̈/∂q`, `∂q̈/∂q̇`,
-// `M⁻¹`, each `n × n` row-major (row `i` is `∂q̈_i`), one after another.
-// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite (the message
-// names its row). See `hya_model_forward_dynamics_derivatives`.
+// `count × n` doubles (`n` = dof); `out` holds `len` = `count × 3n²`: per state `∂q̈/∂q`
+// (1/s²), `∂q̈/∂q̇` (1/s), `M⁻¹ = ∂q̈/∂τ` (1/(kg·m²)), each `n × n` row-major (row `i` is
+// `∂q̈_i`), one after another. As `hya_model_forward_dynamics_derivatives`, state by state;
+// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite, named by
+// its row (the rows before it written).
 //
 // # Safety
-// `model` is null or a live handle; `q`, `qd`, `tau` hold `count × n` doubles and `out`
-// `count × 3n²`; `out` overlaps no input.
+// `model` is null or a live handle; `q`, `qd`, `tau` hold `count × n` doubles and `out` `len`.
 HyaStatus hya_model_forward_dynamics_derivatives_batch(HyaModel *model,
                                                        const double *q,
                                                        const double *qd,
                                                        const double *tau,
                                                        size_t count,
                                                        size_t n,
-                                                       double *out);
+                                                       double *out,
+                                                       size_t len);
 
 // Makes a Cartesian impedance controller on `model`'s dynamics holding frame `frame` (any link
 // of the description; null: the last link) with the spring `stiffness` (6 doubles: N/m for x,

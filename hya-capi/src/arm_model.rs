@@ -37,7 +37,7 @@ pub(crate) trait ArmModel: Send {
     fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
     /// The same model on rows of states, for the batch entry points: a shipped arm's generated
     /// batches (SIMD lanes), a URDF's one call per state.
-    fn rows(&self) -> &dyn SliceDynamics;
+    fn slices(&self) -> &dyn SliceDynamics;
     /// `∂q̈/∂q`, `∂q̈/∂q̇`, `M⁻¹`, each row-major.
     fn forward_dynamics_derivatives(
         &self,
@@ -126,7 +126,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
         qdd.copy_from_slice(self.dynamics.forward_dynamics(&v(q), &v(qd), &v(tau))?.as_slice());
         Ok(())
     }
-    fn rows(&self) -> &dyn SliceDynamics {
+    fn slices(&self) -> &dyn SliceDynamics {
         &self.slices
     }
     fn forward_dynamics_derivatives(

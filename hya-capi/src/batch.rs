@@ -2,49 +2,17 @@
 //! `count × n`), each output row-major `count × width`. A shipped arm runs them in its generated
 //! batches, several states per SIMD register (`hya_core::SliceDynamics`' rows); a URDF model
 //! one state at a time. The checks are the single calls', with the row named: `n` must be the
-//! model's dof, every input finite ("row 3: non-finite q[1] = NaN"), every result finite.
+//! model's dof, every input finite ("row 3: non-finite q[1] = NaN"), every result finite, an
+//! output apart from every input; outputs whose width is not `n` come with their length `len`,
+//! checked as the single calls check theirs. Neither the work nor a refusal allocates.
 //!
-//! A call that fails on a state (a singular mass matrix) reports the first such row; rows
-//! before it may be written, as by hya-core's batches.
+//! A state the batch refuses (a mass matrix not positive definite) sends the call to the states
+//! one at a time, as Python's batches do: the first that fails alone is reported with its row,
+//! the rows before it written; if none fails alone, every row is written and the call succeeds.
 
-use crate::arm_model::ArmModel;
-use crate::model::HyaModel;
+use crate::model::{on_model, HyaModel};
 use crate::slices::{input_rows, output_rows};
-use crate::status::{on_handle, Failure, HyaStatus};
-use hya_core::dispatch::MAX_JOINTS;
-
-/// Runs `work` on the model behind `model` with its dof.
-///
-/// # Safety
-/// `model` is null or a live handle.
-unsafe fn on_rows(model: *mut HyaModel, work: impl FnOnce(&dyn ArmModel, usize) -> Result<(), Failure>) -> HyaStatus {
-    // SAFETY: the caller's contract.
-    unsafe { on_handle(model, |m| work(&*m.arm, m.arm.dof())) }
-}
-
-/// `Err` naming the row of the first non-finite result in `values`, rows `width` long.
-fn finite_rows(quantity: &'static str, values: &[f64], width: usize) -> Result<(), Failure> {
-    match values.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(at) => {
-            let error = hya_core::Error::NonFiniteResult { quantity, index: at % width, value: values[at] };
-            Err(Failure::InRow { row: at / width, failure: Box::new(Failure::Core(error)) })
-        }
-    }
-}
-
-/// The batch's error with the row it came from: the first row whose single call fails (the
-/// batches stop at the first failing state).
-fn in_row(
-    error: hya_core::Error,
-    count: usize,
-    mut failing: impl FnMut(usize) -> Result<(), hya_core::Error>,
-) -> Failure {
-    match (0..count).find_map(|k| failing(k).err().map(|e| (k, e))) {
-        Some((row, e)) => Failure::InRow { row, failure: Box::new(Failure::Core(e)) },
-        None => Failure::Core(error),
-    }
-}
+use crate::status::{Failure, HyaStatus};
 
 /// Three arguments of `count × n` doubles each ([`input_rows`]).
 ///
@@ -62,17 +30,52 @@ unsafe fn inputs<'a>(
     }
 }
 
+/// An output's `len` against `count` rows of `width`, as the single calls check theirs.
+fn output_length(name: &'static str, len: usize, (count, width): (usize, usize)) -> Result<(), Failure> {
+    match count.checked_mul(width) {
+        Some(expected) if expected == len => Ok(()),
+        Some(expected) => Err(Failure::Length { name, got: len, expected }),
+        None => Err(Failure::TooManyRows { name, count, width }),
+    }
+}
+
+/// `Err` naming the row of the first non-finite result in `values`, rows `parts.len()` parts
+/// of `part` values each, the part by its name (`dqdd_dq[4]` rather than `out[4]`).
+fn finite_rows(values: &[f64], parts: &[&'static str], part: usize) -> Result<(), Failure> {
+    let width = parts.len() * part;
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(at) => {
+            let (row, within) = (at / width, at % width);
+            let quantity = parts[within / part];
+            let error = hya_core::Error::NonFiniteResult { quantity, index: within % part, value: values[at] };
+            Err(Failure::CoreInRow { row, error })
+        }
+    }
+}
+
+/// After the batch refused a state: `single(k)` for `k = 0, 1, …, count − 1` (each writing its
+/// own row), stopping at the first that fails, which is returned with its row.
+fn one_by_one(count: usize, mut single: impl FnMut(usize) -> Result<(), hya_core::Error>) -> Result<(), Failure> {
+    (0..count).try_for_each(|row| single(row).map_err(|error| Failure::CoreInRow { row, error }))
+}
+
 /// Row `k` of `values`, rows `width` long.
 fn row(values: &[f64], k: usize, width: usize) -> &[f64] {
     &values[k * width..(k + 1) * width]
 }
 
-/// Inverse dynamics of `count` states: `q`, `qd`, `qdd` and `tau` hold `count × n` doubles,
-/// row-major, `n` = dof. See `hya_model_inverse_dynamics`.
+/// Row `k` of `values` to write, rows `width` long.
+fn row_mut(values: &mut [f64], k: usize, width: usize) -> &mut [f64] {
+    &mut values[k * width..(k + 1) * width]
+}
+
+/// `τ = M(q) q̈ + C(q, q̇) + G(q)` (N·m) at `count` states: `q` (rad), `qd` (rad/s), `qdd`
+/// (rad/s²) and `tau` hold `count × n` doubles, row-major, `n` = dof. As
+/// `hya_model_inverse_dynamics`, state by state.
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `count × n` doubles; `tau`
-/// aliases no input.
+/// `model` is null or a live handle; each non-null array holds `count × n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_inverse_dynamics_batch(
     model: *mut HyaModel,
@@ -85,17 +88,17 @@ pub unsafe extern "C" fn hya_model_inverse_dynamics_batch(
 ) -> HyaStatus {
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
-        on_rows(model, |arm, dof| {
+        on_model(model, |arm, dof| {
             let [q, qd, qdd] = inputs([("q", q), ("qd", qd), ("qdd", qdd)], (count, n), dof)?;
-            let tau = output_rows("tau", tau, count, dof)?;
-            arm.rows().inverse_dynamics_rows(q, qd, qdd, tau).map_err(Failure::Core)?;
-            finite_rows("tau", tau, dof)
+            let tau = output_rows("tau", tau, (count, dof), &[q, qd, qdd])?;
+            arm.slices().inverse_dynamics_rows(q, qd, qdd, tau).map_err(Failure::Core)?;
+            finite_rows(tau, &["tau"], dof)
         })
     }
 }
 
-/// Gravity torques of `count` states: `q` and `tau` hold `count × n` doubles, `n` = dof. See
-/// `hya_model_gravity`.
+/// `G(q)` (N·m) at `count` states: `q` (rad) and `tau` hold `count × n` doubles, `n` = dof. As
+/// `hya_model_gravity`, state by state.
 ///
 /// # Safety
 /// `model` is null or a live handle; each non-null array holds `count × n` doubles.
@@ -109,20 +112,20 @@ pub unsafe extern "C" fn hya_model_gravity_batch(
 ) -> HyaStatus {
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
-        on_rows(model, |arm, dof| {
+        on_model(model, |arm, dof| {
             let q = input_rows("q", q, (count, n), dof)?;
-            let tau = output_rows("tau", tau, count, dof)?;
-            arm.rows().gravity_rows(q, tau).map_err(Failure::Core)?;
-            finite_rows("tau", tau, dof)
+            let tau = output_rows("tau", tau, (count, dof), &[q])?;
+            arm.slices().gravity_rows(q, tau).map_err(Failure::Core)?;
+            finite_rows(tau, &["tau"], dof)
         })
     }
 }
 
-/// Mass matrices of `count` states: `q` holds `count × n` doubles (`n` = dof), `mass`
-/// `count × n²`, one matrix after another. See `hya_model_mass_matrix`.
+/// `M(q)` (kg·m²) at `count` states: `q` holds `count × n` doubles (`n` = dof), `mass` `len` =
+/// `count × n²`, one symmetric matrix after another. As `hya_model_mass_matrix`, state by state.
 ///
 /// # Safety
-/// `model` is null or a live handle; `q` holds `count × n` doubles and `mass` `count × n²`.
+/// `model` is null or a live handle; `q` holds `count × n` doubles and `mass` `len`.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_mass_matrix_batch(
     model: *mut HyaModel,
@@ -130,25 +133,27 @@ pub unsafe extern "C" fn hya_model_mass_matrix_batch(
     count: usize,
     n: usize,
     mass: *mut f64,
+    len: usize,
 ) -> HyaStatus {
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
-        on_rows(model, |arm, dof| {
+        on_model(model, |arm, dof| {
             let q = input_rows("q", q, (count, n), dof)?;
-            let mass = output_rows("mass", mass, count, dof * dof)?;
-            arm.rows().mass_matrix_rows(q, mass).map_err(Failure::Core)?;
-            finite_rows("mass", mass, dof * dof)
+            output_length("mass", len, (count, dof * dof))?;
+            let mass = output_rows("mass", mass, (count, dof * dof), &[q])?;
+            arm.slices().mass_matrix_rows(q, mass).map_err(Failure::Core)?;
+            finite_rows(mass, &["mass"], dof * dof)
         })
     }
 }
 
-/// Forward dynamics of `count` states: `q`, `qd`, `tau` and `qdd` hold `count × n` doubles,
-/// `n` = dof. `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite
-/// (the message names its row). See `hya_model_forward_dynamics`.
+/// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))` (rad/s²) at `count` states: `q`, `qd`, `tau` (N·m) and
+/// `qdd` hold `count × n` doubles, `n` = dof. As `hya_model_forward_dynamics`, state by state;
+/// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite, named by
+/// its row (the rows before it written).
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `count × n` doubles; `qdd`
-/// aliases no input.
+/// `model` is null or a live handle; each non-null array holds `count × n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics_batch(
     model: *mut HyaModel,
@@ -161,31 +166,30 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_batch(
 ) -> HyaStatus {
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
-        on_rows(model, |arm, dof| {
+        on_model(model, |arm, dof| {
             let [q, qd, tau] = inputs([("q", q), ("qd", qd), ("tau", tau)], (count, n), dof)?;
-            let qdd = output_rows("qdd", qdd, count, dof)?;
-            let model = arm.rows();
-            model.forward_dynamics_rows(q, qd, tau, qdd).map_err(|e| {
-                let mut scratch = [0.0; MAX_JOINTS];
-                in_row(e, count, |k| {
+            let qdd = output_rows("qdd", qdd, (count, dof), &[q, qd, tau])?;
+            let model = arm.slices();
+            if model.forward_dynamics_rows(q, qd, tau, qdd).is_err() {
+                one_by_one(count, |k| {
                     let [q, qd, tau] = [q, qd, tau].map(|x| row(x, k, dof));
-                    model.forward_dynamics_into(q, qd, tau, &mut scratch[..dof])
-                })
-            })?;
-            finite_rows("qdd", qdd, dof)
+                    model.forward_dynamics_into(q, qd, tau, row_mut(qdd, k, dof))
+                })?;
+            }
+            finite_rows(qdd, &["qdd"], dof)
         })
     }
 }
 
 /// `(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)` of forward dynamics at `count` states: `q`, `qd`, `tau` hold
-/// `count × n` doubles (`n` = dof); `out` holds `count × 3n²`: per state `∂q̈/∂q`, `∂q̈/∂q̇`,
-/// `M⁻¹`, each `n × n` row-major (row `i` is `∂q̈_i`), one after another.
-/// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite (the message
-/// names its row). See `hya_model_forward_dynamics_derivatives`.
+/// `count × n` doubles (`n` = dof); `out` holds `len` = `count × 3n²`: per state `∂q̈/∂q`
+/// (1/s²), `∂q̈/∂q̇` (1/s), `M⁻¹ = ∂q̈/∂τ` (1/(kg·m²)), each `n × n` row-major (row `i` is
+/// `∂q̈_i`), one after another. As `hya_model_forward_dynamics_derivatives`, state by state;
+/// `HYA_ERR_NUMERIC` at the first state whose mass matrix is not positive definite, named by
+/// its row (the rows before it written).
 ///
 /// # Safety
-/// `model` is null or a live handle; `q`, `qd`, `tau` hold `count × n` doubles and `out`
-/// `count × 3n²`; `out` overlaps no input.
+/// `model` is null or a live handle; `q`, `qd`, `tau` hold `count × n` doubles and `out` `len`.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives_batch(
     model: *mut HyaModel,
@@ -195,24 +199,25 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives_batch(
     count: usize,
     n: usize,
     out: *mut f64,
+    len: usize,
 ) -> HyaStatus {
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
-        on_rows(model, |arm, dof| {
+        on_model(model, |arm, dof| {
             let [q, qd, tau] = inputs([("q", q), ("qd", qd), ("tau", tau)], (count, n), dof)?;
-            let width = 3 * dof * dof;
-            let out = output_rows("out", out, count, width)?;
-            let model = arm.rows();
-            model.forward_dynamics_derivatives_rows(q, qd, tau, out).map_err(|e| {
-                let mut scratch = [[0.0; MAX_JOINTS * MAX_JOINTS]; 3];
-                in_row(e, count, |k| {
-                    let [by_q, by_qd, inverse] = &mut scratch;
-                    let outputs = [&mut by_q[..dof * dof], &mut by_qd[..dof * dof], &mut inverse[..dof * dof]];
+            let part = dof * dof;
+            output_length("out", len, (count, 3 * part))?;
+            let out = output_rows("out", out, (count, 3 * part), &[q, qd, tau])?;
+            let model = arm.slices();
+            if model.forward_dynamics_derivatives_rows(q, qd, tau, out).is_err() {
+                one_by_one(count, |k| {
                     let [q, qd, tau] = [q, qd, tau].map(|x| row(x, k, dof));
-                    model.forward_dynamics_derivatives_into(q, qd, tau, outputs)
-                })
-            })?;
-            finite_rows("out", out, width)
+                    let (by_q, rest) = row_mut(out, k, 3 * part).split_at_mut(part);
+                    let (by_qd, inverse) = rest.split_at_mut(part);
+                    model.forward_dynamics_derivatives_into(q, qd, tau, [by_q, by_qd, inverse])
+                })?;
+            }
+            finite_rows(out, &["dqdd_dq", "dqdd_dqd", "mass_inverse"], part)
         })
     }
 }
@@ -221,25 +226,42 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives_batch(
 mod tests {
     use super::*;
 
-    /// The loader refuses every description whose mass matrix is singular where it checks, so a
-    /// singular state is reached here through the search itself.
+    /// The loader refuses every description whose mass matrix is singular where it checks, so
+    /// the search for a failing row is tested on a closure.
     #[test]
-    fn a_batch_error_is_named_by_the_first_row_that_fails_alone() {
+    fn the_states_one_by_one_stop_at_the_first_that_fails_and_name_its_row() {
         let singular = || hya_core::Error::SingularMassMatrix;
-        let failure = in_row(singular(), 5, |k| if k >= 3 { Err(singular()) } else { Ok(()) });
-        assert!(matches!(&failure, Failure::InRow { row: 3, .. }), "{failure}");
+        let mut written = Vec::new();
+        let failure = one_by_one(5, |k| {
+            written.push(k);
+            if k >= 3 {
+                Err(singular())
+            } else {
+                Ok(())
+            }
+        })
+        .unwrap_err();
+        assert_eq!(written, [0, 1, 2, 3], "the rows before the failing one, and no row after it");
+        assert!(matches!(failure, Failure::CoreInRow { row: 3, error: hya_core::Error::SingularMassMatrix }));
         assert!(failure.to_string().starts_with("row 3: "), "{failure}");
         assert_eq!(failure.status(), HyaStatus::HyaErrNumeric);
-        // No row fails alone: the batch's own error, without a row.
-        let failure = in_row(singular(), 5, |_| Ok(()));
-        assert!(matches!(failure, Failure::Core(hya_core::Error::SingularMassMatrix)), "{failure}");
+        assert!(one_by_one(5, |_| Ok(())).is_ok(), "no row failing alone: every row written, no error");
     }
 
     #[test]
-    fn a_non_finite_result_is_named_by_its_row_and_entry() {
-        let failure = finite_rows("qdd", &[0.0, 1.0, 2.0, f64::INFINITY, 4.0, 5.0], 2).unwrap_err();
-        assert!(matches!(&failure, Failure::InRow { row: 1, .. }), "{failure}");
+    fn a_non_finite_result_is_named_by_its_row_its_part_and_its_entry() {
+        // Rows of two parts of two values: row 1's second part, entry 1.
+        let values = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, f64::INFINITY];
+        let failure = finite_rows(&values, &["by_q", "inverse"], 2).unwrap_err();
+        let hya_core::Error::NonFiniteResult { quantity, index, .. } = (match failure {
+            Failure::CoreInRow { row: 1, error } => error,
+            other => panic!("{other}"),
+        }) else {
+            panic!("not a non-finite result")
+        };
+        assert_eq!((quantity, index), ("inverse", 1));
         assert_eq!(failure.status(), HyaStatus::HyaErrNumeric);
-        assert!(finite_rows("qdd", &[0.0; 4], 2).is_ok());
+        assert!(failure.to_string().starts_with("row 1: "), "{failure}");
+        assert!(finite_rows(&[0.0; 8], &["by_q", "inverse"], 2).is_ok());
     }
 }

@@ -162,7 +162,10 @@ pub unsafe extern "C" fn hya_model_error(model: *const HyaModel) -> *const c_cha
 }
 
 /// Runs `work` with the model's joint count, checking the handle.
-unsafe fn on_model(model: *mut HyaModel, work: impl FnOnce(&dyn ArmModel, usize) -> Result<(), Failure>) -> HyaStatus {
+pub(crate) unsafe fn on_model(
+    model: *mut HyaModel,
+    work: impl FnOnce(&dyn ArmModel, usize) -> Result<(), Failure>,
+) -> HyaStatus {
     // SAFETY: the caller's contract.
     unsafe { on_handle(model, |m| work(&*m.arm, m.arm.dof())) }
 }

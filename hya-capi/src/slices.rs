@@ -62,35 +62,46 @@ pub(crate) unsafe fn input_rows<'a>(
     (count, n): (usize, usize),
     dof: usize,
 ) -> Result<&'a [f64], Failure> {
-    check(name, ptr.is_null(), n, dof)?;
+    if ptr.is_null() {
+        return Err(Failure::Null(name));
+    }
+    if n != dof {
+        return Err(Failure::RowWidth { name, got: n, expected: dof });
+    }
     let len = rows_length(name, count, n)?;
     // SAFETY: non-null, and the caller's contract gives `count × n` readable doubles.
     let values = unsafe { core::slice::from_raw_parts(ptr, len) };
     match values.iter().position(|v| !v.is_finite()) {
-        Some(at) => {
-            let failure = Failure::NonFinite { name, index: at % n, value: values[at] };
-            Err(Failure::InRow { row: at / n, failure: Box::new(failure) })
-        }
+        Some(at) => Err(Failure::NonFiniteInRow { name, row: at / n, index: at % n, value: values[at] }),
         None => Ok(values),
     }
 }
 
-/// `count` rows of `width` writable values at `ptr`.
+/// `count` rows of `width` writable values at `ptr`, refused if they overlap one of `inputs`
+/// (a caller's in-place call would otherwise read what it writes).
 ///
 /// # Safety
-/// `ptr` is null or valid for writing `count × width` doubles, and aliases no input of the
-/// same call.
+/// `ptr` is null or valid for writing `count × width` doubles.
 pub(crate) unsafe fn output_rows<'a>(
     name: &'static str,
     ptr: *mut f64,
-    count: usize,
-    width: usize,
+    (count, width): (usize, usize),
+    inputs: &[&[f64]],
 ) -> Result<&'a mut [f64], Failure> {
     if ptr.is_null() {
         return Err(Failure::Null(name));
     }
     let len = rows_length(name, count, width)?;
-    // SAFETY: non-null, and the caller's contract gives `count × width` writable doubles.
+    let out = ptr as usize..ptr as usize + len * core::mem::size_of::<f64>();
+    let overlaps = |input: &&[f64]| {
+        let range = input.as_ptr_range();
+        (range.start as usize) < out.end && out.start < range.end as usize
+    };
+    if len > 0 && inputs.iter().any(overlaps) {
+        return Err(Failure::Aliased("a batch's output and its inputs"));
+    }
+    // SAFETY: non-null, apart from every input, and the caller's contract gives `count × width`
+    // writable doubles.
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
 }
 

@@ -46,6 +46,10 @@ pub(crate) enum Failure {
     Length { name: &'static str, got: usize, expected: usize },
     /// More rows than memory can address.
     TooManyRows { name: &'static str, count: usize, width: usize },
+    /// Rows of a batch argument whose width is not the model's joint count.
+    RowWidth { name: &'static str, got: usize, expected: usize },
+    /// A non-finite input value in row `row` of a batch argument.
+    NonFiniteInRow { name: &'static str, row: usize, index: usize, value: f64 },
     /// A non-finite input value.
     NonFinite { name: &'static str, index: usize, value: f64 },
     /// A string argument that is not UTF-8.
@@ -71,8 +75,8 @@ pub(crate) enum Failure {
     Handle { expected: &'static str, found: Option<&'static str> },
     /// A panic caught at the boundary.
     Panic(String),
-    /// A failure at one state (row, from 0) of a batch call.
-    InRow { row: usize, failure: Box<Failure> },
+    /// hya-core refused the state in row `row` (from 0) of a batch call.
+    CoreInRow { row: usize, error: hya_core::Error },
 }
 
 impl Failure {
@@ -80,8 +84,8 @@ impl Failure {
     pub(crate) fn status(&self) -> HyaStatus {
         match self {
             Failure::Null(_) => HyaStatus::HyaErrNull,
-            Failure::Length { .. } | Failure::TooManyRows { .. } => HyaStatus::HyaErrLength,
-            Failure::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
+            Failure::Length { .. } | Failure::TooManyRows { .. } | Failure::RowWidth { .. } => HyaStatus::HyaErrLength,
+            Failure::NonFinite { .. } | Failure::NonFiniteInRow { .. } => HyaStatus::HyaErrNonFinite,
             Failure::NotUtf8(_)
             | Failure::UnknownArm(_)
             | Failure::JointCount { .. }
@@ -89,7 +93,9 @@ impl Failure {
             | Failure::Aliased(_) => HyaStatus::HyaErrInvalid,
             Failure::Core(e) => match e {
                 hya_core::Error::NonFinite { .. } => HyaStatus::HyaErrNonFinite,
-                hya_core::Error::SliceLength { .. } => HyaStatus::HyaErrLength,
+                hya_core::Error::SliceLength { .. }
+                | hya_core::Error::BatchLength { .. }
+                | hya_core::Error::PartialRow { .. } => HyaStatus::HyaErrLength,
                 hya_core::Error::InvalidParameter { .. }
                 | hya_core::Error::MissingMeasurement { .. }
                 | hya_core::Error::Unsupported(_) => HyaStatus::HyaErrInvalid,
@@ -100,7 +106,7 @@ impl Failure {
             Failure::Load(_) | Failure::Model(_) | Failure::Friction(_) => HyaStatus::HyaErrModel,
             Failure::Handle { .. } => HyaStatus::HyaErrHandle,
             Failure::Panic(_) => HyaStatus::HyaErrPanic,
-            Failure::InRow { failure, .. } => failure.status(),
+            Failure::CoreInRow { error, .. } => Failure::Core(*error).status(),
         }
     }
 }
@@ -114,6 +120,12 @@ impl fmt::Display for Failure {
             }
             Failure::TooManyRows { name, count, width } => {
                 write!(f, "`{name}`: {count} rows of {width} doubles are more than memory can address")
+            }
+            Failure::RowWidth { name, got, expected } => {
+                write!(f, "`{name}` has rows of {got}; the model has {expected} joints")
+            }
+            Failure::NonFiniteInRow { name, row, index, value } => {
+                write!(f, "row {row}: non-finite {name}[{index}] = {value}")
             }
             Failure::NonFinite { name, index, value } => write!(f, "non-finite {name}[{index}] = {value}"),
             Failure::NotUtf8(name) => write!(f, "`{name}` is not UTF-8"),
@@ -131,7 +143,7 @@ impl fmt::Display for Failure {
             Failure::Load(e) => write!(f, "{e}"),
             Failure::Model(e) => write!(f, "{e}"),
             Failure::Friction(e) => write!(f, "friction: {e}"),
-            Failure::Aliased(names) => write!(f, "{names} must be distinct arrays; two of them are the same"),
+            Failure::Aliased(names) => write!(f, "{names} must be distinct arrays; two of them overlap"),
             Failure::Stepping { called, needs, made_by, use_instead } => write!(
                 f,
                 "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"
@@ -144,7 +156,7 @@ impl fmt::Display for Failure {
                 "the handle is not a live {expected}: freed already, or never made by hya; nothing was read through it"
             ),
             Failure::Panic(what) => write!(f, "internal error (a bug in hya, please report it): {what}"),
-            Failure::InRow { row, failure } => write!(f, "row {row}: {failure}"),
+            Failure::CoreInRow { row, error } => write!(f, "row {row}: {error}"),
         }
     }
 }

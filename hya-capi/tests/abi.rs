@@ -108,10 +108,11 @@ impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
         }
     }
 
-    /// The batch entry points on seven states (more than a vector's lanes, not a multiple of
-    /// them) equal the Rust model's single calls, state by state.
+    /// The batch entry points on nineteen states (more than a chunk of the derivatives' batch,
+    /// sixteen, and not a multiple of four or eight lanes) equal the Rust model's single calls,
+    /// state by state.
     fn batches(&self, seq: &mut Sequence) {
-        const COUNT: usize = 7;
+        const COUNT: usize = 19;
         let states: Vec<[JointVector<N>; 4]> =
             (0..COUNT).map(|_| [2.0, 3.0, 5.0, 20.0].map(|scale| seq.vector::<N>(scale))).collect();
         let column = |i: usize| -> Vec<f64> { states.iter().flat_map(|s| s[i].iter().copied()).collect() };
@@ -126,14 +127,16 @@ impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
             for (k, [q, qd, qdd, _]) in states.iter().enumerate() {
                 assert_close(self.name, &out[k * N..][..N], self.rust.inverse_dynamics(q, qd, qdd).as_slice());
             }
+            out.fill(f64::NAN);
             ok(hya_model_gravity_batch(self.model, q, COUNT, N, out.as_mut_ptr()), || self.error());
             for (k, [q, ..]) in states.iter().enumerate() {
                 assert_close(self.name, &out[k * N..][..N], self.rust.gravity(q).as_slice());
             }
-            ok(hya_model_mass_matrix_batch(self.model, q, COUNT, N, mass.as_mut_ptr()), || self.error());
+            ok(hya_model_mass_matrix_batch(self.model, q, COUNT, N, mass.as_mut_ptr(), mass.len()), || self.error());
             for (k, [q, ..]) in states.iter().enumerate() {
                 assert_close(self.name, &mass[k * N * N..][..N * N], self.rust.mass_matrix(q).as_slice());
             }
+            out.fill(f64::NAN);
             ok(hya_model_forward_dynamics_batch(self.model, q, qd, tau, COUNT, N, out.as_mut_ptr()), || self.error());
             for (k, [q, qd, _, tau]) in states.iter().enumerate() {
                 assert_close(self.name, &out[k * N..][..N], self.rust.forward_dynamics(q, qd, tau).unwrap().as_slice());
@@ -147,6 +150,7 @@ impl<const N: usize, D: Dynamics<N> + Copy> Compare<'_, N, D> {
                     COUNT,
                     N,
                     derivatives.as_mut_ptr(),
+                    derivatives.len(),
                 ),
                 || self.error(),
             );

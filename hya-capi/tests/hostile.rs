@@ -207,23 +207,59 @@ fn bad_batch_calls_are_refused_naming_the_row() {
     let q = [0.1, 0.2, 0.3, f64::NAN, 0.5, 0.6];
     let zeros = [0.0; 6];
     let mut out = [7.0; 6];
+    let mut mass = [7.0; 12];
     // SAFETY: a live model (or null), arrays at least as long as the rows passed.
     unsafe {
         let error = || text(hya_model_error(model));
-        let status =
-            hya_model_inverse_dynamics_batch(model, q.as_ptr(), zeros.as_ptr(), zeros.as_ptr(), 3, 2, out.as_mut_ptr());
-        refused(status, HyaStatus::HyaErrNonFinite, &error(), &["row 1", "q[1]", "NaN"]);
-        assert_eq!(out, [7.0; 6], "a refused batch wrote its output");
-        let status = hya_model_gravity_batch(model, zeros.as_ptr(), 3, 3, out.as_mut_ptr());
-        refused(status, HyaStatus::HyaErrLength, &error(), &["q", "3", "2"]);
-        let status = hya_model_gravity_batch(model, zeros.as_ptr(), 3, 2, null_mut());
-        refused(status, HyaStatus::HyaErrNull, &error(), &["tau"]);
-        let status = hya_model_mass_matrix_batch(model, zeros.as_ptr(), usize::MAX / 2, 2, out.as_mut_ptr());
-        refused(status, HyaStatus::HyaErrLength, &error(), &["q", "rows"]);
-        let status = hya_model_gravity_batch(null_mut(), zeros.as_ptr(), 3, 2, out.as_mut_ptr());
-        refused(status, HyaStatus::HyaErrNull, &text(hya_last_error()), &["handle"]);
+        let (z, o) = (zeros.as_ptr(), out.as_mut_ptr());
+        refused(
+            hya_model_inverse_dynamics_batch(model, q.as_ptr(), z, z, 3, 2, o),
+            HyaStatus::HyaErrNonFinite,
+            &error(),
+            &["row 1", "q[1]", "NaN"],
+        );
+        refused(
+            hya_model_gravity_batch(model, z, 2, 3, o),
+            HyaStatus::HyaErrLength,
+            &error(),
+            &["q", "rows of 3", "2"],
+        );
+        refused(hya_model_gravity_batch(model, z, 3, 2, null_mut()), HyaStatus::HyaErrNull, &error(), &["tau"]);
+        refused(
+            hya_model_mass_matrix_batch(model, z, 3, 2, mass.as_mut_ptr(), 6),
+            HyaStatus::HyaErrLength,
+            &error(),
+            &["mass", "6", "12"],
+        );
+        refused(
+            hya_model_mass_matrix_batch(model, z, usize::MAX / 2, 2, mass.as_mut_ptr(), 12),
+            HyaStatus::HyaErrLength,
+            &error(),
+            &["q", "rows"],
+        );
+        refused(
+            hya_model_gravity_batch(null_mut(), z, 3, 2, o),
+            HyaStatus::HyaErrNull,
+            &text(hya_last_error()),
+            &["handle"],
+        );
+        assert_eq!((out, mass), ([7.0; 6], [7.0; 12]), "a refused batch wrote its output");
+        // In place: the output over an input is refused, not read while written.
+        let mut states = [0.1; 6];
+        let p = states.as_mut_ptr();
+        refused(hya_model_gravity_batch(model, p, 3, 2, p.add(2)), HyaStatus::HyaErrInvalid, &error(), &["distinct"]);
+        assert_eq!(states, [0.1; 6]);
+        // A result that overflows is named by its row: τ of the third state, speeds of 1e200.
+        let fast = [0.0, 0.0, 0.0, 0.0, 1e200, 1e200];
+        refused(
+            hya_model_inverse_dynamics_batch(model, z, fast.as_ptr(), z, 3, 2, o),
+            HyaStatus::HyaErrNumeric,
+            &error(),
+            &["row 2", "tau"],
+        );
         // No state at all is no work, and no error.
-        assert_eq!(hya_model_gravity_batch(model, zeros.as_ptr(), 0, 2, out.as_mut_ptr()), HyaStatus::HyaOk);
+        assert_eq!(hya_model_gravity_batch(model, z, 0, 2, o), HyaStatus::HyaOk);
+        assert_eq!(hya_model_forward_dynamics_derivatives_batch(model, z, z, z, 0, 2, o, 0), HyaStatus::HyaOk);
         hya_model_free(model);
     }
 }

@@ -10,9 +10,10 @@ use std::ptr::{null, null_mut};
 use hya_capi::{
     hya_cartesian_command, hya_cartesian_free, hya_cartesian_new, hya_controller_command, hya_controller_free,
     hya_controller_new, hya_estimator_free, hya_estimator_new, hya_estimator_new_timed, hya_estimator_update,
-    hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics, hya_model_free, hya_model_from_arm,
-    hya_model_gravity, hya_model_inverse_dynamics, hya_model_mass_matrix, hya_observer_free,
-    hya_observer_new_extended_state, hya_observer_update, HyaStatus,
+    hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics, hya_model_forward_dynamics_batch,
+    hya_model_forward_dynamics_derivatives_batch, hya_model_free, hya_model_from_arm, hya_model_gravity,
+    hya_model_gravity_batch, hya_model_inverse_dynamics, hya_model_inverse_dynamics_batch, hya_model_mass_matrix,
+    hya_observer_free, hya_observer_new_extended_state, hya_observer_update, HyaStatus,
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
@@ -254,6 +255,8 @@ fn c_abi_calls_after_creation_do_not_allocate() {
     let count = allocations_during(|| {
         let (mut q, zero, nan) = (q0, [0.0; N], [f64::NAN; N]);
         let (mut tau, mut d_hat, mut mass) = ([0.0; N], [0.0; N], [0.0; N * N]);
+        let (mut states, zeros, nans) = ([0.2; 5 * N], [0.0; 5 * N], [f64::NAN; 5 * N]);
+        let (mut out, mut derivatives) = ([0.0; 5 * N], [0.0; 5 * 3 * N * N]);
         // SAFETY: live handles, arrays of N (N² for the mass matrix) doubles, or deliberately
         // null or short arguments the ABI must refuse.
         unsafe {
@@ -279,7 +282,55 @@ fn c_abi_calls_after_creation_do_not_allocate() {
                 assert_eq!(status, HyaStatus::HyaOk);
                 hya_observer_update(observer, p, null(), tau.as_ptr(), N, d_hat.as_mut_ptr());
                 hya_model_inverse_dynamics(model, p, zero.as_ptr(), zero.as_ptr(), N, tau.as_mut_ptr());
-                hya_model_forward_dynamics(model, p, zero.as_ptr(), tau.as_ptr(), N, tau.as_mut_ptr());
+                hya_model_forward_dynamics(model, p, zero.as_ptr(), tau.as_ptr(), N, d_hat.as_mut_ptr());
+                // Batches of the generated code, and their refusals (a non-finite row, a wrong
+                // output length, an output over an input).
+                let status = hya_model_forward_dynamics_batch(
+                    model,
+                    states.as_ptr(),
+                    zeros.as_ptr(),
+                    zeros.as_ptr(),
+                    5,
+                    N,
+                    out.as_mut_ptr(),
+                );
+                assert_eq!(status, HyaStatus::HyaOk);
+                hya_model_inverse_dynamics_batch(
+                    model,
+                    states.as_ptr(),
+                    zeros.as_ptr(),
+                    zeros.as_ptr(),
+                    5,
+                    N,
+                    out.as_mut_ptr(),
+                );
+                let (d, len) = (derivatives.as_mut_ptr(), derivatives.len());
+                let status = hya_model_forward_dynamics_derivatives_batch(
+                    model,
+                    states.as_ptr(),
+                    zeros.as_ptr(),
+                    zeros.as_ptr(),
+                    5,
+                    N,
+                    d,
+                    len,
+                );
+                assert_eq!(status, HyaStatus::HyaOk);
+                let status = hya_model_gravity_batch(model, nans.as_ptr(), 5, N, out.as_mut_ptr());
+                assert_eq!(status, HyaStatus::HyaErrNonFinite);
+                let status = hya_model_forward_dynamics_derivatives_batch(
+                    model,
+                    states.as_ptr(),
+                    zeros.as_ptr(),
+                    zeros.as_ptr(),
+                    5,
+                    N,
+                    d,
+                    len - 1,
+                );
+                assert_eq!(status, HyaStatus::HyaErrLength);
+                let status = hya_model_gravity_batch(model, states.as_ptr(), 5, N, states.as_mut_ptr());
+                assert_eq!(status, HyaStatus::HyaErrInvalid);
                 hya_model_mass_matrix(model, p, N, mass.as_mut_ptr(), N * N);
                 hya_model_gravity(model, p, N, tau.as_mut_ptr());
                 // Error paths: a NaN, a short length, a null handle, a null output.

@@ -5,7 +5,8 @@
  * must equal the model's joint count (hya_model_dof); a mass matrix has n*n entries
  * (symmetric, so row- and column-major agree). The batch functions (hya_model_*_batch) take
  * `count` states as rows of `n`, row-major (count*n doubles per argument), and name the row
- * of a failure.
+ * of a failure. An output that overlaps an input or another output is refused (HYA_ERR_INVALID):
+ * no call works in place.
  *
  * Status: every function returns HYA_OK or an error status. A function called on a handle
  * writes the failure's message into that handle (hya_model_error, hya_estimator_error,
@@ -212,7 +213,7 @@ HyaStatus hya_cartesian_new(const HyaModel *model,
 //
 // # Safety
 // `controller` is null or a live handle; `q`, `qd`, `d_hat` are null or hold `n` doubles, the
-// reference arrays 3, 9 and 6; `tau` aliases no input.
+// reference arrays 3, 9 and 6; `tau` overlaps no input (one that does is refused).
 HyaStatus hya_cartesian_command(HyaCartesian *controller,
                                 const double *q,
                                 const double *qd,
@@ -254,8 +255,8 @@ HyaStatus hya_controller_new(const HyaModel *model,
 // qdd_des)` and, unless `d_hat` is null, the compensation `− d̂`; `n` = dof each.
 //
 // # Safety
-// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases
-// no input.
+// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps
+// no input (one that does is refused).
 HyaStatus hya_controller_command(HyaController *controller,
                                  const double *q,
                                  const double *qd,
@@ -324,8 +325,8 @@ HyaStatus hya_estimator_new_timed(const HyaModel *model,
 // length) leaves the estimator as it was.
 //
 // # Safety
-// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-// no input; `restarted` is null or writable.
+// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+// no input (one that does is refused); `restarted` is null or writable.
 HyaStatus hya_estimator_update_at(HyaEstimator *estimator,
                                   double t,
                                   const double *q,
@@ -339,8 +340,8 @@ HyaStatus hya_estimator_update_at(HyaEstimator *estimator,
 // (NaN, wrong length) leaves the estimator as it was.
 //
 // # Safety
-// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-// no input.
+// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+// no input (one that does is refused).
 HyaStatus hya_estimator_update(HyaEstimator *estimator,
                                const double *q,
                                const double *tau,
@@ -429,8 +430,8 @@ const char *hya_model_error(const HyaModel *model);
 // `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no
-// input.
+// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps no
+// input (one that does is refused).
 HyaStatus hya_model_inverse_dynamics(HyaModel *model,
                                      const double *q,
                                      const double *qd,
@@ -459,8 +460,8 @@ HyaStatus hya_model_gravity(HyaModel *model, const double *q, size_t n, double *
 // `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` aliases no
-// input.
+// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` overlaps no
+// input (one that does is refused).
 HyaStatus hya_model_forward_dynamics(HyaModel *model,
                                      const double *q,
                                      const double *qd,
@@ -586,8 +587,8 @@ HyaStatus hya_observer_new_extended_state(const HyaModel *model,
 // observer as it was.
 //
 // # Safety
-// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-// no input.
+// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+// no input (one that does is refused).
 HyaStatus hya_observer_update(HyaObserver *observer,
                               const double *q,
                               const double *qd,

@@ -14,7 +14,7 @@ use std::ffi::c_char;
 
 use crate::arm_model::CartesianGains;
 use crate::model::{borrow_model, text, HyaModel};
-use crate::slices::{input, optional_input, output};
+use crate::slices::{command_output, input, optional_input};
 use crate::status::{create, destroy, last_message, on_handle, Handle, HyaStatus, Message};
 use hya_core::erased::SliceCartesian;
 
@@ -98,7 +98,7 @@ pub unsafe extern "C" fn hya_cartesian_new(
 ///
 /// # Safety
 /// `controller` is null or a live handle; `q`, `qd`, `d_hat` are null or hold `n` doubles, the
-/// reference arrays 3, 9 and 6; `tau` aliases no input.
+/// reference arrays 3, 9 and 6; `tau` overlaps no input (one that does is refused).
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hya_cartesian_command(
@@ -124,7 +124,8 @@ pub unsafe extern "C" fn hya_cartesian_command(
                 optional_input("twist_des", twist_des, 6, 6)?.unwrap_or(&at_rest),
             ];
             let d_hat = optional_input("d_hat", d_hat, n, dof)?;
-            Ok(c.controller.command(state, reference, d_hat, output("tau", tau, n, dof)?)?)
+            let tau = command_output(tau, (n, dof), state, reference, d_hat)?;
+            Ok(c.controller.command(state, reference, d_hat, tau)?)
         })
     }
 }

@@ -10,7 +10,7 @@ use std::ffi::c_char;
 use hya_core::PdPlacement;
 
 use crate::model::{borrow, HyaModel};
-use crate::slices::{input, optional_input, output};
+use crate::slices::{command_output, input, optional_input};
 use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 use hya_core::erased::SliceController;
 
@@ -85,8 +85,8 @@ pub unsafe extern "C" fn hya_controller_new(
 /// qdd_des)` and, unless `d_hat` is null, the compensation `− d̂`; `n` = dof each.
 ///
 /// # Safety
-/// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases
-/// no input.
+/// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps
+/// no input (one that does is refused).
 #[no_mangle]
 pub unsafe extern "C" fn hya_controller_command(
     controller: *mut HyaController,
@@ -107,7 +107,8 @@ pub unsafe extern "C" fn hya_controller_command(
             let reference =
                 [input("q_des", q_des, n, dof)?, input("qd_des", qd_des, n, dof)?, input("qdd_des", qdd_des, n, dof)?];
             let d_hat = optional_input("d_hat", d_hat, n, dof)?;
-            Ok(c.controller.command(state, reference, d_hat, output("tau", tau, n, dof)?)?)
+            let tau = command_output(tau, (n, dof), state, reference, d_hat)?;
+            Ok(c.controller.command(state, reference, d_hat, tau)?)
         })
     }
 }

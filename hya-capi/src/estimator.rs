@@ -125,8 +125,8 @@ unsafe fn new_estimator(
 /// length) leaves the estimator as it was.
 ///
 /// # Safety
-/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-/// no input; `restarted` is null or writable.
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+/// no input (one that does is refused); `restarted` is null or writable.
 #[no_mangle]
 pub unsafe extern "C" fn hya_estimator_update_at(
     estimator: *mut HyaEstimator,
@@ -142,7 +142,7 @@ pub unsafe extern "C" fn hya_estimator_update_at(
         on_handle(estimator, |e| {
             e.stepped(true)?;
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
-            let gap = e.estimator.update_at(t, q, tau, output("d_hat", d_hat, n, e.dof)?)?;
+            let gap = e.estimator.update_at(t, q, tau, output("d_hat", d_hat, n, e.dof, &[q, tau])?)?;
             if let Some(restarted) = restarted.as_mut() {
                 *restarted = gap;
             }
@@ -156,8 +156,8 @@ pub unsafe extern "C" fn hya_estimator_update_at(
 /// (NaN, wrong length) leaves the estimator as it was.
 ///
 /// # Safety
-/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-/// no input.
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+/// no input (one that does is refused).
 #[no_mangle]
 pub unsafe extern "C" fn hya_estimator_update(
     estimator: *mut HyaEstimator,
@@ -171,7 +171,7 @@ pub unsafe extern "C" fn hya_estimator_update(
         on_handle(estimator, |e| {
             e.stepped(false)?;
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
-            Ok(e.estimator.update(q, None, tau, output("d_hat", d_hat, n, e.dof)?)?)
+            Ok(e.estimator.update(q, None, tau, output("d_hat", d_hat, n, e.dof, &[q, tau])?)?)
         })
     }
 }
@@ -189,7 +189,7 @@ pub unsafe extern "C" fn hya_estimator_disturbance(
     // SAFETY: the caller's contract; length checked against the estimator.
     unsafe {
         on_handle(estimator, |e| {
-            e.estimator.disturbance(output("d_hat", d_hat, n, e.dof)?)?;
+            e.estimator.disturbance(output("d_hat", d_hat, n, e.dof, &[])?)?;
             Ok(())
         })
     }

@@ -4,7 +4,7 @@
 use std::ffi::{c_char, CStr};
 
 use crate::arm_model::{self, ArmModel};
-use crate::slices::{input, output};
+use crate::slices::{input, output, overlap};
 use crate::status::{borrow_live, create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 use hya_core::model::TreeModel;
 
@@ -174,8 +174,8 @@ pub(crate) unsafe fn on_model(
 /// `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` aliases no
-/// input.
+/// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps no
+/// input (one that does is refused).
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_inverse_dynamics(
     model: *mut HyaModel,
@@ -189,7 +189,7 @@ pub unsafe extern "C" fn hya_model_inverse_dynamics(
     unsafe {
         on_model(model, |arm, dof| {
             let (q, qd, qdd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("qdd", qdd, n, dof)?);
-            let tau = output("tau", tau, n, dof)?;
+            let tau = output("tau", tau, n, dof, &[q, qd, qdd])?;
             arm.inverse_dynamics(q, qd, qdd, tau);
             Ok(hya_core::finite_result("tau", tau)?)
         })
@@ -213,7 +213,7 @@ pub unsafe extern "C" fn hya_model_mass_matrix(
     unsafe {
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
-            let mass = output("mass", mass, len, dof * dof)?;
+            let mass = output("mass", mass, len, dof * dof, &[q])?;
             arm.mass_matrix(q, mass);
             Ok(hya_core::finite_result("mass", mass)?)
         })
@@ -230,7 +230,7 @@ pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, 
     unsafe {
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
-            let tau = output("tau", tau, n, dof)?;
+            let tau = output("tau", tau, n, dof, &[q])?;
             arm.gravity(q, tau);
             Ok(hya_core::finite_result("tau", tau)?)
         })
@@ -241,8 +241,8 @@ pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, 
 /// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` aliases no
-/// input.
+/// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` overlaps no
+/// input (one that does is refused).
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics(
     model: *mut HyaModel,
@@ -256,7 +256,7 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
     unsafe {
         on_model(model, |arm, dof| {
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
-            let qdd = output("qdd", qdd, n, dof)?;
+            let qdd = output("qdd", qdd, n, dof, &[q, qd, tau])?;
             arm.forward_dynamics(q, qd, tau, qdd)?;
             Ok(hya_core::finite_result("qdd", qdd)?)
         })
@@ -289,13 +289,14 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
         on_model(model, |arm, dof| {
-            if dqdd_dq == dqdd_dqd || dqdd_dq == mass_inverse || dqdd_dqd == mass_inverse {
-                return Err(Failure::Aliased("dqdd_dq, dqdd_dqd and mass_inverse"));
+            let outputs = [dqdd_dq, dqdd_dqd, mass_inverse].map(|p| (p.cast_const(), len));
+            if overlap(outputs[0], outputs[1]) || overlap(outputs[0], outputs[2]) || overlap(outputs[1], outputs[2]) {
+                return Err(Failure::Aliased("dqdd_dq, dqdd_dqd or mass_inverse"));
             }
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
-            let by_q = output("dqdd_dq", dqdd_dq, len, dof * dof)?;
-            let by_qd = output("dqdd_dqd", dqdd_dqd, len, dof * dof)?;
-            let inverse = output("mass_inverse", mass_inverse, len, dof * dof)?;
+            let by_q = output("dqdd_dq", dqdd_dq, len, dof * dof, &[q, qd, tau])?;
+            let by_qd = output("dqdd_dqd", dqdd_dqd, len, dof * dof, &[q, qd, tau])?;
+            let inverse = output("mass_inverse", mass_inverse, len, dof * dof, &[q, qd, tau])?;
             arm.forward_dynamics_derivatives(q, qd, tau, [&mut *by_q, &mut *by_qd, &mut *inverse])?;
             for (name, values) in [("dqdd_dq", &*by_q), ("dqdd_dqd", &*by_qd), ("mass_inverse", &*inverse)] {
                 hya_core::finite_result(name, values)?;
@@ -328,7 +329,7 @@ pub unsafe extern "C" fn hya_model_frame_jacobian(
         on_handle(model, |m| {
             let (frame, dof) = (text("frame", frame)?, m.tree.dof());
             let q = input("q", q, n, dof)?;
-            let out = output("jacobian", jacobian, len, 6 * dof)?;
+            let out = output("jacobian", jacobian, len, 6 * dof, &[q])?;
             let found = m.tree.frame_jacobian(frame, q).map_err(Failure::Model)?;
             // Row-major: the transpose's column-major storage.
             out.copy_from_slice(found.transpose().as_slice());
@@ -360,7 +361,7 @@ pub unsafe extern "C" fn hya_model_frame_acceleration_bias(
         on_handle(model, |m| {
             let (frame, dof) = (text("frame", frame)?, m.tree.dof());
             let (q, qd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?);
-            let out = output("bias", bias, len, 6)?;
+            let out = output("bias", bias, len, 6, &[q, qd])?;
             out.copy_from_slice(&m.tree.frame_acceleration_bias(frame, q, qd).map_err(Failure::Model)?);
             Ok(hya_core::finite_result("bias", out)?)
         })
@@ -394,7 +395,7 @@ pub unsafe extern "C" fn hya_arm_home(name: *const c_char, q: *mut f64, n: usize
         let name = unsafe { text("name", name) }?;
         let robot = hya_robots::find(name).ok_or_else(|| Failure::UnknownArm(name.to_owned()))?;
         // SAFETY: the caller's contract; length checked against the arm.
-        unsafe { output("q", q, n, robot.dof) }?.copy_from_slice(robot.home);
+        unsafe { output("q", q, n, robot.dof, &[]) }?.copy_from_slice(robot.home);
         Ok(())
     };
     match crate::status::guarded(home) {

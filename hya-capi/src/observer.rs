@@ -127,8 +127,8 @@ pub unsafe extern "C" fn hya_observer_new_extended_state(
 /// observer as it was.
 ///
 /// # Safety
-/// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` aliases
-/// no input.
+/// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
+/// no input (one that does is refused).
 #[no_mangle]
 pub unsafe extern "C" fn hya_observer_update(
     observer: *mut HyaObserver,
@@ -143,7 +143,7 @@ pub unsafe extern "C" fn hya_observer_update(
         on_handle(observer, |o| {
             let (q, qd, tau) =
                 (input("q", q, n, o.dof)?, optional_input("qd", qd, n, o.dof)?, input("tau", tau, n, o.dof)?);
-            Ok(o.observer.update(q, qd, tau, output("d_hat", d_hat, n, o.dof)?)?)
+            Ok(o.observer.update(q, qd, tau, output("d_hat", d_hat, n, o.dof, &[q, qd.unwrap_or(&[]), tau])?)?)
         })
     }
 }

@@ -36,19 +36,56 @@ pub(crate) unsafe fn optional_input<'a>(
     }
 }
 
-/// `n` writable values at `ptr`, which must be `expected` long.
+/// `n` writable values at `ptr`, which must be `expected` long and lie apart from every one of
+/// `inputs` (a caller's in-place call would otherwise read what it writes, and a Rust `&mut`
+/// over a `&` is undefined behaviour).
 ///
 /// # Safety
-/// `ptr` is null or valid for writing `n` doubles, and aliases no input of the same call.
+/// `ptr` is null or valid for writing `n` doubles.
 pub(crate) unsafe fn output<'a>(
     name: &'static str,
     ptr: *mut f64,
     n: usize,
     expected: usize,
+    inputs: &[&[f64]],
 ) -> Result<&'a mut [f64], Failure> {
     check(name, ptr.is_null(), n, expected)?;
-    // SAFETY: non-null, and the caller's contract gives `n` writable doubles.
+    apart(name, (ptr, n), inputs)?;
+    // SAFETY: non-null, apart from every input, and the caller's contract gives `n` writable
+    // doubles.
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// A controller's torque output `tau` ([`output`]), apart from its state `(q, q̇)`, its reference
+/// and `d̂`.
+///
+/// # Safety
+/// `tau` is null or valid for writing `n` doubles.
+pub(crate) unsafe fn command_output<'a>(
+    tau: *mut f64,
+    (n, dof): (usize, usize),
+    state: [&[f64]; 2],
+    reference: [&[f64]; 3],
+    d_hat: Option<&[f64]>,
+) -> Result<&'a mut [f64], Failure> {
+    let inputs = [state[0], state[1], reference[0], reference[1], reference[2], d_hat.unwrap_or(&[])];
+    // SAFETY: the caller's contract.
+    unsafe { output("tau", tau, n, dof, &inputs) }
+}
+
+/// Whether `len` doubles at `a` and `other` share an address.
+pub(crate) fn overlap((a, len): (*const f64, usize), other: (*const f64, usize)) -> bool {
+    let span = |(p, n): (*const f64, usize)| (p as usize, p as usize + n * core::mem::size_of::<f64>());
+    let ((start, end), (other_start, other_end)) = (span((a, len)), span(other));
+    len > 0 && other.1 > 0 && start < other_end && other_start < end
+}
+
+/// [`Failure::Aliased`] if the output `name` (`len` doubles at its pointer) overlaps an input.
+fn apart(name: &'static str, (ptr, len): (*mut f64, usize), inputs: &[&[f64]]) -> Result<(), Failure> {
+    match inputs.iter().any(|input| overlap((ptr, len), (input.as_ptr(), input.len()))) {
+        true => Err(Failure::Aliased(name)),
+        false => Ok(()),
+    }
 }
 
 /// `count` rows of `n` values at `ptr`, one after another: `n` must be `dof`, and every value
@@ -92,14 +129,7 @@ pub(crate) unsafe fn output_rows<'a>(
         return Err(Failure::Null(name));
     }
     let len = rows_length(name, count, width)?;
-    let out = ptr as usize..ptr as usize + len * core::mem::size_of::<f64>();
-    let overlaps = |input: &&[f64]| {
-        let range = input.as_ptr_range();
-        (range.start as usize) < out.end && out.start < range.end as usize
-    };
-    if len > 0 && inputs.iter().any(overlaps) {
-        return Err(Failure::Aliased("a batch's output and its inputs"));
-    }
+    apart(name, (ptr, len), inputs)?;
     // SAFETY: non-null, apart from every input, and the caller's contract gives `count × width`
     // writable doubles.
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })

@@ -69,7 +69,7 @@ pub(crate) enum Failure {
     Friction(String),
     /// An estimator stepped the other way than it was made for.
     Stepping { called: &'static str, needs: &'static str, made_by: &'static str, use_instead: &'static str },
-    /// Output arrays that must be distinct start at the same address.
+    /// An output array that overlaps an input or another output of the same call.
     Aliased(&'static str),
     /// A pointer that is not a live handle of the kind expected.
     Handle { expected: &'static str, found: Option<&'static str> },
@@ -143,7 +143,9 @@ impl fmt::Display for Failure {
             Failure::Load(e) => write!(f, "{e}"),
             Failure::Model(e) => write!(f, "{e}"),
             Failure::Friction(e) => write!(f, "friction: {e}"),
-            Failure::Aliased(names) => write!(f, "{names} must be distinct arrays; two of them overlap"),
+            Failure::Aliased(names) => {
+                write!(f, "{names} overlaps another array of the call: outputs must be distinct from inputs and from each other")
+            }
             Failure::Stepping { called, needs, made_by, use_instead } => write!(
                 f,
                 "{called} needs an estimator made by {needs}; this one was made by {made_by} and is stepped with {use_instead}"

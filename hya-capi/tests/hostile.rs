@@ -194,6 +194,13 @@ fn bad_dynamics_calls_are_refused() {
         let inf = [f64::INFINITY, 0.0];
         let status = hya_model_forward_dynamics(model, q.as_ptr(), qd.as_ptr(), inf.as_ptr(), 2, out.as_mut_ptr());
         refused(status, HyaStatus::HyaErrNonFinite, &error(), &["tau[0]", "inf"]);
+        // In place, the output over an input: refused, the input untouched.
+        let mut state = [0.1, 0.2];
+        let p = state.as_mut_ptr();
+        refused(hya_model_gravity(model, p, 2, p), HyaStatus::HyaErrInvalid, &error(), &["tau", "distinct"]);
+        let status = hya_model_forward_dynamics(model, q.as_ptr(), p, qdd.as_ptr(), 2, p);
+        refused(status, HyaStatus::HyaErrInvalid, &error(), &["qdd", "distinct"]);
+        assert_eq!(state, [0.1, 0.2]);
         // A success clears nothing but works.
         assert_eq!(hya_model_gravity(model, q.as_ptr(), 2, out.as_mut_ptr()), HyaStatus::HyaOk);
         hya_model_free(model);

@@ -5,8 +5,9 @@
  * must equal the model's joint count (hya_model_dof); a mass matrix has n*n entries
  * (symmetric, so row- and column-major agree). The batch functions (hya_model_*_batch) take
  * `count` states as rows of `n`, row-major (count*n doubles per argument), and name the row
- * of a failure. An output that overlaps an input or another output is refused (HYA_ERR_INVALID):
- * no call works in place.
+ * of a failure. An output (an array, or hya_estimator_update_at's `restarted`) that overlaps an
+ * input array or another output is refused with HYA_ERR_INVALID, the output named, before
+ * anything is computed: no call works in place.
  *
  * Status: every function returns HYA_OK or an error status. A function called on a handle
  * writes the failure's message into that handle (hya_model_error, hya_estimator_error,
@@ -61,7 +62,7 @@ typedef enum {
   HYA_ERR_NON_FINITE = 3,
   // A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
   // a shipped arm or not a frame of the model, or a model has more joints than hya dispatches
-  // to, or output arrays that must be distinct are the same.
+  // to, or an output overlaps an input or another output of the call.
   HYA_ERR_INVALID = 4,
   // A URDF or a friction file could not be read or is not valid.
   HYA_ERR_MODEL = 5,
@@ -213,7 +214,7 @@ HyaStatus hya_cartesian_new(const HyaModel *model,
 //
 // # Safety
 // `controller` is null or a live handle; `q`, `qd`, `d_hat` are null or hold `n` doubles, the
-// reference arrays 3, 9 and 6; `tau` overlaps no input (one that does is refused).
+// reference arrays 3, 9 and 6.
 HyaStatus hya_cartesian_command(HyaCartesian *controller,
                                 const double *q,
                                 const double *qd,
@@ -255,8 +256,7 @@ HyaStatus hya_controller_new(const HyaModel *model,
 // qdd_des)` and, unless `d_hat` is null, the compensation `− d̂`; `n` = dof each.
 //
 // # Safety
-// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps
-// no input (one that does is refused).
+// `controller` is null or a live handle; each non-null array holds `n` doubles.
 HyaStatus hya_controller_command(HyaController *controller,
                                  const double *q,
                                  const double *qd,
@@ -325,8 +325,7 @@ HyaStatus hya_estimator_new_timed(const HyaModel *model,
 // length) leaves the estimator as it was.
 //
 // # Safety
-// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-// no input (one that does is refused); `restarted` is null or writable.
+// `estimator` is null or a live handle; each non-null array holds `n` doubles; `restarted` is null or writable.
 HyaStatus hya_estimator_update_at(HyaEstimator *estimator,
                                   double t,
                                   const double *q,
@@ -340,8 +339,7 @@ HyaStatus hya_estimator_update_at(HyaEstimator *estimator,
 // (NaN, wrong length) leaves the estimator as it was.
 //
 // # Safety
-// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-// no input (one that does is refused).
+// `estimator` is null or a live handle; each non-null array holds `n` doubles.
 HyaStatus hya_estimator_update(HyaEstimator *estimator,
                                const double *q,
                                const double *tau,
@@ -430,8 +428,7 @@ const char *hya_model_error(const HyaModel *model);
 // `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps no
-// input (one that does is refused).
+// `model` is null or a live handle; each non-null array holds `n` doubles.
 HyaStatus hya_model_inverse_dynamics(HyaModel *model,
                                      const double *q,
                                      const double *qd,
@@ -460,8 +457,7 @@ HyaStatus hya_model_gravity(HyaModel *model, const double *q, size_t n, double *
 // `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 //
 // # Safety
-// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` overlaps no
-// input (one that does is refused).
+// `model` is null or a live handle; each non-null array holds `n` doubles.
 HyaStatus hya_model_forward_dynamics(HyaModel *model,
                                      const double *q,
                                      const double *qd,
@@ -474,12 +470,11 @@ HyaStatus hya_model_forward_dynamics(HyaModel *model,
 // `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
 // `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 //
-// The three outputs must be distinct arrays (`HYA_ERR_INVALID` if two start at the same
-// address). Allocates on a URDF model (run-time code).
+// The three outputs must lie apart from each other and from the inputs (`HYA_ERR_INVALID` if
+// two share an address). Allocates on a URDF model (run-time code).
 //
 // # Safety
-// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`;
-// no output overlaps an input or another output.
+// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`.
 HyaStatus hya_model_forward_dynamics_derivatives(HyaModel *model,
                                                  const double *q,
                                                  const double *qd,
@@ -587,8 +582,7 @@ HyaStatus hya_observer_new_extended_state(const HyaModel *model,
 // observer as it was.
 //
 // # Safety
-// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-// no input (one that does is refused).
+// `observer` is null or a live handle; each non-null array holds `n` doubles.
 HyaStatus hya_observer_update(HyaObserver *observer,
                               const double *q,
                               const double *qd,

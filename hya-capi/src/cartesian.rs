@@ -98,7 +98,7 @@ pub unsafe extern "C" fn hya_cartesian_new(
 ///
 /// # Safety
 /// `controller` is null or a live handle; `q`, `qd`, `d_hat` are null or hold `n` doubles, the
-/// reference arrays 3, 9 and 6; `tau` overlaps no input (one that does is refused).
+/// reference arrays 3, 9 and 6.
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hya_cartesian_command(

@@ -85,8 +85,7 @@ pub unsafe extern "C" fn hya_controller_new(
 /// qdd_des)` and, unless `d_hat` is null, the compensation `− d̂`; `n` = dof each.
 ///
 /// # Safety
-/// `controller` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps
-/// no input (one that does is refused).
+/// `controller` is null or a live handle; each non-null array holds `n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_controller_command(
     controller: *mut HyaController,

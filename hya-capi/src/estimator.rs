@@ -7,7 +7,7 @@ use hya_core::erased::SliceObserver;
 use hya_core::FilterParams;
 
 use crate::model::{borrow, HyaModel};
-use crate::slices::{input, output};
+use crate::slices::{input, output, overlap, span};
 use crate::status::{create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 
 /// The paper's disturbance estimator for one arm (opaque). Made by `hya_estimator_new`, freed by
@@ -125,8 +125,7 @@ unsafe fn new_estimator(
 /// length) leaves the estimator as it was.
 ///
 /// # Safety
-/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-/// no input (one that does is refused); `restarted` is null or writable.
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `restarted` is null or writable.
 #[no_mangle]
 pub unsafe extern "C" fn hya_estimator_update_at(
     estimator: *mut HyaEstimator,
@@ -142,7 +141,12 @@ pub unsafe extern "C" fn hya_estimator_update_at(
         on_handle(estimator, |e| {
             e.stepped(true)?;
             let (q, tau) = (input("q", q, n, e.dof)?, input("tau", tau, n, e.dof)?);
-            let gap = e.estimator.update_at(t, q, tau, output("d_hat", d_hat, n, e.dof, &[q, tau])?)?;
+            let d_hat = output("d_hat", d_hat, n, e.dof, &[q, tau])?;
+            let flag = span(restarted.cast_const(), usize::from(!restarted.is_null()));
+            if [q, tau, &*d_hat].iter().any(|array| overlap(flag, span(array.as_ptr(), array.len()))) {
+                return Err(Failure::Aliased("restarted"));
+            }
+            let gap = e.estimator.update_at(t, q, tau, d_hat)?;
             if let Some(restarted) = restarted.as_mut() {
                 *restarted = gap;
             }
@@ -156,8 +160,7 @@ pub unsafe extern "C" fn hya_estimator_update_at(
 /// (NaN, wrong length) leaves the estimator as it was.
 ///
 /// # Safety
-/// `estimator` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-/// no input (one that does is refused).
+/// `estimator` is null or a live handle; each non-null array holds `n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_estimator_update(
     estimator: *mut HyaEstimator,

@@ -4,7 +4,7 @@
 use std::ffi::{c_char, CStr};
 
 use crate::arm_model::{self, ArmModel};
-use crate::slices::{input, output, overlap};
+use crate::slices::{input, output, outputs};
 use crate::status::{borrow_live, create, destroy, last_message, on_handle, Failure, Handle, HyaStatus, Message};
 use hya_core::model::TreeModel;
 
@@ -174,8 +174,7 @@ pub(crate) unsafe fn on_model(
 /// `HYA_ERR_NUMERIC` if a torque is not finite (inputs too large for double precision).
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `n` doubles; `tau` overlaps no
-/// input (one that does is refused).
+/// `model` is null or a live handle; each non-null array holds `n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_inverse_dynamics(
     model: *mut HyaModel,
@@ -241,8 +240,7 @@ pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, 
 /// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 ///
 /// # Safety
-/// `model` is null or a live handle; each non-null array holds `n` doubles; `qdd` overlaps no
-/// input (one that does is refused).
+/// `model` is null or a live handle; each non-null array holds `n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics(
     model: *mut HyaModel,
@@ -268,12 +266,11 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
 /// `∂q̈_i`): `−M⁻¹ ∂ID/∂q` and `−M⁻¹ ∂ID/∂q̇` at `q̈ = FD(q, q̇, τ)`, and `M⁻¹ = ∂q̈/∂τ`.
 /// `HYA_ERR_NUMERIC` if `M(q)` is not positive definite.
 ///
-/// The three outputs must be distinct arrays (`HYA_ERR_INVALID` if two start at the same
-/// address). Allocates on a URDF model (run-time code).
+/// The three outputs must lie apart from each other and from the inputs (`HYA_ERR_INVALID` if
+/// two share an address). Allocates on a URDF model (run-time code).
 ///
 /// # Safety
-/// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`;
-/// no output overlaps an input or another output.
+/// `model` is null or a live handle; `q`, `qd`, `tau` hold `n` doubles and each output `len`.
 #[no_mangle]
 pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
     model: *mut HyaModel,
@@ -289,14 +286,9 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
     // SAFETY: the caller's contract; lengths checked against the model.
     unsafe {
         on_model(model, |arm, dof| {
-            let outputs = [dqdd_dq, dqdd_dqd, mass_inverse].map(|p| (p.cast_const(), len));
-            if overlap(outputs[0], outputs[1]) || overlap(outputs[0], outputs[2]) || overlap(outputs[1], outputs[2]) {
-                return Err(Failure::Aliased("dqdd_dq, dqdd_dqd or mass_inverse"));
-            }
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
-            let by_q = output("dqdd_dq", dqdd_dq, len, dof * dof, &[q, qd, tau])?;
-            let by_qd = output("dqdd_dqd", dqdd_dqd, len, dof * dof, &[q, qd, tau])?;
-            let inverse = output("mass_inverse", mass_inverse, len, dof * dof, &[q, qd, tau])?;
+            let named = [("dqdd_dq", dqdd_dq), ("dqdd_dqd", dqdd_dqd), ("mass_inverse", mass_inverse)];
+            let [by_q, by_qd, inverse] = outputs(named, len, dof * dof, &[q, qd, tau])?;
             arm.forward_dynamics_derivatives(q, qd, tau, [&mut *by_q, &mut *by_qd, &mut *inverse])?;
             for (name, values) in [("dqdd_dq", &*by_q), ("dqdd_dqd", &*by_qd), ("mass_inverse", &*inverse)] {
                 hya_core::finite_result(name, values)?;
@@ -329,8 +321,9 @@ pub unsafe extern "C" fn hya_model_frame_jacobian(
         on_handle(model, |m| {
             let (frame, dof) = (text("frame", frame)?, m.tree.dof());
             let q = input("q", q, n, dof)?;
-            let out = output("jacobian", jacobian, len, 6 * dof, &[q])?;
+            // Found before the output is made a slice: `frame` is the caller's memory too.
             let found = m.tree.frame_jacobian(frame, q).map_err(Failure::Model)?;
+            let out = output("jacobian", jacobian, len, 6 * dof, &[q])?;
             // Row-major: the transpose's column-major storage.
             out.copy_from_slice(found.transpose().as_slice());
             Ok(hya_core::finite_result("jacobian", out)?)
@@ -361,8 +354,10 @@ pub unsafe extern "C" fn hya_model_frame_acceleration_bias(
         on_handle(model, |m| {
             let (frame, dof) = (text("frame", frame)?, m.tree.dof());
             let (q, qd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?);
+            // Found before the output is made a slice: `frame` is the caller's memory too.
+            let found = m.tree.frame_acceleration_bias(frame, q, qd).map_err(Failure::Model)?;
             let out = output("bias", bias, len, 6, &[q, qd])?;
-            out.copy_from_slice(&m.tree.frame_acceleration_bias(frame, q, qd).map_err(Failure::Model)?);
+            out.copy_from_slice(&found);
             Ok(hya_core::finite_result("bias", out)?)
         })
     }

@@ -127,8 +127,7 @@ pub unsafe extern "C" fn hya_observer_new_extended_state(
 /// observer as it was.
 ///
 /// # Safety
-/// `observer` is null or a live handle; each non-null array holds `n` doubles; `d_hat` overlaps
-/// no input (one that does is refused).
+/// `observer` is null or a live handle; each non-null array holds `n` doubles.
 #[no_mangle]
 pub unsafe extern "C" fn hya_observer_update(
     observer: *mut HyaObserver,

@@ -73,45 +73,52 @@ pub(crate) unsafe fn command_output<'a>(
     unsafe { output("tau", tau, n, dof, &inputs) }
 }
 
-/// Whether `len` doubles at `a` and `other` share an address.
-pub(crate) fn overlap((a, len): (*const f64, usize), other: (*const f64, usize)) -> bool {
-    let span = |(p, n): (*const f64, usize)| (p as usize, p as usize + n * core::mem::size_of::<f64>());
-    let ((start, end), (other_start, other_end)) = (span((a, len)), span(other));
-    len > 0 && other.1 > 0 && start < other_end && other_start < end
+/// The bytes `[start, end)` that `n` values at `p` occupy; an end past the address space is
+/// taken as its top (no such array exists, and the comparison stays correct).
+pub(crate) fn span<T>(p: *const T, n: usize) -> (usize, usize) {
+    let start = p as usize;
+    (start, start.saturating_add(n.saturating_mul(core::mem::size_of::<T>())))
+}
+
+/// Whether two spans of bytes ([`span`]) share one: an empty span shares none, two arrays that
+/// only touch share none.
+pub(crate) fn overlap((start, end): (usize, usize), (other_start, other_end): (usize, usize)) -> bool {
+    start < end && other_start < other_end && start < other_end && other_start < end
 }
 
 /// [`Failure::Aliased`] if the output `name` (`len` doubles at its pointer) overlaps an input.
-fn apart(name: &'static str, (ptr, len): (*mut f64, usize), inputs: &[&[f64]]) -> Result<(), Failure> {
-    match inputs.iter().any(|input| overlap((ptr, len), (input.as_ptr(), input.len()))) {
+pub(crate) fn apart(name: &'static str, (ptr, len): (*mut f64, usize), inputs: &[&[f64]]) -> Result<(), Failure> {
+    let output = span(ptr.cast_const(), len);
+    match inputs.iter().any(|input| overlap(output, span(input.as_ptr(), input.len()))) {
         true => Err(Failure::Aliased(name)),
         false => Ok(()),
     }
 }
 
-/// `count` rows of `n` values at `ptr`, one after another: `n` must be `dof`, and every value
-/// finite (a failure names the row and the joint).
+/// Several outputs of `n` values each, which must be `expected` long and lie apart from each
+/// other and from every one of `inputs`: checked (null, length, overlaps) before any is made a
+/// slice.
 ///
 /// # Safety
-/// `ptr` is null or valid for reading `count × n` doubles.
-pub(crate) unsafe fn input_rows<'a>(
-    name: &'static str,
-    ptr: *const f64,
-    (count, n): (usize, usize),
-    dof: usize,
-) -> Result<&'a [f64], Failure> {
-    if ptr.is_null() {
-        return Err(Failure::Null(name));
+/// Each pointer is null or valid for writing `n` doubles.
+pub(crate) unsafe fn outputs<'a, const K: usize>(
+    arguments: [(&'static str, *mut f64); K],
+    n: usize,
+    expected: usize,
+    inputs: &[&[f64]],
+) -> Result<[&'a mut [f64]; K], Failure> {
+    for (name, ptr) in arguments {
+        check(name, ptr.is_null(), n, expected)?;
+        apart(name, (ptr, n), inputs)?;
     }
-    if n != dof {
-        return Err(Failure::RowWidth { name, got: n, expected: dof });
+    for (k, (name, ptr)) in arguments.iter().enumerate() {
+        if arguments[..k].iter().any(|(_, other)| overlap(span(ptr.cast_const(), n), span(other.cast_const(), n))) {
+            return Err(Failure::Aliased(name));
+        }
     }
-    let len = rows_length(name, count, n)?;
-    // SAFETY: non-null, and the caller's contract gives `count × n` readable doubles.
-    let values = unsafe { core::slice::from_raw_parts(ptr, len) };
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(at) => Err(Failure::NonFiniteInRow { name, row: at / n, index: at % n, value: values[at] }),
-        None => Ok(values),
-    }
+    // SAFETY: non-null, `n` long by the caller's contract, apart from each other and from
+    // every input.
+    Ok(arguments.map(|(_, ptr)| unsafe { core::slice::from_raw_parts_mut(ptr, n) }))
 }
 
 /// `count` rows of `width` writable values at `ptr`, refused if they overlap one of `inputs`
@@ -164,5 +171,50 @@ fn check(name: &'static str, null: bool, n: usize, expected: usize) -> Result<()
         Err(Failure::Length { name, got: n, expected })
     } else {
         Ok(())
+    }
+}
+
+/// `count` rows of `n` values at `ptr`, one after another: `n` must be `dof`, and every value
+/// finite (a failure names the row and the joint).
+///
+/// # Safety
+/// `ptr` is null or valid for reading `count × n` doubles.
+pub(crate) unsafe fn input_rows<'a>(
+    name: &'static str,
+    ptr: *const f64,
+    (count, n): (usize, usize),
+    dof: usize,
+) -> Result<&'a [f64], Failure> {
+    if ptr.is_null() {
+        return Err(Failure::Null(name));
+    }
+    if n != dof {
+        return Err(Failure::RowWidth { name, got: n, expected: dof });
+    }
+    let len = rows_length(name, count, n)?;
+    // SAFETY: non-null, and the caller's contract gives `count × n` readable doubles.
+    let values = unsafe { core::slice::from_raw_parts(ptr, len) };
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(at) => Err(Failure::NonFiniteInRow { name, row: at / n, index: at % n, value: values[at] }),
+        None => Ok(values),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_overlap_when_they_share_a_byte_and_not_when_they_touch() {
+        let values = [0.0f64; 8];
+        let at = |k: usize, n: usize| span(values[k..].as_ptr(), n);
+        assert!(overlap(at(0, 4), at(3, 2)), "partial");
+        assert!(overlap(at(0, 8), at(2, 2)) && overlap(at(2, 2), at(0, 8)), "one inside the other");
+        assert!(overlap(at(1, 3), at(1, 3)), "the same");
+        assert!(!overlap(at(0, 4), at(4, 4)) && !overlap(at(4, 4), at(0, 4)), "touching");
+        assert!(!overlap(at(0, 0), at(0, 8)) && !overlap(at(0, 8), at(3, 0)), "empty");
+        // A length no array has reaches the top of the address space instead of wrapping.
+        assert_eq!(span(values.as_ptr(), usize::MAX).1, usize::MAX);
+        assert!(overlap(span(values.as_ptr(), usize::MAX), at(7, 1)));
     }
 }

@@ -23,7 +23,7 @@ pub enum HyaStatus {
     HyaErrNonFinite = 3,
     /// A parameter is out of range (filter bandwidth, gain, sample time, ...), or a name is not
     /// a shipped arm or not a frame of the model, or a model has more joints than hya dispatches
-    /// to, or output arrays that must be distinct are the same.
+    /// to, or an output overlaps an input or another output of the call.
     HyaErrInvalid = 4,
     /// A URDF or a friction file could not be read or is not valid.
     HyaErrModel = 5,

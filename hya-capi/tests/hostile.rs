@@ -153,7 +153,7 @@ fn bad_frame_calls_are_refused() {
         let status =
             hya_model_frame_acceleration_bias(model, c"tip".as_ptr(), q.as_ptr(), qd.as_ptr(), 1, out.as_mut_ptr(), 6);
         refused(status, HyaStatus::HyaErrLength, &error(), &["q"]);
-        let (mut a, mut b, mut c) = ([0.0; 4], [0.0; 4], [0.0; 3]);
+        let (mut a, mut b, mut c) = ([0.0; 4], [0.0; 4], [0.0; 4]);
         let (a, b, c) = (a.as_mut_ptr(), b.as_mut_ptr(), c.as_mut_ptr());
         let derivatives = |tau: *const f64, [x, y, z]: [*mut f64; 3], len: usize| {
             hya_model_forward_dynamics_derivatives(model, q.as_ptr(), qd.as_ptr(), tau, 2, x, y, z, len)
@@ -161,6 +161,24 @@ fn bad_frame_calls_are_refused() {
         refused(derivatives([f64::NAN, 0.0].as_ptr(), [a, b, c], 4), HyaStatus::HyaErrNonFinite, &error(), &["tau[0]"]);
         refused(derivatives(qd.as_ptr(), [a, b, c], 3), HyaStatus::HyaErrLength, &error(), &["dqdd_dq", "3", "4"]);
         refused(derivatives(qd.as_ptr(), [a, a, c], 4), HyaStatus::HyaErrInvalid, &error(), &["distinct"]);
+        // One buffer of three matrices, split where they touch: accepted; split a value short,
+        // refused.
+        let mut three = [0.0; 12];
+        let p = three.as_mut_ptr();
+        assert_eq!(derivatives(qd.as_ptr(), [p, p.add(4), p.add(8)], 4), HyaStatus::HyaOk, "{}", error());
+        refused(
+            derivatives(qd.as_ptr(), [p, p.add(3), p.add(8)], 4),
+            HyaStatus::HyaErrInvalid,
+            &error(),
+            &["dqdd_dqd"],
+        );
+        // A length no array has is a length error, not an overflow.
+        refused(
+            derivatives(qd.as_ptr(), [p, p.add(4), p.add(8)], usize::MAX),
+            HyaStatus::HyaErrLength,
+            &error(),
+            &["dqdd_dq"],
+        );
         hya_model_free(model);
     }
 }
@@ -198,6 +216,13 @@ fn bad_dynamics_calls_are_refused() {
         let mut state = [0.1, 0.2];
         let p = state.as_mut_ptr();
         refused(hya_model_gravity(model, p, 2, p), HyaStatus::HyaErrInvalid, &error(), &["tau", "distinct"]);
+        // Partly over the input: refused; right after it (touching): accepted.
+        let mut wide = [0.1, 0.2, 7.0, 7.0];
+        let w = wide.as_mut_ptr();
+        refused(hya_model_gravity(model, w, 2, w.add(1)), HyaStatus::HyaErrInvalid, &error(), &["tau"]);
+        assert_eq!(wide, [0.1, 0.2, 7.0, 7.0]);
+        assert_eq!(hya_model_gravity(model, w, 2, w.add(2)), HyaStatus::HyaOk, "{}", error());
+        assert_ne!(wide[2..], [7.0, 7.0]);
         let status = hya_model_forward_dynamics(model, q.as_ptr(), p, qdd.as_ptr(), 2, p);
         refused(status, HyaStatus::HyaErrInvalid, &error(), &["qdd", "distinct"]);
         assert_eq!(state, [0.1, 0.2]);
@@ -340,6 +365,15 @@ fn bad_estimator_parameters_and_steps_are_refused_and_leave_the_state() {
             let status = hya_estimator_update_at(timed, t, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), null_mut());
             refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(timed)), &["`t`"]);
         }
+        // Outputs over inputs: d̂ over τ, the `restarted` flag inside d̂; refused, the state kept
+        // (the next step is accepted at the same time).
+        let mut joint = [0.0; 2];
+        let status =
+            hya_estimator_update_at(timed, 5.001, q0.as_ptr(), joint.as_ptr(), 2, joint.as_mut_ptr(), null_mut());
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(timed)), &["d_hat"]);
+        let flag = d.as_mut_ptr().cast::<bool>();
+        let status = hya_estimator_update_at(timed, 5.001, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), flag);
+        refused(status, HyaStatus::HyaErrInvalid, &text(hya_estimator_error(timed)), &["restarted"]);
         let status = hya_estimator_update_at(timed, 5.001, q0.as_ptr(), tau0.as_ptr(), 2, d.as_mut_ptr(), null_mut());
         assert_eq!(status, HyaStatus::HyaOk, "{}", text(hya_estimator_error(timed)));
         hya_estimator_free(timed);

@@ -11,9 +11,10 @@ use hya_capi::{
     hya_cartesian_command, hya_cartesian_free, hya_cartesian_new, hya_controller_command, hya_controller_free,
     hya_controller_new, hya_estimator_free, hya_estimator_new, hya_estimator_new_timed, hya_estimator_update,
     hya_estimator_update_at, hya_last_error, hya_model_forward_dynamics, hya_model_forward_dynamics_batch,
-    hya_model_forward_dynamics_derivatives_batch, hya_model_free, hya_model_from_arm, hya_model_gravity,
-    hya_model_gravity_batch, hya_model_inverse_dynamics, hya_model_inverse_dynamics_batch, hya_model_mass_matrix,
-    hya_observer_free, hya_observer_new_extended_state, hya_observer_update, HyaStatus,
+    hya_model_forward_dynamics_derivatives, hya_model_forward_dynamics_derivatives_batch, hya_model_free,
+    hya_model_from_arm, hya_model_gravity, hya_model_gravity_batch, hya_model_inverse_dynamics,
+    hya_model_inverse_dynamics_batch, hya_model_mass_matrix, hya_observer_free, hya_observer_new_extended_state,
+    hya_observer_update, HyaStatus,
 };
 use hya_core::test_arms::PlanarTwoLink;
 use hya_core::{
@@ -331,6 +332,33 @@ fn c_abi_calls_after_creation_do_not_allocate() {
                 assert_eq!(status, HyaStatus::HyaErrLength);
                 let status = hya_model_gravity_batch(model, states.as_ptr(), 5, N, states.as_mut_ptr());
                 assert_eq!(status, HyaStatus::HyaErrInvalid);
+                // A single call in place, refused; the derivatives' outputs, one over another.
+                assert_eq!(hya_model_gravity(model, p, N, q.as_mut_ptr()), HyaStatus::HyaErrInvalid);
+                let (d, nn) = (derivatives.as_mut_ptr(), N * N);
+                let status = hya_model_forward_dynamics_derivatives(
+                    model,
+                    p,
+                    zero.as_ptr(),
+                    zero.as_ptr(),
+                    N,
+                    d,
+                    d.add(1),
+                    d.add(2 * nn),
+                    nn,
+                );
+                assert_eq!(status, HyaStatus::HyaErrInvalid);
+                let status = hya_model_forward_dynamics_derivatives(
+                    model,
+                    p,
+                    zero.as_ptr(),
+                    zero.as_ptr(),
+                    N,
+                    d,
+                    d.add(nn),
+                    d.add(2 * nn),
+                    nn,
+                );
+                assert_eq!(status, HyaStatus::HyaOk);
                 hya_model_mass_matrix(model, p, N, mass.as_mut_ptr(), N * N);
                 hya_model_gravity(model, p, N, tau.as_mut_ptr());
                 // Error paths: a NaN, a short length, a null handle, a null output.

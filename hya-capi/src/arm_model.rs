@@ -27,25 +27,9 @@ type Shared<const N: usize> = Arc<dyn Dynamics<N> + Send + Sync>;
 pub(crate) trait ArmModel: Send {
     /// Joint count.
     fn dof(&self) -> usize;
-    /// `τ = M(q) q̈ + C(q, q̇) + G(q)`.
-    fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]);
-    /// `M(q)`, `n × n`, symmetric.
-    fn mass_matrix(&self, q: &[f64], mass: &mut [f64]);
-    /// `G(q)`.
-    fn gravity(&self, q: &[f64], tau: &mut [f64]);
-    /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) − G(q))`.
-    fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error>;
-    /// The same model on rows of states, for the batch entry points: a shipped arm's generated
-    /// batches (SIMD lanes), a URDF's one call per state.
+    /// The model's dynamics on slices: one state (`*_into`) or rows of states (`*_rows`: a
+    /// shipped arm's generated batches in SIMD lanes, a URDF's one call per state).
     fn slices(&self) -> &dyn SliceDynamics;
-    /// `∂q̈/∂q`, `∂q̈/∂q̇`, `M⁻¹`, each row-major.
-    fn forward_dynamics_derivatives(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        tau: &[f64],
-        out: [&mut [f64]; 3],
-    ) -> Result<(), Error>;
     /// The paper's estimator started at rest at `(q0, τ0)`: stepped at `params`' sample time, or,
     /// given a start time `t0`, over timestamped samples.
     fn estimator(
@@ -96,16 +80,18 @@ fn v<const N: usize>(values: &[f64]) -> JointVector<N> {
     JointVector::from_column_slice(values)
 }
 
-/// A model of `N` joints.
-struct Fixed<const N: usize> {
-    dynamics: Shared<N>,
-    /// The same dynamics on rows.
-    slices: OnSlicesN<N, Shared<N>>,
-}
+/// A model of `N` joints: its dynamics (shared with the estimators, observers and controllers it
+/// makes) seen on slices.
+struct Fixed<const N: usize>(OnSlicesN<N, Shared<N>>);
 
 impl<const N: usize> Fixed<N> {
     fn new(dynamics: Shared<N>) -> Self {
-        Self { slices: OnSlicesN(dynamics.clone()), dynamics }
+        Self(OnSlicesN(dynamics))
+    }
+
+    /// The dynamics, for what the model makes.
+    fn dynamics(&self) -> Shared<N> {
+        self.0 .0.clone()
     }
 }
 
@@ -113,30 +99,8 @@ impl<const N: usize> ArmModel for Fixed<N> {
     fn dof(&self) -> usize {
         N
     }
-    fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
-        tau.copy_from_slice(self.dynamics.inverse_dynamics(&v(q), &v(qd), &v(qdd)).as_slice());
-    }
-    fn mass_matrix(&self, q: &[f64], mass: &mut [f64]) {
-        mass.copy_from_slice(self.dynamics.mass_matrix(&v(q)).as_slice());
-    }
-    fn gravity(&self, q: &[f64], tau: &mut [f64]) {
-        tau.copy_from_slice(self.dynamics.gravity(&v(q)).as_slice());
-    }
-    fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64], qdd: &mut [f64]) -> Result<(), Error> {
-        qdd.copy_from_slice(self.dynamics.forward_dynamics(&v(q), &v(qd), &v(tau))?.as_slice());
-        Ok(())
-    }
     fn slices(&self) -> &dyn SliceDynamics {
-        &self.slices
-    }
-    fn forward_dynamics_derivatives(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        tau: &[f64],
-        out: [&mut [f64]; 3],
-    ) -> Result<(), Error> {
-        self.slices.forward_dynamics_derivatives_into(q, qd, tau, out)
+        &self.0
     }
     fn estimator(
         &self,
@@ -145,14 +109,14 @@ impl<const N: usize> ArmModel for Fixed<N> {
         q0: &[f64],
         tau0: &[f64],
     ) -> Result<Box<dyn SliceObserver>, Error> {
-        let dynamics = self.dynamics.clone();
+        let dynamics = self.dynamics();
         Ok(match t0 {
             None => Box::new(DisturbanceEstimator::new(dynamics, params, v(q0), v(tau0))?),
             Some(t0) => Box::new(TimedEstimator::new(dynamics, params, t0, v(q0), v(tau0))?),
         })
     }
     fn observer(&self, spec: ObserverSpec<'_>) -> Result<Box<dyn SliceObserver>, Error> {
-        let dynamics = self.dynamics.clone();
+        let dynamics = self.dynamics();
         Ok(match spec {
             ObserverSpec::Nonlinear { gain, dt_s, qd0 } => {
                 Box::new(Boxed(Box::new(NonlinearDisturbanceObserver::new(dynamics, gain, dt_s, v(qd0))?)))
@@ -171,7 +135,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
         gains[0].copy_from_slice(kp);
         gains[1].copy_from_slice(kd);
         let gains = Gains::diagonal(gains[0], gains[1])?;
-        Ok(Box::new(ComputedTorque::new(self.dynamics.clone(), gains).with_placement(placement)))
+        Ok(Box::new(ComputedTorque::new(self.dynamics(), gains).with_placement(placement)))
     }
     fn cartesian(
         &self,
@@ -181,7 +145,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
     ) -> Result<Box<dyn SliceCartesian>, Failure> {
         let impedance =
             Impedance::<N>::from_slices(gains.stiffness, gains.damping, gains.posture, gains.regularisation)?;
-        let mut controller = CartesianImpedance::new(self.dynamics.clone(), impedance);
+        let mut controller = CartesianImpedance::new(self.dynamics(), impedance);
         if let Some(limit) = gains.torque_limit {
             controller = controller.with_torque_limit(v(limit))?;
         }
@@ -189,7 +153,7 @@ impl<const N: usize> ArmModel for Fixed<N> {
         Ok(Box::new(FrameImpedance::new(controller, frame)))
     }
     fn with_friction(&self, friction: JointFriction) -> Box<dyn ArmModel> {
-        Box::new(Fixed::<N>::new(Arc::new(WithFriction::new(self.dynamics.clone(), friction))))
+        Box::new(Fixed::<N>::new(Arc::new(WithFriction::new(self.dynamics(), friction))))
     }
 }
 

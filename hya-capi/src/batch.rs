@@ -11,7 +11,7 @@
 //! the rows before it written; if none fails alone, every row is written and the call succeeds.
 
 use crate::model::{on_model, HyaModel};
-use crate::slices::{input_rows, output_rows};
+use crate::slices::{input_rows, output, output_rows, rows_length};
 use crate::status::{Failure, HyaStatus};
 
 /// Three arguments of `count × n` doubles each ([`input_rows`]).
@@ -30,28 +30,16 @@ unsafe fn inputs<'a>(
     }
 }
 
-/// An output's `len` against `count` rows of `width`, as the single calls check theirs.
-fn output_length(name: &'static str, len: usize, (count, width): (usize, usize)) -> Result<(), Failure> {
-    match count.checked_mul(width) {
-        Some(expected) if expected == len => Ok(()),
-        Some(expected) => Err(Failure::Length { name, got: len, expected }),
-        None => Err(Failure::TooManyRows { name, count, width }),
-    }
-}
-
-/// `Err` naming the row of the first non-finite result in `values`, rows `parts.len()` parts
-/// of `part` values each, the part by its name (`dqdd_dq[4]` rather than `out[4]`).
+/// `Err` naming the row of the first non-finite result in `values`, rows of `parts.len()` parts
+/// of `part` values each, the part by its name (`dqdd_dq[4]` rather than `out[4]`):
+/// [`hya_core::finite_result`] of each part.
 fn finite_rows(values: &[f64], parts: &[&'static str], part: usize) -> Result<(), Failure> {
-    let width = parts.len() * part;
-    match values.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(at) => {
-            let (row, within) = (at / width, at % width);
-            let quantity = parts[within / part];
-            let error = hya_core::Error::NonFiniteResult { quantity, index: within % part, value: values[at] };
-            Err(Failure::CoreInRow { row, error })
+    for (row, values) in values.chunks(parts.len() * part).enumerate() {
+        for (quantity, values) in parts.iter().zip(values.chunks(part)) {
+            hya_core::finite_result(quantity, values).map_err(|error| Failure::CoreInRow { row, error })?;
         }
     }
+    Ok(())
 }
 
 /// After the batch refused a state: `single(k)` for `k = 0, 1, …, count − 1` (each writing its
@@ -139,8 +127,7 @@ pub unsafe extern "C" fn hya_model_mass_matrix_batch(
     unsafe {
         on_model(model, |arm, dof| {
             let q = input_rows("q", q, (count, n), dof)?;
-            output_length("mass", len, (count, dof * dof))?;
-            let mass = output_rows("mass", mass, (count, dof * dof), &[q])?;
+            let mass = output("mass", mass, len, rows_length("mass", count, dof * dof)?, &[q])?;
             arm.slices().mass_matrix_rows(q, mass).map_err(Failure::Core)?;
             finite_rows(mass, &["mass"], dof * dof)
         })
@@ -206,8 +193,7 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives_batch(
         on_model(model, |arm, dof| {
             let [q, qd, tau] = inputs([("q", q), ("qd", qd), ("tau", tau)], (count, n), dof)?;
             let part = dof * dof;
-            output_length("out", len, (count, 3 * part))?;
-            let out = output_rows("out", out, (count, 3 * part), &[q, qd, tau])?;
+            let out = output("out", out, len, rows_length("out", count, 3 * part)?, &[q, qd, tau])?;
             let model = arm.slices();
             if model.forward_dynamics_derivatives_rows(q, qd, tau, out).is_err() {
                 one_by_one(count, |k| {

@@ -189,7 +189,7 @@ pub unsafe extern "C" fn hya_model_inverse_dynamics(
         on_model(model, |arm, dof| {
             let (q, qd, qdd) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("qdd", qdd, n, dof)?);
             let tau = output("tau", tau, n, dof, &[q, qd, qdd])?;
-            arm.inverse_dynamics(q, qd, qdd, tau);
+            arm.slices().inverse_dynamics_into(q, qd, qdd, tau);
             Ok(hya_core::finite_result("tau", tau)?)
         })
     }
@@ -213,7 +213,7 @@ pub unsafe extern "C" fn hya_model_mass_matrix(
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
             let mass = output("mass", mass, len, dof * dof, &[q])?;
-            arm.mass_matrix(q, mass);
+            arm.slices().mass_matrix_into(q, mass);
             Ok(hya_core::finite_result("mass", mass)?)
         })
     }
@@ -230,7 +230,7 @@ pub unsafe extern "C" fn hya_model_gravity(model: *mut HyaModel, q: *const f64, 
         on_model(model, |arm, dof| {
             let q = input("q", q, n, dof)?;
             let tau = output("tau", tau, n, dof, &[q])?;
-            arm.gravity(q, tau);
+            arm.slices().gravity_into(q, tau);
             Ok(hya_core::finite_result("tau", tau)?)
         })
     }
@@ -255,7 +255,7 @@ pub unsafe extern "C" fn hya_model_forward_dynamics(
         on_model(model, |arm, dof| {
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
             let qdd = output("qdd", qdd, n, dof, &[q, qd, tau])?;
-            arm.forward_dynamics(q, qd, tau, qdd)?;
+            arm.slices().forward_dynamics_into(q, qd, tau, qdd)?;
             Ok(hya_core::finite_result("qdd", qdd)?)
         })
     }
@@ -289,7 +289,7 @@ pub unsafe extern "C" fn hya_model_forward_dynamics_derivatives(
             let (q, qd, tau) = (input("q", q, n, dof)?, input("qd", qd, n, dof)?, input("tau", tau, n, dof)?);
             let named = [("dqdd_dq", dqdd_dq), ("dqdd_dqd", dqdd_dqd), ("mass_inverse", mass_inverse)];
             let [by_q, by_qd, inverse] = outputs(named, len, dof * dof, &[q, qd, tau])?;
-            arm.forward_dynamics_derivatives(q, qd, tau, [&mut *by_q, &mut *by_qd, &mut *inverse])?;
+            arm.slices().forward_dynamics_derivatives_into(q, qd, tau, [&mut *by_q, &mut *by_qd, &mut *inverse])?;
             for (name, values) in [("dqdd_dq", &*by_q), ("dqdd_dqd", &*by_qd), ("mass_inverse", &*inverse)] {
                 hya_core::finite_result(name, values)?;
             }

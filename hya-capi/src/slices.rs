@@ -49,11 +49,9 @@ pub(crate) unsafe fn output<'a>(
     expected: usize,
     inputs: &[&[f64]],
 ) -> Result<&'a mut [f64], Failure> {
-    check(name, ptr.is_null(), n, expected)?;
-    apart(name, (ptr, n), inputs)?;
-    // SAFETY: non-null, apart from every input, and the caller's contract gives `n` writable
-    // doubles.
-    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
+    // SAFETY: the caller's contract.
+    let [out] = unsafe { outputs([(name, ptr)], n, expected, inputs) }?;
+    Ok(out)
 }
 
 /// A controller's torque output `tau` ([`output`]), apart from its state `(q, q̇)`, its reference
@@ -121,8 +119,7 @@ pub(crate) unsafe fn outputs<'a, const K: usize>(
     Ok(arguments.map(|(_, ptr)| unsafe { core::slice::from_raw_parts_mut(ptr, n) }))
 }
 
-/// `count` rows of `width` writable values at `ptr`, refused if they overlap one of `inputs`
-/// (a caller's in-place call would otherwise read what it writes).
+/// `count` rows of `width` writable values at `ptr` ([`output`] of `count × width`).
 ///
 /// # Safety
 /// `ptr` is null or valid for writing `count × width` doubles.
@@ -132,18 +129,13 @@ pub(crate) unsafe fn output_rows<'a>(
     (count, width): (usize, usize),
     inputs: &[&[f64]],
 ) -> Result<&'a mut [f64], Failure> {
-    if ptr.is_null() {
-        return Err(Failure::Null(name));
-    }
     let len = rows_length(name, count, width)?;
-    apart(name, (ptr, len), inputs)?;
-    // SAFETY: non-null, apart from every input, and the caller's contract gives `count × width`
-    // writable doubles.
-    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+    // SAFETY: the caller's contract.
+    unsafe { output(name, ptr, len, len, inputs) }
 }
 
 /// `count × width`, or a failure if that many doubles cannot be addressed.
-fn rows_length(name: &'static str, count: usize, width: usize) -> Result<usize, Failure> {
+pub(crate) fn rows_length(name: &'static str, count: usize, width: usize) -> Result<usize, Failure> {
     count
         .checked_mul(width)
         .filter(|&len| len <= isize::MAX as usize / core::mem::size_of::<f64>())
@@ -185,19 +177,17 @@ pub(crate) unsafe fn input_rows<'a>(
     (count, n): (usize, usize),
     dof: usize,
 ) -> Result<&'a [f64], Failure> {
-    if ptr.is_null() {
-        return Err(Failure::Null(name));
-    }
     if n != dof {
         return Err(Failure::RowWidth { name, got: n, expected: dof });
     }
     let len = rows_length(name, count, n)?;
-    // SAFETY: non-null, and the caller's contract gives `count × n` readable doubles.
-    let values = unsafe { core::slice::from_raw_parts(ptr, len) };
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(at) => Err(Failure::NonFiniteInRow { name, row: at / n, index: at % n, value: values[at] }),
-        None => Ok(values),
-    }
+    // SAFETY: the caller's contract.
+    unsafe { input(name, ptr, len, len) }.map_err(|failure| match failure {
+        Failure::NonFinite { name, index, value } => {
+            Failure::NonFiniteInRow { name, row: index / n, index: index % n, value }
+        }
+        other => other,
+    })
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use hya_core::{BoxedObserver, ComputedTorque, Dynamics, Gains, JointVector, Meas
 use super::sensors::Sensors;
 use super::task::Trajectory;
 use super::trace::{Recording, Tick, Trace, SHADOWS};
-use super::{cartesian, model, observer_designed, true_model_of, ClosedLoop, IntegralAction};
+use super::{cartesian, model, observer_designed, true_model, ClosedLoop, IntegralAction};
 use crate::config::scenario::Method;
 use crate::config::settings::JointSettings;
 use crate::error::SimError;
@@ -31,7 +31,9 @@ pub(super) struct SeedLoop<'a, const N: usize> {
     commands: VecDeque<JointVector<N>>,
     applied: JointVector<N>,
     estimator: Option<BoxedObserver<'a, N>>,
-    shadows: Vec<BoxedObserver<'a, N>>,
+    /// Each shadow's observer; `None` for the loop's own method, whose estimate is `d̂` itself
+    /// (the same design on the same measurements), so it is not computed twice.
+    shadows: Vec<Option<BoxedObserver<'a, N>>>,
     shadow: [JointVector<N>; SHADOWS.len()],
     integral: Option<IntegralAction<N>>,
     /// This tick's reference position, `d̂` and command, recorded after the plant's step.
@@ -52,7 +54,7 @@ impl<'a, const N: usize> SeedLoop<'a, N> {
         let nominal = model.dynamics();
         let dt = joints.timing.dt_s;
         let q0 = trajectory.at(0.0).position;
-        let (true_model, mut rng) = true_model_of(&robot.model, joints.parameter_spread, seed);
+        let (true_model, mut rng) = true_model(&robot.model, joints.parameter_spread, seed);
         let hold = nominal.gravity(&q0);
         let plant = Plant::new(true_model, robot.plant.as_ref(), &joints.plant, (q0, hold), &mut rng)?;
         let bandwidth = joints.control.observer_bandwidth_rad_s;
@@ -89,9 +91,11 @@ impl<'a, const N: usize> SeedLoop<'a, N> {
         };
         // Shadow mode: every estimator on the same measurements, none acting on the loop.
         let mut shadows = Vec::with_capacity(SHADOWS.len());
-        for method in SHADOWS {
-            if let Some((shadow, _)) = observer_designed(method, nominal, design, &readings[0])? {
-                shadows.push(shadow);
+        for shadow in SHADOWS {
+            if shadow == method {
+                shadows.push(None);
+            } else if let Some((observer, _)) = observer_designed(shadow, nominal, design, &readings[0])? {
+                shadows.push(Some(observer));
             }
         }
         let integral =
@@ -147,7 +151,11 @@ impl<'a, const N: usize> SeedLoop<'a, N> {
             None => JointVector::zeros(),
         };
         for (observer, estimate) in self.shadows.iter_mut().zip(self.shadow.iter_mut()) {
-            *estimate = if k > 0 { observer.update(&measurement).map_err(at)? } else { *observer.disturbance() };
+            *estimate = match observer {
+                Some(o) if k > 0 => o.update(&measurement).map_err(at)?,
+                Some(o) => *o.disturbance(),
+                None => d_hat,
+            };
         }
         let velocity = measurement.velocity.unwrap_or_else(JointVector::zeros);
         let reference = self.trajectory.at(t);

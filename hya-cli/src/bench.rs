@@ -407,7 +407,7 @@ fn simulation_speed(actuator: hya_sim::scenario::ActuatorKind) -> Result<Simulat
     impl hya_sim::ForRobot for Timed<'_> {
         type Output = SimulationSpeed;
         fn call<const N: usize>(self, robot: hya_sim::Robot<N>) -> Result<SimulationSpeed, hya_sim::SimError> {
-            let setup = hya_sim::run::RunSetup::new(self.0, hya_sim::Method::Lu, &robot)?;
+            let setup = hya_sim::analysis::simulate::run_setup(self.0, hya_sim::Method::Lu, &robot)?;
             let seeds: Vec<(u64, hya_sim::run::trace::Recording)> = (0..hya_sim::seeds::LOCKSTEP_SEEDS as u64)
                 .map(|k| (self.0.seed + k, hya_sim::run::trace::Recording::Off))
                 .collect();

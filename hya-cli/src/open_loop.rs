@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use hya_core::model::TreeModel;
 use hya_core::{JointVector, Short};
-use hya_sim::rollout::{ideal_plant, open_loop, scenario_plant, TorqueCommand};
+use hya_sim::config::plant::PlantSetup;
+use hya_sim::rollout::{ideal_plant, open_loop, seeded_plant, TorqueCommand};
+use hya_sim::settings::Timing;
 
 use crate::table::names::{self, Joints, Unit};
 use crate::table::{self, ColumnsArg, HeaderArg, RowWriter, Table};
@@ -160,7 +162,11 @@ fn rollout<const N: usize>(
     };
     let (mut plant, max_step) = match &scenario {
         None => (ideal_plant(model, q0)?, IDEAL_STEP_S),
-        Some(scenario) => scenario_plant(model, scenario, q0, commands[0].torque)?,
+        Some(scenario) => {
+            let setup = PlantSetup::of(&scenario.plant, &scenario.loads)?;
+            let spread_seed = (scenario.plant.parameter_spread, scenario.seed);
+            (seeded_plant(model, &setup, spread_seed, (q0, commands[0].torque))?, Timing::of(scenario).physics_step_s())
+        }
     };
     // Each interval between events (output rows, torque rows) takes ⌈span / max_step⌉ steps.
     let steps = until / max_step + until / dt + commands.len() as f64 + 1.0;

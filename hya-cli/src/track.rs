@@ -14,6 +14,7 @@ use hya_sim::io::output::OutputDir;
 use hya_sim::run::trace::Recording;
 use hya_sim::run::{closed_loop_on, true_model};
 use hya_sim::scenario::Task;
+use hya_sim::settings::JointSettings;
 use hya_sim::task::{Samples, Trajectory};
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 
@@ -117,7 +118,7 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
                 .chain(scenario.files_read())
                 .collect();
             let (out, _) = OutputDir::open(dir, self.args.force, "hya track", &reads)?;
-            let (model, _) = true_model(scenario, robot);
+            let (model, _) = true_model(&robot.model, scenario.plant.parameter_spread, scenario.seed);
             let inertias: Vec<RigidBodyInertia> = model.bodies().iter().map(|b| b.inertia).collect();
             out.save("true.urdf", &with_body_inertias(&self.args.robot, &robot.model, &inertias, "true.urdf")?)?;
         }
@@ -126,7 +127,8 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         let mut writer = RowWriter::new(&mut *self.output, columns, self.args.header.header());
         let mut failed = None;
         let trajectory = Trajectory::sampled(samples);
-        closed_loop_on(scenario, self.method, robot, (&trajectory, Recording::Off), |t, measurement| {
+        let settings = JointSettings::<N>::for_run(scenario, self.method, &robot.model)?;
+        closed_loop_on(&settings, self.method, robot, (&trajectory, Recording::Off), |t, measurement| {
             if failed.is_none() {
                 let values = std::iter::once(t).chain(measurement.position.iter().copied());
                 if let Err(e) = writer.write(values.chain(measurement.torque.iter().copied())) {

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use hya_core::JointVector;
 use hya_sim::run::trace::Recording;
-use hya_sim::run::RunSetup;
+use hya_sim::analysis::simulate::run_setup;
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -58,7 +58,7 @@ struct Seeds<'a> {
 impl ForRobot for Seeds<'_> {
     type Output = Vec<Result<Outcome, String>>;
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<Self::Output, SimError> {
-        let setup = RunSetup::new(self.scenario, self.method, &robot)?;
+        let setup = run_setup(self.scenario, self.method, &robot)?;
         let seeds: Vec<(u64, Recording)> = self.seeds.iter().map(|&seed| (seed, Recording::Bounded)).collect();
         let runs = setup.run_together(&seeds);
         Ok(runs

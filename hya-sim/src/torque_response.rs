@@ -246,22 +246,22 @@ fn locked<const N: usize>(
 /// plus `a sin(2π f t)`: `A` and `q̇ / τ_cmd` of joint `j`.
 fn held<const N: usize>(
     robot: &crate::robot::Robot<N>,
-    scenario: &Scenario,
+    joints: &JointSettings<N>,
     (kp, kd): (&[f64; N], &[f64; N]),
     q0: hya_core::JointVector<N>,
     (j, frequency_hz, amplitude): (usize, f64, f64),
 ) -> Result<(Complex<f64>, Complex<f64>), SimError> {
     let nominal = robot.nominal.as_ref();
-    let dt = scenario.controller.dt_s;
+    let dt = joints.timing.dt_s;
     let hold_torque = nominal.gravity(&q0);
-    let (mut plant, _) = scenario_plant(&robot.model, scenario, q0, hold_torque)?;
+    let (mut plant, _) = scenario_plant(&robot.model, joints, q0, hold_torque)?;
     let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
         return Err(SimError::Numerical("the torque response needs hydraulic actuators".into()));
     };
     let omega = std::f64::consts::TAU * frequency_hz;
     let mut window = Window::<1>::new(frequency_hz);
     let ticks = (window.to / dt).ceil() as usize;
-    let substeps = scenario.plant.substeps();
+    let substeps = joints.timing.substeps;
     for k in 0..ticks {
         let t = k as f64 * dt;
         let s = plant.state;
@@ -313,8 +313,8 @@ pub fn measure<const N: usize>(
     let gains = crate::run::gains(robot.nominal.as_ref(), &joints)?;
     let kp: [f64; N] = core::array::from_fn(|i| gains.kp()[(i, i)]);
     let kd: [f64; N] = core::array::from_fn(|i| gains.kd()[(i, i)]);
-    let dt = scenario.controller.dt_s;
-    let (plant, _) = scenario_plant(&robot.model, &scenario, q0, robot.nominal.gravity(&q0))?;
+    let dt = joints.timing.dt_s;
+    let (plant, _) = scenario_plant(&robot.model, &joints, q0, robot.nominal.gravity(&q0))?;
     let Actuators::Hydraulic(actuators) = plant.actuators().clone() else { return Ok(None) };
     let polar = |a: Complex<f64>| (a.norm(), a.arg().to_degrees());
     let mut responses = Vec::new();
@@ -336,7 +336,7 @@ pub fn measure<const N: usize>(
     }
     let jobs: Vec<(f64, usize, f64)> =
         AMPLITUDES_NM.iter().flat_map(|&a| (0..N).flat_map(move |j| FREQUENCIES_HZ.map(|f| (a, j, f)))).collect();
-    let measured = parallel_map(&jobs, |&(a, j, f)| held(robot, &scenario, (&kp, &kd), q0, (j, f, a)));
+    let measured = parallel_map(&jobs, |&(a, j, f)| held(robot, &joints, (&kp, &kd), q0, (j, f, a)));
     let mut measured = measured.into_iter();
     for amplitude in AMPLITUDES_NM {
         for j in 0..N {
@@ -444,9 +444,9 @@ mod tests {
     fn a_locked_actuator_with_integral_action_passes_slow_commands_whole() {
         let robot = crate::robot::Robot::<6>::load("hya").unwrap_or_else(|e| panic!("{e}"));
         let scenario = clean(&Scenario::builtin("goto_internal").unwrap_or_else(|e| panic!("{e}")));
-        let q0 = JointSettings::<6>::of(&scenario).unwrap_or_else(|e| panic!("{e}")).initial_position;
-        let tau0 = robot.nominal.gravity(&q0);
-        let (plant, _) = scenario_plant(&robot.model, &scenario, q0, tau0).unwrap_or_else(|e| panic!("{e}"));
+        let joints = JointSettings::<6>::of(&scenario).unwrap_or_else(|e| panic!("{e}"));
+        let (q0, tau0) = (joints.initial_position, robot.nominal.gravity(&joints.initial_position));
+        let (plant, _) = scenario_plant(&robot.model, &joints, q0, tau0).unwrap_or_else(|e| panic!("{e}"));
         let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {
             panic!("HyA's actuators are hydraulic")
         };

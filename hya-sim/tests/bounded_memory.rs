@@ -7,7 +7,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use hya_sim::run::closed_loop;
+use hya_sim::analysis::simulate::simulate_recording;
 use hya_sim::run::trace::{bytes_per_sample, Recording, MAX_TRACE_SAMPLES};
 use hya_sim::{Method, Robot, Scenario};
 
@@ -49,7 +49,7 @@ fn memory_of_a_closed_loop_does_not_grow_with_its_duration() {
     let dt = scenario.controller.dt_s;
     let mut peak = |duration_s: f64, recording: Recording| {
         scenario.duration_s = duration_s;
-        peak_during(|| drop(closed_loop(&scenario, Method::Lu, &robot, recording).unwrap()))
+        peak_during(|| drop(simulate_recording(&scenario, Method::Lu, &robot, recording).unwrap()))
     };
     // Metrics alone: the same peak for 20 s as for 80 s, to a few kilobytes (both hold the
     // limit-cycle window's samples, its full 10 s).

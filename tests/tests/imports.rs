@@ -230,3 +230,22 @@ fn hya_sims_files_import_only_from_their_own_layer_or_the_ones_listed_before() {
         }
     }
 }
+
+#[test]
+fn below_the_settings_no_hya_sim_file_names_a_scenario() {
+    // The plant, the sensors, the loop and its metrics take the typed settings that
+    // `config::settings` makes of a scenario once (`JointSettings`), never the scenario itself.
+    let src = root().join("hya-sim/src");
+    let mut files = Vec::new();
+    for folder in ["run", "plant"] {
+        rust_files(&src.join(folder), &mut files);
+    }
+    files.extend(["analysis/metrics.rs", "analysis/running.rs", "analysis/shadow.rs"].map(|f| src.join(f)));
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let code = code(&text);
+        let imports = crate_paths(&code).iter().any(|path| path.ends_with(&["scenario".into(), "Scenario".into()]));
+        let named = ["&Scenario", "Scenario::", "<Scenario>", "[Scenario]"].iter().any(|form| code.contains(form));
+        assert!(!imports && !named, "{}: reads a `Scenario` below `config`", file.display());
+    }
+}

@@ -8,7 +8,6 @@ use crate::analysis::simulate::RunOutcome;
 use crate::config::scenario::{Method, Scenario};
 use crate::error::SimError;
 use crate::run::trace::Recording;
-use crate::run::RunSetup;
 
 /// The metrics of every run, by scenario and method, one entry per seed in seed order.
 #[derive(Debug, Clone, Default)]
@@ -153,7 +152,7 @@ pub fn parallel_map<J: Sync, R: Send>(jobs: &[J], f: impl Fn(&J) -> R + Sync) ->
 }
 
 /// How many seeds of one scenario and method [`run_jobs`] steps together
-/// ([`RunSetup::run_together`]): the lanes of the batch its plants' forward dynamics runs on.
+/// ([`RunSetup::run_together`](crate::run::RunSetup::run_together)): the lanes of the batch its plants' forward dynamics runs on.
 pub const LOCKSTEP_SEEDS: usize = hya_core::lanes::BATCH_LANES;
 
 /// `items` in the groups that step together: consecutive items of one `key` (a scenario and a
@@ -177,8 +176,8 @@ pub fn jobs(scenarios: &[Scenario], seeds: usize) -> Vec<Job> {
 
 /// Runs `jobs` on every core, each seed's offset added to its scenario's seed, the first seed's
 /// traces kept (for figures); `progress` is told each finished run's simulated seconds. Each
-/// scenario and method is set up once ([`RunSetup`]) for all its seeds, which run
-/// [`LOCKSTEP_SEEDS`] at a time in lockstep ([`RunSetup::run_together`]: the same results).
+/// scenario and method is set up once ([`RunSetup`](crate::run::RunSetup)) for all its seeds, which run
+/// [`LOCKSTEP_SEEDS`] at a time in lockstep ([`RunSetup::run_together`](crate::run::RunSetup::run_together): the same results).
 pub fn run_jobs<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenarios: &[Scenario],
@@ -196,9 +195,8 @@ pub fn run_jobs<const N: usize>(
     let mut setups = BTreeMap::new();
     for &(i, method, _) in jobs {
         if let std::collections::btree_map::Entry::Vacant(slot) = setups.entry((i, method)) {
-            let setup = RunSetup::new(&scenarios[i], method, robot).map_err(|e| SimError::Run {
-                run: format!("{} / {}", scenarios[i].name, method.name()),
-                source: Box::new(e),
+            let setup = crate::analysis::simulate::run_setup(&scenarios[i], method, robot).map_err(|e| {
+                SimError::Run { run: format!("{} / {}", scenarios[i].name, method.name()), source: Box::new(e) }
             })?;
             slot.insert(setup);
         }

@@ -2,9 +2,11 @@
 
 use crate::analysis::metrics::Metrics;
 use crate::config::scenario::{Method, Scenario};
+use crate::config::settings::JointSettings;
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::trace::{Recording, Trace};
+use crate::run::RunSetup;
 
 /// A finished run.
 #[derive(Debug, Clone)]
@@ -24,7 +26,7 @@ pub struct RunOutcome<const N: usize> {
     pub metrics: Metrics,
 }
 
-/// Runs `scenario` with `method` on `robot` ([`crate::run::closed_loop`]), its trace bounded
+/// Runs `scenario` with `method` on `robot` from its seed ([`crate::run::closed_loop`]), its trace bounded
 /// ([`Recording::Bounded`]).
 pub fn simulate<const N: usize>(
     scenario: &Scenario,
@@ -41,8 +43,19 @@ pub fn simulate_recording<const N: usize>(
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<RunOutcome<N>, SimError> {
-    let run = crate::run::closed_loop(scenario, method, robot, recording)?;
+    let run =
+        crate::run::closed_loop(JointSettings::for_run(scenario, method, &robot.model)?, method, robot, recording)?;
     Ok(RunOutcome::of(&scenario.name, method, scenario.seed, run))
+}
+
+/// The loop of `scenario` under `method` on `robot`, set up once for its seeds: its settings
+/// checked for the run ([`JointSettings::for_run`]), then [`RunSetup::new`].
+pub fn run_setup<'a, const N: usize>(
+    scenario: &Scenario,
+    method: Method,
+    robot: &'a Robot<N>,
+) -> Result<RunSetup<'a, N>, SimError> {
+    RunSetup::new(JointSettings::for_run(scenario, method, &robot.model)?, method, robot)
 }
 
 impl<const N: usize> RunOutcome<N> {

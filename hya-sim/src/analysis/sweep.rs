@@ -278,7 +278,7 @@ pub fn run_on<const N: usize>(
             .iter()
             .map(|&(.., k)| Ok((point(k)?.seed, crate::run::trace::Recording::Off)))
             .collect::<Result<Vec<_>, SimError>>()?;
-        let setup = crate::run::RunSetup::new(&scenario, method, robot)?;
+        let setup = crate::analysis::simulate::run_setup(&scenario, method, robot)?;
         let entries = setup.run_together(&seeds).into_iter().zip(&seeds).map(|(run, &(seed, _))| {
             progress(scenario.duration_s);
             run.map(|run| Entry {

@@ -200,17 +200,47 @@ impl Timing {
         Self { dt_s, steps: (scenario.duration_s / dt_s).round() as usize, substeps: scenario.plant.substeps() }
     }
 
+    /// The plant's integration step, s.
+    pub fn physics_step_s(&self) -> f64 {
+        self.dt_s / self.substeps as f64
+    }
+
     /// The last tick's time, s.
     pub fn last_time_s(&self) -> f64 {
         self.steps.saturating_sub(1) as f64 * self.dt_s
     }
 }
 
+/// The files the controller's and observers' model comes from (`controller.model_urdf`,
+/// `controller.friction_toml`), loaded by [`crate::run::model::LoopModel`]; neither: the robot's
+/// nominal dynamics.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ModelFiles {
+    /// The rigid body's URDF.
+    pub urdf: Option<String>,
+    /// The joint friction's TOML.
+    pub friction: Option<String>,
+}
+
+impl ModelFiles {
+    /// `controller`'s.
+    pub fn of(controller: &ControllerConfig) -> Self {
+        Self { urdf: controller.model_urdf.clone(), friction: controller.friction_toml.clone() }
+    }
+}
+
 /// Every setting of a scenario a closed loop reads, for an arm of `N` joints: the per-joint lists,
 /// the task and the plant checked here; the controller's scalars, the clock and the sensors as
-/// the scenario's own check left them.
+/// the scenario's own check left them. What runs below [`crate::config`] (the plant, the
+/// sensors, the loop, its metrics) reads these, never the scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointSettings<const N: usize> {
+    /// The scenario's name, for errors.
+    pub name: String,
+    /// Its seed: the one a single run draws its plant, friction profiles and noise from.
+    pub seed: u64,
+    /// The controller's model.
+    pub loop_model: ModelFiles,
     /// The start pose, rad.
     pub initial_position: JointVector<N>,
     /// The task.
@@ -289,6 +319,9 @@ impl<const N: usize> JointSettings<N> {
         let c = &scenario.controller;
         let initial_position = per_joint("initial_position_rad", &initial_position(scenario, N))?;
         Ok(Self {
+            name: scenario.name.clone(),
+            seed: scenario.seed,
+            loop_model: ModelFiles::of(c),
             initial_position,
             task: TaskSetup::of(&scenario.task)?,
             natural_frequency: per_joint("controller.natural_frequency_rad_s", &c.natural_frequency_rad_s)?,

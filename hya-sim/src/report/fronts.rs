@@ -469,7 +469,7 @@ fn capped_joints<const N: usize>(
     robot: &crate::robot::Robot<N>,
     scenario: &crate::config::scenario::Scenario,
 ) -> Result<Vec<usize>, SimError> {
-    let capped = crate::run::model::LoopDesign::of(scenario, robot)?.capped;
+    let capped = super::loop_design(scenario, robot)?.capped;
     Ok((0..N).filter(|&j| capped[j]).collect())
 }
 

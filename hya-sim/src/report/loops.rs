@@ -109,7 +109,7 @@ pub fn lu_crossovers<const N: usize>(
     scenario: &Scenario,
     torque: Option<&TorqueResponses>,
 ) -> Result<[f64; N], SimError> {
-    let design = LoopDesign::of(scenario, robot)?;
+    let design = super::loop_design(scenario, robot)?;
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut crossovers = [0.0; N];
     for (j, crossover) in crossovers.iter_mut().enumerate() {
@@ -128,7 +128,7 @@ pub fn section<const N: usize>(
 ) -> Result<String, SimError> {
     let bandwidth = scenario.controller.observer_bandwidth_rad_s;
     let mut md = equal_bandwidth(bandwidth)?;
-    let design = LoopDesign::of(scenario, robot)?;
+    let design = super::loop_design(scenario, robot)?;
     let _ = writeln!(
         md,
         "\n### Each joint's loop, linearised\n\nPer joint of `{}` at its start pose: the rigid joint `M_ii s² + F_v s` under the PD, the velocity from the scenario's source, the method's compensation (the estimator's design `d̂ = H(s)(M_ii s² q_m − τ_m)`, or the PID's `K_I/s`), the actuator's torque response, the delays and the zero-order hold of the {} ms tick; no stiction. Phase margin / delay margin (the extra delay that makes the loop marginal), from the open loop broken at the command and the Nyquist criterion:\n",

@@ -364,11 +364,9 @@ fn lagged_cancellation<const N: usize>(
     torque: Option<&crate::torque_response::TorqueResponses>,
 ) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
-    let model = crate::run::model::LoopModel::of(first, robot)?;
-    let q0 = crate::config::lists::per_joint::<N>(
-        "initial_position_rad",
-        &crate::config::settings::initial_position(first, N),
-    )?;
+    let joints = crate::config::settings::JointSettings::<N>::of(first)?;
+    let model = crate::run::model::LoopModel::of(&joints.loop_model, robot)?;
+    let q0 = joints.initial_position;
     let inertia = model.dynamics().mass_matrix(&q0).diagonal();
     let bandwidth = first.controller.observer_bandwidth_rad_s;
     let Some(design) = ObserverDesign::of(Method::Lu, bandwidth) else { return Ok(String::new()) };
@@ -449,13 +447,13 @@ fn parameters<const N: usize>(robot: &crate::robot::Robot<N>, scenarios: &[Scena
         ]));
     }
     let c = &first.controller;
-    let design = crate::run::model::LoopDesign::of(first, robot)?;
+    let design = super::loop_design(first, robot)?;
     let q0 = design.pose;
     let integral_delay = crate::linear::paper_delay(c.observer_bandwidth_rad_s);
     let _ = writeln!(
         md,
         "\n### Controller and observers\n\n- Computed torque, the paper's form `τ = M q̈_des + C + G − K_D ė − K_P e (− d̂)` with `M`, `C`, `G` from {} at the measured `q`, at {} s per tick; velocity from the {} source; torque limits ({}) N·m.\n- Gains, one rule for every method: per joint the natural frequency ({}) rad/s with damping ratio {} on that model's `M(q0)` diagonal, stiffened where needed so that the PD's torque at {} rad of error reaches the joint's nominal static friction, but to no more than {} rad/s (the actuators and the delay); `K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²)`, `K_D = 2ζ √(K_P M_ii)`: K_P = ({}) N·m/rad, K_D = ({}) N·m·s/rad.\n- pid: the same PD plus `K_I ∫e`, its torque clamped to ± ({}) N·m (anti-windup); {}: K_I = ({}) N·m/(rad·s){}.\n- Observers, all with rates of {b}/s at the start pose (`bandwidth_rad_s` in `summary.json`, computed from each design): lu, the paper's filters, ζ = 0.8, ω1 = ω2 = {b} rad/s (poles of magnitude {b}; −3 dB near 0.64·{b} rad/s); chen, `Y = β M(q0)` with β = {b}/s, so that `L = Y M⁻¹ = β I` at `q0` (Mohammadi's scalar `Y = y I` would spread the rates by the ratio of `M`'s largest to smallest eigenvalue); momentum, `K_O = {b}/s` per joint; eso, ω_o = {b} rad/s, model-assisted (−3 dB near 0.51·{b} rad/s). Chen and momentum read the same derived velocity as the controller.\n- Start pose ({}) rad; the actuators start holding that model's gravity torque.",
-        crate::run::model::describe(c),
+        crate::run::model::describe(&crate::config::settings::ModelFiles::of(c)),
         c.dt_s,
         match first.sensors.velocity {
             crate::config::scenario::VelocitySource::Difference => "encoder difference (low-passed)",

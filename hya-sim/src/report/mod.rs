@@ -133,3 +133,12 @@ pub fn write<const N: usize>(
     )?;
     Ok(summary)
 }
+
+/// The loop design of `scenario` on `robot` at its start pose, as its closed loop makes it
+/// ([`crate::run::model::LoopDesign::of`] on the scenario's checked settings).
+fn loop_design<const N: usize>(
+    scenario: &Scenario,
+    robot: &crate::robot::Robot<N>,
+) -> Result<crate::run::model::LoopDesign<N>, SimError> {
+    crate::run::model::LoopDesign::of(&crate::config::settings::JointSettings::of(scenario)?, robot)
+}

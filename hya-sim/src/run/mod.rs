@@ -13,8 +13,8 @@ use hya_core::{BoxedObserver, Dynamics, Gains, JointVector, Measurement, Nonline
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::config::scenario::{ChenGain, IntegralRule, Method, Scenario};
-use crate::config::settings::JointSettings;
+use crate::config::scenario::{ChenGain, IntegralRule, Method};
+use crate::config::settings::{JointSettings, TaskSetup};
 use crate::error::SimError;
 use crate::plant::lockstep::{Failure, Lockstep};
 use crate::plant::{perturbed, PlantState};
@@ -171,27 +171,27 @@ pub struct RunSetup<'a, const N: usize> {
 }
 
 impl<'a, const N: usize> RunSetup<'a, N> {
-    /// `scenario` under `method` on `robot`: the controller and observers on its nominal dynamics
-    /// or the model the scenario names ([`model::LoopModel`]).
-    pub fn new(scenario: &Scenario, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
-        if scenario.task.is_cartesian() {
+    /// The loop of `settings` (a scenario's, [`JointSettings::for_run`] of `method`) under
+    /// `method` on `robot`: the controller and observers on its nominal dynamics or the model the
+    /// settings name ([`model::LoopModel`]).
+    pub fn new(settings: JointSettings<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
+        if let TaskSetup::Cartesian { .. } = settings.task {
             return Err(SimError::Scenario {
-                origin: scenario.name.clone(),
+                origin: settings.name.clone(),
                 message: "a task set in task space is measured at its frame (studies::cartesian, `hya run` on it \
                           alone), not by the joint-space runs"
                     .into(),
             });
         }
-        Self::task_space(scenario, method, robot)
+        Self::task_space(settings, method, robot)
     }
 
-    /// [`Self::new`] for a scenario of either kind: the Cartesian study's runs, which it measures
-    /// at the frame ([`crate::studies::cartesian`]).
-    pub fn task_space(scenario: &Scenario, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
-        let settings = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
+    /// [`Self::new`] for a task of either kind: the Cartesian study's runs, which it measures at
+    /// the frame ([`crate::studies::cartesian`]).
+    pub fn task_space(settings: JointSettings<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
         let trajectory = Trajectory::new(settings.task, settings.initial_position);
         trajectory.within_limits(&robot.model)?;
-        let model = model::LoopModel::of(scenario, robot)?;
+        let model = model::LoopModel::of(&settings.loop_model, robot)?;
         Ok(Self { method, settings, model, trajectory, robot })
     }
 
@@ -268,43 +268,38 @@ impl<'a, const N: usize> RunSetup<'a, N> {
     }
 }
 
-/// Runs `scenario` with `method` on `robot` ([`RunSetup`]) from the scenario's seed; its trace
-/// kept as `recording` says.
+/// Runs the loop of `settings` with `method` on `robot` ([`RunSetup`]) from the settings' seed;
+/// its trace kept as `recording` says.
 pub fn closed_loop<const N: usize>(
-    scenario: &Scenario,
+    settings: JointSettings<N>,
     method: Method,
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<ClosedLoop<N>, SimError> {
-    RunSetup::new(scenario, method, robot)?.run(scenario.seed, recording)
+    let seed = settings.seed;
+    RunSetup::new(settings, method, robot)?.run(seed, recording)
 }
 
-/// The plant's true rigid body in `scenario` on `robot`: its model perturbed by the scenario's
-/// seed, with the random stream that then draws the friction profiles.
-pub fn true_model<const N: usize>(scenario: &Scenario, robot: &Robot<N>) -> (TreeModel, ChaCha8Rng) {
-    true_model_of(&robot.model, scenario.plant.parameter_spread, scenario.seed)
-}
-
-/// [`true_model`] of `model` with the relative parameter spread `spread`, drawn from `seed`.
-fn true_model_of(model: &TreeModel, spread: f64, seed: u64) -> (TreeModel, ChaCha8Rng) {
+/// The plant's true rigid body: `model` perturbed by the relative parameter spread `spread`,
+/// drawn from `seed`, with the random stream that then draws the friction profiles.
+pub fn true_model(model: &TreeModel, spread: f64, seed: u64) -> (TreeModel, ChaCha8Rng) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let model = perturbed(model, spread, &mut rng);
     (model, rng)
 }
 
-/// [`closed_loop`] following `trajectory` instead of the scenario's task, handing every
+/// [`closed_loop`] following `trajectory` instead of the settings' task, handing every
 /// measurement the controller reads, with its time, to `log`: the log a real arm would record.
 pub fn closed_loop_on<const N: usize>(
-    scenario: &Scenario,
+    settings: &JointSettings<N>,
     method: Method,
     robot: &Robot<N>,
     (trajectory, recording): (&Trajectory<N>, Recording),
     log: impl FnMut(f64, &Measurement<N>),
 ) -> Result<ClosedLoop<N>, SimError> {
-    let settings = JointSettings::<N>::for_run(scenario, method, &robot.model)?;
     trajectory.within_limits(&robot.model)?;
-    let model = model::LoopModel::of(scenario, robot)?;
-    run_loop((&settings, &model, scenario.seed), method, robot, (trajectory, recording), log)
+    let model = model::LoopModel::of(&settings.loop_model, robot)?;
+    run_loop((settings, &model, settings.seed), method, robot, (trajectory, recording), log)
 }
 
 /// The closed loop under `joints` (a scenario's checked settings) on the loop model `model`,

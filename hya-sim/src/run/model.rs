@@ -11,24 +11,22 @@
 
 use hya_core::{Dynamics, Gains, JointVector};
 
-use crate::config::scenario::Scenario;
-use crate::config::settings::JointSettings;
+use crate::config::settings::{JointSettings, ModelFiles};
 use crate::error::SimError;
 use crate::robot::Robot;
 use hya_ident::{JointFriction, WithFriction};
 
-/// The model the scenario's controller and observers use on `robot` (see the module's notes),
-/// where the scenario names one; `None` for the robot's own nominal dynamics, which the caller
-/// then uses as they are (no added indirection in the loop).
+/// The model of `files` for the controller and observers on `robot` (see the module's notes),
+/// where they name one; `None` for the robot's own nominal dynamics, which the caller then uses
+/// as they are (no added indirection in the loop).
 pub fn controller_model<'a, const N: usize>(
-    scenario: &Scenario,
+    files: &ModelFiles,
     robot: &'a Robot<N>,
 ) -> Result<Option<Box<dyn Dynamics<N> + Send + Sync + 'a>>, SimError> {
-    let controller = &scenario.controller;
-    if controller.model_urdf.is_none() && controller.friction_toml.is_none() {
+    if files.urdf.is_none() && files.friction.is_none() {
         return Ok(None);
     }
-    let rigid: Box<dyn Dynamics<N> + Send + Sync + 'a> = match &controller.model_urdf {
+    let rigid: Box<dyn Dynamics<N> + Send + Sync + 'a> = match &files.urdf {
         None => Box::new(robot.nominal.as_ref()),
         Some(path) => {
             let model = hya_urdf::load_file(path)?.model;
@@ -42,7 +40,7 @@ pub fn controller_model<'a, const N: usize>(
             Box::new(model.into_dynamics::<N>()?)
         }
     };
-    Ok(Some(match &controller.friction_toml {
+    Ok(Some(match &files.friction {
         None => rigid,
         Some(path) => {
             let friction = JointFriction::from_file(std::path::Path::new(path), N)
@@ -52,7 +50,7 @@ pub fn controller_model<'a, const N: usize>(
     }))
 }
 
-/// The model the closed loop of a scenario runs on: the one the scenario names
+/// The model the closed loop of a scenario runs on: the one its settings name
 /// ([`controller_model`]), else the robot's nominal dynamics. Every analysis of that loop (its
 /// gains, its linearised margins) takes the same, so that it describes the loop that runs.
 pub struct LoopModel<'a, const N: usize> {
@@ -61,9 +59,9 @@ pub struct LoopModel<'a, const N: usize> {
 }
 
 impl<'a, const N: usize> LoopModel<'a, N> {
-    /// `scenario`'s loop model on `robot`.
-    pub fn of(scenario: &Scenario, robot: &'a Robot<N>) -> Result<Self, SimError> {
-        Ok(Self { named: controller_model(scenario, robot)?, nominal: robot.nominal.as_ref() })
+    /// The loop model of `files` on `robot`.
+    pub fn of(files: &ModelFiles, robot: &'a Robot<N>) -> Result<Self, SimError> {
+        Ok(Self { named: controller_model(files, robot)?, nominal: robot.nominal.as_ref() })
     }
 
     /// The dynamics.
@@ -105,22 +103,21 @@ pub struct LoopDesign<const N: usize> {
 }
 
 impl<const N: usize> LoopDesign<N> {
-    /// The design of `scenario`'s loop on `robot` at its start pose, as its closed loop makes it:
-    /// its settings checked, its model loaded ([`LoopModel::design`]).
-    pub fn of(scenario: &Scenario, robot: &Robot<N>) -> Result<Self, SimError> {
-        let joints = JointSettings::<N>::of(scenario)?;
-        LoopModel::of(scenario, robot)?.design(&joints)
+    /// The design of the loop of `joints` on `robot` at its start pose, as its closed loop makes
+    /// it: its model loaded ([`LoopModel::design`]).
+    pub fn of(joints: &JointSettings<N>, robot: &Robot<N>) -> Result<Self, SimError> {
+        LoopModel::of(&joints.loop_model, robot)?.design(joints)
     }
 }
 
-/// How the report names the loop model of a scenario whose controller settings are
-/// `controller`: "the robot's nominal model", or the URDF and friction file it names.
-pub fn describe(controller: &crate::config::scenario::ControllerConfig) -> String {
-    let rigid = match &controller.model_urdf {
+/// How the report names the loop model of `files`: "the robot's nominal model", or the URDF and
+/// friction file they name.
+pub fn describe(files: &ModelFiles) -> String {
+    let rigid = match &files.urdf {
         None => "the robot's nominal model".to_owned(),
         Some(path) => format!("the model of `{path}` ({}, `controller.model_urdf`)", file_digest(path)),
     };
-    match &controller.friction_toml {
+    match &files.friction {
         None => rigid,
         Some(path) => format!(
             "{rigid}, plus the joint friction `τ_f(q̇)` of `{path}` ({}, `controller.friction_toml`)",

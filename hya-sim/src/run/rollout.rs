@@ -7,9 +7,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::config::plant::PlantSetup;
-use crate::config::scenario::Scenario;
+use crate::config::settings::JointSettings;
 use crate::error::SimError;
-use crate::plant::{generic_dynamics, perturbed, Plant, PlantState};
+use crate::plant::{generic_dynamics, Plant, PlantState};
 
 /// A torque command, N·m, held from `time` (s) until the next one.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,20 +20,30 @@ pub struct TorqueCommand<const N: usize> {
     pub torque: JointVector<N>,
 }
 
-/// The plant of `scenario` (its seeded parameter perturbation, friction, actuators and loads)
+/// The plant of `settings` (its seeded parameter perturbation, friction, actuators and loads)
 /// for `model`, at rest at `q0` with its actuators holding `tau0`, and its physics step, s.
 pub fn scenario_plant<const N: usize>(
     model: &TreeModel,
-    scenario: &Scenario,
+    settings: &JointSettings<N>,
     q0: JointVector<N>,
     tau0: JointVector<N>,
 ) -> Result<(Plant<N>, f64), SimError> {
-    let mut rng = ChaCha8Rng::seed_from_u64(scenario.seed);
-    let true_model = perturbed(model, scenario.plant.parameter_spread, &mut rng);
-    let setup = PlantSetup::of(&scenario.plant, &scenario.loads)?;
+    let plant = seeded_plant(model, &settings.plant, (settings.parameter_spread, settings.seed), (q0, tau0))?;
+    Ok((plant, settings.timing.physics_step_s()))
+}
+
+/// The plant of `setup` for `model`, its rigid body perturbed by the relative spread `spread`
+/// and its friction profiles drawn from `seed` ([`crate::run::true_model`]), at rest at `q0`
+/// with its actuators holding `tau0`.
+pub fn seeded_plant<const N: usize>(
+    model: &TreeModel,
+    setup: &PlantSetup<N>,
+    (spread, seed): (f64, u64),
+    (q0, tau0): (JointVector<N>, JointVector<N>),
+) -> Result<Plant<N>, SimError> {
     setup.check_against(model)?;
-    let plant = Plant::new(true_model, &generic_dynamics::<N>, &setup, (q0, tau0), &mut rng)?;
-    Ok((plant, scenario.controller.dt_s / scenario.plant.substeps() as f64))
+    let (true_model, mut rng) = crate::run::true_model(model, spread, seed);
+    Plant::new(true_model, &generic_dynamics::<N>, setup, (q0, tau0), &mut rng)
 }
 
 /// The rigid body of `model` alone ([`PlantSetup::rigid_body`]: nominal parameters, no

@@ -165,9 +165,10 @@ mod tests {
         let mut scenario = Scenario::builtin("goto_internal").unwrap();
         scenario.sensors.pressure_noise_pa = 0.0;
         let robot = Robot::<6>::load(&scenario.robot).unwrap();
-        let q0 = JointVector::from_column_slice(&crate::config::settings::initial_position(&scenario, 6));
+        let settings = crate::config::settings::JointSettings::<6>::of(&scenario).unwrap();
         let tau0 = JointVector::from([1.0, -2.0, 3.0, 0.5, -0.5, 0.2]);
-        let (plant, _) = crate::run::rollout::scenario_plant(&robot.model, &scenario, q0, tau0).unwrap();
+        let (plant, _) =
+            crate::run::rollout::scenario_plant(&robot.model, &settings, settings.initial_position, tau0).unwrap();
         let Actuators::Hydraulic(h) = plant.actuators() else { panic!("HyA's scenario has hydraulic actuators") };
         let (oa, ob) = h.pressure_offsets();
         assert!(oa.amax() > 0.0, "the loops' transducers have offsets");

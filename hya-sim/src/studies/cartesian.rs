@@ -124,7 +124,7 @@ pub fn run<const N: usize>(
             message: "its task is set in joint space: `hya run` reports it as the paper's experiments".into(),
         });
     };
-    let model = LoopModel::of(scenario, robot)?;
+    let model = LoopModel::of(&settings.loop_model, robot)?;
     let q0 = settings.initial_position;
     let law = CartesianLaw::new((setup, &settings.task), model.dynamics(), &robot.model, (&q0, settings.torque_limit))?
         .ok_or(SimError::Nothing(
@@ -134,7 +134,7 @@ pub fn run<const N: usize>(
     let setups = scenario
         .methods
         .iter()
-        .map(|&method| RunSetup::task_space(scenario, method, robot))
+        .map(|&method| RunSetup::task_space(JointSettings::for_run(scenario, method, &robot.model)?, method, robot))
         .collect::<Result<Vec<_>, _>>()?;
     let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
     let seed = |k: usize| scenario.seed.wrapping_add(k as u64);

@@ -51,14 +51,11 @@ fn step_response<const N: usize>(
     robot: &crate::robot::Robot<N>,
     step_nm: f64,
 ) -> Result<StepResponse, SimError> {
-    let q0 = crate::config::lists::per_joint::<N>(
-        "initial_position_rad",
-        &crate::config::settings::initial_position(scenario, N),
-    )?;
     // Friction off: the steps are below every joint's static friction, and a sticking joint
     // would show the locked loop; free, each joint's load shapes its response. Pressure noise
     // and offsets off too: a 0.05 N·m step is the size of one reading's noise.
-    let free = crate::torque_response::clean(scenario);
+    let free = crate::config::settings::JointSettings::<N>::of(&crate::torque_response::clean(scenario))?;
+    let q0 = free.initial_position;
     let hold: JointVector<N> = robot.nominal.gravity(&q0);
     let (mut all_points, mut rise_ms) = (Vec::new(), Vec::new());
     for j in 0..N {

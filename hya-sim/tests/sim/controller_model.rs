@@ -1,7 +1,7 @@
 //! The controller's model from a scenario: an identified URDF and joint friction
 //! (`controller.model_urdf`, `controller.friction_toml`).
 
-use hya_sim::run::closed_loop;
+use hya_sim::analysis::simulate::simulate_recording;
 use hya_sim::run::trace::Recording;
 use hya_sim::{Method, Robot, Scenario};
 
@@ -20,10 +20,10 @@ fn scenario() -> Scenario {
 #[test]
 fn the_robots_own_urdf_as_controller_model_changes_nothing() {
     let robot = Robot::<2>::load(&planar_urdf()).unwrap();
-    let plain = closed_loop(&scenario(), Method::Lu, &robot, Recording::Bounded).unwrap().trace;
+    let plain = simulate_recording(&scenario(), Method::Lu, &robot, Recording::Bounded).unwrap().trace;
     let mut named = scenario();
     named.controller.model_urdf = Some(planar_urdf());
-    let same = closed_loop(&named, Method::Lu, &robot, Recording::Bounded).unwrap().trace;
+    let same = simulate_recording(&named, Method::Lu, &robot, Recording::Bounded).unwrap().trace;
     assert_eq!(plain.tau_cmd, same.tau_cmd);
     assert_eq!(plain.d_hat, same.d_hat);
 }
@@ -37,10 +37,10 @@ fn controller_friction_enters_the_command_as_a_feed_forward() {
     )
     .unwrap();
     let robot = Robot::<2>::load(&planar_urdf()).unwrap();
-    let plain = closed_loop(&scenario(), Method::None, &robot, Recording::Bounded).unwrap().trace;
+    let plain = simulate_recording(&scenario(), Method::None, &robot, Recording::Bounded).unwrap().trace;
     let mut with_friction = scenario();
     with_friction.controller.friction_toml = Some(path.to_str().unwrap().to_owned());
-    let fed = closed_loop(&with_friction, Method::None, &robot, Recording::Bounded).unwrap().trace;
+    let fed = simulate_recording(&with_friction, Method::None, &robot, Recording::Bounded).unwrap().trace;
     // The first tick sees the same state: the commands differ by the friction, an offset here.
     let difference = fed.tau_cmd[0] - plain.tau_cmd[0];
     assert!((difference[0] - 0.5).abs() < 1e-12 && (difference[1] + 1.25).abs() < 1e-12, "{difference}");
@@ -52,11 +52,11 @@ fn a_controller_model_of_other_joints_or_a_bad_friction_file_is_refused_by_name(
     let robot = Robot::<2>::load(&planar_urdf()).unwrap();
     let mut other = scenario();
     other.controller.model_urdf = Some(format!("{}/../robots/urdf/ur5.urdf", env!("CARGO_MANIFEST_DIR")));
-    let error = closed_loop(&other, Method::Lu, &robot, Recording::Bounded).unwrap_err().to_string();
+    let error = simulate_recording(&other, Method::Lu, &robot, Recording::Bounded).unwrap_err().to_string();
     assert!(error.contains("controller.model_urdf") && error.contains("not the robot's"), "{error}");
     let mut missing = scenario();
     missing.controller.friction_toml = Some("/nonexistent/friction.toml".into());
-    let error = closed_loop(&missing, Method::Lu, &robot, Recording::Bounded).unwrap_err().to_string();
+    let error = simulate_recording(&missing, Method::Lu, &robot, Recording::Bounded).unwrap_err().to_string();
     assert!(error.contains("controller.friction_toml") && error.contains("/nonexistent/friction.toml"), "{error}");
 }
 

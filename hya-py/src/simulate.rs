@@ -4,8 +4,8 @@
 use std::collections::BTreeMap;
 
 use hya_core::JointVector;
-use hya_sim::run::trace::Recording;
 use hya_sim::analysis::simulate::run_setup;
+use hya_sim::run::trace::Recording;
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

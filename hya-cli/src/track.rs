@@ -14,7 +14,7 @@ use hya_sim::io::output::OutputDir;
 use hya_sim::run::trace::Recording;
 use hya_sim::run::{closed_loop_on, true_model};
 use hya_sim::scenario::Task;
-use hya_sim::settings::JointSettings;
+use hya_sim::settings::Setup;
 use hya_sim::task::{Samples, Trajectory};
 use hya_sim::{ForRobot, Method, Robot, Scenario, SimError};
 
@@ -127,7 +127,7 @@ impl<R: BufRead, W: Write> Track<'_, R, W> {
         let mut writer = RowWriter::new(&mut *self.output, columns, self.args.header.header());
         let mut failed = None;
         let trajectory = Trajectory::sampled(samples);
-        let settings = JointSettings::<N>::for_run(scenario, self.method, &robot.model)?;
+        let settings = Setup::<N>::for_run(scenario, self.method, &robot.model)?;
         closed_loop_on(&settings, self.method, robot, (&trajectory, Recording::Off), |t, measurement| {
             if failed.is_none() {
                 let values = std::iter::once(t).chain(measurement.position.iter().copied());

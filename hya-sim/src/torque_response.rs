@@ -27,7 +27,7 @@ use serde::Serialize;
 use crate::analysis::seeds::parallel_map;
 use crate::config::cost::Cost;
 use crate::config::scenario::{ActuatorKind, FrictionKind, Scenario};
-use crate::config::settings::JointSettings;
+use crate::config::settings::Setup;
 use crate::error::SimError;
 use crate::linear::{jw, ActuatorModel, PhasorSum};
 use crate::plant::{Actuators, HydraulicActuators};
@@ -246,7 +246,7 @@ fn locked<const N: usize>(
 /// plus `a sin(2π f t)`: `A` and `q̇ / τ_cmd` of joint `j`.
 fn held<const N: usize>(
     robot: &crate::robot::Robot<N>,
-    joints: &JointSettings<N>,
+    joints: &Setup<N>,
     (kp, kd): (&[f64; N], &[f64; N]),
     q0: hya_core::JointVector<N>,
     (j, frequency_hz, amplitude): (usize, f64, f64),
@@ -308,7 +308,7 @@ pub fn measure<const N: usize>(
         return Ok(None);
     }
     let scenario = clean(scenario);
-    let joints = JointSettings::<N>::of(&scenario)?;
+    let joints = Setup::<N>::of(&scenario)?;
     let q0 = joints.initial_position;
     let gains = crate::run::gains(robot.nominal.as_ref(), &joints)?;
     let kp: [f64; N] = core::array::from_fn(|i| gains.kp()[(i, i)]);
@@ -444,7 +444,7 @@ mod tests {
     fn a_locked_actuator_with_integral_action_passes_slow_commands_whole() {
         let robot = crate::robot::Robot::<6>::load("hya").unwrap_or_else(|e| panic!("{e}"));
         let scenario = clean(&Scenario::builtin("goto_internal").unwrap_or_else(|e| panic!("{e}")));
-        let joints = JointSettings::<6>::of(&scenario).unwrap_or_else(|e| panic!("{e}"));
+        let joints = Setup::<6>::of(&scenario).unwrap_or_else(|e| panic!("{e}"));
         let (q0, tau0) = (joints.initial_position, robot.nominal.gravity(&joints.initial_position));
         let (plant, _) = scenario_plant(&robot.model, &joints, q0, tau0).unwrap_or_else(|e| panic!("{e}"));
         let Actuators::Hydraulic(actuators) = plant.actuators().clone() else {

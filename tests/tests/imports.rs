@@ -234,7 +234,7 @@ fn hya_sims_files_import_only_from_their_own_layer_or_the_ones_listed_before() {
 #[test]
 fn below_the_settings_no_hya_sim_file_names_a_scenario() {
     // The plant, the sensors, the loop and its metrics take the typed settings that
-    // `config::settings` makes of a scenario once (`JointSettings`), never the scenario itself.
+    // `config::settings` makes of a scenario once (`Setup`), never the scenario itself.
     let src = root().join("hya-sim/src");
     let mut files = Vec::new();
     for folder in ["run", "plant"] {

@@ -8,7 +8,7 @@ use hya_core::JointVector;
 
 use crate::analysis::running::{Correlation, Extremes, Mean, Recovery, Rms, Spread, StepNoise, Window};
 use crate::analysis::shadow::{ShadowMetrics, ShadowRecorder};
-use crate::config::settings::{JointSettings, TaskTimes, Timing};
+use crate::config::settings::{Setup, TaskTimes, Timing};
 use crate::run::trace::{Tick, SHADOWS};
 
 pub use crate::config::scenario::WARM_UP_S;
@@ -273,7 +273,7 @@ pub struct MetricsRecorder<const N: usize> {
 impl<const N: usize> MetricsRecorder<N> {
     /// The recorder of a run set up by `setup` (its task, loads and clock set the windows) whose
     /// last tick is at `last_time` (s); `has_estimate` for methods with a disturbance estimate.
-    pub fn new(setup: &JointSettings<N>, has_estimate: bool, last_time: f64) -> Self {
+    pub fn new(setup: &Setup<N>, has_estimate: bool, last_time: f64) -> Self {
         let end = last_time + 1e-9;
         let window = SETTLED_WINDOW_S.min(0.2 * (end - WARM_UP_S).max(0.0));
         let task = setup.task.times();
@@ -458,8 +458,8 @@ mod tests {
     use crate::config::scenario::{FrictionKind, Scenario};
 
     /// The settings of `scenario` on six joints.
-    fn setup(scenario: &Scenario) -> JointSettings<6> {
-        JointSettings::of(scenario).unwrap_or_else(|e| panic!("{e}"))
+    fn setup(scenario: &Scenario) -> Setup<6> {
+        Setup::of(scenario).unwrap_or_else(|e| panic!("{e}"))
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use crate::analysis::metrics::Metrics;
 use crate::config::scenario::{Method, Scenario};
-use crate::config::settings::JointSettings;
+use crate::config::settings::Setup;
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::trace::{Recording, Trace};
@@ -43,19 +43,18 @@ pub fn simulate_recording<const N: usize>(
     robot: &Robot<N>,
     recording: Recording,
 ) -> Result<RunOutcome<N>, SimError> {
-    let run =
-        crate::run::closed_loop(JointSettings::for_run(scenario, method, &robot.model)?, method, robot, recording)?;
+    let run = crate::run::closed_loop(Setup::for_run(scenario, method, &robot.model)?, method, robot, recording)?;
     Ok(RunOutcome::of(&scenario.name, method, scenario.seed, run))
 }
 
 /// The loop of `scenario` under `method` on `robot`, set up once for its seeds: its settings
-/// checked for the run ([`JointSettings::for_run`]), then [`RunSetup::new`].
+/// checked for the run ([`Setup::for_run`]), then [`RunSetup::new`].
 pub fn run_setup<'a, const N: usize>(
     scenario: &Scenario,
     method: Method,
     robot: &'a Robot<N>,
 ) -> Result<RunSetup<'a, N>, SimError> {
-    RunSetup::new(JointSettings::for_run(scenario, method, &robot.model)?, method, robot)
+    RunSetup::new(Setup::for_run(scenario, method, &robot.model)?, method, robot)
 }
 
 impl<const N: usize> RunOutcome<N> {

@@ -839,7 +839,7 @@ fn three(key: &str, values: &[f64], bound: f64) -> Result<(), SettingError> {
 
 impl CartesianConfig {
     /// Checks the six task-space gains (finite, `≥ 0`, below 10⁶); the posture lists are
-    /// checked per joint with the arm ([`crate::config::settings::JointSettings`]).
+    /// checked per joint with the arm ([`crate::config::settings::Setup`]).
     fn validate(&self) -> Result<(), SettingError> {
         for (key, values) in
             [("controller.cartesian.stiffness", &self.stiffness), ("controller.cartesian.damping", &self.damping)]

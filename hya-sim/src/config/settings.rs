@@ -1,5 +1,5 @@
 //! A scenario's settings as a closed loop reads them, checked once for an arm of `N` joints
-//! ([`JointSettings`]): every list becomes a [`JointVector<N>`] of the right length, finite and in
+//! ([`Setup`]): every list becomes a [`JointVector<N>`] of the right length, finite and in
 //! range, or the scenario is refused with the key named; the controller's scalars, the clock and
 //! the sensors come along. The plant, the controller's gain rule, the PID, the task, the loop and
 //! its metrics receive these typed settings; none of them reads the scenario again (the loop
@@ -234,7 +234,7 @@ impl ModelFiles {
 /// the scenario's own check left them. What runs below [`crate::config`] (the plant, the
 /// sensors, the loop, its metrics) reads these, never the scenario.
 #[derive(Debug, Clone, PartialEq)]
-pub struct JointSettings<const N: usize> {
+pub struct Setup<const N: usize> {
     /// The scenario's name, for errors.
     pub name: String,
     /// Its seed: the one a single run draws its plant, friction profiles and noise from.
@@ -307,7 +307,7 @@ impl<const N: usize> CartesianSetup<N> {
     }
 }
 
-impl<const N: usize> JointSettings<N> {
+impl<const N: usize> Setup<N> {
     /// Checks and converts every per-joint list of `scenario` that acts (the PID's integral
     /// clamp where its methods name pid).
     pub fn of(scenario: &Scenario) -> Result<Self, SimError> {
@@ -342,7 +342,7 @@ impl<const N: usize> JointSettings<N> {
     }
 }
 
-impl<const N: usize> JointSettings<N> {
+impl<const N: usize> Setup<N> {
     /// The PID's integral clamp, N·m: read where the scenario runs `pid` or the settings are
     /// [`Self::for_run`]'s of a pid run (else an error naming the list; a run of pid has it).
     pub fn pid_integral_limit(&self) -> Result<JointVector<N>, SimError> {
@@ -380,7 +380,7 @@ impl Scenario {
     /// Checks what [`Scenario::check`] cannot without the robot: that it loads, that every
     /// per-joint list that acts fits its joints, naming all lists that do not in one error
     /// ([`SimError::ListLengths`]) rather than one per run, and then everything
-    /// [`JointSettings::for_arm`] checks (each list's values, the task, the plant's settings, the
+    /// [`Setup::for_arm`] checks (each list's values, the task, the plant's settings, the
     /// weight drop's frame). For a command to call before it prints its cost and starts
     /// simulating.
     pub fn check_for_robot(&self) -> Result<(), SimError> {
@@ -393,7 +393,7 @@ impl Scenario {
                 let mut scenario = self.0.clone();
                 let mut misfits = Vec::new();
                 let first_error = loop {
-                    match JointSettings::<N>::for_arm(&scenario, &robot.model) {
+                    match Setup::<N>::for_arm(&scenario, &robot.model) {
                         Ok(_) => break None,
                         Err(SimError::ListLength { key, got, .. }) if misfits.len() < 64 => {
                             scenario = scenario.with_list_filled(&key, N)?;
@@ -439,40 +439,40 @@ mod tests {
     #[test]
     fn lists_are_checked_once_with_their_key_named() {
         let mut scenario = Scenario::builtin("goto_internal").unwrap();
-        assert!(JointSettings::<6>::of(&scenario).is_ok());
-        let error = JointSettings::<7>::of(&scenario).unwrap_err().to_string();
+        assert!(Setup::<6>::of(&scenario).is_ok());
+        let error = Setup::<7>::of(&scenario).unwrap_err().to_string();
         assert!(error.contains("expected 7 values"), "{error}");
         scenario.plant.bristle_damping_nm_s_rad[2] = -1.0;
-        let error = JointSettings::<6>::of(&scenario).unwrap_err().to_string();
+        let error = Setup::<6>::of(&scenario).unwrap_err().to_string();
         assert!(error.contains("`plant.bristle_damping_nm_s_rad[2]` = -1"), "{error}");
         // Lists that do not act are not read: lag actuators ignore the hydraulic figures.
         scenario.plant.bristle_damping_nm_s_rad[2] = 1.0;
         scenario.plant.actuator = crate::config::scenario::ActuatorKind::Lag;
         scenario.plant.hydraulic.area_ratio = vec![];
-        let plant = JointSettings::<6>::of(&scenario).unwrap().plant;
+        let plant = Setup::<6>::of(&scenario).unwrap().plant;
         assert!(matches!(plant.actuators, crate::config::plant::ActuatorSetup::Lag(_)));
         // The integral clamp is read only for a scenario that runs the PID.
         scenario.controller.integral_limit_nm = vec![];
-        assert!(JointSettings::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
+        assert!(Setup::<6>::of(&scenario).unwrap_err().to_string().contains("controller.integral_limit_nm"));
         scenario.methods.retain(|m| *m != Method::Pid);
-        let joints = JointSettings::<6>::of(&scenario).unwrap();
+        let joints = Setup::<6>::of(&scenario).unwrap();
         assert!(joints.pid_integral_limit().unwrap_err().to_string().contains("controller.integral_limit_nm"));
         // A run of pid reads it whatever the scenario's methods, and refuses it there.
         let model = crate::robot::robot_model(&scenario.robot).unwrap();
-        let error = JointSettings::<6>::for_run(&scenario, Method::Pid, &model).unwrap_err().to_string();
+        let error = Setup::<6>::for_run(&scenario, Method::Pid, &model).unwrap_err().to_string();
         assert!(error.contains("controller.integral_limit_nm"), "{error}");
-        assert!(JointSettings::<6>::for_run(&scenario, Method::Lu, &model).is_ok());
+        assert!(Setup::<6>::for_run(&scenario, Method::Lu, &model).is_ok());
     }
 
     #[test]
     fn the_task_and_the_weights_frame_are_checked_before_a_run() {
         let mut scenario = Scenario::builtin("goto_weight").unwrap();
         let model = crate::robot::robot_model(&scenario.robot).unwrap();
-        assert!(JointSettings::<6>::for_arm(&scenario, &model).is_ok());
+        assert!(Setup::<6>::for_arm(&scenario, &model).is_ok());
         scenario.loads.weight_drop.as_mut().unwrap().frame = "no_such_link".into();
         // `of` reads no model; `for_arm` and the check before a run name the frame.
-        assert!(JointSettings::<6>::of(&scenario).is_ok());
-        let error = JointSettings::<6>::for_arm(&scenario, &model).unwrap_err().to_string();
+        assert!(Setup::<6>::of(&scenario).is_ok());
+        let error = Setup::<6>::for_arm(&scenario, &model).unwrap_err().to_string();
         assert!(error.contains("`loads.weight_drop.frame`") && error.contains("no_such_link"), "{error}");
         let error = scenario.check_for_robot().unwrap_err().to_string();
         assert!(error.contains("`loads.weight_drop.frame`"), "{error}");

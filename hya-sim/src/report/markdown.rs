@@ -364,7 +364,7 @@ fn lagged_cancellation<const N: usize>(
     torque: Option<&crate::torque_response::TorqueResponses>,
 ) -> Result<String, SimError> {
     let Some(first) = scenarios.first() else { return Ok(String::new()) };
-    let joints = crate::config::settings::JointSettings::<N>::of(first)?;
+    let joints = crate::config::settings::Setup::<N>::of(first)?;
     let model = crate::run::model::LoopModel::of(&joints.loop_model, robot)?;
     let q0 = joints.initial_position;
     let inertia = model.dynamics().mass_matrix(&q0).diagonal();

@@ -140,5 +140,5 @@ fn loop_design<const N: usize>(
     scenario: &Scenario,
     robot: &crate::robot::Robot<N>,
 ) -> Result<crate::run::model::LoopDesign<N>, SimError> {
-    crate::run::model::LoopDesign::of(&crate::config::settings::JointSettings::of(scenario)?, robot)
+    crate::run::model::LoopDesign::of(&crate::config::settings::Setup::of(scenario)?, robot)
 }

@@ -313,7 +313,7 @@ pub fn section<const N: usize>(
     if let Some([small, large]) = open_loop.map(|o| o.steps.as_slice()) {
         let (svg, rise_times, large_rise_times) = (step_figure(small), &small.rise_ms, &large.rise_ms);
         let name = "plant_step.svg".to_owned();
-        let joints = crate::config::settings::JointSettings::<N>::of(first)?;
+        let joints = crate::config::settings::Setup::<N>::of(first)?;
         let q0 = joints.initial_position;
         let (plant, _) = scenario_plant(model, &joints, q0, nominal.gravity(&q0))?;
         let natural = match plant.actuators() {

@@ -14,7 +14,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::config::scenario::{ChenGain, IntegralRule, Method};
-use crate::config::settings::{JointSettings, TaskSetup};
+use crate::config::settings::{Setup, TaskSetup};
 use crate::error::SimError;
 use crate::plant::lockstep::{Failure, Lockstep};
 use crate::plant::{perturbed, PlantState};
@@ -80,7 +80,7 @@ pub fn observer_designed<'a, const N: usize, D: Dynamics<N> + Send + 'a>(
 /// ```text
 /// K_P = clamp(F_s / e_f, M_ii ω_n², M_ii ω_max²),   K_D = 2 ζ √(K_P M_ii)
 /// ```
-pub fn gains<const N: usize>(nominal: &dyn Dynamics<N>, joints: &JointSettings<N>) -> Result<Gains<N>, SimError> {
+pub fn gains<const N: usize>(nominal: &dyn Dynamics<N>, joints: &Setup<N>) -> Result<Gains<N>, SimError> {
     let c = &joints.control;
     let (omega, friction) = (&joints.natural_frequency, &joints.static_friction);
     let inertia = nominal.mass_matrix(&joints.initial_position).diagonal();
@@ -100,7 +100,7 @@ pub fn gains<const N: usize>(nominal: &dyn Dynamics<N>, joints: &JointSettings<N
 pub fn pid_gains<const N: usize>(
     gains: &Gains<N>,
     inertia: &JointVector<N>,
-    joints: &JointSettings<N>,
+    joints: &Setup<N>,
 ) -> (JointVector<N>, JointVector<N>, [bool; N]) {
     let c = &joints.control;
     let (kp, kd) = (gains.kp().diagonal(), gains.kd().diagonal());
@@ -134,7 +134,7 @@ struct IntegralAction<const N: usize> {
 }
 
 impl<const N: usize> IntegralAction<N> {
-    fn new(gain: JointVector<N>, joints: &JointSettings<N>) -> Result<Self, SimError> {
+    fn new(gain: JointVector<N>, joints: &Setup<N>) -> Result<Self, SimError> {
         Ok(Self { gain, limit: joints.pid_integral_limit()?, torque: JointVector::zeros(), dt: joints.timing.dt_s })
     }
 
@@ -164,17 +164,17 @@ pub struct ClosedLoop<const N: usize> {
 /// the seed, which draws the plant's perturbation, friction profiles and noise.
 pub struct RunSetup<'a, const N: usize> {
     method: Method,
-    settings: JointSettings<N>,
+    settings: Setup<N>,
     model: model::LoopModel<'a, N>,
     trajectory: Trajectory<N>,
     robot: &'a Robot<N>,
 }
 
 impl<'a, const N: usize> RunSetup<'a, N> {
-    /// The loop of `settings` (a scenario's, [`JointSettings::for_run`] of `method`) under
+    /// The loop of `settings` (a scenario's, [`Setup::for_run`] of `method`) under
     /// `method` on `robot`: the controller and observers on its nominal dynamics or the model the
     /// settings name ([`model::LoopModel`]).
-    pub fn new(settings: JointSettings<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
+    pub fn new(settings: Setup<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
         if let TaskSetup::Cartesian { .. } = settings.task {
             return Err(SimError::Scenario {
                 origin: settings.name.clone(),
@@ -188,7 +188,7 @@ impl<'a, const N: usize> RunSetup<'a, N> {
 
     /// [`Self::new`] for a task of either kind: the Cartesian study's runs, which it measures at
     /// the frame ([`crate::studies::cartesian`]).
-    pub fn task_space(settings: JointSettings<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
+    pub fn task_space(settings: Setup<N>, method: Method, robot: &'a Robot<N>) -> Result<Self, SimError> {
         let trajectory = Trajectory::new(settings.task, settings.initial_position);
         trajectory.within_limits(&robot.model)?;
         let model = model::LoopModel::of(&settings.loop_model, robot)?;
@@ -271,7 +271,7 @@ impl<'a, const N: usize> RunSetup<'a, N> {
 /// Runs the loop of `settings` with `method` on `robot` ([`RunSetup`]) from the settings' seed;
 /// its trace kept as `recording` says.
 pub fn closed_loop<const N: usize>(
-    settings: JointSettings<N>,
+    settings: Setup<N>,
     method: Method,
     robot: &Robot<N>,
     recording: Recording,
@@ -291,7 +291,7 @@ pub fn true_model(model: &TreeModel, spread: f64, seed: u64) -> (TreeModel, ChaC
 /// [`closed_loop`] following `trajectory` instead of the settings' task, handing every
 /// measurement the controller reads, with its time, to `log`: the log a real arm would record.
 pub fn closed_loop_on<const N: usize>(
-    settings: &JointSettings<N>,
+    settings: &Setup<N>,
     method: Method,
     robot: &Robot<N>,
     (trajectory, recording): (&Trajectory<N>, Recording),
@@ -305,7 +305,7 @@ pub fn closed_loop_on<const N: usize>(
 /// The closed loop under `joints` (a scenario's checked settings) on the loop model `model`,
 /// its plant drawn from `seed`.
 fn run_loop<const N: usize>(
-    (joints, model, seed): (&JointSettings<N>, &model::LoopModel<'_, N>, u64),
+    (joints, model, seed): (&Setup<N>, &model::LoopModel<'_, N>, u64),
     method: Method,
     robot: &Robot<N>,
     (trajectory, recording): (&Trajectory<N>, Recording),

@@ -11,7 +11,7 @@
 
 use hya_core::{Dynamics, Gains, JointVector};
 
-use crate::config::settings::{JointSettings, ModelFiles};
+use crate::config::settings::{ModelFiles, Setup};
 use crate::error::SimError;
 use crate::robot::Robot;
 use hya_ident::{JointFriction, WithFriction};
@@ -72,13 +72,13 @@ impl<'a, const N: usize> LoopModel<'a, N> {
     /// The loop's design at the scenario's start pose, as the closed loop makes it: the PD
     /// ([`gains`](super::gains)), the model's `M_ii(q0)`, and the PID's `K_D` and `K_I` with the joints
     /// whose gain is capped ([`pid_gains`](super::pid_gains)).
-    pub fn design(&self, joints: &JointSettings<N>) -> Result<LoopDesign<N>, SimError> {
+    pub fn design(&self, joints: &Setup<N>) -> Result<LoopDesign<N>, SimError> {
         self.design_at(joints, &joints.initial_position)
     }
 
     /// [`design`](Self::design) with the PID's `M_ii` taken at `q0`, where the loop's reference
     /// starts (the closed loop's; the PD's gains are the scenario's start pose's either way).
-    pub fn design_at(&self, joints: &JointSettings<N>, q0: &JointVector<N>) -> Result<LoopDesign<N>, SimError> {
+    pub fn design_at(&self, joints: &Setup<N>, q0: &JointVector<N>) -> Result<LoopDesign<N>, SimError> {
         let pd = super::gains(self.dynamics(), joints)?;
         let inertia = self.dynamics().mass_matrix(q0).diagonal();
         let (pid_kd, integral, capped) = super::pid_gains(&pd, &inertia, joints);
@@ -105,7 +105,7 @@ pub struct LoopDesign<const N: usize> {
 impl<const N: usize> LoopDesign<N> {
     /// The design of the loop of `joints` on `robot` at its start pose, as its closed loop makes
     /// it: its model loaded ([`LoopModel::design`]).
-    pub fn of(joints: &JointSettings<N>, robot: &Robot<N>) -> Result<Self, SimError> {
+    pub fn of(joints: &Setup<N>, robot: &Robot<N>) -> Result<Self, SimError> {
         LoopModel::of(&joints.loop_model, robot)?.design(joints)
     }
 }

@@ -7,7 +7,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::config::plant::PlantSetup;
-use crate::config::settings::JointSettings;
+use crate::config::settings::Setup;
 use crate::error::SimError;
 use crate::plant::{generic_dynamics, Plant, PlantState};
 
@@ -24,7 +24,7 @@ pub struct TorqueCommand<const N: usize> {
 /// for `model`, at rest at `q0` with its actuators holding `tau0`, and its physics step, s.
 pub fn scenario_plant<const N: usize>(
     model: &TreeModel,
-    settings: &JointSettings<N>,
+    settings: &Setup<N>,
     q0: JointVector<N>,
     tau0: JointVector<N>,
 ) -> Result<(Plant<N>, f64), SimError> {

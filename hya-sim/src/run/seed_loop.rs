@@ -10,7 +10,7 @@ use super::task::Trajectory;
 use super::trace::{Recording, Tick, Trace, SHADOWS};
 use super::{cartesian, model, observer_designed, true_model, ClosedLoop, IntegralAction};
 use crate::config::scenario::Method;
-use crate::config::settings::JointSettings;
+use crate::config::settings::Setup;
 use crate::error::SimError;
 use crate::plant::{Plant, PlantState};
 use crate::robot::Robot;
@@ -19,7 +19,7 @@ use crate::robot::Robot;
 /// observer, the shadows, the trace and the metrics, stepped a control period at a time by
 /// [`super::run_loop`] (one seed) or [`super::RunSetup::run_together`] (seeds together).
 pub(super) struct SeedLoop<'a, const N: usize> {
-    joints: &'a JointSettings<N>,
+    joints: &'a Setup<N>,
     method: Method,
     nominal: &'a (dyn Dynamics<N> + Send + Sync + 'a),
     trajectory: &'a Trajectory<N>,
@@ -46,7 +46,7 @@ pub(super) struct SeedLoop<'a, const N: usize> {
 impl<'a, const N: usize> SeedLoop<'a, N> {
     /// The loop of `seed` and its plant, at rest at the trajectory's start holding gravity.
     pub(super) fn new(
-        (joints, model, seed): (&'a JointSettings<N>, &'a model::LoopModel<'_, N>, u64),
+        (joints, model, seed): (&'a Setup<N>, &'a model::LoopModel<'_, N>, u64),
         method: Method,
         robot: &'a Robot<N>,
         (trajectory, recording): (&'a Trajectory<N>, Recording),

@@ -165,7 +165,7 @@ mod tests {
         let mut scenario = Scenario::builtin("goto_internal").unwrap();
         scenario.sensors.pressure_noise_pa = 0.0;
         let robot = Robot::<6>::load(&scenario.robot).unwrap();
-        let settings = crate::config::settings::JointSettings::<6>::of(&scenario).unwrap();
+        let settings = crate::config::settings::Setup::<6>::of(&scenario).unwrap();
         let tau0 = JointVector::from([1.0, -2.0, 3.0, 0.5, -0.5, 0.2]);
         let (plant, _) =
             crate::run::rollout::scenario_plant(&robot.model, &settings, settings.initial_position, tau0).unwrap();

@@ -15,7 +15,7 @@
 use crate::analysis::metrics::{SETTLED_WINDOW_S, WARM_UP_S};
 use crate::analysis::seeds::{lockstep_groups, parallel_map};
 use crate::config::scenario::{Method, Scenario};
-use crate::config::settings::{JointSettings, TaskSetup, TaskTimes};
+use crate::config::settings::{Setup, TaskSetup, TaskTimes};
 use crate::error::SimError;
 use crate::robot::Robot;
 use crate::run::cartesian::CartesianLaw;
@@ -117,7 +117,7 @@ pub fn run<const N: usize>(
     seeds: usize,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<CartesianStudy, SimError> {
-    let settings = JointSettings::<N>::for_arm(scenario, &robot.model)?;
+    let settings = Setup::<N>::for_arm(scenario, &robot.model)?;
     let Some(setup) = &settings.cartesian else {
         return Err(SimError::Scenario {
             origin: scenario.name.clone(),
@@ -134,7 +134,7 @@ pub fn run<const N: usize>(
     let setups = scenario
         .methods
         .iter()
-        .map(|&method| RunSetup::task_space(JointSettings::for_run(scenario, method, &robot.model)?, method, robot))
+        .map(|&method| RunSetup::task_space(Setup::for_run(scenario, method, &robot.model)?, method, robot))
         .collect::<Result<Vec<_>, _>>()?;
     let jobs: Vec<(usize, usize)> = (0..setups.len()).flat_map(|m| (0..seeds).map(move |k| (m, k))).collect();
     let seed = |k: usize| scenario.seed.wrapping_add(k as u64);
@@ -187,7 +187,7 @@ pub fn run<const N: usize>(
 fn floors<const N: usize>(
     mut law: CartesianLaw<'_, N>,
     dynamics: &dyn hya_core::Dynamics<N>,
-    settings: &JointSettings<N>,
+    settings: &Setup<N>,
 ) -> Floors {
     let q0 = settings.initial_position;
     let jacobian = law.frame_state(&q0).jacobian;

@@ -126,7 +126,7 @@ pub fn run<const N: usize>(
     let bases = super::hya_scenarios(scenarios, &SCENARIOS);
     let Some(first) = bases.first() else { return Ok(None) };
     let omega = first.controller.observer_bandwidth_rad_s;
-    let q0 = crate::config::settings::JointSettings::<N>::of(first)?.initial_position;
+    let q0 = crate::config::settings::Setup::<N>::of(first)?.initial_position;
     // Chen's observer at rest at the start pose, for its rates there (its design's).
     let at_rest = hya_core::Measurement {
         position: q0,

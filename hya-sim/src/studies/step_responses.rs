@@ -54,7 +54,7 @@ fn step_response<const N: usize>(
     // Friction off: the steps are below every joint's static friction, and a sticking joint
     // would show the locked loop; free, each joint's load shapes its response. Pressure noise
     // and offsets off too: a 0.05 N·m step is the size of one reading's noise.
-    let free = crate::config::settings::JointSettings::<N>::of(&crate::torque_response::clean(scenario))?;
+    let free = crate::config::settings::Setup::<N>::of(&crate::torque_response::clean(scenario))?;
     let q0 = free.initial_position;
     let hold: JointVector<N> = robot.nominal.gravity(&q0);
     let (mut all_points, mut rise_ms) = (Vec::new(), Vec::new());

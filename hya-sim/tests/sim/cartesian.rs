@@ -4,7 +4,7 @@
 
 use hya_core::JointVector;
 use hya_sim::config::scenario::{ActuatorKind, FrictionKind, Method, Noise, Scenario, Task};
-use hya_sim::config::settings::JointSettings;
+use hya_sim::config::settings::Setup;
 use hya_sim::run::cartesian::CartesianLaw;
 use hya_sim::{Experiment, Robot};
 
@@ -81,7 +81,7 @@ fn set_offset(s: &mut Scenario, value: Vec<f64>) {
 fn the_reference_twist_is_the_pose_rate_and_the_move_ends_at_the_offset() {
     let s = scenario();
     let robot = Robot::<7>::load(&s.robot).unwrap();
-    let settings = JointSettings::<7>::for_arm(&s, &robot.model).unwrap();
+    let settings = Setup::<7>::for_arm(&s, &robot.model).unwrap();
     let setup = settings.cartesian.as_ref().unwrap();
     let q0 = settings.initial_position;
     let mut law =

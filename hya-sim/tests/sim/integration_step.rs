@@ -16,7 +16,7 @@ fn tick_error(scenario: &Scenario, commands: &[JointVector<6>], substeps: usize)
     let robot = hya_robots::find("hya").unwrap();
     let model = hya_urdf::load_str(robot.urdf, "hya").unwrap().model;
     let q0 = JointVector::from_column_slice(&hya_robots::hya::HOME);
-    let settings = hya_sim::settings::JointSettings::<6>::of(scenario).unwrap();
+    let settings = hya_sim::settings::Setup::<6>::of(scenario).unwrap();
     let (mut fine, _) = scenario_plant(&model, &settings, q0, commands[0]).unwrap();
     let (mut coarse, _) = scenario_plant(&model, &settings, q0, commands[0]).unwrap();
     let dt = scenario.controller.dt_s;

@@ -17,7 +17,7 @@ use hya_sim::plant::{perturbed, Plant};
 use hya_sim::run::trace::Recording;
 use hya_sim::run::RunSetup;
 use hya_sim::scenario::{ActuatorKind, FrictionKind};
-use hya_sim::settings::JointSettings;
+use hya_sim::settings::Setup;
 use hya_sim::{with_robot, ForRobot, Method, Robot, Scenario, SimError};
 use rand::SeedableRng;
 
@@ -178,7 +178,7 @@ impl ForRobot for TogetherAndAlone<'_> {
     fn call<const N: usize>(self, robot: Robot<N>) -> Result<(), SimError> {
         let TogetherAndAlone(scenario, method, count) = self;
         assert!(robot.bodies.is_some(), "a shipped arm's plant runs in lockstep");
-        let setup = RunSetup::task_space(JointSettings::for_run(scenario, method, &robot.model)?, method, &robot)?;
+        let setup = RunSetup::task_space(Setup::for_run(scenario, method, &robot.model)?, method, &robot)?;
         let seeds: Vec<(u64, Recording)> = (0..count).map(|k| (scenario.seed + k, Recording::Bounded)).collect();
         let together = setup.run_together(&seeds);
         for (&(seed, recording), together) in seeds.iter().zip(together) {

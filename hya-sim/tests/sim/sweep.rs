@@ -96,7 +96,7 @@ fn integral_gain_at(plan: &Plan, omega: f64) -> Vec<f64> {
     use hya_core::Dynamics;
     let scenario = plan.scenario_at(0, Method::Pid, omega, 0).unwrap();
     let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
-    let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
+    let joints = hya_sim::settings::Setup::<6>::of(&scenario).unwrap();
     let gains = hya_sim::run::gains(robot.nominal.as_ref(), &joints).unwrap();
     let inertia = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
     hya_sim::run::pid_gains(&gains, &inertia, &joints).1.iter().copied().collect()
@@ -223,7 +223,7 @@ fn pole_placement_puts_the_pid_poles_together() {
     let mut scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
     scenario.controller.integral_rule = hya_sim::scenario::IntegralRule::PolePlacement;
     let robot = hya_sim::Robot::<6>::load(&scenario.robot).unwrap();
-    let joints = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap();
+    let joints = hya_sim::settings::Setup::<6>::of(&scenario).unwrap();
     let gains = hya_sim::run::gains(robot.nominal.as_ref(), &joints).unwrap();
     let m = robot.nominal.mass_matrix(&joints.initial_position).diagonal();
     let (kd, ki, capped) = hya_sim::run::pid_gains(&gains, &m, &joints);

@@ -347,7 +347,7 @@ fn the_loop_settings_are_refused_with_their_key() {
         // And a scenario's per-joint settings, checked before a run, refuse it too.
         let mut scenario = hya_sim::Scenario::builtin("goto_internal").unwrap();
         change(&mut scenario.plant.hydraulic);
-        let error = hya_sim::settings::JointSettings::<6>::of(&scenario).unwrap_err().to_string();
+        let error = hya_sim::settings::Setup::<6>::of(&scenario).unwrap_err().to_string();
         assert!(error.contains(key), "the scenario's refusal does not name {key}: {error}");
     }
     assert!(HydraulicSetup::<1>::of(&ideal_sensing(1e6)).is_ok());

@@ -136,22 +136,27 @@ impl core::iter::Sum for Cost {
 
 /// Plant integration steps per control tick: the sub-steps, and on hydraulic actuators one more
 /// for each sample instant of their inner torque loops that falls inside a sub-step, which the
-/// plant splits there ([`crate::plant::Plant::step`]; both clocks start at 0). LuGre's stiff
-/// cycles, taken while a joint slides fast, depend on the motion and are not counted.
+/// plant splits there ([`crate::plant::Plant::step`]; both clocks start at 0), each cut into as
+/// many cycles as the fastest spool needs (`h ω_v ≤` [`crate::plant::MAX_STIFF_STEP`] per
+/// cycle). The stiff cycles that depend on the motion (bristles sliding fast, a valve wide open
+/// onto a chamber near zero drop) are not counted.
 pub fn steps_per_tick(scenario: &Scenario) -> f64 {
     let substeps = scenario.plant.substeps() as f64;
     if scenario.plant.actuator != ActuatorKind::Hydraulic {
         return substeps;
     }
-    let samples = scenario.controller.dt_s * scenario.plant.hydraulic.torque_loop_rate_hz;
+    let hydraulic = &scenario.plant.hydraulic;
+    let spool = hydraulic.valve_natural_frequency_hz.iter().fold(0.0, |a: f64, &f| a.max(f)) * std::f64::consts::TAU;
+    let cycles = (scenario.controller.dt_s / substeps * spool / crate::plant::MAX_STIFF_STEP).ceil().max(1.0);
+    let samples = scenario.controller.dt_s * hydraulic.torque_loop_rate_hz;
     let whole = samples.round();
     if (samples - whole).abs() > 1e-9 * whole || !(1.0..=1e6).contains(&whole) {
         // The instants drift across the ticks: at most every one splits a sub-step.
-        return substeps + samples.ceil();
+        return (substeps + samples.ceil()) * cycles;
     }
     // Sample m of a tick at m/k of it lies on a sub-step boundary where m n / k is whole.
     let (k, n) = (whole as u64, scenario.plant.substeps() as u64);
-    substeps + (1..=k).filter(|m| (m * n) % k != 0).count() as f64
+    (substeps + (1..=k).filter(|m| (m * n) % k != 0).count() as f64) * cycles
 }
 
 impl fmt::Display for Cost {
@@ -181,10 +186,15 @@ mod tests {
         let methods = scenario.methods.len() as f64;
         assert_eq!(base.physics_steps, ticks * steps_per_tick(&scenario) * methods);
         // The inner loops sample at the ticks (1 kHz, 1 ms): no sub-step is split; at 6 kHz
-        // over 4 sub-steps, the samples at 1/6, 2/6, 4/6 and 5/6 of a tick split one each.
-        assert_eq!(steps_per_tick(&scenario), 4.0);
+        // over 2 sub-steps, the samples at 1/6, 2/6, 4/6 and 5/6 of a tick split one each (the
+        // one at 3/6 falls on the sub-steps' boundary).
+        assert_eq!(steps_per_tick(&scenario), 2.0);
         scenario.plant.hydraulic.torque_loop_rate_hz = 6000.0;
-        assert_eq!(steps_per_tick(&scenario), 8.0);
+        assert_eq!(steps_per_tick(&scenario), 6.0);
+        // One sub-step a tick: HyA's spools (ω_v = 2π 255 Hz) cut it into two cycles.
+        scenario.plant.substeps = Some(1);
+        assert_eq!(steps_per_tick(&scenario), 2.0 * 6.0);
+        scenario.plant.substeps = None;
         scenario.plant.hydraulic.torque_loop_rate_hz = 1000.0;
         assert!(
             Cost::of(std::slice::from_ref(&scenario), 20).check("", None).is_ok(),

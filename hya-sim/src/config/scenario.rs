@@ -446,7 +446,7 @@ pub struct PlantConfig {
     pub actuator_time_constant_s: Vec<f64>,
     /// The hydraulic actuators (`actuator = "hydraulic"`).
     pub hydraulic: HydraulicConfig,
-    /// Physics steps per control period; unset, chosen by the actuator ([`PlantConfig::substeps`]).
+    /// Physics steps per control period; unset, 2 ([`PlantConfig::substeps`]).
     pub substeps: Option<usize>,
 }
 
@@ -457,18 +457,19 @@ impl PlantConfig {
     ///
     /// | actuator | 1 | 2 | 4 sub-steps |
     /// |---|---|---|---|
-    /// | hydraulic | 3.2e-7 | 1.4e-8 | 6.1e-9 rad |
+    /// | hydraulic | 5.2e-8 | 5.2e-8 | 1.4e-8 rad |
     /// | lag | 3.6e-7 | 3.5e-8 | 2.5e-8 rad |
     /// | ideal | 3.7e-7 | 2.6e-8 | 3.0e-9 rad |
     ///
-    /// The hydraulic plant takes 4 rather than 2: the orifice law's stiff mode near zero
-    /// pressure drop (≈ 4e3/s) then stays well inside RK4's stability region. Sliding bristles
-    /// sub-cycle further ([`crate::plant::Plant::step`]).
+    /// Each sub-step is cut further into equal RK4 cycles wherever the state's stiffest mode
+    /// needs it ([`crate::plant::Plant::step`]): sliding bristles, and on hydraulic actuators
+    /// the spool (`ω_v` = 1.6e3/s on HyA: a 1 ms step takes two cycles, which is why one and two
+    /// sub-steps measure alike) and a chamber's pressure with its valve wide open near zero
+    /// drop (the orifice law's stiff mode, about 4e3/s at mid-stroke and 1.2e4/s at a stroke's
+    /// end on HyA). Before that cut existed, the hydraulic plant took 4 sub-steps to keep the
+    /// stiff mode inside RK4's stability region at mid-stroke (not at a stroke's end).
     pub fn substeps(&self) -> usize {
-        self.substeps.unwrap_or(match self.actuator {
-            ActuatorKind::Hydraulic => 4,
-            ActuatorKind::Lag | ActuatorKind::Ideal => 2,
-        })
+        self.substeps.unwrap_or(2)
     }
 }
 

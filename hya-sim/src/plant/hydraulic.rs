@@ -223,6 +223,14 @@ fn orifice_law(drop: f64) -> f64 {
     drop / (drop * drop + d * d).sqrt().sqrt()
 }
 
+/// `Q'(Δp) / K_v = (Δp²/2 + δ²) / (Δp² + δ²)^{5/4}`, 1/√Pa: the orifice law's slope, largest
+/// (`1/√δ`) at zero drop.
+fn orifice_slope(drop: f64) -> f64 {
+    let d = ORIFICE_REGULARISATION_PA;
+    let s = drop * drop + d * d;
+    (0.5 * drop * drop + d * d) / (s * s.sqrt().sqrt())
+}
+
 impl<const N: usize> HydraulicActuators<N> {
     /// From the checked settings `setup`, for joints spanning `ranges` (rad; the chambers'
     /// volumes run from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other). The pressure
@@ -413,6 +421,27 @@ impl<const N: usize> HydraulicActuators<N> {
         let (va, vb) = j.volumes(q);
         rate.pressure_a[i] = self.bulk_modulus / va * (flow_a - leak - j.displacement_a * qd);
         rate.pressure_b[i] = self.bulk_modulus / vb * (flow_b + leak + j.displacement_b * qd);
+    }
+
+    /// The fastest rate among the actuators' stiff modes at `q` in state `s`, 1/s: each
+    /// chamber's pressure relaxes at `∂ṗ/∂p = −β/V (|x_v| K_v Q'(Δp) + C_l)`, `Δp` the drop
+    /// across the land the valve opens to it, which reaches `β K_v / (V √δ)` with the valve wide
+    /// open near zero drop (a chamber at supply or tank pressure; on HyA's defaults about 4e3/s
+    /// at mid-stroke and 1.2e4/s at a stroke's end); and each spool moves at `ω_v`. The plant
+    /// sub-cycles its RK4 steps on it as on the bristles' ([`crate::plant::Plant::step`]).
+    pub fn stiff_rate(&self, q: &JointVector<N>, s: &HydraulicState<N>) -> f64 {
+        let rates = self.joints.iter().enumerate().map(|(i, j)| {
+            let x = s.spool[i].clamp(-1.0, 1.0);
+            let (pa, pb) = (s.pressure_a[i], s.pressure_b[i]);
+            let (drop_a, drop_b) =
+                if x >= 0.0 { (self.supply - pa, pb - self.tank) } else { (pa - self.tank, self.supply - pb) };
+            let (va, vb) = j.volumes(q[i]);
+            let open = j.orifice * x.abs();
+            let chamber_a = self.bulk_modulus / va * (open * orifice_slope(drop_a) + j.leakage);
+            let chamber_b = self.bulk_modulus / vb * (open * orifice_slope(drop_b) + j.leakage);
+            chamber_a.max(chamber_b).max(j.valve_frequency)
+        });
+        rates.fold(0.0, f64::max)
     }
 
     /// The inner loops' sample period `T_s`, s.

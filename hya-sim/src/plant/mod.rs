@@ -116,8 +116,8 @@ fn rk4_sum<const N: usize>(s: &PlantState<N>, [k1, k2, k3, k4]: [&PlantState<N>;
     s.along(k1, h / 6.0).along(k2, h / 3.0).along(k3, h / 3.0).along(k4, h / 6.0)
 }
 
-/// The largest `h λ` an RK4 step takes on the bristles' relaxation (RK4 is stable to 2.78 on
-/// the negative real axis; 1 keeps it accurate).
+/// The largest `h λ` an RK4 step takes on the plant's stiff modes, the bristles' relaxation and
+/// the oil's (RK4 is stable to 2.78 on the negative real axis; 1 keeps it accurate).
 pub const MAX_STIFF_STEP: f64 = 1.0;
 
 /// The most RK4 sub-steps one [`Plant::step`] divides into.
@@ -365,8 +365,10 @@ impl<const N: usize> Plant<N> {
     }
 
     /// Advances by `h` with the command `τ_cmd` held: classic RK4, in as many equal sub-steps
-    /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the bristles' relaxation rate `λ` at the
-    /// start (at most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly. Hydraulic
+    /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the fastest stiff rate `λ` at the start, the
+    /// bristles' relaxation or the hydraulic actuators' ([`HydraulicActuators::stiff_rate`]; at
+    /// most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly and no valve is wide
+    /// open onto a chamber near its supply or tank pressure. Hydraulic
     /// actuators' inner loops run at each of their sample instants on the way, the sub-steps
     /// split there.
     pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {
@@ -386,11 +388,15 @@ impl<const N: usize> Plant<N> {
 
     /// How many equal RK4 sub-steps a step of `h` takes from the current state ([`Self::step`]).
     fn cycles(&self, h: f64) -> usize {
-        let rate = match &self.friction {
+        let bristles = match &self.friction {
             Friction::LuGre(f) => f.relaxation_rate(&self.state.q, &self.state.qd),
             _ => 0.0,
         };
-        ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES)
+        let oil = match &self.actuators {
+            Actuators::Hydraulic(a) => a.stiff_rate(&self.state.q, &self.state.hydraulic),
+            _ => 0.0,
+        };
+        ((h * bristles.max(oil) / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES)
     }
 
     /// The span to the hydraulic inner loops' next sample instant, s, if it falls within a

@@ -294,3 +294,56 @@ fn a_closed_valve_creates_no_energy() {
     eprintln!("closed valve, no leakage: energy {e0:.6} J, worst drift {worst:.2e} J");
     assert!(worst < 1e-6 * e0, "energy drifted by {worst} J of {e0} J");
 }
+
+/// `state` with chamber `chamber`'s pressure (0: cap side, 1: rod side) moved by `dp`, Pa.
+fn with_pressure(state: &HydraulicState<1>, chamber: usize, dp: f64) -> HydraulicState<1> {
+    let mut moved = *state;
+    match chamber {
+        0 => moved.pressure_a[0] += dp,
+        _ => moved.pressure_b[0] += dp,
+    }
+    moved
+}
+
+#[test]
+fn the_oils_stiff_rate_is_the_chambers_relaxation_or_the_valves_frequency() {
+    let config = one_joint_hydraulics();
+    let actuator = HydraulicActuators::<1>::new(&HydraulicSetup::of(&config).unwrap(), [(-1.5, 1.5)]);
+    let (supply, tank) = (config.supply_pressure_pa, config.tank_pressure_pa);
+    let valve = std::f64::consts::TAU * config.valve_natural_frequency_hz[0];
+    // −∂ṗ/∂p of each chamber, by central differences of the plant's own rates.
+    let relaxation = |q: &JointVector<1>, s: &HydraulicState<1>, chamber: usize| {
+        let rate = |dp: f64| {
+            let r = actuator.held_derivative(q, &JointVector::zeros(), &with_pressure(s, chamber, dp));
+            if chamber == 0 {
+                r.pressure_a[0]
+            } else {
+                r.pressure_b[0]
+            }
+        };
+        -(rate(10.0) - rate(-10.0)) / 20.0
+    };
+    let states = [
+        // Wide open onto chambers at supply and tank pressure, near each end of the stroke:
+        // zero drop across the open lands, the orifice law's steepest slope.
+        (1.4, 1.0, supply, tank),
+        (-1.4, -1.0, tank, supply),
+        (0.0, 0.6, supply - 2e4, 0.5 * supply),
+        // Half open with large drops: the chambers are slow and the spool is the fastest.
+        (0.3, 0.1, 0.5 * supply, 0.4 * supply),
+    ];
+    for (k, &(q, spool, pa, pb)) in states.iter().enumerate() {
+        let q = JointVector::from([q]);
+        let s = HydraulicState {
+            spool: JointVector::from([spool]),
+            pressure_a: JointVector::from([pa]),
+            pressure_b: JointVector::from([pb]),
+            ..HydraulicState::zeros()
+        };
+        let chambers = relaxation(&q, &s, 0).max(relaxation(&q, &s, 1));
+        let got = actuator.stiff_rate(&q, &s);
+        assert!((got - chambers.max(valve)).abs() <= 1e-6 * got, "state {k}: {got} against {chambers} and {valve}");
+        // The first three test the chambers, the last the spool.
+        assert_eq!(chambers > valve, k < 3, "state {k}: chambers {chambers}/s, valve {valve}/s");
+    }
+}

@@ -134,29 +134,35 @@ impl core::iter::Sum for Cost {
     }
 }
 
-/// Plant integration steps per control tick: the sub-steps, and on hydraulic actuators one more
-/// for each sample instant of their inner torque loops that falls inside a sub-step, which the
-/// plant splits there ([`crate::plant::Plant::step`]; both clocks start at 0), each cut into as
-/// many cycles as the fastest spool needs (`h ω_v ≤` [`crate::plant::MAX_STIFF_STEP`] per
-/// cycle). The stiff cycles that depend on the motion (bristles sliding fast, a valve wide open
-/// onto a chamber near zero drop) are not counted.
+/// Plant integration steps per control tick: the sub-steps, each cut into as many equal cycles
+/// as the fastest spool needs (`h λ ≤` [`crate::plant::MAX_STIFF_STEP`],
+/// [`crate::plant::hydraulic::spool_pole`]), and on hydraulic actuators one more for each
+/// sample instant of their inner torque loops that falls inside a cycle, which the plant splits
+/// there ([`crate::plant::Plant::step`]; both clocks start at 0). The stiff cycles that depend
+/// on the motion (bristles sliding fast, a valve wide open onto a chamber near zero drop) are
+/// not counted.
 pub fn steps_per_tick(scenario: &Scenario) -> f64 {
-    let substeps = scenario.plant.substeps() as f64;
+    let substeps = scenario.plant.substeps();
     if scenario.plant.actuator != ActuatorKind::Hydraulic {
-        return substeps;
+        return substeps as f64;
     }
     let hydraulic = &scenario.plant.hydraulic;
-    let spool = hydraulic.valve_natural_frequency_hz.iter().fold(0.0, |a: f64, &f| a.max(f)) * std::f64::consts::TAU;
-    let cycles = (scenario.controller.dt_s / substeps * spool / crate::plant::MAX_STIFF_STEP).ceil().max(1.0);
+    let damping = hydraulic.valve_damping_ratio;
+    let spool = hydraulic.valve_natural_frequency_hz.iter().fold(0.0, |fastest: f64, &hz| {
+        fastest.max(crate::plant::hydraulic::spool_pole(std::f64::consts::TAU * hz, damping))
+    });
+    let h = scenario.controller.dt_s / substeps as f64;
+    let cycles = ((h * spool / crate::plant::MAX_STIFF_STEP).ceil() as usize).clamp(1, crate::plant::MAX_SUBCYCLES);
+    let steps = substeps * cycles;
     let samples = scenario.controller.dt_s * hydraulic.torque_loop_rate_hz;
     let whole = samples.round();
     if (samples - whole).abs() > 1e-9 * whole || !(1.0..=1e6).contains(&whole) {
-        // The instants drift across the ticks: at most every one splits a sub-step.
-        return (substeps + samples.ceil()) * cycles;
+        // The instants drift across the ticks: at most every one splits a cycle.
+        return steps as f64 + samples.ceil();
     }
-    // Sample m of a tick at m/k of it lies on a sub-step boundary where m n / k is whole.
-    let (k, n) = (whole as u64, scenario.plant.substeps() as u64);
-    (substeps + (1..=k).filter(|m| (m * n) % k != 0).count() as f64) * cycles
+    // Sample m of a tick at m/k of it lies on a cycle's boundary where m n / k is whole.
+    let (k, n) = (whole as u64, steps as u64);
+    steps as f64 + (1..=k).filter(|m| (m * n) % k != 0).count() as f64
 }
 
 impl fmt::Display for Cost {
@@ -191,10 +197,15 @@ mod tests {
         assert_eq!(steps_per_tick(&scenario), 2.0);
         scenario.plant.hydraulic.torque_loop_rate_hz = 6000.0;
         assert_eq!(steps_per_tick(&scenario), 6.0);
-        // One sub-step a tick: HyA's spools (ω_v = 2π 255 Hz) cut it into two cycles.
+        // One sub-step a tick: HyA's spools (ω_v = 2π 255 Hz) cut it into two cycles, the
+        // samples at 1/6, 2/6, 4/6 and 5/6 split them as before.
         scenario.plant.substeps = Some(1);
-        assert_eq!(steps_per_tick(&scenario), 2.0 * 6.0);
+        assert_eq!(steps_per_tick(&scenario), 6.0);
+        // Overdamped spools (ζ = 3: the faster pole 5.83 ω_v) cut each of two sub-steps in five.
         scenario.plant.substeps = None;
+        scenario.plant.hydraulic.valve_damping_ratio = 3.0;
+        assert_eq!(steps_per_tick(&scenario), 10.0 + 4.0);
+        scenario.plant.hydraulic.valve_damping_ratio = 0.5;
         scenario.plant.hydraulic.torque_loop_rate_hz = 1000.0;
         assert!(
             Cost::of(std::slice::from_ref(&scenario), 20).check("", None).is_ok(),

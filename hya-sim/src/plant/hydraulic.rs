@@ -231,6 +231,12 @@ fn orifice_slope(drop: f64) -> f64 {
     (0.5 * drop * drop + d * d) / (s * s.sqrt().sqrt())
 }
 
+/// The faster pole of a spool `ẍ = ω² (u − x) − 2 ζ ω ẋ`, 1/s: `ω` (a complex pair, or a
+/// double pole) when `ζ ≤ 1`, else `ω (ζ + √(ζ² − 1))`.
+pub fn spool_pole(frequency: f64, damping: f64) -> f64 {
+    frequency * (damping + (damping * damping - 1.0).max(0.0).sqrt()).max(1.0)
+}
+
 impl<const N: usize> HydraulicActuators<N> {
     /// From the checked settings `setup`, for joints spanning `ranges` (rad; the chambers'
     /// volumes run from `V_0` at one end to `V_0 + D·(q_hi − q_lo)` at the other). The pressure
@@ -423,12 +429,22 @@ impl<const N: usize> HydraulicActuators<N> {
         rate.pressure_b[i] = self.bulk_modulus / vb * (flow_b + leak + j.displacement_b * qd);
     }
 
-    /// The fastest rate among the actuators' stiff modes at `q` in state `s`, 1/s: each
-    /// chamber's pressure relaxes at `∂ṗ/∂p = −β/V (|x_v| K_v Q'(Δp) + C_l)`, `Δp` the drop
-    /// across the land the valve opens to it, which reaches `β K_v / (V √δ)` with the valve wide
-    /// open near zero drop (a chamber at supply or tank pressure; on HyA's defaults about 4e3/s
-    /// at mid-stroke and 1.2e4/s at a stroke's end); and each spool moves at `ω_v`. The plant
-    /// sub-cycles its RK4 steps on it as on the bristles' ([`crate::plant::Plant::step`]).
+    /// A bound on the fastest rate among the actuators' stiff modes at `q` in state `s`, 1/s.
+    ///
+    /// - The chambers' pressures: `∂ṗ_a/∂p_a = −β/V_a (|x_v| K_v Q'(Δp_a) + C_l)` with `Δp_a` the
+    ///   drop across the land the valve opens to chamber `a`, and `∂ṗ_a/∂p_b = β C_l / V_a` through
+    ///   the leakage; by Gershgorin's theorem no eigenvalue of the two pressures' block is
+    ///   faster than the larger row sum `β/V (|x_v| K_v Q'(Δp) + 2 C_l)`. With the valve wide
+    ///   open near zero drop (a chamber at supply or tank pressure) it reaches
+    ///   `β K_v / (V √δ)`: on HyA's defaults about 4e3/s at mid-stroke and 1.2e4/s at a
+    ///   stroke's end.
+    /// - Each spool, a second-order lag: its faster pole, `ω_v` when `ζ_v ≤ 1`, else
+    ///   `ω_v (ζ_v + √(ζ_v² − 1))`.
+    ///
+    /// Not counted: the oil columns as springs against the joints' inertia, `ω_h`, which needs
+    /// the mass matrix (on HyA at most 88 Hz, 550/s, at the start pose: the report's plant
+    /// section). The plant sub-cycles its RK4 steps on this rate as on the bristles'
+    /// ([`crate::plant::Plant::step`]).
     pub fn stiff_rate(&self, q: &JointVector<N>, s: &HydraulicState<N>) -> f64 {
         let rates = self.joints.iter().enumerate().map(|(i, j)| {
             let x = s.spool[i].clamp(-1.0, 1.0);
@@ -437,9 +453,9 @@ impl<const N: usize> HydraulicActuators<N> {
                 if x >= 0.0 { (self.supply - pa, pb - self.tank) } else { (pa - self.tank, self.supply - pb) };
             let (va, vb) = j.volumes(q[i]);
             let open = j.orifice * x.abs();
-            let chamber_a = self.bulk_modulus / va * (open * orifice_slope(drop_a) + j.leakage);
-            let chamber_b = self.bulk_modulus / vb * (open * orifice_slope(drop_b) + j.leakage);
-            chamber_a.max(chamber_b).max(j.valve_frequency)
+            let chamber_a = self.bulk_modulus / va * (open * orifice_slope(drop_a) + 2.0 * j.leakage);
+            let chamber_b = self.bulk_modulus / vb * (open * orifice_slope(drop_b) + 2.0 * j.leakage);
+            chamber_a.max(chamber_b).max(spool_pole(j.valve_frequency, j.valve_damping))
         });
         rates.fold(0.0, f64::max)
     }

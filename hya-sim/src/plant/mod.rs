@@ -367,8 +367,8 @@ impl<const N: usize> Plant<N> {
     /// Advances by `h` with the command `τ_cmd` held: classic RK4, in as many equal sub-steps
     /// as keep `h_sub · λ ≤` [`MAX_STIFF_STEP`] for the fastest stiff rate `λ` at the start, the
     /// bristles' relaxation or the hydraulic actuators' ([`HydraulicActuators::stiff_rate`]; at
-    /// most [`MAX_SUBCYCLES`]); one sub-step while the joints move slowly and no valve is wide
-    /// open onto a chamber near its supply or tank pressure. Hydraulic
+    /// most [`MAX_SUBCYCLES`]); one cycle while the joints move slowly, no valve is wide open
+    /// onto a chamber near its supply or tank pressure and the spools are slow for `h`. Hydraulic
     /// actuators' inner loops run at each of their sample instants on the way, the sub-steps
     /// split there.
     pub fn step(&mut self, h: f64, tau_cmd: &JointVector<N>) -> Result<(), SimError> {

@@ -94,9 +94,11 @@ impl<'a, const N: usize> SeedLoop<'a, N> {
         for shadow in SHADOWS {
             if shadow == method {
                 shadows.push(None);
-            } else if let Some((observer, _)) = observer_designed(shadow, nominal, design, &readings[0])? {
-                shadows.push(Some(observer));
+                continue;
             }
+            let designed = observer_designed(shadow, nominal, design, &readings[0])?;
+            let (observer, _) = designed.ok_or(SimError::Nothing("a shadow method without an observer"))?;
+            shadows.push(Some(observer));
         }
         let integral =
             (method == Method::Pid).then(|| IntegralAction::new(loop_design.integral, joints)).transpose()?;

@@ -7,7 +7,7 @@ use hya_core::JointVector;
 use hya_sim::config::plant::{HydraulicSetup, PlantSetup};
 use hya_sim::plant::friction::Friction;
 use hya_sim::plant::hydraulic::{HydraulicActuators, HydraulicState};
-use hya_sim::plant::Plant;
+use hya_sim::plant::{Actuators, Plant};
 use hya_sim::scenario::{ActuatorKind, FrictionKind, HydraulicConfig, LoadConfig, PlantConfig};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
@@ -363,4 +363,41 @@ fn the_oils_stiff_rate_bounds_the_chambers_and_the_spools_fastest_modes() {
             }
         }
     }
+}
+
+#[test]
+fn a_valve_wide_open_onto_a_chamber_at_supply_pressure_steps_as_a_fine_step_does() {
+    // Near the stroke's upper end the rod side's volume is nearly its dead volume; the valve
+    // wide open to it (x_v = −1) with the chamber at supply pressure: zero drop, the orifice's
+    // steepest slope, a mode so fast that one RK4 step of the tick's default sub-step (0.5 ms)
+    // would leave RK4's stability region. The plant cuts the step into cycles instead.
+    let config = PlantConfig { substeps: None, ..one_joint(FrictionKind::Off, ActuatorKind::Hydraulic, 0.0) };
+    let supply = config.hydraulic.supply_pressure_pa;
+    let start = |p: &mut Plant<1>| {
+        let h = &mut p.state.hydraulic;
+        (h.spool[0], h.command[0], h.pressure_a[0], h.pressure_b[0]) = (-1.0, -1.0, 0.3 * supply, supply);
+    };
+    let (mut coarse, mut fine) = (plant(&config, 1.45, 0.0), plant(&config, 1.45, 0.0));
+    start(&mut coarse);
+    start(&mut fine);
+    let Actuators::Hydraulic(actuators) = coarse.actuators() else { panic!("hydraulic actuators") };
+    let h = 1e-3 / config.substeps() as f64;
+    let rate = actuators.stiff_rate(&coarse.state.q, &coarse.state.hydraulic);
+    assert!(h * rate > 2.8, "h λ = {}: not beyond RK4's stability region", h * rate);
+    for _ in 0..config.substeps() {
+        coarse.step(h, &JointVector::zeros()).unwrap();
+    }
+    for _ in 0..1000 {
+        fine.step(1e-6, &JointVector::zeros()).unwrap();
+    }
+    let (c, f) = (&coarse.state, &fine.state);
+    let gap = (c.hydraulic.pressure_b[0] - f.hydraulic.pressure_b[0])
+        .abs()
+        .max((c.hydraulic.pressure_a[0] - f.hydraulic.pressure_a[0]).abs());
+    // Within a thousandth of the supply after a transient of the whole supply pressure (an RK4
+    // cycle at h λ = 1 carries a relative error of 2 % of what decays in it); an RK4 step at h λ
+    // beyond 2.8 would multiply the deviation instead (at h λ = 6, 31-fold a step).
+    assert!(gap < 1e-3 * supply, "after 1 ms the pressures differ by {gap} Pa");
+    // The angle within `PlantConfig::substeps`' criterion of 1e-7 rad per tick.
+    assert!((c.q[0] - f.q[0]).abs() < 1e-7, "after 1 ms the angles differ by {} rad", (c.q[0] - f.q[0]).abs());
 }

@@ -135,7 +135,7 @@ impl core::iter::Sum for Cost {
 }
 
 /// Plant integration steps per control tick: the sub-steps, each cut into as many equal cycles
-/// as the fastest spool needs (`h λ ≤` [`crate::plant::MAX_STIFF_STEP`],
+/// as the fastest spool needs ([`crate::plant::cycles_for`] on
 /// [`crate::plant::hydraulic::spool_pole`]), and on hydraulic actuators one more for each
 /// sample instant of their inner torque loops that falls inside a cycle, which the plant splits
 /// there ([`crate::plant::Plant::step`]; both clocks start at 0). The stiff cycles that depend
@@ -152,8 +152,7 @@ pub fn steps_per_tick(scenario: &Scenario) -> f64 {
         fastest.max(crate::plant::hydraulic::spool_pole(std::f64::consts::TAU * hz, damping))
     });
     let h = scenario.controller.dt_s / substeps as f64;
-    let cycles = ((h * spool / crate::plant::MAX_STIFF_STEP).ceil() as usize).clamp(1, crate::plant::MAX_SUBCYCLES);
-    let steps = substeps * cycles;
+    let steps = substeps * crate::plant::cycles_for(h, spool);
     let samples = scenario.controller.dt_s * hydraulic.torque_loop_rate_hz;
     let whole = samples.round();
     if (samples - whole).abs() > 1e-9 * whole || !(1.0..=1e6).contains(&whole) {

@@ -465,8 +465,8 @@ impl PlantConfig {
     /// needs it ([`crate::plant::Plant::step`]): sliding bristles, and on hydraulic actuators
     /// the spool (`ω_v` = 1.6e3/s on HyA: a 1 ms step takes two cycles, which is why one and two
     /// sub-steps measure alike) and a chamber's pressure with its valve wide open near zero
-    /// drop (the orifice law's stiff mode, about 4e3/s at mid-stroke and 1.2e4/s at a stroke's
-    /// end on HyA). Before that cut existed, the hydraulic plant took 4 sub-steps to keep the
+    /// drop (the orifice law's stiff mode, from HyA's defaults 2.2e3 to 4.5e3/s at mid-stroke
+    /// and 1.2e4/s at a stroke's end). Before that cut existed, the hydraulic plant took 4 sub-steps to keep the
     /// stiff mode inside RK4's stability region at mid-stroke (not at a stroke's end).
     pub fn substeps(&self) -> usize {
         self.substeps.unwrap_or(2)

@@ -196,6 +196,8 @@ pub struct HydraulicActuators<const N: usize> {
     supply: f64,
     tank: f64,
     bulk_modulus: f64,
+    /// The fastest spool's faster pole, 1/s ([`spool_pole`]): a constant of the valves.
+    fastest_spool: f64,
     /// `T_s`, s.
     period: f64,
     /// The next sample instant, s.
@@ -289,11 +291,13 @@ impl<const N: usize> HydraulicActuators<N> {
                 compensation * 0.5 * (joint.displacement_a + joint.displacement_b) / flow_gain;
             joint
         });
+        let fastest_spool = joints.iter().map(|j| spool_pole(j.valve_frequency, j.valve_damping)).fold(0.0, f64::max);
         Self {
             joints,
             supply,
             tank,
             bulk_modulus,
+            fastest_spool,
             period,
             next_sample: 0.0,
             pressure_noise: setup.torque_loop_pressure_noise_pa,
@@ -436,8 +440,8 @@ impl<const N: usize> HydraulicActuators<N> {
     ///   the leakage; by Gershgorin's theorem no eigenvalue of the two pressures' block is
     ///   faster than the larger row sum `β/V (|x_v| K_v Q'(Δp) + 2 C_l)`. With the valve wide
     ///   open near zero drop (a chamber at supply or tank pressure) it reaches
-    ///   `β K_v / (V √δ)`: on HyA's defaults about 4e3/s at mid-stroke and 1.2e4/s at a
-    ///   stroke's end.
+    ///   `β K_v / (V √δ)`: from HyA's defaults, 2.2e3 to 4.5e3/s at mid-stroke (by joint) and
+    ///   1.2e4/s at a stroke's end (`V = V_0`).
     /// - Each spool, a second-order lag: its faster pole, `ω_v` when `ζ_v ≤ 1`, else
     ///   `ω_v (ζ_v + √(ζ_v² − 1))`.
     ///
@@ -446,7 +450,7 @@ impl<const N: usize> HydraulicActuators<N> {
     /// section). The plant sub-cycles its RK4 steps on this rate as on the bristles'
     /// ([`crate::plant::Plant::step`]).
     pub fn stiff_rate(&self, q: &JointVector<N>, s: &HydraulicState<N>) -> f64 {
-        let rates = self.joints.iter().enumerate().map(|(i, j)| {
+        let chambers = self.joints.iter().enumerate().map(|(i, j)| {
             let x = s.spool[i].clamp(-1.0, 1.0);
             let (pa, pb) = (s.pressure_a[i], s.pressure_b[i]);
             let (drop_a, drop_b) =
@@ -455,9 +459,9 @@ impl<const N: usize> HydraulicActuators<N> {
             let open = j.orifice * x.abs();
             let chamber_a = self.bulk_modulus / va * (open * orifice_slope(drop_a) + 2.0 * j.leakage);
             let chamber_b = self.bulk_modulus / vb * (open * orifice_slope(drop_b) + 2.0 * j.leakage);
-            chamber_a.max(chamber_b).max(spool_pole(j.valve_frequency, j.valve_damping))
+            chamber_a.max(chamber_b)
         });
-        rates.fold(0.0, f64::max)
+        chambers.fold(self.fastest_spool, f64::max)
     }
 
     /// The inner loops' sample period `T_s`, s.

@@ -123,6 +123,12 @@ pub const MAX_STIFF_STEP: f64 = 1.0;
 /// The most RK4 sub-steps one [`Plant::step`] divides into.
 pub const MAX_SUBCYCLES: usize = 64;
 
+/// The equal RK4 cycles a step of `h` takes on a stiff mode of rate `rate` (1/s): as many as keep
+/// `h_cycle · rate ≤` [`MAX_STIFF_STEP`], at least one and at most [`MAX_SUBCYCLES`].
+pub fn cycles_for(h: f64, rate: f64) -> usize {
+    ((h * rate / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES)
+}
+
 /// How the commanded torque reaches the joints.
 #[derive(Debug, Clone)]
 pub enum Actuators<const N: usize> {
@@ -396,7 +402,7 @@ impl<const N: usize> Plant<N> {
             Actuators::Hydraulic(a) => a.stiff_rate(&self.state.q, &self.state.hydraulic),
             _ => 0.0,
         };
-        ((h * bristles.max(oil) / MAX_STIFF_STEP).ceil() as usize).clamp(1, MAX_SUBCYCLES)
+        cycles_for(h, bristles.max(oil))
     }
 
     /// The span to the hydraulic inner loops' next sample instant, s, if it falls within a
